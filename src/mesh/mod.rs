@@ -1,0 +1,1 @@
+//! CPU-side mesh processing: welding, edge adjacency, silhouettes, shadow volumes.
