@@ -1,1 +1,77 @@
-fn main() {}
+//! Compiles every GLSL stage in `shaders/` to SPIR-V with shaderc and generates
+//! `$OUT_DIR/shaders.rs`, a table from shader file name to its SPIR-V bytes.
+//! A compile error stops the build with the file, line and message that glslang gave.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+const STAGES: [(&str, shaderc::ShaderKind); 2] =
+    [("vert", shaderc::ShaderKind::Vertex), ("frag", shaderc::ShaderKind::Fragment)];
+
+fn main() {
+    let manifest = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("cargo sets this"));
+    let out_dir = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets this"));
+    let shader_dir = manifest.join("shaders");
+    println!("cargo:rerun-if-changed={}", shader_dir.display());
+
+    let mut sources: Vec<PathBuf> = std::fs::read_dir(&shader_dir)
+        .unwrap_or_else(|e| fail(&format!("cannot read {}: {e}", shader_dir.display())))
+        .filter_map(|entry| entry.ok().map(|e| e.path()))
+        .collect();
+    sources.sort();
+
+    let compiler = shaderc::Compiler::new()
+        .unwrap_or_else(|| fail("shaderc could not create a compiler (see tools/setup-debian.sh)"));
+    let mut table = String::from("/// (file name, SPIR-V) for every shader in `shaders/`.\n");
+    table.push_str("pub static SHADERS: &[(&str, &[u8])] = &[\n");
+
+    for path in &sources {
+        println!("cargo:rerun-if-changed={}", path.display());
+        let Some(ext) = path.extension().and_then(|e| e.to_str()) else { continue };
+        let Some(&(_, kind)) = STAGES.iter().find(|(e, _)| *e == ext) else { continue };
+        let file_name = path.file_name().and_then(|n| n.to_str()).unwrap_or_default().to_owned();
+        let source =
+            std::fs::read_to_string(path).unwrap_or_else(|e| fail(&format!("cannot read {}: {e}", path.display())));
+
+        let spirv = compile(&compiler, &shader_dir, path, &source, kind);
+        let spv_path = out_dir.join(format!("{file_name}.spv"));
+        std::fs::write(&spv_path, spirv.as_binary_u8())
+            .unwrap_or_else(|e| fail(&format!("cannot write {}: {e}", spv_path.display())));
+        let _ = writeln!(table, "    ({file_name:?}, include_bytes!({:?})),", spv_path.display().to_string());
+    }
+    table.push_str("];\n");
+    let table_path = out_dir.join("shaders.rs");
+    std::fs::write(&table_path, table).unwrap_or_else(|e| fail(&format!("cannot write {}: {e}", table_path.display())));
+}
+
+fn compile(
+    compiler: &shaderc::Compiler,
+    shader_dir: &Path,
+    path: &Path,
+    source: &str,
+    kind: shaderc::ShaderKind,
+) -> shaderc::CompilationArtifact {
+    let mut options =
+        shaderc::CompileOptions::new().unwrap_or_else(|| fail("shaderc could not create compile options"));
+    // Vulkan 1.0 / SPIR-V 1.0: what every mobile-class device accepts.
+    options.set_target_env(shaderc::TargetEnv::Vulkan, shaderc::EnvVersion::Vulkan1_0 as u32);
+    options.set_warnings_as_errors();
+    let include_dir = shader_dir.to_path_buf();
+    options.set_include_callback(move |name, _kind, _from, _depth| {
+        let include_path = include_dir.join(name);
+        println!("cargo:rerun-if-changed={}", include_path.display());
+        std::fs::read_to_string(&include_path)
+            .map(|content| shaderc::ResolvedInclude { resolved_name: include_path.display().to_string(), content })
+            .map_err(|e| format!("cannot include {}: {e}", include_path.display()))
+    });
+    let display_name = path.display().to_string();
+    compiler
+        .compile_into_spirv(source, kind, &display_name, "main", Some(&options))
+        // glslang's message already reads "shaders/x.frag:12: error: ...".
+        .unwrap_or_else(|e| fail(&format!("shader compilation failed:\n{e}")))
+}
+
+fn fail(message: &str) -> ! {
+    eprintln!("error: {message}");
+    std::process::exit(1);
+}

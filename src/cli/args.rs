@@ -1,0 +1,128 @@
+//! Command-line arguments. Options shared by `render`, `profile` and later subcommands live in
+//! `FrameArgs`, so each new technique slots in as a `--technique` value and its own options.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+use crate::error::{Error, Result};
+use crate::frame::StencilMode;
+use crate::gpu::mobile_profile;
+
+#[derive(Debug, Parser)]
+#[command(
+    name = "nostencil",
+    version,
+    about = "Stencil effects without a stencil buffer: a Vulkan renderer for mobile-class limits"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Render one frame offscreen and write it as PNG.
+    Render {
+        #[command(flatten)]
+        frame: FrameArgs,
+        /// Output PNG file (written atomically: no partial file on failure).
+        #[arg(long, value_name = "FILE.png")]
+        out: PathBuf,
+        /// Keep the alpha channel (the emulated stencil) in the PNG instead of writing RGB.
+        #[arg(long)]
+        keep_alpha: bool,
+    },
+    /// Render one frame and report per-pass fill-rate counters.
+    Profile {
+        #[command(flatten)]
+        frame: FrameArgs,
+        #[arg(long, value_enum, default_value_t = FormatArg::Table)]
+        format: FormatArg,
+    },
+    /// Print the device, the mobile profile, and every limit the device is checked against.
+    Info {
+        #[command(flatten)]
+        gpu: GpuArgs,
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+#[derive(Debug, Args)]
+pub struct GpuArgs {
+    /// Device by index or name fragment (`lavapipe`); default: NOSTENCIL_DEVICE, else automatic.
+    #[arg(long, value_name = "INDEX|NAME")]
+    pub device: Option<String>,
+    /// Enable the Khronos validation layer (messages go to stderr).
+    #[arg(long)]
+    pub validation: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct FrameArgs {
+    /// Frame size, WIDTHxHEIGHT, each side 1..=4096 (the mobile profile's limit).
+    #[arg(long, value_name = "WxH", default_value = "1280x720", value_parser = parse_size_arg)]
+    pub size: (u32, u32),
+    /// `emulated` (no stencil aspect: alpha-channel emulation) or `reference` (real stencil).
+    #[arg(long, value_enum, default_value_t = StencilArg::Emulated)]
+    pub stencil: StencilArg,
+    /// Technique to render.
+    #[arg(long, default_value = "lit")]
+    pub technique: String,
+    /// Built-in scene name (see `nostencil info`) or a .gltf/.glb file.
+    #[arg(long, default_value = "default")]
+    pub scene: String,
+    #[command(flatten)]
+    pub gpu: GpuArgs,
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum StencilArg {
+    Emulated,
+    Reference,
+}
+
+impl From<StencilArg> for StencilMode {
+    fn from(arg: StencilArg) -> Self {
+        match arg {
+            StencilArg::Emulated => StencilMode::Emulated,
+            StencilArg::Reference => StencilMode::Reference,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum FormatArg {
+    Table,
+    Json,
+    Csv,
+}
+
+/// Parses `WIDTHxHEIGHT` and checks it against the mobile profile.
+pub fn parse_size(text: &str) -> Result<(u32, u32)> {
+    let bad = || Error::InvalidInput(format!("size '{text}': expected WIDTHxHEIGHT, such as 1280x720"));
+    let (w, h) = text.split_once(['x', 'X']).ok_or_else(bad)?;
+    let width: u32 = w.trim().parse().map_err(|_| bad())?;
+    let height: u32 = h.trim().parse().map_err(|_| bad())?;
+    mobile_profile::check_image_size("frame", width, height)?;
+    Ok((width, height))
+}
+
+fn parse_size_arg(text: &str) -> std::result::Result<(u32, u32), String> {
+    parse_size(text).map_err(|e| e.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_parse_and_are_checked() {
+        assert_eq!(parse_size("256x128").ok(), Some((256, 128)));
+        assert!(parse_size("0x256").is_err());
+        assert!(parse_size("5000x256").is_err());
+        assert!(parse_size("256").is_err());
+        assert!(parse_size("axb").is_err());
+    }
+}

@@ -1,0 +1,172 @@
+//! What each subcommand does.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use super::args::{Cli, Command, FormatArg, FrameArgs, GpuArgs};
+use crate::error::{Error, Result};
+use crate::gpu::{mobile_profile, DeviceChoice, Gpu, GpuOptions};
+use crate::profile::report::{ProfileReport, ReportContext, ReportFormat};
+use crate::scene::{builtin_scene, Scene, BUILTIN_SCENES};
+use crate::technique::{render_scene, RenderOptions, Technique};
+
+pub fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Render { frame, out, keep_alpha } => render(&frame, &out, keep_alpha),
+        Command::Profile { frame, format } => profile(&frame, format),
+        Command::Info { gpu, json } => info(&gpu, json),
+    }
+}
+
+fn open_gpu(args: &GpuArgs) -> Result<Arc<Gpu>> {
+    let device = args.device.as_deref().map(DeviceChoice::parse).unwrap_or_default();
+    Gpu::new(&GpuOptions { validation: args.validation, device })
+}
+
+fn load_scene(name: &str) -> Result<Scene> {
+    builtin_scene(name)
+}
+
+fn options(frame: &FrameArgs) -> Result<RenderOptions> {
+    Ok(RenderOptions {
+        width: frame.size.0,
+        height: frame.size.1,
+        stencil: frame.stencil.into(),
+        technique: Technique::parse(&frame.technique)?,
+    })
+}
+
+/// Refuses an output path whose folder does not exist before any rendering is done.
+fn check_output_path(path: &Path) -> Result<()> {
+    let parent = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    if !parent.is_dir() {
+        return Err(Error::Io {
+            path: path.to_path_buf(),
+            source: std::io::Error::new(std::io::ErrorKind::NotFound, "the output folder does not exist"),
+        });
+    }
+    if path.is_dir() {
+        return Err(Error::Io {
+            path: path.to_path_buf(),
+            source: std::io::Error::new(std::io::ErrorKind::InvalidInput, "the output path is a folder"),
+        });
+    }
+    Ok(())
+}
+
+fn render(frame: &FrameArgs, out: &Path, keep_alpha: bool) -> Result<()> {
+    check_output_path(out)?;
+    let options = options(frame)?;
+    let scene = load_scene(&frame.scene)?;
+    let gpu = open_gpu(&frame.gpu)?;
+    let output = render_scene(&gpu, &scene, &options)?;
+    output.image.write_png(out, keep_alpha)?;
+    eprintln!(
+        "wrote {} ({}x{}, {} on {}, {:.2} ms GPU)",
+        out.display(),
+        options.width,
+        options.height,
+        options.technique.name(),
+        gpu.device.info.name,
+        output.counters.total_gpu_ms()
+    );
+    Ok(())
+}
+
+fn profile(frame: &FrameArgs, format: FormatArg) -> Result<()> {
+    let options = options(frame)?;
+    let scene = load_scene(&frame.scene)?;
+    let gpu = open_gpu(&frame.gpu)?;
+    let output = render_scene(&gpu, &scene, &options)?;
+    let depth_format = crate::frame::targets::choose_depth_format(&gpu, options.stencil)?;
+    let attachments =
+        crate::frame::RenderPassDesc::frame(depth_format, false).tile_traffic(options.width, options.height);
+    let report = ProfileReport::new(
+        ReportContext {
+            device: gpu.device.info.name.clone(),
+            scene: scene.name.clone(),
+            technique: options.technique.name().into(),
+            stencil: options.stencil.name().into(),
+        },
+        &output.counters,
+        attachments,
+    );
+    let format = match format {
+        FormatArg::Table => ReportFormat::Table,
+        FormatArg::Json => ReportFormat::Json,
+        FormatArg::Csv => ReportFormat::Csv,
+    };
+    print!("{}", report.render(format));
+    Ok(())
+}
+
+#[derive(serde::Serialize)]
+struct InfoReport<'a> {
+    device: &'a str,
+    device_index: usize,
+    device_type: String,
+    api_version: String,
+    profile: &'static str,
+    enabled_features: mobile_profile::EnabledFeatures,
+    forbidden_features: &'static [&'static str],
+    lazily_allocated_memory: bool,
+    limits: &'a [mobile_profile::LimitCheck],
+    scenes: Vec<&'static str>,
+    techniques: Vec<&'static str>,
+}
+
+fn info(args: &GpuArgs, json: bool) -> Result<()> {
+    let gpu = open_gpu(args)?;
+    let info = &gpu.device.info;
+    let version = |v: u32| {
+        format!("{}.{}.{}", ash::vk::api_version_major(v), ash::vk::api_version_minor(v), ash::vk::api_version_patch(v))
+    };
+    let report = InfoReport {
+        device: &info.name,
+        device_index: info.index,
+        device_type: format!("{:?}", info.device_type),
+        api_version: version(info.api_version),
+        profile: "mobile (after VP_ANDROID_baseline_2022)",
+        enabled_features: info.features,
+        forbidden_features: &mobile_profile::FORBIDDEN_FEATURES,
+        lazily_allocated_memory: info.has_lazily_allocated_memory,
+        limits: &info.limit_checks,
+        scenes: BUILTIN_SCENES.iter().map(|(n, _)| *n).collect(),
+        techniques: Technique::ALL.iter().map(|t| t.name()).collect(),
+    };
+    if json {
+        println!("{}", serde_json::to_string_pretty(&report).map_err(|e| Error::InvalidInput(e.to_string()))?);
+        return Ok(());
+    }
+    println!(
+        "device:    {} (index {}, {}, Vulkan {})",
+        report.device, report.device_index, report.device_type, report.api_version
+    );
+    println!("profile:   {}", report.profile);
+    println!(
+        "enabled:   occlusionQueryPrecise={} pipelineStatisticsQuery={} (profiling only; not in the baseline)",
+        info.features.occlusion_query_precise, info.features.pipeline_statistics_query
+    );
+    println!("forbidden: {} (all disabled)", mobile_profile::FORBIDDEN_FEATURES.join(", "));
+    println!(
+        "transient attachments: {}",
+        if info.has_lazily_allocated_memory {
+            "lazily allocated memory"
+        } else {
+            "no LAZILY_ALLOCATED memory type: ordinary device memory"
+        }
+    );
+    println!("\n{:<36} {:>10} {:>12}  ok", "limit", "profile", "device");
+    for check in report.limits {
+        println!(
+            "{:<36} {:>10} {:>12}  {}",
+            check.name,
+            check.profile,
+            check.device,
+            if check.ok { "yes" } else { "NO" }
+        );
+    }
+    println!("\nscenes:     {}", report.scenes.join(", "));
+    println!("techniques: {}", report.techniques.join(", "));
+    Ok(())
+}

@@ -1,0 +1,101 @@
+//! A frame read back to the CPU, and writing it as PNG without ever leaving half a file.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, Result};
+
+/// RGBA8 pixels, row-major, top row first.
+#[derive(Clone, PartialEq, Eq)]
+pub struct RgbaImage {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<u8>,
+}
+
+impl std::fmt::Debug for RgbaImage {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "RgbaImage({}x{})", self.width, self.height)
+    }
+}
+
+impl RgbaImage {
+    pub fn pixel(&self, x: u32, y: u32) -> [u8; 4] {
+        let i = ((y * self.width + x) * 4) as usize;
+        [self.pixels[i], self.pixels[i + 1], self.pixels[i + 2], self.pixels[i + 3]]
+    }
+
+    /// Pixels that differ between two images of the same size (all four channels compared).
+    pub fn count_differences(&self, other: &RgbaImage) -> usize {
+        assert_eq!((self.width, self.height), (other.width, other.height), "image sizes differ");
+        self.pixels.chunks_exact(4).zip(other.pixels.chunks_exact(4)).filter(|(a, b)| a != b).count()
+    }
+
+    /// Writes a PNG: RGB (opaque, what a person wants to look at) unless `keep_alpha`, in which
+    /// case the alpha channel, the emulated stencil, is written too. The file is written under a
+    /// temporary name in the same folder and renamed, so a failure leaves no partial file.
+    pub fn write_png(&self, path: &Path, keep_alpha: bool) -> Result<()> {
+        let io_err = |path: &Path, source: std::io::Error| Error::Io { path: path.to_path_buf(), source };
+        let encoded = self.encode_png(keep_alpha)?;
+        let temp = temporary_sibling(path);
+        let written = (|| {
+            let mut file = std::fs::File::create(&temp)?;
+            file.write_all(&encoded)?;
+            file.sync_all()
+        })();
+        if let Err(e) = written {
+            let _ = std::fs::remove_file(&temp);
+            return Err(io_err(path, e));
+        }
+        std::fs::rename(&temp, path).map_err(|e| {
+            let _ = std::fs::remove_file(&temp);
+            io_err(path, e)
+        })
+    }
+
+    pub fn encode_png(&self, keep_alpha: bool) -> Result<Vec<u8>> {
+        use image::ImageEncoder;
+        let (data, colour) = if keep_alpha {
+            (self.pixels.clone(), image::ExtendedColorType::Rgba8)
+        } else {
+            let rgb: Vec<u8> = self.pixels.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
+            (rgb, image::ExtendedColorType::Rgb8)
+        };
+        let mut out = Vec::new();
+        image::codecs::png::PngEncoder::new(&mut out)
+            .write_image(&data, self.width, self.height, colour)
+            .map_err(|e| Error::InvalidInput(format!("PNG encoding failed: {e}")))?;
+        Ok(out)
+    }
+}
+
+fn temporary_sibling(path: &Path) -> PathBuf {
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "out.png".into());
+    path.with_file_name(format!(".{name}.{}.partial", std::process::id()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn failed_write_leaves_no_file() {
+        let image = RgbaImage { width: 2, height: 2, pixels: vec![255; 16] };
+        let dir = std::env::temp_dir().join(format!("nostencil-png-{}", std::process::id()));
+        let missing = dir.join("no-such-folder").join("x.png");
+        assert!(image.write_png(&missing, false).is_err());
+        assert!(!missing.exists());
+        std::fs::create_dir_all(&dir).unwrap();
+        let ok = dir.join("ok.png");
+        image.write_png(&ok, true).unwrap();
+        let decoded = image::open(&ok).unwrap().to_rgba8();
+        assert_eq!(decoded.as_raw(), &image.pixels);
+        let leftovers: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .filter_map(|e| e.ok())
+            .filter(|e| e.file_name().to_string_lossy().ends_with(".partial"))
+            .collect();
+        assert!(leftovers.is_empty());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

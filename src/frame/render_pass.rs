@@ -1,0 +1,249 @@
+//! Render passes as data. One small description says, per attachment, whether it is cleared,
+//! kept or discarded at the start and end of the pass, and whether it may live in tile memory
+//! only (transient); `build` writes the Vulkan render pass out from it. The load/store decision
+//! lives here and nowhere else.
+
+use ash::vk;
+
+use crate::error::{Result, VkContext};
+
+/// Whether the frame has a real stencil. The main frame never does; the reference does, only to
+/// prove the emulation right and to compare costs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum StencilMode {
+    /// No stencil aspect anywhere: stencil effects are emulated in the colour alpha channel.
+    #[default]
+    Emulated,
+    /// D32_SFLOAT_S8_UINT (or D24_UNORM_S8_UINT): the real-stencil reference path.
+    Reference,
+}
+
+impl StencilMode {
+    pub fn name(self) -> &'static str {
+        match self {
+            StencilMode::Emulated => "emulated",
+            StencilMode::Reference => "reference",
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AttachmentDesc {
+    pub name: &'static str,
+    pub format: vk::Format,
+    pub load: vk::AttachmentLoadOp,
+    pub store: vk::AttachmentStoreOp,
+    pub stencil_load: vk::AttachmentLoadOp,
+    pub stencil_store: vk::AttachmentStoreOp,
+    pub final_layout: vk::ImageLayout,
+    /// Lives only in tile memory on a tile-based GPU (TRANSIENT_ATTACHMENT, lazily allocated).
+    pub transient: bool,
+}
+
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RenderPassDesc {
+    pub colour: AttachmentDesc,
+    pub depth: AttachmentDesc,
+    /// The colour attachment is also read as an input attachment by the same subpass
+    /// (a by-region feedback loop, GENERAL layout): for the subpass normalisation path.
+    pub colour_feedback: bool,
+}
+
+pub const COLOUR_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
+
+pub fn format_has_stencil(format: vk::Format) -> bool {
+    matches!(
+        format,
+        vk::Format::S8_UINT
+            | vk::Format::D16_UNORM_S8_UINT
+            | vk::Format::D24_UNORM_S8_UINT
+            | vk::Format::D32_SFLOAT_S8_UINT
+    )
+}
+
+impl RenderPassDesc {
+    /// The frame: colour cleared and stored (it is read back or presented); depth cleared,
+    /// never stored and transient, since nothing reads it after the pass.
+    pub fn frame(depth_format: vk::Format, colour_feedback: bool) -> Self {
+        let stencil = format_has_stencil(depth_format);
+        RenderPassDesc {
+            colour: AttachmentDesc {
+                name: "colour",
+                format: COLOUR_FORMAT,
+                load: vk::AttachmentLoadOp::CLEAR,
+                store: vk::AttachmentStoreOp::STORE,
+                stencil_load: vk::AttachmentLoadOp::DONT_CARE,
+                stencil_store: vk::AttachmentStoreOp::DONT_CARE,
+                final_layout: vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                transient: false,
+            },
+            depth: AttachmentDesc {
+                name: if stencil { "depth+stencil" } else { "depth" },
+                format: depth_format,
+                load: vk::AttachmentLoadOp::CLEAR,
+                store: vk::AttachmentStoreOp::DONT_CARE,
+                // The reference clears its stencil to 0 and discards it, like the depth.
+                stencil_load: if stencil { vk::AttachmentLoadOp::CLEAR } else { vk::AttachmentLoadOp::DONT_CARE },
+                stencil_store: vk::AttachmentStoreOp::DONT_CARE,
+                final_layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+                transient: true,
+            },
+            colour_feedback,
+        }
+    }
+
+    pub fn has_stencil(&self) -> bool {
+        format_has_stencil(self.colour.format) || format_has_stencil(self.depth.format)
+    }
+
+    fn colour_layout(&self) -> vk::ImageLayout {
+        if self.colour_feedback {
+            vk::ImageLayout::GENERAL
+        } else {
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL
+        }
+    }
+
+    pub fn build(&self, device: &ash::Device) -> Result<vk::RenderPass> {
+        let describe = |a: &AttachmentDesc| {
+            vk::AttachmentDescription::default()
+                .format(a.format)
+                .samples(vk::SampleCountFlags::TYPE_1)
+                .load_op(a.load)
+                .store_op(a.store)
+                .stencil_load_op(a.stencil_load)
+                .stencil_store_op(a.stencil_store)
+                .initial_layout(vk::ImageLayout::UNDEFINED)
+                .final_layout(a.final_layout)
+        };
+        let attachments = [describe(&self.colour), describe(&self.depth)];
+        let colour_ref = [vk::AttachmentReference { attachment: 0, layout: self.colour_layout() }];
+        let depth_ref =
+            vk::AttachmentReference { attachment: 1, layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL };
+        let mut subpass = vk::SubpassDescription::default()
+            .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
+            .color_attachments(&colour_ref)
+            .depth_stencil_attachment(&depth_ref);
+        if self.colour_feedback {
+            subpass = subpass.input_attachments(&colour_ref);
+        }
+        let subpasses = [subpass];
+
+        let mut dependencies = vec![
+            // Colour writes finish before the copy that reads the frame back.
+            vk::SubpassDependency {
+                src_subpass: 0,
+                dst_subpass: vk::SUBPASS_EXTERNAL,
+                src_stage_mask: vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT,
+                dst_stage_mask: vk::PipelineStageFlags::TRANSFER,
+                src_access_mask: vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
+                dst_access_mask: vk::AccessFlags::TRANSFER_READ,
+                dependency_flags: vk::DependencyFlags::empty(),
+            },
+        ];
+        if self.colour_feedback {
+            // A full-screen pass reads the pixel that earlier draws of this subpass wrote.
+            dependencies.push(vk::SubpassDependency {
+                src_subpass: 0,
+                dst_subpass: 0,
+                src_stage_mask: vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT,
+                dst_stage_mask: vk::PipelineStageFlags::FRAGMENT_SHADER,
+                src_access_mask: vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
+                dst_access_mask: vk::AccessFlags::INPUT_ATTACHMENT_READ,
+                dependency_flags: vk::DependencyFlags::BY_REGION,
+            });
+        }
+        let info = vk::RenderPassCreateInfo::default()
+            .attachments(&attachments)
+            .subpasses(&subpasses)
+            .dependencies(&dependencies);
+        unsafe { device.create_render_pass(&info, None) }.vk("vkCreateRenderPass")
+    }
+
+    /// Bytes a tile-based GPU moves for this pass: loads from and stores to main memory, per
+    /// attachment. Cleared, discarded and transient attachments move nothing.
+    pub fn tile_traffic(&self, width: u32, height: u32) -> Vec<AttachmentTraffic> {
+        let pixels = width as u64 * height as u64;
+        [self.colour, self.depth]
+            .iter()
+            .map(|a| {
+                let (depth_bytes, stencil_bytes) = texel_bytes(a.format);
+                let loaded = |op: vk::AttachmentLoadOp, bytes: u64| {
+                    if op == vk::AttachmentLoadOp::LOAD {
+                        bytes * pixels
+                    } else {
+                        0
+                    }
+                };
+                let stored = |op: vk::AttachmentStoreOp, bytes: u64| {
+                    if op == vk::AttachmentStoreOp::STORE {
+                        bytes * pixels
+                    } else {
+                        0
+                    }
+                };
+                AttachmentTraffic {
+                    attachment: a.name,
+                    format: format!("{:?}", a.format),
+                    load_op: format!("{:?}", a.load),
+                    store_op: format!("{:?}", a.store),
+                    bytes_loaded: loaded(a.load, depth_bytes) + loaded(a.stencil_load, stencil_bytes),
+                    bytes_stored: stored(a.store, depth_bytes) + stored(a.stencil_store, stencil_bytes),
+                    transient: a.transient,
+                }
+            })
+            .collect()
+    }
+}
+
+/// (colour-or-depth bytes, stencil bytes) per texel.
+fn texel_bytes(format: vk::Format) -> (u64, u64) {
+    match format {
+        vk::Format::R8G8B8A8_UNORM | vk::Format::B8G8R8A8_UNORM | vk::Format::D32_SFLOAT => (4, 0),
+        vk::Format::D16_UNORM => (2, 0),
+        vk::Format::D24_UNORM_S8_UINT => (3, 1),
+        vk::Format::D32_SFLOAT_S8_UINT => (4, 1),
+        vk::Format::S8_UINT => (0, 1),
+        _ => (4, 0),
+    }
+}
+
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct AttachmentTraffic {
+    pub attachment: &'static str,
+    pub format: String,
+    pub load_op: String,
+    pub store_op: String,
+    pub bytes_loaded: u64,
+    pub bytes_stored: u64,
+    pub transient: bool,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn main_frame_has_no_stencil_aspect_anywhere() {
+        for depth in [vk::Format::D32_SFLOAT, vk::Format::D16_UNORM] {
+            for feedback in [false, true] {
+                let desc = RenderPassDesc::frame(depth, feedback);
+                assert!(!desc.has_stencil());
+                assert_eq!(desc.depth.stencil_load, vk::AttachmentLoadOp::DONT_CARE);
+                assert_eq!(desc.depth.stencil_store, vk::AttachmentStoreOp::DONT_CARE);
+            }
+        }
+        assert!(RenderPassDesc::frame(vk::Format::D32_SFLOAT_S8_UINT, false).has_stencil());
+    }
+
+    #[test]
+    fn tile_traffic_follows_load_store_ops() {
+        let desc = RenderPassDesc::frame(vk::Format::D32_SFLOAT, false);
+        let traffic = desc.tile_traffic(256, 256);
+        // Colour: cleared (nothing loaded), stored (4 bytes a pixel). Depth: nothing moves.
+        assert_eq!(traffic[0].bytes_loaded, 0);
+        assert_eq!(traffic[0].bytes_stored, 4 * 256 * 256);
+        assert_eq!(traffic[1].bytes_loaded + traffic[1].bytes_stored, 0);
+    }
+}

@@ -1,0 +1,93 @@
+//! `Gpu`: everything chosen once per process (instance, device, queue, allocator, command pool),
+//! shared through an `Arc` by every resource so that resources destroy themselves on drop.
+
+use std::mem::ManuallyDrop;
+use std::sync::{Arc, Mutex, MutexGuard};
+
+use ash::vk;
+use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+
+use super::device::{Device, DeviceChoice};
+use super::instance::Instance;
+use crate::error::{Error, Result, VkContext};
+
+#[derive(Debug, Clone, Default)]
+pub struct GpuOptions {
+    /// Khronos validation layer with a messenger that records every message.
+    pub validation: bool,
+    pub device: DeviceChoice,
+}
+
+impl GpuOptions {
+    /// What tests use: validation on, device from `NOSTENCIL_DEVICE` or automatic.
+    pub fn for_tests() -> Self {
+        GpuOptions { validation: true, device: DeviceChoice::Auto }
+    }
+}
+
+pub struct Gpu {
+    allocator: ManuallyDrop<Mutex<Allocator>>,
+    command_pool: Mutex<vk::CommandPool>,
+    pub device: Device,
+    pub instance: Instance,
+}
+
+impl Gpu {
+    pub fn new(options: &GpuOptions) -> Result<Arc<Self>> {
+        let instance = Instance::new(options.validation)?;
+        let device = Device::new(&instance, &options.device.clone().from_env_or())?;
+        let allocator = Allocator::new(&AllocatorCreateDesc {
+            instance: instance.raw.clone(),
+            device: device.raw.clone(),
+            physical_device: device.physical,
+            debug_settings: Default::default(),
+            buffer_device_address: false,
+            allocation_sizes: Default::default(),
+        })
+        .map_err(|e| Error::Memory(e.to_string()))?;
+        let pool_info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(device.queue_family)
+            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        let command_pool = unsafe { device.raw.create_command_pool(&pool_info, None) }.vk("vkCreateCommandPool")?;
+        Ok(Arc::new(Gpu {
+            allocator: ManuallyDrop::new(Mutex::new(allocator)),
+            command_pool: Mutex::new(command_pool),
+            device,
+            instance,
+        }))
+    }
+
+    pub fn raw(&self) -> &ash::Device {
+        &self.device.raw
+    }
+
+    pub fn allocator(&self) -> MutexGuard<'_, Allocator> {
+        // A poisoned lock means another thread panicked mid-allocation; the allocator's own
+        // state is still consistent, so keep going.
+        self.allocator.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    pub(crate) fn command_pool(&self) -> MutexGuard<'_, vk::CommandPool> {
+        self.command_pool.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// Validation messages recorded so far (empty when validation is off).
+    pub fn validation_messages(&self) -> Vec<String> {
+        self.instance.validation_log().map(|l| l.messages()).unwrap_or_default()
+    }
+
+    pub fn validation_enabled(&self) -> bool {
+        self.instance.validation_log().is_some()
+    }
+}
+
+impl Drop for Gpu {
+    fn drop(&mut self) {
+        unsafe {
+            let _ = self.device.raw.device_wait_idle();
+            ManuallyDrop::drop(&mut self.allocator);
+            self.device.raw.destroy_command_pool(*self.command_pool.get_mut().unwrap_or_else(|p| p.into_inner()), None);
+            self.device.raw.destroy_device(None);
+        }
+    }
+}

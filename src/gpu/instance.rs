@@ -1,0 +1,140 @@
+//! The Vulkan instance: loader, optional Khronos validation layer and a debug-utils messenger
+//! that records every validation message so that tests can fail on any of them.
+
+use std::ffi::{c_void, CStr};
+use std::sync::{Arc, Mutex};
+
+use ash::{ext::debug_utils, vk};
+
+use crate::error::{Error, Result, VkContext};
+
+const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
+
+/// Messages the validation layer reported (warnings and errors), in order.
+#[derive(Clone, Default)]
+pub struct ValidationLog(Arc<Mutex<Vec<String>>>);
+
+impl ValidationLog {
+    pub fn messages(&self) -> Vec<String> {
+        self.0.lock().map(|m| m.clone()).unwrap_or_default()
+    }
+
+    fn push(&self, message: String) {
+        if let Ok(mut messages) = self.0.lock() {
+            messages.push(message);
+        }
+    }
+}
+
+pub struct Instance {
+    pub entry: ash::Entry,
+    pub raw: ash::Instance,
+    messenger: Option<(debug_utils::Instance, vk::DebugUtilsMessengerEXT, Box<ValidationLog>)>,
+}
+
+impl Instance {
+    pub fn new(validation: bool) -> Result<Self> {
+        // SAFETY: loading the system loader library; failure is reported, not assumed.
+        let entry = unsafe { ash::Entry::load() }.map_err(|e| {
+            Error::Device(format!(
+                "no Vulkan loader found ({e}); install libvulkan1 and a driver such as mesa-vulkan-drivers (tools/setup-debian.sh)"
+            ))
+        })?;
+
+        let app_info = vk::ApplicationInfo::default()
+            .application_name(c"nostencil")
+            .engine_name(c"nostencil")
+            .api_version(vk::API_VERSION_1_0);
+
+        let mut layers = Vec::new();
+        let mut extensions = Vec::new();
+        if validation {
+            let available =
+                unsafe { entry.enumerate_instance_layer_properties() }.vk("vkEnumerateInstanceLayerProperties")?;
+            let has_layer = available.iter().any(|l| l.layer_name_as_c_str().ok() == Some(VALIDATION_LAYER));
+            if !has_layer {
+                return Err(Error::Device(
+                    "validation was requested but VK_LAYER_KHRONOS_validation is not installed (package vulkan-validationlayers)".into(),
+                ));
+            }
+            layers.push(VALIDATION_LAYER.as_ptr());
+            extensions.push(debug_utils::NAME.as_ptr());
+        }
+
+        let create_info = vk::InstanceCreateInfo::default()
+            .application_info(&app_info)
+            .enabled_layer_names(&layers)
+            .enabled_extension_names(&extensions);
+        let raw = unsafe { entry.create_instance(&create_info, None) }.map_err(|result| {
+            if result == vk::Result::ERROR_INCOMPATIBLE_DRIVER {
+                Error::Device("no Vulkan driver (ICD) could be loaded: no Vulkan device".into())
+            } else {
+                Error::Vulkan { call: "vkCreateInstance", result }
+            }
+        })?;
+
+        let mut instance = Instance { entry, raw, messenger: None };
+        if validation {
+            instance.install_messenger()?;
+        }
+        Ok(instance)
+    }
+
+    fn install_messenger(&mut self) -> Result<()> {
+        let loader = debug_utils::Instance::new(&self.entry, &self.raw);
+        let log = Box::new(ValidationLog::default());
+        let info = vk::DebugUtilsMessengerCreateInfoEXT::default()
+            .message_severity(
+                vk::DebugUtilsMessageSeverityFlagsEXT::WARNING | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR,
+            )
+            .message_type(
+                vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
+            )
+            .pfn_user_callback(Some(on_validation_message))
+            .user_data(&*log as *const ValidationLog as *mut c_void);
+        let messenger =
+            unsafe { loader.create_debug_utils_messenger(&info, None) }.vk("vkCreateDebugUtilsMessengerEXT")?;
+        self.messenger = Some((loader, messenger, log));
+        Ok(())
+    }
+
+    /// The validation messages so far; empty when validation is off.
+    pub fn validation_log(&self) -> Option<&ValidationLog> {
+        self.messenger.as_ref().map(|(_, _, log)| &**log)
+    }
+}
+
+impl Drop for Instance {
+    fn drop(&mut self) {
+        unsafe {
+            if let Some((loader, messenger, _log)) = self.messenger.take() {
+                loader.destroy_debug_utils_messenger(messenger, None);
+            }
+            self.raw.destroy_instance(None);
+        }
+    }
+}
+
+unsafe extern "system" fn on_validation_message(
+    severity: vk::DebugUtilsMessageSeverityFlagsEXT,
+    _types: vk::DebugUtilsMessageTypeFlagsEXT,
+    data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,
+    user_data: *mut c_void,
+) -> vk::Bool32 {
+    let text = if data.is_null() {
+        "(no message)".to_owned()
+    } else {
+        unsafe { (*data).message_as_c_str() }
+            .map(|m| m.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "(no message)".to_owned())
+    };
+    let message = format!("[{severity:?}] {text}");
+    eprintln!("vulkan validation: {message}");
+    if !user_data.is_null() {
+        // SAFETY: user_data is the boxed ValidationLog owned by the Instance that outlives
+        // the messenger.
+        let log = unsafe { &*(user_data as *const ValidationLog) };
+        log.push(message);
+    }
+    vk::FALSE
+}

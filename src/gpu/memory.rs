@@ -1,0 +1,250 @@
+//! Buffers and images with their memory. Memory comes from gpu-allocator, except transient
+//! attachments on devices that offer LAZILY_ALLOCATED memory (tile-based GPUs), which
+//! gpu-allocator cannot ask for: those get a dedicated lazy allocation of their own.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+use gpu_allocator::MemoryLocation;
+
+use super::commands::submit_and_wait;
+use super::context::Gpu;
+use crate::error::{Error, Result, VkContext};
+
+pub struct Buffer {
+    gpu: Arc<Gpu>,
+    pub raw: vk::Buffer,
+    pub size: u64,
+    allocation: Option<Allocation>,
+}
+
+impl Buffer {
+    pub fn new(
+        gpu: &Arc<Gpu>,
+        name: &str,
+        size: u64,
+        usage: vk::BufferUsageFlags,
+        location: MemoryLocation,
+    ) -> Result<Self> {
+        let device = gpu.raw();
+        let info =
+            vk::BufferCreateInfo::default().size(size.max(4)).usage(usage).sharing_mode(vk::SharingMode::EXCLUSIVE);
+        let raw = unsafe { device.create_buffer(&info, None) }.vk("vkCreateBuffer")?;
+        let requirements = unsafe { device.get_buffer_memory_requirements(raw) };
+        let allocation = gpu
+            .allocator()
+            .allocate(&AllocationCreateDesc {
+                name,
+                requirements,
+                location,
+                linear: true,
+                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+            })
+            .map_err(|e| {
+                unsafe { device.destroy_buffer(raw, None) };
+                Error::Memory(format!("buffer '{name}' ({size} bytes): {e}"))
+            })?;
+        let bound = unsafe { device.bind_buffer_memory(raw, allocation.memory(), allocation.offset()) }
+            .vk("vkBindBufferMemory");
+        let buffer = Buffer { gpu: gpu.clone(), raw, size, allocation: Some(allocation) };
+        bound.map(|_| buffer)
+    }
+
+    /// A host-visible buffer filled with `data`.
+    pub fn with_data(gpu: &Arc<Gpu>, name: &str, data: &[u8], usage: vk::BufferUsageFlags) -> Result<Self> {
+        let mut buffer = Buffer::new(gpu, name, data.len() as u64, usage, MemoryLocation::CpuToGpu)?;
+        buffer.write(0, data)?;
+        Ok(buffer)
+    }
+
+    /// A device-local buffer filled through a staging copy.
+    pub fn device_local(gpu: &Arc<Gpu>, name: &str, data: &[u8], usage: vk::BufferUsageFlags) -> Result<Self> {
+        let staging = Buffer::with_data(gpu, &format!("{name} (staging)"), data, vk::BufferUsageFlags::TRANSFER_SRC)?;
+        let buffer = Buffer::new(
+            gpu,
+            name,
+            data.len() as u64,
+            usage | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )?;
+        submit_and_wait(gpu, |cmd| {
+            let region = [vk::BufferCopy { src_offset: 0, dst_offset: 0, size: data.len() as u64 }];
+            unsafe { gpu.raw().cmd_copy_buffer(cmd, staging.raw, buffer.raw, &region) };
+            Ok(())
+        })?;
+        Ok(buffer)
+    }
+
+    pub fn write(&mut self, offset: usize, data: &[u8]) -> Result<()> {
+        let slice = self
+            .allocation
+            .as_mut()
+            .and_then(|a| a.mapped_slice_mut())
+            .ok_or_else(|| Error::Memory("buffer is not host-visible".into()))?;
+        let end = offset.checked_add(data.len()).filter(|&e| e <= slice.len()).ok_or_else(|| {
+            Error::Memory(format!("write of {} bytes at {offset} past a {}-byte buffer", data.len(), slice.len()))
+        })?;
+        slice[offset..end].copy_from_slice(data);
+        Ok(())
+    }
+
+    pub fn read(&self) -> Result<&[u8]> {
+        self.allocation
+            .as_ref()
+            .and_then(|a| a.mapped_slice())
+            .map(|s| &s[..self.size as usize])
+            .ok_or_else(|| Error::Memory("buffer is not host-visible".into()))
+    }
+}
+
+impl Drop for Buffer {
+    fn drop(&mut self) {
+        unsafe { self.gpu.raw().destroy_buffer(self.raw, None) };
+        if let Some(allocation) = self.allocation.take() {
+            let _ = self.gpu.allocator().free(allocation);
+        }
+    }
+}
+
+enum ImageMemory {
+    Allocator(Allocation),
+    /// A LAZILY_ALLOCATED dedicated allocation, for transient attachments on tilers.
+    Lazy(vk::DeviceMemory),
+}
+
+pub struct Image {
+    gpu: Arc<Gpu>,
+    pub raw: vk::Image,
+    pub view: vk::ImageView,
+    pub format: vk::Format,
+    pub extent: vk::Extent2D,
+    pub mip_levels: u32,
+    /// True when the memory is LAZILY_ALLOCATED (never backed on a tile-based GPU).
+    pub lazily_allocated: bool,
+    memory: Option<ImageMemory>,
+}
+
+pub struct ImageDesc<'a> {
+    pub name: &'a str,
+    pub format: vk::Format,
+    pub extent: vk::Extent2D,
+    pub usage: vk::ImageUsageFlags,
+    pub aspect: vk::ImageAspectFlags,
+    pub mip_levels: u32,
+}
+
+impl Image {
+    pub fn new(gpu: &Arc<Gpu>, desc: &ImageDesc) -> Result<Self> {
+        super::mobile_profile::check_image_size(desc.name, desc.extent.width, desc.extent.height)?;
+        let device = gpu.raw();
+        let info = vk::ImageCreateInfo::default()
+            .image_type(vk::ImageType::TYPE_2D)
+            .format(desc.format)
+            .extent(vk::Extent3D { width: desc.extent.width, height: desc.extent.height, depth: 1 })
+            .mip_levels(desc.mip_levels.max(1))
+            .array_layers(1)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .tiling(vk::ImageTiling::OPTIMAL)
+            .usage(desc.usage)
+            .sharing_mode(vk::SharingMode::EXCLUSIVE)
+            .initial_layout(vk::ImageLayout::UNDEFINED);
+        let raw = unsafe { device.create_image(&info, None) }.vk("vkCreateImage")?;
+        let requirements = unsafe { device.get_image_memory_requirements(raw) };
+
+        let transient = desc.usage.contains(vk::ImageUsageFlags::TRANSIENT_ATTACHMENT);
+        let lazy_type = transient
+            .then(|| find_memory_type(gpu, requirements.memory_type_bits, vk::MemoryPropertyFlags::LAZILY_ALLOCATED))
+            .flatten();
+        let memory = match lazy_type {
+            Some(type_index) => {
+                let alloc =
+                    vk::MemoryAllocateInfo::default().allocation_size(requirements.size).memory_type_index(type_index);
+                let memory = unsafe { device.allocate_memory(&alloc, None) }.vk("vkAllocateMemory");
+                match memory {
+                    Ok(m) => ImageMemory::Lazy(m),
+                    Err(e) => {
+                        unsafe { device.destroy_image(raw, None) };
+                        return Err(e);
+                    }
+                }
+            }
+            None => {
+                let allocation = gpu.allocator().allocate(&AllocationCreateDesc {
+                    name: desc.name,
+                    requirements,
+                    location: MemoryLocation::GpuOnly,
+                    linear: false,
+                    allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+                });
+                match allocation {
+                    Ok(a) => ImageMemory::Allocator(a),
+                    Err(e) => {
+                        unsafe { device.destroy_image(raw, None) };
+                        return Err(Error::Memory(format!("image '{}': {e}", desc.name)));
+                    }
+                }
+            }
+        };
+        let (vk_memory, offset) = match &memory {
+            ImageMemory::Allocator(a) => unsafe { (a.memory(), a.offset()) },
+            ImageMemory::Lazy(m) => (*m, 0),
+        };
+        let mut image = Image {
+            gpu: gpu.clone(),
+            raw,
+            view: vk::ImageView::null(),
+            format: desc.format,
+            extent: desc.extent,
+            mip_levels: desc.mip_levels.max(1),
+            lazily_allocated: matches!(memory, ImageMemory::Lazy(_)),
+            memory: Some(memory),
+        };
+        unsafe { device.bind_image_memory(raw, vk_memory, offset) }.vk("vkBindImageMemory")?;
+        let view_info = vk::ImageViewCreateInfo::default()
+            .image(raw)
+            .view_type(vk::ImageViewType::TYPE_2D)
+            .format(desc.format)
+            .subresource_range(vk::ImageSubresourceRange {
+                aspect_mask: desc.aspect,
+                base_mip_level: 0,
+                level_count: image.mip_levels,
+                base_array_layer: 0,
+                layer_count: 1,
+            });
+        image.view = unsafe { device.create_image_view(&view_info, None) }.vk("vkCreateImageView")?;
+        Ok(image)
+    }
+}
+
+impl Drop for Image {
+    fn drop(&mut self) {
+        let device = self.gpu.raw();
+        unsafe {
+            if self.view != vk::ImageView::null() {
+                device.destroy_image_view(self.view, None);
+            }
+            device.destroy_image(self.raw, None);
+        }
+        match self.memory.take() {
+            Some(ImageMemory::Allocator(a)) => {
+                let _ = self.gpu.allocator().free(a);
+            }
+            Some(ImageMemory::Lazy(m)) => unsafe { device.free_memory(m, None) },
+            None => {}
+        }
+    }
+}
+
+fn find_memory_type(gpu: &Gpu, type_bits: u32, flags: vk::MemoryPropertyFlags) -> Option<u32> {
+    let props = &gpu.device.memory_properties;
+    (0..props.memory_type_count)
+        .find(|&i| type_bits & (1 << i) != 0 && props.memory_types[i as usize].property_flags.contains(flags))
+}
+
+/// Raw bytes of a slice of plain values, for uploads.
+pub fn as_bytes<T: Copy>(values: &[T]) -> &[u8] {
+    // SAFETY: T is Copy plain data (vertices, indices, matrices); the byte view has the same
+    // lifetime and covers exactly the slice.
+    unsafe { std::slice::from_raw_parts(values.as_ptr() as *const u8, std::mem::size_of_val(values)) }
+}

@@ -1,0 +1,13 @@
+//! Vulkan plumbing: what is chosen once (instance, device under the mobile profile), what
+//! allocates (memory), what records and submits (commands), and what measures (queries).
+
+pub mod commands;
+pub mod context;
+pub mod device;
+pub mod instance;
+pub mod memory;
+pub mod mobile_profile;
+pub mod queries;
+
+pub use context::{Gpu, GpuOptions};
+pub use device::DeviceChoice;

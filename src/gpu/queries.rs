@@ -1,0 +1,155 @@
+//! Per-pass query pools: every logical pass is bracketed by a pipeline-statistics query, a
+//! precise occlusion query and two timestamps. Queries live inside the render pass (a query
+//! begun in a subpass ends in it), so one render pass can hold many measured passes.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::context::Gpu;
+use crate::error::{Result, VkContext};
+
+/// What one pass's queries returned.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct RawPassQueries {
+    pub vertex_invocations: Option<u64>,
+    pub clipping_primitives: Option<u64>,
+    pub fragment_invocations: Option<u64>,
+    pub samples_passed: u64,
+    pub begin_ns: f64,
+    pub end_ns: f64,
+}
+
+pub struct PassQueryPools {
+    gpu: Arc<Gpu>,
+    statistics: Option<vk::QueryPool>,
+    occlusion: vk::QueryPool,
+    timestamps: vk::QueryPool,
+    capacity: u32,
+    precise: bool,
+}
+
+// Order of results follows the bit order of the flags: vertex (bit 2), clipping primitives
+// (bit 6), fragment (bit 7).
+const STATISTICS: vk::QueryPipelineStatisticFlags = vk::QueryPipelineStatisticFlags::from_raw(
+    vk::QueryPipelineStatisticFlags::VERTEX_SHADER_INVOCATIONS.as_raw()
+        | vk::QueryPipelineStatisticFlags::CLIPPING_PRIMITIVES.as_raw()
+        | vk::QueryPipelineStatisticFlags::FRAGMENT_SHADER_INVOCATIONS.as_raw(),
+);
+
+impl PassQueryPools {
+    pub fn new(gpu: &Arc<Gpu>, capacity: u32) -> Result<Self> {
+        let device = gpu.raw();
+        let features = gpu.device.info.features;
+        let make = |ty: vk::QueryType, count: u32, stats: vk::QueryPipelineStatisticFlags| {
+            let info = vk::QueryPoolCreateInfo::default().query_type(ty).query_count(count).pipeline_statistics(stats);
+            unsafe { device.create_query_pool(&info, None) }.vk("vkCreateQueryPool")
+        };
+        let statistics = if features.pipeline_statistics_query {
+            Some(make(vk::QueryType::PIPELINE_STATISTICS, capacity, STATISTICS)?)
+        } else {
+            None
+        };
+        let occlusion = make(vk::QueryType::OCCLUSION, capacity, Default::default())?;
+        let timestamps = make(vk::QueryType::TIMESTAMP, capacity * 2, Default::default())?;
+        Ok(PassQueryPools {
+            gpu: gpu.clone(),
+            statistics,
+            occlusion,
+            timestamps,
+            capacity,
+            precise: features.occlusion_query_precise,
+        })
+    }
+
+    pub fn capacity(&self) -> u32 {
+        self.capacity
+    }
+
+    /// Must be recorded outside a render pass, before the frame's first pass.
+    pub fn reset(&self, cmd: vk::CommandBuffer) {
+        let device = self.gpu.raw();
+        unsafe {
+            if let Some(pool) = self.statistics {
+                device.cmd_reset_query_pool(cmd, pool, 0, self.capacity);
+            }
+            device.cmd_reset_query_pool(cmd, self.occlusion, 0, self.capacity);
+            device.cmd_reset_query_pool(cmd, self.timestamps, 0, self.capacity * 2);
+        }
+    }
+
+    pub fn begin(&self, cmd: vk::CommandBuffer, pass: u32) {
+        let device = self.gpu.raw();
+        let flags = if self.precise { vk::QueryControlFlags::PRECISE } else { vk::QueryControlFlags::empty() };
+        unsafe {
+            device.cmd_write_timestamp(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, self.timestamps, pass * 2);
+            device.cmd_begin_query(cmd, self.occlusion, pass, flags);
+            if let Some(pool) = self.statistics {
+                device.cmd_begin_query(cmd, pool, pass, vk::QueryControlFlags::empty());
+            }
+        }
+    }
+
+    pub fn end(&self, cmd: vk::CommandBuffer, pass: u32) {
+        let device = self.gpu.raw();
+        unsafe {
+            if let Some(pool) = self.statistics {
+                device.cmd_end_query(cmd, pool, pass);
+            }
+            device.cmd_end_query(cmd, self.occlusion, pass);
+            device.cmd_write_timestamp(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, self.timestamps, pass * 2 + 1);
+        }
+    }
+
+    /// Results of the first `count` passes; call after the frame's fence has signalled.
+    pub fn results(&self, count: u32) -> Result<Vec<RawPassQueries>> {
+        if count == 0 {
+            return Ok(Vec::new());
+        }
+        let device = self.gpu.raw();
+        let wait = vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT;
+        let mut stats = vec![[0u64; 3]; count as usize];
+        if let Some(pool) = self.statistics {
+            unsafe { device.get_query_pool_results(pool, 0, &mut stats, wait) }
+                .vk("vkGetQueryPoolResults (statistics)")?;
+        }
+        let mut samples = vec![0u64; count as usize];
+        unsafe { device.get_query_pool_results(self.occlusion, 0, &mut samples, wait) }
+            .vk("vkGetQueryPoolResults (occlusion)")?;
+        let mut stamps = vec![0u64; count as usize * 2];
+        unsafe { device.get_query_pool_results(self.timestamps, 0, &mut stamps, wait) }
+            .vk("vkGetQueryPoolResults (timestamps)")?;
+
+        let info = &self.gpu.device.info;
+        let period = info.limits.timestamp_period as f64;
+        let mask = if info.timestamp_valid_bits >= 64 { u64::MAX } else { (1u64 << info.timestamp_valid_bits) - 1 };
+        let has_stats = self.statistics.is_some();
+        Ok((0..count as usize)
+            .map(|i| {
+                let begin = stamps[2 * i] & mask;
+                let end = stamps[2 * i + 1] & mask;
+                RawPassQueries {
+                    vertex_invocations: has_stats.then_some(stats[i][0]),
+                    clipping_primitives: has_stats.then_some(stats[i][1]),
+                    fragment_invocations: has_stats.then_some(stats[i][2]),
+                    samples_passed: samples[i],
+                    begin_ns: begin as f64 * period,
+                    end_ns: end as f64 * period,
+                }
+            })
+            .collect())
+    }
+}
+
+impl Drop for PassQueryPools {
+    fn drop(&mut self) {
+        let device = self.gpu.raw();
+        unsafe {
+            if let Some(pool) = self.statistics {
+                device.destroy_query_pool(pool, None);
+            }
+            device.destroy_query_pool(self.occlusion, None);
+            device.destroy_query_pool(self.timestamps, None);
+        }
+    }
+}

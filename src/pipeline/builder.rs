@@ -1,0 +1,227 @@
+//! Builds a graphics pipeline from a `PipelineDesc`: shaders by file name, an interleaved vertex
+//! layout, and the fixed-function data of `state.rs`. Viewport and scissor are dynamic.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::state::{BlendEquation, FixedFunction};
+use crate::error::{Result, VkContext};
+use crate::gpu::mobile_profile;
+use crate::gpu::Gpu;
+
+/// One interleaved vertex buffer with these attributes at locations 0, 1, ...
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct VertexLayout {
+    pub attributes: &'static [vk::Format],
+}
+
+impl VertexLayout {
+    /// No vertex buffer: the shader makes its vertices from gl_VertexIndex.
+    pub const NONE: VertexLayout = VertexLayout { attributes: &[] };
+    /// position (vec3) + normal (vec3).
+    pub const POSITION_NORMAL: VertexLayout =
+        VertexLayout { attributes: &[vk::Format::R32G32B32_SFLOAT, vk::Format::R32G32B32_SFLOAT] };
+    /// Homogeneous position (vec4): w = 0 puts a vertex at infinity (shadow-volume extrusion).
+    pub const POSITION4: VertexLayout = VertexLayout { attributes: &[vk::Format::R32G32B32A32_SFLOAT] };
+    /// Clip-space position (vec4) given directly, for screen-space test geometry.
+    pub const CLIP4: VertexLayout = VertexLayout { attributes: &[vk::Format::R32G32B32A32_SFLOAT] };
+
+    fn size_of(format: vk::Format) -> u32 {
+        match format {
+            vk::Format::R32G32_SFLOAT => 8,
+            vk::Format::R32G32B32_SFLOAT => 12,
+            vk::Format::R32G32B32A32_SFLOAT => 16,
+            vk::Format::R16G16B16A16_UINT => 8,
+            vk::Format::R32_SFLOAT => 4,
+            _ => 16,
+        }
+    }
+
+    pub fn stride(&self) -> u32 {
+        self.attributes.iter().map(|f| Self::size_of(*f)).sum()
+    }
+}
+
+#[derive(Debug, Clone)]
+pub struct PipelineDesc {
+    /// The pass name this pipeline draws (shown in profiles and the `passes` table).
+    pub name: &'static str,
+    pub vertex_shader: &'static str,
+    pub fragment_shader: &'static str,
+    pub vertex_layout: VertexLayout,
+    pub fixed: FixedFunction,
+    pub push_constant_bytes: u32,
+    pub subpass: u32,
+}
+
+pub struct Pipeline {
+    gpu: Arc<Gpu>,
+    pub raw: vk::Pipeline,
+    pub layout: vk::PipelineLayout,
+    /// Descriptor sets in the layout (the frame uniforms are set 0 when present).
+    pub set_count: u32,
+    pub desc: PipelineDesc,
+}
+
+fn blend_attachment(fixed: &FixedFunction) -> vk::PipelineColorBlendAttachmentState {
+    let blend = fixed.blend;
+    let colour = blend.colour.unwrap_or(BlendEquation::REPLACE);
+    let alpha = blend.alpha.unwrap_or(BlendEquation::REPLACE);
+    vk::PipelineColorBlendAttachmentState {
+        blend_enable: blend.enabled() as vk::Bool32,
+        src_color_blend_factor: colour.src,
+        dst_color_blend_factor: colour.dst,
+        color_blend_op: colour.op,
+        src_alpha_blend_factor: alpha.src,
+        dst_alpha_blend_factor: alpha.dst,
+        alpha_blend_op: alpha.op,
+        color_write_mask: blend.write_mask,
+    }
+}
+
+impl Pipeline {
+    pub fn new(
+        gpu: &Arc<Gpu>,
+        desc: &PipelineDesc,
+        render_pass: vk::RenderPass,
+        set_layouts: &[vk::DescriptorSetLayout],
+    ) -> Result<Self> {
+        mobile_profile::check_push_constants(desc.name, desc.push_constant_bytes)?;
+        let device = gpu.raw();
+
+        let ranges = [vk::PushConstantRange {
+            stage_flags: vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+            offset: 0,
+            size: desc.push_constant_bytes,
+        }];
+        let layout_info = vk::PipelineLayoutCreateInfo::default()
+            .set_layouts(set_layouts)
+            .push_constant_ranges(if desc.push_constant_bytes > 0 { &ranges } else { &[] });
+        let layout = unsafe { device.create_pipeline_layout(&layout_info, None) }.vk("vkCreatePipelineLayout")?;
+        let mut pipeline = Pipeline {
+            gpu: gpu.clone(),
+            raw: vk::Pipeline::null(),
+            layout,
+            set_count: set_layouts.len() as u32,
+            desc: desc.clone(),
+        };
+
+        let vertex_module = ShaderModule::new(gpu, desc.vertex_shader)?;
+        let fragment_module = ShaderModule::new(gpu, desc.fragment_shader)?;
+        let stages = [
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::VERTEX)
+                .module(vertex_module.raw)
+                .name(c"main"),
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::FRAGMENT)
+                .module(fragment_module.raw)
+                .name(c"main"),
+        ];
+
+        let layout_desc = desc.vertex_layout;
+        let bindings = [vk::VertexInputBindingDescription {
+            binding: 0,
+            stride: layout_desc.stride(),
+            input_rate: vk::VertexInputRate::VERTEX,
+        }];
+        let mut offset = 0;
+        let attributes: Vec<_> = layout_desc
+            .attributes
+            .iter()
+            .enumerate()
+            .map(|(location, &format)| {
+                let attribute =
+                    vk::VertexInputAttributeDescription { location: location as u32, binding: 0, format, offset };
+                offset += VertexLayout::size_of(format);
+                attribute
+            })
+            .collect();
+        let vertex_input = if attributes.is_empty() {
+            vk::PipelineVertexInputStateCreateInfo::default()
+        } else {
+            vk::PipelineVertexInputStateCreateInfo::default()
+                .vertex_binding_descriptions(&bindings)
+                .vertex_attribute_descriptions(&attributes)
+        };
+
+        let fixed = &desc.fixed;
+        let input_assembly = vk::PipelineInputAssemblyStateCreateInfo::default().topology(fixed.topology);
+        let viewport = vk::PipelineViewportStateCreateInfo::default().viewport_count(1).scissor_count(1);
+        let bias = fixed.raster.depth_bias;
+        let raster = vk::PipelineRasterizationStateCreateInfo::default()
+            .polygon_mode(vk::PolygonMode::FILL)
+            .cull_mode(fixed.raster.cull)
+            .front_face(fixed.raster.front_face)
+            .line_width(1.0)
+            .depth_bias_enable(bias.is_some())
+            .depth_bias_constant_factor(bias.map_or(0.0, |b| b.constant))
+            .depth_bias_slope_factor(bias.map_or(0.0, |b| b.slope));
+        let multisample =
+            vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let mut depth_stencil = vk::PipelineDepthStencilStateCreateInfo::default()
+            .depth_test_enable(fixed.depth.compare.is_some())
+            .depth_write_enable(fixed.depth.write)
+            .depth_compare_op(fixed.depth.compare.unwrap_or(vk::CompareOp::ALWAYS));
+        if let Some(stencil) = fixed.stencil {
+            depth_stencil =
+                depth_stencil.stencil_test_enable(true).front(stencil.front.to_vk()).back(stencil.back.to_vk());
+        }
+        let attachments = [blend_attachment(fixed)];
+        let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&attachments);
+        let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+        let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+
+        let info = vk::GraphicsPipelineCreateInfo::default()
+            .stages(&stages)
+            .vertex_input_state(&vertex_input)
+            .input_assembly_state(&input_assembly)
+            .viewport_state(&viewport)
+            .rasterization_state(&raster)
+            .multisample_state(&multisample)
+            .depth_stencil_state(&depth_stencil)
+            .color_blend_state(&blend)
+            .dynamic_state(&dynamic)
+            .layout(layout)
+            .render_pass(render_pass)
+            .subpass(desc.subpass);
+        let raw = unsafe { device.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) }
+            .map_err(|(_, result)| result)
+            .vk("vkCreateGraphicsPipelines")?;
+        pipeline.raw = raw[0];
+        Ok(pipeline)
+    }
+}
+
+impl Drop for Pipeline {
+    fn drop(&mut self) {
+        let device = self.gpu.raw();
+        unsafe {
+            if self.raw != vk::Pipeline::null() {
+                device.destroy_pipeline(self.raw, None);
+            }
+            device.destroy_pipeline_layout(self.layout, None);
+        }
+    }
+}
+
+struct ShaderModule<'a> {
+    gpu: &'a Gpu,
+    raw: vk::ShaderModule,
+}
+
+impl<'a> ShaderModule<'a> {
+    fn new(gpu: &'a Gpu, name: &str) -> Result<Self> {
+        let code = crate::shaders::spirv(name)?;
+        let info = vk::ShaderModuleCreateInfo::default().code(&code);
+        let raw = unsafe { gpu.raw().create_shader_module(&info, None) }.vk("vkCreateShaderModule")?;
+        Ok(ShaderModule { gpu, raw })
+    }
+}
+
+impl Drop for ShaderModule<'_> {
+    fn drop(&mut self) {
+        unsafe { self.gpu.raw().destroy_shader_module(self.raw, None) };
+    }
+}

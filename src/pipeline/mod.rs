@@ -1,0 +1,10 @@
+//! Pipelines: fixed-function state as named data (`state`), and the builder that turns a
+//! description into a Vulkan pipeline (`builder`).
+
+pub mod builder;
+pub mod state;
+
+pub use builder::{Pipeline, PipelineDesc, VertexLayout};
+pub use state::{
+    BlendEquation, BlendState, DepthBias, DepthState, FixedFunction, RasterState, StencilFace, StencilState,
+};

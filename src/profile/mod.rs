@@ -1,0 +1,6 @@
+//! Fill-rate profiling: per-pass counters and the reports made from them.
+
+pub mod counters;
+pub mod report;
+
+pub use counters::{FrameCounters, PassCounters};

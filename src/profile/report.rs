@@ -1,0 +1,265 @@
+//! The profile report: a per-pass table for people, JSON (versioned schema) and CSV for programs.
+
+use std::fmt::Write as _;
+
+use serde::Serialize;
+
+use super::counters::FrameCounters;
+use crate::frame::render_pass::AttachmentTraffic;
+
+/// Version of the JSON layout; bump on any incompatible change (documented in README.md).
+pub const PROFILE_SCHEMA: &str = "nostencil-profile/1";
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ReportFormat {
+    Table,
+    Json,
+    Csv,
+}
+
+impl ReportFormat {
+    pub fn parse(text: &str) -> crate::Result<Self> {
+        match text {
+            "table" => Ok(ReportFormat::Table),
+            "json" => Ok(ReportFormat::Json),
+            "csv" => Ok(ReportFormat::Csv),
+            _ => Err(crate::Error::InvalidInput(format!("unknown format '{text}'; use table, json or csv"))),
+        }
+    }
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct PassRow {
+    pub name: String,
+    pub draws: u32,
+    pub vertex_invocations: Option<u64>,
+    pub clipping_primitives: Option<u64>,
+    pub fragment_invocations: Option<u64>,
+    /// Fragment shader invocations / (width x height).
+    pub fragments_per_pixel: Option<f64>,
+    pub samples_passed: u64,
+    /// Samples passed / (width x height): the pass's cost in full-screen writes.
+    pub samples_per_pixel: f64,
+    pub gpu_ms: f64,
+    /// This pass's share of the frame's GPU time, 0..1.
+    pub share: f64,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Totals {
+    pub draws: u32,
+    pub fragment_invocations: Option<u64>,
+    pub fragments_per_pixel: Option<f64>,
+    pub samples_passed: u64,
+    /// Samples passed per pixel over all passes.
+    pub overdraw: f64,
+    pub gpu_ms: f64,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct ProfileReport {
+    pub schema: &'static str,
+    pub device: String,
+    pub scene: String,
+    pub technique: String,
+    pub stencil: String,
+    pub width: u32,
+    pub height: u32,
+    pub passes: Vec<PassRow>,
+    pub totals: Totals,
+    /// Bytes a tile-based GPU loads/stores per attachment for the frame's render pass.
+    pub attachments: Vec<AttachmentTraffic>,
+}
+
+pub struct ReportContext {
+    pub device: String,
+    pub scene: String,
+    pub technique: String,
+    pub stencil: String,
+}
+
+impl ProfileReport {
+    pub fn new(context: ReportContext, counters: &FrameCounters, attachments: Vec<AttachmentTraffic>) -> Self {
+        let pixels = counters.pixels() as f64;
+        let total_ms = counters.total_gpu_ms();
+        let passes = counters
+            .passes
+            .iter()
+            .map(|p| PassRow {
+                name: p.name.clone(),
+                draws: p.draws,
+                vertex_invocations: p.vertex_invocations,
+                clipping_primitives: p.clipping_primitives,
+                fragment_invocations: p.fragment_invocations,
+                fragments_per_pixel: p.fragment_invocations.map(|f| f as f64 / pixels),
+                samples_passed: p.samples_passed,
+                samples_per_pixel: p.samples_passed as f64 / pixels,
+                gpu_ms: p.gpu_ms,
+                share: if total_ms > 0.0 { p.gpu_ms / total_ms } else { 0.0 },
+            })
+            .collect();
+        let fragments = counters.total_fragment_invocations();
+        ProfileReport {
+            schema: PROFILE_SCHEMA,
+            device: context.device,
+            scene: context.scene,
+            technique: context.technique,
+            stencil: context.stencil,
+            width: counters.width,
+            height: counters.height,
+            passes,
+            totals: Totals {
+                draws: counters.passes.iter().map(|p| p.draws).sum(),
+                fragment_invocations: fragments,
+                fragments_per_pixel: fragments.map(|f| f as f64 / pixels),
+                samples_passed: counters.total_samples_passed(),
+                overdraw: counters.overdraw(),
+                gpu_ms: total_ms,
+            },
+            attachments,
+        }
+    }
+
+    pub fn render(&self, format: ReportFormat) -> String {
+        match format {
+            ReportFormat::Table => self.table(),
+            ReportFormat::Json => {
+                serde_json::to_string_pretty(self).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
+            }
+            ReportFormat::Csv => self.csv(),
+        }
+    }
+
+    fn table(&self) -> String {
+        let opt = |v: Option<u64>| v.map_or("n/a".to_owned(), |v| v.to_string());
+        let optf = |v: Option<f64>| v.map_or("n/a".to_owned(), |v| format!("{v:.3}"));
+        let mut out = String::new();
+        let _ = writeln!(
+            out,
+            "{} | scene {} | technique {} | stencil {} | {}x{}",
+            self.device, self.scene, self.technique, self.stencil, self.width, self.height
+        );
+        let header = [
+            "pass",
+            "draws",
+            "vertices",
+            "primitives",
+            "fragments",
+            "frag/px",
+            "samples",
+            "samples/px",
+            "GPU ms",
+            "share",
+        ];
+        let mut rows: Vec<[String; 10]> = self
+            .passes
+            .iter()
+            .map(|p| {
+                [
+                    p.name.clone(),
+                    p.draws.to_string(),
+                    opt(p.vertex_invocations),
+                    opt(p.clipping_primitives),
+                    opt(p.fragment_invocations),
+                    optf(p.fragments_per_pixel),
+                    p.samples_passed.to_string(),
+                    format!("{:.3}", p.samples_per_pixel),
+                    format!("{:.3}", p.gpu_ms),
+                    format!("{:.1}%", p.share * 100.0),
+                ]
+            })
+            .collect();
+        let t = &self.totals;
+        rows.push([
+            "frame".into(),
+            t.draws.to_string(),
+            String::new(),
+            String::new(),
+            opt(t.fragment_invocations),
+            optf(t.fragments_per_pixel),
+            t.samples_passed.to_string(),
+            format!("{:.3}", t.overdraw),
+            format!("{:.3}", t.gpu_ms),
+            "100%".into(),
+        ]);
+        let widths: Vec<usize> = (0..header.len())
+            .map(|c| rows.iter().map(|r| r[c].len()).chain([header[c].len()]).max().unwrap_or(0))
+            .collect();
+        let line =
+            |cells: &[String]| {
+                cells
+                    .iter()
+                    .enumerate()
+                    .map(|(c, cell)| {
+                        if c == 0 {
+                            format!("{cell:<w$}", w = widths[c])
+                        } else {
+                            format!("{cell:>w$}", w = widths[c])
+                        }
+                    })
+                    .collect::<Vec<_>>()
+                    .join("  ")
+            };
+        let _ = writeln!(out, "{}", line(&header.map(String::from)));
+        for (i, row) in rows.iter().enumerate() {
+            if i + 1 == rows.len() {
+                let _ = writeln!(out, "{}", "-".repeat(widths.iter().sum::<usize>() + 2 * (widths.len() - 1)));
+            }
+            let _ = writeln!(out, "{}", line(row));
+        }
+        let _ = writeln!(out, "\ntile memory traffic (from the render pass's load/store ops):");
+        for a in &self.attachments {
+            let _ = writeln!(
+                out,
+                "  {:<14} {:<20} load {:<9} store {:<9} loaded {:>10} B  stored {:>10} B{}",
+                a.attachment,
+                a.format,
+                a.load_op,
+                a.store_op,
+                a.bytes_loaded,
+                a.bytes_stored,
+                if a.transient { "  (transient)" } else { "" }
+            );
+        }
+        let _ = writeln!(
+            out,
+            "\nfragments = fragment shader invocations (pipeline statistics; on lavapipe 16 per 4x4 block a\n\
+             triangle touches, depth-rejected blocks included); samples = samples passing depth/stencil\n\
+             (precise occlusion query, exact); samples/px of the frame = overdraw."
+        );
+        out
+    }
+
+    fn csv(&self) -> String {
+        let opt = |v: Option<u64>| v.map_or(String::new(), |v| v.to_string());
+        let optf = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:.6}"));
+        let mut out = String::from(
+            "pass,draws,vertex_invocations,clipping_primitives,fragment_invocations,fragments_per_pixel,samples_passed,samples_per_pixel,gpu_ms,share\n",
+        );
+        for p in &self.passes {
+            let _ = writeln!(
+                out,
+                "{},{},{},{},{},{},{},{:.6},{:.6},{:.6}",
+                csv_field(&p.name),
+                p.draws,
+                opt(p.vertex_invocations),
+                opt(p.clipping_primitives),
+                opt(p.fragment_invocations),
+                optf(p.fragments_per_pixel),
+                p.samples_passed,
+                p.samples_per_pixel,
+                p.gpu_ms,
+                p.share
+            );
+        }
+        out
+    }
+}
+
+fn csv_field(text: &str) -> String {
+    if text.contains([',', '"', '\n']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_owned()
+    }
+}

@@ -1,0 +1,131 @@
+//! Records one frame's passes. Every logical pass is bracketed by queries, so profiling is a
+//! by-product of structure: a technique names its passes and gets their counters back.
+
+use ash::vk;
+
+use super::gpu_mesh::GpuMesh;
+use crate::error::{Error, Result};
+use crate::gpu::memory::{as_bytes, Buffer};
+use crate::gpu::queries::PassQueryPools;
+use crate::gpu::Gpu;
+use crate::pipeline::Pipeline;
+
+pub(crate) struct PassRecord {
+    pub name: String,
+    pub draws: u32,
+}
+
+pub struct FrameRecorder<'a> {
+    gpu: &'a Gpu,
+    pub cmd: vk::CommandBuffer,
+    queries: &'a PassQueryPools,
+    pub(crate) passes: Vec<PassRecord>,
+    open: bool,
+    pub extent: vk::Extent2D,
+    frame_set: vk::DescriptorSet,
+}
+
+impl<'a> FrameRecorder<'a> {
+    pub(crate) fn new(
+        gpu: &'a Gpu,
+        cmd: vk::CommandBuffer,
+        queries: &'a PassQueryPools,
+        extent: vk::Extent2D,
+        frame_set: vk::DescriptorSet,
+    ) -> Self {
+        FrameRecorder { gpu, cmd, queries, passes: Vec::new(), open: false, extent, frame_set }
+    }
+
+    /// Records `body` as one measured pass called `name`.
+    pub fn pass(&mut self, name: &str, body: impl FnOnce(&mut Self) -> Result<()>) -> Result<()> {
+        if self.open {
+            return Err(Error::InvalidInput(format!("pass '{name}' begun inside another pass")));
+        }
+        let index = self.passes.len() as u32;
+        if index >= self.queries.capacity() {
+            return Err(Error::InvalidInput(format!(
+                "pass '{name}': a frame holds at most {} measured passes",
+                self.queries.capacity()
+            )));
+        }
+        self.passes.push(PassRecord { name: name.to_owned(), draws: 0 });
+        self.open = true;
+        self.queries.begin(self.cmd, index);
+        let result = body(self);
+        self.queries.end(self.cmd, index);
+        self.open = false;
+        result
+    }
+
+    fn count_draw(&mut self) {
+        if let Some(pass) = self.passes.last_mut() {
+            pass.draws += 1;
+        }
+    }
+
+    /// Binds a pipeline, and the frame's uniforms when its layout has a set for them.
+    pub fn bind(&mut self, pipeline: &Pipeline) {
+        let device = self.gpu.raw();
+        unsafe {
+            device.cmd_bind_pipeline(self.cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
+            if pipeline.set_count > 0 {
+                device.cmd_bind_descriptor_sets(
+                    self.cmd,
+                    vk::PipelineBindPoint::GRAPHICS,
+                    pipeline.layout,
+                    0,
+                    &[self.frame_set],
+                    &[],
+                );
+            }
+        }
+    }
+
+    pub fn push<T: Copy>(&mut self, pipeline: &Pipeline, value: &T) {
+        let bytes = as_bytes(std::slice::from_ref(value));
+        debug_assert!(bytes.len() as u32 <= pipeline.desc.push_constant_bytes);
+        unsafe {
+            self.gpu.raw().cmd_push_constants(
+                self.cmd,
+                pipeline.layout,
+                vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+                0,
+                bytes,
+            )
+        };
+    }
+
+    pub fn draw_mesh(&mut self, mesh: &GpuMesh) {
+        self.draw_indexed(&mesh.vertices, &mesh.indices, mesh.index_count);
+    }
+
+    pub fn draw_indexed(&mut self, vertices: &Buffer, indices: &Buffer, index_count: u32) {
+        if index_count == 0 {
+            return;
+        }
+        let device = self.gpu.raw();
+        unsafe {
+            device.cmd_bind_vertex_buffers(self.cmd, 0, &[vertices.raw], &[0]);
+            device.cmd_bind_index_buffer(self.cmd, indices.raw, 0, vk::IndexType::UINT32);
+            device.cmd_draw_indexed(self.cmd, index_count, 1, 0, 0, 0);
+        }
+        self.count_draw();
+    }
+
+    pub fn draw_vertices(&mut self, vertices: &Buffer, vertex_count: u32) {
+        if vertex_count == 0 {
+            return;
+        }
+        unsafe {
+            self.gpu.raw().cmd_bind_vertex_buffers(self.cmd, 0, &[vertices.raw], &[0]);
+            self.gpu.raw().cmd_draw(self.cmd, vertex_count, 1, 0, 0);
+        }
+        self.count_draw();
+    }
+
+    /// One full-screen triangle (`shaders/fullscreen.vert`).
+    pub fn draw_fullscreen(&mut self) {
+        unsafe { self.gpu.raw().cmd_draw(self.cmd, 3, 1, 0, 0) };
+        self.count_draw();
+    }
+}

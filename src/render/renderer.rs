@@ -1,0 +1,153 @@
+//! Renders one offscreen frame: clear, the technique's measured passes inside one render pass
+//! (so a tile-based GPU keeps everything on chip), then a copy of the colour target to the CPU.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use super::recorder::FrameRecorder;
+use super::uniforms::{FrameDescriptors, FrameUniforms};
+use crate::error::Result;
+use crate::frame::{FrameTargets, RgbaImage, StencilMode};
+use crate::gpu::commands::submit_and_wait;
+use crate::gpu::memory::Buffer;
+use crate::gpu::queries::PassQueryPools;
+use crate::gpu::Gpu;
+use crate::profile::{FrameCounters, PassCounters};
+
+/// Measured passes a frame may hold.
+pub const MAX_PASSES_PER_FRAME: u32 = 64;
+
+pub struct FrameOutput {
+    pub image: RgbaImage,
+    pub counters: FrameCounters,
+}
+
+pub struct Renderer {
+    pub gpu: Arc<Gpu>,
+    pub targets: FrameTargets,
+    pub frame: FrameDescriptors,
+    queries: PassQueryPools,
+    readback: Buffer,
+}
+
+impl Renderer {
+    /// `colour_feedback`: the colour target is also an input attachment of its own subpass.
+    pub fn new(gpu: &Arc<Gpu>, width: u32, height: u32, stencil: StencilMode, colour_feedback: bool) -> Result<Self> {
+        let targets = FrameTargets::new(gpu, width, height, stencil, colour_feedback)?;
+        let readback = Buffer::new(
+            gpu,
+            "frame readback",
+            width as u64 * height as u64 * 4,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        Ok(Renderer {
+            gpu: gpu.clone(),
+            targets,
+            frame: FrameDescriptors::new(gpu)?,
+            queries: PassQueryPools::new(gpu, MAX_PASSES_PER_FRAME)?,
+            readback,
+        })
+    }
+
+    pub fn extent(&self) -> vk::Extent2D {
+        self.targets.extent
+    }
+
+    pub fn aspect(&self) -> f32 {
+        self.targets.extent.width as f32 / self.targets.extent.height as f32
+    }
+
+    /// Renders a frame: `record` draws the technique's passes between the clear and the read-back.
+    /// `clear` is the colour target's clear value (alpha included: the counter's start value).
+    pub fn render(
+        &mut self,
+        uniforms: &FrameUniforms,
+        clear: [f32; 4],
+        record: impl FnOnce(&mut FrameRecorder) -> Result<()>,
+    ) -> Result<FrameOutput> {
+        self.frame.update(uniforms)?;
+        let gpu = self.gpu.clone();
+        let device = gpu.raw();
+        let extent = self.targets.extent;
+        let (targets, queries, readback, frame_set) = (&self.targets, &self.queries, &self.readback, self.frame.set);
+
+        let pass_records = submit_and_wait(&gpu, |cmd| {
+            queries.reset(cmd);
+            let clear_values = [
+                vk::ClearValue { color: vk::ClearColorValue { float32: clear } },
+                vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } },
+            ];
+            let begin = vk::RenderPassBeginInfo::default()
+                .render_pass(targets.render_pass)
+                .framebuffer(targets.framebuffer)
+                .render_area(vk::Rect2D { offset: vk::Offset2D::default(), extent })
+                .clear_values(&clear_values);
+            unsafe {
+                device.cmd_begin_render_pass(cmd, &begin, vk::SubpassContents::INLINE);
+                let viewport = vk::Viewport {
+                    x: 0.0,
+                    y: 0.0,
+                    width: extent.width as f32,
+                    height: extent.height as f32,
+                    min_depth: 0.0,
+                    max_depth: 1.0,
+                };
+                device.cmd_set_viewport(cmd, 0, &[viewport]);
+                device.cmd_set_scissor(cmd, 0, &[vk::Rect2D { offset: vk::Offset2D::default(), extent }]);
+            }
+            let mut recorder = FrameRecorder::new(&gpu, cmd, queries, extent, frame_set);
+            let recorded = record(&mut recorder);
+            unsafe { device.cmd_end_render_pass(cmd) };
+            recorded?;
+
+            // The render pass left the colour target in TRANSFER_SRC_OPTIMAL.
+            let region = vk::BufferImageCopy::default()
+                .image_subresource(vk::ImageSubresourceLayers {
+                    aspect_mask: vk::ImageAspectFlags::COLOR,
+                    mip_level: 0,
+                    base_array_layer: 0,
+                    layer_count: 1,
+                })
+                .image_extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 });
+            unsafe {
+                device.cmd_copy_image_to_buffer(
+                    cmd,
+                    targets.colour.raw,
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    readback.raw,
+                    &[region],
+                );
+                let to_host = vk::BufferMemoryBarrier::default()
+                    .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
+                    .dst_access_mask(vk::AccessFlags::HOST_READ)
+                    .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                    .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                    .buffer(readback.raw)
+                    .size(vk::WHOLE_SIZE);
+                device.cmd_pipeline_barrier(
+                    cmd,
+                    vk::PipelineStageFlags::TRANSFER,
+                    vk::PipelineStageFlags::HOST,
+                    vk::DependencyFlags::empty(),
+                    &[],
+                    &[to_host],
+                    &[],
+                );
+            }
+            Ok(recorder.passes)
+        })?;
+
+        let raw = self.queries.results(pass_records.len() as u32)?;
+        let frame_start = raw.first().map_or(0.0, |r| r.begin_ns);
+        let passes = pass_records
+            .into_iter()
+            .zip(&raw)
+            .map(|(record, raw)| PassCounters::from_queries(record.name, record.draws, raw, frame_start))
+            .collect();
+        let image = RgbaImage { width: extent.width, height: extent.height, pixels: self.readback.read()?.to_vec() };
+        Ok(FrameOutput { image, counters: FrameCounters { width: extent.width, height: extent.height, passes } })
+    }
+}

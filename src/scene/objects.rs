@@ -1,0 +1,53 @@
+//! What a frame draws: meshes, the objects placed from them, one light and a camera.
+
+use glam::{Mat4, Vec3};
+
+use super::camera::{Camera, Light};
+use crate::mesh::MeshData;
+
+#[derive(Debug, Clone)]
+pub struct SceneMesh {
+    pub name: String,
+    pub data: MeshData,
+}
+
+#[derive(Debug, Clone)]
+pub struct SceneObject {
+    pub name: String,
+    pub mesh: usize,
+    pub transform: Mat4,
+    pub colour: Vec3,
+    /// Casts shadows (shadow volumes need a closed mesh).
+    pub casts_shadow: bool,
+}
+
+#[derive(Debug, Clone)]
+pub struct Scene {
+    pub name: String,
+    pub meshes: Vec<SceneMesh>,
+    pub objects: Vec<SceneObject>,
+    pub light: Light,
+    pub ambient: f32,
+    pub camera: Camera,
+    /// Clear colour (linear RGB); its alpha is set by the technique.
+    pub background: Vec3,
+}
+
+impl Scene {
+    pub fn add_mesh(&mut self, name: &str, data: MeshData) -> usize {
+        self.meshes.push(SceneMesh { name: name.to_owned(), data });
+        self.meshes.len() - 1
+    }
+
+    pub fn add_object(&mut self, name: &str, mesh: usize, transform: Mat4, colour: Vec3, casts_shadow: bool) {
+        self.objects.push(SceneObject { name: name.to_owned(), mesh, transform, colour, casts_shadow });
+    }
+
+    pub fn object(&self, name: &str) -> Option<&SceneObject> {
+        self.objects.iter().find(|o| o.name == name)
+    }
+
+    pub fn triangle_count(&self) -> usize {
+        self.objects.iter().map(|o| self.meshes[o.mesh].data.indices.len() / 3).sum()
+    }
+}

@@ -1,0 +1,66 @@
+//! The lit scene pass: every object with Lambert + ambient shading, depth tested and written.
+//! Other techniques draw it first and add their own passes on top.
+
+use std::sync::Arc;
+
+use glam::{Mat4, Vec4};
+
+use crate::error::Result;
+use crate::gpu::Gpu;
+use crate::pipeline::{FixedFunction, Pipeline, PipelineDesc, VertexLayout};
+use crate::render::{FrameRecorder, GpuScene, Renderer};
+use crate::scene::Scene;
+
+/// Mirrors `ObjectPush` in `shaders/object_push.glsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct ObjectPush {
+    pub model: Mat4,
+    /// rgb: albedo; a: the alpha the draw writes.
+    pub colour: Vec4,
+}
+
+pub const OBJECT_PUSH_BYTES: u32 = std::mem::size_of::<ObjectPush>() as u32;
+
+pub fn scene_pipeline_desc() -> PipelineDesc {
+    PipelineDesc {
+        name: "scene",
+        vertex_shader: "lit.vert",
+        fragment_shader: "lit.frag",
+        vertex_layout: VertexLayout::POSITION_NORMAL,
+        fixed: FixedFunction::OPAQUE,
+        push_constant_bytes: OBJECT_PUSH_BYTES,
+        subpass: 0,
+    }
+}
+
+pub struct LitPass {
+    pipeline: Pipeline,
+}
+
+impl LitPass {
+    pub fn new(gpu: &Arc<Gpu>, renderer: &Renderer) -> Result<Self> {
+        let pipeline =
+            Pipeline::new(gpu, &scene_pipeline_desc(), renderer.targets.render_pass, &[renderer.frame.layout])?;
+        Ok(LitPass { pipeline })
+    }
+
+    /// Draws every object; `alpha_of(object index)` is the alpha each one writes.
+    pub fn record(
+        &self,
+        recorder: &mut FrameRecorder,
+        scene: &Scene,
+        meshes: &GpuScene,
+        alpha_of: impl Fn(usize) -> f32,
+    ) -> Result<()> {
+        recorder.pass("scene", |rec| {
+            rec.bind(&self.pipeline);
+            for (index, object) in scene.objects.iter().enumerate() {
+                let push = ObjectPush { model: object.transform, colour: object.colour.extend(alpha_of(index)) };
+                rec.push(&self.pipeline, &push);
+                rec.draw_mesh(&meshes.meshes[object.mesh]);
+            }
+            Ok(())
+        })
+    }
+}

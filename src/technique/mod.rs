@@ -1,0 +1,67 @@
+//! Techniques: each module records its passes and reads top to bottom.
+
+pub mod lit;
+
+use std::sync::Arc;
+
+use crate::error::{Error, Result};
+use crate::frame::StencilMode;
+use crate::gpu::Gpu;
+use crate::render::{FrameOutput, FrameUniforms, GpuScene, Renderer};
+use crate::scene::Scene;
+
+/// What `--technique` selects.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Technique {
+    /// The scene lit with Lambert + ambient, no shadows: the base every technique adds to.
+    #[default]
+    Lit,
+}
+
+impl Technique {
+    pub const ALL: &'static [Technique] = &[Technique::Lit];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Technique::Lit => "lit",
+        }
+    }
+
+    pub fn parse(text: &str) -> Result<Self> {
+        Technique::ALL.iter().copied().find(|t| t.name() == text).ok_or_else(|| {
+            Error::InvalidInput(format!(
+                "unknown technique '{text}'; available: {}",
+                Technique::ALL.iter().map(|t| t.name()).collect::<Vec<_>>().join(", ")
+            ))
+        })
+    }
+}
+
+#[derive(Debug, Clone)]
+pub struct RenderOptions {
+    pub width: u32,
+    pub height: u32,
+    pub stencil: StencilMode,
+    pub technique: Technique,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        RenderOptions { width: 256, height: 256, stencil: StencilMode::Emulated, technique: Technique::Lit }
+    }
+}
+
+/// Renders `scene` with the chosen technique and returns the image and its counters.
+pub fn render_scene(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions) -> Result<FrameOutput> {
+    let mut renderer = Renderer::new(gpu, options.width, options.height, options.stencil, false)?;
+    let meshes = GpuScene::upload(gpu, scene)?;
+    let uniforms = FrameUniforms::for_scene(scene, renderer.aspect());
+    let clear = scene.background.extend(1.0).to_array();
+    match options.technique {
+        Technique::Lit => {
+            let lit = lit::LitPass::new(gpu, &renderer)?;
+            renderer.render(&uniforms, clear, |rec| lit.record(rec, scene, &meshes, |_| 1.0))
+        }
+    }
+}
