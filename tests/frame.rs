@@ -1,0 +1,74 @@
+//! The main frame: no stencil aspect anywhere; the default scene renders lit, at the requested
+//! size, identically in the emulated and reference frames (no technique uses the stencil yet).
+
+mod common;
+
+use nostencil::frame::render_pass::format_has_stencil;
+use nostencil::frame::{FrameTargets, StencilMode};
+use nostencil::scene::builtin_scene;
+use nostencil::technique::{render_scene, RenderOptions, Technique};
+
+#[test]
+fn main_frame_has_no_stencil_aspect_and_reference_has_one() {
+    let gpu = common::gpu();
+    let main = FrameTargets::new(&gpu, 64, 64, StencilMode::Emulated, false).expect("targets");
+    assert!(!main.desc.has_stencil(), "main render pass has a stencil aspect");
+    assert!(!format_has_stencil(main.depth.format), "{:?}", main.depth.format);
+    assert!(!format_has_stencil(main.colour.format));
+    let feedback = FrameTargets::new(&gpu, 64, 64, StencilMode::Emulated, true).expect("targets");
+    assert!(!feedback.desc.has_stencil());
+
+    let reference = FrameTargets::new(&gpu, 64, 64, StencilMode::Reference, false).expect("targets");
+    assert!(format_has_stencil(reference.depth.format), "{:?}", reference.depth.format);
+    drop((main, feedback, reference));
+    common::assert_no_validation_messages(&gpu);
+}
+
+#[test]
+fn default_scene_renders_lit_at_the_requested_size() {
+    let gpu = common::gpu();
+    let scene = builtin_scene("default").expect("scene");
+    let options = RenderOptions { width: 256, height: 192, stencil: StencilMode::Emulated, technique: Technique::Lit };
+    let output = render_scene(&gpu, &scene, &options).expect("render");
+    let image = &output.image;
+    assert_eq!((image.width, image.height), (256, 192));
+
+    // The background keeps the clear colour at the top; the middle shows the lit box (blue
+    // dominant) and the ground is lighter below it.
+    let background = (scene.background * 255.0).round();
+    let top = image.pixel(128, 2);
+    assert_eq!([top[0] as f32, top[1] as f32, top[2] as f32], background.to_array());
+    let distinct: std::collections::HashSet<[u8; 4]> = image.pixels.chunks_exact(4).map(|p| [p[0], p[1], p[2], p[3]]).collect();
+    assert!(distinct.len() > 200, "a lit scene has many shades, got {}", distinct.len());
+
+    // Every object is visible: the scene pass drew all of them, and samples passed cover at
+    // least the ground's share of the frame.
+    let scene_pass = output.counters.pass("scene").expect("scene pass");
+    assert_eq!(scene_pass.draws as usize, scene.objects.len());
+    assert!(scene_pass.samples_passed > (256 * 192 / 3) as u64);
+    common::assert_no_validation_messages(&gpu);
+}
+
+#[test]
+fn reference_frame_renders_the_same_lit_image() {
+    let gpu = common::gpu();
+    let scene = builtin_scene("default").expect("scene");
+    let mut options = RenderOptions { width: 160, height: 120, ..Default::default() };
+    let emulated = render_scene(&gpu, &scene, &options).expect("emulated");
+    options.stencil = StencilMode::Reference;
+    let reference = render_scene(&gpu, &scene, &options).expect("reference");
+    assert_eq!(emulated.image.count_differences(&reference.image), 0);
+    common::assert_no_validation_messages(&gpu);
+}
+
+#[test]
+fn zero_and_oversized_frames_are_refused() {
+    let gpu = common::gpu();
+    let scene = builtin_scene("default").expect("scene");
+    for (width, height) in [(0, 64), (64, 0), (4097, 64)] {
+        let options = RenderOptions { width, height, ..Default::default() };
+        let error = render_scene(&gpu, &scene, &options).err().expect("must fail");
+        assert!(error.to_string().contains("size"), "{error}");
+    }
+    common::assert_no_validation_messages(&gpu);
+}
