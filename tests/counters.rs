@@ -49,15 +49,22 @@ fn to_clip(triangles: &[[Vec2; 3]], depth: f32, width: u32, height: u32) -> Vec<
 }
 
 /// Renders each list of triangles as its own pass; returns the frame's counters.
-fn render_passes(gpu: &Arc<Gpu>, width: u32, height: u32, passes: &[(Vec<[Vec2; 3]>, f32)], depth: DepthState) -> FrameCounters {
+fn render_passes(
+    gpu: &Arc<Gpu>,
+    width: u32,
+    height: u32,
+    passes: &[(Vec<[Vec2; 3]>, f32)],
+    depth: DepthState,
+) -> FrameCounters {
     let mut renderer = Renderer::new(gpu, width, height, StencilMode::Emulated, false).expect("renderer");
     let pipeline = clip_pipeline(gpu, &renderer, depth);
     let buffers: Vec<(Buffer, u32)> = passes
         .iter()
         .map(|(tris, z)| {
             let vertices = to_clip(tris, *z, width, height);
-            let buffer = Buffer::with_data(gpu, "test triangles", as_bytes(&vertices), vk::BufferUsageFlags::VERTEX_BUFFER)
-                .expect("buffer");
+            let buffer =
+                Buffer::with_data(gpu, "test triangles", as_bytes(&vertices), vk::BufferUsageFlags::VERTEX_BUFFER)
+                    .expect("buffer");
             (buffer, vertices.len() as u32)
         })
         .collect();
@@ -190,7 +197,8 @@ fn fragment_invocations_follow_the_4x4_block_rule_on_many_shapes() {
         eprintln!("not lavapipe: the 4x4 rule is lavapipe's");
         return;
     }
-    for (width, height, seed, count) in [(64u32, 64u32, 1u32, 1usize), (64, 64, 2, 5), (128, 96, 3, 12), (50, 70, 4, 8)] {
+    for (width, height, seed, count) in [(64u32, 64u32, 1u32, 1usize), (64, 64, 2, 5), (128, 96, 3, 12), (50, 70, 4, 8)]
+    {
         let triangles = scattered_triangles(seed, count, width, height);
         // One pass per triangle and one with all of them: the rule holds per triangle and sums.
         let mut passes: Vec<(Vec<[Vec2; 3]>, f32)> = triangles.iter().map(|t| (vec![*t], 0.5)).collect();
@@ -237,12 +245,21 @@ fn timestamps_are_positive_and_ordered_per_pass() {
     let mut previous_start = -1.0;
     for pass in &counters.passes {
         assert!(pass.gpu_ms > 0.0, "{}: {} ms", pass.name, pass.gpu_ms);
-        assert!(pass.start_ms >= 0.0 && pass.start_ms >= previous_start, "{} starts before the pass before it", pass.name);
+        assert!(
+            pass.start_ms >= 0.0 && pass.start_ms >= previous_start,
+            "{} starts before the pass before it",
+            pass.name
+        );
         previous_start = pass.start_ms;
     }
     // Passes run one after the other: each starts no earlier than the previous one ended.
     for pair in counters.passes.windows(2) {
-        assert!(pair[1].start_ms + 1e-6 >= pair[0].start_ms + pair[0].gpu_ms, "{} overlaps {}", pair[1].name, pair[0].name);
+        assert!(
+            pair[1].start_ms + 1e-6 >= pair[0].start_ms + pair[0].gpu_ms,
+            "{} overlaps {}",
+            pair[1].name,
+            pair[0].name
+        );
     }
     common::assert_no_validation_messages(&gpu);
 }

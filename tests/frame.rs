@@ -38,7 +38,8 @@ fn default_scene_renders_lit_at_the_requested_size() {
     let background = (scene.background * 255.0).round();
     let top = image.pixel(128, 2);
     assert_eq!([top[0] as f32, top[1] as f32, top[2] as f32], background.to_array());
-    let distinct: std::collections::HashSet<[u8; 4]> = image.pixels.chunks_exact(4).map(|p| [p[0], p[1], p[2], p[3]]).collect();
+    let distinct: std::collections::HashSet<[u8; 4]> =
+        image.pixels.chunks_exact(4).map(|p| [p[0], p[1], p[2], p[3]]).collect();
     assert!(distinct.len() > 200, "a lit scene has many shades, got {}", distinct.len());
 
     // Every object is visible: the scene pass drew all of them, and samples passed cover at
