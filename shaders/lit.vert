@@ -3,6 +3,9 @@
 #include "frame_uniforms.glsl"
 #include "object_push.glsl"
 
+// Invariant: shadow-volume caps reuse these positions and must land on the same depths.
+invariant gl_Position;
+
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
 

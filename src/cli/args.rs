@@ -73,6 +73,15 @@ pub struct FrameArgs {
     /// Built-in scene name (see `nostencil info`) or a .gltf/.glb file.
     #[arg(long, default_value = "default")]
     pub scene: String,
+    /// shadow-volume: alpha added per volume wall, in 1/255 steps (1..=8).
+    #[arg(long, default_value_t = 1, value_name = "K")]
+    pub increment: u8,
+    /// shadow-volume: `auto` (z-fail when the camera is inside a volume), `zpass` or `zfail`.
+    #[arg(long, default_value = "auto", value_name = "auto|zpass|zfail")]
+    pub volume_method: String,
+    /// shadow-volume: how counts become a mask: `seed`, `max` or `subpass`.
+    #[arg(long, default_value = "seed", value_name = "seed|max|subpass")]
+    pub normalize: String,
     #[command(flatten)]
     pub gpu: GpuArgs,
 }

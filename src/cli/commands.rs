@@ -8,7 +8,9 @@ use crate::error::{Error, Result};
 use crate::gpu::{mobile_profile, DeviceChoice, Gpu, GpuOptions};
 use crate::profile::report::{ProfileReport, ReportContext, ReportFormat};
 use crate::scene::{builtin_scene, Scene, BUILTIN_SCENES};
-use crate::technique::{render_scene, RenderOptions, Technique};
+use crate::technique::{
+    alpha_counter, render_scene, Normalize, RenderOptions, ShadowVolumeOptions, Technique, VolumeMethod,
+};
 
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
@@ -33,6 +35,12 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
         height: frame.size.1,
         stencil: frame.stencil.into(),
         technique: Technique::parse(&frame.technique)?,
+        shadow_volume: ShadowVolumeOptions {
+            increment: alpha_counter::check_increment(frame.increment)?,
+            method: VolumeMethod::parse(&frame.volume_method)?,
+            normalize: Normalize::parse(&frame.normalize)?,
+            ..Default::default()
+        },
     })
 }
 
@@ -59,7 +67,8 @@ fn render(frame: &FrameArgs, out: &Path, keep_alpha: bool) -> Result<()> {
     let options = options(frame)?;
     let scene = load_scene(&frame.scene)?;
     let gpu = open_gpu(&frame.gpu)?;
-    let output = render_scene(&gpu, &scene, &options)?;
+    let frame = render_scene(&gpu, &scene, &options)?;
+    let output = &frame.output;
     output.image.write_png(out, keep_alpha)?;
     eprintln!(
         "wrote {} ({}x{}, {} on {}, {:.2} ms GPU)",
@@ -77,11 +86,12 @@ fn profile(frame: &FrameArgs, format: FormatArg) -> Result<()> {
     let options = options(frame)?;
     let scene = load_scene(&frame.scene)?;
     let gpu = open_gpu(&frame.gpu)?;
-    let output = render_scene(&gpu, &scene, &options)?;
+    let frame = render_scene(&gpu, &scene, &options)?;
+    let output = &frame.output;
     let depth_format = crate::frame::targets::choose_depth_format(&gpu, options.stencil)?;
     let attachments =
         crate::frame::RenderPassDesc::frame(depth_format, false).tile_traffic(options.width, options.height);
-    let report = ProfileReport::new(
+    let mut report = ProfileReport::new(
         ReportContext {
             device: gpu.device.info.name.clone(),
             scene: scene.name.clone(),
@@ -91,12 +101,22 @@ fn profile(frame: &FrameArgs, format: FormatArg) -> Result<()> {
         &output.counters,
         attachments,
     );
-    let format = match format {
+    report.technique_stats = frame.shadow_volume.and_then(|s| serde_json::to_value(s).ok());
+    let format_kind = match format {
         FormatArg::Table => ReportFormat::Table,
         FormatArg::Json => ReportFormat::Json,
         FormatArg::Csv => ReportFormat::Csv,
     };
-    print!("{}", report.render(format));
+    print!("{}", report.render(format_kind));
+    if let (Some(stats), FormatArg::Table) = (frame.shadow_volume, format) {
+        println!(
+            "\nshadow volumes: {} | counter capacity {} volumes (k = {}) | saturated pixels: {}",
+            if stats.zfail { "z-fail" } else { "z-pass" },
+            stats.capacity,
+            options.shadow_volume.increment,
+            stats.saturated_pixels.map_or("n/a (reference)".to_owned(), |n| n.to_string())
+        );
+    }
     Ok(())
 }
 

@@ -69,6 +69,9 @@ pub struct ProfileReport {
     pub totals: Totals,
     /// Bytes a tile-based GPU loads/stores per attachment for the frame's render pass.
     pub attachments: Vec<AttachmentTraffic>,
+    /// What the technique reports beyond counters (for shadow volumes: method, capacity,
+    /// saturated pixels), or null.
+    pub technique_stats: Option<serde_json::Value>,
 }
 
 pub struct ReportContext {
@@ -117,6 +120,7 @@ impl ProfileReport {
                 gpu_ms: total_ms,
             },
             attachments,
+            technique_stats: None,
         }
     }
 

@@ -81,6 +81,47 @@ impl<'a> FrameRecorder<'a> {
         }
     }
 
+    /// Binds a pipeline with descriptor sets of the technique's own (not the frame uniforms).
+    pub fn bind_with_sets(&mut self, pipeline: &Pipeline, sets: &[vk::DescriptorSet]) {
+        let device = self.gpu.raw();
+        unsafe {
+            device.cmd_bind_pipeline(self.cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
+            device.cmd_bind_descriptor_sets(self.cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.layout, 0, sets, &[]);
+        }
+    }
+
+    /// Makes earlier colour writes of this subpass visible to input-attachment reads of the
+    /// following draws (the render pass's by-region self-dependency): each fragment reads only
+    /// its own pixel, so on a tiler this stays in tile memory.
+    pub fn colour_feedback_barrier(&mut self, colour_image: vk::Image) {
+        let barrier = vk::ImageMemoryBarrier::default()
+            .src_access_mask(vk::AccessFlags::COLOR_ATTACHMENT_WRITE)
+            .dst_access_mask(vk::AccessFlags::INPUT_ATTACHMENT_READ)
+            .old_layout(vk::ImageLayout::GENERAL)
+            .new_layout(vk::ImageLayout::GENERAL)
+            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .image(colour_image)
+            .subresource_range(vk::ImageSubresourceRange {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                base_mip_level: 0,
+                level_count: 1,
+                base_array_layer: 0,
+                layer_count: 1,
+            });
+        unsafe {
+            self.gpu.raw().cmd_pipeline_barrier(
+                self.cmd,
+                vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT,
+                vk::PipelineStageFlags::FRAGMENT_SHADER,
+                vk::DependencyFlags::BY_REGION,
+                &[],
+                &[],
+                &[barrier],
+            )
+        };
+    }
+
     pub fn push<T: Copy>(&mut self, pipeline: &Pipeline, value: &T) {
         let bytes = as_bytes(std::slice::from_ref(value));
         debug_assert!(bytes.len() as u32 <= pipeline.desc.push_constant_bytes);

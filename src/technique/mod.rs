@@ -1,6 +1,8 @@
 //! Techniques: each module records its passes and reads top to bottom.
 
+pub mod alpha_counter;
 pub mod lit;
+pub mod shadow_volume;
 
 use std::sync::Arc;
 
@@ -10,6 +12,8 @@ use crate::gpu::Gpu;
 use crate::render::{FrameOutput, FrameUniforms, GpuScene, Renderer};
 use crate::scene::Scene;
 
+pub use shadow_volume::{Normalize, ShadowVolumeOptions, ShadowVolumeStats, VolumeMethod};
+
 /// What `--technique` selects.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
@@ -17,14 +21,17 @@ pub enum Technique {
     /// The scene lit with Lambert + ambient, no shadows: the base every technique adds to.
     #[default]
     Lit,
+    /// Shadow volumes counted in the alpha channel (seed 000).
+    ShadowVolume,
 }
 
 impl Technique {
-    pub const ALL: &'static [Technique] = &[Technique::Lit];
+    pub const ALL: &'static [Technique] = &[Technique::Lit, Technique::ShadowVolume];
 
     pub fn name(self) -> &'static str {
         match self {
             Technique::Lit => "lit",
+            Technique::ShadowVolume => "shadow-volume",
         }
     }
 
@@ -44,24 +51,49 @@ pub struct RenderOptions {
     pub height: u32,
     pub stencil: StencilMode,
     pub technique: Technique,
+    pub shadow_volume: ShadowVolumeOptions,
 }
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        RenderOptions { width: 256, height: 256, stencil: StencilMode::Emulated, technique: Technique::Lit }
+        RenderOptions {
+            width: 256,
+            height: 256,
+            stencil: StencilMode::Emulated,
+            technique: Technique::Lit,
+            shadow_volume: ShadowVolumeOptions::default(),
+        }
     }
 }
 
+/// A rendered frame and what the technique reports about it.
+pub struct TechniqueFrame {
+    pub output: FrameOutput,
+    pub shadow_volume: Option<ShadowVolumeStats>,
+}
+
 /// Renders `scene` with the chosen technique and returns the image and its counters.
-pub fn render_scene(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions) -> Result<FrameOutput> {
-    let mut renderer = Renderer::new(gpu, options.width, options.height, options.stencil, false)?;
-    let meshes = GpuScene::upload(gpu, scene)?;
-    let uniforms = FrameUniforms::for_scene(scene, renderer.aspect());
-    let clear = scene.background.extend(1.0).to_array();
+pub fn render_scene(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions) -> Result<TechniqueFrame> {
     match options.technique {
         Technique::Lit => {
+            let mut renderer = Renderer::new(gpu, options.width, options.height, options.stencil, false)?;
+            let meshes = GpuScene::upload(gpu, scene)?;
+            let uniforms = FrameUniforms::for_scene(scene, renderer.aspect());
+            let clear = scene.background.extend(1.0).to_array();
             let lit = lit::LitPass::new(gpu, &renderer)?;
-            renderer.render(&uniforms, clear, |rec| lit.record(rec, scene, &meshes, |_| 1.0))
+            let output = renderer.render(&uniforms, clear, |rec| lit.record(rec, scene, &meshes, |_| 1.0))?;
+            Ok(TechniqueFrame { output, shadow_volume: None })
+        }
+        Technique::ShadowVolume => {
+            let frame = shadow_volume::render(
+                gpu,
+                scene,
+                options.width,
+                options.height,
+                options.stencil,
+                &options.shadow_volume,
+            )?;
+            Ok(TechniqueFrame { output: frame.output, shadow_volume: Some(frame.stats) })
         }
     }
 }
