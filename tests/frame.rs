@@ -28,8 +28,8 @@ fn main_frame_has_no_stencil_aspect_and_reference_has_one() {
 fn default_scene_renders_lit_at_the_requested_size() {
     let gpu = common::gpu();
     let scene = builtin_scene("default").expect("scene");
-    let options = RenderOptions { width: 256, height: 192, stencil: StencilMode::Emulated, technique: Technique::Lit };
-    let output = render_scene(&gpu, &scene, &options).expect("render");
+    let options = RenderOptions { width: 256, height: 192, technique: Technique::Lit, ..Default::default() };
+    let output = render_scene(&gpu, &scene, &options).expect("render").output;
     let image = &output.image;
     assert_eq!((image.width, image.height), (256, 192));
 
@@ -55,9 +55,9 @@ fn reference_frame_renders_the_same_lit_image() {
     let gpu = common::gpu();
     let scene = builtin_scene("default").expect("scene");
     let mut options = RenderOptions { width: 160, height: 120, ..Default::default() };
-    let emulated = render_scene(&gpu, &scene, &options).expect("emulated");
+    let emulated = render_scene(&gpu, &scene, &options).expect("emulated").output;
     options.stencil = StencilMode::Reference;
-    let reference = render_scene(&gpu, &scene, &options).expect("reference");
+    let reference = render_scene(&gpu, &scene, &options).expect("reference").output;
     assert_eq!(emulated.image.count_differences(&reference.image), 0);
     common::assert_no_validation_messages(&gpu);
 }

@@ -14,6 +14,10 @@ pub const BUILTIN_SCENES: &[(&str, &str)] =
 pub fn builtin_scene(name: &str) -> Result<Scene> {
     match name {
         "default" => default_scene(),
+        "overlap" => overlap_scene(),
+        "point-light" => point_light_scene(),
+        "inside" => inside_scene(),
+        "box" => Ok(box_scene()),
         _ => Err(Error::InvalidInput(format!(
             "unknown scene '{name}'; built-in scenes: {}",
             BUILTIN_SCENES.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
@@ -37,10 +41,7 @@ fn empty_scene(name: &str, camera: Camera, light: Light) -> Scene {
 pub fn default_scene() -> Result<Scene> {
     let camera = Camera::look_at(Vec3::new(0.0, 4.2, 8.5), Vec3::new(0.0, 0.7, 0.0));
     let light = Light::Directional { direction: Vec3::new(-0.45, -1.0, -0.35).normalize() };
-    let mut scene = empty_scene("default", camera, light);
-
-    let ground = scene.add_mesh("ground", ground_plane(14.0));
-    scene.add_object("ground", ground, Mat4::IDENTITY, Vec3::new(0.82, 0.80, 0.74), false);
+    let mut scene = with_ground("default", camera, light);
 
     let torus = scene.add_mesh("torus", shapes::torus(0.8, 0.3, 48, 24)?);
     scene.add_object(
@@ -80,4 +81,71 @@ fn ground_plane(size: f32) -> MeshData {
         uvs: vec![Vec2::ZERO, Vec2::Y, Vec2::ONE, Vec2::X],
         indices: vec![0, 1, 2, 0, 2, 3],
     }
+}
+
+fn with_ground(name: &str, camera: Camera, light: Light) -> Scene {
+    let mut scene = empty_scene(name, camera, light);
+    let ground = scene.add_mesh("ground", ground_plane(14.0));
+    scene.add_object("ground", ground, Mat4::IDENTITY, Vec3::new(0.82, 0.80, 0.74), false);
+    scene
+}
+
+/// Casters stacked along the light so that their volumes overlap, a torus lying across the light
+/// (its volume has two front and two back walls on one pixel), and a sphere.
+fn overlap_scene() -> Result<Scene> {
+    let camera = Camera::look_at(Vec3::new(1.5, 5.5, 8.0), Vec3::new(0.0, 0.8, 0.0));
+    let light = Light::Directional { direction: Vec3::new(0.35, -1.0, -0.25).normalize() };
+    let mut scene = with_ground("overlap", camera, light);
+    let cube = scene.add_mesh("box", shapes::cube(1.0));
+    for (i, (x, y)) in [(-2.2, 0.9), (-2.7, 2.3), (-3.2, 3.7)].into_iter().enumerate() {
+        let transform = Mat4::from_rotation_translation(Quat::from_rotation_y(0.3 * i as f32), Vec3::new(x, y, -0.5));
+        scene.add_object(&format!("stacked box {i}"), cube, transform, Vec3::new(0.30, 0.55, 0.85), true);
+    }
+    let torus = scene.add_mesh("torus", shapes::torus(0.9, 0.28, 40, 20)?);
+    scene.add_object(
+        "torus",
+        torus,
+        Mat4::from_translation(Vec3::new(0.6, 1.6, 0.4)),
+        Vec3::new(0.86, 0.36, 0.24),
+        true,
+    );
+    let sphere = scene.add_mesh("sphere", shapes::uv_sphere(16, 32)?);
+    let transform = Mat4::from_scale_rotation_translation(Vec3::splat(0.7), Quat::IDENTITY, Vec3::new(2.6, 1.2, 0.8));
+    scene.add_object("sphere", sphere, transform, Vec3::new(0.42, 0.75, 0.36), true);
+    Ok(scene)
+}
+
+fn point_light_scene() -> Result<Scene> {
+    let mut scene = default_scene()?;
+    scene.name = "point-light".into();
+    scene.light = Light::Point { position: Vec3::new(-1.0, 6.0, 2.0) };
+    Ok(scene)
+}
+
+/// A slab floating over the ground with the camera beneath it: the camera and its near plane
+/// sit inside the slab's shadow volume, where z-pass fails and z-fail does not.
+fn inside_scene() -> Result<Scene> {
+    let camera = Camera::look_at(Vec3::new(0.0, 1.2, 1.5), Vec3::new(0.0, 0.0, -3.0));
+    let light = Light::Directional { direction: Vec3::new(0.0, -1.0, -0.3).normalize() };
+    let mut scene = with_ground("inside", camera, light);
+    let cube = scene.add_mesh("slab", shapes::cube(1.0));
+    let slab =
+        Mat4::from_scale_rotation_translation(Vec3::new(3.0, 0.3, 3.0), Quat::IDENTITY, Vec3::new(0.0, 3.0, 1.0));
+    scene.add_object("slab", cube, slab, Vec3::new(0.6, 0.6, 0.65), true);
+    let post = scene.add_mesh("post", shapes::cube(1.0));
+    let transform =
+        Mat4::from_scale_rotation_translation(Vec3::new(0.4, 1.2, 0.4), Quat::IDENTITY, Vec3::new(1.2, 0.6, -3.0));
+    scene.add_object("post", post, transform, Vec3::new(0.86, 0.36, 0.24), true);
+    Ok(scene)
+}
+
+/// One axis-aligned box over the ground plane under a directional light: its shadow on the
+/// ground is the projection of the box, computable by hand.
+pub fn box_scene() -> Scene {
+    let camera = Camera::look_at(Vec3::new(0.0, 7.0, 6.0), Vec3::new(0.0, 0.0, 0.0));
+    let light = Light::Directional { direction: Vec3::new(0.4, -1.0, -0.2).normalize() };
+    let mut scene = with_ground("box", camera, light);
+    let cube = scene.add_mesh("box", shapes::cube(1.0));
+    scene.add_object("box", cube, Mat4::from_translation(Vec3::new(-0.5, 1.5, 0.0)), Vec3::new(0.30, 0.55, 0.85), true);
+    scene
 }
