@@ -40,6 +40,20 @@ pub enum Command {
         #[arg(long, value_enum, default_value_t = FormatArg::Table)]
         format: FormatArg,
     },
+    /// Time frames of a technique's variants (the real-stencil reference first) in one run.
+    Bench {
+        #[command(flatten)]
+        frame: FrameArgs,
+        /// Frames rendered and discarded per variant before timing (shader compilation).
+        #[arg(long, default_value_t = 3)]
+        warmup: u32,
+        /// Timed frames per variant.
+        #[arg(long, default_value_t = 10)]
+        runs: u32,
+        /// Print JSON instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
     /// Print the device, the mobile profile, and every limit the device is checked against.
     Info {
         #[command(flatten)]

@@ -17,6 +17,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Render { frame, out, keep_alpha } => render(&frame, &out, keep_alpha),
         Command::Profile { frame, format } => profile(&frame, format),
         Command::Info { gpu, json } => info(&gpu, json),
+        Command::Bench { frame, warmup, runs, json } => bench(&frame, warmup, runs, json),
     }
 }
 
@@ -188,5 +189,66 @@ fn info(args: &GpuArgs, json: bool) -> Result<()> {
     }
     println!("\nscenes:     {}", report.scenes.join(", "));
     println!("techniques: {}", report.techniques.join(", "));
+    Ok(())
+}
+
+fn bench(frame: &FrameArgs, warmup: u32, runs: u32, json: bool) -> Result<()> {
+    use crate::frame::StencilMode;
+    use crate::profile::bench::{self, BenchReport, BenchSettings, Variant};
+    use crate::technique::shadow_volume::ShadowVolumeRenderer;
+
+    if runs == 0 {
+        return Err(Error::InvalidInput("--runs must be at least 1".into()));
+    }
+    let options = options(frame)?;
+    let scene = load_scene(&frame.scene)?;
+    let gpu = open_gpu(&frame.gpu)?;
+    let (width, height) = (options.width, options.height);
+    let mut variants = Vec::new();
+    match options.technique {
+        Technique::ShadowVolume => {
+            let mut reference =
+                ShadowVolumeRenderer::new(&gpu, &scene, width, height, StencilMode::Reference, &options.shadow_volume)?;
+            variants.push(Variant {
+                name: "reference (stencil)".into(),
+                frame: Box::new(move || Ok(reference.frame()?.output)),
+            });
+            for normalize in Normalize::ALL {
+                let sv = ShadowVolumeOptions { normalize, ..options.shadow_volume };
+                let mut renderer = ShadowVolumeRenderer::new(&gpu, &scene, width, height, StencilMode::Emulated, &sv)?;
+                variants.push(Variant {
+                    name: format!("emulated {}", normalize.name()),
+                    frame: Box::new(move || Ok(renderer.frame()?.output)),
+                });
+            }
+        }
+        Technique::Lit => {
+            for stencil in [StencilMode::Reference, StencilMode::Emulated] {
+                let opts = RenderOptions { stencil, ..options.clone() };
+                let (gpu, scene) = (gpu.clone(), &scene);
+                variants.push(Variant {
+                    name: format!("lit ({})", stencil.name()),
+                    frame: Box::new(move || Ok(render_scene(&gpu, scene, &opts)?.output)),
+                });
+            }
+        }
+    }
+    let results = bench::run(variants, &BenchSettings { warmup, runs, progress: !json })?;
+    let report = BenchReport {
+        schema: "nostencil-bench/1",
+        device: gpu.device.info.name.clone(),
+        technique: options.technique.name().into(),
+        scene: scene.name.clone(),
+        width,
+        height,
+        warmup,
+        runs,
+        variants: results,
+    };
+    if json {
+        println!("{}", serde_json::to_string_pretty(&report).map_err(|e| Error::InvalidInput(e.to_string()))?);
+    } else {
+        print!("{}", report.table());
+    }
     Ok(())
 }

@@ -1,5 +1,6 @@
 //! Fill-rate profiling: per-pass counters and the reports made from them.
 
+pub mod bench;
 pub mod counters;
 pub mod report;
 

@@ -507,6 +507,185 @@ fn solid(alpha: f32) -> Vec4 {
     Vec4::new(0.0, 0.0, 0.0, alpha)
 }
 
+/// The pipelines of one frame kind.
+enum Passes {
+    Reference {
+        volumes: Pipeline,
+        apply: Pipeline,
+    },
+    Emulated {
+        input: CounterInput,
+        increment: Pipeline,
+        decrement: Pipeline,
+        probe: Pipeline,
+        /// N0 and the iteration; None for `subpass`.
+        seed: Option<(Pipeline, Pipeline)>,
+        darkness: Vec<Pipeline>,
+        apply: Pipeline,
+    },
+}
+
+/// Everything a shadow-volume frame needs, built once; `frame` renders one frame (volumes are
+/// rebuilt and uploaded each frame, as a moving light or mesh would need).
+pub struct ShadowVolumeRenderer<'s> {
+    gpu: Arc<Gpu>,
+    scene: &'s Scene,
+    options: ShadowVolumeOptions,
+    renderer: Renderer,
+    casters: Vec<Caster>,
+    meshes: GpuScene,
+    lit: LitPass,
+    passes: Passes,
+    stats: ShadowVolumeStats,
+}
+
+impl<'s> ShadowVolumeRenderer<'s> {
+    pub fn new(
+        gpu: &Arc<Gpu>,
+        scene: &'s Scene,
+        width: u32,
+        height: u32,
+        stencil: StencilMode,
+        options: &ShadowVolumeOptions,
+    ) -> Result<Self> {
+        let k = alpha_counter::check_increment(options.increment)?;
+        let casters = prepare_casters(scene)?;
+        let emulated = stencil == StencilMode::Emulated;
+        let renderer = Renderer::new(gpu, width, height, stencil, emulated)?;
+        let zfail = choose_zfail(options, scene, &casters, renderer.aspect());
+        let meshes = GpuScene::upload(gpu, scene)?;
+        let lit = LitPass::new(gpu, &renderer)?;
+        let render_pass = renderer.targets.render_pass;
+        let frame_layout = [renderer.frame.layout];
+        let iterations = alpha_counter::seed_iterations(k)?;
+        let passes = if emulated {
+            let input = CounterInput::new(gpu, renderer.targets.colour.view)?;
+            let input_layout = [input.layout];
+            let [increment_desc, decrement_desc] = volume_descs(zfail);
+            let seed = match options.normalize {
+                Normalize::Subpass => None,
+                _ => Some((
+                    Pipeline::new(gpu, &n0_desc(), render_pass, &[])?,
+                    Pipeline::new(gpu, &iteration_desc(), render_pass, &[])?,
+                )),
+            };
+            let apply_sets: &[vk::DescriptorSetLayout] =
+                if options.normalize == Normalize::Subpass { &input_layout } else { &[] };
+            Passes::Emulated {
+                increment: Pipeline::new(gpu, &increment_desc, render_pass, &frame_layout)?,
+                decrement: Pipeline::new(gpu, &decrement_desc, render_pass, &frame_layout)?,
+                probe: Pipeline::new(gpu, &saturation_probe_desc(), render_pass, &input_layout)?,
+                seed,
+                darkness: darkness_descs(options.normalize)
+                    .iter()
+                    .map(|d| Pipeline::new(gpu, d, render_pass, &[]))
+                    .collect::<Result<Vec<_>>>()?,
+                apply: Pipeline::new(gpu, &apply_desc(options.normalize), render_pass, apply_sets)?,
+                input,
+            }
+        } else {
+            Passes::Reference {
+                volumes: Pipeline::new(gpu, &reference_volume_desc(zfail), render_pass, &frame_layout)?,
+                apply: Pipeline::new(gpu, &reference_apply_desc(), render_pass, &[])?,
+            }
+        };
+        Ok(ShadowVolumeRenderer {
+            gpu: gpu.clone(),
+            scene,
+            options: *options,
+            renderer,
+            casters,
+            meshes,
+            lit,
+            passes,
+            stats: ShadowVolumeStats {
+                zfail,
+                seed_iterations: iterations,
+                capacity: alpha_counter::capacity(k),
+                saturated_pixels: None,
+            },
+        })
+    }
+
+    pub fn frame(&mut self) -> Result<ShadowVolumeFrame> {
+        let scene = self.scene;
+        let volumes = upload_volumes(&self.gpu, scene, &self.casters, self.stats.zfail)?;
+        let uniforms = FrameUniforms::for_scene(scene, self.renderer.aspect());
+        let shadow_factor = self.options.shadow_factor as f32 / 255.0;
+        // The scene writes alpha 0 everywhere: the counter starts at zero.
+        let clear = scene.background.extend(0.0).to_array();
+        let step = self.options.increment as f32 / 255.0;
+        let iterations = self.stats.seed_iterations;
+        let colour_image = self.renderer.targets.colour.raw;
+        let (lit, meshes) = (&self.lit, &self.meshes);
+        let output = match &self.passes {
+            Passes::Reference { volumes: volumes_pipeline, apply } => {
+                self.renderer.render(&uniforms, clear, |rec| {
+                    lit.record(rec, scene, meshes, |_| 0.0)?;
+                    rec.pass(volumes_pipeline.desc.name, |rec| {
+                        draw_volumes(rec, volumes_pipeline, scene, &volumes, 0.0);
+                        Ok(())
+                    })?;
+                    rec.pass(apply.desc.name, |rec| {
+                        rec.bind(apply);
+                        rec.push(apply, &solid(shadow_factor));
+                        rec.draw_fullscreen();
+                        Ok(())
+                    })
+                })?
+            }
+            Passes::Emulated { input, increment, decrement, probe, seed, darkness, apply } => {
+                self.renderer.render(&uniforms, clear, |rec| {
+                    lit.record(rec, scene, meshes, |_| 0.0)?;
+                    rec.pass(increment.desc.name, |rec| {
+                        draw_volumes(rec, increment, scene, &volumes, step);
+                        Ok(())
+                    })?;
+                    rec.pass(probe.desc.name, |rec| {
+                        rec.colour_feedback_barrier(colour_image);
+                        rec.bind_with_sets(probe, &[input.set]);
+                        rec.draw_fullscreen();
+                        Ok(())
+                    })?;
+                    rec.pass(decrement.desc.name, |rec| {
+                        draw_volumes(rec, decrement, scene, &volumes, step);
+                        Ok(())
+                    })?;
+                    match seed {
+                        Some((n0, iteration)) => {
+                            record_seed_normalisation(rec, n0, iteration, iterations)?;
+                            for pipeline in darkness {
+                                rec.pass(pipeline.desc.name, |rec| {
+                                    rec.bind(pipeline);
+                                    rec.push(pipeline, &solid(shadow_factor));
+                                    rec.draw_fullscreen();
+                                    Ok(())
+                                })?;
+                            }
+                            rec.pass(apply.desc.name, |rec| {
+                                rec.bind(apply);
+                                rec.push(apply, &solid(1.0));
+                                rec.draw_fullscreen();
+                                Ok(())
+                            })
+                        }
+                        None => rec.pass(apply.desc.name, |rec| {
+                            rec.colour_feedback_barrier(colour_image);
+                            rec.bind_with_sets(apply, &[input.set]);
+                            rec.push(apply, &Vec4::new(shadow_factor, 0.0, 0.0, 0.0));
+                            rec.draw_fullscreen();
+                            Ok(())
+                        }),
+                    }
+                })?
+            }
+        };
+        let mut stats = self.stats;
+        stats.saturated_pixels = output.counters.pass("saturation probe").map(|p| p.samples_passed);
+        Ok(ShadowVolumeFrame { output, stats })
+    }
+}
+
 /// Renders `scene` with shadow volumes, emulated in alpha or with the real-stencil reference.
 pub fn render(
     gpu: &Arc<Gpu>,
@@ -516,115 +695,7 @@ pub fn render(
     stencil: StencilMode,
     options: &ShadowVolumeOptions,
 ) -> Result<ShadowVolumeFrame> {
-    let k = alpha_counter::check_increment(options.increment)?;
-    let casters = prepare_casters(scene)?;
-    let emulated = stencil == StencilMode::Emulated;
-    let mut renderer = Renderer::new(gpu, width, height, stencil, emulated)?;
-    let zfail = choose_zfail(options, scene, &casters, renderer.aspect());
-    let meshes = GpuScene::upload(gpu, scene)?;
-    let volumes = upload_volumes(gpu, scene, &casters, zfail)?;
-    let uniforms = FrameUniforms::for_scene(scene, renderer.aspect());
-    let lit = LitPass::new(gpu, &renderer)?;
-    let render_pass = renderer.targets.render_pass;
-    let frame_layout = [renderer.frame.layout];
-    let shadow_factor = options.shadow_factor as f32 / 255.0;
-    // The scene writes alpha 0 everywhere: the counter starts at zero.
-    let clear = scene.background.extend(0.0).to_array();
-    let iterations = alpha_counter::seed_iterations(k)?;
-    let mut stats = ShadowVolumeStats {
-        zfail,
-        seed_iterations: iterations,
-        capacity: alpha_counter::capacity(k),
-        saturated_pixels: None,
-    };
-
-    if !emulated {
-        let volumes_pipeline = Pipeline::new(gpu, &reference_volume_desc(zfail), render_pass, &frame_layout)?;
-        let apply = Pipeline::new(gpu, &reference_apply_desc(), render_pass, &[])?;
-        let output = renderer.render(&uniforms, clear, |rec| {
-            lit.record(rec, scene, &meshes, |_| 0.0)?;
-            rec.pass(volumes_pipeline.desc.name, |rec| {
-                draw_volumes(rec, &volumes_pipeline, scene, &volumes, 0.0);
-                Ok(())
-            })?;
-            rec.pass("apply (stencil)", |rec| {
-                rec.bind(&apply);
-                rec.push(&apply, &solid(shadow_factor));
-                rec.draw_fullscreen();
-                Ok(())
-            })
-        })?;
-        return Ok(ShadowVolumeFrame { output, stats });
-    }
-
-    let colour_image = renderer.targets.colour.raw;
-    let input = CounterInput::new(gpu, renderer.targets.colour.view)?;
-    let input_layout = [input.layout];
-    let [increment_desc, decrement_desc] = volume_descs(zfail);
-    let increment = Pipeline::new(gpu, &increment_desc, render_pass, &frame_layout)?;
-    let decrement = Pipeline::new(gpu, &decrement_desc, render_pass, &frame_layout)?;
-    let probe = Pipeline::new(gpu, &saturation_probe_desc(), render_pass, &input_layout)?;
-    let (n0, iteration) = if options.normalize == Normalize::Subpass {
-        (None, None)
-    } else {
-        (
-            Some(Pipeline::new(gpu, &n0_desc(), render_pass, &[])?),
-            Some(Pipeline::new(gpu, &iteration_desc(), render_pass, &[])?),
-        )
-    };
-    let darkness = darkness_descs(options.normalize)
-        .iter()
-        .map(|d| Pipeline::new(gpu, d, render_pass, &[]))
-        .collect::<Result<Vec<_>>>()?;
-    let apply_sets: &[vk::DescriptorSetLayout] =
-        if options.normalize == Normalize::Subpass { &input_layout } else { &[] };
-    let apply = Pipeline::new(gpu, &apply_desc(options.normalize), render_pass, apply_sets)?;
-    let step = k as f32 / 255.0;
-
-    let output = renderer.render(&uniforms, clear, |rec| {
-        lit.record(rec, scene, &meshes, |_| 0.0)?;
-        rec.pass(increment.desc.name, |rec| {
-            draw_volumes(rec, &increment, scene, &volumes, step);
-            Ok(())
-        })?;
-        rec.pass("saturation probe", |rec| {
-            rec.colour_feedback_barrier(colour_image);
-            rec.bind_with_sets(&probe, &[input.set]);
-            rec.draw_fullscreen();
-            Ok(())
-        })?;
-        rec.pass(decrement.desc.name, |rec| {
-            draw_volumes(rec, &decrement, scene, &volumes, step);
-            Ok(())
-        })?;
-        if let (Some(n0), Some(iteration)) = (&n0, &iteration) {
-            record_seed_normalisation(rec, n0, iteration, iterations)?;
-            for pipeline in &darkness {
-                rec.pass(pipeline.desc.name, |rec| {
-                    rec.bind(pipeline);
-                    rec.push(pipeline, &solid(shadow_factor));
-                    rec.draw_fullscreen();
-                    Ok(())
-                })?;
-            }
-            rec.pass("apply", |rec| {
-                rec.bind(&apply);
-                rec.push(&apply, &solid(1.0));
-                rec.draw_fullscreen();
-                Ok(())
-            })
-        } else {
-            rec.pass("apply (subpass)", |rec| {
-                rec.colour_feedback_barrier(colour_image);
-                rec.bind_with_sets(&apply, &[input.set]);
-                rec.push(&apply, &Vec4::new(shadow_factor, 0.0, 0.0, 0.0));
-                rec.draw_fullscreen();
-                Ok(())
-            })
-        }
-    })?;
-    stats.saturated_pixels = output.counters.pass("saturation probe").map(|p| p.samples_passed);
-    Ok(ShadowVolumeFrame { output, stats })
+    ShadowVolumeRenderer::new(gpu, scene, width, height, stencil, options)?.frame()
 }
 
 /// N0 then `iterations` iterations, each a measured full-screen pass writing alpha only.
