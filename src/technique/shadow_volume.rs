@@ -509,20 +509,19 @@ fn solid(alpha: f32) -> Vec4 {
 
 /// The pipelines of one frame kind.
 enum Passes {
-    Reference {
-        volumes: Pipeline,
-        apply: Pipeline,
-    },
-    Emulated {
-        input: CounterInput,
-        increment: Pipeline,
-        decrement: Pipeline,
-        probe: Pipeline,
-        /// N0 and the iteration; None for `subpass`.
-        seed: Option<(Pipeline, Pipeline)>,
-        darkness: Vec<Pipeline>,
-        apply: Pipeline,
-    },
+    Reference { volumes: Pipeline, apply: Pipeline },
+    Emulated(Box<EmulatedPasses>),
+}
+
+struct EmulatedPasses {
+    input: CounterInput,
+    increment: Pipeline,
+    decrement: Pipeline,
+    probe: Pipeline,
+    /// N0 and the iteration; None for `subpass`.
+    seed: Option<(Pipeline, Pipeline)>,
+    darkness: Vec<Pipeline>,
+    apply: Pipeline,
 }
 
 /// Everything a shadow-volume frame needs, built once; `frame` renders one frame (volumes are
@@ -571,7 +570,7 @@ impl<'s> ShadowVolumeRenderer<'s> {
             };
             let apply_sets: &[vk::DescriptorSetLayout] =
                 if options.normalize == Normalize::Subpass { &input_layout } else { &[] };
-            Passes::Emulated {
+            Passes::Emulated(Box::new(EmulatedPasses {
                 increment: Pipeline::new(gpu, &increment_desc, render_pass, &frame_layout)?,
                 decrement: Pipeline::new(gpu, &decrement_desc, render_pass, &frame_layout)?,
                 probe: Pipeline::new(gpu, &saturation_probe_desc(), render_pass, &input_layout)?,
@@ -582,7 +581,7 @@ impl<'s> ShadowVolumeRenderer<'s> {
                     .collect::<Result<Vec<_>>>()?,
                 apply: Pipeline::new(gpu, &apply_desc(options.normalize), render_pass, apply_sets)?,
                 input,
-            }
+            }))
         } else {
             Passes::Reference {
                 volumes: Pipeline::new(gpu, &reference_volume_desc(zfail), render_pass, &frame_layout)?,
@@ -634,7 +633,8 @@ impl<'s> ShadowVolumeRenderer<'s> {
                     })
                 })?
             }
-            Passes::Emulated { input, increment, decrement, probe, seed, darkness, apply } => {
+            Passes::Emulated(emulated) => {
+                let EmulatedPasses { input, increment, decrement, probe, seed, darkness, apply } = &**emulated;
                 self.renderer.render(&uniforms, clear, |rec| {
                     lit.record(rec, scene, meshes, |_| 0.0)?;
                     rec.pass(increment.desc.name, |rec| {
