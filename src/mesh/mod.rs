@@ -1,13 +1,16 @@
 //! CPU-side mesh processing: welding, edge adjacency, silhouettes, shadow volumes.
 //!
-//! The usual path: [`weld_by_position`] once at load, then [`EdgeAdjacency::build`] on the
-//! welded mesh once; per frame [`face_normals`] from the (skinned) positions.
+//! The usual path: [`weld_by_position`] once at load, [`EdgeAdjacency::build`] on the welded
+//! mesh once, [`attribute_seams`] once if ink lines want UV/normal/material boundaries; then per
+//! frame [`face_normals`] from the (skinned) positions, and [`classify`] for outlines.
 
 pub mod adjacency;
+pub mod edges;
 mod fast_hash;
 pub mod shapes;
 pub mod weld;
 
 pub use adjacency::{face_normals, Edge, EdgeAdjacency, NO_FACE};
+pub use edges::{attribute_seams, classify, classify_into, CornerAttributes, EdgeClasses, View};
 pub use shapes::MeshData;
 pub use weld::{weld_by_position, Welded};
