@@ -2,15 +2,18 @@
 //!
 //! The usual path: [`weld_by_position`] once at load, [`EdgeAdjacency::build`] on the welded
 //! mesh once, [`attribute_seams`] once if ink lines want UV/normal/material boundaries; then per
-//! frame [`face_normals`] from the (skinned) positions, and [`classify`] for outlines.
+//! frame [`face_normals`] from the (skinned) positions, and [`classify`] for outlines or
+//! [`build_shadow_volume`] per light.
 
 pub mod adjacency;
 pub mod edges;
 mod fast_hash;
+pub mod shadow_volume;
 pub mod shapes;
 pub mod weld;
 
 pub use adjacency::{face_normals, Edge, EdgeAdjacency, NO_FACE};
 pub use edges::{attribute_seams, classify, classify_into, CornerAttributes, EdgeClasses, View};
+pub use shadow_volume::{build_shadow_volume, build_shadow_volume_into, Light, VolumeGeometry};
 pub use shapes::MeshData;
 pub use weld::{weld_by_position, Welded};

@@ -1,0 +1,452 @@
+//! Shadow-volume geometry on the CPU (seed 000, DESIGN.md section 2): silhouette sides
+//! extruded to infinity, and for z-fail the two caps (Everitt and Kilgard's construction).
+//!
+//! Points at infinity are homogeneous, w = 0, and need an infinite-far projection. The volume is
+//! the sweep of the light-facing ("lit") surface away from the light:
+//! - near cap: the lit triangles as they are, so it faces the light, i.e. out of the volume;
+//! - sides: one quad per silhouette edge (lit face on one side, unlit on the other), wound so
+//!   that it shares the edge with its lit face in the opposite direction;
+//! - far cap: the lit triangles projected to infinity with reversed winding.
+//!
+//! Every directed edge is then matched by its reverse ([`VolumeGeometry::is_closed`] checks
+//! it): the near cap's inner edges pair among themselves, its rim pairs with the sides, the
+//! sides pair with each other along the silhouette loops and with the far cap at infinity. With
+//! the mesh wound counter-clockwise seen from outside, every volume triangle is wound
+//! counter-clockwise seen from outside the volume (front faces point out), as DESIGN.md's
+//! increment/decrement table assumes.
+//!
+//! For a directional light every point at infinity is the same point, `(direction, 0)`: each
+//! side quad is the triangle (b, a, infinity) and the far cap collapses to that single point, so
+//! it is left out. The volume is still closed: the sides meet at the apex.
+
+use std::collections::HashMap;
+
+use glam::{Vec3, Vec4};
+
+use super::adjacency::{EdgeAdjacency, NO_FACE};
+use super::fast_hash::{u64_map_with_capacity, U64Map};
+
+/// A light as the volume sees it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Light {
+    /// The direction the light travels (from the light towards the scene); need not be unit.
+    Directional(Vec3),
+    /// The light's position. It must lie outside the occluder and off its vertices.
+    Point(Vec3),
+}
+
+/// Shadow-volume triangle lists over one vertex buffer.
+///
+/// `vertices` holds the mesh positions with w = 1 at their own indices, then the points at
+/// infinity: one `(direction, 0)` for a directional light, or `(p - light, 0)` for each vertex
+/// `p` at index `vertex_count + i` for a point light.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct VolumeGeometry {
+    pub vertices: Vec<Vec4>,
+    /// Extruded silhouette edges (both z-pass and z-fail draw these).
+    pub sides: Vec<u32>,
+    /// Light-facing triangles (z-fail only; empty without caps).
+    pub near_cap: Vec<u32>,
+    /// Light-facing triangles at infinity, reversed (z-fail only; empty without caps and for a
+    /// directional light, where it degenerates to a point).
+    pub far_cap: Vec<u32>,
+    /// Per mesh face, whether it faces the light.
+    pub lit_faces: Vec<bool>,
+}
+
+/// Builds the shadow volume of a mesh, with caps for z-fail (`caps = true`) or sides only for
+/// z-pass.
+///
+/// A face is lit when `N . L < 0`, `L` being the direction the light travels to it; a face seen
+/// exactly edge-on is unlit. `face_normals` are this frame's (`adjacency::face_normals`).
+///
+/// The caller should refuse meshes that fail `EdgeAdjacency::require_closed_manifold`: on an
+/// open mesh the boundary edges of lit faces are extruded too, so the volume stays closed, but
+/// faces seen from behind cast no shadow; on non-manifold or inconsistently wound meshes the
+/// volume is not closed.
+///
+/// # Panics
+/// If `positions` or `face_normals` are shorter than the mesh.
+pub fn build_shadow_volume(
+    adjacency: &EdgeAdjacency,
+    positions: &[Vec3],
+    face_normals: &[Vec3],
+    light: Light,
+    caps: bool,
+) -> VolumeGeometry {
+    let mut volume = VolumeGeometry::default();
+    build_shadow_volume_into(adjacency, positions, face_normals, light, caps, &mut volume);
+    volume
+}
+
+/// [`build_shadow_volume`] into buffers that are cleared and reused frame to frame.
+pub fn build_shadow_volume_into(
+    adjacency: &EdgeAdjacency,
+    positions: &[Vec3],
+    face_normals: &[Vec3],
+    light: Light,
+    caps: bool,
+    out: &mut VolumeGeometry,
+) {
+    let vertex_count = adjacency.vertex_count;
+    assert!(
+        positions.len() >= vertex_count && face_normals.len() >= adjacency.face_count(),
+        "mesh '{}': shadow volume needs {} positions and {} face normals (got {}, {})",
+        adjacency.mesh_name,
+        vertex_count,
+        adjacency.face_count(),
+        positions.len(),
+        face_normals.len()
+    );
+    let indices = &adjacency.indices;
+    out.vertices.clear();
+    out.sides.clear();
+    out.near_cap.clear();
+    out.far_cap.clear();
+    out.lit_faces.clear();
+    out.lit_faces.extend(
+        face_normals[..adjacency.face_count()]
+            .iter()
+            .enumerate()
+            .map(|(face, normal)| {
+                let travel = match light {
+                    Light::Directional(direction) => direction,
+                    // N.(p - light) is the same for every point p of the face's plane.
+                    Light::Point(at) => positions[indices[3 * face] as usize] - at,
+                };
+                normal.dot(travel) < 0.0
+            }),
+    );
+    let lit = &out.lit_faces;
+    out.vertices
+        .extend(positions[..vertex_count].iter().map(|p| p.extend(1.0)));
+    match light {
+        Light::Directional(direction) => out.vertices.push(direction.extend(0.0)),
+        Light::Point(at) => out.vertices.extend(
+            positions[..vertex_count]
+                .iter()
+                .map(|&p| (p - at).extend(0.0)),
+        ),
+    }
+    let at_infinity = |v: u32| match light {
+        Light::Directional(_) => vertex_count as u32,
+        Light::Point(_) => vertex_count as u32 + v,
+    };
+
+    for edge in &adjacency.edges {
+        let [f0, f1] = edge.faces;
+        let lit0 = lit[f0 as usize];
+        let lit1 = f1 != NO_FACE && lit[f1 as usize];
+        if lit0 == lit1 {
+            continue;
+        }
+        // (a, b) as the lit face runs it; the side runs it b -> a.
+        let [a, b] = edge.directed_by(if lit0 { 0 } else { 1 });
+        let (a_far, b_far) = (at_infinity(a), at_infinity(b));
+        match light {
+            Light::Directional(_) => out.sides.extend_from_slice(&[b, a, a_far]),
+            Light::Point(_) => out.sides.extend_from_slice(&[b, a, a_far, b, a_far, b_far]),
+        }
+    }
+
+    if caps {
+        for (face, corners) in indices.chunks_exact(3).enumerate() {
+            if !lit[face] {
+                continue;
+            }
+            out.near_cap.extend_from_slice(corners);
+            if let Light::Point(_) = light {
+                let [a, b, c] = [corners[0], corners[1], corners[2]].map(at_infinity);
+                out.far_cap.extend_from_slice(&[a, c, b]);
+            }
+        }
+    }
+}
+
+impl VolumeGeometry {
+    /// Number of triangles in all three lists.
+    pub fn triangle_count(&self) -> usize {
+        (self.sides.len() + self.near_cap.len() + self.far_cap.len()) / 3
+    }
+
+    /// Every directed edge of sides + caps is matched by its reverse (as a multiset), with
+    /// vertices compared by where they are: finite points by position, points at infinity by
+    /// direction. This is what makes z-fail counts return to zero outside the volume.
+    pub fn is_closed(&self) -> bool {
+        self.unmatched_edges() == 0
+    }
+
+    /// Directed edges of sides + caps without a reverse partner: 0 for a closed volume.
+    pub fn unmatched_edges(&self) -> usize {
+        // Identify vertices by the point they stand for, so that duplicates of one point (or
+        // different scalings of one direction at infinity) count as one.
+        let mut id_of_point: HashMap<[u32; 4], u32> = HashMap::with_capacity(self.vertices.len());
+        let point_ids: Vec<u32> = self
+            .vertices
+            .iter()
+            .map(|&v| {
+                let next_id = id_of_point.len() as u32;
+                *id_of_point.entry(point_key(v)).or_insert(next_id)
+            })
+            .collect();
+
+        // +1 for u -> v with u < v, -1 for the reverse: matched edges cancel.
+        let mut balance: U64Map<i32> = u64_map_with_capacity(3 * self.triangle_count());
+        for list in [&self.sides, &self.near_cap, &self.far_cap] {
+            for triangle in list.chunks_exact(3) {
+                for k in 0..3 {
+                    let from = point_ids[triangle[k] as usize];
+                    let to = point_ids[triangle[(k + 1) % 3] as usize];
+                    if from == to {
+                        continue; // degenerate edge: its own reverse
+                    }
+                    let (low, high, step) = if from < to {
+                        (from, to, 1)
+                    } else {
+                        (to, from, -1)
+                    };
+                    *balance
+                        .entry((u64::from(low) << 32) | u64::from(high))
+                        .or_insert(0) += step;
+                }
+            }
+        }
+        balance.values().map(|b| b.unsigned_abs() as usize).sum()
+    }
+}
+
+/// Bits identifying the point a homogeneous vertex stands for: position for w != 0,
+/// unit direction for w = 0 (the last word tells them apart).
+fn point_key(v: Vec4) -> [u32; 4] {
+    let (point, finite) = if v.w == 0.0 {
+        (v.truncate().normalize_or_zero(), 0)
+    } else {
+        (v.truncate() / v.w, 1)
+    };
+    // + 0.0 turns -0.0 into 0.0, so that they compare equal.
+    let [x, y, z] = (point + Vec3::ZERO).to_array().map(f32::to_bits);
+    [x, y, z, finite]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::shapes::{self, MeshData};
+    use crate::mesh::weld::weld_by_position;
+    use crate::Result;
+
+    struct Occluder {
+        positions: Vec<Vec3>,
+        adjacency: EdgeAdjacency,
+    }
+
+    fn occluder(name: &str, mesh: &MeshData) -> Result<Occluder> {
+        let welded = weld_by_position(name, &mesh.positions, &mesh.indices, 1e-6)?;
+        let adjacency = EdgeAdjacency::build(name, &welded.positions, &welded.indices)?;
+        adjacency.require_closed_manifold()?;
+        Ok(Occluder {
+            positions: welded.positions,
+            adjacency,
+        })
+    }
+
+    fn volume(occluder: &Occluder, light: Light, caps: bool) -> VolumeGeometry {
+        build_shadow_volume(
+            &occluder.adjacency,
+            &occluder.positions,
+            &occluder.adjacency.face_normals,
+            light,
+            caps,
+        )
+    }
+
+    /// Replaces points at infinity by far finite stand-ins (`reach` times as far from a point
+    /// light, or one apex `reach` along a directional light), giving a closed polyhedron whose
+    /// signed volume is positive iff the triangles face out.
+    fn finite_signed_volume(volume: &VolumeGeometry, light: Light, reach: f32) -> f32 {
+        let finite = |v: Vec4| {
+            if v.w != 0.0 {
+                return v.truncate() / v.w;
+            }
+            match light {
+                Light::Directional(direction) => direction.normalize() * reach,
+                Light::Point(at) => at + v.truncate() * reach,
+            }
+        };
+        [&volume.sides, &volume.near_cap, &volume.far_cap]
+            .into_iter()
+            .flat_map(|list| list.chunks_exact(3))
+            .map(|t| {
+                let [a, b, c] = [0, 1, 2].map(|k| finite(volume.vertices[t[k] as usize]));
+                a.dot(b.cross(c)) / 6.0
+            })
+            .sum()
+    }
+
+    fn lights() -> [Light; 4] {
+        [
+            Light::Directional(Vec3::new(0.0, -1.0, 0.0)),
+            Light::Directional(Vec3::new(0.3, -1.0, 0.5)),
+            Light::Point(Vec3::new(0.0, 6.0, 0.0)),
+            Light::Point(Vec3::new(4.0, 3.0, -5.0)),
+        ]
+    }
+
+    #[test]
+    fn cube_under_an_axis_light_extrudes_its_top_square() -> Result<()> {
+        let cube = occluder("cube", &shapes::cube(1.0))?;
+        let directional = volume(&cube, Light::Directional(Vec3::NEG_Y), true);
+        assert_eq!(directional.near_cap.len() / 3, 2, "the top face");
+        assert_eq!(directional.sides.len() / 3, 4, "one triangle per top edge");
+        assert!(
+            directional.far_cap.is_empty(),
+            "collapses to the point at infinity"
+        );
+        assert_eq!(directional.vertices.len(), 8 + 1);
+        assert!(directional.is_closed());
+
+        let point = volume(&cube, Light::Point(Vec3::new(0.0, 5.0, 0.0)), true);
+        assert_eq!(point.near_cap.len() / 3, 2);
+        assert_eq!(point.sides.len() / 3, 8, "one quad per top edge");
+        assert_eq!(point.far_cap.len() / 3, 2);
+        assert_eq!(point.vertices.len(), 16);
+        assert!(point.vertices[8..].iter().all(|v| v.w == 0.0));
+        assert!(point.is_closed());
+        Ok(())
+    }
+
+    #[test]
+    fn cube_lit_from_a_corner_has_a_hexagonal_silhouette() -> Result<()> {
+        let cube = occluder("cube", &shapes::cube(1.0))?;
+        let point = volume(&cube, Light::Point(Vec3::splat(10.0)), true);
+        assert_eq!(point.near_cap.len() / 3, 6, "three faces");
+        assert_eq!(point.sides.len() / 6, 6, "six silhouette edges");
+        assert!(point.is_closed());
+        Ok(())
+    }
+
+    #[test]
+    fn volumes_are_closed_for_every_shape_and_light() -> Result<()> {
+        let shapes = [
+            ("cube", shapes::cube(1.0)),
+            ("sphere", shapes::uv_sphere(12, 24)?),
+            ("torus", shapes::torus(1.0, 0.3, 32, 16)?),
+            ("knot", shapes::torus_knot(2, 3, 1.0, 0.1, 128, 8)?),
+        ];
+        for (name, mesh) in &shapes {
+            let occluder = occluder(name, mesh)?;
+            for light in lights() {
+                let capped = volume(&occluder, light, true);
+                assert!(!capped.sides.is_empty(), "{name} {light:?}");
+                assert_eq!(capped.unmatched_edges(), 0, "{name} {light:?}");
+                let signed = finite_signed_volume(&capped, light, 50.0);
+                assert!(signed > 0.0, "{name} {light:?}: faces point in ({signed})");
+                // Sides alone (z-pass) are open exactly where the caps were.
+                let sides_only = volume(&occluder, light, false);
+                assert!(sides_only.near_cap.is_empty() && sides_only.far_cap.is_empty());
+                assert_eq!(sides_only.sides, capped.sides);
+                assert!(!sides_only.is_closed(), "{name} {light:?}");
+            }
+        }
+        Ok(())
+    }
+
+    #[test]
+    fn side_faces_point_away_from_a_convex_occluder() -> Result<()> {
+        // A convex occluder's centre is inside its volume, behind every side plane.
+        for (name, mesh) in [
+            ("cube", shapes::cube(1.0)),
+            ("sphere", shapes::uv_sphere(8, 16)?),
+        ] {
+            let occluder = occluder(name, &mesh)?;
+            for light in lights() {
+                let v = volume(&occluder, light, false);
+                for t in v.sides.chunks_exact(3) {
+                    // Finite stand-ins in the side's plane for its points at infinity; the
+                    // first corner is always a mesh vertex.
+                    let anchor = v.vertices[t[0] as usize].truncate();
+                    let [p0, p1, p2] = [0, 1, 2].map(|k| {
+                        let p = v.vertices[t[k] as usize];
+                        match (p.w != 0.0, light) {
+                            (true, _) => p.truncate(),
+                            (false, Light::Directional(direction)) => anchor + direction,
+                            (false, Light::Point(at)) => at + p.truncate() * 2.0,
+                        }
+                    });
+                    let outward = (p1 - p0).cross(p2 - p0);
+                    assert!(
+                        outward.dot(Vec3::ZERO - p0) < 0.0,
+                        "{name} {light:?}: side faces in"
+                    );
+                }
+            }
+        }
+        Ok(())
+    }
+
+    #[test]
+    fn torus_along_its_axis_has_two_silhouette_loops() -> Result<()> {
+        let (major, minor) = (32, 16);
+        let torus = occluder("torus", &shapes::torus(1.0, 0.3, major, minor)?)?;
+        let v = volume(&torus, Light::Directional(Vec3::NEG_Y), true);
+        // The outer and inner equators, one edge per major segment each.
+        assert_eq!(v.sides.len() / 3, 2 * major as usize);
+        assert!(v.is_closed());
+        Ok(())
+    }
+
+    #[test]
+    fn skinned_positions_move_the_volume() -> Result<()> {
+        let cube = occluder("cube", &shapes::cube(1.0))?;
+        let moved: Vec<Vec3> = cube.positions.iter().map(|p| *p + Vec3::X * 3.0).collect();
+        let mut normals = Vec::new();
+        cube.adjacency.recompute_face_normals(&moved, &mut normals);
+        let mut reused = VolumeGeometry::default();
+        let light = Light::Point(Vec3::new(0.0, 5.0, 0.0));
+        build_shadow_volume_into(&cube.adjacency, &moved, &normals, light, true, &mut reused);
+        assert!(reused.is_closed());
+        assert_eq!(reused.vertices[0].truncate(), moved[0]);
+        // Seen from (0, 5, 0) the moved cube shows its top and its -X face.
+        assert_eq!(reused.near_cap.len() / 3, 4);
+        Ok(())
+    }
+
+    #[test]
+    fn open_mesh_volume_sweeps_its_lit_faces() -> Result<()> {
+        // Documented behaviour for callers that skip require_closed_manifold: a lit quad
+        // sweeps a closed prism; the same quad seen from behind casts nothing.
+        let positions = [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 0.0, -1.0), Vec3::NEG_Z];
+        let indices = [0, 1, 2, 0, 2, 3]; // faces +Y
+        let adjacency = EdgeAdjacency::build("floor tile", &positions, &indices)?;
+        assert!(adjacency.require_closed_manifold().is_err());
+        let from_above = Light::Point(Vec3::new(0.5, 4.0, -0.5));
+        let lit = build_shadow_volume(
+            &adjacency,
+            &positions,
+            &adjacency.face_normals,
+            from_above,
+            true,
+        );
+        assert_eq!(lit.sides.len() / 6, 4);
+        assert!(lit.is_closed());
+        let from_below = Light::Point(Vec3::new(0.5, -4.0, -0.5));
+        let unlit = build_shadow_volume(
+            &adjacency,
+            &positions,
+            &adjacency.face_normals,
+            from_below,
+            true,
+        );
+        assert_eq!(unlit.triangle_count(), 0);
+        Ok(())
+    }
+
+    #[test]
+    fn closure_check_catches_a_missing_triangle() -> Result<()> {
+        let sphere = occluder("sphere", &shapes::uv_sphere(8, 16)?)?;
+        let mut v = volume(&sphere, Light::Point(Vec3::new(1.0, 5.0, 2.0)), true);
+        v.far_cap.truncate(v.far_cap.len() - 3);
+        assert_eq!(v.unmatched_edges(), 3);
+        Ok(())
+    }
+}
