@@ -10,6 +10,8 @@ pub mod edges;
 mod fast_hash;
 pub mod shadow_volume;
 pub mod shapes;
+#[cfg(test)]
+mod timing;
 pub mod weld;
 
 pub use adjacency::{face_normals, Edge, EdgeAdjacency, NO_FACE};

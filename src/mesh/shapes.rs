@@ -96,8 +96,9 @@ pub fn torus(major_radius: f32, minor_radius: f32, major_segments: u32, minor_se
 
 /// A tube of radius `tube_radius` around the (p, q) torus knot, which winds `p` times around
 /// the Y axis and `q` times through the hole (p, q >= 1, coprime; (2, 3) is the trefoil).
-/// `radius` is the knot's outer radius; the tube must be thin enough not to hit itself
-/// (about `radius / 10` is safe for small p, q).
+/// `radius` is the knot's outer radius. The tube must be thin enough not to hit itself: for
+/// the trefoil, strands come within 0.55 * radius of each other and bend no tighter than
+/// 0.47 * radius, so a tube radius below 0.27 * radius stays clear.
 pub fn torus_knot(p: u32, q: u32, radius: f32, tube_radius: f32, segments: u32, sides: u32) -> Result<MeshData> {
     at_least("torus_knot", "p", p, 1)?;
     at_least("torus_knot", "q", q, 1)?;

@@ -507,7 +507,8 @@ fn solid(alpha: f32) -> Vec4 {
     Vec4::new(0.0, 0.0, 0.0, alpha)
 }
 
-/// The pipelines of one frame kind.
+/// The pipelines of one frame kind (the reference's are the larger; there is one per renderer).
+#[allow(clippy::large_enum_variant)]
 enum Passes {
     Reference { volumes: Pipeline, apply: Pipeline },
     Emulated(Box<EmulatedPasses>),
