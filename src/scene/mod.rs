@@ -1,1 +1,7 @@
 //! Scenes: built-in scenes, glTF loading, animation and skinning on the CPU side.
+
+pub mod animation;
+pub mod model;
+
+pub use animation::{pose_at, rest_pose, sample_channel, Animation, TimeMode};
+pub use model::{Model, Transform, MAX_JOINTS};
