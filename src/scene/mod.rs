@@ -2,6 +2,8 @@
 
 pub mod animation;
 pub mod model;
+pub mod skinning;
 
 pub use animation::{pose_at, rest_pose, sample_channel, Animation, TimeMode};
 pub use model::{Model, Transform, MAX_JOINTS};
+pub use skinning::{joint_matrices, skin_positions_normals, world_matrices};
