@@ -7,6 +7,9 @@ pub mod model;
 pub mod normals;
 pub mod skinning;
 
+#[cfg(test)]
+mod gltf_tests;
+
 pub use animation::{pose_at, rest_pose, sample_channel, Animation, TimeMode};
 pub use gltf_loader::{load_gltf, load_gltf_slice};
 pub use model::{Model, Transform, MAX_JOINTS};
