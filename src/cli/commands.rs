@@ -7,7 +7,7 @@ use super::args::{Cli, Command, FormatArg, FrameArgs, GpuArgs};
 use crate::error::{Error, Result};
 use crate::gpu::{mobile_profile, DeviceChoice, Gpu, GpuOptions};
 use crate::profile::report::{ProfileReport, ReportContext, ReportFormat};
-use crate::scene::{builtin_scene, Scene, BUILTIN_SCENES};
+use crate::scene::{builtin_scene, scene_from_gltf, Scene, BUILTIN_SCENES};
 use crate::technique::{
     alpha_counter, render_scene, Normalize, RenderOptions, ShadowVolumeOptions, Technique, VolumeMethod,
 };
@@ -26,8 +26,15 @@ fn open_gpu(args: &GpuArgs) -> Result<Arc<Gpu>> {
     Gpu::new(&GpuOptions { validation: args.validation, device })
 }
 
-fn load_scene(name: &str) -> Result<Scene> {
-    builtin_scene(name)
+/// A built-in scene by name, or a .gltf/.glb file posed at `time` seconds.
+fn load_scene(name: &str, time: f32) -> Result<Scene> {
+    let path = Path::new(name);
+    let is_gltf = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"));
+    if is_gltf || path.exists() {
+        scene_from_gltf(path, time)
+    } else {
+        builtin_scene(name)
+    }
 }
 
 fn options(frame: &FrameArgs) -> Result<RenderOptions> {
@@ -66,7 +73,7 @@ fn check_output_path(path: &Path) -> Result<()> {
 fn render(frame: &FrameArgs, out: &Path, keep_alpha: bool) -> Result<()> {
     check_output_path(out)?;
     let options = options(frame)?;
-    let scene = load_scene(&frame.scene)?;
+    let scene = load_scene(&frame.scene, frame.time)?;
     let gpu = open_gpu(&frame.gpu)?;
     let frame = render_scene(&gpu, &scene, &options)?;
     let output = &frame.output;
@@ -85,7 +92,7 @@ fn render(frame: &FrameArgs, out: &Path, keep_alpha: bool) -> Result<()> {
 
 fn profile(frame: &FrameArgs, format: FormatArg) -> Result<()> {
     let options = options(frame)?;
-    let scene = load_scene(&frame.scene)?;
+    let scene = load_scene(&frame.scene, frame.time)?;
     let gpu = open_gpu(&frame.gpu)?;
     let frame = render_scene(&gpu, &scene, &options)?;
     let output = &frame.output;
@@ -201,7 +208,7 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: u32, json: bool) -> Result<()> {
         return Err(Error::InvalidInput("--runs must be at least 1".into()));
     }
     let options = options(frame)?;
-    let scene = load_scene(&frame.scene)?;
+    let scene = load_scene(&frame.scene, frame.time)?;
     let gpu = open_gpu(&frame.gpu)?;
     let (width, height) = (options.width, options.height);
     let mut variants = Vec::new();

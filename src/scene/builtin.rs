@@ -25,7 +25,7 @@ pub fn builtin_scene(name: &str) -> Result<Scene> {
     }
 }
 
-fn empty_scene(name: &str, camera: Camera, light: Light) -> Scene {
+pub(crate) fn empty_scene(name: &str, camera: Camera, light: Light) -> Scene {
     Scene {
         name: name.to_owned(),
         meshes: Vec::new(),
@@ -73,7 +73,7 @@ pub fn default_scene() -> Result<Scene> {
 }
 
 /// A flat square in the XZ plane facing +Y: a receiver only (open, so it casts nothing).
-fn ground_plane(size: f32) -> MeshData {
+pub(crate) fn ground_plane(size: f32) -> MeshData {
     let h = size * 0.5;
     MeshData {
         positions: vec![Vec3::new(-h, 0.0, -h), Vec3::new(-h, 0.0, h), Vec3::new(h, 0.0, h), Vec3::new(h, 0.0, -h)],

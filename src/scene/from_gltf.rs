@@ -1,0 +1,105 @@
+//! A glTF file as a scene: every mesh primitive posed at a chosen animation time (skins applied
+//! on the CPU, so shadow volumes follow the skinned pose), placed over a ground plane that
+//! receives the shadows, with a camera and light fitted to the model.
+
+use std::path::Path;
+
+use glam::{Mat4, Vec3};
+
+use super::animation::{pose_at, rest_pose, TimeMode};
+use super::builtin::{empty_scene, ground_plane};
+use super::camera::{Camera, Light};
+use super::gltf_loader::load_gltf;
+use super::model::{LightKind, Model};
+use super::objects::Scene;
+use super::skinning::{joint_matrices, skin_positions_normals, world_matrices};
+use crate::error::Result;
+use crate::mesh::{self, EdgeAdjacency, MeshData};
+
+/// Loads `path` and poses it at `time` seconds of its first animation (looping).
+pub fn scene_from_gltf(path: &Path, time: f32) -> Result<Scene> {
+    let model = load_gltf(path)?;
+    let name = path.file_name().map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned());
+    let local = if model.animations.is_empty() { rest_pose(&model) } else { pose_at(&model, 0, time, TimeMode::Loop)? };
+    let world = world_matrices(&model, &local);
+
+    let mut scene =
+        empty_scene(&name, Camera::look_at(Vec3::new(0.0, 2.0, 5.0), Vec3::ZERO), default_light(&model, &world));
+    let (mut low, mut high) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+    for (node_index, node) in model.nodes.iter().enumerate() {
+        let Some(mesh) = node.mesh.and_then(|m| model.meshes.get(m)) else { continue };
+        let node_world = world.get(node_index).copied().unwrap_or(Mat4::IDENTITY);
+        let joints = match node.skin {
+            Some(skin) => Some(joint_matrices(&model, skin, &world, node_world)?),
+            None => None,
+        };
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            let (mut positions, mut normals) = (primitive.positions.clone(), primitive.normals.clone());
+            if let (Some(joints), Some(_), Some(_)) = (&joints, &primitive.joints, &primitive.weights) {
+                skin_positions_normals(primitive, joints, &mut positions, &mut normals)?;
+            }
+            for p in &positions {
+                let w = node_world.transform_point3(*p);
+                (low, high) = (low.min(w), high.max(w));
+            }
+            let colour = primitive
+                .material
+                .and_then(|m| model.materials.get(m))
+                .map_or(Vec3::splat(0.75), |m| m.base_color.truncate());
+            let label = format!(
+                "{}#{p}",
+                mesh.name.clone().or_else(|| node.name.clone()).unwrap_or_else(|| format!("node {node_index}"))
+            );
+            let data = MeshData {
+                positions,
+                normals,
+                uvs: primitive.uv0.clone().unwrap_or_default(),
+                indices: primitive.indices.clone(),
+            };
+            let closed = is_closed_after_welding(&label, &data);
+            let mesh_index = scene.add_mesh(&label, data);
+            scene.add_object(&label, mesh_index, node_world, colour, closed);
+        }
+    }
+    if low.x > high.x {
+        return Err(crate::Error::Asset {
+            path: path.to_path_buf(),
+            problem: "the file has no triangle meshes to render".into(),
+        });
+    }
+    fit_ground_and_camera(&mut scene, low, high);
+    Ok(scene)
+}
+
+/// Shadow volumes need closed meshes; open ones (a room shell, a strip) only receive.
+fn is_closed_after_welding(name: &str, data: &MeshData) -> bool {
+    let Ok(welded) = mesh::weld_by_position(name, &data.positions, &data.indices, 1e-5) else { return false };
+    EdgeAdjacency::build(name, &welded.positions, &welded.indices).is_ok_and(|a| a.require_closed_manifold().is_ok())
+}
+
+/// The file's first directional light (KHR_lights_punctual, shining along its node's -Z), else
+/// one from above and to the side.
+fn default_light(model: &Model, world: &[Mat4]) -> Light {
+    model
+        .nodes
+        .iter()
+        .enumerate()
+        .find_map(|(i, node)| {
+            let light = model.lights.get(node.light?)?;
+            (light.kind == LightKind::Directional).then(|| Light::Directional {
+                direction: world.get(i).copied().unwrap_or(Mat4::IDENTITY).transform_vector3(Vec3::NEG_Z).normalize(),
+            })
+        })
+        .unwrap_or(Light::Directional { direction: Vec3::new(-0.45, -1.0, -0.35).normalize() })
+}
+
+/// A ground plane just under the model, and a camera that frames both.
+fn fit_ground_and_camera(scene: &mut Scene, low: Vec3, high: Vec3) {
+    let centre = (low + high) * 0.5;
+    let radius = ((high - low).length() * 0.5).max(1e-3);
+    let ground = scene.add_mesh("ground", ground_plane(radius * 8.0));
+    let below = Mat4::from_translation(Vec3::new(centre.x, low.y - radius * 0.02, centre.z));
+    scene.add_object("ground", ground, below, Vec3::new(0.82, 0.80, 0.74), false);
+    let eye = centre + Vec3::new(0.0, 1.2, 2.6).normalize() * radius * 3.2;
+    scene.camera = Camera { near: radius * 0.02, ..Camera::look_at(eye, centre) };
+}

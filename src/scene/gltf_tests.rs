@@ -1,0 +1,869 @@
+//! Loader, animation and skinning tests against real files from other tools
+//! (`../shared/assets`, see its README), and against broken files derived from them.
+
+use std::path::{Path, PathBuf};
+
+use glam::{Mat4, Vec3};
+use serde_json::{json, Value};
+
+use super::animation::{pose_at, rest_pose, Property, TimeMode};
+use super::gltf_loader::{load_gltf, load_gltf_slice};
+use super::model::{Model, Wrap, MAX_JOINTS};
+use super::skinning::{joint_matrices, skin_positions_normals, world_matrices};
+use crate::Error;
+
+const ALL: [&str; 7] = [
+    "Box.glb",
+    "BoxAnimated.glb",
+    "BoxTextured.glb",
+    "CornellBox.glb",
+    "RiggedSimple.glb",
+    "SimpleSkin.gltf",
+    "TorusKnot.glb",
+];
+
+/// The shared asset folder, or `None` (with a note) when this checkout has none beside it.
+fn assets() -> Option<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/assets");
+    if dir.is_dir() {
+        Some(dir)
+    } else {
+        eprintln!("note: {} not found; glTF asset test skipped", dir.display());
+        None
+    }
+}
+
+fn load(dir: &Path, name: &str) -> Model {
+    let path = dir.join(name);
+    match load_gltf(&path) {
+        Ok(model) => model,
+        Err(e) => panic!("{name} failed to load: {e}"),
+    }
+}
+
+/// A directory under the system temp dir, removed on drop.
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new(tag: &str) -> TempDir {
+        let dir = std::env::temp_dir().join(format!("nostencil-gltf-{}-{tag}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        TempDir(dir)
+    }
+
+    fn write(&self, name: &str, bytes: &[u8]) -> PathBuf {
+        let path = self.0.join(name);
+        std::fs::write(&path, bytes).unwrap();
+        path
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// JSON and BIN chunks of a well-formed GLB.
+fn glb_parts(bytes: &[u8]) -> (Value, Vec<u8>) {
+    let u32_at = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap()) as usize;
+    let json_len = u32_at(12);
+    let json: Value = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
+    let bin_at = 20 + json_len;
+    let bin = if bin_at + 8 <= bytes.len() {
+        let bin_len = u32_at(bin_at);
+        bytes[bin_at + 8..bin_at + 8 + bin_len].to_vec()
+    } else {
+        Vec::new()
+    };
+    (json, bin)
+}
+
+fn make_glb(json: &Value, bin: &[u8]) -> Vec<u8> {
+    let mut text = serde_json::to_vec(json).unwrap();
+    while text.len() % 4 != 0 {
+        text.push(b' ');
+    }
+    let mut bin = bin.to_vec();
+    while bin.len() % 4 != 0 {
+        bin.push(0);
+    }
+    let total = 12 + 8 + text.len() + if bin.is_empty() { 0 } else { 8 + bin.len() };
+    let mut out = Vec::with_capacity(total);
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&(total as u32).to_le_bytes());
+    out.extend_from_slice(&(text.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"JSON");
+    out.extend_from_slice(&text);
+    if !bin.is_empty() {
+        out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+        out.extend_from_slice(b"BIN\0");
+        out.extend_from_slice(&bin);
+    }
+    out
+}
+
+/// Byte offset in the BIN chunk of element `element` of accessor `accessor` (no sparse).
+fn element_offset(json: &Value, accessor: usize, element: usize, elem_size: usize) -> usize {
+    let acc = &json["accessors"][accessor];
+    let view = &json["bufferViews"][acc["bufferView"].as_u64().unwrap() as usize];
+    let stride = view["byteStride"].as_u64().map_or(elem_size, |s| s as usize);
+    view["byteOffset"].as_u64().unwrap_or(0) as usize
+        + acc["byteOffset"].as_u64().unwrap_or(0) as usize
+        + element * stride
+}
+
+/// Loads `bytes` written to `name` in a temp dir and returns the error message, checking it is
+/// an `Error::Asset` that names the file.
+fn load_error(tmp: &TempDir, name: &str, bytes: &[u8]) -> String {
+    let path = tmp.write(name, bytes);
+    match load_gltf(&path) {
+        Ok(_) => panic!("{name}: loaded, but it is broken"),
+        Err(e @ Error::Asset { .. }) => {
+            let msg = e.to_string();
+            assert!(msg.contains(name), "error does not name the file: {msg}");
+            msg
+        }
+        Err(e) => panic!("{name}: expected Error::Asset, got {e:?}"),
+    }
+}
+
+fn assert_mentions(msg: &str, words: &[&str]) {
+    for w in words {
+        assert!(msg.contains(w), "expected '{w}' in: {msg}");
+    }
+}
+
+#[test]
+fn every_asset_loads_poses_and_skins_to_finite_values() {
+    let Some(dir) = assets() else { return };
+    for name in ALL {
+        let model = load(&dir, name);
+        for w in &model.warnings {
+            eprintln!("{name}: warning: {w}");
+        }
+        assert!(!model.meshes.is_empty(), "{name}: no meshes");
+        assert!(!model.roots.is_empty(), "{name}: no root nodes");
+        for mesh in &model.meshes {
+            for prim in &mesh.primitives {
+                let n = prim.positions.len();
+                assert_eq!(prim.normals.len(), n, "{name}");
+                assert!(prim.indices.len() % 3 == 0 && !prim.indices.is_empty());
+                assert!(prim.indices.iter().all(|&i| (i as usize) < n));
+                assert!(prim.normals.iter().all(|v| (v.length() - 1.0).abs() < 1e-4));
+                if let Some(w) = &prim.weights {
+                    assert!(w.iter().all(|w| (w.iter().sum::<f32>() - 1.0).abs() < 1e-5));
+                }
+            }
+        }
+        let mut poses = vec![rest_pose(&model)];
+        for a in 0..model.animations.len() {
+            for t in [0.0, 0.3, 1.0, 1e6, -2.0] {
+                poses.push(pose_at(&model, a, t, TimeMode::Loop).unwrap());
+                poses.push(pose_at(&model, a, t, TimeMode::Clamp).unwrap());
+            }
+        }
+        for pose in &poses {
+            let world = world_matrices(&model, pose);
+            assert!(world.iter().all(|m| m.is_finite()), "{name}");
+            for (i, node) in model.nodes.iter().enumerate() {
+                let (Some(s), Some(m)) = (node.skin, node.mesh) else {
+                    continue;
+                };
+                let palette = joint_matrices(&model, s, &world, world[i]).unwrap();
+                for prim in &model.meshes[m].primitives {
+                    let (mut p, mut n) = (Vec::new(), Vec::new());
+                    skin_positions_normals(prim, &palette, &mut p, &mut n).unwrap();
+                    assert!(p.iter().chain(&n).all(|v| v.is_finite()), "{name}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn box_has_24_vertices_36_indices_one_mesh() {
+    let Some(dir) = assets() else { return };
+    let model = load(&dir, "Box.glb");
+    assert_eq!(model.meshes.len(), 1);
+    let prim = &model.meshes[0].primitives[..];
+    assert_eq!(prim.len(), 1);
+    assert_eq!(prim[0].positions.len(), 24);
+    assert_eq!(prim[0].indices.len(), 36);
+    assert_eq!(prim[0].source_index_width, Some(2));
+    assert!(!prim[0].normals_generated);
+    assert!(prim[0].uv0.is_none() && prim[0].joints.is_none());
+    assert_eq!(prim[0].material, Some(0));
+    // Node 0 turns Y-up into the file's Z-up with a matrix; node 1 holds the mesh.
+    assert_eq!(model.roots, [0]);
+    assert_eq!(model.nodes[1].parent, Some(0));
+    assert_eq!(model.nodes[1].mesh, Some(0));
+    let world = world_matrices(&model, &rest_pose(&model));
+    let expected =
+        Mat4::from_cols_array(&[1.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0]);
+    assert!(world[1].abs_diff_eq(expected, 1e-6), "{}", world[1]);
+    assert!(model.warnings.is_empty(), "{:?}", model.warnings);
+}
+
+#[test]
+fn torus_knot_has_3200_vertices_6400_u16_triangles_and_is_closed() {
+    let Some(dir) = assets() else { return };
+    let model = load(&dir, "TorusKnot.glb");
+    let prim = &model.meshes[0].primitives[0];
+    assert_eq!(prim.positions.len(), 3200);
+    assert_eq!(prim.triangle_count(), 6400);
+    assert_eq!(prim.source_index_width, Some(2));
+    // Closed: every undirected edge is shared by exactly two triangles, in opposite directions.
+    let mut edges = std::collections::HashMap::new();
+    for t in prim.indices.chunks_exact(3) {
+        for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+            *edges.entry((a, b)).or_insert(0) += 1;
+        }
+    }
+    assert!(edges.iter().all(|(&(a, b), &n)| n == 1 && edges.get(&(b, a)) == Some(&1)));
+    // V - E + F = 0 for a torus.
+    assert_eq!(3200 - (edges.len() / 2) as i64 + 6400, 0);
+}
+
+#[test]
+fn cornell_box_has_four_meshes_with_lightmap_uvs() {
+    let Some(dir) = assets() else { return };
+    let model = load(&dir, "CornellBox.glb");
+    assert_eq!(model.meshes.len(), 4);
+    let prims: Vec<_> = model.meshes.iter().flat_map(|m| &m.primitives).collect();
+    assert_eq!(prims.len(), 6);
+    for prim in &prims {
+        let uv1 = prim.uv1.as_ref().expect("TEXCOORD_1");
+        assert_eq!(uv1.len(), prim.positions.len());
+        assert!(uv1.iter().all(|uv| uv.min_element() >= 0.0 && uv.max_element() <= 1.0));
+    }
+    // The light's COLOR_0 is normalised UNSIGNED_SHORT.
+    let colors = model.meshes[0].primitives[0].colors.as_ref().expect("COLOR_0");
+    assert!(colors.iter().all(|c| c.min_element() >= 0.0 && c.max_element() <= 1.0));
+    assert_eq!(model.materials.len(), 5);
+    assert_eq!(model.nodes[1].name.as_deref(), Some("large.box"));
+    assert!(model.warnings.iter().any(|w| w.contains("KHR_materials_emissive_strength")));
+}
+
+#[test]
+fn box_textured_decodes_its_png() {
+    let Some(dir) = assets() else { return };
+    let model = load(&dir, "BoxTextured.glb");
+    assert_eq!(model.textures.len(), 1);
+    let tex = &model.textures[0];
+    assert_eq!((tex.width, tex.height), (211, 211));
+    assert_eq!(tex.pixels.len(), 211 * 211 * 4);
+    assert!(tex.srgb);
+    assert_eq!((tex.sampler.wrap_s, tex.sampler.wrap_t), (Wrap::Repeat, Wrap::Repeat));
+    assert!(tex.pixels.chunks_exact(4).any(|p| p[0] != p[1] || p[1] != p[2]));
+    let material = &model.materials[0];
+    let texture_ref = material.base_color_texture.expect("base colour texture");
+    assert_eq!((texture_ref.texture, texture_ref.tex_coord), (0, 0));
+    let uv0 = model.meshes[0].primitives[0].uv0.as_ref().expect("TEXCOORD_0");
+    assert!(uv0.iter().any(|uv| uv.max_element() > 1.0 || uv.min_element() < 0.0));
+}
+
+#[test]
+fn rigged_simple_has_two_joints_and_trs_animation() {
+    let Some(dir) = assets() else { return };
+    let model = load(&dir, "RiggedSimple.glb");
+    assert_eq!(model.skins.len(), 1);
+    assert_eq!(model.skins[0].joints, [3, 4]);
+    assert_eq!(model.skins[0].skeleton, Some(3));
+    assert_eq!(model.skins[0].inverse_bind.len(), 2);
+    assert_eq!(model.nodes[2].skin, Some(0));
+    let anim = &model.animations[0];
+    let mut props: Vec<_> = anim.channels.iter().map(|c| (c.node, c.property)).collect();
+    props.sort_by_key(|(n, p)| (*n, *p as u8));
+    assert_eq!(props, [(4, Property::Translation), (4, Property::Rotation), (4, Property::Scale)]);
+    assert!((anim.duration - 2.083333).abs() < 1e-4, "{}", anim.duration);
+    let prim = &model.meshes[0].primitives[0];
+    assert_eq!(prim.positions.len(), 160);
+    assert!(prim.is_skinned());
+}
+
+#[test]
+fn simple_skin_embedded_buffers_and_computed_normals() {
+    let Some(dir) = assets() else { return };
+    let model = load(&dir, "SimpleSkin.gltf");
+    let prim = &model.meshes[0].primitives[0];
+    assert_eq!(prim.positions.len(), 10);
+    assert_eq!(prim.triangle_count(), 8);
+    assert!(prim.normals_generated);
+    // A flat strip in the z = 0 plane, wound counter-clockwise seen from +z.
+    assert!(prim.normals.iter().all(|n| (*n - Vec3::Z).length() < 1e-6), "{:?}", prim.normals);
+    assert_eq!(model.skins[0].joints, [1, 2]);
+    assert_eq!(model.animations[0].channels.len(), 1);
+    assert_eq!(model.animations[0].channels[0].property, Property::Rotation);
+}
+
+#[test]
+fn box_animated_moves_its_nodes_and_has_two_meshes() {
+    let Some(dir) = assets() else { return };
+    let model = load(&dir, "BoxAnimated.glb");
+    assert_eq!(model.meshes.len(), 2);
+    assert_eq!(model.animations.len(), 1);
+    let anim = &model.animations[0];
+    assert_eq!(anim.channels.len(), 2);
+    assert!(anim.channels.iter().any(|c| c.node == 2 && c.property == Property::Rotation));
+    assert!(anim.channels.iter().any(|c| c.node == 0 && c.property == Property::Translation));
+    let at = |t: f32| world_matrices(&model, &pose_at(&model, 0, t, TimeMode::Clamp).unwrap());
+    let (a, b) = (at(0.0), at(anim.duration * 0.6));
+    // Node 2 (inner box) both moves with node 0 and turns.
+    assert!(!a[2].abs_diff_eq(b[2], 1e-3));
+    // Node 3 has no animation and no animated ancestor.
+    assert!(a[3].abs_diff_eq(b[3], 0.0));
+}
+
+/// Skins every skinned node of `model` with `pose` and returns (rest positions, posed) pairs.
+fn skinned(model: &Model, pose: &[super::Transform]) -> Vec<(Vec<Vec3>, Vec<Vec3>)> {
+    let world = world_matrices(model, pose);
+    let mut out = Vec::new();
+    for (i, node) in model.nodes.iter().enumerate() {
+        let (Some(s), Some(m)) = (node.skin, node.mesh) else {
+            continue;
+        };
+        let palette = joint_matrices(model, s, &world, world[i]).unwrap();
+        for prim in &model.meshes[m].primitives {
+            let (mut p, mut n) = (Vec::new(), Vec::new());
+            skin_positions_normals(prim, &palette, &mut p, &mut n).unwrap();
+            out.push((prim.positions.clone(), p));
+        }
+    }
+    out
+}
+
+/// In the rest pose the skin is in its bind pose: every joint matrix is the same rigid
+/// transform, and the skinned mesh is the bind mesh moved by it. For SimpleSkin that transform is
+/// the identity, so skinned positions equal the file's positions. RiggedSimple's inverse bind
+/// matrices were made against its Z_UP node, not against the Cylinder mesh node (which sits under
+/// Armature, turned -90 degrees about the cylinder's own axis); glTF ignores a skinned mesh
+/// node's transform, so the palette is that 90-degree turn and, in world space, the mesh lands
+/// exactly where Z_UP puts the bind positions.
+#[test]
+fn rest_pose_skinning_reproduces_the_bind_mesh() {
+    let Some(dir) = assets() else { return };
+    for name in ["RiggedSimple.glb", "SimpleSkin.gltf"] {
+        let model = load(&dir, name);
+        let world = world_matrices(&model, &rest_pose(&model));
+        let (mesh_node, node) = model.nodes.iter().enumerate().find(|(_, n)| n.skin.is_some()).unwrap();
+        let palette = joint_matrices(&model, 0, &world, world[mesh_node]).unwrap();
+        let common = palette[0];
+        for m in &palette {
+            assert!(m.abs_diff_eq(common, 1e-5), "{name}: joints disagree in the rest pose");
+        }
+        let prim = &model.meshes[node.mesh.unwrap()].primitives[0];
+        let (mut posed, mut normals) = (Vec::new(), Vec::new());
+        skin_positions_normals(prim, &palette, &mut posed, &mut normals).unwrap();
+        for (bind, p) in prim.positions.iter().zip(&posed) {
+            let expected = common.transform_point3(*bind);
+            assert!((expected - *p).length() < 1e-5, "{name}: {p} vs {expected}");
+        }
+        if name == "SimpleSkin.gltf" {
+            assert!(common.abs_diff_eq(Mat4::IDENTITY, 1e-6), "{common}");
+            for (bind, p) in prim.positions.iter().zip(&posed) {
+                assert!((*bind - *p).length() < 1e-5, "{bind} vs {p}");
+            }
+        } else {
+            let quarter = Mat4::from_rotation_z(std::f32::consts::FRAC_PI_2);
+            assert!(common.abs_diff_eq(quarter, 1e-5), "{common}");
+            assert!((world[mesh_node] * common).abs_diff_eq(world[0], 1e-5));
+        }
+    }
+}
+
+#[test]
+fn rigged_simple_animation_moves_the_upper_vertices_only() {
+    let Some(dir) = assets() else { return };
+    let model = load(&dir, "RiggedSimple.glb");
+    let prim = &model.meshes[0].primitives[0];
+    let weights = prim.weights.as_ref().unwrap();
+    let joints = prim.joints.as_ref().unwrap();
+    // Weight of joint 1 (Bone.001, the animated one) per vertex.
+    let upper: Vec<f32> =
+        joints.iter().zip(weights).map(|(j, w)| (0..4).filter(|&k| j[k] == 1).map(|k| w[k]).sum()).collect();
+    assert!(upper.contains(&0.0) && upper.iter().any(|&w| w > 0.9));
+    let duration = model.animations[0].duration;
+    let (_, rest) = skinned(&model, &rest_pose(&model)).remove(0);
+    let pose = pose_at(&model, 0, duration * 0.5, TimeMode::Clamp).unwrap();
+    let (_, posed) = skinned(&model, &pose).remove(0);
+    let moved: Vec<f32> = rest.iter().zip(&posed).map(|(a, b)| (*a - *b).length()).collect();
+    for (v, (&w, &d)) in upper.iter().zip(&moved).enumerate() {
+        if w == 0.0 {
+            assert!(d < 1e-5, "root vertex {v} moved by {d}");
+        }
+    }
+    let least = upper.iter().zip(&moved).filter(|(&w, _)| w > 0.9).map(|(_, &d)| d).fold(f32::INFINITY, f32::min);
+    assert!(least > 0.1, "upper vertices barely move ({least})");
+}
+
+#[test]
+fn truncated_glb_files_are_rejected_at_every_length() {
+    let Some(dir) = assets() else { return };
+    let bytes = std::fs::read(dir.join("Box.glb")).unwrap();
+    let path = Path::new("cut/Box.glb");
+    for len in 0..bytes.len() {
+        match load_gltf_slice(&bytes[..len], path) {
+            Ok(_) => panic!("Box.glb cut to {len} bytes loaded"),
+            Err(e) => assert!(e.to_string().contains("cut/Box.glb"), "{e}"),
+        }
+    }
+    let tmp = TempDir::new("truncated");
+    for name in ["RiggedSimple.glb", "TorusKnot.glb", "BoxTextured.glb"] {
+        let bytes = std::fs::read(dir.join(name)).unwrap();
+        let msg = load_error(&tmp, name, &bytes[..bytes.len() / 2]);
+        assert_mentions(&msg, &["truncated GLB", "header says"]);
+    }
+}
+
+#[test]
+fn buffer_view_past_its_buffer_is_rejected() {
+    let Some(dir) = assets() else { return };
+    let (mut json, bin) = glb_parts(&std::fs::read(dir.join("Box.glb")).unwrap());
+    json["bufferViews"][1]["byteLength"] = json!(100_000);
+    let tmp = TempDir::new("view");
+    let msg = load_error(&tmp, "BadView.glb", &make_glb(&json, &bin));
+    assert_mentions(&msg, &["bufferView 1", "points past the end of buffer 0"]);
+
+    // An accessor that runs off the end of its (valid) view.
+    let (mut json, bin) = glb_parts(&std::fs::read(dir.join("Box.glb")).unwrap());
+    json["accessors"][2]["byteOffset"] = json!(400);
+    let msg = load_error(&tmp, "BadOffset.glb", &make_glb(&json, &bin));
+    assert_mentions(&msg, &["POSITION", "accessor 2", "run past the end"]);
+}
+
+#[test]
+fn accessors_of_the_wrong_type_are_rejected() {
+    let Some(dir) = assets() else { return };
+    let tmp = TempDir::new("type");
+    let box_glb = std::fs::read(dir.join("Box.glb")).unwrap();
+    let (mut json, bin) = glb_parts(&box_glb);
+    json["accessors"][2]["type"] = json!("VEC2");
+    let msg = load_error(&tmp, "Vec2Positions.glb", &make_glb(&json, &bin));
+    assert_mentions(&msg, &["POSITION", "accessor 2 has type VEC2, expected VEC3"]);
+
+    let (mut json, bin) = glb_parts(&box_glb);
+    json["accessors"][2]["componentType"] = json!(5123);
+    let msg = load_error(&tmp, "ShortPositions.glb", &make_glb(&json, &bin));
+    assert_mentions(&msg, &["componentType UNSIGNED_SHORT, expected FLOAT"]);
+
+    let (mut json, bin) = glb_parts(&box_glb);
+    json["accessors"][0]["componentType"] = json!(5126);
+    let msg = load_error(&tmp, "FloatIndices.glb", &make_glb(&json, &bin));
+    assert_mentions(&msg, &["indices", "FLOAT"]);
+
+    let (mut json, bin) = glb_parts(&box_glb);
+    json["accessors"][1]["count"] = json!(23);
+    let msg = load_error(&tmp, "ShortNormals.glb", &make_glb(&json, &bin));
+    assert_mentions(&msg, &["NORMAL has 23 elements but POSITION has 24"]);
+}
+
+#[test]
+fn indices_out_of_range_are_rejected() {
+    let Some(dir) = assets() else { return };
+    let (mut json, bin) = glb_parts(&std::fs::read(dir.join("Box.glb")).unwrap());
+    json["accessors"][1]["count"] = json!(20);
+    json["accessors"][2]["count"] = json!(20);
+    let tmp = TempDir::new("index");
+    let msg = load_error(&tmp, "FewVertices.glb", &make_glb(&json, &bin));
+    assert_mentions(&msg, &["indices", "out of range of the 20 vertices"]);
+}
+
+#[test]
+fn nan_positions_are_rejected() {
+    let Some(dir) = assets() else { return };
+    let (json, mut bin) = glb_parts(&std::fs::read(dir.join("Box.glb")).unwrap());
+    let at = element_offset(&json, 2, 5, 12) + 4;
+    bin[at..at + 4].copy_from_slice(&f32::NAN.to_le_bytes());
+    let tmp = TempDir::new("nan");
+    let msg = load_error(&tmp, "NaN.glb", &make_glb(&json, &bin));
+    assert_mentions(&msg, &["POSITION of vertex 5 is not finite"]);
+}
+
+#[test]
+fn skins_over_max_joints_are_rejected() {
+    let Some(dir) = assets() else { return };
+    let (mut json, bin) = glb_parts(&std::fs::read(dir.join("RiggedSimple.glb")).unwrap());
+    let nodes = json["nodes"].as_array_mut().unwrap();
+    let first_new = nodes.len();
+    let extra = MAX_JOINTS + 1 - 2;
+    for k in 0..extra {
+        nodes.push(json!({ "name": format!("extra{k}") }));
+    }
+    let mut children: Vec<Value> = json["nodes"][4]["children"].as_array().cloned().unwrap_or_default();
+    children.extend((first_new..first_new + extra).map(|n| json!(n)));
+    json["nodes"][4]["children"] = Value::Array(children);
+    let joints = json["skins"][0]["joints"].as_array_mut().unwrap();
+    joints.extend((first_new..first_new + extra).map(|n| json!(n)));
+    assert_eq!(joints.len(), 65);
+    let tmp = TempDir::new("joints");
+    let msg = load_error(&tmp, "65Joints.glb", &make_glb(&json, &bin));
+    assert_mentions(&msg, &["skin 0", "65 joints", "at most 64"]);
+}
+
+#[test]
+fn joint_indices_outside_the_skin_are_rejected() {
+    let Some(dir) = assets() else { return };
+    let (json, mut bin) = glb_parts(&std::fs::read(dir.join("RiggedSimple.glb")).unwrap());
+    // JOINTS_0 is accessor 1 (VEC4 UNSIGNED_SHORT): point every slot of vertex 7 at joint 5.
+    let at = element_offset(&json, 1, 7, 8);
+    for k in 0..4 {
+        bin[at + 2 * k..at + 2 * k + 2].copy_from_slice(&5u16.to_le_bytes());
+    }
+    let tmp = TempDir::new("jointindex");
+    let msg = load_error(&tmp, "BadJoint.glb", &make_glb(&json, &bin));
+    assert_mentions(&msg, &["JOINTS_0", "vertex 7", "joint 5", "has 2 joints"]);
+}
+
+#[test]
+fn key_times_that_do_not_increase_are_rejected() {
+    let Some(dir) = assets() else { return };
+    let (json, mut bin) = glb_parts(&std::fs::read(dir.join("RiggedSimple.glb")).unwrap());
+    // The input accessor of the first sampler: repeat key 2's time at key 3.
+    let input = json["animations"][0]["samplers"][0]["input"].as_u64().unwrap() as usize;
+    let t2 = element_offset(&json, input, 2, 4);
+    let t3 = element_offset(&json, input, 3, 4);
+    let copy = bin[t2..t2 + 4].to_vec();
+    bin[t3..t3 + 4].copy_from_slice(&copy);
+    let tmp = TempDir::new("times");
+    let msg = load_error(&tmp, "RepeatedTime.glb", &make_glb(&json, &bin));
+    assert_mentions(&msg, &["animation 0", "not strictly increasing", "key 3"]);
+}
+
+#[test]
+fn node_cycles_are_rejected() {
+    let Some(dir) = assets() else { return };
+    let (mut json, bin) = glb_parts(&std::fs::read(dir.join("Box.glb")).unwrap());
+    json["nodes"][1]["children"] = json!([0]);
+    let tmp = TempDir::new("cycle");
+    let msg = load_error(&tmp, "Cycle.glb", &make_glb(&json, &bin));
+    assert_mentions(&msg, &["cycle"]);
+}
+
+#[test]
+fn missing_and_non_gltf_files_are_rejected() {
+    let tmp = TempDir::new("notgltf");
+    let missing = tmp.0.join("DoesNotExist.glb");
+    let msg = load_gltf(&missing).unwrap_err().to_string();
+    assert_mentions(&msg, &["DoesNotExist.glb", "cannot read the file"]);
+
+    let msg = load_error(&tmp, "notes.gltf", b"these are not the droids\n");
+    assert_mentions(&msg, &["not a glTF file"]);
+    let msg = load_error(&tmp, "picture.glb", b"\x89PNG\r\n\x1a\n\0\0\0\rIHDR");
+    assert_mentions(&msg, &["not a glTF file"]);
+    let msg = load_error(&tmp, "other.gltf", br#"{"hello": "world"}"#);
+    assert_mentions(&msg, &["not a glTF 2.0 document", "asset"]);
+    let msg = load_error(&tmp, "old.gltf", br#"{"asset": {"version": "1.0"}}"#);
+    assert_mentions(&msg, &["version 1.0"]);
+}
+
+#[test]
+fn external_buffers_load_and_missing_ones_are_named() {
+    let Some(dir) = assets() else { return };
+    let text = std::fs::read(dir.join("SimpleSkin.gltf")).unwrap();
+    let mut json: Value = serde_json::from_slice(&text).unwrap();
+    let uri = json["buffers"][1]["uri"].as_str().unwrap().to_string();
+    let data = super::gltf_data::decode_data_uri(&uri).unwrap().unwrap();
+    let tmp = TempDir::new("external");
+    tmp.write("skin weights.bin", &data);
+    json["buffers"][1]["uri"] = json!("skin%20weights.bin");
+    let path = tmp.write("External.gltf", &serde_json::to_vec(&json).unwrap());
+    let external = load_gltf(&path).unwrap();
+    let embedded = load(&dir, "SimpleSkin.gltf");
+    let (a, b) = (&external.meshes[0].primitives[0], &embedded.meshes[0].primitives[0]);
+    assert_eq!(a.joints, b.joints);
+    assert_eq!(a.weights, b.weights);
+
+    std::fs::remove_file(tmp.0.join("skin weights.bin")).unwrap();
+    let msg = load_gltf(&path).unwrap_err().to_string();
+    assert_mentions(&msg, &["External.gltf", "buffer 1", "skin%20weights.bin", "cannot read"]);
+
+    json["buffers"][1]["uri"] = json!("data:application/octet-stream;base64,@@@@");
+    let msg = load_error(&tmp, "BadBase64.gltf", &serde_json::to_vec(&json).unwrap());
+    assert_mentions(&msg, &["buffer 1", "base64"]);
+
+    json["buffers"][1]["uri"] = json!("data:application/octet-stream;base64,AAAA");
+    let msg = load_error(&tmp, "ShortBuffer.gltf", &serde_json::to_vec(&json).unwrap());
+    assert_mentions(&msg, &["buffer 1", "byteLength is 320 but only 3 bytes"]);
+}
+
+#[test]
+fn external_images_load_and_missing_ones_are_named() {
+    let Some(dir) = assets() else { return };
+    let (mut json, bin) = glb_parts(&std::fs::read(dir.join("BoxTextured.glb")).unwrap());
+    let view = json["images"][0]["bufferView"].as_u64().unwrap() as usize;
+    let start = json["bufferViews"][view]["byteOffset"].as_u64().unwrap() as usize;
+    let len = json["bufferViews"][view]["byteLength"].as_u64().unwrap() as usize;
+    let tmp = TempDir::new("image");
+    tmp.write("texture.png", &bin[start..start + len]);
+    tmp.write("box.bin", &bin);
+    json["images"][0] = json!({ "uri": "texture.png" });
+    json["buffers"][0]["uri"] = json!("box.bin");
+    let path = tmp.write("Textured.gltf", &serde_json::to_vec(&json).unwrap());
+    let model = load_gltf(&path).unwrap();
+    assert_eq!((model.textures[0].width, model.textures[0].height), (211, 211));
+
+    std::fs::remove_file(tmp.0.join("texture.png")).unwrap();
+    let msg = load_gltf(&path).unwrap_err().to_string();
+    assert_mentions(&msg, &["Textured.gltf", "image 0", "texture.png", "cannot read"]);
+
+    // A corrupt PNG is an error; a JPEG is a warning (this build decodes PNG only).
+    let mut png = bin[start..start + len].to_vec();
+    png[40..60].fill(0xAB);
+    tmp.write("texture.png", &png);
+    let msg = load_gltf(&path).unwrap_err().to_string();
+    assert_mentions(&msg, &["PNG does not decode"]);
+    tmp.write("texture.png", b"\xff\xd8\xff\xe0 pretend jpeg");
+    let model = load_gltf(&path).unwrap();
+    assert!(model.textures.is_empty());
+    assert!(model.materials[0].base_color_texture.is_none());
+    assert!(model.warnings.iter().any(|w| w.contains("JPEG")), "{:?}", model.warnings);
+}
+
+#[test]
+fn points_and_lines_are_skipped_with_a_warning() {
+    let Some(dir) = assets() else { return };
+    let (mut json, bin) = glb_parts(&std::fs::read(dir.join("BoxAnimated.glb")).unwrap());
+    json["meshes"][0]["primitives"][0]["mode"] = json!(1);
+    let model = load_gltf_slice(&make_glb(&json, &bin), Path::new("Lines.glb")).unwrap();
+    assert!(model.meshes[0].primitives.is_empty());
+    assert_eq!(model.meshes[1].primitives.len(), 1);
+    assert!(model.warnings.iter().any(|w| w.contains("Lines")), "{:?}", model.warnings);
+}
+
+#[test]
+fn unnormalised_and_zero_weights_are_repaired() {
+    let Some(dir) = assets() else { return };
+    let (json, mut bin) = glb_parts(&std::fs::read(dir.join("RiggedSimple.glb")).unwrap());
+    // WEIGHTS_0 is accessor 4 (VEC4 FLOAT): vertex 0 sums to 0.5, vertex 1 to 0.
+    let w0 = element_offset(&json, 4, 0, 16);
+    let w1 = element_offset(&json, 4, 1, 16);
+    for (k, w) in [0.25f32, 0.25, 0.0, 0.0].iter().enumerate() {
+        bin[w0 + 4 * k..w0 + 4 * k + 4].copy_from_slice(&w.to_le_bytes());
+        bin[w1 + 4 * k..w1 + 4 * k + 4].copy_from_slice(&0f32.to_le_bytes());
+    }
+    let model = load_gltf_slice(&make_glb(&json, &bin), Path::new("Weights.glb")).unwrap();
+    let weights = model.meshes[0].primitives[0].weights.as_ref().unwrap();
+    assert_eq!(weights[0], [0.5, 0.5, 0.0, 0.0]);
+    assert_eq!(weights[1], [1.0, 0.0, 0.0, 0.0]);
+    assert!(model.warnings.iter().any(|w| w.contains("all-zero")));
+    assert!(model.warnings.iter().any(|w| w.contains("renormalised")));
+}
+
+/// Random byte damage anywhere in each asset: the loader may accept or reject, never panic.
+#[test]
+fn random_corruption_never_panics() {
+    let Some(dir) = assets() else { return };
+    let mut state = 0x9E37_79B9_7F4A_7C15u64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state
+    };
+    let mut rejected = 0;
+    for name in ALL {
+        let original = std::fs::read(dir.join(name)).unwrap();
+        for _ in 0..150 {
+            let mut bytes = original.clone();
+            for _ in 0..1 + next() % 8 {
+                let at = (next() % bytes.len() as u64) as usize;
+                bytes[at] = next() as u8;
+            }
+            if load_gltf_slice(&bytes, Path::new(name)).is_err() {
+                rejected += 1;
+            }
+        }
+    }
+    assert!(rejected > 0);
+}
+
+/// JSON pointers of every number in `value`.
+fn number_pointers(value: &Value, at: String, out: &mut Vec<String>) {
+    match value {
+        Value::Number(_) => out.push(at),
+        Value::Array(items) => {
+            for (i, v) in items.iter().enumerate() {
+                number_pointers(v, format!("{at}/{i}"), out);
+            }
+        }
+        Value::Object(map) => {
+            for (k, v) in map {
+                number_pointers(v, format!("{at}/{k}"), out);
+            }
+        }
+        _ => {}
+    }
+}
+
+/// Random values in the JSON (indices, offsets, lengths, counts, strides, enums, times): the
+/// loader may accept or reject, never panic.
+#[test]
+fn random_json_numbers_never_panic() {
+    let Some(dir) = assets() else { return };
+    let mut state = 0x2545_F491_4F6C_DD1Du64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state
+    };
+    let specials = [
+        json!(0),
+        json!(1),
+        json!(-1),
+        json!(3),
+        json!(5121),
+        json!(5126),
+        json!(65),
+        json!(4_294_967_295u64),
+        json!(1e300),
+        json!(0.5),
+    ];
+    for name in ALL {
+        let original = std::fs::read(dir.join(name)).unwrap();
+        let (json, bin) = if name.ends_with(".glb") {
+            glb_parts(&original)
+        } else {
+            (serde_json::from_slice(&original).unwrap(), Vec::new())
+        };
+        let mut pointers = Vec::new();
+        number_pointers(&json, String::new(), &mut pointers);
+        for _ in 0..200 {
+            let mut damaged = json.clone();
+            for _ in 0..1 + next() % 3 {
+                let pointer = &pointers[(next() % pointers.len() as u64) as usize];
+                let value = specials[(next() % specials.len() as u64) as usize].clone();
+                if let Some(slot) = damaged.pointer_mut(pointer) {
+                    *slot = value;
+                }
+            }
+            let bytes =
+                if name.ends_with(".glb") { make_glb(&damaged, &bin) } else { serde_json::to_vec(&damaged).unwrap() };
+            let _ = load_gltf_slice(&bytes, Path::new(name));
+        }
+    }
+}
+
+fn encode_base64(bytes: &[u8]) -> String {
+    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::new();
+    for chunk in bytes.chunks(3) {
+        let b = [chunk[0], *chunk.get(1).unwrap_or(&0), *chunk.get(2).unwrap_or(&0)];
+        let n = (b[0] as u32) << 16 | (b[1] as u32) << 8 | b[2] as u32;
+        for k in 0..4 {
+            if k <= chunk.len() {
+                out.push(ALPHABET[(n >> (18 - 6 * k) & 63) as usize] as char);
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
+}
+
+/// What none of the shared assets has: a sparse accessor without a buffer view, normalised
+/// UNSIGNED_BYTE texture coordinates, UNSIGNED_BYTE indices, a triangle fan, a CUBICSPLINE
+/// channel read from a file, a camera and KHR_lights_punctual lights.
+#[test]
+fn synthetic_file_covers_sparse_fans_cubic_lights_and_cameras() {
+    let mut bin = Vec::new();
+    bin.extend_from_slice(&[0u8, 1, 2, 3]); // view 0: fan indices
+    bin.extend_from_slice(&[1u8, 2, 3, 0]); // view 1: sparse indices (3 used)
+    for v in [[1.0f32, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]] {
+        for x in v {
+            bin.extend_from_slice(&x.to_le_bytes()); // view 2: sparse values
+        }
+    }
+    bin.extend_from_slice(&[0u8, 0, 255, 0, 255, 255, 0, 255]); // view 3: UVs
+    for t in [0.0f32, 1.0] {
+        bin.extend_from_slice(&t.to_le_bytes()); // view 4: key times
+    }
+    let keys = [[0.0f32; 3], [0.0; 3], [1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0; 3]];
+    for v in keys {
+        for x in v {
+            bin.extend_from_slice(&x.to_le_bytes()); // view 5: in, value, out per key
+        }
+    }
+    assert_eq!(bin.len(), 132);
+    let view = |offset: usize, len: usize| json!({ "buffer": 0, "byteOffset": offset, "byteLength": len });
+    let doc = json!({
+        "asset": { "version": "2.0" },
+        "extensionsUsed": ["KHR_lights_punctual"],
+        "extensions": { "KHR_lights_punctual": { "lights": [
+            { "type": "spot", "color": [1.0, 0.5, 0.0], "intensity": 3.0, "range": 10.0,
+              "spot": { "innerConeAngle": 0.1, "outerConeAngle": 0.5 } },
+            { "type": "directional" }
+        ] } },
+        "scene": 0,
+        "scenes": [{ "nodes": [0, 1] }],
+        "nodes": [
+            { "mesh": 0 },
+            { "camera": 0, "extensions": { "KHR_lights_punctual": { "light": 0 } } }
+        ],
+        "cameras": [{ "type": "perspective", "perspective": { "yfov": 0.8, "znear": 0.1 } }],
+        "meshes": [{ "primitives": [{
+            "attributes": { "POSITION": 1, "TEXCOORD_0": 2, "_TEMPERATURE": 2 },
+            "indices": 0,
+            "mode": 6
+        }] }],
+        "accessors": [
+            { "bufferView": 0, "componentType": 5121, "count": 4, "type": "SCALAR" },
+            { "componentType": 5126, "count": 4, "type": "VEC3",
+              "min": [0.0, 0.0, 0.0], "max": [1.0, 1.0, 0.0],
+              "sparse": { "count": 3,
+                          "indices": { "bufferView": 1, "componentType": 5121 },
+                          "values": { "bufferView": 2 } } },
+            { "bufferView": 3, "componentType": 5121, "normalized": true, "count": 4, "type": "VEC2" },
+            { "bufferView": 4, "componentType": 5126, "count": 2, "type": "SCALAR",
+              "min": [0.0], "max": [1.0] },
+            { "bufferView": 5, "componentType": 5126, "count": 6, "type": "VEC3" }
+        ],
+        "animations": [{
+            "channels": [{ "sampler": 0, "target": { "node": 0, "path": "translation" } }],
+            "samplers": [{ "input": 3, "output": 4, "interpolation": "CUBICSPLINE" }]
+        }],
+        "bufferViews": [view(0, 4), view(4, 3), view(8, 36), view(44, 8), view(52, 8), view(60, 72)],
+        "buffers": [{ "byteLength": 132,
+                      "uri": format!("data:application/octet-stream;base64,{}", encode_base64(&bin)) }]
+    });
+    let model = load_gltf_slice(&serde_json::to_vec(&doc).unwrap(), Path::new("synthetic.gltf"))
+        .unwrap_or_else(|e| panic!("{e}"));
+
+    let prim = &model.meshes[0].primitives[0];
+    let expected = [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y];
+    assert_eq!(prim.positions, expected);
+    assert_eq!(prim.indices, [1, 2, 0, 2, 3, 0]);
+    assert_eq!(prim.source_index_width, Some(1));
+    assert!(prim.normals_generated && prim.normals.iter().all(|n| *n == Vec3::Z));
+    let uv = prim.uv0.as_ref().unwrap();
+    assert_eq!(uv[2], glam::Vec2::ONE);
+    assert!(model.warnings.iter().any(|w| w.contains("_TEMPERATURE")));
+
+    let pose = pose_at(&model, 0, 0.5, TimeMode::Clamp).unwrap();
+    assert!((pose[0].translation.x - 1.0).abs() < 1e-6, "{}", pose[0].translation);
+
+    use super::model::{LightKind, Projection};
+    assert_eq!(model.nodes[1].light, Some(0));
+    assert_eq!(model.nodes[1].camera, Some(0));
+    let spot = &model.lights[0];
+    assert_eq!(spot.kind, LightKind::Spot { inner_cone_angle: 0.1, outer_cone_angle: 0.5 });
+    assert_eq!((spot.color, spot.intensity, spot.range), (Vec3::new(1.0, 0.5, 0.0), 3.0, Some(10.0)));
+    assert_eq!(model.lights[1].kind, LightKind::Directional);
+    assert_eq!(model.lights[1].intensity, 1.0);
+    assert_eq!(
+        model.cameras[0].projection,
+        Projection::Perspective { yfov: 0.8, aspect_ratio: None, znear: 0.1, zfar: None }
+    );
+    assert_eq!(model.roots, [0, 1]);
+
+    // Sparse indices must increase: swapping two is an error naming the accessor.
+    let mut bad = doc.clone();
+    let mut bin2 = bin.clone();
+    bin2[4..7].copy_from_slice(&[2, 1, 3]);
+    bad["buffers"][0]["uri"] = json!(format!("data:application/octet-stream;base64,{}", encode_base64(&bin2)));
+    let msg = load_gltf_slice(&serde_json::to_vec(&bad).unwrap(), Path::new("sparse.gltf")).unwrap_err().to_string();
+    assert_mentions(&msg, &["sparse.gltf", "accessor 1", "strictly increasing"]);
+}
