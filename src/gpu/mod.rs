@@ -3,11 +3,13 @@
 
 pub mod commands;
 pub mod context;
+pub mod descriptors;
 pub mod device;
 pub mod instance;
 pub mod memory;
 pub mod mobile_profile;
 pub mod queries;
+pub mod texture;
 
 pub use context::{Gpu, GpuOptions};
 pub use device::DeviceChoice;

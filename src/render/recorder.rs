@@ -57,6 +57,45 @@ impl<'a> FrameRecorder<'a> {
         result
     }
 
+    /// Begins a render pass on a target of the technique's own (outside the frame's render
+    /// pass, in `Renderer::render_with_prepass`), with viewport and scissor covering `extent`.
+    pub fn begin_render_pass(
+        &mut self,
+        render_pass: vk::RenderPass,
+        framebuffer: vk::Framebuffer,
+        extent: vk::Extent2D,
+        clear_values: &[vk::ClearValue],
+    ) {
+        let device = self.gpu.raw();
+        let begin = vk::RenderPassBeginInfo::default()
+            .render_pass(render_pass)
+            .framebuffer(framebuffer)
+            .render_area(vk::Rect2D { offset: vk::Offset2D::default(), extent })
+            .clear_values(clear_values);
+        let viewport = vk::Viewport {
+            x: 0.0,
+            y: 0.0,
+            width: extent.width as f32,
+            height: extent.height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        };
+        unsafe {
+            device.cmd_begin_render_pass(self.cmd, &begin, vk::SubpassContents::INLINE);
+            device.cmd_set_viewport(self.cmd, 0, &[viewport]);
+            device.cmd_set_scissor(self.cmd, 0, &[vk::Rect2D { offset: vk::Offset2D::default(), extent }]);
+        }
+    }
+
+    pub fn end_render_pass(&mut self) {
+        unsafe { self.gpu.raw().cmd_end_render_pass(self.cmd) };
+    }
+
+    /// The GPU, for technique code that records commands the recorder has no helper for.
+    pub fn device(&self) -> &ash::Device {
+        self.gpu.raw()
+    }
+
     fn count_draw(&mut self) {
         if let Some(pass) = self.passes.last_mut() {
             pass.draws += 1;

@@ -68,6 +68,20 @@ impl Renderer {
         clear: [f32; 4],
         record: impl FnOnce(&mut FrameRecorder) -> Result<()>,
     ) -> Result<FrameOutput> {
+        self.render_with_prepass(uniforms, clear, |_| Ok(()), record)
+    }
+
+    /// As `render`, with `prepass` recorded first, outside the frame's render pass: for passes
+    /// that render into targets of their own (shadow maps, shadow textures). It begins and ends
+    /// its own render passes with `FrameRecorder::begin_render_pass`; its measured passes come
+    /// first in the frame's counters.
+    pub fn render_with_prepass(
+        &mut self,
+        uniforms: &FrameUniforms,
+        clear: [f32; 4],
+        prepass: impl FnOnce(&mut FrameRecorder) -> Result<()>,
+        record: impl FnOnce(&mut FrameRecorder) -> Result<()>,
+    ) -> Result<FrameOutput> {
         self.frame.update(uniforms)?;
         let gpu = self.gpu.clone();
         let device = gpu.raw();
@@ -76,6 +90,8 @@ impl Renderer {
 
         let pass_records = submit_and_wait(&gpu, |cmd| {
             queries.reset(cmd);
+            let mut recorder = FrameRecorder::new(&gpu, cmd, queries, extent, frame_set);
+            prepass(&mut recorder)?;
             let clear_values = [
                 vk::ClearValue { color: vk::ClearColorValue { float32: clear } },
                 vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } },
@@ -98,7 +114,6 @@ impl Renderer {
                 device.cmd_set_viewport(cmd, 0, &[viewport]);
                 device.cmd_set_scissor(cmd, 0, &[vk::Rect2D { offset: vk::Offset2D::default(), extent }]);
             }
-            let mut recorder = FrameRecorder::new(&gpu, cmd, queries, extent, frame_set);
             let recorded = record(&mut recorder);
             unsafe { device.cmd_end_render_pass(cmd) };
             recorded?;

@@ -19,8 +19,9 @@ use glam::{Mat4, Vec3, Vec4};
 
 use super::alpha_counter;
 use super::lit::{LitPass, ObjectPush, OBJECT_PUSH_BYTES};
-use crate::error::{Error, Result, VkContext};
+use crate::error::{Error, Result};
 use crate::frame::StencilMode;
+use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::{as_bytes, Buffer};
 use crate::gpu::Gpu;
 use crate::mesh::{self, EdgeAdjacency, VolumeGeometry, Welded};
@@ -430,61 +431,8 @@ fn draw_volumes(rec: &mut FrameRecorder, pipeline: &Pipeline, scene: &Scene, vol
 }
 
 /// The colour attachment bound as an input attachment (for `subpass` and the saturation probe).
-struct CounterInput {
-    gpu: Arc<Gpu>,
-    layout: vk::DescriptorSetLayout,
-    pool: vk::DescriptorPool,
-    set: vk::DescriptorSet,
-}
-
-impl CounterInput {
-    fn new(gpu: &Arc<Gpu>, colour_view: vk::ImageView) -> Result<Self> {
-        let device = gpu.raw();
-        let bindings = [vk::DescriptorSetLayoutBinding::default()
-            .binding(0)
-            .descriptor_type(vk::DescriptorType::INPUT_ATTACHMENT)
-            .descriptor_count(1)
-            .stage_flags(vk::ShaderStageFlags::FRAGMENT)];
-        let layout = unsafe {
-            device.create_descriptor_set_layout(&vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings), None)
-        }
-        .vk("vkCreateDescriptorSetLayout")?;
-        let sizes = [vk::DescriptorPoolSize { ty: vk::DescriptorType::INPUT_ATTACHMENT, descriptor_count: 1 }];
-        let pool = unsafe {
-            device.create_descriptor_pool(&vk::DescriptorPoolCreateInfo::default().max_sets(1).pool_sizes(&sizes), None)
-        }
-        .vk("vkCreateDescriptorPool")?;
-        let mut input = CounterInput { gpu: gpu.clone(), layout, pool, set: vk::DescriptorSet::null() };
-        let layouts = [layout];
-        input.set = unsafe {
-            device.allocate_descriptor_sets(
-                &vk::DescriptorSetAllocateInfo::default().descriptor_pool(pool).set_layouts(&layouts),
-            )
-        }
-        .vk("vkAllocateDescriptorSets")?[0];
-        let image_info = [vk::DescriptorImageInfo {
-            sampler: vk::Sampler::null(),
-            image_view: colour_view,
-            image_layout: vk::ImageLayout::GENERAL,
-        }];
-        let write = vk::WriteDescriptorSet::default()
-            .dst_set(input.set)
-            .dst_binding(0)
-            .descriptor_type(vk::DescriptorType::INPUT_ATTACHMENT)
-            .image_info(&image_info);
-        unsafe { device.update_descriptor_sets(&[write], &[]) };
-        Ok(input)
-    }
-}
-
-impl Drop for CounterInput {
-    fn drop(&mut self) {
-        let device = self.gpu.raw();
-        unsafe {
-            device.destroy_descriptor_pool(self.pool, None);
-            device.destroy_descriptor_set_layout(self.layout, None);
-        }
-    }
+fn counter_input(gpu: &Arc<Gpu>, colour_view: vk::ImageView) -> Result<DescriptorSet> {
+    DescriptorSet::new(gpu, &[Binding::InputAttachment { view: colour_view, layout: vk::ImageLayout::GENERAL }])
 }
 
 /// What the frame did, beyond its image and counters.
@@ -515,7 +463,7 @@ enum Passes {
 }
 
 struct EmulatedPasses {
-    input: CounterInput,
+    input: DescriptorSet,
     increment: Pipeline,
     decrement: Pipeline,
     probe: Pipeline,
@@ -559,7 +507,7 @@ impl<'s> ShadowVolumeRenderer<'s> {
         let frame_layout = [renderer.frame.layout];
         let iterations = alpha_counter::seed_iterations(k)?;
         let passes = if emulated {
-            let input = CounterInput::new(gpu, renderer.targets.colour.view)?;
+            let input = counter_input(gpu, renderer.targets.colour.view)?;
             let input_layout = [input.layout];
             let [increment_desc, decrement_desc] = volume_descs(zfail);
             let seed = match options.normalize {

@@ -1,0 +1,146 @@
+//! One descriptor set with its own layout and pool: what every technique needs for a handful of
+//! bindings (a uniform buffer, a texture, an input attachment), destroyed on drop.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::Gpu;
+use crate::error::{Result, VkContext};
+
+/// What one binding holds. Bindings are numbered in the order given, from 0.
+#[derive(Debug, Clone, Copy)]
+pub enum Binding {
+    UniformBuffer {
+        buffer: vk::Buffer,
+        range: u64,
+        stages: vk::ShaderStageFlags,
+    },
+    /// A sampled image; `layout` is the layout it is in when sampled.
+    Texture {
+        view: vk::ImageView,
+        sampler: vk::Sampler,
+        layout: vk::ImageLayout,
+        stages: vk::ShaderStageFlags,
+    },
+    /// An input attachment of the current subpass, read in the fragment shader.
+    InputAttachment {
+        view: vk::ImageView,
+        layout: vk::ImageLayout,
+    },
+}
+
+impl Binding {
+    fn descriptor_type(&self) -> vk::DescriptorType {
+        match self {
+            Binding::UniformBuffer { .. } => vk::DescriptorType::UNIFORM_BUFFER,
+            Binding::Texture { .. } => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+            Binding::InputAttachment { .. } => vk::DescriptorType::INPUT_ATTACHMENT,
+        }
+    }
+
+    fn stages(&self) -> vk::ShaderStageFlags {
+        match *self {
+            Binding::UniformBuffer { stages, .. } | Binding::Texture { stages, .. } => stages,
+            Binding::InputAttachment { .. } => vk::ShaderStageFlags::FRAGMENT,
+        }
+    }
+}
+
+pub struct DescriptorSet {
+    gpu: Arc<Gpu>,
+    pub layout: vk::DescriptorSetLayout,
+    pool: vk::DescriptorPool,
+    pub set: vk::DescriptorSet,
+}
+
+impl DescriptorSet {
+    pub fn new(gpu: &Arc<Gpu>, bindings: &[Binding]) -> Result<Self> {
+        let device = gpu.raw();
+        let layout_bindings: Vec<_> = bindings
+            .iter()
+            .enumerate()
+            .map(|(i, b)| {
+                vk::DescriptorSetLayoutBinding::default()
+                    .binding(i as u32)
+                    .descriptor_type(b.descriptor_type())
+                    .descriptor_count(1)
+                    .stage_flags(b.stages())
+            })
+            .collect();
+        let layout = unsafe {
+            device.create_descriptor_set_layout(
+                &vk::DescriptorSetLayoutCreateInfo::default().bindings(&layout_bindings),
+                None,
+            )
+        }
+        .vk("vkCreateDescriptorSetLayout")?;
+        let sizes: Vec<_> =
+            bindings.iter().map(|b| vk::DescriptorPoolSize { ty: b.descriptor_type(), descriptor_count: 1 }).collect();
+        let pool = match unsafe {
+            device.create_descriptor_pool(&vk::DescriptorPoolCreateInfo::default().max_sets(1).pool_sizes(&sizes), None)
+        }
+        .vk("vkCreateDescriptorPool")
+        {
+            Ok(pool) => pool,
+            Err(e) => {
+                unsafe { device.destroy_descriptor_set_layout(layout, None) };
+                return Err(e);
+            }
+        };
+        let mut set = DescriptorSet { gpu: gpu.clone(), layout, pool, set: vk::DescriptorSet::null() };
+        let layouts = [layout];
+        set.set = unsafe {
+            device.allocate_descriptor_sets(
+                &vk::DescriptorSetAllocateInfo::default().descriptor_pool(pool).set_layouts(&layouts),
+            )
+        }
+        .vk("vkAllocateDescriptorSets")?[0];
+
+        let buffer_infos: Vec<[vk::DescriptorBufferInfo; 1]> = bindings
+            .iter()
+            .map(|b| match *b {
+                Binding::UniformBuffer { buffer, range, .. } => [vk::DescriptorBufferInfo { buffer, offset: 0, range }],
+                _ => [vk::DescriptorBufferInfo::default()],
+            })
+            .collect();
+        let image_infos: Vec<[vk::DescriptorImageInfo; 1]> = bindings
+            .iter()
+            .map(|b| match *b {
+                Binding::Texture { view, sampler, layout, .. } => {
+                    [vk::DescriptorImageInfo { sampler, image_view: view, image_layout: layout }]
+                }
+                Binding::InputAttachment { view, layout } => {
+                    [vk::DescriptorImageInfo { sampler: vk::Sampler::null(), image_view: view, image_layout: layout }]
+                }
+                Binding::UniformBuffer { .. } => [vk::DescriptorImageInfo::default()],
+            })
+            .collect();
+        let writes: Vec<_> = bindings
+            .iter()
+            .enumerate()
+            .map(|(i, b)| {
+                let write = vk::WriteDescriptorSet::default()
+                    .dst_set(set.set)
+                    .dst_binding(i as u32)
+                    .descriptor_type(b.descriptor_type());
+                match b {
+                    Binding::UniformBuffer { .. } => write.buffer_info(&buffer_infos[i]),
+                    _ => write.image_info(&image_infos[i]),
+                }
+            })
+            .collect();
+        unsafe { device.update_descriptor_sets(&writes, &[]) };
+        Ok(set)
+    }
+}
+
+impl Drop for DescriptorSet {
+    fn drop(&mut self) {
+        let device = self.gpu.raw();
+        unsafe {
+            device.destroy_descriptor_pool(self.pool, None);
+            device.destroy_descriptor_set_layout(self.layout, None);
+        }
+    }
+}

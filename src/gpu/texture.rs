@@ -1,0 +1,217 @@
+//! Sampled textures: an image uploaded through a staging buffer (optionally with a mip chain
+//! built by blits), left in SHADER_READ_ONLY_OPTIMAL, with its sampler.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::commands::submit_and_wait;
+use super::memory::{Buffer, Image, ImageDesc};
+use super::Gpu;
+use crate::error::{Error, Result, VkContext};
+use crate::frame::RgbaImage;
+
+pub struct Sampler {
+    gpu: Arc<Gpu>,
+    pub raw: vk::Sampler,
+}
+
+impl Sampler {
+    /// Linear or nearest filtering, trilinear when the image has mips; no anisotropy (the mobile
+    /// profile keeps samplerAnisotropy off).
+    pub fn new(gpu: &Arc<Gpu>, filter: vk::Filter, address: vk::SamplerAddressMode) -> Result<Self> {
+        let mipmap =
+            if filter == vk::Filter::LINEAR { vk::SamplerMipmapMode::LINEAR } else { vk::SamplerMipmapMode::NEAREST };
+        let info = vk::SamplerCreateInfo::default()
+            .mag_filter(filter)
+            .min_filter(filter)
+            .mipmap_mode(mipmap)
+            .address_mode_u(address)
+            .address_mode_v(address)
+            .address_mode_w(address)
+            .max_lod(vk::LOD_CLAMP_NONE);
+        let raw = unsafe { gpu.raw().create_sampler(&info, None) }.vk("vkCreateSampler")?;
+        Ok(Sampler { gpu: gpu.clone(), raw })
+    }
+}
+
+impl Drop for Sampler {
+    fn drop(&mut self) {
+        unsafe { self.gpu.raw().destroy_sampler(self.raw, None) };
+    }
+}
+
+/// Number of mip levels down to 1x1.
+pub fn mip_count(width: u32, height: u32) -> u32 {
+    32 - width.max(height).max(1).leading_zeros()
+}
+
+pub struct Texture {
+    pub image: Image,
+    pub sampler: Sampler,
+}
+
+impl Texture {
+    /// Uploads RGBA8 pixels (`format` is R8G8B8A8_UNORM or _SRGB); `mipmaps` builds the whole
+    /// chain with linear blits.
+    pub fn from_rgba8(
+        gpu: &Arc<Gpu>,
+        name: &str,
+        pixels: &RgbaImage,
+        format: vk::Format,
+        mipmaps: bool,
+        sampler: Sampler,
+    ) -> Result<Self> {
+        let (width, height, pixels) = (pixels.width, pixels.height, pixels.pixels.as_slice());
+        if pixels.len() as u64 != width as u64 * height as u64 * 4 {
+            return Err(Error::InvalidInput(format!(
+                "texture '{name}': {} bytes for {width}x{height} RGBA8",
+                pixels.len()
+            )));
+        }
+        let mip_levels = if mipmaps { mip_count(width, height) } else { 1 };
+        let image = Image::new(
+            gpu,
+            &ImageDesc {
+                name,
+                format,
+                extent: vk::Extent2D { width, height },
+                usage: vk::ImageUsageFlags::SAMPLED
+                    | vk::ImageUsageFlags::TRANSFER_DST
+                    | vk::ImageUsageFlags::TRANSFER_SRC,
+                aspect: vk::ImageAspectFlags::COLOR,
+                mip_levels,
+            },
+        )?;
+        let staging = Buffer::with_data(gpu, &format!("{name} (staging)"), pixels, vk::BufferUsageFlags::TRANSFER_SRC)?;
+        submit_and_wait(gpu, |cmd| {
+            transition(
+                gpu,
+                cmd,
+                image.raw,
+                0,
+                mip_levels,
+                vk::ImageLayout::UNDEFINED,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+            );
+            let region = vk::BufferImageCopy::default()
+                .image_subresource(colour_layers(0))
+                .image_extent(vk::Extent3D { width, height, depth: 1 });
+            unsafe {
+                gpu.raw().cmd_copy_buffer_to_image(
+                    cmd,
+                    staging.raw,
+                    image.raw,
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                    &[region],
+                )
+            };
+            record_mip_chain(gpu, cmd, image.raw, width, height, mip_levels, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL);
+            Ok(())
+        })?;
+        Ok(Texture { image, sampler })
+    }
+}
+
+fn colour_layers(mip: u32) -> vk::ImageSubresourceLayers {
+    vk::ImageSubresourceLayers {
+        aspect_mask: vk::ImageAspectFlags::COLOR,
+        mip_level: mip,
+        base_array_layer: 0,
+        layer_count: 1,
+    }
+}
+
+/// A layout transition of `count` mips from `base`, with conservative (all-commands) scopes.
+pub fn transition(
+    gpu: &Gpu,
+    cmd: vk::CommandBuffer,
+    image: vk::Image,
+    base: u32,
+    count: u32,
+    from: vk::ImageLayout,
+    to: vk::ImageLayout,
+) {
+    let barrier = vk::ImageMemoryBarrier::default()
+        .src_access_mask(vk::AccessFlags::MEMORY_WRITE)
+        .dst_access_mask(vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE)
+        .old_layout(from)
+        .new_layout(to)
+        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .image(image)
+        .subresource_range(vk::ImageSubresourceRange {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            base_mip_level: base,
+            level_count: count,
+            base_array_layer: 0,
+            layer_count: 1,
+        });
+    unsafe {
+        gpu.raw().cmd_pipeline_barrier(
+            cmd,
+            vk::PipelineStageFlags::ALL_COMMANDS,
+            vk::PipelineStageFlags::ALL_COMMANDS,
+            vk::DependencyFlags::empty(),
+            &[],
+            &[],
+            &[barrier],
+        )
+    };
+}
+
+/// Builds mips 1.. from mip 0 (which must be in TRANSFER_DST_OPTIMAL, the others too) with
+/// linear blits, leaving every mip in `final_layout`.
+pub fn record_mip_chain(
+    gpu: &Gpu,
+    cmd: vk::CommandBuffer,
+    image: vk::Image,
+    width: u32,
+    height: u32,
+    mip_levels: u32,
+    final_layout: vk::ImageLayout,
+) {
+    let (mut w, mut h) = (width as i32, height as i32);
+    for mip in 1..mip_levels {
+        transition(
+            gpu,
+            cmd,
+            image,
+            mip - 1,
+            1,
+            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+        );
+        let (nw, nh) = ((w / 2).max(1), (h / 2).max(1));
+        let blit = vk::ImageBlit {
+            src_subresource: colour_layers(mip - 1),
+            src_offsets: [vk::Offset3D::default(), vk::Offset3D { x: w, y: h, z: 1 }],
+            dst_subresource: colour_layers(mip),
+            dst_offsets: [vk::Offset3D::default(), vk::Offset3D { x: nw, y: nh, z: 1 }],
+        };
+        unsafe {
+            gpu.raw().cmd_blit_image(
+                cmd,
+                image,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                image,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &[blit],
+                vk::Filter::LINEAR,
+            )
+        };
+        transition(gpu, cmd, image, mip - 1, 1, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, final_layout);
+        (w, h) = (nw, nh);
+    }
+    transition(gpu, cmd, image, mip_levels - 1, 1, vk::ImageLayout::TRANSFER_DST_OPTIMAL, final_layout);
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn mip_count_reaches_one_pixel() {
+        assert_eq!(super::mip_count(1, 1), 1);
+        assert_eq!(super::mip_count(256, 256), 9);
+        assert_eq!(super::mip_count(257, 3), 9);
+    }
+}
