@@ -40,6 +40,14 @@ pub enum Command {
         #[arg(long, value_enum, default_value_t = FormatArg::Table)]
         format: FormatArg,
     },
+    /// Print every pass of a technique with its fixed-function state, as a Markdown table.
+    Passes {
+        #[arg(long, default_value = "lit")]
+        technique: String,
+        /// shadow-volume: which normalisation path to list (`seed`, `max` or `subpass`).
+        #[arg(long, default_value = "seed")]
+        normalize: String,
+    },
     /// Time frames of a technique's variants (the real-stencil reference first) in one run.
     Bench {
         #[command(flatten)]

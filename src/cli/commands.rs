@@ -17,6 +17,16 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Render { frame, out, keep_alpha } => render(&frame, &out, keep_alpha),
         Command::Profile { frame, format } => profile(&frame, format),
         Command::Info { gpu, json } => info(&gpu, json),
+        Command::Passes { technique, normalize } => {
+            let options = RenderOptions {
+                technique: Technique::parse(&technique)?,
+                shadow_volume: ShadowVolumeOptions { normalize: Normalize::parse(&normalize)?, ..Default::default() },
+                ..Default::default()
+            };
+            let descs = crate::technique::pipeline_descs(&options);
+            print!("{}", crate::profile::passes::markdown_table(options.technique.name(), &descs));
+            Ok(())
+        }
         Command::Bench { frame, warmup, runs, json } => bench(&frame, warmup, runs, json),
     }
 }

@@ -2,6 +2,7 @@
 
 pub mod bench;
 pub mod counters;
+pub mod passes;
 pub mod report;
 
 pub use counters::{FrameCounters, PassCounters};

@@ -66,6 +66,15 @@ impl Default for RenderOptions {
     }
 }
 
+/// Every pipeline a technique builds, labelled with its path (emulated / reference), in pass
+/// order: the source of `nostencil passes`.
+pub fn pipeline_descs(options: &RenderOptions) -> Vec<(&'static str, crate::pipeline::PipelineDesc)> {
+    match options.technique {
+        Technique::Lit => vec![("both", lit::scene_pipeline_desc())],
+        Technique::ShadowVolume => shadow_volume::pipeline_descs(&options.shadow_volume),
+    }
+}
+
 /// A rendered frame and what the technique reports about it.
 pub struct TechniqueFrame {
     pub output: FrameOutput,
