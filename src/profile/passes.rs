@@ -19,12 +19,21 @@ fn equation(eq: Option<BlendEquation>) -> String {
 }
 
 fn write_mask(mask: vk::ColorComponentFlags) -> String {
-    let channels: String = [(vk::ColorComponentFlags::R, 'R'), (vk::ColorComponentFlags::G, 'G'), (vk::ColorComponentFlags::B, 'B'), (vk::ColorComponentFlags::A, 'A')]
-        .iter()
-        .filter(|(flag, _)| mask.contains(*flag))
-        .map(|(_, c)| *c)
-        .collect();
-    if channels.is_empty() { "none".into() } else { channels }
+    let channels: String = [
+        (vk::ColorComponentFlags::R, 'R'),
+        (vk::ColorComponentFlags::G, 'G'),
+        (vk::ColorComponentFlags::B, 'B'),
+        (vk::ColorComponentFlags::A, 'A'),
+    ]
+    .iter()
+    .filter(|(flag, _)| mask.contains(*flag))
+    .map(|(_, c)| *c)
+    .collect();
+    if channels.is_empty() {
+        "none".into()
+    } else {
+        channels
+    }
 }
 
 fn stencil_face(face: &StencilFace) -> String {

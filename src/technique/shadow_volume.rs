@@ -580,6 +580,11 @@ impl<'s> ShadowVolumeRenderer<'s> {
         })
     }
 
+    /// Heat-map frames (see `Renderer::count_overdraw`).
+    pub fn count_overdraw(&mut self, on: bool) {
+        self.renderer.count_overdraw = on;
+    }
+
     pub fn frame(&mut self) -> Result<ShadowVolumeFrame> {
         let scene = self.scene;
         let volumes = upload_volumes(&self.gpu, scene, &self.casters, self.stats.zfail)?;
