@@ -139,7 +139,7 @@ mod tests {
     fn counts_map_to_distinct_colours_and_the_legend_is_below_the_frame() {
         let mut frame = RgbaImage { width: 330, height: 20, pixels: vec![0; 330 * 20 * 4] };
         for (i, p) in frame.pixels.chunks_exact_mut(4).enumerate() {
-            p[3] = (i % 13) as u8;
+            p[3] = (i % 10) as u8;
         }
         let map = render_heatmap(&frame);
         assert_eq!((map.width, map.height), (330, 20 + LEGEND_HEIGHT));

@@ -257,6 +257,30 @@ pub fn reference_volume_desc(zfail: bool) -> PipelineDesc {
     desc
 }
 
+/// Counts below zero (the stencil wraps them to 128..255) can only come from rasterisation
+/// precision where volume walls meet their caster. The alpha counter clamps them to 0, so the
+/// reference sets them to 0 as well before applying: both paths then shade exactly
+/// `max(0, increments - decrements)`, and agree bit for bit.
+pub fn reference_clear_negative_desc() -> PipelineDesc {
+    let negative_to_zero = StencilFace {
+        // 128 <= stencil: a wrapped negative count.
+        compare: vk::CompareOp::LESS_OR_EQUAL,
+        reference: 0x80,
+        compare_mask: 0xff,
+        write_mask: 0xff,
+        fail: vk::StencilOp::KEEP,
+        pass: vk::StencilOp::ZERO,
+        depth_fail: vk::StencilOp::KEEP,
+    };
+    let mut desc = fullscreen_desc(
+        "clear negative counts (stencil)",
+        "solid.frag",
+        BlendState { colour: None, alpha: None, write_mask: vk::ColorComponentFlags::empty() },
+    );
+    desc.fixed.stencil = Some(StencilState { front: negative_to_zero, back: negative_to_zero });
+    desc
+}
+
 pub fn reference_apply_desc() -> PipelineDesc {
     let not_zero = StencilFace {
         compare: vk::CompareOp::NOT_EQUAL,
@@ -297,6 +321,7 @@ pub fn pipeline_descs(options: &ShadowVolumeOptions) -> Vec<(&'static str, Pipel
     descs.push(("reference", super::lit::scene_pipeline_desc()));
     descs.push(("reference", reference_volume_desc(false)));
     descs.push(("reference", reference_volume_desc(true)));
+    descs.push(("reference", reference_clear_negative_desc()));
     descs.push(("reference", reference_apply_desc()));
     descs
 }
@@ -483,7 +508,7 @@ fn solid(alpha: f32) -> Vec4 {
 /// The pipelines of one frame kind (the reference's are the larger; there is one per renderer).
 #[allow(clippy::large_enum_variant)]
 enum Passes {
-    Reference { volumes: Pipeline, apply: Pipeline },
+    Reference { volumes: Pipeline, clear_negative: Pipeline, apply: Pipeline },
     Emulated(Box<EmulatedPasses>),
 }
 
@@ -559,6 +584,7 @@ impl<'s> ShadowVolumeRenderer<'s> {
         } else {
             Passes::Reference {
                 volumes: Pipeline::new(gpu, &reference_volume_desc(zfail), render_pass, &frame_layout)?,
+                clear_negative: Pipeline::new(gpu, &reference_clear_negative_desc(), render_pass, &[])?,
                 apply: Pipeline::new(gpu, &reference_apply_desc(), render_pass, &[])?,
             }
         };
@@ -597,11 +623,17 @@ impl<'s> ShadowVolumeRenderer<'s> {
         let colour_image = self.renderer.targets.colour.raw;
         let (lit, meshes) = (&self.lit, &self.meshes);
         let output = match &self.passes {
-            Passes::Reference { volumes: volumes_pipeline, apply } => {
+            Passes::Reference { volumes: volumes_pipeline, clear_negative, apply } => {
                 self.renderer.render(&uniforms, clear, |rec| {
                     lit.record(rec, scene, meshes, |_| 0.0)?;
                     rec.pass(volumes_pipeline.desc.name, |rec| {
                         draw_volumes(rec, volumes_pipeline, scene, &volumes, 0.0);
+                        Ok(())
+                    })?;
+                    rec.pass(clear_negative.desc.name, |rec| {
+                        rec.bind(clear_negative);
+                        rec.push(clear_negative, &solid(0.0));
+                        rec.draw_fullscreen();
                         Ok(())
                     })?;
                     rec.pass(apply.desc.name, |rec| {

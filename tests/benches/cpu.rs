@@ -1,0 +1,71 @@
+//! CPU-side hot paths: edge extraction for a 131,072-face mesh (the paper's 257x257 geometry
+//! image size), shadow-volume building, animation sampling and CPU skinning.
+//! `cargo bench --bench cpu`
+
+use std::path::Path;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use glam::Vec3;
+use nostencil::mesh::{self, shapes, EdgeAdjacency, View};
+use nostencil::scene::{self, TimeMode};
+
+fn big_torus() -> shapes::MeshData {
+    // 256 x 256 quads = 131,072 triangles.
+    shapes::torus(1.0, 0.3, 256, 256).expect("torus")
+}
+
+fn edges(c: &mut Criterion) {
+    let mesh = big_torus();
+    let welded = mesh::weld_by_position("torus", &mesh.positions, &mesh.indices, 1e-6).expect("weld");
+    c.bench_function("edge adjacency build, 131072 faces", |b| {
+        b.iter(|| EdgeAdjacency::build("torus", &welded.positions, &welded.indices).expect("adjacency"))
+    });
+    let adjacency = EdgeAdjacency::build("torus", &welded.positions, &welded.indices).expect("adjacency");
+    let mut normals = Vec::new();
+    let mut classes = mesh::EdgeClasses::default();
+    c.bench_function("per-frame face normals + silhouette/crease classify, 131072 faces", |b| {
+        b.iter(|| {
+            mesh::face_normals(&welded.positions, &welded.indices, &mut normals);
+            let view = View::Perspective { eye: Vec3::new(0.0, 2.0, 4.0) };
+            mesh::classify_into(&adjacency, &welded.positions, &normals, view, 40.0, &[], &mut classes);
+        })
+    });
+    let mut volume = mesh::VolumeGeometry::default();
+    c.bench_function("capped shadow volume, point light, 131072 faces", |b| {
+        b.iter(|| {
+            let light = mesh::Light::Point(Vec3::new(2.0, 5.0, 1.0));
+            mesh::build_shadow_volume_into(
+                &adjacency,
+                &welded.positions,
+                &adjacency.face_normals,
+                light,
+                true,
+                &mut volume,
+            )
+        })
+    });
+}
+
+fn animation(c: &mut Criterion) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/assets/RiggedSimple.glb");
+    let Ok(model) = scene::load_gltf(&path) else {
+        eprintln!("skipped animation benches: {} not found", path.display());
+        return;
+    };
+    c.bench_function("pose_at (RiggedSimple)", |b| {
+        b.iter(|| scene::pose_at(&model, 0, 0.7, TimeMode::Loop).expect("pose"))
+    });
+    let pose = scene::pose_at(&model, 0, 0.7, TimeMode::Loop).expect("pose");
+    let world = scene::world_matrices(&model, &pose);
+    let (node, skin) =
+        model.nodes.iter().enumerate().find_map(|(i, n)| n.skin.map(|s| (i, s))).expect("a skinned node");
+    let joints = scene::joint_matrices(&model, skin, &world, world[node]).expect("joints");
+    let primitive = &model.meshes[model.nodes[node].mesh.expect("mesh")].primitives[0];
+    let (mut positions, mut normals) = (Vec::new(), Vec::new());
+    c.bench_function("CPU skinning (RiggedSimple)", |b| {
+        b.iter(|| scene::skin_positions_normals(primitive, &joints, &mut positions, &mut normals).expect("skin"))
+    });
+}
+
+criterion_group!(benches, edges, animation);
+criterion_main!(benches);
