@@ -1,6 +1,7 @@
 //! Techniques: each module records its passes and reads top to bottom.
 
 pub mod alpha_counter;
+pub mod cartoon;
 pub mod lit;
 pub mod shadow_volume;
 
@@ -12,6 +13,7 @@ use crate::gpu::Gpu;
 use crate::render::{FrameOutput, FrameUniforms, GpuScene, Renderer};
 use crate::scene::Scene;
 
+pub use cartoon::{CartoonOptions, CartoonStats, SilhouetteMethod};
 pub use shadow_volume::{Normalize, ShadowVolumeOptions, ShadowVolumeStats, VolumeMethod};
 
 /// What `--technique` selects.
@@ -23,15 +25,25 @@ pub enum Technique {
     Lit,
     /// Shadow volumes counted in the alpha channel (seed 000).
     ShadowVolume,
+    /// Selection outline without a stencil (seed 003).
+    Outline,
+    /// Lambert shading with ink lines (seed 002).
+    Silhouette,
+    /// Toon shading (N.L through a ramp) with ink lines (seed 002).
+    Toon,
 }
 
 impl Technique {
-    pub const ALL: &'static [Technique] = &[Technique::Lit, Technique::ShadowVolume];
+    pub const ALL: &'static [Technique] =
+        &[Technique::Lit, Technique::ShadowVolume, Technique::Outline, Technique::Silhouette, Technique::Toon];
 
     pub fn name(self) -> &'static str {
         match self {
             Technique::Lit => "lit",
             Technique::ShadowVolume => "shadow-volume",
+            Technique::Outline => "outline",
+            Technique::Silhouette => "silhouette",
+            Technique::Toon => "toon",
         }
     }
 
@@ -52,6 +64,7 @@ pub struct RenderOptions {
     pub stencil: StencilMode,
     pub technique: Technique,
     pub shadow_volume: ShadowVolumeOptions,
+    pub cartoon: CartoonOptions,
 }
 
 impl Default for RenderOptions {
@@ -62,6 +75,7 @@ impl Default for RenderOptions {
             stencil: StencilMode::Emulated,
             technique: Technique::Lit,
             shadow_volume: ShadowVolumeOptions::default(),
+            cartoon: CartoonOptions::default(),
         }
     }
 }
@@ -70,6 +84,7 @@ impl Default for RenderOptions {
 pub struct TechniqueFrame {
     pub output: FrameOutput,
     pub shadow_volume: Option<ShadowVolumeStats>,
+    pub cartoon: Option<CartoonStats>,
 }
 
 /// Renders `scene` with the chosen technique and returns the image and its counters.
@@ -82,7 +97,7 @@ pub fn render_scene(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions) -> R
             let clear = scene.background.extend(1.0).to_array();
             let lit = lit::LitPass::new(gpu, &renderer)?;
             let output = renderer.render(&uniforms, clear, |rec| lit.record(rec, scene, &meshes, |_| 1.0))?;
-            Ok(TechniqueFrame { output, shadow_volume: None })
+            Ok(TechniqueFrame { output, shadow_volume: None, cartoon: None })
         }
         Technique::ShadowVolume => {
             let frame = shadow_volume::render(
@@ -93,7 +108,19 @@ pub fn render_scene(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions) -> R
                 options.stencil,
                 &options.shadow_volume,
             )?;
-            Ok(TechniqueFrame { output: frame.output, shadow_volume: Some(frame.stats) })
+            Ok(TechniqueFrame { output: frame.output, shadow_volume: Some(frame.stats), cartoon: None })
+        }
+        Technique::Outline | Technique::Silhouette | Technique::Toon => {
+            let frame = cartoon::render(
+                gpu,
+                scene,
+                options.width,
+                options.height,
+                options.stencil,
+                options.technique,
+                &options.cartoon,
+            )?;
+            Ok(TechniqueFrame { output: frame.output, shadow_volume: None, cartoon: Some(frame.stats) })
         }
     }
 }
