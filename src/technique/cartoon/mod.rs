@@ -327,11 +327,12 @@ pub fn toon_ramp() -> RgbaImage {
 }
 
 /// N.V -> ink: the first texels (grazing angles) black, the rest white (seed 002: "1x32, the
-/// first few texels near u = 0 black").
+/// first few texels near u = 0 black"). N.V < 0.44 is dark: on a sphere that is the outer 10%
+/// of its radius on screen (N.V falls fast near the contour, so fewer texels draw a hairline).
 pub fn rim_ramp() -> RgbaImage {
     let mut pixels = Vec::new();
     for i in 0..32 {
-        let level = if i < 9 { 0 } else { 255 };
+        let level = if i < 14 { 0 } else { 255 };
         pixels.extend_from_slice(&[level, level, level, 255]);
     }
     RgbaImage { width: 32, height: 1, pixels }
