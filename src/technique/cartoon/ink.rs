@@ -214,4 +214,85 @@ mod tests {
         }
         Ok(())
     }
+
+    #[test]
+    fn every_edge_of_the_closed_scene_objects_has_exactly_two_faces() -> Result<()> {
+        // Through the technique's own path: UV seams and pole fans weld shut.
+        for name in ["default", "outline", "duck"] {
+            let scene = crate::scene::builtin_scene(name)?;
+            for (index, object) in scene.objects.iter().enumerate().filter(|(_, o)| o.casts_shadow) {
+                let ink = InkMesh::new(&scene, index)?;
+                let mut uses = vec![0u32; ink.adjacency.face_count()];
+                for edge in &ink.adjacency.edges {
+                    assert!(edge.faces.iter().all(|&f| f != NO_FACE), "{name}/{}: open edge", object.name);
+                    for &f in &edge.faces {
+                        uses[f as usize] += 1;
+                    }
+                }
+                assert!(uses.iter().all(|&u| u == 3), "{name}/{}: a face without 3 two-sided edges", object.name);
+                assert_eq!(2 * ink.adjacency.edges.len(), 3 * ink.adjacency.face_count());
+            }
+        }
+        Ok(())
+    }
+
+    /// A hand-made tent: two roof quads meeting at a 90 degree ridge (y = 1, along z), each
+    /// with its own ridge vertices and flat normals (a normal seam), plus an apron quad that
+    /// continues the left roof in its plane and shares its vertices and normals.
+    fn tent() -> crate::mesh::MeshData {
+        let s = std::f32::consts::FRAC_1_SQRT_2;
+        let (left_n, right_n) = (Vec3::new(-s, s, 0.0), Vec3::new(s, s, 0.0));
+        let positions = vec![
+            // left roof: eaves (0, 1), ridge (2, 3)
+            Vec3::new(-1.0, 0.0, 0.0),
+            Vec3::new(-1.0, 0.0, -1.0),
+            Vec3::new(0.0, 1.0, -1.0),
+            Vec3::new(0.0, 1.0, 0.0),
+            // right roof: ridge (4, 5), eaves (6, 7)
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(0.0, 1.0, -1.0),
+            Vec3::new(1.0, 0.0, -1.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            // apron below the left eaves, same plane
+            Vec3::new(-2.0, -1.0, 0.0),
+            Vec3::new(-2.0, -1.0, -1.0),
+        ];
+        let normals = vec![left_n, left_n, left_n, left_n, right_n, right_n, right_n, right_n, left_n, left_n];
+        let indices = vec![0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7, 8, 9, 1, 8, 1, 0];
+        crate::mesh::MeshData { positions, normals, uvs: vec![Vec2::ZERO; 10], indices }
+    }
+
+    #[test]
+    fn tent_ridge_is_a_crease_and_a_seam_its_rim_is_boundary() -> Result<()> {
+        let scene = one_object_scene(tent());
+        let mut ink = InkMesh::new(&scene, 0)?;
+        let (edges, positions) = (ink.adjacency.edges.clone(), ink.welded.positions.clone());
+        let ends = |e: u32| {
+            let mut v = edges[e as usize].v.map(|i| positions[i as usize]);
+            v.sort_by(|a, b| a.to_array().partial_cmp(&b.to_array()).unwrap_or(std::cmp::Ordering::Equal));
+            v
+        };
+        let ridge = [Vec3::new(0.0, 1.0, -1.0), Vec3::new(0.0, 1.0, 0.0)];
+        // Welded: 8 vertices, 6 faces; the ridge is one two-face edge.
+        assert_eq!((ink.welded.positions.len(), ink.adjacency.face_count()), (8, 6));
+        assert_eq!(ink.seams.iter().map(|&e| ends(e)).collect::<Vec<_>>(), vec![ridge]);
+        // Seen from high above the ridge: no silhouette (both roofs face up); only the ridge
+        // folds by more than 40 degrees (90), the eaves line between roof and apron is flat.
+        let classes = ink.classify(&Mat4::IDENTITY, Vec3::new(0.0, 10.0, 0.5), 40.0).clone();
+        assert!(classes.silhouette.is_empty(), "{:?}", classes.silhouette);
+        assert_eq!(classes.crease.iter().map(|&e| ends(e)).collect::<Vec<_>>(), vec![ridge]);
+        // Boundary: the rim of the open surface (3 quads: 2 + 2 + 2 side edges + 2 far ends = 8)
+        // and the ridge seam.
+        let rim = ink.adjacency.boundary_edges().len();
+        assert_eq!(rim, 8);
+        assert_eq!(classes.boundary.len(), rim + 1);
+        // Seen from the left, low: the right roof faces away, so the ridge is a silhouette.
+        let side = ink.classify(&Mat4::IDENTITY, Vec3::new(-10.0, 0.5, -0.5), 40.0).clone();
+        assert_eq!(side.silhouette.iter().map(|&e| ends(e)).collect::<Vec<_>>(), vec![ridge]);
+        let mut quads = InkQuads::default();
+        ink.append_quads(&Mat4::IDENTITY, Vec3::new(-10.0, 0.5, -0.5), &mut quads);
+        // The ridge is drawn once, as a silhouette; the rest of the boundary as boundary.
+        assert_eq!(quads.edge_counts(), [1, 0, 8]);
+        Ok(())
+    }
 }
