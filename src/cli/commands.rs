@@ -144,6 +144,9 @@ fn profile(frame: &FrameArgs, format: FormatArg) -> Result<()> {
     }
     if let (Some(stats), FormatArg::Table) = (&frame.cartoon, format) {
         match stats.method {
+            Some(method) if method != SilhouetteMethod::Edges => {
+                println!("\ncartoon ({}): ink on the GPU, no CPU edge work", method.name())
+            }
             Some(method) => println!(
                 "\ncartoon ({}): {} edges in the unique edge lists | drawn: {} silhouette, {} crease, {} boundary | \
                  CPU edge work {:.3} ms",
