@@ -7,7 +7,7 @@ use super::args::{Cli, Command, FormatArg, FrameArgs, GpuArgs};
 use crate::error::{Error, Result};
 use crate::gpu::{mobile_profile, DeviceChoice, Gpu, GpuOptions};
 use crate::profile::report::{ProfileReport, ReportContext, ReportFormat};
-use crate::scene::{builtin_scene, scene_from_gltf, Scene, BUILTIN_SCENES};
+use crate::scene::{builtin_scene, scene_from_gltf, Scene, BUILTIN_SCENES, OTHER_SCENES};
 use crate::technique::{
     alpha_counter, render_scene, CartoonOptions, Normalize, RenderOptions, ShadowVolumeOptions, SilhouetteMethod,
     Technique, VolumeMethod,
@@ -194,7 +194,7 @@ fn info(args: &GpuArgs, json: bool) -> Result<()> {
         forbidden_features: &mobile_profile::FORBIDDEN_FEATURES,
         lazily_allocated_memory: info.has_lazily_allocated_memory,
         limits: &info.limit_checks,
-        scenes: BUILTIN_SCENES.iter().map(|(n, _)| *n).collect(),
+        scenes: BUILTIN_SCENES.iter().chain(OTHER_SCENES).map(|(n, _)| *n).collect(),
         techniques: Technique::ALL.iter().map(|t| t.name()).collect(),
     };
     if json {
