@@ -313,3 +313,32 @@ fn ink_passes_are_measured_one_per_edge_class() {
     assert!(stats.silhouette_edges > 0 && stats.crease_edges > 0 && stats.boundary_edges > 0, "{stats:?}");
     common::assert_no_validation_messages(&gpu);
 }
+
+#[test]
+fn crease_lines_of_a_cube_are_unbroken_and_stay_on_the_edges() {
+    // A cube seen from a corner: the three edges at the nearest corner are 90 degree creases
+    // between visible faces, drawn centred and depth tested against those very faces. Every
+    // pixel an edge passes through must be ink (no z-fighting gaps), and face centres must not.
+    let gpu = common::gpu();
+    let size = (128, 128);
+    let mut scene = face_on_scene(shapes::cube(1.0), Mat4::IDENTITY);
+    scene.camera = Camera::look_at(Vec3::new(2.2, 1.9, 2.6), Vec3::ZERO);
+    let options = CartoonOptions { line_width: 2.0, ..CartoonOptions::default() };
+    let (image, stats) = render(&gpu, &scene, StencilMode::Emulated, Technique::Silhouette, &options, size);
+    assert_eq!((stats.silhouette_edges, stats.crease_edges), (6, 6), "{stats:?}");
+    let view_proj = scene.camera.view_projection(1.0);
+    let to_pixel = |p: Vec3| {
+        let c = view_proj * p.extend(1.0);
+        Vec2::new((c.x / c.w + 1.0) * 0.5 * size.0 as f32, (c.y / c.w + 1.0) * 0.5 * size.1 as f32)
+    };
+    let corner = Vec3::splat(0.5);
+    for axis in [Vec3::X, Vec3::Y, Vec3::Z] {
+        for i in 1..40 {
+            let p = to_pixel(corner - axis * (i as f32 / 40.0));
+            assert_eq!(image.pixel(p.x as u32, p.y as u32)[..3], INK, "edge along {axis} at {p}");
+        }
+        let face_centre = to_pixel(corner - (Vec3::ONE - axis) * 0.5);
+        assert_ne!(image.pixel(face_centre.x as u32, face_centre.y as u32)[..3], INK, "face {axis}");
+    }
+    common::assert_no_validation_messages(&gpu);
+}
