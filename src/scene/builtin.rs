@@ -15,7 +15,9 @@ pub const BUILTIN_SCENES: &[(&str, &str)] = &[
 
 /// Scenes built in code but left out of `BUILTIN_SCENES` (which the shadow-volume tests sweep):
 /// `duck` shows a one-pixel disagreement between z-fail in alpha and the real stencil (128x96,
-/// pixel (43, 40)), still to be explained.
+/// `--volume-method zfail`, pixel (43, 40): the stencil ends non-zero where z-pass and the alpha
+/// count give 0, i.e. a z-fail count of -1 that wraps in the stencil and clamps in alpha). The
+/// ground and the tail alone reproduce it; still to be explained.
 pub const OTHER_SCENES: &[(&str, &str)] =
     &[("duck", "a duck made of ellipsoids (seed 002's figure): toon shading and ink lines")];
 
