@@ -123,6 +123,22 @@ pub struct FrameArgs {
     /// shadow-volume: how counts become a mask: `seed`, `max` or `subpass`.
     #[arg(long, default_value = "seed", value_name = "seed|max|subpass")]
     pub normalize: String,
+    /// outline: objects to outline, by name (default: the scene's first closed object).
+    #[arg(long, value_name = "NAME,...", default_value = "")]
+    pub select: String,
+    /// silhouette/toon: how ink is found: `edges` (CPU, screen-space quads), `shader` (N.V rim)
+    /// or `hull` (inverted hull).
+    #[arg(long, default_value = "edges", value_name = "edges|shader|hull")]
+    pub silhouette: String,
+    /// silhouette/toon: edges whose faces fold by more than this are creases (degrees).
+    #[arg(long, default_value_t = 40.0, value_name = "DEG")]
+    pub crease_angle: f32,
+    /// silhouette/toon: ink line width in pixels (edges and hull).
+    #[arg(long, default_value_t = 2.0, value_name = "PX")]
+    pub line_width: f32,
+    /// outline: outline width in pixels.
+    #[arg(long, default_value_t = 4.0, value_name = "PX")]
+    pub outline_width: f32,
     #[command(flatten)]
     pub gpu: GpuArgs,
 }

@@ -8,9 +8,10 @@ use crate::error::{Error, Result};
 use crate::gpu::{mobile_profile, DeviceChoice, Gpu, GpuOptions};
 use crate::profile::budget::Budget;
 use crate::profile::report::{ProfileReport, ReportContext, ReportFormat};
-use crate::scene::{builtin_scene, scene_from_gltf, Scene, BUILTIN_SCENES};
+use crate::scene::{builtin_scene, scene_from_gltf, Scene, BUILTIN_SCENES, OTHER_SCENES};
 use crate::technique::{
-    alpha_counter, render_scene, Normalize, RenderOptions, ShadowVolumeOptions, Technique, VolumeMethod,
+    alpha_counter, render_scene, CartoonOptions, Normalize, RenderOptions, ShadowVolumeOptions, SilhouetteMethod,
+    Technique, VolumeMethod,
 };
 
 pub fn run(cli: Cli) -> Result<()> {
@@ -68,6 +69,18 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
             ..Default::default()
         },
         count_overdraw: false,
+        cartoon: {
+            let cartoon = CartoonOptions {
+                select: CartoonOptions::parse_select(&frame.select),
+                silhouette: SilhouetteMethod::parse(&frame.silhouette)?,
+                crease_deg: frame.crease_angle,
+                line_width: frame.line_width,
+                outline_width: frame.outline_width,
+                ..Default::default()
+            };
+            cartoon.check()?;
+            cartoon
+        },
     })
 }
 
@@ -149,7 +162,11 @@ fn profile(frame: &FrameArgs, format: FormatArg, outputs: &ProfileOutputs) -> Re
         &output.counters,
         attachments,
     );
-    report.technique_stats = frame_result.shadow_volume.and_then(|s| serde_json::to_value(s).ok());
+    report.technique_stats = match (&frame_result.shadow_volume, &frame_result.cartoon) {
+        (Some(s), _) => serde_json::to_value(s).ok(),
+        (_, Some(c)) => serde_json::to_value(c).ok(),
+        _ => None,
+    };
     print!("{}", report.render(report_format(format)));
     if let (Some(stats), FormatArg::Table) = (frame_result.shadow_volume, format) {
         println!(
@@ -159,6 +176,24 @@ fn profile(frame: &FrameArgs, format: FormatArg, outputs: &ProfileOutputs) -> Re
             options.shadow_volume.increment,
             stats.saturated_pixels.map_or("n/a (reference)".to_owned(), |n| n.to_string())
         );
+    }
+    if let (Some(stats), FormatArg::Table) = (&frame_result.cartoon, format) {
+        match stats.method {
+            Some(method) if method != SilhouetteMethod::Edges => {
+                println!("\ncartoon ({}): ink on the GPU, no CPU edge work", method.name())
+            }
+            Some(method) => println!(
+                "\ncartoon ({}): {} edges in the unique edge lists | drawn: {} silhouette, {} crease, {} boundary | \
+                 CPU edge work {:.3} ms",
+                method.name(),
+                stats.total_edges,
+                stats.silhouette_edges,
+                stats.crease_edges,
+                stats.boundary_edges,
+                stats.edge_cpu_ms
+            ),
+            None => println!("\noutline: selected {}", stats.selected.join(", ")),
+        }
     }
 
     if let Some(path) = &outputs.heatmap {
@@ -265,7 +300,7 @@ fn info(args: &GpuArgs, json: bool) -> Result<()> {
         forbidden_features: &mobile_profile::FORBIDDEN_FEATURES,
         lazily_allocated_memory: info.has_lazily_allocated_memory,
         limits: &info.limit_checks,
-        scenes: BUILTIN_SCENES.iter().map(|(n, _)| *n).collect(),
+        scenes: BUILTIN_SCENES.iter().chain(OTHER_SCENES).map(|(n, _)| *n).collect(),
         techniques: Technique::ALL.iter().map(|t| t.name()).collect(),
     };
     if json {
@@ -331,6 +366,28 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: u32, json: bool) -> Result<()> {
                 let mut renderer = ShadowVolumeRenderer::new(&gpu, &scene, width, height, StencilMode::Emulated, &sv)?;
                 variants.push(Variant {
                     name: format!("emulated {}", normalize.name()),
+                    frame: Box::new(move || Ok(renderer.frame()?.output)),
+                });
+            }
+        }
+        Technique::Outline => {
+            use crate::technique::cartoon::CartoonRenderer;
+            for (name, stencil) in
+                [("reference (stencil)", StencilMode::Reference), ("emulated", StencilMode::Emulated)]
+            {
+                let mut renderer =
+                    CartoonRenderer::new(&gpu, &scene, width, height, stencil, options.technique, &options.cartoon)?;
+                variants.push(Variant { name: name.into(), frame: Box::new(move || Ok(renderer.frame()?.output)) });
+            }
+        }
+        Technique::Silhouette | Technique::Toon => {
+            use crate::technique::cartoon::CartoonRenderer;
+            for method in SilhouetteMethod::ALL {
+                let cartoon = CartoonOptions { silhouette: method, ..options.cartoon.clone() };
+                let mut renderer =
+                    CartoonRenderer::new(&gpu, &scene, width, height, options.stencil, options.technique, &cartoon)?;
+                variants.push(Variant {
+                    name: format!("{} {}", options.technique.name(), method.name()),
                     frame: Box::new(move || Ok(renderer.frame()?.output)),
                 });
             }

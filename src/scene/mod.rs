@@ -15,7 +15,7 @@ pub mod skinning;
 mod gltf_tests;
 
 pub use animation::{pose_at, rest_pose, sample_channel, Animation, TimeMode};
-pub use builtin::{builtin_scene, BUILTIN_SCENES};
+pub use builtin::{builtin_scene, BUILTIN_SCENES, OTHER_SCENES};
 pub use camera::{Camera, Light};
 pub use from_gltf::scene_from_gltf;
 pub use gltf_loader::{load_gltf, load_gltf_slice};

@@ -1,6 +1,7 @@
 //! Techniques: each module records its passes and reads top to bottom.
 
 pub mod alpha_counter;
+pub mod cartoon;
 pub mod lit;
 pub mod shadow_volume;
 
@@ -12,6 +13,7 @@ use crate::gpu::Gpu;
 use crate::render::{FrameOutput, FrameUniforms, GpuScene, Renderer};
 use crate::scene::Scene;
 
+pub use cartoon::{CartoonOptions, CartoonStats, SilhouetteMethod};
 pub use shadow_volume::{Normalize, ShadowVolumeOptions, ShadowVolumeStats, VolumeMethod};
 
 /// What `--technique` selects.
@@ -23,15 +25,25 @@ pub enum Technique {
     Lit,
     /// Shadow volumes counted in the alpha channel (seed 000).
     ShadowVolume,
+    /// Selection outline without a stencil (seed 003).
+    Outline,
+    /// Lambert shading with ink lines (seed 002).
+    Silhouette,
+    /// Toon shading (N.L through a ramp) with ink lines (seed 002).
+    Toon,
 }
 
 impl Technique {
-    pub const ALL: &'static [Technique] = &[Technique::Lit, Technique::ShadowVolume];
+    pub const ALL: &'static [Technique] =
+        &[Technique::Lit, Technique::ShadowVolume, Technique::Outline, Technique::Silhouette, Technique::Toon];
 
     pub fn name(self) -> &'static str {
         match self {
             Technique::Lit => "lit",
             Technique::ShadowVolume => "shadow-volume",
+            Technique::Outline => "outline",
+            Technique::Silhouette => "silhouette",
+            Technique::Toon => "toon",
         }
     }
 
@@ -54,6 +66,7 @@ pub struct RenderOptions {
     pub shadow_volume: ShadowVolumeOptions,
     /// Heat-map frame: alpha ends up holding the fragments shaded per pixel.
     pub count_overdraw: bool,
+    pub cartoon: CartoonOptions,
 }
 
 impl Default for RenderOptions {
@@ -65,6 +78,7 @@ impl Default for RenderOptions {
             technique: Technique::Lit,
             shadow_volume: ShadowVolumeOptions::default(),
             count_overdraw: false,
+            cartoon: CartoonOptions::default(),
         }
     }
 }
@@ -75,6 +89,10 @@ pub fn pipeline_descs(options: &RenderOptions) -> Vec<(&'static str, crate::pipe
     match options.technique {
         Technique::Lit => vec![("both", lit::scene_pipeline_desc())],
         Technique::ShadowVolume => shadow_volume::pipeline_descs(&options.shadow_volume),
+        Technique::Outline | Technique::Silhouette | Technique::Toon => cartoon::pipeline_descs(options.technique)
+            .into_iter()
+            .map(|d| (if d.fixed.stencil.is_some() { "reference" } else { "emulated" }, d))
+            .collect(),
     }
 }
 
@@ -82,6 +100,7 @@ pub fn pipeline_descs(options: &RenderOptions) -> Vec<(&'static str, crate::pipe
 pub struct TechniqueFrame {
     pub output: FrameOutput,
     pub shadow_volume: Option<ShadowVolumeStats>,
+    pub cartoon: Option<CartoonStats>,
 }
 
 /// Renders `scene` with the chosen technique and returns the image and its counters.
@@ -95,7 +114,7 @@ pub fn render_scene(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions) -> R
             let clear = scene.background.extend(1.0).to_array();
             let lit = lit::LitPass::new(gpu, &renderer)?;
             let output = renderer.render(&uniforms, clear, |rec| lit.record(rec, scene, &meshes, |_| 1.0))?;
-            Ok(TechniqueFrame { output, shadow_volume: None })
+            Ok(TechniqueFrame { output, shadow_volume: None, cartoon: None })
         }
         Technique::ShadowVolume => {
             let mut renderer = shadow_volume::ShadowVolumeRenderer::new(
@@ -108,7 +127,19 @@ pub fn render_scene(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions) -> R
             )?;
             renderer.count_overdraw(options.count_overdraw);
             let frame = renderer.frame()?;
-            Ok(TechniqueFrame { output: frame.output, shadow_volume: Some(frame.stats) })
+            Ok(TechniqueFrame { output: frame.output, shadow_volume: Some(frame.stats), cartoon: None })
+        }
+        Technique::Outline | Technique::Silhouette | Technique::Toon => {
+            let frame = cartoon::render(
+                gpu,
+                scene,
+                options.width,
+                options.height,
+                options.stencil,
+                options.technique,
+                &options.cartoon,
+            )?;
+            Ok(TechniqueFrame { output: frame.output, shadow_volume: None, cartoon: Some(frame.stats) })
         }
     }
 }

@@ -1,0 +1,23 @@
+#version 450
+// Scene geometry for the cartoon techniques: world position and normal, and N.V per vertex
+// (seed 002's vertex-shader silhouette: the texture coordinate of the dark-rim lookup).
+#include "frame_uniforms.glsl"
+#include "cartoon_push.glsl"
+
+invariant gl_Position;
+
+layout(location = 0) in vec3 in_position;
+layout(location = 1) in vec3 in_normal;
+
+layout(location = 0) out vec3 world_position;
+layout(location = 1) out vec3 world_normal;
+layout(location = 2) out float facing;
+
+void main() {
+    vec4 world = object.model * vec4(in_position, 1.0);
+    world_position = world.xyz;
+    world_normal = transpose(inverse(mat3(object.model))) * in_normal;
+    vec3 to_eye = normalize(frame.camera_position.xyz - world.xyz);
+    facing = dot(normalize(world_normal), to_eye);
+    gl_Position = frame.view_proj * world;
+}

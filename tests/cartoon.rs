@@ -1,0 +1,344 @@
+//! Cartoon rendering: the stencil-free outline is proven against the real stencil pixel for
+//! pixel; ink lines are measured in the image against their analytic position and width; the
+//! shader and hull methods put dark ink on the silhouette.
+
+mod common;
+
+use std::sync::Arc;
+
+use glam::{Mat4, Vec2, Vec3};
+use nostencil::frame::{RgbaImage, StencilMode};
+use nostencil::gpu::Gpu;
+use nostencil::mesh::{shapes, MeshData};
+use nostencil::scene::{builtin_scene, Camera, Light, Scene};
+use nostencil::technique::cartoon::{self, CartoonOptions, CartoonStats, SilhouetteMethod};
+use nostencil::technique::Technique;
+
+const SIZE: (u32, u32) = (160, 120);
+/// `cartoon.rs`'s ink colour (0.04, 0.04, 0.06) in 8 bits.
+const INK: [u8; 3] = [10, 10, 15];
+
+fn render(
+    gpu: &Arc<Gpu>,
+    scene: &Scene,
+    stencil: StencilMode,
+    technique: Technique,
+    options: &CartoonOptions,
+    size: (u32, u32),
+) -> (RgbaImage, CartoonStats) {
+    let frame = cartoon::render(gpu, scene, size.0, size.1, stencil, technique, options).expect("cartoon frame");
+    (frame.output.image, frame.stats)
+}
+
+fn rgb_differences(a: &RgbaImage, b: &RgbaImage) -> usize {
+    a.pixels.chunks_exact(4).zip(b.pixels.chunks_exact(4)).filter(|(p, q)| p[..3] != q[..3]).count()
+}
+
+fn count_rgb(image: &RgbaImage, rgb: [u8; 3]) -> usize {
+    image.pixels.chunks_exact(4).filter(|p| p[..3] == rgb).count()
+}
+
+#[test]
+fn outline_emulated_equals_reference_for_one_and_several_overlapping_objects() {
+    let gpu = common::gpu();
+    let outline = builtin_scene("outline").expect("scene");
+    let default = builtin_scene("default").expect("scene");
+    let cases: [(&Scene, &[&str]); 6] = [
+        (&outline, &[]),
+        (&outline, &["box"]),
+        // The box and the sphere intersect: no outline between them.
+        (&outline, &["box", "sphere"]),
+        // The torus in front of the box is not selected: the box's outline crosses it.
+        (&outline, &["box", "sphere", "torus knot"]),
+        (&outline, &["box", "sphere", "torus knot", "torus", "ground"]),
+        (&default, &["torus", "torus knot"]),
+    ];
+    let orange = CartoonOptions::default().outline_colour;
+    for (scene, names) in cases {
+        let options =
+            CartoonOptions { select: names.iter().map(|s| s.to_string()).collect(), ..CartoonOptions::default() };
+        let (reference, _) = render(&gpu, scene, StencilMode::Reference, Technique::Outline, &options, SIZE);
+        let (emulated, stats) = render(&gpu, scene, StencilMode::Emulated, Technique::Outline, &options, SIZE);
+        let label = format!("{} {names:?}", scene.name);
+        assert!(!stats.selected.is_empty(), "{label}: nothing selected");
+        let outline_pixels = count_rgb(&reference, orange);
+        assert!(outline_pixels > 100, "{label}: the reference shows {outline_pixels} outline pixels");
+        let differing = rgb_differences(&emulated, &reference);
+        assert_eq!(differing, 0, "{label}: {differing} pixels differ");
+        // Alpha is the emulated stencil: 1 exactly on the visible selected surfaces.
+        let marked = emulated.pixels.chunks_exact(4).filter(|p| p[3] == 255).count();
+        assert!(marked > 100, "{label}: {marked} pixels marked");
+        assert!(emulated.pixels.chunks_exact(4).all(|p| p[3] == 0 || p[3] == 255), "{label}: alpha not 0/1");
+    }
+    common::assert_no_validation_messages(&gpu);
+}
+
+#[test]
+fn outline_never_covers_a_selected_surface_and_hugs_the_selected_object() {
+    // Every outline pixel is off the visible selected surface (alpha 0 there) and within the
+    // outline width of the selected object's whole silhouette (rendered alone: the outline
+    // copy is drawn with the depth test off, so it also paints over the hidden part of the
+    // object, as the document's stencil version does).
+    let gpu = common::gpu();
+    let scene = builtin_scene("outline").expect("scene");
+    let one = CartoonOptions { select: vec!["box".into()], ..CartoonOptions::default() };
+    let (image, _) = render(&gpu, &scene, StencilMode::Emulated, Technique::Outline, &one, SIZE);
+    let mut alone_scene = scene.clone();
+    alone_scene.objects.retain(|o| o.name == "box");
+    let (alone, _) = render(&gpu, &alone_scene, StencilMode::Emulated, Technique::Outline, &one, SIZE);
+    let orange = one.outline_colour;
+    let (w, h) = (image.width as i32, image.height as i32);
+    let reach = one.outline_width.ceil() as i32 + 1;
+    for y in 0..h {
+        for x in 0..w {
+            let p = image.pixel(x as u32, y as u32);
+            if p[..3] != orange {
+                continue;
+            }
+            assert_eq!(p[3], 0, "outline drawn over the selected surface at ({x}, {y})");
+            let near_selection = (-reach..=reach).any(|dy| {
+                (-reach..=reach).any(|dx| {
+                    let (sx, sy) = (x + dx, y + dy);
+                    sx >= 0 && sy >= 0 && sx < w && sy < h && alone.pixel(sx as u32, sy as u32)[3] == 255
+                })
+            });
+            assert!(near_selection, "outline pixel ({x}, {y}) is not within {reach} px of the selection");
+        }
+    }
+    // Alone, the outline is a ring: every pixel next to the box (1 px out) is outline.
+    let mut ring = 0;
+    for y in 1..h - 1 {
+        for x in 1..w - 1 {
+            let inside = |x: i32, y: i32| alone.pixel(x as u32, y as u32)[3] == 255;
+            if !inside(x, y) && (inside(x - 1, y) || inside(x + 1, y) || inside(x, y - 1) || inside(x, y + 1)) {
+                assert_eq!(alone.pixel(x as u32, y as u32)[..3], orange, "({x}, {y}) next to the box");
+                ring += 1;
+            }
+        }
+    }
+    assert!(ring > 50, "{ring} ring pixels");
+    common::assert_no_validation_messages(&gpu);
+}
+
+#[test]
+fn unknown_selection_is_refused_with_the_objects_names() {
+    let gpu = common::gpu();
+    let scene = builtin_scene("outline").expect("scene");
+    let options = CartoonOptions { select: vec!["teapot".into()], ..CartoonOptions::default() };
+    let error = cartoon::render(&gpu, &scene, 64, 64, StencilMode::Emulated, Technique::Outline, &options)
+        .err()
+        .expect("unknown object")
+        .to_string();
+    assert!(error.contains("teapot") && error.contains("sphere"), "{error}");
+    let bad_width = CartoonOptions { line_width: 0.0, ..CartoonOptions::default() };
+    assert!(bad_width.check().is_err());
+}
+
+/// A scene with one object in front of a camera on the +Z axis looking at the origin.
+fn face_on_scene(mesh: MeshData, transform: Mat4) -> Scene {
+    let mut scene = Scene {
+        name: "face-on".into(),
+        meshes: Vec::new(),
+        objects: Vec::new(),
+        light: Light::Directional { direction: Vec3::new(0.0, 0.0, -1.0) },
+        ambient: 0.25,
+        camera: Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO),
+        background: Vec3::new(0.9, 0.9, 0.9),
+    };
+    let mesh = scene.add_mesh("shape", mesh);
+    scene.add_object("shape", mesh, transform, Vec3::new(0.3, 0.5, 0.8), false);
+    scene
+}
+
+/// A unit square in the z = 0 plane facing +Z: open, its outline is four boundary edges.
+fn square() -> MeshData {
+    MeshData {
+        positions: vec![
+            Vec3::new(-0.5, -0.5, 0.0),
+            Vec3::new(0.5, -0.5, 0.0),
+            Vec3::new(0.5, 0.5, 0.0),
+            Vec3::new(-0.5, 0.5, 0.0),
+        ],
+        normals: vec![Vec3::Z; 4],
+        uvs: vec![Vec2::ZERO; 4],
+        indices: vec![0, 1, 2, 0, 2, 3],
+    }
+}
+
+/// Rows of column `x` within 10 rows of `y` painted in ink.
+fn ink_rows(image: &RgbaImage, x: u32, y: f32) -> Vec<u32> {
+    (0..image.height).filter(|&r| (r as f32 - y).abs() < 10.0 && image.pixel(x, r)[..3] == INK).collect()
+}
+
+/// Pixel rows whose centres fall in [top, bottom) (the rasteriser's top-left rule on a
+/// horizontal band).
+fn rows_between(top: f32, bottom: f32) -> Vec<u32> {
+    (0..1000u32).filter(|&j| (j as f32 + 0.5) >= top && (j as f32 + 0.5) < bottom).collect()
+}
+
+/// Framebuffer y of a world point.
+fn pixel_y(scene: &Scene, point: Vec3, size: (u32, u32)) -> f32 {
+    let clip = scene.camera.view_projection(size.0 as f32 / size.1 as f32) * point.extend(1.0);
+    (clip.y / clip.w + 1.0) * 0.5 * size.1 as f32
+}
+
+#[test]
+fn ink_line_width_in_the_image_is_the_requested_width() {
+    let gpu = common::gpu();
+    let size = (128, 128);
+    // A square's top edge is a boundary: the line is centred on it. A cube's front face top edge
+    // seen face-on is a silhouette: the line grows outwards (up) from it.
+    let cases = [
+        ("square boundary", square(), Vec3::new(0.0, 0.5, 0.0), false),
+        ("cube silhouette", shapes::cube(1.0), Vec3::new(0.0, 0.5, 0.5), true),
+    ];
+    for (label, mesh, edge, outward) in &cases {
+        // Lift the shape until its edge lands a quarter pixel below a pixel border, so that no
+        // band border below falls on a pixel centre.
+        let at = |lift: f32| {
+            let scene = face_on_scene(mesh.clone(), Mat4::from_translation(Vec3::new(0.0, lift, 0.0)));
+            let y = pixel_y(&scene, *edge + Vec3::new(0.0, lift, 0.0), size);
+            (scene, y)
+        };
+        let lift = (0..200).map(|i| 0.1 + i as f32 * 0.001).find(|&l| (at(l).1.fract() - 0.25).abs() < 0.05);
+        let (scene, y) = at(lift.expect("a lift that puts the edge at .25"));
+        let scene = &scene;
+        for width in [1.0f32, 2.0, 3.0, 5.0] {
+            let options = CartoonOptions { line_width: width, ..CartoonOptions::default() };
+            let (image, stats) = render(&gpu, scene, StencilMode::Emulated, Technique::Silhouette, &options, size);
+            let (top, bottom) = if *outward { (y - width, y) } else { (y - 0.5 * width, y + 0.5 * width) };
+            // The analytic band must not put a pixel centre on its border (that would test the
+            // tie rule, not the width).
+            for border in [top, bottom] {
+                assert!((border - border.floor() - 0.5).abs() > 0.02, "{label}: border {border} on a centre");
+            }
+            let expected = rows_between(top, bottom);
+            assert_eq!(expected.len(), width as usize);
+            let measured = ink_rows(&image, size.0 / 2, y);
+            assert_eq!(measured, expected, "{label} width {width}: edge at y = {y} ({stats:?})");
+        }
+    }
+    common::assert_no_validation_messages(&gpu);
+}
+
+#[test]
+fn ink_lines_sit_on_the_sphere_silhouette_without_gaps() {
+    // A sphere face-on: its silhouette is a circle of known radius on screen. Every ray from
+    // the centre crosses ink just outside that circle, and no ink lies inside it.
+    let gpu = common::gpu();
+    let size = (128, 128);
+    let scene = face_on_scene(shapes::uv_sphere(24, 48).expect("sphere"), Mat4::IDENTITY);
+    let options = CartoonOptions { line_width: 2.0, ..CartoonOptions::default() };
+    let (image, stats) = render(&gpu, &scene, StencilMode::Emulated, Technique::Silhouette, &options, size);
+    assert!(stats.silhouette_edges >= 48, "{stats:?}");
+    // The contour seen from distance d of a unit sphere: radius sin(asin(1/d)) at depth 1/d,
+    // i.e. tangent angle asin(1/5) from the axis.
+    let focal = 0.5 * size.1 as f32 / (0.5 * scene.camera.fov_y_radians).tan();
+    let radius_px = focal * (1.0f32 / 5.0).asin().tan();
+    let centre = Vec2::new(size.0 as f32 * 0.5, size.1 as f32 * 0.5);
+    for step in 0..72 {
+        let angle = step as f32 * std::f32::consts::TAU / 72.0;
+        let dir = Vec2::new(angle.cos(), angle.sin());
+        let ink_at: Vec<f32> = (0..(radius_px as i32 + 8) * 4)
+            .map(|i| i as f32 * 0.25)
+            .filter(|r| {
+                let p = centre + dir * *r;
+                image.pixel(p.x as u32, p.y as u32)[..3] == INK
+            })
+            .collect();
+        assert!(!ink_at.is_empty(), "no ink at {angle} rad");
+        let (first, last) = (ink_at[0], ink_at[ink_at.len() - 1]);
+        // Tessellation (48 segments) puts the polygon up to 0.3% inside the circle.
+        assert!(first > radius_px - 1.5 && last < radius_px + 3.5, "{angle} rad: ink from {first} to {last}");
+    }
+    common::assert_no_validation_messages(&gpu);
+}
+
+#[test]
+fn every_ink_method_darkens_the_silhouette_and_toon_shading_has_bands() {
+    let gpu = common::gpu();
+    let scene = face_on_scene(shapes::uv_sphere(24, 48).expect("sphere"), Mat4::IDENTITY);
+    let size = (96, 96);
+    let dark = |p: [u8; 4]| p[0] < 40 && p[1] < 40 && p[2] < 40;
+    for method in SilhouetteMethod::ALL {
+        let options = CartoonOptions { silhouette: method, line_width: 3.0, ..CartoonOptions::default() };
+        for technique in [Technique::Silhouette, Technique::Toon] {
+            let (image, _) = render(&gpu, &scene, StencilMode::Emulated, technique, &options, size);
+            // The sphere's centre is lit, its contour (radius ~ 21 px) is dark.
+            assert!(!dark(image.pixel(48, 48)), "{method:?} {technique:?}: centre is dark");
+            let dark_on_contour = (0..36)
+                .filter(|i| {
+                    let a = *i as f32 * std::f32::consts::TAU / 36.0;
+                    (36..52).any(|r| {
+                        let r = r as f32 * 0.5;
+                        let (x, y) = (48.0 + a.cos() * r, 48.0 + a.sin() * r);
+                        dark(image.pixel(x as u32, y as u32))
+                    })
+                })
+                .count();
+            assert_eq!(dark_on_contour, 36, "{method:?} {technique:?}: contour not inked all round");
+        }
+    }
+    // The toon ramp has three levels: a toon frame without ink shows at most three shades of
+    // the albedo on the sphere (plus the background).
+    let options = CartoonOptions { silhouette: SilhouetteMethod::Hull, line_width: 0.5, ..CartoonOptions::default() };
+    let (image, _) = render(&gpu, &scene, StencilMode::Emulated, Technique::Toon, &options, size);
+    let mut colours: Vec<[u8; 3]> = image.pixels.chunks_exact(4).map(|p| [p[0], p[1], p[2]]).collect();
+    colours.sort();
+    colours.dedup();
+    assert!(colours.len() <= 6, "{} colours: {colours:?}", colours.len());
+    common::assert_no_validation_messages(&gpu);
+}
+
+#[test]
+fn ink_passes_are_measured_one_per_edge_class() {
+    let gpu = common::gpu();
+    let scene = builtin_scene("default").expect("scene");
+    let frame = cartoon::render(
+        &gpu,
+        &scene,
+        SIZE.0,
+        SIZE.1,
+        StencilMode::Emulated,
+        Technique::Toon,
+        &CartoonOptions::default(),
+    )
+    .expect("frame");
+    let names: Vec<&str> = frame.output.counters.passes.iter().map(|p| p.name.as_str()).collect();
+    assert_eq!(names, ["scene", "ink silhouette", "ink crease", "ink boundary"]);
+    for pass in &frame.output.counters.passes {
+        assert!(pass.draws <= scene.objects.len() as u32, "{}: {} draws", pass.name, pass.draws);
+    }
+    let stats = frame.stats;
+    assert!(stats.silhouette_edges > 0 && stats.crease_edges > 0 && stats.boundary_edges > 0, "{stats:?}");
+    common::assert_no_validation_messages(&gpu);
+}
+
+#[test]
+fn crease_lines_of_a_cube_are_unbroken_and_stay_on_the_edges() {
+    // A cube seen from a corner: the three edges at the nearest corner are 90 degree creases
+    // between visible faces, drawn centred and depth tested against those very faces. Every
+    // pixel an edge passes through must be ink (no z-fighting gaps), and face centres must not.
+    let gpu = common::gpu();
+    let size = (128, 128);
+    let mut scene = face_on_scene(shapes::cube(1.0), Mat4::IDENTITY);
+    scene.camera = Camera::look_at(Vec3::new(2.2, 1.9, 2.6), Vec3::ZERO);
+    let options = CartoonOptions { line_width: 2.0, ..CartoonOptions::default() };
+    let (image, stats) = render(&gpu, &scene, StencilMode::Emulated, Technique::Silhouette, &options, size);
+    assert_eq!((stats.silhouette_edges, stats.crease_edges), (6, 6), "{stats:?}");
+    let view_proj = scene.camera.view_projection(1.0);
+    let to_pixel = |p: Vec3| {
+        let c = view_proj * p.extend(1.0);
+        Vec2::new((c.x / c.w + 1.0) * 0.5 * size.0 as f32, (c.y / c.w + 1.0) * 0.5 * size.1 as f32)
+    };
+    let corner = Vec3::splat(0.5);
+    for axis in [Vec3::X, Vec3::Y, Vec3::Z] {
+        for i in 1..40 {
+            let p = to_pixel(corner - axis * (i as f32 / 40.0));
+            assert_eq!(image.pixel(p.x as u32, p.y as u32)[..3], INK, "edge along {axis} at {p}");
+        }
+        let face_centre = to_pixel(corner - (Vec3::ONE - axis) * 0.5);
+        assert_ne!(image.pixel(face_centre.x as u32, face_centre.y as u32)[..3], INK, "face {axis}");
+    }
+    common::assert_no_validation_messages(&gpu);
+}
