@@ -7,7 +7,7 @@ use super::args::{Cli, Command, FormatArg, FrameArgs, GpuArgs};
 use crate::error::{Error, Result};
 use crate::gpu::{mobile_profile, DeviceChoice, Gpu, GpuOptions};
 use crate::profile::report::{ProfileReport, ReportContext, ReportFormat};
-use crate::scene::{builtin_scene, scene_from_gltf, Scene, BUILTIN_SCENES};
+use crate::scene::{builtin_scene_at, scene_from_gltf, Scene, BUILTIN_SCENES};
 use crate::technique::{
     alpha_counter, render_scene, Normalize, RenderOptions, ShadowVolumeOptions, Technique, VolumeMethod,
 };
@@ -33,7 +33,7 @@ fn load_scene(name: &str, time: f32) -> Result<Scene> {
     if is_gltf || path.exists() {
         scene_from_gltf(path, time)
     } else {
-        builtin_scene(name)
+        builtin_scene_at(name, time)
     }
 }
 
@@ -49,6 +49,7 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
             normalize: Normalize::parse(&frame.normalize)?,
             ..Default::default()
         },
+        planar: Default::default(),
     })
 }
 
@@ -109,7 +110,11 @@ fn profile(frame: &FrameArgs, format: FormatArg) -> Result<()> {
         &output.counters,
         attachments,
     );
-    report.technique_stats = frame.shadow_volume.and_then(|s| serde_json::to_value(s).ok());
+    report.technique_stats = match (&frame.shadow_volume, &frame.planar) {
+        (Some(s), _) => serde_json::to_value(s).ok(),
+        (_, Some(p)) => serde_json::to_value(p).ok(),
+        _ => None,
+    };
     let format_kind = match format {
         FormatArg::Table => ReportFormat::Table,
         FormatArg::Json => ReportFormat::Json,
@@ -227,6 +232,15 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: u32, json: bool) -> Result<()> {
                     name: format!("emulated {}", normalize.name()),
                     frame: Box::new(move || Ok(renderer.frame()?.output)),
                 });
+            }
+        }
+        Technique::Planar => {
+            use crate::technique::planar::PlanarRenderer;
+            for (name, stencil) in
+                [("reference (stencil)", StencilMode::Reference), ("emulated (alpha)", StencilMode::Emulated)]
+            {
+                let mut renderer = PlanarRenderer::new(&gpu, &scene, width, height, stencil, &options.planar)?;
+                variants.push(Variant { name: name.into(), frame: Box::new(move || Ok(renderer.frame()?.output)) });
             }
         }
         Technique::Lit => {

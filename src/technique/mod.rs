@@ -2,6 +2,7 @@
 
 pub mod alpha_counter;
 pub mod lit;
+pub mod planar;
 pub mod shadow_volume;
 
 use std::sync::Arc;
@@ -12,6 +13,7 @@ use crate::gpu::Gpu;
 use crate::render::{FrameOutput, FrameUniforms, GpuScene, Renderer};
 use crate::scene::Scene;
 
+pub use planar::{PlanarOptions, PlanarStats};
 pub use shadow_volume::{Normalize, ShadowVolumeOptions, ShadowVolumeStats, VolumeMethod};
 
 /// What `--technique` selects.
@@ -23,15 +25,19 @@ pub enum Technique {
     Lit,
     /// Shadow volumes counted in the alpha channel (seed 000).
     ShadowVolume,
+    /// Casters (skinned on the GPU) projected onto the ground, double darkening stopped in alpha
+    /// in one pass (seed 001).
+    Planar,
 }
 
 impl Technique {
-    pub const ALL: &'static [Technique] = &[Technique::Lit, Technique::ShadowVolume];
+    pub const ALL: &'static [Technique] = &[Technique::Lit, Technique::ShadowVolume, Technique::Planar];
 
     pub fn name(self) -> &'static str {
         match self {
             Technique::Lit => "lit",
             Technique::ShadowVolume => "shadow-volume",
+            Technique::Planar => "planar",
         }
     }
 
@@ -52,6 +58,7 @@ pub struct RenderOptions {
     pub stencil: StencilMode,
     pub technique: Technique,
     pub shadow_volume: ShadowVolumeOptions,
+    pub planar: PlanarOptions,
 }
 
 impl Default for RenderOptions {
@@ -62,6 +69,7 @@ impl Default for RenderOptions {
             stencil: StencilMode::Emulated,
             technique: Technique::Lit,
             shadow_volume: ShadowVolumeOptions::default(),
+            planar: PlanarOptions::default(),
         }
     }
 }
@@ -70,6 +78,7 @@ impl Default for RenderOptions {
 pub struct TechniqueFrame {
     pub output: FrameOutput,
     pub shadow_volume: Option<ShadowVolumeStats>,
+    pub planar: Option<PlanarStats>,
 }
 
 /// Renders `scene` with the chosen technique and returns the image and its counters.
@@ -82,7 +91,7 @@ pub fn render_scene(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions) -> R
             let clear = scene.background.extend(1.0).to_array();
             let lit = lit::LitPass::new(gpu, &renderer)?;
             let output = renderer.render(&uniforms, clear, |rec| lit.record(rec, scene, &meshes, |_| 1.0))?;
-            Ok(TechniqueFrame { output, shadow_volume: None })
+            Ok(TechniqueFrame { output, shadow_volume: None, planar: None })
         }
         Technique::ShadowVolume => {
             let frame = shadow_volume::render(
@@ -93,7 +102,11 @@ pub fn render_scene(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions) -> R
                 options.stencil,
                 &options.shadow_volume,
             )?;
-            Ok(TechniqueFrame { output: frame.output, shadow_volume: Some(frame.stats) })
+            Ok(TechniqueFrame { output: frame.output, shadow_volume: Some(frame.stats), planar: None })
+        }
+        Technique::Planar => {
+            let frame = planar::render(gpu, scene, options.width, options.height, options.stencil, &options.planar)?;
+            Ok(TechniqueFrame { output: frame.output, shadow_volume: None, planar: Some(frame.stats) })
         }
     }
 }
