@@ -5,7 +5,9 @@
 //! projected shadows overlap the torso's: the case where double darkening shows.
 //!
 //! Every box is closed and no two boxes share a vertex position, so the welded mesh is a closed
-//! manifold (several components) and the character also casts shadow volumes.
+//! manifold (several components). It is still not a shadow-volume caster (`casts_shadow` is
+//! false): in the default scene at t = 0 its volume made one pixel of 128x96 differ between the
+//! alpha counter and the real stencil (tests/shadow_volume.rs), not yet explained.
 
 use std::f32::consts::TAU;
 
@@ -182,6 +184,8 @@ pub fn add_character(scene: &mut Scene, placement: Mat4, time: f32, colour: Vec3
     for object in &mut scene.objects[first..] {
         object.name = "character".into();
         object.colour = colour;
+        // See the module notes: closed, but kept out of shadow volumes for now.
+        object.casts_shadow = false;
     }
     Ok(())
 }
@@ -200,7 +204,10 @@ mod tests {
         let object = &scene.objects[0];
         let skin = object.skin.as_ref().expect("skinned");
         assert_eq!(skin.joint_matrices.len(), 6);
-        assert!(object.casts_shadow, "six closed boxes weld to a closed mesh");
+        let data = &scene.meshes[object.mesh].data;
+        let welded = crate::mesh::weld_by_position("character", &data.positions, &data.indices, 1e-5).unwrap();
+        let adjacency = crate::mesh::EdgeAdjacency::build("character", &welded.positions, &welded.indices).unwrap();
+        assert!(adjacency.require_closed_manifold().is_ok(), "six closed boxes weld to a closed mesh");
         // At t = 0 the swing is zero: the legs' feet rest on the ground.
         let low = scene.meshes[0].data.positions.iter().map(|p| p.y).fold(f32::MAX, f32::min);
         assert!(low.abs() < 0.02, "{low}");
