@@ -234,14 +234,22 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: u32, json: bool) -> Result<()> {
                 });
             }
         }
-        Technique::Planar => {
-            use crate::technique::planar::PlanarRenderer;
-            for (name, stencil) in
-                [("reference (stencil)", StencilMode::Reference), ("emulated (alpha)", StencilMode::Emulated)]
-            {
+        Technique::Planar | Technique::Blob | Technique::ShadowTexture => {
+            // The three shadows of seed 001 side by side, the real-stencil reference first.
+            use crate::technique::planar::{blob::BlobRenderer, shadow_texture::ShadowTextureRenderer, PlanarRenderer};
+            let factor = options.planar.shadow_factor;
+            for (name, stencil) in [
+                ("planar reference (stencil)", StencilMode::Reference),
+                ("planar emulated (alpha)", StencilMode::Emulated),
+            ] {
                 let mut renderer = PlanarRenderer::new(&gpu, &scene, width, height, stencil, &options.planar)?;
                 variants.push(Variant { name: name.into(), frame: Box::new(move || Ok(renderer.frame()?.output)) });
             }
+            let mut blob = BlobRenderer::new(&gpu, &scene, width, height, StencilMode::Emulated, factor)?;
+            variants.push(Variant { name: "blob".into(), frame: Box::new(move || Ok(blob.frame()?.output)) });
+            let mut texture = ShadowTextureRenderer::new(&gpu, &scene, width, height, StencilMode::Emulated, factor)?;
+            variants
+                .push(Variant { name: "shadow texture".into(), frame: Box::new(move || Ok(texture.frame()?.output)) });
         }
         Technique::Lit => {
             for stencil in [StencilMode::Reference, StencilMode::Emulated] {

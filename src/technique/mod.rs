@@ -28,16 +28,23 @@ pub enum Technique {
     /// Casters (skinned on the GPU) projected onto the ground, double darkening stopped in alpha
     /// in one pass (seed 001).
     Planar,
+    /// A soft round texture on a quad under each caster (seed 001's cheapest shadow).
+    Blob,
+    /// Casters drawn from the light into a small texture that the ground looks up (seed 001).
+    ShadowTexture,
 }
 
 impl Technique {
-    pub const ALL: &'static [Technique] = &[Technique::Lit, Technique::ShadowVolume, Technique::Planar];
+    pub const ALL: &'static [Technique] =
+        &[Technique::Lit, Technique::ShadowVolume, Technique::Planar, Technique::Blob, Technique::ShadowTexture];
 
     pub fn name(self) -> &'static str {
         match self {
             Technique::Lit => "lit",
             Technique::ShadowVolume => "shadow-volume",
             Technique::Planar => "planar",
+            Technique::Blob => "blob",
+            Technique::ShadowTexture => "shadow-texture",
         }
     }
 
@@ -106,6 +113,16 @@ pub fn render_scene(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions) -> R
         }
         Technique::Planar => {
             let frame = planar::render(gpu, scene, options.width, options.height, options.stencil, &options.planar)?;
+            Ok(TechniqueFrame { output: frame.output, shadow_volume: None, planar: Some(frame.stats) })
+        }
+        Technique::Blob => {
+            let (w, h, factor) = (options.width, options.height, options.planar.shadow_factor);
+            let frame = planar::blob::render(gpu, scene, w, h, options.stencil, factor)?;
+            Ok(TechniqueFrame { output: frame.output, shadow_volume: None, planar: Some(frame.stats) })
+        }
+        Technique::ShadowTexture => {
+            let (w, h, factor) = (options.width, options.height, options.planar.shadow_factor);
+            let frame = planar::shadow_texture::render(gpu, scene, w, h, options.stencil, factor)?;
             Ok(TechniqueFrame { output: frame.output, shadow_volume: None, planar: Some(frame.stats) })
         }
     }

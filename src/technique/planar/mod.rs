@@ -16,6 +16,8 @@
 //! Pass IncrWrap, ZFail Keep, blending `ADD, ZERO, SRC_ALPHA` with fragment alpha `F/255`. Both
 //! multiply each shadowed pixel once by the same 8-bit factor, so their RGB are identical.
 
+pub mod blob;
+pub mod shadow_texture;
 pub mod skin;
 
 use std::sync::Arc;
@@ -145,6 +147,9 @@ pub fn receiver_plane(scene: &Scene) -> Result<ReceiverPlane> {
 /// Pulls the flattened mesh towards the camera so it wins LESS_OR_EQUAL against the ground it
 /// lies on (same plane, different triangles: depths differ in the last bits).
 const SHADOW_BIAS: DepthBias = DepthBias { constant: -4.0, slope: -1.5 };
+
+const RGB_ONLY: vk::ColorComponentFlags =
+    vk::ColorComponentFlags::from_raw(vk::ColorComponentFlags::RGBA.as_raw() & !vk::ColorComponentFlags::A.as_raw());
 
 /// Stencil values of the reference path: receivers not yet shadowed hold 0.
 const STENCIL_RECEIVER: u32 = 0;
@@ -285,9 +290,7 @@ pub struct PlanarRenderer<'s> {
     options: PlanarOptions,
     stencil: StencilMode,
     renderer: Renderer,
-    meshes: GpuScene,
-    /// Per object: its GPU skin when it is skinned.
-    skinned: Vec<Option<SkinnedMesh>>,
+    meshes: SceneMeshes,
     plane: ReceiverPlane,
     pipelines: Pipelines,
 }
@@ -303,23 +306,9 @@ impl<'s> PlanarRenderer<'s> {
     ) -> Result<Self> {
         let plane = receiver_plane(scene)?;
         let renderer = Renderer::new(gpu, width, height, stencil, false)?;
-        let meshes = GpuScene::upload(gpu, scene)?;
-        let skinned = scene
-            .objects
-            .iter()
-            .map(|o| match &o.skin {
-                Some(skin) => {
-                    let indices = &scene.meshes[o.mesh].data.indices;
-                    SkinnedMesh::upload(gpu, &o.name, skin, indices).map(Some)
-                }
-                None => Ok(None),
-            })
-            .collect::<Result<Vec<_>>>()?;
-        // Every palette's layout is defined identically; a template gives the pipelines theirs
-        // even when the scene has no skinned object.
-        let template = skin::Palette::new(gpu, "layout template")?;
+        let meshes = SceneMeshes::upload(gpu, scene)?;
         let frame_layout = [renderer.frame.layout];
-        let skinned_layouts = [renderer.frame.layout, template.descriptors.layout];
+        let skinned_layouts = [renderer.frame.layout, meshes.template.descriptors.layout];
         let render_pass = renderer.targets.render_pass;
         let [receiver, scene_desc, skinned_desc, shadow, shadow_skinned] = path_descs(stencil);
         let pipelines = Pipelines {
@@ -329,7 +318,7 @@ impl<'s> PlanarRenderer<'s> {
             shadow: Pipeline::new(gpu, &shadow, render_pass, &frame_layout)?,
             shadow_skinned: Pipeline::new(gpu, &shadow_skinned, render_pass, &skinned_layouts)?,
         };
-        Ok(PlanarRenderer { scene, options: *options, stencil, renderer, meshes, skinned, plane, pipelines })
+        Ok(PlanarRenderer { scene, options: *options, stencil, renderer, meshes, plane, pipelines })
     }
 
     pub fn plane(&self) -> &ReceiverPlane {
@@ -338,17 +327,13 @@ impl<'s> PlanarRenderer<'s> {
 
     pub fn frame(&mut self) -> Result<PlanarFrame> {
         let scene = self.scene;
-        for (object, skinned) in scene.objects.iter().zip(&mut self.skinned) {
-            if let (Some(skin), Some(gpu_skin)) = (&object.skin, skinned.as_mut()) {
-                gpu_skin.palette.update(&object.name, &skin.joint_matrices)?;
-            }
-        }
+        self.meshes.update_palettes(scene)?;
         let uniforms = FrameUniforms::for_scene(scene, self.renderer.aspect());
         let factor = self.options.shadow_factor as f32 / 255.0;
         let clear = scene.background.extend(1.0).to_array();
         let reference = self.stencil == StencilMode::Reference;
         let draw_shadows = self.options.shadows && light_reaches_plane(&scene.light, self.plane.height);
-        let (pipelines, meshes, skinned, plane) = (&self.pipelines, &self.meshes, &self.skinned, &self.plane);
+        let (pipelines, meshes, plane) = (&self.pipelines, &self.meshes, &self.plane);
         let output = self.renderer.render(&uniforms, clear, |rec| {
             rec.pass("scene", |rec| {
                 if reference {
@@ -358,19 +343,8 @@ impl<'s> PlanarRenderer<'s> {
                     let receiver = plane.receivers[index];
                     let alpha = if receiver { factor } else { 1.0 };
                     let push = ObjectPush { model: object.transform, colour: object.colour.extend(alpha) };
-                    match &skinned[index] {
-                        Some(gpu_skin) => {
-                            bind_skinned(rec, &pipelines.scene_skinned, gpu_skin);
-                            rec.push(&pipelines.scene_skinned, &push);
-                            rec.draw_mesh(&gpu_skin.mesh);
-                        }
-                        None => {
-                            let pipeline = if receiver { &pipelines.scene_receiver } else { &pipelines.scene };
-                            rec.bind(pipeline);
-                            rec.push(pipeline, &push);
-                            rec.draw_mesh(&meshes.meshes[object.mesh]);
-                        }
-                    }
+                    let pipeline = if receiver { &pipelines.scene_receiver } else { &pipelines.scene };
+                    meshes.draw(rec, scene, index, pipeline, &pipelines.scene_skinned, &push);
                 }
                 Ok(())
             })?;
@@ -386,49 +360,128 @@ impl<'s> PlanarRenderer<'s> {
                     }
                     let push =
                         PlanarPush { model: object.transform, colour, plane: Vec4::new(plane.height, 0.0, 0.0, 0.0) };
-                    match &skinned[index] {
-                        Some(gpu_skin) => {
-                            bind_skinned(rec, &pipelines.shadow_skinned, gpu_skin);
-                            rec.push(&pipelines.shadow_skinned, &push);
-                            rec.draw_mesh(&gpu_skin.mesh);
-                        }
-                        None => {
-                            rec.bind(&pipelines.shadow);
-                            rec.push(&pipelines.shadow, &push);
-                            rec.draw_mesh(&meshes.meshes[object.mesh]);
-                        }
-                    }
+                    meshes.draw(rec, scene, index, &pipelines.shadow, &pipelines.shadow_skinned, &push);
                 }
                 Ok(())
             })
         })?;
-        let casters = self.plane.receivers.iter().filter(|r| !**r).count();
-        let skinned_casters = self.skinned.iter().filter(|s| s.is_some()).count();
-        Ok(PlanarFrame {
-            output,
-            stats: PlanarStats {
-                plane_height: self.plane.height,
-                casters,
-                skinned_casters,
-                shadow_factor: self.options.shadow_factor,
-            },
-        })
+        Ok(PlanarFrame { output, stats: stats(scene, &self.plane, &self.meshes, self.options.shadow_factor) })
+    }
+}
+
+pub(crate) fn stats(scene: &Scene, plane: &ReceiverPlane, meshes: &SceneMeshes, shadow_factor: u8) -> PlanarStats {
+    let _ = scene;
+    PlanarStats {
+        plane_height: plane.height,
+        casters: plane.receivers.iter().filter(|r| !**r).count(),
+        skinned_casters: meshes.skinned.iter().filter(|s| s.is_some()).count(),
+        shadow_factor,
     }
 }
 
 /// Binds a skinned pipeline: the frame uniforms at set 0 and the object's palette at set 1.
 pub(crate) fn bind_skinned(rec: &mut FrameRecorder, pipeline: &Pipeline, skinned: &SkinnedMesh) {
+    bind_set1(rec, pipeline, skinned.palette.descriptors.set);
+}
+
+/// Binds a pipeline with the frame uniforms at set 0 and a set of the technique's at set 1.
+pub(crate) fn bind_set1(rec: &mut FrameRecorder, pipeline: &Pipeline, set: vk::DescriptorSet) {
     rec.bind(pipeline);
     unsafe {
-        rec.device().cmd_bind_descriptor_sets(
-            rec.cmd,
-            vk::PipelineBindPoint::GRAPHICS,
-            pipeline.layout,
-            1,
-            &[skinned.palette.descriptors.set],
-            &[],
-        );
+        rec.device().cmd_bind_descriptor_sets(rec.cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.layout, 1, &[set], &[])
+    };
+}
+
+/// The lit scene pass of the blob and shadow-texture techniques: [static, skinned].
+pub fn lit_descs() -> [PipelineDesc; 2] {
+    [scene_desc("scene", false, None), scene_desc("scene (skinned)", true, None)]
+}
+
+/// The scene's meshes on the GPU, skinned objects with their palettes: what every planar
+/// technique draws its lit pass (and its casters) from.
+pub(crate) struct SceneMeshes {
+    pub meshes: GpuScene,
+    /// Per object: its GPU skin when it is skinned.
+    pub skinned: Vec<Option<SkinnedMesh>>,
+    /// Gives skinned pipelines their palette layout even when the scene has no skinned object
+    /// (every palette's layout is defined identically).
+    pub template: skin::Palette,
+}
+
+impl SceneMeshes {
+    pub fn upload(gpu: &Arc<Gpu>, scene: &Scene) -> Result<Self> {
+        let skinned = scene
+            .objects
+            .iter()
+            .map(|o| match &o.skin {
+                Some(skin) => {
+                    let indices = &scene.meshes[o.mesh].data.indices;
+                    SkinnedMesh::upload(gpu, &o.name, skin, indices).map(Some)
+                }
+                None => Ok(None),
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Ok(SceneMeshes {
+            meshes: GpuScene::upload(gpu, scene)?,
+            skinned,
+            template: skin::Palette::new(gpu, "layout template")?,
+        })
     }
+
+    /// This frame's joint palettes.
+    pub fn update_palettes(&mut self, scene: &Scene) -> Result<()> {
+        for (object, skinned) in scene.objects.iter().zip(&mut self.skinned) {
+            if let (Some(skin), Some(gpu_skin)) = (&object.skin, skinned.as_mut()) {
+                gpu_skin.palette.update(&object.name, &skin.joint_matrices)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Draws object `index` with `static_pipeline` or, skinned, `skinned_pipeline`.
+    pub fn draw<T: Copy>(
+        &self,
+        rec: &mut FrameRecorder,
+        scene: &Scene,
+        index: usize,
+        static_pipeline: &Pipeline,
+        skinned_pipeline: &Pipeline,
+        push: &T,
+    ) {
+        match &self.skinned[index] {
+            Some(gpu_skin) => {
+                bind_skinned(rec, skinned_pipeline, gpu_skin);
+                rec.push(skinned_pipeline, push);
+                rec.draw_mesh(&gpu_skin.mesh);
+            }
+            None => {
+                rec.bind(static_pipeline);
+                rec.push(static_pipeline, push);
+                rec.draw_mesh(&self.meshes.meshes[scene.objects[index].mesh]);
+            }
+        }
+    }
+}
+
+/// World-space bounds of the casters (CPU-skinned positions), `None` without casters.
+pub fn caster_bounds(scene: &Scene, plane: &ReceiverPlane) -> Option<(Vec3, Vec3)> {
+    (0..scene.objects.len())
+        .filter(|i| !plane.receivers[*i])
+        .filter_map(|i| caster_bounds_of(scene, i))
+        .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
+}
+
+/// World-space bounds of object `index` (CPU-skinned positions).
+pub fn caster_bounds_of(scene: &Scene, index: usize) -> Option<(Vec3, Vec3)> {
+    let o = scene.objects.get(index)?;
+    scene
+        .meshes
+        .get(o.mesh)?
+        .data
+        .positions
+        .iter()
+        .map(|p| o.transform.transform_point3(*p))
+        .fold(None, |b, w| Some(b.map_or((w, w), |(lo, hi): (Vec3, Vec3)| (lo.min(w), hi.max(w)))))
 }
 
 /// Sets the whole stencil aspect to `value` inside the render pass (the frame clears it to 0).
