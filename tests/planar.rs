@@ -358,15 +358,76 @@ fn bad_input_gets_a_clear_error() {
     common::assert_no_validation_messages(&gpu);
 }
 
+/// The other two shadows of seed 001, checked against the projected-mesh shadow.
 #[test]
-fn profile_reports_the_planar_passes() {
-    let output = Command::new(env!("CARGO_BIN_EXE_nostencil"))
-        .args(["profile", "--technique", "planar", "--size", "96x64", "--format", "json", "--time", "0.3"])
-        .output()
-        .expect("run");
-    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
-    let json: serde_json::Value = serde_json::from_slice(&output.stdout).expect("json");
-    let names: Vec<&str> =
-        json["passes"].as_array().expect("passes").iter().filter_map(|p| p["name"].as_str()).collect();
-    assert_eq!(names, ["scene", "planar shadow"], "{json}");
+fn shadow_texture_covers_the_planar_shadow_and_blobs_sit_under_the_casters() {
+    let gpu = common::gpu();
+    for name in ["character", "character-point"] {
+        let scene = builtin_scene_at(name, 0.3).expect("scene");
+        let unshadowed = render(&gpu, &scene, StencilMode::Emulated, false);
+        let receivers = receiver_mask(&unshadowed.output.image);
+        let planar_mask =
+            changed(&render(&gpu, &scene, StencilMode::Emulated, true).output.image, &unshadowed.output.image);
+
+        let texture = planar::shadow_texture::render(&gpu, &scene, SIZE.0, SIZE.1, StencilMode::Emulated, FACTOR)
+            .expect("shadow texture");
+        let texture_mask = changed(&texture.output.image, &unshadowed.output.image);
+        let (mut both, mut either, mut exact, mut darkened) = (0, 0, 0, 0);
+        for (i, (p, q)) in
+            texture.output.image.pixels.chunks_exact(4).zip(unshadowed.output.image.pixels.chunks_exact(4)).enumerate()
+        {
+            both += (texture_mask[i] && planar_mask[i]) as usize;
+            either += (texture_mask[i] || planar_mask[i]) as usize;
+            if texture_mask[i] {
+                assert!(receivers[i], "{name}: pixel {i} darkened off the receivers");
+                darkened += 1;
+                let once = [darken(q[0], FACTOR), darken(q[1], FACTOR), darken(q[2], FACTOR)];
+                assert!((0..3).all(|c| p[c] >= once[c]), "{name}: pixel {i} darker than one shadow: {p:?} vs {once:?}");
+                exact += (p[..3] == once) as usize;
+            }
+        }
+        // Same silhouette up to the texture's texels and filtering at the edges.
+        assert!(both * 100 >= either * 80, "{name}: shadow texture and planar overlap {both} of {either} pixels");
+        assert!(
+            exact * 100 >= darkened * 70,
+            "{name}: only {exact} of {darkened} texture-shadow pixels at full factor"
+        );
+
+        let blob = planar::blob::render(&gpu, &scene, SIZE.0, SIZE.1, StencilMode::Emulated, FACTOR).expect("blob");
+        let blob_mask = changed(&blob.output.image, &unshadowed.output.image);
+        assert!(blob_mask.iter().zip(&receivers).all(|(b, r)| !b || *r), "{name}: blob off the receivers");
+        // The blob is centred under the character: the pixel under its bounds' centre is darkened,
+        // a pixel far away on the ground is not.
+        let plane = planar::receiver_plane(&scene).expect("plane");
+        let (low, high) = planar::caster_bounds(&scene, &plane).expect("casters");
+        let under = Vec3::new((low.x + high.x) * 0.5, plane.height, (low.z + high.z) * 0.5);
+        let pixel_of = |p: Vec3| {
+            let c = scene.camera.view_projection(SIZE.0 as f32 / SIZE.1 as f32) * p.extend(1.0);
+            let (x, y) = ((c.x / c.w * 0.5 + 0.5) * SIZE.0 as f32, (c.y / c.w * 0.5 + 0.5) * SIZE.1 as f32);
+            (y as u32 * SIZE.0 + x as u32) as usize
+        };
+        assert!(blob_mask[pixel_of(under)], "{name}: no blob under the character");
+        assert!(!blob_mask[pixel_of(under + Vec3::new(2.0, 0.0, 0.0))], "{name}: the blob reaches 2 m away");
+    }
+    common::assert_no_validation_messages(&gpu);
+}
+
+#[test]
+fn profile_shows_each_shadow_kind() {
+    for (technique, expected) in [
+        ("blob", &["scene", "blob shadow"][..]),
+        ("shadow-texture", &["shadow texture", "scene", "shadow texture receive"][..]),
+        ("planar", &["scene", "planar shadow"][..]),
+    ] {
+        let output = Command::new(env!("CARGO_BIN_EXE_nostencil"))
+            .args(["profile", "--technique", technique, "--size", "96x64", "--format", "json", "--validation"])
+            .output()
+            .expect("run");
+        let err = String::from_utf8_lossy(&output.stderr);
+        assert!(output.status.success() && !err.contains("validation"), "{technique}: {err}");
+        let json: serde_json::Value = serde_json::from_slice(&output.stdout).expect("json");
+        let names: Vec<&str> =
+            json["passes"].as_array().expect("passes").iter().filter_map(|p| p["name"].as_str()).collect();
+        assert_eq!(names, expected, "{technique}");
+    }
 }
