@@ -79,11 +79,10 @@ fn cpu_shadow_mask(scene: &Scene, triangles: &[[Vec3; 3]]) -> Vec<bool> {
 /// Every caster triangle (CPU-skinned positions) projected onto the receiving plane.
 fn projected_triangles(scene: &Scene, objects: impl Fn(usize) -> bool, h: f32) -> Vec<[Vec3; 3]> {
     let mut out = Vec::new();
-    for (i, o) in scene.objects.iter().enumerate().filter(|(i, _)| objects(*i)) {
+    for (_, o) in scene.objects.iter().enumerate().filter(|(i, _)| objects(*i)) {
         let data = &scene.meshes[o.mesh].data;
         let world =
             |v: u32| project_onto_plane(o.transform.transform_point3(data.positions[v as usize]), &scene.light, h);
-        let _ = i;
         for t in data.indices.chunks_exact(3) {
             out.push([world(t[0]), world(t[1]), world(t[2])]);
         }

@@ -80,6 +80,13 @@ pub fn blob_desc() -> PipelineDesc {
     }
 }
 
+/// Every pipeline of the technique (for `nostencil passes`).
+pub fn pipeline_descs() -> Vec<PipelineDesc> {
+    let mut descs = lit_descs().to_vec();
+    descs.push(blob_desc());
+    descs
+}
+
 /// The blob quads of this frame: one per caster, centred under its posed bounds, as wide as the
 /// bounds (plus a fifth), fading out as the caster's lowest point rises one caster height.
 fn blob_vertices(scene: &Scene, plane: &ReceiverPlane, darkness: f32) -> Vec<BlobVertex> {
@@ -209,7 +216,7 @@ impl<'s> BlobRenderer<'s> {
                 Ok(())
             })
         })?;
-        Ok(PlanarFrame { output, stats: stats(scene, &self.plane, &self.meshes, self.shadow_factor) })
+        Ok(PlanarFrame { output, stats: stats(&self.plane, &self.meshes, self.shadow_factor) })
     }
 }
 

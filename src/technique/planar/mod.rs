@@ -365,12 +365,11 @@ impl<'s> PlanarRenderer<'s> {
                 Ok(())
             })
         })?;
-        Ok(PlanarFrame { output, stats: stats(scene, &self.plane, &self.meshes, self.options.shadow_factor) })
+        Ok(PlanarFrame { output, stats: stats(&self.plane, &self.meshes, self.options.shadow_factor) })
     }
 }
 
-pub(crate) fn stats(scene: &Scene, plane: &ReceiverPlane, meshes: &SceneMeshes, shadow_factor: u8) -> PlanarStats {
-    let _ = scene;
+pub(crate) fn stats(plane: &ReceiverPlane, meshes: &SceneMeshes, shadow_factor: u8) -> PlanarStats {
     PlanarStats {
         plane_height: plane.height,
         casters: plane.receivers.iter().filter(|r| !**r).count(),

@@ -344,7 +344,7 @@ impl<'s> ShadowTextureRenderer<'s> {
                 })
             },
         )?;
-        Ok(PlanarFrame { output, stats: stats(scene, &self.plane, &self.meshes, self.shadow_factor) })
+        Ok(PlanarFrame { output, stats: stats(&self.plane, &self.meshes, self.shadow_factor) })
     }
 }
 
