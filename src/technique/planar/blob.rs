@@ -241,7 +241,7 @@ mod tests {
         let image = blob_image(BLOB_TEXTURE_SIZE);
         let half = BLOB_TEXTURE_SIZE / 2;
         assert_eq!(image.pixel(half, half)[3], 255);
-        assert_eq!(image.pixel(0, half)[3], 0);
+        assert!(image.pixel(0, half)[3] < 4, "{:?}", image.pixel(0, half));
         assert_eq!(image.pixel(0, 0)[3], 0);
         assert_eq!(BLOB_LAYOUT.stride() as usize, std::mem::size_of::<BlobVertex>());
     }
