@@ -99,6 +99,9 @@ pub struct FrameArgs {
     /// shadow-volume: how counts become a mask: `seed`, `max` or `subpass`.
     #[arg(long, default_value = "seed", value_name = "seed|max|subpass")]
     pub normalize: String,
+    /// planar, blob, shadow-texture: shadowed colour = colour x F/255 (0..=255; 255: no shadow).
+    #[arg(long, default_value_t = 102, value_name = "F")]
+    pub shadow_factor: u8,
     #[command(flatten)]
     pub gpu: GpuArgs,
 }

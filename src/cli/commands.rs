@@ -9,7 +9,7 @@ use crate::gpu::{mobile_profile, DeviceChoice, Gpu, GpuOptions};
 use crate::profile::report::{ProfileReport, ReportContext, ReportFormat};
 use crate::scene::{builtin_scene_at, scene_from_gltf, Scene, BUILTIN_SCENES};
 use crate::technique::{
-    alpha_counter, render_scene, Normalize, RenderOptions, ShadowVolumeOptions, Technique, VolumeMethod,
+    alpha_counter, render_scene, Normalize, PlanarOptions, RenderOptions, ShadowVolumeOptions, Technique, VolumeMethod,
 };
 
 pub fn run(cli: Cli) -> Result<()> {
@@ -49,7 +49,7 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
             normalize: Normalize::parse(&frame.normalize)?,
             ..Default::default()
         },
-        planar: Default::default(),
+        planar: PlanarOptions { shadow_factor: frame.shadow_factor, ..Default::default() },
     })
 }
 
