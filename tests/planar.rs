@@ -401,17 +401,28 @@ fn shadow_texture_covers_the_planar_shadow_and_blobs_sit_under_the_casters() {
         let blob = planar::blob::render(&gpu, &scene, SIZE.0, SIZE.1, StencilMode::Emulated, FACTOR).expect("blob");
         let blob_mask = changed(&blob.output.image, &unshadowed.output.image);
         assert!(blob_mask.iter().zip(&receivers).all(|(b, r)| !b || *r), "{name}: blob off the receivers");
-        // The blob is centred under the character: the pixel under its bounds' centre is darkened,
-        // a pixel far away on the ground is not.
+        // One blob under each foot: the lowest points of the two legs (boxes 4 and 5).
         let plane = planar::receiver_plane(&scene).expect("plane");
-        let (low, high) = planar::caster_bounds(&scene, &plane).expect("casters");
-        let under = Vec3::new((low.x + high.x) * 0.5, plane.height, (low.z + high.z) * 0.5);
+        let blobs = planar::blob::blobs(&scene, &plane, 1.0 - FACTOR as f32 / 255.0);
+        assert_eq!(blobs.len(), 2, "{name}: {blobs:?}");
+        let character = scene.object("character").expect("character");
+        let data = &scene.meshes[character.mesh].data;
+        for (leg, blob) in [96..120usize, 120..144].into_iter().zip(&blobs) {
+            let foot = leg
+                .map(|v| character.transform.transform_point3(data.positions[v]))
+                .min_by(|a, b| a.y.total_cmp(&b.y))
+                .expect("vertices");
+            let offset = (foot - blob.centre) * Vec3::new(1.0, 0.0, 1.0);
+            assert!(offset.length() < 0.12, "{name}: blob {blob:?} is not under the foot at {foot}");
+        }
         let pixel_of = |p: Vec3| {
             let c = scene.camera.view_projection(SIZE.0 as f32 / SIZE.1 as f32) * p.extend(1.0);
             let (x, y) = ((c.x / c.w * 0.5 + 0.5) * SIZE.0 as f32, (c.y / c.w * 0.5 + 0.5) * SIZE.1 as f32);
             (y as u32 * SIZE.0 + x as u32) as usize
         };
-        assert!(blob_mask[pixel_of(under)], "{name}: no blob under the character");
+        let darkened_under = blobs.iter().filter(|b| blob_mask[pixel_of(b.centre)]).count();
+        assert!(darkened_under >= 1, "{name}: no blob visible under a foot");
+        let under = blobs[0].centre;
         assert!(!blob_mask[pixel_of(under + Vec3::new(2.0, 0.0, 0.0))], "{name}: the blob reaches 2 m away");
     }
     common::assert_no_validation_messages(&gpu);

@@ -1,6 +1,7 @@
 //! Blob shadows (seed 001, the mobile classic): a round, soft-edged texture on a quad lying on
-//! the ground under each caster's root (the centre of its posed bounds), darker the closer the
-//! caster is to the ground. Cheap and shape-blind.
+//! the ground under each foot of a skinned character (the seed's two foot-sized circles), or
+//! under the root (the centre of the posed bounds) of anything else, darker the closer it is to
+//! the ground. Cheap and shape-blind.
 //!
 //! Frame, one render pass: scene (lit, GPU-skinned), then one draw of every blob quad, depth
 //! LESS_OR_EQUAL with the planar bias, colour blend `ADD, ZERO, SRC_COLOR` with the fragment
@@ -87,24 +88,78 @@ pub fn pipeline_descs() -> Vec<PipelineDesc> {
     descs
 }
 
-/// The blob quads of this frame: one per caster, centred under its posed bounds, as wide as the
-/// bounds (plus a fifth), fading out as the caster's lowest point rises one caster height.
-fn blob_vertices(scene: &Scene, plane: &ReceiverPlane, darkness: f32) -> Vec<BlobVertex> {
-    let mut vertices = Vec::new();
-    for (index, _) in scene.objects.iter().enumerate().filter(|(i, _)| !plane.receivers[*i]) {
+/// One blob: where it lies on the plane, how wide it is and how dark its centre is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Blob {
+    pub centre: Vec3,
+    pub radius: f32,
+    pub strength: f32,
+}
+
+/// The blobs of this frame. A skinned caster gets one under each foot: the vertices are grouped
+/// by the joint that weighs most on them, and every group that reaches down to the ground (within
+/// a tenth of the caster's height) gets a blob under its lowest slice. Other casters (and a
+/// skinned one with no such group) get one under the centre of their posed bounds, as wide as
+/// the bounds plus a fifth. Blobs fade out as what they stand for rises one caster height.
+pub fn blobs(scene: &Scene, plane: &ReceiverPlane, darkness: f32) -> Vec<Blob> {
+    let mut blobs = Vec::new();
+    for (index, object) in scene.objects.iter().enumerate().filter(|(i, _)| !plane.receivers[*i]) {
         let Some((low, high)) = caster_bounds_of(scene, index) else { continue };
         let size = high - low;
-        let radius = 0.6 * size.x.max(size.z).max(1e-3);
-        let lift = (low.y - plane.height).max(0.0) / size.y.max(radius);
-        let strength = darkness * (1.0 - lift).clamp(0.0, 1.0);
-        if strength <= 0.0 {
-            continue;
+        let fade = |bottom: f32| darkness * (1.0 - (bottom - plane.height).max(0.0) / size.y.max(1e-3)).clamp(0.0, 1.0);
+        let mut feet = Vec::new();
+        if let Some(skin) = &object.skin {
+            let data = &scene.meshes[object.mesh].data;
+            let world: Vec<Vec3> = data.positions.iter().map(|p| object.transform.transform_point3(*p)).collect();
+            let dominant = |v: usize| {
+                let (j, w) = (skin.joints.get(v)?, skin.weights.get(v)?);
+                (0..4).max_by(|&a, &b| w[a].total_cmp(&w[b])).map(|k| j[k])
+            };
+            let mut groups: Vec<(u16, Vec<Vec3>)> = Vec::new();
+            for (v, p) in world.iter().enumerate() {
+                let Some(joint) = dominant(v) else { continue };
+                match groups.iter_mut().find(|(j, _)| *j == joint) {
+                    Some((_, points)) => points.push(*p),
+                    None => groups.push((joint, vec![*p])),
+                }
+            }
+            for (_, points) in &groups {
+                let bottom = points.iter().map(|p| p.y).fold(f32::MAX, f32::min);
+                if bottom - plane.height > 0.1 * size.y {
+                    continue;
+                }
+                let slice: Vec<Vec3> = points.iter().copied().filter(|p| p.y <= bottom + 0.05 * size.y).collect();
+                let (lo, hi) = slice
+                    .iter()
+                    .fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |(l, h), p| (l.min(*p), h.max(*p)));
+                let extent = (hi - lo).x.max((hi - lo).z);
+                feet.push(Blob {
+                    centre: Vec3::new((lo.x + hi.x) * 0.5, plane.height, (lo.z + hi.z) * 0.5),
+                    radius: (1.6 * extent).max(0.12 * size.y),
+                    strength: fade(bottom),
+                });
+            }
         }
-        let centre = Vec3::new((low.x + high.x) * 0.5, plane.height, (low.z + high.z) * 0.5);
+        if feet.is_empty() {
+            feet.push(Blob {
+                centre: Vec3::new((low.x + high.x) * 0.5, plane.height, (low.z + high.z) * 0.5),
+                radius: 0.6 * size.x.max(size.z).max(1e-3),
+                strength: fade(low.y),
+            });
+        }
+        blobs.extend(feet.into_iter().filter(|b| b.strength > 0.0));
+    }
+    blobs
+}
+
+fn blob_vertices(blobs: &[Blob]) -> Vec<BlobVertex> {
+    let mut vertices = Vec::with_capacity(blobs.len() * 6);
+    for blob in blobs {
         let corner = |u: f32, v: f32| BlobVertex {
-            position: (centre + Vec3::new((u * 2.0 - 1.0) * radius, 0.0, (v * 2.0 - 1.0) * radius)).to_array(),
+            position: (blob.centre + Vec3::new((u * 2.0 - 1.0) * blob.radius, 0.0, (v * 2.0 - 1.0) * blob.radius))
+                .to_array(),
             uv: [u, v],
-            strength,
+            strength: blob.strength,
         };
         vertices.extend([corner(0.0, 0.0), corner(1.0, 0.0), corner(1.0, 1.0)]);
         vertices.extend([corner(0.0, 0.0), corner(1.0, 1.0), corner(0.0, 1.0)]);
@@ -188,7 +243,7 @@ impl<'s> BlobRenderer<'s> {
         let uniforms = FrameUniforms::for_scene(scene, self.renderer.aspect());
         let darkness = 1.0 - self.shadow_factor as f32 / 255.0;
         let vertices = if light_reaches_plane(&scene.light, self.plane.height) {
-            blob_vertices(scene, &self.plane, darkness)
+            blob_vertices(&blobs(scene, &self.plane, darkness))
         } else {
             Vec::new()
         };
