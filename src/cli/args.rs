@@ -111,7 +111,7 @@ pub struct FrameArgs {
     /// Built-in scene name (see `nostencil info`) or a .gltf/.glb file.
     #[arg(long, default_value = "default")]
     pub scene: String,
-    /// Animation time in seconds for glTF scenes (the first animation, looping).
+    /// Animation time in seconds: a glTF scene's first animation (looping), the built-in character's walk.
     #[arg(long, default_value_t = 0.0, value_name = "SECONDS")]
     pub time: f32,
     /// shadow-volume: alpha added per volume wall, in 1/255 steps (1..=8).
@@ -139,6 +139,9 @@ pub struct FrameArgs {
     /// outline: outline width in pixels.
     #[arg(long, default_value_t = 4.0, value_name = "PX")]
     pub outline_width: f32,
+    /// planar, blob, shadow-texture: shadowed colour = colour x F/255 (0..=255; 255: no shadow).
+    #[arg(long, default_value_t = 102, value_name = "F")]
+    pub shadow_factor: u8,
     #[command(flatten)]
     pub gpu: GpuArgs,
 }

@@ -8,10 +8,10 @@ use crate::error::{Error, Result};
 use crate::gpu::{mobile_profile, DeviceChoice, Gpu, GpuOptions};
 use crate::profile::budget::Budget;
 use crate::profile::report::{ProfileReport, ReportContext, ReportFormat};
-use crate::scene::{builtin_scene, scene_from_gltf, Scene, BUILTIN_SCENES, OTHER_SCENES};
+use crate::scene::{builtin_scene_at, scene_from_gltf, Scene, BUILTIN_SCENES, OTHER_SCENES};
 use crate::technique::{
-    alpha_counter, render_scene, CartoonOptions, Normalize, RenderOptions, ShadowVolumeOptions, SilhouetteMethod,
-    Technique, VolumeMethod,
+    alpha_counter, render_scene, CartoonOptions, Normalize, PlanarOptions, RenderOptions, ShadowVolumeOptions,
+    SilhouetteMethod, Technique, VolumeMethod,
 };
 
 pub fn run(cli: Cli) -> Result<()> {
@@ -52,7 +52,7 @@ fn load_scene(name: &str, time: f32) -> Result<Scene> {
     if is_gltf || path.exists() {
         scene_from_gltf(path, time)
     } else {
-        builtin_scene(name)
+        builtin_scene_at(name, time)
     }
 }
 
@@ -81,6 +81,7 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
             cartoon.check()?;
             cartoon
         },
+        planar: PlanarOptions { shadow_factor: frame.shadow_factor, ..Default::default() },
     })
 }
 
@@ -162,9 +163,10 @@ fn profile(frame: &FrameArgs, format: FormatArg, outputs: &ProfileOutputs) -> Re
         &output.counters,
         attachments,
     );
-    report.technique_stats = match (&frame_result.shadow_volume, &frame_result.cartoon) {
-        (Some(s), _) => serde_json::to_value(s).ok(),
-        (_, Some(c)) => serde_json::to_value(c).ok(),
+    report.technique_stats = match (&frame_result.shadow_volume, &frame_result.cartoon, &frame_result.planar) {
+        (Some(s), _, _) => serde_json::to_value(s).ok(),
+        (_, Some(c), _) => serde_json::to_value(c).ok(),
+        (_, _, Some(p)) => serde_json::to_value(p).ok(),
         _ => None,
     };
     print!("{}", report.render(report_format(format)));
@@ -391,6 +393,23 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: u32, json: bool) -> Result<()> {
                     frame: Box::new(move || Ok(renderer.frame()?.output)),
                 });
             }
+        }
+        Technique::Planar | Technique::Blob | Technique::ShadowTexture => {
+            // The three shadows of seed 001 side by side, the real-stencil reference first.
+            use crate::technique::planar::{blob::BlobRenderer, shadow_texture::ShadowTextureRenderer, PlanarRenderer};
+            let factor = options.planar.shadow_factor;
+            for (name, stencil) in [
+                ("planar reference (stencil)", StencilMode::Reference),
+                ("planar emulated (alpha)", StencilMode::Emulated),
+            ] {
+                let mut renderer = PlanarRenderer::new(&gpu, &scene, width, height, stencil, &options.planar)?;
+                variants.push(Variant { name: name.into(), frame: Box::new(move || Ok(renderer.frame()?.output)) });
+            }
+            let mut blob = BlobRenderer::new(&gpu, &scene, width, height, StencilMode::Emulated, factor)?;
+            variants.push(Variant { name: "blob".into(), frame: Box::new(move || Ok(blob.frame()?.output)) });
+            let mut texture = ShadowTextureRenderer::new(&gpu, &scene, width, height, StencilMode::Emulated, factor)?;
+            variants
+                .push(Variant { name: "shadow texture".into(), frame: Box::new(move || Ok(texture.frame()?.output)) });
         }
         Technique::Lit => {
             for stencil in [StencilMode::Reference, StencilMode::Emulated] {

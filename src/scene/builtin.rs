@@ -3,6 +3,7 @@
 use glam::{Mat4, Quat, Vec2, Vec3};
 
 use super::camera::{Camera, Light};
+use super::character;
 use super::objects::Scene;
 use crate::error::{Error, Result};
 use crate::mesh::{shapes, MeshData};
@@ -23,10 +24,17 @@ pub const BUILTIN_SCENES: &[(&str, &str)] = &[
 pub const OTHER_SCENES: &[(&str, &str)] = &[];
 
 pub fn builtin_scene(name: &str) -> Result<Scene> {
+    builtin_scene_at(name, 0.0)
+}
+
+/// A built-in scene with its animated parts (the skinned character) posed at `time` seconds.
+pub fn builtin_scene_at(name: &str, time: f32) -> Result<Scene> {
     match name {
-        "default" => default_scene(),
+        "default" => default_scene_at(time),
+        "character" => character_scene(time, Light::Directional { direction: CHARACTER_LIGHT }),
+        "character-point" => character_scene(time, Light::Point { position: Vec3::new(-1.2, 3.2, 0.9) }),
         "overlap" => overlap_scene(),
-        "point-light" => point_light_scene(),
+        "point-light" => point_light_scene(time),
         "inside" => inside_scene(),
         "box" => Ok(box_scene()),
         "outline" => outline_scene(),
@@ -50,8 +58,20 @@ pub(crate) fn empty_scene(name: &str, camera: Camera, light: Light) -> Scene {
     }
 }
 
-/// The default scene: three closed shapes floating over a ground plane, lit from above-left.
+/// The default scene: three closed shapes floating over a ground plane and the skinned
+/// character (at rest pose time 0) walking in place in front of them, lit from above-left.
 pub fn default_scene() -> Result<Scene> {
+    default_scene_at(0.0)
+}
+
+/// Where the character stands in the default scene.
+pub const DEFAULT_CHARACTER_PLACEMENT: Vec3 = Vec3::new(1.1, 0.0, 2.0);
+
+/// The light of the character scenes: from the character's left, so that the shadow of its right
+/// arm falls across the torso's.
+pub const CHARACTER_LIGHT: Vec3 = Vec3::new(-0.62, -1.0, -0.25);
+
+pub fn default_scene_at(time: f32) -> Result<Scene> {
     let camera = Camera::look_at(Vec3::new(0.0, 4.2, 8.5), Vec3::new(0.0, 0.7, 0.0));
     let light = Light::Directional { direction: Vec3::new(-0.45, -1.0, -0.35).normalize() };
     let mut scene = with_ground("default", camera, light);
@@ -82,6 +102,20 @@ pub fn default_scene() -> Result<Scene> {
         Vec3::new(0.42, 0.75, 0.36),
         true,
     );
+    let placement = Mat4::from_rotation_translation(Quat::from_rotation_y(-0.3), DEFAULT_CHARACTER_PLACEMENT);
+    character::add_character(&mut scene, placement, time, CHARACTER_COLOUR)?;
+    Ok(scene)
+}
+
+const CHARACTER_COLOUR: Vec3 = Vec3::new(0.93, 0.72, 0.30);
+
+/// The character alone over the ground, framed close (`character`, or `character-point` under a
+/// point light). Not in BUILTIN_SCENES, whose every scene must show shadow volumes, which the
+/// character does not cast (see `character.rs`).
+fn character_scene(time: f32, light: Light) -> Result<Scene> {
+    let camera = Camera::look_at(Vec3::new(1.0, 3.3, 3.4), Vec3::new(-0.5, 0.5, -0.2));
+    let mut scene = with_ground("character", camera, light);
+    character::add_character(&mut scene, Mat4::IDENTITY, time, CHARACTER_COLOUR)?;
     Ok(scene)
 }
 
@@ -128,8 +162,8 @@ fn overlap_scene() -> Result<Scene> {
     Ok(scene)
 }
 
-fn point_light_scene() -> Result<Scene> {
-    let mut scene = default_scene()?;
+fn point_light_scene(time: f32) -> Result<Scene> {
+    let mut scene = default_scene_at(time)?;
     scene.name = "point-light".into();
     scene.light = Light::Point { position: Vec3::new(-1.0, 6.0, 2.0) };
     Ok(scene)

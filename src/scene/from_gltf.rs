@@ -11,7 +11,7 @@ use super::builtin::{empty_scene, ground_plane};
 use super::camera::{Camera, Light};
 use super::gltf_loader::load_gltf;
 use super::model::{LightKind, Model};
-use super::objects::Scene;
+use super::objects::{Scene, SceneSkin};
 use super::skinning::{joint_matrices, skin_positions_normals, world_matrices};
 use crate::error::Result;
 use crate::mesh::{self, EdgeAdjacency, MeshData};
@@ -25,18 +25,43 @@ pub fn scene_from_gltf(path: &Path, time: f32) -> Result<Scene> {
 
     let mut scene =
         empty_scene(&name, Camera::look_at(Vec3::new(0.0, 2.0, 5.0), Vec3::ZERO), default_light(&model, &world));
+    let Some((low, high)) = add_model(&mut scene, &model, &world)? else {
+        return Err(crate::Error::Asset {
+            path: path.to_path_buf(),
+            problem: "the file has no triangle meshes to render".into(),
+        });
+    };
+    fit_ground_and_camera(&mut scene, low, high);
+    Ok(scene)
+}
+
+/// Adds every mesh primitive of `model` to `scene`, posed by the nodes' world matrices `world`:
+/// skinned primitives are skinned on the CPU into the object's mesh and keep their skin
+/// (bind-pose vertices, joints, weights, this pose's joint palette) for GPU skinning. Returns
+/// the world-space bounds of what was added, `None` when nothing was.
+pub fn add_model(scene: &mut Scene, model: &Model, world: &[Mat4]) -> Result<Option<(Vec3, Vec3)>> {
     let (mut low, mut high) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
     for (node_index, node) in model.nodes.iter().enumerate() {
         let Some(mesh) = node.mesh.and_then(|m| model.meshes.get(m)) else { continue };
         let node_world = world.get(node_index).copied().unwrap_or(Mat4::IDENTITY);
         let joints = match node.skin {
-            Some(skin) => Some(joint_matrices(&model, skin, &world, node_world)?),
+            Some(skin) => Some(joint_matrices(model, skin, world, node_world)?),
             None => None,
         };
         for (p, primitive) in mesh.primitives.iter().enumerate() {
             let (mut positions, mut normals) = (primitive.positions.clone(), primitive.normals.clone());
-            if let (Some(joints), Some(_), Some(_)) = (&joints, &primitive.joints, &primitive.weights) {
-                skin_positions_normals(primitive, joints, &mut positions, &mut normals)?;
+            let mut skin = None;
+            if let (Some(palette), Some(vertex_joints), Some(weights)) =
+                (&joints, &primitive.joints, &primitive.weights)
+            {
+                skin_positions_normals(primitive, palette, &mut positions, &mut normals)?;
+                skin = Some(Box::new(SceneSkin {
+                    positions: primitive.positions.clone(),
+                    normals: primitive.normals.clone(),
+                    joints: vertex_joints.clone(),
+                    weights: weights.clone(),
+                    joint_matrices: palette.clone(),
+                }));
             }
             for p in &positions {
                 let w = node_world.transform_point3(*p);
@@ -59,16 +84,12 @@ pub fn scene_from_gltf(path: &Path, time: f32) -> Result<Scene> {
             let closed = is_closed_after_welding(&label, &data);
             let mesh_index = scene.add_mesh(&label, data);
             scene.add_object(&label, mesh_index, node_world, colour, closed);
+            if let Some(object) = scene.objects.last_mut() {
+                object.skin = skin;
+            }
         }
     }
-    if low.x > high.x {
-        return Err(crate::Error::Asset {
-            path: path.to_path_buf(),
-            problem: "the file has no triangle meshes to render".into(),
-        });
-    }
-    fit_ground_and_camera(&mut scene, low, high);
-    Ok(scene)
+    Ok((low.x <= high.x).then_some((low, high)))
 }
 
 /// Shadow volumes need closed meshes; open ones (a room shell, a strip) only receive.

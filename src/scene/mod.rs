@@ -3,6 +3,7 @@
 pub mod animation;
 pub mod builtin;
 pub mod camera;
+pub mod character;
 pub mod from_gltf;
 mod gltf_data;
 pub mod gltf_loader;
@@ -15,10 +16,10 @@ pub mod skinning;
 mod gltf_tests;
 
 pub use animation::{pose_at, rest_pose, sample_channel, Animation, TimeMode};
-pub use builtin::{builtin_scene, BUILTIN_SCENES, OTHER_SCENES};
+pub use builtin::{builtin_scene, builtin_scene_at, BUILTIN_SCENES, OTHER_SCENES};
 pub use camera::{Camera, Light};
 pub use from_gltf::scene_from_gltf;
 pub use gltf_loader::{load_gltf, load_gltf_slice};
 pub use model::{Model, Transform, MAX_JOINTS};
-pub use objects::{Scene, SceneObject};
+pub use objects::{Scene, SceneObject, SceneSkin};
 pub use skinning::{joint_matrices, skin_positions_normals, world_matrices};

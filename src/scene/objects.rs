@@ -19,6 +19,24 @@ pub struct SceneObject {
     pub colour: Vec3,
     /// Casts shadows (shadow volumes need a closed mesh).
     pub casts_shadow: bool,
+    /// The skin of a skinned object, for techniques that skin on the GPU. `mesh` holds the same
+    /// vertices already posed on the CPU (what the lit pass and shadow volumes draw).
+    pub skin: Option<Box<SceneSkin>>,
+}
+
+/// A skinned object's bind-pose vertices, four influences each, and this frame's joint palette.
+#[derive(Debug, Clone)]
+pub struct SceneSkin {
+    /// Bind-pose positions and normals, one per vertex of the object's mesh (same indices).
+    pub positions: Vec<Vec3>,
+    pub normals: Vec<Vec3>,
+    /// Indices into `joint_matrices`.
+    pub joints: Vec<[u16; 4]>,
+    /// Summing to 1 (the loader renormalises).
+    pub weights: Vec<[f32; 4]>,
+    /// At most `MAX_JOINTS` matrices, in the object's (mesh node's) space: what the CPU skinning
+    /// applied to produce the mesh.
+    pub joint_matrices: Vec<Mat4>,
 }
 
 #[derive(Debug, Clone)]
@@ -40,7 +58,7 @@ impl Scene {
     }
 
     pub fn add_object(&mut self, name: &str, mesh: usize, transform: Mat4, colour: Vec3, casts_shadow: bool) {
-        self.objects.push(SceneObject { name: name.to_owned(), mesh, transform, colour, casts_shadow });
+        self.objects.push(SceneObject { name: name.to_owned(), mesh, transform, colour, casts_shadow, skin: None });
     }
 
     pub fn object(&self, name: &str) -> Option<&SceneObject> {

@@ -3,6 +3,7 @@
 pub mod alpha_counter;
 pub mod cartoon;
 pub mod lit;
+pub mod planar;
 pub mod shadow_volume;
 
 use std::sync::Arc;
@@ -14,6 +15,7 @@ use crate::render::{FrameOutput, FrameUniforms, GpuScene, Renderer};
 use crate::scene::Scene;
 
 pub use cartoon::{CartoonOptions, CartoonStats, SilhouetteMethod};
+pub use planar::{PlanarOptions, PlanarStats};
 pub use shadow_volume::{Normalize, ShadowVolumeOptions, ShadowVolumeStats, VolumeMethod};
 
 /// What `--technique` selects.
@@ -31,11 +33,26 @@ pub enum Technique {
     Silhouette,
     /// Toon shading (N.L through a ramp) with ink lines (seed 002).
     Toon,
+    /// Casters (skinned on the GPU) projected onto the ground, double darkening stopped in alpha
+    /// in one pass (seed 001).
+    Planar,
+    /// A soft round texture on a quad under each caster (seed 001's cheapest shadow).
+    Blob,
+    /// Casters drawn from the light into a small texture that the ground looks up (seed 001).
+    ShadowTexture,
 }
 
 impl Technique {
-    pub const ALL: &'static [Technique] =
-        &[Technique::Lit, Technique::ShadowVolume, Technique::Outline, Technique::Silhouette, Technique::Toon];
+    pub const ALL: &'static [Technique] = &[
+        Technique::Lit,
+        Technique::ShadowVolume,
+        Technique::Outline,
+        Technique::Silhouette,
+        Technique::Toon,
+        Technique::Planar,
+        Technique::Blob,
+        Technique::ShadowTexture,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -44,6 +61,9 @@ impl Technique {
             Technique::Outline => "outline",
             Technique::Silhouette => "silhouette",
             Technique::Toon => "toon",
+            Technique::Planar => "planar",
+            Technique::Blob => "blob",
+            Technique::ShadowTexture => "shadow-texture",
         }
     }
 
@@ -67,6 +87,7 @@ pub struct RenderOptions {
     /// Heat-map frame: alpha ends up holding the fragments shaded per pixel.
     pub count_overdraw: bool,
     pub cartoon: CartoonOptions,
+    pub planar: PlanarOptions,
 }
 
 impl Default for RenderOptions {
@@ -79,6 +100,7 @@ impl Default for RenderOptions {
             shadow_volume: ShadowVolumeOptions::default(),
             count_overdraw: false,
             cartoon: CartoonOptions::default(),
+            planar: PlanarOptions::default(),
         }
     }
 }
@@ -89,6 +111,14 @@ pub fn pipeline_descs(options: &RenderOptions) -> Vec<(&'static str, crate::pipe
     match options.technique {
         Technique::Lit => vec![("both", lit::scene_pipeline_desc())],
         Technique::ShadowVolume => shadow_volume::pipeline_descs(&options.shadow_volume),
+        Technique::Planar | Technique::Blob | Technique::ShadowTexture => {
+            let descs = match options.technique {
+                Technique::Planar => planar::pipeline_descs(),
+                Technique::Blob => planar::blob::pipeline_descs(),
+                _ => planar::shadow_texture::pipeline_descs(),
+            };
+            descs.into_iter().map(|d| (if d.fixed.stencil.is_some() { "reference" } else { "emulated" }, d)).collect()
+        }
         Technique::Outline | Technique::Silhouette | Technique::Toon => cartoon::pipeline_descs(options.technique)
             .into_iter()
             .map(|d| (if d.fixed.stencil.is_some() { "reference" } else { "emulated" }, d))
@@ -101,6 +131,7 @@ pub struct TechniqueFrame {
     pub output: FrameOutput,
     pub shadow_volume: Option<ShadowVolumeStats>,
     pub cartoon: Option<CartoonStats>,
+    pub planar: Option<PlanarStats>,
 }
 
 /// Renders `scene` with the chosen technique and returns the image and its counters.
@@ -114,7 +145,7 @@ pub fn render_scene(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions) -> R
             let clear = scene.background.extend(1.0).to_array();
             let lit = lit::LitPass::new(gpu, &renderer)?;
             let output = renderer.render(&uniforms, clear, |rec| lit.record(rec, scene, &meshes, |_| 1.0))?;
-            Ok(TechniqueFrame { output, shadow_volume: None, cartoon: None })
+            Ok(TechniqueFrame { output, shadow_volume: None, cartoon: None, planar: None })
         }
         Technique::ShadowVolume => {
             let mut renderer = shadow_volume::ShadowVolumeRenderer::new(
@@ -127,7 +158,7 @@ pub fn render_scene(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions) -> R
             )?;
             renderer.count_overdraw(options.count_overdraw);
             let frame = renderer.frame()?;
-            Ok(TechniqueFrame { output: frame.output, shadow_volume: Some(frame.stats), cartoon: None })
+            Ok(TechniqueFrame { output: frame.output, shadow_volume: Some(frame.stats), cartoon: None, planar: None })
         }
         Technique::Outline | Technique::Silhouette | Technique::Toon => {
             let frame = cartoon::render(
@@ -139,7 +170,21 @@ pub fn render_scene(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions) -> R
                 options.technique,
                 &options.cartoon,
             )?;
-            Ok(TechniqueFrame { output: frame.output, shadow_volume: None, cartoon: Some(frame.stats) })
+            Ok(TechniqueFrame { output: frame.output, shadow_volume: None, cartoon: Some(frame.stats), planar: None })
+        }
+        Technique::Planar => {
+            let frame = planar::render(gpu, scene, options.width, options.height, options.stencil, &options.planar)?;
+            Ok(TechniqueFrame { output: frame.output, shadow_volume: None, cartoon: None, planar: Some(frame.stats) })
+        }
+        Technique::Blob => {
+            let (w, h, factor) = (options.width, options.height, options.planar.shadow_factor);
+            let frame = planar::blob::render(gpu, scene, w, h, options.stencil, factor)?;
+            Ok(TechniqueFrame { output: frame.output, shadow_volume: None, cartoon: None, planar: Some(frame.stats) })
+        }
+        Technique::ShadowTexture => {
+            let (w, h, factor) = (options.width, options.height, options.planar.shadow_factor);
+            let frame = planar::shadow_texture::render(gpu, scene, w, h, options.stencil, factor)?;
+            Ok(TechniqueFrame { output: frame.output, shadow_volume: None, cartoon: None, planar: Some(frame.stats) })
         }
     }
 }

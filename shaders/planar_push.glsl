@@ -1,0 +1,9 @@
+// Per-draw values of the projected shadow (96 of the profile's 128 push-constant bytes). The
+// first 80 bytes are laid out as ObjectPush, which the fragment shader reads.
+layout(push_constant) uniform PlanarPush {
+    mat4 model;
+    // The shadow draw's colour: rgb 0; alpha 1 (emulated) or the shadow factor (reference).
+    vec4 colour;
+    // x: height h of the receiving plane y = h.
+    vec4 plane;
+} planar;

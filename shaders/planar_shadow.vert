@@ -1,0 +1,13 @@
+#version 450
+// The object's mesh flattened onto the receiving plane along the light.
+#include "frame_uniforms.glsl"
+#include "planar_push.glsl"
+#include "planar_project.glsl"
+
+layout(location = 0) in vec3 in_position;
+layout(location = 1) in vec3 in_normal;
+
+void main() {
+    vec3 world = (planar.model * vec4(in_position, 1.0)).xyz;
+    gl_Position = frame.view_proj * vec4(project_onto_plane(world, frame.light, planar.plane.x), 1.0);
+}

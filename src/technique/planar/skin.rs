@@ -1,0 +1,134 @@
+//! GPU skinning: a skinned object's bind-pose vertices with four joints and weights each, and its
+//! joint palette in a uniform buffer of `MAX_JOINTS` matrices (4 KiB, within the mobile
+//! profile's 16 KiB uniform range) at descriptor set 1 (`shaders/planar_skinning.glsl`).
+
+use std::sync::Arc;
+
+use ash::vk;
+use glam::{Mat4, Vec3};
+use gpu_allocator::MemoryLocation;
+
+use crate::error::{Error, Result};
+use crate::gpu::descriptors::{Binding, DescriptorSet};
+use crate::gpu::memory::{as_bytes, Buffer};
+use crate::gpu::Gpu;
+use crate::pipeline::VertexLayout;
+use crate::render::GpuMesh;
+use crate::scene::{SceneSkin, MAX_JOINTS};
+
+/// position, normal, JOINTS_0 (uvec4 of u16), WEIGHTS_0 (vec4): 48 bytes.
+pub const SKINNED_LAYOUT: VertexLayout = VertexLayout {
+    attributes: &[
+        vk::Format::R32G32B32_SFLOAT,
+        vk::Format::R32G32B32_SFLOAT,
+        vk::Format::R16G16B16A16_UINT,
+        vk::Format::R32G32B32A32_SFLOAT,
+    ],
+};
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+struct SkinnedVertex {
+    position: [f32; 3],
+    normal: [f32; 3],
+    joints: [u16; 4],
+    weights: [f32; 4],
+}
+
+/// Bytes of the joint palette: `MAX_JOINTS` mat4 (std140: 64 bytes each).
+pub const PALETTE_BYTES: u64 = (MAX_JOINTS * std::mem::size_of::<Mat4>()) as u64;
+
+/// One joint palette and the descriptor set that binds it.
+pub struct Palette {
+    // Field order: the set is destroyed before the buffer it points at.
+    pub descriptors: DescriptorSet,
+    buffer: Buffer,
+}
+
+impl Palette {
+    pub fn new(gpu: &Arc<Gpu>, name: &str) -> Result<Self> {
+        let buffer = Buffer::new(
+            gpu,
+            &format!("{name} joint palette"),
+            PALETTE_BYTES,
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )?;
+        let descriptors = DescriptorSet::new(
+            gpu,
+            &[Binding::UniformBuffer {
+                buffer: buffer.raw,
+                range: PALETTE_BYTES,
+                stages: vk::ShaderStageFlags::VERTEX,
+            }],
+        )?;
+        Ok(Palette { descriptors, buffer })
+    }
+
+    /// Writes this frame's joint matrices (unused entries stay as they were: no vertex uses them).
+    pub fn update(&mut self, name: &str, joint_matrices: &[Mat4]) -> Result<()> {
+        if joint_matrices.len() > MAX_JOINTS {
+            return Err(Error::InvalidInput(format!(
+                "'{name}' has {} joints; the GPU palette holds at most {MAX_JOINTS}",
+                joint_matrices.len()
+            )));
+        }
+        self.buffer.write(0, as_bytes(joint_matrices))
+    }
+}
+
+/// A skinned object on the GPU: its bind-pose mesh and its palette.
+pub struct SkinnedMesh {
+    pub mesh: GpuMesh,
+    pub palette: Palette,
+}
+
+impl SkinnedMesh {
+    pub fn upload(gpu: &Arc<Gpu>, name: &str, skin: &SceneSkin, indices: &[u32]) -> Result<Self> {
+        let n = skin.positions.len();
+        if skin.joints.len() != n || skin.weights.len() != n {
+            return Err(Error::Mesh {
+                mesh: name.to_owned(),
+                problem: format!(
+                    "{n} vertices but {} joint and {} weight entries",
+                    skin.joints.len(),
+                    skin.weights.len()
+                ),
+            });
+        }
+        let palette_len = skin.joint_matrices.len();
+        if let Some((v, j)) = skin
+            .joints
+            .iter()
+            .enumerate()
+            .find_map(|(v, j)| j.iter().find(|&&j| j as usize >= palette_len.min(MAX_JOINTS)).map(|j| (v, *j)))
+        {
+            return Err(Error::Mesh {
+                mesh: name.to_owned(),
+                problem: format!("vertex {v} uses joint {j}, but the palette has {palette_len} joints"),
+            });
+        }
+        let vertices: Vec<SkinnedVertex> = (0..n)
+            .map(|v| SkinnedVertex {
+                position: skin.positions[v].to_array(),
+                normal: skin.normals.get(v).copied().unwrap_or(Vec3::Y).to_array(),
+                joints: skin.joints[v],
+                weights: skin.weights[v],
+            })
+            .collect();
+        let mut palette = Palette::new(gpu, name)?;
+        palette.update(name, &skin.joint_matrices)?;
+        Ok(SkinnedMesh { mesh: GpuMesh::from_raw(gpu, name, as_bytes(&vertices), indices)?, palette })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn vertex_layout_matches_the_struct() {
+        assert_eq!(SKINNED_LAYOUT.stride() as usize, std::mem::size_of::<SkinnedVertex>());
+        assert_eq!(PALETTE_BYTES, 4096);
+    }
+}

@@ -1,0 +1,449 @@
+//! Planar projected shadows (seed 001): the one-pass alpha trick equals the real-stencil
+//! reference pixel for pixel; every shadowed pixel is darkened exactly once by the same factor;
+//! the GPU projection lands where the CPU formula says; GPU skinning matches the CPU oracle; and
+//! real glTF files render with animated shadows.
+
+mod common;
+
+use std::path::PathBuf;
+use std::process::Command;
+use std::sync::Arc;
+
+use glam::{Mat4, Vec3};
+use nostencil::frame::{RgbaImage, StencilMode};
+use nostencil::gpu::Gpu;
+use nostencil::scene::{builtin_scene_at, scene_from_gltf, Scene};
+use nostencil::technique::planar::{self, project_onto_plane, PlanarOptions};
+use nostencil::technique::{render_scene, RenderOptions, Technique};
+
+const SIZE: (u32, u32) = (160, 120);
+const FACTOR: u8 = PlanarOptions { shadow_factor: 102, shadows: true }.shadow_factor;
+
+fn render(gpu: &Arc<Gpu>, scene: &Scene, stencil: StencilMode, shadows: bool) -> planar::PlanarFrame {
+    let options = PlanarOptions { shadows, ..Default::default() };
+    planar::render(gpu, scene, SIZE.0, SIZE.1, stencil, &options).expect("planar frame")
+}
+
+fn rgb_differences(a: &RgbaImage, b: &RgbaImage) -> usize {
+    a.pixels.chunks_exact(4).zip(b.pixels.chunks_exact(4)).filter(|(p, q)| p[..3] != q[..3]).count()
+}
+
+/// What the blend unit computes for `x * f/255` on UNORM8 (DESIGN.md section 7).
+fn darken(x: u8, f: u8) -> u8 {
+    let p = x as u32 * f as u32;
+    ((p + (p >> 8) + 128) >> 8) as u8
+}
+
+/// The pixels the projected shadow darkened (RGB differs from the frame without shadows).
+fn changed(shadowed: &RgbaImage, unshadowed: &RgbaImage) -> Vec<bool> {
+    shadowed.pixels.chunks_exact(4).zip(unshadowed.pixels.chunks_exact(4)).map(|(p, q)| p[..3] != q[..3]).collect()
+}
+
+/// Receiver pixels: the scene pass alone writes alpha F/255 there and 1 everywhere else.
+fn receiver_mask(unshadowed: &RgbaImage) -> Vec<bool> {
+    unshadowed.pixels.chunks_exact(4).map(|p| p[3] == FACTOR).collect()
+}
+
+/// Rasterises triangles given in world space after projection onto the plane, with the frame's
+/// camera, at pixel centres: the CPU's idea of where the shadow is.
+fn cpu_shadow_mask(scene: &Scene, triangles: &[[Vec3; 3]]) -> Vec<bool> {
+    let (w, h) = SIZE;
+    let view_proj = scene.camera.view_projection(w as f32 / h as f32);
+    let to_pixel = |p: Vec3| {
+        let c = view_proj * p.extend(1.0);
+        let ndc = c.truncate() / c.w;
+        glam::Vec2::new((ndc.x * 0.5 + 0.5) * w as f32, (ndc.y * 0.5 + 0.5) * h as f32)
+    };
+    let mut mask = vec![false; (w * h) as usize];
+    for tri in triangles {
+        let [a, b, c] = tri.map(to_pixel);
+        let edge = |p: glam::Vec2, q: glam::Vec2, r: glam::Vec2| (q - p).perp_dot(r - p);
+        let area = edge(a, b, c);
+        if area.abs() < 1e-9 {
+            continue;
+        }
+        let (lo, hi) = (a.min(b).min(c), a.max(b).max(c));
+        for y in (lo.y.floor().max(0.0) as u32)..(hi.y.ceil().min(h as f32) as u32) {
+            for x in (lo.x.floor().max(0.0) as u32)..(hi.x.ceil().min(w as f32) as u32) {
+                let p = glam::Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+                let (e0, e1, e2) = (edge(b, c, p) / area, edge(c, a, p) / area, edge(a, b, p) / area);
+                if e0 >= 0.0 && e1 >= 0.0 && e2 >= 0.0 {
+                    mask[(y * w + x) as usize] = true;
+                }
+            }
+        }
+    }
+    mask
+}
+
+/// Every caster triangle (CPU-skinned positions) projected onto the receiving plane.
+fn projected_triangles(scene: &Scene, objects: impl Fn(usize) -> bool, h: f32) -> Vec<[Vec3; 3]> {
+    let mut out = Vec::new();
+    for (_, o) in scene.objects.iter().enumerate().filter(|(i, _)| objects(*i)) {
+        let data = &scene.meshes[o.mesh].data;
+        let world =
+            |v: u32| project_onto_plane(o.transform.transform_point3(data.positions[v as usize]), &scene.light, h);
+        for t in data.indices.chunks_exact(3) {
+            out.push([world(t[0]), world(t[1]), world(t[2])]);
+        }
+    }
+    out
+}
+
+/// Pixels whose 3x3 neighbourhood agrees in `mask`: away from the shadow's edge, where the
+/// GPU's and the CPU's rasterisations cannot disagree by rounding.
+fn interior(mask: &[bool], x: u32, y: u32) -> bool {
+    let (w, h) = SIZE;
+    let centre = mask[(y * w + x) as usize];
+    (y.saturating_sub(1)..(y + 2).min(h))
+        .all(|yy| (x.saturating_sub(1)..(x + 2).min(w)).all(|xx| mask[(yy * w + xx) as usize] == centre))
+}
+
+/// Character vertex ranges, in the order `character.rs` builds its boxes (24 vertices each).
+const TORSO: std::ops::Range<usize> = 0..24;
+const RIGHT_ARM: std::ops::Range<usize> = 72..96;
+const LEFT_ARM: std::ops::Range<usize> = 48..72;
+
+fn character_part_triangles(scene: &Scene, part: std::ops::Range<usize>, h: f32) -> Vec<[Vec3; 3]> {
+    let o = scene.object("character").expect("character");
+    let data = &scene.meshes[o.mesh].data;
+    let world = |v: u32| project_onto_plane(o.transform.transform_point3(data.positions[v as usize]), &scene.light, h);
+    data.indices
+        .chunks_exact(3)
+        .filter(|t| part.contains(&(t[0] as usize)))
+        .map(|t| [world(t[0]), world(t[1]), world(t[2])])
+        .collect()
+}
+
+#[test]
+fn emulated_equals_reference_where_arms_and_torso_overlap_in_the_shadow() {
+    let gpu = common::gpu();
+    let mut overlap_checked = 0;
+    for name in ["character", "character-point", "default", "point-light"] {
+        for time in [0.0, 0.2, 0.45, 0.7] {
+            let scene = builtin_scene_at(name, time).expect("scene");
+            let reference = render(&gpu, &scene, StencilMode::Reference, true);
+            let emulated = render(&gpu, &scene, StencilMode::Emulated, true);
+            let unshadowed = render(&gpu, &scene, StencilMode::Emulated, false);
+            let shadowed: usize =
+                changed(&emulated.output.image, &unshadowed.output.image).iter().filter(|c| **c).count();
+            assert!(shadowed > 30, "{name} at {time}s: no shadow ({shadowed} pixels)");
+            let differing = rgb_differences(&emulated.output.image, &reference.output.image);
+            assert_eq!(differing, 0, "{name} at {time}s: {differing} pixels differ from the reference");
+
+            // The shadow pass wrote more samples than there are shadowed pixels: overlaps happened
+            // (front and back faces, limbs over the torso), and the reference's stencil let one
+            // sample per receiver pixel through.
+            let samples = |f: &planar::PlanarFrame| {
+                f.output
+                    .counters
+                    .passes
+                    .iter()
+                    .filter(|p| p.name.starts_with("planar shadow"))
+                    .map(|p| p.samples_passed)
+                    .sum::<u64>()
+            };
+            assert!(samples(&emulated) as usize > shadowed * 3 / 2, "{name} at {time}s: no overlap to stop");
+            assert!(samples(&reference) < samples(&emulated), "{name} at {time}s: the stencil stopped nothing");
+
+            // Where an arm's shadow lies on the torso's, on visible ground, the pixel is darkened
+            // once, like its neighbours.
+            if name.starts_with("character") {
+                let h = planar::receiver_plane(&scene).expect("plane").height;
+                let torso = cpu_shadow_mask(&scene, &character_part_triangles(&scene, TORSO, h));
+                let receivers = receiver_mask(&unshadowed.output.image);
+                for arm in [LEFT_ARM, RIGHT_ARM] {
+                    let arm = cpu_shadow_mask(&scene, &character_part_triangles(&scene, arm, h));
+                    for (i, ((a, t), r)) in arm.iter().zip(&torso).zip(&receivers).enumerate() {
+                        let (x, y) = (i as u32 % SIZE.0, i as u32 / SIZE.0);
+                        if *a && *t && *r && interior(&arm, x, y) && interior(&torso, x, y) {
+                            let (p, q) =
+                                (&emulated.output.image.pixels[i * 4..], &unshadowed.output.image.pixels[i * 4..]);
+                            for c in 0..3 {
+                                assert_eq!(p[c], darken(q[c], FACTOR), "{name} {time}s pixel ({x},{y})");
+                            }
+                            overlap_checked += 1;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert!(overlap_checked > 60, "arm-over-torso shadow pixels checked: {overlap_checked}");
+    common::assert_no_validation_messages(&gpu);
+}
+
+#[test]
+fn every_shadowed_pixel_is_darkened_by_exactly_the_same_factor_and_only_on_receivers() {
+    let gpu = common::gpu();
+    for (name, time) in [("character", 0.2), ("default", 0.45), ("point-light", 0.7)] {
+        let scene = builtin_scene_at(name, time).expect("scene");
+        let unshadowed = render(&gpu, &scene, StencilMode::Emulated, false);
+        let shadowed = render(&gpu, &scene, StencilMode::Emulated, true);
+        let receivers = receiver_mask(&unshadowed.output.image);
+        let mut darkened = 0;
+        for (i, (p, q)) in
+            shadowed.output.image.pixels.chunks_exact(4).zip(unshadowed.output.image.pixels.chunks_exact(4)).enumerate()
+        {
+            if p[..3] == q[..3] {
+                continue;
+            }
+            assert!(receivers[i], "{name}: pixel {i} changed but no receiver is visible there");
+            let once = [darken(q[0], FACTOR), darken(q[1], FACTOR), darken(q[2], FACTOR)];
+            assert_eq!(p[..3], once, "{name}: pixel {i} ({q:?}) is not darkened exactly once");
+            darkened += 1;
+        }
+        assert!(darkened > 100, "{name}: only {darkened} shadowed pixels");
+        // The same check would catch double darkening: it changes every non-black pixel.
+        assert!((8u8..=255).all(|x| darken(darken(x, FACTOR), FACTOR) != darken(x, FACTOR)));
+    }
+    common::assert_no_validation_messages(&gpu);
+}
+
+#[test]
+fn the_gpu_projection_lands_where_the_cpu_formula_says() {
+    let gpu = common::gpu();
+    for (name, time) in [("character", 0.3), ("character-point", 0.3), ("character-point", 0.8)] {
+        let scene = builtin_scene_at(name, time).expect("scene");
+        let plane = planar::receiver_plane(&scene).expect("plane");
+        let unshadowed = render(&gpu, &scene, StencilMode::Emulated, false);
+        let shadowed = render(&gpu, &scene, StencilMode::Emulated, true);
+        let gpu_mask = changed(&shadowed.output.image, &unshadowed.output.image);
+        let receivers = receiver_mask(&unshadowed.output.image);
+        let cpu_mask = cpu_shadow_mask(&scene, &projected_triangles(&scene, |i| !plane.receivers[i], plane.height));
+        let (mut inside, mut mismatches, mut occluded) = (0, Vec::new(), 0);
+        for y in 0..SIZE.1 {
+            for x in 0..SIZE.0 {
+                let i = (y * SIZE.0 + x) as usize;
+                if !receivers[i] && cpu_mask[i] && interior(&cpu_mask, x, y) {
+                    // The character stands in front of its own shadow here: the pixel must stay.
+                    assert!(!gpu_mask[i], "{name}: the shadow was drawn over an occluder at ({x},{y})");
+                    occluded += 1;
+                }
+                if !receivers[i] || !interior(&cpu_mask, x, y) {
+                    continue;
+                }
+                inside += cpu_mask[i] as usize;
+                if cpu_mask[i] != gpu_mask[i] {
+                    mismatches.push((x, y, cpu_mask[i]));
+                }
+            }
+        }
+        assert!(inside > 100, "{name}: only {inside} shadow pixels compared");
+        assert!(occluded > 10, "{name}: no occluder in front of the shadow to test ({occluded} pixels)");
+        assert!(mismatches.is_empty(), "{name} at {time}s: GPU and CPU shadows disagree at {mismatches:?}");
+    }
+    common::assert_no_validation_messages(&gpu);
+}
+
+#[test]
+fn gpu_skinning_matches_the_cpu_skinned_mesh() {
+    let gpu = common::gpu();
+    let lit = |scene: &Scene| {
+        let options = RenderOptions { width: SIZE.0, height: SIZE.1, technique: Technique::Lit, ..Default::default() };
+        render_scene(&gpu, scene, &options).expect("lit").output.image
+    };
+    let large_differences = |a: &RgbaImage, b: &RgbaImage| {
+        a.pixels
+            .chunks_exact(4)
+            .zip(b.pixels.chunks_exact(4))
+            .filter(|(p, q)| (0..3).any(|c| p[c].abs_diff(q[c]) > 3))
+            .count()
+    };
+    for (name, time) in [("character", 0.0), ("character", 0.3), ("character-point", 0.65)] {
+        let scene = builtin_scene_at(name, time).expect("scene");
+        let gpu_skinned = render(&gpu, &scene, StencilMode::Emulated, false).output.image;
+        let cpu_skinned = lit(&scene);
+        let mut empty = scene.clone();
+        empty.objects.retain(|o| o.skin.is_none());
+        let silhouette = rgb_differences(&cpu_skinned, &lit(&empty));
+        assert!(silhouette > 500, "{name}: the character covers only {silhouette} pixels");
+        let off = large_differences(&gpu_skinned, &cpu_skinned);
+        assert!(off * 100 <= silhouette, "{name} at {time}s: {off} of {silhouette} character pixels differ");
+        // The check can fail: the CPU mesh of another time is far off.
+        let other = builtin_scene_at(name, time + 0.25).expect("scene");
+        assert!(large_differences(&gpu_skinned, &lit(&other)) * 10 > silhouette);
+    }
+    common::assert_no_validation_messages(&gpu);
+}
+
+fn asset(name: &str) -> Option<PathBuf> {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/assets").join(name);
+    path.exists().then_some(path)
+}
+
+#[test]
+fn every_shared_asset_renders_with_planar_shadows_animated_ones_moving() {
+    let gpu = common::gpu();
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/assets");
+    let Ok(entries) = std::fs::read_dir(&dir) else {
+        eprintln!("skipped: {} is not beside the checkout", dir.display());
+        return;
+    };
+    let mut files: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "glb" || e == "gltf"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 7, "{files:?}");
+    for path in &files {
+        let file = path.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
+        let mut shadows = Vec::new();
+        for time in [0.25, 0.9] {
+            let scene = scene_from_gltf(path, time).unwrap_or_else(|e| panic!("{file}: {e}"));
+            let emulated = render(&gpu, &scene, StencilMode::Emulated, true);
+            let reference = render(&gpu, &scene, StencilMode::Reference, true);
+            let unshadowed = render(&gpu, &scene, StencilMode::Emulated, false);
+            assert_eq!(rgb_differences(&emulated.output.image, &reference.output.image), 0, "{file} at {time}s");
+            let mask = changed(&emulated.output.image, &unshadowed.output.image);
+            assert!(mask.iter().filter(|m| **m).count() > 20, "{file} at {time}s: no visible planar shadow");
+            let skinned = scene.objects.iter().filter(|o| o.skin.is_some()).count();
+            assert_eq!(skinned > 0, file == "RiggedSimple.glb" || file == "SimpleSkin.gltf", "{file}: skinned objects");
+            shadows.push(mask);
+        }
+        let moved = shadows[0].iter().zip(&shadows[1]).filter(|(a, b)| a != b).count();
+        let animated = matches!(file.as_str(), "RiggedSimple.glb" | "SimpleSkin.gltf" | "BoxAnimated.glb");
+        if animated {
+            assert!(moved > 10, "{file}: the shadow does not follow the animation ({moved} pixels)");
+        } else {
+            assert_eq!(moved, 0, "{file}: not animated, yet the shadow moved");
+        }
+    }
+    common::assert_no_validation_messages(&gpu);
+}
+
+#[test]
+fn bad_input_gets_a_clear_error() {
+    let gpu = common::gpu();
+    // No ground to project onto.
+    let mut scene = builtin_scene_at("character", 0.0).expect("scene");
+    scene.objects.retain(|o| o.name != "ground");
+    let error = planar::render(&gpu, &scene, 64, 64, StencilMode::Emulated, &PlanarOptions::default())
+        .err()
+        .expect("refused")
+        .to_string();
+    assert!(error.contains("no flat horizontal receiver"), "{error}");
+
+    // More joints than the 4 KiB palette holds.
+    let mut scene = builtin_scene_at("character", 0.0).expect("scene");
+    if let Some(skin) = scene.objects.iter_mut().find_map(|o| o.skin.as_mut()) {
+        skin.joint_matrices = vec![Mat4::IDENTITY; 65];
+    }
+    let error = planar::render(&gpu, &scene, 64, 64, StencilMode::Emulated, &PlanarOptions::default())
+        .err()
+        .expect("refused")
+        .to_string();
+    assert!(error.contains("at most 64"), "{error}");
+
+    // Malformed files, through the command line with the planar technique: one line naming the
+    // file and the problem.
+    let Some(good) = asset("RiggedSimple.glb") else { return };
+    let dir = common::scratch_dir("planar-bad-input");
+    let bytes = std::fs::read(&good).expect("read");
+    let truncated = dir.join("truncated.glb");
+    std::fs::write(&truncated, &bytes[..bytes.len() / 2]).expect("write");
+    let not_gltf = dir.join("garbage.gltf");
+    std::fs::write(&not_gltf, b"{ this is not json").expect("write");
+    for bad in [&truncated, &not_gltf] {
+        let out = dir.join("out.png");
+        let output = Command::new(env!("CARGO_BIN_EXE_nostencil"))
+            .args(["render", "--technique", "planar", "--size", "64x64", "--scene"])
+            .arg(bad)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .expect("run");
+        let err = String::from_utf8_lossy(&output.stderr);
+        assert!(!output.status.success() && !err.contains("panicked"), "{err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        let name = bad.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        assert!(err.contains(&name), "the error names the file: {err}");
+        assert!(!out.exists());
+    }
+    common::assert_no_validation_messages(&gpu);
+}
+
+/// The other two shadows of seed 001, checked against the projected-mesh shadow.
+#[test]
+fn shadow_texture_covers_the_planar_shadow_and_blobs_sit_under_the_casters() {
+    let gpu = common::gpu();
+    for name in ["character", "character-point"] {
+        let scene = builtin_scene_at(name, 0.3).expect("scene");
+        let unshadowed = render(&gpu, &scene, StencilMode::Emulated, false);
+        let receivers = receiver_mask(&unshadowed.output.image);
+        let planar_mask =
+            changed(&render(&gpu, &scene, StencilMode::Emulated, true).output.image, &unshadowed.output.image);
+
+        let texture = planar::shadow_texture::render(&gpu, &scene, SIZE.0, SIZE.1, StencilMode::Emulated, FACTOR)
+            .expect("shadow texture");
+        let texture_mask = changed(&texture.output.image, &unshadowed.output.image);
+        let (mut both, mut either, mut exact, mut darkened) = (0, 0, 0, 0);
+        for (i, (p, q)) in
+            texture.output.image.pixels.chunks_exact(4).zip(unshadowed.output.image.pixels.chunks_exact(4)).enumerate()
+        {
+            both += (texture_mask[i] && planar_mask[i]) as usize;
+            either += (texture_mask[i] || planar_mask[i]) as usize;
+            if texture_mask[i] {
+                assert!(receivers[i], "{name}: pixel {i} darkened off the receivers");
+                darkened += 1;
+                let once = [darken(q[0], FACTOR), darken(q[1], FACTOR), darken(q[2], FACTOR)];
+                assert!((0..3).all(|c| p[c] >= once[c]), "{name}: pixel {i} darker than one shadow: {p:?} vs {once:?}");
+                exact += (p[..3] == once) as usize;
+            }
+        }
+        // Same silhouette up to the texture's texels and filtering at the edges.
+        assert!(both * 100 >= either * 80, "{name}: shadow texture and planar overlap {both} of {either} pixels");
+        assert!(
+            exact * 100 >= darkened * 70,
+            "{name}: only {exact} of {darkened} texture-shadow pixels at full factor"
+        );
+
+        let blob = planar::blob::render(&gpu, &scene, SIZE.0, SIZE.1, StencilMode::Emulated, FACTOR).expect("blob");
+        let blob_mask = changed(&blob.output.image, &unshadowed.output.image);
+        assert!(blob_mask.iter().zip(&receivers).all(|(b, r)| !b || *r), "{name}: blob off the receivers");
+        // One blob under each foot: the lowest points of the two legs (boxes 4 and 5).
+        let plane = planar::receiver_plane(&scene).expect("plane");
+        let blobs = planar::blob::blobs(&scene, &plane, 1.0 - FACTOR as f32 / 255.0);
+        assert_eq!(blobs.len(), 2, "{name}: {blobs:?}");
+        let character = scene.object("character").expect("character");
+        let data = &scene.meshes[character.mesh].data;
+        for (leg, blob) in [96..120usize, 120..144].into_iter().zip(&blobs) {
+            let foot = leg
+                .map(|v| character.transform.transform_point3(data.positions[v]))
+                .min_by(|a, b| a.y.total_cmp(&b.y))
+                .expect("vertices");
+            let offset = (foot - blob.centre) * Vec3::new(1.0, 0.0, 1.0);
+            assert!(offset.length() < 0.12, "{name}: blob {blob:?} is not under the foot at {foot}");
+        }
+        let pixel_of = |p: Vec3| {
+            let c = scene.camera.view_projection(SIZE.0 as f32 / SIZE.1 as f32) * p.extend(1.0);
+            let (x, y) = ((c.x / c.w * 0.5 + 0.5) * SIZE.0 as f32, (c.y / c.w * 0.5 + 0.5) * SIZE.1 as f32);
+            (y as u32 * SIZE.0 + x as u32) as usize
+        };
+        let darkened_under = blobs.iter().filter(|b| blob_mask[pixel_of(b.centre)]).count();
+        assert!(darkened_under >= 1, "{name}: no blob visible under a foot");
+        let under = blobs[0].centre;
+        assert!(!blob_mask[pixel_of(under + Vec3::new(2.0, 0.0, 0.0))], "{name}: the blob reaches 2 m away");
+    }
+    common::assert_no_validation_messages(&gpu);
+}
+
+#[test]
+fn profile_shows_each_shadow_kind() {
+    for (technique, expected) in [
+        ("blob", &["scene", "blob shadow"][..]),
+        ("shadow-texture", &["shadow texture", "scene", "shadow texture receive"][..]),
+        ("planar", &["scene", "planar shadow"][..]),
+    ] {
+        let output = Command::new(env!("CARGO_BIN_EXE_nostencil"))
+            .args(["profile", "--technique", technique, "--size", "96x64", "--format", "json", "--validation"])
+            .output()
+            .expect("run");
+        let err = String::from_utf8_lossy(&output.stderr);
+        assert!(output.status.success() && !err.contains("validation"), "{technique}: {err}");
+        let json: serde_json::Value = serde_json::from_slice(&output.stdout).expect("json");
+        let names: Vec<&str> =
+            json["passes"].as_array().expect("passes").iter().filter_map(|p| p["name"].as_str()).collect();
+        assert_eq!(names, expected, "{technique}");
+    }
+}
