@@ -9,7 +9,8 @@ use crate::gpu::{mobile_profile, DeviceChoice, Gpu, GpuOptions};
 use crate::profile::report::{ProfileReport, ReportContext, ReportFormat};
 use crate::scene::{builtin_scene, scene_from_gltf, Scene, BUILTIN_SCENES};
 use crate::technique::{
-    alpha_counter, render_scene, Normalize, RenderOptions, ShadowVolumeOptions, Technique, VolumeMethod,
+    alpha_counter, render_scene, shadow_atlas, LightMode, Normalize, RenderOptions, ShadowAtlasOptions,
+    ShadowVolumeOptions, Technique, VolumeMethod,
 };
 
 pub fn run(cli: Cli) -> Result<()> {
@@ -18,6 +19,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Profile { frame, format } => profile(&frame, format),
         Command::Info { gpu, json } => info(&gpu, json),
         Command::Bench { frame, warmup, runs, json } => bench(&frame, warmup, runs, json),
+        Command::Bake { frame, model, mip, out } => bake(&frame, model.as_deref(), mip, &out),
     }
 }
 
@@ -48,6 +50,11 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
             method: VolumeMethod::parse(&frame.volume_method)?,
             normalize: Normalize::parse(&frame.normalize)?,
             ..Default::default()
+        },
+        shadow_atlas: ShadowAtlasOptions {
+            map_size: shadow_atlas::check_size("--shadow-map-size", frame.shadow_map_size)?,
+            texture_size: shadow_atlas::check_size("--shadow-texture-size", frame.shadow_texture_size)?,
+            light: LightMode::parse(&frame.light)?,
         },
     })
 }
@@ -109,7 +116,10 @@ fn profile(frame: &FrameArgs, format: FormatArg) -> Result<()> {
         &output.counters,
         attachments,
     );
-    report.technique_stats = frame.shadow_volume.and_then(|s| serde_json::to_value(s).ok());
+    report.technique_stats = frame
+        .shadow_volume
+        .and_then(|s| serde_json::to_value(s).ok())
+        .or_else(|| frame.shadow_atlas.as_ref().and_then(|s| serde_json::to_value(s).ok()));
     let format_kind = match format {
         FormatArg::Table => ReportFormat::Table,
         FormatArg::Json => ReportFormat::Json,
@@ -125,6 +135,75 @@ fn profile(frame: &FrameArgs, format: FormatArg) -> Result<()> {
             stats.saturated_pixels.map_or("n/a (reference)".to_owned(), |n| n.to_string())
         );
     }
+    if let (Some(stats), FormatArg::Table) = (&frame.shadow_atlas, format) {
+        println!(
+            "\n{} | light {} | frame {}: {} | shadow map {}x{}",
+            stats.technique.name(),
+            stats.light.name(),
+            stats.frame,
+            if stats.cached {
+                "shadow map and bake skipped (neither light nor models moved since the last frame)"
+            } else {
+                "shadow map re-rendered (and shadow textures re-baked)"
+            },
+            stats.map_size,
+            stats.map_size
+        );
+        if stats.technique == shadow_atlas::ShadowKind::Atlas {
+            for atlas in &stats.atlases {
+                println!(
+                    "  atlas of '{}': {} -> {}x{} shadow texture, {} mips",
+                    atlas.mesh,
+                    atlas.source.describe(),
+                    atlas.size,
+                    atlas.size,
+                    atlas.mip_levels
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Bakes the shadow textures of `frame.scene` and writes one model's as PNG.
+fn bake(frame: &FrameArgs, model: Option<&str>, mip: u32, out: &Path) -> Result<()> {
+    use crate::technique::shadow_atlas::{ShadowAtlasRenderer, ShadowKind};
+    check_output_path(out)?;
+    let options = options(frame)?;
+    let scene = load_scene(&frame.scene, frame.time)?;
+    let object = match model {
+        Some(name) => scene.objects.iter().position(|o| o.name == name).ok_or_else(|| {
+            Error::InvalidInput(format!(
+                "no model '{name}' in scene '{}'; models: {}",
+                scene.name,
+                scene.objects.iter().map(|o| o.name.as_str()).collect::<Vec<_>>().join(", ")
+            ))
+        })?,
+        None => 0,
+    };
+    let gpu = open_gpu(&frame.gpu)?;
+    let mut renderer = ShadowAtlasRenderer::new(
+        &gpu,
+        &scene,
+        options.width.min(64),
+        options.height.min(64),
+        options.stencil,
+        ShadowKind::Atlas,
+        &options.shadow_atlas,
+    )?;
+    renderer.frame()?;
+    let image = renderer.read_shadow_texture(object, mip)?;
+    image.write_png(out, false)?;
+    let name = &scene.objects.get(object).map_or("", |o| o.name.as_str());
+    let atlas = scene.objects.get(object).and_then(|o| renderer.atlases().get(o.mesh));
+    eprintln!(
+        "wrote {} ({}x{}, mip {mip} of '{name}' in scene '{}'; atlas: {})",
+        out.display(),
+        image.width,
+        image.height,
+        scene.name,
+        atlas.map_or("?".into(), |a| a.source.describe())
+    );
     Ok(())
 }
 
@@ -228,6 +307,9 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: u32, json: bool) -> Result<()> {
                     frame: Box::new(move || Ok(renderer.frame()?.output)),
                 });
             }
+        }
+        Technique::ShadowMap | Technique::ShadowTextureAtlas => {
+            return crate::technique::shadow_atlas::table1::bench(&gpu, &options, warmup, runs, json);
         }
         Technique::Lit => {
             for stencil in [StencilMode::Reference, StencilMode::Emulated] {

@@ -87,6 +87,18 @@ impl Pipeline {
         render_pass: vk::RenderPass,
         set_layouts: &[vk::DescriptorSetLayout],
     ) -> Result<Self> {
+        Self::with_colour_attachments(gpu, desc, render_pass, set_layouts, 1)
+    }
+
+    /// As `new`, for a subpass with `colour_attachments` colour attachments (0: depth only, as
+    /// a shadow map's), each blended as `desc.fixed.blend` says.
+    pub fn with_colour_attachments(
+        gpu: &Arc<Gpu>,
+        desc: &PipelineDesc,
+        render_pass: vk::RenderPass,
+        set_layouts: &[vk::DescriptorSetLayout],
+        colour_attachments: usize,
+    ) -> Result<Self> {
         mobile_profile::check_push_constants(desc.name, desc.push_constant_bytes)?;
         let device = gpu.raw();
 
@@ -168,7 +180,7 @@ impl Pipeline {
             depth_stencil =
                 depth_stencil.stencil_test_enable(true).front(stencil.front.to_vk()).back(stencil.back.to_vk());
         }
-        let attachments = [blend_attachment(fixed)];
+        let attachments = vec![blend_attachment(fixed); colour_attachments];
         let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&attachments);
         let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
         let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);

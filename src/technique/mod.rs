@@ -2,6 +2,7 @@
 
 pub mod alpha_counter;
 pub mod lit;
+pub mod shadow_atlas;
 pub mod shadow_volume;
 
 use std::sync::Arc;
@@ -12,6 +13,7 @@ use crate::gpu::Gpu;
 use crate::render::{FrameOutput, FrameUniforms, GpuScene, Renderer};
 use crate::scene::Scene;
 
+pub use shadow_atlas::{LightMode, ShadowAtlasOptions, ShadowAtlasStats, ShadowKind};
 pub use shadow_volume::{Normalize, ShadowVolumeOptions, ShadowVolumeStats, VolumeMethod};
 
 /// What `--technique` selects.
@@ -23,15 +25,21 @@ pub enum Technique {
     Lit,
     /// Shadow volumes counted in the alpha channel (seed 000).
     ShadowVolume,
+    /// A depth-compared shadow map from the light (seed 004's comparison).
+    ShadowMap,
+    /// Shadow textures baked into each model's atlas from the shadow map (seed 004).
+    ShadowTextureAtlas,
 }
 
 impl Technique {
-    pub const ALL: &'static [Technique] = &[Technique::Lit, Technique::ShadowVolume];
+    pub const ALL: &'static [Technique] = &[Technique::Lit, Technique::ShadowVolume, Technique::ShadowMap, Technique::ShadowTextureAtlas];
 
     pub fn name(self) -> &'static str {
         match self {
             Technique::Lit => "lit",
             Technique::ShadowVolume => "shadow-volume",
+            Technique::ShadowMap => "shadow-map",
+            Technique::ShadowTextureAtlas => "shadow-texture-atlas",
         }
     }
 
@@ -52,6 +60,7 @@ pub struct RenderOptions {
     pub stencil: StencilMode,
     pub technique: Technique,
     pub shadow_volume: ShadowVolumeOptions,
+    pub shadow_atlas: ShadowAtlasOptions,
 }
 
 impl Default for RenderOptions {
@@ -62,6 +71,7 @@ impl Default for RenderOptions {
             stencil: StencilMode::Emulated,
             technique: Technique::Lit,
             shadow_volume: ShadowVolumeOptions::default(),
+            shadow_atlas: ShadowAtlasOptions::default(),
         }
     }
 }
@@ -70,6 +80,7 @@ impl Default for RenderOptions {
 pub struct TechniqueFrame {
     pub output: FrameOutput,
     pub shadow_volume: Option<ShadowVolumeStats>,
+    pub shadow_atlas: Option<ShadowAtlasStats>,
 }
 
 /// Renders `scene` with the chosen technique and returns the image and its counters.
@@ -82,7 +93,7 @@ pub fn render_scene(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions) -> R
             let clear = scene.background.extend(1.0).to_array();
             let lit = lit::LitPass::new(gpu, &renderer)?;
             let output = renderer.render(&uniforms, clear, |rec| lit.record(rec, scene, &meshes, |_| 1.0))?;
-            Ok(TechniqueFrame { output, shadow_volume: None })
+            Ok(TechniqueFrame { output, shadow_volume: None, shadow_atlas: None })
         }
         Technique::ShadowVolume => {
             let frame = shadow_volume::render(
@@ -93,7 +104,20 @@ pub fn render_scene(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions) -> R
                 options.stencil,
                 &options.shadow_volume,
             )?;
-            Ok(TechniqueFrame { output: frame.output, shadow_volume: Some(frame.stats) })
+            Ok(TechniqueFrame { output: frame.output, shadow_volume: Some(frame.stats), shadow_atlas: None })
+        }
+        Technique::ShadowMap | Technique::ShadowTextureAtlas => {
+            let kind = if options.technique == Technique::ShadowMap { ShadowKind::Map } else { ShadowKind::Atlas };
+            let frame = shadow_atlas::render(
+                gpu,
+                scene,
+                options.width,
+                options.height,
+                options.stencil,
+                kind,
+                &options.shadow_atlas,
+            )?;
+            Ok(TechniqueFrame { output: frame.output, shadow_volume: None, shadow_atlas: Some(frame.stats) })
         }
     }
 }
