@@ -270,3 +270,26 @@ fn fixed_light_skips_the_shadow_passes_and_moving_light_does_not() {
     }
     common::assert_no_validation_messages(&gpu);
 }
+
+#[test]
+fn texcoord1_is_used_when_it_does_not_overlap_and_replaced_when_it_does() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/assets/CornellBox.glb");
+    let scene = nostencil::scene::scene_from_gltf(&path, 0.0).expect("CornellBox.glb");
+    let with_uv1: Vec<_> = scene.meshes.iter().filter(|m| m.uv1.is_some()).collect();
+    assert!(!with_uv1.is_empty(), "CornellBox.glb has TEXCOORD_1");
+    for mesh in &with_uv1 {
+        let atlas = mesh_atlas(&mesh.data, mesh.uv1.as_deref(), 256);
+        assert_eq!(atlas.source, AtlasSource::TexCoord1, "{}: {:?}", mesh.name, atlas.rejected_uv1);
+        assert_eq!(atlas.uvs, *mesh.uv1.as_ref().expect("uv1"));
+    }
+    // The same mesh with every triangle's TEXCOORD_1 folded onto one corner of the square.
+    let mesh = with_uv1.iter().max_by_key(|m| m.data.indices.len()).expect("a mesh");
+    let folded: Vec<Vec2> = mesh.uv1.as_ref().expect("uv1").iter().map(|uv| *uv * 0.25).collect();
+    let mut overlapping = mesh.data.clone();
+    // Duplicate the triangles so that each covers the texels of its twin.
+    let twins: Vec<u32> = overlapping.indices.clone();
+    overlapping.indices.extend(twins);
+    let atlas = mesh_atlas(&overlapping, Some(&folded), 256);
+    assert_ne!(atlas.source, AtlasSource::TexCoord1);
+    assert!(atlas.rejected_uv1.as_deref().is_some_and(|r| r.contains("covered twice")), "{:?}", atlas.rejected_uv1);
+}

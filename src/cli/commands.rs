@@ -154,7 +154,7 @@ fn profile(frame: &FrameArgs, format: FormatArg) -> Result<()> {
                 println!(
                     "  atlas of '{}': {} -> {}x{} shadow texture, {} mips",
                     atlas.mesh,
-                    atlas.source.describe(),
+                    atlas.describe(),
                     atlas.size,
                     atlas.size,
                     atlas.mip_levels
@@ -202,7 +202,7 @@ fn bake(frame: &FrameArgs, model: Option<&str>, mip: u32, out: &Path) -> Result<
         image.width,
         image.height,
         scene.name,
-        atlas.map_or("?".into(), |a| a.source.describe())
+        atlas.map_or("?".into(), |a| a.describe())
     );
     Ok(())
 }

@@ -57,7 +57,7 @@ pub fn scene_from_gltf(path: &Path, time: f32) -> Result<Scene> {
                 indices: primitive.indices.clone(),
             };
             let closed = is_closed_after_welding(&label, &data);
-            let mesh_index = scene.add_mesh(&label, data);
+            let mesh_index = scene.add_mesh_with_uv1(&label, data, primitive.uv1.clone());
             scene.add_object(&label, mesh_index, node_world, colour, closed);
         }
     }

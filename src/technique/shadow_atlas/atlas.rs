@@ -47,6 +47,8 @@ pub struct MeshAtlas {
     pub size: u32,
     pub dilate_radius: u32,
     pub mip_levels: u32,
+    /// Why the file's TEXCOORD_1 was not used, when it has one.
+    pub rejected_uv1: Option<String>,
 }
 
 /// Padding around each generated chart, in texels of mip 0.
@@ -67,6 +69,7 @@ pub fn mesh_atlas(mesh: &MeshData, uv1: Option<&[Vec2]>, size: u32) -> MeshAtlas
             // One chart filling the square: nothing to dilate into but stray uncovered texels.
             dilate_radius: 2,
             mip_levels: crate::gpu::texture::mip_count(size, size),
+            rejected_uv1: None,
         };
     }
     let from_file = |uvs: &[Vec2], source| MeshAtlas {
@@ -78,16 +81,25 @@ pub fn mesh_atlas(mesh: &MeshData, uv1: Option<&[Vec2]>, size: u32) -> MeshAtlas
         size,
         dilate_radius: CHART_PADDING,
         mip_levels: clean_mips(CHART_PADDING),
+        rejected_uv1: None,
     };
-    if let Some(uv1) = uv1.filter(|uv1| uv1.len() == mesh.positions.len()) {
-        if overlap(uv1, &mesh.indices, size).is_none() {
-            return from_file(uv1, AtlasSource::TexCoord1);
+    let rejected_uv1 = match uv1 {
+        None => None,
+        Some(uv1) if uv1.len() != mesh.positions.len() => {
+            Some(format!("{} TEXCOORD_1 values for {} vertices", uv1.len(), mesh.positions.len()))
         }
-    }
-    if mesh.uvs.len() == mesh.positions.len() && overlap(&mesh.uvs, &mesh.indices, size).is_none() {
-        return from_file(&mesh.uvs, AtlasSource::TexCoord0);
-    }
-    generated_atlas(mesh, size)
+        Some(uv1) => match overlap(uv1, &mesh.indices, size) {
+            None => return from_file(uv1, AtlasSource::TexCoord1),
+            Some(problem) => Some(problem),
+        },
+    };
+    let mut atlas = if mesh.uvs.len() == mesh.positions.len() && overlap(&mesh.uvs, &mesh.indices, size).is_none() {
+        from_file(&mesh.uvs, AtlasSource::TexCoord0)
+    } else {
+        generated_atlas(mesh, size)
+    };
+    atlas.rejected_uv1 = rejected_uv1;
+    atlas
 }
 
 /// Mips whose texels stay within half the padding: level k averages 2^k texels a side.
@@ -168,6 +180,7 @@ pub fn generated_atlas(mesh: &MeshData, size: u32) -> MeshAtlas {
         size,
         dilate_radius: CHART_PADDING,
         mip_levels: clean_mips(CHART_PADDING),
+        rejected_uv1: None,
     }
 }
 
@@ -183,6 +196,7 @@ mod tests {
         let atlas = mesh_atlas(&cube, Some(&cube.uvs), 64);
         assert_eq!(atlas.source, AtlasSource::Generated { charts: 12, padding: CHART_PADDING });
         assert!(overlap(&atlas.uvs, &atlas.indices, 64).is_none());
+        assert!(atlas.rejected_uv1.as_deref().is_some_and(|r| r.contains("covered twice")), "{:?}", atlas.rejected_uv1);
     }
 
     #[test]

@@ -284,6 +284,17 @@ pub struct AtlasInfo {
     pub source: AtlasSource,
     pub size: u32,
     pub mip_levels: u32,
+    /// Why the file's TEXCOORD_1 was not used (overlapping), when it has one.
+    pub rejected_uv1: Option<String>,
+}
+
+impl AtlasInfo {
+    pub fn describe(&self) -> String {
+        match &self.rejected_uv1 {
+            None => self.source.describe(),
+            Some(why) => format!("{} (TEXCOORD_1 rejected: {why})", self.source.describe()),
+        }
+    }
 }
 
 /// What a frame did besides its image.
@@ -348,7 +359,7 @@ impl<'s> ShadowAtlasRenderer<'s> {
         let renderer = Renderer::new(gpu, width, height, stencil, false)?;
 
         let layouts: Vec<MeshAtlas> =
-            scene.meshes.iter().map(|m| mesh_atlas(&m.data, None, texture_size)).collect();
+            scene.meshes.iter().map(|m| mesh_atlas(&m.data, m.uv1.as_deref(), texture_size)).collect();
         let meshes = scene
             .meshes
             .iter()
@@ -367,7 +378,13 @@ impl<'s> ShadowAtlasRenderer<'s> {
             .meshes
             .iter()
             .zip(&layouts)
-            .map(|(m, a)| AtlasInfo { mesh: m.name.clone(), source: a.source, size: a.size, mip_levels: a.mip_levels })
+            .map(|(m, a)| AtlasInfo {
+                mesh: m.name.clone(),
+                source: a.source,
+                size: a.size,
+                mip_levels: a.mip_levels,
+                rejected_uv1: a.rejected_uv1.clone(),
+            })
             .collect::<Vec<_>>();
 
         let map = targets::shadow_map_image(gpu, map_size)?;
