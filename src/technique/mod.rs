@@ -32,7 +32,8 @@ pub enum Technique {
 }
 
 impl Technique {
-    pub const ALL: &'static [Technique] = &[Technique::Lit, Technique::ShadowVolume, Technique::ShadowMap, Technique::ShadowTextureAtlas];
+    pub const ALL: &'static [Technique] =
+        &[Technique::Lit, Technique::ShadowVolume, Technique::ShadowMap, Technique::ShadowTextureAtlas];
 
     pub fn name(self) -> &'static str {
         match self {

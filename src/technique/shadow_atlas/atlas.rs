@@ -110,7 +110,7 @@ fn clean_mips(padding: u32) -> u32 {
 /// Why a UV set cannot be an atlas: texels outside [0, 1], or texel centres covered by more
 /// than one triangle (shared edges excluded). `None`: it can.
 pub fn overlap(uvs: &[Vec2], indices: &[u32], size: u32) -> Option<String> {
-    if uvs.iter().any(|uv| !(uv.cmpge(Vec2::ZERO).all() && uv.cmple(Vec2::ONE).all()) || !uv.is_finite()) {
+    if uvs.iter().any(|uv| !(uv.cmpge(Vec2::ZERO).all() && uv.cmple(Vec2::ONE).all() && uv.is_finite())) {
         return Some("UVs outside [0, 1]".into());
     }
     let mut hits = vec![0u8; (size * size) as usize];

@@ -416,7 +416,8 @@ impl<'s> ShadowAtlasRenderer<'s> {
                 },
             ],
         )?;
-        let map_pipeline = Pipeline::with_colour_attachments(gpu, &shadow_map_desc(), map_pass.raw, &[light_set.layout], 0)?;
+        let map_pipeline =
+            Pipeline::with_colour_attachments(gpu, &shadow_map_desc(), map_pass.raw, &[light_set.layout], 0)?;
 
         let (atlas, scene_pipeline) = match kind {
             ShadowKind::Map => {
@@ -504,7 +505,8 @@ impl<'s> ShadowAtlasRenderer<'s> {
                     return Ok(());
                 }
                 rec.pass("shadow map", |rec| {
-                    let clear = [vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } }];
+                    let clear =
+                        [vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } }];
                     rec.begin_render_pass(map_pass, map_framebuffer, map_extent, &clear);
                     rec.bind_with_sets(map_pipeline, &[light_set]);
                     for object in scene.objects.iter().filter(|o| o.casts_shadow) {
@@ -528,7 +530,10 @@ impl<'s> ShadowAtlasRenderer<'s> {
                             }
                             _ => rec.bind_with_sets(scene_pipeline, &[frame_set, light_set]),
                         }
-                        rec.push(scene_pipeline, &ObjectPush { model: object.transform, colour: object.colour.extend(1.0) });
+                        rec.push(
+                            scene_pipeline,
+                            &ObjectPush { model: object.transform, colour: object.colour.extend(1.0) },
+                        );
                         rec.draw_mesh(&meshes[object.mesh]);
                     }
                     Ok(())

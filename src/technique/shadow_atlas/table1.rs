@@ -53,8 +53,7 @@ pub fn bench(gpu: &Arc<Gpu>, options: &RenderOptions, warmup: u32, runs: u32, js
         for (name, kind, moving_fps, fixed_fps) in PAPER_TABLE1.iter().filter(|r| r.0 == scene.name) {
             for (light, paper_fps) in [(LightMode::Moving, *moving_fps), (LightMode::Fixed, *fixed_fps)] {
                 let opts = ShadowAtlasOptions { light, ..options.shadow_atlas };
-                let mut renderer =
-                    ShadowAtlasRenderer::new(gpu, scene, width, height, options.stencil, *kind, &opts)?;
+                let mut renderer = ShadowAtlasRenderer::new(gpu, scene, width, height, options.stencil, *kind, &opts)?;
                 variants.push(Variant {
                     name: format!("{name} {} {}", kind.name(), light.name()),
                     frame: Box::new(move || Ok(renderer.frame()?.output)),

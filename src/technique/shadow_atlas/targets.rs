@@ -152,7 +152,8 @@ pub fn shadow_map_render_pass(gpu: &Arc<Gpu>) -> Result<RenderPass> {
         .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
         .initial_layout(vk::ImageLayout::UNDEFINED)
         .final_layout(vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL)];
-    let depth_ref = vk::AttachmentReference { attachment: 0, layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL };
+    let depth_ref =
+        vk::AttachmentReference { attachment: 0, layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL };
     let subpasses = [vk::SubpassDescription::default()
         .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
         .depth_stencil_attachment(&depth_ref)];
@@ -188,8 +189,7 @@ fn build(
     subpasses: &[vk::SubpassDescription],
     deps: &[vk::SubpassDependency],
 ) -> Result<RenderPass> {
-    let info =
-        vk::RenderPassCreateInfo::default().attachments(attachments).subpasses(subpasses).dependencies(deps);
+    let info = vk::RenderPassCreateInfo::default().attachments(attachments).subpasses(subpasses).dependencies(deps);
     let raw = unsafe { gpu.raw().create_render_pass(&info, None) }.vk("vkCreateRenderPass")?;
     Ok(RenderPass { gpu: gpu.clone(), raw })
 }
