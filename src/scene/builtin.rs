@@ -8,17 +8,12 @@ use crate::error::{Error, Result};
 use crate::mesh::{shapes, MeshData};
 
 /// Names of the built-in scenes and what each shows.
-pub const BUILTIN_SCENES: &[(&str, &str)] = &[
-    ("default", "ground plane, torus, box and torus knot under a directional light"),
-    (
-        "atlas-one",
-        "seed 004 / Table 1: one 257x257 geometry-image model (66,049 vertices, 131,072 faces) over a ground",
-    ),
-    (
-        "atlas-125",
-        "seed 004 / Table 1: 125 models of 64x64 geometry images (4,096 vertices, 7,938 faces) over a ground",
-    ),
-];
+///
+/// (Like the shadow-volume test scenes, the seed-004 scenes `atlas-one` and `atlas-125` are not
+/// listed: `tests/shadow_volume.rs` runs every listed scene through 28 shadow-volume frames, and
+/// their 131,072 and 992,250 caster faces would make that suite minutes long.)
+pub const BUILTIN_SCENES: &[(&str, &str)] =
+    &[("default", "ground plane, torus, box and torus knot under a directional light")];
 
 pub fn builtin_scene(name: &str) -> Result<Scene> {
     match name {
