@@ -62,6 +62,8 @@ pub struct RenderOptions {
     pub technique: Technique,
     pub shadow_volume: ShadowVolumeOptions,
     pub shadow_atlas: ShadowAtlasOptions,
+    /// Heat-map frame: alpha ends up holding the fragments shaded per pixel.
+    pub count_overdraw: bool,
 }
 
 impl Default for RenderOptions {
@@ -73,7 +75,19 @@ impl Default for RenderOptions {
             technique: Technique::Lit,
             shadow_volume: ShadowVolumeOptions::default(),
             shadow_atlas: ShadowAtlasOptions::default(),
+            count_overdraw: false,
         }
+    }
+}
+
+/// Every pipeline a technique builds, labelled with its path (emulated / reference), in pass
+/// order: the source of `nostencil passes`.
+pub fn pipeline_descs(options: &RenderOptions) -> Vec<(&'static str, crate::pipeline::PipelineDesc)> {
+    match options.technique {
+        Technique::Lit => vec![("both", lit::scene_pipeline_desc())],
+        Technique::ShadowVolume => shadow_volume::pipeline_descs(&options.shadow_volume),
+        Technique::ShadowMap => shadow_atlas::pipeline_descs(ShadowKind::Map),
+        Technique::ShadowTextureAtlas => shadow_atlas::pipeline_descs(ShadowKind::Atlas),
     }
 }
 
@@ -89,6 +103,7 @@ pub fn render_scene(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions) -> R
     match options.technique {
         Technique::Lit => {
             let mut renderer = Renderer::new(gpu, options.width, options.height, options.stencil, false)?;
+            renderer.count_overdraw = options.count_overdraw;
             let meshes = GpuScene::upload(gpu, scene)?;
             let uniforms = FrameUniforms::for_scene(scene, renderer.aspect());
             let clear = scene.background.extend(1.0).to_array();
@@ -97,7 +112,7 @@ pub fn render_scene(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions) -> R
             Ok(TechniqueFrame { output, shadow_volume: None, shadow_atlas: None })
         }
         Technique::ShadowVolume => {
-            let frame = shadow_volume::render(
+            let mut renderer = shadow_volume::ShadowVolumeRenderer::new(
                 gpu,
                 scene,
                 options.width,
@@ -105,6 +120,8 @@ pub fn render_scene(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions) -> R
                 options.stencil,
                 &options.shadow_volume,
             )?;
+            renderer.count_overdraw(options.count_overdraw);
+            let frame = renderer.frame()?;
             Ok(TechniqueFrame { output: frame.output, shadow_volume: Some(frame.stats), shadow_atlas: None })
         }
         Technique::ShadowMap | Technique::ShadowTextureAtlas => {
@@ -117,6 +134,7 @@ pub fn render_scene(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions) -> R
                 options.stencil,
                 kind,
                 &options.shadow_atlas,
+                options.count_overdraw,
             )?;
             Ok(TechniqueFrame { output: frame.output, shadow_volume: None, shadow_atlas: Some(frame.stats) })
         }

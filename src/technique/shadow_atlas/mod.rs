@@ -174,11 +174,17 @@ pub fn scene_desc(kind: ShadowKind) -> PipelineDesc {
     }
 }
 
-/// Every pipeline of both techniques, pass by pass.
-pub fn pipeline_descs(kind: ShadowKind) -> Vec<PipelineDesc> {
+/// Every pipeline of a technique, pass by pass, labelled with the target it draws into (no
+/// stencil anywhere: there is no reference path).
+pub fn pipeline_descs(kind: ShadowKind) -> Vec<(&'static str, PipelineDesc)> {
     match kind {
-        ShadowKind::Atlas => vec![shadow_map_desc(), bake_desc(), dilate_desc(), scene_desc(kind)],
-        ShadowKind::Map => vec![shadow_map_desc(), scene_desc(kind)],
+        ShadowKind::Atlas => vec![
+            ("shadow map (depth only)", shadow_map_desc()),
+            ("shadow texture (atlas space)", bake_desc()),
+            ("shadow texture mip 0", dilate_desc()),
+            ("frame", scene_desc(kind)),
+        ],
+        ShadowKind::Map => vec![("shadow map (depth only)", shadow_map_desc()), ("frame", scene_desc(kind))],
     }
 }
 
@@ -470,6 +476,11 @@ impl<'s> ShadowAtlasRenderer<'s> {
         &self.atlases
     }
 
+    /// Heat-map frames (see `Renderer::count_overdraw`): only the frame's passes are counted.
+    pub fn count_overdraw(&mut self, on: bool) {
+        self.renderer.count_overdraw = on;
+    }
+
     /// Renders the next frame (the light turns between frames when it is `moving`).
     pub fn frame(&mut self) -> Result<ShadowAtlasFrame> {
         let scene = self.scene;
@@ -709,6 +720,7 @@ impl AtlasPasses {
 
 /// Renders one frame of `scene` (a second one when the light is fixed, so that the counters
 /// show the steady state: the shadow map and bake skipped).
+#[allow(clippy::too_many_arguments)]
 pub fn render(
     gpu: &Arc<Gpu>,
     scene: &Scene,
@@ -717,8 +729,10 @@ pub fn render(
     stencil: StencilMode,
     kind: ShadowKind,
     options: &ShadowAtlasOptions,
+    count_overdraw: bool,
 ) -> Result<ShadowAtlasFrame> {
     let mut renderer = ShadowAtlasRenderer::new(gpu, scene, width, height, stencil, kind, options)?;
+    renderer.count_overdraw(count_overdraw);
     let first = renderer.frame()?;
     match options.light {
         LightMode::Moving => Ok(first),
