@@ -78,6 +78,20 @@ pub enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Bake one model's shadow texture (shadow-texture-atlas) and write it as PNG.
+    Bake {
+        #[command(flatten)]
+        frame: FrameArgs,
+        /// Object to bake (default: the first object).
+        #[arg(long, value_name = "NAME")]
+        model: Option<String>,
+        /// Mip level to write.
+        #[arg(long, default_value_t = 0)]
+        mip: u32,
+        /// Output PNG file (written atomically).
+        #[arg(long, value_name = "FILE.png")]
+        out: PathBuf,
+    },
     /// Print the device, the mobile profile, and every limit the device is checked against.
     Info {
         #[command(flatten)]
@@ -142,6 +156,16 @@ pub struct FrameArgs {
     /// planar, blob, shadow-texture: shadowed colour = colour x F/255 (0..=255; 255: no shadow).
     #[arg(long, default_value_t = 102, value_name = "F")]
     pub shadow_factor: u8,
+    /// shadow-map, shadow-texture-atlas: `moving` (turns every frame: re-bake) or `fixed`
+    /// (after the first frame the shadow map and bake are skipped).
+    #[arg(long, default_value = "fixed", value_name = "moving|fixed")]
+    pub light: String,
+    /// shadow-map, shadow-texture-atlas: shadow map side in texels (power of two).
+    #[arg(long, default_value_t = 512, value_name = "N")]
+    pub shadow_map_size: u32,
+    /// shadow-texture-atlas: shadow texture side for meshes that are not geometry images.
+    #[arg(long, default_value_t = 256, value_name = "N")]
+    pub shadow_texture_size: u32,
     #[command(flatten)]
     pub gpu: GpuArgs,
 }

@@ -10,8 +10,8 @@ use crate::profile::budget::Budget;
 use crate::profile::report::{ProfileReport, ReportContext, ReportFormat};
 use crate::scene::{builtin_scene_at, scene_from_gltf, Scene, BUILTIN_SCENES, OTHER_SCENES};
 use crate::technique::{
-    alpha_counter, render_scene, CartoonOptions, Normalize, PlanarOptions, RenderOptions, ShadowVolumeOptions,
-    SilhouetteMethod, Technique, VolumeMethod,
+    alpha_counter, render_scene, shadow_atlas, CartoonOptions, LightMode, Normalize, PlanarOptions, RenderOptions,
+    ShadowAtlasOptions, ShadowVolumeOptions, SilhouetteMethod, Technique, VolumeMethod,
 };
 
 pub fn run(cli: Cli) -> Result<()> {
@@ -37,6 +37,7 @@ pub fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
         Command::Bench { frame, warmup, runs, json } => bench(&frame, warmup, runs, json),
+        Command::Bake { frame, model, mip, out } => bake(&frame, model.as_deref(), mip, &out),
     }
 }
 
@@ -67,6 +68,11 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
             method: VolumeMethod::parse(&frame.volume_method)?,
             normalize: Normalize::parse(&frame.normalize)?,
             ..Default::default()
+        },
+        shadow_atlas: ShadowAtlasOptions {
+            map_size: shadow_atlas::check_size("--shadow-map-size", frame.shadow_map_size)?,
+            texture_size: shadow_atlas::check_size("--shadow-texture-size", frame.shadow_texture_size)?,
+            light: LightMode::parse(&frame.light)?,
         },
         count_overdraw: false,
         cartoon: {
@@ -167,6 +173,9 @@ fn profile(frame: &FrameArgs, format: FormatArg, outputs: &ProfileOutputs) -> Re
         (Some(s), _, _) => serde_json::to_value(s).ok(),
         (_, Some(c), _) => serde_json::to_value(c).ok(),
         (_, _, Some(p)) => serde_json::to_value(p).ok(),
+        _ if frame_result.shadow_atlas.is_some() => {
+            frame_result.shadow_atlas.as_ref().and_then(|s| serde_json::to_value(s).ok())
+        }
         _ => None,
     };
     print!("{}", report.render(report_format(format)));
@@ -195,6 +204,33 @@ fn profile(frame: &FrameArgs, format: FormatArg, outputs: &ProfileOutputs) -> Re
                 stats.edge_cpu_ms
             ),
             None => println!("\noutline: selected {}", stats.selected.join(", ")),
+        }
+    }
+    if let (Some(stats), FormatArg::Table) = (&frame_result.shadow_atlas, format) {
+        println!(
+            "\n{} | light {} | frame {}: {} | shadow map {}x{}",
+            stats.technique.name(),
+            stats.light.name(),
+            stats.frame,
+            if stats.cached {
+                "shadow map and bake skipped (neither light nor models moved since the last frame)"
+            } else {
+                "shadow map re-rendered (and shadow textures re-baked)"
+            },
+            stats.map_size,
+            stats.map_size
+        );
+        if stats.technique == shadow_atlas::ShadowKind::Atlas {
+            for atlas in &stats.atlases {
+                println!(
+                    "  atlas of '{}': {} -> {}x{} shadow texture, {} mips",
+                    atlas.mesh,
+                    atlas.describe(),
+                    atlas.size,
+                    atlas.size,
+                    atlas.mip_levels
+                );
+            }
         }
     }
 
@@ -230,6 +266,48 @@ fn profile(frame: &FrameArgs, format: FormatArg, outputs: &ProfileOutputs) -> Re
         }
         eprintln!("within budget {}", path.display());
     }
+    Ok(())
+}
+
+/// Bakes the shadow textures of `frame.scene` and writes one model's as PNG.
+fn bake(frame: &FrameArgs, model: Option<&str>, mip: u32, out: &Path) -> Result<()> {
+    use crate::technique::shadow_atlas::{ShadowAtlasRenderer, ShadowKind};
+    check_output_path(out)?;
+    let options = options(frame)?;
+    let scene = load_scene(&frame.scene, frame.time)?;
+    let object = match model {
+        Some(name) => scene.objects.iter().position(|o| o.name == name).ok_or_else(|| {
+            Error::InvalidInput(format!(
+                "no model '{name}' in scene '{}'; models: {}",
+                scene.name,
+                scene.objects.iter().map(|o| o.name.as_str()).collect::<Vec<_>>().join(", ")
+            ))
+        })?,
+        None => 0,
+    };
+    let gpu = open_gpu(&frame.gpu)?;
+    let mut renderer = ShadowAtlasRenderer::new(
+        &gpu,
+        &scene,
+        options.width.min(64),
+        options.height.min(64),
+        options.stencil,
+        ShadowKind::Atlas,
+        &options.shadow_atlas,
+    )?;
+    renderer.frame()?;
+    let image = renderer.read_shadow_texture(object, mip)?;
+    image.write_png(out, false)?;
+    let name = &scene.objects.get(object).map_or("", |o| o.name.as_str());
+    let atlas = scene.objects.get(object).and_then(|o| renderer.atlases().get(o.mesh));
+    eprintln!(
+        "wrote {} ({}x{}, mip {mip} of '{name}' in scene '{}'; atlas: {})",
+        out.display(),
+        image.width,
+        image.height,
+        scene.name,
+        atlas.map_or("?".into(), |a| a.describe())
+    );
     Ok(())
 }
 
@@ -410,6 +488,9 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: u32, json: bool) -> Result<()> {
             let mut texture = ShadowTextureRenderer::new(&gpu, &scene, width, height, StencilMode::Emulated, factor)?;
             variants
                 .push(Variant { name: "shadow texture".into(), frame: Box::new(move || Ok(texture.frame()?.output)) });
+        }
+        Technique::ShadowMap | Technique::ShadowTextureAtlas => {
+            return crate::technique::shadow_atlas::table1::bench(&gpu, &options, warmup, runs, json);
         }
         Technique::Lit => {
             for stencil in [StencilMode::Reference, StencilMode::Emulated] {

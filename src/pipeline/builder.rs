@@ -91,6 +91,18 @@ impl Pipeline {
         render_pass: vk::RenderPass,
         set_layouts: &[vk::DescriptorSetLayout],
     ) -> Result<Self> {
+        Self::with_colour_attachments(gpu, desc, render_pass, set_layouts, 1)
+    }
+
+    /// As `new`, for a subpass with `colour_attachments` colour attachments (0: depth only, as
+    /// a shadow map's), each blended as `desc.fixed.blend` says.
+    pub fn with_colour_attachments(
+        gpu: &Arc<Gpu>,
+        desc: &PipelineDesc,
+        render_pass: vk::RenderPass,
+        set_layouts: &[vk::DescriptorSetLayout],
+        colour_attachments: usize,
+    ) -> Result<Self> {
         mobile_profile::check_push_constants(desc.name, desc.push_constant_bytes)?;
         let device = gpu.raw();
 
@@ -103,7 +115,7 @@ impl Pipeline {
             .set_layouts(set_layouts)
             .push_constant_ranges(if desc.push_constant_bytes > 0 { &ranges } else { &[] });
         let layout = unsafe { device.create_pipeline_layout(&layout_info, None) }.vk("vkCreatePipelineLayout")?;
-        Self::with_layout(gpu, desc, render_pass, layout, set_layouts.len() as u32, true)
+        Self::with_layout(gpu, desc, render_pass, layout, set_layouts.len() as u32, true, colour_attachments)
     }
 
     /// The same pipeline with its fragment stage replaced by an overdraw counter: alpha
@@ -120,7 +132,7 @@ impl Pipeline {
             alpha: Some(BlendEquation::new(vk::BlendOp::ADD, vk::BlendFactor::ONE, vk::BlendFactor::ONE)),
             write_mask: vk::ColorComponentFlags::A,
         };
-        Self::with_layout(&self.gpu, &desc, self.render_pass, self.layout, self.set_count, false)
+        Self::with_layout(&self.gpu, &desc, self.render_pass, self.layout, self.set_count, false, 1)
     }
 
     fn with_layout(
@@ -130,6 +142,7 @@ impl Pipeline {
         layout: vk::PipelineLayout,
         set_count: u32,
         owns_layout: bool,
+        colour_attachments: usize,
     ) -> Result<Self> {
         let device = gpu.raw();
         let mut pipeline = Pipeline {
@@ -203,7 +216,7 @@ impl Pipeline {
             depth_stencil =
                 depth_stencil.stencil_test_enable(true).front(stencil.front.to_vk()).back(stencil.back.to_vk());
         }
-        let attachments = [blend_attachment(fixed)];
+        let attachments = vec![blend_attachment(fixed); colour_attachments];
         let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&attachments);
         let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
         let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);

@@ -21,7 +21,10 @@ pub const BUILTIN_SCENES: &[(&str, &str)] = &[
 ];
 
 /// Scenes outside the shadow-volume sweep (too heavy to render dozens of times in tests).
-pub const OTHER_SCENES: &[(&str, &str)] = &[];
+pub const OTHER_SCENES: &[(&str, &str)] = &[
+    ("atlas-one", "seed 004, Table 1 row 1: one 257x257 geometry image (131,072 faces)"),
+    ("atlas-125", "seed 004, Table 1 row 2: 125 models of 64x64 geometry images"),
+];
 
 pub fn builtin_scene(name: &str) -> Result<Scene> {
     builtin_scene_at(name, 0.0)
@@ -39,6 +42,8 @@ pub fn builtin_scene_at(name: &str, time: f32) -> Result<Scene> {
         "box" => Ok(box_scene()),
         "outline" => outline_scene(),
         "duck" => duck_scene(),
+        "atlas-one" => atlas_one_scene(),
+        "atlas-125" => atlas_125_scene(),
         _ => Err(Error::InvalidInput(format!(
             "unknown scene '{name}'; built-in scenes: {}",
             BUILTIN_SCENES.iter().chain(OTHER_SCENES).map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
@@ -260,6 +265,54 @@ pub fn duck_scene() -> Result<Scene> {
     let black = Vec3::new(0.05, 0.05, 0.05);
     for (name, z) in [("left eye", 0.3), ("right eye", -0.3)] {
         part(name, Vec3::splat(0.08), Quat::IDENTITY, Vec3::new(1.32, 2.12, z), black);
+    }
+    Ok(scene)
+}
+
+/// Horns of the seed-004 models: six smooth spikes, tilted off the axes, whose flanks shadow
+/// the body between them.
+pub const ATLAS_HORNS: [(Vec3, f32); 6] = [
+    (Vec3::new(1.0, 0.3, 0.1), 0.8),
+    (Vec3::new(-1.0, 0.2, -0.3), 0.7),
+    (Vec3::new(0.2, 1.0, 0.3), 0.9),
+    (Vec3::new(-0.1, -1.0, 0.2), 0.6),
+    (Vec3::new(0.3, -0.2, 1.0), 0.8),
+    (Vec3::new(-0.3, 0.4, -1.0), 0.7),
+];
+
+fn horned_geometry_image(n: u32) -> Result<MeshData> {
+    use crate::technique::shadow_atlas::geometry_image::{geometry_image, horned_radius};
+    geometry_image(n, horned_radius(&ATLAS_HORNS))
+}
+
+/// Seed 004, first row of Table 1: one 257x257 geometry image (its shadow texture 256x256).
+fn atlas_one_scene() -> Result<Scene> {
+    let camera = Camera::look_at(Vec3::new(0.0, 3.2, 6.0), Vec3::new(0.0, 1.2, 0.0));
+    let light = Light::Directional { direction: Vec3::new(-0.5, -1.0, -0.4).normalize() };
+    let mut scene = with_ground("atlas-one", camera, light);
+    let mesh = scene.add_mesh("geometry image 257x257", horned_geometry_image(257)?);
+    let transform = Mat4::from_rotation_translation(Quat::from_rotation_y(0.4), Vec3::new(0.0, 1.6, 0.0));
+    scene.add_object("model", mesh, transform, Vec3::new(0.86, 0.62, 0.36), true);
+    Ok(scene)
+}
+
+/// Seed 004, second row of Table 1: 125 models (5 x 5 x 5) of 64x64 geometry images, each
+/// with a 64x64 shadow texture.
+fn atlas_125_scene() -> Result<Scene> {
+    let camera = Camera::look_at(Vec3::new(0.0, 6.5, 11.0), Vec3::new(0.0, 2.0, 0.0));
+    let light = Light::Directional { direction: Vec3::new(-0.45, -1.0, -0.3).normalize() };
+    let mut scene = with_ground("atlas-125", camera, light);
+    let mesh = scene.add_mesh("geometry image 64x64", horned_geometry_image(64)?);
+    for i in 0..125u32 {
+        let (x, y, z) = ((i % 5) as f32 - 2.0, (i / 25) as f32, ((i / 5) % 5) as f32 - 2.0);
+        let rotation = Quat::from_euler(glam::EulerRot::YXZ, 0.7 * i as f32, 0.3 * (i % 7) as f32, 0.0);
+        let transform = Mat4::from_scale_rotation_translation(
+            Vec3::splat(0.4),
+            rotation,
+            Vec3::new(x * 1.5, 0.9 + y * 1.2, z * 1.5),
+        );
+        let tint = 0.15 * (i % 3) as f32;
+        scene.add_object(&format!("model {i}"), mesh, transform, Vec3::new(0.8 - tint, 0.55, 0.35 + tint), true);
     }
     Ok(scene)
 }

@@ -82,7 +82,7 @@ pub fn add_model(scene: &mut Scene, model: &Model, world: &[Mat4]) -> Result<Opt
                 indices: primitive.indices.clone(),
             };
             let closed = is_closed_after_welding(&label, &data);
-            let mesh_index = scene.add_mesh(&label, data);
+            let mesh_index = scene.add_mesh_with_uv1(&label, data, primitive.uv1.clone());
             scene.add_object(&label, mesh_index, node_world, colour, closed);
             if let Some(object) = scene.objects.last_mut() {
                 object.skin = skin;

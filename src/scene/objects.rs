@@ -1,6 +1,6 @@
 //! What a frame draws: meshes, the objects placed from them, one light and a camera.
 
-use glam::{Mat4, Vec3};
+use glam::{Mat4, Vec2, Vec3};
 
 use super::camera::{Camera, Light};
 use crate::mesh::MeshData;
@@ -9,6 +9,9 @@ use crate::mesh::MeshData;
 pub struct SceneMesh {
     pub name: String,
     pub data: MeshData,
+    /// The file's second UV set (glTF TEXCOORD_1), when it has one: a candidate lightmap /
+    /// shadow-texture atlas, checked before use.
+    pub uv1: Option<Vec<Vec2>>,
 }
 
 #[derive(Debug, Clone)]
@@ -53,7 +56,11 @@ pub struct Scene {
 
 impl Scene {
     pub fn add_mesh(&mut self, name: &str, data: MeshData) -> usize {
-        self.meshes.push(SceneMesh { name: name.to_owned(), data });
+        self.add_mesh_with_uv1(name, data, None)
+    }
+
+    pub fn add_mesh_with_uv1(&mut self, name: &str, data: MeshData, uv1: Option<Vec<Vec2>>) -> usize {
+        self.meshes.push(SceneMesh { name: name.to_owned(), data, uv1 });
         self.meshes.len() - 1
     }
 

@@ -4,6 +4,7 @@ pub mod alpha_counter;
 pub mod cartoon;
 pub mod lit;
 pub mod planar;
+pub mod shadow_atlas;
 pub mod shadow_volume;
 
 use std::sync::Arc;
@@ -16,6 +17,7 @@ use crate::scene::Scene;
 
 pub use cartoon::{CartoonOptions, CartoonStats, SilhouetteMethod};
 pub use planar::{PlanarOptions, PlanarStats};
+pub use shadow_atlas::{LightMode, ShadowAtlasOptions, ShadowAtlasStats, ShadowKind};
 pub use shadow_volume::{Normalize, ShadowVolumeOptions, ShadowVolumeStats, VolumeMethod};
 
 /// What `--technique` selects.
@@ -40,6 +42,10 @@ pub enum Technique {
     Blob,
     /// Casters drawn from the light into a small texture that the ground looks up (seed 001).
     ShadowTexture,
+    /// A depth-compared shadow map from the light (seed 004's comparison).
+    ShadowMap,
+    /// Shadow textures baked into each model's atlas from the shadow map (seed 004).
+    ShadowTextureAtlas,
 }
 
 impl Technique {
@@ -52,6 +58,8 @@ impl Technique {
         Technique::Planar,
         Technique::Blob,
         Technique::ShadowTexture,
+        Technique::ShadowMap,
+        Technique::ShadowTextureAtlas,
     ];
 
     pub fn name(self) -> &'static str {
@@ -64,6 +72,8 @@ impl Technique {
             Technique::Planar => "planar",
             Technique::Blob => "blob",
             Technique::ShadowTexture => "shadow-texture",
+            Technique::ShadowMap => "shadow-map",
+            Technique::ShadowTextureAtlas => "shadow-texture-atlas",
         }
     }
 
@@ -84,6 +94,7 @@ pub struct RenderOptions {
     pub stencil: StencilMode,
     pub technique: Technique,
     pub shadow_volume: ShadowVolumeOptions,
+    pub shadow_atlas: ShadowAtlasOptions,
     /// Heat-map frame: alpha ends up holding the fragments shaded per pixel.
     pub count_overdraw: bool,
     pub cartoon: CartoonOptions,
@@ -98,6 +109,7 @@ impl Default for RenderOptions {
             stencil: StencilMode::Emulated,
             technique: Technique::Lit,
             shadow_volume: ShadowVolumeOptions::default(),
+            shadow_atlas: ShadowAtlasOptions::default(),
             count_overdraw: false,
             cartoon: CartoonOptions::default(),
             planar: PlanarOptions::default(),
@@ -123,6 +135,8 @@ pub fn pipeline_descs(options: &RenderOptions) -> Vec<(&'static str, crate::pipe
             .into_iter()
             .map(|d| (if d.fixed.stencil.is_some() { "reference" } else { "emulated" }, d))
             .collect(),
+        Technique::ShadowMap => shadow_atlas::pipeline_descs(ShadowKind::Map),
+        Technique::ShadowTextureAtlas => shadow_atlas::pipeline_descs(ShadowKind::Atlas),
     }
 }
 
@@ -132,6 +146,7 @@ pub struct TechniqueFrame {
     pub shadow_volume: Option<ShadowVolumeStats>,
     pub cartoon: Option<CartoonStats>,
     pub planar: Option<PlanarStats>,
+    pub shadow_atlas: Option<ShadowAtlasStats>,
 }
 
 /// Renders `scene` with the chosen technique and returns the image and its counters.
@@ -145,7 +160,7 @@ pub fn render_scene(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions) -> R
             let clear = scene.background.extend(1.0).to_array();
             let lit = lit::LitPass::new(gpu, &renderer)?;
             let output = renderer.render(&uniforms, clear, |rec| lit.record(rec, scene, &meshes, |_| 1.0))?;
-            Ok(TechniqueFrame { output, shadow_volume: None, cartoon: None, planar: None })
+            Ok(TechniqueFrame { output, shadow_volume: None, cartoon: None, planar: None, shadow_atlas: None })
         }
         Technique::ShadowVolume => {
             let mut renderer = shadow_volume::ShadowVolumeRenderer::new(
@@ -158,7 +173,13 @@ pub fn render_scene(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions) -> R
             )?;
             renderer.count_overdraw(options.count_overdraw);
             let frame = renderer.frame()?;
-            Ok(TechniqueFrame { output: frame.output, shadow_volume: Some(frame.stats), cartoon: None, planar: None })
+            Ok(TechniqueFrame {
+                output: frame.output,
+                shadow_volume: Some(frame.stats),
+                cartoon: None,
+                planar: None,
+                shadow_atlas: None,
+            })
         }
         Technique::Outline | Technique::Silhouette | Technique::Toon => {
             let frame = cartoon::render(
@@ -170,21 +191,65 @@ pub fn render_scene(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions) -> R
                 options.technique,
                 &options.cartoon,
             )?;
-            Ok(TechniqueFrame { output: frame.output, shadow_volume: None, cartoon: Some(frame.stats), planar: None })
+            Ok(TechniqueFrame {
+                output: frame.output,
+                shadow_volume: None,
+                cartoon: Some(frame.stats),
+                planar: None,
+                shadow_atlas: None,
+            })
         }
         Technique::Planar => {
             let frame = planar::render(gpu, scene, options.width, options.height, options.stencil, &options.planar)?;
-            Ok(TechniqueFrame { output: frame.output, shadow_volume: None, cartoon: None, planar: Some(frame.stats) })
+            Ok(TechniqueFrame {
+                output: frame.output,
+                shadow_volume: None,
+                cartoon: None,
+                planar: Some(frame.stats),
+                shadow_atlas: None,
+            })
         }
         Technique::Blob => {
             let (w, h, factor) = (options.width, options.height, options.planar.shadow_factor);
             let frame = planar::blob::render(gpu, scene, w, h, options.stencil, factor)?;
-            Ok(TechniqueFrame { output: frame.output, shadow_volume: None, cartoon: None, planar: Some(frame.stats) })
+            Ok(TechniqueFrame {
+                output: frame.output,
+                shadow_volume: None,
+                cartoon: None,
+                planar: Some(frame.stats),
+                shadow_atlas: None,
+            })
         }
         Technique::ShadowTexture => {
             let (w, h, factor) = (options.width, options.height, options.planar.shadow_factor);
             let frame = planar::shadow_texture::render(gpu, scene, w, h, options.stencil, factor)?;
-            Ok(TechniqueFrame { output: frame.output, shadow_volume: None, cartoon: None, planar: Some(frame.stats) })
+            Ok(TechniqueFrame {
+                output: frame.output,
+                shadow_volume: None,
+                cartoon: None,
+                planar: Some(frame.stats),
+                shadow_atlas: None,
+            })
+        }
+        Technique::ShadowMap | Technique::ShadowTextureAtlas => {
+            let kind = if options.technique == Technique::ShadowMap { ShadowKind::Map } else { ShadowKind::Atlas };
+            let frame = shadow_atlas::render(
+                gpu,
+                scene,
+                options.width,
+                options.height,
+                options.stencil,
+                kind,
+                &options.shadow_atlas,
+                options.count_overdraw,
+            )?;
+            Ok(TechniqueFrame {
+                output: frame.output,
+                shadow_volume: None,
+                shadow_atlas: Some(frame.stats),
+                cartoon: None,
+                planar: None,
+            })
         }
     }
 }

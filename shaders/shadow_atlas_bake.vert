@@ -1,0 +1,19 @@
+#version 450
+// Atlas bake: each triangle is drawn where it lies in the model's atlas (uv * 2 - 1), carrying
+// its world position and normal to the fragment shader.
+#define LIGHT_SET 0
+#include "shadow_atlas_light.glsl"
+#include "object_push.glsl"
+
+layout(location = 0) in vec3 in_position;
+layout(location = 1) in vec3 in_normal;
+layout(location = 2) in vec2 in_atlas_uv;
+
+layout(location = 0) out vec3 world_position;
+layout(location = 1) out vec3 world_normal;
+
+void main() {
+    world_position = (object.model * vec4(in_position, 1.0)).xyz;
+    world_normal = transpose(inverse(mat3(object.model))) * in_normal;
+    gl_Position = vec4(in_atlas_uv * 2.0 - 1.0, 0.0, 1.0);
+}

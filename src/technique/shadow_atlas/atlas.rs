@@ -1,0 +1,207 @@
+//! Atlas UVs for shadow textures: each surface point needs a texel of its own. A geometry image
+//! has them by construction; other meshes use a UV set of the file when it is checked not to
+//! overlap (TEXCOORD_1, then TEXCOORD_0), else a generated atlas: one chart per triangle,
+//! packed on a grid with padding between charts.
+
+use glam::{Vec2, Vec3};
+
+use super::geometry_image;
+use crate::mesh::MeshData;
+
+/// Where a mesh's atlas UVs came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum AtlasSource {
+    /// An n x n geometry image: the grid coordinate.
+    GeometryImage { n: u32 },
+    /// The file's second UV set, checked not to overlap.
+    TexCoord1,
+    /// The mesh's first UV set, checked not to overlap.
+    TexCoord0,
+    /// One chart per triangle, packed with `padding` texels around each chart.
+    Generated { charts: u32, padding: u32 },
+}
+
+impl AtlasSource {
+    pub fn describe(&self) -> String {
+        match self {
+            AtlasSource::GeometryImage { n } => format!("geometry image {n}x{n}"),
+            AtlasSource::TexCoord1 => "TEXCOORD_1 (non-overlapping)".into(),
+            AtlasSource::TexCoord0 => "TEXCOORD_0 (non-overlapping)".into(),
+            AtlasSource::Generated { charts, padding } => {
+                format!("generated atlas ({charts} charts, {padding} texels padding)")
+            }
+        }
+    }
+}
+
+/// A mesh laid out in its atlas: the vertices to draw (a generated atlas splits them per
+/// chart), the shadow texture's size, how far to dilate, and how many mips stay clean.
+#[derive(Debug, Clone)]
+pub struct MeshAtlas {
+    pub positions: Vec<Vec3>,
+    pub normals: Vec<Vec3>,
+    pub uvs: Vec<Vec2>,
+    pub indices: Vec<u32>,
+    pub source: AtlasSource,
+    pub size: u32,
+    pub dilate_radius: u32,
+    pub mip_levels: u32,
+    /// Why the file's TEXCOORD_1 was not used, when it has one.
+    pub rejected_uv1: Option<String>,
+}
+
+/// Padding around each generated chart, in texels of mip 0.
+pub const CHART_PADDING: u32 = 4;
+
+/// The atlas of `mesh`: `uv1` is the file's TEXCOORD_1 when it has one; `size` the shadow
+/// texture size for meshes that are not geometry images.
+pub fn mesh_atlas(mesh: &MeshData, uv1: Option<&[Vec2]>, size: u32) -> MeshAtlas {
+    if let Some(n) = geometry_image::grid_size(mesh) {
+        let size = (n - 1).next_power_of_two();
+        return MeshAtlas {
+            positions: mesh.positions.clone(),
+            normals: mesh.normals.clone(),
+            uvs: mesh.uvs.clone(),
+            indices: mesh.indices.clone(),
+            source: AtlasSource::GeometryImage { n },
+            size,
+            // One chart filling the square: nothing to dilate into but stray uncovered texels.
+            dilate_radius: 2,
+            mip_levels: crate::gpu::texture::mip_count(size, size),
+            rejected_uv1: None,
+        };
+    }
+    let from_file = |uvs: &[Vec2], source| MeshAtlas {
+        positions: mesh.positions.clone(),
+        normals: mesh.normals.clone(),
+        uvs: uvs.to_vec(),
+        indices: mesh.indices.clone(),
+        source,
+        size,
+        dilate_radius: CHART_PADDING,
+        mip_levels: clean_mips(CHART_PADDING),
+        rejected_uv1: None,
+    };
+    let rejected_uv1 = match uv1 {
+        None => None,
+        Some(uv1) if uv1.len() != mesh.positions.len() => {
+            Some(format!("{} TEXCOORD_1 values for {} vertices", uv1.len(), mesh.positions.len()))
+        }
+        Some(uv1) => match overlap(uv1, &mesh.indices, size) {
+            None => return from_file(uv1, AtlasSource::TexCoord1),
+            Some(problem) => Some(problem),
+        },
+    };
+    let mut atlas = if mesh.uvs.len() == mesh.positions.len() && overlap(&mesh.uvs, &mesh.indices, size).is_none() {
+        from_file(&mesh.uvs, AtlasSource::TexCoord0)
+    } else {
+        generated_atlas(mesh, size)
+    };
+    atlas.rejected_uv1 = rejected_uv1;
+    atlas
+}
+
+/// Mips whose texels stay within half the padding: level k averages 2^k texels a side.
+fn clean_mips(padding: u32) -> u32 {
+    1 + (padding.max(1)).ilog2()
+}
+
+/// Why a UV set cannot be an atlas: texels outside [0, 1], or texel centres covered by more
+/// than one triangle (shared edges excluded). `None`: it can.
+pub fn overlap(uvs: &[Vec2], indices: &[u32], size: u32) -> Option<String> {
+    if uvs.iter().any(|uv| !(uv.cmpge(Vec2::ZERO).all() && uv.cmple(Vec2::ONE).all() && uv.is_finite())) {
+        return Some("UVs outside [0, 1]".into());
+    }
+    let mut hits = vec![0u8; (size * size) as usize];
+    let mut covered = 0usize;
+    let mut doubled = 0usize;
+    for t in indices.chunks_exact(3) {
+        let [a, b, c] = [0, 1, 2].map(|k| uvs.get(t[k] as usize).copied().unwrap_or_default() * size as f32);
+        let area = (b - a).perp_dot(c - a);
+        if area.abs() < 1e-12 {
+            continue;
+        }
+        let lo = a.min(b).min(c).floor().max(Vec2::ZERO);
+        let hi = a.max(b).max(c).ceil().min(Vec2::splat(size as f32));
+        for y in lo.y as u32..hi.y as u32 {
+            for x in lo.x as u32..hi.x as u32 {
+                let p = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+                let w = [(c - b).perp_dot(p - b), (a - c).perp_dot(p - c), (b - a).perp_dot(p - a)].map(|w| w / area);
+                if w.iter().all(|w| *w > 1e-4) {
+                    let h = &mut hits[(y * size + x) as usize];
+                    match *h {
+                        0 => covered += 1,
+                        1 => doubled += 1,
+                        _ => {}
+                    }
+                    *h = h.saturating_add(1);
+                }
+            }
+        }
+    }
+    // A few texels along shared edges may count twice by rounding; a real overlap is larger.
+    (doubled > covered / 1000).then(|| format!("{doubled} of {covered} covered texels are covered twice"))
+}
+
+/// One chart per triangle: each triangle keeps its shape (laid flat in its plane), scaled into
+/// a grid cell with `CHART_PADDING` texels on every side.
+pub fn generated_atlas(mesh: &MeshData, size: u32) -> MeshAtlas {
+    let faces = mesh.indices.len() / 3;
+    let per_row = (faces as f64).sqrt().ceil().max(1.0) as u32;
+    let cell = size as f32 / per_row as f32;
+    let inner = (cell - 2.0 * CHART_PADDING as f32).max(1.0);
+    let (mut positions, mut normals, mut uvs, mut indices) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for (f, t) in mesh.indices.chunks_exact(3).enumerate() {
+        let p = [0, 1, 2].map(|k| mesh.positions.get(t[k] as usize).copied().unwrap_or_default());
+        let n = [0, 1, 2].map(|k| mesh.normals.get(t[k] as usize).copied().unwrap_or(Vec3::Y));
+        // The triangle in its own plane: x along the first edge.
+        let x_axis = (p[1] - p[0]).normalize_or(Vec3::X);
+        let normal = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or(Vec3::Z);
+        let y_axis = normal.cross(x_axis);
+        let flat = p.map(|q| Vec2::new((q - p[0]).dot(x_axis), (q - p[0]).dot(y_axis)));
+        let lo = flat[0].min(flat[1]).min(flat[2]);
+        let extent = (flat[0].max(flat[1]).max(flat[2]) - lo).max_element().max(1e-12);
+        let origin = Vec2::new((f as u32 % per_row) as f32, (f as u32 / per_row) as f32) * cell
+            + Vec2::splat(CHART_PADDING as f32);
+        for k in 0..3 {
+            indices.push(positions.len() as u32);
+            positions.push(p[k]);
+            normals.push(n[k]);
+            uvs.push((origin + (flat[k] - lo) / extent * inner) / size as f32);
+        }
+    }
+    MeshAtlas {
+        positions,
+        normals,
+        uvs,
+        indices,
+        source: AtlasSource::Generated { charts: faces as u32, padding: CHART_PADDING },
+        size,
+        dilate_radius: CHART_PADDING,
+        mip_levels: clean_mips(CHART_PADDING),
+        rejected_uv1: None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::shapes;
+
+    #[test]
+    fn cube_uvs_overlap_and_are_replaced() {
+        let cube = shapes::cube(1.0);
+        assert!(overlap(&cube.uvs, &cube.indices, 64).is_some());
+        let atlas = mesh_atlas(&cube, Some(&cube.uvs), 64);
+        assert_eq!(atlas.source, AtlasSource::Generated { charts: 12, padding: CHART_PADDING });
+        assert!(overlap(&atlas.uvs, &atlas.indices, 64).is_none());
+        assert!(atlas.rejected_uv1.as_deref().is_some_and(|r| r.contains("covered twice")), "{:?}", atlas.rejected_uv1);
+    }
+
+    #[test]
+    fn torus_uvs_are_kept() {
+        let torus = shapes::torus(0.8, 0.3, 24, 12).expect("torus");
+        assert_eq!(mesh_atlas(&torus, None, 256).source, AtlasSource::TexCoord0);
+    }
+}
