@@ -30,6 +30,7 @@ pub struct Renderer {
     pub frame: FrameDescriptors,
     queries: PassQueryPools,
     readback: Buffer,
+    keep_on_gpu: bool,
 }
 
 impl Renderer {
@@ -49,7 +50,15 @@ impl Renderer {
             frame: FrameDescriptors::new(gpu)?,
             queries: PassQueryPools::new(gpu, MAX_PASSES_PER_FRAME)?,
             readback,
+            keep_on_gpu: false,
         })
+    }
+
+    /// Leaves each frame on the GPU, in `targets.colour` (layout TRANSFER_SRC_OPTIMAL) for the
+    /// caller to copy (the viewer presents it): `render` skips the copy to the CPU and returns
+    /// an empty 0x0 image. Counters are read back as usual.
+    pub fn keep_on_gpu(&mut self, keep: bool) {
+        self.keep_on_gpu = keep;
     }
 
     pub fn extent(&self) -> vk::Extent2D {
@@ -87,6 +96,7 @@ impl Renderer {
         let device = gpu.raw();
         let extent = self.targets.extent;
         let (targets, queries, readback, frame_set) = (&self.targets, &self.queries, &self.readback, self.frame.set);
+        let keep_on_gpu = self.keep_on_gpu;
 
         let pass_records = submit_and_wait(&gpu, |cmd| {
             queries.reset(cmd);
@@ -117,6 +127,9 @@ impl Renderer {
             let recorded = record(&mut recorder);
             unsafe { device.cmd_end_render_pass(cmd) };
             recorded?;
+            if keep_on_gpu {
+                return Ok(recorder.passes);
+            }
 
             // The render pass left the colour target in TRANSFER_SRC_OPTIMAL.
             let region = vk::BufferImageCopy::default()
@@ -162,7 +175,11 @@ impl Renderer {
             .zip(&raw)
             .map(|(record, raw)| PassCounters::from_queries(record.name, record.draws, raw, frame_start))
             .collect();
-        let image = RgbaImage { width: extent.width, height: extent.height, pixels: self.readback.read()?.to_vec() };
+        let image = if self.keep_on_gpu {
+            RgbaImage { width: 0, height: 0, pixels: Vec::new() }
+        } else {
+            RgbaImage { width: extent.width, height: extent.height, pixels: self.readback.read()?.to_vec() }
+        };
         Ok(FrameOutput { image, counters: FrameCounters { width: extent.width, height: extent.height, passes } })
     }
 }
