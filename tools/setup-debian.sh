@@ -14,8 +14,9 @@ packages=(
   libshaderc-dev glslang-dev spirv-tools
   binutils pkg-config
   # `nostencil view` and tests/viewer.rs: an X server without a screen, and the libraries
-  # winit opens at run time for X11 (Xlib, XCB, Xcursor, XRandR, XInput2, xkbcommon).
-  xvfb xauth
+  # winit opens at run time for X11 (Xlib, XCB, Xcursor, XRandR, XInput2, xkbcommon); the test
+  # presses keys and closes the window with xdotool.
+  xvfb xauth xdotool
   libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon0 libxkbcommon-x11-0
 )
 

@@ -641,6 +641,10 @@ impl<'s> App<'s> {
                 self.needs_recreate = true;
                 return Ok(());
             }
+            Acquired::SurfaceLost => {
+                self.surface_lost(event_loop);
+                return Ok(());
+            }
             Acquired::Image { index, suboptimal } => {
                 self.needs_recreate |= suboptimal;
                 index
@@ -654,8 +658,7 @@ impl<'s> App<'s> {
         match swapchain.present(index) {
             Ok(recreate) => self.needs_recreate |= recreate,
             Err(Error::Vulkan { result: vk::Result::ERROR_SURFACE_LOST_KHR, .. }) => {
-                eprintln!("nostencil view: the window's surface was lost; closing");
-                event_loop.exit();
+                self.surface_lost(event_loop);
                 return Ok(());
             }
             Err(e) => return Err(e),
@@ -690,6 +693,12 @@ impl<'s> App<'s> {
             event_loop.exit();
         }
         Ok(())
+    }
+
+    /// The window was destroyed under the swapchain: not an error, the viewer just ends.
+    fn surface_lost(&mut self, event_loop: &ActiveEventLoop) {
+        eprintln!("nostencil view: the window's surface was lost; closing");
+        event_loop.exit();
     }
 
     fn key(&mut self, key: &Key, event_loop: &ActiveEventLoop) {

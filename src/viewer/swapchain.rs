@@ -106,6 +106,8 @@ pub struct Swapchain {
 pub enum Acquired {
     Image { index: u32, suboptimal: bool },
     OutOfDate,
+    /// The window went away under the swapchain (destroyed by another client).
+    SurfaceLost,
 }
 
 impl Swapchain {
@@ -209,6 +211,7 @@ impl Swapchain {
         match unsafe { self.loader.acquire_next_image(self.raw, u64::MAX, signal, vk::Fence::null()) } {
             Ok((index, suboptimal)) => Ok(Acquired::Image { index, suboptimal }),
             Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(Acquired::OutOfDate),
+            Err(vk::Result::ERROR_SURFACE_LOST_KHR) => Ok(Acquired::SurfaceLost),
             Err(result) => Err(Error::Vulkan { call: "vkAcquireNextImageKHR", result }),
         }
     }
