@@ -167,11 +167,10 @@ fn wait_for_title(x: &XServer, window: &str, wanted: &str) -> String {
 }
 
 fn xdotool(x: &XServer, args: &[&str]) -> String {
-    let output = Command::new("xdotool")
-        .args(args)
-        .env("DISPLAY", &x.display)
-        .output()
-        .unwrap_or_else(|e| panic!("xdotool is needed to drive the window (tools/setup-debian.sh installs it): {e}"));
+    let output =
+        Command::new("xdotool").args(args).env("DISPLAY", &x.display).output().unwrap_or_else(|e| {
+            panic!("xdotool is needed to drive the window (tools/setup-debian.sh installs it): {e}")
+        });
     String::from_utf8_lossy(&output.stdout).trim().to_owned()
 }
 
@@ -221,4 +220,30 @@ fn keys_switch_the_technique_live_and_closing_the_window_ends_cleanly() {
     xdotool(&x, &["windowclose", &window]);
     let output = wait_with_timeout(child, Duration::from_secs(60));
     assert_clean(&output, "view after its window was destroyed");
+}
+
+#[test]
+fn without_a_display_the_viewer_fails_in_one_line_and_offscreen_commands_still_work() {
+    let dir = common::scratch_dir("viewer-no-display");
+    let nostencil = || {
+        let mut command = Command::new(env!("CARGO_BIN_EXE_nostencil"));
+        command.env_remove("DISPLAY").env_remove("WAYLAND_DISPLAY");
+        command
+    };
+    let output = nostencil().args(["view", "--frames", "1"]).output().expect("run nostencil view");
+    let err = stderr(&output);
+    assert!(!output.status.success() && !err.contains("panicked"), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.contains("DISPLAY"), "{err}");
+
+    let out = dir.join("frame.png");
+    let output = nostencil()
+        .args(["render", "--validation", "--size", "64x48", "--out", out.to_str().unwrap()])
+        .output()
+        .expect("run nostencil render");
+    assert_clean(&output, "render with no display");
+    assert_eq!(rgb(&out).dimensions(), (64, 48));
+
+    let output = nostencil().args(["view", "--screenshot", "x.png"]).output().expect("run nostencil view");
+    assert!(!output.status.success() && stderr(&output).contains("--frames"), "{}", stderr(&output));
 }

@@ -64,7 +64,7 @@ pub enum Command {
         #[arg(long, value_name = "N")]
         frames: Option<u32>,
         /// Save the last presented image as an RGB PNG (atomic write); needs --frames.
-        #[arg(long, value_name = "FILE.png", requires = "frames")]
+        #[arg(long, value_name = "FILE.png")]
         screenshot: Option<PathBuf>,
         /// After N presented frames, resize the window to WxH (for tests of the resize path).
         #[arg(long, num_args = 2, value_names = ["N", "WxH"])]

@@ -273,6 +273,11 @@ fn view(
     use crate::viewer::{live::Settings, ViewerOptions};
 
     if let Some(path) = &screenshot {
+        if frames.is_none() {
+            return Err(Error::InvalidInput(
+                "--screenshot needs --frames N: the screenshot is of the last frame".into(),
+            ));
+        }
         check_output_path(path)?;
     }
     if frames == Some(0) {

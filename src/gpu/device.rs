@@ -110,8 +110,9 @@ impl Device {
 
         let available = unsafe { raw_instance.enumerate_device_extension_properties(physical) }
             .vk("vkEnumerateDeviceExtensionProperties")?;
-        if let Some(missing) =
-            extensions.iter().find(|wanted| !available.iter().any(|e| e.extension_name_as_c_str().ok() == Some(**wanted)))
+        if let Some(missing) = extensions
+            .iter()
+            .find(|wanted| !available.iter().any(|e| e.extension_name_as_c_str().ok() == Some(**wanted)))
         {
             return Err(Error::Device(format!(
                 "device '{}' lacks the extension {}",

@@ -34,15 +34,27 @@ impl Settings {
                     StencilMode::Emulated => format!(", {}", self.shadow_volume.normalize.name()),
                     StencilMode::Reference => String::new(),
                 };
-                format!("{} ({}{normalise}, k={})", self.technique.name(), self.stencil.name(), self.shadow_volume.increment)
+                format!(
+                    "{} ({}{normalise}, k={})",
+                    self.technique.name(),
+                    self.stencil.name(),
+                    self.shadow_volume.increment
+                )
             }
         }
     }
 }
 
+/// Boxed: a live technique is built once and kept, and variants differ a lot in size.
 enum Kind<'s> {
-    Lit { renderer: Renderer, meshes: GpuScene, lit: LitPass },
+    Lit(Box<LitFrame>),
     ShadowVolume(Box<ShadowVolumeRenderer<'s>>),
+}
+
+struct LitFrame {
+    renderer: Renderer,
+    meshes: GpuScene,
+    lit: LitPass,
 }
 
 pub struct LiveTechnique<'s> {
@@ -68,7 +80,7 @@ impl<'s> LiveTechnique<'s> {
                 renderer.keep_on_gpu(true);
                 let meshes = GpuScene::upload(gpu, base)?;
                 let lit = LitPass::new(gpu, &renderer)?;
-                Kind::Lit { renderer, meshes, lit }
+                Kind::Lit(Box::new(LitFrame { renderer, meshes, lit }))
             }
             Technique::ShadowVolume => {
                 let mut sv =
@@ -84,7 +96,7 @@ impl<'s> LiveTechnique<'s> {
     /// of a volume, so the counting method changes).
     pub fn stale_for(&self, scene: &Scene) -> bool {
         match &self.kind {
-            Kind::Lit { .. } => false,
+            Kind::Lit(_) => false,
             Kind::ShadowVolume(sv) => sv.wants_zfail(scene) != sv.zfail(),
         }
     }
@@ -92,7 +104,8 @@ impl<'s> LiveTechnique<'s> {
     /// Renders `scene` into the colour target and waits for it (the counters are read back).
     pub fn frame(&mut self, scene: &Scene) -> Result<LiveFrame> {
         match &mut self.kind {
-            Kind::Lit { renderer, meshes, lit } => {
+            Kind::Lit(frame) => {
+                let LitFrame { renderer, meshes, lit } = &mut **frame;
                 // As `technique::render_scene` does for `lit`, so that both give the same image.
                 let uniforms = FrameUniforms::for_scene(scene, renderer.aspect());
                 let clear = scene.background.extend(1.0).to_array();
@@ -109,7 +122,7 @@ impl<'s> LiveTechnique<'s> {
     /// The colour target holding the last frame (layout TRANSFER_SRC_OPTIMAL).
     pub fn colour_image(&mut self) -> vk::Image {
         match &mut self.kind {
-            Kind::Lit { renderer, .. } => renderer.targets.colour.raw,
+            Kind::Lit(frame) => frame.renderer.targets.colour.raw,
             Kind::ShadowVolume(sv) => sv.renderer_mut().targets.colour.raw,
         }
     }

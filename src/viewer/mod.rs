@@ -112,8 +112,8 @@ impl Presenter {
                     .command_buffer_count(1);
                 unsafe { device.allocate_command_buffers(&info) }.vk("vkAllocateCommandBuffers")?[0]
             };
-            let image_available = unsafe { device.create_semaphore(&vk::SemaphoreCreateInfo::default(), None) }
-                .vk("vkCreateSemaphore");
+            let image_available =
+                unsafe { device.create_semaphore(&vk::SemaphoreCreateInfo::default(), None) }.vk("vkCreateSemaphore");
             let in_flight = unsafe {
                 device.create_fence(&vk::FenceCreateInfo::default().flags(vk::FenceCreateFlags::SIGNALED), None)
             }
@@ -177,7 +177,8 @@ impl Presenter {
         let swapchain = self.swapchain.as_ref().ok_or_else(|| Error::InvalidInput("no swapchain".into()))?;
         let extent = swapchain.extent;
         let image = swapchain.images[index as usize];
-        if screenshot && self.screenshot.as_ref().map_or(true, |b| b.size != extent.width as u64 * extent.height as u64 * 4)
+        if screenshot
+            && self.screenshot.as_ref().map_or(true, |b| b.size != extent.width as u64 * extent.height as u64 * 4)
         {
             self.screenshot = Some(Buffer::new(
                 &self.gpu,
@@ -308,9 +309,11 @@ impl Presenter {
                 } else {
                     (colour, vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
                 };
-                let region = vk::BufferImageCopy::default()
-                    .image_subresource(layers)
-                    .image_extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 });
+                let region = vk::BufferImageCopy::default().image_subresource(layers).image_extent(vk::Extent3D {
+                    width: extent.width,
+                    height: extent.height,
+                    depth: 1,
+                });
                 device.cmd_copy_image_to_buffer(cmd, source, layout, buffer.raw, &[region]);
                 let to_host = vk::BufferMemoryBarrier::default()
                     .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
@@ -548,9 +551,8 @@ impl<'s> App<'s> {
         let (Some(window), Some(frame)) = (&self.window, &self.last) else { return };
         let counters = &frame.counters;
         let pixels = counters.pixels() as f64;
-        let fragments = counters
-            .total_fragment_invocations()
-            .map_or("n/a".to_owned(), |f| format!("{:.2}", f as f64 / pixels));
+        let fragments =
+            counters.total_fragment_invocations().map_or("n/a".to_owned(), |f| format!("{:.2}", f as f64 / pixels));
         let method = match frame.zfail {
             Some(true) => " z-fail",
             Some(false) => " z-pass",
@@ -650,8 +652,7 @@ impl<'s> App<'s> {
                 index
             }
         };
-        let last_frame =
-            self.options.frames.is_some_and(|n| self.presented + 1 >= n) && self.resize_pending.is_none();
+        let last_frame = self.options.frames.is_some_and(|n| self.presented + 1 >= n) && self.resize_pending.is_none();
         let screenshot = last_frame && self.options.screenshot.is_some();
         presenter.submit_copy(slot, index, colour, screenshot)?;
         let swapchain = presenter.swapchain.as_ref().ok_or_else(|| Error::InvalidInput("no swapchain".into()))?;

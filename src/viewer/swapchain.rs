@@ -104,7 +104,10 @@ pub struct Swapchain {
 }
 
 pub enum Acquired {
-    Image { index: u32, suboptimal: bool },
+    Image {
+        index: u32,
+        suboptimal: bool,
+    },
     OutOfDate,
     /// The window went away under the swapchain (destroyed by another client).
     SurfaceLost,
@@ -222,8 +225,7 @@ impl Swapchain {
         let wait = [self.render_finished[index as usize]];
         let swapchains = [self.raw];
         let indices = [index];
-        let info =
-            vk::PresentInfoKHR::default().wait_semaphores(&wait).swapchains(&swapchains).image_indices(&indices);
+        let info = vk::PresentInfoKHR::default().wait_semaphores(&wait).swapchains(&swapchains).image_indices(&indices);
         match unsafe { self.loader.queue_present(self.gpu.device.queue, &info) } {
             Ok(suboptimal) => Ok(suboptimal),
             Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(true),
