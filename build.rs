@@ -38,10 +38,64 @@ fn main() {
         std::fs::write(&spv_path, spirv.as_binary_u8())
             .unwrap_or_else(|e| fail(&format!("cannot write {}: {e}", spv_path.display())));
         let _ = writeln!(table, "    ({file_name:?}, include_bytes!({:?})),", spv_path.display().to_string());
+
+        if kind == shaderc::ShaderKind::Vertex {
+            // The overdraw heat map swaps every fragment shader for a counter; one counter per
+            // vertex shader, declaring that stage's outputs as inputs so the interfaces match.
+            let counter_name = format!("{file_name}.count.frag");
+            let counter_source = overdraw_counter_source(&shader_dir, &source);
+            let counter = compile(
+                &compiler,
+                &shader_dir,
+                &shader_dir.join(&counter_name),
+                &counter_source,
+                shaderc::ShaderKind::Fragment,
+            );
+            let counter_path = out_dir.join(format!("{counter_name}.spv"));
+            std::fs::write(&counter_path, counter.as_binary_u8())
+                .unwrap_or_else(|e| fail(&format!("cannot write {}: {e}", counter_path.display())));
+            let _ =
+                writeln!(table, "    ({counter_name:?}, include_bytes!({:?})),", counter_path.display().to_string());
+        }
     }
     table.push_str("];\n");
     let table_path = out_dir.join("shaders.rs");
     std::fs::write(&table_path, table).unwrap_or_else(|e| fail(&format!("cannot write {}: {e}", table_path.display())));
+}
+
+/// A fragment shader that adds 1/255 to alpha and declares, as unused inputs, every
+/// `layout(location = N) [flat] out TYPE NAME;` the vertex shader (or its includes) writes.
+fn overdraw_counter_source(shader_dir: &Path, vertex_source: &str) -> String {
+    let mut inputs = String::new();
+    let mut lines: Vec<String> = Vec::new();
+    for line in vertex_source.lines() {
+        if let Some(include) = line.trim().strip_prefix("#include") {
+            let name = include.trim().trim_matches('"');
+            lines.extend(std::fs::read_to_string(shader_dir.join(name)).unwrap_or_default().lines().map(String::from));
+        } else {
+            lines.push(line.to_owned());
+        }
+    }
+    for line in &lines {
+        let line = line.trim();
+        if !line.starts_with("layout") || !line.contains(" out ") || line.contains("gl_") {
+            continue;
+        }
+        let Some((layout, rest)) = line.split_once(')') else { continue };
+        let rest = rest.trim().trim_end_matches(';');
+        let mut words: Vec<&str> = rest.split_whitespace().collect();
+        let flat = words.first() == Some(&"flat");
+        words.retain(|w| *w != "flat" && *w != "out" && *w != "smooth" && *w != "noperspective");
+        if let [ty, name] = words[..] {
+            let integer =
+                ty.starts_with("int") || ty.starts_with("uint") || ty.starts_with("ivec") || ty.starts_with("uvec");
+            let qualifier = if flat || integer { "flat " } else { "" };
+            let _ = writeln!(inputs, "{layout}) {qualifier}in {ty} {name};");
+        }
+    }
+    format!(
+        "#version 450\n{inputs}layout(location = 0) out vec4 out_colour;\nvoid main() {{\n    out_colour = vec4(0.0, 0.0, 0.0, 1.0 / 255.0);\n}}\n"
+    )
 }
 
 fn compile(

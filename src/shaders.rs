@@ -14,3 +14,9 @@ pub fn spirv(name: &str) -> Result<Vec<u32>> {
     ash::util::read_spv(&mut std::io::Cursor::new(bytes))
         .map_err(|e| Error::InvalidInput(format!("shader '{name}' is not valid SPIR-V: {e}")))
 }
+
+/// The overdraw counter made for a vertex shader by `build.rs` (`lit.vert` -> `lit.vert.count.frag`).
+pub fn overdraw_counter_for(vertex_shader: &str) -> Option<&'static str> {
+    let wanted = format!("{vertex_shader}.count.frag");
+    SHADERS.iter().map(|(name, _)| *name).find(|name| *name == wanted)
+}

@@ -39,6 +39,30 @@ pub enum Command {
         frame: FrameArgs,
         #[arg(long, value_enum, default_value_t = FormatArg::Table)]
         format: FormatArg,
+        /// Variants side by side: `emulated`, `reference`, and for shadow-volume `seed`, `max`,
+        /// `subpass` (e.g. `--compare reference,seed,max,subpass`).
+        #[arg(long, value_name = "A,B,...", value_delimiter = ',')]
+        compare: Vec<String>,
+        /// Also write an overdraw heat map (fragments shaded per pixel, counted in alpha).
+        #[arg(long, value_name = "FILE.png")]
+        heatmap: Option<PathBuf>,
+        /// Also write a per-pass bar chart.
+        #[arg(long, value_name = "FILE.svg")]
+        chart: Option<PathBuf>,
+        /// Compare deterministic counters with a budget file; exit 1 naming every pass over it.
+        #[arg(long, value_name = "FILE.json")]
+        budget: Option<PathBuf>,
+        /// Record this frame's deterministic counters as a budget file.
+        #[arg(long, value_name = "FILE.json")]
+        write_budget: Option<PathBuf>,
+    },
+    /// Print every pass of a technique with its fixed-function state, as a Markdown table.
+    Passes {
+        #[arg(long, default_value = "lit")]
+        technique: String,
+        /// shadow-volume: which normalisation path to list (`seed`, `max` or `subpass`).
+        #[arg(long, default_value = "seed")]
+        normalize: String,
     },
     /// Time frames of a technique's variants (the real-stencil reference first) in one run.
     Bench {

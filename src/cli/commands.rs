@@ -6,6 +6,7 @@ use std::sync::Arc;
 use super::args::{Cli, Command, FormatArg, FrameArgs, GpuArgs};
 use crate::error::{Error, Result};
 use crate::gpu::{mobile_profile, DeviceChoice, Gpu, GpuOptions};
+use crate::profile::budget::Budget;
 use crate::profile::report::{ProfileReport, ReportContext, ReportFormat};
 use crate::scene::{builtin_scene, scene_from_gltf, Scene, BUILTIN_SCENES};
 use crate::technique::{
@@ -15,8 +16,25 @@ use crate::technique::{
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Render { frame, out, keep_alpha } => render(&frame, &out, keep_alpha),
-        Command::Profile { frame, format } => profile(&frame, format),
+        Command::Profile { frame, format, compare, heatmap, chart, budget, write_budget } => {
+            let outputs = ProfileOutputs { heatmap, chart, budget, write_budget };
+            if compare.is_empty() {
+                profile(&frame, format, &outputs)
+            } else {
+                profile_compare(&frame, format, &compare)
+            }
+        }
         Command::Info { gpu, json } => info(&gpu, json),
+        Command::Passes { technique, normalize } => {
+            let options = RenderOptions {
+                technique: Technique::parse(&technique)?,
+                shadow_volume: ShadowVolumeOptions { normalize: Normalize::parse(&normalize)?, ..Default::default() },
+                ..Default::default()
+            };
+            let descs = crate::technique::pipeline_descs(&options);
+            print!("{}", crate::profile::passes::markdown_table(options.technique.name(), &descs));
+            Ok(())
+        }
         Command::Bench { frame, warmup, runs, json } => bench(&frame, warmup, runs, json),
         Command::View { frame, frames, screenshot, resize_after, paused } => {
             view(&frame, frames, screenshot, resize_after, paused)
@@ -52,6 +70,7 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
             normalize: Normalize::parse(&frame.normalize)?,
             ..Default::default()
         },
+        count_overdraw: false,
     })
 }
 
@@ -93,33 +112,49 @@ fn render(frame: &FrameArgs, out: &Path, keep_alpha: bool) -> Result<()> {
     Ok(())
 }
 
-fn profile(frame: &FrameArgs, format: FormatArg) -> Result<()> {
+struct ProfileOutputs {
+    heatmap: Option<std::path::PathBuf>,
+    chart: Option<std::path::PathBuf>,
+    budget: Option<std::path::PathBuf>,
+    write_budget: Option<std::path::PathBuf>,
+}
+
+fn report_format(format: FormatArg) -> ReportFormat {
+    match format {
+        FormatArg::Table => ReportFormat::Table,
+        FormatArg::Json => ReportFormat::Json,
+        FormatArg::Csv => ReportFormat::Csv,
+    }
+}
+
+fn profile(frame: &FrameArgs, format: FormatArg, outputs: &ProfileOutputs) -> Result<()> {
+    for path in [&outputs.heatmap, &outputs.chart, &outputs.write_budget].into_iter().flatten() {
+        check_output_path(path)?;
+    }
     let options = options(frame)?;
     let scene = load_scene(&frame.scene, frame.time)?;
     let gpu = open_gpu(&frame.gpu)?;
-    let frame = render_scene(&gpu, &scene, &options)?;
-    let output = &frame.output;
+    // One frame first: llvmpipe compiles shaders at first draw, which is not the frame's cost.
+    render_scene(&gpu, &scene, &options)?;
+    let frame_result = render_scene(&gpu, &scene, &options)?;
+    let output = &frame_result.output;
     let depth_format = crate::frame::targets::choose_depth_format(&gpu, options.stencil)?;
     let attachments =
         crate::frame::RenderPassDesc::frame(depth_format, false).tile_traffic(options.width, options.height);
+    let (technique, stencil) = (options.technique.name(), options.stencil.name());
     let mut report = ProfileReport::new(
         ReportContext {
             device: gpu.device.info.name.clone(),
             scene: scene.name.clone(),
-            technique: options.technique.name().into(),
-            stencil: options.stencil.name().into(),
+            technique: technique.into(),
+            stencil: stencil.into(),
         },
         &output.counters,
         attachments,
     );
-    report.technique_stats = frame.shadow_volume.and_then(|s| serde_json::to_value(s).ok());
-    let format_kind = match format {
-        FormatArg::Table => ReportFormat::Table,
-        FormatArg::Json => ReportFormat::Json,
-        FormatArg::Csv => ReportFormat::Csv,
-    };
-    print!("{}", report.render(format_kind));
-    if let (Some(stats), FormatArg::Table) = (frame.shadow_volume, format) {
+    report.technique_stats = frame_result.shadow_volume.and_then(|s| serde_json::to_value(s).ok());
+    print!("{}", report.render(report_format(format)));
+    if let (Some(stats), FormatArg::Table) = (frame_result.shadow_volume, format) {
         println!(
             "\nshadow volumes: {} | counter capacity {} volumes (k = {}) | saturated pixels: {}",
             if stats.zfail { "z-fail" } else { "z-pass" },
@@ -127,6 +162,77 @@ fn profile(frame: &FrameArgs, format: FormatArg) -> Result<()> {
             options.shadow_volume.increment,
             stats.saturated_pixels.map_or("n/a (reference)".to_owned(), |n| n.to_string())
         );
+    }
+
+    if let Some(path) = &outputs.heatmap {
+        let counting = RenderOptions { count_overdraw: true, ..options.clone() };
+        let counted = render_scene(&gpu, &scene, &counting)?;
+        crate::profile::heatmap::render_heatmap(&counted.output.image).write_png(path, false)?;
+        eprintln!("wrote {}", path.display());
+    }
+    if let Some(path) = &outputs.chart {
+        let title = format!("{technique} ({stencil}) on {}, {}x{}", scene.name, options.width, options.height);
+        let svg = crate::profile::chart::bar_chart_svg(&title, &output.counters);
+        crate::frame::image::write_atomically(path, svg.as_bytes())?;
+        eprintln!("wrote {}", path.display());
+    }
+    if let Some(path) = &outputs.write_budget {
+        Budget::from_frame(&scene.name, technique, stencil, &output.counters).write(path)?;
+        eprintln!("wrote budget {}", path.display());
+    }
+    if let Some(path) = &outputs.budget {
+        let overruns = Budget::load(path)?.check(&scene.name, technique, stencil, &output.counters)?;
+        if !overruns.is_empty() {
+            for overrun in &overruns {
+                eprintln!("over budget: {overrun}");
+            }
+            let passes: std::collections::BTreeSet<&str> = overruns.iter().map(|o| o.pass.as_str()).collect();
+            return Err(Error::InvalidInput(format!(
+                "{} pass(es) over the budget in {}: {}",
+                passes.len(),
+                path.display(),
+                passes.into_iter().collect::<Vec<_>>().join(", ")
+            )));
+        }
+        eprintln!("within budget {}", path.display());
+    }
+    Ok(())
+}
+
+/// `--compare`: each named variant of the frame, side by side.
+fn profile_compare(frame: &FrameArgs, format: FormatArg, variants: &[String]) -> Result<()> {
+    use crate::frame::StencilMode;
+    use crate::profile::compare::{Comparison, VariantFrame};
+    let base = options(frame)?;
+    let scene = load_scene(&frame.scene, frame.time)?;
+    let gpu = open_gpu(&frame.gpu)?;
+    let mut frames = Vec::new();
+    for variant in variants {
+        let mut options = base.clone();
+        match variant.as_str() {
+            "emulated" => options.stencil = StencilMode::Emulated,
+            "reference" => options.stencil = StencilMode::Reference,
+            other => {
+                if options.technique != Technique::ShadowVolume {
+                    return Err(Error::InvalidInput(format!(
+                        "--compare {other}: variants are emulated and reference (and seed, max, subpass for shadow-volume)"
+                    )));
+                }
+                options.stencil = StencilMode::Emulated;
+                options.shadow_volume.normalize = Normalize::parse(other)?;
+            }
+        }
+        render_scene(&gpu, &scene, &options)?; // warm-up: shader compilation
+        let counters = render_scene(&gpu, &scene, &options)?.output.counters;
+        frames.push(VariantFrame { variant: variant.clone(), counters });
+    }
+    let comparison = Comparison::new(frames);
+    match format {
+        FormatArg::Table => print!("{}", comparison.table()),
+        FormatArg::Json => {
+            println!("{}", serde_json::to_string_pretty(&comparison).map_err(|e| Error::InvalidInput(e.to_string()))?)
+        }
+        FormatArg::Csv => print!("{}", comparison.csv()),
     }
     Ok(())
 }

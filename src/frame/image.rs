@@ -35,22 +35,7 @@ impl RgbaImage {
     /// case the alpha channel, the emulated stencil, is written too. The file is written under a
     /// temporary name in the same folder and renamed, so a failure leaves no partial file.
     pub fn write_png(&self, path: &Path, keep_alpha: bool) -> Result<()> {
-        let io_err = |path: &Path, source: std::io::Error| Error::Io { path: path.to_path_buf(), source };
-        let encoded = self.encode_png(keep_alpha)?;
-        let temp = temporary_sibling(path);
-        let written = (|| {
-            let mut file = std::fs::File::create(&temp)?;
-            file.write_all(&encoded)?;
-            file.sync_all()
-        })();
-        if let Err(e) = written {
-            let _ = std::fs::remove_file(&temp);
-            return Err(io_err(path, e));
-        }
-        std::fs::rename(&temp, path).map_err(|e| {
-            let _ = std::fs::remove_file(&temp);
-            io_err(path, e)
-        })
+        write_atomically(path, &self.encode_png(keep_alpha)?)
     }
 
     pub fn encode_png(&self, keep_alpha: bool) -> Result<Vec<u8>> {
@@ -67,6 +52,26 @@ impl RgbaImage {
             .map_err(|e| Error::InvalidInput(format!("PNG encoding failed: {e}")))?;
         Ok(out)
     }
+}
+
+/// Writes `bytes` under a temporary name in the same folder, then renames it to `path`, so a
+/// failure never leaves a partial file behind.
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
+    let io_err = |source: std::io::Error| Error::Io { path: path.to_path_buf(), source };
+    let temp = temporary_sibling(path);
+    let written = (|| {
+        let mut file = std::fs::File::create(&temp)?;
+        file.write_all(bytes)?;
+        file.sync_all()
+    })();
+    if let Err(e) = written {
+        let _ = std::fs::remove_file(&temp);
+        return Err(io_err(e));
+    }
+    std::fs::rename(&temp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&temp);
+        io_err(e)
+    })
 }
 
 fn temporary_sibling(path: &Path) -> PathBuf {

@@ -61,6 +61,10 @@ pub struct Pipeline {
     pub layout: vk::PipelineLayout,
     /// Descriptor sets in the layout (the frame uniforms are set 0 when present).
     pub set_count: u32,
+    /// The render pass it was built for (pipelines are only valid in compatible ones).
+    pub render_pass: vk::RenderPass,
+    /// False for overdraw counters, which borrow their original's layout.
+    owns_layout: bool,
     pub desc: PipelineDesc,
 }
 
@@ -99,11 +103,42 @@ impl Pipeline {
             .set_layouts(set_layouts)
             .push_constant_ranges(if desc.push_constant_bytes > 0 { &ranges } else { &[] });
         let layout = unsafe { device.create_pipeline_layout(&layout_info, None) }.vk("vkCreatePipelineLayout")?;
+        Self::with_layout(gpu, desc, render_pass, layout, set_layouts.len() as u32, true)
+    }
+
+    /// The same pipeline with its fragment stage replaced by an overdraw counter: alpha
+    /// `ADD, ONE, ONE` of 1/255 per fragment, colour untouched, every other state (depth,
+    /// stencil, culling) kept, so it counts exactly the fragments the original shades. It shares
+    /// the original's layout, so the technique's descriptor sets and push constants still fit.
+    pub fn overdraw_counter(&self) -> Result<Pipeline> {
+        let mut desc = self.desc.clone();
+        desc.fragment_shader = crate::shaders::overdraw_counter_for(desc.vertex_shader).ok_or_else(|| {
+            crate::Error::InvalidInput(format!("no overdraw counter for vertex shader '{}'", desc.vertex_shader))
+        })?;
+        desc.fixed.blend = super::state::BlendState {
+            colour: None,
+            alpha: Some(BlendEquation::new(vk::BlendOp::ADD, vk::BlendFactor::ONE, vk::BlendFactor::ONE)),
+            write_mask: vk::ColorComponentFlags::A,
+        };
+        Self::with_layout(&self.gpu, &desc, self.render_pass, self.layout, self.set_count, false)
+    }
+
+    fn with_layout(
+        gpu: &Arc<Gpu>,
+        desc: &PipelineDesc,
+        render_pass: vk::RenderPass,
+        layout: vk::PipelineLayout,
+        set_count: u32,
+        owns_layout: bool,
+    ) -> Result<Self> {
+        let device = gpu.raw();
         let mut pipeline = Pipeline {
             gpu: gpu.clone(),
             raw: vk::Pipeline::null(),
             layout,
-            set_count: set_layouts.len() as u32,
+            set_count,
+            render_pass,
+            owns_layout,
             desc: desc.clone(),
         };
 
@@ -201,7 +236,9 @@ impl Drop for Pipeline {
             if self.raw != vk::Pipeline::null() {
                 device.destroy_pipeline(self.raw, None);
             }
-            device.destroy_pipeline_layout(self.layout, None);
+            if self.owns_layout {
+                device.destroy_pipeline_layout(self.layout, None);
+            }
         }
     }
 }

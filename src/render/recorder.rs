@@ -15,8 +15,46 @@ pub(crate) struct PassRecord {
     pub draws: u32,
 }
 
+/// Overdraw counters standing in for the technique's pipelines in a heat-map frame, built on
+/// first use, keyed by the pipeline they replace; the renderer empties it before each frame.
+#[derive(Default)]
+pub struct OverdrawPipelines {
+    pub(crate) frame_render_pass: vk::RenderPass,
+    twins: std::cell::RefCell<std::collections::HashMap<vk::Pipeline, Pipeline>>,
+}
+
+impl OverdrawPipelines {
+    pub(crate) fn new(frame_render_pass: vk::RenderPass) -> Self {
+        OverdrawPipelines { frame_render_pass, twins: Default::default() }
+    }
+
+    pub(crate) fn clear(&self) {
+        self.twins.borrow_mut().clear();
+    }
+
+    /// The counter for `pipeline` (its raw handle), or the pipeline itself when it draws into a
+    /// target other than the frame (shadow maps are not part of the frame's overdraw).
+    fn substitute(&self, pipeline: &Pipeline) -> Result<vk::Pipeline> {
+        if pipeline.render_pass != self.frame_render_pass {
+            return Ok(pipeline.raw);
+        }
+        let mut twins = self.twins.borrow_mut();
+        if let Some(twin) = twins.get(&pipeline.raw) {
+            return Ok(twin.raw);
+        }
+        let twin = pipeline.overdraw_counter()?;
+        let raw = twin.raw;
+        twins.insert(pipeline.raw, twin);
+        Ok(raw)
+    }
+}
+
 pub struct FrameRecorder<'a> {
     gpu: &'a Gpu,
+    /// Set for heat-map frames: every bind is replaced by its overdraw counter.
+    overdraw: Option<&'a OverdrawPipelines>,
+    /// First error from building an overdraw counter (binds cannot fail otherwise).
+    pub(crate) deferred_error: Option<Error>,
     pub cmd: vk::CommandBuffer,
     queries: &'a PassQueryPools,
     pub(crate) passes: Vec<PassRecord>,
@@ -33,7 +71,32 @@ impl<'a> FrameRecorder<'a> {
         extent: vk::Extent2D,
         frame_set: vk::DescriptorSet,
     ) -> Self {
-        FrameRecorder { gpu, cmd, queries, passes: Vec::new(), open: false, extent, frame_set }
+        FrameRecorder {
+            gpu,
+            overdraw: None,
+            deferred_error: None,
+            cmd,
+            queries,
+            passes: Vec::new(),
+            open: false,
+            extent,
+            frame_set,
+        }
+    }
+
+    pub(crate) fn count_overdraw(&mut self, pipelines: &'a OverdrawPipelines) {
+        self.overdraw = Some(pipelines);
+    }
+
+    fn pipeline_to_bind(&mut self, pipeline: &Pipeline) -> vk::Pipeline {
+        match self.overdraw.map(|o| o.substitute(pipeline)) {
+            None => pipeline.raw,
+            Some(Ok(raw)) => raw,
+            Some(Err(e)) => {
+                self.deferred_error.get_or_insert(e);
+                pipeline.raw
+            }
+        }
     }
 
     /// Records `body` as one measured pass called `name`.
@@ -104,9 +167,10 @@ impl<'a> FrameRecorder<'a> {
 
     /// Binds a pipeline, and the frame's uniforms when its layout has a set for them.
     pub fn bind(&mut self, pipeline: &Pipeline) {
+        let raw = self.pipeline_to_bind(pipeline);
         let device = self.gpu.raw();
         unsafe {
-            device.cmd_bind_pipeline(self.cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
+            device.cmd_bind_pipeline(self.cmd, vk::PipelineBindPoint::GRAPHICS, raw);
             if pipeline.set_count > 0 {
                 device.cmd_bind_descriptor_sets(
                     self.cmd,
@@ -122,9 +186,10 @@ impl<'a> FrameRecorder<'a> {
 
     /// Binds a pipeline with descriptor sets of the technique's own (not the frame uniforms).
     pub fn bind_with_sets(&mut self, pipeline: &Pipeline, sets: &[vk::DescriptorSet]) {
+        let raw = self.pipeline_to_bind(pipeline);
         let device = self.gpu.raw();
         unsafe {
-            device.cmd_bind_pipeline(self.cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
+            device.cmd_bind_pipeline(self.cmd, vk::PipelineBindPoint::GRAPHICS, raw);
             device.cmd_bind_descriptor_sets(self.cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.layout, 0, sets, &[]);
         }
     }

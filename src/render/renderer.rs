@@ -6,7 +6,7 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
-use super::recorder::FrameRecorder;
+use super::recorder::{FrameRecorder, OverdrawPipelines};
 use super::uniforms::{FrameDescriptors, FrameUniforms};
 use crate::error::Result;
 use crate::frame::{FrameTargets, RgbaImage, StencilMode};
@@ -31,12 +31,17 @@ pub struct Renderer {
     queries: PassQueryPools,
     readback: Buffer,
     keep_on_gpu: bool,
+    /// Heat-map frames: every pipeline of the frame's render pass is replaced by an overdraw
+    /// counter, and the colour target's alpha ends up holding fragments shaded per pixel.
+    pub count_overdraw: bool,
+    overdraw_pipelines: OverdrawPipelines,
 }
 
 impl Renderer {
     /// `colour_feedback`: the colour target is also an input attachment of its own subpass.
     pub fn new(gpu: &Arc<Gpu>, width: u32, height: u32, stencil: StencilMode, colour_feedback: bool) -> Result<Self> {
         let targets = FrameTargets::new(gpu, width, height, stencil, colour_feedback)?;
+        let targets_render_pass = targets.render_pass;
         let readback = Buffer::new(
             gpu,
             "frame readback",
@@ -51,6 +56,8 @@ impl Renderer {
             queries: PassQueryPools::new(gpu, MAX_PASSES_PER_FRAME)?,
             readback,
             keep_on_gpu: false,
+            count_overdraw: false,
+            overdraw_pipelines: OverdrawPipelines::new(targets_render_pass),
         })
     }
 
@@ -92,6 +99,11 @@ impl Renderer {
         record: impl FnOnce(&mut FrameRecorder) -> Result<()>,
     ) -> Result<FrameOutput> {
         self.frame.update(uniforms)?;
+        // Counters from the previous frame are no longer in use (render waits for completion).
+        self.overdraw_pipelines.clear();
+        let overdraw = self.count_overdraw.then_some(&self.overdraw_pipelines);
+        // The overdraw count starts at 0 in alpha.
+        let clear = if self.count_overdraw { [clear[0], clear[1], clear[2], 0.0] } else { clear };
         let gpu = self.gpu.clone();
         let device = gpu.raw();
         let extent = self.targets.extent;
@@ -101,6 +113,9 @@ impl Renderer {
         let pass_records = submit_and_wait(&gpu, |cmd| {
             queries.reset(cmd);
             let mut recorder = FrameRecorder::new(&gpu, cmd, queries, extent, frame_set);
+            if let Some(pipelines) = overdraw {
+                recorder.count_overdraw(pipelines);
+            }
             prepass(&mut recorder)?;
             let clear_values = [
                 vk::ClearValue { color: vk::ClearColorValue { float32: clear } },
@@ -127,6 +142,9 @@ impl Renderer {
             let recorded = record(&mut recorder);
             unsafe { device.cmd_end_render_pass(cmd) };
             recorded?;
+            if let Some(e) = recorder.deferred_error.take() {
+                return Err(e);
+            }
             if keep_on_gpu {
                 return Ok(recorder.passes);
             }

@@ -52,6 +52,8 @@ pub struct RenderOptions {
     pub stencil: StencilMode,
     pub technique: Technique,
     pub shadow_volume: ShadowVolumeOptions,
+    /// Heat-map frame: alpha ends up holding the fragments shaded per pixel.
+    pub count_overdraw: bool,
 }
 
 impl Default for RenderOptions {
@@ -62,7 +64,17 @@ impl Default for RenderOptions {
             stencil: StencilMode::Emulated,
             technique: Technique::Lit,
             shadow_volume: ShadowVolumeOptions::default(),
+            count_overdraw: false,
         }
+    }
+}
+
+/// Every pipeline a technique builds, labelled with its path (emulated / reference), in pass
+/// order: the source of `nostencil passes`.
+pub fn pipeline_descs(options: &RenderOptions) -> Vec<(&'static str, crate::pipeline::PipelineDesc)> {
+    match options.technique {
+        Technique::Lit => vec![("both", lit::scene_pipeline_desc())],
+        Technique::ShadowVolume => shadow_volume::pipeline_descs(&options.shadow_volume),
     }
 }
 
@@ -77,6 +89,7 @@ pub fn render_scene(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions) -> R
     match options.technique {
         Technique::Lit => {
             let mut renderer = Renderer::new(gpu, options.width, options.height, options.stencil, false)?;
+            renderer.count_overdraw = options.count_overdraw;
             let meshes = GpuScene::upload(gpu, scene)?;
             let uniforms = FrameUniforms::for_scene(scene, renderer.aspect());
             let clear = scene.background.extend(1.0).to_array();
@@ -85,7 +98,7 @@ pub fn render_scene(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions) -> R
             Ok(TechniqueFrame { output, shadow_volume: None })
         }
         Technique::ShadowVolume => {
-            let frame = shadow_volume::render(
+            let mut renderer = shadow_volume::ShadowVolumeRenderer::new(
                 gpu,
                 scene,
                 options.width,
@@ -93,6 +106,8 @@ pub fn render_scene(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions) -> R
                 options.stencil,
                 &options.shadow_volume,
             )?;
+            renderer.count_overdraw(options.count_overdraw);
+            let frame = renderer.frame()?;
             Ok(TechniqueFrame { output: frame.output, shadow_volume: Some(frame.stats) })
         }
     }

@@ -276,6 +276,31 @@ pub fn reference_apply_desc() -> PipelineDesc {
     desc
 }
 
+/// Every pipeline the technique can build, in pass order, labelled with its path: what
+/// `nostencil passes` prints.
+pub fn pipeline_descs(options: &ShadowVolumeOptions) -> Vec<(&'static str, PipelineDesc)> {
+    let mut descs = vec![("emulated", super::lit::scene_pipeline_desc())];
+    for zfail in [false, true] {
+        let [increment, decrement] = volume_descs(zfail);
+        descs.push(("emulated", increment));
+        if !zfail {
+            descs.push(("emulated", saturation_probe_desc()));
+        }
+        descs.push(("emulated", decrement));
+    }
+    if options.normalize != Normalize::Subpass {
+        descs.push(("emulated seed/max", n0_desc()));
+        descs.push(("emulated seed/max", iteration_desc()));
+    }
+    descs.extend(darkness_descs(options.normalize).into_iter().map(|d| ("emulated", d)));
+    descs.push(("emulated", apply_desc(options.normalize)));
+    descs.push(("reference", super::lit::scene_pipeline_desc()));
+    descs.push(("reference", reference_volume_desc(false)));
+    descs.push(("reference", reference_volume_desc(true)));
+    descs.push(("reference", reference_apply_desc()));
+    descs
+}
+
 // ---------------------------------------------------------------------------------------------
 // CPU side: casters and their volumes.
 
@@ -553,6 +578,11 @@ impl<'s> ShadowVolumeRenderer<'s> {
                 saturated_pixels: None,
             },
         })
+    }
+
+    /// Heat-map frames (see `Renderer::count_overdraw`).
+    pub fn count_overdraw(&mut self, on: bool) {
+        self.renderer.count_overdraw = on;
     }
 
     pub fn frame(&mut self) -> Result<ShadowVolumeFrame> {

@@ -1,0 +1,151 @@
+//! Fill-rate budgets for CI: the deterministic counters of a frame (samples passed, fragment
+//! invocations, draws, per pass) recorded once and compared on every later run. Samples passed
+//! are exact on any conformant device, so a CI machine on software Vulkan can guard fill rate.
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use super::counters::FrameCounters;
+use crate::error::{Error, Result};
+
+pub const BUDGET_SCHEMA: &str = "nostencil-budget/1";
+
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct PassBudget {
+    pub name: String,
+    pub draws: u32,
+    pub samples_passed: u64,
+    /// None where the device had no pipeline statistics when the budget was written.
+    pub fragment_invocations: Option<u64>,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct Budget {
+    pub schema: String,
+    pub scene: String,
+    pub technique: String,
+    pub stencil: String,
+    pub width: u32,
+    pub height: u32,
+    pub passes: Vec<PassBudget>,
+}
+
+/// One counter of one pass above its budget.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Overrun {
+    pub pass: String,
+    pub counter: &'static str,
+    pub budget: u64,
+    pub actual: u64,
+}
+
+impl std::fmt::Display for Overrun {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let percent =
+            if self.budget > 0 { (self.actual as f64 / self.budget as f64 - 1.0) * 100.0 } else { f64::INFINITY };
+        write!(f, "pass '{}': {} {} > budget {} (+{percent:.1}%)", self.pass, self.counter, self.actual, self.budget)
+    }
+}
+
+impl Budget {
+    pub fn from_frame(scene: &str, technique: &str, stencil: &str, counters: &FrameCounters) -> Self {
+        Budget {
+            schema: BUDGET_SCHEMA.into(),
+            scene: scene.into(),
+            technique: technique.into(),
+            stencil: stencil.into(),
+            width: counters.width,
+            height: counters.height,
+            passes: counters
+                .passes
+                .iter()
+                .map(|p| PassBudget {
+                    name: p.name.clone(),
+                    draws: p.draws,
+                    samples_passed: p.samples_passed,
+                    fragment_invocations: p.fragment_invocations,
+                })
+                .collect(),
+        }
+    }
+
+    pub fn load(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+        let budget: Budget = serde_json::from_str(&text)
+            .map_err(|e| Error::Asset { path: path.to_path_buf(), problem: format!("not a budget file: {e}") })?;
+        if budget.schema != BUDGET_SCHEMA {
+            return Err(Error::Asset {
+                path: path.to_path_buf(),
+                problem: format!("budget schema '{}', expected '{BUDGET_SCHEMA}'", budget.schema),
+            });
+        }
+        Ok(budget)
+    }
+
+    /// Written to a temporary file and renamed, like every output.
+    pub fn write(&self, path: &Path) -> Result<()> {
+        let text = serde_json::to_string_pretty(self).map_err(|e| Error::InvalidInput(e.to_string()))?;
+        crate::frame::image::write_atomically(path, text.as_bytes())
+    }
+
+    /// Every counter over budget; an error when the frame is not the one the budget describes.
+    pub fn check(&self, scene: &str, technique: &str, stencil: &str, counters: &FrameCounters) -> Result<Vec<Overrun>> {
+        let what = (self.scene.as_str(), self.technique.as_str(), self.stencil.as_str(), self.width, self.height);
+        if what != (scene, technique, stencil, counters.width, counters.height) {
+            return Err(Error::InvalidInput(format!(
+                "the budget is for scene {} / {} / stencil {} at {}x{}, not scene {scene} / {technique} / stencil {stencil} at {}x{}",
+                self.scene, self.technique, self.stencil, self.width, self.height, counters.width, counters.height
+            )));
+        }
+        let mut overruns = Vec::new();
+        for pass in &counters.passes {
+            let budget =
+                self.passes.iter().find(|b| b.name == pass.name).ok_or_else(|| {
+                    Error::InvalidInput(format!("pass '{}' has no budget (record a new one)", pass.name))
+                })?;
+            let mut over = |counter, budget: u64, actual: u64| {
+                if actual > budget {
+                    overruns.push(Overrun { pass: pass.name.clone(), counter, budget, actual });
+                }
+            };
+            over("draws", budget.draws as u64, pass.draws as u64);
+            over("samples passed", budget.samples_passed, pass.samples_passed);
+            if let (Some(b), Some(a)) = (budget.fragment_invocations, pass.fragment_invocations) {
+                over("fragment invocations", b, a);
+            }
+        }
+        Ok(overruns)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::profile::PassCounters;
+
+    fn frame(samples: u64) -> FrameCounters {
+        let pass = |name: &str, samples| PassCounters {
+            name: name.into(),
+            draws: 2,
+            vertex_invocations: Some(6),
+            clipping_primitives: Some(2),
+            fragment_invocations: Some(samples + 100),
+            samples_passed: samples,
+            gpu_ms: 1.0,
+            start_ms: 0.0,
+        };
+        FrameCounters { width: 8, height: 8, passes: vec![pass("scene", 64), pass("overlay", samples)] }
+    }
+
+    #[test]
+    fn recorded_frame_passes_and_a_costlier_one_fails_by_name() {
+        let budget = Budget::from_frame("s", "t", "emulated", &frame(10));
+        assert!(budget.check("s", "t", "emulated", &frame(10)).unwrap().is_empty());
+        let overruns = budget.check("s", "t", "emulated", &frame(30)).unwrap();
+        assert_eq!(overruns.len(), 2);
+        assert!(overruns.iter().all(|o| o.pass == "overlay"));
+        assert!(overruns[0].to_string().contains("pass 'overlay': samples passed 30 > budget 10"));
+        assert!(budget.check("s", "t", "emulated", &FrameCounters { width: 16, ..frame(10) }).is_err());
+    }
+}

@@ -1,0 +1,182 @@
+//! The fill-rate profiler: counters add up, the heat map counts what it claims, budgets catch a
+//! costlier frame, and every output format says the same thing.
+
+mod common;
+
+use std::process::{Command, Output};
+use std::sync::Arc;
+
+use glam::{Mat4, Vec4};
+use nostencil::frame::StencilMode;
+use nostencil::gpu::Gpu;
+use nostencil::pipeline::{FixedFunction, Pipeline, PipelineDesc, VertexLayout};
+use nostencil::profile::budget::Budget;
+use nostencil::profile::heatmap;
+use nostencil::render::{FrameOutput, FrameUniforms, Renderer};
+
+fn nostencil(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_nostencil")).args(args).output().expect("run nostencil")
+}
+
+/// A frame of `passes`, each drawing `quads` full-screen triangles, counted or not.
+fn stacked_fullscreen(gpu: &Arc<Gpu>, passes: &[(&str, u32)], count_overdraw: bool) -> FrameOutput {
+    let mut renderer = Renderer::new(gpu, 96, 64, StencilMode::Emulated, false).expect("renderer");
+    renderer.count_overdraw = count_overdraw;
+    let desc = PipelineDesc {
+        name: "full-screen",
+        vertex_shader: "fullscreen.vert",
+        fragment_shader: "solid.frag",
+        vertex_layout: VertexLayout::NONE,
+        fixed: FixedFunction::FULLSCREEN,
+        push_constant_bytes: 16,
+        subpass: 0,
+    };
+    let pipeline = Pipeline::new(gpu, &desc, renderer.targets.render_pass, &[]).expect("pipeline");
+    let uniforms = FrameUniforms {
+        view_proj: Mat4::IDENTITY,
+        light: Vec4::ZERO,
+        camera_position: Vec4::ZERO,
+        shading: Vec4::ZERO,
+    };
+    renderer
+        .render(&uniforms, [0.0, 0.0, 0.0, 1.0], |rec| {
+            for (name, quads) in passes {
+                rec.pass(name, |rec| {
+                    rec.bind(&pipeline);
+                    rec.push(&pipeline, &Vec4::new(0.2, 0.4, 0.6, 1.0));
+                    for _ in 0..*quads {
+                        rec.draw_fullscreen();
+                    }
+                    Ok(())
+                })?;
+            }
+            Ok(())
+        })
+        .expect("frame")
+}
+
+#[test]
+fn heat_map_of_n_stacked_fullscreen_quads_shows_n_everywhere() {
+    let gpu = common::gpu();
+    for n in [1u32, 3, 7] {
+        let frame = stacked_fullscreen(&gpu, &[("stack", n)], true);
+        let counts = heatmap::counts(&frame.image);
+        assert!(counts.iter().all(|&c| c as u32 == n), "{n} quads: counts {:?}", &counts[..4]);
+        let map = heatmap::render_heatmap(&frame.image);
+        assert_eq!(map.pixel(10, 10)[..3], heatmap::colour_of(n as u8));
+        assert_eq!(frame.counters.passes[0].samples_passed, 96 * 64 * n as u64);
+    }
+    common::assert_no_validation_messages(&gpu);
+}
+
+#[test]
+fn frame_totals_are_the_sum_of_the_passes() {
+    let gpu = common::gpu();
+    let frame = stacked_fullscreen(&gpu, &[("a", 1), ("b", 2), ("c", 4)], false);
+    let c = &frame.counters;
+    assert_eq!(c.total_samples_passed(), c.passes.iter().map(|p| p.samples_passed).sum::<u64>());
+    assert_eq!(c.total_samples_passed(), 96 * 64 * 7);
+    assert!((c.overdraw() - 7.0).abs() < 1e-9);
+    assert_eq!(c.total_fragment_invocations(), c.passes.iter().map(|p| p.fragment_invocations).sum::<Option<u64>>());
+    common::assert_no_validation_messages(&gpu);
+}
+
+#[test]
+fn budget_fails_on_a_costlier_pass_and_passes_on_the_recorded_frame() {
+    let gpu = common::gpu();
+    let cheap = stacked_fullscreen(&gpu, &[("scene", 1), ("overlay", 1)], false);
+    let budget = Budget::from_frame("test", "stack", "emulated", &cheap.counters);
+    assert!(budget.check("test", "stack", "emulated", &cheap.counters).expect("same frame").is_empty());
+    // More overdraw in one pass: exactly that pass is named.
+    let costly = stacked_fullscreen(&gpu, &[("scene", 1), ("overlay", 3)], false);
+    let overruns = budget.check("test", "stack", "emulated", &costly.counters).expect("comparable");
+    assert!(!overruns.is_empty());
+    assert!(overruns.iter().all(|o| o.pass == "overlay"), "{overruns:?}");
+    assert!(overruns.iter().any(|o| o.counter == "samples passed" && o.actual == 3 * o.budget));
+    common::assert_no_validation_messages(&gpu);
+}
+
+#[test]
+fn budget_recipe_from_the_command_line() {
+    let dir = common::scratch_dir("profile-budget");
+    let budget = dir.join("budget.json");
+    let b = budget.to_str().unwrap();
+    let args = ["profile", "--technique", "shadow-volume", "--size", "96x64", "--format", "csv"];
+    let record = nostencil(&[&args[..], &["--write-budget", b]].concat());
+    assert!(record.status.success(), "{}", String::from_utf8_lossy(&record.stderr));
+    let check = nostencil(&[&args[..], &["--budget", b]].concat());
+    assert!(check.status.success(), "{}", String::from_utf8_lossy(&check.stderr));
+
+    // Tighten one pass's budget: the same frame is now "more expensive" than allowed.
+    let mut recorded: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&budget).unwrap()).unwrap();
+    let pass = recorded["passes"]
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .find(|p| p["name"] == "volume increment (z-pass)")
+        .unwrap();
+    pass["samples_passed"] = serde_json::json!(pass["samples_passed"].as_u64().unwrap() / 2);
+    std::fs::write(&budget, serde_json::to_string(&recorded).unwrap()).unwrap();
+    let over = nostencil(&[&args[..], &["--budget", b]].concat());
+    let stderr = String::from_utf8_lossy(&over.stderr);
+    assert!(!over.status.success());
+    assert!(stderr.contains("volume increment (z-pass)") && stderr.contains("over the budget"), "{stderr}");
+    assert!(!stderr.contains("panicked"));
+}
+
+#[test]
+fn json_matches_the_table_and_totals_add_up() {
+    let args = ["profile", "--technique", "shadow-volume", "--size", "96x64"];
+    let json = nostencil(&[&args[..], &["--format", "json"]].concat());
+    let table = nostencil(&args);
+    let report: serde_json::Value = serde_json::from_slice(&json.stdout).expect("JSON");
+    let table = String::from_utf8_lossy(&table.stdout);
+    let passes = report["passes"].as_array().unwrap();
+    let sum = |key: &str| passes.iter().map(|p| p[key].as_u64().unwrap()).sum::<u64>();
+    assert_eq!(report["totals"]["samples_passed"].as_u64().unwrap(), sum("samples_passed"));
+    assert_eq!(report["totals"]["fragment_invocations"].as_u64().unwrap(), sum("fragment_invocations"));
+    for pass in passes {
+        let name = pass["name"].as_str().unwrap();
+        let row = table.lines().find(|l| l.starts_with(name)).unwrap_or_else(|| panic!("{name} not in table"));
+        assert!(row.contains(&pass["samples_passed"].to_string()), "{row}");
+        assert!(row.contains(&pass["fragment_invocations"].to_string()), "{row}");
+    }
+    assert_eq!(report["technique_stats"]["saturated_pixels"], 0);
+}
+
+#[test]
+fn heatmap_chart_compare_and_passes_from_the_command_line() {
+    let dir = common::scratch_dir("profile-outputs");
+    let heat = dir.join("heat.png");
+    let chart = dir.join("chart.svg");
+    let out = nostencil(&[
+        "profile",
+        "--size",
+        "96x64",
+        "--heatmap",
+        heat.to_str().unwrap(),
+        "--chart",
+        chart.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let png = image::open(&heat).expect("heat map PNG").to_rgb8();
+    assert!(png.width() >= 96 && png.height() > 64);
+    let svg = std::fs::read_to_string(&chart).unwrap();
+    assert!(svg.starts_with("<svg") && svg.contains(">scene<"));
+
+    let compare = nostencil(&[
+        "profile",
+        "--technique",
+        "shadow-volume",
+        "--size",
+        "96x64",
+        "--compare",
+        "reference,seed,subpass",
+    ]);
+    let text = String::from_utf8_lossy(&compare.stdout);
+    assert!(text.contains("ratio to reference") && text.contains("apply (subpass)"), "{text}");
+
+    let passes = nostencil(&["passes", "--technique", "shadow-volume"]);
+    let text = String::from_utf8_lossy(&passes.stdout);
+    assert!(text.contains("| emulated seed/max | normalise N0 |") && text.contains("DECREMENT_AND_WRAP"), "{text}");
+}
