@@ -489,6 +489,8 @@ struct App<'s> {
     frames_since_resize: u32,
     needs_recreate: bool,
     minimised: bool,
+    /// `--frames` are done: events still queued before the loop ends draw nothing more.
+    done: bool,
     drag: Option<(f64, f64)>,
     cursor: (f64, f64),
     last_tick: Instant,
@@ -515,6 +517,7 @@ impl<'s> App<'s> {
             frames_since_resize: 0,
             needs_recreate: false,
             minimised: false,
+            done: false,
             drag: None,
             cursor: (0.0, 0.0),
             last_tick: Instant::now(),
@@ -572,6 +575,9 @@ impl<'s> App<'s> {
 
     /// One frame: render the technique, copy it into a swapchain image, present.
     fn draw(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
+        if self.done {
+            return Ok(());
+        }
         let now = Instant::now();
         if !self.live.paused {
             self.live.time += (now - self.last_tick).as_secs_f32();
@@ -679,6 +685,7 @@ impl<'s> App<'s> {
             }
         }
         if last_frame {
+            self.done = true;
             if let (Some(path), Some(presenter)) = (&self.options.screenshot, &self.presenter) {
                 let image = presenter.read_screenshot(slot)?;
                 image.write_png(path, false)?;
