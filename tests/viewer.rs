@@ -247,3 +247,31 @@ fn without_a_display_the_viewer_fails_in_one_line_and_offscreen_commands_still_w
     let output = nostencil().args(["view", "--screenshot", "x.png"]).output().expect("run nostencil view");
     assert!(!output.status.success() && stderr(&output).contains("--frames"), "{}", stderr(&output));
 }
+
+#[test]
+fn escape_with_frames_in_flight_ends_cleanly() {
+    let Some(x) = start_x_server() else { return };
+    let child = Command::new(env!("CARGO_BIN_EXE_nostencil"))
+        .args(["view", "--validation", "--device", "lavapipe", "--size", "160x120", "--technique", "shadow-volume"])
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run nostencil view");
+    let start = Instant::now();
+    let window = loop {
+        if let Some(id) = xdotool(&x, &["search", "--name", "^nostencil view"]).lines().next() {
+            break id.to_owned();
+        }
+        assert!(start.elapsed() < Duration::from_secs(60), "the viewer's window never appeared");
+        std::thread::sleep(Duration::from_millis(100));
+    };
+    wait_for_title(&x, &window, "fragments/px");
+    xdotool(&x, &["windowfocus", &window]);
+    // Rebuilds (k, n), light moves, then quit while a frame's copy may still be running: the
+    // targets it reads must outlive it.
+    xdotool(&x, &["key", "k", "n", "Left", "Up", "Escape"]);
+    let output = wait_with_timeout(child, Duration::from_secs(60));
+    assert_clean(&output, "view closed with Escape");
+}

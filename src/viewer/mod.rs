@@ -526,6 +526,7 @@ impl<'s> App<'s> {
     }
 
     fn finish(mut self) -> Result<()> {
+        self.wait_idle();
         // Validation messages go to stderr as they happen; tear down before reporting.
         self.technique = None;
         self.presenter = None;
@@ -757,6 +758,22 @@ impl<'s> App<'s> {
             _ => {}
         }
         self.update_title();
+    }
+}
+
+impl App<'_> {
+    /// The last frame's copy may still read the technique's targets.
+    fn wait_idle(&self) {
+        unsafe {
+            let _ = self.gpu.raw().device_wait_idle();
+        }
+    }
+}
+
+impl Drop for App<'_> {
+    fn drop(&mut self) {
+        // Runs before the fields drop: nothing they own may still be in use on the GPU.
+        self.wait_idle();
     }
 }
 
