@@ -13,5 +13,6 @@ pub mod render;
 pub mod scene;
 pub mod shaders;
 pub mod technique;
+pub mod viewer;
 
 pub use error::{Error, Result};

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Prepares a fresh Debian 12 / Ubuntu 22.04+ machine to build and test nostencil:
 # - the Vulkan loader, lavapipe (Mesa's software Vulkan) and the Khronos validation layer;
+# - Xvfb and the X11 client libraries, for the windowed viewer and its test;
 # - shaderc, glslang and SPIRV-Tools as static libraries, merged into one archive that the
 #   shaderc crate links (see "Shader compilation" in README.md for why).
 # Safe to run again: packages already present are kept, the archive is rebuilt.
@@ -12,6 +13,11 @@ packages=(
   libvulkan1 libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
   libshaderc-dev glslang-dev spirv-tools
   binutils pkg-config
+  # `nostencil view` and tests/viewer.rs: an X server without a screen, and the libraries
+  # winit opens at run time for X11 (Xlib, XCB, Xcursor, XRandR, XInput2, xkbcommon); the test
+  # presses keys and closes the window with xdotool.
+  xvfb xauth xdotool
+  libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon0 libxkbcommon-x11-0
 )
 
 as_root=()

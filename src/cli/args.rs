@@ -92,6 +92,25 @@ pub enum Command {
         #[arg(long, value_name = "FILE.png")]
         out: PathBuf,
     },
+    /// Show the scene in a window, every technique switchable live (keys: T technique,
+    /// S stencil emulated/reference, N normalisation, K increment, Space pause, arrows light,
+    /// R reset, Esc quit; drag to orbit, wheel to zoom). The window's size is the frame's.
+    View {
+        #[command(flatten)]
+        frame: FrameArgs,
+        /// Render this many frames, then exit (with --screenshot: save the last one first).
+        #[arg(long, value_name = "N")]
+        frames: Option<u32>,
+        /// Save the last presented image as an RGB PNG (atomic write); needs --frames.
+        #[arg(long, value_name = "FILE.png")]
+        screenshot: Option<PathBuf>,
+        /// After N presented frames, resize the window to WxH (for tests of the resize path).
+        #[arg(long, num_args = 2, value_names = ["N", "WxH"])]
+        resize_after: Option<Vec<String>>,
+        /// Start with the animation (casters turning) paused: frames then match `render`.
+        #[arg(long)]
+        paused: bool,
+    },
     /// Print the device, the mobile profile, and every limit the device is checked against.
     Info {
         #[command(flatten)]

@@ -38,6 +38,9 @@ pub fn run(cli: Cli) -> Result<()> {
         }
         Command::Bench { frame, warmup, runs, json } => bench(&frame, warmup, runs, json),
         Command::Bake { frame, model, mip, out } => bake(&frame, model.as_deref(), mip, &out),
+        Command::View { frame, frames, screenshot, resize_after, paused } => {
+            view(&frame, frames, screenshot, resize_after, paused)
+        }
     }
 }
 
@@ -521,4 +524,55 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: u32, json: bool) -> Result<()> {
         print!("{}", report.table());
     }
     Ok(())
+}
+
+fn view(
+    frame: &FrameArgs,
+    frames: Option<u32>,
+    screenshot: Option<std::path::PathBuf>,
+    resize_after: Option<Vec<String>>,
+    paused: bool,
+) -> Result<()> {
+    use crate::viewer::{live::Settings, ViewerOptions};
+
+    if let Some(path) = &screenshot {
+        if frames.is_none() {
+            return Err(Error::InvalidInput(
+                "--screenshot needs --frames N: the screenshot is of the last frame".into(),
+            ));
+        }
+        check_output_path(path)?;
+    }
+    if frames == Some(0) {
+        return Err(Error::InvalidInput("--frames must be at least 1".into()));
+    }
+    let resize_after = match resize_after.as_deref() {
+        None => None,
+        Some([after, size]) => {
+            let after: u32 = after.parse().map_err(|_| {
+                Error::InvalidInput(format!("--resize-after {after}: expected a frame count, such as 3"))
+            })?;
+            Some((after, super::args::parse_size(size)?))
+        }
+        Some(_) => return Err(Error::InvalidInput("--resize-after takes a frame count and WxH".into())),
+    };
+    let options = options(frame)?;
+    let scene = load_scene(&frame.scene, frame.time)?;
+    let device = frame.gpu.device.as_deref().map(DeviceChoice::parse).unwrap_or_default();
+    crate::viewer::run(
+        ViewerOptions {
+            settings: Settings {
+                technique: options.technique,
+                stencil: options.stencil,
+                shadow_volume: options.shadow_volume,
+            },
+            size: frame.size,
+            gpu: GpuOptions { validation: frame.gpu.validation, device },
+            frames,
+            screenshot,
+            resize_after,
+            paused,
+        },
+        scene,
+    )
 }

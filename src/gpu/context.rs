@@ -34,8 +34,23 @@ pub struct Gpu {
 
 impl Gpu {
     pub fn new(options: &GpuOptions) -> Result<Arc<Self>> {
-        let instance = Instance::new(options.validation)?;
-        let device = Device::new(&instance, &options.device.clone().from_env_or())?;
+        Self::create(options, &[], &[])
+    }
+
+    /// A Gpu that can present: the instance enables `surface_extensions` (from
+    /// `ash_window::enumerate_required_extensions`) and the device `VK_KHR_swapchain`. Only the
+    /// viewer uses it; offscreen commands never touch the window system.
+    pub fn for_presentation(options: &GpuOptions, surface_extensions: &[*const std::ffi::c_char]) -> Result<Arc<Self>> {
+        Self::create(options, surface_extensions, &[ash::khr::swapchain::NAME])
+    }
+
+    fn create(
+        options: &GpuOptions,
+        instance_extensions: &[*const std::ffi::c_char],
+        device_extensions: &[&std::ffi::CStr],
+    ) -> Result<Arc<Self>> {
+        let instance = Instance::with_extensions(options.validation, instance_extensions)?;
+        let device = Device::with_extensions(&instance, &options.device.clone().from_env_or(), device_extensions)?;
         let allocator = Allocator::new(&AllocatorCreateDesc {
             instance: instance.raw.clone(),
             device: device.raw.clone(),

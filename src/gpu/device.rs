@@ -81,6 +81,12 @@ fn matches_name(name: &str, wanted: &str) -> bool {
 
 impl Device {
     pub fn new(instance: &Instance, choice: &DeviceChoice) -> Result<Self> {
+        Self::with_extensions(instance, choice, &[])
+    }
+
+    /// As `new`, with device extensions enabled (`VK_KHR_swapchain`, for the viewer only); a
+    /// device that lacks one is refused with its name.
+    pub fn with_extensions(instance: &Instance, choice: &DeviceChoice, extensions: &[&CStr]) -> Result<Self> {
         let candidate = choose_physical_device(instance, choice)?;
         let physical = candidate.physical;
         let raw_instance = &instance.raw;
@@ -102,6 +108,20 @@ impl Device {
             )));
         }
 
+        let available = unsafe { raw_instance.enumerate_device_extension_properties(physical) }
+            .vk("vkEnumerateDeviceExtensionProperties")?;
+        if let Some(missing) = extensions
+            .iter()
+            .find(|wanted| !available.iter().any(|e| e.extension_name_as_c_str().ok() == Some(**wanted)))
+        {
+            return Err(Error::Device(format!(
+                "device '{}' lacks the extension {}",
+                candidate.name,
+                missing.to_string_lossy()
+            )));
+        }
+        let extension_names: Vec<*const std::ffi::c_char> = extensions.iter().map(|e| e.as_ptr()).collect();
+
         let supported = unsafe { raw_instance.get_physical_device_features(physical) };
         let features = EnabledFeatures::choose(&supported);
         let vk_features = features.to_vk();
@@ -110,8 +130,10 @@ impl Device {
         let priorities = [1.0f32];
         let queue_info =
             [vk::DeviceQueueCreateInfo::default().queue_family_index(queue_family).queue_priorities(&priorities)];
-        let create_info =
-            vk::DeviceCreateInfo::default().queue_create_infos(&queue_info).enabled_features(&vk_features);
+        let create_info = vk::DeviceCreateInfo::default()
+            .queue_create_infos(&queue_info)
+            .enabled_extension_names(&extension_names)
+            .enabled_features(&vk_features);
         let raw = unsafe { raw_instance.create_device(physical, &create_info, None) }.vk("vkCreateDevice")?;
         let queue = unsafe { raw.get_device_queue(queue_family, 0) };
         let memory_properties = unsafe { raw_instance.get_physical_device_memory_properties(physical) };

@@ -1,7 +1,7 @@
 //! The Vulkan instance: loader, optional Khronos validation layer and a debug-utils messenger
 //! that records every validation message so that tests can fail on any of them.
 
-use std::ffi::{c_void, CStr};
+use std::ffi::{c_char, c_void, CStr};
 use std::sync::{Arc, Mutex};
 
 use ash::{ext::debug_utils, vk};
@@ -34,6 +34,12 @@ pub struct Instance {
 
 impl Instance {
     pub fn new(validation: bool) -> Result<Self> {
+        Self::with_extensions(validation, &[])
+    }
+
+    /// As `new`, with more instance extensions enabled: the window-system surface extensions
+    /// (`ash_window::enumerate_required_extensions`), which only the viewer asks for.
+    pub fn with_extensions(validation: bool, extra_extensions: &[*const c_char]) -> Result<Self> {
         // SAFETY: loading the system loader library; failure is reported, not assumed.
         let entry = unsafe { ash::Entry::load() }.map_err(|e| {
             Error::Device(format!(
@@ -47,7 +53,7 @@ impl Instance {
             .api_version(vk::API_VERSION_1_0);
 
         let mut layers = Vec::new();
-        let mut extensions = Vec::new();
+        let mut extensions = extra_extensions.to_vec();
         if validation {
             let available =
                 unsafe { entry.enumerate_instance_layer_properties() }.vk("vkEnumerateInstanceLayerProperties")?;

@@ -30,6 +30,7 @@ pub struct Renderer {
     pub frame: FrameDescriptors,
     queries: PassQueryPools,
     readback: Buffer,
+    keep_on_gpu: bool,
     /// Heat-map frames: every pipeline of the frame's render pass is replaced by an overdraw
     /// counter, and the colour target's alpha ends up holding fragments shaded per pixel.
     pub count_overdraw: bool,
@@ -54,9 +55,17 @@ impl Renderer {
             frame: FrameDescriptors::new(gpu)?,
             queries: PassQueryPools::new(gpu, MAX_PASSES_PER_FRAME)?,
             readback,
+            keep_on_gpu: false,
             count_overdraw: false,
             overdraw_pipelines: OverdrawPipelines::new(targets_render_pass),
         })
+    }
+
+    /// Leaves each frame on the GPU, in `targets.colour` (layout TRANSFER_SRC_OPTIMAL) for the
+    /// caller to copy (the viewer presents it): `render` skips the copy to the CPU and returns
+    /// an empty 0x0 image. Counters are read back as usual.
+    pub fn keep_on_gpu(&mut self, keep: bool) {
+        self.keep_on_gpu = keep;
     }
 
     pub fn extent(&self) -> vk::Extent2D {
@@ -99,6 +108,7 @@ impl Renderer {
         let device = gpu.raw();
         let extent = self.targets.extent;
         let (targets, queries, readback, frame_set) = (&self.targets, &self.queries, &self.readback, self.frame.set);
+        let keep_on_gpu = self.keep_on_gpu;
 
         let pass_records = submit_and_wait(&gpu, |cmd| {
             queries.reset(cmd);
@@ -134,6 +144,9 @@ impl Renderer {
             recorded?;
             if let Some(e) = recorder.deferred_error.take() {
                 return Err(e);
+            }
+            if keep_on_gpu {
+                return Ok(recorder.passes);
             }
 
             // The render pass left the colour target in TRANSFER_SRC_OPTIMAL.
@@ -180,7 +193,11 @@ impl Renderer {
             .zip(&raw)
             .map(|(record, raw)| PassCounters::from_queries(record.name, record.draws, raw, frame_start))
             .collect();
-        let image = RgbaImage { width: extent.width, height: extent.height, pixels: self.readback.read()?.to_vec() };
+        let image = if self.keep_on_gpu {
+            RgbaImage { width: 0, height: 0, pixels: Vec::new() }
+        } else {
+            RgbaImage { width: extent.width, height: extent.height, pixels: self.readback.read()?.to_vec() }
+        };
         Ok(FrameOutput { image, counters: FrameCounters { width: extent.width, height: extent.height, passes } })
     }
 }

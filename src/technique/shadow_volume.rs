@@ -612,7 +612,19 @@ impl<'s> ShadowVolumeRenderer<'s> {
     }
 
     pub fn frame(&mut self) -> Result<ShadowVolumeFrame> {
-        let scene = self.scene;
+        self.frame_with(self.scene)
+    }
+
+    /// Renders `scene`: the scene this renderer was built for with the camera, the light or
+    /// object transforms changed (the viewer orbits, moves the light, spins objects). Meshes
+    /// and which objects cast shadows must be unchanged: casters were prepared once.
+    pub fn frame_with(&mut self, scene: &Scene) -> Result<ShadowVolumeFrame> {
+        if scene.objects.len() != self.scene.objects.len() || scene.meshes.len() != self.scene.meshes.len() {
+            return Err(Error::InvalidInput(format!(
+                "scene '{}' is not the one this shadow-volume renderer was built for",
+                scene.name
+            )));
+        }
         let volumes = upload_volumes(&self.gpu, scene, &self.casters, self.stats.zfail)?;
         let uniforms = FrameUniforms::for_scene(scene, self.renderer.aspect());
         let shadow_factor = self.options.shadow_factor as f32 / 255.0;
@@ -694,6 +706,23 @@ impl<'s> ShadowVolumeRenderer<'s> {
         let mut stats = self.stats;
         stats.saturated_pixels = output.counters.pass("saturation probe").map(|p| p.samples_passed);
         Ok(ShadowVolumeFrame { output, stats })
+    }
+}
+
+impl ShadowVolumeRenderer<'_> {
+    /// Whether `scene` (a moved camera or light) needs the other counting method than the one
+    /// this renderer was built with: with `--volume-method auto` the caller then rebuilds.
+    pub fn wants_zfail(&self, scene: &Scene) -> bool {
+        choose_zfail(&self.options, scene, &self.casters, self.renderer.aspect())
+    }
+
+    pub fn zfail(&self) -> bool {
+        self.stats.zfail
+    }
+
+    /// The offscreen renderer underneath (its targets, `keep_on_gpu`).
+    pub fn renderer_mut(&mut self) -> &mut Renderer {
+        &mut self.renderer
     }
 }
 

@@ -1,0 +1,249 @@
+//! The window's surface and swapchain. The frame is never rendered into a swapchain image: it is
+//! built in the RGBA8 + depth targets like every offscreen frame and then blitted (or copied)
+//! into the acquired image, so the swapchain's format cannot change what the technique computes.
+
+use std::sync::Arc;
+
+use ash::{khr, vk};
+use winit::raw_window_handle::{HasDisplayHandle, HasWindowHandle};
+use winit::window::Window;
+
+use crate::error::{Error, Result, VkContext};
+use crate::frame::render_pass::COLOUR_FORMAT;
+use crate::gpu::Gpu;
+
+pub struct Surface {
+    /// Keeps the instance alive until the surface is destroyed.
+    _gpu: Arc<Gpu>,
+    loader: khr::surface::Instance,
+    pub raw: vk::SurfaceKHR,
+}
+
+impl Surface {
+    pub fn new(gpu: &Arc<Gpu>, window: &Window) -> Result<Self> {
+        let handle_error = |e: winit::raw_window_handle::HandleError| {
+            Error::Device(format!("the window system gave no window handle: {e}"))
+        };
+        let display = window.display_handle().map_err(handle_error)?.as_raw();
+        let handle = window.window_handle().map_err(handle_error)?.as_raw();
+        // SAFETY: the handles come from a live window; the viewer destroys the surface before
+        // the window (field order in `viewer::App`).
+        let raw = unsafe { ash_window::create_surface(&gpu.instance.entry, &gpu.instance.raw, display, handle, None) }
+            .vk("vkCreate*SurfaceKHR")?;
+        let loader = khr::surface::Instance::new(&gpu.instance.entry, &gpu.instance.raw);
+        let surface = Surface { _gpu: gpu.clone(), loader, raw };
+        let supported = unsafe {
+            surface.loader.get_physical_device_surface_support(
+                gpu.device.physical,
+                gpu.device.queue_family,
+                surface.raw,
+            )
+        }
+        .vk("vkGetPhysicalDeviceSurfaceSupportKHR")?;
+        if !supported {
+            return Err(Error::Device(format!(
+                "device '{}' cannot present to this window from its graphics queue",
+                gpu.device.info.name
+            )));
+        }
+        Ok(surface)
+    }
+}
+
+impl Drop for Surface {
+    fn drop(&mut self) {
+        unsafe { self.loader.destroy_surface(self.raw, None) };
+    }
+}
+
+/// How the RGBA8 frame reaches a swapchain image.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Transfer {
+    /// `vkCmdBlitImage` converts between formats (RGBA to BGRA swizzles) with no filtering at
+    /// equal sizes.
+    Blit,
+    /// `vkCmdCopyImage`: raw bytes, for swapchain formats with the frame's byte order (also
+    /// the sRGB ones, whose blit would re-encode the values).
+    Copy,
+}
+
+/// The swapchain formats the viewer can show unchanged, best first, and how.
+fn classify(gpu: &Gpu, format: vk::Format) -> Option<(u32, Transfer)> {
+    let features = |f| unsafe { gpu.instance.raw.get_physical_device_format_properties(gpu.device.physical, f) };
+    let can_blit = features(COLOUR_FORMAT).optimal_tiling_features.contains(vk::FormatFeatureFlags::BLIT_SRC)
+        && features(format).optimal_tiling_features.contains(vk::FormatFeatureFlags::BLIT_DST);
+    match format {
+        vk::Format::R8G8B8A8_UNORM | vk::Format::A8B8G8R8_UNORM_PACK32 => {
+            Some(if can_blit { (0, Transfer::Blit) } else { (1, Transfer::Copy) })
+        }
+        vk::Format::B8G8R8A8_UNORM if can_blit => Some((0, Transfer::Blit)),
+        // Same bytes as the frame: shown as the PNG would be (values taken as sRGB-encoded).
+        vk::Format::R8G8B8A8_SRGB | vk::Format::A8B8G8R8_SRGB_PACK32 => Some((2, Transfer::Copy)),
+        _ => None,
+    }
+}
+
+/// Whether a swapchain format stores blue in the first byte (the screenshot swizzles back).
+pub fn is_bgra(format: vk::Format) -> bool {
+    matches!(format, vk::Format::B8G8R8A8_UNORM | vk::Format::B8G8R8A8_SRGB)
+}
+
+pub struct Swapchain {
+    gpu: Arc<Gpu>,
+    loader: khr::swapchain::Device,
+    pub raw: vk::SwapchainKHR,
+    pub images: Vec<vk::Image>,
+    pub format: vk::Format,
+    pub extent: vk::Extent2D,
+    pub transfer: Transfer,
+    /// The images can be read back (screenshots read the presented image itself).
+    pub readable: bool,
+    /// Signalled when an image's frame is copied in, waited on by its present: one per image,
+    /// so a semaphore is never reused while the presentation engine may still hold it.
+    pub render_finished: Vec<vk::Semaphore>,
+}
+
+pub enum Acquired {
+    Image {
+        index: u32,
+        suboptimal: bool,
+    },
+    OutOfDate,
+    /// The window went away under the swapchain (destroyed by another client).
+    SurfaceLost,
+}
+
+impl Swapchain {
+    /// A swapchain for the surface at its current size (`window_size` when the surface leaves
+    /// it to the application); None while the window has no area (minimised).
+    pub fn new(
+        gpu: &Arc<Gpu>,
+        surface: &Surface,
+        window_size: (u32, u32),
+        old: Option<&Swapchain>,
+    ) -> Result<Option<Self>> {
+        let physical = gpu.device.physical;
+        let caps = unsafe { surface.loader.get_physical_device_surface_capabilities(physical, surface.raw) }
+            .vk("vkGetPhysicalDeviceSurfaceCapabilitiesKHR")?;
+        let extent = if caps.current_extent.width == u32::MAX {
+            vk::Extent2D {
+                width: window_size.0.clamp(caps.min_image_extent.width, caps.max_image_extent.width),
+                height: window_size.1.clamp(caps.min_image_extent.height, caps.max_image_extent.height),
+            }
+        } else {
+            caps.current_extent
+        };
+        if extent.width == 0 || extent.height == 0 {
+            return Ok(None);
+        }
+        if !caps.supported_usage_flags.contains(vk::ImageUsageFlags::TRANSFER_DST) {
+            return Err(Error::Device("the window's swapchain images cannot be transfer destinations".into()));
+        }
+        let readable = caps.supported_usage_flags.contains(vk::ImageUsageFlags::TRANSFER_SRC);
+
+        let formats = unsafe { surface.loader.get_physical_device_surface_formats(physical, surface.raw) }
+            .vk("vkGetPhysicalDeviceSurfaceFormatsKHR")?;
+        let (surface_format, transfer) = formats
+            .iter()
+            .filter(|f| f.color_space == vk::ColorSpaceKHR::SRGB_NONLINEAR)
+            .filter_map(|f| classify(gpu, f.format).map(|(rank, transfer)| (rank, *f, transfer)))
+            .min_by_key(|(rank, _, _)| *rank)
+            .map(|(_, f, transfer)| (f, transfer))
+            .ok_or_else(|| {
+                Error::Device(format!(
+                    "no swapchain format can show the RGBA8 frame unchanged; the window offers {:?}",
+                    formats.iter().map(|f| f.format).collect::<Vec<_>>()
+                ))
+            })?;
+
+        let mut image_count = caps.min_image_count + 1;
+        if caps.max_image_count > 0 {
+            image_count = image_count.min(caps.max_image_count);
+        }
+        let composite_alpha = [
+            vk::CompositeAlphaFlagsKHR::OPAQUE,
+            vk::CompositeAlphaFlagsKHR::INHERIT,
+            vk::CompositeAlphaFlagsKHR::PRE_MULTIPLIED,
+            vk::CompositeAlphaFlagsKHR::POST_MULTIPLIED,
+        ]
+        .into_iter()
+        .find(|a| caps.supported_composite_alpha.contains(*a))
+        .unwrap_or(vk::CompositeAlphaFlagsKHR::OPAQUE);
+        let mut usage = vk::ImageUsageFlags::TRANSFER_DST;
+        if readable {
+            usage |= vk::ImageUsageFlags::TRANSFER_SRC;
+        }
+        let info = vk::SwapchainCreateInfoKHR::default()
+            .surface(surface.raw)
+            .min_image_count(image_count)
+            .image_format(surface_format.format)
+            .image_color_space(surface_format.color_space)
+            .image_extent(extent)
+            .image_array_layers(1)
+            .image_usage(usage)
+            .image_sharing_mode(vk::SharingMode::EXCLUSIVE)
+            .pre_transform(caps.current_transform)
+            .composite_alpha(composite_alpha)
+            // FIFO: the one mode every device has, and no tearing.
+            .present_mode(vk::PresentModeKHR::FIFO)
+            .clipped(true)
+            .old_swapchain(old.map_or(vk::SwapchainKHR::null(), |o| o.raw));
+        let loader = khr::swapchain::Device::new(&gpu.instance.raw, gpu.raw());
+        let raw = unsafe { loader.create_swapchain(&info, None) }.vk("vkCreateSwapchainKHR")?;
+        let mut swapchain = Swapchain {
+            gpu: gpu.clone(),
+            loader,
+            raw,
+            images: Vec::new(),
+            format: surface_format.format,
+            extent,
+            transfer,
+            readable,
+            render_finished: Vec::new(),
+        };
+        swapchain.images = unsafe { swapchain.loader.get_swapchain_images(raw) }.vk("vkGetSwapchainImagesKHR")?;
+        for _ in 0..swapchain.images.len() {
+            let semaphore = unsafe { gpu.raw().create_semaphore(&vk::SemaphoreCreateInfo::default(), None) }
+                .vk("vkCreateSemaphore")?;
+            swapchain.render_finished.push(semaphore);
+        }
+        Ok(Some(swapchain))
+    }
+
+    pub fn acquire(&self, signal: vk::Semaphore) -> Result<Acquired> {
+        match unsafe { self.loader.acquire_next_image(self.raw, u64::MAX, signal, vk::Fence::null()) } {
+            Ok((index, suboptimal)) => Ok(Acquired::Image { index, suboptimal }),
+            Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(Acquired::OutOfDate),
+            Err(vk::Result::ERROR_SURFACE_LOST_KHR) => Ok(Acquired::SurfaceLost),
+            Err(result) => Err(Error::Vulkan { call: "vkAcquireNextImageKHR", result }),
+        }
+    }
+
+    /// Presents `index`; Ok(true) when the swapchain should be recreated (out of date or
+    /// suboptimal).
+    pub fn present(&self, index: u32) -> Result<bool> {
+        let wait = [self.render_finished[index as usize]];
+        let swapchains = [self.raw];
+        let indices = [index];
+        let info = vk::PresentInfoKHR::default().wait_semaphores(&wait).swapchains(&swapchains).image_indices(&indices);
+        match unsafe { self.loader.queue_present(self.gpu.device.queue, &info) } {
+            Ok(suboptimal) => Ok(suboptimal),
+            Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(true),
+            Err(result) => Err(Error::Vulkan { call: "vkQueuePresentKHR", result }),
+        }
+    }
+}
+
+impl Drop for Swapchain {
+    fn drop(&mut self) {
+        let device = self.gpu.raw();
+        unsafe {
+            // Nothing may still wait on the semaphores or read the images.
+            let _ = device.device_wait_idle();
+            for semaphore in self.render_finished.drain(..) {
+                device.destroy_semaphore(semaphore, None);
+            }
+            self.loader.destroy_swapchain(self.raw, None);
+        }
+    }
+}

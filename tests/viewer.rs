@@ -1,0 +1,277 @@
+//! `nostencil view` in a real window: an Xvfb server started by the test, lavapipe, the
+//! validation layer on. The viewer renders frames, resizes its window, and its screenshot (read
+//! back from the presented swapchain image, BGRA on X11) must equal `nostencil render` of the
+//! same scene, technique and size, pixel for pixel. Keys switch techniques live, and closing the
+//! window (destroying it under the swapchain: a lost surface) ends the viewer cleanly.
+//!
+//! Skipped, with a note, only when no X server can be started (tools/setup-debian.sh installs
+//! Xvfb and xdotool).
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::time::{Duration, Instant};
+
+/// An Xvfb server owned by one test, killed when dropped.
+struct XServer {
+    child: Child,
+    display: String,
+}
+
+impl Drop for XServer {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+static NEXT_DISPLAY: AtomicU32 = AtomicU32::new(0);
+
+/// Starts `Xvfb :N` on a free display number; None (with a printed note) when Xvfb is missing.
+fn start_x_server() -> Option<XServer> {
+    let base = 100 + (std::process::id() % 400) * 8;
+    for _ in 0..16 {
+        let n = base + NEXT_DISPLAY.fetch_add(1, Ordering::SeqCst);
+        if Path::new(&format!("/tmp/.X{n}-lock")).exists() || Path::new(&format!("/tmp/.X11-unix/X{n}")).exists() {
+            continue;
+        }
+        let child = match Command::new("Xvfb")
+            .args([format!(":{n}").as_str(), "-screen", "0", "1024x768x24", "-nolisten", "tcp"])
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+        {
+            Ok(child) => child,
+            Err(e) => {
+                println!("note: viewer test skipped: cannot start Xvfb ({e}); tools/setup-debian.sh installs it");
+                return None;
+            }
+        };
+        let mut server = XServer { child, display: format!(":{n}") };
+        let socket = PathBuf::from(format!("/tmp/.X11-unix/X{n}"));
+        let start = Instant::now();
+        while start.elapsed() < Duration::from_secs(20) {
+            if socket.exists() {
+                return Some(server);
+            }
+            if let Ok(Some(_)) = server.child.try_wait() {
+                break; // display taken by someone else meanwhile: try the next one
+            }
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    }
+    println!("note: viewer test skipped: no Xvfb display could be started");
+    None
+}
+
+/// Runs `nostencil` on the X server and waits for it, at most two minutes.
+fn run(x: &XServer, args: &[&str]) -> Output {
+    let child = Command::new(env!("CARGO_BIN_EXE_nostencil"))
+        .args(args)
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run nostencil");
+    wait_with_timeout(child, Duration::from_secs(120))
+}
+
+fn wait_with_timeout(mut child: Child, limit: Duration) -> Output {
+    let start = Instant::now();
+    loop {
+        if child.try_wait().expect("poll nostencil").is_some() {
+            return child.wait_with_output().expect("collect output");
+        }
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            let output = child.wait_with_output().expect("collect output");
+            panic!("nostencil did not finish in {limit:?}; stderr:\n{}", stderr(&output));
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+fn assert_clean(output: &Output, what: &str) {
+    let err = stderr(output);
+    assert!(output.status.success(), "{what} failed:\n{err}");
+    assert!(!err.contains("vulkan validation"), "{what}: validation messages:\n{err}");
+    assert!(!err.contains("panicked"), "{what}: panic:\n{err}");
+}
+
+fn rgb(path: &Path) -> image::RgbImage {
+    image::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display())).to_rgb8()
+}
+
+#[test]
+fn screenshot_after_a_resize_equals_the_offscreen_render() {
+    let Some(x) = start_x_server() else { return };
+    let dir = common::scratch_dir("viewer-screenshot");
+    // (scene, extra options): both stencil paths, and the normalisation through an input
+    // attachment, whose render pass has the feedback loop.
+    let cases: [(&str, &[&str]); 3] = [
+        ("default", &["--technique", "shadow-volume"]),
+        ("point-light", &["--technique", "shadow-volume", "--stencil", "reference"]),
+        ("overlap", &["--technique", "shadow-volume", "--normalize", "subpass", "--increment", "2"]),
+    ];
+    for (index, (scene, technique)) in cases.iter().enumerate() {
+        let shot = dir.join(format!("view-{index}.png"));
+        let reference = dir.join(format!("render-{index}.png"));
+        let mut args = vec!["view", "--validation", "--device", "lavapipe", "--paused", "--scene", scene];
+        args.extend_from_slice(technique);
+        // Opens at 160x120, renders 2 frames, asks for 128x96, then 4 more frames once the
+        // swapchain has the new size; the screenshot is the last presented image.
+        args.extend_from_slice(&["--size", "160x120", "--resize-after", "2", "128x96", "--frames", "6"]);
+        args.extend_from_slice(&["--screenshot", shot.to_str().unwrap()]);
+        let output = run(&x, &args);
+        assert_clean(&output, &format!("view {scene} {technique:?}"));
+        let err = stderr(&output);
+        assert!(err.contains("swapchain 160x120"), "no first swapchain at 160x120:\n{err}");
+        assert!(err.contains("swapchain 128x96"), "the swapchain was not recreated at 128x96:\n{err}");
+
+        let mut args = vec!["render", "--validation", "--device", "lavapipe", "--scene", scene, "--size", "128x96"];
+        args.extend_from_slice(technique);
+        args.extend_from_slice(&["--out", reference.to_str().unwrap()]);
+        let output = Command::new(env!("CARGO_BIN_EXE_nostencil")).args(&args).output().expect("run render");
+        assert_clean(&output, "render");
+
+        let (viewed, rendered) = (rgb(&shot), rgb(&reference));
+        assert_eq!(viewed.dimensions(), (128, 96), "screenshot size");
+        let differing = viewed.pixels().zip(rendered.pixels()).filter(|(a, b)| a != b).count();
+        assert_eq!(differing, 0, "{scene} {technique:?}: {differing} pixels differ from `nostencil render`");
+        // Not a blank frame: the shadow pass darkened something.
+        let distinct: std::collections::HashSet<_> = viewed.pixels().map(|p| p.0).collect();
+        assert!(distinct.len() > 20, "{scene}: only {} distinct colours", distinct.len());
+    }
+}
+
+/// Waits until the window titled "nostencil view..." shows `wanted` in its title.
+fn wait_for_title(x: &XServer, window: &str, wanted: &str) -> String {
+    let start = Instant::now();
+    let mut title = String::new();
+    while start.elapsed() < Duration::from_secs(60) {
+        title = xdotool(x, &["getwindowname", window]);
+        if title.contains(wanted) {
+            return title;
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    panic!("the title never showed '{wanted}'; last: {title}");
+}
+
+fn xdotool(x: &XServer, args: &[&str]) -> String {
+    let output =
+        Command::new("xdotool").args(args).env("DISPLAY", &x.display).output().unwrap_or_else(|e| {
+            panic!("xdotool is needed to drive the window (tools/setup-debian.sh installs it): {e}")
+        });
+    String::from_utf8_lossy(&output.stdout).trim().to_owned()
+}
+
+#[test]
+fn keys_switch_the_technique_live_and_closing_the_window_ends_cleanly() {
+    let Some(x) = start_x_server() else { return };
+    let child = Command::new(env!("CARGO_BIN_EXE_nostencil"))
+        .args(["view", "--validation", "--device", "lavapipe", "--size", "160x120", "--technique", "lit"])
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run nostencil view");
+
+    let start = Instant::now();
+    let window = loop {
+        let found = xdotool(&x, &["search", "--name", "^nostencil view"]);
+        if let Some(id) = found.lines().next() {
+            break id.to_owned();
+        }
+        assert!(start.elapsed() < Duration::from_secs(60), "the viewer's window never appeared");
+        std::thread::sleep(Duration::from_millis(100));
+    };
+    let title = wait_for_title(&x, &window, "lit (emulated)");
+    // No window manager: keys go to the focused window.
+    xdotool(&x, &["windowfocus", &window]);
+    assert!(title.contains("fragments/px") && title.contains("ms GPU"), "title without counters: {title}");
+
+    // T: shadow volumes; S: the real-stencil reference; N (after S back): max normalisation.
+    xdotool(&x, &["key", "t"]);
+    wait_for_title(&x, &window, "shadow-volume (emulated, seed");
+    xdotool(&x, &["key", "s"]);
+    wait_for_title(&x, &window, "shadow-volume (reference");
+    xdotool(&x, &["key", "s", "n"]);
+    let title = wait_for_title(&x, &window, "shadow-volume (emulated, max");
+    // The emulated frame's passes (normalisation included) cost more than one pass per pixel.
+    let samples: f64 = title
+        .split(" | ")
+        .find_map(|part| part.strip_suffix(" samples/px").and_then(|p| p.rsplit(' ').next()?.parse().ok()))
+        .unwrap_or_else(|| panic!("no samples/px in {title}"));
+    assert!(samples > 1.0, "{title}");
+    xdotool(&x, &["key", "space"]);
+    wait_for_title(&x, &window, "paused");
+
+    // Another client destroys the window: the swapchain's surface is lost mid-run.
+    xdotool(&x, &["windowclose", &window]);
+    let output = wait_with_timeout(child, Duration::from_secs(60));
+    assert_clean(&output, "view after its window was destroyed");
+}
+
+#[test]
+fn without_a_display_the_viewer_fails_in_one_line_and_offscreen_commands_still_work() {
+    let dir = common::scratch_dir("viewer-no-display");
+    let nostencil = || {
+        let mut command = Command::new(env!("CARGO_BIN_EXE_nostencil"));
+        command.env_remove("DISPLAY").env_remove("WAYLAND_DISPLAY");
+        command
+    };
+    let output = nostencil().args(["view", "--frames", "1"]).output().expect("run nostencil view");
+    let err = stderr(&output);
+    assert!(!output.status.success() && !err.contains("panicked"), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.contains("DISPLAY"), "{err}");
+
+    let out = dir.join("frame.png");
+    let output = nostencil()
+        .args(["render", "--validation", "--size", "64x48", "--out", out.to_str().unwrap()])
+        .output()
+        .expect("run nostencil render");
+    assert_clean(&output, "render with no display");
+    assert_eq!(rgb(&out).dimensions(), (64, 48));
+
+    let output = nostencil().args(["view", "--screenshot", "x.png"]).output().expect("run nostencil view");
+    assert!(!output.status.success() && stderr(&output).contains("--frames"), "{}", stderr(&output));
+}
+
+#[test]
+fn escape_with_frames_in_flight_ends_cleanly() {
+    let Some(x) = start_x_server() else { return };
+    let child = Command::new(env!("CARGO_BIN_EXE_nostencil"))
+        .args(["view", "--validation", "--device", "lavapipe", "--size", "160x120", "--technique", "shadow-volume"])
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run nostencil view");
+    let start = Instant::now();
+    let window = loop {
+        if let Some(id) = xdotool(&x, &["search", "--name", "^nostencil view"]).lines().next() {
+            break id.to_owned();
+        }
+        assert!(start.elapsed() < Duration::from_secs(60), "the viewer's window never appeared");
+        std::thread::sleep(Duration::from_millis(100));
+    };
+    wait_for_title(&x, &window, "fragments/px");
+    xdotool(&x, &["windowfocus", &window]);
+    // Rebuilds (k, n), light moves, then quit while a frame's copy may still be running: the
+    // targets it reads must outlive it.
+    xdotool(&x, &["key", "k", "n", "Left", "Up", "Escape"]);
+    let output = wait_with_timeout(child, Duration::from_secs(60));
+    assert_clean(&output, "view closed with Escape");
+}
