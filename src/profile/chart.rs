@@ -25,7 +25,7 @@ pub fn bar_chart_svg(title: &str, counters: &FrameCounters) -> String {
         .collect();
     let max = rows.iter().map(|r| r.1.max(r.2)).fold(0.0f64, f64::max).max(1.0).ceil();
     let (label_w, bar_w, row_h, top) = (230.0, 460.0, 34.0, 70.0);
-    let width = label_w + bar_w + 120.0;
+    let width = label_w + bar_w + 190.0;
     let height = top + rows.len() as f64 * row_h + 60.0;
     let mut svg = String::new();
     let _ = writeln!(
