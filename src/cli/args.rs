@@ -120,7 +120,7 @@ pub enum Command {
     },
 }
 
-#[derive(Debug, Args)]
+#[derive(Debug, Clone, Args)]
 pub struct GpuArgs {
     /// Device by index or name fragment (`lavapipe`); default: NOSTENCIL_DEVICE, else automatic.
     #[arg(long, value_name = "INDEX|NAME")]
@@ -130,7 +130,7 @@ pub struct GpuArgs {
     pub validation: bool,
 }
 
-#[derive(Debug, Args)]
+#[derive(Debug, Clone, Args)]
 pub struct FrameArgs {
     /// Frame size, WIDTHxHEIGHT, each side 1..=4096 (the mobile profile's limit).
     #[arg(long, value_name = "WxH", default_value = "1280x720", value_parser = parse_size_arg)]
@@ -138,7 +138,7 @@ pub struct FrameArgs {
     /// `emulated` (no stencil aspect: alpha-channel emulation) or `reference` (real stencil).
     #[arg(long, value_enum, default_value_t = StencilArg::Emulated)]
     pub stencil: StencilArg,
-    /// Technique to render.
+    /// Technique to render (`bench` also takes `all`).
     #[arg(long, default_value = "lit")]
     pub technique: String,
     /// Built-in scene name (see `nostencil info`) or a .gltf/.glb file.

@@ -431,6 +431,17 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: u32, json: bool) -> Result<()> {
     if runs == 0 {
         return Err(Error::InvalidInput("--runs must be at least 1".into()));
     }
+    if frame.technique == "all" {
+        if json {
+            return Err(Error::InvalidInput("--json takes one technique; run bench once per technique".into()));
+        }
+        for technique in Technique::ALL {
+            let one = FrameArgs { technique: technique.name().to_owned(), ..frame.clone() };
+            bench(&one, warmup, runs, false)?;
+            println!();
+        }
+        return Ok(());
+    }
     let options = options(frame)?;
     let scene = load_scene(&frame.scene, frame.time)?;
     let gpu = open_gpu(&frame.gpu)?;
