@@ -121,26 +121,9 @@ impl Renderer {
                 vk::ClearValue { color: vk::ClearColorValue { float32: clear } },
                 vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } },
             ];
-            let begin = vk::RenderPassBeginInfo::default()
-                .render_pass(targets.render_pass)
-                .framebuffer(targets.framebuffer)
-                .render_area(vk::Rect2D { offset: vk::Offset2D::default(), extent })
-                .clear_values(&clear_values);
-            unsafe {
-                device.cmd_begin_render_pass(cmd, &begin, vk::SubpassContents::INLINE);
-                let viewport = vk::Viewport {
-                    x: 0.0,
-                    y: 0.0,
-                    width: extent.width as f32,
-                    height: extent.height as f32,
-                    min_depth: 0.0,
-                    max_depth: 1.0,
-                };
-                device.cmd_set_viewport(cmd, 0, &[viewport]);
-                device.cmd_set_scissor(cmd, 0, &[vk::Rect2D { offset: vk::Offset2D::default(), extent }]);
-            }
+            recorder.begin_render_pass(targets.render_pass, targets.framebuffer, extent, &clear_values);
             let recorded = record(&mut recorder);
-            unsafe { device.cmd_end_render_pass(cmd) };
+            recorder.end_render_pass();
             recorded?;
             if let Some(e) = recorder.deferred_error.take() {
                 return Err(e);
@@ -166,22 +149,7 @@ impl Renderer {
                     readback.raw,
                     &[region],
                 );
-                let to_host = vk::BufferMemoryBarrier::default()
-                    .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
-                    .dst_access_mask(vk::AccessFlags::HOST_READ)
-                    .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                    .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                    .buffer(readback.raw)
-                    .size(vk::WHOLE_SIZE);
-                device.cmd_pipeline_barrier(
-                    cmd,
-                    vk::PipelineStageFlags::TRANSFER,
-                    vk::PipelineStageFlags::HOST,
-                    vk::DependencyFlags::empty(),
-                    &[],
-                    &[to_host],
-                    &[],
-                );
+                crate::gpu::commands::transfer_to_host_barrier(device, cmd, readback.raw);
             }
             Ok(recorder.passes)
         })?;

@@ -315,22 +315,7 @@ impl Presenter {
                     depth: 1,
                 });
                 device.cmd_copy_image_to_buffer(cmd, source, layout, buffer.raw, &[region]);
-                let to_host = vk::BufferMemoryBarrier::default()
-                    .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
-                    .dst_access_mask(vk::AccessFlags::HOST_READ)
-                    .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                    .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                    .buffer(buffer.raw)
-                    .size(vk::WHOLE_SIZE);
-                device.cmd_pipeline_barrier(
-                    cmd,
-                    vk::PipelineStageFlags::TRANSFER,
-                    vk::PipelineStageFlags::HOST,
-                    vk::DependencyFlags::empty(),
-                    &[],
-                    &[to_host],
-                    &[],
-                );
+                crate::gpu::commands::transfer_to_host_barrier(device, cmd, buffer.raw);
             }
             // Presentation waits on the semaphore, which orders it after this command buffer.
             device.cmd_pipeline_barrier(
