@@ -1,6 +1,7 @@
 //! The frame: render-pass descriptions as data, the render targets, and the read-back image.
 
 pub mod image;
+pub mod offscreen;
 pub mod render_pass;
 pub mod targets;
 

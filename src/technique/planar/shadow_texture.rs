@@ -22,7 +22,8 @@ use super::{
     caster_bounds, light_reaches_plane, lit_descs, receiver_plane, stats, PlanarFrame, ReceiverPlane, SceneMeshes,
     SHADOW_BIAS,
 };
-use crate::error::{Result, VkContext};
+use crate::error::Result;
+use crate::frame::offscreen::{colour_render_pass, Framebuffer, RenderPass};
 use crate::frame::StencilMode;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::{Image, ImageDesc};
@@ -118,11 +119,12 @@ pub fn light_view_projection(light: &Light, low: Vec3, high: Vec3) -> Mat4 {
     }
 }
 
-/// The offscreen target: image, render pass and framebuffer, destroyed on drop.
+/// The offscreen target: image, render pass and framebuffer. Cleared (nothing of the last
+/// frame is kept), stored (the frame samples it), and left ready for sampling.
 struct ShadowTarget {
-    gpu: Arc<Gpu>,
-    render_pass: vk::RenderPass,
-    framebuffer: vk::Framebuffer,
+    // Field order: the framebuffer goes before the render pass and image it refers to.
+    framebuffer: Framebuffer,
+    render_pass: RenderPass,
     image: Image,
 }
 
@@ -140,72 +142,10 @@ impl ShadowTarget {
                 mip_levels: 1,
             },
         )?;
-        let device = gpu.raw();
-        // Cleared (nothing of the last frame is kept), stored (the frame samples it), and left
-        // ready for sampling.
-        let attachment = vk::AttachmentDescription::default()
-            .format(SHADOW_TEXTURE_FORMAT)
-            .samples(vk::SampleCountFlags::TYPE_1)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::STORE)
-            .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
-            .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
-            .initial_layout(vk::ImageLayout::UNDEFINED)
-            .final_layout(vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL);
-        let colour_ref = [vk::AttachmentReference { attachment: 0, layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL }];
-        let subpass = vk::SubpassDescription::default()
-            .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
-            .color_attachments(&colour_ref);
-        // The frame's fragment shaders read what this pass wrote.
-        let dependencies = [
-            vk::SubpassDependency {
-                src_subpass: vk::SUBPASS_EXTERNAL,
-                dst_subpass: 0,
-                src_stage_mask: vk::PipelineStageFlags::FRAGMENT_SHADER,
-                dst_stage_mask: vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT,
-                src_access_mask: vk::AccessFlags::SHADER_READ,
-                dst_access_mask: vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
-                dependency_flags: vk::DependencyFlags::empty(),
-            },
-            vk::SubpassDependency {
-                src_subpass: 0,
-                dst_subpass: vk::SUBPASS_EXTERNAL,
-                src_stage_mask: vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT,
-                dst_stage_mask: vk::PipelineStageFlags::FRAGMENT_SHADER,
-                src_access_mask: vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
-                dst_access_mask: vk::AccessFlags::SHADER_READ,
-                dependency_flags: vk::DependencyFlags::empty(),
-            },
-        ];
-        let attachments = [attachment];
-        let subpasses = [subpass];
-        let info = vk::RenderPassCreateInfo::default()
-            .attachments(&attachments)
-            .subpasses(&subpasses)
-            .dependencies(&dependencies);
-        let render_pass = unsafe { device.create_render_pass(&info, None) }.vk("vkCreateRenderPass")?;
-        let mut target = ShadowTarget { gpu: gpu.clone(), render_pass, framebuffer: vk::Framebuffer::null(), image };
-        let views = [target.image.view];
-        let fb_info = vk::FramebufferCreateInfo::default()
-            .render_pass(render_pass)
-            .attachments(&views)
-            .width(extent.width)
-            .height(extent.height)
-            .layers(1);
-        target.framebuffer = unsafe { device.create_framebuffer(&fb_info, None) }.vk("vkCreateFramebuffer")?;
-        Ok(target)
-    }
-}
-
-impl Drop for ShadowTarget {
-    fn drop(&mut self) {
-        let device = self.gpu.raw();
-        unsafe {
-            if self.framebuffer != vk::Framebuffer::null() {
-                device.destroy_framebuffer(self.framebuffer, None);
-            }
-            device.destroy_render_pass(self.render_pass, None);
-        }
+        let render_pass =
+            colour_render_pass(gpu, SHADOW_TEXTURE_FORMAT, true, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)?;
+        let framebuffer = Framebuffer::new(gpu, &render_pass, image.view, extent)?;
+        Ok(ShadowTarget { framebuffer, render_pass, image })
     }
 }
 
@@ -256,11 +196,11 @@ impl<'s> ShadowTextureRenderer<'s> {
         Ok(ShadowTextureRenderer {
             scene_pipeline: Pipeline::new(gpu, &scene_desc, render_pass, &[frame_layout])?,
             scene_skinned: Pipeline::new(gpu, &skinned_desc, render_pass, &[frame_layout, palette_layout])?,
-            caster: Pipeline::new(gpu, &caster_desc(false), target.render_pass, &[])?,
+            caster: Pipeline::new(gpu, &caster_desc(false), target.render_pass.raw, &[])?,
             caster_skinned: Pipeline::new(
                 gpu,
                 &caster_desc(true),
-                target.render_pass,
+                target.render_pass.raw,
                 &[frame_layout, palette_layout],
             )?,
             receive: Pipeline::new(gpu, &receive_desc(), render_pass, &[frame_layout, texture_set.layout])?,
@@ -309,7 +249,7 @@ impl<'s> ShadowTextureRenderer<'s> {
             &uniforms,
             clear,
             |rec| {
-                rec.begin_render_pass(target.render_pass, target.framebuffer, extent, &white);
+                rec.begin_render_pass(target.render_pass.raw, target.framebuffer.raw, extent, &white);
                 let recorded = rec.pass("shadow texture", |rec| {
                     if light_view_proj == Mat4::ZERO {
                         return Ok(());

@@ -1,0 +1,165 @@
+//! Render passes for targets of a technique's own, drawn before the frame (shadow maps, shadow
+//! textures): one attachment each, cleared or not, stored, left ready for sampling or transfer.
+//! The handles destroy themselves on drop.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use crate::error::{Result, VkContext};
+use crate::gpu::memory::Image;
+use crate::gpu::Gpu;
+
+/// Vulkan handles destroyed on drop.
+pub struct RenderPass {
+    gpu: Arc<Gpu>,
+    pub raw: vk::RenderPass,
+}
+
+impl Drop for RenderPass {
+    fn drop(&mut self) {
+        unsafe { self.gpu.raw().destroy_render_pass(self.raw, None) };
+    }
+}
+
+pub struct Framebuffer {
+    gpu: Arc<Gpu>,
+    pub raw: vk::Framebuffer,
+}
+
+impl Framebuffer {
+    pub fn new(gpu: &Arc<Gpu>, render_pass: &RenderPass, view: vk::ImageView, extent: vk::Extent2D) -> Result<Self> {
+        let views = [view];
+        let info = vk::FramebufferCreateInfo::default()
+            .render_pass(render_pass.raw)
+            .attachments(&views)
+            .width(extent.width)
+            .height(extent.height)
+            .layers(1);
+        let raw = unsafe { gpu.raw().create_framebuffer(&info, None) }.vk("vkCreateFramebuffer")?;
+        Ok(Framebuffer { gpu: gpu.clone(), raw })
+    }
+}
+
+impl Drop for Framebuffer {
+    fn drop(&mut self) {
+        unsafe { self.gpu.raw().destroy_framebuffer(self.raw, None) };
+    }
+}
+
+pub struct ImageView {
+    gpu: Arc<Gpu>,
+    pub raw: vk::ImageView,
+}
+
+impl ImageView {
+    /// A view of one mip (framebuffers take single-mip views).
+    pub fn mip(gpu: &Arc<Gpu>, image: &Image, mip: u32) -> Result<Self> {
+        let info = vk::ImageViewCreateInfo::default()
+            .image(image.raw)
+            .view_type(vk::ImageViewType::TYPE_2D)
+            .format(image.format)
+            .subresource_range(vk::ImageSubresourceRange {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                base_mip_level: mip,
+                level_count: 1,
+                base_array_layer: 0,
+                layer_count: 1,
+            });
+        let raw = unsafe { gpu.raw().create_image_view(&info, None) }.vk("vkCreateImageView")?;
+        Ok(ImageView { gpu: gpu.clone(), raw })
+    }
+}
+
+impl Drop for ImageView {
+    fn drop(&mut self) {
+        unsafe { self.gpu.raw().destroy_image_view(self.raw, None) };
+    }
+}
+
+/// The dependencies every pre-pass render pass needs: its attachment is written after earlier
+/// reads (shader, transfer) and read afterwards by shaders and transfers.
+fn dependencies(
+    attachment_stages: vk::PipelineStageFlags,
+    attachment_write: vk::AccessFlags,
+) -> [vk::SubpassDependency; 2] {
+    let outside = vk::PipelineStageFlags::FRAGMENT_SHADER | vk::PipelineStageFlags::TRANSFER;
+    [
+        vk::SubpassDependency {
+            src_subpass: vk::SUBPASS_EXTERNAL,
+            dst_subpass: 0,
+            src_stage_mask: outside,
+            dst_stage_mask: attachment_stages,
+            src_access_mask: vk::AccessFlags::SHADER_READ | vk::AccessFlags::TRANSFER_READ,
+            dst_access_mask: attachment_write,
+            dependency_flags: vk::DependencyFlags::empty(),
+        },
+        vk::SubpassDependency {
+            src_subpass: 0,
+            dst_subpass: vk::SUBPASS_EXTERNAL,
+            src_stage_mask: attachment_stages,
+            dst_stage_mask: outside,
+            src_access_mask: attachment_write,
+            dst_access_mask: vk::AccessFlags::SHADER_READ | vk::AccessFlags::TRANSFER_READ,
+            dependency_flags: vk::DependencyFlags::empty(),
+        },
+    ]
+}
+
+/// Depth only: cleared, stored (unlike the frame's depth) and left ready for sampling.
+pub fn depth_render_pass(gpu: &Arc<Gpu>, format: vk::Format) -> Result<RenderPass> {
+    let attachments = [vk::AttachmentDescription::default()
+        .format(format)
+        .samples(vk::SampleCountFlags::TYPE_1)
+        .load_op(vk::AttachmentLoadOp::CLEAR)
+        .store_op(vk::AttachmentStoreOp::STORE)
+        .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
+        .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
+        .initial_layout(vk::ImageLayout::UNDEFINED)
+        .final_layout(vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL)];
+    let depth_ref =
+        vk::AttachmentReference { attachment: 0, layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL };
+    let subpasses = [vk::SubpassDescription::default()
+        .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
+        .depth_stencil_attachment(&depth_ref)];
+    let deps = dependencies(
+        vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS,
+        vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_READ,
+    );
+    build(gpu, &attachments, &subpasses, &deps)
+}
+
+/// One colour attachment, cleared (`clear`) or not loaded, stored, left in `final_layout`.
+pub fn colour_render_pass(
+    gpu: &Arc<Gpu>,
+    format: vk::Format,
+    clear: bool,
+    final_layout: vk::ImageLayout,
+) -> Result<RenderPass> {
+    let attachments = [vk::AttachmentDescription::default()
+        .format(format)
+        .samples(vk::SampleCountFlags::TYPE_1)
+        .load_op(if clear { vk::AttachmentLoadOp::CLEAR } else { vk::AttachmentLoadOp::DONT_CARE })
+        .store_op(vk::AttachmentStoreOp::STORE)
+        .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
+        .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
+        .initial_layout(vk::ImageLayout::UNDEFINED)
+        .final_layout(final_layout)];
+    let colour_ref = [vk::AttachmentReference { attachment: 0, layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL }];
+    let subpasses = [vk::SubpassDescription::default()
+        .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
+        .color_attachments(&colour_ref)];
+    let deps = dependencies(vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT, vk::AccessFlags::COLOR_ATTACHMENT_WRITE);
+    build(gpu, &attachments, &subpasses, &deps)
+}
+
+fn build(
+    gpu: &Arc<Gpu>,
+    attachments: &[vk::AttachmentDescription],
+    subpasses: &[vk::SubpassDescription],
+    deps: &[vk::SubpassDependency],
+) -> Result<RenderPass> {
+    let info = vk::RenderPassCreateInfo::default().attachments(attachments).subpasses(subpasses).dependencies(deps);
+    let raw = unsafe { gpu.raw().create_render_pass(&info, None) }.vk("vkCreateRenderPass")?;
+    Ok(RenderPass { gpu: gpu.clone(), raw })
+}
