@@ -792,7 +792,9 @@ impl ApplicationHandler for App<'_> {
                     self.fail(event_loop, e);
                 }
             }
-            WindowEvent::KeyboardInput { event, .. } if event.state == ElementState::Pressed => {
+            // Synthetic presses are winit's replay of keys already held when the window gained
+            // focus: acting on them would apply a toggle twice (that press also arrives for real).
+            WindowEvent::KeyboardInput { event, is_synthetic: false, .. } if event.state == ElementState::Pressed => {
                 self.key(&event.logical_key, event_loop)
             }
             WindowEvent::MouseInput { state, button: MouseButton::Left, .. } => {
