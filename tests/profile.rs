@@ -180,3 +180,32 @@ fn heatmap_chart_compare_and_passes_from_the_command_line() {
     let text = String::from_utf8_lossy(&passes.stdout);
     assert!(text.contains("| emulated seed/max | normalise N0 |") && text.contains("DECREMENT_AND_WRAP"), "{text}");
 }
+
+/// Every technique whose passes all draw into the frame: its heat map holds, summed over the
+/// pixels, exactly the samples its passes' occlusion queries counted (the counter pipelines keep
+/// each pipeline's depth test and replace only its blend), so no pass escapes the count.
+#[test]
+fn heat_map_sums_to_the_samples_every_technique_passed() {
+    use nostencil::technique::{render_scene, RenderOptions, Technique};
+    let gpu = common::gpu();
+    let scene = nostencil::scene::builtin_scene("default").expect("default scene");
+    let techniques = [
+        Technique::Lit,
+        Technique::ShadowVolume,
+        Technique::Outline,
+        Technique::Silhouette,
+        Technique::Toon,
+        Technique::Planar,
+        Technique::Blob,
+    ];
+    for technique in techniques {
+        let options = RenderOptions { width: 96, height: 64, technique, count_overdraw: true, ..Default::default() };
+        let frame = render_scene(&gpu, &scene, &options).expect("counted frame");
+        let counts = heatmap::counts(&frame.output.image);
+        assert!(counts.iter().all(|c| *c < 255), "{technique:?}: a count saturated");
+        let summed: u64 = counts.iter().map(|c| *c as u64).sum();
+        assert_eq!(summed, frame.output.counters.total_samples_passed(), "{technique:?}");
+        assert!(summed > 96 * 64 / 2, "{technique:?}: only {summed} samples in 96x64");
+    }
+    common::assert_no_validation_messages(&gpu);
+}

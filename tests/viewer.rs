@@ -125,12 +125,21 @@ fn rgb(path: &Path) -> image::RgbImage {
 fn screenshot_after_a_resize_equals_the_offscreen_render() {
     let Some(x) = start_x_server() else { return };
     let dir = common::scratch_dir("viewer-screenshot");
-    // (scene, extra options): both stencil paths, and the normalisation through an input
-    // attachment, whose render pass has the feedback loop.
-    let cases: [(&str, &[&str]); 3] = [
+    // (scene, extra options): every technique; for shadow volumes both stencil paths and the
+    // normalisation through an input attachment, whose render pass has the feedback loop.
+    let cases: [(&str, &[&str]); 12] = [
         ("default", &["--technique", "shadow-volume"]),
         ("point-light", &["--technique", "shadow-volume", "--stencil", "reference"]),
         ("overlap", &["--technique", "shadow-volume", "--normalize", "subpass", "--increment", "2"]),
+        ("default", &["--technique", "lit"]),
+        ("outline", &["--technique", "outline"]),
+        ("duck", &["--technique", "silhouette", "--stencil", "reference"]),
+        ("default", &["--technique", "toon", "--silhouette", "hull"]),
+        ("character", &["--technique", "planar", "--stencil", "reference", "--time", "0.4"]),
+        ("default", &["--technique", "blob"]),
+        ("character-point", &["--technique", "shadow-texture"]),
+        ("default", &["--technique", "shadow-map"]),
+        ("atlas-one", &["--technique", "shadow-texture-atlas"]),
     ];
     for (index, (scene, technique)) in cases.iter().enumerate() {
         let shot = dir.join(format!("view-{index}.png"));
@@ -157,9 +166,9 @@ fn screenshot_after_a_resize_equals_the_offscreen_render() {
         assert_eq!(viewed.dimensions(), (128, 96), "screenshot size");
         let differing = viewed.pixels().zip(rendered.pixels()).filter(|(a, b)| a != b).count();
         assert_eq!(differing, 0, "{scene} {technique:?}: {differing} pixels differ from `nostencil render`");
-        // Not a blank frame: the shadow pass darkened something.
+        // Not a blank frame (flat Lambert shading of the lit scene alone gives a dozen colours).
         let distinct: std::collections::HashSet<_> = viewed.pixels().map(|p| p.0).collect();
-        assert!(distinct.len() > 20, "{scene}: only {} distinct colours", distinct.len());
+        assert!(distinct.len() > 8, "{scene} {technique:?}: only {} distinct colours", distinct.len());
     }
 }
 
@@ -239,6 +248,24 @@ fn keys_switch_the_technique_live_and_closing_the_window_ends_cleanly() {
     // fragments of the lit frame the viewer opened with.
     let (lit, emulated) = (per_pixel(&lit_title, "fragments/px"), per_pixel(&title, "fragments/px"));
     assert!(emulated > 2.0 * lit, "lit: {lit_title}\nshadow-volume: {title}");
+
+    // Every other technique, live while the casters turn (each frame a moved pose of the scene);
+    // E and L cycle the cartoon silhouette method and the atlas light, Shift+T goes back.
+    for technique in ["outline", "silhouette", "toon", "planar", "blob", "shadow-texture", "shadow-map"] {
+        xdotool(&x, &["key", "t"]);
+        let title = wait_for_title(&x, &window, &format!("| {technique} (emulated"));
+        assert!(per_pixel(&title, "fragments/px") > 0.5, "{title}");
+        if technique == "silhouette" {
+            xdotool(&x, &["key", "e"]);
+            wait_for_title(&x, &window, "silhouette (emulated, shader)");
+        }
+    }
+    xdotool(&x, &["key", "t", "l"]);
+    wait_for_title(&x, &window, "shadow-texture-atlas (emulated, moving light)");
+    xdotool(&x, &["key", "T"]);
+    // The light mode is a setting of its own: the shadow map now turns its light too.
+    wait_for_title(&x, &window, "shadow-map (emulated, moving light)");
+
     xdotool(&x, &["key", "space"]);
     wait_for_title(&x, &window, "paused");
 
@@ -293,4 +320,70 @@ fn escape_with_frames_in_flight_ends_cleanly() {
     xdotool(&x, &["key", "k", "n", "Left", "Up", "Escape"]);
     let output = wait_with_timeout(child, Duration::from_secs(60));
     assert_clean(&output, "view closed with Escape");
+}
+
+/// Spawns `nostencil view` with `args` on the X server.
+fn spawn_view(x: &XServer, args: &[&str]) -> Child {
+    Command::new(env!("CARGO_BIN_EXE_nostencil"))
+        .arg("view")
+        .args(args)
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run nostencil view")
+}
+
+/// Waits until the title differs from `before` (a new frame was drawn).
+fn wait_for_new_frame(x: &XServer, window: &str, before: &str) -> String {
+    let start = Instant::now();
+    loop {
+        let title = xdotool(x, &["getwindowname", window]);
+        if title != before {
+            return title;
+        }
+        assert!(start.elapsed() < Duration::from_secs(60), "no new frame after: {before}");
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}
+
+#[test]
+fn a_hidden_window_draws_nothing_and_resumes_when_shown() {
+    let Some(x) = start_x_server() else { return };
+    let base = ["--validation", "--device", "lavapipe", "--technique", "planar"];
+    let child = spawn_view(&x, &[&base[..], &["--size", "160x120"]].concat());
+    let (child, window) = wait_for_window(&x, child);
+    let shown = wait_for_title(&x, &window, "fragments/px");
+
+    // A second, larger window opens on top of it (no window manager: both at the origin).
+    let cover = spawn_view(&x, &["--device", "lavapipe", "--size", "320x240"]);
+    let start = Instant::now();
+    while xdotool(&x, &["search", "--name", "^nostencil view"]).lines().count() < 2 {
+        assert!(start.elapsed() < Duration::from_secs(60), "the covering window never appeared");
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    // Drawing stops: the casters turn every frame, so a drawn frame changes the counters.
+    std::thread::sleep(Duration::from_secs(2));
+    let hidden = xdotool(&x, &["getwindowname", &window]);
+    std::thread::sleep(Duration::from_secs(1));
+    assert_eq!(xdotool(&x, &["getwindowname", &window]), hidden, "frames were drawn while the window was hidden");
+    let mut cover = cover;
+    let _ = cover.kill();
+    let _ = cover.wait();
+    let shown_again = wait_for_new_frame(&x, &window, &hidden);
+
+    // Unmapped and mapped again, as a window manager iconifies and restores a window.
+    xdotool(&x, &["windowunmap", &window]);
+    std::thread::sleep(Duration::from_millis(500));
+    xdotool(&x, &["windowmap", &window]);
+    let restored = xdotool(&x, &["getwindowname", &window]);
+    wait_for_new_frame(&x, &window, &restored);
+
+    xdotool(&x, &["windowfocus", &window]);
+    xdotool(&x, &["key", "Escape"]);
+    let output = wait_with_timeout(child, Duration::from_secs(60));
+    assert_clean(&output, "view hidden, shown, unmapped and mapped");
+    let err = stderr(&output);
+    assert!(err.contains("hidden: drawing paused") && err.contains("visible again"), "{shown}\n{shown_again}\n{err}");
 }

@@ -572,11 +572,7 @@ fn view(
     let device = frame.gpu.device.as_deref().map(DeviceChoice::parse).unwrap_or_default();
     crate::viewer::run(
         ViewerOptions {
-            settings: Settings {
-                technique: options.technique,
-                stencil: options.stencil,
-                shadow_volume: options.shadow_volume,
-            },
+            settings: Settings { render: options },
             size: frame.size,
             gpu: GpuOptions { validation: frame.gpu.validation, device },
             frames,

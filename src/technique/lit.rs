@@ -6,9 +6,10 @@ use std::sync::Arc;
 use glam::{Mat4, Vec4};
 
 use crate::error::Result;
+use crate::frame::StencilMode;
 use crate::gpu::Gpu;
 use crate::pipeline::{FixedFunction, Pipeline, PipelineDesc, VertexLayout};
-use crate::render::{FrameRecorder, GpuScene, Renderer};
+use crate::render::{FrameOutput, FrameRecorder, FrameUniforms, GpuScene, Renderer};
 use crate::scene::Scene;
 
 /// Mirrors `ObjectPush` in `shaders/object_push.glsl`.
@@ -62,5 +63,35 @@ impl LitPass {
             }
             Ok(())
         })
+    }
+}
+
+/// The lit scene alone, built once: the base every technique adds to.
+pub struct LitRenderer<'s> {
+    scene: &'s Scene,
+    renderer: Renderer,
+    meshes: GpuScene,
+    lit: LitPass,
+}
+
+impl<'s> LitRenderer<'s> {
+    pub fn new(gpu: &Arc<Gpu>, scene: &'s Scene, width: u32, height: u32, stencil: StencilMode) -> Result<Self> {
+        let renderer = Renderer::new(gpu, width, height, stencil, false)?;
+        let meshes = GpuScene::upload(gpu, scene)?;
+        let lit = LitPass::new(gpu, &renderer)?;
+        Ok(LitRenderer { scene, renderer, meshes, lit })
+    }
+
+    pub fn renderer_mut(&mut self) -> &mut Renderer {
+        &mut self.renderer
+    }
+
+    /// Renders `scene`, a moved pose of the one this renderer was built for.
+    pub fn frame_with(&mut self, scene: &Scene) -> Result<FrameOutput> {
+        super::check_same_scene(self.scene, scene, "lit")?;
+        let uniforms = FrameUniforms::for_scene(scene, self.renderer.aspect());
+        let clear = scene.background.extend(1.0).to_array();
+        let (lit, meshes) = (&self.lit, &self.meshes);
+        self.renderer.render(&uniforms, clear, |rec| lit.record(rec, scene, meshes, |_| 1.0))
     }
 }

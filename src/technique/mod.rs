@@ -4,6 +4,7 @@ pub mod alpha_counter;
 pub mod cartoon;
 pub mod lit;
 pub mod planar;
+pub mod scene_renderer;
 pub mod shadow_atlas;
 pub mod shadow_volume;
 
@@ -12,11 +13,12 @@ use std::sync::Arc;
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::Gpu;
-use crate::render::{FrameOutput, FrameUniforms, GpuScene, Renderer};
+use crate::render::FrameOutput;
 use crate::scene::Scene;
 
 pub use cartoon::{CartoonOptions, CartoonStats, SilhouetteMethod};
 pub use planar::{PlanarOptions, PlanarStats};
+pub use scene_renderer::{check_same_scene, SceneRenderer};
 pub use shadow_atlas::{LightMode, ShadowAtlasOptions, ShadowAtlasStats, ShadowKind};
 pub use shadow_volume::{Normalize, ShadowVolumeOptions, ShadowVolumeStats, VolumeMethod};
 
@@ -87,7 +89,7 @@ impl Technique {
     }
 }
 
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct RenderOptions {
     pub width: u32,
     pub height: u32,
@@ -151,105 +153,10 @@ pub struct TechniqueFrame {
 
 /// Renders `scene` with the chosen technique and returns the image and its counters.
 pub fn render_scene(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions) -> Result<TechniqueFrame> {
-    match options.technique {
-        Technique::Lit => {
-            let mut renderer = Renderer::new(gpu, options.width, options.height, options.stencil, false)?;
-            renderer.count_overdraw = options.count_overdraw;
-            let meshes = GpuScene::upload(gpu, scene)?;
-            let uniforms = FrameUniforms::for_scene(scene, renderer.aspect());
-            let clear = scene.background.extend(1.0).to_array();
-            let lit = lit::LitPass::new(gpu, &renderer)?;
-            let output = renderer.render(&uniforms, clear, |rec| lit.record(rec, scene, &meshes, |_| 1.0))?;
-            Ok(TechniqueFrame { output, shadow_volume: None, cartoon: None, planar: None, shadow_atlas: None })
-        }
-        Technique::ShadowVolume => {
-            let mut renderer = shadow_volume::ShadowVolumeRenderer::new(
-                gpu,
-                scene,
-                options.width,
-                options.height,
-                options.stencil,
-                &options.shadow_volume,
-            )?;
-            renderer.count_overdraw(options.count_overdraw);
-            let frame = renderer.frame()?;
-            Ok(TechniqueFrame {
-                output: frame.output,
-                shadow_volume: Some(frame.stats),
-                cartoon: None,
-                planar: None,
-                shadow_atlas: None,
-            })
-        }
-        Technique::Outline | Technique::Silhouette | Technique::Toon => {
-            let frame = cartoon::render(
-                gpu,
-                scene,
-                options.width,
-                options.height,
-                options.stencil,
-                options.technique,
-                &options.cartoon,
-            )?;
-            Ok(TechniqueFrame {
-                output: frame.output,
-                shadow_volume: None,
-                cartoon: Some(frame.stats),
-                planar: None,
-                shadow_atlas: None,
-            })
-        }
-        Technique::Planar => {
-            let frame = planar::render(gpu, scene, options.width, options.height, options.stencil, &options.planar)?;
-            Ok(TechniqueFrame {
-                output: frame.output,
-                shadow_volume: None,
-                cartoon: None,
-                planar: Some(frame.stats),
-                shadow_atlas: None,
-            })
-        }
-        Technique::Blob => {
-            let (w, h, factor) = (options.width, options.height, options.planar.shadow_factor);
-            let frame = planar::blob::render(gpu, scene, w, h, options.stencil, factor)?;
-            Ok(TechniqueFrame {
-                output: frame.output,
-                shadow_volume: None,
-                cartoon: None,
-                planar: Some(frame.stats),
-                shadow_atlas: None,
-            })
-        }
-        Technique::ShadowTexture => {
-            let (w, h, factor) = (options.width, options.height, options.planar.shadow_factor);
-            let frame = planar::shadow_texture::render(gpu, scene, w, h, options.stencil, factor)?;
-            Ok(TechniqueFrame {
-                output: frame.output,
-                shadow_volume: None,
-                cartoon: None,
-                planar: Some(frame.stats),
-                shadow_atlas: None,
-            })
-        }
-        Technique::ShadowMap | Technique::ShadowTextureAtlas => {
-            let kind = if options.technique == Technique::ShadowMap { ShadowKind::Map } else { ShadowKind::Atlas };
-            let frame = shadow_atlas::render(
-                gpu,
-                scene,
-                options.width,
-                options.height,
-                options.stencil,
-                kind,
-                &options.shadow_atlas,
-                options.count_overdraw,
-            )?;
-            Ok(TechniqueFrame {
-                output: frame.output,
-                shadow_volume: None,
-                shadow_atlas: Some(frame.stats),
-                cartoon: None,
-                planar: None,
-            })
-        }
+    let mut renderer = scene_renderer::build(gpu, scene, options)?;
+    renderer.renderer_mut().count_overdraw = options.count_overdraw;
+    for _ in 1..renderer.frames_to_steady_state() {
+        renderer.frame_with(scene)?;
     }
+    renderer.frame_with(scene)
 }

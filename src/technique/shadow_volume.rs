@@ -619,12 +619,7 @@ impl<'s> ShadowVolumeRenderer<'s> {
     /// object transforms changed (the viewer orbits, moves the light, spins objects). Meshes
     /// and which objects cast shadows must be unchanged: casters were prepared once.
     pub fn frame_with(&mut self, scene: &Scene) -> Result<ShadowVolumeFrame> {
-        if scene.objects.len() != self.scene.objects.len() || scene.meshes.len() != self.scene.meshes.len() {
-            return Err(Error::InvalidInput(format!(
-                "scene '{}' is not the one this shadow-volume renderer was built for",
-                scene.name
-            )));
-        }
+        crate::technique::check_same_scene(self.scene, scene, "shadow-volume")?;
         let volumes = upload_volumes(&self.gpu, scene, &self.casters, self.stats.zfail)?;
         let uniforms = FrameUniforms::for_scene(scene, self.renderer.aspect());
         let shadow_factor = self.options.shadow_factor as f32 / 255.0;

@@ -38,7 +38,7 @@ use crate::gpu::memory::Buffer;
 use crate::gpu::mobile_profile;
 use crate::gpu::{Gpu, GpuOptions};
 use crate::scene::{Light, Scene};
-use crate::technique::Normalize;
+use crate::technique::{LightMode, Normalize, SilhouetteMethod, Technique};
 use live::{LiveFrame, LiveTechnique, Settings};
 use swapchain::{Acquired, Surface, Swapchain, Transfer};
 
@@ -474,6 +474,8 @@ struct App<'s> {
     frames_since_resize: u32,
     needs_recreate: bool,
     minimised: bool,
+    /// The window system says nothing of the window is visible: frames are not drawn.
+    occluded: bool,
     /// `--frames` are done: events still queued before the loop ends draw nothing more.
     done: bool,
     drag: Option<(f64, f64)>,
@@ -492,7 +494,7 @@ impl<'s> App<'s> {
             gpu,
             base,
             scene: base.clone(),
-            settings: options.settings,
+            settings: options.settings.clone(),
             options,
             live,
             error: None,
@@ -502,6 +504,7 @@ impl<'s> App<'s> {
             frames_since_resize: 0,
             needs_recreate: false,
             minimised: false,
+            occluded: false,
             done: false,
             drag: None,
             cursor: (0.0, 0.0),
@@ -623,7 +626,7 @@ impl<'s> App<'s> {
         };
         if stale {
             self.technique = None;
-            self.technique = Some(LiveTechnique::new(&self.gpu, self.base, self.settings, frame_extent)?);
+            self.technique = Some(LiveTechnique::new(&self.gpu, self.base, self.settings.clone(), frame_extent)?);
         }
         let technique = self.technique.as_mut().ok_or_else(|| Error::InvalidInput("no technique".into()))?;
         let frame = technique.frame(&self.scene)?;
@@ -697,7 +700,7 @@ impl<'s> App<'s> {
 
     fn key(&mut self, key: &Key, event_loop: &ActiveEventLoop) {
         const STEP: f32 = 0.15;
-        let s = &mut self.settings;
+        let s = &mut self.settings.render;
         match key {
             Key::Named(NamedKey::Escape) => event_loop.exit(),
             Key::Named(NamedKey::ArrowLeft) => self.live.light_yaw -= STEP,
@@ -705,32 +708,21 @@ impl<'s> App<'s> {
             Key::Named(NamedKey::ArrowUp) => self.live.light_tilt = (self.live.light_tilt + STEP).min(1.2),
             Key::Named(NamedKey::ArrowDown) => self.live.light_tilt = (self.live.light_tilt - STEP).max(-1.2),
             Key::Named(NamedKey::Space) => self.live.paused = !self.live.paused,
+            // Shift+T goes back through the techniques.
+            Key::Character(c) if c.as_str() == "T" => s.technique = cycle(Technique::ALL, s.technique, -1),
             Key::Character(c) => match c.to_lowercase().as_str() {
                 "q" => event_loop.exit(),
-                "t" => {
-                    let all = live::LIVE_TECHNIQUES;
-                    let i = all.iter().position(|t| *t == s.technique).unwrap_or(0);
-                    s.technique = all[(i + 1) % all.len()];
-                }
+                "t" => s.technique = cycle(Technique::ALL, s.technique, 1),
                 "s" => {
                     s.stencil = match s.stencil {
                         StencilMode::Emulated => StencilMode::Reference,
                         StencilMode::Reference => StencilMode::Emulated,
                     }
                 }
-                "n" => {
-                    let all = Normalize::ALL;
-                    let i = all.iter().position(|n| *n == s.shadow_volume.normalize).unwrap_or(0);
-                    s.shadow_volume.normalize = all[(i + 1) % all.len()];
-                }
-                "k" => {
-                    s.shadow_volume.increment = match s.shadow_volume.increment {
-                        1 => 2,
-                        2 => 4,
-                        4 => 8,
-                        _ => 1,
-                    }
-                }
+                "n" => s.shadow_volume.normalize = cycle(&Normalize::ALL, s.shadow_volume.normalize, 1),
+                "k" => s.shadow_volume.increment = cycle(&[1, 2, 4, 8], s.shadow_volume.increment, 1),
+                "e" => s.cartoon.silhouette = cycle(&SilhouetteMethod::ALL, s.cartoon.silhouette, 1),
+                "l" => s.shadow_atlas.light = cycle(&[LightMode::Fixed, LightMode::Moving], s.shadow_atlas.light, 1),
                 "p" => self.live.paused = !self.live.paused,
                 "r" => {
                     self.live.orbit = Orbit::of(self.base);
@@ -787,6 +779,13 @@ impl ApplicationHandler for App<'_> {
         match event {
             WindowEvent::CloseRequested | WindowEvent::Destroyed => event_loop.exit(),
             WindowEvent::Resized(_) => self.needs_recreate = true,
+            WindowEvent::Occluded(occluded) if occluded != self.occluded => {
+                self.occluded = occluded;
+                eprintln!(
+                    "nostencil view: window {}",
+                    if occluded { "hidden: drawing paused" } else { "visible again" }
+                );
+            }
             WindowEvent::RedrawRequested => {
                 if let Err(e) = self.draw(event_loop) {
                     self.fail(event_loop, e);
@@ -822,8 +821,11 @@ impl ApplicationHandler for App<'_> {
     }
 
     fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
-        if self.minimised && !self.needs_recreate {
-            // Nothing to draw on until the window has an area again (a Resized event).
+        // Nothing to draw on until the window has an area again (a Resized event), nothing
+        // seen while it is hidden: sleep instead of burning a phone's battery. A `--frames` run
+        // keeps drawing, or it would never end.
+        let hidden = self.occluded && self.options.frames.is_none();
+        if (self.minimised && !self.needs_recreate) || hidden {
             event_loop.set_control_flow(ControlFlow::Wait);
             return;
         }
@@ -831,5 +833,15 @@ impl ApplicationHandler for App<'_> {
         if let Some(window) = &self.window {
             window.request_redraw();
         }
+    }
+}
+
+/// The item `step` places after `current` in `all`, wrapping (the first when `current` is not
+/// in `all`).
+fn cycle<T: Copy + PartialEq>(all: &[T], current: T, step: isize) -> T {
+    let n = all.len() as isize;
+    match all.iter().position(|x| *x == current) {
+        Some(i) => all[(i as isize + step).rem_euclid(n) as usize],
+        None => all[0],
     }
 }

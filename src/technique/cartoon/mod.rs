@@ -485,20 +485,24 @@ impl<'s> CartoonRenderer<'s> {
         })
     }
 
-    /// World size of one pixel at unit distance from the eye.
-    fn pixel_at_unit_distance(&self) -> f32 {
-        2.0 * (0.5 * self.scene.camera.fov_y_radians).tan() / self.renderer.extent().height as f32
+    pub fn renderer_mut(&mut self) -> &mut Renderer {
+        &mut self.renderer
     }
 
-    fn viewport(&self) -> Vec4 {
+    /// World size of one pixel at unit distance from the eye.
+    fn pixel_at_unit_distance(&self, scene: &Scene) -> f32 {
+        2.0 * (0.5 * scene.camera.fov_y_radians).tan() / self.renderer.extent().height as f32
+    }
+
+    fn viewport(&self, scene: &Scene) -> Vec4 {
         let extent = self.renderer.extent();
-        Vec4::new(extent.width as f32, extent.height as f32, self.pixel_at_unit_distance(), 0.0)
+        Vec4::new(extent.width as f32, extent.height as f32, self.pixel_at_unit_distance(scene), 0.0)
     }
 
     /// Per-frame CPU edge work for every object; returns its time in ms.
-    fn build_quads(&mut self) -> f64 {
+    fn build_quads(&mut self, scene: &Scene) -> f64 {
         let start = Instant::now();
-        let (scene, crease) = (self.scene, self.options.crease_deg);
+        let crease = self.options.crease_deg;
         let eye = scene.camera.eye;
         self.quads.clear();
         for mesh in &mut self.ink {
@@ -509,9 +513,17 @@ impl<'s> CartoonRenderer<'s> {
         start.elapsed().as_secs_f64() * 1e3
     }
 
+    /// Renders the scene this renderer was built for.
     pub fn frame(&mut self) -> Result<CartoonFrame> {
-        let edge_cpu_ms = if self.ink.is_empty() { 0.0 } else { self.build_quads() };
         let scene = self.scene;
+        self.frame_with(scene)
+    }
+
+    /// Renders `scene`, a moved pose of the one this renderer was built for (edges are
+    /// classified against its camera and transforms).
+    pub fn frame_with(&mut self, scene: &Scene) -> Result<CartoonFrame> {
+        crate::technique::check_same_scene(self.scene, scene, self.technique.name())?;
+        let edge_cpu_ms = if self.ink.is_empty() { 0.0 } else { self.build_quads(scene) };
         let gpu = self.gpu.clone();
         let upload = |name: &str, vertices: &[InkVertex]| -> Result<Option<(Buffer, u32)>> {
             if vertices.is_empty() {
@@ -526,7 +538,7 @@ impl<'s> CartoonRenderer<'s> {
             ("ink boundary", upload("ink boundary quads", &self.quads.boundary)?),
         ];
         let uniforms = FrameUniforms::for_scene(scene, self.renderer.aspect());
-        let viewport = self.viewport();
+        let viewport = self.viewport(scene);
         let toon = if self.technique == Technique::Toon { 1.0 } else { 0.0 };
         let rim = if self.technique != Technique::Outline && self.options.silhouette == SilhouetteMethod::Shader {
             1.0
@@ -540,7 +552,7 @@ impl<'s> CartoonRenderer<'s> {
         let outline_colour = Vec4::new(r, g, b, 1.0);
         // Lines are pulled towards the eye by about one line width at any distance: enough for a
         // crease between faces tilted up to ~60 degrees, far too little to show through a solid.
-        let pull = scene.camera.near * (self.options.line_width * self.pixel_at_unit_distance()).max(1e-3);
+        let pull = scene.camera.near * (self.options.line_width * self.pixel_at_unit_distance(scene)).max(1e-3);
         let (line_width, outline_width) = (self.options.line_width, self.options.outline_width);
 
         let (p, meshes, extruded, selected, texture_set) =

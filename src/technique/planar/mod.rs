@@ -321,12 +321,24 @@ impl<'s> PlanarRenderer<'s> {
         Ok(PlanarRenderer { scene, options: *options, stencil, renderer, meshes, plane, pipelines })
     }
 
+    pub fn renderer_mut(&mut self) -> &mut Renderer {
+        &mut self.renderer
+    }
+
     pub fn plane(&self) -> &ReceiverPlane {
         &self.plane
     }
 
+    /// Renders the scene this renderer was built for.
     pub fn frame(&mut self) -> Result<PlanarFrame> {
         let scene = self.scene;
+        self.frame_with(scene)
+    }
+
+    /// Renders `scene`: the one this renderer was built for, camera, light, object transforms
+    /// and joint palettes free to change (see `technique::check_same_scene`).
+    pub fn frame_with(&mut self, scene: &Scene) -> Result<PlanarFrame> {
+        crate::technique::check_same_scene(self.scene, scene, "planar")?;
         self.meshes.update_palettes(scene)?;
         let uniforms = FrameUniforms::for_scene(scene, self.renderer.aspect());
         let factor = self.options.shadow_factor as f32 / 255.0;

@@ -215,8 +215,19 @@ impl<'s> ShadowTextureRenderer<'s> {
         })
     }
 
+    pub fn renderer_mut(&mut self) -> &mut Renderer {
+        &mut self.renderer
+    }
+
+    /// Renders the scene this renderer was built for.
     pub fn frame(&mut self) -> Result<PlanarFrame> {
         let scene = self.scene;
+        self.frame_with(scene)
+    }
+
+    /// Renders `scene`, a moved pose of the one this renderer was built for.
+    pub fn frame_with(&mut self, scene: &Scene) -> Result<PlanarFrame> {
+        crate::technique::check_same_scene(self.scene, scene, "shadow-texture")?;
         self.meshes.update_palettes(scene)?;
         let uniforms = FrameUniforms::for_scene(scene, self.renderer.aspect());
         let factor = self.shadow_factor as f32 / 255.0;

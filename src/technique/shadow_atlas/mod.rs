@@ -472,6 +472,10 @@ impl<'s> ShadowAtlasRenderer<'s> {
         })
     }
 
+    pub fn light_mode(&self) -> LightMode {
+        self.options.light
+    }
+
     pub fn atlases(&self) -> &[AtlasInfo] {
         &self.atlases
     }
@@ -481,9 +485,20 @@ impl<'s> ShadowAtlasRenderer<'s> {
         self.renderer.count_overdraw = on;
     }
 
+    pub fn renderer_mut(&mut self) -> &mut Renderer {
+        &mut self.renderer
+    }
+
     /// Renders the next frame (the light turns between frames when it is `moving`).
     pub fn frame(&mut self) -> Result<ShadowAtlasFrame> {
         let scene = self.scene;
+        self.frame_with(scene)
+    }
+
+    /// Renders `scene`, a moved pose of the one this renderer was built for; the shadow map and
+    /// the atlases are re-baked only when its light or an object moved.
+    pub fn frame_with(&mut self, scene: &Scene) -> Result<ShadowAtlasFrame> {
+        crate::technique::check_same_scene(self.scene, scene, self.kind.name())?;
         let light = light_at(scene, self.options.light, self.frames);
         let key = CacheKey { light: light.as_vec4(), transforms: scene.objects.iter().map(|o| o.transform).collect() };
         let fresh = self.cache.as_ref() != Some(&key);
@@ -715,27 +730,5 @@ impl AtlasPasses {
             }
             Ok(())
         })
-    }
-}
-
-/// Renders one frame of `scene` (a second one when the light is fixed, so that the counters
-/// show the steady state: the shadow map and bake skipped).
-#[allow(clippy::too_many_arguments)]
-pub fn render(
-    gpu: &Arc<Gpu>,
-    scene: &Scene,
-    width: u32,
-    height: u32,
-    stencil: StencilMode,
-    kind: ShadowKind,
-    options: &ShadowAtlasOptions,
-    count_overdraw: bool,
-) -> Result<ShadowAtlasFrame> {
-    let mut renderer = ShadowAtlasRenderer::new(gpu, scene, width, height, stencil, kind, options)?;
-    renderer.count_overdraw(count_overdraw);
-    let first = renderer.frame()?;
-    match options.light {
-        LightMode::Moving => Ok(first),
-        LightMode::Fixed => renderer.frame(),
     }
 }
