@@ -92,9 +92,10 @@ pub enum Command {
         #[arg(long, value_name = "FILE.png")]
         out: PathBuf,
     },
-    /// Show the scene in a window, every technique switchable live (keys: T technique,
-    /// S stencil emulated/reference, N normalisation, K increment, Space pause, arrows light,
-    /// R reset, Esc quit; drag to orbit, wheel to zoom). The window's size is the frame's.
+    /// Show the scene in a window, every technique switchable live (keys: T/Shift+T technique,
+    /// S stencil emulated/reference, N normalisation, K increment, E ink method, L atlas light,
+    /// Space pause, arrows light, R reset, Esc quit; drag to orbit, wheel to zoom). The
+    /// window's size is the frame's.
     View {
         #[command(flatten)]
         frame: FrameArgs,
