@@ -78,17 +78,21 @@ fn start_x_server() -> Option<XServer> {
     None
 }
 
-/// Runs `nostencil` on the X server and waits for it, at most two minutes.
-fn run(x: &XServer, args: &[&str]) -> Output {
-    let child = Command::new(env!("CARGO_BIN_EXE_nostencil"))
+/// Starts `nostencil ARGS` on the X server.
+fn spawn_on(x: &XServer, args: &[&str]) -> Child {
+    Command::new(env!("CARGO_BIN_EXE_nostencil"))
         .args(args)
         .env("DISPLAY", &x.display)
         .env_remove("WAYLAND_DISPLAY")
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
-        .expect("run nostencil");
-    wait_with_timeout(child, Duration::from_secs(120))
+        .expect("run nostencil")
+}
+
+/// Runs `nostencil` on the X server and waits for it, at most two minutes.
+fn run(x: &XServer, args: &[&str]) -> Output {
+    wait_with_timeout(spawn_on(x, args), Duration::from_secs(120))
 }
 
 fn wait_with_timeout(mut child: Child, limit: Duration) -> Output {
@@ -222,14 +226,8 @@ fn xdotool(x: &XServer, args: &[&str]) -> String {
 #[test]
 fn keys_switch_the_technique_live_and_closing_the_window_ends_cleanly() {
     let Some(x) = start_x_server() else { return };
-    let child = Command::new(env!("CARGO_BIN_EXE_nostencil"))
-        .args(["view", "--validation", "--device", "lavapipe", "--size", "160x120", "--technique", "lit"])
-        .env("DISPLAY", &x.display)
-        .env_remove("WAYLAND_DISPLAY")
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("run nostencil view");
+    let child =
+        spawn_on(&x, &["view", "--validation", "--device", "lavapipe", "--size", "160x120", "--technique", "lit"]);
 
     let (child, window) = wait_for_window(&x, child);
     let lit_title = wait_for_title(&x, &window, "lit (emulated)");
@@ -304,14 +302,10 @@ fn without_a_display_the_viewer_fails_in_one_line_and_offscreen_commands_still_w
 #[test]
 fn escape_with_frames_in_flight_ends_cleanly() {
     let Some(x) = start_x_server() else { return };
-    let child = Command::new(env!("CARGO_BIN_EXE_nostencil"))
-        .args(["view", "--validation", "--device", "lavapipe", "--size", "160x120", "--technique", "shadow-volume"])
-        .env("DISPLAY", &x.display)
-        .env_remove("WAYLAND_DISPLAY")
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("run nostencil view");
+    let child = spawn_on(
+        &x,
+        &["view", "--validation", "--device", "lavapipe", "--size", "160x120", "--technique", "shadow-volume"],
+    );
     let (child, window) = wait_for_window(&x, child);
     wait_for_title(&x, &window, "fragments/px");
     xdotool(&x, &["windowfocus", &window]);
@@ -320,19 +314,6 @@ fn escape_with_frames_in_flight_ends_cleanly() {
     xdotool(&x, &["key", "k", "n", "Left", "Up", "Escape"]);
     let output = wait_with_timeout(child, Duration::from_secs(60));
     assert_clean(&output, "view closed with Escape");
-}
-
-/// Spawns `nostencil view` with `args` on the X server.
-fn spawn_view(x: &XServer, args: &[&str]) -> Child {
-    Command::new(env!("CARGO_BIN_EXE_nostencil"))
-        .arg("view")
-        .args(args)
-        .env("DISPLAY", &x.display)
-        .env_remove("WAYLAND_DISPLAY")
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("run nostencil view")
 }
 
 /// Waits until the title differs from `before` (a new frame was drawn).
@@ -352,12 +333,12 @@ fn wait_for_new_frame(x: &XServer, window: &str, before: &str) -> String {
 fn a_hidden_window_draws_nothing_and_resumes_when_shown() {
     let Some(x) = start_x_server() else { return };
     let base = ["--validation", "--device", "lavapipe", "--technique", "planar"];
-    let child = spawn_view(&x, &[&base[..], &["--size", "160x120"]].concat());
+    let child = spawn_on(&x, &[&["view"], &base[..], &["--size", "160x120"]].concat());
     let (child, window) = wait_for_window(&x, child);
     let shown = wait_for_title(&x, &window, "fragments/px");
 
     // A second, larger window opens on top of it (no window manager: both at the origin).
-    let cover = spawn_view(&x, &["--device", "lavapipe", "--size", "320x240"]);
+    let cover = spawn_on(&x, &["view", "--device", "lavapipe", "--size", "320x240"]);
     let start = Instant::now();
     while xdotool(&x, &["search", "--name", "^nostencil view"]).lines().count() < 2 {
         assert!(start.elapsed() < Duration::from_secs(60), "the covering window never appeared");
