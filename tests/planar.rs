@@ -267,19 +267,11 @@ fn gpu_skinning_matches_the_cpu_skinned_mesh() {
     common::assert_no_validation_messages(&gpu);
 }
 
-fn asset(name: &str) -> Option<PathBuf> {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/assets").join(name);
-    path.exists().then_some(path)
-}
-
 #[test]
 fn every_shared_asset_renders_with_planar_shadows_animated_ones_moving() {
     let gpu = common::gpu();
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/assets");
-    let Ok(entries) = std::fs::read_dir(&dir) else {
-        eprintln!("skipped: {} is not beside the checkout", dir.display());
-        return;
-    };
+    let dir = common::shared_assets();
+    let entries = std::fs::read_dir(&dir).expect("read the shared assets");
     let mut files: Vec<PathBuf> = entries
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|e| e == "glb" || e == "gltf"))
@@ -324,20 +316,20 @@ fn bad_input_gets_a_clear_error() {
         .to_string();
     assert!(error.contains("no flat horizontal receiver"), "{error}");
 
-    // More joints than the 4 KiB palette holds.
+    // More joints than the 16 KiB palette holds.
     let mut scene = builtin_scene_at("character", 0.0).expect("scene");
     if let Some(skin) = scene.objects.iter_mut().find_map(|o| o.skin.as_mut()) {
-        skin.joint_matrices = vec![Mat4::IDENTITY; 65];
+        skin.joint_matrices = vec![Mat4::IDENTITY; nostencil::scene::MAX_JOINTS + 1];
     }
     let error = planar::render(&gpu, &scene, 64, 64, StencilMode::Emulated, &PlanarOptions::default())
         .err()
         .expect("refused")
         .to_string();
-    assert!(error.contains("at most 64"), "{error}");
+    assert!(error.contains("at most 256"), "{error}");
 
     // Malformed files, through the command line with the planar technique: one line naming the
     // file and the problem.
-    let Some(good) = asset("RiggedSimple.glb") else { return };
+    let good = common::shared_asset("RiggedSimple.glb");
     let dir = common::scratch_dir("planar-bad-input");
     let bytes = std::fs::read(&good).expect("read");
     let truncated = dir.join("truncated.glb");

@@ -3,21 +3,9 @@
 
 mod common;
 
-use std::path::PathBuf;
-
 use nostencil::frame::StencilMode;
 use nostencil::scene::scene_from_gltf;
 use nostencil::technique::shadow_volume::{self, Normalize, ShadowVolumeOptions};
-
-fn asset(name: &str) -> Option<PathBuf> {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/assets").join(name);
-    if path.exists() {
-        Some(path)
-    } else {
-        eprintln!("skipped: {} is not beside the checkout", path.display());
-        None
-    }
-}
 
 #[test]
 fn gltf_casters_match_the_reference_and_follow_the_skinned_pose() {
@@ -25,7 +13,7 @@ fn gltf_casters_match_the_reference_and_follow_the_skinned_pose() {
     let mut rigged_images = Vec::new();
     for (file, time) in [("TorusKnot.glb", 0.0), ("Box.glb", 0.0), ("RiggedSimple.glb", 0.0), ("RiggedSimple.glb", 0.8)]
     {
-        let Some(path) = asset(file) else { return };
+        let path = common::shared_asset(file);
         let scene = scene_from_gltf(&path, time).expect("scene");
         assert!(scene.objects.iter().any(|o| o.casts_shadow), "{file}: no closed caster found (after welding)");
         let options = ShadowVolumeOptions::default();
@@ -62,7 +50,7 @@ fn gltf_casters_match_the_reference_and_follow_the_skinned_pose() {
 #[test]
 fn open_gltf_meshes_receive_but_do_not_cast() {
     let gpu = common::gpu();
-    let Some(path) = asset("SimpleSkin.gltf") else { return };
+    let path = common::shared_asset("SimpleSkin.gltf");
     let scene = scene_from_gltf(&path, 0.5).expect("scene");
     assert!(scene.objects.iter().all(|o| !o.casts_shadow), "an open strip cannot cast a shadow volume");
     shadow_volume::render(&gpu, &scene, 64, 64, StencilMode::Emulated, &ShadowVolumeOptions::default())

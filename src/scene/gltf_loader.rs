@@ -40,6 +40,12 @@ use crate::{Error, Result};
 /// Component types glTF allows for float attributes stored as normalised integers.
 const FLOAT_OR_UNORM: &[C] = &[C::F32, C::U8, C::U16];
 const FLOAT_OR_NORM: &[C] = &[C::F32, C::I8, C::U8, C::I16, C::U16];
+/// Normals under KHR_mesh_quantization: float or normalised signed integers.
+const FLOAT_OR_SNORM: &[C] = &[C::F32, C::I8, C::I16];
+
+/// Extensions this loader honours when a file lists them as required; any other required
+/// extension changes what the data means (compressed or transformed), so such a file is refused.
+const SUPPORTED_REQUIRED_EXTENSIONS: &[&str] = &["KHR_lights_punctual", "KHR_mesh_quantization"];
 
 /// Loads a `.gltf` or `.glb` file. External buffers and images are resolved relative to it.
 pub fn load_gltf(path: &Path) -> Result<Model> {
@@ -62,6 +68,7 @@ pub fn load_gltf_slice(bytes: &[u8], path: &Path) -> Result<Model> {
         warnings,
         textures: Vec::new(),
         texture_slots: HashMap::new(),
+        quantized: root.extensions_used.iter().any(|e| e == "KHR_mesh_quantization"),
     };
     loader.model()
 }
@@ -79,6 +86,7 @@ fn parse_json(text: &[u8], warnings: &mut Vec<String>) -> std::result::Result<js
         return Err("not a glTF file: the JSON is not an object".into());
     }
     strip_custom_attributes(&mut value, warnings);
+    accept_required_extensions(&mut value)?;
     // Re-serialised rather than `from_value`: gltf-json keeps some extension data as raw JSON,
     // which only deserialises from text.
     let text = serde_json::to_vec(&value).map_err(|e| format!("JSON: {e}"))?;
@@ -115,6 +123,33 @@ fn parse_json(text: &[u8], warnings: &mut Vec<String>) -> std::result::Result<js
     Ok(document.into_json())
 }
 
+/// Refuses a file that requires an extension this loader does not honour, naming it, and
+/// otherwise drops `extensionsRequired`: gltf-json would refuse KHR_mesh_quantization, which
+/// the loader itself reads.
+fn accept_required_extensions(value: &mut serde_json::Value) -> std::result::Result<(), Problem> {
+    let Some(required) = value.as_object_mut().and_then(|o| o.remove("extensionsRequired")) else {
+        return Ok(());
+    };
+    let names = required.as_array().ok_or("extensionsRequired is not an array")?;
+    let unsupported: Vec<&str> = names
+        .iter()
+        .map(|n| n.as_str().ok_or("extensionsRequired holds a non-string"))
+        .collect::<std::result::Result<Vec<_>, _>>()?
+        .into_iter()
+        .filter(|e| !SUPPORTED_REQUIRED_EXTENSIONS.contains(e))
+        .collect();
+    if unsupported.is_empty() {
+        return Ok(());
+    }
+    Err(format!(
+        "the file requires extension{} {}, which nostencil cannot read (it reads {}); re-export without {}",
+        if unsupported.len() == 1 { "" } else { "s" },
+        unsupported.join(", "),
+        SUPPORTED_REQUIRED_EXTENSIONS.join(" and "),
+        if unsupported.len() == 1 { "it" } else { "them" },
+    ))
+}
+
 /// Application-specific attributes (`_NAME`) are valid glTF, but gltf-json without its
 /// `extras` feature rejects them; they are removed before parsing.
 fn strip_custom_attributes(value: &mut serde_json::Value, warnings: &mut Vec<String>) {
@@ -149,6 +184,9 @@ struct Loader<'a> {
     textures: Vec<TextureRgba8>,
     /// glTF texture index -> index in `textures` (None: could not be decoded, warned).
     texture_slots: HashMap<usize, Option<usize>>,
+    /// KHR_mesh_quantization is used: positions and UVs may be (un)normalised integers,
+    /// dequantised by the node transforms.
+    quantized: bool,
 }
 
 fn checked<V: Copy>(c: &Checked<V>) -> Option<V> {
@@ -176,6 +214,15 @@ impl Loader<'_> {
             .map_err(|e| self.fail(format!("{what}: {e}")))
     }
 
+    /// A position or texture coordinate: float, or under KHR_mesh_quantization any 8- or 16-bit
+    /// integer, normalised or not.
+    fn quantizable_floats(&self, index: usize, what: &str, ty: T, plain: &[C]) -> Result<Vec<f32>> {
+        if !self.quantized {
+            return self.floats(index, what, ty, plain);
+        }
+        Ok(self.accessor(index, what, &[ty], &[C::F32, C::I8, C::U8, C::I16, C::U16])?.floats())
+    }
+
     /// A float attribute; integer storage must be normalised.
     fn floats(&self, index: usize, what: &str, ty: T, components: &[C]) -> Result<Vec<f32>> {
         let dense = self.accessor(index, what, &[ty], components)?;
@@ -199,7 +246,7 @@ impl Loader<'_> {
         let cameras = self.cameras()?;
         let lights = self.lights();
         for ext in &self.root.extensions_used {
-            if ext != "KHR_lights_punctual" {
+            if !SUPPORTED_REQUIRED_EXTENSIONS.contains(&ext.as_str()) {
                 self.warnings.push(format!("extension {ext} is not supported and was ignored"));
             }
         }
@@ -412,42 +459,47 @@ impl Loader<'_> {
             },
             (None, None) => return Err(self.fail(format!("{what} has neither a uri nor a bufferView"))),
         };
-        let slot = if bytes.starts_with(b"\x89PNG\r\n\x1a\n") {
-            let decoded = image::load_from_memory_with_format(&bytes, image::ImageFormat::Png)
-                .map_err(|e| self.fail(format!("{what}: PNG does not decode: {e}")))?
-                .to_rgba8();
-            let sampler = match tex.sampler {
-                Some(s) => {
-                    let s =
-                        self.root.samplers.get(s.value()).ok_or_else(|| {
+        // glTF core allows PNG and JPEG; other formats arrive through extensions (WebP,
+        // KTX2/Basis) that this renderer does not read, so those materials fall back to their
+        // base colour factor with a warning rather than failing the whole file.
+        let slot = match core_image_format(&bytes) {
+            Some((format, name)) => {
+                let decoded = image::load_from_memory_with_format(&bytes, format)
+                    .map_err(|e| self.fail(format!("{what}: {name} does not decode: {e}")))?
+                    .to_rgba8();
+                let sampler = match tex.sampler {
+                    Some(s) => {
+                        let s = self.root.samplers.get(s.value()).ok_or_else(|| {
                             self.fail(format!("texture {index}: sampler {} does not exist", s.value()))
                         })?;
-                    sampler(s)
-                }
-                None => Sampler::default(),
-            };
-            self.textures.push(TextureRgba8 {
-                name: tex.name.clone().or_else(|| image.name.clone()),
-                width: decoded.width(),
-                height: decoded.height(),
-                pixels: decoded.into_raw(),
-                srgb: true,
-                sampler,
-            });
-            Some(self.textures.len() - 1)
-        } else {
-            let format = if bytes.starts_with(&[0xff, 0xd8, 0xff]) {
-                "JPEG"
-            } else if bytes.get(8..12) == Some(b"WEBP") {
-                "WebP"
-            } else {
-                "not PNG"
-            };
-            self.warnings.push(format!(
-                "{what} ({user}) is {format}; this build decodes PNG only, so the material uses \
-                 its base colour factor alone"
-            ));
-            None
+                        sampler(s)
+                    }
+                    None => Sampler::default(),
+                };
+                self.textures.push(TextureRgba8 {
+                    name: tex.name.clone().or_else(|| image.name.clone()),
+                    width: decoded.width(),
+                    height: decoded.height(),
+                    pixels: decoded.into_raw(),
+                    srgb: true,
+                    sampler,
+                });
+                Some(self.textures.len() - 1)
+            }
+            None => {
+                let format = if bytes.get(8..12) == Some(b"WEBP") {
+                    "WebP"
+                } else if bytes.starts_with(b"\xABKTX 20\xBB") {
+                    "KTX2"
+                } else {
+                    "neither PNG nor JPEG"
+                };
+                self.warnings.push(format!(
+                    "{what} ({user}) is {format}; glTF core images are PNG or JPEG, so the material \
+                     uses its base colour factor alone"
+                ));
+                None
+            }
         };
         self.texture_slots.insert(index, slot);
         Ok(slot)
@@ -490,7 +542,7 @@ impl Loader<'_> {
             self.warnings.push(format!("{what}: morph targets are not supported and were ignored"));
         }
 
-        let flat = self.floats(pos_index, &format!("{what} POSITION"), T::Vec3, &[C::F32])?;
+        let flat = self.quantizable_floats(pos_index, &format!("{what} POSITION"), T::Vec3, &[C::F32])?;
         let positions: Vec<Vec3> = flat.chunks_exact(3).map(Vec3::from_slice).collect();
         if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
             return Err(self.fail(format!(
@@ -510,7 +562,8 @@ impl Loader<'_> {
         let normals = match attribute(Semantic::Normals) {
             Some(i) => {
                 let name = format!("{what} NORMAL");
-                let flat = self.floats(i, &name, T::Vec3, &[C::F32])?;
+                let components: &[C] = if self.quantized { FLOAT_OR_SNORM } else { &[C::F32] };
+                let flat = self.floats(i, &name, T::Vec3, components)?;
                 let normals: Vec<Vec3> = flat.chunks_exact(3).map(Vec3::from_slice).collect();
                 same_count(self, "NORMAL", normals.len())?;
                 if let Some(v) = normals.iter().position(|p| !p.is_finite()) {
@@ -526,7 +579,7 @@ impl Loader<'_> {
                 return Ok(None);
             };
             let name = format!("TEXCOORD_{set}");
-            let flat = self.floats(i, &format!("{what} {name}"), T::Vec2, FLOAT_OR_UNORM)?;
+            let flat = self.quantizable_floats(i, &format!("{what} {name}"), T::Vec2, FLOAT_OR_UNORM)?;
             let uvs: Vec<Vec2> = flat.chunks_exact(2).map(Vec2::from_slice).collect();
             same_count(self, &name, uvs.len())?;
             Ok(Some(uvs))
@@ -883,6 +936,18 @@ impl Loader<'_> {
                 range: l.range,
             })
             .collect()
+    }
+}
+
+/// The image format of glTF core image bytes, told by their signature (a `mimeType` may be
+/// absent or wrong in real files; the bytes are not).
+fn core_image_format(bytes: &[u8]) -> Option<(image::ImageFormat, &'static str)> {
+    if bytes.starts_with(b"\x89PNG\r\n\x1a\n") {
+        Some((image::ImageFormat::Png, "PNG"))
+    } else if bytes.starts_with(&[0xff, 0xd8, 0xff]) {
+        Some((image::ImageFormat::Jpeg, "JPEG"))
+    } else {
+        None
     }
 }
 

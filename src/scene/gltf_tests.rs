@@ -22,15 +22,12 @@ const ALL: [&str; 7] = [
     "TorusKnot.glb",
 ];
 
-/// The shared asset folder, or `None` (with a note) when this checkout has none beside it.
-fn assets() -> Option<PathBuf> {
+/// The shared asset folder beside this checkout; the tests need it (a skipped test proves
+/// nothing), so its absence is a failure that says where it was looked for.
+fn assets() -> PathBuf {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/assets");
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!("note: {} not found; glTF asset test skipped", dir.display());
-        None
-    }
+    assert!(dir.is_dir(), "{} not found: the glTF tests need the shared asset folder", dir.display());
+    dir
 }
 
 fn load(dir: &Path, name: &str) -> Model {
@@ -138,7 +135,7 @@ fn assert_mentions(msg: &str, words: &[&str]) {
 
 #[test]
 fn every_asset_loads_poses_and_skins_to_finite_values() {
-    let Some(dir) = assets() else { return };
+    let dir = assets();
     for name in ALL {
         let model = load(&dir, name);
         for w in &model.warnings {
@@ -185,7 +182,7 @@ fn every_asset_loads_poses_and_skins_to_finite_values() {
 
 #[test]
 fn box_has_24_vertices_36_indices_one_mesh() {
-    let Some(dir) = assets() else { return };
+    let dir = assets();
     let model = load(&dir, "Box.glb");
     assert_eq!(model.meshes.len(), 1);
     let prim = &model.meshes[0].primitives[..];
@@ -209,7 +206,7 @@ fn box_has_24_vertices_36_indices_one_mesh() {
 
 #[test]
 fn torus_knot_has_3200_vertices_6400_u16_triangles_and_is_closed() {
-    let Some(dir) = assets() else { return };
+    let dir = assets();
     let model = load(&dir, "TorusKnot.glb");
     let prim = &model.meshes[0].primitives[0];
     assert_eq!(prim.positions.len(), 3200);
@@ -229,7 +226,7 @@ fn torus_knot_has_3200_vertices_6400_u16_triangles_and_is_closed() {
 
 #[test]
 fn cornell_box_has_four_meshes_with_lightmap_uvs() {
-    let Some(dir) = assets() else { return };
+    let dir = assets();
     let model = load(&dir, "CornellBox.glb");
     assert_eq!(model.meshes.len(), 4);
     let prims: Vec<_> = model.meshes.iter().flat_map(|m| &m.primitives).collect();
@@ -249,7 +246,7 @@ fn cornell_box_has_four_meshes_with_lightmap_uvs() {
 
 #[test]
 fn box_textured_decodes_its_png() {
-    let Some(dir) = assets() else { return };
+    let dir = assets();
     let model = load(&dir, "BoxTextured.glb");
     assert_eq!(model.textures.len(), 1);
     let tex = &model.textures[0];
@@ -267,7 +264,7 @@ fn box_textured_decodes_its_png() {
 
 #[test]
 fn rigged_simple_has_two_joints_and_trs_animation() {
-    let Some(dir) = assets() else { return };
+    let dir = assets();
     let model = load(&dir, "RiggedSimple.glb");
     assert_eq!(model.skins.len(), 1);
     assert_eq!(model.skins[0].joints, [3, 4]);
@@ -286,7 +283,7 @@ fn rigged_simple_has_two_joints_and_trs_animation() {
 
 #[test]
 fn simple_skin_embedded_buffers_and_computed_normals() {
-    let Some(dir) = assets() else { return };
+    let dir = assets();
     let model = load(&dir, "SimpleSkin.gltf");
     let prim = &model.meshes[0].primitives[0];
     assert_eq!(prim.positions.len(), 10);
@@ -301,7 +298,7 @@ fn simple_skin_embedded_buffers_and_computed_normals() {
 
 #[test]
 fn box_animated_moves_its_nodes_and_has_two_meshes() {
-    let Some(dir) = assets() else { return };
+    let dir = assets();
     let model = load(&dir, "BoxAnimated.glb");
     assert_eq!(model.meshes.len(), 2);
     assert_eq!(model.animations.len(), 1);
@@ -344,7 +341,7 @@ fn skinned(model: &Model, pose: &[super::Transform]) -> Vec<(Vec<Vec3>, Vec<Vec3
 /// exactly where Z_UP puts the bind positions.
 #[test]
 fn rest_pose_skinning_reproduces_the_bind_mesh() {
-    let Some(dir) = assets() else { return };
+    let dir = assets();
     for name in ["RiggedSimple.glb", "SimpleSkin.gltf"] {
         let model = load(&dir, name);
         let world = world_matrices(&model, &rest_pose(&model));
@@ -376,7 +373,7 @@ fn rest_pose_skinning_reproduces_the_bind_mesh() {
 
 #[test]
 fn rigged_simple_animation_moves_the_upper_vertices_only() {
-    let Some(dir) = assets() else { return };
+    let dir = assets();
     let model = load(&dir, "RiggedSimple.glb");
     let prim = &model.meshes[0].primitives[0];
     let weights = prim.weights.as_ref().unwrap();
@@ -401,7 +398,7 @@ fn rigged_simple_animation_moves_the_upper_vertices_only() {
 
 #[test]
 fn truncated_glb_files_are_rejected_at_every_length() {
-    let Some(dir) = assets() else { return };
+    let dir = assets();
     let bytes = std::fs::read(dir.join("Box.glb")).unwrap();
     let path = Path::new("cut/Box.glb");
     for len in 0..bytes.len() {
@@ -420,7 +417,7 @@ fn truncated_glb_files_are_rejected_at_every_length() {
 
 #[test]
 fn buffer_view_past_its_buffer_is_rejected() {
-    let Some(dir) = assets() else { return };
+    let dir = assets();
     let (mut json, bin) = glb_parts(&std::fs::read(dir.join("Box.glb")).unwrap());
     json["bufferViews"][1]["byteLength"] = json!(100_000);
     let tmp = TempDir::new("view");
@@ -436,7 +433,7 @@ fn buffer_view_past_its_buffer_is_rejected() {
 
 #[test]
 fn accessors_of_the_wrong_type_are_rejected() {
-    let Some(dir) = assets() else { return };
+    let dir = assets();
     let tmp = TempDir::new("type");
     let box_glb = std::fs::read(dir.join("Box.glb")).unwrap();
     let (mut json, bin) = glb_parts(&box_glb);
@@ -462,7 +459,7 @@ fn accessors_of_the_wrong_type_are_rejected() {
 
 #[test]
 fn indices_out_of_range_are_rejected() {
-    let Some(dir) = assets() else { return };
+    let dir = assets();
     let (mut json, bin) = glb_parts(&std::fs::read(dir.join("Box.glb")).unwrap());
     json["accessors"][1]["count"] = json!(20);
     json["accessors"][2]["count"] = json!(20);
@@ -473,7 +470,7 @@ fn indices_out_of_range_are_rejected() {
 
 #[test]
 fn nan_positions_are_rejected() {
-    let Some(dir) = assets() else { return };
+    let dir = assets();
     let (json, mut bin) = glb_parts(&std::fs::read(dir.join("Box.glb")).unwrap());
     let at = element_offset(&json, 2, 5, 12) + 4;
     bin[at..at + 4].copy_from_slice(&f32::NAN.to_le_bytes());
@@ -484,28 +481,38 @@ fn nan_positions_are_rejected() {
 
 #[test]
 fn skins_over_max_joints_are_rejected() {
-    let Some(dir) = assets() else { return };
-    let (mut json, bin) = glb_parts(&std::fs::read(dir.join("RiggedSimple.glb")).unwrap());
-    let nodes = json["nodes"].as_array_mut().unwrap();
-    let first_new = nodes.len();
-    let extra = MAX_JOINTS + 1 - 2;
-    for k in 0..extra {
-        nodes.push(json!({ "name": format!("extra{k}") }));
-    }
-    let mut children: Vec<Value> = json["nodes"][4]["children"].as_array().cloned().unwrap_or_default();
-    children.extend((first_new..first_new + extra).map(|n| json!(n)));
-    json["nodes"][4]["children"] = Value::Array(children);
-    let joints = json["skins"][0]["joints"].as_array_mut().unwrap();
-    joints.extend((first_new..first_new + extra).map(|n| json!(n)));
-    assert_eq!(joints.len(), 65);
+    // RiggedSimple's skin grown to `joints` joints (the extra ones unused by any vertex).
+    let dir = assets();
+    let with_joints = |joints: usize| {
+        let (mut json, bin) = glb_parts(&std::fs::read(dir.join("RiggedSimple.glb")).unwrap());
+        let nodes = json["nodes"].as_array_mut().unwrap();
+        let first_new = nodes.len();
+        let extra = joints - 2;
+        for k in 0..extra {
+            nodes.push(json!({ "name": format!("extra{k}") }));
+        }
+        let mut children: Vec<Value> = json["nodes"][4]["children"].as_array().cloned().unwrap_or_default();
+        children.extend((first_new..first_new + extra).map(|n| json!(n)));
+        json["nodes"][4]["children"] = Value::Array(children);
+        let list = json["skins"][0]["joints"].as_array_mut().unwrap();
+        list.extend((first_new..first_new + extra).map(|n| json!(n)));
+        assert_eq!(list.len(), joints);
+        // Optional: without it every inverse bind matrix is the identity.
+        json["skins"][0].as_object_mut().unwrap().remove("inverseBindMatrices");
+        make_glb(&json, &bin)
+    };
     let tmp = TempDir::new("joints");
-    let msg = load_error(&tmp, "65Joints.glb", &make_glb(&json, &bin));
-    assert_mentions(&msg, &["skin 0", "65 joints", "at most 64"]);
+    // A 65-bone rig, common in exported characters, fits the 16 KiB palette.
+    let path = tmp.write("65Joints.glb", &with_joints(65));
+    assert_eq!(load_gltf(&path).unwrap().skins[0].joints.len(), 65);
+    let too_many = MAX_JOINTS + 1;
+    let msg = load_error(&tmp, "TooMany.glb", &with_joints(too_many));
+    assert_mentions(&msg, &["skin 0", &format!("{too_many} joints"), &format!("at most {MAX_JOINTS}")]);
 }
 
 #[test]
 fn joint_indices_outside_the_skin_are_rejected() {
-    let Some(dir) = assets() else { return };
+    let dir = assets();
     let (json, mut bin) = glb_parts(&std::fs::read(dir.join("RiggedSimple.glb")).unwrap());
     // JOINTS_0 is accessor 1 (VEC4 UNSIGNED_SHORT): point every slot of vertex 7 at joint 5.
     let at = element_offset(&json, 1, 7, 8);
@@ -519,7 +526,7 @@ fn joint_indices_outside_the_skin_are_rejected() {
 
 #[test]
 fn key_times_that_do_not_increase_are_rejected() {
-    let Some(dir) = assets() else { return };
+    let dir = assets();
     let (json, mut bin) = glb_parts(&std::fs::read(dir.join("RiggedSimple.glb")).unwrap());
     // The input accessor of the first sampler: repeat key 2's time at key 3.
     let input = json["animations"][0]["samplers"][0]["input"].as_u64().unwrap() as usize;
@@ -534,7 +541,7 @@ fn key_times_that_do_not_increase_are_rejected() {
 
 #[test]
 fn node_cycles_are_rejected() {
-    let Some(dir) = assets() else { return };
+    let dir = assets();
     let (mut json, bin) = glb_parts(&std::fs::read(dir.join("Box.glb")).unwrap());
     json["nodes"][1]["children"] = json!([0]);
     let tmp = TempDir::new("cycle");
@@ -561,7 +568,7 @@ fn missing_and_non_gltf_files_are_rejected() {
 
 #[test]
 fn external_buffers_load_and_missing_ones_are_named() {
-    let Some(dir) = assets() else { return };
+    let dir = assets();
     let text = std::fs::read(dir.join("SimpleSkin.gltf")).unwrap();
     let mut json: Value = serde_json::from_slice(&text).unwrap();
     let uri = json["buffers"][1]["uri"].as_str().unwrap().to_string();
@@ -591,7 +598,7 @@ fn external_buffers_load_and_missing_ones_are_named() {
 
 #[test]
 fn external_images_load_and_missing_ones_are_named() {
-    let Some(dir) = assets() else { return };
+    let dir = assets();
     let (mut json, bin) = glb_parts(&std::fs::read(dir.join("BoxTextured.glb")).unwrap());
     let view = json["images"][0]["bufferView"].as_u64().unwrap() as usize;
     let start = json["bufferViews"][view]["byteOffset"].as_u64().unwrap() as usize;
@@ -609,22 +616,55 @@ fn external_images_load_and_missing_ones_are_named() {
     let msg = load_gltf(&path).unwrap_err().to_string();
     assert_mentions(&msg, &["Textured.gltf", "image 0", "texture.png", "cannot read"]);
 
-    // A corrupt PNG is an error; a JPEG is a warning (this build decodes PNG only).
+    // A corrupt PNG is an error naming the format.
     let mut png = bin[start..start + len].to_vec();
     png[40..60].fill(0xAB);
     tmp.write("texture.png", &png);
     let msg = load_gltf(&path).unwrap_err().to_string();
     assert_mentions(&msg, &["PNG does not decode"]);
-    tmp.write("texture.png", b"\xff\xd8\xff\xe0 pretend jpeg");
+
+    // JPEG is the other core format (whatever the file name says): decoded, colours kept
+    // within JPEG's loss; a broken one is an error naming JPEG.
+    let original = image::load_from_memory(&bin[start..start + len]).unwrap().to_rgb8();
+    let mut jpeg = Vec::new();
+    image::codecs::jpeg::JpegEncoder::new_with_quality(&mut jpeg, 95).encode_image(&original).unwrap();
+    tmp.write("texture.png", &jpeg);
+    let model = load_gltf(&path).unwrap();
+    let texture = &model.textures[0];
+    assert_eq!((texture.width, texture.height), (211, 211));
+    assert!(model.materials[0].base_color_texture.is_some());
+    let worst = original
+        .as_raw()
+        .chunks_exact(3)
+        .zip(texture.pixels.chunks_exact(4))
+        .flat_map(|(a, b)| (0..3).map(move |c| (a[c] as i32 - b[c] as i32).abs()))
+        .max()
+        .unwrap();
+    assert!(worst < 64, "JPEG texels differ from the PNG by up to {worst}");
+    let mean: f64 = original
+        .as_raw()
+        .chunks_exact(3)
+        .zip(texture.pixels.chunks_exact(4))
+        .flat_map(|(a, b)| (0..3).map(move |c| (a[c] as f64 - b[c] as f64).abs()))
+        .sum::<f64>()
+        / (211.0 * 211.0 * 3.0);
+    assert!(mean < 3.0, "JPEG texels differ from the PNG by {mean} on average");
+    tmp.write("texture.png", b"\xff\xd8\xff\xe0 truncated jpeg");
+    let msg = load_gltf(&path).unwrap_err().to_string();
+    assert_mentions(&msg, &["Textured.gltf", "image 0", "JPEG does not decode"]);
+
+    // Formats glTF core does not have (WebP, KTX2 through extensions) are a warning: the
+    // material keeps its base colour factor.
+    tmp.write("texture.png", b"RIFF\x10\0\0\0WEBPVP8 ");
     let model = load_gltf(&path).unwrap();
     assert!(model.textures.is_empty());
     assert!(model.materials[0].base_color_texture.is_none());
-    assert!(model.warnings.iter().any(|w| w.contains("JPEG")), "{:?}", model.warnings);
+    assert!(model.warnings.iter().any(|w| w.contains("WebP")), "{:?}", model.warnings);
 }
 
 #[test]
 fn points_and_lines_are_skipped_with_a_warning() {
-    let Some(dir) = assets() else { return };
+    let dir = assets();
     let (mut json, bin) = glb_parts(&std::fs::read(dir.join("BoxAnimated.glb")).unwrap());
     json["meshes"][0]["primitives"][0]["mode"] = json!(1);
     let model = load_gltf_slice(&make_glb(&json, &bin), Path::new("Lines.glb")).unwrap();
@@ -635,7 +675,7 @@ fn points_and_lines_are_skipped_with_a_warning() {
 
 #[test]
 fn unnormalised_and_zero_weights_are_repaired() {
-    let Some(dir) = assets() else { return };
+    let dir = assets();
     let (json, mut bin) = glb_parts(&std::fs::read(dir.join("RiggedSimple.glb")).unwrap());
     // WEIGHTS_0 is accessor 4 (VEC4 FLOAT): vertex 0 sums to 0.5, vertex 1 to 0.
     let w0 = element_offset(&json, 4, 0, 16);
@@ -655,7 +695,7 @@ fn unnormalised_and_zero_weights_are_repaired() {
 /// Random byte damage anywhere in each asset: the loader may accept or reject, never panic.
 #[test]
 fn random_corruption_never_panics() {
-    let Some(dir) = assets() else { return };
+    let dir = assets();
     let mut state = 0x9E37_79B9_7F4A_7C15u64;
     let mut next = move || {
         state ^= state << 13;
@@ -702,7 +742,7 @@ fn number_pointers(value: &Value, at: String, out: &mut Vec<String>) {
 /// loader may accept or reject, never panic.
 #[test]
 fn random_json_numbers_never_panic() {
-    let Some(dir) = assets() else { return };
+    let dir = assets();
     let mut state = 0x2545_F491_4F6C_DD1Du64;
     let mut next = move || {
         state ^= state << 13;
@@ -866,4 +906,60 @@ fn synthetic_file_covers_sparse_fans_cubic_lights_and_cameras() {
     bad["buffers"][0]["uri"] = json!(format!("data:application/octet-stream;base64,{}", encode_base64(&bin2)));
     let msg = load_gltf_slice(&serde_json::to_vec(&bad).unwrap(), Path::new("sparse.gltf")).unwrap_err().to_string();
     assert_mentions(&msg, &["sparse.gltf", "accessor 1", "strictly increasing"]);
+}
+
+#[test]
+fn quantized_meshes_load_and_unsupported_required_extensions_are_refused() {
+    // Box.glb rewritten as gltfpack writes KHR_mesh_quantization: positions as plain SHORTs
+    // (x 10,000) undone by a node scale, normals as normalised BYTEs.
+    let dir = assets();
+    let tmp = TempDir::new("quantized");
+    let original = load(&dir, "Box.glb");
+    let (mut json, mut bin) = glb_parts(&std::fs::read(dir.join("Box.glb")).unwrap());
+    let base = bin.len();
+    for p in &original.meshes[0].primitives[0].positions {
+        for c in p.to_array() {
+            bin.extend_from_slice(&((c * 10_000.0).round() as i16).to_le_bytes());
+        }
+        bin.extend_from_slice(&[0, 0]); // vertex stride padded to 4 bytes
+    }
+    let normals_at = bin.len();
+    for n in &original.meshes[0].primitives[0].normals {
+        bin.extend(n.to_array().map(|c| (c * 127.0).round() as i8 as u8));
+        bin.push(0);
+    }
+    let views = json["bufferViews"].as_array_mut().unwrap();
+    views.push(json!({ "buffer": 0, "byteOffset": base, "byteLength": 24 * 8, "byteStride": 8 }));
+    views.push(json!({ "buffer": 0, "byteOffset": normals_at, "byteLength": 24 * 4, "byteStride": 4 }));
+    json["buffers"][0]["byteLength"] = json!(bin.len());
+    json["accessors"][2] = json!({ "bufferView": 2, "componentType": 5122, "count": 24, "type": "VEC3",
+        "min": [-5000, -5000, -5000], "max": [5000, 5000, 5000] });
+    json["accessors"][1] =
+        json!({ "bufferView": 3, "componentType": 5120, "normalized": true, "count": 24, "type": "VEC3" });
+    json["nodes"][1]["scale"] = json!([1e-4, 1e-4, 1e-4]);
+
+    // Without the extension declared, integer positions are invalid glTF.
+    let msg = load_error(&tmp, "Undeclared.glb", &make_glb(&json, &bin));
+    assert_mentions(&msg, &["Undeclared.glb", "POSITION", "SHORT"]);
+
+    json["extensionsUsed"] = json!(["KHR_mesh_quantization"]);
+    json["extensionsRequired"] = json!(["KHR_mesh_quantization"]);
+    let path = tmp.write("Quantized.glb", &make_glb(&json, &bin));
+    let model = load_gltf(&path).unwrap();
+    assert!(model.warnings.is_empty(), "{:?}", model.warnings);
+    let (expected, got) = (&original.meshes[0].primitives[0], &model.meshes[0].primitives[0]);
+    let scale = model.nodes[1].local.scale;
+    for (a, b) in expected.positions.iter().zip(&got.positions) {
+        assert!((*a - *b * scale).abs().max_element() < 1e-6, "{a} vs {b} x {scale}");
+    }
+    for (a, b) in expected.normals.iter().zip(&got.normals) {
+        assert!(a.dot(*b) > 0.9999, "normal {a} read as {b}");
+    }
+    assert_eq!(expected.indices, got.indices);
+
+    // A required extension that changes what the bytes mean is refused by name.
+    json["extensionsUsed"] = json!(["KHR_mesh_quantization", "KHR_draco_mesh_compression", "EXT_meshopt_compression"]);
+    json["extensionsRequired"] = json!(["KHR_draco_mesh_compression", "EXT_meshopt_compression"]);
+    let msg = load_error(&tmp, "Draco.glb", &make_glb(&json, &bin));
+    assert_mentions(&msg, &["Draco.glb", "requires extensions KHR_draco_mesh_compression, EXT_meshopt_compression"]);
 }

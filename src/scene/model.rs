@@ -6,9 +6,10 @@ use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
 
 use super::animation::Animation;
 
-/// Joint matrices live in one uniform buffer sized for the mobile profile: 64 matrices * 64 bytes
-/// = 4 KiB. A skin with more joints is rejected at load rather than split.
-pub const MAX_JOINTS: usize = 64;
+/// Joint matrices live in one uniform buffer as large as the mobile profile guarantees
+/// (maxUniformBufferRange 16 KiB): 256 matrices of 64 bytes, room for the 65-bone rigs common
+/// in exported characters. A skin with more joints is rejected at load rather than split.
+pub const MAX_JOINTS: usize = crate::gpu::mobile_profile::MAX_UNIFORM_BUFFER_RANGE as usize / 64;
 
 #[derive(Clone, Debug, Default)]
 pub struct Model {

@@ -29,3 +29,18 @@ pub fn scratch_dir(test: &str) -> std::path::PathBuf {
     std::fs::create_dir_all(&dir).expect("create scratch dir");
     dir
 }
+
+/// The shared glTF folder beside the checkout (`../shared/assets`). The tests need it: a
+/// missing folder fails them by name instead of skipping (a skipped test proves nothing).
+pub fn shared_assets() -> std::path::PathBuf {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/assets");
+    assert!(dir.is_dir(), "{} not found: the tests need the shared glTF assets", dir.display());
+    dir
+}
+
+/// One file of the shared assets; fails the test when it is missing.
+pub fn shared_asset(name: &str) -> std::path::PathBuf {
+    let path = shared_assets().join(name);
+    assert!(path.is_file(), "{} not found", path.display());
+    path
+}

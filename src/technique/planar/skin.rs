@@ -1,6 +1,6 @@
 //! GPU skinning: a skinned object's bind-pose vertices with four joints and weights each, and its
-//! joint palette in a uniform buffer of `MAX_JOINTS` matrices (4 KiB, within the mobile
-//! profile's 16 KiB uniform range) at descriptor set 1 (`shaders/planar_skinning.glsl`).
+//! joint palette in a uniform buffer of `MAX_JOINTS` matrices (16 KiB, the mobile
+//! profile's whole uniform range) at descriptor set 1 (`shaders/planar_skinning.glsl`).
 
 use std::sync::Arc;
 
@@ -129,6 +129,6 @@ mod tests {
     #[test]
     fn vertex_layout_matches_the_struct() {
         assert_eq!(SKINNED_LAYOUT.stride() as usize, std::mem::size_of::<SkinnedVertex>());
-        assert_eq!(PALETTE_BYTES, 4096);
+        assert_eq!(PALETTE_BYTES, crate::gpu::mobile_profile::MAX_UNIFORM_BUFFER_RANGE as u64);
     }
 }
