@@ -137,14 +137,18 @@ fn render(gpu: &Arc<Gpu>, scene: &Scene, technique: Technique, size: (u32, u32))
     render_scene(gpu, scene, &options).expect("frame").output.image
 }
 
-#[test]
-fn atlas_and_shadow_map_agree_except_along_shadow_edges() {
-    let gpu = common::gpu();
-    let scene = builtin_scene("atlas-one").expect("scene");
-    let size = (160, 120);
-    let atlas = render(&gpu, &scene, Technique::ShadowTextureAtlas, size);
-    let map = render(&gpu, &scene, Technique::ShadowMap, size);
-    let lit = render(&gpu, &scene, Technique::Lit, size);
+/// Renders `scene` with the baked atlas and with the shadow map and checks that they differ
+/// only along shadow edges (the two sample the light's depth at different places: texels of
+/// the shadow texture against pixels of the frame).
+fn assert_atlas_agrees_with_shadow_map(gpu: &Arc<Gpu>, scene: &Scene, size: (u32, u32)) {
+    let atlas = render(gpu, scene, Technique::ShadowTextureAtlas, size);
+    let map = render(gpu, scene, Technique::ShadowMap, size);
+    let lit = render(gpu, scene, Technique::Lit, size);
+    // Kept for a person to look at.
+    let dir = common::scratch_dir(&format!("atlas-vs-map-{}", scene.name));
+    for (image, name) in [(&atlas, "atlas"), (&map, "shadow-map"), (&lit, "lit")] {
+        image.write_png(&dir.join(format!("{name}.png")), false).expect("write png");
+    }
     let (w, h) = size;
     // The shadow map's shadow: pixels darker than the unshadowed frame.
     let shadowed = |x: u32, y: u32| map.pixel(x, y)[..3] != lit.pixel(x, y)[..3];
@@ -174,14 +178,56 @@ fn atlas_and_shadow_map_agree_except_along_shadow_edges() {
         }
     }
     let total = w * h;
+    let name = &scene.name;
     println!(
-        "atlas vs shadow map: {differing} of {total} pixels differ ({:.2}%), {off_edge} of them more than 3 px \
-         from a shadow edge; {shadow_pixels} shadowed pixels",
+        "{name}: atlas vs shadow map: {differing} of {total} pixels differ ({:.2}%), {off_edge} of them more \
+         than 3 px from a shadow edge; {shadow_pixels} shadowed pixels",
         100.0 * differing as f64 / total as f64
     );
-    assert!(shadow_pixels > total / 50, "the scene must show shadows: {shadow_pixels}");
-    assert!((differing as f64) < 0.04 * total as f64, "{differing} differing pixels");
-    assert!((off_edge as f64) < 0.002 * total as f64, "{off_edge} differing pixels away from shadow edges");
+    assert!(shadow_pixels > total / 50, "{name}: the scene must show shadows: {shadow_pixels}");
+    assert!((differing as f64) < 0.04 * total as f64, "{name}: {differing} differing pixels");
+    assert!((off_edge as f64) < 0.002 * total as f64, "{name}: {off_edge} differing pixels away from shadow edges");
+}
+
+#[test]
+fn atlas_and_shadow_map_agree_except_along_shadow_edges() {
+    let gpu = common::gpu();
+    assert_atlas_agrees_with_shadow_map(&gpu, &builtin_scene("atlas-one").expect("scene"), (160, 120));
+    common::assert_no_validation_messages(&gpu);
+}
+
+#[test]
+fn generated_atlases_of_dense_meshes_agree_with_the_shadow_map() {
+    // Meshes with no usable UVs and far more triangles than a 256^2 texture has room for one
+    // chart each: a smooth sphere (18,432 triangles), a self-shadowing torus knot, and a flat
+    // box as the ground (its UVs overlap, so it is generated too).
+    let gpu = common::gpu();
+    let without_uvs = |mut mesh: MeshData| {
+        mesh.uvs.clear();
+        mesh
+    };
+    let sphere = without_uvs(shapes::uv_sphere(96, 96).expect("sphere"));
+    let knot = without_uvs(shapes::torus_knot(2, 3, 0.6, 0.18, 256, 16).expect("knot"));
+    let light = Light::Directional { direction: Vec3::new(-0.4, -1.0, -0.3).normalize() };
+    let scene = scene_of(
+        "dense-generated",
+        light,
+        vec![
+            ("ground", shapes::cube(1.0), Mat4::from_scale(Vec3::new(8.0, 0.1, 8.0))),
+            ("sphere", sphere, Mat4::from_translation(Vec3::new(-1.2, 0.8, 0.0)) * Mat4::from_scale(Vec3::splat(0.7))),
+            ("knot", knot, Mat4::from_translation(Vec3::new(1.1, 1.0, 0.0))),
+        ],
+    );
+    let renderer = bake(&gpu, &scene, ShadowAtlasOptions::default());
+    for info in renderer.atlases() {
+        let AtlasSource::Generated { charts, padding } = info.source else {
+            panic!("{}: {:?} instead of a generated atlas", info.mesh, info.source);
+        };
+        println!("{}: {charts} charts, {padding} texels padding", info.mesh);
+        assert_eq!(padding, 4, "{}", info.mesh);
+    }
+    drop(renderer);
+    assert_atlas_agrees_with_shadow_map(&gpu, &scene, (160, 120));
     common::assert_no_validation_messages(&gpu);
 }
 
@@ -192,7 +238,7 @@ fn no_mip_bleeds_across_chart_borders() {
     // charts (normal . light <= 0) fully shadowed, and they sit next to each other in the
     // generated atlas (its UVs overlap: every face uses the whole square).
     let cube = shapes::cube(1.0);
-    let atlas = mesh_atlas(&cube, None, 128);
+    let atlas = mesh_atlas("cube", &cube, None, 128).expect("atlas");
     assert!(matches!(atlas.source, AtlasSource::Generated { .. }), "{:?}", atlas.source);
     let scene =
         scene_of("charts", Light::Directional { direction: Vec3::NEG_Y }, vec![("cube", cube.clone(), Mat4::IDENTITY)]);
@@ -274,7 +320,7 @@ fn texcoord1_is_used_when_it_does_not_overlap_and_replaced_when_it_does() {
     let with_uv1: Vec<_> = scene.meshes.iter().filter(|m| m.uv1.is_some()).collect();
     assert!(!with_uv1.is_empty(), "CornellBox.glb has TEXCOORD_1");
     for mesh in &with_uv1 {
-        let atlas = mesh_atlas(&mesh.data, mesh.uv1.as_deref(), 256);
+        let atlas = mesh_atlas(&mesh.name, &mesh.data, mesh.uv1.as_deref(), 256).expect("atlas");
         assert_eq!(atlas.source, AtlasSource::TexCoord1, "{}: {:?}", mesh.name, atlas.rejected_uv1);
         assert_eq!(atlas.uvs, *mesh.uv1.as_ref().expect("uv1"));
     }
@@ -285,7 +331,7 @@ fn texcoord1_is_used_when_it_does_not_overlap_and_replaced_when_it_does() {
     // Duplicate the triangles so that each covers the texels of its twin.
     let twins: Vec<u32> = overlapping.indices.clone();
     overlapping.indices.extend(twins);
-    let atlas = mesh_atlas(&overlapping, Some(&folded), 256);
+    let atlas = mesh_atlas("folded", &overlapping, Some(&folded), 256).expect("atlas");
     assert_ne!(atlas.source, AtlasSource::TexCoord1);
     assert!(atlas.rejected_uv1.as_deref().is_some_and(|r| r.contains("covered twice")), "{:?}", atlas.rejected_uv1);
 }

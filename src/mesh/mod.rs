@@ -7,7 +7,7 @@
 
 pub mod adjacency;
 pub mod edges;
-mod fast_hash;
+pub(crate) mod fast_hash;
 pub mod shadow_volume;
 pub mod shapes;
 #[cfg(test)]

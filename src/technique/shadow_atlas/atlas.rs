@@ -1,12 +1,13 @@
 //! Atlas UVs for shadow textures: each surface point needs a texel of its own. A geometry image
 //! has them by construction; other meshes use a UV set of the file when it is checked not to
-//! overlap (TEXCOORD_1, then TEXCOORD_0), else a generated atlas: one chart per triangle,
-//! packed on a grid with padding between charts.
+//! overlap (TEXCOORD_1, then TEXCOORD_0), else a generated atlas (`charts`): charts grown over
+//! triangles facing nearly the same way, packed with padding between charts.
 
 use glam::{Vec2, Vec3};
 
-use super::geometry_image;
+use super::{charts, geometry_image};
 use crate::mesh::MeshData;
+use crate::Result;
 
 /// Where a mesh's atlas UVs came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -18,7 +19,7 @@ pub enum AtlasSource {
     TexCoord1,
     /// The mesh's first UV set, checked not to overlap.
     TexCoord0,
-    /// One chart per triangle, packed with `padding` texels around each chart.
+    /// Charts grown over nearly coplanar triangles, packed with `padding` texels around each.
     Generated { charts: u32, padding: u32 },
 }
 
@@ -54,12 +55,12 @@ pub struct MeshAtlas {
 /// Padding around each generated chart, in texels of mip 0.
 pub const CHART_PADDING: u32 = 4;
 
-/// The atlas of `mesh`: `uv1` is the file's TEXCOORD_1 when it has one; `size` the shadow
-/// texture size for meshes that are not geometry images.
-pub fn mesh_atlas(mesh: &MeshData, uv1: Option<&[Vec2]>, size: u32) -> MeshAtlas {
+/// The atlas of `mesh` (`name` in errors): `uv1` is the file's TEXCOORD_1 when it has one;
+/// `size` the shadow texture size for meshes that are not geometry images.
+pub fn mesh_atlas(name: &str, mesh: &MeshData, uv1: Option<&[Vec2]>, size: u32) -> Result<MeshAtlas> {
     if let Some(n) = geometry_image::grid_size(mesh) {
         let size = (n - 1).next_power_of_two();
-        return MeshAtlas {
+        return Ok(MeshAtlas {
             positions: mesh.positions.clone(),
             normals: mesh.normals.clone(),
             uvs: mesh.uvs.clone(),
@@ -70,7 +71,7 @@ pub fn mesh_atlas(mesh: &MeshData, uv1: Option<&[Vec2]>, size: u32) -> MeshAtlas
             dilate_radius: 2,
             mip_levels: crate::gpu::texture::mip_count(size, size),
             rejected_uv1: None,
-        };
+        });
     }
     let from_file = |uvs: &[Vec2], source| MeshAtlas {
         positions: mesh.positions.clone(),
@@ -89,17 +90,17 @@ pub fn mesh_atlas(mesh: &MeshData, uv1: Option<&[Vec2]>, size: u32) -> MeshAtlas
             Some(format!("{} TEXCOORD_1 values for {} vertices", uv1.len(), mesh.positions.len()))
         }
         Some(uv1) => match overlap(uv1, &mesh.indices, size) {
-            None => return from_file(uv1, AtlasSource::TexCoord1),
+            None => return Ok(from_file(uv1, AtlasSource::TexCoord1)),
             Some(problem) => Some(problem),
         },
     };
     let mut atlas = if mesh.uvs.len() == mesh.positions.len() && overlap(&mesh.uvs, &mesh.indices, size).is_none() {
         from_file(&mesh.uvs, AtlasSource::TexCoord0)
     } else {
-        generated_atlas(mesh, size)
+        generated_atlas(name, mesh, size)?
     };
     atlas.rejected_uv1 = rejected_uv1;
-    atlas
+    Ok(atlas)
 }
 
 /// Mips whose texels stay within half the padding: level k averages 2^k texels a side.
@@ -144,44 +145,23 @@ pub fn overlap(uvs: &[Vec2], indices: &[u32], size: u32) -> Option<String> {
     (doubled > covered / 1000).then(|| format!("{doubled} of {covered} covered texels are covered twice"))
 }
 
-/// One chart per triangle: each triangle keeps its shape (laid flat in its plane), scaled into
-/// a grid cell with `CHART_PADDING` texels on every side.
-pub fn generated_atlas(mesh: &MeshData, size: u32) -> MeshAtlas {
-    let faces = mesh.indices.len() / 3;
-    let per_row = (faces as f64).sqrt().ceil().max(1.0) as u32;
-    let cell = size as f32 / per_row as f32;
-    let inner = (cell - 2.0 * CHART_PADDING as f32).max(1.0);
-    let (mut positions, mut normals, mut uvs, mut indices) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    for (f, t) in mesh.indices.chunks_exact(3).enumerate() {
-        let p = [0, 1, 2].map(|k| mesh.positions.get(t[k] as usize).copied().unwrap_or_default());
-        let n = [0, 1, 2].map(|k| mesh.normals.get(t[k] as usize).copied().unwrap_or(Vec3::Y));
-        // The triangle in its own plane: x along the first edge.
-        let x_axis = (p[1] - p[0]).normalize_or(Vec3::X);
-        let normal = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or(Vec3::Z);
-        let y_axis = normal.cross(x_axis);
-        let flat = p.map(|q| Vec2::new((q - p[0]).dot(x_axis), (q - p[0]).dot(y_axis)));
-        let lo = flat[0].min(flat[1]).min(flat[2]);
-        let extent = (flat[0].max(flat[1]).max(flat[2]) - lo).max_element().max(1e-12);
-        let origin = Vec2::new((f as u32 % per_row) as f32, (f as u32 / per_row) as f32) * cell
-            + Vec2::splat(CHART_PADDING as f32);
-        for k in 0..3 {
-            indices.push(positions.len() as u32);
-            positions.push(p[k]);
-            normals.push(n[k]);
-            uvs.push((origin + (flat[k] - lo) / extent * inner) / size as f32);
-        }
-    }
-    MeshAtlas {
-        positions,
-        normals,
-        uvs,
-        indices,
-        source: AtlasSource::Generated { charts: faces as u32, padding: CHART_PADDING },
+/// A generated atlas (see `charts`): every corner gets a vertex of its own, since a vertex on
+/// a chart border has a UV in each chart.
+pub fn generated_atlas(name: &str, mesh: &MeshData, size: u32) -> Result<MeshAtlas> {
+    let generated = charts::generate(name, mesh, size, CHART_PADDING)?;
+    let corner = |k: usize| mesh.indices[k] as usize;
+    let corners = 0..mesh.indices.len() - mesh.indices.len() % 3;
+    Ok(MeshAtlas {
+        positions: corners.clone().map(|k| mesh.positions[corner(k)]).collect(),
+        normals: corners.clone().map(|k| mesh.normals.get(corner(k)).copied().unwrap_or(Vec3::Y)).collect(),
+        uvs: generated.corner_uvs,
+        indices: corners.map(|k| k as u32).collect(),
+        source: AtlasSource::Generated { charts: generated.charts, padding: generated.padding },
         size,
-        dilate_radius: CHART_PADDING,
-        mip_levels: clean_mips(CHART_PADDING),
+        dilate_radius: generated.padding,
+        mip_levels: clean_mips(generated.padding),
         rejected_uv1: None,
-    }
+    })
 }
 
 #[cfg(test)]
@@ -193,8 +173,8 @@ mod tests {
     fn cube_uvs_overlap_and_are_replaced() {
         let cube = shapes::cube(1.0);
         assert!(overlap(&cube.uvs, &cube.indices, 64).is_some());
-        let atlas = mesh_atlas(&cube, Some(&cube.uvs), 64);
-        assert_eq!(atlas.source, AtlasSource::Generated { charts: 12, padding: CHART_PADDING });
+        let atlas = mesh_atlas("cube", &cube, Some(&cube.uvs), 64).expect("atlas");
+        assert_eq!(atlas.source, AtlasSource::Generated { charts: 6, padding: CHART_PADDING });
         assert!(overlap(&atlas.uvs, &atlas.indices, 64).is_none());
         assert!(atlas.rejected_uv1.as_deref().is_some_and(|r| r.contains("covered twice")), "{:?}", atlas.rejected_uv1);
     }
@@ -202,6 +182,6 @@ mod tests {
     #[test]
     fn torus_uvs_are_kept() {
         let torus = shapes::torus(0.8, 0.3, 24, 12).expect("torus");
-        assert_eq!(mesh_atlas(&torus, None, 256).source, AtlasSource::TexCoord0);
+        assert_eq!(mesh_atlas("torus", &torus, None, 256).expect("atlas").source, AtlasSource::TexCoord0);
     }
 }

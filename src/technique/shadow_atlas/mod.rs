@@ -12,6 +12,7 @@
 //! texture (sampled trilinearly) or by the shadow-map compare.
 
 pub mod atlas;
+mod charts;
 pub mod geometry_image;
 pub mod table1;
 pub mod targets;
@@ -364,8 +365,11 @@ impl<'s> ShadowAtlasRenderer<'s> {
         let texture_size = check_size("--shadow-texture-size", options.texture_size)?;
         let renderer = Renderer::new(gpu, width, height, stencil, false)?;
 
-        let layouts: Vec<MeshAtlas> =
-            scene.meshes.iter().map(|m| mesh_atlas(&m.data, m.uv1.as_deref(), texture_size)).collect();
+        let layouts: Vec<MeshAtlas> = scene
+            .meshes
+            .iter()
+            .map(|m| mesh_atlas(&m.name, &m.data, m.uv1.as_deref(), texture_size))
+            .collect::<Result<_>>()?;
         let meshes = scene
             .meshes
             .iter()
