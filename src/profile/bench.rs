@@ -135,15 +135,16 @@ impl BenchReport {
             "{} | {} on scene {} | {}x{} | {} warm-up + {} runs per variant",
             self.device, self.technique, self.scene, self.width, self.height, self.warmup, self.runs
         );
+        let name_width = self.variants.iter().map(|v| v.name.len()).max().unwrap_or(0).max("variant".len());
         let _ = writeln!(
             out,
-            "{:<22} {:>7} {:>22} {:>9} {:>13} {:>12} {:>8} {:>8} {:>8}",
+            "{:<name_width$} {:>7} {:>22} {:>9} {:>13} {:>12} {:>8} {:>8} {:>8}",
             "variant", "passes", "frame ms (min-max)", "GPU ms", "fragments", "samples", "frame x", "GPU x", "frag x"
         );
         for v in &self.variants {
             let _ = writeln!(
                 out,
-                "{:<22} {:>7} {:>9.2} ({:>5.2}-{:>5.2}) {:>9.2} {:>13} {:>12} {:>8.2} {:>8.2} {:>8}",
+                "{:<name_width$} {:>7} {:>9.2} ({:>5.2}-{:>5.2}) {:>9.2} {:>13} {:>12} {:>8.2} {:>8.2} {:>8}",
                 v.name,
                 v.passes,
                 v.frame_ms.median,
@@ -157,7 +158,9 @@ impl BenchReport {
                 v.fragment_ratio.map_or("n/a".into(), |r| format!("{r:.2}")),
             );
         }
-        let _ = writeln!(out, "ratios are to the first row (the real-stencil reference), taken in this run");
+        if let Some(first) = self.variants.first() {
+            let _ = writeln!(out, "ratios are to the first row ({}), taken in this run", first.name);
+        }
         out
     }
 }

@@ -16,6 +16,7 @@
 
 pub mod live;
 pub mod swapchain;
+mod x_guard;
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -534,13 +535,17 @@ impl<'s> App<'s> {
 
     fn window_size(&self) -> (u32, u32) {
         self.window.as_ref().map_or((0, 0), |w| {
-            let s = w.inner_size();
+            // (0, 0) on a broken display connection: drawing pauses as when minimised, and the
+            // next title update reports the lost display.
+            let s = x_guard::window_call(|| w.inner_size()).unwrap_or_default();
             (s.width, s.height)
         })
     }
 
-    fn update_title(&self) {
-        let (Some(window), Some(frame)) = (&self.window, &self.last) else { return };
+    /// Shows the technique and the frame's counters in the title. Fails when the display
+    /// connection is broken (the X server went away).
+    fn update_title(&self) -> Result<()> {
+        let (Some(window), Some(frame)) = (&self.window, &self.last) else { return Ok(()) };
         let counters = &frame.counters;
         let pixels = counters.pixels() as f64;
         let fragments =
@@ -550,7 +555,7 @@ impl<'s> App<'s> {
             Some(false) => " z-pass",
             None => "",
         };
-        window.set_title(&format!(
+        let title = format!(
             "nostencil view | {} | {}{method} | {fragments} fragments/px, {:.2} samples/px | {:.2} ms GPU | {}x{}{}",
             self.base.name,
             self.settings.describe(),
@@ -559,7 +564,9 @@ impl<'s> App<'s> {
             counters.width,
             counters.height,
             if self.live.paused { " | paused" } else { "" }
-        ));
+        );
+        x_guard::window_call(|| window.set_title(&title))
+            .ok_or_else(|| Error::Device("the connection to the display was lost (X server gone?)".into()))
     }
 
     /// One frame: render the technique, copy it into a swapchain image, present.
@@ -662,7 +669,7 @@ impl<'s> App<'s> {
         self.slot = (slot + 1) % FRAMES_IN_FLIGHT;
         self.presented += 1;
         self.last = Some(frame);
-        self.update_title();
+        self.update_title()?;
 
         if let Some((after, size)) = self.options.resize_after {
             if self.presented == after {
@@ -734,7 +741,9 @@ impl<'s> App<'s> {
             },
             _ => {}
         }
-        self.update_title();
+        if let Err(error) = self.update_title() {
+            self.fail(event_loop, error);
+        }
     }
 }
 
