@@ -110,3 +110,21 @@ fn missing_vulkan_driver_is_a_clear_error() {
     assert_clean_failure(&output, "Vulkan");
     assert!(!Path::new(&out).exists());
 }
+
+#[test]
+fn what_the_gltf_loader_ignored_is_printed_as_a_warning() {
+    let dir = common::scratch_dir("cli-gltf-warning");
+    let out = dir.join("cornell.png");
+    let scene = common::shared_asset("CornellBox.glb");
+    let output =
+        nostencil(&["render", "--scene", scene.to_str().unwrap(), "--size", "48x48", "--out", out.to_str().unwrap()]);
+    let err = stderr(&output);
+    assert!(output.status.success(), "{err}");
+    assert!(
+        err.lines().any(|l| l.starts_with("nostencil: warning:")
+            && l.contains("CornellBox.glb")
+            && l.contains("KHR_materials_emissive_strength")),
+        "{err}"
+    );
+    assert!(out.is_file());
+}

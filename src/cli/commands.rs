@@ -8,7 +8,7 @@ use crate::error::{Error, Result};
 use crate::gpu::{mobile_profile, DeviceChoice, Gpu, GpuOptions};
 use crate::profile::budget::Budget;
 use crate::profile::report::{ProfileReport, ReportContext, ReportFormat};
-use crate::scene::{builtin_scene_at, scene_from_gltf, Scene, BUILTIN_SCENES, OTHER_SCENES};
+use crate::scene::{builtin_scene_at, scene_and_warnings_from_gltf, Scene, BUILTIN_SCENES, OTHER_SCENES};
 use crate::technique::{
     alpha_counter, render_scene, shadow_atlas, CartoonOptions, LightMode, Normalize, PlanarOptions, RenderOptions,
     ShadowAtlasOptions, ShadowVolumeOptions, SilhouetteMethod, Technique, VolumeMethod,
@@ -49,12 +49,17 @@ fn open_gpu(args: &GpuArgs) -> Result<Arc<Gpu>> {
     Gpu::new(&GpuOptions { validation: args.validation, device })
 }
 
-/// A built-in scene by name, or a .gltf/.glb file posed at `time` seconds.
+/// A built-in scene by name, or a .gltf/.glb file posed at `time` seconds; the loader's
+/// warnings (what it skipped or repaired in the file) go to stderr.
 fn load_scene(name: &str, time: f32) -> Result<Scene> {
     let path = Path::new(name);
     let is_gltf = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"));
     if is_gltf || path.exists() {
-        scene_from_gltf(path, time)
+        let (scene, warnings) = scene_and_warnings_from_gltf(path, time)?;
+        for warning in warnings {
+            eprintln!("nostencil: warning: {}: {warning}", path.display());
+        }
+        Ok(scene)
     } else {
         builtin_scene_at(name, time)
     }

@@ -18,6 +18,11 @@ use crate::mesh::{self, EdgeAdjacency, MeshData};
 
 /// Loads `path` and poses it at `time` seconds of its first animation (looping).
 pub fn scene_from_gltf(path: &Path, time: f32) -> Result<Scene> {
+    scene_and_warnings_from_gltf(path, time).map(|(scene, _)| scene)
+}
+
+/// [`scene_from_gltf`], with the loader's warnings: what it skipped or repaired.
+pub fn scene_and_warnings_from_gltf(path: &Path, time: f32) -> Result<(Scene, Vec<String>)> {
     let model = load_gltf(path)?;
     let name = path.file_name().map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned());
     let local = if model.animations.is_empty() { rest_pose(&model) } else { pose_at(&model, 0, time, TimeMode::Loop)? };
@@ -32,7 +37,7 @@ pub fn scene_from_gltf(path: &Path, time: f32) -> Result<Scene> {
         });
     };
     fit_ground_and_camera(&mut scene, low, high);
-    Ok(scene)
+    Ok((scene, model.warnings))
 }
 
 /// Adds every mesh primitive of `model` to `scene`, posed by the nodes' world matrices `world`:

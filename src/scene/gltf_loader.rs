@@ -611,13 +611,14 @@ impl Loader<'_> {
 
         let (joints, weights) = match (attribute(Semantic::Joints(0)), attribute(Semantic::Weights(0))) {
             (Some(j), Some(w)) => {
-                if attribute(Semantic::Joints(1)).is_some() {
-                    self.warnings.push(format!(
-                        "{what}: JOINTS_1/WEIGHTS_1 ignored (4 influences per vertex); weights \
-                         renormalised"
-                    ));
+                // Further sets (JOINTS_1/WEIGHTS_1, ...) carry influences 5 to 8 and beyond.
+                let mut sets = vec![(j, w)];
+                while let (Some(j), Some(w)) =
+                    (attribute(Semantic::Joints(sets.len() as u32)), attribute(Semantic::Weights(sets.len() as u32)))
+                {
+                    sets.push((j, w));
                 }
-                let (joints, weights) = self.skin_attributes(what, j, w, n)?;
+                let (joints, weights) = self.skin_attributes(what, &sets, n)?;
                 (Some(joints), Some(weights))
             }
             (None, None) => (None, None),
@@ -686,39 +687,70 @@ impl Loader<'_> {
     }
 
     /// JOINTS_0 and WEIGHTS_0, weights renormalised (see the module notes).
-    fn skin_attributes(
-        &mut self,
+    /// One JOINTS_k/WEIGHTS_k pair: `n` vertices of four (joint, weight) influences.
+    fn influence_set(
+        &self,
         what: &str,
-        joints_index: usize,
-        weights_index: usize,
+        set: usize,
+        (joints, weights): (usize, usize),
         n: usize,
     ) -> Result<SkinAttributes> {
-        let name = format!("{what} JOINTS_0");
-        let dense = self.accessor(joints_index, &name, &[T::Vec4], &[C::U8, C::U16])?;
-        let raw = dense.uints();
+        let name = format!("{what} JOINTS_{set}");
+        let raw = self.accessor(joints, &name, &[T::Vec4], &[C::U8, C::U16])?.uints();
         let joints: Vec<[u16; 4]> =
             raw.chunks_exact(4).map(|j| [j[0] as u16, j[1] as u16, j[2] as u16, j[3] as u16]).collect();
         if joints.len() != n {
             return Err(self.fail(format!("{name} has {} elements but POSITION has {n}", joints.len())));
         }
-        let name = format!("{what} WEIGHTS_0");
-        let flat = self.floats(weights_index, &name, T::Vec4, FLOAT_OR_UNORM)?;
-        let mut weights: Vec<[f32; 4]> = flat.chunks_exact(4).map(|w| [w[0], w[1], w[2], w[3]]).collect();
+        let name = format!("{what} WEIGHTS_{set}");
+        let flat = self.floats(weights, &name, T::Vec4, FLOAT_OR_UNORM)?;
+        let weights: Vec<[f32; 4]> = flat.chunks_exact(4).map(|w| [w[0], w[1], w[2], w[3]]).collect();
         if weights.len() != n {
             return Err(self.fail(format!("{name} has {} elements but POSITION has {n}", weights.len())));
         }
+        if let Some((v, w)) = weights.iter().enumerate().find(|(_, w)| w.iter().any(|x| !x.is_finite() || *x < -1e-6)) {
+            return Err(
+                self.fail(format!("{name}: vertex {v} has weights {w:?}; weights must be finite and not negative"))
+            );
+        }
+        Ok((joints, weights))
+    }
+
+    /// Four influences per vertex, as the GPU skins them: with more sets than one, the four
+    /// strongest of all; then weights renormalised to sum to 1 (exporters round them, or drop
+    /// the influences past four without renormalising).
+    fn skin_attributes(&mut self, what: &str, sets: &[(usize, usize)], n: usize) -> Result<SkinAttributes> {
+        let mut read = Vec::with_capacity(sets.len());
+        for (set, pair) in sets.iter().enumerate() {
+            read.push(self.influence_set(what, set, *pair, n)?);
+        }
+        let mut joints = Vec::with_capacity(n);
+        let mut weights = Vec::with_capacity(n);
+        let mut dropped = 0usize;
+        let mut all = Vec::with_capacity(4 * sets.len());
+        for v in 0..n {
+            all.clear();
+            for (j, w) in &read {
+                all.extend(j[v].iter().zip(&w[v]).map(|(j, w)| (*j, w.max(0.0))));
+            }
+            if all.len() > 4 {
+                // Stable: equal weights keep the file's order.
+                all.sort_by(|a, b| b.1.total_cmp(&a.1));
+                dropped += all[4..].iter().any(|(_, w)| *w > 0.0) as usize;
+            }
+            joints.push([0, 1, 2, 3].map(|k| all[k].0));
+            weights.push([0, 1, 2, 3].map(|k| all[k].1));
+        }
+        let name = format!("{what} WEIGHTS_0");
+        if dropped > 0 {
+            self.warnings.push(format!(
+                "{name}..{}: {dropped} vertices have more than 4 influences; the 4 strongest are kept",
+                sets.len() - 1
+            ));
+        }
         let mut unweighted = 0usize;
         let mut renormalised = 0usize;
-        for (v, w) in weights.iter_mut().enumerate() {
-            if w.iter().any(|x| !x.is_finite() || *x < -1e-6) {
-                return Err(self.fail(format!(
-                    "{name}: vertex {v} has weights {w:?}; weights must be finite and not \
-                     negative"
-                )));
-            }
-            for x in w.iter_mut() {
-                *x = x.max(0.0);
-            }
+        for w in weights.iter_mut() {
             let sum: f32 = w.iter().sum();
             if sum <= 0.0 {
                 *w = [1.0, 0.0, 0.0, 0.0];

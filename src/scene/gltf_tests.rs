@@ -692,6 +692,73 @@ fn unnormalised_and_zero_weights_are_repaired() {
     assert!(model.warnings.iter().any(|w| w.contains("renormalised")));
 }
 
+#[test]
+fn eight_influences_keep_the_four_strongest() {
+    // RiggedSimple with a second influence set: JOINTS_0 is accessor 1 (VEC4 USHORT), WEIGHTS_0
+    // accessor 4. Vertex 0 gets influences spread over both sets, the rest an empty set 1.
+    let dir = assets();
+    let original = load(&dir, "RiggedSimple.glb");
+    let (mut json, mut bin) = glb_parts(&std::fs::read(dir.join("RiggedSimple.glb")).unwrap());
+    let j0 = element_offset(&json, 1, 0, 8);
+    let w0 = element_offset(&json, 4, 0, 16);
+    for (k, (j, w)) in [(0u16, 0.4f32), (1, 0.1), (0, 0.02), (1, 0.01)].iter().enumerate() {
+        bin[j0 + 2 * k..j0 + 2 * k + 2].copy_from_slice(&j.to_le_bytes());
+        bin[w0 + 4 * k..w0 + 4 * k + 4].copy_from_slice(&w.to_le_bytes());
+    }
+    let n = 160;
+    let (joints_at, weights_at) = (bin.len(), bin.len() + n * 8);
+    let mut joints1 = vec![0u8; n * 8];
+    let mut weights1 = vec![0u8; n * 16];
+    for (k, (j, w)) in [(1u16, 0.3f32), (0, 0.2), (1, 0.0), (0, 0.0)].iter().enumerate() {
+        joints1[2 * k..2 * k + 2].copy_from_slice(&j.to_le_bytes());
+        weights1[4 * k..4 * k + 4].copy_from_slice(&w.to_le_bytes());
+    }
+    bin.extend(joints1);
+    bin.extend(weights1);
+    json["buffers"][0]["byteLength"] = json!(bin.len());
+    let views = json["bufferViews"].as_array_mut().unwrap();
+    views.push(json!({ "buffer": 0, "byteOffset": joints_at, "byteLength": n * 8 }));
+    views.push(json!({ "buffer": 0, "byteOffset": weights_at, "byteLength": n * 16 }));
+    let view = views.len() - 2;
+    let accessors = json["accessors"].as_array_mut().unwrap();
+    accessors.push(json!({ "bufferView": view, "componentType": 5123, "count": n, "type": "VEC4" }));
+    accessors.push(json!({ "bufferView": view + 1, "componentType": 5126, "count": n, "type": "VEC4" }));
+    let first = accessors.len() - 2;
+    let attributes = &mut json["meshes"][0]["primitives"][0]["attributes"];
+    attributes["JOINTS_1"] = json!(first);
+    attributes["WEIGHTS_1"] = json!(first + 1);
+
+    let model = load_gltf_slice(&make_glb(&json, &bin), Path::new("Eight.glb")).unwrap();
+    let prim = &model.meshes[0].primitives[0];
+    let (joints, weights) = (prim.joints.as_ref().unwrap(), prim.weights.as_ref().unwrap());
+    // 0.4, 0.3, 0.2 and 0.1 of the eight; 0.02 and 0.01 dropped; the sum is already 1.
+    assert_eq!(joints[0], [0, 1, 0, 1]);
+    for (got, want) in weights[0].iter().zip([0.4, 0.3, 0.2, 0.1]) {
+        assert!((got - want).abs() < 1e-6, "{:?}", weights[0]);
+    }
+    assert!(
+        model.warnings.iter().any(|w| w.contains("1 vertices have more than 4 influences")),
+        "{:?}",
+        model.warnings
+    );
+    // Every other vertex skins as before: the same weight per joint.
+    let (joints_before, weights_before) = {
+        let p = &original.meshes[0].primitives[0];
+        (p.joints.as_ref().unwrap(), p.weights.as_ref().unwrap())
+    };
+    let per_joint = |j: &[u16; 4], w: &[f32; 4]| {
+        let mut sum = [0.0f32; 2];
+        for k in 0..4 {
+            sum[j[k] as usize] += w[k];
+        }
+        sum
+    };
+    for v in 1..n {
+        let (a, b) = (per_joint(&joints[v], &weights[v]), per_joint(&joints_before[v], &weights_before[v]));
+        assert!((a[0] - b[0]).abs() < 1e-6 && (a[1] - b[1]).abs() < 1e-6, "vertex {v}: {a:?} vs {b:?}");
+    }
+}
+
 /// Random byte damage anywhere in each asset: the loader may accept or reject, never panic.
 #[test]
 fn random_corruption_never_panics() {

@@ -18,7 +18,7 @@ mod gltf_tests;
 pub use animation::{pose_at, rest_pose, sample_channel, Animation, TimeMode};
 pub use builtin::{builtin_scene, builtin_scene_at, BUILTIN_SCENES, OTHER_SCENES};
 pub use camera::{Camera, Light};
-pub use from_gltf::scene_from_gltf;
+pub use from_gltf::{scene_and_warnings_from_gltf, scene_from_gltf};
 pub use gltf_loader::{load_gltf, load_gltf_slice};
 pub use model::{Model, Transform, MAX_JOINTS};
 pub use objects::{Scene, SceneObject, SceneSkin};
