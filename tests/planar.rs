@@ -439,3 +439,43 @@ fn profile_shows_each_shadow_kind() {
         assert_eq!(names, expected, "{technique}");
     }
 }
+
+#[test]
+fn a_renderer_built_once_follows_the_walk_as_if_rebuilt_at_each_time() {
+    // What the viewer does every frame: the scene built at 0 s, re-posed (joint palettes) and
+    // drawn by the same renderer, equals a scene built at that time, for every technique that
+    // skins on the GPU, and for a glTF file's animation too.
+    let gpu = common::gpu();
+    let rigged = common::shared_asset("RiggedSimple.glb");
+    type SceneAt<'a> = Box<dyn Fn(f32) -> Scene + 'a>;
+    let sources: [(&str, SceneAt); 2] = [
+        ("character", Box::new(|t| builtin_scene_at("character", t).expect("scene"))),
+        ("RiggedSimple", Box::new(|t| scene_from_gltf(&rigged, t).expect("scene"))),
+    ];
+    for (name, build) in &sources {
+        let start = build(0.0);
+        for technique in [Technique::Planar, Technique::Blob, Technique::ShadowTexture] {
+            let options = RenderOptions { width: SIZE.0, height: SIZE.1, technique, ..Default::default() };
+            let mut renderer = nostencil::technique::scene_renderer::build(&gpu, &start, &options).expect("renderer");
+            let mut moving = start.clone();
+            let mut changed = 0;
+            for time in [0.3, 0.6] {
+                moving.pose_at(time).expect("pose");
+                let live = renderer.frame_with(&moving).expect("frame").output.image;
+                let mut rebuilt = build(time);
+                // A glTF scene fits its ground (size and place) and camera to the pose it is
+                // built in; keep the first ones.
+                for (o, first) in rebuilt.objects.iter_mut().zip(&start.objects).filter(|(o, _)| o.rig.is_none()) {
+                    o.transform = first.transform;
+                    rebuilt.meshes[o.mesh] = start.meshes[first.mesh].clone();
+                }
+                rebuilt.camera = start.camera;
+                let reference = render_scene(&gpu, &rebuilt, &options).expect("frame").output.image;
+                assert_eq!(rgb_differences(&live, &reference), 0, "{name} {technique:?} at {time}s");
+                changed += rgb_differences(&live, &render_scene(&gpu, &start, &options).expect("frame").output.image);
+            }
+            assert!(changed > 50, "{name} {technique:?}: the walk does not show ({changed} pixels moved)");
+        }
+    }
+    common::assert_no_validation_messages(&gpu);
+}

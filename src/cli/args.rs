@@ -108,7 +108,8 @@ pub enum Command {
         /// After N presented frames, resize the window to WxH (for tests of the resize path).
         #[arg(long, num_args = 2, value_names = ["N", "WxH"])]
         resize_after: Option<Vec<String>>,
-        /// Start with the animation (casters turning) paused: frames then match `render`.
+        /// Start with the animation (casters turning, animated models playing) paused: frames
+        /// then match `render`.
         #[arg(long)]
         paused: bool,
     },

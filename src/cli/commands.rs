@@ -584,6 +584,7 @@ fn view(
             screenshot,
             resize_after,
             paused,
+            start_time: frame.time,
         },
         scene,
     )

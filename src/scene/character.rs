@@ -8,12 +8,14 @@
 //! manifold (several components), and it casts shadow volumes like any closed mesh.
 
 use std::f32::consts::TAU;
+use std::sync::Arc;
 
 use glam::{Mat4, Quat, Vec3};
 
 use super::from_gltf::add_model;
 use super::model::{Mesh, Model, Node, Primitive, Skin, Transform};
 use super::objects::Scene;
+use super::rig::{Rig, RigPose};
 use super::skinning::world_matrices;
 use crate::error::{Error, Result};
 
@@ -175,10 +177,10 @@ pub fn add_character(scene: &mut Scene, placement: Mat4, time: f32, colour: Vec3
     if !time.is_finite() {
         return Err(Error::InvalidInput(format!("animation time {time} is not a finite number of seconds")));
     }
-    let model = character_model();
-    let world = world_matrices(&model, &walk_pose(&model, placement, time));
+    let rig = Arc::new(Rig { model: character_model(), pose: RigPose::Walk { placement } });
+    let world = world_matrices(&rig.model, &walk_pose(&rig.model, placement, time));
     let first = scene.objects.len();
-    add_model(scene, &model, &world)?;
+    add_model(scene, &rig, &world)?;
     for object in &mut scene.objects[first..] {
         object.name = "character".into();
         object.colour = colour;

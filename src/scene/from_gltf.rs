@@ -3,6 +3,7 @@
 //! receives the shadows, with a camera and light fitted to the model.
 
 use std::path::Path;
+use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
 
@@ -12,6 +13,7 @@ use super::camera::{Camera, Light};
 use super::gltf_loader::load_gltf;
 use super::model::{LightKind, Model};
 use super::objects::{Scene, SceneSkin};
+use super::rig::{ObjectRig, Rig, RigPose};
 use super::skinning::{joint_matrices, skin_positions_normals, world_matrices};
 use crate::error::Result;
 use crate::mesh::{self, EdgeAdjacency, MeshData};
@@ -23,28 +25,35 @@ pub fn scene_from_gltf(path: &Path, time: f32) -> Result<Scene> {
 
 /// [`scene_from_gltf`], with the loader's warnings: what it skipped or repaired.
 pub fn scene_and_warnings_from_gltf(path: &Path, time: f32) -> Result<(Scene, Vec<String>)> {
-    let model = load_gltf(path)?;
+    let mut model = load_gltf(path)?;
+    let warnings = std::mem::take(&mut model.warnings);
     let name = path.file_name().map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned());
     let local = if model.animations.is_empty() { rest_pose(&model) } else { pose_at(&model, 0, time, TimeMode::Loop)? };
     let world = world_matrices(&model, &local);
+    let rig = Arc::new(Rig { model, pose: RigPose::FirstAnimation });
+    let model = &rig.model;
 
     let mut scene =
-        empty_scene(&name, Camera::look_at(Vec3::new(0.0, 2.0, 5.0), Vec3::ZERO), default_light(&model, &world));
-    let Some((low, high)) = add_model(&mut scene, &model, &world)? else {
+        empty_scene(&name, Camera::look_at(Vec3::new(0.0, 2.0, 5.0), Vec3::ZERO), default_light(model, &world));
+    let Some((low, high)) = add_model(&mut scene, &rig, &world)? else {
         return Err(crate::Error::Asset {
             path: path.to_path_buf(),
             problem: "the file has no triangle meshes to render".into(),
         });
     };
     fit_ground_and_camera(&mut scene, low, high);
-    Ok((scene, model.warnings))
+    Ok((scene, warnings))
 }
 
-/// Adds every mesh primitive of `model` to `scene`, posed by the nodes' world matrices `world`:
-/// skinned primitives are skinned on the CPU into the object's mesh and keep their skin
-/// (bind-pose vertices, joints, weights, this pose's joint palette) for GPU skinning. Returns
-/// the world-space bounds of what was added, `None` when nothing was.
-pub fn add_model(scene: &mut Scene, model: &Model, world: &[Mat4]) -> Result<Option<(Vec3, Vec3)>> {
+/// Adds every mesh primitive of `rig`'s model to `scene`, posed by the nodes' world matrices
+/// `world`: skinned primitives are skinned on the CPU into the object's mesh and keep their
+/// skin (bind-pose vertices, joints, weights, this pose's joint palette) for GPU skinning. When
+/// the rig moves (an animation, the walk), each object keeps its node so that
+/// [`Scene::pose_at`] can re-pose it. Returns the world-space bounds of what was added, `None`
+/// when nothing was.
+pub fn add_model(scene: &mut Scene, rig: &Arc<Rig>, world: &[Mat4]) -> Result<Option<(Vec3, Vec3)>> {
+    let model = &rig.model;
+    let animated = !model.animations.is_empty() || matches!(rig.pose, RigPose::Walk { .. });
     let (mut low, mut high) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
     for (node_index, node) in model.nodes.iter().enumerate() {
         let Some(mesh) = node.mesh.and_then(|m| model.meshes.get(m)) else { continue };
@@ -90,6 +99,11 @@ pub fn add_model(scene: &mut Scene, model: &Model, world: &[Mat4]) -> Result<Opt
             let mesh_index = scene.add_mesh_with_uv1(&label, data, primitive.uv1.clone());
             scene.add_object(&label, mesh_index, node_world, colour, closed);
             if let Some(object) = scene.objects.last_mut() {
+                object.rig = animated.then(|| ObjectRig {
+                    rig: Arc::clone(rig),
+                    node: node_index,
+                    skin: node.skin.filter(|_| skin.is_some()),
+                });
                 object.skin = skin;
             }
         }

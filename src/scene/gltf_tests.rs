@@ -1030,3 +1030,27 @@ fn quantized_meshes_load_and_unsupported_required_extensions_are_refused() {
     let msg = load_error(&tmp, "Draco.glb", &make_glb(&json, &bin));
     assert_mentions(&msg, &["Draco.glb", "requires extensions KHR_draco_mesh_compression, EXT_meshopt_compression"]);
 }
+
+#[test]
+fn re_posing_a_gltf_scene_equals_loading_it_at_that_time() {
+    let dir = assets();
+    for name in ["RiggedSimple.glb", "BoxAnimated.glb", "SimpleSkin.gltf"] {
+        let path = dir.join(name);
+        let mut scene = crate::scene::scene_from_gltf(&path, 0.0).unwrap();
+        assert!(scene.is_animated(), "{name}");
+        for time in [0.4, 1.3] {
+            scene.pose_at(time).unwrap();
+            let built = crate::scene::scene_from_gltf(&path, time).unwrap();
+            let mut moved = 0;
+            // The ground is fitted to the pose a scene is built in; the model's objects move.
+            for (a, b) in scene.objects.iter().zip(&built.objects).filter(|(a, _)| a.rig.is_some()) {
+                assert_eq!(a.transform, b.transform, "{name} at {time}: {}", a.name);
+                let palette = |o: &crate::scene::SceneObject| o.skin.as_ref().map(|s| s.joint_matrices.clone());
+                assert_eq!(palette(a), palette(b), "{name} at {time}: {}", a.name);
+                moved += (a.rig.is_some()) as usize;
+            }
+            assert!(moved > 0, "{name}");
+        }
+    }
+    assert!(!crate::scene::scene_from_gltf(&dir.join("Box.glb"), 0.0).unwrap().is_animated());
+}

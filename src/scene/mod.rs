@@ -10,6 +10,7 @@ pub mod gltf_loader;
 pub mod model;
 pub mod normals;
 pub mod objects;
+pub mod rig;
 pub mod skinning;
 
 #[cfg(test)]
@@ -22,4 +23,5 @@ pub use from_gltf::{scene_and_warnings_from_gltf, scene_from_gltf};
 pub use gltf_loader::{load_gltf, load_gltf_slice};
 pub use model::{Model, Transform, MAX_JOINTS};
 pub use objects::{Scene, SceneObject, SceneSkin};
+pub use rig::{ObjectRig, Rig, RigPose};
 pub use skinning::{joint_matrices, skin_positions_normals, world_matrices};

@@ -3,6 +3,7 @@
 use glam::{Mat4, Vec2, Vec3};
 
 use super::camera::{Camera, Light};
+use super::rig::ObjectRig;
 use crate::mesh::MeshData;
 
 #[derive(Debug, Clone)]
@@ -25,6 +26,8 @@ pub struct SceneObject {
     /// The skin of a skinned object, for techniques that skin on the GPU. `mesh` holds the same
     /// vertices already posed on the CPU (what the lit pass and shadow volumes draw).
     pub skin: Option<Box<SceneSkin>>,
+    /// The animated model and node the object was placed from, for [`Scene::pose_at`].
+    pub rig: Option<ObjectRig>,
 }
 
 /// A skinned object's bind-pose vertices, four influences each, and this frame's joint palette.
@@ -40,6 +43,29 @@ pub struct SceneSkin {
     /// At most `MAX_JOINTS` matrices, in the object's (mesh node's) space: what the CPU skinning
     /// applied to produce the mesh.
     pub joint_matrices: Vec<Mat4>,
+}
+
+impl SceneSkin {
+    /// The vertices posed by this frame's palette (in the object's space), as the GPU skins
+    /// them: what follows the current pose, where the object's mesh keeps the pose the scene
+    /// was built in. Same arithmetic as `skinning::skin_positions_normals`, so at the build
+    /// pose the two agree bit for bit. A joint outside the palette counts as the identity.
+    pub fn posed_positions(&self) -> Vec<Vec3> {
+        self.positions
+            .iter()
+            .enumerate()
+            .map(|(v, &p)| {
+                let (Some(j), Some(w)) = (self.joints.get(v), self.weights.get(v)) else { return p };
+                let mut m = Mat4::ZERO;
+                for (&joint, &weight) in j.iter().zip(w) {
+                    if weight != 0.0 {
+                        m += self.joint_matrices.get(joint as usize).copied().unwrap_or(Mat4::IDENTITY) * weight;
+                    }
+                }
+                m.transform_point3(p)
+            })
+            .collect()
+    }
 }
 
 #[derive(Debug, Clone)]
@@ -65,11 +91,29 @@ impl Scene {
     }
 
     pub fn add_object(&mut self, name: &str, mesh: usize, transform: Mat4, colour: Vec3, casts_shadow: bool) {
-        self.objects.push(SceneObject { name: name.to_owned(), mesh, transform, colour, casts_shadow, skin: None });
+        self.objects.push(SceneObject {
+            name: name.to_owned(),
+            mesh,
+            transform,
+            colour,
+            casts_shadow,
+            skin: None,
+            rig: None,
+        });
     }
 
     pub fn object(&self, name: &str) -> Option<&SceneObject> {
         self.objects.iter().find(|o| o.name == name)
+    }
+
+    /// Object `index`'s vertices in its own space, in the current pose: a skinned object's
+    /// skinned by its current palette, any other's its mesh's.
+    pub fn posed_positions(&self, index: usize) -> Vec<Vec3> {
+        let Some(object) = self.objects.get(index) else { return Vec::new() };
+        match &object.skin {
+            Some(skin) => skin.posed_positions(),
+            None => self.meshes.get(object.mesh).map(|m| m.data.positions.clone()).unwrap_or_default(),
+        }
     }
 
     pub fn triangle_count(&self) -> usize {

@@ -61,6 +61,8 @@ pub struct ViewerOptions {
     pub resize_after: Option<(u32, (u32, u32))>,
     /// Start with the animation paused (frames then match `nostencil render`).
     pub paused: bool,
+    /// The animation time the scene was built at (`--time`); the viewer's clock starts there.
+    pub start_time: f32,
 }
 
 /// Opens the window and runs until it is closed (or `--frames` are done).
@@ -416,12 +418,15 @@ struct Live {
     light_yaw: f32,
     light_tilt: f32,
     paused: bool,
-    /// Animation time: shadow casters turn about their own vertical axis.
+    /// Seconds of animation since the viewer started: animated models (glTF animations, the
+    /// built-in character's walk) move, and shadow casters turn about their vertical axis.
     time: f32,
+    /// The animation time the scene was built at.
+    start_time: f32,
 }
 
 impl Live {
-    fn apply(&self, base: &Scene, scene: &mut Scene) {
+    fn apply(&self, base: &Scene, scene: &mut Scene) -> Result<()> {
         scene.camera.eye = self.orbit.eye(base.camera.target);
         scene.light = match base.light {
             Light::Directional { direction } => {
@@ -440,18 +445,28 @@ impl Live {
                     + Vec3::Y * self.light_tilt * 2.0,
             },
         };
-        let angle = self.time * 0.6;
-        for (object, original) in scene.objects.iter_mut().zip(&base.objects) {
-            if original.casts_shadow && angle != 0.0 {
-                let centre = original.transform.w_axis.truncate();
-                object.transform = Mat4::from_translation(centre)
-                    * Mat4::from_rotation_y(angle)
-                    * Mat4::from_translation(-centre)
-                    * original.transform;
-            } else {
-                object.transform = original.transform;
-            }
+        // Animated objects take their pose at this time (transforms and joint palettes; GPU
+        // skinning shows the new palettes, CPU-skinned meshes keep the starting pose). Every
+        // frame: the turn below is applied to the posed transforms.
+        if scene.is_animated() {
+            scene.pose_at(self.start_time + self.time)?;
         }
+        let posed: Vec<Mat4> = scene
+            .objects
+            .iter()
+            .zip(&base.objects)
+            .map(|(object, original)| if object.rig.is_some() { object.transform } else { original.transform })
+            .collect();
+        let angle = self.time * 0.6;
+        for ((object, original), placed) in scene.objects.iter_mut().zip(&base.objects).zip(posed) {
+            object.transform = if original.casts_shadow && angle != 0.0 {
+                let centre = placed.w_axis.truncate();
+                Mat4::from_translation(centre) * Mat4::from_rotation_y(angle) * Mat4::from_translation(-centre) * placed
+            } else {
+                placed
+            };
+        }
+        Ok(())
     }
 }
 
@@ -487,7 +502,14 @@ struct App<'s> {
 
 impl<'s> App<'s> {
     fn new(gpu: Arc<Gpu>, base: &'s Scene, options: ViewerOptions) -> Self {
-        let live = Live { orbit: Orbit::of(base), light_yaw: 0.0, light_tilt: 0.0, paused: options.paused, time: 0.0 };
+        let live = Live {
+            orbit: Orbit::of(base),
+            light_yaw: 0.0,
+            light_tilt: 0.0,
+            paused: options.paused,
+            time: 0.0,
+            start_time: options.start_time,
+        };
         App {
             technique: None,
             presenter: None,
@@ -626,7 +648,7 @@ impl<'s> App<'s> {
                 mobile_profile::MAX_IMAGE_SIDE
             )));
         }
-        self.live.apply(self.base, &mut self.scene);
+        self.live.apply(self.base, &mut self.scene)?;
         let stale = match &self.technique {
             Some(t) => t.settings != self.settings || t.extent != frame_extent || t.stale_for(&self.scene),
             None => true,

@@ -109,8 +109,8 @@ pub fn blobs(scene: &Scene, plane: &ReceiverPlane, darkness: f32) -> Vec<Blob> {
         let fade = |bottom: f32| darkness * (1.0 - (bottom - plane.height).max(0.0) / size.y.max(1e-3)).clamp(0.0, 1.0);
         let mut feet = Vec::new();
         if let Some(skin) = &object.skin {
-            let data = &scene.meshes[object.mesh].data;
-            let world: Vec<Vec3> = data.positions.iter().map(|p| object.transform.transform_point3(*p)).collect();
+            let world: Vec<Vec3> =
+                skin.posed_positions().iter().map(|p| object.transform.transform_point3(*p)).collect();
             let dominant = |v: usize| {
                 let (j, w) = (skin.joints.get(v)?, skin.weights.get(v)?);
                 (0..4).max_by(|&a, &b| w[a].total_cmp(&w[b])).map(|k| j[k])

@@ -482,14 +482,11 @@ pub fn caster_bounds(scene: &Scene, plane: &ReceiverPlane) -> Option<(Vec3, Vec3
         .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
 }
 
-/// World-space bounds of object `index` (CPU-skinned positions).
+/// World-space bounds of object `index` in its current pose (skinned by its current palette).
 pub fn caster_bounds_of(scene: &Scene, index: usize) -> Option<(Vec3, Vec3)> {
     let o = scene.objects.get(index)?;
     scene
-        .meshes
-        .get(o.mesh)?
-        .data
-        .positions
+        .posed_positions(index)
         .iter()
         .map(|p| o.transform.transform_point3(*p))
         .fold(None, |b, w| Some(b.map_or((w, w), |(lo, hi): (Vec3, Vec3)| (lo.min(w), hi.max(w)))))
