@@ -1,6 +1,6 @@
 //! What a frame draws: meshes, the objects placed from them, one light and a camera.
 
-use glam::{Mat4, Vec2, Vec3};
+use glam::{Mat3, Mat4, Vec2, Vec3};
 
 use super::camera::{Camera, Light};
 use super::rig::ObjectRig;
@@ -46,25 +46,51 @@ pub struct SceneSkin {
 }
 
 impl SceneSkin {
+    /// The blended joint matrix of vertex `v` in this frame's palette (a joint outside the
+    /// palette counts as the identity).
+    fn skin_matrix(&self, v: usize) -> Option<Mat4> {
+        let (j, w) = (self.joints.get(v)?, self.weights.get(v)?);
+        let mut m = Mat4::ZERO;
+        for (&joint, &weight) in j.iter().zip(w) {
+            if weight != 0.0 {
+                m += self.joint_matrices.get(joint as usize).copied().unwrap_or(Mat4::IDENTITY) * weight;
+            }
+        }
+        Some(m)
+    }
+
     /// The vertices posed by this frame's palette (in the object's space), as the GPU skins
     /// them: what follows the current pose, where the object's mesh keeps the pose the scene
     /// was built in. Same arithmetic as `skinning::skin_positions_normals`, so at the build
-    /// pose the two agree bit for bit. A joint outside the palette counts as the identity.
+    /// pose the two agree bit for bit.
     pub fn posed_positions(&self) -> Vec<Vec3> {
         self.positions
             .iter()
             .enumerate()
-            .map(|(v, &p)| {
-                let (Some(j), Some(w)) = (self.joints.get(v), self.weights.get(v)) else { return p };
-                let mut m = Mat4::ZERO;
-                for (&joint, &weight) in j.iter().zip(w) {
-                    if weight != 0.0 {
-                        m += self.joint_matrices.get(joint as usize).copied().unwrap_or(Mat4::IDENTITY) * weight;
-                    }
-                }
-                m.transform_point3(p)
-            })
+            .map(|(v, &p)| self.skin_matrix(v).map_or(p, |m| m.transform_point3(p)))
             .collect()
+    }
+
+    /// [`SceneSkin::posed_positions`] with normals (inverse transpose, renormalised, as
+    /// `skinning::skin_positions_normals` does).
+    pub fn posed_positions_normals(&self) -> (Vec<Vec3>, Vec<Vec3>) {
+        let mut positions = Vec::with_capacity(self.positions.len());
+        let mut normals = Vec::with_capacity(self.normals.len());
+        for (v, &p) in self.positions.iter().enumerate() {
+            let Some(m) = self.skin_matrix(v) else {
+                positions.push(p);
+                normals.extend(self.normals.get(v));
+                continue;
+            };
+            positions.push(m.transform_point3(p));
+            if let Some(&n) = self.normals.get(v) {
+                let m3 = Mat3::from_mat4(m);
+                let normal_matrix =
+                    if m3.determinant().abs() > f32::MIN_POSITIVE { m3.inverse().transpose() } else { m3 };
+                normals.push((normal_matrix * n).try_normalize().unwrap_or(n));
+            }
+        }
+        (positions, normals)
     }
 }
 

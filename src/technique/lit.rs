@@ -89,6 +89,7 @@ impl<'s> LitRenderer<'s> {
     /// Renders `scene`, a moved pose of the one this renderer was built for.
     pub fn frame_with(&mut self, scene: &Scene) -> Result<FrameOutput> {
         super::check_same_scene(self.scene, scene, "lit")?;
+        self.meshes.follow_pose(&self.renderer.gpu, scene)?;
         let uniforms = FrameUniforms::for_scene(scene, self.renderer.aspect());
         let clear = scene.background.extend(1.0).to_array();
         let (lit, meshes) = (&self.lit, &self.meshes);

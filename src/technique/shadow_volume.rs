@@ -376,6 +376,15 @@ fn light_in_object_space(light: &Light, model: &Mat4) -> mesh::Light {
 pub fn build_volume(scene: &Scene, caster: &Caster, caps: bool) -> VolumeGeometry {
     let object = &scene.objects[caster.object];
     let light = light_in_object_space(&scene.light, &object.transform);
+    if let Some(skin) = object.skin.as_ref().filter(|s| s.positions.len() >= caster.welded.remap.len()) {
+        // A skinned caster in its current pose (`Scene::pose_at` moves palettes, not meshes):
+        // the same welded topology, new positions and face normals.
+        let mut positions = Vec::new();
+        caster.welded.gather_positions(&skin.posed_positions(), &mut positions);
+        let mut normals = Vec::new();
+        caster.adjacency.recompute_face_normals(&positions, &mut normals);
+        return mesh::build_shadow_volume(&caster.adjacency, &positions, &normals, light, caps);
+    }
     mesh::build_shadow_volume(&caster.adjacency, &caster.welded.positions, &caster.adjacency.face_normals, light, caps)
 }
 
@@ -620,6 +629,7 @@ impl<'s> ShadowVolumeRenderer<'s> {
     /// and which objects cast shadows must be unchanged: casters were prepared once.
     pub fn frame_with(&mut self, scene: &Scene) -> Result<ShadowVolumeFrame> {
         crate::technique::check_same_scene(self.scene, scene, "shadow-volume")?;
+        self.meshes.follow_pose(&self.gpu, scene)?;
         let volumes = upload_volumes(&self.gpu, scene, &self.casters, self.stats.zfail)?;
         let uniforms = FrameUniforms::for_scene(scene, self.renderer.aspect());
         let shadow_factor = self.options.shadow_factor as f32 / 255.0;

@@ -6,7 +6,7 @@ use glam::{Mat4, Vec2, Vec3};
 
 use crate::error::Result;
 use crate::mesh::{self, CornerAttributes, EdgeAdjacency, EdgeClasses, View, Welded, NO_FACE};
-use crate::scene::Scene;
+use crate::scene::{Scene, SceneSkin};
 
 /// Positions closer than this weld into one vertex (UV seams, split normals): a seam of the
 /// vertex buffer is no seam of the surface, so it neither breaks a line nor draws one.
@@ -76,6 +76,18 @@ impl InkMesh {
 
     /// This frame's classification from `eye` (world space): face normals recomputed (the
     /// mesh may have moved), then silhouette, crease and boundary flags.
+    /// Takes the skin's current pose as the welded positions (the topology stays). False when
+    /// the skin does not cover the mesh this was built from.
+    pub fn follow(&mut self, skin: &SceneSkin) -> bool {
+        if skin.positions.len() < self.welded.remap.len() {
+            return false;
+        }
+        let mut positions = Vec::with_capacity(self.welded.positions.len());
+        self.welded.gather_positions(&skin.posed_positions(), &mut positions);
+        self.welded.positions = positions;
+        true
+    }
+
     pub fn classify(&mut self, model: &Mat4, eye: Vec3, crease_deg: f32) -> &EdgeClasses {
         self.adjacency.recompute_face_normals(&self.welded.positions, &mut self.face_normals);
         let eye = model.inverse().transform_point3(eye);

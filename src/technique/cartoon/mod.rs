@@ -404,7 +404,12 @@ pub struct CartoonRenderer<'s> {
     meshes: GpuScene,
     /// Per object: welded mesh with smooth normals (outline copy, hull).
     extruded: Vec<GpuMesh>,
+    /// Per object: its welded mesh and edge list (ink lines when `edges`; the extruded copy).
     ink: Vec<InkMesh>,
+    /// Ink lines from the edge list (`--silhouette edges`).
+    edges: bool,
+    /// Per object: the joint palette `ink` and `extruded` are posed with (skinned objects).
+    palettes: Vec<Option<Vec<Mat4>>>,
     quads: InkQuads,
     selected: Vec<bool>,
     textures: Textures,
@@ -440,19 +445,15 @@ impl<'s> CartoonRenderer<'s> {
         let mut ink = Vec::new();
         for (index, object) in scene.objects.iter().enumerate() {
             let prepared = InkMesh::new(scene, index)?;
-            let normals = ink::smooth_normals(&prepared.welded);
-            let interleaved: Vec<[Vec3; 2]> =
-                prepared.welded.positions.iter().zip(&normals).map(|(p, n)| [*p, *n]).collect();
             extruded.push(GpuMesh::from_raw(
                 gpu,
                 &format!("{} (extruded)", object.name),
-                as_bytes(&interleaved),
+                as_bytes(&extruded_vertices(&prepared)),
                 &prepared.welded.indices,
             )?);
-            if edges {
-                ink.push(prepared);
-            }
+            ink.push(prepared);
         }
+        let palettes = scene.objects.iter().map(|o| o.skin.as_ref().map(|s| s.joint_matrices.clone())).collect();
 
         let outline = technique == Technique::Outline;
         let pipelines = Pipelines {
@@ -478,6 +479,8 @@ impl<'s> CartoonRenderer<'s> {
             meshes,
             extruded,
             ink,
+            edges,
+            palettes,
             quads: InkQuads::default(),
             selected,
             textures,
@@ -500,6 +503,32 @@ impl<'s> CartoonRenderer<'s> {
     }
 
     /// Per-frame CPU edge work for every object; returns its time in ms.
+    /// Skinned objects whose palette changed (`Scene::pose_at`) get their lit mesh, welded
+    /// positions (so the per-frame face normals and edges) and extruded copy re-posed.
+    fn follow_pose(&mut self, scene: &Scene) -> Result<()> {
+        self.meshes.follow_pose(&self.gpu, scene)?;
+        for (index, object) in scene.objects.iter().enumerate() {
+            let (Some(skin), Some(ink), Some(posed)) =
+                (&object.skin, self.ink.get_mut(index), self.palettes.get_mut(index))
+            else {
+                continue;
+            };
+            if posed.as_ref() == Some(&skin.joint_matrices) || !ink.follow(skin) {
+                continue;
+            }
+            *posed = Some(skin.joint_matrices.clone());
+            if let Some(mesh) = self.extruded.get_mut(index) {
+                mesh.vertices = Buffer::device_local(
+                    &self.gpu,
+                    &format!("{} (extruded, posed)", object.name),
+                    as_bytes(&extruded_vertices(ink)),
+                    vk::BufferUsageFlags::VERTEX_BUFFER,
+                )?;
+            }
+        }
+        Ok(())
+    }
+
     fn build_quads(&mut self, scene: &Scene) -> f64 {
         let start = Instant::now();
         let crease = self.options.crease_deg;
@@ -523,7 +552,8 @@ impl<'s> CartoonRenderer<'s> {
     /// classified against its camera and transforms).
     pub fn frame_with(&mut self, scene: &Scene) -> Result<CartoonFrame> {
         crate::technique::check_same_scene(self.scene, scene, self.technique.name())?;
-        let edge_cpu_ms = if self.ink.is_empty() { 0.0 } else { self.build_quads(scene) };
+        self.follow_pose(scene)?;
+        let edge_cpu_ms = if self.edges { self.build_quads(scene) } else { 0.0 };
         let gpu = self.gpu.clone();
         let upload = |name: &str, vertices: &[InkVertex]| -> Result<Option<(Buffer, u32)>> {
             if vertices.is_empty() {
@@ -656,10 +686,16 @@ impl<'s> CartoonRenderer<'s> {
             crease_edges,
             boundary_edges,
             edge_cpu_ms,
-            total_edges: self.ink.iter().map(|m| m.adjacency.edges.len()).sum(),
+            total_edges: if self.edges { self.ink.iter().map(|m| m.adjacency.edges.len()).sum() } else { 0 },
         };
         Ok(CartoonFrame { output, stats })
     }
+}
+
+/// The welded mesh with smooth normals, interleaved: the outline copy and the inverted hull.
+fn extruded_vertices(ink: &InkMesh) -> Vec<[Vec3; 2]> {
+    let normals = ink::smooth_normals(&ink.welded);
+    ink.welded.positions.iter().zip(&normals).map(|(p, n)| [*p, *n]).collect()
 }
 
 /// Renders one cartoon frame.
