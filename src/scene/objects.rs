@@ -1,9 +1,10 @@
 //! What a frame draws: meshes, the objects placed from them, one light and a camera.
 
-use glam::{Mat3, Mat4, Vec2, Vec3};
+use glam::{Mat4, Vec2, Vec3};
 
 use super::camera::{Camera, Light};
 use super::rig::ObjectRig;
+use super::skinning::{blend_joints, skin_normal};
 use crate::mesh::MeshData;
 
 #[derive(Debug, Clone)]
@@ -46,22 +47,15 @@ pub struct SceneSkin {
 }
 
 impl SceneSkin {
-    /// The blended joint matrix of vertex `v` in this frame's palette (a joint outside the
-    /// palette counts as the identity).
+    /// Vertex `v`'s skinning matrix in this frame's palette; `None` for a vertex without
+    /// influences or with a joint outside the palette (the loader rules both out).
     fn skin_matrix(&self, v: usize) -> Option<Mat4> {
-        let (j, w) = (self.joints.get(v)?, self.weights.get(v)?);
-        let mut m = Mat4::ZERO;
-        for (&joint, &weight) in j.iter().zip(w) {
-            if weight != 0.0 {
-                m += self.joint_matrices.get(joint as usize).copied().unwrap_or(Mat4::IDENTITY) * weight;
-            }
-        }
-        Some(m)
+        blend_joints(self.joints.get(v)?, self.weights.get(v)?, &self.joint_matrices).ok()
     }
 
     /// The vertices posed by this frame's palette (in the object's space), as the GPU skins
     /// them: what follows the current pose, where the object's mesh keeps the pose the scene
-    /// was built in. Same arithmetic as `skinning::skin_positions_normals`, so at the build
+    /// was built in. The arithmetic of `skinning::skin_positions_normals`, so at the build
     /// pose the two agree bit for bit.
     pub fn posed_positions(&self) -> Vec<Vec3> {
         self.positions
@@ -71,23 +65,15 @@ impl SceneSkin {
             .collect()
     }
 
-    /// [`SceneSkin::posed_positions`] with normals (inverse transpose, renormalised, as
-    /// `skinning::skin_positions_normals` does).
+    /// [`SceneSkin::posed_positions`] with normals.
     pub fn posed_positions_normals(&self) -> (Vec<Vec3>, Vec<Vec3>) {
         let mut positions = Vec::with_capacity(self.positions.len());
         let mut normals = Vec::with_capacity(self.normals.len());
         for (v, &p) in self.positions.iter().enumerate() {
-            let Some(m) = self.skin_matrix(v) else {
-                positions.push(p);
-                normals.extend(self.normals.get(v));
-                continue;
-            };
-            positions.push(m.transform_point3(p));
+            let m = self.skin_matrix(v);
+            positions.push(m.map_or(p, |m| m.transform_point3(p)));
             if let Some(&n) = self.normals.get(v) {
-                let m3 = Mat3::from_mat4(m);
-                let normal_matrix =
-                    if m3.determinant().abs() > f32::MIN_POSITIVE { m3.inverse().transpose() } else { m3 };
-                normals.push((normal_matrix * n).try_normalize().unwrap_or(n));
+                normals.push(m.map_or(n, |m| skin_normal(m, n)));
             }
         }
         (positions, normals)

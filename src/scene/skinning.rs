@@ -98,27 +98,38 @@ pub fn skin_positions_normals(
         let (Some(j), Some(w)) = (joints.get(v), weights.get(v)) else {
             return Err(Error::InvalidInput(format!("vertex {v} has no joints or weights")));
         };
-        let mut m = Mat4::ZERO;
-        for (&joint, &weight) in j.iter().zip(w) {
-            if weight == 0.0 {
-                continue;
-            }
-            let jm = joint_matrices.get(joint as usize).ok_or_else(|| {
-                Error::InvalidInput(format!(
-                    "vertex {v} uses joint {joint}, but only {} joint matrices were given",
-                    joint_matrices.len()
-                ))
-            })?;
-            m += *jm * weight;
-        }
+        let m = blend_joints(j, w, joint_matrices).map_err(|joint| {
+            Error::InvalidInput(format!(
+                "vertex {v} uses joint {joint}, but only {} joint matrices were given",
+                joint_matrices.len()
+            ))
+        })?;
         out_positions.push(m.transform_point3(p));
         if let Some(&n) = primitive.normals.get(v) {
-            let m3 = Mat3::from_mat4(m);
-            let normal_matrix = if m3.determinant().abs() > f32::MIN_POSITIVE { m3.inverse().transpose() } else { m3 };
-            out_normals.push((normal_matrix * n).try_normalize().unwrap_or(n));
+            out_normals.push(skin_normal(m, n));
         }
     }
     Ok(())
+}
+
+/// A vertex's skinning matrix: the weighted sum of its joints' matrices (zero weights
+/// skipped). `Err(joint)`: a weighted joint outside `palette`.
+pub fn blend_joints(joints: &[u16; 4], weights: &[f32; 4], palette: &[Mat4]) -> std::result::Result<Mat4, u16> {
+    let mut m = Mat4::ZERO;
+    for (&joint, &weight) in joints.iter().zip(weights) {
+        if weight != 0.0 {
+            m += *palette.get(joint as usize).ok_or(joint)? * weight;
+        }
+    }
+    Ok(m)
+}
+
+/// A normal under skinning matrix `m`: the inverse transpose of its upper 3x3 (right under
+/// non-uniform scale), renormalised.
+pub fn skin_normal(m: Mat4, n: Vec3) -> Vec3 {
+    let m3 = Mat3::from_mat4(m);
+    let normal_matrix = if m3.determinant().abs() > f32::MIN_POSITIVE { m3.inverse().transpose() } else { m3 };
+    (normal_matrix * n).try_normalize().unwrap_or(n)
 }
 
 #[cfg(test)]

@@ -118,28 +118,16 @@ pub fn overlap(uvs: &[Vec2], indices: &[u32], size: u32) -> Option<String> {
     let mut covered = 0usize;
     let mut doubled = 0usize;
     for t in indices.chunks_exact(3) {
-        let [a, b, c] = [0, 1, 2].map(|k| uvs.get(t[k] as usize).copied().unwrap_or_default() * size as f32);
-        let area = (b - a).perp_dot(c - a);
-        if area.abs() < 1e-12 {
-            continue;
-        }
-        let lo = a.min(b).min(c).floor().max(Vec2::ZERO);
-        let hi = a.max(b).max(c).ceil().min(Vec2::splat(size as f32));
-        for y in lo.y as u32..hi.y as u32 {
-            for x in lo.x as u32..hi.x as u32 {
-                let p = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
-                let w = [(c - b).perp_dot(p - b), (a - c).perp_dot(p - c), (b - a).perp_dot(p - a)].map(|w| w / area);
-                if w.iter().all(|w| *w > 1e-4) {
-                    let h = &mut hits[(y * size + x) as usize];
-                    match *h {
-                        0 => covered += 1,
-                        1 => doubled += 1,
-                        _ => {}
-                    }
-                    *h = h.saturating_add(1);
-                }
+        let corners = [0, 1, 2].map(|k| uvs.get(t[k] as usize).copied().unwrap_or_default() * size as f32);
+        charts::for_each_covered_texel(corners, size, |texel| {
+            let h = &mut hits[texel];
+            match *h {
+                0 => covered += 1,
+                1 => doubled += 1,
+                _ => {}
             }
-        }
+            *h = h.saturating_add(1);
+        });
     }
     // A few texels along shared edges may count twice by rounding; a real overlap is larger.
     (doubled > covered / 1000).then(|| format!("{doubled} of {covered} covered texels are covered twice"))

@@ -109,7 +109,7 @@ fn self_covering_charts(charts: &[(Vec<u32>, usize)], corner_uvs: &[Vec2], size:
 
 /// Calls `visit` with the index of every texel whose centre lies strictly inside triangle `t`
 /// (in texels).
-fn for_each_covered_texel([a, b, c]: [Vec2; 3], size: u32, mut visit: impl FnMut(usize)) {
+pub(super) fn for_each_covered_texel([a, b, c]: [Vec2; 3], size: u32, mut visit: impl FnMut(usize)) {
     let area = (b - a).perp_dot(c - a);
     if area.abs() < 1e-12 {
         return;
