@@ -39,7 +39,7 @@ fn profile_json_is_readable_by_a_program() {
     let output = nostencil(&["profile", "--size", "128x96", "--format", "json"]);
     assert!(output.status.success(), "{}", stderr(&output));
     let report: serde_json::Value = serde_json::from_slice(&output.stdout).expect("JSON");
-    assert_eq!(report["schema"], "nostencil-profile/1");
+    assert_eq!(report["schema"], "nostencil-profile/2");
     assert_eq!(report["width"], 128);
     let passes = report["passes"].as_array().expect("passes");
     let scene = passes.iter().find(|p| p["name"] == "scene").expect("scene pass");

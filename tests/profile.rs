@@ -205,3 +205,49 @@ fn heat_map_sums_to_the_samples_every_technique_passed() {
     }
     common::assert_no_validation_messages(&gpu);
 }
+
+#[test]
+fn tile_traffic_is_listed_per_render_pass_with_known_sizes() {
+    // The frame alone: colour cleared and stored (W x H x 4 bytes), depth cleared, not stored.
+    let json = |args: &[&str]| -> serde_json::Value {
+        let output = nostencil(args);
+        assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+        serde_json::from_slice(&output.stdout).expect("JSON")
+    };
+    let lit = json(&["profile", "--size", "96x64", "--format", "json"]);
+    let passes = lit["render_passes"].as_array().expect("render_passes");
+    assert_eq!(passes.len(), 1, "{passes:?}");
+    assert_eq!((passes[0]["pass"].as_str(), passes[0]["count"].as_u64()), (Some("frame"), Some(1)));
+    let frame = passes[0]["attachments"].as_array().expect("attachments");
+    assert_eq!(frame[0]["bytes_stored"], 96 * 64 * 4);
+    assert_eq!(frame[0]["bytes_loaded"], 0);
+    assert_eq!(frame[1]["bytes_stored"], 0);
+
+    // The atlas with a moving light: the shadow map (512^2 depth, stored), one bake and one
+    // dilate per model (colour, stored) under their passes, then the frame.
+    let atlas = json(&[
+        "profile",
+        "--size",
+        "96x64",
+        "--format",
+        "json",
+        "--technique",
+        "shadow-texture-atlas",
+        "--scene",
+        "atlas-one",
+        "--light",
+        "moving",
+    ]);
+    let passes = atlas["render_passes"].as_array().expect("render_passes");
+    let names: Vec<&str> = passes.iter().filter_map(|p| p["pass"].as_str()).collect();
+    assert_eq!(names, ["shadow map", "atlas bake", "atlas dilate", "frame"], "{passes:?}");
+    let map = &passes[0];
+    assert_eq!((map["width"].as_u64(), map["height"].as_u64()), (Some(512), Some(512)));
+    let depth = &map["attachments"][0];
+    let texel = if depth["format"] == "D16_UNORM" { 2 } else { 4 };
+    assert_eq!(depth["bytes_stored"], 512 * 512 * texel);
+    // atlas-one: the model and the ground, each with a 256x256 shadow texture.
+    let bake = &passes[1];
+    assert_eq!((bake["width"].as_u64(), bake["count"].as_u64()), (Some(256), Some(2)));
+    assert_eq!(bake["attachments"][0]["bytes_stored"], 256 * 256 * 4);
+}

@@ -163,9 +163,6 @@ fn profile(frame: &FrameArgs, format: FormatArg, outputs: &ProfileOutputs) -> Re
     render_scene(&gpu, &scene, &options)?;
     let frame_result = render_scene(&gpu, &scene, &options)?;
     let output = &frame_result.output;
-    let depth_format = crate::frame::targets::choose_depth_format(&gpu, options.stencil)?;
-    let attachments =
-        crate::frame::RenderPassDesc::frame(depth_format, false).tile_traffic(options.width, options.height);
     let (technique, stencil) = (options.technique.name(), options.stencil.name());
     let mut report = ProfileReport::new(
         ReportContext {
@@ -175,7 +172,6 @@ fn profile(frame: &FrameArgs, format: FormatArg, outputs: &ProfileOutputs) -> Re
             stencil: stencil.into(),
         },
         &output.counters,
-        attachments,
     );
     report.technique_stats = match (&frame_result.shadow_volume, &frame_result.cartoon, &frame_result.planar) {
         (Some(s), _, _) => serde_json::to_value(s).ok(),

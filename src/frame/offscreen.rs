@@ -6,6 +6,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
+use super::render_pass::AttachmentDesc;
 use crate::error::{Result, VkContext};
 use crate::gpu::memory::Image;
 use crate::gpu::Gpu;
@@ -14,6 +15,8 @@ use crate::gpu::Gpu;
 pub struct RenderPass {
     gpu: Arc<Gpu>,
     pub raw: vk::RenderPass,
+    /// Its one attachment, as the profile's tile-traffic table reads it.
+    pub attachment: AttachmentDesc,
 }
 
 impl Drop for RenderPass {
@@ -108,15 +111,16 @@ fn dependencies(
 
 /// Depth only: cleared, stored (unlike the frame's depth) and left ready for sampling.
 pub fn depth_render_pass(gpu: &Arc<Gpu>, format: vk::Format) -> Result<RenderPass> {
-    let attachments = [vk::AttachmentDescription::default()
-        .format(format)
-        .samples(vk::SampleCountFlags::TYPE_1)
-        .load_op(vk::AttachmentLoadOp::CLEAR)
-        .store_op(vk::AttachmentStoreOp::STORE)
-        .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
-        .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
-        .initial_layout(vk::ImageLayout::UNDEFINED)
-        .final_layout(vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL)];
+    let attachment = AttachmentDesc {
+        name: "depth",
+        format,
+        load: vk::AttachmentLoadOp::CLEAR,
+        store: vk::AttachmentStoreOp::STORE,
+        stencil_load: vk::AttachmentLoadOp::DONT_CARE,
+        stencil_store: vk::AttachmentStoreOp::DONT_CARE,
+        final_layout: vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL,
+        transient: false,
+    };
     let depth_ref =
         vk::AttachmentReference { attachment: 0, layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL };
     let subpasses = [vk::SubpassDescription::default()
@@ -126,7 +130,7 @@ pub fn depth_render_pass(gpu: &Arc<Gpu>, format: vk::Format) -> Result<RenderPas
         vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS,
         vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_READ,
     );
-    build(gpu, &attachments, &subpasses, &deps)
+    build(gpu, attachment, &subpasses, &deps)
 }
 
 /// One colour attachment, cleared (`clear`) or not loaded, stored, left in `final_layout`.
@@ -136,30 +140,40 @@ pub fn colour_render_pass(
     clear: bool,
     final_layout: vk::ImageLayout,
 ) -> Result<RenderPass> {
-    let attachments = [vk::AttachmentDescription::default()
-        .format(format)
-        .samples(vk::SampleCountFlags::TYPE_1)
-        .load_op(if clear { vk::AttachmentLoadOp::CLEAR } else { vk::AttachmentLoadOp::DONT_CARE })
-        .store_op(vk::AttachmentStoreOp::STORE)
-        .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
-        .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
-        .initial_layout(vk::ImageLayout::UNDEFINED)
-        .final_layout(final_layout)];
+    let attachment = AttachmentDesc {
+        name: "colour",
+        format,
+        load: if clear { vk::AttachmentLoadOp::CLEAR } else { vk::AttachmentLoadOp::DONT_CARE },
+        store: vk::AttachmentStoreOp::STORE,
+        stencil_load: vk::AttachmentLoadOp::DONT_CARE,
+        stencil_store: vk::AttachmentStoreOp::DONT_CARE,
+        final_layout,
+        transient: false,
+    };
     let colour_ref = [vk::AttachmentReference { attachment: 0, layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL }];
     let subpasses = [vk::SubpassDescription::default()
         .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
         .color_attachments(&colour_ref)];
     let deps = dependencies(vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT, vk::AccessFlags::COLOR_ATTACHMENT_WRITE);
-    build(gpu, &attachments, &subpasses, &deps)
+    build(gpu, attachment, &subpasses, &deps)
 }
 
 fn build(
     gpu: &Arc<Gpu>,
-    attachments: &[vk::AttachmentDescription],
+    attachment: AttachmentDesc,
     subpasses: &[vk::SubpassDescription],
     deps: &[vk::SubpassDependency],
 ) -> Result<RenderPass> {
-    let info = vk::RenderPassCreateInfo::default().attachments(attachments).subpasses(subpasses).dependencies(deps);
+    let attachments = [vk::AttachmentDescription::default()
+        .format(attachment.format)
+        .samples(vk::SampleCountFlags::TYPE_1)
+        .load_op(attachment.load)
+        .store_op(attachment.store)
+        .stencil_load_op(attachment.stencil_load)
+        .stencil_store_op(attachment.stencil_store)
+        .initial_layout(vk::ImageLayout::UNDEFINED)
+        .final_layout(attachment.final_layout)];
+    let info = vk::RenderPassCreateInfo::default().attachments(&attachments).subpasses(subpasses).dependencies(deps);
     let raw = unsafe { gpu.raw().create_render_pass(&info, None) }.vk("vkCreateRenderPass")?;
-    Ok(RenderPass { gpu: gpu.clone(), raw })
+    Ok(RenderPass { gpu: gpu.clone(), raw, attachment })
 }

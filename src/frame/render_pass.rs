@@ -164,36 +164,34 @@ impl RenderPassDesc {
     /// Bytes a tile-based GPU moves for this pass: loads from and stores to main memory, per
     /// attachment. Cleared, discarded and transient attachments move nothing.
     pub fn tile_traffic(&self, width: u32, height: u32) -> Vec<AttachmentTraffic> {
-        let pixels = width as u64 * height as u64;
+        [self.colour, self.depth].iter().map(|a| a.tile_traffic(width, height)).collect()
+    }
+
+    /// Both attachments, colour first.
+    pub fn attachments(&self) -> [AttachmentDesc; 2] {
         [self.colour, self.depth]
-            .iter()
-            .map(|a| {
-                let (depth_bytes, stencil_bytes) = texel_bytes(a.format);
-                let loaded = |op: vk::AttachmentLoadOp, bytes: u64| {
-                    if op == vk::AttachmentLoadOp::LOAD {
-                        bytes * pixels
-                    } else {
-                        0
-                    }
-                };
-                let stored = |op: vk::AttachmentStoreOp, bytes: u64| {
-                    if op == vk::AttachmentStoreOp::STORE {
-                        bytes * pixels
-                    } else {
-                        0
-                    }
-                };
-                AttachmentTraffic {
-                    attachment: a.name,
-                    format: format!("{:?}", a.format),
-                    load_op: format!("{:?}", a.load),
-                    store_op: format!("{:?}", a.store),
-                    bytes_loaded: loaded(a.load, depth_bytes) + loaded(a.stencil_load, stencil_bytes),
-                    bytes_stored: stored(a.store, depth_bytes) + stored(a.stencil_store, stencil_bytes),
-                    transient: a.transient,
-                }
-            })
-            .collect()
+    }
+}
+
+impl AttachmentDesc {
+    /// Bytes a tile-based GPU loads from and stores to main memory for this attachment over a
+    /// `width` x `height` render area: a full load only for LOAD, a full store only for STORE.
+    pub fn tile_traffic(&self, width: u32, height: u32) -> AttachmentTraffic {
+        let pixels = width as u64 * height as u64;
+        let (depth_bytes, stencil_bytes) = texel_bytes(self.format);
+        let loaded =
+            |op: vk::AttachmentLoadOp, bytes: u64| if op == vk::AttachmentLoadOp::LOAD { bytes * pixels } else { 0 };
+        let stored =
+            |op: vk::AttachmentStoreOp, bytes: u64| if op == vk::AttachmentStoreOp::STORE { bytes * pixels } else { 0 };
+        AttachmentTraffic {
+            attachment: self.name,
+            format: format!("{:?}", self.format),
+            load_op: format!("{:?}", self.load),
+            store_op: format!("{:?}", self.store),
+            bytes_loaded: loaded(self.load, depth_bytes) + loaded(self.stencil_load, stencil_bytes),
+            bytes_stored: stored(self.store, depth_bytes) + stored(self.stencil_store, stencil_bytes),
+            transient: self.transient,
+        }
     }
 }
 
@@ -209,7 +207,29 @@ fn texel_bytes(format: vk::Format) -> (u64, u64) {
     }
 }
 
-#[derive(Debug, Clone, serde::Serialize)]
+/// The traffic of the render pass instances one measured pass began (`count` alike ones: the
+/// same targets, ops and size, such as one bake per model), or of the frame's render pass,
+/// which spans the passes drawn into the frame (`pass` = "frame").
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct RenderPassTraffic {
+    pub pass: String,
+    pub width: u32,
+    pub height: u32,
+    pub count: u32,
+    pub attachments: Vec<AttachmentTraffic>,
+}
+
+impl RenderPassTraffic {
+    pub fn bytes_loaded(&self) -> u64 {
+        self.count as u64 * self.attachments.iter().map(|a| a.bytes_loaded).sum::<u64>()
+    }
+
+    pub fn bytes_stored(&self) -> u64 {
+        self.count as u64 * self.attachments.iter().map(|a| a.bytes_stored).sum::<u64>()
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct AttachmentTraffic {
     pub attachment: &'static str,
     pub format: String,

@@ -135,7 +135,12 @@ mod tests {
             gpu_ms: 1.0,
             start_ms: 0.0,
         };
-        FrameCounters { width: 8, height: 8, passes: vec![pass("scene", 64), pass("overlay", samples)] }
+        FrameCounters {
+            width: 8,
+            height: 8,
+            passes: vec![pass("scene", 64), pass("overlay", samples)],
+            render_passes: Vec::new(),
+        }
     }
 
     #[test]

@@ -9,6 +9,7 @@
 
 use serde::Serialize;
 
+use crate::frame::render_pass::RenderPassTraffic;
 use crate::gpu::queries::RawPassQueries;
 
 #[derive(Debug, Clone, Serialize)]
@@ -49,6 +50,8 @@ pub struct FrameCounters {
     pub width: u32,
     pub height: u32,
     pub passes: Vec<PassCounters>,
+    /// Tile traffic of every render pass the frame began (prepasses' targets and the frame).
+    pub render_passes: Vec<RenderPassTraffic>,
 }
 
 impl FrameCounters {

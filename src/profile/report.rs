@@ -5,10 +5,10 @@ use std::fmt::Write as _;
 use serde::Serialize;
 
 use super::counters::FrameCounters;
-use crate::frame::render_pass::AttachmentTraffic;
+use crate::frame::render_pass::RenderPassTraffic;
 
 /// Version of the JSON layout; bump on any incompatible change (documented in README.md).
-pub const PROFILE_SCHEMA: &str = "nostencil-profile/1";
+pub const PROFILE_SCHEMA: &str = "nostencil-profile/2";
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ReportFormat {
@@ -67,8 +67,9 @@ pub struct ProfileReport {
     pub height: u32,
     pub passes: Vec<PassRow>,
     pub totals: Totals,
-    /// Bytes a tile-based GPU loads/stores per attachment for the frame's render pass.
-    pub attachments: Vec<AttachmentTraffic>,
+    /// Bytes a tile-based GPU loads/stores per attachment, for every render pass the frame
+    /// began: the prepasses' own targets under the pass that drew them, then "frame".
+    pub render_passes: Vec<RenderPassTraffic>,
     /// What the technique reports beyond counters (for shadow volumes: method, capacity,
     /// saturated pixels), or null.
     pub technique_stats: Option<serde_json::Value>,
@@ -82,7 +83,7 @@ pub struct ReportContext {
 }
 
 impl ProfileReport {
-    pub fn new(context: ReportContext, counters: &FrameCounters, attachments: Vec<AttachmentTraffic>) -> Self {
+    pub fn new(context: ReportContext, counters: &FrameCounters) -> Self {
         let pixels = counters.pixels() as f64;
         let total_ms = counters.total_gpu_ms();
         let passes = counters
@@ -119,7 +120,7 @@ impl ProfileReport {
                 overdraw: counters.overdraw(),
                 gpu_ms: total_ms,
             },
-            attachments,
+            render_passes: counters.render_passes.clone(),
             technique_stats: None,
         }
     }
@@ -211,20 +212,31 @@ impl ProfileReport {
             }
             let _ = writeln!(out, "{}", line(row));
         }
-        let _ = writeln!(out, "\ntile memory traffic (from the render pass's load/store ops):");
-        for a in &self.attachments {
-            let _ = writeln!(
-                out,
-                "  {:<14} {:<20} load {:<9} store {:<9} loaded {:>10} B  stored {:>10} B{}",
-                a.attachment,
-                a.format,
-                a.load_op,
-                a.store_op,
-                a.bytes_loaded,
-                a.bytes_stored,
-                if a.transient { "  (transient)" } else { "" }
-            );
+        let _ = writeln!(
+            out,
+            "\ntile memory traffic per render pass (from its load/store ops: what a tile-based GPU moves\n\
+             between tile memory and main memory):"
+        );
+        for rp in &self.render_passes {
+            let times = if rp.count > 1 { format!(" x {}", rp.count) } else { String::new() };
+            let _ = writeln!(out, "  {} ({}x{}{times})", rp.pass, rp.width, rp.height);
+            for a in &rp.attachments {
+                let _ = writeln!(
+                    out,
+                    "    {:<8} {:<20} load {:<9} store {:<9} loaded {:>10} B  stored {:>10} B{}",
+                    a.attachment,
+                    a.format,
+                    a.load_op,
+                    a.store_op,
+                    a.bytes_loaded * rp.count as u64,
+                    a.bytes_stored * rp.count as u64,
+                    if a.transient { "  (transient)" } else { "" }
+                );
+            }
         }
+        let (loaded, stored) =
+            self.render_passes.iter().fold((0, 0), |(l, s), rp| (l + rp.bytes_loaded(), s + rp.bytes_stored()));
+        let _ = writeln!(out, "  frame total: loaded {loaded} B, stored {stored} B");
         let _ = writeln!(
             out,
             "\nfragments = fragment shader invocations (pipeline statistics; on lavapipe 16 per 4x4 block a\n\

@@ -5,6 +5,8 @@ use ash::vk;
 
 use super::gpu_mesh::GpuMesh;
 use crate::error::{Error, Result};
+use crate::frame::offscreen::RenderPass;
+use crate::frame::render_pass::{AttachmentDesc, RenderPassTraffic};
 use crate::gpu::memory::{as_bytes, Buffer};
 use crate::gpu::queries::PassQueryPools;
 use crate::gpu::Gpu;
@@ -58,6 +60,8 @@ pub struct FrameRecorder<'a> {
     pub cmd: vk::CommandBuffer,
     queries: &'a PassQueryPools,
     pub(crate) passes: Vec<PassRecord>,
+    /// What each render pass begun moves to and from main memory on a tile-based GPU.
+    pub(crate) render_passes: Vec<RenderPassTraffic>,
     open: bool,
     pub extent: vk::Extent2D,
     frame_set: vk::DescriptorSet,
@@ -78,6 +82,7 @@ impl<'a> FrameRecorder<'a> {
             cmd,
             queries,
             passes: Vec::new(),
+            render_passes: Vec::new(),
             open: false,
             extent,
             frame_set,
@@ -121,14 +126,48 @@ impl<'a> FrameRecorder<'a> {
     }
 
     /// Begins a render pass on a target of the technique's own (outside the frame's render
-    /// pass, in `Renderer::render_with_prepass`), with viewport and scissor covering `extent`.
-    pub fn begin_render_pass(
+    /// pass, in `Renderer::render_with_prepass`), with viewport and scissor covering `extent`;
+    /// its tile traffic is counted for the measured pass recording it.
+    pub fn begin_offscreen_pass(
         &mut self,
-        render_pass: vk::RenderPass,
+        render_pass: &RenderPass,
         framebuffer: vk::Framebuffer,
         extent: vk::Extent2D,
         clear_values: &[vk::ClearValue],
     ) {
+        self.begin_render_pass(render_pass.raw, &[render_pass.attachment], framebuffer, extent, clear_values);
+    }
+
+    /// Begins `render_pass`, whose attachments `attachments` describes (for the tile-traffic
+    /// count: under the open measured pass, else under "frame"), with viewport and scissor
+    /// covering `extent`.
+    pub(crate) fn begin_render_pass(
+        &mut self,
+        render_pass: vk::RenderPass,
+        attachments: &[AttachmentDesc],
+        framebuffer: vk::Framebuffer,
+        extent: vk::Extent2D,
+        clear_values: &[vk::ClearValue],
+    ) {
+        let pass = match (self.open, self.passes.last()) {
+            (true, Some(p)) => p.name.clone(),
+            _ => "frame".to_owned(),
+        };
+        let traffic = RenderPassTraffic {
+            pass,
+            width: extent.width,
+            height: extent.height,
+            count: 1,
+            attachments: attachments.iter().map(|a| a.tile_traffic(extent.width, extent.height)).collect(),
+        };
+        let same = |t: &&mut RenderPassTraffic| {
+            (&t.pass, t.width, t.height, &t.attachments)
+                == (&traffic.pass, traffic.width, traffic.height, &traffic.attachments)
+        };
+        match self.render_passes.iter_mut().find(same) {
+            Some(alike) => alike.count += 1,
+            None => self.render_passes.push(traffic),
+        }
         let device = self.gpu.raw();
         let begin = vk::RenderPassBeginInfo::default()
             .render_pass(render_pass)

@@ -110,7 +110,7 @@ impl Renderer {
         let (targets, queries, readback, frame_set) = (&self.targets, &self.queries, &self.readback, self.frame.set);
         let keep_on_gpu = self.keep_on_gpu;
 
-        let pass_records = submit_and_wait(&gpu, |cmd| {
+        let (pass_records, render_passes) = submit_and_wait(&gpu, |cmd| {
             queries.reset(cmd);
             let mut recorder = FrameRecorder::new(&gpu, cmd, queries, extent, frame_set);
             if let Some(pipelines) = overdraw {
@@ -121,15 +121,17 @@ impl Renderer {
                 vk::ClearValue { color: vk::ClearColorValue { float32: clear } },
                 vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } },
             ];
-            recorder.begin_render_pass(targets.render_pass, targets.framebuffer, extent, &clear_values);
+            let attachments = targets.desc.attachments();
+            recorder.begin_render_pass(targets.render_pass, &attachments, targets.framebuffer, extent, &clear_values);
             let recorded = record(&mut recorder);
             recorder.end_render_pass();
             recorded?;
             if let Some(e) = recorder.deferred_error.take() {
                 return Err(e);
             }
+            let records = (std::mem::take(&mut recorder.passes), std::mem::take(&mut recorder.render_passes));
             if keep_on_gpu {
-                return Ok(recorder.passes);
+                return Ok(records);
             }
 
             // The render pass left the colour target in TRANSFER_SRC_OPTIMAL.
@@ -151,7 +153,7 @@ impl Renderer {
                 );
                 crate::gpu::commands::transfer_to_host_barrier(device, cmd, readback.raw);
             }
-            Ok(recorder.passes)
+            Ok(records)
         })?;
 
         let raw = self.queries.results(pass_records.len() as u32)?;
@@ -166,6 +168,9 @@ impl Renderer {
         } else {
             RgbaImage { width: extent.width, height: extent.height, pixels: self.readback.read()?.to_vec() }
         };
-        Ok(FrameOutput { image, counters: FrameCounters { width: extent.width, height: extent.height, passes } })
+        Ok(FrameOutput {
+            image,
+            counters: FrameCounters { width: extent.width, height: extent.height, passes, render_passes },
+        })
     }
 }

@@ -260,7 +260,7 @@ impl<'s> ShadowTextureRenderer<'s> {
             &uniforms,
             clear,
             |rec| {
-                rec.begin_render_pass(target.render_pass.raw, target.framebuffer.raw, extent, &white);
+                rec.begin_offscreen_pass(&target.render_pass, target.framebuffer.raw, extent, &white);
                 let recorded = rec.pass("shadow texture", |rec| {
                     if light_view_proj == Mat4::ZERO {
                         return Ok(());

@@ -525,7 +525,7 @@ impl<'s> ShadowAtlasRenderer<'s> {
         let map_extent = vk::Extent2D { width: self.options.map_size, height: self.options.map_size };
         let (gpu, kind) = (&self.gpu, self.kind);
         let (meshes, map_pipeline, light_set) = (&self.meshes, &self.map_pipeline, self.light_set.set);
-        let (map_pass, map_framebuffer) = (self.map_pass.raw, self.map_framebuffer.raw);
+        let (map_pass, map_framebuffer) = (&self.map_pass, self.map_framebuffer.raw);
         let (atlas, scene_pipeline) = (&self.atlas, &self.scene_pipeline);
         let output = self.renderer.render_with_prepass(
             &uniforms,
@@ -537,7 +537,7 @@ impl<'s> ShadowAtlasRenderer<'s> {
                 rec.pass("shadow map", |rec| {
                     let clear =
                         [vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } }];
-                    rec.begin_render_pass(map_pass, map_framebuffer, map_extent, &clear);
+                    rec.begin_offscreen_pass(map_pass, map_framebuffer, map_extent, &clear);
                     rec.bind_with_sets(map_pipeline, &[light_set]);
                     for object in scene.objects.iter().filter(|o| o.casts_shadow) {
                         rec.push(map_pipeline, &ObjectPush { model: object.transform, colour: Vec4::ONE });
@@ -703,7 +703,7 @@ impl AtlasPasses {
             let clear = [vk::ClearValue { color: vk::ClearColorValue { float32: [1.0, 1.0, 1.0, 0.0] } }];
             for o in &self.objects {
                 let object = &scene.objects[o.object];
-                rec.begin_render_pass(self.bake_pass.raw, o.bake_framebuffer.raw, extent(o), &clear);
+                rec.begin_offscreen_pass(&self.bake_pass, o.bake_framebuffer.raw, extent(o), &clear);
                 rec.bind_with_sets(&self.bake, &[light_set]);
                 rec.push(&self.bake, &ObjectPush { model: object.transform, colour: Vec4::ONE });
                 rec.draw_mesh(&meshes[object.mesh]);
@@ -713,7 +713,7 @@ impl AtlasPasses {
         })?;
         rec.pass("atlas dilate", |rec| {
             for o in &self.objects {
-                rec.begin_render_pass(self.dilate_pass.raw, o.dilate_framebuffer.raw, extent(o), &[]);
+                rec.begin_offscreen_pass(&self.dilate_pass, o.dilate_framebuffer.raw, extent(o), &[]);
                 rec.bind_with_sets(&self.dilate, &[o.dilate_set.set]);
                 rec.push(&self.dilate, &[o.dilate_radius as i32, 0, 0, 0]);
                 rec.draw_fullscreen();
