@@ -462,6 +462,8 @@ fn a_renderer_built_once_follows_the_walk_as_if_rebuilt_at_each_time() {
         Technique::Planar,
         Technique::Blob,
         Technique::ShadowTexture,
+        Technique::ShadowMap,
+        Technique::ShadowTextureAtlas,
     ]
     .into_iter()
     .map(|technique| {
@@ -490,7 +492,15 @@ fn a_renderer_built_once_follows_the_walk_as_if_rebuilt_at_each_time() {
                 }
                 rebuilt.camera = start.camera;
                 let reference = render_scene(&gpu, &rebuilt, options).expect("frame").output.image;
-                assert_eq!(rgb_differences(&live, &reference), 0, "{name} {variant} at {time}s");
+                let differing = rgb_differences(&live, &reference);
+                if options.technique == Technique::ShadowTextureAtlas {
+                    // A skinned mesh's generated atlas is laid out from the pose it was built in,
+                    // so its own texels sample the shadow map at other places: only the
+                    // character's shading may differ (the ground's bake and the shadow agree).
+                    assert!(differing < (SIZE.0 * SIZE.1 / 100) as usize, "{name} {variant} at {time}s: {differing}");
+                } else {
+                    assert_eq!(differing, 0, "{name} {variant} at {time}s");
+                }
                 changed += rgb_differences(&live, &first);
             }
             assert!(changed > 50, "{name} {variant}: the walk does not show ({changed} pixels moved)");

@@ -44,6 +44,9 @@ pub struct MeshAtlas {
     pub normals: Vec<Vec3>,
     pub uvs: Vec<Vec2>,
     pub indices: Vec<u32>,
+    /// Per atlas vertex, the mesh vertex it copies (a generated atlas has one per corner), so
+    /// that a re-posed skin can be laid out again.
+    pub source_vertices: Vec<u32>,
     pub source: AtlasSource,
     pub size: u32,
     pub dilate_radius: u32,
@@ -65,6 +68,7 @@ pub fn mesh_atlas(name: &str, mesh: &MeshData, uv1: Option<&[Vec2]>, size: u32) 
             normals: mesh.normals.clone(),
             uvs: mesh.uvs.clone(),
             indices: mesh.indices.clone(),
+            source_vertices: (0..mesh.positions.len() as u32).collect(),
             source: AtlasSource::GeometryImage { n },
             size,
             // One chart filling the square: nothing to dilate into but stray uncovered texels.
@@ -78,6 +82,7 @@ pub fn mesh_atlas(name: &str, mesh: &MeshData, uv1: Option<&[Vec2]>, size: u32) 
         normals: mesh.normals.clone(),
         uvs: uvs.to_vec(),
         indices: mesh.indices.clone(),
+        source_vertices: (0..mesh.positions.len() as u32).collect(),
         source,
         size,
         dilate_radius: CHART_PADDING,
@@ -143,7 +148,8 @@ pub fn generated_atlas(name: &str, mesh: &MeshData, size: u32) -> Result<MeshAtl
         positions: corners.clone().map(|k| mesh.positions[corner(k)]).collect(),
         normals: corners.clone().map(|k| mesh.normals.get(corner(k)).copied().unwrap_or(Vec3::Y)).collect(),
         uvs: generated.corner_uvs,
-        indices: corners.map(|k| k as u32).collect(),
+        indices: corners.clone().map(|k| k as u32).collect(),
+        source_vertices: corners.map(|k| mesh.indices[k]).collect(),
         source: AtlasSource::Generated { charts: generated.charts, padding: generated.padding },
         size,
         dilate_radius: generated.padding,

@@ -20,7 +20,7 @@ pub mod targets;
 use std::sync::Arc;
 
 use ash::vk;
-use glam::{Mat4, Quat, Vec3, Vec4};
+use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
 use gpu_allocator::MemoryLocation;
 
 use self::atlas::{mesh_atlas, AtlasSource, MeshAtlas};
@@ -204,8 +204,8 @@ pub struct ShadowLightUniforms {
 /// Centre and radius of a sphere around every object.
 pub fn scene_bounds(scene: &Scene) -> (Vec3, f32) {
     let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
-    for object in &scene.objects {
-        for p in &scene.meshes[object.mesh].data.positions {
+    for (index, object) in scene.objects.iter().enumerate() {
+        for p in &scene.posed_positions(index) {
             let w = object.transform.transform_point3(*p);
             lo = lo.min(w);
             hi = hi.max(w);
@@ -215,6 +215,24 @@ pub fn scene_bounds(scene: &Scene) -> (Vec3, f32) {
         return (Vec3::ZERO, 1.0);
     }
     ((lo + hi) * 0.5, ((hi - lo).length() * 0.5).max(1e-3))
+}
+
+/// Per mesh: the mesh vertex and the atlas UV of each GPU vertex, and the joint palette the GPU
+/// vertices are posed with (skinned objects' meshes).
+struct PosedLayout {
+    sources: Vec<u32>,
+    uvs: Vec<Vec2>,
+    palette: Option<Vec<Mat4>>,
+}
+
+/// Position, normal and atlas UV per vertex, interleaved as the bake and scene pipelines read.
+fn atlas_vertices(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2]) -> Vec<[f32; 8]> {
+    (0..positions.len())
+        .map(|i| {
+            let (p, n, uv) = (positions[i], normals.get(i).copied().unwrap_or(Vec3::Y), uvs[i]);
+            [p.x, p.y, p.z, n.x, n.y, n.z, uv.x, uv.y]
+        })
+        .collect()
 }
 
 /// The light's view-projection: orthographic around the scene's bounding sphere for a
@@ -326,6 +344,8 @@ pub struct ShadowAtlasFrame {
 struct CacheKey {
     light: Vec4,
     transforms: Vec<Mat4>,
+    /// Skinned objects' palettes: a new pose is a moved model.
+    palettes: Vec<Vec<Mat4>>,
 }
 
 /// Everything a frame needs, built once; `frame` renders one frame, re-baking only when the
@@ -345,6 +365,7 @@ pub struct ShadowAtlasRenderer<'s> {
     _compare: CompareSampler,
     _map: Image,
     meshes: Vec<GpuMesh>,
+    layouts: Vec<PosedLayout>,
     atlases: Vec<AtlasInfo>,
     renderer: Renderer,
     frames: u32,
@@ -375,15 +396,19 @@ impl<'s> ShadowAtlasRenderer<'s> {
             .iter()
             .zip(&layouts)
             .map(|(m, a)| {
-                let interleaved: Vec<[f32; 8]> = (0..a.positions.len())
-                    .map(|i| {
-                        let (p, n, uv) = (a.positions[i], a.normals.get(i).copied().unwrap_or(Vec3::Y), a.uvs[i]);
-                        [p.x, p.y, p.z, n.x, n.y, n.z, uv.x, uv.y]
-                    })
-                    .collect();
+                let interleaved = atlas_vertices(&a.positions, &a.normals, &a.uvs);
                 GpuMesh::from_raw(gpu, &m.name, as_bytes(&interleaved), &a.indices)
             })
             .collect::<Result<Vec<_>>>()?;
+        let mut posed_layouts: Vec<PosedLayout> = layouts
+            .iter()
+            .map(|a| PosedLayout { sources: a.source_vertices.clone(), uvs: a.uvs.clone(), palette: None })
+            .collect();
+        for object in &scene.objects {
+            if let (Some(skin), Some(layout)) = (&object.skin, posed_layouts.get_mut(object.mesh)) {
+                layout.palette = Some(skin.joint_matrices.clone());
+            }
+        }
         let atlases = scene
             .meshes
             .iter()
@@ -469,6 +494,7 @@ impl<'s> ShadowAtlasRenderer<'s> {
             _compare: compare,
             _map: map,
             meshes,
+            layouts: posed_layouts,
             atlases,
             renderer,
             frames: 0,
@@ -499,12 +525,45 @@ impl<'s> ShadowAtlasRenderer<'s> {
         self.frame_with(scene)
     }
 
+    /// Skinned objects whose palette changed (`Scene::pose_at`) get their atlas vertices
+    /// re-posed on the CPU and uploaded again (the atlas layout stays).
+    fn follow_pose(&mut self, scene: &Scene) -> Result<()> {
+        for object in &scene.objects {
+            let Some(skin) = &object.skin else { continue };
+            let (Some(mesh), Some(layout)) = (self.meshes.get_mut(object.mesh), self.layouts.get_mut(object.mesh))
+            else {
+                continue;
+            };
+            if layout.palette.as_ref() == Some(&skin.joint_matrices) {
+                continue;
+            }
+            let (positions, normals) = skin.posed_positions_normals();
+            let pick = |list: &[Vec3], fallback: Vec3| -> Vec<Vec3> {
+                layout.sources.iter().map(|&v| list.get(v as usize).copied().unwrap_or(fallback)).collect()
+            };
+            let interleaved = atlas_vertices(&pick(&positions, Vec3::ZERO), &pick(&normals, Vec3::Y), &layout.uvs);
+            mesh.vertices = Buffer::device_local(
+                &self.gpu,
+                &format!("{} atlas vertices (posed)", object.name),
+                as_bytes(&interleaved),
+                vk::BufferUsageFlags::VERTEX_BUFFER,
+            )?;
+            layout.palette = Some(skin.joint_matrices.clone());
+        }
+        Ok(())
+    }
+
     /// Renders `scene`, a moved pose of the one this renderer was built for; the shadow map and
     /// the atlases are re-baked only when its light or an object moved.
     pub fn frame_with(&mut self, scene: &Scene) -> Result<ShadowAtlasFrame> {
         crate::technique::check_same_scene(self.scene, scene, self.kind.name())?;
+        self.follow_pose(scene)?;
         let light = light_at(scene, self.options.light, self.frames);
-        let key = CacheKey { light: light.as_vec4(), transforms: scene.objects.iter().map(|o| o.transform).collect() };
+        let key = CacheKey {
+            light: light.as_vec4(),
+            transforms: scene.objects.iter().map(|o| o.transform).collect(),
+            palettes: scene.objects.iter().filter_map(|o| o.skin.as_ref().map(|s| s.joint_matrices.clone())).collect(),
+        };
         let fresh = self.cache.as_ref() != Some(&key);
         if fresh {
             let (centre, radius) = scene_bounds(scene);
