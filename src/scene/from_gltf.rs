@@ -81,10 +81,12 @@ pub fn add_model(scene: &mut Scene, rig: &Arc<Rig>, world: &[Mat4]) -> Result<Op
                 let w = node_world.transform_point3(*p);
                 (low, high) = (low.min(w), high.max(w));
             }
-            let colour = primitive
-                .material
-                .and_then(|m| model.materials.get(m))
-                .map_or(Vec3::splat(0.75), |m| m.base_color.truncate());
+            // The techniques shade objects with one colour (they are about shadows and ink,
+            // not texturing): a textured material's is its factor times the texture's mean.
+            let colour = primitive.material.and_then(|m| model.materials.get(m)).map_or(Vec3::splat(0.75), |m| {
+                let texture = m.base_color_texture.and_then(|t| model.textures.get(t.texture));
+                m.base_color.truncate() * texture.map_or(Vec3::ONE, |t| t.mean_linear_colour())
+            });
             let label = format!(
                 "{}#{p}",
                 mesh.name.clone().or_else(|| node.name.clone()).unwrap_or_else(|| format!("node {node_index}"))
