@@ -290,16 +290,26 @@ fn bake(frame: &FrameArgs, model: Option<&str>, mip: u32, out: &Path) -> Result<
         None => 0,
     };
     let gpu = open_gpu(&frame.gpu)?;
-    let mut renderer = ShadowAtlasRenderer::new(
+    let start = std::time::Instant::now();
+    let mut renderer = ShadowAtlasRenderer::with_progress(
         &gpu,
         &scene,
-        options.width.min(64),
-        options.height.min(64),
+        (options.width.min(64), options.height.min(64)),
         options.stencil,
         ShadowKind::Atlas,
         &options.shadow_atlas,
+        &mut |done, total| {
+            eprint!("\rbake: atlas layout {done:>4}/{total} meshes");
+            let _ = std::io::Write::flush(&mut std::io::stderr());
+        },
     )?;
+    eprint!("\rbake: shadow map and {} shadow textures...", scene.objects.len());
     renderer.frame()?;
+    eprintln!(
+        "\rbake: shadow map and {} shadow textures baked in {:.0} ms",
+        scene.objects.len(),
+        start.elapsed().as_secs_f64() * 1e3
+    );
     let image = renderer.read_shadow_texture(object, mip)?;
     image.write_png(out, false)?;
     let name = &scene.objects.get(object).map_or("", |o| o.name.as_str());

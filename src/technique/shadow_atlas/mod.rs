@@ -382,14 +382,34 @@ impl<'s> ShadowAtlasRenderer<'s> {
         kind: ShadowKind,
         options: &ShadowAtlasOptions,
     ) -> Result<Self> {
+        Self::with_progress(gpu, scene, (width, height), stencil, kind, options, &mut |_, _| {})
+    }
+
+    /// As `new`, calling `progress(done, total)` as each mesh's atlas is laid out (generating
+    /// atlases for many or large meshes takes a while).
+    pub fn with_progress(
+        gpu: &Arc<Gpu>,
+        scene: &'s Scene,
+        (width, height): (u32, u32),
+        stencil: StencilMode,
+        kind: ShadowKind,
+        options: &ShadowAtlasOptions,
+        progress: &mut dyn FnMut(usize, usize),
+    ) -> Result<Self> {
         let map_size = check_size("--shadow-map-size", options.map_size)?;
         let texture_size = check_size("--shadow-texture-size", options.texture_size)?;
         let renderer = Renderer::new(gpu, width, height, stencil, false)?;
 
+        let total = scene.meshes.len();
         let layouts: Vec<MeshAtlas> = scene
             .meshes
             .iter()
-            .map(|m| mesh_atlas(&m.name, &m.data, m.uv1.as_deref(), texture_size))
+            .enumerate()
+            .map(|(i, m)| {
+                let atlas = mesh_atlas(&m.name, &m.data, m.uv1.as_deref(), texture_size);
+                progress(i + 1, total);
+                atlas
+            })
             .collect::<Result<_>>()?;
         let meshes = scene
             .meshes
