@@ -335,3 +335,34 @@ fn texcoord1_is_used_when_it_does_not_overlap_and_replaced_when_it_does() {
     assert_ne!(atlas.source, AtlasSource::TexCoord1);
     assert!(atlas.rejected_uv1.as_deref().is_some_and(|r| r.contains("covered twice")), "{:?}", atlas.rejected_uv1);
 }
+
+#[test]
+fn bake_writes_the_models_shadow_texture_from_the_command_line() {
+    let dir = common::scratch_dir("bake-cli");
+    let run = |args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_nostencil")).args(args).output().expect("run nostencil")
+    };
+    let out = dir.join("model.png");
+    let output = run(&["bake", "--scene", "atlas-one", "--out", out.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{err}");
+    assert!(err.contains("of 'model'") && err.contains("geometry image 257x257"), "{err}");
+    // The horned sphere shadows itself: its texture holds lit and shadowed texels.
+    let texture = image::open(&out).expect("PNG").to_rgb8();
+    assert_eq!(texture.dimensions(), (256, 256));
+    let lit = texture.pixels().filter(|p| p[0] == 255).count();
+    let shadowed = texture.pixels().filter(|p| p[0] == 0).count();
+    assert!(lit > 256 * 256 / 10 && shadowed > 256 * 256 / 10, "{lit} lit, {shadowed} shadowed texels");
+
+    let mip = dir.join("mip2.png");
+    let output =
+        run(&["bake", "--scene", "atlas-one", "--model", "ground", "--mip", "2", "--out", mip.to_str().unwrap()]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    assert_eq!(image::open(&mip).expect("PNG").to_rgb8().dimensions(), (64, 64));
+
+    let missing = dir.join("none.png");
+    let output = run(&["bake", "--scene", "atlas-one", "--model", "teapot", "--out", missing.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success() && err.contains("no model 'teapot'") && err.contains("ground, model"), "{err}");
+    assert!(!missing.exists());
+}

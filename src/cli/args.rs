@@ -82,7 +82,7 @@ pub enum Command {
     Bake {
         #[command(flatten)]
         frame: FrameArgs,
-        /// Object to bake (default: the first object).
+        /// Object to bake, by name (default: the first that casts shadows, else the first).
         #[arg(long, value_name = "NAME")]
         model: Option<String>,
         /// Mip level to write.

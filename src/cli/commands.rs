@@ -287,7 +287,8 @@ fn bake(frame: &FrameArgs, model: Option<&str>, mip: u32, out: &Path) -> Result<
                 scene.objects.iter().map(|o| o.name.as_str()).collect::<Vec<_>>().join(", ")
             ))
         })?,
-        None => 0,
+        // The first model that casts shadows (the ground would be a dull default).
+        None => scene.objects.iter().position(|o| o.casts_shadow).unwrap_or(0),
     };
     let gpu = open_gpu(&frame.gpu)?;
     let start = std::time::Instant::now();
