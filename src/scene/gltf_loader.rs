@@ -87,6 +87,7 @@ fn parse_json(text: &[u8], warnings: &mut Vec<String>) -> std::result::Result<js
     }
     strip_custom_attributes(&mut value, warnings);
     accept_required_extensions(&mut value)?;
+    fill_missing_position_bounds(&mut value, warnings);
     // Re-serialised rather than `from_value`: gltf-json keeps some extension data as raw JSON,
     // which only deserialises from text.
     let text = serde_json::to_vec(&value).map_err(|e| format!("JSON: {e}"))?;
@@ -148,6 +149,44 @@ fn accept_required_extensions(value: &mut serde_json::Value) -> std::result::Res
         SUPPORTED_REQUIRED_EXTENSIONS.join(" and "),
         if unsupported.len() == 1 { "it" } else { "them" },
     ))
+}
+
+/// The spec requires `min` and `max` on POSITION accessors and gltf-json refuses a file without
+/// them, but exporters do omit them, and this loader never reads them (bounds come from the
+/// positions): placeholders are filled in, with a warning, instead of refusing the file.
+fn fill_missing_position_bounds(value: &mut serde_json::Value, warnings: &mut Vec<String>) {
+    let positions: Vec<u64> = value
+        .get("meshes")
+        .and_then(|m| m.as_array())
+        .into_iter()
+        .flatten()
+        .filter_map(|mesh| mesh.get("primitives")?.as_array())
+        .flatten()
+        .filter_map(|prim| prim.get("attributes")?.get("POSITION")?.as_u64())
+        .collect();
+    let Some(accessors) = value.get_mut("accessors").and_then(|a| a.as_array_mut()) else { return };
+    let is_vec3 = |v: Option<&serde_json::Value>| {
+        v.and_then(|v| v.as_array()).is_some_and(|a| a.len() == 3 && a.iter().all(|x| x.is_number()))
+    };
+    let mut filled = Vec::new();
+    for index in positions {
+        let Some(accessor) = accessors.get_mut(index as usize).and_then(|a| a.as_object_mut()) else { continue };
+        if is_vec3(accessor.get("min")) && is_vec3(accessor.get("max")) {
+            continue;
+        }
+        accessor.insert("min".into(), serde_json::json!([0.0, 0.0, 0.0]));
+        accessor.insert("max".into(), serde_json::json!([0.0, 0.0, 0.0]));
+        if !filled.contains(&index) {
+            filled.push(index);
+        }
+    }
+    if !filled.is_empty() {
+        let list: Vec<String> = filled.iter().map(u64::to_string).collect();
+        warnings.push(format!(
+            "POSITION accessor(s) {} lack the min/max the spec requires; bounds are computed from the data",
+            list.join(", ")
+        ));
+    }
 }
 
 /// Application-specific attributes (`_NAME`) are valid glTF, but gltf-json without its

@@ -1077,3 +1077,21 @@ fn a_textured_material_colours_its_object_with_the_texture_mean() {
     assert_eq!(colour, model.textures[0].mean_linear_colour());
     assert!(colour.max_element() < 0.9 && colour.y > colour.x, "{colour}");
 }
+
+#[test]
+fn position_accessors_without_bounds_load_with_a_warning() {
+    // The spec requires POSITION min/max; exporters omit them; nothing here reads them.
+    let dir = assets();
+    let original = load(&dir, "Box.glb");
+    let (mut json, bin) = glb_parts(&std::fs::read(dir.join("Box.glb")).unwrap());
+    let accessor = json["accessors"][2].as_object_mut().unwrap();
+    accessor.remove("min");
+    accessor.remove("max");
+    let model = load_gltf_slice(&make_glb(&json, &bin), Path::new("NoBounds.glb")).unwrap();
+    assert_eq!(model.meshes[0].primitives[0].positions, original.meshes[0].primitives[0].positions);
+    assert!(
+        model.warnings.iter().any(|w| w.contains("POSITION accessor(s) 2 lack the min/max")),
+        "{:?}",
+        model.warnings
+    );
+}
