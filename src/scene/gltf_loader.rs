@@ -88,6 +88,7 @@ fn parse_json(text: &[u8], warnings: &mut Vec<String>) -> std::result::Result<js
     strip_custom_attributes(&mut value, warnings);
     accept_required_extensions(&mut value)?;
     fill_missing_position_bounds(&mut value, warnings);
+    drop_invalid_optional_enums(&mut value, warnings);
     // Re-serialised rather than `from_value`: gltf-json keeps some extension data as raw JSON,
     // which only deserialises from text.
     let text = serde_json::to_vec(&value).map_err(|e| format!("JSON: {e}"))?;
@@ -186,6 +187,49 @@ fn fill_missing_position_bounds(value: &mut serde_json::Value, warnings: &mut Ve
             "POSITION accessor(s) {} lack the min/max the spec requires; bounds are computed from the data",
             list.join(", ")
         ));
+    }
+}
+
+/// Optional enum-valued fields whose invalid values gltf-json refuses, although each has a
+/// default that serves as well: (where, field, valid values). Such a value is dropped, with a
+/// warning, so a sampler or a buffer-view hint cannot fail a whole file.
+const OPTIONAL_ENUMS: &[(&str, &str, &[&str])] = &[
+    ("samplers", "magFilter", &["9728", "9729"]),
+    ("samplers", "minFilter", &["9728", "9729", "9984", "9985", "9986", "9987"]),
+    ("samplers", "wrapS", &["33071", "33648", "10497"]),
+    ("samplers", "wrapT", &["33071", "33648", "10497"]),
+    ("bufferViews", "target", &["34962", "34963"]),
+    ("materials", "alphaMode", &["\"OPAQUE\"", "\"MASK\"", "\"BLEND\""]),
+    ("animations/samplers", "interpolation", &["\"LINEAR\"", "\"STEP\"", "\"CUBICSPLINE\""]),
+];
+
+fn drop_invalid_optional_enums(value: &mut serde_json::Value, warnings: &mut Vec<String>) {
+    for (place, field, valid) in OPTIONAL_ENUMS {
+        // "animations/samplers": the samplers of every animation.
+        let mut objects: Vec<(String, &mut serde_json::Value)> = Vec::new();
+        let (outer, inner) = place.split_once('/').map_or((*place, None), |(o, i)| (o, Some(i)));
+        let Some(list) = value.get_mut(outer).and_then(|v| v.as_array_mut()) else { continue };
+        for (i, item) in list.iter_mut().enumerate() {
+            match inner {
+                None => objects.push((format!("{outer}[{i}]"), item)),
+                Some(inner) => {
+                    if let Some(nested) = item.get_mut(inner).and_then(|v| v.as_array_mut()) {
+                        for (k, object) in nested.iter_mut().enumerate() {
+                            objects.push((format!("{outer}[{i}].{inner}[{k}]"), object));
+                        }
+                    }
+                }
+            }
+        }
+        for (path, object) in objects {
+            let Some(map) = object.as_object_mut() else { continue };
+            let Some(found) = map.get(*field) else { continue };
+            let text = found.to_string();
+            if !valid.contains(&text.as_str()) {
+                map.remove(*field);
+                warnings.push(format!("{path}.{field} {text} is not a valid value; the default is used"));
+            }
+        }
     }
 }
 

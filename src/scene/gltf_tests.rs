@@ -8,7 +8,7 @@ use serde_json::{json, Value};
 
 use super::animation::{pose_at, rest_pose, Property, TimeMode};
 use super::gltf_loader::{load_gltf, load_gltf_slice};
-use super::model::{Model, Wrap, MAX_JOINTS};
+use super::model::{Filter, Model, Wrap, MAX_JOINTS};
 use super::skinning::{joint_matrices, skin_positions_normals, world_matrices};
 use crate::Error;
 
@@ -1094,4 +1094,23 @@ fn position_accessors_without_bounds_load_with_a_warning() {
         "{:?}",
         model.warnings
     );
+}
+
+#[test]
+fn invalid_optional_enum_values_fall_back_to_their_defaults() {
+    let dir = assets();
+    let (mut json, bin) = glb_parts(&std::fs::read(dir.join("BoxTextured.glb")).unwrap());
+    json["samplers"][0]["magFilter"] = json!(0);
+    json["bufferViews"][0]["target"] = json!(1);
+    json["materials"][0]["alphaMode"] = json!("Blend");
+    let model = load_gltf_slice(&make_glb(&json, &bin), Path::new("Sloppy.glb")).unwrap();
+    for expected in ["samplers[0].magFilter 0", "bufferViews[0].target 1", "materials[0].alphaMode \"Blend\""] {
+        assert!(model.warnings.iter().any(|w| w.contains(expected)), "{expected}: {:?}", model.warnings);
+    }
+    assert_eq!(model.textures[0].sampler.mag_filter, Filter::Linear);
+    // Required enums still fail, by name.
+    let (mut json, bin) = glb_parts(&std::fs::read(dir.join("Box.glb")).unwrap());
+    json["accessors"][2]["type"] = json!("VEC7");
+    let msg = load_gltf_slice(&make_glb(&json, &bin), Path::new("Vec7.glb")).unwrap_err().to_string();
+    assert_mentions(&msg, &["Vec7.glb", "accessors[2]"]);
 }
