@@ -55,7 +55,11 @@ pub fn add_model(scene: &mut Scene, rig: &Arc<Rig>, world: &[Mat4]) -> Result<Op
     let model = &rig.model;
     let animated = !model.animations.is_empty() || matches!(rig.pose, RigPose::Walk { .. });
     let (mut low, mut high) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+    let shown = nodes_in_scene(model);
     for (node_index, node) in model.nodes.iter().enumerate() {
+        if !shown[node_index] {
+            continue;
+        }
         let Some(mesh) = node.mesh.and_then(|m| model.meshes.get(m)) else { continue };
         let node_world = world.get(node_index).copied().unwrap_or(Mat4::IDENTITY);
         let joints = match node.skin {
@@ -111,6 +115,21 @@ pub fn add_model(scene: &mut Scene, rig: &Arc<Rig>, world: &[Mat4]) -> Result<Op
         }
     }
     Ok((low.x <= high.x).then_some((low, high)))
+}
+
+/// The nodes of the file's scene (its `scene`, else the first): the roots and their
+/// descendants. Nodes of other scenes and orphans are not drawn.
+fn nodes_in_scene(model: &Model) -> Vec<bool> {
+    let mut shown = vec![false; model.nodes.len()];
+    let mut stack: Vec<usize> = model.roots.clone();
+    while let Some(index) = stack.pop() {
+        let Some(flag) = shown.get_mut(index) else { continue };
+        if !*flag {
+            *flag = true;
+            stack.extend(model.nodes[index].children.iter().copied());
+        }
+    }
+    shown
 }
 
 /// Shadow volumes need closed meshes; open ones (a room shell, a strip) only receive.

@@ -1114,3 +1114,22 @@ fn invalid_optional_enum_values_fall_back_to_their_defaults() {
     let msg = load_gltf_slice(&make_glb(&json, &bin), Path::new("Vec7.glb")).unwrap_err().to_string();
     assert_mentions(&msg, &["Vec7.glb", "accessors[2]"]);
 }
+
+#[test]
+fn only_the_files_scene_is_drawn() {
+    // Box.glb with a second scene holding another instance of the box: `scene: 1` shows that
+    // one only; orphan nodes are not drawn either.
+    let dir = assets();
+    let (mut json, bin) = glb_parts(&std::fs::read(dir.join("Box.glb")).unwrap());
+    let nodes = json["nodes"].as_array_mut().unwrap();
+    nodes.push(json!({ "mesh": 0, "translation": [5.0, 0.0, 0.0] }));
+    nodes.push(json!({ "mesh": 0, "translation": [-5.0, 0.0, 0.0] })); // in no scene
+    json["scenes"] = json!([{ "nodes": [0] }, { "nodes": [2] }]);
+    json["scene"] = json!(1);
+    let tmp = TempDir::new("scenes");
+    let path = tmp.write("TwoScenes.glb", &make_glb(&json, &bin));
+    let scene = crate::scene::scene_from_gltf(&path, 0.0).unwrap();
+    let boxes: Vec<_> = scene.objects.iter().filter(|o| o.name != "ground").collect();
+    assert_eq!(boxes.len(), 1, "{:?}", boxes.iter().map(|o| &o.name).collect::<Vec<_>>());
+    assert_eq!(boxes[0].transform.w_axis.truncate(), Vec3::new(5.0, 0.0, 0.0));
+}
