@@ -164,15 +164,7 @@ fn build(
     subpasses: &[vk::SubpassDescription],
     deps: &[vk::SubpassDependency],
 ) -> Result<RenderPass> {
-    let attachments = [vk::AttachmentDescription::default()
-        .format(attachment.format)
-        .samples(vk::SampleCountFlags::TYPE_1)
-        .load_op(attachment.load)
-        .store_op(attachment.store)
-        .stencil_load_op(attachment.stencil_load)
-        .stencil_store_op(attachment.stencil_store)
-        .initial_layout(vk::ImageLayout::UNDEFINED)
-        .final_layout(attachment.final_layout)];
+    let attachments = [attachment.description()];
     let info = vk::RenderPassCreateInfo::default().attachments(&attachments).subpasses(subpasses).dependencies(deps);
     let raw = unsafe { gpu.raw().create_render_pass(&info, None) }.vk("vkCreateRenderPass")?;
     Ok(RenderPass { gpu: gpu.clone(), raw, attachment })

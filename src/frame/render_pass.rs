@@ -106,18 +106,7 @@ impl RenderPassDesc {
     }
 
     pub fn build(&self, device: &ash::Device) -> Result<vk::RenderPass> {
-        let describe = |a: &AttachmentDesc| {
-            vk::AttachmentDescription::default()
-                .format(a.format)
-                .samples(vk::SampleCountFlags::TYPE_1)
-                .load_op(a.load)
-                .store_op(a.store)
-                .stencil_load_op(a.stencil_load)
-                .stencil_store_op(a.stencil_store)
-                .initial_layout(vk::ImageLayout::UNDEFINED)
-                .final_layout(a.final_layout)
-        };
-        let attachments = [describe(&self.colour), describe(&self.depth)];
+        let attachments = [self.colour.description(), self.depth.description()];
         let colour_ref = [vk::AttachmentReference { attachment: 0, layout: self.colour_layout() }];
         let depth_ref =
             vk::AttachmentReference { attachment: 1, layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL };
@@ -174,6 +163,20 @@ impl RenderPassDesc {
 }
 
 impl AttachmentDesc {
+    /// The Vulkan attachment description: single-sampled, contents undefined on entry (every
+    /// attachment here is cleared or fully overwritten).
+    pub fn description(&self) -> vk::AttachmentDescription {
+        vk::AttachmentDescription::default()
+            .format(self.format)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .load_op(self.load)
+            .store_op(self.store)
+            .stencil_load_op(self.stencil_load)
+            .stencil_store_op(self.stencil_store)
+            .initial_layout(vk::ImageLayout::UNDEFINED)
+            .final_layout(self.final_layout)
+    }
+
     /// Bytes a tile-based GPU loads from and stores to main memory for this attachment over a
     /// `width` x `height` render area: a full load only for LOAD, a full store only for STORE.
     pub fn tile_traffic(&self, width: u32, height: u32) -> AttachmentTraffic {
