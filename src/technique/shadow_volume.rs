@@ -376,16 +376,24 @@ fn light_in_object_space(light: &Light, model: &Mat4) -> mesh::Light {
 pub fn build_volume(scene: &Scene, caster: &Caster, caps: bool) -> VolumeGeometry {
     let object = &scene.objects[caster.object];
     let light = light_in_object_space(&scene.light, &object.transform);
-    if let Some(skin) = object.skin.as_ref().filter(|s| s.positions.len() >= caster.welded.remap.len()) {
-        // A skinned caster in its current pose (`Scene::pose_at` moves palettes, not meshes):
-        // the same welded topology, new positions and face normals.
-        let mut positions = Vec::new();
-        caster.welded.gather_positions(&skin.posed_positions(), &mut positions);
+    if let Some(positions) = posed_welded_positions(scene, caster) {
         let mut normals = Vec::new();
         caster.adjacency.recompute_face_normals(&positions, &mut normals);
         return mesh::build_shadow_volume(&caster.adjacency, &positions, &normals, light, caps);
     }
     mesh::build_shadow_volume(&caster.adjacency, &caster.welded.positions, &caster.adjacency.face_normals, light, caps)
+}
+
+/// A skinned caster's welded vertices in its current pose (`Scene::pose_at` moves palettes,
+/// not meshes; the welded topology stays); `None` for a rigid caster.
+fn posed_welded_positions(scene: &Scene, caster: &Caster) -> Option<Vec<Vec3>> {
+    let skin = scene.objects[caster.object].skin.as_ref()?;
+    if skin.positions.len() < caster.welded.remap.len() {
+        return None;
+    }
+    let mut positions = Vec::new();
+    caster.welded.gather_positions(&skin.posed_positions(), &mut positions);
+    Some(positions)
 }
 
 /// Whether a world-space point lies in some caster's shadow (inside its volume): the ray from
@@ -397,7 +405,9 @@ fn in_shadow(scene: &Scene, casters: &[Caster], point: Vec3) -> bool {
     };
     casters.iter().any(|caster| {
         let model = scene.objects[caster.object].transform;
-        let p = |i: u32| model.transform_point3(caster.welded.positions[i as usize]);
+        let posed = posed_welded_positions(scene, caster);
+        let positions = posed.as_deref().unwrap_or(&caster.welded.positions);
+        let p = |i: u32| model.transform_point3(positions[i as usize]);
         caster
             .welded
             .indices
