@@ -250,4 +250,11 @@ fn tile_traffic_is_listed_per_render_pass_with_known_sizes() {
     let bake = &passes[1];
     assert_eq!((bake["width"].as_u64(), bake["count"].as_u64()), (Some(256), Some(2)));
     assert_eq!(bake["attachments"][0]["bytes_stored"], 256 * 256 * 4);
+
+    // The planar render-texture shadow: its 128x128 texture under its own pass, not "frame".
+    let planar = json(&["profile", "--size", "96x64", "--format", "json", "--technique", "shadow-texture"]);
+    let passes = planar["render_passes"].as_array().expect("render_passes");
+    let names: Vec<&str> = passes.iter().filter_map(|p| p["pass"].as_str()).collect();
+    assert_eq!(names, ["shadow texture", "frame"], "{passes:?}");
+    assert_eq!(passes[0]["attachments"][0]["bytes_stored"], 128 * 128 * 4);
 }

@@ -127,7 +127,8 @@ impl<'a> FrameRecorder<'a> {
 
     /// Begins a render pass on a target of the technique's own (outside the frame's render
     /// pass, in `Renderer::render_with_prepass`), with viewport and scissor covering `extent`;
-    /// its tile traffic is counted for the measured pass recording it.
+    /// its tile traffic is counted for the measured pass recording it, so it must be begun (and
+    /// ended) inside one: otherwise the frame fails with an error naming the mistake.
     pub fn begin_offscreen_pass(
         &mut self,
         render_pass: &RenderPass,
@@ -135,6 +136,13 @@ impl<'a> FrameRecorder<'a> {
         extent: vk::Extent2D,
         clear_values: &[vk::ClearValue],
     ) {
+        if !self.open {
+            self.deferred_error.get_or_insert(Error::InvalidInput(
+                "an offscreen render pass was begun outside a measured pass (its traffic and counters \
+                 would belong to no pass)"
+                    .into(),
+            ));
+        }
         self.begin_render_pass(render_pass.raw, &[render_pass.attachment], framebuffer, extent, clear_values);
     }
 

@@ -260,22 +260,21 @@ impl<'s> ShadowTextureRenderer<'s> {
             &uniforms,
             clear,
             |rec| {
-                rec.begin_offscreen_pass(&target.render_pass, target.framebuffer.raw, extent, &white);
-                let recorded = rec.pass("shadow texture", |rec| {
-                    if light_view_proj == Mat4::ZERO {
-                        return Ok(());
+                rec.pass("shadow texture", |rec| {
+                    rec.begin_offscreen_pass(&target.render_pass, target.framebuffer.raw, extent, &white);
+                    // No light above the plane: the texture stays cleared to white (unshadowed).
+                    if light_view_proj != Mat4::ZERO {
+                        for (index, object) in scene.objects.iter().enumerate().filter(|(i, _)| !plane.receivers[*i]) {
+                            let push = ObjectPush {
+                                model: light_view_proj * object.transform,
+                                colour: Vec4::new(factor, factor, factor, 1.0),
+                            };
+                            meshes.draw(rec, scene, index, caster, caster_skinned, &push);
+                        }
                     }
-                    for (index, object) in scene.objects.iter().enumerate().filter(|(i, _)| !plane.receivers[*i]) {
-                        let push = ObjectPush {
-                            model: light_view_proj * object.transform,
-                            colour: Vec4::new(factor, factor, factor, 1.0),
-                        };
-                        meshes.draw(rec, scene, index, caster, caster_skinned, &push);
-                    }
+                    rec.end_render_pass();
                     Ok(())
-                });
-                rec.end_render_pass();
-                recorded
+                })
             },
             |rec| {
                 rec.pass("scene", |rec| {
