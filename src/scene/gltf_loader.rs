@@ -769,7 +769,6 @@ impl Loader<'_> {
         }))
     }
 
-    /// JOINTS_0 and WEIGHTS_0, weights renormalised (see the module notes).
     /// One JOINTS_k/WEIGHTS_k pair: `n` vertices of four (joint, weight) influences.
     fn influence_set(
         &self,

@@ -74,8 +74,6 @@ impl InkMesh {
         })
     }
 
-    /// This frame's classification from `eye` (world space): face normals recomputed (the
-    /// mesh may have moved), then silhouette, crease and boundary flags.
     /// Takes the skin's current pose as the welded positions (the topology stays). False when
     /// the skin does not cover the mesh this was built from.
     pub fn follow(&mut self, skin: &SceneSkin) -> bool {
@@ -88,6 +86,8 @@ impl InkMesh {
         true
     }
 
+    /// This frame's classification from `eye` (world space): face normals recomputed (the
+    /// mesh may have moved), then silhouette, crease and boundary flags.
     pub fn classify(&mut self, model: &Mat4, eye: Vec3, crease_deg: f32) -> &EdgeClasses {
         self.adjacency.recompute_face_normals(&self.welded.positions, &mut self.face_normals);
         let eye = model.inverse().transform_point3(eye);

@@ -502,7 +502,6 @@ impl<'s> CartoonRenderer<'s> {
         Vec4::new(extent.width as f32, extent.height as f32, self.pixel_at_unit_distance(scene), 0.0)
     }
 
-    /// Per-frame CPU edge work for every object; returns its time in ms.
     /// Skinned objects whose palette changed (`Scene::pose_at`) get their lit mesh, welded
     /// positions (so the per-frame face normals and edges) and extruded copy re-posed.
     fn follow_pose(&mut self, scene: &Scene) -> Result<()> {
@@ -529,6 +528,7 @@ impl<'s> CartoonRenderer<'s> {
         Ok(())
     }
 
+    /// Per-frame CPU edge work for every object; returns its time in ms.
     fn build_quads(&mut self, scene: &Scene) -> f64 {
         let start = Instant::now();
         let crease = self.options.crease_deg;
