@@ -397,15 +397,15 @@ fn posed_welded_positions(scene: &Scene, caster: &Caster) -> Option<Vec<Vec3>> {
 }
 
 /// Whether a world-space point lies in some caster's shadow (inside its volume): the ray from
-/// the point towards the light hits the caster.
-fn in_shadow(scene: &Scene, casters: &[Caster], point: Vec3) -> bool {
+/// the point towards the light hits the caster. `posed` holds each caster's welded vertices in
+/// their current pose (see [`posed_welded_positions`]), or `None` for the welded mesh as built.
+fn in_shadow(scene: &Scene, casters: &[Caster], posed: &[Option<Vec<Vec3>>], point: Vec3) -> bool {
     let (towards_light, max_t) = match scene.light {
         Light::Directional { direction } => (-direction.normalize(), f32::INFINITY),
         Light::Point { position } => ((position - point).normalize(), (position - point).length()),
     };
-    casters.iter().any(|caster| {
+    casters.iter().zip(posed).any(|(caster, posed)| {
         let model = scene.objects[caster.object].transform;
-        let posed = posed_welded_positions(scene, caster);
         let positions = posed.as_deref().unwrap_or(&caster.welded.positions);
         let p = |i: u32| model.transform_point3(positions[i as usize]);
         caster
@@ -439,7 +439,9 @@ pub fn camera_inside_volume(scene: &Scene, casters: &[Caster], aspect: f32) -> b
     let inverse = camera.view_projection(aspect).inverse();
     let corners =
         [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)].map(|(x, y)| inverse.project_point3(Vec3::new(x, y, 0.0)));
-    std::iter::once(camera.eye).chain(corners).any(|p| in_shadow(scene, casters, p))
+    // Skinned casters are posed once for the five points.
+    let posed: Vec<Option<Vec<Vec3>>> = casters.iter().map(|c| posed_welded_positions(scene, c)).collect();
+    std::iter::once(camera.eye).chain(corners).any(|p| in_shadow(scene, casters, &posed, p))
 }
 
 pub fn choose_zfail(options: &ShadowVolumeOptions, scene: &Scene, casters: &[Caster], aspect: f32) -> bool {
