@@ -3,13 +3,13 @@
 use std::sync::Arc;
 
 use ash::vk;
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 
 use crate::error::Result;
 use crate::gpu::memory::{as_bytes, Buffer};
 use crate::gpu::Gpu;
 use crate::mesh::MeshData;
-use crate::scene::Scene;
+use crate::scene::{PoseTracker, Scene};
 
 pub struct GpuMesh {
     pub vertices: Buffer,
@@ -20,13 +20,7 @@ pub struct GpuMesh {
 impl GpuMesh {
     /// Interleaved position + normal (the `VertexLayout::POSITION_NORMAL` layout).
     pub fn upload(gpu: &Arc<Gpu>, name: &str, mesh: &MeshData) -> Result<Self> {
-        let interleaved: Vec<[Vec3; 2]> = mesh
-            .positions
-            .iter()
-            .zip(mesh.normals.iter().chain(std::iter::repeat(&Vec3::Y)))
-            .map(|(p, n)| [*p, *n])
-            .collect();
-        Self::from_raw(gpu, name, as_bytes(&interleaved), &mesh.indices)
+        Self::from_raw(gpu, name, as_bytes(&position_normal_vertices(&mesh.positions, &mesh.normals)), &mesh.indices)
     }
 
     pub fn from_raw(gpu: &Arc<Gpu>, name: &str, vertex_bytes: &[u8], indices: &[u32]) -> Result<Self> {
@@ -51,46 +45,36 @@ impl GpuMesh {
 /// The scene's meshes on the GPU, in the scene's mesh order.
 pub struct GpuScene {
     pub meshes: Vec<GpuMesh>,
-    /// Per mesh, the joint palette its vertices were skinned with (skinned objects' meshes).
-    palettes: Vec<Option<Vec<Mat4>>>,
+    /// The pose the skinned objects' uploaded vertices hold.
+    posed: PoseTracker,
 }
 
 impl GpuScene {
     pub fn upload(gpu: &Arc<Gpu>, scene: &Scene) -> Result<Self> {
         let meshes = scene.meshes.iter().map(|m| GpuMesh::upload(gpu, &m.name, &m.data)).collect::<Result<_>>()?;
-        let mut palettes = vec![None; scene.meshes.len()];
-        for object in &scene.objects {
-            if let (Some(skin), Some(slot)) = (&object.skin, palettes.get_mut(object.mesh)) {
-                *slot = Some(skin.joint_matrices.clone());
-            }
-        }
-        Ok(GpuScene { meshes, palettes })
+        Ok(GpuScene { meshes, posed: PoseTracker::new(scene) })
     }
 
-    /// Re-uploads the vertices of every skinned object whose palette changed since its mesh
-    /// was uploaded, skinned on the CPU by the new palette (`Scene::pose_at` moves palettes,
-    /// not meshes). The caller's previous frame must be complete: the old buffer is dropped.
-    pub fn follow_pose(&mut self, gpu: &Arc<Gpu>, scene: &Scene) -> Result<()> {
-        for object in &scene.objects {
-            let Some(skin) = &object.skin else { continue };
-            let (Some(mesh), Some(palette)) = (self.meshes.get_mut(object.mesh), self.palettes.get_mut(object.mesh))
-            else {
-                continue;
-            };
-            if palette.as_ref() == Some(&skin.joint_matrices) {
-                continue;
-            }
+    /// Re-uploads the vertices of every skinned object whose palette changed since they were
+    /// uploaded, skinned on the CPU by the new palette (`Scene::pose_at` moves palettes, not
+    /// meshes); returns those objects. The caller's previous frame must be complete: the old
+    /// buffers are dropped.
+    pub fn follow_pose(&mut self, gpu: &Arc<Gpu>, scene: &Scene) -> Result<Vec<usize>> {
+        let changed = self.posed.changed(scene);
+        for &index in &changed {
+            let object = &scene.objects[index];
+            let (Some(skin), Some(mesh)) = (&object.skin, self.meshes.get_mut(object.mesh)) else { continue };
             let (positions, normals) = skin.posed_positions_normals();
-            let interleaved: Vec<[Vec3; 2]> = positions
-                .iter()
-                .zip(normals.iter().chain(std::iter::repeat(&Vec3::Y)))
-                .map(|(p, n)| [*p, *n])
-                .collect();
             let name = format!("{} vertices (posed)", object.name);
-            mesh.vertices =
-                Buffer::device_local(gpu, &name, as_bytes(&interleaved), vk::BufferUsageFlags::VERTEX_BUFFER)?;
-            *palette = Some(skin.joint_matrices.clone());
+            let vertices = position_normal_vertices(&positions, &normals);
+            mesh.vertices = Buffer::device_local(gpu, &name, as_bytes(&vertices), vk::BufferUsageFlags::VERTEX_BUFFER)?;
         }
-        Ok(())
+        Ok(changed)
     }
+}
+
+/// Interleaved position + normal (the `VertexLayout::POSITION_NORMAL` layout); a missing
+/// normal is +Y.
+fn position_normal_vertices(positions: &[Vec3], normals: &[Vec3]) -> Vec<[Vec3; 2]> {
+    positions.iter().zip(normals.iter().chain(std::iter::repeat(&Vec3::Y))).map(|(p, n)| [*p, *n]).collect()
 }

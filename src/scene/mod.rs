@@ -22,6 +22,6 @@ pub use camera::{Camera, Light};
 pub use from_gltf::{scene_and_warnings_from_gltf, scene_from_gltf};
 pub use gltf_loader::{load_gltf, load_gltf_slice};
 pub use model::{Model, Transform, MAX_JOINTS};
-pub use objects::{Scene, SceneObject, SceneSkin};
-pub use rig::{ObjectRig, Rig, RigPose};
+pub use objects::{bounds_of, Scene, SceneObject, SceneSkin};
+pub use rig::{ObjectRig, PoseTracker, Rig, RigPose};
 pub use skinning::{joint_matrices, skin_positions_normals, world_matrices};

@@ -1,5 +1,7 @@
 //! What a frame draws: meshes, the objects placed from them, one light and a camera.
 
+use std::borrow::Cow;
+
 use glam::{Mat4, Vec2, Vec3};
 
 use super::camera::{Camera, Light};
@@ -119,16 +121,33 @@ impl Scene {
     }
 
     /// Object `index`'s vertices in its own space, in the current pose: a skinned object's
-    /// skinned by its current palette, any other's its mesh's.
-    pub fn posed_positions(&self, index: usize) -> Vec<Vec3> {
-        let Some(object) = self.objects.get(index) else { return Vec::new() };
+    /// skinned by its current palette, any other's its mesh's (borrowed, not copied).
+    pub fn posed_positions(&self, index: usize) -> Cow<'_, [Vec3]> {
+        let Some(object) = self.objects.get(index) else { return Cow::Borrowed(&[]) };
         match &object.skin {
-            Some(skin) => skin.posed_positions(),
-            None => self.meshes.get(object.mesh).map(|m| m.data.positions.clone()).unwrap_or_default(),
+            Some(skin) => Cow::Owned(skin.posed_positions()),
+            None => self.meshes.get(object.mesh).map_or(Cow::Borrowed(&[][..]), |m| Cow::Borrowed(&m.data.positions)),
         }
+    }
+
+    /// Object `index`'s vertices in world space, in the current pose.
+    pub fn posed_world_positions(&self, index: usize) -> Vec<Vec3> {
+        let Some(object) = self.objects.get(index) else { return Vec::new() };
+        self.posed_positions(index).iter().map(|p| object.transform.transform_point3(*p)).collect()
+    }
+
+    /// World-space bounds of object `index` in its current pose; `None` without vertices.
+    pub fn posed_bounds(&self, index: usize) -> Option<(Vec3, Vec3)> {
+        let object = self.objects.get(index)?;
+        bounds_of(self.posed_positions(index).iter().map(|p| object.transform.transform_point3(*p)))
     }
 
     pub fn triangle_count(&self) -> usize {
         self.objects.iter().map(|o| self.meshes[o.mesh].data.indices.len() / 3).sum()
     }
+}
+
+/// Lowest and highest corner of `points`; `None` for no points.
+pub fn bounds_of(points: impl IntoIterator<Item = Vec3>) -> Option<(Vec3, Vec3)> {
+    points.into_iter().fold(None, |b, w| Some(b.map_or((w, w), |(lo, hi)| (lo.min(w), hi.max(w)))))
 }

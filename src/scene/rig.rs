@@ -51,6 +51,38 @@ pub struct ObjectRig {
     pub skin: Option<usize>,
 }
 
+/// Which joint palette each skinned object's CPU-side copies (uploaded vertices, welded
+/// positions, atlas vertices) were posed with, so that a renderer re-poses them only when
+/// [`Scene::pose_at`] gave the object a new palette.
+#[derive(Debug, Clone, Default)]
+pub struct PoseTracker {
+    /// Per object: the palette its copies hold (`None`: not skinned).
+    palettes: Vec<Option<Vec<Mat4>>>,
+}
+
+impl PoseTracker {
+    /// Starts from `scene` as built: every copy is in the scene's current pose.
+    pub fn new(scene: &Scene) -> Self {
+        PoseTracker {
+            palettes: scene.objects.iter().map(|o| o.skin.as_ref().map(|s| s.joint_matrices.clone())).collect(),
+        }
+    }
+
+    /// The skinned objects of `scene` (indices, ascending) whose palette differs from the one
+    /// their copies hold; they count as re-posed from now on.
+    pub fn changed(&mut self, scene: &Scene) -> Vec<usize> {
+        let mut changed = Vec::new();
+        for (index, (object, held)) in scene.objects.iter().zip(&mut self.palettes).enumerate() {
+            let Some(skin) = &object.skin else { continue };
+            if held.as_ref() != Some(&skin.joint_matrices) {
+                *held = Some(skin.joint_matrices.clone());
+                changed.push(index);
+            }
+        }
+        changed
+    }
+}
+
 impl Scene {
     /// Re-poses every animated object at `time` seconds: its transform becomes its node's
     /// world matrix, its joint palette (skinned objects) that of the new pose. Meshes are not
@@ -104,5 +136,19 @@ mod tests {
             }
         }
         assert!(!builtin_scene_at("overlap", 0.0).expect("scene").is_animated());
+    }
+
+    #[test]
+    fn the_tracker_reports_each_new_pose_once() {
+        let mut scene = builtin_scene_at("default", 0.0).expect("scene");
+        let skinned: Vec<usize> = (0..scene.objects.len()).filter(|&i| scene.objects[i].skin.is_some()).collect();
+        assert!(!skinned.is_empty());
+        let mut tracker = super::PoseTracker::new(&scene);
+        assert_eq!(tracker.changed(&scene), Vec::<usize>::new(), "as built");
+        scene.pose_at(0.3).expect("pose");
+        assert_eq!(tracker.changed(&scene), skinned);
+        assert_eq!(tracker.changed(&scene), Vec::<usize>::new(), "already re-posed");
+        scene.pose_at(0.3).expect("pose");
+        assert_eq!(tracker.changed(&scene), Vec::<usize>::new(), "the same time again");
     }
 }

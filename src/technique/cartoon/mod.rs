@@ -408,8 +408,6 @@ pub struct CartoonRenderer<'s> {
     ink: Vec<InkMesh>,
     /// Ink lines from the edge list (`--silhouette edges`).
     edges: bool,
-    /// Per object: the joint palette `ink` and `extruded` are posed with (skinned objects).
-    palettes: Vec<Option<Vec<Mat4>>>,
     quads: InkQuads,
     selected: Vec<bool>,
     textures: Textures,
@@ -453,7 +451,6 @@ impl<'s> CartoonRenderer<'s> {
             )?);
             ink.push(prepared);
         }
-        let palettes = scene.objects.iter().map(|o| o.skin.as_ref().map(|s| s.joint_matrices.clone())).collect();
 
         let outline = technique == Technique::Outline;
         let pipelines = Pipelines {
@@ -480,7 +477,6 @@ impl<'s> CartoonRenderer<'s> {
             extruded,
             ink,
             edges,
-            palettes,
             quads: InkQuads::default(),
             selected,
             textures,
@@ -505,17 +501,12 @@ impl<'s> CartoonRenderer<'s> {
     /// Skinned objects whose palette changed (`Scene::pose_at`) get their lit mesh, welded
     /// positions (so the per-frame face normals and edges) and extruded copy re-posed.
     fn follow_pose(&mut self, scene: &Scene) -> Result<()> {
-        self.meshes.follow_pose(&self.gpu, scene)?;
-        for (index, object) in scene.objects.iter().enumerate() {
-            let (Some(skin), Some(ink), Some(posed)) =
-                (&object.skin, self.ink.get_mut(index), self.palettes.get_mut(index))
-            else {
-                continue;
-            };
-            if posed.as_ref() == Some(&skin.joint_matrices) || !ink.follow(skin) {
+        for index in self.meshes.follow_pose(&self.gpu, scene)? {
+            let object = &scene.objects[index];
+            let (Some(skin), Some(ink)) = (&object.skin, self.ink.get_mut(index)) else { continue };
+            if !ink.follow(skin) {
                 continue;
             }
-            *posed = Some(skin.joint_matrices.clone());
             if let Some(mesh) = self.extruded.get_mut(index) {
                 mesh.vertices = Buffer::device_local(
                     &self.gpu,

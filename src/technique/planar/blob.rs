@@ -15,7 +15,7 @@ use ash::vk;
 use glam::{Vec2, Vec3};
 
 use super::lit_descs;
-use super::{caster_bounds_of, light_reaches_plane, receiver_plane, stats, PlanarFrame, ReceiverPlane, SceneMeshes};
+use super::{light_reaches_plane, receiver_plane, stats, PlanarFrame, ReceiverPlane, SceneMeshes};
 use crate::error::Result;
 use crate::frame::{RgbaImage, StencilMode};
 use crate::gpu::descriptors::{Binding, DescriptorSet};
@@ -26,7 +26,7 @@ use crate::pipeline::{
     BlendEquation, BlendState, DepthState, FixedFunction, Pipeline, PipelineDesc, RasterState, VertexLayout,
 };
 use crate::render::{FrameUniforms, Renderer};
-use crate::scene::Scene;
+use crate::scene::{bounds_of, Scene};
 
 use crate::technique::lit::ObjectPush;
 
@@ -104,13 +104,13 @@ pub struct Blob {
 pub fn blobs(scene: &Scene, plane: &ReceiverPlane, darkness: f32) -> Vec<Blob> {
     let mut blobs = Vec::new();
     for (index, object) in scene.objects.iter().enumerate().filter(|(i, _)| !plane.receivers[*i]) {
-        let Some((low, high)) = caster_bounds_of(scene, index) else { continue };
+        // Posed once: the bounds and the feet both come from it.
+        let world = scene.posed_world_positions(index);
+        let Some((low, high)) = bounds_of(world.iter().copied()) else { continue };
         let size = high - low;
         let fade = |bottom: f32| darkness * (1.0 - (bottom - plane.height).max(0.0) / size.y.max(1e-3)).clamp(0.0, 1.0);
         let mut feet = Vec::new();
         if let Some(skin) = &object.skin {
-            let world: Vec<Vec3> =
-                skin.posed_positions().iter().map(|p| object.transform.transform_point3(*p)).collect();
             let dominant = |v: usize| {
                 let (j, w) = (skin.joints.get(v)?, skin.weights.get(v)?);
                 (0..4).max_by(|&a, &b| w[a].total_cmp(&w[b])).map(|k| j[k])

@@ -478,18 +478,8 @@ impl SceneMeshes {
 pub fn caster_bounds(scene: &Scene, plane: &ReceiverPlane) -> Option<(Vec3, Vec3)> {
     (0..scene.objects.len())
         .filter(|i| !plane.receivers[*i])
-        .filter_map(|i| caster_bounds_of(scene, i))
+        .filter_map(|i| scene.posed_bounds(i))
         .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
-}
-
-/// World-space bounds of object `index` in its current pose (skinned by its current palette).
-pub fn caster_bounds_of(scene: &Scene, index: usize) -> Option<(Vec3, Vec3)> {
-    let o = scene.objects.get(index)?;
-    scene
-        .posed_positions(index)
-        .iter()
-        .map(|p| o.transform.transform_point3(*p))
-        .fold(None, |b, w| Some(b.map_or((w, w), |(lo, hi): (Vec3, Vec3)| (lo.min(w), hi.max(w)))))
 }
 
 /// Sets the whole stencil aspect to `value` inside the render pass (the frame clears it to 0).

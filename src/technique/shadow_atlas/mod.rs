@@ -35,7 +35,7 @@ use crate::gpu::texture::{record_mip_chain, transition, Sampler};
 use crate::gpu::Gpu;
 use crate::pipeline::{BlendState, DepthState, FixedFunction, Pipeline, PipelineDesc, RasterState, VertexLayout};
 use crate::render::{FrameOutput, FrameRecorder, FrameUniforms, GpuMesh, Renderer};
-use crate::scene::{Light, Scene};
+use crate::scene::{Light, PoseTracker, Scene};
 
 /// Which of the two shadow techniques a renderer draws.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -203,26 +203,17 @@ pub struct ShadowLightUniforms {
 
 /// Centre and radius of a sphere around every object.
 pub fn scene_bounds(scene: &Scene) -> (Vec3, f32) {
-    let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
-    for (index, object) in scene.objects.iter().enumerate() {
-        for p in &scene.posed_positions(index) {
-            let w = object.transform.transform_point3(*p);
-            lo = lo.min(w);
-            hi = hi.max(w);
-        }
-    }
-    if lo.x > hi.x {
-        return (Vec3::ZERO, 1.0);
-    }
+    let all =
+        (0..scene.objects.len()).filter_map(|i| scene.posed_bounds(i)).reduce(|(a, b), (c, d)| (a.min(c), b.max(d)));
+    let Some((lo, hi)) = all else { return (Vec3::ZERO, 1.0) };
     ((lo + hi) * 0.5, ((hi - lo).length() * 0.5).max(1e-3))
 }
 
-/// Per mesh: the mesh vertex and the atlas UV of each GPU vertex, and the joint palette the GPU
-/// vertices are posed with (skinned objects' meshes).
+/// Per mesh: the mesh vertex and the atlas UV of each GPU vertex, to lay a re-posed skin out
+/// again.
 struct PosedLayout {
     sources: Vec<u32>,
     uvs: Vec<Vec2>,
-    palette: Option<Vec<Mat4>>,
 }
 
 /// Position, normal and atlas UV per vertex, interleaved as the bake and scene pipelines read.
@@ -366,6 +357,8 @@ pub struct ShadowAtlasRenderer<'s> {
     _map: Image,
     meshes: Vec<GpuMesh>,
     layouts: Vec<PosedLayout>,
+    /// The pose the skinned objects' atlas vertices hold.
+    posed: PoseTracker,
     atlases: Vec<AtlasInfo>,
     renderer: Renderer,
     frames: u32,
@@ -420,15 +413,8 @@ impl<'s> ShadowAtlasRenderer<'s> {
                 GpuMesh::from_raw(gpu, &m.name, as_bytes(&interleaved), &a.indices)
             })
             .collect::<Result<Vec<_>>>()?;
-        let mut posed_layouts: Vec<PosedLayout> = layouts
-            .iter()
-            .map(|a| PosedLayout { sources: a.source_vertices.clone(), uvs: a.uvs.clone(), palette: None })
-            .collect();
-        for object in &scene.objects {
-            if let (Some(skin), Some(layout)) = (&object.skin, posed_layouts.get_mut(object.mesh)) {
-                layout.palette = Some(skin.joint_matrices.clone());
-            }
-        }
+        let posed_layouts: Vec<PosedLayout> =
+            layouts.iter().map(|a| PosedLayout { sources: a.source_vertices.clone(), uvs: a.uvs.clone() }).collect();
         let atlases = scene
             .meshes
             .iter()
@@ -515,6 +501,7 @@ impl<'s> ShadowAtlasRenderer<'s> {
             _map: map,
             meshes,
             layouts: posed_layouts,
+            posed: PoseTracker::new(scene),
             atlases,
             renderer,
             frames: 0,
@@ -548,15 +535,13 @@ impl<'s> ShadowAtlasRenderer<'s> {
     /// Skinned objects whose palette changed (`Scene::pose_at`) get their atlas vertices
     /// re-posed on the CPU and uploaded again (the atlas layout stays).
     fn follow_pose(&mut self, scene: &Scene) -> Result<()> {
-        for object in &scene.objects {
-            let Some(skin) = &object.skin else { continue };
-            let (Some(mesh), Some(layout)) = (self.meshes.get_mut(object.mesh), self.layouts.get_mut(object.mesh))
+        for index in self.posed.changed(scene) {
+            let object = &scene.objects[index];
+            let (Some(skin), Some(mesh), Some(layout)) =
+                (&object.skin, self.meshes.get_mut(object.mesh), self.layouts.get(object.mesh))
             else {
                 continue;
             };
-            if layout.palette.as_ref() == Some(&skin.joint_matrices) {
-                continue;
-            }
             let (positions, normals) = skin.posed_positions_normals();
             let pick = |list: &[Vec3], fallback: Vec3| -> Vec<Vec3> {
                 layout.sources.iter().map(|&v| list.get(v as usize).copied().unwrap_or(fallback)).collect()
@@ -568,7 +553,6 @@ impl<'s> ShadowAtlasRenderer<'s> {
                 as_bytes(&interleaved),
                 vk::BufferUsageFlags::VERTEX_BUFFER,
             )?;
-            layout.palette = Some(skin.joint_matrices.clone());
         }
         Ok(())
     }
