@@ -365,4 +365,42 @@ fn bake_writes_the_models_shadow_texture_from_the_command_line() {
     let err = String::from_utf8_lossy(&output.stderr);
     assert!(!output.status.success() && err.contains("no model 'teapot'") && err.contains("ground, model"), "{err}");
     assert!(!missing.exists());
+
+    // 400 separate triangles cannot be laid out in a 16x16 texture: the error follows the
+    // progress line on a line of its own, and no file is written.
+    let mut positions = Vec::new();
+    for i in 0..400u32 {
+        let (x, z) = ((i % 20) as f32 * 2.0, (i / 20) as f32 * 2.0);
+        for p in [[x, 1.0, z], [x, 1.0, z + 1.0], [x + 1.0, 1.0, z]] {
+            positions.extend(p.iter().flat_map(|c: &f32| c.to_le_bytes()));
+        }
+    }
+    std::fs::write(dir.join("confetti.bin"), &positions).expect("write bin");
+    let gltf = serde_json::json!({
+        "asset": { "version": "2.0" },
+        "scenes": [{ "nodes": [0] }],
+        "nodes": [{ "mesh": 0 }],
+        "meshes": [{ "primitives": [{ "attributes": { "POSITION": 0 } }] }],
+        "buffers": [{ "uri": "confetti.bin", "byteLength": positions.len() }],
+        "bufferViews": [{ "buffer": 0, "byteLength": positions.len() }],
+        "accessors": [{ "bufferView": 0, "componentType": 5126, "count": 1200, "type": "VEC3",
+            "min": [0.0, 1.0, 0.0], "max": [39.0, 1.0, 39.0] }]
+    });
+    let scene = dir.join("confetti.gltf");
+    std::fs::write(&scene, serde_json::to_vec(&gltf).expect("json")).expect("write gltf");
+    let out = dir.join("confetti.png");
+    let output = run(&[
+        "bake",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--shadow-texture-size",
+        "16",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success(), "{err}");
+    let last = err.trim_end().lines().last().unwrap_or_default();
+    assert!(last.starts_with("nostencil: error:") && last.contains("400 atlas charts do not fit"), "{err:?}");
+    assert!(!out.exists());
 }

@@ -292,20 +292,25 @@ fn bake(frame: &FrameArgs, model: Option<&str>, mip: u32, out: &Path) -> Result<
     };
     let gpu = open_gpu(&frame.gpu)?;
     let start = std::time::Instant::now();
-    let mut renderer = ShadowAtlasRenderer::with_progress(
-        &gpu,
-        &scene,
-        (options.width.min(64), options.height.min(64)),
-        options.stencil,
-        ShadowKind::Atlas,
-        &options.shadow_atlas,
-        &mut |done, total| {
-            eprint!("\rbake: atlas layout {done:>4}/{total} meshes");
-            let _ = std::io::Write::flush(&mut std::io::stderr());
-        },
-    )?;
-    eprint!("\rbake: shadow map and {} shadow textures...", scene.objects.len());
-    renderer.frame()?;
+    let baked = (|| {
+        let mut renderer = ShadowAtlasRenderer::with_progress(
+            &gpu,
+            &scene,
+            (options.width.min(64), options.height.min(64)),
+            options.stencil,
+            ShadowKind::Atlas,
+            &options.shadow_atlas,
+            &mut |done, total| {
+                eprint!("\rbake: atlas layout {done:>4}/{total} meshes");
+                let _ = std::io::Write::flush(&mut std::io::stderr());
+            },
+        )?;
+        eprint!("\rbake: shadow map and {} shadow textures...", scene.objects.len());
+        renderer.frame()?;
+        Ok(renderer)
+    })();
+    // The progress line has no newline yet: an error goes on a line of its own.
+    let renderer = baked.inspect_err(|_| eprintln!())?;
     eprintln!(
         "\rbake: shadow map and {} shadow textures baked in {:.0} ms",
         scene.objects.len(),

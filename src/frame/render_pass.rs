@@ -150,12 +150,6 @@ impl RenderPassDesc {
         unsafe { device.create_render_pass(&info, None) }.vk("vkCreateRenderPass")
     }
 
-    /// Bytes a tile-based GPU moves for this pass: loads from and stores to main memory, per
-    /// attachment. Cleared, discarded and transient attachments move nothing.
-    pub fn tile_traffic(&self, width: u32, height: u32) -> Vec<AttachmentTraffic> {
-        [self.colour, self.depth].iter().map(|a| a.tile_traffic(width, height)).collect()
-    }
-
     /// Both attachments, colour first.
     pub fn attachments(&self) -> [AttachmentDesc; 2] {
         [self.colour, self.depth]
@@ -263,10 +257,20 @@ mod tests {
     #[test]
     fn tile_traffic_follows_load_store_ops() {
         let desc = RenderPassDesc::frame(vk::Format::D32_SFLOAT, false);
-        let traffic = desc.tile_traffic(256, 256);
+        let traffic = desc.attachments().map(|a| a.tile_traffic(256, 256));
         // Colour: cleared (nothing loaded), stored (4 bytes a pixel). Depth: nothing moves.
         assert_eq!(traffic[0].bytes_loaded, 0);
         assert_eq!(traffic[0].bytes_stored, 4 * 256 * 256);
         assert_eq!(traffic[1].bytes_loaded + traffic[1].bytes_stored, 0);
+        // A loaded and stored depth-stencil attachment moves both aspects both ways.
+        let kept = AttachmentDesc {
+            load: vk::AttachmentLoadOp::LOAD,
+            store: vk::AttachmentStoreOp::STORE,
+            stencil_load: vk::AttachmentLoadOp::LOAD,
+            stencil_store: vk::AttachmentStoreOp::STORE,
+            ..RenderPassDesc::frame(vk::Format::D32_SFLOAT_S8_UINT, false).depth
+        };
+        let traffic = kept.tile_traffic(16, 16);
+        assert_eq!((traffic.bytes_loaded, traffic.bytes_stored), (5 * 256, 5 * 256));
     }
 }
