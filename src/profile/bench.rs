@@ -87,7 +87,12 @@ pub fn run(variants: Vec<Variant>, settings: &BenchSettings) -> Result<Vec<Varia
         let mut last = None;
         for i in 0..settings.warmup + settings.runs {
             let start = Instant::now();
-            let output = (variant.frame)()?;
+            // After a progress line, an error starts a line of its own.
+            let output = (variant.frame)().inspect_err(|_| {
+                if settings.progress && done > 0 {
+                    eprintln!();
+                }
+            })?;
             let elapsed = start.elapsed().as_secs_f64() * 1e3;
             if i >= settings.warmup {
                 frame_ms.push(elapsed);
