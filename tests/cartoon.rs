@@ -12,7 +12,7 @@ use nostencil::gpu::Gpu;
 use nostencil::mesh::{shapes, MeshData};
 use nostencil::scene::{builtin_scene, Camera, Light, Scene};
 use nostencil::technique::cartoon::{self, CartoonOptions, CartoonStats, SilhouetteMethod};
-use nostencil::technique::Technique;
+use nostencil::technique::legacy::CartoonStyle;
 
 const SIZE: (u32, u32) = (160, 120);
 /// `cartoon.rs`'s ink colour (0.04, 0.04, 0.06) in 8 bits.
@@ -22,7 +22,7 @@ fn render(
     gpu: &Arc<Gpu>,
     scene: &Scene,
     stencil: StencilMode,
-    technique: Technique,
+    technique: CartoonStyle,
     options: &CartoonOptions,
     size: (u32, u32),
 ) -> (RgbaImage, CartoonStats) {
@@ -57,8 +57,8 @@ fn outline_emulated_equals_reference_for_one_and_several_overlapping_objects() {
     for (scene, names) in cases {
         let options =
             CartoonOptions { select: names.iter().map(|s| s.to_string()).collect(), ..CartoonOptions::default() };
-        let (reference, _) = render(&gpu, scene, StencilMode::Reference, Technique::Outline, &options, SIZE);
-        let (emulated, stats) = render(&gpu, scene, StencilMode::Emulated, Technique::Outline, &options, SIZE);
+        let (reference, _) = render(&gpu, scene, StencilMode::Reference, CartoonStyle::Outline, &options, SIZE);
+        let (emulated, stats) = render(&gpu, scene, StencilMode::Emulated, CartoonStyle::Outline, &options, SIZE);
         let label = format!("{} {names:?}", scene.name);
         assert!(!stats.selected.is_empty(), "{label}: nothing selected");
         let outline_pixels = count_rgb(&reference, orange);
@@ -82,10 +82,10 @@ fn outline_never_covers_a_selected_surface_and_hugs_the_selected_object() {
     let gpu = common::gpu();
     let scene = builtin_scene("outline").expect("scene");
     let one = CartoonOptions { select: vec!["box".into()], ..CartoonOptions::default() };
-    let (image, _) = render(&gpu, &scene, StencilMode::Emulated, Technique::Outline, &one, SIZE);
+    let (image, _) = render(&gpu, &scene, StencilMode::Emulated, CartoonStyle::Outline, &one, SIZE);
     let mut alone_scene = scene.clone();
     alone_scene.objects.retain(|o| o.name == "box");
-    let (alone, _) = render(&gpu, &alone_scene, StencilMode::Emulated, Technique::Outline, &one, SIZE);
+    let (alone, _) = render(&gpu, &alone_scene, StencilMode::Emulated, CartoonStyle::Outline, &one, SIZE);
     let orange = one.outline_colour;
     let (w, h) = (image.width as i32, image.height as i32);
     let reach = one.outline_width.ceil() as i32 + 1;
@@ -125,7 +125,7 @@ fn unknown_selection_is_refused_with_the_objects_names() {
     let gpu = common::gpu();
     let scene = builtin_scene("outline").expect("scene");
     let options = CartoonOptions { select: vec!["teapot".into()], ..CartoonOptions::default() };
-    let error = cartoon::render(&gpu, &scene, 64, 64, StencilMode::Emulated, Technique::Outline, &options)
+    let error = cartoon::render(&gpu, &scene, 64, 64, StencilMode::Emulated, CartoonStyle::Outline, &options)
         .err()
         .expect("unknown object")
         .to_string();
@@ -205,7 +205,7 @@ fn ink_line_width_in_the_image_is_the_requested_width() {
         let scene = &scene;
         for width in [1.0f32, 2.0, 3.0, 5.0] {
             let options = CartoonOptions { line_width: width, ..CartoonOptions::default() };
-            let (image, stats) = render(&gpu, scene, StencilMode::Emulated, Technique::Silhouette, &options, size);
+            let (image, stats) = render(&gpu, scene, StencilMode::Emulated, CartoonStyle::Silhouette, &options, size);
             let (top, bottom) = if *outward { (y - width, y) } else { (y - 0.5 * width, y + 0.5 * width) };
             // The analytic band must not put a pixel centre on its border (that would test the
             // tie rule, not the width).
@@ -229,7 +229,7 @@ fn ink_lines_sit_on_the_sphere_silhouette_without_gaps() {
     let size = (128, 128);
     let scene = face_on_scene(shapes::uv_sphere(24, 48).expect("sphere"), Mat4::IDENTITY);
     let options = CartoonOptions { line_width: 2.0, ..CartoonOptions::default() };
-    let (image, stats) = render(&gpu, &scene, StencilMode::Emulated, Technique::Silhouette, &options, size);
+    let (image, stats) = render(&gpu, &scene, StencilMode::Emulated, CartoonStyle::Silhouette, &options, size);
     assert!(stats.silhouette_edges >= 48, "{stats:?}");
     // The contour seen from distance d of a unit sphere: radius sin(asin(1/d)) at depth 1/d,
     // i.e. tangent angle asin(1/5) from the axis.
@@ -262,7 +262,7 @@ fn every_ink_method_darkens_the_silhouette_and_toon_shading_has_bands() {
     let dark = |p: [u8; 4]| p[0] < 40 && p[1] < 40 && p[2] < 40;
     for method in SilhouetteMethod::ALL {
         let options = CartoonOptions { silhouette: method, line_width: 3.0, ..CartoonOptions::default() };
-        for technique in [Technique::Silhouette, Technique::Toon] {
+        for technique in [CartoonStyle::Silhouette, CartoonStyle::Toon] {
             let (image, _) = render(&gpu, &scene, StencilMode::Emulated, technique, &options, size);
             // The sphere's centre is lit, its contour (radius ~ 21 px) is dark.
             assert!(!dark(image.pixel(48, 48)), "{method:?} {technique:?}: centre is dark");
@@ -282,7 +282,7 @@ fn every_ink_method_darkens_the_silhouette_and_toon_shading_has_bands() {
     // The toon ramp has three levels: a toon frame without ink shows at most three shades of
     // the albedo on the sphere (plus the background).
     let options = CartoonOptions { silhouette: SilhouetteMethod::Hull, line_width: 0.5, ..CartoonOptions::default() };
-    let (image, _) = render(&gpu, &scene, StencilMode::Emulated, Technique::Toon, &options, size);
+    let (image, _) = render(&gpu, &scene, StencilMode::Emulated, CartoonStyle::Toon, &options, size);
     let mut colours: Vec<[u8; 3]> = image.pixels.chunks_exact(4).map(|p| [p[0], p[1], p[2]]).collect();
     colours.sort();
     colours.dedup();
@@ -300,7 +300,7 @@ fn ink_passes_are_measured_one_per_edge_class() {
         SIZE.0,
         SIZE.1,
         StencilMode::Emulated,
-        Technique::Toon,
+        CartoonStyle::Toon,
         &CartoonOptions::default(),
     )
     .expect("frame");
@@ -324,7 +324,7 @@ fn crease_lines_of_a_cube_are_unbroken_and_stay_on_the_edges() {
     let mut scene = face_on_scene(shapes::cube(1.0), Mat4::IDENTITY);
     scene.camera = Camera::look_at(Vec3::new(2.2, 1.9, 2.6), Vec3::ZERO);
     let options = CartoonOptions { line_width: 2.0, ..CartoonOptions::default() };
-    let (image, stats) = render(&gpu, &scene, StencilMode::Emulated, Technique::Silhouette, &options, size);
+    let (image, stats) = render(&gpu, &scene, StencilMode::Emulated, CartoonStyle::Silhouette, &options, size);
     assert_eq!((stats.silhouette_edges, stats.crease_edges), (6, 6), "{stats:?}");
     let view_proj = scene.camera.view_projection(1.0);
     let to_pixel = |p: Vec3| {

@@ -28,7 +28,7 @@ fn main_frame_has_no_stencil_aspect_and_reference_has_one() {
 fn default_scene_renders_lit_at_the_requested_size() {
     let gpu = common::gpu();
     let scene = builtin_scene("default").expect("scene");
-    let options = RenderOptions { width: 256, height: 192, technique: Technique::Lit, ..Default::default() };
+    let options = RenderOptions { width: 256, height: 192, technique: technique("lit"), ..Default::default() };
     let output = render_scene(&gpu, &scene, &options).expect("render").output;
     let image = &output.image;
     assert_eq!((image.width, image.height), (256, 192));
@@ -72,4 +72,9 @@ fn zero_and_oversized_frames_are_refused() {
         assert!(error.to_string().contains("size"), "{error}");
     }
     common::assert_no_validation_messages(&gpu);
+}
+
+/// A technique of the registry, by name.
+fn technique(name: &str) -> &'static dyn Technique {
+    nostencil::technique::by_name(name).expect("technique")
 }

@@ -240,7 +240,8 @@ fn the_gpu_projection_lands_where_the_cpu_formula_says() {
 fn gpu_skinning_matches_the_cpu_skinned_mesh() {
     let gpu = common::gpu();
     let lit = |scene: &Scene| {
-        let options = RenderOptions { width: SIZE.0, height: SIZE.1, technique: Technique::Lit, ..Default::default() };
+        let options =
+            RenderOptions { width: SIZE.0, height: SIZE.1, technique: technique("lit"), ..Default::default() };
         render_scene(&gpu, scene, &options).expect("lit").output.image
     };
     let large_differences = |a: &RgbaImage, b: &RgbaImage| {
@@ -454,16 +455,16 @@ fn a_renderer_built_once_follows_the_walk_as_if_rebuilt_at_each_time() {
         ("RiggedSimple", Box::new(|t| scene_from_gltf(&rigged, t).expect("scene"))),
     ];
     let mut variants: Vec<(String, RenderOptions)> = [
-        Technique::Lit,
-        Technique::ShadowVolume,
-        Technique::Silhouette,
-        Technique::Toon,
-        Technique::Outline,
-        Technique::Planar,
-        Technique::Blob,
-        Technique::ShadowTexture,
-        Technique::ShadowMap,
-        Technique::ShadowTextureAtlas,
+        technique("lit"),
+        technique("shadow-volume"),
+        technique("silhouette"),
+        technique("toon"),
+        technique("outline"),
+        technique("planar"),
+        technique("blob"),
+        technique("shadow-texture"),
+        technique("shadow-map"),
+        technique("shadow-texture-atlas"),
     ]
     .into_iter()
     .map(|technique| {
@@ -476,7 +477,7 @@ fn a_renderer_built_once_follows_the_walk_as_if_rebuilt_at_each_time() {
     for (name, build) in &sources {
         let start = build(0.0);
         for (variant, options) in &variants {
-            let mut renderer = nostencil::technique::scene_renderer::build(&gpu, &start, options).expect("renderer");
+            let mut renderer = options.technique.build(&gpu, &start, options).expect("renderer");
             let first = render_scene(&gpu, &start, options).expect("frame").output.image;
             let mut moving = start.clone();
             let mut changed = 0;
@@ -493,7 +494,7 @@ fn a_renderer_built_once_follows_the_walk_as_if_rebuilt_at_each_time() {
                 rebuilt.camera = start.camera;
                 let reference = render_scene(&gpu, &rebuilt, options).expect("frame").output.image;
                 let differing = rgb_differences(&live, &reference);
-                if options.technique == Technique::ShadowTextureAtlas {
+                if options.technique.name() == "shadow-texture-atlas" {
                     // A skinned mesh's generated atlas is laid out from the pose it was built in,
                     // so its own texels sample the shadow map at other places: only the
                     // character's shading may differ (the ground's bake and the shadow agree).
@@ -507,4 +508,9 @@ fn a_renderer_built_once_follows_the_walk_as_if_rebuilt_at_each_time() {
         }
     }
     common::assert_no_validation_messages(&gpu);
+}
+
+/// A technique of the registry, by name.
+fn technique(name: &str) -> &'static dyn Technique {
+    nostencil::technique::by_name(name).expect("technique")
 }

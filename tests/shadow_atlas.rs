@@ -126,7 +126,7 @@ fn concave_model_shadows_itself_in_its_baked_texture() {
     common::assert_no_validation_messages(&gpu);
 }
 
-fn render(gpu: &Arc<Gpu>, scene: &Scene, technique: Technique, size: (u32, u32)) -> RgbaImage {
+fn render(gpu: &Arc<Gpu>, scene: &Scene, technique: &'static dyn Technique, size: (u32, u32)) -> RgbaImage {
     let options = RenderOptions {
         width: size.0,
         height: size.1,
@@ -141,9 +141,9 @@ fn render(gpu: &Arc<Gpu>, scene: &Scene, technique: Technique, size: (u32, u32))
 /// only along shadow edges (the two sample the light's depth at different places: texels of
 /// the shadow texture against pixels of the frame).
 fn assert_atlas_agrees_with_shadow_map(gpu: &Arc<Gpu>, scene: &Scene, size: (u32, u32)) {
-    let atlas = render(gpu, scene, Technique::ShadowTextureAtlas, size);
-    let map = render(gpu, scene, Technique::ShadowMap, size);
-    let lit = render(gpu, scene, Technique::Lit, size);
+    let atlas = render(gpu, scene, technique("shadow-texture-atlas"), size);
+    let map = render(gpu, scene, technique("shadow-map"), size);
+    let lit = render(gpu, scene, technique("lit"), size);
     // Kept for a person to look at.
     let dir = common::scratch_dir(&format!("atlas-vs-map-{}", scene.name));
     for (image, name) in [(&atlas, "atlas"), (&map, "shadow-map"), (&lit, "lit")] {
@@ -403,4 +403,9 @@ fn bake_writes_the_models_shadow_texture_from_the_command_line() {
     let last = err.trim_end().lines().last().unwrap_or_default();
     assert!(last.starts_with("nostencil: error:") && last.contains("400 atlas charts do not fit"), "{err:?}");
     assert!(!out.exists());
+}
+
+/// A technique of the registry, by name.
+fn technique(name: &str) -> &'static dyn Technique {
+    nostencil::technique::by_name(name).expect("technique")
 }

@@ -42,7 +42,7 @@ fn lit(gpu: &Arc<Gpu>, scene: &Scene) -> RgbaImage {
 }
 
 fn lit_sized(gpu: &Arc<Gpu>, scene: &Scene, size: (u32, u32)) -> RgbaImage {
-    let options = RenderOptions { width: size.0, height: size.1, technique: Technique::Lit, ..Default::default() };
+    let options = RenderOptions { width: size.0, height: size.1, technique: technique("lit"), ..Default::default() };
     render_scene(gpu, scene, &options).expect("lit frame").output.image
 }
 
@@ -339,4 +339,9 @@ fn open_caster_is_refused_with_its_name() {
     let message = error.to_string();
     assert!(message.contains("lonely quad") && message.contains("closed"), "{message}");
     common::assert_no_validation_messages(&gpu);
+}
+
+/// A technique of the registry, by name.
+fn technique(name: &str) -> &'static dyn Technique {
+    nostencil::technique::by_name(name).expect("technique")
 }

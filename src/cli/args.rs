@@ -60,9 +60,10 @@ pub enum Command {
     Passes {
         #[arg(long, default_value = "lit")]
         technique: String,
-        /// shadow-volume: which normalisation path to list (`seed`, `max` or `subpass`).
-        #[arg(long, default_value = "seed")]
-        normalize: String,
+        /// shadow-volume: list only this normalisation path (`seed`, `max` or `subpass`); all by
+        /// default.
+        #[arg(long)]
+        normalize: Option<String>,
     },
     /// Time frames of a technique's variants (the real-stencil reference first) in one run.
     Bench {
@@ -206,7 +207,7 @@ impl From<StencilArg> for StencilMode {
     }
 }
 
-#[derive(Debug, Clone, Copy, ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum FormatArg {
     Table,
     Json,

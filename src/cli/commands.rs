@@ -10,8 +10,8 @@ use crate::profile::budget::Budget;
 use crate::profile::report::{ProfileReport, ReportContext, ReportFormat};
 use crate::scene::{builtin_scene_at, scene_and_warnings_from_gltf, Scene, BUILTIN_SCENES, OTHER_SCENES};
 use crate::technique::{
-    alpha_counter, render_scene, shadow_atlas, CartoonOptions, LightMode, Normalize, PlanarOptions, RenderOptions,
-    ShadowAtlasOptions, ShadowVolumeOptions, SilhouetteMethod, Technique, VolumeMethod,
+    alpha_counter, by_name, render_scene, shadow_atlas, CartoonOptions, LightMode, Normalize, PlanarOptions,
+    RenderOptions, ShadowAtlasOptions, ShadowVolumeOptions, SilhouetteMethod, VolumeMethod, TECHNIQUES,
 };
 
 pub fn run(cli: Cli) -> Result<()> {
@@ -26,16 +26,7 @@ pub fn run(cli: Cli) -> Result<()> {
             }
         }
         Command::Info { gpu, json } => info(&gpu, json),
-        Command::Passes { technique, normalize } => {
-            let options = RenderOptions {
-                technique: Technique::parse(&technique)?,
-                shadow_volume: ShadowVolumeOptions { normalize: Normalize::parse(&normalize)?, ..Default::default() },
-                ..Default::default()
-            };
-            let descs = crate::technique::pipeline_descs(&options);
-            print!("{}", crate::profile::passes::markdown_table(options.technique.name(), &descs));
-            Ok(())
-        }
+        Command::Passes { technique, normalize } => passes(&technique, normalize.as_deref()),
         Command::Bench { frame, warmup, runs, json } => bench(&frame, warmup, runs, json),
         Command::Bake { frame, model, mip, out } => bake(&frame, model.as_deref(), mip, &out),
         Command::View { frame, frames, screenshot, resize_after, paused } => {
@@ -70,7 +61,7 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
         width: frame.size.0,
         height: frame.size.1,
         stencil: frame.stencil.into(),
-        technique: Technique::parse(&frame.technique)?,
+        technique: by_name(&frame.technique)?,
         shadow_volume: ShadowVolumeOptions {
             increment: alpha_counter::check_increment(frame.increment)?,
             method: VolumeMethod::parse(&frame.volume_method)?,
@@ -173,69 +164,12 @@ fn profile(frame: &FrameArgs, format: FormatArg, outputs: &ProfileOutputs) -> Re
         },
         &output.counters,
     );
-    report.technique_stats = match (&frame_result.shadow_volume, &frame_result.cartoon, &frame_result.planar) {
-        (Some(s), _, _) => serde_json::to_value(s).ok(),
-        (_, Some(c), _) => serde_json::to_value(c).ok(),
-        (_, _, Some(p)) => serde_json::to_value(p).ok(),
-        _ if frame_result.shadow_atlas.is_some() => {
-            frame_result.shadow_atlas.as_ref().and_then(|s| serde_json::to_value(s).ok())
-        }
-        _ => None,
-    };
+    let stats = frame_result.stats.json();
+    report.technique_stats = (!stats.is_null()).then_some(stats);
     print!("{}", report.render(report_format(format)));
-    if let (Some(stats), FormatArg::Table) = (frame_result.shadow_volume, format) {
-        println!(
-            "\nshadow volumes: {} | counter capacity {} volumes (k = {}) | saturated pixels: {}",
-            if stats.zfail { "z-fail" } else { "z-pass" },
-            stats.capacity,
-            options.shadow_volume.increment,
-            stats.saturated_pixels.map_or("n/a (reference)".to_owned(), |n| n.to_string())
-        );
-    }
-    if let (Some(stats), FormatArg::Table) = (&frame_result.cartoon, format) {
-        match stats.method {
-            Some(method) if method != SilhouetteMethod::Edges => {
-                println!("\ncartoon ({}): ink on the GPU, no CPU edge work", method.name())
-            }
-            Some(method) => println!(
-                "\ncartoon ({}): {} edges in the unique edge lists | drawn: {} silhouette, {} crease, {} boundary | \
-                 CPU edge work {:.3} ms",
-                method.name(),
-                stats.total_edges,
-                stats.silhouette_edges,
-                stats.crease_edges,
-                stats.boundary_edges,
-                stats.edge_cpu_ms
-            ),
-            None => println!("\noutline: selected {}", stats.selected.join(", ")),
-        }
-    }
-    if let (Some(stats), FormatArg::Table) = (&frame_result.shadow_atlas, format) {
-        println!(
-            "\n{} | light {} | frame {}: {} | shadow map {}x{}",
-            stats.technique.name(),
-            stats.light.name(),
-            stats.frame,
-            if stats.cached {
-                "shadow map and bake skipped (neither light nor models moved since the last frame)"
-            } else {
-                "shadow map re-rendered (and shadow textures re-baked)"
-            },
-            stats.map_size,
-            stats.map_size
-        );
-        if stats.technique == shadow_atlas::ShadowKind::Atlas {
-            for atlas in &stats.atlases {
-                println!(
-                    "  atlas of '{}': {} -> {}x{} shadow texture, {} mips",
-                    atlas.mesh,
-                    atlas.describe(),
-                    atlas.size,
-                    atlas.size,
-                    atlas.mip_levels
-                );
-            }
-        }
+    let lines = frame_result.stats.report();
+    if format == FormatArg::Table && !lines.is_empty() {
+        println!("\n{lines}");
     }
 
     if let Some(path) = &outputs.heatmap {
@@ -333,27 +267,13 @@ fn bake(frame: &FrameArgs, model: Option<&str>, mip: u32, out: &Path) -> Result<
 
 /// `--compare`: each named variant of the frame, side by side.
 fn profile_compare(frame: &FrameArgs, format: FormatArg, variants: &[String]) -> Result<()> {
-    use crate::frame::StencilMode;
     use crate::profile::compare::{Comparison, VariantFrame};
     let base = options(frame)?;
     let scene = load_scene(&frame.scene, frame.time)?;
     let gpu = open_gpu(&frame.gpu)?;
     let mut frames = Vec::new();
     for variant in variants {
-        let mut options = base.clone();
-        match variant.as_str() {
-            "emulated" => options.stencil = StencilMode::Emulated,
-            "reference" => options.stencil = StencilMode::Reference,
-            other => {
-                if options.technique != Technique::ShadowVolume {
-                    return Err(Error::InvalidInput(format!(
-                        "--compare {other}: variants are emulated and reference (and seed, max, subpass for shadow-volume)"
-                    )));
-                }
-                options.stencil = StencilMode::Emulated;
-                options.shadow_volume.normalize = Normalize::parse(other)?;
-            }
-        }
+        let options = base.technique.compare_variant(variant, &base)?;
         render_scene(&gpu, &scene, &options)?; // warm-up: shader compilation
         let counters = render_scene(&gpu, &scene, &options)?.output.counters;
         frames.push(VariantFrame { variant: variant.clone(), counters });
@@ -401,7 +321,7 @@ fn info(args: &GpuArgs, json: bool) -> Result<()> {
         lazily_allocated_memory: info.has_lazily_allocated_memory,
         limits: &info.limit_checks,
         scenes: BUILTIN_SCENES.iter().chain(OTHER_SCENES).map(|(n, _)| *n).collect(),
-        techniques: Technique::ALL.iter().map(|t| t.name()).collect(),
+        techniques: TECHNIQUES.iter().map(|t| t.name()).collect(),
     };
     if json {
         println!("{}", serde_json::to_string_pretty(&report).map_err(|e| Error::InvalidInput(e.to_string()))?);
@@ -441,9 +361,7 @@ fn info(args: &GpuArgs, json: bool) -> Result<()> {
 }
 
 fn bench(frame: &FrameArgs, warmup: u32, runs: u32, json: bool) -> Result<()> {
-    use crate::frame::StencilMode;
     use crate::profile::bench::{self, BenchReport, BenchSettings, Variant};
-    use crate::technique::shadow_volume::ShadowVolumeRenderer;
 
     if runs == 0 {
         return Err(Error::InvalidInput("--runs must be at least 1".into()));
@@ -452,7 +370,7 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: u32, json: bool) -> Result<()> {
         if json {
             return Err(Error::InvalidInput("--json takes one technique; run bench once per technique".into()));
         }
-        for technique in Technique::ALL {
+        for technique in TECHNIQUES {
             let one = FrameArgs { technique: technique.name().to_owned(), ..frame.clone() };
             bench(&one, warmup, runs, false)?;
             println!();
@@ -463,76 +381,15 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: u32, json: bool) -> Result<()> {
     let scene = load_scene(&frame.scene, frame.time)?;
     let gpu = open_gpu(&frame.gpu)?;
     let (width, height) = (options.width, options.height);
+    if matches!(options.technique.name(), "shadow-map" | "shadow-texture-atlas") {
+        // Seed 004's Table 1: both techniques, fixed and moving light, on its two scenes.
+        return crate::technique::shadow_atlas::table1::bench(&gpu, &options, warmup, runs, json);
+    }
     let mut variants = Vec::new();
-    match options.technique {
-        Technique::ShadowVolume => {
-            let mut reference =
-                ShadowVolumeRenderer::new(&gpu, &scene, width, height, StencilMode::Reference, &options.shadow_volume)?;
-            variants.push(Variant {
-                name: "reference (stencil)".into(),
-                frame: Box::new(move || Ok(reference.frame()?.output)),
-            });
-            for normalize in Normalize::ALL {
-                let sv = ShadowVolumeOptions { normalize, ..options.shadow_volume };
-                let mut renderer = ShadowVolumeRenderer::new(&gpu, &scene, width, height, StencilMode::Emulated, &sv)?;
-                variants.push(Variant {
-                    name: format!("emulated {}", normalize.name()),
-                    frame: Box::new(move || Ok(renderer.frame()?.output)),
-                });
-            }
-        }
-        Technique::Outline => {
-            use crate::technique::cartoon::CartoonRenderer;
-            for (name, stencil) in
-                [("reference (stencil)", StencilMode::Reference), ("emulated", StencilMode::Emulated)]
-            {
-                let mut renderer =
-                    CartoonRenderer::new(&gpu, &scene, width, height, stencil, options.technique, &options.cartoon)?;
-                variants.push(Variant { name: name.into(), frame: Box::new(move || Ok(renderer.frame()?.output)) });
-            }
-        }
-        Technique::Silhouette | Technique::Toon => {
-            use crate::technique::cartoon::CartoonRenderer;
-            for method in SilhouetteMethod::ALL {
-                let cartoon = CartoonOptions { silhouette: method, ..options.cartoon.clone() };
-                let mut renderer =
-                    CartoonRenderer::new(&gpu, &scene, width, height, options.stencil, options.technique, &cartoon)?;
-                variants.push(Variant {
-                    name: format!("{} {}", options.technique.name(), method.name()),
-                    frame: Box::new(move || Ok(renderer.frame()?.output)),
-                });
-            }
-        }
-        Technique::Planar | Technique::Blob | Technique::ShadowTexture => {
-            // The three shadows of seed 001 side by side, the real-stencil reference first.
-            use crate::technique::planar::{blob::BlobRenderer, shadow_texture::ShadowTextureRenderer, PlanarRenderer};
-            let factor = options.planar.shadow_factor;
-            for (name, stencil) in [
-                ("planar reference (stencil)", StencilMode::Reference),
-                ("planar emulated (alpha)", StencilMode::Emulated),
-            ] {
-                let mut renderer = PlanarRenderer::new(&gpu, &scene, width, height, stencil, &options.planar)?;
-                variants.push(Variant { name: name.into(), frame: Box::new(move || Ok(renderer.frame()?.output)) });
-            }
-            let mut blob = BlobRenderer::new(&gpu, &scene, width, height, StencilMode::Emulated, factor)?;
-            variants.push(Variant { name: "blob".into(), frame: Box::new(move || Ok(blob.frame()?.output)) });
-            let mut texture = ShadowTextureRenderer::new(&gpu, &scene, width, height, StencilMode::Emulated, factor)?;
-            variants
-                .push(Variant { name: "shadow texture".into(), frame: Box::new(move || Ok(texture.frame()?.output)) });
-        }
-        Technique::ShadowMap | Technique::ShadowTextureAtlas => {
-            return crate::technique::shadow_atlas::table1::bench(&gpu, &options, warmup, runs, json);
-        }
-        Technique::Lit => {
-            for stencil in [StencilMode::Reference, StencilMode::Emulated] {
-                let opts = RenderOptions { stencil, ..options.clone() };
-                let (gpu, scene) = (gpu.clone(), &scene);
-                variants.push(Variant {
-                    name: format!("lit ({})", stencil.name()),
-                    frame: Box::new(move || Ok(render_scene(&gpu, scene, &opts)?.output)),
-                });
-            }
-        }
+    for variant in options.technique.bench_variants(&options) {
+        let mut renderer = variant.options.technique.build(&gpu, &scene, &variant.options)?;
+        let scene = &scene;
+        variants.push(Variant { name: variant.label, frame: Box::new(move || Ok(renderer.frame_with(scene)?.output)) });
     }
     let results = bench::run(variants, &BenchSettings { warmup, runs, progress: !json })?;
     let report = BenchReport {
@@ -600,4 +457,28 @@ fn view(
         },
         scene,
     )
+}
+
+/// `passes`: every plan of the technique (each path, each variant that changes the passes), as
+/// Markdown tables; `--normalize` keeps one shadow-volume normalisation.
+fn passes(technique: &str, normalize: Option<&str>) -> Result<()> {
+    let technique = by_name(technique)?;
+    let normalize = normalize.map(Normalize::parse).transpose()?;
+    let base = RenderOptions { technique, ..Default::default() };
+    println!("## {}: passes and fixed-function state\n", technique.name());
+    println!("{}\n", technique.about());
+    for variant in technique.plan_variants(&base) {
+        let kept = match normalize {
+            Some(n) if technique.name() == "shadow-volume" => {
+                variant.options.stencil == crate::frame::StencilMode::Reference
+                    || variant.options.shadow_volume.normalize == n
+            }
+            _ => true,
+        };
+        if kept {
+            let plan = technique.plan(&variant.options)?;
+            println!("{}", crate::profile::passes::plan_table(&variant.label, &plan));
+        }
+    }
+    Ok(())
 }

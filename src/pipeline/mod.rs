@@ -2,6 +2,7 @@
 //! description into a Vulkan pipeline (`builder`).
 
 pub mod builder;
+pub mod recipes;
 pub mod state;
 
 pub use builder::{Pipeline, PipelineDesc, VertexLayout};

@@ -1,11 +1,13 @@
-//! The `passes` table: every pass of a technique with its fixed-function state, printed from the
-//! very `PipelineDesc`s the renderer builds pipelines from, as Markdown a port can copy.
+//! The `passes` table: every pass of a technique's plan with its fixed-function state, printed
+//! from the very plan the renderer builds its pipelines from and records, as Markdown a port can
+//! copy.
 
 use std::fmt::Write as _;
 
 use ash::vk;
 
 use crate::pipeline::{BlendEquation, PipelineDesc, StencilFace};
+use crate::render::plan::{PassPlan, Target};
 
 fn short<T: std::fmt::Debug>(value: T) -> String {
     format!("{value:?}")
@@ -49,58 +51,82 @@ fn stencil_face(face: &StencilFace) -> String {
     )
 }
 
-/// A Markdown table, one row per pass: `(path, desc)` as a technique's `pipeline_descs` lists them.
-pub fn markdown_table(technique: &str, passes: &[(&str, PipelineDesc)]) -> String {
+/// A Markdown table of one plan: one row per pipeline a pass binds, in the order they run,
+/// with what the pass draws and pushes and when it runs.
+pub fn plan_table(title: &str, plan: &PassPlan) -> String {
     let mut out = String::new();
-    let _ = writeln!(out, "## {technique}: passes and fixed-function state\n");
+    let _ = writeln!(out, "### {title}\n");
     let _ = writeln!(
         out,
-        "| path | pass | shaders | colour blend | alpha blend | write mask | depth test | depth write | cull | depth bias | stencil front | stencil back |"
+        "| # | pass | pipeline | target | runs | draws | push | shaders | colour blend | alpha blend | write mask | depth test | depth write | cull | depth bias | stencil front | stencil back |"
     );
-    let _ = writeln!(out, "|---|---|---|---|---|---|---|---|---|---|---|---|");
-    for (path, desc) in passes {
-        let f = &desc.fixed;
-        let (colour, alpha) = if f.blend.enabled() {
-            (
-                equation(Some(f.blend.colour.unwrap_or(BlendEquation::REPLACE))),
-                equation(Some(f.blend.alpha.unwrap_or(BlendEquation::REPLACE))),
-            )
-        } else {
-            (equation(None), equation(None))
-        };
-        let _ = writeln!(
-            out,
-            "| {path} | {} | {} + {} | {colour} | {alpha} | {} | {} | {} | {} | {} | {} | {} |",
-            desc.name,
-            desc.vertex_shader,
-            desc.fragment_shader,
-            write_mask(f.blend.write_mask),
-            f.depth.compare.map_or("off".into(), short),
-            if f.depth.write { "on" } else { "off" },
-            if f.raster.cull.is_empty() { "NONE".into() } else { short(f.raster.cull) },
-            f.raster.depth_bias.map_or("none".into(), |b| format!("{} const, {} slope", b.constant, b.slope)),
-            f.stencil.map_or("none".into(), |s| stencil_face(&s.front)),
-            f.stencil.map_or("none".into(), |s| stencil_face(&s.back)),
-        );
+    let _ = writeln!(out, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    for (index, pass) in plan.passes.iter().enumerate() {
+        for desc in &pass.pipelines {
+            let _ = writeln!(
+                out,
+                "| {} | {} | {} | {} | {} | {} | {} | {} |",
+                index + 1,
+                pass.name,
+                desc.name,
+                match pass.target {
+                    Target::Frame => "frame".to_owned(),
+                    Target::Offscreen(name) => name.to_owned(),
+                },
+                pass.when.describe(),
+                pass.draws.describe(),
+                pass.push.describe(),
+                state_columns(desc)
+            );
+        }
     }
     out
+}
+
+/// Shaders and fixed-function state of one pipeline, as table cells.
+fn state_columns(desc: &PipelineDesc) -> String {
+    let f = &desc.fixed;
+    let (colour, alpha) = if f.blend.enabled() {
+        (
+            equation(Some(f.blend.colour.unwrap_or(BlendEquation::REPLACE))),
+            equation(Some(f.blend.alpha.unwrap_or(BlendEquation::REPLACE))),
+        )
+    } else {
+        (equation(None), equation(None))
+    };
+    format!(
+        "{} + {} | {colour} | {alpha} | {} | {} | {} | {} | {} | {} | {}",
+        desc.vertex_shader,
+        desc.fragment_shader,
+        write_mask(f.blend.write_mask),
+        f.depth.compare.map_or("off".into(), short),
+        if f.depth.write { "on" } else { "off" },
+        if f.raster.cull.is_empty() { "NONE".into() } else { short(f.raster.cull) },
+        f.raster.depth_bias.map_or("none".into(), |b| format!("{} const, {} slope", b.constant, b.slope)),
+        f.stencil.map_or("none".into(), |s| stencil_face(&s.front)),
+        f.stencil.map_or("none".into(), |s| stencil_face(&s.back)),
+    )
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::technique::shadow_volume::{pipeline_descs, ShadowVolumeOptions};
+    use crate::frame::StencilMode;
+    use crate::technique::shadow_volume::{recipes, ShadowVolumeOptions, VolumeMethod};
 
     #[test]
     fn shadow_volume_table_shows_the_seed_recipes() {
-        let table = markdown_table("shadow-volume", &pipeline_descs(&ShadowVolumeOptions::default()));
-        assert!(table.contains("| normalise N0 |"));
-        assert!(table.contains("SUBTRACT (ONE_MINUS_DST_ALPHA, ONE)"));
-        assert!(table.contains("REVERSE_SUBTRACT (ONE_MINUS_DST_ALPHA, DST_ALPHA)"));
-        assert!(table.contains("INCREMENT_AND_WRAP"));
+        let options = ShadowVolumeOptions { method: VolumeMethod::ZPass, ..Default::default() };
+        let emulated = plan_table("emulated", &recipes::plan(&options, StencilMode::Emulated).unwrap());
+        assert!(emulated.contains("| normalise N0 | normalise N0 |"));
+        assert!(emulated.contains("| normalise N1 | normalise iteration |"));
+        assert!(emulated.contains("SUBTRACT (ONE_MINUS_DST_ALPHA, ONE)"));
+        assert!(emulated.contains("REVERSE_SUBTRACT (ONE_MINUS_DST_ALPHA, DST_ALPHA)"));
         // Emulated passes never use the stencil.
-        for line in table.lines().filter(|l| l.starts_with("| emulated")) {
+        for line in emulated.lines().filter(|l| l.starts_with("| ") && !l.starts_with("| #")) {
             assert!(line.ends_with("| none | none |"), "{line}");
         }
+        let reference = plan_table("reference", &recipes::plan(&options, StencilMode::Reference).unwrap());
+        assert!(reference.contains("INCREMENT_AND_WRAP"));
     }
 }

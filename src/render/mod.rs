@@ -2,11 +2,14 @@
 //! recorder that measures passes, and the offscreen renderer.
 
 pub mod gpu_mesh;
+pub mod object_push;
+pub mod plan;
 pub mod recorder;
 pub mod renderer;
 pub mod uniforms;
 
 pub use gpu_mesh::{GpuMesh, GpuScene};
+pub use object_push::{ObjectPush, OBJECT_PUSH_BYTES};
 pub use recorder::FrameRecorder;
 pub use renderer::{FrameOutput, Renderer};
 pub use uniforms::{FrameDescriptors, FrameUniforms};

@@ -15,6 +15,9 @@ use crate::pipeline::Pipeline;
 pub(crate) struct PassRecord {
     pub name: String,
     pub draws: u32,
+    /// Labels of the pipelines bound in the pass, in first-bound order (the plan test compares
+    /// them with the plan).
+    pub pipelines: Vec<&'static str>,
 }
 
 /// Overdraw counters standing in for the technique's pipelines in a heat-map frame, built on
@@ -65,6 +68,8 @@ pub struct FrameRecorder<'a> {
     open: bool,
     pub extent: vk::Extent2D,
     frame_set: vk::DescriptorSet,
+    /// The frame's colour target (read back as an input attachment by feedback passes).
+    colour_image: vk::Image,
 }
 
 impl<'a> FrameRecorder<'a> {
@@ -74,6 +79,7 @@ impl<'a> FrameRecorder<'a> {
         queries: &'a PassQueryPools,
         extent: vk::Extent2D,
         frame_set: vk::DescriptorSet,
+        colour_image: vk::Image,
     ) -> Self {
         FrameRecorder {
             gpu,
@@ -86,6 +92,21 @@ impl<'a> FrameRecorder<'a> {
             open: false,
             extent,
             frame_set,
+            colour_image,
+        }
+    }
+
+    /// The frame's uniforms (camera, light), bound at set 0 of pipelines that use them.
+    pub fn frame_set(&self) -> vk::DescriptorSet {
+        self.frame_set
+    }
+
+    /// Notes that the open pass bound `pipeline`.
+    fn trace_bind(&mut self, pipeline: &Pipeline) {
+        if let Some(pass) = self.passes.last_mut().filter(|_| self.open) {
+            if !pass.pipelines.contains(&pipeline.desc.name) {
+                pass.pipelines.push(pipeline.desc.name);
+            }
         }
     }
 
@@ -116,7 +137,7 @@ impl<'a> FrameRecorder<'a> {
                 self.queries.capacity()
             )));
         }
-        self.passes.push(PassRecord { name: name.to_owned(), draws: 0 });
+        self.passes.push(PassRecord { name: name.to_owned(), draws: 0, pipelines: Vec::new() });
         self.open = true;
         self.queries.begin(self.cmd, index);
         let result = body(self);
@@ -214,6 +235,7 @@ impl<'a> FrameRecorder<'a> {
 
     /// Binds a pipeline, and the frame's uniforms when its layout has a set for them.
     pub fn bind(&mut self, pipeline: &Pipeline) {
+        self.trace_bind(pipeline);
         let raw = self.pipeline_to_bind(pipeline);
         let device = self.gpu.raw();
         unsafe {
@@ -233,18 +255,43 @@ impl<'a> FrameRecorder<'a> {
 
     /// Binds a pipeline with descriptor sets of the technique's own (not the frame uniforms).
     pub fn bind_with_sets(&mut self, pipeline: &Pipeline, sets: &[vk::DescriptorSet]) {
+        self.trace_bind(pipeline);
         let raw = self.pipeline_to_bind(pipeline);
         let device = self.gpu.raw();
         unsafe {
             device.cmd_bind_pipeline(self.cmd, vk::PipelineBindPoint::GRAPHICS, raw);
-            device.cmd_bind_descriptor_sets(self.cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.layout, 0, sets, &[]);
+            if !sets.is_empty() {
+                device.cmd_bind_descriptor_sets(
+                    self.cmd,
+                    vk::PipelineBindPoint::GRAPHICS,
+                    pipeline.layout,
+                    0,
+                    sets,
+                    &[],
+                );
+            }
         }
+    }
+
+    /// Binds descriptor sets from `first` on, for the pipeline bound last (`pipeline`'s layout).
+    pub fn bind_sets(&mut self, pipeline: &Pipeline, first: u32, sets: &[vk::DescriptorSet]) {
+        unsafe {
+            self.gpu.raw().cmd_bind_descriptor_sets(
+                self.cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                pipeline.layout,
+                first,
+                sets,
+                &[],
+            )
+        };
     }
 
     /// Makes earlier colour writes of this subpass visible to input-attachment reads of the
     /// following draws (the render pass's by-region self-dependency): each fragment reads only
     /// its own pixel, so on a tiler this stays in tile memory.
-    pub fn colour_feedback_barrier(&mut self, colour_image: vk::Image) {
+    pub fn colour_feedback_barrier(&mut self) {
+        let colour_image = self.colour_image;
         let barrier = vk::ImageMemoryBarrier::default()
             .src_access_mask(vk::AccessFlags::COLOR_ATTACHMENT_WRITE)
             .dst_access_mask(vk::AccessFlags::INPUT_ATTACHMENT_READ)

@@ -22,6 +22,8 @@ pub const MAX_PASSES_PER_FRAME: u32 = 64;
 pub struct FrameOutput {
     pub image: RgbaImage,
     pub counters: FrameCounters,
+    /// Every measured pass with the labels of the pipelines it bound, in order: what ran.
+    pub trace: Vec<(String, Vec<&'static str>)>,
 }
 
 pub struct Renderer {
@@ -112,7 +114,7 @@ impl Renderer {
 
         let (pass_records, render_passes) = submit_and_wait(&gpu, |cmd| {
             queries.reset(cmd);
-            let mut recorder = FrameRecorder::new(&gpu, cmd, queries, extent, frame_set);
+            let mut recorder = FrameRecorder::new(&gpu, cmd, queries, extent, frame_set, targets.colour.raw);
             if let Some(pipelines) = overdraw {
                 recorder.count_overdraw(pipelines);
             }
@@ -158,6 +160,7 @@ impl Renderer {
 
         let raw = self.queries.results(pass_records.len() as u32)?;
         let frame_start = raw.first().map_or(0.0, |r| r.begin_ns);
+        let trace = pass_records.iter().map(|r| (r.name.clone(), r.pipelines.clone())).collect();
         let passes = pass_records
             .into_iter()
             .zip(&raw)
@@ -171,6 +174,7 @@ impl Renderer {
         Ok(FrameOutput {
             image,
             counters: FrameCounters { width: extent.width, height: extent.height, passes, render_passes },
+            trace,
         })
     }
 }

@@ -1,27 +1,17 @@
-//! The lit scene pass: every object with Lambert + ambient shading, depth tested and written.
-//! Other techniques draw it first and add their own passes on top.
+//! The lit scene: every object with Lambert + ambient shading, depth tested and written. Other
+//! techniques draw its pass first and add their own on top.
 
 use std::sync::Arc;
 
-use glam::{Mat4, Vec4};
-
+use super::frame_renderer::{self, Passes};
+use super::interface::{NoStats, SceneRenderer, Technique};
+use super::options::RenderOptions;
 use crate::error::Result;
-use crate::frame::StencilMode;
 use crate::gpu::Gpu;
-use crate::pipeline::{FixedFunction, Pipeline, PipelineDesc, VertexLayout};
-use crate::render::{FrameOutput, FrameRecorder, FrameUniforms, GpuScene, Renderer};
+use crate::pipeline::{FixedFunction, PipelineDesc, VertexLayout};
+use crate::render::plan::{Draws, PassPlan, PlannedPass, Push, SetRole};
+use crate::render::{FrameOutput, GpuScene, Renderer, OBJECT_PUSH_BYTES};
 use crate::scene::Scene;
-
-/// Mirrors `ObjectPush` in `shaders/object_push.glsl`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy)]
-pub struct ObjectPush {
-    pub model: Mat4,
-    /// rgb: albedo; a: the alpha the draw writes.
-    pub colour: Vec4,
-}
-
-pub const OBJECT_PUSH_BYTES: u32 = std::mem::size_of::<ObjectPush>() as u32;
 
 pub fn scene_pipeline_desc() -> PipelineDesc {
     PipelineDesc {
@@ -35,64 +25,55 @@ pub fn scene_pipeline_desc() -> PipelineDesc {
     }
 }
 
-pub struct LitPass {
-    pipeline: Pipeline,
+/// The lit scene pass: every object, writing `alpha` (the counter's start, or opaque 1).
+pub fn scene_pass(alpha: f32) -> PlannedPass {
+    PlannedPass::new("scene", scene_pipeline_desc(), Draws::Objects, Push::ObjectColour { alpha })
+        .with_sets(&[SetRole::Frame])
 }
 
-impl LitPass {
-    pub fn new(gpu: &Arc<Gpu>, renderer: &Renderer) -> Result<Self> {
-        let pipeline =
-            Pipeline::new(gpu, &scene_pipeline_desc(), renderer.targets.render_pass, &[renderer.frame.layout])?;
-        Ok(LitPass { pipeline })
+/// Lambert + ambient, no shadows.
+pub struct Lit;
+
+impl Technique for Lit {
+    fn name(&self) -> &'static str {
+        "lit"
     }
 
-    /// Draws every object; `alpha_of(object index)` is the alpha each one writes.
-    pub fn record(
+    fn about(&self) -> &'static str {
+        "Lambert + ambient, no shadows: the base every technique adds to"
+    }
+
+    fn plan(&self, _options: &RenderOptions) -> Result<PassPlan> {
+        Ok(PassPlan { passes: vec![scene_pass(1.0)] })
+    }
+
+    fn build<'s>(
         &self,
-        recorder: &mut FrameRecorder,
-        scene: &Scene,
-        meshes: &GpuScene,
-        alpha_of: impl Fn(usize) -> f32,
-    ) -> Result<()> {
-        recorder.pass("scene", |rec| {
-            rec.bind(&self.pipeline);
-            for (index, object) in scene.objects.iter().enumerate() {
-                let push = ObjectPush { model: object.transform, colour: object.colour.extend(alpha_of(index)) };
-                rec.push(&self.pipeline, &push);
-                rec.draw_mesh(&meshes.meshes[object.mesh]);
-            }
-            Ok(())
+        gpu: &Arc<Gpu>,
+        scene: &'s Scene,
+        options: &RenderOptions,
+    ) -> Result<Box<dyn SceneRenderer + 's>> {
+        frame_renderer::build(self, gpu, scene, options, |ctx| {
+            Ok(LitPasses { gpu: ctx.gpu.clone(), meshes: GpuScene::upload(ctx.gpu, scene)? })
         })
     }
 }
 
-/// The lit scene alone, built once: the base every technique adds to.
-pub struct LitRenderer<'s> {
-    scene: &'s Scene,
-    renderer: Renderer,
+struct LitPasses {
+    gpu: Arc<Gpu>,
     meshes: GpuScene,
-    lit: LitPass,
 }
 
-impl<'s> LitRenderer<'s> {
-    pub fn new(gpu: &Arc<Gpu>, scene: &'s Scene, width: u32, height: u32, stencil: StencilMode) -> Result<Self> {
-        let renderer = Renderer::new(gpu, width, height, stencil, false)?;
-        let meshes = GpuScene::upload(gpu, scene)?;
-        let lit = LitPass::new(gpu, &renderer)?;
-        Ok(LitRenderer { scene, renderer, meshes, lit })
+impl Passes for LitPasses {
+    fn meshes(&self) -> Option<&GpuScene> {
+        Some(&self.meshes)
     }
 
-    pub fn renderer_mut(&mut self) -> &mut Renderer {
-        &mut self.renderer
+    fn prepare(&mut self, _renderer: &Renderer, scene: &Scene) -> Result<()> {
+        self.meshes.follow_pose(&self.gpu, scene).map(|_| ())
     }
 
-    /// Renders `scene`, a moved pose of the one this renderer was built for.
-    pub fn frame_with(&mut self, scene: &Scene) -> Result<FrameOutput> {
-        super::check_same_scene(self.scene, scene, "lit")?;
-        self.meshes.follow_pose(&self.renderer.gpu, scene)?;
-        let uniforms = FrameUniforms::for_scene(scene, self.renderer.aspect());
-        let clear = scene.background.extend(1.0).to_array();
-        let (lit, meshes) = (&self.lit, &self.meshes);
-        self.renderer.render(&uniforms, clear, |rec| lit.record(rec, scene, meshes, |_| 1.0))
+    fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn super::interface::FrameStats> {
+        Box::new(NoStats)
     }
 }

@@ -7,11 +7,10 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::error::Result;
-use crate::frame::StencilMode;
 use crate::gpu::Gpu;
 use crate::profile::FrameCounters;
 use crate::scene::Scene;
-use crate::technique::{scene_renderer, RenderOptions, SceneRenderer, Technique};
+use crate::technique::{RenderOptions, SceneRenderer};
 
 /// Everything that selects how a frame is rendered (the size aside, which follows the window);
 /// a change rebuilds the live technique.
@@ -23,24 +22,7 @@ pub struct Settings {
 impl Settings {
     /// "shadow-volume (emulated, seed, k=1)" for the window title.
     pub fn describe(&self) -> String {
-        let o = &self.render;
-        let stencil = o.stencil.name();
-        match o.technique {
-            Technique::ShadowVolume => {
-                let normalise = match o.stencil {
-                    StencilMode::Emulated => format!(", {}", o.shadow_volume.normalize.name()),
-                    StencilMode::Reference => String::new(),
-                };
-                format!("{} ({stencil}{normalise}, k={})", o.technique.name(), o.shadow_volume.increment)
-            }
-            Technique::Silhouette | Technique::Toon => {
-                format!("{} ({stencil}, {})", o.technique.name(), o.cartoon.silhouette.name())
-            }
-            Technique::ShadowMap | Technique::ShadowTextureAtlas => {
-                format!("{} ({stencil}, {} light)", o.technique.name(), o.shadow_atlas.light.name())
-            }
-            other => format!("{} ({stencil})", other.name()),
-        }
+        self.render.technique.describe(&self.render)
     }
 }
 
@@ -53,15 +35,15 @@ pub struct LiveTechnique<'s> {
 /// What one frame reports.
 pub struct LiveFrame {
     pub counters: FrameCounters,
-    /// Shadow volumes: z-fail was used.
-    pub zfail: Option<bool>,
+    /// What the technique says of the frame in a few words ("z-fail"), for the title.
+    pub brief: Option<String>,
 }
 
 impl<'s> LiveTechnique<'s> {
     /// `base` is the scene as loaded: meshes are uploaded and casters prepared from it once.
     pub fn new(gpu: &Arc<Gpu>, base: &'s Scene, settings: Settings, extent: vk::Extent2D) -> Result<Self> {
         let options = RenderOptions { width: extent.width, height: extent.height, ..settings.render.clone() };
-        let mut renderer = scene_renderer::build(gpu, base, &options)?;
+        let mut renderer = options.technique.build(gpu, base, &options)?;
         renderer.renderer_mut().keep_on_gpu(true);
         Ok(LiveTechnique { settings, extent, renderer })
     }
@@ -74,7 +56,7 @@ impl<'s> LiveTechnique<'s> {
     /// Renders `scene` into the colour target and waits for it (the counters are read back).
     pub fn frame(&mut self, scene: &Scene) -> Result<LiveFrame> {
         let frame = self.renderer.frame_with(scene)?;
-        Ok(LiveFrame { counters: frame.output.counters, zfail: frame.shadow_volume.map(|s| s.zfail) })
+        Ok(LiveFrame { counters: frame.output.counters, brief: frame.stats.brief() })
     }
 
     /// The colour target holding the last frame (layout TRANSFER_SRC_OPTIMAL).

@@ -39,7 +39,7 @@ use crate::gpu::memory::Buffer;
 use crate::gpu::mobile_profile;
 use crate::gpu::{Gpu, GpuOptions};
 use crate::scene::{Light, Scene};
-use crate::technique::{LightMode, Normalize, SilhouetteMethod, Technique};
+use crate::technique::{LightMode, Normalize, SilhouetteMethod, TECHNIQUES};
 use live::{LiveFrame, LiveTechnique, Settings};
 use swapchain::{Acquired, Surface, Swapchain, Transfer};
 
@@ -572,11 +572,7 @@ impl<'s> App<'s> {
         let pixels = counters.pixels() as f64;
         let fragments =
             counters.total_fragment_invocations().map_or("n/a".to_owned(), |f| format!("{:.2}", f as f64 / pixels));
-        let method = match frame.zfail {
-            Some(true) => " z-fail",
-            Some(false) => " z-pass",
-            None => "",
-        };
+        let method = frame.brief.as_ref().map_or(String::new(), |b| format!(" {b}"));
         let title = format!(
             "nostencil view | {} | {}{method} | {fragments} fragments/px, {:.2} samples/px | {:.2} ms GPU | {}x{}{}",
             self.base.name,
@@ -738,10 +734,10 @@ impl<'s> App<'s> {
             Key::Named(NamedKey::ArrowDown) => self.live.light_tilt = (self.live.light_tilt - STEP).max(-1.2),
             Key::Named(NamedKey::Space) => self.live.paused = !self.live.paused,
             // Shift+T goes back through the techniques.
-            Key::Character(c) if c.as_str() == "T" => s.technique = cycle(Technique::ALL, s.technique, -1),
+            Key::Character(c) if c.as_str() == "T" => s.technique = cycle(TECHNIQUES, s.technique, -1),
             Key::Character(c) => match c.to_lowercase().as_str() {
                 "q" => event_loop.exit(),
-                "t" => s.technique = cycle(Technique::ALL, s.technique, 1),
+                "t" => s.technique = cycle(TECHNIQUES, s.technique, 1),
                 "s" => {
                     s.stencil = match s.stencil {
                         StencilMode::Emulated => StencilMode::Reference,

@@ -33,7 +33,7 @@ use ash::vk;
 use glam::{Mat4, Vec3, Vec4};
 
 use self::ink::{InkMesh, InkQuads, InkVertex};
-use super::Technique;
+use super::legacy::CartoonStyle as Technique;
 use crate::error::{Error, Result};
 use crate::frame::{RgbaImage, StencilMode};
 use crate::gpu::descriptors::{Binding, DescriptorSet};

@@ -28,7 +28,7 @@ use crate::pipeline::{
 use crate::render::{FrameUniforms, Renderer};
 use crate::scene::{bounds_of, Scene};
 
-use crate::technique::lit::ObjectPush;
+use crate::render::ObjectPush;
 
 /// position (vec3), uv (vec2), strength (float).
 pub const BLOB_LAYOUT: VertexLayout =

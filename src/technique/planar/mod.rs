@@ -25,7 +25,6 @@ use std::sync::Arc;
 use ash::vk;
 use glam::{Mat4, Vec3, Vec4};
 
-use super::lit::{ObjectPush, OBJECT_PUSH_BYTES};
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::Gpu;
@@ -34,6 +33,7 @@ use crate::pipeline::{
     StencilState, VertexLayout,
 };
 use crate::render::{FrameOutput, FrameRecorder, FrameUniforms, GpuScene, Renderer};
+use crate::render::{ObjectPush, OBJECT_PUSH_BYTES};
 use crate::scene::{Light, Scene};
 use skin::{SkinnedMesh, SKINNED_LAYOUT};
 

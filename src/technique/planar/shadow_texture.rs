@@ -33,8 +33,8 @@ use crate::pipeline::{
     BlendEquation, BlendState, DepthState, FixedFunction, Pipeline, PipelineDesc, RasterState, VertexLayout,
 };
 use crate::render::{FrameUniforms, Renderer};
+use crate::render::{ObjectPush, OBJECT_PUSH_BYTES};
 use crate::scene::{Light, Scene};
-use crate::technique::lit::{ObjectPush, OBJECT_PUSH_BYTES};
 
 /// Side of the shadow texture (small on purpose: what a phone can spare).
 pub const SHADOW_TEXTURE_SIZE: u32 = 128;

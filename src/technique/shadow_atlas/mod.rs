@@ -25,7 +25,6 @@ use gpu_allocator::MemoryLocation;
 
 use self::atlas::{mesh_atlas, AtlasSource, MeshAtlas};
 use self::targets::{CompareSampler, Framebuffer, ImageView, RenderPass};
-use super::lit::{ObjectPush, OBJECT_PUSH_BYTES};
 use crate::error::{Error, Result};
 use crate::frame::{RgbaImage, StencilMode};
 use crate::gpu::commands::submit_and_wait;
@@ -35,6 +34,7 @@ use crate::gpu::texture::{record_mip_chain, transition, Sampler};
 use crate::gpu::Gpu;
 use crate::pipeline::{BlendState, DepthState, FixedFunction, Pipeline, PipelineDesc, RasterState, VertexLayout};
 use crate::render::{FrameOutput, FrameRecorder, FrameUniforms, GpuMesh, Renderer};
+use crate::render::{ObjectPush, OBJECT_PUSH_BYTES};
 use crate::scene::{Light, PoseTracker, Scene};
 
 /// Which of the two shadow techniques a renderer draws.

@@ -1,0 +1,149 @@
+//! Named fixed-function recipes (DESIGN.md sections 2 to 5), each defined once: the write masks,
+//! the alpha-counter steps, the modulations and the stencil faces of the reference paths.
+//! Techniques build their pass plans from these names, so `nostencil passes` prints a recipe
+//! by the name a port would look it up under.
+
+use ash::vk;
+
+use super::state::{BlendEquation, BlendState, StencilFace, StencilState};
+
+/// Colour channels only: the counter in alpha is left alone.
+pub const RGB_ONLY: vk::ColorComponentFlags =
+    vk::ColorComponentFlags::from_raw(vk::ColorComponentFlags::RGBA.as_raw() & !vk::ColorComponentFlags::A.as_raw());
+
+/// The counter alone: colour is left alone.
+pub const ALPHA_ONLY: vk::ColorComponentFlags = vk::ColorComponentFlags::A;
+
+const ONE: vk::BlendFactor = vk::BlendFactor::ONE;
+
+/// Blending on the alpha channel only (colour masked off).
+pub const fn alpha_blend(op: vk::BlendOp, src: vk::BlendFactor, dst: vk::BlendFactor) -> BlendState {
+    BlendState { colour: None, alpha: Some(BlendEquation::new(op, src, dst)), write_mask: ALPHA_ONLY }
+}
+
+/// Blending on the colour channels only (the counter masked off).
+pub const fn colour_blend(op: vk::BlendOp, src: vk::BlendFactor, dst: vk::BlendFactor) -> BlendState {
+    BlendState { colour: Some(BlendEquation::new(op, src, dst)), alpha: None, write_mask: RGB_ONLY }
+}
+
+/// Colour written as the fragment gives it, alpha left alone.
+pub const COLOUR_REPLACE: BlendState = BlendState { colour: None, alpha: None, write_mask: RGB_ONLY };
+
+/// Nothing written: a pass that only tests (or only changes the stencil).
+pub const NO_WRITE: BlendState = BlendState { colour: None, alpha: None, write_mask: vk::ColorComponentFlags::empty() };
+
+// ---------------------------------------------------------------------------------------------
+// The alpha counter (DESIGN.md section 2).
+
+/// A volume wall entering: alpha += k/255.
+pub const COUNTER_INCREMENT: BlendState = alpha_blend(vk::BlendOp::ADD, ONE, ONE);
+
+/// A volume wall leaving: alpha -= k/255, clamped at 0.
+pub const COUNTER_DECREMENT: BlendState = alpha_blend(vk::BlendOp::REVERSE_SUBTRACT, ONE, ONE);
+
+/// N0: 1 - 2a, so that lit pixels (a = 0) become 1.
+pub const NORMALISE_N0: BlendState = alpha_blend(vk::BlendOp::SUBTRACT, vk::BlendFactor::ONE_MINUS_DST_ALPHA, ONE);
+
+/// One iteration: a*a - (1 - a); 1 stays 1, a deficit d grows to 3d - d*d.
+pub const NORMALISE_ITERATION: BlendState =
+    alpha_blend(vk::BlendOp::REVERSE_SUBTRACT, vk::BlendFactor::ONE_MINUS_DST_ALPHA, vk::BlendFactor::DST_ALPHA);
+
+/// The seed's darkness, first half: alpha = max(alpha - D, 0).
+pub const DARKNESS_SUBTRACT: BlendState = alpha_blend(vk::BlendOp::REVERSE_SUBTRACT, ONE, ONE);
+
+/// The seed's darkness, second half: alpha += D (0 becomes D, 1 - D becomes 1).
+pub const DARKNESS_ADD: BlendState = alpha_blend(vk::BlendOp::ADD, ONE, ONE);
+
+/// Both halves at once: alpha = max(alpha, D).
+pub const DARKNESS_MAX: BlendState = alpha_blend(vk::BlendOp::MAX, ONE, ONE);
+
+// ---------------------------------------------------------------------------------------------
+// Modulations: the shadow applied to the lit colour.
+
+/// colour *= destination alpha (the normalised counter: 1 lit, D shadowed).
+pub const MODULATE_BY_DST_ALPHA: BlendState =
+    colour_blend(vk::BlendOp::ADD, vk::BlendFactor::ZERO, vk::BlendFactor::DST_ALPHA);
+
+/// colour *= source alpha (the factor the shader outputs).
+pub const MODULATE_BY_SRC_ALPHA: BlendState =
+    colour_blend(vk::BlendOp::ADD, vk::BlendFactor::ZERO, vk::BlendFactor::SRC_ALPHA);
+
+/// colour = source * (1 - dst alpha) + dst * dst alpha: draws only where alpha is 0 (the
+/// stencil-free "not selected" test of the outline), colour only.
+pub const COLOUR_WHERE_ALPHA_ZERO: BlendState =
+    colour_blend(vk::BlendOp::ADD, vk::BlendFactor::ONE_MINUS_DST_ALPHA, vk::BlendFactor::DST_ALPHA);
+
+// ---------------------------------------------------------------------------------------------
+// Stencil faces of the real-stencil reference paths.
+
+/// A face that compares `compare` against `reference` (all 8 bits) and applies `pass` where the
+/// test and depth pass, `depth_fail` where depth fails; the stencil-test failure keeps.
+pub const fn stencil_face(
+    compare: vk::CompareOp,
+    reference: u32,
+    write_mask: u32,
+    pass: vk::StencilOp,
+    depth_fail: vk::StencilOp,
+) -> StencilFace {
+    StencilFace { compare, reference, compare_mask: 0xff, write_mask, fail: vk::StencilOp::KEEP, pass, depth_fail }
+}
+
+/// The same face on both sides.
+pub const fn both_faces(face: StencilFace) -> StencilState {
+    StencilState { front: face, back: face }
+}
+
+/// Writes `reference` where the fragment passes (the selection and receiver marks).
+pub const fn stencil_replace(reference: u32) -> StencilState {
+    both_faces(stencil_face(vk::CompareOp::ALWAYS, reference, 0xff, vk::StencilOp::REPLACE, vk::StencilOp::KEEP))
+}
+
+/// Passes where the stencil is not `reference`, and writes nothing.
+pub const fn stencil_not_equal(reference: u32) -> StencilState {
+    both_faces(stencil_face(vk::CompareOp::NOT_EQUAL, reference, 0, vk::StencilOp::KEEP, vk::StencilOp::KEEP))
+}
+
+/// Shadow-volume counting with a wrapping stencil: z-pass counts front faces up and back faces
+/// down where the depth test passes; z-fail counts back faces up and front faces down where it
+/// fails.
+pub const fn stencil_volume_count(zfail: bool) -> StencilState {
+    const INC: vk::StencilOp = vk::StencilOp::INCREMENT_AND_WRAP;
+    const DEC: vk::StencilOp = vk::StencilOp::DECREMENT_AND_WRAP;
+    const KEEP: vk::StencilOp = vk::StencilOp::KEEP;
+    const ALWAYS: vk::CompareOp = vk::CompareOp::ALWAYS;
+    if zfail {
+        StencilState { front: stencil_face(ALWAYS, 0, 0xff, KEEP, DEC), back: stencil_face(ALWAYS, 0, 0xff, KEEP, INC) }
+    } else {
+        StencilState { front: stencil_face(ALWAYS, 0, 0xff, INC, KEEP), back: stencil_face(ALWAYS, 0, 0xff, DEC, KEEP) }
+    }
+}
+
+/// Sets wrapped negative counts (128..255) to 0: `0x80 <= stencil` passes and zeroes.
+pub const STENCIL_NEGATIVE_TO_ZERO: StencilState =
+    both_faces(stencil_face(vk::CompareOp::LESS_OR_EQUAL, 0x80, 0xff, vk::StencilOp::ZERO, vk::StencilOp::KEEP));
+
+/// The seed 001 test: `Ref 0 Comp Equal Pass IncrWrap ZFail Keep` (a receiver pixel is darkened
+/// once, then holds 1 and refuses the next shadow fragment).
+pub const STENCIL_EQUAL_ZERO_THEN_INCREMENT: StencilState =
+    both_faces(stencil_face(vk::CompareOp::EQUAL, 0, 0xff, vk::StencilOp::INCREMENT_AND_WRAP, vk::StencilOp::KEEP));
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn masks_split_colour_from_the_counter() {
+        assert_eq!(RGB_ONLY | ALPHA_ONLY, vk::ColorComponentFlags::RGBA);
+        assert!((RGB_ONLY & ALPHA_ONLY).is_empty());
+    }
+
+    #[test]
+    fn volume_counting_is_mirrored_between_methods() {
+        let zpass = stencil_volume_count(false);
+        let zfail = stencil_volume_count(true);
+        assert_eq!(zpass.front.pass, vk::StencilOp::INCREMENT_AND_WRAP);
+        assert_eq!(zpass.back.pass, vk::StencilOp::DECREMENT_AND_WRAP);
+        assert_eq!(zfail.back.depth_fail, vk::StencilOp::INCREMENT_AND_WRAP);
+        assert_eq!(zfail.front.depth_fail, vk::StencilOp::DECREMENT_AND_WRAP);
+    }
+}

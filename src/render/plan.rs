@@ -1,0 +1,364 @@
+//! Passes as data. A technique describes its frame as a [`PassPlan`]: an ordered list of
+//! measured passes, each with its name, the pipelines it binds (built from the named recipes in
+//! `pipeline::recipes`), what it draws and what it pushes. The renderer builds pipelines from
+//! the plan, the recorder executes it in order, and `nostencil passes` prints it: the table a
+//! port reads and the frame that runs come from the same value, and a test checks that every
+//! frame runs exactly its plan.
+
+use std::borrow::Cow;
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use ash::vk;
+use glam::Vec4;
+
+use super::gpu_mesh::GpuScene;
+use super::object_push::draw_objects;
+use super::recorder::FrameRecorder;
+use crate::error::{Error, Result};
+use crate::gpu::Gpu;
+use crate::pipeline::{Pipeline, PipelineDesc};
+use crate::scene::Scene;
+
+/// What a pass draws.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Draws {
+    /// Scene objects (which ones, and with which alpha, the technique decides: see `push`).
+    Objects,
+    /// One full-screen triangle; the pass's constant push is its only input.
+    FullScreen,
+    /// Geometry the technique builds itself (volumes, ink quads, extruded copies, blobs...),
+    /// named for the table.
+    Geometry(&'static str),
+}
+
+impl Draws {
+    pub fn describe(&self) -> String {
+        match self {
+            Draws::Objects => "objects".into(),
+            Draws::FullScreen => "full screen".into(),
+            Draws::Geometry(what) => (*what).into(),
+        }
+    }
+}
+
+/// What a pass pushes.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Push {
+    Nothing,
+    /// One constant value for the whole pass (full-screen passes: a solid colour, a factor).
+    Constant(Vec4),
+    /// Each object's transform and colour, with this alpha (`ObjectPush`).
+    ObjectColour {
+        alpha: f32,
+    },
+    /// Each drawn caster's transform, black with this alpha (`ObjectPush`: volume walls).
+    TransformAlpha(f32),
+    /// Per draw, computed by the technique (object transform and colour...), described for the
+    /// table.
+    PerDraw(&'static str),
+}
+
+impl Push {
+    pub fn describe(&self) -> String {
+        match self {
+            Push::Nothing => "-".into(),
+            Push::Constant(v) => format!("({}, {}, {}, {})", fmt_f32(v.x), fmt_f32(v.y), fmt_f32(v.z), fmt_f32(v.w)),
+            Push::ObjectColour { alpha } => format!("object transform and colour, alpha {}", fmt_f32(*alpha)),
+            Push::TransformAlpha(alpha) => format!("object transform, alpha {}", fmt_f32(*alpha)),
+            Push::PerDraw(what) => (*what).into(),
+        }
+    }
+}
+
+/// Shortest text that reads back as the same f32.
+fn fmt_f32(value: f32) -> String {
+    format!("{value}")
+}
+
+/// Which render pass a pass draws into.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Target {
+    /// The frame's colour + depth render pass.
+    Frame,
+    /// A render pass of the technique's own (shadow map, shadow texture, atlas bake), recorded
+    /// before the frame's; named for the table.
+    Offscreen(&'static str),
+}
+
+/// When a pass runs: most always do; some only when their input changed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum When {
+    Always,
+    /// Only in frames where the light or a caster moved (cached shadow maps and bakes).
+    LightOrCastersMoved,
+    /// Only where the light reaches the receiver plane from above.
+    LightAbovePlane,
+}
+
+impl When {
+    pub fn describe(&self) -> &'static str {
+        match self {
+            When::Always => "every frame",
+            When::LightOrCastersMoved => "when the light or a caster moved",
+            When::LightAbovePlane => "when the light is above the plane",
+        }
+    }
+}
+
+/// Descriptor sets a pass binds, by role; the technique supplies the sets themselves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum SetRole {
+    /// The frame's uniforms (camera, light) at set 0.
+    Frame,
+    /// A set of the technique's own, named (`"counter input"`, `"toon ramps"`, `"joint palette"`).
+    Own(&'static str),
+}
+
+/// One measured pass.
+#[derive(Debug, Clone)]
+pub struct PlannedPass {
+    /// The name its counters are reported under.
+    pub name: Cow<'static, str>,
+    /// Pipelines bound in this pass, first the main one; alternatives follow (for example the
+    /// skinned variant of an object pipeline, bound only for skinned objects).
+    pub pipelines: Vec<PipelineDesc>,
+    /// Descriptor sets, by role, at sets 0, 1, ... of every pipeline of the pass.
+    pub sets: Vec<SetRole>,
+    pub draws: Draws,
+    pub push: Push,
+    pub target: Target,
+    pub when: When,
+    /// Reads the colour target written by earlier passes of its subpass (a by-region barrier
+    /// first: on a tiler, the read stays in tile memory).
+    pub reads_colour: bool,
+}
+
+impl PlannedPass {
+    /// A pass into the frame that draws with one pipeline, every frame.
+    pub fn new(name: impl Into<Cow<'static, str>>, pipeline: PipelineDesc, draws: Draws, push: Push) -> Self {
+        PlannedPass {
+            name: name.into(),
+            pipelines: vec![pipeline],
+            sets: Vec::new(),
+            draws,
+            push,
+            target: Target::Frame,
+            when: When::Always,
+            reads_colour: false,
+        }
+    }
+
+    /// A full-screen pass with a constant push.
+    pub fn full_screen(name: impl Into<Cow<'static, str>>, pipeline: PipelineDesc, push: Vec4) -> Self {
+        Self::new(name, pipeline, Draws::FullScreen, Push::Constant(push))
+    }
+
+    pub fn with_sets(mut self, sets: &[SetRole]) -> Self {
+        self.sets = sets.to_vec();
+        self
+    }
+
+    /// Adds an alternative pipeline (bound for some draws of the pass).
+    pub fn or_pipeline(mut self, pipeline: PipelineDesc) -> Self {
+        self.pipelines.push(pipeline);
+        self
+    }
+
+    pub fn into_target(mut self, target: Target) -> Self {
+        self.target = target;
+        self
+    }
+
+    pub fn when(mut self, when: When) -> Self {
+        self.when = when;
+        self
+    }
+
+    pub fn reading_colour(mut self) -> Self {
+        self.reads_colour = true;
+        self
+    }
+
+    /// The pass's main pipeline.
+    pub fn pipeline(&self) -> &PipelineDesc {
+        &self.pipelines[0]
+    }
+}
+
+/// A technique's frame, pass by pass, in the order they run.
+#[derive(Debug, Clone, Default)]
+pub struct PassPlan {
+    pub passes: Vec<PlannedPass>,
+}
+
+impl PassPlan {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    pub fn push(&mut self, pass: PlannedPass) -> &mut Self {
+        self.passes.push(pass);
+        self
+    }
+
+    pub fn extend(&mut self, passes: impl IntoIterator<Item = PlannedPass>) -> &mut Self {
+        self.passes.extend(passes);
+        self
+    }
+
+    /// (pass name, pipeline labels) of every pass that runs in a frame where `holds(when)`:
+    /// what the recorder must report having run.
+    pub fn expected_trace(&self, holds: impl Fn(When) -> bool) -> Vec<(String, Vec<&'static str>)> {
+        self.passes
+            .iter()
+            .filter(|p| holds(p.when))
+            .map(|p| (p.name.to_string(), p.pipelines.iter().map(|d| d.name).collect()))
+            .collect()
+    }
+}
+
+/// The pipelines of a plan, built once: one per distinct (pipeline name, target), shared by the
+/// passes that bind it (every normalisation iteration binds the same pipeline).
+pub struct PlanPipelines {
+    built: Vec<Pipeline>,
+    /// Per pass, per pipeline of the pass: an index into `built`.
+    by_pass: Vec<Vec<usize>>,
+}
+
+impl PlanPipelines {
+    /// Builds every pipeline of `plan`; `render_pass(target)` names the render pass a target's
+    /// pipelines are built for, with its colour attachment count, and `layout(role)` the set
+    /// layout of each role.
+    pub fn build(
+        gpu: &Arc<Gpu>,
+        plan: &PassPlan,
+        render_pass: impl Fn(Target) -> Result<(vk::RenderPass, usize)>,
+        layout: impl Fn(SetRole) -> Result<vk::DescriptorSetLayout>,
+    ) -> Result<Self> {
+        let mut built: Vec<Pipeline> = Vec::new();
+        let mut index_of: HashMap<(&'static str, Target), usize> = HashMap::new();
+        let mut by_pass = Vec::with_capacity(plan.passes.len());
+        for pass in &plan.passes {
+            let layouts = pass.sets.iter().map(|role| layout(*role)).collect::<Result<Vec<_>>>()?;
+            let mut indices = Vec::with_capacity(pass.pipelines.len());
+            for desc in &pass.pipelines {
+                let key = (desc.name, pass.target);
+                let index = match index_of.get(&key) {
+                    Some(&index) => {
+                        if built[index].desc.fixed != desc.fixed
+                            || built[index].desc.fragment_shader != desc.fragment_shader
+                        {
+                            return Err(Error::Internal(format!(
+                                "two different pipelines are both called '{}' in one plan",
+                                desc.name
+                            )));
+                        }
+                        index
+                    }
+                    None => {
+                        let (raw_pass, colour_attachments) = render_pass(pass.target)?;
+                        let pipeline =
+                            Pipeline::with_colour_attachments(gpu, desc, raw_pass, &layouts, colour_attachments)?;
+                        built.push(pipeline);
+                        index_of.insert(key, built.len() - 1);
+                        built.len() - 1
+                    }
+                };
+                indices.push(index);
+            }
+            by_pass.push(indices);
+        }
+        Ok(PlanPipelines { built, by_pass })
+    }
+
+    /// The pipelines of pass `index`, in the plan's order.
+    pub fn of_pass(&self, index: usize) -> Vec<&Pipeline> {
+        self.by_pass.get(index).map_or_else(Vec::new, |indices| indices.iter().map(|&i| &self.built[i]).collect())
+    }
+}
+
+/// What a technique supplies to execute its plan: the descriptor sets of its roles, and the
+/// draws that only it knows how to make.
+pub trait PassDraws {
+    /// The set bound for `role` (the frame's uniforms are the recorder's own).
+    fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
+        let _ = role;
+        None
+    }
+
+    /// The scene's meshes, for passes that draw `Draws::Objects` with `Push::ObjectColour`
+    /// (the recorder draws those itself).
+    fn meshes(&self) -> Option<(&Scene, &GpuScene)> {
+        None
+    }
+
+    /// Records the draws of `pass` (the recorder has opened the measured pass, made the colour
+    /// target readable if the pass reads it, and bound the pass's main pipeline with its sets).
+    /// Full-screen passes never get here: the recorder draws them.
+    fn draw(&self, rec: &mut FrameRecorder, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()>;
+}
+
+/// Whether a conditional pass runs this frame.
+pub type Conditions<'a> = &'a dyn Fn(When) -> bool;
+
+/// Records the passes of `plan` in order, those whose condition holds: with `in_frame`, the
+/// passes into the frame's render pass (which is open); otherwise the offscreen passes, whose
+/// draws begin and end their own render passes.
+pub fn record_plan(
+    rec: &mut FrameRecorder,
+    plan: &PassPlan,
+    pipelines: &PlanPipelines,
+    in_frame: bool,
+    holds: Conditions,
+    draws: &dyn PassDraws,
+) -> Result<()> {
+    for (index, pass) in plan.passes.iter().enumerate() {
+        if (pass.target == Target::Frame) != in_frame || !holds(pass.when) {
+            continue;
+        }
+        let bound = pipelines.of_pass(index);
+        let Some(main) = bound.first().copied() else {
+            return Err(Error::Internal(format!("pass '{}' has no pipeline", pass.name)));
+        };
+        let sets = pass
+            .sets
+            .iter()
+            .map(|role| match role {
+                SetRole::Frame => Ok(rec.frame_set()),
+                SetRole::Own(name) => draws
+                    .set(*role)
+                    .ok_or_else(|| Error::Internal(format!("pass '{}': no descriptor set for '{name}'", pass.name))),
+            })
+            .collect::<Result<Vec<_>>>()?;
+        rec.pass(&pass.name, |rec| {
+            if pass.reads_colour {
+                rec.colour_feedback_barrier();
+            }
+            if !in_frame {
+                return draws.draw(rec, pass, &bound);
+            }
+            rec.bind_with_sets(main, &sets);
+            match (&pass.draws, &pass.push) {
+                (Draws::FullScreen, Push::Constant(value)) => {
+                    rec.push(main, value);
+                    rec.draw_fullscreen();
+                    Ok(())
+                }
+                (Draws::FullScreen, Push::Nothing) => {
+                    rec.draw_fullscreen();
+                    Ok(())
+                }
+                (Draws::Objects, Push::ObjectColour { alpha }) => match draws.meshes() {
+                    Some((scene, meshes)) => {
+                        draw_objects(rec, main, scene, meshes, *alpha);
+                        Ok(())
+                    }
+                    None => Err(Error::Internal(format!("pass '{}' draws objects but has no meshes", pass.name))),
+                },
+                _ => draws.draw(rec, pass, &bound),
+            }
+        })?;
+    }
+    Ok(())
+}

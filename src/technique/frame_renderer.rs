@@ -1,0 +1,201 @@
+//! The renderer skeleton every technique shares, written once: build the frame renderer and
+//! the plan's pipelines, then per frame check the scene, let the technique prepare its
+//! geometry, record the plan (offscreen passes first, then the frame's render pass) and
+//! collect the technique's statistics. A technique supplies only a [`Passes`] value: its
+//! resources, its draws and its statistics.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::interface::{check_same_scene, FrameStats, SceneRenderer, Technique, TechniqueFrame};
+use super::options::RenderOptions;
+use crate::error::{Error, Result};
+use crate::gpu::Gpu;
+use crate::pipeline::Pipeline;
+use crate::render::plan::{record_plan, PassDraws, PassPlan, PlanPipelines, PlannedPass, SetRole, Target, When};
+use crate::render::{FrameOutput, FrameRecorder, FrameUniforms, GpuScene, Renderer};
+use crate::scene::Scene;
+
+/// A technique's side of a renderer: what it built for the scene, and what it does per frame.
+pub trait Passes {
+    /// The layout of a set role of its own (the frame's uniforms are the renderer's).
+    fn set_layout(&self, role: SetRole) -> Option<vk::DescriptorSetLayout> {
+        let _ = role;
+        None
+    }
+
+    /// The scene's meshes, when the plan has object passes the recorder draws itself.
+    fn meshes(&self) -> Option<&GpuScene> {
+        None
+    }
+
+    /// The set bound for a role of its own.
+    fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
+        let _ = role;
+        None
+    }
+
+    /// The render pass (and its colour attachment count) of an offscreen target.
+    fn offscreen_pass(&self, name: &'static str) -> Option<(vk::RenderPass, usize)> {
+        let _ = name;
+        None
+    }
+
+    /// Per-frame CPU work before recording: re-pose skinned copies, rebuild and upload the
+    /// geometry the frame draws.
+    fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()>;
+
+    /// The colour target's clear alpha (1 for most; the counter's 0 for shadow volumes).
+    fn clear_alpha(&self) -> f32 {
+        1.0
+    }
+
+    /// Which conditional passes run in this frame.
+    fn conditions(&self, scene: &Scene) -> Vec<When> {
+        let _ = scene;
+        Vec::new()
+    }
+
+    /// Records the draws of a pass the recorder does not draw itself (see `PassDraws::draw`).
+    fn draw(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()> {
+        let _ = (rec, scene, pipelines);
+        Err(Error::Internal(format!("pass '{}' has draws its technique does not make", pass.name)))
+    }
+
+    /// What the frame did, from its output; called once per frame after it completed.
+    fn stats(&mut self, output: &FrameOutput, scene: &Scene) -> Box<dyn FrameStats>;
+
+    /// Whether `scene` needs a rebuilt renderer (see `SceneRenderer::stale_for`).
+    fn stale_for(&self, renderer: &Renderer, scene: &Scene) -> bool {
+        let _ = (renderer, scene);
+        false
+    }
+
+    /// See `SceneRenderer::frames_to_steady_state`.
+    fn frames_to_steady_state(&self) -> u32 {
+        1
+    }
+}
+
+/// A built renderer: the frame renderer, the plan and its pipelines, and the technique's part.
+pub struct FrameRenderer<'s, P> {
+    technique: &'static str,
+    scene: &'s Scene,
+    renderer: Renderer,
+    plan: PassPlan,
+    pipelines: PlanPipelines,
+    passes: P,
+}
+
+/// Everything a technique's `Passes` is built from.
+pub struct BuildContext<'a> {
+    pub gpu: &'a Arc<Gpu>,
+    pub renderer: &'a Renderer,
+    pub options: &'a RenderOptions,
+    pub plan: &'a PassPlan,
+}
+
+/// Builds `technique`'s renderer for `scene`: resolves the options for the scene, plans the
+/// frame, makes the frame renderer (with colour feedback when a pass reads the colour target),
+/// lets `make` build the technique's resources, then the plan's pipelines.
+pub fn build<'s, P: Passes + 's>(
+    technique: &dyn Technique,
+    gpu: &Arc<Gpu>,
+    scene: &'s Scene,
+    options: &RenderOptions,
+    make: impl FnOnce(BuildContext) -> Result<P>,
+) -> Result<Box<dyn SceneRenderer + 's>> {
+    let options = technique.resolve(scene, options)?;
+    let plan = technique.plan(&options)?;
+    let colour_feedback = plan.passes.iter().any(|p| p.reads_colour);
+    let mut renderer = Renderer::new(gpu, options.width, options.height, options.stencil, colour_feedback)?;
+    renderer.count_overdraw = options.count_overdraw;
+    let passes = make(BuildContext { gpu, renderer: &renderer, options: &options, plan: &plan })?;
+    let frame_pass = renderer.targets.render_pass;
+    let frame_layout = renderer.frame.layout;
+    let pipelines = PlanPipelines::build(
+        gpu,
+        &plan,
+        |target| match target {
+            Target::Frame => Ok((frame_pass, 1)),
+            Target::Offscreen(name) => passes
+                .offscreen_pass(name)
+                .ok_or_else(|| Error::Internal(format!("{}: no render pass for target '{name}'", technique.name()))),
+        },
+        |role| match role {
+            SetRole::Frame => Ok(frame_layout),
+            SetRole::Own(name) => passes
+                .set_layout(role)
+                .ok_or_else(|| Error::Internal(format!("{}: no set layout for '{name}'", technique.name()))),
+        },
+    )?;
+    Ok(Box::new(FrameRenderer { technique: technique.name(), scene, renderer, plan, pipelines, passes }))
+}
+
+/// The technique's draws and sets, with the scene of this frame.
+struct FrameDraws<'a, P> {
+    passes: &'a P,
+    scene: &'a Scene,
+}
+
+impl<P: Passes> PassDraws for FrameDraws<'_, P> {
+    fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
+        self.passes.set(role)
+    }
+
+    fn meshes(&self) -> Option<(&Scene, &GpuScene)> {
+        self.passes.meshes().map(|meshes| (self.scene, meshes))
+    }
+
+    fn draw(&self, rec: &mut FrameRecorder, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()> {
+        self.passes.draw(rec, self.scene, pass, pipelines)
+    }
+}
+
+impl<P: Passes> SceneRenderer for FrameRenderer<'_, P> {
+    fn frame_with(&mut self, scene: &Scene) -> Result<TechniqueFrame> {
+        check_same_scene(self.scene, scene, self.technique)?;
+        self.passes.prepare(&self.renderer, scene)?;
+        let uniforms = FrameUniforms::for_scene(scene, self.renderer.aspect());
+        let clear = scene.background.extend(self.passes.clear_alpha()).to_array();
+        let conditions = self.passes.conditions(scene);
+        let holds = |when: When| when == When::Always || conditions.contains(&when);
+        let draws = FrameDraws { passes: &self.passes, scene };
+        let (plan, pipelines) = (&self.plan, &self.pipelines);
+        let output = self.renderer.render_with_prepass(
+            &uniforms,
+            clear,
+            |rec| record_plan(rec, plan, pipelines, false, &holds, &draws),
+            |rec| record_plan(rec, plan, pipelines, true, &holds, &draws),
+        )?;
+        let stats = self.passes.stats(&output, scene);
+        Ok(TechniqueFrame { output, stats, conditions })
+    }
+
+    fn renderer_mut(&mut self) -> &mut Renderer {
+        &mut self.renderer
+    }
+
+    fn plan(&self) -> &PassPlan {
+        &self.plan
+    }
+
+    fn stale_for(&self, scene: &Scene) -> bool {
+        self.passes.stale_for(&self.renderer, scene)
+    }
+
+    fn frames_to_steady_state(&self) -> u32 {
+        self.passes.frames_to_steady_state()
+    }
+}
+
+/// Builds the options' technique for `scene` and renders frames until the steady state (a
+/// fixed light's shadow map and bake are cached by then); returns the last.
+pub fn render_one(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions) -> Result<TechniqueFrame> {
+    let mut renderer = options.technique.build(gpu, scene, options)?;
+    for _ in 1..renderer.frames_to_steady_state() {
+        renderer.frame_with(scene)?;
+    }
+    renderer.frame_with(scene)
+}

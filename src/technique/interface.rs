@@ -1,0 +1,211 @@
+//! The one interface every technique implements. The command line, `passes`, `bench`,
+//! `profile --compare` and the viewer all work through it: none of them knows a technique by
+//! name. A new technique is one module with a type implementing [`Technique`], plus its line
+//! in [`super::registry::TECHNIQUES`].
+
+use std::any::Any;
+use std::fmt;
+use std::sync::Arc;
+
+use super::options::RenderOptions;
+use crate::error::{Error, Result};
+use crate::frame::StencilMode;
+use crate::gpu::Gpu;
+use crate::render::plan::{PassPlan, When};
+use crate::render::{FrameOutput, Renderer};
+use crate::scene::Scene;
+
+/// One variant of a technique: a label and the options that select it (`bench` times them side
+/// by side, `passes` prints each one's plan, the plan test runs each one).
+#[derive(Debug, Clone)]
+pub struct Variant {
+    pub label: String,
+    pub options: RenderOptions,
+}
+
+pub trait Technique: Sync + 'static {
+    /// The `--technique` value.
+    fn name(&self) -> &'static str;
+
+    /// One line for `--help` and `info`: what it draws, and which seed it comes from.
+    fn about(&self) -> &'static str;
+
+    /// The passes of a frame with `options`, in the order they run. Everything that decides the
+    /// plan is in the options (the shadow-volume counting method is resolved by then: see
+    /// [`Technique::resolve`]).
+    fn plan(&self, options: &RenderOptions) -> Result<PassPlan>;
+
+    /// Options with every scene-dependent choice made for `scene` (the shadow-volume counting
+    /// method under `auto`); the identity for most techniques.
+    fn resolve(&self, _scene: &Scene, options: &RenderOptions) -> Result<RenderOptions> {
+        Ok(options.clone())
+    }
+
+    /// Its renderer for `scene`, built once and then asked for frames.
+    fn build<'s>(
+        &self,
+        gpu: &Arc<Gpu>,
+        scene: &'s Scene,
+        options: &RenderOptions,
+    ) -> Result<Box<dyn SceneRenderer + 's>>;
+
+    /// What `bench` times side by side, the real-stencil reference first where there is one.
+    fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+        stencil_variants(self.name(), options)
+    }
+
+    /// Every plan `passes` prints and the plan test checks: each path and each option that
+    /// changes the passes.
+    fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+        stencil_variants(self.name(), options)
+    }
+
+    /// `profile --compare NAME`: the options of the variant called `name`.
+    fn compare_variant(&self, name: &str, options: &RenderOptions) -> Result<RenderOptions> {
+        stencil_variant(name, options).ok_or_else(|| {
+            Error::InvalidInput(format!("--compare {name}: {} has the variants emulated and reference", self.name()))
+        })
+    }
+
+    /// The viewer's title: the technique and the options that matter to it.
+    fn describe(&self, options: &RenderOptions) -> String {
+        format!("{} ({})", self.name(), options.stencil.name())
+    }
+}
+
+impl fmt::Debug for dyn Technique {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl PartialEq for dyn Technique {
+    fn eq(&self, other: &Self) -> bool {
+        self.name() == other.name()
+    }
+}
+
+/// The emulated and the reference path, reference first.
+pub fn stencil_variants(name: &str, options: &RenderOptions) -> Vec<Variant> {
+    [StencilMode::Reference, StencilMode::Emulated]
+        .into_iter()
+        .map(|stencil| Variant {
+            label: format!("{name} ({})", stencil.name()),
+            options: RenderOptions { stencil, ..options.clone() },
+        })
+        .collect()
+}
+
+/// `emulated` or `reference`.
+pub fn stencil_variant(name: &str, options: &RenderOptions) -> Option<RenderOptions> {
+    let stencil = match name {
+        "emulated" => StencilMode::Emulated,
+        "reference" => StencilMode::Reference,
+        _ => return None,
+    };
+    Some(RenderOptions { stencil, ..options.clone() })
+}
+
+/// A renderer built once for a scene: it renders that scene frame after frame while its camera,
+/// light, object transforms and joint palettes change. `render` and `profile` take one frame
+/// from it; the viewer takes every frame.
+pub trait SceneRenderer {
+    /// Renders `scene`: the scene this renderer was built for, with camera, light, object
+    /// transforms and joint palettes free to change (meshes and objects may not: see
+    /// `check_same_scene`).
+    fn frame_with(&mut self, scene: &Scene) -> Result<TechniqueFrame>;
+
+    /// The frame renderer, for its switches (`keep_on_gpu`, `count_overdraw`) and targets.
+    fn renderer_mut(&mut self) -> &mut Renderer;
+
+    /// The plan this renderer executes.
+    fn plan(&self) -> &PassPlan;
+
+    /// Whether drawing `scene` needs a rebuilt renderer (shadow volumes with `auto`: the camera
+    /// moved into or out of a volume, so the counting method changes).
+    fn stale_for(&self, _scene: &Scene) -> bool {
+        false
+    }
+
+    /// Frames until the counters show the steady state, which one-frame renders report (a
+    /// fixed light's shadow map and atlases are baked by the first frame and cached after).
+    fn frames_to_steady_state(&self) -> u32 {
+        1
+    }
+}
+
+/// What a technique reports about a frame beyond its counters.
+pub trait FrameStats: fmt::Debug {
+    /// Lines printed under `profile`'s table (none for a technique with nothing to add).
+    fn report(&self) -> String;
+
+    /// The `technique_stats` object of `profile --format json`.
+    fn json(&self) -> serde_json::Value;
+
+    /// A few words for the viewer's title ("z-fail").
+    fn brief(&self) -> Option<String> {
+        None
+    }
+
+    fn as_any(&self) -> &dyn Any;
+}
+
+/// A technique with nothing to report.
+#[derive(Debug)]
+pub struct NoStats;
+
+impl FrameStats for NoStats {
+    fn report(&self) -> String {
+        String::new()
+    }
+
+    fn json(&self) -> serde_json::Value {
+        serde_json::Value::Null
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}
+
+/// A rendered frame and what the technique reports about it.
+pub struct TechniqueFrame {
+    pub output: FrameOutput,
+    pub stats: Box<dyn FrameStats>,
+    /// Which conditional passes ran (see `render::plan::When`).
+    pub conditions: Vec<When>,
+}
+
+impl TechniqueFrame {
+    /// The technique's statistics as their concrete type (`ShadowVolumeStats`, ...).
+    pub fn stats<T: 'static>(&self) -> Option<&T> {
+        self.stats.as_any().downcast_ref::<T>()
+    }
+
+    /// Whether the passes conditioned on `when` ran in this frame.
+    pub fn held(&self, when: When) -> bool {
+        when == When::Always || self.conditions.contains(&when)
+    }
+}
+
+/// Refuses a `scene` that is not a moved pose of `built_for`: a renderer uploads meshes and
+/// prepares casters once, so the objects, their meshes and which ones cast shadows must match.
+pub fn check_same_scene(built_for: &Scene, scene: &Scene, technique: &str) -> Result<()> {
+    let same_objects =
+        built_for.objects.len() == scene.objects.len()
+            && built_for.objects.iter().zip(&scene.objects).all(|(a, b)| {
+                a.mesh == b.mesh && a.casts_shadow == b.casts_shadow && a.skin.is_some() == b.skin.is_some()
+            });
+    let same_meshes = built_for.meshes.len() == scene.meshes.len()
+        && built_for.meshes.iter().zip(&scene.meshes).all(|(a, b)| {
+            a.data.positions.len() == b.data.positions.len() && a.data.indices.len() == b.data.indices.len()
+        });
+    if same_objects && same_meshes {
+        Ok(())
+    } else {
+        Err(Error::InvalidInput(format!(
+            "scene '{}' is not the one this {technique} renderer was built for (its objects or meshes differ)",
+            scene.name
+        )))
+    }
+}

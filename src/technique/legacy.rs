@@ -1,0 +1,396 @@
+//! Transitional: the techniques whose renderers are not yet written against `Passes`, behind
+//! the `Technique` interface. Their plans come from their pipeline lists until each moves to a
+//! pass plan of its own.
+
+use std::any::Any;
+use std::sync::Arc;
+
+use super::cartoon::{CartoonRenderer, CartoonStats, SilhouetteMethod};
+use super::interface::{stencil_variants, FrameStats, SceneRenderer, Technique, TechniqueFrame, Variant};
+use super::options::RenderOptions;
+use super::planar::blob::BlobRenderer;
+use super::planar::shadow_texture::ShadowTextureRenderer;
+use super::planar::{PlanarRenderer, PlanarStats};
+use super::shadow_atlas::{LightMode, ShadowAtlasRenderer, ShadowAtlasStats, ShadowKind};
+use crate::error::Result;
+use crate::frame::StencilMode;
+use crate::gpu::Gpu;
+use crate::render::plan::{Draws, PassPlan, PlannedPass, Push};
+use crate::render::Renderer;
+use crate::scene::Scene;
+
+/// Which of the cartoon techniques a cartoon renderer draws.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CartoonStyle {
+    Outline,
+    Silhouette,
+    Toon,
+}
+
+impl CartoonStyle {
+    pub fn name(self) -> &'static str {
+        match self {
+            CartoonStyle::Outline => "outline",
+            CartoonStyle::Silhouette => "silhouette",
+            CartoonStyle::Toon => "toon",
+        }
+    }
+}
+
+fn plan_of(descs: Vec<crate::pipeline::PipelineDesc>) -> PassPlan {
+    PassPlan {
+        passes: descs
+            .into_iter()
+            .map(|d| PlannedPass::new(d.name, d, Draws::Geometry("(see the technique)"), Push::PerDraw("-")))
+            .collect(),
+    }
+}
+
+struct Adapter<R> {
+    inner: R,
+    plan: PassPlan,
+}
+
+macro_rules! adapt {
+    ($renderer:ident, $stats:ident) => {
+        impl SceneRenderer for Adapter<$renderer<'_>> {
+            fn frame_with(&mut self, scene: &Scene) -> Result<TechniqueFrame> {
+                let frame = self.inner.frame_with(scene)?;
+                Ok(TechniqueFrame { output: frame.output, stats: Box::new(frame.stats), conditions: Vec::new() })
+            }
+
+            fn renderer_mut(&mut self) -> &mut Renderer {
+                self.inner.renderer_mut()
+            }
+
+            fn plan(&self) -> &PassPlan {
+                &self.plan
+            }
+        }
+    };
+}
+
+adapt!(CartoonRenderer, CartoonStats);
+adapt!(PlanarRenderer, PlanarStats);
+adapt!(BlobRenderer, PlanarStats);
+adapt!(ShadowTextureRenderer, PlanarStats);
+
+impl SceneRenderer for Adapter<ShadowAtlasRenderer<'_>> {
+    fn frame_with(&mut self, scene: &Scene) -> Result<TechniqueFrame> {
+        let frame = self.inner.frame_with(scene)?;
+        Ok(TechniqueFrame { output: frame.output, stats: Box::new(frame.stats), conditions: Vec::new() })
+    }
+
+    fn renderer_mut(&mut self) -> &mut Renderer {
+        self.inner.renderer_mut()
+    }
+
+    fn plan(&self) -> &PassPlan {
+        &self.plan
+    }
+
+    fn frames_to_steady_state(&self) -> u32 {
+        match self.inner.light_mode() {
+            LightMode::Moving => 1,
+            LightMode::Fixed => 2,
+        }
+    }
+}
+
+fn boxed<'s, R: 's>(inner: R, plan: PassPlan) -> Box<dyn SceneRenderer + 's>
+where
+    Adapter<R>: SceneRenderer,
+{
+    Box::new(Adapter { inner, plan })
+}
+
+macro_rules! cartoon_technique {
+    ($name:ident, $style:expr, $text:literal, $about:literal) => {
+        pub struct $name;
+
+        impl Technique for $name {
+            fn name(&self) -> &'static str {
+                $text
+            }
+
+            fn about(&self) -> &'static str {
+                $about
+            }
+
+            fn plan(&self, _options: &RenderOptions) -> Result<PassPlan> {
+                Ok(plan_of(super::cartoon::pipeline_descs($style)))
+            }
+
+            fn build<'s>(
+                &self,
+                gpu: &Arc<Gpu>,
+                scene: &'s Scene,
+                o: &RenderOptions,
+            ) -> Result<Box<dyn SceneRenderer + 's>> {
+                let mut r = CartoonRenderer::new(gpu, scene, o.width, o.height, o.stencil, $style, &o.cartoon)?;
+                r.renderer_mut().count_overdraw = o.count_overdraw;
+                Ok(boxed(r, self.plan(o)?))
+            }
+
+            fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+                if $style == CartoonStyle::Outline {
+                    return stencil_variants("outline", options)
+                        .into_iter()
+                        .map(|mut v| {
+                            v.label = match v.options.stencil {
+                                StencilMode::Reference => "reference (stencil)".into(),
+                                StencilMode::Emulated => "emulated".into(),
+                            };
+                            v
+                        })
+                        .collect();
+                }
+                SilhouetteMethod::ALL
+                    .into_iter()
+                    .map(|method| {
+                        let mut options = options.clone();
+                        options.cartoon.silhouette = method;
+                        Variant { label: format!("{} {}", $text, method.name()), options }
+                    })
+                    .collect()
+            }
+
+            fn describe(&self, options: &RenderOptions) -> String {
+                if $style == CartoonStyle::Outline {
+                    return format!("{} ({})", $text, options.stencil.name());
+                }
+                format!("{} ({}, {})", $text, options.stencil.name(), options.cartoon.silhouette.name())
+            }
+        }
+    };
+}
+
+cartoon_technique!(Outline, CartoonStyle::Outline, "outline", "selection outline without a stencil (seed 003)");
+cartoon_technique!(Silhouette, CartoonStyle::Silhouette, "silhouette", "Lambert shading with ink lines (seed 002)");
+cartoon_technique!(Toon, CartoonStyle::Toon, "toon", "toon shading (N.L through a ramp) with ink lines (seed 002)");
+
+/// The three shadows of seed 001 side by side, the real-stencil reference first.
+fn planar_bench(options: &RenderOptions) -> Vec<Variant> {
+    let with = |label: &str, technique: &'static dyn Technique, stencil| Variant {
+        label: label.into(),
+        options: RenderOptions { technique, stencil, ..options.clone() },
+    };
+    vec![
+        with("planar reference (stencil)", &Planar, StencilMode::Reference),
+        with("planar emulated (alpha)", &Planar, StencilMode::Emulated),
+        with("blob", &Blob, StencilMode::Emulated),
+        with("shadow texture", &ShadowTexture, StencilMode::Emulated),
+    ]
+}
+
+pub struct Planar;
+
+impl Technique for Planar {
+    fn name(&self) -> &'static str {
+        "planar"
+    }
+
+    fn about(&self) -> &'static str {
+        "casters skinned on the GPU and projected onto the ground, double darkening stopped in alpha (seed 001)"
+    }
+
+    fn plan(&self, o: &RenderOptions) -> Result<PassPlan> {
+        Ok(plan_of(super::planar::path_descs(o.stencil).to_vec()))
+    }
+
+    fn build<'s>(&self, gpu: &Arc<Gpu>, scene: &'s Scene, o: &RenderOptions) -> Result<Box<dyn SceneRenderer + 's>> {
+        let mut r = PlanarRenderer::new(gpu, scene, o.width, o.height, o.stencil, &o.planar)?;
+        r.renderer_mut().count_overdraw = o.count_overdraw;
+        Ok(boxed(r, self.plan(o)?))
+    }
+
+    fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+        planar_bench(options)
+    }
+}
+
+pub struct Blob;
+
+impl Technique for Blob {
+    fn name(&self) -> &'static str {
+        "blob"
+    }
+
+    fn about(&self) -> &'static str {
+        "a soft round texture on a quad under each caster (seed 001's cheapest shadow)"
+    }
+
+    fn plan(&self, _o: &RenderOptions) -> Result<PassPlan> {
+        Ok(plan_of(super::planar::blob::pipeline_descs()))
+    }
+
+    fn build<'s>(&self, gpu: &Arc<Gpu>, scene: &'s Scene, o: &RenderOptions) -> Result<Box<dyn SceneRenderer + 's>> {
+        let mut r = BlobRenderer::new(gpu, scene, o.width, o.height, o.stencil, o.planar.shadow_factor)?;
+        r.renderer_mut().count_overdraw = o.count_overdraw;
+        Ok(boxed(r, self.plan(o)?))
+    }
+
+    fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+        planar_bench(options)
+    }
+}
+
+pub struct ShadowTexture;
+
+impl Technique for ShadowTexture {
+    fn name(&self) -> &'static str {
+        "shadow-texture"
+    }
+
+    fn about(&self) -> &'static str {
+        "casters drawn from the light into a small texture that the ground looks up (seed 001)"
+    }
+
+    fn plan(&self, _o: &RenderOptions) -> Result<PassPlan> {
+        Ok(plan_of(super::planar::shadow_texture::pipeline_descs()))
+    }
+
+    fn build<'s>(&self, gpu: &Arc<Gpu>, scene: &'s Scene, o: &RenderOptions) -> Result<Box<dyn SceneRenderer + 's>> {
+        let mut r = ShadowTextureRenderer::new(gpu, scene, o.width, o.height, o.stencil, o.planar.shadow_factor)?;
+        r.renderer_mut().count_overdraw = o.count_overdraw;
+        Ok(boxed(r, self.plan(o)?))
+    }
+
+    fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+        planar_bench(options)
+    }
+}
+
+macro_rules! atlas_technique {
+    ($name:ident, $kind:expr, $text:literal, $about:literal) => {
+        pub struct $name;
+
+        impl Technique for $name {
+            fn name(&self) -> &'static str {
+                $text
+            }
+
+            fn about(&self) -> &'static str {
+                $about
+            }
+
+            fn plan(&self, _o: &RenderOptions) -> Result<PassPlan> {
+                Ok(plan_of(super::shadow_atlas::pipeline_descs($kind).into_iter().map(|(_, d)| d).collect()))
+            }
+
+            fn build<'s>(
+                &self,
+                gpu: &Arc<Gpu>,
+                scene: &'s Scene,
+                o: &RenderOptions,
+            ) -> Result<Box<dyn SceneRenderer + 's>> {
+                let mut r = ShadowAtlasRenderer::new(gpu, scene, o.width, o.height, o.stencil, $kind, &o.shadow_atlas)?;
+                r.renderer_mut().count_overdraw = o.count_overdraw;
+                Ok(boxed(r, self.plan(o)?))
+            }
+
+            fn describe(&self, options: &RenderOptions) -> String {
+                format!("{} ({}, {} light)", $text, options.stencil.name(), options.shadow_atlas.light.name())
+            }
+        }
+    };
+}
+
+atlas_technique!(
+    ShadowMap,
+    ShadowKind::Map,
+    "shadow-map",
+    "a depth-compared shadow map from the light (seed 004's comparison)"
+);
+atlas_technique!(
+    ShadowTextureAtlas,
+    ShadowKind::Atlas,
+    "shadow-texture-atlas",
+    "shadow textures baked into each model's atlas from the shadow map (seed 004)"
+);
+
+fn json_of(value: &impl serde::Serialize) -> serde_json::Value {
+    serde_json::to_value(value).unwrap_or_default()
+}
+
+impl FrameStats for CartoonStats {
+    fn report(&self) -> String {
+        match self.method {
+            Some(method) if method != SilhouetteMethod::Edges => {
+                format!("cartoon ({}): ink on the GPU, no CPU edge work", method.name())
+            }
+            Some(method) => format!(
+                "cartoon ({}): {} edges in the unique edge lists | drawn: {} silhouette, {} crease, {} boundary | \
+                 CPU edge work {:.3} ms",
+                method.name(),
+                self.total_edges,
+                self.silhouette_edges,
+                self.crease_edges,
+                self.boundary_edges,
+                self.edge_cpu_ms
+            ),
+            None => format!("outline: selected {}", self.selected.join(", ")),
+        }
+    }
+
+    fn json(&self) -> serde_json::Value {
+        json_of(self)
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}
+
+impl FrameStats for PlanarStats {
+    fn report(&self) -> String {
+        String::new()
+    }
+
+    fn json(&self) -> serde_json::Value {
+        json_of(self)
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}
+
+impl FrameStats for ShadowAtlasStats {
+    fn report(&self) -> String {
+        let mut out = format!(
+            "{} | light {} | frame {}: {} | shadow map {}x{}",
+            self.technique.name(),
+            self.light.name(),
+            self.frame,
+            if self.cached {
+                "shadow map and bake skipped (neither light nor models moved since the last frame)"
+            } else {
+                "shadow map re-rendered (and shadow textures re-baked)"
+            },
+            self.map_size,
+            self.map_size
+        );
+        if self.technique == ShadowKind::Atlas {
+            for atlas in &self.atlases {
+                out.push_str(&format!(
+                    "\n  atlas of '{}': {} -> {}x{} shadow texture, {} mips",
+                    atlas.mesh,
+                    atlas.describe(),
+                    atlas.size,
+                    atlas.size,
+                    atlas.mip_levels
+                ));
+            }
+        }
+        out
+    }
+
+    fn json(&self) -> serde_json::Value {
+        json_of(self)
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}

@@ -1,0 +1,222 @@
+//! Shadow volumes counted in the colour alpha channel (seed 000, DESIGN.md section 2), and the
+//! real-stencil reference they are proven against: the recipes and pass plan
+//! ([`recipes`]), the casters and their volumes on the CPU ([`casters`]), and the renderer
+//! that draws them ([`renderer`]).
+
+pub mod casters;
+pub mod recipes;
+pub mod renderer;
+
+use std::sync::Arc;
+
+use super::frame_renderer;
+use super::interface::{SceneRenderer, Technique, Variant};
+use super::options::RenderOptions;
+use crate::error::{Error, Result};
+use crate::frame::StencilMode;
+use crate::gpu::Gpu;
+use crate::render::plan::PassPlan;
+use crate::render::FrameOutput;
+use crate::scene::Scene;
+
+pub use casters::{build_volume, camera_inside_volume, choose_zfail, prepare_casters, Caster};
+pub use recipes::{
+    apply_desc, darkness_descs, iteration_desc, n0_desc, reference_apply_desc, reference_clear_negative_desc,
+    reference_volume_desc, saturation_probe_desc, volume_descs,
+};
+pub use renderer::{record_seed_normalisation, ShadowVolumeStats};
+
+/// How volume walls are counted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum VolumeMethod {
+    /// z-fail when the camera (or its near plane) is inside a volume, else z-pass.
+    #[default]
+    Auto,
+    ZPass,
+    ZFail,
+}
+
+/// How the count becomes a shadow mask.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Normalize {
+    /// The seed's fixed-function sequence: N0, iterations, REVERSE_SUBTRACT D, ADD D, apply.
+    #[default]
+    Seed,
+    /// As `seed`, with one MAX pass in place of the two D passes.
+    Max,
+    /// One full-screen pass reading the count as an input attachment.
+    Subpass,
+}
+
+impl VolumeMethod {
+    pub fn parse(text: &str) -> Result<Self> {
+        match text {
+            "auto" => Ok(VolumeMethod::Auto),
+            "zpass" => Ok(VolumeMethod::ZPass),
+            "zfail" => Ok(VolumeMethod::ZFail),
+            _ => Err(Error::InvalidInput(format!("--volume-method {text}: use auto, zpass or zfail"))),
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            VolumeMethod::Auto => "auto",
+            VolumeMethod::ZPass => "z-pass",
+            VolumeMethod::ZFail => "z-fail",
+        }
+    }
+}
+
+impl Normalize {
+    pub const ALL: [Normalize; 3] = [Normalize::Seed, Normalize::Max, Normalize::Subpass];
+
+    pub fn parse(text: &str) -> Result<Self> {
+        match text {
+            "seed" => Ok(Normalize::Seed),
+            "max" => Ok(Normalize::Max),
+            "subpass" => Ok(Normalize::Subpass),
+            _ => Err(Error::InvalidInput(format!("--normalize {text}: use seed, max or subpass"))),
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Normalize::Seed => "seed",
+            Normalize::Max => "max",
+            Normalize::Subpass => "subpass",
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct ShadowVolumeOptions {
+    /// k: each volume wall adds or removes k/255 of alpha (1..=8).
+    pub increment: u8,
+    pub method: VolumeMethod,
+    pub normalize: Normalize,
+    /// Shadowed colour = colour x shadow_factor/255. An 8-bit value, so that every path
+    /// multiplies by exactly the same number.
+    pub shadow_factor: u8,
+}
+
+impl Default for ShadowVolumeOptions {
+    fn default() -> Self {
+        ShadowVolumeOptions { increment: 1, method: VolumeMethod::Auto, normalize: Normalize::Seed, shadow_factor: 102 }
+    }
+}
+
+/// Shadow volumes counted in alpha (seed 000).
+pub struct ShadowVolumes;
+
+impl Technique for ShadowVolumes {
+    fn name(&self) -> &'static str {
+        "shadow-volume"
+    }
+
+    fn about(&self) -> &'static str {
+        "shadow volumes counted in the alpha channel (seed 000)"
+    }
+
+    fn plan(&self, options: &RenderOptions) -> Result<PassPlan> {
+        recipes::plan(&options.shadow_volume, options.stencil)
+    }
+
+    fn build<'s>(
+        &self,
+        gpu: &Arc<Gpu>,
+        scene: &'s Scene,
+        options: &RenderOptions,
+    ) -> Result<Box<dyn SceneRenderer + 's>> {
+        renderer::build(self, gpu, scene, options)
+    }
+
+    fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+        let mut variants = vec![Variant {
+            label: "reference (stencil)".into(),
+            options: RenderOptions { stencil: StencilMode::Reference, ..options.clone() },
+        }];
+        variants.extend(Normalize::ALL.into_iter().map(|normalize| Variant {
+            label: format!("emulated {}", normalize.name()),
+            options: RenderOptions {
+                stencil: StencilMode::Emulated,
+                shadow_volume: ShadowVolumeOptions { normalize, ..options.shadow_volume },
+                ..options.clone()
+            },
+        }));
+        variants
+    }
+
+    fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+        let mut variants = Vec::new();
+        for method in [VolumeMethod::ZPass, VolumeMethod::ZFail] {
+            let counting = ShadowVolumeOptions { method, ..options.shadow_volume };
+            variants.push(Variant {
+                label: format!("reference, {}", method.name()),
+                options: RenderOptions { stencil: StencilMode::Reference, shadow_volume: counting, ..options.clone() },
+            });
+            for normalize in Normalize::ALL {
+                variants.push(Variant {
+                    label: format!("emulated {}, {}", normalize.name(), method.name()),
+                    options: RenderOptions {
+                        stencil: StencilMode::Emulated,
+                        shadow_volume: ShadowVolumeOptions { normalize, ..counting },
+                        ..options.clone()
+                    },
+                });
+            }
+        }
+        variants
+    }
+
+    fn compare_variant(&self, name: &str, options: &RenderOptions) -> Result<RenderOptions> {
+        if let Some(options) = super::interface::stencil_variant(name, options) {
+            return Ok(options);
+        }
+        let normalize = Normalize::parse(name).map_err(|_| {
+            Error::InvalidInput(format!("--compare {name}: variants are emulated, reference, seed, max and subpass"))
+        })?;
+        Ok(RenderOptions {
+            stencil: StencilMode::Emulated,
+            shadow_volume: ShadowVolumeOptions { normalize, ..options.shadow_volume },
+            ..options.clone()
+        })
+    }
+
+    fn describe(&self, options: &RenderOptions) -> String {
+        let normalise = match options.stencil {
+            StencilMode::Emulated => format!(", {}", options.shadow_volume.normalize.name()),
+            StencilMode::Reference => String::new(),
+        };
+        format!("{} ({}{normalise}, k={})", self.name(), options.stencil.name(), options.shadow_volume.increment)
+    }
+}
+
+/// A shadow-volume frame: its image and counters, and what the technique reports.
+pub struct ShadowVolumeFrame {
+    pub output: FrameOutput,
+    pub stats: ShadowVolumeStats,
+}
+
+/// Renders `scene` with shadow volumes, emulated in alpha or with the real-stencil reference.
+pub fn render(
+    gpu: &Arc<Gpu>,
+    scene: &Scene,
+    width: u32,
+    height: u32,
+    stencil: StencilMode,
+    options: &ShadowVolumeOptions,
+) -> Result<ShadowVolumeFrame> {
+    let options = RenderOptions {
+        width,
+        height,
+        stencil,
+        technique: &ShadowVolumes,
+        shadow_volume: *options,
+        ..RenderOptions::default()
+    };
+    let frame = frame_renderer::render_one(gpu, scene, &options)?;
+    let stats = *frame.stats::<ShadowVolumeStats>().ok_or_else(|| Error::Internal("shadow-volume stats".into()))?;
+    Ok(ShadowVolumeFrame { output: frame.output, stats })
+}

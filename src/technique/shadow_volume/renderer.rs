@@ -1,0 +1,233 @@
+//! The shadow-volume renderer: casters prepared once, volumes rebuilt and uploaded each frame
+//! (as a moving light or mesh needs), drawn by the plan of `recipes`.
+
+use std::any::Any;
+use std::sync::Arc;
+
+use ash::vk;
+use glam::Vec4;
+
+use super::casters::{build_volume, choose_zfail, prepare_casters, Caster};
+use super::recipes::{seed_normalisation, COUNTER_INPUT};
+use super::{ShadowVolumeOptions, ShadowVolumes, VolumeMethod};
+use crate::error::{Error, Result};
+use crate::frame::StencilMode;
+use crate::gpu::descriptors::{Binding, DescriptorSet};
+use crate::gpu::memory::{as_bytes, Buffer};
+use crate::gpu::Gpu;
+use crate::pipeline::Pipeline;
+use crate::render::plan::{PlannedPass, Push, SetRole};
+use crate::render::{FrameOutput, FrameRecorder, GpuScene, ObjectPush, Renderer};
+use crate::scene::Scene;
+use crate::technique::alpha_counter;
+use crate::technique::frame_renderer::{self, Passes};
+use crate::technique::interface::{FrameStats, SceneRenderer};
+use crate::technique::options::RenderOptions;
+
+/// What the frame did, beyond its image and counters.
+#[derive(Debug, Clone, Copy, serde::Serialize)]
+pub struct ShadowVolumeStats {
+    pub zfail: bool,
+    pub seed_iterations: usize,
+    /// The largest count the alpha counter holds: 255 / k.
+    pub capacity: u32,
+    /// Pixels whose counter reached 255 after the increments (emulated frames only).
+    pub saturated_pixels: Option<u64>,
+    /// k, for the report.
+    #[serde(skip)]
+    pub increment: u8,
+}
+
+impl FrameStats for ShadowVolumeStats {
+    fn report(&self) -> String {
+        format!(
+            "shadow volumes: {} | counter capacity {} volumes (k = {}) | saturated pixels: {}",
+            if self.zfail { "z-fail" } else { "z-pass" },
+            self.capacity,
+            self.increment,
+            self.saturated_pixels.map_or("n/a (reference)".to_owned(), |n| n.to_string())
+        )
+    }
+
+    fn json(&self) -> serde_json::Value {
+        serde_json::to_value(self).unwrap_or_default()
+    }
+
+    fn brief(&self) -> Option<String> {
+        Some(if self.zfail { "z-fail" } else { "z-pass" }.into())
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}
+
+/// One caster's volume, uploaded for this frame.
+struct GpuVolume {
+    object: usize,
+    vertices: Buffer,
+    indices: Buffer,
+    index_count: u32,
+}
+
+/// Builds the renderer: casters are prepared first, so that `auto` can pick the counting
+/// method for this scene's camera before the frame is planned.
+pub fn build<'s>(
+    technique: &ShadowVolumes,
+    gpu: &Arc<Gpu>,
+    scene: &'s Scene,
+    options: &RenderOptions,
+) -> Result<Box<dyn SceneRenderer + 's>> {
+    let k = alpha_counter::check_increment(options.shadow_volume.increment)?;
+    let casters = prepare_casters(scene)?;
+    let aspect = options.width as f32 / options.height as f32;
+    let zfail = choose_zfail(&options.shadow_volume, scene, &casters, aspect);
+    let method = if zfail { VolumeMethod::ZFail } else { VolumeMethod::ZPass };
+    let resolved =
+        RenderOptions { shadow_volume: ShadowVolumeOptions { method, ..options.shadow_volume }, ..options.clone() };
+    let requested = options.shadow_volume;
+    frame_renderer::build(technique, gpu, scene, &resolved, |ctx| {
+        let counter_input = match ctx.options.stencil {
+            StencilMode::Emulated => Some(DescriptorSet::new(
+                ctx.gpu,
+                &[Binding::InputAttachment {
+                    view: ctx.renderer.targets.colour.view,
+                    layout: vk::ImageLayout::GENERAL,
+                }],
+            )?),
+            StencilMode::Reference => None,
+        };
+        Ok(ShadowVolumePasses {
+            gpu: ctx.gpu.clone(),
+            requested,
+            casters,
+            meshes: GpuScene::upload(ctx.gpu, scene)?,
+            counter_input,
+            volumes: Vec::new(),
+            stats: ShadowVolumeStats {
+                zfail,
+                seed_iterations: alpha_counter::seed_iterations(k)?,
+                capacity: alpha_counter::capacity(k),
+                saturated_pixels: None,
+                increment: k,
+            },
+        })
+    })
+}
+
+struct ShadowVolumePasses {
+    gpu: Arc<Gpu>,
+    /// The options as asked (`auto` still `auto`: the viewer asks whether the camera moved
+    /// into or out of a volume).
+    requested: ShadowVolumeOptions,
+    casters: Vec<Caster>,
+    meshes: GpuScene,
+    /// The colour target as an input attachment (emulated: the probe and `subpass`).
+    counter_input: Option<DescriptorSet>,
+    /// This frame's volumes.
+    volumes: Vec<GpuVolume>,
+    stats: ShadowVolumeStats,
+}
+
+impl Passes for ShadowVolumePasses {
+    fn set_layout(&self, role: SetRole) -> Option<vk::DescriptorSetLayout> {
+        (role == COUNTER_INPUT).then(|| self.counter_input.as_ref().map(|s| s.layout)).flatten()
+    }
+
+    fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
+        (role == COUNTER_INPUT).then(|| self.counter_input.as_ref().map(|s| s.set)).flatten()
+    }
+
+    fn meshes(&self) -> Option<&GpuScene> {
+        Some(&self.meshes)
+    }
+
+    fn prepare(&mut self, _renderer: &Renderer, scene: &Scene) -> Result<()> {
+        self.meshes.follow_pose(&self.gpu, scene)?;
+        self.volumes = upload_volumes(&self.gpu, scene, &self.casters, self.stats.zfail)?;
+        Ok(())
+    }
+
+    fn clear_alpha(&self) -> f32 {
+        0.0
+    }
+
+    fn draw(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()> {
+        let (Push::TransformAlpha(alpha), Some(pipeline)) = (&pass.push, pipelines.first()) else {
+            return Err(Error::Internal(format!("shadow volumes cannot draw pass '{}'", pass.name)));
+        };
+        for volume in &self.volumes {
+            let push =
+                ObjectPush { model: scene.objects[volume.object].transform, colour: Vec4::new(0.0, 0.0, 0.0, *alpha) };
+            rec.push(pipeline, &push);
+            rec.draw_indexed(&volume.vertices, &volume.indices, volume.index_count);
+        }
+        Ok(())
+    }
+
+    fn stats(&mut self, output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {
+        let mut stats = self.stats;
+        stats.saturated_pixels = output.counters.pass("saturation probe").map(|p| p.samples_passed);
+        Box::new(stats)
+    }
+
+    fn stale_for(&self, renderer: &Renderer, scene: &Scene) -> bool {
+        choose_zfail(&self.requested, scene, &self.casters, renderer.aspect()) != self.stats.zfail
+    }
+}
+
+fn upload_volumes(gpu: &Arc<Gpu>, scene: &Scene, casters: &[Caster], zfail: bool) -> Result<Vec<GpuVolume>> {
+    casters
+        .iter()
+        .map(|caster| {
+            // Far caps close point-light volumes at infinity: drawn in both methods, so that
+            // the background (depth 1) behind a volume never counts. Near caps only for z-fail.
+            let volume = build_volume(scene, caster, true);
+            let mut indices = volume.sides.clone();
+            if zfail {
+                indices.extend_from_slice(&volume.near_cap);
+            }
+            indices.extend_from_slice(&volume.far_cap);
+            Ok(GpuVolume {
+                object: caster.object,
+                vertices: Buffer::with_data(
+                    gpu,
+                    "shadow volume vertices",
+                    as_bytes(&volume.vertices),
+                    vk::BufferUsageFlags::VERTEX_BUFFER,
+                )?,
+                indices: Buffer::with_data(
+                    gpu,
+                    "shadow volume indices",
+                    as_bytes(&indices),
+                    vk::BufferUsageFlags::INDEX_BUFFER,
+                )?,
+                index_count: indices.len() as u32,
+            })
+        })
+        .collect()
+}
+
+/// The seed's normalisation alone, as the plan has it (N0, then `iterations` iterations), with
+/// pipelines the caller built from `n0_desc` and `iteration_desc`: for tests that run it on a
+/// counter they wrote themselves.
+pub fn record_seed_normalisation(
+    rec: &mut FrameRecorder,
+    n0: &Pipeline,
+    iteration: &Pipeline,
+    iterations: usize,
+) -> Result<()> {
+    for pass in seed_normalisation(iterations) {
+        let pipeline = if pass.pipeline().name == n0.desc.name { n0 } else { iteration };
+        let Push::Constant(value) = pass.push else {
+            return Err(Error::Internal(format!("normalisation pass '{}' has no constant", pass.name)));
+        };
+        rec.pass(&pass.name, |rec| {
+            rec.bind(pipeline);
+            rec.push(pipeline, &value);
+            rec.draw_fullscreen();
+            Ok(())
+        })?;
+    }
+    Ok(())
+}
