@@ -3,7 +3,7 @@
 # refactor could break: each shadow-volume normalisation, each silhouette method), at 160x120,
 # into OUT_DIR, one PNG per case named technique--variant--stencil--scene.png.
 #
-#   tools/render-matrix.sh OUT_DIR [NOSTENCIL_BINARY]
+#   [TECHNIQUES="lit ..."] tools/render-matrix.sh OUT_DIR [NOSTENCIL_BINARY]
 #
 # The binary defaults to target/debug/nostencil (build it first). A case the binary refuses
 # (for example a scene with no shadow caster for planar) is recorded as OUT_DIR/NAME.err with
@@ -16,7 +16,8 @@ size=160x120
 mkdir -p "$out"
 
 scenes=(default overlap point-light inside box outline duck character character-point atlas-one atlas-125)
-techniques=(lit shadow-volume outline silhouette toon planar blob shadow-texture shadow-map shadow-texture-atlas)
+# TECHNIQUES="lit shadow-volume" restricts the run (the default is every technique).
+read -r -a techniques <<<"${TECHNIQUES:-lit shadow-volume outline silhouette toon planar blob shadow-texture shadow-map shadow-texture-atlas}"
 
 variants_of() {
   case "$1" in
