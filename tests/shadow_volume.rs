@@ -244,6 +244,13 @@ fn background_behind_volumes_is_never_darkened() {
                 .filter(|(p, q)| q[..3] == sky && p[..3] != sky)
                 .count();
             assert_eq!(darkened_sky, 0, "{name} {method:?}: background pixels darkened");
+            // Not vacuous: the frame shows its shadows and the sky.
+            let shadowed = shadow_mask(image, &unshadowed).iter().filter(|s| **s).count();
+            let sky_pixels = unshadowed.pixels.chunks_exact(4).filter(|q| q[..3] == sky).count();
+            assert!(
+                shadowed > 50 && sky_pixels > 50,
+                "{name} {method:?}: {shadowed} shadowed, {sky_pixels} sky pixels"
+            );
         }
     }
     common::assert_no_validation_messages(&gpu);
