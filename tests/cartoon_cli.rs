@@ -3,14 +3,12 @@
 
 mod common;
 
-use std::process::{Command, Output};
+use nostencil::scene::builtin_scene;
+use nostencil::technique::CartoonOptions;
 
-fn nostencil(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_nostencil")).args(args).output().expect("run nostencil")
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
+/// Ink: the edge methods' (10, 10, 15) and the shader method's darkened rim alike.
+fn is_ink(p: &[u8; 3]) -> bool {
+    p.iter().all(|c| *c < 40)
 }
 
 #[test]
@@ -24,22 +22,32 @@ fn every_cartoon_technique_and_method_renders_and_profiles() {
         &["--scene", "default", "--technique", "toon", "--silhouette", "hull"],
         &["--scene", "duck", "--technique", "silhouette", "--silhouette", "edges"],
     ];
+    let outline = CartoonOptions::default().outline_colour;
     for (i, extra) in cases.iter().enumerate() {
         let out = dir.join(format!("{i}.png"));
         let mut args = vec!["render", "--size", "96x64", "--validation", "--out"];
         args.push(out.to_str().expect("utf-8 path"));
         args.extend_from_slice(extra);
-        let output = nostencil(&args);
-        assert!(output.status.success(), "{extra:?}: {}", stderr(&output));
-        assert!(!stderr(&output).contains("validation"), "{extra:?}: {}", stderr(&output));
-        let image = image::open(&out).expect("a PNG").to_rgb8();
+        let (_, err) = common::run_ok(&args);
+        assert!(!err.contains("validation"), "{extra:?}: {err}");
+        let image = common::read_png(&out);
         assert_eq!(image.dimensions(), (96, 64));
+        // The scene's sky in the top corners; the outline's colour, or ink, drawn.
+        let (scene, technique) = (extra[1], extra[3]);
+        let sky = common::unorm8(builtin_scene(scene).expect("scene").background);
+        assert_eq!((image.get_pixel(0, 0).0, image.get_pixel(95, 0).0), (sky, sky), "{extra:?}: top corners");
+        if technique == "outline" {
+            let outlined = image.pixels().filter(|p| p.0 == outline).count();
+            assert!(outlined > 50, "{extra:?}: {outlined} pixels of the outline colour {outline:?}");
+        } else {
+            let inked = image.pixels().filter(|p| is_ink(&p.0)).count();
+            assert!(inked > 50, "{extra:?}: {inked} ink pixels");
+        }
 
         let mut args = vec!["profile", "--size", "96x64", "--format", "json"];
         args.extend_from_slice(extra);
-        let output = nostencil(&args);
-        assert!(output.status.success(), "{extra:?}: {}", stderr(&output));
-        let json: serde_json::Value = serde_json::from_slice(&output.stdout).expect("JSON");
+        let (stdout, _) = common::run_ok(&args);
+        let json: serde_json::Value = serde_json::from_str(&stdout).expect("JSON");
         assert!(json["passes"].as_array().is_some_and(|p| !p.is_empty()), "{extra:?}");
     }
 }
@@ -54,10 +62,7 @@ fn bad_cartoon_options_are_one_line_errors() {
     ] {
         let mut all = vec!["profile", "--size", "32x32", "--scene", "outline"];
         all.extend_from_slice(args);
-        let output = nostencil(&all);
-        let err = stderr(&output);
-        assert!(!output.status.success(), "{args:?} succeeded");
-        assert!(!err.contains("panicked"), "{err}");
+        let err = common::run_err(&all);
         assert_eq!(err.trim_end().lines().count(), 1, "{err}");
         assert!(err.contains(mentions), "'{mentions}' not in {err}");
     }

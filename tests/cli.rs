@@ -4,41 +4,42 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Command, Output};
 
-fn nostencil(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_nostencil")).args(args).output().expect("run nostencil")
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
+use nostencil::scene::{builtin_scene, scene_from_gltf};
 
 /// A failure a user caused: non-zero exit, one line on stderr naming the problem, no panic.
-fn assert_clean_failure(output: &Output, mentions: &str) {
-    let err = stderr(output);
-    assert!(!output.status.success(), "expected failure, got success: {err}");
-    assert!(!err.contains("panicked"), "panic: {err}");
+fn assert_clean_failure(what: &str, output: &std::process::Output, mentions: &str) {
+    let err = common::assert_failure(what, output);
     assert_eq!(err.trim_end().lines().count(), 1, "expected one line, got:\n{err}");
     assert!(err.contains(mentions), "'{mentions}' not in: {err}");
+}
+
+fn refused(args: &[&str], mentions: &str) {
+    assert_clean_failure(&args.join(" "), &common::nostencil(args), mentions);
 }
 
 #[test]
 fn render_writes_a_png_of_the_requested_size() {
     let dir = common::scratch_dir("cli-render");
     let out = dir.join("frame.png");
-    let output = nostencil(&["render", "--size", "192x128", "--out", out.to_str().unwrap(), "--validation"]);
-    assert!(output.status.success(), "{}", stderr(&output));
-    assert!(!stderr(&output).contains("vulkan validation"), "{}", stderr(&output));
-    let image = image::open(&out).expect("a PNG").to_rgb8();
+    let (_, err) = common::run_ok(&["render", "--size", "192x128", "--out", out.to_str().unwrap(), "--validation"]);
+    assert!(!err.contains("vulkan validation"), "{err}");
+    let image = common::read_png(&out);
     assert_eq!(image.dimensions(), (192, 128));
+    // The default scene, lit: the sky keeps the clear colour along the whole top row, and the
+    // ground at the bottom centre has lit.frag's colour for an upward face under the light.
+    let scene = builtin_scene("default").expect("scene");
+    let sky = common::unorm8(scene.background);
+    assert!((0..192).all(|x| image.get_pixel(x, 0).0 == sky), "top row is not the sky {sky:?}");
+    let ground = common::lit_ground(&scene);
+    let bottom = image.get_pixel(96, 127).0;
+    assert!(common::near(&bottom, &ground, 1), "bottom centre {bottom:?}, lit ground {ground:?}");
 }
 
 #[test]
 fn profile_json_is_readable_by_a_program() {
-    let output = nostencil(&["profile", "--size", "128x96", "--format", "json"]);
-    assert!(output.status.success(), "{}", stderr(&output));
-    let report: serde_json::Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    let (stdout, _) = common::run_ok(&["profile", "--size", "128x96", "--format", "json"]);
+    let report: serde_json::Value = serde_json::from_str(&stdout).expect("JSON");
     assert_eq!(report["schema"], "nostencil-profile/2");
     assert_eq!(report["width"], 128);
     let passes = report["passes"].as_array().expect("passes");
@@ -50,20 +51,18 @@ fn profile_json_is_readable_by_a_program() {
 
 #[test]
 fn profile_csv_and_table_list_the_passes() {
-    let csv = nostencil(&["profile", "--size", "64x64", "--format", "csv"]);
-    assert!(csv.status.success(), "{}", stderr(&csv));
-    let text = String::from_utf8_lossy(&csv.stdout);
-    assert!(text.starts_with("pass,draws,"));
-    assert!(text.lines().any(|l| l.starts_with("scene,")));
-    let table = nostencil(&["profile", "--size", "64x64"]);
-    assert!(String::from_utf8_lossy(&table.stdout).contains("samples/px"));
+    let (csv, _) = common::run_ok(&["profile", "--size", "64x64", "--format", "csv"]);
+    assert!(csv.starts_with("pass,draws,"), "{csv}");
+    assert!(csv.lines().any(|l| l.starts_with("scene,")), "{csv}");
+    let (table, _) = common::run_ok(&["profile", "--size", "64x64"]);
+    assert!(table.contains("samples/px"), "{table}");
+    assert!(table.lines().any(|l| l.starts_with("scene")), "{table}");
 }
 
 #[test]
 fn info_prints_device_profile_and_limits() {
-    let output = nostencil(&["info", "--json"]);
-    assert!(output.status.success(), "{}", stderr(&output));
-    let info: serde_json::Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    let (stdout, _) = common::run_ok(&["info", "--json"]);
+    let info: serde_json::Value = serde_json::from_str(&stdout).expect("JSON");
     let limits = info["limits"].as_array().expect("limits");
     assert!(limits.iter().any(|l| l["name"] == "maxPushConstantsSize" && l["profile"] == "128"));
     assert!(limits.iter().all(|l| l["ok"] == true));
@@ -72,42 +71,41 @@ fn info_prints_device_profile_and_limits() {
 
 #[test]
 fn unknown_option_is_a_one_line_error() {
-    assert_clean_failure(&nostencil(&["render", "--out", "x.png", "--frobnicate"]), "--frobnicate");
+    refused(&["render", "--out", "x.png", "--frobnicate"], "--frobnicate");
 }
 
 #[test]
 fn zero_and_oversized_sizes_are_refused() {
-    assert_clean_failure(&nostencil(&["render", "--size", "0x256", "--out", "x.png"]), "at least 1");
-    assert_clean_failure(&nostencil(&["profile", "--size", "5000x256"]), "4096");
-    assert_clean_failure(&nostencil(&["profile", "--size", "big"]), "WIDTHxHEIGHT");
+    refused(&["render", "--size", "0x256", "--out", "x.png"], "at least 1");
+    refused(&["profile", "--size", "5000x256"], "4096");
+    refused(&["profile", "--size", "big"], "WIDTHxHEIGHT");
 }
 
 #[test]
 fn unwritable_output_leaves_no_file() {
     let dir = common::scratch_dir("cli-unwritable");
     let out = dir.join("missing-folder").join("frame.png");
-    assert_clean_failure(&nostencil(&["render", "--size", "32x32", "--out", out.to_str().unwrap()]), "frame.png");
+    refused(&["render", "--size", "32x32", "--out", out.to_str().unwrap()], "frame.png");
     assert!(!out.exists());
     assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0, "nothing may be left behind");
 }
 
 #[test]
 fn unknown_scene_and_technique_are_named() {
-    assert_clean_failure(&nostencil(&["profile", "--scene", "nowhere"]), "nowhere");
-    assert_clean_failure(&nostencil(&["profile", "--technique", "magic"]), "magic");
+    refused(&["profile", "--scene", "nowhere"], "nowhere");
+    refused(&["profile", "--technique", "magic"], "magic");
 }
 
 #[test]
 fn missing_vulkan_driver_is_a_clear_error() {
     let dir = common::scratch_dir("cli-no-device");
     let out = dir.join("frame.png");
-    let output = Command::new(env!("CARGO_BIN_EXE_nostencil"))
-        .args(["render", "--size", "32x32", "--out", out.to_str().unwrap()])
+    let output = common::nostencil_command(&["render", "--size", "32x32", "--out", out.to_str().unwrap()])
         .env("VK_ICD_FILENAMES", "/nonexistent/icd.json")
         .env("VK_DRIVER_FILES", "/nonexistent/icd.json")
         .output()
         .expect("run");
-    assert_clean_failure(&output, "Vulkan");
+    assert_clean_failure("render without a Vulkan driver", &output, "Vulkan");
     assert!(!Path::new(&out).exists());
 }
 
@@ -115,16 +113,32 @@ fn missing_vulkan_driver_is_a_clear_error() {
 fn what_the_gltf_loader_ignored_is_printed_as_a_warning() {
     let dir = common::scratch_dir("cli-gltf-warning");
     let out = dir.join("cornell.png");
-    let scene = common::shared_asset("CornellBox.glb");
-    let output =
-        nostencil(&["render", "--scene", scene.to_str().unwrap(), "--size", "48x48", "--out", out.to_str().unwrap()]);
-    let err = stderr(&output);
-    assert!(output.status.success(), "{err}");
+    let path = common::shared_asset("CornellBox.glb");
+    let (_, err) = common::run_ok(&[
+        "render",
+        "--scene",
+        path.to_str().unwrap(),
+        "--size",
+        "48x48",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     assert!(
         err.lines().any(|l| l.starts_with("nostencil: warning:")
             && l.contains("CornellBox.glb")
             && l.contains("KHR_materials_emissive_strength")),
         "{err}"
     );
-    assert!(out.is_file());
+    // What was not ignored is drawn: the sky in the top corners, the ground (lit.frag's colour
+    // for it) at the bottom centre, and the box's red and green walls (pure red, pure green).
+    let image = common::read_png(&out);
+    assert_eq!(image.dimensions(), (48, 48));
+    let scene = scene_from_gltf(&path, 0.0).expect("scene");
+    let sky = common::unorm8(scene.background);
+    assert_eq!((image.get_pixel(0, 0).0, image.get_pixel(47, 0).0), (sky, sky), "top corners are not the sky");
+    let (bottom, ground) = (image.get_pixel(24, 47).0, common::lit_ground(&scene));
+    assert!(common::near(&bottom, &ground, 1), "bottom centre {bottom:?}, lit ground {ground:?}");
+    let red = image.pixels().filter(|p| p[0] > 30 && p[1] == 0 && p[2] == 0).count();
+    let green = image.pixels().filter(|p| p[1] > 10 && p[0] == 0 && p[2] == 0).count();
+    assert!(red > 20 && green > 20, "{red} red and {green} green wall pixels");
 }

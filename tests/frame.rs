@@ -38,6 +38,9 @@ fn default_scene_renders_lit_at_the_requested_size() {
     let background = (scene.background * 255.0).round();
     let top = image.pixel(128, 2);
     assert_eq!([top[0] as f32, top[1] as f32, top[2] as f32], background.to_array());
+    // The ground at the bottom centre has lit.frag's colour for an upward face under the light.
+    let (bottom, ground) = (image.pixel(128, 191), common::lit_ground(&scene));
+    assert!(common::near(&bottom, &ground, 1), "bottom centre {bottom:?}, lit ground {ground:?}");
     let distinct: std::collections::HashSet<[u8; 4]> =
         image.pixels.chunks_exact(4).map(|p| [p[0], p[1], p[2], p[3]]).collect();
     assert!(distinct.len() > 200, "a lit scene has many shades, got {}", distinct.len());
@@ -59,6 +62,12 @@ fn reference_frame_renders_the_same_lit_image() {
     options.stencil = StencilMode::Reference;
     let reference = render_scene(&gpu, &scene, &options).expect("reference").output;
     assert_eq!(emulated.image.count_differences(&reference.image), 0);
+    // Equal, and not equally empty: the sky at the top, the lit ground at the bottom.
+    let sky = common::unorm8(scene.background);
+    let (top, bottom) = (reference.image.pixel(80, 0), reference.image.pixel(80, 119));
+    assert_eq!(top[..3], sky, "top centre {top:?}, sky {sky:?}");
+    let ground = common::lit_ground(&scene);
+    assert!(common::near(&bottom, &ground, 1), "bottom centre {bottom:?}, lit ground {ground:?}");
     common::assert_no_validation_messages(&gpu);
 }
 

@@ -6,7 +6,6 @@
 mod common;
 
 use std::path::PathBuf;
-use std::process::Command;
 use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
@@ -339,15 +338,18 @@ fn bad_input_gets_a_clear_error() {
     std::fs::write(&not_gltf, b"{ this is not json").expect("write");
     for bad in [&truncated, &not_gltf] {
         let out = dir.join("out.png");
-        let output = Command::new(env!("CARGO_BIN_EXE_nostencil"))
-            .args(["render", "--technique", "planar", "--size", "64x64", "--scene"])
-            .arg(bad)
-            .arg("--out")
-            .arg(&out)
-            .output()
-            .expect("run");
-        let err = String::from_utf8_lossy(&output.stderr);
-        assert!(!output.status.success() && !err.contains("panicked"), "{err}");
+        let (bad_path, out_path) = (bad.to_str().expect("utf-8 path"), out.to_str().expect("utf-8 path"));
+        let err = common::run_err(&[
+            "render",
+            "--technique",
+            "planar",
+            "--size",
+            "64x64",
+            "--scene",
+            bad_path,
+            "--out",
+            out_path,
+        ]);
         assert_eq!(err.trim_end().lines().count(), 1, "{err}");
         let name = bad.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
         assert!(err.contains(&name), "the error names the file: {err}");
@@ -428,13 +430,18 @@ fn profile_shows_each_shadow_kind() {
         ("shadow-texture", &["shadow texture", "scene", "shadow texture receive"][..]),
         ("planar", &["scene", "planar shadow"][..]),
     ] {
-        let output = Command::new(env!("CARGO_BIN_EXE_nostencil"))
-            .args(["profile", "--technique", technique, "--size", "96x64", "--format", "json", "--validation"])
-            .output()
-            .expect("run");
-        let err = String::from_utf8_lossy(&output.stderr);
-        assert!(output.status.success() && !err.contains("validation"), "{technique}: {err}");
-        let json: serde_json::Value = serde_json::from_slice(&output.stdout).expect("json");
+        let (stdout, err) = common::run_ok(&[
+            "profile",
+            "--technique",
+            technique,
+            "--size",
+            "96x64",
+            "--format",
+            "json",
+            "--validation",
+        ]);
+        assert!(!err.contains("validation"), "{technique}: {err}");
+        let json: serde_json::Value = serde_json::from_str(&stdout).expect("json");
         let names: Vec<&str> =
             json["passes"].as_array().expect("passes").iter().filter_map(|p| p["name"].as_str()).collect();
         assert_eq!(names, expected, "{technique}");

@@ -3,7 +3,6 @@
 
 mod common;
 
-use std::process::{Command, Output};
 use std::sync::Arc;
 
 use glam::{Mat4, Vec4};
@@ -13,10 +12,6 @@ use nostencil::pipeline::{FixedFunction, Pipeline, PipelineDesc, VertexLayout};
 use nostencil::profile::budget::Budget;
 use nostencil::profile::heatmap;
 use nostencil::render::{FrameOutput, FrameUniforms, Renderer};
-
-fn nostencil(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_nostencil")).args(args).output().expect("run nostencil")
-}
 
 /// A frame of `passes`, each drawing `quads` full-screen triangles, counted or not.
 fn stacked_fullscreen(gpu: &Arc<Gpu>, passes: &[(&str, u32)], count_overdraw: bool) -> FrameOutput {
@@ -102,10 +97,8 @@ fn budget_recipe_from_the_command_line() {
     let budget = dir.join("budget.json");
     let b = budget.to_str().unwrap();
     let args = ["profile", "--technique", "shadow-volume", "--size", "96x64", "--format", "csv"];
-    let record = nostencil(&[&args[..], &["--write-budget", b]].concat());
-    assert!(record.status.success(), "{}", String::from_utf8_lossy(&record.stderr));
-    let check = nostencil(&[&args[..], &["--budget", b]].concat());
-    assert!(check.status.success(), "{}", String::from_utf8_lossy(&check.stderr));
+    common::run_ok(&[&args[..], &["--write-budget", b]].concat());
+    common::run_ok(&[&args[..], &["--budget", b]].concat());
 
     // Tighten one pass's budget: the same frame is now "more expensive" than allowed.
     let mut recorded: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&budget).unwrap()).unwrap();
@@ -117,20 +110,16 @@ fn budget_recipe_from_the_command_line() {
         .unwrap();
     pass["samples_passed"] = serde_json::json!(pass["samples_passed"].as_u64().unwrap() / 2);
     std::fs::write(&budget, serde_json::to_string(&recorded).unwrap()).unwrap();
-    let over = nostencil(&[&args[..], &["--budget", b]].concat());
-    let stderr = String::from_utf8_lossy(&over.stderr);
-    assert!(!over.status.success());
+    let stderr = common::run_err(&[&args[..], &["--budget", b]].concat());
     assert!(stderr.contains("volume increment (z-pass)") && stderr.contains("over the budget"), "{stderr}");
-    assert!(!stderr.contains("panicked"));
 }
 
 #[test]
 fn json_matches_the_table_and_totals_add_up() {
     let args = ["profile", "--technique", "shadow-volume", "--size", "96x64"];
-    let json = nostencil(&[&args[..], &["--format", "json"]].concat());
-    let table = nostencil(&args);
-    let report: serde_json::Value = serde_json::from_slice(&json.stdout).expect("JSON");
-    let table = String::from_utf8_lossy(&table.stdout);
+    let (json, _) = common::run_ok(&[&args[..], &["--format", "json"]].concat());
+    let (table, _) = common::run_ok(&args);
+    let report: serde_json::Value = serde_json::from_str(&json).expect("JSON");
     let passes = report["passes"].as_array().unwrap();
     let sum = |key: &str| passes.iter().map(|p| p[key].as_u64().unwrap()).sum::<u64>();
     assert_eq!(report["totals"]["samples_passed"].as_u64().unwrap(), sum("samples_passed"));
@@ -149,7 +138,7 @@ fn heatmap_chart_compare_and_passes_from_the_command_line() {
     let dir = common::scratch_dir("profile-outputs");
     let heat = dir.join("heat.png");
     let chart = dir.join("chart.svg");
-    let out = nostencil(&[
+    common::run_ok(&[
         "profile",
         "--size",
         "96x64",
@@ -158,13 +147,17 @@ fn heatmap_chart_compare_and_passes_from_the_command_line() {
         "--chart",
         chart.to_str().unwrap(),
     ]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let png = image::open(&heat).expect("heat map PNG").to_rgb8();
+    let png = common::read_png(&heat);
     assert!(png.width() >= 96 && png.height() > 64);
+    // The lit default scene, frame in the top-left 96x64: nothing is drawn in the sky's
+    // corner (count 0), and the ground at the bottom centre was drawn at least once.
+    let zero = heatmap::colour_of(0);
+    assert_eq!(png.get_pixel(0, 0).0, zero, "the sky's corner was drawn");
+    assert_ne!(png.get_pixel(48, 63).0, zero, "the ground was not drawn");
     let svg = std::fs::read_to_string(&chart).unwrap();
     assert!(svg.starts_with("<svg") && svg.contains(">scene<"));
 
-    let compare = nostencil(&[
+    let (text, _) = common::run_ok(&[
         "profile",
         "--technique",
         "shadow-volume",
@@ -173,11 +166,9 @@ fn heatmap_chart_compare_and_passes_from_the_command_line() {
         "--compare",
         "reference,seed,subpass",
     ]);
-    let text = String::from_utf8_lossy(&compare.stdout);
     assert!(text.contains("ratio to reference") && text.contains("apply (subpass)"), "{text}");
 
-    let passes = nostencil(&["passes", "--technique", "shadow-volume"]);
-    let text = String::from_utf8_lossy(&passes.stdout);
+    let (text, _) = common::run_ok(&["passes", "--technique", "shadow-volume"]);
     assert!(text.contains("| emulated seed/max | normalise N0 |") && text.contains("DECREMENT_AND_WRAP"), "{text}");
 }
 
@@ -210,9 +201,8 @@ fn heat_map_sums_to_the_samples_every_technique_passed() {
 fn tile_traffic_is_listed_per_render_pass_with_known_sizes() {
     // The frame alone: colour cleared and stored (W x H x 4 bytes), depth cleared, not stored.
     let json = |args: &[&str]| -> serde_json::Value {
-        let output = nostencil(args);
-        assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
-        serde_json::from_slice(&output.stdout).expect("JSON")
+        let (stdout, _) = common::run_ok(args);
+        serde_json::from_str(&stdout).expect("JSON")
     };
     let lit = json(&["profile", "--size", "96x64", "--format", "json"]);
     let passes = lit["render_passes"].as_array().expect("render_passes");

@@ -12,7 +12,7 @@ use nostencil::gpu::Gpu;
 use nostencil::mesh::MeshData;
 use nostencil::pipeline::Pipeline;
 use nostencil::render::{FrameUniforms, Renderer};
-use nostencil::scene::{builtin_scene, Camera, Scene, BUILTIN_SCENES};
+use nostencil::scene::{builtin_scene, Scene, BUILTIN_SCENES};
 use nostencil::technique::shadow_volume::{self, Normalize, ShadowVolumeOptions, VolumeMethod};
 use nostencil::technique::{alpha_counter, render_scene, RenderOptions, Technique};
 
@@ -112,17 +112,6 @@ fn normalisation_table_is_read_back_from_the_gpu() {
     common::assert_no_validation_messages(&gpu);
 }
 
-/// The ground point seen through each pixel, or None where the pixel sees the sky.
-fn ground_point(camera: &Camera, aspect: f32, x: u32, y: u32, width: u32, height: u32) -> Option<Vec3> {
-    let inverse = camera.view_projection(aspect).inverse();
-    let ndc = |px: u32, size: u32| (px as f32 + 0.5) / size as f32 * 2.0 - 1.0;
-    let near = inverse.project_point3(Vec3::new(ndc(x, width), ndc(y, height), 0.0));
-    let far = inverse.project_point3(Vec3::new(ndc(x, width), ndc(y, height), 0.5));
-    let dir = (far - near).normalize();
-    let t = -near.y / dir.y;
-    (dir.y < 0.0 && t > 0.0).then(|| near + dir * t)
-}
-
 #[test]
 fn box_shadow_matches_its_projected_outline() {
     let gpu = common::gpu();
@@ -139,18 +128,11 @@ fn box_shadow_matches_its_projected_outline() {
             glam::Vec2::new(p.x, p.z)
         })
         .collect();
-    let hull = convex_hull(&projected);
-    let inside_hull = |p: glam::Vec2| {
-        (0..hull.len()).all(|i| {
-            let (a, b) = (hull[i], hull[(i + 1) % hull.len()]);
-            (b - a).perp_dot(p - a) >= 0.0
-        })
-    };
+    let hull = common::convex_hull(&projected);
 
     const BIG: (u32, u32) = (256, 192);
     let (width, height) = BIG;
     let unshadowed = lit_sized(&gpu, &scene, BIG);
-    let aspect = width as f32 / height as f32;
     for normalize in Normalize::ALL {
         let frame = render_sized(
             &gpu,
@@ -173,8 +155,9 @@ fn box_shadow_matches_its_projected_outline() {
                 if box_pixels[i] {
                     continue;
                 }
-                let expected = ground_point(&scene.camera, aspect, x, y, width, height)
-                    .is_some_and(|p| p.x.abs() < 7.0 && p.z.abs() < 7.0 && inside_hull(glam::Vec2::new(p.x, p.z)));
+                let expected = common::ground_point(&scene.camera, (x, y), BIG, 0.0).is_some_and(|p| {
+                    p.x.abs() < 7.0 && p.z.abs() < 7.0 && common::inside_hull(&hull, glam::Vec2::new(p.x, p.z))
+                });
                 both += (expected && mask[i]) as u32;
                 either += (expected || mask[i]) as u32;
             }
@@ -190,27 +173,6 @@ fn lit_without_box(gpu: &Arc<Gpu>, scene: &Scene, size: (u32, u32)) -> RgbaImage
     let mut without = scene.clone();
     without.objects.retain(|o| o.name != "box");
     lit_sized(gpu, &without, size)
-}
-
-fn convex_hull(points: &[glam::Vec2]) -> Vec<glam::Vec2> {
-    let mut p = points.to_vec();
-    p.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
-    let mut hull: Vec<glam::Vec2> = Vec::new();
-    for pass in 0..2 {
-        let start = hull.len();
-        let iter: Box<dyn Iterator<Item = &glam::Vec2>> =
-            if pass == 0 { Box::new(p.iter()) } else { Box::new(p.iter().rev()) };
-        for &q in iter {
-            while hull.len() >= start + 2
-                && (hull[hull.len() - 1] - hull[hull.len() - 2]).perp_dot(q - hull[hull.len() - 2]) <= 0.0
-            {
-                hull.pop();
-            }
-            hull.push(q);
-        }
-        hull.pop();
-    }
-    hull
 }
 
 #[test]
@@ -242,7 +204,6 @@ fn camera_inside_a_volume_needs_zfail_and_auto_chooses_it() {
     // ground far beyond the slab's shadow is lit.
     let unshadowed = lit(&gpu, &scene);
     let mask = shadow_mask(&auto.output.image, &unshadowed);
-    let aspect = SIZE.0 as f32 / SIZE.1 as f32;
     let nostencil::scene::Light::Directional { direction } = scene.light else { panic!() };
     let slab = scene.object("slab").expect("slab");
     let under_slab = |p: Vec3| {
@@ -254,7 +215,7 @@ fn camera_inside_a_volume_needs_zfail_and_auto_chooses_it() {
     let (mut agree, mut total) = (0, 0);
     for y in SIZE.1 / 2..SIZE.1 {
         for x in 0..SIZE.0 {
-            if let Some(p) = ground_point(&scene.camera, aspect, x, y, SIZE.0, SIZE.1) {
+            if let Some(p) = common::ground_point(&scene.camera, (x, y), SIZE, 0.0) {
                 total += 1;
                 agree += (under_slab(p) == mask[(y * SIZE.0 + x) as usize]) as u32;
             }
@@ -283,6 +244,13 @@ fn background_behind_volumes_is_never_darkened() {
                 .filter(|(p, q)| q[..3] == sky && p[..3] != sky)
                 .count();
             assert_eq!(darkened_sky, 0, "{name} {method:?}: background pixels darkened");
+            // Not vacuous: the frame shows its shadows and the sky.
+            let shadowed = shadow_mask(image, &unshadowed).iter().filter(|s| **s).count();
+            let sky_pixels = unshadowed.pixels.chunks_exact(4).filter(|q| q[..3] == sky).count();
+            assert!(
+                shadowed > 50 && sky_pixels > 50,
+                "{name} {method:?}: {shadowed} shadowed, {sky_pixels} sky pixels"
+            );
         }
     }
     common::assert_no_validation_messages(&gpu);

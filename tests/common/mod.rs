@@ -44,3 +44,126 @@ pub fn shared_asset(name: &str) -> std::path::PathBuf {
     assert!(path.is_file(), "{} not found", path.display());
     path
 }
+
+/// `nostencil ARGS` as a command, for a test that sets its environment before running it.
+pub fn nostencil_command(args: &[&str]) -> std::process::Command {
+    let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_nostencil"));
+    command.args(args);
+    command
+}
+
+/// Runs `nostencil ARGS` and returns its output, whatever its exit status.
+pub fn nostencil(args: &[&str]) -> std::process::Output {
+    nostencil_command(args).output().expect("run nostencil")
+}
+
+/// A run that had to succeed: fails the test, showing stderr, on a non-zero exit or a panic.
+/// Returns (stdout, stderr).
+pub fn assert_success(what: &str, output: &std::process::Output) -> (String, String) {
+    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    assert!(output.status.success(), "`{what}` failed ({}):\n{stderr}", output.status);
+    assert!(!stderr.contains("panicked"), "`{what}` panicked:\n{stderr}");
+    (stdout, stderr)
+}
+
+/// A run that had to fail: a non-zero exit status (not a signal) and no panic. Returns stderr,
+/// for the caller to check the message.
+pub fn assert_failure(what: &str, output: &std::process::Output) -> String {
+    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    assert!(!output.status.success(), "`{what}` succeeded but had to fail:\n{stderr}");
+    assert!(output.status.code().is_some(), "`{what}` was killed ({}):\n{stderr}", output.status);
+    assert!(!stderr.contains("panicked"), "`{what}` panicked:\n{stderr}");
+    stderr
+}
+
+/// Runs `nostencil ARGS`, which must succeed; returns (stdout, stderr).
+pub fn run_ok(args: &[&str]) -> (String, String) {
+    assert_success(&format!("nostencil {}", args.join(" ")), &nostencil(args))
+}
+
+/// Runs `nostencil ARGS`, which must fail cleanly; returns stderr.
+pub fn run_err(args: &[&str]) -> String {
+    assert_failure(&format!("nostencil {}", args.join(" ")), &nostencil(args))
+}
+
+/// A PNG the binary wrote, as RGB.
+pub fn read_png(path: &std::path::Path) -> image::RgbImage {
+    match image::open(path) {
+        Ok(image) => image.to_rgb8(),
+        Err(e) => panic!("{}: {e}", path.display()),
+    }
+}
+
+/// A colour in [0, 1] as the 8-bit UNORM value the frame stores.
+pub fn unorm8(colour: glam::Vec3) -> [u8; 3] {
+    (colour * 255.0).round().to_array().map(|c| c as u8)
+}
+
+/// What lit.frag gives an unshadowed upward-facing surface of `colour` under the scene's
+/// directional light: colour x (ambient + (1 - ambient) x max(N.L, 0)), in 8 bits. None under
+/// a point light, where it varies over the surface.
+pub fn lit_facing_up(scene: &nostencil::scene::Scene, colour: glam::Vec3) -> Option<[u8; 3]> {
+    let nostencil::scene::Light::Directional { direction } = scene.light else { return None };
+    let lambert = (-direction.normalize()).dot(glam::Vec3::Y).max(0.0);
+    Some(unorm8(colour * (scene.ambient + (1.0 - scene.ambient) * lambert)))
+}
+
+/// The lit colour of the scene's ground plane (object "ground"), under a directional light.
+pub fn lit_ground(scene: &nostencil::scene::Scene) -> [u8; 3] {
+    let ground = scene.object("ground").expect("the scene has a ground");
+    lit_facing_up(scene, ground.colour).expect("a directional light")
+}
+
+/// RGB within `tolerance` per channel (the GPU's float shading against the CPU's).
+pub fn near(a: &[u8], b: &[u8], tolerance: u8) -> bool {
+    a.iter().zip(b).take(3).all(|(p, q)| p.abs_diff(*q) <= tolerance)
+}
+
+/// The point of the horizontal plane at `height` seen through the centre of pixel (x, y) of a
+/// width x height frame, or None where the pixel looks above the horizon.
+pub fn ground_point(
+    camera: &nostencil::scene::Camera,
+    (x, y): (u32, u32),
+    (width, height): (u32, u32),
+    plane_height: f32,
+) -> Option<glam::Vec3> {
+    use glam::Vec3;
+    let inverse = camera.view_projection(width as f32 / height as f32).inverse();
+    let ndc = |px: u32, size: u32| (px as f32 + 0.5) / size as f32 * 2.0 - 1.0;
+    let near = inverse.project_point3(Vec3::new(ndc(x, width), ndc(y, height), 0.0));
+    let far = inverse.project_point3(Vec3::new(ndc(x, width), ndc(y, height), 0.5));
+    let dir = (far - near).normalize();
+    let t = (plane_height - near.y) / dir.y;
+    (dir.y < 0.0 && t > 0.0).then(|| near + dir * t)
+}
+
+/// The convex hull of points, counter-clockwise (monotone chain).
+pub fn convex_hull(points: &[glam::Vec2]) -> Vec<glam::Vec2> {
+    let mut p = points.to_vec();
+    p.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    let mut hull: Vec<glam::Vec2> = Vec::new();
+    for pass in 0..2 {
+        let start = hull.len();
+        let iter: Box<dyn Iterator<Item = &glam::Vec2>> =
+            if pass == 0 { Box::new(p.iter()) } else { Box::new(p.iter().rev()) };
+        for &q in iter {
+            while hull.len() >= start + 2
+                && (hull[hull.len() - 1] - hull[hull.len() - 2]).perp_dot(q - hull[hull.len() - 2]) <= 0.0
+            {
+                hull.pop();
+            }
+            hull.push(q);
+        }
+        hull.pop();
+    }
+    hull
+}
+
+/// Is `p` inside the counter-clockwise convex polygon `hull` (its border included)?
+pub fn inside_hull(hull: &[glam::Vec2], p: glam::Vec2) -> bool {
+    (0..hull.len()).all(|i| {
+        let (a, b) = (hull[i], hull[(i + 1) % hull.len()]);
+        (b - a).perp_dot(p - a) >= 0.0
+    })
+}
