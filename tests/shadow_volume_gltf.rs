@@ -10,13 +10,14 @@ use glam::{Mat4, Vec2, Vec3};
 use nostencil::frame::{RgbaImage, StencilMode};
 use nostencil::gpu::Gpu;
 use nostencil::scene::{scene_from_gltf, Light, Scene};
+use nostencil::technique::lit::Lit;
 use nostencil::technique::shadow_volume::{self, Normalize, ShadowVolumeOptions};
-use nostencil::technique::{render_scene, RenderOptions, Technique};
+use nostencil::technique::{render_scene, RenderOptions};
 
 const SIZE: (u32, u32) = (128, 96);
 
 fn lit(gpu: &Arc<Gpu>, scene: &Scene) -> RgbaImage {
-    let options = RenderOptions { width: SIZE.0, height: SIZE.1, technique: Technique::Lit, ..Default::default() };
+    let options = RenderOptions { width: SIZE.0, height: SIZE.1, technique: &Lit, ..Default::default() };
     render_scene(gpu, scene, &options).expect("lit frame").output.image
 }
 
