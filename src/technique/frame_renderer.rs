@@ -8,8 +8,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::interface::{check_same_scene, FrameStats, SceneRenderer, Technique, TechniqueFrame};
-use super::options::RenderOptions;
+use super::interface::{check_same_scene, FrameStats, RenderOptions, SceneRenderer, Technique, TechniqueFrame};
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
 use crate::pipeline::Pipeline;

@@ -7,13 +7,38 @@ use std::any::Any;
 use std::fmt;
 use std::sync::Arc;
 
-use super::options::RenderOptions;
+use super::options::ShadowVolumeOptions;
+use super::{CartoonOptions, PlanarOptions, ShadowAtlasOptions};
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::Gpu;
 use crate::render::plan::{PassPlan, When};
 use crate::render::{FrameOutput, Renderer};
 use crate::scene::Scene;
+
+/// Everything that selects how a frame is rendered: size, stencil path, technique, and each
+/// technique family's own options. Its `Default` (the lit technique at 256x256, emulated) is in
+/// `registry`, which knows the techniques.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RenderOptions {
+    pub width: u32,
+    pub height: u32,
+    pub stencil: StencilMode,
+    pub technique: &'static dyn Technique,
+    pub shadow_volume: ShadowVolumeOptions,
+    pub shadow_atlas: ShadowAtlasOptions,
+    /// Heat-map frame: alpha ends up holding the fragments shaded per pixel.
+    pub count_overdraw: bool,
+    pub cartoon: CartoonOptions,
+    pub planar: PlanarOptions,
+}
+
+impl RenderOptions {
+    /// These options with another technique.
+    pub fn with_technique(&self, technique: &'static dyn Technique) -> Self {
+        RenderOptions { technique, ..self.clone() }
+    }
+}
 
 /// One variant of a technique: a label and the options that select it (`bench` times them side
 /// by side, `passes` prints each one's plan, the plan test runs each one).

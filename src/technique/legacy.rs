@@ -6,8 +6,9 @@ use std::any::Any;
 use std::sync::Arc;
 
 use super::cartoon::{CartoonRenderer, CartoonStats, SilhouetteMethod};
-use super::interface::{stencil_variants, FrameStats, SceneRenderer, Technique, TechniqueFrame, Variant};
-use super::options::RenderOptions;
+use super::interface::{
+    stencil_variants, FrameStats, RenderOptions, SceneRenderer, Technique, TechniqueFrame, Variant,
+};
 use super::planar::blob::BlobRenderer;
 use super::planar::shadow_texture::ShadowTextureRenderer;
 use super::planar::{PlanarRenderer, PlanarStats};

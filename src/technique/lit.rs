@@ -4,8 +4,8 @@
 use std::sync::Arc;
 
 use super::frame_renderer::{self, Passes};
+use super::interface::RenderOptions;
 use super::interface::{NoStats, SceneRenderer, Technique};
-use super::options::RenderOptions;
 use crate::error::Result;
 use crate::gpu::Gpu;
 use crate::pipeline::{FixedFunction, PipelineDesc, VertexLayout};

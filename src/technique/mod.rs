@@ -21,12 +21,12 @@ use crate::gpu::Gpu;
 use crate::scene::Scene;
 
 pub use cartoon::{CartoonOptions, CartoonStats, SilhouetteMethod};
-pub use interface::{check_same_scene, FrameStats, SceneRenderer, Technique, TechniqueFrame, Variant};
-pub use options::RenderOptions;
+pub use interface::{check_same_scene, FrameStats, RenderOptions, SceneRenderer, Technique, TechniqueFrame, Variant};
+pub use options::{Normalize, ShadowVolumeOptions, VolumeMethod};
 pub use planar::{PlanarOptions, PlanarStats};
 pub use registry::{by_name, TECHNIQUES};
 pub use shadow_atlas::{LightMode, ShadowAtlasOptions, ShadowAtlasStats, ShadowKind};
-pub use shadow_volume::{Normalize, ShadowVolumeOptions, ShadowVolumeStats, VolumeMethod};
+pub use shadow_volume::ShadowVolumeStats;
 
 /// Renders `scene` with the options' technique and returns the steady-state frame (a cached
 /// shadow map or bake already skipped) with its counters.

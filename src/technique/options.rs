@@ -1,43 +1,86 @@
-//! Everything that selects how a frame is rendered: size, stencil path, technique, and each
-//! technique family's own options.
+//! The options of each technique family, as plain data: what the command line, the viewer and
+//! a port set. (Which technique, the size and the stencil path are in `RenderOptions`, beside
+//! the `Technique` interface.)
 
-use super::interface::Technique;
-use super::{CartoonOptions, PlanarOptions, ShadowAtlasOptions, ShadowVolumeOptions};
-use crate::frame::StencilMode;
+use crate::error::{Error, Result};
 
-#[derive(Debug, Clone, PartialEq)]
-pub struct RenderOptions {
-    pub width: u32,
-    pub height: u32,
-    pub stencil: StencilMode,
-    pub technique: &'static dyn Technique,
-    pub shadow_volume: ShadowVolumeOptions,
-    pub shadow_atlas: ShadowAtlasOptions,
-    /// Heat-map frame: alpha ends up holding the fragments shaded per pixel.
-    pub count_overdraw: bool,
-    pub cartoon: CartoonOptions,
-    pub planar: PlanarOptions,
+/// How volume walls are counted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum VolumeMethod {
+    /// z-fail when the camera (or its near plane) is inside a volume, else z-pass.
+    #[default]
+    Auto,
+    ZPass,
+    ZFail,
 }
 
-impl Default for RenderOptions {
-    fn default() -> Self {
-        RenderOptions {
-            width: 256,
-            height: 256,
-            stencil: StencilMode::Emulated,
-            technique: &super::lit::Lit,
-            shadow_volume: ShadowVolumeOptions::default(),
-            shadow_atlas: ShadowAtlasOptions::default(),
-            count_overdraw: false,
-            cartoon: CartoonOptions::default(),
-            planar: PlanarOptions::default(),
+/// How the count becomes a shadow mask.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Normalize {
+    /// The seed's fixed-function sequence: N0, iterations, REVERSE_SUBTRACT D, ADD D, apply.
+    #[default]
+    Seed,
+    /// As `seed`, with one MAX pass in place of the two D passes.
+    Max,
+    /// One full-screen pass reading the count as an input attachment.
+    Subpass,
+}
+
+impl VolumeMethod {
+    pub fn parse(text: &str) -> Result<Self> {
+        match text {
+            "auto" => Ok(VolumeMethod::Auto),
+            "zpass" => Ok(VolumeMethod::ZPass),
+            "zfail" => Ok(VolumeMethod::ZFail),
+            _ => Err(Error::InvalidInput(format!("--volume-method {text}: use auto, zpass or zfail"))),
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            VolumeMethod::Auto => "auto",
+            VolumeMethod::ZPass => "z-pass",
+            VolumeMethod::ZFail => "z-fail",
         }
     }
 }
 
-impl RenderOptions {
-    /// These options with another technique.
-    pub fn with_technique(&self, technique: &'static dyn Technique) -> Self {
-        RenderOptions { technique, ..self.clone() }
+impl Normalize {
+    pub const ALL: [Normalize; 3] = [Normalize::Seed, Normalize::Max, Normalize::Subpass];
+
+    pub fn parse(text: &str) -> Result<Self> {
+        match text {
+            "seed" => Ok(Normalize::Seed),
+            "max" => Ok(Normalize::Max),
+            "subpass" => Ok(Normalize::Subpass),
+            _ => Err(Error::InvalidInput(format!("--normalize {text}: use seed, max or subpass"))),
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Normalize::Seed => "seed",
+            Normalize::Max => "max",
+            Normalize::Subpass => "subpass",
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct ShadowVolumeOptions {
+    /// k: each volume wall adds or removes k/255 of alpha (1..=8).
+    pub increment: u8,
+    pub method: VolumeMethod,
+    pub normalize: Normalize,
+    /// Shadowed colour = colour x shadow_factor/255. An 8-bit value, so that every path
+    /// multiplies by exactly the same number.
+    pub shadow_factor: u8,
+}
+
+impl Default for ShadowVolumeOptions {
+    fn default() -> Self {
+        ShadowVolumeOptions { increment: 1, method: VolumeMethod::Auto, normalize: Normalize::Seed, shadow_factor: 102 }
     }
 }

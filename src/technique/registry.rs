@@ -1,8 +1,9 @@
 //! The list of techniques: the only place that names them all. The command line, `passes`,
 //! `bench`, `profile --compare`, `info` and the viewer read it.
 
-use super::interface::Technique;
+use super::interface::{RenderOptions, Technique};
 use crate::error::{Error, Result};
+use crate::frame::StencilMode;
 
 /// Every technique, in the order `info`, `--help` and the viewer's T key list them.
 pub static TECHNIQUES: &[&dyn Technique] = &[
@@ -17,6 +18,23 @@ pub static TECHNIQUES: &[&dyn Technique] = &[
     &super::legacy::ShadowMap,
     &super::legacy::ShadowTextureAtlas,
 ];
+
+impl Default for RenderOptions {
+    /// The lit scene at 256x256, stencil emulated, every family's default options.
+    fn default() -> Self {
+        RenderOptions {
+            width: 256,
+            height: 256,
+            stencil: StencilMode::Emulated,
+            technique: &super::lit::Lit,
+            shadow_volume: Default::default(),
+            shadow_atlas: Default::default(),
+            count_overdraw: false,
+            cartoon: Default::default(),
+            planar: Default::default(),
+        }
+    }
+}
 
 /// The technique called `name`.
 pub fn by_name(name: &str) -> Result<&'static dyn Technique> {

@@ -4,10 +4,10 @@
 
 use glam::{Mat4, Vec3};
 
-use super::{ShadowVolumeOptions, VolumeMethod};
 use crate::error::{Error, Result};
 use crate::mesh::{self, EdgeAdjacency, VolumeGeometry, Welded};
 use crate::scene::{Light, Scene};
+use crate::technique::options::{ShadowVolumeOptions, VolumeMethod};
 
 /// Positions closer than this weld into one vertex (UV seams, split normals).
 const WELD_EPSILON: f32 = 1e-5;

@@ -10,8 +10,7 @@ pub mod renderer;
 use std::sync::Arc;
 
 use super::frame_renderer;
-use super::interface::{SceneRenderer, Technique, Variant};
-use super::options::RenderOptions;
+use super::interface::{RenderOptions, SceneRenderer, Technique, Variant};
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::Gpu;
@@ -19,93 +18,13 @@ use crate::render::plan::PassPlan;
 use crate::render::FrameOutput;
 use crate::scene::Scene;
 
+pub use super::options::{Normalize, ShadowVolumeOptions, VolumeMethod};
 pub use casters::{build_volume, camera_inside_volume, choose_zfail, prepare_casters, Caster};
 pub use recipes::{
     apply_desc, darkness_descs, iteration_desc, n0_desc, reference_apply_desc, reference_clear_negative_desc,
     reference_volume_desc, saturation_probe_desc, volume_descs,
 };
 pub use renderer::{record_seed_normalisation, ShadowVolumeStats};
-
-/// How volume walls are counted.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum VolumeMethod {
-    /// z-fail when the camera (or its near plane) is inside a volume, else z-pass.
-    #[default]
-    Auto,
-    ZPass,
-    ZFail,
-}
-
-/// How the count becomes a shadow mask.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Normalize {
-    /// The seed's fixed-function sequence: N0, iterations, REVERSE_SUBTRACT D, ADD D, apply.
-    #[default]
-    Seed,
-    /// As `seed`, with one MAX pass in place of the two D passes.
-    Max,
-    /// One full-screen pass reading the count as an input attachment.
-    Subpass,
-}
-
-impl VolumeMethod {
-    pub fn parse(text: &str) -> Result<Self> {
-        match text {
-            "auto" => Ok(VolumeMethod::Auto),
-            "zpass" => Ok(VolumeMethod::ZPass),
-            "zfail" => Ok(VolumeMethod::ZFail),
-            _ => Err(Error::InvalidInput(format!("--volume-method {text}: use auto, zpass or zfail"))),
-        }
-    }
-
-    pub fn name(self) -> &'static str {
-        match self {
-            VolumeMethod::Auto => "auto",
-            VolumeMethod::ZPass => "z-pass",
-            VolumeMethod::ZFail => "z-fail",
-        }
-    }
-}
-
-impl Normalize {
-    pub const ALL: [Normalize; 3] = [Normalize::Seed, Normalize::Max, Normalize::Subpass];
-
-    pub fn parse(text: &str) -> Result<Self> {
-        match text {
-            "seed" => Ok(Normalize::Seed),
-            "max" => Ok(Normalize::Max),
-            "subpass" => Ok(Normalize::Subpass),
-            _ => Err(Error::InvalidInput(format!("--normalize {text}: use seed, max or subpass"))),
-        }
-    }
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Normalize::Seed => "seed",
-            Normalize::Max => "max",
-            Normalize::Subpass => "subpass",
-        }
-    }
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
-pub struct ShadowVolumeOptions {
-    /// k: each volume wall adds or removes k/255 of alpha (1..=8).
-    pub increment: u8,
-    pub method: VolumeMethod,
-    pub normalize: Normalize,
-    /// Shadowed colour = colour x shadow_factor/255. An 8-bit value, so that every path
-    /// multiplies by exactly the same number.
-    pub shadow_factor: u8,
-}
-
-impl Default for ShadowVolumeOptions {
-    fn default() -> Self {
-        ShadowVolumeOptions { increment: 1, method: VolumeMethod::Auto, normalize: Normalize::Seed, shadow_factor: 102 }
-    }
-}
 
 /// Shadow volumes counted in alpha (seed 000).
 pub struct ShadowVolumes;

@@ -15,7 +15,6 @@
 use ash::vk;
 use glam::Vec4;
 
-use super::{Normalize, ShadowVolumeOptions, VolumeMethod};
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::pipeline::recipes::{self, NO_WRITE};
@@ -24,6 +23,7 @@ use crate::render::plan::{Draws, PassPlan, PlannedPass, Push, SetRole};
 use crate::render::OBJECT_PUSH_BYTES;
 use crate::technique::alpha_counter;
 use crate::technique::lit;
+use crate::technique::options::{Normalize, ShadowVolumeOptions, VolumeMethod};
 
 /// The subpass input that exposes the counter to full-screen passes.
 pub const COUNTER_INPUT: SetRole = SetRole::Own("counter input");

@@ -9,7 +9,6 @@ use glam::Vec4;
 
 use super::casters::{build_volume, choose_zfail, prepare_casters, Caster};
 use super::recipes::{seed_normalisation, COUNTER_INPUT};
-use super::{ShadowVolumeOptions, ShadowVolumes, VolumeMethod};
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
@@ -21,8 +20,8 @@ use crate::render::{FrameOutput, FrameRecorder, GpuScene, ObjectPush, Renderer};
 use crate::scene::Scene;
 use crate::technique::alpha_counter;
 use crate::technique::frame_renderer::{self, Passes};
-use crate::technique::interface::{FrameStats, SceneRenderer};
-use crate::technique::options::RenderOptions;
+use crate::technique::interface::{FrameStats, RenderOptions, SceneRenderer, Technique};
+use crate::technique::options::{ShadowVolumeOptions, VolumeMethod};
 
 /// What the frame did, beyond its image and counters.
 #[derive(Debug, Clone, Copy, serde::Serialize)]
@@ -73,7 +72,7 @@ struct GpuVolume {
 /// Builds the renderer: casters are prepared first, so that `auto` can pick the counting
 /// method for this scene's camera before the frame is planned.
 pub fn build<'s>(
-    technique: &ShadowVolumes,
+    technique: &dyn Technique,
     gpu: &Arc<Gpu>,
     scene: &'s Scene,
     options: &RenderOptions,
