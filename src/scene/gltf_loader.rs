@@ -28,11 +28,10 @@ use gltf::json;
 use json::accessor::{ComponentType as C, Type as T};
 use json::validation::Checked;
 
-use super::animation::{Animation, Channel, ChannelValues, Interpolation, Property};
 use super::gltf_data::{self, Dense, Problem};
 use super::model::{
-    AlphaMode, Camera, Filter, Light, LightKind, Material, Mesh, Model, Node, Primitive, Projection, Sampler, Skin,
-    TextureRef, TextureRgba8, Transform, Wrap, MAX_JOINTS,
+    AlphaMode, Animation, Camera, Channel, ChannelValues, Filter, Interpolation, Light, LightKind, Material, Mesh,
+    Model, Node, Primitive, Projection, Property, Sampler, Skin, TextureRef, TextureRgba8, Transform, Wrap, MAX_JOINTS,
 };
 use super::normals::smooth_normals;
 use crate::{Error, Result};

@@ -6,9 +6,9 @@ use std::path::{Path, PathBuf};
 use glam::{Mat4, Vec3};
 use serde_json::{json, Value};
 
-use super::animation::{pose_at, rest_pose, Property, TimeMode};
+use super::animation::{pose_at, rest_pose, TimeMode};
 use super::gltf_loader::{load_gltf, load_gltf_slice};
-use super::model::{Filter, Model, Wrap, MAX_JOINTS};
+use super::model::{Filter, Model, Property, Wrap, MAX_JOINTS};
 use super::skinning::{joint_matrices, skin_positions_normals, world_matrices};
 use crate::Error;
 

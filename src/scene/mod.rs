@@ -16,12 +16,12 @@ pub mod skinning;
 #[cfg(test)]
 mod gltf_tests;
 
-pub use animation::{pose_at, rest_pose, sample_channel, Animation, TimeMode};
+pub use animation::{pose_at, rest_pose, sample_channel, TimeMode};
 pub use builtin::{builtin_scene, builtin_scene_at, BUILTIN_SCENES, OTHER_SCENES};
 pub use camera::{Camera, Light};
 pub use from_gltf::{scene_and_warnings_from_gltf, scene_from_gltf};
 pub use gltf_loader::{load_gltf, load_gltf_slice};
-pub use model::{Model, Transform, MAX_JOINTS};
+pub use model::{Animation, Model, Transform, MAX_JOINTS};
 pub use objects::{bounds_of, Scene, SceneObject, SceneSkin};
 pub use rig::{ObjectRig, PoseTracker, Rig, RigPose};
 pub use skinning::{joint_matrices, skin_positions_normals, world_matrices};
