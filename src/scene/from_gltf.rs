@@ -9,7 +9,7 @@ use glam::{Mat4, Vec3};
 
 use super::animation::{pose_at, rest_pose, TimeMode};
 use super::camera::{Camera, Light};
-use super::gltf_loader::load_gltf;
+use super::gltf::load_gltf;
 use super::layout::{empty_scene, ground_plane};
 use super::model::{LightKind, Model};
 use super::objects::Scene;

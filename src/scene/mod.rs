@@ -5,8 +5,7 @@ pub mod builtin;
 pub mod camera;
 pub mod character;
 pub mod from_gltf;
-mod gltf_data;
-pub mod gltf_loader;
+pub mod gltf;
 pub mod layout;
 pub mod model;
 pub mod normals;
@@ -16,14 +15,12 @@ pub mod posing;
 pub mod rig;
 pub mod skinning;
 
-#[cfg(test)]
-mod gltf_tests;
-
 pub use animation::{pose_at, rest_pose, sample_channel, TimeMode};
 pub use builtin::{builtin_scene, builtin_scene_at, BUILTIN_SCENES, OTHER_SCENES};
 pub use camera::{Camera, Light};
 pub use from_gltf::{scene_and_warnings_from_gltf, scene_from_gltf};
-pub use gltf_loader::{load_gltf, load_gltf_slice};
+// `self::`: `gltf` alone would also name the gltf crate.
+pub use self::gltf::{load_gltf, load_gltf_slice};
 pub use model::{Animation, Model, Transform, MAX_JOINTS};
 pub use objects::{bounds_of, Scene, SceneObject, SceneSkin};
 pub use posing::PoseTracker;
