@@ -2,42 +2,31 @@
 //! resolved relative to the glTF file, each checked against its declared length; and buffer
 //! views, bounds-checked against their buffer.
 
+use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 
+use base64::alphabet;
+use base64::engine::general_purpose::{GeneralPurpose, GeneralPurposeConfig};
+use base64::engine::DecodePaddingMode;
+use base64::Engine as _;
 use gltf::json;
+use percent_encoding::percent_decode_str;
 
 use super::Problem;
 
+/// Standard base64 as exporters write it in data URIs: the unused low bits of the last
+/// character are not checked, and padding is stripped before decoding, so any amount of it (none
+/// included) is accepted.
+const DATA_URI_BASE64: GeneralPurpose = GeneralPurpose::new(
+    &alphabet::STANDARD,
+    GeneralPurposeConfig::new()
+        .with_decode_padding_mode(DecodePaddingMode::RequireNone)
+        .with_decode_allow_trailing_bits(true),
+);
+
 /// Decodes standard base64 (RFC 4648, `=` padding optional).
-pub(super) fn decode_base64(text: &str) -> Result<Vec<u8>, Problem> {
-    fn value(c: u8) -> Option<u32> {
-        Some(match c {
-            b'A'..=b'Z' => c - b'A',
-            b'a'..=b'z' => c - b'a' + 26,
-            b'0'..=b'9' => c - b'0' + 52,
-            b'+' => 62,
-            b'/' => 63,
-            _ => return None,
-        } as u32)
-    }
-    let trimmed = text.trim_end_matches('=');
-    let mut out = Vec::with_capacity(trimmed.len() / 4 * 3 + 3);
-    let mut acc = 0u32;
-    let mut bits = 0u32;
-    for (i, c) in trimmed.bytes().enumerate() {
-        let v = value(c).ok_or_else(|| format!("invalid base64 character {:?} at {i}", c as char))?;
-        acc = (acc << 6) | v;
-        bits += 6;
-        if bits >= 8 {
-            bits -= 8;
-            out.push((acc >> bits) as u8);
-            acc &= (1 << bits) - 1;
-        }
-    }
-    if bits == 6 {
-        return Err("base64 data has a dangling character".into());
-    }
-    Ok(out)
+fn decode_base64(text: &str) -> Result<Vec<u8>, Problem> {
+    DATA_URI_BASE64.decode(text.trim_end_matches('=')).map_err(|e| format!("invalid base64 data: {e}"))
 }
 
 /// Bytes of a `data:` URI (base64 only). `None` if `uri` is not a data URI.
@@ -50,25 +39,22 @@ pub(super) fn decode_data_uri(uri: &str) -> Option<Result<Vec<u8>, Problem>> {
     })
 }
 
+/// Decodes the percent escapes of a relative URI. A `%` not followed by two hex digits is an
+/// error (a plain percent decoder would keep it as it is and look for a file of that name).
 fn percent_decode(uri: &str) -> Result<String, Problem> {
     let bytes = uri.as_bytes();
-    let mut out = Vec::with_capacity(bytes.len());
-    let mut i = 0;
-    while let Some(&b) = bytes.get(i) {
-        if b == b'%' {
-            let hex = bytes
-                .get(i + 1..i + 3)
-                .and_then(|h| std::str::from_utf8(h).ok())
-                .and_then(|h| u8::from_str_radix(h, 16).ok())
-                .ok_or_else(|| format!("bad percent escape in URI '{uri}'"))?;
-            out.push(hex);
-            i += 3;
-        } else {
-            out.push(b);
-            i += 1;
-        }
+    let well_formed = bytes
+        .iter()
+        .enumerate()
+        .filter(|(_, &b)| b == b'%')
+        .all(|(i, _)| bytes.get(i + 1..i + 3).is_some_and(|hex| hex.iter().all(u8::is_ascii_hexdigit)));
+    if !well_formed {
+        return Err(format!("bad percent escape in URI '{uri}'"));
     }
-    String::from_utf8(out).map_err(|_| format!("URI '{uri}' is not UTF-8 after decoding"))
+    percent_decode_str(uri)
+        .decode_utf8()
+        .map(Cow::into_owned)
+        .map_err(|_| format!("URI '{uri}' is not UTF-8 after decoding"))
 }
 
 /// Resolves a relative URI against the directory of the glTF file.
@@ -157,6 +143,11 @@ mod tests {
         assert_eq!(decode_base64("AAAB").unwrap(), [0, 0, 1]);
         assert!(decode_base64("Zm9v!").is_err());
         assert!(decode_base64("Z").is_err());
+        // Lenient where exporters are: padding absent or excess, unused low bits set.
+        assert_eq!(decode_base64("Zg").unwrap(), b"f");
+        assert_eq!(decode_base64("Zm9v==").unwrap(), b"foo");
+        assert_eq!(decode_base64("Zh==").unwrap(), b"f");
+        assert!(decode_base64("Zm=9v").is_err());
     }
 
     #[test]
@@ -172,5 +163,18 @@ mod tests {
         assert_eq!(p, Path::new("/a/b/tex ture/x.png"));
         assert!(resolve_uri(Path::new("m.gltf"), "https://example.com/x.bin").is_err());
         assert!(resolve_uri(Path::new("m.gltf"), "bad%zz").is_err());
+        assert!(resolve_uri(Path::new("m.gltf"), "bad%2").is_err());
+        assert!(resolve_uri(Path::new("m.gltf"), "not%FFutf8.bin").is_err());
+    }
+
+    #[test]
+    fn percent_encoded_file_names_decode() {
+        let p = resolve_uri(Path::new("dir/model.gltf"), "my%20buffer.bin").unwrap();
+        assert_eq!(p, Path::new("dir/my buffer.bin"));
+        let p = resolve_uri(Path::new("model.gltf"), "caf%C3%A9%2Btex.png").unwrap();
+        assert_eq!(p, Path::new("café+tex.png"));
+        // Decoded once: an escaped percent stays a percent.
+        let p = resolve_uri(Path::new("model.gltf"), "100%2541.bin").unwrap();
+        assert_eq!(p, Path::new("100%41.bin"));
     }
 }
