@@ -1,5 +1,19 @@
 //! Scenes: built-in scenes, glTF loading, animation and skinning on the CPU side.
 
+// Dependency order: each file imports only files on lines above its own (tests aside), so
+// there are no import cycles. Data first, then the functions over it, then scene building.
+//   model (animation data in model/animation_data), camera, normals: import nothing of scene
+//   animation, skinning -> model
+//   gltf/ (the loader)  -> model, normals
+//   rig                 -> animation, model, skinning
+//   objects             -> camera, rig, skinning
+//   posing              -> objects, rig, skinning
+//   layout              -> camera, objects
+//   place               -> model, objects, rig, skinning
+//   character           -> model, objects, place, rig, skinning
+//   from_gltf           -> animation, camera, gltf, layout, model, objects, place, rig, skinning
+//   builtin             -> camera, character, layout, objects
+
 pub mod animation;
 pub mod builtin;
 pub mod camera;
