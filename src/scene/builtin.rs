@@ -1,9 +1,12 @@
 //! Scenes built in code, with no asset files, addressed by name (`--scene NAME`).
 
-use glam::{Mat4, Quat, Vec2, Vec3};
+use glam::{Mat4, Quat, Vec3};
 
 use super::camera::{Camera, Light};
 use super::character;
+use super::layout::ground_plane;
+// Re-exported for callers of the path it had before it moved to `layout`.
+pub(crate) use super::layout::empty_scene;
 use super::objects::Scene;
 use crate::error::{Error, Result};
 use crate::mesh::{shapes, MeshData};
@@ -48,18 +51,6 @@ pub fn builtin_scene_at(name: &str, time: f32) -> Result<Scene> {
             "unknown scene '{name}'; built-in scenes: {}",
             BUILTIN_SCENES.iter().chain(OTHER_SCENES).map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
         ))),
-    }
-}
-
-pub(crate) fn empty_scene(name: &str, camera: Camera, light: Light) -> Scene {
-    Scene {
-        name: name.to_owned(),
-        meshes: Vec::new(),
-        objects: Vec::new(),
-        light,
-        ambient: 0.25,
-        camera,
-        background: Vec3::new(0.55, 0.65, 0.78),
     }
 }
 
@@ -122,17 +113,6 @@ fn character_scene(time: f32, light: Light) -> Result<Scene> {
     let mut scene = with_ground("character", camera, light);
     character::add_character(&mut scene, Mat4::IDENTITY, time, CHARACTER_COLOUR)?;
     Ok(scene)
-}
-
-/// A flat square in the XZ plane facing +Y: a receiver only (open, so it casts nothing).
-pub(crate) fn ground_plane(size: f32) -> MeshData {
-    let h = size * 0.5;
-    MeshData {
-        positions: vec![Vec3::new(-h, 0.0, -h), Vec3::new(-h, 0.0, h), Vec3::new(h, 0.0, h), Vec3::new(h, 0.0, -h)],
-        normals: vec![Vec3::Y; 4],
-        uvs: vec![Vec2::ZERO, Vec2::Y, Vec2::ONE, Vec2::X],
-        indices: vec![0, 1, 2, 0, 2, 3],
-    }
 }
 
 fn with_ground(name: &str, camera: Camera, light: Light) -> Scene {

@@ -12,10 +12,10 @@ use std::sync::Arc;
 
 use glam::{Mat4, Quat, Vec3};
 
-use super::from_gltf::add_model;
 use super::model::{Mesh, Model, Node, Primitive, Skin, Transform};
 use super::objects::Scene;
-use super::rig::{Rig, RigPose};
+use super::place::add_model;
+use super::rig::{PoseSource, Rig, RigPose};
 use super::skinning::world_matrices;
 use crate::error::{Error, Result};
 
@@ -172,12 +172,24 @@ pub fn walk_pose(model: &Model, placement: Mat4, time: f32) -> Vec<Transform> {
     pose
 }
 
+/// The walk as the character's rig plays it, the root held at `placement`.
+#[derive(Debug)]
+struct Walk {
+    placement: Mat4,
+}
+
+impl PoseSource for Walk {
+    fn local_pose(&self, model: &Model, time: f32) -> Vec<Transform> {
+        walk_pose(model, self.placement, time)
+    }
+}
+
 /// Adds the character, placed by `placement` (a rigid transform) and posed at `time` seconds.
 pub fn add_character(scene: &mut Scene, placement: Mat4, time: f32, colour: Vec3) -> Result<()> {
     if !time.is_finite() {
         return Err(Error::InvalidInput(format!("animation time {time} is not a finite number of seconds")));
     }
-    let rig = Arc::new(Rig { model: character_model(), pose: RigPose::Walk { placement } });
+    let rig = Arc::new(Rig { model: character_model(), pose: RigPose::Procedural(Arc::new(Walk { placement })) });
     let world = world_matrices(&rig.model, &walk_pose(&rig.model, placement, time));
     let first = scene.objects.len();
     add_model(scene, &rig, &world)?;
@@ -191,7 +203,7 @@ pub fn add_character(scene: &mut Scene, placement: Mat4, time: f32, colour: Vec3
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::builtin::empty_scene;
+    use crate::scene::layout::empty_scene;
     use crate::scene::{Camera, Light};
 
     #[test]

@@ -8,15 +8,15 @@ use std::sync::Arc;
 use glam::{Mat4, Vec3};
 
 use super::animation::{pose_at, rest_pose, TimeMode};
-use super::builtin::{empty_scene, ground_plane};
 use super::camera::{Camera, Light};
-use super::gltf_loader::load_gltf;
+use super::gltf::load_gltf;
+use super::layout::{empty_scene, ground_plane};
 use super::model::{LightKind, Model};
-use super::objects::{Scene, SceneSkin};
-use super::rig::{ObjectRig, Rig, RigPose};
-use super::skinning::{joint_matrices, skin_positions_normals, world_matrices};
+use super::objects::Scene;
+use super::place::add_model;
+use super::rig::{Rig, RigPose};
+use super::skinning::world_matrices;
 use crate::error::Result;
-use crate::mesh::{self, EdgeAdjacency, MeshData};
 
 /// Loads `path` and poses it at `time` seconds of its first animation (looping).
 pub fn scene_from_gltf(path: &Path, time: f32) -> Result<Scene> {
@@ -43,99 +43,6 @@ pub fn scene_and_warnings_from_gltf(path: &Path, time: f32) -> Result<(Scene, Ve
     };
     fit_ground_and_camera(&mut scene, low, high);
     Ok((scene, warnings))
-}
-
-/// Adds every mesh primitive of `rig`'s model to `scene`, posed by the nodes' world matrices
-/// `world`: skinned primitives are skinned on the CPU into the object's mesh and keep their
-/// skin (bind-pose vertices, joints, weights, this pose's joint palette) for GPU skinning. When
-/// the rig moves (an animation, the walk), each object keeps its node so that
-/// [`Scene::pose_at`] can re-pose it. Returns the world-space bounds of what was added, `None`
-/// when nothing was.
-pub fn add_model(scene: &mut Scene, rig: &Arc<Rig>, world: &[Mat4]) -> Result<Option<(Vec3, Vec3)>> {
-    let model = &rig.model;
-    let animated = !model.animations.is_empty() || matches!(rig.pose, RigPose::Walk { .. });
-    let (mut low, mut high) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
-    let shown = nodes_in_scene(model);
-    for (node_index, node) in model.nodes.iter().enumerate() {
-        if !shown[node_index] {
-            continue;
-        }
-        let Some(mesh) = node.mesh.and_then(|m| model.meshes.get(m)) else { continue };
-        let node_world = world.get(node_index).copied().unwrap_or(Mat4::IDENTITY);
-        let joints = match node.skin {
-            Some(skin) => Some(joint_matrices(model, skin, world, node_world)?),
-            None => None,
-        };
-        for (p, primitive) in mesh.primitives.iter().enumerate() {
-            let (mut positions, mut normals) = (primitive.positions.clone(), primitive.normals.clone());
-            let mut skin = None;
-            if let (Some(palette), Some(vertex_joints), Some(weights)) =
-                (&joints, &primitive.joints, &primitive.weights)
-            {
-                skin_positions_normals(primitive, palette, &mut positions, &mut normals)?;
-                skin = Some(Box::new(SceneSkin {
-                    positions: primitive.positions.clone(),
-                    normals: primitive.normals.clone(),
-                    joints: vertex_joints.clone(),
-                    weights: weights.clone(),
-                    joint_matrices: palette.clone(),
-                }));
-            }
-            for p in &positions {
-                let w = node_world.transform_point3(*p);
-                (low, high) = (low.min(w), high.max(w));
-            }
-            // The techniques shade objects with one colour (they are about shadows and ink,
-            // not texturing): a textured material's is its factor times the texture's mean.
-            let colour = primitive.material.and_then(|m| model.materials.get(m)).map_or(Vec3::splat(0.75), |m| {
-                let texture = m.base_color_texture.and_then(|t| model.textures.get(t.texture));
-                m.base_color.truncate() * texture.map_or(Vec3::ONE, |t| t.mean_linear_colour())
-            });
-            let label = format!(
-                "{}#{p}",
-                mesh.name.clone().or_else(|| node.name.clone()).unwrap_or_else(|| format!("node {node_index}"))
-            );
-            let data = MeshData {
-                positions,
-                normals,
-                uvs: primitive.uv0.clone().unwrap_or_default(),
-                indices: primitive.indices.clone(),
-            };
-            let closed = is_closed_after_welding(&label, &data);
-            let mesh_index = scene.add_mesh_with_uv1(&label, data, primitive.uv1.clone());
-            scene.add_object(&label, mesh_index, node_world, colour, closed);
-            if let Some(object) = scene.objects.last_mut() {
-                object.rig = animated.then(|| ObjectRig {
-                    rig: Arc::clone(rig),
-                    node: node_index,
-                    skin: node.skin.filter(|_| skin.is_some()),
-                });
-                object.skin = skin;
-            }
-        }
-    }
-    Ok((low.x <= high.x).then_some((low, high)))
-}
-
-/// The nodes of the file's scene (its `scene`, else the first): the roots and their
-/// descendants. Nodes of other scenes and orphans are not drawn.
-fn nodes_in_scene(model: &Model) -> Vec<bool> {
-    let mut shown = vec![false; model.nodes.len()];
-    let mut stack: Vec<usize> = model.roots.clone();
-    while let Some(index) = stack.pop() {
-        let Some(flag) = shown.get_mut(index) else { continue };
-        if !*flag {
-            *flag = true;
-            stack.extend(model.nodes[index].children.iter().copied());
-        }
-    }
-    shown
-}
-
-/// Shadow volumes need closed meshes; open ones (a room shell, a strip) only receive.
-fn is_closed_after_welding(name: &str, data: &MeshData) -> bool {
-    let Ok(welded) = mesh::weld_by_position(name, &data.positions, &data.indices, 1e-5) else { return false };
-    EdgeAdjacency::build(name, &welded.positions, &welded.indices).is_ok_and(|a| a.require_closed_manifold().is_ok())
 }
 
 /// The file's first directional light (KHR_lights_punctual, shining along its node's -Z), else

@@ -1,27 +1,42 @@
 //! Scenes: built-in scenes, glTF loading, animation and skinning on the CPU side.
 
+// Dependency order: each file imports only files on lines above its own (tests aside), so
+// there are no import cycles. Data first, then the functions over it, then scene building.
+//   model (animation data in model/animation_data), camera, normals: import nothing of scene
+//   animation, skinning -> model
+//   gltf/ (the loader)  -> model, normals
+//   rig                 -> animation, model, skinning
+//   objects             -> camera, rig, skinning
+//   posing              -> objects, rig, skinning
+//   layout              -> camera, objects
+//   place               -> model, objects, rig, skinning
+//   character           -> model, objects, place, rig, skinning
+//   from_gltf           -> animation, camera, gltf, layout, model, objects, place, rig, skinning
+//   builtin             -> camera, character, layout, objects
+
 pub mod animation;
 pub mod builtin;
 pub mod camera;
 pub mod character;
 pub mod from_gltf;
-mod gltf_data;
-pub mod gltf_loader;
+pub mod gltf;
+pub mod layout;
 pub mod model;
 pub mod normals;
 pub mod objects;
+pub mod place;
+pub mod posing;
 pub mod rig;
 pub mod skinning;
 
-#[cfg(test)]
-mod gltf_tests;
-
-pub use animation::{pose_at, rest_pose, sample_channel, Animation, TimeMode};
+pub use animation::{pose_at, rest_pose, sample_channel, TimeMode};
 pub use builtin::{builtin_scene, builtin_scene_at, BUILTIN_SCENES, OTHER_SCENES};
 pub use camera::{Camera, Light};
 pub use from_gltf::{scene_and_warnings_from_gltf, scene_from_gltf};
-pub use gltf_loader::{load_gltf, load_gltf_slice};
-pub use model::{Model, Transform, MAX_JOINTS};
+// `self::`: `gltf` alone would also name the gltf crate.
+pub use self::gltf::{load_gltf, load_gltf_slice};
+pub use model::{Animation, Model, Transform, MAX_JOINTS};
 pub use objects::{bounds_of, Scene, SceneObject, SceneSkin};
-pub use rig::{ObjectRig, PoseTracker, Rig, RigPose};
+pub use posing::PoseTracker;
+pub use rig::{ObjectRig, PoseSource, Rig, RigPose};
 pub use skinning::{joint_matrices, skin_positions_normals, world_matrices};

@@ -4,7 +4,9 @@
 
 use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
 
-use super::animation::Animation;
+mod animation_data;
+
+pub use animation_data::{Animation, Channel, ChannelValues, Interpolation, Property};
 
 /// Joint matrices live in one uniform buffer as large as the mobile profile guarantees
 /// (maxUniformBufferRange 16 KiB): 256 matrices of 64 bytes, room for the 65-bone rigs common

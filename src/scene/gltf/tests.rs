@@ -6,10 +6,10 @@ use std::path::{Path, PathBuf};
 use glam::{Mat4, Vec3};
 use serde_json::{json, Value};
 
-use super::animation::{pose_at, rest_pose, Property, TimeMode};
-use super::gltf_loader::{load_gltf, load_gltf_slice};
-use super::model::{Filter, Model, Wrap, MAX_JOINTS};
-use super::skinning::{joint_matrices, skin_positions_normals, world_matrices};
+use super::{load_gltf, load_gltf_slice};
+use crate::scene::animation::{pose_at, rest_pose, TimeMode};
+use crate::scene::model::{Filter, Model, Property, Transform, Wrap, MAX_JOINTS};
+use crate::scene::skinning::{joint_matrices, skin_positions_normals, world_matrices};
 use crate::Error;
 
 const ALL: [&str; 7] = [
@@ -315,7 +315,7 @@ fn box_animated_moves_its_nodes_and_has_two_meshes() {
 }
 
 /// Skins every skinned node of `model` with `pose` and returns (rest positions, posed) pairs.
-fn skinned(model: &Model, pose: &[super::Transform]) -> Vec<(Vec<Vec3>, Vec<Vec3>)> {
+fn skinned(model: &Model, pose: &[Transform]) -> Vec<(Vec<Vec3>, Vec<Vec3>)> {
     let world = world_matrices(model, pose);
     let mut out = Vec::new();
     for (i, node) in model.nodes.iter().enumerate() {
@@ -572,7 +572,7 @@ fn external_buffers_load_and_missing_ones_are_named() {
     let text = std::fs::read(dir.join("SimpleSkin.gltf")).unwrap();
     let mut json: Value = serde_json::from_slice(&text).unwrap();
     let uri = json["buffers"][1]["uri"].as_str().unwrap().to_string();
-    let data = super::gltf_data::decode_data_uri(&uri).unwrap().unwrap();
+    let data = super::buffers::decode_data_uri(&uri).unwrap().unwrap();
     let tmp = TempDir::new("external");
     tmp.write("skin weights.bin", &data);
     json["buffers"][1]["uri"] = json!("skin%20weights.bin");
@@ -855,20 +855,8 @@ fn random_json_numbers_never_panic() {
 }
 
 fn encode_base64(bytes: &[u8]) -> String {
-    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut out = String::new();
-    for chunk in bytes.chunks(3) {
-        let b = [chunk[0], *chunk.get(1).unwrap_or(&0), *chunk.get(2).unwrap_or(&0)];
-        let n = (b[0] as u32) << 16 | (b[1] as u32) << 8 | b[2] as u32;
-        for k in 0..4 {
-            if k <= chunk.len() {
-                out.push(ALPHABET[(n >> (18 - 6 * k) & 63) as usize] as char);
-            } else {
-                out.push('=');
-            }
-        }
-    }
-    out
+    use base64::Engine as _;
+    base64::engine::general_purpose::STANDARD.encode(bytes)
 }
 
 /// What none of the shared assets has: a sparse accessor without a buffer view, normalised
@@ -952,7 +940,7 @@ fn synthetic_file_covers_sparse_fans_cubic_lights_and_cameras() {
     let pose = pose_at(&model, 0, 0.5, TimeMode::Clamp).unwrap();
     assert!((pose[0].translation.x - 1.0).abs() < 1e-6, "{}", pose[0].translation);
 
-    use super::model::{LightKind, Projection};
+    use crate::scene::model::{LightKind, Projection};
     assert_eq!(model.nodes[1].light, Some(0));
     assert_eq!(model.nodes[1].camera, Some(0));
     let spot = &model.lights[0];
@@ -1057,7 +1045,7 @@ fn re_posing_a_gltf_scene_equals_loading_it_at_that_time() {
 
 #[test]
 fn a_textured_material_colours_its_object_with_the_texture_mean() {
-    use super::model::{Sampler, TextureRgba8};
+    use crate::scene::model::{Sampler, TextureRgba8};
     // sRGB 255 and 188 (linear 1.0 and ~0.5) average to 0.75; a transparent texel counts for nothing.
     let texture = TextureRgba8 {
         name: None,

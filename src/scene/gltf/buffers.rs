@@ -1,0 +1,180 @@
+//! glTF buffers and the files they name: the GLB BIN chunk, `data:` URIs, and external files
+//! resolved relative to the glTF file, each checked against its declared length; and buffer
+//! views, bounds-checked against their buffer.
+
+use std::borrow::Cow;
+use std::path::{Path, PathBuf};
+
+use base64::alphabet;
+use base64::engine::general_purpose::{GeneralPurpose, GeneralPurposeConfig};
+use base64::engine::DecodePaddingMode;
+use base64::Engine as _;
+use gltf::json;
+use percent_encoding::percent_decode_str;
+
+use super::Problem;
+
+/// Standard base64 as exporters write it in data URIs: the unused low bits of the last
+/// character are not checked, and padding is stripped before decoding, so any amount of it (none
+/// included) is accepted.
+const DATA_URI_BASE64: GeneralPurpose = GeneralPurpose::new(
+    &alphabet::STANDARD,
+    GeneralPurposeConfig::new()
+        .with_decode_padding_mode(DecodePaddingMode::RequireNone)
+        .with_decode_allow_trailing_bits(true),
+);
+
+/// Decodes standard base64 (RFC 4648, `=` padding optional).
+fn decode_base64(text: &str) -> Result<Vec<u8>, Problem> {
+    DATA_URI_BASE64.decode(text.trim_end_matches('=')).map_err(|e| format!("invalid base64 data: {e}"))
+}
+
+/// Bytes of a `data:` URI (base64 only). `None` if `uri` is not a data URI.
+pub(super) fn decode_data_uri(uri: &str) -> Option<Result<Vec<u8>, Problem>> {
+    let rest = uri.strip_prefix("data:")?;
+    Some(match rest.split_once(',') {
+        Some((header, data)) if header.ends_with(";base64") => decode_base64(data),
+        Some(_) => Err("data URI is not base64-encoded".into()),
+        None => Err("data URI has no ',' before its data".into()),
+    })
+}
+
+/// Decodes the percent escapes of a relative URI. A `%` not followed by two hex digits is an
+/// error (a plain percent decoder would keep it as it is and look for a file of that name).
+fn percent_decode(uri: &str) -> Result<String, Problem> {
+    let bytes = uri.as_bytes();
+    let well_formed = bytes
+        .iter()
+        .enumerate()
+        .filter(|(_, &b)| b == b'%')
+        .all(|(i, _)| bytes.get(i + 1..i + 3).is_some_and(|hex| hex.iter().all(u8::is_ascii_hexdigit)));
+    if !well_formed {
+        return Err(format!("bad percent escape in URI '{uri}'"));
+    }
+    percent_decode_str(uri)
+        .decode_utf8()
+        .map(Cow::into_owned)
+        .map_err(|_| format!("URI '{uri}' is not UTF-8 after decoding"))
+}
+
+/// Resolves a relative URI against the directory of the glTF file.
+pub(super) fn resolve_uri(gltf_path: &Path, uri: &str) -> Result<PathBuf, Problem> {
+    if let Some((scheme, _)) = uri.split_once("://") {
+        return Err(format!(
+            "URI '{uri}' uses the '{scheme}' scheme; only relative file paths and data URIs \
+             are supported"
+        ));
+    }
+    let relative = percent_decode(uri)?;
+    let dir = gltf_path.parent().unwrap_or_else(|| Path::new(""));
+    Ok(dir.join(relative))
+}
+
+/// Reads a file referenced by the glTF; the message names the URI and the resolved path.
+pub(super) fn read_external(gltf_path: &Path, uri: &str) -> Result<Vec<u8>, Problem> {
+    let file = resolve_uri(gltf_path, uri)?;
+    std::fs::read(&file).map_err(|e| format!("cannot read '{uri}' ({}): {e}", file.display()))
+}
+
+/// Loads every buffer: `buffers[i]` has exactly the declared `byteLength`.
+pub(super) fn load_buffers(root: &json::Root, gltf_path: &Path, bin: Option<&[u8]>) -> Result<Vec<Vec<u8>>, Problem> {
+    let mut out = Vec::with_capacity(root.buffers.len());
+    for (i, buffer) in root.buffers.iter().enumerate() {
+        let declared = usize::try_from(buffer.byte_length.0)
+            .map_err(|_| format!("buffer {i}: byteLength {} is too large", buffer.byte_length.0))?;
+        let mut data = match buffer.uri.as_deref() {
+            None => {
+                let Some(bin) = bin.filter(|_| i == 0) else {
+                    return Err(format!(
+                        "buffer {i} has no uri and is not the GLB BIN chunk (the file has {})",
+                        if bin.is_some() { "one, used by buffer 0" } else { "no BIN chunk" }
+                    ));
+                };
+                bin.to_vec()
+            }
+            Some(uri) => match decode_data_uri(uri) {
+                Some(decoded) => decoded.map_err(|e| format!("buffer {i}: {e}"))?,
+                None => read_external(gltf_path, uri).map_err(|e| format!("buffer {i}: {e}"))?,
+            },
+        };
+        if data.len() < declared {
+            return Err(format!("buffer {i}: byteLength is {declared} but only {} bytes are present", data.len()));
+        }
+        // The GLB BIN chunk may carry up to 3 bytes of padding; views may not use them.
+        data.truncate(declared);
+        out.push(data);
+    }
+    Ok(out)
+}
+
+/// The bytes of buffer view `index`, bounds-checked against its buffer.
+pub(super) fn view_bytes<'b>(root: &json::Root, buffers: &'b [Vec<u8>], index: usize) -> Result<&'b [u8], Problem> {
+    let view = root.buffer_views.get(index).ok_or_else(|| format!("bufferView {index} does not exist"))?;
+    let buffer_index = view.buffer.value();
+    let buffer =
+        buffers.get(buffer_index).ok_or_else(|| format!("bufferView {index}: buffer {buffer_index} does not exist"))?;
+    let offset = view.byte_offset.map_or(0, |o| o.0);
+    let length = view.byte_length.0;
+    let end = offset.checked_add(length);
+    match end {
+        Some(end) if end <= buffer.len() as u64 => {
+            // Both fit in usize: they are at most buffer.len().
+            buffer.get(offset as usize..end as usize).ok_or_else(|| format!("bufferView {index} is out of range"))
+        }
+        _ => Err(format!(
+            "bufferView {index} (byteOffset {offset}, byteLength {length}) points past the end \
+             of buffer {buffer_index} ({} bytes)",
+            buffer.len()
+        )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn base64_round_trips_known_values() {
+        assert_eq!(decode_base64("").unwrap(), b"");
+        assert_eq!(decode_base64("Zg==").unwrap(), b"f");
+        assert_eq!(decode_base64("Zm8=").unwrap(), b"fo");
+        assert_eq!(decode_base64("Zm9v").unwrap(), b"foo");
+        assert_eq!(decode_base64("Zm9vYmFy").unwrap(), b"foobar");
+        assert_eq!(decode_base64("AAAB").unwrap(), [0, 0, 1]);
+        assert!(decode_base64("Zm9v!").is_err());
+        assert!(decode_base64("Z").is_err());
+        // Lenient where exporters are: padding absent or excess, unused low bits set.
+        assert_eq!(decode_base64("Zg").unwrap(), b"f");
+        assert_eq!(decode_base64("Zm9v==").unwrap(), b"foo");
+        assert_eq!(decode_base64("Zh==").unwrap(), b"f");
+        assert!(decode_base64("Zm=9v").is_err());
+    }
+
+    #[test]
+    fn data_uris() {
+        assert_eq!(decode_data_uri("data:application/octet-stream;base64,Zm9v").unwrap().unwrap(), b"foo");
+        assert!(decode_data_uri("data:text/plain,foo").unwrap().is_err());
+        assert!(decode_data_uri("foo.bin").is_none());
+    }
+
+    #[test]
+    fn uris_resolve_relative_to_the_file() {
+        let p = resolve_uri(Path::new("/a/b/model.gltf"), "tex%20ture/x.png").unwrap();
+        assert_eq!(p, Path::new("/a/b/tex ture/x.png"));
+        assert!(resolve_uri(Path::new("m.gltf"), "https://example.com/x.bin").is_err());
+        assert!(resolve_uri(Path::new("m.gltf"), "bad%zz").is_err());
+        assert!(resolve_uri(Path::new("m.gltf"), "bad%2").is_err());
+        assert!(resolve_uri(Path::new("m.gltf"), "not%FFutf8.bin").is_err());
+    }
+
+    #[test]
+    fn percent_encoded_file_names_decode() {
+        let p = resolve_uri(Path::new("dir/model.gltf"), "my%20buffer.bin").unwrap();
+        assert_eq!(p, Path::new("dir/my buffer.bin"));
+        let p = resolve_uri(Path::new("model.gltf"), "caf%C3%A9%2Btex.png").unwrap();
+        assert_eq!(p, Path::new("café+tex.png"));
+        // Decoded once: an escaped percent stays a percent.
+        let p = resolve_uri(Path::new("model.gltf"), "100%2541.bin").unwrap();
+        assert_eq!(p, Path::new("100%41.bin"));
+    }
+}

@@ -1,0 +1,239 @@
+//! Meshes and their primitives: vertex attributes read from accessors and checked (counts,
+//! finite values, normalisation), indices in range, strips and fans turned into lists, missing
+//! normals computed.
+
+use glam::{Vec2, Vec3, Vec4};
+use gltf::json;
+use json::accessor::{ComponentType as C, Type as T};
+use json::validation::Checked;
+
+use super::{checked, label, Loader, FLOAT_OR_SNORM, FLOAT_OR_UNORM};
+use crate::scene::model::{Mesh, Primitive};
+use crate::scene::normals::smooth_normals;
+use crate::Result;
+
+impl Loader<'_> {
+    pub(super) fn meshes(&mut self, material_count: usize) -> Result<Vec<Mesh>> {
+        let mut out = Vec::with_capacity(self.root.meshes.len());
+        for (m, mesh) in self.root.meshes.iter().enumerate() {
+            let mesh_label = label("mesh", m, mesh.name.as_deref());
+            let mut primitives = Vec::with_capacity(mesh.primitives.len());
+            for (p, prim) in mesh.primitives.iter().enumerate() {
+                let what = format!("{mesh_label} primitive {p}");
+                if let Some(primitive) = self.primitive(&what, prim, material_count)? {
+                    primitives.push(primitive);
+                }
+            }
+            out.push(Mesh { name: mesh.name.clone(), primitives });
+        }
+        Ok(out)
+    }
+
+    fn primitive(
+        &mut self,
+        what: &str,
+        prim: &json::mesh::Primitive,
+        material_count: usize,
+    ) -> Result<Option<Primitive>> {
+        use json::mesh::{Mode, Semantic};
+        let mode = checked(&prim.mode).unwrap_or(Mode::Triangles);
+        if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
+            self.warnings.push(format!("{what}: {mode:?} primitive skipped (only triangles are drawn)"));
+            return Ok(None);
+        }
+        let attribute = |s: Semantic| prim.attributes.get(&Checked::Valid(s)).map(|i| i.value());
+        let Some(pos_index) = attribute(Semantic::Positions) else {
+            self.warnings.push(format!("{what}: no POSITION attribute; skipped"));
+            return Ok(None);
+        };
+        if prim.targets.as_ref().is_some_and(|t| !t.is_empty()) {
+            self.warnings.push(format!("{what}: morph targets are not supported and were ignored"));
+        }
+
+        let flat = self.quantizable_floats(pos_index, &format!("{what} POSITION"), T::Vec3, &[C::F32])?;
+        let positions: Vec<Vec3> = flat.chunks_exact(3).map(Vec3::from_slice).collect();
+        if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(self.fail(format!(
+                "{what}: POSITION of vertex {v} is not finite ({})",
+                positions.get(v).copied().unwrap_or_default()
+            )));
+        }
+        let n = positions.len();
+        let same_count = |this: &Self, name: &str, count: usize| -> Result<()> {
+            if count == n {
+                Ok(())
+            } else {
+                Err(this.fail(format!("{what}: {name} has {count} elements but POSITION has {n}")))
+            }
+        };
+
+        let normals = match attribute(Semantic::Normals) {
+            Some(i) => {
+                let name = format!("{what} NORMAL");
+                let components: &[C] = if self.quantized { FLOAT_OR_SNORM } else { &[C::F32] };
+                let flat = self.floats(i, &name, T::Vec3, components)?;
+                let normals: Vec<Vec3> = flat.chunks_exact(3).map(Vec3::from_slice).collect();
+                same_count(self, "NORMAL", normals.len())?;
+                if let Some(v) = normals.iter().position(|p| !p.is_finite()) {
+                    return Err(self.fail(format!("{name} of vertex {v} is not finite")));
+                }
+                Some(normals.into_iter().map(|v| v.try_normalize().unwrap_or(Vec3::Z)).collect::<Vec<_>>())
+            }
+            None => None,
+        };
+
+        let uv = |set: u32| -> Result<Option<Vec<Vec2>>> {
+            let Some(i) = attribute(Semantic::TexCoords(set)) else {
+                return Ok(None);
+            };
+            let name = format!("TEXCOORD_{set}");
+            let flat = self.quantizable_floats(i, &format!("{what} {name}"), T::Vec2, FLOAT_OR_UNORM)?;
+            let uvs: Vec<Vec2> = flat.chunks_exact(2).map(Vec2::from_slice).collect();
+            same_count(self, &name, uvs.len())?;
+            Ok(Some(uvs))
+        };
+        let uv0 = uv(0)?;
+        let uv1 = uv(1)?;
+
+        let colors = match attribute(Semantic::Colors(0)) {
+            Some(i) => {
+                let name = format!("{what} COLOR_0");
+                let dense = self.accessor(i, &name, &[T::Vec3, T::Vec4], FLOAT_OR_UNORM)?;
+                if dense.component != C::F32 && !dense.normalized {
+                    return Err(self.fail(format!("{name}: integer colours must be normalized")));
+                }
+                let k = dense.components();
+                let flat = dense.floats();
+                let colors: Vec<Vec4> = flat
+                    .chunks_exact(k)
+                    .map(|c| match c {
+                        [r, g, b] => Vec4::new(*r, *g, *b, 1.0),
+                        _ => Vec4::from_slice(c),
+                    })
+                    .collect();
+                same_count(self, "COLOR_0", colors.len())?;
+                Some(colors)
+            }
+            None => None,
+        };
+
+        let (joints, weights) = match (attribute(Semantic::Joints(0)), attribute(Semantic::Weights(0))) {
+            (Some(j), Some(w)) => {
+                // Further sets (JOINTS_1/WEIGHTS_1, ...) carry influences 5 to 8 and beyond.
+                let mut sets = vec![(j, w)];
+                while let (Some(j), Some(w)) =
+                    (attribute(Semantic::Joints(sets.len() as u32)), attribute(Semantic::Weights(sets.len() as u32)))
+                {
+                    sets.push((j, w));
+                }
+                let (joints, weights) = self.skin_attributes(what, &sets, n)?;
+                (Some(joints), Some(weights))
+            }
+            (None, None) => (None, None),
+            _ => {
+                self.warnings.push(format!("{what}: JOINTS_0 without WEIGHTS_0 or the reverse; drawn unskinned"));
+                (None, None)
+            }
+        };
+
+        let (indices, source_index_width) = match prim.indices {
+            Some(i) => {
+                let name = format!("{what} indices");
+                let dense = self.accessor(i.value(), &name, &[T::Scalar], &[C::U8, C::U16, C::U32])?;
+                let width = match dense.component {
+                    C::U8 => 1,
+                    C::U16 => 2,
+                    _ => 4,
+                };
+                let indices = dense.uints();
+                if let Some((k, bad)) = indices.iter().enumerate().find(|(_, &x)| x as usize >= n) {
+                    return Err(self.fail(format!("{name}: index {k} is {bad}, out of range of the {n} vertices")));
+                }
+                (indices, Some(width))
+            }
+            None => {
+                let n32 =
+                    u32::try_from(n).map_err(|_| self.fail(format!("{what}: {n} vertices do not fit u32 indices")))?;
+                ((0..n32).collect(), None)
+            }
+        };
+        let indices = match mode {
+            Mode::TriangleStrip => strip_to_list(&indices),
+            Mode::TriangleFan => fan_to_list(&indices),
+            _ => {
+                if indices.len() % 3 != 0 {
+                    return Err(
+                        self.fail(format!("{what}: {} indices is not a whole number of triangles", indices.len()))
+                    );
+                }
+                indices
+            }
+        };
+
+        let material = prim.material.map(|m| m.value());
+        if let Some(m) = material.filter(|&m| m >= material_count) {
+            return Err(self.fail(format!("{what}: material {m} does not exist")));
+        }
+
+        let (normals, normals_generated) = match normals {
+            Some(normals) => (normals, false),
+            None => (smooth_normals(&positions, &indices), true),
+        };
+        Ok(Some(Primitive {
+            positions,
+            normals,
+            normals_generated,
+            uv0,
+            uv1,
+            colors,
+            joints,
+            weights,
+            indices,
+            source_index_width,
+            material,
+        }))
+    }
+}
+
+/// glTF 2.0 section 3.7.2.1: strip triangle i is (v_i, v_{i+1+i%2}, v_{i+2-i%2}), which keeps
+/// every triangle's winding the same as the first.
+fn strip_to_list(strip: &[u32]) -> Vec<u32> {
+    let mut out = Vec::with_capacity(strip.len().saturating_sub(2) * 3);
+    for (i, w) in strip.windows(3).enumerate() {
+        if let [a, b, c] = *w {
+            if i % 2 == 0 {
+                out.extend_from_slice(&[a, b, c]);
+            } else {
+                out.extend_from_slice(&[a, c, b]);
+            }
+        }
+    }
+    out
+}
+
+/// Fan triangle i is (v_{i+1}, v_{i+2}, v_0).
+fn fan_to_list(fan: &[u32]) -> Vec<u32> {
+    let Some((&first, rest)) = fan.split_first() else {
+        return Vec::new();
+    };
+    let mut out = Vec::with_capacity(rest.len().saturating_sub(1) * 3);
+    for w in rest.windows(2) {
+        if let [b, c] = *w {
+            out.extend_from_slice(&[b, c, first]);
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn strips_and_fans_become_lists_with_consistent_winding() {
+        assert_eq!(strip_to_list(&[0, 1, 2, 3, 4]), [0, 1, 2, 1, 3, 2, 2, 3, 4]);
+        assert_eq!(fan_to_list(&[0, 1, 2, 3]), [1, 2, 0, 2, 3, 0]);
+        assert!(strip_to_list(&[0, 1]).is_empty());
+        assert!(fan_to_list(&[]).is_empty());
+    }
+}

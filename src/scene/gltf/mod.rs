@@ -1,0 +1,171 @@
+//! glTF 2.0 (`.gltf` with external or data-URI buffers, and `.glb`) into a `Model`.
+//!
+//! The gltf crate parses and validates the JSON (references, enums, required fields) after
+//! `repair` has fixed what it would needlessly refuse; the bytes are read by `glb`, `buffers`
+//! and `accessors` with checked offsets. On top of that the loader checks what the
+//! renderer relies on: attribute types and counts, indices in range, finite positions, key
+//! times strictly increasing, skins of at most `MAX_JOINTS` joints, and joint indices inside
+//! their skin. Every failure is an `Error::Asset` naming the file and the offending element;
+//! things that can be skipped or repaired go to `Model::warnings` instead.
+//!
+//! Decisions:
+//! - Skin weights are renormalised to sum 1 (exporters often write sums a little under 1).
+//!   A vertex whose weights are all zero gets weight 1 on its first joint slot (JOINTS_0.x), as
+//!   three.js does: it then follows that joint (usually the root) instead of collapsing to the
+//!   origin, and the GPU format stays 4 joints + 4 weights into a palette of at most
+//!   `MAX_JOINTS` matrices, with no identity entry reserved for "the mesh node itself". The
+//!   glTF spec forbids all-zero weights, so this only repairs invalid files, with a warning.
+//! - A joint index outside the skin is an error if its weight is nonzero; with weight zero it
+//!   is replaced by 0 (so the GPU never reads past the palette) and noted in the warnings.
+//! - Missing normals are computed smooth (welded by position, area-weighted).
+//! - Only base-colour textures are decoded, and only PNG or JPEG; a texture in another format is
+//!   dropped with a warning and the material keeps its base-colour factor.
+
+mod accessors;
+mod animation;
+mod buffers;
+mod cameras_and_lights;
+mod document;
+mod glb;
+mod materials;
+mod meshes;
+mod nodes;
+mod repair;
+mod skins;
+#[cfg(test)]
+mod tests;
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use gltf::json;
+use json::accessor::{ComponentType as C, Type as T};
+use json::validation::Checked;
+
+use crate::scene::model::{Model, TextureRgba8};
+use crate::{Error, Result};
+use accessors::Dense;
+
+/// What went wrong, without the file name: `load_gltf_slice` wraps it in `Error::Asset`.
+type Problem = String;
+
+/// Component types glTF allows for float attributes stored as normalised integers.
+const FLOAT_OR_UNORM: &[C] = &[C::F32, C::U8, C::U16];
+const FLOAT_OR_NORM: &[C] = &[C::F32, C::I8, C::U8, C::I16, C::U16];
+/// Normals under KHR_mesh_quantization: float or normalised signed integers.
+const FLOAT_OR_SNORM: &[C] = &[C::F32, C::I8, C::I16];
+
+/// Loads a `.gltf` or `.glb` file. External buffers and images are resolved relative to it.
+pub fn load_gltf(path: &Path) -> Result<Model> {
+    let bytes = std::fs::read(path)
+        .map_err(|e| Error::Asset { path: path.to_path_buf(), problem: format!("cannot read the file: {e}") })?;
+    load_gltf_slice(&bytes, path)
+}
+
+/// Loads glTF from memory; `path` names the file in errors and anchors relative URIs.
+pub fn load_gltf_slice(bytes: &[u8], path: &Path) -> Result<Model> {
+    let asset = |problem: Problem| Error::Asset { path: path.to_path_buf(), problem };
+    let container = glb::split_container(bytes).map_err(asset)?;
+    let mut warnings = Vec::new();
+    let root = document::parse_json(container.json, &mut warnings).map_err(asset)?;
+    let buffers = buffers::load_buffers(&root, path, container.bin).map_err(asset)?;
+    let mut loader = Loader {
+        path: path.to_path_buf(),
+        root: &root,
+        buffers: &buffers,
+        warnings,
+        textures: Vec::new(),
+        texture_slots: HashMap::new(),
+        quantized: root.extensions_used.iter().any(|e| e == "KHR_mesh_quantization"),
+    };
+    loader.model()
+}
+
+struct Loader<'a> {
+    path: PathBuf,
+    root: &'a json::Root,
+    buffers: &'a [Vec<u8>],
+    warnings: Vec<String>,
+    textures: Vec<TextureRgba8>,
+    /// glTF texture index -> index in `textures` (None: could not be decoded, warned).
+    texture_slots: HashMap<usize, Option<usize>>,
+    /// KHR_mesh_quantization is used: positions and UVs may be (un)normalised integers,
+    /// dequantised by the node transforms.
+    quantized: bool,
+}
+
+fn checked<V: Copy>(c: &Checked<V>) -> Option<V> {
+    match c {
+        Checked::Valid(v) => Some(*v),
+        Checked::Invalid => None,
+    }
+}
+
+/// "mesh 3 'Cylinder'" or "mesh 3".
+fn label(kind: &str, index: usize, name: Option<&str>) -> String {
+    match name {
+        Some(name) => format!("{kind} {index} '{name}'"),
+        None => format!("{kind} {index}"),
+    }
+}
+
+impl Loader<'_> {
+    fn fail(&self, problem: impl Into<String>) -> Error {
+        Error::Asset { path: self.path.clone(), problem: problem.into() }
+    }
+
+    fn accessor(&self, index: usize, what: &str, types: &[T], components: &[C]) -> Result<Dense> {
+        accessors::read_accessor(self.root, self.buffers, index, types, components)
+            .map_err(|e| self.fail(format!("{what}: {e}")))
+    }
+
+    /// A position or texture coordinate: float, or under KHR_mesh_quantization any 8- or 16-bit
+    /// integer, normalised or not.
+    fn quantizable_floats(&self, index: usize, what: &str, ty: T, plain: &[C]) -> Result<Vec<f32>> {
+        if !self.quantized {
+            return self.floats(index, what, ty, plain);
+        }
+        Ok(self.accessor(index, what, &[ty], &[C::F32, C::I8, C::U8, C::I16, C::U16])?.floats())
+    }
+
+    /// A float attribute; integer storage must be normalised.
+    fn floats(&self, index: usize, what: &str, ty: T, components: &[C]) -> Result<Vec<f32>> {
+        let dense = self.accessor(index, what, &[ty], components)?;
+        if dense.component != C::F32 && !dense.normalized {
+            return Err(self.fail(format!(
+                "{what}: accessor {index} stores {} without `normalized: true`",
+                accessors::component_name(dense.component)
+            )));
+        }
+        Ok(dense.floats())
+    }
+
+    fn model(&mut self) -> Result<Model> {
+        let nodes = self.nodes()?;
+        let roots = self.roots(&nodes);
+        let materials = self.materials()?;
+        let mut meshes = self.meshes(materials.len())?;
+        let skins = self.skins()?;
+        self.check_skinned_meshes(&nodes, &skins, &mut meshes)?;
+        let animations = self.animations()?;
+        let cameras = self.cameras()?;
+        let lights = self.lights();
+        for ext in &self.root.extensions_used {
+            if !repair::SUPPORTED_REQUIRED_EXTENSIONS.contains(&ext.as_str()) {
+                self.warnings.push(format!("extension {ext} is not supported and was ignored"));
+            }
+        }
+        Ok(Model {
+            meshes,
+            materials,
+            textures: std::mem::take(&mut self.textures),
+            nodes,
+            roots,
+            skins,
+            animations,
+            cameras,
+            lights,
+            warnings: std::mem::take(&mut self.warnings),
+        })
+    }
+}
