@@ -13,14 +13,26 @@ use nostencil::frame::{RgbaImage, StencilMode};
 use nostencil::gpu::Gpu;
 use nostencil::scene::{builtin_scene_at, scene_from_gltf, Scene};
 use nostencil::technique::planar::{self, project_onto_plane, PlanarOptions};
-use nostencil::technique::{render_scene, RenderOptions, Technique};
+use nostencil::technique::{render_scene, RenderOptions, Technique, TechniqueFrame};
 
 const SIZE: (u32, u32) = (160, 120);
 const FACTOR: u8 = PlanarOptions { shadow_factor: 102, shadows: true }.shadow_factor;
 
-fn render(gpu: &Arc<Gpu>, scene: &Scene, stencil: StencilMode, shadows: bool) -> planar::PlanarFrame {
+fn render(gpu: &Arc<Gpu>, scene: &Scene, stencil: StencilMode, shadows: bool) -> TechniqueFrame {
     let options = PlanarOptions { shadows, ..Default::default() };
-    planar::render(gpu, scene, SIZE.0, SIZE.1, stencil, &options).expect("planar frame")
+    render_with(gpu, scene, &planar::Planar, SIZE, stencil, options).expect("planar frame")
+}
+
+/// Renders `scene` with one of the seed 001 techniques.
+fn render_with(
+    gpu: &Arc<Gpu>,
+    scene: &Scene,
+    technique: &'static dyn Technique,
+    (width, height): (u32, u32),
+    stencil: StencilMode,
+    planar: PlanarOptions,
+) -> nostencil::error::Result<TechniqueFrame> {
+    render_scene(gpu, scene, &RenderOptions { width, height, stencil, technique, planar, ..Default::default() })
 }
 
 fn rgb_differences(a: &RgbaImage, b: &RgbaImage) -> usize {
@@ -133,7 +145,7 @@ fn emulated_equals_reference_where_arms_and_torso_overlap_in_the_shadow() {
             // The shadow pass wrote more samples than there are shadowed pixels: overlaps happened
             // (front and back faces, limbs over the torso), and the reference's stencil let one
             // sample per receiver pixel through.
-            let samples = |f: &planar::PlanarFrame| {
+            let samples = |f: &TechniqueFrame| {
                 f.output
                     .counters
                     .passes
@@ -310,7 +322,7 @@ fn bad_input_gets_a_clear_error() {
     // No ground to project onto.
     let mut scene = builtin_scene_at("character", 0.0).expect("scene");
     scene.objects.retain(|o| o.name != "ground");
-    let error = planar::render(&gpu, &scene, 64, 64, StencilMode::Emulated, &PlanarOptions::default())
+    let error = render_with(&gpu, &scene, &planar::Planar, (64, 64), StencilMode::Emulated, PlanarOptions::default())
         .err()
         .expect("refused")
         .to_string();
@@ -321,7 +333,7 @@ fn bad_input_gets_a_clear_error() {
     if let Some(skin) = scene.objects.iter_mut().find_map(|o| o.skin.as_mut()) {
         skin.joint_matrices = vec![Mat4::IDENTITY; nostencil::scene::MAX_JOINTS + 1];
     }
-    let error = planar::render(&gpu, &scene, 64, 64, StencilMode::Emulated, &PlanarOptions::default())
+    let error = render_with(&gpu, &scene, &planar::Planar, (64, 64), StencilMode::Emulated, PlanarOptions::default())
         .err()
         .expect("refused")
         .to_string();
@@ -369,7 +381,8 @@ fn shadow_texture_covers_the_planar_shadow_and_blobs_sit_under_the_casters() {
         let planar_mask =
             changed(&render(&gpu, &scene, StencilMode::Emulated, true).output.image, &unshadowed.output.image);
 
-        let texture = planar::shadow_texture::render(&gpu, &scene, SIZE.0, SIZE.1, StencilMode::Emulated, FACTOR)
+        let options = PlanarOptions { shadow_factor: FACTOR, ..Default::default() };
+        let texture = render_with(&gpu, &scene, &planar::ShadowTexture, SIZE, StencilMode::Emulated, options)
             .expect("shadow texture");
         let texture_mask = changed(&texture.output.image, &unshadowed.output.image);
         let (mut both, mut either, mut exact, mut darkened) = (0, 0, 0, 0);
@@ -393,7 +406,7 @@ fn shadow_texture_covers_the_planar_shadow_and_blobs_sit_under_the_casters() {
             "{name}: only {exact} of {darkened} texture-shadow pixels at full factor"
         );
 
-        let blob = planar::blob::render(&gpu, &scene, SIZE.0, SIZE.1, StencilMode::Emulated, FACTOR).expect("blob");
+        let blob = render_with(&gpu, &scene, &planar::BlobShadows, SIZE, StencilMode::Emulated, options).expect("blob");
         let blob_mask = changed(&blob.output.image, &unshadowed.output.image);
         assert!(blob_mask.iter().zip(&receivers).all(|(b, r)| !b || *r), "{name}: blob off the receivers");
         // One blob under each foot: the lowest points of the two legs (boxes 4 and 5).

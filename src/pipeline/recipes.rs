@@ -74,6 +74,31 @@ pub const COLOUR_WHERE_ALPHA_ZERO: BlendState =
     colour_blend(vk::BlendOp::ADD, vk::BlendFactor::ONE_MINUS_DST_ALPHA, vk::BlendFactor::DST_ALPHA);
 
 // ---------------------------------------------------------------------------------------------
+// Ground shadows (DESIGN.md section 3).
+
+/// colour *= the fragment's colour (a factor per channel: a blob, a shadow-texture lookup),
+/// alpha left alone.
+pub const MODULATE_BY_SRC_COLOUR: BlendState =
+    colour_blend(vk::BlendOp::ADD, vk::BlendFactor::ZERO, vk::BlendFactor::SRC_COLOR);
+
+/// The planar shadow without a stencil: colour *= destination alpha (`1 - s` on a receiver not
+/// yet shadowed, 1 elsewhere) and alpha := the fragment's 1, so that every later fragment on
+/// the pixel multiplies by 1.
+pub const MODULATE_BY_DST_ALPHA_ONCE: BlendState = BlendState {
+    colour: Some(BlendEquation::new(vk::BlendOp::ADD, vk::BlendFactor::ZERO, vk::BlendFactor::DST_ALPHA)),
+    alpha: Some(BlendEquation::new(vk::BlendOp::ADD, ONE, vk::BlendFactor::ZERO)),
+    write_mask: vk::ColorComponentFlags::RGBA,
+};
+
+/// The planar shadow's stencil reference: colour *= the fragment's alpha (`1 - s`), which alpha
+/// takes as well; the stencil lets one fragment per pixel through.
+pub const MODULATE_BY_SRC_ALPHA_WRITING_ALPHA: BlendState = BlendState {
+    colour: Some(BlendEquation::new(vk::BlendOp::ADD, vk::BlendFactor::ZERO, vk::BlendFactor::SRC_ALPHA)),
+    alpha: None,
+    write_mask: vk::ColorComponentFlags::RGBA,
+};
+
+// ---------------------------------------------------------------------------------------------
 // Stencil faces of the real-stencil reference paths.
 
 /// A face that compares `compare` against `reference` (all 8 bits) and applies `pass` where the

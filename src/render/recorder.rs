@@ -287,6 +287,23 @@ impl<'a> FrameRecorder<'a> {
         };
     }
 
+    /// Sets the whole stencil aspect of the frame's depth-stencil target to `value`, inside the
+    /// frame's render pass (which clears it to 0): for a reference path whose stencil test
+    /// wants another starting value.
+    pub fn clear_stencil(&mut self, value: u32) {
+        let attachment = vk::ClearAttachment {
+            aspect_mask: vk::ImageAspectFlags::STENCIL,
+            color_attachment: 0,
+            clear_value: vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: value } },
+        };
+        let rect = vk::ClearRect {
+            rect: vk::Rect2D { offset: vk::Offset2D::default(), extent: self.extent },
+            base_array_layer: 0,
+            layer_count: 1,
+        };
+        unsafe { self.gpu.raw().cmd_clear_attachments(self.cmd, &[attachment], &[rect]) };
+    }
+
     /// Makes earlier colour writes of this subpass visible to input-attachment reads of the
     /// following draws (the render pass's by-region self-dependency): each fragment reads only
     /// its own pixel, so on a tiler this stays in tile memory.

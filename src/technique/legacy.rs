@@ -9,9 +9,6 @@ use super::cartoon::{CartoonRenderer, CartoonStats, SilhouetteMethod};
 use super::interface::{
     stencil_variants, FrameStats, RenderOptions, SceneRenderer, Technique, TechniqueFrame, Variant,
 };
-use super::planar::blob::BlobRenderer;
-use super::planar::shadow_texture::ShadowTextureRenderer;
-use super::planar::{PlanarRenderer, PlanarStats};
 use super::shadow_atlas::{LightMode, ShadowAtlasRenderer, ShadowAtlasStats, ShadowKind};
 use crate::error::Result;
 use crate::frame::StencilMode;
@@ -72,9 +69,6 @@ macro_rules! adapt {
 }
 
 adapt!(CartoonRenderer, CartoonStats);
-adapt!(PlanarRenderer, PlanarStats);
-adapt!(BlobRenderer, PlanarStats);
-adapt!(ShadowTextureRenderer, PlanarStats);
 
 impl SceneRenderer for Adapter<ShadowAtlasRenderer<'_>> {
     fn frame_with(&mut self, scene: &Scene) -> Result<TechniqueFrame> {
@@ -170,98 +164,6 @@ cartoon_technique!(Outline, CartoonStyle::Outline, "outline", "selection outline
 cartoon_technique!(Silhouette, CartoonStyle::Silhouette, "silhouette", "Lambert shading with ink lines (seed 002)");
 cartoon_technique!(Toon, CartoonStyle::Toon, "toon", "toon shading (N.L through a ramp) with ink lines (seed 002)");
 
-/// The three shadows of seed 001 side by side, the real-stencil reference first.
-fn planar_bench(options: &RenderOptions) -> Vec<Variant> {
-    let with = |label: &str, technique: &'static dyn Technique, stencil| Variant {
-        label: label.into(),
-        options: RenderOptions { technique, stencil, ..options.clone() },
-    };
-    vec![
-        with("planar reference (stencil)", &Planar, StencilMode::Reference),
-        with("planar emulated (alpha)", &Planar, StencilMode::Emulated),
-        with("blob", &Blob, StencilMode::Emulated),
-        with("shadow texture", &ShadowTexture, StencilMode::Emulated),
-    ]
-}
-
-pub struct Planar;
-
-impl Technique for Planar {
-    fn name(&self) -> &'static str {
-        "planar"
-    }
-
-    fn about(&self) -> &'static str {
-        "casters skinned on the GPU and projected onto the ground, double darkening stopped in alpha (seed 001)"
-    }
-
-    fn plan(&self, o: &RenderOptions) -> Result<PassPlan> {
-        Ok(plan_of(super::planar::path_descs(o.stencil).to_vec()))
-    }
-
-    fn build<'s>(&self, gpu: &Arc<Gpu>, scene: &'s Scene, o: &RenderOptions) -> Result<Box<dyn SceneRenderer + 's>> {
-        let mut r = PlanarRenderer::new(gpu, scene, o.width, o.height, o.stencil, &o.planar)?;
-        r.renderer_mut().count_overdraw = o.count_overdraw;
-        Ok(boxed(r, self.plan(o)?))
-    }
-
-    fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
-        planar_bench(options)
-    }
-}
-
-pub struct Blob;
-
-impl Technique for Blob {
-    fn name(&self) -> &'static str {
-        "blob"
-    }
-
-    fn about(&self) -> &'static str {
-        "a soft round texture on a quad under each caster (seed 001's cheapest shadow)"
-    }
-
-    fn plan(&self, _o: &RenderOptions) -> Result<PassPlan> {
-        Ok(plan_of(super::planar::blob::pipeline_descs()))
-    }
-
-    fn build<'s>(&self, gpu: &Arc<Gpu>, scene: &'s Scene, o: &RenderOptions) -> Result<Box<dyn SceneRenderer + 's>> {
-        let mut r = BlobRenderer::new(gpu, scene, o.width, o.height, o.stencil, o.planar.shadow_factor)?;
-        r.renderer_mut().count_overdraw = o.count_overdraw;
-        Ok(boxed(r, self.plan(o)?))
-    }
-
-    fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
-        planar_bench(options)
-    }
-}
-
-pub struct ShadowTexture;
-
-impl Technique for ShadowTexture {
-    fn name(&self) -> &'static str {
-        "shadow-texture"
-    }
-
-    fn about(&self) -> &'static str {
-        "casters drawn from the light into a small texture that the ground looks up (seed 001)"
-    }
-
-    fn plan(&self, _o: &RenderOptions) -> Result<PassPlan> {
-        Ok(plan_of(super::planar::shadow_texture::pipeline_descs()))
-    }
-
-    fn build<'s>(&self, gpu: &Arc<Gpu>, scene: &'s Scene, o: &RenderOptions) -> Result<Box<dyn SceneRenderer + 's>> {
-        let mut r = ShadowTextureRenderer::new(gpu, scene, o.width, o.height, o.stencil, o.planar.shadow_factor)?;
-        r.renderer_mut().count_overdraw = o.count_overdraw;
-        Ok(boxed(r, self.plan(o)?))
-    }
-
-    fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
-        planar_bench(options)
-    }
-}
-
 macro_rules! atlas_technique {
     ($name:ident, $kind:expr, $text:literal, $about:literal) => {
         pub struct $name;
@@ -332,20 +234,6 @@ impl FrameStats for CartoonStats {
             ),
             None => format!("outline: selected {}", self.selected.join(", ")),
         }
-    }
-
-    fn json(&self) -> serde_json::Value {
-        json_of(self)
-    }
-
-    fn as_any(&self) -> &dyn Any {
-        self
-    }
-}
-
-impl FrameStats for PlanarStats {
-    fn report(&self) -> String {
-        String::new()
     }
 
     fn json(&self) -> serde_json::Value {

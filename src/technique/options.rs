@@ -84,3 +84,19 @@ impl Default for ShadowVolumeOptions {
         ShadowVolumeOptions { increment: 1, method: VolumeMethod::Auto, normalize: Normalize::Seed, shadow_factor: 102 }
     }
 }
+
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct PlanarOptions {
+    /// Shadowed receiver colour = colour x shadow_factor/255 (`1 - s` as an 8-bit value, so that
+    /// both paths multiply by exactly the same number).
+    pub shadow_factor: u8,
+    /// Draw the projected shadows (off: the scene pass alone, GPU-skinned, with the receiver
+    /// mask in alpha: what the tests compare against).
+    pub shadows: bool,
+}
+
+impl Default for PlanarOptions {
+    fn default() -> Self {
+        PlanarOptions { shadow_factor: 102, shadows: true }
+    }
+}

@@ -12,9 +12,9 @@ pub static TECHNIQUES: &[&dyn Technique] = &[
     &super::legacy::Outline,
     &super::legacy::Silhouette,
     &super::legacy::Toon,
-    &super::legacy::Planar,
-    &super::legacy::Blob,
-    &super::legacy::ShadowTexture,
+    &super::planar::Planar,
+    &super::planar::BlobShadows,
+    &super::planar::ShadowTexture,
     &super::legacy::ShadowMap,
     &super::legacy::ShadowTextureAtlas,
 ];

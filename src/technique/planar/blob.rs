@@ -14,21 +14,23 @@ use std::sync::Arc;
 use ash::vk;
 use glam::{Vec2, Vec3};
 
-use super::lit_descs;
-use super::{light_reaches_plane, receiver_plane, stats, PlanarFrame, ReceiverPlane, SceneMeshes};
-use crate::error::Result;
-use crate::frame::{RgbaImage, StencilMode};
+use super::receiver::{light_reaches_plane, receiver_plane, ReceiverPlane};
+use super::scene_meshes::{lit_scene_pass, SceneMeshes};
+use super::shared::{BlobShadows, PlanarStats, SHADOW_BIAS};
+use crate::error::{Error, Result};
+use crate::frame::RgbaImage;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::{as_bytes, Buffer};
 use crate::gpu::texture::{Sampler, Texture};
 use crate::gpu::Gpu;
-use crate::pipeline::{
-    BlendEquation, BlendState, DepthState, FixedFunction, Pipeline, PipelineDesc, RasterState, VertexLayout,
-};
-use crate::render::{FrameUniforms, Renderer};
+use crate::pipeline::recipes::MODULATE_BY_SRC_COLOUR;
+use crate::pipeline::{DepthState, FixedFunction, Pipeline, PipelineDesc, RasterState, VertexLayout};
+use crate::render::plan::{Draws, PassPlan, PlannedPass, Push, SetRole};
+use crate::render::{FrameOutput, FrameRecorder, Renderer};
 use crate::scene::{bounds_of, Scene};
-
-use crate::render::ObjectPush;
+use crate::technique::frame_renderer::{self, BuildContext, Passes};
+use crate::technique::interface::RenderOptions;
+use crate::technique::interface::{FrameStats, SceneRenderer, Technique, Variant};
 
 /// position (vec3), uv (vec2), strength (float).
 pub const BLOB_LAYOUT: VertexLayout =
@@ -67,25 +69,27 @@ pub fn blob_desc() -> PipelineDesc {
         vertex_layout: BLOB_LAYOUT,
         fixed: FixedFunction {
             topology: vk::PrimitiveTopology::TRIANGLE_LIST,
-            raster: RasterState { depth_bias: Some(super::SHADOW_BIAS), ..RasterState::CULL_NONE },
+            raster: RasterState { depth_bias: Some(SHADOW_BIAS), ..RasterState::CULL_NONE },
             depth: DepthState { compare: Some(vk::CompareOp::LESS_OR_EQUAL), write: false },
             stencil: None,
-            blend: BlendState {
-                colour: Some(BlendEquation::new(vk::BlendOp::ADD, vk::BlendFactor::ZERO, vk::BlendFactor::SRC_COLOR)),
-                alpha: None,
-                write_mask: super::RGB_ONLY,
-            },
+            blend: MODULATE_BY_SRC_COLOUR,
         },
         push_constant_bytes: 0,
         subpass: 0,
     }
 }
 
-/// Every pipeline of the technique (for `nostencil passes`).
-pub fn pipeline_descs() -> Vec<PipelineDesc> {
-    let mut descs = lit_descs().to_vec();
-    descs.push(blob_desc());
-    descs
+/// The blob texture, at set 1 of the blob pass.
+const BLOB_TEXTURE: SetRole = SetRole::Own("blob texture");
+
+/// What the blob pass draws.
+const BLOB_QUADS: Draws = Draws::Geometry("one quad per blob");
+
+/// The frame's passes: the lit scene, then every blob quad (one draw, none without blobs).
+pub fn plan() -> PassPlan {
+    let blobs = PlannedPass::new("blob shadow", blob_desc(), BLOB_QUADS, Push::Nothing)
+        .with_sets(&[SetRole::Frame, BLOB_TEXTURE]);
+    PassPlan { passes: vec![lit_scene_pass(), blobs] }
 }
 
 /// One blob: where it lies on the plane, how wide it is and how dark its centre is.
@@ -167,32 +171,49 @@ fn blob_vertices(blobs: &[Blob]) -> Vec<BlobVertex> {
     vertices
 }
 
-pub struct BlobRenderer<'s> {
-    gpu: Arc<Gpu>,
-    scene: &'s Scene,
+impl Technique for BlobShadows {
+    fn name(&self) -> &'static str {
+        "blob"
+    }
+
+    fn about(&self) -> &'static str {
+        "a soft round texture on a quad under each caster (seed 001's cheapest shadow)"
+    }
+
+    fn plan(&self, _options: &RenderOptions) -> Result<PassPlan> {
+        Ok(plan())
+    }
+
+    fn build<'s>(
+        &self,
+        gpu: &Arc<Gpu>,
+        scene: &'s Scene,
+        options: &RenderOptions,
+    ) -> Result<Box<dyn SceneRenderer + 's>> {
+        frame_renderer::build(self, gpu, scene, options, |ctx| BlobPasses::new(&ctx, scene))
+    }
+
+    fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+        super::shared::bench_variants(options)
+    }
+}
+
+/// The blob renderer's own part: the scene's meshes, the blob texture, and this frame's quads.
+struct BlobPasses {
     shadow_factor: u8,
-    renderer: Renderer,
-    meshes: SceneMeshes,
     plane: ReceiverPlane,
-    scene_pipeline: Pipeline,
-    scene_skinned: Pipeline,
-    blob: Pipeline,
+    meshes: SceneMeshes,
+    /// This frame's blob quads and their vertex count; none without blobs.
+    quads: Option<(Buffer, u32)>,
     // Field order: the set is destroyed before the texture it points at.
     blob_set: DescriptorSet,
     _texture: Texture,
 }
 
-impl<'s> BlobRenderer<'s> {
-    pub fn new(
-        gpu: &Arc<Gpu>,
-        scene: &'s Scene,
-        width: u32,
-        height: u32,
-        stencil: StencilMode,
-        shadow_factor: u8,
-    ) -> Result<Self> {
+impl BlobPasses {
+    fn new(ctx: &BuildContext, scene: &Scene) -> Result<Self> {
+        let gpu = ctx.gpu;
         let plane = receiver_plane(scene)?;
-        let renderer = Renderer::new(gpu, width, height, stencil, false)?;
         let meshes = SceneMeshes::upload(gpu, scene)?;
         let sampler = Sampler::new(gpu, vk::Filter::LINEAR, vk::SamplerAddressMode::CLAMP_TO_EDGE)?;
         let texture = Texture::from_rgba8(
@@ -212,90 +233,70 @@ impl<'s> BlobRenderer<'s> {
                 stages: vk::ShaderStageFlags::FRAGMENT,
             }],
         )?;
-        let render_pass = renderer.targets.render_pass;
-        let [scene_desc, skinned_desc] = lit_descs();
-        let scene_pipeline = Pipeline::new(gpu, &scene_desc, render_pass, &[renderer.frame.layout])?;
-        let scene_skinned = Pipeline::new(
-            gpu,
-            &skinned_desc,
-            render_pass,
-            &[renderer.frame.layout, meshes.template.descriptors.layout],
-        )?;
-        let blob = Pipeline::new(gpu, &blob_desc(), render_pass, &[renderer.frame.layout, blob_set.layout])?;
-        Ok(BlobRenderer {
-            gpu: gpu.clone(),
-            scene,
-            shadow_factor,
-            renderer,
-            meshes,
+        Ok(BlobPasses {
+            shadow_factor: ctx.options.planar.shadow_factor,
             plane,
-            scene_pipeline,
-            scene_skinned,
-            blob,
+            meshes,
+            quads: None,
             blob_set,
             _texture: texture,
         })
     }
+}
 
-    pub fn renderer_mut(&mut self) -> &mut Renderer {
-        &mut self.renderer
+impl Passes for BlobPasses {
+    fn set_layout(&self, role: SetRole) -> Option<vk::DescriptorSetLayout> {
+        match role {
+            BLOB_TEXTURE => Some(self.blob_set.layout),
+            _ => self.meshes.set_layout(role),
+        }
     }
 
-    /// Renders the scene this renderer was built for.
-    pub fn frame(&mut self) -> Result<PlanarFrame> {
-        let scene = self.scene;
-        self.frame_with(scene)
+    fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
+        match role {
+            BLOB_TEXTURE => Some(self.blob_set.set),
+            _ => self.meshes.set(role),
+        }
     }
 
-    /// Renders `scene`, a moved pose of the one this renderer was built for.
-    pub fn frame_with(&mut self, scene: &Scene) -> Result<PlanarFrame> {
-        crate::technique::check_same_scene(self.scene, scene, "blob")?;
+    fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
         self.meshes.update_palettes(scene)?;
-        let uniforms = FrameUniforms::for_scene(scene, self.renderer.aspect());
         let darkness = 1.0 - self.shadow_factor as f32 / 255.0;
         let vertices = if light_reaches_plane(&scene.light, self.plane.height) {
             blob_vertices(&blobs(scene, &self.plane, darkness))
         } else {
             Vec::new()
         };
-        let quads = if vertices.is_empty() {
+        self.quads = if vertices.is_empty() {
             None
         } else {
-            Some(Buffer::with_data(&self.gpu, "blob quads", as_bytes(&vertices), vk::BufferUsageFlags::VERTEX_BUFFER)?)
+            let buffer = Buffer::with_data(
+                &renderer.gpu,
+                "blob quads",
+                as_bytes(&vertices),
+                vk::BufferUsageFlags::VERTEX_BUFFER,
+            )?;
+            Some((buffer, vertices.len() as u32))
         };
-        let clear = scene.background.extend(1.0).to_array();
-        let (meshes, scene_pipeline, scene_skinned, blob, set) =
-            (&self.meshes, &self.scene_pipeline, &self.scene_skinned, &self.blob, self.blob_set.set);
-        let output = self.renderer.render(&uniforms, clear, |rec| {
-            rec.pass("scene", |rec| {
-                for (index, object) in scene.objects.iter().enumerate() {
-                    let push = ObjectPush { model: object.transform, colour: object.colour.extend(1.0) };
-                    meshes.draw(rec, scene, index, scene_pipeline, scene_skinned, &push);
-                }
-                Ok(())
-            })?;
-            rec.pass("blob shadow", |rec| {
-                if let Some(quads) = &quads {
-                    super::bind_set1(rec, blob, set);
-                    rec.draw_vertices(quads, vertices.len() as u32);
-                }
-                Ok(())
-            })
-        })?;
-        Ok(PlanarFrame { output, stats: stats(&self.plane, &self.meshes, self.shadow_factor) })
+        Ok(())
     }
-}
 
-/// Renders `scene` with blob shadows.
-pub fn render(
-    gpu: &Arc<Gpu>,
-    scene: &Scene,
-    width: u32,
-    height: u32,
-    stencil: StencilMode,
-    shadow_factor: u8,
-) -> Result<PlanarFrame> {
-    BlobRenderer::new(gpu, scene, width, height, stencil, shadow_factor)?.frame()
+    fn draw(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()> {
+        match pass.draws {
+            Draws::Objects => self.meshes.draw_scene(rec, scene, &self.plane, pipelines, 1.0),
+            BLOB_QUADS => {
+                if let Some((quads, vertex_count)) = &self.quads {
+                    rec.draw_vertices(quads, *vertex_count);
+                }
+                Ok(())
+            }
+            _ => Err(Error::Internal(format!("blob shadows cannot draw pass '{}'", pass.name))),
+        }
+    }
+
+    fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {
+        Box::new(PlanarStats::of(&self.plane, &self.meshes, self.shadow_factor))
+    }
 }
 
 #[cfg(test)]

@@ -18,23 +18,24 @@ use std::sync::Arc;
 use ash::vk;
 use glam::{Mat4, Vec3, Vec4};
 
-use super::{
-    caster_bounds, light_reaches_plane, lit_descs, receiver_plane, stats, PlanarFrame, ReceiverPlane, SceneMeshes,
-    SHADOW_BIAS,
-};
-use crate::error::Result;
+use super::receiver::{caster_bounds, light_reaches_plane, receiver_plane, ReceiverPlane};
+use super::scene_meshes::{lit_scene_pass, SceneMeshes, OBJECT_SETS};
+use super::shared::{PlanarStats, ShadowTexture, SHADOW_BIAS};
+use super::skin::SKINNED_LAYOUT;
+use crate::error::{Error, Result};
 use crate::frame::offscreen::{colour_render_pass, Framebuffer, RenderPass};
-use crate::frame::StencilMode;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::{Image, ImageDesc};
 use crate::gpu::texture::Sampler;
 use crate::gpu::Gpu;
-use crate::pipeline::{
-    BlendEquation, BlendState, DepthState, FixedFunction, Pipeline, PipelineDesc, RasterState, VertexLayout,
-};
-use crate::render::{FrameUniforms, Renderer};
-use crate::render::{ObjectPush, OBJECT_PUSH_BYTES};
+use crate::pipeline::recipes::MODULATE_BY_SRC_COLOUR;
+use crate::pipeline::{BlendState, DepthState, FixedFunction, Pipeline, PipelineDesc, RasterState, VertexLayout};
+use crate::render::plan::{Draws, PassPlan, PlannedPass, Push, SetRole, Target};
+use crate::render::{FrameOutput, FrameRecorder, ObjectPush, Renderer, OBJECT_PUSH_BYTES};
 use crate::scene::{Light, Scene};
+use crate::technique::frame_renderer::{self, BuildContext, Passes};
+use crate::technique::interface::RenderOptions;
+use crate::technique::interface::{FrameStats, SceneRenderer, Technique, Variant};
 
 /// Side of the shadow texture (small on purpose: what a phone can spare).
 pub const SHADOW_TEXTURE_SIZE: u32 = 128;
@@ -53,7 +54,7 @@ fn caster_desc(skinned: bool) -> PipelineDesc {
         name: if skinned { "shadow texture caster (skinned)" } else { "shadow texture caster" },
         vertex_shader: if skinned { "planar_texture_caster_skinned.vert" } else { "planar_texture_caster.vert" },
         fragment_shader: "object_colour.frag",
-        vertex_layout: if skinned { super::skin::SKINNED_LAYOUT } else { VertexLayout::POSITION_NORMAL },
+        vertex_layout: if skinned { SKINNED_LAYOUT } else { VertexLayout::POSITION_NORMAL },
         fixed: FixedFunction {
             topology: vk::PrimitiveTopology::TRIANGLE_LIST,
             raster: RasterState::CULL_NONE,
@@ -77,23 +78,43 @@ pub fn receive_desc() -> PipelineDesc {
             raster: RasterState { depth_bias: Some(SHADOW_BIAS), ..RasterState::CULL_BACK },
             depth: DepthState { compare: Some(vk::CompareOp::LESS_OR_EQUAL), write: false },
             stencil: None,
-            blend: BlendState {
-                colour: Some(BlendEquation::new(vk::BlendOp::ADD, vk::BlendFactor::ZERO, vk::BlendFactor::SRC_COLOR)),
-                alpha: None,
-                write_mask: super::RGB_ONLY,
-            },
+            blend: MODULATE_BY_SRC_COLOUR,
         },
         push_constant_bytes: std::mem::size_of::<ReceivePush>() as u32,
         subpass: 0,
     }
 }
 
-/// Every pipeline of the technique (for `nostencil passes`).
-pub fn pipeline_descs() -> Vec<PipelineDesc> {
-    let mut descs = vec![caster_desc(false), caster_desc(true)];
-    descs.extend(lit_descs());
-    descs.push(receive_desc());
-    descs
+/// The offscreen target the casters are drawn into.
+const SHADOW_TEXTURE: Target = Target::Offscreen("shadow texture");
+
+/// The shadow texture, at set 1 of the receive pass.
+const SHADOW_TEXTURE_SET: SetRole = SetRole::Own("shadow texture");
+
+/// What the prepass draws, and what the receive pass draws.
+const CASTERS_FROM_THE_LIGHT: Draws = Draws::Geometry("casters seen from the light");
+const RECEIVERS: Draws = Draws::Geometry("receivers");
+
+/// The frame's passes: the casters into the shadow texture, the lit scene, then the receivers
+/// again, darkened by their lookup.
+pub fn plan() -> PassPlan {
+    let casters = PlannedPass::new(
+        "shadow texture",
+        caster_desc(false),
+        CASTERS_FROM_THE_LIGHT,
+        Push::PerDraw("light view-projection x object transform, colour F/255"),
+    )
+    .or_pipeline(caster_desc(true))
+    .with_sets(&OBJECT_SETS)
+    .into_target(SHADOW_TEXTURE);
+    let receive = PlannedPass::new(
+        "shadow texture receive",
+        receive_desc(),
+        RECEIVERS,
+        Push::PerDraw("receiver transform and the light's view-projection"),
+    )
+    .with_sets(&[SetRole::Frame, SHADOW_TEXTURE_SET]);
+    PassPlan { passes: vec![casters, lit_scene_pass(), receive] }
 }
 
 /// The light's view-projection, fitted around the casters' bounds: orthographic along a
@@ -149,34 +170,52 @@ impl ShadowTarget {
     }
 }
 
-pub struct ShadowTextureRenderer<'s> {
-    scene: &'s Scene,
+impl Technique for ShadowTexture {
+    fn name(&self) -> &'static str {
+        "shadow-texture"
+    }
+
+    fn about(&self) -> &'static str {
+        "casters drawn from the light into a small texture that the ground looks up (seed 001)"
+    }
+
+    fn plan(&self, _options: &RenderOptions) -> Result<PassPlan> {
+        Ok(plan())
+    }
+
+    fn build<'s>(
+        &self,
+        gpu: &Arc<Gpu>,
+        scene: &'s Scene,
+        options: &RenderOptions,
+    ) -> Result<Box<dyn SceneRenderer + 's>> {
+        frame_renderer::build(self, gpu, scene, options, |ctx| ShadowTexturePasses::new(&ctx, scene))
+    }
+
+    fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+        super::shared::bench_variants(options)
+    }
+}
+
+/// The shadow-texture renderer's own part: the scene's meshes, the texture and its lookup, and
+/// this frame's light view-projection.
+struct ShadowTexturePasses {
     shadow_factor: u8,
-    renderer: Renderer,
-    meshes: SceneMeshes,
     plane: ReceiverPlane,
-    scene_pipeline: Pipeline,
-    scene_skinned: Pipeline,
-    caster: Pipeline,
-    caster_skinned: Pipeline,
-    receive: Pipeline,
+    meshes: SceneMeshes,
+    /// Fitted around the casters each frame; zero when there is nothing to draw (the texture
+    /// stays clear and every lookup reads 1).
+    light_view_proj: Mat4,
     // Field order: the set goes before the sampler and target it points at.
     texture_set: DescriptorSet,
     _sampler: Sampler,
     target: ShadowTarget,
 }
 
-impl<'s> ShadowTextureRenderer<'s> {
-    pub fn new(
-        gpu: &Arc<Gpu>,
-        scene: &'s Scene,
-        width: u32,
-        height: u32,
-        stencil: StencilMode,
-        shadow_factor: u8,
-    ) -> Result<Self> {
+impl ShadowTexturePasses {
+    fn new(ctx: &BuildContext, scene: &Scene) -> Result<Self> {
+        let gpu = ctx.gpu;
         let plane = receiver_plane(scene)?;
-        let renderer = Renderer::new(gpu, width, height, stencil, false)?;
         let meshes = SceneMeshes::upload(gpu, scene)?;
         let target = ShadowTarget::new(gpu)?;
         let sampler = Sampler::new(gpu, vk::Filter::LINEAR, vk::SamplerAddressMode::CLAMP_TO_EDGE)?;
@@ -189,123 +228,95 @@ impl<'s> ShadowTextureRenderer<'s> {
                 stages: vk::ShaderStageFlags::FRAGMENT,
             }],
         )?;
-        let frame_layout = renderer.frame.layout;
-        let palette_layout = meshes.template.descriptors.layout;
-        let render_pass = renderer.targets.render_pass;
-        let [scene_desc, skinned_desc] = lit_descs();
-        Ok(ShadowTextureRenderer {
-            scene_pipeline: Pipeline::new(gpu, &scene_desc, render_pass, &[frame_layout])?,
-            scene_skinned: Pipeline::new(gpu, &skinned_desc, render_pass, &[frame_layout, palette_layout])?,
-            caster: Pipeline::new(gpu, &caster_desc(false), target.render_pass.raw, &[])?,
-            caster_skinned: Pipeline::new(
-                gpu,
-                &caster_desc(true),
-                target.render_pass.raw,
-                &[frame_layout, palette_layout],
-            )?,
-            receive: Pipeline::new(gpu, &receive_desc(), render_pass, &[frame_layout, texture_set.layout])?,
-            scene,
-            shadow_factor,
-            renderer,
-            meshes,
+        Ok(ShadowTexturePasses {
+            shadow_factor: ctx.options.planar.shadow_factor,
             plane,
+            meshes,
+            light_view_proj: Mat4::ZERO,
             texture_set,
             _sampler: sampler,
             target,
         })
     }
 
-    pub fn renderer_mut(&mut self) -> &mut Renderer {
-        &mut self.renderer
-    }
-
-    /// Renders the scene this renderer was built for.
-    pub fn frame(&mut self) -> Result<PlanarFrame> {
-        let scene = self.scene;
-        self.frame_with(scene)
-    }
-
-    /// Renders `scene`, a moved pose of the one this renderer was built for.
-    pub fn frame_with(&mut self, scene: &Scene) -> Result<PlanarFrame> {
-        crate::technique::check_same_scene(self.scene, scene, "shadow-texture")?;
-        self.meshes.update_palettes(scene)?;
-        let uniforms = FrameUniforms::for_scene(scene, self.renderer.aspect());
-        let factor = self.shadow_factor as f32 / 255.0;
-        let bounds = caster_bounds(scene, &self.plane);
-        let light_view_proj = match bounds {
-            Some((low, high)) if light_reaches_plane(&scene.light, self.plane.height) => {
-                light_view_projection(&scene.light, low, high)
-            }
-            // Nothing to draw: the texture stays clear and every lookup reads 1.
-            _ => Mat4::ZERO,
+    /// The prepass: its own render pass, cleared to white (unshadowed), then every caster in
+    /// the flat shade F/255 (`[static, skinned]` pipelines).
+    fn draw_casters(&self, rec: &mut FrameRecorder, scene: &Scene, pipelines: &[&Pipeline]) -> Result<()> {
+        let &[caster, skinned] = pipelines else {
+            return Err(Error::Internal(format!("the shadow texture pass has {} pipelines", pipelines.len())));
         };
-        let clear = scene.background.extend(1.0).to_array();
         let extent = vk::Extent2D { width: SHADOW_TEXTURE_SIZE, height: SHADOW_TEXTURE_SIZE };
         let white = [vk::ClearValue { color: vk::ClearColorValue { float32: [1.0; 4] } }];
-        let ShadowTextureRenderer {
-            renderer,
-            meshes,
-            plane,
-            scene_pipeline,
-            scene_skinned,
-            caster,
-            caster_skinned,
-            receive,
-            texture_set,
-            target,
-            ..
-        } = self;
-        let (meshes, plane, set) = (&*meshes, &*plane, texture_set.set);
-        let output = renderer.render_with_prepass(
-            &uniforms,
-            clear,
-            |rec| {
-                rec.pass("shadow texture", |rec| {
-                    rec.begin_offscreen_pass(&target.render_pass, target.framebuffer.raw, extent, &white);
-                    // No light above the plane: the texture stays cleared to white (unshadowed).
-                    if light_view_proj != Mat4::ZERO {
-                        for (index, object) in scene.objects.iter().enumerate().filter(|(i, _)| !plane.receivers[*i]) {
-                            let push = ObjectPush {
-                                model: light_view_proj * object.transform,
-                                colour: Vec4::new(factor, factor, factor, 1.0),
-                            };
-                            meshes.draw(rec, scene, index, caster, caster_skinned, &push);
-                        }
-                    }
-                    rec.end_render_pass();
-                    Ok(())
-                })
-            },
-            |rec| {
-                rec.pass("scene", |rec| {
-                    for (index, object) in scene.objects.iter().enumerate() {
-                        let push = ObjectPush { model: object.transform, colour: object.colour.extend(1.0) };
-                        meshes.draw(rec, scene, index, scene_pipeline, scene_skinned, &push);
-                    }
-                    Ok(())
-                })?;
-                rec.pass("shadow texture receive", |rec| {
-                    super::bind_set1(rec, receive, set);
-                    for object in scene.objects.iter().zip(&plane.receivers).filter(|(_, r)| **r).map(|(o, _)| o) {
-                        rec.push(receive, &ReceivePush { model: object.transform, light_view_proj });
-                        rec.draw_mesh(&meshes.meshes.meshes[object.mesh]);
-                    }
-                    Ok(())
-                })
-            },
-        )?;
-        Ok(PlanarFrame { output, stats: stats(&self.plane, &self.meshes, self.shadow_factor) })
+        rec.begin_offscreen_pass(&self.target.render_pass, self.target.framebuffer.raw, extent, &white);
+        // No light above the plane: the texture stays cleared to white (unshadowed).
+        if self.light_view_proj != Mat4::ZERO {
+            let factor = self.shadow_factor as f32 / 255.0;
+            for (index, object) in scene.objects.iter().enumerate().filter(|(i, _)| !self.plane.receivers[*i]) {
+                let push = ObjectPush {
+                    model: self.light_view_proj * object.transform,
+                    colour: Vec4::new(factor, factor, factor, 1.0),
+                };
+                self.meshes.draw(rec, scene, index, caster, skinned, &push);
+            }
+        }
+        rec.end_render_pass();
+        Ok(())
+    }
+
+    /// The receivers drawn again, each pixel darkened by its lookup.
+    fn draw_receivers(&self, rec: &mut FrameRecorder, scene: &Scene, pipelines: &[&Pipeline]) -> Result<()> {
+        let &[receive] = pipelines else {
+            return Err(Error::Internal(format!("the shadow texture receive pass has {} pipelines", pipelines.len())));
+        };
+        let light_view_proj = self.light_view_proj;
+        for object in scene.objects.iter().zip(&self.plane.receivers).filter(|(_, r)| **r).map(|(o, _)| o) {
+            rec.push(receive, &ReceivePush { model: object.transform, light_view_proj });
+            rec.draw_mesh(&self.meshes.meshes.meshes[object.mesh]);
+        }
+        Ok(())
     }
 }
 
-/// Renders `scene` with a render-texture shadow.
-pub fn render(
-    gpu: &Arc<Gpu>,
-    scene: &Scene,
-    width: u32,
-    height: u32,
-    stencil: StencilMode,
-    shadow_factor: u8,
-) -> Result<PlanarFrame> {
-    ShadowTextureRenderer::new(gpu, scene, width, height, stencil, shadow_factor)?.frame()
+impl Passes for ShadowTexturePasses {
+    fn set_layout(&self, role: SetRole) -> Option<vk::DescriptorSetLayout> {
+        match role {
+            SHADOW_TEXTURE_SET => Some(self.texture_set.layout),
+            _ => self.meshes.set_layout(role),
+        }
+    }
+
+    fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
+        match role {
+            SHADOW_TEXTURE_SET => Some(self.texture_set.set),
+            _ => self.meshes.set(role),
+        }
+    }
+
+    fn offscreen_pass(&self, name: &'static str) -> Option<(vk::RenderPass, usize)> {
+        (Target::Offscreen(name) == SHADOW_TEXTURE).then_some((self.target.render_pass.raw, 1))
+    }
+
+    fn prepare(&mut self, _renderer: &Renderer, scene: &Scene) -> Result<()> {
+        self.meshes.update_palettes(scene)?;
+        self.light_view_proj = match caster_bounds(scene, &self.plane) {
+            Some((low, high)) if light_reaches_plane(&scene.light, self.plane.height) => {
+                light_view_projection(&scene.light, low, high)
+            }
+            _ => Mat4::ZERO,
+        };
+        Ok(())
+    }
+
+    fn draw(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()> {
+        match pass.draws {
+            CASTERS_FROM_THE_LIGHT => self.draw_casters(rec, scene, pipelines),
+            Draws::Objects => self.meshes.draw_scene(rec, scene, &self.plane, pipelines, 1.0),
+            RECEIVERS => self.draw_receivers(rec, scene, pipelines),
+            _ => Err(Error::Internal(format!("shadow textures cannot draw pass '{}'", pass.name))),
+        }
+    }
+
+    fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {
+        Box::new(PlanarStats::of(&self.plane, &self.meshes, self.shadow_factor))
+    }
 }

@@ -1,0 +1,272 @@
+//! Planar projected shadows (seed 001, DESIGN.md section 3): every caster drawn a second time,
+//! flattened onto the ground plane along the light in the vertex shader (after GPU skinning for
+//! skinned characters), with double darkening stopped in one pass and no stencil.
+//!
+//! Emulated frame, one render pass:
+//! 1. scene: lit objects; receivers (the ground) write alpha `F/255 = 1 - s`, everything else
+//!    (and the clear) alpha 1;
+//! 2. planar shadow: casters projected onto y = h, colour 0, colour blend `ADD, ZERO, DST_ALPHA`
+//!    and alpha blend `ADD, ONE, ZERO` with fragment alpha 1. The first fragment on a receiver
+//!    pixel multiplies it by `1 - s` and sets its alpha to 1, so every later one multiplies by 1;
+//!    fragments on non-receivers multiply by 1: the shadow is clipped to the receivers. Depth
+//!    LESS_OR_EQUAL with a small bias towards the camera keeps occluders in front of it.
+//!
+//! Reference frame (`--stencil reference`), as the seed does it: stencil cleared to 1, receivers
+//! write 0 and everything else 1 (REPLACE); the shadow draws with stencil Ref 0, Comp Equal,
+//! Pass IncrWrap, ZFail Keep, blending `ADD, ZERO, SRC_ALPHA` with fragment alpha `F/255`. Both
+//! multiply each shadowed pixel once by the same 8-bit factor, so their RGB are identical.
+
+use std::sync::Arc;
+
+use ash::vk;
+use glam::{Mat4, Vec4};
+
+use super::receiver::{light_reaches_plane, receiver_plane, ReceiverPlane};
+use super::scene_meshes::{scene_desc, scene_pass, SceneMeshes, OBJECT_SETS};
+use super::shared::{Planar, PlanarStats, SHADOW_BIAS};
+use super::skin::SKINNED_LAYOUT;
+use crate::error::{Error, Result};
+use crate::frame::StencilMode;
+use crate::gpu::Gpu;
+use crate::pipeline::recipes::{
+    stencil_replace, MODULATE_BY_DST_ALPHA_ONCE, MODULATE_BY_SRC_ALPHA_WRITING_ALPHA, STENCIL_EQUAL_ZERO_THEN_INCREMENT,
+};
+use crate::pipeline::{DepthState, FixedFunction, Pipeline, PipelineDesc, RasterState, VertexLayout};
+use crate::render::plan::{Draws, PassPlan, PlannedPass, Push, SetRole, When};
+use crate::render::{FrameOutput, FrameRecorder, Renderer};
+use crate::scene::Scene;
+use crate::technique::frame_renderer::{self, BuildContext, Passes};
+use crate::technique::interface::RenderOptions;
+use crate::technique::interface::{stencil_variants, FrameStats, SceneRenderer, Technique, Variant};
+use crate::technique::options::PlanarOptions;
+
+/// Mirrors `PlanarPush` in `shaders/planar_push.glsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct PlanarPush {
+    pub model: Mat4,
+    pub colour: Vec4,
+    /// x: plane height h.
+    pub plane: Vec4,
+}
+
+pub const PLANAR_PUSH_BYTES: u32 = std::mem::size_of::<PlanarPush>() as u32;
+
+/// Stencil values of the reference path: receivers not yet shadowed hold 0.
+const STENCIL_RECEIVER: u32 = 0;
+const STENCIL_OTHER: u32 = 1;
+
+/// What the shadow pass draws.
+const PROJECTED_CASTERS: Draws = Draws::Geometry("casters flattened onto the plane");
+
+// ---------------------------------------------------------------------------------------------
+// Pipelines (DESIGN.md section 3) and the frame's plan.
+
+fn shadow_desc(name: &'static str, skinned: bool, reference: bool) -> PipelineDesc {
+    PipelineDesc {
+        name,
+        vertex_shader: if skinned { "planar_shadow_skinned.vert" } else { "planar_shadow.vert" },
+        fragment_shader: "object_colour.frag",
+        vertex_layout: if skinned { SKINNED_LAYOUT } else { VertexLayout::POSITION_NORMAL },
+        fixed: FixedFunction {
+            topology: vk::PrimitiveTopology::TRIANGLE_LIST,
+            // Flattened, front and back faces both land on the plane: both are drawn, which is
+            // exactly the overlap the blend (or the stencil) must not count twice.
+            raster: RasterState { depth_bias: Some(SHADOW_BIAS), ..RasterState::CULL_NONE },
+            depth: DepthState { compare: Some(vk::CompareOp::LESS_OR_EQUAL), write: false },
+            // The reference: the stencil lets one fragment per receiver pixel through, which
+            // multiplies by its alpha F/255. Emulated: the first fragment multiplies by the
+            // receiver's alpha F/255 and sets it to 1.
+            stencil: reference.then_some(STENCIL_EQUAL_ZERO_THEN_INCREMENT),
+            blend: if reference { MODULATE_BY_SRC_ALPHA_WRITING_ALPHA } else { MODULATE_BY_DST_ALPHA_ONCE },
+        },
+        push_constant_bytes: PLANAR_PUSH_BYTES,
+        subpass: 0,
+    }
+}
+
+/// The scene pass of one path: receivers, other static objects and skinned objects (the
+/// emulated path draws the first two alike), each writing alpha F/255 on receivers, else 1.
+pub fn scene_pass_of(stencil: StencilMode) -> PlannedPass {
+    let push = "object transform and colour, alpha F/255 on receivers, 1 elsewhere";
+    match stencil {
+        StencilMode::Emulated => {
+            let scene = scene_desc("scene", false, None);
+            scene_pass(scene.clone(), scene, scene_desc("scene (skinned)", true, None), push)
+        }
+        StencilMode::Reference => scene_pass(
+            scene_desc("scene (receivers, stencil 0)", false, Some(stencil_replace(STENCIL_RECEIVER))),
+            scene_desc("scene (stencil 1)", false, Some(stencil_replace(STENCIL_OTHER))),
+            scene_desc("scene (skinned, stencil 1)", true, Some(stencil_replace(STENCIL_OTHER))),
+            push,
+        ),
+    }
+}
+
+/// The shadow pass of one path, run where the light reaches the plane: [static, skinned].
+pub fn shadow_pass_of(stencil: StencilMode) -> PlannedPass {
+    let (name, skinned, reference, push) = match stencil {
+        StencilMode::Emulated => {
+            ("planar shadow", "planar shadow (skinned)", false, "caster transform, black with alpha 1, plane height")
+        }
+        StencilMode::Reference => (
+            "planar shadow (stencil)",
+            "planar shadow (skinned, stencil)",
+            true,
+            "caster transform, black with alpha F/255, plane height",
+        ),
+    };
+    PlannedPass::new(name, shadow_desc(name, false, reference), PROJECTED_CASTERS, Push::PerDraw(push))
+        .or_pipeline(shadow_desc(skinned, true, reference))
+        .with_sets(&OBJECT_SETS)
+        .when(When::LightAbovePlane)
+}
+
+/// The frame's passes: the scene, then (unless `options.shadows` is off) the shadow.
+pub fn plan(options: &PlanarOptions, stencil: StencilMode) -> PassPlan {
+    let mut plan = PassPlan::new();
+    plan.push(scene_pass_of(stencil));
+    if options.shadows {
+        plan.push(shadow_pass_of(stencil));
+    }
+    plan
+}
+
+// ---------------------------------------------------------------------------------------------
+// The technique.
+
+impl Technique for Planar {
+    fn name(&self) -> &'static str {
+        "planar"
+    }
+
+    fn about(&self) -> &'static str {
+        "casters skinned on the GPU and projected onto the ground, double darkening stopped in alpha (seed 001)"
+    }
+
+    fn plan(&self, options: &RenderOptions) -> Result<PassPlan> {
+        Ok(plan(&options.planar, options.stencil))
+    }
+
+    fn build<'s>(
+        &self,
+        gpu: &Arc<Gpu>,
+        scene: &'s Scene,
+        options: &RenderOptions,
+    ) -> Result<Box<dyn SceneRenderer + 's>> {
+        frame_renderer::build(self, gpu, scene, options, |ctx| PlanarPasses::new(&ctx, scene))
+    }
+
+    fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+        super::shared::bench_variants(options)
+    }
+
+    /// Each path, with and without the shadow pass.
+    fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+        let mut variants = stencil_variants(self.name(), options);
+        let scene_only = PlanarOptions { shadows: false, ..options.planar };
+        for stencil in [StencilMode::Reference, StencilMode::Emulated] {
+            variants.push(Variant {
+                label: format!("{} ({}, no shadows)", self.name(), stencil.name()),
+                options: RenderOptions { stencil, planar: scene_only, ..options.clone() },
+            });
+        }
+        variants
+    }
+}
+
+/// The planar renderer's own part: the receiver plane and the scene's meshes (joint palettes
+/// are uploaded each frame, as an animated character needs).
+struct PlanarPasses {
+    options: PlanarOptions,
+    stencil: StencilMode,
+    plane: ReceiverPlane,
+    meshes: SceneMeshes,
+}
+
+impl PlanarPasses {
+    fn new(ctx: &BuildContext, scene: &Scene) -> Result<Self> {
+        let plane = receiver_plane(scene)?;
+        let meshes = SceneMeshes::upload(ctx.gpu, scene)?;
+        Ok(PlanarPasses { options: ctx.options.planar, stencil: ctx.options.stencil, plane, meshes })
+    }
+
+    fn factor(&self) -> f32 {
+        self.options.shadow_factor as f32 / 255.0
+    }
+
+    /// Every caster flattened onto the plane: `[static, skinned]` pipelines.
+    fn draw_shadow(&self, rec: &mut FrameRecorder, scene: &Scene, pipelines: &[&Pipeline]) -> Result<()> {
+        let &[shadow, skinned] = pipelines else {
+            return Err(Error::Internal(format!("the planar shadow pass has {} pipelines", pipelines.len())));
+        };
+        let alpha = match self.stencil {
+            StencilMode::Reference => self.factor(),
+            StencilMode::Emulated => 1.0,
+        };
+        let colour = Vec4::new(0.0, 0.0, 0.0, alpha);
+        let plane = Vec4::new(self.plane.height, 0.0, 0.0, 0.0);
+        for (index, object) in scene.objects.iter().enumerate() {
+            if self.plane.receivers[index] {
+                continue;
+            }
+            let push = PlanarPush { model: object.transform, colour, plane };
+            self.meshes.draw(rec, scene, index, shadow, skinned, &push);
+        }
+        Ok(())
+    }
+}
+
+impl Passes for PlanarPasses {
+    fn set_layout(&self, role: SetRole) -> Option<vk::DescriptorSetLayout> {
+        self.meshes.set_layout(role)
+    }
+
+    fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
+        self.meshes.set(role)
+    }
+
+    fn prepare(&mut self, _renderer: &Renderer, scene: &Scene) -> Result<()> {
+        self.meshes.update_palettes(scene)
+    }
+
+    fn conditions(&self, scene: &Scene) -> Vec<When> {
+        if light_reaches_plane(&scene.light, self.plane.height) {
+            vec![When::LightAbovePlane]
+        } else {
+            Vec::new()
+        }
+    }
+
+    fn draw(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()> {
+        match pass.draws {
+            Draws::Objects => {
+                if self.stencil == StencilMode::Reference {
+                    // Everything starts as "not a receiver"; the receivers' draws write 0.
+                    rec.clear_stencil(STENCIL_OTHER);
+                }
+                self.meshes.draw_scene(rec, scene, &self.plane, pipelines, self.factor())
+            }
+            PROJECTED_CASTERS => self.draw_shadow(rec, scene, pipelines),
+            _ => Err(Error::Internal(format!("planar shadows cannot draw pass '{}'", pass.name))),
+        }
+    }
+
+    fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {
+        Box::new(PlanarStats::of(&self.plane, &self.meshes, self.options.shadow_factor))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn push_constants_fit_the_profile() {
+        assert_eq!(PLANAR_PUSH_BYTES, 96);
+        for stencil in [StencilMode::Emulated, StencilMode::Reference] {
+            let plan = plan(&PlanarOptions::default(), stencil);
+            assert!(plan.passes.iter().flat_map(|p| &p.pipelines).all(|d| d.push_constant_bytes <= 128));
+        }
+    }
+}

@@ -1,0 +1,162 @@
+//! The scene's meshes on the GPU, skinned objects with their joint palettes, and the lit scene
+//! pass every seed 001 shadow draws first: skinned objects are skinned on the GPU, with the
+//! object's palette bound at set 1.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::receiver::ReceiverPlane;
+use super::skin::{self, SkinnedMesh, SKINNED_LAYOUT};
+use crate::error::{Error, Result};
+use crate::gpu::Gpu;
+use crate::pipeline::{FixedFunction, Pipeline, PipelineDesc, StencilState, VertexLayout};
+use crate::render::plan::{Draws, PlannedPass, Push, SetRole};
+use crate::render::{FrameRecorder, GpuScene, ObjectPush, OBJECT_PUSH_BYTES};
+use crate::scene::Scene;
+
+/// A skinned object's joint palette, at set 1.
+pub const JOINT_PALETTE: SetRole = SetRole::Own("joint palette");
+
+/// The sets of a pass that draws skinned objects: the frame's uniforms, then the palette.
+pub const OBJECT_SETS: [SetRole; 2] = [SetRole::Frame, JOINT_PALETTE];
+
+/// A lit scene pipeline: Lambert + ambient, static or GPU-skinned, with an optional stencil
+/// write (the planar reference marks receivers).
+pub fn scene_desc(name: &'static str, skinned: bool, stencil: Option<StencilState>) -> PipelineDesc {
+    PipelineDesc {
+        name,
+        vertex_shader: if skinned { "planar_skinned_lit.vert" } else { "lit.vert" },
+        fragment_shader: "lit.frag",
+        vertex_layout: if skinned { SKINNED_LAYOUT } else { VertexLayout::POSITION_NORMAL },
+        fixed: FixedFunction { stencil, ..FixedFunction::OPAQUE },
+        push_constant_bytes: OBJECT_PUSH_BYTES,
+        subpass: 0,
+    }
+}
+
+/// A scene pass: receivers drawn with `receiver`, other static objects with `other` (left out
+/// when it is the same pipeline), skinned objects with `skinned`; `push` says which alpha each
+/// writes.
+pub fn scene_pass(
+    receiver: PipelineDesc,
+    other: PipelineDesc,
+    skinned: PipelineDesc,
+    push: &'static str,
+) -> PlannedPass {
+    let distinct = other.name != receiver.name;
+    let mut pass = PlannedPass::new("scene", receiver, Draws::Objects, Push::PerDraw(push)).with_sets(&OBJECT_SETS);
+    if distinct {
+        pass = pass.or_pipeline(other);
+    }
+    pass.or_pipeline(skinned)
+}
+
+/// The lit scene pass of the blob and shadow-texture techniques: every object alike, alpha 1.
+pub fn lit_scene_pass() -> PlannedPass {
+    let scene = scene_desc("scene", false, None);
+    scene_pass(scene.clone(), scene, scene_desc("scene (skinned)", true, None), "object transform and colour, alpha 1")
+}
+
+/// The scene's meshes on the GPU, skinned objects with their palettes: what every planar
+/// technique draws its lit pass (and its casters) from.
+pub(crate) struct SceneMeshes {
+    pub meshes: GpuScene,
+    /// Per object: its GPU skin when it is skinned.
+    pub skinned: Vec<Option<SkinnedMesh>>,
+    /// Gives skinned pipelines their palette layout even when the scene has no skinned object
+    /// (every palette's layout is defined identically), and is bound until an object binds its own.
+    pub template: skin::Palette,
+}
+
+impl SceneMeshes {
+    pub fn upload(gpu: &Arc<Gpu>, scene: &Scene) -> Result<Self> {
+        let skinned = scene
+            .objects
+            .iter()
+            .map(|o| match &o.skin {
+                Some(skin) => {
+                    let indices = &scene.meshes[o.mesh].data.indices;
+                    SkinnedMesh::upload(gpu, &o.name, skin, indices).map(Some)
+                }
+                None => Ok(None),
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Ok(SceneMeshes {
+            meshes: GpuScene::upload(gpu, scene)?,
+            skinned,
+            template: skin::Palette::new(gpu, "layout template")?,
+        })
+    }
+
+    /// The palette layout, for `Passes::set_layout`.
+    pub fn set_layout(&self, role: SetRole) -> Option<vk::DescriptorSetLayout> {
+        (role == JOINT_PALETTE).then_some(self.template.descriptors.layout)
+    }
+
+    /// The palette set a pass binds before its first skinned draw binds the object's own.
+    pub fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
+        (role == JOINT_PALETTE).then_some(self.template.descriptors.set)
+    }
+
+    /// This frame's joint palettes.
+    pub fn update_palettes(&mut self, scene: &Scene) -> Result<()> {
+        for (object, skinned) in scene.objects.iter().zip(&mut self.skinned) {
+            if let (Some(skin), Some(gpu_skin)) = (&object.skin, skinned.as_mut()) {
+                gpu_skin.palette.update(&object.name, &skin.joint_matrices)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Draws object `index` with `static_pipeline` or, skinned, `skinned_pipeline` with the
+    /// object's palette at set 1.
+    pub fn draw<T: Copy>(
+        &self,
+        rec: &mut FrameRecorder,
+        scene: &Scene,
+        index: usize,
+        static_pipeline: &Pipeline,
+        skinned_pipeline: &Pipeline,
+        push: &T,
+    ) {
+        match &self.skinned[index] {
+            Some(gpu_skin) => {
+                rec.bind(skinned_pipeline);
+                rec.bind_sets(skinned_pipeline, 1, &[gpu_skin.palette.descriptors.set]);
+                rec.push(skinned_pipeline, push);
+                rec.draw_mesh(&gpu_skin.mesh);
+            }
+            None => {
+                rec.bind(static_pipeline);
+                rec.push(static_pipeline, push);
+                rec.draw_mesh(&self.meshes.meshes[scene.objects[index].mesh]);
+            }
+        }
+    }
+
+    /// Draws the scene pass (see [`scene_pass`]) with `pipelines` as the recorder hands them
+    /// over: every object with its transform and colour, receivers writing alpha
+    /// `receiver_alpha` and everything else alpha 1.
+    pub fn draw_scene(
+        &self,
+        rec: &mut FrameRecorder,
+        scene: &Scene,
+        plane: &ReceiverPlane,
+        pipelines: &[&Pipeline],
+        receiver_alpha: f32,
+    ) -> Result<()> {
+        let (receiver, other, skinned) = match *pipelines {
+            [receiver, skinned] => (receiver, receiver, skinned),
+            [receiver, other, skinned] => (receiver, other, skinned),
+            _ => return Err(Error::Internal(format!("the scene pass has {} pipelines", pipelines.len()))),
+        };
+        for (index, object) in scene.objects.iter().enumerate() {
+            let on_plane = plane.receivers[index];
+            let alpha = if on_plane { receiver_alpha } else { 1.0 };
+            let push = ObjectPush { model: object.transform, colour: object.colour.extend(alpha) };
+            self.draw(rec, scene, index, if on_plane { receiver } else { other }, skinned, &push);
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,74 @@
+//! What the three seed 001 techniques share: the technique types themselves (so that each
+//! can name the others in `bench`), their statistics, and the depth bias of what lies flat on
+//! the ground.
+
+use std::any::Any;
+
+use super::receiver::ReceiverPlane;
+use super::scene_meshes::SceneMeshes;
+use crate::frame::StencilMode;
+use crate::pipeline::DepthBias;
+use crate::technique::interface::{FrameStats, RenderOptions, Technique, Variant};
+
+/// Planar projected shadows, double darkening stopped in alpha (implemented in `projected`).
+pub struct Planar;
+
+/// A soft round texture on a quad under each caster (implemented in `blob`).
+pub struct BlobShadows;
+
+/// Casters drawn from the light into a small texture the ground looks up (in `shadow_texture`).
+pub struct ShadowTexture;
+
+/// Pulls what lies flat on the ground (a flattened caster, a blob, a receiver drawn again)
+/// towards the camera so it wins LESS_OR_EQUAL against the ground under it (same plane,
+/// different triangles: depths differ in the last bits).
+pub const SHADOW_BIAS: DepthBias = DepthBias { constant: -4.0, slope: -1.5 };
+
+/// What a seed 001 frame did, beyond its image and counters.
+#[derive(Debug, Clone, Copy, serde::Serialize)]
+pub struct PlanarStats {
+    pub plane_height: f32,
+    pub casters: usize,
+    pub skinned_casters: usize,
+    pub shadow_factor: u8,
+}
+
+impl PlanarStats {
+    pub(crate) fn of(plane: &ReceiverPlane, meshes: &SceneMeshes, shadow_factor: u8) -> Self {
+        PlanarStats {
+            plane_height: plane.height,
+            casters: plane.receivers.iter().filter(|r| !**r).count(),
+            skinned_casters: meshes.skinned.iter().filter(|s| s.is_some()).count(),
+            shadow_factor,
+        }
+    }
+}
+
+impl FrameStats for PlanarStats {
+    fn report(&self) -> String {
+        String::new()
+    }
+
+    fn json(&self) -> serde_json::Value {
+        serde_json::to_value(self).unwrap_or_default()
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}
+
+/// What `bench` times for any of the three: all of seed 001's shadows side by side, the
+/// real-stencil reference first.
+pub fn bench_variants(options: &RenderOptions) -> Vec<Variant> {
+    let with = |label: &str, technique: &'static dyn Technique, stencil| Variant {
+        label: label.into(),
+        options: RenderOptions { technique, stencil, ..options.clone() },
+    };
+    vec![
+        with("planar reference (stencil)", &Planar, StencilMode::Reference),
+        with("planar emulated (alpha)", &Planar, StencilMode::Emulated),
+        with("blob", &BlobShadows, StencilMode::Emulated),
+        with("shadow texture", &ShadowTexture, StencilMode::Emulated),
+    ]
+}
