@@ -20,6 +20,8 @@ pub enum Error {
     Vulkan { call: &'static str, result: ash::vk::Result },
     /// GPU memory could not be allocated.
     Memory(String),
+    /// A state the program's own logic rules out was reached: a bug, not a bad input.
+    Internal(String),
 }
 
 pub type Result<T, E = Error> = std::result::Result<T, E>;
@@ -34,6 +36,7 @@ impl fmt::Display for Error {
             Error::Device(msg) => write!(f, "{msg}"),
             Error::Vulkan { call, result } => write!(f, "{call} failed: {result}"),
             Error::Memory(msg) => write!(f, "GPU memory: {msg}"),
+            Error::Internal(msg) => write!(f, "internal error (a bug): {msg}"),
         }
     }
 }
