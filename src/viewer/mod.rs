@@ -14,6 +14,7 @@
 //! targets, uniforms and query pool are single, so a frame's technique pass starts only once the
 //! previous frame's copy out of the colour target has finished (its fence).
 
+mod controls;
 pub mod live;
 pub mod swapchain;
 mod x_guard;
@@ -23,7 +24,6 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use ash::vk;
-use glam::{Mat4, Vec3};
 use gpu_allocator::MemoryLocation;
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
@@ -38,8 +38,9 @@ use crate::frame::{RgbaImage, StencilMode};
 use crate::gpu::memory::Buffer;
 use crate::gpu::mobile_profile;
 use crate::gpu::{Gpu, GpuOptions};
-use crate::scene::{Light, Scene};
+use crate::scene::Scene;
 use crate::technique::{LightMode, Normalize, SilhouetteMethod, Technique};
+use controls::Live;
 use live::{LiveFrame, LiveTechnique, Settings};
 use swapchain::{Acquired, Surface, Swapchain, Transfer};
 
@@ -389,87 +390,6 @@ impl Drop for Presenter {
     }
 }
 
-/// Camera orbit around the scene camera's target, in spherical coordinates.
-#[derive(Debug, Clone, Copy)]
-struct Orbit {
-    azimuth: f32,
-    elevation: f32,
-    distance: f32,
-}
-
-impl Orbit {
-    fn of(scene: &Scene) -> Self {
-        let offset = scene.camera.eye - scene.camera.target;
-        let distance = offset.length().max(1e-3);
-        Orbit { azimuth: offset.x.atan2(offset.z), elevation: (offset.y / distance).clamp(-1.0, 1.0).asin(), distance }
-    }
-
-    fn eye(&self, target: Vec3) -> Vec3 {
-        let (sa, ca) = self.azimuth.sin_cos();
-        let (se, ce) = self.elevation.sin_cos();
-        target + Vec3::new(sa * ce, se, ca * ce) * self.distance
-    }
-}
-
-/// The live state a person changes, applied to a copy of the loaded scene each frame.
-struct Live {
-    orbit: Orbit,
-    /// Light rotation about the vertical axis, and tilt (radians).
-    light_yaw: f32,
-    light_tilt: f32,
-    paused: bool,
-    /// Seconds of animation since the viewer started: animated models (glTF animations, the
-    /// built-in character's walk) move, and shadow casters turn about their vertical axis.
-    time: f32,
-    /// The animation time the scene was built at.
-    start_time: f32,
-}
-
-impl Live {
-    fn apply(&self, base: &Scene, scene: &mut Scene) -> Result<()> {
-        scene.camera.eye = self.orbit.eye(base.camera.target);
-        scene.light = match base.light {
-            Light::Directional { direction } => {
-                let yawed = Mat4::from_rotation_y(self.light_yaw).transform_vector3(direction);
-                let side = yawed.cross(Vec3::Y).normalize_or_zero();
-                let tilted = if side == Vec3::ZERO {
-                    yawed
-                } else {
-                    Mat4::from_axis_angle(side, self.light_tilt).transform_vector3(yawed)
-                };
-                // Keep the light above the horizon.
-                Light::Directional { direction: Vec3::new(tilted.x, tilted.y.min(-0.05), tilted.z).normalize() }
-            }
-            Light::Point { position } => Light::Point {
-                position: Mat4::from_rotation_y(self.light_yaw).transform_point3(position)
-                    + Vec3::Y * self.light_tilt * 2.0,
-            },
-        };
-        // Animated objects take their pose at this time (transforms and joint palettes; GPU
-        // skinning shows the new palettes, CPU-skinned meshes keep the starting pose). Every
-        // frame: the turn below is applied to the posed transforms.
-        if scene.is_animated() {
-            scene.pose_at(self.start_time + self.time)?;
-        }
-        let posed: Vec<Mat4> = scene
-            .objects
-            .iter()
-            .zip(&base.objects)
-            .map(|(object, original)| if object.rig.is_some() { object.transform } else { original.transform })
-            .collect();
-        let angle = self.time * 0.6;
-        for ((object, original), placed) in scene.objects.iter_mut().zip(&base.objects).zip(posed) {
-            object.transform = if original.casts_shadow && angle != 0.0 {
-                let centre = placed.w_axis.truncate();
-                Mat4::from_translation(centre) * Mat4::from_rotation_y(angle) * Mat4::from_translation(-centre) * placed
-            } else {
-                placed
-            };
-        }
-        Ok(())
-    }
-}
-
 struct App<'s> {
     // Field order is drop order: the technique and the presenter go before the window, and
     // everything before the Gpu.
@@ -502,14 +422,7 @@ struct App<'s> {
 
 impl<'s> App<'s> {
     fn new(gpu: Arc<Gpu>, base: &'s Scene, options: ViewerOptions) -> Self {
-        let live = Live {
-            orbit: Orbit::of(base),
-            light_yaw: 0.0,
-            light_tilt: 0.0,
-            paused: options.paused,
-            time: 0.0,
-            start_time: options.start_time,
-        };
+        let live = Live::new(base, options.paused, options.start_time);
         App {
             technique: None,
             presenter: None,
@@ -753,12 +666,7 @@ impl<'s> App<'s> {
                 "e" => s.cartoon.silhouette = cycle(&SilhouetteMethod::ALL, s.cartoon.silhouette, 1),
                 "l" => s.shadow_atlas.light = cycle(&[LightMode::Fixed, LightMode::Moving], s.shadow_atlas.light, 1),
                 "p" => self.live.paused = !self.live.paused,
-                "r" => {
-                    self.live.orbit = Orbit::of(self.base);
-                    self.live.light_yaw = 0.0;
-                    self.live.light_tilt = 0.0;
-                    self.live.time = 0.0;
-                }
+                "r" => self.live.reset(self.base),
                 _ => {}
             },
             _ => {}
@@ -832,9 +740,7 @@ impl ApplicationHandler for App<'_> {
             }
             WindowEvent::CursorMoved { position, .. } => {
                 if let Some((x, y)) = self.drag {
-                    let orbit = &mut self.live.orbit;
-                    orbit.azimuth -= ((position.x - x) * 0.01) as f32;
-                    orbit.elevation = (orbit.elevation + ((position.y - y) * 0.01) as f32).clamp(-1.45, 1.45);
+                    self.live.orbit.drag(position.x - x, position.y - y);
                     self.drag = Some((position.x, position.y));
                 }
                 self.cursor = (position.x, position.y);
@@ -844,8 +750,7 @@ impl ApplicationHandler for App<'_> {
                     MouseScrollDelta::LineDelta(_, y) => y,
                     MouseScrollDelta::PixelDelta(p) => (p.y / 40.0) as f32,
                 };
-                let orbit = &mut self.live.orbit;
-                orbit.distance = (orbit.distance * 0.9f32.powf(lines)).max(self.base.camera.near * 4.0);
+                self.live.orbit.zoom(lines, self.base.camera.near * 4.0);
             }
             _ => {}
         }
