@@ -15,6 +15,7 @@
 //! previous frame's copy out of the colour target has finished (its fence).
 
 mod controls;
+pub(crate) mod keys;
 pub mod live;
 pub mod swapchain;
 mod x_guard;
@@ -29,18 +30,18 @@ use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
-use winit::keyboard::{Key, NamedKey};
+use winit::keyboard::Key;
 use winit::raw_window_handle::HasDisplayHandle;
 use winit::window::{Window, WindowId};
 
 use crate::error::{Error, Result, VkContext};
-use crate::frame::{RgbaImage, StencilMode};
+use crate::frame::RgbaImage;
 use crate::gpu::memory::Buffer;
 use crate::gpu::mobile_profile;
 use crate::gpu::{Gpu, GpuOptions};
 use crate::scene::Scene;
-use crate::technique::{LightMode, Normalize, SilhouetteMethod, Technique};
 use controls::Live;
+use keys::Flow;
 use live::{LiveFrame, LiveTechnique, Settings};
 use swapchain::{Acquired, Surface, Swapchain, Transfer};
 
@@ -640,36 +641,12 @@ impl<'s> App<'s> {
         event_loop.exit();
     }
 
+    /// A key press: its action from the key map, then the title (which shows most settings).
     fn key(&mut self, key: &Key, event_loop: &ActiveEventLoop) {
-        const STEP: f32 = 0.15;
-        let s = &mut self.settings.render;
-        match key {
-            Key::Named(NamedKey::Escape) => event_loop.exit(),
-            Key::Named(NamedKey::ArrowLeft) => self.live.light_yaw -= STEP,
-            Key::Named(NamedKey::ArrowRight) => self.live.light_yaw += STEP,
-            Key::Named(NamedKey::ArrowUp) => self.live.light_tilt = (self.live.light_tilt + STEP).min(1.2),
-            Key::Named(NamedKey::ArrowDown) => self.live.light_tilt = (self.live.light_tilt - STEP).max(-1.2),
-            Key::Named(NamedKey::Space) => self.live.paused = !self.live.paused,
-            // Shift+T goes back through the techniques.
-            Key::Character(c) if c.as_str() == "T" => s.technique = cycle(Technique::ALL, s.technique, -1),
-            Key::Character(c) => match c.to_lowercase().as_str() {
-                "q" => event_loop.exit(),
-                "t" => s.technique = cycle(Technique::ALL, s.technique, 1),
-                "s" => {
-                    s.stencil = match s.stencil {
-                        StencilMode::Emulated => StencilMode::Reference,
-                        StencilMode::Reference => StencilMode::Emulated,
-                    }
-                }
-                "n" => s.shadow_volume.normalize = cycle(&Normalize::ALL, s.shadow_volume.normalize, 1),
-                "k" => s.shadow_volume.increment = cycle(&[1, 2, 4, 8], s.shadow_volume.increment, 1),
-                "e" => s.cartoon.silhouette = cycle(&SilhouetteMethod::ALL, s.cartoon.silhouette, 1),
-                "l" => s.shadow_atlas.light = cycle(&[LightMode::Fixed, LightMode::Moving], s.shadow_atlas.light, 1),
-                "p" => self.live.paused = !self.live.paused,
-                "r" => self.live.reset(self.base),
-                _ => {}
-            },
-            _ => {}
+        if let Some(action) = keys::action_for(key) {
+            if action.apply(&mut self.settings, &mut self.live, self.base) == Flow::Quit {
+                event_loop.exit();
+            }
         }
         if let Err(error) = self.update_title() {
             self.fail(event_loop, error);
@@ -769,15 +746,5 @@ impl ApplicationHandler for App<'_> {
         if let Some(window) = &self.window {
             window.request_redraw();
         }
-    }
-}
-
-/// The item `step` places after `current` in `all`, wrapping (the first when `current` is not
-/// in `all`).
-fn cycle<T: Copy + PartialEq>(all: &[T], current: T, step: isize) -> T {
-    let n = all.len() as isize;
-    match all.iter().position(|x| *x == current) {
-        Some(i) => all[(i as isize + step).rem_euclid(n) as usize],
-        None => all[0],
     }
 }
