@@ -93,10 +93,10 @@ pub enum Command {
         #[arg(long, value_name = "FILE.png")]
         out: PathBuf,
     },
-    /// Show the scene in a window, every technique switchable live (keys: T/Shift+T technique,
-    /// S stencil emulated/reference, N normalisation, K increment, E ink method, L atlas light,
-    /// Space pause, arrows light, R reset, Esc quit; drag to orbit, wheel to zoom). The
-    /// window's size is the frame's.
+    /// Show the scene in a window, every technique switchable live (keys: `nostencil view
+    /// --help`). The window's size is the frame's.
+    // The key list comes from the viewer's key map, the table its key handler reads.
+    #[command(after_help = crate::viewer::keys::help())]
     View {
         #[command(flatten)]
         frame: FrameArgs,

@@ -27,7 +27,7 @@ impl Surface {
         let display = window.display_handle().map_err(handle_error)?.as_raw();
         let handle = window.window_handle().map_err(handle_error)?.as_raw();
         // SAFETY: the handles come from a live window; the viewer destroys the surface before
-        // the window (field order in `viewer::App`).
+        // the window (field order in `viewer::app::RunningWindow`).
         let raw = unsafe { ash_window::create_surface(&gpu.instance.entry, &gpu.instance.raw, display, handle, None) }
             .vk("vkCreate*SurfaceKHR")?;
         let loader = khr::surface::Instance::new(&gpu.instance.entry, &gpu.instance.raw);

@@ -1,0 +1,308 @@
+//! The viewer's keys as one table: the key handler looks presses up in it, and `view --help`
+//! (and README's key table, checked by a test) are printed from it, so the keys a person reads
+//! about are the keys that act.
+
+use winit::keyboard::{Key, NamedKey};
+
+use super::controls::Live;
+use super::live::Settings;
+use crate::frame::StencilMode;
+use crate::scene::Scene;
+use crate::technique::{LightMode, Normalize, SilhouetteMethod, TECHNIQUES};
+
+/// How far one press of an arrow turns or tilts the light (radians).
+const LIGHT_STEP: f32 = 0.15;
+/// The light's tilt stays within this many radians either way.
+const MAX_TILT: f32 = 1.2;
+/// The shadow-volume increments K cycles through.
+const INCREMENTS: [u8; 4] = [1, 2, 4, 8];
+
+/// A key as the table names it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum KeyPress {
+    /// Escape, Space, an arrow.
+    Named(NamedKey),
+    /// A letter, given lower-case, typed in either case (Shift and Caps Lock do not matter)...
+    Letter(char),
+    /// ...except where the letter typed upper-case (given upper-case) has its own binding.
+    Upper(char),
+}
+
+impl KeyPress {
+    /// The key as the help text names it.
+    fn label(self) -> String {
+        match self {
+            KeyPress::Named(NamedKey::Escape) => "Esc".into(),
+            KeyPress::Named(NamedKey::ArrowLeft) => "Left".into(),
+            KeyPress::Named(NamedKey::ArrowRight) => "Right".into(),
+            KeyPress::Named(NamedKey::ArrowUp) => "Up".into(),
+            KeyPress::Named(NamedKey::ArrowDown) => "Down".into(),
+            KeyPress::Named(other) => format!("{other:?}"),
+            KeyPress::Letter(c) => c.to_uppercase().to_string(),
+            KeyPress::Upper(c) => format!("Shift+{c}"),
+        }
+    }
+}
+
+/// What a key does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Action {
+    NextTechnique,
+    PreviousTechnique,
+    SwitchStencil,
+    NextNormalisation,
+    NextIncrement,
+    NextInk,
+    SwitchAtlasLight,
+    Pause,
+    TurnLight,
+    TurnLightBack,
+    TiltLight,
+    TiltLightBack,
+    Reset,
+    Quit,
+}
+
+/// Whether the viewer goes on after an action.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Flow {
+    Continue,
+    Quit,
+}
+
+pub(super) struct Binding {
+    pub keys: &'static [KeyPress],
+    pub description: &'static str,
+    pub action: Action,
+}
+
+/// Every key the viewer acts on, in the order the help lists them.
+pub(super) const BINDINGS: &[Binding] = &[
+    Binding {
+        keys: &[KeyPress::Letter('t')],
+        description: "next technique (all of them, in the order `view --help` lists)",
+        action: Action::NextTechnique,
+    },
+    Binding { keys: &[KeyPress::Upper('T')], description: "previous technique", action: Action::PreviousTechnique },
+    Binding {
+        keys: &[KeyPress::Letter('s')],
+        description: "stencil: emulated (alpha) / reference (real stencil)",
+        action: Action::SwitchStencil,
+    },
+    Binding {
+        keys: &[KeyPress::Letter('n')],
+        description: "shadow-volume normalisation: seed, max, subpass",
+        action: Action::NextNormalisation,
+    },
+    Binding {
+        keys: &[KeyPress::Letter('k')],
+        description: "shadow-volume increment k: 1, 2, 4, 8",
+        action: Action::NextIncrement,
+    },
+    Binding {
+        keys: &[KeyPress::Letter('e')],
+        description: "silhouette/toon ink: edges, shader rim, inverted hull",
+        action: Action::NextInk,
+    },
+    Binding {
+        keys: &[KeyPress::Letter('l')],
+        description: "shadow-map/atlas light: fixed (baked once, cached) / moving (re-baked every frame)",
+        action: Action::SwitchAtlasLight,
+    },
+    Binding {
+        keys: &[KeyPress::Named(NamedKey::Space), KeyPress::Letter('p')],
+        description:
+            "pause / resume the animation (shadow casters turn about their vertical axis; animated models play)",
+        action: Action::Pause,
+    },
+    Binding {
+        keys: &[KeyPress::Named(NamedKey::ArrowLeft)],
+        description: "light: turn about the vertical axis",
+        action: Action::TurnLight,
+    },
+    Binding {
+        keys: &[KeyPress::Named(NamedKey::ArrowRight)],
+        description: "light: turn about the vertical axis, the other way",
+        action: Action::TurnLightBack,
+    },
+    Binding { keys: &[KeyPress::Named(NamedKey::ArrowUp)], description: "light: tilt", action: Action::TiltLight },
+    Binding {
+        keys: &[KeyPress::Named(NamedKey::ArrowDown)],
+        description: "light: tilt the other way",
+        action: Action::TiltLightBack,
+    },
+    Binding { keys: &[KeyPress::Letter('r')], description: "reset camera, light and animation", action: Action::Reset },
+    Binding {
+        keys: &[KeyPress::Named(NamedKey::Escape), KeyPress::Letter('q')],
+        description: "quit",
+        action: Action::Quit,
+    },
+];
+
+/// The mouse's part, handled by the window's pointer events rather than looked up here; listed
+/// with the keys.
+const MOUSE: &[(&str, &str)] = &[("left drag", "orbit the camera"), ("wheel", "zoom")];
+
+/// The action bound to `key`, if any.
+pub(super) fn action_for(key: &Key) -> Option<Action> {
+    let find = |pressed: &dyn Fn(KeyPress) -> bool| {
+        BINDINGS.iter().find(|binding| binding.keys.iter().any(|k| pressed(*k))).map(|binding| binding.action)
+    };
+    match key {
+        Key::Named(named) => find(&|k| k == KeyPress::Named(*named)),
+        Key::Character(text) => find(&|k| matches!(k, KeyPress::Upper(c) if is_char(text, c))).or_else(|| {
+            let lower = text.to_lowercase();
+            find(&|k| matches!(k, KeyPress::Letter(c) if is_char(&lower, c)))
+        }),
+        _ => None,
+    }
+}
+
+/// Whether `text` is exactly the one character `c`.
+fn is_char(text: &str, c: char) -> bool {
+    let mut chars = text.chars();
+    chars.next() == Some(c) && chars.next().is_none()
+}
+
+impl Action {
+    /// Changes what the next frame shows (`settings` rebuild the technique, `live` poses the
+    /// scene); `base` is the scene as loaded, for a reset.
+    pub(super) fn apply(self, settings: &mut Settings, live: &mut Live, base: &Scene) -> Flow {
+        let s = &mut settings.render;
+        match self {
+            Action::NextTechnique => s.technique = cycle(TECHNIQUES, s.technique, 1),
+            Action::PreviousTechnique => s.technique = cycle(TECHNIQUES, s.technique, -1),
+            Action::SwitchStencil => {
+                s.stencil = match s.stencil {
+                    StencilMode::Emulated => StencilMode::Reference,
+                    StencilMode::Reference => StencilMode::Emulated,
+                }
+            }
+            Action::NextNormalisation => {
+                s.shadow_volume.normalize = cycle(&Normalize::ALL, s.shadow_volume.normalize, 1)
+            }
+            Action::NextIncrement => s.shadow_volume.increment = cycle(&INCREMENTS, s.shadow_volume.increment, 1),
+            Action::NextInk => s.cartoon.silhouette = cycle(&SilhouetteMethod::ALL, s.cartoon.silhouette, 1),
+            Action::SwitchAtlasLight => {
+                s.shadow_atlas.light = cycle(&[LightMode::Fixed, LightMode::Moving], s.shadow_atlas.light, 1)
+            }
+            Action::Pause => live.paused = !live.paused,
+            Action::TurnLight => live.light_yaw -= LIGHT_STEP,
+            Action::TurnLightBack => live.light_yaw += LIGHT_STEP,
+            Action::TiltLight => live.light_tilt = (live.light_tilt + LIGHT_STEP).min(MAX_TILT),
+            Action::TiltLightBack => live.light_tilt = (live.light_tilt - LIGHT_STEP).max(-MAX_TILT),
+            Action::Reset => live.reset(base),
+            Action::Quit => return Flow::Quit,
+        }
+        Flow::Continue
+    }
+}
+
+/// The item `step` places after `current` in `all`, wrapping (the first when `current` is not
+/// in `all`).
+fn cycle<T: Copy + PartialEq>(all: &[T], current: T, step: isize) -> T {
+    let n = all.len() as isize;
+    match all.iter().position(|x| *x == current) {
+        Some(i) => all[(i as isize + step).rem_euclid(n) as usize],
+        None => all[0],
+    }
+}
+
+/// (keys, description) rows: the key bindings, then the mouse.
+fn rows() -> Vec<(String, &'static str)> {
+    let keys = BINDINGS.iter().map(|binding| {
+        let labels: Vec<String> = binding.keys.iter().map(|k| k.label()).collect();
+        (labels.join(" or "), binding.description)
+    });
+    keys.chain(MOUSE.iter().map(|(input, does)| (input.to_string(), *does))).collect()
+}
+
+/// The text `nostencil view --help` ends with.
+pub(crate) fn help() -> String {
+    let rows = rows();
+    let width = rows.iter().map(|(keys, _)| keys.len()).max().unwrap_or(0);
+    let mut text = String::from("Keys and mouse in the window:\n");
+    for (keys, description) in &rows {
+        text += &format!("  {keys:<width$}  {description}\n");
+    }
+    let techniques: Vec<&str> = TECHNIQUES.iter().map(|t| t.name()).collect();
+    text += &format!("\nT goes through the techniques in this order: {}.", techniques.join(", "));
+    text
+}
+
+/// The same rows as a Markdown table (README's).
+#[cfg(test)]
+fn markdown_table() -> String {
+    let mut table = String::from("| input | does |\n|---|---|\n");
+    for (keys, description) in rows() {
+        table += &format!("| {keys} | {description} |\n");
+    }
+    table
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use winit::keyboard::SmolStr;
+
+    #[test]
+    fn every_key_is_bound_once_and_described() {
+        let presses: Vec<KeyPress> = BINDINGS.iter().flat_map(|b| b.keys.iter().copied()).collect();
+        for (i, press) in presses.iter().enumerate() {
+            assert!(!presses[..i].contains(press), "{press:?} is bound twice");
+        }
+        let labels: Vec<String> = presses.iter().map(|p| p.label()).collect();
+        for (i, label) in labels.iter().enumerate() {
+            assert!(!labels[..i].contains(label), "two keys print as {label}");
+        }
+        for binding in BINDINGS {
+            assert!(!binding.keys.is_empty(), "{:?} has no key", binding.action);
+            assert!(!binding.description.trim().is_empty(), "{:?} has no description", binding.action);
+        }
+    }
+
+    #[test]
+    fn each_key_finds_its_own_action() {
+        for binding in BINDINGS {
+            for press in binding.keys {
+                let keys = match *press {
+                    KeyPress::Named(named) => vec![Key::Named(named)],
+                    KeyPress::Letter(c) => {
+                        let upper = c.to_ascii_uppercase();
+                        let mut keys = vec![Key::Character(SmolStr::new(c.to_string()))];
+                        // Caps Lock types the letter upper-case: it acts alike unless Shift+letter
+                        // has a binding of its own.
+                        if !BINDINGS.iter().any(|b| b.keys.contains(&KeyPress::Upper(upper))) {
+                            keys.push(Key::Character(SmolStr::new(upper.to_string())));
+                        }
+                        keys
+                    }
+                    KeyPress::Upper(c) => vec![Key::Character(SmolStr::new(c.to_string()))],
+                };
+                for key in keys {
+                    assert_eq!(action_for(&key), Some(binding.action), "{key:?}");
+                }
+            }
+        }
+        assert_eq!(action_for(&Key::Character(SmolStr::new("z"))), None);
+        assert_eq!(action_for(&Key::Named(NamedKey::Tab)), None);
+    }
+
+    #[test]
+    fn the_readme_key_table_is_the_map() {
+        let readme = include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md"));
+        let start = readme.find("| input | does |").expect("README has a key table");
+        let table: String =
+            readme[start..].lines().take_while(|line| line.starts_with('|')).map(|line| format!("{line}\n")).collect();
+        assert_eq!(table, markdown_table(), "README's key table differs from viewer/keys.rs; paste the right side");
+    }
+
+    #[test]
+    fn the_help_lists_every_key() {
+        let help = help();
+        for binding in BINDINGS {
+            assert!(help.contains(binding.description), "{}", binding.description);
+        }
+        assert!(help.contains("Shift+T") && help.contains("left drag"), "{help}");
+    }
+}

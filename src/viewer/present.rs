@@ -1,0 +1,249 @@
+//! Presenting: what the window shows frames through (a swapchain, or nothing while it has no
+//! area), the frame slots in flight, and screenshots read back from what was presented.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use super::frame_copy;
+use super::swapchain::{self, Acquired, Surface, Swapchain, Transfer};
+use crate::error::{Error, Result, VkContext};
+use crate::frame::RgbaImage;
+use crate::gpu::memory::Buffer;
+use crate::gpu::Gpu;
+
+const FRAMES_IN_FLIGHT: usize = 2;
+
+/// What the window shows frames through.
+pub enum Output {
+    /// A swapchain at the window's size.
+    Presenting(Box<Presenter>),
+    /// The window has no area (minimised): no swapchain can exist until it has one again.
+    NoArea,
+}
+
+impl Output {
+    /// The output for `surface` at its current size (`window_size` where the surface leaves the
+    /// size to the application).
+    pub fn new(gpu: &Arc<Gpu>, surface: &Surface, window_size: (u32, u32)) -> Result<Self> {
+        let output = match Swapchain::new(gpu, surface, window_size, None)? {
+            Some(swapchain) => Output::Presenting(Box::new(Presenter::new(gpu, swapchain)?)),
+            None => Output::NoArea,
+        };
+        output.report();
+        Ok(output)
+    }
+
+    /// Builds the swapchain again for the window's size now (after a resize, or when the
+    /// old one is out of date or suboptimal); the new one replaces the old in place.
+    pub fn recreate(&mut self, gpu: &Arc<Gpu>, surface: &Surface, window_size: (u32, u32)) -> Result<()> {
+        // The old swapchain's images may still be read or presented.
+        unsafe {
+            let _ = gpu.raw().device_wait_idle();
+        }
+        let old = match self {
+            Output::Presenting(presenter) => Some(&presenter.swapchain),
+            Output::NoArea => None,
+        };
+        match (Swapchain::new(gpu, surface, window_size, old)?, &mut *self) {
+            // The old swapchain is destroyed once the new one, created from it, replaces it.
+            (Some(swapchain), Output::Presenting(presenter)) => presenter.swapchain = swapchain,
+            (Some(swapchain), Output::NoArea) => *self = Output::Presenting(Box::new(Presenter::new(gpu, swapchain)?)),
+            (None, _) => *self = Output::NoArea,
+        }
+        self.report();
+        Ok(())
+    }
+
+    /// One stderr line per swapchain: what the frame is copied into, and how.
+    fn report(&self) {
+        match self {
+            Output::Presenting(presenter) => {
+                let s = &presenter.swapchain;
+                eprintln!(
+                    "nostencil view: swapchain {}x{} {:?} ({} images), frame copied by {}, screenshots read {}",
+                    s.extent.width,
+                    s.extent.height,
+                    s.format,
+                    s.images.len(),
+                    match s.transfer {
+                        Transfer::Blit => "blit",
+                        Transfer::Copy => "copy",
+                    },
+                    if s.readable { "the swapchain image" } else { "the frame" }
+                )
+            }
+            Output::NoArea => eprintln!("nostencil view: the window has no area (minimised); waiting"),
+        }
+    }
+}
+
+/// Presents frames through one swapchain. Field order is drop order: the swapchain and the
+/// screenshot buffer go before the slots (each waits for the device first).
+pub struct Presenter {
+    swapchain: Swapchain,
+    screenshot: Option<Buffer>,
+    slots: FrameSlots,
+    gpu: Arc<Gpu>,
+}
+
+impl Presenter {
+    fn new(gpu: &Arc<Gpu>, swapchain: Swapchain) -> Result<Self> {
+        Ok(Presenter { swapchain, screenshot: None, slots: FrameSlots::new(gpu)?, gpu: gpu.clone() })
+    }
+
+    /// The swapchain images' size.
+    pub fn extent(&self) -> vk::Extent2D {
+        self.swapchain.extent
+    }
+
+    /// Waits until no frame slot is in flight: their copies read the frame's colour target.
+    pub fn wait_slots(&self) -> Result<()> {
+        let fences: Vec<vk::Fence> = self.slots.slots.iter().map(|slot| slot.in_flight).collect();
+        unsafe { self.gpu.raw().wait_for_fences(&fences, true, u64::MAX) }.vk("vkWaitForFences")
+    }
+
+    /// Acquires the next swapchain image for the current slot.
+    pub fn acquire(&self) -> Result<Acquired> {
+        self.swapchain.acquire(self.slots.current().image_available)
+    }
+
+    /// Records and submits, in the current slot, the copy of `colour` (the frame) into
+    /// swapchain image `index`; with `screenshot`, also its read-back.
+    pub fn submit_copy(&mut self, index: u32, colour: vk::Image, screenshot: bool) -> Result<()> {
+        let extent = self.swapchain.extent;
+        let screenshot_size = extent.width as u64 * extent.height as u64 * 4;
+        if screenshot && self.screenshot.as_ref().map_or(true, |b| b.size != screenshot_size) {
+            self.screenshot = Some(Buffer::new(
+                &self.gpu,
+                "screenshot",
+                screenshot_size,
+                vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuToCpu,
+            )?);
+        }
+        let screenshot_buffer = self.screenshot.as_ref().filter(|_| screenshot).map(|b| b.raw);
+        let device = self.gpu.raw();
+        let FrameSlot { cmd, image_available, in_flight } = *self.slots.current();
+        unsafe {
+            device.reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty()).vk("vkResetCommandBuffer")?;
+            let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+            device.begin_command_buffer(cmd, &begin).vk("vkBeginCommandBuffer")?;
+        }
+        frame_copy::record(device, cmd, colour, &self.swapchain, index, screenshot_buffer);
+        unsafe {
+            device.end_command_buffer(cmd).vk("vkEndCommandBuffer")?;
+            device.reset_fences(&[in_flight]).vk("vkResetFences")?;
+            let waits = [image_available];
+            let stages = [vk::PipelineStageFlags::TRANSFER];
+            let signals = [self.swapchain.render_finished[index as usize]];
+            let cmds = [cmd];
+            let submit = [vk::SubmitInfo::default()
+                .wait_semaphores(&waits)
+                .wait_dst_stage_mask(&stages)
+                .command_buffers(&cmds)
+                .signal_semaphores(&signals)];
+            device.queue_submit(self.gpu.device.queue, &submit, in_flight).vk("vkQueueSubmit")?;
+        }
+        Ok(())
+    }
+
+    /// Presents image `index` and moves on to the next slot; Ok(true) when the swapchain
+    /// should be recreated (out of date or suboptimal).
+    pub fn present(&mut self, index: u32) -> Result<bool> {
+        let recreate = self.swapchain.present(index)?;
+        self.slots.advance();
+        Ok(recreate)
+    }
+
+    /// The last screenshot read back, as RGBA (swizzled back from a BGRA swapchain).
+    pub fn read_screenshot(&self) -> Result<RgbaImage> {
+        self.wait_slots()?;
+        let buffer = self
+            .screenshot
+            .as_ref()
+            .ok_or_else(|| Error::Internal("a screenshot was read before one was taken".into()))?;
+        let extent = self.swapchain.extent;
+        let mut pixels = buffer.read()?[..extent.width as usize * extent.height as usize * 4].to_vec();
+        if self.swapchain.readable && swapchain::is_bgra(self.swapchain.format) {
+            pixels.chunks_exact_mut(4).for_each(|p| p.swap(0, 2));
+        }
+        Ok(RgbaImage { width: extent.width, height: extent.height, pixels })
+    }
+}
+
+/// What a frame in flight owns until its fence signals.
+#[derive(Clone, Copy)]
+struct FrameSlot {
+    cmd: vk::CommandBuffer,
+    image_available: vk::Semaphore,
+    in_flight: vk::Fence,
+}
+
+/// The frame slots, used in turn: while one frame's copy runs, the next can be acquired.
+struct FrameSlots {
+    gpu: Arc<Gpu>,
+    slots: Vec<FrameSlot>,
+    current: usize,
+}
+
+impl FrameSlots {
+    fn new(gpu: &Arc<Gpu>) -> Result<Self> {
+        let device = gpu.raw();
+        let mut slots = FrameSlots { gpu: gpu.clone(), slots: Vec::new(), current: 0 };
+        for _ in 0..FRAMES_IN_FLIGHT {
+            let cmd = {
+                let pool = gpu.command_pool();
+                let info = vk::CommandBufferAllocateInfo::default()
+                    .command_pool(*pool)
+                    .level(vk::CommandBufferLevel::PRIMARY)
+                    .command_buffer_count(1);
+                unsafe { device.allocate_command_buffers(&info) }.vk("vkAllocateCommandBuffers")?[0]
+            };
+            let image_available =
+                unsafe { device.create_semaphore(&vk::SemaphoreCreateInfo::default(), None) }.vk("vkCreateSemaphore");
+            let in_flight = unsafe {
+                device.create_fence(&vk::FenceCreateInfo::default().flags(vk::FenceCreateFlags::SIGNALED), None)
+            }
+            .vk("vkCreateFence");
+            // Push first, so that Drop frees whatever was created.
+            slots.slots.push(FrameSlot {
+                cmd,
+                image_available: *image_available.as_ref().unwrap_or(&vk::Semaphore::null()),
+                in_flight: *in_flight.as_ref().unwrap_or(&vk::Fence::null()),
+            });
+            image_available?;
+            in_flight?;
+        }
+        Ok(slots)
+    }
+
+    fn current(&self) -> &FrameSlot {
+        &self.slots[self.current]
+    }
+
+    fn advance(&mut self) {
+        self.current = (self.current + 1) % self.slots.len();
+    }
+}
+
+impl Drop for FrameSlots {
+    fn drop(&mut self) {
+        let device = self.gpu.raw();
+        unsafe {
+            // A slot's fence or semaphore may still be waited on, its command buffer pending.
+            let _ = device.device_wait_idle();
+            for slot in self.slots.drain(..) {
+                if slot.in_flight != vk::Fence::null() {
+                    device.destroy_fence(slot.in_flight, None);
+                }
+                if slot.image_available != vk::Semaphore::null() {
+                    device.destroy_semaphore(slot.image_available, None);
+                }
+                let pool = self.gpu.command_pool();
+                device.free_command_buffers(*pool, &[slot.cmd]);
+            }
+        }
+    }
+}
