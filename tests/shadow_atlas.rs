@@ -7,7 +7,8 @@ mod common;
 use std::sync::Arc;
 
 use glam::{Mat4, Vec2, Vec3};
-use nostencil::frame::{RgbaImage, StencilMode};
+use image::RgbaImage;
+use nostencil::frame::StencilMode;
 use nostencil::gpu::Gpu;
 use nostencil::mesh::{shapes, MeshData};
 use nostencil::scene::{builtin_scene, Camera, Light, Scene};
@@ -68,7 +69,7 @@ fn concave_model_shadows_itself_in_its_baked_texture() {
     let renderer = bake(&gpu, &scene, ShadowAtlasOptions::default());
     assert_eq!(renderer.atlases()[0].source, AtlasSource::GeometryImage { n: 64 });
     let texture = renderer.read_shadow_texture(0, 0).expect("read back");
-    assert_eq!((texture.width, texture.height), (64, 64));
+    assert_eq!(texture.dimensions(), (64, 64));
 
     // CPU answer per texel: the surface point at the texel centre, its normal, and a ray cast
     // towards the light against every triangle.
@@ -108,7 +109,7 @@ fn concave_model_shadows_itself_in_its_baked_texture() {
             if !robust {
                 continue;
             }
-            let baked = texture.pixel(x, y)[0];
+            let baked = texture.get_pixel(x, y).0[0];
             if lit {
                 lit_total += 1;
                 lit_ok += (baked > 200) as u32;
@@ -147,13 +148,13 @@ fn assert_atlas_agrees_with_shadow_map(gpu: &Arc<Gpu>, scene: &Scene, size: (u32
     // Kept for a person to look at.
     let dir = common::scratch_dir(&format!("atlas-vs-map-{}", scene.name));
     for (image, name) in [(&atlas, "atlas"), (&map, "shadow-map"), (&lit, "lit")] {
-        image.write_png(&dir.join(format!("{name}.png")), false).expect("write png");
+        nostencil::frame::write_png(image, &dir.join(format!("{name}.png")), false).expect("write png");
     }
     let (w, h) = size;
     // The shadow map's shadow: pixels darker than the unshadowed frame.
-    let shadowed = |x: u32, y: u32| map.pixel(x, y)[..3] != lit.pixel(x, y)[..3];
+    let shadowed = |x: u32, y: u32| map.get_pixel(x, y).0[..3] != lit.get_pixel(x, y).0[..3];
     let differs = |x: u32, y: u32| {
-        let (a, b) = (atlas.pixel(x, y), map.pixel(x, y));
+        let (a, b) = (atlas.get_pixel(x, y).0, map.get_pixel(x, y).0);
         (0..3).any(|c| a[c].abs_diff(b[c]) > 6)
     };
     let near_edge = |x: u32, y: u32, r: i32| {
@@ -248,14 +249,14 @@ fn no_mip_bleeds_across_chart_borders() {
     let mut checked = 0;
     for mip in 0..info.mip_levels {
         let texture = renderer.read_shadow_texture(0, mip).expect("read back");
-        let side = texture.width as f32;
+        let side = texture.width() as f32;
         for (chart, t) in atlas.indices.chunks_exact(3).enumerate() {
             let uv = [0, 1, 2].map(|k| atlas.uvs[t[k] as usize] * side);
             let lit = cube.normals[cube.indices[chart * 3] as usize].y > 0.5;
             let area = (uv[1] - uv[0]).perp_dot(uv[2] - uv[0]);
             // Every texel whose centre lies in the chart, border texels included.
-            for y in 0..texture.height {
-                for x in 0..texture.width {
+            for y in 0..texture.height() {
+                for x in 0..texture.width() {
                     let p = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
                     let inside = [(1, 2), (2, 0), (0, 1)]
                         .iter()
@@ -264,7 +265,7 @@ fn no_mip_bleeds_across_chart_borders() {
                         continue;
                     }
                     checked += 1;
-                    let value = texture.pixel(x, y)[0];
+                    let value = texture.get_pixel(x, y).0[0];
                     if lit {
                         assert!(value >= 250, "mip {mip}: lit chart {chart} texel ({x}, {y}) = {value}");
                     } else {
@@ -305,9 +306,9 @@ fn fixed_light_skips_the_shadow_passes_and_moving_light_does_not() {
             names(&second).contains(&"atlas bake".to_string()),
             light == LightMode::Moving && kind == ShadowKind::Atlas
         );
-        assert_eq!(first.output.image.pixels.len(), second.output.image.pixels.len());
+        assert_eq!(first.output.image.dimensions(), second.output.image.dimensions());
         if light == LightMode::Fixed {
-            assert_eq!(first.output.image.pixels, second.output.image.pixels, "a cached frame is the same frame");
+            assert_eq!(first.output.image, second.output.image, "a cached frame is the same frame");
         }
     }
     common::assert_no_validation_messages(&gpu);

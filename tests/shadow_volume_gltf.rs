@@ -32,9 +32,8 @@ fn gltf_casters_match_the_reference_and_follow_the_skinned_pose() {
             let differing = emulated
                 .output
                 .image
-                .pixels
                 .chunks_exact(4)
-                .zip(reference.output.image.pixels.chunks_exact(4))
+                .zip(reference.output.image.chunks_exact(4))
                 .filter(|(a, b)| a[..3] != b[..3])
                 .count();
             assert_eq!(differing, 0, "{file} at {time}s, {}", normalize.name());
@@ -43,7 +42,8 @@ fn gltf_casters_match_the_reference_and_follow_the_skinned_pose() {
             rigged_images.push(reference.output.image);
         }
     }
-    assert!(rigged_images[0].count_differences(&rigged_images[1]) > 100, "the skinned pose (and its shadow) must move");
+    let moved = rigged_images[0].pixels().zip(rigged_images[1].pixels()).filter(|(a, b)| a != b).count();
+    assert!(moved > 100, "the skinned pose (and its shadow) must move");
     common::assert_no_validation_messages(&gpu);
 }
 

@@ -25,6 +25,7 @@ use std::time::Instant;
 use ash::vk;
 use glam::{Mat4, Vec3};
 use gpu_allocator::MemoryLocation;
+use image::RgbaImage;
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
@@ -34,7 +35,7 @@ use winit::raw_window_handle::HasDisplayHandle;
 use winit::window::{Window, WindowId};
 
 use crate::error::{Error, Result, VkContext};
-use crate::frame::{RgbaImage, StencilMode};
+use crate::frame::{image_from_rgba8, write_png, StencilMode};
 use crate::gpu::memory::Buffer;
 use crate::gpu::mobile_profile;
 use crate::gpu::{Gpu, GpuOptions};
@@ -364,7 +365,7 @@ impl Presenter {
         if swapchain.readable && swapchain::is_bgra(swapchain.format) {
             pixels.chunks_exact_mut(4).for_each(|p| p.swap(0, 2));
         }
-        Ok(RgbaImage { width: extent.width, height: extent.height, pixels })
+        image_from_rgba8(extent.width, extent.height, pixels)
     }
 }
 
@@ -706,12 +707,12 @@ impl<'s> App<'s> {
             self.done = true;
             if let (Some(path), Some(presenter)) = (&self.options.screenshot, &self.presenter) {
                 let image = presenter.read_screenshot(slot)?;
-                image.write_png(path, false)?;
+                write_png(&image, path, false)?;
                 eprintln!(
                     "nostencil view: wrote {} ({}x{}, frame {}, {})",
                     path.display(),
-                    image.width,
-                    image.height,
+                    image.width(),
+                    image.height(),
                     self.presented,
                     self.settings.describe()
                 );

@@ -27,7 +27,7 @@ use self::atlas::{mesh_atlas, AtlasSource, MeshAtlas};
 use self::targets::{CompareSampler, Framebuffer, ImageView, RenderPass};
 use super::lit::{ObjectPush, OBJECT_PUSH_BYTES};
 use crate::error::{Error, Result};
-use crate::frame::{RgbaImage, StencilMode};
+use crate::frame::{image_from_rgba8, StencilMode};
 use crate::gpu::commands::submit_and_wait;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::{as_bytes, Buffer, Image};
@@ -36,6 +36,7 @@ use crate::gpu::Gpu;
 use crate::pipeline::{BlendState, DepthState, FixedFunction, Pipeline, PipelineDesc, RasterState, VertexLayout};
 use crate::render::{FrameOutput, FrameRecorder, FrameUniforms, GpuMesh, Renderer};
 use crate::scene::{Light, PoseTracker, Scene};
+use image::RgbaImage;
 
 /// Which of the two shadow techniques a renderer draws.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -689,7 +690,7 @@ impl<'s> ShadowAtlasRenderer<'s> {
             transition(&self.gpu, cmd, image, mip, 1, src, read);
             Ok(())
         })?;
-        Ok(RgbaImage { width: side, height: side, pixels: readback.read()?.to_vec() })
+        image_from_rgba8(side, side, readback.read()?.to_vec())
     }
 }
 
