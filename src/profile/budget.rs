@@ -6,8 +6,8 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use super::counters::FrameCounters;
 use crate::error::{Error, Result};
+use crate::render::FrameCounters;
 
 pub const BUDGET_SCHEMA: &str = "nostencil-budget/1";
 
@@ -122,7 +122,7 @@ impl Budget {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::profile::PassCounters;
+    use crate::render::PassCounters;
 
     fn frame(samples: u64) -> FrameCounters {
         let pass = |name: &str, samples| PassCounters {

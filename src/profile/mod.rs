@@ -1,12 +1,10 @@
-//! Fill-rate profiling: per-pass counters and the reports made from them.
+//! Fill-rate profiling: reports, charts and budgets made from the frame's per-pass counters
+//! (`render::counters`).
 
 pub mod bench;
 pub mod budget;
 pub mod chart;
 pub mod compare;
-pub mod counters;
 pub mod heatmap;
 pub mod passes;
 pub mod report;
-
-pub use counters::{FrameCounters, PassCounters};

@@ -7,6 +7,7 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 use image::RgbaImage;
 
+use super::counters::{FrameCounters, PassCounters};
 use super::recorder::{FrameRecorder, OverdrawPipelines};
 use super::uniforms::{FrameDescriptors, FrameUniforms};
 use crate::error::Result;
@@ -15,7 +16,6 @@ use crate::gpu::commands::submit_and_wait;
 use crate::gpu::memory::Buffer;
 use crate::gpu::queries::PassQueryPools;
 use crate::gpu::Gpu;
-use crate::profile::{FrameCounters, PassCounters};
 
 /// Measured passes a frame may hold.
 pub const MAX_PASSES_PER_FRAME: u32 = 64;

@@ -9,7 +9,7 @@ use ash::vk;
 use crate::error::Result;
 use crate::frame::StencilMode;
 use crate::gpu::Gpu;
-use crate::profile::FrameCounters;
+use crate::render::FrameCounters;
 use crate::scene::Scene;
 use crate::technique::{scene_renderer, RenderOptions, SceneRenderer, Technique};
 
