@@ -10,10 +10,10 @@ use glam::{Mat4, Vec2, Vec3};
 use image::RgbaImage;
 use nostencil::frame::StencilMode;
 use nostencil::gpu::Gpu;
+use nostencil::mesh::geometry_image::{geometry_image, horned_radius, octahedral_direction};
 use nostencil::mesh::{shapes, MeshData};
 use nostencil::scene::{builtin_scene, Camera, Light, Scene};
 use nostencil::technique::shadow_atlas::atlas::{mesh_atlas, AtlasSource};
-use nostencil::technique::shadow_atlas::geometry_image::{geometry_image, horned_radius, octahedral_direction};
 use nostencil::technique::shadow_atlas::{LightMode, ShadowAtlasOptions, ShadowAtlasRenderer, ShadowKind};
 use nostencil::technique::{render_scene, RenderOptions, Technique};
 

@@ -1,4 +1,5 @@
-//! CPU-side mesh processing: welding, edge adjacency, silhouettes, shadow volumes.
+//! CPU-side mesh processing: welding, edge adjacency, silhouettes, shadow volumes, geometry
+//! images.
 //!
 //! The usual path: [`weld_by_position`] once at load, [`EdgeAdjacency::build`] on the welded
 //! mesh once, [`attribute_seams`] once if ink lines want UV/normal/material boundaries; then per
@@ -8,6 +9,7 @@
 pub mod adjacency;
 pub mod edges;
 pub(crate) mod fast_hash;
+pub mod geometry_image;
 pub mod shadow_volume;
 pub mod shapes;
 #[cfg(test)]

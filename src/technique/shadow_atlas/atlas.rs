@@ -5,8 +5,8 @@
 
 use glam::{Vec2, Vec3};
 
-use super::{charts, geometry_image};
-use crate::mesh::MeshData;
+use super::charts;
+use crate::mesh::{geometry_image, MeshData};
 use crate::Result;
 
 /// Where a mesh's atlas UVs came from.

@@ -13,7 +13,6 @@
 
 pub mod atlas;
 mod charts;
-pub mod geometry_image;
 pub mod table1;
 pub mod targets;
 
