@@ -1,5 +1,5 @@
 //! CPU-side mesh processing: welding, edge adjacency, silhouettes, shadow volumes, geometry
-//! images.
+//! images and generated atlas charts.
 //!
 //! The usual path: [`weld_by_position`] once at load, [`EdgeAdjacency::build`] on the welded
 //! mesh once, [`attribute_seams`] once if ink lines want UV/normal/material boundaries; then per
@@ -7,6 +7,7 @@
 //! [`build_shadow_volume`] per light.
 
 pub mod adjacency;
+pub mod atlas_charts;
 pub mod edges;
 pub(crate) mod fast_hash;
 pub mod geometry_image;
