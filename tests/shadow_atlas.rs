@@ -11,6 +11,7 @@ use image::RgbaImage;
 use nostencil::frame::StencilMode;
 use nostencil::gpu::Gpu;
 use nostencil::mesh::geometry_image::{geometry_image, horned_radius, octahedral_direction};
+use nostencil::mesh::ray::ray_hits_triangle;
 use nostencil::mesh::{shapes, MeshData};
 use nostencil::scene::{builtin_scene, Camera, Light, Scene};
 use nostencil::technique::shadow_atlas::atlas::{mesh_atlas, AtlasSource};
@@ -39,21 +40,6 @@ fn bake<'s>(gpu: &Arc<Gpu>, scene: &'s Scene, options: ShadowAtlasOptions) -> Sh
         .expect("atlas renderer");
     renderer.frame().expect("frame");
     renderer
-}
-
-/// Möller–Trumbore: does the ray from `origin` along `dir` hit the triangle?
-fn hits(origin: Vec3, dir: Vec3, [a, b, c]: [Vec3; 3]) -> bool {
-    let (e1, e2) = (b - a, c - a);
-    let p = dir.cross(e2);
-    let det = e1.dot(p);
-    if det.abs() < 1e-12 {
-        return false;
-    }
-    let s = origin - a;
-    let u = s.dot(p) / det;
-    let q = s.cross(e1);
-    let v = dir.dot(q) / det;
-    u >= 0.0 && v >= 0.0 && u + v <= 1.0 && e2.dot(q) / det > 1e-4
 }
 
 #[test]
@@ -96,7 +82,7 @@ fn concave_model_shadows_itself_in_its_baked_texture() {
             return None; // facing away or grazing: not a test of occlusion
         }
         let origin = p + n * 0.02;
-        Some(!triangles.iter().any(|t| hits(origin, to_light, *t)))
+        Some(!triangles.iter().any(|t| ray_hits_triangle(origin, to_light, *t).is_some_and(|d| d > 1e-4)))
     };
     let answers: Vec<Option<bool>> = (0..64 * 64).map(|i| classify(i % 64, i / 64)).collect();
     let (mut lit_ok, mut lit_total, mut shadow_ok, mut shadow_total) = (0, 0, 0, 0);

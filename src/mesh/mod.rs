@@ -1,5 +1,5 @@
 //! CPU-side mesh processing: welding, edge adjacency, silhouettes, shadow volumes, geometry
-//! images and generated atlas charts.
+//! images, generated atlas charts and CPU ray casts.
 //!
 //! The usual path: [`weld_by_position`] once at load, [`EdgeAdjacency::build`] on the welded
 //! mesh once, [`attribute_seams`] once if ink lines want UV/normal/material boundaries; then per
@@ -11,6 +11,7 @@ pub mod atlas_charts;
 pub mod edges;
 pub(crate) mod fast_hash;
 pub mod geometry_image;
+pub mod ray;
 pub mod shadow_volume;
 pub mod shapes;
 #[cfg(test)]

@@ -24,6 +24,7 @@ use crate::frame::StencilMode;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::{as_bytes, Buffer};
 use crate::gpu::Gpu;
+use crate::mesh::ray::{self, PlacedMesh};
 use crate::mesh::{self, EdgeAdjacency, VolumeGeometry, Welded};
 use crate::pipeline::{
     BlendEquation, BlendState, DepthState, FixedFunction, Pipeline, PipelineDesc, RasterState, StencilFace,
@@ -396,43 +397,6 @@ fn posed_welded_positions(scene: &Scene, caster: &Caster) -> Option<Vec<Vec3>> {
     Some(positions)
 }
 
-/// Whether a world-space point lies in some caster's shadow (inside its volume): the ray from
-/// the point towards the light hits the caster. `posed` holds each caster's welded vertices in
-/// their current pose (see [`posed_welded_positions`]), or `None` for the welded mesh as built.
-fn in_shadow(scene: &Scene, casters: &[Caster], posed: &[Option<Vec<Vec3>>], point: Vec3) -> bool {
-    let (towards_light, max_t) = match scene.light {
-        Light::Directional { direction } => (-direction.normalize(), f32::INFINITY),
-        Light::Point { position } => ((position - point).normalize(), (position - point).length()),
-    };
-    casters.iter().zip(posed).any(|(caster, posed)| {
-        let model = scene.objects[caster.object].transform;
-        let positions = posed.as_deref().unwrap_or(&caster.welded.positions);
-        let p = |i: u32| model.transform_point3(positions[i as usize]);
-        caster
-            .welded
-            .indices
-            .chunks_exact(3)
-            .any(|t| ray_hits_triangle(point, towards_light, [p(t[0]), p(t[1]), p(t[2])]).is_some_and(|d| d < max_t))
-    })
-}
-
-/// Möller–Trumbore; the distance along `dir` to the hit.
-fn ray_hits_triangle(origin: Vec3, dir: Vec3, t: [Vec3; 3]) -> Option<f32> {
-    let (e1, e2) = (t[1] - t[0], t[2] - t[0]);
-    let p = dir.cross(e2);
-    let det = e1.dot(p);
-    if det.abs() < 1e-12 {
-        return None;
-    }
-    let inv = 1.0 / det;
-    let s = origin - t[0];
-    let u = s.dot(p) * inv;
-    let q = s.cross(e1);
-    let v = dir.dot(q) * inv;
-    let d = e2.dot(q) * inv;
-    (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && d > 0.0).then_some(d)
-}
-
 /// z-pass breaks when the near plane cuts a volume: test the eye and the near-plane corners.
 pub fn camera_inside_volume(scene: &Scene, casters: &[Caster], aspect: f32) -> bool {
     let camera = &scene.camera;
@@ -441,7 +405,20 @@ pub fn camera_inside_volume(scene: &Scene, casters: &[Caster], aspect: f32) -> b
         [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)].map(|(x, y)| inverse.project_point3(Vec3::new(x, y, 0.0)));
     // Skinned casters are posed once for the five points.
     let posed: Vec<Option<Vec<Vec3>>> = casters.iter().map(|c| posed_welded_positions(scene, c)).collect();
-    std::iter::once(camera.eye).chain(corners).any(|p| in_shadow(scene, casters, &posed, p))
+    let placed: Vec<PlacedMesh> = casters
+        .iter()
+        .zip(&posed)
+        .map(|(caster, posed)| PlacedMesh {
+            positions: posed.as_deref().unwrap_or(&caster.welded.positions),
+            indices: &caster.welded.indices,
+            model: scene.objects[caster.object].transform,
+        })
+        .collect();
+    let light = match scene.light {
+        Light::Directional { direction } => mesh::Light::Directional(direction),
+        Light::Point { position } => mesh::Light::Point(position),
+    };
+    std::iter::once(camera.eye).chain(corners).any(|p| ray::in_shadow(light, &placed, p))
 }
 
 pub fn choose_zfail(options: &ShadowVolumeOptions, scene: &Scene, casters: &[Caster], aspect: f32) -> bool {
