@@ -8,6 +8,7 @@
 
 pub mod adjacency;
 pub mod atlas_charts;
+pub mod caster;
 pub mod edges;
 pub(crate) mod fast_hash;
 pub mod geometry_image;

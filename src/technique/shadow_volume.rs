@@ -24,8 +24,9 @@ use crate::frame::StencilMode;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::{as_bytes, Buffer};
 use crate::gpu::Gpu;
+use crate::mesh::caster::ClosedCaster;
 use crate::mesh::ray::{self, PlacedMesh};
-use crate::mesh::{self, EdgeAdjacency, VolumeGeometry, Welded};
+use crate::mesh::{self, VolumeGeometry};
 use crate::pipeline::{
     BlendEquation, BlendState, DepthState, FixedFunction, Pipeline, PipelineDesc, RasterState, StencilFace,
     StencilState, VertexLayout,
@@ -330,14 +331,10 @@ pub fn pipeline_descs(options: &ShadowVolumeOptions) -> Vec<(&'static str, Pipel
 // ---------------------------------------------------------------------------------------------
 // CPU side: casters and their volumes.
 
-/// Positions closer than this weld into one vertex (UV seams, split normals).
-const WELD_EPSILON: f32 = 1e-5;
-
-/// A shadow caster with its topology, built once.
+/// A shadow-casting object with its mesh's topology, built once.
 pub struct Caster {
     pub object: usize,
-    pub welded: Welded,
-    pub adjacency: EdgeAdjacency,
+    pub mesh: ClosedCaster,
 }
 
 /// Welds and checks every shadow-casting object; an open or non-manifold mesh is refused with
@@ -351,16 +348,7 @@ pub fn prepare_casters(scene: &Scene) -> Result<Vec<Caster>> {
         .map(|(object, o)| {
             let data = &scene.meshes[o.mesh].data;
             let name = format!("{} (object '{}')", scene.meshes[o.mesh].name, o.name);
-            let welded = mesh::weld_by_position(&name, &data.positions, &data.indices, WELD_EPSILON)?;
-            let adjacency = EdgeAdjacency::build(&name, &welded.positions, &welded.indices)?;
-            adjacency.require_closed_manifold().map_err(|e| match e {
-                Error::Mesh { mesh, problem } => Error::Mesh {
-                    mesh,
-                    problem: format!("{problem}; shadow volumes need closed meshes (mark it as not casting shadows)"),
-                },
-                other => other,
-            })?;
-            Ok(Caster { object, welded, adjacency })
+            Ok(Caster { object, mesh: ClosedCaster::prepare(&name, &data.positions, &data.indices)? })
         })
         .collect()
 }
@@ -377,23 +365,24 @@ fn light_in_object_space(light: &Light, model: &Mat4) -> mesh::Light {
 pub fn build_volume(scene: &Scene, caster: &Caster, caps: bool) -> VolumeGeometry {
     let object = &scene.objects[caster.object];
     let light = light_in_object_space(&scene.light, &object.transform);
+    let (adjacency, welded) = (&caster.mesh.adjacency, &caster.mesh.welded);
     if let Some(positions) = posed_welded_positions(scene, caster) {
         let mut normals = Vec::new();
-        caster.adjacency.recompute_face_normals(&positions, &mut normals);
-        return mesh::build_shadow_volume(&caster.adjacency, &positions, &normals, light, caps);
+        adjacency.recompute_face_normals(&positions, &mut normals);
+        return mesh::build_shadow_volume(adjacency, &positions, &normals, light, caps);
     }
-    mesh::build_shadow_volume(&caster.adjacency, &caster.welded.positions, &caster.adjacency.face_normals, light, caps)
+    mesh::build_shadow_volume(adjacency, &welded.positions, &adjacency.face_normals, light, caps)
 }
 
 /// A skinned caster's welded vertices in its current pose (`Scene::pose_at` moves palettes,
 /// not meshes; the welded topology stays); `None` for a rigid caster.
 fn posed_welded_positions(scene: &Scene, caster: &Caster) -> Option<Vec<Vec3>> {
     let skin = scene.objects[caster.object].skin.as_ref()?;
-    if skin.positions.len() < caster.welded.remap.len() {
+    if skin.positions.len() < caster.mesh.welded.remap.len() {
         return None;
     }
     let mut positions = Vec::new();
-    caster.welded.gather_positions(&skin.posed_positions(), &mut positions);
+    caster.mesh.welded.gather_positions(&skin.posed_positions(), &mut positions);
     Some(positions)
 }
 
@@ -409,8 +398,8 @@ pub fn camera_inside_volume(scene: &Scene, casters: &[Caster], aspect: f32) -> b
         .iter()
         .zip(&posed)
         .map(|(caster, posed)| PlacedMesh {
-            positions: posed.as_deref().unwrap_or(&caster.welded.positions),
-            indices: &caster.welded.indices,
+            positions: posed.as_deref().unwrap_or(&caster.mesh.welded.positions),
+            indices: &caster.mesh.welded.indices,
             model: scene.objects[caster.object].transform,
         })
         .collect();
