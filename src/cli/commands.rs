@@ -521,7 +521,7 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: u32, json: bool) -> Result<()> {
                 .push(Variant { name: "shadow texture".into(), frame: Box::new(move || Ok(texture.frame()?.output)) });
         }
         Technique::ShadowMap | Technique::ShadowTextureAtlas => {
-            return crate::technique::shadow_atlas::table1::bench(&gpu, &options, warmup, runs, json);
+            return crate::profile::table1::bench(&gpu, &options, warmup, runs, json);
         }
         Technique::Lit => {
             for stencil in [StencilMode::Reference, StencilMode::Emulated] {

@@ -1,5 +1,5 @@
 //! Fill-rate profiling: reports, charts and budgets made from the frame's per-pass counters
-//! (`render::counters`).
+//! (`render::counters`), and the seed 004 Table 1 bench.
 
 pub mod bench;
 pub mod budget;
@@ -8,3 +8,4 @@ pub mod compare;
 pub mod heatmap;
 pub mod passes;
 pub mod report;
+pub mod table1;

@@ -12,7 +12,6 @@
 //! texture (sampled trilinearly) or by the shadow-map compare.
 
 pub mod atlas;
-pub mod table1;
 pub mod targets;
 
 use std::sync::Arc;
