@@ -56,7 +56,6 @@ pub mod viewer;
 pub use error::{Error, Result};
 pub use frame::StencilMode;
 pub use gpu::{Gpu, GpuOptions};
-pub use profile::FrameCounters;
-pub use render::FrameOutput;
+pub use render::{FrameCounters, FrameOutput};
 pub use scene::{builtin_scene, scene_from_gltf, Scene};
 pub use technique::{by_name as technique, render_scene, RenderOptions, SceneRenderer, Technique, TechniqueFrame};

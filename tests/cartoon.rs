@@ -7,7 +7,8 @@ mod common;
 use std::sync::Arc;
 
 use glam::{Mat4, Vec2, Vec3};
-use nostencil::frame::{RgbaImage, StencilMode};
+use image::RgbaImage;
+use nostencil::frame::StencilMode;
 use nostencil::gpu::Gpu;
 use nostencil::mesh::{shapes, MeshData};
 use nostencil::scene::{builtin_scene, Camera, Light, Scene};
@@ -31,11 +32,11 @@ fn render(
 }
 
 fn rgb_differences(a: &RgbaImage, b: &RgbaImage) -> usize {
-    a.pixels.chunks_exact(4).zip(b.pixels.chunks_exact(4)).filter(|(p, q)| p[..3] != q[..3]).count()
+    a.chunks_exact(4).zip(b.chunks_exact(4)).filter(|(p, q)| p[..3] != q[..3]).count()
 }
 
 fn count_rgb(image: &RgbaImage, rgb: [u8; 3]) -> usize {
-    image.pixels.chunks_exact(4).filter(|p| p[..3] == rgb).count()
+    image.chunks_exact(4).filter(|p| p[..3] == rgb).count()
 }
 
 #[test]
@@ -66,9 +67,9 @@ fn outline_emulated_equals_reference_for_one_and_several_overlapping_objects() {
         let differing = rgb_differences(&emulated, &reference);
         assert_eq!(differing, 0, "{label}: {differing} pixels differ");
         // Alpha is the emulated stencil: 1 exactly on the visible selected surfaces.
-        let marked = emulated.pixels.chunks_exact(4).filter(|p| p[3] == 255).count();
+        let marked = emulated.chunks_exact(4).filter(|p| p[3] == 255).count();
         assert!(marked > 100, "{label}: {marked} pixels marked");
-        assert!(emulated.pixels.chunks_exact(4).all(|p| p[3] == 0 || p[3] == 255), "{label}: alpha not 0/1");
+        assert!(emulated.chunks_exact(4).all(|p| p[3] == 0 || p[3] == 255), "{label}: alpha not 0/1");
     }
     common::assert_no_validation_messages(&gpu);
 }
@@ -87,11 +88,11 @@ fn outline_never_covers_a_selected_surface_and_hugs_the_selected_object() {
     alone_scene.objects.retain(|o| o.name == "box");
     let (alone, _) = render(&gpu, &alone_scene, StencilMode::Emulated, CartoonStyle::Outline, &one, SIZE);
     let orange = one.outline_colour;
-    let (w, h) = (image.width as i32, image.height as i32);
+    let (w, h) = (image.width() as i32, image.height() as i32);
     let reach = one.outline_width.ceil() as i32 + 1;
     for y in 0..h {
         for x in 0..w {
-            let p = image.pixel(x as u32, y as u32);
+            let p = image.get_pixel(x as u32, y as u32).0;
             if p[..3] != orange {
                 continue;
             }
@@ -99,7 +100,7 @@ fn outline_never_covers_a_selected_surface_and_hugs_the_selected_object() {
             let near_selection = (-reach..=reach).any(|dy| {
                 (-reach..=reach).any(|dx| {
                     let (sx, sy) = (x + dx, y + dy);
-                    sx >= 0 && sy >= 0 && sx < w && sy < h && alone.pixel(sx as u32, sy as u32)[3] == 255
+                    sx >= 0 && sy >= 0 && sx < w && sy < h && alone.get_pixel(sx as u32, sy as u32).0[3] == 255
                 })
             });
             assert!(near_selection, "outline pixel ({x}, {y}) is not within {reach} px of the selection");
@@ -109,9 +110,9 @@ fn outline_never_covers_a_selected_surface_and_hugs_the_selected_object() {
     let mut ring = 0;
     for y in 1..h - 1 {
         for x in 1..w - 1 {
-            let inside = |x: i32, y: i32| alone.pixel(x as u32, y as u32)[3] == 255;
+            let inside = |x: i32, y: i32| alone.get_pixel(x as u32, y as u32).0[3] == 255;
             if !inside(x, y) && (inside(x - 1, y) || inside(x + 1, y) || inside(x, y - 1) || inside(x, y + 1)) {
-                assert_eq!(alone.pixel(x as u32, y as u32)[..3], orange, "({x}, {y}) next to the box");
+                assert_eq!(alone.get_pixel(x as u32, y as u32).0[..3], orange, "({x}, {y}) next to the box");
                 ring += 1;
             }
         }
@@ -167,7 +168,7 @@ fn square() -> MeshData {
 
 /// Rows of column `x` within 10 rows of `y` painted in ink.
 fn ink_rows(image: &RgbaImage, x: u32, y: f32) -> Vec<u32> {
-    (0..image.height).filter(|&r| (r as f32 - y).abs() < 10.0 && image.pixel(x, r)[..3] == INK).collect()
+    (0..image.height()).filter(|&r| (r as f32 - y).abs() < 10.0 && image.get_pixel(x, r).0[..3] == INK).collect()
 }
 
 /// Pixel rows whose centres fall in [top, bottom) (the rasteriser's top-left rule on a
@@ -243,7 +244,7 @@ fn ink_lines_sit_on_the_sphere_silhouette_without_gaps() {
             .map(|i| i as f32 * 0.25)
             .filter(|r| {
                 let p = centre + dir * *r;
-                image.pixel(p.x as u32, p.y as u32)[..3] == INK
+                image.get_pixel(p.x as u32, p.y as u32).0[..3] == INK
             })
             .collect();
         assert!(!ink_at.is_empty(), "no ink at {angle} rad");
@@ -265,14 +266,14 @@ fn every_ink_method_darkens_the_silhouette_and_toon_shading_has_bands() {
         for technique in [CartoonStyle::Silhouette, CartoonStyle::Toon] {
             let (image, _) = render(&gpu, &scene, StencilMode::Emulated, technique, &options, size);
             // The sphere's centre is lit, its contour (radius ~ 21 px) is dark.
-            assert!(!dark(image.pixel(48, 48)), "{method:?} {technique:?}: centre is dark");
+            assert!(!dark(image.get_pixel(48, 48).0), "{method:?} {technique:?}: centre is dark");
             let dark_on_contour = (0..36)
                 .filter(|i| {
                     let a = *i as f32 * std::f32::consts::TAU / 36.0;
                     (36..52).any(|r| {
                         let r = r as f32 * 0.5;
                         let (x, y) = (48.0 + a.cos() * r, 48.0 + a.sin() * r);
-                        dark(image.pixel(x as u32, y as u32))
+                        dark(image.get_pixel(x as u32, y as u32).0)
                     })
                 })
                 .count();
@@ -283,7 +284,7 @@ fn every_ink_method_darkens_the_silhouette_and_toon_shading_has_bands() {
     // the albedo on the sphere (plus the background).
     let options = CartoonOptions { silhouette: SilhouetteMethod::Hull, line_width: 0.5, ..CartoonOptions::default() };
     let (image, _) = render(&gpu, &scene, StencilMode::Emulated, CartoonStyle::Toon, &options, size);
-    let mut colours: Vec<[u8; 3]> = image.pixels.chunks_exact(4).map(|p| [p[0], p[1], p[2]]).collect();
+    let mut colours: Vec<[u8; 3]> = image.chunks_exact(4).map(|p| [p[0], p[1], p[2]]).collect();
     colours.sort();
     colours.dedup();
     assert!(colours.len() <= 6, "{} colours: {colours:?}", colours.len());
@@ -335,10 +336,10 @@ fn crease_lines_of_a_cube_are_unbroken_and_stay_on_the_edges() {
     for axis in [Vec3::X, Vec3::Y, Vec3::Z] {
         for i in 1..40 {
             let p = to_pixel(corner - axis * (i as f32 / 40.0));
-            assert_eq!(image.pixel(p.x as u32, p.y as u32)[..3], INK, "edge along {axis} at {p}");
+            assert_eq!(image.get_pixel(p.x as u32, p.y as u32).0[..3], INK, "edge along {axis} at {p}");
         }
         let face_centre = to_pixel(corner - (Vec3::ONE - axis) * 0.5);
-        assert_ne!(image.pixel(face_centre.x as u32, face_centre.y as u32)[..3], INK, "face {axis}");
+        assert_ne!(image.get_pixel(face_centre.x as u32, face_centre.y as u32).0[..3], INK, "face {axis}");
     }
     common::assert_no_validation_messages(&gpu);
 }

@@ -13,7 +13,7 @@ use nostencil::frame::StencilMode;
 use nostencil::gpu::memory::{as_bytes, Buffer};
 use nostencil::gpu::Gpu;
 use nostencil::pipeline::{BlendState, DepthState, FixedFunction, Pipeline, PipelineDesc, RasterState, VertexLayout};
-use nostencil::profile::FrameCounters;
+use nostencil::render::FrameCounters;
 use nostencil::render::{FrameUniforms, Renderer};
 
 fn uniforms() -> FrameUniforms {

@@ -9,7 +9,8 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
-use nostencil::frame::{RgbaImage, StencilMode};
+use image::RgbaImage;
+use nostencil::frame::StencilMode;
 use nostencil::gpu::Gpu;
 use nostencil::scene::{builtin_scene_at, scene_from_gltf, Scene};
 use nostencil::technique::planar::{self, project_onto_plane, PlanarOptions};
@@ -36,7 +37,7 @@ fn render_with(
 }
 
 fn rgb_differences(a: &RgbaImage, b: &RgbaImage) -> usize {
-    a.pixels.chunks_exact(4).zip(b.pixels.chunks_exact(4)).filter(|(p, q)| p[..3] != q[..3]).count()
+    a.chunks_exact(4).zip(b.chunks_exact(4)).filter(|(p, q)| p[..3] != q[..3]).count()
 }
 
 /// What the blend unit computes for `x * f/255` on UNORM8 (DESIGN.md section 7).
@@ -47,12 +48,12 @@ fn darken(x: u8, f: u8) -> u8 {
 
 /// The pixels the projected shadow darkened (RGB differs from the frame without shadows).
 fn changed(shadowed: &RgbaImage, unshadowed: &RgbaImage) -> Vec<bool> {
-    shadowed.pixels.chunks_exact(4).zip(unshadowed.pixels.chunks_exact(4)).map(|(p, q)| p[..3] != q[..3]).collect()
+    shadowed.chunks_exact(4).zip(unshadowed.chunks_exact(4)).map(|(p, q)| p[..3] != q[..3]).collect()
 }
 
 /// Receiver pixels: the scene pass alone writes alpha F/255 there and 1 everywhere else.
 fn receiver_mask(unshadowed: &RgbaImage) -> Vec<bool> {
-    unshadowed.pixels.chunks_exact(4).map(|p| p[3] == FACTOR).collect()
+    unshadowed.chunks_exact(4).map(|p| p[3] == FACTOR).collect()
 }
 
 /// Rasterises triangles given in world space after projection onto the plane, with the frame's
@@ -169,7 +170,7 @@ fn emulated_equals_reference_where_arms_and_torso_overlap_in_the_shadow() {
                         let (x, y) = (i as u32 % SIZE.0, i as u32 / SIZE.0);
                         if *a && *t && *r && interior(&arm, x, y) && interior(&torso, x, y) {
                             let (p, q) =
-                                (&emulated.output.image.pixels[i * 4..], &unshadowed.output.image.pixels[i * 4..]);
+                                (&emulated.output.image.as_raw()[i * 4..], &unshadowed.output.image.as_raw()[i * 4..]);
                             for c in 0..3 {
                                 assert_eq!(p[c], darken(q[c], FACTOR), "{name} {time}s pixel ({x},{y})");
                             }
@@ -194,7 +195,7 @@ fn every_shadowed_pixel_is_darkened_by_exactly_the_same_factor_and_only_on_recei
         let receivers = receiver_mask(&unshadowed.output.image);
         let mut darkened = 0;
         for (i, (p, q)) in
-            shadowed.output.image.pixels.chunks_exact(4).zip(unshadowed.output.image.pixels.chunks_exact(4)).enumerate()
+            shadowed.output.image.chunks_exact(4).zip(unshadowed.output.image.chunks_exact(4)).enumerate()
         {
             if p[..3] == q[..3] {
                 continue;
@@ -256,11 +257,7 @@ fn gpu_skinning_matches_the_cpu_skinned_mesh() {
         render_scene(&gpu, scene, &options).expect("lit").output.image
     };
     let large_differences = |a: &RgbaImage, b: &RgbaImage| {
-        a.pixels
-            .chunks_exact(4)
-            .zip(b.pixels.chunks_exact(4))
-            .filter(|(p, q)| (0..3).any(|c| p[c].abs_diff(q[c]) > 3))
-            .count()
+        a.chunks_exact(4).zip(b.chunks_exact(4)).filter(|(p, q)| (0..3).any(|c| p[c].abs_diff(q[c]) > 3)).count()
     };
     for (name, time) in [("character", 0.0), ("character", 0.3), ("character-point", 0.65)] {
         let scene = builtin_scene_at(name, time).expect("scene");
@@ -386,8 +383,7 @@ fn shadow_texture_covers_the_planar_shadow_and_blobs_sit_under_the_casters() {
             .expect("shadow texture");
         let texture_mask = changed(&texture.output.image, &unshadowed.output.image);
         let (mut both, mut either, mut exact, mut darkened) = (0, 0, 0, 0);
-        for (i, (p, q)) in
-            texture.output.image.pixels.chunks_exact(4).zip(unshadowed.output.image.pixels.chunks_exact(4)).enumerate()
+        for (i, (p, q)) in texture.output.image.chunks_exact(4).zip(unshadowed.output.image.chunks_exact(4)).enumerate()
         {
             both += (texture_mask[i] && planar_mask[i]) as usize;
             either += (texture_mask[i] || planar_mask[i]) as usize;

@@ -58,7 +58,7 @@ fn heat_map_of_n_stacked_fullscreen_quads_shows_n_everywhere() {
         let counts = heatmap::counts(&frame.image);
         assert!(counts.iter().all(|&c| c as u32 == n), "{n} quads: counts {:?}", &counts[..4]);
         let map = heatmap::render_heatmap(&frame.image);
-        assert_eq!(map.pixel(10, 10)[..3], heatmap::colour_of(n as u8));
+        assert_eq!(map.get_pixel(10, 10).0[..3], heatmap::colour_of(n as u8));
         assert_eq!(frame.counters.passes[0].samples_passed, 96 * 64 * n as u64);
     }
     common::assert_no_validation_messages(&gpu);

@@ -7,12 +7,14 @@ mod common;
 use std::sync::Arc;
 
 use glam::{Mat4, Vec2, Vec3};
-use nostencil::frame::{RgbaImage, StencilMode};
+use image::RgbaImage;
+use nostencil::frame::StencilMode;
 use nostencil::gpu::Gpu;
+use nostencil::mesh::geometry_image::{geometry_image, horned_radius, octahedral_direction};
+use nostencil::mesh::ray::ray_hits_triangle;
 use nostencil::mesh::{shapes, MeshData};
 use nostencil::scene::{builtin_scene, Camera, Light, Scene};
 use nostencil::technique::shadow_atlas::atlas::{mesh_atlas, AtlasSource};
-use nostencil::technique::shadow_atlas::geometry_image::{geometry_image, horned_radius, octahedral_direction};
 use nostencil::technique::shadow_atlas::{LightMode, ShadowAtlasOptions, ShadowAtlasRenderer, ShadowKind};
 use nostencil::technique::{render_scene, RenderOptions, Technique};
 
@@ -40,21 +42,6 @@ fn bake<'s>(gpu: &Arc<Gpu>, scene: &'s Scene, options: ShadowAtlasOptions) -> Sh
     renderer
 }
 
-/// Möller–Trumbore: does the ray from `origin` along `dir` hit the triangle?
-fn hits(origin: Vec3, dir: Vec3, [a, b, c]: [Vec3; 3]) -> bool {
-    let (e1, e2) = (b - a, c - a);
-    let p = dir.cross(e2);
-    let det = e1.dot(p);
-    if det.abs() < 1e-12 {
-        return false;
-    }
-    let s = origin - a;
-    let u = s.dot(p) / det;
-    let q = s.cross(e1);
-    let v = dir.dot(q) / det;
-    u >= 0.0 && v >= 0.0 && u + v <= 1.0 && e2.dot(q) / det > 1e-4
-}
-
 #[test]
 fn concave_model_shadows_itself_in_its_baked_texture() {
     let gpu = common::gpu();
@@ -68,7 +55,7 @@ fn concave_model_shadows_itself_in_its_baked_texture() {
     let renderer = bake(&gpu, &scene, ShadowAtlasOptions::default());
     assert_eq!(renderer.atlases()[0].source, AtlasSource::GeometryImage { n: 64 });
     let texture = renderer.read_shadow_texture(0, 0).expect("read back");
-    assert_eq!((texture.width, texture.height), (64, 64));
+    assert_eq!(texture.dimensions(), (64, 64));
 
     // CPU answer per texel: the surface point at the texel centre, its normal, and a ray cast
     // towards the light against every triangle.
@@ -95,7 +82,7 @@ fn concave_model_shadows_itself_in_its_baked_texture() {
             return None; // facing away or grazing: not a test of occlusion
         }
         let origin = p + n * 0.02;
-        Some(!triangles.iter().any(|t| hits(origin, to_light, *t)))
+        Some(!triangles.iter().any(|t| ray_hits_triangle(origin, to_light, *t).is_some_and(|d| d > 1e-4)))
     };
     let answers: Vec<Option<bool>> = (0..64 * 64).map(|i| classify(i % 64, i / 64)).collect();
     let (mut lit_ok, mut lit_total, mut shadow_ok, mut shadow_total) = (0, 0, 0, 0);
@@ -108,7 +95,7 @@ fn concave_model_shadows_itself_in_its_baked_texture() {
             if !robust {
                 continue;
             }
-            let baked = texture.pixel(x, y)[0];
+            let baked = texture.get_pixel(x, y).0[0];
             if lit {
                 lit_total += 1;
                 lit_ok += (baked > 200) as u32;
@@ -147,13 +134,13 @@ fn assert_atlas_agrees_with_shadow_map(gpu: &Arc<Gpu>, scene: &Scene, size: (u32
     // Kept for a person to look at.
     let dir = common::scratch_dir(&format!("atlas-vs-map-{}", scene.name));
     for (image, name) in [(&atlas, "atlas"), (&map, "shadow-map"), (&lit, "lit")] {
-        image.write_png(&dir.join(format!("{name}.png")), false).expect("write png");
+        nostencil::frame::write_png(image, &dir.join(format!("{name}.png")), false).expect("write png");
     }
     let (w, h) = size;
     // The shadow map's shadow: pixels darker than the unshadowed frame.
-    let shadowed = |x: u32, y: u32| map.pixel(x, y)[..3] != lit.pixel(x, y)[..3];
+    let shadowed = |x: u32, y: u32| map.get_pixel(x, y).0[..3] != lit.get_pixel(x, y).0[..3];
     let differs = |x: u32, y: u32| {
-        let (a, b) = (atlas.pixel(x, y), map.pixel(x, y));
+        let (a, b) = (atlas.get_pixel(x, y).0, map.get_pixel(x, y).0);
         (0..3).any(|c| a[c].abs_diff(b[c]) > 6)
     };
     let near_edge = |x: u32, y: u32, r: i32| {
@@ -248,14 +235,14 @@ fn no_mip_bleeds_across_chart_borders() {
     let mut checked = 0;
     for mip in 0..info.mip_levels {
         let texture = renderer.read_shadow_texture(0, mip).expect("read back");
-        let side = texture.width as f32;
+        let side = texture.width() as f32;
         for (chart, t) in atlas.indices.chunks_exact(3).enumerate() {
             let uv = [0, 1, 2].map(|k| atlas.uvs[t[k] as usize] * side);
             let lit = cube.normals[cube.indices[chart * 3] as usize].y > 0.5;
             let area = (uv[1] - uv[0]).perp_dot(uv[2] - uv[0]);
             // Every texel whose centre lies in the chart, border texels included.
-            for y in 0..texture.height {
-                for x in 0..texture.width {
+            for y in 0..texture.height() {
+                for x in 0..texture.width() {
                     let p = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
                     let inside = [(1, 2), (2, 0), (0, 1)]
                         .iter()
@@ -264,7 +251,7 @@ fn no_mip_bleeds_across_chart_borders() {
                         continue;
                     }
                     checked += 1;
-                    let value = texture.pixel(x, y)[0];
+                    let value = texture.get_pixel(x, y).0[0];
                     if lit {
                         assert!(value >= 250, "mip {mip}: lit chart {chart} texel ({x}, {y}) = {value}");
                     } else {
@@ -305,9 +292,9 @@ fn fixed_light_skips_the_shadow_passes_and_moving_light_does_not() {
             names(&second).contains(&"atlas bake".to_string()),
             light == LightMode::Moving && kind == ShadowKind::Atlas
         );
-        assert_eq!(first.output.image.pixels.len(), second.output.image.pixels.len());
+        assert_eq!(first.output.image.dimensions(), second.output.image.dimensions());
         if light == LightMode::Fixed {
-            assert_eq!(first.output.image.pixels, second.output.image.pixels, "a cached frame is the same frame");
+            assert_eq!(first.output.image, second.output.image, "a cached frame is the same frame");
         }
     }
     common::assert_no_validation_messages(&gpu);

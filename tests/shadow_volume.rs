@@ -7,7 +7,8 @@ mod common;
 use std::sync::Arc;
 
 use glam::{Mat4, Vec3, Vec4};
-use nostencil::frame::{RgbaImage, StencilMode};
+use image::RgbaImage;
+use nostencil::frame::StencilMode;
 use nostencil::gpu::Gpu;
 use nostencil::mesh::MeshData;
 use nostencil::pipeline::Pipeline;
@@ -48,12 +49,12 @@ fn lit_sized(gpu: &Arc<Gpu>, scene: &Scene, size: (u32, u32)) -> RgbaImage {
 
 /// Pixels whose RGB differ (alpha holds each path's working state and is not the image).
 fn rgb_differences(a: &RgbaImage, b: &RgbaImage) -> usize {
-    a.pixels.chunks_exact(4).zip(b.pixels.chunks_exact(4)).filter(|(p, q)| p[..3] != q[..3]).count()
+    a.chunks_exact(4).zip(b.chunks_exact(4)).filter(|(p, q)| p[..3] != q[..3]).count()
 }
 
 /// Pixels darkened by the shadow: where the shadowed frame differs from the unshadowed one.
 fn shadow_mask(shadowed: &RgbaImage, lit: &RgbaImage) -> Vec<bool> {
-    shadowed.pixels.chunks_exact(4).zip(lit.pixels.chunks_exact(4)).map(|(p, q)| p[..3] != q[..3]).collect()
+    shadowed.chunks_exact(4).zip(lit.chunks_exact(4)).map(|(p, q)| p[..3] != q[..3]).collect()
 }
 
 #[test]
@@ -105,9 +106,9 @@ fn normalisation_table_is_read_back_from_the_gpu() {
                 shadow_volume::record_seed_normalisation(rec, &n0, &iteration, steps)
             })
             .expect("frame");
-        let alpha = output.image.pixel(3, 3)[3];
+        let alpha = output.image.get_pixel(3, 3).0[3];
         assert_eq!(alpha, *want, "after N0 and {steps} iteration(s)");
-        assert!(output.image.pixels.chunks_exact(4).all(|p| p[3] == *want && p[..3] == [128, 128, 128]));
+        assert!(output.image.chunks_exact(4).all(|p| p[3] == *want && p[..3] == [128, 128, 128]));
     }
     common::assert_no_validation_messages(&gpu);
 }
@@ -146,7 +147,7 @@ fn box_shadow_matches_its_projected_outline() {
             // Pixels where the lit frame shows the box itself are excluded: its own unlit faces
             // are in its volume but are not ground.
             let background = lit_without_box(&gpu, &scene, BIG);
-            unshadowed.pixels.chunks_exact(4).zip(background.pixels.chunks_exact(4)).map(|(a, b)| a != b).collect()
+            unshadowed.chunks_exact(4).zip(background.chunks_exact(4)).map(|(a, b)| a != b).collect()
         };
         let (mut both, mut either) = (0, 0);
         for y in 0..height {
@@ -238,15 +239,14 @@ fn background_behind_volumes_is_never_darkened() {
                 render(&gpu, &scene, StencilMode::Emulated, ShadowVolumeOptions { method, ..Default::default() });
             let image = &frame.output.image;
             let darkened_sky = image
-                .pixels
                 .chunks_exact(4)
-                .zip(unshadowed.pixels.chunks_exact(4))
+                .zip(unshadowed.chunks_exact(4))
                 .filter(|(p, q)| q[..3] == sky && p[..3] != sky)
                 .count();
             assert_eq!(darkened_sky, 0, "{name} {method:?}: background pixels darkened");
             // Not vacuous: the frame shows its shadows and the sky.
             let shadowed = shadow_mask(image, &unshadowed).iter().filter(|s| **s).count();
-            let sky_pixels = unshadowed.pixels.chunks_exact(4).filter(|q| q[..3] == sky).count();
+            let sky_pixels = unshadowed.chunks_exact(4).filter(|q| q[..3] == sky).count();
             assert!(
                 shadowed > 50 && sky_pixels > 50,
                 "{name} {method:?}: {shadowed} shadowed, {sky_pixels} sky pixels"

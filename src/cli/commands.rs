@@ -115,7 +115,7 @@ fn render(frame: &FrameArgs, out: &Path, keep_alpha: bool) -> Result<()> {
     let gpu = open_gpu(&frame.gpu)?;
     let frame = render_scene(&gpu, &scene, &options)?;
     let output = &frame.output;
-    output.image.write_png(out, keep_alpha)?;
+    crate::frame::write_png(&output.image, out, keep_alpha)?;
     eprintln!(
         "wrote {} ({}x{}, {} on {}, {:.2} ms GPU)",
         out.display(),
@@ -175,13 +175,13 @@ fn profile(frame: &FrameArgs, format: FormatArg, outputs: &ProfileOutputs) -> Re
     if let Some(path) = &outputs.heatmap {
         let counting = RenderOptions { count_overdraw: true, ..options.clone() };
         let counted = render_scene(&gpu, &scene, &counting)?;
-        crate::profile::heatmap::render_heatmap(&counted.output.image).write_png(path, false)?;
+        crate::frame::write_png(&crate::profile::heatmap::render_heatmap(&counted.output.image), path, false)?;
         eprintln!("wrote {}", path.display());
     }
     if let Some(path) = &outputs.chart {
         let title = format!("{technique} ({stencil}) on {}, {}x{}", scene.name, options.width, options.height);
         let svg = crate::profile::chart::bar_chart_svg(&title, &output.counters);
-        crate::frame::image::write_atomically(path, svg.as_bytes())?;
+        crate::frame::write_atomically(path, svg.as_bytes())?;
         eprintln!("wrote {}", path.display());
     }
     if let Some(path) = &outputs.write_budget {
@@ -251,14 +251,14 @@ fn bake(frame: &FrameArgs, model: Option<&str>, mip: u32, out: &Path) -> Result<
         start.elapsed().as_secs_f64() * 1e3
     );
     let image = renderer.read_shadow_texture(object, mip)?;
-    image.write_png(out, false)?;
+    crate::frame::write_png(&image, out, false)?;
     let name = &scene.objects.get(object).map_or("", |o| o.name.as_str());
     let atlas = scene.objects.get(object).and_then(|o| renderer.atlases().get(o.mesh));
     eprintln!(
         "wrote {} ({}x{}, mip {mip} of '{name}' in scene '{}'; atlas: {})",
         out.display(),
-        image.width,
-        image.height,
+        image.width(),
+        image.height(),
         scene.name,
         atlas.map_or("?".into(), |a| a.describe())
     );
@@ -383,7 +383,7 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: u32, json: bool) -> Result<()> {
     let (width, height) = (options.width, options.height);
     if matches!(options.technique.name(), "shadow-map" | "shadow-texture-atlas") {
         // Seed 004's Table 1: both techniques, fixed and moving light, on its two scenes.
-        return crate::technique::shadow_atlas::table1::bench(&gpu, &options, warmup, runs, json);
+        return crate::profile::table1::bench(&gpu, &options, warmup, runs, json);
     }
     let mut variants = Vec::new();
     for variant in options.technique.bench_variants(&options) {

@@ -1,10 +1,13 @@
-//! The frame: render-pass descriptions as data, the render targets, and the read-back image.
+//! The frame: render-pass descriptions as data, the render targets, and the read-back image
+//! (an `image::RgbaImage`) written as PNG.
 
-pub mod image;
 pub mod offscreen;
+pub mod png;
+pub mod readback;
 pub mod render_pass;
 pub mod targets;
 
-pub use image::RgbaImage;
+pub use png::{write_atomically, write_png};
+pub use readback::image_from_rgba8;
 pub use render_pass::{RenderPassDesc, StencilMode};
 pub use targets::FrameTargets;

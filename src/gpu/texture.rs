@@ -4,12 +4,12 @@
 use std::sync::Arc;
 
 use ash::vk;
+use image::RgbaImage;
 
 use super::commands::submit_and_wait;
 use super::memory::{Buffer, Image, ImageDesc};
 use super::Gpu;
 use crate::error::{Error, Result, VkContext};
-use crate::frame::RgbaImage;
 
 pub struct Sampler {
     gpu: Arc<Gpu>,
@@ -62,7 +62,7 @@ impl Texture {
         mipmaps: bool,
         sampler: Sampler,
     ) -> Result<Self> {
-        let (width, height, pixels) = (pixels.width, pixels.height, pixels.pixels.as_slice());
+        let (width, height, pixels) = (pixels.width(), pixels.height(), pixels.as_raw().as_slice());
         if pixels.len() as u64 != width as u64 * height as u64 * 4 {
             return Err(Error::InvalidInput(format!(
                 "texture '{name}': {} bytes for {width}x{height} RGBA8",

@@ -1,4 +1,5 @@
-//! CPU-side mesh processing: welding, edge adjacency, silhouettes, shadow volumes.
+//! CPU-side mesh processing: welding, edge adjacency, silhouettes, shadow volumes, geometry
+//! images, generated atlas charts and CPU ray casts.
 //!
 //! The usual path: [`weld_by_position`] once at load, [`EdgeAdjacency::build`] on the welded
 //! mesh once, [`attribute_seams`] once if ink lines want UV/normal/material boundaries; then per
@@ -6,8 +7,12 @@
 //! [`build_shadow_volume`] per light.
 
 pub mod adjacency;
+pub mod atlas_charts;
+pub mod caster;
 pub mod edges;
 pub(crate) mod fast_hash;
+pub mod geometry_image;
+pub mod ray;
 pub mod shadow_volume;
 pub mod shapes;
 #[cfg(test)]

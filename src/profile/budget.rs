@@ -6,8 +6,8 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use super::counters::FrameCounters;
 use crate::error::{Error, Result};
+use crate::render::FrameCounters;
 
 pub const BUDGET_SCHEMA: &str = "nostencil-budget/1";
 
@@ -86,7 +86,7 @@ impl Budget {
     /// Written to a temporary file and renamed, like every output.
     pub fn write(&self, path: &Path) -> Result<()> {
         let text = serde_json::to_string_pretty(self).map_err(|e| Error::InvalidInput(e.to_string()))?;
-        crate::frame::image::write_atomically(path, text.as_bytes())
+        crate::frame::write_atomically(path, text.as_bytes())
     }
 
     /// Every counter over budget; an error when the frame is not the one the budget describes.
@@ -122,7 +122,7 @@ impl Budget {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::profile::PassCounters;
+    use crate::render::PassCounters;
 
     fn frame(samples: u64) -> FrameCounters {
         let pass = |name: &str, samples| PassCounters {

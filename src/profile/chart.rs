@@ -3,7 +3,7 @@
 
 use std::fmt::Write as _;
 
-use super::counters::FrameCounters;
+use crate::render::FrameCounters;
 
 fn escape(text: &str) -> String {
     text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")

@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 
 use serde::Serialize;
 
-use super::counters::FrameCounters;
+use crate::render::FrameCounters;
 
 #[derive(Debug, Clone, Serialize)]
 pub struct VariantFrame {

@@ -2,7 +2,7 @@
 //! (every pipeline of the frame replaced by an `ADD ONE ONE` counter of 1/255), drawn as a
 //! colour ramp with a legend of numbered swatches.
 
-use crate::frame::RgbaImage;
+use image::{Rgba, RgbaImage};
 
 /// Colours for counts 0, 1, 2, ...; the last one is used for everything above.
 const RAMP: [[u8; 3]; 11] = [
@@ -31,7 +31,7 @@ pub fn bin_width(max_count: u8) -> u32 {
 
 /// Per-pixel counts from a frame rendered with overdraw counting (its alpha channel).
 pub fn counts(frame: &RgbaImage) -> Vec<u8> {
-    frame.pixels.chunks_exact(4).map(|p| p[3]).collect()
+    frame.pixels().map(|p| p[3]).collect()
 }
 
 const LEGEND_HEIGHT: u32 = 34;
@@ -40,12 +40,11 @@ const LEGEND_HEIGHT: u32 = 34;
 /// (10+ shares the last colour), each numbered, and the caption "FRAGMENTS PER PIXEL".
 pub fn render_heatmap(frame: &RgbaImage) -> RgbaImage {
     let counts = counts(frame);
-    let (width, height) = (frame.width.max(320), frame.height + LEGEND_HEIGHT);
-    let mut out = RgbaImage { width, height, pixels: vec![0; (width * height * 4) as usize] };
+    let (width, height) = (frame.width().max(320), frame.height() + LEGEND_HEIGHT);
+    let mut out = RgbaImage::new(width, height);
     let put = |out: &mut RgbaImage, x: u32, y: u32, c: [u8; 3]| {
-        if x < out.width && y < out.height {
-            let i = ((y * out.width + x) * 4) as usize;
-            out.pixels[i..i + 4].copy_from_slice(&[c[0], c[1], c[2], 255]);
+        if x < out.width() && y < out.height() {
+            out.put_pixel(x, y, Rgba([c[0], c[1], c[2], 255]));
         }
     };
     for y in 0..height {
@@ -56,14 +55,14 @@ pub fn render_heatmap(frame: &RgbaImage) -> RgbaImage {
     let max_count = counts.iter().copied().max().unwrap_or(0);
     let bin = bin_width(max_count);
     let index = |count: u8| (count as u32).div_ceil(bin).min(RAMP.len() as u32 - 1) as u8;
-    for y in 0..frame.height {
-        for x in 0..frame.width {
-            put(&mut out, x, y, colour_of(index(counts[(y * frame.width + x) as usize])));
+    for y in 0..frame.height() {
+        for x in 0..frame.width() {
+            put(&mut out, x, y, colour_of(index(counts[(y * frame.width() + x) as usize])));
         }
     }
     let max = index(max_count);
     let swatch = 10u32;
-    let top = frame.height + 4;
+    let top = frame.height() + 4;
     let spacing = if bin == 1 { swatch + 8 } else { swatch + 20 };
     for n in 0..=max {
         let x0 = 4 + n as u32 * spacing;
@@ -121,9 +120,8 @@ pub fn draw_text(image: &mut RgbaImage, x: u32, y: u32, text: &str, colour: [u8;
             for dx in 0..5u32 {
                 if row & (0x10 >> dx) != 0 {
                     let (px, py) = (x + i as u32 * 6 + dx, y + dy as u32);
-                    if px < image.width && py < image.height {
-                        let idx = ((py * image.width + px) * 4) as usize;
-                        image.pixels[idx..idx + 4].copy_from_slice(&[colour[0], colour[1], colour[2], 255]);
+                    if px < image.width() && py < image.height() {
+                        image.put_pixel(px, py, Rgba([colour[0], colour[1], colour[2], 255]));
                     }
                 }
             }
@@ -137,18 +135,18 @@ mod tests {
 
     #[test]
     fn counts_map_to_distinct_colours_and_the_legend_is_below_the_frame() {
-        let mut frame = RgbaImage { width: 330, height: 20, pixels: vec![0; 330 * 20 * 4] };
-        for (i, p) in frame.pixels.chunks_exact_mut(4).enumerate() {
+        let mut frame = RgbaImage::new(330, 20);
+        for (i, p) in frame.pixels_mut().enumerate() {
             p[3] = (i % 10) as u8;
         }
         let map = render_heatmap(&frame);
-        assert_eq!((map.width, map.height), (330, 20 + LEGEND_HEIGHT));
+        assert_eq!(map.dimensions(), (330, 20 + LEGEND_HEIGHT));
         assert_eq!(bin_width(9), 1);
         assert_eq!(bin_width(10), 2);
         assert_eq!(bin_width(29), 3);
         let distinct: std::collections::HashSet<[u8; 3]> = RAMP.iter().copied().collect();
         assert_eq!(distinct.len(), RAMP.len());
-        assert_eq!(map.pixel(3, 0)[..3], colour_of(3));
+        assert_eq!(map.get_pixel(3, 0).0[..3], colour_of(3));
         assert_eq!(colour_of(200), colour_of(10));
     }
 }

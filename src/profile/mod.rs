@@ -1,12 +1,11 @@
-//! Fill-rate profiling: per-pass counters and the reports made from them.
+//! Fill-rate profiling: reports, charts and budgets made from the frame's per-pass counters
+//! (`render::counters`), and the seed 004 Table 1 bench.
 
 pub mod bench;
 pub mod budget;
 pub mod chart;
 pub mod compare;
-pub mod counters;
 pub mod heatmap;
 pub mod passes;
 pub mod report;
-
-pub use counters::{FrameCounters, PassCounters};
+pub mod table1;

@@ -4,8 +4,8 @@ use std::fmt::Write as _;
 
 use serde::Serialize;
 
-use super::counters::FrameCounters;
 use crate::frame::render_pass::RenderPassTraffic;
+use crate::render::FrameCounters;
 
 /// Version of the JSON layout; bump on any incompatible change (documented in README.md).
 pub const PROFILE_SCHEMA: &str = "nostencil-profile/2";

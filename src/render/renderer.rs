@@ -5,16 +5,17 @@ use std::sync::Arc;
 
 use ash::vk;
 use gpu_allocator::MemoryLocation;
+use image::RgbaImage;
 
+use super::counters::{FrameCounters, PassCounters};
 use super::recorder::{FrameRecorder, OverdrawPipelines};
 use super::uniforms::{FrameDescriptors, FrameUniforms};
 use crate::error::Result;
-use crate::frame::{FrameTargets, RgbaImage, StencilMode};
+use crate::frame::{image_from_rgba8, FrameTargets, StencilMode};
 use crate::gpu::commands::submit_and_wait;
 use crate::gpu::memory::Buffer;
 use crate::gpu::queries::PassQueryPools;
 use crate::gpu::Gpu;
-use crate::profile::{FrameCounters, PassCounters};
 
 /// Measured passes a frame may hold.
 pub const MAX_PASSES_PER_FRAME: u32 = 64;
@@ -167,9 +168,9 @@ impl Renderer {
             .map(|(record, raw)| PassCounters::from_queries(record.name, record.draws, raw, frame_start))
             .collect();
         let image = if self.keep_on_gpu {
-            RgbaImage { width: 0, height: 0, pixels: Vec::new() }
+            RgbaImage::new(0, 0)
         } else {
-            RgbaImage { width: extent.width, height: extent.height, pixels: self.readback.read()?.to_vec() }
+            image_from_rgba8(extent.width, extent.height, self.readback.read()?.to_vec())?
         };
         Ok(FrameOutput {
             image,

@@ -261,7 +261,7 @@ pub const ATLAS_HORNS: [(Vec3, f32); 6] = [
 ];
 
 fn horned_geometry_image(n: u32) -> Result<MeshData> {
-    use crate::technique::shadow_atlas::geometry_image::{geometry_image, horned_radius};
+    use crate::mesh::geometry_image::{geometry_image, horned_radius};
     geometry_image(n, horned_radius(&ATLAS_HORNS))
 }
 

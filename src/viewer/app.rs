@@ -259,12 +259,12 @@ impl<'s> RunningWindow<'s> {
             session.done = true;
             if let Some(path) = &session.options.screenshot {
                 let image = presenter.read_screenshot()?;
-                image.write_png(path, false)?;
+                crate::frame::write_png(&image, path, false)?;
                 eprintln!(
                     "nostencil view: wrote {} ({}x{}, frame {}, {})",
                     path.display(),
-                    image.width,
-                    image.height,
+                    image.width(),
+                    image.height(),
                     session.presented,
                     session.settings.describe()
                 );

@@ -8,7 +8,7 @@ use ash::vk;
 
 use crate::error::Result;
 use crate::gpu::Gpu;
-use crate::profile::FrameCounters;
+use crate::render::FrameCounters;
 use crate::scene::Scene;
 use crate::technique::{RenderOptions, SceneRenderer};
 

@@ -9,9 +9,9 @@ use gpu_allocator::MemoryLocation;
 use super::frame_copy;
 use super::swapchain::{self, Acquired, Surface, Swapchain, Transfer};
 use crate::error::{Error, Result, VkContext};
-use crate::frame::RgbaImage;
 use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
+use image::RgbaImage;
 
 const FRAMES_IN_FLIGHT: usize = 2;
 
@@ -169,7 +169,7 @@ impl Presenter {
         if self.swapchain.readable && swapchain::is_bgra(self.swapchain.format) {
             pixels.chunks_exact_mut(4).for_each(|p| p.swap(0, 2));
         }
-        Ok(RgbaImage { width: extent.width, height: extent.height, pixels })
+        crate::frame::image_from_rgba8(extent.width, extent.height, pixels)
     }
 }
 

@@ -35,7 +35,7 @@ use glam::{Mat4, Vec3, Vec4};
 use self::ink::{InkMesh, InkQuads, InkVertex};
 use super::legacy::CartoonStyle as Technique;
 use crate::error::{Error, Result};
-use crate::frame::{RgbaImage, StencilMode};
+use crate::frame::StencilMode;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::{as_bytes, Buffer};
 use crate::gpu::texture::{Sampler, Texture};
@@ -46,6 +46,7 @@ use crate::pipeline::{
 };
 use crate::render::{FrameOutput, FrameRecorder, FrameUniforms, GpuMesh, GpuScene, Renderer};
 use crate::scene::Scene;
+use image::{Rgba, RgbaImage};
 
 /// How `silhouette` and `toon` find their ink.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
@@ -314,28 +315,24 @@ pub fn pipeline_descs(technique: Technique) -> Vec<PipelineDesc> {
 
 /// N.L -> light: three flat bands (shadow, mid, lit), as cel painters use.
 pub fn toon_ramp() -> RgbaImage {
-    let mut pixels = Vec::new();
-    for i in 0..16 {
+    RgbaImage::from_fn(16, 1, |i, _| {
         let level: u8 = match i {
             0..=4 => 110,
             5..=10 => 190,
             _ => 255,
         };
-        pixels.extend_from_slice(&[level, level, level, 255]);
-    }
-    RgbaImage { width: 16, height: 1, pixels }
+        Rgba([level, level, level, 255])
+    })
 }
 
 /// N.V -> ink: the first texels (grazing angles) black, the rest white (seed 002: "1x32, the
 /// first few texels near u = 0 black"). N.V < 0.44 is dark: on a sphere that is the outer 10%
 /// of its radius on screen (N.V falls fast near the contour, so fewer texels draw a hairline).
 pub fn rim_ramp() -> RgbaImage {
-    let mut pixels = Vec::new();
-    for i in 0..32 {
+    RgbaImage::from_fn(32, 1, |i, _| {
         let level = if i < 14 { 0 } else { 255 };
-        pixels.extend_from_slice(&[level, level, level, 255]);
-    }
-    RgbaImage { width: 32, height: 1, pixels }
+        Rgba([level, level, level, 255])
+    })
 }
 
 struct Textures {

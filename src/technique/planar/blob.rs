@@ -13,12 +13,12 @@ use std::sync::Arc;
 
 use ash::vk;
 use glam::{Vec2, Vec3};
+use image::{Rgba, RgbaImage};
 
 use super::receiver::{light_reaches_plane, receiver_plane, ReceiverPlane};
 use super::scene_meshes::{lit_scene_pass, SceneMeshes};
 use super::shared::{BlobShadows, PlanarStats, SHADOW_BIAS};
 use crate::error::{Error, Result};
-use crate::frame::RgbaImage;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::{as_bytes, Buffer};
 use crate::gpu::texture::{Sampler, Texture};
@@ -49,16 +49,12 @@ pub const BLOB_TEXTURE_SIZE: u32 = 64;
 
 /// A radial falloff: coverage 1 inside 40 % of the radius, smoothly 0 at the rim (and beyond).
 pub fn blob_image(size: u32) -> RgbaImage {
-    let mut pixels = Vec::with_capacity((size * size * 4) as usize);
-    for y in 0..size {
-        for x in 0..size {
-            let p = (Vec2::new(x as f32 + 0.5, y as f32 + 0.5) / size as f32) * 2.0 - Vec2::ONE;
-            let t = ((1.0 - p.length()) / 0.6).clamp(0.0, 1.0);
-            let coverage = (t * t * (3.0 - 2.0 * t) * 255.0).round() as u8;
-            pixels.extend_from_slice(&[coverage, coverage, coverage, coverage]);
-        }
-    }
-    RgbaImage { width: size, height: size, pixels }
+    RgbaImage::from_fn(size, size, |x, y| {
+        let p = (Vec2::new(x as f32 + 0.5, y as f32 + 0.5) / size as f32) * 2.0 - Vec2::ONE;
+        let t = ((1.0 - p.length()) / 0.6).clamp(0.0, 1.0);
+        let coverage = (t * t * (3.0 - 2.0 * t) * 255.0).round() as u8;
+        Rgba([coverage; 4])
+    })
 }
 
 pub fn blob_desc() -> PipelineDesc {
@@ -307,9 +303,9 @@ mod tests {
     fn the_blob_is_dark_in_the_middle_and_clear_at_the_rim() {
         let image = blob_image(BLOB_TEXTURE_SIZE);
         let half = BLOB_TEXTURE_SIZE / 2;
-        assert_eq!(image.pixel(half, half)[3], 255);
-        assert!(image.pixel(0, half)[3] < 4, "{:?}", image.pixel(0, half));
-        assert_eq!(image.pixel(0, 0)[3], 0);
+        assert_eq!(image.get_pixel(half, half)[3], 255);
+        assert!(image.get_pixel(0, half)[3] < 4, "{:?}", image.get_pixel(0, half));
+        assert_eq!(image.get_pixel(0, 0)[3], 0);
         assert_eq!(BLOB_LAYOUT.stride() as usize, std::mem::size_of::<BlobVertex>());
     }
 }

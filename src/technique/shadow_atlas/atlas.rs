@@ -1,12 +1,12 @@
 //! Atlas UVs for shadow textures: each surface point needs a texel of its own. A geometry image
 //! has them by construction; other meshes use a UV set of the file when it is checked not to
-//! overlap (TEXCOORD_1, then TEXCOORD_0), else a generated atlas (`charts`): charts grown over
+//! overlap (TEXCOORD_1, then TEXCOORD_0), else a generated atlas (`mesh::atlas_charts`): charts grown over
 //! triangles facing nearly the same way, packed with padding between charts.
 
 use glam::{Vec2, Vec3};
 
-use super::{charts, geometry_image};
-use crate::mesh::MeshData;
+use crate::mesh::atlas_charts::{self, overlap};
+use crate::mesh::{geometry_image, MeshData};
 use crate::Result;
 
 /// Where a mesh's atlas UVs came from.
@@ -113,35 +113,10 @@ fn clean_mips(padding: u32) -> u32 {
     1 + (padding.max(1)).ilog2()
 }
 
-/// Why a UV set cannot be an atlas: texels outside [0, 1], or texel centres covered by more
-/// than one triangle (shared edges excluded). `None`: it can.
-pub fn overlap(uvs: &[Vec2], indices: &[u32], size: u32) -> Option<String> {
-    if uvs.iter().any(|uv| !(uv.cmpge(Vec2::ZERO).all() && uv.cmple(Vec2::ONE).all() && uv.is_finite())) {
-        return Some("UVs outside [0, 1]".into());
-    }
-    let mut hits = vec![0u8; (size * size) as usize];
-    let mut covered = 0usize;
-    let mut doubled = 0usize;
-    for t in indices.chunks_exact(3) {
-        let corners = [0, 1, 2].map(|k| uvs.get(t[k] as usize).copied().unwrap_or_default() * size as f32);
-        charts::for_each_covered_texel(corners, size, |texel| {
-            let h = &mut hits[texel];
-            match *h {
-                0 => covered += 1,
-                1 => doubled += 1,
-                _ => {}
-            }
-            *h = h.saturating_add(1);
-        });
-    }
-    // A few texels along shared edges may count twice by rounding; a real overlap is larger.
-    (doubled > covered / 1000).then(|| format!("{doubled} of {covered} covered texels are covered twice"))
-}
-
-/// A generated atlas (see `charts`): every corner gets a vertex of its own, since a vertex on
+/// A generated atlas (see `mesh::atlas_charts`): every corner gets a vertex of its own, since a vertex on
 /// a chart border has a UV in each chart.
 pub fn generated_atlas(name: &str, mesh: &MeshData, size: u32) -> Result<MeshAtlas> {
-    let generated = charts::generate(name, mesh, size, CHART_PADDING)?;
+    let generated = atlas_charts::generate(name, mesh, size, CHART_PADDING)?;
     let corner = |k: usize| mesh.indices[k] as usize;
     let corners = 0..mesh.indices.len() - mesh.indices.len() % 3;
     Ok(MeshAtlas {

@@ -12,9 +12,6 @@
 //! texture (sampled trilinearly) or by the shadow-map compare.
 
 pub mod atlas;
-mod charts;
-pub mod geometry_image;
-pub mod table1;
 pub mod targets;
 
 use std::sync::Arc;
@@ -26,7 +23,7 @@ use gpu_allocator::MemoryLocation;
 use self::atlas::{mesh_atlas, AtlasSource, MeshAtlas};
 use self::targets::{CompareSampler, Framebuffer, ImageView, RenderPass};
 use crate::error::{Error, Result};
-use crate::frame::{RgbaImage, StencilMode};
+use crate::frame::{image_from_rgba8, StencilMode};
 use crate::gpu::commands::submit_and_wait;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::{as_bytes, Buffer, Image};
@@ -36,6 +33,7 @@ use crate::pipeline::{BlendState, DepthState, FixedFunction, Pipeline, PipelineD
 use crate::render::{FrameOutput, FrameRecorder, FrameUniforms, GpuMesh, Renderer};
 use crate::render::{ObjectPush, OBJECT_PUSH_BYTES};
 use crate::scene::{Light, PoseTracker, Scene};
+use image::RgbaImage;
 
 /// Which of the two shadow techniques a renderer draws.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -689,7 +687,7 @@ impl<'s> ShadowAtlasRenderer<'s> {
             transition(&self.gpu, cmd, image, mip, 1, src, read);
             Ok(())
         })?;
-        Ok(RgbaImage { width: side, height: side, pixels: readback.read()?.to_vec() })
+        image_from_rgba8(side, side, readback.read()?.to_vec())
     }
 }
 

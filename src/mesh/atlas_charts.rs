@@ -5,13 +5,16 @@
 //! One chart per triangle (the simplest atlas) stops working past a few hundred triangles: the
 //! padding alone outgrows the texture. Grown charts keep a smooth 200k-triangle sphere to a
 //! few dozen charts.
+//!
+//! Also whether a UV set can serve as an atlas as it is ([`overlap`]): the same rasterising of
+//! triangles onto texel centres.
 
 use glam::{Vec2, Vec3};
 
-use crate::mesh::fast_hash::u64_map_with_capacity;
-use crate::mesh::weld::weld_by_position;
-use crate::mesh::MeshData;
-use crate::{Error, Result};
+use super::fast_hash::u64_map_with_capacity;
+use super::weld::weld_by_position;
+use super::MeshData;
+use crate::error::{Error, Result};
 
 /// A chart takes a triangle whose normal lies within this angle of the chart's first one. Every
 /// triangle then faces within 2x this of the chart's mean normal (< 90 degrees), so none flips
@@ -87,6 +90,31 @@ pub fn generate(mesh_name: &str, mesh: &MeshData, size: u32, padding: u32) -> Re
     })
 }
 
+/// Why a UV set cannot be an atlas: texels outside [0, 1], or texel centres covered by more
+/// than one triangle (shared edges excluded). `None`: it can.
+pub fn overlap(uvs: &[Vec2], indices: &[u32], size: u32) -> Option<String> {
+    if uvs.iter().any(|uv| !(uv.cmpge(Vec2::ZERO).all() && uv.cmple(Vec2::ONE).all() && uv.is_finite())) {
+        return Some("UVs outside [0, 1]".into());
+    }
+    let mut hits = vec![0u8; (size * size) as usize];
+    let mut covered = 0usize;
+    let mut doubled = 0usize;
+    for t in indices.chunks_exact(3) {
+        let corners = [0, 1, 2].map(|k| uvs.get(t[k] as usize).copied().unwrap_or_default() * size as f32);
+        for_each_covered_texel(corners, size, |texel| {
+            let h = &mut hits[texel];
+            match *h {
+                0 => covered += 1,
+                1 => doubled += 1,
+                _ => {}
+            }
+            *h = h.saturating_add(1);
+        });
+    }
+    // A few texels along shared edges may count twice by rounding; a real overlap is larger.
+    (doubled > covered / 1000).then(|| format!("{doubled} of {covered} covered texels are covered twice"))
+}
+
 /// Indices (ascending) of the charts with texels that two of their own triangles cover. Texel
 /// centres on a shared edge count for neither triangle, so a shared edge is no overlap.
 fn self_covering_charts(charts: &[(Vec<u32>, usize)], corner_uvs: &[Vec2], size: u32) -> Vec<usize> {
@@ -109,7 +137,7 @@ fn self_covering_charts(charts: &[(Vec<u32>, usize)], corner_uvs: &[Vec2], size:
 
 /// Calls `visit` with the index of every texel whose centre lies strictly inside triangle `t`
 /// (in texels).
-pub(super) fn for_each_covered_texel([a, b, c]: [Vec2; 3], size: u32, mut visit: impl FnMut(usize)) {
+pub fn for_each_covered_texel([a, b, c]: [Vec2; 3], size: u32, mut visit: impl FnMut(usize)) {
     let area = (b - a).perp_dot(c - a);
     if area.abs() < 1e-12 {
         return;
@@ -331,7 +359,6 @@ fn shelf_pack(charts: &[FlatChart], size: u32, padding: u32, density: f32) -> Op
 mod tests {
     use super::*;
     use crate::mesh::shapes;
-    use crate::technique::shadow_atlas::atlas::overlap;
 
     fn sequential(corners: usize) -> Vec<u32> {
         (0..corners as u32).collect()

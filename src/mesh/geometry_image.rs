@@ -7,8 +7,8 @@ use std::collections::HashMap;
 
 use glam::{Vec2, Vec3};
 
+use super::MeshData;
 use crate::error::{Error, Result};
-use crate::mesh::MeshData;
 
 /// The unit direction of grid point (u, v) in [-1, 1]^2 (octahedral map, y up).
 pub fn octahedral_direction(u: f32, v: f32) -> Vec3 {

@@ -6,11 +6,11 @@
 use std::fmt::Write as _;
 use std::sync::Arc;
 
-use super::{LightMode, ShadowAtlasOptions, ShadowAtlasRenderer, ShadowKind};
+use super::bench::{self, BenchSettings, Variant, VariantResult};
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
-use crate::profile::bench::{self, BenchSettings, Variant, VariantResult};
 use crate::scene::builtin_scene;
+use crate::technique::shadow_atlas::{LightMode, ShadowAtlasOptions, ShadowAtlasRenderer, ShadowKind};
 use crate::technique::RenderOptions;
 
 /// The paper's Table 1 (fps): (scene, technique, moving light, fixed light).
