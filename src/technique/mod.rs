@@ -4,6 +4,8 @@
 
 pub mod alpha_counter;
 pub mod cartoon;
+pub mod cartoon_shading;
+pub mod extruded;
 pub mod frame_renderer;
 pub mod interface;
 pub mod legacy;

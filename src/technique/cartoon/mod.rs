@@ -30,21 +30,21 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use ash::vk;
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat4, Vec4};
 
 use self::ink::{InkMesh, InkQuads, InkVertex};
+use super::cartoon_shading::{self, cartoon_desc, shade_desc, CartoonPush, CartoonScene, Shading};
+use super::extruded::{extrude_desc, ExtrudedCopies, Extrusion};
 use super::legacy::CartoonStyle as Technique;
 use crate::error::{Error, Result};
-use crate::frame::{RgbaImage, StencilMode};
-use crate::gpu::descriptors::{Binding, DescriptorSet};
+use crate::frame::StencilMode;
 use crate::gpu::memory::{as_bytes, Buffer};
-use crate::gpu::texture::{Sampler, Texture};
 use crate::gpu::Gpu;
 use crate::pipeline::{
     BlendEquation, BlendState, DepthState, FixedFunction, Pipeline, PipelineDesc, RasterState, StencilFace,
     StencilState, VertexLayout,
 };
-use crate::render::{FrameOutput, FrameRecorder, FrameUniforms, GpuMesh, GpuScene, Renderer};
+use crate::render::{FrameOutput, FrameRecorder, FrameUniforms, Renderer};
 use crate::scene::Scene;
 
 /// How `silhouette` and `toon` find their ink.
@@ -154,18 +154,6 @@ pub fn resolve_selection(scene: &Scene, names: &[String]) -> Result<Vec<bool>> {
 // ---------------------------------------------------------------------------------------------
 // Fixed-function recipes, as data.
 
-/// Mirrors `CartoonPush` in `shaders/cartoon_push.glsl`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy)]
-pub struct CartoonPush {
-    pub model: Mat4,
-    pub colour: Vec4,
-    pub params: Vec4,
-    pub viewport: Vec4,
-}
-
-pub const CARTOON_PUSH_BYTES: u32 = std::mem::size_of::<CartoonPush>() as u32;
-
 const RGB_ONLY: vk::ColorComponentFlags =
     vk::ColorComponentFlags::from_raw(vk::ColorComponentFlags::RGBA.as_raw() & !vk::ColorComponentFlags::A.as_raw());
 
@@ -178,29 +166,6 @@ pub const INK_LAYOUT: VertexLayout = VertexLayout {
         vk::Format::R32G32_SFLOAT,
     ],
 };
-
-fn desc(
-    name: &'static str,
-    vs: &'static str,
-    fs: &'static str,
-    layout: VertexLayout,
-    fixed: FixedFunction,
-) -> PipelineDesc {
-    PipelineDesc {
-        name,
-        vertex_shader: vs,
-        fragment_shader: fs,
-        vertex_layout: layout,
-        fixed,
-        push_constant_bytes: CARTOON_PUSH_BYTES,
-        subpass: 0,
-    }
-}
-
-/// The scene: Lambert or toon, optionally with the N.V rim; writes the alpha it is given.
-pub fn shade_desc() -> PipelineDesc {
-    desc("scene", "cartoon_shade.vert", "cartoon_shade.frag", VertexLayout::POSITION_NORMAL, FixedFunction::OPAQUE)
-}
 
 /// Reference only: selected objects also write stencil 1.
 pub fn selected_stencil_desc() -> PipelineDesc {
@@ -240,7 +205,7 @@ pub fn outline_desc() -> PipelineDesc {
         alpha: None,
         write_mask: RGB_ONLY,
     };
-    desc("outline", "cartoon_extrude.vert", "cartoon_colour.frag", VertexLayout::POSITION_NORMAL, outline_fixed(blend))
+    extrude_desc("outline", outline_fixed(blend))
 }
 
 /// Reference: the same copy, opaque, where the stencil is not 1.
@@ -255,13 +220,7 @@ pub fn outline_stencil_desc() -> PipelineDesc {
         depth_fail: vk::StencilOp::KEEP,
     };
     let blend = BlendState { colour: None, alpha: None, write_mask: RGB_ONLY };
-    let mut d = desc(
-        "outline (stencil)",
-        "cartoon_extrude.vert",
-        "cartoon_colour.frag",
-        VertexLayout::POSITION_NORMAL,
-        outline_fixed(blend),
-    );
+    let mut d = extrude_desc("outline (stencil)", outline_fixed(blend));
     d.fixed.stencil = Some(StencilState { front: not_one, back: not_one });
     d
 }
@@ -269,7 +228,7 @@ pub fn outline_stencil_desc() -> PipelineDesc {
 /// Ink quads: depth tested (LESS_OR_EQUAL, pulled towards the eye in the vertex shader), no
 /// depth write, colour only.
 pub fn ink_desc() -> PipelineDesc {
-    desc(
+    cartoon_desc(
         "ink lines",
         "cartoon_ink.vert",
         "cartoon_colour.frag",
@@ -287,13 +246,7 @@ pub fn ink_desc() -> PipelineDesc {
 /// Inverted hull: the pushed-out copy with its front faces culled, depth tested and written, so
 /// only the rim around the model (and at its folds) shows.
 pub fn hull_desc() -> PipelineDesc {
-    desc(
-        "inverted hull",
-        "cartoon_extrude.vert",
-        "cartoon_colour.frag",
-        VertexLayout::POSITION_NORMAL,
-        FixedFunction { raster: RasterState::CULL_FRONT, ..FixedFunction::OPAQUE },
-    )
+    extrude_desc("inverted hull", FixedFunction { raster: RasterState::CULL_FRONT, ..FixedFunction::OPAQUE })
 }
 
 /// Every pipeline of every pass of a cartoon technique (emulated and reference), for
@@ -306,58 +259,6 @@ pub fn pipeline_descs(technique: Technique) -> Vec<PipelineDesc> {
             vec![shade_desc(), selected, outline_desc(), selected_stencil_desc(), outline_stencil_desc()]
         }
         _ => vec![shade_desc(), ink_desc(), hull_desc()],
-    }
-}
-
-// ---------------------------------------------------------------------------------------------
-// Textures: the toon ramp and the dark rim, Nx1 RGBA8, nearest filtering.
-
-/// N.L -> light: three flat bands (shadow, mid, lit), as cel painters use.
-pub fn toon_ramp() -> RgbaImage {
-    let mut pixels = Vec::new();
-    for i in 0..16 {
-        let level: u8 = match i {
-            0..=4 => 110,
-            5..=10 => 190,
-            _ => 255,
-        };
-        pixels.extend_from_slice(&[level, level, level, 255]);
-    }
-    RgbaImage { width: 16, height: 1, pixels }
-}
-
-/// N.V -> ink: the first texels (grazing angles) black, the rest white (seed 002: "1x32, the
-/// first few texels near u = 0 black"). N.V < 0.44 is dark: on a sphere that is the outer 10%
-/// of its radius on screen (N.V falls fast near the contour, so fewer texels draw a hairline).
-pub fn rim_ramp() -> RgbaImage {
-    let mut pixels = Vec::new();
-    for i in 0..32 {
-        let level = if i < 14 { 0 } else { 255 };
-        pixels.extend_from_slice(&[level, level, level, 255]);
-    }
-    RgbaImage { width: 32, height: 1, pixels }
-}
-
-struct Textures {
-    set: DescriptorSet,
-    _ramp: Texture,
-    _rim: Texture,
-}
-
-impl Textures {
-    fn new(gpu: &Arc<Gpu>) -> Result<Self> {
-        let nearest = || Sampler::new(gpu, vk::Filter::NEAREST, vk::SamplerAddressMode::CLAMP_TO_EDGE);
-        let format = vk::Format::R8G8B8A8_UNORM;
-        let ramp = Texture::from_rgba8(gpu, "toon ramp", &toon_ramp(), format, false, nearest()?)?;
-        let rim = Texture::from_rgba8(gpu, "rim ramp", &rim_ramp(), format, false, nearest()?)?;
-        let binding = |t: &Texture| Binding::Texture {
-            view: t.image.view,
-            sampler: t.sampler.raw,
-            layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-            stages: vk::ShaderStageFlags::FRAGMENT,
-        };
-        let set = DescriptorSet::new(gpu, &[binding(&ramp), binding(&rim)])?;
-        Ok(Textures { set, _ramp: ramp, _rim: rim })
     }
 }
 
@@ -401,16 +302,15 @@ pub struct CartoonRenderer<'s> {
     technique: Technique,
     options: CartoonOptions,
     renderer: Renderer,
-    meshes: GpuScene,
+    scene_pass: CartoonScene,
     /// Per object: welded mesh with smooth normals (outline copy, hull).
-    extruded: Vec<GpuMesh>,
+    extruded: ExtrudedCopies,
     /// Per object: its welded mesh and edge list (ink lines when `edges`; the extruded copy).
     ink: Vec<InkMesh>,
     /// Ink lines from the edge list (`--silhouette edges`).
     edges: bool,
     quads: InkQuads,
     selected: Vec<bool>,
-    textures: Textures,
     pipelines: Pipelines,
 }
 
@@ -430,27 +330,20 @@ impl<'s> CartoonRenderer<'s> {
         options.check()?;
         let selected = resolve_selection(scene, &options.select)?;
         let renderer = Renderer::new(gpu, width, height, stencil, false)?;
-        let meshes = GpuScene::upload(gpu, scene)?;
-        let textures = Textures::new(gpu)?;
+        let shading = Shading {
+            toon: technique == Technique::Toon,
+            rim: technique != Technique::Outline && options.silhouette == SilhouetteMethod::Shader,
+        };
+        let scene_pass = CartoonScene::new(gpu, scene, shading)?;
         let render_pass = renderer.targets.render_pass;
         let frame_only = [renderer.frame.layout];
-        let with_textures = [renderer.frame.layout, textures.set.layout];
+        let with_textures = [renderer.frame.layout, scene_pass.ramps.set.layout];
         let edges = technique != Technique::Outline && options.silhouette == SilhouetteMethod::Edges;
         let hull = technique != Technique::Outline && options.silhouette == SilhouetteMethod::Hull;
         let reference = stencil == StencilMode::Reference;
 
-        let mut extruded = Vec::new();
-        let mut ink = Vec::new();
-        for (index, object) in scene.objects.iter().enumerate() {
-            let prepared = InkMesh::new(scene, index)?;
-            extruded.push(GpuMesh::from_raw(
-                gpu,
-                &format!("{} (extruded)", object.name),
-                as_bytes(&extruded_vertices(&prepared)),
-                &prepared.welded.indices,
-            )?);
-            ink.push(prepared);
-        }
+        let ink = (0..scene.objects.len()).map(|index| InkMesh::new(scene, index)).collect::<Result<Vec<_>>>()?;
+        let extruded = ExtrudedCopies::new(gpu, scene)?;
 
         let outline = technique == Technique::Outline;
         let pipelines = Pipelines {
@@ -473,13 +366,12 @@ impl<'s> CartoonRenderer<'s> {
             technique,
             options: options.clone(),
             renderer,
-            meshes,
+            scene_pass,
             extruded,
             ink,
             edges,
             quads: InkQuads::default(),
             selected,
-            textures,
             pipelines,
         })
     }
@@ -488,35 +380,15 @@ impl<'s> CartoonRenderer<'s> {
         &mut self.renderer
     }
 
-    /// World size of one pixel at unit distance from the eye.
-    fn pixel_at_unit_distance(&self, scene: &Scene) -> f32 {
-        2.0 * (0.5 * scene.camera.fov_y_radians).tan() / self.renderer.extent().height as f32
-    }
-
-    fn viewport(&self, scene: &Scene) -> Vec4 {
-        let extent = self.renderer.extent();
-        Vec4::new(extent.width as f32, extent.height as f32, self.pixel_at_unit_distance(scene), 0.0)
-    }
-
     /// Skinned objects whose palette changed (`Scene::pose_at`) get their lit mesh, welded
     /// positions (so the per-frame face normals and edges) and extruded copy re-posed.
     fn follow_pose(&mut self, scene: &Scene) -> Result<()> {
-        for index in self.meshes.follow_pose(&self.gpu, scene)? {
-            let object = &scene.objects[index];
-            let (Some(skin), Some(ink)) = (&object.skin, self.ink.get_mut(index)) else { continue };
-            if !ink.follow(skin) {
-                continue;
-            }
-            if let Some(mesh) = self.extruded.get_mut(index) {
-                mesh.vertices = Buffer::device_local(
-                    &self.gpu,
-                    &format!("{} (extruded, posed)", object.name),
-                    as_bytes(&extruded_vertices(ink)),
-                    vk::BufferUsageFlags::VERTEX_BUFFER,
-                )?;
-            }
+        let changed = self.scene_pass.meshes.follow_pose(&self.gpu, scene)?;
+        for &index in &changed {
+            let (Some(skin), Some(ink)) = (&scene.objects[index].skin, self.ink.get_mut(index)) else { continue };
+            ink.follow(skin);
         }
-        Ok(())
+        self.extruded.follow_pose(&self.gpu, scene, &changed)
     }
 
     /// Per-frame CPU edge work for every object; returns its time in ms.
@@ -559,13 +431,7 @@ impl<'s> CartoonRenderer<'s> {
             ("ink boundary", upload("ink boundary quads", &self.quads.boundary)?),
         ];
         let uniforms = FrameUniforms::for_scene(scene, self.renderer.aspect());
-        let viewport = self.viewport(scene);
-        let toon = if self.technique == Technique::Toon { 1.0 } else { 0.0 };
-        let rim = if self.technique != Technique::Outline && self.options.silhouette == SilhouetteMethod::Shader {
-            1.0
-        } else {
-            0.0
-        };
+        let viewport = cartoon_shading::viewport(scene, self.renderer.extent());
         let outline_pass = self.technique == Technique::Outline;
         let clear = scene.background.extend(if outline_pass { 0.0 } else { 1.0 }).to_array();
         let ink_colour = Vec4::new(0.04, 0.04, 0.06, 1.0);
@@ -573,42 +439,20 @@ impl<'s> CartoonRenderer<'s> {
         let outline_colour = Vec4::new(r, g, b, 1.0);
         // Lines are pulled towards the eye by about one line width at any distance: enough for a
         // crease between faces tilted up to ~60 degrees, far too little to show through a solid.
-        let pull = scene.camera.near * (self.options.line_width * self.pixel_at_unit_distance(scene)).max(1e-3);
+        let pixel = cartoon_shading::pixel_at_unit_distance(scene, self.renderer.extent().height);
+        let pull = scene.camera.near * (self.options.line_width * pixel).max(1e-3);
         let (line_width, outline_width) = (self.options.line_width, self.options.outline_width);
 
-        let (p, meshes, extruded, selected, texture_set) =
-            (&self.pipelines, &self.meshes, &self.extruded, &self.selected, self.textures.set.set);
+        let (p, scene_pass, extruded, selected) = (&self.pipelines, &self.scene_pass, &self.extruded, &self.selected);
+        let texture_set = scene_pass.ramps.set.set;
         let shade = |rec: &mut FrameRecorder, pipeline: &Pipeline, which: &dyn Fn(usize) -> bool, alpha: f32| {
             rec.bind(pipeline);
-            unsafe {
-                rec.device().cmd_bind_descriptor_sets(
-                    rec.cmd,
-                    vk::PipelineBindPoint::GRAPHICS,
-                    pipeline.layout,
-                    1,
-                    &[texture_set],
-                    &[],
-                )
-            };
-            for (_, object) in scene.objects.iter().enumerate().filter(|(i, _)| which(*i)) {
-                let push = CartoonPush {
-                    model: object.transform,
-                    colour: object.colour.extend(alpha),
-                    params: Vec4::new(toon, rim, 0.0, 0.0),
-                    viewport,
-                };
-                rec.push(pipeline, &push);
-                rec.draw_mesh(&meshes.meshes[object.mesh]);
-            }
+            rec.bind_sets(pipeline, 1, &[texture_set]);
+            scene_pass.draw(rec, pipeline, scene, which, alpha, viewport);
         };
         let extrude = |rec: &mut FrameRecorder, pipeline: &Pipeline, which: &dyn Fn(usize) -> bool, px: f32, colour| {
             rec.bind(pipeline);
-            for (index, object) in scene.objects.iter().enumerate().filter(|(i, _)| which(*i)) {
-                let push =
-                    CartoonPush { model: object.transform, colour, params: Vec4::new(px, 0.0, 0.0, 0.0), viewport };
-                rec.push(pipeline, &push);
-                rec.draw_mesh(&extruded[index]);
-            }
+            extruded.draw(rec, pipeline, scene, which, Extrusion { width_px: px, colour }, viewport);
         };
 
         let output = self.renderer.render(&uniforms, clear, |rec| {
@@ -681,12 +525,6 @@ impl<'s> CartoonRenderer<'s> {
         };
         Ok(CartoonFrame { output, stats })
     }
-}
-
-/// The welded mesh with smooth normals, interleaved: the outline copy and the inverted hull.
-fn extruded_vertices(ink: &InkMesh) -> Vec<[Vec3; 2]> {
-    let normals = ink::smooth_normals(&ink.welded);
-    ink.welded.positions.iter().zip(&normals).map(|(p, n)| [*p, *n]).collect()
 }
 
 /// Renders one cartoon frame.
