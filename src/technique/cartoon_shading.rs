@@ -13,7 +13,7 @@ use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::texture::{Sampler, Texture};
 use crate::gpu::Gpu;
 use crate::pipeline::{FixedFunction, Pipeline, PipelineDesc, VertexLayout};
-use crate::render::plan::SetRole;
+use crate::render::plan::{Draws, PlannedPass, Push, SetRole};
 use crate::render::{FrameRecorder, GpuScene};
 use crate::scene::Scene;
 
@@ -62,6 +62,12 @@ pub fn shade_desc() -> PipelineDesc {
     )
 }
 
+/// A scene pass: the objects `draws` names, shaded by [`shade_desc`] or a variant of it, with
+/// the frame's uniforms and the ramps.
+pub fn shade_pass(name: &'static str, pipeline: PipelineDesc, draws: Draws, push: &'static str) -> PlannedPass {
+    PlannedPass::new(name, pipeline, draws, Push::PerDraw(push)).with_sets(&[SetRole::Frame, RAMPS])
+}
+
 /// How the scene pass shades.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Shading {
@@ -100,6 +106,16 @@ pub struct CartoonScene {
 impl CartoonScene {
     pub fn new(gpu: &Arc<Gpu>, scene: &Scene, shading: Shading) -> Result<Self> {
         Ok(CartoonScene { meshes: GpuScene::upload(gpu, scene)?, ramps: Ramps::new(gpu)?, shading })
+    }
+
+    /// The layout of [`RAMPS`].
+    pub fn set_layout(&self, role: SetRole) -> Option<vk::DescriptorSetLayout> {
+        (role == RAMPS).then_some(self.ramps.set.layout)
+    }
+
+    /// The set of [`RAMPS`].
+    pub fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
+        (role == RAMPS).then_some(self.ramps.set.set)
     }
 
     /// Draws the objects `which` picks with the bound scene pipeline, each with its transform

@@ -6,7 +6,7 @@ use std::any::Any;
 use std::sync::Arc;
 
 use super::cartoon::{CartoonRenderer, CartoonStats, SilhouetteMethod};
-use super::interface::{stencil_variants, FrameStats, SceneRenderer, Technique, TechniqueFrame, Variant};
+use super::interface::{FrameStats, SceneRenderer, Technique, TechniqueFrame, Variant};
 use super::options::RenderOptions;
 use super::planar::blob::BlobRenderer;
 use super::planar::shadow_texture::ShadowTextureRenderer;
@@ -133,18 +133,6 @@ macro_rules! cartoon_technique {
             }
 
             fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
-                if $style == CartoonStyle::Outline {
-                    return stencil_variants("outline", options)
-                        .into_iter()
-                        .map(|mut v| {
-                            v.label = match v.options.stencil {
-                                StencilMode::Reference => "reference (stencil)".into(),
-                                StencilMode::Emulated => "emulated".into(),
-                            };
-                            v
-                        })
-                        .collect();
-                }
                 SilhouetteMethod::ALL
                     .into_iter()
                     .map(|method| {
@@ -156,16 +144,12 @@ macro_rules! cartoon_technique {
             }
 
             fn describe(&self, options: &RenderOptions) -> String {
-                if $style == CartoonStyle::Outline {
-                    return format!("{} ({})", $text, options.stencil.name());
-                }
                 format!("{} ({}, {})", $text, options.stencil.name(), options.cartoon.silhouette.name())
             }
         }
     };
 }
 
-cartoon_technique!(Outline, CartoonStyle::Outline, "outline", "selection outline without a stencil (seed 003)");
 cartoon_technique!(Silhouette, CartoonStyle::Silhouette, "silhouette", "Lambert shading with ink lines (seed 002)");
 cartoon_technique!(Toon, CartoonStyle::Toon, "toon", "toon shading (N.L through a ramp) with ink lines (seed 002)");
 

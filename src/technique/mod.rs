@@ -11,6 +11,7 @@ pub mod interface;
 pub mod legacy;
 pub mod lit;
 pub mod options;
+pub mod outline;
 pub mod planar;
 pub mod registry;
 pub mod shadow_atlas;

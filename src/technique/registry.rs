@@ -8,7 +8,7 @@ use crate::error::{Error, Result};
 pub static TECHNIQUES: &[&dyn Technique] = &[
     &super::lit::Lit,
     &super::shadow_volume::ShadowVolumes,
-    &super::legacy::Outline,
+    &super::outline::Outline,
     &super::legacy::Silhouette,
     &super::legacy::Toon,
     &super::legacy::Planar,

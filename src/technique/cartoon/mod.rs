@@ -36,6 +36,7 @@ use self::ink::{InkMesh, InkQuads, InkVertex};
 use super::cartoon_shading::{self, cartoon_desc, shade_desc, CartoonPush, CartoonScene, Shading};
 use super::extruded::{extrude_desc, ExtrudedCopies, Extrusion};
 use super::legacy::CartoonStyle as Technique;
+use super::outline::resolve_selection;
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::memory::{as_bytes, Buffer};
@@ -126,29 +127,6 @@ impl CartoonOptions {
     pub fn parse_select(text: &str) -> Vec<String> {
         text.split(',').map(str::trim).filter(|s| !s.is_empty()).map(str::to_owned).collect()
     }
-}
-
-/// Which objects are selected, by index; an unknown name is refused with the scene's names.
-pub fn resolve_selection(scene: &Scene, names: &[String]) -> Result<Vec<bool>> {
-    let mut selected = vec![false; scene.objects.len()];
-    if names.is_empty() {
-        let first = scene.objects.iter().position(|o| o.casts_shadow).or((!scene.objects.is_empty()).then_some(0));
-        if let Some(i) = first {
-            selected[i] = true;
-        }
-        return Ok(selected);
-    }
-    for name in names {
-        let index = scene.objects.iter().position(|o| &o.name == name).ok_or_else(|| {
-            Error::InvalidInput(format!(
-                "--select: scene '{}' has no object '{name}'; its objects: {}",
-                scene.name,
-                scene.objects.iter().map(|o| o.name.as_str()).collect::<Vec<_>>().join(", ")
-            ))
-        })?;
-        selected[index] = true;
-    }
-    Ok(selected)
 }
 
 // ---------------------------------------------------------------------------------------------
