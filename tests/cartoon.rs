@@ -12,7 +12,7 @@ use nostencil::frame::{RgbaImage, StencilMode};
 use nostencil::gpu::Gpu;
 use nostencil::mesh::{shapes, MeshData};
 use nostencil::scene::{builtin_scene, Camera, Light, Scene};
-use nostencil::technique::legacy::{Silhouette, Toon};
+use nostencil::technique::ink::{Silhouette, Toon};
 use nostencil::technique::outline::Outline;
 use nostencil::technique::{
     render_scene, CartoonOptions, CartoonStats, RenderOptions, SilhouetteMethod, Technique, TechniqueFrame,

@@ -5,7 +5,6 @@
 use std::any::Any;
 use std::sync::Arc;
 
-use super::cartoon::{CartoonRenderer, CartoonStats, SilhouetteMethod};
 use super::interface::{FrameStats, SceneRenderer, Technique, TechniqueFrame, Variant};
 use super::options::RenderOptions;
 use super::planar::blob::BlobRenderer;
@@ -18,24 +17,6 @@ use crate::gpu::Gpu;
 use crate::render::plan::{Draws, PassPlan, PlannedPass, Push};
 use crate::render::Renderer;
 use crate::scene::Scene;
-
-/// Which of the cartoon techniques a cartoon renderer draws.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum CartoonStyle {
-    Outline,
-    Silhouette,
-    Toon,
-}
-
-impl CartoonStyle {
-    pub fn name(self) -> &'static str {
-        match self {
-            CartoonStyle::Outline => "outline",
-            CartoonStyle::Silhouette => "silhouette",
-            CartoonStyle::Toon => "toon",
-        }
-    }
-}
 
 fn plan_of(descs: Vec<crate::pipeline::PipelineDesc>) -> PassPlan {
     PassPlan {
@@ -70,7 +51,6 @@ macro_rules! adapt {
     };
 }
 
-adapt!(CartoonRenderer, CartoonStats);
 adapt!(PlanarRenderer, PlanarStats);
 adapt!(BlobRenderer, PlanarStats);
 adapt!(ShadowTextureRenderer, PlanarStats);
@@ -103,55 +83,6 @@ where
 {
     Box::new(Adapter { inner, plan })
 }
-
-macro_rules! cartoon_technique {
-    ($name:ident, $style:expr, $text:literal, $about:literal) => {
-        pub struct $name;
-
-        impl Technique for $name {
-            fn name(&self) -> &'static str {
-                $text
-            }
-
-            fn about(&self) -> &'static str {
-                $about
-            }
-
-            fn plan(&self, _options: &RenderOptions) -> Result<PassPlan> {
-                Ok(plan_of(super::cartoon::pipeline_descs($style)))
-            }
-
-            fn build<'s>(
-                &self,
-                gpu: &Arc<Gpu>,
-                scene: &'s Scene,
-                o: &RenderOptions,
-            ) -> Result<Box<dyn SceneRenderer + 's>> {
-                let mut r = CartoonRenderer::new(gpu, scene, o.width, o.height, o.stencil, $style, &o.cartoon)?;
-                r.renderer_mut().count_overdraw = o.count_overdraw;
-                Ok(boxed(r, self.plan(o)?))
-            }
-
-            fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
-                SilhouetteMethod::ALL
-                    .into_iter()
-                    .map(|method| {
-                        let mut options = options.clone();
-                        options.cartoon.silhouette = method;
-                        Variant { label: format!("{} {}", $text, method.name()), options }
-                    })
-                    .collect()
-            }
-
-            fn describe(&self, options: &RenderOptions) -> String {
-                format!("{} ({}, {})", $text, options.stencil.name(), options.cartoon.silhouette.name())
-            }
-        }
-    };
-}
-
-cartoon_technique!(Silhouette, CartoonStyle::Silhouette, "silhouette", "Lambert shading with ink lines (seed 002)");
-cartoon_technique!(Toon, CartoonStyle::Toon, "toon", "toon shading (N.L through a ramp) with ink lines (seed 002)");
 
 /// The three shadows of seed 001 side by side, the real-stencil reference first.
 fn planar_bench(options: &RenderOptions) -> Vec<Variant> {
@@ -295,35 +226,6 @@ atlas_technique!(
 
 fn json_of(value: &impl serde::Serialize) -> serde_json::Value {
     serde_json::to_value(value).unwrap_or_default()
-}
-
-impl FrameStats for CartoonStats {
-    fn report(&self) -> String {
-        match self.method {
-            Some(method) if method != SilhouetteMethod::Edges => {
-                format!("cartoon ({}): ink on the GPU, no CPU edge work", method.name())
-            }
-            Some(method) => format!(
-                "cartoon ({}): {} edges in the unique edge lists | drawn: {} silhouette, {} crease, {} boundary | \
-                 CPU edge work {:.3} ms",
-                method.name(),
-                self.total_edges,
-                self.silhouette_edges,
-                self.crease_edges,
-                self.boundary_edges,
-                self.edge_cpu_ms
-            ),
-            None => format!("outline: selected {}", self.selected.join(", ")),
-        }
-    }
-
-    fn json(&self) -> serde_json::Value {
-        json_of(self)
-    }
-
-    fn as_any(&self) -> &dyn Any {
-        self
-    }
 }
 
 impl FrameStats for PlanarStats {

@@ -7,6 +7,7 @@ pub mod cartoon;
 pub mod cartoon_shading;
 pub mod extruded;
 pub mod frame_renderer;
+pub mod ink;
 pub mod interface;
 pub mod legacy;
 pub mod lit;

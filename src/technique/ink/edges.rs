@@ -272,7 +272,7 @@ mod tests {
     }
 
     /// Printed, not asserted (a timed assertion fails on a busy machine): run by hand with
-    /// `cargo test --lib cartoon::ink -- --ignored --nocapture`.
+    /// `cargo test --lib ink::edges -- --ignored --nocapture`.
     #[test]
     #[ignore = "prints timings; run by hand"]
     fn ink_quads_for_131072_faces() -> Result<()> {
