@@ -8,27 +8,51 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec2, Vec3};
 use image::RgbaImage;
+use nostencil::error::Result;
 use nostencil::frame::StencilMode;
 use nostencil::gpu::Gpu;
 use nostencil::mesh::{shapes, MeshData};
 use nostencil::scene::{builtin_scene, Camera, Light, Scene};
-use nostencil::technique::cartoon::{self, CartoonOptions, CartoonStats, SilhouetteMethod};
-use nostencil::technique::legacy::CartoonStyle;
+use nostencil::technique::ink::{Silhouette, Toon};
+use nostencil::technique::outline::Outline;
+use nostencil::technique::{
+    render_scene, CartoonOptions, CartoonStats, RenderOptions, SilhouetteMethod, Technique, TechniqueFrame,
+};
 
 const SIZE: (u32, u32) = (160, 120);
-/// `cartoon.rs`'s ink colour (0.04, 0.04, 0.06) in 8 bits.
+/// The ink colour of the silhouette and toon techniques, (0.04, 0.04, 0.06) in 8 bits.
 const INK: [u8; 3] = [10, 10, 15];
+
+fn render_frame(
+    gpu: &Arc<Gpu>,
+    scene: &Scene,
+    stencil: StencilMode,
+    technique: &'static dyn Technique,
+    options: &CartoonOptions,
+    size: (u32, u32),
+) -> Result<TechniqueFrame> {
+    let options = RenderOptions {
+        width: size.0,
+        height: size.1,
+        stencil,
+        technique,
+        cartoon: options.clone(),
+        ..Default::default()
+    };
+    render_scene(gpu, scene, &options)
+}
 
 fn render(
     gpu: &Arc<Gpu>,
     scene: &Scene,
     stencil: StencilMode,
-    technique: CartoonStyle,
+    technique: &'static dyn Technique,
     options: &CartoonOptions,
     size: (u32, u32),
 ) -> (RgbaImage, CartoonStats) {
-    let frame = cartoon::render(gpu, scene, size.0, size.1, stencil, technique, options).expect("cartoon frame");
-    (frame.output.image, frame.stats)
+    let frame = render_frame(gpu, scene, stencil, technique, options, size).expect("cartoon frame");
+    let stats = frame.stats::<CartoonStats>().expect("cartoon stats").clone();
+    (frame.output.image, stats)
 }
 
 fn rgb_differences(a: &RgbaImage, b: &RgbaImage) -> usize {
@@ -58,8 +82,8 @@ fn outline_emulated_equals_reference_for_one_and_several_overlapping_objects() {
     for (scene, names) in cases {
         let options =
             CartoonOptions { select: names.iter().map(|s| s.to_string()).collect(), ..CartoonOptions::default() };
-        let (reference, _) = render(&gpu, scene, StencilMode::Reference, CartoonStyle::Outline, &options, SIZE);
-        let (emulated, stats) = render(&gpu, scene, StencilMode::Emulated, CartoonStyle::Outline, &options, SIZE);
+        let (reference, _) = render(&gpu, scene, StencilMode::Reference, &Outline, &options, SIZE);
+        let (emulated, stats) = render(&gpu, scene, StencilMode::Emulated, &Outline, &options, SIZE);
         let label = format!("{} {names:?}", scene.name);
         assert!(!stats.selected.is_empty(), "{label}: nothing selected");
         let outline_pixels = count_rgb(&reference, orange);
@@ -83,10 +107,10 @@ fn outline_never_covers_a_selected_surface_and_hugs_the_selected_object() {
     let gpu = common::gpu();
     let scene = builtin_scene("outline").expect("scene");
     let one = CartoonOptions { select: vec!["box".into()], ..CartoonOptions::default() };
-    let (image, _) = render(&gpu, &scene, StencilMode::Emulated, CartoonStyle::Outline, &one, SIZE);
+    let (image, _) = render(&gpu, &scene, StencilMode::Emulated, &Outline, &one, SIZE);
     let mut alone_scene = scene.clone();
     alone_scene.objects.retain(|o| o.name == "box");
-    let (alone, _) = render(&gpu, &alone_scene, StencilMode::Emulated, CartoonStyle::Outline, &one, SIZE);
+    let (alone, _) = render(&gpu, &alone_scene, StencilMode::Emulated, &Outline, &one, SIZE);
     let orange = one.outline_colour;
     let (w, h) = (image.width() as i32, image.height() as i32);
     let reach = one.outline_width.ceil() as i32 + 1;
@@ -126,7 +150,7 @@ fn unknown_selection_is_refused_with_the_objects_names() {
     let gpu = common::gpu();
     let scene = builtin_scene("outline").expect("scene");
     let options = CartoonOptions { select: vec!["teapot".into()], ..CartoonOptions::default() };
-    let error = cartoon::render(&gpu, &scene, 64, 64, StencilMode::Emulated, CartoonStyle::Outline, &options)
+    let error = render_frame(&gpu, &scene, StencilMode::Emulated, &Outline, &options, (64, 64))
         .err()
         .expect("unknown object")
         .to_string();
@@ -206,7 +230,7 @@ fn ink_line_width_in_the_image_is_the_requested_width() {
         let scene = &scene;
         for width in [1.0f32, 2.0, 3.0, 5.0] {
             let options = CartoonOptions { line_width: width, ..CartoonOptions::default() };
-            let (image, stats) = render(&gpu, scene, StencilMode::Emulated, CartoonStyle::Silhouette, &options, size);
+            let (image, stats) = render(&gpu, scene, StencilMode::Emulated, &Silhouette, &options, size);
             let (top, bottom) = if *outward { (y - width, y) } else { (y - 0.5 * width, y + 0.5 * width) };
             // The analytic band must not put a pixel centre on its border (that would test the
             // tie rule, not the width).
@@ -230,7 +254,7 @@ fn ink_lines_sit_on_the_sphere_silhouette_without_gaps() {
     let size = (128, 128);
     let scene = face_on_scene(shapes::uv_sphere(24, 48).expect("sphere"), Mat4::IDENTITY);
     let options = CartoonOptions { line_width: 2.0, ..CartoonOptions::default() };
-    let (image, stats) = render(&gpu, &scene, StencilMode::Emulated, CartoonStyle::Silhouette, &options, size);
+    let (image, stats) = render(&gpu, &scene, StencilMode::Emulated, &Silhouette, &options, size);
     assert!(stats.silhouette_edges >= 48, "{stats:?}");
     // The contour seen from distance d of a unit sphere: radius sin(asin(1/d)) at depth 1/d,
     // i.e. tangent angle asin(1/5) from the axis.
@@ -263,7 +287,7 @@ fn every_ink_method_darkens_the_silhouette_and_toon_shading_has_bands() {
     let dark = |p: [u8; 4]| p[0] < 40 && p[1] < 40 && p[2] < 40;
     for method in SilhouetteMethod::ALL {
         let options = CartoonOptions { silhouette: method, line_width: 3.0, ..CartoonOptions::default() };
-        for technique in [CartoonStyle::Silhouette, CartoonStyle::Toon] {
+        for technique in [&Silhouette as &'static dyn Technique, &Toon] {
             let (image, _) = render(&gpu, &scene, StencilMode::Emulated, technique, &options, size);
             // The sphere's centre is lit, its contour (radius ~ 21 px) is dark.
             assert!(!dark(image.get_pixel(48, 48).0), "{method:?} {technique:?}: centre is dark");
@@ -283,7 +307,7 @@ fn every_ink_method_darkens_the_silhouette_and_toon_shading_has_bands() {
     // The toon ramp has three levels: a toon frame without ink shows at most three shades of
     // the albedo on the sphere (plus the background).
     let options = CartoonOptions { silhouette: SilhouetteMethod::Hull, line_width: 0.5, ..CartoonOptions::default() };
-    let (image, _) = render(&gpu, &scene, StencilMode::Emulated, CartoonStyle::Toon, &options, size);
+    let (image, _) = render(&gpu, &scene, StencilMode::Emulated, &Toon, &options, size);
     let mut colours: Vec<[u8; 3]> = image.chunks_exact(4).map(|p| [p[0], p[1], p[2]]).collect();
     colours.sort();
     colours.dedup();
@@ -295,22 +319,14 @@ fn every_ink_method_darkens_the_silhouette_and_toon_shading_has_bands() {
 fn ink_passes_are_measured_one_per_edge_class() {
     let gpu = common::gpu();
     let scene = builtin_scene("default").expect("scene");
-    let frame = cartoon::render(
-        &gpu,
-        &scene,
-        SIZE.0,
-        SIZE.1,
-        StencilMode::Emulated,
-        CartoonStyle::Toon,
-        &CartoonOptions::default(),
-    )
-    .expect("frame");
+    let frame =
+        render_frame(&gpu, &scene, StencilMode::Emulated, &Toon, &CartoonOptions::default(), SIZE).expect("frame");
     let names: Vec<&str> = frame.output.counters.passes.iter().map(|p| p.name.as_str()).collect();
     assert_eq!(names, ["scene", "ink silhouette", "ink crease", "ink boundary"]);
     for pass in &frame.output.counters.passes {
         assert!(pass.draws <= scene.objects.len() as u32, "{}: {} draws", pass.name, pass.draws);
     }
-    let stats = frame.stats;
+    let stats = frame.stats::<CartoonStats>().expect("cartoon stats");
     assert!(stats.silhouette_edges > 0 && stats.crease_edges > 0 && stats.boundary_edges > 0, "{stats:?}");
     common::assert_no_validation_messages(&gpu);
 }
@@ -325,7 +341,7 @@ fn crease_lines_of_a_cube_are_unbroken_and_stay_on_the_edges() {
     let mut scene = face_on_scene(shapes::cube(1.0), Mat4::IDENTITY);
     scene.camera = Camera::look_at(Vec3::new(2.2, 1.9, 2.6), Vec3::ZERO);
     let options = CartoonOptions { line_width: 2.0, ..CartoonOptions::default() };
-    let (image, stats) = render(&gpu, &scene, StencilMode::Emulated, CartoonStyle::Silhouette, &options, size);
+    let (image, stats) = render(&gpu, &scene, StencilMode::Emulated, &Silhouette, &options, size);
     assert_eq!((stats.silhouette_edges, stats.crease_edges), (6, 6), "{stats:?}");
     let view_proj = scene.camera.view_projection(1.0);
     let to_pixel = |p: Vec3| {

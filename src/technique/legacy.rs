@@ -5,35 +5,13 @@
 use std::any::Any;
 use std::sync::Arc;
 
-use super::cartoon::{CartoonRenderer, CartoonStats, SilhouetteMethod};
-use super::interface::{
-    stencil_variants, FrameStats, RenderOptions, SceneRenderer, Technique, TechniqueFrame, Variant,
-};
+use super::interface::{FrameStats, RenderOptions, SceneRenderer, Technique, TechniqueFrame};
 use super::shadow_atlas::{LightMode, ShadowAtlasRenderer, ShadowAtlasStats, ShadowKind};
 use crate::error::Result;
-use crate::frame::StencilMode;
 use crate::gpu::Gpu;
 use crate::render::plan::{Draws, PassPlan, PlannedPass, Push};
 use crate::render::Renderer;
 use crate::scene::Scene;
-
-/// Which of the cartoon techniques a cartoon renderer draws.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum CartoonStyle {
-    Outline,
-    Silhouette,
-    Toon,
-}
-
-impl CartoonStyle {
-    pub fn name(self) -> &'static str {
-        match self {
-            CartoonStyle::Outline => "outline",
-            CartoonStyle::Silhouette => "silhouette",
-            CartoonStyle::Toon => "toon",
-        }
-    }
-}
 
 fn plan_of(descs: Vec<crate::pipeline::PipelineDesc>) -> PassPlan {
     PassPlan {
@@ -48,27 +26,6 @@ struct Adapter<R> {
     inner: R,
     plan: PassPlan,
 }
-
-macro_rules! adapt {
-    ($renderer:ident, $stats:ident) => {
-        impl SceneRenderer for Adapter<$renderer<'_>> {
-            fn frame_with(&mut self, scene: &Scene) -> Result<TechniqueFrame> {
-                let frame = self.inner.frame_with(scene)?;
-                Ok(TechniqueFrame { output: frame.output, stats: Box::new(frame.stats), conditions: Vec::new() })
-            }
-
-            fn renderer_mut(&mut self) -> &mut Renderer {
-                self.inner.renderer_mut()
-            }
-
-            fn plan(&self) -> &PassPlan {
-                &self.plan
-            }
-        }
-    };
-}
-
-adapt!(CartoonRenderer, CartoonStats);
 
 impl SceneRenderer for Adapter<ShadowAtlasRenderer<'_>> {
     fn frame_with(&mut self, scene: &Scene) -> Result<TechniqueFrame> {
@@ -98,71 +55,6 @@ where
 {
     Box::new(Adapter { inner, plan })
 }
-
-macro_rules! cartoon_technique {
-    ($name:ident, $style:expr, $text:literal, $about:literal) => {
-        pub struct $name;
-
-        impl Technique for $name {
-            fn name(&self) -> &'static str {
-                $text
-            }
-
-            fn about(&self) -> &'static str {
-                $about
-            }
-
-            fn plan(&self, _options: &RenderOptions) -> Result<PassPlan> {
-                Ok(plan_of(super::cartoon::pipeline_descs($style)))
-            }
-
-            fn build<'s>(
-                &self,
-                gpu: &Arc<Gpu>,
-                scene: &'s Scene,
-                o: &RenderOptions,
-            ) -> Result<Box<dyn SceneRenderer + 's>> {
-                let mut r = CartoonRenderer::new(gpu, scene, o.width, o.height, o.stencil, $style, &o.cartoon)?;
-                r.renderer_mut().count_overdraw = o.count_overdraw;
-                Ok(boxed(r, self.plan(o)?))
-            }
-
-            fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
-                if $style == CartoonStyle::Outline {
-                    return stencil_variants("outline", options)
-                        .into_iter()
-                        .map(|mut v| {
-                            v.label = match v.options.stencil {
-                                StencilMode::Reference => "reference (stencil)".into(),
-                                StencilMode::Emulated => "emulated".into(),
-                            };
-                            v
-                        })
-                        .collect();
-                }
-                SilhouetteMethod::ALL
-                    .into_iter()
-                    .map(|method| {
-                        let mut options = options.clone();
-                        options.cartoon.silhouette = method;
-                        Variant { label: format!("{} {}", $text, method.name()), options }
-                    })
-                    .collect()
-            }
-
-            fn describe(&self, options: &RenderOptions) -> String {
-                if $style == CartoonStyle::Outline {
-                    return format!("{} ({})", $text, options.stencil.name());
-                }
-                format!("{} ({}, {})", $text, options.stencil.name(), options.cartoon.silhouette.name())
-            }
-        }
-    };
-}
-
-cartoon_technique!(Outline, CartoonStyle::Outline, "outline", "selection outline without a stencil (seed 003)");
-cartoon_technique!(Silhouette, CartoonStyle::Silhouette, "silhouette", "Lambert shading with ink lines (seed 002)");
-cartoon_technique!(Toon, CartoonStyle::Toon, "toon", "toon shading (N.L through a ramp) with ink lines (seed 002)");
 
 macro_rules! atlas_technique {
     ($name:ident, $kind:expr, $text:literal, $about:literal) => {
@@ -214,35 +106,6 @@ atlas_technique!(
 
 fn json_of(value: &impl serde::Serialize) -> serde_json::Value {
     serde_json::to_value(value).unwrap_or_default()
-}
-
-impl FrameStats for CartoonStats {
-    fn report(&self) -> String {
-        match self.method {
-            Some(method) if method != SilhouetteMethod::Edges => {
-                format!("cartoon ({}): ink on the GPU, no CPU edge work", method.name())
-            }
-            Some(method) => format!(
-                "cartoon ({}): {} edges in the unique edge lists | drawn: {} silhouette, {} crease, {} boundary | \
-                 CPU edge work {:.3} ms",
-                method.name(),
-                self.total_edges,
-                self.silhouette_edges,
-                self.crease_edges,
-                self.boundary_edges,
-                self.edge_cpu_ms
-            ),
-            None => format!("outline: selected {}", self.selected.join(", ")),
-        }
-    }
-
-    fn json(&self) -> serde_json::Value {
-        json_of(self)
-    }
-
-    fn as_any(&self) -> &dyn Any {
-        self
-    }
 }
 
 impl FrameStats for ShadowAtlasStats {

@@ -4,11 +4,15 @@
 
 pub mod alpha_counter;
 pub mod cartoon;
+pub mod cartoon_shading;
+pub mod extruded;
 pub mod frame_renderer;
+pub mod ink;
 pub mod interface;
 pub mod legacy;
 pub mod lit;
 pub mod options;
+pub mod outline;
 pub mod planar;
 pub mod registry;
 pub mod shadow_atlas;

@@ -9,9 +9,9 @@ use crate::frame::StencilMode;
 pub static TECHNIQUES: &[&dyn Technique] = &[
     &super::lit::Lit,
     &super::shadow_volume::ShadowVolumes,
-    &super::legacy::Outline,
-    &super::legacy::Silhouette,
-    &super::legacy::Toon,
+    &super::outline::Outline,
+    &super::ink::Silhouette,
+    &super::ink::Toon,
     &super::planar::Planar,
     &super::planar::BlobShadows,
     &super::planar::ShadowTexture,

@@ -7,10 +7,7 @@ use glam::{Mat4, Vec2, Vec3};
 use crate::error::Result;
 use crate::mesh::{self, CornerAttributes, EdgeAdjacency, EdgeClasses, View, Welded, NO_FACE};
 use crate::scene::{Scene, SceneSkin};
-
-/// Positions closer than this weld into one vertex (UV seams, split normals): a seam of the
-/// vertex buffer is no seam of the surface, so it neither breaks a line nor draws one.
-pub const WELD_EPSILON: f32 = 1e-5;
+use crate::technique::extruded::{follow_skin, object_mesh_name, weld_object};
 
 /// One corner of an ink quad (`shaders/cartoon_ink.vert`): both edge ends in world space, the
 /// third corner of the front-facing face (silhouettes grow away from it), and which corner.
@@ -50,10 +47,9 @@ impl InkMesh {
     /// Welds the object's mesh, builds its edge list and finds its normal seams. Open meshes
     /// are fine: their one-face edges are boundaries.
     pub fn new(scene: &Scene, object: usize) -> Result<Self> {
-        let o = &scene.objects[object];
-        let data = &scene.meshes[o.mesh].data;
-        let name = format!("{} (object '{}')", scene.meshes[o.mesh].name, o.name);
-        let welded = mesh::weld_by_position(&name, &data.positions, &data.indices, WELD_EPSILON)?;
+        let data = &scene.meshes[scene.objects[object].mesh].data;
+        let name = object_mesh_name(scene, object);
+        let welded = weld_object(scene, object)?;
         let adjacency = EdgeAdjacency::build(&name, &welded.positions, &welded.indices)?;
         // Normals and materials, not UVs: the built-in shapes are untextured, and a UV seam
         // (a sphere's u = 0 meridian) is not a line anybody drew.
@@ -77,13 +73,7 @@ impl InkMesh {
     /// Takes the skin's current pose as the welded positions (the topology stays). False when
     /// the skin does not cover the mesh this was built from.
     pub fn follow(&mut self, skin: &SceneSkin) -> bool {
-        if skin.positions.len() < self.welded.remap.len() {
-            return false;
-        }
-        let mut positions = Vec::with_capacity(self.welded.positions.len());
-        self.welded.gather_positions(&skin.posed_positions(), &mut positions);
-        self.welded.positions = positions;
-        true
+        follow_skin(&mut self.welded, skin)
     }
 
     /// This frame's classification from `eye` (world space): face normals recomputed (the
@@ -162,22 +152,6 @@ impl InkQuads {
     }
 }
 
-/// Angle-weighted smooth normals per welded vertex: what the extruded outline copy and the
-/// inverted hull move along, so that split normals (a cube's corners) do not crack them open.
-/// Angle weights make the result independent of how a face is split into triangles.
-pub fn smooth_normals(welded: &Welded) -> Vec<Vec3> {
-    let mut normals = vec![Vec3::ZERO; welded.positions.len()];
-    for t in welded.indices.chunks_exact(3) {
-        let p = [t[0], t[1], t[2]].map(|i| welded.positions[i as usize]);
-        let normal = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
-        for k in 0..3 {
-            let (u, v) = (p[(k + 1) % 3] - p[k], p[(k + 2) % 3] - p[k]);
-            normals[t[k] as usize] += normal * u.angle_between(v);
-        }
-    }
-    normals.iter().map(|n| n.normalize_or(Vec3::Y)).collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -212,17 +186,6 @@ mod tests {
             assert_eq!((v.a.z, v.b.z), (0.5, 0.5));
             // The third corner lies on the front face too: the line grows away from it.
             assert_eq!(v.c.z, 0.5);
-        }
-        Ok(())
-    }
-
-    #[test]
-    fn smooth_normals_of_a_cube_point_out_of_its_corners() -> Result<()> {
-        let cube = shapes::cube(2.0);
-        let welded = mesh::weld_by_position("cube", &cube.positions, &cube.indices, WELD_EPSILON)?;
-        assert_eq!(welded.positions.len(), 8);
-        for (p, n) in welded.positions.iter().zip(smooth_normals(&welded)) {
-            assert!((n - p.normalize()).length() < 1e-5, "{p} {n}");
         }
         Ok(())
     }
@@ -309,7 +272,7 @@ mod tests {
     }
 
     /// Printed, not asserted (a timed assertion fails on a busy machine): run by hand with
-    /// `cargo test --lib cartoon::ink -- --ignored --nocapture`.
+    /// `cargo test --lib ink::edges -- --ignored --nocapture`.
     #[test]
     #[ignore = "prints timings; run by hand"]
     fn ink_quads_for_131072_faces() -> Result<()> {

@@ -1,0 +1,188 @@
+//! The scene pass the cartoon techniques share (seed 002's shading): Lambert, or N.L through a
+//! toon ramp, optionally darkened by a rim ramp looked up at N.V. Its push constants are also
+//! those of the extruded copies and the ink quads; the ramps are bound at set 1.
+
+use image::{Rgba, RgbaImage};
+use std::sync::Arc;
+
+use ash::vk;
+use glam::{Mat4, Vec4};
+
+use crate::error::Result;
+use crate::gpu::descriptors::{Binding, DescriptorSet};
+use crate::gpu::texture::{Sampler, Texture};
+use crate::gpu::Gpu;
+use crate::pipeline::{FixedFunction, Pipeline, PipelineDesc, VertexLayout};
+use crate::render::plan::{Draws, PlannedPass, Push, SetRole};
+use crate::render::{FrameRecorder, GpuScene};
+use crate::scene::Scene;
+
+/// Mirrors `CartoonPush` in `shaders/cartoon_push.glsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct CartoonPush {
+    pub model: Mat4,
+    pub colour: Vec4,
+    pub params: Vec4,
+    pub viewport: Vec4,
+}
+
+pub const CARTOON_PUSH_BYTES: u32 = std::mem::size_of::<CartoonPush>() as u32;
+
+/// The toon and rim ramps, at set 1 of the scene pass (the frame's uniforms are set 0).
+pub const RAMPS: SetRole = SetRole::Own("toon ramps");
+
+/// A pipeline of the cartoon shaders (they all push a `CartoonPush`).
+pub fn cartoon_desc(
+    name: &'static str,
+    vertex_shader: &'static str,
+    fragment_shader: &'static str,
+    vertex_layout: VertexLayout,
+    fixed: FixedFunction,
+) -> PipelineDesc {
+    PipelineDesc {
+        name,
+        vertex_shader,
+        fragment_shader,
+        vertex_layout,
+        fixed,
+        push_constant_bytes: CARTOON_PUSH_BYTES,
+        subpass: 0,
+    }
+}
+
+/// The scene: Lambert or toon, optionally with the N.V rim; writes the alpha it is given.
+pub fn shade_desc() -> PipelineDesc {
+    cartoon_desc(
+        "scene",
+        "cartoon_shade.vert",
+        "cartoon_shade.frag",
+        VertexLayout::POSITION_NORMAL,
+        FixedFunction::OPAQUE,
+    )
+}
+
+/// A scene pass: the objects `draws` names, shaded by [`shade_desc`] or a variant of it, with
+/// the frame's uniforms and the ramps.
+pub fn shade_pass(name: &'static str, pipeline: PipelineDesc, draws: Draws, push: &'static str) -> PlannedPass {
+    PlannedPass::new(name, pipeline, draws, Push::PerDraw(push)).with_sets(&[SetRole::Frame, RAMPS])
+}
+
+/// How the scene pass shades.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Shading {
+    /// N.L through the toon ramp, instead of Lambert.
+    pub toon: bool,
+    /// Times the rim ramp at N.V (`--silhouette shader`).
+    pub rim: bool,
+}
+
+impl Shading {
+    /// `CartoonPush::params` of `cartoon_shade`.
+    fn params(self) -> Vec4 {
+        let flag = |on: bool| if on { 1.0 } else { 0.0 };
+        Vec4::new(flag(self.toon), flag(self.rim), 0.0, 0.0)
+    }
+}
+
+/// World size of one pixel at unit distance from the eye, for a target `height` pixels high.
+pub fn pixel_at_unit_distance(scene: &Scene, height: u32) -> f32 {
+    2.0 * (0.5 * scene.camera.fov_y_radians).tan() / height as f32
+}
+
+/// `CartoonPush::viewport`: the target's size in pixels and the world size of one pixel at unit
+/// distance (what turns a width in pixels into an extrusion).
+pub fn viewport(scene: &Scene, extent: vk::Extent2D) -> Vec4 {
+    Vec4::new(extent.width as f32, extent.height as f32, pixel_at_unit_distance(scene, extent.height), 0.0)
+}
+
+/// The scene as the cartoon techniques draw it: its meshes, the ramps, and how it is shaded.
+pub struct CartoonScene {
+    pub meshes: GpuScene,
+    pub ramps: Ramps,
+    pub shading: Shading,
+}
+
+impl CartoonScene {
+    pub fn new(gpu: &Arc<Gpu>, scene: &Scene, shading: Shading) -> Result<Self> {
+        Ok(CartoonScene { meshes: GpuScene::upload(gpu, scene)?, ramps: Ramps::new(gpu)?, shading })
+    }
+
+    /// The layout of [`RAMPS`].
+    pub fn set_layout(&self, role: SetRole) -> Option<vk::DescriptorSetLayout> {
+        (role == RAMPS).then_some(self.ramps.set.layout)
+    }
+
+    /// The set of [`RAMPS`].
+    pub fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
+        (role == RAMPS).then_some(self.ramps.set.set)
+    }
+
+    /// Draws the objects `which` picks with the bound scene pipeline, each with its transform
+    /// and colour and the alpha `alpha`.
+    pub fn draw(
+        &self,
+        rec: &mut FrameRecorder,
+        pipeline: &Pipeline,
+        scene: &Scene,
+        which: impl Fn(usize) -> bool,
+        alpha: f32,
+        viewport: Vec4,
+    ) {
+        let params = self.shading.params();
+        for (_, object) in scene.objects.iter().enumerate().filter(|(i, _)| which(*i)) {
+            let push = CartoonPush { model: object.transform, colour: object.colour.extend(alpha), params, viewport };
+            rec.push(pipeline, &push);
+            rec.draw_mesh(&self.meshes.meshes[object.mesh]);
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The ramps: Nx1 RGBA8, nearest filtering.
+
+/// N.L -> light: three flat bands (shadow, mid, lit), as cel painters use.
+pub fn toon_ramp() -> RgbaImage {
+    RgbaImage::from_fn(16, 1, |i, _| {
+        let level: u8 = match i {
+            0..=4 => 110,
+            5..=10 => 190,
+            _ => 255,
+        };
+        Rgba([level, level, level, 255])
+    })
+}
+
+/// N.V -> ink: the first texels (grazing angles) black, the rest white (seed 002: "1x32, the
+/// first few texels near u = 0 black"). N.V < 0.44 is dark: on a sphere that is the outer 10%
+/// of its radius on screen (N.V falls fast near the contour, so fewer texels draw a hairline).
+pub fn rim_ramp() -> RgbaImage {
+    RgbaImage::from_fn(32, 1, |i, _| {
+        let level = if i < 14 { 0 } else { 255 };
+        Rgba([level, level, level, 255])
+    })
+}
+
+/// Both ramps on the GPU, in the descriptor set of [`RAMPS`].
+pub struct Ramps {
+    pub set: DescriptorSet,
+    _ramp: Texture,
+    _rim: Texture,
+}
+
+impl Ramps {
+    pub fn new(gpu: &Arc<Gpu>) -> Result<Self> {
+        let nearest = || Sampler::new(gpu, vk::Filter::NEAREST, vk::SamplerAddressMode::CLAMP_TO_EDGE);
+        let format = vk::Format::R8G8B8A8_UNORM;
+        let ramp = Texture::from_rgba8(gpu, "toon ramp", &toon_ramp(), format, false, nearest()?)?;
+        let rim = Texture::from_rgba8(gpu, "rim ramp", &rim_ramp(), format, false, nearest()?)?;
+        let binding = |t: &Texture| Binding::Texture {
+            view: t.image.view,
+            sampler: t.sampler.raw,
+            layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            stages: vk::ShaderStageFlags::FRAGMENT,
+        };
+        let set = DescriptorSet::new(gpu, &[binding(&ramp), binding(&rim)])?;
+        Ok(Ramps { set, _ramp: ramp, _rim: rim })
+    }
+}

@@ -1,0 +1,155 @@
+//! Each object's welded copy with smooth normals, pushed out along them by `cartoon_extrude.vert`
+//! by a width in pixels: the selection outline (seed 003) and the inverted hull (seed 002).
+
+use std::sync::Arc;
+
+use ash::vk;
+use glam::{Vec3, Vec4};
+
+use super::cartoon_shading::{cartoon_desc, CartoonPush};
+use crate::error::Result;
+use crate::gpu::memory::{as_bytes, Buffer};
+use crate::gpu::Gpu;
+use crate::mesh::{self, Welded};
+use crate::pipeline::{FixedFunction, Pipeline, PipelineDesc, VertexLayout};
+use crate::render::{FrameRecorder, GpuMesh};
+use crate::scene::{Scene, SceneSkin};
+
+/// Positions closer than this weld into one vertex (UV seams, split normals): a seam of the
+/// vertex buffer is no seam of the surface, so it neither breaks a line nor cracks a copy open.
+pub const WELD_EPSILON: f32 = 1e-5;
+
+/// How errors name an object's mesh.
+pub fn object_mesh_name(scene: &Scene, object: usize) -> String {
+    let o = &scene.objects[object];
+    format!("{} (object '{}')", scene.meshes[o.mesh].name, o.name)
+}
+
+/// The object's mesh welded by position.
+pub fn weld_object(scene: &Scene, object: usize) -> Result<Welded> {
+    let data = &scene.meshes[scene.objects[object].mesh].data;
+    mesh::weld_by_position(&object_mesh_name(scene, object), &data.positions, &data.indices, WELD_EPSILON)
+}
+
+/// Takes the skin's current pose as the welded positions (the topology stays). False when the
+/// skin does not cover the mesh `welded` was built from.
+pub fn follow_skin(welded: &mut Welded, skin: &SceneSkin) -> bool {
+    if skin.positions.len() < welded.remap.len() {
+        return false;
+    }
+    let mut positions = Vec::with_capacity(welded.positions.len());
+    welded.gather_positions(&skin.posed_positions(), &mut positions);
+    welded.positions = positions;
+    true
+}
+
+/// Angle-weighted smooth normals per welded vertex: what the extruded outline copy and the
+/// inverted hull move along, so that split normals (a cube's corners) do not crack them open.
+/// Angle weights make the result independent of how a face is split into triangles.
+pub fn smooth_normals(welded: &Welded) -> Vec<Vec3> {
+    let mut normals = vec![Vec3::ZERO; welded.positions.len()];
+    for t in welded.indices.chunks_exact(3) {
+        let p = [t[0], t[1], t[2]].map(|i| welded.positions[i as usize]);
+        let normal = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+        for k in 0..3 {
+            let (u, v) = (p[(k + 1) % 3] - p[k], p[(k + 2) % 3] - p[k]);
+            normals[t[k] as usize] += normal * u.angle_between(v);
+        }
+    }
+    normals.iter().map(|n| n.normalize_or(Vec3::Y)).collect()
+}
+
+/// The welded mesh with smooth normals, interleaved (`VertexLayout::POSITION_NORMAL`).
+fn vertices(welded: &Welded) -> Vec<[Vec3; 2]> {
+    let normals = smooth_normals(welded);
+    welded.positions.iter().zip(&normals).map(|(p, n)| [*p, *n]).collect()
+}
+
+/// A pipeline that draws extruded copies in one colour.
+pub fn extrude_desc(name: &'static str, fixed: FixedFunction) -> PipelineDesc {
+    cartoon_desc(name, "cartoon_extrude.vert", "cartoon_colour.frag", VertexLayout::POSITION_NORMAL, fixed)
+}
+
+/// How far copies are pushed out, and their colour.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Extrusion {
+    pub width_px: f32,
+    pub colour: Vec4,
+}
+
+/// Every object's extruded copy on the GPU, kept in the pose of its skin.
+pub struct ExtrudedCopies {
+    welded: Vec<Welded>,
+    meshes: Vec<GpuMesh>,
+}
+
+impl ExtrudedCopies {
+    pub fn new(gpu: &Arc<Gpu>, scene: &Scene) -> Result<Self> {
+        let mut welded = Vec::with_capacity(scene.objects.len());
+        let mut meshes = Vec::with_capacity(scene.objects.len());
+        for (index, object) in scene.objects.iter().enumerate() {
+            let mesh = weld_object(scene, index)?;
+            let name = format!("{} (extruded)", object.name);
+            meshes.push(GpuMesh::from_raw(gpu, &name, as_bytes(&vertices(&mesh)), &mesh.indices)?);
+            welded.push(mesh);
+        }
+        Ok(ExtrudedCopies { welded, meshes })
+    }
+
+    /// Re-poses the copies of the skinned objects in `changed` (whose palettes changed).
+    pub fn follow_pose(&mut self, gpu: &Arc<Gpu>, scene: &Scene, changed: &[usize]) -> Result<()> {
+        for &index in changed {
+            let object = &scene.objects[index];
+            let (Some(skin), Some(welded), Some(mesh)) =
+                (&object.skin, self.welded.get_mut(index), self.meshes.get_mut(index))
+            else {
+                continue;
+            };
+            if !follow_skin(welded, skin) {
+                continue;
+            }
+            mesh.vertices = Buffer::device_local(
+                gpu,
+                &format!("{} (extruded, posed)", object.name),
+                as_bytes(&vertices(welded)),
+                vk::BufferUsageFlags::VERTEX_BUFFER,
+            )?;
+        }
+        Ok(())
+    }
+
+    /// Draws the copies of the objects `which` picks with the bound `pipeline`, as `extrusion`
+    /// says.
+    pub fn draw(
+        &self,
+        rec: &mut FrameRecorder,
+        pipeline: &Pipeline,
+        scene: &Scene,
+        which: impl Fn(usize) -> bool,
+        extrusion: Extrusion,
+        viewport: Vec4,
+    ) {
+        let (colour, params) = (extrusion.colour, Vec4::new(extrusion.width_px, 0.0, 0.0, 0.0));
+        for (index, object) in scene.objects.iter().enumerate().filter(|(i, _)| which(*i)) {
+            rec.push(pipeline, &CartoonPush { model: object.transform, colour, params, viewport });
+            rec.draw_mesh(&self.meshes[index]);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::shapes;
+
+    #[test]
+    fn smooth_normals_of_a_cube_point_out_of_its_corners() -> Result<()> {
+        let cube = shapes::cube(2.0);
+        let welded = mesh::weld_by_position("cube", &cube.positions, &cube.indices, WELD_EPSILON)?;
+        assert_eq!(welded.positions.len(), 8);
+        for (p, n) in welded.positions.iter().zip(smooth_normals(&welded)) {
+            assert!((n - p.normalize()).length() < 1e-5, "{p} {n}");
+        }
+        Ok(())
+    }
+}

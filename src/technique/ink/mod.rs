@@ -1,0 +1,117 @@
+//! The ink renderer (seed 002, DESIGN.md section 4): the scene shaded Lambert (`silhouette`)
+//! or through a toon ramp (`toon`), then ink on its silhouettes by one of three methods:
+//! - `edges`: per frame on the CPU, each object's unique edge list is classified from the eye
+//!   (`mesh::classify`), and the flagged edges are drawn as screen-space quads, one draw per
+//!   class (the mobile profile has no wideLines): [`edges`];
+//! - `shader`: the scene's vertex shader computes N.V and the fragment shader looks it up in a
+//!   1D texture whose first texels are dark (a rim);
+//! - `hull`: the two-pass inverted hull: the mesh pushed out along its normals, front faces
+//!   culled, drawn in ink behind the model.
+//!
+//! The recipes and pass plan are in [`recipes`], the renderer in [`renderer`].
+
+pub mod edges;
+pub mod recipes;
+pub mod renderer;
+
+use std::sync::Arc;
+
+use super::cartoon::SilhouetteMethod;
+use super::interface::RenderOptions;
+use super::interface::{SceneRenderer, Technique, Variant};
+use crate::error::Result;
+use crate::gpu::Gpu;
+use crate::render::plan::PassPlan;
+use crate::scene::Scene;
+
+/// Lambert shading with ink lines.
+pub struct Silhouette;
+
+/// Toon shading with ink lines.
+pub struct Toon;
+
+impl Technique for Silhouette {
+    fn name(&self) -> &'static str {
+        "silhouette"
+    }
+
+    fn about(&self) -> &'static str {
+        "Lambert shading with ink lines (seed 002)"
+    }
+
+    fn plan(&self, options: &RenderOptions) -> Result<PassPlan> {
+        Ok(recipes::plan(options.cartoon.silhouette))
+    }
+
+    fn build<'s>(
+        &self,
+        gpu: &Arc<Gpu>,
+        scene: &'s Scene,
+        options: &RenderOptions,
+    ) -> Result<Box<dyn SceneRenderer + 's>> {
+        renderer::build(self, false, gpu, scene, options)
+    }
+
+    fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+        method_variants(self.name(), options)
+    }
+
+    fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+        method_variants(self.name(), options)
+    }
+
+    fn describe(&self, options: &RenderOptions) -> String {
+        describe(self.name(), options)
+    }
+}
+
+impl Technique for Toon {
+    fn name(&self) -> &'static str {
+        "toon"
+    }
+
+    fn about(&self) -> &'static str {
+        "toon shading (N.L through a ramp) with ink lines (seed 002)"
+    }
+
+    fn plan(&self, options: &RenderOptions) -> Result<PassPlan> {
+        Ok(recipes::plan(options.cartoon.silhouette))
+    }
+
+    fn build<'s>(
+        &self,
+        gpu: &Arc<Gpu>,
+        scene: &'s Scene,
+        options: &RenderOptions,
+    ) -> Result<Box<dyn SceneRenderer + 's>> {
+        renderer::build(self, true, gpu, scene, options)
+    }
+
+    fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+        method_variants(self.name(), options)
+    }
+
+    fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+        method_variants(self.name(), options)
+    }
+
+    fn describe(&self, options: &RenderOptions) -> String {
+        describe(self.name(), options)
+    }
+}
+
+/// Each `--silhouette` method: the passes differ, the stencil path does not change them.
+fn method_variants(name: &str, options: &RenderOptions) -> Vec<Variant> {
+    SilhouetteMethod::ALL
+        .into_iter()
+        .map(|method| {
+            let mut options = options.clone();
+            options.cartoon.silhouette = method;
+            Variant { label: format!("{name} {}", method.name()), options }
+        })
+        .collect()
+}
+
+fn describe(name: &str, options: &RenderOptions) -> String {
+    format!("{name} ({}, {})", options.stencil.name(), options.cartoon.silhouette.name())
+}

@@ -1,0 +1,106 @@
+//! The ink techniques' pipelines and their pass plan for each `--silhouette` method.
+//!
+//! Every frame, one render pass: the scene (Lambert, or N.L through the toon ramp; with the
+//! rim ramp at N.V for `shader`), then the ink:
+//! - `edges`: one pass per edge class (silhouette, crease, boundary), each one draw of the
+//!   screen-space quads the CPU built this frame;
+//! - `shader`: nothing more, the rim is the ink;
+//! - `hull`: the inverted hull, each object's extruded copy with its front faces culled.
+
+use ash::vk;
+
+use crate::pipeline::recipes::COLOUR_REPLACE;
+use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexLayout};
+use crate::render::plan::{Draws, PassPlan, PlannedPass, Push, SetRole};
+use crate::technique::cartoon::SilhouetteMethod;
+use crate::technique::cartoon_shading::{cartoon_desc, shade_desc, shade_pass};
+use crate::technique::extruded::extrude_desc;
+
+/// position (vec3) a, b, c + corner (vec2): `InkVertex`.
+pub const INK_LAYOUT: VertexLayout = VertexLayout {
+    attributes: &[
+        vk::Format::R32G32B32_SFLOAT,
+        vk::Format::R32G32B32_SFLOAT,
+        vk::Format::R32G32B32_SFLOAT,
+        vk::Format::R32G32_SFLOAT,
+    ],
+};
+
+/// An edge class's pass: its name, what it draws, and whether its lines grow to one side
+/// (silhouettes grow away from the model; creases and boundaries are centred on the edge).
+pub struct EdgeClassPass {
+    pub name: &'static str,
+    pub draws: Draws,
+    pub one_sided: bool,
+}
+
+/// The edge classes in the order their passes run (and `InkQuads` lists them).
+pub const EDGE_CLASSES: [EdgeClassPass; 3] = [
+    EdgeClassPass { name: "ink silhouette", draws: Draws::Geometry("silhouette edge quads"), one_sided: true },
+    EdgeClassPass { name: "ink crease", draws: Draws::Geometry("crease edge quads"), one_sided: false },
+    EdgeClassPass { name: "ink boundary", draws: Draws::Geometry("boundary edge quads"), one_sided: false },
+];
+
+/// What the inverted hull pass draws.
+pub const EXTRUDED: Draws = Draws::Geometry("extruded copies");
+
+/// Ink quads: depth tested (LESS_OR_EQUAL, pulled towards the eye in the vertex shader), no
+/// depth write, colour only.
+pub fn ink_desc() -> PipelineDesc {
+    cartoon_desc(
+        "ink lines",
+        "cartoon_ink.vert",
+        "cartoon_colour.frag",
+        INK_LAYOUT,
+        FixedFunction {
+            topology: vk::PrimitiveTopology::TRIANGLE_LIST,
+            raster: RasterState::CULL_NONE,
+            depth: DepthState { compare: Some(vk::CompareOp::LESS_OR_EQUAL), write: false },
+            stencil: None,
+            blend: COLOUR_REPLACE,
+        },
+    )
+}
+
+/// Inverted hull: the extruded copy with its front faces culled, depth tested and written, so
+/// only the rim around the model (and at its folds) shows.
+pub fn hull_desc() -> PipelineDesc {
+    extrude_desc("inverted hull", FixedFunction { raster: RasterState::CULL_FRONT, ..FixedFunction::OPAQUE })
+}
+
+/// The passes of a frame inked by `method`.
+pub fn plan(method: SilhouetteMethod) -> PassPlan {
+    let mut plan = PassPlan::new();
+    plan.push(shade_pass(
+        "scene",
+        shade_desc(),
+        Draws::Objects,
+        "object transform and colour, alpha 1; toon and rim switches (CartoonPush)",
+    ));
+    match method {
+        SilhouetteMethod::Edges => {
+            plan.extend(EDGE_CLASSES.iter().map(|class| {
+                PlannedPass::new(
+                    class.name,
+                    ink_desc(),
+                    class.draws,
+                    Push::PerDraw("ink colour, line width, one-sided, depth pull (CartoonPush)"),
+                )
+                .with_sets(&[SetRole::Frame])
+            }));
+        }
+        SilhouetteMethod::Shader => {}
+        SilhouetteMethod::Hull => {
+            plan.push(
+                PlannedPass::new(
+                    "inverted hull",
+                    hull_desc(),
+                    EXTRUDED,
+                    Push::PerDraw("object transform, ink colour and line width (CartoonPush)"),
+                )
+                .with_sets(&[SetRole::Frame]),
+            );
+        }
+    }
+    plan
+}

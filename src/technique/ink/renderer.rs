@@ -1,0 +1,213 @@
+//! The ink renderer: the scene's meshes and the ramps, and what the `--silhouette` method
+//! needs (each object's edge list, or its extruded copy), built once and kept in pose; drawn by
+//! the plan of `recipes`. The edge lines are classified and rebuilt every frame, as a moving
+//! camera or mesh needs.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use ash::vk;
+use glam::{Mat4, Vec4};
+
+use super::edges::{InkMesh, InkQuads, InkVertex};
+use super::recipes::{EDGE_CLASSES, EXTRUDED};
+use crate::error::{Error, Result};
+use crate::gpu::memory::{as_bytes, Buffer};
+use crate::gpu::Gpu;
+use crate::pipeline::Pipeline;
+use crate::render::plan::{Draws, PlannedPass, SetRole};
+use crate::render::{FrameOutput, FrameRecorder, Renderer};
+use crate::scene::Scene;
+use crate::technique::cartoon::{CartoonStats, SilhouetteMethod};
+use crate::technique::cartoon_shading::{self, CartoonPush, CartoonScene, Shading};
+use crate::technique::extruded::{ExtrudedCopies, Extrusion};
+use crate::technique::frame_renderer::{self, Passes};
+use crate::technique::interface::RenderOptions;
+use crate::technique::interface::{FrameStats, SceneRenderer, Technique};
+
+/// The ink, in every method.
+const INK_COLOUR: Vec4 = Vec4::new(0.04, 0.04, 0.06, 1.0);
+
+/// Builds the renderer of `technique` (`toon`: the scene through the toon ramp); the options
+/// are checked first.
+pub fn build<'s>(
+    technique: &dyn Technique,
+    toon: bool,
+    gpu: &Arc<Gpu>,
+    scene: &'s Scene,
+    options: &RenderOptions,
+) -> Result<Box<dyn SceneRenderer + 's>> {
+    let cartoon = &options.cartoon;
+    cartoon.check()?;
+    let method = cartoon.silhouette;
+    let shading = Shading { toon, rim: method == SilhouetteMethod::Shader };
+    frame_renderer::build(technique, gpu, scene, options, |ctx| {
+        let scene_pass = CartoonScene::new(ctx.gpu, scene, shading)?;
+        let lines = match method {
+            SilhouetteMethod::Edges => Ink::Edges(Box::new(EdgeLines::new(scene, cartoon.crease_deg)?)),
+            SilhouetteMethod::Shader => Ink::Rim,
+            SilhouetteMethod::Hull => Ink::Hull(ExtrudedCopies::new(ctx.gpu, scene)?),
+        };
+        Ok(InkPasses {
+            gpu: ctx.gpu.clone(),
+            method,
+            scene_pass,
+            ink: lines,
+            line_width: cartoon.line_width,
+            viewport: Vec4::ZERO,
+            pull: 0.0,
+        })
+    })
+}
+
+/// What draws the ink, per method.
+enum Ink {
+    Edges(Box<EdgeLines>),
+    /// The scene pass's rim ramp: nothing of its own.
+    Rim,
+    Hull(ExtrudedCopies),
+}
+
+struct InkPasses {
+    gpu: Arc<Gpu>,
+    method: SilhouetteMethod,
+    scene_pass: CartoonScene,
+    ink: Ink,
+    line_width: f32,
+    /// This frame's `CartoonPush::viewport`.
+    viewport: Vec4,
+    /// This frame's pull of the edge lines towards the eye, in clip-space depth.
+    pull: f32,
+}
+
+impl Passes for InkPasses {
+    fn set_layout(&self, role: SetRole) -> Option<vk::DescriptorSetLayout> {
+        self.scene_pass.set_layout(role)
+    }
+
+    fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
+        self.scene_pass.set(role)
+    }
+
+    fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
+        let changed = self.scene_pass.meshes.follow_pose(&self.gpu, scene)?;
+        match &mut self.ink {
+            Ink::Edges(lines) => {
+                lines.follow_pose(scene, &changed);
+                lines.rebuild(&self.gpu, scene)?;
+            }
+            Ink::Rim => {}
+            Ink::Hull(copies) => copies.follow_pose(&self.gpu, scene, &changed)?,
+        }
+        let extent = renderer.extent();
+        self.viewport = cartoon_shading::viewport(scene, extent);
+        // Lines are pulled towards the eye by about one line width at any distance: enough for
+        // a crease between faces tilted up to ~60 degrees, far too little to show through a
+        // solid.
+        let pixel = cartoon_shading::pixel_at_unit_distance(scene, extent.height);
+        self.pull = scene.camera.near * (self.line_width * pixel).max(1e-3);
+        Ok(())
+    }
+
+    fn draw(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()> {
+        let Some(pipeline) = pipelines.first() else {
+            return Err(Error::Internal(format!("ink pass '{}' has no pipeline", pass.name)));
+        };
+        let class = EDGE_CLASSES.iter().position(|class| class.draws == pass.draws);
+        match (pass.draws, &self.ink, class) {
+            (Draws::Objects, _, _) => self.scene_pass.draw(rec, pipeline, scene, |_| true, 1.0, self.viewport),
+            (EXTRUDED, Ink::Hull(copies), _) => {
+                let extrusion = Extrusion { width_px: self.line_width, colour: INK_COLOUR };
+                copies.draw(rec, pipeline, scene, |_| true, extrusion, self.viewport);
+            }
+            (_, Ink::Edges(lines), Some(class)) => {
+                let one_sided = if EDGE_CLASSES[class].one_sided { 1.0 } else { 0.0 };
+                let push = CartoonPush {
+                    model: Mat4::IDENTITY,
+                    colour: INK_COLOUR,
+                    params: Vec4::new(self.line_width, one_sided, self.pull, 0.0),
+                    viewport: self.viewport,
+                };
+                rec.push(pipeline, &push);
+                if let Some((buffer, count)) = &lines.buffers[class] {
+                    rec.draw_vertices(buffer, *count);
+                }
+            }
+            _ => return Err(Error::Internal(format!("{} ink cannot draw pass '{}'", self.method.name(), pass.name))),
+        }
+        Ok(())
+    }
+
+    fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {
+        let mut stats = CartoonStats {
+            method: Some(self.method),
+            selected: Vec::new(),
+            silhouette_edges: 0,
+            crease_edges: 0,
+            boundary_edges: 0,
+            edge_cpu_ms: 0.0,
+            total_edges: 0,
+        };
+        if let Ink::Edges(lines) = &self.ink {
+            [stats.silhouette_edges, stats.crease_edges, stats.boundary_edges] = lines.quads.edge_counts();
+            stats.edge_cpu_ms = lines.cpu_ms;
+            stats.total_edges = lines.meshes.iter().map(|m| m.adjacency.edges.len()).sum();
+        }
+        Box::new(stats)
+    }
+}
+
+/// The edge-list ink: every object's edge list, and this frame's quads per edge class.
+struct EdgeLines {
+    meshes: Vec<InkMesh>,
+    crease_deg: f32,
+    quads: InkQuads,
+    /// This frame's quads on the GPU, per class (none where the class drew no edge).
+    buffers: [Option<(Buffer, u32)>; 3],
+    /// CPU time of this frame's edge work (ms).
+    cpu_ms: f64,
+}
+
+impl EdgeLines {
+    fn new(scene: &Scene, crease_deg: f32) -> Result<Self> {
+        let meshes = (0..scene.objects.len()).map(|index| InkMesh::new(scene, index)).collect::<Result<Vec<_>>>()?;
+        Ok(EdgeLines { meshes, crease_deg, quads: InkQuads::default(), buffers: [None, None, None], cpu_ms: 0.0 })
+    }
+
+    /// Skinned objects in `changed` (whose palettes changed) get their welded positions, so
+    /// the face normals and edges, re-posed.
+    fn follow_pose(&mut self, scene: &Scene, changed: &[usize]) {
+        for &index in changed {
+            if let (Some(skin), Some(mesh)) = (&scene.objects[index].skin, self.meshes.get_mut(index)) {
+                mesh.follow(skin);
+            }
+        }
+    }
+
+    /// Classifies every object's edges from this frame's eye, builds their quads and uploads
+    /// them.
+    fn rebuild(&mut self, gpu: &Arc<Gpu>, scene: &Scene) -> Result<()> {
+        let start = Instant::now();
+        let eye = scene.camera.eye;
+        self.quads.clear();
+        for mesh in &mut self.meshes {
+            let model = scene.objects[mesh.object].transform;
+            mesh.classify(&model, eye, self.crease_deg);
+            mesh.append_quads(&model, eye, &mut self.quads);
+        }
+        self.cpu_ms = start.elapsed().as_secs_f64() * 1e3;
+        let upload = |name: &str, vertices: &[InkVertex]| -> Result<Option<(Buffer, u32)>> {
+            if vertices.is_empty() {
+                return Ok(None);
+            }
+            let buffer = Buffer::with_data(gpu, name, as_bytes(vertices), vk::BufferUsageFlags::VERTEX_BUFFER)?;
+            Ok(Some((buffer, vertices.len() as u32)))
+        };
+        self.buffers = [
+            upload("ink silhouette quads", &self.quads.silhouette)?,
+            upload("ink crease quads", &self.quads.crease)?,
+            upload("ink boundary quads", &self.quads.boundary)?,
+        ];
+        Ok(())
+    }
+}

@@ -1,0 +1,80 @@
+//! The selection outline without a stencil (seed 003, DESIGN.md section 4): the selected
+//! objects mark alpha, and their extruded copies are drawn only where it is unmarked. Proven
+//! against the document's real-stencil version. The recipes and pass plan are in [`recipes`],
+//! the renderer in [`renderer`].
+
+pub mod recipes;
+pub mod renderer;
+
+use std::sync::Arc;
+
+use super::interface::RenderOptions;
+use super::interface::{stencil_variants, SceneRenderer, Technique, Variant};
+use crate::error::{Error, Result};
+use crate::frame::StencilMode;
+use crate::gpu::Gpu;
+use crate::render::plan::PassPlan;
+use crate::scene::Scene;
+
+/// Selected objects outlined in one colour, emulated in alpha or with the real stencil.
+pub struct Outline;
+
+impl Technique for Outline {
+    fn name(&self) -> &'static str {
+        "outline"
+    }
+
+    fn about(&self) -> &'static str {
+        "selection outline without a stencil (seed 003)"
+    }
+
+    fn plan(&self, options: &RenderOptions) -> Result<PassPlan> {
+        Ok(recipes::plan(options.stencil))
+    }
+
+    fn build<'s>(
+        &self,
+        gpu: &Arc<Gpu>,
+        scene: &'s Scene,
+        options: &RenderOptions,
+    ) -> Result<Box<dyn SceneRenderer + 's>> {
+        renderer::build(self, gpu, scene, options)
+    }
+
+    fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+        stencil_variants(self.name(), options)
+            .into_iter()
+            .map(|mut variant| {
+                variant.label = match variant.options.stencil {
+                    StencilMode::Reference => "reference (stencil)".into(),
+                    StencilMode::Emulated => "emulated".into(),
+                };
+                variant
+            })
+            .collect()
+    }
+}
+
+/// Which objects are selected, by index: those named, or with no names the scene's first
+/// shadow caster (else its first object). An unknown name is refused with the scene's names.
+pub fn resolve_selection(scene: &Scene, names: &[String]) -> Result<Vec<bool>> {
+    let mut selected = vec![false; scene.objects.len()];
+    if names.is_empty() {
+        let first = scene.objects.iter().position(|o| o.casts_shadow).or((!scene.objects.is_empty()).then_some(0));
+        if let Some(i) = first {
+            selected[i] = true;
+        }
+        return Ok(selected);
+    }
+    for name in names {
+        let index = scene.objects.iter().position(|o| &o.name == name).ok_or_else(|| {
+            Error::InvalidInput(format!(
+                "--select: scene '{}' has no object '{name}'; its objects: {}",
+                scene.name,
+                scene.objects.iter().map(|o| o.name.as_str()).collect::<Vec<_>>().join(", ")
+            ))
+        })?;
+        selected[index] = true;
+    }
+    Ok(selected)
+}
