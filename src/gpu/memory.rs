@@ -5,6 +5,7 @@
 use std::sync::Arc;
 
 use ash::vk;
+use bytemuck::Pod;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 use gpu_allocator::MemoryLocation;
 
@@ -52,14 +53,16 @@ impl Buffer {
     }
 
     /// A host-visible buffer filled with `data`.
-    pub fn with_data(gpu: &Arc<Gpu>, name: &str, data: &[u8], usage: vk::BufferUsageFlags) -> Result<Self> {
+    pub fn with_data<T: Pod>(gpu: &Arc<Gpu>, name: &str, data: &[T], usage: vk::BufferUsageFlags) -> Result<Self> {
+        let data: &[u8] = bytemuck::cast_slice(data);
         let mut buffer = Buffer::new(gpu, name, data.len() as u64, usage, MemoryLocation::CpuToGpu)?;
         buffer.write(0, data)?;
         Ok(buffer)
     }
 
     /// A device-local buffer filled through a staging copy.
-    pub fn device_local(gpu: &Arc<Gpu>, name: &str, data: &[u8], usage: vk::BufferUsageFlags) -> Result<Self> {
+    pub fn device_local<T: Pod>(gpu: &Arc<Gpu>, name: &str, data: &[T], usage: vk::BufferUsageFlags) -> Result<Self> {
+        let data: &[u8] = bytemuck::cast_slice(data);
         let staging = Buffer::with_data(gpu, &format!("{name} (staging)"), data, vk::BufferUsageFlags::TRANSFER_SRC)?;
         let buffer = Buffer::new(
             gpu,
@@ -76,7 +79,9 @@ impl Buffer {
         Ok(buffer)
     }
 
-    pub fn write(&mut self, offset: usize, data: &[u8]) -> Result<()> {
+    /// Copies `data` to byte `offset` of a host-visible buffer.
+    pub fn write<T: Pod>(&mut self, offset: usize, data: &[T]) -> Result<()> {
+        let data: &[u8] = bytemuck::cast_slice(data);
         let slice = self
             .allocation
             .as_mut()
@@ -240,11 +245,4 @@ fn find_memory_type(gpu: &Gpu, type_bits: u32, flags: vk::MemoryPropertyFlags) -
     let props = &gpu.device.memory_properties;
     (0..props.memory_type_count)
         .find(|&i| type_bits & (1 << i) != 0 && props.memory_types[i as usize].property_flags.contains(flags))
-}
-
-/// Raw bytes of a slice of plain values, for uploads.
-pub fn as_bytes<T: Copy>(values: &[T]) -> &[u8] {
-    // SAFETY: T is Copy plain data (vertices, indices, matrices); the byte view has the same
-    // lifetime and covers exactly the slice.
-    unsafe { std::slice::from_raw_parts(values.as_ptr() as *const u8, std::mem::size_of_val(values)) }
 }

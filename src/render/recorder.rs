@@ -2,12 +2,13 @@
 //! by-product of structure: a technique names its passes and gets their counters back.
 
 use ash::vk;
+use bytemuck::Pod;
 
 use super::gpu_mesh::GpuMesh;
 use crate::error::{Error, Result};
 use crate::frame::offscreen::RenderPass;
 use crate::frame::render_pass::{AttachmentDesc, RenderPassTraffic};
-use crate::gpu::memory::{as_bytes, Buffer};
+use crate::gpu::memory::Buffer;
 use crate::gpu::queries::PassQueryPools;
 use crate::gpu::Gpu;
 use crate::pipeline::Pipeline;
@@ -273,8 +274,9 @@ impl<'a> FrameRecorder<'a> {
         };
     }
 
-    pub fn push<T: Copy>(&mut self, pipeline: &Pipeline, value: &T) {
-        let bytes = as_bytes(std::slice::from_ref(value));
+    /// Pushes `value` as the pipeline's push constants (vertex and fragment stages, offset 0).
+    pub fn push<T: Pod>(&mut self, pipeline: &Pipeline, value: &T) {
+        let bytes = bytemuck::bytes_of(value);
         debug_assert!(bytes.len() as u32 <= pipeline.desc.push_constant_bytes);
         unsafe {
             self.gpu.raw().cmd_push_constants(

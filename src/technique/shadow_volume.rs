@@ -22,7 +22,7 @@ use super::lit::{LitPass, ObjectPush, OBJECT_PUSH_BYTES};
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
-use crate::gpu::memory::{as_bytes, Buffer};
+use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
 use crate::mesh::{self, EdgeAdjacency, VolumeGeometry, Welded};
 use crate::pipeline::{
@@ -478,13 +478,8 @@ fn upload_volumes(gpu: &Arc<Gpu>, scene: &Scene, casters: &[Caster], zfail: bool
             let usage = vk::BufferUsageFlags::VERTEX_BUFFER;
             Ok(GpuVolume {
                 object: caster.object,
-                vertices: Buffer::with_data(gpu, "shadow volume vertices", as_bytes(&volume.vertices), usage)?,
-                indices: Buffer::with_data(
-                    gpu,
-                    "shadow volume indices",
-                    as_bytes(&indices),
-                    vk::BufferUsageFlags::INDEX_BUFFER,
-                )?,
+                vertices: Buffer::with_data(gpu, "shadow volume vertices", &volume.vertices, usage)?,
+                indices: Buffer::with_data(gpu, "shadow volume indices", &indices, vk::BufferUsageFlags::INDEX_BUFFER)?,
                 index_count: indices.len() as u32,
             })
         })

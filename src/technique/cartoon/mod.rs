@@ -37,7 +37,7 @@ use super::Technique;
 use crate::error::{Error, Result};
 use crate::frame::{RgbaImage, StencilMode};
 use crate::gpu::descriptors::{Binding, DescriptorSet};
-use crate::gpu::memory::{as_bytes, Buffer};
+use crate::gpu::memory::Buffer;
 use crate::gpu::texture::{Sampler, Texture};
 use crate::gpu::Gpu;
 use crate::pipeline::{
@@ -156,7 +156,7 @@ pub fn resolve_selection(scene: &Scene, names: &[String]) -> Result<Vec<bool>> {
 
 /// Mirrors `CartoonPush` in `shaders/cartoon_push.glsl`.
 #[repr(C)]
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct CartoonPush {
     pub model: Mat4,
     pub colour: Vec4,
@@ -446,7 +446,7 @@ impl<'s> CartoonRenderer<'s> {
             extruded.push(GpuMesh::from_raw(
                 gpu,
                 &format!("{} (extruded)", object.name),
-                as_bytes(&extruded_vertices(&prepared)),
+                &extruded_vertices(&prepared),
                 &prepared.welded.indices,
             )?);
             ink.push(prepared);
@@ -511,7 +511,7 @@ impl<'s> CartoonRenderer<'s> {
                 mesh.vertices = Buffer::device_local(
                     &self.gpu,
                     &format!("{} (extruded, posed)", object.name),
-                    as_bytes(&extruded_vertices(ink)),
+                    &extruded_vertices(ink),
                     vk::BufferUsageFlags::VERTEX_BUFFER,
                 )?;
             }
@@ -550,7 +550,7 @@ impl<'s> CartoonRenderer<'s> {
             if vertices.is_empty() {
                 return Ok(None);
             }
-            let buffer = Buffer::with_data(&gpu, name, as_bytes(vertices), vk::BufferUsageFlags::VERTEX_BUFFER)?;
+            let buffer = Buffer::with_data(&gpu, name, vertices, vk::BufferUsageFlags::VERTEX_BUFFER)?;
             Ok(Some((buffer, vertices.len() as u32)))
         };
         let ink_buffers = [

@@ -19,7 +19,7 @@ use super::{light_reaches_plane, receiver_plane, stats, PlanarFrame, ReceiverPla
 use crate::error::Result;
 use crate::frame::{RgbaImage, StencilMode};
 use crate::gpu::descriptors::{Binding, DescriptorSet};
-use crate::gpu::memory::{as_bytes, Buffer};
+use crate::gpu::memory::Buffer;
 use crate::gpu::texture::{Sampler, Texture};
 use crate::gpu::Gpu;
 use crate::pipeline::{
@@ -35,7 +35,7 @@ pub const BLOB_LAYOUT: VertexLayout =
     VertexLayout { attributes: &[vk::Format::R32G32B32_SFLOAT, vk::Format::R32G32_SFLOAT, vk::Format::R32_SFLOAT] };
 
 #[repr(C)]
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct BlobVertex {
     position: [f32; 3],
     uv: [f32; 2],
@@ -261,7 +261,7 @@ impl<'s> BlobRenderer<'s> {
         let quads = if vertices.is_empty() {
             None
         } else {
-            Some(Buffer::with_data(&self.gpu, "blob quads", as_bytes(&vertices), vk::BufferUsageFlags::VERTEX_BUFFER)?)
+            Some(Buffer::with_data(&self.gpu, "blob quads", &vertices, vk::BufferUsageFlags::VERTEX_BUFFER)?)
         };
         let clear = scene.background.extend(1.0).to_array();
         let (meshes, scene_pipeline, scene_skinned, blob, set) =

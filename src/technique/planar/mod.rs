@@ -55,7 +55,7 @@ impl Default for PlanarOptions {
 
 /// Mirrors `PlanarPush` in `shaders/planar_push.glsl`.
 #[repr(C)]
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct PlanarPush {
     pub model: Mat4,
     pub colour: Vec4,
@@ -450,7 +450,7 @@ impl SceneMeshes {
     }
 
     /// Draws object `index` with `static_pipeline` or, skinned, `skinned_pipeline`.
-    pub fn draw<T: Copy>(
+    pub fn draw<T: bytemuck::Pod>(
         &self,
         rec: &mut FrameRecorder,
         scene: &Scene,

@@ -10,7 +10,7 @@ use gpu_allocator::MemoryLocation;
 
 use crate::error::{Error, Result};
 use crate::gpu::descriptors::{Binding, DescriptorSet};
-use crate::gpu::memory::{as_bytes, Buffer};
+use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
 use crate::pipeline::VertexLayout;
 use crate::render::GpuMesh;
@@ -27,7 +27,7 @@ pub const SKINNED_LAYOUT: VertexLayout = VertexLayout {
 };
 
 #[repr(C)]
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct SkinnedVertex {
     position: [f32; 3],
     normal: [f32; 3],
@@ -73,7 +73,7 @@ impl Palette {
                 joint_matrices.len()
             )));
         }
-        self.buffer.write(0, as_bytes(joint_matrices))
+        self.buffer.write(0, joint_matrices)
     }
 }
 
@@ -118,7 +118,7 @@ impl SkinnedMesh {
             .collect();
         let mut palette = Palette::new(gpu, name)?;
         palette.update(name, &skin.joint_matrices)?;
-        Ok(SkinnedMesh { mesh: GpuMesh::from_raw(gpu, name, as_bytes(&vertices), indices)?, palette })
+        Ok(SkinnedMesh { mesh: GpuMesh::from_raw(gpu, name, &vertices, indices)?, palette })
     }
 }
 

@@ -30,7 +30,7 @@ use crate::error::{Error, Result};
 use crate::frame::{RgbaImage, StencilMode};
 use crate::gpu::commands::submit_and_wait;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
-use crate::gpu::memory::{as_bytes, Buffer, Image};
+use crate::gpu::memory::{Buffer, Image};
 use crate::gpu::texture::{record_mip_chain, transition, Sampler};
 use crate::gpu::Gpu;
 use crate::pipeline::{BlendState, DepthState, FixedFunction, Pipeline, PipelineDesc, RasterState, VertexLayout};
@@ -194,7 +194,7 @@ pub fn pipeline_descs(kind: ShadowKind) -> Vec<(&'static str, PipelineDesc)> {
 
 /// Mirrors `ShadowLight` in `shaders/shadow_atlas_light.glsl`.
 #[repr(C)]
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct ShadowLightUniforms {
     pub view_proj: Mat4,
     pub light: Vec4,
@@ -410,7 +410,7 @@ impl<'s> ShadowAtlasRenderer<'s> {
             .zip(&layouts)
             .map(|(m, a)| {
                 let interleaved = atlas_vertices(&a.positions, &a.normals, &a.uvs);
-                GpuMesh::from_raw(gpu, &m.name, as_bytes(&interleaved), &a.indices)
+                GpuMesh::from_raw(gpu, &m.name, &interleaved, &a.indices)
             })
             .collect::<Result<Vec<_>>>()?;
         let posed_layouts: Vec<PosedLayout> =
@@ -550,7 +550,7 @@ impl<'s> ShadowAtlasRenderer<'s> {
             mesh.vertices = Buffer::device_local(
                 &self.gpu,
                 &format!("{} atlas vertices (posed)", object.name),
-                as_bytes(&interleaved),
+                &interleaved,
                 vk::BufferUsageFlags::VERTEX_BUFFER,
             )?;
         }
@@ -579,7 +579,7 @@ impl<'s> ShadowAtlasRenderer<'s> {
                 // 2 radii / map size): half a texel flat, 1.5 texels per unit of slope.
                 bias: Vec4::new(0.5 * texel, 1.5 * texel, 8.0, 0.0),
             };
-            self.light_buffer.write(0, as_bytes(std::slice::from_ref(&uniforms)))?;
+            self.light_buffer.write(0, bytemuck::bytes_of(&uniforms))?;
         }
         let mut uniforms = FrameUniforms::for_scene(scene, self.renderer.aspect());
         uniforms.light = light.as_vec4();
