@@ -4,7 +4,7 @@
 pub mod builder;
 pub mod state;
 
-pub use builder::{Pipeline, PipelineDesc, VertexLayout};
+pub use builder::{Pipeline, PipelineDesc, VertexAttribute, VertexLayout};
 pub use state::{
     BlendEquation, BlendState, DepthBias, DepthState, FixedFunction, RasterState, StencilFace, StencilState,
 };

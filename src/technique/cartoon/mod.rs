@@ -42,7 +42,7 @@ use crate::gpu::texture::{Sampler, Texture};
 use crate::gpu::Gpu;
 use crate::pipeline::{
     BlendEquation, BlendState, DepthState, FixedFunction, Pipeline, PipelineDesc, RasterState, StencilFace,
-    StencilState, VertexLayout,
+    StencilState, VertexAttribute, VertexLayout,
 };
 use crate::render::{FrameOutput, FrameRecorder, FrameUniforms, GpuMesh, GpuScene, Renderer};
 use crate::scene::Scene;
@@ -171,12 +171,7 @@ const RGB_ONLY: vk::ColorComponentFlags =
 
 /// position (vec3) a, b, c + corner (vec2): `InkVertex`.
 pub const INK_LAYOUT: VertexLayout = VertexLayout {
-    attributes: &[
-        vk::Format::R32G32B32_SFLOAT,
-        vk::Format::R32G32B32_SFLOAT,
-        vk::Format::R32G32B32_SFLOAT,
-        vk::Format::R32G32_SFLOAT,
-    ],
+    attributes: &[VertexAttribute::Vec3, VertexAttribute::Vec3, VertexAttribute::Vec3, VertexAttribute::Vec2],
 };
 
 fn desc(

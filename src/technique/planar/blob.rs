@@ -23,7 +23,8 @@ use crate::gpu::memory::Buffer;
 use crate::gpu::texture::{Sampler, Texture};
 use crate::gpu::Gpu;
 use crate::pipeline::{
-    BlendEquation, BlendState, DepthState, FixedFunction, Pipeline, PipelineDesc, RasterState, VertexLayout,
+    BlendEquation, BlendState, DepthState, FixedFunction, Pipeline, PipelineDesc, RasterState, VertexAttribute,
+    VertexLayout,
 };
 use crate::render::{FrameUniforms, Renderer};
 use crate::scene::{bounds_of, Scene};
@@ -32,7 +33,7 @@ use crate::technique::lit::ObjectPush;
 
 /// position (vec3), uv (vec2), strength (float).
 pub const BLOB_LAYOUT: VertexLayout =
-    VertexLayout { attributes: &[vk::Format::R32G32B32_SFLOAT, vk::Format::R32G32_SFLOAT, vk::Format::R32_SFLOAT] };
+    VertexLayout { attributes: &[VertexAttribute::Vec3, VertexAttribute::Vec2, VertexAttribute::F32] };
 
 #[repr(C)]
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]

@@ -12,18 +12,13 @@ use crate::error::{Error, Result};
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
-use crate::pipeline::VertexLayout;
+use crate::pipeline::{VertexAttribute, VertexLayout};
 use crate::render::GpuMesh;
 use crate::scene::{SceneSkin, MAX_JOINTS};
 
 /// position, normal, JOINTS_0 (uvec4 of u16), WEIGHTS_0 (vec4): 48 bytes.
 pub const SKINNED_LAYOUT: VertexLayout = VertexLayout {
-    attributes: &[
-        vk::Format::R32G32B32_SFLOAT,
-        vk::Format::R32G32B32_SFLOAT,
-        vk::Format::R16G16B16A16_UINT,
-        vk::Format::R32G32B32A32_SFLOAT,
-    ],
+    attributes: &[VertexAttribute::Vec3, VertexAttribute::Vec3, VertexAttribute::U16x4, VertexAttribute::Vec4],
 };
 
 #[repr(C)]

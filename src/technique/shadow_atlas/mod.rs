@@ -33,7 +33,9 @@ use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::{Buffer, Image};
 use crate::gpu::texture::{record_mip_chain, transition, Sampler};
 use crate::gpu::Gpu;
-use crate::pipeline::{BlendState, DepthState, FixedFunction, Pipeline, PipelineDesc, RasterState, VertexLayout};
+use crate::pipeline::{
+    BlendState, DepthState, FixedFunction, Pipeline, PipelineDesc, RasterState, VertexAttribute, VertexLayout,
+};
 use crate::render::{FrameOutput, FrameRecorder, FrameUniforms, GpuMesh, Renderer};
 use crate::scene::{Light, PoseTracker, Scene};
 
@@ -115,9 +117,8 @@ pub fn check_size(what: &str, size: u32) -> Result<u32> {
 // Pipelines, as data.
 
 /// position (vec3) + normal (vec3) + atlas UV (vec2).
-pub const ATLAS_VERTEX: VertexLayout = VertexLayout {
-    attributes: &[vk::Format::R32G32B32_SFLOAT, vk::Format::R32G32B32_SFLOAT, vk::Format::R32G32_SFLOAT],
-};
+pub const ATLAS_VERTEX: VertexLayout =
+    VertexLayout { attributes: &[VertexAttribute::Vec3, VertexAttribute::Vec3, VertexAttribute::Vec2] };
 
 pub fn shadow_map_desc() -> PipelineDesc {
     PipelineDesc {
