@@ -40,25 +40,3 @@ pub fn submit_and_wait<T>(gpu: &Gpu, record: impl FnOnce(vk::CommandBuffer) -> R
     free();
     result
 }
-
-/// Makes a transfer's writes to `buffer` visible to the host (before mapping it after the fence).
-pub fn transfer_to_host_barrier(device: &ash::Device, cmd: vk::CommandBuffer, buffer: vk::Buffer) {
-    let to_host = vk::BufferMemoryBarrier::default()
-        .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
-        .dst_access_mask(vk::AccessFlags::HOST_READ)
-        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-        .buffer(buffer)
-        .size(vk::WHOLE_SIZE);
-    unsafe {
-        device.cmd_pipeline_barrier(
-            cmd,
-            vk::PipelineStageFlags::TRANSFER,
-            vk::PipelineStageFlags::HOST,
-            vk::DependencyFlags::empty(),
-            &[],
-            &[to_host],
-            &[],
-        )
-    };
-}

@@ -8,6 +8,7 @@ use super::gpu_mesh::GpuMesh;
 use crate::error::{Error, Result};
 use crate::frame::offscreen::RenderPass;
 use crate::frame::render_pass::{AttachmentDesc, RenderPassTraffic};
+use crate::gpu::barriers;
 use crate::gpu::memory::Buffer;
 use crate::gpu::queries::PassQueryPools;
 use crate::gpu::Gpu;
@@ -243,35 +244,9 @@ impl<'a> FrameRecorder<'a> {
     }
 
     /// Makes earlier colour writes of this subpass visible to input-attachment reads of the
-    /// following draws (the render pass's by-region self-dependency): each fragment reads only
-    /// its own pixel, so on a tiler this stays in tile memory.
+    /// following draws (`barriers::colour_feedback`).
     pub fn colour_feedback_barrier(&mut self, colour_image: vk::Image) {
-        let barrier = vk::ImageMemoryBarrier::default()
-            .src_access_mask(vk::AccessFlags::COLOR_ATTACHMENT_WRITE)
-            .dst_access_mask(vk::AccessFlags::INPUT_ATTACHMENT_READ)
-            .old_layout(vk::ImageLayout::GENERAL)
-            .new_layout(vk::ImageLayout::GENERAL)
-            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-            .image(colour_image)
-            .subresource_range(vk::ImageSubresourceRange {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
-                base_mip_level: 0,
-                level_count: 1,
-                base_array_layer: 0,
-                layer_count: 1,
-            });
-        unsafe {
-            self.gpu.raw().cmd_pipeline_barrier(
-                self.cmd,
-                vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT,
-                vk::PipelineStageFlags::FRAGMENT_SHADER,
-                vk::DependencyFlags::BY_REGION,
-                &[],
-                &[],
-                &[barrier],
-            )
-        };
+        barriers::colour_feedback(self.gpu.raw(), self.cmd, colour_image);
     }
 
     /// Pushes `value` as the pipeline's push constants (vertex and fragment stages, offset 0).

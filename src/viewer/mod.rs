@@ -318,7 +318,7 @@ impl Presenter {
                     depth: 1,
                 });
                 device.cmd_copy_image_to_buffer(cmd, source, layout, buffer.raw, &[region]);
-                crate::gpu::commands::transfer_to_host_barrier(device, cmd, buffer.raw);
+                crate::gpu::barriers::transfer_to_host(device, cmd, buffer.raw);
             }
             // Presentation waits on the semaphore, which orders it after this command buffer.
             device.cmd_pipeline_barrier(
