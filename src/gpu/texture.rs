@@ -31,6 +31,7 @@ impl Sampler {
             .address_mode_v(address)
             .address_mode_w(address)
             .max_lod(vk::LOD_CLAMP_NONE);
+        // SAFETY: `gpu` holds the device; anisotropy stays off, as the profile requires.
         let raw = unsafe { gpu.raw().create_sampler(&info, None) }.vk("vkCreateSampler")?;
         Ok(Sampler { gpu: gpu.clone(), raw })
     }
@@ -38,6 +39,7 @@ impl Sampler {
 
 impl Drop for Sampler {
     fn drop(&mut self) {
+        // SAFETY: no pending command uses the sampler (see `Buffer`'s drop).
         unsafe { self.gpu.raw().destroy_sampler(self.raw, None) };
     }
 }
@@ -90,6 +92,9 @@ impl Texture {
             let region = vk::BufferImageCopy::default()
                 .image_subresource(colour_layers(0))
                 .image_extent(vk::Extent3D { width, height, depth: 1 });
+            // SAFETY: `cmd` is recording; mip 0 is TRANSFER_DST_OPTIMAL (barrier above); the
+            // staging buffer holds exactly width x height x 4 bytes (checked above) and both
+            // live until `submit_and_wait` has waited.
             unsafe {
                 gpu.raw().cmd_copy_buffer_to_image(
                     cmd,
@@ -151,6 +156,9 @@ pub fn record_mip_chain(
             dst_subresource: colour_layers(mip),
             dst_offsets: [vk::Offset3D::default(), vk::Offset3D { x: nw, y: nh, z: 1 }],
         };
+        // SAFETY: `cmd` is recording; mip - 1 is TRANSFER_SRC_OPTIMAL and mip TRANSFER_DST_OPTIMAL
+        // (the caller's contract and the barrier above); both rectangles lie inside their mips;
+        // the project's textures are RGBA8 (UNORM or sRGB), whose linear blits Vulkan requires.
         unsafe {
             gpu.raw().cmd_blit_image(
                 cmd,

@@ -155,6 +155,8 @@ impl Pipeline {
         let layout_info = vk::PipelineLayoutCreateInfo::default()
             .set_layouts(set_layouts)
             .push_constant_ranges(if desc.push_constant_bytes > 0 { &ranges } else { &[] });
+        // SAFETY: `gpu` holds the device; the set layouts are the caller's, alive for the call;
+        // the push-constant range was checked against the profile's limit above.
         let layout = unsafe { device.create_pipeline_layout(&layout_info, None) }.vk("vkCreatePipelineLayout")?;
         Self::with_layout(gpu, desc, render_pass, layout, set_layouts.len() as u32, true, colour_attachments)
     }
@@ -264,6 +266,11 @@ impl Pipeline {
             .layout(layout)
             .render_pass(render_pass)
             .subpass(desc.subpass);
+        // SAFETY: every state struct `info` points at lives until the call returns; the shader
+        // modules are alive (dropped at the end of this function); `layout` is alive (owned by
+        // this pipeline or its original) and `render_pass` is the caller's, alive for the call;
+        // every vertex format is one Vulkan requires for vertex buffers. On failure `pipeline`
+        // is dropped, which destroys the layout it owns.
         let raw = unsafe { device.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) }
             .map_err(|(_, result)| result)
             .vk("vkCreateGraphicsPipelines")?;
@@ -275,6 +282,8 @@ impl Pipeline {
 impl Drop for Pipeline {
     fn drop(&mut self) {
         let device = self.gpu.raw();
+        // SAFETY: no pending command uses the pipeline (see `Buffer`'s drop). Each layout is
+        // destroyed once, by the pipeline that created it: overdraw twins borrow it and leave it.
         unsafe {
             if self.raw != vk::Pipeline::null() {
                 device.destroy_pipeline(self.raw, None);
@@ -295,6 +304,7 @@ impl<'a> ShaderModule<'a> {
     fn new(gpu: &'a Gpu, name: &str) -> Result<Self> {
         let code = crate::shaders::spirv(name)?;
         let info = vk::ShaderModuleCreateInfo::default().code(&code);
+        // SAFETY: `code` is SPIR-V compiled by shaderc at build time, as u32 words.
         let raw = unsafe { gpu.raw().create_shader_module(&info, None) }.vk("vkCreateShaderModule")?;
         Ok(ShaderModule { gpu, raw })
     }
@@ -302,6 +312,7 @@ impl<'a> ShaderModule<'a> {
 
 impl Drop for ShaderModule<'_> {
     fn drop(&mut self) {
+        // SAFETY: a module is only needed while pipelines are created from it.
         unsafe { self.gpu.raw().destroy_shader_module(self.raw, None) };
     }
 }

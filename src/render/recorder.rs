@@ -53,6 +53,13 @@ impl OverdrawPipelines {
     }
 }
 
+/// Records one frame into `cmd`.
+///
+/// Soundness of its raw Vulkan calls: `cmd` is recording (inside `submit_and_wait`'s closure),
+/// and every handle given to it (pipelines, buffers, sets, framebuffers) belongs to an object
+/// that outlives the frame, which `submit_and_wait` waits for. What depends on the order of
+/// recording (one render pass open at a time, a pipeline bound before a draw) is the
+/// techniques' to keep; the validation layer checks it in every test.
 pub struct FrameRecorder<'a> {
     gpu: &'a Gpu,
     /// Set for heat-map frames: every bind is replaced by its overdraw counter.
@@ -192,6 +199,8 @@ impl<'a> FrameRecorder<'a> {
             min_depth: 0.0,
             max_depth: 1.0,
         };
+        // SAFETY: see the note on `FrameRecorder`; `render_pass` and `framebuffer` come from
+        // the same targets (so are compatible), and `clear_values` covers their attachments.
         unsafe {
             device.cmd_begin_render_pass(self.cmd, &begin, vk::SubpassContents::INLINE);
             device.cmd_set_viewport(self.cmd, 0, &[viewport]);
@@ -200,6 +209,7 @@ impl<'a> FrameRecorder<'a> {
     }
 
     pub fn end_render_pass(&mut self) {
+        // SAFETY: see the note on `FrameRecorder`.
         unsafe { self.gpu.raw().cmd_end_render_pass(self.cmd) };
     }
 
@@ -218,6 +228,8 @@ impl<'a> FrameRecorder<'a> {
     pub fn bind(&mut self, pipeline: &Pipeline) {
         let raw = self.pipeline_to_bind(pipeline);
         let device = self.gpu.raw();
+        // SAFETY: see the note on `FrameRecorder`; `raw` is the pipeline or its overdraw twin,
+        // which shares its layout, and set 0 of a layout with sets is the frame uniforms'.
         unsafe {
             device.cmd_bind_pipeline(self.cmd, vk::PipelineBindPoint::GRAPHICS, raw);
             if pipeline.set_count > 0 {
@@ -237,6 +249,8 @@ impl<'a> FrameRecorder<'a> {
     pub fn bind_with_sets(&mut self, pipeline: &Pipeline, sets: &[vk::DescriptorSet]) {
         let raw = self.pipeline_to_bind(pipeline);
         let device = self.gpu.raw();
+        // SAFETY: see the note on `FrameRecorder`; `raw` is the pipeline or its overdraw twin,
+        // which shares its layout, and the technique's sets were made for that layout.
         unsafe {
             device.cmd_bind_pipeline(self.cmd, vk::PipelineBindPoint::GRAPHICS, raw);
             device.cmd_bind_descriptor_sets(self.cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.layout, 0, sets, &[]);
@@ -252,7 +266,17 @@ impl<'a> FrameRecorder<'a> {
     /// Pushes `value` as the pipeline's push constants (vertex and fragment stages, offset 0).
     pub fn push<T: Pod>(&mut self, pipeline: &Pipeline, value: &T) {
         let bytes = bytemuck::bytes_of(value);
-        debug_assert!(bytes.len() as u32 <= pipeline.desc.push_constant_bytes);
+        if bytes.len() as u32 > pipeline.desc.push_constant_bytes || bytes.len() % 4 != 0 {
+            self.deferred_error.get_or_insert(Error::InvalidInput(format!(
+                "pipeline '{}': {} bytes of push constants for a {}-byte range",
+                pipeline.desc.name,
+                bytes.len(),
+                pipeline.desc.push_constant_bytes
+            )));
+            return;
+        }
+        // SAFETY: see the note on `FrameRecorder`; the bytes fit the layout's one range (offset
+        // 0, vertex and fragment stages, checked just above) and are a whole number of words.
         unsafe {
             self.gpu.raw().cmd_push_constants(
                 self.cmd,
@@ -273,6 +297,8 @@ impl<'a> FrameRecorder<'a> {
             return;
         }
         let device = self.gpu.raw();
+        // SAFETY: see the note on `FrameRecorder`; the indices were checked against their
+        // vertices when the mesh was built (the glTF loader refuses any out of range).
         unsafe {
             device.cmd_bind_vertex_buffers(self.cmd, 0, &[vertices.raw], &[0]);
             device.cmd_bind_index_buffer(self.cmd, indices.raw, 0, vk::IndexType::UINT32);
@@ -285,6 +311,8 @@ impl<'a> FrameRecorder<'a> {
         if vertex_count == 0 {
             return;
         }
+        // SAFETY: see the note on `FrameRecorder`; `vertex_count` is the caller's count of the
+        // vertices it uploaded to `vertices`.
         unsafe {
             self.gpu.raw().cmd_bind_vertex_buffers(self.cmd, 0, &[vertices.raw], &[0]);
             self.gpu.raw().cmd_draw(self.cmd, vertex_count, 1, 0, 0);
@@ -294,6 +322,8 @@ impl<'a> FrameRecorder<'a> {
 
     /// One full-screen triangle (`shaders/fullscreen.vert`).
     pub fn draw_fullscreen(&mut self) {
+        // SAFETY: see the note on `FrameRecorder`; the vertex shader makes the three vertices
+        // from gl_VertexIndex, with no vertex buffer.
         unsafe { self.gpu.raw().cmd_draw(self.cmd, 3, 1, 0, 0) };
         self.count_draw();
     }
