@@ -10,8 +10,6 @@ pub mod edges;
 pub(crate) mod fast_hash;
 pub mod shadow_volume;
 pub mod shapes;
-#[cfg(test)]
-mod timing;
 pub mod weld;
 
 pub use adjacency::{face_normals, Edge, EdgeAdjacency, NO_FACE};
