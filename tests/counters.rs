@@ -10,7 +10,7 @@ use std::sync::Arc;
 use ash::vk;
 use glam::{Mat4, Vec2, Vec4};
 use nostencil::frame::StencilMode;
-use nostencil::gpu::memory::{as_bytes, Buffer};
+use nostencil::gpu::memory::Buffer;
 use nostencil::gpu::Gpu;
 use nostencil::pipeline::{BlendState, DepthState, FixedFunction, Pipeline, PipelineDesc, RasterState, VertexLayout};
 use nostencil::render::FrameCounters;
@@ -62,9 +62,8 @@ fn render_passes(
         .iter()
         .map(|(tris, z)| {
             let vertices = to_clip(tris, *z, width, height);
-            let buffer =
-                Buffer::with_data(gpu, "test triangles", as_bytes(&vertices), vk::BufferUsageFlags::VERTEX_BUFFER)
-                    .expect("buffer");
+            let buffer = Buffer::with_data(gpu, "test triangles", &vertices, vk::BufferUsageFlags::VERTEX_BUFFER)
+                .expect("buffer");
             (buffer, vertices.len() as u32)
         })
         .collect();

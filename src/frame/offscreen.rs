@@ -7,7 +7,7 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::render_pass::AttachmentDesc;
-use crate::error::{Result, VkContext};
+use crate::error::{Error, Result, VkContext};
 use crate::gpu::memory::Image;
 use crate::gpu::Gpu;
 
@@ -21,6 +21,7 @@ pub struct RenderPass {
 
 impl Drop for RenderPass {
     fn drop(&mut self) {
+        // SAFETY: no pending command uses the render pass (see `Buffer`'s drop).
         unsafe { self.gpu.raw().destroy_render_pass(self.raw, None) };
     }
 }
@@ -39,6 +40,8 @@ impl Framebuffer {
             .width(extent.width)
             .height(extent.height)
             .layers(1);
+        // SAFETY: `render_pass` is alive and has one attachment; `view` is the caller's single-mip
+        // view of an image at least `extent` large, kept alive as long as this framebuffer.
         let raw = unsafe { gpu.raw().create_framebuffer(&info, None) }.vk("vkCreateFramebuffer")?;
         Ok(Framebuffer { gpu: gpu.clone(), raw })
     }
@@ -46,6 +49,7 @@ impl Framebuffer {
 
 impl Drop for Framebuffer {
     fn drop(&mut self) {
+        // SAFETY: no pending command uses the framebuffer (see `Buffer`'s drop).
         unsafe { self.gpu.raw().destroy_framebuffer(self.raw, None) };
     }
 }
@@ -58,6 +62,9 @@ pub struct ImageView {
 impl ImageView {
     /// A view of one mip (framebuffers take single-mip views).
     pub fn mip(gpu: &Arc<Gpu>, image: &Image, mip: u32) -> Result<Self> {
+        if mip >= image.mip_levels {
+            return Err(Error::InvalidInput(format!("mip {mip} of an image with {} mips", image.mip_levels)));
+        }
         let info = vk::ImageViewCreateInfo::default()
             .image(image.raw)
             .view_type(vk::ImageViewType::TYPE_2D)
@@ -69,6 +76,8 @@ impl ImageView {
                 base_array_layer: 0,
                 layer_count: 1,
             });
+        // SAFETY: `image` is alive (borrowed) and `mip` one of its mips (checked above); the view
+        // keeps its format and colour aspect.
         let raw = unsafe { gpu.raw().create_image_view(&info, None) }.vk("vkCreateImageView")?;
         Ok(ImageView { gpu: gpu.clone(), raw })
     }
@@ -76,6 +85,7 @@ impl ImageView {
 
 impl Drop for ImageView {
     fn drop(&mut self) {
+        // SAFETY: no pending command uses the view (see `Buffer`'s drop).
         unsafe { self.gpu.raw().destroy_image_view(self.raw, None) };
     }
 }
@@ -166,6 +176,8 @@ fn build(
 ) -> Result<RenderPass> {
     let attachments = [attachment.description()];
     let info = vk::RenderPassCreateInfo::default().attachments(&attachments).subpasses(subpasses).dependencies(deps);
+    // SAFETY: `info` and the arrays it points at live until the call returns; the subpasses
+    // reference attachment 0 only.
     let raw = unsafe { gpu.raw().create_render_pass(&info, None) }.vk("vkCreateRenderPass")?;
     Ok(RenderPass { gpu: gpu.clone(), raw, attachment })
 }

@@ -147,6 +147,8 @@ impl RenderPassDesc {
             .attachments(&attachments)
             .subpasses(&subpasses)
             .dependencies(&dependencies);
+        // SAFETY: `info` and the arrays it points at live until the call returns; the subpass
+        // references attachments 0 and 1, both described.
         unsafe { device.create_render_pass(&info, None) }.vk("vkCreateRenderPass")
     }
 

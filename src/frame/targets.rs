@@ -34,6 +34,7 @@ pub fn choose_depth_format(gpu: &Gpu, stencil: StencilMode) -> Result<vk::Format
         .iter()
         .copied()
         .find(|&format| {
+            // SAFETY: the physical device was enumerated from this live instance.
             let props = unsafe { gpu.instance.raw.get_physical_device_format_properties(gpu.device.physical, format) };
             props.optimal_tiling_features.contains(vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT)
         })
@@ -86,9 +87,12 @@ impl FrameTargets {
             .width(width)
             .height(height)
             .layers(1);
+        // SAFETY: both views are alive (owned by `colour` and `depth`, kept with the framebuffer)
+        // and match the render pass's two attachments, at the framebuffer's size.
         let framebuffer = match unsafe { device.create_framebuffer(&fb_info, None) }.vk("vkCreateFramebuffer") {
             Ok(fb) => fb,
             Err(e) => {
+                // SAFETY: the render pass was just created and nothing uses it.
                 unsafe { device.destroy_render_pass(render_pass, None) };
                 return Err(e);
             }
@@ -100,6 +104,8 @@ impl FrameTargets {
 impl Drop for FrameTargets {
     fn drop(&mut self) {
         let device = self.gpu.raw();
+        // SAFETY: no pending command uses them (see `Buffer`'s drop); the framebuffer goes before
+        // its render pass, and the images (fields) after both.
         unsafe {
             device.destroy_framebuffer(self.framebuffer, None);
             device.destroy_render_pass(self.render_pass, None);

@@ -15,50 +15,40 @@ pub fn submit_and_wait<T>(gpu: &Gpu, record: impl FnOnce(vk::CommandBuffer) -> R
             .command_pool(*pool)
             .level(vk::CommandBufferLevel::PRIMARY)
             .command_buffer_count(1);
+        // SAFETY: the pool is locked while it allocates, and `info` asks for exactly one buffer,
+        // so `[0]` exists.
         unsafe { device.allocate_command_buffers(&info) }.vk("vkAllocateCommandBuffers")?[0]
     };
     let free = || {
         let pool = gpu.command_pool();
+        // SAFETY: `cmd` came from this pool and is not pending: it was never submitted, or the
+        // fence wait below returned (a failed wait means the device is lost).
         unsafe { device.free_command_buffers(*pool, &[cmd]) };
     };
 
     let result = (|| {
         let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+        // SAFETY: `cmd` is a fresh primary buffer of `device`, begun and ended once here. For
+        // this and the calls below: a `Gpu` is driven from one thread at a time (nothing in the
+        // crate shares one across threads), the external synchronisation pool and queue need.
         unsafe { device.begin_command_buffer(cmd, &begin) }.vk("vkBeginCommandBuffer")?;
         let value = record(cmd)?;
+        // SAFETY: `cmd` is recording (begun above).
         unsafe { device.end_command_buffer(cmd) }.vk("vkEndCommandBuffer")?;
 
+        // SAFETY: a plain unsignalled fence of `device`.
         let fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }.vk("vkCreateFence")?;
         let cmds = [cmd];
         let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
+        // SAFETY: `cmd` is ended, `fence` unsignalled and unused; `submit` outlives the call.
         let submitted = unsafe { device.queue_submit(gpu.device.queue, &submit, fence) }.vk("vkQueueSubmit");
+        // SAFETY: `fence` is alive.
         let waited =
             submitted.and_then(|_| unsafe { device.wait_for_fences(&[fence], true, u64::MAX) }.vk("vkWaitForFences"));
+        // SAFETY: the fence is signalled, or was never submitted, or the device is lost.
         unsafe { device.destroy_fence(fence, None) };
         waited.map(|_| value)
     })();
     free();
     result
-}
-
-/// Makes a transfer's writes to `buffer` visible to the host (before mapping it after the fence).
-pub fn transfer_to_host_barrier(device: &ash::Device, cmd: vk::CommandBuffer, buffer: vk::Buffer) {
-    let to_host = vk::BufferMemoryBarrier::default()
-        .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
-        .dst_access_mask(vk::AccessFlags::HOST_READ)
-        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-        .buffer(buffer)
-        .size(vk::WHOLE_SIZE);
-    unsafe {
-        device.cmd_pipeline_barrier(
-            cmd,
-            vk::PipelineStageFlags::TRANSFER,
-            vk::PipelineStageFlags::HOST,
-            vk::DependencyFlags::empty(),
-            &[],
-            &[to_host],
-            &[],
-        )
-    };
 }

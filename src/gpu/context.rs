@@ -63,6 +63,7 @@ impl Gpu {
         let pool_info = vk::CommandPoolCreateInfo::default()
             .queue_family_index(device.queue_family)
             .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        // SAFETY: `device` was just created and `queue_family` is one of its queue families.
         let command_pool = unsafe { device.raw.create_command_pool(&pool_info, None) }.vk("vkCreateCommandPool")?;
         Ok(Arc::new(Gpu {
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
@@ -98,6 +99,10 @@ impl Gpu {
 
 impl Drop for Gpu {
     fn drop(&mut self) {
+        // SAFETY: every resource holds an `Arc<Gpu>`, so none is left; after the wait nothing
+        // runs. The allocator frees its memory before the device goes, and the allocator is
+        // never touched again (ManuallyDrop dropped once, here); the instance outlives the
+        // device (it is dropped after this, as a field).
         unsafe {
             let _ = self.device.raw.device_wait_idle();
             ManuallyDrop::drop(&mut self.allocator);

@@ -68,6 +68,7 @@ impl DescriptorSet {
                     .stage_flags(b.stages())
             })
             .collect();
+        // SAFETY: `device` is alive (`gpu` holds it); the bindings array outlives the call.
         let layout = unsafe {
             device.create_descriptor_set_layout(
                 &vk::DescriptorSetLayoutCreateInfo::default().bindings(&layout_bindings),
@@ -77,6 +78,7 @@ impl DescriptorSet {
         .vk("vkCreateDescriptorSetLayout")?;
         let sizes: Vec<_> =
             bindings.iter().map(|b| vk::DescriptorPoolSize { ty: b.descriptor_type(), descriptor_count: 1 }).collect();
+        // SAFETY: as above; one set, one descriptor per binding.
         let pool = match unsafe {
             device.create_descriptor_pool(&vk::DescriptorPoolCreateInfo::default().max_sets(1).pool_sizes(&sizes), None)
         }
@@ -84,12 +86,15 @@ impl DescriptorSet {
         {
             Ok(pool) => pool,
             Err(e) => {
+                // SAFETY: the layout was just created and nothing uses it.
                 unsafe { device.destroy_descriptor_set_layout(layout, None) };
                 return Err(e);
             }
         };
         let mut set = DescriptorSet { gpu: gpu.clone(), layout, pool, set: vk::DescriptorSet::null() };
         let layouts = [layout];
+        // SAFETY: the pool holds room for exactly this one set of this layout, so `[0]` exists;
+        // on failure `set` is dropped, which destroys pool and layout.
         set.set = unsafe {
             device.allocate_descriptor_sets(
                 &vk::DescriptorSetAllocateInfo::default().descriptor_pool(pool).set_layouts(&layouts),
@@ -130,6 +135,10 @@ impl DescriptorSet {
                 }
             })
             .collect();
+        // SAFETY: each write matches its binding's type and points into `buffer_infos` or
+        // `image_infos`, alive during the call; the set is not in use by any command yet. The
+        // buffers, views and samplers named are the caller's, alive now, and kept by it for as
+        // long as the set (the owners order their fields so).
         unsafe { device.update_descriptor_sets(&writes, &[]) };
         Ok(set)
     }
@@ -138,6 +147,8 @@ impl DescriptorSet {
 impl Drop for DescriptorSet {
     fn drop(&mut self) {
         let device = self.gpu.raw();
+        // SAFETY: no pending command uses the set (see `Buffer`'s drop); destroying the pool
+        // frees the set, then the layout goes.
         unsafe {
             device.destroy_descriptor_pool(self.pool, None);
             device.destroy_descriptor_set_layout(self.layout, None);

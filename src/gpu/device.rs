@@ -91,6 +91,7 @@ impl Device {
         let physical = candidate.physical;
         let raw_instance = &instance.raw;
 
+        // SAFETY: `physical` was enumerated from this instance, which is alive for the call.
         let families = unsafe { raw_instance.get_physical_device_queue_family_properties(physical) };
         let (queue_family, family) = families
             .iter()
@@ -108,6 +109,7 @@ impl Device {
             )));
         }
 
+        // SAFETY: as above.
         let available = unsafe { raw_instance.enumerate_device_extension_properties(physical) }
             .vk("vkEnumerateDeviceExtensionProperties")?;
         if let Some(missing) = extensions
@@ -122,6 +124,7 @@ impl Device {
         }
         let extension_names: Vec<*const std::ffi::c_char> = extensions.iter().map(|e| e.as_ptr()).collect();
 
+        // SAFETY: as above.
         let supported = unsafe { raw_instance.get_physical_device_features(physical) };
         let features = EnabledFeatures::choose(&supported);
         let vk_features = features.to_vk();
@@ -134,8 +137,12 @@ impl Device {
             .queue_create_infos(&queue_info)
             .enabled_extension_names(&extension_names)
             .enabled_features(&vk_features);
+        // SAFETY: `create_info` and everything it points at (queue info, priorities, extension
+        // names, features) live until the call returns; the extensions were checked available.
         let raw = unsafe { raw_instance.create_device(physical, &create_info, None) }.vk("vkCreateDevice")?;
+        // SAFETY: the device was created with one queue of `queue_family`.
         let queue = unsafe { raw.get_device_queue(queue_family, 0) };
+        // SAFETY: as for the queries above.
         let memory_properties = unsafe { raw_instance.get_physical_device_memory_properties(physical) };
         let has_lazily_allocated_memory = memory_properties.memory_types
             [..memory_properties.memory_type_count as usize]
@@ -165,11 +172,13 @@ impl Device {
 }
 
 fn choose_physical_device(instance: &Instance, choice: &DeviceChoice) -> Result<Candidate> {
+    // SAFETY: the instance is alive for the call.
     let physicals = unsafe { instance.raw.enumerate_physical_devices() }.vk("vkEnumeratePhysicalDevices")?;
     let candidates: Vec<Candidate> = physicals
         .into_iter()
         .enumerate()
         .map(|(index, physical)| {
+            // SAFETY: `physical` was just enumerated from this instance.
             let properties = unsafe { instance.raw.get_physical_device_properties(physical) };
             let name = properties
                 .device_name_as_c_str()
@@ -212,10 +221,12 @@ fn choose_physical_device(instance: &Instance, choice: &DeviceChoice) -> Result<
 
 /// The names of all devices, for `nostencil info` on a machine where device creation fails.
 pub fn list_devices(instance: &Instance) -> Result<Vec<String>> {
+    // SAFETY: the instance is alive for the call.
     let physicals = unsafe { instance.raw.enumerate_physical_devices() }.vk("vkEnumeratePhysicalDevices")?;
     Ok(physicals
         .into_iter()
         .map(|p| {
+            // SAFETY: `p` was just enumerated from this instance.
             let props = unsafe { instance.raw.get_physical_device_properties(p) };
             props.device_name_as_c_str().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default()
         })

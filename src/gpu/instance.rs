@@ -40,7 +40,8 @@ impl Instance {
     /// As `new`, with more instance extensions enabled: the window-system surface extensions
     /// (`ash_window::enumerate_required_extensions`), which only the viewer asks for.
     pub fn with_extensions(validation: bool, extra_extensions: &[*const c_char]) -> Result<Self> {
-        // SAFETY: loading the system loader library; failure is reported, not assumed.
+        // SAFETY: this loads the system's Vulkan loader (libvulkan), whose initialisers are
+        // trusted like any system library's; a missing loader is reported, not assumed.
         let entry = unsafe { ash::Entry::load() }.map_err(|e| {
             Error::Device(format!(
                 "no Vulkan loader found ({e}); install libvulkan1 and a driver such as mesa-vulkan-drivers (tools/setup-debian.sh)"
@@ -55,6 +56,7 @@ impl Instance {
         let mut layers = Vec::new();
         let mut extensions = extra_extensions.to_vec();
         if validation {
+            // SAFETY: `entry` holds a loaded loader.
             let available =
                 unsafe { entry.enumerate_instance_layer_properties() }.vk("vkEnumerateInstanceLayerProperties")?;
             let has_layer = available.iter().any(|l| l.layer_name_as_c_str().ok() == Some(VALIDATION_LAYER));
@@ -71,6 +73,9 @@ impl Instance {
             .application_info(&app_info)
             .enabled_layer_names(&layers)
             .enabled_extension_names(&extensions);
+        // SAFETY: every layer and extension name is a NUL-terminated static string (our
+        // constants, or those of `ash_window::enumerate_required_extensions` for the viewer);
+        // they and `app_info` outlive the call, and the layer was checked to be installed.
         let raw = unsafe { entry.create_instance(&create_info, None) }.map_err(|result| {
             if result == vk::Result::ERROR_INCOMPATIBLE_DRIVER {
                 Error::Device("no Vulkan driver (ICD) could be loaded: no Vulkan device".into())
@@ -98,6 +103,9 @@ impl Instance {
             )
             .pfn_user_callback(Some(on_validation_message))
             .user_data(&*log as *const ValidationLog as *mut c_void);
+        // SAFETY: the instance enabled VK_EXT_debug_utils (with validation). The user data points
+        // at the boxed log, whose heap address is stable and which is kept beside the messenger
+        // and dropped only after the messenger is destroyed (see `drop`).
         let messenger =
             unsafe { loader.create_debug_utils_messenger(&info, None) }.vk("vkCreateDebugUtilsMessengerEXT")?;
         self.messenger = Some((loader, messenger, log));
@@ -112,6 +120,9 @@ impl Instance {
 
 impl Drop for Instance {
     fn drop(&mut self) {
+        // SAFETY: every device of this instance is gone (a `Gpu` destroys its device before its
+        // instance field drops). The messenger goes before the instance, and its log (`_log`)
+        // only after the messenger, at the end of the `if let`.
         unsafe {
             if let Some((loader, messenger, _log)) = self.messenger.take() {
                 loader.destroy_debug_utils_messenger(messenger, None);
@@ -130,6 +141,8 @@ unsafe extern "system" fn on_validation_message(
     let text = if data.is_null() {
         "(no message)".to_owned()
     } else {
+        // SAFETY: Vulkan passes callback data valid for the duration of the callback, and
+        // `message_as_c_str` reads its NUL-terminated message (or none).
         unsafe { (*data).message_as_c_str() }
             .map(|m| m.to_string_lossy().into_owned())
             .unwrap_or_else(|| "(no message)".to_owned())

@@ -5,6 +5,7 @@
 use std::sync::Arc;
 
 use ash::vk;
+use bytemuck::Pod;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 use gpu_allocator::MemoryLocation;
 
@@ -30,7 +31,10 @@ impl Buffer {
         let device = gpu.raw();
         let info =
             vk::BufferCreateInfo::default().size(size.max(4)).usage(usage).sharing_mode(vk::SharingMode::EXCLUSIVE);
+        // SAFETY: `device` is alive (`gpu` holds it) and `info` is a valid create info; `raw` is
+        // the buffer just created from it.
         let raw = unsafe { device.create_buffer(&info, None) }.vk("vkCreateBuffer")?;
+        // SAFETY: as above.
         let requirements = unsafe { device.get_buffer_memory_requirements(raw) };
         let allocation = gpu
             .allocator()
@@ -42,9 +46,13 @@ impl Buffer {
                 allocation_scheme: AllocationScheme::GpuAllocatorManaged,
             })
             .map_err(|e| {
+                // SAFETY: `raw` has no memory bound and no other owner yet.
                 unsafe { device.destroy_buffer(raw, None) };
                 Error::Memory(format!("buffer '{name}' ({size} bytes): {e}"))
             })?;
+        // SAFETY: the allocation was made for `raw`'s requirements and is bound once; the memory
+        // handle is only passed to Vulkan, never freed here (the allocator owns it). On failure
+        // the returned Buffer's drop destroys `raw` and frees the allocation.
         let bound = unsafe { device.bind_buffer_memory(raw, allocation.memory(), allocation.offset()) }
             .vk("vkBindBufferMemory");
         let buffer = Buffer { gpu: gpu.clone(), raw, size, allocation: Some(allocation) };
@@ -52,14 +60,16 @@ impl Buffer {
     }
 
     /// A host-visible buffer filled with `data`.
-    pub fn with_data(gpu: &Arc<Gpu>, name: &str, data: &[u8], usage: vk::BufferUsageFlags) -> Result<Self> {
+    pub fn with_data<T: Pod>(gpu: &Arc<Gpu>, name: &str, data: &[T], usage: vk::BufferUsageFlags) -> Result<Self> {
+        let data: &[u8] = bytemuck::cast_slice(data);
         let mut buffer = Buffer::new(gpu, name, data.len() as u64, usage, MemoryLocation::CpuToGpu)?;
         buffer.write(0, data)?;
         Ok(buffer)
     }
 
     /// A device-local buffer filled through a staging copy.
-    pub fn device_local(gpu: &Arc<Gpu>, name: &str, data: &[u8], usage: vk::BufferUsageFlags) -> Result<Self> {
+    pub fn device_local<T: Pod>(gpu: &Arc<Gpu>, name: &str, data: &[T], usage: vk::BufferUsageFlags) -> Result<Self> {
+        let data: &[u8] = bytemuck::cast_slice(data);
         let staging = Buffer::with_data(gpu, &format!("{name} (staging)"), data, vk::BufferUsageFlags::TRANSFER_SRC)?;
         let buffer = Buffer::new(
             gpu,
@@ -70,13 +80,17 @@ impl Buffer {
         )?;
         submit_and_wait(gpu, |cmd| {
             let region = [vk::BufferCopy { src_offset: 0, dst_offset: 0, size: data.len() as u64 }];
+            // SAFETY: `cmd` is recording; both buffers hold `data.len()` bytes (the staging one
+            // was filled with them) and live until `submit_and_wait` has waited for the copy.
             unsafe { gpu.raw().cmd_copy_buffer(cmd, staging.raw, buffer.raw, &region) };
             Ok(())
         })?;
         Ok(buffer)
     }
 
-    pub fn write(&mut self, offset: usize, data: &[u8]) -> Result<()> {
+    /// Copies `data` to byte `offset` of a host-visible buffer.
+    pub fn write<T: Pod>(&mut self, offset: usize, data: &[T]) -> Result<()> {
+        let data: &[u8] = bytemuck::cast_slice(data);
         let slice = self
             .allocation
             .as_mut()
@@ -100,6 +114,8 @@ impl Buffer {
 
 impl Drop for Buffer {
     fn drop(&mut self) {
+        // SAFETY: the GPU no longer uses the buffer: offscreen submissions are waited for by
+        // `submit_and_wait`, and the viewer waits for its frames before dropping what they read.
         unsafe { self.gpu.raw().destroy_buffer(self.raw, None) };
         if let Some(allocation) = self.allocation.take() {
             let _ = self.gpu.allocator().free(allocation);
@@ -149,7 +165,10 @@ impl Image {
             .usage(desc.usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE)
             .initial_layout(vk::ImageLayout::UNDEFINED);
+        // SAFETY: `device` is alive (`gpu` holds it) and `info` is a valid create info; `raw` is
+        // the image just created from it.
         let raw = unsafe { device.create_image(&info, None) }.vk("vkCreateImage")?;
+        // SAFETY: as above.
         let requirements = unsafe { device.get_image_memory_requirements(raw) };
 
         let transient = desc.usage.contains(vk::ImageUsageFlags::TRANSIENT_ATTACHMENT);
@@ -160,10 +179,12 @@ impl Image {
             Some(type_index) => {
                 let alloc =
                     vk::MemoryAllocateInfo::default().allocation_size(requirements.size).memory_type_index(type_index);
+                // SAFETY: `type_index` is a memory type the image accepts, of the size it needs.
                 let memory = unsafe { device.allocate_memory(&alloc, None) }.vk("vkAllocateMemory");
                 match memory {
                     Ok(m) => ImageMemory::Lazy(m),
                     Err(e) => {
+                        // SAFETY: `raw` has no memory bound and no other owner yet.
                         unsafe { device.destroy_image(raw, None) };
                         return Err(e);
                     }
@@ -180,6 +201,7 @@ impl Image {
                 match allocation {
                     Ok(a) => ImageMemory::Allocator(a),
                     Err(e) => {
+                        // SAFETY: as above.
                         unsafe { device.destroy_image(raw, None) };
                         return Err(Error::Memory(format!("image '{}': {e}", desc.name)));
                     }
@@ -187,6 +209,7 @@ impl Image {
             }
         };
         let (vk_memory, offset) = match &memory {
+            // SAFETY: the memory handle is only bound below, never freed here (the allocator owns it).
             ImageMemory::Allocator(a) => unsafe { (a.memory(), a.offset()) },
             ImageMemory::Lazy(m) => (*m, 0),
         };
@@ -200,6 +223,8 @@ impl Image {
             lazily_allocated: matches!(memory, ImageMemory::Lazy(_)),
             memory: Some(memory),
         };
+        // SAFETY: the memory was allocated for `raw`'s requirements and is bound once. On failure
+        // `image` is dropped, which destroys `raw` and frees the memory.
         unsafe { device.bind_image_memory(raw, vk_memory, offset) }.vk("vkBindImageMemory")?;
         let view_info = vk::ImageViewCreateInfo::default()
             .image(raw)
@@ -212,6 +237,8 @@ impl Image {
                 base_array_layer: 0,
                 layer_count: 1,
             });
+        // SAFETY: `raw` is alive with its memory bound, and the view covers its format, aspect
+        // and mips.
         image.view = unsafe { device.create_image_view(&view_info, None) }.vk("vkCreateImageView")?;
         Ok(image)
     }
@@ -220,6 +247,8 @@ impl Image {
 impl Drop for Image {
     fn drop(&mut self) {
         let device = self.gpu.raw();
+        // SAFETY: the GPU no longer uses the image (as for `Buffer`); the view goes before the
+        // image it points at, and the memory after both.
         unsafe {
             if self.view != vk::ImageView::null() {
                 device.destroy_image_view(self.view, None);
@@ -230,6 +259,7 @@ impl Drop for Image {
             Some(ImageMemory::Allocator(a)) => {
                 let _ = self.gpu.allocator().free(a);
             }
+            // SAFETY: the image bound to it was destroyed above.
             Some(ImageMemory::Lazy(m)) => unsafe { device.free_memory(m, None) },
             None => {}
         }
@@ -240,11 +270,4 @@ fn find_memory_type(gpu: &Gpu, type_bits: u32, flags: vk::MemoryPropertyFlags) -
     let props = &gpu.device.memory_properties;
     (0..props.memory_type_count)
         .find(|&i| type_bits & (1 << i) != 0 && props.memory_types[i as usize].property_flags.contains(flags))
-}
-
-/// Raw bytes of a slice of plain values, for uploads.
-pub fn as_bytes<T: Copy>(values: &[T]) -> &[u8] {
-    // SAFETY: T is Copy plain data (vertices, indices, matrices); the byte view has the same
-    // lifetime and covers exactly the slice.
-    unsafe { std::slice::from_raw_parts(values.as_ptr() as *const u8, std::mem::size_of_val(values)) }
 }

@@ -1,6 +1,7 @@
 //! Vulkan plumbing: what is chosen once (instance, device under the mobile profile), what
 //! allocates (memory), what records and submits (commands), and what measures (queries).
 
+pub mod barriers;
 pub mod commands;
 pub mod context;
 pub mod descriptors;

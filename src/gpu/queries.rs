@@ -43,6 +43,8 @@ impl PassQueryPools {
         let features = gpu.device.info.features;
         let make = |ty: vk::QueryType, count: u32, stats: vk::QueryPipelineStatisticFlags| {
             let info = vk::QueryPoolCreateInfo::default().query_type(ty).query_count(count).pipeline_statistics(stats);
+            // SAFETY: `device` is alive (`gpu` holds it); statistics are asked for only when the
+            // device enabled pipelineStatisticsQuery.
             unsafe { device.create_query_pool(&info, None) }.vk("vkCreateQueryPool")
         };
         let statistics = if features.pipeline_statistics_query {
@@ -69,6 +71,8 @@ impl PassQueryPools {
     /// Must be recorded outside a render pass, before the frame's first pass.
     pub fn reset(&self, cmd: vk::CommandBuffer) {
         let device = self.gpu.raw();
+        // SAFETY: `cmd` is recording outside a render pass (the caller's contract above); each
+        // range is the whole pool.
         unsafe {
             if let Some(pool) = self.statistics {
                 device.cmd_reset_query_pool(cmd, pool, 0, self.capacity);
@@ -78,9 +82,13 @@ impl PassQueryPools {
         }
     }
 
+    /// Opens pass `pass`'s queries; `pass` must be below `capacity` and used once per frame.
     pub fn begin(&self, cmd: vk::CommandBuffer, pass: u32) {
+        assert!(pass < self.capacity, "pass {pass} past a query pool of {}", self.capacity);
         let device = self.gpu.raw();
         let flags = if self.precise { vk::QueryControlFlags::PRECISE } else { vk::QueryControlFlags::empty() };
+        // SAFETY: `cmd` is recording; `pass` (and its two timestamps) are inside the pools, which
+        // were reset this frame; PRECISE only when the device enabled occlusionQueryPrecise.
         unsafe {
             device.cmd_write_timestamp(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, self.timestamps, pass * 2);
             device.cmd_begin_query(cmd, self.occlusion, pass, flags);
@@ -90,8 +98,11 @@ impl PassQueryPools {
         }
     }
 
+    /// Closes the queries `begin` opened for `pass`, in the same subpass.
     pub fn end(&self, cmd: vk::CommandBuffer, pass: u32) {
+        assert!(pass < self.capacity, "pass {pass} past a query pool of {}", self.capacity);
         let device = self.gpu.raw();
+        // SAFETY: `cmd` is recording and the queries of `pass` are active (begun by `begin`).
         unsafe {
             if let Some(pool) = self.statistics {
                 device.cmd_end_query(cmd, pool, pass);
@@ -106,17 +117,23 @@ impl PassQueryPools {
         if count == 0 {
             return Ok(Vec::new());
         }
+        assert!(count <= self.capacity, "{count} passes past a query pool of {}", self.capacity);
         let device = self.gpu.raw();
         let wait = vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT;
         let mut stats = vec![[0u64; 3]; count as usize];
         if let Some(pool) = self.statistics {
+            // SAFETY: here and in the two reads below, each slice holds exactly the results of
+            // the first `count` queries (three statistics, one sample count, two timestamps per
+            // pass) as u64 (TYPE_64), inside the pools; all were issued, so WAIT returns.
             unsafe { device.get_query_pool_results(pool, 0, &mut stats, wait) }
                 .vk("vkGetQueryPoolResults (statistics)")?;
         }
         let mut samples = vec![0u64; count as usize];
+        // SAFETY: as above.
         unsafe { device.get_query_pool_results(self.occlusion, 0, &mut samples, wait) }
             .vk("vkGetQueryPoolResults (occlusion)")?;
         let mut stamps = vec![0u64; count as usize * 2];
+        // SAFETY: as above.
         unsafe { device.get_query_pool_results(self.timestamps, 0, &mut stamps, wait) }
             .vk("vkGetQueryPoolResults (timestamps)")?;
 
@@ -144,6 +161,8 @@ impl PassQueryPools {
 impl Drop for PassQueryPools {
     fn drop(&mut self) {
         let device = self.gpu.raw();
+        // SAFETY: no pending command uses the pools: every frame is waited for before its
+        // results are read, and the renderer owning them is dropped after.
         unsafe {
             if let Some(pool) = self.statistics {
                 device.destroy_query_pool(pool, None);

@@ -6,6 +6,7 @@ use std::sync::Arc;
 use ash::vk;
 use image::RgbaImage;
 
+use super::barriers;
 use super::commands::submit_and_wait;
 use super::memory::{Buffer, Image, ImageDesc};
 use super::Gpu;
@@ -30,6 +31,7 @@ impl Sampler {
             .address_mode_v(address)
             .address_mode_w(address)
             .max_lod(vk::LOD_CLAMP_NONE);
+        // SAFETY: `gpu` holds the device; anisotropy stays off, as the profile requires.
         let raw = unsafe { gpu.raw().create_sampler(&info, None) }.vk("vkCreateSampler")?;
         Ok(Sampler { gpu: gpu.clone(), raw })
     }
@@ -37,6 +39,7 @@ impl Sampler {
 
 impl Drop for Sampler {
     fn drop(&mut self) {
+        // SAFETY: no pending command uses the sampler (see `Buffer`'s drop).
         unsafe { self.gpu.raw().destroy_sampler(self.raw, None) };
     }
 }
@@ -85,18 +88,13 @@ impl Texture {
         )?;
         let staging = Buffer::with_data(gpu, &format!("{name} (staging)"), pixels, vk::BufferUsageFlags::TRANSFER_SRC)?;
         submit_and_wait(gpu, |cmd| {
-            transition(
-                gpu,
-                cmd,
-                image.raw,
-                0,
-                mip_levels,
-                vk::ImageLayout::UNDEFINED,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            );
+            barriers::upload_destination(gpu.raw(), cmd, image.raw, 0..mip_levels);
             let region = vk::BufferImageCopy::default()
                 .image_subresource(colour_layers(0))
                 .image_extent(vk::Extent3D { width, height, depth: 1 });
+            // SAFETY: `cmd` is recording; mip 0 is TRANSFER_DST_OPTIMAL (barrier above); the
+            // staging buffer holds exactly width x height x 4 bytes (checked above) and both
+            // live until `submit_and_wait` has waited.
             unsafe {
                 gpu.raw().cmd_copy_buffer_to_image(
                     cmd,
@@ -122,7 +120,8 @@ fn colour_layers(mip: u32) -> vk::ImageSubresourceLayers {
     }
 }
 
-/// A layout transition of `count` mips from `base`, with conservative (all-commands) scopes.
+/// A layout transition of `count` mips from `base` (`barriers::colour_layout`). Kept for the
+/// shadow atlas's call sites; new code calls the named transitions in `barriers`.
 pub fn transition(
     gpu: &Gpu,
     cmd: vk::CommandBuffer,
@@ -132,32 +131,7 @@ pub fn transition(
     from: vk::ImageLayout,
     to: vk::ImageLayout,
 ) {
-    let barrier = vk::ImageMemoryBarrier::default()
-        .src_access_mask(vk::AccessFlags::MEMORY_WRITE)
-        .dst_access_mask(vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE)
-        .old_layout(from)
-        .new_layout(to)
-        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-        .image(image)
-        .subresource_range(vk::ImageSubresourceRange {
-            aspect_mask: vk::ImageAspectFlags::COLOR,
-            base_mip_level: base,
-            level_count: count,
-            base_array_layer: 0,
-            layer_count: 1,
-        });
-    unsafe {
-        gpu.raw().cmd_pipeline_barrier(
-            cmd,
-            vk::PipelineStageFlags::ALL_COMMANDS,
-            vk::PipelineStageFlags::ALL_COMMANDS,
-            vk::DependencyFlags::empty(),
-            &[],
-            &[],
-            &[barrier],
-        )
-    };
+    barriers::colour_layout(gpu.raw(), cmd, image, base..base + count, from, to);
 }
 
 /// Builds mips 1.. from mip 0 (which must be in TRANSFER_DST_OPTIMAL, the others too) with
@@ -171,17 +145,10 @@ pub fn record_mip_chain(
     mip_levels: u32,
     final_layout: vk::ImageLayout,
 ) {
+    let device = gpu.raw();
     let (mut w, mut h) = (width as i32, height as i32);
     for mip in 1..mip_levels {
-        transition(
-            gpu,
-            cmd,
-            image,
-            mip - 1,
-            1,
-            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-        );
+        barriers::mip_to_blit_source(device, cmd, image, mip - 1);
         let (nw, nh) = ((w / 2).max(1), (h / 2).max(1));
         let blit = vk::ImageBlit {
             src_subresource: colour_layers(mip - 1),
@@ -189,6 +156,9 @@ pub fn record_mip_chain(
             dst_subresource: colour_layers(mip),
             dst_offsets: [vk::Offset3D::default(), vk::Offset3D { x: nw, y: nh, z: 1 }],
         };
+        // SAFETY: `cmd` is recording; mip - 1 is TRANSFER_SRC_OPTIMAL and mip TRANSFER_DST_OPTIMAL
+        // (the caller's contract and the barrier above); both rectangles lie inside their mips;
+        // the project's textures are RGBA8 (UNORM or sRGB), whose linear blits Vulkan requires.
         unsafe {
             gpu.raw().cmd_blit_image(
                 cmd,
@@ -200,10 +170,11 @@ pub fn record_mip_chain(
                 vk::Filter::LINEAR,
             )
         };
-        transition(gpu, cmd, image, mip - 1, 1, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, final_layout);
+        barriers::colour_layout(device, cmd, image, mip - 1..mip, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, final_layout);
         (w, h) = (nw, nh);
     }
-    transition(gpu, cmd, image, mip_levels - 1, 1, vk::ImageLayout::TRANSFER_DST_OPTIMAL, final_layout);
+    let last = mip_levels - 1..mip_levels;
+    barriers::colour_layout(device, cmd, image, last, vk::ImageLayout::TRANSFER_DST_OPTIMAL, final_layout);
 }
 
 #[cfg(test)]

@@ -15,8 +15,6 @@ pub mod geometry_image;
 pub mod ray;
 pub mod shadow_volume;
 pub mod shapes;
-#[cfg(test)]
-mod timing;
 pub mod weld;
 
 pub use adjacency::{face_normals, Edge, EdgeAdjacency, NO_FACE};

@@ -10,10 +10,48 @@ use crate::error::{Result, VkContext};
 use crate::gpu::mobile_profile;
 use crate::gpu::Gpu;
 
+/// One vertex attribute as the shader declares it. Each names its Vulkan format and its size
+/// together, so a layout cannot hold a format whose size is unknown.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum VertexAttribute {
+    /// `float`.
+    F32,
+    /// `vec2`.
+    Vec2,
+    /// `vec3`.
+    Vec3,
+    /// `vec4`.
+    Vec4,
+    /// `uvec4` read from four u16 (glTF JOINTS_0).
+    U16x4,
+}
+
+impl VertexAttribute {
+    pub const fn format(self) -> vk::Format {
+        match self {
+            VertexAttribute::F32 => vk::Format::R32_SFLOAT,
+            VertexAttribute::Vec2 => vk::Format::R32G32_SFLOAT,
+            VertexAttribute::Vec3 => vk::Format::R32G32B32_SFLOAT,
+            VertexAttribute::Vec4 => vk::Format::R32G32B32A32_SFLOAT,
+            VertexAttribute::U16x4 => vk::Format::R16G16B16A16_UINT,
+        }
+    }
+
+    /// Bytes the attribute takes in an interleaved vertex.
+    pub const fn size(self) -> u32 {
+        match self {
+            VertexAttribute::F32 => 4,
+            VertexAttribute::Vec2 | VertexAttribute::U16x4 => 8,
+            VertexAttribute::Vec3 => 12,
+            VertexAttribute::Vec4 => 16,
+        }
+    }
+}
+
 /// One interleaved vertex buffer with these attributes at locations 0, 1, ...
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct VertexLayout {
-    pub attributes: &'static [vk::Format],
+    pub attributes: &'static [VertexAttribute],
 }
 
 impl VertexLayout {
@@ -21,25 +59,28 @@ impl VertexLayout {
     pub const NONE: VertexLayout = VertexLayout { attributes: &[] };
     /// position (vec3) + normal (vec3).
     pub const POSITION_NORMAL: VertexLayout =
-        VertexLayout { attributes: &[vk::Format::R32G32B32_SFLOAT, vk::Format::R32G32B32_SFLOAT] };
+        VertexLayout { attributes: &[VertexAttribute::Vec3, VertexAttribute::Vec3] };
     /// Homogeneous position (vec4): w = 0 puts a vertex at infinity (shadow-volume extrusion).
-    pub const POSITION4: VertexLayout = VertexLayout { attributes: &[vk::Format::R32G32B32A32_SFLOAT] };
+    pub const POSITION4: VertexLayout = VertexLayout { attributes: &[VertexAttribute::Vec4] };
     /// Clip-space position (vec4) given directly, for screen-space test geometry.
-    pub const CLIP4: VertexLayout = VertexLayout { attributes: &[vk::Format::R32G32B32A32_SFLOAT] };
-
-    fn size_of(format: vk::Format) -> u32 {
-        match format {
-            vk::Format::R32G32_SFLOAT => 8,
-            vk::Format::R32G32B32_SFLOAT => 12,
-            vk::Format::R32G32B32A32_SFLOAT => 16,
-            vk::Format::R16G16B16A16_UINT => 8,
-            vk::Format::R32_SFLOAT => 4,
-            _ => 16,
-        }
-    }
+    pub const CLIP4: VertexLayout = VertexLayout { attributes: &[VertexAttribute::Vec4] };
 
     pub fn stride(&self) -> u32 {
-        self.attributes.iter().map(|f| Self::size_of(*f)).sum()
+        self.attributes.iter().map(|a| a.size()).sum()
+    }
+
+    /// The attribute descriptions of binding 0, packed in order.
+    fn descriptions(&self) -> Vec<vk::VertexInputAttributeDescription> {
+        let mut offset = 0;
+        (0..)
+            .zip(self.attributes)
+            .map(|(location, attribute)| {
+                let description =
+                    vk::VertexInputAttributeDescription { location, binding: 0, format: attribute.format(), offset };
+                offset += attribute.size();
+                description
+            })
+            .collect()
     }
 }
 
@@ -114,6 +155,8 @@ impl Pipeline {
         let layout_info = vk::PipelineLayoutCreateInfo::default()
             .set_layouts(set_layouts)
             .push_constant_ranges(if desc.push_constant_bytes > 0 { &ranges } else { &[] });
+        // SAFETY: `gpu` holds the device; the set layouts are the caller's, alive for the call;
+        // the push-constant range was checked against the profile's limit above.
         let layout = unsafe { device.create_pipeline_layout(&layout_info, None) }.vk("vkCreatePipelineLayout")?;
         Self::with_layout(gpu, desc, render_pass, layout, set_layouts.len() as u32, true, colour_attachments)
     }
@@ -174,18 +217,7 @@ impl Pipeline {
             stride: layout_desc.stride(),
             input_rate: vk::VertexInputRate::VERTEX,
         }];
-        let mut offset = 0;
-        let attributes: Vec<_> = layout_desc
-            .attributes
-            .iter()
-            .enumerate()
-            .map(|(location, &format)| {
-                let attribute =
-                    vk::VertexInputAttributeDescription { location: location as u32, binding: 0, format, offset };
-                offset += VertexLayout::size_of(format);
-                attribute
-            })
-            .collect();
+        let attributes = layout_desc.descriptions();
         let vertex_input = if attributes.is_empty() {
             vk::PipelineVertexInputStateCreateInfo::default()
         } else {
@@ -234,6 +266,11 @@ impl Pipeline {
             .layout(layout)
             .render_pass(render_pass)
             .subpass(desc.subpass);
+        // SAFETY: every state struct `info` points at lives until the call returns; the shader
+        // modules are alive (dropped at the end of this function); `layout` is alive (owned by
+        // this pipeline or its original) and `render_pass` is the caller's, alive for the call;
+        // every vertex format is one Vulkan requires for vertex buffers. On failure `pipeline`
+        // is dropped, which destroys the layout it owns.
         let raw = unsafe { device.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) }
             .map_err(|(_, result)| result)
             .vk("vkCreateGraphicsPipelines")?;
@@ -245,6 +282,8 @@ impl Pipeline {
 impl Drop for Pipeline {
     fn drop(&mut self) {
         let device = self.gpu.raw();
+        // SAFETY: no pending command uses the pipeline (see `Buffer`'s drop). Each layout is
+        // destroyed once, by the pipeline that created it: overdraw twins borrow it and leave it.
         unsafe {
             if self.raw != vk::Pipeline::null() {
                 device.destroy_pipeline(self.raw, None);
@@ -265,6 +304,7 @@ impl<'a> ShaderModule<'a> {
     fn new(gpu: &'a Gpu, name: &str) -> Result<Self> {
         let code = crate::shaders::spirv(name)?;
         let info = vk::ShaderModuleCreateInfo::default().code(&code);
+        // SAFETY: `code` is SPIR-V compiled by shaderc at build time, as u32 words.
         let raw = unsafe { gpu.raw().create_shader_module(&info, None) }.vk("vkCreateShaderModule")?;
         Ok(ShaderModule { gpu, raw })
     }
@@ -272,6 +312,31 @@ impl<'a> ShaderModule<'a> {
 
 impl Drop for ShaderModule<'_> {
     fn drop(&mut self) {
+        // SAFETY: a module is only needed while pipelines are created from it.
         unsafe { self.gpu.raw().destroy_shader_module(self.raw, None) };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn attributes_pack_in_order_at_their_sizes() {
+        use VertexAttribute::*;
+        let layout = VertexLayout { attributes: &[Vec3, Vec2, F32, U16x4, Vec4] };
+        let placed: Vec<_> = layout.descriptions().iter().map(|d| (d.location, d.offset, d.format)).collect();
+        assert_eq!(
+            placed,
+            [
+                (0, 0, vk::Format::R32G32B32_SFLOAT),
+                (1, 12, vk::Format::R32G32_SFLOAT),
+                (2, 20, vk::Format::R32_SFLOAT),
+                (3, 24, vk::Format::R16G16B16A16_UINT),
+                (4, 32, vk::Format::R32G32B32A32_SFLOAT),
+            ]
+        );
+        assert_eq!(layout.stride(), 48);
+        assert!(VertexLayout::NONE.descriptions().is_empty());
     }
 }

@@ -5,7 +5,7 @@ pub mod builder;
 pub mod recipes;
 pub mod state;
 
-pub use builder::{Pipeline, PipelineDesc, VertexLayout};
+pub use builder::{Pipeline, PipelineDesc, VertexAttribute, VertexLayout};
 pub use state::{
     BlendEquation, BlendState, DepthBias, DepthState, FixedFunction, RasterState, StencilFace, StencilState,
 };

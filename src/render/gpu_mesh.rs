@@ -3,10 +3,11 @@
 use std::sync::Arc;
 
 use ash::vk;
+use bytemuck::Pod;
 use glam::Vec3;
 
 use crate::error::Result;
-use crate::gpu::memory::{as_bytes, Buffer};
+use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
 use crate::mesh::MeshData;
 use crate::scene::{PoseTracker, Scene};
@@ -20,21 +21,22 @@ pub struct GpuMesh {
 impl GpuMesh {
     /// Interleaved position + normal (the `VertexLayout::POSITION_NORMAL` layout).
     pub fn upload(gpu: &Arc<Gpu>, name: &str, mesh: &MeshData) -> Result<Self> {
-        Self::from_raw(gpu, name, as_bytes(&position_normal_vertices(&mesh.positions, &mesh.normals)), &mesh.indices)
+        Self::from_raw(gpu, name, &position_normal_vertices(&mesh.positions, &mesh.normals), &mesh.indices)
     }
 
-    pub fn from_raw(gpu: &Arc<Gpu>, name: &str, vertex_bytes: &[u8], indices: &[u32]) -> Result<Self> {
+    /// Any interleaved vertex type (it must match the pipeline's `VertexLayout`).
+    pub fn from_raw<V: Pod>(gpu: &Arc<Gpu>, name: &str, vertices: &[V], indices: &[u32]) -> Result<Self> {
         Ok(GpuMesh {
             vertices: Buffer::device_local(
                 gpu,
                 &format!("{name} vertices"),
-                vertex_bytes,
+                vertices,
                 vk::BufferUsageFlags::VERTEX_BUFFER,
             )?,
             indices: Buffer::device_local(
                 gpu,
                 &format!("{name} indices"),
-                as_bytes(indices),
+                indices,
                 vk::BufferUsageFlags::INDEX_BUFFER,
             )?,
             index_count: indices.len() as u32,
@@ -67,7 +69,7 @@ impl GpuScene {
             let (positions, normals) = skin.posed_positions_normals();
             let name = format!("{} vertices (posed)", object.name);
             let vertices = position_normal_vertices(&positions, &normals);
-            mesh.vertices = Buffer::device_local(gpu, &name, as_bytes(&vertices), vk::BufferUsageFlags::VERTEX_BUFFER)?;
+            mesh.vertices = Buffer::device_local(gpu, &name, &vertices, vk::BufferUsageFlags::VERTEX_BUFFER)?;
         }
         Ok(changed)
     }

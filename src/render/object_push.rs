@@ -9,7 +9,7 @@ use crate::scene::Scene;
 
 /// Mirrors `ObjectPush` in `shaders/object_push.glsl`.
 #[repr(C)]
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct ObjectPush {
     pub model: Mat4,
     /// rgb: albedo; a: the alpha the draw writes.

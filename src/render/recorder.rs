@@ -2,12 +2,14 @@
 //! by-product of structure: a technique names its passes and gets their counters back.
 
 use ash::vk;
+use bytemuck::Pod;
 
 use super::gpu_mesh::GpuMesh;
 use crate::error::{Error, Result};
 use crate::frame::offscreen::RenderPass;
 use crate::frame::render_pass::{AttachmentDesc, RenderPassTraffic};
-use crate::gpu::memory::{as_bytes, Buffer};
+use crate::gpu::barriers;
+use crate::gpu::memory::Buffer;
 use crate::gpu::queries::PassQueryPools;
 use crate::gpu::Gpu;
 use crate::pipeline::Pipeline;
@@ -54,6 +56,13 @@ impl OverdrawPipelines {
     }
 }
 
+/// Records one frame into `cmd`.
+///
+/// Soundness of its raw Vulkan calls: `cmd` is recording (inside `submit_and_wait`'s closure),
+/// and every handle given to it (pipelines, buffers, sets, framebuffers) belongs to an object
+/// that outlives the frame, which `submit_and_wait` waits for. What depends on the order of
+/// recording (one render pass open at a time, a pipeline bound before a draw) is the
+/// techniques' to keep; the validation layer checks it in every test.
 pub struct FrameRecorder<'a> {
     gpu: &'a Gpu,
     /// Set for heat-map frames: every bind is replaced by its overdraw counter.
@@ -211,6 +220,8 @@ impl<'a> FrameRecorder<'a> {
             min_depth: 0.0,
             max_depth: 1.0,
         };
+        // SAFETY: see the note on `FrameRecorder`; `render_pass` and `framebuffer` come from
+        // the same targets (so are compatible), and `clear_values` covers their attachments.
         unsafe {
             device.cmd_begin_render_pass(self.cmd, &begin, vk::SubpassContents::INLINE);
             device.cmd_set_viewport(self.cmd, 0, &[viewport]);
@@ -219,6 +230,7 @@ impl<'a> FrameRecorder<'a> {
     }
 
     pub fn end_render_pass(&mut self) {
+        // SAFETY: see the note on `FrameRecorder`.
         unsafe { self.gpu.raw().cmd_end_render_pass(self.cmd) };
     }
 
@@ -238,6 +250,8 @@ impl<'a> FrameRecorder<'a> {
         self.trace_bind(pipeline);
         let raw = self.pipeline_to_bind(pipeline);
         let device = self.gpu.raw();
+        // SAFETY: see the note on `FrameRecorder`; `raw` is the pipeline or its overdraw twin,
+        // which shares its layout, and set 0 of a layout with sets is the frame uniforms'.
         unsafe {
             device.cmd_bind_pipeline(self.cmd, vk::PipelineBindPoint::GRAPHICS, raw);
             if pipeline.set_count > 0 {
@@ -258,6 +272,8 @@ impl<'a> FrameRecorder<'a> {
         self.trace_bind(pipeline);
         let raw = self.pipeline_to_bind(pipeline);
         let device = self.gpu.raw();
+        // SAFETY: see the note on `FrameRecorder`; `raw` is the pipeline or its overdraw twin,
+        // which shares its layout, and the technique's sets were made for that layout.
         unsafe {
             device.cmd_bind_pipeline(self.cmd, vk::PipelineBindPoint::GRAPHICS, raw);
             if !sets.is_empty() {
@@ -305,41 +321,25 @@ impl<'a> FrameRecorder<'a> {
     }
 
     /// Makes earlier colour writes of this subpass visible to input-attachment reads of the
-    /// following draws (the render pass's by-region self-dependency): each fragment reads only
-    /// its own pixel, so on a tiler this stays in tile memory.
+    /// following draws (`barriers::colour_feedback`).
     pub fn colour_feedback_barrier(&mut self) {
-        let colour_image = self.colour_image;
-        let barrier = vk::ImageMemoryBarrier::default()
-            .src_access_mask(vk::AccessFlags::COLOR_ATTACHMENT_WRITE)
-            .dst_access_mask(vk::AccessFlags::INPUT_ATTACHMENT_READ)
-            .old_layout(vk::ImageLayout::GENERAL)
-            .new_layout(vk::ImageLayout::GENERAL)
-            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-            .image(colour_image)
-            .subresource_range(vk::ImageSubresourceRange {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
-                base_mip_level: 0,
-                level_count: 1,
-                base_array_layer: 0,
-                layer_count: 1,
-            });
-        unsafe {
-            self.gpu.raw().cmd_pipeline_barrier(
-                self.cmd,
-                vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT,
-                vk::PipelineStageFlags::FRAGMENT_SHADER,
-                vk::DependencyFlags::BY_REGION,
-                &[],
-                &[],
-                &[barrier],
-            )
-        };
+        barriers::colour_feedback(self.gpu.raw(), self.cmd, self.colour_image);
     }
 
-    pub fn push<T: Copy>(&mut self, pipeline: &Pipeline, value: &T) {
-        let bytes = as_bytes(std::slice::from_ref(value));
-        debug_assert!(bytes.len() as u32 <= pipeline.desc.push_constant_bytes);
+    /// Pushes `value` as the pipeline's push constants (vertex and fragment stages, offset 0).
+    pub fn push<T: Pod>(&mut self, pipeline: &Pipeline, value: &T) {
+        let bytes = bytemuck::bytes_of(value);
+        if bytes.len() as u32 > pipeline.desc.push_constant_bytes || bytes.len() % 4 != 0 {
+            self.deferred_error.get_or_insert(Error::InvalidInput(format!(
+                "pipeline '{}': {} bytes of push constants for a {}-byte range",
+                pipeline.desc.name,
+                bytes.len(),
+                pipeline.desc.push_constant_bytes
+            )));
+            return;
+        }
+        // SAFETY: see the note on `FrameRecorder`; the bytes fit the layout's one range (offset
+        // 0, vertex and fragment stages, checked just above) and are a whole number of words.
         unsafe {
             self.gpu.raw().cmd_push_constants(
                 self.cmd,
@@ -360,6 +360,8 @@ impl<'a> FrameRecorder<'a> {
             return;
         }
         let device = self.gpu.raw();
+        // SAFETY: see the note on `FrameRecorder`; the indices were checked against their
+        // vertices when the mesh was built (the glTF loader refuses any out of range).
         unsafe {
             device.cmd_bind_vertex_buffers(self.cmd, 0, &[vertices.raw], &[0]);
             device.cmd_bind_index_buffer(self.cmd, indices.raw, 0, vk::IndexType::UINT32);
@@ -372,6 +374,8 @@ impl<'a> FrameRecorder<'a> {
         if vertex_count == 0 {
             return;
         }
+        // SAFETY: see the note on `FrameRecorder`; `vertex_count` is the caller's count of the
+        // vertices it uploaded to `vertices`.
         unsafe {
             self.gpu.raw().cmd_bind_vertex_buffers(self.cmd, 0, &[vertices.raw], &[0]);
             self.gpu.raw().cmd_draw(self.cmd, vertex_count, 1, 0, 0);
@@ -381,6 +385,8 @@ impl<'a> FrameRecorder<'a> {
 
     /// One full-screen triangle (`shaders/fullscreen.vert`).
     pub fn draw_fullscreen(&mut self) {
+        // SAFETY: see the note on `FrameRecorder`; the vertex shader makes the three vertices
+        // from gl_VertexIndex, with no vertex buffer.
         unsafe { self.gpu.raw().cmd_draw(self.cmd, 3, 1, 0, 0) };
         self.count_draw();
     }

@@ -12,6 +12,7 @@ use super::recorder::{FrameRecorder, OverdrawPipelines};
 use super::uniforms::{FrameDescriptors, FrameUniforms};
 use crate::error::Result;
 use crate::frame::{image_from_rgba8, FrameTargets, StencilMode};
+use crate::gpu::barriers;
 use crate::gpu::commands::submit_and_wait;
 use crate::gpu::memory::Buffer;
 use crate::gpu::queries::PassQueryPools;
@@ -146,6 +147,9 @@ impl Renderer {
                     layer_count: 1,
                 })
                 .image_extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 });
+            // SAFETY: `cmd` is recording outside the render pass; the colour target and the
+            // read-back buffer (sized width x height x 4 for this extent) belong to `self`, which
+            // outlives the submission `submit_and_wait` waits for.
             unsafe {
                 device.cmd_copy_image_to_buffer(
                     cmd,
@@ -153,9 +157,9 @@ impl Renderer {
                     vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
                     readback.raw,
                     &[region],
-                );
-                crate::gpu::commands::transfer_to_host_barrier(device, cmd, readback.raw);
-            }
+                )
+            };
+            barriers::transfer_to_host(device, cmd, readback.raw);
             Ok(records)
         })?;
 

@@ -3,18 +3,19 @@
 use std::sync::Arc;
 
 use ash::vk;
+use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec4};
 use gpu_allocator::MemoryLocation;
 
 use crate::error::Result;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
-use crate::gpu::memory::{as_bytes, Buffer};
+use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
 use crate::scene::Scene;
 
 /// Mirrors `FrameUniforms` in `shaders/frame_uniforms.glsl` (std140: vec4s and a mat4).
 #[repr(C)]
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
 pub struct FrameUniforms {
     pub view_proj: Mat4,
     pub light: Vec4,
@@ -58,6 +59,6 @@ impl FrameDescriptors {
     }
 
     pub fn update(&mut self, uniforms: &FrameUniforms) -> Result<()> {
-        self.buffer.write(0, as_bytes(std::slice::from_ref(uniforms)))
+        self.buffer.write(0, bytemuck::bytes_of(uniforms))
     }
 }

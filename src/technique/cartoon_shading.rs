@@ -19,7 +19,7 @@ use crate::scene::Scene;
 
 /// Mirrors `CartoonPush` in `shaders/cartoon_push.glsl`.
 #[repr(C)]
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct CartoonPush {
     pub model: Mat4,
     pub colour: Vec4,

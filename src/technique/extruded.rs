@@ -8,7 +8,7 @@ use glam::{Vec3, Vec4};
 
 use super::cartoon_shading::{cartoon_desc, CartoonPush};
 use crate::error::Result;
-use crate::gpu::memory::{as_bytes, Buffer};
+use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
 use crate::mesh::{self, Welded};
 use crate::pipeline::{FixedFunction, Pipeline, PipelineDesc, VertexLayout};
@@ -90,7 +90,7 @@ impl ExtrudedCopies {
         for (index, object) in scene.objects.iter().enumerate() {
             let mesh = weld_object(scene, index)?;
             let name = format!("{} (extruded)", object.name);
-            meshes.push(GpuMesh::from_raw(gpu, &name, as_bytes(&vertices(&mesh)), &mesh.indices)?);
+            meshes.push(GpuMesh::from_raw(gpu, &name, &vertices(&mesh), &mesh.indices)?);
             welded.push(mesh);
         }
         Ok(ExtrudedCopies { welded, meshes })
@@ -111,7 +111,7 @@ impl ExtrudedCopies {
             mesh.vertices = Buffer::device_local(
                 gpu,
                 &format!("{} (extruded, posed)", object.name),
-                as_bytes(&vertices(welded)),
+                &vertices(welded),
                 vk::BufferUsageFlags::VERTEX_BUFFER,
             )?;
         }

@@ -141,7 +141,7 @@ pub fn record(
                 depth: 1,
             });
             device.cmd_copy_image_to_buffer(cmd, source, layout, buffer, &[region]);
-            crate::gpu::commands::transfer_to_host_barrier(device, cmd, buffer);
+            crate::gpu::barriers::transfer_to_host(device, cmd, buffer);
         }
         // Presentation waits on the semaphore, which orders it after this command buffer.
         device.cmd_pipeline_barrier(

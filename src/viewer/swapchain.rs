@@ -32,6 +32,8 @@ impl Surface {
             .vk("vkCreate*SurfaceKHR")?;
         let loader = khr::surface::Instance::new(&gpu.instance.entry, &gpu.instance.raw);
         let surface = Surface { _gpu: gpu.clone(), loader, raw };
+        // SAFETY: the surface was just made on this instance; `queue_family` is one of the
+        // physical device's families. On failure `surface` is dropped, destroying it.
         let supported = unsafe {
             surface.loader.get_physical_device_surface_support(
                 gpu.device.physical,
@@ -52,6 +54,8 @@ impl Surface {
 
 impl Drop for Surface {
     fn drop(&mut self) {
+        // SAFETY: every swapchain made on the surface is gone first (the viewer's presenter
+        // holds its swapchain in a field before the surface), and `_gpu` keeps the instance.
         unsafe { self.loader.destroy_surface(self.raw, None) };
     }
 }
@@ -69,6 +73,7 @@ pub enum Transfer {
 
 /// The swapchain formats the viewer can show unchanged, best first, and how.
 fn classify(gpu: &Gpu, format: vk::Format) -> Option<(u32, Transfer)> {
+    // SAFETY: the physical device was enumerated from this live instance.
     let features = |f| unsafe { gpu.instance.raw.get_physical_device_format_properties(gpu.device.physical, f) };
     let can_blit = features(COLOUR_FORMAT).optimal_tiling_features.contains(vk::FormatFeatureFlags::BLIT_SRC)
         && features(format).optimal_tiling_features.contains(vk::FormatFeatureFlags::BLIT_DST);
@@ -123,6 +128,7 @@ impl Swapchain {
         old: Option<&Swapchain>,
     ) -> Result<Option<Self>> {
         let physical = gpu.device.physical;
+        // SAFETY: the surface is alive (borrowed) and was made on this device's instance.
         let caps = unsafe { surface.loader.get_physical_device_surface_capabilities(physical, surface.raw) }
             .vk("vkGetPhysicalDeviceSurfaceCapabilitiesKHR")?;
         let extent = if caps.current_extent.width == u32::MAX {
@@ -141,6 +147,7 @@ impl Swapchain {
         }
         let readable = caps.supported_usage_flags.contains(vk::ImageUsageFlags::TRANSFER_SRC);
 
+        // SAFETY: as above.
         let formats = unsafe { surface.loader.get_physical_device_surface_formats(physical, surface.raw) }
             .vk("vkGetPhysicalDeviceSurfaceFormatsKHR")?;
         let (surface_format, transfer) = formats
@@ -189,6 +196,10 @@ impl Swapchain {
             .clipped(true)
             .old_swapchain(old.map_or(vk::SwapchainKHR::null(), |o| o.raw));
         let loader = khr::swapchain::Device::new(&gpu.instance.raw, gpu.raw());
+        // SAFETY: the device enabled VK_KHR_swapchain (`Gpu::for_presentation`) and its queue can
+        // present to the surface (checked in `Surface::new`); extent, image count, usage,
+        // transform and composite alpha are taken from the surface's capabilities, the format
+        // from its list, and FIFO is always supported. `old` is the surface's current swapchain.
         let raw = unsafe { loader.create_swapchain(&info, None) }.vk("vkCreateSwapchainKHR")?;
         let mut swapchain = Swapchain {
             gpu: gpu.clone(),
@@ -201,8 +212,11 @@ impl Swapchain {
             readable,
             render_finished: Vec::new(),
         };
+        // SAFETY: `raw` was just created. On any failure from here `swapchain` is dropped, which
+        // destroys it and the semaphores made so far.
         swapchain.images = unsafe { swapchain.loader.get_swapchain_images(raw) }.vk("vkGetSwapchainImagesKHR")?;
         for _ in 0..swapchain.images.len() {
+            // SAFETY: `gpu` holds the device.
             let semaphore = unsafe { gpu.raw().create_semaphore(&vk::SemaphoreCreateInfo::default(), None) }
                 .vk("vkCreateSemaphore")?;
             swapchain.render_finished.push(semaphore);
@@ -211,6 +225,8 @@ impl Swapchain {
     }
 
     pub fn acquire(&self, signal: vk::Semaphore) -> Result<Acquired> {
+        // SAFETY: the swapchain is alive; `signal` is the caller's unsignalled semaphore with no
+        // pending wait (its frame slot's fence was waited for).
         match unsafe { self.loader.acquire_next_image(self.raw, u64::MAX, signal, vk::Fence::null()) } {
             Ok((index, suboptimal)) => Ok(Acquired::Image { index, suboptimal }),
             Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(Acquired::OutOfDate),
@@ -226,6 +242,8 @@ impl Swapchain {
         let swapchains = [self.raw];
         let indices = [index];
         let info = vk::PresentInfoKHR::default().wait_semaphores(&wait).swapchains(&swapchains).image_indices(&indices);
+        // SAFETY: `index` was acquired and its copy submitted, signalling `render_finished[index]`
+        // (the caller's order); the queue is used from the viewer's one thread.
         match unsafe { self.loader.queue_present(self.gpu.device.queue, &info) } {
             Ok(suboptimal) => Ok(suboptimal),
             Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(true),
@@ -237,6 +255,8 @@ impl Swapchain {
 impl Drop for Swapchain {
     fn drop(&mut self) {
         let device = self.gpu.raw();
+        // SAFETY: after the wait nothing waits on the semaphores or reads the images; the
+        // images belong to the swapchain and go with it.
         unsafe {
             // Nothing may still wait on the semaphores or read the images.
             let _ = device.device_wait_idle();

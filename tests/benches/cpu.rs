@@ -1,5 +1,5 @@
-//! CPU-side hot paths: edge extraction for a 131,072-face mesh (the paper's 257x257 geometry
-//! image size), shadow-volume building, animation sampling and CPU skinning.
+//! CPU-side hot paths: welding and edge extraction for a 131,072-face mesh (the paper's 257x257
+//! geometry image size), shadow-volume building, animation sampling and CPU skinning.
 //! `cargo bench --bench cpu`
 
 use std::path::Path;
@@ -16,6 +16,9 @@ fn big_torus() -> shapes::MeshData {
 
 fn edges(c: &mut Criterion) {
     let mesh = big_torus();
+    c.bench_function("weld by position, 131072 faces", |b| {
+        b.iter(|| mesh::weld_by_position("torus", &mesh.positions, &mesh.indices, 1e-6).expect("weld"))
+    });
     let welded = mesh::weld_by_position("torus", &mesh.positions, &mesh.indices, 1e-6).expect("weld");
     c.bench_function("edge adjacency build, 131072 faces", |b| {
         b.iter(|| EdgeAdjacency::build("torus", &welded.positions, &welded.indices).expect("adjacency"))

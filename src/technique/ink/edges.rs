@@ -12,7 +12,7 @@ use crate::technique::extruded::{follow_skin, object_mesh_name, weld_object};
 /// One corner of an ink quad (`shaders/cartoon_ink.vert`): both edge ends in world space, the
 /// third corner of the front-facing face (silhouettes grow away from it), and which corner.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct InkVertex {
     pub a: Vec3,
     pub b: Vec3,

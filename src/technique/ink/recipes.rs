@@ -10,7 +10,7 @@
 use ash::vk;
 
 use crate::pipeline::recipes::COLOUR_REPLACE;
-use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexLayout};
+use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexAttribute, VertexLayout};
 use crate::render::plan::{Draws, PassPlan, PlannedPass, Push, SetRole};
 use crate::technique::cartoon::SilhouetteMethod;
 use crate::technique::cartoon_shading::{cartoon_desc, shade_desc, shade_pass};
@@ -18,12 +18,7 @@ use crate::technique::extruded::extrude_desc;
 
 /// position (vec3) a, b, c + corner (vec2): `InkVertex`.
 pub const INK_LAYOUT: VertexLayout = VertexLayout {
-    attributes: &[
-        vk::Format::R32G32B32_SFLOAT,
-        vk::Format::R32G32B32_SFLOAT,
-        vk::Format::R32G32B32_SFLOAT,
-        vk::Format::R32G32_SFLOAT,
-    ],
+    attributes: &[VertexAttribute::Vec3, VertexAttribute::Vec3, VertexAttribute::Vec3, VertexAttribute::Vec2],
 };
 
 /// An edge class's pass: its name, what it draws, and whether its lines grow to one side

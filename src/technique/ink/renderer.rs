@@ -12,7 +12,7 @@ use glam::{Mat4, Vec4};
 use super::edges::{InkMesh, InkQuads, InkVertex};
 use super::recipes::{EDGE_CLASSES, EXTRUDED};
 use crate::error::{Error, Result};
-use crate::gpu::memory::{as_bytes, Buffer};
+use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
 use crate::pipeline::Pipeline;
 use crate::render::plan::{Draws, PlannedPass, SetRole};
@@ -200,7 +200,7 @@ impl EdgeLines {
             if vertices.is_empty() {
                 return Ok(None);
             }
-            let buffer = Buffer::with_data(gpu, name, as_bytes(vertices), vk::BufferUsageFlags::VERTEX_BUFFER)?;
+            let buffer = Buffer::with_data(gpu, name, vertices, vk::BufferUsageFlags::VERTEX_BUFFER)?;
             Ok(Some((buffer, vertices.len() as u32)))
         };
         self.buffers = [

@@ -20,11 +20,11 @@ use super::scene_meshes::{lit_scene_pass, SceneMeshes};
 use super::shared::{BlobShadows, PlanarStats, SHADOW_BIAS};
 use crate::error::{Error, Result};
 use crate::gpu::descriptors::{Binding, DescriptorSet};
-use crate::gpu::memory::{as_bytes, Buffer};
+use crate::gpu::memory::Buffer;
 use crate::gpu::texture::{Sampler, Texture};
 use crate::gpu::Gpu;
 use crate::pipeline::recipes::MODULATE_BY_SRC_COLOUR;
-use crate::pipeline::{DepthState, FixedFunction, Pipeline, PipelineDesc, RasterState, VertexLayout};
+use crate::pipeline::{DepthState, FixedFunction, Pipeline, PipelineDesc, RasterState, VertexAttribute, VertexLayout};
 use crate::render::plan::{Draws, PassPlan, PlannedPass, Push, SetRole};
 use crate::render::{FrameOutput, FrameRecorder, Renderer};
 use crate::scene::{bounds_of, Scene};
@@ -34,10 +34,10 @@ use crate::technique::interface::{FrameStats, SceneRenderer, Technique, Variant}
 
 /// position (vec3), uv (vec2), strength (float).
 pub const BLOB_LAYOUT: VertexLayout =
-    VertexLayout { attributes: &[vk::Format::R32G32B32_SFLOAT, vk::Format::R32G32_SFLOAT, vk::Format::R32_SFLOAT] };
+    VertexLayout { attributes: &[VertexAttribute::Vec3, VertexAttribute::Vec2, VertexAttribute::F32] };
 
 #[repr(C)]
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct BlobVertex {
     position: [f32; 3],
     uv: [f32; 2],
@@ -266,12 +266,8 @@ impl Passes for BlobPasses {
         self.quads = if vertices.is_empty() {
             None
         } else {
-            let buffer = Buffer::with_data(
-                &renderer.gpu,
-                "blob quads",
-                as_bytes(&vertices),
-                vk::BufferUsageFlags::VERTEX_BUFFER,
-            )?;
+            let buffer =
+                Buffer::with_data(&renderer.gpu, "blob quads", &vertices, vk::BufferUsageFlags::VERTEX_BUFFER)?;
             Some((buffer, vertices.len() as u32))
         };
         Ok(())

@@ -42,7 +42,7 @@ use crate::technique::options::PlanarOptions;
 
 /// Mirrors `PlanarPush` in `shaders/planar_push.glsl`.
 #[repr(C)]
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct PlanarPush {
     pub model: Mat4,
     pub colour: Vec4,

@@ -111,7 +111,7 @@ impl SceneMeshes {
 
     /// Draws object `index` with `static_pipeline` or, skinned, `skinned_pipeline` with the
     /// object's palette at set 1.
-    pub fn draw<T: Copy>(
+    pub fn draw<T: bytemuck::Pod>(
         &self,
         rec: &mut FrameRecorder,
         scene: &Scene,

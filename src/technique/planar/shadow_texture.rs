@@ -43,7 +43,7 @@ const SHADOW_TEXTURE_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
 
 /// Mirrors `ReceivePush` in `shaders/planar_texture_receive.vert` (128 bytes: the profile's limit).
 #[repr(C)]
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct ReceivePush {
     model: Mat4,
     light_view_proj: Mat4,

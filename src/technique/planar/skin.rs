@@ -10,24 +10,19 @@ use gpu_allocator::MemoryLocation;
 
 use crate::error::{Error, Result};
 use crate::gpu::descriptors::{Binding, DescriptorSet};
-use crate::gpu::memory::{as_bytes, Buffer};
+use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
-use crate::pipeline::VertexLayout;
+use crate::pipeline::{VertexAttribute, VertexLayout};
 use crate::render::GpuMesh;
 use crate::scene::{SceneSkin, MAX_JOINTS};
 
 /// position, normal, JOINTS_0 (uvec4 of u16), WEIGHTS_0 (vec4): 48 bytes.
 pub const SKINNED_LAYOUT: VertexLayout = VertexLayout {
-    attributes: &[
-        vk::Format::R32G32B32_SFLOAT,
-        vk::Format::R32G32B32_SFLOAT,
-        vk::Format::R16G16B16A16_UINT,
-        vk::Format::R32G32B32A32_SFLOAT,
-    ],
+    attributes: &[VertexAttribute::Vec3, VertexAttribute::Vec3, VertexAttribute::U16x4, VertexAttribute::Vec4],
 };
 
 #[repr(C)]
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct SkinnedVertex {
     position: [f32; 3],
     normal: [f32; 3],
@@ -73,7 +68,7 @@ impl Palette {
                 joint_matrices.len()
             )));
         }
-        self.buffer.write(0, as_bytes(joint_matrices))
+        self.buffer.write(0, joint_matrices)
     }
 }
 
@@ -118,7 +113,7 @@ impl SkinnedMesh {
             .collect();
         let mut palette = Palette::new(gpu, name)?;
         palette.update(name, &skin.joint_matrices)?;
-        Ok(SkinnedMesh { mesh: GpuMesh::from_raw(gpu, name, as_bytes(&vertices), indices)?, palette })
+        Ok(SkinnedMesh { mesh: GpuMesh::from_raw(gpu, name, &vertices, indices)?, palette })
     }
 }
 

@@ -26,10 +26,12 @@ use crate::error::{Error, Result};
 use crate::frame::{image_from_rgba8, StencilMode};
 use crate::gpu::commands::submit_and_wait;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
-use crate::gpu::memory::{as_bytes, Buffer, Image};
+use crate::gpu::memory::{Buffer, Image};
 use crate::gpu::texture::{record_mip_chain, transition, Sampler};
 use crate::gpu::Gpu;
-use crate::pipeline::{BlendState, DepthState, FixedFunction, Pipeline, PipelineDesc, RasterState, VertexLayout};
+use crate::pipeline::{
+    BlendState, DepthState, FixedFunction, Pipeline, PipelineDesc, RasterState, VertexAttribute, VertexLayout,
+};
 use crate::render::{FrameOutput, FrameRecorder, FrameUniforms, GpuMesh, Renderer};
 use crate::render::{ObjectPush, OBJECT_PUSH_BYTES};
 use crate::scene::{Light, PoseTracker, Scene};
@@ -113,9 +115,8 @@ pub fn check_size(what: &str, size: u32) -> Result<u32> {
 // Pipelines, as data.
 
 /// position (vec3) + normal (vec3) + atlas UV (vec2).
-pub const ATLAS_VERTEX: VertexLayout = VertexLayout {
-    attributes: &[vk::Format::R32G32B32_SFLOAT, vk::Format::R32G32B32_SFLOAT, vk::Format::R32G32_SFLOAT],
-};
+pub const ATLAS_VERTEX: VertexLayout =
+    VertexLayout { attributes: &[VertexAttribute::Vec3, VertexAttribute::Vec3, VertexAttribute::Vec2] };
 
 pub fn shadow_map_desc() -> PipelineDesc {
     PipelineDesc {
@@ -192,7 +193,7 @@ pub fn pipeline_descs(kind: ShadowKind) -> Vec<(&'static str, PipelineDesc)> {
 
 /// Mirrors `ShadowLight` in `shaders/shadow_atlas_light.glsl`.
 #[repr(C)]
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct ShadowLightUniforms {
     pub view_proj: Mat4,
     pub light: Vec4,
@@ -408,7 +409,7 @@ impl<'s> ShadowAtlasRenderer<'s> {
             .zip(&layouts)
             .map(|(m, a)| {
                 let interleaved = atlas_vertices(&a.positions, &a.normals, &a.uvs);
-                GpuMesh::from_raw(gpu, &m.name, as_bytes(&interleaved), &a.indices)
+                GpuMesh::from_raw(gpu, &m.name, &interleaved, &a.indices)
             })
             .collect::<Result<Vec<_>>>()?;
         let posed_layouts: Vec<PosedLayout> =
@@ -548,7 +549,7 @@ impl<'s> ShadowAtlasRenderer<'s> {
             mesh.vertices = Buffer::device_local(
                 &self.gpu,
                 &format!("{} atlas vertices (posed)", object.name),
-                as_bytes(&interleaved),
+                &interleaved,
                 vk::BufferUsageFlags::VERTEX_BUFFER,
             )?;
         }
@@ -577,7 +578,7 @@ impl<'s> ShadowAtlasRenderer<'s> {
                 // 2 radii / map size): half a texel flat, 1.5 texels per unit of slope.
                 bias: Vec4::new(0.5 * texel, 1.5 * texel, 8.0, 0.0),
             };
-            self.light_buffer.write(0, as_bytes(std::slice::from_ref(&uniforms)))?;
+            self.light_buffer.write(0, bytemuck::bytes_of(&uniforms))?;
         }
         let mut uniforms = FrameUniforms::for_scene(scene, self.renderer.aspect());
         uniforms.light = light.as_vec4();

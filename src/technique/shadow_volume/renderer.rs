@@ -12,7 +12,7 @@ use super::recipes::{seed_normalisation, COUNTER_INPUT};
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
-use crate::gpu::memory::{as_bytes, Buffer};
+use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
 use crate::pipeline::Pipeline;
 use crate::render::plan::{PlannedPass, Push, SetRole};
@@ -192,15 +192,10 @@ fn upload_volumes(gpu: &Arc<Gpu>, scene: &Scene, casters: &[Caster], zfail: bool
                 vertices: Buffer::with_data(
                     gpu,
                     "shadow volume vertices",
-                    as_bytes(&volume.vertices),
+                    &volume.vertices,
                     vk::BufferUsageFlags::VERTEX_BUFFER,
                 )?,
-                indices: Buffer::with_data(
-                    gpu,
-                    "shadow volume indices",
-                    as_bytes(&indices),
-                    vk::BufferUsageFlags::INDEX_BUFFER,
-                )?,
+                indices: Buffer::with_data(gpu, "shadow volume indices", &indices, vk::BufferUsageFlags::INDEX_BUFFER)?,
                 index_count: indices.len() as u32,
             })
         })
