@@ -44,6 +44,7 @@ pub mod error;
 pub mod frame;
 pub mod gpu;
 pub mod mesh;
+pub mod names;
 pub mod pipeline;
 pub mod profile;
 pub mod render;

@@ -285,7 +285,7 @@ fn every_ink_method_darkens_the_silhouette_and_toon_shading_has_bands() {
     let scene = face_on_scene(shapes::uv_sphere(24, 48).expect("sphere"), Mat4::IDENTITY);
     let size = (96, 96);
     let dark = |p: [u8; 4]| p[0] < 40 && p[1] < 40 && p[2] < 40;
-    for method in SilhouetteMethod::ALL {
+    for &method in SilhouetteMethod::ALL {
         let options = CartoonOptions { silhouette: method, line_width: 3.0, ..CartoonOptions::default() };
         for technique in [&Silhouette as &'static dyn Technique, &Toon] {
             let (image, _) = render(&gpu, &scene, StencilMode::Emulated, technique, &options, size);

@@ -12,6 +12,7 @@ use std::path::Path;
 
 /// Top-level modules bottom to top. A module may import from the layers below its own only.
 const LAYERS: &[&[&str]] = &[
+    &["names"],
     &["error", "shaders"],
     &["gpu"],
     &["mesh"],

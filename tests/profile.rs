@@ -169,7 +169,16 @@ fn heatmap_chart_compare_and_passes_from_the_command_line() {
     assert!(text.contains("ratio to reference") && text.contains("apply (subpass)"), "{text}");
 
     let (text, _) = common::run_ok(&["passes", "--technique", "shadow-volume"]);
-    assert!(text.contains("| emulated seed/max | normalise N0 |") && text.contains("DECREMENT_AND_WRAP"), "{text}");
+    // Every plan: both counting methods, each path; the seed's steps in order.
+    for title in
+        ["### reference, zpass", "### reference, zfail", "### emulated seed, zpass", "### emulated subpass, zfail"]
+    {
+        assert!(text.contains(title), "{title} missing:\n{text}");
+    }
+    assert!(
+        text.contains("| normalise N0 | normalise N0 |") && text.contains("| normalise N1 | normalise iteration |")
+    );
+    assert!(text.contains("DECREMENT_AND_WRAP"), "{text}");
 }
 
 /// Every technique whose passes all draw into the frame: its heat map holds, summed over the

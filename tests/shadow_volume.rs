@@ -69,7 +69,7 @@ fn emulated_equals_reference_for_every_scene_increment_and_normalisation() {
             let shadowed_pixels = shadow_mask(&reference.output.image, &unshadowed).iter().filter(|s| **s).count();
             assert!(shadowed_pixels > 50, "{name}: the reference shows no shadow ({shadowed_pixels} pixels)");
             for k in [1u8, 2, 4, 8] {
-                for normalize in Normalize::ALL {
+                for &normalize in Normalize::ALL {
                     let options = ShadowVolumeOptions { increment: k, normalize, ..base };
                     let emulated = render(&gpu, &scene, StencilMode::Emulated, options);
                     assert_eq!(emulated.stats.saturated_pixels, Some(0), "{name} k={k}");
@@ -134,7 +134,7 @@ fn box_shadow_matches_its_projected_outline() {
     const BIG: (u32, u32) = (256, 192);
     let (width, height) = BIG;
     let unshadowed = lit_sized(&gpu, &scene, BIG);
-    for normalize in Normalize::ALL {
+    for &normalize in Normalize::ALL {
         let frame = render_sized(
             &gpu,
             &scene,

@@ -98,7 +98,7 @@ fn gltf_casters_match_the_reference_and_follow_the_skinned_pose() {
         let reference = shadowed(&gpu, &scene, StencilMode::Reference, &options);
         let darkened = assert_ground_shadow(&format!("{file} at {time}s"), &scene, &reference, &lit(&gpu, &scene));
         println!("{file} at {time}s: {darkened} ground pixels in shadow");
-        for normalize in Normalize::ALL {
+        for &normalize in Normalize::ALL {
             let emulated = shadowed(&gpu, &scene, StencilMode::Emulated, &ShadowVolumeOptions { normalize, ..options });
             let differing = rgb_differences(&emulated, &reference);
             assert_eq!(differing, 0, "{file} at {time}s, {}", normalize.name());

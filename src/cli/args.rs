@@ -8,6 +8,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::mobile_profile;
+use crate::technique::{Normalize, SilhouetteMethod, VolumeMethod};
 
 #[derive(Debug, Parser)]
 #[command(
@@ -60,10 +61,9 @@ pub enum Command {
     Passes {
         #[arg(long, default_value = "lit")]
         technique: String,
-        /// shadow-volume: list only this normalisation path (`seed`, `max` or `subpass`); all by
-        /// default.
-        #[arg(long)]
-        normalize: Option<String>,
+        /// shadow-volume: list only this normalisation path; all by default.
+        #[arg(long, value_enum)]
+        normalize: Option<Normalize>,
     },
     /// Time frames of a technique's variants (the real-stencil reference first) in one run.
     Bench {
@@ -139,8 +139,8 @@ pub struct FrameArgs {
     #[arg(long, value_name = "WxH", default_value = "1280x720", value_parser = parse_size_arg)]
     pub size: (u32, u32),
     /// `emulated` (no stencil aspect: alpha-channel emulation) or `reference` (real stencil).
-    #[arg(long, value_enum, default_value_t = StencilArg::Emulated)]
-    pub stencil: StencilArg,
+    #[arg(long, value_enum, default_value_t)]
+    pub stencil: StencilMode,
     /// Technique to render (`bench` also takes `all`).
     #[arg(long, default_value = "lit")]
     pub technique: String,
@@ -154,18 +154,18 @@ pub struct FrameArgs {
     #[arg(long, default_value_t = 1, value_name = "K")]
     pub increment: u8,
     /// shadow-volume: `auto` (z-fail when the camera is inside a volume), `zpass` or `zfail`.
-    #[arg(long, default_value = "auto", value_name = "auto|zpass|zfail")]
-    pub volume_method: String,
-    /// shadow-volume: how counts become a mask: `seed`, `max` or `subpass`.
-    #[arg(long, default_value = "seed", value_name = "seed|max|subpass")]
-    pub normalize: String,
+    #[arg(long, value_enum, default_value_t)]
+    pub volume_method: VolumeMethod,
+    /// shadow-volume: how counts become a mask.
+    #[arg(long, value_enum, default_value_t)]
+    pub normalize: Normalize,
     /// outline: objects to outline, by name (default: the scene's first closed object).
     #[arg(long, value_name = "NAME,...", default_value = "")]
     pub select: String,
     /// silhouette/toon: how ink is found: `edges` (CPU, screen-space quads), `shader` (N.V rim)
     /// or `hull` (inverted hull).
-    #[arg(long, default_value = "edges", value_name = "edges|shader|hull")]
-    pub silhouette: String,
+    #[arg(long, value_enum, default_value_t)]
+    pub silhouette: SilhouetteMethod,
     /// silhouette/toon: edges whose faces fold by more than this are creases (degrees).
     #[arg(long, default_value_t = 40.0, value_name = "DEG")]
     pub crease_angle: f32,
@@ -190,21 +190,6 @@ pub struct FrameArgs {
     pub shadow_texture_size: u32,
     #[command(flatten)]
     pub gpu: GpuArgs,
-}
-
-#[derive(Debug, Clone, Copy, ValueEnum)]
-pub enum StencilArg {
-    Emulated,
-    Reference,
-}
-
-impl From<StencilArg> for StencilMode {
-    fn from(arg: StencilArg) -> Self {
-        match arg {
-            StencilArg::Emulated => StencilMode::Emulated,
-            StencilArg::Reference => StencilMode::Reference,
-        }
-    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]

@@ -11,7 +11,7 @@ use crate::profile::report::{ProfileReport, ReportContext, ReportFormat};
 use crate::scene::{builtin_scene_at, scene_and_warnings_from_gltf, Scene, BUILTIN_SCENES, OTHER_SCENES};
 use crate::technique::{
     alpha_counter, by_name, render_scene, shadow_atlas, CartoonOptions, LightMode, Normalize, PlanarOptions,
-    RenderOptions, ShadowAtlasOptions, ShadowVolumeOptions, SilhouetteMethod, VolumeMethod, TECHNIQUES,
+    RenderOptions, ShadowAtlasOptions, ShadowVolumeOptions, TECHNIQUES,
 };
 
 pub fn run(cli: Cli) -> Result<()> {
@@ -26,7 +26,7 @@ pub fn run(cli: Cli) -> Result<()> {
             }
         }
         Command::Info { gpu, json } => info(&gpu, json),
-        Command::Passes { technique, normalize } => passes(&technique, normalize.as_deref()),
+        Command::Passes { technique, normalize } => passes(&technique, normalize),
         Command::Bench { frame, warmup, runs, json } => bench(&frame, warmup, runs, json),
         Command::Bake { frame, model, mip, out } => bake(&frame, model.as_deref(), mip, &out),
         Command::View { frame, frames, screenshot, resize_after, paused } => {
@@ -60,12 +60,12 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
     Ok(RenderOptions {
         width: frame.size.0,
         height: frame.size.1,
-        stencil: frame.stencil.into(),
+        stencil: frame.stencil,
         technique: by_name(&frame.technique)?,
         shadow_volume: ShadowVolumeOptions {
             increment: alpha_counter::check_increment(frame.increment)?,
-            method: VolumeMethod::parse(&frame.volume_method)?,
-            normalize: Normalize::parse(&frame.normalize)?,
+            method: frame.volume_method,
+            normalize: frame.normalize,
             ..Default::default()
         },
         shadow_atlas: ShadowAtlasOptions {
@@ -77,7 +77,7 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
         cartoon: {
             let cartoon = CartoonOptions {
                 select: CartoonOptions::parse_select(&frame.select),
-                silhouette: SilhouetteMethod::parse(&frame.silhouette)?,
+                silhouette: frame.silhouette,
                 crease_deg: frame.crease_angle,
                 line_width: frame.line_width,
                 outline_width: frame.outline_width,
@@ -461,9 +461,8 @@ fn view(
 
 /// `passes`: every plan of the technique (each path, each variant that changes the passes), as
 /// Markdown tables; `--normalize` keeps one shadow-volume normalisation.
-fn passes(technique: &str, normalize: Option<&str>) -> Result<()> {
+fn passes(technique: &str, normalize: Option<Normalize>) -> Result<()> {
     let technique = by_name(technique)?;
-    let normalize = normalize.map(Normalize::parse).transpose()?;
     let base = RenderOptions { technique, ..Default::default() };
     println!("## {}: passes and fixed-function state\n", technique.name());
     println!("{}\n", technique.about());

@@ -7,24 +7,15 @@ use ash::vk;
 
 use crate::error::{Result, VkContext};
 
-/// Whether the frame has a real stencil. The main frame never does; the reference does, only to
-/// prove the emulation right and to compare costs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum StencilMode {
-    /// No stencil aspect anywhere: stencil effects are emulated in the colour alpha channel.
-    #[default]
-    Emulated,
-    /// D32_SFLOAT_S8_UINT (or D24_UNORM_S8_UINT): the real-stencil reference path.
-    Reference,
-}
-
-impl StencilMode {
-    pub fn name(self) -> &'static str {
-        match self {
-            StencilMode::Emulated => "emulated",
-            StencilMode::Reference => "reference",
-        }
+crate::names::named_enum! {
+    /// Whether the frame has a real stencil. The main frame never does; the reference does,
+    /// only to prove the emulation right and to compare costs.
+    pub enum StencilMode {
+        /// No stencil aspect anywhere: stencil effects are emulated in the colour alpha channel.
+        #[default]
+        Emulated = "emulated",
+        /// D32_SFLOAT_S8_UINT (or D24_UNORM_S8_UINT): the real-stencil reference path.
+        Reference = "reference",
     }
 }
 

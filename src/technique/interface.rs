@@ -8,7 +8,8 @@ use std::fmt;
 use std::sync::Arc;
 
 use super::options::ShadowVolumeOptions;
-use super::{CartoonOptions, PlanarOptions, ShadowAtlasOptions};
+use super::options::{CartoonOptions, PlanarOptions};
+use super::ShadowAtlasOptions;
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::Gpu;

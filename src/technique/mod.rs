@@ -24,8 +24,9 @@ use crate::error::Result;
 use crate::gpu::Gpu;
 use crate::scene::Scene;
 
-pub use cartoon::{CartoonOptions, CartoonStats, SilhouetteMethod};
+pub use cartoon::CartoonStats;
 pub use interface::{check_same_scene, FrameStats, RenderOptions, SceneRenderer, Technique, TechniqueFrame, Variant};
+pub use options::{CartoonOptions, SilhouetteMethod};
 pub use options::{Normalize, ShadowVolumeOptions, VolumeMethod};
 pub use planar::{PlanarOptions, PlanarStats};
 pub use registry::{by_name, TECHNIQUES};

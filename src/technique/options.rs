@@ -4,67 +4,27 @@
 
 use crate::error::{Error, Result};
 
-/// How volume walls are counted.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum VolumeMethod {
-    /// z-fail when the camera (or its near plane) is inside a volume, else z-pass.
-    #[default]
-    Auto,
-    ZPass,
-    ZFail,
-}
-
-/// How the count becomes a shadow mask.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Normalize {
-    /// The seed's fixed-function sequence: N0, iterations, REVERSE_SUBTRACT D, ADD D, apply.
-    #[default]
-    Seed,
-    /// As `seed`, with one MAX pass in place of the two D passes.
-    Max,
-    /// One full-screen pass reading the count as an input attachment.
-    Subpass,
-}
-
-impl VolumeMethod {
-    pub fn parse(text: &str) -> Result<Self> {
-        match text {
-            "auto" => Ok(VolumeMethod::Auto),
-            "zpass" => Ok(VolumeMethod::ZPass),
-            "zfail" => Ok(VolumeMethod::ZFail),
-            _ => Err(Error::InvalidInput(format!("--volume-method {text}: use auto, zpass or zfail"))),
-        }
-    }
-
-    pub fn name(self) -> &'static str {
-        match self {
-            VolumeMethod::Auto => "auto",
-            VolumeMethod::ZPass => "z-pass",
-            VolumeMethod::ZFail => "z-fail",
-        }
+crate::names::named_enum! {
+    /// How volume walls are counted.
+    pub enum VolumeMethod {
+        /// z-fail when the camera (or its near plane) is inside a volume, else z-pass.
+        #[default]
+        Auto = "auto",
+        ZPass = "zpass",
+        ZFail = "zfail",
     }
 }
 
-impl Normalize {
-    pub const ALL: [Normalize; 3] = [Normalize::Seed, Normalize::Max, Normalize::Subpass];
-
-    pub fn parse(text: &str) -> Result<Self> {
-        match text {
-            "seed" => Ok(Normalize::Seed),
-            "max" => Ok(Normalize::Max),
-            "subpass" => Ok(Normalize::Subpass),
-            _ => Err(Error::InvalidInput(format!("--normalize {text}: use seed, max or subpass"))),
-        }
-    }
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Normalize::Seed => "seed",
-            Normalize::Max => "max",
-            Normalize::Subpass => "subpass",
-        }
+crate::names::named_enum! {
+    /// How the count becomes a shadow mask.
+    pub enum Normalize {
+        /// The seed's fixed-function sequence: N0, iterations, REVERSE_SUBTRACT D, ADD D, apply.
+        #[default]
+        Seed = "seed",
+        /// As `seed`, with one MAX pass in place of the two D passes.
+        Max = "max",
+        /// One full-screen pass reading the count as an input attachment.
+        Subpass = "subpass",
     }
 }
 
@@ -98,5 +58,67 @@ pub struct PlanarOptions {
 impl Default for PlanarOptions {
     fn default() -> Self {
         PlanarOptions { shadow_factor: 102, shadows: true }
+    }
+}
+
+crate::names::named_enum! {
+    /// How `silhouette` and `toon` find their ink.
+    pub enum SilhouetteMethod {
+        /// CPU edge classification, screen-space quads.
+        #[default]
+        Edges = "edges",
+        /// N.V per vertex looked up in a 1D texture (dark rim).
+        Shader = "shader",
+        /// Normal-extruded inverted hull.
+        Hull = "hull",
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct CartoonOptions {
+    /// Objects to outline (`outline`); empty: the scene's first closed object.
+    pub select: Vec<String>,
+    pub silhouette: SilhouetteMethod,
+    /// Edges whose faces fold by more than this many degrees are creases.
+    pub crease_deg: f32,
+    /// Ink line width in pixels (edges), and the width of the hull rim.
+    pub line_width: f32,
+    /// Outline width in pixels (`outline`).
+    pub outline_width: f32,
+    /// Outline colour, 8-bit RGB (so every path writes the same bytes).
+    pub outline_colour: [u8; 3],
+}
+
+impl Default for CartoonOptions {
+    fn default() -> Self {
+        CartoonOptions {
+            select: Vec::new(),
+            silhouette: SilhouetteMethod::Edges,
+            crease_deg: 40.0,
+            line_width: 2.0,
+            outline_width: 4.0,
+            outline_colour: [255, 160, 0],
+        }
+    }
+}
+
+impl CartoonOptions {
+    /// Checks the numbers a user typed.
+    pub fn check(&self) -> Result<()> {
+        if !(self.line_width.is_finite() && (0.5..=64.0).contains(&self.line_width)) {
+            return Err(Error::InvalidInput(format!("--line-width {}: use 0.5 to 64 pixels", self.line_width)));
+        }
+        if !(self.outline_width.is_finite() && (0.5..=64.0).contains(&self.outline_width)) {
+            return Err(Error::InvalidInput(format!("--outline-width {}: use 0.5 to 64 pixels", self.outline_width)));
+        }
+        if !(self.crease_deg.is_finite() && (0.0..=180.0).contains(&self.crease_deg)) {
+            return Err(Error::InvalidInput(format!("--crease-angle {}: use 0 to 180 degrees", self.crease_deg)));
+        }
+        Ok(())
+    }
+
+    /// Parses `--select NAME,NAME,...` (empty: the default selection).
+    pub fn parse_select(text: &str) -> Vec<String> {
+        text.split(',').map(str::trim).filter(|s| !s.is_empty()).map(str::to_owned).collect()
     }
 }

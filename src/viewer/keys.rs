@@ -179,10 +179,10 @@ impl Action {
                 }
             }
             Action::NextNormalisation => {
-                s.shadow_volume.normalize = cycle(&Normalize::ALL, s.shadow_volume.normalize, 1)
+                s.shadow_volume.normalize = cycle(Normalize::ALL, s.shadow_volume.normalize, 1)
             }
             Action::NextIncrement => s.shadow_volume.increment = cycle(&INCREMENTS, s.shadow_volume.increment, 1),
-            Action::NextInk => s.cartoon.silhouette = cycle(&SilhouetteMethod::ALL, s.cartoon.silhouette, 1),
+            Action::NextInk => s.cartoon.silhouette = cycle(SilhouetteMethod::ALL, s.cartoon.silhouette, 1),
             Action::SwitchAtlasLight => {
                 s.shadow_atlas.light = cycle(&[LightMode::Fixed, LightMode::Moving], s.shadow_atlas.light, 1)
             }

@@ -16,9 +16,9 @@ pub mod renderer;
 
 use std::sync::Arc;
 
-use super::cartoon::SilhouetteMethod;
 use super::interface::RenderOptions;
 use super::interface::{SceneRenderer, Technique, Variant};
+use super::options::SilhouetteMethod;
 use crate::error::Result;
 use crate::gpu::Gpu;
 use crate::render::plan::PassPlan;
@@ -103,8 +103,8 @@ impl Technique for Toon {
 /// Each `--silhouette` method: the passes differ, the stencil path does not change them.
 fn method_variants(name: &str, options: &RenderOptions) -> Vec<Variant> {
     SilhouetteMethod::ALL
-        .into_iter()
-        .map(|method| {
+        .iter()
+        .map(|&method| {
             let mut options = options.clone();
             options.cartoon.silhouette = method;
             Variant { label: format!("{name} {}", method.name()), options }

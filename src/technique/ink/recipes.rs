@@ -12,9 +12,9 @@ use ash::vk;
 use crate::pipeline::recipes::COLOUR_REPLACE;
 use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexAttribute, VertexLayout};
 use crate::render::plan::{Draws, PassPlan, PlannedPass, Push, SetRole};
-use crate::technique::cartoon::SilhouetteMethod;
 use crate::technique::cartoon_shading::{cartoon_desc, shade_desc, shade_pass};
 use crate::technique::extruded::extrude_desc;
+use crate::technique::options::SilhouetteMethod;
 
 /// position (vec3) a, b, c + corner (vec2): `InkVertex`.
 pub const INK_LAYOUT: VertexLayout = VertexLayout {

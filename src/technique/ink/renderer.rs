@@ -18,12 +18,13 @@ use crate::pipeline::Pipeline;
 use crate::render::plan::{Draws, PlannedPass, SetRole};
 use crate::render::{FrameOutput, FrameRecorder, Renderer};
 use crate::scene::Scene;
-use crate::technique::cartoon::{CartoonStats, SilhouetteMethod};
+use crate::technique::cartoon::CartoonStats;
 use crate::technique::cartoon_shading::{self, CartoonPush, CartoonScene, Shading};
 use crate::technique::extruded::{ExtrudedCopies, Extrusion};
 use crate::technique::frame_renderer::{self, Passes};
 use crate::technique::interface::RenderOptions;
 use crate::technique::interface::{FrameStats, SceneRenderer, Technique};
+use crate::technique::options::SilhouetteMethod;
 
 /// The ink, in every method.
 const INK_COLOUR: Vec4 = Vec4::new(0.04, 0.04, 0.06, 1.0);

@@ -56,7 +56,7 @@ impl Technique for ShadowVolumes {
             label: "reference (stencil)".into(),
             options: RenderOptions { stencil: StencilMode::Reference, ..options.clone() },
         }];
-        variants.extend(Normalize::ALL.into_iter().map(|normalize| Variant {
+        variants.extend(Normalize::ALL.iter().copied().map(|normalize| Variant {
             label: format!("emulated {}", normalize.name()),
             options: RenderOptions {
                 stencil: StencilMode::Emulated,
@@ -75,7 +75,7 @@ impl Technique for ShadowVolumes {
                 label: format!("reference, {}", method.name()),
                 options: RenderOptions { stencil: StencilMode::Reference, shadow_volume: counting, ..options.clone() },
             });
-            for normalize in Normalize::ALL {
+            for &normalize in Normalize::ALL {
                 variants.push(Variant {
                     label: format!("emulated {}, {}", normalize.name(), method.name()),
                     options: RenderOptions {
@@ -93,7 +93,7 @@ impl Technique for ShadowVolumes {
         if let Some(options) = super::interface::stencil_variant(name, options) {
             return Ok(options);
         }
-        let normalize = Normalize::parse(name).map_err(|_| {
+        let normalize = <Normalize as clap::ValueEnum>::from_str(name, false).map_err(|_| {
             Error::InvalidInput(format!("--compare {name}: variants are emulated, reference, seed, max and subpass"))
         })?;
         Ok(RenderOptions {
