@@ -10,9 +10,9 @@ pub fn spirv(name: &str) -> Result<Vec<u32>> {
         .iter()
         .find(|(file, _)| *file == name)
         .map(|(_, bytes)| *bytes)
-        .ok_or_else(|| Error::InvalidInput(format!("no shader named '{name}' in shaders/")))?;
+        .ok_or_else(|| Error::Internal(format!("no shader named '{name}' in shaders/")))?;
     ash::util::read_spv(&mut std::io::Cursor::new(bytes))
-        .map_err(|e| Error::InvalidInput(format!("shader '{name}' is not valid SPIR-V: {e}")))
+        .map_err(|e| Error::Internal(format!("shader '{name}' is not valid SPIR-V: {e}")))
 }
 
 /// The overdraw counter made for a vertex shader by `build.rs` (`lit.vert` -> `lit.vert.count.frag`).

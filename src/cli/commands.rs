@@ -282,7 +282,7 @@ fn profile_compare(frame: &FrameArgs, format: FormatArg, variants: &[String]) ->
     match format {
         FormatArg::Table => print!("{}", comparison.table()),
         FormatArg::Json => {
-            println!("{}", serde_json::to_string_pretty(&comparison).map_err(|e| Error::InvalidInput(e.to_string()))?)
+            println!("{}", serde_json::to_string_pretty(&comparison).map_err(|e| Error::Internal(e.to_string()))?)
         }
         FormatArg::Csv => print!("{}", comparison.csv()),
     }
@@ -324,7 +324,7 @@ fn info(args: &GpuArgs, json: bool) -> Result<()> {
         techniques: TECHNIQUES.iter().map(|t| t.name()).collect(),
     };
     if json {
-        println!("{}", serde_json::to_string_pretty(&report).map_err(|e| Error::InvalidInput(e.to_string()))?);
+        println!("{}", serde_json::to_string_pretty(&report).map_err(|e| Error::Internal(e.to_string()))?);
         return Ok(());
     }
     println!(
@@ -404,7 +404,7 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: u32, json: bool) -> Result<()> {
         variants: results,
     };
     if json {
-        println!("{}", serde_json::to_string_pretty(&report).map_err(|e| Error::InvalidInput(e.to_string()))?);
+        println!("{}", serde_json::to_string_pretty(&report).map_err(|e| Error::Internal(e.to_string()))?);
     } else {
         print!("{}", report.table());
     }

@@ -63,7 +63,7 @@ impl ImageView {
     /// A view of one mip (framebuffers take single-mip views).
     pub fn mip(gpu: &Arc<Gpu>, image: &Image, mip: u32) -> Result<Self> {
         if mip >= image.mip_levels {
-            return Err(Error::InvalidInput(format!("mip {mip} of an image with {} mips", image.mip_levels)));
+            return Err(Error::Internal(format!("mip {mip} of an image with {} mips", image.mip_levels)));
         }
         let info = vk::ImageViewCreateInfo::default()
             .image(image.raw)

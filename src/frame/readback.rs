@@ -8,7 +8,7 @@ use crate::error::{Error, Result};
 /// alone would accept a longer buffer).
 pub fn image_from_rgba8(width: u32, height: u32, pixels: Vec<u8>) -> Result<RgbaImage> {
     let len = pixels.len();
-    let wrong_size = || Error::InvalidInput(format!("read-back: {len} bytes for {width}x{height} RGBA8"));
+    let wrong_size = || Error::Internal(format!("read-back: {len} bytes for {width}x{height} RGBA8"));
     if len as u64 != width as u64 * height as u64 * 4 {
         return Err(wrong_size());
     }

@@ -3,7 +3,6 @@
 //! as ratios to the first variant (the reference).
 
 use std::fmt::Write as _;
-use std::io::Write as _;
 use std::time::Instant;
 
 use serde::Serialize;
@@ -69,6 +68,18 @@ pub struct BenchReport {
     pub variants: Vec<VariantResult>,
 }
 
+/// The `bench: variant  done/total` line on stderr (drawn only on a terminal), or nothing.
+fn progress_bar(shown: bool, total: u64) -> indicatif::ProgressBar {
+    if !shown {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new(total);
+    if let Ok(style) = indicatif::ProgressStyle::with_template("bench: {msg:<28} {pos:>4}/{len}") {
+        bar.set_style(style);
+    }
+    bar
+}
+
 pub struct BenchSettings {
     pub warmup: u32,
     pub runs: u32,
@@ -80,30 +91,23 @@ pub struct BenchSettings {
 /// its own warm-up, so caches are warm for the variant being measured.
 pub fn run(variants: Vec<Variant>, settings: &BenchSettings) -> Result<Vec<VariantResult>> {
     let mut results: Vec<VariantResult> = Vec::new();
-    let total = variants.len() as u32 * (settings.warmup + settings.runs);
-    let mut done = 0;
+    let total = variants.len() as u64 * (settings.warmup + settings.runs) as u64;
+    let progress = progress_bar(settings.progress, total);
     for mut variant in variants {
+        progress.set_message(variant.name.clone());
         let (mut frame_ms, mut gpu_ms) = (Vec::new(), Vec::new());
         let mut last = None;
         for i in 0..settings.warmup + settings.runs {
             let start = Instant::now();
-            // After a progress line, an error starts a line of its own.
-            let output = (variant.frame)().inspect_err(|_| {
-                if settings.progress && done > 0 {
-                    eprintln!();
-                }
-            })?;
+            // An error replaces the progress line rather than continuing it.
+            let output = (variant.frame)().inspect_err(|_| progress.finish_and_clear())?;
             let elapsed = start.elapsed().as_secs_f64() * 1e3;
             if i >= settings.warmup {
                 frame_ms.push(elapsed);
                 gpu_ms.push(output.counters.total_gpu_ms());
             }
             last = Some(output);
-            done += 1;
-            if settings.progress {
-                eprint!("\rbench: {:<28} {done:>4}/{total}", variant.name);
-                let _ = std::io::stderr().flush();
-            }
+            progress.inc(1);
         }
         let counters = last.map(|o| o.counters);
         results.push(VariantResult {
@@ -118,9 +122,7 @@ pub fn run(variants: Vec<Variant>, settings: &BenchSettings) -> Result<Vec<Varia
             fragment_ratio: None,
         });
     }
-    if settings.progress {
-        eprintln!();
-    }
+    progress.finish();
     if let Some(reference) = results.first().cloned() {
         for r in &mut results {
             r.frame_ratio = r.frame_ms.median / reference.frame_ms.median;

@@ -85,7 +85,7 @@ impl Budget {
 
     /// Written to a temporary file and renamed, like every output.
     pub fn write(&self, path: &Path) -> Result<()> {
-        let text = serde_json::to_string_pretty(self).map_err(|e| Error::InvalidInput(e.to_string()))?;
+        let text = serde_json::to_string_pretty(self).map_err(|e| Error::Internal(e.to_string()))?;
         crate::frame::write_atomically(path, text.as_bytes())
     }
 

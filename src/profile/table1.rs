@@ -87,7 +87,7 @@ pub fn bench(gpu: &Arc<Gpu>, options: &RenderOptions, warmup: u32, runs: u32, js
         rows,
     };
     if json {
-        println!("{}", serde_json::to_string_pretty(&table).map_err(|e| Error::InvalidInput(e.to_string()))?);
+        println!("{}", serde_json::to_string_pretty(&table).map_err(|e| Error::Internal(e.to_string()))?);
     } else {
         print!("{}", table.render());
     }

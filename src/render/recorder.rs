@@ -137,11 +137,11 @@ impl<'a> FrameRecorder<'a> {
     /// Records `body` as one measured pass called `name`.
     pub fn pass(&mut self, name: &str, body: impl FnOnce(&mut Self) -> Result<()>) -> Result<()> {
         if self.open {
-            return Err(Error::InvalidInput(format!("pass '{name}' begun inside another pass")));
+            return Err(Error::Internal(format!("pass '{name}' begun inside another pass")));
         }
         let index = self.passes.len() as u32;
         if index >= self.queries.capacity() {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::Internal(format!(
                 "pass '{name}': a frame holds at most {} measured passes",
                 self.queries.capacity()
             )));
@@ -167,7 +167,7 @@ impl<'a> FrameRecorder<'a> {
         clear_values: &[vk::ClearValue],
     ) {
         if !self.open {
-            self.deferred_error.get_or_insert(Error::InvalidInput(
+            self.deferred_error.get_or_insert(Error::Internal(
                 "an offscreen render pass was begun outside a measured pass (its traffic and counters \
                  would belong to no pass)"
                     .into(),
@@ -330,7 +330,7 @@ impl<'a> FrameRecorder<'a> {
     pub fn push<T: Pod>(&mut self, pipeline: &Pipeline, value: &T) {
         let bytes = bytemuck::bytes_of(value);
         if bytes.len() as u32 > pipeline.desc.push_constant_bytes || bytes.len() % 4 != 0 {
-            self.deferred_error.get_or_insert(Error::InvalidInput(format!(
+            self.deferred_error.get_or_insert(Error::Internal(format!(
                 "pipeline '{}': {} bytes of push constants for a {}-byte range",
                 pipeline.desc.name,
                 bytes.len(),

@@ -58,13 +58,13 @@ pub fn seed_sequence(count_alpha: u8) -> Vec<u8> {
 pub fn seed_iterations(k: u8) -> Result<usize> {
     let k = check_increment(k)?;
     if seed_first_step(0) != 255 || seed_iteration(255) != 255 {
-        return Err(Error::InvalidInput("normalisation does not keep unshadowed pixels at 1".into()));
+        return Err(Error::Internal("normalisation does not keep unshadowed pixels at 1".into()));
     }
     let mut needed = 0;
     for count in (k as u32..=255).step_by(k as usize) {
         let sequence = seed_sequence(count as u8);
         if sequence.last() != Some(&0) {
-            return Err(Error::InvalidInput(format!("count {count} never normalises to 0 with k = {k}")));
+            return Err(Error::Internal(format!("count {count} never normalises to 0 with k = {k}")));
         }
         needed = needed.max(sequence.len() - 1);
     }
