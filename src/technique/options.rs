@@ -100,3 +100,74 @@ impl Default for PlanarOptions {
         PlanarOptions { shadow_factor: 102, shadows: true }
     }
 }
+
+/// Which of the two seed 004 shadow techniques a renderer draws.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ShadowKind {
+    /// Shadow textures baked into each model's atlas (the paper's method).
+    Atlas,
+    /// The shadow map sampled in the scene pass.
+    Map,
+}
+
+impl ShadowKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            ShadowKind::Atlas => "shadow-texture-atlas",
+            ShadowKind::Map => "shadow-map",
+        }
+    }
+}
+
+/// `--light`: whether the light turns from frame to frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LightMode {
+    /// Turns about the vertical by a small step a frame: every frame re-bakes.
+    Moving,
+    /// Stays put: after the first frame the shadow map and bake are skipped.
+    #[default]
+    Fixed,
+}
+
+impl LightMode {
+    pub fn parse(text: &str) -> Result<Self> {
+        match text {
+            "moving" => Ok(LightMode::Moving),
+            "fixed" => Ok(LightMode::Fixed),
+            _ => Err(Error::InvalidInput(format!("--light {text}: use moving or fixed"))),
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            LightMode::Moving => "moving",
+            LightMode::Fixed => "fixed",
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct ShadowAtlasOptions {
+    /// Shadow map side in texels (the paper: 512).
+    pub map_size: u32,
+    /// Shadow texture side for meshes that are not geometry images (those use n - 1 rounded
+    /// up to a power of two: 256 for 257x257, 64 for 64x64).
+    pub texture_size: u32,
+    pub light: LightMode,
+}
+
+impl Default for ShadowAtlasOptions {
+    fn default() -> Self {
+        ShadowAtlasOptions { map_size: 512, texture_size: 256, light: LightMode::Fixed }
+    }
+}
+
+/// Checks a shadow map or shadow texture side: a power of two in 16..=4096.
+pub fn check_size(what: &str, size: u32) -> Result<u32> {
+    if !(16..=4096).contains(&size) || !size.is_power_of_two() {
+        return Err(Error::InvalidInput(format!("{what} {size}: use a power of two from 16 to 4096")));
+    }
+    Ok(size)
+}
