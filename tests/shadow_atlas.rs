@@ -15,7 +15,9 @@ use nostencil::mesh::ray::ray_hits_triangle;
 use nostencil::mesh::{shapes, MeshData};
 use nostencil::scene::{builtin_scene, Camera, Light, Scene};
 use nostencil::technique::shadow_atlas::atlas::{mesh_atlas, AtlasSource};
-use nostencil::technique::shadow_atlas::{LightMode, ShadowAtlasOptions, ShadowAtlasRenderer, ShadowKind};
+use nostencil::technique::shadow_atlas::{
+    self, technique_of, Baked, LightMode, ShadowAtlasOptions, ShadowAtlasStats, ShadowKind,
+};
 use nostencil::technique::{render_scene, RenderOptions, Technique};
 
 fn scene_of(name: &str, light: Light, meshes: Vec<(&str, MeshData, Mat4)>) -> Scene {
@@ -35,11 +37,15 @@ fn scene_of(name: &str, light: Light, meshes: Vec<(&str, MeshData, Mat4)>) -> Sc
     scene
 }
 
-fn bake<'s>(gpu: &Arc<Gpu>, scene: &'s Scene, options: ShadowAtlasOptions) -> ShadowAtlasRenderer<'s> {
-    let mut renderer = ShadowAtlasRenderer::new(gpu, scene, 64, 64, StencilMode::Emulated, ShadowKind::Atlas, &options)
-        .expect("atlas renderer");
-    renderer.frame().expect("frame");
-    renderer
+fn bake<'s>(gpu: &Arc<Gpu>, scene: &'s Scene, options: ShadowAtlasOptions) -> Baked<'s> {
+    let options = RenderOptions {
+        width: 64,
+        height: 64,
+        stencil: StencilMode::Emulated,
+        shadow_atlas: options,
+        ..Default::default()
+    };
+    shadow_atlas::bake(gpu, scene, &options, &mut |_| {}).expect("atlas bake")
 }
 
 #[test]
@@ -277,16 +283,24 @@ fn fixed_light_skips_the_shadow_passes_and_moving_light_does_not() {
         .into_iter()
         .flat_map(|l| [ShadowKind::Atlas, ShadowKind::Map].map(move |k| (l, k)))
     {
-        let options = ShadowAtlasOptions { light, texture_size: 64, map_size: 64 };
-        let mut renderer =
-            ShadowAtlasRenderer::new(&gpu, &scene, 64, 64, StencilMode::Emulated, kind, &options).expect("renderer");
-        let first = renderer.frame().expect("frame 1");
-        let second = renderer.frame().expect("frame 2");
-        let names = |f: &nostencil::technique::shadow_atlas::ShadowAtlasFrame| {
+        let options = RenderOptions {
+            width: 64,
+            height: 64,
+            stencil: StencilMode::Emulated,
+            technique: technique_of(kind),
+            shadow_atlas: ShadowAtlasOptions { light, texture_size: 64, map_size: 64 },
+            ..Default::default()
+        };
+        let mut renderer = technique_of(kind).build(&gpu, &scene, &options).expect("renderer");
+        let first = renderer.frame_with(&scene).expect("frame 1");
+        let second = renderer.frame_with(&scene).expect("frame 2");
+        let names = |f: &nostencil::technique::TechniqueFrame| {
             f.output.counters.passes.iter().map(|p| p.name.clone()).collect::<Vec<_>>()
         };
-        assert!(!first.stats.cached && names(&first).contains(&"shadow map".to_string()));
-        assert_eq!(second.stats.cached, light == LightMode::Fixed, "{light:?} {kind:?}");
+        let cached =
+            |f: &nostencil::technique::TechniqueFrame| f.stats::<ShadowAtlasStats>().expect("atlas stats").cached;
+        assert!(!cached(&first) && names(&first).contains(&"shadow map".to_string()));
+        assert_eq!(cached(&second), light == LightMode::Fixed, "{light:?} {kind:?}");
         assert_eq!(names(&second).contains(&"shadow map".to_string()), light == LightMode::Moving);
         assert_eq!(
             names(&second).contains(&"atlas bake".to_string()),

@@ -8,7 +8,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::mobile_profile;
-use crate::technique::{Normalize, SilhouetteMethod, VolumeMethod};
+use crate::technique::{LightMode, Normalize, SilhouetteMethod, VolumeMethod};
 
 #[derive(Debug, Parser)]
 #[command(
@@ -180,8 +180,8 @@ pub struct FrameArgs {
     pub shadow_factor: u8,
     /// shadow-map, shadow-texture-atlas: `moving` (turns every frame: re-bake) or `fixed`
     /// (after the first frame the shadow map and bake are skipped).
-    #[arg(long, default_value = "fixed", value_name = "moving|fixed")]
-    pub light: String,
+    #[arg(long, value_enum, default_value_t)]
+    pub light: LightMode,
     /// shadow-map, shadow-texture-atlas: shadow map side in texels (power of two).
     #[arg(long, default_value_t = 512, value_name = "N")]
     pub shadow_map_size: u32,

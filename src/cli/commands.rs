@@ -9,9 +9,10 @@ use crate::gpu::{mobile_profile, DeviceChoice, Gpu, GpuOptions};
 use crate::profile::budget::Budget;
 use crate::profile::report::{ProfileReport, ReportContext, ReportFormat};
 use crate::scene::{builtin_scene_at, scene_and_warnings_from_gltf, Scene, BUILTIN_SCENES, OTHER_SCENES};
+use crate::technique::interface::BenchTable;
 use crate::technique::{
-    alpha_counter, by_name, render_scene, shadow_atlas, CartoonOptions, LightMode, Normalize, PlanarOptions,
-    RenderOptions, ShadowAtlasOptions, ShadowVolumeOptions, TECHNIQUES,
+    alpha_counter, by_name, render_scene, shadow_atlas, CartoonOptions, Normalize, PlanarOptions, RenderOptions,
+    ShadowAtlasOptions, ShadowVolumeOptions, TECHNIQUES,
 };
 
 pub fn run(cli: Cli) -> Result<()> {
@@ -71,7 +72,7 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
         shadow_atlas: ShadowAtlasOptions {
             map_size: shadow_atlas::check_size("--shadow-map-size", frame.shadow_map_size)?,
             texture_size: shadow_atlas::check_size("--shadow-texture-size", frame.shadow_texture_size)?,
-            light: LightMode::parse(&frame.light)?,
+            light: frame.light,
         },
         count_overdraw: false,
         cartoon: {
@@ -209,7 +210,7 @@ fn profile(frame: &FrameArgs, format: FormatArg, outputs: &ProfileOutputs) -> Re
 
 /// Bakes the shadow textures of `frame.scene` and writes one model's as PNG.
 fn bake(frame: &FrameArgs, model: Option<&str>, mip: u32, out: &Path) -> Result<()> {
-    use crate::technique::shadow_atlas::{ShadowAtlasRenderer, ShadowKind};
+    use crate::technique::shadow_atlas::BakeStep;
     check_output_path(out)?;
     let options = options(frame)?;
     let scene = load_scene(&frame.scene, frame.time)?;
@@ -226,23 +227,15 @@ fn bake(frame: &FrameArgs, model: Option<&str>, mip: u32, out: &Path) -> Result<
     };
     let gpu = open_gpu(&frame.gpu)?;
     let start = std::time::Instant::now();
-    let baked = (|| {
-        let mut renderer = ShadowAtlasRenderer::with_progress(
-            &gpu,
-            &scene,
-            (options.width.min(64), options.height.min(64)),
-            options.stencil,
-            ShadowKind::Atlas,
-            &options.shadow_atlas,
-            &mut |done, total| {
-                eprint!("\rbake: atlas layout {done:>4}/{total} meshes");
-                let _ = std::io::Write::flush(&mut std::io::stderr());
-            },
-        )?;
-        eprint!("\rbake: shadow map and {} shadow textures...", scene.objects.len());
-        renderer.frame()?;
-        Ok(renderer)
-    })();
+    let bake_options =
+        RenderOptions { width: options.width.min(64), height: options.height.min(64), ..options.clone() };
+    let baked = shadow_atlas::bake(&gpu, &scene, &bake_options, &mut |step| match step {
+        BakeStep::Layout { done, total } => {
+            eprint!("\rbake: atlas layout {done:>4}/{total} meshes");
+            let _ = std::io::Write::flush(&mut std::io::stderr());
+        }
+        BakeStep::Rendering => eprint!("\rbake: shadow map and {} shadow textures...", scene.objects.len()),
+    });
     // The progress line has no newline yet: an error goes on a line of its own.
     let renderer = baked.inspect_err(|_| eprintln!())?;
     eprintln!(
@@ -381,7 +374,7 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: u32, json: bool) -> Result<()> {
     let scene = load_scene(&frame.scene, frame.time)?;
     let gpu = open_gpu(&frame.gpu)?;
     let (width, height) = (options.width, options.height);
-    if matches!(options.technique.name(), "shadow-map" | "shadow-texture-atlas") {
+    if let Some(BenchTable::Seed004Table1) = options.technique.bench_table() {
         // Seed 004's Table 1: both techniques, fixed and moving light, on its two scenes.
         return crate::profile::table1::bench(&gpu, &options, warmup, runs, json);
     }

@@ -35,6 +35,25 @@ impl Sampler {
         let raw = unsafe { gpu.raw().create_sampler(&info, None) }.vk("vkCreateSampler")?;
         Ok(Sampler { gpu: gpu.clone(), raw })
     }
+
+    /// A depth-compare sampler (`sampler2DShadow`): LESS_OR_EQUAL against the reference,
+    /// nearest texel, outside the map reads as lit (white border, depth 1).
+    pub fn depth_compare(gpu: &Arc<Gpu>) -> Result<Self> {
+        let info = vk::SamplerCreateInfo::default()
+            .mag_filter(vk::Filter::NEAREST)
+            .min_filter(vk::Filter::NEAREST)
+            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
+            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_BORDER)
+            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_BORDER)
+            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_BORDER)
+            .border_color(vk::BorderColor::FLOAT_OPAQUE_WHITE)
+            .compare_enable(true)
+            .compare_op(vk::CompareOp::LESS_OR_EQUAL)
+            .max_lod(0.0);
+        // SAFETY: `gpu` holds the device; depth compare is core Vulkan and anisotropy stays off.
+        let raw = unsafe { gpu.raw().create_sampler(&info, None) }.vk("vkCreateSampler")?;
+        Ok(Sampler { gpu: gpu.clone(), raw })
+    }
 }
 
 impl Drop for Sampler {
@@ -120,18 +139,38 @@ fn colour_layers(mip: u32) -> vk::ImageSubresourceLayers {
     }
 }
 
-/// A layout transition of `count` mips from `base` (`barriers::colour_layout`). Kept for the
-/// shadow atlas's call sites; new code calls the named transitions in `barriers`.
-pub fn transition(
-    gpu: &Gpu,
-    cmd: vk::CommandBuffer,
-    image: vk::Image,
-    base: u32,
-    count: u32,
-    from: vk::ImageLayout,
-    to: vk::ImageLayout,
-) {
-    barriers::colour_layout(gpu.raw(), cmd, image, base..base + count, from, to);
+/// Copies mip `mip` (`side` x `side`, RGBA8, SHADER_READ_ONLY_OPTIMAL) of a colour image to
+/// the CPU, leaving it sampled again.
+pub fn read_back_mip(gpu: &Arc<Gpu>, image: vk::Image, mip: u32, side: u32) -> Result<Vec<u8>> {
+    let readback = Buffer::new(
+        gpu,
+        "shadow texture readback",
+        side as u64 * side as u64 * 4,
+        vk::BufferUsageFlags::TRANSFER_DST,
+        gpu_allocator::MemoryLocation::GpuToCpu,
+    )?;
+    submit_and_wait(gpu, |cmd| {
+        barriers::sampled_to_read_back(gpu.raw(), cmd, image, mip);
+        let region = vk::BufferImageCopy::default().image_subresource(colour_layers(mip)).image_extent(vk::Extent3D {
+            width: side,
+            height: side,
+            depth: 1,
+        });
+        // SAFETY: `cmd` is recording; the barrier above made the mip TRANSFER_SRC_OPTIMAL, the
+        // region lies inside it and the buffer holds side * side RGBA8 texels.
+        unsafe {
+            gpu.raw().cmd_copy_image_to_buffer(
+                cmd,
+                image,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                readback.raw,
+                &[region],
+            )
+        };
+        barriers::read_back_to_sampled(gpu.raw(), cmd, image, mip);
+        Ok(())
+    })?;
+    Ok(readback.read()?.to_vec())
 }
 
 /// Builds mips 1.. from mip 0 (which must be in TRANSFER_DST_OPTIMAL, the others too) with

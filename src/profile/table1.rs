@@ -10,7 +10,7 @@ use super::bench::{self, BenchSettings, Variant, VariantResult};
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
 use crate::scene::builtin_scene;
-use crate::technique::shadow_atlas::{LightMode, ShadowAtlasOptions, ShadowAtlasRenderer, ShadowKind};
+use crate::technique::shadow_atlas::{technique_of, LightMode, ShadowAtlasOptions, ShadowKind};
 use crate::technique::RenderOptions;
 
 /// The paper's Table 1 (fps): (scene, technique, moving light, fixed light).
@@ -52,11 +52,17 @@ pub fn bench(gpu: &Arc<Gpu>, options: &RenderOptions, warmup: u32, runs: u32, js
     for scene in &scenes {
         for (name, kind, moving_fps, fixed_fps) in PAPER_TABLE1.iter().filter(|r| r.0 == scene.name) {
             for (light, paper_fps) in [(LightMode::Moving, *moving_fps), (LightMode::Fixed, *fixed_fps)] {
-                let opts = ShadowAtlasOptions { light, ..options.shadow_atlas };
-                let mut renderer = ShadowAtlasRenderer::new(gpu, scene, width, height, options.stencil, *kind, &opts)?;
+                let technique = technique_of(*kind);
+                let opts = RenderOptions {
+                    technique,
+                    shadow_atlas: ShadowAtlasOptions { light, ..options.shadow_atlas },
+                    count_overdraw: false,
+                    ..options.clone()
+                };
+                let mut renderer = technique.build(gpu, scene, &opts)?;
                 variants.push(Variant {
                     name: format!("{name} {} {}", kind.name(), light.name()),
-                    frame: Box::new(move || Ok(renderer.frame()?.output)),
+                    frame: Box::new(move || Ok(renderer.frame_with(scene)?.output)),
                 });
                 keys.push((*name, *kind, light, paper_fps));
             }

@@ -149,6 +149,20 @@ impl PlannedPass {
         }
     }
 
+    /// An offscreen pass that binds no pipeline (copies, blits), every frame.
+    pub fn commands(name: impl Into<Cow<'static, str>>, draws: Draws, target: Target) -> Self {
+        PlannedPass {
+            name: name.into(),
+            pipelines: Vec::new(),
+            sets: Vec::new(),
+            draws,
+            push: Push::Nothing,
+            target,
+            when: When::Always,
+            reads_colour: false,
+        }
+    }
+
     /// A full-screen pass with a constant push.
     pub fn full_screen(name: impl Into<Cow<'static, str>>, pipeline: PipelineDesc, push: Vec4) -> Self {
         Self::new(name, pipeline, Draws::FullScreen, Push::Constant(push))
@@ -180,7 +194,7 @@ impl PlannedPass {
         self
     }
 
-    /// The pass's main pipeline.
+    /// The pass's main pipeline (a `commands` pass has none: do not ask it).
     pub fn pipeline(&self) -> &PipelineDesc {
         &self.pipelines[0]
     }
@@ -318,9 +332,6 @@ pub fn record_plan(
             continue;
         }
         let bound = pipelines.of_pass(index);
-        let Some(main) = bound.first().copied() else {
-            return Err(Error::Internal(format!("pass '{}' has no pipeline", pass.name)));
-        };
         let sets = pass
             .sets
             .iter()
@@ -338,6 +349,9 @@ pub fn record_plan(
             if !in_frame {
                 return draws.draw(rec, pass, &bound);
             }
+            let Some(main) = bound.first().copied() else {
+                return Err(Error::Internal(format!("pass '{}' has no pipeline", pass.name)));
+            };
             rec.bind_with_sets(main, &sets);
             match (&pass.draws, &pass.push) {
                 (Draws::FullScreen, Push::Constant(value)) => {

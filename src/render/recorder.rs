@@ -320,6 +320,15 @@ impl<'a> FrameRecorder<'a> {
         unsafe { self.gpu.raw().cmd_clear_attachments(self.cmd, &[attachment], &[rect]) };
     }
 
+    /// Fills mips 1.. of a colour image from its mip 0 (in TRANSFER_DST_OPTIMAL) with linear
+    /// blits, leaving every mip in `final_layout`; the old contents of mips 1.. are dropped.
+    pub fn build_mips(&mut self, image: vk::Image, side: u32, mip_levels: u32, final_layout: vk::ImageLayout) {
+        if mip_levels > 1 {
+            barriers::upload_destination(self.gpu.raw(), self.cmd, image, 1..mip_levels);
+        }
+        crate::gpu::texture::record_mip_chain(self.gpu, self.cmd, image, side, side, mip_levels, final_layout);
+    }
+
     /// Makes earlier colour writes of this subpass visible to input-attachment reads of the
     /// following draws (`barriers::colour_feedback`).
     pub fn colour_feedback_barrier(&mut self) {

@@ -14,7 +14,7 @@ use crate::gpu::Gpu;
 use crate::pipeline::Pipeline;
 use crate::render::plan::{record_plan, PassDraws, PassPlan, PlanPipelines, PlannedPass, SetRole, Target, When};
 use crate::render::{FrameOutput, FrameRecorder, FrameUniforms, GpuScene, Renderer};
-use crate::scene::Scene;
+use crate::scene::{Light, Scene};
 
 /// A technique's side of a renderer: what it built for the scene, and what it does per frame.
 pub trait Passes {
@@ -48,6 +48,12 @@ pub trait Passes {
     /// The colour target's clear alpha (1 for most; the counter's 0 for shadow volumes).
     fn clear_alpha(&self) -> f32 {
         1.0
+    }
+
+    /// The light of this frame's uniforms, when it is not the scene's (a light that turns
+    /// from frame to frame).
+    fn frame_light(&self) -> Option<Light> {
+        None
     }
 
     /// Which conditional passes run in this frame.
@@ -105,6 +111,18 @@ pub fn build<'s, P: Passes + 's>(
     options: &RenderOptions,
     make: impl FnOnce(BuildContext) -> Result<P>,
 ) -> Result<Box<dyn SceneRenderer + 's>> {
+    Ok(Box::new(build_typed(technique, gpu, scene, options, make)?))
+}
+
+/// As [`build`], keeping the technique's `Passes` type: for callers that read its resources
+/// back after a frame (`nostencil bake` reads a shadow texture).
+pub fn build_typed<'s, P: Passes + 's>(
+    technique: &dyn Technique,
+    gpu: &Arc<Gpu>,
+    scene: &'s Scene,
+    options: &RenderOptions,
+    make: impl FnOnce(BuildContext) -> Result<P>,
+) -> Result<FrameRenderer<'s, P>> {
     let options = technique.resolve(scene, options)?;
     let plan = technique.plan(&options)?;
     let colour_feedback = plan.passes.iter().any(|p| p.reads_colour);
@@ -129,7 +147,14 @@ pub fn build<'s, P: Passes + 's>(
                 .ok_or_else(|| Error::Internal(format!("{}: no set layout for '{name}'", technique.name()))),
         },
     )?;
-    Ok(Box::new(FrameRenderer { technique: technique.name(), scene, renderer, plan, pipelines, passes }))
+    Ok(FrameRenderer { technique: technique.name(), scene, renderer, plan, pipelines, passes })
+}
+
+impl<P> FrameRenderer<'_, P> {
+    /// The technique's part, as built and as the last frame left it.
+    pub fn passes(&self) -> &P {
+        &self.passes
+    }
 }
 
 /// The technique's draws and sets, with the scene of this frame.
@@ -156,7 +181,10 @@ impl<P: Passes> SceneRenderer for FrameRenderer<'_, P> {
     fn frame_with(&mut self, scene: &Scene) -> Result<TechniqueFrame> {
         check_same_scene(self.scene, scene, self.technique)?;
         self.passes.prepare(&self.renderer, scene)?;
-        let uniforms = FrameUniforms::for_scene(scene, self.renderer.aspect());
+        let mut uniforms = FrameUniforms::for_scene(scene, self.renderer.aspect());
+        if let Some(light) = self.passes.frame_light() {
+            uniforms.light = light.as_vec4();
+        }
         let clear = scene.background.extend(self.passes.clear_alpha()).to_array();
         let conditions = self.passes.conditions(scene);
         let holds = |when: When| when == When::Always || conditions.contains(&when);

@@ -7,9 +7,7 @@ use std::any::Any;
 use std::fmt;
 use std::sync::Arc;
 
-use super::options::ShadowVolumeOptions;
-use super::options::{CartoonOptions, PlanarOptions};
-use super::ShadowAtlasOptions;
+use super::options::{CartoonOptions, PlanarOptions, ShadowAtlasOptions, ShadowVolumeOptions};
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::Gpu;
@@ -93,10 +91,23 @@ pub trait Technique: Sync + 'static {
         })
     }
 
+    /// A table of the technique's own that `bench` prints in place of timing its variants.
+    fn bench_table(&self) -> Option<BenchTable> {
+        None
+    }
+
     /// The viewer's title: the technique and the options that matter to it.
     fn describe(&self, options: &RenderOptions) -> String {
         format!("{} ({})", self.name(), options.stencil.name())
     }
+}
+
+/// The benchmark tables a technique can ask `bench` for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BenchTable {
+    /// Seed 004's Table 1: shadow textures and the shadow map, fixed and moving light, on the
+    /// paper's two scenes.
+    Seed004Table1,
 }
 
 impl fmt::Debug for dyn Technique {

@@ -9,7 +9,6 @@ pub mod extruded;
 pub mod frame_renderer;
 pub mod ink;
 pub mod interface;
-pub mod legacy;
 pub mod lit;
 pub mod options;
 pub mod outline;
@@ -26,11 +25,13 @@ use crate::scene::Scene;
 
 pub use cartoon::CartoonStats;
 pub use interface::{check_same_scene, FrameStats, RenderOptions, SceneRenderer, Technique, TechniqueFrame, Variant};
-pub use options::{CartoonOptions, SilhouetteMethod};
-pub use options::{Normalize, ShadowVolumeOptions, VolumeMethod};
+pub use options::{
+    CartoonOptions, LightMode, Normalize, ShadowAtlasOptions, ShadowKind, ShadowVolumeOptions, SilhouetteMethod,
+    VolumeMethod,
+};
 pub use planar::{PlanarOptions, PlanarStats};
 pub use registry::{by_name, TECHNIQUES};
-pub use shadow_atlas::{LightMode, ShadowAtlasOptions, ShadowAtlasStats, ShadowKind};
+pub use shadow_atlas::ShadowAtlasStats;
 pub use shadow_volume::ShadowVolumeStats;
 
 /// Renders `scene` with the options' technique and returns the steady-state frame (a cached

@@ -122,3 +122,49 @@ impl CartoonOptions {
         text.split(',').map(str::trim).filter(|s| !s.is_empty()).map(str::to_owned).collect()
     }
 }
+
+crate::names::named_enum! {
+    /// Which of the two seed 004 shadow techniques a renderer draws (named as the technique).
+    pub enum ShadowKind {
+        /// Shadow textures baked into each model's atlas (the paper's method).
+        Atlas = "shadow-texture-atlas",
+        /// The shadow map sampled in the scene pass.
+        #[default]
+        Map = "shadow-map",
+    }
+}
+
+crate::names::named_enum! {
+    /// `--light`: whether the light turns from frame to frame.
+    pub enum LightMode {
+        /// Turns about the vertical by a small step a frame: every frame re-bakes.
+        Moving = "moving",
+        /// Stays put: after the first frame the shadow map and bake are skipped.
+        #[default]
+        Fixed = "fixed",
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct ShadowAtlasOptions {
+    /// Shadow map side in texels (the paper: 512).
+    pub map_size: u32,
+    /// Shadow texture side for meshes that are not geometry images (those use n - 1 rounded
+    /// up to a power of two: 256 for 257x257, 64 for 64x64).
+    pub texture_size: u32,
+    pub light: LightMode,
+}
+
+impl Default for ShadowAtlasOptions {
+    fn default() -> Self {
+        ShadowAtlasOptions { map_size: 512, texture_size: 256, light: LightMode::Fixed }
+    }
+}
+
+/// Checks a shadow map or shadow texture side: a power of two in 16..=4096.
+pub fn check_size(what: &str, size: u32) -> Result<u32> {
+    if !(16..=4096).contains(&size) || !size.is_power_of_two() {
+        return Err(Error::InvalidInput(format!("{what} {size}: use a power of two from 16 to 4096")));
+    }
+    Ok(size)
+}

@@ -15,8 +15,8 @@ pub static TECHNIQUES: &[&dyn Technique] = &[
     &super::planar::Planar,
     &super::planar::BlobShadows,
     &super::planar::ShadowTexture,
-    &super::legacy::ShadowMap,
-    &super::legacy::ShadowTextureAtlas,
+    &super::shadow_atlas::ShadowMap,
+    &super::shadow_atlas::ShadowTextureAtlas,
 ];
 
 impl Default for RenderOptions {

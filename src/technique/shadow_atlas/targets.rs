@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use crate::error::{Result, VkContext};
+use crate::error::Result;
 pub use crate::frame::offscreen::{Framebuffer, ImageView, RenderPass};
 use crate::gpu::memory::{Image, ImageDesc};
 use crate::gpu::Gpu;
@@ -14,37 +14,6 @@ use crate::gpu::Gpu;
 /// Vulkan device.
 pub const SHADOW_MAP_FORMAT: vk::Format = vk::Format::D16_UNORM;
 pub const SHADOW_TEXTURE_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
-
-/// A sampler with a depth compare (`sampler2DShadow`): LESS_OR_EQUAL against the reference,
-/// nearest texel, outside the map reads as lit (white border, depth 1).
-pub struct CompareSampler {
-    gpu: Arc<Gpu>,
-    pub raw: vk::Sampler,
-}
-
-impl CompareSampler {
-    pub fn new(gpu: &Arc<Gpu>) -> Result<Self> {
-        let info = vk::SamplerCreateInfo::default()
-            .mag_filter(vk::Filter::NEAREST)
-            .min_filter(vk::Filter::NEAREST)
-            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
-            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_BORDER)
-            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_BORDER)
-            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_BORDER)
-            .border_color(vk::BorderColor::FLOAT_OPAQUE_WHITE)
-            .compare_enable(true)
-            .compare_op(vk::CompareOp::LESS_OR_EQUAL)
-            .max_lod(0.0);
-        let raw = unsafe { gpu.raw().create_sampler(&info, None) }.vk("vkCreateSampler")?;
-        Ok(CompareSampler { gpu: gpu.clone(), raw })
-    }
-}
-
-impl Drop for CompareSampler {
-    fn drop(&mut self) {
-        unsafe { self.gpu.raw().destroy_sampler(self.raw, None) };
-    }
-}
 
 /// The shadow map's render pass: depth only, cleared, stored and left ready for sampling.
 pub fn shadow_map_render_pass(gpu: &Arc<Gpu>) -> Result<RenderPass> {

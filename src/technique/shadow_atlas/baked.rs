@@ -1,0 +1,62 @@
+//! `nostencil bake`'s entry: the atlas renderer built and run for one frame, its shadow
+//! textures then read back.
+
+use std::sync::Arc;
+
+use image::RgbaImage;
+
+use super::read_back::read_shadow_texture;
+use super::renderer::{build, ShadowPasses};
+use super::stats::AtlasInfo;
+use super::techniques::ShadowTextureAtlas;
+use crate::error::Result;
+use crate::gpu::Gpu;
+use crate::scene::Scene;
+use crate::technique::frame_renderer::FrameRenderer;
+use crate::technique::interface::{RenderOptions, SceneRenderer};
+use crate::technique::options::ShadowKind;
+
+/// How far `bake` is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BakeStep {
+    /// `done` of `total` meshes laid out in their atlases.
+    Layout { done: usize, total: usize },
+    /// Everything built: the shadow map and shadow textures are being rendered.
+    Rendering,
+}
+
+/// A scene's shadow textures, baked.
+pub struct Baked<'s> {
+    scene: &'s Scene,
+    renderer: FrameRenderer<'s, ShadowPasses>,
+}
+
+/// Builds the shadow-texture-atlas renderer for `scene` (frames of `options`' size) and renders
+/// one frame, which bakes every model's shadow texture.
+pub fn bake<'s>(
+    gpu: &Arc<Gpu>,
+    scene: &'s Scene,
+    options: &RenderOptions,
+    progress: &mut dyn FnMut(BakeStep),
+) -> Result<Baked<'s>> {
+    let options = RenderOptions { technique: &ShadowTextureAtlas, ..options.clone() };
+    let mut layout = |done, total| progress(BakeStep::Layout { done, total });
+    let mut renderer = build(&ShadowTextureAtlas, ShadowKind::Atlas, gpu, scene, &options, &mut layout)?;
+    progress(BakeStep::Rendering);
+    renderer.frame_with(scene)?;
+    Ok(Baked { scene, renderer })
+}
+
+impl Baked<'_> {
+    /// Mip `mip` of object `object`'s shadow texture (R: 255 lit, 0 shadowed; A: 255 where a
+    /// triangle covers the texel or dilation reached it).
+    pub fn read_shadow_texture(&self, object: usize, mip: u32) -> Result<RgbaImage> {
+        let passes = self.renderer.passes();
+        read_shadow_texture(passes.gpu(), self.scene, passes.atlas(), passes.frames(), object, mip)
+    }
+
+    /// Each mesh's atlas layout, by mesh index.
+    pub fn atlases(&self) -> &[AtlasInfo] {
+        self.renderer.passes().atlases()
+    }
+}

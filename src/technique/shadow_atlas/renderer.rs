@@ -1,0 +1,369 @@
+//! The seed 004 renderer's part (`Passes`): the shadow map, the light's uniforms, the atlas
+//! vertices and (atlas only) every model's shadow texture, built once; per frame, where the
+//! light is, whether it or a model moved (else the shadow map and bake are skipped: cached),
+//! and the draws of each pass.
+
+use std::sync::Arc;
+
+use ash::vk;
+use glam::{Mat4, Vec2, Vec3, Vec4};
+use gpu_allocator::MemoryLocation;
+
+use super::atlas::{mesh_atlas, MeshAtlas};
+use super::bake::AtlasTargets;
+use super::light::{light_at, ShadowLightUniforms};
+use super::passes::{self, ATLAS_SPACE, LIGHT, RAW_BAKE, SHADOW_MAP, SHADOW_TEXTURE, TEXTURE_MIP0};
+use super::stats::{AtlasInfo, ShadowAtlasStats};
+use super::targets::{self, Framebuffer, RenderPass};
+use crate::error::{Error, Result};
+use crate::gpu::descriptors::{Binding, DescriptorSet};
+use crate::gpu::memory::{Buffer, Image};
+use crate::gpu::texture::Sampler;
+use crate::gpu::Gpu;
+use crate::pipeline::Pipeline;
+use crate::render::plan::{PlannedPass, SetRole, When};
+use crate::render::{FrameOutput, FrameRecorder, GpuMesh, ObjectPush, Renderer};
+use crate::scene::{Light, PoseTracker, Scene};
+use crate::technique::frame_renderer::{self, FrameRenderer, Passes};
+use crate::technique::interface::{FrameStats, RenderOptions, Technique};
+use crate::technique::options::{check_size, LightMode, ShadowAtlasOptions, ShadowKind};
+
+/// Per mesh: the mesh vertex and the atlas UV of each GPU vertex, to lay a re-posed skin out
+/// again.
+struct PosedLayout {
+    sources: Vec<u32>,
+    uvs: Vec<Vec2>,
+}
+
+/// What the cached passes were last rendered for.
+#[derive(Debug, Clone, PartialEq)]
+struct CacheKey {
+    light: Vec4,
+    transforms: Vec<Mat4>,
+    /// Skinned objects' palettes: a new pose is a moved model.
+    palettes: Vec<Vec<Mat4>>,
+}
+
+/// Everything a seed 004 frame needs, built once for a scene.
+pub struct ShadowPasses {
+    gpu: Arc<Gpu>,
+    kind: ShadowKind,
+    options: ShadowAtlasOptions,
+    atlas: Option<AtlasTargets>,
+    // Field order is drop order: the set and framebuffer before the map they point at.
+    light_set: DescriptorSet,
+    light_buffer: Buffer,
+    map_framebuffer: Framebuffer,
+    map_pass: RenderPass,
+    _compare: Sampler,
+    _map: Image,
+    meshes: Vec<GpuMesh>,
+    layouts: Vec<PosedLayout>,
+    /// The pose the skinned objects' atlas vertices hold.
+    posed: PoseTracker,
+    atlases: Vec<AtlasInfo>,
+    /// Frames rendered, the current one not included until its statistics are taken.
+    frames: u32,
+    cache: Option<CacheKey>,
+    /// This frame's light and cache key, and whether the cached passes run.
+    light: Light,
+    key: Option<CacheKey>,
+    fresh: bool,
+}
+
+/// Builds the `kind` renderer for `scene`, calling `progress(done, total)` as each mesh's atlas
+/// is laid out (generating atlases for many or large meshes takes a while).
+pub fn build<'s>(
+    technique: &dyn Technique,
+    kind: ShadowKind,
+    gpu: &Arc<Gpu>,
+    scene: &'s Scene,
+    options: &RenderOptions,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<FrameRenderer<'s, ShadowPasses>> {
+    let map_size = check_size("--shadow-map-size", options.shadow_atlas.map_size)?;
+    let texture_size = check_size("--shadow-texture-size", options.shadow_atlas.texture_size)?;
+    let atlas_options = ShadowAtlasOptions { map_size, texture_size, ..options.shadow_atlas };
+    frame_renderer::build_typed(technique, gpu, scene, options, |_| {
+        ShadowPasses::new(gpu, scene, kind, atlas_options, progress)
+    })
+}
+
+impl ShadowPasses {
+    fn new(
+        gpu: &Arc<Gpu>,
+        scene: &Scene,
+        kind: ShadowKind,
+        options: ShadowAtlasOptions,
+        progress: &mut dyn FnMut(usize, usize),
+    ) -> Result<Self> {
+        let total = scene.meshes.len();
+        let layouts: Vec<MeshAtlas> = scene
+            .meshes
+            .iter()
+            .enumerate()
+            .map(|(i, m)| {
+                let atlas = mesh_atlas(&m.name, &m.data, m.uv1.as_deref(), options.texture_size);
+                progress(i + 1, total);
+                atlas
+            })
+            .collect::<Result<_>>()?;
+        let meshes = scene
+            .meshes
+            .iter()
+            .zip(&layouts)
+            .map(|(m, a)| {
+                let interleaved = atlas_vertices(&a.positions, &a.normals, &a.uvs);
+                GpuMesh::from_raw(gpu, &m.name, &interleaved, &a.indices)
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let posed_layouts =
+            layouts.iter().map(|a| PosedLayout { sources: a.source_vertices.clone(), uvs: a.uvs.clone() }).collect();
+        let atlases = scene
+            .meshes
+            .iter()
+            .zip(&layouts)
+            .map(|(m, a)| AtlasInfo {
+                mesh: m.name.clone(),
+                source: a.source,
+                size: a.size,
+                mip_levels: a.mip_levels,
+                rejected_uv1: a.rejected_uv1.clone(),
+            })
+            .collect();
+
+        let map = targets::shadow_map_image(gpu, options.map_size)?;
+        let map_pass = targets::shadow_map_render_pass(gpu)?;
+        let map_extent = vk::Extent2D { width: options.map_size, height: options.map_size };
+        let map_framebuffer = Framebuffer::new(gpu, &map_pass, map.view, map_extent)?;
+        let compare = Sampler::depth_compare(gpu)?;
+        let light_size = std::mem::size_of::<ShadowLightUniforms>() as u64;
+        let light_buffer = Buffer::new(
+            gpu,
+            "shadow light",
+            light_size,
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )?;
+        let light_set = DescriptorSet::new(
+            gpu,
+            &[
+                Binding::UniformBuffer {
+                    buffer: light_buffer.raw,
+                    range: light_size,
+                    stages: vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+                },
+                Binding::Texture {
+                    view: map.view,
+                    sampler: compare.raw,
+                    layout: vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL,
+                    stages: vk::ShaderStageFlags::FRAGMENT,
+                },
+            ],
+        )?;
+        let atlas = match kind {
+            ShadowKind::Map => None,
+            ShadowKind::Atlas => Some(AtlasTargets::new(gpu, scene, &layouts)?),
+        };
+        Ok(ShadowPasses {
+            gpu: gpu.clone(),
+            kind,
+            options,
+            atlas,
+            light_set,
+            light_buffer,
+            map_framebuffer,
+            map_pass,
+            _compare: compare,
+            _map: map,
+            meshes,
+            layouts: posed_layouts,
+            posed: PoseTracker::new(scene),
+            atlases,
+            frames: 0,
+            cache: None,
+            light: scene.light,
+            key: None,
+            fresh: true,
+        })
+    }
+
+    pub fn atlases(&self) -> &[AtlasInfo] {
+        &self.atlases
+    }
+
+    pub fn atlas(&self) -> Option<&AtlasTargets> {
+        self.atlas.as_ref()
+    }
+
+    /// Frames rendered so far.
+    pub fn frames(&self) -> u32 {
+        self.frames
+    }
+
+    pub fn gpu(&self) -> &Arc<Gpu> {
+        &self.gpu
+    }
+
+    /// Skinned objects whose palette changed (`Scene::pose_at`) get their atlas vertices
+    /// re-posed on the CPU and uploaded again (the atlas layout stays).
+    fn follow_pose(&mut self, scene: &Scene) -> Result<()> {
+        for index in self.posed.changed(scene) {
+            let object = &scene.objects[index];
+            let (Some(skin), Some(mesh), Some(layout)) =
+                (&object.skin, self.meshes.get_mut(object.mesh), self.layouts.get(object.mesh))
+            else {
+                continue;
+            };
+            let (positions, normals) = skin.posed_positions_normals();
+            let pick = |list: &[Vec3], fallback: Vec3| -> Vec<Vec3> {
+                layout.sources.iter().map(|&v| list.get(v as usize).copied().unwrap_or(fallback)).collect()
+            };
+            let interleaved = atlas_vertices(&pick(&positions, Vec3::ZERO), &pick(&normals, Vec3::Y), &layout.uvs);
+            mesh.vertices = Buffer::device_local(
+                &self.gpu,
+                &format!("{} atlas vertices (posed)", object.name),
+                &interleaved,
+                vk::BufferUsageFlags::VERTEX_BUFFER,
+            )?;
+        }
+        Ok(())
+    }
+
+    fn atlas_targets(&self, pass: &PlannedPass) -> Result<&AtlasTargets> {
+        self.atlas.as_ref().ok_or_else(|| Error::Internal(format!("pass '{}' without shadow textures", pass.name)))
+    }
+
+    /// The casters from the light, depth only.
+    fn draw_shadow_map(&self, rec: &mut FrameRecorder, scene: &Scene, pipeline: &Pipeline) {
+        let clear = [vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } }];
+        let extent = vk::Extent2D { width: self.options.map_size, height: self.options.map_size };
+        rec.begin_offscreen_pass(&self.map_pass, self.map_framebuffer.raw, extent, &clear);
+        rec.bind_with_sets(pipeline, &[self.light_set.set]);
+        for object in scene.objects.iter().filter(|o| o.casts_shadow) {
+            rec.push(pipeline, &ObjectPush { model: object.transform, colour: Vec4::ONE });
+            rec.draw_mesh(&self.meshes[object.mesh]);
+        }
+        rec.end_render_pass();
+    }
+
+    /// Every object lit, its Lambert term scaled by its shadow texture or the map compare (the
+    /// recorder bound the pipeline with the frame's set and the first object's shadow set).
+    fn draw_scene(&self, rec: &mut FrameRecorder, scene: &Scene, pipeline: &Pipeline) {
+        for (index, object) in scene.objects.iter().enumerate() {
+            if let Some(shadow) = self.atlas.as_ref().and_then(|a| a.objects.get(index)) {
+                rec.bind_sets(pipeline, 1, &[shadow.scene_set.set]);
+            }
+            rec.push(pipeline, &ObjectPush { model: object.transform, colour: object.colour.extend(1.0) });
+            rec.draw_mesh(&self.meshes[object.mesh]);
+        }
+    }
+}
+
+impl Passes for ShadowPasses {
+    fn set_layout(&self, role: SetRole) -> Option<vk::DescriptorSetLayout> {
+        let first = || self.atlas.as_ref().and_then(|a| a.objects.first());
+        match role {
+            LIGHT => Some(self.light_set.layout),
+            SHADOW_TEXTURE => first().map(|o| o.scene_set.layout),
+            RAW_BAKE => first().map(|o| o.dilate_set.layout),
+            _ => None,
+        }
+    }
+
+    fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
+        let first = || self.atlas.as_ref().and_then(|a| a.objects.first());
+        match role {
+            LIGHT => Some(self.light_set.set),
+            SHADOW_TEXTURE => first().map(|o| o.scene_set.set),
+            RAW_BAKE => first().map(|o| o.dilate_set.set),
+            _ => None,
+        }
+    }
+
+    fn offscreen_pass(&self, name: &'static str) -> Option<(vk::RenderPass, usize)> {
+        let target = crate::render::plan::Target::Offscreen(name);
+        match (target, &self.atlas) {
+            (SHADOW_MAP, _) => Some((self.map_pass.raw, 0)),
+            (ATLAS_SPACE, Some(atlas)) => Some((atlas.bake_pass.raw, 1)),
+            (TEXTURE_MIP0, Some(atlas)) => Some((atlas.dilate_pass.raw, 1)),
+            _ => None,
+        }
+    }
+
+    fn prepare(&mut self, _renderer: &Renderer, scene: &Scene) -> Result<()> {
+        self.follow_pose(scene)?;
+        self.light = light_at(scene, self.options.light, self.frames);
+        let key = CacheKey {
+            light: self.light.as_vec4(),
+            transforms: scene.objects.iter().map(|o| o.transform).collect(),
+            palettes: scene.objects.iter().filter_map(|o| o.skin.as_ref().map(|s| s.joint_matrices.clone())).collect(),
+        };
+        self.fresh = self.cache.as_ref() != Some(&key);
+        if self.fresh {
+            let uniforms = ShadowLightUniforms::fitted(scene, &self.light, self.options.map_size);
+            self.light_buffer.write(0, bytemuck::bytes_of(&uniforms))?;
+        }
+        self.key = Some(key);
+        Ok(())
+    }
+
+    fn frame_light(&self) -> Option<Light> {
+        Some(self.light)
+    }
+
+    fn conditions(&self, _scene: &Scene) -> Vec<When> {
+        if self.fresh {
+            vec![When::LightOrCastersMoved]
+        } else {
+            Vec::new()
+        }
+    }
+
+    fn draw(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()> {
+        let pipeline = || {
+            pipelines.first().copied().ok_or_else(|| Error::Internal(format!("pass '{}' has no pipeline", pass.name)))
+        };
+        match pass.name.as_ref() {
+            passes::SHADOW_MAP_PASS => self.draw_shadow_map(rec, scene, pipeline()?),
+            passes::BAKE_PASS => {
+                self.atlas_targets(pass)?.record_bake(rec, scene, &self.meshes, pipeline()?, self.light_set.set)
+            }
+            passes::DILATE_PASS => self.atlas_targets(pass)?.record_dilate(rec, pipeline()?),
+            passes::MIPS_PASS => self.atlas_targets(pass)?.record_mips(rec),
+            passes::SCENE_PASS => self.draw_scene(rec, scene, pipeline()?),
+            _ => return Err(Error::Internal(format!("pass '{}' is not a seed 004 pass", pass.name))),
+        }
+        Ok(())
+    }
+
+    fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {
+        self.cache = self.key.take();
+        self.frames += 1;
+        Box::new(ShadowAtlasStats {
+            technique: self.kind,
+            light: self.options.light,
+            frame: self.frames,
+            cached: !self.fresh,
+            map_size: self.options.map_size,
+            atlases: self.atlases.clone(),
+        })
+    }
+
+    fn frames_to_steady_state(&self) -> u32 {
+        match self.options.light {
+            LightMode::Moving => 1,
+            LightMode::Fixed => 2,
+        }
+    }
+}
+
+/// Position, normal and atlas UV per vertex, interleaved as the bake and scene pipelines read.
+fn atlas_vertices(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2]) -> Vec<[f32; 8]> {
+    (0..positions.len())
+        .map(|i| {
+            let (p, n, uv) = (positions[i], normals.get(i).copied().unwrap_or(Vec3::Y), uvs[i]);
+            [p.x, p.y, p.z, n.x, n.y, n.z, uv.x, uv.y]
+        })
+        .collect()
+}
