@@ -62,22 +62,26 @@ pub fn plan_table(title: &str, plan: &PassPlan) -> String {
     );
     let _ = writeln!(out, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for (index, pass) in plan.passes.iter().enumerate() {
-        for desc in &pass.pipelines {
-            let _ = writeln!(
-                out,
-                "| {} | {} | {} | {} | {} | {} | {} | {} |",
+        let target = match pass.target {
+            Target::Frame => "frame".to_owned(),
+            Target::Offscreen(name) => name.to_owned(),
+        };
+        let row = |pipeline: &str, state: String| {
+            format!(
+                "| {} | {} | {pipeline} | {target} | {} | {} | {} | {state} |",
                 index + 1,
                 pass.name,
-                desc.name,
-                match pass.target {
-                    Target::Frame => "frame".to_owned(),
-                    Target::Offscreen(name) => name.to_owned(),
-                },
                 pass.when.describe(),
                 pass.draws.describe(),
                 pass.push.describe(),
-                state_columns(desc)
-            );
+            )
+        };
+        if pass.pipelines.is_empty() {
+            // Transfer commands (mip blits): no pipeline, no fixed-function state.
+            let _ = writeln!(out, "{}", row("(commands)", ["-"; 10].join(" | ")));
+        }
+        for desc in &pass.pipelines {
+            let _ = writeln!(out, "{}", row(desc.name, state_columns(desc)));
         }
     }
     out
