@@ -19,12 +19,13 @@ use nostencil::technique::{alpha_counter, render_scene, RenderOptions, Technique
 
 const SIZE: (u32, u32) = (128, 96);
 
-fn render(
-    gpu: &Arc<Gpu>,
-    scene: &Scene,
-    stencil: StencilMode,
-    options: ShadowVolumeOptions,
-) -> shadow_volume::ShadowVolumeFrame {
+/// A shadow-volume frame with the technique's statistics.
+struct Frame {
+    output: nostencil::FrameOutput,
+    stats: nostencil::technique::ShadowVolumeStats,
+}
+
+fn render(gpu: &Arc<Gpu>, scene: &Scene, stencil: StencilMode, options: ShadowVolumeOptions) -> Frame {
     render_sized(gpu, scene, stencil, options, SIZE)
 }
 
@@ -34,8 +35,28 @@ fn render_sized(
     stencil: StencilMode,
     options: ShadowVolumeOptions,
     size: (u32, u32),
-) -> shadow_volume::ShadowVolumeFrame {
-    shadow_volume::render(gpu, scene, size.0, size.1, stencil, &options).expect("shadow-volume frame")
+) -> Frame {
+    try_render(gpu, scene, stencil, options, size).expect("shadow-volume frame")
+}
+
+fn try_render(
+    gpu: &Arc<Gpu>,
+    scene: &Scene,
+    stencil: StencilMode,
+    options: ShadowVolumeOptions,
+    size: (u32, u32),
+) -> nostencil::Result<Frame> {
+    let options = RenderOptions {
+        width: size.0,
+        height: size.1,
+        stencil,
+        technique: technique("shadow-volume"),
+        shadow_volume: options,
+        ..Default::default()
+    };
+    let frame = render_scene(gpu, scene, &options)?;
+    let stats = *frame.stats::<nostencil::technique::ShadowVolumeStats>().expect("shadow-volume statistics");
+    Ok(Frame { output: frame.output, stats })
 }
 
 fn lit(gpu: &Arc<Gpu>, scene: &Scene) -> RgbaImage {
@@ -301,7 +322,7 @@ fn open_caster_is_refused_with_its_name() {
         },
     );
     scene.add_object("quad", open, Mat4::from_translation(Vec3::Y), Vec3::ONE, true);
-    let error = shadow_volume::render(&gpu, &scene, 64, 64, StencilMode::Emulated, &ShadowVolumeOptions::default())
+    let error = try_render(&gpu, &scene, StencilMode::Emulated, ShadowVolumeOptions::default(), (64, 64))
         .err()
         .expect("an open caster must be refused");
     let message = error.to_string();

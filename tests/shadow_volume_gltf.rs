@@ -12,7 +12,8 @@ use nostencil::frame::StencilMode;
 use nostencil::gpu::Gpu;
 use nostencil::scene::{scene_from_gltf, Light, Scene};
 use nostencil::technique::lit::Lit;
-use nostencil::technique::shadow_volume::{self, Normalize, ShadowVolumeOptions};
+use nostencil::technique::shadow_volume::ShadowVolumes;
+use nostencil::technique::shadow_volume::{Normalize, ShadowVolumeOptions};
 use nostencil::technique::{render_scene, RenderOptions};
 
 const SIZE: (u32, u32) = (128, 96);
@@ -23,7 +24,15 @@ fn lit(gpu: &Arc<Gpu>, scene: &Scene) -> RgbaImage {
 }
 
 fn shadowed(gpu: &Arc<Gpu>, scene: &Scene, stencil: StencilMode, options: &ShadowVolumeOptions) -> RgbaImage {
-    shadow_volume::render(gpu, scene, SIZE.0, SIZE.1, stencil, options).expect("shadow-volume frame").output.image
+    let options = RenderOptions {
+        width: SIZE.0,
+        height: SIZE.1,
+        stencil,
+        technique: &ShadowVolumes,
+        shadow_volume: *options,
+        ..Default::default()
+    };
+    render_scene(gpu, scene, &options).expect("shadow-volume frame").output.image
 }
 
 /// Pixels whose RGB differ (alpha holds each path's working state and is not the image).

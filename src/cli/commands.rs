@@ -229,17 +229,29 @@ fn bake(frame: &FrameArgs, model: Option<&str>, mip: u32, out: &Path) -> Result<
     let start = std::time::Instant::now();
     let bake_options =
         RenderOptions { width: options.width.min(64), height: options.height.min(64), ..options.clone() };
+    // One progress line on a terminal: the atlas layout mesh by mesh, then the bake itself.
+    let progress = indicatif::ProgressBar::new(0);
+    if let Ok(style) = indicatif::ProgressStyle::with_template("bake: {msg} {pos:>4}/{len}") {
+        progress.set_style(style);
+    }
+    progress.set_message("atlas layout");
     let baked = shadow_atlas::bake(&gpu, &scene, &bake_options, &mut |step| match step {
         BakeStep::Layout { done, total } => {
-            eprint!("\rbake: atlas layout {done:>4}/{total} meshes");
-            let _ = std::io::Write::flush(&mut std::io::stderr());
+            progress.set_length(total as u64);
+            progress.set_position(done as u64);
         }
-        BakeStep::Rendering => eprint!("\rbake: shadow map and {} shadow textures...", scene.objects.len()),
+        BakeStep::Rendering => {
+            if let Ok(style) = indicatif::ProgressStyle::with_template("bake: {msg}") {
+                progress.set_style(style);
+            }
+            progress.set_message(format!("shadow map and {} shadow textures...", scene.objects.len()));
+        }
     });
-    // The progress line has no newline yet: an error goes on a line of its own.
-    let renderer = baked.inspect_err(|_| eprintln!())?;
+    // An error replaces the progress line rather than continuing it.
+    progress.finish_and_clear();
+    let renderer = baked?;
     eprintln!(
-        "\rbake: shadow map and {} shadow textures baked in {:.0} ms",
+        "bake: shadow map and {} shadow textures baked in {:.0} ms",
         scene.objects.len(),
         start.elapsed().as_secs_f64() * 1e3
     );
@@ -459,9 +471,14 @@ fn passes(technique: &str, normalize: Option<Normalize>) -> Result<()> {
     let base = RenderOptions { technique, ..Default::default() };
     println!("## {}: passes and fixed-function state\n", technique.name());
     println!("{}\n", technique.about());
-    for variant in technique.plan_variants(&base) {
+    let variants = technique.plan_variants(&base);
+    let normalisations =
+        variants.iter().map(|v| v.options.shadow_volume.normalize).collect::<std::collections::HashSet<_>>().len();
+    for variant in variants {
+        // `--normalize` keeps the reference and that normalisation's plans, for techniques whose
+        // plans depend on it.
         let kept = match normalize {
-            Some(n) if technique.name() == "shadow-volume" => {
+            Some(n) if normalisations > 1 => {
                 variant.options.stencil == crate::frame::StencilMode::Reference
                     || variant.options.shadow_volume.normalize == n
             }

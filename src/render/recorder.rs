@@ -291,6 +291,8 @@ impl<'a> FrameRecorder<'a> {
 
     /// Binds descriptor sets from `first` on, for the pipeline bound last (`pipeline`'s layout).
     pub fn bind_sets(&mut self, pipeline: &Pipeline, first: u32, sets: &[vk::DescriptorSet]) {
+        // SAFETY: `cmd` is recording; the layout belongs to a live pipeline and the sets are
+        // owned by the technique's renderer, which outlives the frame's submission.
         unsafe {
             self.gpu.raw().cmd_bind_descriptor_sets(
                 self.cmd,
@@ -317,6 +319,9 @@ impl<'a> FrameRecorder<'a> {
             base_array_layer: 0,
             layer_count: 1,
         };
+        // SAFETY: called inside the frame's render pass (the plan records frame passes only
+        // there), whose depth-stencil attachment has a stencil aspect on the reference path; the
+        // rectangle is the render area.
         unsafe { self.gpu.raw().cmd_clear_attachments(self.cmd, &[attachment], &[rect]) };
     }
 

@@ -9,13 +9,11 @@ pub mod renderer;
 
 use std::sync::Arc;
 
-use super::frame_renderer;
 use super::interface::{RenderOptions, SceneRenderer, Technique, Variant};
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::Gpu;
 use crate::render::plan::PassPlan;
-use crate::render::FrameOutput;
 use crate::scene::Scene;
 
 pub use super::options::{Normalize, ShadowVolumeOptions, VolumeMethod};
@@ -110,32 +108,4 @@ impl Technique for ShadowVolumes {
         };
         format!("{} ({}{normalise}, k={})", self.name(), options.stencil.name(), options.shadow_volume.increment)
     }
-}
-
-/// A shadow-volume frame: its image and counters, and what the technique reports.
-pub struct ShadowVolumeFrame {
-    pub output: FrameOutput,
-    pub stats: ShadowVolumeStats,
-}
-
-/// Renders `scene` with shadow volumes, emulated in alpha or with the real-stencil reference.
-pub fn render(
-    gpu: &Arc<Gpu>,
-    scene: &Scene,
-    width: u32,
-    height: u32,
-    stencil: StencilMode,
-    options: &ShadowVolumeOptions,
-) -> Result<ShadowVolumeFrame> {
-    let options = RenderOptions {
-        width,
-        height,
-        stencil,
-        technique: &ShadowVolumes,
-        shadow_volume: *options,
-        ..RenderOptions::default()
-    };
-    let frame = frame_renderer::render_one(gpu, scene, &options)?;
-    let stats = *frame.stats::<ShadowVolumeStats>().ok_or_else(|| Error::Internal("shadow-volume stats".into()))?;
-    Ok(ShadowVolumeFrame { output: frame.output, stats })
 }
