@@ -4,7 +4,8 @@
 
 use ash::vk;
 
-use super::swapchain::{Swapchain, Transfer};
+use crate::gpu::barriers::{self, BeforePresent};
+use crate::gpu::swapchain::{Swapchain, Transfer};
 
 /// Records into `cmd` (recording) the copy of `colour`, the frame, into swapchain image
 /// `index`; with `screenshot`, what will be presented is also copied into that buffer (sized
@@ -19,59 +20,19 @@ pub fn record(
 ) {
     let extent = swapchain.extent;
     let image = swapchain.images[index as usize];
-    let range = vk::ImageSubresourceRange {
-        aspect_mask: vk::ImageAspectFlags::COLOR,
-        base_mip_level: 0,
-        level_count: 1,
-        base_array_layer: 0,
-        layer_count: 1,
-    };
     let layers = vk::ImageSubresourceLayers {
         aspect_mask: vk::ImageAspectFlags::COLOR,
         mip_level: 0,
         base_array_layer: 0,
         layer_count: 1,
     };
-    let barrier = |image, old, new, src_access, dst_access| {
-        vk::ImageMemoryBarrier::default()
-            .src_access_mask(src_access)
-            .dst_access_mask(dst_access)
-            .old_layout(old)
-            .new_layout(new)
-            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-            .image(image)
-            .subresource_range(range)
-    };
+    barriers::frame_to_swapchain_copy(device, cmd, colour, image);
+    let corner = vk::Offset3D { x: extent.width as i32, y: extent.height as i32, z: 1 };
+    // SAFETY: `cmd` is recording (the presenter's begin and end surround this call); `colour`
+    // is the live frame target in TRANSFER_SRC_OPTIMAL and `image` the acquired swapchain image,
+    // just moved to TRANSFER_DST_OPTIMAL; both are at least `extent` in size, and the blit
+    // source and destination formats support blitting (`Transfer::Blit` is only chosen then).
     unsafe {
-        // The frame's render pass left the colour target in TRANSFER_SRC_OPTIMAL; the
-        // acquired image's old contents do not matter.
-        let to_transfer = [
-            barrier(
-                colour,
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
-                vk::AccessFlags::TRANSFER_READ,
-            ),
-            barrier(
-                image,
-                vk::ImageLayout::UNDEFINED,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                vk::AccessFlags::empty(),
-                vk::AccessFlags::TRANSFER_WRITE,
-            ),
-        ];
-        device.cmd_pipeline_barrier(
-            cmd,
-            vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT | vk::PipelineStageFlags::TRANSFER,
-            vk::PipelineStageFlags::TRANSFER,
-            vk::DependencyFlags::empty(),
-            &[],
-            &[],
-            &to_transfer,
-        );
-        let corner = vk::Offset3D { x: extent.width as i32, y: extent.height as i32, z: 1 };
         match swapchain.transfer {
             Transfer::Blit => {
                 let region = vk::ImageBlit {
@@ -108,50 +69,30 @@ pub fn record(
                 );
             }
         }
-        let mut present_from = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
-        let mut present_access = vk::AccessFlags::TRANSFER_WRITE;
-        if let Some(buffer) = screenshot {
-            // Read back what will be presented, from the swapchain image itself (or, where
-            // its images cannot be read, from the frame it was copied from).
-            let (source, layout) = if swapchain.readable {
-                device.cmd_pipeline_barrier(
-                    cmd,
-                    vk::PipelineStageFlags::TRANSFER,
-                    vk::PipelineStageFlags::TRANSFER,
-                    vk::DependencyFlags::empty(),
-                    &[],
-                    &[],
-                    &[barrier(
-                        image,
-                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                        vk::AccessFlags::TRANSFER_WRITE,
-                        vk::AccessFlags::TRANSFER_READ,
-                    )],
-                );
-                present_from = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
-                present_access = vk::AccessFlags::empty();
-                (image, vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
-            } else {
-                (colour, vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
-            };
-            let region = vk::BufferImageCopy::default().image_subresource(layers).image_extent(vk::Extent3D {
-                width: extent.width,
-                height: extent.height,
-                depth: 1,
-            });
-            device.cmd_copy_image_to_buffer(cmd, source, layout, buffer, &[region]);
-            crate::gpu::barriers::transfer_to_host(device, cmd, buffer);
-        }
-        // Presentation waits on the semaphore, which orders it after this command buffer.
-        device.cmd_pipeline_barrier(
-            cmd,
-            vk::PipelineStageFlags::TRANSFER,
-            vk::PipelineStageFlags::BOTTOM_OF_PIPE,
-            vk::DependencyFlags::empty(),
-            &[],
-            &[],
-            &[barrier(image, present_from, vk::ImageLayout::PRESENT_SRC_KHR, present_access, vk::AccessFlags::empty())],
-        );
     }
+    let mut before_present = BeforePresent::Copied;
+    if let Some(buffer) = screenshot {
+        // Read back what will be presented, from the swapchain image itself (or, where its
+        // images cannot be read, from the frame it was copied from).
+        let source = if swapchain.readable {
+            barriers::swapchain_to_read_back(device, cmd, image);
+            before_present = BeforePresent::ReadBack;
+            image
+        } else {
+            colour
+        };
+        let region = vk::BufferImageCopy::default().image_subresource(layers).image_extent(vk::Extent3D {
+            width: extent.width,
+            height: extent.height,
+            depth: 1,
+        });
+        // SAFETY: `cmd` is recording; `source` is in TRANSFER_SRC_OPTIMAL (the barrier above, or
+        // the frame target's layout) and `buffer` is the presenter's screenshot buffer, sized for
+        // `extent` in RGBA8 and alive until the slot's fence is waited for.
+        unsafe {
+            device.cmd_copy_image_to_buffer(cmd, source, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, buffer, &[region])
+        };
+        barriers::transfer_to_host(device, cmd, buffer);
+    }
+    barriers::swapchain_to_present(device, cmd, image, before_present);
 }

@@ -30,8 +30,9 @@ use crate::gpu::memory::{Buffer, Image};
 use crate::gpu::texture::{record_mip_chain, transition, Sampler};
 use crate::gpu::Gpu;
 use crate::pipeline::{
-    BlendState, DepthState, FixedFunction, Pipeline, PipelineDesc, RasterState, VertexAttribute, VertexLayout,
+    BlendState, DepthState, FixedFunction, PipelineDesc, RasterState, VertexAttribute, VertexLayout,
 };
+use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, FrameUniforms, GpuMesh, Renderer};
 use crate::render::{ObjectPush, OBJECT_PUSH_BYTES};
 use crate::scene::{Light, PoseTracker, Scene};
