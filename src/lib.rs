@@ -38,6 +38,9 @@
 //! passes and fixed-function state as data), [`render`] (the recorder that measures passes,
 //! pass plans), [`technique`](mod@technique) (every technique behind one interface) and [`profile`] (reports).
 
+// Raw Vulkan lives in gpu/, frame/ and render/ only, each unsafe block saying why it is sound.
+#![warn(clippy::undocumented_unsafe_blocks)]
+
 #[doc(hidden)]
 pub mod cli;
 pub mod error;

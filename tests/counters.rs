@@ -12,8 +12,9 @@ use glam::{Mat4, Vec2, Vec4};
 use nostencil::frame::StencilMode;
 use nostencil::gpu::memory::Buffer;
 use nostencil::gpu::Gpu;
-use nostencil::pipeline::{BlendState, DepthState, FixedFunction, Pipeline, PipelineDesc, RasterState, VertexLayout};
+use nostencil::pipeline::{BlendState, DepthState, FixedFunction, PipelineDesc, RasterState, VertexLayout};
 use nostencil::render::FrameCounters;
+use nostencil::render::Pipeline;
 use nostencil::render::{FrameUniforms, Renderer};
 
 fn uniforms() -> FrameUniforms {

@@ -8,9 +8,10 @@ use std::sync::Arc;
 use glam::{Mat4, Vec4};
 use nostencil::frame::StencilMode;
 use nostencil::gpu::Gpu;
-use nostencil::pipeline::{FixedFunction, Pipeline, PipelineDesc, VertexLayout};
+use nostencil::pipeline::{FixedFunction, PipelineDesc, VertexLayout};
 use nostencil::profile::budget::Budget;
 use nostencil::profile::heatmap;
+use nostencil::render::Pipeline;
 use nostencil::render::{FrameOutput, FrameUniforms, Renderer};
 
 /// A frame of `passes`, each drawing `quads` full-screen triangles, counted or not.

@@ -11,7 +11,7 @@ use image::RgbaImage;
 use nostencil::frame::StencilMode;
 use nostencil::gpu::Gpu;
 use nostencil::mesh::MeshData;
-use nostencil::pipeline::Pipeline;
+use nostencil::render::Pipeline;
 use nostencil::render::{FrameUniforms, Renderer};
 use nostencil::scene::{builtin_scene, Scene, BUILTIN_SCENES};
 use nostencil::technique::shadow_volume::{self, Normalize, ShadowVolumeOptions, VolumeMethod};

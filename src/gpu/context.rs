@@ -95,6 +95,14 @@ impl Gpu {
     pub fn validation_enabled(&self) -> bool {
         self.instance.validation_log().is_some()
     }
+
+    /// Waits until the device has finished all submitted work, so that what it may still read
+    /// or wait on can be destroyed. A failure (device lost) is ignored: nothing is pending then.
+    pub fn wait_idle(&self) {
+        // SAFETY: the device is alive (owned by `self`) and every queue is used from the
+        // caller's one thread, which is the one waiting here.
+        let _ = unsafe { self.device.raw.device_wait_idle() };
+    }
 }
 
 impl Drop for Gpu {

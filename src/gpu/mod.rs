@@ -1,5 +1,6 @@
 //! Vulkan plumbing: what is chosen once (instance, device under the mobile profile), what
-//! allocates (memory), what records and submits (commands), and what measures (queries).
+//! allocates (memory), what records and submits (commands), what measures (queries), and a
+//! window's surface and swapchain.
 
 pub mod barriers;
 pub mod commands;
@@ -10,6 +11,7 @@ pub mod instance;
 pub mod memory;
 pub mod mobile_profile;
 pub mod queries;
+pub mod swapchain;
 pub mod texture;
 
 pub use context::{Gpu, GpuOptions};

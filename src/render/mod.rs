@@ -1,10 +1,14 @@
-//! Rendering plumbing shared by every technique: uniforms, meshes on the GPU, the frame
-//! recorder that measures passes, the per-pass counters it returns, and the offscreen renderer.
+//! Rendering plumbing shared by every technique: uniforms, meshes on the GPU, pipelines built
+//! from their descriptions, the frame recorder that measures passes, the per-pass counters it
+//! returns, the offscreen renderer, and presenting a frame through a swapchain.
 
 pub mod counters;
+pub mod frame_copy;
 pub mod gpu_mesh;
 pub mod object_push;
+pub mod pipeline_object;
 pub mod plan;
+pub mod present;
 pub mod recorder;
 pub mod renderer;
 pub mod uniforms;
@@ -12,6 +16,7 @@ pub mod uniforms;
 pub use counters::{FrameCounters, PassCounters};
 pub use gpu_mesh::{GpuMesh, GpuScene};
 pub use object_push::{ObjectPush, OBJECT_PUSH_BYTES};
+pub use pipeline_object::Pipeline;
 pub use recorder::FrameRecorder;
 pub use renderer::{FrameOutput, Renderer};
 pub use uniforms::{FrameDescriptors, FrameUniforms};

@@ -4,7 +4,7 @@ use glam::{Mat4, Vec4};
 
 use super::gpu_mesh::GpuScene;
 use super::recorder::FrameRecorder;
-use crate::pipeline::Pipeline;
+use crate::render::Pipeline;
 use crate::scene::Scene;
 
 /// Mirrors `ObjectPush` in `shaders/object_push.glsl`.

@@ -17,7 +17,8 @@ use super::object_push::draw_objects;
 use super::recorder::FrameRecorder;
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
-use crate::pipeline::{Pipeline, PipelineDesc};
+use crate::pipeline::PipelineDesc;
+use crate::render::Pipeline;
 use crate::scene::Scene;
 
 /// What a pass draws.

@@ -12,7 +12,7 @@ use crate::gpu::barriers;
 use crate::gpu::memory::Buffer;
 use crate::gpu::queries::PassQueryPools;
 use crate::gpu::Gpu;
-use crate::pipeline::Pipeline;
+use crate::render::Pipeline;
 
 pub(crate) struct PassRecord {
     pub name: String,
@@ -291,8 +291,8 @@ impl<'a> FrameRecorder<'a> {
 
     /// Binds descriptor sets from `first` on, for the pipeline bound last (`pipeline`'s layout).
     pub fn bind_sets(&mut self, pipeline: &Pipeline, first: u32, sets: &[vk::DescriptorSet]) {
-        // SAFETY: `cmd` is recording; the layout belongs to a live pipeline and the sets are
-        // owned by the technique's renderer, which outlives the frame's submission.
+        // SAFETY: see the note on `FrameRecorder`; the caller's sets were made for `pipeline`'s
+        // layout, which the pipeline bound last shares.
         unsafe {
             self.gpu.raw().cmd_bind_descriptor_sets(
                 self.cmd,
@@ -319,9 +319,9 @@ impl<'a> FrameRecorder<'a> {
             base_array_layer: 0,
             layer_count: 1,
         };
-        // SAFETY: called inside the frame's render pass (the plan records frame passes only
-        // there), whose depth-stencil attachment has a stencil aspect on the reference path; the
-        // rectangle is the render area.
+        // SAFETY: see the note on `FrameRecorder`; the recorder is inside the frame's render
+        // pass (callers clear the stencil only on the reference path, whose target has a stencil
+        // aspect), and `rect` is the frame's extent, one layer.
         unsafe { self.gpu.raw().cmd_clear_attachments(self.cmd, &[attachment], &[rect]) };
     }
 

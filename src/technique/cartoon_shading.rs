@@ -12,8 +12,9 @@ use crate::error::Result;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::texture::{Sampler, Texture};
 use crate::gpu::Gpu;
-use crate::pipeline::{FixedFunction, Pipeline, PipelineDesc, VertexLayout};
+use crate::pipeline::{FixedFunction, PipelineDesc, VertexLayout};
 use crate::render::plan::{Draws, PlannedPass, Push, SetRole};
+use crate::render::Pipeline;
 use crate::render::{FrameRecorder, GpuScene};
 use crate::scene::Scene;
 

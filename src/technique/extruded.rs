@@ -11,7 +11,8 @@ use crate::error::Result;
 use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
 use crate::mesh::{self, Welded};
-use crate::pipeline::{FixedFunction, Pipeline, PipelineDesc, VertexLayout};
+use crate::pipeline::{FixedFunction, PipelineDesc, VertexLayout};
+use crate::render::Pipeline;
 use crate::render::{FrameRecorder, GpuMesh};
 use crate::scene::{Scene, SceneSkin};
 

@@ -11,8 +11,8 @@ use ash::vk;
 use super::interface::{check_same_scene, FrameStats, RenderOptions, SceneRenderer, Technique, TechniqueFrame};
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
-use crate::pipeline::Pipeline;
 use crate::render::plan::{record_plan, PassDraws, PassPlan, PlanPipelines, PlannedPass, SetRole, Target, When};
+use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, FrameUniforms, GpuScene, Renderer};
 use crate::scene::{Light, Scene};
 

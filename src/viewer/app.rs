@@ -15,12 +15,12 @@ use winit::window::{Window, WindowId};
 use super::controls::Live;
 use super::keys::{self, Flow};
 use super::live::{LiveFrame, LiveTechnique, Settings};
-use super::present::Output;
-use super::swapchain::{Acquired, Surface};
 use super::x_guard;
 use super::ViewerOptions;
 use crate::error::{Error, Result};
+use crate::gpu::swapchain::{Acquired, Surface};
 use crate::gpu::{mobile_profile, Gpu};
+use crate::render::present::Output;
 use crate::scene::Scene;
 
 /// How long `--resize-after` waits for the window system to apply the new size.
@@ -279,9 +279,7 @@ impl Drop for RunningWindow<'_> {
     fn drop(&mut self) {
         // Runs before the fields drop: the last frame's copy may still read the technique's
         // targets.
-        unsafe {
-            let _ = self.gpu.raw().device_wait_idle();
-        }
+        self.gpu.wait_idle();
     }
 }
 

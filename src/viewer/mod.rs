@@ -15,16 +15,13 @@
 //! previous frame's copy out of the colour target has finished (its fence).
 //!
 //! The parts: `app` (the event loop and the window's state), `controls` (orbit, light, clock),
-//! `keys` (the key map), `live` (the technique shown), `present` and `frame_copy` (getting the
-//! frame on screen), `swapchain` (surface and swapchain), `x_guard` (a lost X display).
+//! `keys` (the key map), `live` (the technique shown), `x_guard` (a lost X display). Getting the
+//! frame on screen is `render::present` and `render::frame_copy`, over `gpu::swapchain`.
 
 mod app;
 mod controls;
-mod frame_copy;
 pub(crate) mod keys;
 pub mod live;
-mod present;
-pub mod swapchain;
 mod x_guard;
 
 use std::path::PathBuf;

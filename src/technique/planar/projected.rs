@@ -31,8 +31,9 @@ use crate::gpu::Gpu;
 use crate::pipeline::recipes::{
     stencil_replace, MODULATE_BY_DST_ALPHA_ONCE, MODULATE_BY_SRC_ALPHA_WRITING_ALPHA, STENCIL_EQUAL_ZERO_THEN_INCREMENT,
 };
-use crate::pipeline::{DepthState, FixedFunction, Pipeline, PipelineDesc, RasterState, VertexLayout};
+use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexLayout};
 use crate::render::plan::{Draws, PassPlan, PlannedPass, Push, SetRole, When};
+use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, Renderer};
 use crate::scene::Scene;
 use crate::technique::frame_renderer::{self, BuildContext, Passes};

@@ -10,8 +10,9 @@ use super::receiver::ReceiverPlane;
 use super::skin::{self, SkinnedMesh, SKINNED_LAYOUT};
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
-use crate::pipeline::{FixedFunction, Pipeline, PipelineDesc, StencilState, VertexLayout};
+use crate::pipeline::{FixedFunction, PipelineDesc, StencilState, VertexLayout};
 use crate::render::plan::{Draws, PlannedPass, Push, SetRole};
+use crate::render::Pipeline;
 use crate::render::{FrameRecorder, GpuScene, ObjectPush, OBJECT_PUSH_BYTES};
 use crate::scene::Scene;
 

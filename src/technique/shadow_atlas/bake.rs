@@ -14,7 +14,7 @@ use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::Image;
 use crate::gpu::texture::Sampler;
 use crate::gpu::Gpu;
-use crate::pipeline::Pipeline;
+use crate::render::Pipeline;
 use crate::render::{FrameRecorder, GpuMesh, ObjectPush};
 use crate::scene::Scene;
 

@@ -1,15 +1,14 @@
-//! The window's surface and swapchain. The frame is never rendered into a swapchain image: it is
-//! built in the RGBA8 + depth targets like every offscreen frame and then blitted (or copied)
-//! into the acquired image, so the swapchain's format cannot change what the technique computes.
+//! A window's surface and swapchain. The frame is never rendered into a swapchain image: it is
+//! built in the offscreen colour + depth targets like every offscreen frame and then blitted
+//! (or copied) into the acquired image, so the swapchain's format cannot change what the
+//! technique computes. The frame's colour format is the caller's (`frame_format`).
 
 use std::sync::Arc;
 
 use ash::{khr, vk};
 use winit::raw_window_handle::{HasDisplayHandle, HasWindowHandle};
-use winit::window::Window;
 
 use crate::error::{Error, Result, VkContext};
-use crate::frame::render_pass::COLOUR_FORMAT;
 use crate::gpu::Gpu;
 
 pub struct Surface {
@@ -20,14 +19,14 @@ pub struct Surface {
 }
 
 impl Surface {
-    pub fn new(gpu: &Arc<Gpu>, window: &Window) -> Result<Self> {
+    pub fn new(gpu: &Arc<Gpu>, window: &(impl HasDisplayHandle + HasWindowHandle)) -> Result<Self> {
         let handle_error = |e: winit::raw_window_handle::HandleError| {
             Error::Device(format!("the window system gave no window handle: {e}"))
         };
         let display = window.display_handle().map_err(handle_error)?.as_raw();
         let handle = window.window_handle().map_err(handle_error)?.as_raw();
         // SAFETY: the handles come from a live window; the viewer destroys the surface before
-        // the window (field order in `viewer::app::RunningWindow`).
+        // the window (field order in the viewer's `RunningWindow`).
         let raw = unsafe { ash_window::create_surface(&gpu.instance.entry, &gpu.instance.raw, display, handle, None) }
             .vk("vkCreate*SurfaceKHR")?;
         let loader = khr::surface::Instance::new(&gpu.instance.entry, &gpu.instance.raw);
@@ -54,8 +53,8 @@ impl Surface {
 
 impl Drop for Surface {
     fn drop(&mut self) {
-        // SAFETY: every swapchain made on the surface is gone first (the viewer's presenter
-        // holds its swapchain in a field before the surface), and `_gpu` keeps the instance.
+        // SAFETY: every swapchain made on the surface is gone first (the viewer holds its
+        // presenter, which holds the swapchain, in a field before the surface), and `_gpu` keeps the instance.
         unsafe { self.loader.destroy_surface(self.raw, None) };
     }
 }
@@ -71,11 +70,12 @@ pub enum Transfer {
     Copy,
 }
 
-/// The swapchain formats the viewer can show unchanged, best first, and how.
-fn classify(gpu: &Gpu, format: vk::Format) -> Option<(u32, Transfer)> {
+/// The swapchain formats that can show a `frame_format` (RGBA8) frame unchanged, best first,
+/// and how.
+fn classify(gpu: &Gpu, frame_format: vk::Format, format: vk::Format) -> Option<(u32, Transfer)> {
     // SAFETY: the physical device was enumerated from this live instance.
     let features = |f| unsafe { gpu.instance.raw.get_physical_device_format_properties(gpu.device.physical, f) };
-    let can_blit = features(COLOUR_FORMAT).optimal_tiling_features.contains(vk::FormatFeatureFlags::BLIT_SRC)
+    let can_blit = features(frame_format).optimal_tiling_features.contains(vk::FormatFeatureFlags::BLIT_SRC)
         && features(format).optimal_tiling_features.contains(vk::FormatFeatureFlags::BLIT_DST);
     match format {
         vk::Format::R8G8B8A8_UNORM | vk::Format::A8B8G8R8_UNORM_PACK32 => {
@@ -120,11 +120,13 @@ pub enum Acquired {
 
 impl Swapchain {
     /// A swapchain for the surface at its current size (`window_size` when the surface leaves
-    /// it to the application); None while the window has no area (minimised).
+    /// it to the application), for frames of `frame_format`; None while the window has no area
+    /// (minimised).
     pub fn new(
         gpu: &Arc<Gpu>,
         surface: &Surface,
         window_size: (u32, u32),
+        frame_format: vk::Format,
         old: Option<&Swapchain>,
     ) -> Result<Option<Self>> {
         let physical = gpu.device.physical;
@@ -153,7 +155,7 @@ impl Swapchain {
         let (surface_format, transfer) = formats
             .iter()
             .filter(|f| f.color_space == vk::ColorSpaceKHR::SRGB_NONLINEAR)
-            .filter_map(|f| classify(gpu, f.format).map(|(rank, transfer)| (rank, *f, transfer)))
+            .filter_map(|f| classify(gpu, frame_format, f.format).map(|(rank, transfer)| (rank, *f, transfer)))
             .min_by_key(|(rank, _, _)| *rank)
             .map(|(_, f, transfer)| (f, transfer))
             .ok_or_else(|| {

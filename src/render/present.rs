@@ -1,4 +1,4 @@
-//! Presenting: what the window shows frames through (a swapchain, or nothing while it has no
+//! Presenting: what a window shows frames through (a swapchain, or nothing while it has no
 //! area), the frame slots in flight, and screenshots read back from what was presented.
 
 use std::sync::Arc;
@@ -7,9 +7,10 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use super::frame_copy;
-use super::swapchain::{self, Acquired, Surface, Swapchain, Transfer};
 use crate::error::{Error, Result, VkContext};
+use crate::frame::render_pass::COLOUR_FORMAT;
 use crate::gpu::memory::Buffer;
+use crate::gpu::swapchain::{self, Acquired, Surface, Swapchain, Transfer};
 use crate::gpu::Gpu;
 use image::RgbaImage;
 
@@ -27,7 +28,7 @@ impl Output {
     /// The output for `surface` at its current size (`window_size` where the surface leaves the
     /// size to the application).
     pub fn new(gpu: &Arc<Gpu>, surface: &Surface, window_size: (u32, u32)) -> Result<Self> {
-        let output = match Swapchain::new(gpu, surface, window_size, None)? {
+        let output = match Swapchain::new(gpu, surface, window_size, COLOUR_FORMAT, None)? {
             Some(swapchain) => Output::Presenting(Box::new(Presenter::new(gpu, swapchain)?)),
             None => Output::NoArea,
         };
@@ -39,14 +40,12 @@ impl Output {
     /// old one is out of date or suboptimal); the new one replaces the old in place.
     pub fn recreate(&mut self, gpu: &Arc<Gpu>, surface: &Surface, window_size: (u32, u32)) -> Result<()> {
         // The old swapchain's images may still be read or presented.
-        unsafe {
-            let _ = gpu.raw().device_wait_idle();
-        }
+        gpu.wait_idle();
         let old = match self {
             Output::Presenting(presenter) => Some(&presenter.swapchain),
             Output::NoArea => None,
         };
-        match (Swapchain::new(gpu, surface, window_size, old)?, &mut *self) {
+        match (Swapchain::new(gpu, surface, window_size, COLOUR_FORMAT, old)?, &mut *self) {
             // The old swapchain is destroyed once the new one, created from it, replaces it.
             (Some(swapchain), Output::Presenting(presenter)) => presenter.swapchain = swapchain,
             (Some(swapchain), Output::NoArea) => *self = Output::Presenting(Box::new(Presenter::new(gpu, swapchain)?)),
@@ -101,6 +100,8 @@ impl Presenter {
     /// Waits until no frame slot is in flight: their copies read the frame's colour target.
     pub fn wait_slots(&self) -> Result<()> {
         let fences: Vec<vk::Fence> = self.slots.slots.iter().map(|slot| slot.in_flight).collect();
+        // SAFETY: the fences are the slots' own, alive while `self` is; each was created
+        // signalled or is reset only just before the submission that signals it.
         unsafe { self.gpu.raw().wait_for_fences(&fences, true, u64::MAX) }.vk("vkWaitForFences")
     }
 
@@ -126,12 +127,18 @@ impl Presenter {
         let screenshot_buffer = self.screenshot.as_ref().filter(|_| screenshot).map(|b| b.raw);
         let device = self.gpu.raw();
         let FrameSlot { cmd, image_available, in_flight } = *self.slots.current();
+        // SAFETY: the caller waited for this slot's fence (`wait_slots`), so `cmd` is not
+        // pending; it was allocated from the pool whose flags allow a reset of one buffer.
         unsafe {
             device.reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty()).vk("vkResetCommandBuffer")?;
             let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
             device.begin_command_buffer(cmd, &begin).vk("vkBeginCommandBuffer")?;
         }
         frame_copy::record(device, cmd, colour, &self.swapchain, index, screenshot_buffer);
+        // SAFETY: `cmd` is recording; the fence is not in use (waited for above); the semaphores
+        // are this slot's (unsignalled, signalled by the acquire of `index`) and image `index`'s
+        // (waited on by its last present, which came before this acquire); the queue is used from
+        // this one thread.
         unsafe {
             device.end_command_buffer(cmd).vk("vkEndCommandBuffer")?;
             device.reset_fences(&[in_flight]).vk("vkResetFences")?;
@@ -199,10 +206,13 @@ impl FrameSlots {
                     .command_pool(*pool)
                     .level(vk::CommandBufferLevel::PRIMARY)
                     .command_buffer_count(1);
+                // SAFETY: the pool belongs to this device and is locked while it allocates.
                 unsafe { device.allocate_command_buffers(&info) }.vk("vkAllocateCommandBuffers")?[0]
             };
             let image_available =
+                // SAFETY: `gpu` holds the device; plain create infos.
                 unsafe { device.create_semaphore(&vk::SemaphoreCreateInfo::default(), None) }.vk("vkCreateSemaphore");
+            // SAFETY: as above.
             let in_flight = unsafe {
                 device.create_fence(&vk::FenceCreateInfo::default().flags(vk::FenceCreateFlags::SIGNALED), None)
             }
@@ -231,6 +241,8 @@ impl FrameSlots {
 impl Drop for FrameSlots {
     fn drop(&mut self) {
         let device = self.gpu.raw();
+        // SAFETY: after the wait no fence or semaphore is waited on and no command buffer is
+        // pending; each handle is destroyed once (null ones, from a failed creation, skipped).
         unsafe {
             // A slot's fence or semaphore may still be waited on, its command buffer pending.
             let _ = device.device_wait_idle();

@@ -1,99 +1,27 @@
-//! Builds a graphics pipeline from a `PipelineDesc`: shaders by file name, an interleaved vertex
-//! layout, and the fixed-function data of `state.rs`. Viewport and scissor are dynamic.
+//! Builds a graphics pipeline from a `pipeline::PipelineDesc`: shaders by file name, an
+//! interleaved vertex layout, and the fixed-function data. Viewport and scissor are dynamic.
 
 use std::sync::Arc;
 
 use ash::vk;
 
-use super::state::{BlendEquation, FixedFunction};
 use crate::error::{Result, VkContext};
 use crate::gpu::mobile_profile;
 use crate::gpu::Gpu;
+use crate::pipeline::{BlendEquation, BlendState, FixedFunction, PipelineDesc, VertexLayout};
 
-/// One vertex attribute as the shader declares it. Each names its Vulkan format and its size
-/// together, so a layout cannot hold a format whose size is unknown.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum VertexAttribute {
-    /// `float`.
-    F32,
-    /// `vec2`.
-    Vec2,
-    /// `vec3`.
-    Vec3,
-    /// `vec4`.
-    Vec4,
-    /// `uvec4` read from four u16 (glTF JOINTS_0).
-    U16x4,
-}
-
-impl VertexAttribute {
-    pub const fn format(self) -> vk::Format {
-        match self {
-            VertexAttribute::F32 => vk::Format::R32_SFLOAT,
-            VertexAttribute::Vec2 => vk::Format::R32G32_SFLOAT,
-            VertexAttribute::Vec3 => vk::Format::R32G32B32_SFLOAT,
-            VertexAttribute::Vec4 => vk::Format::R32G32B32A32_SFLOAT,
-            VertexAttribute::U16x4 => vk::Format::R16G16B16A16_UINT,
-        }
-    }
-
-    /// Bytes the attribute takes in an interleaved vertex.
-    pub const fn size(self) -> u32 {
-        match self {
-            VertexAttribute::F32 => 4,
-            VertexAttribute::Vec2 | VertexAttribute::U16x4 => 8,
-            VertexAttribute::Vec3 => 12,
-            VertexAttribute::Vec4 => 16,
-        }
-    }
-}
-
-/// One interleaved vertex buffer with these attributes at locations 0, 1, ...
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct VertexLayout {
-    pub attributes: &'static [VertexAttribute],
-}
-
-impl VertexLayout {
-    /// No vertex buffer: the shader makes its vertices from gl_VertexIndex.
-    pub const NONE: VertexLayout = VertexLayout { attributes: &[] };
-    /// position (vec3) + normal (vec3).
-    pub const POSITION_NORMAL: VertexLayout =
-        VertexLayout { attributes: &[VertexAttribute::Vec3, VertexAttribute::Vec3] };
-    /// Homogeneous position (vec4): w = 0 puts a vertex at infinity (shadow-volume extrusion).
-    pub const POSITION4: VertexLayout = VertexLayout { attributes: &[VertexAttribute::Vec4] };
-    /// Clip-space position (vec4) given directly, for screen-space test geometry.
-    pub const CLIP4: VertexLayout = VertexLayout { attributes: &[VertexAttribute::Vec4] };
-
-    pub fn stride(&self) -> u32 {
-        self.attributes.iter().map(|a| a.size()).sum()
-    }
-
-    /// The attribute descriptions of binding 0, packed in order.
-    fn descriptions(&self) -> Vec<vk::VertexInputAttributeDescription> {
-        let mut offset = 0;
-        (0..)
-            .zip(self.attributes)
-            .map(|(location, attribute)| {
-                let description =
-                    vk::VertexInputAttributeDescription { location, binding: 0, format: attribute.format(), offset };
-                offset += attribute.size();
-                description
-            })
-            .collect()
-    }
-}
-
-#[derive(Debug, Clone)]
-pub struct PipelineDesc {
-    /// The pass name this pipeline draws (shown in profiles and the `passes` table).
-    pub name: &'static str,
-    pub vertex_shader: &'static str,
-    pub fragment_shader: &'static str,
-    pub vertex_layout: VertexLayout,
-    pub fixed: FixedFunction,
-    pub push_constant_bytes: u32,
-    pub subpass: u32,
+/// The attribute descriptions of binding 0 for `layout`, packed in order.
+fn attribute_descriptions(layout: &VertexLayout) -> Vec<vk::VertexInputAttributeDescription> {
+    let mut offset = 0;
+    (0..)
+        .zip(layout.attributes)
+        .map(|(location, attribute)| {
+            let description =
+                vk::VertexInputAttributeDescription { location, binding: 0, format: attribute.format(), offset };
+            offset += attribute.size();
+            description
+        })
+        .collect()
 }
 
 pub struct Pipeline {
@@ -170,7 +98,7 @@ impl Pipeline {
         desc.fragment_shader = crate::shaders::overdraw_counter_for(desc.vertex_shader).ok_or_else(|| {
             crate::Error::Internal(format!("no overdraw counter for vertex shader '{}'", desc.vertex_shader))
         })?;
-        desc.fixed.blend = super::state::BlendState {
+        desc.fixed.blend = BlendState {
             colour: None,
             alpha: Some(BlendEquation::new(vk::BlendOp::ADD, vk::BlendFactor::ONE, vk::BlendFactor::ONE)),
             write_mask: vk::ColorComponentFlags::A,
@@ -217,7 +145,7 @@ impl Pipeline {
             stride: layout_desc.stride(),
             input_rate: vk::VertexInputRate::VERTEX,
         }];
-        let attributes = layout_desc.descriptions();
+        let attributes = attribute_descriptions(&layout_desc);
         let vertex_input = if attributes.is_empty() {
             vk::PipelineVertexInputStateCreateInfo::default()
         } else {
@@ -320,12 +248,13 @@ impl Drop for ShaderModule<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::pipeline::VertexAttribute;
 
     #[test]
     fn attributes_pack_in_order_at_their_sizes() {
         use VertexAttribute::*;
         let layout = VertexLayout { attributes: &[Vec3, Vec2, F32, U16x4, Vec4] };
-        let placed: Vec<_> = layout.descriptions().iter().map(|d| (d.location, d.offset, d.format)).collect();
+        let placed: Vec<_> = attribute_descriptions(&layout).iter().map(|d| (d.location, d.offset, d.format)).collect();
         assert_eq!(
             placed,
             [
@@ -337,6 +266,6 @@ mod tests {
             ]
         );
         assert_eq!(layout.stride(), 48);
-        assert!(VertexLayout::NONE.descriptions().is_empty());
+        assert!(attribute_descriptions(&VertexLayout::NONE).is_empty());
     }
 }

@@ -1,0 +1,79 @@
+//! What a graphics pipeline is made of, as plain data: shaders by file name, an interleaved
+//! vertex layout, and the fixed-function state of `state.rs`. `render::Pipeline` turns a
+//! description into the Vulkan object.
+
+use ash::vk;
+
+use super::state::FixedFunction;
+
+/// One vertex attribute as the shader declares it. Each names its Vulkan format and its size
+/// together, so a layout cannot hold a format whose size is unknown.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum VertexAttribute {
+    /// `float`.
+    F32,
+    /// `vec2`.
+    Vec2,
+    /// `vec3`.
+    Vec3,
+    /// `vec4`.
+    Vec4,
+    /// `uvec4` read from four u16 (glTF JOINTS_0).
+    U16x4,
+}
+
+impl VertexAttribute {
+    pub const fn format(self) -> vk::Format {
+        match self {
+            VertexAttribute::F32 => vk::Format::R32_SFLOAT,
+            VertexAttribute::Vec2 => vk::Format::R32G32_SFLOAT,
+            VertexAttribute::Vec3 => vk::Format::R32G32B32_SFLOAT,
+            VertexAttribute::Vec4 => vk::Format::R32G32B32A32_SFLOAT,
+            VertexAttribute::U16x4 => vk::Format::R16G16B16A16_UINT,
+        }
+    }
+
+    /// Bytes the attribute takes in an interleaved vertex.
+    pub const fn size(self) -> u32 {
+        match self {
+            VertexAttribute::F32 => 4,
+            VertexAttribute::Vec2 | VertexAttribute::U16x4 => 8,
+            VertexAttribute::Vec3 => 12,
+            VertexAttribute::Vec4 => 16,
+        }
+    }
+}
+
+/// One interleaved vertex buffer with these attributes at locations 0, 1, ...
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct VertexLayout {
+    pub attributes: &'static [VertexAttribute],
+}
+
+impl VertexLayout {
+    /// No vertex buffer: the shader makes its vertices from gl_VertexIndex.
+    pub const NONE: VertexLayout = VertexLayout { attributes: &[] };
+    /// position (vec3) + normal (vec3).
+    pub const POSITION_NORMAL: VertexLayout =
+        VertexLayout { attributes: &[VertexAttribute::Vec3, VertexAttribute::Vec3] };
+    /// Homogeneous position (vec4): w = 0 puts a vertex at infinity (shadow-volume extrusion).
+    pub const POSITION4: VertexLayout = VertexLayout { attributes: &[VertexAttribute::Vec4] };
+    /// Clip-space position (vec4) given directly, for screen-space test geometry.
+    pub const CLIP4: VertexLayout = VertexLayout { attributes: &[VertexAttribute::Vec4] };
+
+    pub fn stride(&self) -> u32 {
+        self.attributes.iter().map(|a| a.size()).sum()
+    }
+}
+
+#[derive(Debug, Clone)]
+pub struct PipelineDesc {
+    /// The pass name this pipeline draws (shown in profiles and the `passes` table).
+    pub name: &'static str,
+    pub vertex_shader: &'static str,
+    pub fragment_shader: &'static str,
+    pub vertex_layout: VertexLayout,
+    pub fixed: FixedFunction,
+    pub push_constant_bytes: u32,
+    pub subpass: u32,
+}

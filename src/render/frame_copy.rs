@@ -1,0 +1,98 @@
+//! The commands that put a rendered frame on screen: the RGBA8 colour target is blitted (or
+//! copied) into the acquired swapchain image, read back for a screenshot if asked, and the
+//! image is handed over to presentation.
+
+use ash::vk;
+
+use crate::gpu::barriers::{self, BeforePresent};
+use crate::gpu::swapchain::{Swapchain, Transfer};
+
+/// Records into `cmd` (recording) the copy of `colour`, the frame, into swapchain image
+/// `index`; with `screenshot`, what will be presented is also copied into that buffer (sized
+/// for the swapchain's extent). The image ends in PRESENT_SRC_KHR.
+pub fn record(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    colour: vk::Image,
+    swapchain: &Swapchain,
+    index: u32,
+    screenshot: Option<vk::Buffer>,
+) {
+    let extent = swapchain.extent;
+    let image = swapchain.images[index as usize];
+    let layers = vk::ImageSubresourceLayers {
+        aspect_mask: vk::ImageAspectFlags::COLOR,
+        mip_level: 0,
+        base_array_layer: 0,
+        layer_count: 1,
+    };
+    barriers::frame_to_swapchain_copy(device, cmd, colour, image);
+    let corner = vk::Offset3D { x: extent.width as i32, y: extent.height as i32, z: 1 };
+    // SAFETY: `cmd` is recording (the presenter's begin and end surround this call); `colour`
+    // is the live frame target in TRANSFER_SRC_OPTIMAL and `image` the acquired swapchain image,
+    // just moved to TRANSFER_DST_OPTIMAL; both are at least `extent` in size, and the blit
+    // source and destination formats support blitting (`Transfer::Blit` is only chosen then).
+    unsafe {
+        match swapchain.transfer {
+            Transfer::Blit => {
+                let region = vk::ImageBlit {
+                    src_subresource: layers,
+                    src_offsets: [vk::Offset3D::default(), corner],
+                    dst_subresource: layers,
+                    dst_offsets: [vk::Offset3D::default(), corner],
+                };
+                device.cmd_blit_image(
+                    cmd,
+                    colour,
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    image,
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                    &[region],
+                    vk::Filter::NEAREST,
+                );
+            }
+            Transfer::Copy => {
+                let region = vk::ImageCopy {
+                    src_subresource: layers,
+                    src_offset: vk::Offset3D::default(),
+                    dst_subresource: layers,
+                    dst_offset: vk::Offset3D::default(),
+                    extent: vk::Extent3D { width: extent.width, height: extent.height, depth: 1 },
+                };
+                device.cmd_copy_image(
+                    cmd,
+                    colour,
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    image,
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                    &[region],
+                );
+            }
+        }
+    }
+    let mut before_present = BeforePresent::Copied;
+    if let Some(buffer) = screenshot {
+        // Read back what will be presented, from the swapchain image itself (or, where its
+        // images cannot be read, from the frame it was copied from).
+        let source = if swapchain.readable {
+            barriers::swapchain_to_read_back(device, cmd, image);
+            before_present = BeforePresent::ReadBack;
+            image
+        } else {
+            colour
+        };
+        let region = vk::BufferImageCopy::default().image_subresource(layers).image_extent(vk::Extent3D {
+            width: extent.width,
+            height: extent.height,
+            depth: 1,
+        });
+        // SAFETY: `cmd` is recording; `source` is in TRANSFER_SRC_OPTIMAL (the barrier above, or
+        // the frame target's layout) and `buffer` is the presenter's screenshot buffer, sized for
+        // `extent` in RGBA8 and alive until the slot's fence is waited for.
+        unsafe {
+            device.cmd_copy_image_to_buffer(cmd, source, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, buffer, &[region])
+        };
+        barriers::transfer_to_host(device, cmd, buffer);
+    }
+    barriers::swapchain_to_present(device, cmd, image, before_present);
+}
