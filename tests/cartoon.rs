@@ -13,7 +13,7 @@ use nostencil::frame::StencilMode;
 use nostencil::gpu::Gpu;
 use nostencil::mesh::{shapes, MeshData};
 use nostencil::scene::{builtin_scene, Camera, Light, Scene};
-use nostencil::technique::ink::{Silhouette, Toon};
+use nostencil::technique::ink::{SILHOUETTE, TOON};
 use nostencil::technique::outline::Outline;
 use nostencil::technique::{
     render_scene, CartoonOptions, CartoonStats, RenderOptions, SilhouetteMethod, Technique, TechniqueFrame,
@@ -230,7 +230,7 @@ fn ink_line_width_in_the_image_is_the_requested_width() {
         let scene = &scene;
         for width in [1.0f32, 2.0, 3.0, 5.0] {
             let options = CartoonOptions { line_width: width, ..CartoonOptions::default() };
-            let (image, stats) = render(&gpu, scene, StencilMode::Emulated, &Silhouette, &options, size);
+            let (image, stats) = render(&gpu, scene, StencilMode::Emulated, &SILHOUETTE, &options, size);
             let (top, bottom) = if *outward { (y - width, y) } else { (y - 0.5 * width, y + 0.5 * width) };
             // The analytic band must not put a pixel centre on its border (that would test the
             // tie rule, not the width).
@@ -254,7 +254,7 @@ fn ink_lines_sit_on_the_sphere_silhouette_without_gaps() {
     let size = (128, 128);
     let scene = face_on_scene(shapes::uv_sphere(24, 48).expect("sphere"), Mat4::IDENTITY);
     let options = CartoonOptions { line_width: 2.0, ..CartoonOptions::default() };
-    let (image, stats) = render(&gpu, &scene, StencilMode::Emulated, &Silhouette, &options, size);
+    let (image, stats) = render(&gpu, &scene, StencilMode::Emulated, &SILHOUETTE, &options, size);
     assert!(stats.silhouette_edges >= 48, "{stats:?}");
     // The contour seen from distance d of a unit sphere: radius sin(asin(1/d)) at depth 1/d,
     // i.e. tangent angle asin(1/5) from the axis.
@@ -287,7 +287,7 @@ fn every_ink_method_darkens_the_silhouette_and_toon_shading_has_bands() {
     let dark = |p: [u8; 4]| p[0] < 40 && p[1] < 40 && p[2] < 40;
     for &method in SilhouetteMethod::ALL {
         let options = CartoonOptions { silhouette: method, line_width: 3.0, ..CartoonOptions::default() };
-        for technique in [&Silhouette as &'static dyn Technique, &Toon] {
+        for technique in [&SILHOUETTE as &'static dyn Technique, &TOON] {
             let (image, _) = render(&gpu, &scene, StencilMode::Emulated, technique, &options, size);
             // The sphere's centre is lit, its contour (radius ~ 21 px) is dark.
             assert!(!dark(image.get_pixel(48, 48).0), "{method:?} {technique:?}: centre is dark");
@@ -307,7 +307,7 @@ fn every_ink_method_darkens_the_silhouette_and_toon_shading_has_bands() {
     // The toon ramp has three levels: a toon frame without ink shows at most three shades of
     // the albedo on the sphere (plus the background).
     let options = CartoonOptions { silhouette: SilhouetteMethod::Hull, line_width: 0.5, ..CartoonOptions::default() };
-    let (image, _) = render(&gpu, &scene, StencilMode::Emulated, &Toon, &options, size);
+    let (image, _) = render(&gpu, &scene, StencilMode::Emulated, &TOON, &options, size);
     let mut colours: Vec<[u8; 3]> = image.chunks_exact(4).map(|p| [p[0], p[1], p[2]]).collect();
     colours.sort();
     colours.dedup();
@@ -320,7 +320,7 @@ fn ink_passes_are_measured_one_per_edge_class() {
     let gpu = common::gpu();
     let scene = builtin_scene("default").expect("scene");
     let frame =
-        render_frame(&gpu, &scene, StencilMode::Emulated, &Toon, &CartoonOptions::default(), SIZE).expect("frame");
+        render_frame(&gpu, &scene, StencilMode::Emulated, &TOON, &CartoonOptions::default(), SIZE).expect("frame");
     let names: Vec<&str> = frame.output.counters.passes.iter().map(|p| p.name.as_str()).collect();
     assert_eq!(names, ["scene", "ink silhouette", "ink crease", "ink boundary"]);
     for pass in &frame.output.counters.passes {
@@ -341,7 +341,7 @@ fn crease_lines_of_a_cube_are_unbroken_and_stay_on_the_edges() {
     let mut scene = face_on_scene(shapes::cube(1.0), Mat4::IDENTITY);
     scene.camera = Camera::look_at(Vec3::new(2.2, 1.9, 2.6), Vec3::ZERO);
     let options = CartoonOptions { line_width: 2.0, ..CartoonOptions::default() };
-    let (image, stats) = render(&gpu, &scene, StencilMode::Emulated, &Silhouette, &options, size);
+    let (image, stats) = render(&gpu, &scene, StencilMode::Emulated, &SILHOUETTE, &options, size);
     assert_eq!((stats.silhouette_edges, stats.crease_edges), (6, 6), "{stats:?}");
     let view_proj = scene.camera.view_projection(1.0);
     let to_pixel = |p: Vec3| {

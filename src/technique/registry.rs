@@ -10,13 +10,13 @@ pub static TECHNIQUES: &[&dyn Technique] = &[
     &super::lit::Lit,
     &super::shadow_volume::ShadowVolumes,
     &super::outline::Outline,
-    &super::ink::Silhouette,
-    &super::ink::Toon,
+    &super::ink::SILHOUETTE,
+    &super::ink::TOON,
     &super::planar::Planar,
     &super::planar::BlobShadows,
     &super::planar::ShadowTexture,
-    &super::shadow_atlas::ShadowMap,
-    &super::shadow_atlas::ShadowTextureAtlas,
+    &super::shadow_atlas::SHADOW_MAP,
+    &super::shadow_atlas::SHADOW_TEXTURE_ATLAS,
 ];
 
 impl Default for RenderOptions {

@@ -24,54 +24,28 @@ use crate::gpu::Gpu;
 use crate::render::plan::PassPlan;
 use crate::scene::Scene;
 
-/// Lambert shading with ink lines.
-pub struct Silhouette;
-
-/// Toon shading with ink lines.
-pub struct Toon;
-
-impl Technique for Silhouette {
-    fn name(&self) -> &'static str {
-        "silhouette"
-    }
-
-    fn about(&self) -> &'static str {
-        "Lambert shading with ink lines (seed 002)"
-    }
-
-    fn plan(&self, options: &RenderOptions) -> Result<PassPlan> {
-        Ok(recipes::plan(options.cartoon.silhouette))
-    }
-
-    fn build<'s>(
-        &self,
-        gpu: &Arc<Gpu>,
-        scene: &'s Scene,
-        options: &RenderOptions,
-    ) -> Result<Box<dyn SceneRenderer + 's>> {
-        renderer::build(self, false, gpu, scene, options)
-    }
-
-    fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
-        method_variants(self.name(), options)
-    }
-
-    fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant> {
-        method_variants(self.name(), options)
-    }
-
-    fn describe(&self, options: &RenderOptions) -> String {
-        describe(self.name(), options)
-    }
+/// Ink on the scene's silhouettes, shaded Lambert or through a toon ramp.
+pub struct Ink {
+    name: &'static str,
+    about: &'static str,
+    toon: bool,
 }
 
-impl Technique for Toon {
+/// Lambert shading with ink lines.
+pub static SILHOUETTE: Ink =
+    Ink { name: "silhouette", about: "Lambert shading with ink lines (seed 002)", toon: false };
+
+/// Toon shading with ink lines.
+pub static TOON: Ink =
+    Ink { name: "toon", about: "toon shading (N.L through a ramp) with ink lines (seed 002)", toon: true };
+
+impl Technique for Ink {
     fn name(&self) -> &'static str {
-        "toon"
+        self.name
     }
 
     fn about(&self) -> &'static str {
-        "toon shading (N.L through a ramp) with ink lines (seed 002)"
+        self.about
     }
 
     fn plan(&self, options: &RenderOptions) -> Result<PassPlan> {
@@ -84,19 +58,19 @@ impl Technique for Toon {
         scene: &'s Scene,
         options: &RenderOptions,
     ) -> Result<Box<dyn SceneRenderer + 's>> {
-        renderer::build(self, true, gpu, scene, options)
+        renderer::build(self, self.toon, gpu, scene, options)
     }
 
     fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
-        method_variants(self.name(), options)
+        method_variants(self.name, options)
     }
 
     fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant> {
-        method_variants(self.name(), options)
+        method_variants(self.name, options)
     }
 
     fn describe(&self, options: &RenderOptions) -> String {
-        describe(self.name(), options)
+        format!("{} ({}, {})", self.name, options.stencil.name(), options.cartoon.silhouette.name())
     }
 }
 
@@ -110,8 +84,4 @@ fn method_variants(name: &str, options: &RenderOptions) -> Vec<Variant> {
             Variant { label: format!("{name} {}", method.name()), options }
         })
         .collect()
-}
-
-fn describe(name: &str, options: &RenderOptions) -> String {
-    format!("{name} ({}, {})", options.stencil.name(), options.cartoon.silhouette.name())
 }

@@ -8,7 +8,7 @@ use image::RgbaImage;
 use super::read_back::read_shadow_texture;
 use super::renderer::{build, ShadowPasses};
 use super::stats::AtlasInfo;
-use super::techniques::ShadowTextureAtlas;
+use super::techniques::SHADOW_TEXTURE_ATLAS;
 use crate::error::Result;
 use crate::gpu::Gpu;
 use crate::scene::Scene;
@@ -39,9 +39,9 @@ pub fn bake<'s>(
     options: &RenderOptions,
     progress: &mut dyn FnMut(BakeStep),
 ) -> Result<Baked<'s>> {
-    let options = RenderOptions { technique: &ShadowTextureAtlas, ..options.clone() };
+    let options = RenderOptions { technique: &SHADOW_TEXTURE_ATLAS, ..options.clone() };
     let mut layout = |done, total| progress(BakeStep::Layout { done, total });
-    let mut renderer = build(&ShadowTextureAtlas, ShadowKind::Atlas, gpu, scene, &options, &mut layout)?;
+    let mut renderer = build(&SHADOW_TEXTURE_ATLAS, ShadowKind::Atlas, gpu, scene, &options, &mut layout)?;
     progress(BakeStep::Rendering);
     renderer.frame_with(scene)?;
     Ok(Baked { scene, renderer })

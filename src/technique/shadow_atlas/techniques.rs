@@ -11,17 +11,30 @@ use crate::scene::Scene;
 use crate::technique::interface::{BenchTable, RenderOptions, SceneRenderer, Technique, Variant};
 use crate::technique::options::{LightMode, ShadowKind};
 
+/// One of the two seed 004 techniques: the shadow map sampled in the scene pass, or shadow
+/// textures baked from it into each model's atlas.
+pub struct ShadowTechnique {
+    kind: ShadowKind,
+    about: &'static str,
+}
+
 /// A depth-compared shadow map from the light.
-pub struct ShadowMap;
+pub static SHADOW_MAP: ShadowTechnique = ShadowTechnique {
+    kind: ShadowKind::Map,
+    about: "a depth-compared shadow map from the light (seed 004's comparison)",
+};
 
 /// Shadow textures baked into each model's atlas from the shadow map.
-pub struct ShadowTextureAtlas;
+pub static SHADOW_TEXTURE_ATLAS: ShadowTechnique = ShadowTechnique {
+    kind: ShadowKind::Atlas,
+    about: "shadow textures baked into each model's atlas from the shadow map (seed 004)",
+};
 
 /// The technique that draws `kind`.
 pub fn technique_of(kind: ShadowKind) -> &'static dyn Technique {
     match kind {
-        ShadowKind::Map => &ShadowMap,
-        ShadowKind::Atlas => &ShadowTextureAtlas,
+        ShadowKind::Map => &SHADOW_MAP,
+        ShadowKind::Atlas => &SHADOW_TEXTURE_ATLAS,
     }
 }
 
@@ -49,21 +62,17 @@ fn light_variants(name: &str, options: &RenderOptions) -> Vec<Variant> {
         .collect()
 }
 
-fn describe(name: &str, options: &RenderOptions) -> String {
-    format!("{name} ({}, {} light)", options.stencil.name(), options.shadow_atlas.light.name())
-}
-
-impl Technique for ShadowMap {
+impl Technique for ShadowTechnique {
     fn name(&self) -> &'static str {
-        ShadowKind::Map.name()
+        self.kind.name()
     }
 
     fn about(&self) -> &'static str {
-        "a depth-compared shadow map from the light (seed 004's comparison)"
+        self.about
     }
 
     fn plan(&self, _options: &RenderOptions) -> Result<PassPlan> {
-        Ok(plan(ShadowKind::Map))
+        Ok(plan(self.kind))
     }
 
     fn build<'s>(
@@ -72,7 +81,7 @@ impl Technique for ShadowMap {
         scene: &'s Scene,
         options: &RenderOptions,
     ) -> Result<Box<dyn SceneRenderer + 's>> {
-        build_boxed(&ShadowMap, ShadowKind::Map, gpu, scene, options)
+        build_boxed(technique_of(self.kind), self.kind, gpu, scene, options)
     }
 
     fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant> {
@@ -80,42 +89,7 @@ impl Technique for ShadowMap {
     }
 
     fn describe(&self, options: &RenderOptions) -> String {
-        describe(self.name(), options)
-    }
-
-    fn bench_table(&self) -> Option<BenchTable> {
-        Some(BenchTable::Seed004Table1)
-    }
-}
-
-impl Technique for ShadowTextureAtlas {
-    fn name(&self) -> &'static str {
-        ShadowKind::Atlas.name()
-    }
-
-    fn about(&self) -> &'static str {
-        "shadow textures baked into each model's atlas from the shadow map (seed 004)"
-    }
-
-    fn plan(&self, _options: &RenderOptions) -> Result<PassPlan> {
-        Ok(plan(ShadowKind::Atlas))
-    }
-
-    fn build<'s>(
-        &self,
-        gpu: &Arc<Gpu>,
-        scene: &'s Scene,
-        options: &RenderOptions,
-    ) -> Result<Box<dyn SceneRenderer + 's>> {
-        build_boxed(&ShadowTextureAtlas, ShadowKind::Atlas, gpu, scene, options)
-    }
-
-    fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant> {
-        light_variants(self.name(), options)
-    }
-
-    fn describe(&self, options: &RenderOptions) -> String {
-        describe(self.name(), options)
+        format!("{} ({}, {} light)", self.name(), options.stencil.name(), options.shadow_atlas.light.name())
     }
 
     fn bench_table(&self) -> Option<BenchTable> {
