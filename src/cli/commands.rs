@@ -11,8 +11,8 @@ use crate::profile::report::{ProfileReport, ReportContext, ReportFormat};
 use crate::scene::{builtin_scene_at, scene_and_warnings_from_gltf, Scene, BUILTIN_SCENES, OTHER_SCENES};
 use crate::technique::interface::BenchTable;
 use crate::technique::{
-    alpha_counter, by_name, render_scene, shadow_atlas, CartoonOptions, Normalize, PlanarOptions, RenderOptions,
-    ShadowAtlasOptions, ShadowVolumeOptions, TECHNIQUES,
+    by_name, render_scene, shadow_atlas, CartoonOptions, Normalize, PlanarOptions, RenderOptions, ShadowAtlasOptions,
+    ShadowVolumeOptions, TECHNIQUES,
 };
 
 pub fn run(cli: Cli) -> Result<()> {
@@ -58,37 +58,35 @@ fn load_scene(name: &str, time: f32) -> Result<Scene> {
 }
 
 fn options(frame: &FrameArgs) -> Result<RenderOptions> {
-    Ok(RenderOptions {
+    let options = RenderOptions {
         width: frame.size.0,
         height: frame.size.1,
         stencil: frame.stencil,
         technique: by_name(&frame.technique)?,
         shadow_volume: ShadowVolumeOptions {
-            increment: alpha_counter::check_increment(frame.increment)?,
+            increment: frame.increment,
             method: frame.volume_method,
             normalize: frame.normalize,
             ..Default::default()
         },
         shadow_atlas: ShadowAtlasOptions {
-            map_size: shadow_atlas::check_size("--shadow-map-size", frame.shadow_map_size)?,
-            texture_size: shadow_atlas::check_size("--shadow-texture-size", frame.shadow_texture_size)?,
+            map_size: frame.shadow_map_size,
+            texture_size: frame.shadow_texture_size,
             light: frame.light,
         },
         count_overdraw: false,
-        cartoon: {
-            let cartoon = CartoonOptions {
-                select: CartoonOptions::parse_select(&frame.select),
-                silhouette: frame.silhouette,
-                crease_deg: frame.crease_angle,
-                line_width: frame.line_width,
-                outline_width: frame.outline_width,
-                ..Default::default()
-            };
-            cartoon.check()?;
-            cartoon
+        cartoon: CartoonOptions {
+            select: CartoonOptions::parse_select(&frame.select),
+            silhouette: frame.silhouette,
+            crease_deg: frame.crease_angle,
+            line_width: frame.line_width,
+            outline_width: frame.outline_width,
+            ..Default::default()
         },
         planar: PlanarOptions { shadow_factor: frame.shadow_factor, ..Default::default() },
-    })
+    };
+    options.check()?;
+    Ok(options)
 }
 
 /// Refuses an output path whose folder does not exist before any rendering is done.

@@ -31,7 +31,12 @@ pub fn main() -> ExitCode {
             // clap's first line says what is wrong; usage follows in `--help`.
             let rendered = e.render().to_string();
             let first = rendered.lines().next().unwrap_or("error: invalid arguments");
-            eprintln!("nostencil: {first} (see nostencil --help)");
+            // A value-enum option's choices stay on the one line.
+            let choices = rendered.lines().map(str::trim).find(|l| l.starts_with("[possible values:"));
+            match choices {
+                Some(choices) => eprintln!("nostencil: {first} {choices} (see nostencil --help)"),
+                None => eprintln!("nostencil: {first} (see nostencil --help)"),
+            }
             return ExitCode::from(2);
         }
     };

@@ -123,12 +123,12 @@ pub fn build_typed<'s, P: Passes + 's>(
     options: &RenderOptions,
     make: impl FnOnce(BuildContext) -> Result<P>,
 ) -> Result<FrameRenderer<'s, P>> {
-    let options = technique.resolve(scene, options)?;
-    let plan = technique.plan(&options)?;
+    options.check()?;
+    let plan = technique.plan(options)?;
     let colour_feedback = plan.passes.iter().any(|p| p.reads_colour);
     let mut renderer = Renderer::new(gpu, options.width, options.height, options.stencil, colour_feedback)?;
     renderer.count_overdraw = options.count_overdraw;
-    let passes = make(BuildContext { gpu, renderer: &renderer, options: &options, plan: &plan })?;
+    let passes = make(BuildContext { gpu, renderer: &renderer, options, plan: &plan })?;
     let frame_pass = renderer.targets.render_pass;
     let frame_layout = renderer.frame.layout;
     let pipelines = PlanPipelines::build(

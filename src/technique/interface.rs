@@ -33,6 +33,14 @@ pub struct RenderOptions {
 }
 
 impl RenderOptions {
+    /// Checks every family's options, whichever technique is chosen (a typo in an option the
+    /// technique ignores is still a typo).
+    pub fn check(&self) -> Result<()> {
+        self.shadow_volume.check()?;
+        self.shadow_atlas.check()?;
+        self.cartoon.check()
+    }
+
     /// These options with another technique.
     pub fn with_technique(&self, technique: &'static dyn Technique) -> Self {
         RenderOptions { technique, ..self.clone() }
@@ -55,15 +63,9 @@ pub trait Technique: Sync + 'static {
     fn about(&self) -> &'static str;
 
     /// The passes of a frame with `options`, in the order they run. Everything that decides the
-    /// plan is in the options (the shadow-volume counting method is resolved by then: see
-    /// [`Technique::resolve`]).
+    /// plan is in the options: a choice that depends on the scene (the shadow-volume counting
+    /// method under `auto`) is made by `build`, which plans with the resolved options.
     fn plan(&self, options: &RenderOptions) -> Result<PassPlan>;
-
-    /// Options with every scene-dependent choice made for `scene` (the shadow-volume counting
-    /// method under `auto`); the identity for most techniques.
-    fn resolve(&self, _scene: &Scene, options: &RenderOptions) -> Result<RenderOptions> {
-        Ok(options.clone())
-    }
 
     /// Its renderer for `scene`, built once and then asked for frames.
     fn build<'s>(

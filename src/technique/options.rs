@@ -2,6 +2,7 @@
 //! a port set. (Which technique, the size and the stencil path are in `RenderOptions`, beside
 //! the `Technique` interface.)
 
+use super::alpha_counter;
 use crate::error::{Error, Result};
 
 crate::names::named_enum! {
@@ -167,4 +168,19 @@ pub fn check_size(what: &str, size: u32) -> Result<u32> {
         return Err(Error::InvalidInput(format!("{what} {size}: use a power of two from 16 to 4096")));
     }
     Ok(size)
+}
+
+impl ShadowVolumeOptions {
+    /// Checks the numbers a user typed (k in 1..=8).
+    pub fn check(&self) -> Result<()> {
+        alpha_counter::check_increment(self.increment).map(|_| ())
+    }
+}
+
+impl ShadowAtlasOptions {
+    /// Checks the map and texture sides (powers of two in 16..=4096).
+    pub fn check(&self) -> Result<()> {
+        check_size("--shadow-map-size", self.map_size)?;
+        check_size("--shadow-texture-size", self.texture_size).map(|_| ())
+    }
 }
