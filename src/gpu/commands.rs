@@ -6,19 +6,22 @@ use ash::vk;
 use super::context::Gpu;
 use crate::error::{Result, VkContext};
 
+/// One primary command buffer from the GPU's pool (freed by the caller, into the same pool).
+pub fn allocate_primary(gpu: &Gpu) -> Result<vk::CommandBuffer> {
+    let pool = gpu.command_pool();
+    let info = vk::CommandBufferAllocateInfo::default()
+        .command_pool(*pool)
+        .level(vk::CommandBufferLevel::PRIMARY)
+        .command_buffer_count(1);
+    // SAFETY: the pool belongs to this device and is locked while it allocates; `info` asks for
+    // exactly one buffer, so `[0]` exists.
+    Ok(unsafe { gpu.raw().allocate_command_buffers(&info) }.vk("vkAllocateCommandBuffers")?[0])
+}
+
 /// Records `record` into a one-time command buffer, submits it and waits for completion.
 pub fn submit_and_wait<T>(gpu: &Gpu, record: impl FnOnce(vk::CommandBuffer) -> Result<T>) -> Result<T> {
     let device = gpu.raw();
-    let cmd = {
-        let pool = gpu.command_pool();
-        let info = vk::CommandBufferAllocateInfo::default()
-            .command_pool(*pool)
-            .level(vk::CommandBufferLevel::PRIMARY)
-            .command_buffer_count(1);
-        // SAFETY: the pool is locked while it allocates, and `info` asks for exactly one buffer,
-        // so `[0]` exists.
-        unsafe { device.allocate_command_buffers(&info) }.vk("vkAllocateCommandBuffers")?[0]
-    };
+    let cmd = allocate_primary(gpu)?;
     let free = || {
         let pool = gpu.command_pool();
         // SAFETY: `cmd` came from this pool and is not pending: it was never submitted, or the

@@ -200,15 +200,7 @@ impl FrameSlots {
         let device = gpu.raw();
         let mut slots = FrameSlots { gpu: gpu.clone(), slots: Vec::new(), current: 0 };
         for _ in 0..FRAMES_IN_FLIGHT {
-            let cmd = {
-                let pool = gpu.command_pool();
-                let info = vk::CommandBufferAllocateInfo::default()
-                    .command_pool(*pool)
-                    .level(vk::CommandBufferLevel::PRIMARY)
-                    .command_buffer_count(1);
-                // SAFETY: the pool belongs to this device and is locked while it allocates.
-                unsafe { device.allocate_command_buffers(&info) }.vk("vkAllocateCommandBuffers")?[0]
-            };
+            let cmd = crate::gpu::commands::allocate_primary(gpu)?;
             let image_available =
                 // SAFETY: `gpu` holds the device; plain create infos.
                 unsafe { device.create_semaphore(&vk::SemaphoreCreateInfo::default(), None) }.vk("vkCreateSemaphore");
