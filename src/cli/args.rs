@@ -159,7 +159,7 @@ pub struct FrameArgs {
     /// shadow-volume: how counts become a mask.
     #[arg(long, value_enum, default_value_t)]
     pub normalize: Normalize,
-    /// outline: objects to outline, by name (default: the scene's first closed object).
+    /// outline: objects to outline, by name (default: the scene's first shadow caster).
     #[arg(long, value_name = "NAME,...", default_value = "")]
     pub select: String,
     /// silhouette/toon: how ink is found: `edges` (CPU, screen-space quads), `shader` (N.V rim)

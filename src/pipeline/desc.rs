@@ -66,7 +66,7 @@ impl VertexLayout {
     }
 }
 
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct PipelineDesc {
     /// The pass name this pipeline draws (shown in profiles and the `passes` table).
     pub name: &'static str,

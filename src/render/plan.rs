@@ -98,6 +98,11 @@ pub enum When {
 }
 
 impl When {
+    /// Whether passes conditioned on `self` run in a frame where `conditions` hold.
+    pub fn holds_in(self, conditions: &[When]) -> bool {
+        self == When::Always || conditions.contains(&self)
+    }
+
     pub fn describe(&self) -> &'static str {
         match self {
             When::Always => "every frame",
@@ -195,9 +200,9 @@ impl PlannedPass {
         self
     }
 
-    /// The pass's main pipeline (a `commands` pass has none: do not ask it).
-    pub fn pipeline(&self) -> &PipelineDesc {
-        &self.pipelines[0]
+    /// The pass's main pipeline (none for a pass of transfer commands).
+    pub fn pipeline(&self) -> Option<&PipelineDesc> {
+        self.pipelines.first()
     }
 }
 
@@ -261,9 +266,7 @@ impl PlanPipelines {
                 let key = (desc.name, pass.target);
                 let index = match index_of.get(&key) {
                     Some(&index) => {
-                        if built[index].desc.fixed != desc.fixed
-                            || built[index].desc.fragment_shader != desc.fragment_shader
-                        {
+                        if built[index].desc != *desc {
                             return Err(Error::Internal(format!(
                                 "two different pipelines are both called '{}' in one plan",
                                 desc.name

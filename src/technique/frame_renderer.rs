@@ -101,7 +101,7 @@ pub struct BuildContext<'a> {
     pub plan: &'a PassPlan,
 }
 
-/// Builds `technique`'s renderer for `scene`: resolves the options for the scene, plans the
+/// Builds `technique`'s renderer for `scene`: checks the options, plans the
 /// frame, makes the frame renderer (with colour feedback when a pass reads the colour target),
 /// lets `make` build the technique's resources, then the plan's pipelines.
 pub fn build<'s, P: Passes + 's>(
@@ -187,7 +187,7 @@ impl<P: Passes> SceneRenderer for FrameRenderer<'_, P> {
         }
         let clear = scene.background.extend(self.passes.clear_alpha()).to_array();
         let conditions = self.passes.conditions(scene);
-        let holds = |when: When| when == When::Always || conditions.contains(&when);
+        let holds = |when: When| when.holds_in(&conditions);
         let draws = FrameDraws { passes: &self.passes, scene };
         let (plan, pipelines) = (&self.plan, &self.pipelines);
         let output = self.renderer.render_with_prepass(

@@ -223,7 +223,7 @@ impl TechniqueFrame {
 
     /// Whether the passes conditioned on `when` ran in this frame.
     pub fn held(&self, when: When) -> bool {
-        when == When::Always || self.conditions.contains(&when)
+        when.holds_in(&self.conditions)
     }
 }
 

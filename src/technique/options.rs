@@ -77,7 +77,7 @@ crate::names::named_enum! {
 
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct CartoonOptions {
-    /// Objects to outline (`outline`); empty: the scene's first closed object.
+    /// Objects to outline (`outline`); empty: the scene's first shadow caster, else its first object.
     pub select: Vec<String>,
     pub silhouette: SilhouetteMethod,
     /// Edges whose faces fold by more than this many degrees are creases.

@@ -29,8 +29,7 @@ use crate::technique::options::SilhouetteMethod;
 /// The ink, in every method.
 const INK_COLOUR: Vec4 = Vec4::new(0.04, 0.04, 0.06, 1.0);
 
-/// Builds the renderer of `technique` (`toon`: the scene through the toon ramp); the options
-/// are checked first.
+/// Builds the renderer of `technique` (`toon`: the scene through the toon ramp).
 pub fn build<'s>(
     technique: &dyn Technique,
     toon: bool,
@@ -39,7 +38,6 @@ pub fn build<'s>(
     options: &RenderOptions,
 ) -> Result<Box<dyn SceneRenderer + 's>> {
     let cartoon = &options.cartoon;
-    cartoon.check()?;
     let method = cartoon.silhouette;
     let shading = Shading { toon, rim: method == SilhouetteMethod::Shader };
     frame_renderer::build(technique, gpu, scene, options, |ctx| {

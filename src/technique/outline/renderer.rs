@@ -21,15 +21,15 @@ use crate::technique::frame_renderer::{self, Passes};
 use crate::technique::interface::RenderOptions;
 use crate::technique::interface::{FrameStats, SceneRenderer};
 
-/// Builds the renderer; the options and the selection are checked first.
+/// Builds the renderer; an unknown selected name is refused before anything is uploaded.
 pub fn build<'s>(
     technique: &Outline,
     gpu: &Arc<Gpu>,
     scene: &'s Scene,
     options: &RenderOptions,
 ) -> Result<Box<dyn SceneRenderer + 's>> {
+    // The numbers are checked by `frame_renderer::build`; the selection needs the scene.
     let cartoon = &options.cartoon;
-    cartoon.check()?;
     let selected = resolve_selection(scene, &cartoon.select)?;
     let [r, g, b] = cartoon.outline_colour.map(|c| c as f32 / 255.0);
     let extrusion = Extrusion { width_px: cartoon.outline_width, colour: Vec4::new(r, g, b, 1.0) };

@@ -26,7 +26,7 @@ use crate::render::{FrameOutput, FrameRecorder, GpuMesh, ObjectPush, Renderer};
 use crate::scene::{Light, PoseTracker, Scene};
 use crate::technique::frame_renderer::{self, FrameRenderer, Passes};
 use crate::technique::interface::{FrameStats, RenderOptions, Technique};
-use crate::technique::options::{check_size, LightMode, ShadowAtlasOptions, ShadowKind};
+use crate::technique::options::{LightMode, ShadowAtlasOptions, ShadowKind};
 
 /// Per mesh: the mesh vertex and the atlas UV of each GPU vertex, to lay a re-posed skin out
 /// again.
@@ -81,9 +81,8 @@ pub fn build<'s>(
     options: &RenderOptions,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<FrameRenderer<'s, ShadowPasses>> {
-    let map_size = check_size("--shadow-map-size", options.shadow_atlas.map_size)?;
-    let texture_size = check_size("--shadow-texture-size", options.shadow_atlas.texture_size)?;
-    let atlas_options = ShadowAtlasOptions { map_size, texture_size, ..options.shadow_atlas };
+    // `frame_renderer::build_typed` checks the options before `make` runs.
+    let atlas_options = options.shadow_atlas;
     frame_renderer::build_typed(technique, gpu, scene, options, |_| {
         ShadowPasses::new(gpu, scene, kind, atlas_options, progress)
     })

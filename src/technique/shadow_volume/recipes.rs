@@ -157,16 +157,19 @@ pub fn seed_normalisation(iterations: usize) -> Vec<PlannedPass> {
     passes
 }
 
-/// The frame's passes for `options` at `stencil`, counting with z-fail or z-pass (`auto` must
-/// have been resolved for the scene: see `casters::choose_zfail`).
+/// The frame's passes for `options` at `stencil`, counting with z-fail or z-pass. `auto` is
+/// decided per scene when the renderer is built (`casters::choose_zfail`), so a plan asked for
+/// without a scene must name the method.
 pub fn plan(options: &ShadowVolumeOptions, stencil: StencilMode) -> Result<PassPlan> {
-    let zfail = match options.method {
-        VolumeMethod::ZPass => false,
-        VolumeMethod::ZFail => true,
-        VolumeMethod::Auto => {
-            return Err(Error::Internal("the shadow-volume plan needs z-pass or z-fail, not auto".into()))
-        }
-    };
+    let zfail =
+        match options.method {
+            VolumeMethod::ZPass => false,
+            VolumeMethod::ZFail => true,
+            VolumeMethod::Auto => return Err(Error::InvalidInput(
+                "--volume-method auto is chosen per scene: a shadow-volume plan without a scene needs zpass or zfail"
+                    .into(),
+            )),
+        };
     let k = alpha_counter::check_increment(options.increment)?;
     let step = k as f32 / 255.0;
     let factor = options.shadow_factor as f32 / 255.0;

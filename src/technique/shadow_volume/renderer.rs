@@ -1,5 +1,6 @@
-//! The shadow-volume renderer: casters prepared once, volumes rebuilt and uploaded each frame
-//! (as a moving light or mesh needs), drawn by the plan of `recipes`.
+//! The shadow-volume renderer: casters prepared once, volumes rebuilt and uploaded every frame
+//! (whether or not the light or a caster moved: a cache is left for later), drawn by the plan
+//! of `recipes`.
 
 use std::any::Any;
 use std::sync::Arc;
@@ -212,7 +213,7 @@ pub fn record_seed_normalisation(
     iterations: usize,
 ) -> Result<()> {
     for pass in seed_normalisation(iterations) {
-        let pipeline = if pass.pipeline().name == n0.desc.name { n0 } else { iteration };
+        let pipeline = if pass.pipeline().is_some_and(|d| d.name == n0.desc.name) { n0 } else { iteration };
         let Push::Constant(value) = pass.push else {
             return Err(Error::Internal(format!("normalisation pass '{}' has no constant", pass.name)));
         };
