@@ -168,6 +168,8 @@ pub fn read_back_mip(gpu: &Arc<Gpu>, image: vk::Image, mip: u32, side: u32) -> R
             )
         };
         barriers::read_back_to_sampled(gpu.raw(), cmd, image, mip);
+        // The copy's writes become visible to the host read after the fence wait.
+        barriers::transfer_to_host(gpu.raw(), cmd, readback.raw);
         Ok(())
     })?;
     Ok(readback.read()?.to_vec())
@@ -184,6 +186,9 @@ pub fn record_mip_chain(
     mip_levels: u32,
     final_layout: vk::ImageLayout,
 ) {
+    if mip_levels == 0 {
+        return; // no image has no mips: nothing to build or transition
+    }
     let device = gpu.raw();
     let (mut w, mut h) = (width as i32, height as i32);
     for mip in 1..mip_levels {

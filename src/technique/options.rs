@@ -124,14 +124,24 @@ impl CartoonOptions {
     }
 }
 
-crate::names::named_enum! {
-    /// Which of the two seed 004 shadow techniques a renderer draws (named as the technique).
-    pub enum ShadowKind {
-        /// Shadow textures baked into each model's atlas (the paper's method).
-        Atlas = "shadow-texture-atlas",
-        /// The shadow map sampled in the scene pass.
-        #[default]
-        Map = "shadow-map",
+/// Which of the two seed 004 shadow techniques a renderer draws. Not a command-line value
+/// (the technique is): JSON keeps its short spelling, `name()` is the technique's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ShadowKind {
+    /// Shadow textures baked into each model's atlas (the paper's method).
+    Atlas,
+    /// The shadow map sampled in the scene pass.
+    Map,
+}
+
+impl ShadowKind {
+    /// The technique that draws it.
+    pub fn name(self) -> &'static str {
+        match self {
+            ShadowKind::Atlas => "shadow-texture-atlas",
+            ShadowKind::Map => "shadow-map",
+        }
     }
 }
 
