@@ -157,6 +157,7 @@ fn unknown_selection_is_refused_with_the_objects_names() {
     assert!(error.contains("teapot") && error.contains("sphere"), "{error}");
     let bad_width = CartoonOptions { line_width: 0.0, ..CartoonOptions::default() };
     assert!(bad_width.check().is_err());
+    common::assert_no_validation_messages(&gpu);
 }
 
 /// A scene with one object in front of a camera on the +Z axis looking at the origin.
