@@ -2,7 +2,7 @@
 //! tools and the CPU skinning read. Indices between the lists (`Node::mesh`, `Skin::joints`,
 //! `Primitive::material`, ...) are checked at load, so a consumer may index with them directly.
 
-use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
+use glam::{Mat3, Mat4, Quat, Vec2, Vec3, Vec4};
 
 mod animation_data;
 
@@ -17,7 +17,8 @@ pub const MAX_JOINTS: usize = crate::gpu::mobile_profile::MAX_UNIFORM_BUFFER_RAN
 pub struct Model {
     pub meshes: Vec<Mesh>,
     pub materials: Vec<Material>,
-    /// Decoded base-colour textures only, in first-use order (not the glTF texture order).
+    /// Decoded colour textures (base colour, emissive), in first-use order (not the glTF
+    /// texture order).
     pub textures: Vec<TextureRgba8>,
     pub nodes: Vec<Node>,
     /// The nodes of the scene to show: the glTF `scene` (or the first scene), or every node
@@ -126,8 +127,31 @@ pub enum AlphaMode {
 pub struct TextureRef {
     /// Index into `Model::textures`.
     pub texture: usize,
-    /// Which UV set: 0 = `uv0`, 1 = `uv1`.
+    /// Which UV set: 0 = `uv0`, 1 = `uv1` (KHR_texture_transform's `texCoord` override already
+    /// applied).
     pub tex_coord: u32,
+    /// KHR_texture_transform, applied to the UV before sampling.
+    pub transform: Option<TextureTransform>,
+}
+
+/// KHR_texture_transform: `uv' = T(offset) * R(rotation) * S(scale) * uv`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TextureTransform {
+    pub offset: Vec2,
+    /// Radians, counter-clockwise in UV space.
+    pub rotation: f32,
+    pub scale: Vec2,
+}
+
+impl TextureTransform {
+    /// The 3x3 matrix of the extension's text: translation * rotation * scale.
+    pub fn matrix(&self) -> Mat3 {
+        let translation = Mat3::from_cols(Vec3::X, Vec3::Y, self.offset.extend(1.0));
+        let (s, c) = self.rotation.sin_cos();
+        let rotation = Mat3::from_cols(Vec3::new(c, -s, 0.0), Vec3::new(s, c, 0.0), Vec3::Z);
+        let scale = Mat3::from_diagonal(self.scale.extend(1.0));
+        translation * rotation * scale
+    }
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -138,9 +162,13 @@ pub struct Material {
     pub base_color_texture: Option<TextureRef>,
     pub metallic: f32,
     pub roughness: f32,
+    /// Linear RGB factor, multiplied with `emissive_texture`.
     pub emissive: Vec3,
+    pub emissive_texture: Option<TextureRef>,
     pub alpha_mode: AlphaMode,
     pub double_sided: bool,
+    /// KHR_materials_unlit: the base colour is the shaded colour.
+    pub unlit: bool,
 }
 
 impl Default for Material {
@@ -153,8 +181,10 @@ impl Default for Material {
             metallic: 1.0,
             roughness: 1.0,
             emissive: Vec3::ZERO,
+            emissive_texture: None,
             alpha_mode: AlphaMode::Opaque,
             double_sided: false,
+            unlit: false,
         }
     }
 }

@@ -25,9 +25,11 @@ impl Loader<'_> {
                     ));
                     None
                 }
-                Some(info) => self
-                    .texture(info.index.value(), &what)?
-                    .map(|texture| TextureRef { texture, tex_coord: info.tex_coord }),
+                Some(info) => self.texture(info.index.value(), &what)?.map(|texture| TextureRef {
+                    texture,
+                    tex_coord: info.tex_coord,
+                    transform: None,
+                }),
             };
             let alpha_mode = match checked(&m.alpha_mode) {
                 Some(json::material::AlphaMode::Mask) => {
@@ -43,8 +45,10 @@ impl Loader<'_> {
                 metallic: pbr.metallic_factor.0,
                 roughness: pbr.roughness_factor.0,
                 emissive: Vec3::from_array(m.emissive_factor.0),
+                emissive_texture: None,
                 alpha_mode,
                 double_sided: m.double_sided,
+                unlit: false,
             });
         }
         Ok(out)
