@@ -26,10 +26,20 @@ fn render_writes_a_png_of_the_requested_size() {
     assert!(!err.contains("vulkan validation"), "{err}");
     let image = common::read_png(&out);
     assert_eq!(image.dimensions(), (192, 128));
-    // The default scene, lit: the sky keeps the clear colour along the whole top row, and the
+    // With no options, the project's point: stencil-free shadow volumes. The frame is the lit
+    // one with shadows, i.e. darker than it in many pixels and lighter in none.
+    assert!(err.contains("shadow-volume"), "{err}");
+    let lit_out = dir.join("lit.png");
+    common::run_ok(&["render", "--size", "192x128", "--technique", "lit", "--out", lit_out.to_str().unwrap()]);
+    let lit = common::read_png(&lit_out);
+    let darker = image.pixels().zip(lit.pixels()).filter(|(p, q)| p != q).inspect(|(p, q)| {
+        assert!((0..3).all(|c| p.0[c] <= q.0[c]), "a shadow made a pixel lighter: {p:?} vs lit {q:?}");
+    });
+    assert!(darker.count() > 300, "the default render shows no shadows");
+    // The default scene: the sky keeps the clear colour along the whole top row, and the
     // ground at the bottom centre has lit.frag's colour for an upward face under the light.
     let scene = builtin_scene("default").expect("scene");
-    let sky = common::unorm8(scene.background);
+    let sky = common::srgb8(scene.background);
     assert!((0..192).all(|x| image.get_pixel(x, 0).0 == sky), "top row is not the sky {sky:?}");
     let ground = common::lit_ground(&scene);
     let bottom = image.get_pixel(96, 127).0;
@@ -67,6 +77,8 @@ fn info_prints_device_profile_and_limits() {
     assert!(limits.iter().any(|l| l["name"] == "maxPushConstantsSize" && l["profile"] == "128"));
     assert!(limits.iter().all(|l| l["ok"] == true));
     assert_eq!(info["forbidden_features"].as_array().unwrap().len(), 6);
+    assert_eq!(info["frame_colour_format"], "R8G8B8A8_SRGB");
+    assert!(info["frame_depth_format_reference"].as_str().is_some_and(|f| f.ends_with("S8_UINT")));
 }
 
 #[test]
@@ -134,7 +146,7 @@ fn what_the_gltf_loader_ignored_is_printed_as_a_warning() {
     let image = common::read_png(&out);
     assert_eq!(image.dimensions(), (48, 48));
     let scene = scene_from_gltf(&path, 0.0).expect("scene");
-    let sky = common::unorm8(scene.background);
+    let sky = common::srgb8(scene.background);
     assert_eq!((image.get_pixel(0, 0).0, image.get_pixel(47, 0).0), (sky, sky), "top corners are not the sky");
     let (bottom, ground) = (image.get_pixel(24, 47).0, common::lit_ground(&scene));
     assert!(common::near(&bottom, &ground, 1), "bottom centre {bottom:?}, lit ground {ground:?}");

@@ -35,9 +35,8 @@ fn default_scene_renders_lit_at_the_requested_size() {
 
     // The background keeps the clear colour at the top; the middle shows the lit box (blue
     // dominant) and the ground is lighter below it.
-    let background = (scene.background * 255.0).round();
     let top = image.get_pixel(128, 2).0;
-    assert_eq!([top[0] as f32, top[1] as f32, top[2] as f32], background.to_array());
+    assert_eq!(top[..3], common::srgb8(scene.background));
     // The ground at the bottom centre has lit.frag's colour for an upward face under the light.
     let (bottom, ground) = (image.get_pixel(128, 191).0, common::lit_ground(&scene));
     assert!(common::near(&bottom, &ground, 1), "bottom centre {bottom:?}, lit ground {ground:?}");
@@ -63,7 +62,7 @@ fn reference_frame_renders_the_same_lit_image() {
     let reference = render_scene(&gpu, &scene, &options).expect("reference").output;
     assert!(emulated.image == reference.image, "emulated and reference lit frames differ");
     // Equal, and not equally empty: the sky at the top, the lit ground at the bottom.
-    let sky = common::unorm8(scene.background);
+    let sky = common::srgb8(scene.background);
     let (top, bottom) = (reference.image.get_pixel(80, 0).0, reference.image.get_pixel(80, 119).0);
     assert_eq!(top[..3], sky, "top centre {top:?}, sky {sky:?}");
     let ground = common::lit_ground(&scene);

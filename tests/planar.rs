@@ -40,10 +40,18 @@ fn rgb_differences(a: &RgbaImage, b: &RgbaImage) -> usize {
     a.chunks_exact(4).zip(b.chunks_exact(4)).filter(|(p, q)| p[..3] != q[..3]).count()
 }
 
-/// What the blend unit computes for `x * f/255` on UNORM8 (DESIGN.md section 7).
+/// What the blend unit computes for `x * f/255` on the sRGB frame: the stored value decoded to
+/// linear light, multiplied by the destination alpha f/255 (linear UNORM8), encoded again.
+/// Vulkan lets the encode be approximate (lavapipe's is a polynomial): compare with
+/// [`darkened_once`], which allows that 1/255.
 fn darken(x: u8, f: u8) -> u8 {
-    let p = x as u32 * f as u32;
-    ((p + (p >> 8) + 128) >> 8) as u8
+    common::srgb_encode(common::srgb_decode(x) * (f as f32 / 255.0))
+}
+
+/// `p` is `q` darkened once by `f`, up to the sRGB encoder's rounding. Twice would be at least
+/// 2/255 further for every channel value above 6 (checked in the tests that use it).
+fn darkened_once(p: &[u8], q: &[u8], f: u8) -> bool {
+    (0..3).all(|c| p[c].abs_diff(darken(q[c], f)) <= 1)
 }
 
 /// The pixels the projected shadow darkened (RGB differs from the frame without shadows).
@@ -171,9 +179,12 @@ fn emulated_equals_reference_where_arms_and_torso_overlap_in_the_shadow() {
                         if *a && *t && *r && interior(&arm, x, y) && interior(&torso, x, y) {
                             let (p, q) =
                                 (&emulated.output.image.as_raw()[i * 4..], &unshadowed.output.image.as_raw()[i * 4..]);
-                            for c in 0..3 {
-                                assert_eq!(p[c], darken(q[c], FACTOR), "{name} {time}s pixel ({x},{y})");
-                            }
+                            assert!(
+                                darkened_once(p, q, FACTOR),
+                                "{name} {time}s pixel ({x},{y}): {:?} from {:?}",
+                                &p[..3],
+                                &q[..3]
+                            );
                             overlap_checked += 1;
                         }
                     }
@@ -201,13 +212,12 @@ fn every_shadowed_pixel_is_darkened_by_exactly_the_same_factor_and_only_on_recei
                 continue;
             }
             assert!(receivers[i], "{name}: pixel {i} changed but no receiver is visible there");
-            let once = [darken(q[0], FACTOR), darken(q[1], FACTOR), darken(q[2], FACTOR)];
-            assert_eq!(p[..3], once, "{name}: pixel {i} ({q:?}) is not darkened exactly once");
+            assert!(darkened_once(p, q, FACTOR), "{name}: pixel {i} ({q:?} to {p:?}) is not darkened exactly once");
             darkened += 1;
         }
         assert!(darkened > 100, "{name}: only {darkened} shadowed pixels");
         // The same check would catch double darkening: it changes every non-black pixel.
-        assert!((8u8..=255).all(|x| darken(darken(x, FACTOR), FACTOR) != darken(x, FACTOR)));
+        assert!((7u8..=255).all(|x| darken(darken(x, FACTOR), FACTOR).abs_diff(darken(x, FACTOR)) > 1));
     }
     common::assert_no_validation_messages(&gpu);
 }
@@ -391,8 +401,11 @@ fn shadow_texture_covers_the_planar_shadow_and_blobs_sit_under_the_casters() {
                 assert!(receivers[i], "{name}: pixel {i} darkened off the receivers");
                 darkened += 1;
                 let once = [darken(q[0], FACTOR), darken(q[1], FACTOR), darken(q[2], FACTOR)];
-                assert!((0..3).all(|c| p[c] >= once[c]), "{name}: pixel {i} darker than one shadow: {p:?} vs {once:?}");
-                exact += (p[..3] == once) as usize;
+                assert!(
+                    (0..3).all(|c| p[c] + 1 >= once[c]),
+                    "{name}: pixel {i} darker than one shadow: {p:?} vs {once:?}"
+                );
+                exact += darkened_once(p, q, FACTOR) as usize;
             }
         }
         // Same silhouette up to the texture's texels and filtering at the edges.

@@ -132,6 +132,11 @@ fn json_matches_the_table_and_totals_add_up() {
         assert!(row.contains(&pass["fragment_invocations"].to_string()), "{row}");
     }
     assert_eq!(report["technique_stats"]["saturated_pixels"], 0);
+    // The frame's formats are named: sRGB colour, and a depth format with no stencil aspect.
+    assert_eq!(report["frame_formats"]["colour"], "R8G8B8A8_SRGB");
+    let depth = report["frame_formats"]["depth"].as_str().expect("depth format");
+    assert!(!depth.contains("S8"), "emulated frame has no stencil: {depth}");
+    assert!(table.lines().next().is_some_and(|l| l.contains("colour R8G8B8A8_SRGB depth D")), "{table}");
 }
 
 #[test]
@@ -141,6 +146,8 @@ fn heatmap_chart_compare_and_passes_from_the_command_line() {
     let chart = dir.join("chart.svg");
     common::run_ok(&[
         "profile",
+        "--technique",
+        "lit",
         "--size",
         "96x64",
         "--heatmap",

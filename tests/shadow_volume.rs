@@ -8,6 +8,7 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec3, Vec4};
 use image::RgbaImage;
+use nostencil::frame::render_pass::COLOUR_FORMAT;
 use nostencil::frame::StencilMode;
 use nostencil::gpu::Gpu;
 use nostencil::mesh::MeshData;
@@ -129,7 +130,11 @@ fn normalisation_table_is_read_back_from_the_gpu() {
             .expect("frame");
         let alpha = output.image.get_pixel(3, 3).0[3];
         assert_eq!(alpha, *want, "after N0 and {steps} iteration(s)");
-        assert!(output.image.chunks_exact(4).all(|p| p[3] == *want && p[..3] == [128, 128, 128]));
+        // On the format the frame ships in: alpha is linear UNORM8 there, the colour sRGB.
+        assert_eq!(renderer.targets.desc.colour.format, COLOUR_FORMAT);
+        assert_eq!(COLOUR_FORMAT, ash::vk::Format::R8G8B8A8_SRGB);
+        let grey = common::srgb_encode(0.5);
+        assert!(output.image.chunks_exact(4).all(|p| p[3] == *want && p[..3] == [grey; 3]));
     }
     common::assert_no_validation_messages(&gpu);
 }
@@ -253,8 +258,7 @@ fn background_behind_volumes_is_never_darkened() {
     for name in ["default", "point-light", "overlap"] {
         let scene = builtin_scene(name).expect("scene");
         let unshadowed = lit(&gpu, &scene);
-        let sky = (scene.background * 255.0).round();
-        let sky = [sky.x as u8, sky.y as u8, sky.z as u8];
+        let sky = common::srgb8(scene.background);
         for method in [VolumeMethod::ZPass, VolumeMethod::ZFail] {
             let frame =
                 render(&gpu, &scene, StencilMode::Emulated, ShadowVolumeOptions { method, ..Default::default() });

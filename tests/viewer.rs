@@ -293,7 +293,7 @@ fn without_a_display_the_viewer_fails_in_one_line_and_offscreen_commands_still_w
     let image = rgb(&out);
     assert_eq!(image.dimensions(), (64, 48));
     let scene = nostencil::scene::builtin_scene("default").expect("scene");
-    let sky = common::unorm8(scene.background);
+    let sky = common::srgb8(scene.background);
     assert!((0..64).all(|x| image.get_pixel(x, 0).0 == sky), "top row is not the sky {sky:?}");
     let (bottom, ground) = (image.get_pixel(32, 47).0, common::lit_ground(&scene));
     assert!(common::near(&bottom, &ground, 1), "bottom centre {bottom:?}, lit ground {ground:?}");

@@ -8,6 +8,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::mobile_profile;
+use crate::technique::registry::DEFAULT_TECHNIQUE;
 use crate::technique::{LightMode, Normalize, SilhouetteMethod, VolumeMethod};
 
 #[derive(Debug, Parser)]
@@ -59,7 +60,7 @@ pub enum Command {
     },
     /// Print every pass of a technique with its fixed-function state, as a Markdown table.
     Passes {
-        #[arg(long, default_value = "lit")]
+        #[arg(long, default_value = DEFAULT_TECHNIQUE)]
         technique: String,
         /// shadow-volume: list only this normalisation path; all by default.
         #[arg(long, value_enum)]
@@ -142,7 +143,7 @@ pub struct FrameArgs {
     #[arg(long, value_enum, default_value_t)]
     pub stencil: StencilMode,
     /// Technique to render (`bench` also takes `all`).
-    #[arg(long, default_value = "lit")]
+    #[arg(long, default_value = DEFAULT_TECHNIQUE)]
     pub technique: String,
     /// Built-in scene name (see `nostencil info`) or a .gltf/.glb file.
     #[arg(long, default_value = "default")]

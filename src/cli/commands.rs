@@ -5,9 +5,12 @@ use std::sync::Arc;
 
 use super::args::{Cli, Command, FormatArg, FrameArgs, GpuArgs};
 use crate::error::{Error, Result};
+use crate::frame::render_pass::COLOUR_FORMAT;
+use crate::frame::targets::choose_depth_format;
+use crate::frame::StencilMode;
 use crate::gpu::{mobile_profile, DeviceChoice, Gpu, GpuOptions};
 use crate::profile::budget::Budget;
-use crate::profile::report::{ProfileReport, ReportContext, ReportFormat};
+use crate::profile::report::{FrameFormats, ProfileReport, ReportContext, ReportFormat};
 use crate::scene::{builtin_scene_at, scene_and_warnings_from_gltf, Scene, BUILTIN_SCENES, OTHER_SCENES};
 use crate::technique::interface::BenchTable;
 use crate::technique::{
@@ -160,6 +163,10 @@ fn profile(frame: &FrameArgs, format: FormatArg, outputs: &ProfileOutputs) -> Re
             scene: scene.name.clone(),
             technique: technique.into(),
             stencil: stencil.into(),
+            frame_formats: FrameFormats {
+                colour: format!("{COLOUR_FORMAT:?}"),
+                depth: format!("{:?}", choose_depth_format(&gpu, options.stencil)?),
+            },
         },
         &output.counters,
     );
@@ -302,6 +309,10 @@ struct InfoReport<'a> {
     enabled_features: mobile_profile::EnabledFeatures,
     forbidden_features: &'static [&'static str],
     lazily_allocated_memory: bool,
+    /// The frame's formats: colour (sRGB, alpha linear) and depth per stencil mode.
+    frame_colour_format: String,
+    frame_depth_format_emulated: String,
+    frame_depth_format_reference: String,
     limits: &'a [mobile_profile::LimitCheck],
     scenes: Vec<&'static str>,
     techniques: Vec<&'static str>,
@@ -322,6 +333,9 @@ fn info(args: &GpuArgs, json: bool) -> Result<()> {
         enabled_features: info.features,
         forbidden_features: &mobile_profile::FORBIDDEN_FEATURES,
         lazily_allocated_memory: info.has_lazily_allocated_memory,
+        frame_colour_format: format!("{COLOUR_FORMAT:?}"),
+        frame_depth_format_emulated: format!("{:?}", choose_depth_format(&gpu, StencilMode::Emulated)?),
+        frame_depth_format_reference: format!("{:?}", choose_depth_format(&gpu, StencilMode::Reference)?),
         limits: &info.limit_checks,
         scenes: BUILTIN_SCENES.iter().chain(OTHER_SCENES).map(|(n, _)| *n).collect(),
         techniques: TECHNIQUES.iter().map(|t| t.name()).collect(),
@@ -347,6 +361,10 @@ fn info(args: &GpuArgs, json: bool) -> Result<()> {
         } else {
             "no LAZILY_ALLOCATED memory type: ordinary device memory"
         }
+    );
+    println!(
+        "frame:     colour {} (sRGB-encoded RGB; alpha linear, the counter), depth {} (emulated) / {} (reference)",
+        report.frame_colour_format, report.frame_depth_format_emulated, report.frame_depth_format_reference
     );
     println!("\n{:<36} {:>10} {:>12}  ok", "limit", "profile", "device");
     for check in report.limits {
@@ -477,8 +495,7 @@ fn passes(technique: &str, normalize: Option<Normalize>) -> Result<()> {
         // plans depend on it.
         let kept = match normalize {
             Some(n) if normalisations > 1 => {
-                variant.options.stencil == crate::frame::StencilMode::Reference
-                    || variant.options.shadow_volume.normalize == n
+                variant.options.stencil == StencilMode::Reference || variant.options.shadow_volume.normalize == n
             }
             _ => true,
         };

@@ -1,10 +1,11 @@
 //! The frame: render-pass descriptions as data, the render targets, and the read-back image
-//! (an `image::RgbaImage`) written as PNG.
+//! (an `image::RgbaImage`) written as PNG, and the sRGB encoding the frame's colour uses.
 
 pub mod offscreen;
 pub mod png;
 pub mod readback;
 pub mod render_pass;
+pub mod srgb;
 pub mod targets;
 
 pub use png::{write_atomically, write_png};

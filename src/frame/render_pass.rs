@@ -41,7 +41,10 @@ pub struct RenderPassDesc {
     pub colour_feedback: bool,
 }
 
-pub const COLOUR_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
+/// The frame's colour: sRGB-encoded RGB as a phone's screen expects, blended in linear space by
+/// the hardware. Its alpha is plain linear UNORM8 (the spec leaves alpha out of the sRGB
+/// transfer), so the alpha counter's arithmetic is the same as on R8G8B8A8_UNORM.
+pub const COLOUR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
 
 pub fn format_has_stencil(format: vk::Format) -> bool {
     matches!(
@@ -188,7 +191,11 @@ impl AttachmentDesc {
 /// (colour-or-depth bytes, stencil bytes) per texel.
 fn texel_bytes(format: vk::Format) -> (u64, u64) {
     match format {
-        vk::Format::R8G8B8A8_UNORM | vk::Format::B8G8R8A8_UNORM | vk::Format::D32_SFLOAT => (4, 0),
+        vk::Format::R8G8B8A8_UNORM
+        | vk::Format::R8G8B8A8_SRGB
+        | vk::Format::B8G8R8A8_UNORM
+        | vk::Format::B8G8R8A8_SRGB
+        | vk::Format::D32_SFLOAT => (4, 0),
         vk::Format::D16_UNORM => (2, 0),
         vk::Format::D24_UNORM_S8_UINT => (3, 1),
         vk::Format::D32_SFLOAT_S8_UINT => (4, 1),

@@ -70,20 +70,42 @@ pub enum Transfer {
     Copy,
 }
 
-/// The swapchain formats that can show a `frame_format` (RGBA8) frame unchanged, best first,
-/// and how.
+/// The swapchain formats that can show a `frame_format` frame unchanged, best first, and how.
+///
+/// The frame is R8G8B8A8_SRGB: its bytes are already sRGB-encoded. An `_SRGB` swapchain image
+/// takes them as they are (a copy in the same byte order; a blit otherwise, which decodes and
+/// re-encodes, exactly for 8-bit values). A UNORM swapchain image shows its bytes as sRGB too,
+/// so a raw copy in the same byte order is right; a blit into UNORM would store the *decoded*
+/// (linear) values and darken the picture, so a UNORM image in another byte order is refused.
 fn classify(gpu: &Gpu, frame_format: vk::Format, format: vk::Format) -> Option<(u32, Transfer)> {
     // SAFETY: the physical device was enumerated from this live instance.
     let features = |f| unsafe { gpu.instance.raw.get_physical_device_format_properties(gpu.device.physical, f) };
     let can_blit = features(frame_format).optimal_tiling_features.contains(vk::FormatFeatureFlags::BLIT_SRC)
         && features(format).optimal_tiling_features.contains(vk::FormatFeatureFlags::BLIT_DST);
+    let frame_is_srgb = is_srgb(frame_format);
+    let same_bytes = byte_order(format) == byte_order(frame_format);
+    match (same_bytes, is_srgb(format) == frame_is_srgb) {
+        // The frame's own format, or its UNORM/sRGB twin: the bytes are the picture.
+        (true, true) => Some((0, Transfer::Copy)),
+        (true, false) => Some((2, Transfer::Copy)),
+        // Another byte order of the same encoding: the blit swizzles and keeps the values.
+        (false, true) if can_blit => Some((1, Transfer::Blit)),
+        _ => None,
+    }
+}
+
+fn is_srgb(format: vk::Format) -> bool {
+    matches!(format, vk::Format::R8G8B8A8_SRGB | vk::Format::B8G8R8A8_SRGB | vk::Format::A8B8G8R8_SRGB_PACK32)
+}
+
+/// The order of the four 8-bit channels in memory, for the RGBA8-family formats.
+fn byte_order(format: vk::Format) -> Option<&'static str> {
     match format {
-        vk::Format::R8G8B8A8_UNORM | vk::Format::A8B8G8R8_UNORM_PACK32 => {
-            Some(if can_blit { (0, Transfer::Blit) } else { (1, Transfer::Copy) })
-        }
-        vk::Format::B8G8R8A8_UNORM if can_blit => Some((0, Transfer::Blit)),
-        // Same bytes as the frame: shown as the PNG would be (values taken as sRGB-encoded).
-        vk::Format::R8G8B8A8_SRGB | vk::Format::A8B8G8R8_SRGB_PACK32 => Some((2, Transfer::Copy)),
+        vk::Format::R8G8B8A8_UNORM
+        | vk::Format::R8G8B8A8_SRGB
+        | vk::Format::A8B8G8R8_UNORM_PACK32
+        | vk::Format::A8B8G8R8_SRGB_PACK32 => Some("RGBA"),
+        vk::Format::B8G8R8A8_UNORM | vk::Format::B8G8R8A8_SRGB => Some("BGRA"),
         _ => None,
     }
 }
@@ -160,7 +182,7 @@ impl Swapchain {
             .map(|(_, f, transfer)| (f, transfer))
             .ok_or_else(|| {
                 Error::Device(format!(
-                    "no swapchain format can show the RGBA8 frame unchanged; the window offers {:?}",
+                    "no swapchain format can show the {frame_format:?} frame unchanged; the window offers {:?}",
                     formats.iter().map(|f| f.format).collect::<Vec<_>>()
                 ))
             })?;

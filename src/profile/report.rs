@@ -65,6 +65,8 @@ pub struct ProfileReport {
     pub stencil: String,
     pub width: u32,
     pub height: u32,
+    /// The frame's attachment formats (the colour is sRGB-encoded, its alpha linear).
+    pub frame_formats: FrameFormats,
     pub passes: Vec<PassRow>,
     pub totals: Totals,
     /// Bytes a tile-based GPU loads/stores per attachment, for every render pass the frame
@@ -80,6 +82,14 @@ pub struct ReportContext {
     pub scene: String,
     pub technique: String,
     pub stencil: String,
+    pub frame_formats: FrameFormats,
+}
+
+/// Vulkan format names of the frame's attachments.
+#[derive(Debug, Clone, Serialize)]
+pub struct FrameFormats {
+    pub colour: String,
+    pub depth: String,
 }
 
 impl ProfileReport {
@@ -111,6 +121,7 @@ impl ProfileReport {
             stencil: context.stencil,
             width: counters.width,
             height: counters.height,
+            frame_formats: context.frame_formats,
             passes,
             totals: Totals {
                 draws: counters.passes.iter().map(|p| p.draws).sum(),
@@ -141,8 +152,15 @@ impl ProfileReport {
         let mut out = String::new();
         let _ = writeln!(
             out,
-            "{} | scene {} | technique {} | stencil {} | {}x{}",
-            self.device, self.scene, self.technique, self.stencil, self.width, self.height
+            "{} | scene {} | technique {} | stencil {} | {}x{} | colour {} depth {}",
+            self.device,
+            self.scene,
+            self.technique,
+            self.stencil,
+            self.width,
+            self.height,
+            self.frame_formats.colour,
+            self.frame_formats.depth
         );
         let header = [
             "pass",

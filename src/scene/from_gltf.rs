@@ -61,13 +61,89 @@ fn default_light(model: &Model, world: &[Mat4]) -> Light {
         .unwrap_or(Light::Directional { direction: Vec3::new(-0.45, -1.0, -0.35).normalize() })
 }
 
-/// A ground plane just under the model, and a camera that frames both.
+/// A ground plane just under the model, and a camera that frames the model and its shadow.
 fn fit_ground_and_camera(scene: &mut Scene, low: Vec3, high: Vec3) {
     let centre = (low + high) * 0.5;
     let radius = ((high - low).length() * 0.5).max(1e-3);
-    let ground = scene.add_mesh("ground", ground_plane(radius * 8.0));
-    let below = Mat4::from_translation(Vec3::new(centre.x, low.y - radius * 0.02, centre.z));
+    let ground_y = low.y - radius * 0.02;
+    let footprint = frame_with_shadow(low, high, ground_y, &scene.light);
+    let ground = scene.add_mesh("ground", ground_plane(footprint.radius.max(radius) * 8.0));
+    let below = Mat4::from_translation(Vec3::new(centre.x, ground_y, centre.z));
     scene.add_object("ground", ground, below, Vec3::new(0.82, 0.80, 0.74), false);
-    let eye = centre + Vec3::new(0.0, 1.2, 2.6).normalize() * radius * 3.2;
-    scene.camera = Camera { near: radius * 0.02, ..Camera::look_at(eye, centre) };
+    scene.camera = front_camera(footprint.centre, footprint.radius);
+}
+
+/// A sphere around what a picture of the model must show.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Framing {
+    centre: Vec3,
+    radius: f32,
+}
+
+/// The model's box and the shadow it throws on the ground at `ground_y`: its corners projected
+/// along the light (DESIGN.md section 3), so that the shadow is in the picture too.
+fn frame_with_shadow(low: Vec3, high: Vec3, ground_y: f32, light: &Light) -> Framing {
+    let corners = (0..8).map(|i| {
+        Vec3::new(
+            if i & 1 == 0 { low.x } else { high.x },
+            if i & 2 == 0 { low.y } else { high.y },
+            if i & 4 == 0 { low.z } else { high.z },
+        )
+    });
+    let mut points: Vec<Vec3> = corners.clone().collect();
+    for p in corners {
+        let on_ground = match *light {
+            Light::Directional { direction } if direction.y < -1e-3 => {
+                Some(p + direction * (p.y - ground_y) / -direction.y)
+            }
+            Light::Point { position } if position.y > p.y + 1e-3 => {
+                Some(position + (p - position) * (position.y - ground_y) / (position.y - p.y))
+            }
+            _ => None,
+        };
+        // A grazing light throws a shadow to the horizon: frame at most a few model sizes of it.
+        let size = (high - low).length().max(1e-3);
+        if let Some(q) = on_ground.filter(|q| q.distance(p) <= size * 3.0) {
+            points.push(q);
+        }
+    }
+    let (lo, hi) = points.iter().fold((points[0], points[0]), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+    let centre = (lo + hi) * 0.5;
+    let radius = points.iter().map(|p| p.distance(centre)).fold(1e-3, f32::max);
+    Framing { centre, radius }
+}
+
+/// Looking at the front of the model (glTF's front faces +Z) from 30 degrees above the ground,
+/// far enough back that the framing sphere fits the vertical field of view (and so any frame at
+/// least as wide as it is tall).
+fn front_camera(centre: Vec3, radius: f32) -> Camera {
+    let elevation = 30f32.to_radians();
+    let camera = Camera::look_at(Vec3::ZERO, Vec3::NEG_Z);
+    let distance = radius / (0.5 * camera.fov_y_radians).sin() * 1.05;
+    let eye = centre + Vec3::new(0.0, elevation.sin(), elevation.cos()) * distance;
+    Camera { near: (distance - radius).max(distance * 0.01) * 0.5, ..Camera::look_at(eye, centre) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every point of the model's box and of its shadow is inside the view frustum.
+    #[test]
+    fn the_camera_sees_the_model_and_its_shadow_from_the_front() {
+        let (low, high) = (Vec3::new(-0.5, 0.0, -0.5), Vec3::new(0.5, 2.0, 0.5));
+        let light = Light::Directional { direction: Vec3::new(-0.45, -1.0, -0.35).normalize() };
+        let framing = frame_with_shadow(low, high, 0.0, &light);
+        let camera = front_camera(framing.centre, framing.radius);
+        assert!(camera.eye.z > high.z && camera.eye.y > high.y * 0.5, "in front and above: {:?}", camera.eye);
+        let view_proj = camera.view_projection(1.0);
+        // The top of the model's shadow lands 2 / 1 * (0.45, 0.35) away from its top corner.
+        let shadow_tip = Vec3::new(-0.5 - 0.9, 0.0, -0.5 - 0.7);
+        for p in [low, high, Vec3::new(-0.5, 2.0, -0.5), shadow_tip] {
+            let clip = view_proj * p.extend(1.0);
+            let ndc = clip.truncate() / clip.w;
+            assert!(clip.w > camera.near, "{p} is in front of the camera");
+            assert!(ndc.x.abs() <= 1.0 && ndc.y.abs() <= 1.0, "{p} is in the frame: {ndc}");
+        }
+    }
 }

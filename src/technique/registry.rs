@@ -5,6 +5,10 @@ use super::interface::{RenderOptions, Technique};
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 
+/// What `render`, `profile`, `bench`, `passes` and `view` use when no `--technique` is given:
+/// the project's point, stencil-free shadow volumes.
+pub const DEFAULT_TECHNIQUE: &str = "shadow-volume";
+
 /// Every technique, in the order `info`, `--help` and the viewer's T key list them.
 pub static TECHNIQUES: &[&dyn Technique] = &[
     &super::lit::Lit,

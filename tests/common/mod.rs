@@ -95,10 +95,14 @@ pub fn read_png(path: &std::path::Path) -> image::RgbImage {
     }
 }
 
-/// A colour in [0, 1] as the 8-bit UNORM value the frame stores.
-pub fn unorm8(colour: glam::Vec3) -> [u8; 3] {
-    (colour * 255.0).round().to_array().map(|c| c as u8)
+/// A linear colour in [0, 1] as the frame stores it: sRGB-encoded, 8 bits (the frame is
+/// R8G8B8A8_SRGB).
+pub fn srgb8(colour: glam::Vec3) -> [u8; 3] {
+    colour.to_array().map(srgb_encode)
 }
+
+#[allow(unused_imports)] // each test crate uses its own part of `common`
+pub use nostencil::frame::srgb::{decode as srgb_decode, encode as srgb_encode};
 
 /// What lit.frag gives an unshadowed upward-facing surface of `colour` under the scene's
 /// directional light: colour x (ambient + (1 - ambient) x max(N.L, 0)), in 8 bits. None under
@@ -106,7 +110,7 @@ pub fn unorm8(colour: glam::Vec3) -> [u8; 3] {
 pub fn lit_facing_up(scene: &nostencil::scene::Scene, colour: glam::Vec3) -> Option<[u8; 3]> {
     let nostencil::scene::Light::Directional { direction } = scene.light else { return None };
     let lambert = (-direction.normalize()).dot(glam::Vec3::Y).max(0.0);
-    Some(unorm8(colour * (scene.ambient + (1.0 - scene.ambient) * lambert)))
+    Some(srgb8(colour * (scene.ambient + (1.0 - scene.ambient) * lambert)))
 }
 
 /// The lit colour of the scene's ground plane (object "ground"), under a directional light.

@@ -27,7 +27,8 @@ use crate::technique::interface::{FrameStats, SceneRenderer, Technique};
 use crate::technique::options::SilhouetteMethod;
 
 /// The ink, in every method.
-const INK_COLOUR: Vec4 = Vec4::new(0.04, 0.04, 0.06, 1.0);
+/// Linear RGBA of ink lines.
+pub const INK_COLOUR: Vec4 = Vec4::new(0.04, 0.04, 0.06, 1.0);
 
 /// Builds the renderer of `technique` (`toon`: the scene through the toon ramp).
 pub fn build<'s>(

@@ -31,7 +31,8 @@ pub fn build<'s>(
     // The numbers are checked by `frame_renderer::build`; the selection needs the scene.
     let cartoon = &options.cartoon;
     let selected = resolve_selection(scene, &cartoon.select)?;
-    let [r, g, b] = cartoon.outline_colour.map(|c| c as f32 / 255.0);
+    // The colour is given in sRGB bytes, as the PNG shows it; the shader writes linear light.
+    let [r, g, b] = cartoon.outline_colour.map(crate::frame::srgb::decode);
     let extrusion = Extrusion { width_px: cartoon.outline_width, colour: Vec4::new(r, g, b, 1.0) };
     frame_renderer::build(technique, gpu, scene, options, |ctx| {
         Ok(OutlinePasses {
