@@ -391,3 +391,26 @@ fn a_caster_that_cannot_cast_is_named_in_a_warning() {
 fn technique(name: &str) -> &'static dyn Technique {
     nostencil::technique::by_name(name).expect("technique")
 }
+
+/// `nostencil profile` prints each caster's path, reason and capacity, in the table and in JSON.
+#[test]
+fn profile_reports_each_casters_path_and_capacity() {
+    let args =
+        ["profile", "--technique", "shadow-volume", "--scene", "touching", "--size", "64x48", "--increment", "2"];
+    let (table, _) = common::run_ok(&args);
+    assert!(
+        table.contains("caster 'edge pair': two-sided (non-manifold (1 edge with more than two faces)), capacity 63"),
+        "{table}"
+    );
+    assert!(
+        table.contains("caster 'corner pair': silhouette (closed and consistently wound), capacity 127"),
+        "{table}"
+    );
+    let (json, _) = common::run_ok(&[&args[..], &["--format", "json"]].concat());
+    let report: serde_json::Value = serde_json::from_str(&json).expect("JSON");
+    let casters = &report["technique_stats"]["casters"];
+    assert_eq!(casters[0]["object"], "edge pair", "{json}");
+    assert_eq!(casters[0]["path"], "two-sided", "{json}");
+    assert_eq!(casters[0]["capacity"], 63, "{json}");
+    assert_eq!(casters[1]["path"], "silhouette", "{json}");
+}
