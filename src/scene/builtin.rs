@@ -24,7 +24,7 @@ pub const BUILTIN_SCENES: &[(&str, &str)] = &[
     ("duck", "a duck made of ellipsoids (seed 002's figure): toon shading and ink lines"),
     ("open-quad", "one one-sided quad over the ground, its back to the light: it casts two-sided"),
     ("open-box", "a box without its top, the camera looking in through the hole"),
-    ("non-manifold", "three quads sharing one edge (a non-manifold fan) over the ground"),
+    ("non-manifold", "three quads sharing one edge (a non-manifold fan) and a box with a flipped triangle"),
     ("touching", "boxes touching along an edge (non-manifold) and at a corner, one mesh each"),
 ];
 

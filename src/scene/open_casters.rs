@@ -96,11 +96,21 @@ pub fn fan_mesh() -> MeshData {
     merged(&pages)
 }
 
-/// A non-manifold fan over the ground.
+/// A unit box whose first triangle is wound the wrong way: closed, but inconsistently wound.
+pub fn box_with_a_flipped_triangle() -> MeshData {
+    let mut mesh = shapes::cube(1.0);
+    mesh.indices.swap(1, 2);
+    mesh
+}
+
+/// A non-manifold fan and a box with a flipped triangle over the ground.
 pub fn non_manifold_scene() -> Scene {
     let mut scene = scene("non-manifold", EYE, Vec3::ZERO);
     let mesh = scene.add_mesh("fan of three quads", fan_mesh());
-    scene.add_object("fan", mesh, Mat4::from_translation(Vec3::new(-0.5, 0.0, 0.0)), Vec3::new(0.42, 0.75, 0.36), true);
+    scene.add_object("fan", mesh, Mat4::from_translation(Vec3::new(-1.2, 0.0, 0.0)), Vec3::new(0.42, 0.75, 0.36), true);
+    let flipped = scene.add_mesh("box with a flipped triangle", box_with_a_flipped_triangle());
+    let place = Mat4::from_translation(Vec3::new(1.6, 1.2, -0.3)) * Mat4::from_rotation_y(0.5);
+    scene.add_object("flipped box", flipped, place, Vec3::new(0.75, 0.45, 0.80), true);
     scene
 }
 
