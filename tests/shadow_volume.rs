@@ -428,3 +428,60 @@ fn profile_reports_each_casters_path_and_capacity() {
     assert_eq!(casters[0]["capacity"], 63, "{json}");
     assert_eq!(casters[1]["path"], "silhouette", "{json}");
 }
+
+/// Under a point light the shadow is no parallel projection: the ground pixels the volumes
+/// darken must be those whose ray to the light hits a casting triangle, from either side
+/// (`mesh::ray::in_shadow`, on the CPU), in z-pass and in z-fail, and emulated must equal the
+/// reference.
+#[test]
+fn open_casters_under_a_point_light_shadow_what_the_cpu_ray_cast_finds() {
+    use nostencil::mesh::ray::{in_shadow, PlacedMesh};
+    const BIG: (u32, u32) = (192, 144);
+    let gpu = common::gpu();
+    for scene_name in ["open-quad", "open-box", "non-manifold", "touching"] {
+        let mut scene = builtin_scene(scene_name).expect("scene");
+        scene.light = nostencil::scene::Light::Point { position: Vec3::new(-1.5, 6.0, 1.0) };
+        let casters: Vec<PlacedMesh> = scene
+            .objects
+            .iter()
+            .filter(|o| o.casts_shadow)
+            .map(|o| PlacedMesh {
+                positions: &scene.meshes[o.mesh].data.positions,
+                indices: &scene.meshes[o.mesh].data.indices,
+                model: o.transform,
+            })
+            .collect();
+        let nostencil::scene::Light::Point { position } = scene.light else { unreachable!() };
+        let light = nostencil::mesh::Light::Point(position);
+        let unshadowed = lit_sized(&gpu, &scene, BIG);
+        let mut without = scene.clone();
+        without.objects.retain(|o| !o.casts_shadow);
+        let background = lit_sized(&gpu, &without, BIG);
+        for method in [VolumeMethod::ZPass, VolumeMethod::ZFail] {
+            let options = ShadowVolumeOptions { method, ..Default::default() };
+            let emulated = render_sized(&gpu, &scene, StencilMode::Emulated, options, BIG);
+            let reference = render_sized(&gpu, &scene, StencilMode::Reference, options, BIG);
+            let differing = rgb_differences(&emulated.output.image, &reference.output.image);
+            assert_eq!(differing, 0, "{scene_name} {method:?}: emulated and reference differ");
+            let mask = shadow_mask(&emulated.output.image, &unshadowed);
+            let (mut both, mut either) = (0, 0);
+            for y in 0..BIG.1 {
+                for x in 0..BIG.0 {
+                    let i = (y * BIG.0 + x) as usize;
+                    if unshadowed.get_pixel(x, y) != background.get_pixel(x, y) {
+                        continue; // a caster, not ground
+                    }
+                    let expected = common::ground_point(&scene.camera, (x, y), BIG, 0.0)
+                        .is_some_and(|p| p.x.abs() < 7.0 && p.z.abs() < 7.0 && in_shadow(light, &casters, p));
+                    both += (expected && mask[i]) as u32;
+                    either += (expected || mask[i]) as u32;
+                }
+            }
+            let iou = both as f64 / either as f64;
+            println!("{scene_name} point light {method:?}: IoU {iou:.4} over {either} pixels");
+            assert!(either > 200, "{scene_name} {method:?}: the shadow is too small to judge ({either} pixels)");
+            assert!(iou >= 0.99, "{scene_name} {method:?}: intersection over union {iou:.4}");
+        }
+    }
+    common::assert_no_validation_messages(&gpu);
+}
