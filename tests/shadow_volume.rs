@@ -485,3 +485,68 @@ fn open_casters_under_a_point_light_shadow_what_the_cpu_ray_cast_finds() {
     }
     common::assert_no_validation_messages(&gpu);
 }
+
+/// The command line prints a technique's warnings on stderr: a glTF file whose second mesh is
+/// one degenerate triangle renders, the sheet casts, and the needle is named with its reason.
+#[test]
+fn the_command_line_names_a_mesh_that_casts_no_shadow() {
+    use base64::Engine;
+    let positions: [[f32; 3]; 7] = [
+        [0.0, 1.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [1.0, 1.0, 1.0],
+        [0.0, 1.0, 1.0],
+        [0.0, 2.0, 0.0],
+        [1.0, 2.0, 0.0],
+        [2.0, 2.0, 0.0],
+    ];
+    let indices: [u16; 10] = [0, 2, 1, 0, 3, 2, 0, 1, 2, 0]; // the last one pads to 4 bytes
+    let mut bytes: Vec<u8> = positions.iter().flatten().flat_map(|c| c.to_le_bytes()).collect();
+    bytes.extend(indices.iter().flat_map(|i| i.to_le_bytes()));
+    let uri =
+        format!("data:application/octet-stream;base64,{}", base64::engine::general_purpose::STANDARD.encode(&bytes));
+    let gltf = serde_json::json!({
+        "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 1]}],
+        "nodes": [{"mesh": 0}, {"mesh": 1}],
+        "meshes": [
+            {"name": "sheet", "primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]},
+            {"name": "needle", "primitives": [{"attributes": {"POSITION": 2}, "indices": 3}]}
+        ],
+        "buffers": [{"byteLength": bytes.len(), "uri": uri}],
+        "bufferViews": [
+            {"buffer": 0, "byteOffset": 0, "byteLength": 48},
+            {"buffer": 0, "byteOffset": 48, "byteLength": 36},
+            {"buffer": 0, "byteOffset": 84, "byteLength": 12},
+            {"buffer": 0, "byteOffset": 96, "byteLength": 6}
+        ],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [0, 1, 0], "max": [1, 1, 1]},
+            {"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"},
+            {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 2, 0], "max": [2, 2, 0]},
+            {"bufferView": 3, "componentType": 5123, "count": 3, "type": "SCALAR"}
+        ]
+    });
+    let dir = common::scratch_dir("needle-warning");
+    let (file, out) = (dir.join("needle.gltf"), dir.join("needle.png"));
+    std::fs::write(&file, gltf.to_string()).expect("write the glTF");
+    let (_, stderr) = common::run_ok(&[
+        "render",
+        "--technique",
+        "shadow-volume",
+        "--scene",
+        file.to_str().expect("path"),
+        "--size",
+        "64x48",
+        "--out",
+        out.to_str().expect("path"),
+    ]);
+    let warnings: Vec<&str> = stderr.lines().filter(|l| l.starts_with("nostencil: warning:")).collect();
+    assert_eq!(warnings.len(), 1, "{stderr}");
+    assert!(
+        warnings[0].contains("shadow-volume")
+            && warnings[0].contains("needle")
+            && warnings[0].contains("no triangle with an area"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("'sheet"), "the sheet casts: {stderr}");
+}

@@ -20,7 +20,8 @@ pub(crate) fn empty_scene(name: &str, camera: Camera, light: Light) -> Scene {
     }
 }
 
-/// A flat square in the XZ plane facing +Y: a receiver only (open, so it casts nothing).
+/// A flat square in the XZ plane facing +Y: the receiver (scenes place it with `casts_shadow`
+/// false).
 pub(crate) fn ground_plane(size: f32) -> MeshData {
     let h = size * 0.5;
     MeshData {

@@ -25,7 +25,7 @@ pub fn prepare_casters(scene: &Scene) -> (Vec<Caster>, Vec<String>) {
         let name = format!("{} (object '{}')", scene.meshes[o.mesh].name, o.name);
         match CasterMesh::prepare(&name, &data.positions, &data.indices) {
             Ok(mesh) => casters.push(Caster { object, mesh }),
-            Err(e) => warnings.push(format!("shadow volumes: casts no shadow: {e}")),
+            Err(e) => warnings.push(format!("casts no shadow: {e}")),
         }
     }
     (casters, warnings)
