@@ -550,3 +550,30 @@ fn the_command_line_names_a_mesh_that_casts_no_shadow() {
     );
     assert!(!stderr.contains("'sheet"), "the sheet casts: {stderr}");
 }
+
+/// A caster mirrored by its transform (negative determinant: every winding flips on screen) and
+/// one wound inside out (closed, normals pointing in) still shadow their projected outline.
+#[test]
+fn mirrored_and_inside_out_casters_shadow_their_projected_outline() {
+    let gpu = common::gpu();
+    let mut mirrored = builtin_scene("box").expect("scene");
+    for object in mirrored.objects.iter_mut().filter(|o| o.name == "box") {
+        object.transform *= Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0));
+    }
+    let mut inside_out = builtin_scene("box").expect("scene");
+    let mesh = inside_out.object("box").expect("box").mesh;
+    for t in inside_out.meshes[mesh].data.indices.chunks_exact_mut(3) {
+        t.swap(1, 2);
+    }
+    for (label, scene) in [("mirrored", &mirrored), ("inside out", &inside_out)] {
+        for method in [VolumeMethod::ZPass, VolumeMethod::ZFail] {
+            let options = ShadowVolumeOptions { method, ..Default::default() };
+            let reference = render_sized(&gpu, scene, StencilMode::Reference, options, (128, 96));
+            let emulated = render_sized(&gpu, scene, StencilMode::Emulated, options, (128, 96));
+            assert_eq!(rgb_differences(&emulated.output.image, &reference.output.image), 0, "{label} {method:?}");
+            let iou = projected_outline_iou(&gpu, scene, options);
+            assert!(iou >= 0.99, "{label} {method:?}: intersection over union {iou:.4}");
+        }
+    }
+    common::assert_no_validation_messages(&gpu);
+}

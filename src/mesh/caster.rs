@@ -73,7 +73,7 @@ impl CasterMesh {
             });
         }
         let adjacency = EdgeAdjacency::build(name, &welded.positions, &welded.indices)?;
-        let path = match why_not_closed(&adjacency) {
+        let path = match why_not_closed(&adjacency).or_else(|| inside_out(&welded)) {
             None => CastPath::Silhouette,
             Some(reason) => CastPath::TwoSided { reason, corners: CornerEdges::build(&adjacency)? },
         };
@@ -126,6 +126,20 @@ fn why_not_closed(adjacency: &EdgeAdjacency) -> Option<String> {
     (!problems.is_empty()).then(|| problems.join(", "))
 }
 
+/// A closed mesh whose normals point in (negative signed volume): its silhouette volume would
+/// count -1 inside, which the alpha counter clamps to nothing.
+fn inside_out(welded: &Welded) -> Option<String> {
+    let signed_volume: f64 = welded
+        .indices
+        .chunks_exact(3)
+        .map(|t| {
+            let [a, b, c] = [t[0], t[1], t[2]].map(|i| welded.positions[i as usize].as_dvec3());
+            a.dot(b.cross(c)) / 6.0
+        })
+        .sum();
+    (signed_volume < 0.0).then(|| format!("closed but wound inside out (signed volume {signed_volume:.3e})"))
+}
+
 /// "1 edge", "3 edges".
 fn counted(n: usize, what: &str) -> String {
     format!("{n} {what}{}", if n == 1 { "" } else { "s" })
@@ -161,6 +175,21 @@ mod tests {
         flipped.swap(1, 2);
         let flipped = CasterMesh::prepare("flipped", &cube.positions, &flipped)?;
         assert_eq!(flipped.path.reason(), "inconsistently wound (3 edges)");
+        Ok(())
+    }
+
+    #[test]
+    fn an_inside_out_cube_casts_two_sided() -> Result<()> {
+        let cube = shapes::cube(2.0);
+        let mut reversed = cube.indices.clone();
+        reversed.chunks_exact_mut(3).for_each(|t| t.swap(1, 2));
+        let caster = CasterMesh::prepare("inside out", &cube.positions, &reversed)?;
+        assert_eq!(caster.path.name(), "two-sided");
+        assert!(
+            caster.path.reason().starts_with("closed but wound inside out (signed volume -8"),
+            "{}",
+            caster.path.reason()
+        );
         Ok(())
     }
 

@@ -237,6 +237,11 @@ fn upload_volumes(gpu: &Arc<Gpu>, scene: &Scene, casters: &[Caster], zfail: bool
                 indices.extend_from_slice(&volume.near_cap);
             }
             indices.extend_from_slice(&volume.far_cap);
+            // A mirroring transform (negative determinant) flips every winding on screen: turn
+            // the triangles back so that the volume's faces still point out.
+            if scene.objects[caster.object].transform.determinant() < 0.0 {
+                indices.chunks_exact_mut(3).for_each(|t| t.swap(1, 2));
+            }
             Ok(GpuVolume {
                 object: caster.object,
                 vertices: Buffer::with_data(
