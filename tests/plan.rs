@@ -54,11 +54,12 @@ fn every_frame_runs_exactly_its_printed_plan() {
 }
 
 /// Every technique draws the same image without a stencil as with one, pixel for pixel (RGB:
-/// alpha is each path's working state), on scenes with shadows, outlines and ink to get wrong.
+/// alpha is each path's working state), on scenes with shadows, outlines and ink to get wrong,
+/// open and non-manifold casters included.
 #[test]
 fn every_technique_without_a_stencil_equals_its_stencil_reference() {
     let gpu = common::gpu();
-    for scene_name in ["default", "outline"] {
+    for scene_name in ["default", "outline", "open-box", "touching"] {
         let scene = builtin_scene(scene_name).expect("scene");
         let lit = RenderOptions { width: 96, height: 72, ..Default::default() };
         let lit_image = render_scene(&gpu, &scene, &lit).expect("lit").output.image;

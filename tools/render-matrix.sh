@@ -15,7 +15,7 @@ bin=${2:-target/debug/nostencil}
 size=160x120
 mkdir -p "$out"
 
-scenes=(default overlap point-light inside box outline duck character character-point atlas-one atlas-125)
+scenes=(default overlap point-light inside box outline duck open-quad open-box non-manifold touching character character-point atlas-one atlas-125)
 # TECHNIQUES="lit shadow-volume" restricts the run (the default is every technique).
 read -r -a techniques <<<"${TECHNIQUES:-lit shadow-volume outline silhouette toon planar blob shadow-texture shadow-map shadow-texture-atlas}"
 

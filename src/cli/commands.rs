@@ -60,6 +60,13 @@ fn load_scene(name: &str, time: f32) -> Result<Scene> {
     }
 }
 
+/// A technique's warnings (what it could not honour in the scene), on stderr.
+fn print_warnings(technique: &str, warnings: &[String]) {
+    for warning in warnings {
+        eprintln!("nostencil: warning: {technique}: {warning}");
+    }
+}
+
 fn options(frame: &FrameArgs) -> Result<RenderOptions> {
     let options = RenderOptions {
         width: frame.size.0,
@@ -116,6 +123,7 @@ fn render(frame: &FrameArgs, out: &Path, keep_alpha: bool) -> Result<()> {
     let scene = load_scene(&frame.scene, frame.time)?;
     let gpu = open_gpu(&frame.gpu)?;
     let frame = render_scene(&gpu, &scene, &options)?;
+    print_warnings(options.technique.name(), &frame.warnings);
     let output = &frame.output;
     crate::frame::write_png(&output.image, out, keep_alpha)?;
     eprintln!(
@@ -155,6 +163,7 @@ fn profile(frame: &FrameArgs, format: FormatArg, outputs: &ProfileOutputs) -> Re
     // One frame first: llvmpipe compiles shaders at first draw, which is not the frame's cost.
     render_scene(&gpu, &scene, &options)?;
     let frame_result = render_scene(&gpu, &scene, &options)?;
+    print_warnings(options.technique.name(), &frame_result.warnings);
     let output = &frame_result.output;
     let (technique, stencil) = (options.technique.name(), options.stencil.name());
     let mut report = ProfileReport::new(
@@ -407,8 +416,12 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: u32, json: bool) -> Result<()> {
         return crate::profile::table1::bench(&gpu, &options, warmup, runs, json);
     }
     let mut variants = Vec::new();
-    for variant in options.technique.bench_variants(&options) {
+    for (index, variant) in options.technique.bench_variants(&options).into_iter().enumerate() {
         let mut renderer = variant.options.technique.build(&gpu, &scene, &variant.options)?;
+        if index == 0 {
+            // Every variant draws the same scene: its warnings once.
+            print_warnings(options.technique.name(), renderer.warnings());
+        }
         let scene = &scene;
         variants.push(Variant { name: variant.label, frame: Box::new(move || Ok(renderer.frame_with(scene)?.output)) });
     }

@@ -60,10 +60,10 @@ pub struct VolumeGeometry {
 /// A face is lit when `N . L < 0`, `L` being the direction the light travels to it; a face seen
 /// exactly edge-on is unlit. `face_normals` are this frame's (`adjacency::face_normals`).
 ///
-/// The caller should refuse meshes that fail `EdgeAdjacency::require_closed_manifold`: on an
-/// open mesh the boundary edges of lit faces are extruded too, so the volume stays closed, but
-/// faces seen from behind cast no shadow; on non-manifold or inconsistently wound meshes the
-/// volume is not closed.
+/// For meshes that pass `EdgeAdjacency::require_closed_manifold` only (the silhouette path): on
+/// an open mesh the boundary edges of lit faces are extruded too, so the volume stays closed,
+/// but faces seen from behind cast no shadow; on non-manifold or inconsistently wound meshes the
+/// volume is not closed. Those cast with `two_sided_volume` instead (`caster::CasterMesh` picks).
 ///
 /// # Panics
 /// If `positions` or `face_normals` are shorter than the mesh.

@@ -4,7 +4,8 @@ use glam::{Mat4, Quat, Vec3};
 
 use super::camera::{Camera, Light};
 use super::character;
-use super::layout::ground_plane;
+use super::layout::{ground_plane, with_ground};
+use super::open_casters;
 // Re-exported for callers of the path it had before it moved to `layout`.
 pub(crate) use super::layout::empty_scene;
 use super::objects::Scene;
@@ -21,6 +22,10 @@ pub const BUILTIN_SCENES: &[(&str, &str)] = &[
     ("box", "one box over the ground under a directional light (analytic shadow)"),
     ("outline", "overlapping box, sphere and torus knot with a torus in front: selection outlines"),
     ("duck", "a duck made of ellipsoids (seed 002's figure): toon shading and ink lines"),
+    ("open-quad", "one one-sided quad over the ground, its back to the light: it casts two-sided"),
+    ("open-box", "a box without its top, the camera looking in through the hole"),
+    ("non-manifold", "three quads sharing one edge (a non-manifold fan) and a box with a flipped triangle"),
+    ("touching", "boxes touching along an edge (non-manifold) and at a corner, one mesh each"),
 ];
 
 /// Scenes outside the shadow-volume sweep (too heavy to render dozens of times in tests).
@@ -45,6 +50,10 @@ pub fn builtin_scene_at(name: &str, time: f32) -> Result<Scene> {
         "box" => Ok(box_scene()),
         "outline" => outline_scene(),
         "duck" => duck_scene(),
+        "open-quad" => Ok(open_casters::open_quad_scene()),
+        "open-box" => Ok(open_casters::open_box_scene()),
+        "non-manifold" => Ok(open_casters::non_manifold_scene()),
+        "touching" => Ok(open_casters::touching_scene()),
         "atlas-one" => atlas_one_scene(),
         "atlas-125" => atlas_125_scene(),
         _ => Err(Error::InvalidInput(format!(
@@ -113,13 +122,6 @@ fn character_scene(time: f32, light: Light) -> Result<Scene> {
     let mut scene = with_ground("character", camera, light);
     character::add_character(&mut scene, Mat4::IDENTITY, time, CHARACTER_COLOUR)?;
     Ok(scene)
-}
-
-fn with_ground(name: &str, camera: Camera, light: Light) -> Scene {
-    let mut scene = empty_scene(name, camera, light);
-    let ground = scene.add_mesh("ground", ground_plane(14.0));
-    scene.add_object("ground", ground, Mat4::IDENTITY, Vec3::new(0.82, 0.80, 0.74), false);
-    scene
 }
 
 /// Casters stacked along the light so that their volumes overlap, a torus lying across the light

@@ -12,7 +12,8 @@
 //   place               -> model, objects, rig, skinning
 //   character           -> model, objects, place, rig, skinning
 //   from_gltf           -> animation, camera, gltf, layout, model, objects, place, rig, skinning
-//   builtin             -> camera, character, layout, objects
+//   open_casters        -> camera, layout, objects
+//   builtin             -> camera, character, layout, objects, open_casters
 
 pub mod animation;
 pub mod builtin;
@@ -24,6 +25,7 @@ pub mod layout;
 pub mod model;
 pub mod normals;
 pub mod objects;
+pub mod open_casters;
 pub mod place;
 pub mod posing;
 pub mod rig;

@@ -24,7 +24,8 @@ pub struct SceneObject {
     pub mesh: usize,
     pub transform: Mat4,
     pub colour: Vec3,
-    /// Casts shadows (shadow volumes need a closed mesh).
+    /// The scene wants it to cast shadows (a ground plane does not). Each technique decides
+    /// how: shadow volumes cast an open or non-manifold mesh two-sided.
     pub casts_shadow: bool,
     /// The skin of a skinned object, for techniques that skin on the GPU. `mesh` holds the same
     /// vertices already posed on the CPU (what the lit pass and shadow volumes draw).

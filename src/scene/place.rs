@@ -11,7 +11,7 @@ use super::objects::{Scene, SceneSkin};
 use super::rig::{ObjectRig, Rig};
 use super::skinning::{joint_matrices, skin_positions_normals};
 use crate::error::Result;
-use crate::mesh::{self, EdgeAdjacency, MeshData};
+use crate::mesh::MeshData;
 
 /// Adds every mesh primitive of `rig`'s model to `scene`, posed by the nodes' world matrices
 /// `world`: skinned primitives are skinned on the CPU into the object's mesh and keep their
@@ -69,9 +69,10 @@ pub fn add_model(scene: &mut Scene, rig: &Arc<Rig>, world: &[Mat4]) -> Result<Op
                 uvs: primitive.uv0.clone().unwrap_or_default(),
                 indices: primitive.indices.clone(),
             };
-            let closed = is_closed_after_welding(&label, &data);
+            // Every mesh of the file casts: each technique decides how (shadow volumes cast an
+            // open or non-manifold mesh two-sided) and names in a warning what it cannot use.
             let mesh_index = scene.add_mesh_with_uv1(&label, data, primitive.uv1.clone());
-            scene.add_object(&label, mesh_index, node_world, colour, closed);
+            scene.add_object(&label, mesh_index, node_world, colour, true);
             if let Some(object) = scene.objects.last_mut() {
                 object.rig = animated.then(|| ObjectRig {
                     rig: Arc::clone(rig),
@@ -98,10 +99,4 @@ fn nodes_in_scene(model: &Model) -> Vec<bool> {
         }
     }
     shown
-}
-
-/// Shadow volumes need closed meshes; open ones (a room shell, a strip) only receive.
-fn is_closed_after_welding(name: &str, data: &MeshData) -> bool {
-    let Ok(welded) = mesh::weld_by_position(name, &data.positions, &data.indices, 1e-5) else { return false };
-    EdgeAdjacency::build(name, &welded.positions, &welded.indices).is_ok_and(|a| a.require_closed_manifold().is_ok())
 }

@@ -81,6 +81,11 @@ pub trait Passes {
     fn frames_to_steady_state(&self) -> u32 {
         1
     }
+
+    /// See `SceneRenderer::warnings`.
+    fn warnings(&self) -> &[String] {
+        &[]
+    }
 }
 
 /// A built renderer: the frame renderer, the plan and its pipelines, and the technique's part.
@@ -197,7 +202,7 @@ impl<P: Passes> SceneRenderer for FrameRenderer<'_, P> {
             |rec| record_plan(rec, plan, pipelines, true, &holds, &draws),
         )?;
         let stats = self.passes.stats(&output, scene);
-        Ok(TechniqueFrame { output, stats, conditions })
+        Ok(TechniqueFrame { output, stats, conditions, warnings: self.passes.warnings().to_vec() })
     }
 
     fn renderer_mut(&mut self) -> &mut Renderer {
@@ -214,6 +219,10 @@ impl<P: Passes> SceneRenderer for FrameRenderer<'_, P> {
 
     fn frames_to_steady_state(&self) -> u32 {
         self.passes.frames_to_steady_state()
+    }
+
+    fn warnings(&self) -> &[String] {
+        self.passes.warnings()
     }
 }
 

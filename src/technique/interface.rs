@@ -171,6 +171,13 @@ pub trait SceneRenderer {
     fn frames_to_steady_state(&self) -> u32 {
         1
     }
+
+    /// What the technique could not honour in this scene, one line each naming the object and
+    /// the reason (a mesh that casts no shadow). Fixed when the renderer is built; the command
+    /// line prints them once on stderr.
+    fn warnings(&self) -> &[String] {
+        &[]
+    }
 }
 
 /// What a technique reports about a frame beyond its counters.
@@ -213,6 +220,9 @@ pub struct TechniqueFrame {
     pub stats: Box<dyn FrameStats>,
     /// Which conditional passes ran (see `render::plan::When`).
     pub conditions: Vec<When>,
+    /// The renderer's warnings (`SceneRenderer::warnings`), for callers that keep only the
+    /// frame.
+    pub warnings: Vec<String>,
 }
 
 impl TechniqueFrame {

@@ -80,6 +80,8 @@ struct RunningWindow<'s> {
 /// rebuilt when either changes or the scene outgrows it.
 struct TechniqueCache<'s> {
     built: Option<LiveTechnique<'s>>,
+    /// Technique warnings already printed: a rebuild (resize, another method) says them once.
+    warned: std::collections::HashSet<String>,
 }
 
 impl<'s> App<'s> {
@@ -142,7 +144,7 @@ impl<'s> RunningWindow<'s> {
         let size = window.inner_size();
         let output = Output::new(&session.gpu, &surface, (size.width, size.height))?;
         Ok(RunningWindow {
-            technique: TechniqueCache { built: None },
+            technique: TechniqueCache { built: None, warned: Default::default() },
             output,
             surface,
             window,
@@ -300,7 +302,14 @@ impl<'s> TechniqueCache<'s> {
             old => {
                 // The old technique's GPU memory is freed before the new one allocates its own.
                 drop(old);
-                LiveTechnique::new(gpu, base, settings.clone(), extent)?
+                let technique = LiveTechnique::new(gpu, base, settings.clone(), extent)?;
+                for warning in technique.warnings() {
+                    let line = format!("nostencil: warning: {}: {warning}", settings.render.technique.name());
+                    if self.warned.insert(line.clone()) {
+                        eprintln!("{line}");
+                    }
+                }
+                technique
             }
         };
         Ok(self.built.insert(technique))

@@ -48,6 +48,11 @@ impl<'s> LiveTechnique<'s> {
         Ok(LiveTechnique { settings, extent, renderer })
     }
 
+    /// What the technique could not honour in the scene (see `SceneRenderer::warnings`).
+    pub fn warnings(&self) -> &[String] {
+        self.renderer.warnings()
+    }
+
     /// Whether `scene` needs a rebuild (see `SceneRenderer::stale_for`).
     pub fn stale_for(&self, scene: &Scene) -> bool {
         self.renderer.stale_for(scene)

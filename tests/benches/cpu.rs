@@ -1,5 +1,5 @@
 //! CPU-side hot paths: welding and edge extraction for a 131,072-face mesh (the paper's 257x257
-//! geometry image size), shadow-volume building, animation sampling and CPU skinning.
+//! geometry image size), shadow-volume building (silhouette and two-sided), animation sampling and CPU skinning.
 //! `cargo bench --bench cpu`
 
 use std::path::Path;
@@ -43,6 +43,23 @@ fn edges(c: &mut Criterion) {
                 &adjacency.face_normals,
                 light,
                 true,
+                &mut volume,
+            )
+        })
+    });
+    // The same mesh cast two-sided (what an open or non-manifold mesh of that size costs).
+    let corners = mesh::CornerEdges::build(&adjacency).expect("corner edges");
+    let mut multiplicities = Vec::new();
+    c.bench_function("two-sided shadow volume, point light, 131072 faces", |b| {
+        b.iter(|| {
+            let light = mesh::Light::Point(Vec3::new(2.0, 5.0, 1.0));
+            mesh::build_two_sided_volume_into(
+                &adjacency,
+                &corners,
+                &welded.positions,
+                &adjacency.face_normals,
+                light,
+                &mut multiplicities,
                 &mut volume,
             )
         })

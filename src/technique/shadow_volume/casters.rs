@@ -1,36 +1,34 @@
-//! Shadow casters: each casting object's welded mesh and edge adjacency, prepared once; its
-//! volume built per frame for the current light and pose; and the camera-inside test that
-//! picks z-fail.
+//! Shadow casters: each casting object's welded mesh, edge adjacency and volume path
+//! (silhouette or two-sided, DESIGN.md section 8), prepared once; its volume built per frame
+//! for the current light and pose; and the camera-inside test that picks z-fail.
 
 use glam::{Mat4, Vec3};
 
-use crate::error::Result;
-use crate::mesh::caster::ClosedCaster;
+use crate::mesh::caster::CasterMesh;
 use crate::mesh::ray::{self, PlacedMesh};
 use crate::mesh::{self, VolumeGeometry};
 use crate::scene::{Light, Scene};
 use crate::technique::options::{ShadowVolumeOptions, VolumeMethod};
 
-/// A shadow-casting object with its mesh's topology, built once.
+/// A shadow-casting object with its mesh's topology and volume path, built once.
 pub struct Caster {
     pub object: usize,
-    pub mesh: ClosedCaster,
+    pub mesh: CasterMesh,
 }
 
-/// Welds and checks every shadow-casting object; an open or non-manifold mesh is refused with
-/// its name.
-pub fn prepare_casters(scene: &Scene) -> Result<Vec<Caster>> {
-    scene
-        .objects
-        .iter()
-        .enumerate()
-        .filter(|(_, o)| o.casts_shadow)
-        .map(|(object, o)| {
-            let data = &scene.meshes[o.mesh].data;
-            let name = format!("{} (object '{}')", scene.meshes[o.mesh].name, o.name);
-            Ok(Caster { object, mesh: ClosedCaster::prepare(&name, &data.positions, &data.indices)? })
-        })
-        .collect()
+/// Every shadow-casting object prepared, whatever its topology (open and non-manifold meshes
+/// cast two-sided), and one warning per object that cannot cast at all, naming it and why.
+pub fn prepare_casters(scene: &Scene) -> (Vec<Caster>, Vec<String>) {
+    let (mut casters, mut warnings) = (Vec::new(), Vec::new());
+    for (object, o) in scene.objects.iter().enumerate().filter(|(_, o)| o.casts_shadow) {
+        let data = &scene.meshes[o.mesh].data;
+        let name = format!("{} (object '{}')", scene.meshes[o.mesh].name, o.name);
+        match CasterMesh::prepare(&name, &data.positions, &data.indices) {
+            Ok(mesh) => casters.push(Caster { object, mesh }),
+            Err(e) => warnings.push(format!("casts no shadow: {e}")),
+        }
+    }
+    (casters, warnings)
 }
 
 /// The light in an object's own space (volumes are built there and transformed like the mesh).
@@ -42,16 +40,22 @@ fn light_in_object_space(light: &Light, model: &Mat4) -> mesh::Light {
     }
 }
 
+/// The caster's volume for the scene's light in its current pose: caps with `caps` (the
+/// two-sided path always has them).
 pub fn build_volume(scene: &Scene, caster: &Caster, caps: bool) -> VolumeGeometry {
     let object = &scene.objects[caster.object];
     let light = light_in_object_space(&scene.light, &object.transform);
     let (adjacency, welded) = (&caster.mesh.adjacency, &caster.mesh.welded);
+    let (mut volume, mut multiplicities) = (VolumeGeometry::default(), Vec::new());
     if let Some(positions) = posed_welded_positions(scene, caster) {
         let mut normals = Vec::new();
         adjacency.recompute_face_normals(&positions, &mut normals);
-        return mesh::build_shadow_volume(adjacency, &positions, &normals, light, caps);
+        caster.mesh.build_volume_into(&positions, &normals, light, caps, &mut multiplicities, &mut volume);
+    } else {
+        let normals = &adjacency.face_normals;
+        caster.mesh.build_volume_into(&welded.positions, normals, light, caps, &mut multiplicities, &mut volume);
     }
-    mesh::build_shadow_volume(adjacency, &welded.positions, &adjacency.face_normals, light, caps)
+    volume
 }
 
 /// A skinned caster's welded vertices in its current pose (`Scene::pose_at` moves palettes,

@@ -4,7 +4,8 @@
 //! Emulated frame, one render pass:
 //! 1. scene: lit objects, every pixel's alpha set to 0 (the counter);
 //! 2. volume increments (+k/255 per wall), then the saturation probe, then volume decrements:
-//!    all increments come first because alpha clamps at 0 where a stencil would wrap;
+//!    all increments come first because alpha clamps at 0 where a stencil would wrap (the
+//!    volumes of two-sided casters, DESIGN.md section 8, bring their near caps in z-pass too);
 //! 3. normalisation, one of: `seed` (N0, n iterations, REVERSE_SUBTRACT D, ADD D), `max`
 //!    (N0, n iterations, MAX D) or `subpass` (read the count as an input attachment);
 //! 4. apply: colour *= alpha (or, for `subpass`, *= the factor the shader outputs).

@@ -15,6 +15,7 @@ use crate::frame::StencilMode;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
+use crate::mesh::caster::CastPath;
 use crate::render::plan::{PlannedPass, Push, SetRole};
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, GpuScene, ObjectPush, Renderer};
@@ -25,7 +26,7 @@ use crate::technique::interface::{FrameStats, RenderOptions, SceneRenderer, Tech
 use crate::technique::options::{ShadowVolumeOptions, VolumeMethod};
 
 /// What the frame did, beyond its image and counters.
-#[derive(Debug, Clone, Copy, serde::Serialize)]
+#[derive(Debug, Clone, serde::Serialize)]
 pub struct ShadowVolumeStats {
     pub zfail: bool,
     pub seed_iterations: usize,
@@ -36,17 +37,52 @@ pub struct ShadowVolumeStats {
     /// k, for the report.
     #[serde(skip)]
     pub increment: u8,
+    /// Each caster's volume path and what the counter holds of it.
+    pub casters: Vec<CasterReport>,
+}
+
+/// How one caster casts.
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
+pub struct CasterReport {
+    /// The object's name.
+    pub object: String,
+    /// "silhouette" or "two-sided".
+    pub path: &'static str,
+    /// Why that path: "closed and consistently wound", "open (4 boundary edges)", ...
+    pub reason: String,
+    /// Closed parts of this caster the counter holds over one pixel: 255 / k, halved for a
+    /// two-sided caster (it counts 2 per crossing).
+    pub capacity: u32,
+}
+
+impl CasterReport {
+    fn new(scene: &Scene, caster: &Caster, counter_capacity: u32) -> Self {
+        let path = &caster.mesh.path;
+        CasterReport {
+            object: scene.objects[caster.object].name.clone(),
+            path: path.name(),
+            reason: path.reason().to_owned(),
+            capacity: counter_capacity / path.count_per_crossing(),
+        }
+    }
 }
 
 impl FrameStats for ShadowVolumeStats {
     fn report(&self) -> String {
-        format!(
+        let mut report = format!(
             "shadow volumes: {} | counter capacity {} volumes (k = {}) | saturated pixels: {}",
             if self.zfail { "z-fail" } else { "z-pass" },
             self.capacity,
             self.increment,
             self.saturated_pixels.map_or("n/a (reference)".to_owned(), |n| n.to_string())
-        )
+        );
+        for caster in &self.casters {
+            report.push_str(&format!(
+                "\n  caster '{}': {} ({}), capacity {}",
+                caster.object, caster.path, caster.reason, caster.capacity
+            ));
+        }
+        report
     }
 
     fn json(&self) -> serde_json::Value {
@@ -79,7 +115,7 @@ pub fn build<'s>(
     options: &RenderOptions,
 ) -> Result<Box<dyn SceneRenderer + 's>> {
     let k = alpha_counter::check_increment(options.shadow_volume.increment)?;
-    let casters = prepare_casters(scene)?;
+    let (casters, warnings) = prepare_casters(scene);
     let aspect = options.width as f32 / options.height as f32;
     let zfail = choose_zfail(&options.shadow_volume, scene, &casters, aspect);
     let method = if zfail { VolumeMethod::ZFail } else { VolumeMethod::ZPass };
@@ -97,19 +133,23 @@ pub fn build<'s>(
             )?),
             StencilMode::Reference => None,
         };
+        let capacity = alpha_counter::capacity(k);
+        let reports = casters.iter().map(|c| CasterReport::new(scene, c, capacity)).collect();
         Ok(ShadowVolumePasses {
             gpu: ctx.gpu.clone(),
             requested,
             casters,
+            warnings,
             meshes: GpuScene::upload(ctx.gpu, scene)?,
             counter_input,
             volumes: Vec::new(),
             stats: ShadowVolumeStats {
                 zfail,
                 seed_iterations: alpha_counter::seed_iterations(k)?,
-                capacity: alpha_counter::capacity(k),
+                capacity,
                 saturated_pixels: None,
                 increment: k,
+                casters: reports,
             },
         })
     })
@@ -121,6 +161,8 @@ struct ShadowVolumePasses {
     /// into or out of a volume).
     requested: ShadowVolumeOptions,
     casters: Vec<Caster>,
+    /// Casting objects that cast nothing, and why.
+    warnings: Vec<String>,
     meshes: GpuScene,
     /// The colour target as an input attachment (emulated: the probe and `subpass`).
     counter_input: Option<DescriptorSet>,
@@ -166,13 +208,17 @@ impl Passes for ShadowVolumePasses {
     }
 
     fn stats(&mut self, output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {
-        let mut stats = self.stats;
+        let mut stats = self.stats.clone();
         stats.saturated_pixels = output.counters.pass("saturation probe").map(|p| p.samples_passed);
         Box::new(stats)
     }
 
     fn stale_for(&self, renderer: &Renderer, scene: &Scene) -> bool {
         choose_zfail(&self.requested, scene, &self.casters, renderer.aspect()) != self.stats.zfail
+    }
+
+    fn warnings(&self) -> &[String] {
+        &self.warnings
     }
 }
 
@@ -181,13 +227,21 @@ fn upload_volumes(gpu: &Arc<Gpu>, scene: &Scene, casters: &[Caster], zfail: bool
         .iter()
         .map(|caster| {
             // Far caps close point-light volumes at infinity: drawn in both methods, so that
-            // the background (depth 1) behind a volume never counts. Near caps only for z-fail.
+            // the background (depth 1) behind a volume never counts. Near caps for z-fail, and
+            // for two-sided casters in z-pass too: a ray may pass one of their triangles that
+            // the scene pass culled (seen from behind, as through the hole of an open box), so
+            // the caster itself does not hide its near cap.
             let volume = build_volume(scene, caster, true);
             let mut indices = volume.sides.clone();
-            if zfail {
+            if zfail || matches!(caster.mesh.path, CastPath::TwoSided { .. }) {
                 indices.extend_from_slice(&volume.near_cap);
             }
             indices.extend_from_slice(&volume.far_cap);
+            // A mirroring transform (negative determinant) flips every winding on screen: turn
+            // the triangles back so that the volume's faces still point out.
+            if scene.objects[caster.object].transform.determinant() < 0.0 {
+                indices.chunks_exact_mut(3).for_each(|t| t.swap(1, 2));
+            }
             Ok(GpuVolume {
                 object: caster.object,
                 vertices: Buffer::with_data(
