@@ -115,8 +115,8 @@ pub fn default_scene_at(time: f32) -> Result<Scene> {
 const CHARACTER_COLOUR: Vec3 = Vec3::new(0.93, 0.72, 0.30);
 
 /// The character alone over the ground, framed close (`character`, or `character-point` under a
-/// point light). Not in BUILTIN_SCENES, whose every scene must show shadow volumes, which the
-/// character does not cast (see `character.rs`).
+/// point light). Kept out of BUILTIN_SCENES, which every sweep renders: the default scene
+/// already holds the character, and it casts shadow volumes like any closed mesh.
 fn character_scene(time: f32, light: Light) -> Result<Scene> {
     let camera = Camera::look_at(Vec3::new(1.0, 3.3, 3.4), Vec3::new(-0.5, 0.5, -0.2));
     let mut scene = with_ground("character", camera, light);
