@@ -41,6 +41,9 @@ impl Loader<'_> {
             self.warnings.push(format!("{what}: {mode:?} primitive skipped (only triangles are drawn)"));
             return Ok(None);
         }
+        if prim.extensions.as_ref().is_some_and(|e| e.others.contains_key(DRACO)) {
+            self.draco_fallback(what, prim)?;
+        }
         let attribute = |s: Semantic| prim.attributes.get(&Checked::Valid(s)).map(|i| i.value());
         let Some(pos_index) = attribute(Semantic::Positions) else {
             self.warnings.push(format!("{what}: no POSITION attribute; skipped"));
@@ -161,10 +164,17 @@ impl Loader<'_> {
             Mode::TriangleStrip => strip_to_list(&indices),
             Mode::TriangleFan => fan_to_list(&indices),
             _ => {
-                if indices.len() % 3 != 0 {
-                    return Err(
-                        self.fail(format!("{what}: {} indices is not a whole number of triangles", indices.len()))
-                    );
+                let mut indices = indices;
+                let extra = indices.len() % 3;
+                if extra != 0 {
+                    // Valid glTF (the validator only warns): the incomplete last triangle is
+                    // not drawn, as a GPU would not draw it.
+                    self.warnings.push(format!(
+                        "{what}: {} vertices/indices are not a whole number of triangles; the last {extra} \
+                         are ignored",
+                        indices.len()
+                    ));
+                    indices.truncate(indices.len() - extra);
                 }
                 indices
             }
@@ -192,6 +202,29 @@ impl Loader<'_> {
             source_index_width,
             material,
         }))
+    }
+}
+
+const DRACO: &str = "KHR_draco_mesh_compression";
+
+impl Loader<'_> {
+    /// No Draco decoder is used here (no well-kept Rust crate exists). A primitive compressed
+    /// with it is drawn from its uncompressed fallback, which the extension requires when it is
+    /// not listed as required; without that fallback (accessors with no bufferView, which would
+    /// read as zeros) the file is refused, naming the extension.
+    fn draco_fallback(&mut self, what: &str, prim: &json::mesh::Primitive) -> Result<()> {
+        let accessors = prim.attributes.values().chain(prim.indices.iter());
+        let stored = accessors
+            .map(|a| self.root.accessors.get(a.value()))
+            .all(|a| a.is_some_and(|a| a.buffer_view.is_some() || a.sparse.is_some()));
+        if !stored {
+            return Err(self.fail(format!(
+                "{what} is compressed with {DRACO}, which nostencil cannot decode, and has no uncompressed \
+                 fallback; re-export without Draco compression"
+            )));
+        }
+        self.warnings.push(format!("{what}: {DRACO} is not decoded; its uncompressed fallback is drawn"));
+        Ok(())
     }
 }
 

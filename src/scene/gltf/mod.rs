@@ -29,6 +29,7 @@ mod document;
 mod glb;
 mod materials;
 mod meshes;
+mod meshopt;
 mod nodes;
 mod repair;
 mod skins;
@@ -68,7 +69,7 @@ pub fn load_gltf_slice(bytes: &[u8], path: &Path) -> Result<Model> {
     let container = glb::split_container(bytes).map_err(asset)?;
     let mut warnings = Vec::new();
     let root = document::parse_json(container.json, &mut warnings).map_err(asset)?;
-    let buffers = buffers::load_buffers(&root, path, container.bin).map_err(asset)?;
+    let buffers = buffers::Buffers::new(&root, path, container.bin);
     let mut loader = Loader {
         path: path.to_path_buf(),
         root: &root,
@@ -84,7 +85,7 @@ pub fn load_gltf_slice(bytes: &[u8], path: &Path) -> Result<Model> {
 struct Loader<'a> {
     path: PathBuf,
     root: &'a json::Root,
-    buffers: &'a [Vec<u8>],
+    buffers: &'a buffers::Buffers<'a>,
     warnings: Vec<String>,
     textures: Vec<TextureRgba8>,
     /// glTF texture index -> index in `textures` (None: could not be decoded, warned).
@@ -109,7 +110,39 @@ fn label(kind: &str, index: usize, name: Option<&str>) -> String {
     }
 }
 
+/// Extensions the loader reads, or that change nothing it draws, beyond those it honours when
+/// required (`repair::SUPPORTED_REQUIRED_EXTENSIONS`).
+const READ_EXTENSIONS: &[&str] = &[
+    // A texture with only such a source is named in a warning of its own.
+    "EXT_texture_webp",
+    "KHR_texture_basisu",
+    "MSFT_texture_dds",
+];
+
 impl Loader<'_> {
+    /// One warning per extension the file uses that nothing here reads (each named once), and
+    /// the one KHR_materials_variants warning.
+    fn extension_warnings(&mut self) {
+        let mut ignored: Vec<&str> = Vec::new();
+        for ext in &self.root.extensions_used {
+            let ext = ext.as_str();
+            let read = repair::SUPPORTED_REQUIRED_EXTENSIONS.contains(&ext) || READ_EXTENSIONS.contains(&ext);
+            if !read && !ignored.contains(&ext) {
+                ignored.push(ext);
+            }
+        }
+        if !ignored.is_empty() {
+            self.warnings.push(format!("extensions not supported and ignored: {}", ignored.join(", ")));
+        }
+        if self.root.extensions_used.iter().any(|e| e == "KHR_materials_variants") {
+            self.warnings.push(
+                "KHR_materials_variants: each primitive is drawn with its default material; variants are not \
+                 selectable"
+                    .into(),
+            );
+        }
+    }
+
     fn fail(&self, problem: impl Into<String>) -> Error {
         Error::Asset { path: self.path.clone(), problem: problem.into() }
     }
@@ -141,20 +174,19 @@ impl Loader<'_> {
     }
 
     fn model(&mut self) -> Result<Model> {
-        let nodes = self.nodes()?;
-        let roots = self.roots(&nodes);
+        let mut nodes = self.nodes()?;
+        let mut roots = self.roots(&nodes);
         let materials = self.materials()?;
         let mut meshes = self.meshes(materials.len())?;
+        if nodes.is_empty() && !meshes.is_empty() {
+            (nodes, roots) = self.nodes_for_unplaced_meshes(meshes.len());
+        }
         let skins = self.skins()?;
         self.check_skinned_meshes(&nodes, &skins, &mut meshes)?;
         let animations = self.animations()?;
         let cameras = self.cameras()?;
         let lights = self.lights();
-        for ext in &self.root.extensions_used {
-            if !repair::SUPPORTED_REQUIRED_EXTENSIONS.contains(&ext.as_str()) {
-                self.warnings.push(format!("extension {ext} is not supported and was ignored"));
-            }
-        }
+        self.extension_warnings();
         Ok(Model {
             meshes,
             materials,

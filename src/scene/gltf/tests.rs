@@ -1012,11 +1012,14 @@ fn quantized_meshes_load_and_unsupported_required_extensions_are_refused() {
     }
     assert_eq!(expected.indices, got.indices);
 
-    // A required extension that changes what the bytes mean is refused by name.
-    json["extensionsUsed"] = json!(["KHR_mesh_quantization", "KHR_draco_mesh_compression", "EXT_meshopt_compression"]);
-    json["extensionsRequired"] = json!(["KHR_draco_mesh_compression", "EXT_meshopt_compression"]);
+    // A required extension that changes what the bytes mean is refused by name, each named once.
+    json["extensionsUsed"] = json!(["KHR_mesh_quantization", "KHR_draco_mesh_compression", "EXT_unknown"]);
+    json["extensionsRequired"] =
+        json!(["KHR_draco_mesh_compression", "EXT_meshopt_compression", "EXT_unknown", "KHR_draco_mesh_compression"]);
     let msg = load_error(&tmp, "Draco.glb", &make_glb(&json, &bin));
-    assert_mentions(&msg, &["Draco.glb", "requires extensions KHR_draco_mesh_compression, EXT_meshopt_compression"]);
+    assert_mentions(&msg, &["Draco.glb", "requires extensions KHR_draco_mesh_compression, EXT_unknown,"]);
+    assert_eq!(msg.matches("KHR_draco_mesh_compression").count(), 1, "{msg}");
+    assert!(!msg.contains('\n'), "{msg}");
 }
 
 #[test]
