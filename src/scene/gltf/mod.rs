@@ -34,6 +34,8 @@ mod nodes;
 mod repair;
 mod skins;
 #[cfg(test)]
+mod extension_tests;
+#[cfg(test)]
 mod tests;
 
 use std::collections::HashMap;
