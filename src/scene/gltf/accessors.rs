@@ -154,7 +154,9 @@ pub(super) fn read_accessor(
     let accessor = root.accessors.get(index).ok_or_else(|| format!("accessor {index} does not exist"))?;
     let ty = match accessor.type_ {
         json::validation::Checked::Valid(t) => t,
-        json::validation::Checked::Invalid => return Err(format!("accessor {index}: `type` is none of SCALAR, VEC2-4, MAT2-4")),
+        json::validation::Checked::Invalid => {
+            return Err(format!("accessor {index}: `type` is none of SCALAR, VEC2-4, MAT2-4"))
+        }
     };
     let component = match accessor.component_type {
         json::validation::Checked::Valid(c) => c.0,

@@ -119,7 +119,9 @@ fn specular_glossiness_diffuse_becomes_the_base_colour() {
         texture.transform,
         Some(TextureTransform { offset: Vec2::ZERO, rotation: 0.0, scale: Vec2::new(2.0, 3.0) })
     );
-    assert!(model.warnings.is_empty(), "{:?}", model.warnings);
+    // The box has no TEXCOORD_1: said once, for the one primitive.
+    assert_eq!(model.warnings.len(), 1, "{:?}", model.warnings);
+    assert_mentions(&model.warnings[0], &["primitive 0", "base colour texture reads TEXCOORD_1"]);
 }
 
 /// BoxTextured.glb as JSON and BIN.
@@ -165,7 +167,8 @@ fn emissive_textures_unlit_transmission_and_variants() {
     second["name"] = json!("Glass");
     second["emissiveFactor"] = json!([1.0, 0.5, 0.25]);
     second["emissiveTexture"] = json!({"index": 0, "texCoord": 1});
-    second["extensions"] = json!({"KHR_materials_transmission": {"transmissionFactor": 1.0}, "KHR_materials_unlit": {}});
+    second["extensions"] =
+        json!({"KHR_materials_transmission": {"transmissionFactor": 1.0}, "KHR_materials_unlit": {}});
     let mut third = base.clone();
     third["extensions"] = json!({"KHR_materials_transmission": {}});
     json["materials"] = json!([base, second, third]);

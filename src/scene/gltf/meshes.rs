@@ -8,19 +8,19 @@ use json::accessor::{ComponentType as C, Type as T};
 use json::validation::Checked;
 
 use super::{checked, label, Loader, FLOAT_OR_SNORM, FLOAT_OR_UNORM};
-use crate::scene::model::{Mesh, Primitive};
+use crate::scene::model::{Material, Mesh, Primitive};
 use crate::scene::normals::smooth_normals;
 use crate::Result;
 
 impl Loader<'_> {
-    pub(super) fn meshes(&mut self, material_count: usize) -> Result<Vec<Mesh>> {
+    pub(super) fn meshes(&mut self, materials: &[Material]) -> Result<Vec<Mesh>> {
         let mut out = Vec::with_capacity(self.root.meshes.len());
         for (m, mesh) in self.root.meshes.iter().enumerate() {
             let mesh_label = label("mesh", m, mesh.name.as_deref());
             let mut primitives = Vec::with_capacity(mesh.primitives.len());
             for (p, prim) in mesh.primitives.iter().enumerate() {
                 let what = format!("{mesh_label} primitive {p}");
-                if let Some(primitive) = self.primitive(&what, prim, material_count)? {
+                if let Some(primitive) = self.primitive(&what, prim, materials)? {
                     primitives.push(primitive);
                 }
             }
@@ -33,7 +33,7 @@ impl Loader<'_> {
         &mut self,
         what: &str,
         prim: &json::mesh::Primitive,
-        material_count: usize,
+        materials: &[Material],
     ) -> Result<Option<Primitive>> {
         use json::mesh::{Mode, Semantic};
         let mode = checked(&prim.mode).unwrap_or(Mode::Triangles);
@@ -181,8 +181,22 @@ impl Loader<'_> {
         };
 
         let material = prim.material.map(|m| m.value());
-        if let Some(m) = material.filter(|&m| m >= material_count) {
+        if let Some(m) = material.filter(|&m| m >= materials.len()) {
             return Err(self.fail(format!("{what}: material {m} does not exist")));
+        }
+        let textures = material.and_then(|m| materials.get(m)).into_iter().flat_map(|m| {
+            [("base colour", m.base_color_texture), ("emissive", m.emissive_texture)]
+                .into_iter()
+                .filter_map(|(slot, t)| Some((slot, t?)))
+        });
+        for (slot, texture) in textures {
+            let present = if texture.tex_coord == 0 { uv0.is_some() } else { uv1.is_some() };
+            if !present {
+                self.warnings.push(format!(
+                    "{what}: its material's {slot} texture reads TEXCOORD_{}, which the primitive lacks",
+                    texture.tex_coord
+                ));
+            }
         }
 
         let (normals, normals_generated) = match normals {

@@ -2,6 +2,8 @@
 //! buffer, decoded with meshoptimizer's own decoders (the `meshopt` crate). The view's own
 //! buffer is then only a fallback (often without data) and is never read.
 
+use std::os::raw::{c_int, c_uchar, c_void};
+
 use serde_json::Value;
 
 use super::Problem;
@@ -108,54 +110,38 @@ pub(super) fn decode(c: &Compressed, compressed: &[u8], view_length: usize) -> R
             compressed.len()
         ));
     }
-    let native = |e: meshopt::Error| format!("{EXTENSION}: the {:?} data does not decode ({e})", c.mode);
-    match (c.mode, c.byte_stride) {
-        (Mode::Attributes, stride) => {
-            // u32 words: every attribute stride is a multiple of 4, and the filters need the
-            // alignment of their 16-bit components.
-            let mut words = vec![0u32; size / 4];
-            let out: &mut [u8] = bytemuck::cast_slice_mut(&mut words);
-            // SAFETY: `out` holds exactly `count * stride` bytes, and meshoptimizer's decoder
-            // reads at most `compressed.len()` bytes and is safe on untrusted input.
-            let code = unsafe {
-                meshopt::ffi::meshopt_decodeVertexBuffer(
-                    out.as_mut_ptr().cast(),
-                    c.count,
-                    stride,
-                    compressed.as_ptr(),
-                    compressed.len(),
-                )
-            };
-            if code != 0 {
-                return Err(native(meshopt::Error::Native(code)));
-            }
-            match (c.filter, stride) {
-                (Filter::None, _) => {}
-                (Filter::Octahedral, 4) => meshopt::decode_filter_oct::<i8>(bytemuck::cast_slice_mut(&mut words)),
-                (Filter::Octahedral, _) => meshopt::decode_filter_oct::<i16>(bytemuck::cast_slice_mut(&mut words)),
-                (Filter::Quaternion, _) => meshopt::decode_filter_quat(bytemuck::cast_slice_mut(&mut words)),
-                // Each 32-bit component decodes on its own.
-                (Filter::Exponential, _) => meshopt::decode_filter_exp::<1>(bytemuck::cast_slice_mut(&mut words)),
-            }
-            Ok(bytemuck::cast_slice(&words).to_vec())
-        }
-        (Mode::Triangles, 2) => {
-            Ok(bytemuck::cast_slice(&meshopt::decode_index_buffer::<u16>(compressed, c.count).map_err(native)?)
-                .to_vec())
-        }
-        (Mode::Triangles, _) => {
-            Ok(bytemuck::cast_slice(&meshopt::decode_index_buffer::<u32>(compressed, c.count).map_err(native)?)
-                .to_vec())
-        }
-        (Mode::Indices, 2) => {
-            Ok(bytemuck::cast_slice(&meshopt::decode_index_sequence::<u16>(compressed, c.count).map_err(native)?)
-                .to_vec())
-        }
-        (Mode::Indices, _) => {
-            Ok(bytemuck::cast_slice(&meshopt::decode_index_sequence::<u32>(compressed, c.count).map_err(native)?)
-                .to_vec())
-        }
+    // u32 words: the filters need the alignment of their 16-bit components, and every attribute
+    // stride is a multiple of 4 (an index view may end on a half word, cut off below).
+    let mut words = vec![0u32; size.div_ceil(4)];
+    type Decoder = unsafe extern "C" fn(*mut c_void, usize, usize, *const c_uchar, usize) -> c_int;
+    let decoder: Decoder = match c.mode {
+        Mode::Attributes => meshopt::ffi::meshopt_decodeVertexBuffer,
+        Mode::Triangles => meshopt::ffi::meshopt_decodeIndexBuffer,
+        Mode::Indices => meshopt::ffi::meshopt_decodeIndexSequence,
+    };
+    // SAFETY: `words` holds at least `count * stride` bytes; meshoptimizer's decoders write at
+    // most that, read at most `compressed.len()` bytes, and are safe on untrusted input (they
+    // return nonzero on malformed data).
+    let code =
+        unsafe { decoder(words.as_mut_ptr().cast(), c.count, c.byte_stride, compressed.as_ptr(), compressed.len()) };
+    if code != 0 {
+        return Err(format!("{EXTENSION}: the {:?} data does not decode (meshoptimizer error {code})", c.mode));
     }
+    let filter: Option<unsafe extern "C" fn(*mut c_void, usize, usize)> = match c.filter {
+        Filter::None => None,
+        Filter::Octahedral => Some(meshopt::ffi::meshopt_decodeFilterOct),
+        Filter::Quaternion => Some(meshopt::ffi::meshopt_decodeFilterQuat),
+        Filter::Exponential => Some(meshopt::ffi::meshopt_decodeFilterExp),
+    };
+    if let Some(filter) = filter {
+        // SAFETY: `parse` checked the stride against the filter (4 or 8 for octahedral, 8 for
+        // quaternion, a multiple of 4 for exponential); the filter rewrites exactly `count`
+        // elements of `stride` bytes in place, 4-byte aligned.
+        unsafe { filter(words.as_mut_ptr().cast(), c.count, c.byte_stride) };
+    }
+    let mut bytes: Vec<u8> = bytemuck::cast_slice(&words).to_vec();
+    bytes.truncate(size);
+    Ok(bytes)
 }
 
 #[cfg(test)]

@@ -1,7 +1,8 @@
 //! glTF 2.0 (`.gltf` with external or data-URI buffers, and `.glb`) into a `Model`.
 //!
 //! The gltf crate parses and validates the JSON (references, enums, required fields) after
-//! `repair` has fixed what it would needlessly refuse; the bytes are read by `glb`, `buffers`
+//! `repair` has fixed what it would needlessly refuse (see `document::tolerated` for the valid
+//! forms its validation would refuse); the bytes are read by `glb`, `buffers`
 //! and `accessors` with checked offsets. On top of that the loader checks what the
 //! renderer relies on: attribute types and counts, indices in range, finite positions, key
 //! times strictly increasing, skins of at most `MAX_JOINTS` joints, and joint indices inside
@@ -18,14 +19,24 @@
 //! - A joint index outside the skin is an error if its weight is nonzero; with weight zero it
 //!   is replaced by 0 (so the GPU never reads past the palette) and noted in the warnings.
 //! - Missing normals are computed smooth (welded by position, area-weighted).
-//! - Only base-colour textures are decoded, and only PNG or JPEG; a texture in another format is
-//!   dropped with a warning and the material keeps its base-colour factor.
+//! - Only base-colour and emissive textures are decoded (sRGB), and only PNG or JPEG; a texture
+//!   in another format or without `source` is dropped with a warning and the material keeps its
+//!   factor. KHR_texture_transform, KHR_materials_unlit and the diffuse of
+//!   KHR_materials_pbrSpecularGlossiness are read; transmission and variants are accepted with a
+//!   warning (not rendered; the default material is used).
+//! - Buffers are read on first use: one nothing drawn needs is never loaded (a bad URI there is
+//!   no error). EXT_meshopt_compression views are decoded with meshoptimizer. Draco is not
+//!   decoded: a Draco primitive is drawn from its uncompressed fallback, or refused by name.
+//! - Accessors without a bufferView are zeros, within a budget of `MAX_ZERO_FILLED_BYTES` per
+//!   file; counts are checked against the bytes present before anything is allocated.
 
 mod accessors;
 mod animation;
 mod buffers;
 mod cameras_and_lights;
 mod document;
+#[cfg(test)]
+mod extension_tests;
 mod glb;
 mod materials;
 mod meshes;
@@ -33,8 +44,6 @@ mod meshopt;
 mod nodes;
 mod repair;
 mod skins;
-#[cfg(test)]
-mod extension_tests;
 #[cfg(test)]
 mod tests;
 
@@ -179,7 +188,7 @@ impl Loader<'_> {
         let mut nodes = self.nodes()?;
         let mut roots = self.roots(&nodes);
         let materials = self.materials()?;
-        let mut meshes = self.meshes(materials.len())?;
+        let mut meshes = self.meshes(&materials)?;
         if nodes.is_empty() && !meshes.is_empty() {
             (nodes, roots) = self.nodes_for_unplaced_meshes(meshes.len());
         }
