@@ -176,6 +176,57 @@ mod tests {
     }
 
     #[test]
+    fn octahedral_and_exponential_filters_decode_to_the_encoded_values() {
+        let normals: Vec<[f32; 4]> = (0..40)
+            .map(|i| {
+                let (a, b) = (i as f32 * 0.37, i as f32 * 0.11 - 2.0);
+                [a.cos() * b.cos(), a.sin() * b.cos(), b.sin(), 1.0]
+            })
+            .collect();
+        let mut filtered = vec![[0i16; 4]; normals.len()];
+        // SAFETY: `filtered` has room for `count` elements of 8 bytes; `normals` has 4 floats each.
+        unsafe {
+            meshopt::ffi::meshopt_encodeFilterOct(
+                filtered.as_mut_ptr().cast(),
+                normals.len(),
+                8,
+                16,
+                normals.as_ptr().cast(),
+            )
+        };
+        let encoded = meshopt::encode_vertex_buffer(&filtered).expect("encode");
+        let c = parse(&ext("ATTRIBUTES", 8, normals.len(), "OCTAHEDRAL")).expect("parse");
+        let decoded = decode(&c, &encoded, normals.len() * 8).expect("decode");
+        for (n, d) in normals.iter().zip(bytemuck::cast_slice::<u8, [i16; 4]>(&decoded)) {
+            let got = glam::Vec3::new(d[0] as f32, d[1] as f32, d[2] as f32) / 32767.0;
+            assert!(got.distance(glam::Vec3::new(n[0], n[1], n[2])) < 1e-3, "{n:?} decoded as {got}");
+        }
+
+        let values: Vec<[f32; 3]> =
+            (0..40).map(|i| [i as f32 * 1.5 - 7.0, 1e-3 * i as f32, 1e4 / (i + 1) as f32]).collect();
+        let mut filtered = vec![[0u32; 3]; values.len()];
+        // SAFETY: as above, 12-byte elements of 3 floats.
+        unsafe {
+            meshopt::ffi::meshopt_encodeFilterExp(
+                filtered.as_mut_ptr().cast(),
+                values.len(),
+                12,
+                24,
+                values.as_ptr().cast(),
+                meshopt::ffi::meshopt_EncodeExpMode_meshopt_EncodeExpSeparate,
+            )
+        };
+        let encoded = meshopt::encode_vertex_buffer(&filtered).expect("encode");
+        let c = parse(&ext("ATTRIBUTES", 12, values.len(), "EXPONENTIAL")).expect("parse");
+        let decoded = decode(&c, &encoded, values.len() * 12).expect("decode");
+        for (v, d) in values.iter().zip(bytemuck::cast_slice::<u8, [f32; 3]>(&decoded)) {
+            for k in 0..3 {
+                assert!((v[k] - d[k]).abs() <= v[k].abs() * 1e-6, "{v:?} decoded as {d:?}");
+            }
+        }
+    }
+
+    #[test]
     fn bad_parameters_and_data_are_refused() {
         assert!(parse(&ext("POINTS", 4, 3, "NONE")).unwrap_err().contains("mode"));
         assert!(parse(&ext("ATTRIBUTES", 6, 3, "NONE")).unwrap_err().contains("byteStride 6"));
