@@ -114,10 +114,7 @@ impl<'a> Buffers<'a> {
     /// Buffer `index`, exactly its declared `byteLength`, loaded on first use.
     pub(super) fn buffer(&self, index: usize) -> Result<&[u8], Problem> {
         let cell = self.buffers.get(index).ok_or_else(|| format!("buffer {index} does not exist"))?;
-        match cell.get_or_init(|| self.load(index)) {
-            Ok(bytes) => Ok(bytes),
-            Err(e) => Err(e.clone()),
-        }
+        cell.get_or_init(|| self.load(index)).as_deref().map_err(Clone::clone)
     }
 
     fn load(&self, i: usize) -> Result<Vec<u8>, Problem> {
@@ -154,32 +151,29 @@ impl<'a> Buffers<'a> {
         if let Some(ext) = view.extensions.as_ref().and_then(|e| e.others.get(meshopt::EXTENSION)) {
             let cell = self.decoded.get(index).ok_or_else(|| format!("bufferView {index} does not exist"))?;
             let decoded = cell.get_or_init(|| {
-                let compressed = meshopt::parse(ext)?;
-                let bytes = self
-                    .range(compressed.buffer, compressed.byte_offset, compressed.byte_length)
-                    .map_err(|e| format!("{} data {e}", meshopt::EXTENSION))?;
-                let length = usize::try_from(view.byte_length.0).map_err(|_| "byteLength is too large".to_string())?;
-                meshopt::decode(&compressed, bytes, length)
+                let here = |e: Problem| format!("bufferView {index}: {e}");
+                let compressed = meshopt::parse(ext).map_err(here)?;
+                let who = format!("bufferView {index}: {} data", meshopt::EXTENSION);
+                let bytes = self.range(&who, compressed.buffer, compressed.byte_offset, compressed.byte_length)?;
+                let length = usize::try_from(view.byte_length.0).map_err(|_| here("byteLength is too large".into()))?;
+                meshopt::decode(&compressed, bytes, length).map_err(here)
             });
-            return match decoded {
-                Ok(bytes) => Ok(bytes),
-                Err(e) => Err(format!("bufferView {index}: {e}")),
-            };
+            return decoded.as_deref().map_err(Clone::clone);
         }
         let offset = view.byte_offset.map_or(0, |o| o.0);
         let (offset, length) = match (usize::try_from(offset), usize::try_from(view.byte_length.0)) {
             (Ok(offset), Ok(length)) => (offset, length),
             _ => return Err(format!("bufferView {index}: byteOffset or byteLength is too large")),
         };
-        self.range(view.buffer.value(), offset, length).map_err(|e| format!("bufferView {index} {e}"))
+        self.range(&format!("bufferView {index}"), view.buffer.value(), offset, length)
     }
 
-    /// `length` bytes of buffer `buffer` from `offset`, bounds-checked.
-    fn range(&self, buffer: usize, offset: usize, length: usize) -> Result<&[u8], Problem> {
-        let bytes = self.buffer(buffer)?;
+    /// `length` bytes of buffer `buffer` from `offset`, bounds-checked; errors start with `who`.
+    fn range(&self, who: &str, buffer: usize, offset: usize, length: usize) -> Result<&[u8], Problem> {
+        let bytes = self.buffer(buffer).map_err(|e| format!("{who}: {e}"))?;
         offset.checked_add(length).and_then(|end| bytes.get(offset..end)).ok_or_else(|| {
             format!(
-                "(byteOffset {offset}, byteLength {length}) points past the end of buffer {buffer} ({} bytes)",
+                "{who} (byteOffset {offset}, byteLength {length}) points past the end of buffer {buffer} ({} bytes)",
                 bytes.len()
             )
         })
