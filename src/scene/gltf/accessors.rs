@@ -6,12 +6,8 @@
 use gltf::json;
 use json::accessor::{ComponentType, Type};
 
-use super::buffers::view_bytes;
+use super::buffers::Buffers;
 use super::Problem;
-
-/// Accessors without a buffer view (all zeros, plus sparse values) are allocated in full; this
-/// bounds what a hostile `count` can make us allocate.
-const MAX_VIEWLESS_ACCESSOR_BYTES: usize = 256 << 20;
 
 pub(super) fn type_name(t: Type) -> &'static str {
     match t {
@@ -150,7 +146,7 @@ fn gather(
 /// type against `components` first. Errors say "accessor N ..." and what was expected.
 pub(super) fn read_accessor(
     root: &json::Root,
-    buffers: &[Vec<u8>],
+    buffers: &Buffers,
     index: usize,
     types: &[Type],
     components: &[ComponentType],
@@ -158,7 +154,9 @@ pub(super) fn read_accessor(
     let accessor = root.accessors.get(index).ok_or_else(|| format!("accessor {index} does not exist"))?;
     let ty = match accessor.type_ {
         json::validation::Checked::Valid(t) => t,
-        json::validation::Checked::Invalid => return Err(format!("accessor {index}: bad type")),
+        json::validation::Checked::Invalid => {
+            return Err(format!("accessor {index}: `type` is none of SCALAR, VEC2-4, MAT2-4"))
+        }
     };
     let component = match accessor.component_type {
         json::validation::Checked::Valid(c) => c.0,
@@ -195,7 +193,7 @@ pub(super) fn read_accessor(
     match accessor.buffer_view {
         Some(view_index) => {
             let view_index = view_index.value();
-            let view = view_bytes(root, buffers, view_index).map_err(fail)?;
+            let view = buffers.view(view_index).map_err(fail)?;
             let stride = match root.buffer_views.get(view_index).and_then(|v| v.byte_stride) {
                 Some(s) if s.0 != 0 => {
                     if s.0 < elem {
@@ -215,13 +213,12 @@ pub(super) fn read_accessor(
                 .map_err(|e| format!("accessor {index} in bufferView {view_index}: {e}"))?;
         }
         None => {
-            let size = count.checked_mul(elem).filter(|&s| s <= MAX_VIEWLESS_ACCESSOR_BYTES).ok_or_else(|| {
-                fail(format!(
-                    "{count} elements without a bufferView exceed the \
-                         {MAX_VIEWLESS_ACCESSOR_BYTES}-byte limit"
-                ))
-            })?;
-            bytes = vec![0; size];
+            // Zeros, as the spec defines an accessor without a bufferView (sparse values
+            // may follow).
+            let size = count
+                .checked_mul(elem)
+                .ok_or_else(|| fail(format!("{count} elements without a bufferView are too many")))?;
+            bytes = buffers.zeroed(size).map_err(fail)?;
         }
     }
 
@@ -242,14 +239,14 @@ pub(super) fn read_accessor(
             )));
         }
         let iv = sparse.indices.buffer_view.value();
-        let index_view = view_bytes(root, buffers, iv).map_err(fail)?;
+        let index_view = buffers.view(iv).map_err(fail)?;
         let mut index_bytes = Vec::new();
         let index_offset = usize::try_from(sparse.indices.byte_offset.0)
             .map_err(|_| fail("sparse indices byteOffset is too large".into()))?;
         gather(index_view, index_offset, index_size, sparse_count, index_size, &mut index_bytes)
             .map_err(|e| fail(format!("sparse indices: {e}")))?;
         let vv = sparse.values.buffer_view.value();
-        let value_view = view_bytes(root, buffers, vv).map_err(fail)?;
+        let value_view = buffers.view(vv).map_err(fail)?;
         let mut value_bytes = Vec::new();
         let value_offset = usize::try_from(sparse.values.byte_offset.0)
             .map_err(|_| fail("sparse values byteOffset is too large".into()))?;

@@ -40,7 +40,18 @@ impl Loader<'_> {
                     Some(json::animation::Interpolation::CubicSpline) => Interpolation::CubicSpline,
                     _ => Interpolation::Linear,
                 };
-                let times = self.floats(sampler.input.value(), &format!("{here} input"), T::Scalar, &[C::F32])?;
+                let input = sampler.input.value();
+                let stored =
+                    self.root.accessors.get(input).is_some_and(|a| a.buffer_view.is_some() || a.sparse.is_some());
+                if !stored {
+                    // Valid glTF, but zero-filled key times: the file does not say when anything
+                    // happens.
+                    self.warnings.push(format!(
+                        "{here}: its key times (accessor {input}) have no bufferView, so no data; channel ignored"
+                    ));
+                    continue;
+                }
+                let times = self.floats(input, &format!("{here} input"), T::Scalar, &[C::F32])?;
                 let output = format!("{here} output");
                 let values = match property {
                     Property::Rotation => {

@@ -1,8 +1,10 @@
 //! glTF buffers and the files they name: the GLB BIN chunk, `data:` URIs, and external files
-//! resolved relative to the glTF file, each checked against its declared length; and buffer
-//! views, bounds-checked against their buffer.
+//! resolved relative to the glTF file, each checked against its declared length and loaded only
+//! when something read needs it; and buffer views, bounds-checked against their buffer or
+//! decoded from EXT_meshopt_compression.
 
 use std::borrow::Cow;
+use std::cell::{Cell, OnceCell};
 use std::path::{Path, PathBuf};
 
 use base64::alphabet;
@@ -12,7 +14,7 @@ use base64::Engine as _;
 use gltf::json;
 use percent_encoding::percent_decode_str;
 
-use super::Problem;
+use super::{meshopt, Problem};
 
 /// Standard base64 as exporters write it in data URIs: the unused low bits of the last
 /// character are not checked, and padding is stripped before decoding, so any amount of it (none
@@ -76,25 +78,62 @@ pub(super) fn read_external(gltf_path: &Path, uri: &str) -> Result<Vec<u8>, Prob
     std::fs::read(&file).map_err(|e| format!("cannot read '{uri}' ({}): {e}", file.display()))
 }
 
-/// Loads every buffer: `buffers[i]` has exactly the declared `byteLength`.
-pub(super) fn load_buffers(root: &json::Root, gltf_path: &Path, bin: Option<&[u8]>) -> Result<Vec<Vec<u8>>, Problem> {
-    let mut out = Vec::with_capacity(root.buffers.len());
-    for (i, buffer) in root.buffers.iter().enumerate() {
+/// The file's buffers, each read (or decoded) on first use only: a buffer that no accessor or
+/// image that is read refers to is never loaded, so a bad or missing URI there is no error. The
+/// same goes for the fallback buffer of an EXT_meshopt_compression view, which is decoded from
+/// another buffer instead.
+pub(super) struct Buffers<'a> {
+    root: &'a json::Root,
+    gltf_path: &'a Path,
+    bin: Option<&'a [u8]>,
+    buffers: Vec<OnceCell<Result<Vec<u8>, Problem>>>,
+    /// Decoded EXT_meshopt_compression views, by view index.
+    decoded: Vec<OnceCell<Result<Vec<u8>, Problem>>>,
+    /// Bytes left for zero-filled accessors (no bufferView), see `zeroed`.
+    zero_budget: Cell<usize>,
+}
+
+/// Accessors without a buffer view are zeros (plus sparse values) that the file does not store;
+/// all of them together may take at most this much memory, so that a hostile `count` in a tiny
+/// file cannot make the loader allocate gigabytes. 64 MiB is 5.5 million VEC3 float vertices:
+/// more than any sparse-only mesh a renderer of this class will meet.
+pub(super) const MAX_ZERO_FILLED_BYTES: usize = 64 << 20;
+
+impl<'a> Buffers<'a> {
+    pub(super) fn new(root: &'a json::Root, gltf_path: &'a Path, bin: Option<&'a [u8]>) -> Self {
+        Buffers {
+            root,
+            gltf_path,
+            bin,
+            buffers: root.buffers.iter().map(|_| OnceCell::new()).collect(),
+            decoded: root.buffer_views.iter().map(|_| OnceCell::new()).collect(),
+            zero_budget: Cell::new(MAX_ZERO_FILLED_BYTES),
+        }
+    }
+
+    /// Buffer `index`, exactly its declared `byteLength`, loaded on first use.
+    pub(super) fn buffer(&self, index: usize) -> Result<&[u8], Problem> {
+        let cell = self.buffers.get(index).ok_or_else(|| format!("buffer {index} does not exist"))?;
+        cell.get_or_init(|| self.load(index)).as_deref().map_err(Clone::clone)
+    }
+
+    fn load(&self, i: usize) -> Result<Vec<u8>, Problem> {
+        let buffer = self.root.buffers.get(i).ok_or_else(|| format!("buffer {i} does not exist"))?;
         let declared = usize::try_from(buffer.byte_length.0)
             .map_err(|_| format!("buffer {i}: byteLength {} is too large", buffer.byte_length.0))?;
         let mut data = match buffer.uri.as_deref() {
             None => {
-                let Some(bin) = bin.filter(|_| i == 0) else {
+                let Some(bin) = self.bin.filter(|_| i == 0) else {
                     return Err(format!(
                         "buffer {i} has no uri and is not the GLB BIN chunk (the file has {})",
-                        if bin.is_some() { "one, used by buffer 0" } else { "no BIN chunk" }
+                        if self.bin.is_some() { "one, used by buffer 0" } else { "no BIN chunk" }
                     ));
                 };
                 bin.to_vec()
             }
             Some(uri) => match decode_data_uri(uri) {
                 Some(decoded) => decoded.map_err(|e| format!("buffer {i}: {e}"))?,
-                None => read_external(gltf_path, uri).map_err(|e| format!("buffer {i}: {e}"))?,
+                None => read_external(self.gltf_path, uri).map_err(|e| format!("buffer {i}: {e}"))?,
             },
         };
         if data.len() < declared {
@@ -102,30 +141,56 @@ pub(super) fn load_buffers(root: &json::Root, gltf_path: &Path, bin: Option<&[u8
         }
         // The GLB BIN chunk may carry up to 3 bytes of padding; views may not use them.
         data.truncate(declared);
-        out.push(data);
+        Ok(data)
     }
-    Ok(out)
-}
 
-/// The bytes of buffer view `index`, bounds-checked against its buffer.
-pub(super) fn view_bytes<'b>(root: &json::Root, buffers: &'b [Vec<u8>], index: usize) -> Result<&'b [u8], Problem> {
-    let view = root.buffer_views.get(index).ok_or_else(|| format!("bufferView {index} does not exist"))?;
-    let buffer_index = view.buffer.value();
-    let buffer =
-        buffers.get(buffer_index).ok_or_else(|| format!("bufferView {index}: buffer {buffer_index} does not exist"))?;
-    let offset = view.byte_offset.map_or(0, |o| o.0);
-    let length = view.byte_length.0;
-    let end = offset.checked_add(length);
-    match end {
-        Some(end) if end <= buffer.len() as u64 => {
-            // Both fit in usize: they are at most buffer.len().
-            buffer.get(offset as usize..end as usize).ok_or_else(|| format!("bufferView {index} is out of range"))
+    /// The bytes of buffer view `index`: a bounds-checked slice of its buffer, or its
+    /// EXT_meshopt_compression data decoded.
+    pub(super) fn view(&self, index: usize) -> Result<&[u8], Problem> {
+        let view = self.root.buffer_views.get(index).ok_or_else(|| format!("bufferView {index} does not exist"))?;
+        if let Some(ext) = view.extensions.as_ref().and_then(|e| e.others.get(meshopt::EXTENSION)) {
+            let cell = self.decoded.get(index).ok_or_else(|| format!("bufferView {index} does not exist"))?;
+            let decoded = cell.get_or_init(|| {
+                let here = |e: Problem| format!("bufferView {index}: {e}");
+                let compressed = meshopt::parse(ext).map_err(here)?;
+                let who = format!("bufferView {index}: {} data", meshopt::EXTENSION);
+                let bytes = self.range(&who, compressed.buffer, compressed.byte_offset, compressed.byte_length)?;
+                let length = usize::try_from(view.byte_length.0).map_err(|_| here("byteLength is too large".into()))?;
+                meshopt::decode(&compressed, bytes, length).map_err(here)
+            });
+            return decoded.as_deref().map_err(Clone::clone);
         }
-        _ => Err(format!(
-            "bufferView {index} (byteOffset {offset}, byteLength {length}) points past the end \
-             of buffer {buffer_index} ({} bytes)",
-            buffer.len()
-        )),
+        let offset = view.byte_offset.map_or(0, |o| o.0);
+        let (offset, length) = match (usize::try_from(offset), usize::try_from(view.byte_length.0)) {
+            (Ok(offset), Ok(length)) => (offset, length),
+            _ => return Err(format!("bufferView {index}: byteOffset or byteLength is too large")),
+        };
+        self.range(&format!("bufferView {index}"), view.buffer.value(), offset, length)
+    }
+
+    /// `length` bytes of buffer `buffer` from `offset`, bounds-checked; errors start with `who`.
+    fn range(&self, who: &str, buffer: usize, offset: usize, length: usize) -> Result<&[u8], Problem> {
+        let bytes = self.buffer(buffer).map_err(|e| format!("{who}: {e}"))?;
+        offset.checked_add(length).and_then(|end| bytes.get(offset..end)).ok_or_else(|| {
+            format!(
+                "{who} (byteOffset {offset}, byteLength {length}) points past the end of buffer {buffer} ({} bytes)",
+                bytes.len()
+            )
+        })
+    }
+
+    /// `size` zero bytes for an accessor without a buffer view, taken from the file's budget of
+    /// `MAX_ZERO_FILLED_BYTES`.
+    pub(super) fn zeroed(&self, size: usize) -> Result<Vec<u8>, Problem> {
+        let left = self.zero_budget.get();
+        if size > left {
+            return Err(format!(
+                "{size} bytes of zero-filled data (no bufferView) exceed what is left of the \
+                 {MAX_ZERO_FILLED_BYTES}-byte limit for such accessors ({left} bytes)"
+            ));
+        }
+        self.zero_budget.set(left - size);
+        Ok(vec![0; size])
     }
 }
 

@@ -27,6 +27,13 @@ impl Loader<'_> {
         Ok(out)
     }
 
+    /// Whether light `index` is directional, point or spot (a later spec may add types, which
+    /// are valid glTF; nodes then ignore the light).
+    pub(super) fn light_type_is_known(&self, index: usize) -> bool {
+        let lights = self.root.extensions.as_ref().and_then(|e| e.khr_lights_punctual.as_ref());
+        lights.and_then(|l| l.lights.get(index)).is_some_and(|l| checked(&l.type_).is_some())
+    }
+
     pub(super) fn lights(&self) -> Vec<Light> {
         use json::extensions::scene::khr_lights_punctual::Type as LightType;
         let Some(ext) = self.root.extensions.as_ref().and_then(|e| e.khr_lights_punctual.as_ref()) else {

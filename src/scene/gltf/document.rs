@@ -2,6 +2,7 @@
 //! then the gltf crate's parsing and validation with its errors made readable.
 
 use gltf::json;
+use json::validation::Validate;
 
 use super::{repair, Problem};
 
@@ -17,6 +18,10 @@ pub(super) fn parse_json(text: &[u8], warnings: &mut Vec<String>) -> std::result
     if !value.is_object() {
         return Err("not a glTF file: the JSON is not an object".into());
     }
+    repair::integral_floats_to_integers(&mut value);
+    repair::strip_extras(&mut value);
+    repair::drop_channels_without_node(&mut value, warnings);
+    repair::default_scene_nodes(&mut value);
     repair::strip_custom_attributes(&mut value, warnings);
     repair::accept_required_extensions(&mut value)?;
     repair::fill_missing_position_bounds(&mut value, warnings);
@@ -44,15 +49,37 @@ pub(super) fn parse_json(text: &[u8], warnings: &mut Vec<String>) -> std::result
             }
         }
     }
-    let document = gltf::Document::from_json(root).map_err(|e| match e {
-        gltf::Error::Validation(errors) => {
-            let shown: Vec<String> =
-                errors.iter().take(5).map(|(path, error)| format!("{}: {error}", path.as_str())).collect();
-            let more = errors.len().saturating_sub(shown.len());
-            let more = if more > 0 { format!(" (and {more} more)") } else { String::new() };
-            format!("invalid glTF: {}{more}", shown.join("; "))
+    // gltf-json's validation (references in range, required fields), less what the loader
+    // handles itself (`tolerated`).
+    let mut errors = Vec::new();
+    root.validate(&root, json::Path::new, &mut |path: &dyn Fn() -> json::Path, error| {
+        let path = path().as_str().to_owned();
+        if !tolerated(&path, error) {
+            errors.push(format!("{path}: {error}"));
         }
-        other => format!("invalid glTF: {other}"),
-    })?;
-    Ok(document.into_json())
+    });
+    if !errors.is_empty() {
+        let more = errors.len().saturating_sub(5);
+        let more = if more > 0 { format!(" (and {more} more)") } else { String::new() };
+        errors.truncate(5);
+        return Err(format!("invalid glTF: {}{more}", errors.join("; ")));
+    }
+    Ok(root)
+}
+
+/// Validation errors of gltf-json for things that are valid glTF and handled by the loader: an
+/// accessor without a bufferView is valid (zero-filled, read by `accessors`), and a light of an
+/// unknown type is skipped by `nodes`.
+/// An accessor of an unknown `type` is refused when it is read, not before (an unused one is
+/// harmless), and a primitive without POSITION is skipped by `meshes` with a warning.
+fn tolerated(path: &str, error: json::validation::Error) -> bool {
+    use json::validation::Error;
+    let accessor = |field: &str| path.starts_with("accessors[") && path.ends_with(field);
+    let light_type = path.starts_with("extensions.khrLightsPunctual.lights[") && path.ends_with("].type");
+    let position = path.starts_with("meshes[") && path.ends_with(".attributes[\"POSITION\"]");
+    match error {
+        Error::Missing => accessor("].bufferView") || position,
+        Error::Invalid => accessor("].type") || light_type,
+        _ => false,
+    }
 }

@@ -8,19 +8,19 @@ use json::accessor::{ComponentType as C, Type as T};
 use json::validation::Checked;
 
 use super::{checked, label, Loader, FLOAT_OR_SNORM, FLOAT_OR_UNORM};
-use crate::scene::model::{Mesh, Primitive};
+use crate::scene::model::{Material, Mesh, Primitive};
 use crate::scene::normals::smooth_normals;
 use crate::Result;
 
 impl Loader<'_> {
-    pub(super) fn meshes(&mut self, material_count: usize) -> Result<Vec<Mesh>> {
+    pub(super) fn meshes(&mut self, materials: &[Material]) -> Result<Vec<Mesh>> {
         let mut out = Vec::with_capacity(self.root.meshes.len());
         for (m, mesh) in self.root.meshes.iter().enumerate() {
             let mesh_label = label("mesh", m, mesh.name.as_deref());
             let mut primitives = Vec::with_capacity(mesh.primitives.len());
             for (p, prim) in mesh.primitives.iter().enumerate() {
                 let what = format!("{mesh_label} primitive {p}");
-                if let Some(primitive) = self.primitive(&what, prim, material_count)? {
+                if let Some(primitive) = self.primitive(&what, prim, materials)? {
                     primitives.push(primitive);
                 }
             }
@@ -33,13 +33,16 @@ impl Loader<'_> {
         &mut self,
         what: &str,
         prim: &json::mesh::Primitive,
-        material_count: usize,
+        materials: &[Material],
     ) -> Result<Option<Primitive>> {
         use json::mesh::{Mode, Semantic};
         let mode = checked(&prim.mode).unwrap_or(Mode::Triangles);
         if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
             self.warnings.push(format!("{what}: {mode:?} primitive skipped (only triangles are drawn)"));
             return Ok(None);
+        }
+        if prim.extensions.as_ref().is_some_and(|e| e.others.contains_key(DRACO)) {
+            self.draco_fallback(what, prim)?;
         }
         let attribute = |s: Semantic| prim.attributes.get(&Checked::Valid(s)).map(|i| i.value());
         let Some(pos_index) = attribute(Semantic::Positions) else {
@@ -161,18 +164,39 @@ impl Loader<'_> {
             Mode::TriangleStrip => strip_to_list(&indices),
             Mode::TriangleFan => fan_to_list(&indices),
             _ => {
-                if indices.len() % 3 != 0 {
-                    return Err(
-                        self.fail(format!("{what}: {} indices is not a whole number of triangles", indices.len()))
-                    );
+                let mut indices = indices;
+                let extra = indices.len() % 3;
+                if extra != 0 {
+                    // Valid glTF (the validator only warns): the incomplete last triangle is
+                    // not drawn, as a GPU would not draw it.
+                    self.warnings.push(format!(
+                        "{what}: {} vertices/indices are not a whole number of triangles; the last {extra} \
+                         are ignored",
+                        indices.len()
+                    ));
+                    indices.truncate(indices.len() - extra);
                 }
                 indices
             }
         };
 
         let material = prim.material.map(|m| m.value());
-        if let Some(m) = material.filter(|&m| m >= material_count) {
+        if let Some(m) = material.filter(|&m| m >= materials.len()) {
             return Err(self.fail(format!("{what}: material {m} does not exist")));
+        }
+        let textures = material.and_then(|m| materials.get(m)).into_iter().flat_map(|m| {
+            [("base colour", m.base_color_texture), ("emissive", m.emissive_texture)]
+                .into_iter()
+                .filter_map(|(slot, t)| Some((slot, t?)))
+        });
+        for (slot, texture) in textures {
+            let present = if texture.tex_coord == 0 { uv0.is_some() } else { uv1.is_some() };
+            if !present {
+                self.warnings.push(format!(
+                    "{what}: its material's {slot} texture reads TEXCOORD_{}, which the primitive lacks",
+                    texture.tex_coord
+                ));
+            }
         }
 
         let (normals, normals_generated) = match normals {
@@ -192,6 +216,29 @@ impl Loader<'_> {
             source_index_width,
             material,
         }))
+    }
+}
+
+const DRACO: &str = "KHR_draco_mesh_compression";
+
+impl Loader<'_> {
+    /// No Draco decoder is used here (no well-kept Rust crate exists). A primitive compressed
+    /// with it is drawn from its uncompressed fallback, which the extension requires when it is
+    /// not listed as required; without that fallback (accessors with no bufferView, which would
+    /// read as zeros) the file is refused, naming the extension.
+    fn draco_fallback(&mut self, what: &str, prim: &json::mesh::Primitive) -> Result<()> {
+        let accessors = prim.attributes.values().chain(prim.indices.iter());
+        let stored = accessors
+            .map(|a| self.root.accessors.get(a.value()))
+            .all(|a| a.is_some_and(|a| a.buffer_view.is_some() || a.sparse.is_some()));
+        if !stored {
+            return Err(self.fail(format!(
+                "{what} is compressed with {DRACO}, which nostencil cannot decode, and has no uncompressed \
+                 fallback; re-export without Draco compression"
+            )));
+        }
+        self.warnings.push(format!("{what}: {DRACO} is not decoded; its uncompressed fallback is drawn"));
+        Ok(())
     }
 }
 

@@ -1,7 +1,8 @@
 //! glTF 2.0 (`.gltf` with external or data-URI buffers, and `.glb`) into a `Model`.
 //!
 //! The gltf crate parses and validates the JSON (references, enums, required fields) after
-//! `repair` has fixed what it would needlessly refuse; the bytes are read by `glb`, `buffers`
+//! `repair` has fixed what it would needlessly refuse (see `document::tolerated` for the valid
+//! forms its validation would refuse); the bytes are read by `glb`, `buffers`
 //! and `accessors` with checked offsets. On top of that the loader checks what the
 //! renderer relies on: attribute types and counts, indices in range, finite positions, key
 //! times strictly increasing, skins of at most `MAX_JOINTS` joints, and joint indices inside
@@ -18,17 +19,28 @@
 //! - A joint index outside the skin is an error if its weight is nonzero; with weight zero it
 //!   is replaced by 0 (so the GPU never reads past the palette) and noted in the warnings.
 //! - Missing normals are computed smooth (welded by position, area-weighted).
-//! - Only base-colour textures are decoded, and only PNG or JPEG; a texture in another format is
-//!   dropped with a warning and the material keeps its base-colour factor.
+//! - Only base-colour and emissive textures are decoded (sRGB), and only PNG or JPEG; a texture
+//!   in another format or without `source` is dropped with a warning and the material keeps its
+//!   factor. KHR_texture_transform, KHR_materials_unlit and the diffuse of
+//!   KHR_materials_pbrSpecularGlossiness are read; transmission and variants are accepted with a
+//!   warning (not rendered; the default material is used).
+//! - Buffers are read on first use: one nothing drawn needs is never loaded (a bad URI there is
+//!   no error). EXT_meshopt_compression views are decoded with meshoptimizer. Draco is not
+//!   decoded: a Draco primitive is drawn from its uncompressed fallback, or refused by name.
+//! - Accessors without a bufferView are zeros, within a budget of `MAX_ZERO_FILLED_BYTES` per
+//!   file; counts are checked against the bytes present before anything is allocated.
 
 mod accessors;
 mod animation;
 mod buffers;
 mod cameras_and_lights;
 mod document;
+#[cfg(test)]
+mod extension_tests;
 mod glb;
 mod materials;
 mod meshes;
+mod meshopt;
 mod nodes;
 mod repair;
 mod skins;
@@ -68,7 +80,7 @@ pub fn load_gltf_slice(bytes: &[u8], path: &Path) -> Result<Model> {
     let container = glb::split_container(bytes).map_err(asset)?;
     let mut warnings = Vec::new();
     let root = document::parse_json(container.json, &mut warnings).map_err(asset)?;
-    let buffers = buffers::load_buffers(&root, path, container.bin).map_err(asset)?;
+    let buffers = buffers::Buffers::new(&root, path, container.bin);
     let mut loader = Loader {
         path: path.to_path_buf(),
         root: &root,
@@ -84,7 +96,7 @@ pub fn load_gltf_slice(bytes: &[u8], path: &Path) -> Result<Model> {
 struct Loader<'a> {
     path: PathBuf,
     root: &'a json::Root,
-    buffers: &'a [Vec<u8>],
+    buffers: &'a buffers::Buffers<'a>,
     warnings: Vec<String>,
     textures: Vec<TextureRgba8>,
     /// glTF texture index -> index in `textures` (None: could not be decoded, warned).
@@ -109,7 +121,39 @@ fn label(kind: &str, index: usize, name: Option<&str>) -> String {
     }
 }
 
+/// Extensions the loader reads, or that change nothing it draws, beyond those it honours when
+/// required (`repair::SUPPORTED_REQUIRED_EXTENSIONS`).
+const READ_EXTENSIONS: &[&str] = &[
+    // A texture with only such a source is named in a warning of its own.
+    "EXT_texture_webp",
+    "KHR_texture_basisu",
+    "MSFT_texture_dds",
+];
+
 impl Loader<'_> {
+    /// One warning per extension the file uses that nothing here reads (each named once), and
+    /// the one KHR_materials_variants warning.
+    fn extension_warnings(&mut self) {
+        let mut ignored: Vec<&str> = Vec::new();
+        for ext in &self.root.extensions_used {
+            let ext = ext.as_str();
+            let read = repair::SUPPORTED_REQUIRED_EXTENSIONS.contains(&ext) || READ_EXTENSIONS.contains(&ext);
+            if !read && !ignored.contains(&ext) {
+                ignored.push(ext);
+            }
+        }
+        if !ignored.is_empty() {
+            self.warnings.push(format!("extensions not supported and ignored: {}", ignored.join(", ")));
+        }
+        if self.root.extensions_used.iter().any(|e| e == "KHR_materials_variants") {
+            self.warnings.push(
+                "KHR_materials_variants: each primitive is drawn with its default material; variants are not \
+                 selectable"
+                    .into(),
+            );
+        }
+    }
+
     fn fail(&self, problem: impl Into<String>) -> Error {
         Error::Asset { path: self.path.clone(), problem: problem.into() }
     }
@@ -141,20 +185,19 @@ impl Loader<'_> {
     }
 
     fn model(&mut self) -> Result<Model> {
-        let nodes = self.nodes()?;
-        let roots = self.roots(&nodes);
+        let mut nodes = self.nodes()?;
+        let mut roots = self.roots(&nodes);
         let materials = self.materials()?;
-        let mut meshes = self.meshes(materials.len())?;
+        let mut meshes = self.meshes(&materials)?;
+        if nodes.is_empty() && !meshes.is_empty() {
+            (nodes, roots) = self.nodes_for_unplaced_meshes(meshes.len());
+        }
         let skins = self.skins()?;
         self.check_skinned_meshes(&nodes, &skins, &mut meshes)?;
         let animations = self.animations()?;
         let cameras = self.cameras()?;
         let lights = self.lights();
-        for ext in &self.root.extensions_used {
-            if !repair::SUPPORTED_REQUIRED_EXTENSIONS.contains(&ext.as_str()) {
-                self.warnings.push(format!("extension {ext} is not supported and was ignored"));
-            }
-        }
+        self.extension_warnings();
         Ok(Model {
             meshes,
             materials,

@@ -20,6 +20,13 @@ impl Loader<'_> {
             if let Some(l) = light.filter(|&l| l >= light_count) {
                 return Err(self.fail(format!("{what}: light {l} does not exist")));
             }
+            let light = match light {
+                Some(l) if !self.light_type_is_known(l) => {
+                    self.warnings.push(format!("{what}: light {l} has a type this loader does not know; ignored"));
+                    None
+                }
+                other => other,
+            };
             nodes.push(Node {
                 name: n.name.clone(),
                 parent: None,
@@ -116,6 +123,14 @@ impl Loader<'_> {
 
     fn light_count(&self) -> usize {
         self.root.extensions.as_ref().and_then(|e| e.khr_lights_punctual.as_ref()).map_or(0, |l| l.lights.len())
+    }
+
+    /// A file of meshes and no nodes (valid glTF: a mesh library) would show nothing; each mesh
+    /// gets a node of its own at the origin instead, and all of them are roots.
+    pub(super) fn nodes_for_unplaced_meshes(&mut self, mesh_count: usize) -> (Vec<Node>, Vec<usize>) {
+        self.warnings.push(format!("the file has no nodes; each of its {mesh_count} mesh(es) is shown at the origin"));
+        let nodes = (0..mesh_count).map(|m| Node { mesh: Some(m), ..Node::default() }).collect();
+        (nodes, (0..mesh_count).collect())
     }
 
     pub(super) fn roots(&mut self, nodes: &[Node]) -> Vec<usize> {

@@ -1,29 +1,39 @@
-//! Fixing up glTF JSON the gltf crate would refuse although the file is usable: custom
-//! attributes, missing POSITION bounds, invalid values of optional enums; and refusing, with a
-//! clear message, files that require an extension this loader cannot honour. Every repair is
-//! reported as a warning.
+//! Fixing up glTF JSON the gltf crate would refuse although the file is valid or usable:
+//! integers written as floats, `extras` of any type, animation channels without a node, scenes
+//! without `nodes`, custom attributes, missing POSITION bounds, invalid values of optional enums;
+//! and refusing, with a clear message, files that require an extension this loader cannot honour.
+//! A repair that changes what is drawn is reported as a warning.
 
 use super::Problem;
 
 /// Extensions this loader honours when a file lists them as required; any other required
 /// extension changes what the data means (compressed or transformed), so such a file is refused.
-pub(super) const SUPPORTED_REQUIRED_EXTENSIONS: &[&str] = &["KHR_lights_punctual", "KHR_mesh_quantization"];
+pub(super) const SUPPORTED_REQUIRED_EXTENSIONS: &[&str] = &[
+    "EXT_meshopt_compression",
+    "KHR_lights_punctual",
+    "KHR_materials_pbrSpecularGlossiness",
+    "KHR_materials_transmission",
+    "KHR_materials_unlit",
+    "KHR_materials_variants",
+    "KHR_mesh_quantization",
+    "KHR_texture_transform",
+];
 
-/// Refuses a file that requires an extension this loader does not honour, naming it, and
-/// otherwise drops `extensionsRequired`: gltf-json would refuse KHR_mesh_quantization, which
-/// the loader itself reads.
+/// Refuses a file that requires an extension this loader does not honour, naming each once, and
+/// otherwise drops `extensionsRequired`: gltf-json would refuse the extensions the loader reads
+/// itself.
 pub(super) fn accept_required_extensions(value: &mut serde_json::Value) -> std::result::Result<(), Problem> {
     let Some(required) = value.as_object_mut().and_then(|o| o.remove("extensionsRequired")) else {
         return Ok(());
     };
     let names = required.as_array().ok_or("extensionsRequired is not an array")?;
-    let unsupported: Vec<&str> = names
-        .iter()
-        .map(|n| n.as_str().ok_or("extensionsRequired holds a non-string"))
-        .collect::<std::result::Result<Vec<_>, _>>()?
-        .into_iter()
-        .filter(|e| !SUPPORTED_REQUIRED_EXTENSIONS.contains(e))
-        .collect();
+    let mut unsupported: Vec<&str> = Vec::new();
+    for name in names {
+        let name = name.as_str().ok_or("extensionsRequired holds a non-string")?;
+        if !SUPPORTED_REQUIRED_EXTENSIONS.contains(&name) && !unsupported.contains(&name) {
+            unsupported.push(name);
+        }
+    }
     if unsupported.is_empty() {
         return Ok(());
     }
@@ -31,9 +41,69 @@ pub(super) fn accept_required_extensions(value: &mut serde_json::Value) -> std::
         "the file requires extension{} {}, which nostencil cannot read (it reads {}); re-export without {}",
         if unsupported.len() == 1 { "" } else { "s" },
         unsupported.join(", "),
-        SUPPORTED_REQUIRED_EXTENSIONS.join(" and "),
+        SUPPORTED_REQUIRED_EXTENSIONS.join(", "),
         if unsupported.len() == 1 { "it" } else { "them" },
     ))
+}
+
+/// JSON has one number type, and glTF's schema allows `1.0` where an integer is expected (the
+/// glTF-Validator's integer_written_as_float.gltf); serde refuses a float for an integer field.
+/// Every integral float becomes an integer, which float fields accept as well.
+pub(super) fn integral_floats_to_integers(value: &mut serde_json::Value) {
+    match value {
+        serde_json::Value::Number(n) if n.is_f64() => {
+            let Some(f) = n.as_f64() else { return };
+            // Exactly representable integers only (|f| < 2^53).
+            if f.fract() == 0.0 && f.abs() < 9.007_199_254_740_992e15 {
+                *value = if f < 0.0 { serde_json::json!(f as i64) } else { serde_json::json!(f as u64) };
+            }
+        }
+        serde_json::Value::Array(items) => items.iter_mut().for_each(integral_floats_to_integers),
+        serde_json::Value::Object(map) => map.values_mut().for_each(integral_floats_to_integers),
+        _ => {}
+    }
+}
+
+/// `extras` is application data of any JSON type; gltf-json (without its `extras` feature)
+/// accepts only objects there. The loader never reads them, so they are removed before parsing.
+pub(super) fn strip_extras(value: &mut serde_json::Value) {
+    match value {
+        serde_json::Value::Array(items) => items.iter_mut().for_each(strip_extras),
+        serde_json::Value::Object(map) => {
+            map.remove("extras");
+            map.values_mut().for_each(strip_extras);
+        }
+        _ => {}
+    }
+}
+
+/// An animation channel may leave `target.node` out when an extension (KHR_animation_pointer)
+/// says what it animates; gltf-json requires the node. Such channels animate nothing this
+/// renderer draws: they are dropped, with one warning per animation.
+pub(super) fn drop_channels_without_node(value: &mut serde_json::Value, warnings: &mut Vec<String>) {
+    let Some(animations) = value.get_mut("animations").and_then(|a| a.as_array_mut()) else { return };
+    for (a, animation) in animations.iter_mut().enumerate() {
+        let Some(channels) = animation.get_mut("channels").and_then(|c| c.as_array_mut()) else { continue };
+        let before = channels.len();
+        channels.retain(|c| c.get("target").and_then(|t| t.get("node")).is_some() || c.get("target").is_none());
+        let dropped = before - channels.len();
+        if dropped > 0 {
+            warnings.push(format!(
+                "animation {a}: {dropped} channel(s) target no node (an extension such as KHR_animation_pointer \
+                 animates them) and were ignored"
+            ));
+        }
+    }
+}
+
+/// `scene.nodes` is optional (an empty scene); gltf-json requires it.
+pub(super) fn default_scene_nodes(value: &mut serde_json::Value) {
+    let Some(scenes) = value.get_mut("scenes").and_then(|s| s.as_array_mut()) else { return };
+    for scene in scenes {
+        if let Some(map) = scene.as_object_mut() {
+            map.entry("nodes").or_insert_with(|| serde_json::json!([]));
+        }
+    }
 }
 
 /// The spec requires `min` and `max` on POSITION accessors and gltf-json refuses a file without

@@ -24,13 +24,13 @@ const ALL: [&str; 7] = [
 
 /// The shared asset folder beside this checkout; the tests need it (a skipped test proves
 /// nothing), so its absence is a failure that says where it was looked for.
-fn assets() -> PathBuf {
+pub(super) fn assets() -> PathBuf {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/assets");
     assert!(dir.is_dir(), "{} not found: the glTF tests need the shared asset folder", dir.display());
     dir
 }
 
-fn load(dir: &Path, name: &str) -> Model {
+pub(super) fn load(dir: &Path, name: &str) -> Model {
     let path = dir.join(name);
     match load_gltf(&path) {
         Ok(model) => model,
@@ -39,17 +39,17 @@ fn load(dir: &Path, name: &str) -> Model {
 }
 
 /// A directory under the system temp dir, removed on drop.
-struct TempDir(PathBuf);
+pub(super) struct TempDir(PathBuf);
 
 impl TempDir {
-    fn new(tag: &str) -> TempDir {
+    pub(super) fn new(tag: &str) -> TempDir {
         let dir = std::env::temp_dir().join(format!("nostencil-gltf-{}-{tag}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap();
         TempDir(dir)
     }
 
-    fn write(&self, name: &str, bytes: &[u8]) -> PathBuf {
+    pub(super) fn write(&self, name: &str, bytes: &[u8]) -> PathBuf {
         let path = self.0.join(name);
         std::fs::write(&path, bytes).unwrap();
         path
@@ -63,7 +63,7 @@ impl Drop for TempDir {
 }
 
 /// JSON and BIN chunks of a well-formed GLB.
-fn glb_parts(bytes: &[u8]) -> (Value, Vec<u8>) {
+pub(super) fn glb_parts(bytes: &[u8]) -> (Value, Vec<u8>) {
     let u32_at = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap()) as usize;
     let json_len = u32_at(12);
     let json: Value = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
@@ -77,7 +77,7 @@ fn glb_parts(bytes: &[u8]) -> (Value, Vec<u8>) {
     (json, bin)
 }
 
-fn make_glb(json: &Value, bin: &[u8]) -> Vec<u8> {
+pub(super) fn make_glb(json: &Value, bin: &[u8]) -> Vec<u8> {
     let mut text = serde_json::to_vec(json).unwrap();
     while text.len() % 4 != 0 {
         text.push(b' ');
@@ -114,7 +114,7 @@ fn element_offset(json: &Value, accessor: usize, element: usize, elem_size: usiz
 
 /// Loads `bytes` written to `name` in a temp dir and returns the error message, checking it is
 /// an `Error::Asset` that names the file.
-fn load_error(tmp: &TempDir, name: &str, bytes: &[u8]) -> String {
+pub(super) fn load_error(tmp: &TempDir, name: &str, bytes: &[u8]) -> String {
     let path = tmp.write(name, bytes);
     match load_gltf(&path) {
         Ok(_) => panic!("{name}: loaded, but it is broken"),
@@ -127,7 +127,7 @@ fn load_error(tmp: &TempDir, name: &str, bytes: &[u8]) -> String {
     }
 }
 
-fn assert_mentions(msg: &str, words: &[&str]) {
+pub(super) fn assert_mentions(msg: &str, words: &[&str]) {
     for w in words {
         assert!(msg.contains(w), "expected '{w}' in: {msg}");
     }
@@ -1012,11 +1012,14 @@ fn quantized_meshes_load_and_unsupported_required_extensions_are_refused() {
     }
     assert_eq!(expected.indices, got.indices);
 
-    // A required extension that changes what the bytes mean is refused by name.
-    json["extensionsUsed"] = json!(["KHR_mesh_quantization", "KHR_draco_mesh_compression", "EXT_meshopt_compression"]);
-    json["extensionsRequired"] = json!(["KHR_draco_mesh_compression", "EXT_meshopt_compression"]);
+    // A required extension that changes what the bytes mean is refused by name, each named once.
+    json["extensionsUsed"] = json!(["KHR_mesh_quantization", "KHR_draco_mesh_compression", "EXT_unknown"]);
+    json["extensionsRequired"] =
+        json!(["KHR_draco_mesh_compression", "EXT_meshopt_compression", "EXT_unknown", "KHR_draco_mesh_compression"]);
     let msg = load_error(&tmp, "Draco.glb", &make_glb(&json, &bin));
-    assert_mentions(&msg, &["Draco.glb", "requires extensions KHR_draco_mesh_compression, EXT_meshopt_compression"]);
+    assert_mentions(&msg, &["Draco.glb", "requires extensions KHR_draco_mesh_compression, EXT_unknown,"]);
+    assert_eq!(msg.matches("KHR_draco_mesh_compression").count(), 1, "{msg}");
+    assert!(!msg.contains('\n'), "{msg}");
 }
 
 #[test]
@@ -1096,11 +1099,15 @@ fn invalid_optional_enum_values_fall_back_to_their_defaults() {
         assert!(model.warnings.iter().any(|w| w.contains(expected)), "{expected}: {:?}", model.warnings);
     }
     assert_eq!(model.textures[0].sampler.mag_filter, Filter::Linear);
-    // Required enums still fail, by name.
+    // Required enums still fail, by name, when read (an unused accessor of an unknown type is
+    // valid glTF).
     let (mut json, bin) = glb_parts(&std::fs::read(dir.join("Box.glb")).unwrap());
     json["accessors"][2]["type"] = json!("VEC7");
     let msg = load_gltf_slice(&make_glb(&json, &bin), Path::new("Vec7.glb")).unwrap_err().to_string();
-    assert_mentions(&msg, &["Vec7.glb", "accessors[2]"]);
+    assert_mentions(&msg, &["Vec7.glb", "accessor 2", "`type` is none of"]);
+    json["accessors"][2]["componentType"] = json!(5127);
+    let msg = load_gltf_slice(&make_glb(&json, &bin), Path::new("Vec7.glb")).unwrap_err().to_string();
+    assert_mentions(&msg, &["Vec7.glb", "accessors[2].componentType"]);
 }
 
 #[test]
