@@ -4,6 +4,13 @@
 //! conformance test fails if one of them is refused or if an invalid file not listed here loads.
 
 pub const ACCEPTED_INVALID: &[(&str, &str)] = &[
+    ("base/data/animation/sampler_bufferview_bytestride.gltf", "a byteStride on animation data: the loader reads every accessor through its view's stride into its own arrays"),
+    ("base/data/mesh/accessor_unaligned.gltf", "a misaligned vertex attribute: the loader copies attributes byte-wise into its own vertex buffers, which are aligned"),
+    ("base/data/mesh/accessor_without_bytestride.gltf", "a view shared by attributes without byteStride: each accessor is read tightly packed from its own byteOffset, as the data is laid out"),
+    ("base/data/mesh/bufferview_target_override.gltf", "a bufferView target hint that disagrees with the use: the loader never binds the file's views directly"),
+    ("base/data/mesh/indices_bytestride.gltf", "a byteStride on an index view: indices are read through the stride into the loader's own index list"),
+    ("base/data/mesh/morph_bufferview_target_override.gltf", "a bufferView target hint on morph data, which is ignored with a warning"),
+    ("base/data/skin/buffer_view_bytestride.gltf", "a byteStride on inverse bind matrices: read through the stride into the loader's own matrices"),
     ("base/data/accessor/alignment.gltf", "the accessor is not read (a misaligned one that is read is copied byte-wise anyway); the accessor is not read by anything drawn (one that is read is bounds-checked and refused)"),
     ("base/data/accessor/byteoffset_no_bufferview.gltf", "the accessor is not read by anything drawn (byteOffset without bufferView: zeros either way)"),
     ("base/data/accessor/empty_array.gltf", "an empty array or object: there is nothing in it to read"),

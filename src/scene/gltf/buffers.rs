@@ -4,7 +4,7 @@
 //! decoded from EXT_meshopt_compression.
 
 use std::borrow::Cow;
-use std::cell::{Cell, OnceCell};
+use std::cell::{Cell, OnceCell, RefCell};
 use std::path::{Path, PathBuf};
 
 use base64::alphabet;
@@ -91,6 +91,8 @@ pub(super) struct Buffers<'a> {
     decoded: Vec<OnceCell<Result<Vec<u8>, Problem>>>,
     /// Bytes left for zero-filled accessors (no bufferView), see `zeroed`.
     zero_budget: Cell<usize>,
+    /// What loading repaired, for the model's warnings (see `take_warnings`).
+    warnings: RefCell<Vec<String>>,
 }
 
 /// Accessors without a buffer view are zeros (plus sparse values) that the file does not store;
@@ -108,6 +110,7 @@ impl<'a> Buffers<'a> {
             buffers: root.buffers.iter().map(|_| OnceCell::new()).collect(),
             decoded: root.buffer_views.iter().map(|_| OnceCell::new()).collect(),
             zero_budget: Cell::new(MAX_ZERO_FILLED_BYTES),
+            warnings: RefCell::new(Vec::new()),
         }
     }
 
@@ -122,15 +125,20 @@ impl<'a> Buffers<'a> {
         let declared = usize::try_from(buffer.byte_length.0)
             .map_err(|_| format!("buffer {i}: byteLength {} is too large", buffer.byte_length.0))?;
         let mut data = match buffer.uri.as_deref() {
-            None => {
-                let Some(bin) = self.bin.filter(|_| i == 0) else {
-                    return Err(format!(
-                        "buffer {i} has no uri and is not the GLB BIN chunk (the file has {})",
+            None => match self.bin.filter(|_| i == 0) {
+                Some(bin) => bin.to_vec(),
+                None => {
+                    // Valid to the validator (the schema makes `uri` optional), but the bytes are
+                    // nowhere: read as zeros, like an accessor without a buffer view, and say so.
+                    let zeros = self.zeroed(declared).map_err(|e| format!("buffer {i} has no uri: {e}"))?;
+                    self.warnings.borrow_mut().push(format!(
+                        "buffer {i} has no uri and is not the GLB BIN chunk (the file has {}): its {declared} \
+                         bytes are not in the file and are read as zeros",
                         if self.bin.is_some() { "one, used by buffer 0" } else { "no BIN chunk" }
                     ));
-                };
-                bin.to_vec()
-            }
+                    zeros
+                }
+            },
             Some(uri) => match decode_data_uri(uri) {
                 Some(decoded) => decoded.map_err(|e| format!("buffer {i}: {e}"))?,
                 None => read_external(self.gltf_path, uri).map_err(|e| format!("buffer {i}: {e}"))?,
@@ -177,6 +185,11 @@ impl<'a> Buffers<'a> {
                 bytes.len()
             )
         })
+    }
+
+    /// What loading the buffers repaired, once.
+    pub(super) fn take_warnings(&self) -> Vec<String> {
+        std::mem::take(&mut *self.warnings.borrow_mut())
     }
 
     /// `size` zero bytes for an accessor without a buffer view, taken from the file's budget of

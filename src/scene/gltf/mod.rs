@@ -198,6 +198,7 @@ impl Loader<'_> {
         let cameras = self.cameras()?;
         let lights = self.lights();
         self.extension_warnings();
+        self.warnings.extend(self.buffers.take_warnings());
         Ok(Model {
             meshes,
             materials,
