@@ -5,10 +5,7 @@
 #include "planar_project.glsl"
 #include "planar_skinning.glsl"
 
-layout(location = 0) in vec3 in_position;
-layout(location = 1) in vec3 in_normal;
-layout(location = 2) in uvec4 in_joints;
-layout(location = 3) in vec4 in_weights;
+#include "skinned_vertex.glsl"
 
 void main() {
     vec3 world = (planar.model * (skin_matrix(in_joints, in_weights) * vec4(in_position, 1.0))).xyz;

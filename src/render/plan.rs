@@ -13,6 +13,7 @@ use ash::vk;
 use glam::Vec4;
 
 use super::gpu_mesh::GpuScene;
+use super::materials::MATERIAL_SET;
 use super::object_push::draw_objects;
 use super::recorder::FrameRecorder;
 use crate::error::{Error, Result};
@@ -119,6 +120,9 @@ pub enum SetRole {
     Frame,
     /// A set of the technique's own, named (`"counter input"`, `"toon ramps"`, `"joint palette"`).
     Own(&'static str),
+    /// The drawn object's material (`render::materials`), always at set `MATERIAL_SET`, bound
+    /// per object.
+    Material,
 }
 
 /// One measured pass.
@@ -260,6 +264,9 @@ impl PlanPipelines {
         let mut index_of: HashMap<(&'static str, Target), usize> = HashMap::new();
         let mut by_pass = Vec::with_capacity(plan.passes.len());
         for pass in &plan.passes {
+            if pass.sets.iter().position(|r| *r == SetRole::Material).is_some_and(|i| i as u32 != MATERIAL_SET) {
+                return Err(Error::Internal(format!("pass '{}': the material must be set {MATERIAL_SET}", pass.name)));
+            }
             let layouts = pass.sets.iter().map(|role| layout(*role)).collect::<Result<Vec<_>>>()?;
             let mut indices = Vec::with_capacity(pass.pipelines.len());
             for desc in &pass.pipelines {
@@ -344,6 +351,9 @@ pub fn record_plan(
                 SetRole::Own(name) => draws
                     .set(*role)
                     .ok_or_else(|| Error::Internal(format!("pass '{}': no descriptor set for '{name}'", pass.name))),
+                SetRole::Material => {
+                    draws.set(*role).ok_or_else(|| Error::Internal(format!("pass '{}': no materials", pass.name)))
+                }
             })
             .collect::<Result<Vec<_>>>()?;
         rec.pass(&pass.name, |rec| {
@@ -369,7 +379,7 @@ pub fn record_plan(
                 }
                 (Draws::Objects, Push::ObjectColour { alpha }) => match draws.meshes() {
                     Some((scene, meshes)) => {
-                        draw_objects(rec, main, scene, meshes, *alpha);
+                        draw_objects(rec, main, scene, meshes, *alpha, pass.sets.contains(&SetRole::Material));
                         Ok(())
                     }
                     None => Err(Error::Internal(format!("pass '{}' draws objects but has no meshes", pass.name))),

@@ -68,7 +68,7 @@ fn shadow_desc(name: &'static str, skinned: bool, reference: bool) -> PipelineDe
         name,
         vertex_shader: if skinned { "planar_shadow_skinned.vert" } else { "planar_shadow.vert" },
         fragment_shader: "object_colour.frag",
-        vertex_layout: if skinned { SKINNED_LAYOUT } else { VertexLayout::POSITION_NORMAL },
+        vertex_layout: if skinned { SKINNED_LAYOUT } else { VertexLayout::SCENE },
         fixed: FixedFunction {
             topology: vk::PrimitiveTopology::TRIANGLE_LIST,
             // Flattened, front and back faces both land on the plane: both are drawn, which is

@@ -13,14 +13,18 @@ use crate::gpu::Gpu;
 use crate::pipeline::{FixedFunction, PipelineDesc, StencilState, VertexLayout};
 use crate::render::plan::{Draws, PlannedPass, Push, SetRole};
 use crate::render::Pipeline;
-use crate::render::{FrameRecorder, GpuScene, ObjectPush, OBJECT_PUSH_BYTES};
+use crate::render::{object_push, FrameRecorder, GpuScene, OBJECT_PUSH_BYTES};
 use crate::scene::Scene;
 
-/// A skinned object's joint palette, at set 1.
+/// A skinned object's joint palette, at set 1 (set 2 in the scene pass, after the material).
 pub const JOINT_PALETTE: SetRole = SetRole::Own("joint palette");
 
-/// The sets of a pass that draws skinned objects: the frame's uniforms, then the palette.
+/// The sets of a pass that draws skinned objects without their materials: the frame's
+/// uniforms, then the palette.
 pub const OBJECT_SETS: [SetRole; 2] = [SetRole::Frame, JOINT_PALETTE];
+
+/// The sets of the scene pass: the frame's uniforms, the material, the palette.
+pub const SCENE_SETS: [SetRole; 3] = [SetRole::Frame, SetRole::Material, JOINT_PALETTE];
 
 /// A lit scene pipeline: Lambert + ambient, static or GPU-skinned, with an optional stencil
 /// write (the planar reference marks receivers).
@@ -29,7 +33,7 @@ pub fn scene_desc(name: &'static str, skinned: bool, stencil: Option<StencilStat
         name,
         vertex_shader: if skinned { "planar_skinned_lit.vert" } else { "lit.vert" },
         fragment_shader: "lit.frag",
-        vertex_layout: if skinned { SKINNED_LAYOUT } else { VertexLayout::POSITION_NORMAL },
+        vertex_layout: if skinned { SKINNED_LAYOUT } else { VertexLayout::SCENE },
         fixed: FixedFunction { stencil, ..FixedFunction::OPAQUE },
         push_constant_bytes: OBJECT_PUSH_BYTES,
         subpass: 0,
@@ -46,7 +50,7 @@ pub fn scene_pass(
     push: &'static str,
 ) -> PlannedPass {
     let distinct = other.name != receiver.name;
-    let mut pass = PlannedPass::new("scene", receiver, Draws::Objects, Push::PerDraw(push)).with_sets(&OBJECT_SETS);
+    let mut pass = PlannedPass::new("scene", receiver, Draws::Objects, Push::PerDraw(push)).with_sets(&SCENE_SETS);
     if distinct {
         pass = pass.or_pipeline(other);
     }
@@ -76,10 +80,7 @@ impl SceneMeshes {
             .objects
             .iter()
             .map(|o| match &o.skin {
-                Some(skin) => {
-                    let indices = &scene.meshes[o.mesh].data.indices;
-                    SkinnedMesh::upload(gpu, &o.name, skin, indices).map(Some)
-                }
+                Some(skin) => SkinnedMesh::upload(gpu, &o.name, skin, &scene.meshes[o.mesh]).map(Some),
                 None => Ok(None),
             })
             .collect::<Result<Vec<_>>>()?;
@@ -92,12 +93,20 @@ impl SceneMeshes {
 
     /// The palette layout, for `Passes::set_layout`.
     pub fn set_layout(&self, role: SetRole) -> Option<vk::DescriptorSetLayout> {
-        (role == JOINT_PALETTE).then_some(self.template.descriptors.layout)
+        match role {
+            JOINT_PALETTE => Some(self.template.descriptors.layout),
+            SetRole::Material => Some(self.meshes.materials.layout()),
+            _ => None,
+        }
     }
 
     /// The palette set a pass binds before its first skinned draw binds the object's own.
     pub fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
-        (role == JOINT_PALETTE).then_some(self.template.descriptors.set)
+        match role {
+            JOINT_PALETTE => Some(self.template.descriptors.set),
+            SetRole::Material => Some(self.meshes.materials.template_set()),
+            _ => None,
+        }
     }
 
     /// This frame's joint palettes.
@@ -111,7 +120,7 @@ impl SceneMeshes {
     }
 
     /// Draws object `index` with `static_pipeline` or, skinned, `skinned_pipeline` with the
-    /// object's palette at set 1.
+    /// object's palette at set 1 (caster passes, without materials).
     pub fn draw<T: bytemuck::Pod>(
         &self,
         rec: &mut FrameRecorder,
@@ -121,15 +130,37 @@ impl SceneMeshes {
         skinned_pipeline: &Pipeline,
         push: &T,
     ) {
+        self.draw_with(rec, scene, index, [static_pipeline, skinned_pipeline], push, false)
+    }
+
+    /// As [`SceneMeshes::draw`], with the object's material at set 1 and so its palette at 2
+    /// when `with_material`.
+    fn draw_with<T: bytemuck::Pod>(
+        &self,
+        rec: &mut FrameRecorder,
+        scene: &Scene,
+        index: usize,
+        [static_pipeline, skinned_pipeline]: [&Pipeline; 2],
+        push: &T,
+        with_material: bool,
+    ) {
+        let palette_set = if with_material { 2 } else { 1 };
+        let material = self.meshes.materials.set(scene.objects[index].material);
         match &self.skinned[index] {
             Some(gpu_skin) => {
                 rec.bind(skinned_pipeline);
-                rec.bind_sets(skinned_pipeline, 1, &[gpu_skin.palette.descriptors.set]);
+                if with_material {
+                    rec.bind_material(skinned_pipeline, material);
+                }
+                rec.bind_sets(skinned_pipeline, palette_set, &[gpu_skin.palette.descriptors.set]);
                 rec.push(skinned_pipeline, push);
                 rec.draw_mesh(&gpu_skin.mesh);
             }
             None => {
                 rec.bind(static_pipeline);
+                if with_material {
+                    rec.bind_material(static_pipeline, material);
+                }
                 rec.push(static_pipeline, push);
                 rec.draw_mesh(&self.meshes.meshes[scene.objects[index].mesh]);
             }
@@ -155,8 +186,8 @@ impl SceneMeshes {
         for (index, object) in scene.objects.iter().enumerate() {
             let on_plane = plane.receivers[index];
             let alpha = if on_plane { receiver_alpha } else { 1.0 };
-            let push = ObjectPush { model: object.transform, colour: object.colour.extend(alpha) };
-            self.draw(rec, scene, index, if on_plane { receiver } else { other }, skinned, &push);
+            let push = object_push(scene, object, alpha);
+            self.draw_with(rec, scene, index, [if on_plane { receiver } else { other }, skinned], &push, true);
         }
         Ok(())
     }

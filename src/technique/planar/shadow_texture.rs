@@ -55,7 +55,7 @@ fn caster_desc(skinned: bool) -> PipelineDesc {
         name: if skinned { "shadow texture caster (skinned)" } else { "shadow texture caster" },
         vertex_shader: if skinned { "planar_texture_caster_skinned.vert" } else { "planar_texture_caster.vert" },
         fragment_shader: "object_colour.frag",
-        vertex_layout: if skinned { SKINNED_LAYOUT } else { VertexLayout::POSITION_NORMAL },
+        vertex_layout: if skinned { SKINNED_LAYOUT } else { VertexLayout::SCENE },
         fixed: FixedFunction {
             topology: vk::PrimitiveTopology::TRIANGLE_LIST,
             raster: RasterState::CULL_NONE,
@@ -73,7 +73,7 @@ pub fn receive_desc() -> PipelineDesc {
         name: "shadow texture receive",
         vertex_shader: "planar_texture_receive.vert",
         fragment_shader: "planar_texture_receive.frag",
-        vertex_layout: VertexLayout::POSITION_NORMAL,
+        vertex_layout: VertexLayout::SCENE,
         fixed: FixedFunction {
             topology: vk::PrimitiveTopology::TRIANGLE_LIST,
             raster: RasterState { depth_bias: Some(SHADOW_BIAS), ..RasterState::CULL_BACK },

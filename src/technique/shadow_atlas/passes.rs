@@ -8,9 +8,18 @@ use crate::render::plan::{Draws, PassPlan, PlannedPass, Push, SetRole, Target, W
 use crate::render::OBJECT_PUSH_BYTES;
 use crate::technique::options::ShadowKind;
 
-/// position (vec3) + normal (vec3) + atlas UV (vec2).
-pub const ATLAS_VERTEX: VertexLayout =
-    VertexLayout { attributes: &[VertexAttribute::Vec3, VertexAttribute::Vec3, VertexAttribute::Vec2] };
+/// position (vec3) + normal (vec3) + atlas UV (vec2), then the material's inputs: UV0, UV1
+/// (vec2 each) and COLOR_0 (vec4).
+pub const ATLAS_VERTEX: VertexLayout = VertexLayout {
+    attributes: &[
+        VertexAttribute::Vec3,
+        VertexAttribute::Vec3,
+        VertexAttribute::Vec2,
+        VertexAttribute::Vec2,
+        VertexAttribute::Vec2,
+        VertexAttribute::Vec4,
+    ],
+};
 
 /// The light's depth, stored for sampling.
 pub const SHADOW_MAP: Target = Target::Offscreen("shadow map (depth only)");
@@ -100,7 +109,7 @@ pub fn plan(kind: ShadowKind) -> PassPlan {
         .when(moved),
     );
     let scene_sets = match kind {
-        ShadowKind::Map => [SetRole::Frame, LIGHT],
+        ShadowKind::Map => [SetRole::Frame, SetRole::Material, LIGHT],
         ShadowKind::Atlas => {
             plan.push(
                 PlannedPass::new(
@@ -125,7 +134,7 @@ pub fn plan(kind: ShadowKind) -> PassPlan {
                 .when(moved),
             );
             plan.push(PlannedPass::commands(MIPS_PASS, Draws::Geometry("blits per model"), TEXTURE_MIP0).when(moved));
-            [SetRole::Frame, SHADOW_TEXTURE]
+            [SetRole::Frame, SetRole::Material, SHADOW_TEXTURE]
         }
     };
     plan.push(

@@ -22,7 +22,10 @@ use crate::gpu::texture::Sampler;
 use crate::gpu::Gpu;
 use crate::render::plan::{PlannedPass, SetRole, When};
 use crate::render::Pipeline;
-use crate::render::{FrameOutput, FrameRecorder, GpuMesh, ObjectPush, Renderer};
+use crate::render::{
+    object_push, scene_vertices, FrameOutput, FrameRecorder, GpuMaterials, GpuMesh, ObjectPush, Renderer,
+};
+use crate::scene::objects::SceneMesh;
 use crate::scene::{Light, PoseTracker, Scene};
 use crate::technique::frame_renderer::{self, FrameRenderer, Passes};
 use crate::technique::interface::{FrameStats, RenderOptions, Technique};
@@ -33,6 +36,8 @@ use crate::technique::options::{LightMode, ShadowAtlasOptions, ShadowKind};
 struct PosedLayout {
     sources: Vec<u32>,
     uvs: Vec<Vec2>,
+    /// The material's inputs of each GPU vertex (UV0, UV1, COLOR_0), gathered once.
+    surface: Vec<[f32; 8]>,
 }
 
 /// What the cached passes were last rendered for.
@@ -58,6 +63,7 @@ pub struct ShadowPasses {
     _compare: Sampler,
     _map: Image,
     meshes: Vec<GpuMesh>,
+    materials: GpuMaterials,
     layouts: Vec<PosedLayout>,
     /// The pose the skinned objects' atlas vertices hold.
     posed: PoseTracker,
@@ -107,17 +113,27 @@ impl ShadowPasses {
                 atlas
             })
             .collect::<Result<_>>()?;
+        let posed_layouts: Vec<PosedLayout> = scene
+            .meshes
+            .iter()
+            .zip(&layouts)
+            .map(|(m, a)| PosedLayout {
+                sources: a.source_vertices.clone(),
+                uvs: a.uvs.clone(),
+                surface: surface_of(m, &a.source_vertices),
+            })
+            .collect();
         let meshes = scene
             .meshes
             .iter()
             .zip(&layouts)
-            .map(|(m, a)| {
-                let interleaved = atlas_vertices(&a.positions, &a.normals, &a.uvs);
+            .zip(&posed_layouts)
+            .map(|((m, a), posed)| {
+                let interleaved = atlas_vertices(&a.positions, &a.normals, &a.uvs, &posed.surface);
                 GpuMesh::from_raw(gpu, &m.name, &interleaved, &a.indices)
             })
             .collect::<Result<Vec<_>>>()?;
-        let posed_layouts =
-            layouts.iter().map(|a| PosedLayout { sources: a.source_vertices.clone(), uvs: a.uvs.clone() }).collect();
+        let materials = GpuMaterials::upload(gpu, scene)?;
         let atlases = scene
             .meshes
             .iter()
@@ -176,6 +192,7 @@ impl ShadowPasses {
             _compare: compare,
             _map: map,
             meshes,
+            materials,
             layouts: posed_layouts,
             posed: PoseTracker::new(scene),
             atlases,
@@ -218,7 +235,8 @@ impl ShadowPasses {
             let pick = |list: &[Vec3], fallback: Vec3| -> Vec<Vec3> {
                 layout.sources.iter().map(|&v| list.get(v as usize).copied().unwrap_or(fallback)).collect()
             };
-            let interleaved = atlas_vertices(&pick(&positions, Vec3::ZERO), &pick(&normals, Vec3::Y), &layout.uvs);
+            let interleaved =
+                atlas_vertices(&pick(&positions, Vec3::ZERO), &pick(&normals, Vec3::Y), &layout.uvs, &layout.surface);
             mesh.vertices = Buffer::device_local(
                 &self.gpu,
                 &format!("{} atlas vertices (posed)", object.name),
@@ -251,9 +269,10 @@ impl ShadowPasses {
     fn draw_scene(&self, rec: &mut FrameRecorder, scene: &Scene, pipeline: &Pipeline) {
         for (index, object) in scene.objects.iter().enumerate() {
             if let Some(shadow) = self.atlas.as_ref().and_then(|a| a.objects.get(index)) {
-                rec.bind_sets(pipeline, 1, &[shadow.scene_set.set]);
+                rec.bind_sets(pipeline, 2, &[shadow.scene_set.set]);
             }
-            rec.push(pipeline, &ObjectPush { model: object.transform, colour: object.colour.extend(1.0) });
+            rec.bind_material(pipeline, self.materials.set(object.material));
+            rec.push(pipeline, &object_push(scene, object, 1.0));
             rec.draw_mesh(&self.meshes[object.mesh]);
         }
     }
@@ -263,6 +282,7 @@ impl Passes for ShadowPasses {
     fn set_layout(&self, role: SetRole) -> Option<vk::DescriptorSetLayout> {
         let first = || self.atlas.as_ref().and_then(|a| a.objects.first());
         match role {
+            SetRole::Material => Some(self.materials.layout()),
             LIGHT => Some(self.light_set.layout),
             SHADOW_TEXTURE => first().map(|o| o.scene_set.layout),
             RAW_BAKE => first().map(|o| o.dilate_set.layout),
@@ -273,6 +293,7 @@ impl Passes for ShadowPasses {
     fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
         let first = || self.atlas.as_ref().and_then(|a| a.objects.first());
         match role {
+            SetRole::Material => Some(self.materials.template_set()),
             LIGHT => Some(self.light_set.set),
             SHADOW_TEXTURE => first().map(|o| o.scene_set.set),
             RAW_BAKE => first().map(|o| o.dilate_set.set),
@@ -357,12 +378,27 @@ impl Passes for ShadowPasses {
     }
 }
 
-/// Position, normal and atlas UV per vertex, interleaved as the bake and scene pipelines read.
-fn atlas_vertices(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2]) -> Vec<[f32; 8]> {
+/// Position, normal, atlas UV and the material's inputs per vertex, interleaved as
+/// `passes::ATLAS_VERTEX` says.
+fn atlas_vertices(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], surface: &[[f32; 8]]) -> Vec<[f32; 16]> {
     (0..positions.len())
         .map(|i| {
             let (p, n, uv) = (positions[i], normals.get(i).copied().unwrap_or(Vec3::Y), uvs[i]);
-            [p.x, p.y, p.z, n.x, n.y, n.z, uv.x, uv.y]
+            let s = surface.get(i).copied().unwrap_or([0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0]);
+            [p.x, p.y, p.z, n.x, n.y, n.z, uv.x, uv.y, s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7]]
+        })
+        .collect()
+}
+
+/// UV0, UV1 and COLOR_0 of `mesh`'s vertices `sources` (one per atlas vertex).
+fn surface_of(mesh: &SceneMesh, sources: &[u32]) -> Vec<[f32; 8]> {
+    let vertices = scene_vertices(mesh, &mesh.data.positions, &mesh.data.normals);
+    sources
+        .iter()
+        .map(|&v| {
+            let s = vertices.get(v as usize);
+            let (uv0, uv1, c) = s.map_or(([0.0; 2], [0.0; 2], [1.0; 4]), |s| (s.uv0, s.uv1, s.colour));
+            [uv0[0], uv0[1], uv1[0], uv1[1], c[0], c[1], c[2], c[3]]
         })
         .collect()
 }
