@@ -47,3 +47,12 @@ vec3 surface_normal(vec3 interpolated) {
     vec3 n = normalize(interpolated);
     return gl_FrontFacing ? n : -n;
 }
+
+// The alpha a scene pass writes: the technique's (counter start, outline mask, receiver
+// factor) for opaque and masked materials; for a blended one, its own alpha, which the blend
+// equation uses as the colour factor and never stores (alpha blend ZERO, ONE).
+#ifdef ALPHA_BLEND
+#define written_alpha(base) (base).a
+#else
+#define written_alpha(base) object.colour.a
+#endif

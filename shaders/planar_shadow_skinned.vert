@@ -3,6 +3,8 @@
 #include "frame_uniforms.glsl"
 #include "planar_push.glsl"
 #include "planar_project.glsl"
+// The material is set 1 of these passes, the palette set 2.
+#define PALETTE_SET 2
 #include "planar_skinning.glsl"
 
 #include "skinned_vertex.glsl"

@@ -3,9 +3,25 @@
 use glam::{Mat4, Vec4};
 
 use super::gpu_mesh::GpuScene;
+use super::plan::{MaterialVariant, PlannedPass, SetRole};
 use super::recorder::FrameRecorder;
 use crate::render::Pipeline;
+use crate::scene::model::AlphaMode;
 use crate::scene::{Scene, SceneObject};
+
+/// The order objects are drawn in: every object not blended, in scene order, then the blended
+/// ones back to front (farthest centre from the eye first), as alpha blending needs.
+pub fn draw_order(scene: &Scene) -> Vec<usize> {
+    let blended = |i: &usize| matches!(scene.material_of(&scene.objects[*i]).alpha_mode, AlphaMode::Blend);
+    let (mut order, mut back): (Vec<usize>, Vec<usize>) = (0..scene.objects.len()).partition(|i| !blended(i));
+    let distance = |i: usize| {
+        scene.posed_bounds(i).map_or(0.0, |(lo, hi)| ((lo + hi) * 0.5).distance(scene.camera.eye))
+    };
+    let mut keyed: Vec<(f32, usize)> = back.drain(..).map(|i| (distance(i), i)).collect();
+    keyed.sort_by(|a, b| b.0.total_cmp(&a.0));
+    order.extend(keyed.into_iter().map(|(_, i)| i));
+    order
+}
 
 /// An object's push: its transform, its material's base colour factor (what passes that draw
 /// one flat colour use; material shaders read the material) and the alpha the draw writes.
@@ -24,17 +40,28 @@ pub struct ObjectPush {
 
 pub const OBJECT_PUSH_BYTES: u32 = std::mem::size_of::<ObjectPush>() as u32;
 
-/// Draws every object of `scene` with `pipeline` (bound by the caller), each with its transform,
-/// its base colour and the alpha `alpha`, and its material set when `with_material`.
+/// Draws every object of `scene` in [`draw_order`] with the pass's pipeline its material needs
+/// (the main one, bound by the caller, or a variant: see `MaterialVariant`), each with its
+/// transform, its base colour and the alpha `alpha`, and its material set when the pass has one.
 pub fn draw_objects(
     rec: &mut FrameRecorder,
-    pipeline: &Pipeline,
+    pass: &PlannedPass,
+    pipelines: &[&Pipeline],
     scene: &Scene,
     meshes: &GpuScene,
     alpha: f32,
-    with_material: bool,
 ) {
-    for object in &scene.objects {
+    let with_material = pass.sets.contains(&SetRole::Material);
+    let mut bound = 0;
+    for index in draw_order(scene) {
+        let object = &scene.objects[index];
+        let material = scene.material_of(object);
+        let wanted = pass.variant_index(MaterialVariant::for_surface(&material)).unwrap_or(0);
+        let Some(&pipeline) = pipelines.get(wanted) else { continue };
+        if wanted != bound {
+            rec.bind(pipeline);
+            bound = wanted;
+        }
         if with_material {
             rec.bind_material(pipeline, meshes.materials.set(object.material));
         }

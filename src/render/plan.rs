@@ -20,6 +20,7 @@ use crate::error::{Error, Result};
 use crate::gpu::Gpu;
 use crate::pipeline::PipelineDesc;
 use crate::render::Pipeline;
+use crate::scene::model::{AlphaMode, Material};
 use crate::scene::Scene;
 
 /// What a pass draws.
@@ -125,6 +126,37 @@ pub enum SetRole {
     Material,
 }
 
+/// A pipeline bound only for objects whose material needs it (see [`PlannedPass::or_variant`]).
+/// Scene passes: MASK cuts texels out (a `discard` the opaque pipeline keeps out of its shader,
+/// so it keeps early depth on a tiler), double-sided draws both faces with the normal turned to
+/// the viewer, BLEND is drawn after everything opaque, back to front, without depth writes.
+/// Shadow-casting passes need only `Masked`: a blended caster casts as if opaque.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum MaterialVariant {
+    Masked,
+    DoubleSided,
+    Blend,
+    BlendDoubleSided,
+}
+
+impl MaterialVariant {
+    /// What a scene (shading) pass draws `material` with; `None`: the pass's opaque pipeline.
+    pub fn for_surface(material: &Material) -> Option<Self> {
+        match (material.alpha_mode, material.double_sided) {
+            (AlphaMode::Blend, true) => Some(MaterialVariant::BlendDoubleSided),
+            (AlphaMode::Blend, false) => Some(MaterialVariant::Blend),
+            (_, true) => Some(MaterialVariant::DoubleSided),
+            (AlphaMode::Mask { .. }, false) => Some(MaterialVariant::Masked),
+            (AlphaMode::Opaque, false) => None,
+        }
+    }
+
+    /// What a shadow-casting pass draws `material` with (casters are drawn without culling).
+    pub fn for_caster(material: &Material) -> Option<Self> {
+        matches!(material.alpha_mode, AlphaMode::Mask { .. }).then_some(MaterialVariant::Masked)
+    }
+}
+
 /// One measured pass.
 #[derive(Debug, Clone)]
 pub struct PlannedPass {
@@ -133,6 +165,8 @@ pub struct PlannedPass {
     /// Pipelines bound in this pass, first the main one; alternatives follow (for example the
     /// skinned variant of an object pipeline, bound only for skinned objects).
     pub pipelines: Vec<PipelineDesc>,
+    /// Per pipeline: the material variant it is bound for, `None` for those every frame binds.
+    pub variants: Vec<Option<MaterialVariant>>,
     /// Descriptor sets, by role, at sets 0, 1, ... of every pipeline of the pass.
     pub sets: Vec<SetRole>,
     pub draws: Draws,
@@ -150,6 +184,7 @@ impl PlannedPass {
         PlannedPass {
             name: name.into(),
             pipelines: vec![pipeline],
+            variants: vec![None],
             sets: Vec::new(),
             draws,
             push,
@@ -164,6 +199,7 @@ impl PlannedPass {
         PlannedPass {
             name: name.into(),
             pipelines: Vec::new(),
+            variants: Vec::new(),
             sets: Vec::new(),
             draws,
             push: Push::Nothing,
@@ -186,7 +222,27 @@ impl PlannedPass {
     /// Adds an alternative pipeline (bound for some draws of the pass).
     pub fn or_pipeline(mut self, pipeline: PipelineDesc) -> Self {
         self.pipelines.push(pipeline);
+        self.variants.push(None);
         self
+    }
+
+    /// Adds a pipeline bound only for objects whose material needs `variant`.
+    pub fn or_variant(mut self, variant: MaterialVariant, pipeline: PipelineDesc) -> Self {
+        self.pipelines.push(pipeline);
+        self.variants.push(Some(variant));
+        self
+    }
+
+    /// The pipeline of `pipelines` (this pass's, as the recorder hands them over) that draws a
+    /// material needing `variant`; `None` when the pass has no such variant.
+    pub fn variant<'p>(&self, pipelines: &[&'p Pipeline], variant: Option<MaterialVariant>) -> Option<&'p Pipeline> {
+        self.variant_index(variant).and_then(|i| pipelines.get(i).copied())
+    }
+
+    /// The index in `pipelines` of the variant `variant`, when the pass has it.
+    pub fn variant_index(&self, variant: Option<MaterialVariant>) -> Option<usize> {
+        let wanted = variant?;
+        self.variants.iter().position(|v| *v == Some(wanted))
     }
 
     pub fn into_target(mut self, target: Target) -> Self {
@@ -233,11 +289,25 @@ impl PassPlan {
 
     /// (pass name, pipeline labels) of every pass that runs in a frame where `holds(when)`:
     /// what the recorder must report having run.
+    /// Material variants are left out: see [`PassPlan::expected_trace_with`].
     pub fn expected_trace(&self, holds: impl Fn(When) -> bool) -> Vec<(String, Vec<&'static str>)> {
+        self.expected_trace_with(holds, |_| false)
+    }
+
+    /// As [`PassPlan::expected_trace`] for a scene whose objects need the material variants for
+    /// which `needed` holds (in plan order: the recorder reports a pass's pipelines so).
+    pub fn expected_trace_with(
+        &self,
+        holds: impl Fn(When) -> bool,
+        needed: impl Fn(MaterialVariant) -> bool,
+    ) -> Vec<(String, Vec<&'static str>)> {
         self.passes
             .iter()
             .filter(|p| holds(p.when))
-            .map(|p| (p.name.to_string(), p.pipelines.iter().map(|d| d.name).collect()))
+            .map(|p| {
+                let bound = p.pipelines.iter().zip(&p.variants).filter(|(_, v)| v.is_none_or(&needed));
+                (p.name.to_string(), bound.map(|(d, _)| d.name).collect())
+            })
             .collect()
     }
 }
@@ -356,7 +426,7 @@ pub fn record_plan(
                 }
             })
             .collect::<Result<Vec<_>>>()?;
-        rec.pass(&pass.name, |rec| {
+        let recorded = rec.pass(&pass.name, |rec| {
             if pass.reads_colour {
                 rec.colour_feedback_barrier();
             }
@@ -379,14 +449,21 @@ pub fn record_plan(
                 }
                 (Draws::Objects, Push::ObjectColour { alpha }) => match draws.meshes() {
                     Some((scene, meshes)) => {
-                        draw_objects(rec, main, scene, meshes, *alpha, pass.sets.contains(&SetRole::Material));
+                        draw_objects(rec, pass, &bound, scene, meshes, *alpha);
                         Ok(())
                     }
                     None => Err(Error::Internal(format!("pass '{}' draws objects but has no meshes", pass.name))),
                 },
                 _ => draws.draw(rec, pass, &bound),
             }
-        })?;
+        });
+        // The pipelines bound, in the plan's order (an unplanned one last): material variants
+        // are bound in object order, which is the scene's business, not the plan's.
+        if let Some(record) = rec.passes.last_mut() {
+            let rank = |name: &&'static str| pass.pipelines.iter().position(|d| d.name == *name).unwrap_or(usize::MAX);
+            record.pipelines.sort_by_key(rank);
+        }
+        recorded?;
     }
     Ok(())
 }

@@ -5,6 +5,7 @@ use std::sync::Arc;
 
 use super::frame_renderer::{self, Passes};
 use super::interface::RenderOptions;
+use super::material_variants::with_surface_variants;
 use super::interface::{NoStats, SceneRenderer, Technique};
 use crate::error::Result;
 use crate::gpu::Gpu;
@@ -28,8 +29,9 @@ pub fn scene_pipeline_desc() -> PipelineDesc {
 /// The lit scene pass: every object with its material, writing `alpha` (the counter's start,
 /// or opaque 1).
 pub fn scene_pass(alpha: f32) -> PlannedPass {
-    PlannedPass::new("scene", scene_pipeline_desc(), Draws::Objects, Push::ObjectColour { alpha })
-        .with_sets(&[SetRole::Frame, SetRole::Material])
+    let desc = scene_pipeline_desc();
+    let pass = PlannedPass::new("scene", desc.clone(), Draws::Objects, Push::ObjectColour { alpha });
+    with_surface_variants(pass, &desc).with_sets(&[SetRole::Frame, SetRole::Material])
 }
 
 /// Lambert + ambient, no shadows.

@@ -22,7 +22,7 @@ use ash::vk;
 use glam::{Mat4, Vec4};
 
 use super::receiver::{light_reaches_plane, receiver_plane, ReceiverPlane};
-use super::scene_meshes::{scene_desc, scene_pass, SceneMeshes, OBJECT_SETS};
+use super::scene_meshes::{scene_desc, scene_pass, SceneMeshes, SCENE_SETS};
 use super::shared::{Planar, PlanarStats, SHADOW_BIAS};
 use super::skin::SKINNED_LAYOUT;
 use crate::error::{Error, Result};
@@ -32,7 +32,7 @@ use crate::pipeline::recipes::{
     stencil_replace, MODULATE_BY_DST_ALPHA_ONCE, MODULATE_BY_SRC_ALPHA_WRITING_ALPHA, STENCIL_EQUAL_ZERO_THEN_INCREMENT,
 };
 use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexLayout};
-use crate::render::plan::{Draws, PassPlan, PlannedPass, Push, SetRole, When};
+use crate::render::plan::{Draws, MaterialVariant, PassPlan, PlannedPass, Push, SetRole, When};
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, Renderer};
 use crate::scene::Scene;
@@ -117,9 +117,20 @@ pub fn shadow_pass_of(stencil: StencilMode) -> PlannedPass {
             "caster transform, black with alpha F/255, plane height",
         ),
     };
+    let masked = match stencil {
+        StencilMode::Emulated => "planar shadow (alpha mask)",
+        StencilMode::Reference => "planar shadow (stencil, alpha mask)",
+    };
+    let masked = PipelineDesc {
+        name: masked,
+        vertex_shader: "planar_shadow_masked.vert",
+        fragment_shader: "object_colour_masked.frag",
+        ..shadow_desc(masked, false, reference)
+    };
     PlannedPass::new(name, shadow_desc(name, false, reference), PROJECTED_CASTERS, Push::PerDraw(push))
         .or_pipeline(shadow_desc(skinned, true, reference))
-        .with_sets(&OBJECT_SETS)
+        .or_variant(MaterialVariant::Masked, masked)
+        .with_sets(&SCENE_SETS)
         .when(When::LightAbovePlane)
 }
 
@@ -197,8 +208,8 @@ impl PlanarPasses {
     }
 
     /// Every caster flattened onto the plane: `[static, skinned]` pipelines.
-    fn draw_shadow(&self, rec: &mut FrameRecorder, scene: &Scene, pipelines: &[&Pipeline]) -> Result<()> {
-        let &[shadow, skinned] = pipelines else {
+    fn draw_shadow(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()> {
+        let &[shadow, skinned, ..] = pipelines else {
             return Err(Error::Internal(format!("the planar shadow pass has {} pipelines", pipelines.len())));
         };
         let alpha = match self.stencil {
@@ -212,7 +223,8 @@ impl PlanarPasses {
                 continue;
             }
             let push = PlanarPush { model: object.transform, colour, plane };
-            self.meshes.draw(rec, scene, index, shadow, skinned, &push);
+            let shadow = SceneMeshes::caster_pipeline(scene, index, pass, pipelines, shadow);
+            self.meshes.draw(rec, scene, index, [shadow, skinned], &push);
         }
         Ok(())
     }
@@ -246,9 +258,9 @@ impl Passes for PlanarPasses {
                     // Everything starts as "not a receiver"; the receivers' draws write 0.
                     rec.clear_stencil(STENCIL_OTHER);
                 }
-                self.meshes.draw_scene(rec, scene, &self.plane, pipelines, self.factor())
+                self.meshes.draw_scene(rec, scene, &self.plane, pass, pipelines, self.factor())
             }
-            PROJECTED_CASTERS => self.draw_shadow(rec, scene, pipelines),
+            PROJECTED_CASTERS => self.draw_shadow(rec, scene, pass, pipelines),
             _ => Err(Error::Internal(format!("planar shadows cannot draw pass '{}'", pass.name))),
         }
     }

@@ -11,19 +11,18 @@ use super::skin::{self, SkinnedMesh, SKINNED_LAYOUT};
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
 use crate::pipeline::{FixedFunction, PipelineDesc, StencilState, VertexLayout};
-use crate::render::plan::{Draws, PlannedPass, Push, SetRole};
+use crate::render::object_push::draw_order;
+use crate::render::plan::{Draws, MaterialVariant, PlannedPass, Push, SetRole};
 use crate::render::Pipeline;
 use crate::render::{object_push, FrameRecorder, GpuScene, OBJECT_PUSH_BYTES};
 use crate::scene::Scene;
+use crate::technique::material_variants::with_surface_variants;
 
-/// A skinned object's joint palette, at set 1 (set 2 in the scene pass, after the material).
+/// A skinned object's joint palette, at set 2.
 pub const JOINT_PALETTE: SetRole = SetRole::Own("joint palette");
 
-/// The sets of a pass that draws skinned objects without their materials: the frame's
-/// uniforms, then the palette.
-pub const OBJECT_SETS: [SetRole; 2] = [SetRole::Frame, JOINT_PALETTE];
-
-/// The sets of the scene pass: the frame's uniforms, the material, the palette.
+/// The sets of every pass that draws the scene's objects (the scene, the casters): the frame's
+/// uniforms, the material (casters cut out by MASK), the palette.
 pub const SCENE_SETS: [SetRole; 3] = [SetRole::Frame, SetRole::Material, JOINT_PALETTE];
 
 /// A lit scene pipeline: Lambert + ambient, static or GPU-skinned, with an optional stencil
@@ -52,9 +51,9 @@ pub fn scene_pass(
     let distinct = other.name != receiver.name;
     let mut pass = PlannedPass::new("scene", receiver, Draws::Objects, Push::PerDraw(push)).with_sets(&SCENE_SETS);
     if distinct {
-        pass = pass.or_pipeline(other);
+        pass = pass.or_pipeline(other.clone());
     }
-    pass.or_pipeline(skinned)
+    with_surface_variants(pass.or_pipeline(skinned), &other)
 }
 
 /// The lit scene pass of the blob and shadow-texture techniques: every object alike, alpha 1.
@@ -119,52 +118,46 @@ impl SceneMeshes {
         Ok(())
     }
 
-    /// Draws object `index` with `static_pipeline` or, skinned, `skinned_pipeline` with the
-    /// object's palette at set 1 (caster passes, without materials).
+    /// Draws object `index` with `static_pipeline` or, skinned, `skinned_pipeline`, with its
+    /// material at set 1 and its palette at set 2 (every planar pass has `SCENE_SETS`).
     pub fn draw<T: bytemuck::Pod>(
-        &self,
-        rec: &mut FrameRecorder,
-        scene: &Scene,
-        index: usize,
-        static_pipeline: &Pipeline,
-        skinned_pipeline: &Pipeline,
-        push: &T,
-    ) {
-        self.draw_with(rec, scene, index, [static_pipeline, skinned_pipeline], push, false)
-    }
-
-    /// As [`SceneMeshes::draw`], with the object's material at set 1 and so its palette at 2
-    /// when `with_material`.
-    fn draw_with<T: bytemuck::Pod>(
         &self,
         rec: &mut FrameRecorder,
         scene: &Scene,
         index: usize,
         [static_pipeline, skinned_pipeline]: [&Pipeline; 2],
         push: &T,
-        with_material: bool,
     ) {
-        let palette_set = if with_material { 2 } else { 1 };
         let material = self.meshes.materials.set(scene.objects[index].material);
         match &self.skinned[index] {
             Some(gpu_skin) => {
                 rec.bind(skinned_pipeline);
-                if with_material {
-                    rec.bind_material(skinned_pipeline, material);
-                }
-                rec.bind_sets(skinned_pipeline, palette_set, &[gpu_skin.palette.descriptors.set]);
+                rec.bind_material(skinned_pipeline, material);
+                rec.bind_sets(skinned_pipeline, 2, &[gpu_skin.palette.descriptors.set]);
                 rec.push(skinned_pipeline, push);
                 rec.draw_mesh(&gpu_skin.mesh);
             }
             None => {
                 rec.bind(static_pipeline);
-                if with_material {
-                    rec.bind_material(static_pipeline, material);
-                }
+                rec.bind_material(static_pipeline, material);
                 rec.push(static_pipeline, push);
                 rec.draw_mesh(&self.meshes.meshes[scene.objects[index].mesh]);
             }
         }
+    }
+
+    /// The static pipeline that casts object `index`'s shadow in `pass`: the alpha-mask
+    /// variant for a MASK material, else `opaque`. Skinned casters are not cut out (the
+    /// skinned caster pipelines have no masked variant).
+    pub fn caster_pipeline<'p>(
+        scene: &Scene,
+        index: usize,
+        pass: &PlannedPass,
+        pipelines: &[&'p Pipeline],
+        opaque: &'p Pipeline,
+    ) -> &'p Pipeline {
+        let variant = MaterialVariant::for_caster(&scene.material_of(&scene.objects[index]));
+        pass.variant(pipelines, variant).unwrap_or(opaque)
     }
 
     /// Draws the scene pass (see [`scene_pass`]) with `pipelines` as the recorder hands them
@@ -175,19 +168,30 @@ impl SceneMeshes {
         rec: &mut FrameRecorder,
         scene: &Scene,
         plane: &ReceiverPlane,
+        pass: &PlannedPass,
         pipelines: &[&Pipeline],
         receiver_alpha: f32,
     ) -> Result<()> {
-        let (receiver, other, skinned) = match *pipelines {
+        let fixed = pipelines.len() - pass.variants.iter().filter(|v| v.is_some()).count();
+        let (receiver, other, skinned) = match pipelines[..fixed.min(pipelines.len())] {
             [receiver, skinned] => (receiver, receiver, skinned),
             [receiver, other, skinned] => (receiver, other, skinned),
             _ => return Err(Error::Internal(format!("the scene pass has {} pipelines", pipelines.len()))),
         };
-        for (index, object) in scene.objects.iter().enumerate() {
+        for index in draw_order(scene) {
+            let object = &scene.objects[index];
             let on_plane = plane.receivers[index];
             let alpha = if on_plane { receiver_alpha } else { 1.0 };
             let push = object_push(scene, object, alpha);
-            self.draw_with(rec, scene, index, [if on_plane { receiver } else { other }, skinned], &push, true);
+            // Receivers keep their own pipeline where it differs (the reference's stencil 0);
+            // everything else static is drawn as its material needs.
+            let variant = pass.variant(pipelines, MaterialVariant::for_surface(&scene.material_of(object)));
+            let chosen = match variant {
+                Some(variant) if !(on_plane && receiver.desc.name != other.desc.name) => variant,
+                _ if on_plane => receiver,
+                _ => other,
+            };
+            self.draw(rec, scene, index, [chosen, skinned], &push);
         }
         Ok(())
     }

@@ -20,7 +20,8 @@ use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::{Buffer, Image};
 use crate::gpu::texture::Sampler;
 use crate::gpu::Gpu;
-use crate::render::plan::{PlannedPass, SetRole, When};
+use crate::render::object_push::draw_order;
+use crate::render::plan::{MaterialVariant, PlannedPass, SetRole, When};
 use crate::render::Pipeline;
 use crate::render::{
     object_push, scene_vertices, FrameOutput, FrameRecorder, GpuMaterials, GpuMesh, ObjectPush, Renderer,
@@ -251,13 +252,25 @@ impl ShadowPasses {
         self.atlas.as_ref().ok_or_else(|| Error::Internal(format!("pass '{}' without shadow textures", pass.name)))
     }
 
-    /// The casters from the light, depth only.
-    fn draw_shadow_map(&self, rec: &mut FrameRecorder, scene: &Scene, pipeline: &Pipeline) {
+    /// The casters from the light, depth only; MASK casters through the pass's alpha-mask
+    /// variant, with their material.
+    fn draw_shadow_map(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) {
+        let Some(&opaque) = pipelines.first() else { return };
         let clear = [vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } }];
         let extent = vk::Extent2D { width: self.options.map_size, height: self.options.map_size };
         rec.begin_offscreen_pass(&self.map_pass, self.map_framebuffer.raw, extent, &clear);
-        rec.bind_with_sets(pipeline, &[self.light_set.set]);
+        rec.bind_with_sets(opaque, &[self.light_set.set, self.materials.template_set()]);
+        let mut bound = opaque;
         for object in scene.objects.iter().filter(|o| o.casts_shadow) {
+            let variant = MaterialVariant::for_caster(&scene.material_of(object));
+            let pipeline = pass.variant(pipelines, variant).unwrap_or(opaque);
+            if !std::ptr::eq(pipeline, bound) {
+                rec.bind_with_sets(pipeline, &[self.light_set.set]);
+                bound = pipeline;
+            }
+            if variant.is_some() {
+                rec.bind_material(pipeline, self.materials.set(object.material));
+            }
             rec.push(pipeline, &ObjectPush { model: object.transform, colour: Vec4::ONE });
             rec.draw_mesh(&self.meshes[object.mesh]);
         }
@@ -266,8 +279,17 @@ impl ShadowPasses {
 
     /// Every object lit, its Lambert term scaled by its shadow texture or the map compare (the
     /// recorder bound the pipeline with the frame's set and the first object's shadow set).
-    fn draw_scene(&self, rec: &mut FrameRecorder, scene: &Scene, pipeline: &Pipeline) {
-        for (index, object) in scene.objects.iter().enumerate() {
+    fn draw_scene(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) {
+        let Some(&main) = pipelines.first() else { return };
+        let mut bound = main;
+        for index in draw_order(scene) {
+            let object = &scene.objects[index];
+            let variant = MaterialVariant::for_surface(&scene.material_of(object));
+            let pipeline = pass.variant(pipelines, variant).unwrap_or(main);
+            if !std::ptr::eq(pipeline, bound) {
+                rec.bind(pipeline);
+                bound = pipeline;
+            }
             if let Some(shadow) = self.atlas.as_ref().and_then(|a| a.objects.get(index)) {
                 rec.bind_sets(pipeline, 2, &[shadow.scene_set.set]);
             }
@@ -345,13 +367,13 @@ impl Passes for ShadowPasses {
             pipelines.first().copied().ok_or_else(|| Error::Internal(format!("pass '{}' has no pipeline", pass.name)))
         };
         match pass.name.as_ref() {
-            passes::SHADOW_MAP_PASS => self.draw_shadow_map(rec, scene, pipeline()?),
+            passes::SHADOW_MAP_PASS => self.draw_shadow_map(rec, scene, pass, pipelines),
             passes::BAKE_PASS => {
                 self.atlas_targets(pass)?.record_bake(rec, scene, &self.meshes, pipeline()?, self.light_set.set)
             }
             passes::DILATE_PASS => self.atlas_targets(pass)?.record_dilate(rec, pipeline()?),
             passes::MIPS_PASS => self.atlas_targets(pass)?.record_mips(rec),
-            passes::SCENE_PASS => self.draw_scene(rec, scene, pipeline()?),
+            passes::SCENE_PASS => self.draw_scene(rec, scene, pass, pipelines),
             _ => return Err(Error::Internal(format!("pass '{}' is not a seed 004 pass", pass.name))),
         }
         Ok(())
