@@ -14,9 +14,8 @@ use crate::scene::{Scene, SceneObject};
 pub fn draw_order(scene: &Scene) -> Vec<usize> {
     let blended = |i: &usize| matches!(scene.material_of(&scene.objects[*i]).alpha_mode, AlphaMode::Blend);
     let (mut order, mut back): (Vec<usize>, Vec<usize>) = (0..scene.objects.len()).partition(|i| !blended(i));
-    let distance = |i: usize| {
-        scene.posed_bounds(i).map_or(0.0, |(lo, hi)| ((lo + hi) * 0.5).distance(scene.camera.eye))
-    };
+    let distance =
+        |i: usize| scene.posed_bounds(i).map_or(0.0, |(lo, hi)| ((lo + hi) * 0.5).distance(scene.camera.eye));
     let mut keyed: Vec<(f32, usize)> = back.drain(..).map(|i| (distance(i), i)).collect();
     keyed.sort_by(|a, b| b.0.total_cmp(&a.0));
     order.extend(keyed.into_iter().map(|(_, i)| i));

@@ -305,7 +305,7 @@ impl PassPlan {
             .iter()
             .filter(|p| holds(p.when))
             .map(|p| {
-                let bound = p.pipelines.iter().zip(&p.variants).filter(|(_, v)| v.is_none_or(&needed));
+                let bound = p.pipelines.iter().zip(&p.variants).filter(|(_, v)| v.map_or(true, &needed));
                 (p.name.to_string(), bound.map(|(d, _)| d.name).collect())
             })
             .collect()

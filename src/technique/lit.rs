@@ -5,8 +5,8 @@ use std::sync::Arc;
 
 use super::frame_renderer::{self, Passes};
 use super::interface::RenderOptions;
-use super::material_variants::with_surface_variants;
 use super::interface::{NoStats, SceneRenderer, Technique};
+use super::material_variants::with_surface_variants;
 use crate::error::Result;
 use crate::gpu::Gpu;
 use crate::pipeline::{FixedFunction, PipelineDesc, VertexLayout};

@@ -208,7 +208,13 @@ impl PlanarPasses {
     }
 
     /// Every caster flattened onto the plane: `[static, skinned]` pipelines.
-    fn draw_shadow(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()> {
+    fn draw_shadow(
+        &self,
+        rec: &mut FrameRecorder,
+        scene: &Scene,
+        pass: &PlannedPass,
+        pipelines: &[&Pipeline],
+    ) -> Result<()> {
         let &[shadow, skinned, ..] = pipelines else {
             return Err(Error::Internal(format!("the planar shadow pass has {} pipelines", pipelines.len())));
         };

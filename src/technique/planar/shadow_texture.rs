@@ -251,7 +251,13 @@ impl ShadowTexturePasses {
 
     /// The prepass: its own render pass, cleared to white (unshadowed), then every caster in
     /// the flat shade F/255 (`[static, skinned]` pipelines).
-    fn draw_casters(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()> {
+    fn draw_casters(
+        &self,
+        rec: &mut FrameRecorder,
+        scene: &Scene,
+        pass: &PlannedPass,
+        pipelines: &[&Pipeline],
+    ) -> Result<()> {
         let &[caster, skinned, ..] = pipelines else {
             return Err(Error::Internal(format!("the shadow texture pass has {} pipelines", pipelines.len())));
         };

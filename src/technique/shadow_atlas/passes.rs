@@ -150,7 +150,8 @@ pub fn plan(kind: ShadowKind) -> PassPlan {
         }
     };
     let scene = scene_desc(kind);
-    let pass = PlannedPass::new(SCENE_PASS, scene.clone(), Draws::Objects, Push::PerDraw("object transform and colour"));
+    let pass =
+        PlannedPass::new(SCENE_PASS, scene.clone(), Draws::Objects, Push::PerDraw("object transform and colour"));
     plan.push(with_surface_variants(pass, &scene).with_sets(&scene_sets));
     plan
 }
