@@ -10,7 +10,6 @@ use super::materials::GpuMaterials;
 use crate::error::Result;
 use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
-use crate::mesh::MeshData;
 use crate::scene::objects::SceneMesh;
 use crate::scene::{PoseTracker, Scene};
 
@@ -21,12 +20,6 @@ pub struct GpuMesh {
 }
 
 impl GpuMesh {
-    /// Interleaved position + normal (the `VertexLayout::POSITION_NORMAL` layout), for meshes
-    /// that are not the scene's.
-    pub fn upload(gpu: &Arc<Gpu>, name: &str, mesh: &MeshData) -> Result<Self> {
-        Self::from_raw(gpu, name, &position_normal_vertices(&mesh.positions, &mesh.normals), &mesh.indices)
-    }
-
     /// Any interleaved vertex type (it must match the pipeline's `VertexLayout`).
     pub fn from_raw<V: Pod>(gpu: &Arc<Gpu>, name: &str, vertices: &[V], indices: &[u32]) -> Result<Self> {
         Ok(GpuMesh {
@@ -117,12 +110,6 @@ pub fn scene_vertices(mesh: &SceneMesh, positions: &[Vec3], normals: &[Vec3]) ->
             colour: mesh.colors.as_ref().and_then(|c| c.get(v)).copied().unwrap_or(Vec4::ONE).to_array(),
         })
         .collect()
-}
-
-/// Interleaved position + normal (the `VertexLayout::POSITION_NORMAL` layout); a missing
-/// normal is +Y.
-fn position_normal_vertices(positions: &[Vec3], normals: &[Vec3]) -> Vec<[Vec3; 2]> {
-    positions.iter().zip(normals.iter().chain(std::iter::repeat(&Vec3::Y))).map(|(p, n)| [*p, *n]).collect()
 }
 
 #[cfg(test)]

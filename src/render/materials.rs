@@ -79,10 +79,12 @@ pub struct GpuMaterials {
     /// A plain white material: its layout is every material's (all are defined alike), and it
     /// is bound until a draw binds its object's.
     template: GpuMaterial,
-    textures: Vec<Texture>,
+    /// Kept alive for the sets that point at them.
+    _textures: Vec<Texture>,
     /// 1x1 white, for "no texture" (the sets point at it).
     _white: Texture,
-    /// What could not be honoured as asked (a format without linear blits gets no mips).
+    /// What could not be honoured as asked (a format without linear blits gets no mips); also
+    /// printed to stderr when uploaded.
     pub warnings: Vec<String>,
 }
 
@@ -139,7 +141,10 @@ impl GpuMaterials {
             .enumerate()
             .map(|(i, m)| make(&m.name.clone().unwrap_or_else(|| format!("material {i}")), m))
             .collect::<Result<Vec<_>>>()?;
-        Ok(GpuMaterials { materials, template, textures, _white: white, warnings })
+        for warning in &warnings {
+            eprintln!("nostencil: warning: {warning}");
+        }
+        Ok(GpuMaterials { materials, template, _textures: textures, _white: white, warnings })
     }
 
     /// The layout of every material's set.
@@ -155,11 +160,6 @@ impl GpuMaterials {
     /// Material `index`'s set (the template's for an index out of range).
     pub fn set(&self, index: usize) -> vk::DescriptorSet {
         self.materials.get(index).map_or(self.template.set.set, |m| m.set.set)
-    }
-
-    /// Textures uploaded (the white one not counted).
-    pub fn texture_count(&self) -> usize {
-        self.textures.len()
     }
 }
 

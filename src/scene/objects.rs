@@ -6,7 +6,7 @@ use std::sync::Arc;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use super::camera::{Camera, Light};
-use super::model::{AlphaMode, Material, TextureRgba8};
+use super::model::{Material, TextureRgba8};
 use super::rig::ObjectRig;
 use super::skinning::{blend_joints, skin_normal};
 use crate::mesh::MeshData;
@@ -160,11 +160,6 @@ impl Scene {
     /// colour is drawn (counting passes, ink).
     pub fn base_colour(&self, object: &SceneObject) -> Vec3 {
         self.materials.get(object.material).map_or(Vec3::ONE, |m| m.base_color.truncate())
-    }
-
-    /// Whether `object`'s material cuts texels out (glTF `alphaMode` MASK).
-    pub fn is_masked(&self, object: &SceneObject) -> bool {
-        matches!(self.materials.get(object.material).map(|m| m.alpha_mode), Some(AlphaMode::Mask { .. }))
     }
 
     pub fn object(&self, name: &str) -> Option<&SceneObject> {

@@ -75,6 +75,15 @@ pub(crate) struct SceneMeshes {
 
 impl SceneMeshes {
     pub fn upload(gpu: &Arc<Gpu>, scene: &Scene) -> Result<Self> {
+        for object in scene.objects.iter().filter(|o| o.skin.is_some()) {
+            if MaterialVariant::for_surface(&scene.material_of(object)).is_some() {
+                eprintln!(
+                    "nostencil: warning: '{}': the planar techniques skin it on the GPU with one opaque, \
+                     single-sided pipeline: its material's alpha mode and double-sidedness are not honoured",
+                    object.name
+                );
+            }
+        }
         let skinned = scene
             .objects
             .iter()
@@ -183,13 +192,14 @@ impl SceneMeshes {
             let on_plane = plane.receivers[index];
             let alpha = if on_plane { receiver_alpha } else { 1.0 };
             let push = object_push(scene, object, alpha);
-            // Receivers keep their own pipeline where it differs (the reference's stencil 0);
-            // everything else static is drawn as its material needs.
+            // Receivers keep the receiver pipeline in both paths (the reference's marks stencil
+            // 0, and a cut-out there would leave the emulated and reference paths different);
+            // every other static object is drawn as its material needs.
             let variant = pass.variant(pipelines, MaterialVariant::for_surface(&scene.material_of(object)));
             let chosen = match variant {
-                Some(variant) if !(on_plane && receiver.desc.name != other.desc.name) => variant,
                 _ if on_plane => receiver,
-                _ => other,
+                Some(variant) => variant,
+                None => other,
             };
             self.draw(rec, scene, index, [chosen, skinned], &push);
         }
