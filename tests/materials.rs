@@ -490,7 +490,7 @@ fn every_technique_binds_the_variants_its_materials_need_and_matches_its_referen
     let gpu = common::gpu();
     let scene = material_scene();
     let surfaces: Vec<MaterialVariant> =
-        scene.objects.iter().filter_map(|o| MaterialVariant::for_surface(&scene.material_of(o))).collect();
+        scene.objects.iter().filter_map(|o| MaterialVariant::for_surface(scene.material_of(o))).collect();
     for technique in TECHNIQUES {
         let emulated = RenderOptions { width: 96, height: 72, technique: *technique, ..Default::default() };
         let mut renderer = technique.build(&gpu, &scene, &emulated).expect("renderer");

@@ -20,6 +20,37 @@ use crate::scene::Scene;
 /// the frame's uniforms; a technique's own sets follow the material).
 pub const MATERIAL_SET: u32 = 1;
 
+/// A pipeline bound only for objects whose material needs it (see [`PlannedPass::or_variant`]).
+/// Scene passes: MASK cuts texels out (a `discard` the opaque pipeline keeps out of its shader,
+/// so it keeps early depth on a tiler), double-sided draws both faces with the normal turned to
+/// the viewer, BLEND is drawn after everything opaque, back to front, without depth writes.
+/// Shadow-casting passes need only `Masked`: a blended caster casts as if opaque.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum MaterialVariant {
+    Masked,
+    DoubleSided,
+    Blend,
+    BlendDoubleSided,
+}
+
+impl MaterialVariant {
+    /// What a scene (shading) pass draws `material` with; `None`: the pass's opaque pipeline.
+    pub fn for_surface(material: &Material) -> Option<Self> {
+        match (material.alpha_mode, material.double_sided) {
+            (AlphaMode::Blend, true) => Some(MaterialVariant::BlendDoubleSided),
+            (AlphaMode::Blend, false) => Some(MaterialVariant::Blend),
+            (_, true) => Some(MaterialVariant::DoubleSided),
+            (AlphaMode::Mask { .. }, false) => Some(MaterialVariant::Masked),
+            (AlphaMode::Opaque, false) => None,
+        }
+    }
+
+    /// What a shadow-casting pass draws `material` with (casters are drawn without culling).
+    pub fn for_caster(material: &Material) -> Option<Self> {
+        matches!(material.alpha_mode, AlphaMode::Mask { .. }).then_some(MaterialVariant::Masked)
+    }
+}
+
 /// Mirrors `MaterialUniforms` in `shaders/material.glsl` (std140).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]

@@ -1,11 +1,7 @@
-//! The per-object push constants most pipelines share, and the plain object draw.
+//! The per-object push constants most pipelines share, and the order objects are drawn in.
 
 use glam::{Mat4, Vec4};
 
-use super::gpu_mesh::GpuScene;
-use super::plan::{MaterialVariant, PlannedPass, SetRole};
-use super::recorder::FrameRecorder;
-use crate::render::Pipeline;
 use crate::scene::model::AlphaMode;
 use crate::scene::{Scene, SceneObject};
 
@@ -38,33 +34,3 @@ pub struct ObjectPush {
 }
 
 pub const OBJECT_PUSH_BYTES: u32 = std::mem::size_of::<ObjectPush>() as u32;
-
-/// Draws every object of `scene` in [`draw_order`] with the pass's pipeline its material needs
-/// (the main one, bound by the caller, or a variant: see `MaterialVariant`), each with its
-/// transform, its base colour and the alpha `alpha`, and its material set when the pass has one.
-pub fn draw_objects(
-    rec: &mut FrameRecorder,
-    pass: &PlannedPass,
-    pipelines: &[&Pipeline],
-    scene: &Scene,
-    meshes: &GpuScene,
-    alpha: f32,
-) {
-    let with_material = pass.sets.contains(&SetRole::Material);
-    let mut bound = 0;
-    for index in draw_order(scene) {
-        let object = &scene.objects[index];
-        let material = scene.material_of(object);
-        let wanted = pass.variant_index(MaterialVariant::for_surface(&material)).unwrap_or(0);
-        let Some(&pipeline) = pipelines.get(wanted) else { continue };
-        if wanted != bound {
-            rec.bind(pipeline);
-            bound = wanted;
-        }
-        if with_material {
-            rec.bind_material(pipeline, meshes.materials.set(object.material));
-        }
-        rec.push(pipeline, &object_push(scene, object, alpha));
-        rec.draw_mesh(&meshes.meshes[object.mesh]);
-    }
-}

@@ -13,14 +13,14 @@ use ash::vk;
 use glam::Vec4;
 
 use super::gpu_mesh::GpuScene;
+pub use super::materials::MaterialVariant;
 use super::materials::MATERIAL_SET;
-use super::object_push::draw_objects;
+use super::object_push::{draw_order, object_push};
 use super::recorder::FrameRecorder;
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
 use crate::pipeline::PipelineDesc;
 use crate::render::Pipeline;
-use crate::scene::model::{AlphaMode, Material};
 use crate::scene::Scene;
 
 /// What a pass draws.
@@ -124,37 +124,6 @@ pub enum SetRole {
     /// The drawn object's material (`render::materials`), always at set `MATERIAL_SET`, bound
     /// per object.
     Material,
-}
-
-/// A pipeline bound only for objects whose material needs it (see [`PlannedPass::or_variant`]).
-/// Scene passes: MASK cuts texels out (a `discard` the opaque pipeline keeps out of its shader,
-/// so it keeps early depth on a tiler), double-sided draws both faces with the normal turned to
-/// the viewer, BLEND is drawn after everything opaque, back to front, without depth writes.
-/// Shadow-casting passes need only `Masked`: a blended caster casts as if opaque.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum MaterialVariant {
-    Masked,
-    DoubleSided,
-    Blend,
-    BlendDoubleSided,
-}
-
-impl MaterialVariant {
-    /// What a scene (shading) pass draws `material` with; `None`: the pass's opaque pipeline.
-    pub fn for_surface(material: &Material) -> Option<Self> {
-        match (material.alpha_mode, material.double_sided) {
-            (AlphaMode::Blend, true) => Some(MaterialVariant::BlendDoubleSided),
-            (AlphaMode::Blend, false) => Some(MaterialVariant::Blend),
-            (_, true) => Some(MaterialVariant::DoubleSided),
-            (AlphaMode::Mask { .. }, false) => Some(MaterialVariant::Masked),
-            (AlphaMode::Opaque, false) => None,
-        }
-    }
-
-    /// What a shadow-casting pass draws `material` with (casters are drawn without culling).
-    pub fn for_caster(material: &Material) -> Option<Self> {
-        matches!(material.alpha_mode, AlphaMode::Mask { .. }).then_some(MaterialVariant::Masked)
-    }
 }
 
 /// One measured pass.
@@ -466,4 +435,34 @@ pub fn record_plan(
         recorded?;
     }
     Ok(())
+}
+
+/// Draws every object of `scene` in [`draw_order`] with the pass's pipeline its material needs
+/// (the main one, bound by the caller, or a variant: see `MaterialVariant`), each with its
+/// transform, its base colour and the alpha `alpha`, and its material set when the pass has one.
+pub fn draw_objects(
+    rec: &mut FrameRecorder,
+    pass: &PlannedPass,
+    pipelines: &[&Pipeline],
+    scene: &Scene,
+    meshes: &GpuScene,
+    alpha: f32,
+) {
+    let with_material = pass.sets.contains(&SetRole::Material);
+    let mut bound = 0;
+    for index in draw_order(scene) {
+        let object = &scene.objects[index];
+        let material = scene.material_of(object);
+        let wanted = pass.variant_index(MaterialVariant::for_surface(material)).unwrap_or(0);
+        let Some(&pipeline) = pipelines.get(wanted) else { continue };
+        if wanted != bound {
+            rec.bind(pipeline);
+            bound = wanted;
+        }
+        if with_material {
+            rec.bind_material(pipeline, meshes.materials.set(object.material));
+        }
+        rec.push(pipeline, &object_push(scene, object, alpha));
+        rec.draw_mesh(&meshes.meshes[object.mesh]);
+    }
 }

@@ -11,6 +11,20 @@ use super::rig::ObjectRig;
 use super::skinning::{blend_joints, skin_normal};
 use crate::mesh::MeshData;
 
+/// `Material::default()`, for a reference that outlives any scene.
+static DEFAULT_MATERIAL: Material = Material {
+    name: None,
+    base_color: Vec4::ONE,
+    base_color_texture: None,
+    metallic: 1.0,
+    roughness: 1.0,
+    emissive: Vec3::ZERO,
+    emissive_texture: None,
+    alpha_mode: super::model::AlphaMode::Opaque,
+    double_sided: false,
+    unlit: false,
+};
+
 #[derive(Debug, Clone)]
 pub struct SceneMesh {
     pub name: String,
@@ -152,8 +166,8 @@ impl Scene {
 
     /// The material of `object` (the glTF default for an index out of range, which the scene
     /// builders never make).
-    pub fn material_of(&self, object: &SceneObject) -> Material {
-        self.materials.get(object.material).cloned().unwrap_or_default()
+    pub fn material_of(&self, object: &SceneObject) -> &Material {
+        self.materials.get(object.material).unwrap_or(&DEFAULT_MATERIAL)
     }
 
     /// The base colour factor of `object`'s material, linear RGB: its colour where one flat
@@ -196,4 +210,12 @@ impl Scene {
 /// Lowest and highest corner of `points`; `None` for no points.
 pub fn bounds_of(points: impl IntoIterator<Item = Vec3>) -> Option<(Vec3, Vec3)> {
     points.into_iter().fold(None, |b, w| Some(b.map_or((w, w), |(lo, hi)| (lo.min(w), hi.max(w)))))
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn the_static_default_material_is_the_gltf_default() {
+        assert_eq!(super::DEFAULT_MATERIAL, super::Material::default());
+    }
 }

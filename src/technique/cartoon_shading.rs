@@ -144,7 +144,7 @@ impl CartoonScene {
         let mut bound = main;
         for index in draw_order(scene).into_iter().filter(|i| which(*i)) {
             let object = &scene.objects[index];
-            let variant = MaterialVariant::for_surface(&scene.material_of(object));
+            let variant = MaterialVariant::for_surface(scene.material_of(object));
             let pipeline = pass.variant(pipelines, variant).unwrap_or(main);
             if !std::ptr::eq(pipeline, bound) {
                 rec.bind(pipeline);

@@ -76,7 +76,7 @@ pub(crate) struct SceneMeshes {
 impl SceneMeshes {
     pub fn upload(gpu: &Arc<Gpu>, scene: &Scene) -> Result<Self> {
         for object in scene.objects.iter().filter(|o| o.skin.is_some()) {
-            if MaterialVariant::for_surface(&scene.material_of(object)).is_some() {
+            if MaterialVariant::for_surface(scene.material_of(object)).is_some() {
                 eprintln!(
                     "nostencil: warning: '{}': the planar techniques skin it on the GPU with one opaque, \
                      single-sided pipeline: its material's alpha mode and double-sidedness are not honoured",
@@ -165,7 +165,7 @@ impl SceneMeshes {
         pipelines: &[&'p Pipeline],
         opaque: &'p Pipeline,
     ) -> &'p Pipeline {
-        let variant = MaterialVariant::for_caster(&scene.material_of(&scene.objects[index]));
+        let variant = MaterialVariant::for_caster(scene.material_of(&scene.objects[index]));
         pass.variant(pipelines, variant).unwrap_or(opaque)
     }
 
@@ -195,7 +195,7 @@ impl SceneMeshes {
             // Receivers keep the receiver pipeline in both paths (the reference's marks stencil
             // 0, and a cut-out there would leave the emulated and reference paths different);
             // every other static object is drawn as its material needs.
-            let variant = pass.variant(pipelines, MaterialVariant::for_surface(&scene.material_of(object)));
+            let variant = pass.variant(pipelines, MaterialVariant::for_surface(scene.material_of(object)));
             let chosen = match variant {
                 _ if on_plane => receiver,
                 Some(variant) => variant,

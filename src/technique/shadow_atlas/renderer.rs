@@ -262,7 +262,7 @@ impl ShadowPasses {
         rec.bind_with_sets(opaque, &[self.light_set.set, self.materials.template_set()]);
         let mut bound = opaque;
         for object in scene.objects.iter().filter(|o| o.casts_shadow) {
-            let variant = MaterialVariant::for_caster(&scene.material_of(object));
+            let variant = MaterialVariant::for_caster(scene.material_of(object));
             let pipeline = pass.variant(pipelines, variant).unwrap_or(opaque);
             if !std::ptr::eq(pipeline, bound) {
                 rec.bind_with_sets(pipeline, &[self.light_set.set]);
@@ -284,7 +284,7 @@ impl ShadowPasses {
         let mut bound = main;
         for index in draw_order(scene) {
             let object = &scene.objects[index];
-            let variant = MaterialVariant::for_surface(&scene.material_of(object));
+            let variant = MaterialVariant::for_surface(scene.material_of(object));
             let pipeline = pass.variant(pipelines, variant).unwrap_or(main);
             if !std::ptr::eq(pipeline, bound) {
                 rec.bind(pipeline);
