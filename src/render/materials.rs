@@ -198,6 +198,13 @@ impl GpuMaterials {
 /// with a full mip chain when its sampler mipmaps and the format can be blitted linearly.
 fn upload_texture(gpu: &Arc<Gpu>, index: usize, texture: &TextureRgba8, warnings: &mut Vec<String>) -> Result<Texture> {
     let name = texture.name.clone().unwrap_or_else(|| format!("texture {index}"));
+    let side = crate::gpu::mobile_profile::MAX_IMAGE_SIDE;
+    if texture.width == 0 || texture.height == 0 || texture.width > side || texture.height > side {
+        return Err(Error::InvalidInput(format!(
+            "texture '{name}' is {}x{}; the mobile profile's images are 1 to {side} texels a side",
+            texture.width, texture.height
+        )));
+    }
     let format = if texture.srgb { vk::Format::R8G8B8A8_SRGB } else { vk::Format::R8G8B8A8_UNORM };
     let pixels = RgbaImage::from_raw(texture.width, texture.height, texture.pixels.clone()).ok_or_else(|| {
         Error::InvalidInput(format!(
@@ -267,5 +274,29 @@ mod tests {
         assert_eq!(MaterialUniforms::of(&Material::default()).params.x, -1.0);
         assert_eq!(MaterialUniforms::of(&Material::default()).emissive.truncate(), Vec3::ZERO);
         assert_eq!(UNIFORM_BYTES, 112);
+    }
+
+    #[test]
+    fn samplers_follow_the_gltf_sampler() {
+        use crate::scene::model::Sampler as GltfSampler;
+        let gltf = GltfSampler {
+            wrap_s: Wrap::ClampToEdge,
+            wrap_t: Wrap::MirroredRepeat,
+            mag_filter: Filter::Nearest,
+            min_filter: Filter::Linear,
+            mipmap_filter: Some(Filter::Nearest),
+        };
+        let info = sampler_info(&gltf, true);
+        assert_eq!((info.mag_filter, info.min_filter), (vk::Filter::NEAREST, vk::Filter::LINEAR));
+        assert_eq!(info.mipmap_mode, vk::SamplerMipmapMode::NEAREST);
+        assert_eq!(
+            (info.address_mode_u, info.address_mode_v),
+            (vk::SamplerAddressMode::CLAMP_TO_EDGE, vk::SamplerAddressMode::MIRRORED_REPEAT)
+        );
+        assert_eq!(info.max_lod, vk::LOD_CLAMP_NONE);
+        // No mipmap filter (or no mips built): the base level only.
+        let flat = GltfSampler { mipmap_filter: None, ..gltf };
+        assert_eq!(sampler_info(&flat, false).max_lod, 0.0);
+        assert_eq!(sampler_info(&GltfSampler::default(), true).mipmap_mode, vk::SamplerMipmapMode::LINEAR);
     }
 }
