@@ -284,6 +284,24 @@ fn a_texture_transform_offset_moves_the_texels() {
 }
 
 #[test]
+fn a_material_on_texcoord_1_reads_the_second_uv_set() {
+    let gpu = common::gpu();
+    let mut scene = quad_scene(None);
+    // UV1 is UV0 moved by half the texture across: the texels move with it when the material
+    // names TEXCOORD_1, and stay when it names TEXCOORD_0.
+    let uv1 = scene.meshes[0].data.uvs.iter().map(|uv| *uv + Vec2::new(0.5, 0.0)).collect();
+    scene.meshes[0].uv1 = Some(uv1);
+    let on_uv0 = render_scene(&gpu, &scene, &options("lit", 96, 96)).expect("uv0").output.image;
+    assert!(check_quad(&on_uv0, &scene, Mat4::IDENTITY) > 1000);
+    if let Some(t) = scene.materials[0].base_color_texture.as_mut() {
+        t.tex_coord = 1;
+    }
+    let on_uv1 = render_scene(&gpu, &scene, &options("lit", 96, 96)).expect("uv1").output.image;
+    assert!(check_quad(&on_uv1, &scene, Mat4::from_translation(Vec3::new(0.5, 0.0, 0.0))) > 1000);
+    common::assert_no_validation_messages(&gpu);
+}
+
+#[test]
 fn vertex_colours_and_emissive_reach_the_pixels() {
     let gpu = common::gpu();
     let mut scene =
