@@ -136,6 +136,9 @@ pub struct PlannedPass {
     pub pipelines: Vec<PipelineDesc>,
     /// Per pipeline: the material variant it is bound for, `None` for those every frame binds.
     pub variants: Vec<Option<MaterialVariant>>,
+    /// Per pipeline: the pipeline it stands in for (a variant's opaque pipeline; its own name
+    /// for the others).
+    pub bases: Vec<&'static str>,
     /// Descriptor sets, by role, at sets 0, 1, ... of every pipeline of the pass.
     pub sets: Vec<SetRole>,
     pub draws: Draws,
@@ -152,6 +155,7 @@ impl PlannedPass {
     pub fn new(name: impl Into<Cow<'static, str>>, pipeline: PipelineDesc, draws: Draws, push: Push) -> Self {
         PlannedPass {
             name: name.into(),
+            bases: vec![pipeline.name],
             pipelines: vec![pipeline],
             variants: vec![None],
             sets: Vec::new(),
@@ -169,6 +173,7 @@ impl PlannedPass {
             name: name.into(),
             pipelines: Vec::new(),
             variants: Vec::new(),
+            bases: Vec::new(),
             sets: Vec::new(),
             draws,
             push: Push::Nothing,
@@ -190,28 +195,36 @@ impl PlannedPass {
 
     /// Adds an alternative pipeline (bound for some draws of the pass).
     pub fn or_pipeline(mut self, pipeline: PipelineDesc) -> Self {
+        self.bases.push(pipeline.name);
         self.pipelines.push(pipeline);
         self.variants.push(None);
         self
     }
 
-    /// Adds a pipeline bound only for objects whose material needs `variant`.
-    pub fn or_variant(mut self, variant: MaterialVariant, pipeline: PipelineDesc) -> Self {
+    /// Adds a pipeline that stands in for the pipeline named `base` for objects whose material
+    /// needs `variant`.
+    pub fn or_variant(mut self, variant: MaterialVariant, base: &'static str, pipeline: PipelineDesc) -> Self {
         self.pipelines.push(pipeline);
         self.variants.push(Some(variant));
+        self.bases.push(base);
         self
     }
 
-    /// The pipeline of `pipelines` (this pass's, as the recorder hands them over) that draws a
-    /// material needing `variant`; `None` when the pass has no such variant.
-    pub fn variant<'p>(&self, pipelines: &[&'p Pipeline], variant: Option<MaterialVariant>) -> Option<&'p Pipeline> {
-        self.variant_index(variant).and_then(|i| pipelines.get(i).copied())
+    /// The pipeline of `pipelines` (this pass's, as the recorder hands them over) that stands
+    /// in for `base` for a material needing `variant`; `None` when the pass has no such variant.
+    pub fn variant<'p>(
+        &self,
+        pipelines: &[&'p Pipeline],
+        base: &Pipeline,
+        variant: Option<MaterialVariant>,
+    ) -> Option<&'p Pipeline> {
+        self.variant_index(base.desc.name, variant).and_then(|i| pipelines.get(i).copied())
     }
 
-    /// The index in `pipelines` of the variant `variant`, when the pass has it.
-    pub fn variant_index(&self, variant: Option<MaterialVariant>) -> Option<usize> {
+    /// The index in `pipelines` of the variant `variant` of the pipeline named `base`.
+    pub fn variant_index(&self, base: &str, variant: Option<MaterialVariant>) -> Option<usize> {
         let wanted = variant?;
-        self.variants.iter().position(|v| *v == Some(wanted))
+        (0..self.pipelines.len()).find(|&i| self.variants[i] == Some(wanted) && self.bases[i] == base)
     }
 
     pub fn into_target(mut self, target: Target) -> Self {
@@ -453,7 +466,8 @@ pub fn draw_objects(
     for index in draw_order(scene) {
         let object = &scene.objects[index];
         let material = scene.material_of(object);
-        let wanted = pass.variant_index(MaterialVariant::for_surface(material)).unwrap_or(0);
+        let main = pipelines.first().map_or("", |p| p.desc.name);
+        let wanted = pass.variant_index(main, MaterialVariant::for_surface(material)).unwrap_or(0);
         let Some(&pipeline) = pipelines.get(wanted) else { continue };
         if wanted != bound {
             rec.bind(pipeline);

@@ -24,6 +24,18 @@ fn variant_names(base: &str) -> Option<[&'static str; 4]> {
             "scene (blend, no stencil)",
             "scene (blend, double-sided, no stencil)",
         ],
+        "scene (skinned)" => [
+            "scene (skinned, alpha mask)",
+            "scene (skinned, double-sided)",
+            "scene (skinned, blend)",
+            "scene (skinned, blend, double-sided)",
+        ],
+        "scene (skinned, stencil 1)" => [
+            "scene (skinned, stencil 1, alpha mask)",
+            "scene (skinned, stencil 1, double-sided)",
+            "scene (skinned, blend, no stencil)",
+            "scene (skinned, blend, double-sided, no stencil)",
+        ],
         "selected (stencil)" => [
             "selected (stencil, alpha mask)",
             "selected (stencil, double-sided)",
@@ -86,7 +98,7 @@ pub fn with_surface_variants(mut pass: PlannedPass, base: &PipelineDesc) -> Plan
     use MaterialVariant::*;
     for variant in [Masked, DoubleSided, Blend, BlendDoubleSided] {
         if let Some(desc) = variant_of(base, variant) {
-            pass = pass.or_variant(variant, desc);
+            pass = pass.or_variant(variant, base.name, desc);
         }
     }
     pass

@@ -129,7 +129,7 @@ pub fn shadow_pass_of(stencil: StencilMode) -> PlannedPass {
     };
     PlannedPass::new(name, shadow_desc(name, false, reference), PROJECTED_CASTERS, Push::PerDraw(push))
         .or_pipeline(shadow_desc(skinned, true, reference))
-        .or_variant(MaterialVariant::Masked, masked)
+        .or_variant(MaterialVariant::Masked, name, masked)
         .with_sets(&SCENE_SETS)
         .when(When::LightAbovePlane)
 }

@@ -53,7 +53,8 @@ pub fn scene_pass(
     if distinct {
         pass = pass.or_pipeline(other.clone());
     }
-    with_surface_variants(pass.or_pipeline(skinned), &other)
+    let pass = with_surface_variants(pass.or_pipeline(skinned.clone()), &other);
+    with_surface_variants(pass, &skinned)
 }
 
 /// The lit scene pass of the blob and shadow-texture techniques: every object alike, alpha 1.
@@ -75,15 +76,6 @@ pub(crate) struct SceneMeshes {
 
 impl SceneMeshes {
     pub fn upload(gpu: &Arc<Gpu>, scene: &Scene) -> Result<Self> {
-        for object in scene.objects.iter().filter(|o| o.skin.is_some()) {
-            if MaterialVariant::for_surface(scene.material_of(object)).is_some() {
-                eprintln!(
-                    "nostencil: warning: '{}': the planar techniques skin it on the GPU with one opaque, \
-                     single-sided pipeline: its material's alpha mode and double-sidedness are not honoured",
-                    object.name
-                );
-            }
-        }
         let skinned = scene
             .objects
             .iter()
@@ -166,7 +158,7 @@ impl SceneMeshes {
         opaque: &'p Pipeline,
     ) -> &'p Pipeline {
         let variant = MaterialVariant::for_caster(scene.material_of(&scene.objects[index]));
-        pass.variant(pipelines, variant).unwrap_or(opaque)
+        pass.variant(pipelines, opaque, variant).unwrap_or(opaque)
     }
 
     /// Draws the scene pass (see [`scene_pass`]) with `pipelines` as the recorder hands them
@@ -195,12 +187,9 @@ impl SceneMeshes {
             // Receivers keep the receiver pipeline in both paths (the reference's marks stencil
             // 0, and a cut-out there would leave the emulated and reference paths different);
             // every other static object is drawn as its material needs.
-            let variant = pass.variant(pipelines, MaterialVariant::for_surface(scene.material_of(object)));
-            let chosen = match variant {
-                _ if on_plane => receiver,
-                Some(variant) => variant,
-                None => other,
-            };
+            let variant = MaterialVariant::for_surface(scene.material_of(object));
+            let chosen = if on_plane { receiver } else { pass.variant(pipelines, other, variant).unwrap_or(other) };
+            let skinned = pass.variant(pipelines, skinned, variant).unwrap_or(skinned);
             self.draw(rec, scene, index, [chosen, skinned], &push);
         }
         Ok(())

@@ -108,6 +108,7 @@ pub fn plan() -> PassPlan {
     .or_pipeline(caster_desc(true))
     .or_variant(
         MaterialVariant::Masked,
+        caster_desc(false).name,
         PipelineDesc {
             name: "shadow texture caster (alpha mask)",
             vertex_shader: "planar_texture_caster_masked.vert",

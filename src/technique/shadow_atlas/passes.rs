@@ -115,7 +115,7 @@ pub fn plan(kind: ShadowKind) -> PassPlan {
             Draws::Geometry("casters"),
             Push::PerDraw("object transform"),
         )
-        .or_variant(MaterialVariant::Masked, shadow_map_masked_desc())
+        .or_variant(MaterialVariant::Masked, shadow_map_desc().name, shadow_map_masked_desc())
         .with_sets(&[LIGHT, SetRole::Material])
         .into_target(SHADOW_MAP)
         .when(moved),
