@@ -470,7 +470,7 @@ fn blended_squares_are_drawn_back_to_front() {
 // Every technique, every variant.
 
 /// The default scene with one object of each material kind added (masked, double-sided,
-/// blended) and its character double-sided.
+/// blended) and its character double-sided and masked.
 fn material_scene() -> Scene {
     let mut scene = nostencil::builtin_scene("default").expect("default scene");
     let t = scene.add_texture(texture(8, |x, y| [220, 200, 90, if (x + y) % 2 == 0 { 0 } else { 255 }]));
@@ -493,9 +493,11 @@ fn material_scene() -> Scene {
             Material { base_color: Vec4::new(0.9, 0.2, 0.6, 0.5), alpha_mode: AlphaMode::Blend, ..Material::default() },
         ),
     ];
-    // The skinned character double-sided: the planar techniques' GPU-skinned variants too.
+    // The skinned character double-sided and masked (untextured: nothing is cut): the planar
+    // techniques' GPU-skinned scene and caster variants too.
     let character = scene.object("character").expect("the default scene's character").material;
     scene.materials[character].double_sided = true;
+    scene.materials[character].alpha_mode = AlphaMode::Mask { cutoff: 0.5 };
     let square = scene.add_mesh("square", square_z());
     for (i, (name, material)) in kinds.into_iter().enumerate() {
         let material = scene.add_material(material);

@@ -117,19 +117,26 @@ pub fn shadow_pass_of(stencil: StencilMode) -> PlannedPass {
             "caster transform, black with alpha F/255, plane height",
         ),
     };
-    let masked = match stencil {
-        StencilMode::Emulated => "planar shadow (alpha mask)",
-        StencilMode::Reference => "planar shadow (stencil, alpha mask)",
+    let (masked, skinned_masked) = match stencil {
+        StencilMode::Emulated => ("planar shadow (alpha mask)", "planar shadow (skinned, alpha mask)"),
+        StencilMode::Reference => {
+            ("planar shadow (stencil, alpha mask)", "planar shadow (skinned, stencil, alpha mask)")
+        }
     };
-    let masked = PipelineDesc {
-        name: masked,
-        vertex_shader: "planar_shadow_masked.vert",
+    let cut_out = |name: &'static str, vertex_shader: &'static str, skinned: bool| PipelineDesc {
+        name,
+        vertex_shader,
         fragment_shader: "object_colour_masked.frag",
-        ..shadow_desc(masked, false, reference)
+        ..shadow_desc(name, skinned, reference)
     };
     PlannedPass::new(name, shadow_desc(name, false, reference), PROJECTED_CASTERS, Push::PerDraw(push))
         .or_pipeline(shadow_desc(skinned, true, reference))
-        .or_variant(MaterialVariant::Masked, name, masked)
+        .or_variant(MaterialVariant::Masked, name, cut_out(masked, "planar_shadow_masked.vert", false))
+        .or_variant(
+            MaterialVariant::Masked,
+            skinned,
+            cut_out(skinned_masked, "planar_shadow_skinned_masked.vert", true),
+        )
         .with_sets(&SCENE_SETS)
         .when(When::LightAbovePlane)
 }
@@ -229,8 +236,8 @@ impl PlanarPasses {
                 continue;
             }
             let push = PlanarPush { model: object.transform, colour, plane };
-            let shadow = SceneMeshes::caster_pipeline(scene, index, pass, pipelines, shadow);
-            self.meshes.draw(rec, scene, index, [shadow, skinned], &push);
+            let casters = SceneMeshes::caster_pipelines(scene, index, pass, pipelines, [shadow, skinned]);
+            self.meshes.draw(rec, scene, index, casters, &push);
         }
         Ok(())
     }

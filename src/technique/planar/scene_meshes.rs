@@ -147,18 +147,17 @@ impl SceneMeshes {
         }
     }
 
-    /// The static pipeline that casts object `index`'s shadow in `pass`: the alpha-mask
-    /// variant for a MASK material, else `opaque`. Skinned casters are not cut out (the
-    /// skinned caster pipelines have no masked variant).
-    pub fn caster_pipeline<'p>(
+    /// The [static, skinned] pipelines that cast object `index`'s shadow in `pass`: their
+    /// alpha-mask variants for a MASK material, else `opaque`.
+    pub fn caster_pipelines<'p>(
         scene: &Scene,
         index: usize,
         pass: &PlannedPass,
         pipelines: &[&'p Pipeline],
-        opaque: &'p Pipeline,
-    ) -> &'p Pipeline {
+        opaque: [&'p Pipeline; 2],
+    ) -> [&'p Pipeline; 2] {
         let variant = MaterialVariant::for_caster(scene.material_of(&scene.objects[index]));
-        pass.variant(pipelines, opaque, variant).unwrap_or(opaque)
+        opaque.map(|p| pass.variant(pipelines, p, variant).unwrap_or(p))
     }
 
     /// Draws the scene pass (see [`scene_pass`]) with `pipelines` as the recorder hands them

@@ -116,6 +116,16 @@ pub fn plan() -> PassPlan {
             ..caster_desc(false)
         },
     )
+    .or_variant(
+        MaterialVariant::Masked,
+        caster_desc(true).name,
+        PipelineDesc {
+            name: "shadow texture caster (skinned, alpha mask)",
+            vertex_shader: "planar_texture_caster_skinned_masked.vert",
+            fragment_shader: "object_colour_masked.frag",
+            ..caster_desc(true)
+        },
+    )
     .with_sets(&SCENE_SETS)
     .into_target(SHADOW_TEXTURE);
     let receive = PlannedPass::new(
@@ -273,8 +283,8 @@ impl ShadowTexturePasses {
                     model: self.light_view_proj * object.transform,
                     colour: Vec4::new(factor, factor, factor, 1.0),
                 };
-                let caster = SceneMeshes::caster_pipeline(scene, index, pass, pipelines, caster);
-                self.meshes.draw(rec, scene, index, [caster, skinned], &push);
+                let casters = SceneMeshes::caster_pipelines(scene, index, pass, pipelines, [caster, skinned]);
+                self.meshes.draw(rec, scene, index, casters, &push);
             }
         }
         rec.end_render_pass();
