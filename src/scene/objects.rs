@@ -128,9 +128,14 @@ impl Scene {
         self.meshes.len() - 1
     }
 
-    /// An object of one plain colour (an opaque, untextured material of its own).
+    /// An object of one plain colour (an opaque, untextured material, shared with the objects
+    /// of the same colour).
     pub fn add_object(&mut self, name: &str, mesh: usize, transform: Mat4, colour: Vec3, casts_shadow: bool) {
-        let material = self.add_material(Material { base_color: colour.extend(1.0), ..Material::default() });
+        let plain = Material { base_color: colour.extend(1.0), ..Material::default() };
+        let material = match self.materials.iter().position(|m| *m == plain) {
+            Some(index) => index,
+            None => self.add_material(plain),
+        };
         self.add_object_with_material(name, mesh, transform, material, casts_shadow);
     }
 
