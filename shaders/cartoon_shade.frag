@@ -1,31 +1,3 @@
 #version 450
-// Lambert, or N.L through a 1D ramp (toon); optionally times the dark-rim texture at N.V.
-#include "frame_uniforms.glsl"
-#include "cartoon_push.glsl"
-
-// Nx1 textures, sampled on their middle row: the seed's "1D texture (or the first row of a 2D one)".
-layout(set = 1, binding = 0) uniform sampler2D ramp;
-layout(set = 1, binding = 1) uniform sampler2D rim;
-
-layout(location = 0) in vec3 world_position;
-layout(location = 1) in vec3 world_normal;
-layout(location = 2) in float facing;
-
-layout(location = 0) out vec4 out_colour;
-
-void main() {
-    vec3 n = normalize(world_normal);
-    vec3 to_light = frame.light.w == 0.0 ? -frame.light.xyz : frame.light.xyz - world_position;
-    float ndl = max(dot(n, normalize(to_light)), 0.0);
-    vec3 shade;
-    if (object.params.x > 0.5) {
-        shade = object.colour.rgb * texture(ramp, vec2(ndl, 0.5)).rgb;
-    } else {
-        float ambient = frame.shading.x;
-        shade = object.colour.rgb * (ambient + (1.0 - ambient) * ndl);
-    }
-    if (object.params.y > 0.5) {
-        shade *= texture(rim, vec2(clamp(facing, 0.0, 1.0), 0.5)).rgb;
-    }
-    out_colour = vec4(shade, object.colour.a);
-}
+// Opaque materials (no discard: early depth stays on).
+#include "cartoon_shade_shading.glsl"

@@ -6,12 +6,14 @@
 
 invariant gl_Position;
 
-layout(location = 0) in vec3 in_position;
-layout(location = 1) in vec3 in_normal;
+#include "scene_vertex.glsl"
 
 layout(location = 0) out vec3 world_position;
 layout(location = 1) out vec3 world_normal;
 layout(location = 2) out float facing;
+layout(location = 3) out vec2 uv0;
+layout(location = 4) out vec2 uv1;
+layout(location = 5) out vec4 vertex_colour;
 
 void main() {
     vec4 world = object.model * vec4(in_position, 1.0);
@@ -19,5 +21,8 @@ void main() {
     world_normal = transpose(inverse(mat3(object.model))) * in_normal;
     vec3 to_eye = normalize(frame.camera_position.xyz - world.xyz);
     facing = dot(normalize(world_normal), to_eye);
+    uv0 = in_uv0;
+    uv1 = in_uv1;
+    vertex_colour = in_colour;
     gl_Position = frame.view_proj * world;
 }

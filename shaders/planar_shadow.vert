@@ -4,8 +4,7 @@
 #include "planar_push.glsl"
 #include "planar_project.glsl"
 
-layout(location = 0) in vec3 in_position;
-layout(location = 1) in vec3 in_normal;
+#include "scene_vertex.glsl"
 
 void main() {
     vec3 world = (planar.model * vec4(in_position, 1.0)).xyz;

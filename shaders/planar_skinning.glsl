@@ -1,6 +1,9 @@
-// GPU linear blend skinning (set 1, binding 0): 256 joint matrices = 16 KiB, the mobile profile's
+// GPU linear blend skinning (set PALETTE_SET, 1 unless defined, binding 0): 256 joint matrices = 16 KiB, the mobile profile's
 // maxUniformBufferRange (scene::MAX_JOINTS). Mirrors scene::skinning::skin_positions_normals, the CPU oracle.
-layout(set = 1, binding = 0) uniform JointPalette {
+#ifndef PALETTE_SET
+#define PALETTE_SET 1
+#endif
+layout(set = PALETTE_SET, binding = 0) uniform JointPalette {
     mat4 joints[256];
 } palette;
 

@@ -7,8 +7,7 @@ layout(push_constant) uniform ReceivePush {
     mat4 light_view_proj;
 } receive;
 
-layout(location = 0) in vec3 in_position;
-layout(location = 1) in vec3 in_normal;
+#include "scene_vertex.glsl"
 
 layout(location = 0) out vec4 light_clip;
 

@@ -5,9 +5,7 @@
 #include "shadow_atlas_light.glsl"
 #include "object_push.glsl"
 
-layout(location = 0) in vec3 in_position;
-layout(location = 1) in vec3 in_normal;
-layout(location = 2) in vec2 in_atlas_uv;
+#include "atlas_vertex.glsl"
 
 layout(location = 0) out vec3 world_position;
 layout(location = 1) out vec3 world_normal;

@@ -169,6 +169,8 @@ fn face_on_scene(mesh: MeshData, transform: Mat4) -> Scene {
         name: "face-on".into(),
         meshes: Vec::new(),
         objects: Vec::new(),
+        materials: Vec::new(),
+        textures: Vec::new(),
         light: Light::Directional { direction: Vec3::new(0.0, 0.0, -1.0) },
         ambient: 0.25,
         camera: Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO),

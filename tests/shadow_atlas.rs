@@ -25,6 +25,8 @@ fn scene_of(name: &str, light: Light, meshes: Vec<(&str, MeshData, Mat4)>) -> Sc
         name: name.into(),
         meshes: Vec::new(),
         objects: Vec::new(),
+        materials: Vec::new(),
+        textures: Vec::new(),
         light,
         ambient: 0.25,
         camera: Camera::look_at(Vec3::new(0.0, 2.0, 5.0), Vec3::ZERO),

@@ -63,6 +63,28 @@ impl Drop for Sampler {
     }
 }
 
+impl Sampler {
+    /// Any sampler without anisotropy (the mobile profile keeps samplerAnisotropy off; the
+    /// flag in `info` is ignored).
+    pub fn from_info(gpu: &Arc<Gpu>, info: vk::SamplerCreateInfo) -> Result<Self> {
+        let info = info.anisotropy_enable(false);
+        // SAFETY: `gpu` holds the device; `info` points at nothing; anisotropy is off.
+        let raw = unsafe { gpu.raw().create_sampler(&info, None) }.vk("vkCreateSampler")?;
+        Ok(Sampler { gpu: gpu.clone(), raw })
+    }
+}
+
+/// Whether the device can build a mip chain of `format` with linear blits (Vulkan requires it
+/// for RGBA8 UNORM and sRGB, but a port should not assume it of every format).
+pub fn can_blit_mips(gpu: &Gpu, format: vk::Format) -> bool {
+    // SAFETY: the instance and physical device live as long as `gpu`.
+    let props = unsafe { gpu.instance.raw.get_physical_device_format_properties(gpu.device.physical, format) };
+    let needed = vk::FormatFeatureFlags::BLIT_SRC
+        | vk::FormatFeatureFlags::BLIT_DST
+        | vk::FormatFeatureFlags::SAMPLED_IMAGE_FILTER_LINEAR;
+    props.optimal_tiling_features.contains(needed)
+}
+
 /// Number of mip levels down to 1x1.
 pub fn mip_count(width: u32, height: u32) -> u32 {
     32 - width.max(height).max(1).leading_zeros()

@@ -56,6 +56,18 @@ impl VertexLayout {
     /// position (vec3) + normal (vec3).
     pub const POSITION_NORMAL: VertexLayout =
         VertexLayout { attributes: &[VertexAttribute::Vec3, VertexAttribute::Vec3] };
+    /// What scene meshes hold (`render::GpuScene`): position, normal, UV0, UV1 (vec2 each) and
+    /// COLOR_0 (vec4, white when the mesh has none). Pipelines that read only some of them
+    /// declare the whole layout all the same: the buffers are shared.
+    pub const SCENE: VertexLayout = VertexLayout {
+        attributes: &[
+            VertexAttribute::Vec3,
+            VertexAttribute::Vec3,
+            VertexAttribute::Vec2,
+            VertexAttribute::Vec2,
+            VertexAttribute::Vec4,
+        ],
+    };
     /// Homogeneous position (vec4): w = 0 puts a vertex at infinity (shadow-volume extrusion).
     pub const POSITION4: VertexLayout = VertexLayout { attributes: &[VertexAttribute::Vec4] };
     /// Clip-space position (vec4) given directly, for screen-space test geometry.

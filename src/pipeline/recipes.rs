@@ -152,6 +152,21 @@ pub const STENCIL_NEGATIVE_TO_ZERO: StencilState =
 pub const STENCIL_EQUAL_ZERO_THEN_INCREMENT: StencilState =
     both_faces(stencil_face(vk::CompareOp::EQUAL, 0, 0xff, vk::StencilOp::INCREMENT_AND_WRAP, vk::StencilOp::KEEP));
 
+// ---------------------------------------------------------------------------------------------
+// Blended (glTF BLEND) materials.
+
+/// `rgb = src * a_src + dst * (1 - a_src)`, destination alpha kept (ZERO, ONE): alpha is the
+/// technique's counter or mask, which a transparent surface must neither raise nor clear.
+pub const OVER_KEEPING_ALPHA: BlendState = BlendState {
+    colour: Some(BlendEquation::new(
+        vk::BlendOp::ADD,
+        vk::BlendFactor::SRC_ALPHA,
+        vk::BlendFactor::ONE_MINUS_SRC_ALPHA,
+    )),
+    alpha: Some(BlendEquation::new(vk::BlendOp::ADD, vk::BlendFactor::ZERO, ONE)),
+    write_mask: vk::ColorComponentFlags::RGBA,
+};
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -5,6 +5,7 @@
 pub mod counters;
 pub mod frame_copy;
 pub mod gpu_mesh;
+pub mod materials;
 pub mod object_push;
 pub mod pipeline_object;
 pub mod plan;
@@ -14,8 +15,9 @@ pub mod renderer;
 pub mod uniforms;
 
 pub use counters::{FrameCounters, PassCounters};
-pub use gpu_mesh::{GpuMesh, GpuScene};
-pub use object_push::{ObjectPush, OBJECT_PUSH_BYTES};
+pub use gpu_mesh::{scene_vertices, GpuMesh, GpuScene, SceneVertex};
+pub use materials::{GpuMaterials, MATERIAL_SET};
+pub use object_push::{object_push, ObjectPush, OBJECT_PUSH_BYTES};
 pub use pipeline_object::Pipeline;
 pub use recorder::FrameRecorder;
 pub use renderer::{FrameOutput, Renderer};

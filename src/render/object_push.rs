@@ -1,29 +1,36 @@
-//! The per-object push constants most pipelines share, and the plain object draw.
+//! The per-object push constants most pipelines share, and the order objects are drawn in.
 
 use glam::{Mat4, Vec4};
 
-use super::gpu_mesh::GpuScene;
-use super::recorder::FrameRecorder;
-use crate::render::Pipeline;
-use crate::scene::Scene;
+use crate::scene::model::AlphaMode;
+use crate::scene::{Scene, SceneObject};
+
+/// The order objects are drawn in: every object not blended, in scene order, then the blended
+/// ones back to front (farthest centre from the eye first), as alpha blending needs.
+pub fn draw_order(scene: &Scene) -> Vec<usize> {
+    let blended = |i: &usize| matches!(scene.material_of(&scene.objects[*i]).alpha_mode, AlphaMode::Blend);
+    let (mut order, mut back): (Vec<usize>, Vec<usize>) = (0..scene.objects.len()).partition(|i| !blended(i));
+    let distance =
+        |i: usize| scene.posed_bounds(i).map_or(0.0, |(lo, hi)| ((lo + hi) * 0.5).distance(scene.camera.eye));
+    let mut keyed: Vec<(f32, usize)> = back.drain(..).map(|i| (distance(i), i)).collect();
+    keyed.sort_by(|a, b| b.0.total_cmp(&a.0));
+    order.extend(keyed.into_iter().map(|(_, i)| i));
+    order
+}
+
+/// An object's push: its transform, its material's base colour factor (what passes that draw
+/// one flat colour use; material shaders read the material) and the alpha the draw writes.
+pub fn object_push(scene: &Scene, object: &SceneObject, alpha: f32) -> ObjectPush {
+    ObjectPush { model: object.transform, colour: scene.base_colour(object).extend(alpha) }
+}
 
 /// Mirrors `ObjectPush` in `shaders/object_push.glsl`.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct ObjectPush {
     pub model: Mat4,
-    /// rgb: albedo; a: the alpha the draw writes.
+    /// rgb: the material's base colour factor; a: the alpha the draw writes.
     pub colour: Vec4,
 }
 
 pub const OBJECT_PUSH_BYTES: u32 = std::mem::size_of::<ObjectPush>() as u32;
-
-/// Draws every object of `scene` with `pipeline` (bound by the caller), each with its transform
-/// and colour and the alpha `alpha`.
-pub fn draw_objects(rec: &mut FrameRecorder, pipeline: &Pipeline, scene: &Scene, meshes: &GpuScene, alpha: f32) {
-    for object in &scene.objects {
-        let push = ObjectPush { model: object.transform, colour: object.colour.extend(alpha) };
-        rec.push(pipeline, &push);
-        rec.draw_mesh(&meshes.meshes[object.mesh]);
-    }
-}

@@ -13,7 +13,9 @@ use ash::vk;
 use glam::Vec4;
 
 use super::gpu_mesh::GpuScene;
-use super::object_push::draw_objects;
+pub use super::materials::MaterialVariant;
+use super::materials::MATERIAL_SET;
+use super::object_push::{draw_order, object_push};
 use super::recorder::FrameRecorder;
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
@@ -119,6 +121,9 @@ pub enum SetRole {
     Frame,
     /// A set of the technique's own, named (`"counter input"`, `"toon ramps"`, `"joint palette"`).
     Own(&'static str),
+    /// The drawn object's material (`render::materials`), always at set `MATERIAL_SET`, bound
+    /// per object.
+    Material,
 }
 
 /// One measured pass.
@@ -129,6 +134,11 @@ pub struct PlannedPass {
     /// Pipelines bound in this pass, first the main one; alternatives follow (for example the
     /// skinned variant of an object pipeline, bound only for skinned objects).
     pub pipelines: Vec<PipelineDesc>,
+    /// Per pipeline: the material variant it is bound for, `None` for those every frame binds.
+    pub variants: Vec<Option<MaterialVariant>>,
+    /// Per pipeline: the pipeline it stands in for (a variant's opaque pipeline; its own name
+    /// for the others).
+    pub bases: Vec<&'static str>,
     /// Descriptor sets, by role, at sets 0, 1, ... of every pipeline of the pass.
     pub sets: Vec<SetRole>,
     pub draws: Draws,
@@ -145,7 +155,9 @@ impl PlannedPass {
     pub fn new(name: impl Into<Cow<'static, str>>, pipeline: PipelineDesc, draws: Draws, push: Push) -> Self {
         PlannedPass {
             name: name.into(),
+            bases: vec![pipeline.name],
             pipelines: vec![pipeline],
+            variants: vec![None],
             sets: Vec::new(),
             draws,
             push,
@@ -160,6 +172,8 @@ impl PlannedPass {
         PlannedPass {
             name: name.into(),
             pipelines: Vec::new(),
+            variants: Vec::new(),
+            bases: Vec::new(),
             sets: Vec::new(),
             draws,
             push: Push::Nothing,
@@ -181,8 +195,36 @@ impl PlannedPass {
 
     /// Adds an alternative pipeline (bound for some draws of the pass).
     pub fn or_pipeline(mut self, pipeline: PipelineDesc) -> Self {
+        self.bases.push(pipeline.name);
         self.pipelines.push(pipeline);
+        self.variants.push(None);
         self
+    }
+
+    /// Adds a pipeline that stands in for the pipeline named `base` for objects whose material
+    /// needs `variant`.
+    pub fn or_variant(mut self, variant: MaterialVariant, base: &'static str, pipeline: PipelineDesc) -> Self {
+        self.pipelines.push(pipeline);
+        self.variants.push(Some(variant));
+        self.bases.push(base);
+        self
+    }
+
+    /// The pipeline of `pipelines` (this pass's, as the recorder hands them over) that stands
+    /// in for `base` for a material needing `variant`; `None` when the pass has no such variant.
+    pub fn variant<'p>(
+        &self,
+        pipelines: &[&'p Pipeline],
+        base: &Pipeline,
+        variant: Option<MaterialVariant>,
+    ) -> Option<&'p Pipeline> {
+        self.variant_index(base.desc.name, variant).and_then(|i| pipelines.get(i).copied())
+    }
+
+    /// The index in `pipelines` of the variant `variant` of the pipeline named `base`.
+    pub fn variant_index(&self, base: &str, variant: Option<MaterialVariant>) -> Option<usize> {
+        let wanted = variant?;
+        (0..self.pipelines.len()).find(|&i| self.variants[i] == Some(wanted) && self.bases[i] == base)
     }
 
     pub fn into_target(mut self, target: Target) -> Self {
@@ -229,11 +271,25 @@ impl PassPlan {
 
     /// (pass name, pipeline labels) of every pass that runs in a frame where `holds(when)`:
     /// what the recorder must report having run.
+    /// Material variants are left out: see [`PassPlan::expected_trace_with`].
     pub fn expected_trace(&self, holds: impl Fn(When) -> bool) -> Vec<(String, Vec<&'static str>)> {
+        self.expected_trace_with(holds, |_| false)
+    }
+
+    /// As [`PassPlan::expected_trace`] for a scene whose objects need the material variants for
+    /// which `needed` holds (in plan order: the recorder reports a pass's pipelines so).
+    pub fn expected_trace_with(
+        &self,
+        holds: impl Fn(When) -> bool,
+        needed: impl Fn(MaterialVariant) -> bool,
+    ) -> Vec<(String, Vec<&'static str>)> {
         self.passes
             .iter()
             .filter(|p| holds(p.when))
-            .map(|p| (p.name.to_string(), p.pipelines.iter().map(|d| d.name).collect()))
+            .map(|p| {
+                let bound = p.pipelines.iter().zip(&p.variants).filter(|(_, v)| v.map_or(true, &needed));
+                (p.name.to_string(), bound.map(|(d, _)| d.name).collect())
+            })
             .collect()
     }
 }
@@ -260,6 +316,9 @@ impl PlanPipelines {
         let mut index_of: HashMap<(&'static str, Target), usize> = HashMap::new();
         let mut by_pass = Vec::with_capacity(plan.passes.len());
         for pass in &plan.passes {
+            if pass.sets.iter().position(|r| *r == SetRole::Material).is_some_and(|i| i as u32 != MATERIAL_SET) {
+                return Err(Error::Internal(format!("pass '{}': the material must be set {MATERIAL_SET}", pass.name)));
+            }
             let layouts = pass.sets.iter().map(|role| layout(*role)).collect::<Result<Vec<_>>>()?;
             let mut indices = Vec::with_capacity(pass.pipelines.len());
             for desc in &pass.pipelines {
@@ -344,9 +403,12 @@ pub fn record_plan(
                 SetRole::Own(name) => draws
                     .set(*role)
                     .ok_or_else(|| Error::Internal(format!("pass '{}': no descriptor set for '{name}'", pass.name))),
+                SetRole::Material => {
+                    draws.set(*role).ok_or_else(|| Error::Internal(format!("pass '{}': no materials", pass.name)))
+                }
             })
             .collect::<Result<Vec<_>>>()?;
-        rec.pass(&pass.name, |rec| {
+        let recorded = rec.pass(&pass.name, |rec| {
             if pass.reads_colour {
                 rec.colour_feedback_barrier();
             }
@@ -369,14 +431,52 @@ pub fn record_plan(
                 }
                 (Draws::Objects, Push::ObjectColour { alpha }) => match draws.meshes() {
                     Some((scene, meshes)) => {
-                        draw_objects(rec, main, scene, meshes, *alpha);
+                        draw_objects(rec, pass, &bound, scene, meshes, *alpha);
                         Ok(())
                     }
                     None => Err(Error::Internal(format!("pass '{}' draws objects but has no meshes", pass.name))),
                 },
                 _ => draws.draw(rec, pass, &bound),
             }
-        })?;
+        });
+        // The pipelines bound, in the plan's order (an unplanned one last): material variants
+        // are bound in object order, which is the scene's business, not the plan's.
+        if let Some(record) = rec.passes.last_mut() {
+            let rank = |name: &&'static str| pass.pipelines.iter().position(|d| d.name == *name).unwrap_or(usize::MAX);
+            record.pipelines.sort_by_key(rank);
+        }
+        recorded?;
     }
     Ok(())
+}
+
+/// Draws every object of `scene` in [`draw_order`] with the pass's pipeline its material needs
+/// (the main one, bound by the caller, or a variant: see `MaterialVariant`), each with its
+/// transform, its base colour and the alpha `alpha`, and its material set when the pass has one.
+pub fn draw_objects(
+    rec: &mut FrameRecorder,
+    pass: &PlannedPass,
+    pipelines: &[&Pipeline],
+    scene: &Scene,
+    meshes: &GpuScene,
+    alpha: f32,
+) {
+    let with_material = pass.sets.contains(&SetRole::Material);
+    let mut bound = 0;
+    for index in draw_order(scene) {
+        let object = &scene.objects[index];
+        let material = scene.material_of(object);
+        let main = pipelines.first().map_or("", |p| p.desc.name);
+        let wanted = pass.variant_index(main, MaterialVariant::for_surface(material)).unwrap_or(0);
+        let Some(&pipeline) = pipelines.get(wanted) else { continue };
+        if wanted != bound {
+            rec.bind(pipeline);
+            bound = wanted;
+        }
+        if with_material {
+            rec.bind_material(pipeline, meshes.materials.set(object.material));
+        }
+        rec.push(pipeline, &object_push(scene, object, alpha));
+        rec.draw_mesh(&meshes.meshes[object.mesh]);
+    }
 }

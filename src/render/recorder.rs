@@ -305,6 +305,11 @@ impl<'a> FrameRecorder<'a> {
         };
     }
 
+    /// Binds a material's set at `MATERIAL_SET` for the pipeline bound last (`pipeline`).
+    pub fn bind_material(&mut self, pipeline: &Pipeline, set: vk::DescriptorSet) {
+        self.bind_sets(pipeline, super::materials::MATERIAL_SET, &[set]);
+    }
+
     /// Sets the whole stencil aspect of the frame's depth-stencil target to `value`, inside the
     /// frame's render pass (which clears it to 0): for a reference path whose stencil test
     /// wants another starting value.

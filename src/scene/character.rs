@@ -12,7 +12,7 @@ use std::sync::Arc;
 
 use glam::{Mat4, Quat, Vec3};
 
-use super::model::{Mesh, Model, Node, Primitive, Skin, Transform};
+use super::model::{Material, Mesh, Model, Node, Primitive, Skin, Transform};
 use super::objects::Scene;
 use super::place::add_model;
 use super::rig::{PoseSource, Rig, RigPose};
@@ -193,9 +193,10 @@ pub fn add_character(scene: &mut Scene, placement: Mat4, time: f32, colour: Vec3
     let world = world_matrices(&rig.model, &walk_pose(&rig.model, placement, time));
     let first = scene.objects.len();
     add_model(scene, &rig, &world)?;
+    let material = scene.add_material(Material { base_color: colour.extend(1.0), ..Material::default() });
     for object in &mut scene.objects[first..] {
         object.name = "character".into();
-        object.colour = colour;
+        object.material = material;
     }
     Ok(())
 }

@@ -13,6 +13,8 @@ pub(crate) fn empty_scene(name: &str, camera: Camera, light: Light) -> Scene {
         name: name.to_owned(),
         meshes: Vec::new(),
         objects: Vec::new(),
+        materials: Vec::new(),
+        textures: Vec::new(),
         light,
         ambient: 0.25,
         camera,

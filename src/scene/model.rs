@@ -237,34 +237,6 @@ pub struct TextureRgba8 {
     pub sampler: Sampler,
 }
 
-impl TextureRgba8 {
-    /// The mean colour of the texels, linear RGB (sRGB texels decoded first), weighted by
-    /// alpha coverage: what the texture looks like from afar.
-    pub fn mean_linear_colour(&self) -> Vec3 {
-        let decode = |c: u8| {
-            let c = c as f32 / 255.0;
-            if !self.srgb {
-                c
-            } else if c <= 0.04045 {
-                c / 12.92
-            } else {
-                ((c + 0.055) / 1.055).powf(2.4)
-            }
-        };
-        let (mut sum, mut weight) = (Vec3::ZERO, 0.0f32);
-        for texel in self.pixels.chunks_exact(4) {
-            let alpha = texel[3] as f32 / 255.0;
-            sum += Vec3::new(decode(texel[0]), decode(texel[1]), decode(texel[2])) * alpha;
-            weight += alpha;
-        }
-        if weight > 0.0 {
-            sum / weight
-        } else {
-            Vec3::ONE
-        }
-    }
-}
-
 #[derive(Clone, Debug, Default)]
 pub struct Skin {
     pub name: Option<String>,

@@ -1,13 +1,29 @@
 //! What a frame draws: meshes, the objects placed from them, one light and a camera.
 
 use std::borrow::Cow;
+use std::sync::Arc;
 
-use glam::{Mat4, Vec2, Vec3};
+use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use super::camera::{Camera, Light};
+use super::model::{Material, TextureRgba8};
 use super::rig::ObjectRig;
 use super::skinning::{blend_joints, skin_normal};
 use crate::mesh::MeshData;
+
+/// `Material::default()`, for a reference that outlives any scene.
+static DEFAULT_MATERIAL: Material = Material {
+    name: None,
+    base_color: Vec4::ONE,
+    base_color_texture: None,
+    metallic: 1.0,
+    roughness: 1.0,
+    emissive: Vec3::ZERO,
+    emissive_texture: None,
+    alpha_mode: super::model::AlphaMode::Opaque,
+    double_sided: false,
+    unlit: false,
+};
 
 #[derive(Debug, Clone)]
 pub struct SceneMesh {
@@ -16,6 +32,8 @@ pub struct SceneMesh {
     /// The file's second UV set (glTF TEXCOORD_1), when it has one: a candidate lightmap /
     /// shadow-texture atlas, checked before use.
     pub uv1: Option<Vec<Vec2>>,
+    /// COLOR_0, linear RGBA, one per vertex (drawn white when absent).
+    pub colors: Option<Vec<Vec4>>,
 }
 
 #[derive(Debug, Clone)]
@@ -23,7 +41,8 @@ pub struct SceneObject {
     pub name: String,
     pub mesh: usize,
     pub transform: Mat4,
-    pub colour: Vec3,
+    /// Index into `Scene::materials`.
+    pub material: usize,
     /// The scene wants it to cast shadows (a ground plane does not). Each technique decides
     /// how: shadow volumes cast an open or non-manifold mesh two-sided.
     pub casts_shadow: bool,
@@ -88,6 +107,11 @@ pub struct Scene {
     pub name: String,
     pub meshes: Vec<SceneMesh>,
     pub objects: Vec<SceneObject>,
+    /// What the objects are made of: the glTF material model, its texture references indexing
+    /// `textures`.
+    pub materials: Vec<Material>,
+    /// Colour textures (base colour, emissive), shared by the materials that name them.
+    pub textures: Vec<Arc<TextureRgba8>>,
     pub light: Light,
     pub ambient: f32,
     pub camera: Camera,
@@ -101,20 +125,61 @@ impl Scene {
     }
 
     pub fn add_mesh_with_uv1(&mut self, name: &str, data: MeshData, uv1: Option<Vec<Vec2>>) -> usize {
-        self.meshes.push(SceneMesh { name: name.to_owned(), data, uv1 });
+        self.meshes.push(SceneMesh { name: name.to_owned(), data, uv1, colors: None });
         self.meshes.len() - 1
     }
 
+    /// An object of one plain colour (an opaque, untextured material, shared with the objects
+    /// of the same colour).
     pub fn add_object(&mut self, name: &str, mesh: usize, transform: Mat4, colour: Vec3, casts_shadow: bool) {
+        let plain = Material { base_color: colour.extend(1.0), ..Material::default() };
+        let material = match self.materials.iter().position(|m| *m == plain) {
+            Some(index) => index,
+            None => self.add_material(plain),
+        };
+        self.add_object_with_material(name, mesh, transform, material, casts_shadow);
+    }
+
+    /// An object made of `material` (an index into `materials`).
+    pub fn add_object_with_material(
+        &mut self,
+        name: &str,
+        mesh: usize,
+        transform: Mat4,
+        material: usize,
+        casts_shadow: bool,
+    ) {
         self.objects.push(SceneObject {
             name: name.to_owned(),
             mesh,
             transform,
-            colour,
+            material,
             casts_shadow,
             skin: None,
             rig: None,
         });
+    }
+
+    pub fn add_material(&mut self, material: Material) -> usize {
+        self.materials.push(material);
+        self.materials.len() - 1
+    }
+
+    pub fn add_texture(&mut self, texture: TextureRgba8) -> usize {
+        self.textures.push(Arc::new(texture));
+        self.textures.len() - 1
+    }
+
+    /// The material of `object` (the glTF default for an index out of range, which the scene
+    /// builders never make).
+    pub fn material_of(&self, object: &SceneObject) -> &Material {
+        self.materials.get(object.material).unwrap_or(&DEFAULT_MATERIAL)
+    }
+
+    /// The base colour factor of `object`'s material, linear RGB: its colour where one flat
+    /// colour is drawn (counting passes, ink).
+    pub fn base_colour(&self, object: &SceneObject) -> Vec3 {
+        self.materials.get(object.material).map_or(Vec3::ONE, |m| m.base_color.truncate())
     }
 
     pub fn object(&self, name: &str) -> Option<&SceneObject> {
@@ -151,4 +216,12 @@ impl Scene {
 /// Lowest and highest corner of `points`; `None` for no points.
 pub fn bounds_of(points: impl IntoIterator<Item = Vec3>) -> Option<(Vec3, Vec3)> {
     points.into_iter().fold(None, |b, w| Some(b.map_or((w, w), |(lo, hi)| (lo.min(w), hi.max(w)))))
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn the_static_default_material_is_the_gltf_default() {
+        assert_eq!(super::DEFAULT_MATERIAL, super::Material::default());
+    }
 }

@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
 
-use super::model::Model;
+use super::model::{Material, Model, TextureRef};
 use super::objects::{Scene, SceneSkin};
 use super::rig::{ObjectRig, Rig};
 use super::skinning::{joint_matrices, skin_positions_normals};
@@ -24,6 +24,8 @@ pub fn add_model(scene: &mut Scene, rig: &Arc<Rig>, world: &[Mat4]) -> Result<Op
     let animated = rig.moves();
     let (mut low, mut high) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
     let shown = nodes_in_scene(model);
+    let materials = add_materials(scene, model);
+    let mut default_material = None;
     for (node_index, node) in model.nodes.iter().enumerate() {
         if !shown[node_index] {
             continue;
@@ -53,12 +55,10 @@ pub fn add_model(scene: &mut Scene, rig: &Arc<Rig>, world: &[Mat4]) -> Result<Op
                 let w = node_world.transform_point3(*p);
                 (low, high) = (low.min(w), high.max(w));
             }
-            // The techniques shade objects with one colour (they are about shadows and ink,
-            // not texturing): a textured material's is its factor times the texture's mean.
-            let colour = primitive.material.and_then(|m| model.materials.get(m)).map_or(Vec3::splat(0.75), |m| {
-                let texture = m.base_color_texture.and_then(|t| model.textures.get(t.texture));
-                m.base_color.truncate() * texture.map_or(Vec3::ONE, |t| t.mean_linear_colour())
-            });
+            let material = match primitive.material.and_then(|m| materials.get(m)) {
+                Some(&index) => index,
+                None => *default_material.get_or_insert_with(|| scene.add_material(Material::default())),
+            };
             let label = format!(
                 "{}#{p}",
                 mesh.name.clone().or_else(|| node.name.clone()).unwrap_or_else(|| format!("node {node_index}"))
@@ -72,7 +72,8 @@ pub fn add_model(scene: &mut Scene, rig: &Arc<Rig>, world: &[Mat4]) -> Result<Op
             // Every mesh of the file casts: each technique decides how (shadow volumes cast an
             // open or non-manifold mesh two-sided) and names in a warning what it cannot use.
             let mesh_index = scene.add_mesh_with_uv1(&label, data, primitive.uv1.clone());
-            scene.add_object(&label, mesh_index, node_world, colour, true);
+            scene.meshes[mesh_index].colors = primitive.colors.clone();
+            scene.add_object_with_material(&label, mesh_index, node_world, material, true);
             if let Some(object) = scene.objects.last_mut() {
                 object.rig = animated.then(|| ObjectRig {
                     rig: Arc::clone(rig),
@@ -84,6 +85,25 @@ pub fn add_model(scene: &mut Scene, rig: &Arc<Rig>, world: &[Mat4]) -> Result<Op
         }
     }
     Ok((low.x <= high.x).then_some((low, high)))
+}
+
+/// Adds `model`'s textures and materials to `scene` (texture references re-pointed at the
+/// scene's list); returns the scene index of each model material.
+fn add_materials(scene: &mut Scene, model: &Model) -> Vec<usize> {
+    let first_texture = scene.textures.len();
+    scene.textures.extend(model.textures.iter().cloned().map(Arc::new));
+    let moved = |t: Option<TextureRef>| t.map(|t| TextureRef { texture: t.texture + first_texture, ..t });
+    model
+        .materials
+        .iter()
+        .map(|m| {
+            scene.add_material(Material {
+                base_color_texture: moved(m.base_color_texture),
+                emissive_texture: moved(m.emissive_texture),
+                ..m.clone()
+            })
+        })
+        .collect()
 }
 
 /// The nodes of the file's scene (its `scene`, else the first): the roots and their

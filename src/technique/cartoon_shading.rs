@@ -13,10 +13,12 @@ use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::texture::{Sampler, Texture};
 use crate::gpu::Gpu;
 use crate::pipeline::{FixedFunction, PipelineDesc, VertexLayout};
-use crate::render::plan::{Draws, PlannedPass, Push, SetRole};
+use crate::render::object_push::draw_order;
+use crate::render::plan::{Draws, MaterialVariant, PlannedPass, Push, SetRole};
 use crate::render::Pipeline;
 use crate::render::{FrameRecorder, GpuScene};
 use crate::scene::Scene;
+use crate::technique::material_variants::with_surface_variants;
 
 /// Mirrors `CartoonPush` in `shaders/cartoon_push.glsl`.
 #[repr(C)]
@@ -30,7 +32,8 @@ pub struct CartoonPush {
 
 pub const CARTOON_PUSH_BYTES: u32 = std::mem::size_of::<CartoonPush>() as u32;
 
-/// The toon and rim ramps, at set 1 of the scene pass (the frame's uniforms are set 0).
+/// The toon and rim ramps, at set 2 of the scene pass (the frame's uniforms are set 0, the
+/// material set 1).
 pub const RAMPS: SetRole = SetRole::Own("toon ramps");
 
 /// A pipeline of the cartoon shaders (they all push a `CartoonPush`).
@@ -54,19 +57,14 @@ pub fn cartoon_desc(
 
 /// The scene: Lambert or toon, optionally with the N.V rim; writes the alpha it is given.
 pub fn shade_desc() -> PipelineDesc {
-    cartoon_desc(
-        "scene",
-        "cartoon_shade.vert",
-        "cartoon_shade.frag",
-        VertexLayout::POSITION_NORMAL,
-        FixedFunction::OPAQUE,
-    )
+    cartoon_desc("scene", "cartoon_shade.vert", "cartoon_shade.frag", VertexLayout::SCENE, FixedFunction::OPAQUE)
 }
 
 /// A scene pass: the objects `draws` names, shaded by [`shade_desc`] or a variant of it, with
-/// the frame's uniforms and the ramps.
+/// the frame's uniforms, their materials and the ramps.
 pub fn shade_pass(name: &'static str, pipeline: PipelineDesc, draws: Draws, push: &'static str) -> PlannedPass {
-    PlannedPass::new(name, pipeline, draws, Push::PerDraw(push)).with_sets(&[SetRole::Frame, RAMPS])
+    let pass = PlannedPass::new(name, pipeline.clone(), draws, Push::PerDraw(push));
+    with_surface_variants(pass, &pipeline).with_sets(&[SetRole::Frame, SetRole::Material, RAMPS])
 }
 
 /// How the scene pass shades.
@@ -111,29 +109,50 @@ impl CartoonScene {
 
     /// The layout of [`RAMPS`].
     pub fn set_layout(&self, role: SetRole) -> Option<vk::DescriptorSetLayout> {
-        (role == RAMPS).then_some(self.ramps.set.layout)
+        match role {
+            RAMPS => Some(self.ramps.set.layout),
+            SetRole::Material => Some(self.meshes.materials.layout()),
+            _ => None,
+        }
     }
 
     /// The set of [`RAMPS`].
     pub fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
-        (role == RAMPS).then_some(self.ramps.set.set)
+        match role {
+            RAMPS => Some(self.ramps.set.set),
+            SetRole::Material => Some(self.meshes.materials.template_set()),
+            _ => None,
+        }
     }
 
-    /// Draws the objects `which` picks with the bound scene pipeline, each with its transform
-    /// and colour and the alpha `alpha`.
+    /// Draws the objects `which` picks (in `draw_order`) with the pass's pipeline their
+    /// material needs (`pipelines`: the pass's, the main one bound), each with its transform,
+    /// material and the alpha `alpha`.
+    #[allow(clippy::too_many_arguments)]
     pub fn draw(
         &self,
         rec: &mut FrameRecorder,
-        pipeline: &Pipeline,
+        pass: &PlannedPass,
+        pipelines: &[&Pipeline],
         scene: &Scene,
         which: impl Fn(usize) -> bool,
         alpha: f32,
         viewport: Vec4,
     ) {
         let params = self.shading.params();
-        for (_, object) in scene.objects.iter().enumerate().filter(|(i, _)| which(*i)) {
-            let push = CartoonPush { model: object.transform, colour: object.colour.extend(alpha), params, viewport };
-            rec.push(pipeline, &push);
+        let Some(&main) = pipelines.first() else { return };
+        let mut bound = main;
+        for index in draw_order(scene).into_iter().filter(|i| which(*i)) {
+            let object = &scene.objects[index];
+            let variant = MaterialVariant::for_surface(scene.material_of(object));
+            let pipeline = pass.variant(pipelines, main, variant).unwrap_or(main);
+            if !std::ptr::eq(pipeline, bound) {
+                rec.bind(pipeline);
+                bound = pipeline;
+            }
+            let colour = scene.base_colour(object).extend(alpha);
+            rec.bind_material(pipeline, self.meshes.materials.set(object.material));
+            rec.push(pipeline, &CartoonPush { model: object.transform, colour, params, viewport });
             rec.draw_mesh(&self.meshes.meshes[object.mesh]);
         }
     }

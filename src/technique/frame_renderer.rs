@@ -150,6 +150,11 @@ pub fn build_typed<'s, P: Passes + 's>(
             SetRole::Own(name) => passes
                 .set_layout(role)
                 .ok_or_else(|| Error::Internal(format!("{}: no set layout for '{name}'", technique.name()))),
+            SetRole::Material => passes
+                .meshes()
+                .map(|m| m.materials.layout())
+                .or_else(|| passes.set_layout(role))
+                .ok_or_else(|| Error::Internal(format!("{}: no materials", technique.name()))),
         },
     )?;
     Ok(FrameRenderer { technique: technique.name(), scene, renderer, plan, pipelines, passes })
@@ -170,7 +175,10 @@ struct FrameDraws<'a, P> {
 
 impl<P: Passes> PassDraws for FrameDraws<'_, P> {
     fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
-        self.passes.set(role)
+        match (role, self.passes.meshes()) {
+            (SetRole::Material, Some(meshes)) => Some(meshes.materials.template_set()),
+            _ => self.passes.set(role),
+        }
     }
 
     fn meshes(&self) -> Option<(&Scene, &GpuScene)> {

@@ -6,6 +6,7 @@ use std::sync::Arc;
 use super::frame_renderer::{self, Passes};
 use super::interface::RenderOptions;
 use super::interface::{NoStats, SceneRenderer, Technique};
+use super::material_variants::with_surface_variants;
 use crate::error::Result;
 use crate::gpu::Gpu;
 use crate::pipeline::{FixedFunction, PipelineDesc, VertexLayout};
@@ -18,17 +19,19 @@ pub fn scene_pipeline_desc() -> PipelineDesc {
         name: "scene",
         vertex_shader: "lit.vert",
         fragment_shader: "lit.frag",
-        vertex_layout: VertexLayout::POSITION_NORMAL,
+        vertex_layout: VertexLayout::SCENE,
         fixed: FixedFunction::OPAQUE,
         push_constant_bytes: OBJECT_PUSH_BYTES,
         subpass: 0,
     }
 }
 
-/// The lit scene pass: every object, writing `alpha` (the counter's start, or opaque 1).
+/// The lit scene pass: every object with its material, writing `alpha` (the counter's start,
+/// or opaque 1).
 pub fn scene_pass(alpha: f32) -> PlannedPass {
-    PlannedPass::new("scene", scene_pipeline_desc(), Draws::Objects, Push::ObjectColour { alpha })
-        .with_sets(&[SetRole::Frame])
+    let desc = scene_pipeline_desc();
+    let pass = PlannedPass::new("scene", desc.clone(), Draws::Objects, Push::ObjectColour { alpha });
+    with_surface_variants(pass, &desc).with_sets(&[SetRole::Frame, SetRole::Material])
 }
 
 /// Lambert + ambient, no shadows.

@@ -10,6 +10,7 @@ pub mod frame_renderer;
 pub mod ink;
 pub mod interface;
 pub mod lit;
+pub mod material_variants;
 pub mod options;
 pub mod outline;
 pub mod planar;

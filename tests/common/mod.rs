@@ -116,7 +116,7 @@ pub fn lit_facing_up(scene: &nostencil::scene::Scene, colour: glam::Vec3) -> Opt
 /// The lit colour of the scene's ground plane (object "ground"), under a directional light.
 pub fn lit_ground(scene: &nostencil::scene::Scene) -> [u8; 3] {
     let ground = scene.object("ground").expect("the scene has a ground");
-    lit_facing_up(scene, ground.colour).expect("a directional light")
+    lit_facing_up(scene, scene.base_colour(ground)).expect("a directional light")
 }
 
 /// RGB within `tolerance` per channel (the GPU's float shading against the CPU's).

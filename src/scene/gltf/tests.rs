@@ -1047,26 +1047,17 @@ fn re_posing_a_gltf_scene_equals_loading_it_at_that_time() {
 }
 
 #[test]
-fn a_textured_material_colours_its_object_with_the_texture_mean() {
-    use crate::scene::model::{Sampler, TextureRgba8};
-    // sRGB 255 and 188 (linear 1.0 and ~0.5) average to 0.75; a transparent texel counts for nothing.
-    let texture = TextureRgba8 {
-        name: None,
-        width: 3,
-        height: 1,
-        pixels: vec![255, 255, 255, 255, 188, 188, 188, 255, 0, 0, 0, 0],
-        srgb: true,
-        sampler: Sampler::default(),
-    };
-    let mean = texture.mean_linear_colour();
-    assert!((mean - Vec3::splat(0.75)).abs().max_element() < 0.005, "{mean}");
-
-    // BoxTextured's factor is white; its logo is blue, green and white: the box is not white.
+fn a_textured_material_reaches_the_scene_with_its_texture() {
+    // BoxTextured's material: white factor, base colour texture 0 on TEXCOORD_0.
     let scene = crate::scene::scene_from_gltf(&assets().join("BoxTextured.glb"), 0.0).unwrap();
-    let colour = scene.objects[0].colour;
+    let material = scene.material_of(&scene.objects[0]);
+    let texture = material.base_color_texture.expect("a base colour texture");
     let model = load(&assets(), "BoxTextured.glb");
-    assert_eq!(colour, model.textures[0].mean_linear_colour());
-    assert!(colour.max_element() < 0.9 && colour.y > colour.x, "{colour}");
+    assert_eq!(*scene.textures[texture.texture], model.textures[0]);
+    assert_eq!(texture.tex_coord, 0);
+    assert!(
+        scene.meshes[scene.objects[0].mesh].data.uvs.len() == scene.meshes[scene.objects[0].mesh].data.positions.len()
+    );
 }
 
 #[test]

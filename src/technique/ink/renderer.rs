@@ -115,7 +115,7 @@ impl Passes for InkPasses {
         };
         let class = EDGE_CLASSES.iter().position(|class| class.draws == pass.draws);
         match (pass.draws, &self.ink, class) {
-            (Draws::Objects, _, _) => self.scene_pass.draw(rec, pipeline, scene, |_| true, 1.0, self.viewport),
+            (Draws::Objects, _, _) => self.scene_pass.draw(rec, pass, pipelines, scene, |_| true, 1.0, self.viewport),
             (EXTRUDED, Ink::Hull(copies), _) => {
                 let extrusion = Extrusion { width_px: self.line_width, colour: INK_COLOUR };
                 copies.draw(rec, pipeline, scene, |_| true, extrusion, self.viewport);

@@ -84,8 +84,8 @@ impl Passes for OutlinePasses {
         };
         let selected = |i: usize| self.selected[i];
         match pass.draws {
-            NOT_SELECTED => self.scene_pass.draw(rec, pipeline, scene, |i| !selected(i), 0.0, self.viewport),
-            SELECTED => self.scene_pass.draw(rec, pipeline, scene, selected, 1.0, self.viewport),
+            NOT_SELECTED => self.scene_pass.draw(rec, pass, pipelines, scene, |i| !selected(i), 0.0, self.viewport),
+            SELECTED => self.scene_pass.draw(rec, pass, pipelines, scene, selected, 1.0, self.viewport),
             SELECTED_EXTRUDED => self.copies.draw(rec, pipeline, scene, selected, self.extrusion, self.viewport),
             _ => return Err(Error::Internal(format!("the outline cannot draw pass '{}'", pass.name))),
         }

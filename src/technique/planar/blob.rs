@@ -276,7 +276,7 @@ impl Passes for BlobPasses {
 
     fn draw(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()> {
         match pass.draws {
-            Draws::Objects => self.meshes.draw_scene(rec, scene, &self.plane, pipelines, 1.0),
+            Draws::Objects => self.meshes.draw_scene(rec, scene, &self.plane, pass, pipelines, 1.0),
             BLOB_QUADS => {
                 if let Some((quads, vertex_count)) = &self.quads {
                     rec.draw_vertices(quads, *vertex_count);

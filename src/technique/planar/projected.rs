@@ -22,7 +22,7 @@ use ash::vk;
 use glam::{Mat4, Vec4};
 
 use super::receiver::{light_reaches_plane, receiver_plane, ReceiverPlane};
-use super::scene_meshes::{scene_desc, scene_pass, SceneMeshes, OBJECT_SETS};
+use super::scene_meshes::{scene_desc, scene_pass, SceneMeshes, SCENE_SETS};
 use super::shared::{Planar, PlanarStats, SHADOW_BIAS};
 use super::skin::SKINNED_LAYOUT;
 use crate::error::{Error, Result};
@@ -32,7 +32,7 @@ use crate::pipeline::recipes::{
     stencil_replace, MODULATE_BY_DST_ALPHA_ONCE, MODULATE_BY_SRC_ALPHA_WRITING_ALPHA, STENCIL_EQUAL_ZERO_THEN_INCREMENT,
 };
 use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexLayout};
-use crate::render::plan::{Draws, PassPlan, PlannedPass, Push, SetRole, When};
+use crate::render::plan::{Draws, MaterialVariant, PassPlan, PlannedPass, Push, SetRole, When};
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, Renderer};
 use crate::scene::Scene;
@@ -68,7 +68,7 @@ fn shadow_desc(name: &'static str, skinned: bool, reference: bool) -> PipelineDe
         name,
         vertex_shader: if skinned { "planar_shadow_skinned.vert" } else { "planar_shadow.vert" },
         fragment_shader: "object_colour.frag",
-        vertex_layout: if skinned { SKINNED_LAYOUT } else { VertexLayout::POSITION_NORMAL },
+        vertex_layout: if skinned { SKINNED_LAYOUT } else { VertexLayout::SCENE },
         fixed: FixedFunction {
             topology: vk::PrimitiveTopology::TRIANGLE_LIST,
             // Flattened, front and back faces both land on the plane: both are drawn, which is
@@ -117,9 +117,27 @@ pub fn shadow_pass_of(stencil: StencilMode) -> PlannedPass {
             "caster transform, black with alpha F/255, plane height",
         ),
     };
+    let (masked, skinned_masked) = match stencil {
+        StencilMode::Emulated => ("planar shadow (alpha mask)", "planar shadow (skinned, alpha mask)"),
+        StencilMode::Reference => {
+            ("planar shadow (stencil, alpha mask)", "planar shadow (skinned, stencil, alpha mask)")
+        }
+    };
+    let cut_out = |name: &'static str, vertex_shader: &'static str, skinned: bool| PipelineDesc {
+        name,
+        vertex_shader,
+        fragment_shader: "object_colour_masked.frag",
+        ..shadow_desc(name, skinned, reference)
+    };
     PlannedPass::new(name, shadow_desc(name, false, reference), PROJECTED_CASTERS, Push::PerDraw(push))
         .or_pipeline(shadow_desc(skinned, true, reference))
-        .with_sets(&OBJECT_SETS)
+        .or_variant(MaterialVariant::Masked, name, cut_out(masked, "planar_shadow_masked.vert", false))
+        .or_variant(
+            MaterialVariant::Masked,
+            skinned,
+            cut_out(skinned_masked, "planar_shadow_skinned_masked.vert", true),
+        )
+        .with_sets(&SCENE_SETS)
         .when(When::LightAbovePlane)
 }
 
@@ -197,8 +215,14 @@ impl PlanarPasses {
     }
 
     /// Every caster flattened onto the plane: `[static, skinned]` pipelines.
-    fn draw_shadow(&self, rec: &mut FrameRecorder, scene: &Scene, pipelines: &[&Pipeline]) -> Result<()> {
-        let &[shadow, skinned] = pipelines else {
+    fn draw_shadow(
+        &self,
+        rec: &mut FrameRecorder,
+        scene: &Scene,
+        pass: &PlannedPass,
+        pipelines: &[&Pipeline],
+    ) -> Result<()> {
+        let &[shadow, skinned, ..] = pipelines else {
             return Err(Error::Internal(format!("the planar shadow pass has {} pipelines", pipelines.len())));
         };
         let alpha = match self.stencil {
@@ -212,7 +236,8 @@ impl PlanarPasses {
                 continue;
             }
             let push = PlanarPush { model: object.transform, colour, plane };
-            self.meshes.draw(rec, scene, index, shadow, skinned, &push);
+            let casters = SceneMeshes::caster_pipelines(scene, index, pass, pipelines, [shadow, skinned]);
+            self.meshes.draw(rec, scene, index, casters, &push);
         }
         Ok(())
     }
@@ -246,9 +271,9 @@ impl Passes for PlanarPasses {
                     // Everything starts as "not a receiver"; the receivers' draws write 0.
                     rec.clear_stencil(STENCIL_OTHER);
                 }
-                self.meshes.draw_scene(rec, scene, &self.plane, pipelines, self.factor())
+                self.meshes.draw_scene(rec, scene, &self.plane, pass, pipelines, self.factor())
             }
-            PROJECTED_CASTERS => self.draw_shadow(rec, scene, pipelines),
+            PROJECTED_CASTERS => self.draw_shadow(rec, scene, pass, pipelines),
             _ => Err(Error::Internal(format!("planar shadows cannot draw pass '{}'", pass.name))),
         }
     }

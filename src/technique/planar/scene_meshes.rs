@@ -11,16 +11,19 @@ use super::skin::{self, SkinnedMesh, SKINNED_LAYOUT};
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
 use crate::pipeline::{FixedFunction, PipelineDesc, StencilState, VertexLayout};
-use crate::render::plan::{Draws, PlannedPass, Push, SetRole};
+use crate::render::object_push::draw_order;
+use crate::render::plan::{Draws, MaterialVariant, PlannedPass, Push, SetRole};
 use crate::render::Pipeline;
-use crate::render::{FrameRecorder, GpuScene, ObjectPush, OBJECT_PUSH_BYTES};
+use crate::render::{object_push, FrameRecorder, GpuScene, OBJECT_PUSH_BYTES};
 use crate::scene::Scene;
+use crate::technique::material_variants::with_surface_variants;
 
-/// A skinned object's joint palette, at set 1.
+/// A skinned object's joint palette, at set 2.
 pub const JOINT_PALETTE: SetRole = SetRole::Own("joint palette");
 
-/// The sets of a pass that draws skinned objects: the frame's uniforms, then the palette.
-pub const OBJECT_SETS: [SetRole; 2] = [SetRole::Frame, JOINT_PALETTE];
+/// The sets of every pass that draws the scene's objects (the scene, the casters): the frame's
+/// uniforms, the material (casters cut out by MASK), the palette.
+pub const SCENE_SETS: [SetRole; 3] = [SetRole::Frame, SetRole::Material, JOINT_PALETTE];
 
 /// A lit scene pipeline: Lambert + ambient, static or GPU-skinned, with an optional stencil
 /// write (the planar reference marks receivers).
@@ -29,7 +32,7 @@ pub fn scene_desc(name: &'static str, skinned: bool, stencil: Option<StencilStat
         name,
         vertex_shader: if skinned { "planar_skinned_lit.vert" } else { "lit.vert" },
         fragment_shader: "lit.frag",
-        vertex_layout: if skinned { SKINNED_LAYOUT } else { VertexLayout::POSITION_NORMAL },
+        vertex_layout: if skinned { SKINNED_LAYOUT } else { VertexLayout::SCENE },
         fixed: FixedFunction { stencil, ..FixedFunction::OPAQUE },
         push_constant_bytes: OBJECT_PUSH_BYTES,
         subpass: 0,
@@ -46,11 +49,12 @@ pub fn scene_pass(
     push: &'static str,
 ) -> PlannedPass {
     let distinct = other.name != receiver.name;
-    let mut pass = PlannedPass::new("scene", receiver, Draws::Objects, Push::PerDraw(push)).with_sets(&OBJECT_SETS);
+    let mut pass = PlannedPass::new("scene", receiver, Draws::Objects, Push::PerDraw(push)).with_sets(&SCENE_SETS);
     if distinct {
-        pass = pass.or_pipeline(other);
+        pass = pass.or_pipeline(other.clone());
     }
-    pass.or_pipeline(skinned)
+    let pass = with_surface_variants(pass.or_pipeline(skinned.clone()), &other);
+    with_surface_variants(pass, &skinned)
 }
 
 /// The lit scene pass of the blob and shadow-texture techniques: every object alike, alpha 1.
@@ -76,10 +80,7 @@ impl SceneMeshes {
             .objects
             .iter()
             .map(|o| match &o.skin {
-                Some(skin) => {
-                    let indices = &scene.meshes[o.mesh].data.indices;
-                    SkinnedMesh::upload(gpu, &o.name, skin, indices).map(Some)
-                }
+                Some(skin) => SkinnedMesh::upload(gpu, &o.name, skin, &scene.meshes[o.mesh]).map(Some),
                 None => Ok(None),
             })
             .collect::<Result<Vec<_>>>()?;
@@ -92,12 +93,20 @@ impl SceneMeshes {
 
     /// The palette layout, for `Passes::set_layout`.
     pub fn set_layout(&self, role: SetRole) -> Option<vk::DescriptorSetLayout> {
-        (role == JOINT_PALETTE).then_some(self.template.descriptors.layout)
+        match role {
+            JOINT_PALETTE => Some(self.template.descriptors.layout),
+            SetRole::Material => Some(self.meshes.materials.layout()),
+            _ => None,
+        }
     }
 
     /// The palette set a pass binds before its first skinned draw binds the object's own.
     pub fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
-        (role == JOINT_PALETTE).then_some(self.template.descriptors.set)
+        match role {
+            JOINT_PALETTE => Some(self.template.descriptors.set),
+            SetRole::Material => Some(self.meshes.materials.template_set()),
+            _ => None,
+        }
     }
 
     /// This frame's joint palettes.
@@ -110,30 +119,45 @@ impl SceneMeshes {
         Ok(())
     }
 
-    /// Draws object `index` with `static_pipeline` or, skinned, `skinned_pipeline` with the
-    /// object's palette at set 1.
+    /// Draws object `index` with `static_pipeline` or, skinned, `skinned_pipeline`, with its
+    /// material at set 1 and its palette at set 2 (every planar pass has `SCENE_SETS`).
     pub fn draw<T: bytemuck::Pod>(
         &self,
         rec: &mut FrameRecorder,
         scene: &Scene,
         index: usize,
-        static_pipeline: &Pipeline,
-        skinned_pipeline: &Pipeline,
+        [static_pipeline, skinned_pipeline]: [&Pipeline; 2],
         push: &T,
     ) {
+        let material = self.meshes.materials.set(scene.objects[index].material);
         match &self.skinned[index] {
             Some(gpu_skin) => {
                 rec.bind(skinned_pipeline);
-                rec.bind_sets(skinned_pipeline, 1, &[gpu_skin.palette.descriptors.set]);
+                rec.bind_material(skinned_pipeline, material);
+                rec.bind_sets(skinned_pipeline, 2, &[gpu_skin.palette.descriptors.set]);
                 rec.push(skinned_pipeline, push);
                 rec.draw_mesh(&gpu_skin.mesh);
             }
             None => {
                 rec.bind(static_pipeline);
+                rec.bind_material(static_pipeline, material);
                 rec.push(static_pipeline, push);
                 rec.draw_mesh(&self.meshes.meshes[scene.objects[index].mesh]);
             }
         }
+    }
+
+    /// The [static, skinned] pipelines that cast object `index`'s shadow in `pass`: their
+    /// alpha-mask variants for a MASK material, else `opaque`.
+    pub fn caster_pipelines<'p>(
+        scene: &Scene,
+        index: usize,
+        pass: &PlannedPass,
+        pipelines: &[&'p Pipeline],
+        opaque: [&'p Pipeline; 2],
+    ) -> [&'p Pipeline; 2] {
+        let variant = MaterialVariant::for_caster(scene.material_of(&scene.objects[index]));
+        opaque.map(|p| pass.variant(pipelines, p, variant).unwrap_or(p))
     }
 
     /// Draws the scene pass (see [`scene_pass`]) with `pipelines` as the recorder hands them
@@ -144,19 +168,28 @@ impl SceneMeshes {
         rec: &mut FrameRecorder,
         scene: &Scene,
         plane: &ReceiverPlane,
+        pass: &PlannedPass,
         pipelines: &[&Pipeline],
         receiver_alpha: f32,
     ) -> Result<()> {
-        let (receiver, other, skinned) = match *pipelines {
+        let fixed = pipelines.len() - pass.variants.iter().filter(|v| v.is_some()).count();
+        let (receiver, other, skinned) = match pipelines[..fixed.min(pipelines.len())] {
             [receiver, skinned] => (receiver, receiver, skinned),
             [receiver, other, skinned] => (receiver, other, skinned),
             _ => return Err(Error::Internal(format!("the scene pass has {} pipelines", pipelines.len()))),
         };
-        for (index, object) in scene.objects.iter().enumerate() {
+        for index in draw_order(scene) {
+            let object = &scene.objects[index];
             let on_plane = plane.receivers[index];
             let alpha = if on_plane { receiver_alpha } else { 1.0 };
-            let push = ObjectPush { model: object.transform, colour: object.colour.extend(alpha) };
-            self.draw(rec, scene, index, if on_plane { receiver } else { other }, skinned, &push);
+            let push = object_push(scene, object, alpha);
+            // Receivers keep the receiver pipeline in both paths (the reference's marks stencil
+            // 0, and a cut-out there would leave the emulated and reference paths different);
+            // every other static object is drawn as its material needs.
+            let variant = MaterialVariant::for_surface(scene.material_of(object));
+            let chosen = if on_plane { receiver } else { pass.variant(pipelines, other, variant).unwrap_or(other) };
+            let skinned = pass.variant(pipelines, skinned, variant).unwrap_or(skinned);
+            self.draw(rec, scene, index, [chosen, skinned], &push);
         }
         Ok(())
     }

@@ -19,7 +19,7 @@ use ash::vk;
 use glam::{Mat4, Vec3, Vec4};
 
 use super::receiver::{caster_bounds, light_reaches_plane, receiver_plane, ReceiverPlane};
-use super::scene_meshes::{lit_scene_pass, SceneMeshes, OBJECT_SETS};
+use super::scene_meshes::{lit_scene_pass, SceneMeshes, SCENE_SETS};
 use super::shared::{PlanarStats, ShadowTexture, SHADOW_BIAS};
 use super::skin::SKINNED_LAYOUT;
 use crate::error::{Error, Result};
@@ -30,7 +30,7 @@ use crate::gpu::texture::Sampler;
 use crate::gpu::Gpu;
 use crate::pipeline::recipes::MODULATE_BY_SRC_COLOUR;
 use crate::pipeline::{BlendState, DepthState, FixedFunction, PipelineDesc, RasterState, VertexLayout};
-use crate::render::plan::{Draws, PassPlan, PlannedPass, Push, SetRole, Target};
+use crate::render::plan::{Draws, MaterialVariant, PassPlan, PlannedPass, Push, SetRole, Target};
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, ObjectPush, Renderer, OBJECT_PUSH_BYTES};
 use crate::scene::{Light, Scene};
@@ -55,7 +55,7 @@ fn caster_desc(skinned: bool) -> PipelineDesc {
         name: if skinned { "shadow texture caster (skinned)" } else { "shadow texture caster" },
         vertex_shader: if skinned { "planar_texture_caster_skinned.vert" } else { "planar_texture_caster.vert" },
         fragment_shader: "object_colour.frag",
-        vertex_layout: if skinned { SKINNED_LAYOUT } else { VertexLayout::POSITION_NORMAL },
+        vertex_layout: if skinned { SKINNED_LAYOUT } else { VertexLayout::SCENE },
         fixed: FixedFunction {
             topology: vk::PrimitiveTopology::TRIANGLE_LIST,
             raster: RasterState::CULL_NONE,
@@ -73,7 +73,7 @@ pub fn receive_desc() -> PipelineDesc {
         name: "shadow texture receive",
         vertex_shader: "planar_texture_receive.vert",
         fragment_shader: "planar_texture_receive.frag",
-        vertex_layout: VertexLayout::POSITION_NORMAL,
+        vertex_layout: VertexLayout::SCENE,
         fixed: FixedFunction {
             topology: vk::PrimitiveTopology::TRIANGLE_LIST,
             raster: RasterState { depth_bias: Some(SHADOW_BIAS), ..RasterState::CULL_BACK },
@@ -106,7 +106,27 @@ pub fn plan() -> PassPlan {
         Push::PerDraw("light view-projection x object transform, colour F/255"),
     )
     .or_pipeline(caster_desc(true))
-    .with_sets(&OBJECT_SETS)
+    .or_variant(
+        MaterialVariant::Masked,
+        caster_desc(false).name,
+        PipelineDesc {
+            name: "shadow texture caster (alpha mask)",
+            vertex_shader: "planar_texture_caster_masked.vert",
+            fragment_shader: "object_colour_masked.frag",
+            ..caster_desc(false)
+        },
+    )
+    .or_variant(
+        MaterialVariant::Masked,
+        caster_desc(true).name,
+        PipelineDesc {
+            name: "shadow texture caster (skinned, alpha mask)",
+            vertex_shader: "planar_texture_caster_skinned_masked.vert",
+            fragment_shader: "object_colour_masked.frag",
+            ..caster_desc(true)
+        },
+    )
+    .with_sets(&SCENE_SETS)
     .into_target(SHADOW_TEXTURE);
     let receive = PlannedPass::new(
         "shadow texture receive",
@@ -242,8 +262,14 @@ impl ShadowTexturePasses {
 
     /// The prepass: its own render pass, cleared to white (unshadowed), then every caster in
     /// the flat shade F/255 (`[static, skinned]` pipelines).
-    fn draw_casters(&self, rec: &mut FrameRecorder, scene: &Scene, pipelines: &[&Pipeline]) -> Result<()> {
-        let &[caster, skinned] = pipelines else {
+    fn draw_casters(
+        &self,
+        rec: &mut FrameRecorder,
+        scene: &Scene,
+        pass: &PlannedPass,
+        pipelines: &[&Pipeline],
+    ) -> Result<()> {
+        let &[caster, skinned, ..] = pipelines else {
             return Err(Error::Internal(format!("the shadow texture pass has {} pipelines", pipelines.len())));
         };
         let extent = vk::Extent2D { width: SHADOW_TEXTURE_SIZE, height: SHADOW_TEXTURE_SIZE };
@@ -257,7 +283,8 @@ impl ShadowTexturePasses {
                     model: self.light_view_proj * object.transform,
                     colour: Vec4::new(factor, factor, factor, 1.0),
                 };
-                self.meshes.draw(rec, scene, index, caster, skinned, &push);
+                let casters = SceneMeshes::caster_pipelines(scene, index, pass, pipelines, [caster, skinned]);
+                self.meshes.draw(rec, scene, index, casters, &push);
             }
         }
         rec.end_render_pass();
@@ -310,8 +337,8 @@ impl Passes for ShadowTexturePasses {
 
     fn draw(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()> {
         match pass.draws {
-            CASTERS_FROM_THE_LIGHT => self.draw_casters(rec, scene, pipelines),
-            Draws::Objects => self.meshes.draw_scene(rec, scene, &self.plane, pipelines, 1.0),
+            CASTERS_FROM_THE_LIGHT => self.draw_casters(rec, scene, pass, pipelines),
+            Draws::Objects => self.meshes.draw_scene(rec, scene, &self.plane, pass, pipelines, 1.0),
             RECEIVERS => self.draw_receivers(rec, scene, pipelines),
             _ => Err(Error::Internal(format!("shadow textures cannot draw pass '{}'", pass.name))),
         }

@@ -5,7 +5,7 @@
 use std::sync::Arc;
 
 use ash::vk;
-use glam::{Mat4, Vec3};
+use glam::Mat4;
 use gpu_allocator::MemoryLocation;
 
 use crate::error::{Error, Result};
@@ -13,19 +13,28 @@ use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
 use crate::pipeline::{VertexAttribute, VertexLayout};
-use crate::render::GpuMesh;
+use crate::render::{scene_vertices, GpuMesh, SceneVertex};
+use crate::scene::objects::SceneMesh;
 use crate::scene::{SceneSkin, MAX_JOINTS};
 
-/// position, normal, JOINTS_0 (uvec4 of u16), WEIGHTS_0 (vec4): 48 bytes.
+/// The scene's vertex (`VertexLayout::SCENE`: position, normal, UV0, UV1, COLOR_0), then
+/// JOINTS_0 (uvec4 of u16) and WEIGHTS_0 (vec4): 80 bytes.
 pub const SKINNED_LAYOUT: VertexLayout = VertexLayout {
-    attributes: &[VertexAttribute::Vec3, VertexAttribute::Vec3, VertexAttribute::U16x4, VertexAttribute::Vec4],
+    attributes: &[
+        VertexAttribute::Vec3,
+        VertexAttribute::Vec3,
+        VertexAttribute::Vec2,
+        VertexAttribute::Vec2,
+        VertexAttribute::Vec4,
+        VertexAttribute::U16x4,
+        VertexAttribute::Vec4,
+    ],
 };
 
 #[repr(C)]
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct SkinnedVertex {
-    position: [f32; 3],
-    normal: [f32; 3],
+    scene: SceneVertex,
     joints: [u16; 4],
     weights: [f32; 4],
 }
@@ -79,7 +88,9 @@ pub struct SkinnedMesh {
 }
 
 impl SkinnedMesh {
-    pub fn upload(gpu: &Arc<Gpu>, name: &str, skin: &SceneSkin, indices: &[u32]) -> Result<Self> {
+    /// `source` is the object's scene mesh: its indices, UV sets and colours.
+    pub fn upload(gpu: &Arc<Gpu>, name: &str, skin: &SceneSkin, source: &SceneMesh) -> Result<Self> {
+        let indices = &source.data.indices;
         let n = skin.positions.len();
         if skin.joints.len() != n || skin.weights.len() != n {
             return Err(Error::Mesh {
@@ -103,13 +114,10 @@ impl SkinnedMesh {
                 problem: format!("vertex {v} uses joint {j}, but the palette has {palette_len} joints"),
             });
         }
-        let vertices: Vec<SkinnedVertex> = (0..n)
-            .map(|v| SkinnedVertex {
-                position: skin.positions[v].to_array(),
-                normal: skin.normals.get(v).copied().unwrap_or(Vec3::Y).to_array(),
-                joints: skin.joints[v],
-                weights: skin.weights[v],
-            })
+        let vertices: Vec<SkinnedVertex> = scene_vertices(source, &skin.positions, &skin.normals)
+            .into_iter()
+            .enumerate()
+            .map(|(v, scene)| SkinnedVertex { scene, joints: skin.joints[v], weights: skin.weights[v] })
             .collect();
         let mut palette = Palette::new(gpu, name)?;
         palette.update(name, &skin.joint_matrices)?;

@@ -4,13 +4,23 @@
 
 use crate::pipeline::recipes::NO_WRITE;
 use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexAttribute, VertexLayout};
-use crate::render::plan::{Draws, PassPlan, PlannedPass, Push, SetRole, Target, When};
+use crate::render::plan::{Draws, MaterialVariant, PassPlan, PlannedPass, Push, SetRole, Target, When};
 use crate::render::OBJECT_PUSH_BYTES;
+use crate::technique::material_variants::with_surface_variants;
 use crate::technique::options::ShadowKind;
 
-/// position (vec3) + normal (vec3) + atlas UV (vec2).
-pub const ATLAS_VERTEX: VertexLayout =
-    VertexLayout { attributes: &[VertexAttribute::Vec3, VertexAttribute::Vec3, VertexAttribute::Vec2] };
+/// position (vec3) + normal (vec3) + atlas UV (vec2), then the material's inputs: UV0, UV1
+/// (vec2 each) and COLOR_0 (vec4).
+pub const ATLAS_VERTEX: VertexLayout = VertexLayout {
+    attributes: &[
+        VertexAttribute::Vec3,
+        VertexAttribute::Vec3,
+        VertexAttribute::Vec2,
+        VertexAttribute::Vec2,
+        VertexAttribute::Vec2,
+        VertexAttribute::Vec4,
+    ],
+};
 
 /// The light's depth, stored for sampling.
 pub const SHADOW_MAP: Target = Target::Offscreen("shadow map (depth only)");
@@ -41,6 +51,16 @@ pub fn shadow_map_desc() -> PipelineDesc {
         fixed: FixedFunction { raster: RasterState::CULL_NONE, blend: NO_WRITE, ..FixedFunction::OPAQUE },
         push_constant_bytes: OBJECT_PUSH_BYTES,
         subpass: 0,
+    }
+}
+
+/// The shadow map's pipeline for MASK casters: texels below the cutoff cast nothing.
+pub fn shadow_map_masked_desc() -> PipelineDesc {
+    PipelineDesc {
+        name: "shadow map (alpha mask)",
+        vertex_shader: "shadow_map_masked.vert",
+        fragment_shader: "shadow_map_masked.frag",
+        ..shadow_map_desc()
     }
 }
 
@@ -95,12 +115,13 @@ pub fn plan(kind: ShadowKind) -> PassPlan {
             Draws::Geometry("casters"),
             Push::PerDraw("object transform"),
         )
-        .with_sets(&[LIGHT])
+        .or_variant(MaterialVariant::Masked, shadow_map_desc().name, shadow_map_masked_desc())
+        .with_sets(&[LIGHT, SetRole::Material])
         .into_target(SHADOW_MAP)
         .when(moved),
     );
     let scene_sets = match kind {
-        ShadowKind::Map => [SetRole::Frame, LIGHT],
+        ShadowKind::Map => [SetRole::Frame, SetRole::Material, LIGHT],
         ShadowKind::Atlas => {
             plan.push(
                 PlannedPass::new(
@@ -125,12 +146,12 @@ pub fn plan(kind: ShadowKind) -> PassPlan {
                 .when(moved),
             );
             plan.push(PlannedPass::commands(MIPS_PASS, Draws::Geometry("blits per model"), TEXTURE_MIP0).when(moved));
-            [SetRole::Frame, SHADOW_TEXTURE]
+            [SetRole::Frame, SetRole::Material, SHADOW_TEXTURE]
         }
     };
-    plan.push(
-        PlannedPass::new(SCENE_PASS, scene_desc(kind), Draws::Objects, Push::PerDraw("object transform and colour"))
-            .with_sets(&scene_sets),
-    );
+    let scene = scene_desc(kind);
+    let pass =
+        PlannedPass::new(SCENE_PASS, scene.clone(), Draws::Objects, Push::PerDraw("object transform and colour"));
+    plan.push(with_surface_variants(pass, &scene).with_sets(&scene_sets));
     plan
 }

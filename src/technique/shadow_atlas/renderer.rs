@@ -20,9 +20,13 @@ use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::{Buffer, Image};
 use crate::gpu::texture::Sampler;
 use crate::gpu::Gpu;
-use crate::render::plan::{PlannedPass, SetRole, When};
+use crate::render::object_push::draw_order;
+use crate::render::plan::{MaterialVariant, PlannedPass, SetRole, When};
 use crate::render::Pipeline;
-use crate::render::{FrameOutput, FrameRecorder, GpuMesh, ObjectPush, Renderer};
+use crate::render::{
+    object_push, scene_vertices, FrameOutput, FrameRecorder, GpuMaterials, GpuMesh, ObjectPush, Renderer,
+};
+use crate::scene::objects::SceneMesh;
 use crate::scene::{Light, PoseTracker, Scene};
 use crate::technique::frame_renderer::{self, FrameRenderer, Passes};
 use crate::technique::interface::{FrameStats, RenderOptions, Technique};
@@ -33,6 +37,8 @@ use crate::technique::options::{LightMode, ShadowAtlasOptions, ShadowKind};
 struct PosedLayout {
     sources: Vec<u32>,
     uvs: Vec<Vec2>,
+    /// The material's inputs of each GPU vertex (UV0, UV1, COLOR_0), gathered once.
+    surface: Vec<[f32; 8]>,
 }
 
 /// What the cached passes were last rendered for.
@@ -58,6 +64,7 @@ pub struct ShadowPasses {
     _compare: Sampler,
     _map: Image,
     meshes: Vec<GpuMesh>,
+    materials: GpuMaterials,
     layouts: Vec<PosedLayout>,
     /// The pose the skinned objects' atlas vertices hold.
     posed: PoseTracker,
@@ -107,17 +114,27 @@ impl ShadowPasses {
                 atlas
             })
             .collect::<Result<_>>()?;
+        let posed_layouts: Vec<PosedLayout> = scene
+            .meshes
+            .iter()
+            .zip(&layouts)
+            .map(|(m, a)| PosedLayout {
+                sources: a.source_vertices.clone(),
+                uvs: a.uvs.clone(),
+                surface: surface_of(m, &a.source_vertices),
+            })
+            .collect();
         let meshes = scene
             .meshes
             .iter()
             .zip(&layouts)
-            .map(|(m, a)| {
-                let interleaved = atlas_vertices(&a.positions, &a.normals, &a.uvs);
+            .zip(&posed_layouts)
+            .map(|((m, a), posed)| {
+                let interleaved = atlas_vertices(&a.positions, &a.normals, &a.uvs, &posed.surface);
                 GpuMesh::from_raw(gpu, &m.name, &interleaved, &a.indices)
             })
             .collect::<Result<Vec<_>>>()?;
-        let posed_layouts =
-            layouts.iter().map(|a| PosedLayout { sources: a.source_vertices.clone(), uvs: a.uvs.clone() }).collect();
+        let materials = GpuMaterials::upload(gpu, scene)?;
         let atlases = scene
             .meshes
             .iter()
@@ -176,6 +193,7 @@ impl ShadowPasses {
             _compare: compare,
             _map: map,
             meshes,
+            materials,
             layouts: posed_layouts,
             posed: PoseTracker::new(scene),
             atlases,
@@ -218,7 +236,8 @@ impl ShadowPasses {
             let pick = |list: &[Vec3], fallback: Vec3| -> Vec<Vec3> {
                 layout.sources.iter().map(|&v| list.get(v as usize).copied().unwrap_or(fallback)).collect()
             };
-            let interleaved = atlas_vertices(&pick(&positions, Vec3::ZERO), &pick(&normals, Vec3::Y), &layout.uvs);
+            let interleaved =
+                atlas_vertices(&pick(&positions, Vec3::ZERO), &pick(&normals, Vec3::Y), &layout.uvs, &layout.surface);
             mesh.vertices = Buffer::device_local(
                 &self.gpu,
                 &format!("{} atlas vertices (posed)", object.name),
@@ -233,13 +252,25 @@ impl ShadowPasses {
         self.atlas.as_ref().ok_or_else(|| Error::Internal(format!("pass '{}' without shadow textures", pass.name)))
     }
 
-    /// The casters from the light, depth only.
-    fn draw_shadow_map(&self, rec: &mut FrameRecorder, scene: &Scene, pipeline: &Pipeline) {
+    /// The casters from the light, depth only; MASK casters through the pass's alpha-mask
+    /// variant, with their material.
+    fn draw_shadow_map(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) {
+        let Some(&opaque) = pipelines.first() else { return };
         let clear = [vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } }];
         let extent = vk::Extent2D { width: self.options.map_size, height: self.options.map_size };
         rec.begin_offscreen_pass(&self.map_pass, self.map_framebuffer.raw, extent, &clear);
-        rec.bind_with_sets(pipeline, &[self.light_set.set]);
+        rec.bind_with_sets(opaque, &[self.light_set.set, self.materials.template_set()]);
+        let mut bound = opaque;
         for object in scene.objects.iter().filter(|o| o.casts_shadow) {
+            let variant = MaterialVariant::for_caster(scene.material_of(object));
+            let pipeline = pass.variant(pipelines, opaque, variant).unwrap_or(opaque);
+            if !std::ptr::eq(pipeline, bound) {
+                rec.bind_with_sets(pipeline, &[self.light_set.set]);
+                bound = pipeline;
+            }
+            if variant.is_some() {
+                rec.bind_material(pipeline, self.materials.set(object.material));
+            }
             rec.push(pipeline, &ObjectPush { model: object.transform, colour: Vec4::ONE });
             rec.draw_mesh(&self.meshes[object.mesh]);
         }
@@ -248,12 +279,22 @@ impl ShadowPasses {
 
     /// Every object lit, its Lambert term scaled by its shadow texture or the map compare (the
     /// recorder bound the pipeline with the frame's set and the first object's shadow set).
-    fn draw_scene(&self, rec: &mut FrameRecorder, scene: &Scene, pipeline: &Pipeline) {
-        for (index, object) in scene.objects.iter().enumerate() {
-            if let Some(shadow) = self.atlas.as_ref().and_then(|a| a.objects.get(index)) {
-                rec.bind_sets(pipeline, 1, &[shadow.scene_set.set]);
+    fn draw_scene(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) {
+        let Some(&main) = pipelines.first() else { return };
+        let mut bound = main;
+        for index in draw_order(scene) {
+            let object = &scene.objects[index];
+            let variant = MaterialVariant::for_surface(scene.material_of(object));
+            let pipeline = pass.variant(pipelines, main, variant).unwrap_or(main);
+            if !std::ptr::eq(pipeline, bound) {
+                rec.bind(pipeline);
+                bound = pipeline;
             }
-            rec.push(pipeline, &ObjectPush { model: object.transform, colour: object.colour.extend(1.0) });
+            if let Some(shadow) = self.atlas.as_ref().and_then(|a| a.objects.get(index)) {
+                rec.bind_sets(pipeline, 2, &[shadow.scene_set.set]);
+            }
+            rec.bind_material(pipeline, self.materials.set(object.material));
+            rec.push(pipeline, &object_push(scene, object, 1.0));
             rec.draw_mesh(&self.meshes[object.mesh]);
         }
     }
@@ -263,6 +304,7 @@ impl Passes for ShadowPasses {
     fn set_layout(&self, role: SetRole) -> Option<vk::DescriptorSetLayout> {
         let first = || self.atlas.as_ref().and_then(|a| a.objects.first());
         match role {
+            SetRole::Material => Some(self.materials.layout()),
             LIGHT => Some(self.light_set.layout),
             SHADOW_TEXTURE => first().map(|o| o.scene_set.layout),
             RAW_BAKE => first().map(|o| o.dilate_set.layout),
@@ -273,6 +315,7 @@ impl Passes for ShadowPasses {
     fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
         let first = || self.atlas.as_ref().and_then(|a| a.objects.first());
         match role {
+            SetRole::Material => Some(self.materials.template_set()),
             LIGHT => Some(self.light_set.set),
             SHADOW_TEXTURE => first().map(|o| o.scene_set.set),
             RAW_BAKE => first().map(|o| o.dilate_set.set),
@@ -324,13 +367,13 @@ impl Passes for ShadowPasses {
             pipelines.first().copied().ok_or_else(|| Error::Internal(format!("pass '{}' has no pipeline", pass.name)))
         };
         match pass.name.as_ref() {
-            passes::SHADOW_MAP_PASS => self.draw_shadow_map(rec, scene, pipeline()?),
+            passes::SHADOW_MAP_PASS => self.draw_shadow_map(rec, scene, pass, pipelines),
             passes::BAKE_PASS => {
                 self.atlas_targets(pass)?.record_bake(rec, scene, &self.meshes, pipeline()?, self.light_set.set)
             }
             passes::DILATE_PASS => self.atlas_targets(pass)?.record_dilate(rec, pipeline()?),
             passes::MIPS_PASS => self.atlas_targets(pass)?.record_mips(rec),
-            passes::SCENE_PASS => self.draw_scene(rec, scene, pipeline()?),
+            passes::SCENE_PASS => self.draw_scene(rec, scene, pass, pipelines),
             _ => return Err(Error::Internal(format!("pass '{}' is not a seed 004 pass", pass.name))),
         }
         Ok(())
@@ -357,12 +400,27 @@ impl Passes for ShadowPasses {
     }
 }
 
-/// Position, normal and atlas UV per vertex, interleaved as the bake and scene pipelines read.
-fn atlas_vertices(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2]) -> Vec<[f32; 8]> {
+/// Position, normal, atlas UV and the material's inputs per vertex, interleaved as
+/// `passes::ATLAS_VERTEX` says.
+fn atlas_vertices(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], surface: &[[f32; 8]]) -> Vec<[f32; 16]> {
     (0..positions.len())
         .map(|i| {
             let (p, n, uv) = (positions[i], normals.get(i).copied().unwrap_or(Vec3::Y), uvs[i]);
-            [p.x, p.y, p.z, n.x, n.y, n.z, uv.x, uv.y]
+            let s = surface.get(i).copied().unwrap_or([0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0]);
+            [p.x, p.y, p.z, n.x, n.y, n.z, uv.x, uv.y, s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7]]
+        })
+        .collect()
+}
+
+/// UV0, UV1 and COLOR_0 of `mesh`'s vertices `sources` (one per atlas vertex).
+fn surface_of(mesh: &SceneMesh, sources: &[u32]) -> Vec<[f32; 8]> {
+    let vertices = scene_vertices(mesh, &mesh.data.positions, &mesh.data.normals);
+    sources
+        .iter()
+        .map(|&v| {
+            let s = vertices.get(v as usize);
+            let (uv0, uv1, c) = s.map_or(([0.0; 2], [0.0; 2], [1.0; 4]), |s| (s.uv0, s.uv1, s.colour));
+            [uv0[0], uv0[1], uv1[0], uv1[1], c[0], c[1], c[2], c[3]]
         })
         .collect()
 }

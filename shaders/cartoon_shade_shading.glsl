@@ -1,0 +1,44 @@
+// Included by cartoon_shade.frag and its material variants (cartoon_shade_masked.frag: ALPHA_MASK,
+// cartoon_shade_blend.frag: ALPHA_BLEND).
+// Lambert, or N.L through a 1D ramp (toon), on the material's surface; optionally times the
+// dark-rim texture at N.V.
+#include "frame_uniforms.glsl"
+#include "cartoon_push.glsl"
+#include "material.glsl"
+
+// Nx1 textures, sampled on their middle row: the seed's "1D texture (or the first row of a 2D one)".
+layout(set = 2, binding = 0) uniform sampler2D ramp;
+layout(set = 2, binding = 1) uniform sampler2D rim;
+
+layout(location = 0) in vec3 world_position;
+layout(location = 1) in vec3 world_normal;
+layout(location = 2) in float facing;
+layout(location = 3) in vec2 uv0;
+layout(location = 4) in vec2 uv1;
+layout(location = 5) in vec4 vertex_colour;
+
+layout(location = 0) out vec4 out_colour;
+
+void main() {
+    vec4 base = material_base(uv0, uv1, vertex_colour);
+#ifdef ALPHA_MASK
+    if (material_cut(base)) {
+        discard;
+    }
+#endif
+    vec3 n = surface_normal(world_normal);
+    vec3 to_light = frame.light.w == 0.0 ? -frame.light.xyz : frame.light.xyz - world_position;
+    float ndl = max(dot(n, normalize(to_light)), 0.0);
+    vec3 light;
+    if (object.params.x > 0.5) {
+        light = texture(ramp, vec2(ndl, 0.5)).rgb;
+    } else {
+        float ambient = frame.shading.x;
+        light = vec3(ambient + (1.0 - ambient) * ndl);
+    }
+    vec3 shade = material_shade(base, light, uv0, uv1);
+    if (object.params.y > 0.5) {
+        shade *= texture(rim, vec2(clamp(facing, 0.0, 1.0), 0.5)).rgb;
+    }
+    out_colour = vec4(shade, written_alpha(base));
+}

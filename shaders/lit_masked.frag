@@ -1,0 +1,4 @@
+#version 450
+// MASK materials, and double-sided ones: texels below the cutoff are discarded.
+#define ALPHA_MASK
+#include "lit_shading.glsl"

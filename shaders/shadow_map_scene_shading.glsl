@@ -1,0 +1,34 @@
+// Included by shadow_map_scene.frag and its material variants (shadow_map_scene_masked.frag: ALPHA_MASK,
+// shadow_map_scene_blend.frag: ALPHA_BLEND).
+// Lambert + ambient on the material's surface, the Lambert term scaled by the shadow map's
+// depth compare.
+#include "frame_uniforms.glsl"
+#include "object_push.glsl"
+#include "material.glsl"
+#define LIGHT_SET 2
+#include "shadow_atlas_light.glsl"
+
+layout(location = 0) in vec3 world_position;
+layout(location = 1) in vec3 world_normal;
+layout(location = 2) in vec2 atlas_uv;
+layout(location = 3) in vec2 uv0;
+layout(location = 4) in vec2 uv1;
+layout(location = 5) in vec4 vertex_colour;
+
+layout(location = 0) out vec4 out_colour;
+
+void main() {
+    vec4 base = material_base(uv0, uv1, vertex_colour);
+#ifdef ALPHA_MASK
+    if (material_cut(base)) {
+        discard;
+    }
+#endif
+    vec3 n = surface_normal(world_normal);
+    vec3 to_light = frame.light.w == 0.0 ? -frame.light.xyz : frame.light.xyz - world_position;
+    float lambert = max(dot(n, normalize(to_light)), 0.0);
+    float visible = shadow_visibility(world_position, world_normal);
+    float ambient = frame.shading.x;
+    vec3 light = vec3(ambient + (1.0 - ambient) * lambert * visible);
+    out_colour = vec4(material_shade(base, light, uv0, uv1), written_alpha(base));
+}

@@ -1,0 +1,105 @@
+//! The material variants of a scene pass's pipeline (`render::plan::MaterialVariant`), made
+//! from the pass's opaque pipeline so that every technique draws each material alike:
+//! - alpha mask: the `_masked` fragment shader (discards below the cutoff), same state;
+//! - double-sided: the `_masked` shader (it also serves double-sided MASK), no culling; the
+//!   shader turns the normal to the viewer on back faces;
+//! - blend: the `_blend` shader (the material's alpha out), depth tested but not written,
+//!   `OVER_KEEPING_ALPHA`, no stencil write (the emulated path keeps alpha, so the reference
+//!   keeps its stencil); culled as the material says.
+//!
+//! Pipeline names are static: each opaque pipeline that has variants is listed here with its
+//! variants' names.
+
+use crate::pipeline::recipes::OVER_KEEPING_ALPHA;
+use crate::pipeline::{DepthState, PipelineDesc, RasterState};
+use crate::render::plan::{MaterialVariant, PlannedPass};
+
+/// [masked, double-sided, blend, blend double-sided] names of the variants of `base`.
+fn variant_names(base: &str) -> Option<[&'static str; 4]> {
+    Some(match base {
+        "scene" => ["scene (alpha mask)", "scene (double-sided)", "scene (blend)", "scene (blend, double-sided)"],
+        "scene (stencil 1)" => [
+            "scene (stencil 1, alpha mask)",
+            "scene (stencil 1, double-sided)",
+            "scene (blend, no stencil)",
+            "scene (blend, double-sided, no stencil)",
+        ],
+        "scene (skinned)" => [
+            "scene (skinned, alpha mask)",
+            "scene (skinned, double-sided)",
+            "scene (skinned, blend)",
+            "scene (skinned, blend, double-sided)",
+        ],
+        "scene (skinned, stencil 1)" => [
+            "scene (skinned, stencil 1, alpha mask)",
+            "scene (skinned, stencil 1, double-sided)",
+            "scene (skinned, blend, no stencil)",
+            "scene (skinned, blend, double-sided, no stencil)",
+        ],
+        "selected (stencil)" => [
+            "selected (stencil, alpha mask)",
+            "selected (stencil, double-sided)",
+            "selected (blend, no stencil)",
+            "selected (blend, double-sided, no stencil)",
+        ],
+        _ => return None,
+    })
+}
+
+/// The fragment shaders of the variants of an opaque fragment shader: (masked, blend).
+fn variant_shaders(fragment: &str) -> Option<(&'static str, &'static str)> {
+    Some(match fragment {
+        "lit.frag" => ("lit_masked.frag", "lit_blend.frag"),
+        "cartoon_shade.frag" => ("cartoon_shade_masked.frag", "cartoon_shade_blend.frag"),
+        "shadow_atlas_scene.frag" => ("shadow_atlas_scene_masked.frag", "shadow_atlas_scene_blend.frag"),
+        "shadow_map_scene.frag" => ("shadow_map_scene_masked.frag", "shadow_map_scene_blend.frag"),
+        _ => return None,
+    })
+}
+
+/// The pipeline `base` (opaque, single-sided) draws `variant` with; `None` when `base` has no
+/// variants listed here.
+pub fn variant_of(base: &PipelineDesc, variant: MaterialVariant) -> Option<PipelineDesc> {
+    let [masked, double_sided, blend, blend_double_sided] = variant_names(base.name)?;
+    let (masked_shader, blend_shader) = variant_shaders(base.fragment_shader)?;
+    let mut desc = base.clone();
+    let both_faces = RasterState { cull: ash::vk::CullModeFlags::NONE, ..base.fixed.raster };
+    let blended = |desc: &mut PipelineDesc| {
+        desc.fragment_shader = blend_shader;
+        desc.fixed.depth = DepthState { compare: base.fixed.depth.compare, write: false };
+        desc.fixed.blend = OVER_KEEPING_ALPHA;
+        desc.fixed.stencil = None;
+    };
+    match variant {
+        MaterialVariant::Masked => {
+            desc.name = masked;
+            desc.fragment_shader = masked_shader;
+        }
+        MaterialVariant::DoubleSided => {
+            desc.name = double_sided;
+            desc.fragment_shader = masked_shader;
+            desc.fixed.raster = both_faces;
+        }
+        MaterialVariant::Blend => {
+            desc.name = blend;
+            blended(&mut desc);
+        }
+        MaterialVariant::BlendDoubleSided => {
+            desc.name = blend_double_sided;
+            blended(&mut desc);
+            desc.fixed.raster = both_faces;
+        }
+    }
+    Some(desc)
+}
+
+/// Every variant of `base` added to `pass` (nothing when `base` has none).
+pub fn with_surface_variants(mut pass: PlannedPass, base: &PipelineDesc) -> PlannedPass {
+    use MaterialVariant::*;
+    for variant in [Masked, DoubleSided, Blend, BlendDoubleSided] {
+        if let Some(desc) = variant_of(base, variant) {
+            pass = pass.or_variant(variant, base.name, desc);
+        }
+    }
+    pass
+}
