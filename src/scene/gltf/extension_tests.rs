@@ -283,3 +283,13 @@ fn draco_is_refused_by_name_unless_a_fallback_is_stored() {
     assert_mentions(&msg, &["KHR_draco_mesh_compression", "cannot decode"]);
     assert_eq!(msg.matches("KHR_draco_mesh_compression").count(), 1, "{msg}");
 }
+
+#[test]
+fn emissive_strength_scales_the_emissive_factor() {
+    // CornellBox's light: emissiveFactor [1, 1, 1] with KHR_materials_emissive_strength 100.
+    let model = load_gltf(&assets().join("CornellBox.glb")).unwrap_or_else(|e| panic!("{e}"));
+    let light = model.materials.iter().find(|m| m.name.as_deref() == Some("Emitter_Light_temp")).expect("the light");
+    assert_eq!(light.emissive, Vec3::splat(100.0));
+    assert!(model.materials.iter().filter(|m| !std::ptr::eq(*m, light)).all(|m| m.emissive == Vec3::ZERO));
+    assert!(!model.warnings.iter().any(|w| w.contains("emissive_strength")), "{:?}", model.warnings);
+}

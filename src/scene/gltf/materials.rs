@@ -1,7 +1,8 @@
 //! Materials and what they sample: base-colour and emissive textures (their images decoded
 //! once, PNG or JPEG) with their samplers and KHR_texture_transform, and the material
 //! extensions the renderer honours: KHR_materials_unlit, KHR_materials_pbrSpecularGlossiness
-//! (its diffuse becomes the base colour), KHR_materials_transmission (accepted, not rendered).
+//! (its diffuse becomes the base colour), KHR_materials_emissive_strength, KHR_materials_transmission
+//! (accepted, not rendered).
 
 use glam::{Vec2, Vec3, Vec4};
 use gltf::json;
@@ -16,6 +17,7 @@ const SPEC_GLOSS: &str = "KHR_materials_pbrSpecularGlossiness";
 const UNLIT: &str = "KHR_materials_unlit";
 const TRANSMISSION: &str = "KHR_materials_transmission";
 const TEXTURE_TRANSFORM: &str = "KHR_texture_transform";
+pub(super) const EMISSIVE_STRENGTH: &str = "KHR_materials_emissive_strength";
 
 /// A textureInfo as the loader needs it, from the typed core field or from extension JSON.
 struct TextureInfo<'j> {
@@ -144,7 +146,7 @@ impl Loader<'_> {
                 base_color_texture,
                 metallic: pbr.metallic_factor.0,
                 roughness: pbr.roughness_factor.0,
-                emissive: Vec3::from_array(m.emissive_factor.0),
+                emissive: Vec3::from_array(m.emissive_factor.0) * self.emissive_strength(ext(EMISSIVE_STRENGTH), &what),
                 emissive_texture,
                 alpha_mode,
                 double_sided: m.double_sided,
@@ -158,6 +160,24 @@ impl Loader<'_> {
             ));
         }
         Ok(out)
+    }
+
+    /// KHR_materials_emissive_strength's factor (1 without it). The frame is 8-bit, so emissive
+    /// light above 1 saturates: the strength still scales a dim emissive factor up as authored.
+    fn emissive_strength(&mut self, extension: Option<&Value>, what: &str) -> f32 {
+        let Some(extension) = extension else { return 1.0 };
+        match extension.get("emissiveStrength") {
+            None => 1.0,
+            Some(v) => match v.as_f64() {
+                Some(strength) if strength >= 0.0 && strength.is_finite() => strength as f32,
+                _ => {
+                    self.warnings.push(format!(
+                        "{what}: {EMISSIVE_STRENGTH} emissiveStrength {v} is not a number >= 0; 1 is used"
+                    ));
+                    1.0
+                }
+            },
+        }
     }
 
     /// A texture reference of material `what` (`slot` says which of its textures), with its
