@@ -20,15 +20,9 @@ layout(location = 5) in vec4 vertex_colour;
 layout(location = 0) out vec4 out_colour;
 
 void main() {
-    vec4 base = material_base(uv0, uv1, vertex_colour);
-#ifdef ALPHA_MASK
-    if (material_cut(base)) {
-        discard;
-    }
-#endif
+    vec4 base = material_surface(uv0, uv1, vertex_colour);
     vec3 n = surface_normal(world_normal);
-    vec3 to_light = frame.light.w == 0.0 ? -frame.light.xyz : frame.light.xyz - world_position;
-    float ndl = max(dot(n, normalize(to_light)), 0.0);
+    float ndl = frame_lambert(world_position, n);
     vec3 light;
     if (object.params.x > 0.5) {
         light = texture(ramp, vec2(ndl, 0.5)).rgb;

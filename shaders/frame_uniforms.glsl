@@ -7,3 +7,10 @@ layout(set = 0, binding = 0) uniform FrameUniforms {
     // x: ambient term of the Lambert shading.
     vec4 shading;
 } frame;
+
+// Lambert's cosine between the unit normal `n` and the direction to the frame's light
+// (directional or point), clamped at 0.
+float frame_lambert(vec3 world_position, vec3 n) {
+    vec3 to_light = frame.light.w == 0.0 ? -frame.light.xyz : frame.light.xyz - world_position;
+    return max(dot(n, normalize(to_light)), 0.0);
+}

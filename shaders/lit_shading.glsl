@@ -15,15 +15,9 @@ layout(location = 4) in vec4 vertex_colour;
 layout(location = 0) out vec4 out_colour;
 
 void main() {
-    vec4 base = material_base(uv0, uv1, vertex_colour);
-#ifdef ALPHA_MASK
-    if (material_cut(base)) {
-        discard;
-    }
-#endif
+    vec4 base = material_surface(uv0, uv1, vertex_colour);
     vec3 n = surface_normal(world_normal);
-    vec3 to_light = frame.light.w == 0.0 ? -frame.light.xyz : frame.light.xyz - world_position;
-    float lambert = max(dot(n, normalize(to_light)), 0.0);
+    float lambert = frame_lambert(world_position, n);
     float ambient = frame.shading.x;
     out_colour = vec4(material_shade(base, vec3(ambient + (1.0 - ambient) * lambert), uv0, uv1), written_alpha(base));
 }

@@ -35,6 +35,19 @@ bool material_cut(vec4 base) {
     return base.a < material.params.x;
 }
 
+// The base colour of a fragment that stays: in the `_masked` variants (ALPHA_MASK defined), a
+// cut-out fragment is discarded here. Opaque variants compile no discard, which keeps early
+// depth testing on a tiler.
+vec4 material_surface(vec2 uv0, vec2 uv1, vec4 vertex_colour) {
+    vec4 base = material_base(uv0, uv1, vertex_colour);
+#ifdef ALPHA_MASK
+    if (material_cut(base)) {
+        discard;
+    }
+#endif
+    return base;
+}
+
 // The shaded colour: `light` is the lighting factor of the pass (ambient + diffuse, shadowed
 // or toon), which an unlit material ignores; emissive is added.
 vec3 material_shade(vec4 base, vec3 light, vec2 uv0, vec2 uv1) {
