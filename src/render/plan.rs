@@ -210,15 +210,16 @@ impl PlannedPass {
         self
     }
 
-    /// The pipeline of `pipelines` (this pass's, as the recorder hands them over) that stands
-    /// in for `base` for a material needing `variant`; `None` when the pass has no such variant.
+    /// The pipeline of `pipelines` (this pass's, as the recorder hands them over) that draws in
+    /// place of `base` a material needing `variant`: that variant, or `base` itself when the
+    /// material needs none or the pass has no such variant.
     pub fn variant<'p>(
         &self,
         pipelines: &[&'p Pipeline],
-        base: &Pipeline,
+        base: &'p Pipeline,
         variant: Option<MaterialVariant>,
-    ) -> Option<&'p Pipeline> {
-        self.variant_index(base.desc.name, variant).and_then(|i| pipelines.get(i).copied())
+    ) -> &'p Pipeline {
+        self.variant_index(base.desc.name, variant).and_then(|i| pipelines.get(i).copied()).unwrap_or(base)
     }
 
     /// The index in `pipelines` of the variant `variant` of the pipeline named `base`.

@@ -145,7 +145,7 @@ impl CartoonScene {
         for index in draw_order(scene).into_iter().filter(|i| which(*i)) {
             let object = &scene.objects[index];
             let variant = MaterialVariant::for_surface(scene.material_of(object));
-            let pipeline = pass.variant(pipelines, main, variant).unwrap_or(main);
+            let pipeline = pass.variant(pipelines, main, variant);
             if !std::ptr::eq(pipeline, bound) {
                 rec.bind(pipeline);
                 bound = pipeline;

@@ -157,7 +157,7 @@ impl SceneMeshes {
         opaque: [&'p Pipeline; 2],
     ) -> [&'p Pipeline; 2] {
         let variant = MaterialVariant::for_caster(scene.material_of(&scene.objects[index]));
-        opaque.map(|p| pass.variant(pipelines, p, variant).unwrap_or(p))
+        opaque.map(|p| pass.variant(pipelines, p, variant))
     }
 
     /// Draws the scene pass (see [`scene_pass`]) with `pipelines` as the recorder hands them
@@ -187,8 +187,8 @@ impl SceneMeshes {
             // 0, and a cut-out there would leave the emulated and reference paths different);
             // every other static object is drawn as its material needs.
             let variant = MaterialVariant::for_surface(scene.material_of(object));
-            let chosen = if on_plane { receiver } else { pass.variant(pipelines, other, variant).unwrap_or(other) };
-            let skinned = pass.variant(pipelines, skinned, variant).unwrap_or(skinned);
+            let chosen = if on_plane { receiver } else { pass.variant(pipelines, other, variant) };
+            let skinned = pass.variant(pipelines, skinned, variant);
             self.draw(rec, scene, index, [chosen, skinned], &push);
         }
         Ok(())

@@ -263,7 +263,7 @@ impl ShadowPasses {
         let mut bound = opaque;
         for object in scene.objects.iter().filter(|o| o.casts_shadow) {
             let variant = MaterialVariant::for_caster(scene.material_of(object));
-            let pipeline = pass.variant(pipelines, opaque, variant).unwrap_or(opaque);
+            let pipeline = pass.variant(pipelines, opaque, variant);
             if !std::ptr::eq(pipeline, bound) {
                 rec.bind_with_sets(pipeline, &[self.light_set.set]);
                 bound = pipeline;
@@ -285,7 +285,7 @@ impl ShadowPasses {
         for index in draw_order(scene) {
             let object = &scene.objects[index];
             let variant = MaterialVariant::for_surface(scene.material_of(object));
-            let pipeline = pass.variant(pipelines, main, variant).unwrap_or(main);
+            let pipeline = pass.variant(pipelines, main, variant);
             if !std::ptr::eq(pipeline, bound) {
                 rec.bind(pipeline);
                 bound = pipeline;
