@@ -20,7 +20,8 @@ use crate::scene::Scene;
 /// the frame's uniforms; a technique's own sets follow the material).
 pub const MATERIAL_SET: u32 = 1;
 
-/// A pipeline bound only for objects whose material needs it (see [`PlannedPass::or_variant`]).
+/// A pipeline bound only for objects whose material needs it (see
+/// [`PlannedPass::or_variant`](crate::render::plan::PlannedPass::or_variant)).
 /// Scene passes: MASK cuts texels out (a `discard` the opaque pipeline keeps out of its shader,
 /// so it keeps early depth on a tiler), double-sided draws both faces with the normal turned to
 /// the viewer, BLEND is drawn after everything opaque, back to front, without depth writes.
