@@ -171,21 +171,26 @@ pub struct Material {
     pub unlit: bool,
 }
 
+impl Material {
+    /// The glTF default material (used for primitives without one), as a constant that a
+    /// `static` can hold.
+    pub const GLTF_DEFAULT: Material = Material {
+        name: None,
+        base_color: Vec4::ONE,
+        base_color_texture: None,
+        metallic: 1.0,
+        roughness: 1.0,
+        emissive: Vec3::ZERO,
+        emissive_texture: None,
+        alpha_mode: AlphaMode::Opaque,
+        double_sided: false,
+        unlit: false,
+    };
+}
+
 impl Default for Material {
-    /// The glTF default material (used for primitives without one).
     fn default() -> Self {
-        Material {
-            name: None,
-            base_color: Vec4::ONE,
-            base_color_texture: None,
-            metallic: 1.0,
-            roughness: 1.0,
-            emissive: Vec3::ZERO,
-            emissive_texture: None,
-            alpha_mode: AlphaMode::Opaque,
-            double_sided: false,
-            unlit: false,
-        }
+        Material::GLTF_DEFAULT
     }
 }
 

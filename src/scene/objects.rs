@@ -12,18 +12,7 @@ use super::skinning::{blend_joints, skin_normal};
 use crate::mesh::MeshData;
 
 /// `Material::default()`, for a reference that outlives any scene.
-static DEFAULT_MATERIAL: Material = Material {
-    name: None,
-    base_color: Vec4::ONE,
-    base_color_texture: None,
-    metallic: 1.0,
-    roughness: 1.0,
-    emissive: Vec3::ZERO,
-    emissive_texture: None,
-    alpha_mode: super::model::AlphaMode::Opaque,
-    double_sided: false,
-    unlit: false,
-};
+static DEFAULT_MATERIAL: Material = Material::GLTF_DEFAULT;
 
 #[derive(Debug, Clone)]
 pub struct SceneMesh {
@@ -216,12 +205,4 @@ impl Scene {
 /// Lowest and highest corner of `points`; `None` for no points.
 pub fn bounds_of(points: impl IntoIterator<Item = Vec3>) -> Option<(Vec3, Vec3)> {
     points.into_iter().fold(None, |b, w| Some(b.map_or((w, w), |(lo, hi)| (lo.min(w), hi.max(w)))))
-}
-
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn the_static_default_material_is_the_gltf_default() {
-        assert_eq!(super::DEFAULT_MATERIAL, super::Material::default());
-    }
 }
