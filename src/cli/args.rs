@@ -65,6 +65,13 @@ pub enum Command {
         /// shadow-volume: list only this normalisation path; all by default.
         #[arg(long, value_enum)]
         normalize: Option<Normalize>,
+        /// shadow-volume: alpha added per volume wall, in 1/255 steps (1..=8).
+        #[arg(long, default_value_t = 1, value_name = "K")]
+        increment: u8,
+        /// shadow-volume and planar: shadowed colour = colour x F/255; for shadow volumes the
+        /// normalisation's iteration count follows it.
+        #[arg(long, default_value_t = 102, value_name = "F")]
+        shadow_factor: u8,
     },
     /// Time frames of a technique's variants (the real-stencil reference first) in one run.
     Bench {
@@ -176,7 +183,8 @@ pub struct FrameArgs {
     /// outline: outline width in pixels.
     #[arg(long, default_value_t = 4.0, value_name = "PX")]
     pub outline_width: f32,
-    /// planar, blob, shadow-texture: shadowed colour = colour x F/255 (0..=255; 255: no shadow).
+    /// shadow-volume, planar, blob, shadow-texture: shadowed colour = colour x F/255 (0..=255;
+    /// 255: no shadow). For shadow volumes the normalisation's iteration count follows it.
     #[arg(long, default_value_t = 102, value_name = "F")]
     pub shadow_factor: u8,
     /// shadow-map, shadow-texture-atlas: `moving` (turns every frame: re-bake) or `fixed`

@@ -30,7 +30,9 @@ pub fn run(cli: Cli) -> Result<()> {
             }
         }
         Command::Info { gpu, json } => info(&gpu, json),
-        Command::Passes { technique, normalize } => passes(&technique, normalize),
+        Command::Passes { technique, normalize, increment, shadow_factor } => {
+            passes(&technique, normalize, increment, shadow_factor)
+        }
         Command::Bench { frame, warmup, runs, json } => bench(&frame, warmup, runs, json),
         Command::Bake { frame, model, mip, out } => bake(&frame, model.as_deref(), mip, &out),
         Command::View { frame, frames, screenshot, resize_after, paused } => {
@@ -77,7 +79,7 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
             increment: frame.increment,
             method: frame.volume_method,
             normalize: frame.normalize,
-            ..Default::default()
+            shadow_factor: frame.shadow_factor,
         },
         shadow_atlas: ShadowAtlasOptions {
             map_size: frame.shadow_map_size,
@@ -494,10 +496,15 @@ fn view(
 }
 
 /// `passes`: every plan of the technique (each path, each variant that changes the passes), as
-/// Markdown tables; `--normalize` keeps one shadow-volume normalisation.
-fn passes(technique: &str, normalize: Option<Normalize>) -> Result<()> {
+/// Markdown tables; `--normalize` keeps one shadow-volume normalisation. For shadow volumes,
+/// the plans are for k = `increment` and D = `shadow_factor`, and the table of iteration counts
+/// for other k and D follows them.
+fn passes(technique: &str, normalize: Option<Normalize>, increment: u8, shadow_factor: u8) -> Result<()> {
     let technique = by_name(technique)?;
-    let base = RenderOptions { technique, ..Default::default() };
+    let shadow_volume = ShadowVolumeOptions { increment, shadow_factor, ..Default::default() };
+    shadow_volume.check()?;
+    let planar = PlanarOptions { shadow_factor, ..Default::default() };
+    let base = RenderOptions { technique, shadow_volume, planar, ..Default::default() };
     println!("## {}: passes and fixed-function state\n", technique.name());
     println!("{}\n", technique.about());
     let variants = technique.plan_variants(&base);
@@ -516,6 +523,9 @@ fn passes(technique: &str, normalize: Option<Normalize>) -> Result<()> {
             let plan = technique.plan(&variant.options)?;
             println!("{}", crate::profile::passes::plan_table(&variant.label, &plan));
         }
+    }
+    if technique.name() == "shadow-volume" {
+        println!("{}", crate::technique::alpha_counter::iteration_section()?);
     }
     Ok(())
 }

@@ -1,11 +1,15 @@
-//! The alpha channel as an 8-bit counter (DESIGN.md sections 1 and 2): the blend arithmetic
-//! of the seed's normalisation passes, simulated on the CPU so that the number of iterations is
-//! derived from the increment k, never hard-coded.
+//! The alpha channel as an 8-bit counter (DESIGN.md sections 1, 2 and 10): the blend arithmetic
+//! of the seed's normalisation passes, simulated on the CPU under every rounding Vulkan allows,
+//! so that the number of iterations is derived from the increment k and the darkness D, never
+//! hard-coded.
 
 use crate::error::{Error, Result};
 
 /// Largest increment the renderer accepts (`--increment 1..8`).
 pub const MAX_INCREMENT: u8 = 8;
+
+/// More iterations than any k and D need (5 at most): a bound for the search, not a count.
+const ITERATION_BOUND: usize = 16;
 
 /// The largest volume count the counter holds with increment k: 255 / k.
 pub fn capacity(k: u8) -> u32 {
@@ -20,55 +24,135 @@ pub fn check_increment(k: u8) -> Result<u8> {
     }
 }
 
-/// An 8-bit blend product as lavapipe computes it (DESIGN.md section 7): `a * b / 255`,
-/// rounded as `(p + (p >> 8) + 128) >> 8`.
-pub fn blend_product(a: u8, b: u8) -> u8 {
-    let p = a as u32 * b as u32;
-    ((p + (p >> 8) + 128) >> 8) as u8
+crate::names::named_enum! {
+    /// How a GPU turns a blend product `a * b / 255` into 8 bits. Vulkan allows either
+    /// neighbour of the exact value (an exact integer exactly), so a port must hold under
+    /// `down` and `up`; `nearest` is what the specification recommends, `lavapipe` what the
+    /// test device does (DESIGN.md section 7).
+    pub enum Rounding {
+        #[default]
+        Nearest = "nearest",
+        Down = "down",
+        Up = "up",
+        Lavapipe = "lavapipe",
+    }
 }
 
-/// N0: `SUBTRACT, Sf = ONE_MINUS_DST_ALPHA, Df = ONE`, fragment alpha 1: `1 - 2a`.
-pub fn seed_first_step(a: u8) -> u8 {
-    let src = blend_product(255, 255 - a) as i32;
-    (src - a as i32).clamp(0, 255) as u8
+impl Rounding {
+    /// `a * b / 255` in 8 bits under this rounding.
+    pub fn product(self, a: u8, b: u8) -> u8 {
+        let p = a as u32 * b as u32;
+        let rounded = match self {
+            // No product lies half-way: 2p = 255 (2m + 1) has no integer solution.
+            Rounding::Nearest => (2 * p + 255) / 510,
+            Rounding::Down => p / 255,
+            Rounding::Up => p.div_ceil(255),
+            Rounding::Lavapipe => (p + (p >> 8) + 128) >> 8,
+        };
+        rounded as u8
+    }
 }
 
-/// N1..: `REVERSE_SUBTRACT, Sf = ONE_MINUS_DST_ALPHA, Df = DST_ALPHA`, fragment alpha 1:
-/// `a * a - (1 - a)`. 1 stays 1; any deficit grows until the pixel reaches 0.
-pub fn seed_iteration(a: u8) -> u8 {
-    let dst = blend_product(a, a) as i32;
-    let src = blend_product(255, 255 - a) as i32;
-    (dst - src).clamp(0, 255) as u8
+/// One full-screen normalisation pass of the seed and max paths, as blend arithmetic on the
+/// destination alpha (fragment alpha 1 for N0 and the iterations, D for the darkness steps).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Step {
+    /// `SUBTRACT, Sf = ONE_MINUS_DST_ALPHA, Df = ONE`: `1 - 2a` (exact: `1 - a` is exact).
+    N0,
+    /// `REVERSE_SUBTRACT, Sf = ONE_MINUS_DST_ALPHA, Df = DST_ALPHA`: `a * a - (1 - a)`.
+    Iteration,
+    /// `REVERSE_SUBTRACT, ONE, ONE` of D.
+    SubtractD,
+    /// `ADD, ONE, ONE` of D.
+    AddD,
+    /// `MAX` with D.
+    MaxD,
 }
 
-/// The alpha values a count goes through: after N0, then after each iteration until 0.
+impl Step {
+    /// The destination alpha after this pass, with products rounded by `rounding`.
+    pub fn apply(self, a: u8, darkness: u8, rounding: Rounding) -> u8 {
+        // Sf = 1 - a times a source of 1: a product by 255, exact in every rounding.
+        let one_minus_a = rounding.product(255, 255 - a) as i32;
+        let a_i = a as i32;
+        let value = match self {
+            Step::N0 => one_minus_a - a_i,
+            Step::Iteration => rounding.product(a, a) as i32 - one_minus_a,
+            Step::SubtractD => a_i - darkness as i32,
+            Step::AddD => a_i + darkness as i32,
+            Step::MaxD => a_i.max(darkness as i32),
+        };
+        value.clamp(0, 255) as u8
+    }
+}
+
+/// The alpha values a count goes through under lavapipe's rounding: after N0, then after each
+/// iteration until 0 (or 1, which stays).
 pub fn seed_sequence(count_alpha: u8) -> Vec<u8> {
-    let mut values = vec![seed_first_step(count_alpha)];
+    let mut values = vec![Step::N0.apply(count_alpha, 0, Rounding::Lavapipe)];
     while let Some(&last) = values.last() {
-        if last == 0 || last == 255 || values.len() > 32 {
+        if last == 0 || last == 255 || values.len() > ITERATION_BOUND {
             break;
         }
-        values.push(seed_iteration(last));
+        values.push(Step::Iteration.apply(last, 0, Rounding::Lavapipe));
     }
     values
 }
 
-/// Iterations after N0 needed so that every non-zero count (k, 2k, ... up to 255) reaches 0,
-/// while a count of 0 stays at 1.
-pub fn seed_iterations(k: u8) -> Result<usize> {
+/// The alpha of every shadowed count (k, 2k, ... up to 255 / k volumes) after N0 and
+/// `iterations` iterations under `rounding`.
+pub fn shadowed_after(k: u8, iterations: usize, rounding: Rounding) -> impl Iterator<Item = u8> {
+    (1..=capacity(k)).map(move |count| {
+        let mut a = Step::N0.apply((count * k as u32) as u8, 0, rounding);
+        for _ in 0..iterations {
+            a = Step::Iteration.apply(a, 0, rounding);
+        }
+        a
+    })
+}
+
+/// Iterations after N0 that a port can trust (DESIGN.md section 10): the smallest n that brings
+/// every shadowed count to <= D when every product rounds up (the worst case: the iteration is
+/// increasing in `a`), so that the D step (`-D, +D` or `MAX D`) sets it to exactly D. A count
+/// of 0 goes to 1 and stays there in every rounding.
+pub fn seed_iterations(k: u8, darkness: u8) -> Result<usize> {
     let k = check_increment(k)?;
-    if seed_first_step(0) != 255 || seed_iteration(255) != 255 {
+    let lit_stays_lit = Rounding::ALL.iter().all(|&r| {
+        let lit = Step::N0.apply(0, darkness, r);
+        lit == 255 && Step::Iteration.apply(lit, darkness, r) == 255
+    });
+    if !lit_stays_lit {
         return Err(Error::Internal("normalisation does not keep unshadowed pixels at 1".into()));
     }
-    let mut needed = 0;
-    for count in (k as u32..=255).step_by(k as usize) {
-        let sequence = seed_sequence(count as u8);
-        if sequence.last() != Some(&0) {
-            return Err(Error::Internal(format!("count {count} never normalises to 0 with k = {k}")));
-        }
-        needed = needed.max(sequence.len() - 1);
+    (0..=ITERATION_BOUND)
+        .find(|&n| shadowed_after(k, n, Rounding::Up).all(|a| a <= darkness))
+        .ok_or_else(|| Error::Internal(format!("k = {k}, D = {darkness}: shadowed counts never reach D")))
+}
+
+/// The iteration counts for each D (rows) and k (columns), as a Markdown table: what the
+/// README prints and `nostencil passes --technique shadow-volume` shows.
+pub fn iteration_table(darkness: &[u8], increments: &[u8]) -> Result<String> {
+    let header: Vec<String> = increments.iter().map(|k| format!("k = {k}")).collect();
+    let mut table = format!("| D | {} |\n|---|{}\n", header.join(" | "), "---|".repeat(increments.len()));
+    for &d in darkness {
+        let counts = increments.iter().map(|&k| seed_iterations(k, d).map(|n| n.to_string()));
+        table.push_str(&format!("| {d} | {} |\n", counts.collect::<Result<Vec<_>>>()?.join(" | ")));
     }
-    Ok(needed)
+    Ok(table)
+}
+
+/// The rows and columns of the table the README prints.
+pub const TABLE_DARKNESS: [u8; 6] = [0, 32, 64, 102, 128, 192];
+pub const TABLE_INCREMENTS: [u8; 4] = [1, 2, 4, 8];
+
+/// The iteration table with its heading: what `nostencil passes --technique shadow-volume`
+/// prints after the plans, and the README's copy of it (checked by a test).
+pub fn iteration_section() -> Result<String> {
+    Ok(format!(
+        "Iterations after N0 (`seed`, `max`) for shadow factor D and increment k: the smallest n\n\
+         that brings every shadowed count to <= D when every blend product rounds up.\n\n{}",
+        iteration_table(&TABLE_DARKNESS, &TABLE_INCREMENTS)?
+    ))
 }
 
 #[cfg(test)]
@@ -82,25 +166,85 @@ mod tests {
     }
 
     #[test]
-    fn iterations_follow_from_k() {
-        // Six passes (N0 + 5) for k = 1, five for k = 2 or 4, four for k = 8.
-        assert_eq!(seed_iterations(1).unwrap(), 5);
-        assert_eq!(seed_iterations(2).unwrap(), 4);
-        assert_eq!(seed_iterations(4).unwrap(), 4);
-        assert_eq!(seed_iterations(8).unwrap(), 3);
-        assert!(seed_iterations(0).is_err());
-        assert!(seed_iterations(9).is_err());
+    fn iterations_follow_the_design_table() {
+        // DESIGN.md section 10, counted by hand with products rounded up.
+        for (d, counts) in [(102u8, [5usize, 4, 3, 3]), (128, [5, 4, 3, 2]), (64, [5, 4, 4, 3])] {
+            for (k, n) in [1u8, 2, 4, 8].into_iter().zip(counts) {
+                assert_eq!(seed_iterations(k, d).unwrap(), n, "k = {k}, D = {d}");
+            }
+        }
+        assert!(seed_iterations(0, 102).is_err());
+        assert!(seed_iterations(9, 102).is_err());
+    }
+
+    /// Every k in 1..=8 and D in 1..=254, under every rounding: the derived n brings every
+    /// shadowed count to <= D and leaves lit pixels at 255, and one iteration fewer fails when
+    /// products round up.
+    #[test]
+    fn derived_iterations_hold_under_every_rounding() {
+        for k in 1..=MAX_INCREMENT {
+            for d in 1..=254u8 {
+                let n = seed_iterations(k, d).unwrap();
+                for rounding in Rounding::ALL.iter().copied() {
+                    let worst = shadowed_after(k, n, rounding).max().unwrap();
+                    assert!(worst <= d, "k = {k}, D = {d}, {rounding:?}: a shadowed pixel ends at {worst}");
+                    let mut lit = Step::N0.apply(0, d, rounding);
+                    for _ in 0..n {
+                        lit = Step::Iteration.apply(lit, d, rounding);
+                    }
+                    assert_eq!(lit, 255, "k = {k}, D = {d}, {rounding:?}: a lit pixel");
+                    // The D steps then give exactly D and 255.
+                    for a in shadowed_after(k, n, rounding) {
+                        assert_eq!(Step::AddD.apply(Step::SubtractD.apply(a, d, rounding), d, rounding), d);
+                        assert_eq!(Step::MaxD.apply(a, d, rounding), d);
+                    }
+                    assert_eq!(Step::AddD.apply(Step::SubtractD.apply(255, d, rounding), d, rounding), 255);
+                    assert_eq!(Step::MaxD.apply(255, d, rounding), 255);
+                }
+                // A count of k leaves N0 at 255 - 2k: from D >= that on, no iteration is needed.
+                if d < 255 - 2 * k {
+                    assert!(n > 0, "k = {k}, D = {d}");
+                    let worst = shadowed_after(k, n - 1, Rounding::Up).max().unwrap();
+                    assert!(worst > d, "k = {k}, D = {d}: {} iteration(s) already suffice", n - 1);
+                } else {
+                    assert_eq!(n, 0, "k = {k}, D = {d}");
+                }
+            }
+        }
     }
 
     #[test]
-    fn blend_product_is_within_one_of_exact() {
-        for a in 0..=255u32 {
-            for b in 0..=255u32 {
-                let exact = (a * b) as f64 / 255.0;
-                assert!((blend_product(a as u8, b as u8) as f64 - exact).abs() <= 1.0);
+    fn rounding_up_bounds_every_other_rounding() {
+        for a in 0..=255u8 {
+            for b in 0..=255u8 {
+                let exact = a as f64 * b as f64 / 255.0;
+                let up = Rounding::Up.product(a, b);
+                for rounding in Rounding::ALL.iter().copied() {
+                    let p = rounding.product(a, b);
+                    assert!((p as f64 - exact).abs() < 1.0, "{rounding:?}: {a} x {b} -> {p}, exact {exact}");
+                    assert!(p <= up);
+                }
+                assert_eq!(Rounding::Down.product(a, b) as f64, exact.floor());
+                assert_eq!(Rounding::Up.product(a, b) as f64, exact.ceil());
+                assert_eq!(Rounding::Nearest.product(a, b) as f64, exact.round());
             }
-            assert_eq!(blend_product(a as u8, 255), a as u8);
         }
+        for rounding in Rounding::ALL.iter().copied() {
+            assert!((0..=255u8).all(|a| rounding.product(a, 255) == a));
+        }
+    }
+
+    #[test]
+    fn the_table_has_a_row_per_darkness() {
+        let table = iteration_table(&[102], &[1, 4]).unwrap();
+        assert_eq!(table, "| D | k = 1 | k = 4 |\n|---|---|---|\n| 102 | 5 | 3 |\n");
+    }
+
+    #[test]
+    fn the_readme_prints_the_iteration_table() {
+        let readme = include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md"));
+        let section = iteration_section().unwrap();
+        assert!(readme.contains(&section), "README's iteration table differs; paste:\n{section}");
     }
 
     #[test]

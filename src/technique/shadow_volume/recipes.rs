@@ -7,7 +7,7 @@
 //!    all increments come first because alpha clamps at 0 where a stencil would wrap (the
 //!    volumes of two-sided casters, DESIGN.md section 8, bring their near caps in z-pass too);
 //! 3. normalisation, one of: `seed` (N0, n iterations, REVERSE_SUBTRACT D, ADD D), `max`
-//!    (N0, n iterations, MAX D) or `subpass` (read the count as an input attachment);
+//!    (N0, n iterations, MAX D; n from k and D, `alpha_counter::seed_iterations`) or `subpass` (read the count as an input attachment);
 //! 4. apply: colour *= alpha (or, for `subpass`, *= the factor the shader outputs).
 //!
 //! Reference frame: scene, volumes with a two-sided INCREMENT_AND_WRAP / DECREMENT_AND_WRAP
@@ -202,7 +202,7 @@ pub fn plan(options: &ShadowVolumeOptions, stencil: StencilMode) -> Result<PassP
             plan.push(volumes(decrement.name, decrement, step));
             match options.normalize {
                 Normalize::Seed | Normalize::Max => {
-                    plan.extend(seed_normalisation(alpha_counter::seed_iterations(k)?));
+                    plan.extend(seed_normalisation(alpha_counter::seed_iterations(k, options.shadow_factor)?));
                     for desc in darkness_descs(options.normalize) {
                         plan.push(PlannedPass::full_screen(desc.name, desc, solid(factor)));
                     }

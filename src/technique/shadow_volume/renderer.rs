@@ -145,7 +145,7 @@ pub fn build<'s>(
             volumes: Vec::new(),
             stats: ShadowVolumeStats {
                 zfail,
-                seed_iterations: alpha_counter::seed_iterations(k)?,
+                seed_iterations: alpha_counter::seed_iterations(k, options.shadow_volume.shadow_factor)?,
                 capacity,
                 saturated_pixels: None,
                 increment: k,
