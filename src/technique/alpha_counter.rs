@@ -55,7 +55,7 @@ impl Rounding {
 
 /// One full-screen normalisation pass of the seed and max paths, as blend arithmetic on the
 /// destination alpha (fragment alpha 1 for N0 and the iterations, D for the darkness steps).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Step {
     /// `SUBTRACT, Sf = ONE_MINUS_DST_ALPHA, Df = ONE`: `1 - 2a` (exact: `1 - a` is exact).
     N0,

@@ -22,7 +22,7 @@ pub use recipes::{
     apply_desc, darkness_descs, iteration_desc, n0_desc, reference_apply_desc, reference_clear_negative_desc,
     reference_volume_desc, saturation_probe_desc, volume_descs,
 };
-pub use renderer::{record_seed_normalisation, CasterReport, ShadowVolumeStats};
+pub use renderer::{CasterReport, ShadowVolumeStats};
 
 /// Shadow volumes counted in alpha (seed 000).
 pub struct ShadowVolumes;

@@ -9,7 +9,7 @@ use ash::vk;
 use glam::Vec4;
 
 use super::casters::{build_volume, choose_zfail, prepare_casters, Caster};
-use super::recipes::{seed_normalisation, COUNTER_INPUT};
+use super::recipes::COUNTER_INPUT;
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
@@ -255,28 +255,4 @@ fn upload_volumes(gpu: &Arc<Gpu>, scene: &Scene, casters: &[Caster], zfail: bool
             })
         })
         .collect()
-}
-
-/// The seed's normalisation alone, as the plan has it (N0, then `iterations` iterations), with
-/// pipelines the caller built from `n0_desc` and `iteration_desc`: for tests that run it on a
-/// counter they wrote themselves.
-pub fn record_seed_normalisation(
-    rec: &mut FrameRecorder,
-    n0: &Pipeline,
-    iteration: &Pipeline,
-    iterations: usize,
-) -> Result<()> {
-    for pass in seed_normalisation(iterations) {
-        let pipeline = if pass.pipeline().is_some_and(|d| d.name == n0.desc.name) { n0 } else { iteration };
-        let Push::Constant(value) = pass.push else {
-            return Err(Error::Internal(format!("normalisation pass '{}' has no constant", pass.name)));
-        };
-        rec.pass(&pass.name, |rec| {
-            rec.bind(pipeline);
-            rec.push(pipeline, &value);
-            rec.draw_fullscreen();
-            Ok(())
-        })?;
-    }
-    Ok(())
 }
