@@ -5,6 +5,7 @@
 mod common;
 
 use std::collections::{HashMap, HashSet};
+use std::path::Path;
 use std::sync::Arc;
 
 use ash::vk;
@@ -710,4 +711,53 @@ fn mirrored_and_inside_out_casters_shadow_their_projected_outline() {
         }
     }
     common::assert_no_validation_messages(&gpu);
+}
+
+/// `--shadow-factor F` darkens shadow volumes to F/255 (in linear light: the frame is sRGB) in
+/// every path, and the seed and max paths' iteration count follows it.
+#[test]
+fn the_command_line_sets_the_shadow_factor_and_the_iterations_follow_it() {
+    let dir = common::scratch_dir("shadow-volume-factor");
+    let render = |name: &str, args: &[&str]| {
+        let out = dir.join(name);
+        let out = out.to_str().expect("a UTF-8 path");
+        let mut all = vec!["render", "--size", "128x96", "--out", out];
+        all.extend_from_slice(args);
+        common::run_ok(&all);
+        common::read_png(Path::new(out))
+    };
+    let lit = render("lit.png", &["--technique", "lit"]);
+    for factor in [51u8, 204] {
+        let f = factor.to_string();
+        let reference = render("reference.png", &["--shadow-factor", &f, "--stencil", "reference"]);
+        let mut darkened = 0;
+        for (p, q) in reference.pixels().zip(lit.pixels()) {
+            if p != q {
+                let want = q.0.map(|c| common::srgb_encode(common::srgb_decode(c) * factor as f32 / 255.0));
+                assert!(common::near(&p.0, &want, 1), "F = {factor}: {p:?}, lit {q:?} x F/255 = {want:?}");
+                darkened += 1;
+            }
+        }
+        assert!(darkened > 300, "F = {factor}: {darkened} pixels darkened");
+        for normalize in ["seed", "max", "subpass"] {
+            let emulated =
+                render("emulated.png", &["--shadow-factor", &f, "--normalize", normalize, "--increment", "4"]);
+            assert!(emulated == reference, "F = {factor}, {normalize}: emulated differs from the reference");
+        }
+    }
+    // k = 4: D = 64 needs four iterations when products round up, D = 102 three.
+    for (factor, iterations) in [("64", 4), ("102", 3)] {
+        let args =
+            ["--technique", "shadow-volume", "--normalize", "max", "--increment", "4", "--shadow-factor", factor];
+        let (passes, _) = common::run_ok(&[&["passes"], &args[..]].concat());
+        assert!(passes.contains(&format!("normalise N{iterations} ")), "D = {factor}:\n{passes}");
+        assert!(!passes.contains(&format!("normalise N{} ", iterations + 1)), "D = {factor}:\n{passes}");
+        let (json, _) = common::run_ok(&[&["profile", "--size", "64x48", "--format", "json"], &args[..]].concat());
+        let report: serde_json::Value = serde_json::from_str(&json).expect("JSON");
+        assert_eq!(report["technique_stats"]["seed_iterations"], iterations, "D = {factor}");
+        let names: Vec<&str> =
+            report["passes"].as_array().expect("passes").iter().filter_map(|p| p["name"].as_str()).collect();
+        assert!(names.contains(&format!("normalise N{iterations}").as_str()), "D = {factor}: {names:?}");
+        assert!(!names.contains(&format!("normalise N{}", iterations + 1).as_str()), "D = {factor}: {names:?}");
+    }
 }
