@@ -373,6 +373,14 @@ fn the_subpass_apply_counts_saturation_with_no_probe_and_matches_the_probe() {
     let probed = render(&gpu, &scene, StencilMode::Emulated, ShadowVolumeOptions { saturation_probe: true, ..seed });
     assert_eq!(probed.stats.saturated_pixels, Some(counted));
 
+    // Without fragment atomics (a device outside the baseline) the subpass path says so, and
+    // draws the same image.
+    let without = ShadowVolumeOptions { fragment_atomics: false, ..subpass(8, false) };
+    let uncounted = render(&gpu, &scene, StencilMode::Emulated, without);
+    assert_eq!(uncounted.stats.saturated_pixels, None);
+    assert!(uncounted.stats.saturation_measured_by.contains("fragmentStoresAndAtomics"));
+    assert_eq!(rgb_differences(&uncounted.output.image, &k8.output.image), 0);
+
     // Not vacuous: k = 1 holds 40 volumes, so nothing saturates.
     let k1 = render(&gpu, &scene, StencilMode::Emulated, subpass(1, false));
     assert_eq!(k1.stats.capacity, 255);

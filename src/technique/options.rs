@@ -42,8 +42,8 @@ pub struct ShadowVolumeOptions {
     /// asks for, never part of a timed frame. The `subpass` apply counts saturation without it.
     pub saturation_probe: bool,
     /// The device has `fragmentStoresAndAtomics` (Android Baseline 2022), so the `subpass`
-    /// apply counts saturated pixels with one atomic add each. The renderer sets it from the
-    /// device it runs on; a plan printed without a device assumes the baseline.
+    /// apply counts saturated pixels with one atomic add each. The renderer turns it off on a
+    /// device without the feature; a plan printed without a device assumes the baseline.
     pub fragment_atomics: bool,
 }
 

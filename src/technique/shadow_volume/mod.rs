@@ -87,6 +87,20 @@ impl Technique for ShadowVolumes {
                 });
             }
         }
+        // The opt-in probe, beside the subpass apply's own count (a cross-check).
+        variants.push(Variant {
+            label: "emulated subpass, zpass, --saturation-probe".into(),
+            options: RenderOptions {
+                stencil: StencilMode::Emulated,
+                shadow_volume: ShadowVolumeOptions {
+                    method: VolumeMethod::ZPass,
+                    normalize: Normalize::Subpass,
+                    saturation_probe: true,
+                    ..options.shadow_volume
+                },
+                ..options.clone()
+            },
+        });
         variants
     }
 

@@ -140,8 +140,10 @@ pub fn build<'s>(
     let aspect = options.width as f32 / options.height as f32;
     let zfail = choose_zfail(&options.shadow_volume, scene, &casters, aspect);
     let method = if zfail { VolumeMethod::ZFail } else { VolumeMethod::ZPass };
-    // The subpass apply counts saturation only where the device has fragment atomics.
-    let fragment_atomics = gpu.device.info.features.fragment_stores_and_atomics;
+    // The subpass apply counts saturation only where the device has fragment atomics (and the
+    // caller did not turn them off, as a port for a device without them would).
+    let fragment_atomics =
+        options.shadow_volume.fragment_atomics && gpu.device.info.features.fragment_stores_and_atomics;
     let resolved = RenderOptions {
         shadow_volume: ShadowVolumeOptions { method, fragment_atomics, ..options.shadow_volume },
         ..options.clone()
