@@ -1,6 +1,7 @@
 #version 450
-// Passes (for the occlusion query) only where the alpha counter sits at its ceiling: the
-// pixels whose count reached 255 after every increment, where further increments were lost.
+// The opt-in saturation probe (`--saturation-probe`): passes, for the occlusion query, only
+// where the alpha counter sits at its clamp once every volume is drawn, the pixels the subpass
+// apply counts with its atomic add.
 layout(input_attachment_index = 0, set = 0, binding = 0) uniform subpassInput counter;
 
 layout(location = 0) out vec4 out_colour;

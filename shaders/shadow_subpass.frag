@@ -1,17 +1,7 @@
 #version 450
-// Subpass normalisation: read this pixel's volume count from the colour attachment (an input
-// attachment of the same subpass) and output the shadow factor as alpha; the blend unit does
-// the multiply (ZERO, SRC_ALPHA), exactly as the stencil-tested reference apply pass does.
-layout(input_attachment_index = 0, set = 0, binding = 0) uniform subpassInput counter;
-
-layout(push_constant) uniform ShadowPush {
-    // x: the shadow factor D (colour is multiplied by D where the count is not 0).
-    vec4 shadow;
-} push;
-
-layout(location = 0) out vec4 out_colour;
+// The subpass apply on a device without fragment atomics: saturation is not counted.
+#include "shadow_subpass_factor.glsl"
 
 void main() {
-    float count = subpassLoad(counter).a;
-    out_colour = vec4(0.0, 0.0, 0.0, count > 0.0 ? push.shadow.x : 1.0);
+    out_colour = shadow_factor(subpassLoad(counter).a);
 }

@@ -131,12 +131,43 @@ fn json_matches_the_table_and_totals_add_up() {
         assert!(row.contains(&pass["samples_passed"].to_string()), "{row}");
         assert!(row.contains(&pass["fragment_invocations"].to_string()), "{row}");
     }
-    assert_eq!(report["technique_stats"]["saturated_pixels"], 0);
+    // The default (seed) frame draws no probe: saturation is not measured, and says so.
+    assert!(report["technique_stats"]["saturated_pixels"].is_null());
+    let measured_by = report["technique_stats"]["saturation_measured_by"].as_str().expect("saturation source");
+    assert!(measured_by.contains("not measured (use --saturation-probe)"), "{measured_by}");
+    assert!(table.contains("saturated pixels: not measured (use --saturation-probe)"), "{table}");
+    assert!(!table.contains("saturation probe"), "{table}");
     // The frame's formats are named: sRGB colour, and a depth format with no stencil aspect.
     assert_eq!(report["frame_formats"]["colour"], "R8G8B8A8_SRGB");
     let depth = report["frame_formats"]["depth"].as_str().expect("depth format");
     assert!(!depth.contains("S8"), "emulated frame has no stencil: {depth}");
     assert!(table.lines().next().is_some_and(|l| l.contains("colour R8G8B8A8_SRGB depth D")), "{table}");
+}
+
+#[test]
+fn saturation_is_reported_where_measured_and_the_probe_is_opt_in() {
+    let args = ["profile", "--technique", "shadow-volume", "--size", "96x64", "--format", "json"];
+    let stats = |extra: &[&str]| {
+        let (json, _) = common::run_ok(&[&args[..], extra].concat());
+        let report: serde_json::Value = serde_json::from_str(&json).expect("JSON");
+        let names: Vec<String> =
+            report["passes"].as_array().unwrap().iter().map(|p| p["name"].as_str().unwrap().to_owned()).collect();
+        (report["technique_stats"].clone(), names)
+    };
+    let (subpass, names) = stats(&["--normalize", "subpass"]);
+    assert_eq!(subpass["saturated_pixels"], 0, "{subpass}");
+    assert!(subpass["saturation_measured_by"].as_str().unwrap().contains("subpass apply"), "{subpass}");
+    assert!(!names.iter().any(|n| n == "saturation probe"), "{names:?}");
+    let (probed, names) = stats(&["--normalize", "max", "--saturation-probe"]);
+    assert!(names.iter().any(|n| n == "saturation probe"), "{names:?}");
+    assert_eq!(probed["saturated_pixels"], 0, "{probed}");
+    assert_eq!(probed["probe_saturated_pixels"], 0, "{probed}");
+    let (reference, names) = stats(&["--stencil", "reference"]);
+    assert!(reference["saturated_pixels"].is_null(), "{reference}");
+    assert_eq!(names, ["scene", "volumes (stencil, z-pass)", "apply (stencil)"]);
+    // The probe is never timed.
+    let stderr = common::run_err(&["bench", "--technique", "shadow-volume", "--size", "32x32", "--saturation-probe"]);
+    assert!(stderr.contains("--saturation-probe") && stderr.contains("never timed"), "{stderr}");
 }
 
 #[test]

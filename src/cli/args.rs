@@ -167,6 +167,11 @@ pub struct FrameArgs {
     /// shadow-volume: how counts become a mask.
     #[arg(long, value_enum, default_value_t)]
     pub normalize: Normalize,
+    /// shadow-volume: add the full-screen saturation probe, a diagnostic pass (`seed` and `max`
+    /// count saturation only with it; `subpass` counts it in its apply, and the probe then
+    /// cross-checks that count). Never part of a timed `bench` frame.
+    #[arg(long)]
+    pub saturation_probe: bool,
     /// outline: objects to outline, by name (default: the scene's first shadow caster).
     #[arg(long, value_name = "NAME,...", default_value = "")]
     pub select: String,

@@ -80,6 +80,8 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
             method: frame.volume_method,
             normalize: frame.normalize,
             shadow_factor: frame.shadow_factor,
+            saturation_probe: frame.saturation_probe,
+            ..Default::default()
         },
         shadow_atlas: ShadowAtlasOptions {
             map_size: frame.shadow_map_size,
@@ -361,8 +363,10 @@ fn info(args: &GpuArgs, json: bool) -> Result<()> {
     );
     println!("profile:   {}", report.profile);
     println!(
-        "enabled:   occlusionQueryPrecise={} pipelineStatisticsQuery={} (profiling only; not in the baseline)",
-        info.features.occlusion_query_precise, info.features.pipeline_statistics_query
+        "enabled:   occlusionQueryPrecise={} fragmentStoresAndAtomics={} pipelineStatisticsQuery={} (profiling only; not in the baseline)",
+        info.features.occlusion_query_precise,
+        info.features.fragment_stores_and_atomics,
+        info.features.pipeline_statistics_query
     );
     println!("forbidden: {} (all disabled)", mobile_profile::FORBIDDEN_FEATURES.join(", "));
     println!(
@@ -397,6 +401,11 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: u32, json: bool) -> Result<()> {
 
     if runs == 0 {
         return Err(Error::InvalidInput("--runs must be at least 1".into()));
+    }
+    if frame.saturation_probe {
+        return Err(Error::InvalidInput(
+            "--saturation-probe is a diagnostic pass and is never timed: use it with render or profile".into(),
+        ));
     }
     if frame.technique == "all" {
         if json {

@@ -74,6 +74,26 @@ pub fn colour_feedback(device: &ash::Device, cmd: vk::CommandBuffer, colour_imag
 // ---------------------------------------------------------------------------------------------
 // Read-back to the CPU.
 
+/// Makes what fragment shaders stored in buffers (a counter they add to) visible to the host
+/// once the submission's fence has signalled.
+pub fn fragment_stores_to_host(device: &ash::Device, cmd: vk::CommandBuffer) {
+    let to_host = vk::MemoryBarrier::default()
+        .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+        .dst_access_mask(vk::AccessFlags::HOST_READ);
+    // SAFETY: `cmd` is recording outside any render pass; a global barrier names no resource.
+    unsafe {
+        device.cmd_pipeline_barrier(
+            cmd,
+            vk::PipelineStageFlags::FRAGMENT_SHADER,
+            vk::PipelineStageFlags::HOST,
+            vk::DependencyFlags::empty(),
+            &[to_host],
+            &[],
+            &[],
+        )
+    };
+}
+
 /// Makes a transfer's writes to `buffer` visible to the host (before mapping it after the fence).
 pub fn transfer_to_host(device: &ash::Device, cmd: vk::CommandBuffer, buffer: vk::Buffer) {
     let to_host = vk::BufferMemoryBarrier::default()

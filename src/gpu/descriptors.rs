@@ -28,6 +28,11 @@ pub enum Binding {
         view: vk::ImageView,
         layout: vk::ImageLayout,
     },
+    /// A storage buffer the fragment shader writes (needs `fragmentStoresAndAtomics`).
+    FragmentStorageBuffer {
+        buffer: vk::Buffer,
+        range: u64,
+    },
 }
 
 impl Binding {
@@ -36,13 +41,14 @@ impl Binding {
             Binding::UniformBuffer { .. } => vk::DescriptorType::UNIFORM_BUFFER,
             Binding::Texture { .. } => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
             Binding::InputAttachment { .. } => vk::DescriptorType::INPUT_ATTACHMENT,
+            Binding::FragmentStorageBuffer { .. } => vk::DescriptorType::STORAGE_BUFFER,
         }
     }
 
     fn stages(&self) -> vk::ShaderStageFlags {
         match *self {
             Binding::UniformBuffer { stages, .. } | Binding::Texture { stages, .. } => stages,
-            Binding::InputAttachment { .. } => vk::ShaderStageFlags::FRAGMENT,
+            Binding::InputAttachment { .. } | Binding::FragmentStorageBuffer { .. } => vk::ShaderStageFlags::FRAGMENT,
         }
     }
 }
@@ -105,7 +111,9 @@ impl DescriptorSet {
         let buffer_infos: Vec<[vk::DescriptorBufferInfo; 1]> = bindings
             .iter()
             .map(|b| match *b {
-                Binding::UniformBuffer { buffer, range, .. } => [vk::DescriptorBufferInfo { buffer, offset: 0, range }],
+                Binding::UniformBuffer { buffer, range, .. } | Binding::FragmentStorageBuffer { buffer, range } => {
+                    [vk::DescriptorBufferInfo { buffer, offset: 0, range }]
+                }
                 _ => [vk::DescriptorBufferInfo::default()],
             })
             .collect();
@@ -118,7 +126,9 @@ impl DescriptorSet {
                 Binding::InputAttachment { view, layout } => {
                     [vk::DescriptorImageInfo { sampler: vk::Sampler::null(), image_view: view, image_layout: layout }]
                 }
-                Binding::UniformBuffer { .. } => [vk::DescriptorImageInfo::default()],
+                Binding::UniformBuffer { .. } | Binding::FragmentStorageBuffer { .. } => {
+                    [vk::DescriptorImageInfo::default()]
+                }
             })
             .collect();
         let writes: Vec<_> = bindings
@@ -130,7 +140,9 @@ impl DescriptorSet {
                     .dst_binding(i as u32)
                     .descriptor_type(b.descriptor_type());
                 match b {
-                    Binding::UniformBuffer { .. } => write.buffer_info(&buffer_infos[i]),
+                    Binding::UniformBuffer { .. } | Binding::FragmentStorageBuffer { .. } => {
+                        write.buffer_info(&buffer_infos[i])
+                    }
                     _ => write.image_info(&image_infos[i]),
                 }
             })

@@ -65,6 +65,10 @@ pub struct EnabledFeatures {
     /// Fragment and vertex invocation counters. Not in the Android baseline: used only by the
     /// profiler, never by rendering, and reported as unavailable where the device lacks it.
     pub pipeline_statistics_query: bool,
+    /// Storage-buffer atomics in fragment shaders (in Android Baseline 2022): the subpass
+    /// shadow apply counts saturated pixels with them (DESIGN.md section 11). Without it that
+    /// count is reported as not measured.
+    pub fragment_stores_and_atomics: bool,
 }
 
 impl EnabledFeatures {
@@ -72,6 +76,7 @@ impl EnabledFeatures {
         EnabledFeatures {
             occlusion_query_precise: supported.occlusion_query_precise == vk::TRUE,
             pipeline_statistics_query: supported.pipeline_statistics_query == vk::TRUE,
+            fragment_stores_and_atomics: supported.fragment_stores_and_atomics == vk::TRUE,
         }
     }
 
@@ -79,6 +84,7 @@ impl EnabledFeatures {
         vk::PhysicalDeviceFeatures {
             occlusion_query_precise: self.occlusion_query_precise as vk::Bool32,
             pipeline_statistics_query: self.pipeline_statistics_query as vk::Bool32,
+            fragment_stores_and_atomics: self.fragment_stores_and_atomics as vk::Bool32,
             ..Default::default()
         }
     }

@@ -143,9 +143,15 @@ pub const fn stencil_volume_count(zfail: bool) -> StencilState {
     }
 }
 
-/// Sets wrapped negative counts (128..255) to 0: `0x80 <= stencil` passes and zeroes.
-pub const STENCIL_NEGATIVE_TO_ZERO: StencilState =
-    both_faces(stencil_face(vk::CompareOp::LESS_OR_EQUAL, 0x80, 0xff, vk::StencilOp::ZERO, vk::StencilOp::KEEP));
+/// The stencil value of a volume count of 0: the shadow-volume reference clears its stencil to
+/// this, so that counts -128..=127 wrap to 0..=255 in order and a negative count (which the
+/// clamping alpha counter holds as 0) stays below it.
+pub const STENCIL_COUNT_ZERO: u32 = 0x80;
+
+/// Passes where the biased volume count is positive (`0x80 < stencil`), and writes nothing:
+/// the shadow-volume reference's one apply test, which leaves negative counts lit.
+pub const STENCIL_COUNT_POSITIVE: StencilState =
+    both_faces(stencil_face(vk::CompareOp::LESS, STENCIL_COUNT_ZERO, 0, vk::StencilOp::KEEP, vk::StencilOp::KEEP));
 
 /// The seed 001 test: `Ref 0 Comp Equal Pass IncrWrap ZFail Keep` (a receiver pixel is darkened
 /// once, then holds 1 and refuses the next shadow fragment).

@@ -38,6 +38,9 @@ pub struct Renderer {
     /// Heat-map frames: every pipeline of the frame's render pass is replaced by an overdraw
     /// counter, and the colour target's alpha ends up holding fragments shaded per pixel.
     pub count_overdraw: bool,
+    /// The stencil aspect's clear value (reference paths only; 0 unless a technique's stencil
+    /// test wants its counts to start elsewhere).
+    pub stencil_clear: u32,
     overdraw_pipelines: OverdrawPipelines,
 }
 
@@ -61,6 +64,7 @@ impl Renderer {
             readback,
             keep_on_gpu: false,
             count_overdraw: false,
+            stencil_clear: 0,
             overdraw_pipelines: OverdrawPipelines::new(targets_render_pass),
         })
     }
@@ -112,7 +116,7 @@ impl Renderer {
         let device = gpu.raw();
         let extent = self.targets.extent;
         let (targets, queries, readback, frame_set) = (&self.targets, &self.queries, &self.readback, self.frame.set);
-        let keep_on_gpu = self.keep_on_gpu;
+        let (keep_on_gpu, stencil_clear) = (self.keep_on_gpu, self.stencil_clear);
 
         let (pass_records, render_passes) = submit_and_wait(&gpu, |cmd| {
             queries.reset(cmd);
@@ -123,13 +127,15 @@ impl Renderer {
             prepass(&mut recorder)?;
             let clear_values = [
                 vk::ClearValue { color: vk::ClearColorValue { float32: clear } },
-                vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } },
+                vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: stencil_clear } },
             ];
             let attachments = targets.desc.attachments();
             recorder.begin_render_pass(targets.render_pass, &attachments, targets.framebuffer, extent, &clear_values);
             let recorded = record(&mut recorder);
             recorder.end_render_pass();
             recorded?;
+            // A technique's fragment shaders may count into a buffer read after the frame.
+            barriers::fragment_stores_to_host(device, cmd);
             if let Some(e) = recorder.deferred_error.take() {
                 return Err(e);
             }

@@ -50,6 +50,12 @@ pub trait Passes {
         1.0
     }
 
+    /// The stencil's clear value on the reference path (0 for most; the volume count's zero
+    /// for shadow volumes).
+    fn clear_stencil(&self) -> u32 {
+        0
+    }
+
     /// The light of this frame's uniforms, when it is not the scene's (a light that turns
     /// from frame to frame).
     fn frame_light(&self) -> Option<Light> {
@@ -199,6 +205,7 @@ impl<P: Passes> SceneRenderer for FrameRenderer<'_, P> {
             uniforms.light = light.as_vec4();
         }
         let clear = scene.background.extend(self.passes.clear_alpha()).to_array();
+        self.renderer.stencil_clear = self.passes.clear_stencil();
         let conditions = self.passes.conditions(scene);
         let holds = |when: When| when.holds_in(&conditions);
         let draws = FrameDraws { passes: &self.passes, scene };

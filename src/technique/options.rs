@@ -38,11 +38,25 @@ pub struct ShadowVolumeOptions {
     /// Shadowed colour = colour x shadow_factor/255. An 8-bit value, so that every path
     /// multiplies by exactly the same number.
     pub shadow_factor: u8,
+    /// Add the full-screen saturation probe (DESIGN.md section 11): a diagnostic pass a user
+    /// asks for, never part of a timed frame. The `subpass` apply counts saturation without it.
+    pub saturation_probe: bool,
+    /// The device has `fragmentStoresAndAtomics` (Android Baseline 2022), so the `subpass`
+    /// apply counts saturated pixels with one atomic add each. The renderer turns it off on a
+    /// device without the feature; a plan printed without a device assumes the baseline.
+    pub fragment_atomics: bool,
 }
 
 impl Default for ShadowVolumeOptions {
     fn default() -> Self {
-        ShadowVolumeOptions { increment: 1, method: VolumeMethod::Auto, normalize: Normalize::Seed, shadow_factor: 102 }
+        ShadowVolumeOptions {
+            increment: 1,
+            method: VolumeMethod::Auto,
+            normalize: Normalize::Seed,
+            shadow_factor: 102,
+            saturation_probe: false,
+            fragment_atomics: true,
+        }
     }
 }
 

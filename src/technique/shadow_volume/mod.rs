@@ -19,8 +19,8 @@ use crate::scene::Scene;
 pub use super::options::{Normalize, ShadowVolumeOptions, VolumeMethod};
 pub use casters::{build_volume, camera_inside_volume, choose_zfail, prepare_casters, Caster};
 pub use recipes::{
-    apply_desc, darkness_descs, iteration_desc, n0_desc, reference_apply_desc, reference_clear_negative_desc,
-    reference_volume_desc, saturation_probe_desc, volume_descs,
+    apply_desc, counting_subpass_apply_desc, darkness_descs, iteration_desc, n0_desc, reference_apply_desc,
+    reference_volume_desc, saturation_probe_desc, volume_descs, SATURATION_PROBE,
 };
 pub use renderer::{CasterReport, ShadowVolumeStats};
 
@@ -50,6 +50,9 @@ impl Technique for ShadowVolumes {
     }
 
     fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+        // The probe is a diagnostic: never part of a timed frame (DESIGN.md section 11).
+        let untimed_probe = ShadowVolumeOptions { saturation_probe: false, ..options.shadow_volume };
+        let options = &RenderOptions { shadow_volume: untimed_probe, ..options.clone() };
         let mut variants = vec![Variant {
             label: "reference (stencil)".into(),
             options: RenderOptions { stencil: StencilMode::Reference, ..options.clone() },
@@ -84,6 +87,20 @@ impl Technique for ShadowVolumes {
                 });
             }
         }
+        // The opt-in probe, beside the subpass apply's own count (a cross-check).
+        variants.push(Variant {
+            label: "emulated subpass, zpass, --saturation-probe".into(),
+            options: RenderOptions {
+                stencil: StencilMode::Emulated,
+                shadow_volume: ShadowVolumeOptions {
+                    method: VolumeMethod::ZPass,
+                    normalize: Normalize::Subpass,
+                    saturation_probe: true,
+                    ..options.shadow_volume
+                },
+                ..options.clone()
+            },
+        });
         variants
     }
 

@@ -3,15 +3,21 @@
 //!
 //! Emulated frame, one render pass:
 //! 1. scene: lit objects, every pixel's alpha set to 0 (the counter);
-//! 2. volume increments (+k/255 per wall), then the saturation probe, then volume decrements:
-//!    all increments come first because alpha clamps at 0 where a stencil would wrap (the
-//!    volumes of two-sided casters, DESIGN.md section 8, bring their near caps in z-pass too);
-//! 3. normalisation, one of: `seed` (N0, n iterations, REVERSE_SUBTRACT D, ADD D), `max`
-//!    (N0, n iterations, MAX D; n from k and D, `alpha_counter::seed_iterations`) or `subpass` (read the count as an input attachment);
-//! 4. apply: colour *= alpha (or, for `subpass`, *= the factor the shader outputs).
+//! 2. volume increments (+k/255 per wall), then volume decrements: all increments come first
+//!    because alpha clamps at 0 where a stencil would wrap (the volumes of two-sided casters,
+//!    DESIGN.md section 8, bring their near caps in z-pass too);
+//! 3. only with `--saturation-probe`: the probe, a diagnostic full-screen pass whose occlusion
+//!    query counts the pixels whose counter sits at its clamp (DESIGN.md section 11);
+//! 4. normalisation, one of: `seed` (N0, n iterations, REVERSE_SUBTRACT D, ADD D), `max`
+//!    (N0, n iterations, MAX D; n from k and D, `alpha_counter::seed_iterations`) or `subpass` (read the count as an input attachment, and count
+//!    the clamped pixels with one atomic add each where the device has fragment atomics);
+//! 5. apply: colour *= alpha (or, for `subpass`, *= the factor the shader outputs).
 //!
-//! Reference frame: scene, volumes with a two-sided INCREMENT_AND_WRAP / DECREMENT_AND_WRAP
-//! stencil, negative counts cleared, and a full-screen apply pass with stencil test NOT_EQUAL 0.
+//! Reference frame, as a port would ship it: scene, volumes with a two-sided
+//! INCREMENT_AND_WRAP / DECREMENT_AND_WRAP stencil cleared to 0x80 (a count of 0), and one
+//! full-screen apply with stencil test `0x80 < stencil`. The bias keeps the proof bit-exact
+//! with no pass of its own: a negative count (which the clamping alpha counter holds as 0)
+//! wraps to below 0x80 instead of to 255, so the apply leaves it lit, as the emulated paths do.
 
 use ash::vk;
 use glam::Vec4;
@@ -28,6 +34,9 @@ use crate::technique::options::{Normalize, ShadowVolumeOptions, VolumeMethod};
 
 /// The subpass input that exposes the counter to full-screen passes.
 pub const COUNTER_INPUT: SetRole = SetRole::Own("counter input");
+
+/// The opt-in saturation probe's pass name (its occlusion query is the count).
+pub const SATURATION_PROBE: &str = "saturation probe";
 
 /// What the volume passes draw.
 pub const VOLUMES: Draws = Draws::Geometry("shadow volumes");
@@ -110,6 +119,12 @@ pub fn apply_desc(normalize: Normalize) -> PipelineDesc {
     }
 }
 
+/// The subpass apply that also counts saturated pixels into a storage buffer (binding 1 of the
+/// counter input set): for devices with `fragmentStoresAndAtomics`.
+pub fn counting_subpass_apply_desc() -> PipelineDesc {
+    fullscreen_desc("apply (subpass, counts saturation)", "shadow_subpass_counted.frag", recipes::MODULATE_BY_SRC_ALPHA)
+}
+
 pub fn saturation_probe_desc() -> PipelineDesc {
     let mut desc = fullscreen_desc("saturation probe", "saturation_probe.frag", NO_WRITE);
     desc.push_constant_bytes = 0;
@@ -128,19 +143,16 @@ pub fn reference_volume_desc(zfail: bool) -> PipelineDesc {
     desc
 }
 
-/// Counts below zero (the stencil wraps them to 128..255) can only come from rasterisation
-/// precision where volume walls meet their caster. The alpha counter clamps them to 0, so the
-/// reference sets them to 0 as well before applying: both paths then shade exactly
-/// `max(0, increments - decrements)`, and agree bit for bit.
-pub fn reference_clear_negative_desc() -> PipelineDesc {
-    let mut desc = fullscreen_desc("clear negative counts (stencil)", "solid.frag", NO_WRITE);
-    desc.fixed.stencil = Some(recipes::STENCIL_NEGATIVE_TO_ZERO);
-    desc
-}
-
+/// The reference's one apply: shades where the count is positive. Counts below zero do occur
+/// (rasterisation precision where volume walls meet their caster; a z-pass camera inside a
+/// volume, whose entry wall is clipped away, leaves -1 behind the exit wall). The alpha
+/// counter clamps them to 0, so they must stay lit here too: with the stencil cleared to
+/// `STENCIL_COUNT_ZERO` they wrap to 0..0x7f, and the test `0x80 < stencil` fails on them. Both
+/// paths then shade exactly where `increments - decrements` is in 1..=127 and agree bit for
+/// bit, with no pass that a port would not ship.
 pub fn reference_apply_desc() -> PipelineDesc {
     let mut desc = fullscreen_desc("apply (stencil)", "solid.frag", recipes::MODULATE_BY_SRC_ALPHA);
-    desc.fixed.stencil = Some(recipes::stencil_not_equal(0));
+    desc.fixed.stencil = Some(recipes::STENCIL_COUNT_POSITIVE);
     desc
 }
 
@@ -184,22 +196,19 @@ pub fn plan(options: &ShadowVolumeOptions, stencil: StencilMode) -> Result<PassP
         StencilMode::Reference => {
             let desc = reference_volume_desc(zfail);
             plan.push(volumes(desc.name, desc, 0.0));
-            plan.push(PlannedPass::full_screen(
-                "clear negative counts (stencil)",
-                reference_clear_negative_desc(),
-                solid(0.0),
-            ));
             plan.push(PlannedPass::full_screen("apply (stencil)", reference_apply_desc(), solid(factor)));
         }
         StencilMode::Emulated => {
             let [increment, decrement] = volume_descs(zfail);
             plan.push(volumes(increment.name, increment, step));
-            plan.push(
-                PlannedPass::new("saturation probe", saturation_probe_desc(), Draws::FullScreen, Push::Nothing)
-                    .with_sets(&[COUNTER_INPUT])
-                    .reading_colour(),
-            );
             plan.push(volumes(decrement.name, decrement, step));
+            if options.saturation_probe {
+                plan.push(
+                    PlannedPass::new(SATURATION_PROBE, saturation_probe_desc(), Draws::FullScreen, Push::Nothing)
+                        .with_sets(&[COUNTER_INPUT])
+                        .reading_colour(),
+                );
+            }
             match options.normalize {
                 Normalize::Seed | Normalize::Max => {
                     plan.extend(seed_normalisation(alpha_counter::seed_iterations(k, options.shadow_factor)?));
@@ -209,14 +218,15 @@ pub fn plan(options: &ShadowVolumeOptions, stencil: StencilMode) -> Result<PassP
                     plan.push(PlannedPass::full_screen("apply", apply_desc(options.normalize), solid(1.0)));
                 }
                 Normalize::Subpass => {
+                    let apply = if options.fragment_atomics {
+                        counting_subpass_apply_desc()
+                    } else {
+                        apply_desc(Normalize::Subpass)
+                    };
                     plan.push(
-                        PlannedPass::full_screen(
-                            "apply (subpass)",
-                            apply_desc(Normalize::Subpass),
-                            Vec4::new(factor, 0.0, 0.0, 0.0),
-                        )
-                        .with_sets(&[COUNTER_INPUT])
-                        .reading_colour(),
+                        PlannedPass::full_screen("apply (subpass)", apply, Vec4::new(factor, 0.0, 0.0, 0.0))
+                            .with_sets(&[COUNTER_INPUT])
+                            .reading_colour(),
                     );
                 }
             }

@@ -9,13 +9,14 @@ use ash::vk;
 use glam::Vec4;
 
 use super::casters::{build_volume, choose_zfail, prepare_casters, Caster};
-use super::recipes::COUNTER_INPUT;
+use super::recipes::{COUNTER_INPUT, SATURATION_PROBE};
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
 use crate::mesh::caster::CastPath;
+use crate::pipeline::recipes::STENCIL_COUNT_ZERO;
 use crate::render::plan::{PlannedPass, Push, SetRole};
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, GpuScene, ObjectPush, Renderer};
@@ -23,7 +24,14 @@ use crate::scene::Scene;
 use crate::technique::alpha_counter;
 use crate::technique::frame_renderer::{self, Passes};
 use crate::technique::interface::{FrameStats, RenderOptions, SceneRenderer, Technique};
-use crate::technique::options::{ShadowVolumeOptions, VolumeMethod};
+use crate::technique::options::{Normalize, ShadowVolumeOptions, VolumeMethod};
+
+const MEASURED_BY_APPLY: &str = "counted by the subpass apply with fragment atomics";
+const MEASURED_BY_PROBE: &str = "counted by the saturation probe pass";
+const NOT_MEASURED: &str = "not measured (use --saturation-probe)";
+const NOT_MEASURED_NO_ATOMICS: &str =
+    "not measured: the device lacks fragmentStoresAndAtomics (use --saturation-probe)";
+const NOT_COUNTED_REFERENCE: &str = "n/a (reference: the stencil wraps, it does not clamp)";
 
 /// What the frame did, beyond its image and counters.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -32,8 +40,15 @@ pub struct ShadowVolumeStats {
     pub seed_iterations: usize,
     /// The largest count the alpha counter holds: 255 / k.
     pub capacity: u32,
-    /// Pixels whose counter reached 255 after the increments (emulated frames only).
+    /// Pixels whose counter sits at its clamp (a count of 255/k or more) once every volume is
+    /// drawn: counted by the subpass apply's atomic add, else by the opt-in probe; `None` where
+    /// neither ran (and always on the reference, whose stencil wraps instead).
     pub saturated_pixels: Option<u64>,
+    /// Where `saturated_pixels` comes from, or why it is not measured.
+    pub saturation_measured_by: &'static str,
+    /// The probe's own count when `--saturation-probe` ran (for `subpass`, a cross-check of
+    /// the apply's count on the same frame).
+    pub probe_saturated_pixels: Option<u64>,
     /// k, for the report.
     #[serde(skip)]
     pub increment: u8,
@@ -69,12 +84,18 @@ impl CasterReport {
 
 impl FrameStats for ShadowVolumeStats {
     fn report(&self) -> String {
+        let saturation = match (self.saturated_pixels, self.probe_saturated_pixels) {
+            (Some(n), Some(probe)) if self.saturation_measured_by != MEASURED_BY_PROBE => {
+                format!("{n} ({}; the probe counts {probe})", self.saturation_measured_by)
+            }
+            (Some(n), _) => format!("{n} ({})", self.saturation_measured_by),
+            (None, _) => self.saturation_measured_by.to_owned(),
+        };
         let mut report = format!(
-            "shadow volumes: {} | counter capacity {} volumes (k = {}) | saturated pixels: {}",
+            "shadow volumes: {} | counter capacity {} volumes (k = {}) | saturated pixels: {saturation}",
             if self.zfail { "z-fail" } else { "z-pass" },
             self.capacity,
             self.increment,
-            self.saturated_pixels.map_or("n/a (reference)".to_owned(), |n| n.to_string())
         );
         for caster in &self.casters {
             report.push_str(&format!(
@@ -119,19 +140,45 @@ pub fn build<'s>(
     let aspect = options.width as f32 / options.height as f32;
     let zfail = choose_zfail(&options.shadow_volume, scene, &casters, aspect);
     let method = if zfail { VolumeMethod::ZFail } else { VolumeMethod::ZPass };
-    let resolved =
-        RenderOptions { shadow_volume: ShadowVolumeOptions { method, ..options.shadow_volume }, ..options.clone() };
+    // The subpass apply counts saturation only where the device has fragment atomics (and the
+    // caller did not turn them off, as a port for a device without them would).
+    let fragment_atomics =
+        options.shadow_volume.fragment_atomics && gpu.device.info.features.fragment_stores_and_atomics;
+    let resolved = RenderOptions {
+        shadow_volume: ShadowVolumeOptions { method, fragment_atomics, ..options.shadow_volume },
+        ..options.clone()
+    };
     let requested = options.shadow_volume;
     frame_renderer::build(technique, gpu, scene, &resolved, |ctx| {
+        let counting = ctx.options.stencil == StencilMode::Emulated
+            && ctx.options.shadow_volume.normalize == Normalize::Subpass
+            && fragment_atomics;
+        let saturation_counter = if counting {
+            Some(Buffer::with_data(ctx.gpu, "saturated pixel count", &[0u32], vk::BufferUsageFlags::STORAGE_BUFFER)?)
+        } else {
+            None
+        };
         let counter_input = match ctx.options.stencil {
-            StencilMode::Emulated => Some(DescriptorSet::new(
-                ctx.gpu,
-                &[Binding::InputAttachment {
+            StencilMode::Emulated => {
+                let mut bindings = vec![Binding::InputAttachment {
                     view: ctx.renderer.targets.colour.view,
                     layout: vk::ImageLayout::GENERAL,
-                }],
-            )?),
+                }];
+                if let Some(buffer) = &saturation_counter {
+                    bindings.push(Binding::FragmentStorageBuffer { buffer: buffer.raw, range: buffer.size });
+                }
+                Some(DescriptorSet::new(ctx.gpu, &bindings)?)
+            }
             StencilMode::Reference => None,
+        };
+        let saturation_measured_by = match ctx.options.stencil {
+            StencilMode::Reference => NOT_COUNTED_REFERENCE,
+            StencilMode::Emulated if counting => MEASURED_BY_APPLY,
+            StencilMode::Emulated if ctx.options.shadow_volume.saturation_probe => MEASURED_BY_PROBE,
+            StencilMode::Emulated if ctx.options.shadow_volume.normalize == Normalize::Subpass => {
+                NOT_MEASURED_NO_ATOMICS
+            }
+            StencilMode::Emulated => NOT_MEASURED,
         };
         let capacity = alpha_counter::capacity(k);
         let reports = casters.iter().map(|c| CasterReport::new(scene, c, capacity)).collect();
@@ -142,12 +189,15 @@ pub fn build<'s>(
             warnings,
             meshes: GpuScene::upload(ctx.gpu, scene)?,
             counter_input,
+            saturation_counter,
             volumes: Vec::new(),
             stats: ShadowVolumeStats {
                 zfail,
                 seed_iterations: alpha_counter::seed_iterations(k, options.shadow_volume.shadow_factor)?,
                 capacity,
                 saturated_pixels: None,
+                saturation_measured_by,
+                probe_saturated_pixels: None,
                 increment: k,
                 casters: reports,
             },
@@ -164,8 +214,12 @@ struct ShadowVolumePasses {
     /// Casting objects that cast nothing, and why.
     warnings: Vec<String>,
     meshes: GpuScene,
-    /// The colour target as an input attachment (emulated: the probe and `subpass`).
+    /// The colour target as an input attachment (emulated: the probe and `subpass`), and the
+    /// saturation counter at binding 1 when the subpass apply counts.
     counter_input: Option<DescriptorSet>,
+    /// One u32 the subpass apply adds 1 to per saturated pixel (declared after the set that
+    /// names it, so that it is dropped after it).
+    saturation_counter: Option<Buffer>,
     /// This frame's volumes.
     volumes: Vec<GpuVolume>,
     stats: ShadowVolumeStats,
@@ -187,11 +241,19 @@ impl Passes for ShadowVolumePasses {
     fn prepare(&mut self, _renderer: &Renderer, scene: &Scene) -> Result<()> {
         self.meshes.follow_pose(&self.gpu, scene)?;
         self.volumes = upload_volumes(&self.gpu, scene, &self.casters, self.stats.zfail)?;
+        // The previous frame has finished (frames wait for their fence): the count restarts.
+        if let Some(counter) = &mut self.saturation_counter {
+            counter.write(0, &[0u32])?;
+        }
         Ok(())
     }
 
     fn clear_alpha(&self) -> f32 {
         0.0
+    }
+
+    fn clear_stencil(&self) -> u32 {
+        STENCIL_COUNT_ZERO
     }
 
     fn draw(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()> {
@@ -209,7 +271,15 @@ impl Passes for ShadowVolumePasses {
 
     fn stats(&mut self, output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {
         let mut stats = self.stats.clone();
-        stats.saturated_pixels = output.counters.pass("saturation probe").map(|p| p.samples_passed);
+        stats.probe_saturated_pixels = output.counters.pass(SATURATION_PROBE).map(|p| p.samples_passed);
+        stats.saturated_pixels = match &self.saturation_counter {
+            Some(counter) => counter
+                .read()
+                .ok()
+                .and_then(|bytes| bytes.get(..4))
+                .map(|b| u64::from(u32::from_ne_bytes([b[0], b[1], b[2], b[3]]))),
+            None => stats.probe_saturated_pixels,
+        };
         Box::new(stats)
     }
 
