@@ -427,7 +427,9 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: u32, json: bool) -> Result<()> {
     }
     let results = bench::run(variants, &BenchSettings { warmup, runs, progress: !json })?;
     let report = BenchReport {
-        schema: "nostencil-bench/1",
+        schema: "nostencil-bench/2",
+        order: "round-robin",
+        bootstrap: crate::profile::bootstrap::Bootstrap::DEFAULT,
         device: gpu.device.info.name.clone(),
         technique: options.technique.name().into(),
         scene: scene.name.clone(),
