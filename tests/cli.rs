@@ -180,18 +180,9 @@ fn an_ignored_extension_is_named_once_in_a_warning() {
 
 #[test]
 fn bench_json_reports_round_robin_ratios_with_intervals() {
-    let (out, _) = common::run_ok(&[
-        "bench",
-        "--technique",
-        "planar",
-        "--size",
-        "64x64",
-        "--warmup",
-        "1",
-        "--runs",
-        "5",
-        "--json",
-    ]);
+    let args = "bench --technique planar --size 64x64 --warmup 1 --runs 5 --json --validation";
+    let (out, err) = common::run_ok(&args.split(' ').collect::<Vec<_>>());
+    assert!(!err.contains("vulkan validation"), "{err}");
     let report: serde_json::Value = serde_json::from_str(&out).expect("bench --json is JSON");
     assert_eq!(report["schema"], "nostencil-bench/2");
     assert_eq!(report["order"], "round-robin");
