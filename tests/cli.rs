@@ -177,3 +177,35 @@ fn an_ignored_extension_is_named_once_in_a_warning() {
     assert_eq!(naming[0].matches("KHR_materials_sheen").count(), 1, "{err}");
     assert!(naming[0].contains("sheen.gltf"), "{err}");
 }
+
+#[test]
+fn bench_json_reports_round_robin_ratios_with_intervals() {
+    let args = "bench --technique planar --size 64x64 --warmup 1 --runs 5 --json --validation";
+    let (out, err) = common::run_ok(&args.split(' ').collect::<Vec<_>>());
+    assert!(!err.contains("vulkan validation"), "{err}");
+    let report: serde_json::Value = serde_json::from_str(&out).expect("bench --json is JSON");
+    assert_eq!(report["schema"], "nostencil-bench/2");
+    assert_eq!(report["order"], "round-robin");
+    assert_eq!(report["bootstrap"]["resamples"], 2000);
+    assert_eq!(report["runs"], 5);
+    let variants = report["variants"].as_array().expect("variants");
+    assert!(variants.len() >= 2, "{report}");
+    for v in variants {
+        let rounds: Vec<f64> =
+            v["frame_ms_rounds"].as_array().expect("rounds").iter().filter_map(|x| x.as_f64()).collect();
+        assert_eq!(rounds.len(), 5, "{v}");
+        let ratio = &v["frame_ratio"];
+        let (median, low, high) =
+            (ratio["median"].as_f64(), ratio["ci95"]["low"].as_f64(), ratio["ci95"]["high"].as_f64());
+        let (median, low, high) = (median.expect("median"), low.expect("low"), high.expect("high"));
+        assert!(low <= median && median <= high, "{ratio}");
+    }
+    // The reference is its own ratio in every round.
+    assert_eq!(variants[0]["frame_ratio"]["ci95"]["low"], 1.0);
+    assert_eq!(variants[0]["frame_ratio"]["ci95"]["high"], 1.0);
+}
+
+#[test]
+fn bench_refuses_zero_runs() {
+    refused(&["bench", "--technique", "planar", "--size", "64x64", "--runs", "0"], "--runs");
+}

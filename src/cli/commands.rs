@@ -396,10 +396,10 @@ fn info(args: &GpuArgs, json: bool) -> Result<()> {
     Ok(())
 }
 
-fn bench(frame: &FrameArgs, warmup: u32, runs: u32, json: bool) -> Result<()> {
+fn bench(frame: &FrameArgs, warmup: u32, runs: Option<u32>, json: bool) -> Result<()> {
     use crate::profile::bench::{self, BenchReport, BenchSettings, Variant};
 
-    if runs == 0 {
+    if runs == Some(0) {
         return Err(Error::InvalidInput("--runs must be at least 1".into()));
     }
     if frame.saturation_probe {
@@ -424,8 +424,10 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: u32, json: bool) -> Result<()> {
     let (width, height) = (options.width, options.height);
     if let Some(BenchTable::Seed004Table1) = options.technique.bench_table() {
         // Seed 004's Table 1: both techniques, fixed and moving light, on its two scenes.
+        let runs = runs.unwrap_or(crate::profile::table1::DEFAULT_RUNS);
         return crate::profile::table1::bench(&gpu, &options, warmup, runs, json);
     }
+    let runs = runs.unwrap_or(bench::DEFAULT_RUNS);
     let mut variants = Vec::new();
     for (index, variant) in options.technique.bench_variants(&options).into_iter().enumerate() {
         let mut renderer = variant.options.technique.build(&gpu, &scene, &variant.options)?;
@@ -438,7 +440,9 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: u32, json: bool) -> Result<()> {
     }
     let results = bench::run(variants, &BenchSettings { warmup, runs, progress: !json })?;
     let report = BenchReport {
-        schema: "nostencil-bench/1",
+        schema: "nostencil-bench/2",
+        order: "round-robin",
+        bootstrap: crate::profile::bootstrap::Bootstrap::DEFAULT,
         device: gpu.device.info.name.clone(),
         technique: options.technique.name().into(),
         scene: scene.name.clone(),

@@ -2,6 +2,7 @@
 //! (`render::counters`), and the seed 004 Table 1 bench.
 
 pub mod bench;
+pub mod bootstrap;
 pub mod budget;
 pub mod chart;
 pub mod compare;
