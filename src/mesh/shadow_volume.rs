@@ -98,31 +98,8 @@ pub fn build_shadow_volume_into(
         positions.len(),
         face_normals.len()
     );
-    let indices = &adjacency.indices;
-    out.vertices.clear();
-    out.sides.clear();
-    out.near_cap.clear();
-    out.far_cap.clear();
-    out.lit_faces.clear();
-    out.lit_faces.extend(face_normals[..adjacency.face_count()].iter().enumerate().map(|(face, normal)| {
-        let travel = match light {
-            Light::Directional(direction) => direction,
-            // N.(p - light) is the same for every point p of the face's plane.
-            Light::Point(at) => positions[indices[3 * face] as usize] - at,
-        };
-        normal.dot(travel) < 0.0
-    }));
+    let extrusion = start_volume(adjacency, positions, face_normals, light, out);
     let lit = &out.lit_faces;
-    out.vertices.extend(positions[..vertex_count].iter().map(|p| p.extend(1.0)));
-    match light {
-        Light::Directional(direction) => out.vertices.push(direction.extend(0.0)),
-        Light::Point(at) => out.vertices.extend(positions[..vertex_count].iter().map(|&p| (p - at).extend(0.0))),
-    }
-    let at_infinity = |v: u32| match light {
-        Light::Directional(_) => vertex_count as u32,
-        Light::Point(_) => vertex_count as u32 + v,
-    };
-
     for edge in &adjacency.edges {
         let [f0, f1] = edge.faces;
         let lit0 = lit[f0 as usize];
@@ -132,25 +109,90 @@ pub fn build_shadow_volume_into(
         }
         // (a, b) as the lit face runs it; the side runs it b -> a.
         let [a, b] = edge.directed_by(if lit0 { 0 } else { 1 });
-        let (a_far, b_far) = (at_infinity(a), at_infinity(b));
-        match light {
-            Light::Directional(_) => out.sides.extend_from_slice(&[b, a, a_far]),
-            Light::Point(_) => out.sides.extend_from_slice(&[b, a, a_far, b, a_far, b_far]),
-        }
+        extrusion.push_wall(a, b, &mut out.sides);
     }
 
     if caps {
-        for (face, corners) in indices.chunks_exact(3).enumerate() {
+        for (face, corners) in adjacency.indices.chunks_exact(3).enumerate() {
             if !lit[face] {
                 continue;
             }
-            out.near_cap.extend_from_slice(corners);
-            if let Light::Point(_) = light {
-                let [a, b, c] = [corners[0], corners[1], corners[2]].map(at_infinity);
-                out.far_cap.extend_from_slice(&[a, c, b]);
-            }
+            let corners = [corners[0], corners[1], corners[2]];
+            out.near_cap.extend_from_slice(&corners);
+            extrusion.push_far_cap(corners, &mut out.far_cap);
         }
     }
+}
+
+/// How a volume reaches infinity: the layout of the vertices at infinity that
+/// [`start_volume`] wrote after the mesh's own (one light direction for a directional light,
+/// one direction per vertex for a point light).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Extrusion {
+    light: Light,
+    vertex_count: u32,
+}
+
+impl Extrusion {
+    /// The index of vertex `v` pushed to infinity, away from the light.
+    pub(super) fn far(&self, v: u32) -> u32 {
+        match self.light {
+            Light::Directional(_) => self.vertex_count,
+            Light::Point(_) => self.vertex_count + v,
+        }
+    }
+
+    /// The wall extruded from edge `a -> b` (as a face that casts runs it): it runs `b -> a`.
+    /// Under a directional light every vertex meets at one point at infinity, so the wall is one
+    /// triangle; under a point light it is a quad.
+    pub(super) fn push_wall(&self, a: u32, b: u32, sides: &mut Vec<u32>) {
+        let (a_far, b_far) = (self.far(a), self.far(b));
+        match self.light {
+            Light::Directional(_) => sides.extend_from_slice(&[b, a, a_far]),
+            Light::Point(_) => sides.extend_from_slice(&[b, a, a_far, b, a_far, b_far]),
+        }
+    }
+
+    /// The far cap of a casting face `[a, b, c]`: the face at infinity, reversed. A directional
+    /// light needs none (the walls meet at one point).
+    pub(super) fn push_far_cap(&self, [a, b, c]: [u32; 3], far_cap: &mut Vec<u32>) {
+        if let Light::Point(_) = self.light {
+            far_cap.extend_from_slice(&[self.far(a), self.far(c), self.far(b)]);
+        }
+    }
+}
+
+/// Starts a volume of `adjacency`'s mesh in `out`, shared by the silhouette and the two-sided
+/// builders: clears it, marks which faces face the light (`N . L < 0`, `L` the direction the
+/// light travels to the face), and writes the mesh's vertices (w = 1) followed by those at
+/// infinity (w = 0).
+pub(super) fn start_volume(
+    adjacency: &EdgeAdjacency,
+    positions: &[Vec3],
+    face_normals: &[Vec3],
+    light: Light,
+    out: &mut VolumeGeometry,
+) -> Extrusion {
+    let vertex_count = adjacency.vertex_count;
+    out.vertices.clear();
+    out.sides.clear();
+    out.near_cap.clear();
+    out.far_cap.clear();
+    out.lit_faces.clear();
+    out.lit_faces.extend(face_normals[..adjacency.face_count()].iter().enumerate().map(|(face, normal)| {
+        let travel = match light {
+            Light::Directional(direction) => direction,
+            // N.(p - light) is the same for every point p of the face's plane.
+            Light::Point(at) => positions[adjacency.indices[3 * face] as usize] - at,
+        };
+        normal.dot(travel) < 0.0
+    }));
+    out.vertices.extend(positions[..vertex_count].iter().map(|p| p.extend(1.0)));
+    match light {
+        Light::Directional(direction) => out.vertices.push(direction.extend(0.0)),
+        Light::Point(at) => out.vertices.extend(positions[..vertex_count].iter().map(|&p| (p - at).extend(0.0))),
+    }
+    Extrusion { light, vertex_count: vertex_count as u32 }
 }
 
 impl VolumeGeometry {

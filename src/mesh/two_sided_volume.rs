@@ -22,7 +22,7 @@
 use glam::Vec3;
 
 use super::adjacency::EdgeAdjacency;
-use super::shadow_volume::{Light, VolumeGeometry};
+use super::shadow_volume::{start_volume, Light, VolumeGeometry};
 use crate::error::{Error, Result};
 
 /// Per triangle corner, the edge that leaves it (`corner k -> corner k + 1`): its index in
@@ -66,24 +66,6 @@ impl CornerEdges {
     }
 }
 
-/// Whether each face faces the light (`N . L < 0`, `L` the direction the light travels to it).
-fn faces_light(
-    adjacency: &EdgeAdjacency,
-    positions: &[Vec3],
-    face_normals: &[Vec3],
-    light: Light,
-    out: &mut Vec<bool>,
-) {
-    out.clear();
-    out.extend(face_normals[..adjacency.face_count()].iter().enumerate().map(|(face, normal)| {
-        let travel = match light {
-            Light::Directional(direction) => direction,
-            Light::Point(at) => positions[adjacency.indices[3 * face] as usize] - at,
-        };
-        normal.dot(travel) < 0.0
-    }));
-}
-
 /// Per edge of `adjacency`, its multiplicity `m` with every triangle turned to face the light
 /// (`lit[face]` false: the face is flipped): oriented faces that run it `v[0] -> v[1]` count
 /// +1, those that run it `v[1] -> v[0]` count -1.
@@ -125,21 +107,7 @@ pub fn build_two_sided_volume_into(
         vertex_count,
         adjacency.face_count()
     );
-    out.vertices.clear();
-    out.sides.clear();
-    out.near_cap.clear();
-    out.far_cap.clear();
-    faces_light(adjacency, positions, face_normals, light, &mut out.lit_faces);
-    out.vertices.extend(positions[..vertex_count].iter().map(|p| p.extend(1.0)));
-    match light {
-        Light::Directional(direction) => out.vertices.push(direction.extend(0.0)),
-        Light::Point(at) => out.vertices.extend(positions[..vertex_count].iter().map(|&p| (p - at).extend(0.0))),
-    }
-    let at_infinity = |v: u32| match light {
-        Light::Directional(_) => vertex_count as u32,
-        Light::Point(_) => vertex_count as u32 + v,
-    };
-
+    let extrusion = start_volume(adjacency, positions, face_normals, light, out);
     edge_multiplicities(adjacency, corners, &out.lit_faces, multiplicities);
     for (edge, &m) in adjacency.edges.iter().zip(multiplicities.iter()) {
         if m == 0 {
@@ -147,23 +115,17 @@ pub fn build_two_sided_volume_into(
         }
         // (a, b) as the oriented faces run it on balance; its wall runs b -> a.
         let [a, b] = if m > 0 { edge.v } else { [edge.v[1], edge.v[0]] };
-        let (a_far, b_far) = (at_infinity(a), at_infinity(b));
         for _ in 0..m.unsigned_abs() {
-            match light {
-                Light::Directional(_) => out.sides.extend_from_slice(&[b, a, a_far]),
-                Light::Point(_) => out.sides.extend_from_slice(&[b, a, a_far, b, a_far, b_far]),
-            }
+            extrusion.push_wall(a, b, &mut out.sides);
         }
     }
 
     for (corners, &faces_light) in adjacency.indices.chunks_exact(3).zip(&out.lit_faces) {
         // A face seen from behind keeps its first corner and swaps the other two.
-        let [a, b, c] =
+        let face =
             if faces_light { [corners[0], corners[1], corners[2]] } else { [corners[0], corners[2], corners[1]] };
-        out.near_cap.extend_from_slice(&[a, b, c]);
-        if let Light::Point(_) = light {
-            out.far_cap.extend_from_slice(&[at_infinity(a), at_infinity(c), at_infinity(b)]);
-        }
+        out.near_cap.extend_from_slice(&face);
+        extrusion.push_far_cap(face, &mut out.far_cap);
     }
 }
 
