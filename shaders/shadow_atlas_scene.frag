@@ -1,3 +1,3 @@
 #version 450
 // Opaque materials (no discard: early depth stays on).
-#include "shadow_atlas_scene_shading.glsl"
+#include "shadowed_scene_shading.glsl"

@@ -1,4 +1,4 @@
 #version 450
 // MASK materials, and double-sided ones: texels below the cutoff are discarded.
 #define ALPHA_MASK
-#include "shadow_atlas_scene_shading.glsl"
+#include "shadowed_scene_shading.glsl"

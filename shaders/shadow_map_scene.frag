@@ -1,3 +1,4 @@
 #version 450
 // Opaque materials (no discard: early depth stays on).
-#include "shadow_map_scene_shading.glsl"
+#define SHADOW_FROM_MAP
+#include "shadowed_scene_shading.glsl"

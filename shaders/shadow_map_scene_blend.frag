@@ -1,4 +1,5 @@
 #version 450
 // BLEND materials: the material's alpha goes out for the blend to use (colour only).
 #define ALPHA_BLEND
-#include "shadow_map_scene_shading.glsl"
+#define SHADOW_FROM_MAP
+#include "shadowed_scene_shading.glsl"

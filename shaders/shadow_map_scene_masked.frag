@@ -1,4 +1,5 @@
 #version 450
 // MASK materials, and double-sided ones: texels below the cutoff are discarded.
 #define ALPHA_MASK
-#include "shadow_map_scene_shading.glsl"
+#define SHADOW_FROM_MAP
+#include "shadowed_scene_shading.glsl"

@@ -1,12 +1,16 @@
-// Included by shadow_map_scene.frag and its material variants (shadow_map_scene_masked.frag: ALPHA_MASK,
-// shadow_map_scene_blend.frag: ALPHA_BLEND).
-// Lambert + ambient on the material's surface, the Lambert term scaled by the shadow map's
-// depth compare.
+// Included by shadow_map_scene*.frag (SHADOW_FROM_MAP defined) and shadow_atlas_scene*.frag, and
+// their material variants (ALPHA_MASK, ALPHA_BLEND).
+// Lambert + ambient on the material's surface, the Lambert term scaled by the light's
+// visibility: the shadow map's depth compare, or the model's baked shadow texture (trilinear).
 #include "frame_uniforms.glsl"
 #include "object_push.glsl"
 #include "material.glsl"
+#ifdef SHADOW_FROM_MAP
 #define LIGHT_SET 2
 #include "shadow_atlas_light.glsl"
+#else
+layout(set = 2, binding = 0) uniform sampler2D shadow_texture;
+#endif
 
 layout(location = 0) in vec3 world_position;
 layout(location = 1) in vec3 world_normal;
@@ -21,7 +25,11 @@ void main() {
     vec4 base = material_surface(uv0, uv1, vertex_colour);
     vec3 n = surface_normal(world_normal);
     float lambert = frame_lambert(world_position, n);
+#ifdef SHADOW_FROM_MAP
     float visible = shadow_visibility(world_position, world_normal);
+#else
+    float visible = texture(shadow_texture, atlas_uv).r;
+#endif
     float ambient = frame.shading.x;
     vec3 light = vec3(ambient + (1.0 - ambient) * lambert * visible);
     out_colour = vec4(material_shade(base, light, uv0, uv1), written_alpha(base));
