@@ -165,17 +165,9 @@ fn unknown_selection_is_refused_with_the_objects_names() {
 
 /// A scene with one object in front of a camera on the +Z axis looking at the origin.
 fn face_on_scene(mesh: MeshData, transform: Mat4) -> Scene {
-    let mut scene = Scene {
-        name: "face-on".into(),
-        meshes: Vec::new(),
-        objects: Vec::new(),
-        materials: Vec::new(),
-        textures: Vec::new(),
-        light: Light::Directional { direction: Vec3::new(0.0, 0.0, -1.0) },
-        ambient: 0.25,
-        camera: Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO),
-        background: Vec3::new(0.9, 0.9, 0.9),
-    };
+    let camera = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO);
+    let light = Light::Directional { direction: Vec3::new(0.0, 0.0, -1.0) };
+    let mut scene = Scene { background: Vec3::new(0.9, 0.9, 0.9), ..Scene::empty("face-on", camera, light) };
     let mesh = scene.add_mesh("shape", mesh);
     scene.add_object("shape", mesh, transform, Vec3::new(0.3, 0.5, 0.8), false);
     scene

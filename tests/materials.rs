@@ -120,17 +120,7 @@ fn uniform_texel(texture: &TextureRgba8, uv: Vec2, radius: i32) -> Option<[u8; 4
 // Scenes built here.
 
 fn scene_looking_at(name: &str, eye: Vec3, target: Vec3, light: Light) -> Scene {
-    Scene {
-        name: name.into(),
-        meshes: Vec::new(),
-        objects: Vec::new(),
-        materials: Vec::new(),
-        textures: Vec::new(),
-        light,
-        ambient: 0.25,
-        camera: Camera::look_at(eye, target),
-        background: Vec3::new(0.1, 0.2, 0.3),
-    }
+    Scene { background: Vec3::new(0.1, 0.2, 0.3), ..Scene::empty(name, Camera::look_at(eye, target), light) }
 }
 
 /// A square of side 2 in the z = 0 plane facing +Z, UV (0, 0) at its top left (-1, 1).

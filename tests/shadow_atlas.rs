@@ -21,17 +21,7 @@ use nostencil::technique::shadow_atlas::{
 use nostencil::technique::{render_scene, RenderOptions, Technique};
 
 fn scene_of(name: &str, light: Light, meshes: Vec<(&str, MeshData, Mat4)>) -> Scene {
-    let mut scene = Scene {
-        name: name.into(),
-        meshes: Vec::new(),
-        objects: Vec::new(),
-        materials: Vec::new(),
-        textures: Vec::new(),
-        light,
-        ambient: 0.25,
-        camera: Camera::look_at(Vec3::new(0.0, 2.0, 5.0), Vec3::ZERO),
-        background: Vec3::new(0.55, 0.65, 0.78),
-    };
+    let mut scene = Scene::empty(name, Camera::look_at(Vec3::new(0.0, 2.0, 5.0), Vec3::ZERO), light);
     for (name, mesh, transform) in meshes {
         let index = scene.add_mesh(name, mesh);
         scene.add_object(name, index, transform, Vec3::new(0.8, 0.6, 0.4), true);

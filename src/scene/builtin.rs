@@ -7,7 +7,6 @@ use super::character;
 use super::layout::{ground_plane, with_ground};
 use super::open_casters;
 // Re-exported for callers of the path it had before it moved to `layout`.
-pub(crate) use super::layout::empty_scene;
 use super::objects::Scene;
 use crate::error::{Error, Result};
 use crate::mesh::{shapes, MeshData};
@@ -230,7 +229,7 @@ pub fn outline_scene() -> Result<Scene> {
 pub fn duck_scene() -> Result<Scene> {
     let camera = Camera::look_at(Vec3::new(2.6, 3.0, 5.4), Vec3::new(0.3, 1.2, 0.0));
     let light = Light::Directional { direction: Vec3::new(-0.5, -1.0, -0.6).normalize() };
-    let mut scene = empty_scene("duck", camera, light);
+    let mut scene = Scene::empty("duck", camera, light);
     scene.background = Vec3::new(0.93, 0.93, 0.90);
     let ground = scene.add_mesh("ground", ground_plane(10.0));
     scene.add_object("ground", ground, Mat4::IDENTITY, Vec3::new(0.45, 0.68, 0.85), false);

@@ -204,13 +204,15 @@ pub fn add_character(scene: &mut Scene, placement: Mat4, time: f32, colour: Vec3
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::layout::empty_scene;
     use crate::scene::{Camera, Light};
 
     #[test]
     fn the_character_is_skinned_closed_and_moves() {
-        let mut scene =
-            empty_scene("t", Camera::look_at(Vec3::Z, Vec3::ZERO), Light::Directional { direction: -Vec3::Y });
+        let mut scene = crate::scene::Scene::empty(
+            "t",
+            Camera::look_at(Vec3::Z, Vec3::ZERO),
+            Light::Directional { direction: -Vec3::Y },
+        );
         add_character(&mut scene, Mat4::IDENTITY, 0.0, Vec3::ONE).unwrap();
         let object = &scene.objects[0];
         let skin = object.skin.as_ref().expect("skinned");
@@ -223,8 +225,11 @@ mod tests {
         let low = scene.meshes[0].data.positions.iter().map(|p| p.y).fold(f32::MAX, f32::min);
         assert!(low.abs() < 0.02, "{low}");
 
-        let mut later =
-            empty_scene("t", Camera::look_at(Vec3::Z, Vec3::ZERO), Light::Directional { direction: -Vec3::Y });
+        let mut later = crate::scene::Scene::empty(
+            "t",
+            Camera::look_at(Vec3::Z, Vec3::ZERO),
+            Light::Directional { direction: -Vec3::Y },
+        );
         add_character(&mut later, Mat4::IDENTITY, WALK_PERIOD * 0.25, Vec3::ONE).unwrap();
         let moved = scene.meshes[0]
             .data

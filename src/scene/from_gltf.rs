@@ -10,7 +10,7 @@ use glam::{Mat4, Vec3};
 use super::animation::{pose_at, rest_pose, TimeMode};
 use super::camera::{Camera, Light};
 use super::gltf::load_gltf;
-use super::layout::{empty_scene, ground_plane};
+use super::layout::ground_plane;
 use super::model::{LightKind, Model};
 use super::objects::Scene;
 use super::place::add_model;
@@ -34,7 +34,7 @@ pub fn scene_and_warnings_from_gltf(path: &Path, time: f32) -> Result<(Scene, Ve
     let model = &rig.model;
 
     let mut scene =
-        empty_scene(&name, Camera::look_at(Vec3::new(0.0, 2.0, 5.0), Vec3::ZERO), default_light(model, &world));
+        Scene::empty(&name, Camera::look_at(Vec3::new(0.0, 2.0, 5.0), Vec3::ZERO), default_light(model, &world));
     let Some((low, high)) = add_model(&mut scene, &rig, &world)? else {
         return Err(crate::Error::Asset {
             path: path.to_path_buf(),

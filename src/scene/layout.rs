@@ -1,26 +1,11 @@
-//! The frame every scene starts from, shared by the built-in scenes and glTF files: an empty
-//! scene with the common ambient and background, and the ground plane that receives shadows.
+//! What every scene stands on, shared by the built-in scenes and glTF files: the ground plane
+//! that receives shadows (an empty scene is `Scene::empty`).
 
 use glam::{Mat4, Vec2, Vec3};
 
 use super::camera::{Camera, Light};
 use super::objects::Scene;
 use crate::mesh::MeshData;
-
-/// A scene with no meshes yet.
-pub(crate) fn empty_scene(name: &str, camera: Camera, light: Light) -> Scene {
-    Scene {
-        name: name.to_owned(),
-        meshes: Vec::new(),
-        objects: Vec::new(),
-        materials: Vec::new(),
-        textures: Vec::new(),
-        light,
-        ambient: 0.25,
-        camera,
-        background: Vec3::new(0.55, 0.65, 0.78),
-    }
-}
 
 /// A flat square in the XZ plane facing +Y: the receiver (scenes place it with `casts_shadow`
 /// false).
@@ -36,7 +21,7 @@ pub(crate) fn ground_plane(size: f32) -> MeshData {
 
 /// An empty scene with the common ground plane (a receiver: it casts nothing).
 pub(crate) fn with_ground(name: &str, camera: Camera, light: Light) -> Scene {
-    let mut scene = empty_scene(name, camera, light);
+    let mut scene = Scene::empty(name, camera, light);
     let ground = scene.add_mesh("ground", ground_plane(14.0));
     scene.add_object("ground", ground, Mat4::IDENTITY, Vec3::new(0.82, 0.80, 0.74), false);
     scene

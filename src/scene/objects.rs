@@ -109,6 +109,22 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// A scene with no meshes, objects or materials yet: the common ambient term (0.25) and
+    /// sky colour, `camera` and `light`. Built-in scenes, glTF scenes and tests start here.
+    pub fn empty(name: &str, camera: Camera, light: Light) -> Scene {
+        Scene {
+            name: name.to_owned(),
+            meshes: Vec::new(),
+            objects: Vec::new(),
+            materials: Vec::new(),
+            textures: Vec::new(),
+            light,
+            ambient: 0.25,
+            camera,
+            background: Vec3::new(0.55, 0.65, 0.78),
+        }
+    }
+
     pub fn add_mesh(&mut self, name: &str, data: MeshData) -> usize {
         self.add_mesh_with_uv1(name, data, None)
     }

@@ -159,7 +159,7 @@ mod tests {
     use crate::scene::{Camera, Light};
 
     fn one_object_scene(data: crate::mesh::MeshData) -> Scene {
-        let mut scene = crate::scene::builtin::empty_scene(
+        let mut scene = crate::scene::Scene::empty(
             "test",
             Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO),
             Light::Directional { direction: Vec3::NEG_Y },
