@@ -10,6 +10,10 @@ layout(push_constant) uniform ShadowPush {
 
 layout(location = 0) out vec4 out_colour;
 
+// A lit pixel (count 0) is discarded: left untouched, as the reference's stencil test leaves it.
 vec4 shadow_factor(float count) {
-    return vec4(0.0, 0.0, 0.0, count > 0.0 ? push.shadow.x : 1.0);
+    if (count <= 0.0) {
+        discard;
+    }
+    return vec4(0.0, 0.0, 0.0, push.shadow.x);
 }

@@ -23,7 +23,7 @@
 //! let frame = render_scene(&gpu, &scene, &options)?;
 //! assert_eq!(frame.output.image.dimensions(), (64, 48));
 //! // Per measured pass: draws, fragments, samples passed, GPU time.
-//! let volumes = frame.output.counters.pass("volume increment (z-pass)").expect("a pass");
+//! let volumes = frame.output.counters.pass("volumes (alpha, z-pass)").expect("a pass");
 //! assert!(volumes.samples_passed > 0);
 //! # Ok(())
 //! # }

@@ -103,16 +103,12 @@ fn budget_recipe_from_the_command_line() {
 
     // Tighten one pass's budget: the same frame is now "more expensive" than allowed.
     let mut recorded: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&budget).unwrap()).unwrap();
-    let pass = recorded["passes"]
-        .as_array_mut()
-        .unwrap()
-        .iter_mut()
-        .find(|p| p["name"] == "volume increment (z-pass)")
-        .unwrap();
+    let pass =
+        recorded["passes"].as_array_mut().unwrap().iter_mut().find(|p| p["name"] == "volumes (alpha, z-pass)").unwrap();
     pass["samples_passed"] = serde_json::json!(pass["samples_passed"].as_u64().unwrap() / 2);
     std::fs::write(&budget, serde_json::to_string(&recorded).unwrap()).unwrap();
     let stderr = common::run_err(&[&args[..], &["--budget", b]].concat());
-    assert!(stderr.contains("volume increment (z-pass)") && stderr.contains("over the budget"), "{stderr}");
+    assert!(stderr.contains("volumes (alpha, z-pass)") && stderr.contains("over the budget"), "{stderr}");
 }
 
 #[test]

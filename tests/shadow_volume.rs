@@ -844,3 +844,62 @@ fn the_command_line_sets_the_shadow_factor_and_the_iterations_follow_it() {
         assert!(!names.contains(&format!("normalise N{}", iterations + 1).as_str()), "D = {factor}: {names:?}");
     }
 }
+
+/// DESIGN.md section 10: volumes clipped to the receivers' bounds, each drawn inside its own
+/// scissor and the apply inside their union, draw the unclipped image in both paths, and
+/// rasterise fewer volume fragments. "The same image" up to rounding: a clipped wall is
+/// another triangle in the same plane, so its depth is rounded differently where it grazes a
+/// surface (a caster's own terminator, a face lying along the light), and there a pixel may
+/// flip. Every emulated path still equals its reference exactly, clipped or not.
+#[test]
+fn clipped_volumes_draw_the_unclipped_image_with_fewer_fragments() {
+    let gpu = common::gpu();
+    let volume_fragments = |frame: &Frame| -> u64 {
+        frame
+            .output
+            .counters
+            .passes
+            .iter()
+            .filter(|p| p.name.starts_with("volumes"))
+            .filter_map(|p| p.fragment_invocations)
+            .sum()
+    };
+    let (mut clipped_total, mut unclipped_total, mut edge_changes) = (0, 0, 0);
+    for (name, _) in BUILTIN_SCENES {
+        let scene = builtin_scene(name).expect("scene");
+        let unshadowed = lit(&gpu, &scene);
+        for method in [VolumeMethod::Auto, VolumeMethod::ZFail] {
+            let base = ShadowVolumeOptions { method, ..Default::default() };
+            let unclipped_reference =
+                render(&gpu, &scene, StencilMode::Reference, ShadowVolumeOptions { clip_volumes: false, ..base });
+            let clipped_reference = render(&gpu, &scene, StencilMode::Reference, base);
+            let changed = rgb_differences(&clipped_reference.output.image, &unclipped_reference.output.image);
+            let shadowed = shadow_mask(&unclipped_reference.output.image, &unshadowed).iter().filter(|s| **s).count();
+            assert!(
+                changed * 20 <= shadowed.max(20),
+                "{name} {method:?}: clipping changed {changed} of {shadowed} shadowed pixels"
+            );
+            edge_changes += changed as u64;
+            // The proof holds clipped and unclipped: every emulated path equals its reference.
+            for clip_volumes in [true, false] {
+                let options = ShadowVolumeOptions { clip_volumes, ..base };
+                let reference = if clip_volumes { &clipped_reference } else { &unclipped_reference };
+                for &normalize in Normalize::ALL {
+                    let emulated =
+                        render(&gpu, &scene, StencilMode::Emulated, ShadowVolumeOptions { normalize, ..options });
+                    let differing = rgb_differences(&emulated.output.image, &reference.output.image);
+                    let what = format!("{name} {method:?} {} clip={clip_volumes}", normalize.name());
+                    assert_eq!(differing, 0, "{what}: {differing} pixels differ from the reference");
+                }
+            }
+            let (c, u) = (volume_fragments(&clipped_reference), volume_fragments(&unclipped_reference));
+            assert!(c <= u, "{name} {method:?}: clipped volumes shade {c} fragments, unclipped {u}");
+            clipped_total += c;
+            unclipped_total += u;
+        }
+    }
+    let frames = BUILTIN_SCENES.len() as u64 * 2 * u64::from(SIZE.0 * SIZE.1);
+    assert!(edge_changes * 1000 < frames, "clipping changed {edge_changes} pixels of {frames}");
+    assert!(clipped_total * 10 < unclipped_total * 9, "clipping saves under 10%: {clipped_total} of {unclipped_total}");
+    common::assert_no_validation_messages(&gpu);
+}

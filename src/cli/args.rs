@@ -175,6 +175,11 @@ pub struct FrameArgs {
     /// cross-checks that count). Never part of a timed `bench` frame.
     #[arg(long)]
     pub saturation_probe: bool,
+    /// shadow-volume: draw every volume whole, to infinity and over the whole frame, instead of
+    /// clipped to the receivers' bounds and scissored to where it can shade (to measure what
+    /// the clipping saves; the image is the same).
+    #[arg(long)]
+    pub unclipped_volumes: bool,
     /// outline: objects to outline, by name (default: the scene's first shadow caster).
     #[arg(long, value_name = "NAME,...", default_value = "")]
     pub select: String,

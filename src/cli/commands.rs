@@ -81,6 +81,7 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
             normalize: frame.normalize,
             shadow_factor: frame.shadow_factor,
             saturation_probe: frame.saturation_probe,
+            clip_volumes: !frame.unclipped_volumes,
             ..Default::default()
         },
         shadow_atlas: ShadowAtlasOptions {

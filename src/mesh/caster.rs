@@ -5,7 +5,7 @@
 use glam::Vec3;
 
 use super::adjacency::EdgeAdjacency;
-use super::shadow_volume::{build_shadow_volume_into, Light, VolumeGeometry};
+use super::shadow_volume::{build_shadow_volume_into, Light, Reach, VolumeGeometry};
 use super::two_sided_volume::{build_two_sided_volume_into, CornerEdges};
 use super::weld::{weld_by_position, Welded};
 use crate::error::{Error, Result};
@@ -81,20 +81,22 @@ impl CasterMesh {
     }
 
     /// This light's volume from `positions` (the welded vertices, posed) and their
-    /// `face_normals`, into reused buffers. The silhouette path adds the caps only with
-    /// `caps`; the two-sided path always has them.
+    /// `face_normals`, reaching as far as `reach`, into reused buffers. The silhouette path
+    /// adds the caps only with `caps`; the two-sided path always has them.
+    #[allow(clippy::too_many_arguments)]
     pub fn build_volume_into(
         &self,
         positions: &[Vec3],
         face_normals: &[Vec3],
         light: Light,
+        reach: Reach,
         caps: bool,
         multiplicities: &mut Vec<i32>,
         out: &mut VolumeGeometry,
     ) {
         match &self.path {
             CastPath::Silhouette => {
-                build_shadow_volume_into(&self.adjacency, positions, face_normals, light, caps, out)
+                build_shadow_volume_into(&self.adjacency, positions, face_normals, light, reach, caps, out)
             }
             CastPath::TwoSided { corners, .. } => build_two_sided_volume_into(
                 &self.adjacency,
@@ -102,6 +104,7 @@ impl CasterMesh {
                 positions,
                 face_normals,
                 light,
+                reach,
                 multiplicities,
                 out,
             ),

@@ -21,7 +21,7 @@ pub mod weld;
 
 pub use adjacency::{face_normals, Edge, EdgeAdjacency, NO_FACE};
 pub use edges::{attribute_seams, classify, classify_into, CornerAttributes, EdgeClasses, View};
-pub use shadow_volume::{build_shadow_volume, build_shadow_volume_into, Light, VolumeGeometry};
+pub use shadow_volume::{build_shadow_volume, build_shadow_volume_into, Light, Reach, VolumeGeometry};
 pub use shapes::MeshData;
 pub use two_sided_volume::{build_two_sided_volume_into, CornerEdges};
 pub use weld::{weld_by_position, Welded};

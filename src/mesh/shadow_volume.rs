@@ -75,16 +75,18 @@ pub fn build_shadow_volume(
     caps: bool,
 ) -> VolumeGeometry {
     let mut volume = VolumeGeometry::default();
-    build_shadow_volume_into(adjacency, positions, face_normals, light, caps, &mut volume);
+    build_shadow_volume_into(adjacency, positions, face_normals, light, Reach::Infinite, caps, &mut volume);
     volume
 }
 
-/// [`build_shadow_volume`] into buffers that are cleared and reused frame to frame.
+/// [`build_shadow_volume`] into buffers that are cleared and reused frame to frame, reaching
+/// as far as `reach` says.
 pub fn build_shadow_volume_into(
     adjacency: &EdgeAdjacency,
     positions: &[Vec3],
     face_normals: &[Vec3],
     light: Light,
+    reach: Reach,
     caps: bool,
     out: &mut VolumeGeometry,
 ) {
@@ -98,7 +100,7 @@ pub fn build_shadow_volume_into(
         positions.len(),
         face_normals.len()
     );
-    let extrusion = start_volume(adjacency, positions, face_normals, light, out);
+    let extrusion = start_volume(adjacency, positions, face_normals, light, reach, out);
     let lit = &out.lit_faces;
     for edge in &adjacency.edges {
         let [f0, f1] = edge.faces;
@@ -109,7 +111,10 @@ pub fn build_shadow_volume_into(
         }
         // (a, b) as the lit face runs it; the side runs it b -> a.
         let [a, b] = edge.directed_by(if lit0 { 0 } else { 1 });
-        extrusion.push_wall(a, b, &mut out.sides);
+        extrusion.push_wall(a, b, &mut out.sides, &mut out.far_cap);
+    }
+    if !caps {
+        out.far_cap.clear();
     }
 
     if caps {
@@ -124,53 +129,103 @@ pub fn build_shadow_volume_into(
     }
 }
 
-/// How a volume reaches infinity: the layout of the vertices at infinity that
-/// [`start_volume`] wrote after the mesh's own (one light direction for a directional light,
-/// one direction per vertex for a point light).
+/// How far a volume reaches away from the light.
+///
+/// A volume only darkens what it contains, and what a frame shows lies inside the receivers'
+/// bounds: a volume cut off beyond them (closed there by a finite far cap) counts every visible
+/// pixel as the infinite one does, and rasterises less (DESIGN.md section 10).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Reach {
+    /// To infinity: the far points have w = 0 (needs an infinite-far projection).
+    Infinite,
+    /// For a directional light: each vertex `p` goes to `p + t L` (`t > 0`, the same for all:
+    /// the far cap is the near cap moved along the light).
+    Along(f32),
+    /// For a point light: each vertex `p` goes to `light + scale (p - light)` (`scale > 1`).
+    Scaled(f32),
+}
+
+/// How a volume reaches its far end: the layout of the far vertices that [`start_volume`]
+/// wrote after the mesh's own (one point at infinity for a directional light reaching
+/// infinity, else one far point per vertex, and for a bounded reach one more: the apex of the
+/// far cap's fan).
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Extrusion {
-    light: Light,
+    shape: FarEnd,
     vertex_count: u32,
 }
 
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum FarEnd {
+    /// A directional light at infinity: every wall meets at one point, no far cap.
+    Apex,
+    /// A point light at infinity: the far cap is the lit faces at infinity.
+    Infinite,
+    /// A bounded reach: the far cap is a fan from one far point (this index) over the walls'
+    /// far edges.
+    Fan(u32),
+}
+
 impl Extrusion {
-    /// The index of vertex `v` pushed to infinity, away from the light.
+    /// The index of vertex `v` pushed to the far end, away from the light.
     pub(super) fn far(&self, v: u32) -> u32 {
-        match self.light {
-            Light::Directional(_) => self.vertex_count,
-            Light::Point(_) => self.vertex_count + v,
+        match self.shape {
+            FarEnd::Apex => self.vertex_count,
+            FarEnd::Infinite | FarEnd::Fan(_) => self.vertex_count + v,
         }
     }
 
     /// The wall extruded from edge `a -> b` (as a face that casts runs it): it runs `b -> a`.
-    /// Under a directional light every vertex meets at one point at infinity, so the wall is one
-    /// triangle; under a point light it is a quad.
-    pub(super) fn push_wall(&self, a: u32, b: u32, sides: &mut Vec<u32>) {
+    /// Where every vertex meets at one apex (a directional light at infinity) the wall is one
+    /// triangle; otherwise it is a quad. A bounded volume also gets its far cap here: one
+    /// triangle from the wall's far edge to the fan's apex. Over the closed silhouette loops
+    /// the fan's inner edges cancel, so the cap closes the volume with a triangle per wall
+    /// instead of one per lit face (counting only needs a surface bounded by the loops).
+    pub(super) fn push_wall(&self, a: u32, b: u32, sides: &mut Vec<u32>, far_cap: &mut Vec<u32>) {
         let (a_far, b_far) = (self.far(a), self.far(b));
-        match self.light {
-            Light::Directional(_) => sides.extend_from_slice(&[b, a, a_far]),
-            Light::Point(_) => sides.extend_from_slice(&[b, a, a_far, b, a_far, b_far]),
+        match self.shape {
+            FarEnd::Apex => sides.extend_from_slice(&[b, a, a_far]),
+            FarEnd::Infinite => sides.extend_from_slice(&[b, a, a_far, b, a_far, b_far]),
+            FarEnd::Fan(apex) => {
+                sides.extend_from_slice(&[b, a, a_far, b, a_far, b_far]);
+                far_cap.extend_from_slice(&[b_far, a_far, apex]);
+            }
         }
     }
 
-    /// The far cap of a casting face `[a, b, c]`: the face at infinity, reversed. A directional
-    /// light needs none (the walls meet at one point).
+    /// The far cap of a casting face `[a, b, c]` for a point light at infinity: the face at
+    /// infinity, reversed. None where the walls meet at one apex or bring their own fan.
     pub(super) fn push_far_cap(&self, [a, b, c]: [u32; 3], far_cap: &mut Vec<u32>) {
-        if let Light::Point(_) = self.light {
+        if self.shape == FarEnd::Infinite {
             far_cap.extend_from_slice(&[self.far(a), self.far(c), self.far(b)]);
         }
     }
 }
 
+/// Where vertex `p` goes at the far end of the volume, homogeneous; `None` where `reach` does
+/// not fit `light` (the volume then reaches infinity).
+fn far_point(light: Light, reach: Reach, p: Vec3) -> Option<Vec4> {
+    match (light, reach) {
+        (Light::Directional(direction), Reach::Along(t)) => {
+            (t > 0.0 && t.is_finite()).then(|| (p + t * direction).extend(1.0))
+        }
+        (Light::Point(at), Reach::Scaled(scale)) => {
+            (scale > 1.0 && scale.is_finite()).then(|| (at + scale * (p - at)).extend(1.0))
+        }
+        _ => None,
+    }
+}
+
 /// Starts a volume of `adjacency`'s mesh in `out`, shared by the silhouette and the two-sided
 /// builders: clears it, marks which faces face the light (`N . L < 0`, `L` the direction the
-/// light travels to the face), and writes the mesh's vertices (w = 1) followed by those at
-/// infinity (w = 0).
+/// light travels to the face), and writes the mesh's vertices (w = 1) followed by the far ones
+/// (at infinity, w = 0, or where `reach` says, w = 1).
 pub(super) fn start_volume(
     adjacency: &EdgeAdjacency,
     positions: &[Vec3],
     face_normals: &[Vec3],
     light: Light,
+    reach: Reach,
     out: &mut VolumeGeometry,
 ) -> Extrusion {
     let vertex_count = adjacency.vertex_count;
@@ -187,12 +242,28 @@ pub(super) fn start_volume(
         };
         normal.dot(travel) < 0.0
     }));
-    out.vertices.extend(positions[..vertex_count].iter().map(|p| p.extend(1.0)));
-    match light {
-        Light::Directional(direction) => out.vertices.push(direction.extend(0.0)),
-        Light::Point(at) => out.vertices.extend(positions[..vertex_count].iter().map(|&p| (p - at).extend(0.0))),
-    }
-    Extrusion { light, vertex_count: vertex_count as u32 }
+    let mesh = &positions[..vertex_count];
+    out.vertices.extend(mesh.iter().map(|p| p.extend(1.0)));
+    // Bounded only if every vertex can be (a bad reach is not half applied). The fan's apex is
+    // the far image of the mesh's centroid: inside the far image of its hull, so beyond the
+    // receivers as every far point is.
+    let centroid = mesh.iter().copied().sum::<Vec3>() / vertex_count.max(1) as f32;
+    let bounded: Option<Vec<Vec4>> = mesh.iter().chain([&centroid]).map(|&p| far_point(light, reach, p)).collect();
+    let shape = match (bounded, light) {
+        (Some(far), _) if reach != Reach::Infinite && vertex_count > 0 => {
+            out.vertices.extend(far);
+            FarEnd::Fan(2 * vertex_count as u32)
+        }
+        (_, Light::Directional(direction)) => {
+            out.vertices.push(direction.extend(0.0));
+            FarEnd::Apex
+        }
+        (_, Light::Point(at)) => {
+            out.vertices.extend(mesh.iter().map(|&p| (p - at).extend(0.0)));
+            FarEnd::Infinite
+        }
+    };
+    Extrusion { shape, vertex_count: vertex_count as u32 }
 }
 
 impl VolumeGeometry {
@@ -362,6 +433,66 @@ mod tests {
     }
 
     #[test]
+    fn bounded_volumes_are_closed_finite_and_face_out() -> Result<()> {
+        for (name, mesh) in [("cube", shapes::cube(1.0)), ("torus", shapes::torus(1.0, 0.3, 32, 16)?)] {
+            let occluder = occluder(name, &mesh)?;
+            for light in lights() {
+                let reach = match light {
+                    Light::Directional(_) => Reach::Along(7.5),
+                    Light::Point(_) => Reach::Scaled(4.0),
+                };
+                let mut bounded = VolumeGeometry::default();
+                let normals = &occluder.adjacency.face_normals;
+                build_shadow_volume_into(
+                    &occluder.adjacency,
+                    &occluder.positions,
+                    normals,
+                    light,
+                    reach,
+                    true,
+                    &mut bounded,
+                );
+                assert!(bounded.vertices.iter().all(|v| v.w == 1.0), "{name} {light:?}: a point at infinity");
+                assert_eq!(bounded.unmatched_edges(), 0, "{name} {light:?}");
+                assert!(!bounded.far_cap.is_empty(), "{name} {light:?}: closed by a far cap");
+                let signed = finite_signed_volume(&bounded, light, 1.0);
+                assert!(signed > 0.0, "{name} {light:?}: faces point in ({signed})");
+                // Each far point is its vertex moved along the light, or scaled from it.
+                let n = occluder.adjacency.vertex_count;
+                for (p, far) in occluder.positions.iter().zip(&bounded.vertices[n..]) {
+                    let expected = match light {
+                        Light::Directional(direction) => *p + 7.5 * direction,
+                        Light::Point(at) => at + 4.0 * (*p - at),
+                    };
+                    assert!(far.truncate().abs_diff_eq(expected, 1e-4), "{name} {light:?}");
+                }
+                // The same lit faces and silhouette as the infinite volume.
+                let infinite = volume(&occluder, light, true);
+                assert_eq!(bounded.lit_faces, infinite.lit_faces);
+                assert_eq!(bounded.near_cap, infinite.near_cap);
+            }
+        }
+        Ok(())
+    }
+
+    #[test]
+    fn a_reach_that_does_not_fit_the_light_reaches_infinity() -> Result<()> {
+        let cube = occluder("cube", &shapes::cube(1.0))?;
+        let normals = &cube.adjacency.face_normals;
+        for (light, reach) in [
+            (Light::Directional(Vec3::NEG_Y), Reach::Scaled(3.0)),
+            (Light::Point(Vec3::new(0.0, 5.0, 0.0)), Reach::Along(3.0)),
+            (Light::Directional(Vec3::NEG_Y), Reach::Along(-1.0)),
+            (Light::Point(Vec3::new(0.0, 5.0, 0.0)), Reach::Scaled(0.5)),
+        ] {
+            let mut out = VolumeGeometry::default();
+            build_shadow_volume_into(&cube.adjacency, &cube.positions, normals, light, reach, true, &mut out);
+            assert_eq!(out, volume(&cube, light, true), "{light:?} {reach:?}");
+        }
+        Ok(())
+    }
+
+    #[test]
     fn side_faces_point_away_from_a_convex_occluder() -> Result<()> {
         // A convex occluder's centre is inside its volume, behind every side plane.
         for (name, mesh) in [("cube", shapes::cube(1.0)), ("sphere", shapes::uv_sphere(8, 16)?)] {
@@ -407,7 +538,7 @@ mod tests {
         cube.adjacency.recompute_face_normals(&moved, &mut normals);
         let mut reused = VolumeGeometry::default();
         let light = Light::Point(Vec3::new(0.0, 5.0, 0.0));
-        build_shadow_volume_into(&cube.adjacency, &moved, &normals, light, true, &mut reused);
+        build_shadow_volume_into(&cube.adjacency, &moved, &normals, light, Reach::Infinite, true, &mut reused);
         assert!(reused.is_closed());
         assert_eq!(reused.vertices[0].truncate(), moved[0]);
         // Seen from (0, 5, 0) the moved cube shows its top and its -X face.

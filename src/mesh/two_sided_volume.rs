@@ -22,7 +22,7 @@
 use glam::Vec3;
 
 use super::adjacency::EdgeAdjacency;
-use super::shadow_volume::{start_volume, Light, VolumeGeometry};
+use super::shadow_volume::{start_volume, Light, Reach, VolumeGeometry};
 use crate::error::{Error, Result};
 
 /// Per triangle corner, the edge that leaves it (`corner k -> corner k + 1`): its index in
@@ -88,12 +88,14 @@ pub fn edge_multiplicities(adjacency: &EdgeAdjacency, corners: &CornerEdges, lit
 /// # Panics
 /// If `positions` or `face_normals` are shorter than the mesh, or `corners` was built from
 /// another mesh.
+#[allow(clippy::too_many_arguments)] // buffers reused frame to frame
 pub fn build_two_sided_volume_into(
     adjacency: &EdgeAdjacency,
     corners: &CornerEdges,
     positions: &[Vec3],
     face_normals: &[Vec3],
     light: Light,
+    reach: Reach,
     multiplicities: &mut Vec<i32>,
     out: &mut VolumeGeometry,
 ) {
@@ -107,7 +109,7 @@ pub fn build_two_sided_volume_into(
         vertex_count,
         adjacency.face_count()
     );
-    let extrusion = start_volume(adjacency, positions, face_normals, light, out);
+    let extrusion = start_volume(adjacency, positions, face_normals, light, reach, out);
     edge_multiplicities(adjacency, corners, &out.lit_faces, multiplicities);
     for (edge, &m) in adjacency.edges.iter().zip(multiplicities.iter()) {
         if m == 0 {
@@ -116,7 +118,7 @@ pub fn build_two_sided_volume_into(
         // (a, b) as the oriented faces run it on balance; its wall runs b -> a.
         let [a, b] = if m > 0 { edge.v } else { [edge.v[1], edge.v[0]] };
         for _ in 0..m.unsigned_abs() {
-            extrusion.push_wall(a, b, &mut out.sides);
+            extrusion.push_wall(a, b, &mut out.sides, &mut out.far_cap);
         }
     }
 
@@ -150,6 +152,7 @@ mod tests {
             positions,
             &adjacency.face_normals,
             light,
+            Reach::Infinite,
             &mut Vec::new(),
             &mut out,
         );

@@ -148,6 +148,19 @@ pub struct PlannedPass {
     /// Reads the colour target written by earlier passes of its subpass (a by-region barrier
     /// first: on a tiler, the read stays in tile memory).
     pub reads_colour: bool,
+    /// Drawn inside the technique's scissor for the frame (`PassDraws::scissor`) rather than
+    /// over the whole frame.
+    pub scissored: bool,
+}
+
+/// Where a scissored pass draws this frame.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Scissor {
+    /// The whole frame.
+    Frame,
+    /// Inside these rectangles, which must not overlap: a full-screen pass is drawn once in each
+    /// (none: the pass draws nothing this frame).
+    Rects(Vec<vk::Rect2D>),
 }
 
 impl PlannedPass {
@@ -164,6 +177,7 @@ impl PlannedPass {
             target: Target::Frame,
             when: When::Always,
             reads_colour: false,
+            scissored: false,
         }
     }
 
@@ -180,6 +194,7 @@ impl PlannedPass {
             target,
             when: When::Always,
             reads_colour: false,
+            scissored: false,
         }
     }
 
@@ -240,6 +255,12 @@ impl PlannedPass {
 
     pub fn reading_colour(mut self) -> Self {
         self.reads_colour = true;
+        self
+    }
+
+    /// Drawn inside the technique's scissor for the frame (see [`PassDraws::scissor`]).
+    pub fn scissored(mut self) -> Self {
+        self.scissored = true;
         self
     }
 
@@ -371,6 +392,11 @@ pub trait PassDraws {
         None
     }
 
+    /// Where the plan's scissored passes draw this frame.
+    fn scissor(&self) -> Scissor {
+        Scissor::Frame
+    }
+
     /// Records the draws of `pass` (the recorder has opened the measured pass, made the colour
     /// target readable if the pass reads it, and bound the pass's main pipeline with its sets).
     /// Full-screen passes never get here: the recorder draws them.
@@ -420,14 +446,21 @@ pub fn record_plan(
                 return Err(Error::Internal(format!("pass '{}' has no pipeline", pass.name)));
             };
             rec.bind_with_sets(main, &sets);
-            match (&pass.draws, &pass.push) {
-                (Draws::FullScreen, Push::Constant(value)) => {
-                    rec.push(main, value);
-                    rec.draw_fullscreen();
-                    Ok(())
-                }
-                (Draws::FullScreen, Push::Nothing) => {
-                    rec.draw_fullscreen();
+            let scissor = if pass.scissored { draws.scissor() } else { Scissor::Frame };
+            let drawn = match (&pass.draws, &pass.push) {
+                (Draws::FullScreen, push @ (Push::Constant(_) | Push::Nothing)) => {
+                    if let Push::Constant(value) = push {
+                        rec.push(main, value);
+                    }
+                    match scissor {
+                        Scissor::Frame => rec.draw_fullscreen(),
+                        Scissor::Rects(rects) => {
+                            for rect in rects {
+                                rec.set_scissor(rect);
+                                rec.draw_fullscreen();
+                            }
+                        }
+                    }
                     Ok(())
                 }
                 (Draws::Objects, Push::ObjectColour { alpha }) => match draws.meshes() {
@@ -438,7 +471,8 @@ pub fn record_plan(
                     None => Err(Error::Internal(format!("pass '{}' draws objects but has no meshes", pass.name))),
                 },
                 _ => draws.draw(rec, pass, &bound),
-            }
+            };
+            drawn
         });
         // The pipelines bound, in the plan's order (an unplanned one last): material variants
         // are bound in object order, which is the scene's business, not the plan's.

@@ -79,6 +79,8 @@ pub struct FrameRecorder<'a> {
     frame_set: vk::DescriptorSet,
     /// The frame's colour target (read back as an input attachment by feedback passes).
     colour_image: vk::Image,
+    /// A pass narrowed the scissor: it is put back to the whole frame when the pass ends.
+    scissor_narrowed: bool,
 }
 
 impl<'a> FrameRecorder<'a> {
@@ -102,6 +104,7 @@ impl<'a> FrameRecorder<'a> {
             extent,
             frame_set,
             colour_image,
+            scissor_narrowed: false,
         }
     }
 
@@ -150,9 +153,21 @@ impl<'a> FrameRecorder<'a> {
         self.open = true;
         self.queries.begin(self.cmd, index);
         let result = body(self);
+        if std::mem::take(&mut self.scissor_narrowed) {
+            self.set_scissor(vk::Rect2D { offset: vk::Offset2D::default(), extent: self.extent });
+            self.scissor_narrowed = false;
+        }
         self.queries.end(self.cmd, index);
         self.open = false;
         result
+    }
+
+    /// Draws from here to the end of the current measured pass land only inside `rect` (the
+    /// frame's render pass; the whole frame again after the pass).
+    pub fn set_scissor(&mut self, rect: vk::Rect2D) {
+        self.scissor_narrowed = true;
+        // SAFETY: see the note on `FrameRecorder`; every pipeline has a dynamic scissor.
+        unsafe { self.gpu.raw().cmd_set_scissor(self.cmd, 0, &[rect]) };
     }
 
     /// Begins a render pass on a target of the technique's own (outside the frame's render

@@ -11,7 +11,9 @@ use ash::vk;
 use super::interface::{check_same_scene, FrameStats, RenderOptions, SceneRenderer, Technique, TechniqueFrame};
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
-use crate::render::plan::{record_plan, PassDraws, PassPlan, PlanPipelines, PlannedPass, SetRole, Target, When};
+use crate::render::plan::{
+    record_plan, PassDraws, PassPlan, PlanPipelines, PlannedPass, Scissor, SetRole, Target, When,
+};
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, FrameUniforms, GpuScene, Renderer};
 use crate::scene::{Light, Scene};
@@ -66,6 +68,11 @@ pub trait Passes {
     fn conditions(&self, scene: &Scene) -> Vec<When> {
         let _ = scene;
         Vec::new()
+    }
+
+    /// Where the plan's scissored passes draw this frame (see `PassDraws::scissor`).
+    fn scissor(&self) -> Scissor {
+        Scissor::Frame
     }
 
     /// Records the draws of a pass the recorder does not draw itself (see `PassDraws::draw`).
@@ -189,6 +196,10 @@ impl<P: Passes> PassDraws for FrameDraws<'_, P> {
 
     fn meshes(&self) -> Option<(&Scene, &GpuScene)> {
         self.passes.meshes().map(|meshes| (self.scene, meshes))
+    }
+
+    fn scissor(&self) -> Scissor {
+        self.passes.scissor()
     }
 
     fn draw(&self, rec: &mut FrameRecorder, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()> {

@@ -45,6 +45,10 @@ pub struct ShadowVolumeOptions {
     /// apply counts saturated pixels with one atomic add each. The renderer turns it off on a
     /// device without the feature; a plan printed without a device assumes the baseline.
     pub fragment_atomics: bool,
+    /// Volumes end just past the receivers' bounds and each is scissored to where it can shade,
+    /// the apply to their union (DESIGN.md section 10; both paths alike). Off: every volume
+    /// reaches infinity over the whole frame, to measure what clipping saves.
+    pub clip_volumes: bool,
 }
 
 impl Default for ShadowVolumeOptions {
@@ -56,6 +60,7 @@ impl Default for ShadowVolumeOptions {
             shadow_factor: 102,
             saturation_probe: false,
             fragment_atomics: true,
+            clip_volumes: true,
         }
     }
 }

@@ -42,6 +42,7 @@ fn edges(c: &mut Criterion) {
                 &welded.positions,
                 &adjacency.face_normals,
                 light,
+                mesh::Reach::Infinite,
                 true,
                 &mut volume,
             )
@@ -59,6 +60,7 @@ fn edges(c: &mut Criterion) {
                 &welded.positions,
                 &adjacency.face_normals,
                 light,
+                mesh::Reach::Infinite,
                 &mut multiplicities,
                 &mut volume,
             )

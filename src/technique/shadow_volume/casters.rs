@@ -6,7 +6,7 @@ use glam::{Mat4, Vec3};
 
 use crate::mesh::caster::CasterMesh;
 use crate::mesh::ray::{self, PlacedMesh};
-use crate::mesh::{self, VolumeGeometry};
+use crate::mesh::{self, Reach, VolumeGeometry};
 use crate::scene::{Light, Scene};
 use crate::technique::options::{ShadowVolumeOptions, VolumeMethod};
 
@@ -40,9 +40,9 @@ fn light_in_object_space(light: &Light, model: &Mat4) -> mesh::Light {
     }
 }
 
-/// The caster's volume for the scene's light in its current pose: caps with `caps` (the
-/// two-sided path always has them).
-pub fn build_volume(scene: &Scene, caster: &Caster, caps: bool) -> VolumeGeometry {
+/// The caster's volume for the scene's light in its current pose, reaching as far as `reach`:
+/// caps with `caps` (the two-sided path always has them).
+pub fn build_volume(scene: &Scene, caster: &Caster, reach: Reach, caps: bool) -> VolumeGeometry {
     let object = &scene.objects[caster.object];
     let light = light_in_object_space(&scene.light, &object.transform);
     let (adjacency, welded) = (&caster.mesh.adjacency, &caster.mesh.welded);
@@ -50,10 +50,10 @@ pub fn build_volume(scene: &Scene, caster: &Caster, caps: bool) -> VolumeGeometr
     if let Some(positions) = posed_welded_positions(scene, caster) {
         let mut normals = Vec::new();
         adjacency.recompute_face_normals(&positions, &mut normals);
-        caster.mesh.build_volume_into(&positions, &normals, light, caps, &mut multiplicities, &mut volume);
+        caster.mesh.build_volume_into(&positions, &normals, light, reach, caps, &mut multiplicities, &mut volume);
     } else {
         let normals = &adjacency.face_normals;
-        caster.mesh.build_volume_into(&welded.positions, normals, light, caps, &mut multiplicities, &mut volume);
+        caster.mesh.build_volume_into(&welded.positions, normals, light, reach, caps, &mut multiplicities, &mut volume);
     }
     volume
 }

@@ -3,6 +3,7 @@
 //! ([`recipes`]), the casters and their volumes on the CPU ([`casters`]), and the renderer
 //! that draws them ([`renderer`]).
 
+pub mod bounds;
 pub mod casters;
 pub mod recipes;
 pub mod renderer;

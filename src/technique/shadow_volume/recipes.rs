@@ -1,17 +1,25 @@
 //! The shadow-volume pipelines (DESIGN.md section 2), from the named recipes, and the frame's
 //! pass plan for each path.
 //!
+//! Every volume is clipped to the receivers' bounds and drawn inside its own scissor, and every
+//! full-screen pass after the volumes inside their union (`bounds`, DESIGN.md section 10): the
+//! same in both paths, so what clipping saves is saved in both.
+//!
 //! Emulated frame, one render pass:
 //! 1. scene: lit objects, every pixel's alpha set to 0 (the counter);
-//! 2. volume increments (+k/255 per wall), then volume decrements: all increments come first
-//!    because alpha clamps at 0 where a stencil would wrap (the volumes of two-sided casters,
-//!    DESIGN.md section 8, bring their near caps in z-pass too);
+//! 2. volumes, one pass with two pipelines: every increment (+k/255 per wall), then every
+//!    decrement. All increments come first because alpha clamps at 0 where a stencil would
+//!    wrap (the volumes of two-sided casters, DESIGN.md section 8, bring their near caps in
+//!    z-pass too);
 //! 3. only with `--saturation-probe`: the probe, a diagnostic full-screen pass whose occlusion
 //!    query counts the pixels whose counter sits at its clamp (DESIGN.md section 11);
-//! 4. normalisation, one of: `seed` (N0, n iterations, REVERSE_SUBTRACT D, ADD D), `max`
-//!    (N0, n iterations, MAX D; n from k and D, `alpha_counter::seed_iterations`) or `subpass` (read the count as an input attachment, and count
-//!    the clamped pixels with one atomic add each where the device has fragment atomics);
-//! 5. apply: colour *= alpha (or, for `subpass`, *= the factor the shader outputs).
+//! 4. normalisation, one of: `seed` (N0, n iterations, REVERSE_SUBTRACT D, ADD D), `max` (N0,
+//!    n iterations, MAX D; n from k and D, `alpha_counter::seed_iterations`) or `subpass`
+//!    (read the count as an input attachment, and count the clamped pixels with one atomic add
+//!    each where the device has fragment atomics);
+//! 5. apply: colour *= alpha (or, for `subpass`, *= the factor the shader outputs; lit pixels
+//!    are discarded, so that, as under the reference's stencil test, only shadowed pixels are
+//!    written).
 //!
 //! Reference frame, as a port would ship it: scene, volumes with a two-sided
 //! INCREMENT_AND_WRAP / DECREMENT_AND_WRAP stencil cleared to 0x80 (a count of 0), and one
@@ -161,11 +169,13 @@ fn solid(alpha: f32) -> Vec4 {
 }
 
 /// The seed's normalisation: N0 then `iterations` iterations, each a full-screen pass writing
-/// alpha only.
+/// alpha only, inside the volumes' scissors (outside them every count is 0 and the apply
+/// leaves the pixel alone).
 pub fn seed_normalisation(iterations: usize) -> Vec<PlannedPass> {
-    let mut passes = vec![PlannedPass::full_screen("normalise N0", n0_desc(), solid(1.0))];
+    let mut passes = vec![PlannedPass::full_screen("normalise N0", n0_desc(), solid(1.0)).scissored()];
     passes.extend(
-        (1..=iterations).map(|i| PlannedPass::full_screen(format!("normalise N{i}"), iteration_desc(), solid(1.0))),
+        (1..=iterations)
+            .map(|i| PlannedPass::full_screen(format!("normalise N{i}"), iteration_desc(), solid(1.0)).scissored()),
     );
     passes
 }
@@ -196,12 +206,14 @@ pub fn plan(options: &ShadowVolumeOptions, stencil: StencilMode) -> Result<PassP
         StencilMode::Reference => {
             let desc = reference_volume_desc(zfail);
             plan.push(volumes(desc.name, desc, 0.0));
-            plan.push(PlannedPass::full_screen("apply (stencil)", reference_apply_desc(), solid(factor)));
+            plan.push(PlannedPass::full_screen("apply (stencil)", reference_apply_desc(), solid(factor)).scissored());
         }
         StencilMode::Emulated => {
+            // One pass, two pipelines: every caster's increments, then every caster's
+            // decrements (`renderer` draws them in that order).
             let [increment, decrement] = volume_descs(zfail);
-            plan.push(volumes(increment.name, increment, step));
-            plan.push(volumes(decrement.name, decrement, step));
+            let name = if zfail { "volumes (alpha, z-fail)" } else { "volumes (alpha, z-pass)" };
+            plan.push(volumes(name, increment, step).or_pipeline(decrement));
             if options.saturation_probe {
                 plan.push(
                     PlannedPass::new(SATURATION_PROBE, saturation_probe_desc(), Draws::FullScreen, Push::Nothing)
@@ -213,9 +225,9 @@ pub fn plan(options: &ShadowVolumeOptions, stencil: StencilMode) -> Result<PassP
                 Normalize::Seed | Normalize::Max => {
                     plan.extend(seed_normalisation(alpha_counter::seed_iterations(k, options.shadow_factor)?));
                     for desc in darkness_descs(options.normalize) {
-                        plan.push(PlannedPass::full_screen(desc.name, desc, solid(factor)));
+                        plan.push(PlannedPass::full_screen(desc.name, desc, solid(factor)).scissored());
                     }
-                    plan.push(PlannedPass::full_screen("apply", apply_desc(options.normalize), solid(1.0)));
+                    plan.push(PlannedPass::full_screen("apply", apply_desc(options.normalize), solid(1.0)).scissored());
                 }
                 Normalize::Subpass => {
                     let apply = if options.fragment_atomics {
@@ -226,7 +238,8 @@ pub fn plan(options: &ShadowVolumeOptions, stencil: StencilMode) -> Result<PassP
                     plan.push(
                         PlannedPass::full_screen("apply (subpass)", apply, Vec4::new(factor, 0.0, 0.0, 0.0))
                             .with_sets(&[COUNTER_INPUT])
-                            .reading_colour(),
+                            .reading_colour()
+                            .scissored(),
                     );
                 }
             }

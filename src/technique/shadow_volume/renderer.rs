@@ -8,6 +8,7 @@ use std::sync::Arc;
 use ash::vk;
 use glam::Vec4;
 
+use super::bounds::{self, Aabb};
 use super::casters::{build_volume, choose_zfail, prepare_casters, Caster};
 use super::recipes::{COUNTER_INPUT, SATURATION_PROBE};
 use crate::error::{Error, Result};
@@ -16,8 +17,9 @@ use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
 use crate::mesh::caster::CastPath;
+use crate::mesh::Reach;
 use crate::pipeline::recipes::STENCIL_COUNT_ZERO;
-use crate::render::plan::{PlannedPass, Push, SetRole};
+use crate::render::plan::{PlannedPass, Push, Scissor, SetRole};
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, GpuScene, ObjectPush, Renderer};
 use crate::scene::Scene;
@@ -125,6 +127,8 @@ struct GpuVolume {
     vertices: Buffer,
     indices: Buffer,
     index_count: u32,
+    /// Where it can shade: its walls are rasterised only there.
+    scissor: vk::Rect2D,
 }
 
 /// Builds the renderer: casters are prepared first, so that `auto` can pick the counting
@@ -191,6 +195,7 @@ pub fn build<'s>(
             counter_input,
             saturation_counter,
             volumes: Vec::new(),
+            apply_scissor: Scissor::Frame,
             stats: ShadowVolumeStats {
                 zfail,
                 seed_iterations: alpha_counter::seed_iterations(k, options.shadow_volume.shadow_factor)?,
@@ -220,8 +225,10 @@ struct ShadowVolumePasses {
     /// One u32 the subpass apply adds 1 to per saturated pixel (declared after the set that
     /// names it, so that it is dropped after it).
     saturation_counter: Option<Buffer>,
-    /// This frame's volumes.
+    /// This frame's volumes (those that can shade something on screen).
     volumes: Vec<GpuVolume>,
+    /// Where the apply draws: the union of the volumes' scissors.
+    apply_scissor: Scissor,
     stats: ShadowVolumeStats,
 }
 
@@ -238,9 +245,16 @@ impl Passes for ShadowVolumePasses {
         Some(&self.meshes)
     }
 
-    fn prepare(&mut self, _renderer: &Renderer, scene: &Scene) -> Result<()> {
+    fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
         self.meshes.follow_pose(&self.gpu, scene)?;
-        self.volumes = upload_volumes(&self.gpu, scene, &self.casters, self.stats.zfail)?;
+        let extent = renderer.extent();
+        self.volumes = upload_volumes(&self.gpu, scene, &self.casters, self.stats.zfail, self.requested, extent)?;
+        self.apply_scissor = if self.requested.clip_volumes {
+            let rects: Vec<vk::Rect2D> = self.volumes.iter().map(|v| v.scissor).collect();
+            Scissor::Rects(bounds::disjoint_cover(&rects))
+        } else {
+            Scissor::Frame
+        };
         // The previous frame has finished (frames wait for their fence): the count restarts.
         if let Some(counter) = &mut self.saturation_counter {
             counter.write(0, &[0u32])?;
@@ -256,15 +270,29 @@ impl Passes for ShadowVolumePasses {
         STENCIL_COUNT_ZERO
     }
 
+    fn scissor(&self) -> Scissor {
+        self.apply_scissor.clone()
+    }
+
+    /// Every volume with the pass's first pipeline (bound by the recorder), then again with each
+    /// further one: the alpha counter's decrements come after all its increments.
     fn draw(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()> {
-        let (Push::TransformAlpha(alpha), Some(pipeline)) = (&pass.push, pipelines.first()) else {
+        let Push::TransformAlpha(alpha) = pass.push else {
             return Err(Error::Internal(format!("shadow volumes cannot draw pass '{}'", pass.name)));
         };
-        for volume in &self.volumes {
-            let push =
-                ObjectPush { model: scene.objects[volume.object].transform, colour: Vec4::new(0.0, 0.0, 0.0, *alpha) };
-            rec.push(pipeline, &push);
-            rec.draw_indexed(&volume.vertices, &volume.indices, volume.index_count);
+        for (index, pipeline) in pipelines.iter().enumerate() {
+            if index > 0 {
+                rec.bind(pipeline);
+            }
+            for volume in &self.volumes {
+                rec.set_scissor(volume.scissor);
+                let push = ObjectPush {
+                    model: scene.objects[volume.object].transform,
+                    colour: Vec4::new(0.0, 0.0, 0.0, alpha),
+                };
+                rec.push(pipeline, &push);
+                rec.draw_indexed(&volume.vertices, &volume.indices, volume.index_count);
+            }
         }
         Ok(())
     }
@@ -292,37 +320,62 @@ impl Passes for ShadowVolumePasses {
     }
 }
 
-fn upload_volumes(gpu: &Arc<Gpu>, scene: &Scene, casters: &[Caster], zfail: bool) -> Result<Vec<GpuVolume>> {
-    casters
-        .iter()
-        .map(|caster| {
-            // Far caps close point-light volumes at infinity: drawn in both methods, so that
-            // the background (depth 1) behind a volume never counts. Near caps for z-fail, and
-            // for two-sided casters in z-pass too: a ray may pass one of their triangles that
-            // the scene pass culled (seen from behind, as through the hole of an open box), so
-            // the caster itself does not hide its near cap.
-            let volume = build_volume(scene, caster, true);
-            let mut indices = volume.sides.clone();
-            if zfail || matches!(caster.mesh.path, CastPath::TwoSided { .. }) {
-                indices.extend_from_slice(&volume.near_cap);
+fn upload_volumes(
+    gpu: &Arc<Gpu>,
+    scene: &Scene,
+    casters: &[Caster],
+    zfail: bool,
+    options: ShadowVolumeOptions,
+    extent: vk::Extent2D,
+) -> Result<Vec<GpuVolume>> {
+    let whole_frame = vk::Rect2D { offset: vk::Offset2D::default(), extent };
+    let receivers = if options.clip_volumes { bounds::receivers_box(scene) } else { None };
+    let mut volumes = Vec::with_capacity(casters.len());
+    for caster in casters {
+        let object = &scene.objects[caster.object];
+        // Clipped: the volume ends past the receivers and is scissored to where it can shade;
+        // a caster whose volume misses every receiver, or lies off screen, is not drawn.
+        let (reach, scissor) = match (receivers, scene.posed_bounds(caster.object)) {
+            (Some(receivers), Some((lo, hi))) => {
+                let clipped = bounds::caster_bounds(&scene.light, Aabb { lo, hi }, receivers);
+                match clipped.screen_rect(&scene.camera, extent) {
+                    Some(rect) => (clipped.reach, rect),
+                    None => continue,
+                }
             }
-            indices.extend_from_slice(&volume.far_cap);
-            // A mirroring transform (negative determinant) flips every winding on screen: turn
-            // the triangles back so that the volume's faces still point out.
-            if scene.objects[caster.object].transform.determinant() < 0.0 {
-                indices.chunks_exact_mut(3).for_each(|t| t.swap(1, 2));
-            }
-            Ok(GpuVolume {
-                object: caster.object,
-                vertices: Buffer::with_data(
-                    gpu,
-                    "shadow volume vertices",
-                    &volume.vertices,
-                    vk::BufferUsageFlags::VERTEX_BUFFER,
-                )?,
-                indices: Buffer::with_data(gpu, "shadow volume indices", &indices, vk::BufferUsageFlags::INDEX_BUFFER)?,
-                index_count: indices.len() as u32,
-            })
-        })
-        .collect()
+            _ => (Reach::Infinite, whole_frame),
+        };
+        // Far caps close the volumes (point lights, and every clipped volume): drawn in both
+        // methods, so that the background (depth 1) behind a volume never counts. Near caps for
+        // z-fail, and for two-sided casters in z-pass too: a ray may pass one of their
+        // triangles that the scene pass culled (seen from behind, as through the hole of an
+        // open box), so the caster itself does not hide its near cap.
+        let volume = build_volume(scene, caster, reach, true);
+        let mut indices = volume.sides.clone();
+        if zfail || matches!(caster.mesh.path, CastPath::TwoSided { .. }) {
+            indices.extend_from_slice(&volume.near_cap);
+        }
+        indices.extend_from_slice(&volume.far_cap);
+        // A mirroring transform (negative determinant) flips every winding on screen: turn
+        // the triangles back so that the volume's faces still point out.
+        if object.transform.determinant() < 0.0 {
+            indices.chunks_exact_mut(3).for_each(|t| t.swap(1, 2));
+        }
+        if indices.is_empty() {
+            continue;
+        }
+        volumes.push(GpuVolume {
+            object: caster.object,
+            vertices: Buffer::with_data(
+                gpu,
+                "shadow volume vertices",
+                &volume.vertices,
+                vk::BufferUsageFlags::VERTEX_BUFFER,
+            )?,
+            indices: Buffer::with_data(gpu, "shadow volume indices", &indices, vk::BufferUsageFlags::INDEX_BUFFER)?,
+            index_count: indices.len() as u32,
+            scissor,
+        });
+    }
+    Ok(volumes)
 }
