@@ -66,13 +66,16 @@ pub fn plan_table(title: &str, plan: &PassPlan) -> String {
             Target::Frame => "frame".to_owned(),
             Target::Offscreen(name) => name.to_owned(),
         };
+        let draws = match pass.scissored {
+            true => format!("{}, inside the technique's scissors", pass.draws.describe()),
+            false => pass.draws.describe().to_owned(),
+        };
         let row = |pipeline: &str, state: String| {
             format!(
-                "| {} | {} | {pipeline} | {target} | {} | {} | {} | {state} |",
+                "| {} | {} | {pipeline} | {target} | {} | {draws} | {} | {state} |",
                 index + 1,
                 pass.name,
                 pass.when.describe(),
-                pass.draws.describe(),
                 pass.push.describe(),
             )
         };
