@@ -845,7 +845,7 @@ fn the_command_line_sets_the_shadow_factor_and_the_iterations_follow_it() {
     }
 }
 
-/// DESIGN.md section 10: volumes clipped to the receivers' bounds, each drawn inside its own
+/// Volumes clipped to the receivers' bounds, each drawn inside its own
 /// scissor and the apply inside their union, draw the unclipped image in both paths, and
 /// rasterise fewer volume fragments. "The same image" up to rounding: a clipped wall is
 /// another triangle in the same plane, so its depth is rounded differently where it grazes a

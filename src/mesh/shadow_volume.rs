@@ -133,7 +133,7 @@ pub fn build_shadow_volume_into(
 ///
 /// A volume only darkens what it contains, and what a frame shows lies inside the receivers'
 /// bounds: a volume cut off beyond them (closed there by a finite far cap) counts every visible
-/// pixel as the infinite one does, and rasterises less (DESIGN.md section 10).
+/// pixel as the infinite one does, and rasterises less (`technique::shadow_volume::bounds`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Reach {
     /// To infinity: the far points have w = 0 (needs an infinite-far projection).

@@ -1,4 +1,4 @@
-//! Where a shadow volume can matter (DESIGN.md section 10): every pixel a frame shows lies on a
+//! Where a shadow volume can matter: every pixel a frame shows lies on a
 //! receiver, so a volume only needs to exist inside the receivers' bounds. From those bounds
 //! each caster gets:
 //! - a [`Reach`]: its volume ends just beyond the bounds, closed by a finite far cap, instead of

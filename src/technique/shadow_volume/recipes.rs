@@ -2,7 +2,7 @@
 //! pass plan for each path.
 //!
 //! Every volume is clipped to the receivers' bounds and drawn inside its own scissor, and every
-//! full-screen pass after the volumes inside their union (`bounds`, DESIGN.md section 10): the
+//! full-screen pass after the volumes inside their union (`bounds`): the
 //! same in both paths, so what clipping saves is saved in both.
 //!
 //! Emulated frame, one render pass:
