@@ -1,6 +1,5 @@
-//! Where a shadow volume can matter: every pixel a frame shows lies on a
-//! receiver, so a volume only needs to exist inside the receivers' bounds. From those bounds
-//! each caster gets:
+//! Where a shadow volume can matter: every pixel a frame shows lies on a receiver, so a volume
+//! only needs to exist inside the receivers' bounds. From those bounds each caster gets:
 //! - a [`Reach`]: its volume ends just beyond the bounds, closed by a finite far cap, instead of
 //!   running to infinity;
 //! - a scissor: the screen rectangle of its volume inside the bounds. Outside it the caster's
