@@ -1,10 +1,10 @@
 // Subpass normalisation: read this pixel's volume count from the colour attachment (an input
-// attachment of the same subpass) and output the shadow factor as alpha; the blend unit does
-// the multiply (ZERO, SRC_ALPHA), exactly as the stencil-tested reference apply pass does.
+// attachment of the same subpass) and output the shadow's factors as colour; the blend unit does
+// the multiply (ZERO, SRC_COLOR), exactly as the stencil-tested reference apply pass does.
 layout(input_attachment_index = 0, set = 0, binding = 0) uniform subpassInput counter;
 
 layout(push_constant) uniform ShadowPush {
-    // x: the shadow factor D (colour is multiplied by D where the count is not 0).
+    // rgb: the shadow's factor per channel (D on each for a grey shadow, or a tint).
     vec4 shadow;
 } push;
 
@@ -15,5 +15,5 @@ vec4 shadow_factor(float count) {
     if (count <= 0.0) {
         discard;
     }
-    return vec4(0.0, 0.0, 0.0, push.shadow.x);
+    return vec4(push.shadow.rgb, 1.0);
 }

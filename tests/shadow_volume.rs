@@ -903,3 +903,46 @@ fn clipped_volumes_draw_the_unclipped_image_with_fewer_fragments() {
     assert!(clipped_total * 10 < unclipped_total * 9, "clipping saves under 10%: {clipped_total} of {unclipped_total}");
     common::assert_no_validation_messages(&gpu);
 }
+
+/// Seed 000's apply modulates with a shadow colour: `--shadow-colour` tints the shadow in every
+/// path, each still equal to the reference pixel for pixel, and a shadowed pixel is its lit
+/// colour times the tint, channel by channel (in linear light, where the blend multiplies).
+#[test]
+fn a_tinted_shadow_is_the_references_in_every_path_and_multiplies_each_channel() {
+    let gpu = common::gpu();
+    let scene = builtin_scene("box").expect("scene");
+    let unshadowed = lit(&gpu, &scene);
+    // Three factors, two equal ones, and a grey given as a colour (it must match --shadow-factor).
+    for tint in [[51u8, 128, 204], [200, 90, 200], [102, 102, 102]] {
+        let base = ShadowVolumeOptions { shadow_colour: Some(tint), ..Default::default() };
+        let reference = render(&gpu, &scene, StencilMode::Reference, base);
+        for &normalize in Normalize::ALL {
+            for k in [1u8, 4] {
+                let options = ShadowVolumeOptions { normalize, increment: k, ..base };
+                let emulated = render(&gpu, &scene, StencilMode::Emulated, options);
+                let differing = rgb_differences(&emulated.output.image, &reference.output.image);
+                assert_eq!(differing, 0, "tint {tint:?}, {} k={k}: {differing} pixels differ", normalize.name());
+            }
+        }
+        let mut checked = 0;
+        for (shadowed, lit) in reference.output.image.pixels().zip(unshadowed.pixels()) {
+            if shadowed.0[..3] == lit.0[..3] {
+                continue;
+            }
+            for c in 0..3 {
+                let expected = common::srgb_encode(common::srgb_decode(lit.0[c]) * f32::from(tint[c]) / 255.0);
+                assert!(shadowed.0[c].abs_diff(expected) <= 1, "tint {tint:?}: {shadowed:?} from {lit:?}");
+            }
+            checked += 1;
+        }
+        assert!(checked > 100, "tint {tint:?}: only {checked} shadowed pixels");
+    }
+    // A grey tint is --shadow-factor.
+    let grey = ShadowVolumeOptions { shadow_colour: Some([102; 3]), ..Default::default() };
+    let factor = ShadowVolumeOptions { shadow_factor: 102, ..Default::default() };
+    let (a, b) =
+        (render(&gpu, &scene, StencilMode::Emulated, grey), render(&gpu, &scene, StencilMode::Emulated, factor));
+    assert_eq!(rgb_differences(&a.output.image, &b.output.image), 0);
+    assert_eq!(pass_names(&a), pass_names(&b), "a grey tint draws the grey plan");
+    common::assert_no_validation_messages(&gpu);
+}

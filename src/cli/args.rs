@@ -72,6 +72,10 @@ pub enum Command {
         /// normalisation's iteration count follows it.
         #[arg(long, default_value_t = 102, value_name = "F")]
         shadow_factor: u8,
+        /// shadow-volume: a tinted shadow's factors (`#RRGGBB`): the blend-only paths add a
+        /// darkness step and an apply per distinct factor.
+        #[arg(long, value_name = "#RRGGBB", value_parser = parse_rgb8, conflicts_with = "shadow_factor")]
+        shadow_colour: Option<[u8; 3]>,
     },
     /// Time frames of a technique's variants (the real-stencil reference first) in one run.
     Bench {
@@ -200,6 +204,11 @@ pub struct FrameArgs {
     /// 255: no shadow). For shadow volumes the normalisation's iteration count follows it.
     #[arg(long, default_value_t = 102, value_name = "F")]
     pub shadow_factor: u8,
+    /// shadow-volume: a tinted shadow (seed 000's apply modulates with a shadow colour):
+    /// shadowed colour = colour x RR/255, GG/255, BB/255 per channel, linear factors given in hex
+    /// (`#RRGGBB` or `RRGGBB`), in every path. Instead of --shadow-factor.
+    #[arg(long, value_name = "#RRGGBB", value_parser = parse_rgb8, conflicts_with = "shadow_factor")]
+    pub shadow_colour: Option<[u8; 3]>,
     /// shadow-map, shadow-texture-atlas: `moving` (turns every frame: re-bake) or `fixed`
     /// (after the first frame the shadow map and bake are skipped).
     #[arg(long, value_enum, default_value_t)]
@@ -246,5 +255,31 @@ mod tests {
         assert!(parse_size("5000x256").is_err());
         assert!(parse_size("256").is_err());
         assert!(parse_size("axb").is_err());
+    }
+}
+
+/// `#RRGGBB` or `RRGGBB` as three bytes.
+pub fn parse_rgb8(text: &str) -> Result<[u8; 3], String> {
+    let hex = text.strip_prefix('#').unwrap_or(text);
+    let bad = || format!("'{text}' is not a colour: six hex digits, #RRGGBB");
+    if hex.len() != 6 || !hex.is_ascii() {
+        return Err(bad());
+    }
+    let byte = |i: usize| u8::from_str_radix(&hex[i..i + 2], 16).map_err(|_| bad());
+    Ok([byte(0)?, byte(2)?, byte(4)?])
+}
+
+#[cfg(test)]
+mod colour_tests {
+    use super::parse_rgb8;
+
+    #[test]
+    fn hex_colours_parse_and_bad_ones_are_named() {
+        assert_eq!(parse_rgb8("#3366ff"), Ok([0x33, 0x66, 0xff]));
+        assert_eq!(parse_rgb8("FF0080"), Ok([0xff, 0x00, 0x80]));
+        for bad in ["", "#12345", "#1234567", "#12345g", "red", "#ééé"] {
+            let error = parse_rgb8(bad).expect_err(bad);
+            assert!(error.contains(bad), "{error}");
+        }
     }
 }

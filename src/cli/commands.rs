@@ -30,9 +30,11 @@ pub fn run(cli: Cli) -> Result<()> {
             }
         }
         Command::Info { gpu, json } => info(&gpu, json),
-        Command::Passes { technique, normalize, increment, shadow_factor } => {
-            passes(&technique, normalize, increment, shadow_factor)
-        }
+        Command::Passes { technique, normalize, increment, shadow_factor, shadow_colour } => passes(
+            &technique,
+            normalize,
+            ShadowVolumeOptions { increment, shadow_factor, shadow_colour, ..Default::default() },
+        ),
         Command::Bench { frame, warmup, runs, json } => bench(&frame, warmup, runs, json),
         Command::Bake { frame, model, mip, out } => bake(&frame, model.as_deref(), mip, &out),
         Command::View { frame, frames, screenshot, resize_after, paused } => {
@@ -80,6 +82,7 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
             method: frame.volume_method,
             normalize: frame.normalize,
             shadow_factor: frame.shadow_factor,
+            shadow_colour: frame.shadow_colour,
             saturation_probe: frame.saturation_probe,
             clip_volumes: !frame.unclipped_volumes,
             ..Default::default()
@@ -511,13 +514,12 @@ fn view(
 
 /// `passes`: every plan of the technique (each path, each variant that changes the passes), as
 /// Markdown tables; `--normalize` keeps one shadow-volume normalisation. For shadow volumes,
-/// the plans are for k = `increment` and D = `shadow_factor`, and the table of iteration counts
+/// the plans are for k, D (or the tint) of `shadow_volume`, and the table of iteration counts
 /// for other k and D follows them.
-fn passes(technique: &str, normalize: Option<Normalize>, increment: u8, shadow_factor: u8) -> Result<()> {
+fn passes(technique: &str, normalize: Option<Normalize>, shadow_volume: ShadowVolumeOptions) -> Result<()> {
     let technique = by_name(technique)?;
-    let shadow_volume = ShadowVolumeOptions { increment, shadow_factor, ..Default::default() };
     shadow_volume.check()?;
-    let planar = PlanarOptions { shadow_factor, ..Default::default() };
+    let planar = PlanarOptions { shadow_factor: shadow_volume.shadow_factor, ..Default::default() };
     let base = RenderOptions { technique, shadow_volume, planar, ..Default::default() };
     println!("## {}: passes and fixed-function state\n", technique.name());
     println!("{}\n", technique.about());

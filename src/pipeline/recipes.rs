@@ -76,8 +76,8 @@ pub const COLOUR_WHERE_ALPHA_ZERO: BlendState =
 // ---------------------------------------------------------------------------------------------
 // Ground shadows (DESIGN.md section 3).
 
-/// colour *= the fragment's colour (a factor per channel: a blob, a shadow-texture lookup),
-/// alpha left alone.
+/// colour *= the fragment's colour (a factor per channel: a blob, a shadow-texture lookup, a
+/// shadow volume's tint), alpha left alone.
 pub const MODULATE_BY_SRC_COLOUR: BlendState =
     colour_blend(vk::BlendOp::ADD, vk::BlendFactor::ZERO, vk::BlendFactor::SRC_COLOR);
 

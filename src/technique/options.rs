@@ -38,6 +38,10 @@ pub struct ShadowVolumeOptions {
     /// Shadowed colour = colour x shadow_factor/255. An 8-bit value, so that every path
     /// multiplies by exactly the same number.
     pub shadow_factor: u8,
+    /// A tinted shadow (seed 000's apply modulates with a shadow colour): shadowed colour =
+    /// colour x these factors / 255, per channel (linear, as the blend unit multiplies).
+    /// Overrides `shadow_factor`.
+    pub shadow_colour: Option<[u8; 3]>,
     /// Add the full-screen saturation probe (DESIGN.md section 11): a diagnostic pass a user
     /// asks for, never part of a timed frame. The `subpass` apply counts saturation without it.
     pub saturation_probe: bool,
@@ -59,6 +63,7 @@ impl Default for ShadowVolumeOptions {
             method: VolumeMethod::Auto,
             normalize: Normalize::Seed,
             shadow_factor: 102,
+            shadow_colour: None,
             saturation_probe: false,
             fragment_atomics: true,
             clip_volumes: true,
@@ -204,6 +209,16 @@ impl ShadowVolumeOptions {
     /// Checks the numbers a user typed (k in 1..=8).
     pub fn check(&self) -> Result<()> {
         alpha_counter::check_increment(self.increment).map(|_| ())
+    }
+
+    /// The shadowed colour's factor per channel (R, G, B), in 1/255: the tint, else D on all.
+    pub fn shadow_rgb(&self) -> [u8; 3] {
+        self.shadow_colour.unwrap_or([self.shadow_factor; 3])
+    }
+
+    /// The darkest factor: what the blend-only normalisation must bring every count to.
+    pub fn darkest(&self) -> u8 {
+        self.shadow_rgb().into_iter().min().unwrap_or(self.shadow_factor)
     }
 }
 

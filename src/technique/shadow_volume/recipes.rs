@@ -122,15 +122,70 @@ pub fn apply_desc(normalize: Normalize) -> PipelineDesc {
     match normalize {
         // colour *= dst alpha (1 where lit, D where shadowed).
         Normalize::Seed | Normalize::Max => fullscreen_desc("apply", "solid.frag", recipes::MODULATE_BY_DST_ALPHA),
-        // colour *= the factor the shader read from the count.
-        Normalize::Subpass => fullscreen_desc("apply (subpass)", "shadow_subpass.frag", recipes::MODULATE_BY_SRC_ALPHA),
+        // colour *= the factors the shader output where the count is not 0.
+        Normalize::Subpass => {
+            fullscreen_desc("apply (subpass)", "shadow_subpass.frag", recipes::MODULATE_BY_SRC_COLOUR)
+        }
     }
+}
+
+/// The blend-only apply of a tinted shadow writes one group of channels at a time, those whose
+/// factor the alpha mask holds at that moment (see [`tinted_darkness_and_apply`]).
+fn channel_apply_desc(channels: vk::ColorComponentFlags) -> PipelineDesc {
+    let name = match (channels.contains(RED), channels.contains(GREEN), channels.contains(BLUE)) {
+        (true, true, true) => "apply",
+        (true, true, false) => "apply (red, green)",
+        (true, false, true) => "apply (red, blue)",
+        (false, true, true) => "apply (green, blue)",
+        (true, false, false) => "apply (red)",
+        (false, true, false) => "apply (green)",
+        _ => "apply (blue)",
+    };
+    let mut desc = fullscreen_desc(name, "solid.frag", recipes::MODULATE_BY_DST_ALPHA);
+    desc.fixed.blend.write_mask = channels;
+    desc
+}
+
+const RED: vk::ColorComponentFlags = vk::ColorComponentFlags::R;
+const GREEN: vk::ColorComponentFlags = vk::ColorComponentFlags::G;
+const BLUE: vk::ColorComponentFlags = vk::ColorComponentFlags::B;
+
+/// The blend-only paths' darkness steps and apply for the factors `rgb`. The alpha mask holds
+/// one number, so each distinct factor gets its own darkness step and an apply that writes
+/// only its channels, from the darkest up: the darkness steps set every shadowed pixel to
+/// exactly their D (from any value <= D, which the previous, darker step left) and keep lit
+/// pixels at 1. A grey shadow is one darkness step and one apply, as in the seed.
+fn tinted_darkness_and_apply(normalize: Normalize, rgb: [u8; 3]) -> Vec<PlannedPass> {
+    let mut factors = rgb.to_vec();
+    factors.sort_unstable();
+    factors.dedup();
+    let grey = factors.len() == 1;
+    let mut passes = Vec::new();
+    for factor in factors {
+        let channels = [RED, GREEN, BLUE]
+            .into_iter()
+            .zip(rgb)
+            .filter(|&(_, f)| f == factor)
+            .fold(vk::ColorComponentFlags::empty(), |all, (channel, _)| all | channel);
+        let apply = channel_apply_desc(channels);
+        let suffix = if grey { String::new() } else { format!(" {}", &apply.name["apply ".len()..]) };
+        for desc in darkness_descs(normalize) {
+            let name = format!("{}{suffix}", desc.name);
+            passes.push(PlannedPass::full_screen(name, desc, solid(factor as f32 / 255.0)).scissored());
+        }
+        passes.push(PlannedPass::full_screen(apply.name, apply, solid(1.0)).scissored());
+    }
+    passes
 }
 
 /// The subpass apply that also counts saturated pixels into a storage buffer (binding 1 of the
 /// counter input set): for devices with `fragmentStoresAndAtomics`.
 pub fn counting_subpass_apply_desc() -> PipelineDesc {
-    fullscreen_desc("apply (subpass, counts saturation)", "shadow_subpass_counted.frag", recipes::MODULATE_BY_SRC_ALPHA)
+    fullscreen_desc(
+        "apply (subpass, counts saturation)",
+        "shadow_subpass_counted.frag",
+        recipes::MODULATE_BY_SRC_COLOUR,
+    )
 }
 
 pub fn saturation_probe_desc() -> PipelineDesc {
@@ -151,7 +206,7 @@ pub fn reference_volume_desc(zfail: bool) -> PipelineDesc {
     desc
 }
 
-/// The reference's one apply: shades where the count is positive. Counts below zero do occur
+/// The reference's one apply: shades where the count is positive (colour *= the pushed factors). Counts below zero do occur
 /// (rasterisation precision where volume walls meet their caster; a z-pass camera inside a
 /// volume, whose entry wall is clipped away, leaves -1 behind the exit wall). The alpha
 /// counter clamps them to 0, so they must stay lit here too: with the stencil cleared to
@@ -159,7 +214,7 @@ pub fn reference_volume_desc(zfail: bool) -> PipelineDesc {
 /// paths then shade exactly where `increments - decrements` is in 1..=127 and agree bit for
 /// bit, with no pass that a port would not ship.
 pub fn reference_apply_desc() -> PipelineDesc {
-    let mut desc = fullscreen_desc("apply (stencil)", "solid.frag", recipes::MODULATE_BY_SRC_ALPHA);
+    let mut desc = fullscreen_desc("apply (stencil)", "solid.frag", recipes::MODULATE_BY_SRC_COLOUR);
     desc.fixed.stencil = Some(recipes::STENCIL_COUNT_POSITIVE);
     desc
 }
@@ -195,7 +250,9 @@ pub fn plan(options: &ShadowVolumeOptions, stencil: StencilMode) -> Result<PassP
         };
     let k = alpha_counter::check_increment(options.increment)?;
     let step = k as f32 / 255.0;
-    let factor = options.shadow_factor as f32 / 255.0;
+    // The shadowed colour's factors per channel (a grey D, or a tint).
+    let [r, g, b] = options.shadow_rgb().map(|f| f as f32 / 255.0);
+    let factors = Vec4::new(r, g, b, 0.0);
     let volumes = |name, desc, alpha| {
         PlannedPass::new(name, desc, VOLUMES, Push::TransformAlpha(alpha)).with_sets(&[SetRole::Frame])
     };
@@ -206,7 +263,7 @@ pub fn plan(options: &ShadowVolumeOptions, stencil: StencilMode) -> Result<PassP
         StencilMode::Reference => {
             let desc = reference_volume_desc(zfail);
             plan.push(volumes(desc.name, desc, 0.0));
-            plan.push(PlannedPass::full_screen("apply (stencil)", reference_apply_desc(), solid(factor)).scissored());
+            plan.push(PlannedPass::full_screen("apply (stencil)", reference_apply_desc(), factors).scissored());
         }
         StencilMode::Emulated => {
             // One pass, two pipelines: every caster's increments, then every caster's
@@ -223,11 +280,8 @@ pub fn plan(options: &ShadowVolumeOptions, stencil: StencilMode) -> Result<PassP
             }
             match options.normalize {
                 Normalize::Seed | Normalize::Max => {
-                    plan.extend(seed_normalisation(alpha_counter::seed_iterations(k, options.shadow_factor)?));
-                    for desc in darkness_descs(options.normalize) {
-                        plan.push(PlannedPass::full_screen(desc.name, desc, solid(factor)).scissored());
-                    }
-                    plan.push(PlannedPass::full_screen("apply", apply_desc(options.normalize), solid(1.0)).scissored());
+                    plan.extend(seed_normalisation(alpha_counter::seed_iterations(k, options.darkest())?));
+                    plan.extend(tinted_darkness_and_apply(options.normalize, options.shadow_rgb()));
                 }
                 Normalize::Subpass => {
                     let apply = if options.fragment_atomics {
@@ -236,7 +290,7 @@ pub fn plan(options: &ShadowVolumeOptions, stencil: StencilMode) -> Result<PassP
                         apply_desc(Normalize::Subpass)
                     };
                     plan.push(
-                        PlannedPass::full_screen("apply (subpass)", apply, Vec4::new(factor, 0.0, 0.0, 0.0))
+                        PlannedPass::full_screen("apply (subpass)", apply, factors)
                             .with_sets(&[COUNTER_INPUT])
                             .reading_colour()
                             .scissored(),

@@ -198,7 +198,7 @@ pub fn build<'s>(
             apply_scissor: Scissor::Frame,
             stats: ShadowVolumeStats {
                 zfail,
-                seed_iterations: alpha_counter::seed_iterations(k, options.shadow_volume.shadow_factor)?,
+                seed_iterations: alpha_counter::seed_iterations(k, options.shadow_volume.darkest())?,
                 capacity,
                 saturated_pixels: None,
                 saturation_measured_by,
