@@ -946,3 +946,38 @@ fn a_tinted_shadow_is_the_references_in_every_path_and_multiplies_each_channel()
     assert_eq!(pass_names(&a), pass_names(&b), "a grey tint draws the grey plan");
     common::assert_no_validation_messages(&gpu);
 }
+
+/// Seed 000 counts its method as "6 build steps, 2 normalisation steps, 1 apply step" with
+/// four iterations after N0 (its table's steps 2..5). Our seed path for k = 1 is that list
+/// whenever four iterations are enough when products round up, i.e. for D >= 139 (a count of
+/// one then ends at 139): after the scene, the volume pass (the table's initial count), N0 and
+/// N1..N4 build the mask, "darkness subtract D" and "darkness add D" normalise it, one apply.
+/// Below that D a port needs a fifth iteration, which the seed's real-number table does not
+/// show (its 0.4312 is 110/255, but rounding up leaves 139).
+#[test]
+fn the_seed_path_for_k_1_is_the_seeds_own_pass_list() {
+    assert_eq!(alpha_counter::seed_iterations(1, 139).expect("k = 1"), 4);
+    assert_eq!(alpha_counter::seed_iterations(1, 138).expect("k = 1"), 5);
+    let options = ShadowVolumeOptions {
+        increment: 1,
+        shadow_factor: 192,
+        normalize: Normalize::Seed,
+        method: VolumeMethod::ZPass,
+        ..Default::default()
+    };
+    let plan = shadow_volume::recipes::plan(&options, StencilMode::Emulated).expect("plan");
+    let names: Vec<&str> = plan.passes.iter().map(|p| p.name.as_ref()).collect();
+    let build =
+        ["volumes (alpha, z-pass)", "normalise N0", "normalise N1", "normalise N2", "normalise N3", "normalise N4"];
+    let normalisation = ["darkness subtract D", "darkness add D"];
+    let expected: Vec<&str> = ["scene"].into_iter().chain(build).chain(normalisation).chain(["apply"]).collect();
+    assert_eq!(names, expected);
+    // The frame draws exactly that list, and it is the reference's image.
+    let gpu = common::gpu();
+    let scene = builtin_scene("default").expect("scene");
+    let emulated = render(&gpu, &scene, StencilMode::Emulated, options);
+    assert_eq!(pass_names(&emulated), expected);
+    let reference = render(&gpu, &scene, StencilMode::Reference, options);
+    assert_eq!(rgb_differences(&emulated.output.image, &reference.output.image), 0);
+    common::assert_no_validation_messages(&gpu);
+}

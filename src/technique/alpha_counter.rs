@@ -86,6 +86,13 @@ impl Step {
     }
 }
 
+/// Seed 000's own table of a shadowed pixel's alpha through the normalisation, as printed in
+/// Brian Hall, "Creating Stencil Shadows on iPhone" (Gamasutra, 16 June 2010; the Korean
+/// translation in `../shared/seeds/000_7e04994a9f93d7e0.txt`, table "단계 / 알파 값"): the
+/// initial count of one wall at 1/256, then after N0 ("단계 1") and four iterations ("단계
+/// 2..5"), four decimals. Lit pixels read 0 then 1 throughout.
+pub const SEED_TABLE: [f64; 6] = [0.0040, 0.9922, 0.9767, 0.9306, 0.7966, 0.4312];
+
 /// The alpha values a count goes through under lavapipe's rounding: after N0, then after each
 /// iteration until 0 (or 1, which stays).
 pub fn seed_sequence(count_alpha: u8) -> Vec<u8> {
@@ -163,6 +170,42 @@ mod tests {
     fn count_of_one_follows_the_design_table() {
         // DESIGN.md: 1 -> 253 -> 249 -> 237 -> 202 -> 107 -> 0.
         assert_eq!(seed_sequence(1), vec![253, 249, 237, 202, 107, 0]);
+    }
+
+    /// The seed's table is the iteration `a * a - (1 - a)` carried out in real numbers and
+    /// printed to four decimals at each step: every row is the recurrence of the row before
+    /// (N0, `1 - 2a`, of the initial 1/256, printed as 0.0040 rounded up from 0.0039).
+    #[test]
+    fn the_seeds_table_is_the_real_number_recurrence() {
+        assert!((1.0 - 2.0 / 256.0 - SEED_TABLE[1]).abs() < 5e-5);
+        for step in 2..SEED_TABLE.len() {
+            let a = SEED_TABLE[step - 1];
+            let next = a * a - (1.0 - a);
+            assert!((next - SEED_TABLE[step]).abs() < 5e-5, "step {step}: {next:.5} against {}", SEED_TABLE[step]);
+        }
+    }
+
+    /// How close 8 bits come to the seed's real numbers: the same steps, each product rounded to
+    /// 1/255 (lavapipe's rounding, and to nearest), stay within 0.012 of the table at step 5 and
+    /// drift apart at every step. Why: the iteration's slope `2a + 1` is about 3 near a = 1,
+    /// so each step roughly triples the gap that rounding a product to 8 bits (and starting
+    /// from 1/255 rather than 1/256) left the step before.
+    #[test]
+    fn eight_bit_steps_stay_within_0_012_of_the_seeds_table() {
+        for rounding in [Rounding::Lavapipe, Rounding::Nearest] {
+            let mut a = Step::N0.apply(1, 0, rounding);
+            let mut gaps = vec![(f64::from(a) / 255.0 - SEED_TABLE[1]).abs()];
+            for &seed in &SEED_TABLE[2..] {
+                a = Step::Iteration.apply(a, 0, rounding);
+                gaps.push((f64::from(a) / 255.0 - seed).abs());
+            }
+            let last = gaps[gaps.len() - 1];
+            assert!(last <= 0.012, "{rounding:?}: step 5 is {last:.4} from the seed's 0.4312 ({gaps:?})");
+            assert!(last > 0.005, "{rounding:?}: the gap at step 5 is real ({last:.4})");
+            for pair in gaps[1..].windows(2) {
+                assert!(pair[1] > pair[0], "{rounding:?}: the gap grows step by step ({gaps:?})");
+            }
+        }
     }
 
     #[test]
