@@ -408,3 +408,64 @@ fn bake_writes_the_models_shadow_texture_from_the_command_line() {
 fn technique(name: &str) -> &'static dyn Technique {
     nostencil::technique::by_name(name).expect("technique")
 }
+
+#[test]
+fn table1_is_recorded_beside_the_papers_values() {
+    let dir = common::scratch_dir("table1");
+    let out = dir.join("recorded");
+    let args = ["bench", "--technique", "shadow-texture-atlas", "--size", "48x48", "--warmup", "1", "--runs", "3"];
+    let (text, err) = common::run_ok(&[&args[..], &["--validation", "--table1-out", out.to_str().unwrap()]].concat());
+    assert!(!err.contains("vulkan validation"), "{err}");
+    assert!(text.contains("paper fps"), "{text}");
+
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("table1.json")).expect("table1.json")).expect("JSON");
+    assert_eq!(json["schema"], "nostencil-table1/3");
+    assert_eq!((json["width"].as_u64(), json["runs"].as_u64()), (Some(48), Some(3)));
+    let rows = json["rows"].as_array().expect("rows");
+    // Two scenes x two techniques x two lights, each with the paper's value beside it.
+    assert_eq!(rows.len(), 8, "{json}");
+    let paper = shadow_atlas_paper_values();
+    for row in rows {
+        for column in ["scene", "technique", "light", "fps", "frame_ms", "gpu_ms", "passes", "paper_fps"] {
+            assert!(!row[column].is_null(), "row without {column}: {row}");
+        }
+        assert_eq!(row["frame_ms_rounds"].as_array().map(Vec::len), Some(3), "{row}");
+        let key = (row["scene"].as_str().unwrap_or(""), row["technique"].as_str().unwrap_or(""));
+        let light = row["light"].as_str().unwrap_or("");
+        let (_, _, moving, fixed) = paper.iter().find(|p| (p.0, p.1.as_str()) == key).expect("a paper row");
+        let expected = if light == "fixed" { *fixed } else { *moving };
+        assert_eq!(row["paper_fps"].as_f64(), Some(expected), "{row}");
+    }
+    let markdown = std::fs::read_to_string(out.join("table1.md")).expect("table1.md");
+    for (_, _, moving, fixed) in &paper {
+        for value in [moving, fixed] {
+            assert!(markdown.contains(&format!("{value:.2}")), "paper value {value} missing:\n{markdown}");
+        }
+    }
+    assert_eq!(markdown.lines().filter(|l| l.starts_with("| atlas-")).count(), 8 + 8, "{markdown}");
+
+    // A fixed light skips the shadow map (and bake): faster than a moving one, per round of the
+    // same run, for both techniques on both scenes.
+    let ratios = json["ratios"].as_array().expect("ratios");
+    assert_eq!(ratios.len(), 8, "{json}");
+    let fixed_over_moving: Vec<_> =
+        ratios.iter().filter(|r| r["compared"].as_str().is_some_and(|c| c.contains("fixed / moving"))).collect();
+    assert_eq!(fixed_over_moving.len(), 4, "{json}");
+    for ratio in fixed_over_moving {
+        let measured = ratio["measured"]["median"].as_f64().expect("measured ratio");
+        println!("{} {}: {measured:.2} (paper {})", ratio["scene"], ratio["compared"], ratio["paper"]);
+        assert!(measured > 1.0, "fixed light not faster than moving: {ratio}");
+    }
+    let refused = common::run_err(&["bench", "--technique", "planar", "--table1-out", out.to_str().unwrap()]);
+    assert!(refused.contains("--table1-out") && refused.contains("planar"), "{refused}");
+}
+
+/// The paper's Table 1 as (scene, technique as JSON spells it, moving light fps, fixed light fps).
+fn shadow_atlas_paper_values() -> Vec<(&'static str, String, f64, f64)> {
+    let spelt = |k: &ShadowKind| serde_json::to_value(k).ok().and_then(|v| v.as_str().map(str::to_owned));
+    nostencil::profile::table1::PAPER_TABLE1
+        .iter()
+        .map(|(s, k, m, f)| (*s, spelt(k).expect("technique as JSON"), *m, *f))
+        .collect()
+}

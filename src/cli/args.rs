@@ -89,6 +89,10 @@ pub enum Command {
         /// Print JSON instead of a table.
         #[arg(long)]
         json: bool,
+        /// shadow-texture-atlas only: also record seed 004's Table 1 (measured beside the
+        /// paper's values) as DIR/table1.json and DIR/table1.md.
+        #[arg(long, value_name = "DIR")]
+        table1_out: Option<PathBuf>,
     },
     /// Bake one model's shadow texture (shadow-texture-atlas) and write it as PNG.
     Bake {
