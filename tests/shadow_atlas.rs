@@ -469,3 +469,116 @@ fn shadow_atlas_paper_values() -> Vec<(&'static str, String, f64, f64)> {
         .map(|(s, k, m, f)| (*s, spelt(k).expect("technique as JSON"), *m, *f))
         .collect()
 }
+
+#[test]
+fn atlas_125_models_are_shadowed_where_a_cpu_ray_cast_says() {
+    let gpu = common::gpu();
+    let scene = builtin_scene("atlas-125").expect("scene");
+    let baked = bake(&gpu, &scene, ShadowAtlasOptions::default());
+    let Light::Directional { direction } = scene.light else { panic!("atlas-125 has a directional light") };
+    let to_light = -direction.normalize();
+    let radius = horned_radius(&nostencil::scene::builtin::ATLAS_HORNS);
+    // Every object's triangles in world space, and a sphere around them to skip most of them.
+    let world: Vec<(Vec3, f32, Vec<[Vec3; 3]>)> = scene
+        .objects
+        .iter()
+        .map(|o| {
+            let mesh = &scene.meshes[o.mesh].data;
+            let triangles: Vec<[Vec3; 3]> = mesh
+                .indices
+                .chunks_exact(3)
+                .map(|t| [0, 1, 2].map(|k| o.transform.transform_point3(mesh.positions[t[k] as usize])))
+                .collect();
+            let (lo, hi) = triangles.iter().flatten().fold((Vec3::MAX, Vec3::MIN), |(a, b), p| (a.min(*p), b.max(*p)));
+            ((lo + hi) * 0.5, (hi - lo).length() * 0.5, triangles)
+        })
+        .collect();
+    // Which object (if any) a ray from `origin` towards the light hits first-found.
+    let occluder = |origin: Vec3| -> Option<usize> {
+        world.iter().enumerate().find_map(|(i, (centre, r, triangles))| {
+            let to_centre = *centre - origin;
+            let along = to_centre.dot(to_light);
+            let miss = along < -r || (to_centre - to_light * along).length() > *r;
+            let hit =
+                !miss && triangles.iter().any(|t| ray_hits_triangle(origin, to_light, *t).is_some_and(|d| d > 1e-4));
+            hit.then_some(i)
+        })
+    };
+    // The bake can only be as sharp as the shadow map it reads: one map texel spans 2 scene
+    // radii / 512 (about 0.05 here), a texel of a model's 64x64 shadow texture about as much, so
+    // a texel is checked only where the answer holds 2 texels (2 map texels, 2 PCF taps) away.
+    const REACH: i32 = 2;
+    let (centre_radius, map_size) = (shadow_atlas::scene_bounds(&scene).1, ShadowAtlasOptions::default().map_size);
+    println!("shadow map texel: {:.3} world units", 2.0 * centre_radius / map_size as f32);
+    let (mut checked_models, mut lit, mut shadowed, mut by_others) = (0, 0, 0, 0);
+    let mut wrong = Vec::new();
+    for (index, object) in scene.objects.iter().enumerate().filter(|(_, o)| o.name.starts_with("model")) {
+        let texture = baked.read_shadow_texture(index, 0).expect("read back");
+        assert_eq!(texture.dimensions(), (64, 64), "{}", object.name);
+        let normal_matrix = object.transform.inverse().transpose();
+        // The surface at a texel centre, in world space, with its outward normal.
+        let surface = |x: f32, y: f32| {
+            let at = |u: f32, v: f32| {
+                let d = octahedral_direction(u / 64.0 * 2.0 - 1.0, v / 64.0 * 2.0 - 1.0);
+                d * radius(d)
+            };
+            let p = at(x, y);
+            let mut n = (at(x + 0.5, y) - at(x - 0.5, y)).cross(at(x, y + 0.5) - at(x, y - 0.5)).normalize_or_zero();
+            if n.dot(p) < 0.0 {
+                n = -n;
+            }
+            (object.transform.transform_point3(p), normal_matrix.transform_vector3(n).normalize_or_zero())
+        };
+        // None: facing away or grazing (not a test of occlusion; below N.L 0.4 the 2-texel
+        // reach would shrink under a map texel seen from the light); else the occluding object.
+        let answer = |x: f32, y: f32| -> Option<Option<usize>> {
+            let (p, n) = surface(x, y);
+            (n.dot(to_light) >= 0.4).then(|| occluder(p + n * 0.008))
+        };
+        let mut any = false;
+        for y in (3..61u32).step_by(5) {
+            for x in (3..61u32).step_by(5) {
+                let (cx, cy) = (x as f32 + 0.5, y as f32 + 0.5);
+                let Some(here) = answer(cx, cy) else { continue };
+                // Robust texels only: the same answer 2 texels away all round (no shadow edge
+                // nearby; see `reach` above).
+                let robust = (-1..=1).all(|dy| {
+                    (-1..=1).all(|dx| {
+                        let (nx, ny) = (cx + (dx * REACH) as f32, cy + (dy * REACH) as f32);
+                        answer(nx, ny).map(|a| a.is_some()) == Some(here.is_some())
+                    })
+                });
+                if !robust {
+                    continue;
+                }
+                any = true;
+                let value = texture.get_pixel(x, y).0[0];
+                match here {
+                    None => {
+                        lit += 1;
+                        if value <= 200 {
+                            wrong.push(format!(
+                                "{} texel ({x}, {y}) baked {value}, the ray reaches the light",
+                                object.name
+                            ));
+                        }
+                    }
+                    Some(by) => {
+                        shadowed += 1;
+                        by_others += (by != index) as u32;
+                        let other = &scene.objects[by].name;
+                        if value >= 55 {
+                            wrong.push(format!("{} texel ({x}, {y}) baked {value}, the ray hits {other}", object.name));
+                        }
+                    }
+                }
+            }
+        }
+        checked_models += any as u32;
+    }
+    println!("atlas-125: {checked_models} models checked: {lit} lit texels, {shadowed} shadowed ({by_others} by another model)");
+    assert!(wrong.is_empty(), "{} wrong texels:\n{}", wrong.len(), wrong.join("\n"));
+    assert_eq!(checked_models, 125);
+    assert!(lit > 1000 && shadowed > 400 && by_others > 300, "{lit} lit, {shadowed} shadowed, {by_others} by others");
+    common::assert_no_validation_messages(&gpu);
+}
