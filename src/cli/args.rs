@@ -93,6 +93,11 @@ pub enum Command {
         /// paper's values) as DIR/table1.json and DIR/table1.md.
         #[arg(long, value_name = "DIR")]
         table1_out: Option<PathBuf>,
+        /// shadow-texture-atlas or shadow-map only: instead of timing, count the pixels of
+        /// --scene that flicker over STEPS neighbouring light angles, shadow texture (mips)
+        /// against shadow map (seed 004's figures 6 and 7; use a small --size to minify).
+        #[arg(long, value_name = "STEPS", num_args = 0..=1, default_missing_value = "12")]
+        mip_flicker: Option<u32>,
     },
     /// Bake one model's shadow texture (shadow-texture-atlas) and write it as PNG.
     Bake {

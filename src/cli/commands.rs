@@ -33,7 +33,13 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Passes { technique, normalize, increment, shadow_factor } => {
             passes(&technique, normalize, increment, shadow_factor)
         }
-        Command::Bench { frame, warmup, runs, json, table1_out } => {
+        Command::Bench { frame, warmup: _, runs, json, table1_out, mip_flicker: Some(steps) } => {
+            if table1_out.is_some() || runs.is_some() {
+                return Err(Error::InvalidInput("--mip-flicker is not timed: drop --table1-out and --runs".into()));
+            }
+            bench_mip_flicker(&frame, steps, json)
+        }
+        Command::Bench { frame, warmup, runs, json, table1_out, mip_flicker: None } => {
             bench(&frame, warmup, runs, json, table1_out.as_deref())
         }
         Command::Bake { frame, model, mip, out } => bake(&frame, model.as_deref(), mip, &out),
@@ -466,6 +472,26 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: Option<u32>, json: bool, table1_o
         println!("{}", serde_json::to_string_pretty(&report).map_err(|e| Error::Internal(e.to_string()))?);
     } else {
         print!("{}", report.table());
+    }
+    Ok(())
+}
+
+/// `bench --mip-flicker`: seed 004's anti-aliasing claim measured on `--scene`.
+fn bench_mip_flicker(frame: &FrameArgs, steps: u32, json: bool) -> Result<()> {
+    let options = options(frame)?;
+    if options.technique.bench_table() != Some(BenchTable::Seed004Table1) {
+        return Err(Error::InvalidInput(format!(
+            "--mip-flicker compares seed 004's shadow texture and shadow map: use it with --technique shadow-texture-atlas or shadow-map, not {}",
+            options.technique.name()
+        )));
+    }
+    let scene = load_scene(&frame.scene, frame.time)?;
+    let gpu = open_gpu(&frame.gpu)?;
+    let report = crate::profile::mip_flicker::measure(&gpu, &scene, &options, steps)?;
+    if json {
+        println!("{}", serde_json::to_string_pretty(&report).map_err(|e| Error::Internal(e.to_string()))?);
+    } else {
+        print!("{}", report.render());
     }
     Ok(())
 }
