@@ -614,3 +614,76 @@ fn mip_flicker_counts_flickering_pixels_of_both_techniques() {
     let refused = common::run_err(&["bench", "--technique", "planar", "--mip-flicker"]);
     assert!(refused.contains("--mip-flicker") && refused.contains("planar"), "{refused}");
 }
+
+#[test]
+fn projective_texture_shadows_lit_parts_of_a_concave_model_that_the_atlas_leaves_lit() {
+    // The paper's figure 2: a texel of a texture projected from the light stands for every
+    // surface on its light ray, so the lit horn in front of the body's self-shadow takes it.
+    let gpu = common::gpu();
+    let scene = builtin_scene("atlas-one").expect("scene");
+    let (w, h) = (160u32, 120u32);
+    let projective = render(&gpu, &scene, technique("projective-texture"), (w, h));
+    let atlas = render(&gpu, &scene, technique("shadow-texture-atlas"), (w, h));
+    let dir = common::scratch_dir("projective-vs-atlas");
+    for (image, name) in [(&projective, "projective-texture"), (&atlas, "atlas")] {
+        nostencil::frame::write_png(image, &dir.join(format!("{name}.png")), false).expect("write png");
+    }
+    // Pixels the projective texture leaves clearly darker than the atlas.
+    let darker: Vec<(u32, u32)> = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .filter(|&(x, y)| {
+            let (p, a) = (projective.get_pixel(x, y).0, atlas.get_pixel(x, y).0);
+            (0..3).all(|c| a[c] >= p[c]) && (0..3).any(|c| a[c] > p[c].saturating_add(24))
+        })
+        .collect();
+
+    // CPU answer for a pixel: the nearest surface on its camera ray and whether a ray from
+    // there reaches the light (None: not a light-facing point of the model).
+    let Light::Directional { direction } = scene.light else { panic!("atlas-one has a directional light") };
+    let to_light = -direction.normalize();
+    let triangles: Vec<(usize, [Vec3; 3])> = scene
+        .objects
+        .iter()
+        .enumerate()
+        .flat_map(|(i, o)| {
+            let mesh = &scene.meshes[o.mesh].data;
+            mesh.indices
+                .chunks_exact(3)
+                .map(move |t| (i, [0, 1, 2].map(|k| o.transform.transform_point3(mesh.positions[t[k] as usize]))))
+        })
+        .collect();
+    let model = scene.objects.iter().position(|o| o.name == "model").expect("the model");
+    let inverse = scene.camera.view_projection(w as f32 / h as f32).inverse();
+    let lit_model_point = |x: u32, y: u32| -> Option<bool> {
+        let ndc = Vec2::new((x as f32 + 0.5) / w as f32 * 2.0 - 1.0, (y as f32 + 0.5) / h as f32 * 2.0 - 1.0);
+        let eye = scene.camera.eye;
+        let ray = (inverse.project_point3(ndc.extend(0.5)) - eye).normalize();
+        let (object, t, d) = triangles
+            .iter()
+            .filter_map(|(i, t)| ray_hits_triangle(eye, ray, *t).map(|d| (*i, *t, d)))
+            .min_by(|a, b| a.2.total_cmp(&b.2))?;
+        let mut n = (t[1] - t[0]).cross(t[2] - t[0]).normalize_or_zero();
+        if n.dot(ray) > 0.0 {
+            n = -n;
+        }
+        if object != model || n.dot(to_light) < 0.3 {
+            return None;
+        }
+        let origin = eye + ray * d + n * 0.01;
+        Some(!triangles.iter().any(|(_, t)| ray_hits_triangle(origin, to_light, *t).is_some_and(|d| d > 1e-4)))
+    };
+    let sampled: Vec<(u32, u32)> = darker.iter().step_by((darker.len() / 60).max(1)).copied().collect();
+    let answers: Vec<Option<bool>> = sampled.iter().map(|&(x, y)| lit_model_point(x, y)).collect();
+    let lit = answers.iter().filter(|a| **a == Some(true)).count();
+    let occluded = answers.iter().filter(|a| **a == Some(false)).count();
+    println!(
+        "{} pixels darker under the projective texture than the atlas; of {} sampled, {lit} are light-facing \
+         points of the model that a ray cast finds lit, {occluded} in shadow",
+        darker.len(),
+        sampled.len()
+    );
+    assert!(darker.len() >= 40, "the projective texture must show its flaw: {} pixels", darker.len());
+    assert!(lit * 2 >= sampled.len(), "{lit} of {} sampled pixels are lit model surface", sampled.len());
+    assert!(occluded * 10 <= sampled.len(), "{occluded} of them are really in shadow");
+    common::assert_no_validation_messages(&gpu);
+}

@@ -12,7 +12,7 @@ use gpu_allocator::MemoryLocation;
 use super::atlas::{mesh_atlas, MeshAtlas};
 use super::bake::AtlasTargets;
 use super::light::{light_at, ShadowLightUniforms};
-use super::passes::{self, ATLAS_SPACE, LIGHT, RAW_BAKE, SHADOW_MAP, SHADOW_TEXTURE, TEXTURE_MIP0};
+use super::passes::{self, ATLAS_SPACE, LIGHT, LIGHT_SPACE, RAW_BAKE, SHADOW_MAP, SHADOW_TEXTURE, TEXTURE_MIP0};
 use super::stats::{AtlasInfo, ShadowAtlasStats};
 use super::targets::{self, Framebuffer, RenderPass};
 use crate::error::{Error, Result};
@@ -180,6 +180,17 @@ impl ShadowPasses {
         let atlas = match kind {
             ShadowKind::Map => None,
             ShadowKind::Atlas => Some(AtlasTargets::new(gpu, scene, &layouts)?),
+            ShadowKind::Projective => {
+                // The light's view at the shadow map's size, every mip, nothing to dilate.
+                let size = options.map_size;
+                let in_light_space = |a: &MeshAtlas| MeshAtlas {
+                    size,
+                    mip_levels: crate::gpu::texture::mip_count(size, size),
+                    dilate_radius: 0,
+                    ..a.clone()
+                };
+                Some(AtlasTargets::new(gpu, scene, &layouts.iter().map(in_light_space).collect::<Vec<_>>())?)
+            }
         };
         Ok(ShadowPasses {
             gpu: gpu.clone(),
@@ -327,7 +338,7 @@ impl Passes for ShadowPasses {
         let target = crate::render::plan::Target::Offscreen(name);
         match (target, &self.atlas) {
             (SHADOW_MAP, _) => Some((self.map_pass.raw, 0)),
-            (ATLAS_SPACE, Some(atlas)) => Some((atlas.bake_pass.raw, 1)),
+            (ATLAS_SPACE | LIGHT_SPACE, Some(atlas)) => Some((atlas.bake_pass.raw, 1)),
             (TEXTURE_MIP0, Some(atlas)) => Some((atlas.dilate_pass.raw, 1)),
             _ => None,
         }
@@ -368,7 +379,7 @@ impl Passes for ShadowPasses {
         };
         match pass.name.as_ref() {
             passes::SHADOW_MAP_PASS => self.draw_shadow_map(rec, scene, pass, pipelines),
-            passes::BAKE_PASS => {
+            passes::BAKE_PASS | passes::PROJECTIVE_BAKE_PASS => {
                 self.atlas_targets(pass)?.record_bake(rec, scene, &self.meshes, pipeline()?, self.light_set.set)
             }
             passes::DILATE_PASS => self.atlas_targets(pass)?.record_dilate(rec, pipeline()?),
