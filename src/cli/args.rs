@@ -209,11 +209,12 @@ pub struct FrameArgs {
     /// 255: no shadow). For shadow volumes the normalisation's iteration count follows it.
     #[arg(long, default_value_t = 102, value_name = "F")]
     pub shadow_factor: u8,
-    /// shadow-map, shadow-texture-atlas: `moving` (turns every frame: re-bake) or `fixed`
-    /// (after the first frame the shadow map and bake are skipped).
+    /// shadow-map, shadow-texture-atlas, projective-texture: `moving` (turns every frame:
+    /// re-bake) or `fixed` (after the first frame the shadow map and bake are skipped).
     #[arg(long, value_enum, default_value_t)]
     pub light: LightMode,
-    /// shadow-map, shadow-texture-atlas: shadow map side in texels (power of two).
+    /// shadow-map, shadow-texture-atlas, projective-texture: shadow map side in texels (power of
+    /// two; also the projective texture's side).
     #[arg(long, default_value_t = 512, value_name = "N")]
     pub shadow_map_size: u32,
     /// shadow-texture-atlas: shadow texture side for meshes that are not geometry images.
