@@ -9,7 +9,7 @@ use ash::vk;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use gpu_allocator::MemoryLocation;
 
-use super::atlas::{mesh_atlas, MeshAtlas};
+use super::atlas::{light_view_layout, mesh_atlas, MeshAtlas};
 use super::bake::AtlasTargets;
 use super::light::{light_at, ShadowLightUniforms};
 use super::passes::{self, ATLAS_SPACE, LIGHT, LIGHT_SPACE, RAW_BAKE, SHADOW_MAP, SHADOW_TEXTURE, TEXTURE_MIP0};
@@ -109,7 +109,11 @@ impl ShadowPasses {
             .iter()
             .enumerate()
             .map(|(i, m)| {
-                let atlas = mesh_atlas(&m.name, &m.data, m.uv1.as_deref(), options.texture_size);
+                let atlas = match kind {
+                    // The projective texture needs no atlas (nor the time or the failures of one).
+                    ShadowKind::Projective => Ok(light_view_layout(&m.data, options.map_size)),
+                    _ => mesh_atlas(&m.name, &m.data, m.uv1.as_deref(), options.texture_size),
+                };
                 progress(i + 1, total);
                 atlas
             })
@@ -179,18 +183,7 @@ impl ShadowPasses {
         )?;
         let atlas = match kind {
             ShadowKind::Map => None,
-            ShadowKind::Atlas => Some(AtlasTargets::new(gpu, scene, &layouts)?),
-            ShadowKind::Projective => {
-                // The light's view at the shadow map's size, every mip, nothing to dilate.
-                let size = options.map_size;
-                let in_light_space = |a: &MeshAtlas| MeshAtlas {
-                    size,
-                    mip_levels: crate::gpu::texture::mip_count(size, size),
-                    dilate_radius: 0,
-                    ..a.clone()
-                };
-                Some(AtlasTargets::new(gpu, scene, &layouts.iter().map(in_light_space).collect::<Vec<_>>())?)
-            }
+            ShadowKind::Atlas | ShadowKind::Projective => Some(AtlasTargets::new(gpu, scene, &layouts)?),
         };
         Ok(ShadowPasses {
             gpu: gpu.clone(),
