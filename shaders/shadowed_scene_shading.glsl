@@ -1,7 +1,9 @@
-// Included by shadow_map_scene*.frag (SHADOW_FROM_MAP defined) and shadow_atlas_scene*.frag, and
-// their material variants (ALPHA_MASK, ALPHA_BLEND).
+// Included by shadow_map_scene*.frag (SHADOW_FROM_MAP defined), projective_scene*.frag
+// (SHADOW_PROJECTIVE defined) and shadow_atlas_scene*.frag, and their material variants
+// (ALPHA_MASK, ALPHA_BLEND).
 // Lambert + ambient on the material's surface, the Lambert term scaled by the light's
-// visibility: the shadow map's depth compare, or the model's baked shadow texture (trilinear).
+// visibility: the shadow map's depth compare, the model's shadow texture projected from the
+// light, or the model's baked shadow texture (trilinear).
 #include "frame_uniforms.glsl"
 #include "object_push.glsl"
 #include "material.glsl"
@@ -10,6 +12,10 @@
 #include "shadow_atlas_light.glsl"
 #else
 layout(set = 2, binding = 0) uniform sampler2D shadow_texture;
+#endif
+#ifdef SHADOW_PROJECTIVE
+#define LIGHT_SET 3
+#include "shadow_atlas_light.glsl"
 #endif
 
 layout(location = 0) in vec3 world_position;
@@ -25,8 +31,11 @@ void main() {
     vec4 base = material_surface(uv0, uv1, vertex_colour);
     vec3 n = surface_normal(world_normal);
     float lambert = frame_lambert(world_position, n);
-#ifdef SHADOW_FROM_MAP
+#if defined(SHADOW_FROM_MAP)
     float visible = shadow_visibility(world_position, world_normal);
+#elif defined(SHADOW_PROJECTIVE)
+    vec4 light_clip = shadow.view_proj * vec4(world_position, 1.0);
+    float visible = texture(shadow_texture, light_clip.xy / light_clip.w * 0.5 + 0.5).r;
 #else
     float visible = texture(shadow_texture, atlas_uv).r;
 #endif

@@ -93,6 +93,15 @@ pub enum Command {
         /// Print JSON instead of a table.
         #[arg(long)]
         json: bool,
+        /// shadow-texture-atlas only: also record seed 004's Table 1 (measured beside the
+        /// paper's values) as DIR/table1.json and DIR/table1.md.
+        #[arg(long, value_name = "DIR")]
+        table1_out: Option<PathBuf>,
+        /// shadow-texture-atlas or shadow-map only: instead of timing, count the pixels of
+        /// --scene that flicker over STEPS neighbouring light angles, shadow texture (mips)
+        /// against shadow map (seed 004's figures 6 and 7; use a small --size to minify).
+        #[arg(long, value_name = "STEPS", num_args = 0..=1, default_missing_value = "12")]
+        mip_flicker: Option<u32>,
     },
     /// Bake one model's shadow texture (shadow-texture-atlas) and write it as PNG.
     Bake {
@@ -209,11 +218,12 @@ pub struct FrameArgs {
     /// (`#RRGGBB` or `RRGGBB`), in every path. Instead of --shadow-factor.
     #[arg(long, value_name = "#RRGGBB", value_parser = parse_rgb8, conflicts_with = "shadow_factor")]
     pub shadow_colour: Option<[u8; 3]>,
-    /// shadow-map, shadow-texture-atlas: `moving` (turns every frame: re-bake) or `fixed`
-    /// (after the first frame the shadow map and bake are skipped).
+    /// shadow-map, shadow-texture-atlas, projective-texture: `moving` (turns every frame:
+    /// re-bake) or `fixed` (after the first frame the shadow map and bake are skipped).
     #[arg(long, value_enum, default_value_t)]
     pub light: LightMode,
-    /// shadow-map, shadow-texture-atlas: shadow map side in texels (power of two).
+    /// shadow-map, shadow-texture-atlas, projective-texture: shadow map side in texels (power of
+    /// two; also the projective texture's side).
     #[arg(long, default_value_t = 512, value_name = "N")]
     pub shadow_map_size: u32,
     /// shadow-texture-atlas: shadow texture side for meshes that are not geometry images.

@@ -35,7 +35,15 @@ pub fn run(cli: Cli) -> Result<()> {
             normalize,
             ShadowVolumeOptions { increment, shadow_factor, shadow_colour, ..Default::default() },
         ),
-        Command::Bench { frame, warmup, runs, json } => bench(&frame, warmup, runs, json),
+        Command::Bench { frame, warmup: _, runs, json, table1_out, mip_flicker: Some(steps) } => {
+            if table1_out.is_some() || runs.is_some() {
+                return Err(Error::InvalidInput("--mip-flicker is not timed: drop --table1-out and --runs".into()));
+            }
+            bench_mip_flicker(&frame, steps, json)
+        }
+        Command::Bench { frame, warmup, runs, json, table1_out, mip_flicker: None } => {
+            bench(&frame, warmup, runs, json, table1_out.as_deref())
+        }
         Command::Bake { frame, model, mip, out } => bake(&frame, model.as_deref(), mip, &out),
         Command::View { frame, frames, screenshot, resize_after, paused } => {
             view(&frame, frames, screenshot, resize_after, paused)
@@ -400,7 +408,7 @@ fn info(args: &GpuArgs, json: bool) -> Result<()> {
     Ok(())
 }
 
-fn bench(frame: &FrameArgs, warmup: u32, runs: Option<u32>, json: bool) -> Result<()> {
+fn bench(frame: &FrameArgs, warmup: u32, runs: Option<u32>, json: bool, table1_out: Option<&Path>) -> Result<()> {
     use crate::profile::bench::{self, BenchReport, BenchSettings, Variant};
 
     if runs == Some(0) {
@@ -417,19 +425,26 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: Option<u32>, json: bool) -> Resul
         }
         for technique in TECHNIQUES {
             let one = FrameArgs { technique: technique.name().to_owned(), ..frame.clone() };
-            bench(&one, warmup, runs, false)?;
+            // Only the technique with a paper table records it.
+            bench(&one, warmup, runs, false, table1_out.filter(|_| technique.bench_table().is_some()))?;
             println!();
         }
         return Ok(());
     }
     let options = options(frame)?;
+    if table1_out.is_some() && options.technique.bench_table().is_none() {
+        return Err(Error::InvalidInput(format!(
+            "--table1-out records seed 004's Table 1: use it with --technique shadow-texture-atlas or shadow-map, not {}",
+            options.technique.name()
+        )));
+    }
     let scene = load_scene(&frame.scene, frame.time)?;
     let gpu = open_gpu(&frame.gpu)?;
     let (width, height) = (options.width, options.height);
     if let Some(BenchTable::Seed004Table1) = options.technique.bench_table() {
         // Seed 004's Table 1: both techniques, fixed and moving light, on its two scenes.
         let runs = runs.unwrap_or(crate::profile::table1::DEFAULT_RUNS);
-        return crate::profile::table1::bench(&gpu, &options, warmup, runs, json);
+        return crate::profile::table1::bench(&gpu, &options, warmup, runs, json, table1_out);
     }
     let runs = runs.unwrap_or(bench::DEFAULT_RUNS);
     let mut variants = Vec::new();
@@ -460,6 +475,26 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: Option<u32>, json: bool) -> Resul
         println!("{}", serde_json::to_string_pretty(&report).map_err(|e| Error::Internal(e.to_string()))?);
     } else {
         print!("{}", report.table());
+    }
+    Ok(())
+}
+
+/// `bench --mip-flicker`: seed 004's anti-aliasing claim measured on `--scene`.
+fn bench_mip_flicker(frame: &FrameArgs, steps: u32, json: bool) -> Result<()> {
+    let options = options(frame)?;
+    if options.technique.bench_table() != Some(BenchTable::Seed004Table1) {
+        return Err(Error::InvalidInput(format!(
+            "--mip-flicker compares seed 004's shadow texture and shadow map: use it with --technique shadow-texture-atlas or shadow-map, not {}",
+            options.technique.name()
+        )));
+    }
+    let scene = load_scene(&frame.scene, frame.time)?;
+    let gpu = open_gpu(&frame.gpu)?;
+    let report = crate::profile::mip_flicker::measure(&gpu, &scene, &options, steps)?;
+    if json {
+        println!("{}", serde_json::to_string_pretty(&report).map_err(|e| Error::Internal(e.to_string()))?);
+    } else {
+        print!("{}", report.render());
     }
     Ok(())
 }

@@ -7,6 +7,7 @@ pub mod budget;
 pub mod chart;
 pub mod compare;
 pub mod heatmap;
+pub mod mip_flicker;
 pub mod passes;
 pub mod report;
 pub mod table1;

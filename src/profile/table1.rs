@@ -4,6 +4,7 @@
 //! machines: shadow texture / shadow map, and fixed / moving.
 
 use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use super::bench::{self, BenchSettings, Ratio, Variant, VariantResult};
@@ -51,9 +52,24 @@ pub struct Table1 {
     /// How the intervals of the fps ratios were drawn.
     pub bootstrap: Bootstrap,
     pub rows: Vec<Table1Row>,
+    /// The ratios that can be compared across machines, with the paper's.
+    pub ratios: Vec<Table1Ratio>,
 }
 
-pub fn bench(gpu: &Arc<Gpu>, options: &RenderOptions, warmup: u32, runs: u32, json: bool) -> Result<()> {
+/// One ratio of Table 1: fps of `numerator` / fps of `denominator` on one scene, measured in this
+/// run (median of the per-round ratios, with its interval) and in the paper.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Table1Ratio {
+    pub scene: &'static str,
+    /// What is compared, e.g. "shadow texture / shadow map fps, moving light".
+    pub compared: String,
+    /// `None` when no round could be compared.
+    pub measured: Option<Ratio>,
+    pub paper: f64,
+}
+
+/// Runs Table 1 (both scenes, both techniques, moving and fixed light) and returns it.
+pub fn run(gpu: &Arc<Gpu>, options: &RenderOptions, warmup: u32, runs: u32, progress: bool) -> Result<Table1> {
     let scenes = [builtin_scene("atlas-one")?, builtin_scene("atlas-125")?];
     let (width, height) = (options.width, options.height);
     let mut variants = Vec::new();
@@ -77,7 +93,7 @@ pub fn bench(gpu: &Arc<Gpu>, options: &RenderOptions, warmup: u32, runs: u32, js
             }
         }
     }
-    let results: Vec<VariantResult> = bench::run(variants, &BenchSettings { warmup, runs, progress: !json })?;
+    let results: Vec<VariantResult> = bench::run(variants, &BenchSettings { warmup, runs, progress })?;
     let rows = keys
         .into_iter()
         .zip(results)
@@ -93,8 +109,8 @@ pub fn bench(gpu: &Arc<Gpu>, options: &RenderOptions, warmup: u32, runs: u32, js
             frame_ms_rounds: r.frame_ms_rounds,
         })
         .collect();
-    let table = Table1 {
-        schema: "nostencil-table1/2",
+    let mut table = Table1 {
+        schema: "nostencil-table1/3",
         device: gpu.device.info.name.clone(),
         width,
         height,
@@ -102,11 +118,34 @@ pub fn bench(gpu: &Arc<Gpu>, options: &RenderOptions, warmup: u32, runs: u32, js
         runs,
         bootstrap: Bootstrap::DEFAULT,
         rows,
+        ratios: Vec::new(),
     };
+    table.ratios = table.compute_ratios();
+    Ok(table)
+}
+
+/// `bench --technique shadow-texture-atlas`: Table 1 printed (as text or JSON) and, with
+/// `out`, recorded there as `table1.json` and `table1.md`.
+pub fn bench(
+    gpu: &Arc<Gpu>,
+    options: &RenderOptions,
+    warmup: u32,
+    runs: u32,
+    json: bool,
+    out: Option<&Path>,
+) -> Result<()> {
+    let table = run(gpu, options, warmup, runs, !json)?;
     if json {
-        println!("{}", serde_json::to_string_pretty(&table).map_err(|e| Error::Internal(e.to_string()))?);
+        println!("{}", table.json()?);
     } else {
         print!("{}", table.render());
+    }
+    if let Some(dir) = out {
+        let written = table.write(dir)?;
+        eprintln!(
+            "Table 1 recorded: {}",
+            written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ")
+        );
     }
     Ok(())
 }
@@ -116,21 +155,59 @@ impl Table1 {
         self.rows.iter().find(|r| r.scene == scene && r.technique == technique && r.light == light)
     }
 
-    /// fps of `a` / fps of `b`: in this run as the median of the per-round ratios with its
-    /// interval, and in the paper.
-    fn fps_ratio(&self, a: &Table1Row, b: &Table1Row) -> (String, f64) {
-        let measured = Ratio::per_round(&b.frame_ms_rounds, &a.frame_ms_rounds, &self.bootstrap)
-            .map_or("n/a".into(), |r| r.brief());
-        (measured, a.paper_fps / b.paper_fps)
+    /// fps of `a` / fps of `b` on `scene`: in this run as the median of the per-round ratios
+    /// with its interval, and in the paper.
+    fn fps_ratio(&self, scene: &'static str, compared: String, a: &Table1Row, b: &Table1Row) -> Table1Ratio {
+        Table1Ratio {
+            scene,
+            compared,
+            measured: Ratio::per_round(&b.frame_ms_rounds, &a.frame_ms_rounds, &self.bootstrap),
+            paper: a.paper_fps / b.paper_fps,
+        }
+    }
+
+    /// The ratios that can be compared across machines: shadow texture / shadow map per light,
+    /// fixed / moving per technique, on each scene.
+    fn compute_ratios(&self) -> Vec<Table1Ratio> {
+        let mut ratios = Vec::new();
+        for scene in ["atlas-one", "atlas-125"] {
+            for light in [LightMode::Moving, LightMode::Fixed] {
+                if let (Some(a), Some(m)) =
+                    (self.row(scene, ShadowKind::Atlas, light), self.row(scene, ShadowKind::Map, light))
+                {
+                    let compared = format!("shadow texture / shadow map fps, {} light", light.name());
+                    ratios.push(self.fps_ratio(scene, compared, a, m));
+                }
+            }
+            for kind in [ShadowKind::Atlas, ShadowKind::Map] {
+                if let (Some(f), Some(m)) =
+                    (self.row(scene, kind, LightMode::Fixed), self.row(scene, kind, LightMode::Moving))
+                {
+                    ratios.push(self.fps_ratio(scene, format!("{} fixed / moving fps", kind.name()), f, m));
+                }
+            }
+        }
+        ratios
+    }
+
+    fn header(&self) -> String {
+        format!(
+            "Table 1 (seed 004) | {} | {}x{} | {} warm-up + {} timed rounds, one frame of each row per round | paper: ATI 9800XT, shadow map 512x512",
+            self.device, self.width, self.height, self.warmup, self.runs
+        )
+    }
+
+    fn measured_brief(ratio: &Table1Ratio) -> String {
+        ratio.measured.as_ref().map_or("n/a".into(), Ratio::brief)
+    }
+
+    pub fn json(&self) -> Result<String> {
+        serde_json::to_string_pretty(self).map_err(|e| Error::Internal(e.to_string()))
     }
 
     pub fn render(&self) -> String {
         let mut out = String::new();
-        let _ = writeln!(
-            out,
-            "Table 1 (seed 004) | {} | {}x{} | {} warm-up + {} timed rounds, one frame of each row per round | paper: ATI 9800XT, shadow map 512x512",
-            self.device, self.width, self.height, self.warmup, self.runs
-        );
+        let _ = writeln!(out, "{}", self.header());
         let _ = writeln!(
             out,
             "{:<10} {:<21} {:<7} {:>7} {:>10} {:>9} {:>7} {:>10}",
@@ -155,32 +232,67 @@ impl Table1 {
             "\nratios (this run: median of the per-round ratios [95% bootstrap CI, {} resamples] | paper):",
             self.bootstrap.resamples
         );
-        for scene in ["atlas-one", "atlas-125"] {
-            for light in [LightMode::Moving, LightMode::Fixed] {
-                if let (Some(a), Some(m)) =
-                    (self.row(scene, ShadowKind::Atlas, light), self.row(scene, ShadowKind::Map, light))
-                {
-                    let (measured, paper) = self.fps_ratio(a, m);
-                    let _ = writeln!(
-                        out,
-                        "  {scene:<10} {:<7} shadow texture / shadow map fps: {measured:>17} | {paper:>5.2}",
-                        light.name(),
-                    );
-                }
-            }
-            for kind in [ShadowKind::Atlas, ShadowKind::Map] {
-                if let (Some(f), Some(m)) =
-                    (self.row(scene, kind, LightMode::Fixed), self.row(scene, kind, LightMode::Moving))
-                {
-                    let (measured, paper) = self.fps_ratio(f, m);
-                    let _ = writeln!(
-                        out,
-                        "  {scene:<10} {:<21} fixed / moving fps: {measured:>17} | {paper:>5.2}",
-                        kind.name()
-                    );
-                }
-            }
+        for ratio in &self.ratios {
+            let _ = writeln!(
+                out,
+                "  {:<10} {:<52} {:>17} | {:>5.2}",
+                ratio.scene,
+                ratio.compared,
+                Self::measured_brief(ratio),
+                ratio.paper
+            );
         }
         out
+    }
+
+    /// The same table as Markdown: the rows beside the paper's fps, then the ratios.
+    pub fn markdown(&self) -> String {
+        let mut out = String::new();
+        let _ = writeln!(out, "{}\n", self.header());
+        let _ = writeln!(out, "| scene | technique | light | passes | frame ms | GPU ms | fps | paper fps |");
+        let _ = writeln!(out, "|---|---|---|---:|---:|---:|---:|---:|");
+        for r in &self.rows {
+            let _ = writeln!(
+                out,
+                "| {} | {} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} |",
+                r.scene,
+                r.technique.name(),
+                r.light.name(),
+                r.passes,
+                r.frame_ms,
+                r.gpu_ms,
+                r.fps,
+                r.paper_fps
+            );
+        }
+        let _ = writeln!(
+            out,
+            "\nRatios: this run's median of the per-round ratios [95% bootstrap interval, {} resamples], and the paper's.\n",
+            self.bootstrap.resamples
+        );
+        let _ = writeln!(out, "| scene | ratio | this run | paper |");
+        let _ = writeln!(out, "|---|---|---:|---:|");
+        for ratio in &self.ratios {
+            let _ = writeln!(
+                out,
+                "| {} | {} | {} | {:.2} |",
+                ratio.scene,
+                ratio.compared,
+                Self::measured_brief(ratio),
+                ratio.paper
+            );
+        }
+        out
+    }
+
+    /// Writes `table1.json` and `table1.md` into `dir` (created if missing), each atomically;
+    /// returns their paths.
+    pub fn write(&self, dir: &Path) -> Result<[PathBuf; 2]> {
+        std::fs::create_dir_all(dir).map_err(|source| Error::Io { path: dir.to_owned(), source })?;
+        let json = dir.join("table1.json");
+        let markdown = dir.join("table1.md");
+        crate::frame::write_atomically(&json, self.json()?.as_bytes())?;
+        crate::frame::write_atomically(&markdown, self.markdown().as_bytes())?;
+        Ok([json, markdown])
     }
 }

@@ -53,6 +53,7 @@ fn variant_shaders(fragment: &str) -> Option<(&'static str, &'static str)> {
         "cartoon_shade.frag" => ("cartoon_shade_masked.frag", "cartoon_shade_blend.frag"),
         "shadow_atlas_scene.frag" => ("shadow_atlas_scene_masked.frag", "shadow_atlas_scene_blend.frag"),
         "shadow_map_scene.frag" => ("shadow_map_scene_masked.frag", "shadow_map_scene_blend.frag"),
+        "projective_scene.frag" => ("projective_scene_masked.frag", "projective_scene_blend.frag"),
         _ => return None,
     })
 }

@@ -158,6 +158,10 @@ pub enum ShadowKind {
     Atlas,
     /// The shadow map sampled in the scene pass.
     Map,
+    /// Each model's shadow texture projected from the light (Segal et al.'s shadow texture,
+    /// the paper's figure 2): one texel stands for every surface point on its light ray, so a
+    /// concave model's lit parts take the shadow of its parts behind them.
+    Projective,
 }
 
 impl ShadowKind {
@@ -166,6 +170,7 @@ impl ShadowKind {
         match self {
             ShadowKind::Atlas => "shadow-texture-atlas",
             ShadowKind::Map => "shadow-map",
+            ShadowKind::Projective => "projective-texture",
         }
     }
 }

@@ -21,6 +21,7 @@ pub static TECHNIQUES: &[&dyn Technique] = &[
     &super::planar::ShadowTexture,
     &super::shadow_atlas::SHADOW_MAP,
     &super::shadow_atlas::SHADOW_TEXTURE_ATLAS,
+    &super::shadow_atlas::PROJECTIVE_TEXTURE,
 ];
 
 impl Default for RenderOptions {

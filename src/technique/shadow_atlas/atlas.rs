@@ -21,6 +21,8 @@ pub enum AtlasSource {
     TexCoord0,
     /// Charts grown over nearly coplanar triangles, packed with `padding` texels around each.
     Generated { charts: u32, padding: u32 },
+    /// No atlas: the projective texture is laid out by the light's view.
+    LightView,
 }
 
 impl AtlasSource {
@@ -32,6 +34,7 @@ impl AtlasSource {
             AtlasSource::Generated { charts, padding } => {
                 format!("generated atlas ({charts} charts, {padding} texels padding)")
             }
+            AtlasSource::LightView => "the light's view (projective, no atlas)".into(),
         }
     }
 }
@@ -106,6 +109,23 @@ pub fn mesh_atlas(name: &str, mesh: &MeshData, uv1: Option<&[Vec2]>, size: u32) 
     };
     atlas.rejected_uv1 = rejected_uv1;
     Ok(atlas)
+}
+
+/// The projective texture's layout: the mesh as it is (its UVs unused), a `size` texture seen
+/// from the light with every mip and nothing to dilate.
+pub fn light_view_layout(mesh: &MeshData, size: u32) -> MeshAtlas {
+    MeshAtlas {
+        positions: mesh.positions.clone(),
+        normals: mesh.normals.clone(),
+        uvs: vec![Vec2::ZERO; mesh.positions.len()],
+        indices: mesh.indices.clone(),
+        source_vertices: (0..mesh.positions.len() as u32).collect(),
+        source: AtlasSource::LightView,
+        size,
+        dilate_radius: 0,
+        mip_levels: crate::gpu::texture::mip_count(size, size),
+        rejected_uv1: None,
+    }
 }
 
 /// Mips whose texels stay within half the padding: level k averages 2^k texels a side.

@@ -1,6 +1,6 @@
-//! The pipelines of both seed 004 techniques, as data, and the frame's pass plan: the shadow
-//! map prepass, then (atlas only) the bakes, dilations and mips, all cached while neither the
-//! light nor a model moves, then the scene pass.
+//! The pipelines of the seed 004 techniques, as data, and the frame's pass plan: the shadow
+//! map prepass, then (atlas and projective) the bakes, dilations and mips, all cached while
+//! neither the light nor a model moves, then the scene pass.
 
 use crate::pipeline::recipes::NO_WRITE;
 use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexAttribute, VertexLayout};
@@ -26,6 +26,8 @@ pub const ATLAS_VERTEX: VertexLayout = VertexLayout {
 pub const SHADOW_MAP: Target = Target::Offscreen("shadow map (depth only)");
 /// Each model's raw bake, in atlas space.
 pub const ATLAS_SPACE: Target = Target::Offscreen("shadow texture (atlas space)");
+/// Each model's raw projective bake, in the light's view.
+pub const LIGHT_SPACE: Target = Target::Offscreen("shadow texture (light space)");
 /// Mip 0 of each model's shadow texture, dilated from the raw bake.
 pub const TEXTURE_MIP0: Target = Target::Offscreen("shadow texture mip 0");
 
@@ -38,6 +40,7 @@ pub const RAW_BAKE: SetRole = SetRole::Own("raw bake");
 
 pub const SHADOW_MAP_PASS: &str = "shadow map";
 pub const BAKE_PASS: &str = "atlas bake";
+pub const PROJECTIVE_BAKE_PASS: &str = "projective bake";
 pub const DILATE_PASS: &str = "atlas dilate";
 pub const MIPS_PASS: &str = "atlas mips";
 pub const SCENE_PASS: &str = "scene";
@@ -77,6 +80,17 @@ pub fn bake_desc() -> PipelineDesc {
     }
 }
 
+/// The projective bake: the model from the light, writing only its shadowed texels (no depth:
+/// every surface on a texel's light ray writes, which is the method's flaw).
+pub fn projective_bake_desc() -> PipelineDesc {
+    PipelineDesc {
+        name: "projective bake",
+        vertex_shader: "projective_bake.vert",
+        fragment_shader: "projective_bake.frag",
+        ..bake_desc()
+    }
+}
+
 pub fn dilate_desc() -> PipelineDesc {
     PipelineDesc {
         name: "atlas dilate",
@@ -96,6 +110,7 @@ pub fn scene_desc(kind: ShadowKind) -> PipelineDesc {
         fragment_shader: match kind {
             ShadowKind::Atlas => "shadow_atlas_scene.frag",
             ShadowKind::Map => "shadow_map_scene.frag",
+            ShadowKind::Projective => "projective_scene.frag",
         },
         vertex_layout: ATLAS_VERTEX,
         fixed: FixedFunction::OPAQUE,
@@ -122,18 +137,19 @@ pub fn plan(kind: ShadowKind) -> PassPlan {
     );
     let scene_sets = match kind {
         ShadowKind::Map => [SetRole::Frame, SetRole::Material, LIGHT],
-        ShadowKind::Atlas => {
+        ShadowKind::Atlas | ShadowKind::Projective => {
+            let (name, desc, draws, target) = if kind == ShadowKind::Atlas {
+                (BAKE_PASS, bake_desc(), "each model at its atlas UVs", ATLAS_SPACE)
+            } else {
+                (PROJECTIVE_BAKE_PASS, projective_bake_desc(), "each model from the light", LIGHT_SPACE)
+            };
             plan.push(
-                PlannedPass::new(
-                    BAKE_PASS,
-                    bake_desc(),
-                    Draws::Geometry("each model at its atlas UVs"),
-                    Push::PerDraw("object transform"),
-                )
-                .with_sets(&[LIGHT])
-                .into_target(ATLAS_SPACE)
-                .when(moved),
+                PlannedPass::new(name, desc, Draws::Geometry(draws), Push::PerDraw("object transform"))
+                    .with_sets(&[LIGHT])
+                    .into_target(target)
+                    .when(moved),
             );
+            // Projective: radius 0, a copy (uncovered texels are lit, not a gutter).
             plan.push(
                 PlannedPass::new(
                     DILATE_PASS,
@@ -152,6 +168,11 @@ pub fn plan(kind: ShadowKind) -> PassPlan {
     let scene = scene_desc(kind);
     let pass =
         PlannedPass::new(SCENE_PASS, scene.clone(), Draws::Objects, Push::PerDraw("object transform and colour"));
-    plan.push(with_surface_variants(pass, &scene).with_sets(&scene_sets));
+    let pass = with_surface_variants(pass, &scene);
+    plan.push(match kind {
+        // The projection from the light is the light's (set 3).
+        ShadowKind::Projective => pass.with_sets(&[scene_sets[0], scene_sets[1], scene_sets[2], LIGHT]),
+        _ => pass.with_sets(&scene_sets),
+    });
     plan
 }

@@ -9,10 +9,10 @@ use ash::vk;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use gpu_allocator::MemoryLocation;
 
-use super::atlas::{mesh_atlas, MeshAtlas};
+use super::atlas::{light_view_layout, mesh_atlas, MeshAtlas};
 use super::bake::AtlasTargets;
 use super::light::{light_at, ShadowLightUniforms};
-use super::passes::{self, ATLAS_SPACE, LIGHT, RAW_BAKE, SHADOW_MAP, SHADOW_TEXTURE, TEXTURE_MIP0};
+use super::passes::{self, ATLAS_SPACE, LIGHT, LIGHT_SPACE, RAW_BAKE, SHADOW_MAP, SHADOW_TEXTURE, TEXTURE_MIP0};
 use super::stats::{AtlasInfo, ShadowAtlasStats};
 use super::targets::{self, Framebuffer, RenderPass};
 use crate::error::{Error, Result};
@@ -109,7 +109,11 @@ impl ShadowPasses {
             .iter()
             .enumerate()
             .map(|(i, m)| {
-                let atlas = mesh_atlas(&m.name, &m.data, m.uv1.as_deref(), options.texture_size);
+                let atlas = match kind {
+                    // The projective texture needs no atlas (nor the time or the failures of one).
+                    ShadowKind::Projective => Ok(light_view_layout(&m.data, options.map_size)),
+                    _ => mesh_atlas(&m.name, &m.data, m.uv1.as_deref(), options.texture_size),
+                };
                 progress(i + 1, total);
                 atlas
             })
@@ -179,7 +183,7 @@ impl ShadowPasses {
         )?;
         let atlas = match kind {
             ShadowKind::Map => None,
-            ShadowKind::Atlas => Some(AtlasTargets::new(gpu, scene, &layouts)?),
+            ShadowKind::Atlas | ShadowKind::Projective => Some(AtlasTargets::new(gpu, scene, &layouts)?),
         };
         Ok(ShadowPasses {
             gpu: gpu.clone(),
@@ -327,7 +331,7 @@ impl Passes for ShadowPasses {
         let target = crate::render::plan::Target::Offscreen(name);
         match (target, &self.atlas) {
             (SHADOW_MAP, _) => Some((self.map_pass.raw, 0)),
-            (ATLAS_SPACE, Some(atlas)) => Some((atlas.bake_pass.raw, 1)),
+            (ATLAS_SPACE | LIGHT_SPACE, Some(atlas)) => Some((atlas.bake_pass.raw, 1)),
             (TEXTURE_MIP0, Some(atlas)) => Some((atlas.dilate_pass.raw, 1)),
             _ => None,
         }
@@ -368,7 +372,7 @@ impl Passes for ShadowPasses {
         };
         match pass.name.as_ref() {
             passes::SHADOW_MAP_PASS => self.draw_shadow_map(rec, scene, pass, pipelines),
-            passes::BAKE_PASS => {
+            passes::BAKE_PASS | passes::PROJECTIVE_BAKE_PASS => {
                 self.atlas_targets(pass)?.record_bake(rec, scene, &self.meshes, pipeline()?, self.light_set.set)
             }
             passes::DILATE_PASS => self.atlas_targets(pass)?.record_dilate(rec, pipeline()?),
