@@ -1,10 +1,12 @@
 //! The selection outline without a stencil (seed 003, DESIGN.md section 4): the selected
-//! objects mark alpha, and their extruded copies are drawn only where it is unmarked. Proven
-//! against the document's real-stencil version. The recipes and pass plan are in [`recipes`],
-//! the renderer in [`renderer`].
+//! objects mark alpha, and their copies (extruded, or scaled up as the document does: see
+//! [`scaled`]) are drawn only where it is unmarked. Proven against the document's
+//! real-stencil version. The recipes and pass plan are in [`recipes`], the renderer in
+//! [`renderer`].
 
 pub mod recipes;
 pub mod renderer;
+pub mod scaled;
 
 use std::sync::Arc;
 
@@ -15,6 +17,7 @@ use crate::frame::StencilMode;
 use crate::gpu::Gpu;
 use crate::render::plan::PassPlan;
 use crate::scene::Scene;
+use crate::technique::options::OutlineMethod;
 
 /// Selected objects outlined in one colour, emulated in alpha or with the real stencil.
 pub struct Outline;
@@ -29,7 +32,7 @@ impl Technique for Outline {
     }
 
     fn plan(&self, options: &RenderOptions) -> Result<PassPlan> {
-        Ok(recipes::plan(options.stencil))
+        Ok(recipes::plan(options.stencil, options.cartoon.outline_method))
     }
 
     fn build<'s>(
@@ -42,17 +45,35 @@ impl Technique for Outline {
     }
 
     fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
-        stencil_variants(self.name(), options)
-            .into_iter()
-            .map(|mut variant| {
-                variant.label = match variant.options.stencil {
-                    StencilMode::Reference => "reference (stencil)".into(),
-                    StencilMode::Emulated => "emulated".into(),
+        method_variants(options)
+    }
+
+    fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+        method_variants(options)
+    }
+
+    fn describe(&self, options: &RenderOptions) -> String {
+        format!("{} ({}, {})", self.name(), options.stencil.name(), options.cartoon.outline_method.name())
+    }
+}
+
+/// Each `--outline-method`, each with the reference and the emulated path (reference first).
+fn method_variants(options: &RenderOptions) -> Vec<Variant> {
+    OutlineMethod::ALL
+        .iter()
+        .flat_map(|&method| {
+            let mut options = options.clone();
+            options.cartoon.outline_method = method;
+            stencil_variants("outline", &options).into_iter().map(move |mut variant| {
+                let path = match variant.options.stencil {
+                    StencilMode::Reference => "reference (stencil)",
+                    StencilMode::Emulated => "emulated",
                 };
+                variant.label = format!("{} {path}", method.name());
                 variant
             })
-            .collect()
-    }
+        })
+        .collect()
 }
 
 /// Which objects are selected, by index: those named, or with no names the scene's first

@@ -1,12 +1,14 @@
-//! The outline renderer: the scene's meshes, the ramps and every object's extruded copy,
-//! built once and kept in pose, drawn by the plan of `recipes`.
+//! The outline renderer: the scene's meshes, the ramps and every object's welded copy (pushed
+//! out along its normals, or scaled about its centre, by the vertex shader), built once and
+//! kept in pose, drawn by the plan of `recipes`.
 
 use std::sync::Arc;
 
 use ash::vk;
 use glam::Vec4;
 
-use super::recipes::{NOT_SELECTED, SELECTED, SELECTED_EXTRUDED};
+use super::recipes::{NOT_SELECTED, SELECTED, SELECTED_EXTRUDED, SELECTED_SCALED};
+use super::scaled::Bounds;
 use super::{resolve_selection, Outline};
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
@@ -35,10 +37,14 @@ pub fn build<'s>(
     let [r, g, b] = cartoon.outline_colour.map(crate::frame::srgb::decode);
     let extrusion = Extrusion { width_px: cartoon.outline_width, colour: Vec4::new(r, g, b, 1.0) };
     frame_renderer::build(technique, gpu, scene, options, |ctx| {
+        let copies = ExtrudedCopies::new(ctx.gpu, scene)?;
+        let bounds = (0..scene.objects.len()).map(|i| Bounds::of(copies.positions(i))).collect();
         Ok(OutlinePasses {
             gpu: ctx.gpu.clone(),
             scene_pass: CartoonScene::new(ctx.gpu, scene, Shading::default())?,
-            copies: ExtrudedCopies::new(ctx.gpu, scene)?,
+            copies,
+            bounds,
+            scales: vec![1.0; scene.objects.len()],
             selected,
             extrusion,
             viewport: Vec4::ZERO,
@@ -50,6 +56,10 @@ struct OutlinePasses {
     gpu: Arc<Gpu>,
     scene_pass: CartoonScene,
     copies: ExtrudedCopies,
+    /// Per object: its copy's centre and radius, in its current pose (`--outline-method scale`).
+    bounds: Vec<Bounds>,
+    /// Per object: this frame's scale about its centre, for the width in pixels.
+    scales: Vec<f32>,
     /// Per object: whether it is outlined.
     selected: Vec<bool>,
     extrusion: Extrusion,
@@ -69,7 +79,16 @@ impl Passes for OutlinePasses {
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
         let changed = self.scene_pass.meshes.follow_pose(&self.gpu, scene)?;
         self.copies.follow_pose(&self.gpu, scene, &changed)?;
+        for &index in &changed {
+            self.bounds[index] = Bounds::of(self.copies.positions(index));
+        }
         self.viewport = cartoon_shading::viewport(scene, renderer.extent());
+        let eye = scene.camera.eye;
+        for (index, object) in scene.objects.iter().enumerate() {
+            let bounds = &self.bounds[index];
+            self.scales[index] =
+                bounds.scale_for_width(&object.transform, eye, self.viewport.z, self.extrusion.width_px);
+        }
         Ok(())
     }
 
@@ -87,6 +106,14 @@ impl Passes for OutlinePasses {
             NOT_SELECTED => self.scene_pass.draw(rec, pass, pipelines, scene, |i| !selected(i), 0.0, self.viewport),
             SELECTED => self.scene_pass.draw(rec, pass, pipelines, scene, selected, 1.0, self.viewport),
             SELECTED_EXTRUDED => self.copies.draw(rec, pipeline, scene, selected, self.extrusion, self.viewport),
+            SELECTED_SCALED => {
+                // `outline_scale.vert`: x = scale, yzw = centre.
+                let params = |i: usize| {
+                    let c = self.bounds[i].centre;
+                    Vec4::new(self.scales[i], c.x, c.y, c.z)
+                };
+                self.copies.draw_with(rec, pipeline, scene, selected, self.extrusion.colour, self.viewport, params)
+            }
             _ => return Err(Error::Internal(format!("the outline cannot draw pass '{}'", pass.name))),
         }
         Ok(())
