@@ -188,3 +188,33 @@ fn on_a_torus_the_scaled_copy_leaves_the_hole_without_outline_and_the_extrusion_
     }
     common::assert_no_validation_messages(&gpu);
 }
+
+#[test]
+fn outline_colour_and_method_from_the_command_line() {
+    let dir = common::scratch_dir("outline-cli");
+    let out = dir.join("green.png");
+    let path = out.to_str().expect("utf-8 path");
+    let common_args = ["render", "--size", "96x64", "--scene", "outline", "--technique", "outline", "--out", path];
+    for method in ["extrude", "scale"] {
+        let mut args = common_args.to_vec();
+        args.extend_from_slice(&["--outline-method", method, "--outline-colour", "#00FF00", "--outline-width", "3"]);
+        common::run_ok(&args);
+        let green = common::read_png(&out).pixels().filter(|p| p.0 == [0, 255, 0]).count();
+        assert!(green > 50, "{method}: {green} pixels of #00FF00");
+    }
+    for (value, mentions) in [
+        (&["--outline-colour", "FFA00"][..], "--outline-colour"),
+        (&["--outline-colour", "#GG0000"][..], "--outline-colour"),
+        (&["--outline-colour", "orange"][..], "--outline-colour"),
+        (&["--outline-width", "0"][..], "--outline-width"),
+        (&["--outline-width", "65"][..], "--outline-width"),
+        (&["--outline-width", "nan"][..], "--outline-width"),
+        (&["--outline-method", "grow"][..], "--outline-method"),
+    ] {
+        let mut args = common_args.to_vec();
+        args.extend_from_slice(value);
+        let err = common::run_err(&args);
+        assert_eq!(err.trim_end().lines().count(), 1, "{value:?}: {err}");
+        assert!(err.contains(mentions), "{value:?}: '{mentions}' not in {err}");
+    }
+}

@@ -241,7 +241,8 @@ pub fn parse_size(text: &str) -> Result<(u32, u32)> {
 }
 
 fn parse_colour_arg(text: &str) -> std::result::Result<[u8; 3], String> {
-    parse_rgb_hex("--outline-colour", text).map_err(|e| e.to_string())
+    // clap names the option and the value already.
+    parse_rgb_hex("--outline-colour", text).map_err(|_| "expected six hex digits, such as #FFA000".to_string())
 }
 
 fn parse_size_arg(text: &str) -> std::result::Result<(u32, u32), String> {
