@@ -218,3 +218,71 @@ fn outline_colour_and_method_from_the_command_line() {
         assert!(err.contains(mentions), "{value:?}: '{mentions}' not in {err}");
     }
 }
+
+#[test]
+fn blurred_outline_emulated_equals_reference() {
+    let gpu = common::gpu();
+    let outline = builtin_scene("outline").expect("scene");
+    let cases: [(&[&str], OutlineMethod, u32); 4] = [
+        (&["box"], OutlineMethod::Extrude, 4),
+        // The torus in front of the box is not selected; the box and sphere intersect.
+        (&["box", "sphere"], OutlineMethod::Extrude, 2),
+        (&["box", "sphere", "torus knot"], OutlineMethod::Scale, 6),
+        (&["torus", "ground"], OutlineMethod::Scale, 1),
+    ];
+    for (names, method, radius) in cases {
+        let cartoon = CartoonOptions {
+            select: names.iter().map(|s| s.to_string()).collect(),
+            outline_blur: radius,
+            ..options(method, 4.0)
+        };
+        let reference = render(&gpu, &outline, StencilMode::Reference, &cartoon);
+        let emulated = render(&gpu, &outline, StencilMode::Emulated, &cartoon);
+        let label = format!("{names:?} {method:?} blur {radius}");
+        let differing = rgb_differences(&emulated, &reference);
+        assert_eq!(differing, 0, "{label}: {differing} pixels differ");
+        // Not vacuous: the blurred outline changes the frame, and differs from the sharp one.
+        let sharp =
+            render(&gpu, &outline, StencilMode::Emulated, &CartoonOptions { outline_blur: 0, ..cartoon.clone() });
+        assert!(rgb_differences(&emulated, &sharp) > 100, "{label}: the blur changes nothing");
+    }
+    common::assert_no_validation_messages(&gpu);
+}
+
+/// A cube seen face-on: its outline's edges are straight, so along the middle row (column) the
+/// box blur of radius R spreads the sharp outline by exactly R pixels outwards, with a
+/// coverage of about 1/(2R + 1) at the last one; the selected face itself is never covered.
+#[test]
+fn blurred_outline_extends_the_sharp_one_by_the_radius() {
+    let gpu = common::gpu();
+    let scene = face_on_scene(shapes::cube(1.0), Mat4::IDENTITY);
+    let background = common::srgb8(scene.background);
+    let sharp_options = options(OutlineMethod::Extrude, 4.0);
+    let sharp = render(&gpu, &scene, StencilMode::Emulated, &sharp_options);
+    let (mid_x, mid_y) = (SIZE.0 / 2, SIZE.1 / 2);
+    // First non-background pixel from the left of the middle row, from the top of the middle
+    // column.
+    let first_left = |image: &RgbaImage| (0..SIZE.0).find(|&x| image.get_pixel(x, mid_y).0[..3] != background);
+    let first_top = |image: &RgbaImage| (0..SIZE.1).find(|&y| image.get_pixel(mid_x, y).0[..3] != background);
+    let (sharp_left, sharp_top) = (first_left(&sharp).expect("outline"), first_top(&sharp).expect("outline"));
+    assert_eq!(sharp.get_pixel(sharp_left, mid_y).0[..3], sharp_options.outline_colour, "the sharp outline's edge");
+    for radius in [1u32, 3, 6] {
+        let cartoon = CartoonOptions { outline_blur: radius, ..sharp_options.clone() };
+        for stencil in [StencilMode::Emulated, StencilMode::Reference] {
+            let blurred = render(&gpu, &scene, stencil, &cartoon);
+            let label = format!("blur {radius} {stencil:?}");
+            assert_eq!(first_left(&blurred), Some(sharp_left - radius), "{label}: along the middle row");
+            assert_eq!(first_top(&blurred), Some(sharp_top - radius), "{label}: down the middle column");
+            // From there to the face, every pixel is tinted.
+            let face = (0..SIZE.0).find(|&x| sharp.get_pixel(x, mid_y).0[3] == 255).expect("the face");
+            for x in sharp_left - radius..face {
+                assert_ne!(blurred.get_pixel(x, mid_y).0[..3], background, "{label}: ({x}, {mid_y}) untinted");
+            }
+            // The selected face is as the sharp frame draws it.
+            for (p, q) in blurred.pixels().zip(sharp.pixels()).filter(|(_, q)| q.0[3] == 255) {
+                assert_eq!(p.0[..3], q.0[..3], "{label}: the blur covers the selection");
+            }
+        }
+    }
+    common::assert_no_validation_messages(&gpu);
+}

@@ -205,6 +205,9 @@ pub struct FrameArgs {
     #[arg(long, visible_alias = "outline-color", default_value = "#FFA000", value_name = "#RRGGBB",
           value_parser = parse_colour_arg)]
     pub outline_colour: [u8; 3],
+    /// outline: blur the outline by two 1D box passes of this radius in pixels (0..=16; 0: sharp).
+    #[arg(long, default_value_t = 0, value_name = "PX")]
+    pub outline_blur: u32,
     /// shadow-volume, planar, blob, shadow-texture: shadowed colour = colour x F/255 (0..=255;
     /// 255: no shadow). For shadow volumes the normalisation's iteration count follows it.
     #[arg(long, default_value_t = 102, value_name = "F")]

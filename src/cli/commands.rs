@@ -98,6 +98,7 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
             outline_width: frame.outline_width,
             outline_colour: frame.outline_colour,
             outline_method: frame.outline_method,
+            outline_blur: frame.outline_blur,
         },
         planar: PlanarOptions { shadow_factor: frame.shadow_factor, ..Default::default() },
     };

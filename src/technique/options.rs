@@ -122,7 +122,12 @@ pub struct CartoonOptions {
     pub outline_colour: [u8; 3],
     /// How the outline copy is made (`outline`).
     pub outline_method: OutlineMethod,
+    /// Blur radius of the outline in pixels, 0 for a sharp outline (`outline`).
+    pub outline_blur: u32,
 }
+
+/// The largest `--outline-blur` radius, in pixels.
+pub const MAX_OUTLINE_BLUR: u32 = 16;
 
 impl Default for CartoonOptions {
     fn default() -> Self {
@@ -134,6 +139,7 @@ impl Default for CartoonOptions {
             outline_width: 4.0,
             outline_colour: [255, 160, 0],
             outline_method: OutlineMethod::Extrude,
+            outline_blur: 0,
         }
     }
 }
@@ -146,6 +152,12 @@ impl CartoonOptions {
         }
         if !(self.outline_width.is_finite() && (0.5..=64.0).contains(&self.outline_width)) {
             return Err(Error::InvalidInput(format!("--outline-width {}: use 0.5 to 64 pixels", self.outline_width)));
+        }
+        if self.outline_blur > MAX_OUTLINE_BLUR {
+            return Err(Error::InvalidInput(format!(
+                "--outline-blur {}: use 0 (sharp) to {MAX_OUTLINE_BLUR} pixels",
+                self.outline_blur
+            )));
         }
         if !(self.crease_deg.is_finite() && (0.0..=180.0).contains(&self.crease_deg)) {
             return Err(Error::InvalidInput(format!("--crease-angle {}: use 0 to 180 degrees", self.crease_deg)));

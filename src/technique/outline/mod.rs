@@ -4,6 +4,8 @@
 //! real-stencil version. The recipes and pass plan are in [`recipes`], the renderer in
 //! [`renderer`].
 
+pub mod blur;
+pub mod copies;
 pub mod recipes;
 pub mod renderer;
 pub mod scaled;
@@ -32,7 +34,7 @@ impl Technique for Outline {
     }
 
     fn plan(&self, options: &RenderOptions) -> Result<PassPlan> {
-        Ok(recipes::plan(options.stencil, options.cartoon.outline_method))
+        Ok(recipes::plan(options.stencil, &options.cartoon))
     }
 
     fn build<'s>(
@@ -53,27 +55,40 @@ impl Technique for Outline {
     }
 
     fn describe(&self, options: &RenderOptions) -> String {
-        format!("{} ({}, {})", self.name(), options.stencil.name(), options.cartoon.outline_method.name())
+        let cartoon = &options.cartoon;
+        let blur = if cartoon.outline_blur > 0 { format!(", blur {}", cartoon.outline_blur) } else { String::new() };
+        format!("{} ({}, {}{blur})", self.name(), options.stencil.name(), cartoon.outline_method.name())
     }
 }
 
-/// Each `--outline-method`, each with the reference and the emulated path (reference first).
+/// The blur radius of the blurred variants when the options ask for none.
+const BENCH_BLUR: u32 = 4;
+
+/// Each `--outline-method`, sharp and blurred (by the options' `--outline-blur`, else
+/// `BENCH_BLUR` pixels), each with the reference and the emulated path (reference first).
 fn method_variants(options: &RenderOptions) -> Vec<Variant> {
-    OutlineMethod::ALL
-        .iter()
-        .flat_map(|&method| {
+    let blurred = match options.cartoon.outline_blur {
+        0 => BENCH_BLUR,
+        radius => radius,
+    };
+    let mut variants = Vec::new();
+    for &method in OutlineMethod::ALL {
+        for blur in [0, blurred] {
             let mut options = options.clone();
             options.cartoon.outline_method = method;
-            stencil_variants("outline", &options).into_iter().map(move |mut variant| {
+            options.cartoon.outline_blur = blur;
+            for mut variant in stencil_variants("outline", &options) {
                 let path = match variant.options.stencil {
                     StencilMode::Reference => "reference (stencil)",
                     StencilMode::Emulated => "emulated",
                 };
-                variant.label = format!("{} {path}", method.name());
-                variant
-            })
-        })
-        .collect()
+                let blur = if blur > 0 { format!(" blur {blur}") } else { String::new() };
+                variant.label = format!("{}{blur} {path}", method.name());
+                variants.push(variant);
+            }
+        }
+    }
+    variants
 }
 
 /// Which objects are selected, by index: those named, or with no names the scene's first

@@ -7,22 +7,24 @@
 //!    their centres with `--outline-method scale`), depth test off, drawn only where alpha is
 //!    0 (`COLOUR_WHERE_ALPHA_ZERO`): exactly where a stencil test `NOT_EQUAL 1` would pass.
 //!
+//! With `--outline-blur R` the outline pass is replaced: the mask and two blur passes run
+//! offscreen first, and the blurred outline is blended over the frame last (see `blur`).
+//!
 //! Reference frame: the document's. The selected objects also write stencil 1, then the same
 //! copies are drawn opaque where the stencil is `NOT_EQUAL 1`. Both paths draw the unselected
 //! objects first, as the document does, so the mark means "the visible surface here is
 //! selected" in both.
 
-use ash::vk;
+use glam::Vec4;
 
+use super::blur;
+use super::copies::{copy_desc, outline_fixed};
 use crate::frame::StencilMode;
 use crate::pipeline::recipes::{self, COLOUR_REPLACE, COLOUR_WHERE_ALPHA_ZERO};
-use crate::pipeline::VertexLayout;
-use crate::pipeline::{BlendState, DepthState, FixedFunction, PipelineDesc, RasterState};
+use crate::pipeline::PipelineDesc;
 use crate::render::plan::{Draws, PassPlan, PlannedPass, Push, SetRole};
-use crate::technique::cartoon_shading::cartoon_desc;
 use crate::technique::cartoon_shading::{shade_desc, shade_pass};
-use crate::technique::extruded::extrude_desc;
-use crate::technique::options::OutlineMethod;
+use crate::technique::options::{CartoonOptions, OutlineMethod};
 
 /// What the scene pass draws.
 pub const NOT_SELECTED: Draws = Draws::Geometry("objects not selected");
@@ -39,28 +41,6 @@ pub fn selected_stencil_desc() -> PipelineDesc {
     desc.name = "selected (stencil)";
     desc.fixed.stencil = Some(recipes::stencil_replace(1));
     desc
-}
-
-/// Triangles of both windings, no depth test: the outline shows through what is in front of
-/// the selection, as the document's does.
-fn outline_fixed(blend: BlendState) -> FixedFunction {
-    FixedFunction {
-        topology: vk::PrimitiveTopology::TRIANGLE_LIST,
-        raster: RasterState::CULL_NONE,
-        depth: DepthState::OFF,
-        stencil: None,
-        blend,
-    }
-}
-
-/// The outline copy of `method` under `fixed`.
-fn copy_desc(method: OutlineMethod, names: [&'static str; 2], fixed: FixedFunction) -> PipelineDesc {
-    match method {
-        OutlineMethod::Extrude => extrude_desc(names[0], fixed),
-        OutlineMethod::Scale => {
-            cartoon_desc(names[1], "outline_scale.vert", "cartoon_colour.frag", VertexLayout::POSITION_NORMAL, fixed)
-        }
-    }
 }
 
 /// The copy, blended by destination alpha: colour = outline * (1 - a) + dst * a.
@@ -84,8 +64,15 @@ pub fn outline_draws(method: OutlineMethod) -> Draws {
     }
 }
 
-/// The outline's passes at `stencil` with copies made by `method`.
-pub fn plan(stencil: StencilMode, method: OutlineMethod) -> PassPlan {
+/// The outline's linear colour, as its shaders write it (the option is sRGB bytes).
+pub fn linear_colour(cartoon: &CartoonOptions) -> Vec4 {
+    let [r, g, b] = cartoon.outline_colour.map(crate::frame::srgb::decode);
+    Vec4::new(r, g, b, 1.0)
+}
+
+/// The outline's passes at `stencil` with the copies, colour and blur of `cartoon`.
+pub fn plan(stencil: StencilMode, cartoon: &CartoonOptions) -> PassPlan {
+    let method = cartoon.outline_method;
     let (selected_name, selected_pipeline, outline) = match stencil {
         // The selected objects are drawn with the scene pipeline: alpha 1 is their mark.
         StencilMode::Emulated => ("selected", shade_desc(), outline_desc(method)),
@@ -96,6 +83,10 @@ pub fn plan(stencil: StencilMode, method: OutlineMethod) -> PassPlan {
         OutlineMethod::Scale => "object transform, outline colour, scale and centre (CartoonPush)",
     };
     let mut plan = PassPlan::new();
+    if cartoon.outline_blur > 0 {
+        // Offscreen: they run before the frame's render pass.
+        plan.extend(blur::offscreen_passes(stencil, method, cartoon.outline_blur));
+    }
     // Unselected first (the document draws the floor before the containers).
     plan.push(shade_pass("scene", shade_desc(), NOT_SELECTED, "object transform and colour, alpha 0 (CartoonPush)"));
     plan.push(shade_pass(
@@ -104,6 +95,10 @@ pub fn plan(stencil: StencilMode, method: OutlineMethod) -> PassPlan {
         SELECTED,
         "object transform and colour, alpha 1 (CartoonPush)",
     ));
+    if cartoon.outline_blur > 0 {
+        plan.push(blur::apply_pass(linear_colour(cartoon)));
+        return plan;
+    }
     plan.push(
         PlannedPass::new(outline.name, outline, outline_draws(method), Push::PerDraw(push))
             .with_sets(&[SetRole::Frame]),
