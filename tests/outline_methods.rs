@@ -198,6 +198,7 @@ fn outline_colour_and_method_from_the_command_line() {
     for method in ["extrude", "scale"] {
         let mut args = common_args.to_vec();
         args.extend_from_slice(&["--outline-method", method, "--outline-colour", "#00FF00", "--outline-width", "3"]);
+        args.extend_from_slice(&["--validation"]);
         common::run_ok(&args);
         let green = common::read_png(&out).pixels().filter(|p| p.0 == [0, 255, 0]).count();
         assert!(green > 50, "{method}: {green} pixels of #00FF00");
@@ -210,6 +211,8 @@ fn outline_colour_and_method_from_the_command_line() {
         (&["--outline-width", "65"][..], "--outline-width"),
         (&["--outline-width", "nan"][..], "--outline-width"),
         (&["--outline-method", "grow"][..], "--outline-method"),
+        (&["--outline-blur", "17"][..], "--outline-blur"),
+        (&["--outline-blur", "-1"][..], "--outline-blur"),
     ] {
         let mut args = common_args.to_vec();
         args.extend_from_slice(value);

@@ -206,7 +206,8 @@ pub struct FrameArgs {
           value_parser = parse_colour_arg)]
     pub outline_colour: [u8; 3],
     /// outline: blur the outline by two 1D box passes of this radius in pixels (0..=16; 0: sharp).
-    #[arg(long, default_value_t = 0, value_name = "PX")]
+    // Negative numbers are values here, so that `-1` is refused as a bad radius, by name.
+    #[arg(long, default_value_t = 0, value_name = "PX", allow_negative_numbers = true)]
     pub outline_blur: u32,
     /// shadow-volume, planar, blob, shadow-texture: shadowed colour = colour x F/255 (0..=255;
     /// 255: no shadow). For shadow volumes the normalisation's iteration count follows it.
