@@ -150,7 +150,8 @@ struct BlurTarget {
 /// The blur's targets, render passes and descriptor sets, at the frame's size.
 pub struct BlurTargets {
     pub extent: vk::Extent2D,
-    // Field order: sets, then framebuffers (in the targets), then render passes, then images.
+    // Field order: the sets go before the sampler and images they point at, each framebuffer
+    // before the images it binds (the stencil last).
     mask_set: DescriptorSet,
     blur_x_set: DescriptorSet,
     blurred_set: DescriptorSet,

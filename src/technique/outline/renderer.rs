@@ -41,10 +41,8 @@ pub fn build<'s>(
     frame_renderer::build(technique, gpu, scene, options, |ctx| {
         let copies = ExtrudedCopies::new(ctx.gpu, scene)?;
         let bounds = (0..scene.objects.len()).map(|i| Bounds::of(copies.positions(i))).collect();
-        let blur = match blur {
-            true => Some(BlurTargets::new(ctx.gpu, ctx.options.stencil, ctx.renderer.extent())?),
-            false => None,
-        };
+        let blur =
+            if blur { Some(BlurTargets::new(ctx.gpu, ctx.options.stencil, ctx.renderer.extent())?) } else { None };
         Ok(OutlinePasses {
             gpu: ctx.gpu.clone(),
             scene_pass: CartoonScene::new(ctx.gpu, scene, Shading::default())?,
@@ -58,6 +56,24 @@ pub fn build<'s>(
             viewport: Vec4::ZERO,
         })
     })
+}
+
+struct OutlinePasses {
+    gpu: Arc<Gpu>,
+    scene_pass: CartoonScene,
+    copies: ExtrudedCopies,
+    /// Per object: its copy's centre and radius, in its current pose (`--outline-method scale`).
+    bounds: Vec<Bounds>,
+    /// Per object: this frame's scale about its centre, for the width in pixels.
+    scales: Vec<f32>,
+    /// Per object: whether it is outlined.
+    selected: Vec<bool>,
+    extrusion: Extrusion,
+    method: OutlineMethod,
+    /// The blur's targets (`--outline-blur`).
+    blur: Option<BlurTargets>,
+    /// This frame's `CartoonPush::viewport`.
+    viewport: Vec4,
 }
 
 impl OutlinePasses {
@@ -122,24 +138,6 @@ impl OutlinePasses {
         rec.end_render_pass();
         drawn
     }
-}
-
-struct OutlinePasses {
-    gpu: Arc<Gpu>,
-    scene_pass: CartoonScene,
-    copies: ExtrudedCopies,
-    /// Per object: its copy's centre and radius, in its current pose (`--outline-method scale`).
-    bounds: Vec<Bounds>,
-    /// Per object: this frame's scale about its centre, for the width in pixels.
-    scales: Vec<f32>,
-    /// Per object: whether it is outlined.
-    selected: Vec<bool>,
-    extrusion: Extrusion,
-    method: OutlineMethod,
-    /// The blur's targets (`--outline-blur`).
-    blur: Option<BlurTargets>,
-    /// This frame's `CartoonPush::viewport`.
-    viewport: Vec4,
 }
 
 impl Passes for OutlinePasses {
