@@ -245,11 +245,19 @@ fn keys_switch_the_technique_live_and_closing_the_window_ends_cleanly() {
     assert!(emulated > 2.0 * lit, "lit: {lit_title}\nshadow-volume: {title}");
 
     // Every other technique, live while the casters turn (each frame a moved pose of the scene);
-    // E and L cycle the cartoon silhouette method and the atlas light, Shift+T goes back.
+    // O and B the outline's copy and blur, E and L the cartoon silhouette method and the atlas
+    // light; Shift+T goes back.
     for technique in ["outline", "silhouette", "toon", "planar", "blob", "shadow-texture", "shadow-map"] {
         xdotool(&x, &["key", "t"]);
         let title = wait_for_title(&x, &window, &format!("| {technique} (emulated"));
         assert!(per_pixel(&title, "fragments/px") > 0.5, "{title}");
+        if technique == "outline" {
+            // O: the document's scaled copy; B: blurred (offscreen mask and blur passes, live).
+            xdotool(&x, &["key", "o"]);
+            wait_for_title(&x, &window, "outline (emulated, scale)");
+            xdotool(&x, &["key", "b"]);
+            wait_for_title(&x, &window, "outline (emulated, scale, blur 4)");
+        }
         if technique == "silhouette" {
             xdotool(&x, &["key", "e"]);
             wait_for_title(&x, &window, "silhouette (emulated, shader)");

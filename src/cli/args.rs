@@ -8,8 +8,9 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::mobile_profile;
+use crate::technique::options::parse_rgb_hex;
 use crate::technique::registry::DEFAULT_TECHNIQUE;
-use crate::technique::{LightMode, Normalize, SilhouetteMethod, VolumeMethod};
+use crate::technique::{LightMode, Normalize, OutlineMethod, SilhouetteMethod, VolumeMethod};
 
 #[derive(Debug, Parser)]
 #[command(
@@ -206,9 +207,21 @@ pub struct FrameArgs {
     /// silhouette/toon: ink line width in pixels (edges and hull).
     #[arg(long, default_value_t = 2.0, value_name = "PX")]
     pub line_width: f32,
-    /// outline: outline width in pixels.
+    /// outline: outline width in pixels (0.5..=64).
     #[arg(long, default_value_t = 4.0, value_name = "PX")]
     pub outline_width: f32,
+    /// outline: how the outline copy is made: `extrude` (pushed out along its smooth normals) or
+    /// `scale` (scaled up about its centre, as the document does).
+    #[arg(long, value_enum, default_value_t)]
+    pub outline_method: OutlineMethod,
+    /// outline: outline colour as the PNG shows it, sRGB hex.
+    #[arg(long, visible_alias = "outline-color", default_value = "#FFA000", value_name = "#RRGGBB",
+          value_parser = parse_colour_arg)]
+    pub outline_colour: [u8; 3],
+    /// outline: blur the outline by two 1D box passes of this radius in pixels (0..=16; 0: sharp).
+    // Negative numbers are values here, so that `-1` is refused as a bad radius, by name.
+    #[arg(long, default_value_t = 0, value_name = "PX", allow_negative_numbers = true)]
+    pub outline_blur: u32,
     /// shadow-volume, planar, blob, shadow-texture: shadowed colour = colour x F/255 (0..=255;
     /// 255: no shadow). For shadow volumes the normalisation's iteration count follows it.
     #[arg(long, default_value_t = 102, value_name = "F")]
@@ -248,6 +261,11 @@ pub fn parse_size(text: &str) -> Result<(u32, u32)> {
     let height: u32 = h.trim().parse().map_err(|_| bad())?;
     mobile_profile::check_image_size("frame", width, height)?;
     Ok((width, height))
+}
+
+fn parse_colour_arg(text: &str) -> std::result::Result<[u8; 3], String> {
+    // clap names the option and the value already.
+    parse_rgb_hex("--outline-colour", text).map_err(|_| "expected six hex digits, such as #FFA000".to_string())
 }
 
 fn parse_size_arg(text: &str) -> std::result::Result<(u32, u32), String> {

@@ -107,7 +107,9 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
             crease_deg: frame.crease_angle,
             line_width: frame.line_width,
             outline_width: frame.outline_width,
-            ..Default::default()
+            outline_colour: frame.outline_colour,
+            outline_method: frame.outline_method,
+            outline_blur: frame.outline_blur,
         },
         planar: PlanarOptions { shadow_factor: frame.shadow_factor, ..Default::default() },
     };

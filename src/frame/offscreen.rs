@@ -15,8 +15,8 @@ use crate::gpu::Gpu;
 pub struct RenderPass {
     gpu: Arc<Gpu>,
     pub raw: vk::RenderPass,
-    /// Its one attachment, as the profile's tile-traffic table reads it.
-    pub attachment: AttachmentDesc,
+    /// Its attachments, as the profile's tile-traffic table reads them.
+    pub attachments: Vec<AttachmentDesc>,
 }
 
 impl Drop for RenderPass {
@@ -33,15 +33,32 @@ pub struct Framebuffer {
 
 impl Framebuffer {
     pub fn new(gpu: &Arc<Gpu>, render_pass: &RenderPass, view: vk::ImageView, extent: vk::Extent2D) -> Result<Self> {
-        let views = [view];
+        Self::with_views(gpu, render_pass, &[view], extent)
+    }
+
+    /// A framebuffer of one view per attachment of `render_pass`, in its order.
+    pub fn with_views(
+        gpu: &Arc<Gpu>,
+        render_pass: &RenderPass,
+        views: &[vk::ImageView],
+        extent: vk::Extent2D,
+    ) -> Result<Self> {
+        if views.len() != render_pass.attachments.len() {
+            return Err(Error::Internal(format!(
+                "a framebuffer of {} views for a render pass of {} attachments",
+                views.len(),
+                render_pass.attachments.len()
+            )));
+        }
         let info = vk::FramebufferCreateInfo::default()
             .render_pass(render_pass.raw)
-            .attachments(&views)
+            .attachments(views)
             .width(extent.width)
             .height(extent.height)
             .layers(1);
-        // SAFETY: `render_pass` is alive and has one attachment; `view` is the caller's single-mip
-        // view of an image at least `extent` large, kept alive as long as this framebuffer.
+        // SAFETY: `render_pass` is alive and has one attachment per view (checked above); each
+        // view is the caller's single-mip view of an image at least `extent` large, kept alive as
+        // long as this framebuffer.
         let raw = unsafe { gpu.raw().create_framebuffer(&info, None) }.vk("vkCreateFramebuffer")?;
         Ok(Framebuffer { gpu: gpu.clone(), raw })
     }
@@ -168,16 +185,72 @@ pub fn colour_render_pass(
     build(gpu, attachment, &subpasses, &deps)
 }
 
+/// A colour attachment as [`colour_render_pass`] makes it (cleared, stored, left for
+/// sampling) and a stencil attachment cleared to 0 and dropped: a mask drawn with a real
+/// stencil (the outline blur's reference path). `stencil_format` has a stencil aspect; its
+/// depth is neither loaded nor stored.
+pub fn colour_stencil_render_pass(
+    gpu: &Arc<Gpu>,
+    format: vk::Format,
+    stencil_format: vk::Format,
+) -> Result<RenderPass> {
+    let colour = AttachmentDesc {
+        name: "colour",
+        format,
+        load: vk::AttachmentLoadOp::CLEAR,
+        store: vk::AttachmentStoreOp::STORE,
+        stencil_load: vk::AttachmentLoadOp::DONT_CARE,
+        stencil_store: vk::AttachmentStoreOp::DONT_CARE,
+        final_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        transient: false,
+    };
+    let stencil = AttachmentDesc {
+        name: "stencil",
+        format: stencil_format,
+        load: vk::AttachmentLoadOp::DONT_CARE,
+        store: vk::AttachmentStoreOp::DONT_CARE,
+        stencil_load: vk::AttachmentLoadOp::CLEAR,
+        stencil_store: vk::AttachmentStoreOp::DONT_CARE,
+        final_layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+        transient: true,
+    };
+    let colour_ref = [vk::AttachmentReference { attachment: 0, layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL }];
+    let stencil_ref =
+        vk::AttachmentReference { attachment: 1, layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL };
+    let subpasses = [vk::SubpassDescription::default()
+        .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
+        .color_attachments(&colour_ref)
+        .depth_stencil_attachment(&stencil_ref)];
+    let deps = dependencies(
+        vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
+            | vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS
+            | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS,
+        vk::AccessFlags::COLOR_ATTACHMENT_WRITE
+            | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE
+            | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_READ,
+    );
+    build_with(gpu, vec![colour, stencil], &subpasses, &deps)
+}
+
 fn build(
     gpu: &Arc<Gpu>,
     attachment: AttachmentDesc,
     subpasses: &[vk::SubpassDescription],
     deps: &[vk::SubpassDependency],
 ) -> Result<RenderPass> {
-    let attachments = [attachment.description()];
-    let info = vk::RenderPassCreateInfo::default().attachments(&attachments).subpasses(subpasses).dependencies(deps);
+    build_with(gpu, vec![attachment], subpasses, deps)
+}
+
+fn build_with(
+    gpu: &Arc<Gpu>,
+    attachments: Vec<AttachmentDesc>,
+    subpasses: &[vk::SubpassDescription],
+    deps: &[vk::SubpassDependency],
+) -> Result<RenderPass> {
+    let descriptions = attachments.iter().map(AttachmentDesc::description).collect::<Vec<_>>();
+    let info = vk::RenderPassCreateInfo::default().attachments(&descriptions).subpasses(subpasses).dependencies(deps);
     // SAFETY: `info` and the arrays it points at live until the call returns; the subpasses
-    // reference attachment 0 only.
+    // reference only attachments of `descriptions`.
     let raw = unsafe { gpu.raw().create_render_pass(&info, None) }.vk("vkCreateRenderPass")?;
-    Ok(RenderPass { gpu: gpu.clone(), raw, attachment })
+    Ok(RenderPass { gpu: gpu.clone(), raw, attachments })
 }

@@ -188,7 +188,7 @@ impl<'a> FrameRecorder<'a> {
                     .into(),
             ));
         }
-        self.begin_render_pass(render_pass.raw, &[render_pass.attachment], framebuffer, extent, clear_values);
+        self.begin_render_pass(render_pass.raw, &render_pass.attachments, framebuffer, extent, clear_values);
     }
 
     /// Begins `render_pass`, whose attachments `attachments` describes (for the tile-traffic

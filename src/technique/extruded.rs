@@ -119,6 +119,11 @@ impl ExtrudedCopies {
         Ok(())
     }
 
+    /// The welded positions of object `index`'s copy, in its current pose.
+    pub fn positions(&self, index: usize) -> &[Vec3] {
+        self.welded.get(index).map_or(&[], |w| w.positions.as_slice())
+    }
+
     /// Draws the copies of the objects `which` picks with the bound `pipeline`, as `extrusion`
     /// says.
     pub fn draw(
@@ -130,9 +135,25 @@ impl ExtrudedCopies {
         extrusion: Extrusion,
         viewport: Vec4,
     ) {
-        let (colour, params) = (extrusion.colour, Vec4::new(extrusion.width_px, 0.0, 0.0, 0.0));
+        let params = Vec4::new(extrusion.width_px, 0.0, 0.0, 0.0);
+        self.draw_with(rec, pipeline, scene, which, extrusion.colour, viewport, |_| params);
+    }
+
+    /// Draws the copies of the objects `which` picks with the bound `pipeline` in `colour`, each
+    /// with the `CartoonPush::params` that `params` gives for its index (the vertex shader's).
+    #[allow(clippy::too_many_arguments)]
+    pub fn draw_with(
+        &self,
+        rec: &mut FrameRecorder,
+        pipeline: &Pipeline,
+        scene: &Scene,
+        which: impl Fn(usize) -> bool,
+        colour: Vec4,
+        viewport: Vec4,
+        params: impl Fn(usize) -> Vec4,
+    ) {
         for (index, object) in scene.objects.iter().enumerate().filter(|(i, _)| which(*i)) {
-            rec.push(pipeline, &CartoonPush { model: object.transform, colour, params, viewport });
+            rec.push(pipeline, &CartoonPush { model: object.transform, colour, params: params(index), viewport });
             rec.draw_mesh(&self.meshes[index]);
         }
     }

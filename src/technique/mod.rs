@@ -27,8 +27,8 @@ use crate::scene::Scene;
 pub use cartoon::CartoonStats;
 pub use interface::{check_same_scene, FrameStats, RenderOptions, SceneRenderer, Technique, TechniqueFrame, Variant};
 pub use options::{
-    CartoonOptions, LightMode, Normalize, ShadowAtlasOptions, ShadowKind, ShadowVolumeOptions, SilhouetteMethod,
-    VolumeMethod,
+    CartoonOptions, LightMode, Normalize, OutlineMethod, ShadowAtlasOptions, ShadowKind, ShadowVolumeOptions,
+    SilhouetteMethod, VolumeMethod,
 };
 pub use planar::{PlanarOptions, PlanarStats};
 pub use registry::{by_name, TECHNIQUES};

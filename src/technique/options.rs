@@ -100,6 +100,18 @@ crate::names::named_enum! {
     }
 }
 
+crate::names::named_enum! {
+    /// How `outline` makes the copy it draws around the selection.
+    pub enum OutlineMethod {
+        /// Pushed out along its smooth normals by the width in pixels.
+        #[default]
+        Extrude = "extrude",
+        /// Scaled up about its centre (the document's way), so that its bounding sphere grows by
+        /// the width in pixels.
+        Scale = "scale",
+    }
+}
+
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct CartoonOptions {
     /// Objects to outline (`outline`); empty: the scene's first shadow caster, else its first object.
@@ -113,7 +125,14 @@ pub struct CartoonOptions {
     pub outline_width: f32,
     /// Outline colour, 8-bit RGB (so every path writes the same bytes).
     pub outline_colour: [u8; 3],
+    /// How the outline copy is made (`outline`).
+    pub outline_method: OutlineMethod,
+    /// Blur radius of the outline in pixels, 0 for a sharp outline (`outline`).
+    pub outline_blur: u32,
 }
+
+/// The largest `--outline-blur` radius, in pixels.
+pub const MAX_OUTLINE_BLUR: u32 = 16;
 
 impl Default for CartoonOptions {
     fn default() -> Self {
@@ -124,6 +143,8 @@ impl Default for CartoonOptions {
             line_width: 2.0,
             outline_width: 4.0,
             outline_colour: [255, 160, 0],
+            outline_method: OutlineMethod::Extrude,
+            outline_blur: 0,
         }
     }
 }
@@ -137,6 +158,12 @@ impl CartoonOptions {
         if !(self.outline_width.is_finite() && (0.5..=64.0).contains(&self.outline_width)) {
             return Err(Error::InvalidInput(format!("--outline-width {}: use 0.5 to 64 pixels", self.outline_width)));
         }
+        if self.outline_blur > MAX_OUTLINE_BLUR {
+            return Err(Error::InvalidInput(format!(
+                "--outline-blur {}: use 0 (sharp) to {MAX_OUTLINE_BLUR} pixels",
+                self.outline_blur
+            )));
+        }
         if !(self.crease_deg.is_finite() && (0.0..=180.0).contains(&self.crease_deg)) {
             return Err(Error::InvalidInput(format!("--crease-angle {}: use 0 to 180 degrees", self.crease_deg)));
         }
@@ -147,6 +174,17 @@ impl CartoonOptions {
     pub fn parse_select(text: &str) -> Vec<String> {
         text.split(',').map(str::trim).filter(|s| !s.is_empty()).map(str::to_owned).collect()
     }
+}
+
+/// Parses an 8-bit RGB colour written `#RRGGBB` (the `#` optional) for the option `what`.
+pub fn parse_rgb_hex(what: &str, text: &str) -> Result<[u8; 3]> {
+    let bad = || Error::InvalidInput(format!("{what} '{text}': expected #RRGGBB, six hex digits such as #FFA000"));
+    let digits = text.trim().strip_prefix('#').unwrap_or(text.trim());
+    if digits.len() != 6 || !digits.chars().all(|c| c.is_ascii_hexdigit()) {
+        return Err(bad());
+    }
+    let byte = |i: usize| u8::from_str_radix(&digits[i..i + 2], 16).map_err(|_| bad());
+    Ok([byte(0)?, byte(2)?, byte(4)?])
 }
 
 /// Which of the two seed 004 shadow techniques a renderer draws. Not a command-line value
@@ -232,5 +270,20 @@ impl ShadowAtlasOptions {
     pub fn check(&self) -> Result<()> {
         check_size("--shadow-map-size", self.map_size)?;
         check_size("--shadow-texture-size", self.texture_size).map(|_| ())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rgb_hex_parses_six_digits_and_names_bad_input() {
+        assert_eq!(parse_rgb_hex("--c", "#FFa000").ok(), Some([255, 160, 0]));
+        assert_eq!(parse_rgb_hex("--c", "0a141e").ok(), Some([10, 20, 30]));
+        for bad in ["", "#", "#FFF", "#FFA0000", "#GG0000", "red", "#+1+2+3", "#ÿÿÿ"] {
+            let error = parse_rgb_hex("--c", bad).err().map(|e| e.to_string()).unwrap_or_default();
+            assert!(error.contains("--c") && error.contains("#RRGGBB"), "{bad:?}: {error}");
+        }
     }
 }

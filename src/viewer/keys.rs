@@ -8,7 +8,7 @@ use super::controls::Live;
 use super::live::Settings;
 use crate::frame::StencilMode;
 use crate::scene::Scene;
-use crate::technique::{LightMode, Normalize, SilhouetteMethod, TECHNIQUES};
+use crate::technique::{LightMode, Normalize, OutlineMethod, SilhouetteMethod, TECHNIQUES};
 
 /// How far one press of an arrow turns or tilts the light (radians).
 const LIGHT_STEP: f32 = 0.15;
@@ -16,6 +16,8 @@ const LIGHT_STEP: f32 = 0.15;
 const MAX_TILT: f32 = 1.2;
 /// The shadow-volume increments K cycles through.
 const INCREMENTS: [u8; 4] = [1, 2, 4, 8];
+/// The outline blur radii B cycles through (pixels; 0 is sharp).
+const OUTLINE_BLURS: [u32; 3] = [0, 4, 8];
 
 /// A key as the table names it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -53,6 +55,8 @@ pub(super) enum Action {
     NextNormalisation,
     NextIncrement,
     NextInk,
+    NextOutlineMethod,
+    NextOutlineBlur,
     SwitchAtlasLight,
     Pause,
     TurnLight,
@@ -103,6 +107,16 @@ pub(super) const BINDINGS: &[Binding] = &[
         keys: &[KeyPress::Letter('e')],
         description: "silhouette/toon ink: edges, shader rim, inverted hull",
         action: Action::NextInk,
+    },
+    Binding {
+        keys: &[KeyPress::Letter('o')],
+        description: "outline copy: extruded along the normals / scaled about the centre (the document's)",
+        action: Action::NextOutlineMethod,
+    },
+    Binding {
+        keys: &[KeyPress::Letter('b')],
+        description: "outline blur: 0 (sharp), 4, 8 pixels",
+        action: Action::NextOutlineBlur,
     },
     Binding {
         keys: &[KeyPress::Letter('l')],
@@ -183,6 +197,10 @@ impl Action {
             }
             Action::NextIncrement => s.shadow_volume.increment = cycle(&INCREMENTS, s.shadow_volume.increment, 1),
             Action::NextInk => s.cartoon.silhouette = cycle(SilhouetteMethod::ALL, s.cartoon.silhouette, 1),
+            Action::NextOutlineMethod => {
+                s.cartoon.outline_method = cycle(OutlineMethod::ALL, s.cartoon.outline_method, 1)
+            }
+            Action::NextOutlineBlur => s.cartoon.outline_blur = cycle(&OUTLINE_BLURS, s.cartoon.outline_blur, 1),
             Action::SwitchAtlasLight => {
                 s.shadow_atlas.light = cycle(&[LightMode::Fixed, LightMode::Moving], s.shadow_atlas.light, 1)
             }

@@ -1,10 +1,14 @@
 //! The selection outline without a stencil (seed 003, DESIGN.md section 4): the selected
-//! objects mark alpha, and their extruded copies are drawn only where it is unmarked. Proven
-//! against the document's real-stencil version. The recipes and pass plan are in [`recipes`],
-//! the renderer in [`renderer`].
+//! objects mark alpha, and their copies (extruded, or scaled up as the document does: see
+//! [`scaled`]) are drawn only where it is unmarked. Proven against the document's
+//! real-stencil version. The recipes and pass plan are in [`recipes`], the renderer in
+//! [`renderer`].
 
+pub mod blur;
+pub mod copies;
 pub mod recipes;
 pub mod renderer;
+pub mod scaled;
 
 use std::sync::Arc;
 
@@ -15,6 +19,7 @@ use crate::frame::StencilMode;
 use crate::gpu::Gpu;
 use crate::render::plan::PassPlan;
 use crate::scene::Scene;
+use crate::technique::options::OutlineMethod;
 
 /// Selected objects outlined in one colour, emulated in alpha or with the real stencil.
 pub struct Outline;
@@ -29,7 +34,7 @@ impl Technique for Outline {
     }
 
     fn plan(&self, options: &RenderOptions) -> Result<PassPlan> {
-        Ok(recipes::plan(options.stencil))
+        Ok(recipes::plan(options.stencil, &options.cartoon))
     }
 
     fn build<'s>(
@@ -42,17 +47,48 @@ impl Technique for Outline {
     }
 
     fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
-        stencil_variants(self.name(), options)
-            .into_iter()
-            .map(|mut variant| {
-                variant.label = match variant.options.stencil {
-                    StencilMode::Reference => "reference (stencil)".into(),
-                    StencilMode::Emulated => "emulated".into(),
-                };
-                variant
-            })
-            .collect()
+        method_variants(options)
     }
+
+    fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+        method_variants(options)
+    }
+
+    fn describe(&self, options: &RenderOptions) -> String {
+        let cartoon = &options.cartoon;
+        let blur = if cartoon.outline_blur > 0 { format!(", blur {}", cartoon.outline_blur) } else { String::new() };
+        format!("{} ({}, {}{blur})", self.name(), options.stencil.name(), cartoon.outline_method.name())
+    }
+}
+
+/// The blur radius of the blurred variants when the options ask for none.
+const BENCH_BLUR: u32 = 4;
+
+/// Each `--outline-method`, sharp and blurred (by the options' `--outline-blur`, else
+/// `BENCH_BLUR` pixels), each with the reference and the emulated path (reference first).
+fn method_variants(options: &RenderOptions) -> Vec<Variant> {
+    let blurred = match options.cartoon.outline_blur {
+        0 => BENCH_BLUR,
+        radius => radius,
+    };
+    let mut variants = Vec::new();
+    for &method in OutlineMethod::ALL {
+        for blur in [0, blurred] {
+            let mut options = options.clone();
+            options.cartoon.outline_method = method;
+            options.cartoon.outline_blur = blur;
+            for mut variant in stencil_variants("outline", &options) {
+                let path = match variant.options.stencil {
+                    StencilMode::Reference => "reference (stencil)",
+                    StencilMode::Emulated => "emulated",
+                };
+                let blur = if blur > 0 { format!(" blur {blur}") } else { String::new() };
+                variant.label = format!("{}{blur} {path}", method.name());
+                variants.push(variant);
+            }
+        }
+    }
+    variants
 }
 
 /// Which objects are selected, by index: those named, or with no names the scene's first

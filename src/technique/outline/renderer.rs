@@ -1,16 +1,19 @@
-//! The outline renderer: the scene's meshes, the ramps and every object's extruded copy,
-//! built once and kept in pose, drawn by the plan of `recipes`.
+//! The outline renderer: the scene's meshes, the ramps and every object's welded copy (pushed
+//! out along its normals, or scaled about its centre, by the vertex shader), built once and
+//! kept in pose, drawn by the plan of `recipes`.
 
 use std::sync::Arc;
 
 use ash::vk;
 use glam::Vec4;
 
-use super::recipes::{NOT_SELECTED, SELECTED, SELECTED_EXTRUDED};
+use super::blur::{BlurTargets, BLUR_X, BLUR_Y, MASK};
+use super::recipes::{self, NOT_SELECTED, SELECTED, SELECTED_EXTRUDED, SELECTED_SCALED};
+use super::scaled::Bounds;
 use super::{resolve_selection, Outline};
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
-use crate::render::plan::{PlannedPass, SetRole};
+use crate::render::plan::{PlannedPass, Push, SetRole, Target};
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, Renderer};
 use crate::scene::Scene;
@@ -20,6 +23,7 @@ use crate::technique::extruded::{ExtrudedCopies, Extrusion};
 use crate::technique::frame_renderer::{self, Passes};
 use crate::technique::interface::RenderOptions;
 use crate::technique::interface::{FrameStats, SceneRenderer};
+use crate::technique::options::OutlineMethod;
 
 /// Builds the renderer; an unknown selected name is refused before anything is uploaded.
 pub fn build<'s>(
@@ -32,15 +36,23 @@ pub fn build<'s>(
     let cartoon = &options.cartoon;
     let selected = resolve_selection(scene, &cartoon.select)?;
     // The colour is given in sRGB bytes, as the PNG shows it; the shader writes linear light.
-    let [r, g, b] = cartoon.outline_colour.map(crate::frame::srgb::decode);
-    let extrusion = Extrusion { width_px: cartoon.outline_width, colour: Vec4::new(r, g, b, 1.0) };
+    let extrusion = Extrusion { width_px: cartoon.outline_width, colour: recipes::linear_colour(cartoon) };
+    let (blur, method) = (cartoon.outline_blur > 0, cartoon.outline_method);
     frame_renderer::build(technique, gpu, scene, options, |ctx| {
+        let copies = ExtrudedCopies::new(ctx.gpu, scene)?;
+        let bounds = (0..scene.objects.len()).map(|i| Bounds::of(copies.positions(i))).collect();
+        let blur =
+            if blur { Some(BlurTargets::new(ctx.gpu, ctx.options.stencil, ctx.renderer.extent())?) } else { None };
         Ok(OutlinePasses {
             gpu: ctx.gpu.clone(),
             scene_pass: CartoonScene::new(ctx.gpu, scene, Shading::default())?,
-            copies: ExtrudedCopies::new(ctx.gpu, scene)?,
+            copies,
+            bounds,
+            scales: vec![1.0; scene.objects.len()],
             selected,
             extrusion,
+            method,
+            blur,
             viewport: Vec4::ZERO,
         })
     })
@@ -50,26 +62,112 @@ struct OutlinePasses {
     gpu: Arc<Gpu>,
     scene_pass: CartoonScene,
     copies: ExtrudedCopies,
+    /// Per object: its copy's centre and radius, in its current pose (`--outline-method scale`).
+    bounds: Vec<Bounds>,
+    /// Per object: this frame's scale about its centre, for the width in pixels.
+    scales: Vec<f32>,
     /// Per object: whether it is outlined.
     selected: Vec<bool>,
     extrusion: Extrusion,
+    method: OutlineMethod,
+    /// The blur's targets (`--outline-blur`).
+    blur: Option<BlurTargets>,
     /// This frame's `CartoonPush::viewport`.
     viewport: Vec4,
 }
 
+impl OutlinePasses {
+    /// The selected objects' copies of `self.method` in `colour`, with the bound `pipeline`.
+    fn draw_copies(&self, rec: &mut FrameRecorder, pipeline: &Pipeline, scene: &Scene, colour: Vec4) {
+        let selected = |i: usize| self.selected[i];
+        match self.method {
+            OutlineMethod::Extrude => {
+                let extrusion = Extrusion { colour, ..self.extrusion };
+                self.copies.draw(rec, pipeline, scene, selected, extrusion, self.viewport)
+            }
+            OutlineMethod::Scale => {
+                // `outline_scale.vert`: x = scale, yzw = centre.
+                let params = |i: usize| {
+                    let c = self.bounds[i].centre;
+                    Vec4::new(self.scales[i], c.x, c.y, c.z)
+                };
+                self.copies.draw_with(rec, pipeline, scene, selected, colour, self.viewport, params)
+            }
+        }
+    }
+
+    /// The blur's passes: the mask (the selection marked in alpha or the stencil, then the
+    /// copies writing R = 1 where it is not), and the two 1D blur passes.
+    fn draw_offscreen(
+        &self,
+        rec: &mut FrameRecorder,
+        scene: &Scene,
+        pass: &PlannedPass,
+        pipelines: &[&Pipeline],
+    ) -> Result<()> {
+        let Some(blur) = &self.blur else {
+            return Err(Error::Internal(format!("outline pass '{}' needs the blur's targets", pass.name)));
+        };
+        let (render_pass, framebuffer, clear) = blur.begin(pass.target)?;
+        rec.begin_offscreen_pass(render_pass, framebuffer, blur.extent, &clear);
+        let drawn = match (pass.target, pipelines) {
+            (MASK, &[mark, copy, ..]) => {
+                rec.bind_with_sets(mark, &[rec.frame_set()]);
+                // Scale 1 about the origin: the selected objects as they are.
+                let as_is = |_: usize| Vec4::new(1.0, 0.0, 0.0, 0.0);
+                let selected = |i: usize| self.selected[i];
+                self.copies.draw_with(rec, mark, scene, selected, Vec4::new(0.0, 0.0, 0.0, 1.0), self.viewport, as_is);
+                rec.bind_with_sets(copy, &[rec.frame_set()]);
+                self.draw_copies(rec, copy, scene, Vec4::ONE);
+                Ok(())
+            }
+            (BLUR_X | BLUR_Y, &[pipeline, ..]) => {
+                let source = pass.sets.first().and_then(|role| blur.set(*role));
+                match (source, &pass.push) {
+                    (Some(source), Push::Constant(push)) => {
+                        rec.bind_with_sets(pipeline, &[source.set]);
+                        rec.push(pipeline, push);
+                        rec.draw_fullscreen();
+                        Ok(())
+                    }
+                    _ => Err(Error::Internal(format!("blur pass '{}' has no source or push", pass.name))),
+                }
+            }
+            _ => Err(Error::Internal(format!("the outline cannot draw offscreen pass '{}'", pass.name))),
+        };
+        rec.end_render_pass();
+        drawn
+    }
+}
+
 impl Passes for OutlinePasses {
     fn set_layout(&self, role: SetRole) -> Option<vk::DescriptorSetLayout> {
-        self.scene_pass.set_layout(role)
+        let blur = self.blur.as_ref().and_then(|b| b.set(role)).map(|s| s.layout);
+        blur.or_else(|| self.scene_pass.set_layout(role))
     }
 
     fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
-        self.scene_pass.set(role)
+        let blur = self.blur.as_ref().and_then(|b| b.set(role)).map(|s| s.set);
+        blur.or_else(|| self.scene_pass.set(role))
+    }
+
+    fn offscreen_pass(&self, name: &'static str) -> Option<(vk::RenderPass, usize)> {
+        self.blur.as_ref().and_then(|b| b.render_pass(Target::Offscreen(name)))
     }
 
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
         let changed = self.scene_pass.meshes.follow_pose(&self.gpu, scene)?;
         self.copies.follow_pose(&self.gpu, scene, &changed)?;
+        for &index in &changed {
+            self.bounds[index] = Bounds::of(self.copies.positions(index));
+        }
         self.viewport = cartoon_shading::viewport(scene, renderer.extent());
+        let eye = scene.camera.eye;
+        for (index, object) in scene.objects.iter().enumerate() {
+            let bounds = &self.bounds[index];
+            self.scales[index] =
+                bounds.scale_for_width(&object.transform, eye, self.viewport.z, self.extrusion.width_px);
+        }
         Ok(())
     }
 
@@ -79,6 +177,9 @@ impl Passes for OutlinePasses {
     }
 
     fn draw(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()> {
+        if pass.target != Target::Frame {
+            return self.draw_offscreen(rec, scene, pass, pipelines);
+        }
         let Some(pipeline) = pipelines.first() else {
             return Err(Error::Internal(format!("outline pass '{}' has no pipeline", pass.name)));
         };
@@ -86,7 +187,7 @@ impl Passes for OutlinePasses {
         match pass.draws {
             NOT_SELECTED => self.scene_pass.draw(rec, pass, pipelines, scene, |i| !selected(i), 0.0, self.viewport),
             SELECTED => self.scene_pass.draw(rec, pass, pipelines, scene, selected, 1.0, self.viewport),
-            SELECTED_EXTRUDED => self.copies.draw(rec, pipeline, scene, selected, self.extrusion, self.viewport),
+            SELECTED_EXTRUDED | SELECTED_SCALED => self.draw_copies(rec, pipeline, scene, self.extrusion.colour),
             _ => return Err(Error::Internal(format!("the outline cannot draw pass '{}'", pass.name))),
         }
         Ok(())
