@@ -286,28 +286,7 @@ mod tests {
     }
 }
 
-/// `#RRGGBB` or `RRGGBB` as three bytes.
-pub fn parse_rgb8(text: &str) -> Result<[u8; 3], String> {
-    let hex = text.strip_prefix('#').unwrap_or(text);
-    let bad = || format!("'{text}' is not a colour: six hex digits, #RRGGBB");
-    if hex.len() != 6 || !hex.is_ascii() {
-        return Err(bad());
-    }
-    let byte = |i: usize| u8::from_str_radix(&hex[i..i + 2], 16).map_err(|_| bad());
-    Ok([byte(0)?, byte(2)?, byte(4)?])
-}
-
-#[cfg(test)]
-mod colour_tests {
-    use super::parse_rgb8;
-
-    #[test]
-    fn hex_colours_parse_and_bad_ones_are_named() {
-        assert_eq!(parse_rgb8("#3366ff"), Ok([0x33, 0x66, 0xff]));
-        assert_eq!(parse_rgb8("FF0080"), Ok([0xff, 0x00, 0x80]));
-        for bad in ["", "#12345", "#1234567", "#12345g", "red", "#ééé"] {
-            let error = parse_rgb8(bad).expect_err(bad);
-            assert!(error.contains(bad), "{error}");
-        }
-    }
+/// `#RRGGBB` or `RRGGBB` as three bytes, for clap (the one parser is `parse_rgb_hex`).
+fn parse_rgb8(text: &str) -> Result<[u8; 3], String> {
+    crate::technique::options::parse_rgb_hex("colour", text).map_err(|e| e.to_string())
 }
