@@ -12,12 +12,13 @@ use glam::{Mat4, Vec3};
 use image::RgbaImage;
 use nostencil::frame::StencilMode;
 use nostencil::gpu::Gpu;
+use nostencil::scene::Light;
 use nostencil::scene::{builtin_scene_at, scene_from_gltf, Scene};
-use nostencil::technique::planar::{self, project_onto_plane, PlanarOptions};
+use nostencil::technique::planar::{self, project_onto_plane, GivenPlane, PlanarOptions, Plane};
 use nostencil::technique::{render_scene, RenderOptions, Technique, TechniqueFrame};
 
 const SIZE: (u32, u32) = (160, 120);
-const FACTOR: u8 = PlanarOptions { shadow_factor: 102, shadows: true }.shadow_factor;
+const FACTOR: u8 = 102;
 
 fn render(gpu: &Arc<Gpu>, scene: &Scene, stencil: StencilMode, shadows: bool) -> TechniqueFrame {
     let options = PlanarOptions { shadows, ..Default::default() };
@@ -169,7 +170,7 @@ fn emulated_equals_reference_where_arms_and_torso_overlap_in_the_shadow() {
             // Where an arm's shadow lies on the torso's, on visible ground, the pixel is darkened
             // once, like its neighbours.
             if name.starts_with("character") {
-                let h = planar::receiver_plane(&scene).expect("plane").height;
+                let h = planar::receiver_plane(&scene, None).expect("plane").height;
                 let torso = cpu_shadow_mask(&scene, &character_part_triangles(&scene, TORSO, h));
                 let receivers = receiver_mask(&unshadowed.output.image);
                 for arm in [LEFT_ARM, RIGHT_ARM] {
@@ -227,7 +228,7 @@ fn the_gpu_projection_lands_where_the_cpu_formula_says() {
     let gpu = common::gpu();
     for (name, time) in [("character", 0.3), ("character-point", 0.3), ("character-point", 0.8)] {
         let scene = builtin_scene_at(name, time).expect("scene");
-        let plane = planar::receiver_plane(&scene).expect("plane");
+        let plane = planar::receiver_plane(&scene, None).expect("plane");
         let unshadowed = render(&gpu, &scene, StencilMode::Emulated, false);
         let shadowed = render(&gpu, &scene, StencilMode::Emulated, true);
         let gpu_mask = changed(&shadowed.output.image, &unshadowed.output.image);
@@ -320,6 +321,122 @@ fn every_shared_asset_renders_with_planar_shadows_animated_ones_moving() {
             assert_eq!(moved, 0, "{file}: not animated, yet the shadow moved");
         }
     }
+    common::assert_no_validation_messages(&gpu);
+}
+
+/// Every caster triangle (CPU-skinned positions) projected by `project`.
+fn triangles_projected_by(
+    scene: &Scene,
+    objects: impl Fn(usize) -> bool,
+    project: impl Fn(Vec3) -> Vec3,
+) -> Vec<[Vec3; 3]> {
+    let mut out = Vec::new();
+    for (_, o) in scene.objects.iter().enumerate().filter(|(i, _)| objects(*i)) {
+        let data = &scene.meshes[o.mesh].data;
+        let world = |v: u32| project(o.transform.transform_point3(data.positions[v as usize]));
+        for t in data.indices.chunks_exact(3) {
+            out.push([world(t[0]), world(t[1]), world(t[2])]);
+        }
+    }
+    out
+}
+
+/// Intersection over union of two masks, counted where `inside` holds.
+fn iou(a: &[bool], b: &[bool], inside: &[bool]) -> f64 {
+    let (mut both, mut either) = (0usize, 0usize);
+    for ((a, b), i) in a.iter().zip(b).zip(inside) {
+        if *i {
+            both += (*a && *b) as usize;
+            either += (*a || *b) as usize;
+        }
+    }
+    both as f64 / either.max(1) as f64
+}
+
+#[test]
+fn a_given_tilted_plane_receives_the_shadow_matrix_projection() {
+    // The `slope` scene's ground is tilted to normal (0, 3, 1): only the plane given by the user
+    // finds it, and the shadow is Blinn's shadow-matrix projection onto it (CPU), which differs
+    // visibly from a projection onto y = 0.
+    let gpu = common::gpu();
+    let given = GivenPlane { normal: [0.0, 3.0, 1.0], height: 0.0 };
+    let options = |shadows| PlanarOptions { shadows, plane: Some(given), ..Default::default() };
+    let plane = Plane::given(&given).expect("plane");
+    for (time, light) in [
+        (0.2, None),
+        (0.6, Some(Light::Directional { direction: Vec3::new(0.5, -1.0, 0.3) })),
+        (0.4, Some(Light::Point { position: Vec3::new(-1.4, 3.5, 1.2) })),
+    ] {
+        let mut scene = builtin_scene_at("slope", time).expect("scene");
+        if let Some(light) = light {
+            scene.light = light;
+        }
+        let frame = |stencil, shadows| {
+            render_with(&gpu, &scene, &planar::Planar, SIZE, stencil, options(shadows)).expect("planar frame")
+        };
+        let unshadowed = frame(StencilMode::Emulated, false);
+        let emulated = frame(StencilMode::Emulated, true);
+        let reference = frame(StencilMode::Reference, true);
+        let differing = rgb_differences(&emulated.output.image, &reference.output.image);
+        assert_eq!(differing, 0, "slope at {time}s: {differing} pixels differ from the reference");
+
+        let receivers = receiver_mask(&unshadowed.output.image);
+        let gpu_mask = changed(&emulated.output.image, &unshadowed.output.image);
+        let casters = planar::receiver_plane(&scene, Some(&given)).expect("receivers");
+        assert_eq!(casters.receivers.iter().filter(|r| **r).count(), 1, "the tilted ground alone receives");
+        let cpu_mask = cpu_shadow_mask(
+            &scene,
+            &triangles_projected_by(&scene, |i| !casters.receivers[i], |p| plane.project(p, &scene.light)),
+        );
+        let flat_mask = cpu_shadow_mask(
+            &scene,
+            &triangles_projected_by(&scene, |i| !casters.receivers[i], |p| project_onto_plane(p, &scene.light, 0.0)),
+        );
+        let (mut inside, mut mismatches) = (0, Vec::new());
+        for y in 0..SIZE.1 {
+            for x in 0..SIZE.0 {
+                let i = (y * SIZE.0 + x) as usize;
+                if receivers[i] && interior(&cpu_mask, x, y) {
+                    inside += cpu_mask[i] as usize;
+                    if cpu_mask[i] != gpu_mask[i] {
+                        mismatches.push((x, y, cpu_mask[i]));
+                    }
+                }
+            }
+        }
+        let matched = iou(&gpu_mask, &cpu_mask, &receivers);
+        let flat = iou(&gpu_mask, &flat_mask, &receivers);
+        eprintln!("slope at {time}s: {inside} interior shadow pixels, IoU {matched:.3} with the tilted projection, {flat:.3} with y = 0");
+        assert!(inside > 100, "slope at {time}s: only {inside} shadow pixels compared");
+        assert!(mismatches.is_empty(), "slope at {time}s: GPU and CPU shadows disagree at {mismatches:?}");
+        assert!(matched > 0.9, "slope at {time}s: IoU {matched}");
+        assert!(flat < matched - 0.1, "slope at {time}s: a projection onto y = 0 fits as well ({flat} vs {matched})");
+    }
+
+    // Bad planes and lights: one clear error each.
+    let scene = builtin_scene_at("slope", 0.0).expect("scene");
+    let refused = |scene: &Scene, plane: Option<GivenPlane>| {
+        let options = PlanarOptions { plane, ..Default::default() };
+        render_with(&gpu, scene, &planar::Planar, (64, 64), StencilMode::Emulated, options)
+            .err()
+            .expect("refused")
+            .to_string()
+    };
+    let error = refused(&scene, None);
+    assert!(error.contains("no flat horizontal receiver") && error.contains("--plane-normal"), "{error}");
+    let error = refused(&scene, Some(GivenPlane { normal: [0.0, 0.0, 0.0], height: 0.0 }));
+    assert!(error.contains("non-zero normal"), "{error}");
+    let error = refused(&scene, Some(GivenPlane { normal: [0.0, 3.0, 1.0], height: 0.5 }));
+    assert!(error.contains("no flat non-casting object lies in the plane"), "{error}");
+    let mut parallel = scene.clone();
+    parallel.light = Light::Directional { direction: Vec3::new(1.0, 0.0, 0.0) };
+    let error = refused(&parallel, Some(given));
+    assert!(error.contains("parallel"), "{error}");
+    let out = common::scratch_dir("planar-given-plane").join("out.png");
+    let out = out.to_str().expect("utf-8 path");
+    let args = ["render", "--technique", "planar", "--scene", "slope", "--size", "64x64", "--out", out];
+    let error = common::run_err(&[&args[..], &["--plane-normal", "0,3"]].concat());
+    assert!(error.contains("--plane-normal"), "{error}");
     common::assert_no_validation_messages(&gpu);
 }
 
@@ -419,7 +536,7 @@ fn shadow_texture_covers_the_planar_shadow_and_blobs_sit_under_the_casters() {
         let blob_mask = changed(&blob.output.image, &unshadowed.output.image);
         assert!(blob_mask.iter().zip(&receivers).all(|(b, r)| !b || *r), "{name}: blob off the receivers");
         // One blob under each foot: the lowest points of the two legs (boxes 4 and 5).
-        let plane = planar::receiver_plane(&scene).expect("plane");
+        let plane = planar::receiver_plane(&scene, None).expect("plane");
         let blobs = planar::blob::blobs(&scene, &plane, 1.0 - FACTOR as f32 / 255.0);
         assert_eq!(blobs.len(), 2, "{name}: {blobs:?}");
         let character = scene.object("character").expect("character");

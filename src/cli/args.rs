@@ -200,6 +200,14 @@ pub struct FrameArgs {
     /// 255: no shadow). For shadow volumes the normalisation's iteration count follows it.
     #[arg(long, default_value_t = 102, value_name = "F")]
     pub shadow_factor: u8,
+    /// planar, shadow-texture, blob: the receiving plane crosses the y axis at H (default: the
+    /// lowest flat horizontal non-caster is the ground).
+    #[arg(long, value_name = "H", allow_hyphen_values = true)]
+    pub plane_height: Option<f32>,
+    /// planar, shadow-texture: the receiving plane's normal (any length but zero; default
+    /// 0,1,0), projected onto with Blinn's shadow matrix; e.g. `--scene slope --plane-normal 0,3,1`.
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub plane_normal: Option<String>,
     /// shadow-map, shadow-texture-atlas: `moving` (turns every frame: re-bake) or `fixed`
     /// (after the first frame the shadow map and bake are skipped).
     #[arg(long, value_enum, default_value_t)]

@@ -30,7 +30,7 @@ pub use options::{
     CartoonOptions, LightMode, Normalize, ShadowAtlasOptions, ShadowKind, ShadowVolumeOptions, SilhouetteMethod,
     VolumeMethod,
 };
-pub use planar::{PlanarOptions, PlanarStats};
+pub use planar::{GivenPlane, PlanarOptions, PlanarStats};
 pub use registry::{by_name, TECHNIQUES};
 pub use shadow_atlas::ShadowAtlasStats;
 pub use shadow_volume::ShadowVolumeStats;

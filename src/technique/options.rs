@@ -74,11 +74,65 @@ pub struct PlanarOptions {
     /// Draw the projected shadows (off: the scene pass alone, GPU-skinned, with the receiver
     /// mask in alpha: what the tests compare against).
     pub shadows: bool,
+    /// The receiving plane as the user gives it; `None`: the lowest flat horizontal
+    /// non-caster is found.
+    pub plane: Option<GivenPlane>,
 }
 
 impl Default for PlanarOptions {
     fn default() -> Self {
-        PlanarOptions { shadow_factor: 102, shadows: true }
+        PlanarOptions { shadow_factor: 102, shadows: true, plane: None }
+    }
+}
+
+impl PlanarOptions {
+    /// Checks the numbers a user typed.
+    pub fn check(&self) -> Result<()> {
+        match self.plane {
+            Some(plane) => plane.check(),
+            None => Ok(()),
+        }
+    }
+}
+
+/// A receiving plane given by the user (`--plane-normal X,Y,Z`, `--plane-height H`): the plane
+/// with normal `normal` (any length but zero) through the point (0, H, 0).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct GivenPlane {
+    pub normal: [f32; 3],
+    pub height: f32,
+}
+
+impl Default for GivenPlane {
+    fn default() -> Self {
+        GivenPlane { normal: [0.0, 1.0, 0.0], height: 0.0 }
+    }
+}
+
+impl GivenPlane {
+    /// A finite height and a finite, non-zero normal.
+    pub fn check(&self) -> Result<()> {
+        if !self.height.is_finite() {
+            return Err(Error::InvalidInput(format!("--plane-height {}: not a finite number", self.height)));
+        }
+        let [x, y, z] = self.normal;
+        if !self.normal.iter().all(|c| c.is_finite()) || (x * x + y * y + z * z).sqrt() < 1e-6 {
+            return Err(Error::InvalidInput(format!(
+                "--plane-normal {x},{y},{z}: a plane needs a finite, non-zero normal"
+            )));
+        }
+        Ok(())
+    }
+
+    /// Parses `X,Y,Z` as given to `--plane-normal`.
+    pub fn parse_normal(text: &str) -> Result<[f32; 3]> {
+        let bad = || Error::InvalidInput(format!("--plane-normal '{text}': expected three numbers X,Y,Z"));
+        let parts: Vec<f32> = text
+            .split(',')
+            .map(|p| p.trim().parse::<f32>())
+            .collect::<std::result::Result<_, _>>()
+            .map_err(|_| bad())?;
+        <[f32; 3]>::try_from(parts).map_err(|_| bad())
     }
 }
 

@@ -12,7 +12,7 @@ pub mod shadow_texture;
 pub mod shared;
 pub mod skin;
 
-pub use crate::technique::options::PlanarOptions;
+pub use crate::technique::options::{GivenPlane, PlanarOptions};
 pub use projected::{PlanarPush, PLANAR_PUSH_BYTES};
-pub use receiver::{caster_bounds, light_reaches_plane, project_onto_plane, receiver_plane, ReceiverPlane};
+pub use receiver::{caster_bounds, light_reaches_plane, project_onto_plane, receiver_plane, Plane, ReceiverPlane};
 pub use shared::{bench_variants, BlobShadows, Planar, PlanarStats, ShadowTexture};

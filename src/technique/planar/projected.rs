@@ -47,7 +47,7 @@ use crate::technique::options::PlanarOptions;
 pub struct PlanarPush {
     pub model: Mat4,
     pub colour: Vec4,
-    /// x: plane height h.
+    /// The receiving plane (n, d): n.x + d = 0.
     pub plane: Vec4,
 }
 
@@ -205,7 +205,8 @@ struct PlanarPasses {
 
 impl PlanarPasses {
     fn new(ctx: &BuildContext, scene: &Scene) -> Result<Self> {
-        let plane = receiver_plane(scene)?;
+        let plane = receiver_plane(scene, ctx.options.planar.plane.as_ref())?;
+        plane.plane.check_light(&scene.light)?;
         let meshes = SceneMeshes::upload(ctx.gpu, scene)?;
         Ok(PlanarPasses { options: ctx.options.planar, stencil: ctx.options.stencil, plane, meshes })
     }
@@ -230,7 +231,7 @@ impl PlanarPasses {
             StencilMode::Emulated => 1.0,
         };
         let colour = Vec4::new(0.0, 0.0, 0.0, alpha);
-        let plane = Vec4::new(self.plane.height, 0.0, 0.0, 0.0);
+        let plane = self.plane.plane.as_vec4();
         for (index, object) in scene.objects.iter().enumerate() {
             if self.plane.receivers[index] {
                 continue;
@@ -253,11 +254,12 @@ impl Passes for PlanarPasses {
     }
 
     fn prepare(&mut self, _renderer: &Renderer, scene: &Scene) -> Result<()> {
+        self.plane.plane.check_light(&scene.light)?;
         self.meshes.update_palettes(scene)
     }
 
     fn conditions(&self, scene: &Scene) -> Vec<When> {
-        if light_reaches_plane(&scene.light, self.plane.height) {
+        if light_reaches_plane(&scene.light, &self.plane.plane) {
             vec![When::LightAbovePlane]
         } else {
             Vec::new()

@@ -236,7 +236,7 @@ struct ShadowTexturePasses {
 impl ShadowTexturePasses {
     fn new(ctx: &BuildContext, scene: &Scene) -> Result<Self> {
         let gpu = ctx.gpu;
-        let plane = receiver_plane(scene)?;
+        let plane = receiver_plane(scene, ctx.options.planar.plane.as_ref())?;
         let meshes = SceneMeshes::upload(gpu, scene)?;
         let target = ShadowTarget::new(gpu)?;
         let sampler = Sampler::new(gpu, vk::Filter::LINEAR, vk::SamplerAddressMode::CLAMP_TO_EDGE)?;
@@ -327,7 +327,7 @@ impl Passes for ShadowTexturePasses {
     fn prepare(&mut self, _renderer: &Renderer, scene: &Scene) -> Result<()> {
         self.meshes.update_palettes(scene)?;
         self.light_view_proj = match caster_bounds(scene, &self.plane) {
-            Some((low, high)) if light_reaches_plane(&scene.light, self.plane.height) => {
+            Some((low, high)) if light_reaches_plane(&scene.light, &self.plane.plane) => {
                 light_view_projection(&scene.light, low, high)
             }
             _ => Mat4::ZERO,

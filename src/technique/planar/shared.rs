@@ -28,6 +28,8 @@ pub const SHADOW_BIAS: DepthBias = DepthBias { constant: -4.0, slope: -1.5 };
 #[derive(Debug, Clone, Copy, serde::Serialize)]
 pub struct PlanarStats {
     pub plane_height: f32,
+    /// The receiving plane's unit normal (0, 1, 0 unless `--plane-normal` tilts it).
+    pub plane_normal: [f32; 3],
     pub casters: usize,
     pub skinned_casters: usize,
     pub shadow_factor: u8,
@@ -37,6 +39,7 @@ impl PlanarStats {
     pub(crate) fn of(plane: &ReceiverPlane, meshes: &SceneMeshes, shadow_factor: u8) -> Self {
         PlanarStats {
             plane_height: plane.height,
+            plane_normal: plane.plane.normal.to_array(),
             casters: plane.receivers.iter().filter(|r| !**r).count(),
             skinned_casters: meshes.skinned.iter().filter(|s| s.is_some()).count(),
             shadow_factor,
