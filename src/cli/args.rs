@@ -208,6 +208,10 @@ pub struct FrameArgs {
     /// 0,1,0), projected onto with Blinn's shadow matrix; e.g. `--scene slope --plane-normal 0,3,1`.
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
     pub plane_normal: Option<String>,
+    /// planar, shadow-texture: cast the shadow from each caster simplified with meshoptimizer
+    /// to about this fraction of its triangles (0 < RATIO <= 1; `bench` adds a variant with it).
+    #[arg(long, value_name = "RATIO")]
+    pub shadow_lod: Option<f32>,
     /// shadow-map, shadow-texture-atlas: `moving` (turns every frame: re-bake) or `fixed`
     /// (after the first frame the shadow map and bake are skipped).
     #[arg(long, value_enum, default_value_t)]

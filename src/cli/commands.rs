@@ -98,7 +98,12 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
             outline_width: frame.outline_width,
             ..Default::default()
         },
-        planar: PlanarOptions { shadow_factor: frame.shadow_factor, plane: given_plane(frame)?, ..Default::default() },
+        planar: PlanarOptions {
+            shadow_factor: frame.shadow_factor,
+            plane: given_plane(frame)?,
+            shadow_lod: frame.shadow_lod,
+            ..Default::default()
+        },
     };
     options.check()?;
     Ok(options)

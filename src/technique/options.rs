@@ -77,17 +77,27 @@ pub struct PlanarOptions {
     /// The receiving plane as the user gives it; `None`: the lowest flat horizontal
     /// non-caster is found.
     pub plane: Option<GivenPlane>,
+    /// Cast the shadow from each caster simplified (meshoptimizer) to about this fraction of
+    /// its triangles, in (0, 1]; `None`: from the full mesh.
+    pub shadow_lod: Option<f32>,
 }
 
 impl Default for PlanarOptions {
     fn default() -> Self {
-        PlanarOptions { shadow_factor: 102, shadows: true, plane: None }
+        PlanarOptions { shadow_factor: 102, shadows: true, plane: None, shadow_lod: None }
     }
 }
 
 impl PlanarOptions {
     /// Checks the numbers a user typed.
     pub fn check(&self) -> Result<()> {
+        if let Some(ratio) = self.shadow_lod {
+            if !(ratio.is_finite() && ratio > 0.0 && ratio <= 1.0) {
+                return Err(Error::InvalidInput(format!(
+                    "--shadow-lod {ratio}: the fraction of triangles kept must be above 0 and at most 1"
+                )));
+            }
+        }
         match self.plane {
             Some(plane) => plane.check(),
             None => Ok(()),

@@ -2,9 +2,10 @@
 //! double darkening stopped in alpha ([`projected`]), blobs ([`blob`]) and a render-texture
 //! shadow ([`shadow_texture`]). What they share: the receiver plane and the projection onto it
 //! ([`receiver`]), the scene's meshes with GPU skins and the lit scene pass ([`scene_meshes`]),
-//! and GPU skinning ([`skin`]).
+//! GPU skinning ([`skin`]) and low-poly shadow casters ([`lod`]).
 
 pub mod blob;
+pub mod lod;
 pub mod projected;
 pub mod receiver;
 pub mod scene_meshes;

@@ -4,11 +4,13 @@
 
 use std::any::Any;
 
+use super::lod::CasterLods;
 use super::receiver::ReceiverPlane;
 use super::scene_meshes::SceneMeshes;
 use crate::frame::StencilMode;
 use crate::pipeline::DepthBias;
 use crate::technique::interface::{FrameStats, RenderOptions, Technique, Variant};
+use crate::technique::options::PlanarOptions;
 
 /// Planar projected shadows, double darkening stopped in alpha (implemented in `projected`).
 pub struct Planar;
@@ -18,6 +20,10 @@ pub struct BlobShadows;
 
 /// Casters drawn from the light into a small texture the ground looks up (in `shadow_texture`).
 pub struct ShadowTexture;
+
+/// `--shadow-lod`'s ratio where a variant needs one and the user gave none (`passes`, `bench`):
+/// a quarter of the triangles.
+pub const DEFAULT_SHADOW_LOD: f32 = 0.25;
 
 /// Pulls what lies flat on the ground (a flattened caster, a blob, a receiver drawn again)
 /// towards the camera so it wins LESS_OR_EQUAL against the ground under it (same plane,
@@ -33,6 +39,9 @@ pub struct PlanarStats {
     pub casters: usize,
     pub skinned_casters: usize,
     pub shadow_factor: u8,
+    /// With `--shadow-lod`: the casters' triangles in full and as simplified.
+    pub caster_triangles: Option<usize>,
+    pub lod_triangles: Option<usize>,
 }
 
 impl PlanarStats {
@@ -43,13 +52,27 @@ impl PlanarStats {
             casters: plane.receivers.iter().filter(|r| !**r).count(),
             skinned_casters: meshes.skinned.iter().filter(|s| s.is_some()).count(),
             shadow_factor,
+            caster_triangles: None,
+            lod_triangles: None,
+        }
+    }
+
+    /// With the triangle counts of the simplified casters, if the shadow is cast from them.
+    pub(crate) fn with_lods(self, lods: Option<&CasterLods>) -> Self {
+        PlanarStats {
+            caster_triangles: lods.map(|l| l.full_triangles),
+            lod_triangles: lods.map(|l| l.lod_triangles),
+            ..self
         }
     }
 }
 
 impl FrameStats for PlanarStats {
     fn report(&self) -> String {
-        String::new()
+        match (self.caster_triangles, self.lod_triangles) {
+            (Some(full), Some(lod)) => format!("shadow LOD: {lod} of {full} caster triangles"),
+            _ => String::new(),
+        }
     }
 
     fn json(&self) -> serde_json::Value {
@@ -64,13 +87,21 @@ impl FrameStats for PlanarStats {
 /// What `bench` times for any of the three: all of seed 001's shadows side by side, the
 /// real-stencil reference first.
 pub fn bench_variants(options: &RenderOptions) -> Vec<Variant> {
+    let full = PlanarOptions { shadow_lod: None, ..options.planar };
     let with = |label: &str, technique: &'static dyn Technique, stencil| Variant {
         label: label.into(),
-        options: RenderOptions { technique, stencil, ..options.clone() },
+        options: RenderOptions { technique, stencil, planar: full, ..options.clone() },
+    };
+    let lod =
+        PlanarOptions { shadow_lod: Some(options.planar.shadow_lod.unwrap_or(DEFAULT_SHADOW_LOD)), ..options.planar };
+    let with_lod = |label: &str, stencil| Variant {
+        label: format!("{label} {:.2}", lod.shadow_lod.unwrap_or(DEFAULT_SHADOW_LOD)),
+        options: RenderOptions { technique: &Planar, stencil, planar: lod, ..options.clone() },
     };
     vec![
         with("planar reference (stencil)", &Planar, StencilMode::Reference),
         with("planar emulated (alpha)", &Planar, StencilMode::Emulated),
+        with_lod("planar emulated, shadow LOD", StencilMode::Emulated),
         with("blob", &BlobShadows, StencilMode::Emulated),
         with("shadow texture", &ShadowTexture, StencilMode::Emulated),
     ]
