@@ -14,7 +14,7 @@ use nostencil::frame::StencilMode;
 use nostencil::gpu::Gpu;
 use nostencil::scene::Light;
 use nostencil::scene::{builtin_scene_at, scene_from_gltf, Scene};
-use nostencil::technique::planar::{self, project_onto_plane, GivenPlane, PlanarOptions, Plane};
+use nostencil::technique::planar::{self, project_onto_plane, GivenPlane, PlanarOptions, Plane, TextureShadowOn};
 use nostencil::technique::{render_scene, RenderOptions, Technique, TechniqueFrame};
 
 const SIZE: (u32, u32) = (160, 120);
@@ -527,6 +527,62 @@ fn a_simplified_caster_casts_within_a_few_pixels_of_the_full_mesh() {
         assert!(lod_vertices * 2 < full_vertices, "{name}: vertices {full_vertices} -> {lod_vertices}");
         assert!(lod_fragments < full_fragments, "{name}: fragments {full_fragments} -> {lod_fragments}");
         assert!(stats["lod_triangles"].as_u64() <= stats["caster_triangles"].as_u64(), "{name}: {stats}");
+    }
+    common::assert_no_validation_messages(&gpu);
+}
+
+#[test]
+fn the_seeds_render_texture_quad_holds_the_shadow_where_the_projection_puts_it() {
+    // `shadow-texture --render-texture-on quad`: the casters' texture laid on one quad on the
+    // plane (the seed's way). The quad lies around the CPU projection of every caster, every
+    // pixel it darkens lies inside it, its shadow covers the CPU projection's as closely as the
+    // texture's texels allow (better with a bigger texture: the size is honoured), and on a
+    // ground larger than the quad it shows what the receivers' lookup shows.
+    let gpu = common::gpu();
+    let tilted = GivenPlane { normal: [0.0, 3.0, 1.0], height: 0.0 };
+    for (name, time, given) in [("character", 0.3, None), ("character-point", 0.3, None), ("slope", 0.5, Some(tilted))]
+    {
+        let scene = builtin_scene_at(name, time).expect("scene");
+        let plane = planar::receiver_plane(&scene, given.as_ref()).expect("plane");
+        let base = PlanarOptions { shadow_factor: FACTOR, plane: given, ..Default::default() };
+        let unshadowed = render_with(
+            &gpu,
+            &scene,
+            &planar::Planar,
+            SIZE,
+            StencilMode::Emulated,
+            PlanarOptions { shadows: false, ..base },
+        )
+        .expect("scene");
+        let receivers = receiver_mask(&unshadowed.output.image);
+        let texture = |texture_on, texture_size| {
+            let options = PlanarOptions { texture_on, texture_size, ..base };
+            let frame = render_with(&gpu, &scene, &planar::ShadowTexture, SIZE, StencilMode::Emulated, options)
+                .expect("shadow texture");
+            changed(&frame.output.image, &unshadowed.output.image)
+        };
+        let on_quad = texture(TextureShadowOn::Quad, 128);
+        let on_receivers = texture(TextureShadowOn::Receivers, 128);
+        let casters = |i: usize| !plane.receivers[i];
+        let cpu =
+            cpu_shadow_mask(&scene, &triangles_projected_by(&scene, casters, |p| plane.plane.project(p, &scene.light)));
+        let corners = planar::texture_quad::shadow_quad(&scene, &plane).expect("casters");
+        let quad_pixels =
+            cpu_shadow_mask(&scene, &[[corners[0], corners[1], corners[2]], [corners[0], corners[2], corners[3]]]);
+        let outside = on_quad.iter().zip(&quad_pixels).filter(|(d, q)| **d && !**q).count();
+        let everywhere = vec![true; receivers.len()];
+        let with_cpu = iou(&on_quad, &cpu, &receivers);
+        let with_receivers = iou(&on_quad, &on_receivers, &everywhere);
+        let coarse = iou(&texture(TextureShadowOn::Quad, 16), &cpu, &receivers);
+        let fine = iou(&texture(TextureShadowOn::Quad, 512), &cpu, &receivers);
+        eprintln!(
+            "{name}: quad shadow IoU {with_cpu:.3} with the CPU projection (16 texels {coarse:.3}, 512 texels {fine:.3}), {with_receivers:.3} with the receivers' lookup; {outside} darkened pixels outside the quad"
+        );
+        assert!(on_quad.iter().filter(|d| **d).count() > 100, "{name}: no quad shadow");
+        assert_eq!(outside, 0, "{name}: {outside} pixels darkened outside the quad");
+        assert!(with_cpu > 0.8, "{name}: quad shadow vs CPU projection IoU {with_cpu}");
+        assert!(with_receivers > 0.95, "{name}: quad vs receivers IoU {with_receivers}");
+        assert!(fine > coarse, "{name}: a 512-texel texture ({fine}) fits no better than 16 texels ({coarse})");
     }
     common::assert_no_validation_messages(&gpu);
 }

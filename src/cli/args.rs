@@ -9,7 +9,7 @@ use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::mobile_profile;
 use crate::technique::registry::DEFAULT_TECHNIQUE;
-use crate::technique::{LightMode, Normalize, SilhouetteMethod, VolumeMethod};
+use crate::technique::{LightMode, Normalize, SilhouetteMethod, TextureShadowOn, VolumeMethod};
 
 #[derive(Debug, Parser)]
 #[command(
@@ -212,6 +212,14 @@ pub struct FrameArgs {
     /// to about this fraction of its triangles (0 < RATIO <= 1; `bench` adds a variant with it).
     #[arg(long, value_name = "RATIO")]
     pub shadow_lod: Option<f32>,
+    /// shadow-texture: side of the texture the casters are drawn into from the light, in texels
+    /// (the seed's render texture; small on purpose).
+    #[arg(long, default_value_t = crate::technique::options::DEFAULT_TEXTURE_SHADOW_SIZE, value_name = "N")]
+    pub render_texture_size: u32,
+    /// shadow-texture: show the texture on the `receivers` drawn again (clipped to them) or, as
+    /// the seed does, on one `quad` on the plane around the casters' shadow.
+    #[arg(long, value_enum, default_value_t)]
+    pub render_texture_on: TextureShadowOn,
     /// shadow-map, shadow-texture-atlas: `moving` (turns every frame: re-bake) or `fixed`
     /// (after the first frame the shadow map and bake are skipped).
     #[arg(long, value_enum, default_value_t)]

@@ -102,6 +102,8 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
             shadow_factor: frame.shadow_factor,
             plane: given_plane(frame)?,
             shadow_lod: frame.shadow_lod,
+            texture_size: frame.render_texture_size,
+            texture_on: frame.render_texture_on,
             ..Default::default()
         },
     };

@@ -28,7 +28,7 @@ pub use cartoon::CartoonStats;
 pub use interface::{check_same_scene, FrameStats, RenderOptions, SceneRenderer, Technique, TechniqueFrame, Variant};
 pub use options::{
     CartoonOptions, LightMode, Normalize, ShadowAtlasOptions, ShadowKind, ShadowVolumeOptions, SilhouetteMethod,
-    VolumeMethod,
+    TextureShadowOn, VolumeMethod,
 };
 pub use planar::{GivenPlane, PlanarOptions, PlanarStats};
 pub use registry::{by_name, TECHNIQUES};

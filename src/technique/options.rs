@@ -80,11 +80,36 @@ pub struct PlanarOptions {
     /// Cast the shadow from each caster simplified (meshoptimizer) to about this fraction of
     /// its triangles, in (0, 1]; `None`: from the full mesh.
     pub shadow_lod: Option<f32>,
+    /// `shadow-texture`: the side of the texture the casters are drawn into from the light.
+    pub texture_size: u32,
+    /// `shadow-texture`: what shows the texture: the receivers drawn again, or a quad.
+    pub texture_on: TextureShadowOn,
 }
+
+crate::names::named_enum! {
+    /// Where `shadow-texture` shows its texture.
+    pub enum TextureShadowOn {
+        /// The receivers drawn again, each pixel looking the texture up: clipped to them.
+        #[default]
+        Receivers = "receivers",
+        /// The seed's way: one quad on the plane around the casters' shadow, textured with it.
+        Quad = "quad",
+    }
+}
+
+/// Default side of `shadow-texture`'s texture (small on purpose: what a phone can spare).
+pub const DEFAULT_TEXTURE_SHADOW_SIZE: u32 = 128;
 
 impl Default for PlanarOptions {
     fn default() -> Self {
-        PlanarOptions { shadow_factor: 102, shadows: true, plane: None, shadow_lod: None }
+        PlanarOptions {
+            shadow_factor: 102,
+            shadows: true,
+            plane: None,
+            shadow_lod: None,
+            texture_size: DEFAULT_TEXTURE_SHADOW_SIZE,
+            texture_on: TextureShadowOn::Receivers,
+        }
     }
 }
 
@@ -97,6 +122,13 @@ impl PlanarOptions {
                     "--shadow-lod {ratio}: the fraction of triangles kept must be above 0 and at most 1"
                 )));
             }
+        }
+        if !(4..=crate::gpu::mobile_profile::MAX_IMAGE_SIDE).contains(&self.texture_size) {
+            return Err(Error::InvalidInput(format!(
+                "--render-texture-size {}: use 4 to {} texels",
+                self.texture_size,
+                crate::gpu::mobile_profile::MAX_IMAGE_SIDE
+            )));
         }
         match self.plane {
             Some(plane) => plane.check(),

@@ -10,7 +10,7 @@ use super::scene_meshes::SceneMeshes;
 use crate::frame::StencilMode;
 use crate::pipeline::DepthBias;
 use crate::technique::interface::{FrameStats, RenderOptions, Technique, Variant};
-use crate::technique::options::PlanarOptions;
+use crate::technique::options::{PlanarOptions, TextureShadowOn};
 
 /// Planar projected shadows, double darkening stopped in alpha (implemented in `projected`).
 pub struct Planar;
@@ -87,7 +87,7 @@ impl FrameStats for PlanarStats {
 /// What `bench` times for any of the three: all of seed 001's shadows side by side, the
 /// real-stencil reference first.
 pub fn bench_variants(options: &RenderOptions) -> Vec<Variant> {
-    let full = PlanarOptions { shadow_lod: None, ..options.planar };
+    let full = PlanarOptions { shadow_lod: None, texture_on: TextureShadowOn::Receivers, ..options.planar };
     let with = |label: &str, technique: &'static dyn Technique, stencil| Variant {
         label: label.into(),
         options: RenderOptions { technique, stencil, planar: full, ..options.clone() },
@@ -104,5 +104,14 @@ pub fn bench_variants(options: &RenderOptions) -> Vec<Variant> {
         with_lod("planar emulated, shadow LOD", StencilMode::Emulated),
         with("blob", &BlobShadows, StencilMode::Emulated),
         with("shadow texture", &ShadowTexture, StencilMode::Emulated),
+        Variant {
+            label: "shadow texture on a quad (the seed's)".into(),
+            options: RenderOptions {
+                technique: &ShadowTexture,
+                stencil: StencilMode::Emulated,
+                planar: PlanarOptions { texture_on: TextureShadowOn::Quad, ..full },
+                ..options.clone()
+            },
+        },
     ]
 }
