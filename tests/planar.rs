@@ -434,9 +434,19 @@ fn a_given_tilted_plane_receives_the_shadow_matrix_projection() {
     assert!(error.contains("parallel"), "{error}");
     let out = common::scratch_dir("planar-given-plane").join("out.png");
     let out = out.to_str().expect("utf-8 path");
-    let args = ["render", "--technique", "planar", "--scene", "slope", "--size", "64x64", "--out", out];
-    let error = common::run_err(&[&args[..], &["--plane-normal", "0,3"]].concat());
+    let args = ["render", "--scene", "slope", "--size", "64x64", "--out", out];
+    let error = common::run_err(&[&args[..], &["--technique", "planar", "--plane-normal", "0,3"]].concat());
     assert!(error.contains("--plane-normal"), "{error}");
+    // The other new numbers, and a tilted plane where blobs cannot lie.
+    for (extra, expected) in [
+        (&["--technique", "planar", "--shadow-lod", "0"][..], "--shadow-lod"),
+        (&["--technique", "planar", "--shadow-lod", "1.5"][..], "--shadow-lod"),
+        (&["--technique", "shadow-texture", "--render-texture-size", "2"][..], "--render-texture-size"),
+        (&["--technique", "blob", "--plane-normal", "0,3,1"][..], "blob shadows lie on a horizontal ground"),
+    ] {
+        let error = common::run_err(&[&args[..], extra].concat());
+        assert!(error.contains(expected) && error.trim_end().lines().count() == 1, "{extra:?}: {error}");
+    }
     common::assert_no_validation_messages(&gpu);
 }
 
