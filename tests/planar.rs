@@ -537,6 +537,23 @@ fn a_simplified_caster_casts_within_a_few_pixels_of_the_full_mesh() {
         assert!(lod_vertices * 2 < full_vertices, "{name}: vertices {full_vertices} -> {lod_vertices}");
         assert!(lod_fragments < full_fragments, "{name}: fragments {full_fragments} -> {lod_fragments}");
         assert!(stats["lod_triangles"].as_u64() <= stats["caster_triangles"].as_u64(), "{name}: {stats}");
+
+        // The shadow texture drawn from the same simplified casters: fewer vertices into it,
+        // the same shadow up to the texels.
+        let texture = |shadow_lod| {
+            let options = PlanarOptions { shadow_lod, ..Default::default() };
+            render_with(&gpu, scene, &planar::ShadowTexture, SIZE, StencilMode::Emulated, options).expect("texture")
+        };
+        let (texture_full, texture_lod) = (texture(None), texture(Some(RATIO)));
+        let prepass_vertices = |f: &TechniqueFrame| {
+            f.output.counters.pass("shadow texture").and_then(|p| p.vertex_invocations).unwrap_or(0)
+        };
+        let (a, b) = (prepass_vertices(&texture_full), prepass_vertices(&texture_lod));
+        let masks = [&texture_full, &texture_lod].map(|f| changed(&f.output.image, &unshadowed.output.image));
+        let agreement = iou(&masks[0], &masks[1], &vec![true; masks[0].len()]);
+        eprintln!("{name}: shadow texture prepass vertices {a} -> {b}, IoU {agreement:.3}");
+        assert!(b * 2 < a, "{name}: shadow texture prepass vertices {a} -> {b}");
+        assert!(agreement > 0.85, "{name}: the LOD texture shadow overlaps the full one by IoU {agreement}");
     }
     common::assert_no_validation_messages(&gpu);
 }
