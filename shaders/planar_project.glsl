@@ -1,20 +1,18 @@
-// Projection onto the receiving plane y = h along the light (DESIGN.md section 3). Mirrored on
-// the CPU by technique::planar::project_onto_plane, which the tests compare against.
-//   directional L (unit, L.y < 0): P' = P + L (P.y - h) / -L.y
-//   point light C:                 P' = C + (P - C) (C.y - h) / (C.y - P.y)
-// Points below the plane are clamped onto it (they cast nothing); a point level with or above a
-// point light would project to infinity, so the denominator is kept positive.
-vec3 project_onto_plane(vec3 p, vec4 light, float h) {
-    vec3 q;
-    if (light.w == 0.0) {
-        vec3 l = normalize(light.xyz);
-        float opposite = max(p.y - h, 0.0);
-        q = p + l * (opposite / max(-l.y, 1e-3));
-    } else {
-        vec3 c = light.xyz;
-        float py = max(p.y, h);
-        float t = (c.y - h) / max(c.y - py, 1e-3 * (c.y - h));
-        q = c + (vec3(p.x, py, p.z) - c) * t;
-    }
-    return vec3(q.x, h, q.z);
+// Projection onto the receiving plane P = (n, d), n.x + d = 0 with unit n, along the light
+// (DESIGN.md section 3) through Blinn's shadow matrix M = (P.L) I - L P^T, L the light in
+// homogeneous form (towards a directional light: (-dir, 0); a point light: (C, 1)). Mirrored on
+// the CPU by technique::planar::Plane::project, which the tests compare against.
+// Points behind the plane are first moved onto it (they cast nothing); a point level with or
+// beyond a point light would project to infinity, so w is kept positive (the CPU refuses a
+// light parallel to the plane, and the pass runs only where the light reaches it).
+vec3 project_onto_plane(vec3 p, vec4 light, vec4 plane) {
+    vec3 n = plane.xyz;
+    p -= n * min(dot(n, p) + plane.w, 0.0);
+    vec4 l = light.w == 0.0 ? vec4(-normalize(light.xyz), 0.0) : vec4(light.xyz, 1.0);
+    float pl = dot(plane, l);
+    mat4 shadow_matrix = pl * mat4(1.0) - outerProduct(l, plane);
+    vec4 q = shadow_matrix * vec4(p, 1.0);
+    vec3 projected = q.xyz / max(q.w, 1e-3 * pl);
+    // Exactly on the plane (the division leaves rounding off it).
+    return projected - n * (dot(n, projected) + plane.w);
 }

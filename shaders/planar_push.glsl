@@ -4,6 +4,6 @@ layout(push_constant) uniform PlanarPush {
     mat4 model;
     // The shadow draw's colour: rgb 0; alpha 1 (emulated) or the shadow factor (reference).
     vec4 colour;
-    // x: height h of the receiving plane y = h.
+    // The receiving plane (n, d): n.x + d = 0, n unit, pointing to the casters' side.
     vec4 plane;
 } planar;

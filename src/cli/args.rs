@@ -10,7 +10,7 @@ use crate::frame::StencilMode;
 use crate::gpu::mobile_profile;
 use crate::technique::options::parse_rgb_hex;
 use crate::technique::registry::DEFAULT_TECHNIQUE;
-use crate::technique::{LightMode, Normalize, OutlineMethod, SilhouetteMethod, VolumeMethod};
+use crate::technique::{LightMode, Normalize, OutlineMethod, SilhouetteMethod, TextureShadowOn, VolumeMethod};
 
 #[derive(Debug, Parser)]
 #[command(
@@ -231,6 +231,26 @@ pub struct FrameArgs {
     /// (`#RRGGBB` or `RRGGBB`), in every path. Instead of --shadow-factor.
     #[arg(long, value_name = "#RRGGBB", value_parser = parse_rgb8, conflicts_with = "shadow_factor")]
     pub shadow_colour: Option<[u8; 3]>,
+    /// planar, shadow-texture, blob: the receiving plane crosses the y axis at H (default: the
+    /// lowest flat horizontal non-caster is the ground).
+    #[arg(long, value_name = "H", allow_hyphen_values = true)]
+    pub plane_height: Option<f32>,
+    /// planar, shadow-texture: the receiving plane's normal (any length but zero; default
+    /// 0,1,0), projected onto with Blinn's shadow matrix; e.g. `--scene slope --plane-normal 0,3,1`.
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub plane_normal: Option<String>,
+    /// planar, shadow-texture: cast the shadow from each caster simplified with meshoptimizer
+    /// to about this fraction of its triangles (0 < RATIO <= 1; `bench` adds a variant with it).
+    #[arg(long, value_name = "RATIO")]
+    pub shadow_lod: Option<f32>,
+    /// shadow-texture: side of the texture the casters are drawn into from the light, in texels
+    /// (the seed's render texture; small on purpose).
+    #[arg(long, default_value_t = crate::technique::options::DEFAULT_TEXTURE_SHADOW_SIZE, value_name = "N")]
+    pub render_texture_size: u32,
+    /// shadow-texture: show the texture on the `receivers` drawn again (clipped to them) or, as
+    /// the seed does, on one `quad` on the plane around the casters' shadow.
+    #[arg(long, value_enum, default_value_t)]
+    pub render_texture_on: TextureShadowOn,
     /// shadow-map, shadow-texture-atlas, projective-texture: `moving` (turns every frame:
     /// re-bake) or `fixed` (after the first frame the shadow map and bake are skipped).
     #[arg(long, value_enum, default_value_t)]

@@ -14,8 +14,8 @@ use crate::profile::report::{FrameFormats, ProfileReport, ReportContext, ReportF
 use crate::scene::{builtin_scene_at, scene_and_warnings_from_gltf, Scene, BUILTIN_SCENES, OTHER_SCENES};
 use crate::technique::interface::BenchTable;
 use crate::technique::{
-    by_name, render_scene, shadow_atlas, CartoonOptions, Normalize, PlanarOptions, RenderOptions, ShadowAtlasOptions,
-    ShadowVolumeOptions, TECHNIQUES,
+    by_name, render_scene, shadow_atlas, CartoonOptions, GivenPlane, Normalize, PlanarOptions, RenderOptions,
+    ShadowAtlasOptions, ShadowVolumeOptions, TECHNIQUES,
 };
 
 pub fn run(cli: Cli) -> Result<()> {
@@ -111,10 +111,29 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
             outline_method: frame.outline_method,
             outline_blur: frame.outline_blur,
         },
-        planar: PlanarOptions { shadow_factor: frame.shadow_factor, ..Default::default() },
+        planar: PlanarOptions {
+            shadow_factor: frame.shadow_factor,
+            plane: given_plane(frame)?,
+            shadow_lod: frame.shadow_lod,
+            texture_size: frame.render_texture_size,
+            texture_on: frame.render_texture_on,
+            ..Default::default()
+        },
     };
     options.check()?;
     Ok(options)
+}
+
+/// The receiving plane `--plane-normal`/`--plane-height` give, if either is given.
+fn given_plane(frame: &FrameArgs) -> Result<Option<GivenPlane>> {
+    if frame.plane_height.is_none() && frame.plane_normal.is_none() {
+        return Ok(None);
+    }
+    let default = GivenPlane::default();
+    let normal = frame.plane_normal.as_deref().map(GivenPlane::parse_normal).transpose()?.unwrap_or(default.normal);
+    let plane = GivenPlane { normal, height: frame.plane_height.unwrap_or(default.height) };
+    plane.check()?;
+    Ok(Some(plane))
 }
 
 /// Refuses an output path whose folder does not exist before any rendering is done.

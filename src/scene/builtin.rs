@@ -27,8 +27,13 @@ pub const BUILTIN_SCENES: &[(&str, &str)] = &[
     ("touching", "boxes touching along an edge (non-manifold) and at a corner, one mesh each"),
 ];
 
-/// Scenes outside the shadow-volume sweep (too heavy to render dozens of times in tests).
+/// Scenes outside the shadow-volume sweep (too heavy to render dozens of times in tests, or
+/// made for one technique).
 pub const OTHER_SCENES: &[(&str, &str)] = &[
+    (
+        "slope",
+        "the character and a box over ground tilted to normal (0, 3, 1): planar shadows with --plane-normal 0,3,1",
+    ),
     ("atlas-one", "seed 004, Table 1 row 1: one 257x257 geometry image (131,072 faces)"),
     ("atlas-125", "seed 004, Table 1 row 2: 125 models of 64x64 geometry images"),
 ];
@@ -53,6 +58,7 @@ pub fn builtin_scene_at(name: &str, time: f32) -> Result<Scene> {
         "open-box" => Ok(open_casters::open_box_scene()),
         "non-manifold" => Ok(open_casters::non_manifold_scene()),
         "touching" => Ok(open_casters::touching_scene()),
+        "slope" => slope_scene(time),
         "atlas-one" => atlas_one_scene(),
         "atlas-125" => atlas_125_scene(),
         _ => Err(Error::InvalidInput(format!(
@@ -120,6 +126,26 @@ fn character_scene(time: f32, light: Light) -> Result<Scene> {
     let camera = Camera::look_at(Vec3::new(1.0, 3.3, 3.4), Vec3::new(-0.5, 0.5, -0.2));
     let mut scene = with_ground("character", camera, light);
     character::add_character(&mut scene, Mat4::IDENTITY, time, CHARACTER_COLOUR)?;
+    Ok(scene)
+}
+
+/// The normal of the `slope` scene's ground: typed exactly as `--plane-normal 0,3,1`.
+pub const SLOPE_NORMAL: Vec3 = Vec3::new(0.0, 3.0, 1.0);
+
+/// The character and a floating box over a ground tilted about x to `SLOPE_NORMAL` (through the
+/// origin), under a directional light: no horizontal ground, so planar shadows need the plane
+/// given (`--plane-normal 0,3,1`).
+fn slope_scene(time: f32) -> Result<Scene> {
+    let camera = Camera::look_at(Vec3::new(1.5, 3.6, 4.2), Vec3::new(-0.3, 0.3, -0.3));
+    let mut scene = Scene::empty("slope", camera, Light::Directional { direction: CHARACTER_LIGHT });
+    let ground = scene.add_mesh("ground", ground_plane(14.0));
+    let tilt = Quat::from_rotation_arc(Vec3::Y, SLOPE_NORMAL.normalize());
+    scene.add_object("ground", ground, Mat4::from_quat(tilt), Vec3::new(0.82, 0.80, 0.74), false);
+    // The character stands on the slope where it crosses the y axis (the origin).
+    character::add_character(&mut scene, Mat4::IDENTITY, time, CHARACTER_COLOUR)?;
+    let cube = scene.add_mesh("box", shapes::cube(0.5));
+    let transform = Mat4::from_rotation_translation(Quat::from_rotation_y(0.4), Vec3::new(-1.0, 1.4, 0.6));
+    scene.add_object("box", cube, transform, Vec3::new(0.30, 0.55, 0.85), true);
     Ok(scene)
 }
 

@@ -38,6 +38,7 @@ impl RenderOptions {
     pub fn check(&self) -> Result<()> {
         self.shadow_volume.check()?;
         self.shadow_atlas.check()?;
+        self.planar.check()?;
         self.cartoon.check()
     }
 

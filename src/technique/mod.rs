@@ -28,9 +28,9 @@ pub use cartoon::CartoonStats;
 pub use interface::{check_same_scene, FrameStats, RenderOptions, SceneRenderer, Technique, TechniqueFrame, Variant};
 pub use options::{
     CartoonOptions, LightMode, Normalize, OutlineMethod, ShadowAtlasOptions, ShadowKind, ShadowVolumeOptions,
-    SilhouetteMethod, VolumeMethod,
+    SilhouetteMethod, TextureShadowOn, VolumeMethod,
 };
-pub use planar::{PlanarOptions, PlanarStats};
+pub use planar::{GivenPlane, PlanarOptions, PlanarStats};
 pub use registry::{by_name, TECHNIQUES};
 pub use shadow_atlas::ShadowAtlasStats;
 pub use shadow_volume::ShadowVolumeStats;

@@ -79,11 +79,107 @@ pub struct PlanarOptions {
     /// Draw the projected shadows (off: the scene pass alone, GPU-skinned, with the receiver
     /// mask in alpha: what the tests compare against).
     pub shadows: bool,
+    /// The receiving plane as the user gives it; `None`: the lowest flat horizontal
+    /// non-caster is found.
+    pub plane: Option<GivenPlane>,
+    /// Cast the shadow from each caster simplified (meshoptimizer) to about this fraction of
+    /// its triangles, in (0, 1]; `None`: from the full mesh.
+    pub shadow_lod: Option<f32>,
+    /// `shadow-texture`: the side of the texture the casters are drawn into from the light.
+    pub texture_size: u32,
+    /// `shadow-texture`: what shows the texture: the receivers drawn again, or a quad.
+    pub texture_on: TextureShadowOn,
 }
+
+crate::names::named_enum! {
+    /// Where `shadow-texture` shows its texture.
+    pub enum TextureShadowOn {
+        /// The receivers drawn again, each pixel looking the texture up: clipped to them.
+        #[default]
+        Receivers = "receivers",
+        /// The seed's way: one quad on the plane around the casters' shadow, textured with it.
+        Quad = "quad",
+    }
+}
+
+/// Default side of `shadow-texture`'s texture (small on purpose: what a phone can spare).
+pub const DEFAULT_TEXTURE_SHADOW_SIZE: u32 = 128;
 
 impl Default for PlanarOptions {
     fn default() -> Self {
-        PlanarOptions { shadow_factor: 102, shadows: true }
+        PlanarOptions {
+            shadow_factor: 102,
+            shadows: true,
+            plane: None,
+            shadow_lod: None,
+            texture_size: DEFAULT_TEXTURE_SHADOW_SIZE,
+            texture_on: TextureShadowOn::Receivers,
+        }
+    }
+}
+
+impl PlanarOptions {
+    /// Checks the numbers a user typed.
+    pub fn check(&self) -> Result<()> {
+        if let Some(ratio) = self.shadow_lod {
+            if !(ratio.is_finite() && ratio > 0.0 && ratio <= 1.0) {
+                return Err(Error::InvalidInput(format!(
+                    "--shadow-lod {ratio}: the fraction of triangles kept must be above 0 and at most 1"
+                )));
+            }
+        }
+        if !(4..=crate::gpu::mobile_profile::MAX_IMAGE_SIDE).contains(&self.texture_size) {
+            return Err(Error::InvalidInput(format!(
+                "--render-texture-size {}: use 4 to {} texels",
+                self.texture_size,
+                crate::gpu::mobile_profile::MAX_IMAGE_SIDE
+            )));
+        }
+        match self.plane {
+            Some(plane) => plane.check(),
+            None => Ok(()),
+        }
+    }
+}
+
+/// A receiving plane given by the user (`--plane-normal X,Y,Z`, `--plane-height H`): the plane
+/// with normal `normal` (any length but zero) through the point (0, H, 0).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct GivenPlane {
+    pub normal: [f32; 3],
+    pub height: f32,
+}
+
+impl Default for GivenPlane {
+    fn default() -> Self {
+        GivenPlane { normal: [0.0, 1.0, 0.0], height: 0.0 }
+    }
+}
+
+impl GivenPlane {
+    /// A finite height and a finite, non-zero normal.
+    pub fn check(&self) -> Result<()> {
+        if !self.height.is_finite() {
+            return Err(Error::InvalidInput(format!("--plane-height {}: not a finite number", self.height)));
+        }
+        let [x, y, z] = self.normal;
+        if !self.normal.iter().all(|c| c.is_finite()) || (x * x + y * y + z * z).sqrt() < 1e-6 {
+            return Err(Error::InvalidInput(format!(
+                "--plane-normal {x},{y},{z}: a plane needs a finite, non-zero normal"
+            )));
+        }
+        Ok(())
+    }
+
+    /// Parses `X,Y,Z` as given to `--plane-normal`.
+    pub fn parse_normal(text: &str) -> Result<[f32; 3]> {
+        let bad = || Error::InvalidInput(format!("--plane-normal '{text}': expected three numbers X,Y,Z"));
+        let parts: Vec<f32> = text
+            .split(',')
+            .map(|p| p.trim().parse::<f32>())
+            .collect::<std::result::Result<_, _>>()
+            .map_err(|_| bad())?;
+        <[f32; 3]>::try_from(parts).map_err(|_| bad())
     }
 }
 

@@ -210,7 +210,13 @@ struct BlobPasses {
 impl BlobPasses {
     fn new(ctx: &BuildContext, scene: &Scene) -> Result<Self> {
         let gpu = ctx.gpu;
-        let plane = receiver_plane(scene)?;
+        let plane = receiver_plane(scene, ctx.options.planar.plane.as_ref())?;
+        if !plane.is_horizontal() {
+            return Err(Error::InvalidInput(
+                "blob shadows lie on a horizontal ground: a tilted --plane-normal is for planar and shadow-texture"
+                    .into(),
+            ));
+        }
         let meshes = SceneMeshes::upload(gpu, scene)?;
         let sampler = Sampler::new(gpu, vk::Filter::LINEAR, vk::SamplerAddressMode::CLAMP_TO_EDGE)?;
         let texture = Texture::from_rgba8(
@@ -259,7 +265,7 @@ impl Passes for BlobPasses {
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
         self.meshes.update_palettes(scene)?;
         let darkness = 1.0 - self.shadow_factor as f32 / 255.0;
-        let vertices = if light_reaches_plane(&scene.light, self.plane.height) {
+        let vertices = if light_reaches_plane(&scene.light, &self.plane.plane) {
             blob_vertices(&blobs(scene, &self.plane, darkness))
         } else {
             Vec::new()

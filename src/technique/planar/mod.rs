@@ -2,17 +2,20 @@
 //! double darkening stopped in alpha ([`projected`]), blobs ([`blob`]) and a render-texture
 //! shadow ([`shadow_texture`]). What they share: the receiver plane and the projection onto it
 //! ([`receiver`]), the scene's meshes with GPU skins and the lit scene pass ([`scene_meshes`]),
-//! and GPU skinning ([`skin`]).
+//! GPU skinning ([`skin`]), low-poly shadow casters ([`lod`]) and the quad the seed lays its
+//! render texture on ([`texture_quad`]).
 
 pub mod blob;
+pub mod lod;
 pub mod projected;
 pub mod receiver;
 pub mod scene_meshes;
 pub mod shadow_texture;
 pub mod shared;
 pub mod skin;
+pub mod texture_quad;
 
-pub use crate::technique::options::PlanarOptions;
+pub use crate::technique::options::{GivenPlane, PlanarOptions, TextureShadowOn};
 pub use projected::{PlanarPush, PLANAR_PUSH_BYTES};
-pub use receiver::{caster_bounds, light_reaches_plane, project_onto_plane, receiver_plane, ReceiverPlane};
+pub use receiver::{caster_bounds, light_reaches_plane, project_onto_plane, receiver_plane, Plane, ReceiverPlane};
 pub use shared::{bench_variants, BlobShadows, Planar, PlanarStats, ShadowTexture};

@@ -21,9 +21,10 @@ use std::sync::Arc;
 use ash::vk;
 use glam::{Mat4, Vec4};
 
+use super::lod::CasterLods;
 use super::receiver::{light_reaches_plane, receiver_plane, ReceiverPlane};
 use super::scene_meshes::{scene_desc, scene_pass, SceneMeshes, SCENE_SETS};
-use super::shared::{Planar, PlanarStats, SHADOW_BIAS};
+use super::shared::{Planar, PlanarStats, DEFAULT_SHADOW_LOD, SHADOW_BIAS};
 use super::skin::SKINNED_LAYOUT;
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
@@ -47,7 +48,7 @@ use crate::technique::options::PlanarOptions;
 pub struct PlanarPush {
     pub model: Mat4,
     pub colour: Vec4,
-    /// x: plane height h.
+    /// The receiving plane (n, d): n.x + d = 0.
     pub plane: Vec4,
 }
 
@@ -57,8 +58,9 @@ pub const PLANAR_PUSH_BYTES: u32 = std::mem::size_of::<PlanarPush>() as u32;
 const STENCIL_RECEIVER: u32 = 0;
 const STENCIL_OTHER: u32 = 1;
 
-/// What the shadow pass draws.
+/// What the shadow pass draws: the casters, or their simplified meshes (`--shadow-lod`).
 const PROJECTED_CASTERS: Draws = Draws::Geometry("casters flattened onto the plane");
+const PROJECTED_LOD_CASTERS: Draws = Draws::Geometry("simplified casters (meshoptimizer) flattened onto the plane");
 
 // ---------------------------------------------------------------------------------------------
 // Pipelines (DESIGN.md section 3) and the frame's plan.
@@ -104,17 +106,18 @@ pub fn scene_pass_of(stencil: StencilMode) -> PlannedPass {
     }
 }
 
-/// The shadow pass of one path, run where the light reaches the plane: [static, skinned].
-pub fn shadow_pass_of(stencil: StencilMode) -> PlannedPass {
+/// The shadow pass of one path, run where the light reaches the plane: [static, skinned];
+/// `lod`: from the casters' simplified meshes.
+pub fn shadow_pass_of(stencil: StencilMode, lod: bool) -> PlannedPass {
     let (name, skinned, reference, push) = match stencil {
         StencilMode::Emulated => {
-            ("planar shadow", "planar shadow (skinned)", false, "caster transform, black with alpha 1, plane height")
+            ("planar shadow", "planar shadow (skinned)", false, "caster transform, black with alpha 1, plane (n, d)")
         }
         StencilMode::Reference => (
             "planar shadow (stencil)",
             "planar shadow (skinned, stencil)",
             true,
-            "caster transform, black with alpha F/255, plane height",
+            "caster transform, black with alpha F/255, plane (n, d)",
         ),
     };
     let (masked, skinned_masked) = match stencil {
@@ -129,7 +132,8 @@ pub fn shadow_pass_of(stencil: StencilMode) -> PlannedPass {
         fragment_shader: "object_colour_masked.frag",
         ..shadow_desc(name, skinned, reference)
     };
-    PlannedPass::new(name, shadow_desc(name, false, reference), PROJECTED_CASTERS, Push::PerDraw(push))
+    let draws = if lod { PROJECTED_LOD_CASTERS } else { PROJECTED_CASTERS };
+    PlannedPass::new(name, shadow_desc(name, false, reference), draws, Push::PerDraw(push))
         .or_pipeline(shadow_desc(skinned, true, reference))
         .or_variant(MaterialVariant::Masked, name, cut_out(masked, "planar_shadow_masked.vert", false))
         .or_variant(
@@ -146,7 +150,7 @@ pub fn plan(options: &PlanarOptions, stencil: StencilMode) -> PassPlan {
     let mut plan = PassPlan::new();
     plan.push(scene_pass_of(stencil));
     if options.shadows {
-        plan.push(shadow_pass_of(stencil));
+        plan.push(shadow_pass_of(stencil, options.shadow_lod.is_some()));
     }
     plan
 }
@@ -180,9 +184,20 @@ impl Technique for Planar {
         super::shared::bench_variants(options)
     }
 
-    /// Each path, with and without the shadow pass.
+    /// Each path, with and without the shadow pass, and each with the shadow cast from
+    /// simplified meshes.
     fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant> {
         let mut variants = stencil_variants(self.name(), options);
+        let lod = PlanarOptions {
+            shadow_lod: Some(options.planar.shadow_lod.unwrap_or(DEFAULT_SHADOW_LOD)),
+            ..options.planar
+        };
+        for stencil in [StencilMode::Reference, StencilMode::Emulated] {
+            variants.push(Variant {
+                label: format!("{} ({}, shadow LOD)", self.name(), stencil.name()),
+                options: RenderOptions { stencil, planar: lod, ..options.clone() },
+            });
+        }
         let scene_only = PlanarOptions { shadows: false, ..options.planar };
         for stencil in [StencilMode::Reference, StencilMode::Emulated] {
             variants.push(Variant {
@@ -201,13 +216,20 @@ struct PlanarPasses {
     stencil: StencilMode,
     plane: ReceiverPlane,
     meshes: SceneMeshes,
+    /// The casters' simplified meshes, with `--shadow-lod`.
+    lods: Option<CasterLods>,
 }
 
 impl PlanarPasses {
     fn new(ctx: &BuildContext, scene: &Scene) -> Result<Self> {
-        let plane = receiver_plane(scene)?;
+        let plane = receiver_plane(scene, ctx.options.planar.plane.as_ref())?;
+        plane.plane.check_light(&scene.light)?;
         let meshes = SceneMeshes::upload(ctx.gpu, scene)?;
-        Ok(PlanarPasses { options: ctx.options.planar, stencil: ctx.options.stencil, plane, meshes })
+        let lods = match ctx.options.planar.shadow_lod {
+            Some(ratio) => Some(CasterLods::build(ctx.gpu, scene, &plane.receivers, ratio)?),
+            None => None,
+        };
+        Ok(PlanarPasses { options: ctx.options.planar, stencil: ctx.options.stencil, plane, meshes, lods })
     }
 
     fn factor(&self) -> f32 {
@@ -230,14 +252,14 @@ impl PlanarPasses {
             StencilMode::Emulated => 1.0,
         };
         let colour = Vec4::new(0.0, 0.0, 0.0, alpha);
-        let plane = Vec4::new(self.plane.height, 0.0, 0.0, 0.0);
+        let plane = self.plane.plane.as_vec4();
         for (index, object) in scene.objects.iter().enumerate() {
             if self.plane.receivers[index] {
                 continue;
             }
             let push = PlanarPush { model: object.transform, colour, plane };
             let casters = SceneMeshes::caster_pipelines(scene, index, pass, pipelines, [shadow, skinned]);
-            self.meshes.draw(rec, scene, index, casters, &push);
+            self.meshes.draw_caster(rec, scene, index, casters, &push, self.lods.as_ref());
         }
         Ok(())
     }
@@ -253,11 +275,12 @@ impl Passes for PlanarPasses {
     }
 
     fn prepare(&mut self, _renderer: &Renderer, scene: &Scene) -> Result<()> {
+        self.plane.plane.check_light(&scene.light)?;
         self.meshes.update_palettes(scene)
     }
 
     fn conditions(&self, scene: &Scene) -> Vec<When> {
-        if light_reaches_plane(&scene.light, self.plane.height) {
+        if light_reaches_plane(&scene.light, &self.plane.plane) {
             vec![When::LightAbovePlane]
         } else {
             Vec::new()
@@ -273,13 +296,13 @@ impl Passes for PlanarPasses {
                 }
                 self.meshes.draw_scene(rec, scene, &self.plane, pass, pipelines, self.factor())
             }
-            PROJECTED_CASTERS => self.draw_shadow(rec, scene, pass, pipelines),
+            PROJECTED_CASTERS | PROJECTED_LOD_CASTERS => self.draw_shadow(rec, scene, pass, pipelines),
             _ => Err(Error::Internal(format!("planar shadows cannot draw pass '{}'", pass.name))),
         }
     }
 
     fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {
-        Box::new(PlanarStats::of(&self.plane, &self.meshes, self.options.shadow_factor))
+        Box::new(PlanarStats::of(&self.plane, &self.meshes, self.options.shadow_factor).with_lods(self.lods.as_ref()))
     }
 }
 

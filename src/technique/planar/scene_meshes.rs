@@ -6,6 +6,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
+use super::lod::CasterLods;
 use super::receiver::ReceiverPlane;
 use super::skin::{self, SkinnedMesh, SKINNED_LAYOUT};
 use crate::error::{Error, Result};
@@ -126,24 +127,41 @@ impl SceneMeshes {
         rec: &mut FrameRecorder,
         scene: &Scene,
         index: usize,
-        [static_pipeline, skinned_pipeline]: [&Pipeline; 2],
+        pipelines: [&Pipeline; 2],
         push: &T,
     ) {
+        self.draw_caster(rec, scene, index, pipelines, push, None);
+    }
+
+    /// [`SceneMeshes::draw`], with the caster's simplified triangles in place of its own when
+    /// `lod` holds them (same vertices, so the same pipelines and palette).
+    pub fn draw_caster<T: bytemuck::Pod>(
+        &self,
+        rec: &mut FrameRecorder,
+        scene: &Scene,
+        index: usize,
+        [static_pipeline, skinned_pipeline]: [&Pipeline; 2],
+        push: &T,
+        lod: Option<&CasterLods>,
+    ) {
         let material = self.meshes.materials.set(scene.objects[index].material);
-        match &self.skinned[index] {
+        let (pipeline, mesh) = match &self.skinned[index] {
             Some(gpu_skin) => {
                 rec.bind(skinned_pipeline);
                 rec.bind_material(skinned_pipeline, material);
                 rec.bind_sets(skinned_pipeline, 2, &[gpu_skin.palette.descriptors.set]);
-                rec.push(skinned_pipeline, push);
-                rec.draw_mesh(&gpu_skin.mesh);
+                (skinned_pipeline, &gpu_skin.mesh)
             }
             None => {
                 rec.bind(static_pipeline);
                 rec.bind_material(static_pipeline, material);
-                rec.push(static_pipeline, push);
-                rec.draw_mesh(&self.meshes.meshes[scene.objects[index].mesh]);
+                (static_pipeline, &self.meshes.meshes[scene.objects[index].mesh])
             }
+        };
+        rec.push(pipeline, push);
+        match lod.and_then(|l| l.per_object.get(index)).and_then(Option::as_ref) {
+            Some(simplified) => rec.draw_indexed(&mesh.vertices, &simplified.indices, simplified.index_count),
+            None => rec.draw_mesh(mesh),
         }
     }
 

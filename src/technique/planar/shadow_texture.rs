@@ -5,25 +5,31 @@
 //! would be cut, so the frustum is fitted to the casters' posed bounds every frame.
 //!
 //! Frame:
-//! 1. prepass "shadow texture" (its own render pass, 128x128 RGBA8, cleared to 1): every caster
-//!    (GPU-skinned) written with colour F/255, opaque, no depth: overlaps write the same value,
-//!    so nothing can darken twice. Stored and left SHADER_READ_ONLY_OPTIMAL.
+//! 1. prepass "shadow texture" (its own render pass, NxN RGBA8, N = `--render-texture-size`,
+//!    default 128, cleared to 1): every caster (GPU-skinned; simplified with `--shadow-lod`)
+//!    written with colour F/255, opaque, no depth: overlaps write the same value, so nothing can
+//!    darken twice. Stored and left SHADER_READ_ONLY_OPTIMAL.
 //! 2. scene: lit objects (GPU-skinned).
 //! 3. "shadow texture receive": the receivers drawn again, depth LESS_OR_EQUAL with the planar
 //!    bias, each pixel's factor read from the texture (1 outside it), colour blend
-//!    `ADD, ZERO, SRC_COLOR`.
+//!    `ADD, ZERO, SRC_COLOR`; or, as the seed lays it (`--render-texture-on quad`), "shadow
+//!    texture quad": one quad on the plane around the casters' shadow ([`super::texture_quad`])
+//!    with the same lookup, not clipped to the receivers.
 
 use std::sync::Arc;
 
 use ash::vk;
 use glam::{Mat4, Vec3, Vec4};
 
+use super::lod::CasterLods;
 use super::receiver::{caster_bounds, light_reaches_plane, receiver_plane, ReceiverPlane};
 use super::scene_meshes::{lit_scene_pass, SceneMeshes, SCENE_SETS};
-use super::shared::{PlanarStats, ShadowTexture, SHADOW_BIAS};
+use super::shared::{PlanarStats, ShadowTexture, DEFAULT_SHADOW_LOD, SHADOW_BIAS};
 use super::skin::SKINNED_LAYOUT;
+use super::texture_quad::{quad_model, shadow_quad, unit_square};
 use crate::error::{Error, Result};
 use crate::frame::offscreen::{colour_render_pass, Framebuffer, RenderPass};
+use crate::frame::StencilMode;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::{Image, ImageDesc};
 use crate::gpu::texture::Sampler;
@@ -32,14 +38,13 @@ use crate::pipeline::recipes::MODULATE_BY_SRC_COLOUR;
 use crate::pipeline::{BlendState, DepthState, FixedFunction, PipelineDesc, RasterState, VertexLayout};
 use crate::render::plan::{Draws, MaterialVariant, PassPlan, PlannedPass, Push, SetRole, Target};
 use crate::render::Pipeline;
-use crate::render::{FrameOutput, FrameRecorder, ObjectPush, Renderer, OBJECT_PUSH_BYTES};
+use crate::render::{FrameOutput, FrameRecorder, GpuMesh, ObjectPush, Renderer, OBJECT_PUSH_BYTES};
 use crate::scene::{Light, Scene};
 use crate::technique::frame_renderer::{self, BuildContext, Passes};
 use crate::technique::interface::RenderOptions;
 use crate::technique::interface::{FrameStats, SceneRenderer, Technique, Variant};
+use crate::technique::options::{PlanarOptions, TextureShadowOn};
 
-/// Side of the shadow texture (small on purpose: what a phone can spare).
-pub const SHADOW_TEXTURE_SIZE: u32 = 128;
 const SHADOW_TEXTURE_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
 
 /// Mirrors `ReceivePush` in `shaders/planar_texture_receive.vert` (128 bytes: the profile's limit).
@@ -86,23 +91,39 @@ pub fn receive_desc() -> PipelineDesc {
     }
 }
 
+/// The seed's quad: the receive pipeline on one flat quad seen from either side.
+pub fn quad_desc() -> PipelineDesc {
+    let receive = receive_desc();
+    PipelineDesc {
+        name: "shadow texture quad",
+        fixed: FixedFunction {
+            raster: RasterState { depth_bias: Some(SHADOW_BIAS), ..RasterState::CULL_NONE },
+            ..receive.fixed
+        },
+        ..receive
+    }
+}
+
 /// The offscreen target the casters are drawn into.
 const SHADOW_TEXTURE: Target = Target::Offscreen("shadow texture");
 
 /// The shadow texture, at set 1 of the receive pass.
 const SHADOW_TEXTURE_SET: SetRole = SetRole::Own("shadow texture");
 
-/// What the prepass draws, and what the receive pass draws.
+/// What the prepass draws (the casters, or their simplified meshes), and what the last pass
+/// draws (the receivers, or the seed's quad).
 const CASTERS_FROM_THE_LIGHT: Draws = Draws::Geometry("casters seen from the light");
+const LOD_CASTERS_FROM_THE_LIGHT: Draws = Draws::Geometry("simplified casters (meshoptimizer) seen from the light");
 const RECEIVERS: Draws = Draws::Geometry("receivers");
+const QUAD: Draws = Draws::Geometry("one quad on the plane around the casters' shadow");
 
 /// The frame's passes: the casters into the shadow texture, the lit scene, then the receivers
-/// again, darkened by their lookup.
-pub fn plan() -> PassPlan {
+/// again (or the seed's quad), darkened by their lookup.
+pub fn plan(options: &PlanarOptions) -> PassPlan {
     let casters = PlannedPass::new(
         "shadow texture",
         caster_desc(false),
-        CASTERS_FROM_THE_LIGHT,
+        if options.shadow_lod.is_some() { LOD_CASTERS_FROM_THE_LIGHT } else { CASTERS_FROM_THE_LIGHT },
         Push::PerDraw("light view-projection x object transform, colour F/255"),
     )
     .or_pipeline(caster_desc(true))
@@ -128,12 +149,20 @@ pub fn plan() -> PassPlan {
     )
     .with_sets(&SCENE_SETS)
     .into_target(SHADOW_TEXTURE);
-    let receive = PlannedPass::new(
-        "shadow texture receive",
-        receive_desc(),
-        RECEIVERS,
-        Push::PerDraw("receiver transform and the light's view-projection"),
-    )
+    let receive = match options.texture_on {
+        TextureShadowOn::Receivers => PlannedPass::new(
+            "shadow texture receive",
+            receive_desc(),
+            RECEIVERS,
+            Push::PerDraw("receiver transform and the light's view-projection"),
+        ),
+        TextureShadowOn::Quad => PlannedPass::new(
+            "shadow texture quad",
+            quad_desc(),
+            QUAD,
+            Push::PerDraw("the quad's placement on the plane and the light's view-projection"),
+        ),
+    }
     .with_sets(&[SetRole::Frame, SHADOW_TEXTURE_SET]);
     PassPlan { passes: vec![casters, lit_scene_pass(), receive] }
 }
@@ -171,8 +200,8 @@ struct ShadowTarget {
 }
 
 impl ShadowTarget {
-    fn new(gpu: &Arc<Gpu>) -> Result<Self> {
-        let extent = vk::Extent2D { width: SHADOW_TEXTURE_SIZE, height: SHADOW_TEXTURE_SIZE };
+    fn new(gpu: &Arc<Gpu>, size: u32) -> Result<Self> {
+        let extent = vk::Extent2D { width: size, height: size };
         let image = Image::new(
             gpu,
             &ImageDesc {
@@ -200,8 +229,34 @@ impl Technique for ShadowTexture {
         "casters drawn from the light into a small texture that the ground looks up (seed 001)"
     }
 
-    fn plan(&self, _options: &RenderOptions) -> Result<PassPlan> {
-        Ok(plan())
+    fn plan(&self, options: &RenderOptions) -> Result<PassPlan> {
+        Ok(plan(&options.planar))
+    }
+
+    /// The texture on the receivers and on the seed's quad, each also from simplified casters.
+    fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+        let lod = Some(options.planar.shadow_lod.unwrap_or(DEFAULT_SHADOW_LOD));
+        [
+            (TextureShadowOn::Receivers, None),
+            (TextureShadowOn::Quad, None),
+            (TextureShadowOn::Receivers, lod),
+            (TextureShadowOn::Quad, lod),
+        ]
+        .into_iter()
+        .map(|(texture_on, shadow_lod)| Variant {
+            label: format!(
+                "{} (on {}{})",
+                self.name(),
+                texture_on.name(),
+                if shadow_lod.is_some() { ", shadow LOD" } else { "" }
+            ),
+            options: RenderOptions {
+                stencil: StencilMode::Emulated,
+                planar: PlanarOptions { texture_on, shadow_lod, ..options.planar },
+                ..options.clone()
+            },
+        })
+        .collect()
     }
 
     fn build<'s>(
@@ -222,8 +277,14 @@ impl Technique for ShadowTexture {
 /// this frame's light view-projection.
 struct ShadowTexturePasses {
     shadow_factor: u8,
+    texture_size: u32,
     plane: ReceiverPlane,
     meshes: SceneMeshes,
+    /// The casters' simplified meshes, with `--shadow-lod`.
+    lods: Option<CasterLods>,
+    /// The seed's quad (`--render-texture-on quad`), and this frame's placement of it.
+    quad: Option<GpuMesh>,
+    quad_model: Option<Mat4>,
     /// Fitted around the casters each frame; zero when there is nothing to draw (the texture
     /// stays clear and every lookup reads 1).
     light_view_proj: Mat4,
@@ -236,9 +297,19 @@ struct ShadowTexturePasses {
 impl ShadowTexturePasses {
     fn new(ctx: &BuildContext, scene: &Scene) -> Result<Self> {
         let gpu = ctx.gpu;
-        let plane = receiver_plane(scene)?;
+        let plane = receiver_plane(scene, ctx.options.planar.plane.as_ref())?;
+        plane.plane.check_light(&scene.light)?;
         let meshes = SceneMeshes::upload(gpu, scene)?;
-        let target = ShadowTarget::new(gpu)?;
+        let options = &ctx.options.planar;
+        let lods = match options.shadow_lod {
+            Some(ratio) => Some(CasterLods::build(gpu, scene, &plane.receivers, ratio)?),
+            None => None,
+        };
+        let quad = match options.texture_on {
+            TextureShadowOn::Quad => Some(unit_square(gpu)?),
+            TextureShadowOn::Receivers => None,
+        };
+        let target = ShadowTarget::new(gpu, options.texture_size)?;
         let sampler = Sampler::new(gpu, vk::Filter::LINEAR, vk::SamplerAddressMode::CLAMP_TO_EDGE)?;
         let texture_set = DescriptorSet::new(
             gpu,
@@ -250,9 +321,13 @@ impl ShadowTexturePasses {
             }],
         )?;
         Ok(ShadowTexturePasses {
-            shadow_factor: ctx.options.planar.shadow_factor,
+            shadow_factor: options.shadow_factor,
+            texture_size: options.texture_size,
             plane,
             meshes,
+            lods,
+            quad,
+            quad_model: None,
             light_view_proj: Mat4::ZERO,
             texture_set,
             _sampler: sampler,
@@ -272,7 +347,7 @@ impl ShadowTexturePasses {
         let &[caster, skinned, ..] = pipelines else {
             return Err(Error::Internal(format!("the shadow texture pass has {} pipelines", pipelines.len())));
         };
-        let extent = vk::Extent2D { width: SHADOW_TEXTURE_SIZE, height: SHADOW_TEXTURE_SIZE };
+        let extent = vk::Extent2D { width: self.texture_size, height: self.texture_size };
         let white = [vk::ClearValue { color: vk::ClearColorValue { float32: [1.0; 4] } }];
         rec.begin_offscreen_pass(&self.target.render_pass, self.target.framebuffer.raw, extent, &white);
         // No light above the plane: the texture stays cleared to white (unshadowed).
@@ -284,7 +359,7 @@ impl ShadowTexturePasses {
                     colour: Vec4::new(factor, factor, factor, 1.0),
                 };
                 let casters = SceneMeshes::caster_pipelines(scene, index, pass, pipelines, [caster, skinned]);
-                self.meshes.draw(rec, scene, index, casters, &push);
+                self.meshes.draw_caster(rec, scene, index, casters, &push, self.lods.as_ref());
             }
         }
         rec.end_render_pass();
@@ -300,6 +375,22 @@ impl ShadowTexturePasses {
         for object in scene.objects.iter().zip(&self.plane.receivers).filter(|(_, r)| **r).map(|(o, _)| o) {
             rec.push(receive, &ReceivePush { model: object.transform, light_view_proj });
             rec.draw_mesh(&self.meshes.meshes.meshes[object.mesh]);
+        }
+        Ok(())
+    }
+}
+
+impl ShadowTexturePasses {
+    /// The seed's quad around the casters' shadow, looking the texture up like a receiver.
+    fn draw_quad(&self, rec: &mut FrameRecorder, pipelines: &[&Pipeline]) -> Result<()> {
+        let &[quad_pipeline] = pipelines else {
+            return Err(Error::Internal(format!("the shadow texture quad pass has {} pipelines", pipelines.len())));
+        };
+        if let (Some(quad), Some(model)) = (&self.quad, self.quad_model) {
+            if self.light_view_proj != Mat4::ZERO {
+                rec.push(quad_pipeline, &ReceivePush { model, light_view_proj: self.light_view_proj });
+                rec.draw_mesh(quad);
+            }
         }
         Ok(())
     }
@@ -325,9 +416,14 @@ impl Passes for ShadowTexturePasses {
     }
 
     fn prepare(&mut self, _renderer: &Renderer, scene: &Scene) -> Result<()> {
+        self.plane.plane.check_light(&scene.light)?;
         self.meshes.update_palettes(scene)?;
+        self.quad_model = match self.quad {
+            Some(_) => shadow_quad(scene, &self.plane).map(|corners| quad_model(&corners, self.plane.plane.normal)),
+            None => None,
+        };
         self.light_view_proj = match caster_bounds(scene, &self.plane) {
-            Some((low, high)) if light_reaches_plane(&scene.light, self.plane.height) => {
+            Some((low, high)) if light_reaches_plane(&scene.light, &self.plane.plane) => {
                 light_view_projection(&scene.light, low, high)
             }
             _ => Mat4::ZERO,
@@ -337,14 +433,15 @@ impl Passes for ShadowTexturePasses {
 
     fn draw(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()> {
         match pass.draws {
-            CASTERS_FROM_THE_LIGHT => self.draw_casters(rec, scene, pass, pipelines),
+            CASTERS_FROM_THE_LIGHT | LOD_CASTERS_FROM_THE_LIGHT => self.draw_casters(rec, scene, pass, pipelines),
             Draws::Objects => self.meshes.draw_scene(rec, scene, &self.plane, pass, pipelines, 1.0),
             RECEIVERS => self.draw_receivers(rec, scene, pipelines),
+            QUAD => self.draw_quad(rec, pipelines),
             _ => Err(Error::Internal(format!("shadow textures cannot draw pass '{}'", pass.name))),
         }
     }
 
     fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {
-        Box::new(PlanarStats::of(&self.plane, &self.meshes, self.shadow_factor))
+        Box::new(PlanarStats::of(&self.plane, &self.meshes, self.shadow_factor).with_lods(self.lods.as_ref()))
     }
 }
