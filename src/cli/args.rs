@@ -292,6 +292,11 @@ fn parse_size_arg(text: &str) -> std::result::Result<(u32, u32), String> {
     parse_size(text).map_err(|e| e.to_string())
 }
 
+/// `#RRGGBB` or `RRGGBB` as three bytes, for clap (the one parser is `parse_rgb_hex`).
+fn parse_rgb8(text: &str) -> Result<[u8; 3], String> {
+    parse_rgb_hex("colour", text).map_err(|e| e.to_string())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -304,9 +309,4 @@ mod tests {
         assert!(parse_size("256").is_err());
         assert!(parse_size("axb").is_err());
     }
-}
-
-/// `#RRGGBB` or `RRGGBB` as three bytes, for clap (the one parser is `parse_rgb_hex`).
-fn parse_rgb8(text: &str) -> Result<[u8; 3], String> {
-    crate::technique::options::parse_rgb_hex("colour", text).map_err(|e| e.to_string())
 }
