@@ -7,6 +7,7 @@ layout(push_constant) uniform CartoonPush {
     // cartoon_shade: x = 1 toon ramp (else Lambert), y = 1 dark-rim lookup of N.V.
     // cartoon_ink: x = line width in pixels, y = 1 one-sided (silhouette), z = clip-space depth pull.
     // cartoon_extrude: x = extrusion in pixels.
+    // cartoon_alpha_test: x = the alpha reference (N.V at most this is ink).
     vec4 params;
     // xy: viewport size in pixels; z: world size of one pixel at unit distance from the eye.
     vec4 viewport;

@@ -183,8 +183,8 @@ pub struct FrameArgs {
     /// outline: objects to outline, by name (default: the scene's first shadow caster).
     #[arg(long, value_name = "NAME,...", default_value = "")]
     pub select: String,
-    /// silhouette/toon: how ink is found: `edges` (CPU, screen-space quads), `shader` (N.V rim)
-    /// or `hull` (inverted hull).
+    /// silhouette/toon: how ink is found: `edges` (CPU, screen-space quads), `shader` (N.V rim),
+    /// `hull` (inverted hull) or `alpha-test` (N.V per pixel against `--alpha-ref`).
     #[arg(long, value_enum, default_value_t)]
     pub silhouette: SilhouetteMethod,
     /// silhouette/toon: edges whose faces fold by more than this are creases (degrees).
@@ -193,6 +193,10 @@ pub struct FrameArgs {
     /// silhouette/toon: ink line width in pixels (edges and hull).
     #[arg(long, default_value_t = 2.0, value_name = "PX")]
     pub line_width: f32,
+    /// silhouette/toon `--silhouette alpha-test`: pixels with N.V at most this are ink (0..=1;
+    /// larger: thicker lines).
+    #[arg(long, default_value_t = 0.3, value_name = "N.V")]
+    pub alpha_ref: f32,
     /// outline: outline width in pixels.
     #[arg(long, default_value_t = 4.0, value_name = "PX")]
     pub outline_width: f32,

@@ -96,6 +96,7 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
             crease_deg: frame.crease_angle,
             line_width: frame.line_width,
             outline_width: frame.outline_width,
+            alpha_ref: frame.alpha_ref,
             ..Default::default()
         },
         planar: PlanarOptions { shadow_factor: frame.shadow_factor, ..Default::default() },

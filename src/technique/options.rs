@@ -92,6 +92,8 @@ crate::names::named_enum! {
         Shader = "shader",
         /// Normal-extruded inverted hull.
         Hull = "hull",
+        /// Dietrich's alpha test: N.V per pixel as alpha, ink where it is at most `--alpha-ref`.
+        AlphaTest = "alpha-test",
     }
 }
 
@@ -106,6 +108,9 @@ pub struct CartoonOptions {
     pub line_width: f32,
     /// Outline width in pixels (`outline`).
     pub outline_width: f32,
+    /// `alpha-test` ink: pixels whose N.V is at most this are ink (0: a hairline; larger:
+    /// thicker lines).
+    pub alpha_ref: f32,
     /// Outline colour, 8-bit RGB (so every path writes the same bytes).
     pub outline_colour: [u8; 3],
 }
@@ -118,6 +123,7 @@ impl Default for CartoonOptions {
             crease_deg: 40.0,
             line_width: 2.0,
             outline_width: 4.0,
+            alpha_ref: 0.3,
             outline_colour: [255, 160, 0],
         }
     }
@@ -131,6 +137,9 @@ impl CartoonOptions {
         }
         if !(self.outline_width.is_finite() && (0.5..=64.0).contains(&self.outline_width)) {
             return Err(Error::InvalidInput(format!("--outline-width {}: use 0.5 to 64 pixels", self.outline_width)));
+        }
+        if !(self.alpha_ref.is_finite() && (0.0..=1.0).contains(&self.alpha_ref)) {
+            return Err(Error::InvalidInput(format!("--alpha-ref {}: use 0 to 1 (N.V)", self.alpha_ref)));
         }
         if !(self.crease_deg.is_finite() && (0.0..=180.0).contains(&self.crease_deg)) {
             return Err(Error::InvalidInput(format!("--crease-angle {}: use 0 to 180 degrees", self.crease_deg)));

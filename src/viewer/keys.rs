@@ -101,7 +101,7 @@ pub(super) const BINDINGS: &[Binding] = &[
     },
     Binding {
         keys: &[KeyPress::Letter('e')],
-        description: "silhouette/toon ink: edges, shader rim, inverted hull",
+        description: "silhouette/toon ink: edges, shader rim, inverted hull, alpha test",
         action: Action::NextInk,
     },
     Binding {

@@ -1,12 +1,14 @@
 //! The ink renderer (seed 002, DESIGN.md section 4): the scene shaded Lambert (`silhouette`)
-//! or through a toon ramp (`toon`), then ink on its silhouettes by one of three methods:
+//! or through a toon ramp (`toon`), then ink on its silhouettes by one of these methods:
 //! - `edges`: per frame on the CPU, each object's unique edge list is classified from the eye
 //!   (`mesh::classify`), and the flagged edges are drawn as screen-space quads, one draw per
 //!   class (the mobile profile has no wideLines): [`edges`];
 //! - `shader`: the scene's vertex shader computes N.V and the fragment shader looks it up in a
 //!   1D texture whose first texels are dark (a rim);
 //! - `hull`: the two-pass inverted hull: the mesh pushed out along its normals, front faces
-//!   culled, drawn in ink behind the model.
+//!   culled, drawn in ink behind the model;
+//! - `alpha-test`: Dietrich's method: N.V per pixel is the alpha, and an alpha test (a
+//!   `discard`) keeps as ink the pixels at most a reference value, which sets the thickness.
 //!
 //! The recipes and pass plan are in [`recipes`], the renderer in [`renderer`].
 

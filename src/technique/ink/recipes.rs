@@ -5,7 +5,9 @@
 //! - `edges`: one pass per edge class (silhouette, crease, boundary), each one draw of the
 //!   screen-space quads the CPU built this frame;
 //! - `shader`: nothing more, the rim is the ink;
-//! - `hull`: the inverted hull, each object's extruded copy with its front faces culled.
+//! - `hull`: the inverted hull, each object's extruded copy with its front faces culled;
+//! - `alpha-test`: the objects again, depth EQUAL, N.V per pixel as alpha, kept (as ink) where
+//!   it is at most the reference value.
 
 use ash::vk;
 
@@ -63,6 +65,26 @@ pub fn hull_desc() -> PipelineDesc {
     extrude_desc("inverted hull", FixedFunction { raster: RasterState::CULL_FRONT, ..FixedFunction::OPAQUE })
 }
 
+/// The name of the `alpha-test` ink pass.
+pub const ALPHA_TEST: &str = "alpha-test ink";
+
+/// Dietrich's alpha test: the objects again over the scene pass (the same vertex shader,
+/// `invariant gl_Position`, so depth EQUAL finds exactly their visible pixels), N.V as alpha,
+/// kept where it is at most the reference (LESS_EQUAL); ink in RGB, alpha untouched.
+pub fn alpha_test_desc() -> PipelineDesc {
+    cartoon_desc(
+        "alpha-test ink",
+        "cartoon_shade.vert",
+        "cartoon_alpha_test.frag",
+        VertexLayout::SCENE,
+        FixedFunction {
+            depth: DepthState { compare: Some(vk::CompareOp::EQUAL), write: false },
+            blend: COLOUR_REPLACE,
+            ..FixedFunction::OPAQUE
+        },
+    )
+}
+
 /// The passes of a frame inked by `method`.
 pub fn plan(method: SilhouetteMethod) -> PassPlan {
     let mut plan = PassPlan::new();
@@ -92,6 +114,17 @@ pub fn plan(method: SilhouetteMethod) -> PassPlan {
                     hull_desc(),
                     EXTRUDED,
                     Push::PerDraw("object transform, ink colour and line width (CartoonPush)"),
+                )
+                .with_sets(&[SetRole::Frame]),
+            );
+        }
+        SilhouetteMethod::AlphaTest => {
+            plan.push(
+                PlannedPass::new(
+                    ALPHA_TEST,
+                    alpha_test_desc(),
+                    Draws::Objects,
+                    Push::PerDraw("object transform, ink colour, alpha reference (CartoonPush)"),
                 )
                 .with_sets(&[SetRole::Frame]),
             );

@@ -10,10 +10,11 @@ use ash::vk;
 use glam::{Mat4, Vec4};
 
 use super::edges::{InkMesh, InkQuads, InkVertex};
-use super::recipes::{EDGE_CLASSES, EXTRUDED};
+use super::recipes::{ALPHA_TEST, EDGE_CLASSES, EXTRUDED};
 use crate::error::{Error, Result};
 use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
+use crate::render::object_push::draw_order;
 use crate::render::plan::{Draws, PlannedPass, SetRole};
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, Renderer};
@@ -46,6 +47,7 @@ pub fn build<'s>(
         let lines = match method {
             SilhouetteMethod::Edges => Ink::Edges(Box::new(EdgeLines::new(scene, cartoon.crease_deg)?)),
             SilhouetteMethod::Shader => Ink::Rim,
+            SilhouetteMethod::AlphaTest => Ink::AlphaTest(cartoon.alpha_ref),
             SilhouetteMethod::Hull => Ink::Hull(ExtrudedCopies::new(ctx.gpu, scene)?),
         };
         Ok(InkPasses {
@@ -66,6 +68,8 @@ enum Ink {
     /// The scene pass's rim ramp: nothing of its own.
     Rim,
     Hull(ExtrudedCopies),
+    /// The objects again, alpha-tested at this reference.
+    AlphaTest(f32),
 }
 
 struct InkPasses {
@@ -96,7 +100,7 @@ impl Passes for InkPasses {
                 lines.follow_pose(scene, &changed);
                 lines.rebuild(&self.gpu, scene)?;
             }
-            Ink::Rim => {}
+            Ink::Rim | Ink::AlphaTest(_) => {}
             Ink::Hull(copies) => copies.follow_pose(&self.gpu, scene, &changed)?,
         }
         let extent = renderer.extent();
@@ -115,6 +119,16 @@ impl Passes for InkPasses {
         };
         let class = EDGE_CLASSES.iter().position(|class| class.draws == pass.draws);
         match (pass.draws, &self.ink, class) {
+            (Draws::Objects, Ink::AlphaTest(reference), _) if pass.name == ALPHA_TEST => {
+                let params = Vec4::new(*reference, 0.0, 0.0, 0.0);
+                for index in draw_order(scene) {
+                    let object = &scene.objects[index];
+                    let push =
+                        CartoonPush { model: object.transform, colour: INK_COLOUR, params, viewport: self.viewport };
+                    rec.push(pipeline, &push);
+                    rec.draw_mesh(&self.scene_pass.meshes.meshes[object.mesh]);
+                }
+            }
             (Draws::Objects, _, _) => self.scene_pass.draw(rec, pass, pipelines, scene, |_| true, 1.0, self.viewport),
             (EXTRUDED, Ink::Hull(copies), _) => {
                 let extrusion = Extrusion { width_px: self.line_width, colour: INK_COLOUR };
