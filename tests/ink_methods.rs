@@ -136,3 +136,106 @@ fn alpha_test_ring_on_a_sphere_is_where_n_dot_v_is_below_the_reference() {
     assert!(thickness[0] < 3.0 && thickness[thickness.len() - 1] > 10.0, "{thickness:?}");
     common::assert_no_validation_messages(&gpu);
 }
+
+fn is_ink(p: &image::Rgba<u8>) -> bool {
+    p.0[..3] == ink()
+}
+
+#[test]
+fn extrusion_rings_a_sphere_like_the_hull() {
+    let gpu = common::gpu();
+    let size = (160, 160);
+    let scene = face_on_scene(&[(unit_sphere(), Mat4::IDENTITY, Vec3::new(0.3, 0.5, 0.8))]);
+    let contour = radius_where_n_dot_v_is(0.0, EYE_DISTANCE, focal_px(&scene, size.1));
+    for width in [2.0f32, 4.0] {
+        let options = |method| CartoonOptions { silhouette: method, line_width: width, ..CartoonOptions::default() };
+        let extrusion = render(&gpu, &scene, &SILHOUETTE, &options(SilhouetteMethod::Extrusion), size);
+        for (ray, span) in ink_span_per_ray(&extrusion, 72, contour + width + 4.0).into_iter().enumerate() {
+            let (first, last) = span.unwrap_or_else(|| panic!("width {width}: no ink on ray {ray}"));
+            // The copy is pushed out by `width` pixels along the normal, which is across the
+            // view ray at the contour; pixels hold their ray point within 0.71 px.
+            assert!((first - contour).abs() < 1.25, "width {width}, ray {ray}: ink from {first}, contour {contour}");
+            assert!((last - contour - width).abs() < 1.25, "width {width}, ray {ray}: ink to {last}");
+        }
+        // Alone, nothing is in front of the copy or drawn before it: the same ring as the
+        // inverted hull's (a closed copy's front and back faces cover the same pixels).
+        let hull = render(&gpu, &scene, &SILHOUETTE, &options(SilhouetteMethod::Hull), size);
+        let differing = extrusion.pixels().zip(hull.pixels()).filter(|(a, b)| a.0[..3] != b.0[..3]).count();
+        assert_eq!(differing, 0, "width {width}: extrusion and hull differ on a lone sphere");
+    }
+    common::assert_no_validation_messages(&gpu);
+}
+
+#[test]
+fn extruded_copy_with_depth_off_shows_through_an_object_in_front_and_the_hull_does_not() {
+    // Sphere A in front (drawn first), sphere B behind it and to the right. The seed's
+    // extrusion draws B's copy with the depth test off after A: its ring paints over A's
+    // body. The inverted hull's copy is depth tested: A hides it.
+    let gpu = common::gpu();
+    let size = (160, 120);
+    let a = (unit_sphere(), Mat4::from_translation(Vec3::new(-0.3, 0.0, 1.5)), Vec3::new(0.3, 0.5, 0.8));
+    let b = (unit_sphere(), Mat4::from_translation(Vec3::new(1.0, 0.0, -1.0)), Vec3::new(0.8, 0.5, 0.3));
+    let both = face_on_scene(&[a.clone(), b.clone()]);
+    let options = |method| CartoonOptions { silhouette: method, line_width: 3.0, ..CartoonOptions::default() };
+    let extrusion = options(SilhouetteMethod::Extrusion);
+    // Masks from each sphere rendered alone: B's ring, and A's body well inside its ring.
+    let b_alone = render(&gpu, &face_on_scene(&[b]), &SILHOUETTE, &extrusion, size);
+    let a_alone = render(&gpu, &face_on_scene(&[a]), &SILHOUETTE, &extrusion, size);
+    let background = common::srgb8(both.background);
+    let (w, h) = (size.0 as i32, size.1 as i32);
+    let a_inside = |x: i32, y: i32| {
+        (-5..=5).all(|dy| {
+            (-5..=5).all(|dx| {
+                let (sx, sy) = (x + dx, y + dy);
+                sx >= 0 && sy >= 0 && sx < w && sy < h && {
+                    let p = a_alone.get_pixel(sx as u32, sy as u32);
+                    !is_ink(p) && p.0[..3] != background
+                }
+            })
+        })
+    };
+    let crossing: Vec<(u32, u32)> = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .filter(|&(x, y)| is_ink(b_alone.get_pixel(x as u32, y as u32)) && a_inside(x, y))
+        .map(|(x, y)| (x as u32, y as u32))
+        .collect();
+    assert!(crossing.len() > 20, "B's ring crosses A's body at only {} pixels", crossing.len());
+    let with_extrusion = render(&gpu, &both, &SILHOUETTE, &extrusion, size);
+    let with_hull = render(&gpu, &both, &SILHOUETTE, &options(SilhouetteMethod::Hull), size);
+    for &(x, y) in &crossing {
+        assert!(is_ink(with_extrusion.get_pixel(x, y)), "extrusion: B's ring hidden by A at ({x}, {y})");
+        assert_eq!(with_hull.get_pixel(x, y), a_alone.get_pixel(x, y), "hull: A's body changed at ({x}, {y})");
+    }
+    common::assert_no_validation_messages(&gpu);
+}
+
+#[test]
+fn extrusion_and_hull_plans_differ_in_passes_and_depth_and_cull_state() {
+    use ash::vk;
+    let plan = |method| {
+        let options = RenderOptions {
+            technique: &SILHOUETTE,
+            cartoon: CartoonOptions { silhouette: method, ..CartoonOptions::default() },
+            ..Default::default()
+        };
+        SILHOUETTE.plan(&options).expect("plan")
+    };
+    let hull = plan(SilhouetteMethod::Hull);
+    let names = |p: &nostencil::render::plan::PassPlan| p.passes.iter().map(|p| p.name.to_string()).collect::<Vec<_>>();
+    assert_eq!(names(&hull), ["scene", "inverted hull"]);
+    let hull_copy = hull.passes[1].pipeline().expect("hull pipeline");
+    assert_eq!((hull_copy.fixed.depth.compare, hull_copy.fixed.depth.write), (Some(vk::CompareOp::LESS), true));
+    assert_eq!(hull_copy.fixed.raster.cull, vk::CullModeFlags::FRONT);
+
+    // One pass binding both pipelines: per object, the copy and then the object.
+    let extrusion = plan(SilhouetteMethod::Extrusion);
+    assert_eq!(names(&extrusion), ["extruded copy, then object"]);
+    let copy = extrusion.passes[0].pipelines.iter().find(|p| p.name == "extruded copy (depth off)").expect("copy");
+    assert_eq!((copy.fixed.depth.compare, copy.fixed.depth.write), (None, false));
+    assert_eq!(copy.fixed.raster.cull, vk::CullModeFlags::BACK);
+    let scene = extrusion.passes[0].pipeline().expect("scene pipeline");
+    assert_eq!(
+        (scene.name, scene.fixed.depth.compare, scene.fixed.depth.write),
+        ("scene", Some(vk::CompareOp::LESS), true)
+    );
+}

@@ -139,22 +139,39 @@ impl CartoonScene {
         alpha: f32,
         viewport: Vec4,
     ) {
-        let params = self.shading.params();
         let Some(&main) = pipelines.first() else { return };
         let mut bound = main;
         for index in draw_order(scene).into_iter().filter(|i| which(*i)) {
-            let object = &scene.objects[index];
-            let variant = MaterialVariant::for_surface(scene.material_of(object));
-            let pipeline = pass.variant(pipelines, main, variant);
-            if !std::ptr::eq(pipeline, bound) {
-                rec.bind(pipeline);
-                bound = pipeline;
-            }
-            let colour = scene.base_colour(object).extend(alpha);
-            rec.bind_material(pipeline, self.meshes.materials.set(object.material));
-            rec.push(pipeline, &CartoonPush { model: object.transform, colour, params, viewport });
-            rec.draw_mesh(&self.meshes.meshes[object.mesh]);
+            bound = self.draw_object(rec, pass, pipelines, bound, scene, index, alpha, viewport);
         }
+    }
+
+    /// Draws object `index` as [`CartoonScene::draw`] does, `bound` being the pipeline bound
+    /// now (rebound only when its material needs another); returns the one bound after.
+    #[allow(clippy::too_many_arguments)]
+    pub fn draw_object<'p>(
+        &self,
+        rec: &mut FrameRecorder,
+        pass: &PlannedPass,
+        pipelines: &[&'p Pipeline],
+        bound: &'p Pipeline,
+        scene: &Scene,
+        index: usize,
+        alpha: f32,
+        viewport: Vec4,
+    ) -> &'p Pipeline {
+        let Some(&main) = pipelines.first() else { return bound };
+        let object = &scene.objects[index];
+        let variant = MaterialVariant::for_surface(scene.material_of(object));
+        let pipeline = pass.variant(pipelines, main, variant);
+        if !std::ptr::eq(pipeline, bound) {
+            rec.bind(pipeline);
+        }
+        let colour = scene.base_colour(object).extend(alpha);
+        rec.bind_material(pipeline, self.meshes.materials.set(object.material));
+        rec.push(pipeline, &CartoonPush { model: object.transform, colour, params: self.shading.params(), viewport });
+        rec.draw_mesh(&self.meshes.meshes[object.mesh]);
+        pipeline
     }
 }
 

@@ -130,11 +130,25 @@ impl ExtrudedCopies {
         extrusion: Extrusion,
         viewport: Vec4,
     ) {
-        let (colour, params) = (extrusion.colour, Vec4::new(extrusion.width_px, 0.0, 0.0, 0.0));
-        for (index, object) in scene.objects.iter().enumerate().filter(|(i, _)| which(*i)) {
-            rec.push(pipeline, &CartoonPush { model: object.transform, colour, params, viewport });
-            rec.draw_mesh(&self.meshes[index]);
+        for index in (0..scene.objects.len()).filter(|i| which(*i)) {
+            self.draw_one(rec, pipeline, scene, index, extrusion, viewport);
         }
+    }
+
+    /// Draws the copy of object `index` with the bound `pipeline`.
+    pub fn draw_one(
+        &self,
+        rec: &mut FrameRecorder,
+        pipeline: &Pipeline,
+        scene: &Scene,
+        index: usize,
+        extrusion: Extrusion,
+        viewport: Vec4,
+    ) {
+        let (Some(object), Some(mesh)) = (scene.objects.get(index), self.meshes.get(index)) else { return };
+        let (colour, params) = (extrusion.colour, Vec4::new(extrusion.width_px, 0.0, 0.0, 0.0));
+        rec.push(pipeline, &CartoonPush { model: object.transform, colour, params, viewport });
+        rec.draw_mesh(mesh);
     }
 }
 

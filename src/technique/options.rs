@@ -94,6 +94,9 @@ crate::names::named_enum! {
         Hull = "hull",
         /// Dietrich's alpha test: N.V per pixel as alpha, ink where it is at most `--alpha-ref`.
         AlphaTest = "alpha-test",
+        /// The seed's two-pass extrusion, per object: its copy pushed out along the normals,
+        /// depth test and write off, in ink; then the object, depth on.
+        Extrusion = "extrusion",
     }
 }
 

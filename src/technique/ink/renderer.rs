@@ -10,7 +10,7 @@ use ash::vk;
 use glam::{Mat4, Vec4};
 
 use super::edges::{InkMesh, InkQuads, InkVertex};
-use super::recipes::{ALPHA_TEST, EDGE_CLASSES, EXTRUDED};
+use super::recipes::{ALPHA_TEST, COPY_THEN_OBJECT, EDGE_CLASSES, EXTRUDED};
 use crate::error::{Error, Result};
 use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
@@ -48,7 +48,7 @@ pub fn build<'s>(
             SilhouetteMethod::Edges => Ink::Edges(Box::new(EdgeLines::new(scene, cartoon.crease_deg)?)),
             SilhouetteMethod::Shader => Ink::Rim,
             SilhouetteMethod::AlphaTest => Ink::AlphaTest(cartoon.alpha_ref),
-            SilhouetteMethod::Hull => Ink::Hull(ExtrudedCopies::new(ctx.gpu, scene)?),
+            SilhouetteMethod::Hull | SilhouetteMethod::Extrusion => Ink::Hull(ExtrudedCopies::new(ctx.gpu, scene)?),
         };
         Ok(InkPasses {
             gpu: ctx.gpu.clone(),
@@ -67,6 +67,7 @@ enum Ink {
     Edges(Box<EdgeLines>),
     /// The scene pass's rim ramp: nothing of its own.
     Rim,
+    /// Each object's extruded copy (`hull` and `extrusion`).
     Hull(ExtrudedCopies),
     /// The objects again, alpha-tested at this reference.
     AlphaTest(f32),
@@ -127,6 +128,19 @@ impl Passes for InkPasses {
                         CartoonPush { model: object.transform, colour: INK_COLOUR, params, viewport: self.viewport };
                     rec.push(pipeline, &push);
                     rec.draw_mesh(&self.scene_pass.meshes.meshes[object.mesh]);
+                }
+            }
+            (COPY_THEN_OBJECT, Ink::Hull(copies), _) => {
+                // The copy pipeline is the pass's last; the scene's (and its material variants)
+                // come first.
+                let Some(&copy) = pipelines.last() else {
+                    return Err(Error::Internal(format!("pass '{}' lacks its pipelines", pass.name)));
+                };
+                let extrusion = Extrusion { width_px: self.line_width, colour: INK_COLOUR };
+                for index in draw_order(scene) {
+                    rec.bind(copy);
+                    copies.draw_one(rec, copy, scene, index, extrusion, self.viewport);
+                    self.scene_pass.draw_object(rec, pass, pipelines, copy, scene, index, 1.0, self.viewport);
                 }
             }
             (Draws::Objects, _, _) => self.scene_pass.draw(rec, pass, pipelines, scene, |_| true, 1.0, self.viewport),
