@@ -239,3 +239,132 @@ fn extrusion_and_hull_plans_differ_in_passes_and_depth_and_cull_state() {
         ("scene", Some(vk::CompareOp::LESS), true)
     );
 }
+
+/// A unit square in the z = 0 plane facing +Z: open, its outline is four boundary edges.
+fn square() -> MeshData {
+    MeshData {
+        positions: vec![
+            Vec3::new(-0.5, -0.5, 0.0),
+            Vec3::new(0.5, -0.5, 0.0),
+            Vec3::new(0.5, 0.5, 0.0),
+            Vec3::new(-0.5, 0.5, 0.0),
+        ],
+        normals: vec![Vec3::Z; 4],
+        uvs: vec![Vec2::ZERO; 4],
+        indices: vec![0, 1, 2, 0, 2, 3],
+    }
+}
+
+/// Two quads folded 90 degrees along the x axis (the ridge, nearest the eye), both facing +Z:
+/// the ridge is a crease between faces that share its vertices (no seam), the rest boundary.
+fn ridge() -> MeshData {
+    let s = std::f32::consts::FRAC_1_SQRT_2;
+    MeshData {
+        positions: vec![
+            Vec3::new(-0.5, 0.0, 0.0),
+            Vec3::new(0.5, 0.0, 0.0),
+            Vec3::new(0.5, 0.5, -0.5),
+            Vec3::new(-0.5, 0.5, -0.5),
+            Vec3::new(0.5, -0.5, -0.5),
+            Vec3::new(-0.5, -0.5, -0.5),
+        ],
+        normals: vec![
+            Vec3::Z,
+            Vec3::Z,
+            Vec3::new(0.0, s, s),
+            Vec3::new(0.0, s, s),
+            Vec3::new(0.0, -s, s),
+            Vec3::new(0.0, -s, s),
+        ],
+        uvs: vec![Vec2::ZERO; 6],
+        indices: vec![0, 1, 2, 0, 2, 3, 0, 4, 1, 0, 5, 4],
+    }
+}
+
+/// Pixel rows whose centres fall in [top, bottom) (the rasteriser's top-left rule on a
+/// horizontal band).
+fn rows_between(top: f32, bottom: f32) -> Vec<u32> {
+    (0..1000u32).filter(|&j| (j as f32 + 0.5) >= top && (j as f32 + 0.5) < bottom).collect()
+}
+
+/// Framebuffer y of a world point.
+fn pixel_y(scene: &Scene, point: Vec3, size: (u32, u32)) -> f32 {
+    let clip = scene.camera.view_projection(size.0 as f32 / size.1 as f32) * point.extend(1.0);
+    (clip.y / clip.w + 1.0) * 0.5 * size.1 as f32
+}
+
+#[test]
+fn each_edge_class_is_drawn_in_its_own_width_and_colour() {
+    use nostencil::technique::InkStyle;
+    let gpu = common::gpu();
+    let size = (128, 128);
+    // Widths and colours all different (pure primaries: the sRGB frame stores them exactly).
+    let styles = [
+        InkStyle { width: Some(4.0), colour: Some([255, 0, 0]) },
+        InkStyle { width: Some(3.0), colour: Some([0, 255, 0]) },
+        InkStyle { width: Some(1.0), colour: Some([0, 0, 255]) },
+    ];
+    let options = CartoonOptions { ink: styles, line_width: 2.0, ..CartoonOptions::default() };
+    // (class, mesh, a point of a horizontal edge of that class, one-sided outward)
+    let cases = [
+        (0, shapes::cube(1.0), Vec3::new(0.0, 0.5, 0.5), true),
+        (1, ridge(), Vec3::ZERO, false),
+        (2, square(), Vec3::new(0.0, 0.5, 0.0), false),
+    ];
+    for (class, mesh, edge, outward) in cases {
+        // Lift the shape until its edge lands a quarter pixel below a pixel border, so that no
+        // band border falls on a pixel centre.
+        let at = |lift: f32| {
+            let transform = Mat4::from_translation(Vec3::new(0.0, lift, 0.0));
+            let scene = face_on_scene(&[(mesh.clone(), transform, Vec3::new(0.9, 0.8, 0.2))]);
+            let y = pixel_y(&scene, edge + Vec3::new(0.0, lift, 0.0), size);
+            (scene, y)
+        };
+        let lift = (0..200).map(|i| 0.1 + i as f32 * 0.001).find(|&l| (at(l).1.fract() - 0.25).abs() < 0.05);
+        let (scene, y) = at(lift.expect("a lift that puts the edge at .25"));
+        let image = render(&gpu, &scene, &SILHOUETTE, &options, size);
+        let (width, colour) = (styles[class].width.unwrap_or(0.0), styles[class].colour.unwrap_or_default());
+        let (top, bottom) = if outward { (y - width, y) } else { (y - 0.5 * width, y + 0.5 * width) };
+        let expected = rows_between(top, bottom);
+        assert_eq!(expected.len(), width as usize);
+        let measured: Vec<u32> = (0..size.1)
+            .filter(|&r| (r as f32 - y).abs() < 8.0 && image.get_pixel(size.0 / 2, r).0[..3] == colour)
+            .collect();
+        assert_eq!(measured, expected, "class {class}: edge at y = {y}, colour {colour:?}");
+    }
+    // The GPU methods draw silhouettes only, in the silhouette's style.
+    let scene = face_on_scene(&[(unit_sphere(), Mat4::IDENTITY, Vec3::new(0.3, 0.5, 0.8))]);
+    for method in [SilhouetteMethod::Hull, SilhouetteMethod::Extrusion, SilhouetteMethod::AlphaTest] {
+        let image = render(&gpu, &scene, &SILHOUETTE, &CartoonOptions { silhouette: method, ..options.clone() }, size);
+        let red = image.pixels().filter(|p| p.0[..3] == [255, 0, 0]).count();
+        assert!(red > 100, "{method:?}: {red} pixels of the silhouette colour");
+        assert!(!image.pixels().any(is_ink), "{method:?}: default ink drawn");
+    }
+    common::assert_no_validation_messages(&gpu);
+}
+
+#[test]
+fn ink_styles_parse_and_bad_ones_are_one_line_errors() {
+    use nostencil::technique::InkStyle;
+    assert_eq!(InkStyle::parse("--ink-crease", "3").ok(), Some(InkStyle { width: Some(3.0), colour: None }));
+    assert_eq!(
+        InkStyle::parse("--ink-crease", "2.5,#FF8000").ok(),
+        Some(InkStyle { width: Some(2.5), colour: Some([255, 128, 0]) })
+    );
+    assert_eq!(
+        InkStyle::parse("--ink-crease", "#00ff00").ok(),
+        Some(InkStyle { width: None, colour: Some([0, 255, 0]) })
+    );
+    for (args, mentions) in [
+        (["--ink-silhouette", "wide"], "--ink-silhouette"),
+        (["--ink-crease", "2,#12345"], "--ink-crease"),
+        (["--ink-boundary", "100"], "--ink-boundary"),
+        (["--alpha-ref", "2"], "--alpha-ref"),
+    ] {
+        let mut all = vec!["profile", "--size", "32x32", "--scene", "outline", "--technique", "silhouette"];
+        all.extend_from_slice(&args);
+        let err = common::run_err(&all);
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert!(err.contains(mentions), "'{mentions}' not in {err}");
+    }
+}

@@ -193,6 +193,16 @@ pub struct FrameArgs {
     /// silhouette/toon: ink line width in pixels (edges and hull).
     #[arg(long, default_value_t = 2.0, value_name = "PX")]
     pub line_width: f32,
+    /// silhouette/toon: silhouette ink as WIDTH[,#RRGGBB] (sRGB); default `--line-width` and
+    /// the dark ink. The methods other than `edges` draw silhouettes only, in this style.
+    #[arg(long, value_name = "WIDTH[,#RRGGBB]")]
+    pub ink_silhouette: Option<String>,
+    /// silhouette/toon `--silhouette edges`: crease ink as WIDTH[,#RRGGBB].
+    #[arg(long, value_name = "WIDTH[,#RRGGBB]")]
+    pub ink_crease: Option<String>,
+    /// silhouette/toon `--silhouette edges`: boundary ink as WIDTH[,#RRGGBB].
+    #[arg(long, value_name = "WIDTH[,#RRGGBB]")]
+    pub ink_boundary: Option<String>,
     /// silhouette/toon `--silhouette alpha-test`: pixels with N.V at most this are ink (0..=1;
     /// larger: thicker lines).
     #[arg(long, default_value_t = 0.3, value_name = "N.V")]

@@ -27,8 +27,8 @@ use crate::scene::Scene;
 pub use cartoon::CartoonStats;
 pub use interface::{check_same_scene, FrameStats, RenderOptions, SceneRenderer, Technique, TechniqueFrame, Variant};
 pub use options::{
-    CartoonOptions, LightMode, Normalize, ShadowAtlasOptions, ShadowKind, ShadowVolumeOptions, SilhouetteMethod,
-    VolumeMethod,
+    CartoonOptions, InkStyle, LightMode, Normalize, ShadowAtlasOptions, ShadowKind, ShadowVolumeOptions,
+    SilhouetteMethod, VolumeMethod, INK_STYLE_FLAGS,
 };
 pub use planar::{PlanarOptions, PlanarStats};
 pub use registry::{by_name, TECHNIQUES};

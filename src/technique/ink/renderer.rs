@@ -12,6 +12,7 @@ use glam::{Mat4, Vec4};
 use super::edges::{InkMesh, InkQuads, InkVertex};
 use super::recipes::{ALPHA_TEST, COPY_THEN_OBJECT, EDGE_CLASSES, EXTRUDED};
 use crate::error::{Error, Result};
+use crate::frame::srgb;
 use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
 use crate::render::object_push::draw_order;
@@ -25,7 +26,7 @@ use crate::technique::extruded::{ExtrudedCopies, Extrusion};
 use crate::technique::frame_renderer::{self, Passes};
 use crate::technique::interface::RenderOptions;
 use crate::technique::interface::{FrameStats, SceneRenderer, Technique};
-use crate::technique::options::SilhouetteMethod;
+use crate::technique::options::{CartoonOptions, SilhouetteMethod};
 
 /// The ink, in every method.
 /// Linear RGBA of ink lines.
@@ -55,11 +56,22 @@ pub fn build<'s>(
             method,
             scene_pass,
             ink: lines,
-            line_width: cartoon.line_width,
+            styles: [0, 1, 2].map(|class| class_style(cartoon, class)),
             viewport: Vec4::ZERO,
             pull: 0.0,
         })
     })
+}
+
+/// Edge class `class`'s width and linear colour: its `--ink-*` style over `--line-width` and
+/// [`INK_COLOUR`].
+fn class_style(cartoon: &CartoonOptions, class: usize) -> (f32, Vec4) {
+    let colour = cartoon
+        .ink
+        .get(class)
+        .and_then(|s| s.colour)
+        .map_or(INK_COLOUR, |rgb| Vec4::new(srgb::decode(rgb[0]), srgb::decode(rgb[1]), srgb::decode(rgb[2]), 1.0));
+    (cartoon.ink_width(class), colour)
 }
 
 /// What draws the ink, per method.
@@ -78,11 +90,19 @@ struct InkPasses {
     method: SilhouetteMethod,
     scene_pass: CartoonScene,
     ink: Ink,
-    line_width: f32,
+    /// Per edge class (silhouette, crease, boundary): width in pixels and linear ink colour.
+    styles: [(f32, Vec4); 3],
     /// This frame's `CartoonPush::viewport`.
     viewport: Vec4,
     /// This frame's pull of the edge lines towards the eye, in clip-space depth.
     pull: f32,
+}
+
+impl InkPasses {
+    /// How `hull` and `extrusion` push their copies out: the silhouette's style.
+    fn silhouette_extrusion(&self) -> Extrusion {
+        Extrusion { width_px: self.styles[0].0, colour: self.styles[0].1 }
+    }
 }
 
 impl Passes for InkPasses {
@@ -110,7 +130,8 @@ impl Passes for InkPasses {
         // a crease between faces tilted up to ~60 degrees, far too little to show through a
         // solid.
         let pixel = cartoon_shading::pixel_at_unit_distance(scene, extent.height);
-        self.pull = scene.camera.near * (self.line_width * pixel).max(1e-3);
+        let widest = self.styles.iter().map(|s| s.0).fold(0.0, f32::max);
+        self.pull = scene.camera.near * (widest * pixel).max(1e-3);
         Ok(())
     }
 
@@ -124,8 +145,8 @@ impl Passes for InkPasses {
                 let params = Vec4::new(*reference, 0.0, 0.0, 0.0);
                 for index in draw_order(scene) {
                     let object = &scene.objects[index];
-                    let push =
-                        CartoonPush { model: object.transform, colour: INK_COLOUR, params, viewport: self.viewport };
+                    let colour = self.styles[0].1;
+                    let push = CartoonPush { model: object.transform, colour, params, viewport: self.viewport };
                     rec.push(pipeline, &push);
                     rec.draw_mesh(&self.scene_pass.meshes.meshes[object.mesh]);
                 }
@@ -136,7 +157,7 @@ impl Passes for InkPasses {
                 let Some(&copy) = pipelines.last() else {
                     return Err(Error::Internal(format!("pass '{}' lacks its pipelines", pass.name)));
                 };
-                let extrusion = Extrusion { width_px: self.line_width, colour: INK_COLOUR };
+                let extrusion = self.silhouette_extrusion();
                 for index in draw_order(scene) {
                     rec.bind(copy);
                     copies.draw_one(rec, copy, scene, index, extrusion, self.viewport);
@@ -145,15 +166,15 @@ impl Passes for InkPasses {
             }
             (Draws::Objects, _, _) => self.scene_pass.draw(rec, pass, pipelines, scene, |_| true, 1.0, self.viewport),
             (EXTRUDED, Ink::Hull(copies), _) => {
-                let extrusion = Extrusion { width_px: self.line_width, colour: INK_COLOUR };
+                let extrusion = self.silhouette_extrusion();
                 copies.draw(rec, pipeline, scene, |_| true, extrusion, self.viewport);
             }
             (_, Ink::Edges(lines), Some(class)) => {
                 let one_sided = if EDGE_CLASSES[class].one_sided { 1.0 } else { 0.0 };
                 let push = CartoonPush {
                     model: Mat4::IDENTITY,
-                    colour: INK_COLOUR,
-                    params: Vec4::new(self.line_width, one_sided, self.pull, 0.0),
+                    colour: self.styles[class].1,
+                    params: Vec4::new(self.styles[class].0, one_sided, self.pull, 0.0),
                     viewport: self.viewport,
                 };
                 rec.push(pipeline, &push);
