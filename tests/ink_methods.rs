@@ -368,3 +368,33 @@ fn ink_styles_parse_and_bad_ones_are_one_line_errors() {
         assert!(err.contains(mentions), "'{mentions}' not in {err}");
     }
 }
+
+#[test]
+fn ink_only_leaves_no_face_colour_only_background_and_ink() {
+    // The seed's figure 5.1.1, middle: faces in the background colour, ink on top.
+    let gpu = common::gpu();
+    let size = (128, 96);
+    for scene_name in ["duck", "default"] {
+        let scene = nostencil::scene::builtin_scene(scene_name).expect("scene");
+        let background = common::srgb8(scene.background);
+        for &method in SilhouetteMethod::ALL {
+            let options = CartoonOptions { silhouette: method, ink_only: true, ..CartoonOptions::default() };
+            for technique in [&SILHOUETTE as &'static dyn Technique, &TOON] {
+                let image = render(&gpu, &scene, technique, &options, size);
+                // The shader method's ink is the rim ramp's black times the face colour.
+                let ink = if method == SilhouetteMethod::Shader { [0, 0, 0] } else { ink() };
+                let label = format!("{scene_name} {} {method:?}", technique.name());
+                let stray: Vec<_> = image.pixels().filter(|p| p.0[..3] != background && p.0[..3] != ink).collect();
+                assert!(stray.is_empty(), "{label}: {} pixels neither background nor ink: {:?}", stray.len(), stray[0]);
+                let inked = image.pixels().filter(|p| p.0[..3] == ink).count();
+                assert!(inked > 50, "{label}: {inked} ink pixels");
+                // Without --ink-only the same frame shows face colours.
+                let shaded = CartoonOptions { ink_only: false, ..options.clone() };
+                let image = render(&gpu, &scene, technique, &shaded, size);
+                let faces = image.pixels().filter(|p| p.0[..3] != background && p.0[..3] != ink).count();
+                assert!(faces > 500, "{label}: shaded, only {faces} face pixels");
+            }
+        }
+    }
+    common::assert_no_validation_messages(&gpu);
+}

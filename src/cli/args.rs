@@ -203,6 +203,10 @@ pub struct FrameArgs {
     /// silhouette/toon `--silhouette edges`: boundary ink as WIDTH[,#RRGGBB].
     #[arg(long, value_name = "WIDTH[,#RRGGBB]")]
     pub ink_boundary: Option<String>,
+    /// silhouette/toon: faces filled with the background colour, ink on top (the seed's
+    /// figure 5.1.1, middle).
+    #[arg(long)]
+    pub ink_only: bool,
     /// silhouette/toon `--silhouette alpha-test`: pixels with N.V at most this are ink (0..=1;
     /// larger: thicker lines).
     #[arg(long, default_value_t = 0.3, value_name = "N.V")]

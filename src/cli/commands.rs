@@ -106,6 +106,7 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
             outline_width: frame.outline_width,
             alpha_ref: frame.alpha_ref,
             ink,
+            ink_only: frame.ink_only,
             ..Default::default()
         },
         planar: PlanarOptions { shadow_factor: frame.shadow_factor, ..Default::default() },

@@ -74,13 +74,15 @@ pub struct Shading {
     pub toon: bool,
     /// Times the rim ramp at N.V (`--silhouette shader`).
     pub rim: bool,
+    /// Faces flat in the scene's background colour, unlit (`--ink-only`).
+    pub ink_only: bool,
 }
 
 impl Shading {
     /// `CartoonPush::params` of `cartoon_shade`.
     fn params(self) -> Vec4 {
         let flag = |on: bool| if on { 1.0 } else { 0.0 };
-        Vec4::new(flag(self.toon), flag(self.rim), 0.0, 0.0)
+        Vec4::new(flag(self.toon), flag(self.rim), flag(self.ink_only), 0.0)
     }
 }
 
@@ -167,7 +169,7 @@ impl CartoonScene {
         if !std::ptr::eq(pipeline, bound) {
             rec.bind(pipeline);
         }
-        let colour = scene.base_colour(object).extend(alpha);
+        let colour = if self.shading.ink_only { scene.background } else { scene.base_colour(object) }.extend(alpha);
         rec.bind_material(pipeline, self.meshes.materials.set(object.material));
         rec.push(pipeline, &CartoonPush { model: object.transform, colour, params: self.shading.params(), viewport });
         rec.draw_mesh(&self.meshes.meshes[object.mesh]);

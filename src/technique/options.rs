@@ -165,6 +165,8 @@ pub struct CartoonOptions {
     /// over `line_width` and the default ink. The methods that only find silhouettes use the
     /// silhouette's.
     pub ink: [InkStyle; 3],
+    /// Faces filled with the background colour, ink on top (the seed's figure 5.1.1, middle).
+    pub ink_only: bool,
     /// Outline width in pixels (`outline`).
     pub outline_width: f32,
     /// `alpha-test` ink: pixels whose N.V is at most this are ink (0: a hairline; larger:
@@ -182,6 +184,7 @@ impl Default for CartoonOptions {
             crease_deg: 40.0,
             line_width: 2.0,
             ink: [InkStyle::default(); 3],
+            ink_only: false,
             outline_width: 4.0,
             alpha_ref: 0.3,
             outline_colour: [255, 160, 0],

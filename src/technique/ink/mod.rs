@@ -72,18 +72,26 @@ impl Technique for Ink {
     }
 
     fn describe(&self, options: &RenderOptions) -> String {
-        format!("{} ({}, {})", self.name, options.stencil.name(), options.cartoon.silhouette.name())
+        let ink_only = if options.cartoon.ink_only { ", ink only" } else { "" };
+        format!("{} ({}, {}{ink_only})", self.name, options.stencil.name(), options.cartoon.silhouette.name())
     }
 }
 
-/// Each `--silhouette` method: the passes differ, the stencil path does not change them.
+/// Each `--silhouette` method (the passes differ, the stencil path does not change them), then
+/// the edges method ink only (`--ink-only`: flat faces, no lighting).
 fn method_variants(name: &str, options: &RenderOptions) -> Vec<Variant> {
-    SilhouetteMethod::ALL
+    let mut variants: Vec<Variant> = SilhouetteMethod::ALL
         .iter()
         .map(|&method| {
             let mut options = options.clone();
             options.cartoon.silhouette = method;
+            options.cartoon.ink_only = false;
             Variant { label: format!("{name} {}", method.name()), options }
         })
-        .collect()
+        .collect();
+    let mut ink_only = options.clone();
+    ink_only.cartoon.silhouette = SilhouetteMethod::Edges;
+    ink_only.cartoon.ink_only = true;
+    variants.push(Variant { label: format!("{name} edges ink-only"), options: ink_only });
+    variants
 }

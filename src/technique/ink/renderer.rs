@@ -42,7 +42,7 @@ pub fn build<'s>(
 ) -> Result<Box<dyn SceneRenderer + 's>> {
     let cartoon = &options.cartoon;
     let method = cartoon.silhouette;
-    let shading = Shading { toon, rim: method == SilhouetteMethod::Shader };
+    let shading = Shading { toon, rim: method == SilhouetteMethod::Shader, ink_only: cartoon.ink_only };
     frame_renderer::build(technique, gpu, scene, options, |ctx| {
         let scene_pass = CartoonScene::new(ctx.gpu, scene, shading)?;
         let lines = match method {
