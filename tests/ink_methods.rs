@@ -398,3 +398,36 @@ fn ink_only_leaves_no_face_colour_only_background_and_ink() {
     }
     common::assert_no_validation_messages(&gpu);
 }
+
+#[test]
+fn face_normals_and_creases_are_recomputed_only_for_deformed_meshes() {
+    use nostencil::scene::builtin_scene_at;
+    use nostencil::technique::CartoonStats;
+    let gpu = common::gpu();
+    let rest = builtin_scene_at("default", 0.0).expect("scene");
+    let walking = builtin_scene_at("default", 0.4).expect("scene");
+    let skinned = rest.objects.iter().filter(|o| o.skin.is_some()).count();
+    assert!(skinned > 0 && skinned < rest.objects.len(), "the default scene has rigid and skinned objects");
+    let options = RenderOptions { width: 96, height: 72, technique: &SILHOUETTE, ..Default::default() };
+    let mut renderer = SILHOUETTE.build(&gpu, &rest, &options).expect("renderer");
+    let mut frame = |scene: &Scene| {
+        let frame = renderer.frame_with(scene).expect("frame");
+        (frame.stats::<CartoonStats>().expect("cartoon stats").clone(), frame.output.image)
+    };
+    // First frame: every object; the same pose again: none; a new pose: the skinned only.
+    assert_eq!(frame(&rest).0.face_normal_updates, rest.objects.len());
+    assert_eq!(frame(&rest).0.face_normal_updates, 0);
+    let (posed, image) = frame(&walking);
+    assert_eq!(posed.face_normal_updates, skinned);
+    assert_eq!(frame(&walking).0.face_normal_updates, 0);
+    // What was kept is right: a renderer built for the new pose draws the same edges and image.
+    let fresh = render_scene(&gpu, &walking, &options).expect("fresh frame");
+    let fresh_stats = fresh.stats::<CartoonStats>().expect("cartoon stats");
+    assert_eq!(
+        (posed.silhouette_edges, posed.crease_edges, posed.boundary_edges),
+        (fresh_stats.silhouette_edges, fresh_stats.crease_edges, fresh_stats.boundary_edges)
+    );
+    let differing = image.pixels().zip(fresh.output.image.pixels()).filter(|(a, b)| a.0[..3] != b.0[..3]).count();
+    assert_eq!(differing, 0, "kept normals and creases change the image");
+    common::assert_no_validation_messages(&gpu);
+}

@@ -1,6 +1,8 @@
 //! CPU side of the edge-based ink lines (seed 002): per object, the welded mesh, its unique
-//! edge list and its attribute seams are built once; per frame the face normals are recomputed,
-//! every edge is classified from the eye, and the flagged edges become screen-space quads.
+//! edge list and its attribute seams are built once; per frame every edge is classified from
+//! the eye and the flagged edges become screen-space quads. Face normals and creases live in
+//! model space: a rigid mesh (moving or not: the eye is taken into its space) keeps them, only
+//! a deformed (skinned, re-posed) mesh recomputes them, as the seed says.
 
 use glam::{Mat4, Vec2, Vec3};
 
@@ -39,6 +41,8 @@ pub struct InkMesh {
     /// Two-face edges across which the vertex normals jump (found once, at load).
     pub seams: Vec<u32>,
     face_normals: Vec<Vec3>,
+    /// `face_normals` and `classes.crease` are those of `welded.positions` at this crease angle.
+    normals_for: Option<f32>,
     classes: EdgeClasses,
     drawn: Vec<bool>,
 }
@@ -65,6 +69,7 @@ impl InkMesh {
             adjacency,
             seams,
             face_normals: Vec::new(),
+            normals_for: None,
             classes: EdgeClasses::default(),
             drawn: vec![false; edge_count],
         })
@@ -73,20 +78,33 @@ impl InkMesh {
     /// Takes the skin's current pose as the welded positions (the topology stays). False when
     /// the skin does not cover the mesh this was built from.
     pub fn follow(&mut self, skin: &SceneSkin) -> bool {
-        follow_skin(&mut self.welded, skin)
+        let followed = follow_skin(&mut self.welded, skin);
+        if followed {
+            self.normals_for = None;
+        }
+        followed
     }
 
-    /// This frame's classification from `eye` (world space): face normals recomputed (the
-    /// mesh may have moved), then silhouette, crease and boundary flags.
+    /// Whether the next [`InkMesh::classify`] at `crease_deg` recomputes the face normals and
+    /// creases (the first, and the first after the mesh deformed).
+    pub fn needs_normals(&self, crease_deg: f32) -> bool {
+        self.normals_for != Some(crease_deg)
+    }
+
+    /// This frame's classification from `eye` (world space): face normals and creases when
+    /// [`InkMesh::needs_normals`], then silhouette and boundary flags.
     pub fn classify(&mut self, model: &Mat4, eye: Vec3, crease_deg: f32) -> &EdgeClasses {
-        self.adjacency.recompute_face_normals(&self.welded.positions, &mut self.face_normals);
+        if self.needs_normals(crease_deg) {
+            self.adjacency.recompute_face_normals(&self.welded.positions, &mut self.face_normals);
+            mesh::classify_creases_into(&self.adjacency, &self.face_normals, crease_deg, &mut self.classes.crease);
+            self.normals_for = Some(crease_deg);
+        }
         let eye = model.inverse().transform_point3(eye);
-        mesh::classify_into(
+        mesh::classify_view_into(
             &self.adjacency,
             &self.welded.positions,
             &self.face_normals,
             View::Perspective { eye },
-            crease_deg,
             &self.seams,
             &mut self.classes,
         );

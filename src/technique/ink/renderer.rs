@@ -196,10 +196,12 @@ impl Passes for InkPasses {
             boundary_edges: 0,
             edge_cpu_ms: 0.0,
             total_edges: 0,
+            face_normal_updates: 0,
         };
         if let Ink::Edges(lines) = &self.ink {
             [stats.silhouette_edges, stats.crease_edges, stats.boundary_edges] = lines.quads.edge_counts();
             stats.edge_cpu_ms = lines.cpu_ms;
+            stats.face_normal_updates = lines.normal_updates;
             stats.total_edges = lines.meshes.iter().map(|m| m.adjacency.edges.len()).sum();
         }
         Box::new(stats)
@@ -215,12 +217,21 @@ struct EdgeLines {
     buffers: [Option<(Buffer, u32)>; 3],
     /// CPU time of this frame's edge work (ms).
     cpu_ms: f64,
+    /// Objects whose face normals and creases this frame recomputed.
+    normal_updates: usize,
 }
 
 impl EdgeLines {
     fn new(scene: &Scene, crease_deg: f32) -> Result<Self> {
         let meshes = (0..scene.objects.len()).map(|index| InkMesh::new(scene, index)).collect::<Result<Vec<_>>>()?;
-        Ok(EdgeLines { meshes, crease_deg, quads: InkQuads::default(), buffers: [None, None, None], cpu_ms: 0.0 })
+        Ok(EdgeLines {
+            meshes,
+            crease_deg,
+            quads: InkQuads::default(),
+            buffers: [None, None, None],
+            cpu_ms: 0.0,
+            normal_updates: 0,
+        })
     }
 
     /// Skinned objects in `changed` (whose palettes changed) get their welded positions, so
@@ -239,8 +250,10 @@ impl EdgeLines {
         let start = Instant::now();
         let eye = scene.camera.eye;
         self.quads.clear();
+        self.normal_updates = 0;
         for mesh in &mut self.meshes {
             let model = scene.objects[mesh.object].transform;
+            self.normal_updates += usize::from(mesh.needs_normals(self.crease_deg));
             mesh.classify(&model, eye, self.crease_deg);
             mesh.append_quads(&model, eye, &mut self.quads);
         }
