@@ -360,6 +360,8 @@ fn ink_styles_parse_and_bad_ones_are_one_line_errors() {
         (["--ink-crease", "2,#12345"], "--ink-crease"),
         (["--ink-boundary", "100"], "--ink-boundary"),
         (["--alpha-ref", "2"], "--alpha-ref"),
+        (["--seams", "material"], "--seams"),
+        (["--seams", "uv,colour"], "--seams"),
     ] {
         let mut all = vec!["profile", "--size", "32x32", "--scene", "outline", "--technique", "silhouette"];
         all.extend_from_slice(&args);
@@ -429,5 +431,52 @@ fn face_normals_and_creases_are_recomputed_only_for_deformed_meshes() {
     );
     let differing = image.pixels().zip(fresh.output.image.pixels()).filter(|(a, b)| a.0[..3] != b.0[..3]).count();
     assert_eq!(differing, 0, "kept normals and creases change the image");
+    common::assert_no_validation_messages(&gpu);
+}
+
+#[test]
+fn uv_seams_are_boundaries_when_asked_for() {
+    use nostencil::technique::{InkStyle, Seams};
+    let gpu = common::gpu();
+    let size = (128, 128);
+    // The sphere's u = 0 meridian (on +X) turned towards the eye: a UV seam down the middle of
+    // the disc, with smooth normals across it.
+    let turned = Mat4::from_rotation_y(-std::f32::consts::FRAC_PI_2);
+    let scene = face_on_scene(&[(unit_sphere(), turned, Vec3::new(0.3, 0.5, 0.8))]);
+    let blue = [0, 0, 255];
+    let mut ink = [InkStyle::default(); 3];
+    ink[2] = InkStyle { width: Some(2.0), colour: Some(blue) };
+    let radius = radius_where_n_dot_v_is(0.0, EYE_DISTANCE, focal_px(&scene, size.1));
+    for (seams, expect_seam) in [(Seams { normal: true, uv: true }, true), (Seams::default(), false)] {
+        let options = CartoonOptions { ink, seams, ..CartoonOptions::default() };
+        let frame = render_scene(
+            &gpu,
+            &scene,
+            &RenderOptions {
+                width: size.0,
+                height: size.1,
+                technique: &SILHOUETTE,
+                cartoon: options,
+                ..Default::default()
+            },
+        )
+        .expect("frame");
+        let stats = frame.stats::<nostencil::technique::CartoonStats>().expect("stats");
+        let image = &frame.output.image;
+        // Every row across the middle of the disc crosses the seam in blue, within a pixel of
+        // the centre column; without UV seams nothing is blue.
+        let rows = (size.1 / 2 - (radius * 0.6) as u32)..(size.1 / 2 + (radius * 0.6) as u32);
+        let crossed = rows
+            .clone()
+            .filter(|&y| (size.0 / 2 - 2..size.0 / 2 + 2).any(|x| image.get_pixel(x, y).0[..3] == blue))
+            .count();
+        let any_blue = image.pixels().filter(|p| p.0[..3] == blue).count();
+        if expect_seam {
+            assert_eq!(crossed, rows.len(), "UV seam not drawn down the disc ({stats:?})");
+            assert!(stats.boundary_edges > 0, "{stats:?}");
+        } else {
+            assert_eq!((any_blue, stats.boundary_edges), (0, 0), "{stats:?}");
+        }
+    }
     common::assert_no_validation_messages(&gpu);
 }

@@ -207,6 +207,10 @@ pub struct FrameArgs {
     /// figure 5.1.1, middle).
     #[arg(long)]
     pub ink_only: bool,
+    /// silhouette/toon `--silhouette edges`: attribute seams drawn as boundaries: `normal`, `uv`
+    /// (comma-separated) or `none`.
+    #[arg(long, default_value = "normal", value_name = "normal,uv|none")]
+    pub seams: String,
     /// silhouette/toon `--silhouette alpha-test`: pixels with N.V at most this are ink (0..=1;
     /// larger: thicker lines).
     #[arg(long, default_value_t = 0.3, value_name = "N.V")]

@@ -14,7 +14,7 @@ use crate::profile::report::{FrameFormats, ProfileReport, ReportContext, ReportF
 use crate::scene::{builtin_scene_at, scene_and_warnings_from_gltf, Scene, BUILTIN_SCENES, OTHER_SCENES};
 use crate::technique::interface::BenchTable;
 use crate::technique::{
-    by_name, render_scene, shadow_atlas, CartoonOptions, InkStyle, Normalize, PlanarOptions, RenderOptions,
+    by_name, render_scene, shadow_atlas, CartoonOptions, InkStyle, Normalize, PlanarOptions, RenderOptions, Seams,
     ShadowAtlasOptions, ShadowVolumeOptions, INK_STYLE_FLAGS, TECHNIQUES,
 };
 
@@ -107,6 +107,7 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
             alpha_ref: frame.alpha_ref,
             ink,
             ink_only: frame.ink_only,
+            seams: Seams::parse(&frame.seams)?,
             ..Default::default()
         },
         planar: PlanarOptions { shadow_factor: frame.shadow_factor, ..Default::default() },

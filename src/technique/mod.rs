@@ -27,7 +27,7 @@ use crate::scene::Scene;
 pub use cartoon::CartoonStats;
 pub use interface::{check_same_scene, FrameStats, RenderOptions, SceneRenderer, Technique, TechniqueFrame, Variant};
 pub use options::{
-    CartoonOptions, InkStyle, LightMode, Normalize, ShadowAtlasOptions, ShadowKind, ShadowVolumeOptions,
+    CartoonOptions, InkStyle, LightMode, Normalize, Seams, ShadowAtlasOptions, ShadowKind, ShadowVolumeOptions,
     SilhouetteMethod, VolumeMethod, INK_STYLE_FLAGS,
 };
 pub use planar::{PlanarOptions, PlanarStats};

@@ -110,6 +110,45 @@ pub struct InkStyle {
     pub colour: Option<[u8; 3]>,
 }
 
+/// `--seams`: which attribute jumps across an edge make it a boundary (edges method), as the
+/// seed defines boundaries: vertices that differ in normal, texture coordinate or material.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct Seams {
+    pub normal: bool,
+    pub uv: bool,
+}
+
+impl Default for Seams {
+    fn default() -> Self {
+        Seams { normal: true, uv: false }
+    }
+}
+
+impl Seams {
+    /// Parses `--seams normal,uv` (any of them, or `none`).
+    pub fn parse(text: &str) -> Result<Seams> {
+        let mut seams = Seams { normal: false, uv: false };
+        for word in text.split(',').map(str::trim) {
+            match word {
+                "normal" => seams.normal = true,
+                "uv" => seams.uv = true,
+                "none" | "" => {}
+                "material" => {
+                    return Err(Error::InvalidInput(
+                        "--seams material: every object has one material, so no material seam lies inside a mesh \
+                         (a material change is an object's border, already a boundary where it is open); use normal, uv or none"
+                            .into(),
+                    ))
+                }
+                other => {
+                    return Err(Error::InvalidInput(format!("--seams '{other}': use normal, uv or none, comma-separated")))
+                }
+            }
+        }
+        Ok(seams)
+    }
+}
+
 /// The command-line flag of each edge class's style, in the order of `CartoonOptions::ink`.
 pub const INK_STYLE_FLAGS: [&str; 3] = ["--ink-silhouette", "--ink-crease", "--ink-boundary"];
 
@@ -165,6 +204,8 @@ pub struct CartoonOptions {
     /// over `line_width` and the default ink. The methods that only find silhouettes use the
     /// silhouette's.
     pub ink: [InkStyle; 3],
+    /// Which attribute seams are boundaries (edges method).
+    pub seams: Seams,
     /// Faces filled with the background colour, ink on top (the seed's figure 5.1.1, middle).
     pub ink_only: bool,
     /// Outline width in pixels (`outline`).
@@ -185,6 +226,7 @@ impl Default for CartoonOptions {
             line_width: 2.0,
             ink: [InkStyle::default(); 3],
             ink_only: false,
+            seams: Seams::default(),
             outline_width: 4.0,
             alpha_ref: 0.3,
             outline_colour: [255, 160, 0],

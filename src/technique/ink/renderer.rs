@@ -26,7 +26,7 @@ use crate::technique::extruded::{ExtrudedCopies, Extrusion};
 use crate::technique::frame_renderer::{self, Passes};
 use crate::technique::interface::RenderOptions;
 use crate::technique::interface::{FrameStats, SceneRenderer, Technique};
-use crate::technique::options::{CartoonOptions, SilhouetteMethod};
+use crate::technique::options::{CartoonOptions, Seams, SilhouetteMethod};
 
 /// The ink, in every method.
 /// Linear RGBA of ink lines.
@@ -46,7 +46,7 @@ pub fn build<'s>(
     frame_renderer::build(technique, gpu, scene, options, |ctx| {
         let scene_pass = CartoonScene::new(ctx.gpu, scene, shading)?;
         let lines = match method {
-            SilhouetteMethod::Edges => Ink::Edges(Box::new(EdgeLines::new(scene, cartoon.crease_deg)?)),
+            SilhouetteMethod::Edges => Ink::Edges(Box::new(EdgeLines::new(scene, cartoon.crease_deg, cartoon.seams)?)),
             SilhouetteMethod::Shader => Ink::Rim,
             SilhouetteMethod::AlphaTest => Ink::AlphaTest(cartoon.alpha_ref),
             SilhouetteMethod::Hull | SilhouetteMethod::Extrusion => Ink::Hull(ExtrudedCopies::new(ctx.gpu, scene)?),
@@ -187,6 +187,13 @@ impl Passes for InkPasses {
         Ok(())
     }
 
+    fn warnings(&self) -> &[String] {
+        match &self.ink {
+            Ink::Edges(lines) => &lines.warnings,
+            _ => &[],
+        }
+    }
+
     fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {
         let mut stats = CartoonStats {
             method: Some(self.method),
@@ -219,11 +226,16 @@ struct EdgeLines {
     cpu_ms: f64,
     /// Objects whose face normals and creases this frame recomputed.
     normal_updates: usize,
+    /// Seams asked for that a mesh cannot show (it lacks the attribute).
+    warnings: Vec<String>,
 }
 
 impl EdgeLines {
-    fn new(scene: &Scene, crease_deg: f32) -> Result<Self> {
-        let meshes = (0..scene.objects.len()).map(|index| InkMesh::new(scene, index)).collect::<Result<Vec<_>>>()?;
+    fn new(scene: &Scene, crease_deg: f32, seams: Seams) -> Result<Self> {
+        let mut warnings = Vec::new();
+        let meshes = (0..scene.objects.len())
+            .map(|index| InkMesh::new(scene, index, seams, &mut warnings))
+            .collect::<Result<Vec<_>>>()?;
         Ok(EdgeLines {
             meshes,
             crease_deg,
@@ -231,6 +243,7 @@ impl EdgeLines {
             buffers: [None, None, None],
             cpu_ms: 0.0,
             normal_updates: 0,
+            warnings,
         })
     }
 
