@@ -101,7 +101,7 @@ pub(super) const BINDINGS: &[Binding] = &[
     },
     Binding {
         keys: &[KeyPress::Letter('e')],
-        description: "silhouette/toon ink: edges, shader rim, inverted hull, alpha test",
+        description: "silhouette/toon ink: edges, shader rim, inverted hull, alpha test, extrusion",
         action: Action::NextInk,
     },
     Binding {
