@@ -21,16 +21,22 @@ layout(location = 0) out vec4 out_colour;
 
 void main() {
     vec4 base = material_surface(uv0, uv1, vertex_colour);
-    vec3 n = surface_normal(world_normal);
-    float ndl = frame_lambert(world_position, n);
-    vec3 light;
-    if (object.params.x > 0.5) {
-        light = texture(ramp, vec2(ndl, 0.5)).rgb;
+    vec3 shade;
+    if (object.params.z > 0.5) {
+        // Ink only (the seed's figure 5.1.1, middle): faces in the push colour, the background.
+        shade = object.colour.rgb;
     } else {
-        float ambient = frame.shading.x;
-        light = vec3(ambient + (1.0 - ambient) * ndl);
+        vec3 n = surface_normal(world_normal);
+        float ndl = frame_lambert(world_position, n);
+        vec3 light;
+        if (object.params.x > 0.5) {
+            light = texture(ramp, vec2(ndl, 0.5)).rgb;
+        } else {
+            float ambient = frame.shading.x;
+            light = vec3(ambient + (1.0 - ambient) * ndl);
+        }
+        shade = material_shade(base, light, uv0, uv1);
     }
-    vec3 shade = material_shade(base, light, uv0, uv1);
     if (object.params.y > 0.5) {
         shade *= texture(rim, vec2(clamp(facing, 0.0, 1.0), 0.5)).rgb;
     }

@@ -197,8 +197,8 @@ pub struct FrameArgs {
     /// outline: objects to outline, by name (default: the scene's first shadow caster).
     #[arg(long, value_name = "NAME,...", default_value = "")]
     pub select: String,
-    /// silhouette/toon: how ink is found: `edges` (CPU, screen-space quads), `shader` (N.V rim)
-    /// or `hull` (inverted hull).
+    /// silhouette/toon: how ink is found: `edges` (CPU, screen-space quads), `shader` (N.V rim),
+    /// `hull` (inverted hull) or `alpha-test` (N.V per pixel against `--alpha-ref`).
     #[arg(long, value_enum, default_value_t)]
     pub silhouette: SilhouetteMethod,
     /// silhouette/toon: edges whose faces fold by more than this are creases (degrees).
@@ -207,6 +207,28 @@ pub struct FrameArgs {
     /// silhouette/toon: ink line width in pixels (edges and hull).
     #[arg(long, default_value_t = 2.0, value_name = "PX")]
     pub line_width: f32,
+    /// silhouette/toon: silhouette ink as WIDTH[,#RRGGBB] (sRGB); default `--line-width` and
+    /// the dark ink. The methods other than `edges` draw silhouettes only, in this style.
+    #[arg(long, value_name = "WIDTH[,#RRGGBB]")]
+    pub ink_silhouette: Option<String>,
+    /// silhouette/toon `--silhouette edges`: crease ink as WIDTH[,#RRGGBB].
+    #[arg(long, value_name = "WIDTH[,#RRGGBB]")]
+    pub ink_crease: Option<String>,
+    /// silhouette/toon `--silhouette edges`: boundary ink as WIDTH[,#RRGGBB].
+    #[arg(long, value_name = "WIDTH[,#RRGGBB]")]
+    pub ink_boundary: Option<String>,
+    /// silhouette/toon: faces filled with the background colour, ink on top (the seed's
+    /// figure 5.1.1, middle).
+    #[arg(long)]
+    pub ink_only: bool,
+    /// silhouette/toon `--silhouette edges`: attribute seams drawn as boundaries: `normal`, `uv`
+    /// (comma-separated) or `none`.
+    #[arg(long, default_value = "normal", value_name = "normal,uv|none")]
+    pub seams: String,
+    /// silhouette/toon `--silhouette alpha-test`: pixels with N.V at most this are ink (0..=1;
+    /// larger: thicker lines).
+    #[arg(long, default_value_t = 0.3, value_name = "N.V")]
+    pub alpha_ref: f32,
     /// outline: outline width in pixels (0.5..=64).
     #[arg(long, default_value_t = 4.0, value_name = "PX")]
     pub outline_width: f32,

@@ -14,8 +14,8 @@ use crate::profile::report::{FrameFormats, ProfileReport, ReportContext, ReportF
 use crate::scene::{builtin_scene_at, scene_and_warnings_from_gltf, Scene, BUILTIN_SCENES, OTHER_SCENES};
 use crate::technique::interface::BenchTable;
 use crate::technique::{
-    by_name, render_scene, shadow_atlas, CartoonOptions, GivenPlane, Normalize, PlanarOptions, RenderOptions,
-    ShadowAtlasOptions, ShadowVolumeOptions, TECHNIQUES,
+    by_name, render_scene, shadow_atlas, CartoonOptions, GivenPlane, InkStyle, Normalize, PlanarOptions, RenderOptions,
+    Seams, ShadowAtlasOptions, ShadowVolumeOptions, INK_STYLE_FLAGS, TECHNIQUES,
 };
 
 pub fn run(cli: Cli) -> Result<()> {
@@ -80,6 +80,14 @@ fn print_warnings(technique: &str, warnings: &[String]) {
 }
 
 fn options(frame: &FrameArgs) -> Result<RenderOptions> {
+    let mut ink = [InkStyle::default(); 3];
+    for ((style, text), flag) in
+        ink.iter_mut().zip([&frame.ink_silhouette, &frame.ink_crease, &frame.ink_boundary]).zip(INK_STYLE_FLAGS)
+    {
+        if let Some(text) = text {
+            *style = InkStyle::parse(flag, text)?;
+        }
+    }
     let options = RenderOptions {
         width: frame.size.0,
         height: frame.size.1,
@@ -110,6 +118,10 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
             outline_colour: frame.outline_colour,
             outline_method: frame.outline_method,
             outline_blur: frame.outline_blur,
+            alpha_ref: frame.alpha_ref,
+            ink,
+            ink_only: frame.ink_only,
+            seams: Seams::parse(&frame.seams)?,
         },
         planar: PlanarOptions {
             shadow_factor: frame.shadow_factor,

@@ -145,7 +145,8 @@ pub fn classify(
     classes
 }
 
-/// [`classify`] into lists that are cleared and reused, so a per-frame call does not allocate.
+/// [`classify`] into lists that are cleared and reused, so a per-frame call does not allocate:
+/// [`classify_creases_into`] then [`classify_view_into`].
 ///
 /// # Panics
 /// If `face_normals` or `positions` are shorter than the mesh.
@@ -155,6 +156,46 @@ pub fn classify_into(
     face_normals: &[Vec3],
     view: View,
     crease_deg: f32,
+    seams: &[u32],
+    out: &mut EdgeClasses,
+) {
+    classify_creases_into(adjacency, face_normals, crease_deg, &mut out.crease);
+    classify_view_into(adjacency, positions, face_normals, view, seams, out);
+}
+
+/// The creases alone (into `out`, cleared): they depend on the face normals only, so a mesh
+/// that does not deform keeps them from frame to frame.
+///
+/// # Panics
+/// If `face_normals` is shorter than the mesh.
+pub fn classify_creases_into(adjacency: &EdgeAdjacency, face_normals: &[Vec3], crease_deg: f32, out: &mut Vec<u32>) {
+    assert!(
+        face_normals.len() >= adjacency.face_count(),
+        "mesh '{}': creases need {} face normals (got {})",
+        adjacency.mesh_name,
+        adjacency.face_count(),
+        face_normals.len()
+    );
+    out.clear();
+    let crease_cos = crease_deg.to_radians().cos();
+    for (index, edge) in adjacency.edges.iter().enumerate() {
+        let [f1, f2] = edge.faces;
+        if f2 != NO_FACE && face_normals[f1 as usize].dot(face_normals[f2 as usize]) < crease_cos {
+            out.push(index as u32);
+        }
+    }
+}
+
+/// What depends on the view, and the boundaries: `out.silhouette` and `out.boundary` are
+/// rebuilt, `out.crease` is left as it is (see [`classify_creases_into`]).
+///
+/// # Panics
+/// If `face_normals` or `positions` are shorter than the mesh.
+pub fn classify_view_into(
+    adjacency: &EdgeAdjacency,
+    positions: &[Vec3],
+    face_normals: &[Vec3],
+    view: View,
     seams: &[u32],
     out: &mut EdgeClasses,
 ) {
@@ -169,9 +210,7 @@ pub fn classify_into(
     );
     debug_assert!(seams.windows(2).all(|pair| pair[0] < pair[1]), "seams must be ascending");
     out.silhouette.clear();
-    out.crease.clear();
     out.boundary.clear();
-    let crease_cos = crease_deg.to_radians().cos();
     let mut seams = seams.iter().copied().peekable();
 
     for (index, edge) in adjacency.edges.iter().enumerate() {
@@ -197,9 +236,6 @@ pub fn classify_into(
         };
         if n1.dot(to_edge) * n2.dot(to_edge) <= 0.0 {
             out.silhouette.push(index);
-        }
-        if n1.dot(n2) < crease_cos {
-            out.crease.push(index);
         }
     }
 }

@@ -23,6 +23,9 @@ pub struct CartoonStats {
     pub edge_cpu_ms: f64,
     /// Edges in the unique edge lists of all objects.
     pub total_edges: usize,
+    /// Objects whose face normals and creases this frame recomputed (edges method): all in the
+    /// first frame, then only the skinned ones whose pose changed.
+    pub face_normal_updates: usize,
 }
 
 impl FrameStats for CartoonStats {
@@ -33,12 +36,13 @@ impl FrameStats for CartoonStats {
             }
             Some(method) => format!(
                 "cartoon ({}): {} edges in the unique edge lists | drawn: {} silhouette, {} crease, {} boundary | \
-                 CPU edge work {:.3} ms",
+                 face normals recomputed for {} objects | CPU edge work {:.3} ms",
                 method.name(),
                 self.total_edges,
                 self.silhouette_edges,
                 self.crease_edges,
                 self.boundary_edges,
+                self.face_normal_updates,
                 self.edge_cpu_ms
             ),
             None => format!("outline: selected {}", self.selected.join(", ")),

@@ -74,13 +74,15 @@ pub struct Shading {
     pub toon: bool,
     /// Times the rim ramp at N.V (`--silhouette shader`).
     pub rim: bool,
+    /// Faces flat in the scene's background colour, unlit (`--ink-only`).
+    pub ink_only: bool,
 }
 
 impl Shading {
     /// `CartoonPush::params` of `cartoon_shade`.
     fn params(self) -> Vec4 {
         let flag = |on: bool| if on { 1.0 } else { 0.0 };
-        Vec4::new(flag(self.toon), flag(self.rim), 0.0, 0.0)
+        Vec4::new(flag(self.toon), flag(self.rim), flag(self.ink_only), 0.0)
     }
 }
 
@@ -139,22 +141,39 @@ impl CartoonScene {
         alpha: f32,
         viewport: Vec4,
     ) {
-        let params = self.shading.params();
         let Some(&main) = pipelines.first() else { return };
         let mut bound = main;
         for index in draw_order(scene).into_iter().filter(|i| which(*i)) {
-            let object = &scene.objects[index];
-            let variant = MaterialVariant::for_surface(scene.material_of(object));
-            let pipeline = pass.variant(pipelines, main, variant);
-            if !std::ptr::eq(pipeline, bound) {
-                rec.bind(pipeline);
-                bound = pipeline;
-            }
-            let colour = scene.base_colour(object).extend(alpha);
-            rec.bind_material(pipeline, self.meshes.materials.set(object.material));
-            rec.push(pipeline, &CartoonPush { model: object.transform, colour, params, viewport });
-            rec.draw_mesh(&self.meshes.meshes[object.mesh]);
+            bound = self.draw_object(rec, pass, pipelines, bound, scene, index, alpha, viewport);
         }
+    }
+
+    /// Draws object `index` as [`CartoonScene::draw`] does, `bound` being the pipeline bound
+    /// now (rebound only when its material needs another); returns the one bound after.
+    #[allow(clippy::too_many_arguments)]
+    pub fn draw_object<'p>(
+        &self,
+        rec: &mut FrameRecorder,
+        pass: &PlannedPass,
+        pipelines: &[&'p Pipeline],
+        bound: &'p Pipeline,
+        scene: &Scene,
+        index: usize,
+        alpha: f32,
+        viewport: Vec4,
+    ) -> &'p Pipeline {
+        let Some(&main) = pipelines.first() else { return bound };
+        let object = &scene.objects[index];
+        let variant = MaterialVariant::for_surface(scene.material_of(object));
+        let pipeline = pass.variant(pipelines, main, variant);
+        if !std::ptr::eq(pipeline, bound) {
+            rec.bind(pipeline);
+        }
+        let colour = if self.shading.ink_only { scene.background } else { scene.base_colour(object) }.extend(alpha);
+        rec.bind_material(pipeline, self.meshes.materials.set(object.material));
+        rec.push(pipeline, &CartoonPush { model: object.transform, colour, params: self.shading.params(), viewport });
+        rec.draw_mesh(&self.meshes.meshes[object.mesh]);
+        pipeline
     }
 }
 

@@ -4,7 +4,7 @@
 use std::sync::Arc;
 
 use ash::vk;
-use glam::{Vec3, Vec4};
+use glam::{Mat4, Vec3, Vec4};
 
 use super::cartoon_shading::{cartoon_desc, CartoonPush};
 use crate::error::Result;
@@ -152,10 +152,42 @@ impl ExtrudedCopies {
         viewport: Vec4,
         params: impl Fn(usize) -> Vec4,
     ) {
-        for (index, object) in scene.objects.iter().enumerate().filter(|(i, _)| which(*i)) {
-            rec.push(pipeline, &CartoonPush { model: object.transform, colour, params: params(index), viewport });
-            rec.draw_mesh(&self.meshes[index]);
+        for index in (0..scene.objects.len()).filter(|i| which(*i)) {
+            self.draw_copy(
+                rec,
+                pipeline,
+                scene,
+                index,
+                CartoonPush { model: Mat4::IDENTITY, colour, params: params(index), viewport },
+            );
         }
+    }
+
+    /// Draws the copy of object `index` with the bound `pipeline`.
+    pub fn draw_one(
+        &self,
+        rec: &mut FrameRecorder,
+        pipeline: &Pipeline,
+        scene: &Scene,
+        index: usize,
+        extrusion: Extrusion,
+        viewport: Vec4,
+    ) {
+        let params = Vec4::new(extrusion.width_px, 0.0, 0.0, 0.0);
+        self.draw_copy(
+            rec,
+            pipeline,
+            scene,
+            index,
+            CartoonPush { model: Mat4::IDENTITY, colour: extrusion.colour, params, viewport },
+        );
+    }
+
+    /// Draws object `index`'s copy with `push`, its model matrix filled in.
+    fn draw_copy(&self, rec: &mut FrameRecorder, pipeline: &Pipeline, scene: &Scene, index: usize, push: CartoonPush) {
+        let (Some(object), Some(mesh)) = (scene.objects.get(index), self.meshes.get(index)) else { return };
+        rec.push(pipeline, &CartoonPush { model: object.transform, ..push });
+        rec.draw_mesh(mesh);
     }
 }
 

@@ -27,8 +27,8 @@ use crate::scene::Scene;
 pub use cartoon::CartoonStats;
 pub use interface::{check_same_scene, FrameStats, RenderOptions, SceneRenderer, Technique, TechniqueFrame, Variant};
 pub use options::{
-    CartoonOptions, LightMode, Normalize, OutlineMethod, ShadowAtlasOptions, ShadowKind, ShadowVolumeOptions,
-    SilhouetteMethod, TextureShadowOn, VolumeMethod,
+    CartoonOptions, InkStyle, LightMode, Normalize, OutlineMethod, Seams, ShadowAtlasOptions, ShadowKind,
+    ShadowVolumeOptions, SilhouetteMethod, TextureShadowOn, VolumeMethod, INK_STYLE_FLAGS,
 };
 pub use planar::{GivenPlane, PlanarOptions, PlanarStats};
 pub use registry::{by_name, TECHNIQUES};

@@ -193,6 +193,102 @@ crate::names::named_enum! {
         Shader = "shader",
         /// Normal-extruded inverted hull.
         Hull = "hull",
+        /// Dietrich's alpha test: N.V per pixel as alpha, ink where it is at most `--alpha-ref`.
+        AlphaTest = "alpha-test",
+        /// The seed's two-pass extrusion, per object: its copy pushed out along the normals,
+        /// depth test and write off, in ink; then the object, depth on.
+        Extrusion = "extrusion",
+    }
+}
+
+/// One edge class's ink (`--ink-silhouette`, `--ink-crease`, `--ink-boundary`): what is unset
+/// follows `--line-width` and the default ink colour.
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
+pub struct InkStyle {
+    /// Line width in pixels.
+    pub width: Option<f32>,
+    /// 8-bit sRGB colour, as the frame stores it.
+    pub colour: Option<[u8; 3]>,
+}
+
+/// `--seams`: which attribute jumps across an edge make it a boundary (edges method), as the
+/// seed defines boundaries: vertices that differ in normal, texture coordinate or material.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct Seams {
+    pub normal: bool,
+    pub uv: bool,
+}
+
+impl Default for Seams {
+    fn default() -> Self {
+        Seams { normal: true, uv: false }
+    }
+}
+
+impl Seams {
+    /// Parses `--seams normal,uv` (any of them, or `none`).
+    pub fn parse(text: &str) -> Result<Seams> {
+        let mut seams = Seams { normal: false, uv: false };
+        for word in text.split(',').map(str::trim) {
+            match word {
+                "normal" => seams.normal = true,
+                "uv" => seams.uv = true,
+                "none" | "" => {}
+                "material" => {
+                    return Err(Error::InvalidInput(
+                        "--seams material: every object has one material, so no material seam lies inside a mesh \
+                         (a material change is an object's border, already a boundary where it is open); use normal, uv or none"
+                            .into(),
+                    ))
+                }
+                other => {
+                    return Err(Error::InvalidInput(format!("--seams '{other}': use normal, uv or none, comma-separated")))
+                }
+            }
+        }
+        Ok(seams)
+    }
+}
+
+/// The command-line flag of each edge class's style, in the order of `CartoonOptions::ink`.
+pub const INK_STYLE_FLAGS: [&str; 3] = ["--ink-silhouette", "--ink-crease", "--ink-boundary"];
+
+impl InkStyle {
+    /// Parses `WIDTH`, `WIDTH,#RRGGBB` or `#RRGGBB` (the `#` is optional), for `flag`.
+    pub fn parse(flag: &str, text: &str) -> Result<InkStyle> {
+        let bad = |why: &str| Error::InvalidInput(format!("{flag} '{text}': {why}; expected WIDTH[,#RRGGBB]"));
+        let (width, colour) = match text.split_once(',') {
+            Some((width, colour)) => (Some(width.trim()), Some(colour.trim())),
+            None if text.trim().starts_with('#') => (None, Some(text.trim())),
+            None => (Some(text.trim()), None),
+        };
+        let width = match width {
+            Some(w) => Some(w.parse::<f32>().map_err(|_| bad("the width is not a number"))?),
+            None => None,
+        };
+        let colour = match colour {
+            Some(c) => {
+                let hex = c.strip_prefix('#').unwrap_or(c);
+                let channel = |i: usize| hex.get(i..i + 2).and_then(|h| u8::from_str_radix(h, 16).ok());
+                match (hex.len(), channel(0), channel(2), channel(4)) {
+                    (6, Some(r), Some(g), Some(b)) => Some([r, g, b]),
+                    _ => return Err(bad("the colour is not six hex digits")),
+                }
+            }
+            None => None,
+        };
+        let style = InkStyle { width, colour };
+        style.check(flag)?;
+        Ok(style)
+    }
+
+    fn check(&self, flag: &str) -> Result<()> {
+        match self.width {
+            Some(w) if !(w.is_finite() && (0.5..=64.0).contains(&w)) => {
+                Err(Error::InvalidInput(format!("{flag} width {w}: use 0.5 to 64 pixels")))
+            }
+            _ => Ok(()),
+        }
     }
 }
 
@@ -217,8 +313,19 @@ pub struct CartoonOptions {
     pub crease_deg: f32,
     /// Ink line width in pixels (edges), and the width of the hull rim.
     pub line_width: f32,
+    /// Per edge class (silhouette, crease, boundary; see [`INK_STYLE_FLAGS`]): width and colour
+    /// over `line_width` and the default ink. The methods that only find silhouettes use the
+    /// silhouette's.
+    pub ink: [InkStyle; 3],
+    /// Which attribute seams are boundaries (edges method).
+    pub seams: Seams,
+    /// Faces filled with the background colour, ink on top (the seed's figure 5.1.1, middle).
+    pub ink_only: bool,
     /// Outline width in pixels (`outline`).
     pub outline_width: f32,
+    /// `alpha-test` ink: pixels whose N.V is at most this are ink (0: a hairline; larger:
+    /// thicker lines).
+    pub alpha_ref: f32,
     /// Outline colour, 8-bit RGB (so every path writes the same bytes).
     pub outline_colour: [u8; 3],
     /// How the outline copy is made (`outline`).
@@ -237,7 +344,11 @@ impl Default for CartoonOptions {
             silhouette: SilhouetteMethod::Edges,
             crease_deg: 40.0,
             line_width: 2.0,
+            ink: [InkStyle::default(); 3],
+            ink_only: false,
+            seams: Seams::default(),
             outline_width: 4.0,
+            alpha_ref: 0.3,
             outline_colour: [255, 160, 0],
             outline_method: OutlineMethod::Extrude,
             outline_blur: 0,
@@ -260,10 +371,21 @@ impl CartoonOptions {
                 self.outline_blur
             )));
         }
+        for (style, flag) in self.ink.iter().zip(INK_STYLE_FLAGS) {
+            style.check(flag)?;
+        }
+        if !(self.alpha_ref.is_finite() && (0.0..=1.0).contains(&self.alpha_ref)) {
+            return Err(Error::InvalidInput(format!("--alpha-ref {}: use 0 to 1 (N.V)", self.alpha_ref)));
+        }
         if !(self.crease_deg.is_finite() && (0.0..=180.0).contains(&self.crease_deg)) {
             return Err(Error::InvalidInput(format!("--crease-angle {}: use 0 to 180 degrees", self.crease_deg)));
         }
         Ok(())
+    }
+
+    /// The width of edge class `class` (0 silhouette, 1 crease, 2 boundary) in pixels.
+    pub fn ink_width(&self, class: usize) -> f32 {
+        self.ink.get(class).and_then(|s| s.width).unwrap_or(self.line_width)
     }
 
     /// Parses `--select NAME,NAME,...` (empty: the default selection).

@@ -105,7 +105,7 @@ pub(super) const BINDINGS: &[Binding] = &[
     },
     Binding {
         keys: &[KeyPress::Letter('e')],
-        description: "silhouette/toon ink: edges, shader rim, inverted hull",
+        description: "silhouette/toon ink: edges, shader rim, inverted hull, alpha test, extrusion",
         action: Action::NextInk,
     },
     Binding {

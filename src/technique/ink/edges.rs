@@ -1,6 +1,8 @@
 //! CPU side of the edge-based ink lines (seed 002): per object, the welded mesh, its unique
-//! edge list and its attribute seams are built once; per frame the face normals are recomputed,
-//! every edge is classified from the eye, and the flagged edges become screen-space quads.
+//! edge list and its attribute seams are built once; per frame every edge is classified from
+//! the eye and the flagged edges become screen-space quads. Face normals and creases live in
+//! model space: a rigid mesh (moving or not: the eye is taken into its space) keeps them, only
+//! a deformed (skinned, re-posed) mesh recomputes them, as the seed says.
 
 use glam::{Mat4, Vec2, Vec3};
 
@@ -8,6 +10,7 @@ use crate::error::Result;
 use crate::mesh::{self, CornerAttributes, EdgeAdjacency, EdgeClasses, View, Welded, NO_FACE};
 use crate::scene::{Scene, SceneSkin};
 use crate::technique::extruded::{follow_skin, object_mesh_name, weld_object};
+use crate::technique::options::Seams;
 
 /// One corner of an ink quad (`shaders/cartoon_ink.vert`): both edge ends in world space, the
 /// third corner of the front-facing face (silhouettes grow away from it), and which corner.
@@ -39,6 +42,8 @@ pub struct InkMesh {
     /// Two-face edges across which the vertex normals jump (found once, at load).
     pub seams: Vec<u32>,
     face_normals: Vec<Vec3>,
+    /// `face_normals` and `classes.crease` are those of `welded.positions` at this crease angle.
+    normals_for: Option<f32>,
     classes: EdgeClasses,
     drawn: Vec<bool>,
 }
@@ -46,16 +51,28 @@ pub struct InkMesh {
 impl InkMesh {
     /// Welds the object's mesh, builds its edge list and finds its normal seams. Open meshes
     /// are fine: their one-face edges are boundaries.
-    pub fn new(scene: &Scene, object: usize) -> Result<Self> {
+    /// `seams` picks the attributes whose jumps are boundaries; one the mesh lacks is named in
+    /// `warnings`.
+    pub fn new(scene: &Scene, object: usize, seams: Seams, warnings: &mut Vec<String>) -> Result<Self> {
         let data = &scene.meshes[scene.objects[object].mesh].data;
         let name = object_mesh_name(scene, object);
         let welded = weld_object(scene, object)?;
         let adjacency = EdgeAdjacency::build(&name, &welded.positions, &welded.indices)?;
-        // Normals and materials, not UVs: the built-in shapes are untextured, and a UV seam
-        // (a sphere's u = 0 meridian) is not a line anybody drew.
+        // Normals by default; UVs on request (a sphere's u = 0 meridian is a UV seam nobody drew).
         let mut attributes = CornerAttributes::new(&welded.original_corners);
-        if data.normals.len() >= data.positions.len() {
-            attributes.normals = Some(&data.normals);
+        for (wanted, attribute, len, slot) in
+            [(seams.normal, "normals", data.normals.len(), 0), (seams.uv, "texture coordinates", data.uvs.len(), 1)]
+        {
+            if !wanted {
+                continue;
+            }
+            if len < data.positions.len() {
+                warnings.push(format!("{name}: no {attribute}, so no {attribute} seams are drawn"));
+            } else if slot == 0 {
+                attributes.normals = Some(&data.normals);
+            } else {
+                attributes.uvs = Some(&data.uvs);
+            }
         }
         let seams = mesh::attribute_seams(&name, &adjacency, &attributes)?;
         let edge_count = adjacency.edges.len();
@@ -65,6 +82,7 @@ impl InkMesh {
             adjacency,
             seams,
             face_normals: Vec::new(),
+            normals_for: None,
             classes: EdgeClasses::default(),
             drawn: vec![false; edge_count],
         })
@@ -73,20 +91,33 @@ impl InkMesh {
     /// Takes the skin's current pose as the welded positions (the topology stays). False when
     /// the skin does not cover the mesh this was built from.
     pub fn follow(&mut self, skin: &SceneSkin) -> bool {
-        follow_skin(&mut self.welded, skin)
+        let followed = follow_skin(&mut self.welded, skin);
+        if followed {
+            self.normals_for = None;
+        }
+        followed
     }
 
-    /// This frame's classification from `eye` (world space): face normals recomputed (the
-    /// mesh may have moved), then silhouette, crease and boundary flags.
+    /// Whether the next [`InkMesh::classify`] at `crease_deg` recomputes the face normals and
+    /// creases (the first, and the first after the mesh deformed).
+    pub fn needs_normals(&self, crease_deg: f32) -> bool {
+        self.normals_for != Some(crease_deg)
+    }
+
+    /// This frame's classification from `eye` (world space): face normals and creases when
+    /// [`InkMesh::needs_normals`], then silhouette and boundary flags.
     pub fn classify(&mut self, model: &Mat4, eye: Vec3, crease_deg: f32) -> &EdgeClasses {
-        self.adjacency.recompute_face_normals(&self.welded.positions, &mut self.face_normals);
+        if self.needs_normals(crease_deg) {
+            self.adjacency.recompute_face_normals(&self.welded.positions, &mut self.face_normals);
+            mesh::classify_creases_into(&self.adjacency, &self.face_normals, crease_deg, &mut self.classes.crease);
+            self.normals_for = Some(crease_deg);
+        }
         let eye = model.inverse().transform_point3(eye);
-        mesh::classify_into(
+        mesh::classify_view_into(
             &self.adjacency,
             &self.welded.positions,
             &self.face_normals,
             View::Perspective { eye },
-            crease_deg,
             &self.seams,
             &mut self.classes,
         );
@@ -172,7 +203,7 @@ mod tests {
     #[test]
     fn cube_face_on_draws_its_front_square_once() -> Result<()> {
         let scene = one_object_scene(shapes::cube(1.0));
-        let mut ink = InkMesh::new(&scene, 0)?;
+        let mut ink = InkMesh::new(&scene, 0, Seams::default(), &mut Vec::new())?;
         // Split normals: every cube edge is a seam, every cube edge a 90 degree crease.
         assert_eq!(ink.seams.len(), 12);
         let eye = Vec3::new(0.0, 0.0, 5.0);
@@ -196,7 +227,7 @@ mod tests {
         for name in ["default", "outline", "duck"] {
             let scene = crate::scene::builtin_scene(name)?;
             for (index, object) in scene.objects.iter().enumerate().filter(|(_, o)| o.casts_shadow) {
-                let ink = InkMesh::new(&scene, index)?;
+                let ink = InkMesh::new(&scene, index, Seams::default(), &mut Vec::new())?;
                 let mut uses = vec![0u32; ink.adjacency.face_count()];
                 for edge in &ink.adjacency.edges {
                     assert!(edge.faces.iter().all(|&f| f != NO_FACE), "{name}/{}: open edge", object.name);
@@ -240,7 +271,7 @@ mod tests {
     #[test]
     fn tent_ridge_is_a_crease_and_a_seam_its_rim_is_boundary() -> Result<()> {
         let scene = one_object_scene(tent());
-        let mut ink = InkMesh::new(&scene, 0)?;
+        let mut ink = InkMesh::new(&scene, 0, Seams::default(), &mut Vec::new())?;
         let (edges, positions) = (ink.adjacency.edges.clone(), ink.welded.positions.clone());
         let ends = |e: u32| {
             let mut v = edges[e as usize].v.map(|i| positions[i as usize]);

@@ -1,12 +1,14 @@
 //! The ink renderer (seed 002, DESIGN.md section 4): the scene shaded Lambert (`silhouette`)
-//! or through a toon ramp (`toon`), then ink on its silhouettes by one of three methods:
+//! or through a toon ramp (`toon`), then ink on its silhouettes by one of these methods:
 //! - `edges`: per frame on the CPU, each object's unique edge list is classified from the eye
 //!   (`mesh::classify`), and the flagged edges are drawn as screen-space quads, one draw per
 //!   class (the mobile profile has no wideLines): [`edges`];
 //! - `shader`: the scene's vertex shader computes N.V and the fragment shader looks it up in a
 //!   1D texture whose first texels are dark (a rim);
 //! - `hull`: the two-pass inverted hull: the mesh pushed out along its normals, front faces
-//!   culled, drawn in ink behind the model.
+//!   culled, drawn in ink behind the model;
+//! - `alpha-test`: Dietrich's method: N.V per pixel is the alpha, and an alpha test (a
+//!   `discard`) keeps as ink the pixels at most a reference value, which sets the thickness.
 //!
 //! The recipes and pass plan are in [`recipes`], the renderer in [`renderer`].
 
@@ -70,18 +72,26 @@ impl Technique for Ink {
     }
 
     fn describe(&self, options: &RenderOptions) -> String {
-        format!("{} ({}, {})", self.name, options.stencil.name(), options.cartoon.silhouette.name())
+        let ink_only = if options.cartoon.ink_only { ", ink only" } else { "" };
+        format!("{} ({}, {}{ink_only})", self.name, options.stencil.name(), options.cartoon.silhouette.name())
     }
 }
 
-/// Each `--silhouette` method: the passes differ, the stencil path does not change them.
+/// Each `--silhouette` method (the passes differ, the stencil path does not change them), then
+/// the edges method ink only (`--ink-only`: flat faces, no lighting).
 fn method_variants(name: &str, options: &RenderOptions) -> Vec<Variant> {
-    SilhouetteMethod::ALL
+    let mut variants: Vec<Variant> = SilhouetteMethod::ALL
         .iter()
         .map(|&method| {
             let mut options = options.clone();
             options.cartoon.silhouette = method;
+            options.cartoon.ink_only = false;
             Variant { label: format!("{name} {}", method.name()), options }
         })
-        .collect()
+        .collect();
+    let mut ink_only = options.clone();
+    ink_only.cartoon.silhouette = SilhouetteMethod::Edges;
+    ink_only.cartoon.ink_only = true;
+    variants.push(Variant { label: format!("{name} edges ink-only"), options: ink_only });
+    variants
 }

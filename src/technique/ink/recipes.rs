@@ -5,7 +5,11 @@
 //! - `edges`: one pass per edge class (silhouette, crease, boundary), each one draw of the
 //!   screen-space quads the CPU built this frame;
 //! - `shader`: nothing more, the rim is the ink;
-//! - `hull`: the inverted hull, each object's extruded copy with its front faces culled.
+//! - `hull`: the inverted hull, each object's extruded copy with its front faces culled;
+//! - `extrusion`: no scene pass of its own: one pass draws, object by object, its extruded
+//!   copy with the depth test and write off, then the object (so it binds both pipelines);
+//! - `alpha-test`: the objects again, depth EQUAL, N.V per pixel as alpha, kept (as ink) where
+//!   it is at most the reference value.
 
 use ash::vk;
 
@@ -63,15 +67,52 @@ pub fn hull_desc() -> PipelineDesc {
     extrude_desc("inverted hull", FixedFunction { raster: RasterState::CULL_FRONT, ..FixedFunction::OPAQUE })
 }
 
+/// The name of the `extrusion` pass (copy then object, per object).
+pub const EXTRUSION: &str = "extruded copy, then object";
+
+/// What the `extrusion` pass draws.
+pub const COPY_THEN_OBJECT: Draws = Draws::Geometry("per object: its extruded copy, then the object");
+
+/// The seed's extruded copy: depth test and write off (so nothing drawn before hides it, and
+/// it hides nothing drawn after), back faces culled, ink in RGB.
+pub fn extrusion_desc() -> PipelineDesc {
+    extrude_desc(
+        "extruded copy (depth off)",
+        FixedFunction { depth: DepthState::OFF, blend: COLOUR_REPLACE, ..FixedFunction::OPAQUE },
+    )
+}
+
+/// The name of the `alpha-test` ink pass.
+pub const ALPHA_TEST: &str = "alpha-test ink";
+
+/// Dietrich's alpha test: the objects again over the scene pass (the same vertex shader,
+/// `invariant gl_Position`, so depth EQUAL finds exactly their visible pixels), N.V as alpha,
+/// kept where it is at most the reference (LESS_EQUAL); ink in RGB, alpha untouched.
+pub fn alpha_test_desc() -> PipelineDesc {
+    cartoon_desc(
+        "alpha-test ink",
+        "cartoon_shade.vert",
+        "cartoon_alpha_test.frag",
+        VertexLayout::SCENE,
+        FixedFunction {
+            depth: DepthState { compare: Some(vk::CompareOp::EQUAL), write: false },
+            blend: COLOUR_REPLACE,
+            ..FixedFunction::OPAQUE
+        },
+    )
+}
+
 /// The passes of a frame inked by `method`.
 pub fn plan(method: SilhouetteMethod) -> PassPlan {
     let mut plan = PassPlan::new();
-    plan.push(shade_pass(
-        "scene",
-        shade_desc(),
-        Draws::Objects,
-        "object transform and colour, alpha 1; toon and rim switches (CartoonPush)",
-    ));
+    const SCENE_PUSH: &str = "object transform and colour, alpha 1; toon and rim switches (CartoonPush)";
+    if method == SilhouetteMethod::Extrusion {
+        let push = "copy: object transform, ink colour, line width; object: as the scene pass (CartoonPush)";
+        let pass = shade_pass(EXTRUSION, shade_desc(), COPY_THEN_OBJECT, push);
+        plan.push(pass.or_pipeline(extrusion_desc()));
+        return plan;
+    }
+    plan.push(shade_pass("scene", shade_desc(), Draws::Objects, SCENE_PUSH));
     match method {
         SilhouetteMethod::Edges => {
             plan.extend(EDGE_CLASSES.iter().map(|class| {
@@ -84,7 +125,7 @@ pub fn plan(method: SilhouetteMethod) -> PassPlan {
                 .with_sets(&[SetRole::Frame])
             }));
         }
-        SilhouetteMethod::Shader => {}
+        SilhouetteMethod::Shader | SilhouetteMethod::Extrusion => {}
         SilhouetteMethod::Hull => {
             plan.push(
                 PlannedPass::new(
@@ -92,6 +133,17 @@ pub fn plan(method: SilhouetteMethod) -> PassPlan {
                     hull_desc(),
                     EXTRUDED,
                     Push::PerDraw("object transform, ink colour and line width (CartoonPush)"),
+                )
+                .with_sets(&[SetRole::Frame]),
+            );
+        }
+        SilhouetteMethod::AlphaTest => {
+            plan.push(
+                PlannedPass::new(
+                    ALPHA_TEST,
+                    alpha_test_desc(),
+                    Draws::Objects,
+                    Push::PerDraw("object transform, ink colour, alpha reference (CartoonPush)"),
                 )
                 .with_sets(&[SetRole::Frame]),
             );

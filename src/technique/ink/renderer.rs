@@ -10,10 +10,12 @@ use ash::vk;
 use glam::{Mat4, Vec4};
 
 use super::edges::{InkMesh, InkQuads, InkVertex};
-use super::recipes::{EDGE_CLASSES, EXTRUDED};
+use super::recipes::{ALPHA_TEST, COPY_THEN_OBJECT, EDGE_CLASSES, EXTRUDED};
 use crate::error::{Error, Result};
+use crate::frame::srgb;
 use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
+use crate::render::object_push::draw_order;
 use crate::render::plan::{Draws, PlannedPass, SetRole};
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, Renderer};
@@ -24,7 +26,7 @@ use crate::technique::extruded::{ExtrudedCopies, Extrusion};
 use crate::technique::frame_renderer::{self, Passes};
 use crate::technique::interface::RenderOptions;
 use crate::technique::interface::{FrameStats, SceneRenderer, Technique};
-use crate::technique::options::SilhouetteMethod;
+use crate::technique::options::{CartoonOptions, Seams, SilhouetteMethod};
 
 /// The ink, in every method.
 /// Linear RGBA of ink lines.
@@ -40,24 +42,36 @@ pub fn build<'s>(
 ) -> Result<Box<dyn SceneRenderer + 's>> {
     let cartoon = &options.cartoon;
     let method = cartoon.silhouette;
-    let shading = Shading { toon, rim: method == SilhouetteMethod::Shader };
+    let shading = Shading { toon, rim: method == SilhouetteMethod::Shader, ink_only: cartoon.ink_only };
     frame_renderer::build(technique, gpu, scene, options, |ctx| {
         let scene_pass = CartoonScene::new(ctx.gpu, scene, shading)?;
         let lines = match method {
-            SilhouetteMethod::Edges => Ink::Edges(Box::new(EdgeLines::new(scene, cartoon.crease_deg)?)),
+            SilhouetteMethod::Edges => Ink::Edges(Box::new(EdgeLines::new(scene, cartoon.crease_deg, cartoon.seams)?)),
             SilhouetteMethod::Shader => Ink::Rim,
-            SilhouetteMethod::Hull => Ink::Hull(ExtrudedCopies::new(ctx.gpu, scene)?),
+            SilhouetteMethod::AlphaTest => Ink::AlphaTest(cartoon.alpha_ref),
+            SilhouetteMethod::Hull | SilhouetteMethod::Extrusion => Ink::Hull(ExtrudedCopies::new(ctx.gpu, scene)?),
         };
         Ok(InkPasses {
             gpu: ctx.gpu.clone(),
             method,
             scene_pass,
             ink: lines,
-            line_width: cartoon.line_width,
+            styles: [0, 1, 2].map(|class| class_style(cartoon, class)),
             viewport: Vec4::ZERO,
             pull: 0.0,
         })
     })
+}
+
+/// Edge class `class`'s width and linear colour: its `--ink-*` style over `--line-width` and
+/// [`INK_COLOUR`].
+fn class_style(cartoon: &CartoonOptions, class: usize) -> (f32, Vec4) {
+    let colour = cartoon
+        .ink
+        .get(class)
+        .and_then(|s| s.colour)
+        .map_or(INK_COLOUR, |rgb| Vec4::new(srgb::decode(rgb[0]), srgb::decode(rgb[1]), srgb::decode(rgb[2]), 1.0));
+    (cartoon.ink_width(class), colour)
 }
 
 /// What draws the ink, per method.
@@ -65,7 +79,10 @@ enum Ink {
     Edges(Box<EdgeLines>),
     /// The scene pass's rim ramp: nothing of its own.
     Rim,
+    /// Each object's extruded copy (`hull` and `extrusion`).
     Hull(ExtrudedCopies),
+    /// The objects again, alpha-tested at this reference.
+    AlphaTest(f32),
 }
 
 struct InkPasses {
@@ -73,11 +90,19 @@ struct InkPasses {
     method: SilhouetteMethod,
     scene_pass: CartoonScene,
     ink: Ink,
-    line_width: f32,
+    /// Per edge class (silhouette, crease, boundary): width in pixels and linear ink colour.
+    styles: [(f32, Vec4); 3],
     /// This frame's `CartoonPush::viewport`.
     viewport: Vec4,
     /// This frame's pull of the edge lines towards the eye, in clip-space depth.
     pull: f32,
+}
+
+impl InkPasses {
+    /// How `hull` and `extrusion` push their copies out: the silhouette's style.
+    fn silhouette_extrusion(&self) -> Extrusion {
+        Extrusion { width_px: self.styles[0].0, colour: self.styles[0].1 }
+    }
 }
 
 impl Passes for InkPasses {
@@ -96,7 +121,7 @@ impl Passes for InkPasses {
                 lines.follow_pose(scene, &changed);
                 lines.rebuild(&self.gpu, scene)?;
             }
-            Ink::Rim => {}
+            Ink::Rim | Ink::AlphaTest(_) => {}
             Ink::Hull(copies) => copies.follow_pose(&self.gpu, scene, &changed)?,
         }
         let extent = renderer.extent();
@@ -105,7 +130,8 @@ impl Passes for InkPasses {
         // a crease between faces tilted up to ~60 degrees, far too little to show through a
         // solid.
         let pixel = cartoon_shading::pixel_at_unit_distance(scene, extent.height);
-        self.pull = scene.camera.near * (self.line_width * pixel).max(1e-3);
+        let widest = self.styles.iter().map(|s| s.0).fold(0.0, f32::max);
+        self.pull = scene.camera.near * (widest * pixel).max(1e-3);
         Ok(())
     }
 
@@ -115,17 +141,40 @@ impl Passes for InkPasses {
         };
         let class = EDGE_CLASSES.iter().position(|class| class.draws == pass.draws);
         match (pass.draws, &self.ink, class) {
+            (Draws::Objects, Ink::AlphaTest(reference), _) if pass.name == ALPHA_TEST => {
+                let params = Vec4::new(*reference, 0.0, 0.0, 0.0);
+                for index in draw_order(scene) {
+                    let object = &scene.objects[index];
+                    let colour = self.styles[0].1;
+                    let push = CartoonPush { model: object.transform, colour, params, viewport: self.viewport };
+                    rec.push(pipeline, &push);
+                    rec.draw_mesh(&self.scene_pass.meshes.meshes[object.mesh]);
+                }
+            }
+            (COPY_THEN_OBJECT, Ink::Hull(copies), _) => {
+                // The copy pipeline is the pass's last; the scene's (and its material variants)
+                // come first.
+                let Some(&copy) = pipelines.last() else {
+                    return Err(Error::Internal(format!("pass '{}' lacks its pipelines", pass.name)));
+                };
+                let extrusion = self.silhouette_extrusion();
+                for index in draw_order(scene) {
+                    rec.bind(copy);
+                    copies.draw_one(rec, copy, scene, index, extrusion, self.viewport);
+                    self.scene_pass.draw_object(rec, pass, pipelines, copy, scene, index, 1.0, self.viewport);
+                }
+            }
             (Draws::Objects, _, _) => self.scene_pass.draw(rec, pass, pipelines, scene, |_| true, 1.0, self.viewport),
             (EXTRUDED, Ink::Hull(copies), _) => {
-                let extrusion = Extrusion { width_px: self.line_width, colour: INK_COLOUR };
+                let extrusion = self.silhouette_extrusion();
                 copies.draw(rec, pipeline, scene, |_| true, extrusion, self.viewport);
             }
             (_, Ink::Edges(lines), Some(class)) => {
                 let one_sided = if EDGE_CLASSES[class].one_sided { 1.0 } else { 0.0 };
                 let push = CartoonPush {
                     model: Mat4::IDENTITY,
-                    colour: INK_COLOUR,
-                    params: Vec4::new(self.line_width, one_sided, self.pull, 0.0),
+                    colour: self.styles[class].1,
+                    params: Vec4::new(self.styles[class].0, one_sided, self.pull, 0.0),
                     viewport: self.viewport,
                 };
                 rec.push(pipeline, &push);
@@ -138,6 +187,13 @@ impl Passes for InkPasses {
         Ok(())
     }
 
+    fn warnings(&self) -> &[String] {
+        match &self.ink {
+            Ink::Edges(lines) => &lines.warnings,
+            _ => &[],
+        }
+    }
+
     fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {
         let mut stats = CartoonStats {
             method: Some(self.method),
@@ -147,10 +203,12 @@ impl Passes for InkPasses {
             boundary_edges: 0,
             edge_cpu_ms: 0.0,
             total_edges: 0,
+            face_normal_updates: 0,
         };
         if let Ink::Edges(lines) = &self.ink {
             [stats.silhouette_edges, stats.crease_edges, stats.boundary_edges] = lines.quads.edge_counts();
             stats.edge_cpu_ms = lines.cpu_ms;
+            stats.face_normal_updates = lines.normal_updates;
             stats.total_edges = lines.meshes.iter().map(|m| m.adjacency.edges.len()).sum();
         }
         Box::new(stats)
@@ -166,12 +224,27 @@ struct EdgeLines {
     buffers: [Option<(Buffer, u32)>; 3],
     /// CPU time of this frame's edge work (ms).
     cpu_ms: f64,
+    /// Objects whose face normals and creases this frame recomputed.
+    normal_updates: usize,
+    /// Seams asked for that a mesh cannot show (it lacks the attribute).
+    warnings: Vec<String>,
 }
 
 impl EdgeLines {
-    fn new(scene: &Scene, crease_deg: f32) -> Result<Self> {
-        let meshes = (0..scene.objects.len()).map(|index| InkMesh::new(scene, index)).collect::<Result<Vec<_>>>()?;
-        Ok(EdgeLines { meshes, crease_deg, quads: InkQuads::default(), buffers: [None, None, None], cpu_ms: 0.0 })
+    fn new(scene: &Scene, crease_deg: f32, seams: Seams) -> Result<Self> {
+        let mut warnings = Vec::new();
+        let meshes = (0..scene.objects.len())
+            .map(|index| InkMesh::new(scene, index, seams, &mut warnings))
+            .collect::<Result<Vec<_>>>()?;
+        Ok(EdgeLines {
+            meshes,
+            crease_deg,
+            quads: InkQuads::default(),
+            buffers: [None, None, None],
+            cpu_ms: 0.0,
+            normal_updates: 0,
+            warnings,
+        })
     }
 
     /// Skinned objects in `changed` (whose palettes changed) get their welded positions, so
@@ -190,8 +263,10 @@ impl EdgeLines {
         let start = Instant::now();
         let eye = scene.camera.eye;
         self.quads.clear();
+        self.normal_updates = 0;
         for mesh in &mut self.meshes {
             let model = scene.objects[mesh.object].transform;
+            self.normal_updates += usize::from(mesh.needs_normals(self.crease_deg));
             mesh.classify(&model, eye, self.crease_deg);
             mesh.append_quads(&model, eye, &mut self.quads);
         }

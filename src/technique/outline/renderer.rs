@@ -208,6 +208,7 @@ impl Passes for OutlinePasses {
             boundary_edges: 0,
             edge_cpu_ms: 0.0,
             total_edges: 0,
+            face_normal_updates: 0,
         })
     }
 }
