@@ -193,18 +193,6 @@ fn ink_rows(image: &RgbaImage, x: u32, y: f32) -> Vec<u32> {
     (0..image.height()).filter(|&r| (r as f32 - y).abs() < 10.0 && image.get_pixel(x, r).0[..3] == ink()).collect()
 }
 
-/// Pixel rows whose centres fall in [top, bottom) (the rasteriser's top-left rule on a
-/// horizontal band).
-fn rows_between(top: f32, bottom: f32) -> Vec<u32> {
-    (0..1000u32).filter(|&j| (j as f32 + 0.5) >= top && (j as f32 + 0.5) < bottom).collect()
-}
-
-/// Framebuffer y of a world point.
-fn pixel_y(scene: &Scene, point: Vec3, size: (u32, u32)) -> f32 {
-    let clip = scene.camera.view_projection(size.0 as f32 / size.1 as f32) * point.extend(1.0);
-    (clip.y / clip.w + 1.0) * 0.5 * size.1 as f32
-}
-
 #[test]
 fn ink_line_width_in_the_image_is_the_requested_width() {
     let gpu = common::gpu();
@@ -220,7 +208,7 @@ fn ink_line_width_in_the_image_is_the_requested_width() {
         // band border below falls on a pixel centre.
         let at = |lift: f32| {
             let scene = face_on_scene(mesh.clone(), Mat4::from_translation(Vec3::new(0.0, lift, 0.0)));
-            let y = pixel_y(&scene, *edge + Vec3::new(0.0, lift, 0.0), size);
+            let y = common::pixel_y(&scene, *edge + Vec3::new(0.0, lift, 0.0), size);
             (scene, y)
         };
         let lift = (0..200).map(|i| 0.1 + i as f32 * 0.001).find(|&l| (at(l).1.fract() - 0.25).abs() < 0.05);
@@ -235,7 +223,7 @@ fn ink_line_width_in_the_image_is_the_requested_width() {
             for border in [top, bottom] {
                 assert!((border - border.floor() - 0.5).abs() > 0.02, "{label}: border {border} on a centre");
             }
-            let expected = rows_between(top, bottom);
+            let expected = common::rows_between(top, bottom);
             assert_eq!(expected.len(), width as usize);
             let measured = ink_rows(&image, size.0 / 2, y);
             assert_eq!(measured, expected, "{label} width {width}: edge at y = {y} ({stats:?})");

@@ -281,18 +281,6 @@ fn ridge() -> MeshData {
     }
 }
 
-/// Pixel rows whose centres fall in [top, bottom) (the rasteriser's top-left rule on a
-/// horizontal band).
-fn rows_between(top: f32, bottom: f32) -> Vec<u32> {
-    (0..1000u32).filter(|&j| (j as f32 + 0.5) >= top && (j as f32 + 0.5) < bottom).collect()
-}
-
-/// Framebuffer y of a world point.
-fn pixel_y(scene: &Scene, point: Vec3, size: (u32, u32)) -> f32 {
-    let clip = scene.camera.view_projection(size.0 as f32 / size.1 as f32) * point.extend(1.0);
-    (clip.y / clip.w + 1.0) * 0.5 * size.1 as f32
-}
-
 #[test]
 fn each_edge_class_is_drawn_in_its_own_width_and_colour() {
     use nostencil::technique::InkStyle;
@@ -317,7 +305,7 @@ fn each_edge_class_is_drawn_in_its_own_width_and_colour() {
         let at = |lift: f32| {
             let transform = Mat4::from_translation(Vec3::new(0.0, lift, 0.0));
             let scene = face_on_scene(&[(mesh.clone(), transform, Vec3::new(0.9, 0.8, 0.2))]);
-            let y = pixel_y(&scene, edge + Vec3::new(0.0, lift, 0.0), size);
+            let y = common::pixel_y(&scene, edge + Vec3::new(0.0, lift, 0.0), size);
             (scene, y)
         };
         let lift = (0..200).map(|i| 0.1 + i as f32 * 0.001).find(|&l| (at(l).1.fract() - 0.25).abs() < 0.05);
@@ -325,7 +313,7 @@ fn each_edge_class_is_drawn_in_its_own_width_and_colour() {
         let image = render(&gpu, &scene, &SILHOUETTE, &options, size);
         let (width, colour) = (styles[class].width.unwrap_or(0.0), styles[class].colour.unwrap_or_default());
         let (top, bottom) = if outward { (y - width, y) } else { (y - 0.5 * width, y + 0.5 * width) };
-        let expected = rows_between(top, bottom);
+        let expected = common::rows_between(top, bottom);
         assert_eq!(expected.len(), width as usize);
         let measured: Vec<u32> = (0..size.1)
             .filter(|&r| (r as f32 - y).abs() < 8.0 && image.get_pixel(size.0 / 2, r).0[..3] == colour)

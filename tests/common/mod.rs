@@ -171,3 +171,15 @@ pub fn inside_hull(hull: &[glam::Vec2], p: glam::Vec2) -> bool {
         (b - a).perp_dot(p - a) >= 0.0
     })
 }
+
+/// Pixel rows whose centres fall in [top, bottom) (the rasteriser's top-left rule on a
+/// horizontal band).
+pub fn rows_between(top: f32, bottom: f32) -> Vec<u32> {
+    (0..1000u32).filter(|&j| (j as f32 + 0.5) >= top && (j as f32 + 0.5) < bottom).collect()
+}
+
+/// Framebuffer y of a world point.
+pub fn pixel_y(scene: &nostencil::scene::Scene, point: glam::Vec3, size: (u32, u32)) -> f32 {
+    let clip = scene.camera.view_projection(size.0 as f32 / size.1 as f32) * point.extend(1.0);
+    (clip.y / clip.w + 1.0) * 0.5 * size.1 as f32
+}
