@@ -175,17 +175,7 @@ fn face_on_scene(mesh: MeshData, transform: Mat4) -> Scene {
 
 /// A unit square in the z = 0 plane facing +Z: open, its outline is four boundary edges.
 fn square() -> MeshData {
-    MeshData {
-        positions: vec![
-            Vec3::new(-0.5, -0.5, 0.0),
-            Vec3::new(0.5, -0.5, 0.0),
-            Vec3::new(0.5, 0.5, 0.0),
-            Vec3::new(-0.5, 0.5, 0.0),
-        ],
-        normals: vec![Vec3::Z; 4],
-        uvs: vec![Vec2::ZERO; 4],
-        indices: vec![0, 1, 2, 0, 2, 3],
-    }
+    nostencil::mesh::shapes::quad(Vec3::ZERO, Vec3::Z, glam::Vec2::ONE)
 }
 
 /// Rows of column `x` within 10 rows of `y` painted in ink.

@@ -242,17 +242,7 @@ fn extrusion_and_hull_plans_differ_in_passes_and_depth_and_cull_state() {
 
 /// A unit square in the z = 0 plane facing +Z: open, its outline is four boundary edges.
 fn square() -> MeshData {
-    MeshData {
-        positions: vec![
-            Vec3::new(-0.5, -0.5, 0.0),
-            Vec3::new(0.5, -0.5, 0.0),
-            Vec3::new(0.5, 0.5, 0.0),
-            Vec3::new(-0.5, 0.5, 0.0),
-        ],
-        normals: vec![Vec3::Z; 4],
-        uvs: vec![Vec2::ZERO; 4],
-        indices: vec![0, 1, 2, 0, 2, 3],
-    }
+    nostencil::mesh::shapes::quad(Vec3::ZERO, Vec3::Z, glam::Vec2::ONE)
 }
 
 /// Two quads folded 90 degrees along the x axis (the ridge, nearest the eye), both facing +Z:

@@ -1,4 +1,5 @@
-//! Closed test meshes with known answers: a cube, a UV sphere, a torus, a torus knot.
+//! Test meshes with known answers: a cube, a UV sphere, a torus, a torus knot (closed), and a
+//! one-sided quad (open).
 //!
 //! All are wound counter-clockwise seen from outside (right-hand normals point out), carry
 //! per-vertex normals and UVs, and duplicate vertices the way exporters do: the cube per face,
@@ -24,6 +25,21 @@ pub struct MeshData {
 impl MeshData {
     pub fn face_count(&self) -> usize {
         self.indices.len() / 3
+    }
+}
+
+/// A one-sided quad centred on `centre`, facing `normal` (wound counter-clockwise seen from
+/// that side), `size` along its two in-plane axes; the first axis is horizontal.
+pub fn quad(centre: Vec3, normal: Vec3, size: Vec2) -> MeshData {
+    let normal = normal.normalize();
+    let u = Vec3::Y.cross(normal).normalize_or(Vec3::X);
+    let v = normal.cross(u);
+    let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+    MeshData {
+        positions: corners.iter().map(|&(a, b)| centre + u * (a * 0.5 * size.x) + v * (b * 0.5 * size.y)).collect(),
+        normals: vec![normal; 4],
+        uvs: corners.iter().map(|&(a, b)| Vec2::new(0.5 + 0.5 * a, 0.5 - 0.5 * b)).collect(),
+        indices: vec![0, 1, 2, 0, 2, 3],
     }
 }
 

@@ -19,21 +19,6 @@ fn scene(name: &str, eye: Vec3, target: Vec3) -> Scene {
 /// The camera of the scenes that need no particular one.
 const EYE: Vec3 = Vec3::new(0.0, 7.0, 6.0);
 
-/// A one-sided quad centred on `centre`, facing `normal` (wound counter-clockwise seen from
-/// that side), `size` along its two in-plane axes; the first axis is horizontal.
-pub fn quad(centre: Vec3, normal: Vec3, size: Vec2) -> MeshData {
-    let normal = normal.normalize();
-    let u = Vec3::Y.cross(normal).normalize_or(Vec3::X);
-    let v = normal.cross(u);
-    let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
-    MeshData {
-        positions: corners.iter().map(|&(a, b)| centre + u * (a * 0.5 * size.x) + v * (b * 0.5 * size.y)).collect(),
-        normals: vec![normal; 4],
-        uvs: corners.iter().map(|&(a, b)| Vec2::new(0.5 + 0.5 * a, 0.5 - 0.5 * b)).collect(),
-        indices: vec![0, 1, 2, 0, 2, 3],
-    }
-}
-
 /// The parts one after the other in one mesh (indices shifted), each moved by its matrix.
 fn merged(parts: &[(MeshData, Mat4)]) -> MeshData {
     let mut mesh = MeshData::default();
@@ -50,7 +35,7 @@ fn merged(parts: &[(MeshData, Mat4)]) -> MeshData {
 /// The quad of `open-quad`, in world space: tilted so that the camera sees its front while the
 /// light sees its back (the case a one-sided caster used to drop).
 pub fn open_quad_mesh() -> MeshData {
-    quad(Vec3::new(-0.4, 1.6, 0.2), Vec3::new(0.0, -1.0, 0.6), Vec2::new(2.2, 1.8))
+    shapes::quad(Vec3::new(-0.4, 1.6, 0.2), Vec3::new(0.0, -1.0, 0.6), Vec2::new(2.2, 1.8))
 }
 
 /// One one-sided quad over the ground, its back to the light.
@@ -91,7 +76,7 @@ pub fn fan_mesh() -> MeshData {
         // Each page hangs from the spine (along X), turned by `angle` about it.
         let down = Vec3::new(0.0, -angle.cos(), angle.sin());
         let normal = down.cross(Vec3::X);
-        (quad(spine + down * 0.6, normal, Vec2::new(1.8, 1.2)), Mat4::IDENTITY)
+        (shapes::quad(spine + down * 0.6, normal, Vec2::new(1.8, 1.2)), Mat4::IDENTITY)
     });
     merged(&pages)
 }
