@@ -471,6 +471,10 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: Option<u32>, json: bool, table1_o
             options.technique.name()
         )));
     }
+    if let Some(dir) = table1_out {
+        // Made (or refused) before minutes of timing, not after.
+        std::fs::create_dir_all(dir).map_err(|source| Error::Io { path: dir.to_owned(), source })?;
+    }
     let scene = load_scene(&frame.scene, frame.time)?;
     let gpu = open_gpu(&frame.gpu)?;
     let (width, height) = (options.width, options.height);
