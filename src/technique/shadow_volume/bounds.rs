@@ -58,10 +58,16 @@ impl Aabb {
     }
 }
 
-/// The receivers' bounds: every object of the scene in its current pose (any object a pixel
-/// shows can be in shadow). `None` for a scene with no vertices.
-pub fn receivers_box(scene: &Scene) -> Option<Aabb> {
-    (0..scene.objects.len()).filter_map(|i| scene.posed_bounds(i)).map(|(lo, hi)| Aabb { lo, hi }).reduce(Aabb::union)
+/// Every object's world bounds in its current pose (`None` for one without vertices): computed
+/// once a frame, for the receivers' box and each caster's own.
+pub fn object_boxes(scene: &Scene) -> Vec<Option<Aabb>> {
+    (0..scene.objects.len()).map(|i| scene.posed_bounds(i).map(|(lo, hi)| Aabb { lo, hi })).collect()
+}
+
+/// The receivers' bounds: every object of the scene (any object a pixel shows can be in
+/// shadow), from [`object_boxes`]. `None` for a scene with no vertices.
+pub fn receivers_box(objects: &[Option<Aabb>]) -> Option<Aabb> {
+    objects.iter().flatten().copied().reduce(Aabb::union)
 }
 
 /// One caster's clipped volume: how far it reaches (the same number in the caster's own

@@ -8,7 +8,7 @@ use std::sync::Arc;
 use ash::vk;
 use glam::Vec4;
 
-use super::bounds::{self, Aabb};
+use super::bounds;
 use super::casters::{build_volume, choose_zfail, prepare_casters, Caster};
 use super::recipes::{COUNTER_INPUT, SATURATION_PROBE};
 use crate::error::{Error, Result};
@@ -329,15 +329,16 @@ fn upload_volumes(
     extent: vk::Extent2D,
 ) -> Result<Vec<GpuVolume>> {
     let whole_frame = vk::Rect2D { offset: vk::Offset2D::default(), extent };
-    let receivers = if options.clip_volumes { bounds::receivers_box(scene) } else { None };
+    let boxes = if options.clip_volumes { bounds::object_boxes(scene) } else { Vec::new() };
+    let receivers = bounds::receivers_box(&boxes);
     let mut volumes = Vec::with_capacity(casters.len());
     for caster in casters {
         let object = &scene.objects[caster.object];
         // Clipped: the volume ends past the receivers and is scissored to where it can shade;
         // a caster whose volume misses every receiver, or lies off screen, is not drawn.
-        let (reach, scissor) = match (receivers, scene.posed_bounds(caster.object)) {
-            (Some(receivers), Some((lo, hi))) => {
-                let clipped = bounds::caster_bounds(&scene.light, Aabb { lo, hi }, receivers);
+        let (reach, scissor) = match (receivers, boxes.get(caster.object).copied().flatten()) {
+            (Some(receivers), Some(caster_box)) => {
+                let clipped = bounds::caster_bounds(&scene.light, caster_box, receivers);
                 match clipped.screen_rect(&scene.camera, extent) {
                     Some(rect) => (clipped.reach, rect),
                     None => continue,
