@@ -154,8 +154,7 @@ impl<'a> FrameRecorder<'a> {
         self.queries.begin(self.cmd, index);
         let result = body(self);
         if std::mem::take(&mut self.scissor_narrowed) {
-            self.set_scissor(vk::Rect2D { offset: vk::Offset2D::default(), extent: self.extent });
-            self.scissor_narrowed = false;
+            self.record_scissor(vk::Rect2D { offset: vk::Offset2D::default(), extent: self.extent });
         }
         self.queries.end(self.cmd, index);
         self.open = false;
@@ -166,6 +165,10 @@ impl<'a> FrameRecorder<'a> {
     /// frame's render pass; the whole frame again after the pass).
     pub fn set_scissor(&mut self, rect: vk::Rect2D) {
         self.scissor_narrowed = true;
+        self.record_scissor(rect);
+    }
+
+    fn record_scissor(&self, rect: vk::Rect2D) {
         // SAFETY: see the note on `FrameRecorder`; every pipeline has a dynamic scissor.
         unsafe { self.gpu.raw().cmd_set_scissor(self.cmd, 0, &[rect]) };
     }
