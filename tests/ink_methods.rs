@@ -338,7 +338,7 @@ fn ink_styles_parse_and_bad_ones_are_one_line_errors() {
         (["--ink-crease", "2,#12345"], "--ink-crease"),
         (["--ink-boundary", "100"], "--ink-boundary"),
         (["--alpha-ref", "2"], "--alpha-ref"),
-        (["--seams", "material"], "--seams"),
+        (["--seams", "materials"], "--seams"),
         (["--seams", "uv,colour"], "--seams"),
     ] {
         let mut all = vec!["profile", "--size", "32x32", "--scene", "outline", "--technique", "silhouette"];
@@ -425,7 +425,7 @@ fn uv_seams_are_boundaries_when_asked_for() {
     let mut ink = [InkStyle::default(); 3];
     ink[2] = InkStyle { width: Some(2.0), colour: Some(blue) };
     let radius = radius_where_n_dot_v_is(0.0, EYE_DISTANCE, focal_px(&scene, size.1));
-    for (seams, expect_seam) in [(Seams { normal: true, uv: true }, true), (Seams::default(), false)] {
+    for (seams, expect_seam) in [(Seams { uv: true, ..Seams::default() }, true), (Seams::default(), false)] {
         let options = CartoonOptions { ink, seams, ..CartoonOptions::default() };
         let frame = render_scene(
             &gpu,
@@ -454,6 +454,116 @@ fn uv_seams_are_boundaries_when_asked_for() {
             assert!(stats.boundary_edges > 0, "{stats:?}");
         } else {
             assert_eq!((any_blue, stats.boundary_edges), (0, 0), "{stats:?}");
+        }
+    }
+    common::assert_no_validation_messages(&gpu);
+}
+
+/// A unit sphere cut along its x = 0 meridians into two glTF primitives of one mesh (left and
+/// right half, each with its own material and its own copy of every vertex), as a self-contained
+/// .gltf.
+fn two_material_sphere_gltf() -> String {
+    use base64::Engine as _;
+    let sphere = unit_sphere();
+    let (mut left, mut right) = (Vec::new(), Vec::new());
+    for t in sphere.indices.chunks_exact(3) {
+        let centroid: Vec3 = t.iter().map(|&i| sphere.positions[i as usize]).sum::<Vec3>() / 3.0;
+        if centroid.x < 0.0 { &mut left } else { &mut right }.extend_from_slice(t);
+    }
+    let mut bytes: Vec<u8> = sphere.positions.iter().flat_map(|p| p.to_array()).flat_map(f32::to_le_bytes).collect();
+    let normals_at = bytes.len();
+    bytes.extend(sphere.normals.iter().flat_map(|n| n.to_array()).flat_map(f32::to_le_bytes));
+    let left_at = bytes.len();
+    bytes.extend(left.iter().flat_map(|i| i.to_le_bytes()));
+    let right_at = bytes.len();
+    bytes.extend(right.iter().flat_map(|i| i.to_le_bytes()));
+    let data = base64::engine::general_purpose::STANDARD.encode(&bytes);
+    let count = sphere.positions.len();
+    let primitive = |indices: usize, material: usize| serde_json::json!({ "attributes": { "POSITION": 0, "NORMAL": 1 }, "indices": indices, "material": material });
+    serde_json::json!({
+        "asset": { "version": "2.0" },
+        "scene": 0,
+        "scenes": [{ "nodes": [0] }],
+        "nodes": [{ "mesh": 0 }],
+        "meshes": [{ "primitives": [primitive(2, 0), primitive(3, 1)] }],
+        "materials": [
+            { "pbrMetallicRoughness": { "baseColorFactor": [0.8, 0.3, 0.2, 1.0] } },
+            { "pbrMetallicRoughness": { "baseColorFactor": [0.2, 0.6, 0.3, 1.0] } }
+        ],
+        "buffers": [{ "byteLength": bytes.len(), "uri": format!("data:application/octet-stream;base64,{data}") }],
+        "bufferViews": [
+            { "buffer": 0, "byteOffset": 0, "byteLength": normals_at },
+            { "buffer": 0, "byteOffset": normals_at, "byteLength": left_at - normals_at },
+            { "buffer": 0, "byteOffset": left_at, "byteLength": right_at - left_at },
+            { "buffer": 0, "byteOffset": right_at, "byteLength": bytes.len() - right_at }
+        ],
+        "accessors": [
+            { "bufferView": 0, "componentType": 5126, "count": count, "type": "VEC3",
+              "min": [-1.0, -1.0, -1.0], "max": [1.0, 1.0, 1.0] },
+            { "bufferView": 1, "componentType": 5126, "count": count, "type": "VEC3" },
+            { "bufferView": 2, "componentType": 5125, "count": left.len(), "type": "SCALAR" },
+            { "bufferView": 3, "componentType": 5125, "count": right.len(), "type": "SCALAR" }
+        ]
+    })
+    .to_string()
+}
+
+#[test]
+fn material_seams_inside_a_gltf_mesh_are_boundaries_only_when_asked_for() {
+    use nostencil::technique::{InkStyle, Seams};
+    let gpu = common::gpu();
+    let size = (128u32, 128u32);
+    let dir = common::scratch_dir("ink-material-seams");
+    let file = dir.join("two-material-sphere.gltf");
+    std::fs::write(&file, two_material_sphere_gltf()).expect("write the test file");
+    let mut scene = nostencil::scene::scene_from_gltf(&file, 0.0).expect("the file loads");
+    // Only the sphere: the loader's ground plane is open, its rim a boundary of its own.
+    scene.objects.retain(|o| o.name != "ground");
+    // The loader keeps both halves as one mesh instance: the ink sees one closed sphere.
+    assert_eq!(scene.objects.len(), 2);
+    assert!(scene.objects[0].mesh_instance.is_some(), "primitives of one mesh share an instance");
+    assert_eq!(scene.objects[0].mesh_instance, scene.objects[1].mesh_instance);
+    assert_eq!(scene.mesh_instances(), vec![vec![0, 1]]);
+    // Seen face on from +Z, the front cut (x = 0, z > 0) runs down the middle of the disc.
+    scene.camera = Camera::look_at(Vec3::new(0.0, 0.0, EYE_DISTANCE), Vec3::ZERO);
+    scene.light = Light::Directional { direction: Vec3::new(0.0, 0.0, -1.0) };
+    let blue = [0, 0, 255];
+    let mut ink = [InkStyle::default(); 3];
+    ink[2] = InkStyle { width: Some(2.0), colour: Some(blue) };
+    let radius = radius_where_n_dot_v_is(0.0, EYE_DISTANCE, focal_px(&scene, size.1));
+    let centre = size.0 as f32 / 2.0;
+    for material in [true, false] {
+        let seams = Seams { material, ..Seams::default() };
+        let options = CartoonOptions { ink, seams, ..CartoonOptions::default() };
+        let frame = render_scene(
+            &gpu,
+            &scene,
+            &RenderOptions {
+                width: size.0,
+                height: size.1,
+                technique: &SILHOUETTE,
+                cartoon: options,
+                ..Default::default()
+            },
+        )
+        .expect("frame");
+        let stats = frame.stats::<nostencil::technique::CartoonStats>().expect("stats");
+        let image = &frame.output.image;
+        image.save(dir.join(format!("material-seams-{material}.png"))).expect("save");
+        let rows = (size.1 / 2 - (radius * 0.6) as u32)..(size.1 / 2 + (radius * 0.6) as u32);
+        let crossed = rows
+            .clone()
+            .filter(|&y| (size.0 / 2 - 2..size.0 / 2 + 2).any(|x| image.get_pixel(x, y).0[..3] == blue))
+            .count();
+        let blue_columns: Vec<u32> =
+            image.enumerate_pixels().filter(|(_, _, p)| p.0[..3] == blue).map(|(x, ..)| x).collect();
+        if material {
+            // The material border, and only it: within a line width of the centre column.
+            assert_eq!(crossed, rows.len(), "material seam not drawn down the disc ({stats:?})");
+            assert!(blue_columns.iter().all(|&x| (x as f32 + 0.5 - centre).abs() <= 3.0), "{stats:?}");
+        } else {
+            // The two halves weld into one closed sphere: no open edge, no boundary at all.
+            assert_eq!((blue_columns.len(), stats.boundary_edges), (0, 0), "{stats:?}");
         }
     }
     common::assert_no_validation_messages(&gpu);

@@ -221,9 +221,9 @@ pub struct FrameArgs {
     /// figure 5.1.1, middle).
     #[arg(long)]
     pub ink_only: bool,
-    /// silhouette/toon `--silhouette edges`: attribute seams drawn as boundaries: `normal`, `uv`
-    /// (comma-separated) or `none`.
-    #[arg(long, default_value = "normal", value_name = "normal,uv|none")]
+    /// silhouette/toon `--silhouette edges`: attribute seams drawn as boundaries: `normal`, `uv`,
+    /// `material` (borders between a glTF mesh's primitives; comma-separated) or `none`.
+    #[arg(long, default_value = "normal,material", value_name = "normal,uv,material|none")]
     pub seams: String,
     /// silhouette/toon `--silhouette alpha-test`: pixels with N.V at most this are ink (0..=1;
     /// larger: thicker lines).

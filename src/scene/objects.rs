@@ -40,6 +40,11 @@ pub struct SceneObject {
     pub skin: Option<Box<SceneSkin>>,
     /// The animated model and node the object was placed from, for [`Scene::pose_at`].
     pub rig: Option<ObjectRig>,
+    /// Objects placed from the primitives of one glTF mesh on one node share this number
+    /// (unique within the scene, see [`Scene::new_mesh_instance`]); `None` for an object that
+    /// stands alone. A primitive per material splits a mesh, and ink lines need the whole
+    /// mesh to tell a material border from an open edge.
+    pub mesh_instance: Option<u32>,
 }
 
 /// A skinned object's bind-pose vertices, four influences each, and this frame's joint palette.
@@ -162,7 +167,32 @@ impl Scene {
             casts_shadow,
             skin: None,
             rig: None,
+            mesh_instance: None,
         });
+    }
+
+    /// A mesh-instance number no object of the scene has yet.
+    pub fn new_mesh_instance(&self) -> u32 {
+        self.objects.iter().filter_map(|o| o.mesh_instance).max().map_or(0, |last| last + 1)
+    }
+
+    /// The objects grouped by mesh instance, in the order of their first object: an object
+    /// without one is a group of its own.
+    pub fn mesh_instances(&self) -> Vec<Vec<usize>> {
+        let mut groups: Vec<Vec<usize>> = Vec::new();
+        let mut group_of = std::collections::HashMap::<u32, usize>::new();
+        for (index, object) in self.objects.iter().enumerate() {
+            match object.mesh_instance.and_then(|instance| group_of.get(&instance)) {
+                Some(&group) => groups[group].push(index),
+                None => {
+                    if let Some(instance) = object.mesh_instance {
+                        group_of.insert(instance, groups.len());
+                    }
+                    groups.push(vec![index]);
+                }
+            }
+        }
+        groups
     }
 
     pub fn add_material(&mut self, material: Material) -> usize {
@@ -221,4 +251,30 @@ impl Scene {
 /// Lowest and highest corner of `points`; `None` for no points.
 pub fn bounds_of(points: impl IntoIterator<Item = Vec3>) -> Option<(Vec3, Vec3)> {
     points.into_iter().fold(None, |b, w| Some(b.map_or((w, w), |(lo, hi)| (lo.min(w), hi.max(w)))))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn objects_group_by_mesh_instance_and_stand_alone_without_one() {
+        let camera = Camera::look_at(Vec3::Z, Vec3::ZERO);
+        let mut scene = Scene::empty("groups", camera, Light::Directional { direction: Vec3::NEG_Y });
+        let mesh = scene.add_mesh("m", MeshData::default());
+        let add = |scene: &mut Scene, instance: Option<u32>| {
+            scene.add_object("o", mesh, Mat4::IDENTITY, Vec3::ONE, true);
+            if let Some(object) = scene.objects.last_mut() {
+                object.mesh_instance = instance;
+            }
+        };
+        assert_eq!(scene.new_mesh_instance(), 0);
+        add(&mut scene, None);
+        add(&mut scene, Some(0));
+        add(&mut scene, Some(1));
+        add(&mut scene, Some(0));
+        add(&mut scene, None);
+        assert_eq!(scene.new_mesh_instance(), 2);
+        assert_eq!(scene.mesh_instances(), vec![vec![0], vec![1, 3], vec![2], vec![4]]);
+    }
 }

@@ -36,6 +36,7 @@ pub fn add_model(scene: &mut Scene, rig: &Arc<Rig>, world: &[Mat4]) -> Result<Op
             Some(skin) => Some(joint_matrices(model, skin, world, node_world)?),
             None => None,
         };
+        let instance = scene.new_mesh_instance();
         for (p, primitive) in mesh.primitives.iter().enumerate() {
             let (mut positions, mut normals) = (primitive.positions.clone(), primitive.normals.clone());
             let mut skin = None;
@@ -81,6 +82,7 @@ pub fn add_model(scene: &mut Scene, rig: &Arc<Rig>, world: &[Mat4]) -> Result<Op
                     skin: node.skin.filter(|_| skin.is_some()),
                 });
                 object.skin = skin;
+                object.mesh_instance = Some(instance);
             }
         }
     }

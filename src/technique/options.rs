@@ -217,32 +217,30 @@ pub struct InkStyle {
 pub struct Seams {
     pub normal: bool,
     pub uv: bool,
+    /// Borders between the primitives (one material each) of one glTF mesh.
+    pub material: bool,
 }
 
 impl Default for Seams {
     fn default() -> Self {
-        Seams { normal: true, uv: false }
+        Seams { normal: true, uv: false, material: true }
     }
 }
 
 impl Seams {
-    /// Parses `--seams normal,uv` (any of them, or `none`).
+    /// Parses `--seams normal,uv,material` (any of them, or `none`).
     pub fn parse(text: &str) -> Result<Seams> {
-        let mut seams = Seams { normal: false, uv: false };
+        let mut seams = Seams { normal: false, uv: false, material: false };
         for word in text.split(',').map(str::trim) {
             match word {
                 "normal" => seams.normal = true,
                 "uv" => seams.uv = true,
+                "material" => seams.material = true,
                 "none" | "" => {}
-                "material" => {
-                    return Err(Error::InvalidInput(
-                        "--seams material: every object has one material, so no material seam lies inside a mesh \
-                         (a material change is an object's border, already a boundary where it is open); use normal, uv or none"
-                            .into(),
-                    ))
-                }
                 other => {
-                    return Err(Error::InvalidInput(format!("--seams '{other}': use normal, uv or none, comma-separated")))
+                    return Err(Error::InvalidInput(format!(
+                        "--seams '{other}': use normal, uv, material or none, comma-separated"
+                    )))
                 }
             }
         }

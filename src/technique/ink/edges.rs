@@ -6,10 +6,10 @@
 
 use glam::{Mat4, Vec2, Vec3};
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::mesh::{self, CornerAttributes, EdgeAdjacency, EdgeClasses, View, Welded, NO_FACE};
-use crate::scene::{Scene, SceneSkin};
-use crate::technique::extruded::{follow_skin, object_mesh_name, weld_object};
+use crate::scene::Scene;
+use crate::technique::extruded::{object_mesh_name, WELD_EPSILON};
 use crate::technique::options::Seams;
 
 /// One corner of an ink quad (`shaders/cartoon_ink.vert`): both edge ends in world space, the
@@ -34,12 +34,14 @@ const QUAD_CORNERS: [Vec2; 6] = [
     Vec2::new(-1.0, 1.0),
 ];
 
-/// One object's topology, built once.
+/// One mesh's topology, built once: an object's, or the welded whole of the primitives of one
+/// glTF mesh instance, so that a material border inside it is an edge with two faces.
 pub struct InkMesh {
-    pub object: usize,
+    /// The objects drawn as this one mesh (they share the node's transform), in order.
+    pub parts: Vec<usize>,
     pub welded: Welded,
     pub adjacency: EdgeAdjacency,
-    /// Two-face edges across which the vertex normals jump (found once, at load).
+    /// Two-face edges across which the chosen attributes jump (found once, at load).
     pub seams: Vec<u32>,
     face_normals: Vec<Vec3>,
     /// `face_normals` and `classes.crease` are those of `welded.positions` at this crease angle.
@@ -48,36 +50,84 @@ pub struct InkMesh {
     drawn: Vec<bool>,
 }
 
+/// The parts' vertices one after another, and each vertex's material.
+struct Joined {
+    name: String,
+    positions: Vec<Vec3>,
+    normals: Option<Vec<Vec3>>,
+    uvs: Option<Vec<Vec2>>,
+    materials: Vec<u32>,
+    indices: Vec<u32>,
+}
+
+fn join_parts(scene: &Scene, parts: &[usize]) -> Result<Joined> {
+    let first = *parts.first().ok_or_else(|| Error::InvalidInput("an ink mesh of no objects".into()))?;
+    let mut name = object_mesh_name(scene, first);
+    if parts.len() > 1 {
+        name = format!("{name} and its {} other primitives", parts.len() - 1);
+    }
+    let mut joined = Joined {
+        name,
+        positions: Vec::new(),
+        normals: Some(Vec::new()),
+        uvs: Some(Vec::new()),
+        materials: Vec::new(),
+        indices: Vec::new(),
+    };
+    for &part in parts {
+        let object = &scene.objects[part];
+        let data = &scene.meshes[object.mesh].data;
+        let (base, count) = (joined.positions.len() as u32, data.positions.len());
+        if let Some(bad) = data.indices.iter().find(|&&i| i as usize >= count) {
+            let mesh = object_mesh_name(scene, part);
+            return Err(Error::Mesh { mesh, problem: format!("index {bad} is out of range for {count} vertices") });
+        }
+        joined.positions.extend_from_slice(&data.positions);
+        joined.indices.extend(data.indices.iter().map(|&i| base + i));
+        joined.materials.extend(std::iter::repeat(object.material as u32).take(count));
+        append_attribute(&mut joined.normals, &data.normals, count);
+        append_attribute(&mut joined.uvs, &data.uvs, count);
+    }
+    Ok(joined)
+}
+
+/// Appends a part's `count` values of an attribute: it counts only when every part has it for
+/// every vertex.
+fn append_attribute<T: Copy>(all: &mut Option<Vec<T>>, own: &[T], count: usize) {
+    match all {
+        Some(values) if own.len() >= count => values.extend_from_slice(&own[..count]),
+        _ => *all = None,
+    }
+}
+
 impl InkMesh {
-    /// Welds the object's mesh, builds its edge list and finds its normal seams. Open meshes
-    /// are fine: their one-face edges are boundaries.
+    /// Welds the parts' meshes into one, builds its edge list and finds its attribute seams.
+    /// Open meshes are fine: their one-face edges are boundaries.
     /// `seams` picks the attributes whose jumps are boundaries; one the mesh lacks is named in
     /// `warnings`.
-    pub fn new(scene: &Scene, object: usize, seams: Seams, warnings: &mut Vec<String>) -> Result<Self> {
-        let data = &scene.meshes[scene.objects[object].mesh].data;
-        let name = object_mesh_name(scene, object);
-        let welded = weld_object(scene, object)?;
-        let adjacency = EdgeAdjacency::build(&name, &welded.positions, &welded.indices)?;
-        // Normals by default; UVs on request (a sphere's u = 0 meridian is a UV seam nobody drew).
+    pub fn new(scene: &Scene, parts: Vec<usize>, seams: Seams, warnings: &mut Vec<String>) -> Result<Self> {
+        let joined = join_parts(scene, &parts)?;
+        let name = &joined.name;
+        let welded = mesh::weld_by_position(name, &joined.positions, &joined.indices, WELD_EPSILON)?;
+        let adjacency = EdgeAdjacency::build(name, &welded.positions, &welded.indices)?;
+        // Normals and materials by default; UVs on request (a sphere's u = 0 meridian is a UV
+        // seam nobody drew).
         let mut attributes = CornerAttributes::new(&welded.original_corners);
-        for (wanted, attribute, len, slot) in
-            [(seams.normal, "normals", data.normals.len(), 0), (seams.uv, "texture coordinates", data.uvs.len(), 1)]
-        {
-            if !wanted {
-                continue;
-            }
-            if len < data.positions.len() {
+        for (wanted, attribute, present) in [
+            (seams.normal, "normals", joined.normals.is_some()),
+            (seams.uv, "texture coordinates", joined.uvs.is_some()),
+        ] {
+            if wanted && !present {
                 warnings.push(format!("{name}: no {attribute}, so no {attribute} seams are drawn"));
-            } else if slot == 0 {
-                attributes.normals = Some(&data.normals);
-            } else {
-                attributes.uvs = Some(&data.uvs);
             }
         }
-        let seams = mesh::attribute_seams(&name, &adjacency, &attributes)?;
+        attributes.normals = joined.normals.as_deref().filter(|_| seams.normal);
+        attributes.uvs = joined.uvs.as_deref().filter(|_| seams.uv);
+        attributes.materials = seams.material.then_some(&joined.materials[..]);
+        let seams = mesh::attribute_seams(name, &adjacency, &attributes)?;
         let edge_count = adjacency.edges.len();
         Ok(InkMesh {
-            object,
+            parts,
             welded,
             adjacency,
             seams,
@@ -88,14 +138,27 @@ impl InkMesh {
         })
     }
 
-    /// Takes the skin's current pose as the welded positions (the topology stays). False when
-    /// the skin does not cover the mesh this was built from.
-    pub fn follow(&mut self, skin: &SceneSkin) -> bool {
-        let followed = follow_skin(&mut self.welded, skin);
-        if followed {
-            self.normals_for = None;
+    /// Takes the parts' current pose (skinned parts re-posed) as the welded positions (the
+    /// topology stays). False when a part's pose no longer matches the mesh this was built from.
+    pub fn follow(&mut self, scene: &Scene) -> bool {
+        let mut posed = Vec::with_capacity(self.welded.remap.len());
+        for &part in &self.parts {
+            let own = scene.posed_positions(part);
+            let built_from =
+                scene.objects.get(part).and_then(|o| scene.meshes.get(o.mesh)).map(|m| m.data.positions.len());
+            if Some(own.len()) != built_from {
+                return false;
+            }
+            posed.extend_from_slice(&own);
         }
-        followed
+        if posed.len() != self.welded.remap.len() {
+            return false;
+        }
+        let mut positions = Vec::with_capacity(self.welded.positions.len());
+        self.welded.gather_positions(&posed, &mut positions);
+        self.welded.positions = positions;
+        self.normals_for = None;
+        true
     }
 
     /// Whether the next [`InkMesh::classify`] at `crease_deg` recomputes the face normals and
@@ -203,7 +266,7 @@ mod tests {
     #[test]
     fn cube_face_on_draws_its_front_square_once() -> Result<()> {
         let scene = one_object_scene(shapes::cube(1.0));
-        let mut ink = InkMesh::new(&scene, 0, Seams::default(), &mut Vec::new())?;
+        let mut ink = InkMesh::new(&scene, vec![0], Seams::default(), &mut Vec::new())?;
         // Split normals: every cube edge is a seam, every cube edge a 90 degree crease.
         assert_eq!(ink.seams.len(), 12);
         let eye = Vec3::new(0.0, 0.0, 5.0);
@@ -227,7 +290,7 @@ mod tests {
         for name in ["default", "outline", "duck"] {
             let scene = crate::scene::builtin_scene(name)?;
             for (index, object) in scene.objects.iter().enumerate().filter(|(_, o)| o.casts_shadow) {
-                let ink = InkMesh::new(&scene, index, Seams::default(), &mut Vec::new())?;
+                let ink = InkMesh::new(&scene, vec![index], Seams::default(), &mut Vec::new())?;
                 let mut uses = vec![0u32; ink.adjacency.face_count()];
                 for edge in &ink.adjacency.edges {
                     assert!(edge.faces.iter().all(|&f| f != NO_FACE), "{name}/{}: open edge", object.name);
@@ -271,7 +334,7 @@ mod tests {
     #[test]
     fn tent_ridge_is_a_crease_and_a_seam_its_rim_is_boundary() -> Result<()> {
         let scene = one_object_scene(tent());
-        let mut ink = InkMesh::new(&scene, 0, Seams::default(), &mut Vec::new())?;
+        let mut ink = InkMesh::new(&scene, vec![0], Seams::default(), &mut Vec::new())?;
         let (edges, positions) = (ink.adjacency.edges.clone(), ink.welded.positions.clone());
         let ends = |e: u32| {
             let mut v = edges[e as usize].v.map(|i| positions[i as usize]);

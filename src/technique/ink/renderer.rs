@@ -233,8 +233,10 @@ struct EdgeLines {
 impl EdgeLines {
     fn new(scene: &Scene, crease_deg: f32, seams: Seams) -> Result<Self> {
         let mut warnings = Vec::new();
-        let meshes = (0..scene.objects.len())
-            .map(|index| InkMesh::new(scene, index, seams, &mut warnings))
+        let meshes = scene
+            .mesh_instances()
+            .into_iter()
+            .map(|parts| InkMesh::new(scene, parts, seams, &mut warnings))
             .collect::<Result<Vec<_>>>()?;
         Ok(EdgeLines {
             meshes,
@@ -247,12 +249,13 @@ impl EdgeLines {
         })
     }
 
-    /// Skinned objects in `changed` (whose palettes changed) get their welded positions, so
-    /// the face normals and edges, re-posed.
+    /// Meshes with a skinned part in `changed` (whose palettes changed) get their welded
+    /// positions, so the face normals and edges, re-posed.
     fn follow_pose(&mut self, scene: &Scene, changed: &[usize]) {
-        for &index in changed {
-            if let (Some(skin), Some(mesh)) = (&scene.objects[index].skin, self.meshes.get_mut(index)) {
-                mesh.follow(skin);
+        let skinned = |index: &usize| scene.objects.get(*index).is_some_and(|o| o.skin.is_some());
+        for mesh in &mut self.meshes {
+            if mesh.parts.iter().any(|part| changed.contains(part) && skinned(part)) {
+                mesh.follow(scene);
             }
         }
     }
@@ -265,7 +268,7 @@ impl EdgeLines {
         self.quads.clear();
         self.normal_updates = 0;
         for mesh in &mut self.meshes {
-            let model = scene.objects[mesh.object].transform;
+            let model = scene.objects[mesh.parts[0]].transform;
             self.normal_updates += usize::from(mesh.needs_normals(self.crease_deg));
             mesh.classify(&model, eye, self.crease_deg);
             mesh.append_quads(&model, eye, &mut self.quads);
