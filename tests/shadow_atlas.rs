@@ -1,6 +1,7 @@
 //! Shadow textures baked into per-model atlases (seed 004): a concave model shadows itself in
-//! its baked texture (checked against CPU ray casts), the atlas and shadow-map renders agree
-//! except along shadow edges, and no mip of a generated atlas bleeds across chart borders.
+//! its baked texture (checked against CPU ray casts), atlas-125's baked textures and rendered
+//! frame are shadowed where CPU ray casts say, the atlas and shadow-map renders agree except
+//! along shadow edges, and no mip of a generated atlas bleeds across chart borders.
 
 mod common;
 
@@ -773,6 +774,8 @@ fn atlas_125_frame_is_shadowed_where_a_cpu_ray_cast_says() {
     }
     assert!(worst < 0.01, "a hit point projects {worst} px away from its pixel centre");
 
+    // For a person to look at: the frame in grey, checked pixels green (lit), blue (shadowed)
+    // or red (wrong).
     let mut mask = RgbaImage::from_fn(w, h, |x, y| {
         let p = atlas.get_pixel(x, y).0;
         let grey = ((p[0] as u32 + p[1] as u32 + p[2] as u32) / 6) as u8;
@@ -810,6 +813,8 @@ fn atlas_125_frame_is_shadowed_where_a_cpu_ray_cast_says() {
         } else {
             worst_shadowed = worst_shadowed.max(off);
         }
+        // Float rounding of two pipelines (measured: 0 lit, 1 shadowed). A visibility of 2%
+        // (5 of 255 in the shadow texture) on the shadowed ground would be 3 off.
         let bad = off > 2;
         if bad {
             let occluder = here.occluder.map_or("nothing", |o| scene.objects[o].name.as_str());
@@ -841,8 +846,16 @@ fn atlas_125_frame_is_shadowed_where_a_cpu_ray_cast_says() {
     );
     assert!(wrong.is_empty(), "{} wrong pixels:\n{}", wrong.len(), wrong.join("\n"));
     assert!(worst_lambert <= 2, "the lit frame is {worst_lambert} off the CPU's Lambert term");
-    assert!(lit >= 100 && shadowed >= 100 && by_others >= 50, "{lit} lit, {shadowed} shadowed, {by_others} by others");
-    assert!(on_ground >= 50 && on_models >= 100, "{on_ground} on the ground, {on_models} on models");
+    // The counts depend on the CPU alone (measured 1,457 lit, 191 shadowed, all by another
+    // model, 16 of them on models; 1,403 on the ground, 245 on models).
+    assert!(
+        lit >= 1200 && shadowed >= 150 && by_others >= 150,
+        "{lit} lit, {shadowed} shadowed, {by_others} by others"
+    );
+    assert!(
+        on_ground >= 1200 && on_models >= 200 && shadowed_models >= 12,
+        "{on_ground} on the ground, {on_models} on models, {shadowed_models} of them shadowed"
+    );
     common::assert_no_validation_messages(&gpu);
 }
 
