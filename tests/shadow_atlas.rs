@@ -563,6 +563,54 @@ fn atlas_125_models_are_shadowed_where_a_cpu_ray_cast_says() {
     common::assert_no_validation_messages(&gpu);
 }
 
+/// The ray casts' hierarchy answers as testing every triangle does: nearest hits (object and
+/// distance) and occluders of camera and shadow rays over atlas-one.
+#[test]
+fn ray_world_answers_as_every_triangle_does() {
+    let scene = builtin_scene("atlas-one").expect("scene");
+    let world = RayWorld::of(&scene);
+    let triangles: Vec<(usize, [Vec3; 3])> = scene
+        .objects
+        .iter()
+        .enumerate()
+        .flat_map(|(i, o)| {
+            let mesh = &scene.meshes[o.mesh].data;
+            mesh.indices
+                .chunks_exact(3)
+                .map(move |t| (i, [0, 1, 2].map(|k| o.transform.transform_point3(mesh.positions[t[k] as usize]))))
+        })
+        .collect();
+    let nearest = |origin: Vec3, dir: Vec3| {
+        triangles
+            .iter()
+            .filter_map(|(i, t)| ray_hits_triangle(origin, dir, *t).map(|d| (*i, d)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+    };
+    let Light::Directional { direction } = scene.light else { panic!("atlas-one has a directional light") };
+    let inverse = scene.camera.view_projection(1.0).inverse();
+    let eye = scene.camera.eye;
+    let (mut hits, mut occluded) = (0, 0);
+    for i in 0..400u32 {
+        // A 20x20 grid over the frame, the rays through it and from their hits to the light.
+        let ndc = Vec3::new((i % 20) as f32 / 10.0 - 0.95, (i / 20) as f32 / 10.0 - 0.95, 0.5);
+        let dir = (inverse.project_point3(ndc) - eye).normalize();
+        let expected = nearest(eye, dir);
+        let hit = world.first_hit(eye, dir);
+        assert_eq!(hit.map(|h| h.object), expected.map(|e| e.0), "ray {i}");
+        let (Some(hit), Some((_, distance))) = (hit, expected) else { continue };
+        assert!((hit.distance - distance).abs() < 1e-5, "ray {i}: {} against {distance}", hit.distance);
+        hits += 1;
+        let origin = eye + dir * distance * 0.999;
+        let blocked = triangles.iter().any(|(o, t)| {
+            scene.objects[*o].casts_shadow && ray_hits_triangle(origin, -direction, *t).is_some_and(|d| d > 1e-4)
+        });
+        assert_eq!(world.occluder(origin, -direction).is_some(), blocked, "shadow ray {i}");
+        occluded += blocked as u32;
+    }
+    println!("{hits} of 400 camera rays hit, {occluded} of them in shadow");
+    assert!(hits > 200 && occluded > 20, "{hits} hits, {occluded} occluded");
+}
+
 /// What the CPU finds through one pixel of a frame: the nearest surface and whether the light
 /// reaches it.
 #[derive(Clone, Copy)]
