@@ -7,6 +7,8 @@ use std::sync::Arc;
 
 use nostencil::gpu::{Gpu, GpuOptions};
 
+pub mod ray_world;
+
 /// A GPU with the Khronos validation layer recording every message.
 pub fn gpu() -> Arc<Gpu> {
     match Gpu::new(&GpuOptions::for_tests()) {
