@@ -211,7 +211,7 @@ fn normalisation_table_is_read_back_from_the_gpu() {
                 method: VolumeMethod::ZPass,
                 ..Default::default()
             };
-            let plan = shadow_volume::recipes::plan(&options, StencilMode::Emulated).expect("plan");
+            let plan = shadow_volume::recipes::plan(&options, StencilMode::Emulated, 1).expect("plan");
             let first = plan.passes.iter().position(|p| p.name == "normalise N0").expect("N0 in the plan");
             let last = plan.passes.iter().position(|p| p.name == "apply").expect("apply in the plan");
             let steps = &plan.passes[first..last];
@@ -965,7 +965,7 @@ fn the_seed_path_for_k_1_is_the_seeds_own_pass_list() {
         method: VolumeMethod::ZPass,
         ..Default::default()
     };
-    let plan = shadow_volume::recipes::plan(&options, StencilMode::Emulated).expect("plan");
+    let plan = shadow_volume::recipes::plan(&options, StencilMode::Emulated, 1).expect("plan");
     let names: Vec<&str> = plan.passes.iter().map(|p| p.name.as_ref()).collect();
     let build =
         ["volumes (alpha, z-pass)", "normalise N0", "normalise N1", "normalise N2", "normalise N3", "normalise N4"];

@@ -166,6 +166,10 @@ pub struct FrameArgs {
     /// `emulated` (no stencil aspect: alpha-channel emulation) or `reference` (real stencil).
     #[arg(long, value_enum, default_value_t)]
     pub stencil: StencilMode,
+    /// Samples per pixel: 1, 2 (where the device offers it) or 4. 4 is what a mobile port
+    /// ships: the samples live in tile memory and only the resolved frame is stored.
+    #[arg(long, default_value_t = 4, value_name = "1|2|4")]
+    pub samples: u32,
     /// Technique to render (`bench` also takes `all`).
     #[arg(long, default_value = DEFAULT_TECHNIQUE)]
     pub technique: String,

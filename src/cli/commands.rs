@@ -92,6 +92,8 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
         width: frame.size.0,
         height: frame.size.1,
         stencil: frame.stencil,
+        samples: frame.samples,
+        keep_samples: false,
         technique: by_name(&frame.technique)?,
         shadow_volume: ShadowVolumeOptions {
             increment: frame.increment,

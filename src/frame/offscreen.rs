@@ -147,6 +147,7 @@ pub fn depth_render_pass(gpu: &Arc<Gpu>, format: vk::Format) -> Result<RenderPas
         stencil_store: vk::AttachmentStoreOp::DONT_CARE,
         final_layout: vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL,
         transient: false,
+        samples: 1,
     };
     let depth_ref =
         vk::AttachmentReference { attachment: 0, layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL };
@@ -176,6 +177,7 @@ pub fn colour_render_pass(
         stencil_store: vk::AttachmentStoreOp::DONT_CARE,
         final_layout,
         transient: false,
+        samples: 1,
     };
     let colour_ref = [vk::AttachmentReference { attachment: 0, layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL }];
     let subpasses = [vk::SubpassDescription::default()
@@ -203,6 +205,7 @@ pub fn colour_stencil_render_pass(
         stencil_store: vk::AttachmentStoreOp::DONT_CARE,
         final_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
         transient: false,
+        samples: 1,
     };
     let stencil = AttachmentDesc {
         name: "stencil",
@@ -213,6 +216,7 @@ pub fn colour_stencil_render_pass(
         stencil_store: vk::AttachmentStoreOp::DONT_CARE,
         final_layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
         transient: true,
+        samples: 1,
     };
     let colour_ref = [vk::AttachmentReference { attachment: 0, layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL }];
     let stencil_ref =

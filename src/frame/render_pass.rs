@@ -30,12 +30,17 @@ pub struct AttachmentDesc {
     pub final_layout: vk::ImageLayout,
     /// Lives only in tile memory on a tile-based GPU (TRANSIENT_ATTACHMENT, lazily allocated).
     pub transient: bool,
+    /// Samples per pixel (1, 2 or 4).
+    pub samples: u32,
 }
 
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct RenderPassDesc {
     pub colour: AttachmentDesc,
     pub depth: AttachmentDesc,
+    /// A multisampled frame's one-sample colour, written by the resolve at the end of the
+    /// subpass (`pResolveAttachments`): the only attachment that leaves tile memory.
+    pub resolve: Option<AttachmentDesc>,
     /// The colour attachment is also read as an input attachment by the same subpass
     /// (a by-region feedback loop, GENERAL layout): for the subpass normalisation path.
     pub colour_feedback: bool,
@@ -57,34 +62,60 @@ pub fn format_has_stencil(format: vk::Format) -> bool {
 }
 
 impl RenderPassDesc {
-    /// The frame: colour cleared and stored (it is read back or presented); depth cleared,
-    /// never stored and transient, since nothing reads it after the pass.
-    pub fn frame(depth_format: vk::Format, colour_feedback: bool) -> Self {
+    /// The frame with `samples` samples per pixel. One sample: colour cleared and stored (it is
+    /// read back or presented); depth cleared, never stored and transient, since nothing reads
+    /// it after the pass. Several (DESIGN.md section 9): colour and depth both transient, cleared
+    /// and discarded in tile memory, and the colour resolved into a one-sample attachment, the
+    /// only one stored. `keep_samples` stores the multisampled colour too (the per-sample test
+    /// reads it back; never in a timed frame).
+    pub fn frame(depth_format: vk::Format, colour_feedback: bool, samples: u32, keep_samples: bool) -> Self {
         let stencil = format_has_stencil(depth_format);
-        RenderPassDesc {
-            colour: AttachmentDesc {
-                name: "colour",
-                format: COLOUR_FORMAT,
-                load: vk::AttachmentLoadOp::CLEAR,
-                store: vk::AttachmentStoreOp::STORE,
-                stencil_load: vk::AttachmentLoadOp::DONT_CARE,
-                stencil_store: vk::AttachmentStoreOp::DONT_CARE,
-                final_layout: vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                transient: false,
-            },
-            depth: AttachmentDesc {
-                name: if stencil { "depth+stencil" } else { "depth" },
-                format: depth_format,
-                load: vk::AttachmentLoadOp::CLEAR,
-                store: vk::AttachmentStoreOp::DONT_CARE,
-                // The reference clears its stencil to 0 and discards it, like the depth.
-                stencil_load: if stencil { vk::AttachmentLoadOp::CLEAR } else { vk::AttachmentLoadOp::DONT_CARE },
-                stencil_store: vk::AttachmentStoreOp::DONT_CARE,
-                final_layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
-                transient: true,
-            },
-            colour_feedback,
+        let output = AttachmentDesc {
+            name: "colour",
+            format: COLOUR_FORMAT,
+            load: vk::AttachmentLoadOp::CLEAR,
+            store: vk::AttachmentStoreOp::STORE,
+            stencil_load: vk::AttachmentLoadOp::DONT_CARE,
+            stencil_store: vk::AttachmentStoreOp::DONT_CARE,
+            final_layout: vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            transient: false,
+            samples: 1,
+        };
+        let depth = AttachmentDesc {
+            name: if stencil { "depth+stencil" } else { "depth" },
+            format: depth_format,
+            load: vk::AttachmentLoadOp::CLEAR,
+            store: vk::AttachmentStoreOp::DONT_CARE,
+            // The reference clears its stencil and discards it, like the depth.
+            stencil_load: if stencil { vk::AttachmentLoadOp::CLEAR } else { vk::AttachmentLoadOp::DONT_CARE },
+            stencil_store: vk::AttachmentStoreOp::DONT_CARE,
+            final_layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+            transient: true,
+            samples,
+        };
+        if samples <= 1 {
+            return RenderPassDesc { colour: output, depth, resolve: None, colour_feedback };
         }
+        let multisampled = AttachmentDesc {
+            name: "colour (multisampled)",
+            store: if keep_samples { vk::AttachmentStoreOp::STORE } else { vk::AttachmentStoreOp::DONT_CARE },
+            // GENERAL where a shader reads it: the subpass input, or the per-sample read-back.
+            final_layout: if colour_feedback || keep_samples {
+                vk::ImageLayout::GENERAL
+            } else {
+                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL
+            },
+            transient: !keep_samples,
+            samples,
+            ..output
+        };
+        let resolved = AttachmentDesc { name: "colour (resolved)", load: vk::AttachmentLoadOp::DONT_CARE, ..output };
+        RenderPassDesc { colour: multisampled, depth, resolve: Some(resolved), colour_feedback }
+    }
+
+    /// Samples per pixel of the colour and depth attachments.
+    pub fn samples(&self) -> u32 {
+        self.colour.samples
     }
 
     pub fn has_stencil(&self) -> bool {
@@ -100,31 +131,42 @@ impl RenderPassDesc {
     }
 
     pub fn build(&self, device: &ash::Device) -> Result<vk::RenderPass> {
-        let attachments = [self.colour.description(), self.depth.description()];
+        let attachments: Vec<_> = self.attachments().iter().map(AttachmentDesc::description).collect();
         let colour_ref = [vk::AttachmentReference { attachment: 0, layout: self.colour_layout() }];
         let depth_ref =
             vk::AttachmentReference { attachment: 1, layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL };
+        let resolve_ref =
+            [vk::AttachmentReference { attachment: 2, layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL }];
         let mut subpass = vk::SubpassDescription::default()
             .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
             .color_attachments(&colour_ref)
             .depth_stencil_attachment(&depth_ref);
+        if self.resolve.is_some() {
+            // The resolve runs at the end of the (last and only) subpass, in tile memory.
+            subpass = subpass.resolve_attachments(&resolve_ref);
+        }
         if self.colour_feedback {
             subpass = subpass.input_attachments(&colour_ref);
         }
         let subpasses = [subpass];
 
-        let mut dependencies = vec![
-            // Colour writes finish before the copy that reads the frame back.
-            vk::SubpassDependency {
-                src_subpass: 0,
-                dst_subpass: vk::SUBPASS_EXTERNAL,
-                src_stage_mask: vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT,
-                dst_stage_mask: vk::PipelineStageFlags::TRANSFER,
-                src_access_mask: vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
-                dst_access_mask: vk::AccessFlags::TRANSFER_READ,
-                dependency_flags: vk::DependencyFlags::empty(),
-            },
-        ];
+        // Colour writes (the resolve's included) finish before the copy that reads the frame
+        // back, and before the shader that reads kept samples back.
+        let samples_read = self.resolve.is_some() && self.colour.store == vk::AttachmentStoreOp::STORE;
+        let (mut dst_stage, mut dst_access) = (vk::PipelineStageFlags::TRANSFER, vk::AccessFlags::TRANSFER_READ);
+        if samples_read {
+            dst_stage |= vk::PipelineStageFlags::FRAGMENT_SHADER;
+            dst_access |= vk::AccessFlags::SHADER_READ;
+        }
+        let mut dependencies = vec![vk::SubpassDependency {
+            src_subpass: 0,
+            dst_subpass: vk::SUBPASS_EXTERNAL,
+            src_stage_mask: vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT,
+            dst_stage_mask: dst_stage,
+            src_access_mask: vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
+            dst_access_mask: dst_access,
+            dependency_flags: vk::DependencyFlags::empty(),
+        }];
         if self.colour_feedback {
             // A full-screen pass reads the pixel that earlier draws of this subpass wrote.
             dependencies.push(vk::SubpassDependency {
@@ -142,23 +184,23 @@ impl RenderPassDesc {
             .subpasses(&subpasses)
             .dependencies(&dependencies);
         // SAFETY: `info` and the arrays it points at live until the call returns; the subpass
-        // references attachments 0 and 1, both described.
+        // references attachments 0 and 1 (and 2 when resolving), all described.
         unsafe { device.create_render_pass(&info, None) }.vk("vkCreateRenderPass")
     }
 
-    /// Both attachments, colour first.
-    pub fn attachments(&self) -> [AttachmentDesc; 2] {
-        [self.colour, self.depth]
+    /// The attachments in framebuffer order: colour, depth, then the resolve target if any.
+    pub fn attachments(&self) -> Vec<AttachmentDesc> {
+        [Some(self.colour), Some(self.depth), self.resolve].into_iter().flatten().collect()
     }
 }
 
 impl AttachmentDesc {
-    /// The Vulkan attachment description: single-sampled, contents undefined on entry (every
-    /// attachment here is cleared or fully overwritten).
+    /// The Vulkan attachment description: contents undefined on entry (every attachment here
+    /// is cleared or fully overwritten).
     pub fn description(&self) -> vk::AttachmentDescription {
         vk::AttachmentDescription::default()
             .format(self.format)
-            .samples(vk::SampleCountFlags::TYPE_1)
+            .samples(sample_count_flags(self.samples))
             .load_op(self.load)
             .store_op(self.store)
             .stencil_load_op(self.stencil_load)
@@ -168,9 +210,10 @@ impl AttachmentDesc {
     }
 
     /// Bytes a tile-based GPU loads from and stores to main memory for this attachment over a
-    /// `width` x `height` render area: a full load only for LOAD, a full store only for STORE.
+    /// `width` x `height` render area: a full load only for LOAD, a full store only for STORE,
+    /// of every sample.
     pub fn tile_traffic(&self, width: u32, height: u32) -> AttachmentTraffic {
-        let pixels = width as u64 * height as u64;
+        let pixels = width as u64 * height as u64 * self.samples as u64;
         let (depth_bytes, stencil_bytes) = texel_bytes(self.format);
         let loaded =
             |op: vk::AttachmentLoadOp, bytes: u64| if op == vk::AttachmentLoadOp::LOAD { bytes * pixels } else { 0 };
@@ -184,7 +227,18 @@ impl AttachmentDesc {
             bytes_loaded: loaded(self.load, depth_bytes) + loaded(self.stencil_load, stencil_bytes),
             bytes_stored: stored(self.store, depth_bytes) + stored(self.stencil_store, stencil_bytes),
             transient: self.transient,
+            samples: self.samples,
         }
+    }
+}
+
+/// The Vulkan flag of `samples` samples per pixel (1, 2, 4 or 8; anything else is one).
+pub fn sample_count_flags(samples: u32) -> vk::SampleCountFlags {
+    match samples {
+        2 => vk::SampleCountFlags::TYPE_2,
+        4 => vk::SampleCountFlags::TYPE_4,
+        8 => vk::SampleCountFlags::TYPE_8,
+        _ => vk::SampleCountFlags::TYPE_1,
     }
 }
 
@@ -235,6 +289,7 @@ pub struct AttachmentTraffic {
     pub bytes_loaded: u64,
     pub bytes_stored: u64,
     pub transient: bool,
+    pub samples: u32,
 }
 
 #[cfg(test)]
@@ -245,19 +300,19 @@ mod tests {
     fn main_frame_has_no_stencil_aspect_anywhere() {
         for depth in [vk::Format::D32_SFLOAT, vk::Format::D16_UNORM] {
             for feedback in [false, true] {
-                let desc = RenderPassDesc::frame(depth, feedback);
+                let desc = RenderPassDesc::frame(depth, feedback, 1, false);
                 assert!(!desc.has_stencil());
                 assert_eq!(desc.depth.stencil_load, vk::AttachmentLoadOp::DONT_CARE);
                 assert_eq!(desc.depth.stencil_store, vk::AttachmentStoreOp::DONT_CARE);
             }
         }
-        assert!(RenderPassDesc::frame(vk::Format::D32_SFLOAT_S8_UINT, false).has_stencil());
+        assert!(RenderPassDesc::frame(vk::Format::D32_SFLOAT_S8_UINT, false, 1, false).has_stencil());
     }
 
     #[test]
     fn tile_traffic_follows_load_store_ops() {
-        let desc = RenderPassDesc::frame(vk::Format::D32_SFLOAT, false);
-        let traffic = desc.attachments().map(|a| a.tile_traffic(256, 256));
+        let desc = RenderPassDesc::frame(vk::Format::D32_SFLOAT, false, 1, false);
+        let traffic = desc.attachments().iter().map(|a| a.tile_traffic(256, 256)).collect::<Vec<_>>();
         // Colour: cleared (nothing loaded), stored (4 bytes a pixel). Depth: nothing moves.
         assert_eq!(traffic[0].bytes_loaded, 0);
         assert_eq!(traffic[0].bytes_stored, 4 * 256 * 256);
@@ -268,7 +323,7 @@ mod tests {
             store: vk::AttachmentStoreOp::STORE,
             stencil_load: vk::AttachmentLoadOp::LOAD,
             stencil_store: vk::AttachmentStoreOp::STORE,
-            ..RenderPassDesc::frame(vk::Format::D32_SFLOAT_S8_UINT, false).depth
+            ..RenderPassDesc::frame(vk::Format::D32_SFLOAT_S8_UINT, false, 1, false).depth
         };
         let traffic = kept.tile_traffic(16, 16);
         assert_eq!((traffic.bytes_loaded, traffic.bytes_stored), (5 * 256, 5 * 256));

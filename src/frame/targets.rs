@@ -1,11 +1,13 @@
 //! The frame's render targets: RGBA8 colour (alpha kept, it is the stencil's stand-in) and a
-//! transient depth attachment, plus the render pass and framebuffer that bind them.
+//! transient depth attachment, plus the render pass and framebuffer that bind them. A
+//! multisampled frame draws into transient multisampled colour and depth and resolves into a
+//! one-sample colour image, the one read back or presented.
 
 use std::sync::Arc;
 
 use ash::vk;
 
-use super::render_pass::{RenderPassDesc, StencilMode, COLOUR_FORMAT};
+use super::render_pass::{sample_count_flags, RenderPassDesc, StencilMode, COLOUR_FORMAT};
 use crate::error::{Error, Result, VkContext};
 use crate::gpu::memory::{Image, ImageDesc};
 use crate::gpu::Gpu;
@@ -15,7 +17,11 @@ pub struct FrameTargets {
     pub extent: vk::Extent2D,
     pub stencil: StencilMode,
     pub desc: RenderPassDesc,
+    /// The frame as it leaves the render pass (one sample; TRANSFER_SRC_OPTIMAL): read back,
+    /// presented.
     pub colour: Image,
+    /// The multisampled colour the passes draw into, when the frame has several samples.
+    pub multisampled: Option<Image>,
     pub depth: Image,
     pub render_pass: vk::RenderPass,
     pub framebuffer: vk::Framebuffer,
@@ -41,26 +47,92 @@ pub fn choose_depth_format(gpu: &Gpu, stencil: StencilMode) -> Result<vk::Format
         .ok_or_else(|| Error::Device(format!("the device has no usable depth format for the {} frame", stencil.name())))
 }
 
+/// The sample counts the device offers for the frame's colour and depth (and stencil, in the
+/// reference path) attachments at once.
+pub fn frame_sample_counts(gpu: &Gpu, stencil: StencilMode) -> vk::SampleCountFlags {
+    let limits = &gpu.device.info.limits;
+    let mut counts = limits.framebuffer_color_sample_counts & limits.framebuffer_depth_sample_counts;
+    if stencil == StencilMode::Reference {
+        counts &= limits.framebuffer_stencil_sample_counts;
+    }
+    counts
+}
+
+/// What a frame of `samples` samples needs from the device: an error naming the counts it has.
+pub fn check_samples(gpu: &Gpu, stencil: StencilMode, samples: u32) -> Result<()> {
+    let counts = frame_sample_counts(gpu, stencil);
+    if counts.contains(sample_count_flags(samples)) && matches!(samples, 1 | 2 | 4 | 8) {
+        return Ok(());
+    }
+    let offered: Vec<String> =
+        [1u32, 2, 4, 8].iter().filter(|&&n| counts.contains(sample_count_flags(n))).map(u32::to_string).collect();
+    Err(Error::Device(format!(
+        "--samples {samples}: the device offers {} samples per pixel for the {} frame",
+        offered.join(", "),
+        stencil.name()
+    )))
+}
+
 impl FrameTargets {
+    /// A one-sample frame at `width` x `height`. `colour_feedback`: the colour is also an input
+    /// attachment of its own subpass.
     pub fn new(gpu: &Arc<Gpu>, width: u32, height: u32, stencil: StencilMode, colour_feedback: bool) -> Result<Self> {
+        Self::with_samples(gpu, width, height, stencil, colour_feedback, 1, false)
+    }
+
+    /// As [`FrameTargets::new`] with `samples` samples per pixel. `keep_samples` stores the
+    /// multisampled colour for a per-sample read-back instead of leaving it in tile memory.
+    pub fn with_samples(
+        gpu: &Arc<Gpu>,
+        width: u32,
+        height: u32,
+        stencil: StencilMode,
+        colour_feedback: bool,
+        samples: u32,
+        keep_samples: bool,
+    ) -> Result<Self> {
         crate::gpu::mobile_profile::check_image_size("frame", width, height)?;
+        check_samples(gpu, stencil, samples)?;
         let extent = vk::Extent2D { width, height };
         let depth_format = choose_depth_format(gpu, stencil)?;
-        let desc = RenderPassDesc::frame(depth_format, colour_feedback);
+        let desc = RenderPassDesc::frame(depth_format, colour_feedback, samples, keep_samples);
+        let multisampled_frame = desc.resolve.is_some();
 
+        let mut colour_usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
+        if !multisampled_frame {
+            colour_usage |= vk::ImageUsageFlags::INPUT_ATTACHMENT;
+        }
         let colour = Image::new(
             gpu,
             &ImageDesc {
                 name: "frame colour",
                 format: COLOUR_FORMAT,
                 extent,
-                usage: vk::ImageUsageFlags::COLOR_ATTACHMENT
-                    | vk::ImageUsageFlags::TRANSFER_SRC
-                    | vk::ImageUsageFlags::INPUT_ATTACHMENT,
+                usage: colour_usage,
                 aspect: vk::ImageAspectFlags::COLOR,
                 mip_levels: 1,
+                samples: 1,
             },
         )?;
+        let multisampled = if multisampled_frame {
+            // Transient: it lives in tile memory and is resolved before it would leave it.
+            let kept =
+                if keep_samples { vk::ImageUsageFlags::SAMPLED } else { vk::ImageUsageFlags::TRANSIENT_ATTACHMENT };
+            Some(Image::new(
+                gpu,
+                &ImageDesc {
+                    name: "frame colour (multisampled)",
+                    format: COLOUR_FORMAT,
+                    extent,
+                    usage: vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::INPUT_ATTACHMENT | kept,
+                    aspect: vk::ImageAspectFlags::COLOR,
+                    mip_levels: 1,
+                    samples,
+                },
+            )?)
+        } else {
+            None
+        };
         let depth_aspect = if desc.has_stencil() {
             vk::ImageAspectFlags::DEPTH | vk::ImageAspectFlags::STENCIL
         } else {
@@ -75,20 +147,24 @@ impl FrameTargets {
                 usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT,
                 aspect: depth_aspect,
                 mip_levels: 1,
+                samples,
             },
         )?;
 
         let device = gpu.raw();
         let render_pass = desc.build(device)?;
-        let views = [colour.view, depth.view];
+        let views = match &multisampled {
+            Some(drawn) => vec![drawn.view, depth.view, colour.view],
+            None => vec![colour.view, depth.view],
+        };
         let fb_info = vk::FramebufferCreateInfo::default()
             .render_pass(render_pass)
             .attachments(&views)
             .width(width)
             .height(height)
             .layers(1);
-        // SAFETY: both views are alive (owned by `colour` and `depth`, kept with the framebuffer)
-        // and match the render pass's two attachments, at the framebuffer's size.
+        // SAFETY: the views are alive (owned by the images kept with the framebuffer) and match
+        // the render pass's attachments, in order, at the framebuffer's size.
         let framebuffer = match unsafe { device.create_framebuffer(&fb_info, None) }.vk("vkCreateFramebuffer") {
             Ok(fb) => fb,
             Err(e) => {
@@ -97,7 +173,28 @@ impl FrameTargets {
                 return Err(e);
             }
         };
-        Ok(FrameTargets { gpu: gpu.clone(), extent, stencil, desc, colour, depth, render_pass, framebuffer })
+        Ok(FrameTargets {
+            gpu: gpu.clone(),
+            extent,
+            stencil,
+            desc,
+            colour,
+            multisampled,
+            depth,
+            render_pass,
+            framebuffer,
+        })
+    }
+
+    /// The colour image the passes draw into (and a subpass reads as its input attachment):
+    /// the multisampled one, else the frame's colour.
+    pub fn drawn_colour(&self) -> &Image {
+        self.multisampled.as_ref().unwrap_or(&self.colour)
+    }
+
+    /// Samples per pixel.
+    pub fn samples(&self) -> u32 {
+        self.desc.samples()
     }
 }
 

@@ -148,6 +148,8 @@ pub struct ImageDesc<'a> {
     pub usage: vk::ImageUsageFlags,
     pub aspect: vk::ImageAspectFlags,
     pub mip_levels: u32,
+    /// Samples per pixel (1, 2, 4 or 8).
+    pub samples: u32,
 }
 
 impl Image {
@@ -160,7 +162,12 @@ impl Image {
             .extent(vk::Extent3D { width: desc.extent.width, height: desc.extent.height, depth: 1 })
             .mip_levels(desc.mip_levels.max(1))
             .array_layers(1)
-            .samples(vk::SampleCountFlags::TYPE_1)
+            .samples(match desc.samples {
+                2 => vk::SampleCountFlags::TYPE_2,
+                4 => vk::SampleCountFlags::TYPE_4,
+                8 => vk::SampleCountFlags::TYPE_8,
+                _ => vk::SampleCountFlags::TYPE_1,
+            })
             .tiling(vk::ImageTiling::OPTIMAL)
             .usage(desc.usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE)

@@ -125,6 +125,7 @@ impl Texture {
                     | vk::ImageUsageFlags::TRANSFER_SRC,
                 aspect: vk::ImageAspectFlags::COLOR,
                 mip_levels,
+                samples: 1,
             },
         )?;
         let staging = Buffer::with_data(gpu, &format!("{name} (staging)"), pixels, vk::BufferUsageFlags::TRANSFER_SRC)?;

@@ -138,6 +138,7 @@ mod tests {
         FrameCounters {
             width: 8,
             height: 8,
+            samples: 1,
             passes: vec![pass("scene", 64), pass("overlay", samples)],
             render_passes: Vec::new(),
         }

@@ -49,6 +49,8 @@ impl PassCounters {
 pub struct FrameCounters {
     pub width: u32,
     pub height: u32,
+    /// Samples per pixel of the frame (its passes' samples passed count every sample).
+    pub samples: u32,
     pub passes: Vec<PassCounters>,
     /// Tile traffic of every render pass the frame began (prepasses' targets and the frame).
     pub render_passes: Vec<RenderPassTraffic>,
@@ -76,8 +78,14 @@ impl FrameCounters {
         self.passes.iter().map(|p| p.gpu_ms).sum()
     }
 
-    /// Samples passed per pixel over the frame: how many times each pixel was written on average.
+    /// Samples the frame holds: W x H x N.
+    pub fn frame_samples(&self) -> u64 {
+        self.pixels() * self.samples.max(1) as u64
+    }
+
+    /// Samples passed per frame sample, samples / (W x H x N): how many times each sample was
+    /// written on average, the same figure at any sample count.
     pub fn overdraw(&self) -> f64 {
-        self.total_samples_passed() as f64 / self.pixels() as f64
+        self.total_samples_passed() as f64 / self.frame_samples() as f64
     }
 }

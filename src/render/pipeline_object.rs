@@ -6,6 +6,7 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::error::{Result, VkContext};
+use crate::frame::render_pass::sample_count_flags;
 use crate::gpu::mobile_profile;
 use crate::gpu::Gpu;
 use crate::pipeline::{BlendEquation, BlendState, FixedFunction, PipelineDesc, VertexLayout};
@@ -24,6 +25,22 @@ fn attribute_descriptions(layout: &VertexLayout) -> Vec<vk::VertexInputAttribute
         .collect()
 }
 
+/// Where a pipeline draws: a render pass (any compatible one), the colour attachments of its
+/// subpass and their sample count.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PipelineTarget {
+    pub render_pass: vk::RenderPass,
+    pub colour_attachments: usize,
+    pub samples: u32,
+}
+
+impl PipelineTarget {
+    /// A one-sample target (every offscreen prepass).
+    pub fn one_sample(render_pass: vk::RenderPass, colour_attachments: usize) -> Self {
+        PipelineTarget { render_pass, colour_attachments, samples: 1 }
+    }
+}
+
 pub struct Pipeline {
     gpu: Arc<Gpu>,
     pub raw: vk::Pipeline,
@@ -32,6 +49,8 @@ pub struct Pipeline {
     pub set_count: u32,
     /// The render pass it was built for (pipelines are only valid in compatible ones).
     pub render_pass: vk::RenderPass,
+    /// Samples per pixel of the render pass's attachments.
+    pub samples: u32,
     /// False for overdraw counters, which borrow their original's layout.
     owns_layout: bool,
     pub desc: PipelineDesc,
@@ -60,17 +79,16 @@ impl Pipeline {
         render_pass: vk::RenderPass,
         set_layouts: &[vk::DescriptorSetLayout],
     ) -> Result<Self> {
-        Self::with_colour_attachments(gpu, desc, render_pass, set_layouts, 1)
+        Self::for_target(gpu, desc, PipelineTarget::one_sample(render_pass, 1), set_layouts)
     }
 
-    /// As `new`, for a subpass with `colour_attachments` colour attachments (0: depth only, as
-    /// a shadow map's), each blended as `desc.fixed.blend` says.
-    pub fn with_colour_attachments(
+    /// As `new`, for `target`'s subpass: its colour attachments (0: depth only, as a shadow
+    /// map's), each blended as `desc.fixed.blend` says, and its sample count.
+    pub fn for_target(
         gpu: &Arc<Gpu>,
         desc: &PipelineDesc,
-        render_pass: vk::RenderPass,
+        target: PipelineTarget,
         set_layouts: &[vk::DescriptorSetLayout],
-        colour_attachments: usize,
     ) -> Result<Self> {
         mobile_profile::check_push_constants(desc.name, desc.push_constant_bytes)?;
         let device = gpu.raw();
@@ -86,7 +104,7 @@ impl Pipeline {
         // SAFETY: `gpu` holds the device; the set layouts are the caller's, alive for the call;
         // the push-constant range was checked against the profile's limit above.
         let layout = unsafe { device.create_pipeline_layout(&layout_info, None) }.vk("vkCreatePipelineLayout")?;
-        Self::with_layout(gpu, desc, render_pass, layout, set_layouts.len() as u32, true, colour_attachments)
+        Self::with_layout(gpu, desc, target, layout, set_layouts.len() as u32, true)
     }
 
     /// The same pipeline with its fragment stage replaced by an overdraw counter: alpha
@@ -103,18 +121,19 @@ impl Pipeline {
             alpha: Some(BlendEquation::new(vk::BlendOp::ADD, vk::BlendFactor::ONE, vk::BlendFactor::ONE)),
             write_mask: vk::ColorComponentFlags::A,
         };
-        Self::with_layout(&self.gpu, &desc, self.render_pass, self.layout, self.set_count, false, 1)
+        let target = PipelineTarget { render_pass: self.render_pass, colour_attachments: 1, samples: self.samples };
+        Self::with_layout(&self.gpu, &desc, target, self.layout, self.set_count, false)
     }
 
     fn with_layout(
         gpu: &Arc<Gpu>,
         desc: &PipelineDesc,
-        render_pass: vk::RenderPass,
+        target: PipelineTarget,
         layout: vk::PipelineLayout,
         set_count: u32,
         owns_layout: bool,
-        colour_attachments: usize,
     ) -> Result<Self> {
+        let PipelineTarget { render_pass, colour_attachments, samples } = target;
         let device = gpu.raw();
         let mut pipeline = Pipeline {
             gpu: gpu.clone(),
@@ -122,12 +141,18 @@ impl Pipeline {
             layout,
             set_count,
             render_pass,
+            samples,
             owns_layout,
             desc: desc.clone(),
         };
 
         let vertex_module = ShaderModule::new(gpu, desc.vertex_shader)?;
         let fragment_module = ShaderModule::new(gpu, desc.fragment_shader)?;
+        // Fragment specialization constant 0 is the target's sample count, for shaders that
+        // read every sample of a multisampled input (a shader without it ignores it).
+        let sample_count = (samples as i32).to_ne_bytes();
+        let sample_entry = [vk::SpecializationMapEntry { constant_id: 0, offset: 0, size: 4 }];
+        let specialization = vk::SpecializationInfo::default().map_entries(&sample_entry).data(&sample_count);
         let stages = [
             vk::PipelineShaderStageCreateInfo::default()
                 .stage(vk::ShaderStageFlags::VERTEX)
@@ -136,7 +161,8 @@ impl Pipeline {
             vk::PipelineShaderStageCreateInfo::default()
                 .stage(vk::ShaderStageFlags::FRAGMENT)
                 .module(fragment_module.raw)
-                .name(c"main"),
+                .name(c"main")
+                .specialization_info(&specialization),
         ];
 
         let layout_desc = desc.vertex_layout;
@@ -166,8 +192,10 @@ impl Pipeline {
             .depth_bias_enable(bias.is_some())
             .depth_bias_constant_factor(bias.map_or(0.0, |b| b.constant))
             .depth_bias_slope_factor(bias.map_or(0.0, |b| b.slope));
+        // Rasterised at the target's sample count. No sample shading: `sampleRateShading` is not
+        // in the mobile profile, so a shader that needs every sample reads them all itself.
         let multisample =
-            vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(vk::SampleCountFlags::TYPE_1);
+            vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(sample_count_flags(samples));
         let mut depth_stencil = vk::PipelineDepthStencilStateCreateInfo::default()
             .depth_test_enable(fixed.depth.compare.is_some())
             .depth_write_enable(fixed.depth.write)

@@ -16,6 +16,7 @@ use super::gpu_mesh::GpuScene;
 pub use super::materials::MaterialVariant;
 use super::materials::MATERIAL_SET;
 use super::object_push::{draw_order, object_push};
+use super::pipeline_object::PipelineTarget;
 use super::recorder::FrameRecorder;
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
@@ -326,12 +327,12 @@ pub struct PlanPipelines {
 
 impl PlanPipelines {
     /// Builds every pipeline of `plan`; `render_pass(target)` names the render pass a target's
-    /// pipelines are built for, with its colour attachment count, and `layout(role)` the set
-    /// layout of each role.
+    /// pipelines are built for, with its colour attachment and sample counts, and
+    /// `layout(role)` the set layout of each role.
     pub fn build(
         gpu: &Arc<Gpu>,
         plan: &PassPlan,
-        render_pass: impl Fn(Target) -> Result<(vk::RenderPass, usize)>,
+        render_pass: impl Fn(Target) -> Result<PipelineTarget>,
         layout: impl Fn(SetRole) -> Result<vk::DescriptorSetLayout>,
     ) -> Result<Self> {
         let mut built: Vec<Pipeline> = Vec::new();
@@ -356,9 +357,7 @@ impl PlanPipelines {
                         index
                     }
                     None => {
-                        let (raw_pass, colour_attachments) = render_pass(pass.target)?;
-                        let pipeline =
-                            Pipeline::with_colour_attachments(gpu, desc, raw_pass, &layouts, colour_attachments)?;
+                        let pipeline = Pipeline::for_target(gpu, desc, render_pass(pass.target)?, &layouts)?;
                         built.push(pipeline);
                         index_of.insert(key, built.len() - 1);
                         built.len() - 1

@@ -45,9 +45,15 @@ pub struct Renderer {
 }
 
 impl Renderer {
-    /// `colour_feedback`: the colour target is also an input attachment of its own subpass.
+    /// A one-sample frame. `colour_feedback`: the colour target is also an input attachment of
+    /// its own subpass.
     pub fn new(gpu: &Arc<Gpu>, width: u32, height: u32, stencil: StencilMode, colour_feedback: bool) -> Result<Self> {
-        let targets = FrameTargets::new(gpu, width, height, stencil, colour_feedback)?;
+        Self::with_targets(gpu, FrameTargets::new(gpu, width, height, stencil, colour_feedback)?)
+    }
+
+    /// A frame drawn into `targets` (any sample count).
+    pub fn with_targets(gpu: &Arc<Gpu>, targets: FrameTargets) -> Result<Self> {
+        let (width, height) = (targets.extent.width, targets.extent.height);
         let targets_render_pass = targets.render_pass;
         let readback = Buffer::new(
             gpu,
@@ -120,14 +126,16 @@ impl Renderer {
 
         let (pass_records, render_passes) = submit_and_wait(&gpu, |cmd| {
             queries.reset(cmd);
-            let mut recorder = FrameRecorder::new(&gpu, cmd, queries, extent, frame_set, targets.colour.raw);
+            let mut recorder = FrameRecorder::new(&gpu, cmd, queries, extent, frame_set, targets.drawn_colour().raw);
             if let Some(pipelines) = overdraw {
                 recorder.count_overdraw(pipelines);
             }
             prepass(&mut recorder)?;
+            // The resolve target (if any) is not cleared; its value is never read.
             let clear_values = [
                 vk::ClearValue { color: vk::ClearColorValue { float32: clear } },
                 vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: stencil_clear } },
+                vk::ClearValue { color: vk::ClearColorValue { float32: clear } },
             ];
             let attachments = targets.desc.attachments();
             recorder.begin_render_pass(targets.render_pass, &attachments, targets.framebuffer, extent, &clear_values);
@@ -184,7 +192,13 @@ impl Renderer {
         };
         Ok(FrameOutput {
             image,
-            counters: FrameCounters { width: extent.width, height: extent.height, passes, render_passes },
+            counters: FrameCounters {
+                width: extent.width,
+                height: extent.height,
+                samples: self.targets.samples(),
+                passes,
+                render_passes,
+            },
             trace,
         })
     }

@@ -10,12 +10,13 @@ use ash::vk;
 
 use super::interface::{check_same_scene, FrameStats, RenderOptions, SceneRenderer, Technique, TechniqueFrame};
 use crate::error::{Error, Result};
+use crate::frame::FrameTargets;
 use crate::gpu::Gpu;
 use crate::render::plan::{
     record_plan, PassDraws, PassPlan, PlanPipelines, PlannedPass, Scissor, SetRole, Target, When,
 };
-use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, FrameUniforms, GpuScene, Renderer};
+use crate::render::{Pipeline, PipelineTarget};
 use crate::scene::{Light, Scene};
 
 /// A technique's side of a renderer: what it built for the scene, and what it does per frame.
@@ -37,7 +38,10 @@ pub trait Passes {
         None
     }
 
-    /// The render pass (and its colour attachment count) of an offscreen target.
+    /// The render pass (and its colour attachment count) of an offscreen target. Prepasses
+    /// render at one sample: a shadow map's depth compare, a bake's texels and a mask's
+    /// coverage are sampled and filtered later, where extra samples would only be resolved
+    /// away (README, "MSAA").
     fn offscreen_pass(&self, name: &'static str) -> Option<(vk::RenderPass, usize)> {
         let _ = name;
         None
@@ -144,18 +148,33 @@ pub fn build_typed<'s, P: Passes + 's>(
     options.check()?;
     let plan = technique.plan(options)?;
     let colour_feedback = plan.passes.iter().any(|p| p.reads_colour);
-    let mut renderer = Renderer::new(gpu, options.width, options.height, options.stencil, colour_feedback)?;
+    let targets = FrameTargets::with_samples(
+        gpu,
+        options.width,
+        options.height,
+        options.stencil,
+        colour_feedback,
+        options.samples,
+        options.keep_samples,
+    )?;
+    let mut renderer = Renderer::with_targets(gpu, targets)?;
     renderer.count_overdraw = options.count_overdraw;
     let passes = make(BuildContext { gpu, renderer: &renderer, options, plan: &plan })?;
-    let frame_pass = renderer.targets.render_pass;
+    let frame_target = PipelineTarget {
+        render_pass: renderer.targets.render_pass,
+        colour_attachments: 1,
+        samples: renderer.targets.samples(),
+    };
     let frame_layout = renderer.frame.layout;
     let pipelines = PlanPipelines::build(
         gpu,
         &plan,
         |target| match target {
-            Target::Frame => Ok((frame_pass, 1)),
+            Target::Frame => Ok(frame_target),
+            // Prepasses draw at one sample: see `Passes::offscreen_pass`.
             Target::Offscreen(name) => passes
                 .offscreen_pass(name)
+                .map(|(render_pass, colour_attachments)| PipelineTarget::one_sample(render_pass, colour_attachments))
                 .ok_or_else(|| Error::Internal(format!("{}: no render pass for target '{name}'", technique.name()))),
         },
         |role| match role {

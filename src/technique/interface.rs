@@ -30,12 +30,21 @@ pub struct RenderOptions {
     pub count_overdraw: bool,
     pub cartoon: CartoonOptions,
     pub planar: PlanarOptions,
+    /// Samples per pixel of the frame's colour and depth (1, 2 or 4; DESIGN.md section 9).
+    /// Prepasses (shadow map, bake, render-texture shadow, outline mask) keep one.
+    pub samples: u32,
+    /// Store the multisampled colour instead of leaving it in tile memory, so that a test can
+    /// read every sample back (`Renderer::read_samples`). Never in a timed frame.
+    pub keep_samples: bool,
 }
 
 impl RenderOptions {
     /// Checks every family's options, whichever technique is chosen (a typo in an option the
     /// technique ignores is still a typo).
     pub fn check(&self) -> Result<()> {
+        if !matches!(self.samples, 1 | 2 | 4) {
+            return Err(Error::InvalidInput(format!("--samples {}: use 1, 2 or 4", self.samples)));
+        }
         self.shadow_volume.check()?;
         self.shadow_atlas.check()?;
         self.planar.check()?;

@@ -37,6 +37,8 @@ impl Default for RenderOptions {
             count_overdraw: false,
             cartoon: Default::default(),
             planar: Default::default(),
+            samples: 1,
+            keep_samples: false,
         }
     }
 }

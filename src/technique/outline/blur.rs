@@ -167,7 +167,10 @@ pub struct BlurTargets {
 
 fn image(gpu: &Arc<Gpu>, name: &str, format: vk::Format, extent: vk::Extent2D) -> Result<Image> {
     let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
-    Image::new(gpu, &ImageDesc { name, format, extent, usage, aspect: vk::ImageAspectFlags::COLOR, mip_levels: 1 })
+    Image::new(
+        gpu,
+        &ImageDesc { name, format, extent, usage, aspect: vk::ImageAspectFlags::COLOR, mip_levels: 1, samples: 1 },
+    )
 }
 
 fn texture(image: &Image, sampler: &Sampler) -> Binding {
@@ -198,6 +201,7 @@ impl BlurTargets {
                             | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT,
                         aspect: vk::ImageAspectFlags::DEPTH | vk::ImageAspectFlags::STENCIL,
                         mip_levels: 1,
+                        samples: 1,
                     },
                 )?;
                 (colour_stencil_render_pass(gpu, MASK_FORMAT, format)?, Some(stencil_image))

@@ -211,6 +211,7 @@ impl ShadowTarget {
                 usage: vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
                 aspect: vk::ImageAspectFlags::COLOR,
                 mip_levels: 1,
+                samples: 1,
             },
         )?;
         let render_pass =

@@ -35,6 +35,7 @@ pub fn shadow_map_image(gpu: &Arc<Gpu>, size: u32) -> Result<Image> {
             usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
             aspect: vk::ImageAspectFlags::DEPTH,
             mip_levels: 1,
+            samples: 1,
         },
     )
 }
@@ -53,6 +54,7 @@ pub fn shadow_texture_image(gpu: &Arc<Gpu>, name: &str, size: u32, mip_levels: u
                 | vk::ImageUsageFlags::TRANSFER_DST,
             aspect: vk::ImageAspectFlags::COLOR,
             mip_levels,
+            samples: 1,
         },
     )
 }

@@ -118,13 +118,29 @@ pub fn darkness_descs(normalize: Normalize) -> Vec<PipelineDesc> {
     }
 }
 
+/// The fragment shader of a subpass-reading pass: its one-sample form, or the one that reads
+/// every sample of a multisampled frame.
+fn counter_reader(one_sample: &'static str, multisampled: &'static str, samples: u32) -> &'static str {
+    if samples > 1 {
+        multisampled
+    } else {
+        one_sample
+    }
+}
+
 pub fn apply_desc(normalize: Normalize) -> PipelineDesc {
+    subpass_aware_apply_desc(normalize, 1)
+}
+
+/// [`apply_desc`] for a frame of `samples` samples.
+pub fn subpass_aware_apply_desc(normalize: Normalize, samples: u32) -> PipelineDesc {
     match normalize {
         // colour *= dst alpha (1 where lit, D where shadowed).
         Normalize::Seed | Normalize::Max => fullscreen_desc("apply", "solid.frag", recipes::MODULATE_BY_DST_ALPHA),
         // colour *= the factors the shader output where the count is not 0.
         Normalize::Subpass => {
-            fullscreen_desc("apply (subpass)", "shadow_subpass.frag", recipes::MODULATE_BY_SRC_COLOUR)
+            let shader = counter_reader("shadow_subpass.frag", "shadow_subpass_ms.frag", samples);
+            fullscreen_desc("apply (subpass)", shader, recipes::MODULATE_BY_SRC_COLOUR)
         }
     }
 }
@@ -180,16 +196,14 @@ fn tinted_darkness_and_apply(normalize: Normalize, rgb: [u8; 3]) -> Vec<PlannedP
 
 /// The subpass apply that also counts saturated pixels into a storage buffer (binding 1 of the
 /// counter input set): for devices with `fragmentStoresAndAtomics`.
-pub fn counting_subpass_apply_desc() -> PipelineDesc {
-    fullscreen_desc(
-        "apply (subpass, counts saturation)",
-        "shadow_subpass_counted.frag",
-        recipes::MODULATE_BY_SRC_COLOUR,
-    )
+pub fn counting_subpass_apply_desc(samples: u32) -> PipelineDesc {
+    let shader = counter_reader("shadow_subpass_counted.frag", "shadow_subpass_counted_ms.frag", samples);
+    fullscreen_desc("apply (subpass, counts saturation)", shader, recipes::MODULATE_BY_SRC_COLOUR)
 }
 
-pub fn saturation_probe_desc() -> PipelineDesc {
-    let mut desc = fullscreen_desc("saturation probe", "saturation_probe.frag", NO_WRITE);
+pub fn saturation_probe_desc(samples: u32) -> PipelineDesc {
+    let shader = counter_reader("saturation_probe.frag", "saturation_probe_ms.frag", samples);
+    let mut desc = fullscreen_desc("saturation probe", shader, NO_WRITE);
     desc.push_constant_bytes = 0;
     desc
 }
@@ -238,7 +252,8 @@ pub fn seed_normalisation(iterations: usize) -> Vec<PlannedPass> {
 /// The frame's passes for `options` at `stencil`, counting with z-fail or z-pass. `auto` is
 /// decided per scene when the renderer is built (`casters::choose_zfail`), so a plan asked for
 /// without a scene must name the method.
-pub fn plan(options: &ShadowVolumeOptions, stencil: StencilMode) -> Result<PassPlan> {
+/// The frame's passes for `options` in the `stencil` path, at `samples` samples per pixel.
+pub fn plan(options: &ShadowVolumeOptions, stencil: StencilMode, samples: u32) -> Result<PassPlan> {
     let zfail =
         match options.method {
             VolumeMethod::ZPass => false,
@@ -273,9 +288,14 @@ pub fn plan(options: &ShadowVolumeOptions, stencil: StencilMode) -> Result<PassP
             plan.push(volumes(name, increment, step).or_pipeline(decrement));
             if options.saturation_probe {
                 plan.push(
-                    PlannedPass::new(SATURATION_PROBE, saturation_probe_desc(), Draws::FullScreen, Push::Nothing)
-                        .with_sets(&[COUNTER_INPUT])
-                        .reading_colour(),
+                    PlannedPass::new(
+                        SATURATION_PROBE,
+                        saturation_probe_desc(samples),
+                        Draws::FullScreen,
+                        Push::Nothing,
+                    )
+                    .with_sets(&[COUNTER_INPUT])
+                    .reading_colour(),
                 );
             }
             match options.normalize {
@@ -285,9 +305,9 @@ pub fn plan(options: &ShadowVolumeOptions, stencil: StencilMode) -> Result<PassP
                 }
                 Normalize::Subpass => {
                     let apply = if options.fragment_atomics {
-                        counting_subpass_apply_desc()
+                        counting_subpass_apply_desc(samples)
                     } else {
-                        apply_desc(Normalize::Subpass)
+                        subpass_aware_apply_desc(Normalize::Subpass, samples)
                     };
                     plan.push(
                         PlannedPass::full_screen("apply (subpass)", apply, factors)

@@ -1,0 +1,17 @@
+#version 450
+// The multisampled subpass apply that also counts saturated samples (DESIGN.md section 11): alpha
+// at 1.0 is the counter at its clamp, where increments may have been lost. One atomic add per
+// pixel that has any, of the number of such samples.
+#include "shadow_subpass_factor_ms.glsl"
+
+layout(set = 0, binding = 1, std430) buffer Saturation {
+    uint saturated_samples;
+} saturation;
+
+void main() {
+    int saturated = saturated_samples();
+    if (saturated != 0) {
+        atomicAdd(saturation.saturated_samples, uint(bitCount(saturated)));
+    }
+    write_factor(shadowed_samples());
+}
