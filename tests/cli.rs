@@ -212,3 +212,26 @@ fn bench_json_reports_round_robin_ratios_with_intervals() {
 fn bench_refuses_zero_runs() {
     refused(&["bench", "--technique", "planar", "--size", "64x64", "--runs", "0"], "--runs");
 }
+
+/// `--samples` takes what the device offers (`info` lists it) and names the offer otherwise,
+/// in one line, before any file is written.
+#[test]
+fn sample_counts_outside_the_offer_are_refused_by_name() {
+    let (info, _) = common::run_ok(&["info", "--json"]);
+    let info: serde_json::Value = serde_json::from_str(&info).expect("info JSON");
+    let offered: Vec<u64> =
+        info["frame_samples_emulated"].as_array().expect("offered samples").iter().filter_map(|v| v.as_u64()).collect();
+    assert!(offered.contains(&1) && offered.contains(&4), "the mobile profile guarantees 1 and 4: {offered:?}");
+    let dir = common::scratch_dir("cli-samples");
+    for samples in ["0", "2", "3", "8", "x"] {
+        let out = dir.join(format!("{samples}.png"));
+        let args = ["render", "--size", "16x16", "--samples", samples, "--out", out.to_str().expect("utf-8")];
+        if samples == "2" && offered.contains(&2) {
+            common::run_ok(&args);
+            continue;
+        }
+        let err = common::run_err(&args);
+        assert!(err.contains("--samples"), "{samples}: {err}");
+        assert!(!out.exists(), "{samples}: a file was written");
+    }
+}

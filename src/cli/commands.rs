@@ -6,7 +6,7 @@ use std::sync::Arc;
 use super::args::{Cli, Command, FormatArg, FrameArgs, GpuArgs};
 use crate::error::{Error, Result};
 use crate::frame::render_pass::COLOUR_FORMAT;
-use crate::frame::targets::choose_depth_format;
+use crate::frame::targets::{choose_depth_format, offered_samples};
 use crate::frame::StencilMode;
 use crate::gpu::{mobile_profile, DeviceChoice, Gpu, GpuOptions};
 use crate::profile::budget::Budget;
@@ -373,6 +373,9 @@ struct InfoReport<'a> {
     frame_colour_format: String,
     frame_depth_format_emulated: String,
     frame_depth_format_reference: String,
+    /// The samples per pixel `--samples` may ask for, per stencil mode.
+    frame_samples_emulated: Vec<u32>,
+    frame_samples_reference: Vec<u32>,
     limits: &'a [mobile_profile::LimitCheck],
     scenes: Vec<&'static str>,
     techniques: Vec<&'static str>,
@@ -396,6 +399,8 @@ fn info(args: &GpuArgs, json: bool) -> Result<()> {
         frame_colour_format: format!("{COLOUR_FORMAT:?}"),
         frame_depth_format_emulated: format!("{:?}", choose_depth_format(&gpu, StencilMode::Emulated)?),
         frame_depth_format_reference: format!("{:?}", choose_depth_format(&gpu, StencilMode::Reference)?),
+        frame_samples_emulated: offered_samples(&gpu, StencilMode::Emulated),
+        frame_samples_reference: offered_samples(&gpu, StencilMode::Reference),
         limits: &info.limit_checks,
         scenes: BUILTIN_SCENES.iter().chain(OTHER_SCENES).map(|(n, _)| *n).collect(),
         techniques: TECHNIQUES.iter().map(|t| t.name()).collect(),
@@ -427,6 +432,12 @@ fn info(args: &GpuArgs, json: bool) -> Result<()> {
     println!(
         "frame:     colour {} (sRGB-encoded RGB; alpha linear, the counter), depth {} (emulated) / {} (reference)",
         report.frame_colour_format, report.frame_depth_format_emulated, report.frame_depth_format_reference
+    );
+    let listed = |counts: &[u32]| counts.iter().map(u32::to_string).collect::<Vec<_>>().join(", ");
+    println!(
+        "samples:   {} (emulated) / {} (reference) per pixel for --samples",
+        listed(&report.frame_samples_emulated),
+        listed(&report.frame_samples_reference)
     );
     println!("\n{:<36} {:>10} {:>12}  ok", "limit", "profile", "device");
     for check in report.limits {

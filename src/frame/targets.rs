@@ -58,14 +58,19 @@ pub fn frame_sample_counts(gpu: &Gpu, stencil: StencilMode) -> vk::SampleCountFl
     counts
 }
 
+/// The samples per pixel (of 1, 2, 4, 8) the device offers for the frame in `stencil`'s path.
+pub fn offered_samples(gpu: &Gpu, stencil: StencilMode) -> Vec<u32> {
+    let counts = frame_sample_counts(gpu, stencil);
+    [1u32, 2, 4, 8].into_iter().filter(|&n| counts.contains(sample_count_flags(n))).collect()
+}
+
 /// What a frame of `samples` samples needs from the device: an error naming the counts it has.
 pub fn check_samples(gpu: &Gpu, stencil: StencilMode, samples: u32) -> Result<()> {
-    let counts = frame_sample_counts(gpu, stencil);
-    if counts.contains(sample_count_flags(samples)) && matches!(samples, 1 | 2 | 4 | 8) {
+    let offered = offered_samples(gpu, stencil);
+    if offered.contains(&samples) {
         return Ok(());
     }
-    let offered: Vec<String> =
-        [1u32, 2, 4, 8].iter().filter(|&&n| counts.contains(sample_count_flags(n))).map(u32::to_string).collect();
+    let offered: Vec<String> = offered.iter().map(u32::to_string).collect();
     Err(Error::Device(format!(
         "--samples {samples}: the device offers {} samples per pixel for the {} frame",
         offered.join(", "),
