@@ -412,6 +412,20 @@ fn face_normals_and_creases_are_recomputed_only_for_deformed_meshes() {
     common::assert_no_validation_messages(&gpu);
 }
 
+/// The edges-method silhouette frame of `scene` with these ink styles and seams.
+fn render_seams(
+    gpu: &Arc<Gpu>,
+    scene: &Scene,
+    size: (u32, u32),
+    ink: [nostencil::technique::InkStyle; 3],
+    seams: nostencil::technique::Seams,
+) -> nostencil::technique::TechniqueFrame {
+    let cartoon = CartoonOptions { ink, seams, ..CartoonOptions::default() };
+    let options =
+        RenderOptions { width: size.0, height: size.1, technique: &SILHOUETTE, cartoon, ..Default::default() };
+    render_scene(gpu, scene, &options).expect("frame")
+}
+
 #[test]
 fn uv_seams_are_boundaries_when_asked_for() {
     use nostencil::technique::{InkStyle, Seams};
@@ -426,19 +440,7 @@ fn uv_seams_are_boundaries_when_asked_for() {
     ink[2] = InkStyle { width: Some(2.0), colour: Some(blue) };
     let radius = radius_where_n_dot_v_is(0.0, EYE_DISTANCE, focal_px(&scene, size.1));
     for (seams, expect_seam) in [(Seams { uv: true, ..Seams::default() }, true), (Seams::default(), false)] {
-        let options = CartoonOptions { ink, seams, ..CartoonOptions::default() };
-        let frame = render_scene(
-            &gpu,
-            &scene,
-            &RenderOptions {
-                width: size.0,
-                height: size.1,
-                technique: &SILHOUETTE,
-                cartoon: options,
-                ..Default::default()
-            },
-        )
-        .expect("frame");
+        let frame = render_seams(&gpu, &scene, size, ink, seams);
         let stats = frame.stats::<nostencil::technique::CartoonStats>().expect("stats");
         let image = &frame.output.image;
         // Every row across the middle of the disc crosses the seam in blue, within a pixel of
@@ -534,19 +536,7 @@ fn material_seams_inside_a_gltf_mesh_are_boundaries_only_when_asked_for() {
     let centre = size.0 as f32 / 2.0;
     for material in [true, false] {
         let seams = Seams { material, ..Seams::default() };
-        let options = CartoonOptions { ink, seams, ..CartoonOptions::default() };
-        let frame = render_scene(
-            &gpu,
-            &scene,
-            &RenderOptions {
-                width: size.0,
-                height: size.1,
-                technique: &SILHOUETTE,
-                cartoon: options,
-                ..Default::default()
-            },
-        )
-        .expect("frame");
+        let frame = render_seams(&gpu, &scene, size, ink, seams);
         let stats = frame.stats::<nostencil::technique::CartoonStats>().expect("stats");
         let image = &frame.output.image;
         image.save(dir.join(format!("material-seams-{material}.png"))).expect("save");

@@ -565,11 +565,9 @@ fn atlas_125_models_are_shadowed_where_a_cpu_ray_cast_says() {
 
 /// The ray casts' hierarchy answers as testing every triangle does: nearest hits (object and
 /// distance) and occluders of camera and shadow rays over atlas-one.
-#[test]
-fn ray_world_answers_as_every_triangle_does() {
-    let scene = builtin_scene("atlas-one").expect("scene");
-    let world = RayWorld::of(&scene);
-    let triangles: Vec<(usize, [Vec3; 3])> = scene
+/// Every triangle of the scene in world space, with the index of its object.
+fn world_triangles(scene: &nostencil::scene::Scene) -> Vec<(usize, [Vec3; 3])> {
+    scene
         .objects
         .iter()
         .enumerate()
@@ -579,7 +577,14 @@ fn ray_world_answers_as_every_triangle_does() {
                 .chunks_exact(3)
                 .map(move |t| (i, [0, 1, 2].map(|k| o.transform.transform_point3(mesh.positions[t[k] as usize]))))
         })
-        .collect();
+        .collect()
+}
+
+#[test]
+fn ray_world_answers_as_every_triangle_does() {
+    let scene = builtin_scene("atlas-one").expect("scene");
+    let world = RayWorld::of(&scene);
+    let triangles = world_triangles(&scene);
     let nearest = |origin: Vec3, dir: Vec3| {
         triangles
             .iter()
@@ -965,17 +970,7 @@ fn projective_texture_shadows_lit_parts_of_a_concave_model_that_the_atlas_leaves
     // there reaches the light (None: not a light-facing point of the model).
     let Light::Directional { direction } = scene.light else { panic!("atlas-one has a directional light") };
     let to_light = -direction.normalize();
-    let triangles: Vec<(usize, [Vec3; 3])> = scene
-        .objects
-        .iter()
-        .enumerate()
-        .flat_map(|(i, o)| {
-            let mesh = &scene.meshes[o.mesh].data;
-            mesh.indices
-                .chunks_exact(3)
-                .map(move |t| (i, [0, 1, 2].map(|k| o.transform.transform_point3(mesh.positions[t[k] as usize]))))
-        })
-        .collect();
+    let triangles = world_triangles(&scene);
     let model = scene.objects.iter().position(|o| o.name == "model").expect("the model");
     let inverse = scene.camera.view_projection(w as f32 / h as f32).inverse();
     let lit_model_point = |x: u32, y: u32| -> Option<bool> {
