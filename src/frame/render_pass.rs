@@ -6,6 +6,7 @@
 use ash::vk;
 
 use crate::error::{Result, VkContext};
+use crate::gpu::memory::sample_count_flags;
 
 crate::names::named_enum! {
     /// Whether the frame has a real stencil. The main frame never does; the reference does,
@@ -229,16 +230,6 @@ impl AttachmentDesc {
             transient: self.transient,
             samples: self.samples,
         }
-    }
-}
-
-/// The Vulkan flag of `samples` samples per pixel (1, 2, 4 or 8; anything else is one).
-pub fn sample_count_flags(samples: u32) -> vk::SampleCountFlags {
-    match samples {
-        2 => vk::SampleCountFlags::TYPE_2,
-        4 => vk::SampleCountFlags::TYPE_4,
-        8 => vk::SampleCountFlags::TYPE_8,
-        _ => vk::SampleCountFlags::TYPE_1,
     }
 }
 

@@ -7,9 +7,9 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::render_pass::{sample_count_flags, RenderPassDesc, StencilMode, COLOUR_FORMAT};
+use super::render_pass::{RenderPassDesc, StencilMode, COLOUR_FORMAT};
 use crate::error::{Error, Result, VkContext};
-use crate::gpu::memory::{Image, ImageDesc};
+use crate::gpu::memory::{sample_count_flags, Image, ImageDesc};
 use crate::gpu::Gpu;
 
 pub struct FrameTargets {

@@ -141,6 +141,16 @@ pub struct Image {
     memory: Option<ImageMemory>,
 }
 
+/// The Vulkan flag of `samples` samples per pixel (1, 2, 4 or 8; anything else is one).
+pub fn sample_count_flags(samples: u32) -> vk::SampleCountFlags {
+    match samples {
+        2 => vk::SampleCountFlags::TYPE_2,
+        4 => vk::SampleCountFlags::TYPE_4,
+        8 => vk::SampleCountFlags::TYPE_8,
+        _ => vk::SampleCountFlags::TYPE_1,
+    }
+}
+
 pub struct ImageDesc<'a> {
     pub name: &'a str,
     pub format: vk::Format,
@@ -162,12 +172,7 @@ impl Image {
             .extent(vk::Extent3D { width: desc.extent.width, height: desc.extent.height, depth: 1 })
             .mip_levels(desc.mip_levels.max(1))
             .array_layers(1)
-            .samples(match desc.samples {
-                2 => vk::SampleCountFlags::TYPE_2,
-                4 => vk::SampleCountFlags::TYPE_4,
-                8 => vk::SampleCountFlags::TYPE_8,
-                _ => vk::SampleCountFlags::TYPE_1,
-            })
+            .samples(sample_count_flags(desc.samples))
             .tiling(vk::ImageTiling::OPTIMAL)
             .usage(desc.usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE)

@@ -6,7 +6,7 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::error::{Result, VkContext};
-use crate::frame::render_pass::sample_count_flags;
+use crate::gpu::memory::sample_count_flags;
 use crate::gpu::mobile_profile;
 use crate::gpu::Gpu;
 use crate::pipeline::{BlendEquation, BlendState, FixedFunction, PipelineDesc, VertexLayout};
