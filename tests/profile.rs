@@ -131,6 +131,10 @@ fn budget_fails_on_a_costlier_pass_and_passes_on_the_recorded_frame() {
     assert!(!overruns.is_empty());
     assert!(overruns.iter().all(|o| o.pass == "overlay"), "{overruns:?}");
     assert!(overruns.iter().any(|o| o.counter == "samples passed" && o.actual == 3 * o.budget));
+    // A 4x frame passes 4 times the samples: it is not compared with a 1x budget at all.
+    let four = stacked_fullscreen_at(&gpu, &[("scene", 1), ("overlay", 1)], false, 4);
+    let refused = budget.check("test", "stack", "emulated", &four.counters).expect_err("4x frame, 1x budget");
+    assert!(refused.to_string().contains("budget is for 1x MSAA, the frame has 4x"), "{refused}");
     common::assert_no_validation_messages(&gpu);
 }
 

@@ -417,6 +417,22 @@ mod tests {
     }
 
     #[test]
+    fn msaa_ratios_pair_a_variant_with_itself_at_one_sample_round_by_round() {
+        // The 4x variant costs 2.5x its 1x twin in every round, whatever the drift.
+        let rounds = drifting_rounds(&[7.0, 10.0, 4.0], 30);
+        let names = ["other", "x @4x", "x @1x"].map(|n| (n.to_string(), None)).to_vec();
+        let mut results = summarise(names, &rounds, &Bootstrap::DEFAULT);
+        (results[1].fragment_invocations, results[1].samples_passed) = (Some(1200), 4000);
+        (results[2].fragment_invocations, results[2].samples_passed) = (Some(1000), 1000);
+        let ratio = MsaaRatio::of("x", 4, &results[1], &results[2], &Bootstrap::DEFAULT);
+        let frame = ratio.frame_ratio.unwrap();
+        assert!((frame.median - 2.5).abs() < 1e-12 && frame.ci95.width() < 1e-12, "{frame:?}");
+        assert!((ratio.gpu_ratio.unwrap().median - 2.5).abs() < 1e-12);
+        assert_eq!((ratio.fragment_ratio, ratio.samples_passed_ratio), (Some(1.2), Some(4.0)));
+        assert_eq!(label_at("x", 4), "x @4x");
+    }
+
+    #[test]
     fn a_reference_without_gpu_time_gives_no_gpu_ratio() {
         let rounds = vec![vec![Timing { frame_ms: 2.0, gpu_ms: 0.0 }, Timing { frame_ms: 3.0, gpu_ms: 1.0 }]; 5];
         let names = vec![("ref".to_string(), None), ("variant".to_string(), None)];
