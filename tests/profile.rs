@@ -375,6 +375,7 @@ fn tile_traffic_at_four_samples_stores_only_the_resolve_target() {
     // Counters per frame sample: each pass's samples/px and the overdraw divide by W x H x 4.
     let frame_samples = 96.0 * 64.0 * 4.0;
     for pass in report["passes"].as_array().expect("passes") {
+        assert_eq!(pass["samples"], 4, "{pass}");
         let per = pass["samples_passed"].as_f64().unwrap() / frame_samples;
         assert!((pass["samples_per_pixel"].as_f64().unwrap() - per).abs() < 1e-9, "{pass}");
     }
@@ -383,6 +384,22 @@ fn tile_traffic_at_four_samples_stores_only_the_resolve_target() {
         (totals["overdraw"].as_f64().unwrap() - totals["samples_passed"].as_f64().unwrap() / frame_samples).abs()
             < 1e-9
     );
+
+    // A prepass draws into its own one-sample target: stored, and counted per pixel of it.
+    let textured =
+        ["profile", "--size", "96x64", "--samples", "4", "--technique", "shadow-texture", "--format", "json"];
+    let (stdout, _) = common::run_ok(&textured);
+    let report: serde_json::Value = serde_json::from_str(&stdout).expect("JSON");
+    let traffic = report["render_passes"].as_array().expect("render_passes");
+    assert_eq!(traffic[0]["pass"], "shadow texture", "{traffic:?}");
+    assert_eq!(traffic[0]["attachments"][0]["samples"], 1, "{traffic:?}");
+    assert_eq!(traffic[0]["attachments"][0]["bytes_stored"], 128 * 128 * 4, "{traffic:?}");
+    for pass in report["passes"].as_array().expect("passes") {
+        let samples = if pass["name"] == "shadow texture" { 1 } else { 4 };
+        assert_eq!(pass["samples"], samples, "{pass}");
+        let per = pass["samples_passed"].as_f64().unwrap() / (96.0 * 64.0 * samples as f64);
+        assert!((pass["samples_per_pixel"].as_f64().unwrap() - per).abs() < 1e-9, "{pass}");
+    }
 
     let (table, _) = common::run_ok(&args);
     assert!(table.lines().next().is_some_and(|l| l.contains("| 4x MSAA |")), "{table}");

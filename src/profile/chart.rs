@@ -11,8 +11,6 @@ fn escape(text: &str) -> String {
 
 pub fn bar_chart_svg(title: &str, counters: &FrameCounters) -> String {
     let pixels = counters.pixels().max(1) as f64;
-    // Samples passed count every sample: per frame sample, the same scale at any sample count.
-    let frame_samples = counters.frame_samples().max(1) as f64;
     let rows: Vec<(String, f64, f64, f64)> = counters
         .passes
         .iter()
@@ -20,7 +18,7 @@ pub fn bar_chart_svg(title: &str, counters: &FrameCounters) -> String {
             (
                 p.name.clone(),
                 p.fragment_invocations.map_or(0.0, |f| f as f64 / pixels),
-                p.samples_passed as f64 / frame_samples,
+                counters.samples_per_pixel(p),
                 p.gpu_ms,
             )
         })

@@ -38,6 +38,8 @@ pub struct PassRow {
     /// Fragment shader invocations / (width x height).
     pub fragments_per_pixel: Option<f64>,
     pub samples_passed: u64,
+    /// Samples per pixel of the target the pass drew into (the frame's; 1 for a prepass).
+    pub samples: u32,
     /// Samples passed / (width x height x samples): the pass's cost in full-screen writes, the
     /// same figure at any sample count.
     pub samples_per_pixel: f64,
@@ -98,7 +100,6 @@ pub struct FrameFormats {
 impl ProfileReport {
     pub fn new(context: ReportContext, counters: &FrameCounters) -> Self {
         let pixels = counters.pixels() as f64;
-        let frame_samples = counters.frame_samples() as f64;
         let total_ms = counters.total_gpu_ms();
         let passes = counters
             .passes
@@ -111,7 +112,8 @@ impl ProfileReport {
                 fragment_invocations: p.fragment_invocations,
                 fragments_per_pixel: p.fragment_invocations.map(|f| f as f64 / pixels),
                 samples_passed: p.samples_passed,
-                samples_per_pixel: p.samples_passed as f64 / frame_samples,
+                samples: counters.pass_samples(p),
+                samples_per_pixel: counters.samples_per_pixel(p),
                 gpu_ms: p.gpu_ms,
                 share: if total_ms > 0.0 { p.gpu_ms / total_ms } else { 0.0 },
             })
