@@ -208,6 +208,68 @@ fn bench_json_reports_round_robin_ratios_with_intervals() {
     assert_eq!(variants[0]["frame_ratio"]["ci95"]["high"], 1.0);
 }
 
+/// `bench --samples 4`: every variant at 4x and at 1x, one after the other in every round, and
+/// per variant the 4x/1x ratios (recomputable from the rounds); the lit default scene's draws
+/// pass about 4 times the samples at 4x (every covered sample counts; edges make it inexact).
+/// `--samples 1` benches the variants alone, with no ratios.
+#[test]
+fn bench_samples_4_pairs_every_variant_with_itself_at_1x() {
+    let args = "bench --technique lit --size 64x64 --warmup 1 --runs 5 --json --validation --samples 4";
+    let (out, err) = common::run_ok(&args.split(' ').collect::<Vec<_>>());
+    assert!(!err.contains("vulkan validation"), "{err}");
+    let report: serde_json::Value = serde_json::from_str(&out).expect("bench --json is JSON");
+    assert_eq!(report["samples"], 4);
+    let variants = report["variants"].as_array().expect("variants");
+    let msaa = report["msaa"].as_array().expect("msaa");
+    assert_eq!(variants.len(), 2 * msaa.len(), "{report}");
+    assert_eq!(msaa.len(), 2, "lit's variants are reference and emulated: {report}");
+    let rounds = |v: &serde_json::Value, key: &str| -> Vec<f64> {
+        v[key].as_array().expect("rounds").iter().filter_map(|x| x.as_f64()).collect()
+    };
+    for (pair, ratio) in variants.chunks(2).zip(msaa) {
+        let label = ratio["variant"].as_str().expect("label");
+        assert_eq!(pair[0]["name"], format!("{label} @4x"));
+        assert_eq!(pair[1]["name"], format!("{label} @1x"));
+        assert_eq!(ratio["samples"], 4);
+        let samples = |v: &serde_json::Value| v["samples_passed"].as_f64().expect("samples passed");
+        let passed = ratio["samples_passed_ratio"].as_f64().expect("samples ratio");
+        assert!((passed / (samples(&pair[0]) / samples(&pair[1])) - 1.0).abs() < 1e-12, "{ratio}");
+        assert!((passed - 4.0).abs() < 0.1, "{label}: 4x passed {passed} times the 1x samples");
+        let fragments = |v: &serde_json::Value| v["fragment_invocations"].as_f64().expect("fragments");
+        let fragment_ratio = ratio["fragment_ratio"].as_f64().expect("fragment ratio");
+        assert!((fragment_ratio / (fragments(&pair[0]) / fragments(&pair[1])) - 1.0).abs() < 1e-12, "{ratio}");
+        // The frame ratio is the median of the per-round ratios (5 rounds: the middle one).
+        let mut per_round: Vec<f64> = rounds(&pair[0], "frame_ms_rounds")
+            .iter()
+            .zip(rounds(&pair[1], "frame_ms_rounds"))
+            .map(|(multi, single)| multi / single)
+            .collect();
+        assert_eq!(per_round.len(), 5);
+        per_round.sort_by(f64::total_cmp);
+        let frame = &ratio["frame_ratio"];
+        // (JSON round-trips the times to within a last bit.)
+        let median = frame["median"].as_f64().expect("median");
+        assert!((median / per_round[2] - 1.0).abs() < 1e-12, "{ratio}: rounds give {}", per_round[2]);
+        let (low, high) = (frame["ci95"]["low"].as_f64().expect("low"), frame["ci95"]["high"].as_f64().expect("high"));
+        assert!(low <= per_round[2] && per_round[2] <= high, "{ratio}");
+    }
+
+    let (table, _) =
+        common::run_ok(&["bench", "--technique", "lit", "--size", "64x64", "--warmup", "1", "--runs", "3"]);
+    assert!(table.contains("lit (emulated) @4x") && table.contains("lit (emulated) @1x"), "{table}");
+    let section = table.split("4x / 1x, the same variant in the same rounds:").nth(1).expect("the 4x/1x section");
+    assert!(section.lines().any(|l| l.starts_with("lit (emulated) ")), "{table}");
+
+    let single = "bench --technique lit --size 64x64 --warmup 1 --runs 3 --json --samples 1";
+    let (out, _) = common::run_ok(&single.split(' ').collect::<Vec<_>>());
+    let report: serde_json::Value = serde_json::from_str(&out).expect("JSON");
+    assert_eq!(report["samples"], 1);
+    assert_eq!(report["msaa"].as_array().map(Vec::len), Some(0), "{report}");
+    let names: Vec<&str> =
+        report["variants"].as_array().expect("variants").iter().filter_map(|v| v["name"].as_str()).collect();
+    assert_eq!(names, ["lit (reference)", "lit (emulated)"]);
+}
+
 #[test]
 fn bench_refuses_zero_runs() {
     refused(&["bench", "--technique", "planar", "--size", "64x64", "--runs", "0"], "--runs");

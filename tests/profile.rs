@@ -6,17 +6,25 @@ mod common;
 use std::sync::Arc;
 
 use glam::{Mat4, Vec4};
-use nostencil::frame::StencilMode;
+use nostencil::frame::{FrameTargets, StencilMode};
 use nostencil::gpu::Gpu;
 use nostencil::pipeline::{FixedFunction, PipelineDesc, VertexLayout};
 use nostencil::profile::budget::Budget;
 use nostencil::profile::heatmap;
-use nostencil::render::Pipeline;
+use nostencil::profile::report::{FrameFormats, ProfileReport, ReportContext};
 use nostencil::render::{FrameOutput, FrameUniforms, Renderer};
+use nostencil::render::{Pipeline, PipelineTarget};
 
 /// A frame of `passes`, each drawing `quads` full-screen triangles, counted or not.
 fn stacked_fullscreen(gpu: &Arc<Gpu>, passes: &[(&str, u32)], count_overdraw: bool) -> FrameOutput {
-    let mut renderer = Renderer::new(gpu, 96, 64, StencilMode::Emulated, false).expect("renderer");
+    stacked_fullscreen_at(gpu, passes, count_overdraw, 1)
+}
+
+/// As `stacked_fullscreen`, with `samples` samples per pixel.
+fn stacked_fullscreen_at(gpu: &Arc<Gpu>, passes: &[(&str, u32)], count_overdraw: bool, samples: u32) -> FrameOutput {
+    let targets =
+        FrameTargets::with_samples(gpu, 96, 64, StencilMode::Emulated, false, samples, false).expect("targets");
+    let mut renderer = Renderer::with_targets(gpu, targets).expect("renderer");
     renderer.count_overdraw = count_overdraw;
     let desc = PipelineDesc {
         name: "full-screen",
@@ -27,7 +35,8 @@ fn stacked_fullscreen(gpu: &Arc<Gpu>, passes: &[(&str, u32)], count_overdraw: bo
         push_constant_bytes: 16,
         subpass: 0,
     };
-    let pipeline = Pipeline::new(gpu, &desc, renderer.targets.render_pass, &[]).expect("pipeline");
+    let target = PipelineTarget { render_pass: renderer.targets.render_pass, colour_attachments: 1, samples };
+    let pipeline = Pipeline::for_target(gpu, &desc, target, &[]).expect("pipeline");
     let uniforms = FrameUniforms {
         view_proj: Mat4::IDENTITY,
         light: Vec4::ZERO,
@@ -65,6 +74,39 @@ fn heat_map_of_n_stacked_fullscreen_quads_shows_n_everywhere() {
     common::assert_no_validation_messages(&gpu);
 }
 
+/// At 4 samples the counter is blended in every sample and resolved (the mean of the pixel's
+/// samples): n full-screen quads still read n, while the occlusion query counts every sample and
+/// the overdraw divides by them.
+#[test]
+fn heat_map_and_overdraw_of_full_screen_quads_are_the_same_at_four_samples() {
+    let gpu = common::gpu();
+    for n in [1u32, 3, 7] {
+        let frame = stacked_fullscreen_at(&gpu, &[("stack", n)], true, 4);
+        let counts = heatmap::counts(&frame.image);
+        assert!(counts.iter().all(|&c| c as u32 == n), "{n} quads at 4x: counts {:?}", &counts[..4]);
+        let map = heatmap::render_heatmap(&frame.image);
+        assert_eq!(map.get_pixel(10, 10).0[..3], heatmap::colour_of(n as u8));
+        let counted = stacked_fullscreen_at(&gpu, &[("stack", n)], false, 4).counters;
+        assert_eq!(counted.samples, 4);
+        assert_eq!(counted.passes[0].samples_passed, 4 * 96 * 64 * n as u64);
+        assert_eq!(counted.overdraw(), n as f64);
+        let context = ReportContext {
+            device: "test".into(),
+            scene: "full-screen".into(),
+            technique: "stack".into(),
+            stencil: "emulated".into(),
+            frame_formats: FrameFormats { colour: "c".into(), depth: "d".into() },
+        };
+        let report = ProfileReport::new(context, &counted);
+        assert_eq!((report.samples, report.passes[0].samples_per_pixel), (4, n as f64));
+        assert_eq!(report.totals.overdraw, n as f64);
+        // Fragment shading stays per pixel: one invocation covers all four samples.
+        let single = stacked_fullscreen_at(&gpu, &[("stack", n)], false, 1).counters;
+        assert_eq!(counted.total_fragment_invocations(), single.total_fragment_invocations());
+    }
+    common::assert_no_validation_messages(&gpu);
+}
+
 #[test]
 fn frame_totals_are_the_sum_of_the_passes() {
     let gpu = common::gpu();
@@ -89,6 +131,10 @@ fn budget_fails_on_a_costlier_pass_and_passes_on_the_recorded_frame() {
     assert!(!overruns.is_empty());
     assert!(overruns.iter().all(|o| o.pass == "overlay"), "{overruns:?}");
     assert!(overruns.iter().any(|o| o.counter == "samples passed" && o.actual == 3 * o.budget));
+    // A 4x frame passes 4 times the samples: it is not compared with a 1x budget at all.
+    let four = stacked_fullscreen_at(&gpu, &[("scene", 1), ("overlay", 1)], false, 4);
+    let refused = budget.check("test", "stack", "emulated", &four.counters).expect_err("4x frame, 1x budget");
+    assert!(refused.to_string().contains("budget is for 1x MSAA, the frame has 4x"), "{refused}");
     common::assert_no_validation_messages(&gpu);
 }
 
@@ -248,14 +294,17 @@ fn tile_traffic_is_listed_per_render_pass_with_known_sizes() {
         let (stdout, _) = common::run_ok(args);
         serde_json::from_str(&stdout).expect("JSON")
     };
-    let lit = json(&["profile", "--size", "96x64", "--format", "json"]);
+    let lit = json(&["profile", "--size", "96x64", "--format", "json", "--samples", "1"]);
+    assert_eq!(lit["samples"], 1);
     let passes = lit["render_passes"].as_array().expect("render_passes");
     assert_eq!(passes.len(), 1, "{passes:?}");
     assert_eq!((passes[0]["pass"].as_str(), passes[0]["count"].as_u64()), (Some("frame"), Some(1)));
     let frame = passes[0]["attachments"].as_array().expect("attachments");
+    assert_eq!(frame.len(), 2, "{frame:?}");
     assert_eq!(frame[0]["bytes_stored"], 96 * 64 * 4);
     assert_eq!(frame[0]["bytes_loaded"], 0);
     assert_eq!(frame[1]["bytes_stored"], 0);
+    assert!(frame.iter().all(|a| a["samples"] == 1), "{frame:?}");
 
     // The atlas with a moving light: the shadow map (512^2 depth, stored), one bake and one
     // dilate per model (colour, stored) under their passes, then the frame.
@@ -291,4 +340,115 @@ fn tile_traffic_is_listed_per_render_pass_with_known_sizes() {
     let names: Vec<&str> = passes.iter().filter_map(|p| p["pass"].as_str()).collect();
     assert_eq!(names, ["shadow texture", "frame"], "{passes:?}");
     assert_eq!(passes[0]["attachments"][0]["bytes_stored"], 128 * 128 * 4);
+}
+
+/// `profile --samples 4`: the frame's multisampled colour and depth are transient (cleared and
+/// discarded in tile memory: 0 bytes loaded or stored) with 4 samples, and only the one-sample
+/// resolve target is stored, W x H x 4 bytes; the table says the same as the JSON.
+#[test]
+fn tile_traffic_at_four_samples_stores_only_the_resolve_target() {
+    let args = ["profile", "--size", "96x64", "--samples", "4", "--technique", "shadow-volume", "--validation"];
+    let (stdout, err) = common::run_ok(&[&args[..], &["--format", "json"]].concat());
+    assert!(!err.contains("vulkan validation"), "{err}");
+    let report: serde_json::Value = serde_json::from_str(&stdout).expect("JSON");
+    assert_eq!(report["samples"], 4);
+    let passes = report["render_passes"].as_array().expect("render_passes");
+    assert_eq!(passes.len(), 1, "{passes:?}");
+    let frame = passes[0]["attachments"].as_array().expect("attachments");
+    let field = |a: &serde_json::Value, key: &str| a[key].as_str().unwrap_or_default().to_owned();
+    let names: Vec<String> = frame.iter().map(|a| field(a, "attachment")).collect();
+    assert_eq!(names, ["colour (multisampled)", "depth", "colour (resolved)"], "{frame:?}");
+    for multisampled in &frame[..2] {
+        assert_eq!(multisampled["samples"], 4, "{multisampled}");
+        assert_eq!(multisampled["transient"], true, "{multisampled}");
+        assert_eq!(
+            (field(multisampled, "load_op"), field(multisampled, "store_op")),
+            ("CLEAR".into(), "DONT_CARE".into())
+        );
+        assert_eq!((multisampled["bytes_loaded"].as_u64(), multisampled["bytes_stored"].as_u64()), (Some(0), Some(0)));
+    }
+    let resolve = &frame[2];
+    assert_eq!((resolve["samples"].as_u64(), resolve["transient"].as_bool()), (Some(1), Some(false)));
+    assert_eq!(field(resolve, "store_op"), "STORE");
+    assert_eq!((resolve["bytes_loaded"].as_u64(), resolve["bytes_stored"].as_u64()), (Some(0), Some(96 * 64 * 4)));
+
+    // Counters per frame sample: each pass's samples/px and the overdraw divide by W x H x 4.
+    let frame_samples = 96.0 * 64.0 * 4.0;
+    for pass in report["passes"].as_array().expect("passes") {
+        assert_eq!(pass["samples"], 4, "{pass}");
+        let per = pass["samples_passed"].as_f64().unwrap() / frame_samples;
+        assert!((pass["samples_per_pixel"].as_f64().unwrap() - per).abs() < 1e-9, "{pass}");
+    }
+    let totals = &report["totals"];
+    assert!(
+        (totals["overdraw"].as_f64().unwrap() - totals["samples_passed"].as_f64().unwrap() / frame_samples).abs()
+            < 1e-9
+    );
+
+    // A prepass draws into its own one-sample target: stored, and counted per pixel of it.
+    let textured =
+        ["profile", "--size", "96x64", "--samples", "4", "--technique", "shadow-texture", "--format", "json"];
+    let (stdout, _) = common::run_ok(&textured);
+    let report: serde_json::Value = serde_json::from_str(&stdout).expect("JSON");
+    let traffic = report["render_passes"].as_array().expect("render_passes");
+    assert_eq!(traffic[0]["pass"], "shadow texture", "{traffic:?}");
+    assert_eq!(traffic[0]["attachments"][0]["samples"], 1, "{traffic:?}");
+    assert_eq!(traffic[0]["attachments"][0]["bytes_stored"], 128 * 128 * 4, "{traffic:?}");
+    for pass in report["passes"].as_array().expect("passes") {
+        let samples = if pass["name"] == "shadow texture" { 1 } else { 4 };
+        assert_eq!(pass["samples"], samples, "{pass}");
+        let per = pass["samples_passed"].as_f64().unwrap() / (96.0 * 64.0 * samples as f64);
+        assert!((pass["samples_per_pixel"].as_f64().unwrap() - per).abs() < 1e-9, "{pass}");
+    }
+
+    let (table, _) = common::run_ok(&args);
+    assert!(table.lines().next().is_some_and(|l| l.contains("| 4x MSAA |")), "{table}");
+    let line = |name: &str| {
+        table.lines().find(|l| l.trim_start().starts_with(name)).unwrap_or_else(|| panic!("no {name} row:\n{table}"))
+    };
+    let multisampled = line("colour (multisampled)");
+    assert!(
+        multisampled.contains(" 4 samples") && multisampled.contains("stored          0 B  (transient)"),
+        "{multisampled}"
+    );
+    let depth = line("depth ");
+    assert!(depth.contains(" 4 samples") && depth.contains("stored          0 B  (transient)"), "{depth}");
+    let resolve = line("colour (resolved)");
+    assert!(resolve.contains(" 1 samples") && resolve.contains(&format!("stored {:>10} B", 96 * 64 * 4)), "{resolve}");
+    assert!(!resolve.contains("transient"), "{resolve}");
+    assert!(table.contains(&format!("frame total: loaded 0 B, stored {} B", 96 * 64 * 4)), "{table}");
+}
+
+/// At 4 samples the heat map is the mean count over each pixel's samples: summed over the
+/// pixels and times 4 it is the samples the passes' occlusion queries counted, to within the
+/// rounding of the pixels whose samples differ (on edges, at most 1/2 each, times 4).
+#[test]
+fn heat_map_at_four_samples_is_the_per_pixel_mean_of_the_samples() {
+    use nostencil::technique::{by_name, render_scene, RenderOptions};
+    let gpu = common::gpu();
+    let scene = nostencil::scene::builtin_scene("default").expect("default scene");
+    for name in ["lit", "shadow-volume", "planar"] {
+        let technique = by_name(name).expect("technique");
+        let options =
+            RenderOptions { width: 96, height: 64, technique, count_overdraw: true, samples: 4, ..Default::default() };
+        let frame = render_scene(&gpu, &scene, &options).expect("counted frame");
+        let counts = heatmap::counts(&frame.output.image);
+        let summed: u64 = counts.iter().map(|c| *c as u64).sum();
+        let samples = frame.output.counters.total_samples_passed();
+        // Edge pixels: where a neighbour's count differs.
+        let (w, h) = (96usize, 64usize);
+        let edges = (0..h)
+            .flat_map(|y| (0..w).map(move |x| (x, y)))
+            .filter(|&(x, y)| {
+                let c = counts[y * w + x];
+                [(x.wrapping_sub(1), y), (x + 1, y), (x, y.wrapping_sub(1)), (x, y + 1)]
+                    .iter()
+                    .any(|&(nx, ny)| nx < w && ny < h && counts[ny * w + nx] != c)
+            })
+            .count() as u64;
+        let difference = (4 * summed).abs_diff(samples);
+        assert!(difference <= 2 * edges, "{name}: 4 x {summed} vs {samples} samples, {edges} edge pixels");
+        assert!(summed > 96 * 64 / 2, "{name}: only {summed} in 96x64");
+    }
+    common::assert_no_validation_messages(&gpu);
 }

@@ -134,6 +134,10 @@ pub enum Command {
         /// After N presented frames, resize the window to WxH (for tests of the resize path).
         #[arg(long, num_args = 2, value_names = ["N", "WxH"])]
         resize_after: Option<Vec<String>>,
+        /// After N presented frames, act as if KEY (a letter from the key list) was pressed
+        /// (for tests of a live switch, such as M for the sample count).
+        #[arg(long, num_args = 2, value_names = ["N", "KEY"])]
+        press_after: Option<Vec<String>>,
         /// Start with the animation (casters turning, animated models playing) paused: frames
         /// then match `render`.
         #[arg(long)]

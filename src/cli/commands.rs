@@ -45,8 +45,8 @@ pub fn run(cli: Cli) -> Result<()> {
             bench(&frame, warmup, runs, json, table1_out.as_deref())
         }
         Command::Bake { frame, model, mip, out } => bake(&frame, model.as_deref(), mip, &out),
-        Command::View { frame, frames, screenshot, resize_after, paused } => {
-            view(&frame, frames, screenshot, resize_after, paused)
+        Command::View { frame, frames, screenshot, resize_after, press_after, paused } => {
+            view(&frame, frames, screenshot, ViewScript { resize_after, press_after }, paused)
         }
     }
 }
@@ -497,29 +497,53 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: Option<u32>, json: bool, table1_o
         return crate::profile::table1::bench(&gpu, &options, warmup, runs, json, table1_out);
     }
     let runs = runs.unwrap_or(bench::DEFAULT_RUNS);
+    let samples = options.samples;
+    // At N > 1 samples each variant also runs at 1, next to it in every round: (label, options).
+    let mut timed = Vec::new();
+    for variant in options.technique.bench_variants(&options) {
+        if samples > 1 {
+            let single = RenderOptions { samples: 1, ..variant.options.clone() };
+            timed.push((bench::label_at(&variant.label, samples), variant.options));
+            timed.push((bench::label_at(&variant.label, 1), single));
+        } else {
+            timed.push((variant.label, variant.options));
+        }
+    }
     let mut variants = Vec::new();
-    for (index, variant) in options.technique.bench_variants(&options).into_iter().enumerate() {
-        let mut renderer = variant.options.technique.build(&gpu, &scene, &variant.options)?;
+    for (index, (label, variant_options)) in timed.into_iter().enumerate() {
+        let mut renderer = variant_options.technique.build(&gpu, &scene, &variant_options)?;
         if index == 0 {
             // Every variant draws the same scene: its warnings once.
             print_warnings(options.technique.name(), renderer.warnings());
         }
         let scene = &scene;
-        variants.push(Variant { name: variant.label, frame: Box::new(move || Ok(renderer.frame_with(scene)?.output)) });
+        variants.push(Variant { name: label, frame: Box::new(move || Ok(renderer.frame_with(scene)?.output)) });
     }
     let results = bench::run(variants, &BenchSettings { warmup, runs, progress: !json })?;
+    let bootstrap = crate::profile::bootstrap::Bootstrap::DEFAULT;
+    let msaa = if samples > 1 {
+        let labels = options.technique.bench_variants(&options).into_iter().map(|v| v.label);
+        labels
+            .zip(results.chunks_exact(2))
+            .map(|(label, pair)| bench::MsaaRatio::of(&label, samples, &pair[0], &pair[1], &bootstrap))
+            .collect()
+    } else {
+        Vec::new()
+    };
     let report = BenchReport {
         schema: "nostencil-bench/2",
         order: "round-robin",
-        bootstrap: crate::profile::bootstrap::Bootstrap::DEFAULT,
+        bootstrap,
         device: gpu.device.info.name.clone(),
         technique: options.technique.name().into(),
         scene: scene.name.clone(),
         width,
         height,
+        samples,
         warmup,
         runs,
         variants: results,
+        msaa,
     };
     if json {
         println!("{}", serde_json::to_string_pretty(&report).map_err(|e| Error::Internal(e.to_string()))?);
@@ -549,11 +573,22 @@ fn bench_mip_flicker(frame: &FrameArgs, steps: u32, json: bool) -> Result<()> {
     Ok(())
 }
 
+/// The viewer's scripted events, as given on the command line.
+struct ViewScript {
+    resize_after: Option<Vec<String>>,
+    press_after: Option<Vec<String>>,
+}
+
+/// `--resize-after`'s or `--press-after`'s frame count.
+fn frame_count(flag: &str, text: &str) -> Result<u32> {
+    text.parse().map_err(|_| Error::InvalidInput(format!("{flag} {text}: expected a frame count, such as 3")))
+}
+
 fn view(
     frame: &FrameArgs,
     frames: Option<u32>,
     screenshot: Option<std::path::PathBuf>,
-    resize_after: Option<Vec<String>>,
+    script: ViewScript,
     paused: bool,
 ) -> Result<()> {
     use crate::viewer::{live::Settings, ViewerOptions};
@@ -569,15 +604,15 @@ fn view(
     if frames == Some(0) {
         return Err(Error::InvalidInput("--frames must be at least 1".into()));
     }
-    let resize_after = match resize_after.as_deref() {
+    let resize_after = match script.resize_after.as_deref() {
         None => None,
-        Some([after, size]) => {
-            let after: u32 = after.parse().map_err(|_| {
-                Error::InvalidInput(format!("--resize-after {after}: expected a frame count, such as 3"))
-            })?;
-            Some((after, super::args::parse_size(size)?))
-        }
+        Some([after, size]) => Some((frame_count("--resize-after", after)?, super::args::parse_size(size)?)),
         Some(_) => return Err(Error::InvalidInput("--resize-after takes a frame count and WxH".into())),
+    };
+    let press_after = match script.press_after.as_deref() {
+        None => None,
+        Some([after, key]) => Some((frame_count("--press-after", after)?, crate::viewer::keys::scripted_key(key)?)),
+        Some(_) => return Err(Error::InvalidInput("--press-after takes a frame count and a key".into())),
     };
     let options = options(frame)?;
     let scene = load_scene(&frame.scene, frame.time)?;
@@ -590,6 +625,7 @@ fn view(
             frames,
             screenshot,
             resize_after,
+            press_after,
             paused,
             start_time: frame.time,
         },

@@ -80,6 +80,51 @@ pub struct VariantResult {
     pub gpu_ms_rounds: Vec<f64>,
 }
 
+/// One variant at N samples per pixel against the same variant at one sample, measured in the
+/// same rounds: `bench --samples N` (N > 1) runs every variant at both counts, side by side.
+#[derive(Debug, Clone, Serialize)]
+pub struct MsaaRatio {
+    /// The variant's label, without its sample count.
+    pub variant: String,
+    pub samples: u32,
+    /// Frame time at N / at 1, round by round (median and bootstrap interval).
+    pub frame_ratio: Option<Ratio>,
+    pub gpu_ratio: Option<Ratio>,
+    /// Fragment shader invocations at N / at 1 (deterministic).
+    pub fragment_ratio: Option<f64>,
+    /// Samples passed at N / at 1 (deterministic; N for a frame whose draws cover whole pixels).
+    pub samples_passed_ratio: Option<f64>,
+}
+
+impl MsaaRatio {
+    /// `multi` is the variant's result at `samples` samples, `single` at one, from one run.
+    pub fn of(
+        variant: &str,
+        samples: u32,
+        multi: &VariantResult,
+        single: &VariantResult,
+        bootstrap: &Bootstrap,
+    ) -> Self {
+        let quotient = |a: u64, b: u64| (b > 0).then(|| a as f64 / b as f64);
+        MsaaRatio {
+            variant: variant.to_owned(),
+            samples,
+            frame_ratio: Ratio::per_round(&multi.frame_ms_rounds, &single.frame_ms_rounds, bootstrap),
+            gpu_ratio: Ratio::per_round(&multi.gpu_ms_rounds, &single.gpu_ms_rounds, bootstrap),
+            fragment_ratio: multi
+                .fragment_invocations
+                .zip(single.fragment_invocations)
+                .and_then(|(a, b)| quotient(a, b)),
+            samples_passed_ratio: quotient(multi.samples_passed, single.samples_passed),
+        }
+    }
+}
+
+/// The label of `variant` at `samples` samples per pixel, as `bench --samples N` lists it.
+pub fn label_at(variant: &str, samples: u32) -> String {
+    format!("{variant} @{samples}x")
+}
+
 #[derive(Debug, Clone, Serialize)]
 pub struct BenchReport {
     pub schema: &'static str,
@@ -88,6 +133,8 @@ pub struct BenchReport {
     pub scene: String,
     pub width: u32,
     pub height: u32,
+    /// `--samples`: the variants' sample count (each also runs at 1 when it is more).
+    pub samples: u32,
     pub warmup: u32,
     pub runs: u32,
     /// How the variants were ordered: `round-robin` (one frame of each per round).
@@ -95,6 +142,8 @@ pub struct BenchReport {
     /// How the ratios' intervals were drawn.
     pub bootstrap: Bootstrap,
     pub variants: Vec<VariantResult>,
+    /// With `--samples N` > 1: each variant at N against itself at 1 (else empty).
+    pub msaa: Vec<MsaaRatio>,
 }
 
 /// The `bench: variant  done/total` line on stderr (drawn only on a terminal), or nothing.
@@ -253,6 +302,44 @@ impl BenchReport {
                 first.name, self.bootstrap.resamples, self.runs, self.bootstrap.seed
             );
         }
+        if !self.msaa.is_empty() {
+            out += &self.msaa_table();
+        }
+        out
+    }
+
+    /// The `--samples N` section: each variant at N samples over itself at one.
+    fn msaa_table(&self) -> String {
+        let mut out = String::new();
+        let name_width = self.msaa.iter().map(|m| m.variant.len()).max().unwrap_or(0).max("variant".len());
+        let n = self.msaa.first().map_or(0, |m| m.samples);
+        let _ = writeln!(
+            out,
+            "
+{n}x / 1x, the same variant in the same rounds:"
+        );
+        let _ = writeln!(
+            out,
+            "{:<name_width$} {:>19} {:>8} {:>11} {:>10}",
+            "variant", "frame x [95% CI]", "GPU x", "fragments x", "samples x"
+        );
+        let value = |v: Option<f64>| v.map_or("n/a".into(), |v| format!("{v:.2}"));
+        for m in &self.msaa {
+            let _ = writeln!(
+                out,
+                "{:<name_width$} {:>19} {:>8} {:>11} {:>10}",
+                m.variant,
+                m.frame_ratio.map_or("n/a".into(), |r| r.brief()),
+                value(m.gpu_ratio.map(|r| r.median)),
+                value(m.fragment_ratio),
+                value(m.samples_passed_ratio),
+            );
+        }
+        let _ = writeln!(
+            out,
+            "frame x, GPU x: median over the rounds of (time at {n}x / time at 1x in the same round); fragments x,\n\
+             samples x: fragment shader invocations and samples passed at {n}x over 1x (samples count every sample)"
+        );
         out
     }
 }
@@ -327,6 +414,22 @@ mod tests {
         assert!(ratio.ci95.contains(ratio.median), "{ratio:?}");
         assert!(ratio.ci95.contains(0.95), "{ratio:?}");
         assert!(ratio.ci95.width() > 0.0 && ratio.ci95.width() < 0.1, "{ratio:?}");
+    }
+
+    #[test]
+    fn msaa_ratios_pair_a_variant_with_itself_at_one_sample_round_by_round() {
+        // The 4x variant costs 2.5x its 1x twin in every round, whatever the drift.
+        let rounds = drifting_rounds(&[7.0, 10.0, 4.0], 30);
+        let names = ["other", "x @4x", "x @1x"].map(|n| (n.to_string(), None)).to_vec();
+        let mut results = summarise(names, &rounds, &Bootstrap::DEFAULT);
+        (results[1].fragment_invocations, results[1].samples_passed) = (Some(1200), 4000);
+        (results[2].fragment_invocations, results[2].samples_passed) = (Some(1000), 1000);
+        let ratio = MsaaRatio::of("x", 4, &results[1], &results[2], &Bootstrap::DEFAULT);
+        let frame = ratio.frame_ratio.unwrap();
+        assert!((frame.median - 2.5).abs() < 1e-12 && frame.ci95.width() < 1e-12, "{frame:?}");
+        assert!((ratio.gpu_ratio.unwrap().median - 2.5).abs() < 1e-12);
+        assert_eq!((ratio.fragment_ratio, ratio.samples_passed_ratio), (Some(1.2), Some(4.0)));
+        assert_eq!(label_at("x", 4), "x @4x");
     }
 
     #[test]

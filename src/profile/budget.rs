@@ -28,7 +28,15 @@ pub struct Budget {
     pub stencil: String,
     pub width: u32,
     pub height: u32,
+    /// Samples per pixel of the recorded frame (samples passed count every sample); budgets
+    /// written before MSAA have none and were one-sample frames.
+    #[serde(default = "one_sample")]
+    pub samples: u32,
     pub passes: Vec<PassBudget>,
+}
+
+fn one_sample() -> u32 {
+    1
 }
 
 /// One counter of one pass above its budget.
@@ -57,6 +65,7 @@ impl Budget {
             stencil: stencil.into(),
             width: counters.width,
             height: counters.height,
+            samples: counters.samples,
             passes: counters
                 .passes
                 .iter()
@@ -96,6 +105,12 @@ impl Budget {
             return Err(Error::InvalidInput(format!(
                 "the budget is for scene {} / {} / stencil {} at {}x{}, not scene {scene} / {technique} / stencil {stencil} at {}x{}",
                 self.scene, self.technique, self.stencil, self.width, self.height, counters.width, counters.height
+            )));
+        }
+        if self.samples != counters.samples {
+            return Err(Error::InvalidInput(format!(
+                "the budget is for {}x MSAA, the frame has {}x: record a budget at --samples {} or check at --samples {}",
+                self.samples, counters.samples, counters.samples, self.samples
             )));
         }
         let mut overruns = Vec::new();

@@ -18,7 +18,7 @@ pub fn bar_chart_svg(title: &str, counters: &FrameCounters) -> String {
             (
                 p.name.clone(),
                 p.fragment_invocations.map_or(0.0, |f| f as f64 / pixels),
-                p.samples_passed as f64 / pixels,
+                counters.samples_per_pixel(p),
                 p.gpu_ms,
             )
         })
@@ -36,7 +36,7 @@ pub fn bar_chart_svg(title: &str, counters: &FrameCounters) -> String {
     let _ = writeln!(svg, r#"<text x="12" y="24" font-size="16" font-weight="bold">{}</text>"#, escape(title));
     let _ = writeln!(
         svg,
-        r##"<rect x="{label_w}" y="36" width="12" height="12" fill="#4878d0"/><text x="{}" y="47">fragment shader invocations / pixel</text><rect x="{}" y="36" width="12" height="12" fill="#ee854a"/><text x="{}" y="47">samples passed / pixel</text>"##,
+        r##"<rect x="{label_w}" y="36" width="12" height="12" fill="#4878d0"/><text x="{}" y="47">fragment shader invocations / pixel</text><rect x="{}" y="36" width="12" height="12" fill="#ee854a"/><text x="{}" y="47">samples passed / (pixel x samples)</text>"##,
         label_w + 18.0,
         label_w + 270.0,
         label_w + 288.0

@@ -1,6 +1,9 @@
 //! The overdraw heat map: fragments shaded per pixel, counted on the GPU in the alpha channel
 //! (every pipeline of the frame replaced by an `ADD ONE ONE` counter of 1/255), drawn as a
-//! colour ramp with a legend of numbered swatches.
+//! colour ramp with a legend of numbered swatches. At N samples per pixel the counter is blended
+//! in every covered sample and the resolve averages them: a pixel's count is the mean over its
+//! samples (rounded), so n full-screen layers read n at any N, and an edge pixel half covered by
+//! one more layer reads between.
 
 use image::{Rgba, RgbaImage};
 

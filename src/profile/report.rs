@@ -38,7 +38,10 @@ pub struct PassRow {
     /// Fragment shader invocations / (width x height).
     pub fragments_per_pixel: Option<f64>,
     pub samples_passed: u64,
-    /// Samples passed / (width x height): the pass's cost in full-screen writes.
+    /// Samples per pixel of the target the pass drew into (the frame's; 1 for a prepass).
+    pub samples: u32,
+    /// Samples passed / (width x height x samples): the pass's cost in full-screen writes, the
+    /// same figure at any sample count.
     pub samples_per_pixel: f64,
     pub gpu_ms: f64,
     /// This pass's share of the frame's GPU time, 0..1.
@@ -51,7 +54,7 @@ pub struct Totals {
     pub fragment_invocations: Option<u64>,
     pub fragments_per_pixel: Option<f64>,
     pub samples_passed: u64,
-    /// Samples passed per pixel over all passes.
+    /// Samples passed / (width x height x samples) over all passes.
     pub overdraw: f64,
     pub gpu_ms: f64,
 }
@@ -65,6 +68,8 @@ pub struct ProfileReport {
     pub stencil: String,
     pub width: u32,
     pub height: u32,
+    /// Samples per pixel of the frame (`--samples`).
+    pub samples: u32,
     /// The frame's attachment formats (the colour is sRGB-encoded, its alpha linear).
     pub frame_formats: FrameFormats,
     pub passes: Vec<PassRow>,
@@ -107,7 +112,8 @@ impl ProfileReport {
                 fragment_invocations: p.fragment_invocations,
                 fragments_per_pixel: p.fragment_invocations.map(|f| f as f64 / pixels),
                 samples_passed: p.samples_passed,
-                samples_per_pixel: p.samples_passed as f64 / pixels,
+                samples: counters.pass_samples(p),
+                samples_per_pixel: counters.samples_per_pixel(p),
                 gpu_ms: p.gpu_ms,
                 share: if total_ms > 0.0 { p.gpu_ms / total_ms } else { 0.0 },
             })
@@ -121,6 +127,7 @@ impl ProfileReport {
             stencil: context.stencil,
             width: counters.width,
             height: counters.height,
+            samples: counters.samples,
             frame_formats: context.frame_formats,
             passes,
             totals: Totals {
@@ -152,13 +159,14 @@ impl ProfileReport {
         let mut out = String::new();
         let _ = writeln!(
             out,
-            "{} | scene {} | technique {} | stencil {} | {}x{} | colour {} depth {}",
+            "{} | scene {} | technique {} | stencil {} | {}x{} | {}x MSAA | colour {} depth {}",
             self.device,
             self.scene,
             self.technique,
             self.stencil,
             self.width,
             self.height,
+            self.samples,
             self.frame_formats.colour,
             self.frame_formats.depth
         );
@@ -235,15 +243,18 @@ impl ProfileReport {
             "\ntile memory traffic per render pass (from its load/store ops: what a tile-based GPU moves\n\
              between tile memory and main memory):"
         );
+        let name_width =
+            self.render_passes.iter().flat_map(|rp| &rp.attachments).map(|a| a.attachment.len()).max().unwrap_or(0);
         for rp in &self.render_passes {
             let times = if rp.count > 1 { format!(" x {}", rp.count) } else { String::new() };
             let _ = writeln!(out, "  {} ({}x{}{times})", rp.pass, rp.width, rp.height);
             for a in &rp.attachments {
                 let _ = writeln!(
                     out,
-                    "    {:<8} {:<20} load {:<9} store {:<9} loaded {:>10} B  stored {:>10} B{}",
+                    "    {:<name_width$} {:<20} {:>2} samples  load {:<9} store {:<9} loaded {:>10} B  stored {:>10} B{}",
                     a.attachment,
                     a.format,
+                    a.samples,
                     a.load_op,
                     a.store_op,
                     a.bytes_loaded * rp.count as u64,
@@ -259,7 +270,8 @@ impl ProfileReport {
             out,
             "\nfragments = fragment shader invocations (pipeline statistics; on lavapipe 16 per 4x4 block a\n\
              triangle touches, depth-rejected blocks included); samples = samples passing depth/stencil\n\
-             (precise occlusion query, exact); samples/px of the frame = overdraw."
+             (precise occlusion query, exact, every sample counted); samples/px = samples / (W x H x N) at\n\
+             N samples per pixel, the same figure at any N; samples/px of the frame = overdraw."
         );
         out
     }

@@ -83,9 +83,72 @@ impl FrameCounters {
         self.pixels() * self.samples.max(1) as u64
     }
 
+    /// Samples per pixel of the target `pass` drew into: a pass that began render passes of its
+    /// own (a prepass: shadow map, bake, shadow texture) drew into those, at their count (1);
+    /// every other pass drew into the frame, at the frame's.
+    pub fn pass_samples(&self, pass: &PassCounters) -> u32 {
+        let own = self.render_passes.iter().filter(|t| t.pass == pass.name).flat_map(|t| &t.attachments);
+        own.map(|a| a.samples).max().unwrap_or(self.samples).max(1)
+    }
+
+    /// The pass's samples passed per sample of a frame-sized target at its own sample count,
+    /// samples / (W x H x N): the same figure at any frame sample count.
+    pub fn samples_per_pixel(&self, pass: &PassCounters) -> f64 {
+        pass.samples_passed as f64 / (self.pixels().max(1) * self.pass_samples(pass) as u64) as f64
+    }
+
     /// Samples passed per frame sample, samples / (W x H x N): how many times each sample was
     /// written on average, the same figure at any sample count.
     pub fn overdraw(&self) -> f64 {
         self.total_samples_passed() as f64 / self.frame_samples() as f64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::frame::render_pass::AttachmentTraffic;
+
+    fn pass(name: &str, samples_passed: u64) -> PassCounters {
+        PassCounters {
+            name: name.into(),
+            draws: 1,
+            vertex_invocations: None,
+            clipping_primitives: None,
+            fragment_invocations: None,
+            samples_passed,
+            gpu_ms: 0.0,
+            start_ms: 0.0,
+        }
+    }
+
+    fn traffic(pass: &str, samples: u32) -> RenderPassTraffic {
+        let attachment = AttachmentTraffic {
+            attachment: "colour",
+            format: "R8G8B8A8_UNORM".into(),
+            load_op: "CLEAR".into(),
+            store_op: "STORE".into(),
+            bytes_loaded: 0,
+            bytes_stored: 0,
+            transient: false,
+            samples,
+        };
+        RenderPassTraffic { pass: pass.into(), width: 8, height: 8, count: 1, attachments: vec![attachment] }
+    }
+
+    #[test]
+    fn a_prepass_counts_at_its_own_sample_count_and_frame_passes_at_the_frames() {
+        let counters = FrameCounters {
+            width: 10,
+            height: 10,
+            samples: 4,
+            passes: vec![pass("shadow texture", 50), pass("scene", 400)],
+            render_passes: vec![traffic("shadow texture", 1), traffic("frame", 4)],
+        };
+        let (prepass, scene) = (&counters.passes[0], &counters.passes[1]);
+        assert_eq!((counters.pass_samples(prepass), counters.pass_samples(scene)), (1, 4));
+        assert_eq!(counters.samples_per_pixel(prepass), 0.5);
+        assert_eq!(counters.samples_per_pixel(scene), 1.0);
+        assert_eq!(counters.overdraw(), 450.0 / 400.0);
     }
 }

@@ -13,11 +13,12 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow};
 use winit::window::{Window, WindowId};
 
 use super::controls::Live;
-use super::keys::{self, Flow};
+use super::keys::{self, Action, Flow};
 use super::live::{LiveFrame, LiveTechnique, Settings};
 use super::x_guard;
 use super::ViewerOptions;
 use crate::error::{Error, Result};
+use crate::frame::targets::check_samples;
 use crate::gpu::swapchain::{Acquired, Surface};
 use crate::gpu::{mobile_profile, Gpu};
 use crate::render::present::Output;
@@ -123,13 +124,30 @@ impl<'s> App<'s> {
         let AppState::Running(running) = &self.state else { return };
         let session = &mut self.session;
         if let Some(action) = keys::action_for(key) {
-            if action.apply(&mut session.settings, &mut session.live, session.base) == Flow::Quit {
+            if session.act(action) == Flow::Quit {
                 event_loop.exit();
             }
         }
         if let Err(error) = update_title(&running.window, session) {
             self.fail(event_loop, error);
         }
+    }
+}
+
+impl Session<'_> {
+    /// Applies a key's action. A sample count the device does not offer for the frame is
+    /// named on stderr and skipped: the next one is tried (1 is always offered).
+    fn act(&mut self, action: Action) -> Flow {
+        let flow = action.apply(&mut self.settings, &mut self.live, self.base);
+        if action == Action::NextSampleCount {
+            for _ in 1..keys::SAMPLE_COUNTS.len() {
+                let render = &self.settings.render;
+                let Err(error) = check_samples(&self.gpu, render.stencil, render.samples) else { break };
+                eprintln!("nostencil view: {}x skipped: {error}", render.samples);
+                action.apply(&mut self.settings, &mut self.live, self.base);
+            }
+        }
+        flow
     }
 }
 
@@ -250,6 +268,15 @@ impl<'s> RunningWindow<'s> {
         session.last = Some(frame);
         update_title(&self.window, session)?;
 
+        if let Some((after, letter)) = session.options.press_after {
+            if session.presented == after {
+                if let Some(action) = keys::action_for_letter(letter) {
+                    if session.act(action) == Flow::Quit {
+                        event_loop.exit();
+                    }
+                }
+            }
+        }
         if let Some((after, size)) = session.options.resize_after {
             if session.presented == after {
                 self.resize_pending = Some(size);
@@ -326,9 +353,10 @@ fn update_title(window: &Window, session: &Session) -> Result<()> {
         counters.total_fragment_invocations().map_or("n/a".to_owned(), |f| format!("{:.2}", f as f64 / pixels));
     let method = frame.brief.as_ref().map_or(String::new(), |b| format!(" {b}"));
     let title = format!(
-        "nostencil view | {} | {}{method} | {fragments} fragments/px, {:.2} samples/px | {:.2} ms GPU | {}x{}{}",
+        "nostencil view | {} | {}{method} | {}x MSAA | {fragments} fragments/px, overdraw {:.2} | {:.2} ms GPU | {}x{}{}",
         session.base.name,
         session.settings.describe(),
+        counters.samples,
         counters.overdraw(),
         counters.total_gpu_ms(),
         counters.width,

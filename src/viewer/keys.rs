@@ -18,6 +18,8 @@ const MAX_TILT: f32 = 1.2;
 const INCREMENTS: [u8; 4] = [1, 2, 4, 8];
 /// The outline blur radii B cycles through (pixels; 0 is sharp).
 const OUTLINE_BLURS: [u32; 3] = [0, 4, 8];
+/// The sample counts M cycles through (those the device lacks are skipped, and named).
+pub(super) const SAMPLE_COUNTS: [u32; 3] = [1, 2, 4];
 
 /// A key as the table names it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -58,6 +60,7 @@ pub(super) enum Action {
     NextOutlineMethod,
     NextOutlineBlur,
     SwitchAtlasLight,
+    NextSampleCount,
     Pause,
     TurnLight,
     TurnLightBack,
@@ -124,6 +127,11 @@ pub(super) const BINDINGS: &[Binding] = &[
         action: Action::SwitchAtlasLight,
     },
     Binding {
+        keys: &[KeyPress::Letter('m')],
+        description: "MSAA: 1x, 2x, 4x samples per pixel (a count the device lacks is skipped, and named)",
+        action: Action::NextSampleCount,
+    },
+    Binding {
         keys: &[KeyPress::Named(NamedKey::Space), KeyPress::Letter('p')],
         description:
             "pause / resume the animation (shadow casters turn about their vertical axis; animated models play)",
@@ -172,6 +180,22 @@ pub(super) fn action_for(key: &Key) -> Option<Action> {
     }
 }
 
+/// The action of the letter `letter` typed (as `action_for` of that character).
+pub(super) fn action_for_letter(letter: char) -> Option<Action> {
+    action_for(&Key::Character(letter.to_string().into()))
+}
+
+/// `--press-after`'s key: one character the key map binds.
+pub(crate) fn scripted_key(text: &str) -> crate::error::Result<char> {
+    let mut chars = text.chars();
+    match (chars.next(), chars.next()) {
+        (Some(c), None) if action_for_letter(c).is_some() => Ok(c),
+        _ => Err(crate::error::Error::InvalidInput(format!(
+            "--press-after: '{text}' is not a key the viewer binds; use one letter from `nostencil view --help`"
+        ))),
+    }
+}
+
 /// Whether `text` is exactly the one character `c`.
 fn is_char(text: &str, c: char) -> bool {
     let mut chars = text.chars();
@@ -204,6 +228,7 @@ impl Action {
             Action::SwitchAtlasLight => {
                 s.shadow_atlas.light = cycle(&[LightMode::Fixed, LightMode::Moving], s.shadow_atlas.light, 1)
             }
+            Action::NextSampleCount => s.samples = cycle(&SAMPLE_COUNTS, s.samples, 1),
             Action::Pause => live.paused = !live.paused,
             Action::TurnLight => live.light_yaw -= LIGHT_STEP,
             Action::TurnLightBack => live.light_yaw += LIGHT_STEP,

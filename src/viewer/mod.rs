@@ -46,6 +46,9 @@ pub struct ViewerOptions {
     pub screenshot: Option<PathBuf>,
     /// After this many presented frames, ask the window system for a new inner size.
     pub resize_after: Option<(u32, (u32, u32))>,
+    /// After this many presented frames, act as if this key (a letter the key map binds) was
+    /// pressed: a scripted switch, for tests.
+    pub press_after: Option<(u32, char)>,
     /// Start with the animation paused (frames then match `nostencil render`).
     pub paused: bool,
     /// The animation time the scene was built at (`--time`); the viewer's clock starts there.
