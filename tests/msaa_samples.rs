@@ -1,0 +1,267 @@
+//! MSAA proven sample by sample (DESIGN.md section 9): the multisampled colour read back
+//! before its resolve, the alpha counter equal to the real stencil's count (times k) in every
+//! sample, shadow edges with intermediate resolved values, the box's shadow still its projected
+//! outline at 4x, and saturation counted per sample.
+
+mod common;
+
+use std::sync::Arc;
+
+use ash::vk;
+use glam::Vec4;
+use nostencil::frame::{FrameTargets, StencilMode};
+use nostencil::gpu::memory::Buffer;
+use nostencil::gpu::Gpu;
+use nostencil::mesh::caster::CastPath;
+use nostencil::mesh::Reach;
+use nostencil::pipeline::recipes::{both_faces, stencil_face, ALPHA_ONLY, STENCIL_COUNT_ZERO};
+use nostencil::pipeline::{BlendState, FixedFunction, PipelineDesc, VertexLayout};
+use nostencil::render::plan::{record_plan, PassDraws, PassPlan, PlanPipelines, PlannedPass, Push, SetRole, Target};
+use nostencil::render::{
+    FrameRecorder, FrameSamples, FrameUniforms, GpuScene, ObjectPush, Pipeline, PipelineTarget, Renderer,
+};
+use nostencil::scene::{builtin_scene, Scene};
+use nostencil::technique::shadow_volume::{self, bounds, build_volume, prepare_casters};
+use nostencil::technique::shadow_volume::{Normalize, ShadowVolumeOptions, VolumeMethod};
+use nostencil::technique::{RenderOptions, Technique};
+
+const SAMPLES: u32 = 4;
+
+fn technique(name: &str) -> &'static dyn Technique {
+    nostencil::technique::by_name(name).expect("technique")
+}
+
+/// A shadow-volume frame at 4x that keeps its samples, and every sample read back.
+fn kept_frame(gpu: &Arc<Gpu>, scene: &Scene, options: RenderOptions) -> (nostencil::FrameOutput, FrameSamples) {
+    let options = RenderOptions { samples: SAMPLES, keep_samples: true, ..options };
+    let mut renderer = options.technique.build(gpu, scene, &options).expect("renderer");
+    let frame = renderer.frame_with(scene).expect("frame");
+    let samples = renderer.renderer_mut().read_samples().expect("samples read back");
+    (frame.output, samples)
+}
+
+#[test]
+fn every_sample_is_read_back_and_resolves_to_the_frame() {
+    let gpu = common::gpu();
+    let scene = builtin_scene("box").expect("scene");
+    let options = RenderOptions {
+        width: 96,
+        height: 64,
+        technique: technique("shadow-volume"),
+        shadow_volume: ShadowVolumeOptions { normalize: Normalize::Subpass, ..Default::default() },
+        ..Default::default()
+    };
+    let (output, samples) = kept_frame(&gpu, &scene, options.clone());
+    assert_eq!((samples.width, samples.height, samples.samples), (96, 64, SAMPLES));
+    let (mut uniform, mut mixed) = (0, 0);
+    for y in 0..samples.height {
+        for x in 0..samples.width {
+            let pixel = samples.pixel(x, y);
+            let resolved = output.image.get_pixel(x, y).0;
+            if pixel.iter().all(|s| *s == pixel[0]) {
+                // Every sample alike: the resolve is that sample, byte for byte (so the
+                // read-back returns the stored sRGB bytes, not a re-rounded linear value).
+                assert_eq!(pixel[0], resolved, "pixel ({x}, {y})");
+                uniform += 1;
+            } else {
+                // Edges: the resolve averages the samples (RGB in linear light, alpha as is).
+                mixed += 1;
+                for c in 0..3 {
+                    let mean = pixel.iter().map(|s| nostencil::frame::srgb::decode(s[c])).sum::<f32>() / 4.0;
+                    let expected = nostencil::frame::srgb::encode(mean);
+                    assert!(resolved[c].abs_diff(expected) <= 1, "({x}, {y}) channel {c}: {pixel:?} -> {resolved:?}");
+                }
+                let mean = pixel.iter().map(|s| s[3] as f32).sum::<f32>() / 4.0;
+                assert!((resolved[3] as f32 - mean).abs() <= 1.0, "({x}, {y}) alpha: {pixel:?} -> {resolved:?}");
+            }
+        }
+    }
+    assert!(uniform > 4000 && mixed > 50, "{uniform} uniform and {mixed} edge pixels");
+
+    // A frame that left its samples in tile memory cannot be read back: a clear error.
+    let transient = RenderOptions { samples: SAMPLES, ..options };
+    let mut renderer = transient.technique.build(&gpu, &scene, &transient).expect("renderer");
+    renderer.frame_with(&scene).expect("frame");
+    let error = renderer.renderer_mut().read_samples().expect_err("no samples kept").to_string();
+    assert!(error.contains("keep_samples"), "{error}");
+    common::assert_no_validation_messages(&gpu);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The per-sample proof: the alpha counter against the real stencil, before any normalisation.
+
+/// The largest count the reference makes visible one value at a time; a count above it shows
+/// as alpha 255, which no emulated count below the clamp equals.
+const SHOWN_COUNTS: u32 = 12;
+
+/// A full-screen pass writing alpha `value` where the stencil passes `compare` against
+/// `reference`: per-sample stencil test, so per-sample write.
+fn stencil_to_alpha(name: &'static str, compare: vk::CompareOp, reference: u32, value: u32) -> PlannedPass {
+    let desc = PipelineDesc {
+        name,
+        vertex_shader: "fullscreen.vert",
+        fragment_shader: "solid.frag",
+        vertex_layout: VertexLayout::NONE,
+        fixed: FixedFunction {
+            stencil: Some(both_faces(stencil_face(compare, reference, 0, vk::StencilOp::KEEP, vk::StencilOp::KEEP))),
+            blend: BlendState { colour: None, alpha: None, write_mask: ALPHA_ONLY },
+            ..FixedFunction::FULLSCREEN
+        },
+        push_constant_bytes: 16,
+        subpass: 0,
+    };
+    PlannedPass::full_screen(name, desc, Vec4::new(0.0, 0.0, 0.0, value as f32 / 255.0))
+}
+
+/// One caster's volume on the GPU, unclipped by any scissor.
+struct Volume {
+    object: usize,
+    vertices: Buffer,
+    indices: Buffer,
+    count: u32,
+}
+
+/// The scene's meshes and volumes, drawn as the shadow-volume renderer draws them (every
+/// increment, then every decrement), over the whole frame.
+struct VolumeDraws<'a> {
+    scene: &'a Scene,
+    meshes: GpuScene,
+    volumes: Vec<Volume>,
+}
+
+impl<'a> VolumeDraws<'a> {
+    fn new(gpu: &Arc<Gpu>, scene: &'a Scene, zfail: bool) -> Self {
+        let (casters, warnings) = prepare_casters(scene);
+        assert!(warnings.is_empty(), "{warnings:?}");
+        let boxes = bounds::object_boxes(scene);
+        let receivers = bounds::receivers_box(&boxes).expect("receivers");
+        let volumes = casters
+            .iter()
+            .map(|caster| {
+                let caster_box = boxes[caster.object].expect("caster bounds");
+                let reach = bounds::caster_bounds(&scene.light, caster_box, receivers).reach;
+                assert!(!matches!(reach, Reach::Infinite), "a clipped volume");
+                let volume = build_volume(scene, caster, reach, true);
+                let mut indices = volume.sides.clone();
+                // As the renderer: near caps for z-fail and for two-sided casters.
+                if zfail || matches!(caster.mesh.path, CastPath::TwoSided { .. }) {
+                    indices.extend_from_slice(&volume.near_cap);
+                }
+                indices.extend_from_slice(&volume.far_cap);
+                let usage = vk::BufferUsageFlags::VERTEX_BUFFER;
+                Volume {
+                    object: caster.object,
+                    vertices: Buffer::with_data(gpu, "volume vertices", &volume.vertices, usage).expect("vertices"),
+                    indices: Buffer::with_data(gpu, "volume indices", &indices, vk::BufferUsageFlags::INDEX_BUFFER)
+                        .expect("indices"),
+                    count: indices.len() as u32,
+                }
+            })
+            .collect();
+        VolumeDraws { scene, meshes: GpuScene::upload(gpu, scene).expect("meshes"), volumes }
+    }
+}
+
+impl PassDraws for VolumeDraws<'_> {
+    fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
+        (role == SetRole::Material).then(|| self.meshes.materials.template_set())
+    }
+
+    fn meshes(&self) -> Option<(&Scene, &GpuScene)> {
+        Some((self.scene, &self.meshes))
+    }
+
+    fn draw(&self, rec: &mut FrameRecorder, pass: &PlannedPass, pipelines: &[&Pipeline]) -> nostencil::Result<()> {
+        let Push::TransformAlpha(alpha) = pass.push else { panic!("'{}' is not a volume pass", pass.name) };
+        for (index, pipeline) in pipelines.iter().enumerate() {
+            if index > 0 {
+                rec.bind(pipeline);
+            }
+            for volume in &self.volumes {
+                let model = self.scene.objects[volume.object].transform;
+                rec.push(pipeline, &ObjectPush { model, colour: Vec4::new(0.0, 0.0, 0.0, alpha) });
+                rec.draw_indexed(&volume.vertices, &volume.indices, volume.count);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The plan's scene and volume passes at 4x in `stencil`'s path; the reference then shows each
+/// sample's count v (the stencil at 0x80 + v) as alpha v x k / 255. Every sample read back.
+fn counts_per_sample(
+    gpu: &Arc<Gpu>,
+    scene: &Scene,
+    stencil: StencilMode,
+    options: ShadowVolumeOptions,
+) -> FrameSamples {
+    let (width, height) = (128, 96);
+    let targets = FrameTargets::with_samples(gpu, width, height, stencil, false, SAMPLES, true).expect("targets");
+    let mut renderer = Renderer::with_targets(gpu, targets).expect("renderer");
+    renderer.stencil_clear = STENCIL_COUNT_ZERO;
+    let full = shadow_volume::recipes::plan(&options, stencil, SAMPLES).expect("plan");
+    let volumes = full.passes.iter().position(|p| p.name.starts_with("volumes")).expect("volume pass");
+    let mut plan = PassPlan::new();
+    plan.extend(full.passes[..=volumes].iter().cloned());
+    if stencil == StencilMode::Reference {
+        let k = u32::from(options.increment);
+        for v in 1..=SHOWN_COUNTS {
+            let name: &'static str = Box::leak(format!("stencil count {v}").into_boxed_str());
+            plan.push(stencil_to_alpha(name, vk::CompareOp::EQUAL, STENCIL_COUNT_ZERO + v, v * k));
+        }
+        // `reference < stencil`: a count above those shown.
+        plan.push(stencil_to_alpha("stencil count above", vk::CompareOp::LESS, STENCIL_COUNT_ZERO + SHOWN_COUNTS, 255));
+    }
+    let draws = VolumeDraws::new(gpu, scene, options.method == VolumeMethod::ZFail);
+    let target = PipelineTarget { render_pass: renderer.targets.render_pass, colour_attachments: 1, samples: SAMPLES };
+    let frame_layout = renderer.frame.layout;
+    let material_layout = draws.meshes.materials.layout();
+    let pipelines = PlanPipelines::build(
+        gpu,
+        &plan,
+        |t| {
+            assert_eq!(t, Target::Frame);
+            Ok(target)
+        },
+        |role| Ok(if role == SetRole::Material { material_layout } else { frame_layout }),
+    )
+    .expect("pipelines");
+    let uniforms = FrameUniforms::for_scene(scene, renderer.aspect());
+    let clear = scene.background.extend(0.0).to_array();
+    renderer
+        .render(&uniforms, clear, |rec| record_plan(rec, &plan, &pipelines, true, &|_| true, &draws))
+        .expect("frame");
+    renderer.read_samples().expect("samples")
+}
+
+#[test]
+fn the_alpha_counter_equals_the_stencil_count_in_every_sample() {
+    let gpu = common::gpu();
+    // Stacked casters whose volumes overlap: counts of 2 and more, and edges cutting pixels.
+    let scene = builtin_scene("overlap").expect("scene");
+    for method in [VolumeMethod::ZPass, VolumeMethod::ZFail] {
+        for k in [1u8, 4] {
+            let options = ShadowVolumeOptions { method, increment: k, ..Default::default() };
+            let emulated = counts_per_sample(&gpu, &scene, StencilMode::Emulated, options);
+            let reference = counts_per_sample(&gpu, &scene, StencilMode::Reference, options);
+            let what = format!("{} k = {k}", method.name());
+            let (mut shadowed, mut deep, mut cut) = (0, 0, 0);
+            for y in 0..emulated.height {
+                for x in 0..emulated.width {
+                    let counts: Vec<u8> = emulated.pixel(x, y).iter().map(|s| s[3]).collect();
+                    let stencil: Vec<u8> = reference.pixel(x, y).iter().map(|s| s[3]).collect();
+                    assert_eq!(counts, stencil, "{what}: pixel ({x}, {y}), alpha per sample");
+                    assert!(counts.iter().all(|&a| a % k == 0 && a != 255), "{what}: ({x}, {y}) {counts:?}");
+                    shadowed += counts.iter().filter(|&&a| a > 0).count();
+                    deep += counts.iter().filter(|&&a| a >= 2 * k).count();
+                    cut += counts.iter().any(|&a| a != counts[0]) as u32;
+                }
+            }
+            // Not vacuous: shadowed samples, overlapping volumes, and pixels whose samples
+            // hold different counts (a volume's edge cuts them).
+            assert!(shadowed > 2000 && deep > 100 && cut > 100, "{what}: {shadowed} shadowed, {deep} deep, {cut} cut");
+            eprintln!("{what}: {shadowed} shadowed samples, {deep} with a count >= 2, {cut} pixels cut");
+        }
+    }
+    common::assert_no_validation_messages(&gpu);
+}
