@@ -265,3 +265,159 @@ fn the_alpha_counter_equals_the_stencil_count_in_every_sample() {
     }
     common::assert_no_validation_messages(&gpu);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Resolved edges and the analytic outline.
+
+/// A frame of `options` at `samples` samples.
+fn frame(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions, samples: u32) -> nostencil::technique::TechniqueFrame {
+    let options = RenderOptions { samples, ..options.clone() };
+    nostencil::technique::render_scene(gpu, scene, &options).expect("frame")
+}
+
+/// How far each pixel of `shadowed` is from `unshadowed` toward the full shadow (colour x
+/// `factor` / 255 in linear light): 0 lit, 1 shadowed, between them the fraction of its
+/// samples in shadow; `None` where the pixel is too dark to tell, or its channels disagree
+/// (not a mix of lit and shadowed).
+fn shadow_coverage(shadowed: &image::RgbaImage, unshadowed: &image::RgbaImage, factor: u8) -> Vec<Option<f32>> {
+    use nostencil::frame::srgb::decode;
+    let darkening = 1.0 - factor as f32 / 255.0;
+    shadowed
+        .chunks_exact(4)
+        .zip(unshadowed.chunks_exact(4))
+        .map(|(c, u)| {
+            let t: Vec<f32> = (0..3)
+                .filter(|&i| decode(u[i]) > 0.1)
+                .map(|i| (1.0 - decode(c[i]) / decode(u[i])) / darkening)
+                .collect();
+            let (lo, hi) = t.iter().fold((f32::MAX, f32::MIN), |(lo, hi), &v| (lo.min(v), hi.max(v)));
+            (!t.is_empty() && hi - lo < 0.08).then(|| t.iter().sum::<f32>() / t.len() as f32)
+        })
+        .collect()
+}
+
+fn is_between(t: Option<f32>) -> bool {
+    t.is_some_and(|t| (0.15..=0.85).contains(&t))
+}
+
+/// The box scene, emulated: shadow-volume (subpass and seed) and planar. At 4x the shadow's
+/// border resolves to colours between lit and shadowed; the 1x frame has none.
+#[test]
+fn shadow_edges_resolve_between_lit_and_shadowed_only_at_4x() {
+    let gpu = common::gpu();
+    let scene = builtin_scene("box").expect("scene");
+    let base = RenderOptions { width: 256, height: 192, ..Default::default() };
+    let volumes = |normalize| RenderOptions {
+        technique: technique("shadow-volume"),
+        shadow_volume: ShadowVolumeOptions { normalize, ..Default::default() },
+        ..base.clone()
+    };
+    let planar = RenderOptions { technique: technique("planar"), ..base.clone() };
+    let unshadowed_planar = RenderOptions {
+        planar: nostencil::technique::PlanarOptions { shadows: false, ..planar.planar },
+        ..planar.clone()
+    };
+    let lit = RenderOptions { technique: technique("lit"), ..base.clone() };
+    let cases = [
+        ("shadow-volume subpass", volumes(Normalize::Subpass), &lit, ShadowVolumeOptions::default().shadow_factor),
+        ("shadow-volume seed", volumes(Normalize::Seed), &lit, ShadowVolumeOptions::default().shadow_factor),
+        ("planar", planar.clone(), &unshadowed_planar, planar.planar.shadow_factor),
+    ];
+    for (what, options, unshadowed, factor) in cases {
+        let one = frame(&gpu, &scene, &options, 1).output.image;
+        let one_coverage = shadow_coverage(&one, &frame(&gpu, &scene, unshadowed, 1).output.image, factor);
+        let four = frame(&gpu, &scene, &options, SAMPLES).output.image;
+        let four_coverage = shadow_coverage(&four, &frame(&gpu, &scene, unshadowed, SAMPLES).output.image, factor);
+        let shadowed = one_coverage.iter().filter(|t| t.is_some_and(|t| t > 0.9)).count();
+        let between_1x = one_coverage.iter().filter(|t| is_between(**t)).count();
+        let between: Vec<[u8; 3]> = four
+            .chunks_exact(4)
+            .zip(&four_coverage)
+            .filter(|(_, t)| is_between(**t))
+            .map(|(p, _)| [p[0], p[1], p[2]])
+            .collect();
+        eprintln!("{what}: 1x {shadowed} shadowed, {between_1x} between; 4x {} between", between.len());
+        assert!(shadowed > 300, "{what}: {shadowed} shadowed pixels at 1x");
+        assert_eq!(between_1x, 0, "{what}: the 1x frame has colours between lit and shadowed");
+        assert!(between.len() > 40, "{what}: {} border pixels between lit and shadowed at 4x", between.len());
+        // And none of those colours is in the 1x frame at all.
+        let colours_1x: std::collections::HashSet<[u8; 3]> = one.chunks_exact(4).map(|p| [p[0], p[1], p[2]]).collect();
+        let shared = between.iter().filter(|c| colours_1x.contains(*c)).count();
+        assert_eq!(shared, 0, "{what}: {shared} border colours of the 4x frame also appear at 1x");
+    }
+    common::assert_no_validation_messages(&gpu);
+}
+
+/// Is `p` inside triangle `t` (either winding, border included)?
+fn inside_triangle(t: &[glam::Vec2; 3], p: glam::Vec2) -> bool {
+    let side = |a: glam::Vec2, b: glam::Vec2| (b - a).perp_dot(p - a);
+    let s = [side(t[0], t[1]), side(t[1], t[2]), side(t[2], t[0])];
+    s.iter().all(|&d| d >= 0.0) || s.iter().all(|&d| d <= 0.0)
+}
+
+/// As tests/shadow_volume.rs's 1x check, at 4x: the ground pixels shadowed to at least half
+/// coverage (`shadow_coverage` >= 0.5) against those whose centre lies inside the casters'
+/// projected outline, computed on the CPU (every casting triangle projected along the light
+/// onto the ground). Pixels where the 4x lit frame shows a caster (its edges included) are
+/// left out.
+#[test]
+fn the_box_shadow_at_4x_thresholded_at_half_coverage_is_its_projected_outline() {
+    const BIG: (u32, u32) = (256, 192);
+    let (width, height) = BIG;
+    let gpu = common::gpu();
+    let scene = builtin_scene("box").expect("scene");
+    let nostencil::scene::Light::Directional { direction } = scene.light else { panic!("directional light") };
+    let to_ground = |c: glam::Vec3| {
+        let p = c + direction * (c.y / -direction.y);
+        glam::Vec2::new(p.x, p.z)
+    };
+    let triangles: Vec<[glam::Vec2; 3]> = scene
+        .objects
+        .iter()
+        .filter(|o| o.casts_shadow)
+        .flat_map(|o| {
+            let mesh = &scene.meshes[o.mesh].data;
+            mesh.indices.chunks_exact(3).map(move |t| {
+                [t[0], t[1], t[2]].map(|i| to_ground(o.transform.transform_point3(mesh.positions[i as usize])))
+            })
+        })
+        .collect();
+    let base = RenderOptions { width, height, ..Default::default() };
+    let lit = RenderOptions { technique: technique("lit"), ..base.clone() };
+    let unshadowed = frame(&gpu, &scene, &lit, SAMPLES).output.image;
+    let mut without = scene.clone();
+    without.objects.retain(|o| !o.casts_shadow);
+    let background = frame(&gpu, &without, &lit, SAMPLES).output.image;
+    let caster_pixels: Vec<bool> =
+        unshadowed.chunks_exact(4).zip(background.chunks_exact(4)).map(|(a, b)| a != b).collect();
+    for &normalize in Normalize::ALL {
+        let options = ShadowVolumeOptions { normalize, ..Default::default() };
+        let volumes = RenderOptions { technique: technique("shadow-volume"), shadow_volume: options, ..base.clone() };
+        let shadowed = frame(&gpu, &scene, &volumes, SAMPLES).output.image;
+        let coverage = shadow_coverage(&shadowed, &unshadowed, options.shadow_factor);
+        let (mut both, mut either, mut partial) = (0, 0, 0);
+        for y in 0..height {
+            for x in 0..width {
+                let i = (y * width + x) as usize;
+                if caster_pixels[i] {
+                    continue;
+                }
+                let expected = common::ground_point(&scene.camera, (x, y), BIG, 0.0).is_some_and(|p| {
+                    let p = glam::Vec2::new(p.x, p.z);
+                    p.x.abs() < 7.0 && p.y.abs() < 7.0 && triangles.iter().any(|t| inside_triangle(t, p))
+                });
+                let dark = coverage[i].is_some_and(|t| t >= 0.5);
+                partial += is_between(coverage[i]) as u32;
+                both += (expected && dark) as u32;
+                either += (expected || dark) as u32;
+            }
+        }
+        let iou = both as f64 / either as f64;
+        eprintln!("{}: IoU {iou:.4} over {either} pixels, {partial} partly covered", normalize.name());
+        assert!(either > 200, "{}: the shadow is too small to judge ({either} pixels)", normalize.name());
+        // Not vacuous: the edges are anti-aliased (the threshold decides them).
+        assert!(partial > 20, "{}: {partial} partly covered pixels", normalize.name());
+        assert!(iou >= 0.99, "{}: intersection over union {iou:.4}", normalize.name());
+    }
+    common::assert_no_validation_messages(&gpu);
+}
