@@ -84,6 +84,12 @@ fn every_sample_is_read_back_and_resolves_to_the_frame() {
     renderer.frame_with(&scene).expect("frame");
     let error = renderer.renderer_mut().read_samples().expect_err("no samples kept").to_string();
     assert!(error.contains("keep_samples"), "{error}");
+    // Nor can a frame that was never drawn.
+    let targets =
+        FrameTargets::with_samples(&gpu, 16, 16, StencilMode::Emulated, false, SAMPLES, true).expect("targets");
+    let fresh = Renderer::with_targets(&gpu, targets).expect("renderer");
+    let error = fresh.read_samples().expect_err("no frame yet").to_string();
+    assert!(error.contains("no frame"), "{error}");
     common::assert_no_validation_messages(&gpu);
 }
 
