@@ -248,7 +248,7 @@ fn tile_traffic_is_listed_per_render_pass_with_known_sizes() {
         let (stdout, _) = common::run_ok(args);
         serde_json::from_str(&stdout).expect("JSON")
     };
-    let lit = json(&["profile", "--size", "96x64", "--format", "json"]);
+    let lit = json(&["profile", "--size", "96x64", "--format", "json", "--samples", "1"]);
     let passes = lit["render_passes"].as_array().expect("render_passes");
     assert_eq!(passes.len(), 1, "{passes:?}");
     assert_eq!((passes[0]["pass"].as_str(), passes[0]["count"].as_u64()), (Some("frame"), Some(1)));
@@ -256,6 +256,17 @@ fn tile_traffic_is_listed_per_render_pass_with_known_sizes() {
     assert_eq!(frame[0]["bytes_stored"], 96 * 64 * 4);
     assert_eq!(frame[0]["bytes_loaded"], 0);
     assert_eq!(frame[1]["bytes_stored"], 0);
+    // At the default 4x: multisampled colour and depth transient, nothing stored; the resolve
+    // target stored, one sample.
+    let four = json(&["profile", "--size", "96x64", "--format", "json"]);
+    let frame = four["render_passes"][0]["attachments"].as_array().expect("attachments");
+    assert_eq!(frame.len(), 3, "{frame:?}");
+    for attachment in &frame[..2] {
+        assert_eq!((attachment["samples"].as_u64(), attachment["transient"].as_bool()), (Some(4), Some(true)));
+        assert_eq!(attachment["bytes_stored"], 0, "{attachment}");
+    }
+    assert_eq!((frame[2]["samples"].as_u64(), frame[2]["transient"].as_bool()), (Some(1), Some(false)));
+    assert_eq!(frame[2]["bytes_stored"], 96 * 64 * 4);
 
     // The atlas with a moving light: the shadow map (512^2 depth, stored), one bake and one
     // dilate per model (colour, stored) under their passes, then the frame.

@@ -804,7 +804,8 @@ fn the_command_line_sets_the_shadow_factor_and_the_iterations_follow_it() {
     let render = |name: &str, args: &[&str]| {
         let out = dir.join(name);
         let out = out.to_str().expect("a UTF-8 path");
-        let mut all = vec!["render", "--size", "128x96", "--out", out];
+        // One sample: every darkened pixel is lit x F/255 exactly, no edge blends in between.
+        let mut all = vec!["render", "--size", "128x96", "--samples", "1", "--out", out];
         all.extend_from_slice(args);
         common::run_ok(&all);
         common::read_png(Path::new(out))
