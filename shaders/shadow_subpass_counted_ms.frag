@@ -9,7 +9,9 @@ layout(set = 0, binding = 1, std430) buffer Saturation {
 } saturation;
 
 void main() {
-    int saturated = saturated_samples();
+    // Only the samples this invocation covers: lavapipe may shade a pixel once per sample
+    // (each invocation then reads every sample of it), and a sample must be counted once.
+    int saturated = saturated_samples() & gl_SampleMaskIn[0];
     if (saturated != 0) {
         atomicAdd(saturation.saturated_samples, uint(bitCount(saturated)));
     }

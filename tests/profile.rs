@@ -174,10 +174,10 @@ fn json_matches_the_table_and_totals_add_up() {
         assert!(row.contains(&pass["fragment_invocations"].to_string()), "{row}");
     }
     // The default (seed) frame draws no probe: saturation is not measured, and says so.
-    assert!(report["technique_stats"]["saturated_pixels"].is_null());
+    assert!(report["technique_stats"]["saturated_samples"].is_null());
     let measured_by = report["technique_stats"]["saturation_measured_by"].as_str().expect("saturation source");
     assert!(measured_by.contains("not measured (use --saturation-probe)"), "{measured_by}");
-    assert!(table.contains("saturated pixels: not measured (use --saturation-probe)"), "{table}");
+    assert!(table.contains("saturated samples: not measured (use --saturation-probe)"), "{table}");
     assert!(!table.contains("saturation probe"), "{table}");
     // The frame's formats are named: sRGB colour, and a depth format with no stencil aspect.
     assert_eq!(report["frame_formats"]["colour"], "R8G8B8A8_SRGB");
@@ -197,15 +197,15 @@ fn saturation_is_reported_where_measured_and_the_probe_is_opt_in() {
         (report["technique_stats"].clone(), names)
     };
     let (subpass, names) = stats(&["--normalize", "subpass"]);
-    assert_eq!(subpass["saturated_pixels"], 0, "{subpass}");
+    assert_eq!(subpass["saturated_samples"], 0, "{subpass}");
     assert!(subpass["saturation_measured_by"].as_str().unwrap().contains("subpass apply"), "{subpass}");
     assert!(!names.iter().any(|n| n == "saturation probe"), "{names:?}");
     let (probed, names) = stats(&["--normalize", "max", "--saturation-probe"]);
     assert!(names.iter().any(|n| n == "saturation probe"), "{names:?}");
-    assert_eq!(probed["saturated_pixels"], 0, "{probed}");
-    assert_eq!(probed["probe_saturated_pixels"], 0, "{probed}");
+    assert_eq!(probed["saturated_samples"], 0, "{probed}");
+    assert_eq!(probed["probe_saturated_samples"], 0, "{probed}");
     let (reference, names) = stats(&["--stencil", "reference"]);
-    assert!(reference["saturated_pixels"].is_null(), "{reference}");
+    assert!(reference["saturated_samples"].is_null(), "{reference}");
     assert_eq!(names, ["scene", "volumes (stencil, z-pass)", "apply (stencil)"]);
     // The probe is never timed.
     let stderr = common::run_err(&["bench", "--technique", "shadow-volume", "--size", "32x32", "--saturation-probe"]);

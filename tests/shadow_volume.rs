@@ -107,7 +107,7 @@ fn emulated_equals_reference_for_every_scene_increment_darkness_and_normalisatio
                     let emulated = render(&gpu, &scene, StencilMode::Emulated, options);
                     // Only the subpass apply counts saturation without the probe.
                     let measured = (normalize == Normalize::Subpass).then_some(0);
-                    assert_eq!(emulated.stats.saturated_pixels, measured, "{name} k={k}");
+                    assert_eq!(emulated.stats.saturated_samples, measured, "{name} k={k}");
                     let differing = rgb_differences(&emulated.output.image, &reference.output.image);
                     let what = format!("{name} {method:?} k={k} D={d} {}", normalize.name());
                     assert_eq!(differing, 0, "{what}: {differing} pixels differ");
@@ -489,38 +489,38 @@ fn the_subpass_apply_counts_saturation_with_no_probe_and_matches_the_probe() {
     assert!(!names.contains(&shadow_volume::SATURATION_PROBE), "no probe pass by default: {names:?}");
     let full_screen = k8.output.counters.passes.iter().filter(|p| p.name.starts_with("apply")).count();
     assert_eq!(full_screen, 1, "{names:?}");
-    let counted = k8.stats.saturated_pixels.expect("the subpass apply counts saturation");
+    let counted = k8.stats.saturated_samples.expect("the subpass apply counts saturation");
     let pixels = u64::from(SIZE.0 * SIZE.1);
     assert!(counted > 50 && counted < pixels / 2, "k = 8 with 40 stacked volumes: {counted} saturated pixels");
-    assert_eq!(k8.stats.probe_saturated_pixels, None);
+    assert_eq!(k8.stats.probe_saturated_samples, None);
 
     // The same frame with the probe: both count the same pixels.
     let both = render(&gpu, &scene, StencilMode::Emulated, subpass(8, true));
     assert!(pass_names(&both).contains(&shadow_volume::SATURATION_PROBE));
-    assert_eq!(both.stats.probe_saturated_pixels, both.stats.saturated_pixels, "apply and probe disagree");
-    assert_eq!(both.stats.saturated_pixels, Some(counted), "the probe changed the apply's count");
+    assert_eq!(both.stats.probe_saturated_samples, both.stats.saturated_samples, "apply and probe disagree");
+    assert_eq!(both.stats.saturated_samples, Some(counted), "the probe changed the apply's count");
 
     // The blend-only paths count only with the probe, and find the same pixels.
     let seed = ShadowVolumeOptions { increment: 8, ..Default::default() };
     let unmeasured = render(&gpu, &scene, StencilMode::Emulated, seed);
-    assert_eq!(unmeasured.stats.saturated_pixels, None);
+    assert_eq!(unmeasured.stats.saturated_samples, None);
     assert!(!pass_names(&unmeasured).contains(&shadow_volume::SATURATION_PROBE));
     assert!(unmeasured.stats.saturation_measured_by.contains("--saturation-probe"));
     let probed = render(&gpu, &scene, StencilMode::Emulated, ShadowVolumeOptions { saturation_probe: true, ..seed });
-    assert_eq!(probed.stats.saturated_pixels, Some(counted));
+    assert_eq!(probed.stats.saturated_samples, Some(counted));
 
     // Without fragment atomics (a device outside the baseline) the subpass path says so, and
     // draws the same image.
     let without = ShadowVolumeOptions { fragment_atomics: false, ..subpass(8, false) };
     let uncounted = render(&gpu, &scene, StencilMode::Emulated, without);
-    assert_eq!(uncounted.stats.saturated_pixels, None);
+    assert_eq!(uncounted.stats.saturated_samples, None);
     assert!(uncounted.stats.saturation_measured_by.contains("fragmentStoresAndAtomics"));
     assert_eq!(rgb_differences(&uncounted.output.image, &k8.output.image), 0);
 
     // Not vacuous: k = 1 holds 40 volumes, so nothing saturates.
     let k1 = render(&gpu, &scene, StencilMode::Emulated, subpass(1, false));
     assert_eq!(k1.stats.capacity, 255);
-    assert_eq!(k1.stats.saturated_pixels, Some(0));
+    assert_eq!(k1.stats.saturated_samples, Some(0));
     common::assert_no_validation_messages(&gpu);
 }
 

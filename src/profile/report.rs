@@ -78,7 +78,7 @@ pub struct ProfileReport {
     /// began: the prepasses' own targets under the pass that drew them, then "frame".
     pub render_passes: Vec<RenderPassTraffic>,
     /// What the technique reports beyond counters (for shadow volumes: method, capacity,
-    /// saturated pixels), or null.
+    /// saturated samples), or null.
     pub technique_stats: Option<serde_json::Value>,
 }
 

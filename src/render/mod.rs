@@ -1,6 +1,6 @@
 //! Rendering plumbing shared by every technique: uniforms, meshes on the GPU, pipelines built
 //! from their descriptions, the frame recorder that measures passes, the per-pass counters it
-//! returns, the offscreen renderer, and presenting a frame through a swapchain.
+//! returns, the offscreen renderer, the per-sample read-back of a kept multisampled frame, and presenting a frame through a swapchain.
 
 pub mod counters;
 pub mod frame_copy;
@@ -12,6 +12,7 @@ pub mod plan;
 pub mod present;
 pub mod recorder;
 pub mod renderer;
+pub mod sample_readback;
 pub mod uniforms;
 
 pub use counters::{FrameCounters, PassCounters};
@@ -21,4 +22,5 @@ pub use object_push::{object_push, ObjectPush, OBJECT_PUSH_BYTES};
 pub use pipeline_object::{Pipeline, PipelineTarget};
 pub use recorder::FrameRecorder;
 pub use renderer::{FrameOutput, Renderer};
+pub use sample_readback::FrameSamples;
 pub use uniforms::{FrameDescriptors, FrameUniforms};

@@ -9,6 +9,7 @@ use image::RgbaImage;
 
 use super::counters::{FrameCounters, PassCounters};
 use super::recorder::{FrameRecorder, OverdrawPipelines};
+use super::sample_readback::{self, FrameSamples};
 use super::uniforms::{FrameDescriptors, FrameUniforms};
 use crate::error::Result;
 use crate::frame::{image_from_rgba8, FrameTargets, StencilMode};
@@ -42,6 +43,8 @@ pub struct Renderer {
     /// test wants its counts to start elsewhere).
     pub stencil_clear: u32,
     overdraw_pipelines: OverdrawPipelines,
+    /// A frame has been drawn into the targets (what `read_samples` reads).
+    drawn: bool,
 }
 
 impl Renderer {
@@ -72,6 +75,7 @@ impl Renderer {
             count_overdraw: false,
             stencil_clear: 0,
             overdraw_pipelines: OverdrawPipelines::new(targets_render_pass),
+            drawn: false,
         })
     }
 
@@ -80,6 +84,15 @@ impl Renderer {
     /// an empty 0x0 image. Counters are read back as usual.
     pub fn keep_on_gpu(&mut self, keep: bool) {
         self.keep_on_gpu = keep;
+    }
+
+    /// Every sample of the last frame, before its resolve: for frames whose targets keep their
+    /// samples (`RenderOptions.keep_samples`). A one-off pass and copy, never in a timed frame.
+    pub fn read_samples(&self) -> Result<FrameSamples> {
+        if !self.drawn {
+            return Err(crate::Error::InvalidInput("read_samples: no frame has been rendered yet".into()));
+        }
+        sample_readback::read_samples(&self.gpu, &self.targets)
     }
 
     pub fn extent(&self) -> vk::Extent2D {
@@ -177,6 +190,7 @@ impl Renderer {
             Ok(records)
         })?;
 
+        self.drawn = true;
         let raw = self.queries.results(pass_records.len() as u32)?;
         let frame_start = raw.first().map_or(0.0, |r| r.begin_ns);
         let trace = pass_records.iter().map(|r| (r.name.clone(), r.pipelines.clone())).collect();

@@ -46,7 +46,7 @@ pub struct ShadowVolumeOptions {
     /// asks for, never part of a timed frame. The `subpass` apply counts saturation without it.
     pub saturation_probe: bool,
     /// The device has `fragmentStoresAndAtomics` (Android Baseline 2022), so the `subpass`
-    /// apply counts saturated pixels with one atomic add each. The renderer turns it off on a
+    /// apply counts saturated samples with one atomic add per pixel. The renderer turns it off on a
     /// device without the feature; a plan printed without a device assumes the baseline.
     pub fragment_atomics: bool,
     /// Volumes end just past the receivers' bounds and each is scissored to where it can shade,

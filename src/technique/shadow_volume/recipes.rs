@@ -194,7 +194,7 @@ fn tinted_darkness_and_apply(normalize: Normalize, rgb: [u8; 3]) -> Vec<PlannedP
     passes
 }
 
-/// The subpass apply that also counts saturated pixels into a storage buffer (binding 1 of the
+/// The subpass apply that also counts saturated samples into a storage buffer (binding 1 of the
 /// counter input set): for devices with `fragmentStoresAndAtomics`.
 pub fn counting_subpass_apply_desc(samples: u32) -> PipelineDesc {
     let shader = counter_reader("shadow_subpass_counted.frag", "shadow_subpass_counted_ms.frag", samples);

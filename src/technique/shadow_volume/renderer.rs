@@ -42,15 +42,16 @@ pub struct ShadowVolumeStats {
     pub seed_iterations: usize,
     /// The largest count the alpha counter holds: 255 / k.
     pub capacity: u32,
-    /// Pixels whose counter sits at its clamp (a count of 255/k or more) once every volume is
-    /// drawn: counted by the subpass apply's atomic add, else by the opt-in probe; `None` where
-    /// neither ran (and always on the reference, whose stencil wraps instead).
-    pub saturated_pixels: Option<u64>,
-    /// Where `saturated_pixels` comes from, or why it is not measured.
+    /// Samples whose counter sits at its clamp (a count of 255/k or more) once every volume is
+    /// drawn, as many per pixel as it has samples at the clamp (a pixel at one sample): counted
+    /// by the subpass apply's atomic add, else by the opt-in probe's samples passed; `None`
+    /// where neither ran (and always on the reference, whose stencil wraps instead).
+    pub saturated_samples: Option<u64>,
+    /// Where `saturated_samples` comes from, or why it is not measured.
     pub saturation_measured_by: &'static str,
-    /// The probe's own count when `--saturation-probe` ran (for `subpass`, a cross-check of
+    /// The probe's own count of samples when `--saturation-probe` ran (for `subpass`, a cross-check of
     /// the apply's count on the same frame).
-    pub probe_saturated_pixels: Option<u64>,
+    pub probe_saturated_samples: Option<u64>,
     /// k, for the report.
     #[serde(skip)]
     pub increment: u8,
@@ -86,7 +87,7 @@ impl CasterReport {
 
 impl FrameStats for ShadowVolumeStats {
     fn report(&self) -> String {
-        let saturation = match (self.saturated_pixels, self.probe_saturated_pixels) {
+        let saturation = match (self.saturated_samples, self.probe_saturated_samples) {
             (Some(n), Some(probe)) if self.saturation_measured_by != MEASURED_BY_PROBE => {
                 format!("{n} ({}; the probe counts {probe})", self.saturation_measured_by)
             }
@@ -94,7 +95,7 @@ impl FrameStats for ShadowVolumeStats {
             (None, _) => self.saturation_measured_by.to_owned(),
         };
         let mut report = format!(
-            "shadow volumes: {} | counter capacity {} volumes (k = {}) | saturated pixels: {saturation}",
+            "shadow volumes: {} | counter capacity {} volumes (k = {}) | saturated samples: {saturation}",
             if self.zfail { "z-fail" } else { "z-pass" },
             self.capacity,
             self.increment,
@@ -158,7 +159,7 @@ pub fn build<'s>(
             && ctx.options.shadow_volume.normalize == Normalize::Subpass
             && fragment_atomics;
         let saturation_counter = if counting {
-            Some(Buffer::with_data(ctx.gpu, "saturated pixel count", &[0u32], vk::BufferUsageFlags::STORAGE_BUFFER)?)
+            Some(Buffer::with_data(ctx.gpu, "saturated sample count", &[0u32], vk::BufferUsageFlags::STORAGE_BUFFER)?)
         } else {
             None
         };
@@ -200,9 +201,9 @@ pub fn build<'s>(
                 zfail,
                 seed_iterations: alpha_counter::seed_iterations(k, options.shadow_volume.darkest())?,
                 capacity,
-                saturated_pixels: None,
+                saturated_samples: None,
                 saturation_measured_by,
-                probe_saturated_pixels: None,
+                probe_saturated_samples: None,
                 increment: k,
                 casters: reports,
             },
@@ -222,7 +223,7 @@ struct ShadowVolumePasses {
     /// The colour target as an input attachment (emulated: the probe and `subpass`), and the
     /// saturation counter at binding 1 when the subpass apply counts.
     counter_input: Option<DescriptorSet>,
-    /// One u32 the subpass apply adds 1 to per saturated pixel (declared after the set that
+    /// One u32 the subpass apply adds each pixel's saturated samples to (declared after the set that
     /// names it, so that it is dropped after it).
     saturation_counter: Option<Buffer>,
     /// This frame's volumes (those that can shade something on screen).
@@ -306,14 +307,14 @@ impl Passes for ShadowVolumePasses {
 
     fn stats(&mut self, output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {
         let mut stats = self.stats.clone();
-        stats.probe_saturated_pixels = output.counters.pass(SATURATION_PROBE).map(|p| p.samples_passed);
-        stats.saturated_pixels = match &self.saturation_counter {
+        stats.probe_saturated_samples = output.counters.pass(SATURATION_PROBE).map(|p| p.samples_passed);
+        stats.saturated_samples = match &self.saturation_counter {
             Some(counter) => counter
                 .read()
                 .ok()
                 .and_then(|bytes| bytes.get(..4))
                 .map(|b| u64::from(u32::from_ne_bytes([b[0], b[1], b[2], b[3]]))),
-            None => stats.probe_saturated_pixels,
+            None => stats.probe_saturated_samples,
         };
         Box::new(stats)
     }
