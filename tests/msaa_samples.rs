@@ -372,22 +372,7 @@ fn the_box_shadow_at_4x_thresholded_at_half_coverage_is_its_projected_outline() 
     let (width, height) = BIG;
     let gpu = common::gpu();
     let scene = builtin_scene("box").expect("scene");
-    let nostencil::scene::Light::Directional { direction } = scene.light else { panic!("directional light") };
-    let to_ground = |c: glam::Vec3| {
-        let p = c + direction * (c.y / -direction.y);
-        glam::Vec2::new(p.x, p.z)
-    };
-    let triangles: Vec<[glam::Vec2; 3]> = scene
-        .objects
-        .iter()
-        .filter(|o| o.casts_shadow)
-        .flat_map(|o| {
-            let mesh = &scene.meshes[o.mesh].data;
-            mesh.indices.chunks_exact(3).map(move |t| {
-                [t[0], t[1], t[2]].map(|i| to_ground(o.transform.transform_point3(mesh.positions[i as usize])))
-            })
-        })
-        .collect();
+    let triangles = common::caster_triangles_on_ground(&scene);
     let base = RenderOptions { width, height, ..Default::default() };
     let lit = RenderOptions { technique: technique("lit"), ..base.clone() };
     let unshadowed = frame(&gpu, &scene, &lit, SAMPLES).output.image;

@@ -285,22 +285,7 @@ fn normalisation_table_is_read_back_from_the_gpu() {
 fn projected_outline_iou(gpu: &Arc<Gpu>, scene: &Scene, options: ShadowVolumeOptions) -> f64 {
     const BIG: (u32, u32) = (256, 192);
     let (width, height) = BIG;
-    let nostencil::scene::Light::Directional { direction } = scene.light else { panic!("directional light") };
-    let to_ground = |c: Vec3| {
-        let p = c + direction * (c.y / -direction.y);
-        glam::Vec2::new(p.x, p.z)
-    };
-    let triangles: Vec<[glam::Vec2; 3]> = scene
-        .objects
-        .iter()
-        .filter(|o| o.casts_shadow)
-        .flat_map(|o| {
-            let mesh = &scene.meshes[o.mesh].data;
-            mesh.indices.chunks_exact(3).map(move |t| {
-                [t[0], t[1], t[2]].map(|i| to_ground(o.transform.transform_point3(mesh.positions[i as usize])))
-            })
-        })
-        .collect();
+    let triangles = common::caster_triangles_on_ground(scene);
     assert!(!triangles.is_empty(), "{}: no caster", scene.name);
     let unshadowed = lit_sized(gpu, scene, BIG);
     let frame = render_sized(gpu, scene, StencilMode::Emulated, options, BIG);

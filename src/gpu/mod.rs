@@ -11,6 +11,7 @@ pub mod instance;
 pub mod memory;
 pub mod mobile_profile;
 pub mod queries;
+pub mod regions;
 pub mod swapchain;
 pub mod texture;
 

@@ -5,6 +5,7 @@
 use ash::vk;
 
 use crate::gpu::barriers::{self, BeforePresent};
+use crate::gpu::regions;
 use crate::gpu::swapchain::{Swapchain, Transfer};
 
 /// Records into `cmd` (recording) the copy of `colour`, the frame, into swapchain image
@@ -20,12 +21,7 @@ pub fn record(
 ) {
     let extent = swapchain.extent;
     let image = swapchain.images[index as usize];
-    let layers = vk::ImageSubresourceLayers {
-        aspect_mask: vk::ImageAspectFlags::COLOR,
-        mip_level: 0,
-        base_array_layer: 0,
-        layer_count: 1,
-    };
+    let layers = regions::COLOUR_LAYER;
     barriers::frame_to_swapchain_copy(device, cmd, colour, image);
     let corner = vk::Offset3D { x: extent.width as i32, y: extent.height as i32, z: 1 };
     // SAFETY: `cmd` is recording (the presenter's begin and end surround this call); `colour`

@@ -11,6 +11,7 @@ use crate::frame::render_pass::{AttachmentDesc, RenderPassTraffic};
 use crate::gpu::barriers;
 use crate::gpu::memory::Buffer;
 use crate::gpu::queries::PassQueryPools;
+use crate::gpu::regions;
 use crate::gpu::Gpu;
 use crate::render::Pipeline;
 
@@ -230,14 +231,7 @@ impl<'a> FrameRecorder<'a> {
             .framebuffer(framebuffer)
             .render_area(vk::Rect2D { offset: vk::Offset2D::default(), extent })
             .clear_values(clear_values);
-        let viewport = vk::Viewport {
-            x: 0.0,
-            y: 0.0,
-            width: extent.width as f32,
-            height: extent.height as f32,
-            min_depth: 0.0,
-            max_depth: 1.0,
-        };
+        let viewport = regions::full_viewport(extent);
         // SAFETY: see the note on `FrameRecorder`; `render_pass` and `framebuffer` come from
         // the same targets (so are compatible), and `clear_values` covers their attachments.
         unsafe {

@@ -17,6 +17,7 @@ use crate::gpu::barriers;
 use crate::gpu::commands::submit_and_wait;
 use crate::gpu::memory::Buffer;
 use crate::gpu::queries::PassQueryPools;
+use crate::gpu::regions;
 use crate::gpu::Gpu;
 
 /// Measured passes a frame may hold.
@@ -166,14 +167,7 @@ impl Renderer {
             }
 
             // The render pass left the colour target in TRANSFER_SRC_OPTIMAL.
-            let region = vk::BufferImageCopy::default()
-                .image_subresource(vk::ImageSubresourceLayers {
-                    aspect_mask: vk::ImageAspectFlags::COLOR,
-                    mip_level: 0,
-                    base_array_layer: 0,
-                    layer_count: 1,
-                })
-                .image_extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 });
+            let region = regions::colour_to_buffer(extent);
             // SAFETY: `cmd` is recording outside the render pass; the colour target and the
             // read-back buffer (sized width x height x 4 for this extent) belong to `self`, which
             // outlives the submission `submit_and_wait` waits for.

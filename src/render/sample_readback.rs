@@ -21,6 +21,7 @@ use crate::gpu::barriers;
 use crate::gpu::commands::submit_and_wait;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::{sample_count_flags, Buffer, Image, ImageDesc};
+use crate::gpu::regions;
 use crate::gpu::texture::Sampler;
 use crate::gpu::Gpu;
 use crate::pipeline::{FixedFunction, PipelineDesc, VertexLayout};
@@ -116,22 +117,8 @@ pub fn read_samples(gpu: &Arc<Gpu>, targets: &FrameTargets) -> Result<FrameSampl
             .render_pass(render_pass.raw)
             .framebuffer(framebuffer.raw)
             .render_area(area);
-        let viewport = vk::Viewport {
-            x: 0.0,
-            y: 0.0,
-            width: extent.width as f32,
-            height: extent.height as f32,
-            min_depth: 0.0,
-            max_depth: 1.0,
-        };
-        let region = vk::BufferImageCopy::default()
-            .image_subresource(vk::ImageSubresourceLayers {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
-                mip_level: 0,
-                base_array_layer: 0,
-                layer_count: 1,
-            })
-            .image_extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 });
+        let viewport = regions::full_viewport(extent);
+        let region = regions::colour_to_buffer(extent);
         // SAFETY: `cmd` is recording; every handle used belongs to this function and outlives
         // the submission `submit_and_wait` waits for. The kept samples are in GENERAL, where the
         // frame's render pass left them, its dependency making its writes visible to fragment

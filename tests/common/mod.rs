@@ -185,3 +185,27 @@ pub fn pixel_y(scene: &nostencil::scene::Scene, point: glam::Vec3, size: (u32, u
     let clip = scene.camera.view_projection(size.0 as f32 / size.1 as f32) * point.extend(1.0);
     (clip.y / clip.w + 1.0) * 0.5 * size.1 as f32
 }
+
+/// Every shadow caster's triangles projected along the scene's directional light onto the
+/// ground plane y = 0, as (x, z): the analytic outline of its shadow.
+///
+/// # Panics
+/// If the scene's light is not directional.
+pub fn caster_triangles_on_ground(scene: &nostencil::scene::Scene) -> Vec<[glam::Vec2; 3]> {
+    let nostencil::scene::Light::Directional { direction } = scene.light else { panic!("directional light") };
+    let to_ground = |c: glam::Vec3| {
+        let p = c + direction * (c.y / -direction.y);
+        glam::Vec2::new(p.x, p.z)
+    };
+    scene
+        .objects
+        .iter()
+        .filter(|o| o.casts_shadow)
+        .flat_map(|o| {
+            let mesh = &scene.meshes[o.mesh].data;
+            mesh.indices.chunks_exact(3).map(move |t| {
+                [t[0], t[1], t[2]].map(|i| to_ground(o.transform.transform_point3(mesh.positions[i as usize])))
+            })
+        })
+        .collect()
+}
