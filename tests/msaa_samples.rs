@@ -354,13 +354,6 @@ fn shadow_edges_resolve_between_lit_and_shadowed_only_at_4x() {
     common::assert_no_validation_messages(&gpu);
 }
 
-/// Is `p` inside triangle `t` (either winding, border included)?
-fn inside_triangle(t: &[glam::Vec2; 3], p: glam::Vec2) -> bool {
-    let side = |a: glam::Vec2, b: glam::Vec2| (b - a).perp_dot(p - a);
-    let s = [side(t[0], t[1]), side(t[1], t[2]), side(t[2], t[0])];
-    s.iter().all(|&d| d >= 0.0) || s.iter().all(|&d| d <= 0.0)
-}
-
 /// As tests/shadow_volume.rs's 1x check, at 4x: the ground pixels shadowed to at least half
 /// coverage (`shadow_coverage` >= 0.5) against those whose centre lies inside the casters'
 /// projected outline, computed on the CPU (every casting triangle projected along the light
@@ -395,7 +388,7 @@ fn the_box_shadow_at_4x_thresholded_at_half_coverage_is_its_projected_outline() 
                 }
                 let expected = common::ground_point(&scene.camera, (x, y), BIG, 0.0).is_some_and(|p| {
                     let p = glam::Vec2::new(p.x, p.z);
-                    p.x.abs() < 7.0 && p.y.abs() < 7.0 && triangles.iter().any(|t| inside_triangle(t, p))
+                    p.x.abs() < 7.0 && p.y.abs() < 7.0 && triangles.iter().any(|t| common::inside_triangle(t, p))
                 });
                 let dark = coverage[i].is_some_and(|t| t >= 0.5);
                 partial += is_between(coverage[i]) as u32;

@@ -304,7 +304,7 @@ fn projected_outline_iou(gpu: &Arc<Gpu>, scene: &Scene, options: ShadowVolumeOpt
             }
             let expected = common::ground_point(&scene.camera, (x, y), BIG, 0.0).is_some_and(|p| {
                 let p = glam::Vec2::new(p.x, p.z);
-                p.x.abs() < 7.0 && p.y.abs() < 7.0 && triangles.iter().any(|t| inside_triangle(t, p))
+                p.x.abs() < 7.0 && p.y.abs() < 7.0 && triangles.iter().any(|t| common::inside_triangle(t, p))
             });
             both += (expected && mask[i]) as u32;
             either += (expected || mask[i]) as u32;
@@ -312,13 +312,6 @@ fn projected_outline_iou(gpu: &Arc<Gpu>, scene: &Scene, options: ShadowVolumeOpt
     }
     assert!(either > 200, "{}: the shadow is too small to judge ({either} pixels)", scene.name);
     both as f64 / either as f64
-}
-
-/// Is `p` inside triangle `t` (either winding, border included)?
-fn inside_triangle(t: &[glam::Vec2; 3], p: glam::Vec2) -> bool {
-    let side = |a: glam::Vec2, b: glam::Vec2| (b - a).perp_dot(p - a);
-    let s = [side(t[0], t[1]), side(t[1], t[2]), side(t[2], t[0])];
-    s.iter().all(|&d| d >= 0.0) || s.iter().all(|&d| d <= 0.0)
 }
 
 #[test]

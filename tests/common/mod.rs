@@ -209,3 +209,10 @@ pub fn caster_triangles_on_ground(scene: &nostencil::scene::Scene) -> Vec<[glam:
         })
         .collect()
 }
+
+/// Is `p` inside triangle `t` (either winding, border included)?
+pub fn inside_triangle(t: &[glam::Vec2; 3], p: glam::Vec2) -> bool {
+    let side = |a: glam::Vec2, b: glam::Vec2| (b - a).perp_dot(p - a);
+    let s = [side(t[0], t[1]), side(t[1], t[2]), side(t[2], t[0])];
+    s.iter().all(|&d| d >= 0.0) || s.iter().all(|&d| d <= 0.0)
+}
