@@ -9,6 +9,7 @@ use ash::vk;
 
 use super::render_pass::{RenderPassDesc, StencilMode, COLOUR_FORMAT};
 use crate::error::{Error, Result, VkContext};
+use crate::gpu::live_objects::ObjectKind;
 use crate::gpu::memory::{sample_count_flags, Image, ImageDesc};
 use crate::gpu::Gpu;
 
@@ -158,6 +159,7 @@ impl FrameTargets {
 
         let device = gpu.raw();
         let render_pass = desc.build(device)?;
+        gpu.created(ObjectKind::RenderPass);
         let views = match &multisampled {
             Some(drawn) => vec![drawn.view, depth.view, colour.view],
             None => vec![colour.view, depth.view],
@@ -171,10 +173,14 @@ impl FrameTargets {
         // SAFETY: the views are alive (owned by the images kept with the framebuffer) and match
         // the render pass's attachments, in order, at the framebuffer's size.
         let framebuffer = match unsafe { device.create_framebuffer(&fb_info, None) }.vk("vkCreateFramebuffer") {
-            Ok(fb) => fb,
+            Ok(fb) => {
+                gpu.created(ObjectKind::Framebuffer);
+                fb
+            }
             Err(e) => {
                 // SAFETY: the render pass was just created and nothing uses it.
                 unsafe { device.destroy_render_pass(render_pass, None) };
+                gpu.destroyed(ObjectKind::RenderPass);
                 return Err(e);
             }
         };
@@ -212,5 +218,7 @@ impl Drop for FrameTargets {
             device.destroy_framebuffer(self.framebuffer, None);
             device.destroy_render_pass(self.render_pass, None);
         }
+        self.gpu.destroyed(ObjectKind::Framebuffer);
+        self.gpu.destroyed(ObjectKind::RenderPass);
     }
 }

@@ -4,6 +4,7 @@
 use ash::vk;
 
 use super::context::Gpu;
+use super::live_objects::ObjectKind;
 use crate::error::{Result, VkContext};
 
 /// One primary command buffer from the GPU's pool (freed by the caller, into the same pool).
@@ -15,19 +16,24 @@ pub fn allocate_primary(gpu: &Gpu) -> Result<vk::CommandBuffer> {
         .command_buffer_count(1);
     // SAFETY: the pool belongs to this device and is locked while it allocates; `info` asks for
     // exactly one buffer, so `[0]` exists.
-    Ok(unsafe { gpu.raw().allocate_command_buffers(&info) }.vk("vkAllocateCommandBuffers")?[0])
+    let cmd = unsafe { gpu.raw().allocate_command_buffers(&info) }.vk("vkAllocateCommandBuffers")?[0];
+    gpu.created(ObjectKind::CommandBuffer);
+    Ok(cmd)
+}
+
+/// Frees a command buffer from `allocate_primary`.
+pub fn free_primary(gpu: &Gpu, cmd: vk::CommandBuffer) {
+    let pool = gpu.command_pool();
+    // SAFETY: `cmd` came from this pool (`allocate_primary`) and the caller has made sure it is
+    // not pending.
+    unsafe { gpu.raw().free_command_buffers(*pool, &[cmd]) };
+    gpu.destroyed(ObjectKind::CommandBuffer);
 }
 
 /// Records `record` into a one-time command buffer, submits it and waits for completion.
 pub fn submit_and_wait<T>(gpu: &Gpu, record: impl FnOnce(vk::CommandBuffer) -> Result<T>) -> Result<T> {
     let device = gpu.raw();
     let cmd = allocate_primary(gpu)?;
-    let free = || {
-        let pool = gpu.command_pool();
-        // SAFETY: `cmd` came from this pool and is not pending: it was never submitted, or the
-        // fence wait below returned (a failed wait means the device is lost).
-        unsafe { device.free_command_buffers(*pool, &[cmd]) };
-    };
 
     let result = (|| {
         let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
@@ -41,6 +47,7 @@ pub fn submit_and_wait<T>(gpu: &Gpu, record: impl FnOnce(vk::CommandBuffer) -> R
 
         // SAFETY: a plain unsignalled fence of `device`.
         let fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }.vk("vkCreateFence")?;
+        gpu.created(ObjectKind::Fence);
         let cmds = [cmd];
         let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
         // SAFETY: `cmd` is ended, `fence` unsignalled and unused; `submit` outlives the call.
@@ -50,8 +57,11 @@ pub fn submit_and_wait<T>(gpu: &Gpu, record: impl FnOnce(vk::CommandBuffer) -> R
             submitted.and_then(|_| unsafe { device.wait_for_fences(&[fence], true, u64::MAX) }.vk("vkWaitForFences"));
         // SAFETY: the fence is signalled, or was never submitted, or the device is lost.
         unsafe { device.destroy_fence(fence, None) };
+        gpu.destroyed(ObjectKind::Fence);
         waited.map(|_| value)
     })();
-    free();
+    // `cmd` is not pending: it was never submitted, or the fence wait returned (a failed wait
+    // means the device is lost).
+    free_primary(gpu, cmd);
     result
 }

@@ -11,6 +11,7 @@ use gpu_allocator::MemoryLocation;
 
 use super::commands::submit_and_wait;
 use super::context::Gpu;
+use super::live_objects::ObjectKind;
 use crate::error::{Error, Result, VkContext};
 
 pub struct Buffer {
@@ -34,6 +35,7 @@ impl Buffer {
         // SAFETY: `device` is alive (`gpu` holds it) and `info` is a valid create info; `raw` is
         // the buffer just created from it.
         let raw = unsafe { device.create_buffer(&info, None) }.vk("vkCreateBuffer")?;
+        gpu.created(ObjectKind::Buffer);
         // SAFETY: as above.
         let requirements = unsafe { device.get_buffer_memory_requirements(raw) };
         let allocation = gpu
@@ -48,11 +50,13 @@ impl Buffer {
             .map_err(|e| {
                 // SAFETY: `raw` has no memory bound and no other owner yet.
                 unsafe { device.destroy_buffer(raw, None) };
+                gpu.destroyed(ObjectKind::Buffer);
                 Error::Memory(format!("buffer '{name}' ({size} bytes): {e}"))
             })?;
         // SAFETY: the allocation was made for `raw`'s requirements and is bound once; the memory
         // handle is only passed to Vulkan, never freed here (the allocator owns it). On failure
         // the returned Buffer's drop destroys `raw` and frees the allocation.
+        gpu.created(ObjectKind::MemoryAllocation);
         let bound = unsafe { device.bind_buffer_memory(raw, allocation.memory(), allocation.offset()) }
             .vk("vkBindBufferMemory");
         let buffer = Buffer { gpu: gpu.clone(), raw, size, allocation: Some(allocation) };
@@ -117,8 +121,10 @@ impl Drop for Buffer {
         // SAFETY: the GPU no longer uses the buffer: offscreen submissions are waited for by
         // `submit_and_wait`, and the viewer waits for its frames before dropping what they read.
         unsafe { self.gpu.raw().destroy_buffer(self.raw, None) };
+        self.gpu.destroyed(ObjectKind::Buffer);
         if let Some(allocation) = self.allocation.take() {
             let _ = self.gpu.allocator().free(allocation);
+            self.gpu.destroyed(ObjectKind::MemoryAllocation);
         }
     }
 }
@@ -180,6 +186,7 @@ impl Image {
         // SAFETY: `device` is alive (`gpu` holds it) and `info` is a valid create info; `raw` is
         // the image just created from it.
         let raw = unsafe { device.create_image(&info, None) }.vk("vkCreateImage")?;
+        gpu.created(ObjectKind::Image);
         // SAFETY: as above.
         let requirements = unsafe { device.get_image_memory_requirements(raw) };
 
@@ -198,6 +205,7 @@ impl Image {
                     Err(e) => {
                         // SAFETY: `raw` has no memory bound and no other owner yet.
                         unsafe { device.destroy_image(raw, None) };
+                        gpu.destroyed(ObjectKind::Image);
                         return Err(e);
                     }
                 }
@@ -215,11 +223,13 @@ impl Image {
                     Err(e) => {
                         // SAFETY: as above.
                         unsafe { device.destroy_image(raw, None) };
+                        gpu.destroyed(ObjectKind::Image);
                         return Err(Error::Memory(format!("image '{}': {e}", desc.name)));
                     }
                 }
             }
         };
+        gpu.created(ObjectKind::MemoryAllocation);
         let (vk_memory, offset) = match &memory {
             // SAFETY: the memory handle is only bound below, never freed here (the allocator owns it).
             ImageMemory::Allocator(a) => unsafe { (a.memory(), a.offset()) },
@@ -252,6 +262,7 @@ impl Image {
         // SAFETY: `raw` is alive with its memory bound, and the view covers its format, aspect
         // and mips.
         image.view = unsafe { device.create_image_view(&view_info, None) }.vk("vkCreateImageView")?;
+        gpu.created(ObjectKind::ImageView);
         Ok(image)
     }
 }
@@ -264,8 +275,13 @@ impl Drop for Image {
         unsafe {
             if self.view != vk::ImageView::null() {
                 device.destroy_image_view(self.view, None);
+                self.gpu.destroyed(ObjectKind::ImageView);
             }
             device.destroy_image(self.raw, None);
+        }
+        self.gpu.destroyed(ObjectKind::Image);
+        if self.memory.is_some() {
+            self.gpu.destroyed(ObjectKind::MemoryAllocation);
         }
         match self.memory.take() {
             Some(ImageMemory::Allocator(a)) => {

@@ -8,6 +8,7 @@ pub mod context;
 pub mod descriptors;
 pub mod device;
 pub mod instance;
+pub mod live_objects;
 pub mod memory;
 pub mod mobile_profile;
 pub mod queries;

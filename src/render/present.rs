@@ -9,6 +9,7 @@ use gpu_allocator::MemoryLocation;
 use super::frame_copy;
 use crate::error::{Error, Result, VkContext};
 use crate::frame::render_pass::COLOUR_FORMAT;
+use crate::gpu::live_objects::ObjectKind;
 use crate::gpu::memory::Buffer;
 use crate::gpu::swapchain::{self, Acquired, Surface, Swapchain, Transfer};
 use crate::gpu::Gpu;
@@ -210,6 +211,12 @@ impl FrameSlots {
             }
             .vk("vkCreateFence");
             // Push first, so that Drop frees whatever was created.
+            if image_available.is_ok() {
+                gpu.created(ObjectKind::Semaphore);
+            }
+            if in_flight.is_ok() {
+                gpu.created(ObjectKind::Fence);
+            }
             slots.slots.push(FrameSlot {
                 cmd,
                 image_available: *image_available.as_ref().unwrap_or(&vk::Semaphore::null()),
@@ -241,12 +248,13 @@ impl Drop for FrameSlots {
             for slot in self.slots.drain(..) {
                 if slot.in_flight != vk::Fence::null() {
                     device.destroy_fence(slot.in_flight, None);
+                    self.gpu.destroyed(ObjectKind::Fence);
                 }
                 if slot.image_available != vk::Semaphore::null() {
                     device.destroy_semaphore(slot.image_available, None);
+                    self.gpu.destroyed(ObjectKind::Semaphore);
                 }
-                let pool = self.gpu.command_pool();
-                device.free_command_buffers(*pool, &[slot.cmd]);
+                crate::gpu::commands::free_primary(&self.gpu, slot.cmd);
             }
         }
     }
