@@ -23,6 +23,10 @@ pub enum Error {
     /// A Vulkan call failed.
     #[error("{call} failed: {result}")]
     Vulkan { call: &'static str, result: ash::vk::Result },
+    /// A submitted piece of GPU work failed (device lost, out of device memory): `work` names
+    /// it, for a frame its passes.
+    #[error("{call} failed ({result}) for {work}")]
+    Submit { work: String, call: &'static str, result: ash::vk::Result },
     /// GPU memory could not be allocated.
     #[error("GPU memory: {0}")]
     Memory(String),

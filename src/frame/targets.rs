@@ -101,6 +101,7 @@ impl FrameTargets {
         check_samples(gpu, stencil, samples)?;
         let extent = vk::Extent2D { width, height };
         let depth_format = choose_depth_format(gpu, stencil)?;
+        check_frame_fits(gpu, width, height, samples, depth_format)?;
         let desc = RenderPassDesc::frame(depth_format, colour_feedback, samples, keep_samples);
         let multisampled_frame = desc.resolve.is_some();
 
@@ -221,4 +222,22 @@ impl Drop for FrameTargets {
         self.gpu.destroyed(ObjectKind::Framebuffer);
         self.gpu.destroyed(ObjectKind::RenderPass);
     }
+}
+
+/// Refuses a frame whose targets (colour, multisampled colour, depth) and read-back buffer
+/// together exceed the device's largest heap, naming the size and sample count to lower.
+fn check_frame_fits(gpu: &Gpu, width: u32, height: u32, samples: u32, depth_format: vk::Format) -> Result<()> {
+    let pixels = width as u64 * height as u64;
+    let depth_bytes = match depth_format {
+        vk::Format::D32_SFLOAT_S8_UINT => 8,
+        _ => 4,
+    };
+    let multisampled = if samples > 1 { 4 * samples as u64 } else { 0 };
+    // Colour, its read-back buffer, the multisampled colour, depth per sample.
+    let bytes = pixels * (4 + 4 + multisampled + depth_bytes * samples as u64);
+    crate::gpu::memory::check_fits_in_heap(
+        gpu,
+        &format!("a {width}x{height} frame at {samples}x MSAA (choose a smaller --size or fewer --samples)"),
+        bytes,
+    )
 }

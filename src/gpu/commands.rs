@@ -4,8 +4,9 @@
 use ash::vk;
 
 use super::context::Gpu;
+use super::faults::{self, Submission};
 use super::live_objects::ObjectKind;
-use crate::error::{Result, VkContext};
+use crate::error::{Error, Result, VkContext};
 
 /// One primary command buffer from the GPU's pool (freed by the caller, into the same pool).
 pub fn allocate_primary(gpu: &Gpu) -> Result<vk::CommandBuffer> {
@@ -32,6 +33,31 @@ pub fn free_primary(gpu: &Gpu, cmd: vk::CommandBuffer) {
 
 /// Records `record` into a one-time command buffer, submits it and waits for completion.
 pub fn submit_and_wait<T>(gpu: &Gpu, record: impl FnOnce(vk::CommandBuffer) -> Result<T>) -> Result<T> {
+    submit_and_wait_named(gpu, None, record)
+}
+
+/// As `submit_and_wait`, for a frame: a failed submit or wait (device lost, out of device
+/// memory) is reported naming the work, `work` of what the recording returned (its passes).
+pub fn submit_frame_and_wait<T>(
+    gpu: &Gpu,
+    work: impl FnOnce(&T) -> String,
+    record: impl FnOnce(vk::CommandBuffer) -> Result<T>,
+) -> Result<T> {
+    let mut named = None;
+    let result = submit_and_wait_named(gpu, Some(&mut |value: &T| named = Some(work(value))), record);
+    match (result, named) {
+        (Err(Error::Vulkan { call, result }), Some(work)) if call != "vkEndCommandBuffer" => {
+            Err(Error::Submit { work, call, result })
+        }
+        (result, _) => result,
+    }
+}
+
+fn submit_and_wait_named<T>(
+    gpu: &Gpu,
+    name: Option<&mut dyn FnMut(&T)>,
+    record: impl FnOnce(vk::CommandBuffer) -> Result<T>,
+) -> Result<T> {
     let device = gpu.raw();
     let cmd = allocate_primary(gpu)?;
 
@@ -42,6 +68,13 @@ pub fn submit_and_wait<T>(gpu: &Gpu, record: impl FnOnce(vk::CommandBuffer) -> R
         // crate shares one across threads), the external synchronisation pool and queue need.
         unsafe { device.begin_command_buffer(cmd, &begin) }.vk("vkBeginCommandBuffer")?;
         let value = record(cmd)?;
+        let injected = match name {
+            Some(name) => {
+                name(&value);
+                faults::submit_fault(Submission::Frame)
+            }
+            None => None,
+        };
         // SAFETY: `cmd` is recording (begun above).
         unsafe { device.end_command_buffer(cmd) }.vk("vkEndCommandBuffer")?;
 
@@ -51,7 +84,10 @@ pub fn submit_and_wait<T>(gpu: &Gpu, record: impl FnOnce(vk::CommandBuffer) -> R
         let cmds = [cmd];
         let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
         // SAFETY: `cmd` is ended, `fence` unsignalled and unused; `submit` outlives the call.
-        let submitted = unsafe { device.queue_submit(gpu.device.queue, &submit, fence) }.vk("vkQueueSubmit");
+        let submitted = match injected {
+            Some(result) => Err(Error::Vulkan { call: "vkQueueSubmit", result }),
+            None => unsafe { device.queue_submit(gpu.device.queue, &submit, fence) }.vk("vkQueueSubmit"),
+        };
         // SAFETY: `fence` is alive.
         let waited =
             submitted.and_then(|_| unsafe { device.wait_for_fences(&[fence], true, u64::MAX) }.vk("vkWaitForFences"));

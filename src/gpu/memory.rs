@@ -299,3 +299,28 @@ fn find_memory_type(gpu: &Gpu, type_bits: u32, flags: vk::MemoryPropertyFlags) -
     (0..props.memory_type_count)
         .find(|&i| type_bits & (1 << i) != 0 && props.memory_types[i as usize].property_flags.contains(flags))
 }
+
+/// The size of the device's largest device-local heap in bytes (a test-only fault can lower it).
+pub fn largest_device_heap(gpu: &Gpu) -> u64 {
+    let props = &gpu.device.memory_properties;
+    let heaps = &props.memory_heaps[..props.memory_heap_count as usize];
+    let largest = heaps.iter().filter(|h| h.flags.contains(vk::MemoryHeapFlags::DEVICE_LOCAL)).map(|h| h.size).max();
+    let largest = largest.unwrap_or(0);
+    super::faults::heap_limit().map_or(largest, |limit| largest.min(limit))
+}
+
+/// Refuses `bytes` of GPU memory for `what` up front when the device's largest heap cannot
+/// hold them (before anything is allocated, rendered or written).
+pub fn check_fits_in_heap(gpu: &Gpu, what: &str, bytes: u64) -> Result<()> {
+    let heap = largest_device_heap(gpu);
+    if bytes > heap {
+        const MIB: f64 = (1u64 << 20) as f64;
+        return Err(Error::Memory(format!(
+            "{what} needs {:.1} MiB, more than the largest heap of '{}' holds ({:.1} MiB)",
+            bytes as f64 / MIB,
+            gpu.device.info.name,
+            heap as f64 / MIB
+        )));
+    }
+    Ok(())
+}

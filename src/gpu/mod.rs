@@ -7,6 +7,7 @@ pub mod commands;
 pub mod context;
 pub mod descriptors;
 pub mod device;
+pub mod faults;
 pub mod instance;
 pub mod live_objects;
 pub mod memory;

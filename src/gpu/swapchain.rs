@@ -274,7 +274,11 @@ impl Swapchain {
         match unsafe { self.loader.queue_present(self.gpu.device.queue, &info) } {
             Ok(suboptimal) => Ok(suboptimal),
             Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(true),
-            Err(result) => Err(Error::Vulkan { call: "vkQueuePresentKHR", result }),
+            Err(result) => Err(Error::Submit {
+                work: format!("the present of swapchain image {index}"),
+                call: "vkQueuePresentKHR",
+                result,
+            }),
         }
     }
 }

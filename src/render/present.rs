@@ -9,6 +9,7 @@ use gpu_allocator::MemoryLocation;
 use super::frame_copy;
 use crate::error::{Error, Result, VkContext};
 use crate::frame::render_pass::COLOUR_FORMAT;
+use crate::gpu::faults::{self, Submission};
 use crate::gpu::live_objects::ObjectKind;
 use crate::gpu::memory::Buffer;
 use crate::gpu::swapchain::{self, Acquired, Surface, Swapchain, Transfer};
@@ -103,7 +104,11 @@ impl Presenter {
         let fences: Vec<vk::Fence> = self.slots.slots.iter().map(|slot| slot.in_flight).collect();
         // SAFETY: the fences are the slots' own, alive while `self` is; each was created
         // signalled or is reset only just before the submission that signals it.
-        unsafe { self.gpu.raw().wait_for_fences(&fences, true, u64::MAX) }.vk("vkWaitForFences")
+        unsafe { self.gpu.raw().wait_for_fences(&fences, true, u64::MAX) }.map_err(|result| Error::Submit {
+            work: "the previous frames' copies to the window".into(),
+            call: "vkWaitForFences",
+            result,
+        })
     }
 
     /// Acquires the next swapchain image for the current slot.
@@ -152,7 +157,15 @@ impl Presenter {
                 .wait_dst_stage_mask(&stages)
                 .command_buffers(&cmds)
                 .signal_semaphores(&signals)];
-            device.queue_submit(self.gpu.device.queue, &submit, in_flight).vk("vkQueueSubmit")?;
+            let submitted = device.queue_submit(self.gpu.device.queue, &submit, in_flight);
+            // An injected fault (tests only) comes after the real submit, so that the frame's
+            // semaphores and fence still complete and the teardown is the normal one.
+            let submitted = submitted.and_then(|_| faults::submit_fault(Submission::Present).map_or(Ok(()), Err));
+            submitted.map_err(|result| Error::Submit {
+                work: format!("the copy of the frame to the window (swapchain image {index})"),
+                call: "vkQueueSubmit",
+                result,
+            })?;
         }
         Ok(())
     }
