@@ -40,7 +40,7 @@ pub fn submit_and_wait<T>(gpu: &Gpu, record: impl FnOnce(vk::CommandBuffer) -> R
 /// memory) is reported naming the work, `work` of what the recording returned (its passes).
 pub fn submit_frame_and_wait<T>(
     gpu: &Gpu,
-    work: impl FnOnce(&T) -> String,
+    work: impl Fn(&T) -> String,
     record: impl FnOnce(vk::CommandBuffer) -> Result<T>,
 ) -> Result<T> {
     let mut named = None;
