@@ -72,7 +72,7 @@ fn a_frame_larger_than_the_heap_is_refused_before_anything_is_written() {
     let gpu = common::gpu();
     let heap = nostencil::gpu::memory::largest_device_heap(&gpu);
     assert!(heap > 0);
-    assert!(nostencil::gpu::memory::check_fits_in_heap(&gpu, "test", heap).is_ok());
-    let refused = nostencil::gpu::memory::check_fits_in_heap(&gpu, "test", heap + 1);
+    assert!(nostencil::gpu::memory::check_fits_in_heap(&gpu, "test", heap, "").is_ok());
+    let refused = nostencil::gpu::memory::check_fits_in_heap(&gpu, "test", heap + 1, "");
     assert!(refused.is_err_and(|e| e.to_string().contains("test needs")));
 }

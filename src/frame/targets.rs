@@ -237,7 +237,8 @@ fn check_frame_fits(gpu: &Gpu, width: u32, height: u32, samples: u32, depth_form
     let bytes = pixels * (4 + 4 + multisampled + depth_bytes * samples as u64);
     crate::gpu::memory::check_fits_in_heap(
         gpu,
-        &format!("a {width}x{height} frame at {samples}x MSAA (choose a smaller --size or fewer --samples)"),
+        &format!("a {width}x{height} frame at {samples}x MSAA"),
         bytes,
+        ": choose a smaller --size or fewer --samples",
     )
 }

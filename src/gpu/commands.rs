@@ -83,9 +83,9 @@ fn submit_and_wait_named<T>(
         gpu.created(ObjectKind::Fence);
         let cmds = [cmd];
         let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
-        // SAFETY: `cmd` is ended, `fence` unsignalled and unused; `submit` outlives the call.
         let submitted = match injected {
             Some(result) => Err(Error::Vulkan { call: "vkQueueSubmit", result }),
+            // SAFETY: `cmd` is ended, `fence` unsignalled and unused; `submit` outlives the call.
             None => unsafe { device.queue_submit(gpu.device.queue, &submit, fence) }.vk("vkQueueSubmit"),
         };
         // SAFETY: `fence` is alive.

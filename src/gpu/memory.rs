@@ -53,10 +53,10 @@ impl Buffer {
                 gpu.destroyed(ObjectKind::Buffer);
                 Error::Memory(format!("buffer '{name}' ({size} bytes): {e}"))
             })?;
+        gpu.created(ObjectKind::MemoryAllocation);
         // SAFETY: the allocation was made for `raw`'s requirements and is bound once; the memory
         // handle is only passed to Vulkan, never freed here (the allocator owns it). On failure
         // the returned Buffer's drop destroys `raw` and frees the allocation.
-        gpu.created(ObjectKind::MemoryAllocation);
         let bound = unsafe { device.bind_buffer_memory(raw, allocation.memory(), allocation.offset()) }
             .vk("vkBindBufferMemory");
         let buffer = Buffer { gpu: gpu.clone(), raw, size, allocation: Some(allocation) };
@@ -310,13 +310,13 @@ pub fn largest_device_heap(gpu: &Gpu) -> u64 {
 }
 
 /// Refuses `bytes` of GPU memory for `what` up front when the device's largest heap cannot
-/// hold them (before anything is allocated, rendered or written).
-pub fn check_fits_in_heap(gpu: &Gpu, what: &str, bytes: u64) -> Result<()> {
+/// hold them (before anything is allocated, rendered or written); `hint` says what to lower.
+pub fn check_fits_in_heap(gpu: &Gpu, what: &str, bytes: u64, hint: &str) -> Result<()> {
     let heap = largest_device_heap(gpu);
     if bytes > heap {
         const MIB: f64 = (1u64 << 20) as f64;
         return Err(Error::Memory(format!(
-            "{what} needs {:.1} MiB, more than the largest heap of '{}' holds ({:.1} MiB)",
+            "{what} needs {:.1} MiB, more than the largest heap of '{}' holds ({:.1} MiB){hint}",
             bytes as f64 / MIB,
             gpu.device.info.name,
             heap as f64 / MIB
