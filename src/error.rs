@@ -23,6 +23,10 @@ pub enum Error {
     /// A Vulkan call failed.
     #[error("{call} failed: {result}")]
     Vulkan { call: &'static str, result: ash::vk::Result },
+    /// A submitted piece of GPU work failed (device lost, out of device memory): `work` names
+    /// it, for a frame its passes.
+    #[error("{call} failed with {result:?} for {work}")]
+    Submit { work: String, call: &'static str, result: ash::vk::Result },
     /// GPU memory could not be allocated.
     #[error("GPU memory: {0}")]
     Memory(String),
@@ -65,6 +69,14 @@ mod tests {
                 "vkCreateBuffer failed: A device memory allocation has failed",
             ),
             (Error::Memory("full".into()), "GPU memory: full"),
+            (
+                Error::Submit {
+                    work: "the frame's passes: scene, apply".into(),
+                    call: "vkQueueSubmit",
+                    result: ash::vk::Result::ERROR_DEVICE_LOST,
+                },
+                "vkQueueSubmit failed with ERROR_DEVICE_LOST for the frame's passes: scene, apply",
+            ),
         ];
         for (error, text) in cases {
             assert_eq!(error.to_string(), text);

@@ -142,6 +142,11 @@ pub enum Command {
         /// then match `render`.
         #[arg(long)]
         paused: bool,
+        /// Every N presented frames, go to the next stop of a tour of every technique, both
+        /// stencil modes and 1x/4x samples, resizing the window at each; after each full tour
+        /// print the resident memory and the live Vulkan objects (the soak test).
+        #[arg(long, value_name = "N")]
+        tour: Option<u32>,
     },
     /// Print the device, the mobile profile, and every limit the device is checked against.
     Info {

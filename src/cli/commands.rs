@@ -45,8 +45,8 @@ pub fn run(cli: Cli) -> Result<()> {
             bench(&frame, warmup, runs, json, table1_out.as_deref())
         }
         Command::Bake { frame, model, mip, out } => bake(&frame, model.as_deref(), mip, &out),
-        Command::View { frame, frames, screenshot, resize_after, press_after, paused } => {
-            view(&frame, frames, screenshot, ViewScript { resize_after, press_after }, paused)
+        Command::View { frame, frames, screenshot, resize_after, press_after, paused, tour } => {
+            view(&frame, frames, screenshot, ViewScript { resize_after, press_after, tour }, paused)
         }
     }
 }
@@ -577,6 +577,7 @@ fn bench_mip_flicker(frame: &FrameArgs, steps: u32, json: bool) -> Result<()> {
 struct ViewScript {
     resize_after: Option<Vec<String>>,
     press_after: Option<Vec<String>>,
+    tour: Option<u32>,
 }
 
 /// `--resize-after`'s or `--press-after`'s frame count.
@@ -614,6 +615,9 @@ fn view(
         Some([after, key]) => Some((frame_count("--press-after", after)?, crate::viewer::keys::scripted_key(key)?)),
         Some(_) => return Err(Error::InvalidInput("--press-after takes a frame count and a key".into())),
     };
+    if script.tour == Some(0) {
+        return Err(Error::InvalidInput("--tour must be at least 1 (frames per stop)".into()));
+    }
     let options = options(frame)?;
     let scene = load_scene(&frame.scene, frame.time)?;
     let device = frame.gpu.device.as_deref().map(DeviceChoice::parse).unwrap_or_default();
@@ -626,6 +630,7 @@ fn view(
             screenshot,
             resize_after,
             press_after,
+            tour: script.tour,
             paused,
             start_time: frame.time,
         },

@@ -8,6 +8,7 @@ use ash::vk;
 
 use super::render_pass::AttachmentDesc;
 use crate::error::{Error, Result, VkContext};
+use crate::gpu::live_objects::ObjectKind;
 use crate::gpu::memory::Image;
 use crate::gpu::Gpu;
 
@@ -23,6 +24,7 @@ impl Drop for RenderPass {
     fn drop(&mut self) {
         // SAFETY: no pending command uses the render pass (see `Buffer`'s drop).
         unsafe { self.gpu.raw().destroy_render_pass(self.raw, None) };
+        self.gpu.destroyed(ObjectKind::RenderPass);
     }
 }
 
@@ -60,6 +62,7 @@ impl Framebuffer {
         // view is the caller's single-mip view of an image at least `extent` large, kept alive as
         // long as this framebuffer.
         let raw = unsafe { gpu.raw().create_framebuffer(&info, None) }.vk("vkCreateFramebuffer")?;
+        gpu.created(ObjectKind::Framebuffer);
         Ok(Framebuffer { gpu: gpu.clone(), raw })
     }
 }
@@ -68,6 +71,7 @@ impl Drop for Framebuffer {
     fn drop(&mut self) {
         // SAFETY: no pending command uses the framebuffer (see `Buffer`'s drop).
         unsafe { self.gpu.raw().destroy_framebuffer(self.raw, None) };
+        self.gpu.destroyed(ObjectKind::Framebuffer);
     }
 }
 
@@ -96,6 +100,7 @@ impl ImageView {
         // SAFETY: `image` is alive (borrowed) and `mip` one of its mips (checked above); the view
         // keeps its format and colour aspect.
         let raw = unsafe { gpu.raw().create_image_view(&info, None) }.vk("vkCreateImageView")?;
+        gpu.created(ObjectKind::ImageView);
         Ok(ImageView { gpu: gpu.clone(), raw })
     }
 }
@@ -104,6 +109,7 @@ impl Drop for ImageView {
     fn drop(&mut self) {
         // SAFETY: no pending command uses the view (see `Buffer`'s drop).
         unsafe { self.gpu.raw().destroy_image_view(self.raw, None) };
+        self.gpu.destroyed(ObjectKind::ImageView);
     }
 }
 
@@ -256,5 +262,6 @@ fn build_with(
     // SAFETY: `info` and the arrays it points at live until the call returns; the subpasses
     // reference only attachments of `descriptions`.
     let raw = unsafe { gpu.raw().create_render_pass(&info, None) }.vk("vkCreateRenderPass")?;
+    gpu.created(ObjectKind::RenderPass);
     Ok(RenderPass { gpu: gpu.clone(), raw, attachments })
 }

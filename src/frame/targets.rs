@@ -9,6 +9,7 @@ use ash::vk;
 
 use super::render_pass::{RenderPassDesc, StencilMode, COLOUR_FORMAT};
 use crate::error::{Error, Result, VkContext};
+use crate::gpu::live_objects::ObjectKind;
 use crate::gpu::memory::{sample_count_flags, Image, ImageDesc};
 use crate::gpu::Gpu;
 
@@ -100,6 +101,7 @@ impl FrameTargets {
         check_samples(gpu, stencil, samples)?;
         let extent = vk::Extent2D { width, height };
         let depth_format = choose_depth_format(gpu, stencil)?;
+        check_frame_fits(gpu, width, height, samples, depth_format)?;
         let desc = RenderPassDesc::frame(depth_format, colour_feedback, samples, keep_samples);
         let multisampled_frame = desc.resolve.is_some();
 
@@ -158,6 +160,7 @@ impl FrameTargets {
 
         let device = gpu.raw();
         let render_pass = desc.build(device)?;
+        gpu.created(ObjectKind::RenderPass);
         let views = match &multisampled {
             Some(drawn) => vec![drawn.view, depth.view, colour.view],
             None => vec![colour.view, depth.view],
@@ -171,10 +174,14 @@ impl FrameTargets {
         // SAFETY: the views are alive (owned by the images kept with the framebuffer) and match
         // the render pass's attachments, in order, at the framebuffer's size.
         let framebuffer = match unsafe { device.create_framebuffer(&fb_info, None) }.vk("vkCreateFramebuffer") {
-            Ok(fb) => fb,
+            Ok(fb) => {
+                gpu.created(ObjectKind::Framebuffer);
+                fb
+            }
             Err(e) => {
                 // SAFETY: the render pass was just created and nothing uses it.
                 unsafe { device.destroy_render_pass(render_pass, None) };
+                gpu.destroyed(ObjectKind::RenderPass);
                 return Err(e);
             }
         };
@@ -212,5 +219,26 @@ impl Drop for FrameTargets {
             device.destroy_framebuffer(self.framebuffer, None);
             device.destroy_render_pass(self.render_pass, None);
         }
+        self.gpu.destroyed(ObjectKind::Framebuffer);
+        self.gpu.destroyed(ObjectKind::RenderPass);
     }
+}
+
+/// Refuses a frame whose targets (colour, multisampled colour, depth) and read-back buffer
+/// together exceed the device's largest heap, naming the size and sample count to lower.
+fn check_frame_fits(gpu: &Gpu, width: u32, height: u32, samples: u32, depth_format: vk::Format) -> Result<()> {
+    let pixels = width as u64 * height as u64;
+    let depth_bytes = match depth_format {
+        vk::Format::D32_SFLOAT_S8_UINT => 8,
+        _ => 4,
+    };
+    let multisampled = if samples > 1 { 4 * samples as u64 } else { 0 };
+    // Colour, its read-back buffer, the multisampled colour, depth per sample.
+    let bytes = pixels * (4 + 4 + multisampled + depth_bytes * samples as u64);
+    crate::gpu::memory::check_fits_in_heap(
+        gpu,
+        &format!("a {width}x{height} frame at {samples}x MSAA"),
+        bytes,
+        ": choose a smaller --size or fewer --samples",
+    )
 }

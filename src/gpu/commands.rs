@@ -4,7 +4,9 @@
 use ash::vk;
 
 use super::context::Gpu;
-use crate::error::{Result, VkContext};
+use super::faults::{self, Submission};
+use super::live_objects::ObjectKind;
+use crate::error::{Error, Result, VkContext};
 
 /// One primary command buffer from the GPU's pool (freed by the caller, into the same pool).
 pub fn allocate_primary(gpu: &Gpu) -> Result<vk::CommandBuffer> {
@@ -15,19 +17,49 @@ pub fn allocate_primary(gpu: &Gpu) -> Result<vk::CommandBuffer> {
         .command_buffer_count(1);
     // SAFETY: the pool belongs to this device and is locked while it allocates; `info` asks for
     // exactly one buffer, so `[0]` exists.
-    Ok(unsafe { gpu.raw().allocate_command_buffers(&info) }.vk("vkAllocateCommandBuffers")?[0])
+    let cmd = unsafe { gpu.raw().allocate_command_buffers(&info) }.vk("vkAllocateCommandBuffers")?[0];
+    gpu.created(ObjectKind::CommandBuffer);
+    Ok(cmd)
+}
+
+/// Frees a command buffer from `allocate_primary`.
+pub fn free_primary(gpu: &Gpu, cmd: vk::CommandBuffer) {
+    let pool = gpu.command_pool();
+    // SAFETY: `cmd` came from this pool (`allocate_primary`) and the caller has made sure it is
+    // not pending.
+    unsafe { gpu.raw().free_command_buffers(*pool, &[cmd]) };
+    gpu.destroyed(ObjectKind::CommandBuffer);
 }
 
 /// Records `record` into a one-time command buffer, submits it and waits for completion.
 pub fn submit_and_wait<T>(gpu: &Gpu, record: impl FnOnce(vk::CommandBuffer) -> Result<T>) -> Result<T> {
+    submit_and_wait_named(gpu, None, record)
+}
+
+/// As `submit_and_wait`, for a frame: a failed submit or wait (device lost, out of device
+/// memory) is reported naming the work, `work` of what the recording returned (its passes).
+pub fn submit_frame_and_wait<T>(
+    gpu: &Gpu,
+    work: impl Fn(&T) -> String,
+    record: impl FnOnce(vk::CommandBuffer) -> Result<T>,
+) -> Result<T> {
+    let mut named = None;
+    let result = submit_and_wait_named(gpu, Some(&mut |value: &T| named = Some(work(value))), record);
+    match (result, named) {
+        (Err(Error::Vulkan { call, result }), Some(work)) if call != "vkEndCommandBuffer" => {
+            Err(Error::Submit { work, call, result })
+        }
+        (result, _) => result,
+    }
+}
+
+fn submit_and_wait_named<T>(
+    gpu: &Gpu,
+    name: Option<&mut dyn FnMut(&T)>,
+    record: impl FnOnce(vk::CommandBuffer) -> Result<T>,
+) -> Result<T> {
     let device = gpu.raw();
     let cmd = allocate_primary(gpu)?;
-    let free = || {
-        let pool = gpu.command_pool();
-        // SAFETY: `cmd` came from this pool and is not pending: it was never submitted, or the
-        // fence wait below returned (a failed wait means the device is lost).
-        unsafe { device.free_command_buffers(*pool, &[cmd]) };
-    };
 
     let result = (|| {
         let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
@@ -36,22 +68,36 @@ pub fn submit_and_wait<T>(gpu: &Gpu, record: impl FnOnce(vk::CommandBuffer) -> R
         // crate shares one across threads), the external synchronisation pool and queue need.
         unsafe { device.begin_command_buffer(cmd, &begin) }.vk("vkBeginCommandBuffer")?;
         let value = record(cmd)?;
+        let injected = match name {
+            Some(name) => {
+                name(&value);
+                faults::submit_fault(Submission::Frame)
+            }
+            None => None,
+        };
         // SAFETY: `cmd` is recording (begun above).
         unsafe { device.end_command_buffer(cmd) }.vk("vkEndCommandBuffer")?;
 
         // SAFETY: a plain unsignalled fence of `device`.
         let fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }.vk("vkCreateFence")?;
+        gpu.created(ObjectKind::Fence);
         let cmds = [cmd];
         let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
-        // SAFETY: `cmd` is ended, `fence` unsignalled and unused; `submit` outlives the call.
-        let submitted = unsafe { device.queue_submit(gpu.device.queue, &submit, fence) }.vk("vkQueueSubmit");
+        let submitted = match injected {
+            Some(result) => Err(Error::Vulkan { call: "vkQueueSubmit", result }),
+            // SAFETY: `cmd` is ended, `fence` unsignalled and unused; `submit` outlives the call.
+            None => unsafe { device.queue_submit(gpu.device.queue, &submit, fence) }.vk("vkQueueSubmit"),
+        };
         // SAFETY: `fence` is alive.
         let waited =
             submitted.and_then(|_| unsafe { device.wait_for_fences(&[fence], true, u64::MAX) }.vk("vkWaitForFences"));
         // SAFETY: the fence is signalled, or was never submitted, or the device is lost.
         unsafe { device.destroy_fence(fence, None) };
+        gpu.destroyed(ObjectKind::Fence);
         waited.map(|_| value)
     })();
-    free();
+    // `cmd` is not pending: it was never submitted, or the fence wait returned (a failed wait
+    // means the device is lost).
+    free_primary(gpu, cmd);
     result
 }

@@ -9,6 +9,7 @@ use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
 use super::device::{Device, DeviceChoice};
 use super::instance::Instance;
+use super::live_objects::{LiveObjects, ObjectCounts, ObjectKind};
 use crate::error::{Error, Result, VkContext};
 
 #[derive(Debug, Clone, Default)]
@@ -28,6 +29,8 @@ impl GpuOptions {
 pub struct Gpu {
     allocator: ManuallyDrop<Mutex<Allocator>>,
     command_pool: Mutex<vk::CommandPool>,
+    /// What the crate has created on this device and not yet destroyed.
+    pub objects: LiveObjects,
     pub device: Device,
     pub instance: Instance,
 }
@@ -68,6 +71,7 @@ impl Gpu {
         Ok(Arc::new(Gpu {
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             command_pool: Mutex::new(command_pool),
+            objects: LiveObjects::default(),
             device,
             instance,
         }))
@@ -85,6 +89,21 @@ impl Gpu {
 
     pub(crate) fn command_pool(&self) -> MutexGuard<'_, vk::CommandPool> {
         self.command_pool.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// The Vulkan objects alive on this device now, and the allocator's memory blocks.
+    pub fn live_objects(&self) -> ObjectCounts {
+        self.objects.snapshot(self.allocator().generate_report().blocks.len())
+    }
+
+    /// Counts an object of `kind` created (see `LiveObjects`).
+    pub fn created(&self, kind: ObjectKind) {
+        self.objects.created(kind)
+    }
+
+    /// Counts an object of `kind` destroyed.
+    pub fn destroyed(&self, kind: ObjectKind) {
+        self.objects.destroyed(kind)
     }
 
     /// Validation messages recorded so far (empty when validation is off).

@@ -5,6 +5,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
+use super::live_objects::ObjectKind;
 use super::Gpu;
 use crate::error::{Result, VkContext};
 
@@ -82,6 +83,7 @@ impl DescriptorSet {
             )
         }
         .vk("vkCreateDescriptorSetLayout")?;
+        gpu.created(ObjectKind::DescriptorSetLayout);
         let sizes: Vec<_> =
             bindings.iter().map(|b| vk::DescriptorPoolSize { ty: b.descriptor_type(), descriptor_count: 1 }).collect();
         // SAFETY: as above; one set, one descriptor per binding.
@@ -90,10 +92,14 @@ impl DescriptorSet {
         }
         .vk("vkCreateDescriptorPool")
         {
-            Ok(pool) => pool,
+            Ok(pool) => {
+                gpu.created(ObjectKind::DescriptorPool);
+                pool
+            }
             Err(e) => {
                 // SAFETY: the layout was just created and nothing uses it.
                 unsafe { device.destroy_descriptor_set_layout(layout, None) };
+                gpu.destroyed(ObjectKind::DescriptorSetLayout);
                 return Err(e);
             }
         };
@@ -165,5 +171,7 @@ impl Drop for DescriptorSet {
             device.destroy_descriptor_pool(self.pool, None);
             device.destroy_descriptor_set_layout(self.layout, None);
         }
+        self.gpu.destroyed(ObjectKind::DescriptorPool);
+        self.gpu.destroyed(ObjectKind::DescriptorSetLayout);
     }
 }

@@ -11,6 +11,7 @@ use gpu_allocator::MemoryLocation;
 
 use super::commands::submit_and_wait;
 use super::context::Gpu;
+use super::live_objects::ObjectKind;
 use crate::error::{Error, Result, VkContext};
 
 pub struct Buffer {
@@ -34,6 +35,7 @@ impl Buffer {
         // SAFETY: `device` is alive (`gpu` holds it) and `info` is a valid create info; `raw` is
         // the buffer just created from it.
         let raw = unsafe { device.create_buffer(&info, None) }.vk("vkCreateBuffer")?;
+        gpu.created(ObjectKind::Buffer);
         // SAFETY: as above.
         let requirements = unsafe { device.get_buffer_memory_requirements(raw) };
         let allocation = gpu
@@ -48,8 +50,10 @@ impl Buffer {
             .map_err(|e| {
                 // SAFETY: `raw` has no memory bound and no other owner yet.
                 unsafe { device.destroy_buffer(raw, None) };
+                gpu.destroyed(ObjectKind::Buffer);
                 Error::Memory(format!("buffer '{name}' ({size} bytes): {e}"))
             })?;
+        gpu.created(ObjectKind::MemoryAllocation);
         // SAFETY: the allocation was made for `raw`'s requirements and is bound once; the memory
         // handle is only passed to Vulkan, never freed here (the allocator owns it). On failure
         // the returned Buffer's drop destroys `raw` and frees the allocation.
@@ -117,8 +121,10 @@ impl Drop for Buffer {
         // SAFETY: the GPU no longer uses the buffer: offscreen submissions are waited for by
         // `submit_and_wait`, and the viewer waits for its frames before dropping what they read.
         unsafe { self.gpu.raw().destroy_buffer(self.raw, None) };
+        self.gpu.destroyed(ObjectKind::Buffer);
         if let Some(allocation) = self.allocation.take() {
             let _ = self.gpu.allocator().free(allocation);
+            self.gpu.destroyed(ObjectKind::MemoryAllocation);
         }
     }
 }
@@ -180,6 +186,7 @@ impl Image {
         // SAFETY: `device` is alive (`gpu` holds it) and `info` is a valid create info; `raw` is
         // the image just created from it.
         let raw = unsafe { device.create_image(&info, None) }.vk("vkCreateImage")?;
+        gpu.created(ObjectKind::Image);
         // SAFETY: as above.
         let requirements = unsafe { device.get_image_memory_requirements(raw) };
 
@@ -198,6 +205,7 @@ impl Image {
                     Err(e) => {
                         // SAFETY: `raw` has no memory bound and no other owner yet.
                         unsafe { device.destroy_image(raw, None) };
+                        gpu.destroyed(ObjectKind::Image);
                         return Err(e);
                     }
                 }
@@ -215,11 +223,13 @@ impl Image {
                     Err(e) => {
                         // SAFETY: as above.
                         unsafe { device.destroy_image(raw, None) };
+                        gpu.destroyed(ObjectKind::Image);
                         return Err(Error::Memory(format!("image '{}': {e}", desc.name)));
                     }
                 }
             }
         };
+        gpu.created(ObjectKind::MemoryAllocation);
         let (vk_memory, offset) = match &memory {
             // SAFETY: the memory handle is only bound below, never freed here (the allocator owns it).
             ImageMemory::Allocator(a) => unsafe { (a.memory(), a.offset()) },
@@ -252,6 +262,7 @@ impl Image {
         // SAFETY: `raw` is alive with its memory bound, and the view covers its format, aspect
         // and mips.
         image.view = unsafe { device.create_image_view(&view_info, None) }.vk("vkCreateImageView")?;
+        gpu.created(ObjectKind::ImageView);
         Ok(image)
     }
 }
@@ -264,8 +275,13 @@ impl Drop for Image {
         unsafe {
             if self.view != vk::ImageView::null() {
                 device.destroy_image_view(self.view, None);
+                self.gpu.destroyed(ObjectKind::ImageView);
             }
             device.destroy_image(self.raw, None);
+        }
+        self.gpu.destroyed(ObjectKind::Image);
+        if self.memory.is_some() {
+            self.gpu.destroyed(ObjectKind::MemoryAllocation);
         }
         match self.memory.take() {
             Some(ImageMemory::Allocator(a)) => {
@@ -282,4 +298,29 @@ fn find_memory_type(gpu: &Gpu, type_bits: u32, flags: vk::MemoryPropertyFlags) -
     let props = &gpu.device.memory_properties;
     (0..props.memory_type_count)
         .find(|&i| type_bits & (1 << i) != 0 && props.memory_types[i as usize].property_flags.contains(flags))
+}
+
+/// The size of the device's largest device-local heap in bytes (a test-only fault can lower it).
+pub fn largest_device_heap(gpu: &Gpu) -> u64 {
+    let props = &gpu.device.memory_properties;
+    let heaps = &props.memory_heaps[..props.memory_heap_count as usize];
+    let largest = heaps.iter().filter(|h| h.flags.contains(vk::MemoryHeapFlags::DEVICE_LOCAL)).map(|h| h.size).max();
+    let largest = largest.unwrap_or(0);
+    super::faults::heap_limit().map_or(largest, |limit| largest.min(limit))
+}
+
+/// Refuses `bytes` of GPU memory for `what` up front when the device's largest heap cannot
+/// hold them (before anything is allocated, rendered or written); `hint` says what to lower.
+pub fn check_fits_in_heap(gpu: &Gpu, what: &str, bytes: u64, hint: &str) -> Result<()> {
+    let heap = largest_device_heap(gpu);
+    if bytes > heap {
+        const MIB: f64 = (1u64 << 20) as f64;
+        return Err(Error::Memory(format!(
+            "{what} needs {:.1} MiB, more than the largest heap of '{}' holds ({:.1} MiB){hint}",
+            bytes as f64 / MIB,
+            gpu.device.info.name,
+            heap as f64 / MIB
+        )));
+    }
+    Ok(())
 }

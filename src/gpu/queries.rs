@@ -7,6 +7,7 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::context::Gpu;
+use super::live_objects::ObjectKind;
 use crate::error::{Result, VkContext};
 
 /// What one pass's queries returned.
@@ -45,7 +46,9 @@ impl PassQueryPools {
             let info = vk::QueryPoolCreateInfo::default().query_type(ty).query_count(count).pipeline_statistics(stats);
             // SAFETY: `device` is alive (`gpu` holds it); statistics are asked for only when the
             // device enabled pipelineStatisticsQuery.
-            unsafe { device.create_query_pool(&info, None) }.vk("vkCreateQueryPool")
+            let pool = unsafe { device.create_query_pool(&info, None) }.vk("vkCreateQueryPool")?;
+            gpu.created(ObjectKind::QueryPool);
+            Ok::<_, crate::error::Error>(pool)
         };
         let statistics = if features.pipeline_statistics_query {
             Some(make(vk::QueryType::PIPELINE_STATISTICS, capacity, STATISTICS)?)
@@ -166,9 +169,12 @@ impl Drop for PassQueryPools {
         unsafe {
             if let Some(pool) = self.statistics {
                 device.destroy_query_pool(pool, None);
+                self.gpu.destroyed(ObjectKind::QueryPool);
             }
             device.destroy_query_pool(self.occlusion, None);
             device.destroy_query_pool(self.timestamps, None);
         }
+        self.gpu.destroyed(ObjectKind::QueryPool);
+        self.gpu.destroyed(ObjectKind::QueryPool);
     }
 }

@@ -8,6 +8,7 @@ use std::sync::Arc;
 use ash::{khr, vk};
 use winit::raw_window_handle::{HasDisplayHandle, HasWindowHandle};
 
+use super::live_objects::ObjectKind;
 use crate::error::{Error, Result, VkContext};
 use crate::gpu::Gpu;
 
@@ -225,6 +226,7 @@ impl Swapchain {
         // transform and composite alpha are taken from the surface's capabilities, the format
         // from its list, and FIFO is always supported. `old` is the surface's current swapchain.
         let raw = unsafe { loader.create_swapchain(&info, None) }.vk("vkCreateSwapchainKHR")?;
+        gpu.created(ObjectKind::Swapchain);
         let mut swapchain = Swapchain {
             gpu: gpu.clone(),
             loader,
@@ -243,6 +245,7 @@ impl Swapchain {
             // SAFETY: `gpu` holds the device.
             let semaphore = unsafe { gpu.raw().create_semaphore(&vk::SemaphoreCreateInfo::default(), None) }
                 .vk("vkCreateSemaphore")?;
+            gpu.created(ObjectKind::Semaphore);
             swapchain.render_finished.push(semaphore);
         }
         Ok(Some(swapchain))
@@ -271,7 +274,11 @@ impl Swapchain {
         match unsafe { self.loader.queue_present(self.gpu.device.queue, &info) } {
             Ok(suboptimal) => Ok(suboptimal),
             Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(true),
-            Err(result) => Err(Error::Vulkan { call: "vkQueuePresentKHR", result }),
+            Err(result) => Err(Error::Submit {
+                work: format!("the present of swapchain image {index}"),
+                call: "vkQueuePresentKHR",
+                result,
+            }),
         }
     }
 }
@@ -286,8 +293,10 @@ impl Drop for Swapchain {
             let _ = device.device_wait_idle();
             for semaphore in self.render_finished.drain(..) {
                 device.destroy_semaphore(semaphore, None);
+                self.gpu.destroyed(ObjectKind::Semaphore);
             }
             self.loader.destroy_swapchain(self.raw, None);
         }
+        self.gpu.destroyed(ObjectKind::Swapchain);
     }
 }

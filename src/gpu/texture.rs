@@ -8,6 +8,7 @@ use image::RgbaImage;
 
 use super::barriers;
 use super::commands::submit_and_wait;
+use super::live_objects::ObjectKind;
 use super::memory::{Buffer, Image, ImageDesc};
 use super::Gpu;
 use crate::error::{Error, Result, VkContext};
@@ -33,6 +34,7 @@ impl Sampler {
             .max_lod(vk::LOD_CLAMP_NONE);
         // SAFETY: `gpu` holds the device; anisotropy stays off, as the profile requires.
         let raw = unsafe { gpu.raw().create_sampler(&info, None) }.vk("vkCreateSampler")?;
+        gpu.created(ObjectKind::Sampler);
         Ok(Sampler { gpu: gpu.clone(), raw })
     }
 
@@ -52,6 +54,7 @@ impl Sampler {
             .max_lod(0.0);
         // SAFETY: `gpu` holds the device; depth compare is core Vulkan and anisotropy stays off.
         let raw = unsafe { gpu.raw().create_sampler(&info, None) }.vk("vkCreateSampler")?;
+        gpu.created(ObjectKind::Sampler);
         Ok(Sampler { gpu: gpu.clone(), raw })
     }
 }
@@ -60,6 +63,7 @@ impl Drop for Sampler {
     fn drop(&mut self) {
         // SAFETY: no pending command uses the sampler (see `Buffer`'s drop).
         unsafe { self.gpu.raw().destroy_sampler(self.raw, None) };
+        self.gpu.destroyed(ObjectKind::Sampler);
     }
 }
 
@@ -70,6 +74,7 @@ impl Sampler {
         let info = info.anisotropy_enable(false);
         // SAFETY: `gpu` holds the device; `info` points at nothing; anisotropy is off.
         let raw = unsafe { gpu.raw().create_sampler(&info, None) }.vk("vkCreateSampler")?;
+        gpu.created(ObjectKind::Sampler);
         Ok(Sampler { gpu: gpu.clone(), raw })
     }
 }

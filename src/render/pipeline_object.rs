@@ -6,6 +6,7 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::error::{Result, VkContext};
+use crate::gpu::live_objects::ObjectKind;
 use crate::gpu::memory::sample_count_flags;
 use crate::gpu::mobile_profile;
 use crate::gpu::Gpu;
@@ -104,6 +105,7 @@ impl Pipeline {
         // SAFETY: `gpu` holds the device; the set layouts are the caller's, alive for the call;
         // the push-constant range was checked against the profile's limit above.
         let layout = unsafe { device.create_pipeline_layout(&layout_info, None) }.vk("vkCreatePipelineLayout")?;
+        gpu.created(ObjectKind::PipelineLayout);
         Self::with_layout(gpu, desc, target, layout, set_layouts.len() as u32, true)
     }
 
@@ -231,6 +233,7 @@ impl Pipeline {
             .map_err(|(_, result)| result)
             .vk("vkCreateGraphicsPipelines")?;
         pipeline.raw = raw[0];
+        gpu.created(ObjectKind::Pipeline);
         Ok(pipeline)
     }
 }
@@ -243,9 +246,11 @@ impl Drop for Pipeline {
         unsafe {
             if self.raw != vk::Pipeline::null() {
                 device.destroy_pipeline(self.raw, None);
+                self.gpu.destroyed(ObjectKind::Pipeline);
             }
             if self.owns_layout {
                 device.destroy_pipeline_layout(self.layout, None);
+                self.gpu.destroyed(ObjectKind::PipelineLayout);
             }
         }
     }
@@ -262,6 +267,7 @@ impl<'a> ShaderModule<'a> {
         let info = vk::ShaderModuleCreateInfo::default().code(&code);
         // SAFETY: `code` is SPIR-V compiled by shaderc at build time, as u32 words.
         let raw = unsafe { gpu.raw().create_shader_module(&info, None) }.vk("vkCreateShaderModule")?;
+        gpu.created(ObjectKind::ShaderModule);
         Ok(ShaderModule { gpu, raw })
     }
 }
@@ -270,6 +276,7 @@ impl Drop for ShaderModule<'_> {
     fn drop(&mut self) {
         // SAFETY: a module is only needed while pipelines are created from it.
         unsafe { self.gpu.raw().destroy_shader_module(self.raw, None) };
+        self.gpu.destroyed(ObjectKind::ShaderModule);
     }
 }
 

@@ -9,6 +9,8 @@ use gpu_allocator::MemoryLocation;
 use super::frame_copy;
 use crate::error::{Error, Result, VkContext};
 use crate::frame::render_pass::COLOUR_FORMAT;
+use crate::gpu::faults::{self, Submission};
+use crate::gpu::live_objects::ObjectKind;
 use crate::gpu::memory::Buffer;
 use crate::gpu::swapchain::{self, Acquired, Surface, Swapchain, Transfer};
 use crate::gpu::Gpu;
@@ -102,7 +104,11 @@ impl Presenter {
         let fences: Vec<vk::Fence> = self.slots.slots.iter().map(|slot| slot.in_flight).collect();
         // SAFETY: the fences are the slots' own, alive while `self` is; each was created
         // signalled or is reset only just before the submission that signals it.
-        unsafe { self.gpu.raw().wait_for_fences(&fences, true, u64::MAX) }.vk("vkWaitForFences")
+        unsafe { self.gpu.raw().wait_for_fences(&fences, true, u64::MAX) }.map_err(|result| Error::Submit {
+            work: "the previous frames' copies to the window".into(),
+            call: "vkWaitForFences",
+            result,
+        })
     }
 
     /// Acquires the next swapchain image for the current slot.
@@ -151,7 +157,15 @@ impl Presenter {
                 .wait_dst_stage_mask(&stages)
                 .command_buffers(&cmds)
                 .signal_semaphores(&signals)];
-            device.queue_submit(self.gpu.device.queue, &submit, in_flight).vk("vkQueueSubmit")?;
+            let submitted = device.queue_submit(self.gpu.device.queue, &submit, in_flight);
+            // An injected fault (tests only) comes after the real submit, so that the frame's
+            // semaphores and fence still complete and the teardown is the normal one.
+            let submitted = submitted.and_then(|_| faults::submit_fault(Submission::Present).map_or(Ok(()), Err));
+            submitted.map_err(|result| Error::Submit {
+                work: format!("the copy of the frame to the window (swapchain image {index})"),
+                call: "vkQueueSubmit",
+                result,
+            })?;
         }
         Ok(())
     }
@@ -210,6 +224,12 @@ impl FrameSlots {
             }
             .vk("vkCreateFence");
             // Push first, so that Drop frees whatever was created.
+            if image_available.is_ok() {
+                gpu.created(ObjectKind::Semaphore);
+            }
+            if in_flight.is_ok() {
+                gpu.created(ObjectKind::Fence);
+            }
             slots.slots.push(FrameSlot {
                 cmd,
                 image_available: *image_available.as_ref().unwrap_or(&vk::Semaphore::null()),
@@ -241,12 +261,13 @@ impl Drop for FrameSlots {
             for slot in self.slots.drain(..) {
                 if slot.in_flight != vk::Fence::null() {
                     device.destroy_fence(slot.in_flight, None);
+                    self.gpu.destroyed(ObjectKind::Fence);
                 }
                 if slot.image_available != vk::Semaphore::null() {
                     device.destroy_semaphore(slot.image_available, None);
+                    self.gpu.destroyed(ObjectKind::Semaphore);
                 }
-                let pool = self.gpu.command_pool();
-                device.free_command_buffers(*pool, &[slot.cmd]);
+                crate::gpu::commands::free_primary(&self.gpu, slot.cmd);
             }
         }
     }

@@ -8,13 +8,13 @@ use gpu_allocator::MemoryLocation;
 use image::RgbaImage;
 
 use super::counters::{FrameCounters, PassCounters};
-use super::recorder::{FrameRecorder, OverdrawPipelines};
+use super::recorder::{FrameRecorder, OverdrawPipelines, PassRecord};
 use super::sample_readback::{self, FrameSamples};
 use super::uniforms::{FrameDescriptors, FrameUniforms};
 use crate::error::Result;
 use crate::frame::{image_from_rgba8, FrameTargets, StencilMode};
 use crate::gpu::barriers;
-use crate::gpu::commands::submit_and_wait;
+use crate::gpu::commands::submit_frame_and_wait;
 use crate::gpu::memory::Buffer;
 use crate::gpu::queries::PassQueryPools;
 use crate::gpu::regions;
@@ -138,7 +138,7 @@ impl Renderer {
         let (targets, queries, readback, frame_set) = (&self.targets, &self.queries, &self.readback, self.frame.set);
         let (keep_on_gpu, stencil_clear) = (self.keep_on_gpu, self.stencil_clear);
 
-        let (pass_records, render_passes) = submit_and_wait(&gpu, |cmd| {
+        let (pass_records, render_passes) = submit_frame_and_wait(&gpu, describe_passes, |cmd| {
             queries.reset(cmd);
             let mut recorder = FrameRecorder::new(&gpu, cmd, queries, extent, frame_set, targets.drawn_colour().raw);
             if let Some(pipelines) = overdraw {
@@ -210,4 +210,10 @@ impl Renderer {
             trace,
         })
     }
+}
+
+/// "the frame's passes: shadow volumes, apply" for a failed submit.
+fn describe_passes<R>((passes, _): &(Vec<PassRecord>, R)) -> String {
+    let names: Vec<&str> = passes.iter().map(|p| p.name.as_str()).collect();
+    format!("the frame's passes: {}", names.join(", "))
 }

@@ -15,6 +15,7 @@ use winit::window::{Window, WindowId};
 use super::controls::Live;
 use super::keys::{self, Action, Flow};
 use super::live::{LiveFrame, LiveTechnique, Settings};
+use super::tour::{self, Tour};
 use super::x_guard;
 use super::ViewerOptions;
 use crate::error::{Error, Result};
@@ -56,6 +57,8 @@ struct Session<'s> {
     last_tick: Instant,
     /// The last presented frame's counters, for the title.
     last: Option<LiveFrame>,
+    /// `--tour`: the soak's script, and the frame count whose stop was last applied.
+    tour: Option<(Tour, Option<u32>)>,
 }
 
 /// The window and everything bound to it. Field order is drop order: the technique and the
@@ -87,6 +90,7 @@ struct TechniqueCache<'s> {
 
 impl<'s> App<'s> {
     pub(super) fn new(gpu: Arc<Gpu>, base: &'s Scene, options: ViewerOptions) -> Self {
+        let tour = options.tour.map(|every| (Tour::new(every, options.size), None));
         let session = Session {
             gpu,
             base,
@@ -98,6 +102,7 @@ impl<'s> App<'s> {
             done: false,
             last_tick: Instant::now(),
             last: None,
+            tour,
         };
         App { state: AppState::Starting, session }
     }
@@ -199,6 +204,7 @@ impl<'s> RunningWindow<'s> {
             self.output.recreate(&session.gpu, &self.surface, size)?;
             self.needs_recreate = false;
         }
+        self.next_stop(session);
         // No area to draw on (minimised): wait for a resize.
         let Output::Presenting(presenter) = &mut self.output else { return Ok(()) };
         let extent = presenter.extent();
@@ -266,6 +272,7 @@ impl<'s> RunningWindow<'s> {
         }
         session.presented += 1;
         session.last = Some(frame);
+        report_tour(session);
         update_title(&self.window, session)?;
 
         if let Some((after, letter)) = session.options.press_after {
@@ -301,6 +308,35 @@ impl<'s> RunningWindow<'s> {
             event_loop.exit();
         }
         Ok(())
+    }
+}
+
+impl RunningWindow<'_> {
+    /// `--tour`: at a stop's first frame, its technique, stencil, samples and window size.
+    fn next_stop(&mut self, session: &mut Session) {
+        let Some((tour, applied)) = &mut session.tour else { return };
+        if *applied == Some(session.presented) {
+            return; // a retried frame (out-of-date swapchain): the stop is already applied
+        }
+        let Some(stop) = tour.at(session.presented).0 else { return };
+        *applied = Some(session.presented);
+        stop.apply(&session.gpu, &mut session.settings.render);
+        self.resize_pending = Some(stop.size);
+        self.frames_since_resize = 0;
+        let _ = self.window.request_inner_size(PhysicalSize::new(stop.size.0, stop.size.1));
+    }
+}
+
+/// `--tour`: after a tour's last frame, the resident memory and the live Vulkan objects.
+fn report_tour(session: &Session) {
+    let Some((tour, _)) = &session.tour else { return };
+    if let Some(completed) = tour.at(session.presented).1 {
+        let resident = tour::resident_kib().map_or("n/a".to_owned(), |kib| format!("{kib} KiB"));
+        eprintln!(
+            "nostencil view: tour {completed} done after {} frames: resident {resident}; live objects: {}",
+            session.presented,
+            session.gpu.live_objects()
+        );
     }
 }
 

@@ -22,6 +22,7 @@ mod app;
 mod controls;
 pub(crate) mod keys;
 pub mod live;
+mod tour;
 mod x_guard;
 
 use std::path::PathBuf;
@@ -51,6 +52,8 @@ pub struct ViewerOptions {
     pub press_after: Option<(u32, char)>,
     /// Start with the animation paused (frames then match `nostencil render`).
     pub paused: bool,
+    /// Every this many presented frames, the next stop of the soak's tour (see `tour`).
+    pub tour: Option<u32>,
     /// The animation time the scene was built at (`--time`); the viewer's clock starts there.
     pub start_time: f32,
 }

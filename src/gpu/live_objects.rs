@@ -1,0 +1,150 @@
+//! Counts of the Vulkan objects alive on one device, kept by the code that creates and
+//! destroys them (cheap atomics, always on): a long run that ends with more objects than it
+//! had after its first round leaks. `nostencil view --report-objects` prints them; the soak test
+//! compares them.
+
+use std::fmt;
+use std::sync::atomic::{AtomicI64, Ordering};
+
+/// A kind of Vulkan object the crate creates and destroys itself.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ObjectKind {
+    Buffer,
+    Image,
+    ImageView,
+    /// A sub-allocation of gpu-allocator, or a dedicated lazily allocated vkDeviceMemory.
+    MemoryAllocation,
+    Sampler,
+    RenderPass,
+    Framebuffer,
+    Pipeline,
+    PipelineLayout,
+    ShaderModule,
+    DescriptorPool,
+    DescriptorSetLayout,
+    QueryPool,
+    CommandBuffer,
+    Fence,
+    Semaphore,
+    Swapchain,
+}
+
+impl ObjectKind {
+    pub const ALL: [ObjectKind; 17] = [
+        ObjectKind::Buffer,
+        ObjectKind::Image,
+        ObjectKind::ImageView,
+        ObjectKind::MemoryAllocation,
+        ObjectKind::Sampler,
+        ObjectKind::RenderPass,
+        ObjectKind::Framebuffer,
+        ObjectKind::Pipeline,
+        ObjectKind::PipelineLayout,
+        ObjectKind::ShaderModule,
+        ObjectKind::DescriptorPool,
+        ObjectKind::DescriptorSetLayout,
+        ObjectKind::QueryPool,
+        ObjectKind::CommandBuffer,
+        ObjectKind::Fence,
+        ObjectKind::Semaphore,
+        ObjectKind::Swapchain,
+    ];
+
+    /// The name printed in a report ("image-views").
+    pub fn name(self) -> &'static str {
+        match self {
+            ObjectKind::Buffer => "buffers",
+            ObjectKind::Image => "images",
+            ObjectKind::ImageView => "image-views",
+            ObjectKind::MemoryAllocation => "allocations",
+            ObjectKind::Sampler => "samplers",
+            ObjectKind::RenderPass => "render-passes",
+            ObjectKind::Framebuffer => "framebuffers",
+            ObjectKind::Pipeline => "pipelines",
+            ObjectKind::PipelineLayout => "pipeline-layouts",
+            ObjectKind::ShaderModule => "shader-modules",
+            ObjectKind::DescriptorPool => "descriptor-pools",
+            ObjectKind::DescriptorSetLayout => "descriptor-set-layouts",
+            ObjectKind::QueryPool => "query-pools",
+            ObjectKind::CommandBuffer => "command-buffers",
+            ObjectKind::Fence => "fences",
+            ObjectKind::Semaphore => "semaphores",
+            ObjectKind::Swapchain => "swapchains",
+        }
+    }
+
+    fn index(self) -> usize {
+        self as usize
+    }
+}
+
+/// Live objects of each kind on one device.
+#[derive(Default)]
+pub struct LiveObjects {
+    counts: [AtomicI64; ObjectKind::ALL.len()],
+}
+
+impl LiveObjects {
+    pub fn created(&self, kind: ObjectKind) {
+        self.counts[kind.index()].fetch_add(1, Ordering::Relaxed);
+    }
+
+    pub fn destroyed(&self, kind: ObjectKind) {
+        self.counts[kind.index()].fetch_sub(1, Ordering::Relaxed);
+    }
+
+    /// The counts now; `memory_blocks` is what the allocator reports holding.
+    pub fn snapshot(&self, memory_blocks: usize) -> ObjectCounts {
+        ObjectCounts {
+            live: ObjectKind::ALL.map(|kind| self.counts[kind.index()].load(Ordering::Relaxed)),
+            memory_blocks,
+        }
+    }
+}
+
+/// The live counts at one moment, with the number of vkDeviceMemory blocks gpu-allocator holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ObjectCounts {
+    live: [i64; ObjectKind::ALL.len()],
+    /// vkDeviceMemory blocks gpu-allocator holds (it keeps some empty ones for reuse).
+    pub memory_blocks: usize,
+}
+
+impl ObjectCounts {
+    pub fn get(&self, kind: ObjectKind) -> i64 {
+        self.live[kind.index()]
+    }
+}
+
+impl fmt::Display for ObjectCounts {
+    /// "buffers=3 images=2 ..." (every kind, zeros too, so that reports line up).
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let fields: Vec<String> = ObjectKind::ALL.iter().map(|k| format!("{}={}", k.name(), self.get(*k))).collect();
+        write!(f, "{} memory-blocks={}", fields.join(" "), self.memory_blocks)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn counts_go_up_and_down_per_kind_and_print_every_kind() {
+        for (i, kind) in ObjectKind::ALL.iter().enumerate() {
+            assert_eq!(kind.index(), i, "{kind:?} is out of order in ALL");
+        }
+        let live = LiveObjects::default();
+        live.created(ObjectKind::Image);
+        live.created(ObjectKind::Image);
+        live.created(ObjectKind::Fence);
+        live.destroyed(ObjectKind::Image);
+        let counts = live.snapshot(2);
+        assert_eq!(counts.get(ObjectKind::Image), 1);
+        assert_eq!(counts.get(ObjectKind::Fence), 1);
+        assert_eq!(counts.get(ObjectKind::Buffer), 0);
+        let text = counts.to_string();
+        assert!(text.starts_with("buffers=0 images=1 image-views=0"), "{text}");
+        assert!(text.ends_with("swapchains=0 memory-blocks=2"), "{text}");
+        assert_eq!(text.split(' ').count(), ObjectKind::ALL.len() + 1);
+    }
+}
