@@ -13,6 +13,7 @@ pub mod mobile_profile;
 pub mod queries;
 pub mod swapchain;
 pub mod texture;
+pub mod validation;
 
 pub use context::{Gpu, GpuOptions};
 pub use device::DeviceChoice;
