@@ -130,6 +130,12 @@ fn unwritable_output_leaves_no_file() {
 }
 
 #[test]
+fn unknown_device_is_named_with_the_devices_available() {
+    refused(&["info", "--device", "no-such-gpu"], "no-such-gpu");
+    refused(&["info", "--device", "99"], "available: 0: ");
+}
+
+#[test]
 fn unknown_scene_and_technique_are_named() {
     refused(&["profile", "--scene", "nowhere"], "nowhere");
     refused(&["profile", "--technique", "magic"], "magic");

@@ -175,20 +175,22 @@ unsafe extern "system" fn on_validation_message(
     data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,
     user_data: *mut c_void,
 ) -> vk::Bool32 {
-    if data.is_null() {
-        return vk::FALSE;
-    }
-    // SAFETY: Vulkan passes callback data valid for the duration of the callback; the two
-    // accessors read its NUL-terminated message ID name and message (or none).
-    let (id, text) = unsafe {
-        (
-            (*data).message_id_name_as_c_str().map(|m| m.to_string_lossy().into_owned()).unwrap_or_default(),
-            (*data)
-                .message_as_c_str()
-                .map(|m| m.to_string_lossy().into_owned())
-                .unwrap_or_else(|| "(no message)".to_owned()),
-        )
+    let (id, text) = if data.is_null() {
+        (String::new(), "(no message)".to_owned())
+    } else {
+        // SAFETY: Vulkan passes callback data valid for the duration of the callback; the two
+        // accessors read its NUL-terminated message ID name and message (or none).
+        unsafe {
+            (
+                (*data).message_id_name_as_c_str().map(|m| m.to_string_lossy().into_owned()).unwrap_or_default(),
+                (*data)
+                    .message_as_c_str()
+                    .map(|m| m.to_string_lossy().into_owned())
+                    .unwrap_or_else(|| "(no message)".to_owned()),
+            )
+        }
     };
+    // Only the message IDs listed in `validation::SILENCED`, each with its reason.
     if validation::is_silenced(&id) {
         return vk::FALSE;
     }
