@@ -82,6 +82,33 @@ fn info_prints_device_profile_and_limits() {
 }
 
 #[test]
+fn info_validation_names_the_active_checks_in_text_and_json() {
+    let (json, stderr) = common::run_ok(&["info", "--validation", "--json"]);
+    assert!(!stderr.contains("vulkan validation"), "info itself raised validation messages:\n{stderr}");
+    let info: serde_json::Value = serde_json::from_str(&json).expect("JSON");
+    let validation = &info["validation"];
+    assert!(validation["layer"].as_str().is_some_and(|l| l.starts_with("VK_LAYER_KHRONOS_validation")), "{validation}");
+    assert_eq!(validation["core"], true);
+    assert_eq!(validation["synchronization"], true, "synchronisation validation must be on: {validation}");
+    assert_eq!(validation["best_practices"], nostencil::gpu::validation::BEST_PRACTICES);
+    assert_eq!(validation["gpu_assisted"], false);
+    let silenced = validation["silenced"].as_array().expect("silenced list");
+    assert_eq!(silenced.len(), nostencil::gpu::validation::SILENCED.len());
+    assert!(silenced.iter().all(|s| s["id"].as_str().is_some() && s["why"].as_str().is_some_and(|w| !w.is_empty())));
+
+    let (text, _) = common::run_ok(&["info", "--validation"]);
+    assert!(text.contains("synchronization on"), "{text}");
+    assert!(text.contains("core on"), "{text}");
+    assert_eq!(text.lines().filter(|l| l.trim_start().starts_with("silenced:")).count(), silenced.len(), "{text}");
+
+    let (off, _) = common::run_ok(&["info", "--json"]);
+    let off: serde_json::Value = serde_json::from_str(&off).expect("JSON");
+    assert!(off["validation"].is_null(), "validation was not asked for: {}", off["validation"]);
+    let (off_text, _) = common::run_ok(&["info"]);
+    assert!(off_text.contains("validation: off"), "{off_text}");
+}
+
+#[test]
 fn unknown_option_is_a_one_line_error() {
     refused(&["render", "--out", "x.png", "--frobnicate"], "--frobnicate");
 }
@@ -100,6 +127,12 @@ fn unwritable_output_leaves_no_file() {
     refused(&["render", "--size", "32x32", "--out", out.to_str().unwrap()], "frame.png");
     assert!(!out.exists());
     assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0, "nothing may be left behind");
+}
+
+#[test]
+fn unknown_device_is_named_with_the_devices_available() {
+    refused(&["info", "--device", "no-such-gpu"], "no-such-gpu");
+    refused(&["info", "--device", "99"], "available: 0: ");
 }
 
 #[test]

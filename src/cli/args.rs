@@ -162,7 +162,8 @@ pub struct GpuArgs {
     /// Device by index or name fragment (`lavapipe`); default: NOSTENCIL_DEVICE, else automatic.
     #[arg(long, value_name = "INDEX|NAME")]
     pub device: Option<String>,
-    /// Enable the Khronos validation layer (messages go to stderr).
+    /// Enable the Khronos validation layer: core, synchronisation and best-practices checks
+    /// (messages go to stderr; `info --validation` lists them).
     #[arg(long)]
     pub validation: bool,
 }

@@ -8,6 +8,7 @@ use crate::error::{Error, Result};
 use crate::frame::render_pass::COLOUR_FORMAT;
 use crate::frame::targets::{choose_depth_format, offered_samples};
 use crate::frame::StencilMode;
+use crate::gpu::validation::ValidationReport;
 use crate::gpu::{mobile_profile, DeviceChoice, Gpu, GpuOptions};
 use crate::profile::budget::Budget;
 use crate::profile::report::{FrameFormats, ProfileReport, ReportContext, ReportFormat};
@@ -377,6 +378,8 @@ struct InfoReport<'a> {
     frame_samples_emulated: Vec<u32>,
     frame_samples_reference: Vec<u32>,
     limits: &'a [mobile_profile::LimitCheck],
+    /// The validation layer's active checks (`--validation`); null when validation is off.
+    validation: Option<&'a ValidationReport>,
     scenes: Vec<&'static str>,
     techniques: Vec<&'static str>,
 }
@@ -402,6 +405,7 @@ fn info(args: &GpuArgs, json: bool) -> Result<()> {
         frame_samples_emulated: offered_samples(&gpu, StencilMode::Emulated),
         frame_samples_reference: offered_samples(&gpu, StencilMode::Reference),
         limits: &info.limit_checks,
+        validation: gpu.validation_report(),
         scenes: BUILTIN_SCENES.iter().chain(OTHER_SCENES).map(|(n, _)| *n).collect(),
         techniques: TECHNIQUES.iter().map(|t| t.name()).collect(),
     };
@@ -449,9 +453,32 @@ fn info(args: &GpuArgs, json: bool) -> Result<()> {
             if check.ok { "yes" } else { "NO" }
         );
     }
+    print_validation(report.validation);
     println!("\nscenes:     {}", report.scenes.join(", "));
     println!("techniques: {}", report.techniques.join(", "));
     Ok(())
+}
+
+/// The validation part of `info`: which checks are on and which messages are silenced, and why.
+fn print_validation(report: Option<&ValidationReport>) {
+    let Some(v) = report else {
+        println!("\nvalidation: off (--validation turns on the Khronos layer and its checks)");
+        return;
+    };
+    let on = |b: bool| if b { "on" } else { "off" };
+    println!("\nvalidation: {}", v.layer);
+    println!(
+        "  checks:   core {}, synchronization {}, best practices {}, GPU-assisted {}, debug printf {}",
+        on(v.core),
+        on(v.synchronization),
+        on(v.best_practices),
+        on(v.gpu_assisted),
+        on(v.debug_printf)
+    );
+    println!("  recorded: {}", v.recorded);
+    for silenced in v.silenced {
+        println!("  silenced: {}: {}", silenced.id, silenced.why);
+    }
 }
 
 fn bench(frame: &FrameArgs, warmup: u32, runs: Option<u32>, json: bool, table1_out: Option<&Path>) -> Result<()> {

@@ -119,63 +119,95 @@ pub fn transfer_to_host(device: &ash::Device, cmd: vk::CommandBuffer, buffer: vk
 }
 
 // ---------------------------------------------------------------------------------------------
-// Textures: uploads, mip chains and read-backs. These run once per upload or bake, so their
-// scopes are conservative (all commands, any memory access) rather than tuned.
+// Textures: uploads, mip chains and read-backs. Textures are sampled by fragment shaders only
+// (no vertex shader samples), so "sampled" means the fragment-shader stage. Each transition
+// names its exact stages and accesses: the best-practices checks flag ALL_COMMANDS and
+// MEMORY_READ/WRITE, and synchronisation validation checks that these scopes are enough.
 
-/// A layout transition of `mips` of a colour image, with all-commands scopes.
-pub fn colour_layout(
+/// A layout transition of `mips` of a colour image between the given stage and access scopes.
+fn colour_transition(
     device: &ash::Device,
     cmd: vk::CommandBuffer,
-    image: vk::Image,
-    mips: Range<u32>,
-    from: vk::ImageLayout,
-    to: vk::ImageLayout,
+    (image, mips): (vk::Image, Range<u32>),
+    layouts: (vk::ImageLayout, vk::ImageLayout),
+    stages: (vk::PipelineStageFlags, vk::PipelineStageFlags),
+    accesses: (vk::AccessFlags, vk::AccessFlags),
 ) {
-    let barrier = image_barrier(
-        image,
-        mips,
-        (from, to),
-        (vk::AccessFlags::MEMORY_WRITE, vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE),
-    );
-    record_image_barriers(
-        device,
-        cmd,
-        (vk::PipelineStageFlags::ALL_COMMANDS, vk::PipelineStageFlags::ALL_COMMANDS),
-        vk::DependencyFlags::empty(),
-        &[barrier],
-    );
+    let barrier = image_barrier(image, mips, layouts, accesses);
+    record_image_barriers(device, cmd, stages, vk::DependencyFlags::empty(), &[barrier]);
 }
 
-/// `mips` whose old contents do not matter become copy and blit destinations.
+/// `mips` whose old contents do not matter become copy and blit destinations. They may have
+/// been sampled or blitted to earlier in the same command buffer (a bake rebuilt in one frame):
+/// the transition waits for both, and makes earlier blit writes available (write after write).
 pub fn upload_destination(device: &ash::Device, cmd: vk::CommandBuffer, image: vk::Image, mips: Range<u32>) {
-    let (from, to) = (vk::ImageLayout::UNDEFINED, vk::ImageLayout::TRANSFER_DST_OPTIMAL);
-    colour_layout(device, cmd, image, mips, from, to);
+    colour_transition(
+        device,
+        cmd,
+        (image, mips),
+        (vk::ImageLayout::UNDEFINED, vk::ImageLayout::TRANSFER_DST_OPTIMAL),
+        (vk::PipelineStageFlags::FRAGMENT_SHADER | vk::PipelineStageFlags::TRANSFER, vk::PipelineStageFlags::TRANSFER),
+        (vk::AccessFlags::TRANSFER_WRITE, vk::AccessFlags::TRANSFER_WRITE),
+    );
 }
 
 /// A mip just written by a copy or blit becomes the source of the blit to the next mip.
 pub fn mip_to_blit_source(device: &ash::Device, cmd: vk::CommandBuffer, image: vk::Image, mip: u32) {
-    let (from, to) = (vk::ImageLayout::TRANSFER_DST_OPTIMAL, vk::ImageLayout::TRANSFER_SRC_OPTIMAL);
-    colour_layout(device, cmd, image, mip..mip + 1, from, to);
+    colour_transition(
+        device,
+        cmd,
+        (image, mip..mip + 1),
+        (vk::ImageLayout::TRANSFER_DST_OPTIMAL, vk::ImageLayout::TRANSFER_SRC_OPTIMAL),
+        (vk::PipelineStageFlags::TRANSFER, vk::PipelineStageFlags::TRANSFER),
+        (vk::AccessFlags::TRANSFER_WRITE, vk::AccessFlags::TRANSFER_READ),
+    );
 }
 
-/// A sampled mip becomes the source of a copy to a read-back buffer.
+/// A mip last written by a copy or blit (the last mip of a chain) is sampled.
+pub fn written_mip_to_sampled(device: &ash::Device, cmd: vk::CommandBuffer, image: vk::Image, mips: Range<u32>) {
+    colour_transition(
+        device,
+        cmd,
+        (image, mips),
+        (vk::ImageLayout::TRANSFER_DST_OPTIMAL, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL),
+        (vk::PipelineStageFlags::TRANSFER, vk::PipelineStageFlags::FRAGMENT_SHADER),
+        (vk::AccessFlags::TRANSFER_WRITE, vk::AccessFlags::SHADER_READ),
+    );
+}
+
+/// A sampled mip becomes the source of a copy to a read-back buffer (a read after reads: the
+/// transition only waits for the sampling to finish).
 pub fn sampled_to_read_back(device: &ash::Device, cmd: vk::CommandBuffer, image: vk::Image, mip: u32) {
-    let (from, to) = (vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL, vk::ImageLayout::TRANSFER_SRC_OPTIMAL);
-    colour_layout(device, cmd, image, mip..mip + 1, from, to);
+    colour_transition(
+        device,
+        cmd,
+        (image, mip..mip + 1),
+        (vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL, vk::ImageLayout::TRANSFER_SRC_OPTIMAL),
+        (vk::PipelineStageFlags::FRAGMENT_SHADER, vk::PipelineStageFlags::TRANSFER),
+        (vk::AccessFlags::empty(), vk::AccessFlags::TRANSFER_READ),
+    );
 }
 
-/// A mip read back (or blitted from) is sampled again.
+/// A mip read back (or blitted from) is sampled again; its contents did not change, so the
+/// transition only waits for the transfer's reads.
 pub fn read_back_to_sampled(device: &ash::Device, cmd: vk::CommandBuffer, image: vk::Image, mip: u32) {
-    let (from, to) = (vk::ImageLayout::TRANSFER_SRC_OPTIMAL, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL);
-    colour_layout(device, cmd, image, mip..mip + 1, from, to);
+    colour_transition(
+        device,
+        cmd,
+        (image, mip..mip + 1),
+        (vk::ImageLayout::TRANSFER_SRC_OPTIMAL, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL),
+        (vk::PipelineStageFlags::TRANSFER, vk::PipelineStageFlags::FRAGMENT_SHADER),
+        (vk::AccessFlags::empty(), vk::AccessFlags::SHADER_READ),
+    );
 }
 
 // ---------------------------------------------------------------------------------------------
 // Presentation (the viewer copies the offscreen frame into a swapchain image).
 
 /// Before the copy of a frame into a swapchain image: the frame's colour target (left in
-/// TRANSFER_SRC_OPTIMAL by the frame's render pass) waits for its colour writes, and the
-/// acquired image, whose old contents do not matter, becomes the copy's destination.
+/// TRANSFER_SRC_OPTIMAL by the frame's render pass, whose external dependency already makes its
+/// colour writes visible to transfer reads) is only waited on, and the acquired image, whose old
+/// contents do not matter, becomes the copy's destination.
 pub fn frame_to_swapchain_copy(
     device: &ash::Device,
     cmd: vk::CommandBuffer,
@@ -187,7 +219,7 @@ pub fn frame_to_swapchain_copy(
             frame_colour,
             0..1,
             (vk::ImageLayout::TRANSFER_SRC_OPTIMAL, vk::ImageLayout::TRANSFER_SRC_OPTIMAL),
-            (vk::AccessFlags::COLOR_ATTACHMENT_WRITE, vk::AccessFlags::TRANSFER_READ),
+            (vk::AccessFlags::empty(), vk::AccessFlags::TRANSFER_READ),
         ),
         image_barrier(
             swapchain_image,

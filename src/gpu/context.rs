@@ -115,6 +115,12 @@ impl Gpu {
         self.instance.validation_log().is_some()
     }
 
+    /// Which validation checks run (layer, core, synchronisation, best practices, silenced
+    /// messages); None when validation is off.
+    pub fn validation_report(&self) -> Option<&crate::gpu::validation::ValidationReport> {
+        self.instance.validation_report()
+    }
+
     /// Waits until the device has finished all submitted work, so that what it may still read
     /// or wait on can be destroyed. A failure (device lost) is ignored: nothing is pending then.
     pub fn wait_idle(&self) {

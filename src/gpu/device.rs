@@ -214,9 +214,12 @@ fn choose_physical_device(instance: &Instance, choice: &DeviceChoice) -> Result<
             })
             .map(|(i, _)| i),
     };
-    let position =
-        found.ok_or_else(|| Error::Device(format!("no Vulkan device matches {choice:?}; available: {}", names())))?;
-    Ok(candidates.into_iter().nth(position).expect("position comes from this list"))
+    // The list is named before it is consumed; the position came from it, so `nth` finds it,
+    // and a miss (no match) is the user's choice of device, reported with what is available.
+    let available = names();
+    found
+        .and_then(|position| candidates.into_iter().nth(position))
+        .ok_or_else(|| Error::Device(format!("no Vulkan device matches {choice:?}; available: {available}")))
 }
 
 /// The names of all devices, for `nostencil info` on a machine where device creation fails.

@@ -1,11 +1,13 @@
-//! The Vulkan instance: loader, optional Khronos validation layer and a debug-utils messenger
-//! that records every validation message so that tests can fail on any of them.
+//! The Vulkan instance: loader, optional Khronos validation layer (with the checks chosen in
+//! `validation`: core, synchronisation, best practices) and a debug-utils messenger that records
+//! every validation message so that tests can fail on any of them.
 
 use std::ffi::{c_char, c_void, CStr};
 use std::sync::{Arc, Mutex};
 
-use ash::{ext::debug_utils, vk};
+use ash::{ext::debug_utils, ext::validation_features, vk};
 
+use super::validation::{self, ValidationReport};
 use crate::error::{Error, Result, VkContext};
 
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
@@ -30,6 +32,7 @@ pub struct Instance {
     pub entry: ash::Entry,
     pub raw: ash::Instance,
     messenger: Option<(debug_utils::Instance, vk::DebugUtilsMessengerEXT, Box<ValidationLog>)>,
+    validation: Option<ValidationReport>,
 }
 
 impl Instance {
@@ -55,27 +58,27 @@ impl Instance {
 
         let mut layers = Vec::new();
         let mut extensions = extra_extensions.to_vec();
+        let mut report = None;
         if validation {
-            // SAFETY: `entry` holds a loaded loader.
-            let available =
-                unsafe { entry.enumerate_instance_layer_properties() }.vk("vkEnumerateInstanceLayerProperties")?;
-            let has_layer = available.iter().any(|l| l.layer_name_as_c_str().ok() == Some(VALIDATION_LAYER));
-            if !has_layer {
-                return Err(Error::Device(
-                    "validation was requested but VK_LAYER_KHRONOS_validation is not installed (package vulkan-validationlayers)".into(),
-                ));
-            }
+            report = Some(validation_layer_report(&entry)?);
             layers.push(VALIDATION_LAYER.as_ptr());
             extensions.push(debug_utils::NAME.as_ptr());
+            extensions.push(validation_features::NAME.as_ptr());
         }
 
-        let create_info = vk::InstanceCreateInfo::default()
+        let features = validation::enabled_features();
+        let mut validation_features = vk::ValidationFeaturesEXT::default().enabled_validation_features(&features);
+        let mut create_info = vk::InstanceCreateInfo::default()
             .application_info(&app_info)
             .enabled_layer_names(&layers)
             .enabled_extension_names(&extensions);
+        if validation {
+            create_info = create_info.push_next(&mut validation_features);
+        }
         // SAFETY: every layer and extension name is a NUL-terminated static string (our
         // constants, or those of `ash_window::enumerate_required_extensions` for the viewer);
-        // they and `app_info` outlive the call, and the layer was checked to be installed.
+        // they, `app_info` and the chained `validation_features` (with its `features`) outlive
+        // the call, and the layer and its VK_EXT_validation_features were checked to be there.
         let raw = unsafe { entry.create_instance(&create_info, None) }.map_err(|result| {
             if result == vk::Result::ERROR_INCOMPATIBLE_DRIVER {
                 Error::Device("no Vulkan driver (ICD) could be loaded: no Vulkan device".into())
@@ -84,7 +87,7 @@ impl Instance {
             }
         })?;
 
-        let mut instance = Instance { entry, raw, messenger: None };
+        let mut instance = Instance { entry, raw, messenger: None, validation: report };
         if validation {
             instance.install_messenger()?;
         }
@@ -116,6 +119,40 @@ impl Instance {
     pub fn validation_log(&self) -> Option<&ValidationLog> {
         self.messenger.as_ref().map(|(_, _, log)| &**log)
     }
+
+    /// Which validation checks this instance runs with; None when validation is off.
+    pub fn validation_report(&self) -> Option<&ValidationReport> {
+        self.validation.as_ref()
+    }
+}
+
+/// Checks that the validation layer is installed and offers VK_EXT_validation_features (through
+/// which synchronisation validation is requested), and names it with its version.
+fn validation_layer_report(entry: &ash::Entry) -> Result<ValidationReport> {
+    // SAFETY: `entry` holds a loaded loader.
+    let available = unsafe { entry.enumerate_instance_layer_properties() }.vk("vkEnumerateInstanceLayerProperties")?;
+    let Some(layer) = available.iter().find(|l| l.layer_name_as_c_str().ok() == Some(VALIDATION_LAYER)) else {
+        return Err(Error::Device(
+            "validation was requested but VK_LAYER_KHRONOS_validation is not installed (package vulkan-validationlayers)".into(),
+        ));
+    };
+    // SAFETY: as above; the layer name is a NUL-terminated static string of an installed layer.
+    let layer_extensions = unsafe { entry.enumerate_instance_extension_properties(Some(VALIDATION_LAYER)) }
+        .vk("vkEnumerateInstanceExtensionProperties")?;
+    if !layer_extensions.iter().any(|e| e.extension_name_as_c_str().ok() == Some(validation_features::NAME)) {
+        return Err(Error::Device(
+            "the installed VK_LAYER_KHRONOS_validation does not offer VK_EXT_validation_features: synchronisation validation cannot be requested".into(),
+        ));
+    }
+    let version = layer.spec_version;
+    Ok(ValidationReport::new(format!(
+        "{} {}.{}.{} (build {})",
+        VALIDATION_LAYER.to_string_lossy(),
+        vk::api_version_major(version),
+        vk::api_version_minor(version),
+        vk::api_version_patch(version),
+        layer.implementation_version
+    )))
 }
 
 impl Drop for Instance {
@@ -138,15 +175,25 @@ unsafe extern "system" fn on_validation_message(
     data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,
     user_data: *mut c_void,
 ) -> vk::Bool32 {
-    let text = if data.is_null() {
-        "(no message)".to_owned()
+    let (id, text) = if data.is_null() {
+        (String::new(), "(no message)".to_owned())
     } else {
-        // SAFETY: Vulkan passes callback data valid for the duration of the callback, and
-        // `message_as_c_str` reads its NUL-terminated message (or none).
-        unsafe { (*data).message_as_c_str() }
-            .map(|m| m.to_string_lossy().into_owned())
-            .unwrap_or_else(|| "(no message)".to_owned())
+        // SAFETY: Vulkan passes callback data valid for the duration of the callback; the two
+        // accessors read its NUL-terminated message ID name and message (or none).
+        unsafe {
+            (
+                (*data).message_id_name_as_c_str().map(|m| m.to_string_lossy().into_owned()).unwrap_or_default(),
+                (*data)
+                    .message_as_c_str()
+                    .map(|m| m.to_string_lossy().into_owned())
+                    .unwrap_or_else(|| "(no message)".to_owned()),
+            )
+        }
     };
+    // Only the message IDs listed in `validation::SILENCED`, each with its reason.
+    if validation::is_silenced(&id) {
+        return vk::FALSE;
+    }
     let message = format!("[{severity:?}] {text}");
     eprintln!("vulkan validation: {message}");
     if !user_data.is_null() {

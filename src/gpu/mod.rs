@@ -16,6 +16,7 @@ pub mod queries;
 pub mod regions;
 pub mod swapchain;
 pub mod texture;
+pub mod validation;
 
 pub use context::{Gpu, GpuOptions};
 pub use device::DeviceChoice;

@@ -151,7 +151,7 @@ impl Texture {
                     &[region],
                 )
             };
-            record_mip_chain(gpu, cmd, image.raw, width, height, mip_levels, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL);
+            record_mip_chain(gpu, cmd, image.raw, width, height, mip_levels);
             Ok(())
         })?;
         Ok(Texture { image, sampler })
@@ -204,16 +204,8 @@ pub fn read_back_mip(gpu: &Arc<Gpu>, image: vk::Image, mip: u32, side: u32) -> R
 }
 
 /// Builds mips 1.. from mip 0 (which must be in TRANSFER_DST_OPTIMAL, the others too) with
-/// linear blits, leaving every mip in `final_layout`.
-pub fn record_mip_chain(
-    gpu: &Gpu,
-    cmd: vk::CommandBuffer,
-    image: vk::Image,
-    width: u32,
-    height: u32,
-    mip_levels: u32,
-    final_layout: vk::ImageLayout,
-) {
+/// linear blits, leaving every mip sampled (SHADER_READ_ONLY_OPTIMAL, for fragment shaders).
+pub fn record_mip_chain(gpu: &Gpu, cmd: vk::CommandBuffer, image: vk::Image, width: u32, height: u32, mip_levels: u32) {
     if mip_levels == 0 {
         return; // no image has no mips: nothing to build or transition
     }
@@ -242,11 +234,10 @@ pub fn record_mip_chain(
                 vk::Filter::LINEAR,
             )
         };
-        barriers::colour_layout(device, cmd, image, mip - 1..mip, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, final_layout);
+        barriers::read_back_to_sampled(device, cmd, image, mip - 1);
         (w, h) = (nw, nh);
     }
-    let last = mip_levels - 1..mip_levels;
-    barriers::colour_layout(device, cmd, image, last, vk::ImageLayout::TRANSFER_DST_OPTIMAL, final_layout);
+    barriers::written_mip_to_sampled(device, cmd, image, mip_levels - 1..mip_levels);
 }
 
 #[cfg(test)]

@@ -230,7 +230,9 @@ impl<'a> FrameRecorder<'a> {
             .render_pass(render_pass)
             .framebuffer(framebuffer)
             .render_area(vk::Rect2D { offset: vk::Offset2D::default(), extent })
-            .clear_values(clear_values);
+            // One clear value per attachment: callers may pass one for an attachment this
+            // variant lacks (the resolve target at one sample), which Vulkan would ignore.
+            .clear_values(&clear_values[..clear_values.len().min(attachments.len())]);
         let viewport = regions::full_viewport(extent);
         // SAFETY: see the note on `FrameRecorder`; `render_pass` and `framebuffer` come from
         // the same targets (so are compatible), and `clear_values` covers their attachments.
@@ -343,12 +345,13 @@ impl<'a> FrameRecorder<'a> {
     }
 
     /// Fills mips 1.. of a colour image from its mip 0 (in TRANSFER_DST_OPTIMAL) with linear
-    /// blits, leaving every mip in `final_layout`; the old contents of mips 1.. are dropped.
-    pub fn build_mips(&mut self, image: vk::Image, side: u32, mip_levels: u32, final_layout: vk::ImageLayout) {
+    /// blits, leaving every mip sampled (SHADER_READ_ONLY_OPTIMAL); the old contents of mips 1..
+    /// are dropped.
+    pub fn build_mips(&mut self, image: vk::Image, side: u32, mip_levels: u32) {
         if mip_levels > 1 {
             barriers::upload_destination(self.gpu.raw(), self.cmd, image, 1..mip_levels);
         }
-        crate::gpu::texture::record_mip_chain(self.gpu, self.cmd, image, side, side, mip_levels, final_layout);
+        crate::gpu::texture::record_mip_chain(self.gpu, self.cmd, image, side, side, mip_levels);
     }
 
     /// Makes earlier colour writes of this subpass visible to input-attachment reads of the

@@ -130,7 +130,7 @@ impl AtlasTargets {
     /// Each shadow texture's mips from its mip 0, left ready for sampling.
     pub fn record_mips(&self, rec: &mut FrameRecorder) {
         for o in &self.objects {
-            rec.build_mips(o.texture.raw, o.size, o.mip_levels, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL);
+            rec.build_mips(o.texture.raw, o.size, o.mip_levels);
         }
     }
 }
