@@ -18,6 +18,7 @@ mod common;
 mod mutate;
 
 use std::alloc::{GlobalAlloc, Layout, System};
+use std::io::Write;
 use std::panic::AssertUnwindSafe;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -386,7 +387,9 @@ fn mutated_files_end_in_a_scene_or_a_one_line_error() {
     }
     drop(jobs);
     let elapsed = start.elapsed();
-    println!(
+    // Straight to stderr, past the test harness's capture, so that CI logs show the figures.
+    let _ = writeln!(
+        std::io::stderr(),
         "fuzz_gltf: seed {seed}, {cases} cases over {} files ({} load unmutated) in {:.1} s: {scenes} loaded ({renders} rendered at \
          32x32 by every technique in turn), {errors} refused with an error; slowest case {:.0} ms, highest peak heap {:.0}% of its limit ({:.1} MB); \
          {} failing",
