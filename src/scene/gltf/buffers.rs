@@ -268,6 +268,20 @@ mod tests {
     use super::*;
 
     #[test]
+    fn zero_fill_and_read_budgets_grow_with_the_file() {
+        assert_eq!(zero_fill_budget(0), 1 << 20);
+        assert_eq!(zero_fill_budget(1000), (1 << 20) + 4000);
+        assert_eq!(zero_fill_budget(usize::MAX), MAX_ZERO_FILLED_BYTES);
+        let root = json::Root::default();
+        let buffers = Buffers::new(&root, Path::new("x.gltf"), None, 1000);
+        let limit = READ_FLOOR + 16 * 1000;
+        assert!(buffers.charge_read(limit - 10).is_ok());
+        assert!(buffers.charge_read(10).is_ok());
+        let refused = buffers.charge_read(1).unwrap_err();
+        assert!(refused.contains(&format!("i.e. {limit}")), "{refused}");
+    }
+
+    #[test]
     fn base64_round_trips_known_values() {
         assert_eq!(decode_base64("").unwrap(), b"");
         assert_eq!(decode_base64("Zg==").unwrap(), b"f");
