@@ -82,6 +82,10 @@ impl Buffer {
             usage | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuOnly,
         )?;
+        if data.is_empty() {
+            // A copy of zero bytes is invalid Vulkan (VUID-VkBufferCopy-size-01988).
+            return Ok(buffer);
+        }
         submit_and_wait(gpu, |cmd| {
             let region = [vk::BufferCopy { src_offset: 0, dst_offset: 0, size: data.len() as u64 }];
             // SAFETY: `cmd` is recording; both buffers hold `data.len()` bytes (the staging one

@@ -9,7 +9,7 @@ use glam::{Mat4, Vec3};
 
 use super::animation::{pose_at, rest_pose, TimeMode};
 use super::camera::{Camera, Light};
-use super::gltf::load_gltf;
+use super::gltf::{load_gltf, load_gltf_slice};
 use super::layout::ground_plane;
 use super::model::{LightKind, Model};
 use super::objects::Scene;
@@ -25,7 +25,16 @@ pub fn scene_from_gltf(path: &Path, time: f32) -> Result<Scene> {
 
 /// [`scene_from_gltf`], with the loader's warnings: what it skipped or repaired.
 pub fn scene_and_warnings_from_gltf(path: &Path, time: f32) -> Result<(Scene, Vec<String>)> {
-    let mut model = load_gltf(path)?;
+    scene_from_model(load_gltf(path)?, path, time)
+}
+
+/// [`scene_and_warnings_from_gltf`] for a file already in memory; `path` names it in errors and
+/// anchors its relative URIs (the fuzzer loads mutated bytes this way, without writing files).
+pub fn scene_and_warnings_from_gltf_slice(bytes: &[u8], path: &Path, time: f32) -> Result<(Scene, Vec<String>)> {
+    scene_from_model(load_gltf_slice(bytes, path)?, path, time)
+}
+
+fn scene_from_model(mut model: Model, path: &Path, time: f32) -> Result<(Scene, Vec<String>)> {
     let warnings = std::mem::take(&mut model.warnings);
     let name = path.file_name().map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned());
     let local = if model.animations.is_empty() { rest_pose(&model) } else { pose_at(&model, 0, time, TimeMode::Loop)? };

@@ -109,11 +109,12 @@ impl Dense {
     }
 }
 
-/// Copies `count` elements of `elem` bytes from `view` starting at `offset` with `stride`.
+/// Copies `count` elements of `elem` bytes from `view` starting at `offset` with `stride`,
+/// after checking they lie in `view` and charging their size to the file's read budget.
 fn gather(
+    buffers: &Buffers,
     view: &[u8],
-    offset: usize,
-    stride: usize,
+    (offset, stride): (usize, usize),
     count: usize,
     elem: usize,
     out: &mut Vec<u8>,
@@ -133,6 +134,7 @@ fn gather(
             ))
         }
     }
+    buffers.charge_read(count * elem)?;
     out.reserve(count * elem);
     for k in 0..count {
         let at = offset + k * stride;
@@ -209,7 +211,7 @@ pub(super) fn read_accessor(
             };
             let offset = usize::try_from(accessor.byte_offset.map_or(0, |o| o.0))
                 .map_err(|_| fail("byteOffset is too large".into()))?;
-            gather(view, offset, stride, count, elem, &mut bytes)
+            gather(buffers, view, (offset, stride), count, elem, &mut bytes)
                 .map_err(|e| format!("accessor {index} in bufferView {view_index}: {e}"))?;
         }
         None => {
@@ -219,6 +221,7 @@ pub(super) fn read_accessor(
                 .checked_mul(elem)
                 .ok_or_else(|| fail(format!("{count} elements without a bufferView are too many")))?;
             bytes = buffers.zeroed(size).map_err(fail)?;
+            buffers.charge_read(size).map_err(fail)?;
         }
     }
 
@@ -243,14 +246,14 @@ pub(super) fn read_accessor(
         let mut index_bytes = Vec::new();
         let index_offset = usize::try_from(sparse.indices.byte_offset.0)
             .map_err(|_| fail("sparse indices byteOffset is too large".into()))?;
-        gather(index_view, index_offset, index_size, sparse_count, index_size, &mut index_bytes)
+        gather(buffers, index_view, (index_offset, index_size), sparse_count, index_size, &mut index_bytes)
             .map_err(|e| fail(format!("sparse indices: {e}")))?;
         let vv = sparse.values.buffer_view.value();
         let value_view = buffers.view(vv).map_err(fail)?;
         let mut value_bytes = Vec::new();
         let value_offset = usize::try_from(sparse.values.byte_offset.0)
             .map_err(|_| fail("sparse values byteOffset is too large".into()))?;
-        gather(value_view, value_offset, elem, sparse_count, elem, &mut value_bytes)
+        gather(buffers, value_view, (value_offset, elem), sparse_count, elem, &mut value_bytes)
             .map_err(|e| fail(format!("sparse values: {e}")))?;
         let indices = Dense {
             ty: Type::Scalar,

@@ -91,6 +91,12 @@ pub(super) struct Buffers<'a> {
     decoded: Vec<OnceCell<Result<Vec<u8>, Problem>>>,
     /// Bytes left for zero-filled accessors (no bufferView), see `zeroed`.
     zero_budget: Cell<usize>,
+    /// The whole budget, for messages.
+    zero_limit: usize,
+    /// Bytes of the file and of every buffer loaded or decoded since (see `READ_PER_BYTE`).
+    held: Cell<usize>,
+    /// Accessor bytes read so far (see `charge_read`).
+    read: Cell<usize>,
     /// What loading repaired, for the model's warnings (see `take_warnings`).
     warnings: RefCell<Vec<String>>,
 }
@@ -101,15 +107,41 @@ pub(super) struct Buffers<'a> {
 /// more than any sparse-only mesh a renderer of this class will meet.
 pub(super) const MAX_ZERO_FILLED_BYTES: usize = 64 << 20;
 
+/// Below that cap, what a file may ask for is tied to its size: `ZERO_FILL_FLOOR` plus
+/// `ZERO_FILL_PER_BYTE` bytes per byte of the file. Every zero-filled byte grows about sevenfold
+/// on its way to a scene (f32 values, vertices, normals, indices), so without this a 250-byte
+/// file with `count: 3000000` and no bufferView cost 250 MB before it was drawn or refused
+/// (found by tests/fuzz_gltf.rs). 1 MiB is 87,000 VEC3 float vertices of zeros.
+const ZERO_FILL_FLOOR: usize = 1 << 20;
+const ZERO_FILL_PER_BYTE: usize = 4;
+
+/// Accessor data copied out of the buffers, all reads together, is tied to the data the file
+/// holds: `READ_FLOOR` plus `READ_PER_BYTE` bytes per byte of the file and of the buffers it
+/// loaded (external, data URIs, meshopt-decoded). A valid file reads each accessor about once
+/// (a few times where primitives share one); without a bound, 300 primitives naming the same
+/// 100 kB accessors in a 130 kB file cost 85 MB, and 10,000 of them gigabytes (found by
+/// tests/fuzz_gltf.rs).
+const READ_FLOOR: usize = 4 << 20;
+const READ_PER_BYTE: usize = 16;
+
+/// The zero-filled bytes a file of `file_len` bytes may ask for.
+pub(super) fn zero_fill_budget(file_len: usize) -> usize {
+    file_len.saturating_mul(ZERO_FILL_PER_BYTE).saturating_add(ZERO_FILL_FLOOR).min(MAX_ZERO_FILLED_BYTES)
+}
+
 impl<'a> Buffers<'a> {
-    pub(super) fn new(root: &'a json::Root, gltf_path: &'a Path, bin: Option<&'a [u8]>) -> Self {
+    /// `file_len` (the bytes of the glTF or GLB file) sets the zero-fill budget.
+    pub(super) fn new(root: &'a json::Root, gltf_path: &'a Path, bin: Option<&'a [u8]>, file_len: usize) -> Self {
         Buffers {
             root,
             gltf_path,
             bin,
             buffers: root.buffers.iter().map(|_| OnceCell::new()).collect(),
             decoded: root.buffer_views.iter().map(|_| OnceCell::new()).collect(),
-            zero_budget: Cell::new(MAX_ZERO_FILLED_BYTES),
+            zero_budget: Cell::new(zero_fill_budget(file_len)),
+            zero_limit: zero_fill_budget(file_len),
+            held: Cell::new(file_len),
+            read: Cell::new(0),
             warnings: RefCell::new(Vec::new()),
         }
     }
@@ -149,6 +181,9 @@ impl<'a> Buffers<'a> {
         }
         // The GLB BIN chunk may carry up to 3 bytes of padding; views may not use them.
         data.truncate(declared);
+        if buffer.uri.is_some() {
+            self.held.set(self.held.get().saturating_add(data.len()));
+        }
         Ok(data)
     }
 
@@ -164,7 +199,9 @@ impl<'a> Buffers<'a> {
                 let who = format!("bufferView {index}: {} data", meshopt::EXTENSION);
                 let bytes = self.range(&who, compressed.buffer, compressed.byte_offset, compressed.byte_length)?;
                 let length = usize::try_from(view.byte_length.0).map_err(|_| here("byteLength is too large".into()))?;
-                meshopt::decode(&compressed, bytes, length).map_err(here)
+                let decoded = meshopt::decode(&compressed, bytes, length).map_err(here)?;
+                self.held.set(self.held.get().saturating_add(decoded.len()));
+                Ok(decoded)
             });
             return decoded.as_deref().map_err(Clone::clone);
         }
@@ -192,14 +229,33 @@ impl<'a> Buffers<'a> {
         std::mem::take(&mut *self.warnings.borrow_mut())
     }
 
-    /// `size` zero bytes for an accessor without a buffer view, taken from the file's budget of
-    /// `MAX_ZERO_FILLED_BYTES`.
+    /// Takes `size` bytes of accessor data (about to be copied) from the file's read budget
+    /// (`READ_PER_BYTE`), before anything is allocated.
+    pub(super) fn charge_read(&self, size: usize) -> Result<(), Problem> {
+        let held = self.held.get();
+        let limit = held.saturating_mul(READ_PER_BYTE).saturating_add(READ_FLOOR);
+        let total = self.read.get().saturating_add(size);
+        if total > limit {
+            return Err(format!(
+                "reading {size} more bytes of accessor data would make {total} bytes read from a file holding \
+                 {held} bytes of data; the limit is 4 MiB plus {READ_PER_BYTE} times the data, i.e. {limit} \
+                 (accessors read over and over, e.g. by many primitives naming the same ones)"
+            ));
+        }
+        self.read.set(total);
+        Ok(())
+    }
+
+    /// `size` zero bytes for an accessor without a buffer view, taken from the file's budget
+    /// (`zero_fill_budget`).
     pub(super) fn zeroed(&self, size: usize) -> Result<Vec<u8>, Problem> {
         let left = self.zero_budget.get();
         if size > left {
             return Err(format!(
-                "{size} bytes of zero-filled data (no bufferView) exceed what is left of the \
-                 {MAX_ZERO_FILLED_BYTES}-byte limit for such accessors ({left} bytes)"
+                "{size} bytes of zero-filled data (no bufferView) exceed what is left of this file's \
+                 {}-byte limit for such accessors ({left} bytes; the limit is 1 MiB plus 4 bytes per byte of \
+                 the file, at most {MAX_ZERO_FILLED_BYTES})",
+                self.zero_limit
             ));
         }
         self.zero_budget.set(left - size);
@@ -210,6 +266,20 @@ impl<'a> Buffers<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn zero_fill_and_read_budgets_grow_with_the_file() {
+        assert_eq!(zero_fill_budget(0), 1 << 20);
+        assert_eq!(zero_fill_budget(1000), (1 << 20) + 4000);
+        assert_eq!(zero_fill_budget(usize::MAX), MAX_ZERO_FILLED_BYTES);
+        let root = json::Root::default();
+        let buffers = Buffers::new(&root, Path::new("x.gltf"), None, 1000);
+        let limit = READ_FLOOR + 16 * 1000;
+        assert!(buffers.charge_read(limit - 10).is_ok());
+        assert!(buffers.charge_read(10).is_ok());
+        let refused = buffers.charge_read(1).unwrap_err();
+        assert!(refused.contains(&format!("i.e. {limit}")), "{refused}");
+    }
 
     #[test]
     fn base64_round_trips_known_values() {

@@ -245,8 +245,15 @@ impl Loader<'_> {
         // base colour factor with a warning rather than failing the whole file.
         let slot = match core_image_format(&bytes) {
             Some((format, name)) => {
-                let decoded = image::load_from_memory_with_format(&bytes, format)
-                    .map_err(|e| self.fail(format!("{what}: {name} does not decode: {e}")))?
+                let decoded = decode_image(&bytes, format)
+                    .map_err(|e| match e {
+                        image::ImageError::Limits(_) => self.fail(format!(
+                            "{what}: {name} is larger than the mobile profile's {side}x{side} texels (or needs more \
+                             than {MAX_DECODE_BYTES} bytes to decode); not decoded",
+                            side = crate::gpu::mobile_profile::MAX_IMAGE_SIDE
+                        )),
+                        e => self.fail(format!("{what}: {name} does not decode: {e}")),
+                    })?
                     .to_rgba8();
                 let sampler = match tex.sampler {
                     Some(s) => {
@@ -286,6 +293,24 @@ impl Loader<'_> {
         Ok(slot)
     }
 }
+
+/// Decodes PNG or JPEG bytes, refusing from the header alone an image larger than the mobile
+/// profile's textures (`MAX_IMAGE_SIDE` a side, which the renderer would refuse anyway), so that
+/// a few bytes claiming 60000x60000 texels are never allocated for; `MAX_DECODE_BYTES` bounds
+/// the decoder's own buffers as well.
+fn decode_image(bytes: &[u8], format: image::ImageFormat) -> image::ImageResult<image::DynamicImage> {
+    let side = crate::gpu::mobile_profile::MAX_IMAGE_SIDE;
+    let mut reader = image::ImageReader::with_format(std::io::Cursor::new(bytes), format);
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(side);
+    limits.max_image_height = Some(side);
+    limits.max_alloc = Some(MAX_DECODE_BYTES);
+    reader.limits(limits);
+    reader.decode()
+}
+
+/// Twice a 4096x4096 RGBA8 image: the decoded pixels and a conversion of them.
+const MAX_DECODE_BYTES: u64 = 2 * 4096 * 4096 * 4;
 
 /// The image format of glTF core image bytes, told by their signature (a `mimeType` may be
 /// absent or wrong in real files; the bytes are not).

@@ -180,6 +180,12 @@ impl Loader<'_> {
             }
         };
 
+        if indices.is_empty() {
+            // Nothing to draw, and an empty index buffer is nothing a GPU can upload.
+            self.warnings.push(format!("{what}: no whole triangle ({n} vertices); skipped"));
+            return Ok(None);
+        }
+
         let material = prim.material.map(|m| m.value());
         if let Some(m) = material.filter(|&m| m >= materials.len()) {
             return Err(self.fail(format!("{what}: material {m} does not exist")));

@@ -27,8 +27,9 @@
 //! - Buffers are read on first use: one nothing drawn needs is never loaded (a bad URI there is
 //!   no error). EXT_meshopt_compression views are decoded with meshoptimizer. Draco is not
 //!   decoded: a Draco primitive is drawn from its uncompressed fallback, or refused by name.
-//! - Accessors without a bufferView are zeros, within a budget of `MAX_ZERO_FILLED_BYTES` per
-//!   file; counts are checked against the bytes present before anything is allocated.
+//! - Accessors without a bufferView are zeros, within a budget per file of 1 MiB plus 4 bytes
+//!   per byte of the file (at most `MAX_ZERO_FILLED_BYTES`); counts are checked against the
+//!   bytes present before anything is allocated.
 
 mod accessors;
 mod animation;
@@ -80,7 +81,7 @@ pub fn load_gltf_slice(bytes: &[u8], path: &Path) -> Result<Model> {
     let container = glb::split_container(bytes).map_err(asset)?;
     let mut warnings = Vec::new();
     let root = document::parse_json(container.json, &mut warnings).map_err(asset)?;
-    let buffers = buffers::Buffers::new(&root, path, container.bin);
+    let buffers = buffers::Buffers::new(&root, path, container.bin, bytes.len());
     let mut loader = Loader {
         path: path.to_path_buf(),
         root: &root,
