@@ -417,8 +417,9 @@ fn table1_is_recorded_beside_the_papers_values() {
     let dir = common::scratch_dir("table1");
     let out = dir.join("recorded");
     let args = ["bench", "--technique", "shadow-texture-atlas", "--size", "48x48", "--warmup", "1", "--runs", "3"];
-    let (text, err) = common::run_ok(&[&args[..], &["--validation", "--table1-out", out.to_str().unwrap()]].concat());
-    assert!(!err.contains("vulkan validation"), "{err}");
+    // No --validation: its per-call cost lands on both lights and blurs the timing this test
+    // compares; the same frames run under validation in the other atlas tests.
+    let (text, _) = common::run_ok(&[&args[..], &["--table1-out", out.to_str().unwrap()]].concat());
     assert!(text.contains("paper fps"), "{text}");
 
     let json: serde_json::Value =
