@@ -386,10 +386,7 @@ fn the_box_shadow_at_4x_thresholded_at_half_coverage_is_its_projected_outline() 
                 if caster_pixels[i] {
                     continue;
                 }
-                let expected = common::ground_point(&scene.camera, (x, y), BIG, 0.0).is_some_and(|p| {
-                    let p = glam::Vec2::new(p.x, p.z);
-                    p.x.abs() < 7.0 && p.y.abs() < 7.0 && triangles.iter().any(|t| common::inside_triangle(t, p))
-                });
+                let expected = common::ground_pixel_in_outline(&scene.camera, (x, y), BIG, &triangles);
                 let dark = coverage[i].is_some_and(|t| t >= 0.5);
                 partial += is_between(coverage[i]) as u32;
                 both += (expected && dark) as u32;

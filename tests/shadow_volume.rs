@@ -302,10 +302,7 @@ fn projected_outline_iou(gpu: &Arc<Gpu>, scene: &Scene, options: ShadowVolumeOpt
             if caster_pixels[i] {
                 continue;
             }
-            let expected = common::ground_point(&scene.camera, (x, y), BIG, 0.0).is_some_and(|p| {
-                let p = glam::Vec2::new(p.x, p.z);
-                p.x.abs() < 7.0 && p.y.abs() < 7.0 && triangles.iter().any(|t| common::inside_triangle(t, p))
-            });
+            let expected = common::ground_pixel_in_outline(&scene.camera, (x, y), BIG, &triangles);
             both += (expected && mask[i]) as u32;
             either += (expected || mask[i]) as u32;
         }

@@ -216,3 +216,18 @@ pub fn inside_triangle(t: &[glam::Vec2; 3], p: glam::Vec2) -> bool {
     let s = [side(t[0], t[1]), side(t[1], t[2]), side(t[2], t[0])];
     s.iter().all(|&d| d >= 0.0) || s.iter().all(|&d| d <= 0.0)
 }
+
+/// Whether pixel `pixel` of a `size` frame from `camera` sees the ground (y = 0, inside the
+/// built-in scenes' 14 x 14 ground) at a point inside the projected outline `triangles`
+/// (from [`caster_triangles_on_ground`]).
+pub fn ground_pixel_in_outline(
+    camera: &nostencil::scene::Camera,
+    pixel: (u32, u32),
+    size: (u32, u32),
+    triangles: &[[glam::Vec2; 3]],
+) -> bool {
+    ground_point(camera, pixel, size, 0.0).is_some_and(|p| {
+        let p = glam::Vec2::new(p.x, p.z);
+        p.x.abs() < 7.0 && p.y.abs() < 7.0 && triangles.iter().any(|t| inside_triangle(t, p))
+    })
+}
