@@ -372,27 +372,15 @@ fn the_box_shadow_at_4x_thresholded_at_half_coverage_is_its_projected_outline() 
     let mut without = scene.clone();
     without.objects.retain(|o| !o.casts_shadow);
     let background = frame(&gpu, &without, &lit, SAMPLES).output.image;
-    let caster_pixels: Vec<bool> =
-        unshadowed.chunks_exact(4).zip(background.chunks_exact(4)).map(|(a, b)| a != b).collect();
+    let caster_pixels = common::differing_pixels(&unshadowed, &background);
     for &normalize in Normalize::ALL {
         let options = ShadowVolumeOptions { normalize, ..Default::default() };
         let volumes = RenderOptions { technique: technique("shadow-volume"), shadow_volume: options, ..base.clone() };
         let shadowed = frame(&gpu, &scene, &volumes, SAMPLES).output.image;
         let coverage = shadow_coverage(&shadowed, &unshadowed, options.shadow_factor);
-        let (mut both, mut either, mut partial) = (0, 0, 0);
-        for y in 0..height {
-            for x in 0..width {
-                let i = (y * width + x) as usize;
-                if caster_pixels[i] {
-                    continue;
-                }
-                let expected = common::ground_pixel_in_outline(&scene.camera, (x, y), BIG, &triangles);
-                let dark = coverage[i].is_some_and(|t| t >= 0.5);
-                partial += is_between(coverage[i]) as u32;
-                both += (expected && dark) as u32;
-                either += (expected || dark) as u32;
-            }
-        }
+        let dark = |i: usize| coverage[i].is_some_and(|t| t >= 0.5);
+        let (both, either) = common::outline_overlap(&scene.camera, BIG, &triangles, &caster_pixels, dark);
+        let partial = caster_pixels.iter().zip(&coverage).filter(|(&skip, &c)| !skip && is_between(c)).count();
         let iou = both as f64 / either as f64;
         eprintln!("{}: IoU {iou:.4} over {either} pixels, {partial} partly covered", normalize.name());
         assert!(either > 200, "{}: the shadow is too small to judge ({either} pixels)", normalize.name());

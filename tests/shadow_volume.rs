@@ -284,7 +284,6 @@ fn normalisation_table_is_read_back_from_the_gpu() {
 /// not ground. The shadow must cover more than 200 pixels.
 fn projected_outline_iou(gpu: &Arc<Gpu>, scene: &Scene, options: ShadowVolumeOptions) -> f64 {
     const BIG: (u32, u32) = (256, 192);
-    let (width, height) = BIG;
     let triangles = common::caster_triangles_on_ground(scene);
     assert!(!triangles.is_empty(), "{}: no caster", scene.name);
     let unshadowed = lit_sized(gpu, scene, BIG);
@@ -293,20 +292,8 @@ fn projected_outline_iou(gpu: &Arc<Gpu>, scene: &Scene, options: ShadowVolumeOpt
     let mut without = scene.clone();
     without.objects.retain(|o| !o.casts_shadow);
     let background = lit_sized(gpu, &without, BIG);
-    let caster_pixels: Vec<bool> =
-        unshadowed.chunks_exact(4).zip(background.chunks_exact(4)).map(|(a, b)| a != b).collect();
-    let (mut both, mut either) = (0, 0);
-    for y in 0..height {
-        for x in 0..width {
-            let i = (y * width + x) as usize;
-            if caster_pixels[i] {
-                continue;
-            }
-            let expected = common::ground_pixel_in_outline(&scene.camera, (x, y), BIG, &triangles);
-            both += (expected && mask[i]) as u32;
-            either += (expected || mask[i]) as u32;
-        }
-    }
+    let caster_pixels = common::differing_pixels(&unshadowed, &background);
+    let (both, either) = common::outline_overlap(&scene.camera, BIG, &triangles, &caster_pixels, |i| mask[i]);
     assert!(either > 200, "{}: the shadow is too small to judge ({either} pixels)", scene.name);
     both as f64 / either as f64
 }

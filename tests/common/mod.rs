@@ -231,3 +231,33 @@ pub fn ground_pixel_in_outline(
         p.x.abs() < 7.0 && p.y.abs() < 7.0 && triangles.iter().any(|t| inside_triangle(t, p))
     })
 }
+
+/// Per pixel of two RGBA8 frames of one size: do they differ?
+pub fn differing_pixels(a: &[u8], b: &[u8]) -> Vec<bool> {
+    a.chunks_exact(4).zip(b.chunks_exact(4)).map(|(p, q)| p != q).collect()
+}
+
+/// (intersection, union) of the ground pixels `dark` says are shadowed and those whose ground
+/// point lies inside the projected outline `triangles`, over a `size` frame from `camera`,
+/// leaving out the pixels `skip` marks (a caster's own pixels).
+pub fn outline_overlap(
+    camera: &nostencil::scene::Camera,
+    size: (u32, u32),
+    triangles: &[[glam::Vec2; 3]],
+    skip: &[bool],
+    dark: impl Fn(usize) -> bool,
+) -> (u32, u32) {
+    let (mut both, mut either) = (0, 0);
+    for y in 0..size.1 {
+        for x in 0..size.0 {
+            let i = (y * size.0 + x) as usize;
+            if skip[i] {
+                continue;
+            }
+            let (expected, dark) = (ground_pixel_in_outline(camera, (x, y), size, triangles), dark(i));
+            both += (expected && dark) as u32;
+            either += (expected || dark) as u32;
+        }
+    }
+    (both, either)
+}
