@@ -150,6 +150,9 @@ pub fn bench(
     Ok(())
 }
 
+/// The rows' column titles, in both renderings.
+const ROW_COLUMNS: [&str; 8] = ["scene", "technique", "light", "passes", "frame ms", "GPU ms", "fps", "paper fps"];
+
 impl Table1 {
     fn row(&self, scene: &str, technique: ShadowKind, light: LightMode) -> Option<&Table1Row> {
         self.rows.iter().find(|r| r.scene == scene && r.technique == technique && r.light == light)
@@ -197,8 +200,28 @@ impl Table1 {
         )
     }
 
-    fn measured_brief(ratio: &Table1Ratio) -> String {
-        ratio.measured.as_ref().map_or("n/a".into(), Ratio::brief)
+    /// A row's cells, in the order of [`ROW_COLUMNS`]: both renderings show exactly these.
+    fn row_cells(r: &Table1Row) -> [String; 8] {
+        [
+            r.scene.to_string(),
+            r.technique.name().to_string(),
+            r.light.name().to_string(),
+            r.passes.to_string(),
+            format!("{:.2}", r.frame_ms),
+            format!("{:.2}", r.gpu_ms),
+            format!("{:.2}", r.fps),
+            format!("{:.2}", r.paper_fps),
+        ]
+    }
+
+    /// A ratio's cells: scene, what is compared, this run's median [CI], the paper's.
+    fn ratio_cells(ratio: &Table1Ratio) -> [String; 4] {
+        [
+            ratio.scene.to_string(),
+            ratio.compared.to_string(),
+            ratio.measured.as_ref().map_or("n/a".into(), Ratio::brief),
+            format!("{:.2}", ratio.paper),
+        ]
     }
 
     pub fn json(&self) -> Result<String> {
@@ -206,26 +229,22 @@ impl Table1 {
     }
 
     pub fn render(&self) -> String {
+        // Column widths; the first three columns are left-aligned, the rest right-aligned.
+        const ROW_WIDTHS: [usize; 8] = [10, 21, 7, 7, 10, 9, 7, 10];
+        let line = |cells: &[String]| {
+            let padded: Vec<String> = cells
+                .iter()
+                .zip(ROW_WIDTHS)
+                .enumerate()
+                .map(|(i, (cell, width))| if i < 3 { format!("{cell:<width$}") } else { format!("{cell:>width$}") })
+                .collect();
+            padded.join(" ")
+        };
         let mut out = String::new();
         let _ = writeln!(out, "{}", self.header());
-        let _ = writeln!(
-            out,
-            "{:<10} {:<21} {:<7} {:>7} {:>10} {:>9} {:>7} {:>10}",
-            "scene", "technique", "light", "passes", "frame ms", "GPU ms", "fps", "paper fps"
-        );
+        let _ = writeln!(out, "{}", line(&ROW_COLUMNS.map(str::to_owned)));
         for r in &self.rows {
-            let _ = writeln!(
-                out,
-                "{:<10} {:<21} {:<7} {:>7} {:>10.2} {:>9.2} {:>7.2} {:>10.2}",
-                r.scene,
-                r.technique.name(),
-                r.light.name(),
-                r.passes,
-                r.frame_ms,
-                r.gpu_ms,
-                r.fps,
-                r.paper_fps
-            );
+            let _ = writeln!(out, "{}", line(&Self::row_cells(r)));
         }
         let _ = writeln!(
             out,
@@ -233,37 +252,21 @@ impl Table1 {
             self.bootstrap.resamples
         );
         for ratio in &self.ratios {
-            let _ = writeln!(
-                out,
-                "  {:<10} {:<52} {:>17} | {:>5.2}",
-                ratio.scene,
-                ratio.compared,
-                Self::measured_brief(ratio),
-                ratio.paper
-            );
+            let [scene, compared, measured, paper] = Self::ratio_cells(ratio);
+            let _ = writeln!(out, "  {scene:<10} {compared:<52} {measured:>17} | {paper:>5}");
         }
         out
     }
 
     /// The same table as Markdown: the rows beside the paper's fps, then the ratios.
     pub fn markdown(&self) -> String {
+        let row = |cells: &[String]| format!("| {} |", cells.join(" | "));
         let mut out = String::new();
         let _ = writeln!(out, "{}\n", self.header());
-        let _ = writeln!(out, "| scene | technique | light | passes | frame ms | GPU ms | fps | paper fps |");
+        let _ = writeln!(out, "{}", row(&ROW_COLUMNS.map(str::to_owned)));
         let _ = writeln!(out, "|---|---|---|---:|---:|---:|---:|---:|");
         for r in &self.rows {
-            let _ = writeln!(
-                out,
-                "| {} | {} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} |",
-                r.scene,
-                r.technique.name(),
-                r.light.name(),
-                r.passes,
-                r.frame_ms,
-                r.gpu_ms,
-                r.fps,
-                r.paper_fps
-            );
+            let _ = writeln!(out, "{}", row(&Self::row_cells(r)));
         }
         let _ = writeln!(
             out,
@@ -273,14 +276,7 @@ impl Table1 {
         let _ = writeln!(out, "| scene | ratio | this run | paper |");
         let _ = writeln!(out, "|---|---|---:|---:|");
         for ratio in &self.ratios {
-            let _ = writeln!(
-                out,
-                "| {} | {} | {} | {:.2} |",
-                ratio.scene,
-                ratio.compared,
-                Self::measured_brief(ratio),
-                ratio.paper
-            );
+            let _ = writeln!(out, "{}", row(&Self::ratio_cells(ratio)));
         }
         out
     }
