@@ -58,15 +58,13 @@ fn a_frame_larger_than_the_heap_is_refused_before_anything_is_written() {
     // 4096x4096 at 4x: colour and read-back 4 + 4, multisampled colour 16, depth 4 x 4 bytes a
     // pixel = 640 MiB, more than a 256 MiB heap.
     let args = ["render", "--size", "4096x4096", "--samples", "4", "--out", out.to_str().unwrap()];
-    let started = std::time::Instant::now();
     let err = common::assert_failure("4096x4096 4x", &nostencil_with("NOSTENCIL_FAULT_HEAP_MIB", "256", &args));
     assert_eq!(err.trim_end().lines().count(), 1, "not one line:\n{err}");
     assert!(err.contains("a 4096x4096 frame at 4x MSAA"), "{err}");
     assert!(err.contains("needs 640.0 MiB") && err.contains("(256.0 MiB)"), "{err}");
     assert!(err.contains("--size") && err.contains("--samples"), "says what to lower:\n{err}");
+    // Refused up front: the message is the heap check's, made before any target is allocated.
     assert!(!out.exists(), "{} was written", out.display());
-    // Refused up front: no 4096x4096 frame was rendered first (one takes seconds on lavapipe).
-    assert!(started.elapsed().as_secs() < 20, "took {:?}", started.elapsed());
 
     // The check against the real heap: what it holds passes, one byte more is refused.
     let gpu = common::gpu();
