@@ -26,6 +26,8 @@ pub fn add_model(scene: &mut Scene, rig: &Arc<Rig>, world: &[Mat4]) -> Result<Op
     let shown = nodes_in_scene(model);
     let materials = add_materials(scene, model);
     let mut default_material = None;
+    // One mesh-instance number per node that shows a mesh, after those the scene already has.
+    let mut next_instance = scene.new_mesh_instance();
     for (node_index, node) in model.nodes.iter().enumerate() {
         if !shown[node_index] {
             continue;
@@ -36,7 +38,8 @@ pub fn add_model(scene: &mut Scene, rig: &Arc<Rig>, world: &[Mat4]) -> Result<Op
             Some(skin) => Some(joint_matrices(model, skin, world, node_world)?),
             None => None,
         };
-        let instance = scene.new_mesh_instance();
+        let instance = next_instance;
+        next_instance += 1;
         for (p, primitive) in mesh.primitives.iter().enumerate() {
             let (mut positions, mut normals) = (primitive.positions.clone(), primitive.normals.clone());
             let mut skin = None;
