@@ -154,6 +154,31 @@ pub struct PlannedPass {
     pub scissored: bool,
 }
 
+/// The rectangles a full-screen pass of a scissored plan is drawn in: `rects`, or, at several
+/// samples per pixel, their bounding rectangle once. lavapipe lets a multisampled scissored
+/// draw reach samples of the pixels just past the scissor's edge, so two neighbouring
+/// rectangles would both shade them (a multiply done twice; the 4x equality test found it).
+fn drawn_rects(rects: &[vk::Rect2D], samples: u32) -> Vec<vk::Rect2D> {
+    if samples <= 1 {
+        return rects.to_vec();
+    }
+    bounding_rect(rects).into_iter().collect()
+}
+
+/// The smallest rectangle holding every one of `rects` (none for none).
+fn bounding_rect(rects: &[vk::Rect2D]) -> Option<vk::Rect2D> {
+    let span = |r: &vk::Rect2D| {
+        let (x, y) = (i64::from(r.offset.x), i64::from(r.offset.y));
+        (x, y, x + i64::from(r.extent.width), y + i64::from(r.extent.height))
+    };
+    let (x0, y0, x1, y1) =
+        rects.iter().map(span).reduce(|a, b| (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3)))?;
+    Some(vk::Rect2D {
+        offset: vk::Offset2D { x: x0 as i32, y: y0 as i32 },
+        extent: vk::Extent2D { width: (x1 - x0) as u32, height: (y1 - y0) as u32 },
+    })
+}
+
 /// Where a scissored pass draws this frame.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Scissor {
@@ -454,7 +479,7 @@ pub fn record_plan(
                     match scissor {
                         Scissor::Frame => rec.draw_fullscreen(),
                         Scissor::Rects(rects) => {
-                            for rect in rects {
+                            for rect in drawn_rects(&rects, rec.frame_samples()) {
                                 rec.set_scissor(rect);
                                 rec.draw_fullscreen();
                             }
@@ -512,5 +537,22 @@ pub fn draw_objects(
         }
         rec.push(pipeline, &object_push(scene, object, alpha));
         rec.draw_mesh(&meshes.meshes[object.mesh]);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rect(x: i32, y: i32, width: u32, height: u32) -> vk::Rect2D {
+        vk::Rect2D { offset: vk::Offset2D { x, y }, extent: vk::Extent2D { width, height } }
+    }
+
+    #[test]
+    fn multisampled_frames_draw_scissored_passes_once_in_the_bounds_of_the_rectangles() {
+        let rects = [rect(0, 0, 10, 5), rect(10, 2, 4, 8)];
+        assert_eq!(drawn_rects(&rects, 1), rects.to_vec());
+        assert_eq!(drawn_rects(&rects, 4), vec![rect(0, 0, 14, 10)]);
+        assert_eq!(drawn_rects(&[], 4), Vec::new());
     }
 }

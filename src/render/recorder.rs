@@ -82,6 +82,8 @@ pub struct FrameRecorder<'a> {
     colour_image: vk::Image,
     /// A pass narrowed the scissor: it is put back to the whole frame when the pass ends.
     scissor_narrowed: bool,
+    /// Samples per pixel of the frame's render pass.
+    frame_samples: u32,
 }
 
 impl<'a> FrameRecorder<'a> {
@@ -92,6 +94,7 @@ impl<'a> FrameRecorder<'a> {
         extent: vk::Extent2D,
         frame_set: vk::DescriptorSet,
         colour_image: vk::Image,
+        frame_samples: u32,
     ) -> Self {
         FrameRecorder {
             gpu,
@@ -106,7 +109,13 @@ impl<'a> FrameRecorder<'a> {
             frame_set,
             colour_image,
             scissor_narrowed: false,
+            frame_samples,
         }
+    }
+
+    /// Samples per pixel of the frame's render pass.
+    pub fn frame_samples(&self) -> u32 {
+        self.frame_samples
     }
 
     /// The frame's uniforms (camera, light), bound at set 0 of pipelines that use them.

@@ -140,7 +140,15 @@ impl Renderer {
 
         let (pass_records, render_passes) = submit_frame_and_wait(&gpu, describe_passes, |cmd| {
             queries.reset(cmd);
-            let mut recorder = FrameRecorder::new(&gpu, cmd, queries, extent, frame_set, targets.drawn_colour().raw);
+            let mut recorder = FrameRecorder::new(
+                &gpu,
+                cmd,
+                queries,
+                extent,
+                frame_set,
+                targets.drawn_colour().raw,
+                targets.samples(),
+            );
             if let Some(pipelines) = overdraw {
                 recorder.count_overdraw(pipelines);
             }

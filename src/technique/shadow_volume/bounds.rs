@@ -228,20 +228,6 @@ fn rect_intersection(a: vk::Rect2D, b: vk::Rect2D) -> Option<vk::Rect2D> {
     })
 }
 
-/// The smallest rectangle holding every one of `rects` (none for none).
-pub fn bounding_rect(rects: &[vk::Rect2D]) -> Option<vk::Rect2D> {
-    let span = |r: &vk::Rect2D| {
-        let (x, y) = (i64::from(r.offset.x), i64::from(r.offset.y));
-        (x, y, x + i64::from(r.extent.width), y + i64::from(r.extent.height))
-    };
-    let (x0, y0, x1, y1) =
-        rects.iter().map(span).reduce(|a, b| (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3)))?;
-    Some(vk::Rect2D {
-        offset: vk::Offset2D { x: x0 as i32, y: y0 as i32 },
-        extent: vk::Extent2D { width: (x1 - x0) as u32, height: (y1 - y0) as u32 },
-    })
-}
-
 /// Rectangles that cover exactly the pixels of `rects`, none twice: an apply drawn once per
 /// rectangle shades each pixel once (a multiply must not happen twice) and nothing between
 /// the casters. Columns between consecutive x edges, each cut where its covering intervals

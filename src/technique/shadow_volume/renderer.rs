@@ -252,14 +252,7 @@ impl Passes for ShadowVolumePasses {
         self.volumes = upload_volumes(&self.gpu, scene, &self.casters, self.stats.zfail, self.requested, extent)?;
         self.apply_scissor = if self.requested.clip_volumes {
             let rects: Vec<vk::Rect2D> = self.volumes.iter().map(|v| v.scissor).collect();
-            if renderer.targets.samples() > 1 {
-                // lavapipe lets a multisampled draw reach samples of the pixels just past a
-                // scissor's edge, so two neighbouring rectangles would both multiply them (the
-                // 4x equality test found it): one rectangle, the cover's bounds, instead.
-                Scissor::Rects(bounds::bounding_rect(&rects).into_iter().collect())
-            } else {
-                Scissor::Rects(bounds::disjoint_cover(&rects))
-            }
+            Scissor::Rects(bounds::disjoint_cover(&rects))
         } else {
             Scissor::Frame
         };
