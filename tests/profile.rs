@@ -342,6 +342,41 @@ fn tile_traffic_is_listed_per_render_pass_with_known_sizes() {
     assert_eq!(passes[0]["attachments"][0]["bytes_stored"], 128 * 128 * 4);
 }
 
+/// The counters per render pass instance: the atlas with a moving light begins the shadow map,
+/// one bake and one dilate per model, then the frame, in that order; each instance's sum is its
+/// passes' (the bakes of one pass together), and the sums add up to the frame's totals.
+#[test]
+fn counters_are_summed_per_render_pass_instance_in_submission_order() {
+    let args = ["profile", "--size", "96x64", "--format", "json", "--technique", "shadow-texture-atlas"];
+    let (stdout, _) = common::run_ok(&[&args[..], &["--scene", "atlas-one", "--light", "moving"]].concat());
+    let report: serde_json::Value = serde_json::from_str(&stdout).expect("JSON");
+    let instances = report["render_pass_instances"].as_array().expect("render_pass_instances");
+    let owners: Vec<&str> = instances.iter().map(|i| i["passes"][0].as_str().unwrap_or("?")).collect();
+    // atlas-one: two models, so two bakes and two dilates.
+    assert_eq!(owners, ["shadow map", "atlas bake", "atlas bake", "atlas dilate", "atlas dilate", "scene"]);
+    assert!(instances.iter().enumerate().all(|(i, inst)| inst["index"] == i as u64));
+    let sums = report["render_pass_sums"].as_array().expect("render_pass_sums");
+    let spans: Vec<(u64, u64)> =
+        sums.iter().map(|s| (s["first"].as_u64().unwrap_or(99), s["count"].as_u64().unwrap_or(99))).collect();
+    assert_eq!(spans, [(0, 1), (1, 2), (3, 2), (5, 1)]);
+    let passes = report["passes"].as_array().expect("passes");
+    let pass = |name: &str| passes.iter().find(|p| p["name"] == name).unwrap_or_else(|| panic!("no pass {name}"));
+    for sum in sums {
+        let names: Vec<&str> = sum["passes"].as_array().expect("names").iter().filter_map(|n| n.as_str()).collect();
+        for counter in ["samples_passed", "fragment_invocations", "draws"] {
+            let expected: u64 = names.iter().map(|n| pass(n)[counter].as_u64().unwrap_or(0)).sum();
+            assert_eq!(sum[counter].as_u64(), Some(expected), "{counter} of {names:?}");
+        }
+    }
+    // Every pass but the copy-only mip build drew into some instance.
+    let summed: u64 = sums.iter().map(|s| s["samples_passed"].as_u64().unwrap_or(0)).sum();
+    assert_eq!(Some(summed), report["totals"]["samples_passed"].as_u64());
+    let named: Vec<&str> =
+        sums.iter().flat_map(|s| s["passes"].as_array().into_iter().flatten()).filter_map(|n| n.as_str()).collect();
+    let unnamed: Vec<&str> = passes.iter().filter_map(|p| p["name"].as_str()).filter(|n| !named.contains(n)).collect();
+    assert!(unnamed.iter().all(|n| pass(n)["draws"] == 0), "passes outside every render pass drew: {unnamed:?}");
+}
+
 /// `profile --samples 4`: the frame's multisampled colour and depth are transient (cleared and
 /// discarded in tile memory: 0 bytes loaded or stored) with 4 samples, and only the one-sample
 /// resolve target is stored, W x H x 4 bytes; the table says the same as the JSON.

@@ -149,6 +149,7 @@ mod tests {
             samples_passed: samples,
             gpu_ms: 1.0,
             start_ms: 0.0,
+            render_pass_instances: Vec::new(),
         };
         FrameCounters {
             width: 8,
@@ -156,6 +157,7 @@ mod tests {
             samples: 1,
             passes: vec![pass("scene", 64), pass("overlay", samples)],
             render_passes: Vec::new(),
+            render_pass_instances: Vec::new(),
         }
     }
 

@@ -5,6 +5,7 @@ use std::fmt::Write as _;
 use serde::Serialize;
 
 use crate::frame::render_pass::RenderPassTraffic;
+use crate::render::instances::{RenderPassInstance, RenderPassSums};
 use crate::render::FrameCounters;
 
 /// Version of the JSON layout; bump on any incompatible change (documented in README.md).
@@ -77,6 +78,13 @@ pub struct ProfileReport {
     /// Bytes a tile-based GPU loads/stores per attachment, for every render pass the frame
     /// began: the prepasses' own targets under the pass that drew them, then "frame".
     pub render_passes: Vec<RenderPassTraffic>,
+    /// Every render pass instance the frame began, in submission order, with the measured
+    /// passes that drew into it.
+    pub render_pass_instances: Vec<RenderPassInstance>,
+    /// The passes' counters summed per render pass instance (consecutive instances together
+    /// where one measured pass began them all): what a tool bracketing each render pass
+    /// instance with queries of its own measures (`nostencil profile-app`).
+    pub render_pass_sums: Vec<RenderPassSums>,
     /// What the technique reports beyond counters (for shadow volumes: method, capacity,
     /// saturated samples), or null.
     pub technique_stats: Option<serde_json::Value>,
@@ -139,6 +147,8 @@ impl ProfileReport {
                 gpu_ms: total_ms,
             },
             render_passes: counters.render_passes.clone(),
+            render_pass_instances: counters.render_pass_instances.clone(),
+            render_pass_sums: counters.render_pass_sums(),
             technique_stats: None,
         }
     }
@@ -266,6 +276,7 @@ impl ProfileReport {
         let (loaded, stored) =
             self.render_passes.iter().fold((0, 0), |(l, s), rp| (l + rp.bytes_loaded(), s + rp.bytes_stored()));
         let _ = writeln!(out, "  frame total: loaded {loaded} B, stored {stored} B");
+        self.instance_table(&mut out);
         let _ = writeln!(
             out,
             "\nfragments = fragment shader invocations (pipeline statistics; on lavapipe 16 per 4x4 block a\n\
@@ -274,6 +285,31 @@ impl ProfileReport {
              N samples per pixel, the same figure at any N; samples/px of the frame = overdraw."
         );
         out
+    }
+
+    /// The counters per render pass instance, as a layer around each instance sees them.
+    fn instance_table(&self, out: &mut String) {
+        let _ = writeln!(out, "\nper render pass instance, in submission order (the passes' counters summed):");
+        for sum in &self.render_pass_sums {
+            let span = if sum.count > 1 {
+                format!("#{}..#{}", sum.first, sum.first + sum.count - 1)
+            } else {
+                format!("#{}", sum.first)
+            };
+            let size = self
+                .render_pass_instances
+                .get(sum.first as usize)
+                .map_or(String::new(), |i| format!(" {}x{} {}x", i.width, i.height, i.samples));
+            let fragments = sum.fragment_invocations.map_or("n/a".to_owned(), |f| f.to_string());
+            let _ = writeln!(
+                out,
+                "  {span}{size}  draws {}  samples {}  fragments {}  ({})",
+                sum.draws,
+                sum.samples_passed,
+                fragments,
+                sum.passes.join(", ")
+            );
+        }
     }
 
     fn csv(&self) -> String {

@@ -9,6 +9,7 @@
 
 use serde::Serialize;
 
+use super::instances::{RenderPassInstance, RenderPassSums};
 use crate::frame::render_pass::RenderPassTraffic;
 use crate::gpu::queries::RawPassQueries;
 
@@ -28,10 +29,20 @@ pub struct PassCounters {
     pub gpu_ms: f64,
     /// Start of the pass relative to the frame's first timestamp, in milliseconds.
     pub start_ms: f64,
+    /// Indices of the render pass instances its draws went into (`FrameCounters::
+    /// render_pass_instances`): the frame's, or the ones a prepass began; none for a pass that
+    /// only copies.
+    pub render_pass_instances: Vec<u32>,
 }
 
 impl PassCounters {
-    pub fn from_queries(name: String, draws: u32, raw: &RawPassQueries, frame_start_ns: f64) -> Self {
+    pub fn from_queries(
+        name: String,
+        draws: u32,
+        render_pass_instances: Vec<u32>,
+        raw: &RawPassQueries,
+        frame_start_ns: f64,
+    ) -> Self {
         PassCounters {
             name,
             draws,
@@ -41,6 +52,7 @@ impl PassCounters {
             samples_passed: raw.samples_passed,
             gpu_ms: (raw.end_ns - raw.begin_ns).max(0.0) / 1e6,
             start_ms: (raw.begin_ns - frame_start_ns) / 1e6,
+            render_pass_instances,
         }
     }
 }
@@ -54,6 +66,8 @@ pub struct FrameCounters {
     pub passes: Vec<PassCounters>,
     /// Tile traffic of every render pass the frame began (prepasses' targets and the frame).
     pub render_passes: Vec<RenderPassTraffic>,
+    /// Every render pass instance the frame began, in submission order.
+    pub render_pass_instances: Vec<RenderPassInstance>,
 }
 
 impl FrameCounters {
@@ -72,6 +86,11 @@ impl FrameCounters {
 
     pub fn total_samples_passed(&self) -> u64 {
         self.passes.iter().map(|p| p.samples_passed).sum()
+    }
+
+    /// The passes' counters summed per render pass instance (`instances::render_pass_sums`).
+    pub fn render_pass_sums(&self) -> Vec<RenderPassSums> {
+        render_pass_sums(&self.render_pass_instances, &self.passes)
     }
 
     pub fn total_gpu_ms(&self) -> f64 {
@@ -104,6 +123,43 @@ impl FrameCounters {
     }
 }
 
+/// Groups the instances that measured passes tie together and sums each group's passes. A pass
+/// that drew into no render pass (a mip build: copies and blits only) belongs to no group.
+fn render_pass_sums(instances: &[RenderPassInstance], passes: &[PassCounters]) -> Vec<RenderPassSums> {
+    // group_end[i]: the last instance tied to instance i through some pass.
+    let mut group_end: Vec<u32> = (0..instances.len() as u32).collect();
+    for pass in passes {
+        let (lo, hi) = (pass.render_pass_instances.iter().min(), pass.render_pass_instances.iter().max());
+        if let (Some(&lo), Some(&hi)) = (lo, hi.filter(|&&hi| (hi as usize) < instances.len())) {
+            for end in &mut group_end[lo as usize..=hi as usize] {
+                *end = (*end).max(hi);
+            }
+        }
+    }
+    let mut sums = Vec::new();
+    let mut first = 0u32;
+    while (first as usize) < instances.len() {
+        let mut last = group_end[first as usize];
+        let mut i = first;
+        while i <= last {
+            last = last.max(group_end[i as usize]);
+            i += 1;
+        }
+        let inside = |p: &&PassCounters| p.render_pass_instances.iter().any(|&i| (first..=last).contains(&i));
+        let members: Vec<&PassCounters> = passes.iter().filter(inside).collect();
+        sums.push(RenderPassSums {
+            first,
+            count: last - first + 1,
+            passes: members.iter().map(|p| p.name.clone()).collect(),
+            draws: members.iter().map(|p| p.draws).sum(),
+            samples_passed: members.iter().map(|p| p.samples_passed).sum(),
+            fragment_invocations: members.iter().map(|p| p.fragment_invocations).sum(),
+        });
+        first = last + 1;
+    }
+    sums
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -119,6 +175,7 @@ mod tests {
             samples_passed,
             gpu_ms: 0.0,
             start_ms: 0.0,
+            render_pass_instances: Vec::new(),
         }
     }
 
@@ -144,11 +201,47 @@ mod tests {
             samples: 4,
             passes: vec![pass("shadow texture", 50), pass("scene", 400)],
             render_passes: vec![traffic("shadow texture", 1), traffic("frame", 4)],
+            render_pass_instances: Vec::new(),
         };
         let (prepass, scene) = (&counters.passes[0], &counters.passes[1]);
         assert_eq!((counters.pass_samples(prepass), counters.pass_samples(scene)), (1, 4));
         assert_eq!(counters.samples_per_pixel(prepass), 0.5);
         assert_eq!(counters.samples_per_pixel(scene), 1.0);
         assert_eq!(counters.overdraw(), 450.0 / 400.0);
+    }
+
+    fn instance(index: u32) -> RenderPassInstance {
+        RenderPassInstance { index, width: 4, height: 4, samples: 1, attachments: Vec::new(), passes: Vec::new() }
+    }
+
+    fn pass_in(name: &str, instances: &[u32], samples: u64) -> PassCounters {
+        PassCounters {
+            name: name.into(),
+            draws: 1,
+            vertex_invocations: None,
+            clipping_primitives: None,
+            fragment_invocations: Some(samples * 2),
+            samples_passed: samples,
+            gpu_ms: 0.0,
+            start_ms: 0.0,
+            render_pass_instances: instances.to_vec(),
+        }
+    }
+
+    #[test]
+    fn passes_sum_per_instance_and_a_pass_over_several_instances_joins_them() {
+        let instances: Vec<_> = (0..5).map(instance).collect();
+        let passes = [
+            pass_in("shadow map", &[0], 10),
+            pass_in("bake", &[1, 2, 3], 20),
+            pass_in("mips", &[], 0),
+            pass_in("scene", &[4], 100),
+            pass_in("apply", &[4], 7),
+        ];
+        let sums = render_pass_sums(&instances, &passes);
+        let spans: Vec<(u32, u32, u64)> = sums.iter().map(|s| (s.first, s.count, s.samples_passed)).collect();
+        assert_eq!(spans, [(0, 1, 10), (1, 3, 20), (4, 1, 107)]);
+        assert_eq!(sums[2].passes, ["scene", "apply"]);
+        assert_eq!((sums[2].draws, sums[2].fragment_invocations), (2, Some(214)));
     }
 }

@@ -5,6 +5,7 @@
 pub mod counters;
 pub mod frame_copy;
 pub mod gpu_mesh;
+pub mod instances;
 pub mod materials;
 pub mod object_push;
 pub mod pipeline_object;

@@ -5,6 +5,7 @@ use ash::vk;
 use bytemuck::Pod;
 
 use super::gpu_mesh::GpuMesh;
+use super::instances::RenderPassInstance;
 use crate::error::{Error, Result};
 use crate::frame::offscreen::RenderPass;
 use crate::frame::render_pass::{AttachmentDesc, RenderPassTraffic};
@@ -21,6 +22,8 @@ pub(crate) struct PassRecord {
     /// Labels of the pipelines bound in the pass, in first-bound order (the plan test compares
     /// them with the plan).
     pub pipelines: Vec<&'static str>,
+    /// The render pass instances its draws went into (`FrameRecorder::instances`).
+    pub instances: Vec<u32>,
 }
 
 /// Overdraw counters standing in for the technique's pipelines in a heat-map frame, built on
@@ -75,6 +78,10 @@ pub struct FrameRecorder<'a> {
     pub(crate) passes: Vec<PassRecord>,
     /// What each render pass begun moves to and from main memory on a tile-based GPU.
     pub(crate) render_passes: Vec<RenderPassTraffic>,
+    /// Every render pass instance begun, in order, with the measured passes drawn into it.
+    pub(crate) instances: Vec<RenderPassInstance>,
+    /// The render pass instance open now, if any.
+    open_instance: Option<u32>,
     open: bool,
     pub extent: vk::Extent2D,
     frame_set: vk::DescriptorSet,
@@ -104,6 +111,8 @@ impl<'a> FrameRecorder<'a> {
             queries,
             passes: Vec::new(),
             render_passes: Vec::new(),
+            instances: Vec::new(),
+            open_instance: None,
             open: false,
             extent,
             frame_set,
@@ -159,7 +168,12 @@ impl<'a> FrameRecorder<'a> {
                 self.queries.capacity()
             )));
         }
-        self.passes.push(PassRecord { name: name.to_owned(), draws: 0, pipelines: Vec::new() });
+        // A pass recorded inside an open render pass draws into it (the frame's render pass).
+        let instances: Vec<u32> = self.open_instance.into_iter().collect();
+        if let Some(instance) = self.open_instance.and_then(|i| self.instances.get_mut(i as usize)) {
+            instance.passes.push(name.to_owned());
+        }
+        self.passes.push(PassRecord { name: name.to_owned(), draws: 0, pipelines: Vec::new(), instances });
         self.open = true;
         self.queries.begin(self.cmd, index);
         let result = body(self);
@@ -230,6 +244,22 @@ impl<'a> FrameRecorder<'a> {
             (&t.pass, t.width, t.height, &t.attachments)
                 == (&traffic.pass, traffic.width, traffic.height, &traffic.attachments)
         };
+        let index = self.instances.len() as u32;
+        let mut instance = RenderPassInstance {
+            index,
+            width: extent.width,
+            height: extent.height,
+            samples: attachments.iter().map(|a| a.samples).max().unwrap_or(1),
+            attachments: traffic.attachments.clone(),
+            passes: Vec::new(),
+        };
+        // A render pass begun inside a measured pass (a prepass) holds that pass's draws.
+        if let Some(pass) = self.passes.last_mut().filter(|_| self.open) {
+            pass.instances.push(index);
+            instance.passes.push(pass.name.clone());
+        }
+        self.instances.push(instance);
+        self.open_instance = Some(index);
         match self.render_passes.iter_mut().find(same) {
             Some(alike) => alike.count += 1,
             None => self.render_passes.push(traffic),
@@ -253,6 +283,7 @@ impl<'a> FrameRecorder<'a> {
     }
 
     pub fn end_render_pass(&mut self) {
+        self.open_instance = None;
         // SAFETY: see the note on `FrameRecorder`.
         unsafe { self.gpu.raw().cmd_end_render_pass(self.cmd) };
     }

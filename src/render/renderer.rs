@@ -138,59 +138,69 @@ impl Renderer {
         let (targets, queries, readback, frame_set) = (&self.targets, &self.queries, &self.readback, self.frame.set);
         let (keep_on_gpu, stencil_clear) = (self.keep_on_gpu, self.stencil_clear);
 
-        let (pass_records, render_passes) = submit_frame_and_wait(&gpu, describe_passes, |cmd| {
-            queries.reset(cmd);
-            let mut recorder = FrameRecorder::new(
-                &gpu,
-                cmd,
-                queries,
-                extent,
-                frame_set,
-                targets.drawn_colour().raw,
-                targets.samples(),
-            );
-            if let Some(pipelines) = overdraw {
-                recorder.count_overdraw(pipelines);
-            }
-            prepass(&mut recorder)?;
-            // The resolve target (if any) is not cleared; its value is never read.
-            let clear_values = [
-                vk::ClearValue { color: vk::ClearColorValue { float32: clear } },
-                vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: stencil_clear } },
-                vk::ClearValue { color: vk::ClearColorValue { float32: clear } },
-            ];
-            let attachments = targets.desc.attachments();
-            recorder.begin_render_pass(targets.render_pass, &attachments, targets.framebuffer, extent, &clear_values);
-            let recorded = record(&mut recorder);
-            recorder.end_render_pass();
-            recorded?;
-            // A technique's fragment shaders may count into a buffer read after the frame.
-            barriers::fragment_stores_to_host(device, cmd);
-            if let Some(e) = recorder.deferred_error.take() {
-                return Err(e);
-            }
-            let records = (std::mem::take(&mut recorder.passes), std::mem::take(&mut recorder.render_passes));
-            if keep_on_gpu {
-                return Ok(records);
-            }
-
-            // The render pass left the colour target in TRANSFER_SRC_OPTIMAL.
-            let region = regions::colour_to_buffer(extent);
-            // SAFETY: `cmd` is recording outside the render pass; the colour target and the
-            // read-back buffer (sized width x height x 4 for this extent) belong to `self`, which
-            // outlives the submission `submit_and_wait` waits for.
-            unsafe {
-                device.cmd_copy_image_to_buffer(
+        let (pass_records, (render_passes, render_pass_instances)) =
+            submit_frame_and_wait(&gpu, describe_passes, |cmd| {
+                queries.reset(cmd);
+                let mut recorder = FrameRecorder::new(
+                    &gpu,
                     cmd,
-                    targets.colour.raw,
-                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    readback.raw,
-                    &[region],
-                )
-            };
-            barriers::transfer_to_host(device, cmd, readback.raw);
-            Ok(records)
-        })?;
+                    queries,
+                    extent,
+                    frame_set,
+                    targets.drawn_colour().raw,
+                    targets.samples(),
+                );
+                if let Some(pipelines) = overdraw {
+                    recorder.count_overdraw(pipelines);
+                }
+                prepass(&mut recorder)?;
+                // The resolve target (if any) is not cleared; its value is never read.
+                let clear_values = [
+                    vk::ClearValue { color: vk::ClearColorValue { float32: clear } },
+                    vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: stencil_clear } },
+                    vk::ClearValue { color: vk::ClearColorValue { float32: clear } },
+                ];
+                let attachments = targets.desc.attachments();
+                recorder.begin_render_pass(
+                    targets.render_pass,
+                    &attachments,
+                    targets.framebuffer,
+                    extent,
+                    &clear_values,
+                );
+                let recorded = record(&mut recorder);
+                recorder.end_render_pass();
+                recorded?;
+                // A technique's fragment shaders may count into a buffer read after the frame.
+                barriers::fragment_stores_to_host(device, cmd);
+                if let Some(e) = recorder.deferred_error.take() {
+                    return Err(e);
+                }
+                let records = (
+                    std::mem::take(&mut recorder.passes),
+                    (std::mem::take(&mut recorder.render_passes), std::mem::take(&mut recorder.instances)),
+                );
+                if keep_on_gpu {
+                    return Ok(records);
+                }
+
+                // The render pass left the colour target in TRANSFER_SRC_OPTIMAL.
+                let region = regions::colour_to_buffer(extent);
+                // SAFETY: `cmd` is recording outside the render pass; the colour target and the
+                // read-back buffer (sized width x height x 4 for this extent) belong to `self`, which
+                // outlives the submission `submit_and_wait` waits for.
+                unsafe {
+                    device.cmd_copy_image_to_buffer(
+                        cmd,
+                        targets.colour.raw,
+                        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                        readback.raw,
+                        &[region],
+                    )
+                };
+                barriers::transfer_to_host(device, cmd, readback.raw);
+                Ok(records)
+            })?;
 
         self.drawn = true;
         let raw = self.queries.results(pass_records.len() as u32)?;
@@ -199,7 +209,9 @@ impl Renderer {
         let passes = pass_records
             .into_iter()
             .zip(&raw)
-            .map(|(record, raw)| PassCounters::from_queries(record.name, record.draws, raw, frame_start))
+            .map(|(record, raw)| {
+                PassCounters::from_queries(record.name, record.draws, record.instances, raw, frame_start)
+            })
             .collect();
         let image = if self.keep_on_gpu {
             RgbaImage::new(0, 0)
@@ -214,6 +226,7 @@ impl Renderer {
                 samples: self.targets.samples(),
                 passes,
                 render_passes,
+                render_pass_instances,
             },
             trace,
         })
