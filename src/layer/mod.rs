@@ -1,0 +1,7 @@
+//! `VK_LAYER_NOSTENCIL_fillrate`: a Vulkan layer, built into `libnostencil.so` (the crate's
+//! cdylib), that wraps every render pass instance of any application in the queries
+//! `nostencil profile` uses, and writes per-frame, per-pass fill-rate counters (DESIGN.md
+//! section 12).
+
+pub mod manifest;
+pub mod report;
