@@ -3,5 +3,13 @@
 //! `nostencil profile` uses, and writes per-frame, per-pass fill-rate counters (DESIGN.md
 //! section 12).
 
+pub mod aggregate;
+pub mod attachments;
+pub mod config;
+pub mod frames;
+pub mod loader;
 pub mod manifest;
+pub mod output;
+pub mod recording;
 pub mod report;
+pub mod slots;
