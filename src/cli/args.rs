@@ -59,6 +59,33 @@ pub enum Command {
         #[arg(long, value_name = "FILE.json")]
         write_budget: Option<PathBuf>,
     },
+    /// Run any Vulkan program under the fill-rate layer (VK_LAYER_NOSTENCIL_fillrate) and report
+    /// its render pass instances: draws, fragments, samples passed, overdraw, GPU time, tile
+    /// traffic, per frame and aggregated (`nostencil profile-app --frames 10 -- vkcube --c 10`).
+    #[command(after_help = crate::cli::profile_app::AFTER_HELP)]
+    ProfileApp {
+        /// Measure the first N frames (presents) only; the program then runs on unmeasured.
+        /// Default: every frame (the report keeps the last 64, the aggregate covers all).
+        #[arg(long, value_name = "N")]
+        frames: Option<u32>,
+        #[arg(long, value_enum, default_value_t = FormatArg::Table)]
+        format: FormatArg,
+        /// Compare each render pass's draws, samples passed and fragment invocations (the most
+        /// over the measured frames) with a budget from `--record-budget`; exit 1 naming every
+        /// render pass over it.
+        #[arg(long, value_name = "FILE.json")]
+        budget: Option<PathBuf>,
+        /// Record this run's counters (per render pass, the most over the measured frames) as
+        /// a budget file.
+        #[arg(long, value_name = "FILE.json")]
+        record_budget: Option<PathBuf>,
+        /// Also write a bar chart of the render passes (mean over frames).
+        #[arg(long, value_name = "FILE.svg")]
+        chart: Option<PathBuf>,
+        /// The program and its arguments, after `--`.
+        #[arg(last = true, value_name = "COMMAND ARGS")]
+        command: Vec<String>,
+    },
     /// Print every pass of a technique with its fixed-function state, as a Markdown table.
     Passes {
         #[arg(long, default_value = DEFAULT_TECHNIQUE)]

@@ -31,6 +31,10 @@ pub fn run(cli: Cli) -> Result<()> {
             }
         }
         Command::Info { gpu, json } => info(&gpu, json),
+        Command::ProfileApp { frames, format, budget, record_budget, chart, command } => {
+            let outputs = super::profile_app::AppOutputs { budget, record_budget, chart };
+            super::profile_app::run(&command, frames, report_format(format), &outputs)
+        }
         Command::Passes { technique, normalize, increment, shadow_factor, shadow_colour } => passes(
             &technique,
             normalize,
@@ -152,7 +156,7 @@ fn given_plane(frame: &FrameArgs) -> Result<Option<GivenPlane>> {
 }
 
 /// Refuses an output path whose folder does not exist before any rendering is done.
-fn check_output_path(path: &Path) -> Result<()> {
+pub(super) fn check_output_path(path: &Path) -> Result<()> {
     let parent = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
     if !parent.is_dir() {
         return Err(Error::Io {

@@ -1,7 +1,9 @@
 //! The command line, thin over the library: parse, build the scene, run, report.
 
+mod app_counts;
 mod args;
 mod commands;
+mod profile_app;
 
 use std::process::ExitCode;
 

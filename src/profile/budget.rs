@@ -39,6 +39,20 @@ fn one_sample() -> u32 {
     1
 }
 
+/// The deterministic counters of one pass (of this crate's frame, or one render pass instance
+/// of an application measured by the fill-rate layer), under the name its budget has.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PassCount {
+    pub name: String,
+    pub draws: u32,
+    pub samples_passed: u64,
+    pub fragment_invocations: Option<u64>,
+}
+
+/// `technique` of a budget recorded from an application by `nostencil profile-app`: its passes
+/// are the application's render pass instances, by position in the frame.
+pub const APPLICATION_TECHNIQUE: &str = "application";
+
 /// One counter of one pass above its budget.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Overrun {
@@ -79,6 +93,49 @@ impl Budget {
         }
     }
 
+    /// A budget for an application's frame (`profile-app`): `scene` is the application's name,
+    /// `width` x `height` the largest render area, and the passes its render pass instances.
+    pub fn for_application(application: &str, width: u32, height: u32, passes: &[PassCount]) -> Self {
+        Budget {
+            schema: BUDGET_SCHEMA.into(),
+            scene: application.into(),
+            technique: APPLICATION_TECHNIQUE.into(),
+            stencil: "n/a".into(),
+            width,
+            height,
+            samples: 1,
+            passes: passes
+                .iter()
+                .map(|p| PassBudget {
+                    name: p.name.clone(),
+                    draws: p.draws,
+                    samples_passed: p.samples_passed,
+                    fragment_invocations: p.fragment_invocations,
+                })
+                .collect(),
+        }
+    }
+
+    /// Every counter of an application's passes over budget. The frame size is not compared: a
+    /// larger window is what the budget is there to catch. A budget of another kind, another
+    /// application's, or a pass it does not list is an error naming it.
+    pub fn check_application(&self, application: &str, passes: &[PassCount]) -> Result<Vec<Overrun>> {
+        if self.technique != APPLICATION_TECHNIQUE {
+            return Err(Error::InvalidInput(format!(
+                "the budget is for nostencil's own frame ({} / {}), not an application: record one with \
+                 `profile-app --record-budget`",
+                self.scene, self.technique
+            )));
+        }
+        if self.scene != application {
+            return Err(Error::InvalidInput(format!(
+                "the budget is for application '{}', not '{application}'",
+                self.scene
+            )));
+        }
+        self.check_passes(passes)
+    }
+
     pub fn load(path: &Path) -> Result<Self> {
         let text = std::fs::read_to_string(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
         let budget: Budget = serde_json::from_str(&text)
@@ -113,8 +170,23 @@ impl Budget {
                 self.samples, counters.samples, counters.samples, self.samples
             )));
         }
+        let passes: Vec<PassCount> = counters
+            .passes
+            .iter()
+            .map(|p| PassCount {
+                name: p.name.clone(),
+                draws: p.draws,
+                samples_passed: p.samples_passed,
+                fragment_invocations: p.fragment_invocations,
+            })
+            .collect();
+        self.check_passes(&passes)
+    }
+
+    /// Every counter over budget, pass by pass (matched by name).
+    fn check_passes(&self, passes: &[PassCount]) -> Result<Vec<Overrun>> {
         let mut overruns = Vec::new();
-        for pass in &counters.passes {
+        for pass in passes {
             let budget =
                 self.passes.iter().find(|b| b.name == pass.name).ok_or_else(|| {
                     Error::InvalidInput(format!("pass '{}' has no budget (record a new one)", pass.name))
@@ -170,5 +242,25 @@ mod tests {
         assert!(overruns.iter().all(|o| o.pass == "overlay"));
         assert!(overruns[0].to_string().contains("pass 'overlay': samples passed 30 > budget 10"));
         assert!(budget.check("s", "t", "emulated", &FrameCounters { width: 16, ..frame(10) }).is_err());
+    }
+
+    #[test]
+    fn an_application_budget_is_checked_by_pass_name_whatever_the_size() {
+        let pass = |samples| PassCount {
+            name: "render pass #0".into(),
+            draws: 1,
+            samples_passed: samples,
+            fragment_invocations: Some(samples),
+        };
+        let budget = Budget::for_application("vkcube", 500, 500, &[pass(1000)]);
+        assert!(budget.check_application("vkcube", &[pass(1000)]).unwrap().is_empty());
+        let overruns = budget.check_application("vkcube", &[pass(1500)]).unwrap();
+        assert_eq!(overruns.len(), 2);
+        assert!(overruns[0].to_string().contains("pass 'render pass #0': samples passed 1500 > budget 1000"));
+        assert!(budget.check_application("other", &[pass(1000)]).is_err());
+        let extra = PassCount { name: "render pass #1".into(), ..pass(1) };
+        assert!(budget.check_application("vkcube", &[pass(1), extra]).is_err());
+        let own = Budget::from_frame("s", "t", "emulated", &frame(10));
+        assert!(own.check_application("s", &[pass(1)]).is_err());
     }
 }

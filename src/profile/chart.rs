@@ -9,20 +9,37 @@ fn escape(text: &str) -> String {
     text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
 }
 
+/// One bar pair of the chart.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChartRow {
+    pub name: String,
+    /// Fragment shader invocations per pixel (0 where unknown).
+    pub fragments_per_pixel: f64,
+    /// Samples passed per pixel and sample.
+    pub samples_per_pixel: f64,
+    pub gpu_ms: f64,
+}
+
+/// The chart of a frame of this crate: one row per measured pass.
 pub fn bar_chart_svg(title: &str, counters: &FrameCounters) -> String {
     let pixels = counters.pixels().max(1) as f64;
-    let rows: Vec<(String, f64, f64, f64)> = counters
+    let rows: Vec<ChartRow> = counters
         .passes
         .iter()
-        .map(|p| {
-            (
-                p.name.clone(),
-                p.fragment_invocations.map_or(0.0, |f| f as f64 / pixels),
-                counters.samples_per_pixel(p),
-                p.gpu_ms,
-            )
+        .map(|p| ChartRow {
+            name: p.name.clone(),
+            fragments_per_pixel: p.fragment_invocations.map_or(0.0, |f| f as f64 / pixels),
+            samples_per_pixel: counters.samples_per_pixel(p),
+            gpu_ms: p.gpu_ms,
         })
         .collect();
+    chart_rows_svg(title, &rows)
+}
+
+/// The chart of any rows (an application's render passes, measured by the fill-rate layer).
+pub fn chart_rows_svg(title: &str, rows: &[ChartRow]) -> String {
+    let rows: Vec<(String, f64, f64, f64)> =
+        rows.iter().map(|r| (r.name.clone(), r.fragments_per_pixel, r.samples_per_pixel, r.gpu_ms)).collect();
     let max = rows.iter().map(|r| r.1.max(r.2)).fold(0.0f64, f64::max).max(1.0).ceil();
     let (label_w, bar_w, row_h, top) = (230.0, 460.0, 34.0, 70.0);
     let width = label_w + bar_w + 190.0;

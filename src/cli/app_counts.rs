@@ -1,0 +1,158 @@
+//! An application's render passes, as the fill-rate layer measured them, turned into what
+//! `profile`'s budgets and charts take: one entry per position in the frame, named by position
+//! and debug label.
+
+use crate::layer::report::{AggregateRow, FillrateReport};
+use crate::profile::budget::PassCount;
+use crate::profile::chart::ChartRow;
+
+/// "render pass #2", or "render pass #2 'shadows'" when the application labelled it: what a
+/// budget matches, so the same pass matches at another window size.
+pub fn pass_name(position: u32, label: Option<&str>) -> String {
+    match label {
+        Some(label) => format!("render pass #{position} '{label}'"),
+        None => format!("render pass #{position}"),
+    }
+}
+
+/// One position of the frame: its name, the render area of the rows there, and the most of
+/// each deterministic counter over the measured frames.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PositionCounts {
+    pub count: PassCount,
+    /// "WxH" of the render area (several, comma-separated, if it changed between frames).
+    pub area: String,
+}
+
+/// Per position in the frame, the most of each counter over every measured frame (from the
+/// aggregate, which covers them all). Positions whose passes were never measured are left out;
+/// `not_measured` in the report says why.
+pub fn worst_per_position(report: &FillrateReport) -> Vec<PositionCounts> {
+    let mut positions: Vec<u32> = report.aggregate.iter().map(|a| a.position).collect();
+    positions.sort_unstable();
+    positions.dedup();
+    positions
+        .into_iter()
+        .map(|position| {
+            let rows: Vec<&AggregateRow> = report.aggregate.iter().filter(|a| a.position == position).collect();
+            let label = rows.iter().rev().find_map(|r| r.label.as_deref());
+            let mut areas: Vec<String> = rows.iter().map(|r| area_of_key(&r.key)).collect();
+            areas.dedup();
+            let fragments = rows.iter().map(|r| r.max.fragment_invocations).collect::<Option<Vec<u64>>>();
+            PositionCounts {
+                count: PassCount {
+                    name: pass_name(position, label),
+                    draws: rows.iter().map(|r| r.max.draws).max().unwrap_or(0).min(u32::MAX as u64) as u32,
+                    samples_passed: rows.iter().map(|r| r.max.samples_passed).max().unwrap_or(0),
+                    fragment_invocations: fragments.and_then(|f| f.into_iter().max()),
+                },
+                area: areas.join(", "),
+            }
+        })
+        .collect()
+}
+
+/// The "WxH" an aggregate key starts with.
+fn area_of_key(key: &str) -> String {
+    key.split_whitespace().next().unwrap_or("?").to_owned()
+}
+
+/// The largest render area over the positions, as (width, height) by pixel count.
+pub fn largest_area(report: &FillrateReport) -> (u32, u32) {
+    let sizes = report.aggregate.iter().filter_map(|a| {
+        let (w, h) = area_of_key(&a.key).split_once('x').map(|(w, h)| (w.parse().ok(), h.parse().ok()))?;
+        Some((w?, h?))
+    });
+    sizes.max_by_key(|&(w, h): &(u32, u32)| w as u64 * h as u64).unwrap_or((0, 0))
+}
+
+/// One chart row per aggregate row: the mean over frames.
+pub fn chart_rows(report: &FillrateReport) -> Vec<ChartRow> {
+    report
+        .aggregate
+        .iter()
+        .map(|a| ChartRow {
+            name: format!("{} {}", pass_name(a.position, a.label.as_deref()), area_of_key(&a.key)),
+            fragments_per_pixel: a.mean.fragments_per_pixel.unwrap_or(0.0),
+            samples_per_pixel: a.mean.overdraw,
+            gpu_ms: a.mean.gpu_ms.unwrap_or(0.0),
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::layer::report::{CounterSupport, Counters, FILLRATE_SCHEMA};
+
+    fn counters(samples: u64) -> Counters {
+        Counters {
+            draws: 1,
+            vertex_invocations: None,
+            clipping_primitives: None,
+            fragment_invocations: Some(samples + 16),
+            fragments_per_pixel: None,
+            samples_passed: samples,
+            overdraw: 0.0,
+            gpu_ms: None,
+            bytes_loaded: 0,
+            bytes_stored: 0,
+        }
+    }
+
+    fn row(position: u32, key: &str, label: Option<&str>, max: u64) -> AggregateRow {
+        let mean = Counters {
+            draws: 1.0,
+            vertex_invocations: None,
+            clipping_primitives: None,
+            fragment_invocations: None,
+            fragments_per_pixel: Some(0.5),
+            samples_passed: max as f64,
+            overdraw: 0.25,
+            gpu_ms: Some(1.5),
+            bytes_loaded: 0.0,
+            bytes_stored: 0.0,
+        };
+        AggregateRow {
+            position,
+            key: key.into(),
+            frames: 3,
+            label: label.map(str::to_owned),
+            mean,
+            min: counters(max / 2),
+            max: counters(max),
+        }
+    }
+
+    fn report(aggregate: Vec<AggregateRow>) -> FillrateReport {
+        FillrateReport {
+            schema: FILLRATE_SCHEMA.into(),
+            application: "app".into(),
+            device: "llvmpipe".into(),
+            counters: CounterSupport::default(),
+            frames_measured: 3,
+            not_measured: Vec::new(),
+            frames: Vec::new(),
+            aggregate,
+        }
+    }
+
+    #[test]
+    fn each_position_takes_the_most_of_its_rows_under_its_label() {
+        let report = report(vec![
+            row(0, "500x500 colour B8G8R8A8_UNORM CLEAR/STORE", None, 100),
+            row(1, "64x64 colour R8_UNORM CLEAR/STORE", Some("shadow"), 10),
+            row(0, "600x600 colour B8G8R8A8_UNORM CLEAR/STORE", None, 300),
+        ]);
+        let worst = worst_per_position(&report);
+        assert_eq!(worst.len(), 2);
+        assert_eq!(worst[0].count.name, "render pass #0");
+        assert_eq!((worst[0].count.samples_passed, worst[0].count.fragment_invocations), (300, Some(316)));
+        assert_eq!(worst[0].area, "500x500, 600x600");
+        assert_eq!(worst[1].count.name, "render pass #1 'shadow'");
+        assert_eq!(largest_area(&report), (600, 600));
+        let chart = chart_rows(&report);
+        assert_eq!(chart[1].name, "render pass #1 'shadow' 64x64");
+        assert_eq!((chart[0].fragments_per_pixel, chart[0].samples_per_pixel, chart[0].gpu_ms), (0.5, 0.25, 1.5));
+    }
+}

@@ -1,0 +1,244 @@
+//! `nostencil profile-app -- COMMAND ARGS...`: runs any program with the fill-rate layer
+//! enabled through the loader's environment, waits for it, reads the layer's result file and
+//! reports it, checked against a budget if asked.
+
+use std::ffi::OsString;
+use std::path::{Path, PathBuf};
+
+use super::app_counts::{chart_rows, largest_area, worst_per_position, PositionCounts};
+use crate::error::{Error, Result};
+use crate::layer::config::OutputFormat;
+use crate::layer::manifest::{manifest_json, LAYER_NAME, LIBRARY_FILE, MANIFEST_FILE};
+use crate::layer::report::FillrateReport;
+use crate::profile::budget::Budget;
+use crate::profile::report::ReportFormat;
+
+/// Shown after `profile-app --help`.
+pub const AFTER_HELP: &str = "\
+The layer (libnostencil.so, built beside the nostencil executable) is enabled for the program
+only: VK_INSTANCE_LAYERS gets VK_LAYER_NOSTENCIL_fillrate first (nearest the application; layers
+the user named stay, below it), VK_ADD_LAYER_PATH (or VK_LAYER_PATH, if set) its folder, and
+NOSTENCIL_FILLRATE_OUT/_FORMAT/_FRAMES tell it where and what to write. The program's stdio is
+its own; the report follows once it exits. A frame is the render pass instances submitted
+between two presents (a program that never presents has one, ended when its device is destroyed).
+
+Not measured (and named in the report): render passes in secondary command buffers, multiview
+render passes, passes inside which the application keeps its own occlusion or statistics query
+open across the begin. No heat map: `profile --heatmap` counts fragments with this crate's own
+shaders, which a foreign program does not have.";
+
+/// What `profile-app` writes besides the report.
+pub struct AppOutputs {
+    pub budget: Option<PathBuf>,
+    pub record_budget: Option<PathBuf>,
+    pub chart: Option<PathBuf>,
+}
+
+pub fn run(command: &[String], frames: Option<u32>, format: ReportFormat, outputs: &AppOutputs) -> Result<()> {
+    let Some((program, args)) = command.split_first() else {
+        return Err(Error::InvalidInput(
+            "profile-app needs the program to run after `--`, e.g. `nostencil profile-app -- vkcube --c 10`".into(),
+        ));
+    };
+    if frames == Some(0) {
+        return Err(Error::InvalidInput("--frames 0 would measure nothing; give 1 or more".into()));
+    }
+    for path in [&outputs.record_budget, &outputs.chart].into_iter().flatten() {
+        super::commands::check_output_path(path)?;
+    }
+    let budget = outputs.budget.as_deref().map(Budget::load).transpose()?;
+    let work = ScratchDir::new()?;
+    let layer_dir = layer_folder(&work.0)?;
+    let result = work.0.join("result.json");
+    let environment = layer_environment(|name| std::env::var_os(name), &layer_dir, &result, frames);
+
+    let status = std::process::Command::new(program).args(args).envs(environment).status().map_err(|e| {
+        let why = if e.kind() == std::io::ErrorKind::NotFound { "not found".to_owned() } else { e.to_string() };
+        Error::InvalidInput(format!("cannot start '{program}': {why}"))
+    })?;
+    if !status.success() {
+        let how = status.code().map_or_else(|| format!("was killed ({status})"), |c| format!("exited with status {c}"));
+        return Err(Error::InvalidInput(format!("'{program}' {how}; no report (its frames may be incomplete)")));
+    }
+    let text = std::fs::read_to_string(&result).map_err(|_| {
+        Error::InvalidInput(format!(
+            "'{program}' exited normally but the layer wrote no result: it created no Vulkan device or never \
+             destroyed it (the layer writes at vkDestroyDevice, or after --frames N), or the loader did not load \
+             {LAYER_NAME} (VK_LOADER_DEBUG=layer shows why)"
+        ))
+    })?;
+    let report =
+        FillrateReport::from_json(&text).map_err(|e| Error::Asset { path: result.clone(), problem: e.to_string() })?;
+
+    print!("{}", crate::layer::output::render(&report, output_format(format)));
+    let worst = worst_per_position(&report);
+    if let Some(path) = &outputs.chart {
+        let title = format!("{} on {} ({} frames)", report.application, report.device, report.frames_measured);
+        let svg = crate::profile::chart::chart_rows_svg(&title, &chart_rows(&report));
+        crate::frame::write_atomically(path, svg.as_bytes())?;
+        eprintln!("wrote {}", path.display());
+    }
+    if let Some(path) = &outputs.record_budget {
+        if worst.is_empty() {
+            return Err(Error::InvalidInput(format!(
+                "no render pass of '{program}' was measured: no budget to record"
+            )));
+        }
+        let (width, height) = largest_area(&report);
+        let counts: Vec<_> = worst.iter().map(|p| p.count.clone()).collect();
+        Budget::for_application(&report.application, width, height, &counts).write(path)?;
+        eprintln!("wrote budget {} ({} render passes)", path.display(), counts.len());
+    }
+    if let (Some(budget), Some(path)) = (&budget, &outputs.budget) {
+        check_budget(budget, path, &report, &worst)?;
+    }
+    Ok(())
+}
+
+/// Every render pass over `budget` on stderr, then an error naming them all.
+fn check_budget(budget: &Budget, path: &Path, report: &FillrateReport, worst: &[PositionCounts]) -> Result<()> {
+    let counts: Vec<_> = worst.iter().map(|p| p.count.clone()).collect();
+    let overruns = budget.check_application(&report.application, &counts)?;
+    if overruns.is_empty() {
+        eprintln!("within budget {}", path.display());
+        return Ok(());
+    }
+    let area = |name: &str| worst.iter().find(|p| p.count.name == name).map_or("?", |p| p.area.as_str());
+    for overrun in &overruns {
+        eprintln!("over budget: {overrun} (render area {})", area(&overrun.pass));
+    }
+    let mut passes: Vec<String> = overruns.iter().map(|o| format!("{} ({})", o.pass, area(&o.pass))).collect();
+    passes.dedup();
+    Err(Error::InvalidInput(format!(
+        "{} render pass(es) of '{}' over the budget in {}: {}",
+        passes.len(),
+        report.application,
+        path.display(),
+        passes.join(", ")
+    )))
+}
+
+fn output_format(format: ReportFormat) -> OutputFormat {
+    match format {
+        ReportFormat::Table => OutputFormat::Table,
+        ReportFormat::Json => OutputFormat::Json,
+        ReportFormat::Csv => OutputFormat::Csv,
+    }
+}
+
+/// The folder holding the layer's manifest: the build's, beside the executable, when the library
+/// is there too; else one written into `scratch` naming the library by its absolute path.
+fn layer_folder(scratch: &Path) -> Result<PathBuf> {
+    let exe =
+        std::env::current_exe().map_err(|e| Error::Internal(format!("cannot find the nostencil executable: {e}")))?;
+    let dir = exe.parent().unwrap_or(Path::new(".")).to_path_buf();
+    let library = dir.join(LIBRARY_FILE);
+    if !library.is_file() {
+        return Err(Error::InvalidInput(format!(
+            "the fill-rate layer {} is not beside nostencil; build it with `cargo build` (the crate's cdylib)",
+            library.display()
+        )));
+    }
+    if dir.join(MANIFEST_FILE).is_file() {
+        return Ok(dir);
+    }
+    let text = manifest_json(&library.to_string_lossy());
+    crate::frame::write_atomically(&scratch.join(MANIFEST_FILE), text.as_bytes())?;
+    Ok(scratch.to_path_buf())
+}
+
+/// The variables that enable the layer for the child: `current` reads the parent's environment.
+/// The layer goes first in VK_INSTANCE_LAYERS (nearest the application), before any the user
+/// named; its folder is added to the loader's search (VK_ADD_LAYER_PATH keeps the system's
+/// folders, so a validation layer can still be found; a VK_LAYER_PATH the user set replaces
+/// those, so the folder goes there instead).
+pub fn layer_environment(
+    current: impl Fn(&str) -> Option<OsString>,
+    layer_dir: &Path,
+    result: &Path,
+    frames: Option<u32>,
+) -> Vec<(String, OsString)> {
+    let prepend = |name: &str, first: OsString| -> (String, OsString) {
+        match current(name).filter(|v| !v.is_empty()) {
+            Some(rest) => {
+                let mut joined = first;
+                joined.push(":");
+                joined.push(rest);
+                (name.to_owned(), joined)
+            }
+            None => (name.to_owned(), first),
+        }
+    };
+    let search =
+        if current("VK_LAYER_PATH").is_some_and(|v| !v.is_empty()) { "VK_LAYER_PATH" } else { "VK_ADD_LAYER_PATH" };
+    let layers = match current("VK_INSTANCE_LAYERS") {
+        Some(user) if user.to_string_lossy().split(':').any(|l| l == LAYER_NAME) => ("VK_INSTANCE_LAYERS".into(), user),
+        _ => prepend("VK_INSTANCE_LAYERS", LAYER_NAME.into()),
+    };
+    let mut environment = vec![
+        prepend(search, layer_dir.as_os_str().to_owned()),
+        layers,
+        ("NOSTENCIL_FILLRATE_OUT".into(), result.as_os_str().to_owned()),
+        ("NOSTENCIL_FILLRATE_FORMAT".into(), "json".into()),
+    ];
+    if let Some(frames) = frames {
+        environment.push(("NOSTENCIL_FILLRATE_FRAMES".into(), frames.to_string().into()));
+    }
+    environment
+}
+
+/// A private folder under the system's temp folder, removed when dropped.
+struct ScratchDir(PathBuf);
+
+impl ScratchDir {
+    fn new() -> Result<Self> {
+        let nanos = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.subsec_nanos());
+        let dir = std::env::temp_dir().join(format!("nostencil-profile-app-{}-{nanos}", std::process::id()));
+        std::fs::create_dir_all(&dir).map_err(|source| Error::Io { path: dir.clone(), source })?;
+        Ok(ScratchDir(dir))
+    }
+}
+
+impl Drop for ScratchDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn env_of<'a>(vars: &'a [(&'a str, &'a str)]) -> impl Fn(&str) -> Option<OsString> + 'a {
+        move |name| vars.iter().find(|(n, _)| *n == name).map(|(_, v)| OsString::from(v))
+    }
+
+    fn value<'a>(environment: &'a [(String, OsString)], name: &str) -> Option<&'a str> {
+        environment.iter().find(|(n, _)| n == name).and_then(|(_, v)| v.to_str())
+    }
+
+    #[test]
+    fn the_layer_comes_first_and_the_users_settings_stay() {
+        let (dir, out) = (Path::new("/l"), Path::new("/t/r.json"));
+        let plain = layer_environment(env_of(&[]), dir, out, Some(5));
+        assert_eq!(value(&plain, "VK_INSTANCE_LAYERS"), Some(LAYER_NAME));
+        assert_eq!(value(&plain, "VK_ADD_LAYER_PATH"), Some("/l"));
+        assert_eq!(value(&plain, "VK_LAYER_PATH"), None);
+        assert_eq!(value(&plain, "NOSTENCIL_FILLRATE_OUT"), Some("/t/r.json"));
+        assert_eq!(value(&plain, "NOSTENCIL_FILLRATE_FORMAT"), Some("json"));
+        assert_eq!(value(&plain, "NOSTENCIL_FILLRATE_FRAMES"), Some("5"));
+
+        let user = [("VK_INSTANCE_LAYERS", "VK_LAYER_KHRONOS_validation"), ("VK_LAYER_PATH", "/mine")];
+        let mixed = layer_environment(env_of(&user), dir, out, None);
+        let expected = format!("{LAYER_NAME}:VK_LAYER_KHRONOS_validation");
+        assert_eq!(value(&mixed, "VK_INSTANCE_LAYERS"), Some(expected.as_str()));
+        assert_eq!(value(&mixed, "VK_LAYER_PATH"), Some("/l:/mine"));
+        assert_eq!(value(&mixed, "VK_ADD_LAYER_PATH"), None);
+        assert_eq!(value(&mixed, "NOSTENCIL_FILLRATE_FRAMES"), None);
+
+        // Named already (to put it elsewhere in the order): left as the user wrote it.
+        let placed = format!("VK_LAYER_KHRONOS_validation:{LAYER_NAME}");
+        let named = layer_environment(env_of(&[("VK_INSTANCE_LAYERS", &placed)]), dir, out, None);
+        assert_eq!(value(&named, "VK_INSTANCE_LAYERS"), Some(placed.as_str()));
+    }
+}
