@@ -82,6 +82,9 @@ pub enum Command {
         /// Also write a bar chart of the render passes (mean over frames).
         #[arg(long, value_name = "FILE.svg")]
         chart: Option<PathBuf>,
+        /// Write the report (in --format) to FILE instead of stdout, which stays the program's.
+        #[arg(long, value_name = "FILE")]
+        out: Option<PathBuf>,
         /// The program and its arguments, after `--`.
         #[arg(last = true, value_name = "COMMAND ARGS")]
         command: Vec<String>,

@@ -31,8 +31,8 @@ pub fn run(cli: Cli) -> Result<()> {
             }
         }
         Command::Info { gpu, json } => info(&gpu, json),
-        Command::ProfileApp { frames, format, budget, record_budget, chart, command } => {
-            let outputs = super::profile_app::AppOutputs { budget, record_budget, chart };
+        Command::ProfileApp { frames, format, budget, record_budget, chart, out, command } => {
+            let outputs = super::profile_app::AppOutputs { budget, record_budget, chart, out };
             super::profile_app::run(&command, frames, report_format(format), &outputs)
         }
         Command::Passes { technique, normalize, increment, shadow_factor, shadow_colour } => passes(

@@ -32,6 +32,8 @@ pub struct AppOutputs {
     pub budget: Option<PathBuf>,
     pub record_budget: Option<PathBuf>,
     pub chart: Option<PathBuf>,
+    /// The report goes here instead of stdout.
+    pub out: Option<PathBuf>,
 }
 
 pub fn run(command: &[String], frames: Option<u32>, format: ReportFormat, outputs: &AppOutputs) -> Result<()> {
@@ -43,7 +45,7 @@ pub fn run(command: &[String], frames: Option<u32>, format: ReportFormat, output
     if frames == Some(0) {
         return Err(Error::InvalidInput("--frames 0 would measure nothing; give 1 or more".into()));
     }
-    for path in [&outputs.record_budget, &outputs.chart].into_iter().flatten() {
+    for path in [&outputs.record_budget, &outputs.chart, &outputs.out].into_iter().flatten() {
         super::commands::check_output_path(path)?;
     }
     let budget = outputs.budget.as_deref().map(Budget::load).transpose()?;
@@ -70,7 +72,14 @@ pub fn run(command: &[String], frames: Option<u32>, format: ReportFormat, output
     let report =
         FillrateReport::from_json(&text).map_err(|e| Error::Asset { path: result.clone(), problem: e.to_string() })?;
 
-    print!("{}", crate::layer::output::render(&report, output_format(format)));
+    let rendered = crate::layer::output::render(&report, output_format(format));
+    match &outputs.out {
+        Some(path) => {
+            crate::frame::write_atomically(path, rendered.as_bytes())?;
+            eprintln!("wrote {}", path.display());
+        }
+        None => print!("{rendered}"),
+    }
     let worst = worst_per_position(&report);
     if let Some(path) = &outputs.chart {
         let title = format!("{} on {} ({} frames)", report.application, report.device, report.frames_measured);

@@ -8,6 +8,7 @@ use std::sync::Arc;
 use nostencil::gpu::{Gpu, GpuOptions};
 
 pub mod ray_world;
+pub mod x_server;
 
 /// A GPU with the Khronos validation layer recording every message.
 pub fn gpu() -> Arc<Gpu> {

@@ -1,0 +1,343 @@
+//! `nostencil profile-app`: programs run under the fill-rate layer (VK_LAYER_NOSTENCIL_fillrate)
+//! on lavapipe. A real application nobody here wrote (vkcube, on Xvfb); the differential against
+//! `nostencil profile`'s own per-pass queries, summed per render pass instance, exact; images
+//! byte-identical with and without the layer; a budget recorded from one run and overrun by a
+//! larger window, named by render pass; the Khronos validation layer below the layer (with
+//! synchronisation validation) reporting nothing, while it does report an application's error;
+//! and an application with queries of its own (`nostencil profile`) unchanged by the layer.
+//!
+//! Needs vkcube (vulkan-tools) and Xvfb (tools/setup-debian.sh installs both): without them the
+//! tests fail saying so rather than skip.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+use common::x_server::{start_x_server, XServer};
+use nostencil::layer::report::{FillrateReport, RenderPassRow};
+
+/// vkcube's window (and so its swapchain) when no --width/--height is given.
+const VKCUBE_SIZE: (u32, u32) = (500, 500);
+
+/// Runs `nostencil ARGS` with `env` (on `x`'s display if given), stdout and stderr into files
+/// (a pipe could fill and stall the child), at most three minutes. Returns (output, stdout).
+fn run_nostencil(dir: &Path, name: &str, args: &[&str], env: &[(&str, &str)], x: Option<&XServer>) -> Output {
+    let (out_path, err_path) = (dir.join(format!("{name}.stdout")), dir.join(format!("{name}.stderr")));
+    let file = |p: &PathBuf| std::fs::File::create(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+    let mut command = Command::new(env!("CARGO_BIN_EXE_nostencil"));
+    command.args(args).stdin(Stdio::null());
+    command.stdout(file(&out_path)).stderr(file(&err_path));
+    // The child's loader must see only what the test sets: no layers from the caller's shell.
+    command.env_remove("VK_INSTANCE_LAYERS").env_remove("VK_LAYER_PATH").env_remove("VK_ADD_LAYER_PATH");
+    if let Some(x) = x {
+        command.env("DISPLAY", &x.display).env_remove("WAYLAND_DISPLAY");
+    }
+    for (key, value) in env {
+        command.env(key, value);
+    }
+    let mut child = command.spawn().expect("run nostencil");
+    let start = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().expect("poll nostencil") {
+            break status;
+        }
+        if start.elapsed() > Duration::from_secs(180) {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("`nostencil {}` did not finish in 3 minutes", args.join(" "));
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    let read = |p: &PathBuf| std::fs::read(p).unwrap_or_default();
+    Output { status, stdout: read(&out_path), stderr: read(&err_path) }
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+fn read_report(path: &Path) -> FillrateReport {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    FillrateReport::from_json(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// `nostencil profile-app --format json --out DIR/NAME.json EXTRA -- PROGRAM...`, which must
+/// succeed; returns the layer's report and the run's output.
+fn profile_app(
+    dir: &Path,
+    name: &str,
+    extra: &[&str],
+    program: &[&str],
+    env: &[(&str, &str)],
+    x: Option<&XServer>,
+) -> (FillrateReport, Output) {
+    let result = dir.join(format!("{name}.json"));
+    let result_arg = result.to_string_lossy().into_owned();
+    let args = [&["profile-app", "--format", "json", "--out", result_arg.as_str()], extra, &["--"], program].concat();
+    let output = run_nostencil(dir, name, &args, env, x);
+    common::assert_success(&format!("nostencil {}", args.join(" ")), &output);
+    (read_report(&result), output)
+}
+
+/// The counters of a measured row; fails naming the row when it was not measured.
+fn measured(row: &RenderPassRow) -> &nostencil::layer::report::Counters {
+    row.counters.as_ref().unwrap_or_else(|| panic!("render pass {} not measured: {:?}", row.index, row.not_measured))
+}
+
+fn vkcube_args(frames: u32, size: Option<(u32, u32)>) -> Vec<String> {
+    let mut args = vec!["vkcube".to_owned(), "--c".into(), frames.to_string()];
+    if let Some((w, h)) = size {
+        args.extend(["--width".into(), w.to_string(), "--height".into(), h.to_string()]);
+    }
+    args
+}
+
+#[test]
+fn vkcube_has_one_render_pass_per_frame_at_its_window_size() {
+    let x = start_x_server();
+    let dir = common::scratch_dir("profile_app_vkcube");
+    let program = vkcube_args(8, None);
+    let program: Vec<&str> = program.iter().map(String::as_str).collect();
+    let (report, _) = profile_app(&dir, "vkcube", &["--frames", "5"], &program, &[], Some(&x));
+    assert_eq!(report.frames_measured, 5, "{report:#?}");
+    assert_eq!(report.frames.len(), 5);
+    assert!(report.counters.pipeline_statistics && report.counters.occlusion_precise, "{:?}", report.counters);
+    let pixels = (VKCUBE_SIZE.0 * VKCUBE_SIZE.1) as u64;
+    for frame in &report.frames {
+        assert_eq!(frame.render_passes.len(), 1, "frame {}: {:#?}", frame.index, frame.render_passes);
+        let pass = &frame.render_passes[0];
+        let area = &pass.render_area;
+        assert_eq!((area.x, area.y, area.width, area.height), (0, 0, VKCUBE_SIZE.0, VKCUBE_SIZE.1));
+        let roles: Vec<&str> = pass.attachments.iter().map(|a| a.role.as_str()).collect();
+        assert_eq!(roles, ["colour", "depth"], "{:?}", pass.attachments);
+        let counters = measured(pass);
+        // One cube: 12 triangles in one draw; it covers part of the window, once.
+        assert_eq!(counters.draws, 1);
+        assert!(counters.samples_passed > 0 && counters.samples_passed < pixels, "{counters:?}");
+        let per_pixel = counters.fragments_per_pixel.expect("fragments per pixel");
+        assert!((0.1..4.0).contains(&per_pixel), "fragments per pixel {per_pixel}");
+        assert!((counters.overdraw - counters.samples_passed as f64 / pixels as f64).abs() < 1e-9);
+        // The colour image is presented (stored); the depth is cleared and dropped.
+        let stored: u64 = pass.attachments.iter().map(|a| a.bytes_stored).sum();
+        assert!(stored >= pixels * 4, "{:?}", pass.attachments);
+    }
+    eprintln!(
+        "vkcube {}x{}: samples passed per frame {:?}, fragments {:?}",
+        VKCUBE_SIZE.0,
+        VKCUBE_SIZE.1,
+        report.frames.iter().map(|f| measured(&f.render_passes[0]).samples_passed).collect::<Vec<_>>(),
+        report.frames.iter().map(|f| measured(&f.render_passes[0]).fragment_invocations).collect::<Vec<_>>()
+    );
+}
+
+#[test]
+fn a_budget_recorded_from_vkcube_catches_a_larger_window_by_render_pass() {
+    let x = start_x_server();
+    let dir = common::scratch_dir("profile_app_budget");
+    let budget = dir.join("budget.json");
+    let budget_arg = budget.to_string_lossy().into_owned();
+    let small = vkcube_args(4, Some((200, 200)));
+    let small: Vec<&str> = small.iter().map(String::as_str).collect();
+    profile_app(&dir, "record", &["--frames", "3", "--record-budget", &budget_arg], &small, &[], Some(&x));
+    let recorded: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&budget).expect("budget written")).expect("budget JSON");
+    assert_eq!(recorded["passes"][0]["name"], "render pass #0", "{recorded}");
+    assert_eq!((recorded["width"].as_u64(), recorded["height"].as_u64()), (Some(200), Some(200)));
+
+    let (_, output) = profile_app(&dir, "same", &["--frames", "3", "--budget", &budget_arg], &small, &[], Some(&x));
+    assert!(text(&output.stderr).contains("within budget"), "{}", text(&output.stderr));
+
+    let large = vkcube_args(4, Some((320, 320)));
+    let args: Vec<&str> = ["profile-app", "--frames", "3", "--budget", &budget_arg, "--"]
+        .into_iter()
+        .chain(large.iter().map(String::as_str))
+        .collect();
+    let output = run_nostencil(&dir, "larger", &args, &[], Some(&x));
+    let err = common::assert_failure("profile-app over budget", &output);
+    let last = err.lines().last().unwrap_or_default();
+    assert!(last.contains("over the budget") && last.contains("render pass #0 (320x320)"), "{err}");
+    assert!(err.contains("over budget: pass 'render pass #0': samples passed"), "{err}");
+}
+
+/// `nostencil profile --format json` of the same frame: its passes' counters summed per render
+/// pass instance (`render_pass_sums`), and the instances.
+fn profile_sums(dir: &Path, name: &str, frame: &[&str]) -> serde_json::Value {
+    let args = [&["profile", "--format", "json"], frame].concat();
+    let output = run_nostencil(dir, name, &args, &[], None);
+    let (stdout, _) = common::assert_success(&format!("nostencil {}", args.join(" ")), &output);
+    serde_json::from_str(&stdout).expect("profile JSON")
+}
+
+/// The layer's rows `first..first + count` summed: (draws, samples passed, fragment invocations).
+fn layer_sums(rows: &[RenderPassRow], first: usize, count: usize) -> (u64, u64, Option<u64>) {
+    let rows = &rows[first..first + count];
+    let draws = rows.iter().map(|r| measured(r).draws).sum();
+    let samples = rows.iter().map(|r| measured(r).samples_passed).sum();
+    let fragments = rows.iter().map(|r| measured(r).fragment_invocations).sum();
+    (draws, samples, fragments)
+}
+
+/// `nostencil render --out PNG FRAME...`.
+fn render_args<'a>(png: &'a str, frame: &[&'a str]) -> Vec<&'a str> {
+    [&["render", "--out", png], frame].concat()
+}
+
+#[test]
+fn the_layer_measures_what_profile_sums_per_render_pass_and_changes_no_pixel() {
+    let dir = common::scratch_dir("profile_app_differential");
+    let frames: [&[&str]; 2] = [
+        &["--technique", "shadow-volume", "--stencil", "reference", "--size", "128x128"],
+        &["--technique", "planar", "--size", "128x96", "--samples", "1"],
+    ];
+    for (i, frame) in frames.iter().enumerate() {
+        let (plain_png, layered_png) = (dir.join(format!("{i}-plain.png")), dir.join(format!("{i}-layered.png")));
+        let (plain_arg, layered_arg) = (plain_png.to_string_lossy(), layered_png.to_string_lossy());
+        let plain = run_nostencil(&dir, &format!("{i}-plain"), &render_args(&plain_arg, frame), &[], None);
+        common::assert_success("render without the layer", &plain);
+        let program = [&[env!("CARGO_BIN_EXE_nostencil")], &render_args(&layered_arg, frame)[..]].concat();
+        let (report, _) = profile_app(&dir, &format!("{i}-layer"), &[], &program, &[], None);
+        let (plain_bytes, layered_bytes) = (std::fs::read(&plain_png), std::fs::read(&layered_png));
+        assert!(
+            plain_bytes.is_ok() && plain_bytes.as_ref().ok() == layered_bytes.as_ref().ok(),
+            "{frame:?}: PNGs differ"
+        );
+
+        // `render` never presents: one frame, closed when its device is destroyed.
+        assert_eq!(report.frames.len(), 1, "{frame:?}: {report:#?}");
+        let rows = &report.frames[0].render_passes;
+        let profile = profile_sums(&dir, &format!("{i}-profile"), frame);
+        let instances = profile["render_pass_instances"].as_array().expect("instances");
+        assert_eq!(rows.len(), instances.len(), "{frame:?}: layer rows {rows:#?}\nprofile {instances:#?}");
+        for (row, instance) in rows.iter().zip(instances) {
+            let size = (instance["width"].as_u64(), instance["height"].as_u64());
+            assert_eq!(size, (Some(row.render_area.width as u64), Some(row.render_area.height as u64)));
+            assert_eq!(instance["samples"].as_u64(), Some(row.samples as u64), "{frame:?}");
+        }
+        let sums = profile["render_pass_sums"].as_array().expect("sums");
+        for sum in sums {
+            let (first, count) =
+                (sum["first"].as_u64().unwrap_or(0) as usize, sum["count"].as_u64().unwrap_or(0) as usize);
+            let (draws, samples, fragments) = layer_sums(rows, first, count);
+            let expected =
+                (sum["draws"].as_u64(), sum["samples_passed"].as_u64(), sum["fragment_invocations"].as_u64());
+            assert_eq!(
+                (Some(draws), Some(samples), fragments),
+                expected,
+                "{frame:?}, instances {first}+{count}: {sum}"
+            );
+            assert!(samples > 0, "{frame:?}: nothing drawn");
+            eprintln!(
+                "{frame:?} render pass #{first}: draws {draws}, samples passed {samples}, fragments {fragments:?}"
+            );
+        }
+    }
+}
+
+/// A vk_layer_settings.txt for the Khronos validation layer: core and synchronisation checks,
+/// errors and warnings logged to stdout (no messenger is needed), and an INFO line saying which
+/// checks are enabled, which proves the layer loaded with them.
+fn validation_settings(dir: &Path) -> PathBuf {
+    let path = dir.join("vk_layer_settings.txt");
+    let settings = "khronos_validation.report_flags = info,warn,error\n\
+                    khronos_validation.debug_action = VK_DBG_LAYER_ACTION_LOG_MSG\n\
+                    khronos_validation.enables = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT\n";
+    std::fs::write(&path, settings).expect("write settings");
+    path
+}
+
+/// Validation errors and warnings (not the INFO status line) in a run's output.
+fn validation_problems(output: &Output) -> Vec<String> {
+    let all = format!("{}\n{}", text(&output.stdout), text(&output.stderr));
+    let kinds = ["Validation Error", "Validation Warning", "Validation Performance Warning"];
+    all.lines().filter(|l| kinds.iter().any(|k| l.contains(k))).map(str::to_owned).collect()
+}
+
+#[test]
+fn validation_below_the_layer_reports_nothing_but_would_report_an_application_error() {
+    let x = start_x_server();
+    let dir = common::scratch_dir("profile_app_validation");
+    let settings = validation_settings(&dir);
+    let settings = settings.to_string_lossy();
+    // The fill-rate layer first (nearest the application), validation below it: the validation
+    // layer sees every command the fill-rate layer adds.
+    let layers = "VK_LAYER_NOSTENCIL_fillrate:VK_LAYER_KHRONOS_validation";
+    let env = [("VK_INSTANCE_LAYERS", layers), ("VK_LAYER_SETTINGS_PATH", settings.as_ref())];
+    let png = dir.join("frame.png");
+    let png = png.to_string_lossy();
+    let nostencil_render = [
+        env!("CARGO_BIN_EXE_nostencil"),
+        "render",
+        "--technique",
+        "shadow-volume",
+        "--stencil",
+        "reference",
+        "--size",
+        "96x96",
+        "--out",
+        png.as_ref(),
+    ];
+    let vkcube = vkcube_args(5, None);
+    let vkcube: Vec<&str> = vkcube.iter().map(String::as_str).collect();
+    for (name, program) in [("vkcube", &vkcube[..]), ("render", &nostencil_render[..])] {
+        let (report, output) = profile_app(&dir, name, &[], program, &env, Some(&x));
+        let stdout = text(&output.stdout);
+        assert!(
+            stdout.contains("Current Enables: VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT"),
+            "{name}: the validation layer did not load with synchronisation checks:\n{stdout}\n{}",
+            text(&output.stderr)
+        );
+        let problems = validation_problems(&output);
+        assert!(problems.is_empty(), "{name}: {} validation message(s):\n{}", problems.len(), problems.join("\n"));
+        let measured_rows = report.frames.iter().flat_map(|f| &f.render_passes).filter(|r| r.counters.is_some());
+        assert!(measured_rows.count() > 0, "{name}: nothing measured: {report:#?}");
+    }
+    // The same setup does see an application's error (vkcube --force_errors makes one).
+    let forced = [&vkcube[..], &["--force_errors"]].concat();
+    let (_, output) = profile_app(&dir, "forced", &[], &forced, &env, Some(&x));
+    assert!(!validation_problems(&output).is_empty(), "no message for a forced error:\n{}", text(&output.stdout));
+}
+
+/// `nostencil profile` brackets its own passes with occlusion and statistics queries: inside the
+/// frame's render pass (the layer's queries pause and the application's fill the gap) and
+/// around the shadow texture's render pass (open across its begin: the layer cannot measure that
+/// one and says so). Its numbers are the same with and without the layer.
+#[test]
+fn an_application_with_queries_of_its_own_keeps_its_numbers_under_the_layer() {
+    let dir = common::scratch_dir("profile_app_app_queries");
+    let frame = ["--technique", "shadow-texture", "--size", "96x96", "--samples", "1"];
+    let plain = profile_sums(&dir, "plain", &frame);
+    let program = [&[env!("CARGO_BIN_EXE_nostencil"), "profile", "--format", "json"], &frame[..]].concat();
+    let (report, output) = profile_app(&dir, "layered", &[], &program, &[], None);
+    let layered: serde_json::Value = serde_json::from_str(&text(&output.stdout)).expect("profile JSON under the layer");
+    let counters = |report: &serde_json::Value| -> Vec<(String, u64, u64, u64)> {
+        let passes = report["passes"].as_array().cloned().unwrap_or_default();
+        let field = |p: &serde_json::Value, k: &str| p[k].as_u64().unwrap_or(u64::MAX);
+        passes
+            .iter()
+            .map(|p| {
+                let name = p["name"].as_str().unwrap_or("?").to_owned();
+                (name, field(p, "draws"), field(p, "samples_passed"), field(p, "fragment_invocations"))
+            })
+            .collect()
+    };
+    assert_eq!(counters(&plain), counters(&layered), "the layer changed the application's own counters");
+    assert!(counters(&plain).len() >= 2);
+
+    // Two frames (profile draws one to warm up), each the shadow texture's pass then the frame's.
+    let rows = &report.frames.last().expect("a frame").render_passes;
+    let instances = plain["render_pass_instances"].as_array().expect("instances");
+    assert_eq!(rows.len(), 2 * instances.len(), "{rows:#?}");
+    let reason = |r: &RenderPassRow| r.not_measured.clone().unwrap_or_default();
+    for frame in rows.chunks(instances.len()) {
+        assert!(frame[0].counters.is_none() && reason(&frame[0]).contains("query"), "{:#?}", frame[0]);
+        let sum = &plain["render_pass_sums"][1];
+        assert_eq!(sum["first"], 1);
+        let (draws, samples, fragments) = layer_sums(frame, 1, 1);
+        let expected = (sum["draws"].as_u64(), sum["samples_passed"].as_u64(), sum["fragment_invocations"].as_u64());
+        assert_eq!((Some(draws), Some(samples), fragments), expected, "frame render pass");
+    }
+    let skipped: u64 = report.not_measured.iter().filter(|n| n.what.contains("query")).map(|n| n.count).sum();
+    assert_eq!(skipped, 2, "{:?}", report.not_measured);
+}
