@@ -25,7 +25,7 @@ macro_rules! void_fn {
 /// The layer's hook for a device-level function name, if it hooks it.
 fn device_hook(name: &str) -> vk::PFN_vkVoidFunction {
     match name {
-        "vkGetDeviceProcAddr" => void_fn!(vkGetDeviceProcAddr, vk::PFN_vkGetDeviceProcAddr),
+        "vkGetDeviceProcAddr" => void_fn!(get_device_proc_addr, vk::PFN_vkGetDeviceProcAddr),
         "vkDestroyDevice" => void_fn!(destroy_device, vk::PFN_vkDestroyDevice),
         "vkCreateRenderPass" => void_fn!(o::create_render_pass, vk::PFN_vkCreateRenderPass),
         "vkCreateRenderPass2" => void_fn!(o::create_render_pass2, vk::PFN_vkCreateRenderPass2),
@@ -96,7 +96,7 @@ fn device_hook(name: &str) -> vk::PFN_vkVoidFunction {
 /// The layer's hook for an instance-level function name.
 fn instance_hook(name: &str) -> vk::PFN_vkVoidFunction {
     match name {
-        "vkGetInstanceProcAddr" => void_fn!(vkGetInstanceProcAddr, vk::PFN_vkGetInstanceProcAddr),
+        "vkGetInstanceProcAddr" => void_fn!(get_instance_proc_addr, vk::PFN_vkGetInstanceProcAddr),
         "vkCreateInstance" => void_fn!(create_instance, vk::PFN_vkCreateInstance),
         "vkDestroyInstance" => void_fn!(destroy_instance, vk::PFN_vkDestroyInstance),
         "vkCreateDevice" => void_fn!(create_device, vk::PFN_vkCreateDevice),
@@ -121,20 +121,42 @@ pub unsafe extern "system" fn vkNegotiateLoaderLayerInterfaceVersion(
             return vk::Result::ERROR_INITIALIZATION_FAILED;
         }
         interface.loader_layer_interface_version = LAYER_INTERFACE_VERSION;
-        interface.pfn_get_instance_proc_addr = Some(vkGetInstanceProcAddr);
-        interface.pfn_get_device_proc_addr = Some(vkGetDeviceProcAddr);
+        interface.pfn_get_instance_proc_addr = Some(get_instance_proc_addr);
+        interface.pfn_get_device_proc_addr = Some(get_device_proc_addr);
         interface.pfn_get_physical_device_proc_addr = None;
         vk::Result::SUCCESS
     })
 }
 
-/// The layer's vkGetInstanceProcAddr: its hooks where the chain below has the function, the
-/// next layer's function otherwise.
+/// The exported vkGetInstanceProcAddr. The layer hands out [`get_instance_proc_addr`] instead of
+/// this symbol's address: inside a shared library, a reference to an exported name binds to the
+/// process's first definition, which is the loader's own vkGetInstanceProcAddr when the
+/// application links libvulkan directly (and calling back into the loader deadlocks it).
 ///
 /// # Safety
 /// Called by the loader (or application) with a valid name.
 #[no_mangle]
 pub unsafe extern "system" fn vkGetInstanceProcAddr(
+    instance: vk::Instance,
+    name: *const c_char,
+) -> vk::PFN_vkVoidFunction {
+    // SAFETY: the caller's arguments.
+    unsafe { get_instance_proc_addr(instance, name) }
+}
+
+/// The exported vkGetDeviceProcAddr (see [`vkGetInstanceProcAddr`] for why it only forwards).
+///
+/// # Safety
+/// Called by the loader (or application) with a device the layer created and a valid name.
+#[no_mangle]
+pub unsafe extern "system" fn vkGetDeviceProcAddr(device: vk::Device, name: *const c_char) -> vk::PFN_vkVoidFunction {
+    // SAFETY: the caller's arguments.
+    unsafe { get_device_proc_addr(device, name) }
+}
+
+/// The layer's vkGetInstanceProcAddr: its hooks where the chain below has the function, the
+/// next layer's function otherwise.
+unsafe extern "system" fn get_instance_proc_addr(
     instance: vk::Instance,
     name: *const c_char,
 ) -> vk::PFN_vkVoidFunction {
@@ -158,11 +180,7 @@ pub unsafe extern "system" fn vkGetInstanceProcAddr(
 
 /// The layer's vkGetDeviceProcAddr: its hooks for functions the device has (only while
 /// measuring), the next layer's function otherwise.
-///
-/// # Safety
-/// Called by the loader (or application) with a device the layer created and a valid name.
-#[no_mangle]
-pub unsafe extern "system" fn vkGetDeviceProcAddr(device: vk::Device, name: *const c_char) -> vk::PFN_vkVoidFunction {
+unsafe extern "system" fn get_device_proc_addr(device: vk::Device, name: *const c_char) -> vk::PFN_vkVoidFunction {
     guard(None, || {
         // SAFETY: a NUL-terminated name from the caller.
         let name_str = unsafe { c_name(name) }?;

@@ -20,7 +20,11 @@ fn submitted(
     for &buffer in buffers {
         let simultaneous = state.buffers.get(&buffer).is_some_and(|b| b.recording.simultaneous);
         if simultaneous {
-            // The earlier submission may still run and is about to be overwritten.
+            // The earlier submission may still run: read it if a fence proves it done, else its
+            // results are about to be overwritten by this one.
+            if state.pending.iter().any(|p| p.buffer == buffer) {
+                poll_fences(device, state);
+            }
             for pending in state.pending.iter_mut().filter(|p| p.buffer == buffer) {
                 pending
                     .spoiled
@@ -171,6 +175,25 @@ pub(super) unsafe extern "system" fn queue_present(
         }
     });
     result
+}
+
+/// Reads back what any fence the application submitted with proves complete, asking the fences'
+/// status (no waiting).
+fn poll_fences(device: &DeviceData, state: &mut DeviceState) {
+    let Some(status) = device.next.get_fence_status else { return };
+    let fences: Vec<(vk::Fence, vk::Queue, u64)> = state
+        .fences
+        .iter()
+        .filter(|(_, (queue, sequence))| state.pending.iter().any(|p| p.queue == *queue && p.sequence <= *sequence))
+        .map(|(&fence, &(queue, sequence))| (fence, queue, sequence))
+        .collect();
+    for (fence, queue, sequence) in fences {
+        // SAFETY: a fence of this device the application submitted (a destroyed one would be an
+        // application error: it may not destroy a fence a pending submission signals).
+        if unsafe { status(device.handle, fence) } == vk::Result::SUCCESS {
+            read_completed(device, state, |p| p.queue == queue && p.sequence <= sequence);
+        }
+    }
 }
 
 /// `fence` has signalled: its submission and everything before it on its queue are complete.
