@@ -26,6 +26,18 @@ pub fn manifest_json(library_path: &str) -> String {
     )
 }
 
+/// The layer library to load for a binary in `dir` (`target/<profile>`): the newer of
+/// `dir/libnostencil.so` and `dir/deps/libnostencil.so`. `cargo build` copies the library up to
+/// `dir`; `cargo test` builds it only in `deps/`, so the copy in `dir` can be stale there.
+pub fn newest_library(dir: &std::path::Path) -> Option<std::path::PathBuf> {
+    let modified = |p: &std::path::Path| std::fs::metadata(p).and_then(|m| m.modified()).ok();
+    [dir.join(LIBRARY_FILE), dir.join("deps").join(LIBRARY_FILE)]
+        .into_iter()
+        .filter_map(|p| modified(&p).map(|t| (t, p)))
+        .max_by_key(|(t, _)| *t)
+        .map(|(_, p)| p)
+}
+
 /// `text` as the inside of a JSON string.
 fn json_escape(text: &str) -> String {
     let mut out = String::with_capacity(text.len());

@@ -5,11 +5,18 @@
 
 pub mod aggregate;
 pub mod attachments;
+pub mod commands;
 pub mod config;
+pub mod exports;
 pub mod frames;
+pub mod lifecycle;
 pub mod loader;
 pub mod manifest;
+pub mod objects;
 pub mod output;
+pub mod queue;
+pub mod readback;
 pub mod recording;
 pub mod report;
 pub mod slots;
+pub mod state;

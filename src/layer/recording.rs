@@ -163,11 +163,12 @@ impl Recording {
     ) -> (Vec<QueryCmd>, Vec<QueryCmd>) {
         let label = self.labels.last().cloned().or_else(|| self.inserted_label.take());
         if desc.not_measured.is_none() {
-            if let Some(kind) = self.app_active.values().find(|k| **k != QueryKind::Timestamp) {
-                desc.not_measured = Some(format!(
-                    "application {} query active across the pass",
-                    if *kind == QueryKind::Occlusion { "occlusion" } else { "pipeline statistics" }
-                ));
+            // Occlusion named first when both are active (one reason per pass, the same each run).
+            let active = |kind| self.app_active.values().any(|k| *k == kind);
+            if active(QueryKind::Occlusion) {
+                desc.not_measured = Some("application occlusion query active across the pass".into());
+            } else if active(QueryKind::Statistics) {
+                desc.not_measured = Some("application pipeline statistics query active across the pass".into());
             }
         }
         let mut before = Vec::new();
