@@ -284,7 +284,7 @@ fn validation_below_the_layer_reports_nothing_but_would_report_an_application_er
         let (report, output) = profile_app(&dir, name, &[], program, &env, Some(&x));
         let stdout = text(&output.stdout);
         assert!(
-            stdout.contains("Current Enables: VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT"),
+            stdout.contains("Current Enables: VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION"),
             "{name}: the validation layer did not load with synchronisation checks:\n{stdout}\n{}",
             text(&output.stderr)
         );

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use super::app_counts::{chart_rows, largest_area, worst_per_position, PositionCounts};
 use crate::error::{Error, Result};
 use crate::layer::config::OutputFormat;
-use crate::layer::manifest::{manifest_json, LAYER_NAME, LIBRARY_FILE, MANIFEST_FILE};
+use crate::layer::manifest::{manifest_json, newest_library, LAYER_NAME, LIBRARY_FILE, MANIFEST_FILE};
 use crate::layer::report::FillrateReport;
 use crate::profile::budget::Budget;
 use crate::profile::report::ReportFormat;
@@ -135,20 +135,22 @@ fn output_format(format: ReportFormat) -> OutputFormat {
     }
 }
 
-/// The folder holding the layer's manifest: the build's, beside the executable, when the library
-/// is there too; else one written into `scratch` naming the library by its absolute path.
+/// The folder holding the layer's manifest: the build's, beside the executable, when the
+/// library it names (`./libnostencil.so`) is the newest build of the layer; else one written
+/// into `scratch` naming the newest library by its absolute path (`cargo test` leaves a fresher
+/// one in deps/).
 fn layer_folder(scratch: &Path) -> Result<PathBuf> {
     let exe =
         std::env::current_exe().map_err(|e| Error::Internal(format!("cannot find the nostencil executable: {e}")))?;
     let dir = exe.parent().unwrap_or(Path::new(".")).to_path_buf();
-    let library = dir.join(LIBRARY_FILE);
-    if !library.is_file() {
+    let Some(library) = newest_library(&dir) else {
         return Err(Error::InvalidInput(format!(
-            "the fill-rate layer {} is not beside nostencil; build it with `cargo build` (the crate's cdylib)",
-            library.display()
+            "the fill-rate layer {LIBRARY_FILE} is not beside nostencil in {}; build it with `cargo build` (the \
+             crate's cdylib)",
+            dir.display()
         )));
-    }
-    if dir.join(MANIFEST_FILE).is_file() {
+    };
+    if library == dir.join(LIBRARY_FILE) && dir.join(MANIFEST_FILE).is_file() {
         return Ok(dir);
     }
     let text = manifest_json(&library.to_string_lossy());
