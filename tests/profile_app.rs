@@ -184,28 +184,40 @@ fn render_args<'a>(png: &'a str, frame: &[&'a str]) -> Vec<&'a str> {
     [&["render", "--out", png], frame].concat()
 }
 
+/// The layer measures `nostencil render --no-queries` (no query of the application's own: the
+/// layer's queries alone count) and gets, per render pass instance, exactly the sums of the
+/// per-pass queries `nostencil profile` records for the same frame; the PNG is the same with
+/// and without the layer, with and without the application's queries.
 #[test]
 fn the_layer_measures_what_profile_sums_per_render_pass_and_changes_no_pixel() {
     let dir = common::scratch_dir("profile_app_differential");
-    let frames: [&[&str]; 2] = [
+    let frames: [&[&str]; 3] = [
         &["--technique", "shadow-volume", "--stencil", "reference", "--size", "128x128"],
         &["--technique", "planar", "--size", "128x96", "--samples", "1"],
+        // Three prepasses (mask, blur x, blur y), each its own render pass, then the frame.
+        &["--technique", "outline", "--outline-blur", "2", "--size", "96x96", "--samples", "1"],
     ];
     for (i, frame) in frames.iter().enumerate() {
-        let (plain_png, layered_png) = (dir.join(format!("{i}-plain.png")), dir.join(format!("{i}-layered.png")));
-        let (plain_arg, layered_arg) = (plain_png.to_string_lossy(), layered_png.to_string_lossy());
+        let png = |name: &str| dir.join(format!("{i}-{name}.png"));
+        let (plain_png, unqueried_png, layered_png) = (png("plain"), png("unqueried"), png("layered"));
+        let (plain_arg, unqueried_arg, layered_arg) =
+            (plain_png.to_string_lossy(), unqueried_png.to_string_lossy(), layered_png.to_string_lossy());
         let plain = run_nostencil(&dir, &format!("{i}-plain"), &render_args(&plain_arg, frame), &[], None);
         common::assert_success("render without the layer", &plain);
-        let program = [&[env!("CARGO_BIN_EXE_nostencil")], &render_args(&layered_arg, frame)[..]].concat();
+        let unqueried_args = [&render_args(&unqueried_arg, frame)[..], &["--no-queries"]].concat();
+        let unqueried = run_nostencil(&dir, &format!("{i}-unqueried"), &unqueried_args, &[], None);
+        common::assert_success("render --no-queries without the layer", &unqueried);
+        let program =
+            [&[env!("CARGO_BIN_EXE_nostencil")], &render_args(&layered_arg, frame)[..], &["--no-queries"]].concat();
         let (report, _) = profile_app(&dir, &format!("{i}-layer"), &[], &program, &[], None);
-        let (plain_bytes, layered_bytes) = (std::fs::read(&plain_png), std::fs::read(&layered_png));
-        assert!(
-            plain_bytes.is_ok() && plain_bytes.as_ref().ok() == layered_bytes.as_ref().ok(),
-            "{frame:?}: PNGs differ"
-        );
+        let bytes = |p: &PathBuf| std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+        let plain_bytes = bytes(&plain_png);
+        assert!(plain_bytes == bytes(&unqueried_png), "{frame:?}: --no-queries changed the PNG");
+        assert!(plain_bytes == bytes(&layered_png), "{frame:?}: the layer changed the PNG");
 
         // `render` never presents: one frame, closed when its device is destroyed.
         assert_eq!(report.frames.len(), 1, "{frame:?}: {report:#?}");
+        assert!(report.not_measured.is_empty(), "{frame:?}: {:?}", report.not_measured);
         let rows = &report.frames[0].render_passes;
         let profile = profile_sums(&dir, &format!("{i}-profile"), frame);
         let instances = profile["render_pass_instances"].as_array().expect("instances");
@@ -214,6 +226,7 @@ fn the_layer_measures_what_profile_sums_per_render_pass_and_changes_no_pixel() {
             let size = (instance["width"].as_u64(), instance["height"].as_u64());
             assert_eq!(size, (Some(row.render_area.width as u64), Some(row.render_area.height as u64)));
             assert_eq!(instance["samples"].as_u64(), Some(row.samples as u64), "{frame:?}");
+            assert!(row.counters.as_ref().is_some_and(|c| c.gpu_ms.is_some()), "{frame:?}: {row:?}");
         }
         let sums = profile["render_pass_sums"].as_array().expect("sums");
         for sum in sums {

@@ -35,6 +35,11 @@ pub enum Command {
         /// Keep the alpha channel (the emulated stencil) in the PNG instead of writing RGB.
         #[arg(long)]
         keep_alpha: bool,
+        /// Record none of the per-pass queries that time and count each pass: for running under
+        /// a tool that measures render passes with queries of its own (`profile-app`), which then
+        /// measures the frame by itself. The image is the same.
+        #[arg(long)]
+        no_queries: bool,
     },
     /// Render one frame and report per-pass fill-rate counters.
     Profile {

@@ -21,7 +21,7 @@ use crate::technique::{
 
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
-        Command::Render { frame, out, keep_alpha } => render(&frame, &out, keep_alpha),
+        Command::Render { frame, out, keep_alpha, no_queries } => render(&frame, &out, keep_alpha, no_queries),
         Command::Profile { frame, format, compare, heatmap, chart, budget, write_budget } => {
             let outputs = ProfileOutputs { heatmap, chart, budget, write_budget };
             if compare.is_empty() {
@@ -57,8 +57,13 @@ pub fn run(cli: Cli) -> Result<()> {
 }
 
 fn open_gpu(args: &GpuArgs) -> Result<Arc<Gpu>> {
+    open_gpu_with(args, false)
+}
+
+/// `open_gpu`, optionally recording no per-pass queries (`render --no-queries`).
+fn open_gpu_with(args: &GpuArgs, without_pass_queries: bool) -> Result<Arc<Gpu>> {
     let device = args.device.as_deref().map(DeviceChoice::parse).unwrap_or_default();
-    Gpu::new(&GpuOptions { validation: args.validation, device })
+    Gpu::new(&GpuOptions { validation: args.validation, device, without_pass_queries })
 }
 
 /// A built-in scene by name, or a .gltf/.glb file posed at `time` seconds; the loader's
@@ -173,23 +178,27 @@ pub(super) fn check_output_path(path: &Path) -> Result<()> {
     Ok(())
 }
 
-fn render(frame: &FrameArgs, out: &Path, keep_alpha: bool) -> Result<()> {
+fn render(frame: &FrameArgs, out: &Path, keep_alpha: bool, no_queries: bool) -> Result<()> {
     check_output_path(out)?;
     let options = options(frame)?;
     let scene = load_scene(&frame.scene, frame.time)?;
-    let gpu = open_gpu(&frame.gpu)?;
+    let gpu = open_gpu_with(&frame.gpu, no_queries)?;
     let frame = render_scene(&gpu, &scene, &options)?;
     print_warnings(options.technique.name(), &frame.warnings);
     let output = &frame.output;
     crate::frame::write_png(&output.image, out, keep_alpha)?;
+    let gpu_time = if no_queries {
+        "GPU time not measured".to_owned()
+    } else {
+        format!("{:.2} ms GPU", output.counters.total_gpu_ms())
+    };
     eprintln!(
-        "wrote {} ({}x{}, {} on {}, {:.2} ms GPU)",
+        "wrote {} ({}x{}, {} on {}, {gpu_time})",
         out.display(),
         options.width,
         options.height,
         options.technique.name(),
         gpu.device.info.name,
-        output.counters.total_gpu_ms()
     );
     Ok(())
 }
@@ -656,7 +665,7 @@ fn view(
         ViewerOptions {
             settings: Settings { render: options },
             size: frame.size,
-            gpu: GpuOptions { validation: frame.gpu.validation, device },
+            gpu: GpuOptions { validation: frame.gpu.validation, device, without_pass_queries: false },
             frames,
             screenshot,
             resize_after,

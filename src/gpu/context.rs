@@ -17,12 +17,16 @@ pub struct GpuOptions {
     /// Khronos validation layer with a messenger that records every message.
     pub validation: bool,
     pub device: DeviceChoice,
+    /// Record no per-pass queries (counters then read 0, GPU time unknown): for running under a
+    /// tool that brackets render passes with queries of its own (the fill-rate layer), so that
+    /// it measures on its own instead of reading this crate's.
+    pub without_pass_queries: bool,
 }
 
 impl GpuOptions {
     /// What tests use: validation on, device from `NOSTENCIL_DEVICE` or automatic.
     pub fn for_tests() -> Self {
-        GpuOptions { validation: true, device: DeviceChoice::Auto }
+        GpuOptions { validation: true, device: DeviceChoice::Auto, without_pass_queries: false }
     }
 }
 
@@ -33,6 +37,8 @@ pub struct Gpu {
     pub objects: LiveObjects,
     pub device: Device,
     pub instance: Instance,
+    /// `GpuOptions::without_pass_queries`.
+    pub without_pass_queries: bool,
 }
 
 impl Gpu {
@@ -74,6 +80,7 @@ impl Gpu {
             objects: LiveObjects::default(),
             device,
             instance,
+            without_pass_queries: options.without_pass_queries,
         }))
     }
 

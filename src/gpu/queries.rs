@@ -28,6 +28,9 @@ pub struct PassQueryPools {
     timestamps: vk::QueryPool,
     capacity: u32,
     precise: bool,
+    /// False when the GPU was opened `without_pass_queries`: nothing is recorded and every
+    /// result reads 0 (statistics None).
+    recording: bool,
 }
 
 // Order of results follows the bit order of the flags: vertex (bit 2), clipping primitives
@@ -64,6 +67,7 @@ impl PassQueryPools {
             timestamps,
             capacity,
             precise: features.occlusion_query_precise,
+            recording: !gpu.without_pass_queries,
         })
     }
 
@@ -73,6 +77,9 @@ impl PassQueryPools {
 
     /// Must be recorded outside a render pass, before the frame's first pass.
     pub fn reset(&self, cmd: vk::CommandBuffer) {
+        if !self.recording {
+            return;
+        }
         let device = self.gpu.raw();
         // SAFETY: `cmd` is recording outside a render pass (the caller's contract above); each
         // range is the whole pool.
@@ -88,6 +95,9 @@ impl PassQueryPools {
     /// Opens pass `pass`'s queries; `pass` must be below `capacity` and used once per frame.
     pub fn begin(&self, cmd: vk::CommandBuffer, pass: u32) {
         assert!(pass < self.capacity, "pass {pass} past a query pool of {}", self.capacity);
+        if !self.recording {
+            return;
+        }
         let device = self.gpu.raw();
         let flags = if self.precise { vk::QueryControlFlags::PRECISE } else { vk::QueryControlFlags::empty() };
         // SAFETY: `cmd` is recording; `pass` (and its two timestamps) are inside the pools, which
@@ -104,6 +114,9 @@ impl PassQueryPools {
     /// Closes the queries `begin` opened for `pass`, in the same subpass.
     pub fn end(&self, cmd: vk::CommandBuffer, pass: u32) {
         assert!(pass < self.capacity, "pass {pass} past a query pool of {}", self.capacity);
+        if !self.recording {
+            return;
+        }
         let device = self.gpu.raw();
         // SAFETY: `cmd` is recording and the queries of `pass` are active (begun by `begin`).
         unsafe {
@@ -121,6 +134,9 @@ impl PassQueryPools {
             return Ok(Vec::new());
         }
         assert!(count <= self.capacity, "{count} passes past a query pool of {}", self.capacity);
+        if !self.recording {
+            return Ok(vec![RawPassQueries::default(); count as usize]);
+        }
         let device = self.gpu.raw();
         let wait = vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT;
         let mut stats = vec![[0u64; 3]; count as usize];
