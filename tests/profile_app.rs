@@ -306,6 +306,14 @@ fn validation_below_the_layer_reports_nothing_but_would_report_an_application_er
         let measured_rows = report.frames.iter().flat_map(|f| &f.render_passes).filter(|r| r.counters.is_some());
         assert!(measured_rows.count() > 0, "{name}: nothing measured: {report:#?}");
     }
+    // The loader's own account of the chain, top (application) down: the fill-rate layer, then
+    // validation below it.
+    let debug_env = [env[0], env[1], ("VK_LOADER_DEBUG", "layer")];
+    let (_, output) = profile_app(&dir, "chain", &[], &nostencil_render, &debug_env, None);
+    let log = format!("{}{}", text(&output.stdout), text(&output.stderr));
+    let chain = log.find("vkCreateInstance layer callstack setup to:").map(|at| &log[at..]).expect("loader chain");
+    let (ours, validation) = (chain.find("VK_LAYER_NOSTENCIL_fillrate"), chain.find("VK_LAYER_KHRONOS_validation"));
+    assert!(matches!((ours, validation), (Some(a), Some(b)) if a < b), "layer order:\n{chain}");
     // The same setup does see an application's error (vkcube --force_errors makes one).
     let forced = [&vkcube[..], &["--force_errors"]].concat();
     let (_, output) = profile_app(&dir, "forced", &[], &forced, &env, Some(&x));
