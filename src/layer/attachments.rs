@@ -47,13 +47,17 @@ fn depth_role(format: vk::Format) -> &'static str {
     }
 }
 
-/// The role of each attachment index by its first use in the subpasses: (colour refs, resolve
-/// refs, depth-stencil ref, input refs) per subpass.
-pub fn roles(
-    count: usize,
-    formats: &[vk::Format],
-    subpasses: &[(Vec<u32>, Vec<u32>, Option<u32>, Vec<u32>)],
-) -> Vec<&'static str> {
+/// The attachment indices one subpass uses, by kind.
+#[derive(Debug, Clone, Default)]
+pub struct SubpassUses {
+    pub colour: Vec<u32>,
+    pub resolve: Vec<u32>,
+    pub depth: Option<u32>,
+    pub input: Vec<u32>,
+}
+
+/// The role of each attachment index by its first use in the subpasses.
+pub fn roles(count: usize, formats: &[vk::Format], subpasses: &[SubpassUses]) -> Vec<&'static str> {
     let mut roles = vec!["unused"; count];
     let mut set = |index: u32, role: &'static str| {
         if let Some(slot) = roles.get_mut(index as usize) {
@@ -62,7 +66,7 @@ pub fn roles(
             }
         }
     };
-    for (colour, resolve, depth, input) in subpasses {
+    for SubpassUses { colour, resolve, depth, input } in subpasses {
         colour.iter().filter(|&&a| a != vk::ATTACHMENT_UNUSED).for_each(|&a| set(a, "colour"));
         resolve.iter().filter(|&&a| a != vk::ATTACHMENT_UNUSED).for_each(|&a| set(a, "resolve"));
         if let Some(a) = depth.filter(|&a| a != vk::ATTACHMENT_UNUSED) {
@@ -110,12 +114,12 @@ impl RenderPassInfo {
                 };
                 // SAFETY: pDepthStencilAttachment is null or one valid reference.
                 let depth = unsafe { s.p_depth_stencil_attachment.as_ref() }.map(|r| r.attachment);
-                (
-                    refs(s.p_color_attachments, s.color_attachment_count),
+                SubpassUses {
+                    colour: refs(s.p_color_attachments, s.color_attachment_count),
                     resolve,
                     depth,
-                    refs(s.p_input_attachments, s.input_attachment_count),
-                )
+                    input: refs(s.p_input_attachments, s.input_attachment_count),
+                }
             })
             .collect();
         let formats: Vec<_> = descriptions.iter().map(|d| d.format).collect();
@@ -159,12 +163,12 @@ impl RenderPassInfo {
                 };
                 // SAFETY: pDepthStencilAttachment is null or one valid reference.
                 let depth = unsafe { s.p_depth_stencil_attachment.as_ref() }.map(|r| r.attachment);
-                (
-                    refs(s.p_color_attachments, s.color_attachment_count),
+                SubpassUses {
+                    colour: refs(s.p_color_attachments, s.color_attachment_count),
                     resolve,
                     depth,
-                    refs(s.p_input_attachments, s.input_attachment_count),
-                )
+                    input: refs(s.p_input_attachments, s.input_attachment_count),
+                }
             })
             .collect();
         let formats: Vec<_> = descriptions.iter().map(|d| d.format).collect();
@@ -385,7 +389,10 @@ mod tests {
             vk::Format::R8G8B8A8_SRGB,
             vk::Format::R8_UNORM,
         ];
-        let subpasses = vec![(vec![0], vec![2], Some(1), vec![]), (vec![], vec![], None, vec![0, 3])];
+        let subpasses = vec![
+            SubpassUses { colour: vec![0], resolve: vec![2], depth: Some(1), input: vec![] },
+            SubpassUses { input: vec![0, 3], ..SubpassUses::default() },
+        ];
         assert_eq!(roles(5, &formats, &subpasses), vec!["colour", "depth_stencil", "resolve", "input", "unused"]);
     }
 }
