@@ -394,3 +394,57 @@ fn an_application_with_queries_of_its_own_keeps_its_fragment_counts() {
     let (_, layered, plain) = profile_with_and_without_the_layer(&dir, &frame);
     assert_eq!(pass_counters(&plain), pass_counters(&layered), "the layer changed the program's own counters");
 }
+
+/// Every way a run can go wrong ends with one line naming it, and a non-zero exit.
+#[test]
+fn a_missing_failing_or_silent_program_gets_a_one_line_error() {
+    let dir = common::scratch_dir("profile_app_errors");
+    let cases: [(&[&str], &str); 5] = [
+        (&["profile-app"], "needs the program to run after `--`"),
+        (&["profile-app", "--", "/nonexistent/program"], "cannot start '/nonexistent/program': not found"),
+        (&["profile-app", "--", "false"], "'false' exited with status 1"),
+        // Runs and exits 0 but creates no Vulkan device: no result to report.
+        (&["profile-app", "--", "true"], "'true' exited normally but the layer wrote no result"),
+        (&["profile-app", "--frames", "0", "--", "true"], "--frames 0 would measure nothing"),
+    ];
+    for (i, (args, expected)) in cases.iter().enumerate() {
+        let output = run_nostencil(&dir, &format!("case{i}"), args, &[], None);
+        let err = common::assert_failure(&args.join(" "), &output);
+        let lines: Vec<&str> = err.lines().collect();
+        assert_eq!(lines.len(), 1, "{args:?}: {err}");
+        assert!(lines[0].starts_with("nostencil: error:") && lines[0].contains(expected), "{args:?}: {err}");
+    }
+    // A budget of nostencil's own frame is not an application's.
+    let own = dir.join("own-budget.json");
+    let own_arg = own.to_string_lossy();
+    let record = ["profile", "--size", "64x64", "--samples", "1", "--write-budget", own_arg.as_ref()];
+    common::assert_success("record", &run_nostencil(&dir, "record", &record, &[], None));
+    let (png, report) = (dir.join("frame.png"), dir.join("report.txt"));
+    let (png_arg, report_arg) = (png.to_string_lossy(), report.to_string_lossy());
+    let args = [
+        "profile-app",
+        "--budget",
+        own_arg.as_ref(),
+        "--out",
+        report_arg.as_ref(),
+        "--",
+        env!("CARGO_BIN_EXE_nostencil"),
+        "render",
+        "--size",
+        "64x64",
+        "--out",
+        png_arg.as_ref(),
+    ];
+    let err =
+        common::assert_failure("profile-app with an own-frame budget", &run_nostencil(&dir, "own", &args, &[], None));
+    assert!(err.contains("not an application"), "{err}");
+    // A pipe (or a device such as /dev/null) as the output is refused before anything runs:
+    // the atomic write would replace it with a plain file. A pipe of the test's own is used.
+    let fifo = dir.join("pipe");
+    let made = Command::new("mkfifo").arg(&fifo).status();
+    assert!(made.is_ok_and(|s| s.success()), "mkfifo {}", fifo.display());
+    let fifo_arg = fifo.to_string_lossy();
+    let output = run_nostencil(&dir, "pipe", &["profile-app", "--out", fifo_arg.as_ref(), "--", "true"], &[], None);
+    let err = common::assert_failure("profile-app --out PIPE", &output);
+    assert!(err.contains("not a regular file"), "{err}");
+}

@@ -175,6 +175,17 @@ pub(super) fn check_output_path(path: &Path) -> Result<()> {
             source: std::io::Error::new(std::io::ErrorKind::InvalidInput, "the output path is a folder"),
         });
     }
+    // Outputs are written to a temporary file and renamed over the path: a device or a pipe
+    // there (/dev/null) would be replaced by a plain file.
+    if path.exists() && !path.is_file() {
+        return Err(Error::Io {
+            path: path.to_path_buf(),
+            source: std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                "the output path is not a regular file (a device or a pipe); outputs replace their file",
+            ),
+        });
+    }
     Ok(())
 }
 

@@ -22,10 +22,11 @@ NOSTENCIL_FILLRATE_OUT/_FORMAT/_FRAMES tell it where and what to write. The prog
 its own; the report follows once it exits. A frame is the render pass instances submitted
 between two presents (a program that never presents has one, ended when its device is destroyed).
 
-Not measured (and named in the report): render passes in secondary command buffers, multiview
-render passes, passes inside which the application keeps its own occlusion or statistics query
-open across the begin. No heat map: `profile --heatmap` counts fragments with this crate's own
-shaders, which a foreign program does not have.";
+Not measured (and named in the report): render passes recorded in secondary command buffers,
+multiview render passes, and render passes begun while the program has an occlusion or
+statistics query of its own open. --chart draws `profile`'s bar chart per render pass; there is
+no heat map: `profile --heatmap` counts fragments with this crate's own shaders, which a foreign
+program does not have.";
 
 /// What `profile-app` writes besides the report.
 pub struct AppOutputs {
