@@ -2,8 +2,10 @@
 //! without a validation message from the validation layer placed below it. A small Vulkan
 //! program in this process (its own test binary: it sets the loader's environment) records four
 //! render pass instances: one running a secondary command buffer, one multiview, one plain
-//! (measured), and one inside the application's own occlusion query. Its device features come
-//! in a VkPhysicalDeviceFeatures2 chain (multiview), which the layer extends in place.
+//! (measured, under a debug label), one inside the application's own occlusion query, then one
+//! through vkCmdBeginRenderPass2 and one through vkCmdBeginRendering (both measured). Its device
+//! features come in a VkPhysicalDeviceFeatures2 chain (multiview, dynamic rendering), which the
+//! layer extends in place.
 
 mod common;
 
@@ -47,7 +49,7 @@ fn memory_type(props: &vk::PhysicalDeviceMemoryProperties, bits: u32) -> u32 {
 }
 
 #[test]
-fn secondary_multiview_and_app_query_passes_are_named_not_measured() {
+fn what_cannot_be_measured_is_named_and_every_begin_api_is_measured() {
     let dir = common::scratch_dir("fillrate_layer_unhandled");
     let bin_dir = Path::new(env!("CARGO_BIN_EXE_nostencil")).parent().expect("binary folder");
     let library = newest_library(bin_dir).expect("libnostencil.so built");
@@ -63,7 +65,7 @@ fn secondary_multiview_and_app_query_passes_are_named_not_measured() {
     // used only while alive, and destroyed after the fence wait that proves the GPU done with it.
     unsafe {
         let entry = ash::Entry::load().expect("libvulkan");
-        let app = vk::ApplicationInfo::default().application_name(c"unhandled-cases").api_version(vk::API_VERSION_1_1);
+        let app = vk::ApplicationInfo::default().application_name(c"unhandled-cases").api_version(vk::API_VERSION_1_3);
         let extensions = [ash::ext::debug_utils::NAME.as_ptr()];
         let instance = entry
             .create_instance(
@@ -94,7 +96,8 @@ fn secondary_multiview_and_app_query_passes_are_named_not_measured() {
         let priorities = [1.0];
         let queues = [vk::DeviceQueueCreateInfo::default().queue_family_index(family).queue_priorities(&priorities)];
         let mut multiview = vk::PhysicalDeviceMultiviewFeatures::default().multiview(true);
-        let mut features2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut multiview);
+        let mut dynamic = vk::PhysicalDeviceVulkan13Features::default().dynamic_rendering(true);
+        let mut features2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut multiview).push_next(&mut dynamic);
         let device = instance
             .create_device(
                 physical,
@@ -181,6 +184,38 @@ fn secondary_multiview_and_app_query_passes_are_named_not_measured() {
         let mut multiview_info = vk::RenderPassMultiviewCreateInfo::default().view_masks(&view_masks);
         let multiview_pass =
             device.create_render_pass(&info.push_next(&mut multiview_info), None).expect("multiview pass");
+        let attachments2 = [vk::AttachmentDescription2::default()
+            .format(format)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .load_op(vk::AttachmentLoadOp::LOAD)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
+            .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .initial_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .final_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)];
+        let colour_ref2 = [vk::AttachmentReference2::default()
+            .attachment(0)
+            .layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .aspect_mask(vk::ImageAspectFlags::COLOR)];
+        let subpasses2 = [vk::SubpassDescription2::default()
+            .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
+            .color_attachments(&colour_ref2)];
+        let dependencies2 = [vk::SubpassDependency2::default()
+            .src_subpass(vk::SUBPASS_EXTERNAL)
+            .dst_subpass(0)
+            .src_stage_mask(vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT)
+            .dst_stage_mask(vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT)
+            .src_access_mask(vk::AccessFlags::COLOR_ATTACHMENT_WRITE)
+            .dst_access_mask(vk::AccessFlags::COLOR_ATTACHMENT_WRITE | vk::AccessFlags::COLOR_ATTACHMENT_READ)];
+        let loading_pass = device
+            .create_render_pass2(
+                &vk::RenderPassCreateInfo2::default()
+                    .attachments(&attachments2)
+                    .subpasses(&subpasses2)
+                    .dependencies(&dependencies2),
+                None,
+            )
+            .expect("render pass 2");
         let views = [view];
         let framebuffer = |pass| {
             device
@@ -196,6 +231,8 @@ fn secondary_multiview_and_app_query_passes_are_named_not_measured() {
                 .expect("framebuffer")
         };
         let (plain_fb, multiview_fb) = (framebuffer(plain_pass), framebuffer(multiview_pass));
+        let loading_fb = framebuffer(loading_pass);
+        let labels = ash::ext::debug_utils::Device::new(&instance, &device);
         let app_queries = device
             .create_query_pool(
                 &vk::QueryPoolCreateInfo::default().query_type(vk::QueryType::OCCLUSION).query_count(1),
@@ -243,12 +280,36 @@ fn secondary_multiview_and_app_query_passes_are_named_not_measured() {
         device.cmd_end_render_pass(primary);
         device.cmd_begin_render_pass(primary, &begin(multiview_pass, multiview_fb), vk::SubpassContents::INLINE);
         device.cmd_end_render_pass(primary);
+        labels.cmd_begin_debug_utils_label(primary, &vk::DebugUtilsLabelEXT::default().label_name(c"plain"));
         device.cmd_begin_render_pass(primary, &begin(plain_pass, plain_fb), vk::SubpassContents::INLINE);
         device.cmd_end_render_pass(primary);
+        labels.cmd_end_debug_utils_label(primary);
         device.cmd_begin_query(primary, app_queries, 0, vk::QueryControlFlags::empty());
         device.cmd_begin_render_pass(primary, &begin(plain_pass, plain_fb), vk::SubpassContents::INLINE);
         device.cmd_end_render_pass(primary);
         device.cmd_end_query(primary, app_queries, 0);
+        device.cmd_begin_render_pass2(
+            primary,
+            &begin(loading_pass, loading_fb),
+            &vk::SubpassBeginInfo::default().contents(vk::SubpassContents::INLINE),
+        );
+        device.cmd_end_render_pass2(primary, &vk::SubpassEndInfo::default());
+        let barrier = [vk::MemoryBarrier::default()
+            .src_access_mask(vk::AccessFlags::COLOR_ATTACHMENT_WRITE)
+            .dst_access_mask(vk::AccessFlags::COLOR_ATTACHMENT_WRITE)];
+        let stage = vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT;
+        device.cmd_pipeline_barrier(primary, stage, stage, vk::DependencyFlags::empty(), &barrier, &[], &[]);
+        let colour = [vk::RenderingAttachmentInfo::default()
+            .image_view(view)
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .clear_value(clear[0])];
+        device.cmd_begin_rendering(
+            primary,
+            &vk::RenderingInfo::default().render_area(area).layer_count(1).color_attachments(&colour),
+        );
+        device.cmd_end_rendering(primary);
         device.end_command_buffer(primary).expect("end");
 
         let fence = device.create_fence(&vk::FenceCreateInfo::default(), None).expect("fence");
@@ -274,6 +335,8 @@ fn secondary_multiview_and_app_query_passes_are_named_not_measured() {
         device.destroy_framebuffer(multiview_fb, None);
         device.destroy_render_pass(plain_pass, None);
         device.destroy_render_pass(multiview_pass, None);
+        device.destroy_framebuffer(loading_fb, None);
+        device.destroy_render_pass(loading_pass, None);
         device.destroy_image_view(view, None);
         device.destroy_image(image, None);
         device.free_memory(memory, None);
@@ -296,8 +359,22 @@ fn secondary_multiview_and_app_query_passes_are_named_not_measured() {
             Some("multiview render pass"),
             None,
             Some("application occlusion query active across the pass"),
+            None,
+            None,
         ]
     );
+    let apis: Vec<&str> = rows.iter().map(|r| r.api.as_str()).collect();
+    assert_eq!(apis[4..], ["vkCmdBeginRenderPass2", "vkCmdBeginRendering"]);
+    assert_eq!(rows[2].label.as_deref(), Some("plain"));
+    assert!(rows.iter().enumerate().all(|(i, r)| (i == 2) == r.label.is_some()));
+    // Render pass 2 loads and stores; dynamic rendering clears and discards.
+    let traffic = |r: usize| {
+        let a = &rows[r].attachments[0];
+        (a.role.as_str(), a.format.as_str(), a.load_op.as_str(), a.store_op.as_str(), a.bytes_loaded, a.bytes_stored)
+    };
+    assert_eq!(traffic(4), ("colour", "R8G8B8A8_UNORM", "LOAD", "STORE", 1024, 1024));
+    assert_eq!(traffic(5), ("colour", "R8G8B8A8_UNORM", "CLEAR", "DONT_CARE", 0, 0));
+    assert!(rows[4].counters.is_some() && rows[5].counters.is_some());
     let measured = rows[2].counters.expect("the plain pass is measured");
     assert_eq!((measured.draws, measured.samples_passed), (0, 0));
     assert_eq!(measured.bytes_stored, 16 * 16 * 4);
