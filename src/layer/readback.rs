@@ -170,6 +170,12 @@ pub fn report(device: &DeviceData, state: &mut DeviceState) -> FillrateReport {
     }
 }
 
+/// Whether the file is written now: at the end (`last`), once the limited frames are all in
+/// (`done`), or when `every` more frames were measured since the last write.
+fn write_due(last: bool, done: bool, every: u64, measured: u64, written_at: u64) -> bool {
+    last || done || (every > 0 && measured >= written_at + every)
+}
+
 /// Writes the file at the end (`last`), when the limited frames are all in, or every K frames.
 pub fn write_if_due(device: &DeviceData, state: &mut DeviceState, last: bool) {
     let Some(path) = device.config.out.clone() else { return };
@@ -177,11 +183,8 @@ pub fn write_if_due(device: &DeviceData, state: &mut DeviceState, last: bool) {
         return;
     }
     let frames = state.frames();
-    let measured = frames.frames_measured;
-    let done = frames.done();
-    let every = device.config.every;
-    let periodic = every > 0 && measured >= state.written_at + every;
-    if !(last || done || periodic) {
+    let (measured, done) = (frames.frames_measured, frames.done());
+    if !write_due(last, done, device.config.every, measured, state.written_at) {
         return;
     }
     let text = render(&report(device, state), device.config.format);
@@ -190,4 +193,20 @@ pub fn write_if_due(device: &DeviceData, state: &mut DeviceState, last: bool) {
     }
     state.written_at = measured;
     state.finished = done;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::write_due;
+
+    #[test]
+    fn the_file_is_written_at_the_end_when_done_and_every_k_frames() {
+        assert!(write_due(true, false, 0, 0, 0));
+        assert!(write_due(false, true, 0, 3, 0));
+        assert!(!write_due(false, false, 0, 100, 0), "EVERY=0: only at the end");
+        assert!(!write_due(false, false, 3, 2, 0));
+        assert!(write_due(false, false, 3, 3, 0));
+        assert!(!write_due(false, false, 3, 5, 3));
+        assert!(write_due(false, false, 3, 6, 3));
+    }
 }

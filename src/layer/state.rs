@@ -243,7 +243,8 @@ pub fn instance_of(handle: u64) -> Option<Arc<InstanceData>> {
             return Some(found.clone());
         }
     }
-    (list.len() == 1).then(|| list[0].clone())
+    // A physical device whose key is not its instance's: the only instance, if there is one.
+    (handle != 0 && list.len() == 1).then(|| list[0].clone())
 }
 
 pub fn add_device(data: Arc<DeviceData>) {
