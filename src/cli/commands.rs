@@ -4,6 +4,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use super::args::{Cli, Command, FormatArg, FrameArgs, GpuArgs};
+use super::output_path::check_output_path;
 use crate::error::{Error, Result};
 use crate::frame::render_pass::COLOUR_FORMAT;
 use crate::frame::targets::{choose_depth_format, offered_samples};
@@ -158,35 +159,6 @@ fn given_plane(frame: &FrameArgs) -> Result<Option<GivenPlane>> {
     let plane = GivenPlane { normal, height: frame.plane_height.unwrap_or(default.height) };
     plane.check()?;
     Ok(Some(plane))
-}
-
-/// Refuses an output path whose folder does not exist before any rendering is done.
-pub(super) fn check_output_path(path: &Path) -> Result<()> {
-    let parent = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    if !parent.is_dir() {
-        return Err(Error::Io {
-            path: path.to_path_buf(),
-            source: std::io::Error::new(std::io::ErrorKind::NotFound, "the output folder does not exist"),
-        });
-    }
-    if path.is_dir() {
-        return Err(Error::Io {
-            path: path.to_path_buf(),
-            source: std::io::Error::new(std::io::ErrorKind::InvalidInput, "the output path is a folder"),
-        });
-    }
-    // Outputs are written to a temporary file and renamed over the path: a device or a pipe
-    // there (/dev/null) would be replaced by a plain file.
-    if path.exists() && !path.is_file() {
-        return Err(Error::Io {
-            path: path.to_path_buf(),
-            source: std::io::Error::new(
-                std::io::ErrorKind::InvalidInput,
-                "the output path is not a regular file (a device or a pipe); outputs replace their file",
-            ),
-        });
-    }
-    Ok(())
 }
 
 fn render(frame: &FrameArgs, out: &Path, keep_alpha: bool, no_queries: bool) -> Result<()> {

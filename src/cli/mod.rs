@@ -3,6 +3,7 @@
 mod app_counts;
 mod args;
 mod commands;
+mod output_path;
 mod profile_app;
 
 use std::process::ExitCode;

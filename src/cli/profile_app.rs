@@ -6,6 +6,7 @@ use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
 use super::app_counts::{chart_rows, largest_area, worst_per_position, PositionCounts};
+use super::output_path::check_output_path;
 use crate::error::{Error, Result};
 use crate::layer::config::OutputFormat;
 use crate::layer::manifest::{manifest_json, newest_library, LAYER_NAME, LIBRARY_FILE, MANIFEST_FILE};
@@ -47,7 +48,7 @@ pub fn run(command: &[String], frames: Option<u32>, format: ReportFormat, output
         return Err(Error::InvalidInput("--frames 0 would measure nothing; give 1 or more".into()));
     }
     for path in [&outputs.record_budget, &outputs.chart, &outputs.out].into_iter().flatten() {
-        super::commands::check_output_path(path)?;
+        check_output_path(path)?;
     }
     let budget = outputs.budget.as_deref().map(Budget::load).transpose()?;
     let work = ScratchDir::new()?;
