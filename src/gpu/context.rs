@@ -10,19 +10,20 @@ use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use super::device::{Device, DeviceChoice};
 use super::instance::Instance;
 use super::live_objects::{LiveObjects, ObjectCounts, ObjectKind};
+use super::validation::ValidationChecks;
 use crate::error::{Error, Result, VkContext};
 
 #[derive(Debug, Clone, Default)]
 pub struct GpuOptions {
-    /// Khronos validation layer with a messenger that records every message.
-    pub validation: bool,
+    /// Khronos validation layer with these checks, and a messenger that records every message.
+    pub validation: Option<ValidationChecks>,
     pub device: DeviceChoice,
 }
 
 impl GpuOptions {
     /// What tests use: validation on, device from `NOSTENCIL_DEVICE` or automatic.
     pub fn for_tests() -> Self {
-        GpuOptions { validation: true, device: DeviceChoice::Auto }
+        GpuOptions { validation: Some(ValidationChecks::ALL), device: DeviceChoice::Auto }
     }
 }
 
