@@ -149,6 +149,22 @@ fn unknown_scene_and_technique_are_named() {
     refused(&["profile", "--technique", "magic"], "magic");
 }
 
+/// `nostencil info | head -1`: the reader leaves first; the process ends by SIGPIPE like any
+/// Unix filter, with no panic on stderr.
+#[test]
+fn a_closed_stdout_ends_the_command_quietly() {
+    use std::os::unix::process::ExitStatusExt;
+    use std::process::Stdio;
+    let mut child =
+        common::nostencil_command(&["info"]).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().expect("run");
+    // Closing our end before the command prints anything makes its first print fail.
+    drop(child.stdout.take());
+    let output = child.wait_with_output().expect("wait");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(output.status.signal(), Some(libc::SIGPIPE), "{:?}: {stderr}", output.status);
+}
+
 #[test]
 fn missing_vulkan_driver_is_a_clear_error() {
     let dir = common::scratch_dir("cli-no-device");
