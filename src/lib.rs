@@ -46,6 +46,7 @@ pub mod cli;
 pub mod error;
 pub mod frame;
 pub mod gpu;
+pub mod layer;
 pub mod mesh;
 pub mod names;
 pub mod pipeline;

@@ -22,6 +22,7 @@ const LAYERS: &[&[&str]] = &[
     &["render"],
     &["technique"],
     &["profile"],
+    &["layer"],
     &["viewer"],
     &["cli"],
 ];

@@ -1,0 +1,398 @@
+//! What a render pass instance's attachments are (role, format, samples, load/store ops), from
+//! a render pass object or a `VkRenderingInfo`, and their tile traffic over the render area by
+//! `nostencil profile`'s own rule (`AttachmentDesc::tile_traffic`).
+
+use ash::vk;
+
+use super::report::{AttachmentRow, RenderArea};
+use crate::frame::render_pass::{format_has_stencil, AttachmentDesc};
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AttachmentInfo {
+    pub role: &'static str,
+    pub format: vk::Format,
+    pub samples: u32,
+    pub load: vk::AttachmentLoadOp,
+    pub store: vk::AttachmentStoreOp,
+    pub stencil_load: vk::AttachmentLoadOp,
+    pub stencil_store: vk::AttachmentStoreOp,
+}
+
+/// A render pass object as the layer keeps it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RenderPassInfo {
+    pub attachments: Vec<AttachmentInfo>,
+    /// Some subpass has a non-zero view mask.
+    pub multiview: bool,
+}
+
+fn has_depth(format: vk::Format) -> bool {
+    matches!(
+        format,
+        vk::Format::D16_UNORM
+            | vk::Format::X8_D24_UNORM_PACK32
+            | vk::Format::D32_SFLOAT
+            | vk::Format::D16_UNORM_S8_UINT
+            | vk::Format::D24_UNORM_S8_UINT
+            | vk::Format::D32_SFLOAT_S8_UINT
+    )
+}
+
+/// "depth", "stencil" or "depth_stencil" by the format's aspects.
+fn depth_role(format: vk::Format) -> &'static str {
+    match (has_depth(format), format_has_stencil(format)) {
+        (true, true) => "depth_stencil",
+        (false, true) => "stencil",
+        _ => "depth",
+    }
+}
+
+/// The attachment indices one subpass uses, by kind.
+#[derive(Debug, Clone, Default)]
+pub struct SubpassUses {
+    pub colour: Vec<u32>,
+    pub resolve: Vec<u32>,
+    pub depth: Option<u32>,
+    pub input: Vec<u32>,
+}
+
+/// The role of each attachment index by its first use in the subpasses.
+pub fn roles(count: usize, formats: &[vk::Format], subpasses: &[SubpassUses]) -> Vec<&'static str> {
+    let mut roles = vec!["unused"; count];
+    let mut set = |index: u32, role: &'static str| {
+        if let Some(slot) = roles.get_mut(index as usize) {
+            if *slot == "unused" {
+                *slot = role;
+            }
+        }
+    };
+    for SubpassUses { colour, resolve, depth, input } in subpasses {
+        colour.iter().filter(|&&a| a != vk::ATTACHMENT_UNUSED).for_each(|&a| set(a, "colour"));
+        resolve.iter().filter(|&&a| a != vk::ATTACHMENT_UNUSED).for_each(|&a| set(a, "resolve"));
+        if let Some(a) = depth.filter(|&a| a != vk::ATTACHMENT_UNUSED) {
+            set(a, depth_role(formats.get(a as usize).copied().unwrap_or_default()));
+        }
+        input.iter().filter(|&&a| a != vk::ATTACHMENT_UNUSED).for_each(|&a| set(a, "input"));
+    }
+    roles
+}
+
+fn sample_count(flags: vk::SampleCountFlags) -> u32 {
+    flags.as_raw().max(1)
+}
+
+/// # Safety
+/// `pointer` is null or points at `count` valid `T`s.
+unsafe fn slice<'a, T>(pointer: *const T, count: u32) -> &'a [T] {
+    if pointer.is_null() || count == 0 {
+        &[]
+    } else {
+        // SAFETY: the caller's contract.
+        unsafe { std::slice::from_raw_parts(pointer, count as usize) }
+    }
+}
+
+impl RenderPassInfo {
+    /// # Safety
+    /// `info` is a valid VkRenderPassCreateInfo (as passed to vkCreateRenderPass).
+    pub unsafe fn from_create_info(info: &vk::RenderPassCreateInfo) -> Self {
+        // SAFETY: here and below, the arrays are as long as their counts say (valid usage).
+        let descriptions = unsafe { slice(info.p_attachments, info.attachment_count) };
+        // SAFETY: as above.
+        let subpasses = unsafe { slice(info.p_subpasses, info.subpass_count) };
+        let refs = |p: *const vk::AttachmentReference, n: u32| -> Vec<u32> {
+            // SAFETY: as above.
+            unsafe { slice(p, n) }.iter().map(|r| r.attachment).collect()
+        };
+        let uses: Vec<_> = subpasses
+            .iter()
+            .map(|s| {
+                let resolve = if s.p_resolve_attachments.is_null() {
+                    Vec::new()
+                } else {
+                    refs(s.p_resolve_attachments, s.color_attachment_count)
+                };
+                // SAFETY: pDepthStencilAttachment is null or one valid reference.
+                let depth = unsafe { s.p_depth_stencil_attachment.as_ref() }.map(|r| r.attachment);
+                SubpassUses {
+                    colour: refs(s.p_color_attachments, s.color_attachment_count),
+                    resolve,
+                    depth,
+                    input: refs(s.p_input_attachments, s.input_attachment_count),
+                }
+            })
+            .collect();
+        let formats: Vec<_> = descriptions.iter().map(|d| d.format).collect();
+        let roles = roles(descriptions.len(), &formats, &uses);
+        let attachments = descriptions
+            .iter()
+            .zip(roles)
+            .map(|(d, role)| AttachmentInfo {
+                role,
+                format: d.format,
+                samples: sample_count(d.samples),
+                load: d.load_op,
+                store: d.store_op,
+                stencil_load: d.stencil_load_op,
+                stencil_store: d.stencil_store_op,
+            })
+            .collect();
+        // SAFETY: the pNext chain is valid; a multiview node is VkRenderPassMultiviewCreateInfo.
+        let multiview = unsafe { multiview_masks(info.p_next) };
+        RenderPassInfo { attachments, multiview }
+    }
+
+    /// # Safety
+    /// `info` is a valid VkRenderPassCreateInfo2 (as passed to vkCreateRenderPass2).
+    pub unsafe fn from_create_info2(info: &vk::RenderPassCreateInfo2) -> Self {
+        // SAFETY: the arrays are as long as their counts say (valid usage), as below.
+        let descriptions = unsafe { slice(info.p_attachments, info.attachment_count) };
+        // SAFETY: as above.
+        let subpasses = unsafe { slice(info.p_subpasses, info.subpass_count) };
+        let refs = |p: *const vk::AttachmentReference2, n: u32| -> Vec<u32> {
+            // SAFETY: as above.
+            unsafe { slice(p, n) }.iter().map(|r| r.attachment).collect()
+        };
+        let uses: Vec<_> = subpasses
+            .iter()
+            .map(|s| {
+                let resolve = if s.p_resolve_attachments.is_null() {
+                    Vec::new()
+                } else {
+                    refs(s.p_resolve_attachments, s.color_attachment_count)
+                };
+                // SAFETY: pDepthStencilAttachment is null or one valid reference.
+                let depth = unsafe { s.p_depth_stencil_attachment.as_ref() }.map(|r| r.attachment);
+                SubpassUses {
+                    colour: refs(s.p_color_attachments, s.color_attachment_count),
+                    resolve,
+                    depth,
+                    input: refs(s.p_input_attachments, s.input_attachment_count),
+                }
+            })
+            .collect();
+        let formats: Vec<_> = descriptions.iter().map(|d| d.format).collect();
+        let roles = roles(descriptions.len(), &formats, &uses);
+        let attachments = descriptions
+            .iter()
+            .zip(roles)
+            .map(|(d, role)| AttachmentInfo {
+                role,
+                format: d.format,
+                samples: sample_count(d.samples),
+                load: d.load_op,
+                store: d.store_op,
+                stencil_load: d.stencil_load_op,
+                stencil_store: d.stencil_store_op,
+            })
+            .collect();
+        let multiview = subpasses.iter().any(|s| s.view_mask != 0);
+        RenderPassInfo { attachments, multiview }
+    }
+}
+
+/// Whether a VkRenderPassMultiviewCreateInfo in the chain sets any view mask.
+///
+/// # Safety
+/// `p_next` is a valid pNext chain.
+unsafe fn multiview_masks(mut p_next: *const std::ffi::c_void) -> bool {
+    while !p_next.is_null() {
+        let base = p_next as *const vk::BaseInStructure;
+        // SAFETY: every chain node starts like VkBaseInStructure.
+        let (ty, next) = unsafe { ((*base).s_type, (*base).p_next as *const std::ffi::c_void) };
+        if ty == vk::StructureType::RENDER_PASS_MULTIVIEW_CREATE_INFO {
+            // SAFETY: a node of this sType is VkRenderPassMultiviewCreateInfo.
+            let multiview = unsafe { &*(p_next as *const vk::RenderPassMultiviewCreateInfo) };
+            // SAFETY: pViewMasks holds subpassCount masks.
+            let masks = unsafe { slice(multiview.p_view_masks, multiview.subpass_count) };
+            return masks.iter().any(|&m| m != 0);
+        }
+        p_next = next;
+    }
+    false
+}
+
+/// The attachments of a dynamic render pass instance; `view` gives an image view's
+/// (format, samples), None for a view the layer did not see created.
+///
+/// # Safety
+/// `info` is a valid VkRenderingInfo.
+pub unsafe fn rendering_attachments(
+    info: &vk::RenderingInfo,
+    view: &dyn Fn(vk::ImageView) -> Option<(vk::Format, u32)>,
+) -> Vec<AttachmentInfo> {
+    let mut out = Vec::new();
+    let unknown = (vk::Format::UNDEFINED, 1);
+    let dont_care = (vk::AttachmentLoadOp::DONT_CARE, vk::AttachmentStoreOp::DONT_CARE);
+    // SAFETY: pColorAttachments holds colorAttachmentCount entries (valid usage).
+    for c in unsafe { slice(info.p_color_attachments, info.color_attachment_count) } {
+        if c.image_view != vk::ImageView::null() {
+            let (format, samples) = view(c.image_view).unwrap_or(unknown);
+            out.push(AttachmentInfo {
+                role: "colour",
+                format,
+                samples,
+                load: c.load_op,
+                store: c.store_op,
+                stencil_load: dont_care.0,
+                stencil_store: dont_care.1,
+            });
+        }
+        if c.resolve_mode != vk::ResolveModeFlags::NONE && c.resolve_image_view != vk::ImageView::null() {
+            let (format, samples) = view(c.resolve_image_view).unwrap_or(unknown);
+            // The resolve writes every pixel of the area: a store, nothing loaded.
+            out.push(AttachmentInfo {
+                role: "resolve",
+                format,
+                samples,
+                load: dont_care.0,
+                store: vk::AttachmentStoreOp::STORE,
+                stencil_load: dont_care.0,
+                stencil_store: dont_care.1,
+            });
+        }
+    }
+    // SAFETY: pDepthAttachment / pStencilAttachment are null or one valid struct each.
+    let (depth, stencil) = unsafe { (info.p_depth_attachment.as_ref(), info.p_stencil_attachment.as_ref()) };
+    let depth = depth.filter(|d| d.image_view != vk::ImageView::null());
+    let stencil = stencil.filter(|s| s.image_view != vk::ImageView::null());
+    match (depth, stencil) {
+        (Some(d), Some(s)) if d.image_view == s.image_view => {
+            let (format, samples) = view(d.image_view).unwrap_or(unknown);
+            out.push(AttachmentInfo {
+                role: "depth_stencil",
+                format,
+                samples,
+                load: d.load_op,
+                store: d.store_op,
+                stencil_load: s.load_op,
+                stencil_store: s.store_op,
+            });
+        }
+        (depth, stencil) => {
+            if let Some(d) = depth {
+                let (format, samples) = view(d.image_view).unwrap_or(unknown);
+                out.push(AttachmentInfo {
+                    role: "depth",
+                    format,
+                    samples,
+                    load: d.load_op,
+                    store: d.store_op,
+                    stencil_load: dont_care.0,
+                    stencil_store: dont_care.1,
+                });
+            }
+            if let Some(s) = stencil {
+                let (format, samples) = view(s.image_view).unwrap_or(unknown);
+                out.push(AttachmentInfo {
+                    role: "stencil",
+                    format,
+                    samples,
+                    load: s.load_op,
+                    store: s.store_op,
+                    stencil_load: s.load_op,
+                    stencil_store: s.store_op,
+                });
+            }
+        }
+    }
+    out
+}
+
+fn op_name<T: std::fmt::Debug>(op: T) -> String {
+    format!("{op:?}")
+}
+
+/// The report rows of `attachments` over `area`, with tile traffic by `nostencil profile`'s rule.
+pub fn attachment_rows(attachments: &[AttachmentInfo], area: &RenderArea) -> Vec<AttachmentRow> {
+    attachments
+        .iter()
+        .map(|a| {
+            let stencil = format_has_stencil(a.format);
+            // A stencil-only attachment carries its ops in the stencil aspect only.
+            let depth_aspect = has_depth(a.format) || !stencil;
+            let desc = AttachmentDesc {
+                name: a.role,
+                format: a.format,
+                load: if depth_aspect { a.load } else { vk::AttachmentLoadOp::DONT_CARE },
+                store: if depth_aspect { a.store } else { vk::AttachmentStoreOp::DONT_CARE },
+                stencil_load: a.stencil_load,
+                stencil_store: a.stencil_store,
+                final_layout: vk::ImageLayout::UNDEFINED,
+                transient: false,
+                samples: a.samples,
+            };
+            let traffic = desc.tile_traffic(area.width, area.height);
+            AttachmentRow {
+                role: a.role.to_owned(),
+                format: op_name(a.format),
+                samples: a.samples,
+                load_op: op_name(a.load),
+                store_op: op_name(a.store),
+                stencil_load_op: stencil.then(|| op_name(a.stencil_load)),
+                stencil_store_op: stencil.then(|| op_name(a.stencil_store)),
+                bytes_loaded: traffic.bytes_loaded,
+                bytes_stored: traffic.bytes_stored,
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn attachment(role: &'static str, format: vk::Format, load: vk::AttachmentLoadOp) -> AttachmentInfo {
+        AttachmentInfo {
+            role,
+            format,
+            samples: 1,
+            load,
+            store: vk::AttachmentStoreOp::STORE,
+            stencil_load: vk::AttachmentLoadOp::LOAD,
+            stencil_store: vk::AttachmentStoreOp::DONT_CARE,
+        }
+    }
+
+    #[test]
+    fn traffic_follows_profiles_rule_over_the_render_area() {
+        let area = RenderArea { x: 0, y: 0, width: 10, height: 20 };
+        let rows = attachment_rows(
+            &[
+                attachment("colour", vk::Format::B8G8R8A8_UNORM, vk::AttachmentLoadOp::CLEAR),
+                attachment("depth_stencil", vk::Format::D24_UNORM_S8_UINT, vk::AttachmentLoadOp::LOAD),
+                AttachmentInfo {
+                    samples: 4,
+                    store: vk::AttachmentStoreOp::DONT_CARE,
+                    ..attachment("colour", vk::Format::R8G8B8A8_SRGB, vk::AttachmentLoadOp::LOAD)
+                },
+            ],
+            &area,
+        );
+        // Cleared colour: nothing loaded, 4 bytes a pixel stored.
+        assert_eq!((rows[0].bytes_loaded, rows[0].bytes_stored), (0, 4 * 200));
+        assert_eq!(rows[0].format, "B8G8R8A8_UNORM");
+        assert_eq!((rows[0].load_op.as_str(), rows[0].store_op.as_str()), ("CLEAR", "STORE"));
+        assert_eq!(rows[0].stencil_load_op, None);
+        // D24S8 loaded (depth 3 + stencil 1 bytes), depth stored, stencil discarded.
+        assert_eq!((rows[1].bytes_loaded, rows[1].bytes_stored), (4 * 200, 3 * 200));
+        assert_eq!(rows[1].stencil_load_op.as_deref(), Some("LOAD"));
+        // 4 samples loaded, discarded.
+        assert_eq!((rows[2].bytes_loaded, rows[2].bytes_stored), (4 * 4 * 200, 0));
+    }
+
+    #[test]
+    fn roles_come_from_the_first_subpass_that_uses_each_attachment() {
+        let formats = [
+            vk::Format::R8G8B8A8_SRGB,
+            vk::Format::D32_SFLOAT_S8_UINT,
+            vk::Format::R8G8B8A8_SRGB,
+            vk::Format::R8_UNORM,
+        ];
+        let subpasses = vec![
+            SubpassUses { colour: vec![0], resolve: vec![2], depth: Some(1), input: vec![] },
+            SubpassUses { input: vec![0, 3], ..SubpassUses::default() },
+        ];
+        assert_eq!(roles(5, &formats, &subpasses), vec!["colour", "depth_stencil", "resolve", "input", "unused"]);
+    }
+}

@@ -1,0 +1,620 @@
+//! Command-buffer hooks: the render pass instances (begin, next subpass, end) get the layer's
+//! queries; draws, debug labels and the application's own queries are noted. The layer's
+//! commands are recorded right after the application's begin returns and right before its end
+//! is called, so the render pass the application set up is untouched; nothing is bound.
+
+use std::ffi::CStr;
+use std::sync::Arc;
+
+use ash::vk;
+use ash::vk::Handle;
+
+use super::attachments::{attachment_rows, rendering_attachments};
+use super::objects::{device_and, flush_buffer};
+use super::recording::PassDesc;
+use super::report::RenderArea;
+use super::slots::{QueryCmd, QueryKind, CHUNK};
+use super::state::{guard, DeviceData, DeviceState};
+
+/// Records the layer's query commands into `cmd`.
+fn record(device: &DeviceData, cmd: vk::CommandBuffer, cmds: &[QueryCmd]) {
+    for c in cmds {
+        // SAFETY: `cmd` is recording (the application is inside a vkCmd* call on it); every
+        // pool is the layer's, each query reset before use and begun/ended in one subpass, resets
+        // only outside a render pass (see recording.rs).
+        unsafe {
+            match *c {
+                QueryCmd::Reset { pool, first, count } => device.fns.cmd_reset_query_pool(cmd, pool, first, count),
+                QueryCmd::Begin { slot, precise } => {
+                    let flags = if precise { vk::QueryControlFlags::PRECISE } else { vk::QueryControlFlags::empty() };
+                    device.fns.cmd_begin_query(cmd, slot.pool, slot.query, flags)
+                }
+                QueryCmd::End { slot } => device.fns.cmd_end_query(cmd, slot.pool, slot.query),
+                QueryCmd::Timestamp { slot, stage } => {
+                    device.fns.cmd_write_timestamp(cmd, stage, slot.pool, slot.query)
+                }
+            }
+        }
+    }
+}
+
+/// A new query pool of `kind` for the layer.
+fn create_pool(device: &DeviceData, kind: QueryKind) -> Option<vk::QueryPool> {
+    let (ty, stats) = match kind {
+        QueryKind::Occlusion => (vk::QueryType::OCCLUSION, vk::QueryPipelineStatisticFlags::empty()),
+        QueryKind::Statistics => {
+            let bits = super::readback::STATISTICS.iter().fold(vk::QueryPipelineStatisticFlags::empty(), |a, &b| a | b);
+            (vk::QueryType::PIPELINE_STATISTICS, bits)
+        }
+        QueryKind::Timestamp => (vk::QueryType::TIMESTAMP, vk::QueryPipelineStatisticFlags::empty()),
+    };
+    let info = vk::QueryPoolCreateInfo::default().query_type(ty).query_count(CHUNK).pipeline_statistics(stats);
+    // SAFETY: the device is alive; statistics pools are made only when the device has (and the
+    // layer enabled) pipelineStatisticsQuery.
+    unsafe { device.fns.create_query_pool(&info, None) }.ok()
+}
+
+/// Runs `f` on `cmd`'s recording if the layer is measuring; records what it returns before and
+/// after `call`, which makes the application's call.
+fn around(
+    cmd: vk::CommandBuffer,
+    call: impl FnOnce(&DeviceData),
+    f: impl FnOnce(&DeviceData, &mut DeviceState) -> (Vec<QueryCmd>, Vec<QueryCmd>),
+) {
+    let Some(device) = guard(None, || super::state::device_of(cmd.as_raw())) else { return };
+    let (before, after) = guard(Default::default(), || {
+        if !device.active() {
+            return Default::default();
+        }
+        f(&device, &mut device.state())
+    });
+    guard((), || record(&device, cmd, &before));
+    call(&device);
+    guard((), || record(&device, cmd, &after));
+}
+
+/// Whether new passes are measured now (an output is set and the frame limit not reached).
+fn measuring(state: &mut DeviceState) -> bool {
+    !state.finished && state.frames().measuring()
+}
+
+/// The render pass instance begins: the pass is noted and (if it can be) measured.
+fn begin_pass(
+    device: &DeviceData,
+    state: &mut DeviceState,
+    cmd: vk::CommandBuffer,
+    mut desc: PassDesc,
+) -> (Vec<QueryCmd>, Vec<QueryCmd>) {
+    if !measuring(state) {
+        return Default::default();
+    }
+    let Some(data) = state.buffers.get_mut(&cmd) else { return Default::default() };
+    if data.recording.secondary && desc.not_measured.is_none() {
+        desc.not_measured = Some("secondary command buffer".into());
+    }
+    data.recording.begin_pass(desc, &mut |kind| create_pool(device, kind))
+}
+
+fn pass_desc(
+    state: &DeviceState,
+    api: &'static str,
+    begin: &vk::RenderPassBeginInfo,
+    contents: vk::SubpassContents,
+) -> PassDesc {
+    let area = RenderArea {
+        x: begin.render_area.offset.x,
+        y: begin.render_area.offset.y,
+        width: begin.render_area.extent.width,
+        height: begin.render_area.extent.height,
+    };
+    let info = state.render_passes.get(&begin.render_pass);
+    let attachments = info.map(|i| attachment_rows(&i.attachments, &area)).unwrap_or_default();
+    let not_measured = if info.is_some_and(|i| i.multiview) {
+        Some("multiview render pass".to_owned())
+    } else if contents == vk::SubpassContents::SECONDARY_COMMAND_BUFFERS {
+        Some("secondary command buffer".to_owned())
+    } else if info.is_none() {
+        Some("render pass created before the layer saw it".to_owned())
+    } else {
+        None
+    };
+    PassDesc { api, area, samples: attachments.iter().map(|a| a.samples).max().unwrap_or(1), attachments, not_measured }
+}
+
+pub(super) unsafe extern "system" fn cmd_begin_render_pass(
+    cmd: vk::CommandBuffer,
+    begin: *const vk::RenderPassBeginInfo<'_>,
+    contents: vk::SubpassContents,
+) {
+    around(
+        cmd,
+        |d| {
+            if let Some(next) = d.next.cmd_begin_render_pass {
+                // SAFETY: the application's arguments, passed on.
+                unsafe { next(cmd, begin, contents) }
+            }
+        },
+        |d, st| {
+            // SAFETY: the application's valid begin info.
+            let desc = pass_desc(st, "vkCmdBeginRenderPass", unsafe { &*begin }, contents);
+            begin_pass(d, st, cmd, desc)
+        },
+    );
+}
+
+unsafe fn begin_render_pass2_with(
+    pick: fn(&DeviceData) -> Option<vk::PFN_vkCmdBeginRenderPass2>,
+    cmd: vk::CommandBuffer,
+    begin: *const vk::RenderPassBeginInfo<'_>,
+    subpass: *const vk::SubpassBeginInfo<'_>,
+) {
+    around(
+        cmd,
+        |d| {
+            if let Some(next) = pick(d) {
+                // SAFETY: the application's arguments, passed on.
+                unsafe { next(cmd, begin, subpass) }
+            }
+        },
+        |d, st| {
+            // SAFETY: the application's valid begin infos.
+            let (begin, contents) = unsafe { (&*begin, (*subpass).contents) };
+            let desc = pass_desc(st, "vkCmdBeginRenderPass2", begin, contents);
+            begin_pass(d, st, cmd, desc)
+        },
+    );
+}
+
+pub(super) unsafe extern "system" fn cmd_begin_render_pass2(
+    cmd: vk::CommandBuffer,
+    begin: *const vk::RenderPassBeginInfo<'_>,
+    subpass: *const vk::SubpassBeginInfo<'_>,
+) {
+    // SAFETY: the application's arguments.
+    unsafe { begin_render_pass2_with(|d| d.next.cmd_begin_render_pass2, cmd, begin, subpass) }
+}
+
+pub(super) unsafe extern "system" fn cmd_begin_render_pass2_khr(
+    cmd: vk::CommandBuffer,
+    begin: *const vk::RenderPassBeginInfo<'_>,
+    subpass: *const vk::SubpassBeginInfo<'_>,
+) {
+    // SAFETY: the application's arguments.
+    unsafe { begin_render_pass2_with(|d| d.next.cmd_begin_render_pass2_khr, cmd, begin, subpass) }
+}
+
+fn next_subpass(
+    st: &mut DeviceState,
+    cmd: vk::CommandBuffer,
+    contents: vk::SubpassContents,
+) -> (Vec<QueryCmd>, Vec<QueryCmd>) {
+    let Some(data) = st.buffers.get_mut(&cmd) else { return Default::default() };
+    data.recording.next_subpass(contents == vk::SubpassContents::SECONDARY_COMMAND_BUFFERS)
+}
+
+pub(super) unsafe extern "system" fn cmd_next_subpass(cmd: vk::CommandBuffer, contents: vk::SubpassContents) {
+    around(
+        cmd,
+        |d| {
+            if let Some(next) = d.next.cmd_next_subpass {
+                // SAFETY: the application's arguments, passed on.
+                unsafe { next(cmd, contents) }
+            }
+        },
+        |_, st| next_subpass(st, cmd, contents),
+    );
+}
+
+unsafe fn next_subpass2_with(
+    pick: fn(&DeviceData) -> Option<vk::PFN_vkCmdNextSubpass2>,
+    cmd: vk::CommandBuffer,
+    begin: *const vk::SubpassBeginInfo<'_>,
+    end: *const vk::SubpassEndInfo<'_>,
+) {
+    around(
+        cmd,
+        |d| {
+            if let Some(next) = pick(d) {
+                // SAFETY: the application's arguments, passed on.
+                unsafe { next(cmd, begin, end) }
+            }
+        },
+        // SAFETY: the application's valid subpass begin info.
+        |_, st| next_subpass(st, cmd, unsafe { (*begin).contents }),
+    );
+}
+
+pub(super) unsafe extern "system" fn cmd_next_subpass2(
+    cmd: vk::CommandBuffer,
+    begin: *const vk::SubpassBeginInfo<'_>,
+    end: *const vk::SubpassEndInfo<'_>,
+) {
+    // SAFETY: the application's arguments.
+    unsafe { next_subpass2_with(|d| d.next.cmd_next_subpass2, cmd, begin, end) }
+}
+
+pub(super) unsafe extern "system" fn cmd_next_subpass2_khr(
+    cmd: vk::CommandBuffer,
+    begin: *const vk::SubpassBeginInfo<'_>,
+    end: *const vk::SubpassEndInfo<'_>,
+) {
+    // SAFETY: the application's arguments.
+    unsafe { next_subpass2_with(|d| d.next.cmd_next_subpass2_khr, cmd, begin, end) }
+}
+
+fn end_pass(st: &mut DeviceState, cmd: vk::CommandBuffer) -> (Vec<QueryCmd>, Vec<QueryCmd>) {
+    let Some(data) = st.buffers.get_mut(&cmd) else { return Default::default() };
+    (data.recording.end_pass(), Vec::new())
+}
+
+pub(super) unsafe extern "system" fn cmd_end_render_pass(cmd: vk::CommandBuffer) {
+    around(
+        cmd,
+        |d| {
+            if let Some(next) = d.next.cmd_end_render_pass {
+                // SAFETY: the application's arguments, passed on.
+                unsafe { next(cmd) }
+            }
+        },
+        |_, st| end_pass(st, cmd),
+    );
+}
+
+unsafe fn end_render_pass2_with(
+    pick: fn(&DeviceData) -> Option<vk::PFN_vkCmdEndRenderPass2>,
+    cmd: vk::CommandBuffer,
+    end: *const vk::SubpassEndInfo<'_>,
+) {
+    around(
+        cmd,
+        |d| {
+            if let Some(next) = pick(d) {
+                // SAFETY: the application's arguments, passed on.
+                unsafe { next(cmd, end) }
+            }
+        },
+        |_, st| end_pass(st, cmd),
+    );
+}
+
+pub(super) unsafe extern "system" fn cmd_end_render_pass2(cmd: vk::CommandBuffer, end: *const vk::SubpassEndInfo<'_>) {
+    // SAFETY: the application's arguments.
+    unsafe { end_render_pass2_with(|d| d.next.cmd_end_render_pass2, cmd, end) }
+}
+
+pub(super) unsafe extern "system" fn cmd_end_render_pass2_khr(
+    cmd: vk::CommandBuffer,
+    end: *const vk::SubpassEndInfo<'_>,
+) {
+    // SAFETY: the application's arguments.
+    unsafe { end_render_pass2_with(|d| d.next.cmd_end_render_pass2_khr, cmd, end) }
+}
+
+unsafe fn begin_rendering_with(
+    pick: fn(&DeviceData) -> Option<vk::PFN_vkCmdBeginRendering>,
+    cmd: vk::CommandBuffer,
+    info: *const vk::RenderingInfo<'_>,
+) {
+    around(
+        cmd,
+        |d| {
+            if let Some(next) = pick(d) {
+                // SAFETY: the application's arguments, passed on.
+                unsafe { next(cmd, info) }
+            }
+        },
+        |d, st| {
+            // SAFETY: the application's valid rendering info.
+            let info = unsafe { &*info };
+            let area = RenderArea {
+                x: info.render_area.offset.x,
+                y: info.render_area.offset.y,
+                width: info.render_area.extent.width,
+                height: info.render_area.extent.height,
+            };
+            let views = &st.views;
+            // SAFETY: as above.
+            let attachments = unsafe { rendering_attachments(info, &|v| views.get(&v).copied()) };
+            let attachments = attachment_rows(&attachments, &area);
+            let flags = info.flags;
+            let not_measured = if info.view_mask != 0 {
+                Some("multiview render pass".to_owned())
+            } else if flags.intersects(vk::RenderingFlags::SUSPENDING | vk::RenderingFlags::RESUMING) {
+                Some("suspended or resumed dynamic render pass".to_owned())
+            } else if flags.contains(vk::RenderingFlags::CONTENTS_SECONDARY_COMMAND_BUFFERS) {
+                Some("secondary command buffer".to_owned())
+            } else {
+                None
+            };
+            let samples = attachments.iter().map(|a| a.samples).max().unwrap_or(1);
+            let desc = PassDesc { api: "vkCmdBeginRendering", area, samples, attachments, not_measured };
+            begin_pass(d, st, cmd, desc)
+        },
+    );
+}
+
+pub(super) unsafe extern "system" fn cmd_begin_rendering(cmd: vk::CommandBuffer, info: *const vk::RenderingInfo<'_>) {
+    // SAFETY: the application's arguments.
+    unsafe { begin_rendering_with(|d| d.next.cmd_begin_rendering, cmd, info) }
+}
+
+pub(super) unsafe extern "system" fn cmd_begin_rendering_khr(
+    cmd: vk::CommandBuffer,
+    info: *const vk::RenderingInfo<'_>,
+) {
+    // SAFETY: the application's arguments.
+    unsafe { begin_rendering_with(|d| d.next.cmd_begin_rendering_khr, cmd, info) }
+}
+
+pub(super) unsafe extern "system" fn cmd_end_rendering(cmd: vk::CommandBuffer) {
+    around(
+        cmd,
+        |d| {
+            if let Some(next) = d.next.cmd_end_rendering {
+                // SAFETY: the application's arguments, passed on.
+                unsafe { next(cmd) }
+            }
+        },
+        |_, st| end_pass(st, cmd),
+    );
+}
+
+pub(super) unsafe extern "system" fn cmd_end_rendering_khr(cmd: vk::CommandBuffer) {
+    around(
+        cmd,
+        |d| {
+            if let Some(next) = d.next.cmd_end_rendering_khr {
+                // SAFETY: the application's arguments, passed on.
+                unsafe { next(cmd) }
+            }
+        },
+        |_, st| end_pass(st, cmd),
+    );
+}
+
+pub(super) unsafe extern "system" fn begin_command_buffer(
+    cmd: vk::CommandBuffer,
+    info: *const vk::CommandBufferBeginInfo<'_>,
+) -> vk::Result {
+    let Some((device, next)) = device_and(cmd.as_raw(), |d| d.next.begin_command_buffer) else {
+        return vk::Result::ERROR_INITIALIZATION_FAILED;
+    };
+    guard((), || {
+        if !device.active() {
+            return;
+        }
+        // SAFETY: the application's valid begin info.
+        let simultaneous = unsafe { (*info).flags }.contains(vk::CommandBufferUsageFlags::SIMULTANEOUS_USE);
+        let mut st = device.state();
+        // Re-recording: the buffer's last submission is complete (valid usage), read it now.
+        flush_buffer(&device, &mut st, cmd);
+        if let Some(data) = st.buffers.get_mut(&cmd) {
+            data.recording.restart(simultaneous);
+        }
+    });
+    // SAFETY: the application's arguments, passed on.
+    unsafe { next(cmd, info) }
+}
+
+pub(super) unsafe extern "system" fn reset_command_buffer(
+    cmd: vk::CommandBuffer,
+    flags: vk::CommandBufferResetFlags,
+) -> vk::Result {
+    let Some((device, next)) = device_and(cmd.as_raw(), |d| d.next.reset_command_buffer) else {
+        return vk::Result::ERROR_INITIALIZATION_FAILED;
+    };
+    guard((), || {
+        if !device.active() {
+            return;
+        }
+        let mut st = device.state();
+        flush_buffer(&device, &mut st, cmd);
+        if let Some(data) = st.buffers.get_mut(&cmd) {
+            data.recording.restart(false);
+        }
+    });
+    // SAFETY: the application's arguments, passed on.
+    unsafe { next(cmd, flags) }
+}
+
+/// Notes something on `cmd`'s recording (draws, labels), then makes the application's call.
+fn note(cmd: vk::CommandBuffer, f: impl FnOnce(&mut super::recording::Recording)) -> Option<Arc<DeviceData>> {
+    let device = guard(None, || super::state::device_of(cmd.as_raw()))?;
+    guard((), || {
+        if device.active() {
+            if let Some(data) = device.state().buffers.get_mut(&cmd) {
+                f(&mut data.recording);
+            }
+        }
+    });
+    Some(device)
+}
+
+pub(super) unsafe extern "system" fn cmd_draw(
+    cmd: vk::CommandBuffer,
+    vertices: u32,
+    instances: u32,
+    first_vertex: u32,
+    first_instance: u32,
+) {
+    if let Some(next) = note(cmd, |r| r.draw()).and_then(|d| d.next.cmd_draw) {
+        // SAFETY: the application's arguments, passed on.
+        unsafe { next(cmd, vertices, instances, first_vertex, first_instance) }
+    }
+}
+
+pub(super) unsafe extern "system" fn cmd_draw_indexed(
+    cmd: vk::CommandBuffer,
+    indices: u32,
+    instances: u32,
+    first_index: u32,
+    vertex_offset: i32,
+    first_instance: u32,
+) {
+    if let Some(next) = note(cmd, |r| r.draw()).and_then(|d| d.next.cmd_draw_indexed) {
+        // SAFETY: the application's arguments, passed on.
+        unsafe { next(cmd, indices, instances, first_index, vertex_offset, first_instance) }
+    }
+}
+
+pub(super) unsafe extern "system" fn cmd_draw_indirect(
+    cmd: vk::CommandBuffer,
+    buffer: vk::Buffer,
+    offset: vk::DeviceSize,
+    count: u32,
+    stride: u32,
+) {
+    if let Some(next) = note(cmd, |r| r.draw()).and_then(|d| d.next.cmd_draw_indirect) {
+        // SAFETY: the application's arguments, passed on.
+        unsafe { next(cmd, buffer, offset, count, stride) }
+    }
+}
+
+pub(super) unsafe extern "system" fn cmd_draw_indexed_indirect(
+    cmd: vk::CommandBuffer,
+    buffer: vk::Buffer,
+    offset: vk::DeviceSize,
+    count: u32,
+    stride: u32,
+) {
+    if let Some(next) = note(cmd, |r| r.draw()).and_then(|d| d.next.cmd_draw_indexed_indirect) {
+        // SAFETY: the application's arguments, passed on.
+        unsafe { next(cmd, buffer, offset, count, stride) }
+    }
+}
+
+macro_rules! draw_count_hook {
+    ($name:ident, $field:ident, $pfn:ident) => {
+        pub(super) unsafe extern "system" fn $name(
+            cmd: vk::CommandBuffer,
+            buffer: vk::Buffer,
+            offset: vk::DeviceSize,
+            count_buffer: vk::Buffer,
+            count_offset: vk::DeviceSize,
+            max_count: u32,
+            stride: u32,
+        ) {
+            let next: Option<vk::$pfn> = note(cmd, |r| r.draw()).and_then(|d| d.next.$field);
+            if let Some(next) = next {
+                // SAFETY: the application's arguments, passed on.
+                unsafe { next(cmd, buffer, offset, count_buffer, count_offset, max_count, stride) }
+            }
+        }
+    };
+}
+
+draw_count_hook!(cmd_draw_indirect_count, cmd_draw_indirect_count, PFN_vkCmdDrawIndirectCount);
+draw_count_hook!(cmd_draw_indirect_count_khr, cmd_draw_indirect_count_khr, PFN_vkCmdDrawIndirectCount);
+draw_count_hook!(cmd_draw_indexed_indirect_count, cmd_draw_indexed_indirect_count, PFN_vkCmdDrawIndexedIndirectCount);
+draw_count_hook!(
+    cmd_draw_indexed_indirect_count_khr,
+    cmd_draw_indexed_indirect_count_khr,
+    PFN_vkCmdDrawIndexedIndirectCount
+);
+
+/// # Safety
+/// `label` is null or a valid VkDebugUtilsLabelEXT.
+unsafe fn label_name(label: *const vk::DebugUtilsLabelEXT<'_>) -> Option<String> {
+    // SAFETY: the caller's contract; the name is a NUL-terminated string or null.
+    let label = unsafe { label.as_ref() }?;
+    if label.p_label_name.is_null() {
+        return None;
+    }
+    // SAFETY: as above.
+    Some(unsafe { CStr::from_ptr(label.p_label_name) }.to_string_lossy().into_owned())
+}
+
+pub(super) unsafe extern "system" fn cmd_begin_debug_utils_label(
+    cmd: vk::CommandBuffer,
+    label: *const vk::DebugUtilsLabelEXT<'_>,
+) {
+    // SAFETY: the application's label.
+    let name = guard(None, || unsafe { label_name(label) });
+    if let Some(next) =
+        note(cmd, |r| r.push_label(name.unwrap_or_default())).and_then(|d| d.next.cmd_begin_debug_utils_label)
+    {
+        // SAFETY: the application's arguments, passed on.
+        unsafe { next(cmd, label) }
+    }
+}
+
+pub(super) unsafe extern "system" fn cmd_end_debug_utils_label(cmd: vk::CommandBuffer) {
+    if let Some(next) = note(cmd, |r| r.pop_label()).and_then(|d| d.next.cmd_end_debug_utils_label) {
+        // SAFETY: the application's arguments, passed on.
+        unsafe { next(cmd) }
+    }
+}
+
+pub(super) unsafe extern "system" fn cmd_insert_debug_utils_label(
+    cmd: vk::CommandBuffer,
+    label: *const vk::DebugUtilsLabelEXT<'_>,
+) {
+    // SAFETY: the application's label.
+    let name = guard(None, || unsafe { label_name(label) });
+    if let Some(next) =
+        note(cmd, |r| r.insert_label(name.unwrap_or_default())).and_then(|d| d.next.cmd_insert_debug_utils_label)
+    {
+        // SAFETY: the application's arguments, passed on.
+        unsafe { next(cmd, label) }
+    }
+}
+
+pub(super) unsafe extern "system" fn cmd_reset_query_pool(
+    cmd: vk::CommandBuffer,
+    pool: vk::QueryPool,
+    first: u32,
+    count: u32,
+) {
+    if let Some(next) = note(cmd, |r| r.app_resets.push((pool, first, count))).and_then(|d| d.next.cmd_reset_query_pool)
+    {
+        // SAFETY: the application's arguments, passed on.
+        unsafe { next(cmd, pool, first, count) }
+    }
+}
+
+fn app_kind(st: &DeviceState, pool: vk::QueryPool) -> Option<(QueryKind, vk::QueryPipelineStatisticFlags)> {
+    match st.app_pools.get(&pool)? {
+        (vk::QueryType::OCCLUSION, _) => Some((QueryKind::Occlusion, vk::QueryPipelineStatisticFlags::empty())),
+        (vk::QueryType::PIPELINE_STATISTICS, stats) => Some((QueryKind::Statistics, *stats)),
+        _ => None,
+    }
+}
+
+pub(super) unsafe extern "system" fn cmd_begin_query(
+    cmd: vk::CommandBuffer,
+    pool: vk::QueryPool,
+    query: u32,
+    flags: vk::QueryControlFlags,
+) {
+    around(
+        cmd,
+        |d| {
+            if let Some(next) = d.next.cmd_begin_query {
+                // SAFETY: the application's arguments, passed on.
+                unsafe { next(cmd, pool, query, flags) }
+            }
+        },
+        |_, st| {
+            let Some((kind, stats)) = app_kind(st, pool) else { return Default::default() };
+            let Some(data) = st.buffers.get_mut(&cmd) else { return Default::default() };
+            let precise = flags.contains(vk::QueryControlFlags::PRECISE);
+            (data.recording.app_begin_query(kind, pool, query, precise, stats), Vec::new())
+        },
+    );
+}
+
+pub(super) unsafe extern "system" fn cmd_end_query(cmd: vk::CommandBuffer, pool: vk::QueryPool, query: u32) {
+    around(
+        cmd,
+        |d| {
+            if let Some(next) = d.next.cmd_end_query {
+                // SAFETY: the application's arguments, passed on.
+                unsafe { next(cmd, pool, query) }
+            }
+        },
+        |_, st| {
+            let Some(data) = st.buffers.get_mut(&cmd) else { return Default::default() };
+            (Vec::new(), data.recording.app_end_query(pool, query))
+        },
+    );
+}

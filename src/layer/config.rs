@@ -1,0 +1,93 @@
+//! The layer's settings, read from the environment at vkCreateInstance.
+
+use std::path::PathBuf;
+
+/// Output format of the result file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OutputFormat {
+    Json,
+    Csv,
+    Table,
+}
+
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Config {
+    /// `NOSTENCIL_FILLRATE_OUT`: without it the layer measures nothing.
+    pub out: Option<PathBuf>,
+    /// `NOSTENCIL_FILLRATE_FORMAT`: json (default), csv or table.
+    pub format: OutputFormat,
+    /// `NOSTENCIL_FILLRATE_FRAMES`: measure the first N frames only.
+    pub frames: Option<u64>,
+    /// `NOSTENCIL_FILLRATE_EVERY`: also rewrite the file every K frames (0: never).
+    pub every: u64,
+}
+
+impl Config {
+    pub fn from_env() -> (Self, Vec<String>) {
+        Self::parse(|name| std::env::var(name).ok())
+    }
+
+    /// The settings from `var`, and a warning per value that could not be used (named, with
+    /// what was used instead).
+    pub fn parse(var: impl Fn(&str) -> Option<String>) -> (Self, Vec<String>) {
+        let mut warnings = Vec::new();
+        let out = var("NOSTENCIL_FILLRATE_OUT").filter(|p| !p.is_empty()).map(PathBuf::from);
+        let format = match var("NOSTENCIL_FILLRATE_FORMAT").as_deref() {
+            None | Some("") | Some("json") => OutputFormat::Json,
+            Some("csv") => OutputFormat::Csv,
+            Some("table") => OutputFormat::Table,
+            Some(other) => {
+                warnings.push(format!("NOSTENCIL_FILLRATE_FORMAT='{other}' is not json, csv or table; writing json"));
+                OutputFormat::Json
+            }
+        };
+        let mut number = |name: &str| match var(name).filter(|v| !v.is_empty()) {
+            None => None,
+            Some(text) => match text.trim().parse::<u64>() {
+                Ok(n) => Some(n),
+                Err(_) => {
+                    warnings.push(format!("{name}='{text}' is not a whole number; ignored"));
+                    None
+                }
+            },
+        };
+        let frames = number("NOSTENCIL_FILLRATE_FRAMES");
+        let every = number("NOSTENCIL_FILLRATE_EVERY").unwrap_or(0);
+        let frames = match frames {
+            Some(0) => {
+                warnings.push("NOSTENCIL_FILLRATE_FRAMES=0 measures nothing; measuring every frame".into());
+                None
+            }
+            other => other,
+        };
+        (Config { out, format, frames, every }, warnings)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(vars: &[(&str, &str)]) -> (Config, Vec<String>) {
+        Config::parse(|name| vars.iter().find(|(n, _)| *n == name).map(|(_, v)| v.to_string()))
+    }
+
+    #[test]
+    fn defaults_and_values_and_named_warnings() {
+        let (config, warnings) = parse(&[]);
+        assert_eq!(config, Config { out: None, format: OutputFormat::Json, frames: None, every: 0 });
+        assert!(warnings.is_empty());
+        let (config, _) = parse(&[
+            ("NOSTENCIL_FILLRATE_OUT", "/tmp/x.json"),
+            ("NOSTENCIL_FILLRATE_FORMAT", "csv"),
+            ("NOSTENCIL_FILLRATE_FRAMES", "5"),
+            ("NOSTENCIL_FILLRATE_EVERY", "2"),
+        ]);
+        assert_eq!(config.out.as_deref(), Some(std::path::Path::new("/tmp/x.json")));
+        assert_eq!((config.format, config.frames, config.every), (OutputFormat::Csv, Some(5), 2));
+        let (config, warnings) = parse(&[("NOSTENCIL_FILLRATE_FORMAT", "xml"), ("NOSTENCIL_FILLRATE_FRAMES", "ten")]);
+        assert_eq!((config.format, config.frames), (OutputFormat::Json, None));
+        assert_eq!(warnings.len(), 2);
+        assert!(warnings[0].contains("xml") && warnings[1].contains("NOSTENCIL_FILLRATE_FRAMES"));
+    }
+}

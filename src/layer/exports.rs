@@ -1,0 +1,200 @@
+//! The layer's exported surface: `vkNegotiateLoaderLayerInterfaceVersion` (interface version 2)
+//! and the two `vkGet*ProcAddr`, which hand out the layer's hooks by name and the next layer's
+//! functions for everything else.
+
+use std::ffi::c_char;
+
+use ash::vk;
+use ash::vk::Handle;
+
+use super::lifecycle::{c_name, create_device, create_instance, destroy_device, destroy_instance};
+use super::loader::{NegotiateLayerInterface, LAYER_INTERFACE_VERSION, LAYER_NEGOTIATE_INTERFACE_STRUCT};
+use super::state::{self, guard};
+use super::{commands as c, objects as o, queue as q};
+
+/// A hook as the loader's generic function pointer.
+macro_rules! void_fn {
+    ($f:expr, $pfn:ty) => {{
+        let f: $pfn = $f;
+        // SAFETY: function pointers of any signature have one size; the loader casts back to
+        // the type of the name it asked for, which is `$pfn`.
+        Some(unsafe { std::mem::transmute::<$pfn, unsafe extern "system" fn()>(f) })
+    }};
+}
+
+/// The layer's hook for a device-level function name, if it hooks it.
+fn device_hook(name: &str) -> vk::PFN_vkVoidFunction {
+    match name {
+        "vkGetDeviceProcAddr" => void_fn!(get_device_proc_addr, vk::PFN_vkGetDeviceProcAddr),
+        "vkDestroyDevice" => void_fn!(destroy_device, vk::PFN_vkDestroyDevice),
+        "vkCreateRenderPass" => void_fn!(o::create_render_pass, vk::PFN_vkCreateRenderPass),
+        "vkCreateRenderPass2" => void_fn!(o::create_render_pass2, vk::PFN_vkCreateRenderPass2),
+        "vkCreateRenderPass2KHR" => void_fn!(o::create_render_pass2_khr, vk::PFN_vkCreateRenderPass2),
+        "vkDestroyRenderPass" => void_fn!(o::destroy_render_pass, vk::PFN_vkDestroyRenderPass),
+        "vkCreateImage" => void_fn!(o::create_image, vk::PFN_vkCreateImage),
+        "vkDestroyImage" => void_fn!(o::destroy_image, vk::PFN_vkDestroyImage),
+        "vkCreateImageView" => void_fn!(o::create_image_view, vk::PFN_vkCreateImageView),
+        "vkDestroyImageView" => void_fn!(o::destroy_image_view, vk::PFN_vkDestroyImageView),
+        "vkCreateCommandPool" => void_fn!(o::create_command_pool, vk::PFN_vkCreateCommandPool),
+        "vkDestroyCommandPool" => void_fn!(o::destroy_command_pool, vk::PFN_vkDestroyCommandPool),
+        "vkResetCommandPool" => void_fn!(o::reset_command_pool, vk::PFN_vkResetCommandPool),
+        "vkAllocateCommandBuffers" => void_fn!(o::allocate_command_buffers, vk::PFN_vkAllocateCommandBuffers),
+        "vkFreeCommandBuffers" => void_fn!(o::free_command_buffers, vk::PFN_vkFreeCommandBuffers),
+        "vkCreateQueryPool" => void_fn!(o::create_query_pool, vk::PFN_vkCreateQueryPool),
+        "vkDestroyQueryPool" => void_fn!(o::destroy_query_pool, vk::PFN_vkDestroyQueryPool),
+        "vkResetQueryPool" => void_fn!(o::reset_query_pool, vk::PFN_vkResetQueryPool),
+        "vkResetQueryPoolEXT" => void_fn!(o::reset_query_pool_ext, vk::PFN_vkResetQueryPool),
+        "vkBeginCommandBuffer" => void_fn!(c::begin_command_buffer, vk::PFN_vkBeginCommandBuffer),
+        "vkResetCommandBuffer" => void_fn!(c::reset_command_buffer, vk::PFN_vkResetCommandBuffer),
+        "vkCmdResetQueryPool" => void_fn!(c::cmd_reset_query_pool, vk::PFN_vkCmdResetQueryPool),
+        "vkCmdBeginQuery" => void_fn!(c::cmd_begin_query, vk::PFN_vkCmdBeginQuery),
+        "vkCmdEndQuery" => void_fn!(c::cmd_end_query, vk::PFN_vkCmdEndQuery),
+        "vkCmdBeginRenderPass" => void_fn!(c::cmd_begin_render_pass, vk::PFN_vkCmdBeginRenderPass),
+        "vkCmdBeginRenderPass2" => void_fn!(c::cmd_begin_render_pass2, vk::PFN_vkCmdBeginRenderPass2),
+        "vkCmdBeginRenderPass2KHR" => void_fn!(c::cmd_begin_render_pass2_khr, vk::PFN_vkCmdBeginRenderPass2),
+        "vkCmdNextSubpass" => void_fn!(c::cmd_next_subpass, vk::PFN_vkCmdNextSubpass),
+        "vkCmdNextSubpass2" => void_fn!(c::cmd_next_subpass2, vk::PFN_vkCmdNextSubpass2),
+        "vkCmdNextSubpass2KHR" => void_fn!(c::cmd_next_subpass2_khr, vk::PFN_vkCmdNextSubpass2),
+        "vkCmdEndRenderPass" => void_fn!(c::cmd_end_render_pass, vk::PFN_vkCmdEndRenderPass),
+        "vkCmdEndRenderPass2" => void_fn!(c::cmd_end_render_pass2, vk::PFN_vkCmdEndRenderPass2),
+        "vkCmdEndRenderPass2KHR" => void_fn!(c::cmd_end_render_pass2_khr, vk::PFN_vkCmdEndRenderPass2),
+        "vkCmdBeginRendering" => void_fn!(c::cmd_begin_rendering, vk::PFN_vkCmdBeginRendering),
+        "vkCmdBeginRenderingKHR" => void_fn!(c::cmd_begin_rendering_khr, vk::PFN_vkCmdBeginRendering),
+        "vkCmdEndRendering" => void_fn!(c::cmd_end_rendering, vk::PFN_vkCmdEndRendering),
+        "vkCmdEndRenderingKHR" => void_fn!(c::cmd_end_rendering_khr, vk::PFN_vkCmdEndRendering),
+        "vkCmdDraw" => void_fn!(c::cmd_draw, vk::PFN_vkCmdDraw),
+        "vkCmdDrawIndexed" => void_fn!(c::cmd_draw_indexed, vk::PFN_vkCmdDrawIndexed),
+        "vkCmdDrawIndirect" => void_fn!(c::cmd_draw_indirect, vk::PFN_vkCmdDrawIndirect),
+        "vkCmdDrawIndexedIndirect" => void_fn!(c::cmd_draw_indexed_indirect, vk::PFN_vkCmdDrawIndexedIndirect),
+        "vkCmdDrawIndirectCount" => void_fn!(c::cmd_draw_indirect_count, vk::PFN_vkCmdDrawIndirectCount),
+        "vkCmdDrawIndirectCountKHR" => void_fn!(c::cmd_draw_indirect_count_khr, vk::PFN_vkCmdDrawIndirectCount),
+        "vkCmdDrawIndexedIndirectCount" => {
+            void_fn!(c::cmd_draw_indexed_indirect_count, vk::PFN_vkCmdDrawIndexedIndirectCount)
+        }
+        "vkCmdDrawIndexedIndirectCountKHR" => {
+            void_fn!(c::cmd_draw_indexed_indirect_count_khr, vk::PFN_vkCmdDrawIndexedIndirectCount)
+        }
+        "vkCmdBeginDebugUtilsLabelEXT" => {
+            void_fn!(c::cmd_begin_debug_utils_label, vk::PFN_vkCmdBeginDebugUtilsLabelEXT)
+        }
+        "vkCmdEndDebugUtilsLabelEXT" => void_fn!(c::cmd_end_debug_utils_label, vk::PFN_vkCmdEndDebugUtilsLabelEXT),
+        "vkCmdInsertDebugUtilsLabelEXT" => {
+            void_fn!(c::cmd_insert_debug_utils_label, vk::PFN_vkCmdInsertDebugUtilsLabelEXT)
+        }
+        "vkQueueSubmit" => void_fn!(q::queue_submit, vk::PFN_vkQueueSubmit),
+        "vkQueueSubmit2" => void_fn!(q::queue_submit2, vk::PFN_vkQueueSubmit2),
+        "vkQueueSubmit2KHR" => void_fn!(q::queue_submit2_khr, vk::PFN_vkQueueSubmit2),
+        "vkQueuePresentKHR" => void_fn!(q::queue_present, vk::PFN_vkQueuePresentKHR),
+        "vkWaitForFences" => void_fn!(q::wait_for_fences, vk::PFN_vkWaitForFences),
+        "vkGetFenceStatus" => void_fn!(q::get_fence_status, vk::PFN_vkGetFenceStatus),
+        "vkQueueWaitIdle" => void_fn!(q::queue_wait_idle, vk::PFN_vkQueueWaitIdle),
+        "vkDeviceWaitIdle" => void_fn!(q::device_wait_idle, vk::PFN_vkDeviceWaitIdle),
+        _ => None,
+    }
+}
+
+/// The layer's hook for an instance-level function name.
+fn instance_hook(name: &str) -> vk::PFN_vkVoidFunction {
+    match name {
+        "vkGetInstanceProcAddr" => void_fn!(get_instance_proc_addr, vk::PFN_vkGetInstanceProcAddr),
+        "vkCreateInstance" => void_fn!(create_instance, vk::PFN_vkCreateInstance),
+        "vkDestroyInstance" => void_fn!(destroy_instance, vk::PFN_vkDestroyInstance),
+        "vkCreateDevice" => void_fn!(create_device, vk::PFN_vkCreateDevice),
+        _ => None,
+    }
+}
+
+/// The loader asks which interface version the layer speaks and gets its entry points.
+///
+/// # Safety
+/// Called by the Vulkan loader with a valid (or null) `VkNegotiateLayerInterface`.
+#[no_mangle]
+pub unsafe extern "system" fn vkNegotiateLoaderLayerInterfaceVersion(
+    interface: *mut NegotiateLayerInterface,
+) -> vk::Result {
+    guard(vk::Result::ERROR_INITIALIZATION_FAILED, || {
+        // SAFETY: the loader's struct, or null.
+        let Some(interface) = (unsafe { interface.as_mut() }) else { return vk::Result::ERROR_INITIALIZATION_FAILED };
+        if interface.s_type != LAYER_NEGOTIATE_INTERFACE_STRUCT
+            || interface.loader_layer_interface_version < LAYER_INTERFACE_VERSION
+        {
+            return vk::Result::ERROR_INITIALIZATION_FAILED;
+        }
+        interface.loader_layer_interface_version = LAYER_INTERFACE_VERSION;
+        interface.pfn_get_instance_proc_addr = Some(get_instance_proc_addr);
+        interface.pfn_get_device_proc_addr = Some(get_device_proc_addr);
+        interface.pfn_get_physical_device_proc_addr = None;
+        vk::Result::SUCCESS
+    })
+}
+
+/// The exported vkGetInstanceProcAddr. The layer hands out [`get_instance_proc_addr`] instead of
+/// this symbol's address: inside a shared library, a reference to an exported name binds to the
+/// process's first definition, which is the loader's own vkGetInstanceProcAddr when the
+/// application links libvulkan directly (and calling back into the loader deadlocks it).
+///
+/// # Safety
+/// Called by the loader (or application) with a valid name.
+#[no_mangle]
+pub unsafe extern "system" fn vkGetInstanceProcAddr(
+    instance: vk::Instance,
+    name: *const c_char,
+) -> vk::PFN_vkVoidFunction {
+    // SAFETY: the caller's arguments.
+    unsafe { get_instance_proc_addr(instance, name) }
+}
+
+/// The exported vkGetDeviceProcAddr (see [`vkGetInstanceProcAddr`] for why it only forwards).
+///
+/// # Safety
+/// Called by the loader (or application) with a device the layer created and a valid name.
+#[no_mangle]
+pub unsafe extern "system" fn vkGetDeviceProcAddr(device: vk::Device, name: *const c_char) -> vk::PFN_vkVoidFunction {
+    // SAFETY: the caller's arguments.
+    unsafe { get_device_proc_addr(device, name) }
+}
+
+/// The layer's vkGetInstanceProcAddr: its hooks where the chain below has the function, the
+/// next layer's function otherwise.
+unsafe extern "system" fn get_instance_proc_addr(
+    instance: vk::Instance,
+    name: *const c_char,
+) -> vk::PFN_vkVoidFunction {
+    guard(None, || {
+        // SAFETY: a NUL-terminated name from the caller.
+        let name_str = unsafe { c_name(name) }?;
+        if let Some(hook) = instance_hook(name_str) {
+            return Some(hook);
+        }
+        let data = state::instance_of(instance.as_raw())?;
+        // SAFETY: the next layer's GIPA with its instance and the caller's name.
+        let next = unsafe { (data.gipa)(instance, name) };
+        if next.is_some() && data.config.out.is_some() {
+            if let Some(hook) = device_hook(name_str) {
+                return Some(hook);
+            }
+        }
+        next
+    })
+}
+
+/// The layer's vkGetDeviceProcAddr: its hooks for functions the device has (only while
+/// measuring), the next layer's function otherwise.
+unsafe extern "system" fn get_device_proc_addr(device: vk::Device, name: *const c_char) -> vk::PFN_vkVoidFunction {
+    guard(None, || {
+        // SAFETY: a NUL-terminated name from the caller.
+        let name_str = unsafe { c_name(name) }?;
+        if name_str == "vkGetDeviceProcAddr" {
+            return device_hook(name_str);
+        }
+        let data = state::device_of(device.as_raw())?;
+        // SAFETY: the next layer's GDPA with the device it created and the caller's name.
+        let next = unsafe { (data.gdpa)(device, name) };
+        if next.is_some() && (data.active() || name_str == "vkDestroyDevice") {
+            if let Some(hook) = device_hook(name_str) {
+                return Some(hook);
+            }
+        }
+        next
+    })
+}

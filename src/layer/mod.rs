@@ -1,0 +1,22 @@
+//! `VK_LAYER_NOSTENCIL_fillrate`: a Vulkan layer, built into `libnostencil.so` (the crate's
+//! cdylib), that wraps every render pass instance of any application in the queries
+//! `nostencil profile` uses, and writes per-frame, per-pass fill-rate counters (DESIGN.md
+//! section 12).
+
+pub mod aggregate;
+pub mod attachments;
+pub mod commands;
+pub mod config;
+pub mod exports;
+pub mod frames;
+pub mod lifecycle;
+pub mod loader;
+pub mod manifest;
+pub mod objects;
+pub mod output;
+pub mod queue;
+pub mod readback;
+pub mod recording;
+pub mod report;
+pub mod slots;
+pub mod state;

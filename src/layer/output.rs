@@ -1,0 +1,342 @@
+//! The result file: JSON (the report types), CSV (one line per render pass of every kept frame,
+//! then the aggregate's mean/min/max lines) or a table like `nostencil profile`'s. Written
+//! atomically: a temp file beside the target, then a rename.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use super::config::OutputFormat;
+use super::report::{Counters, FillrateReport, RenderPassRow};
+
+pub fn render(report: &FillrateReport, format: OutputFormat) -> String {
+    match format {
+        OutputFormat::Json => {
+            serde_json::to_string_pretty(report).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
+        }
+        OutputFormat::Csv => csv(report),
+        OutputFormat::Table => table(report),
+    }
+}
+
+/// Writes `text` to `path` through a temp file and a rename, so a reader never sees half a file.
+pub fn write_atomically(path: &Path, text: &str) -> std::io::Result<()> {
+    let mut temp = path.as_os_str().to_owned();
+    temp.push(format!(".tmp{}", std::process::id()));
+    std::fs::write(&temp, text)?;
+    std::fs::rename(&temp, path)
+}
+
+fn csv_field(text: &str) -> String {
+    if text.contains([',', '"', '\n']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_owned()
+    }
+}
+
+const CSV_HEADER: &str = "frame,index,label,api,x,y,width,height,samples,attachments,draws,vertex_invocations,\
+clipping_primitives,fragment_invocations,fragments_per_pixel,samples_passed,overdraw,gpu_ms,bytes_loaded,bytes_stored,\
+not_measured";
+
+fn opt<T: std::fmt::Display>(value: Option<T>) -> String {
+    value.map_or(String::new(), |v| v.to_string())
+}
+
+/// The counter columns of a CSV line.
+fn csv_counters<N: std::fmt::Display + Copy>(c: &Counters<N>) -> String {
+    format!(
+        "{},{},{},{},{},{},{},{},{},{}",
+        c.draws,
+        opt(c.vertex_invocations),
+        opt(c.clipping_primitives),
+        opt(c.fragment_invocations),
+        opt(c.fragments_per_pixel),
+        c.samples_passed,
+        c.overdraw,
+        opt(c.gpu_ms),
+        c.bytes_loaded,
+        c.bytes_stored
+    )
+}
+
+fn csv(report: &FillrateReport) -> String {
+    let mut out = format!("{CSV_HEADER}\n");
+    for frame in &report.frames {
+        for row in &frame.render_passes {
+            let a = &row.render_area;
+            let counters = row.counters.as_ref().map_or(",,,,,,,,,".to_owned(), csv_counters);
+            let _ = writeln!(
+                out,
+                "{},{},{},{},{},{},{},{},{},{},{counters},{}",
+                frame.index,
+                row.index,
+                csv_field(row.label.as_deref().unwrap_or("")),
+                row.api,
+                a.x,
+                a.y,
+                a.width,
+                a.height,
+                row.samples,
+                csv_field(&row.key()),
+                csv_field(row.not_measured.as_deref().unwrap_or(""))
+            );
+        }
+    }
+    // The aggregate: "mean"/"min"/"max" in the frame column, the position as index.
+    for agg in &report.aggregate {
+        let label = csv_field(agg.label.as_deref().unwrap_or(""));
+        let key = csv_field(&agg.key);
+        let lines =
+            [("mean", csv_counters(&agg.mean)), ("min", csv_counters(&agg.min)), ("max", csv_counters(&agg.max))];
+        for (what, counters) in lines {
+            let _ = writeln!(out, "{what},{},{label},,,,,,,{key},{counters},", agg.position);
+        }
+    }
+    out
+}
+
+/// Left-aligned first column, right-aligned others, two spaces apart.
+fn aligned(header: &[&str], rows: &[Vec<String>]) -> String {
+    let widths: Vec<usize> = (0..header.len())
+        .map(|c| rows.iter().map(|r| r[c].len()).chain([header[c].len()]).max().unwrap_or(0))
+        .collect();
+    let line = |cells: Vec<&str>| {
+        cells
+            .iter()
+            .enumerate()
+            .map(
+                |(c, cell)| {
+                    if c == 0 {
+                        format!("{cell:<w$}", w = widths[c])
+                    } else {
+                        format!("{cell:>w$}", w = widths[c])
+                    }
+                },
+            )
+            .collect::<Vec<_>>()
+            .join("  ")
+    };
+    let mut out = line(header.to_vec()) + "\n";
+    for row in rows {
+        out += &line(row.iter().map(String::as_str).collect());
+        out.push('\n');
+    }
+    out
+}
+
+fn pass_name(row: &RenderPassRow) -> String {
+    match &row.label {
+        Some(label) => format!("#{} {label}", row.index),
+        None => format!("#{}", row.index),
+    }
+}
+
+fn table(report: &FillrateReport) -> String {
+    let optu = |v: Option<u64>| v.map_or("n/a".to_owned(), |v| v.to_string());
+    let optf = |v: Option<f64>| v.map_or("n/a".to_owned(), |v| format!("{v:.3}"));
+    let c = report.counters;
+    let mut out = format!(
+        "{} | {} | {} frame(s) measured | pipeline statistics {} | precise occlusion {} | timestamps {}\n",
+        report.application,
+        report.device,
+        report.frames_measured,
+        if c.pipeline_statistics { "yes" } else { "no" },
+        if c.occlusion_precise { "yes" } else { "no" },
+        if c.timestamps { "yes" } else { "no" },
+    );
+    if let Some(frame) = report.frames.last() {
+        let _ = writeln!(out, "\nframe {} (last measured):", frame.index);
+        let header = [
+            "pass",
+            "api",
+            "area",
+            "draws",
+            "vertices",
+            "primitives",
+            "fragments",
+            "frag/px",
+            "samples",
+            "overdraw",
+            "GPU ms",
+            "loaded B",
+            "stored B",
+        ];
+        let rows: Vec<Vec<String>> = frame
+            .render_passes
+            .iter()
+            .map(|r| {
+                let a = &r.render_area;
+                let mut cells = vec![pass_name(r), r.api.clone(), format!("{}x{}x{}", a.width, a.height, r.samples)];
+                match &r.counters {
+                    Some(c) => cells.extend([
+                        c.draws.to_string(),
+                        optu(c.vertex_invocations),
+                        optu(c.clipping_primitives),
+                        optu(c.fragment_invocations),
+                        optf(c.fragments_per_pixel),
+                        c.samples_passed.to_string(),
+                        format!("{:.3}", c.overdraw),
+                        optf(c.gpu_ms),
+                        c.bytes_loaded.to_string(),
+                        c.bytes_stored.to_string(),
+                    ]),
+                    None => {
+                        cells.push(format!("not measured: {}", r.not_measured.as_deref().unwrap_or("unknown")));
+                        cells.extend(vec![String::new(); 9]);
+                    }
+                }
+                cells
+            })
+            .collect();
+        out += &aligned(&header, &rows);
+        let _ = writeln!(out, "\nattachments (tile traffic from the load/store ops, over the render area):");
+        for r in &frame.render_passes {
+            let _ = writeln!(out, "  {}", pass_name(r));
+            for a in &r.attachments {
+                let stencil = match (&a.stencil_load_op, &a.stencil_store_op) {
+                    (Some(l), Some(s)) => format!("  stencil {l}/{s}"),
+                    _ => String::new(),
+                };
+                let _ = writeln!(
+                    out,
+                    "    {:<13} {:<20} {:>2} samples  load {:<9} store {:<9}{stencil}  loaded {:>10} B  stored {:>10} B",
+                    a.role, a.format, a.samples, a.load_op, a.store_op, a.bytes_loaded, a.bytes_stored
+                );
+            }
+        }
+    }
+    if !report.aggregate.is_empty() {
+        let _ = writeln!(
+            out,
+            "\naggregate over {} frame(s), passes matched by position and attachments:",
+            report.frames_measured
+        );
+        let header = [
+            "pass",
+            "frames",
+            "samples mean",
+            "min",
+            "max",
+            "fragments mean",
+            "min",
+            "max",
+            "GPU ms mean",
+            "min",
+            "max",
+        ];
+        let rows: Vec<Vec<String>> = report
+            .aggregate
+            .iter()
+            .map(|a| {
+                let name = match &a.label {
+                    Some(label) => format!("#{} {label}", a.position),
+                    None => format!("#{}", a.position),
+                };
+                vec![
+                    name,
+                    a.frames.to_string(),
+                    format!("{:.1}", a.mean.samples_passed),
+                    a.min.samples_passed.to_string(),
+                    a.max.samples_passed.to_string(),
+                    optf(a.mean.fragment_invocations),
+                    optu(a.min.fragment_invocations),
+                    optu(a.max.fragment_invocations),
+                    optf(a.mean.gpu_ms),
+                    optf(a.min.gpu_ms),
+                    optf(a.max.gpu_ms),
+                ]
+            })
+            .collect();
+        out += &aligned(&header, &rows);
+        for a in &report.aggregate {
+            let _ = writeln!(out, "  #{}: {}", a.position, a.key);
+        }
+    }
+    if !report.not_measured.is_empty() {
+        let _ = writeln!(out, "\nnot measured:");
+        for n in &report.not_measured {
+            let _ = writeln!(out, "  {} x {}", n.count, n.what);
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::layer::aggregate::{tests::row, Aggregator};
+    use crate::layer::report::{CounterSupport, FrameRows, NotMeasured, FILLRATE_SCHEMA};
+
+    fn report() -> FillrateReport {
+        let mut passes = vec![row(10, 100, Some(1e6)), row(20, 7, None)];
+        passes[1].index = 1;
+        passes[0].label = Some("shadow, \"main\"".into());
+        passes.push(RenderPassRow {
+            index: 2,
+            counters: None,
+            not_measured: Some("secondary command buffer".into()),
+            ..row(20, 0, None)
+        });
+        let mut aggregate = Aggregator::default();
+        aggregate.add_frame(&passes);
+        FillrateReport {
+            schema: FILLRATE_SCHEMA.into(),
+            application: "app".into(),
+            device: "gpu".into(),
+            counters: CounterSupport { pipeline_statistics: true, occlusion_precise: true, timestamps: false },
+            frames_measured: 1,
+            not_measured: vec![NotMeasured { what: "secondary command buffer".into(), count: 1 }],
+            frames: vec![FrameRows { index: 0, render_passes: passes }],
+            aggregate: aggregate.rows(),
+        }
+    }
+
+    #[test]
+    fn json_round_trips_through_the_same_types() {
+        let report = report();
+        let text = render(&report, OutputFormat::Json);
+        assert_eq!(FillrateReport::from_json(&text), Ok(report));
+        let wrong = text.replace(FILLRATE_SCHEMA, "nostencil-fillrate/0");
+        assert!(FillrateReport::from_json(&wrong).is_err_and(|e| e.contains("nostencil-fillrate/0")));
+    }
+
+    #[test]
+    fn csv_has_one_line_per_pass_then_mean_min_max_with_quoted_fields() {
+        let text = render(&report(), OutputFormat::Csv);
+        let lines: Vec<&str> = text.lines().collect();
+        let columns = CSV_HEADER.split(',').count();
+        // Header, 3 passes, 2 aggregated passes x 3 lines.
+        assert_eq!(lines.len(), 1 + 3 + 6);
+        assert!(lines[1].starts_with("0,0,\"shadow, \"\"main\"\"\",vkCmdBeginRenderPass,0,0,10,10,1,"));
+        assert!(lines[1].contains(",2,6,2,200,2,100,1,1,0,0,"), "{}", lines[1]);
+        assert!(lines[3].ends_with(",secondary command buffer"));
+        assert!(lines[4].starts_with("mean,0,"));
+        assert!(lines[5].starts_with("min,0,") && lines[6].starts_with("max,0,"));
+        // Every line has the header's columns (lines with a quoted comma aside).
+        for line in lines.iter().filter(|l| !l.contains('"')) {
+            assert_eq!(line.split(',').count(), columns, "{line}");
+        }
+    }
+
+    #[test]
+    fn table_lists_the_last_frame_the_aggregate_and_what_was_not_measured() {
+        let text = render(&report(), OutputFormat::Table);
+        assert!(text.starts_with("app | gpu | 1 frame(s) measured | pipeline statistics yes"));
+        assert!(text.contains("#0 shadow, \"main\""));
+        assert!(text.contains("not measured: secondary command buffer"));
+        assert!(text.contains("aggregate over 1 frame(s)"));
+        assert!(text.contains("1 x secondary command buffer"));
+    }
+
+    #[test]
+    fn atomic_write_leaves_only_the_target() {
+        let dir = std::env::temp_dir().join(format!("nostencil-fillrate-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let path = dir.join("out.json");
+        write_atomically(&path, "one").expect("write");
+        write_atomically(&path, "two").expect("rewrite");
+        assert_eq!(std::fs::read_to_string(&path).expect("read"), "two");
+        assert_eq!(std::fs::read_dir(&dir).expect("list").count(), 1);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

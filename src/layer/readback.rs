@@ -1,0 +1,212 @@
+//! Reading results back once a submission is known complete, turning them into report rows,
+//! finishing frames, and writing the result file when it is due.
+
+use ash::vk;
+
+use super::output::{render, write_atomically};
+use super::recording::{AppGap, RecordedPass};
+use super::report::{Counters, FillrateReport, NotMeasured, RawCounters, RenderPassRow, FILLRATE_SCHEMA};
+use super::slots::{QueryKind, Slot};
+use super::state::{DeviceData, DeviceState, Pending};
+
+/// Statistic bits the layer's own pools count, in result order.
+pub const STATISTICS: [vk::QueryPipelineStatisticFlags; 3] = [
+    vk::QueryPipelineStatisticFlags::VERTEX_SHADER_INVOCATIONS,
+    vk::QueryPipelineStatisticFlags::CLIPPING_PRIMITIVES,
+    vk::QueryPipelineStatisticFlags::FRAGMENT_SHADER_INVOCATIONS,
+];
+
+/// The values of one query (`words` u64s), if available: never waits, so a result the layer
+/// got wrong about being complete shows up as "not available" instead of a hang.
+fn read_query(device: &DeviceData, slot: Slot, words: usize) -> Result<Vec<u64>, String> {
+    let mut data = vec![0u64; words + 1];
+    let flags = vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WITH_AVAILABILITY;
+    // SAFETY: `data` holds one query's `words` values and its availability word, as TYPE_64 |
+    // WITH_AVAILABILITY writes them; the pool is alive (the layer's own, destroyed only after its
+    // pending reads, or the application's, checked present in `app_pools`).
+    let result = unsafe {
+        (device.fns.fp_v1_0().get_query_pool_results)(
+            device.handle,
+            slot.pool,
+            slot.query,
+            1,
+            data.len() * 8,
+            data.as_mut_ptr().cast(),
+            (data.len() * 8) as vk::DeviceSize,
+            flags,
+        )
+    };
+    if (result != vk::Result::SUCCESS && result != vk::Result::NOT_READY) || data[words] == 0 {
+        return Err("query results not available when read".into());
+    }
+    data.truncate(words);
+    Ok(data)
+}
+
+/// The application's statistics query in a gap, as the layer's three counters (None for a bit
+/// its pool did not count).
+fn gap_statistics(device: &DeviceData, gap: &AppGap) -> Result<[Option<u64>; 3], String> {
+    let words = gap.statistics.as_raw().count_ones() as usize;
+    let values = read_query(device, Slot { pool: gap.pool, query: gap.query }, words)?;
+    Ok(STATISTICS.map(|bit| {
+        gap.statistics.contains(bit).then(|| {
+            let below = gap.statistics.as_raw() & (bit.as_raw() - 1);
+            values[below.count_ones() as usize]
+        })
+    }))
+}
+
+/// One pass's raw counters: its segments and gaps summed.
+fn read_pass(
+    device: &DeviceData,
+    state: &DeviceState,
+    pass: &RecordedPass,
+    timestamp_bits: u32,
+) -> Result<RawCounters, String> {
+    let mut raw = RawCounters { draws: pass.draws, ..RawCounters::default() };
+    for slot in &pass.occlusion {
+        raw.samples_passed += read_query(device, *slot, 1)?[0];
+    }
+    let mut stats = if device.info.support.pipeline_statistics { [Some(0u64); 3] } else { [None; 3] };
+    for slot in &pass.statistics {
+        let values = read_query(device, *slot, 3)?;
+        for (sum, value) in stats.iter_mut().zip(values) {
+            *sum = sum.map(|s| s + value);
+        }
+    }
+    for gap in &pass.gaps {
+        if !state.app_pools.contains_key(&gap.pool) {
+            return Err("application query pool destroyed before the layer read it".into());
+        }
+        match gap.kind {
+            QueryKind::Occlusion => {
+                raw.samples_passed += read_query(device, Slot { pool: gap.pool, query: gap.query }, 1)?[0]
+            }
+            QueryKind::Statistics => {
+                let values = gap_statistics(device, gap)?;
+                for (sum, value) in stats.iter_mut().zip(values) {
+                    *sum = match (*sum, value) {
+                        (Some(s), Some(v)) => Some(s + v),
+                        _ => None,
+                    };
+                }
+            }
+            QueryKind::Timestamp => {}
+        }
+    }
+    [raw.vertex_invocations, raw.clipping_primitives, raw.fragment_invocations] = stats;
+    if let Some((begin, end)) = pass.timestamps {
+        let mask = if timestamp_bits >= 64 { u64::MAX } else { (1u64 << timestamp_bits) - 1 };
+        let begin = read_query(device, begin, 1)?[0] & mask;
+        let end = read_query(device, end, 1)?[0] & mask;
+        raw.gpu_ns = Some(end.wrapping_sub(begin) as f64 * device.info.timestamp_period);
+    }
+    Ok(raw)
+}
+
+/// The report row of a read-back pass (index set when the frame is assembled).
+fn row(pass: &RecordedPass, result: Result<RawCounters, String>) -> RenderPassRow {
+    let desc = &pass.desc;
+    let (counters, not_measured) = match (pass.not_measured(), result) {
+        (Some(reason), _) => (None, Some(reason.to_owned())),
+        (None, Ok(raw)) => (Some(Counters::new(&raw, &desc.area, desc.samples, &desc.attachments)), None),
+        (None, Err(reason)) => (None, Some(reason)),
+    };
+    RenderPassRow {
+        index: 0,
+        label: pass.label.clone(),
+        api: desc.api.to_owned(),
+        render_area: desc.area,
+        samples: desc.samples,
+        attachments: desc.attachments.clone(),
+        counters,
+        not_measured,
+    }
+}
+
+/// Reads back the pending submissions `done` says are complete, and finishes frames.
+pub fn read_completed(device: &DeviceData, state: &mut DeviceState, done: impl Fn(&Pending) -> bool) {
+    let (ready, waiting): (Vec<Pending>, Vec<Pending>) = std::mem::take(&mut state.pending).into_iter().partition(done);
+    state.pending = waiting;
+    for pending in ready {
+        let rows: Vec<RenderPassRow> = pending
+            .passes
+            .iter()
+            .map(|pass| {
+                let result = match &pending.spoiled {
+                    Some(reason) => Err(reason.clone()),
+                    None => read_pass(device, state, pass, pending.timestamp_bits),
+                };
+                row(pass, result)
+            })
+            .collect();
+        for row in &rows {
+            if let Some(reason) = &row.not_measured {
+                state.count_not_measured(reason);
+            }
+        }
+        state.frames().completed(pending.frame, pending.sequence, rows);
+    }
+    let finished = state.frames().finish_ready();
+    if finished > 0 {
+        write_if_due(device, state, false);
+    }
+}
+
+/// The report of everything finished so far.
+pub fn report(device: &DeviceData, state: &mut DeviceState) -> FillrateReport {
+    let not_measured =
+        state.not_measured.iter().map(|(what, count)| NotMeasured { what: what.clone(), count: *count }).collect();
+    let frames = state.frames();
+    FillrateReport {
+        schema: FILLRATE_SCHEMA.into(),
+        application: device.application.clone(),
+        device: device.info.name.clone(),
+        counters: device.info.support,
+        frames_measured: frames.frames_measured,
+        not_measured,
+        frames: frames.kept.iter().cloned().collect(),
+        aggregate: frames.aggregate.rows(),
+    }
+}
+
+/// Whether the file is written now: at the end (`last`), once the limited frames are all in
+/// (`done`), or when `every` more frames were measured since the last write.
+fn write_due(last: bool, done: bool, every: u64, measured: u64, written_at: u64) -> bool {
+    last || done || (every > 0 && measured >= written_at + every)
+}
+
+/// Writes the file at the end (`last`), when the limited frames are all in, or every K frames.
+pub fn write_if_due(device: &DeviceData, state: &mut DeviceState, last: bool) {
+    let Some(path) = device.config.out.clone() else { return };
+    if state.finished {
+        return;
+    }
+    let frames = state.frames();
+    let (measured, done) = (frames.frames_measured, frames.done());
+    if !write_due(last, done, device.config.every, measured, state.written_at) {
+        return;
+    }
+    let text = render(&report(device, state), device.config.format);
+    if let Err(e) = write_atomically(&path, &text) {
+        eprintln!("nostencil fill-rate layer: cannot write {}: {e}", path.display());
+    }
+    state.written_at = measured;
+    state.finished = done;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::write_due;
+
+    #[test]
+    fn the_file_is_written_at_the_end_when_done_and_every_k_frames() {
+        assert!(write_due(true, false, 0, 0, 0));
+        assert!(write_due(false, true, 0, 3, 0));
+        assert!(!write_due(false, false, 0, 100, 0), "EVERY=0: only at the end");
+        assert!(!write_due(false, false, 3, 2, 0));
+        assert!(write_due(false, false, 3, 3, 0));
+        assert!(!write_due(false, false, 3, 5, 3));
+        assert!(write_due(false, false, 3, 6, 3));
+    }
+}

@@ -1,0 +1,463 @@
+//! One command buffer's recording as the layer sees it: the render pass instances it began,
+//! their draws and label, the query slots that measure them, and the application's own queries.
+//! Pure bookkeeping: each step returns the query commands to record, so it is tested without a
+//! GPU. Vulkan rules it follows:
+//! - a query begun inside a render pass ends in the same subpass: the layer's queries are split
+//!   into segments at every vkCmdNextSubpass, summed at read back;
+//! - two queries of one type cannot be active at once: when the application begins its own
+//!   occlusion or statistics query inside a measured pass, the layer's segment of that type ends
+//!   and the application's query covers the gap (read back from its pool and added); a new
+//!   segment begins when the application's query ends;
+//! - an application query of those types already active when a pass begins: the pass is not
+//!   measured (the layer cannot begin its own), and said so.
+
+use std::collections::HashMap;
+
+use ash::vk;
+
+use super::report::{AttachmentRow, RenderArea};
+use super::slots::{QueryCmd, QueryKind, Slot, SlotPool};
+
+/// Occlusion and statistics segments one render pass may use.
+pub const SEGMENTS_PER_PASS: u32 = 64;
+
+/// An application query inside a measured pass, whose result fills the layer's gap.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AppGap {
+    pub kind: QueryKind,
+    pub pool: vk::QueryPool,
+    pub query: u32,
+    /// Occlusion: the application asked for PRECISE.
+    pub precise: bool,
+    /// Statistics: the application pool's statistic bits.
+    pub statistics: vk::QueryPipelineStatisticFlags,
+    /// Still active (not yet ended by the application).
+    pub open: bool,
+}
+
+/// What the layer knows of a render pass instance when it begins.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PassDesc {
+    pub api: &'static str,
+    pub area: RenderArea,
+    pub samples: u32,
+    pub attachments: Vec<AttachmentRow>,
+    /// Why it cannot be measured, decided at begin (secondary contents, multiview, ...).
+    pub not_measured: Option<String>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct RecordedPass {
+    pub desc: PassDesc,
+    pub label: Option<String>,
+    pub draws: u64,
+    pub occlusion: Vec<Slot>,
+    pub statistics: Vec<Slot>,
+    /// (begin, end) timestamps.
+    pub timestamps: Option<(Slot, Slot)>,
+    pub gaps: Vec<AppGap>,
+    active_occlusion: Option<Slot>,
+    active_statistics: Option<Slot>,
+    measuring: bool,
+}
+
+impl RecordedPass {
+    pub fn not_measured(&self) -> Option<&str> {
+        self.desc.not_measured.as_deref()
+    }
+}
+
+/// The device's query support, as the layer enabled it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct QuerySupport {
+    pub statistics: bool,
+    pub precise: bool,
+    /// The command buffer's queue family writes timestamps.
+    pub timestamps: bool,
+}
+
+#[derive(Debug)]
+pub struct Recording {
+    pub secondary: bool,
+    /// Begun with SIMULTANEOUS_USE.
+    pub simultaneous: bool,
+    pub passes: Vec<RecordedPass>,
+    open: Option<usize>,
+    labels: Vec<String>,
+    inserted_label: Option<String>,
+    /// Application queries active outside any pass: (pool, query) -> kind.
+    app_active: HashMap<(vk::QueryPool, u32), QueryKind>,
+    /// Query ranges the application resets in this recording.
+    pub app_resets: Vec<(vk::QueryPool, u32, u32)>,
+    pub support: QuerySupport,
+    pub occlusion: SlotPool,
+    pub statistics: SlotPool,
+    pub timestamps: SlotPool,
+}
+
+impl Recording {
+    pub fn new(secondary: bool, support: QuerySupport) -> Self {
+        Recording {
+            secondary,
+            simultaneous: false,
+            passes: Vec::new(),
+            open: None,
+            labels: Vec::new(),
+            inserted_label: None,
+            app_active: HashMap::new(),
+            app_resets: Vec::new(),
+            support,
+            occlusion: SlotPool::new(QueryKind::Occlusion),
+            statistics: SlotPool::new(QueryKind::Statistics),
+            timestamps: SlotPool::new(QueryKind::Timestamp),
+        }
+    }
+
+    /// vkBeginCommandBuffer / a reset: a fresh recording, keeping the pools.
+    pub fn restart(&mut self, simultaneous: bool) {
+        self.simultaneous = simultaneous;
+        self.passes.clear();
+        self.open = None;
+        self.labels.clear();
+        self.inserted_label = None;
+        self.app_active.clear();
+        self.app_resets.clear();
+        self.occlusion.restart();
+        self.statistics.restart();
+        self.timestamps.restart();
+    }
+
+    /// Every pool this recording created (to destroy with the command buffer).
+    pub fn pools(&self) -> impl Iterator<Item = vk::QueryPool> + '_ {
+        [&self.occlusion, &self.statistics, &self.timestamps].into_iter().flat_map(|s| s.pools.iter().copied())
+    }
+
+    pub fn push_label(&mut self, label: String) {
+        self.labels.push(label);
+    }
+
+    pub fn pop_label(&mut self) {
+        self.labels.pop();
+    }
+
+    pub fn insert_label(&mut self, label: String) {
+        self.inserted_label = Some(label);
+    }
+
+    pub fn draw(&mut self) {
+        if let Some(pass) = self.open.and_then(|i| self.passes.get_mut(i)) {
+            pass.draws += 1;
+        }
+    }
+
+    pub fn in_pass(&self) -> bool {
+        self.open.is_some()
+    }
+
+    /// A render pass instance begins: (commands before the application's begin call, commands
+    /// after it). `desc.not_measured` set: recorded but not measured.
+    pub fn begin_pass(
+        &mut self,
+        mut desc: PassDesc,
+        create: &mut dyn FnMut(QueryKind) -> Option<vk::QueryPool>,
+    ) -> (Vec<QueryCmd>, Vec<QueryCmd>) {
+        let label = self.labels.last().cloned().or_else(|| self.inserted_label.take());
+        if desc.not_measured.is_none() {
+            // Occlusion named first when both are active (one reason per pass, the same each run).
+            let active = |kind| self.app_active.values().any(|k| *k == kind);
+            if active(QueryKind::Occlusion) {
+                desc.not_measured = Some("application occlusion query active across the pass".into());
+            } else if active(QueryKind::Statistics) {
+                desc.not_measured = Some("application pipeline statistics query active across the pass".into());
+            }
+        }
+        let mut before = Vec::new();
+        if desc.not_measured.is_none() {
+            let support = self.support;
+            let mut ok = self.occlusion.reserve(SEGMENTS_PER_PASS, create, &mut before);
+            if support.statistics {
+                ok &= self.statistics.reserve(SEGMENTS_PER_PASS, create, &mut before);
+            }
+            if support.timestamps {
+                ok &= self.timestamps.reserve(2, create, &mut before);
+            }
+            if !ok {
+                desc.not_measured = Some("the layer could not create a query pool".into());
+            }
+        }
+        let measuring = desc.not_measured.is_none();
+        self.passes.push(RecordedPass {
+            desc,
+            label,
+            draws: 0,
+            occlusion: Vec::new(),
+            statistics: Vec::new(),
+            timestamps: None,
+            gaps: Vec::new(),
+            active_occlusion: None,
+            active_statistics: None,
+            measuring,
+        });
+        self.open = Some(self.passes.len() - 1);
+        let mut after = Vec::new();
+        if measuring {
+            if self.support.timestamps {
+                if let (Some(begin), Some(end)) = (self.timestamps.take(), self.timestamps.take()) {
+                    after.push(QueryCmd::Timestamp { slot: begin, stage: vk::PipelineStageFlags::TOP_OF_PIPE });
+                    self.open_pass().timestamps = Some((begin, end));
+                }
+            }
+            self.begin_segment(QueryKind::Occlusion, &mut after);
+            self.begin_segment(QueryKind::Statistics, &mut after);
+        }
+        (before, after)
+    }
+
+    fn open_pass(&mut self) -> &mut RecordedPass {
+        let index = self.open.unwrap_or(self.passes.len() - 1);
+        &mut self.passes[index]
+    }
+
+    /// Begins a new layer segment of `kind` in the open pass, unless an application query of
+    /// that kind is active in it.
+    fn begin_segment(&mut self, kind: QueryKind, out: &mut Vec<QueryCmd>) {
+        let (support, precise) = (self.support, self.support.precise);
+        let Some(index) = self.open else { return };
+        let pass = &self.passes[index];
+        if !pass.measuring || pass.gaps.iter().any(|g| g.open && g.kind == kind) {
+            return;
+        }
+        let slot = match kind {
+            QueryKind::Occlusion => self.occlusion.take(),
+            QueryKind::Statistics if support.statistics => self.statistics.take(),
+            _ => return,
+        };
+        let pass = &mut self.passes[index];
+        let Some(slot) = slot else {
+            pass.measuring = false;
+            pass.desc.not_measured = Some(format!("more than {SEGMENTS_PER_PASS} query segments in one render pass"));
+            return;
+        };
+        match kind {
+            QueryKind::Occlusion => {
+                pass.occlusion.push(slot);
+                pass.active_occlusion = Some(slot);
+                out.push(QueryCmd::Begin { slot, precise });
+            }
+            _ => {
+                pass.statistics.push(slot);
+                pass.active_statistics = Some(slot);
+                out.push(QueryCmd::Begin { slot, precise: false });
+            }
+        }
+    }
+
+    /// Ends the open pass's active layer segments (of `kind`, or both when None).
+    fn end_segments(&mut self, kind: Option<QueryKind>, out: &mut Vec<QueryCmd>) {
+        let Some(index) = self.open else { return };
+        let pass = &mut self.passes[index];
+        if kind != Some(QueryKind::Occlusion) {
+            if let Some(slot) = pass.active_statistics.take() {
+                out.push(QueryCmd::End { slot });
+            }
+        }
+        if kind != Some(QueryKind::Statistics) {
+            if let Some(slot) = pass.active_occlusion.take() {
+                out.push(QueryCmd::End { slot });
+            }
+        }
+    }
+
+    /// vkCmdNextSubpass: (before, after). `secondary_contents`: the next subpass runs
+    /// secondary command buffers, which the layer cannot measure.
+    pub fn next_subpass(&mut self, secondary_contents: bool) -> (Vec<QueryCmd>, Vec<QueryCmd>) {
+        let mut before = Vec::new();
+        let mut after = Vec::new();
+        if self.open.is_none() {
+            return (before, after);
+        }
+        self.end_segments(None, &mut before);
+        if secondary_contents {
+            let pass = self.open_pass();
+            if pass.measuring {
+                pass.measuring = false;
+                pass.desc.not_measured = Some("secondary command buffer".into());
+            }
+        }
+        self.begin_segment(QueryKind::Occlusion, &mut after);
+        self.begin_segment(QueryKind::Statistics, &mut after);
+        (before, after)
+    }
+
+    /// The application ends the render pass instance: commands before its end call.
+    pub fn end_pass(&mut self) -> Vec<QueryCmd> {
+        let mut before = Vec::new();
+        let Some(index) = self.open else { return before };
+        self.end_segments(None, &mut before);
+        let pass = &mut self.passes[index];
+        if let Some((_, end)) = pass.timestamps {
+            // The timestamps were taken when the pass began measuring; write the end one even if
+            // the pass stopped measuring since, so the slot is never left unwritten.
+            before.push(QueryCmd::Timestamp { slot: end, stage: vk::PipelineStageFlags::BOTTOM_OF_PIPE });
+        }
+        if pass.gaps.iter().any(|g| g.open) {
+            pass.measuring = false;
+            pass.desc.not_measured = Some("application query left active at the end of the pass".into());
+        }
+        self.open = None;
+        before
+    }
+
+    /// The application begins a query of `kind`: commands before its call.
+    pub fn app_begin_query(
+        &mut self,
+        kind: QueryKind,
+        pool: vk::QueryPool,
+        query: u32,
+        precise: bool,
+        statistics: vk::QueryPipelineStatisticFlags,
+    ) -> Vec<QueryCmd> {
+        let mut before = Vec::new();
+        if kind == QueryKind::Timestamp {
+            return before;
+        }
+        let Some(index) = self.open else {
+            self.app_active.insert((pool, query), kind);
+            return before;
+        };
+        if !self.passes[index].measuring {
+            return before;
+        }
+        self.end_segments(Some(kind), &mut before);
+        let pass = &mut self.passes[index];
+        pass.gaps.push(AppGap { kind, pool, query, precise, statistics, open: true });
+        if kind == QueryKind::Occlusion && self.support.precise && !precise {
+            pass.measuring = false;
+            pass.desc.not_measured = Some("application imprecise occlusion query inside the pass".into());
+            self.end_segments(None, &mut before);
+        }
+        before
+    }
+
+    /// The application ends a query: commands after its call.
+    pub fn app_end_query(&mut self, pool: vk::QueryPool, query: u32) -> Vec<QueryCmd> {
+        let mut after = Vec::new();
+        if self.app_active.remove(&(pool, query)).is_some() {
+            return after;
+        }
+        let Some(index) = self.open else { return after };
+        let pass = &mut self.passes[index];
+        let Some(gap) = pass.gaps.iter_mut().find(|g| g.open && g.pool == pool && g.query == query) else {
+            return after;
+        };
+        gap.open = false;
+        let kind = gap.kind;
+        self.begin_segment(kind, &mut after);
+        after
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use ash::vk::Handle;
+
+    fn desc() -> PassDesc {
+        PassDesc {
+            api: "vkCmdBeginRenderPass",
+            area: RenderArea { x: 0, y: 0, width: 8, height: 8 },
+            samples: 1,
+            attachments: Vec::new(),
+            not_measured: None,
+        }
+    }
+
+    fn recording() -> (Recording, impl FnMut(QueryKind) -> Option<vk::QueryPool>) {
+        let mut next = 100u64;
+        let create = move |kind: QueryKind| {
+            next += 1;
+            Some(vk::QueryPool::from_raw(next * 10 + kind as u64))
+        };
+        (Recording::new(false, QuerySupport { statistics: true, precise: true, timestamps: true }), create)
+    }
+
+    fn begins(cmds: &[QueryCmd]) -> usize {
+        cmds.iter().filter(|c| matches!(c, QueryCmd::Begin { .. })).count()
+    }
+
+    fn ends(cmds: &[QueryCmd]) -> usize {
+        cmds.iter().filter(|c| matches!(c, QueryCmd::End { .. })).count()
+    }
+
+    #[test]
+    fn a_pass_is_bracketed_and_its_subpasses_split_the_segments() {
+        let (mut rec, mut create) = recording();
+        rec.push_label("shadow".into());
+        let (before, after) = rec.begin_pass(desc(), &mut create);
+        assert!(before.iter().all(|c| matches!(c, QueryCmd::Reset { .. })) && before.len() == 3);
+        assert_eq!((begins(&after), after.len()), (2, 3));
+        assert!(matches!(after[0], QueryCmd::Timestamp { stage: vk::PipelineStageFlags::TOP_OF_PIPE, .. }));
+        rec.draw();
+        let (b, a) = rec.next_subpass(false);
+        assert_eq!((ends(&b), begins(&a)), (2, 2));
+        rec.draw();
+        let end = rec.end_pass();
+        assert_eq!(ends(&end), 2);
+        assert!(matches!(end.last(), Some(QueryCmd::Timestamp { stage: vk::PipelineStageFlags::BOTTOM_OF_PIPE, .. })));
+        rec.draw(); // outside a pass: not counted
+        let pass = &rec.passes[0];
+        assert_eq!((pass.draws, pass.occlusion.len(), pass.statistics.len()), (2, 2, 2));
+        assert_eq!(pass.label.as_deref(), Some("shadow"));
+        assert!(pass.not_measured().is_none());
+    }
+
+    #[test]
+    fn an_application_query_inside_a_pass_becomes_a_gap_between_segments() {
+        let (mut rec, mut create) = recording();
+        rec.begin_pass(desc(), &mut create);
+        let app = vk::QueryPool::from_raw(7);
+        let none = vk::QueryPipelineStatisticFlags::empty();
+        let before = rec.app_begin_query(QueryKind::Occlusion, app, 3, true, none);
+        assert_eq!(before.len(), 1);
+        assert!(matches!(before[0], QueryCmd::End { slot } if slot == rec.passes[0].occlusion[0]));
+        let after = rec.app_end_query(app, 3);
+        assert_eq!(begins(&after), 1);
+        rec.end_pass();
+        let pass = &rec.passes[0];
+        assert_eq!((pass.occlusion.len(), pass.statistics.len(), pass.gaps.len()), (2, 1, 1));
+        assert!(!pass.gaps[0].open && pass.not_measured().is_none());
+    }
+
+    #[test]
+    fn application_queries_that_cannot_be_measured_around_are_named() {
+        let (mut rec, mut create) = recording();
+        let app = vk::QueryPool::from_raw(7);
+        let none = vk::QueryPipelineStatisticFlags::empty();
+        rec.app_begin_query(QueryKind::Occlusion, app, 0, true, none);
+        let (before, after) = rec.begin_pass(desc(), &mut create);
+        assert!(before.is_empty() && after.is_empty());
+        assert!(rec.end_pass().is_empty());
+        assert_eq!(rec.passes[0].not_measured(), Some("application occlusion query active across the pass"));
+        rec.app_end_query(app, 0);
+        // Imprecise application occlusion inside a precise pass: not measured, layer queries end.
+        rec.begin_pass(desc(), &mut create);
+        let before = rec.app_begin_query(QueryKind::Occlusion, app, 1, false, none);
+        assert_eq!(ends(&before), 2);
+        rec.app_end_query(app, 1);
+        rec.end_pass();
+        assert!(rec.passes[1].not_measured().is_some_and(|r| r.contains("imprecise")));
+    }
+
+    #[test]
+    fn restart_forgets_the_recording_and_keeps_the_pools() {
+        let (mut rec, mut create) = recording();
+        rec.begin_pass(desc(), &mut create);
+        rec.end_pass();
+        let pools: Vec<_> = rec.pools().collect();
+        rec.restart(true);
+        assert!(rec.passes.is_empty() && rec.simultaneous && !rec.in_pass());
+        let (before, _) = rec.begin_pass(desc(), &mut create);
+        assert_eq!(rec.pools().collect::<Vec<_>>(), pools);
+        assert_eq!(before.len(), 3);
+    }
+}

@@ -1,0 +1,204 @@
+//! The layer's result file, schema "nostencil-fillrate/1": what the layer writes and what
+//! `nostencil profile-app` reads back (the same serde types both ways).
+
+use serde::{Deserialize, Serialize};
+
+/// Version of the JSON layout; bump on any incompatible change.
+pub const FILLRATE_SCHEMA: &str = "nostencil-fillrate/1";
+
+/// How many frames `frames` keeps when the number of frames is not limited (the aggregate still
+/// covers every measured frame).
+pub const KEPT_FRAMES: usize = 64;
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FillrateReport {
+    pub schema: String,
+    /// `VkApplicationInfo::pApplicationName`, or the process name when the application gave none.
+    pub application: String,
+    /// `VkPhysicalDeviceProperties::deviceName` of the (last) device created.
+    pub device: String,
+    pub counters: CounterSupport,
+    pub frames_measured: u64,
+    /// Render pass instances (or whole things) the layer saw and could not measure, by reason.
+    pub not_measured: Vec<NotMeasured>,
+    pub frames: Vec<FrameRows>,
+    pub aggregate: Vec<AggregateRow>,
+}
+
+/// Which counters the device gave the layer.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct CounterSupport {
+    pub pipeline_statistics: bool,
+    pub occlusion_precise: bool,
+    pub timestamps: bool,
+}
+
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct NotMeasured {
+    pub what: String,
+    pub count: u64,
+}
+
+/// One frame: the render pass instances submitted between two presents, in submission order.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FrameRows {
+    pub index: u64,
+    pub render_passes: Vec<RenderPassRow>,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RenderPassRow {
+    /// Position in the frame, from 0.
+    pub index: u32,
+    /// The innermost debug-utils label open when the pass began, if any.
+    pub label: Option<String>,
+    /// "vkCmdBeginRenderPass" | "vkCmdBeginRenderPass2" | "vkCmdBeginRendering".
+    pub api: String,
+    pub render_area: RenderArea,
+    /// Samples per pixel of the pass (the most of its attachments').
+    pub samples: u32,
+    pub attachments: Vec<AttachmentRow>,
+    /// Null when the pass was not measured (then `not_measured` says why).
+    pub counters: Option<Counters>,
+    #[serde(default)]
+    pub not_measured: Option<String>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct RenderArea {
+    pub x: i32,
+    pub y: i32,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl RenderArea {
+    pub fn pixels(&self) -> u64 {
+        self.width as u64 * self.height as u64
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct AttachmentRow {
+    /// "colour" | "depth" | "stencil" | "depth_stencil" | "resolve" | "input" | "unused".
+    pub role: String,
+    /// Vulkan format name without the prefix, e.g. "R8G8B8A8_SRGB".
+    pub format: String,
+    pub samples: u32,
+    pub load_op: String,
+    pub store_op: String,
+    /// The stencil aspect's ops, for formats with stencil only.
+    #[serde(default)]
+    pub stencil_load_op: Option<String>,
+    #[serde(default)]
+    pub stencil_store_op: Option<String>,
+    /// Tile traffic over the render area (`nostencil profile`'s rule: LOAD loads and STORE
+    /// stores W x H x bytes x samples; CLEAR, DONT_CARE and NONE move nothing).
+    pub bytes_loaded: u64,
+    pub bytes_stored: u64,
+}
+
+/// One render pass instance's counters (`N` = u64), or their mean over frames (`N` = f64).
+/// Optional counters are null where the device lacks them.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Counters<N = u64> {
+    pub draws: N,
+    pub vertex_invocations: Option<N>,
+    pub clipping_primitives: Option<N>,
+    pub fragment_invocations: Option<N>,
+    /// Fragment shader invocations / (width x height) of the render area.
+    pub fragments_per_pixel: Option<f64>,
+    /// Samples that passed depth/stencil (precise occlusion query): exact.
+    pub samples_passed: N,
+    /// Samples passed / (width x height x samples).
+    pub overdraw: f64,
+    pub gpu_ms: Option<f64>,
+    pub bytes_loaded: N,
+    pub bytes_stored: N,
+}
+
+/// Raw per-pass results before the derived figures are filled in.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct RawCounters {
+    pub draws: u64,
+    pub vertex_invocations: Option<u64>,
+    pub clipping_primitives: Option<u64>,
+    pub fragment_invocations: Option<u64>,
+    pub samples_passed: u64,
+    /// GPU nanoseconds between the pass's two timestamps.
+    pub gpu_ns: Option<f64>,
+}
+
+impl Counters {
+    /// The row's counters: the raw results plus the figures derived from the pass's area,
+    /// sample count and attachments' traffic.
+    pub fn new(raw: &RawCounters, area: &RenderArea, samples: u32, attachments: &[AttachmentRow]) -> Self {
+        let pixels = area.pixels().max(1);
+        Counters {
+            draws: raw.draws,
+            vertex_invocations: raw.vertex_invocations,
+            clipping_primitives: raw.clipping_primitives,
+            fragment_invocations: raw.fragment_invocations,
+            fragments_per_pixel: raw.fragment_invocations.map(|f| f as f64 / pixels as f64),
+            samples_passed: raw.samples_passed,
+            overdraw: raw.samples_passed as f64 / (pixels * samples.max(1) as u64) as f64,
+            gpu_ms: raw.gpu_ns.map(|ns| ns.max(0.0) / 1e6),
+            bytes_loaded: attachments.iter().map(|a| a.bytes_loaded).sum(),
+            bytes_stored: attachments.iter().map(|a| a.bytes_stored).sum(),
+        }
+    }
+}
+
+/// Mean, min and max of one render pass over the frames that had it at the same position with
+/// the same key.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AggregateRow {
+    /// Position in the frame, from 0.
+    pub position: u32,
+    /// Render area and attachment formats/ops: what makes two frames' passes "the same pass".
+    pub key: String,
+    /// Frames that had this pass measured.
+    pub frames: u64,
+    /// The label of the last frame's pass at this position.
+    pub label: Option<String>,
+    pub mean: Counters<f64>,
+    pub min: Counters,
+    pub max: Counters,
+}
+
+impl RenderPassRow {
+    /// Render area and attachment formats/ops, e.g.
+    /// "500x500 colour B8G8R8A8_UNORM CLEAR/STORE, depth D16_UNORM CLEAR/DONT_CARE".
+    pub fn key(&self) -> String {
+        let attachments: Vec<String> = self
+            .attachments
+            .iter()
+            .map(|a| {
+                let stencil = match (&a.stencil_load_op, &a.stencil_store_op) {
+                    (Some(l), Some(s)) => format!(" stencil {l}/{s}"),
+                    _ => String::new(),
+                };
+                let samples = if a.samples > 1 { format!(" x{}", a.samples) } else { String::new() };
+                format!("{} {}{samples} {}/{}{stencil}", a.role, a.format, a.load_op, a.store_op)
+            })
+            .collect();
+        format!("{}x{} {}", self.render_area.width, self.render_area.height, attachments.join(", "))
+    }
+}
+
+impl FillrateReport {
+    /// Reads a result file's text; a wrong schema is named.
+    pub fn from_json(text: &str) -> Result<Self, String> {
+        let report: FillrateReport =
+            serde_json::from_str(text).map_err(|e| format!("not a nostencil fill-rate result: {e}"))?;
+        if report.schema != FILLRATE_SCHEMA {
+            return Err(format!("fill-rate result has schema '{}', expected '{FILLRATE_SCHEMA}'", report.schema));
+        }
+        Ok(report)
+    }
+
+    /// The last frame kept, if any.
+    pub fn last_frame(&self) -> Option<&FrameRows> {
+        self.frames.last()
+    }
+}

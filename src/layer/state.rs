@@ -1,0 +1,275 @@
+//! The layer's global state: the instances and devices it created, found from any dispatchable
+//! handle (device, queue, command buffer) by the loader's dispatch key; and each device's next-
+//! layer entry points and mutable bookkeeping.
+
+use std::collections::{BTreeMap, HashMap};
+use std::sync::{Arc, Mutex, MutexGuard, OnceLock};
+
+use ash::vk;
+use ash::vk::Handle;
+
+use super::attachments::RenderPassInfo;
+use super::config::Config;
+use super::frames::FrameAssembler;
+use super::loader::dispatch_key;
+use super::recording::{RecordedPass, Recording};
+use super::report::CounterSupport;
+
+/// Runs `f`, turning a panic into `fallback` and one line on stderr: a panic must never unwind
+/// into the application's C frames.
+pub fn guard<T>(fallback: T, f: impl FnOnce() -> T) -> T {
+    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)) {
+        Ok(value) => value,
+        Err(_) => {
+            eprintln!("nostencil fill-rate layer: internal error (panic caught); the call was passed on");
+            fallback
+        }
+    }
+}
+
+pub fn lock<T>(mutex: &Mutex<T>) -> MutexGuard<'_, T> {
+    mutex.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
+macro_rules! next_fns {
+    ($($field:ident: $pfn:ident = $name:literal,)*) => {
+        /// The next layer's entry points for every device function the layer hooks (None where
+        /// the device does not have it), by the exact name the application asked for.
+        pub struct NextFns {
+            $(pub $field: Option<vk::$pfn>,)*
+        }
+
+        impl NextFns {
+            /// # Safety
+            /// `gdpa` is the next layer's vkGetDeviceProcAddr and `device` a device it created.
+            pub unsafe fn load(gdpa: vk::PFN_vkGetDeviceProcAddr, device: vk::Device) -> Self {
+                NextFns {
+                    $(
+                        // SAFETY: the loader returns the function named, whose type is `$pfn`,
+                        // or null (None: both are one pointer).
+                        $field: unsafe {
+                            std::mem::transmute::<vk::PFN_vkVoidFunction, Option<vk::$pfn>>(
+                                gdpa(device, concat!($name, "\0").as_ptr().cast()),
+                            )
+                        },
+                    )*
+                }
+            }
+        }
+    };
+}
+
+next_fns! {
+    destroy_device: PFN_vkDestroyDevice = "vkDestroyDevice",
+    create_render_pass: PFN_vkCreateRenderPass = "vkCreateRenderPass",
+    create_render_pass2: PFN_vkCreateRenderPass2 = "vkCreateRenderPass2",
+    create_render_pass2_khr: PFN_vkCreateRenderPass2 = "vkCreateRenderPass2KHR",
+    destroy_render_pass: PFN_vkDestroyRenderPass = "vkDestroyRenderPass",
+    create_image: PFN_vkCreateImage = "vkCreateImage",
+    destroy_image: PFN_vkDestroyImage = "vkDestroyImage",
+    create_image_view: PFN_vkCreateImageView = "vkCreateImageView",
+    destroy_image_view: PFN_vkDestroyImageView = "vkDestroyImageView",
+    create_command_pool: PFN_vkCreateCommandPool = "vkCreateCommandPool",
+    destroy_command_pool: PFN_vkDestroyCommandPool = "vkDestroyCommandPool",
+    reset_command_pool: PFN_vkResetCommandPool = "vkResetCommandPool",
+    allocate_command_buffers: PFN_vkAllocateCommandBuffers = "vkAllocateCommandBuffers",
+    free_command_buffers: PFN_vkFreeCommandBuffers = "vkFreeCommandBuffers",
+    begin_command_buffer: PFN_vkBeginCommandBuffer = "vkBeginCommandBuffer",
+    reset_command_buffer: PFN_vkResetCommandBuffer = "vkResetCommandBuffer",
+    create_query_pool: PFN_vkCreateQueryPool = "vkCreateQueryPool",
+    destroy_query_pool: PFN_vkDestroyQueryPool = "vkDestroyQueryPool",
+    reset_query_pool: PFN_vkResetQueryPool = "vkResetQueryPool",
+    reset_query_pool_ext: PFN_vkResetQueryPool = "vkResetQueryPoolEXT",
+    cmd_reset_query_pool: PFN_vkCmdResetQueryPool = "vkCmdResetQueryPool",
+    cmd_begin_query: PFN_vkCmdBeginQuery = "vkCmdBeginQuery",
+    cmd_end_query: PFN_vkCmdEndQuery = "vkCmdEndQuery",
+    cmd_begin_render_pass: PFN_vkCmdBeginRenderPass = "vkCmdBeginRenderPass",
+    cmd_begin_render_pass2: PFN_vkCmdBeginRenderPass2 = "vkCmdBeginRenderPass2",
+    cmd_begin_render_pass2_khr: PFN_vkCmdBeginRenderPass2 = "vkCmdBeginRenderPass2KHR",
+    cmd_next_subpass: PFN_vkCmdNextSubpass = "vkCmdNextSubpass",
+    cmd_next_subpass2: PFN_vkCmdNextSubpass2 = "vkCmdNextSubpass2",
+    cmd_next_subpass2_khr: PFN_vkCmdNextSubpass2 = "vkCmdNextSubpass2KHR",
+    cmd_end_render_pass: PFN_vkCmdEndRenderPass = "vkCmdEndRenderPass",
+    cmd_end_render_pass2: PFN_vkCmdEndRenderPass2 = "vkCmdEndRenderPass2",
+    cmd_end_render_pass2_khr: PFN_vkCmdEndRenderPass2 = "vkCmdEndRenderPass2KHR",
+    cmd_begin_rendering: PFN_vkCmdBeginRendering = "vkCmdBeginRendering",
+    cmd_begin_rendering_khr: PFN_vkCmdBeginRendering = "vkCmdBeginRenderingKHR",
+    cmd_end_rendering: PFN_vkCmdEndRendering = "vkCmdEndRendering",
+    cmd_end_rendering_khr: PFN_vkCmdEndRendering = "vkCmdEndRenderingKHR",
+    cmd_draw: PFN_vkCmdDraw = "vkCmdDraw",
+    cmd_draw_indexed: PFN_vkCmdDrawIndexed = "vkCmdDrawIndexed",
+    cmd_draw_indirect: PFN_vkCmdDrawIndirect = "vkCmdDrawIndirect",
+    cmd_draw_indexed_indirect: PFN_vkCmdDrawIndexedIndirect = "vkCmdDrawIndexedIndirect",
+    cmd_draw_indirect_count: PFN_vkCmdDrawIndirectCount = "vkCmdDrawIndirectCount",
+    cmd_draw_indirect_count_khr: PFN_vkCmdDrawIndirectCount = "vkCmdDrawIndirectCountKHR",
+    cmd_draw_indexed_indirect_count: PFN_vkCmdDrawIndexedIndirectCount = "vkCmdDrawIndexedIndirectCount",
+    cmd_draw_indexed_indirect_count_khr: PFN_vkCmdDrawIndexedIndirectCount = "vkCmdDrawIndexedIndirectCountKHR",
+    cmd_begin_debug_utils_label: PFN_vkCmdBeginDebugUtilsLabelEXT = "vkCmdBeginDebugUtilsLabelEXT",
+    cmd_end_debug_utils_label: PFN_vkCmdEndDebugUtilsLabelEXT = "vkCmdEndDebugUtilsLabelEXT",
+    cmd_insert_debug_utils_label: PFN_vkCmdInsertDebugUtilsLabelEXT = "vkCmdInsertDebugUtilsLabelEXT",
+    queue_submit: PFN_vkQueueSubmit = "vkQueueSubmit",
+    queue_submit2: PFN_vkQueueSubmit2 = "vkQueueSubmit2",
+    queue_submit2_khr: PFN_vkQueueSubmit2 = "vkQueueSubmit2KHR",
+    queue_present: PFN_vkQueuePresentKHR = "vkQueuePresentKHR",
+    wait_for_fences: PFN_vkWaitForFences = "vkWaitForFences",
+    get_fence_status: PFN_vkGetFenceStatus = "vkGetFenceStatus",
+    queue_wait_idle: PFN_vkQueueWaitIdle = "vkQueueWaitIdle",
+    device_wait_idle: PFN_vkDeviceWaitIdle = "vkDeviceWaitIdle",
+}
+
+pub struct InstanceData {
+    pub handle: vk::Instance,
+    pub gipa: vk::PFN_vkGetInstanceProcAddr,
+    pub fns: ash::Instance,
+    pub application: String,
+    pub config: Config,
+}
+
+/// What the layer learnt of the device at creation.
+pub struct DeviceInfo {
+    pub name: String,
+    pub support: CounterSupport,
+    /// timestampValidBits per queue family.
+    pub timestamp_bits: Vec<u32>,
+    /// Nanoseconds per timestamp tick.
+    pub timestamp_period: f64,
+}
+
+/// A command buffer the layer saw allocated.
+pub struct CommandBufferData {
+    pub pool: vk::CommandPool,
+    pub recording: Recording,
+}
+
+/// One command buffer's measured passes in one submission, waiting to be read back.
+pub struct Pending {
+    pub queue: vk::Queue,
+    pub sequence: u64,
+    pub frame: u64,
+    pub buffer: vk::CommandBuffer,
+    pub passes: Vec<RecordedPass>,
+    pub timestamp_bits: u32,
+    /// Set when the results can no longer be trusted (why).
+    pub spoiled: Option<String>,
+}
+
+#[derive(Default)]
+pub struct DeviceState {
+    pub render_passes: HashMap<vk::RenderPass, RenderPassInfo>,
+    pub image_samples: HashMap<vk::Image, u32>,
+    pub views: HashMap<vk::ImageView, (vk::Format, u32)>,
+    pub command_pools: HashMap<vk::CommandPool, u32>,
+    pub buffers: HashMap<vk::CommandBuffer, CommandBufferData>,
+    /// The application's query pools: type and statistic bits.
+    pub app_pools: HashMap<vk::QueryPool, (vk::QueryType, vk::QueryPipelineStatisticFlags)>,
+    pub pending: Vec<Pending>,
+    /// The last submission that signals each fence: (queue, sequence).
+    pub fences: HashMap<vk::Fence, (vk::Queue, u64)>,
+    pub sequence: u64,
+    pub frames: Option<FrameAssembler>,
+    pub not_measured: BTreeMap<String, u64>,
+    /// Frames finished when the file was last written.
+    pub written_at: u64,
+    /// The NOSTENCIL_FILLRATE_FRAMES file is written; nothing more is measured.
+    pub finished: bool,
+}
+
+impl DeviceState {
+    pub fn frames(&mut self) -> &mut FrameAssembler {
+        self.frames.get_or_insert_with(|| FrameAssembler::new(None))
+    }
+
+    pub fn count_not_measured(&mut self, what: &str) {
+        *self.not_measured.entry(what.to_owned()).or_default() += 1;
+    }
+}
+
+pub struct DeviceData {
+    pub handle: vk::Device,
+    pub gdpa: vk::PFN_vkGetDeviceProcAddr,
+    /// The next layer's core functions (those the layer calls itself).
+    pub fns: ash::Device,
+    pub next: NextFns,
+    pub info: DeviceInfo,
+    pub application: String,
+    pub config: Config,
+    pub state: Mutex<DeviceState>,
+}
+
+impl DeviceData {
+    pub fn state(&self) -> MutexGuard<'_, DeviceState> {
+        lock(&self.state)
+    }
+
+    /// The layer measures: an output file was named.
+    pub fn active(&self) -> bool {
+        self.config.out.is_some()
+    }
+}
+
+fn instances() -> &'static Mutex<Vec<Arc<InstanceData>>> {
+    static INSTANCES: OnceLock<Mutex<Vec<Arc<InstanceData>>>> = OnceLock::new();
+    INSTANCES.get_or_init(|| Mutex::new(Vec::new()))
+}
+
+fn devices() -> &'static Mutex<Vec<Arc<DeviceData>>> {
+    static DEVICES: OnceLock<Mutex<Vec<Arc<DeviceData>>>> = OnceLock::new();
+    DEVICES.get_or_init(|| Mutex::new(Vec::new()))
+}
+
+pub fn add_instance(data: InstanceData) {
+    lock(instances()).push(Arc::new(data));
+}
+
+pub fn remove_instance(handle: vk::Instance) -> Option<Arc<InstanceData>> {
+    let mut list = lock(instances());
+    let index = list.iter().position(|i| i.handle == handle)?;
+    Some(list.remove(index))
+}
+
+/// The instance `handle` is, or (for a physical device) belongs to: by handle, then by
+/// dispatch key, then the only one.
+pub fn instance_of(handle: u64) -> Option<Arc<InstanceData>> {
+    let list = lock(instances());
+    if let Some(found) = list.iter().find(|i| i.handle.as_raw() == handle) {
+        return Some(found.clone());
+    }
+    if handle != 0 {
+        // SAFETY: `handle` is a live dispatchable handle the loader passed, and every listed
+        // instance is alive (removed at vkDestroyInstance).
+        let key = unsafe { dispatch_key(handle) };
+        // SAFETY: as above.
+        if let Some(found) = list.iter().find(|i| unsafe { dispatch_key(i.handle.as_raw()) } == key) {
+            return Some(found.clone());
+        }
+    }
+    // A physical device whose key is not its instance's: the only instance, if there is one.
+    (handle != 0 && list.len() == 1).then(|| list[0].clone())
+}
+
+pub fn add_device(data: Arc<DeviceData>) {
+    lock(devices()).push(data);
+}
+
+pub fn remove_device(handle: vk::Device) -> Option<Arc<DeviceData>> {
+    let mut list = lock(devices());
+    let index = list.iter().position(|d| d.handle == handle)?;
+    Some(list.remove(index))
+}
+
+/// The device a device, queue or command buffer handle belongs to.
+pub fn device_of(handle: u64) -> Option<Arc<DeviceData>> {
+    let list = lock(devices());
+    if let Some(found) = list.iter().find(|d| d.handle.as_raw() == handle) {
+        return Some(found.clone());
+    }
+    if handle == 0 {
+        return None;
+    }
+    // SAFETY: `handle` is a live dispatchable handle the application passed, and each listed
+    // device is alive (removed at vkDestroyDevice); a device, its queues and its command
+    // buffers share the loader's dispatch key.
+    let key = unsafe { dispatch_key(handle) };
+    // SAFETY: as above.
+    list.iter().find(|d| unsafe { dispatch_key(d.handle.as_raw()) } == key).cloned()
+}

@@ -1,0 +1,201 @@
+//! `VK_LAYER_NOSTENCIL_fillrate` (src/layer/) on a real application, this crate's own
+//! `nostencil render` run as a separate process under the loader: the result file is written
+//! with one frame whose render passes are the ones `nostencil profile` lists, the counters are
+//! those `profile` measures (samples passed and fragments, exactly), the PNG is byte-identical
+//! with and without the layer, and validation above and below the layer stays silent.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::Output;
+
+use common::{assert_success, nostencil_command, scratch_dir};
+use nostencil::layer::manifest::{manifest_json, newest_library, LAYER_NAME, LIBRARY_FILE, MANIFEST_FILE};
+use nostencil::layer::report::{FillrateReport, FILLRATE_SCHEMA};
+
+/// A folder with a manifest for the freshest layer library cargo built beside the binary
+/// (`cargo test` rebuilds it in deps/ only); build.rs's own manifest must exist too.
+fn layer_dir() -> PathBuf {
+    let bin_dir = Path::new(env!("CARGO_BIN_EXE_nostencil")).parent().expect("binary folder");
+    assert!(bin_dir.join(MANIFEST_FILE).is_file(), "{} not written by build.rs", bin_dir.join(MANIFEST_FILE).display());
+    let library = newest_library(bin_dir).unwrap_or_else(|| panic!("no {LIBRARY_FILE} under {}", bin_dir.display()));
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("fillrate_layer_manifest");
+    std::fs::create_dir_all(&dir).expect("manifest dir");
+    let text = manifest_json(library.to_str().expect("utf-8 path"));
+    // Written once per process run and identical each time: tests running in parallel agree.
+    let path = dir.join(MANIFEST_FILE);
+    if std::fs::read_to_string(&path).ok().as_deref() != Some(text.as_str()) {
+        let temp = dir.join(format!("{MANIFEST_FILE}.{}", std::process::id()));
+        std::fs::write(&temp, &text).expect("write manifest");
+        std::fs::rename(&temp, &path).expect("place manifest");
+    }
+    dir
+}
+
+/// `nostencil ARGS` under the layer (plus `extra_layers` below it), its result in `out` as
+/// `format`; VK_ADD_LAYER_PATH keeps the system's layers (validation) findable.
+fn run_under_layer(args: &[&str], out: Option<&Path>, env: &[(&str, &str)], extra_layers: &str) -> Output {
+    let mut command = nostencil_command(args);
+    command.env("VK_ADD_LAYER_PATH", layer_dir()).env("VK_INSTANCE_LAYERS", format!("{LAYER_NAME}{extra_layers}"));
+    command.env_remove("NOSTENCIL_FILLRATE_OUT").env_remove("NOSTENCIL_FILLRATE_FORMAT");
+    if let Some(out) = out {
+        command.env("NOSTENCIL_FILLRATE_OUT", out);
+    }
+    for (name, value) in env {
+        command.env(name, value);
+    }
+    command.output().expect("run nostencil")
+}
+
+fn read_report(path: &Path) -> FillrateReport {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    FillrateReport::from_json(&text).unwrap_or_else(|e| panic!("{e}:\n{text}"))
+}
+
+/// `nostencil profile ARGS --format json` as JSON.
+fn profile(args: &[&str]) -> serde_json::Value {
+    let mut all = vec!["profile"];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&["--format", "json"]);
+    let (stdout, _) = assert_success("nostencil profile", &nostencil_command(&all).output().expect("run"));
+    serde_json::from_str(&stdout).expect("profile JSON")
+}
+
+fn assert_no_validation_errors(what: &str, output: &Output) {
+    let text = format!("{}{}", String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr));
+    for marker in ["Validation Error", "VUID-"] {
+        assert!(!text.contains(marker), "{what}: validation reported:\n{text}");
+    }
+}
+
+#[test]
+fn render_under_the_layer_writes_profiles_counters_and_an_identical_png() {
+    let dir = scratch_dir("fillrate_layer_render");
+    let args = ["--size", "96x64", "--stencil", "reference", "--technique", "shadow-volume"];
+    let plain = dir.join("plain.png");
+    let layered = dir.join("layered.png");
+    let out = dir.join("fillrate.json");
+    let mut render = vec!["render"];
+    render.extend_from_slice(&args);
+    let output =
+        nostencil_command(&[&render[..], &["--out", plain.to_str().expect("utf-8")]].concat()).output().expect("run");
+    assert_success("nostencil render", &output);
+    let output =
+        run_under_layer(&[&render[..], &["--out", layered.to_str().expect("utf-8")]].concat(), Some(&out), &[], "");
+    assert_success("nostencil render under the layer", &output);
+
+    let a = std::fs::read(&plain).expect("plain PNG");
+    let b = std::fs::read(&layered).expect("layered PNG");
+    assert!(a == b, "the PNG differs with the layer ({} vs {} bytes)", a.len(), b.len());
+
+    let report = read_report(&out);
+    assert_eq!(report.schema, FILLRATE_SCHEMA);
+    assert_eq!(report.application, "nostencil");
+    assert!(report.counters.pipeline_statistics && report.counters.occlusion_precise && report.counters.timestamps);
+    // No present: one frame, closed when the device was destroyed.
+    assert_eq!((report.frames_measured, report.frames.len()), (1, 1));
+    assert!(report.not_measured.is_empty(), "{:?}", report.not_measured);
+
+    let profile = profile(&args);
+    let render_passes = profile["render_passes"].as_array().expect("render_passes");
+    let passes = report.frames[0].render_passes.clone();
+    let profiled: Vec<(u64, u64)> = render_passes
+        .iter()
+        .flat_map(|rp| {
+            let count = rp["count"].as_u64().unwrap_or(1) as usize;
+            std::iter::repeat_n((rp["width"].as_u64().unwrap_or(0), rp["height"].as_u64().unwrap_or(0)), count)
+        })
+        .collect();
+    let measured: Vec<(u64, u64)> =
+        passes.iter().map(|p| (p.render_area.width as u64, p.render_area.height as u64)).collect();
+    assert_eq!(measured, profiled, "render passes: layer vs profile");
+
+    // One render pass holds every logical pass: its counters are their sums, exactly.
+    let sum = |key: &str| {
+        profile["passes"].as_array().expect("passes").iter().map(|p| p[key].as_u64().unwrap_or(0)).sum::<u64>()
+    };
+    let counters = passes[0].counters.expect("the frame's render pass is measured");
+    assert!(counters.samples_passed > 0 && counters.draws > 0);
+    assert_eq!(counters.samples_passed, sum("samples_passed"));
+    assert_eq!(counters.fragment_invocations, Some(sum("fragment_invocations")));
+    assert_eq!(counters.draws, sum("draws"));
+    assert!(counters.gpu_ms.is_some_and(|ms| ms > 0.0));
+    // The 4x frame stores only its resolve target: 96 x 64 x 4 bytes.
+    assert_eq!((counters.bytes_loaded, counters.bytes_stored), (0, 96 * 64 * 4));
+    assert_eq!(passes[0].samples, 4);
+    let aggregate = &report.aggregate;
+    assert_eq!(aggregate.len(), 1);
+    assert_eq!((aggregate[0].frames, aggregate[0].min.samples_passed), (1, counters.samples_passed));
+}
+
+#[test]
+fn an_application_query_across_a_prepass_is_named_and_the_frame_still_measured() {
+    // shadow-texture's prepass query spans the prepass's render pass: the layer cannot begin its
+    // own occlusion query there. The frame's render pass holds the frame's logical passes.
+    let dir = scratch_dir("fillrate_layer_prepass");
+    let out = dir.join("fillrate.json");
+    let png = dir.join("frame.png");
+    let args = ["--size", "96x64", "--samples", "1", "--technique", "shadow-texture"];
+    let render = [&["render"], &args[..], &["--out", png.to_str().expect("utf-8")]].concat();
+    assert_success("render under the layer", &run_under_layer(&render, Some(&out), &[], ""));
+    let report = read_report(&out);
+    let passes = &report.frames[0].render_passes;
+    let profile = profile(&args);
+    assert_eq!(passes.len(), profile["render_passes"].as_array().map_or(0, Vec::len));
+    let reason = "application occlusion query active across the pass";
+    assert_eq!(passes[0].not_measured.as_deref(), Some(reason));
+    assert!(passes[0].counters.is_none());
+    assert_eq!(report.not_measured.iter().map(|n| (n.what.as_str(), n.count)).collect::<Vec<_>>(), vec![(reason, 1)]);
+    // The frame: every logical pass that drew into it (all but the prepass) summed.
+    let frame_passes: Vec<&serde_json::Value> =
+        profile["passes"].as_array().expect("passes").iter().filter(|p| p["name"] != "shadow texture").collect();
+    let samples: u64 = frame_passes.iter().map(|p| p["samples_passed"].as_u64().unwrap_or(0)).sum();
+    let counters = passes[1].counters.expect("the frame is measured");
+    assert_eq!((passes[1].render_area.width, passes[1].render_area.height), (96, 64));
+    assert_eq!(counters.samples_passed, samples);
+}
+
+#[test]
+fn validation_above_and_below_the_layer_stays_silent() {
+    let dir = scratch_dir("fillrate_layer_validation");
+    for (case, extra, flag) in [("above", "", "--validation"), ("below", ":VK_LAYER_KHRONOS_validation", "")] {
+        let out = dir.join(format!("{case}.json"));
+        let png = dir.join(format!("{case}.png"));
+        let mut args =
+            vec!["render", "--size", "64x48", "--stencil", "reference", "--out", png.to_str().expect("utf-8")];
+        if !flag.is_empty() {
+            args.push(flag);
+        }
+        let output = run_under_layer(&args, Some(&out), &[], extra);
+        assert_success(&format!("render, validation {case} the layer"), &output);
+        assert_no_validation_errors(case, &output);
+        let report = read_report(&out);
+        let counters = report.frames[0].render_passes[0].counters.expect("measured");
+        assert!(counters.samples_passed > 0, "{case}");
+    }
+}
+
+#[test]
+fn csv_and_table_outputs_and_no_output_named() {
+    let dir = scratch_dir("fillrate_layer_formats");
+    let png = dir.join("frame.png");
+    let render = ["render", "--size", "64x48", "--samples", "1", "--out", png.to_str().expect("utf-8")];
+
+    let csv = dir.join("fillrate.csv");
+    assert_success("csv", &run_under_layer(&render, Some(&csv), &[("NOSTENCIL_FILLRATE_FORMAT", "csv")], ""));
+    let text = std::fs::read_to_string(&csv).expect("csv written");
+    let lines: Vec<&str> = text.lines().collect();
+    assert!(lines[0].starts_with("frame,index,label,api,x,y,width,height,samples,attachments,draws,"));
+    assert!(lines[1].starts_with("0,0,,vkCmdBeginRenderPass,0,0,64,48,1,"), "{}", lines[1]);
+    assert_eq!(lines.iter().filter(|l| l.starts_with("mean,0,")).count(), 1);
+
+    let table = dir.join("fillrate.txt");
+    assert_success("table", &run_under_layer(&render, Some(&table), &[("NOSTENCIL_FILLRATE_FORMAT", "table")], ""));
+    let text = std::fs::read_to_string(&table).expect("table written");
+    assert!(text.starts_with("nostencil | llvmpipe"), "{text}");
+    assert!(text.contains("vkCmdBeginRenderPass") && text.contains("64x48x1"), "{text}");
+
+    let output = run_under_layer(&render, None, &[], "");
+    let (_, stderr) = assert_success("no output", &output);
+    assert_eq!(stderr.matches("NOSTENCIL_FILLRATE_OUT is not set: measuring nothing").count(), 1, "{stderr}");
+}
