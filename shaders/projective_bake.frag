@@ -12,7 +12,7 @@ layout(location = 1) in vec3 world_normal;
 layout(location = 0) out vec4 out_texel;
 
 void main() {
-    vec3 to_light = shadow.light.w == 0.0 ? -shadow.light.xyz : shadow.light.xyz - world_position;
+    vec3 to_light = toward_light(shadow.light, world_position);
     if (dot(world_normal, to_light) <= 0.0 || shadow_visibility(world_position, world_normal) > 0.5) {
         discard;
     }

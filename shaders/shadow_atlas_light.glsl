@@ -1,5 +1,7 @@
 // The light's shadow map and how it is compared (shared by the shadow-map pass, the atlas bake
 // and the shadow-map scene pass). Set LIGHT_SET, bindings 0 and 1.
+#include "toward_light.glsl"
+
 layout(set = LIGHT_SET, binding = 0) uniform ShadowLight {
     mat4 view_proj;
     // xyz: direction the light travels (w = 0) or light position (w = 1).
@@ -14,7 +16,7 @@ layout(set = LIGHT_SET, binding = 1) uniform sampler2DShadow shadow_map;
 // outside the map are lit. The depth compare is the sampler's (hardware), with a slope-scaled
 // bias from the angle between the normal and the light.
 float shadow_visibility(vec3 world_position, vec3 world_normal) {
-    vec3 to_light = shadow.light.w == 0.0 ? -shadow.light.xyz : shadow.light.xyz - world_position;
+    vec3 to_light = toward_light(shadow.light, world_position);
     float n_dot_l = dot(normalize(world_normal), normalize(to_light));
     if (n_dot_l <= 0.0) {
         return 0.0;

@@ -425,24 +425,20 @@ fn tour_reports(err: &str) -> Vec<(u32, u32, u64, String)> {
         .collect()
 }
 
-/// The soak: the viewer runs thousands of frames (the casters and the walking character
-/// animated), touring every technique in both stencil modes at 1x and 4x, the window resized
-/// at every stop. After the last tour the live Vulkan objects are exactly those after the
-/// first, the resident memory within `RSS_TOLERANCE_KIB` of it, and no validation message
-/// appeared.
-#[test]
-#[ignore = "lavapipe (Mesa 22.3) grows ~0.6 MiB a frame while the atlas bake pass runs (its queue \
-            thread's allocations, not ours: live objects stay equal); run with --ignored"]
-fn soak_thousands_of_frames_through_every_technique_leaks_nothing() {
+/// One soak run: the viewer runs `tours` tours of every technique in both stencil modes at 1x
+/// and 4x (the casters and the walking character animated), the window resized at every stop,
+/// validation on with `checks`. Checks that it ends cleanly (no validation message), that each
+/// tour reported and that the live Vulkan objects after every tour are exactly those after the
+/// first; returns the reports (tours, frames, resident KiB, objects).
+fn soak(checks: &str, tours: u32) -> Vec<(u32, u32, u64, String)> {
     const FRAMES_PER_STOP: u32 = 12;
-    const TOURS: u32 = 4;
-    const RSS_TOLERANCE_KIB: u64 = 2048;
     let stops = 4 * nostencil::technique::TECHNIQUES.len() as u32;
-    let frames = FRAMES_PER_STOP * stops * TOURS;
+    let frames = FRAMES_PER_STOP * stops * tours;
     let x = start_x_server();
     let tour = FRAMES_PER_STOP.to_string();
     let frames_arg = frames.to_string();
-    let args = ["view", "--validation", "--device", "lavapipe", "--size", "96x72"];
+    let validation = format!("--validation={checks}");
+    let args = ["view", &validation, "--device", "lavapipe", "--size", "96x72"];
     let start = Instant::now();
     let output = wait_with_timeout(
         spawn_on(&x, &[&args[..], &["--tour", &tour, "--frames", &frames_arg]].concat()),
@@ -452,20 +448,41 @@ fn soak_thousands_of_frames_through_every_technique_leaks_nothing() {
     assert_clean(&output, "the soak");
     let err = stderr(&output);
     let reports = tour_reports(&err);
-    let tours: Vec<u32> = reports.iter().map(|r| r.0).collect();
-    assert_eq!(tours, (1..=TOURS).collect::<Vec<_>>(), "one report per tour:\n{err}");
+    let done: Vec<u32> = reports.iter().map(|r| r.0).collect();
+    assert_eq!(done, (1..=tours).collect::<Vec<_>>(), "one report per tour:\n{err}");
     for size in ["swapchain 96x72", "swapchain 80x60"] {
-        assert!(err.matches(size).count() >= (stops * TOURS / 2) as usize, "too few '{size}':\n{err}");
+        assert!(err.matches(size).count() >= (stops * tours / 2) as usize, "too few '{size}':\n{err}");
     }
     let (first, last) = (&reports[0], &reports[reports.len() - 1]);
     eprintln!(
-        "soak: {} frames in {seconds:.1} s; resident {} KiB after tour 1, {} KiB after tour {}; objects: {}",
+        "soak ({checks}): {} frames in {seconds:.1} s; resident {} KiB after tour 1, {} KiB after tour {}; objects: {}",
         last.1, first.2, last.2, last.0, last.3
     );
     assert_eq!(last.1, frames);
     for report in &reports[1..] {
         assert_eq!(report.3, first.3, "live objects after tour {} differ from tour 1", report.0);
     }
+    reports
+}
+
+/// The soak: thousands of frames through every technique, both stencil modes, 1x and 4x, with
+/// resizes and skinned animation. Resident memory after the last tour is within
+/// `RSS_TOLERANCE_KIB` of that after the first, live objects are exactly equal, and no
+/// validation message appears, first with every check the layer has, then (for the memory)
+/// without the synchronisation checks: this layer version's (1.3.239) synchronisation state
+/// grows by ~50 KiB per submitted frame whatever the application does (measured: the same
+/// growth in `bench --technique lit`, none with those checks off), which is the layer's memory,
+/// not ours.
+#[test]
+fn soak_thousands_of_frames_through_every_technique_leaks_nothing() {
+    // 8 MiB over the 1,584 frames between the first and last report: a leak of 5 KiB a frame
+    // fails. Resident memory moves by up to 3.5 MiB between tours with no trend over 8 tours
+    // (measured, with and without validation): the allocator's fragmentation as each stop
+    // builds and drops its renderer. The leak this test found was 600 KiB a frame.
+    const RSS_TOLERANCE_KIB: u64 = 8192;
+    soak("all", 2);
+    let reports = soak("core,best-practices", 4);
+    let (first, last) = (&reports[0], &reports[reports.len() - 1]);
     assert!(
         last.2 <= first.2 + RSS_TOLERANCE_KIB,
         "resident memory grew from {} KiB to {} KiB (tolerance {RSS_TOLERANCE_KIB} KiB):\n{reports:?}",

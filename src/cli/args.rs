@@ -8,6 +8,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::mobile_profile;
+use crate::gpu::validation::ValidationChecks;
 use crate::technique::options::parse_rgb_hex;
 use crate::technique::registry::DEFAULT_TECHNIQUE;
 use crate::technique::{LightMode, Normalize, OutlineMethod, SilhouetteMethod, TextureShadowOn, VolumeMethod};
@@ -197,10 +198,19 @@ pub struct GpuArgs {
     /// Device by index or name fragment (`lavapipe`); default: NOSTENCIL_DEVICE, else automatic.
     #[arg(long, value_name = "INDEX|NAME")]
     pub device: Option<String>,
-    /// Enable the Khronos validation layer: core, synchronisation and best-practices checks
-    /// (messages go to stderr; `info --validation` lists them).
-    #[arg(long)]
-    pub validation: bool,
+    /// Enable the Khronos validation layer (messages go to stderr; `info --validation` lists
+    /// them). CHECKS: `all` (the default: core, synchronisation and best practices) or a list of
+    /// `core`, `sync`, `best-practices`; core is always on. This layer version's synchronisation
+    /// checks keep tens of KiB per frame until exit: a long viewer session may leave them out.
+    #[arg(
+        long,
+        value_name = "CHECKS",
+        num_args = 0..=1,
+        require_equals = true,
+        default_missing_value = "all",
+        value_parser = ValidationChecks::parse
+    )]
+    pub validation: Option<ValidationChecks>,
 }
 
 #[derive(Debug, Clone, Args)]

@@ -14,6 +14,7 @@ pub use args::{parse_size, Cli, Command};
 
 /// Runs the CLI and maps every failure to a one-line message and a non-zero exit code.
 pub fn main() -> ExitCode {
+    end_quietly_on_a_closed_pipe();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => {
@@ -49,5 +50,16 @@ pub fn main() -> ExitCode {
             eprintln!("nostencil: error: {e}");
             ExitCode::from(1)
         }
+    }
+}
+
+/// `nostencil info | head -1`: once the reader is gone the process ends quietly, as any Unix
+/// filter does, instead of the next print panicking (Rust starts programs with SIGPIPE ignored).
+fn end_quietly_on_a_closed_pipe() {
+    #[cfg(unix)]
+    // SAFETY: restores the default action of one signal, before any thread of ours exists; no
+    // handler of ours is replaced.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
 }

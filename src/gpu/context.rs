@@ -10,12 +10,13 @@ use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use super::device::{Device, DeviceChoice};
 use super::instance::Instance;
 use super::live_objects::{LiveObjects, ObjectCounts, ObjectKind};
+use super::validation::ValidationChecks;
 use crate::error::{Error, Result, VkContext};
 
 #[derive(Debug, Clone, Default)]
 pub struct GpuOptions {
-    /// Khronos validation layer with a messenger that records every message.
-    pub validation: bool,
+    /// Khronos validation layer with these checks, and a messenger that records every message.
+    pub validation: Option<ValidationChecks>,
     pub device: DeviceChoice,
     /// Record no per-pass queries (counters then read 0, GPU time unknown): for running under a
     /// tool that brackets render passes with queries of its own (the fill-rate layer), so that
@@ -26,7 +27,7 @@ pub struct GpuOptions {
 impl GpuOptions {
     /// What tests use: validation on, device from `NOSTENCIL_DEVICE` or automatic.
     pub fn for_tests() -> Self {
-        GpuOptions { validation: true, device: DeviceChoice::Auto, without_pass_queries: false }
+        GpuOptions { validation: Some(ValidationChecks::ALL), device: DeviceChoice::Auto, without_pass_queries: false }
     }
 }
 

@@ -7,7 +7,7 @@ use std::sync::{Arc, Mutex};
 
 use ash::{ext::debug_utils, ext::validation_features, vk};
 
-use super::validation::{self, ValidationReport};
+use super::validation::{self, ValidationChecks, ValidationReport};
 use crate::error::{Error, Result, VkContext};
 
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
@@ -36,13 +36,13 @@ pub struct Instance {
 }
 
 impl Instance {
-    pub fn new(validation: bool) -> Result<Self> {
+    pub fn new(validation: Option<ValidationChecks>) -> Result<Self> {
         Self::with_extensions(validation, &[])
     }
 
     /// As `new`, with more instance extensions enabled: the window-system surface extensions
     /// (`ash_window::enumerate_required_extensions`), which only the viewer asks for.
-    pub fn with_extensions(validation: bool, extra_extensions: &[*const c_char]) -> Result<Self> {
+    pub fn with_extensions(validation: Option<ValidationChecks>, extra_extensions: &[*const c_char]) -> Result<Self> {
         // SAFETY: this loads the system's Vulkan loader (libvulkan), whose initialisers are
         // trusted like any system library's; a missing loader is reported, not assumed.
         let entry = unsafe { ash::Entry::load() }.map_err(|e| {
@@ -59,20 +59,20 @@ impl Instance {
         let mut layers = Vec::new();
         let mut extensions = extra_extensions.to_vec();
         let mut report = None;
-        if validation {
-            report = Some(validation_layer_report(&entry)?);
+        if let Some(checks) = validation {
+            report = Some(validation_layer_report(&entry, checks)?);
             layers.push(VALIDATION_LAYER.as_ptr());
             extensions.push(debug_utils::NAME.as_ptr());
             extensions.push(validation_features::NAME.as_ptr());
         }
 
-        let features = validation::enabled_features();
+        let features = validation.map(ValidationChecks::enabled_features).unwrap_or_default();
         let mut validation_features = vk::ValidationFeaturesEXT::default().enabled_validation_features(&features);
         let mut create_info = vk::InstanceCreateInfo::default()
             .application_info(&app_info)
             .enabled_layer_names(&layers)
             .enabled_extension_names(&extensions);
-        if validation {
+        if validation.is_some() {
             create_info = create_info.push_next(&mut validation_features);
         }
         // SAFETY: every layer and extension name is a NUL-terminated static string (our
@@ -88,7 +88,7 @@ impl Instance {
         })?;
 
         let mut instance = Instance { entry, raw, messenger: None, validation: report };
-        if validation {
+        if validation.is_some() {
             instance.install_messenger()?;
         }
         Ok(instance)
@@ -128,7 +128,7 @@ impl Instance {
 
 /// Checks that the validation layer is installed and offers VK_EXT_validation_features (through
 /// which synchronisation validation is requested), and names it with its version.
-fn validation_layer_report(entry: &ash::Entry) -> Result<ValidationReport> {
+fn validation_layer_report(entry: &ash::Entry, checks: ValidationChecks) -> Result<ValidationReport> {
     // SAFETY: `entry` holds a loaded loader.
     let available = unsafe { entry.enumerate_instance_layer_properties() }.vk("vkEnumerateInstanceLayerProperties")?;
     let Some(layer) = available.iter().find(|l| l.layer_name_as_c_str().ok() == Some(VALIDATION_LAYER)) else {
@@ -145,14 +145,15 @@ fn validation_layer_report(entry: &ash::Entry) -> Result<ValidationReport> {
         ));
     }
     let version = layer.spec_version;
-    Ok(ValidationReport::new(format!(
+    let name = format!(
         "{} {}.{}.{} (build {})",
         VALIDATION_LAYER.to_string_lossy(),
         vk::api_version_major(version),
         vk::api_version_minor(version),
         vk::api_version_patch(version),
         layer.implementation_version
-    )))
+    );
+    Ok(ValidationReport::new(name, checks))
 }
 
 impl Drop for Instance {

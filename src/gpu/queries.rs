@@ -23,9 +23,9 @@ pub struct RawPassQueries {
 
 pub struct PassQueryPools {
     gpu: Arc<Gpu>,
-    statistics: Option<vk::QueryPool>,
-    occlusion: vk::QueryPool,
-    timestamps: vk::QueryPool,
+    statistics: Option<QueryPool>,
+    occlusion: QueryPool,
+    timestamps: QueryPool,
     capacity: u32,
     precise: bool,
     /// False when the GPU was opened `without_pass_queries`: nothing is recorded and every
@@ -49,9 +49,10 @@ impl PassQueryPools {
             let info = vk::QueryPoolCreateInfo::default().query_type(ty).query_count(count).pipeline_statistics(stats);
             // SAFETY: `device` is alive (`gpu` holds it); statistics are asked for only when the
             // device enabled pipelineStatisticsQuery.
-            let pool = unsafe { device.create_query_pool(&info, None) }.vk("vkCreateQueryPool")?;
+            let raw = unsafe { device.create_query_pool(&info, None) }.vk("vkCreateQueryPool")?;
             gpu.created(ObjectKind::QueryPool);
-            Ok::<_, crate::error::Error>(pool)
+            // Owned at once: a later pool failing drops (destroys) the ones made before it.
+            Ok::<_, crate::error::Error>(QueryPool { gpu: gpu.clone(), raw })
         };
         let statistics = if features.pipeline_statistics_query {
             Some(make(vk::QueryType::PIPELINE_STATISTICS, capacity, STATISTICS)?)
@@ -84,11 +85,11 @@ impl PassQueryPools {
         // SAFETY: `cmd` is recording outside a render pass (the caller's contract above); each
         // range is the whole pool.
         unsafe {
-            if let Some(pool) = self.statistics {
+            if let Some(pool) = self.statistics.as_ref().map(|p| p.raw) {
                 device.cmd_reset_query_pool(cmd, pool, 0, self.capacity);
             }
-            device.cmd_reset_query_pool(cmd, self.occlusion, 0, self.capacity);
-            device.cmd_reset_query_pool(cmd, self.timestamps, 0, self.capacity * 2);
+            device.cmd_reset_query_pool(cmd, self.occlusion.raw, 0, self.capacity);
+            device.cmd_reset_query_pool(cmd, self.timestamps.raw, 0, self.capacity * 2);
         }
     }
 
@@ -103,9 +104,9 @@ impl PassQueryPools {
         // SAFETY: `cmd` is recording; `pass` (and its two timestamps) are inside the pools, which
         // were reset this frame; PRECISE only when the device enabled occlusionQueryPrecise.
         unsafe {
-            device.cmd_write_timestamp(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, self.timestamps, pass * 2);
-            device.cmd_begin_query(cmd, self.occlusion, pass, flags);
-            if let Some(pool) = self.statistics {
+            device.cmd_write_timestamp(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, self.timestamps.raw, pass * 2);
+            device.cmd_begin_query(cmd, self.occlusion.raw, pass, flags);
+            if let Some(pool) = self.statistics.as_ref().map(|p| p.raw) {
                 device.cmd_begin_query(cmd, pool, pass, vk::QueryControlFlags::empty());
             }
         }
@@ -120,11 +121,11 @@ impl PassQueryPools {
         let device = self.gpu.raw();
         // SAFETY: `cmd` is recording and the queries of `pass` are active (begun by `begin`).
         unsafe {
-            if let Some(pool) = self.statistics {
+            if let Some(pool) = self.statistics.as_ref().map(|p| p.raw) {
                 device.cmd_end_query(cmd, pool, pass);
             }
-            device.cmd_end_query(cmd, self.occlusion, pass);
-            device.cmd_write_timestamp(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, self.timestamps, pass * 2 + 1);
+            device.cmd_end_query(cmd, self.occlusion.raw, pass);
+            device.cmd_write_timestamp(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, self.timestamps.raw, pass * 2 + 1);
         }
     }
 
@@ -140,7 +141,7 @@ impl PassQueryPools {
         let device = self.gpu.raw();
         let wait = vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT;
         let mut stats = vec![[0u64; 3]; count as usize];
-        if let Some(pool) = self.statistics {
+        if let Some(pool) = self.statistics.as_ref().map(|p| p.raw) {
             // SAFETY: here and in the two reads below, each slice holds exactly the results of
             // the first `count` queries (three statistics, one sample count, two timestamps per
             // pass) as u64 (TYPE_64), inside the pools; all were issued, so WAIT returns.
@@ -149,11 +150,11 @@ impl PassQueryPools {
         }
         let mut samples = vec![0u64; count as usize];
         // SAFETY: as above.
-        unsafe { device.get_query_pool_results(self.occlusion, 0, &mut samples, wait) }
+        unsafe { device.get_query_pool_results(self.occlusion.raw, 0, &mut samples, wait) }
             .vk("vkGetQueryPoolResults (occlusion)")?;
         let mut stamps = vec![0u64; count as usize * 2];
         // SAFETY: as above.
-        unsafe { device.get_query_pool_results(self.timestamps, 0, &mut stamps, wait) }
+        unsafe { device.get_query_pool_results(self.timestamps.raw, 0, &mut stamps, wait) }
             .vk("vkGetQueryPoolResults (timestamps)")?;
 
         let info = &self.gpu.device.info;
@@ -177,20 +178,17 @@ impl PassQueryPools {
     }
 }
 
-impl Drop for PassQueryPools {
+/// One query pool, destroyed with its owner.
+struct QueryPool {
+    gpu: Arc<Gpu>,
+    raw: vk::QueryPool,
+}
+
+impl Drop for QueryPool {
     fn drop(&mut self) {
-        let device = self.gpu.raw();
-        // SAFETY: no pending command uses the pools: every frame is waited for before its
-        // results are read, and the renderer owning them is dropped after.
-        unsafe {
-            if let Some(pool) = self.statistics {
-                device.destroy_query_pool(pool, None);
-                self.gpu.destroyed(ObjectKind::QueryPool);
-            }
-            device.destroy_query_pool(self.occlusion, None);
-            device.destroy_query_pool(self.timestamps, None);
-        }
-        self.gpu.destroyed(ObjectKind::QueryPool);
+        // SAFETY: no pending command uses the pool: every frame is waited for before its
+        // results are read, and the renderer owning the pools is dropped after.
+        unsafe { self.gpu.raw().destroy_query_pool(self.raw, None) };
         self.gpu.destroyed(ObjectKind::QueryPool);
     }
 }
