@@ -100,7 +100,11 @@ fn vkcube_has_one_render_pass_per_frame_at_its_window_size() {
     let dir = common::scratch_dir("profile_app_vkcube");
     let program = vkcube_args(8, None);
     let program: Vec<&str> = program.iter().map(String::as_str).collect();
-    let (report, _) = profile_app(&dir, "vkcube", &["--frames", "5"], &program, &[], Some(&x));
+    let chart = dir.join("vkcube.svg");
+    let chart_arg = chart.to_string_lossy().into_owned();
+    let (report, _) = profile_app(&dir, "vkcube", &["--frames", "5", "--chart", &chart_arg], &program, &[], Some(&x));
+    let svg = std::fs::read_to_string(&chart).expect("chart written");
+    assert!(svg.starts_with("<svg") && svg.contains("render pass #0 500x500"), "{svg}");
     assert_eq!(report.frames_measured, 5, "{report:#?}");
     assert_eq!(report.frames.len(), 5);
     assert!(report.counters.pipeline_statistics && report.counters.occlusion_precise, "{:?}", report.counters);
