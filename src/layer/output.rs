@@ -7,6 +7,7 @@ use std::path::Path;
 
 use super::config::OutputFormat;
 use super::report::{Counters, FillrateReport, RenderPassRow};
+use crate::profile::text_table::aligned_lines;
 
 pub fn render(report: &FillrateReport, format: OutputFormat) -> String {
     match format {
@@ -97,31 +98,7 @@ fn csv(report: &FillrateReport) -> String {
 
 /// Left-aligned first column, right-aligned others, two spaces apart.
 fn aligned(header: &[&str], rows: &[Vec<String>]) -> String {
-    let widths: Vec<usize> = (0..header.len())
-        .map(|c| rows.iter().map(|r| r[c].len()).chain([header[c].len()]).max().unwrap_or(0))
-        .collect();
-    let line = |cells: Vec<&str>| {
-        cells
-            .iter()
-            .enumerate()
-            .map(
-                |(c, cell)| {
-                    if c == 0 {
-                        format!("{cell:<w$}", w = widths[c])
-                    } else {
-                        format!("{cell:>w$}", w = widths[c])
-                    }
-                },
-            )
-            .collect::<Vec<_>>()
-            .join("  ")
-    };
-    let mut out = line(header.to_vec()) + "\n";
-    for row in rows {
-        out += &line(row.iter().map(String::as_str).collect());
-        out.push('\n');
-    }
-    out
+    aligned_lines(header, rows).into_iter().map(|line| line + "\n").collect()
 }
 
 fn pass_name(row: &RenderPassRow) -> String {

@@ -11,3 +11,4 @@ pub mod mip_flicker;
 pub mod passes;
 pub mod report;
 pub mod table1;
+pub mod text_table;

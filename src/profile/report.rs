@@ -4,6 +4,7 @@ use std::fmt::Write as _;
 
 use serde::Serialize;
 
+use super::text_table::aligned_lines;
 use crate::frame::render_pass::RenderPassTraffic;
 use crate::render::instances::{RenderPassInstance, RenderPassSums};
 use crate::render::FrameCounters;
@@ -223,30 +224,14 @@ impl ProfileReport {
             format!("{:.3}", t.gpu_ms),
             "100%".into(),
         ]);
-        let widths: Vec<usize> = (0..header.len())
-            .map(|c| rows.iter().map(|r| r[c].len()).chain([header[c].len()]).max().unwrap_or(0))
-            .collect();
-        let line =
-            |cells: &[String]| {
-                cells
-                    .iter()
-                    .enumerate()
-                    .map(|(c, cell)| {
-                        if c == 0 {
-                            format!("{cell:<w$}", w = widths[c])
-                        } else {
-                            format!("{cell:>w$}", w = widths[c])
-                        }
-                    })
-                    .collect::<Vec<_>>()
-                    .join("  ")
-            };
-        let _ = writeln!(out, "{}", line(&header.map(String::from)));
-        for (i, row) in rows.iter().enumerate() {
+        let lines = aligned_lines(&header, &rows);
+        let _ = writeln!(out, "{}", lines[0]);
+        for (i, line) in lines[1..].iter().enumerate() {
+            // A rule above the last row, the frame's totals.
             if i + 1 == rows.len() {
-                let _ = writeln!(out, "{}", "-".repeat(widths.iter().sum::<usize>() + 2 * (widths.len() - 1)));
+                let _ = writeln!(out, "{}", "-".repeat(lines[0].len()));
             }
-            let _ = writeln!(out, "{}", line(row));
+            let _ = writeln!(out, "{line}");
         }
         let _ = writeln!(
             out,
