@@ -92,6 +92,113 @@ unsafe fn slice<'a, T>(pointer: *const T, count: u32) -> &'a [T] {
     }
 }
 
+/// The attachment fields the layer reads, the same in `VkAttachmentDescription` and `2`.
+trait AttachmentFields {
+    fn info(&self, role: &'static str) -> AttachmentInfo;
+    fn format(&self) -> vk::Format;
+}
+
+macro_rules! attachment_fields {
+    ($t:ty) => {
+        impl AttachmentFields for $t {
+            fn info(&self, role: &'static str) -> AttachmentInfo {
+                AttachmentInfo {
+                    role,
+                    format: self.format,
+                    samples: sample_count(self.samples),
+                    load: self.load_op,
+                    store: self.store_op,
+                    stencil_load: self.stencil_load_op,
+                    stencil_store: self.stencil_store_op,
+                }
+            }
+            fn format(&self) -> vk::Format {
+                self.format
+            }
+        }
+    };
+}
+attachment_fields!(vk::AttachmentDescription);
+attachment_fields!(vk::AttachmentDescription2<'_>);
+
+/// `VkAttachmentReference` and `2`: the attachment index.
+trait AttachmentIndex {
+    fn index(&self) -> u32;
+}
+
+impl AttachmentIndex for vk::AttachmentReference {
+    fn index(&self) -> u32 {
+        self.attachment
+    }
+}
+
+impl AttachmentIndex for vk::AttachmentReference2<'_> {
+    fn index(&self) -> u32 {
+        self.attachment
+    }
+}
+
+/// One subpass's attachment uses from its reference arrays.
+///
+/// # Safety
+/// Each pointer is null or points at as many valid references as its count (`colour_count` for
+/// colour and resolve, one for depth), as a valid subpass description's do.
+unsafe fn subpass_uses<R: AttachmentIndex>(
+    colour: *const R,
+    resolve: *const R,
+    colour_count: u32,
+    depth: *const R,
+    input: *const R,
+    input_count: u32,
+) -> SubpassUses {
+    // SAFETY: the caller's contract, for each array.
+    let indices = |p: *const R, n: u32| unsafe { slice(p, n) }.iter().map(R::index).collect::<Vec<u32>>();
+    SubpassUses {
+        colour: indices(colour, colour_count),
+        resolve: indices(resolve, colour_count),
+        // SAFETY: null or one valid reference.
+        depth: unsafe { depth.as_ref() }.map(R::index),
+        input: indices(input, input_count),
+    }
+}
+
+/// `VkSubpassDescription` and `2`: the attachments a subpass uses.
+trait SubpassFields {
+    /// # Safety
+    /// The description's arrays are valid for their counts (valid usage).
+    unsafe fn uses(&self) -> SubpassUses;
+}
+
+macro_rules! subpass_fields {
+    ($t:ty) => {
+        impl SubpassFields for $t {
+            unsafe fn uses(&self) -> SubpassUses {
+                // SAFETY: the caller's contract.
+                unsafe {
+                    subpass_uses(
+                        self.p_color_attachments,
+                        self.p_resolve_attachments,
+                        self.color_attachment_count,
+                        self.p_depth_stencil_attachment,
+                        self.p_input_attachments,
+                        self.input_attachment_count,
+                    )
+                }
+            }
+        }
+    };
+}
+subpass_fields!(vk::SubpassDescription<'_>);
+subpass_fields!(vk::SubpassDescription2<'_>);
+
+/// The render pass from its attachments and each subpass's uses of them.
+fn render_pass_info<A: AttachmentFields>(descriptions: &[A], uses: &[SubpassUses], multiview: bool) -> RenderPassInfo {
+    let formats: Vec<_> = descriptions.iter().map(A::format).collect();
+    let roles = roles(descriptions.len(), &formats, uses);
+    let attachments = descriptions.iter().zip(roles).map(|(d, role)| d.info(role)).collect();
+    RenderPassInfo { attachments, multiview }
+}
+
 impl RenderPassInfo {
     /// # Safety
     /// `info` is a valid VkRenderPassCreateInfo (as passed to vkCreateRenderPass).
@@ -100,94 +207,23 @@ impl RenderPassInfo {
         let descriptions = unsafe { slice(info.p_attachments, info.attachment_count) };
         // SAFETY: as above.
         let subpasses = unsafe { slice(info.p_subpasses, info.subpass_count) };
-        let refs = |p: *const vk::AttachmentReference, n: u32| -> Vec<u32> {
-            // SAFETY: as above.
-            unsafe { slice(p, n) }.iter().map(|r| r.attachment).collect()
-        };
-        let uses: Vec<_> = subpasses
-            .iter()
-            .map(|s| {
-                let resolve = if s.p_resolve_attachments.is_null() {
-                    Vec::new()
-                } else {
-                    refs(s.p_resolve_attachments, s.color_attachment_count)
-                };
-                // SAFETY: pDepthStencilAttachment is null or one valid reference.
-                let depth = unsafe { s.p_depth_stencil_attachment.as_ref() }.map(|r| r.attachment);
-                SubpassUses {
-                    colour: refs(s.p_color_attachments, s.color_attachment_count),
-                    resolve,
-                    depth,
-                    input: refs(s.p_input_attachments, s.input_attachment_count),
-                }
-            })
-            .collect();
-        let formats: Vec<_> = descriptions.iter().map(|d| d.format).collect();
-        let roles = roles(descriptions.len(), &formats, &uses);
-        let attachments = descriptions
-            .iter()
-            .zip(roles)
-            .map(|(d, role)| AttachmentInfo {
-                role,
-                format: d.format,
-                samples: sample_count(d.samples),
-                load: d.load_op,
-                store: d.store_op,
-                stencil_load: d.stencil_load_op,
-                stencil_store: d.stencil_store_op,
-            })
-            .collect();
+        // SAFETY: a valid subpass description's arrays (valid usage).
+        let uses: Vec<_> = subpasses.iter().map(|s| unsafe { s.uses() }).collect();
         // SAFETY: the pNext chain is valid; a multiview node is VkRenderPassMultiviewCreateInfo.
         let multiview = unsafe { multiview_masks(info.p_next) };
-        RenderPassInfo { attachments, multiview }
+        render_pass_info(descriptions, &uses, multiview)
     }
 
     /// # Safety
     /// `info` is a valid VkRenderPassCreateInfo2 (as passed to vkCreateRenderPass2).
     pub unsafe fn from_create_info2(info: &vk::RenderPassCreateInfo2) -> Self {
-        // SAFETY: the arrays are as long as their counts say (valid usage), as below.
+        // SAFETY: the arrays are as long as their counts say (valid usage).
         let descriptions = unsafe { slice(info.p_attachments, info.attachment_count) };
         // SAFETY: as above.
         let subpasses = unsafe { slice(info.p_subpasses, info.subpass_count) };
-        let refs = |p: *const vk::AttachmentReference2, n: u32| -> Vec<u32> {
-            // SAFETY: as above.
-            unsafe { slice(p, n) }.iter().map(|r| r.attachment).collect()
-        };
-        let uses: Vec<_> = subpasses
-            .iter()
-            .map(|s| {
-                let resolve = if s.p_resolve_attachments.is_null() {
-                    Vec::new()
-                } else {
-                    refs(s.p_resolve_attachments, s.color_attachment_count)
-                };
-                // SAFETY: pDepthStencilAttachment is null or one valid reference.
-                let depth = unsafe { s.p_depth_stencil_attachment.as_ref() }.map(|r| r.attachment);
-                SubpassUses {
-                    colour: refs(s.p_color_attachments, s.color_attachment_count),
-                    resolve,
-                    depth,
-                    input: refs(s.p_input_attachments, s.input_attachment_count),
-                }
-            })
-            .collect();
-        let formats: Vec<_> = descriptions.iter().map(|d| d.format).collect();
-        let roles = roles(descriptions.len(), &formats, &uses);
-        let attachments = descriptions
-            .iter()
-            .zip(roles)
-            .map(|(d, role)| AttachmentInfo {
-                role,
-                format: d.format,
-                samples: sample_count(d.samples),
-                load: d.load_op,
-                store: d.store_op,
-                stencil_load: d.stencil_load_op,
-                stencil_store: d.stencil_store_op,
-            })
-            .collect();
-        let multiview = subpasses.iter().any(|s| s.view_mask != 0);
-        RenderPassInfo { attachments, multiview }
+        // SAFETY: a valid subpass description's arrays (valid usage).
+        let uses: Vec<_> = subpasses.iter().map(|s| unsafe { s.uses() }).collect();
+        render_pass_info(descriptions, &uses, subpasses.iter().any(|s| s.view_mask != 0))
     }
 }
 
