@@ -4,6 +4,7 @@
 
 use ash::vk;
 
+use super::arrays::app_array;
 use super::report::{AttachmentRow, RenderArea};
 use crate::frame::render_pass::{format_has_stencil, AttachmentDesc};
 
@@ -81,17 +82,6 @@ fn sample_count(flags: vk::SampleCountFlags) -> u32 {
     flags.as_raw().max(1)
 }
 
-/// # Safety
-/// `pointer` is null or points at `count` valid `T`s.
-unsafe fn slice<'a, T>(pointer: *const T, count: u32) -> &'a [T] {
-    if pointer.is_null() || count == 0 {
-        &[]
-    } else {
-        // SAFETY: the caller's contract.
-        unsafe { std::slice::from_raw_parts(pointer, count as usize) }
-    }
-}
-
 /// The attachment fields the layer reads, the same in `VkAttachmentDescription` and `2`.
 trait AttachmentFields {
     fn info(&self, role: &'static str) -> AttachmentInfo;
@@ -152,7 +142,7 @@ unsafe fn subpass_uses<R: AttachmentIndex>(
     input_count: u32,
 ) -> SubpassUses {
     // SAFETY: the caller's contract, for each array.
-    let indices = |p: *const R, n: u32| unsafe { slice(p, n) }.iter().map(R::index).collect::<Vec<u32>>();
+    let indices = |p: *const R, n: u32| unsafe { app_array(p, n) }.iter().map(R::index).collect::<Vec<u32>>();
     SubpassUses {
         colour: indices(colour, colour_count),
         resolve: indices(resolve, colour_count),
@@ -204,9 +194,9 @@ impl RenderPassInfo {
     /// `info` is a valid VkRenderPassCreateInfo (as passed to vkCreateRenderPass).
     pub unsafe fn from_create_info(info: &vk::RenderPassCreateInfo) -> Self {
         // SAFETY: here and below, the arrays are as long as their counts say (valid usage).
-        let descriptions = unsafe { slice(info.p_attachments, info.attachment_count) };
+        let descriptions = unsafe { app_array(info.p_attachments, info.attachment_count) };
         // SAFETY: as above.
-        let subpasses = unsafe { slice(info.p_subpasses, info.subpass_count) };
+        let subpasses = unsafe { app_array(info.p_subpasses, info.subpass_count) };
         // SAFETY: a valid subpass description's arrays (valid usage).
         let uses: Vec<_> = subpasses.iter().map(|s| unsafe { s.uses() }).collect();
         // SAFETY: the pNext chain is valid; a multiview node is VkRenderPassMultiviewCreateInfo.
@@ -218,9 +208,9 @@ impl RenderPassInfo {
     /// `info` is a valid VkRenderPassCreateInfo2 (as passed to vkCreateRenderPass2).
     pub unsafe fn from_create_info2(info: &vk::RenderPassCreateInfo2) -> Self {
         // SAFETY: the arrays are as long as their counts say (valid usage).
-        let descriptions = unsafe { slice(info.p_attachments, info.attachment_count) };
+        let descriptions = unsafe { app_array(info.p_attachments, info.attachment_count) };
         // SAFETY: as above.
-        let subpasses = unsafe { slice(info.p_subpasses, info.subpass_count) };
+        let subpasses = unsafe { app_array(info.p_subpasses, info.subpass_count) };
         // SAFETY: a valid subpass description's arrays (valid usage).
         let uses: Vec<_> = subpasses.iter().map(|s| unsafe { s.uses() }).collect();
         render_pass_info(descriptions, &uses, subpasses.iter().any(|s| s.view_mask != 0))
@@ -240,7 +230,7 @@ unsafe fn multiview_masks(mut p_next: *const std::ffi::c_void) -> bool {
             // SAFETY: a node of this sType is VkRenderPassMultiviewCreateInfo.
             let multiview = unsafe { &*(p_next as *const vk::RenderPassMultiviewCreateInfo) };
             // SAFETY: pViewMasks holds subpassCount masks.
-            let masks = unsafe { slice(multiview.p_view_masks, multiview.subpass_count) };
+            let masks = unsafe { app_array(multiview.p_view_masks, multiview.subpass_count) };
             return masks.iter().any(|&m| m != 0);
         }
         p_next = next;
@@ -261,7 +251,7 @@ pub unsafe fn rendering_attachments(
     let unknown = (vk::Format::UNDEFINED, 1);
     let dont_care = (vk::AttachmentLoadOp::DONT_CARE, vk::AttachmentStoreOp::DONT_CARE);
     // SAFETY: pColorAttachments holds colorAttachmentCount entries (valid usage).
-    for c in unsafe { slice(info.p_color_attachments, info.color_attachment_count) } {
+    for c in unsafe { app_array(info.p_color_attachments, info.color_attachment_count) } {
         if c.image_view != vk::ImageView::null() {
             let (format, samples) = view(c.image_view).unwrap_or(unknown);
             out.push(AttachmentInfo {

@@ -4,6 +4,7 @@
 //! section 12).
 
 pub mod aggregate;
+pub mod arrays;
 pub mod attachments;
 pub mod commands;
 pub mod config;

@@ -7,6 +7,7 @@ use std::sync::Arc;
 use ash::vk;
 use ash::vk::Handle;
 
+use super::arrays::app_array;
 use super::attachments::RenderPassInfo;
 use super::readback::read_completed;
 use super::recording::{QuerySupport, Recording};
@@ -265,8 +266,7 @@ pub(super) unsafe extern "system" fn allocate_command_buffers(
     if result == vk::Result::SUCCESS {
         guard((), || {
             // SAFETY: a valid allocate info; `buffers` now holds commandBufferCount handles.
-            let (info, handles) =
-                unsafe { (&*info, std::slice::from_raw_parts(buffers, (*info).command_buffer_count as usize)) };
+            let (info, handles) = unsafe { (&*info, app_array(buffers, (*info).command_buffer_count)) };
             let mut st = dev.state();
             let family = st.command_pools.get(&info.command_pool).copied().unwrap_or(0);
             let support = QuerySupport {
@@ -294,11 +294,8 @@ pub(super) unsafe extern "system" fn free_command_buffers(
 ) {
     let Some((dev, next)) = device_and(device.as_raw(), |d| d.next.free_command_buffers) else { return };
     guard((), || {
-        if buffers.is_null() {
-            return;
-        }
         // SAFETY: `buffers` holds `count` handles (null ones allowed, ignored by the lookups).
-        let handles = unsafe { std::slice::from_raw_parts(buffers, count as usize) };
+        let handles = unsafe { app_array(buffers, count) };
         let mut st = dev.state();
         drop_buffers(&dev, &mut st, handles);
     });

@@ -5,6 +5,7 @@
 use ash::vk;
 use ash::vk::Handle;
 
+use super::arrays::app_array;
 use super::objects::{device_and, flush_buffer, spoil_gaps};
 use super::readback::{read_completed, write_if_due};
 use super::state::{guard, DeviceData, DeviceState, Pending};
@@ -69,6 +70,21 @@ fn submitted(
     }
 }
 
+/// Records the command buffers a submit sends (`gather` reads them from the application's
+/// submit infos), so that their passes are read back once the submit is known complete.
+fn note_submit(
+    device: &DeviceData,
+    queue: vk::Queue,
+    fence: vk::Fence,
+    gather: impl FnOnce() -> Vec<vk::CommandBuffer>,
+) {
+    guard((), || {
+        if device.active() {
+            submitted(device, &mut device.state(), queue, &gather(), fence);
+        }
+    });
+}
+
 pub(super) unsafe extern "system" fn queue_submit(
     queue: vk::Queue,
     count: u32,
@@ -78,23 +94,15 @@ pub(super) unsafe extern "system" fn queue_submit(
     let Some((device, next)) = device_and(queue.as_raw(), |d| d.next.queue_submit) else {
         return vk::Result::ERROR_INITIALIZATION_FAILED;
     };
-    guard((), || {
-        if !device.active() {
-            return;
-        }
-        let mut buffers = Vec::new();
-        if !submits.is_null() {
-            // SAFETY: `submits` holds `count` valid submit infos, each with its buffer array.
-            for submit in unsafe { std::slice::from_raw_parts(submits, count as usize) } {
-                if !submit.p_command_buffers.is_null() {
-                    // SAFETY: as above.
-                    buffers.extend_from_slice(unsafe {
-                        std::slice::from_raw_parts(submit.p_command_buffers, submit.command_buffer_count as usize)
-                    });
-                }
-            }
-        }
-        submitted(&device, &mut device.state(), queue, &buffers, fence);
+    note_submit(&device, queue, fence, || {
+        // SAFETY: `submits` holds `count` valid submit infos, each with its buffer array.
+        let submits = unsafe { app_array(submits, count) };
+        // SAFETY: as above.
+        submits
+            .iter()
+            .flat_map(|s| unsafe { app_array(s.p_command_buffers, s.command_buffer_count) })
+            .copied()
+            .collect()
     });
     // SAFETY: the application's arguments, passed on.
     unsafe { next(queue, count, submits, fence) }
@@ -110,27 +118,15 @@ unsafe fn queue_submit2_with(
     let Some((device, next)) = device_and(queue.as_raw(), pick) else {
         return vk::Result::ERROR_INITIALIZATION_FAILED;
     };
-    guard((), || {
-        if !device.active() {
-            return;
-        }
-        let mut buffers = Vec::new();
-        if !submits.is_null() {
-            // SAFETY: `submits` holds `count` valid VkSubmitInfo2, each with its buffer infos.
-            for submit in unsafe { std::slice::from_raw_parts(submits, count as usize) } {
-                if !submit.p_command_buffer_infos.is_null() {
-                    // SAFETY: as above.
-                    let infos = unsafe {
-                        std::slice::from_raw_parts(
-                            submit.p_command_buffer_infos,
-                            submit.command_buffer_info_count as usize,
-                        )
-                    };
-                    buffers.extend(infos.iter().map(|i| i.command_buffer));
-                }
-            }
-        }
-        submitted(&device, &mut device.state(), queue, &buffers, fence);
+    note_submit(&device, queue, fence, || {
+        // SAFETY: `submits` holds `count` valid VkSubmitInfo2, each with its buffer infos.
+        let submits = unsafe { app_array(submits, count) };
+        submits
+            .iter()
+            // SAFETY: as above.
+            .flat_map(|s| unsafe { app_array(s.p_command_buffer_infos, s.command_buffer_info_count) })
+            .map(|info| info.command_buffer)
+            .collect()
     });
     // SAFETY: the application's arguments, passed on.
     unsafe { next(queue, count, submits, fence) }
@@ -215,13 +211,13 @@ pub(super) unsafe extern "system" fn wait_for_fences(
     };
     // SAFETY: the application's arguments, passed on.
     let result = unsafe { next(device, count, fences, wait_all, timeout) };
-    if result == vk::Result::SUCCESS && !fences.is_null() {
+    if result == vk::Result::SUCCESS {
         guard((), || {
             if !data.active() {
                 return;
             }
             // SAFETY: `fences` holds `count` handles.
-            let fences = unsafe { std::slice::from_raw_parts(fences, count as usize) };
+            let fences = unsafe { app_array(fences, count) };
             let mut st = data.state();
             for &fence in fences {
                 let signalled = wait_all == vk::TRUE
