@@ -3,7 +3,7 @@
 //! and debug label.
 
 use crate::layer::report::{AggregateRow, FillrateReport};
-use crate::profile::budget::PassCount;
+use crate::profile::budget::PassBudget;
 use crate::profile::chart::ChartRow;
 
 /// "render pass #2", or "render pass #2 'shadows'" when the application labelled it: what a
@@ -19,7 +19,7 @@ pub fn pass_name(position: u32, label: Option<&str>) -> String {
 /// each deterministic counter over the measured frames.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PositionCounts {
-    pub count: PassCount,
+    pub count: PassBudget,
     /// "WxH" of the render area (several, comma-separated, if it changed between frames).
     pub area: String,
 }
@@ -40,7 +40,7 @@ pub fn worst_per_position(report: &FillrateReport) -> Vec<PositionCounts> {
             areas.dedup();
             let fragments = rows.iter().map(|r| r.max.fragment_invocations).collect::<Option<Vec<u64>>>();
             PositionCounts {
-                count: PassCount {
+                count: PassBudget {
                     name: pass_name(position, label),
                     draws: rows.iter().map(|r| r.max.draws).max().unwrap_or(0).min(u32::MAX as u64) as u32,
                     samples_passed: rows.iter().map(|r| r.max.samples_passed).max().unwrap_or(0),

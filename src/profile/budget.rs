@@ -11,6 +11,9 @@ use crate::render::FrameCounters;
 
 pub const BUDGET_SCHEMA: &str = "nostencil-budget/1";
 
+/// The deterministic counters of one pass (of this crate's frame, or one render pass instance of
+/// an application measured by the fill-rate layer) under the name its budget has: what a budget
+/// records, and what a run is checked with.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct PassBudget {
     pub name: String,
@@ -39,16 +42,6 @@ fn one_sample() -> u32 {
     1
 }
 
-/// The deterministic counters of one pass (of this crate's frame, or one render pass instance
-/// of an application measured by the fill-rate layer), under the name its budget has.
-#[derive(Debug, Clone, PartialEq)]
-pub struct PassCount {
-    pub name: String,
-    pub draws: u32,
-    pub samples_passed: u64,
-    pub fragment_invocations: Option<u64>,
-}
-
 /// `technique` of a budget recorded from an application by `nostencil profile-app`: its passes
 /// are the application's render pass instances, by position in the frame.
 pub const APPLICATION_TECHNIQUE: &str = "application";
@@ -70,6 +63,20 @@ impl std::fmt::Display for Overrun {
     }
 }
 
+/// The counters of each pass of this crate's frame.
+fn frame_passes(counters: &FrameCounters) -> Vec<PassBudget> {
+    counters
+        .passes
+        .iter()
+        .map(|p| PassBudget {
+            name: p.name.clone(),
+            draws: p.draws,
+            samples_passed: p.samples_passed,
+            fragment_invocations: p.fragment_invocations,
+        })
+        .collect()
+}
+
 impl Budget {
     pub fn from_frame(scene: &str, technique: &str, stencil: &str, counters: &FrameCounters) -> Self {
         Budget {
@@ -80,22 +87,13 @@ impl Budget {
             width: counters.width,
             height: counters.height,
             samples: counters.samples,
-            passes: counters
-                .passes
-                .iter()
-                .map(|p| PassBudget {
-                    name: p.name.clone(),
-                    draws: p.draws,
-                    samples_passed: p.samples_passed,
-                    fragment_invocations: p.fragment_invocations,
-                })
-                .collect(),
+            passes: frame_passes(counters),
         }
     }
 
     /// A budget for an application's frame (`profile-app`): `scene` is the application's name,
     /// `width` x `height` the largest render area, and the passes its render pass instances.
-    pub fn for_application(application: &str, width: u32, height: u32, passes: &[PassCount]) -> Self {
+    pub fn for_application(application: &str, width: u32, height: u32, passes: &[PassBudget]) -> Self {
         Budget {
             schema: BUDGET_SCHEMA.into(),
             scene: application.into(),
@@ -104,22 +102,14 @@ impl Budget {
             width,
             height,
             samples: 1,
-            passes: passes
-                .iter()
-                .map(|p| PassBudget {
-                    name: p.name.clone(),
-                    draws: p.draws,
-                    samples_passed: p.samples_passed,
-                    fragment_invocations: p.fragment_invocations,
-                })
-                .collect(),
+            passes: passes.to_vec(),
         }
     }
 
     /// Every counter of an application's passes over budget. The frame size is not compared: a
     /// larger window is what the budget is there to catch. A budget of another kind, another
     /// application's, or a pass it does not list is an error naming it.
-    pub fn check_application(&self, application: &str, passes: &[PassCount]) -> Result<Vec<Overrun>> {
+    pub fn check_application(&self, application: &str, passes: &[PassBudget]) -> Result<Vec<Overrun>> {
         if self.technique != APPLICATION_TECHNIQUE {
             return Err(Error::InvalidInput(format!(
                 "the budget is for nostencil's own frame ({} / {}), not an application: record one with \
@@ -170,21 +160,11 @@ impl Budget {
                 self.samples, counters.samples, counters.samples, self.samples
             )));
         }
-        let passes: Vec<PassCount> = counters
-            .passes
-            .iter()
-            .map(|p| PassCount {
-                name: p.name.clone(),
-                draws: p.draws,
-                samples_passed: p.samples_passed,
-                fragment_invocations: p.fragment_invocations,
-            })
-            .collect();
-        self.check_passes(&passes)
+        self.check_passes(&frame_passes(counters))
     }
 
     /// Every counter over budget, pass by pass (matched by name).
-    fn check_passes(&self, passes: &[PassCount]) -> Result<Vec<Overrun>> {
+    fn check_passes(&self, passes: &[PassBudget]) -> Result<Vec<Overrun>> {
         let mut overruns = Vec::new();
         for pass in passes {
             let budget =
@@ -246,7 +226,7 @@ mod tests {
 
     #[test]
     fn an_application_budget_is_checked_by_pass_name_whatever_the_size() {
-        let pass = |samples| PassCount {
+        let pass = |samples| PassBudget {
             name: "render pass #0".into(),
             draws: 1,
             samples_passed: samples,
@@ -258,7 +238,7 @@ mod tests {
         assert_eq!(overruns.len(), 2);
         assert!(overruns[0].to_string().contains("pass 'render pass #0': samples passed 1500 > budget 1000"));
         assert!(budget.check_application("other", &[pass(1000)]).is_err());
-        let extra = PassCount { name: "render pass #1".into(), ..pass(1) };
+        let extra = PassBudget { name: "render pass #1".into(), ..pass(1) };
         assert!(budget.check_application("vkcube", &[pass(1), extra]).is_err());
         let own = Budget::from_frame("s", "t", "emulated", &frame(10));
         assert!(own.check_application("s", &[pass(1)]).is_err());
