@@ -182,7 +182,7 @@ fn missing_vulkan_driver_is_a_clear_error() {
 fn cornell_box_renders_its_walls_and_warns_of_nothing() {
     let dir = common::scratch_dir("cli-gltf-warning");
     let out = dir.join("cornell.png");
-    let path = common::shared_asset("CornellBox.glb");
+    let path = common::test_asset("CornellBox.glb");
     let (_, err) = common::run_ok(&[
         "render",
         "--scene",
@@ -216,7 +216,7 @@ fn cornell_box_renders_its_walls_and_warns_of_nothing() {
 #[test]
 fn an_ignored_extension_is_named_once_in_a_warning() {
     let dir = common::scratch_dir("cli-gltf-ignored-extension");
-    let text = std::fs::read_to_string(common::shared_asset("SimpleSkin.gltf")).expect("SimpleSkin.gltf");
+    let text = std::fs::read_to_string(common::test_asset("SimpleSkin.gltf")).expect("SimpleSkin.gltf");
     let mut json: serde_json::Value = serde_json::from_str(&text).expect("JSON");
     json["extensionsUsed"] = serde_json::json!(["KHR_materials_sheen", "KHR_materials_sheen"]);
     let file = dir.join("sheen.gltf");

@@ -1,5 +1,5 @@
 //! The fill-rate counters are exact and explained: samples passed are exact pixel counts, and
-//! fragment shader invocations follow lavapipe's documented rule (DESIGN.md section 7):
+//! fragment shader invocations follow lavapipe's documented rule (docs/design/lavapipe.md):
 //! 16 x, for each rasterised triangle, the aligned 4x4 pixel blocks in which it covers at least
 //! one pixel centre, depth-rejected blocks included.
 
@@ -144,7 +144,7 @@ fn fullscreen_pass_passes_exactly_w_times_h_samples() {
 
 #[test]
 fn fullscreen_triangle_matches_the_measured_lavapipe_figures() {
-    // DESIGN.md section 7: one clipped full-screen triangle reports 66,560 at 256x256 and
+    // docs/design/lavapipe.md: one clipped full-screen triangle reports 66,560 at 256x256 and
     // 927,360 at 1280x720 (lavapipe clips it into triangles and counts the blocks of each).
     let gpu = common::gpu();
     if !gpu.device.info.name.contains("llvmpipe") {

@@ -1,8 +1,9 @@
 //! A deterministic mutation fuzzer for the glTF loader, bounded by a case count and a wall-clock
 //! budget so that CI runs it in about a minute, and the replay of every file it found.
 //!
-//! Each case mutates one file of the corpus (../shared/assets and every .gltf/.glb under
-//! tests/) and loads it the way the CLI does (`scene_and_warnings_from_gltf_slice`, the same
+//! Each case mutates one file of the corpus (every .gltf/.glb under tests/: the real files of
+//! tests/assets and the project's own) and loads it the way the CLI does
+//! (`scene_and_warnings_from_gltf_slice`, the same
 //! loader and scene building as `scene_from_gltf`, on bytes in memory). It must end in a scene
 //! or a one-line error that names the file: no panic (caught and reported with the case), no
 //! hang (a per-case time limit), and no allocation beyond what the file justifies (a counting
@@ -173,11 +174,12 @@ fn gltf_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
-/// The seeds: the shared assets and the loader's own test files, in a fixed order.
+/// The seeds: the real test assets and the loader's own test files (all under tests/), in a
+/// fixed order.
 fn corpus() -> Vec<(PathBuf, Vec<u8>)> {
     let mut paths = Vec::new();
-    gltf_files(&common::shared_assets(), &mut paths);
     gltf_files(&Path::new(env!("CARGO_MANIFEST_DIR")).join("tests"), &mut paths);
+    assert!(paths.iter().any(|p| p.starts_with(common::test_assets())), "no real asset in the corpus");
     paths.sort();
     paths.into_iter().filter_map(|p| std::fs::read(&p).ok().map(|bytes| (p, bytes))).collect()
 }

@@ -225,15 +225,15 @@ fn validator_suite_loads_valid_files_and_refuses_invalid_ones() {
     assert_eq!(counts.panics, 0);
 }
 
-/// Every real file of ../shared/assets (exported by Blender, gltfpack, FBX2glTF, COLLADA2GLTF)
+/// Every real file of tests/assets (exported by Blender, gltfpack, FBX2glTF, COLLADA2GLTF)
 /// loads and renders a frame under the validation layer, including BoxMeshopt.glb, which
 /// requires EXT_meshopt_compression and whose fallback buffer has no data at all (loading it
 /// would fail: it is never read).
 #[test]
-fn shared_assets_load_and_render() {
+fn test_assets_load_and_render() {
     let gpu = common::gpu();
     let mut files = Vec::new();
-    let mut stack = vec![common::shared_assets()];
+    let mut stack = vec![common::test_assets()];
     while let Some(dir) = stack.pop() {
         for entry in std::fs::read_dir(&dir).expect("read assets") {
             let path = entry.expect("entry").path();

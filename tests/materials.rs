@@ -175,7 +175,7 @@ fn options(technique: &str, width: u32, height: u32) -> RenderOptions {
 #[test]
 fn box_textured_pixels_show_the_texels_their_uvs_name() {
     let gpu = common::gpu();
-    let path = common::shared_assets().join("BoxTextured.glb");
+    let path = common::test_assets().join("BoxTextured.glb");
     let mut scene = nostencil::scene_from_gltf(&path, 0.0).expect("BoxTextured");
     // Unlit: the stored colour is the texel's, so the comparison needs no lighting model.
     for material in &mut scene.materials {

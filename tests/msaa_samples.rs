@@ -1,4 +1,4 @@
-//! MSAA proven sample by sample (DESIGN.md section 9): the multisampled colour read back
+//! MSAA proven sample by sample (docs/design/msaa.md): the multisampled colour read back
 //! before its resolve, the alpha counter equal to the real stencil's count (times k) in every
 //! sample, shadow edges with intermediate resolved values, the box's shadow still its projected
 //! outline at 4x, and saturation counted per sample.
@@ -412,7 +412,7 @@ fn stack_scene(boxes: usize) -> Scene {
     scene
 }
 
-/// DESIGN.md section 11 at 4x: 40 stacked volumes at k = 8 (the counter holds 31). The subpass
+/// docs/design/saturation.md at 4x: 40 stacked volumes at k = 8 (the counter holds 31). The subpass
 /// apply's atomic count, the probe's samples passed and the samples whose alpha the per-sample
 /// read-back finds at its clamp are one number, a count of samples: about 4 times the 1x
 /// frame's count of pixels. (It found the apply counting every saturated sample 4 times under

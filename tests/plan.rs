@@ -86,7 +86,7 @@ fn every_technique_without_a_stencil_equals_its_stencil_reference() {
 /// At 4x MSAA every technique, in every variant of its plan (each shadow-volume normalisation
 /// and counting method, each silhouette method, ...), draws without a stencil exactly the
 /// resolved image of its real-stencil reference, on every built-in scene: blending and the
-/// stencil test are per sample, and the subpass apply writes per sample (DESIGN.md section 9).
+/// stencil test are per sample, and the subpass apply writes per sample (docs/design/msaa.md).
 #[test]
 fn multisampled_frames_without_a_stencil_equal_their_stencil_reference() {
     use nostencil::scene::builtin::{BUILTIN_SCENES, OTHER_SCENES};

@@ -288,10 +288,10 @@ fn gpu_skinning_matches_the_cpu_skinned_mesh() {
 }
 
 #[test]
-fn every_shared_asset_renders_with_planar_shadows_animated_ones_moving() {
+fn every_test_asset_renders_with_planar_shadows_animated_ones_moving() {
     let gpu = common::gpu();
-    let dir = common::shared_assets();
-    let entries = std::fs::read_dir(&dir).expect("read the shared assets");
+    let dir = common::test_assets();
+    let entries = std::fs::read_dir(&dir).expect("read the test assets");
     let mut files: Vec<PathBuf> = entries
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|e| e == "glb" || e == "gltf"))
@@ -501,8 +501,8 @@ fn a_simplified_caster_casts_within_a_few_pixels_of_the_full_mesh() {
     const MAX_OUTLINE_SHIFT: f32 = 4.0;
     const MAX_MEAN_SHIFT: f32 = 1.5;
     let gpu = common::gpu();
-    let knot = common::shared_asset("TorusKnot.glb");
-    let rigged = common::shared_asset("RiggedSimple.glb");
+    let knot = common::test_asset("TorusKnot.glb");
+    let rigged = common::test_asset("RiggedSimple.glb");
     let scenes = [
         ("default", builtin_scene_at("default", 0.3).expect("scene")),
         ("point-light", builtin_scene_at("point-light", 0.6).expect("scene")),
@@ -639,7 +639,7 @@ fn bad_input_gets_a_clear_error() {
 
     // Malformed files, through the command line with the planar technique: one line naming the
     // file and the problem.
-    let good = common::shared_asset("RiggedSimple.glb");
+    let good = common::test_asset("RiggedSimple.glb");
     let dir = common::scratch_dir("planar-bad-input");
     let bytes = std::fs::read(&good).expect("read");
     let truncated = dir.join("truncated.glb");
@@ -768,7 +768,7 @@ fn a_renderer_built_once_follows_the_walk_as_if_rebuilt_at_each_time() {
     // every technique that draws skinned meshes (GPU-skinned, or re-skinned on the CPU when the
     // palette changes), for the built-in walk and a glTF file's animation.
     let gpu = common::gpu();
-    let rigged = common::shared_asset("RiggedSimple.glb");
+    let rigged = common::test_asset("RiggedSimple.glb");
     type SceneAt<'a> = Box<dyn Fn(f32) -> Scene + 'a>;
     let sources: [(&str, SceneAt); 2] = [
         ("character", Box::new(|t| builtin_scene_at("character", t).expect("scene"))),

@@ -311,7 +311,7 @@ fn fixed_light_skips_the_shadow_passes_and_moving_light_does_not() {
 
 #[test]
 fn texcoord1_is_used_when_it_does_not_overlap_and_replaced_when_it_does() {
-    let path = common::shared_asset("CornellBox.glb");
+    let path = common::test_asset("CornellBox.glb");
     let scene = nostencil::scene::scene_from_gltf(&path, 0.0).expect("CornellBox.glb");
     let with_uv1: Vec<_> = scene.meshes.iter().filter(|m| m.uv1.is_some()).collect();
     assert!(!with_uv1.is_empty(), "CornellBox.glb has TEXCOORD_1");

@@ -85,7 +85,7 @@ fn shadow_mask(shadowed: &RgbaImage, lit: &RgbaImage) -> Vec<bool> {
 }
 
 /// The shadow factors of the sweep: the default 102, and 64 and 128, where the normalisation
-/// needs a different number of iterations (DESIGN.md section 10).
+/// needs a different number of iterations (docs/design/blend-rounding.md).
 const SWEEP_DARKNESS: [u8; 3] = [64, 102, 128];
 
 #[test]
@@ -118,7 +118,7 @@ fn emulated_equals_reference_for_every_scene_increment_darkness_and_normalisatio
     common::assert_no_validation_messages(&gpu);
 }
 
-/// DESIGN.md section 10: at D = 102 and k = 4 three iterations bring every shadowed count to
+/// docs/design/blend-rounding.md: at D = 102 and k = 4 three iterations bring every shadowed count to
 /// <= D on any GPU (reaching 0 under lavapipe's rounding took four), and the image is still the
 /// reference's.
 #[test]
@@ -183,7 +183,7 @@ fn model_step(pass: &PlannedPass) -> alpha_counter::Step {
 
 #[test]
 fn normalisation_table_is_read_back_from_the_gpu() {
-    // DESIGN.md: with k = 1 a count of 1 reads 253, 249, 237, 202, 107, 0 after N0 and each
+    // docs/design/lavapipe.md: with k = 1 a count of 1 reads 253, 249, 237, 202, 107, 0 after N0 and each
     // iteration, under lavapipe's rounding.
     assert_eq!(alpha_counter::seed_sequence(1), [253u8, 249, 237, 202, 107, 0]);
     let gpu = common::gpu();
@@ -309,7 +309,7 @@ fn box_shadow_matches_its_projected_outline() {
     common::assert_no_validation_messages(&gpu);
 }
 
-/// DESIGN.md section 8: a one-sided quad whose back faces the light, a box without its top seen
+/// docs/design/any-mesh-volumes.md: a one-sided quad whose back faces the light, a box without its top seen
 /// through the hole (the ground under it shows through its culled floor), a non-manifold fan
 /// with a box wound inconsistently, and boxes touching along an edge cast their projected
 /// outlines in z-pass and in z-fail.
@@ -430,7 +430,7 @@ fn pass_names(frame: &Frame) -> Vec<&str> {
     frame.output.counters.passes.iter().map(|p| p.name.as_str()).collect()
 }
 
-/// DESIGN.md section 11: saturation (the counter at its clamp once every volume is drawn) is
+/// docs/design/saturation.md: saturation (the counter at its clamp once every volume is drawn) is
 /// counted by the subpass apply's atomic add, with no probe pass; the opt-in probe on the same
 /// frame counts the same pixels.
 #[test]

@@ -1,4 +1,4 @@
-//! Shadow volumes cast by real glTF files (../shared/assets), skinned ones at their animated
+//! Shadow volumes cast by real glTF files (tests/assets), skinned ones at their animated
 //! pose: the emulated frame still equals the real-stencil reference pixel for pixel, and the
 //! shadow is really there, on the ground under the casters and nowhere else.
 
@@ -100,7 +100,7 @@ fn gltf_casters_match_the_reference_and_follow_the_skinned_pose() {
     let mut rigged_images = Vec::new();
     for (file, time) in [("TorusKnot.glb", 0.0), ("Box.glb", 0.0), ("RiggedSimple.glb", 0.0), ("RiggedSimple.glb", 0.8)]
     {
-        let path = common::shared_asset(file);
+        let path = common::test_asset(file);
         let scene = scene_from_gltf(&path, time).expect("scene");
         assert!(scene.objects.iter().any(|o| o.casts_shadow), "{file}: no caster found");
         let options = ShadowVolumeOptions::default();
@@ -133,7 +133,7 @@ fn open_gltf_meshes_cast_two_sided_and_match_the_reference() {
     for (file, time) in
         [("CornellBox.glb", 0.0), ("SimpleSkin.gltf", 0.5), ("BoxAnimated.glb", 0.0), ("BoxAnimated.glb", 1.5)]
     {
-        let path = common::shared_asset(file);
+        let path = common::test_asset(file);
         let scene = scene_from_gltf(&path, time).expect("scene");
         let meshes = scene.objects.iter().filter(|o| o.name != "ground");
         assert!(meshes.clone().all(|o| o.casts_shadow), "{file}: every mesh of the file casts");
@@ -174,7 +174,7 @@ fn open_gltf_meshes_cast_two_sided_and_match_the_reference() {
 #[test]
 fn an_open_skinned_strip_shadows_the_ground_under_it() {
     let gpu = common::gpu();
-    let path = common::shared_asset("SimpleSkin.gltf");
+    let path = common::test_asset("SimpleSkin.gltf");
     for time in [0.0, 0.5] {
         let scene = scene_from_gltf(&path, time).expect("scene");
         let reference = shadowed(&gpu, &scene, StencilMode::Reference, &ShadowVolumeOptions::default());

@@ -69,7 +69,7 @@ fn edges(c: &mut Criterion) {
 }
 
 fn animation(c: &mut Criterion) {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/assets/RiggedSimple.glb");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/assets/RiggedSimple.glb");
     let Ok(model) = scene::load_gltf(&path) else {
         eprintln!("skipped animation benches: {} not found", path.display());
         return;

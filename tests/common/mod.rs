@@ -33,17 +33,17 @@ pub fn scratch_dir(test: &str) -> std::path::PathBuf {
     dir
 }
 
-/// The shared glTF folder beside the checkout (`../shared/assets`). The tests need it: a
-/// missing folder fails them by name instead of skipping (a skipped test proves nothing).
-pub fn shared_assets() -> std::path::PathBuf {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/assets");
-    assert!(dir.is_dir(), "{} not found: the tests need the shared glTF assets", dir.display());
+/// The real glTF files in the repository (`tests/assets`, origins and licences in its
+/// `SOURCES.md`). A missing folder fails the tests by name instead of skipping them.
+pub fn test_assets() -> std::path::PathBuf {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/assets");
+    assert!(dir.is_dir(), "{} not found: the tests need the glTF test assets", dir.display());
     dir
 }
 
-/// One file of the shared assets; fails the test when it is missing.
-pub fn shared_asset(name: &str) -> std::path::PathBuf {
-    let path = shared_assets().join(name);
+/// One file of the test assets; fails the test when it is missing.
+pub fn test_asset(name: &str) -> std::path::PathBuf {
+    let path = test_assets().join(name);
     assert!(path.is_file(), "{} not found", path.display());
     path
 }

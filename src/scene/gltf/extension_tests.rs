@@ -26,7 +26,7 @@ fn gltf_files(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
 }
 
 #[test]
-fn every_shared_asset_loads() {
+fn every_test_asset_loads() {
     let mut files = Vec::new();
     gltf_files(&assets(), &mut files);
     assert!(files.len() >= 15, "{} files", files.len());

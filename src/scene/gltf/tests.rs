@@ -1,5 +1,5 @@
 //! Loader, animation and skinning tests against real files from other tools
-//! (`../shared/assets`, see its README), and against broken files derived from them.
+//! (`tests/assets`, see its `SOURCES.md`), and against broken files derived from them.
 
 use std::path::{Path, PathBuf};
 
@@ -22,11 +22,11 @@ const ALL: [&str; 7] = [
     "TorusKnot.glb",
 ];
 
-/// The shared asset folder beside this checkout; the tests need it (a skipped test proves
-/// nothing), so its absence is a failure that says where it was looked for.
+/// The repository's real glTF files (`tests/assets`, see its `SOURCES.md`); the tests need them
+/// (a skipped test proves nothing), so their absence is a failure that says where it looked.
 pub(super) fn assets() -> PathBuf {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/assets");
-    assert!(dir.is_dir(), "{} not found: the glTF tests need the shared asset folder", dir.display());
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/assets");
+    assert!(dir.is_dir(), "{} not found: the glTF tests need the test asset folder", dir.display());
     dir
 }
 
@@ -860,7 +860,7 @@ fn encode_base64(bytes: &[u8]) -> String {
     base64::engine::general_purpose::STANDARD.encode(bytes)
 }
 
-/// What none of the shared assets has: a sparse accessor without a buffer view, normalised
+/// What none of the test assets has: a sparse accessor without a buffer view, normalised
 /// UNSIGNED_BYTE texture coordinates, UNSIGNED_BYTE indices, a triangle fan, a CUBICSPLINE
 /// channel read from a file, a camera and KHR_lights_punctual lights.
 #[test]
