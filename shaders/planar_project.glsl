@@ -1,5 +1,5 @@
 // Projection onto the receiving plane P = (n, d), n.x + d = 0 with unit n, along the light
-// (DESIGN.md section 3) through Blinn's shadow matrix M = (P.L) I - L P^T, L the light in
+// (docs/design/planar-shadows.md) through Blinn's shadow matrix M = (P.L) I - L P^T, L the light in
 // homogeneous form (towards a directional light: (-dir, 0); a point light: (C, 1)). Mirrored on
 // the CPU by technique::planar::Plane::project, which the tests compare against.
 // Points behind the plane are first moved onto it (they cast nothing); a point level with or

@@ -1,6 +1,6 @@
 #version 450
-// The one-sample subpass apply that also counts saturated samples, here pixels (DESIGN.md
-// section 11): alpha at 1.0 is the counter at its clamp, a count of 255/k or more, where
+// The one-sample subpass apply that also counts saturated samples, here pixels
+// (docs/design/saturation.md): alpha at 1.0 is the counter at its clamp, a count of 255/k or more, where
 // increments may have been lost. One atomic add per such pixel, in the pass the frame draws
 // anyway.
 #include "shadow_subpass_factor.glsl"

@@ -1,5 +1,5 @@
 #version 450
-// The multisampled subpass apply that also counts saturated samples (DESIGN.md section 11): alpha
+// The multisampled subpass apply that also counts saturated samples (docs/design/saturation.md): alpha
 // at 1.0 is the counter at its clamp, where increments may have been lost. One atomic add per
 // pixel that has any, of the number of such samples.
 #include "shadow_subpass_factor_ms.glsl"

@@ -1,4 +1,4 @@
-// Subpass normalisation of a multisampled frame (DESIGN.md section 9): one invocation per pixel
+// Subpass normalisation of a multisampled frame (docs/design/msaa.md): one invocation per pixel
 // reads the count of every sample from the multisampled colour (an input attachment of the same
 // subpass) and writes the shadow's factors only to the shadowed samples, through gl_SampleMask.
 // Lit samples keep their colour, as the reference's per-sample stencil test leaves them.

@@ -65,7 +65,7 @@ pub fn format_has_stencil(format: vk::Format) -> bool {
 impl RenderPassDesc {
     /// The frame with `samples` samples per pixel. One sample: colour cleared and stored (it is
     /// read back or presented); depth cleared, never stored and transient, since nothing reads
-    /// it after the pass. Several (DESIGN.md section 9): colour and depth both transient, cleared
+    /// it after the pass. Several (docs/design/msaa.md): colour and depth both transient, cleared
     /// and discarded in tile memory, and the colour resolved into a one-sample attachment, the
     /// only one stored. `keep_samples` stores the multisampled colour too (the per-sample test
     /// reads it back; never in a timed frame).

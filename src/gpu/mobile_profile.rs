@@ -66,7 +66,7 @@ pub struct EnabledFeatures {
     /// profiler, never by rendering, and reported as unavailable where the device lacks it.
     pub pipeline_statistics_query: bool,
     /// Storage-buffer atomics in fragment shaders (in Android Baseline 2022): the subpass
-    /// shadow apply counts saturated samples with them (DESIGN.md section 11). Without it that
+    /// shadow apply counts saturated samples with them (docs/design/saturation.md). Without it that
     /// count is reported as not measured.
     pub fragment_stores_and_atomics: bool,
 }

@@ -1,7 +1,6 @@
 //! `VK_LAYER_NOSTENCIL_fillrate`: a Vulkan layer, built into `libnostencil.so` (the crate's
 //! cdylib), that wraps every render pass instance of any application in the queries
-//! `nostencil profile` uses, and writes per-frame, per-pass fill-rate counters (DESIGN.md
-//! section 12).
+//! `nostencil profile` uses, and writes per-frame, per-pass fill-rate counters (docs/design/layer.md).
 
 pub mod aggregate;
 pub mod arrays;

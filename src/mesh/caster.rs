@@ -1,5 +1,5 @@
 //! A mesh prepared to cast shadow volumes: welded by position, its edge adjacency built, and
-//! classified once (DESIGN.md section 8): a closed, consistently wound mesh keeps the classic
+//! classified once (docs/design/any-mesh-volumes.md): a closed, consistently wound mesh keeps the classic
 //! silhouette volume; any other casts two-sided, through edge multiplicities.
 
 use glam::Vec3;

@@ -1,4 +1,4 @@
-//! Shadow-volume geometry on the CPU (seed 000, DESIGN.md section 2): silhouette sides
+//! Shadow-volume geometry on the CPU (seed 000, docs/design/shadow-volumes.md): silhouette sides
 //! extruded to infinity, and for z-fail the two caps (Everitt and Kilgard's construction).
 //!
 //! Points at infinity are homogeneous, w = 0, and need an infinite-far projection. The volume is
@@ -12,7 +12,7 @@
 //! it): the near cap's inner edges pair among themselves, its rim pairs with the sides, the
 //! sides pair with each other along the silhouette loops and with the far cap at infinity. With
 //! the mesh wound counter-clockwise seen from outside, every volume triangle is wound
-//! counter-clockwise seen from outside the volume (front faces point out), as DESIGN.md's
+//! counter-clockwise seen from outside the volume (front faces point out), as docs/design/shadow-volumes.md's
 //! increment/decrement table assumes.
 //!
 //! For a directional light every point at infinity is the same point, `(direction, 0)`: each

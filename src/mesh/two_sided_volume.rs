@@ -1,4 +1,4 @@
-//! Shadow volumes of any triangle mesh (DESIGN.md section 8): open, non-manifold,
+//! Shadow volumes of any triangle mesh (docs/design/any-mesh-volumes.md): open, non-manifold,
 //! inconsistently wound or touching meshes cast through edge multiplicities.
 //!
 //! Every triangle is turned to face the light (the ones seen from behind are flipped) and casts

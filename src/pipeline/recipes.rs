@@ -1,4 +1,5 @@
-//! Named fixed-function recipes (DESIGN.md sections 2 to 5), each defined once: the write masks,
+//! Named fixed-function recipes (docs/design/: shadow-volumes, planar-shadows, outlines,
+//! shadow-atlas), each defined once: the write masks,
 //! the alpha-counter steps, the modulations and the stencil faces of the reference paths.
 //! Techniques build their pass plans from these names, so `nostencil passes` prints a recipe
 //! by the name a port would look it up under.
@@ -33,7 +34,7 @@ pub const COLOUR_REPLACE: BlendState = BlendState { colour: None, alpha: None, w
 pub const NO_WRITE: BlendState = BlendState { colour: None, alpha: None, write_mask: vk::ColorComponentFlags::empty() };
 
 // ---------------------------------------------------------------------------------------------
-// The alpha counter (DESIGN.md section 2).
+// The alpha counter (docs/design/shadow-volumes.md).
 
 /// A volume wall entering: alpha += k/255.
 pub const COUNTER_INCREMENT: BlendState = alpha_blend(vk::BlendOp::ADD, ONE, ONE);
@@ -74,7 +75,7 @@ pub const COLOUR_WHERE_ALPHA_ZERO: BlendState =
     colour_blend(vk::BlendOp::ADD, vk::BlendFactor::ONE_MINUS_DST_ALPHA, vk::BlendFactor::DST_ALPHA);
 
 // ---------------------------------------------------------------------------------------------
-// Ground shadows (DESIGN.md section 3).
+// Ground shadows (docs/design/planar-shadows.md).
 
 /// colour *= the fragment's colour (a factor per channel: a blob, a shadow-texture lookup, a
 /// shadow volume's tint), alpha left alone.

@@ -3,7 +3,7 @@
 //! Two different figures are kept apart on purpose:
 //! - `fragment_invocations` (pipeline statistics) counts fragment shader invocations. On
 //!   lavapipe this is not a pixel count: it is 16 x the 4x4 pixel blocks each triangle touches,
-//!   depth-rejected blocks included (DESIGN.md section 7). Hardware differs again (2x2 quads).
+//!   depth-rejected blocks included (docs/design/lavapipe.md). Hardware differs again (2x2 quads).
 //! - `samples_passed` (precise occlusion query) counts samples that passed the depth and stencil
 //!   tests: exact, the same on every conformant device.
 

@@ -90,7 +90,7 @@ struct Framing {
 }
 
 /// The model's box and the shadow it throws on the ground at `ground_y`: its corners projected
-/// along the light (DESIGN.md section 3), so that the shadow is in the picture too.
+/// along the light (docs/design/planar-shadows.md), so that the shadow is in the picture too.
 fn frame_with_shadow(low: Vec3, high: Vec3, ground_y: f32, light: &Light) -> Framing {
     let corners = (0..8).map(|i| {
         Vec3::new(

@@ -1,4 +1,4 @@
-//! Built-in scenes whose casters are not closed manifolds (DESIGN.md section 8): a one-sided
+//! Built-in scenes whose casters are not closed manifolds (docs/design/any-mesh-volumes.md): a one-sided
 //! quad, a box without its top, a non-manifold fan and touching boxes. Shadow volumes cast them
 //! two-sided; their shadows on the ground are projections computable by hand.
 

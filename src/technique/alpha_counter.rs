@@ -1,4 +1,5 @@
-//! The alpha channel as an 8-bit counter (DESIGN.md sections 1, 2 and 10): the blend arithmetic
+//! The alpha channel as an 8-bit counter (docs/design/alpha-counter.md, shadow-volumes.md,
+//! blend-rounding.md): the blend arithmetic
 //! of the seed's normalisation passes, simulated on the CPU under every rounding Vulkan allows,
 //! so that the number of iterations is derived from the increment k and the darkness D, never
 //! hard-coded.
@@ -28,7 +29,7 @@ crate::names::named_enum! {
     /// How a GPU turns a blend product `a * b / 255` into 8 bits. Vulkan allows either
     /// neighbour of the exact value (an exact integer exactly), so a port must hold under
     /// `down` and `up`; `nearest` is what the specification recommends, `lavapipe` what the
-    /// test device does (DESIGN.md section 7).
+    /// test device does (docs/design/lavapipe.md).
     pub enum Rounding {
         #[default]
         Nearest = "nearest",
@@ -87,8 +88,8 @@ impl Step {
 }
 
 /// Seed 000's own table of a shadowed pixel's alpha through the normalisation, as printed in
-/// Brian Hall, "Creating Stencil Shadows on iPhone" (Gamasutra, 16 June 2010; the Korean
-/// translation in `../shared/seeds/000_7e04994a9f93d7e0.txt`, table "단계 / 알파 값"): the
+/// Brian Hall, "Creating Stencil Shadows on iPhone" (Gamasutra, 16 June 2010; its Korean
+/// translation's table "단계 / 알파 값", see `docs/sources.md`): the
 /// initial count of one wall at 1/256, then after N0 ("단계 1") and four iterations ("단계
 /// 2..5"), four decimals. Lit pixels read 0 then 1 throughout.
 pub const SEED_TABLE: [f64; 6] = [0.0040, 0.9922, 0.9767, 0.9306, 0.7966, 0.4312];
@@ -118,7 +119,7 @@ pub fn shadowed_after(k: u8, iterations: usize, rounding: Rounding) -> impl Iter
     })
 }
 
-/// Iterations after N0 that a port can trust (DESIGN.md section 10): the smallest n that brings
+/// Iterations after N0 that a port can trust (docs/design/blend-rounding.md): the smallest n that brings
 /// every shadowed count to <= D when every product rounds up (the worst case: the iteration is
 /// increasing in `a`), so that the D step (`-D, +D` or `MAX D`) sets it to exactly D. A count
 /// of 0 goes to 1 and stays there in every rounding.
@@ -168,7 +169,7 @@ mod tests {
 
     #[test]
     fn count_of_one_follows_the_design_table() {
-        // DESIGN.md: 1 -> 253 -> 249 -> 237 -> 202 -> 107 -> 0.
+        // docs/design/lavapipe.md: 1 -> 253 -> 249 -> 237 -> 202 -> 107 -> 0.
         assert_eq!(seed_sequence(1), vec![253, 249, 237, 202, 107, 0]);
     }
 
@@ -210,7 +211,7 @@ mod tests {
 
     #[test]
     fn iterations_follow_the_design_table() {
-        // DESIGN.md section 10, counted by hand with products rounded up.
+        // docs/design/blend-rounding.md, counted by hand with products rounded up.
         for (d, counts) in [(102u8, [5usize, 4, 3, 3]), (128, [5, 4, 3, 2]), (64, [5, 4, 4, 3])] {
             for (k, n) in [1u8, 2, 4, 8].into_iter().zip(counts) {
                 assert_eq!(seed_iterations(k, d).unwrap(), n, "k = {k}, D = {d}");

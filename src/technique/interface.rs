@@ -30,7 +30,7 @@ pub struct RenderOptions {
     pub count_overdraw: bool,
     pub cartoon: CartoonOptions,
     pub planar: PlanarOptions,
-    /// Samples per pixel of the frame's colour and depth (1, 2 or 4; DESIGN.md section 9).
+    /// Samples per pixel of the frame's colour and depth (1, 2 or 4; docs/design/msaa.md).
     /// Prepasses (shadow map, bake, render-texture shadow, outline mask) keep one.
     pub samples: u32,
     /// Store the multisampled colour instead of leaving it in tile memory, so that a test can

@@ -42,7 +42,7 @@ pub struct ShadowVolumeOptions {
     /// colour x these factors / 255, per channel (linear, as the blend unit multiplies).
     /// Overrides `shadow_factor`.
     pub shadow_colour: Option<[u8; 3]>,
-    /// Add the full-screen saturation probe (DESIGN.md section 11): a diagnostic pass a user
+    /// Add the full-screen saturation probe (docs/design/saturation.md): a diagnostic pass a user
     /// asks for, never part of a timed frame. The `subpass` apply counts saturation without it.
     pub saturation_probe: bool,
     /// The device has `fragmentStoresAndAtomics` (Android Baseline 2022), so the `subpass`

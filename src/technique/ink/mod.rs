@@ -1,4 +1,4 @@
-//! The ink renderer (seed 002, DESIGN.md section 4): the scene shaded Lambert (`silhouette`)
+//! The ink renderer (seed 002, docs/design/outlines.md): the scene shaded Lambert (`silhouette`)
 //! or through a toon ramp (`toon`), then ink on its silhouettes by one of these methods:
 //! - `edges`: per frame on the CPU, each object's unique edge list is classified from the eye
 //!   (`mesh::classify`), and the flagged edges are drawn as screen-space quads, one draw per

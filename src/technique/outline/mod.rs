@@ -1,4 +1,4 @@
-//! The selection outline without a stencil (seed 003, DESIGN.md section 4): the selected
+//! The selection outline without a stencil (seed 003, docs/design/outlines.md): the selected
 //! objects mark alpha, and their copies (extruded, or scaled up as the document does: see
 //! [`scaled`]) are drawn only where it is unmarked. Proven against the document's
 //! real-stencil version. The recipes and pass plan are in [`recipes`], the renderer in

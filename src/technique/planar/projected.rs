@@ -1,4 +1,4 @@
-//! Planar projected shadows (seed 001, DESIGN.md section 3): every caster drawn a second time,
+//! Planar projected shadows (seed 001, docs/design/planar-shadows.md): every caster drawn a second time,
 //! flattened onto the ground plane along the light in the vertex shader (after GPU skinning for
 //! skinned characters), with double darkening stopped in one pass and no stencil.
 //!
@@ -63,7 +63,7 @@ const PROJECTED_CASTERS: Draws = Draws::Geometry("casters flattened onto the pla
 const PROJECTED_LOD_CASTERS: Draws = Draws::Geometry("simplified casters (meshoptimizer) flattened onto the plane");
 
 // ---------------------------------------------------------------------------------------------
-// Pipelines (DESIGN.md section 3) and the frame's plan.
+// Pipelines (docs/design/planar-shadows.md) and the frame's plan.
 
 fn shadow_desc(name: &'static str, skinned: bool, reference: bool) -> PipelineDesc {
     PipelineDesc {

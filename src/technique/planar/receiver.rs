@@ -1,5 +1,5 @@
 //! The ground every seed 001 shadow falls on: which objects receive (the others cast), the
-//! plane's height, and the projection onto it on the CPU (the formulas of DESIGN.md section 3,
+//! plane's height, and the projection onto it on the CPU (the formulas of docs/design/planar-shadows.md,
 //! as `shaders/planar_project.glsl` computes them).
 
 use glam::{Mat4, Vec3, Vec4};
@@ -46,7 +46,7 @@ impl Plane {
 
     /// Blinn's shadow matrix `M = (P.L) I - L P^T` for the plane `P = (n, d)` and the light
     /// `L` in homogeneous form (towards a directional light `(-dir, 0)`, a point light
-    /// `(C, 1)`): `M x` is `x` projected from the light onto the plane (DESIGN.md section 3).
+    /// `(C, 1)`): `M x` is `x` projected from the light onto the plane (docs/design/planar-shadows.md).
     pub fn shadow_matrix(&self, light: &Light) -> Mat4 {
         let (p, l) = (self.as_vec4(), light_vec4(light));
         Mat4::from_diagonal(Vec4::splat(p.dot(l))) - Mat4::from_cols(l * p.x, l * p.y, l * p.z, l * p.w)
@@ -106,7 +106,7 @@ fn light_vec4(light: &Light) -> Vec4 {
     }
 }
 
-/// Projects world point `p` onto the plane y = `h` along `light` (DESIGN.md section 3): the
+/// Projects world point `p` onto the plane y = `h` along `light` (docs/design/planar-shadows.md): the
 /// shadow matrix of [`Plane::horizontal`].
 pub fn project_onto_plane(p: Vec3, light: &Light, h: f32) -> Vec3 {
     Plane::horizontal(h).project(p, light)

@@ -1,4 +1,4 @@
-//! Shadow textures baked into a per-model atlas (seed 004, DESIGN.md section 5), and the plain
+//! Shadow textures baked into a per-model atlas (seed 004, docs/design/shadow-atlas.md), and the plain
 //! shadow map they are compared with.
 //!
 //! Pre-pass (outside the frame's render pass, skipped when neither light nor models moved):

@@ -1,5 +1,5 @@
 //! Shadow casters: each casting object's welded mesh, edge adjacency and volume path
-//! (silhouette or two-sided, DESIGN.md section 8), prepared once; its volume built per frame
+//! (silhouette or two-sided, docs/design/any-mesh-volumes.md), prepared once; its volume built per frame
 //! for the current light and pose; and the camera-inside test that picks z-fail.
 
 use glam::{Mat4, Vec3};

@@ -1,4 +1,4 @@
-//! Shadow volumes counted in the colour alpha channel (seed 000, DESIGN.md section 2), and the
+//! Shadow volumes counted in the colour alpha channel (seed 000, docs/design/shadow-volumes.md), and the
 //! real-stencil reference they are proven against: the recipes and pass plan
 //! ([`recipes`]), the casters and their volumes on the CPU ([`casters`]), and the renderer
 //! that draws them ([`renderer`]).
@@ -51,7 +51,7 @@ impl Technique for ShadowVolumes {
     }
 
     fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
-        // The probe is a diagnostic: never part of a timed frame (DESIGN.md section 11).
+        // The probe is a diagnostic: never part of a timed frame (docs/design/saturation.md).
         let untimed_probe = ShadowVolumeOptions { saturation_probe: false, ..options.shadow_volume };
         let options = &RenderOptions { shadow_volume: untimed_probe, ..options.clone() };
         let mut variants = vec![Variant {

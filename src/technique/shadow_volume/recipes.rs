@@ -1,4 +1,4 @@
-//! The shadow-volume pipelines (DESIGN.md section 2), from the named recipes, and the frame's
+//! The shadow-volume pipelines (docs/design/shadow-volumes.md), from the named recipes, and the frame's
 //! pass plan for each path.
 //!
 //! Every volume is clipped to the receivers' bounds and drawn inside its own scissor, and every
@@ -9,10 +9,10 @@
 //! 1. scene: lit objects, every pixel's alpha set to 0 (the counter);
 //! 2. volumes, one pass with two pipelines: every increment (+k/255 per wall), then every
 //!    decrement. All increments come first because alpha clamps at 0 where a stencil would
-//!    wrap (the volumes of two-sided casters, DESIGN.md section 8, bring their near caps in
+//!    wrap (the volumes of two-sided casters, docs/design/any-mesh-volumes.md, bring their near caps in
 //!    z-pass too);
 //! 3. only with `--saturation-probe`: the probe, a diagnostic full-screen pass whose occlusion
-//!    query counts the pixels whose counter sits at its clamp (DESIGN.md section 11);
+//!    query counts the pixels whose counter sits at its clamp (docs/design/saturation.md);
 //! 4. normalisation, one of: `seed` (N0, n iterations, REVERSE_SUBTRACT D, ADD D), `max` (N0,
 //!    n iterations, MAX D; n from k and D, `alpha_counter::seed_iterations`) or `subpass`
 //!    (read the count as an input attachment, and count the clamped pixels with one atomic add
