@@ -531,7 +531,7 @@ fn every_technique_binds_the_variants_its_materials_need_and_matches_its_referen
             }
             // A pass drawing every object binds the variants their materials need, and no other
             // (a variant may exist for several pipelines: static and skinned objects).
-            if pass.draws == nostencil::render::plan::Draws::Objects {
+            if pass.draws.describe() == "objects" {
                 use MaterialVariant::*;
                 for v in [Masked, DoubleSided, Blend, BlendDoubleSided] {
                     let used = pass

@@ -16,11 +16,12 @@ use nostencil::mesh::caster::CastPath;
 use nostencil::mesh::Reach;
 use nostencil::pipeline::recipes::{both_faces, stencil_face, ALPHA_ONLY, STENCIL_COUNT_ZERO};
 use nostencil::pipeline::{BlendState, FixedFunction, PipelineDesc, VertexLayout};
-use nostencil::render::plan::{record_plan, PassDraws, PassPlan, PlanPipelines, PlannedPass, Push, SetRole, Target};
+use nostencil::render::plan::{record_plan, PassDraws, PassPlan, PlanPipelines, PlannedPass, SetRole, Target};
 use nostencil::render::{
     FrameRecorder, FrameSamples, FrameUniforms, GpuScene, ObjectPush, Pipeline, PipelineTarget, Renderer,
 };
 use nostencil::scene::{builtin_scene, Scene};
+use nostencil::technique::shadow_volume::recipes::{VolumeDraw, VolumeKinds, VolumeSet};
 use nostencil::technique::shadow_volume::{self, bounds, build_volume, prepare_casters};
 use nostencil::technique::shadow_volume::{Normalize, ShadowVolumeOptions, VolumeMethod};
 use nostencil::technique::{RenderOptions, Technique};
@@ -102,7 +103,12 @@ const SHOWN_COUNTS: u32 = 12;
 
 /// A full-screen pass writing alpha `value` where the stencil passes `compare` against
 /// `reference`: per-sample stencil test, so per-sample write.
-fn stencil_to_alpha(name: &'static str, compare: vk::CompareOp, reference: u32, value: u32) -> PlannedPass {
+fn stencil_to_alpha(
+    name: &'static str,
+    compare: vk::CompareOp,
+    reference: u32,
+    value: u32,
+) -> PlannedPass<VolumeKinds> {
     let desc = PipelineDesc {
         name,
         vertex_shader: "fullscreen.vert",
@@ -168,17 +174,24 @@ impl<'a> VolumeDraws<'a> {
     }
 }
 
-impl PassDraws for VolumeDraws<'_> {
-    fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
-        (role == SetRole::Material).then(|| self.meshes.materials.template_set())
+impl PassDraws<VolumeKinds> for VolumeDraws<'_> {
+    fn set(&self, _: VolumeSet) -> Option<vk::DescriptorSet> {
+        None
     }
 
-    fn meshes(&self) -> Option<(&Scene, &GpuScene)> {
-        Some((self.scene, &self.meshes))
+    fn meshes(&self) -> Option<&GpuScene> {
+        Some(&self.meshes)
     }
 
-    fn draw(&self, rec: &mut FrameRecorder, pass: &PlannedPass, pipelines: &[&Pipeline]) -> nostencil::Result<()> {
-        let Push::TransformAlpha(alpha) = pass.push else { panic!("'{}' is not a volume pass", pass.name) };
+    fn draw(
+        &self,
+        rec: &mut FrameRecorder,
+        _: &Scene,
+        draw: VolumeDraw,
+        _: &PlannedPass<VolumeKinds>,
+        pipelines: &[&Pipeline],
+    ) -> nostencil::Result<()> {
+        let VolumeDraw::Volumes { alpha } = draw;
         for (index, pipeline) in pipelines.iter().enumerate() {
             if index > 0 {
                 rec.bind(pipeline);
@@ -235,7 +248,7 @@ fn counts_per_sample(
     let uniforms = FrameUniforms::for_scene(scene, renderer.aspect());
     let clear = scene.background.extend(0.0).to_array();
     renderer
-        .render(&uniforms, clear, |rec| record_plan(rec, &plan, &pipelines, true, &|_| true, &draws))
+        .render(&uniforms, clear, |rec| record_plan(rec, &plan, &pipelines, true, &|_| true, scene, &draws))
         .expect("frame");
     renderer.read_samples().expect("samples")
 }

@@ -16,7 +16,7 @@ use nostencil::frame::render_pass::COLOUR_FORMAT;
 use nostencil::frame::StencilMode;
 use nostencil::gpu::Gpu;
 use nostencil::mesh::MeshData;
-use nostencil::render::plan::{PlannedPass, Push};
+use nostencil::render::plan::{Draws, PassKinds, PlannedPass};
 use nostencil::render::Pipeline;
 use nostencil::render::{FrameRecorder, FrameUniforms, Renderer};
 use nostencil::scene::{builtin_scene, Scene, BUILTIN_SCENES};
@@ -169,7 +169,7 @@ fn write_every_alpha(rec: &mut FrameRecorder) {
 }
 
 /// The model of a normalisation pass, found by its pipeline.
-fn model_step(pass: &PlannedPass) -> alpha_counter::Step {
+fn model_step<K: PassKinds>(pass: &PlannedPass<K>) -> alpha_counter::Step {
     use alpha_counter::Step;
     match pass.pipeline().map(|d| d.name) {
         Some("normalise N0") => Step::N0,
@@ -237,7 +237,9 @@ fn normalisation_table_is_read_back_from_the_gpu() {
                         write_every_alpha(rec);
                         for pass in prefix {
                             let pipeline = &pipelines[pass.pipeline().map_or("", |d| d.name)];
-                            let Push::Constant(value) = pass.push else { panic!("'{}' has no constant", pass.name) };
+                            let Draws::FullScreen { push: Some(value) } = pass.draws else {
+                                panic!("'{}' has no constant", pass.name)
+                            };
                             rec.pass(&pass.name, |rec| {
                                 rec.bind(pipeline);
                                 rec.push(pipeline, &value);

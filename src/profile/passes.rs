@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 use ash::vk;
 
 use crate::pipeline::{BlendEquation, PipelineDesc, StencilFace};
-use crate::render::plan::{PassPlan, Target};
+use crate::render::plan::{PassKinds, PassPlan};
 
 fn short<T: std::fmt::Debug>(value: T) -> String {
     format!("{value:?}")
@@ -53,7 +53,7 @@ fn stencil_face(face: &StencilFace) -> String {
 
 /// A Markdown table of one plan: one row per pipeline a pass binds, in the order they run,
 /// with what the pass draws and pushes and when it runs.
-pub fn plan_table(title: &str, plan: &PassPlan) -> String {
+pub fn plan_table<K: PassKinds>(title: &str, plan: &PassPlan<K>) -> String {
     let mut out = String::new();
     let _ = writeln!(out, "### {title}\n");
     let _ = writeln!(
@@ -62,10 +62,7 @@ pub fn plan_table(title: &str, plan: &PassPlan) -> String {
     );
     let _ = writeln!(out, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for (index, pass) in plan.passes.iter().enumerate() {
-        let target = match pass.target {
-            Target::Frame => "frame".to_owned(),
-            Target::Offscreen(name) => name.to_owned(),
-        };
+        let target = pass.target.describe();
         let draws = match pass.scissored {
             true => format!("{}, inside the technique's scissors", pass.draws.describe()),
             false => pass.draws.describe().to_owned(),
@@ -76,7 +73,7 @@ pub fn plan_table(title: &str, plan: &PassPlan) -> String {
                 index + 1,
                 pass.name,
                 pass.when.describe(),
-                pass.push.describe(),
+                pass.describe_push(),
             )
         };
         if pass.pipelines.is_empty() {

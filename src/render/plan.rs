@@ -7,6 +7,8 @@
 
 use std::borrow::Cow;
 use std::collections::HashMap;
+use std::fmt;
+use std::hash::Hash;
 use std::sync::Arc;
 
 use ash::vk;
@@ -24,70 +26,147 @@ use crate::pipeline::PipelineDesc;
 use crate::render::Pipeline;
 use crate::scene::Scene;
 
-/// What a pass draws.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Draws {
-    /// Scene objects (which ones, and with which alpha, the technique decides: see `push`).
-    Objects,
-    /// One full-screen triangle; the pass's constant push is its only input.
-    FullScreen,
-    /// Geometry the technique builds itself (volumes, ink quads, extruded copies, blobs...),
-    /// named for the table.
-    Geometry(&'static str),
+/// A name a technique gives one of its own sets or render passes. Each technique declares an
+/// enum of them, so that its plan and its renderer share one list and a `match` over it is
+/// checked by the compiler: nothing is ever found by comparing strings.
+pub trait Label: Copy + Eq + Hash + fmt::Debug + 'static {
+    /// The name the `passes` table prints.
+    fn label(self) -> &'static str;
 }
 
-impl Draws {
-    pub fn describe(&self) -> String {
-        match self {
-            Draws::Objects => "objects".into(),
-            Draws::FullScreen => "full screen".into(),
-            Draws::Geometry(what) => (*what).into(),
-        }
+/// A draw a technique records itself (volumes, ink quads, a bake...). It may carry the values
+/// its draw needs (an alpha), so the renderer's `match` gets them with the kind.
+pub trait DrawKind: Copy + PartialEq + fmt::Debug + 'static {
+    /// What it draws, for the `passes` table.
+    fn describe(self) -> &'static str;
+}
+
+/// The kinds of one technique's plan: its own draws, descriptor sets and render passes.
+pub trait PassKinds: 'static {
+    type Draw: DrawKind;
+    type Set: Label;
+    type Target: Label;
+}
+
+/// No draw, set or render pass of a technique's own: a type with no value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum NoOwn {}
+
+impl Label for NoOwn {
+    fn label(self) -> &'static str {
+        match self {}
     }
 }
 
-/// What a pass pushes.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Push {
-    Nothing,
-    /// One constant value for the whole pass (full-screen passes: a solid colour, a factor).
-    Constant(Vec4),
-    /// Each object's transform and colour, with this alpha (`ObjectPush`).
-    ObjectColour {
-        alpha: f32,
-    },
-    /// Each drawn caster's transform, black with this alpha (`ObjectPush`: volume walls).
-    TransformAlpha(f32),
-    /// Per draw, computed by the technique (object transform and colour...), described for the
-    /// table.
-    PerDraw(&'static str),
+impl DrawKind for NoOwn {
+    fn describe(self) -> &'static str {
+        match self {}
+    }
 }
 
-impl Push {
+/// The kinds of a technique that draws only what the recorder draws (objects, full screen).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct RecorderOnly;
+
+impl PassKinds for RecorderOnly {
+    type Draw = NoOwn;
+    type Set = NoOwn;
+    type Target = NoOwn;
+}
+
+/// A label kept only by its name: the kinds of a plan as `passes` prints it and tests compare
+/// it, whatever technique it came from (see [`PassPlan::named`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Name(pub &'static str);
+
+impl Label for Name {
+    fn label(self) -> &'static str {
+        self.0
+    }
+}
+
+impl DrawKind for Name {
+    fn describe(self) -> &'static str {
+        self.0
+    }
+}
+
+/// The kinds of a plan kept by name ([`PassPlan::named`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Named;
+
+impl PassKinds for Named {
+    type Draw = Name;
+    type Set = Name;
+    type Target = Name;
+}
+
+/// What a pass draws, and so who draws it.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Draws<D> {
+    /// Every scene object, with its transform and base colour at `alpha` (`ObjectPush`): the
+    /// recorder draws them, with each material's pipeline variant.
+    Objects { alpha: f32 },
+    /// One full-screen triangle, with `push` as its only input: the recorder draws it.
+    FullScreen { push: Option<Vec4> },
+    /// Draws the technique records itself; `push` says what it pushes, for the table.
+    Own { draw: D, push: Cow<'static, str> },
+}
+
+impl<D: DrawKind> Draws<D> {
     pub fn describe(&self) -> String {
         match self {
-            Push::Nothing => "-".into(),
-            Push::Constant(v) => format!("({}, {}, {}, {})", fmt_f32(v.x), fmt_f32(v.y), fmt_f32(v.z), fmt_f32(v.w)),
-            Push::ObjectColour { alpha } => format!("object transform and colour, alpha {}", fmt_f32(*alpha)),
-            Push::TransformAlpha(alpha) => format!("object transform, alpha {}", fmt_f32(*alpha)),
-            Push::PerDraw(what) => (*what).into(),
+            Draws::Objects { .. } => "objects".into(),
+            Draws::FullScreen { .. } => "full screen".into(),
+            Draws::Own { draw, .. } => draw.describe().into(),
+        }
+    }
+
+    /// What the pass pushes, for the table.
+    pub fn describe_push(&self) -> String {
+        match self {
+            Draws::Objects { alpha } => format!("object transform and colour, alpha {}", fmt_f32(*alpha)),
+            Draws::FullScreen { push: None } => "-".into(),
+            Draws::FullScreen { push: Some(v) } => {
+                format!("({}, {}, {}, {})", fmt_f32(v.x), fmt_f32(v.y), fmt_f32(v.z), fmt_f32(v.w))
+            }
+            Draws::Own { push, .. } => push.to_string(),
+        }
+    }
+
+    /// The same draws with the technique's kind mapped (kept by name for the table).
+    fn map<E>(&self, f: impl FnOnce(D) -> E) -> Draws<E> {
+        match self {
+            Draws::Objects { alpha } => Draws::Objects { alpha: *alpha },
+            Draws::FullScreen { push } => Draws::FullScreen { push: *push },
+            Draws::Own { draw, push } => Draws::Own { draw: f(*draw), push: push.clone() },
         }
     }
 }
 
 /// Shortest text that reads back as the same f32.
-fn fmt_f32(value: f32) -> String {
+pub fn fmt_f32(value: f32) -> String {
     format!("{value}")
 }
 
 /// Which render pass a pass draws into.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Target {
+pub enum Target<T> {
     /// The frame's colour + depth render pass.
     Frame,
     /// A render pass of the technique's own (shadow map, shadow texture, atlas bake), recorded
-    /// before the frame's; named for the table.
-    Offscreen(&'static str),
+    /// before the frame's.
+    Offscreen(T),
+}
+
+impl<T: Label> Target<T> {
+    /// The name the `passes` table prints.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Target::Frame => "frame",
+            Target::Offscreen(target) => target.label(),
+        }
+    }
 }
 
 /// When a pass runs: most always do; some only when their input changed.
@@ -117,19 +196,30 @@ impl When {
 
 /// Descriptor sets a pass binds, by role; the technique supplies the sets themselves.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum SetRole {
+pub enum SetRole<S> {
     /// The frame's uniforms (camera, light) at set 0.
     Frame,
-    /// A set of the technique's own, named (`"counter input"`, `"toon ramps"`, `"joint palette"`).
-    Own(&'static str),
+    /// A set of the technique's own (its counter input, toon ramps, joint palette...).
+    Own(S),
     /// The drawn object's material (`render::materials`), always at set `MATERIAL_SET`, bound
     /// per object.
     Material,
 }
 
-/// One measured pass.
+impl<S: Label> SetRole<S> {
+    /// The name the `passes` table prints.
+    pub fn describe(self) -> &'static str {
+        match self {
+            SetRole::Frame => "frame",
+            SetRole::Own(set) => set.label(),
+            SetRole::Material => "material",
+        }
+    }
+}
+
+/// One measured pass of a technique whose own draws, sets and render passes are the kinds `K`.
 #[derive(Debug, Clone)]
-pub struct PlannedPass {
+pub struct PlannedPass<K: PassKinds = Named> {
     /// The name its counters are reported under.
     pub name: Cow<'static, str>,
     /// Pipelines bound in this pass, first the main one; alternatives follow (for example the
@@ -141,10 +231,9 @@ pub struct PlannedPass {
     /// for the others).
     pub bases: Vec<&'static str>,
     /// Descriptor sets, by role, at sets 0, 1, ... of every pipeline of the pass.
-    pub sets: Vec<SetRole>,
-    pub draws: Draws,
-    pub push: Push,
-    pub target: Target,
+    pub sets: Vec<SetRole<K::Set>>,
+    pub draws: Draws<K::Draw>,
+    pub target: Target<K::Target>,
     pub when: When,
     /// Reads the colour target written by earlier passes of its subpass (a by-region barrier
     /// first: on a tiler, the read stays in tile memory).
@@ -189,9 +278,9 @@ pub enum Scissor {
     Rects(Vec<vk::Rect2D>),
 }
 
-impl PlannedPass {
+impl<K: PassKinds> PlannedPass<K> {
     /// A pass into the frame that draws with one pipeline, every frame.
-    pub fn new(name: impl Into<Cow<'static, str>>, pipeline: PipelineDesc, draws: Draws, push: Push) -> Self {
+    pub fn new(name: impl Into<Cow<'static, str>>, pipeline: PipelineDesc, draws: Draws<K::Draw>) -> Self {
         PlannedPass {
             name: name.into(),
             bases: vec![pipeline.name],
@@ -199,7 +288,6 @@ impl PlannedPass {
             variants: vec![None],
             sets: Vec::new(),
             draws,
-            push,
             target: Target::Frame,
             when: When::Always,
             reads_colour: false,
@@ -207,29 +295,55 @@ impl PlannedPass {
         }
     }
 
+    /// A pass of draws the technique records itself (`push` describes what it pushes).
+    pub fn own(
+        name: impl Into<Cow<'static, str>>,
+        pipeline: PipelineDesc,
+        draw: K::Draw,
+        push: impl Into<Cow<'static, str>>,
+    ) -> Self {
+        Self::new(name, pipeline, Draws::Own { draw, push: push.into() })
+    }
+
+    /// A pass into a render pass of the technique's own, before the frame's: the technique
+    /// records it whole (begins and ends that render pass), so its draws are always its own.
+    pub fn offscreen(
+        name: impl Into<Cow<'static, str>>,
+        pipeline: PipelineDesc,
+        draw: K::Draw,
+        push: impl Into<Cow<'static, str>>,
+        target: K::Target,
+    ) -> Self {
+        PlannedPass { target: Target::Offscreen(target), ..Self::own(name, pipeline, draw, push) }
+    }
+
+    /// A pass that draws every scene object with its colour at `alpha`.
+    pub fn objects(name: impl Into<Cow<'static, str>>, pipeline: PipelineDesc, alpha: f32) -> Self {
+        Self::new(name, pipeline, Draws::Objects { alpha })
+    }
+
+    /// A full-screen pass with a constant push.
+    pub fn full_screen(name: impl Into<Cow<'static, str>>, pipeline: PipelineDesc, push: Vec4) -> Self {
+        Self::new(name, pipeline, Draws::FullScreen { push: Some(push) })
+    }
+
     /// An offscreen pass that binds no pipeline (copies, blits), every frame.
-    pub fn commands(name: impl Into<Cow<'static, str>>, draws: Draws, target: Target) -> Self {
+    pub fn commands(name: impl Into<Cow<'static, str>>, draw: K::Draw, target: K::Target) -> Self {
         PlannedPass {
             name: name.into(),
             pipelines: Vec::new(),
             variants: Vec::new(),
             bases: Vec::new(),
             sets: Vec::new(),
-            draws,
-            push: Push::Nothing,
-            target,
+            draws: Draws::Own { draw, push: "-".into() },
+            target: Target::Offscreen(target),
             when: When::Always,
             reads_colour: false,
             scissored: false,
         }
     }
 
-    /// A full-screen pass with a constant push.
-    pub fn full_screen(name: impl Into<Cow<'static, str>>, pipeline: PipelineDesc, push: Vec4) -> Self {
-        Self::new(name, pipeline, Draws::FullScreen, Push::Constant(push))
-    }
-
-    pub fn with_sets(mut self, sets: &[SetRole]) -> Self {
+    pub fn with_sets(mut self, sets: &[SetRole<K::Set>]) -> Self {
         self.sets = sets.to_vec();
         self
     }
@@ -269,11 +383,6 @@ impl PlannedPass {
         (0..self.pipelines.len()).find(|&i| self.variants[i] == Some(wanted) && self.bases[i] == base)
     }
 
-    pub fn into_target(mut self, target: Target) -> Self {
-        self.target = target;
-        self
-    }
-
     pub fn when(mut self, when: When) -> Self {
         self.when = when;
         self
@@ -294,27 +403,71 @@ impl PlannedPass {
     pub fn pipeline(&self) -> Option<&PipelineDesc> {
         self.pipelines.first()
     }
+
+    /// What the pass pushes, for the table.
+    pub fn describe_push(&self) -> String {
+        self.draws.describe_push()
+    }
+
+    /// This pass with its kinds kept by name (see [`PassPlan::named`]).
+    pub fn named(&self) -> PlannedPass<Named> {
+        PlannedPass {
+            name: self.name.clone(),
+            pipelines: self.pipelines.clone(),
+            variants: self.variants.clone(),
+            bases: self.bases.clone(),
+            sets: self
+                .sets
+                .iter()
+                .map(|role| match *role {
+                    SetRole::Frame => SetRole::Frame,
+                    SetRole::Own(set) => SetRole::Own(Name(set.label())),
+                    SetRole::Material => SetRole::Material,
+                })
+                .collect(),
+            draws: self.draws.map(|draw| Name(draw.describe())),
+            target: match self.target {
+                Target::Frame => Target::Frame,
+                Target::Offscreen(target) => Target::Offscreen(Name(target.label())),
+            },
+            when: self.when,
+            reads_colour: self.reads_colour,
+            scissored: self.scissored,
+        }
+    }
 }
 
 /// A technique's frame, pass by pass, in the order they run.
-#[derive(Debug, Clone, Default)]
-pub struct PassPlan {
-    pub passes: Vec<PlannedPass>,
+#[derive(Debug, Clone)]
+pub struct PassPlan<K: PassKinds = Named> {
+    pub passes: Vec<PlannedPass<K>>,
 }
 
-impl PassPlan {
+impl<K: PassKinds> Default for PassPlan<K> {
+    fn default() -> Self {
+        PassPlan { passes: Vec::new() }
+    }
+}
+
+impl<K: PassKinds> PassPlan<K> {
     pub fn new() -> Self {
         Self::default()
     }
 
-    pub fn push(&mut self, pass: PlannedPass) -> &mut Self {
+    pub fn push(&mut self, pass: PlannedPass<K>) -> &mut Self {
         self.passes.push(pass);
         self
     }
 
-    pub fn extend(&mut self, passes: impl IntoIterator<Item = PlannedPass>) -> &mut Self {
+    pub fn extend(&mut self, passes: impl IntoIterator<Item = PlannedPass<K>>) -> &mut Self {
         self.passes.extend(passes);
         self
+    }
+
+    /// The plan with its kinds kept by name: what `passes` prints, what a test compares, and
+    /// what the object-safe `Technique` interface hands out, whatever the technique.
+    pub fn named(&self) -> PassPlan<Named> {
+        PassPlan { passes: self.passes.iter().map(PlannedPass::named).collect() }
     }
 
     /// (pass name, pipeline labels) of every pass that runs in a frame where `holds(when)`:
@@ -354,14 +507,14 @@ impl PlanPipelines {
     /// Builds every pipeline of `plan`; `render_pass(target)` names the render pass a target's
     /// pipelines are built for, with its colour attachment and sample counts, and
     /// `layout(role)` the set layout of each role.
-    pub fn build(
+    pub fn build<K: PassKinds>(
         gpu: &Arc<Gpu>,
-        plan: &PassPlan,
-        render_pass: impl Fn(Target) -> Result<PipelineTarget>,
-        layout: impl Fn(SetRole) -> Result<vk::DescriptorSetLayout>,
+        plan: &PassPlan<K>,
+        render_pass: impl Fn(Target<K::Target>) -> Result<PipelineTarget>,
+        layout: impl Fn(SetRole<K::Set>) -> Result<vk::DescriptorSetLayout>,
     ) -> Result<Self> {
         let mut built: Vec<Pipeline> = Vec::new();
-        let mut index_of: HashMap<(&'static str, Target), usize> = HashMap::new();
+        let mut index_of: HashMap<(&'static str, Target<K::Target>), usize> = HashMap::new();
         let mut by_pass = Vec::with_capacity(plan.passes.len());
         for pass in &plan.passes {
             if pass.sets.iter().position(|r| *r == SetRole::Material).is_some_and(|i| i as u32 != MATERIAL_SET) {
@@ -401,19 +554,23 @@ impl PlanPipelines {
     }
 }
 
-/// What a technique supplies to execute its plan: the descriptor sets of its roles, and the
-/// draws that only it knows how to make.
-pub trait PassDraws {
-    /// The set bound for `role` (the frame's uniforms are the recorder's own).
-    fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
-        let _ = role;
+/// What a technique supplies to execute its plan: the descriptor sets of its own, the scene's
+/// meshes for the object passes the recorder draws, and the draws only it knows how to make.
+pub trait PassDraws<K: PassKinds> {
+    /// The set bound for a set of its own (the frame's uniforms are the recorder's).
+    fn set(&self, set: K::Set) -> Option<vk::DescriptorSet> {
+        let _ = set;
         None
     }
 
-    /// The scene's meshes, for passes that draw `Draws::Objects` with `Push::ObjectColour`
-    /// (the recorder draws those itself).
-    fn meshes(&self) -> Option<(&Scene, &GpuScene)> {
+    /// The scene's meshes, for passes that draw [`Draws::Objects`] (the recorder draws those).
+    fn meshes(&self) -> Option<&GpuScene> {
         None
+    }
+
+    /// The material set template bound with the pass's sets (each object then binds its own).
+    fn material_set(&self) -> Option<vk::DescriptorSet> {
+        self.meshes().map(|meshes| meshes.materials.template_set())
     }
 
     /// Where the plan's scissored passes draw this frame.
@@ -421,10 +578,17 @@ pub trait PassDraws {
         Scissor::Frame
     }
 
-    /// Records the draws of `pass` (the recorder has opened the measured pass, made the colour
-    /// target readable if the pass reads it, and bound the pass's main pipeline with its sets).
-    /// Full-screen passes never get here: the recorder draws them.
-    fn draw(&self, rec: &mut FrameRecorder, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()>;
+    /// Records the technique's own draw `draw` of `pass` (the recorder has opened the measured
+    /// pass, made the colour target readable if the pass reads it, and, in the frame's render
+    /// pass, bound the pass's main pipeline with its sets).
+    fn draw(
+        &self,
+        rec: &mut FrameRecorder,
+        scene: &Scene,
+        draw: K::Draw,
+        pass: &PlannedPass<K>,
+        pipelines: &[&Pipeline],
+    ) -> Result<()>;
 }
 
 /// Whether a conditional pass runs this frame.
@@ -433,13 +597,14 @@ pub type Conditions<'a> = &'a dyn Fn(When) -> bool;
 /// Records the passes of `plan` in order, those whose condition holds: with `in_frame`, the
 /// passes into the frame's render pass (which is open); otherwise the offscreen passes, whose
 /// draws begin and end their own render passes.
-pub fn record_plan(
+pub fn record_plan<K: PassKinds>(
     rec: &mut FrameRecorder,
-    plan: &PassPlan,
+    plan: &PassPlan<K>,
     pipelines: &PlanPipelines,
     in_frame: bool,
     holds: Conditions,
-    draws: &dyn PassDraws,
+    scene: &Scene,
+    draws: &dyn PassDraws<K>,
 ) -> Result<()> {
     for (index, pass) in plan.passes.iter().enumerate() {
         if (pass.target == Target::Frame) != in_frame || !holds(pass.when) {
@@ -451,11 +616,15 @@ pub fn record_plan(
             .iter()
             .map(|role| match role {
                 SetRole::Frame => Ok(rec.frame_set()),
-                SetRole::Own(name) => draws
-                    .set(*role)
-                    .ok_or_else(|| Error::Internal(format!("pass '{}': no descriptor set for '{name}'", pass.name))),
+                SetRole::Own(set) => draws.set(*set).ok_or_else(|| {
+                    Error::Internal(format!(
+                        "pass '{}': the renderer was built without set '{}'",
+                        pass.name,
+                        set.label()
+                    ))
+                }),
                 SetRole::Material => {
-                    draws.set(*role).ok_or_else(|| Error::Internal(format!("pass '{}': no materials", pass.name)))
+                    draws.material_set().ok_or_else(|| Error::Internal(format!("pass '{}': no materials", pass.name)))
                 }
             })
             .collect::<Result<Vec<_>>>()?;
@@ -464,16 +633,20 @@ pub fn record_plan(
                 rec.colour_feedback_barrier();
             }
             if !in_frame {
-                return draws.draw(rec, pass, &bound);
+                return match &pass.draws {
+                    Draws::Own { draw, .. } => draws.draw(rec, scene, *draw, pass, &bound),
+                    // `PlannedPass::offscreen` and `commands` make every offscreen pass the technique's own.
+                    _ => Err(Error::Internal(format!("offscreen pass '{}' is not the technique's own", pass.name))),
+                };
             }
             let Some(main) = bound.first().copied() else {
                 return Err(Error::Internal(format!("pass '{}' has no pipeline", pass.name)));
             };
             rec.bind_with_sets(main, &sets);
             let scissor = if pass.scissored { draws.scissor() } else { Scissor::Frame };
-            let drawn = match (&pass.draws, &pass.push) {
-                (Draws::FullScreen, push @ (Push::Constant(_) | Push::Nothing)) => {
-                    if let Push::Constant(value) = push {
+            match &pass.draws {
+                Draws::FullScreen { push } => {
+                    if let Some(value) = push {
                         rec.push(main, value);
                     }
                     match scissor {
@@ -487,16 +660,15 @@ pub fn record_plan(
                     }
                     Ok(())
                 }
-                (Draws::Objects, Push::ObjectColour { alpha }) => match draws.meshes() {
-                    Some((scene, meshes)) => {
+                Draws::Objects { alpha } => match draws.meshes() {
+                    Some(meshes) => {
                         draw_objects(rec, pass, &bound, scene, meshes, *alpha);
                         Ok(())
                     }
                     None => Err(Error::Internal(format!("pass '{}' draws objects but has no meshes", pass.name))),
                 },
-                _ => draws.draw(rec, pass, &bound),
-            };
-            drawn
+                Draws::Own { draw, .. } => draws.draw(rec, scene, *draw, pass, &bound),
+            }
         });
         // The pipelines bound, in the plan's order (an unplanned one last): material variants
         // are bound in object order, which is the scene's business, not the plan's.
@@ -512,9 +684,9 @@ pub fn record_plan(
 /// Draws every object of `scene` in [`draw_order`] with the pass's pipeline its material needs
 /// (the main one, bound by the caller, or a variant: see `MaterialVariant`), each with its
 /// transform, its base colour and the alpha `alpha`, and its material set when the pass has one.
-pub fn draw_objects(
+pub fn draw_objects<K: PassKinds>(
     rec: &mut FrameRecorder,
-    pass: &PlannedPass,
+    pass: &PlannedPass<K>,
     pipelines: &[&Pipeline],
     scene: &Scene,
     meshes: &GpuScene,

@@ -14,7 +14,7 @@ use crate::gpu::texture::{Sampler, Texture};
 use crate::gpu::Gpu;
 use crate::pipeline::{FixedFunction, PipelineDesc, VertexLayout};
 use crate::render::object_push::draw_order;
-use crate::render::plan::{Draws, MaterialVariant, PlannedPass, Push, SetRole};
+use crate::render::plan::{Label, MaterialVariant, PassKinds, PlannedPass, SetRole};
 use crate::render::Pipeline;
 use crate::render::{FrameRecorder, GpuScene};
 use crate::scene::Scene;
@@ -32,9 +32,11 @@ pub struct CartoonPush {
 
 pub const CARTOON_PUSH_BYTES: u32 = std::mem::size_of::<CartoonPush>() as u32;
 
-/// The toon and rim ramps, at set 2 of the scene pass (the frame's uniforms are set 0, the
-/// material set 1).
-pub const RAMPS: SetRole = SetRole::Own("toon ramps");
+/// A technique's set kinds that include the toon and rim ramps, bound at set 2 of the scene
+/// pass by [`shade_pass`] (the frame's uniforms are set 0, the material set 1).
+pub trait WithRamps: Label {
+    const RAMPS: Self;
+}
 
 /// A pipeline of the cartoon shaders (they all push a `CartoonPush`).
 pub fn cartoon_desc(
@@ -60,11 +62,19 @@ pub fn shade_desc() -> PipelineDesc {
     cartoon_desc("scene", "cartoon_shade.vert", "cartoon_shade.frag", VertexLayout::SCENE, FixedFunction::OPAQUE)
 }
 
-/// A scene pass: the objects `draws` names, shaded by [`shade_desc`] or a variant of it, with
+/// A scene pass: the objects `draw` names, shaded by [`shade_desc`] or a variant of it, with
 /// the frame's uniforms, their materials and the ramps.
-pub fn shade_pass(name: &'static str, pipeline: PipelineDesc, draws: Draws, push: &'static str) -> PlannedPass {
-    let pass = PlannedPass::new(name, pipeline.clone(), draws, Push::PerDraw(push));
-    with_surface_variants(pass, &pipeline).with_sets(&[SetRole::Frame, SetRole::Material, RAMPS])
+pub fn shade_pass<K: PassKinds>(
+    name: &'static str,
+    pipeline: PipelineDesc,
+    draw: K::Draw,
+    push: &'static str,
+) -> PlannedPass<K>
+where
+    K::Set: WithRamps,
+{
+    let pass = PlannedPass::own(name, pipeline.clone(), draw, push);
+    with_surface_variants(pass, &pipeline).with_sets(&[SetRole::Frame, SetRole::Material, SetRole::Own(K::Set::RAMPS)])
 }
 
 /// How the scene pass shades.
@@ -110,31 +120,21 @@ impl CartoonScene {
     }
 
     /// The layout of [`RAMPS`].
-    pub fn set_layout(&self, role: SetRole) -> Option<vk::DescriptorSetLayout> {
-        match role {
-            RAMPS => Some(self.ramps.set.layout),
-            SetRole::Material => Some(self.meshes.materials.layout()),
-            _ => None,
-        }
+    /// The layout of the ramps' set.
+    pub fn ramps_layout(&self) -> vk::DescriptorSetLayout {
+        self.ramps.set.layout
     }
 
-    /// The set of [`RAMPS`].
-    pub fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
-        match role {
-            RAMPS => Some(self.ramps.set.set),
-            SetRole::Material => Some(self.meshes.materials.template_set()),
-            _ => None,
-        }
+    /// The ramps' set.
+    pub fn ramps_set(&self) -> vk::DescriptorSet {
+        self.ramps.set.set
     }
 
-    /// Draws the objects `which` picks (in `draw_order`) with the pass's pipeline their
-    /// material needs (`pipelines`: the pass's, the main one bound), each with its transform,
-    /// material and the alpha `alpha`.
     #[allow(clippy::too_many_arguments)]
-    pub fn draw(
+    pub fn draw<K: PassKinds>(
         &self,
         rec: &mut FrameRecorder,
-        pass: &PlannedPass,
+        pass: &PlannedPass<K>,
         pipelines: &[&Pipeline],
         scene: &Scene,
         which: impl Fn(usize) -> bool,
@@ -151,10 +151,10 @@ impl CartoonScene {
     /// Draws object `index` as [`CartoonScene::draw`] does, `bound` being the pipeline bound
     /// now (rebound only when its material needs another); returns the one bound after.
     #[allow(clippy::too_many_arguments)]
-    pub fn draw_object<'p>(
+    pub fn draw_object<'p, K: PassKinds>(
         &self,
         rec: &mut FrameRecorder,
-        pass: &PlannedPass,
+        pass: &PlannedPass<K>,
         pipelines: &[&'p Pipeline],
         bound: &'p Pipeline,
         scene: &Scene,

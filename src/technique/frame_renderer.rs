@@ -12,38 +12,31 @@ use super::interface::{check_same_scene, FrameStats, RenderOptions, SceneRendere
 use crate::error::{Error, Result};
 use crate::frame::FrameTargets;
 use crate::gpu::Gpu;
-use crate::render::plan::{
-    record_plan, PassDraws, PassPlan, PlanPipelines, PlannedPass, Scissor, SetRole, Target, When,
-};
-use crate::render::{FrameOutput, FrameRecorder, FrameUniforms, GpuScene, Renderer};
-use crate::render::{Pipeline, PipelineTarget};
+use crate::render::plan::{record_plan, Label, PassDraws, PassKinds, PassPlan, PlanPipelines, SetRole, Target, When};
+use crate::render::PipelineTarget;
+use crate::render::{FrameOutput, FrameUniforms, Renderer};
 use crate::scene::{Light, Scene};
 
 /// A technique's side of a renderer: what it built for the scene, and what it does per frame.
-pub trait Passes {
-    /// The layout of a set role of its own (the frame's uniforms are the renderer's).
-    fn set_layout(&self, role: SetRole) -> Option<vk::DescriptorSetLayout> {
-        let _ = role;
+/// Its sets, meshes and own draws come through [`PassDraws`], typed by the technique's kinds.
+pub trait Passes<K: PassKinds>: PassDraws<K> {
+    /// The layout of a set of its own (the frame's uniforms are the renderer's).
+    fn set_layout(&self, set: K::Set) -> Option<vk::DescriptorSetLayout> {
+        let _ = set;
         None
     }
 
-    /// The scene's meshes, when the plan has object passes the recorder draws itself.
-    fn meshes(&self) -> Option<&GpuScene> {
-        None
-    }
-
-    /// The set bound for a role of its own.
-    fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
-        let _ = role;
-        None
+    /// The layout of the material set, when the plan binds one.
+    fn material_layout(&self) -> Option<vk::DescriptorSetLayout> {
+        self.meshes().map(|meshes| meshes.materials.layout())
     }
 
     /// The render pass (and its colour attachment count) of an offscreen target. Prepasses
     /// render at one sample: a shadow map's depth compare, a bake's texels and a mask's
     /// coverage are sampled and filtered later, where extra samples would only be resolved
     /// away (README, "MSAA").
-    fn offscreen_pass(&self, name: &'static str) -> Option<(vk::RenderPass, usize)> {
-        let _ = name;
+    fn offscreen_pass(&self, target: K::Target) -> Option<(vk::RenderPass, usize)> {
+        let _ = target;
         None
     }
 
@@ -74,17 +67,6 @@ pub trait Passes {
         Vec::new()
     }
 
-    /// Where the plan's scissored passes draw this frame (see `PassDraws::scissor`).
-    fn scissor(&self) -> Scissor {
-        Scissor::Frame
-    }
-
-    /// Records the draws of a pass the recorder does not draw itself (see `PassDraws::draw`).
-    fn draw(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()> {
-        let _ = (rec, scene, pipelines);
-        Err(Error::Internal(format!("pass '{}' has draws its technique does not make", pass.name)))
-    }
-
     /// What the frame did, from its output; called once per frame after it completed.
     fn stats(&mut self, output: &FrameOutput, scene: &Scene) -> Box<dyn FrameStats>;
 
@@ -106,47 +88,50 @@ pub trait Passes {
 }
 
 /// A built renderer: the frame renderer, the plan and its pipelines, and the technique's part.
-pub struct FrameRenderer<'s, P> {
+pub struct FrameRenderer<'s, K: PassKinds, P> {
     technique: &'static str,
     scene: &'s Scene,
     renderer: Renderer,
-    plan: PassPlan,
+    plan: PassPlan<K>,
+    /// The plan by name, as `SceneRenderer::plan` hands it out.
+    named_plan: PassPlan,
     pipelines: PlanPipelines,
     passes: P,
 }
 
 /// Everything a technique's `Passes` is built from.
-pub struct BuildContext<'a> {
+pub struct BuildContext<'a, K: PassKinds> {
     pub gpu: &'a Arc<Gpu>,
     pub renderer: &'a Renderer,
     pub options: &'a RenderOptions,
-    pub plan: &'a PassPlan,
+    pub plan: &'a PassPlan<K>,
 }
 
 /// Builds `technique`'s renderer for `scene`: checks the options, plans the
 /// frame, makes the frame renderer (with colour feedback when a pass reads the colour target),
 /// lets `make` build the technique's resources, then the plan's pipelines.
-pub fn build<'s, P: Passes + 's>(
+pub fn build<'s, K: PassKinds, P: Passes<K> + 's>(
     technique: &dyn Technique,
+    plan: PassPlan<K>,
     gpu: &Arc<Gpu>,
     scene: &'s Scene,
     options: &RenderOptions,
-    make: impl FnOnce(BuildContext) -> Result<P>,
+    make: impl FnOnce(BuildContext<K>) -> Result<P>,
 ) -> Result<Box<dyn SceneRenderer + 's>> {
-    Ok(Box::new(build_typed(technique, gpu, scene, options, make)?))
+    Ok(Box::new(build_typed(technique, plan, gpu, scene, options, make)?))
 }
 
 /// As [`build`], keeping the technique's `Passes` type: for callers that read its resources
 /// back after a frame (`nostencil bake` reads a shadow texture).
-pub fn build_typed<'s, P: Passes + 's>(
+pub fn build_typed<'s, K: PassKinds, P: Passes<K> + 's>(
     technique: &dyn Technique,
+    plan: PassPlan<K>,
     gpu: &Arc<Gpu>,
     scene: &'s Scene,
     options: &RenderOptions,
-    make: impl FnOnce(BuildContext) -> Result<P>,
-) -> Result<FrameRenderer<'s, P>> {
+    make: impl FnOnce(BuildContext<K>) -> Result<P>,
+) -> Result<FrameRenderer<'s, K, P>> {
     options.check()?;
-    let plan = technique.plan(options)?;
     let colour_feedback = plan.passes.iter().any(|p| p.reads_colour);
     let targets = FrameTargets::with_samples(
         gpu,
@@ -172,61 +157,35 @@ pub fn build_typed<'s, P: Passes + 's>(
         |target| match target {
             Target::Frame => Ok(frame_target),
             // Prepasses draw at one sample: see `Passes::offscreen_pass`.
-            Target::Offscreen(name) => passes
-                .offscreen_pass(name)
+            Target::Offscreen(target) => passes
+                .offscreen_pass(target)
                 .map(|(render_pass, colour_attachments)| PipelineTarget::one_sample(render_pass, colour_attachments))
-                .ok_or_else(|| Error::Internal(format!("{}: no render pass for target '{name}'", technique.name()))),
+                .ok_or_else(|| {
+                    Error::Internal(format!("{}: built without render pass '{}'", technique.name(), target.label()))
+                }),
         },
         |role| match role {
             SetRole::Frame => Ok(frame_layout),
-            SetRole::Own(name) => passes
-                .set_layout(role)
-                .ok_or_else(|| Error::Internal(format!("{}: no set layout for '{name}'", technique.name()))),
-            SetRole::Material => passes
-                .meshes()
-                .map(|m| m.materials.layout())
-                .or_else(|| passes.set_layout(role))
-                .ok_or_else(|| Error::Internal(format!("{}: no materials", technique.name()))),
+            SetRole::Own(set) => passes
+                .set_layout(set)
+                .ok_or_else(|| Error::Internal(format!("{}: built without set '{}'", technique.name(), set.label()))),
+            SetRole::Material => {
+                passes.material_layout().ok_or_else(|| Error::Internal(format!("{}: no materials", technique.name())))
+            }
         },
     )?;
-    Ok(FrameRenderer { technique: technique.name(), scene, renderer, plan, pipelines, passes })
+    let named_plan = plan.named();
+    Ok(FrameRenderer { technique: technique.name(), scene, renderer, plan, named_plan, pipelines, passes })
 }
 
-impl<P> FrameRenderer<'_, P> {
+impl<K: PassKinds, P> FrameRenderer<'_, K, P> {
     /// The technique's part, as built and as the last frame left it.
     pub fn passes(&self) -> &P {
         &self.passes
     }
 }
 
-/// The technique's draws and sets, with the scene of this frame.
-struct FrameDraws<'a, P> {
-    passes: &'a P,
-    scene: &'a Scene,
-}
-
-impl<P: Passes> PassDraws for FrameDraws<'_, P> {
-    fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
-        match (role, self.passes.meshes()) {
-            (SetRole::Material, Some(meshes)) => Some(meshes.materials.template_set()),
-            _ => self.passes.set(role),
-        }
-    }
-
-    fn meshes(&self) -> Option<(&Scene, &GpuScene)> {
-        self.passes.meshes().map(|meshes| (self.scene, meshes))
-    }
-
-    fn scissor(&self) -> Scissor {
-        self.passes.scissor()
-    }
-
-    fn draw(&self, rec: &mut FrameRecorder, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()> {
-        self.passes.draw(rec, self.scene, pass, pipelines)
-    }
-}
-
-impl<P: Passes> SceneRenderer for FrameRenderer<'_, P> {
+impl<K: PassKinds, P: Passes<K>> SceneRenderer for FrameRenderer<'_, K, P> {
     fn frame_with(&mut self, scene: &Scene) -> Result<TechniqueFrame> {
         check_same_scene(self.scene, scene, self.technique)?;
         self.passes.prepare(&self.renderer, scene)?;
@@ -238,13 +197,12 @@ impl<P: Passes> SceneRenderer for FrameRenderer<'_, P> {
         self.renderer.stencil_clear = self.passes.clear_stencil();
         let conditions = self.passes.conditions(scene);
         let holds = |when: When| when.holds_in(&conditions);
-        let draws = FrameDraws { passes: &self.passes, scene };
-        let (plan, pipelines) = (&self.plan, &self.pipelines);
+        let (plan, pipelines, draws) = (&self.plan, &self.pipelines, &self.passes);
         let output = self.renderer.render_with_prepass(
             &uniforms,
             clear,
-            |rec| record_plan(rec, plan, pipelines, false, &holds, &draws),
-            |rec| record_plan(rec, plan, pipelines, true, &holds, &draws),
+            |rec| record_plan(rec, plan, pipelines, false, &holds, scene, draws),
+            |rec| record_plan(rec, plan, pipelines, true, &holds, scene, draws),
         )?;
         let stats = self.passes.stats(&output, scene);
         Ok(TechniqueFrame { output, stats, conditions, warnings: self.passes.warnings().to_vec() })
@@ -255,7 +213,7 @@ impl<P: Passes> SceneRenderer for FrameRenderer<'_, P> {
     }
 
     fn plan(&self) -> &PassPlan {
-        &self.plan
+        &self.named_plan
     }
 
     fn stale_for(&self, scene: &Scene) -> bool {

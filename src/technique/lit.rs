@@ -10,8 +10,8 @@ use super::material_variants::with_surface_variants;
 use crate::error::Result;
 use crate::gpu::Gpu;
 use crate::pipeline::{FixedFunction, PipelineDesc, VertexLayout};
-use crate::render::plan::{Draws, PassPlan, PlannedPass, Push, SetRole};
-use crate::render::{FrameOutput, GpuScene, Renderer, OBJECT_PUSH_BYTES};
+use crate::render::plan::{NoOwn, PassDraws, PassKinds, PassPlan, PlannedPass, RecorderOnly, SetRole};
+use crate::render::{FrameOutput, FrameRecorder, GpuScene, Pipeline, Renderer, OBJECT_PUSH_BYTES};
 use crate::scene::Scene;
 
 pub fn scene_pipeline_desc() -> PipelineDesc {
@@ -28,9 +28,9 @@ pub fn scene_pipeline_desc() -> PipelineDesc {
 
 /// The lit scene pass: every object with its material, writing `alpha` (the counter's start,
 /// or opaque 1).
-pub fn scene_pass(alpha: f32) -> PlannedPass {
+pub fn scene_pass<K: PassKinds>(alpha: f32) -> PlannedPass<K> {
     let desc = scene_pipeline_desc();
-    let pass = PlannedPass::new("scene", desc.clone(), Draws::Objects, Push::ObjectColour { alpha });
+    let pass = PlannedPass::objects("scene", desc.clone(), alpha);
     with_surface_variants(pass, &desc).with_sets(&[SetRole::Frame, SetRole::Material])
 }
 
@@ -46,8 +46,8 @@ impl Technique for Lit {
         "Lambert + ambient, no shadows: the base every technique adds to"
     }
 
-    fn plan(&self, _options: &RenderOptions) -> Result<PassPlan> {
-        Ok(PassPlan { passes: vec![scene_pass(1.0)] })
+    fn plan(&self, options: &RenderOptions) -> Result<PassPlan> {
+        Ok(plan(options).named())
     }
 
     fn build<'s>(
@@ -56,10 +56,15 @@ impl Technique for Lit {
         scene: &'s Scene,
         options: &RenderOptions,
     ) -> Result<Box<dyn SceneRenderer + 's>> {
-        frame_renderer::build(self, gpu, scene, options, |ctx| {
+        frame_renderer::build(self, plan(options), gpu, scene, options, |ctx| {
             Ok(LitPasses { gpu: ctx.gpu.clone(), meshes: GpuScene::upload(ctx.gpu, scene)? })
         })
     }
+}
+
+/// The lit frame: the scene pass alone.
+fn plan(_options: &RenderOptions) -> PassPlan<RecorderOnly> {
+    PassPlan { passes: vec![scene_pass(1.0)] }
 }
 
 struct LitPasses {
@@ -67,11 +72,24 @@ struct LitPasses {
     meshes: GpuScene,
 }
 
-impl Passes for LitPasses {
+impl PassDraws<RecorderOnly> for LitPasses {
     fn meshes(&self) -> Option<&GpuScene> {
         Some(&self.meshes)
     }
 
+    fn draw(
+        &self,
+        _: &mut FrameRecorder,
+        _: &Scene,
+        draw: NoOwn,
+        _: &PlannedPass<RecorderOnly>,
+        _: &[&Pipeline],
+    ) -> Result<()> {
+        match draw {}
+    }
+}
+
+impl Passes<RecorderOnly> for LitPasses {
     fn prepare(&mut self, _renderer: &Renderer, scene: &Scene) -> Result<()> {
         self.meshes.follow_pose(&self.gpu, scene).map(|_| ())
     }

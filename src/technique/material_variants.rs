@@ -12,7 +12,7 @@
 
 use crate::pipeline::recipes::OVER_KEEPING_ALPHA;
 use crate::pipeline::{DepthState, PipelineDesc, RasterState};
-use crate::render::plan::{MaterialVariant, PlannedPass};
+use crate::render::plan::{MaterialVariant, PassKinds, PlannedPass};
 
 /// [masked, double-sided, blend, blend double-sided] names of the variants of `base`.
 fn variant_names(base: &str) -> Option<[&'static str; 4]> {
@@ -95,7 +95,7 @@ pub fn variant_of(base: &PipelineDesc, variant: MaterialVariant) -> Option<Pipel
 }
 
 /// Every variant of `base` added to `pass` (nothing when `base` has none).
-pub fn with_surface_variants(mut pass: PlannedPass, base: &PipelineDesc) -> PlannedPass {
+pub fn with_surface_variants<K: PassKinds>(mut pass: PlannedPass<K>, base: &PipelineDesc) -> PlannedPass<K> {
     use MaterialVariant::*;
     for variant in [Masked, DoubleSided, Blend, BlendDoubleSided] {
         if let Some(desc) = variant_of(base, variant) {

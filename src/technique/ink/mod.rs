@@ -51,7 +51,7 @@ impl Technique for Ink {
     }
 
     fn plan(&self, options: &RenderOptions) -> Result<PassPlan> {
-        Ok(recipes::plan(options.cartoon.silhouette))
+        Ok(recipes::plan(options.cartoon.silhouette).named())
     }
 
     fn build<'s>(

@@ -15,8 +15,8 @@ use ash::vk;
 
 use crate::pipeline::recipes::COLOUR_REPLACE;
 use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexAttribute, VertexLayout};
-use crate::render::plan::{Draws, PassPlan, PlannedPass, Push, SetRole};
-use crate::technique::cartoon_shading::{cartoon_desc, shade_desc, shade_pass};
+use crate::render::plan::{DrawKind, Label, NoOwn, PassKinds, PassPlan, PlannedPass, SetRole};
+use crate::technique::cartoon_shading::{cartoon_desc, shade_desc, shade_pass, WithRamps};
 use crate::technique::extruded::extrude_desc;
 use crate::technique::options::SilhouetteMethod;
 
@@ -25,23 +25,75 @@ pub const INK_LAYOUT: VertexLayout = VertexLayout {
     attributes: &[VertexAttribute::Vec3, VertexAttribute::Vec3, VertexAttribute::Vec3, VertexAttribute::Vec2],
 };
 
+/// The kinds of the ink plan.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct InkKinds;
+
+impl PassKinds for InkKinds {
+    type Draw = InkDraw;
+    type Set = InkSet;
+    type Target = NoOwn;
+}
+
+/// What the ink renderer draws itself.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum InkDraw {
+    /// Every object, shaded (Lambert, toon ramp, rim).
+    Scene,
+    /// One edge class's screen-space quads (an index into [`EDGE_CLASSES`]).
+    EdgeQuads(usize),
+    /// Every object's extruded copy (the inverted hull).
+    Hull,
+    /// Per object: its extruded copy with depth off, then the object (the seed's extrusion).
+    CopyThenObject,
+    /// Every object again, its ink kept where N.V is at most the reference (alpha test).
+    AlphaTest,
+}
+
+impl DrawKind for InkDraw {
+    fn describe(self) -> &'static str {
+        match self {
+            InkDraw::Scene => "objects",
+            InkDraw::EdgeQuads(class) => EDGE_CLASSES.get(class).map_or("edge quads", |c| c.draws),
+            InkDraw::Hull => "extruded copies",
+            InkDraw::CopyThenObject => "per object: its extruded copy, then the object",
+            InkDraw::AlphaTest => "objects",
+        }
+    }
+}
+
+/// The ink plan's descriptor sets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum InkSet {
+    Ramps,
+}
+
+impl Label for InkSet {
+    fn label(self) -> &'static str {
+        match self {
+            InkSet::Ramps => "toon ramps",
+        }
+    }
+}
+
+impl WithRamps for InkSet {
+    const RAMPS: Self = InkSet::Ramps;
+}
+
 /// An edge class's pass: its name, what it draws, and whether its lines grow to one side
 /// (silhouettes grow away from the model; creases and boundaries are centred on the edge).
 pub struct EdgeClassPass {
     pub name: &'static str,
-    pub draws: Draws,
+    pub draws: &'static str,
     pub one_sided: bool,
 }
 
 /// The edge classes in the order their passes run (and `InkQuads` lists them).
 pub const EDGE_CLASSES: [EdgeClassPass; 3] = [
-    EdgeClassPass { name: "ink silhouette", draws: Draws::Geometry("silhouette edge quads"), one_sided: true },
-    EdgeClassPass { name: "ink crease", draws: Draws::Geometry("crease edge quads"), one_sided: false },
-    EdgeClassPass { name: "ink boundary", draws: Draws::Geometry("boundary edge quads"), one_sided: false },
+    EdgeClassPass { name: "ink silhouette", draws: "silhouette edge quads", one_sided: true },
+    EdgeClassPass { name: "ink crease", draws: "crease edge quads", one_sided: false },
+    EdgeClassPass { name: "ink boundary", draws: "boundary edge quads", one_sided: false },
 ];
-
-/// What the inverted hull pass draws.
-pub const EXTRUDED: Draws = Draws::Geometry("extruded copies");
 
 /// Ink quads: depth tested (LESS_OR_EQUAL, pulled towards the eye in the vertex shader), no
 /// depth write, colour only.
@@ -69,9 +121,6 @@ pub fn hull_desc() -> PipelineDesc {
 
 /// The name of the `extrusion` pass (copy then object, per object).
 pub const EXTRUSION: &str = "extruded copy, then object";
-
-/// What the `extrusion` pass draws.
-pub const COPY_THEN_OBJECT: Draws = Draws::Geometry("per object: its extruded copy, then the object");
 
 /// The seed's extruded copy: depth test and write off (so nothing drawn before hides it, and
 /// it hides nothing drawn after), back faces culled, ink in RGB.
@@ -103,47 +152,42 @@ pub fn alpha_test_desc() -> PipelineDesc {
 }
 
 /// The passes of a frame inked by `method`.
-pub fn plan(method: SilhouetteMethod) -> PassPlan {
+pub fn plan(method: SilhouetteMethod) -> PassPlan<InkKinds> {
     let mut plan = PassPlan::new();
     const SCENE_PUSH: &str = "object transform and colour, alpha 1; toon and rim switches (CartoonPush)";
     if method == SilhouetteMethod::Extrusion {
         let push = "copy: object transform, ink colour, line width; object: as the scene pass (CartoonPush)";
-        let pass = shade_pass(EXTRUSION, shade_desc(), COPY_THEN_OBJECT, push);
+        let pass = shade_pass(EXTRUSION, shade_desc(), InkDraw::CopyThenObject, push);
         plan.push(pass.or_pipeline(extrusion_desc()));
         return plan;
     }
-    plan.push(shade_pass("scene", shade_desc(), Draws::Objects, SCENE_PUSH));
+    plan.push(shade_pass("scene", shade_desc(), InkDraw::Scene, SCENE_PUSH));
     match method {
         SilhouetteMethod::Edges => {
-            plan.extend(EDGE_CLASSES.iter().map(|class| {
-                PlannedPass::new(
-                    class.name,
-                    ink_desc(),
-                    class.draws,
-                    Push::PerDraw("ink colour, line width, one-sided, depth pull (CartoonPush)"),
-                )
-                .with_sets(&[SetRole::Frame])
+            plan.extend(EDGE_CLASSES.iter().enumerate().map(|(index, class)| {
+                let push = "ink colour, line width, one-sided, depth pull (CartoonPush)";
+                PlannedPass::own(class.name, ink_desc(), InkDraw::EdgeQuads(index), push).with_sets(&[SetRole::Frame])
             }));
         }
         SilhouetteMethod::Shader | SilhouetteMethod::Extrusion => {}
         SilhouetteMethod::Hull => {
             plan.push(
-                PlannedPass::new(
+                PlannedPass::own(
                     "inverted hull",
                     hull_desc(),
-                    EXTRUDED,
-                    Push::PerDraw("object transform, ink colour and line width (CartoonPush)"),
+                    InkDraw::Hull,
+                    "object transform, ink colour and line width (CartoonPush)",
                 )
                 .with_sets(&[SetRole::Frame]),
             );
         }
         SilhouetteMethod::AlphaTest => {
             plan.push(
-                PlannedPass::new(
+                PlannedPass::own(
                     ALPHA_TEST,
                     alpha_test_desc(),
-                    Draws::Objects,
-                    Push::PerDraw("object transform, ink colour, alpha reference (CartoonPush)"),
+                    InkDraw::AlphaTest,
+                    "object transform, ink colour, alpha reference (CartoonPush)",
                 )
                 .with_sets(&[SetRole::Frame]),
             );

@@ -10,13 +10,13 @@ use ash::vk;
 use glam::{Mat4, Vec4};
 
 use super::edges::{InkMesh, InkQuads, InkVertex};
-use super::recipes::{ALPHA_TEST, COPY_THEN_OBJECT, EDGE_CLASSES, EXTRUDED};
+use super::recipes::{self, InkDraw, InkKinds, InkSet, EDGE_CLASSES};
 use crate::error::{Error, Result};
 use crate::frame::srgb;
 use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
 use crate::render::object_push::draw_order;
-use crate::render::plan::{Draws, PlannedPass, SetRole};
+use crate::render::plan::{PassDraws, PlannedPass};
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, Renderer};
 use crate::scene::Scene;
@@ -43,7 +43,7 @@ pub fn build<'s>(
     let cartoon = &options.cartoon;
     let method = cartoon.silhouette;
     let shading = Shading { toon, rim: method == SilhouetteMethod::Shader, ink_only: cartoon.ink_only };
-    frame_renderer::build(technique, gpu, scene, options, |ctx| {
+    frame_renderer::build(technique, recipes::plan(method), gpu, scene, options, |ctx| {
         let scene_pass = CartoonScene::new(ctx.gpu, scene, shading)?;
         let lines = match method {
             SilhouetteMethod::Edges => Ink::Edges(Box::new(EdgeLines::new(scene, cartoon.crease_deg, cartoon.seams)?)),
@@ -105,13 +105,88 @@ impl InkPasses {
     }
 }
 
-impl Passes for InkPasses {
-    fn set_layout(&self, role: SetRole) -> Option<vk::DescriptorSetLayout> {
-        self.scene_pass.set_layout(role)
+impl PassDraws<InkKinds> for InkPasses {
+    fn set(&self, set: InkSet) -> Option<vk::DescriptorSet> {
+        match set {
+            InkSet::Ramps => Some(self.scene_pass.ramps_set()),
+        }
     }
 
-    fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
-        self.scene_pass.set(role)
+    fn meshes(&self) -> Option<&crate::render::GpuScene> {
+        Some(&self.scene_pass.meshes)
+    }
+
+    fn draw(
+        &self,
+        rec: &mut FrameRecorder,
+        scene: &Scene,
+        draw: InkDraw,
+        pass: &PlannedPass<InkKinds>,
+        pipelines: &[&Pipeline],
+    ) -> Result<()> {
+        let Some(pipeline) = pipelines.first() else {
+            return Err(Error::Internal(format!("ink pass '{}' has no pipeline", pass.name)));
+        };
+        match (draw, &self.ink) {
+            (InkDraw::Scene, _) => self.scene_pass.draw(rec, pass, pipelines, scene, |_| true, 1.0, self.viewport),
+            (InkDraw::AlphaTest, Ink::AlphaTest(reference)) => {
+                let params = Vec4::new(*reference, 0.0, 0.0, 0.0);
+                for index in draw_order(scene) {
+                    let object = &scene.objects[index];
+                    let colour = self.styles[0].1;
+                    let push = CartoonPush { model: object.transform, colour, params, viewport: self.viewport };
+                    rec.push(pipeline, &push);
+                    rec.draw_mesh(&self.scene_pass.meshes.meshes[object.mesh]);
+                }
+            }
+            (InkDraw::CopyThenObject, Ink::Hull(copies)) => {
+                // The copy pipeline is the pass's last; the scene's (and its material variants)
+                // come first.
+                let copy = pipelines.last().copied().unwrap_or(pipeline);
+                let extrusion = self.silhouette_extrusion();
+                for index in draw_order(scene) {
+                    rec.bind(copy);
+                    copies.draw_one(rec, copy, scene, index, extrusion, self.viewport);
+                    self.scene_pass.draw_object(rec, pass, pipelines, copy, scene, index, 1.0, self.viewport);
+                }
+            }
+            (InkDraw::Hull, Ink::Hull(copies)) => {
+                let extrusion = self.silhouette_extrusion();
+                copies.draw(rec, pipeline, scene, |_| true, extrusion, self.viewport);
+            }
+            (InkDraw::EdgeQuads(class), Ink::Edges(lines)) => {
+                let one_sided = if EDGE_CLASSES.get(class).is_some_and(|c| c.one_sided) { 1.0 } else { 0.0 };
+                let style = self.styles.get(class).copied().unwrap_or(self.styles[0]);
+                let push = CartoonPush {
+                    model: Mat4::IDENTITY,
+                    colour: style.1,
+                    params: Vec4::new(style.0, one_sided, self.pull, 0.0),
+                    viewport: self.viewport,
+                };
+                rec.push(pipeline, &push);
+                if let Some(Some((buffer, count))) = lines.buffers.get(class) {
+                    rec.draw_vertices(buffer, *count);
+                }
+            }
+            // The plan and the ink resources are both made from `self.method`: a draw of
+            // another method has no resources here.
+            (InkDraw::AlphaTest | InkDraw::CopyThenObject | InkDraw::Hull | InkDraw::EdgeQuads(_), _) => {
+                return Err(Error::Internal(format!(
+                    "ink pass '{}': this renderer was built for {} ink",
+                    pass.name,
+                    self.method.name()
+                )))
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Passes<InkKinds> for InkPasses {
+    fn set_layout(&self, set: InkSet) -> Option<vk::DescriptorSetLayout> {
+        match set {
+            InkSet::Ramps => Some(self.scene_pass.ramps_layout()),
+        }
     }
 
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
@@ -132,58 +207,6 @@ impl Passes for InkPasses {
         let pixel = cartoon_shading::pixel_at_unit_distance(scene, extent.height);
         let widest = self.styles.iter().map(|s| s.0).fold(0.0, f32::max);
         self.pull = scene.camera.near * (widest * pixel).max(1e-3);
-        Ok(())
-    }
-
-    fn draw(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()> {
-        let Some(pipeline) = pipelines.first() else {
-            return Err(Error::Internal(format!("ink pass '{}' has no pipeline", pass.name)));
-        };
-        let class = EDGE_CLASSES.iter().position(|class| class.draws == pass.draws);
-        match (pass.draws, &self.ink, class) {
-            (Draws::Objects, Ink::AlphaTest(reference), _) if pass.name == ALPHA_TEST => {
-                let params = Vec4::new(*reference, 0.0, 0.0, 0.0);
-                for index in draw_order(scene) {
-                    let object = &scene.objects[index];
-                    let colour = self.styles[0].1;
-                    let push = CartoonPush { model: object.transform, colour, params, viewport: self.viewport };
-                    rec.push(pipeline, &push);
-                    rec.draw_mesh(&self.scene_pass.meshes.meshes[object.mesh]);
-                }
-            }
-            (COPY_THEN_OBJECT, Ink::Hull(copies), _) => {
-                // The copy pipeline is the pass's last; the scene's (and its material variants)
-                // come first.
-                let Some(&copy) = pipelines.last() else {
-                    return Err(Error::Internal(format!("pass '{}' lacks its pipelines", pass.name)));
-                };
-                let extrusion = self.silhouette_extrusion();
-                for index in draw_order(scene) {
-                    rec.bind(copy);
-                    copies.draw_one(rec, copy, scene, index, extrusion, self.viewport);
-                    self.scene_pass.draw_object(rec, pass, pipelines, copy, scene, index, 1.0, self.viewport);
-                }
-            }
-            (Draws::Objects, _, _) => self.scene_pass.draw(rec, pass, pipelines, scene, |_| true, 1.0, self.viewport),
-            (EXTRUDED, Ink::Hull(copies), _) => {
-                let extrusion = self.silhouette_extrusion();
-                copies.draw(rec, pipeline, scene, |_| true, extrusion, self.viewport);
-            }
-            (_, Ink::Edges(lines), Some(class)) => {
-                let one_sided = if EDGE_CLASSES[class].one_sided { 1.0 } else { 0.0 };
-                let push = CartoonPush {
-                    model: Mat4::IDENTITY,
-                    colour: self.styles[class].1,
-                    params: Vec4::new(self.styles[class].0, one_sided, self.pull, 0.0),
-                    viewport: self.viewport,
-                };
-                rec.push(pipeline, &push);
-                if let Some((buffer, count)) = &lines.buffers[class] {
-                    rec.draw_vertices(buffer, *count);
-                }
-            }
-            _ => return Err(Error::Internal(format!("{} ink cannot draw pass '{}'", self.method.name(), pass.name))),
-        }
         Ok(())
     }
 

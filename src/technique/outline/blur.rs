@@ -15,7 +15,8 @@ use ash::vk;
 use glam::Vec4;
 
 use super::copies::{copy_desc, outline_fixed};
-use crate::error::{Error, Result};
+use super::recipes::{OutlineDraw, OutlineKinds, OutlineSet, OutlineTarget};
+use crate::error::Result;
 use crate::frame::offscreen::{colour_render_pass, colour_stencil_render_pass, Framebuffer, RenderPass};
 use crate::frame::targets::choose_depth_format;
 use crate::frame::StencilMode;
@@ -25,26 +26,14 @@ use crate::gpu::texture::Sampler;
 use crate::gpu::Gpu;
 use crate::pipeline::recipes::{self, COLOUR_REPLACE, COLOUR_WHERE_ALPHA_ZERO, OVER_KEEPING_ALPHA, RGB_ONLY};
 use crate::pipeline::{BlendState, FixedFunction, PipelineDesc, VertexLayout};
-use crate::render::plan::{Draws, PlannedPass, Push, SetRole, Target};
+use crate::render::plan::{PlannedPass, SetRole};
 use crate::technique::cartoon_shading::cartoon_desc;
 use crate::technique::options::OutlineMethod;
 
-/// The sharp outline as a mask: R = outline, A = selected.
-pub const MASK: Target = Target::Offscreen("outline mask");
-/// The mask blurred along x.
-pub const BLUR_X: Target = Target::Offscreen("outline blur x");
-/// Then along y.
-pub const BLUR_Y: Target = Target::Offscreen("outline blur y");
-
-/// The mask, sampled by the first blur pass.
-pub const MASK_SET: SetRole = SetRole::Own("outline mask");
-/// The first blur's result, sampled by the second.
-pub const BLUR_X_SET: SetRole = SetRole::Own("outline blurred along x");
-/// The blurred mask and the mask (for its selection mark), sampled by the apply pass.
-pub const BLURRED_SET: SetRole = SetRole::Own("blurred outline and mask");
-
-/// What the mask pass draws.
-pub const MASK_DRAWS: Draws = Draws::Geometry("selected objects (mark), then their copies (outline)");
+/// The sets the blur passes and the apply read.
+pub const MASK_SET: SetRole<OutlineSet> = SetRole::Own(OutlineSet::Mask);
+pub const BLUR_X_SET: SetRole<OutlineSet> = SetRole::Own(OutlineSet::BlurredAlongX);
+pub const BLURRED_SET: SetRole<OutlineSet> = SetRole::Own(OutlineSet::Blurred);
 
 const MASK_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
 const BLUR_FORMAT: vk::Format = vk::Format::R8_UNORM;
@@ -108,35 +97,41 @@ pub fn apply_desc() -> PipelineDesc {
     }
 }
 
-/// The push of a blur pass along (`dx`, `dy`).
-fn blur_push(dx: f32, dy: f32, radius: u32) -> Vec4 {
+/// The push of a blur pass: the step (x or y) and the radius.
+pub fn blur_push(along_x: bool, radius: u32) -> Vec4 {
+    let (dx, dy) = if along_x { (1.0, 0.0) } else { (0.0, 1.0) };
     Vec4::new(dx, dy, radius as f32, 0.0)
 }
 
+/// The table's text for a blur pass's push (the constant it pushes).
+fn blur_push_text(along_x: bool, radius: u32) -> String {
+    let v = blur_push(along_x, radius);
+    let f = crate::render::plan::fmt_f32;
+    format!("({}, {}, {}, {})", f(v.x), f(v.y), f(v.z), f(v.w))
+}
+
 /// The mask and blur passes, offscreen: they run before the frame's render pass.
-pub fn offscreen_passes(stencil: StencilMode, method: OutlineMethod, radius: u32) -> Vec<PlannedPass> {
-    let mask = PlannedPass::new(
+pub fn offscreen_passes(stencil: StencilMode, method: OutlineMethod, radius: u32) -> Vec<PlannedPass<OutlineKinds>> {
+    let mask = PlannedPass::offscreen(
         "outline mask",
         mask_selected_desc(stencil),
-        MASK_DRAWS,
-        Push::PerDraw("object transform, mark or outline colour, copy parameters (CartoonPush)"),
+        OutlineDraw::Mask,
+        "object transform, mark or outline colour, copy parameters (CartoonPush)",
+        OutlineTarget::Mask,
     )
     .or_pipeline(mask_copy_desc(stencil, method))
-    .with_sets(&[SetRole::Frame])
-    .into_target(MASK);
-    let blur_x =
-        PlannedPass::new("outline blur x", blur_desc(), Draws::FullScreen, Push::Constant(blur_push(1.0, 0.0, radius)))
-            .with_sets(&[MASK_SET])
-            .into_target(BLUR_X);
-    let blur_y =
-        PlannedPass::new("outline blur y", blur_desc(), Draws::FullScreen, Push::Constant(blur_push(0.0, 1.0, radius)))
-            .with_sets(&[BLUR_X_SET])
-            .into_target(BLUR_Y);
+    .with_sets(&[SetRole::Frame]);
+    let blur = |name: &'static str, along_x: bool, source, target| {
+        let draw = OutlineDraw::Blur { along_x, radius };
+        PlannedPass::offscreen(name, blur_desc(), draw, blur_push_text(along_x, radius), target).with_sets(&[source])
+    };
+    let blur_x = blur("outline blur x", true, MASK_SET, OutlineTarget::BlurX);
+    let blur_y = blur("outline blur y", false, BLUR_X_SET, OutlineTarget::BlurY);
     vec![mask, blur_x, blur_y]
 }
 
 /// The blurred outline blended over the frame in `colour` (linear).
-pub fn apply_pass(colour: Vec4) -> PlannedPass {
+pub fn apply_pass(colour: Vec4) -> PlannedPass<OutlineKinds> {
     PlannedPass::full_screen("outline (blurred)", apply_desc(), colour).with_sets(&[BLURRED_SET])
 }
 
@@ -237,39 +232,37 @@ impl BlurTargets {
     }
 
     /// The render pass of an offscreen target of the blur.
-    pub fn render_pass(&self, target: Target) -> Option<(vk::RenderPass, usize)> {
+    pub fn render_pass(&self, target: OutlineTarget) -> (vk::RenderPass, usize) {
         match target {
-            MASK => Some((self.mask_pass.raw, 1)),
-            BLUR_X | BLUR_Y => Some((self.blur_pass.raw, 1)),
-            _ => None,
+            OutlineTarget::Mask => (self.mask_pass.raw, 1),
+            OutlineTarget::BlurX | OutlineTarget::BlurY => (self.blur_pass.raw, 1),
         }
     }
 
-    /// The set of a role of the blur.
-    pub fn set(&self, role: SetRole) -> Option<&DescriptorSet> {
-        match role {
-            MASK_SET => Some(&self.mask_set),
-            BLUR_X_SET => Some(&self.blur_x_set),
-            BLURRED_SET => Some(&self.blurred_set),
-            _ => None,
+    /// A set of the blur (none for the ramps, which are the scene pass's).
+    pub fn set(&self, set: OutlineSet) -> Option<&DescriptorSet> {
+        match set {
+            OutlineSet::Mask => Some(&self.mask_set),
+            OutlineSet::BlurredAlongX => Some(&self.blur_x_set),
+            OutlineSet::Blurred => Some(&self.blurred_set),
+            OutlineSet::Ramps => None,
         }
     }
 
     /// The render pass, framebuffer and clear values of an offscreen target of the blur.
-    pub fn begin(&self, target: Target) -> Result<(&RenderPass, vk::Framebuffer, Vec<vk::ClearValue>)> {
+    pub fn begin(&self, target: OutlineTarget) -> (&RenderPass, vk::Framebuffer, Vec<vk::ClearValue>) {
         let zero = vk::ClearValue { color: vk::ClearColorValue { float32: [0.0; 4] } };
         let stencil_zero = vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } };
         match target {
-            MASK => {
+            OutlineTarget::Mask => {
                 let mut clear = vec![zero];
                 if self.mask_pass.attachments.len() > 1 {
                     clear.push(stencil_zero);
                 }
-                Ok((&self.mask_pass, self.mask.framebuffer.raw, clear))
+                (&self.mask_pass, self.mask.framebuffer.raw, clear)
             }
-            BLUR_X => Ok((&self.blur_pass, self.blur_x.framebuffer.raw, vec![])),
-            BLUR_Y => Ok((&self.blur_pass, self.blur_y.framebuffer.raw, vec![])),
-            _ => Err(Error::Internal(format!("the outline blur has no target {target:?}"))),
+            OutlineTarget::BlurX => (&self.blur_pass, self.blur_x.framebuffer.raw, vec![]),
+            OutlineTarget::BlurY => (&self.blur_pass, self.blur_y.framebuffer.raw, vec![]),
         }
     }
 }

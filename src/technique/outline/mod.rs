@@ -34,7 +34,7 @@ impl Technique for Outline {
     }
 
     fn plan(&self, options: &RenderOptions) -> Result<PassPlan> {
-        Ok(recipes::plan(options.stencil, &options.cartoon))
+        Ok(recipes::plan(options.stencil, &options.cartoon).named())
     }
 
     fn build<'s>(

@@ -22,18 +22,95 @@ use super::copies::{copy_desc, outline_fixed};
 use crate::frame::StencilMode;
 use crate::pipeline::recipes::{self, COLOUR_REPLACE, COLOUR_WHERE_ALPHA_ZERO};
 use crate::pipeline::PipelineDesc;
-use crate::render::plan::{Draws, PassPlan, PlannedPass, Push, SetRole};
-use crate::technique::cartoon_shading::{shade_desc, shade_pass};
+use crate::render::plan::{DrawKind, Label, PassKinds, PassPlan, PlannedPass, SetRole};
+use crate::technique::cartoon_shading::{shade_desc, shade_pass, WithRamps};
 use crate::technique::options::{CartoonOptions, OutlineMethod};
 
-/// What the scene pass draws.
-pub const NOT_SELECTED: Draws = Draws::Geometry("objects not selected");
-/// What the selected pass draws.
-pub const SELECTED: Draws = Draws::Geometry("selected objects");
-/// What the outline pass draws.
-pub const SELECTED_EXTRUDED: Draws = Draws::Geometry("selected objects' extruded copies");
-/// What the outline pass draws with `--outline-method scale`.
-pub const SELECTED_SCALED: Draws = Draws::Geometry("selected objects' scaled-up copies");
+/// The kinds of the outline's plan.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct OutlineKinds;
+
+impl PassKinds for OutlineKinds {
+    type Draw = OutlineDraw;
+    type Set = OutlineSet;
+    type Target = OutlineTarget;
+}
+
+/// What the outline renderer draws itself.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum OutlineDraw {
+    /// The objects that are not selected, alpha 0.
+    NotSelected,
+    /// The selected objects, alpha 1: their mark.
+    Selected,
+    /// The selected objects' copies, extruded or scaled up.
+    Copies(OutlineMethod),
+    /// Blurred outline: the selected objects (mark), then their copies (outline), into the mask.
+    Mask,
+    /// Blurred outline: one 1D box pass of `radius` texels, along x or y.
+    Blur { along_x: bool, radius: u32 },
+}
+
+impl DrawKind for OutlineDraw {
+    fn describe(self) -> &'static str {
+        match self {
+            OutlineDraw::NotSelected => "objects not selected",
+            OutlineDraw::Selected => "selected objects",
+            OutlineDraw::Copies(OutlineMethod::Extrude) => "selected objects' extruded copies",
+            OutlineDraw::Copies(OutlineMethod::Scale) => "selected objects' scaled-up copies",
+            OutlineDraw::Mask => "selected objects (mark), then their copies (outline)",
+            OutlineDraw::Blur { .. } => "full screen",
+        }
+    }
+}
+
+/// The outline's descriptor sets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum OutlineSet {
+    Ramps,
+    /// The mask, sampled by the first blur pass.
+    Mask,
+    /// The first blur's result, sampled by the second.
+    BlurredAlongX,
+    /// The blurred mask and the mask (for its selection mark), sampled by the apply pass.
+    Blurred,
+}
+
+impl Label for OutlineSet {
+    fn label(self) -> &'static str {
+        match self {
+            OutlineSet::Ramps => "toon ramps",
+            OutlineSet::Mask => "outline mask",
+            OutlineSet::BlurredAlongX => "outline blurred along x",
+            OutlineSet::Blurred => "blurred outline and mask",
+        }
+    }
+}
+
+impl WithRamps for OutlineSet {
+    const RAMPS: Self = OutlineSet::Ramps;
+}
+
+/// The blurred outline's render passes, before the frame's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum OutlineTarget {
+    /// The sharp outline as a mask: R = outline, A = selected.
+    Mask,
+    /// The mask blurred along x.
+    BlurX,
+    /// Then along y.
+    BlurY,
+}
+
+impl Label for OutlineTarget {
+    fn label(self) -> &'static str {
+        match self {
+            OutlineTarget::Mask => "outline mask",
+            OutlineTarget::BlurX => "outline blur x",
+            OutlineTarget::BlurY => "outline blur y",
+        }
+    }
+}
 
 /// Reference only: the selected objects also write stencil 1.
 pub fn selected_stencil_desc() -> PipelineDesc {
@@ -56,14 +133,6 @@ pub fn outline_stencil_desc(method: OutlineMethod) -> PipelineDesc {
     desc
 }
 
-/// What the outline pass of `method` draws.
-pub fn outline_draws(method: OutlineMethod) -> Draws {
-    match method {
-        OutlineMethod::Extrude => SELECTED_EXTRUDED,
-        OutlineMethod::Scale => SELECTED_SCALED,
-    }
-}
-
 /// The outline's linear colour, as its shaders write it (the option is sRGB bytes).
 pub fn linear_colour(cartoon: &CartoonOptions) -> Vec4 {
     let [r, g, b] = cartoon.outline_colour.map(crate::frame::srgb::decode);
@@ -71,7 +140,7 @@ pub fn linear_colour(cartoon: &CartoonOptions) -> Vec4 {
 }
 
 /// The outline's passes at `stencil` with the copies, colour and blur of `cartoon`.
-pub fn plan(stencil: StencilMode, cartoon: &CartoonOptions) -> PassPlan {
+pub fn plan(stencil: StencilMode, cartoon: &CartoonOptions) -> PassPlan<OutlineKinds> {
     let method = cartoon.outline_method;
     let (selected_name, selected_pipeline, outline) = match stencil {
         // The selected objects are drawn with the scene pipeline: alpha 1 is their mark.
@@ -88,20 +157,23 @@ pub fn plan(stencil: StencilMode, cartoon: &CartoonOptions) -> PassPlan {
         plan.extend(blur::offscreen_passes(stencil, method, cartoon.outline_blur));
     }
     // Unselected first (the document draws the floor before the containers).
-    plan.push(shade_pass("scene", shade_desc(), NOT_SELECTED, "object transform and colour, alpha 0 (CartoonPush)"));
+    let scene = shade_pass(
+        "scene",
+        shade_desc(),
+        OutlineDraw::NotSelected,
+        "object transform and colour, alpha 0 (CartoonPush)",
+    );
+    plan.push(scene);
     plan.push(shade_pass(
         selected_name,
         selected_pipeline,
-        SELECTED,
+        OutlineDraw::Selected,
         "object transform and colour, alpha 1 (CartoonPush)",
     ));
     if cartoon.outline_blur > 0 {
         plan.push(blur::apply_pass(linear_colour(cartoon)));
         return plan;
     }
-    plan.push(
-        PlannedPass::new(outline.name, outline, outline_draws(method), Push::PerDraw(push))
-            .with_sets(&[SetRole::Frame]),
-    );
+    plan.push(PlannedPass::own(outline.name, outline, OutlineDraw::Copies(method), push).with_sets(&[SetRole::Frame]));
     plan
 }

@@ -7,13 +7,13 @@ use std::sync::Arc;
 use ash::vk;
 use glam::Vec4;
 
-use super::blur::{BlurTargets, BLUR_X, BLUR_Y, MASK};
-use super::recipes::{self, NOT_SELECTED, SELECTED, SELECTED_EXTRUDED, SELECTED_SCALED};
+use super::blur::{blur_push, BlurTargets};
+use super::recipes::{self, OutlineDraw, OutlineKinds, OutlineSet, OutlineTarget};
 use super::scaled::Bounds;
 use super::{resolve_selection, Outline};
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
-use crate::render::plan::{PlannedPass, Push, SetRole, Target};
+use crate::render::plan::{PassDraws, PlannedPass, Target};
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, Renderer};
 use crate::scene::Scene;
@@ -38,7 +38,8 @@ pub fn build<'s>(
     // The colour is given in sRGB bytes, as the PNG shows it; the shader writes linear light.
     let extrusion = Extrusion { width_px: cartoon.outline_width, colour: recipes::linear_colour(cartoon) };
     let (blur, method) = (cartoon.outline_blur > 0, cartoon.outline_method);
-    frame_renderer::build(technique, gpu, scene, options, |ctx| {
+    let plan = recipes::plan(options.stencil, cartoon);
+    frame_renderer::build(technique, plan, gpu, scene, options, |ctx| {
         let copies = ExtrudedCopies::new(ctx.gpu, scene)?;
         let bounds = (0..scene.objects.len()).map(|i| Bounds::of(copies.positions(i))).collect();
         let blur =
@@ -102,16 +103,17 @@ impl OutlinePasses {
         &self,
         rec: &mut FrameRecorder,
         scene: &Scene,
-        pass: &PlannedPass,
+        draw: OutlineDraw,
+        pass: &PlannedPass<OutlineKinds>,
         pipelines: &[&Pipeline],
     ) -> Result<()> {
-        let Some(blur) = &self.blur else {
+        let (Some(blur), Target::Offscreen(target)) = (&self.blur, pass.target) else {
             return Err(Error::Internal(format!("outline pass '{}' needs the blur's targets", pass.name)));
         };
-        let (render_pass, framebuffer, clear) = blur.begin(pass.target)?;
+        let (render_pass, framebuffer, clear) = blur.begin(target);
         rec.begin_offscreen_pass(render_pass, framebuffer, blur.extent, &clear);
-        let drawn = match (pass.target, pipelines) {
-            (MASK, &[mark, copy, ..]) => {
+        match (draw, pipelines) {
+            (OutlineDraw::Mask, &[mark, copy, ..]) => {
                 rec.bind_with_sets(mark, &[rec.frame_set()]);
                 // Scale 1 about the origin: the selected objects as they are.
                 let as_is = |_: usize| Vec4::new(1.0, 0.0, 0.0, 0.0);
@@ -119,40 +121,73 @@ impl OutlinePasses {
                 self.copies.draw_with(rec, mark, scene, selected, Vec4::new(0.0, 0.0, 0.0, 1.0), self.viewport, as_is);
                 rec.bind_with_sets(copy, &[rec.frame_set()]);
                 self.draw_copies(rec, copy, scene, Vec4::ONE);
-                Ok(())
             }
-            (BLUR_X | BLUR_Y, &[pipeline, ..]) => {
-                let source = pass.sets.first().and_then(|role| blur.set(*role));
-                match (source, &pass.push) {
-                    (Some(source), Push::Constant(push)) => {
-                        rec.bind_with_sets(pipeline, &[source.set]);
-                        rec.push(pipeline, push);
-                        rec.draw_fullscreen();
-                        Ok(())
-                    }
-                    _ => Err(Error::Internal(format!("blur pass '{}' has no source or push", pass.name))),
+            (OutlineDraw::Blur { along_x, radius }, &[pipeline, ..]) => {
+                let source = if along_x { OutlineSet::Mask } else { OutlineSet::BlurredAlongX };
+                if let Some(source) = blur.set(source) {
+                    rec.bind_with_sets(pipeline, &[source.set]);
+                    rec.push(pipeline, &blur_push(along_x, radius));
+                    rec.draw_fullscreen();
                 }
             }
-            _ => Err(Error::Internal(format!("the outline cannot draw offscreen pass '{}'", pass.name))),
-        };
+            // The frame's draws and a pass without its pipelines draw nothing offscreen.
+            _ => {}
+        }
         rec.end_render_pass();
-        drawn
+        Ok(())
     }
 }
 
-impl Passes for OutlinePasses {
-    fn set_layout(&self, role: SetRole) -> Option<vk::DescriptorSetLayout> {
-        let blur = self.blur.as_ref().and_then(|b| b.set(role)).map(|s| s.layout);
-        blur.or_else(|| self.scene_pass.set_layout(role))
+impl PassDraws<OutlineKinds> for OutlinePasses {
+    fn set(&self, set: OutlineSet) -> Option<vk::DescriptorSet> {
+        match set {
+            OutlineSet::Ramps => Some(self.scene_pass.ramps_set()),
+            _ => self.blur.as_ref().and_then(|b| b.set(set)).map(|s| s.set),
+        }
     }
 
-    fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
-        let blur = self.blur.as_ref().and_then(|b| b.set(role)).map(|s| s.set);
-        blur.or_else(|| self.scene_pass.set(role))
+    fn meshes(&self) -> Option<&crate::render::GpuScene> {
+        Some(&self.scene_pass.meshes)
     }
 
-    fn offscreen_pass(&self, name: &'static str) -> Option<(vk::RenderPass, usize)> {
-        self.blur.as_ref().and_then(|b| b.render_pass(Target::Offscreen(name)))
+    fn draw(
+        &self,
+        rec: &mut FrameRecorder,
+        scene: &Scene,
+        draw: OutlineDraw,
+        pass: &PlannedPass<OutlineKinds>,
+        pipelines: &[&Pipeline],
+    ) -> Result<()> {
+        if pass.target != Target::Frame {
+            return self.draw_offscreen(rec, scene, draw, pass, pipelines);
+        }
+        let Some(pipeline) = pipelines.first() else {
+            return Err(Error::Internal(format!("outline pass '{}' has no pipeline", pass.name)));
+        };
+        let selected = |i: usize| self.selected[i];
+        match draw {
+            OutlineDraw::NotSelected => {
+                self.scene_pass.draw(rec, pass, pipelines, scene, |i| !selected(i), 0.0, self.viewport)
+            }
+            OutlineDraw::Selected => self.scene_pass.draw(rec, pass, pipelines, scene, selected, 1.0, self.viewport),
+            OutlineDraw::Copies(_) => self.draw_copies(rec, pipeline, scene, self.extrusion.colour),
+            // Offscreen only: handled above.
+            OutlineDraw::Mask | OutlineDraw::Blur { .. } => {}
+        }
+        Ok(())
+    }
+}
+
+impl Passes<OutlineKinds> for OutlinePasses {
+    fn set_layout(&self, set: OutlineSet) -> Option<vk::DescriptorSetLayout> {
+        match set {
+            OutlineSet::Ramps => Some(self.scene_pass.ramps_layout()),
+            _ => self.blur.as_ref().and_then(|b| b.set(set)).map(|s| s.layout),
+        }
+    }
+
+    fn offscreen_pass(&self, target: OutlineTarget) -> Option<(vk::RenderPass, usize)> {
+        self.blur.as_ref().map(|b| b.render_pass(target))
     }
 
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
@@ -174,23 +209,6 @@ impl Passes for OutlinePasses {
     /// Alpha is the emulated stencil: 0 until a selected object marks it.
     fn clear_alpha(&self) -> f32 {
         0.0
-    }
-
-    fn draw(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()> {
-        if pass.target != Target::Frame {
-            return self.draw_offscreen(rec, scene, pass, pipelines);
-        }
-        let Some(pipeline) = pipelines.first() else {
-            return Err(Error::Internal(format!("outline pass '{}' has no pipeline", pass.name)));
-        };
-        let selected = |i: usize| self.selected[i];
-        match pass.draws {
-            NOT_SELECTED => self.scene_pass.draw(rec, pass, pipelines, scene, |i| !selected(i), 0.0, self.viewport),
-            SELECTED => self.scene_pass.draw(rec, pass, pipelines, scene, selected, 1.0, self.viewport),
-            SELECTED_EXTRUDED | SELECTED_SCALED => self.draw_copies(rec, pipeline, scene, self.extrusion.colour),
-            _ => return Err(Error::Internal(format!("the outline cannot draw pass '{}'", pass.name))),
-        }
-        Ok(())
     }
 
     fn stats(&mut self, _output: &FrameOutput, scene: &Scene) -> Box<dyn FrameStats> {

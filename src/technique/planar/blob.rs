@@ -16,7 +16,7 @@ use glam::{Vec2, Vec3};
 use image::{Rgba, RgbaImage};
 
 use super::receiver::{light_reaches_plane, receiver_plane, ReceiverPlane};
-use super::scene_meshes::{lit_scene_pass, SceneMeshes};
+use super::scene_meshes::{lit_scene_pass, SceneMeshes, WithPalette};
 use super::shared::{BlobShadows, PlanarStats, SHADOW_BIAS};
 use crate::error::{Error, Result};
 use crate::gpu::descriptors::{Binding, DescriptorSet};
@@ -25,9 +25,9 @@ use crate::gpu::texture::{Sampler, Texture};
 use crate::gpu::Gpu;
 use crate::pipeline::recipes::MODULATE_BY_SRC_COLOUR;
 use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexAttribute, VertexLayout};
-use crate::render::plan::{Draws, PassPlan, PlannedPass, Push, SetRole};
+use crate::render::plan::{DrawKind, Label, NoOwn, PassDraws, PassKinds, PassPlan, PlannedPass, SetRole};
 use crate::render::Pipeline;
-use crate::render::{FrameOutput, FrameRecorder, Renderer};
+use crate::render::{FrameOutput, FrameRecorder, GpuScene, Renderer};
 use crate::scene::{bounds_of, Scene};
 use crate::technique::frame_renderer::{self, BuildContext, Passes};
 use crate::technique::interface::RenderOptions;
@@ -76,17 +76,60 @@ pub fn blob_desc() -> PipelineDesc {
     }
 }
 
-/// The blob texture, at set 1 of the blob pass.
-const BLOB_TEXTURE: SetRole = SetRole::Own("blob texture");
+/// The kinds of the blob plan.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct BlobKinds;
 
-/// What the blob pass draws.
-const BLOB_QUADS: Draws = Draws::Geometry("one quad per blob");
+impl PassKinds for BlobKinds {
+    type Draw = BlobDraw;
+    type Set = BlobSet;
+    type Target = NoOwn;
+}
+
+/// What the blob renderer draws itself.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum BlobDraw {
+    /// Every object, lit.
+    Scene,
+    /// One quad per blob.
+    Quads,
+}
+
+impl DrawKind for BlobDraw {
+    fn describe(self) -> &'static str {
+        match self {
+            BlobDraw::Scene => "objects",
+            BlobDraw::Quads => "one quad per blob",
+        }
+    }
+}
+
+/// The blob plan's descriptor sets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum BlobSet {
+    JointPalette,
+    /// The blob texture, at set 1 of the blob pass.
+    BlobTexture,
+}
+
+impl Label for BlobSet {
+    fn label(self) -> &'static str {
+        match self {
+            BlobSet::JointPalette => "joint palette",
+            BlobSet::BlobTexture => "blob texture",
+        }
+    }
+}
+
+impl WithPalette for BlobSet {
+    const JOINT_PALETTE: Self = BlobSet::JointPalette;
+}
 
 /// The frame's passes: the lit scene, then every blob quad (one draw, none without blobs).
-pub fn plan() -> PassPlan {
-    let blobs = PlannedPass::new("blob shadow", blob_desc(), BLOB_QUADS, Push::Nothing)
-        .with_sets(&[SetRole::Frame, BLOB_TEXTURE]);
-    PassPlan { passes: vec![lit_scene_pass(), blobs] }
+pub fn plan() -> PassPlan<BlobKinds> {
+    let blobs = PlannedPass::own("blob shadow", blob_desc(), BlobDraw::Quads, "-")
+        .with_sets(&[SetRole::Frame, SetRole::Own(BlobSet::BlobTexture)]);
+    PassPlan { passes: vec![lit_scene_pass(BlobDraw::Scene), blobs] }
 }
 
 /// One blob: where it lies on the plane, how wide it is and how dark its centre is.
@@ -178,7 +221,7 @@ impl Technique for BlobShadows {
     }
 
     fn plan(&self, _options: &RenderOptions) -> Result<PassPlan> {
-        Ok(plan())
+        Ok(plan().named())
     }
 
     fn build<'s>(
@@ -187,7 +230,7 @@ impl Technique for BlobShadows {
         scene: &'s Scene,
         options: &RenderOptions,
     ) -> Result<Box<dyn SceneRenderer + 's>> {
-        frame_renderer::build(self, gpu, scene, options, |ctx| BlobPasses::new(&ctx, scene))
+        frame_renderer::build(self, plan(), gpu, scene, options, |ctx| BlobPasses::new(&ctx, scene))
     }
 
     fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
@@ -208,7 +251,7 @@ struct BlobPasses {
 }
 
 impl BlobPasses {
-    fn new(ctx: &BuildContext, scene: &Scene) -> Result<Self> {
+    fn new(ctx: &BuildContext<BlobKinds>, scene: &Scene) -> Result<Self> {
         let gpu = ctx.gpu;
         let plane = receiver_plane(scene, ctx.options.planar.plane.as_ref())?;
         if !plane.is_horizontal() {
@@ -247,18 +290,43 @@ impl BlobPasses {
     }
 }
 
-impl Passes for BlobPasses {
-    fn set_layout(&self, role: SetRole) -> Option<vk::DescriptorSetLayout> {
-        match role {
-            BLOB_TEXTURE => Some(self.blob_set.layout),
-            _ => self.meshes.set_layout(role),
+impl PassDraws<BlobKinds> for BlobPasses {
+    fn set(&self, set: BlobSet) -> Option<vk::DescriptorSet> {
+        match set {
+            BlobSet::BlobTexture => Some(self.blob_set.set),
+            BlobSet::JointPalette => Some(self.meshes.palette_set()),
         }
     }
 
-    fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
-        match role {
-            BLOB_TEXTURE => Some(self.blob_set.set),
-            _ => self.meshes.set(role),
+    fn meshes(&self) -> Option<&GpuScene> {
+        Some(&self.meshes.meshes)
+    }
+
+    fn draw(
+        &self,
+        rec: &mut FrameRecorder,
+        scene: &Scene,
+        draw: BlobDraw,
+        pass: &PlannedPass<BlobKinds>,
+        pipelines: &[&Pipeline],
+    ) -> Result<()> {
+        match draw {
+            BlobDraw::Scene => self.meshes.draw_scene(rec, scene, &self.plane, pass, pipelines, 1.0),
+            BlobDraw::Quads => {
+                if let Some((quads, vertex_count)) = &self.quads {
+                    rec.draw_vertices(quads, *vertex_count);
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+impl Passes<BlobKinds> for BlobPasses {
+    fn set_layout(&self, set: BlobSet) -> Option<vk::DescriptorSetLayout> {
+        match set {
+            BlobSet::BlobTexture => Some(self.blob_set.layout),
+            BlobSet::JointPalette => Some(self.meshes.palette_layout()),
         }
     }
 
@@ -278,19 +346,6 @@ impl Passes for BlobPasses {
             Some((buffer, vertices.len() as u32))
         };
         Ok(())
-    }
-
-    fn draw(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()> {
-        match pass.draws {
-            Draws::Objects => self.meshes.draw_scene(rec, scene, &self.plane, pass, pipelines, 1.0),
-            BLOB_QUADS => {
-                if let Some((quads, vertex_count)) = &self.quads {
-                    rec.draw_vertices(quads, *vertex_count);
-                }
-                Ok(())
-            }
-            _ => Err(Error::Internal(format!("blob shadows cannot draw pass '{}'", pass.name))),
-        }
     }
 
     fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {

@@ -23,7 +23,7 @@ use glam::{Mat4, Vec4};
 
 use super::lod::CasterLods;
 use super::receiver::{light_reaches_plane, receiver_plane, ReceiverPlane};
-use super::scene_meshes::{scene_desc, scene_pass, SceneMeshes, SCENE_SETS};
+use super::scene_meshes::{scene_desc, scene_pass, scene_sets, SceneMeshes, WithPalette};
 use super::shared::{Planar, PlanarStats, DEFAULT_SHADOW_LOD, SHADOW_BIAS};
 use super::skin::SKINNED_LAYOUT;
 use crate::error::{Error, Result};
@@ -33,9 +33,9 @@ use crate::pipeline::recipes::{
     stencil_replace, MODULATE_BY_DST_ALPHA_ONCE, MODULATE_BY_SRC_ALPHA_WRITING_ALPHA, STENCIL_EQUAL_ZERO_THEN_INCREMENT,
 };
 use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexLayout};
-use crate::render::plan::{Draws, MaterialVariant, PassPlan, PlannedPass, Push, SetRole, When};
+use crate::render::plan::{DrawKind, Label, MaterialVariant, NoOwn, PassDraws, PassKinds, PassPlan, PlannedPass, When};
 use crate::render::Pipeline;
-use crate::render::{FrameOutput, FrameRecorder, Renderer};
+use crate::render::{FrameOutput, FrameRecorder, GpuScene, Renderer};
 use crate::scene::Scene;
 use crate::technique::frame_renderer::{self, BuildContext, Passes};
 use crate::technique::interface::RenderOptions;
@@ -58,9 +58,52 @@ pub const PLANAR_PUSH_BYTES: u32 = std::mem::size_of::<PlanarPush>() as u32;
 const STENCIL_RECEIVER: u32 = 0;
 const STENCIL_OTHER: u32 = 1;
 
-/// What the shadow pass draws: the casters, or their simplified meshes (`--shadow-lod`).
-const PROJECTED_CASTERS: Draws = Draws::Geometry("casters flattened onto the plane");
-const PROJECTED_LOD_CASTERS: Draws = Draws::Geometry("simplified casters (meshoptimizer) flattened onto the plane");
+/// The kinds of the planar plan.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct PlanarKinds;
+
+impl PassKinds for PlanarKinds {
+    type Draw = PlanarDraw;
+    type Set = PlanarSet;
+    type Target = NoOwn;
+}
+
+/// What the planar renderer draws itself.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PlanarDraw {
+    /// Every object, receivers writing the shadow factor into alpha (or marking the stencil).
+    Scene,
+    /// The casters flattened onto the plane, or (`lod`) their simplified meshes.
+    ProjectedCasters { lod: bool },
+}
+
+impl DrawKind for PlanarDraw {
+    fn describe(self) -> &'static str {
+        match self {
+            PlanarDraw::Scene => "objects",
+            PlanarDraw::ProjectedCasters { lod: false } => "casters flattened onto the plane",
+            PlanarDraw::ProjectedCasters { lod: true } => "simplified casters (meshoptimizer) flattened onto the plane",
+        }
+    }
+}
+
+/// The planar plan's descriptor sets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum PlanarSet {
+    JointPalette,
+}
+
+impl Label for PlanarSet {
+    fn label(self) -> &'static str {
+        match self {
+            PlanarSet::JointPalette => "joint palette",
+        }
+    }
+}
+
+impl WithPalette for PlanarSet {
+    const JOINT_PALETTE: Self = PlanarSet::JointPalette;
+}
 
 // ---------------------------------------------------------------------------------------------
 // Pipelines (docs/design/planar-shadows.md) and the frame's plan.
@@ -90,25 +133,26 @@ fn shadow_desc(name: &'static str, skinned: bool, reference: bool) -> PipelineDe
 
 /// The scene pass of one path: receivers, other static objects and skinned objects (the
 /// emulated path draws the first two alike), each writing alpha F/255 on receivers, else 1.
-pub fn scene_pass_of(stencil: StencilMode) -> PlannedPass {
+pub fn scene_pass_of(stencil: StencilMode) -> PlannedPass<PlanarKinds> {
     let push = "object transform and colour, alpha F/255 on receivers, 1 elsewhere";
     match stencil {
         StencilMode::Emulated => {
             let scene = scene_desc("scene", false, None);
-            scene_pass(scene.clone(), scene, scene_desc("scene (skinned)", true, None), push)
+            scene_pass(scene.clone(), scene, scene_desc("scene (skinned)", true, None), push, PlanarDraw::Scene)
         }
         StencilMode::Reference => scene_pass(
             scene_desc("scene (receivers, stencil 0)", false, Some(stencil_replace(STENCIL_RECEIVER))),
             scene_desc("scene (stencil 1)", false, Some(stencil_replace(STENCIL_OTHER))),
             scene_desc("scene (skinned, stencil 1)", true, Some(stencil_replace(STENCIL_OTHER))),
             push,
+            PlanarDraw::Scene,
         ),
     }
 }
 
 /// The shadow pass of one path, run where the light reaches the plane: [static, skinned];
 /// `lod`: from the casters' simplified meshes.
-pub fn shadow_pass_of(stencil: StencilMode, lod: bool) -> PlannedPass {
+pub fn shadow_pass_of(stencil: StencilMode, lod: bool) -> PlannedPass<PlanarKinds> {
     let (name, skinned, reference, push) = match stencil {
         StencilMode::Emulated => {
             ("planar shadow", "planar shadow (skinned)", false, "caster transform, black with alpha 1, plane (n, d)")
@@ -132,8 +176,7 @@ pub fn shadow_pass_of(stencil: StencilMode, lod: bool) -> PlannedPass {
         fragment_shader: "object_colour_masked.frag",
         ..shadow_desc(name, skinned, reference)
     };
-    let draws = if lod { PROJECTED_LOD_CASTERS } else { PROJECTED_CASTERS };
-    PlannedPass::new(name, shadow_desc(name, false, reference), draws, Push::PerDraw(push))
+    PlannedPass::own(name, shadow_desc(name, false, reference), PlanarDraw::ProjectedCasters { lod }, push)
         .or_pipeline(shadow_desc(skinned, true, reference))
         .or_variant(MaterialVariant::Masked, name, cut_out(masked, "planar_shadow_masked.vert", false))
         .or_variant(
@@ -141,12 +184,12 @@ pub fn shadow_pass_of(stencil: StencilMode, lod: bool) -> PlannedPass {
             skinned,
             cut_out(skinned_masked, "planar_shadow_skinned_masked.vert", true),
         )
-        .with_sets(&SCENE_SETS)
+        .with_sets(&scene_sets())
         .when(When::LightAbovePlane)
 }
 
 /// The frame's passes: the scene, then (unless `options.shadows` is off) the shadow.
-pub fn plan(options: &PlanarOptions, stencil: StencilMode) -> PassPlan {
+pub fn plan(options: &PlanarOptions, stencil: StencilMode) -> PassPlan<PlanarKinds> {
     let mut plan = PassPlan::new();
     plan.push(scene_pass_of(stencil));
     if options.shadows {
@@ -168,7 +211,7 @@ impl Technique for Planar {
     }
 
     fn plan(&self, options: &RenderOptions) -> Result<PassPlan> {
-        Ok(plan(&options.planar, options.stencil))
+        Ok(plan(&options.planar, options.stencil).named())
     }
 
     fn build<'s>(
@@ -177,7 +220,8 @@ impl Technique for Planar {
         scene: &'s Scene,
         options: &RenderOptions,
     ) -> Result<Box<dyn SceneRenderer + 's>> {
-        frame_renderer::build(self, gpu, scene, options, |ctx| PlanarPasses::new(&ctx, scene))
+        let plan = plan(&options.planar, options.stencil);
+        frame_renderer::build(self, plan, gpu, scene, options, |ctx| PlanarPasses::new(&ctx, scene))
     }
 
     fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
@@ -221,7 +265,7 @@ struct PlanarPasses {
 }
 
 impl PlanarPasses {
-    fn new(ctx: &BuildContext, scene: &Scene) -> Result<Self> {
+    fn new(ctx: &BuildContext<PlanarKinds>, scene: &Scene) -> Result<Self> {
         let plane = receiver_plane(scene, ctx.options.planar.plane.as_ref())?;
         plane.plane.check_light(&scene.light)?;
         let meshes = SceneMeshes::upload(ctx.gpu, scene)?;
@@ -241,7 +285,7 @@ impl PlanarPasses {
         &self,
         rec: &mut FrameRecorder,
         scene: &Scene,
-        pass: &PlannedPass,
+        pass: &PlannedPass<PlanarKinds>,
         pipelines: &[&Pipeline],
     ) -> Result<()> {
         let &[shadow, skinned, ..] = pipelines else {
@@ -265,13 +309,43 @@ impl PlanarPasses {
     }
 }
 
-impl Passes for PlanarPasses {
-    fn set_layout(&self, role: SetRole) -> Option<vk::DescriptorSetLayout> {
-        self.meshes.set_layout(role)
+impl PassDraws<PlanarKinds> for PlanarPasses {
+    fn set(&self, set: PlanarSet) -> Option<vk::DescriptorSet> {
+        match set {
+            PlanarSet::JointPalette => Some(self.meshes.palette_set()),
+        }
     }
 
-    fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
-        self.meshes.set(role)
+    fn meshes(&self) -> Option<&GpuScene> {
+        Some(&self.meshes.meshes)
+    }
+
+    fn draw(
+        &self,
+        rec: &mut FrameRecorder,
+        scene: &Scene,
+        draw: PlanarDraw,
+        pass: &PlannedPass<PlanarKinds>,
+        pipelines: &[&Pipeline],
+    ) -> Result<()> {
+        match draw {
+            PlanarDraw::Scene => {
+                if self.stencil == StencilMode::Reference {
+                    // Everything starts as "not a receiver"; the receivers' draws write 0.
+                    rec.clear_stencil(STENCIL_OTHER);
+                }
+                self.meshes.draw_scene(rec, scene, &self.plane, pass, pipelines, self.factor())
+            }
+            PlanarDraw::ProjectedCasters { .. } => self.draw_shadow(rec, scene, pass, pipelines),
+        }
+    }
+}
+
+impl Passes<PlanarKinds> for PlanarPasses {
+    fn set_layout(&self, set: PlanarSet) -> Option<vk::DescriptorSetLayout> {
+        match set {
+            PlanarSet::JointPalette => Some(self.meshes.palette_layout()),
+        }
     }
 
     fn prepare(&mut self, _renderer: &Renderer, scene: &Scene) -> Result<()> {
@@ -284,20 +358,6 @@ impl Passes for PlanarPasses {
             vec![When::LightAbovePlane]
         } else {
             Vec::new()
-        }
-    }
-
-    fn draw(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()> {
-        match pass.draws {
-            Draws::Objects => {
-                if self.stencil == StencilMode::Reference {
-                    // Everything starts as "not a receiver"; the receivers' draws write 0.
-                    rec.clear_stencil(STENCIL_OTHER);
-                }
-                self.meshes.draw_scene(rec, scene, &self.plane, pass, pipelines, self.factor())
-            }
-            PROJECTED_CASTERS | PROJECTED_LOD_CASTERS => self.draw_shadow(rec, scene, pass, pipelines),
-            _ => Err(Error::Internal(format!("planar shadows cannot draw pass '{}'", pass.name))),
         }
     }
 

@@ -13,18 +13,22 @@ use crate::error::{Error, Result};
 use crate::gpu::Gpu;
 use crate::pipeline::{FixedFunction, PipelineDesc, StencilState, VertexLayout};
 use crate::render::object_push::draw_order;
-use crate::render::plan::{Draws, MaterialVariant, PlannedPass, Push, SetRole};
+use crate::render::plan::{Label, MaterialVariant, PassKinds, PlannedPass, SetRole};
 use crate::render::Pipeline;
 use crate::render::{object_push, FrameRecorder, GpuScene, OBJECT_PUSH_BYTES};
 use crate::scene::Scene;
 use crate::technique::material_variants::with_surface_variants;
 
-/// A skinned object's joint palette, at set 2.
-pub const JOINT_PALETTE: SetRole = SetRole::Own("joint palette");
+/// A planar technique's set kinds, which include a skinned object's joint palette (set 2).
+pub trait WithPalette: Label {
+    const JOINT_PALETTE: Self;
+}
 
 /// The sets of every pass that draws the scene's objects (the scene, the casters): the frame's
 /// uniforms, the material (casters cut out by MASK), the palette.
-pub const SCENE_SETS: [SetRole; 3] = [SetRole::Frame, SetRole::Material, JOINT_PALETTE];
+pub fn scene_sets<S: WithPalette>() -> [SetRole<S>; 3] {
+    [SetRole::Frame, SetRole::Material, SetRole::Own(S::JOINT_PALETTE)]
+}
 
 /// A lit scene pipeline: Lambert + ambient, static or GPU-skinned, with an optional stencil
 /// write (the planar reference marks receivers).
@@ -43,14 +47,18 @@ pub fn scene_desc(name: &'static str, skinned: bool, stencil: Option<StencilStat
 /// A scene pass: receivers drawn with `receiver`, other static objects with `other` (left out
 /// when it is the same pipeline), skinned objects with `skinned`; `push` says which alpha each
 /// writes.
-pub fn scene_pass(
+pub fn scene_pass<K: PassKinds>(
     receiver: PipelineDesc,
     other: PipelineDesc,
     skinned: PipelineDesc,
     push: &'static str,
-) -> PlannedPass {
+    draw: K::Draw,
+) -> PlannedPass<K>
+where
+    K::Set: WithPalette,
+{
     let distinct = other.name != receiver.name;
-    let mut pass = PlannedPass::new("scene", receiver, Draws::Objects, Push::PerDraw(push)).with_sets(&SCENE_SETS);
+    let mut pass = PlannedPass::own("scene", receiver, draw, push).with_sets(&scene_sets());
     if distinct {
         pass = pass.or_pipeline(other.clone());
     }
@@ -59,9 +67,13 @@ pub fn scene_pass(
 }
 
 /// The lit scene pass of the blob and shadow-texture techniques: every object alike, alpha 1.
-pub fn lit_scene_pass() -> PlannedPass {
+pub fn lit_scene_pass<K: PassKinds>(draw: K::Draw) -> PlannedPass<K>
+where
+    K::Set: WithPalette,
+{
     let scene = scene_desc("scene", false, None);
-    scene_pass(scene.clone(), scene, scene_desc("scene (skinned)", true, None), "object transform and colour, alpha 1")
+    let skinned = scene_desc("scene (skinned)", true, None);
+    scene_pass(scene.clone(), scene, skinned, "object transform and colour, alpha 1", draw)
 }
 
 /// The scene's meshes on the GPU, skinned objects with their palettes: what every planar
@@ -93,21 +105,13 @@ impl SceneMeshes {
     }
 
     /// The palette layout, for `Passes::set_layout`.
-    pub fn set_layout(&self, role: SetRole) -> Option<vk::DescriptorSetLayout> {
-        match role {
-            JOINT_PALETTE => Some(self.template.descriptors.layout),
-            SetRole::Material => Some(self.meshes.materials.layout()),
-            _ => None,
-        }
+    pub fn palette_layout(&self) -> vk::DescriptorSetLayout {
+        self.template.descriptors.layout
     }
 
     /// The palette set a pass binds before its first skinned draw binds the object's own.
-    pub fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
-        match role {
-            JOINT_PALETTE => Some(self.template.descriptors.set),
-            SetRole::Material => Some(self.meshes.materials.template_set()),
-            _ => None,
-        }
+    pub fn palette_set(&self) -> vk::DescriptorSet {
+        self.template.descriptors.set
     }
 
     /// This frame's joint palettes.
@@ -167,10 +171,10 @@ impl SceneMeshes {
 
     /// The [static, skinned] pipelines that cast object `index`'s shadow in `pass`: their
     /// alpha-mask variants for a MASK material, else `opaque`.
-    pub fn caster_pipelines<'p>(
+    pub fn caster_pipelines<'p, K: PassKinds>(
         scene: &Scene,
         index: usize,
-        pass: &PlannedPass,
+        pass: &PlannedPass<K>,
         pipelines: &[&'p Pipeline],
         opaque: [&'p Pipeline; 2],
     ) -> [&'p Pipeline; 2] {
@@ -181,12 +185,12 @@ impl SceneMeshes {
     /// Draws the scene pass (see [`scene_pass`]) with `pipelines` as the recorder hands them
     /// over: every object with its transform and colour, receivers writing alpha
     /// `receiver_alpha` and everything else alpha 1.
-    pub fn draw_scene(
+    pub fn draw_scene<K: PassKinds>(
         &self,
         rec: &mut FrameRecorder,
         scene: &Scene,
         plane: &ReceiverPlane,
-        pass: &PlannedPass,
+        pass: &PlannedPass<K>,
         pipelines: &[&Pipeline],
         receiver_alpha: f32,
     ) -> Result<()> {

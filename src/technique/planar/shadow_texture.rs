@@ -23,7 +23,7 @@ use glam::{Mat4, Vec3, Vec4};
 
 use super::lod::CasterLods;
 use super::receiver::{caster_bounds, light_reaches_plane, receiver_plane, ReceiverPlane};
-use super::scene_meshes::{lit_scene_pass, SceneMeshes, SCENE_SETS};
+use super::scene_meshes::{lit_scene_pass, scene_sets, SceneMeshes, WithPalette};
 use super::shared::{PlanarStats, ShadowTexture, DEFAULT_SHADOW_LOD, SHADOW_BIAS};
 use super::skin::SKINNED_LAYOUT;
 use super::texture_quad::{quad_model, shadow_quad, unit_square};
@@ -36,9 +36,9 @@ use crate::gpu::texture::Sampler;
 use crate::gpu::Gpu;
 use crate::pipeline::recipes::MODULATE_BY_SRC_COLOUR;
 use crate::pipeline::{BlendState, DepthState, FixedFunction, PipelineDesc, RasterState, VertexLayout};
-use crate::render::plan::{Draws, MaterialVariant, PassPlan, PlannedPass, Push, SetRole, Target};
+use crate::render::plan::{DrawKind, Label, MaterialVariant, PassDraws, PassKinds, PassPlan, PlannedPass, SetRole};
 use crate::render::Pipeline;
-use crate::render::{FrameOutput, FrameRecorder, GpuMesh, ObjectPush, Renderer, OBJECT_PUSH_BYTES};
+use crate::render::{FrameOutput, FrameRecorder, GpuMesh, GpuScene, ObjectPush, Renderer, OBJECT_PUSH_BYTES};
 use crate::scene::{Light, Scene};
 use crate::technique::frame_renderer::{self, BuildContext, Passes};
 use crate::technique::interface::RenderOptions;
@@ -104,27 +104,85 @@ pub fn quad_desc() -> PipelineDesc {
     }
 }
 
+/// The kinds of the render-texture shadow's plan.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct TextureKinds;
+
+impl PassKinds for TextureKinds {
+    type Draw = TextureDraw;
+    type Set = TextureSet;
+    type Target = TextureTarget;
+}
+
+/// What the render-texture shadow draws itself.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum TextureDraw {
+    /// The casters seen from the light, or (`lod`) their simplified meshes.
+    CastersFromTheLight { lod: bool },
+    /// Every object, lit.
+    Scene,
+    /// The receivers again, darkened by their lookup.
+    Receivers,
+    /// The seed's quad on the plane around the casters' shadow.
+    Quad,
+}
+
+impl DrawKind for TextureDraw {
+    fn describe(self) -> &'static str {
+        match self {
+            TextureDraw::CastersFromTheLight { lod: false } => "casters seen from the light",
+            TextureDraw::CastersFromTheLight { lod: true } => "simplified casters (meshoptimizer) seen from the light",
+            TextureDraw::Scene => "objects",
+            TextureDraw::Receivers => "receivers",
+            TextureDraw::Quad => "one quad on the plane around the casters' shadow",
+        }
+    }
+}
+
+/// The render-texture shadow's descriptor sets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum TextureSet {
+    JointPalette,
+    /// The shadow texture, at set 1 of the receive pass.
+    ShadowTexture,
+}
+
+impl Label for TextureSet {
+    fn label(self) -> &'static str {
+        match self {
+            TextureSet::JointPalette => "joint palette",
+            TextureSet::ShadowTexture => "shadow texture",
+        }
+    }
+}
+
+impl WithPalette for TextureSet {
+    const JOINT_PALETTE: Self = TextureSet::JointPalette;
+}
+
 /// The offscreen target the casters are drawn into.
-const SHADOW_TEXTURE: Target = Target::Offscreen("shadow texture");
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum TextureTarget {
+    ShadowTexture,
+}
 
-/// The shadow texture, at set 1 of the receive pass.
-const SHADOW_TEXTURE_SET: SetRole = SetRole::Own("shadow texture");
-
-/// What the prepass draws (the casters, or their simplified meshes), and what the last pass
-/// draws (the receivers, or the seed's quad).
-const CASTERS_FROM_THE_LIGHT: Draws = Draws::Geometry("casters seen from the light");
-const LOD_CASTERS_FROM_THE_LIGHT: Draws = Draws::Geometry("simplified casters (meshoptimizer) seen from the light");
-const RECEIVERS: Draws = Draws::Geometry("receivers");
-const QUAD: Draws = Draws::Geometry("one quad on the plane around the casters' shadow");
+impl Label for TextureTarget {
+    fn label(self) -> &'static str {
+        match self {
+            TextureTarget::ShadowTexture => "shadow texture",
+        }
+    }
+}
 
 /// The frame's passes: the casters into the shadow texture, the lit scene, then the receivers
 /// again (or the seed's quad), darkened by their lookup.
-pub fn plan(options: &PlanarOptions) -> PassPlan {
-    let casters = PlannedPass::new(
+pub fn plan(options: &PlanarOptions) -> PassPlan<TextureKinds> {
+    let casters = PlannedPass::offscreen(
         "shadow texture",
         caster_desc(false),
-        if options.shadow_lod.is_some() { LOD_CASTERS_FROM_THE_LIGHT } else { CASTERS_FROM_THE_LIGHT },
-        Push::PerDraw("light view-projection x object transform, colour F/255"),
+        TextureDraw::CastersFromTheLight { lod: options.shadow_lod.is_some() },
+        "light view-projection x object transform, colour F/255",
+        TextureTarget::ShadowTexture,
     )
     .or_pipeline(caster_desc(true))
     .or_variant(
@@ -147,24 +205,23 @@ pub fn plan(options: &PlanarOptions) -> PassPlan {
             ..caster_desc(true)
         },
     )
-    .with_sets(&SCENE_SETS)
-    .into_target(SHADOW_TEXTURE);
+    .with_sets(&scene_sets());
     let receive = match options.texture_on {
-        TextureShadowOn::Receivers => PlannedPass::new(
+        TextureShadowOn::Receivers => PlannedPass::own(
             "shadow texture receive",
             receive_desc(),
-            RECEIVERS,
-            Push::PerDraw("receiver transform and the light's view-projection"),
+            TextureDraw::Receivers,
+            "receiver transform and the light's view-projection",
         ),
-        TextureShadowOn::Quad => PlannedPass::new(
+        TextureShadowOn::Quad => PlannedPass::own(
             "shadow texture quad",
             quad_desc(),
-            QUAD,
-            Push::PerDraw("the quad's placement on the plane and the light's view-projection"),
+            TextureDraw::Quad,
+            "the quad's placement on the plane and the light's view-projection",
         ),
     }
-    .with_sets(&[SetRole::Frame, SHADOW_TEXTURE_SET]);
-    PassPlan { passes: vec![casters, lit_scene_pass(), receive] }
+    .with_sets(&[SetRole::Frame, SetRole::Own(TextureSet::ShadowTexture)]);
+    PassPlan { passes: vec![casters, lit_scene_pass(TextureDraw::Scene), receive] }
 }
 
 /// The light's view-projection, fitted around the casters' bounds: orthographic along a
@@ -231,7 +288,7 @@ impl Technique for ShadowTexture {
     }
 
     fn plan(&self, options: &RenderOptions) -> Result<PassPlan> {
-        Ok(plan(&options.planar))
+        Ok(plan(&options.planar).named())
     }
 
     /// The texture on the receivers and on the seed's quad, each also from simplified casters.
@@ -266,7 +323,9 @@ impl Technique for ShadowTexture {
         scene: &'s Scene,
         options: &RenderOptions,
     ) -> Result<Box<dyn SceneRenderer + 's>> {
-        frame_renderer::build(self, gpu, scene, options, |ctx| ShadowTexturePasses::new(&ctx, scene))
+        frame_renderer::build(self, plan(&options.planar), gpu, scene, options, |ctx| {
+            ShadowTexturePasses::new(&ctx, scene)
+        })
     }
 
     fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
@@ -296,7 +355,7 @@ struct ShadowTexturePasses {
 }
 
 impl ShadowTexturePasses {
-    fn new(ctx: &BuildContext, scene: &Scene) -> Result<Self> {
+    fn new(ctx: &BuildContext<TextureKinds>, scene: &Scene) -> Result<Self> {
         let gpu = ctx.gpu;
         let plane = receiver_plane(scene, ctx.options.planar.plane.as_ref())?;
         plane.plane.check_light(&scene.light)?;
@@ -342,7 +401,7 @@ impl ShadowTexturePasses {
         &self,
         rec: &mut FrameRecorder,
         scene: &Scene,
-        pass: &PlannedPass,
+        pass: &PlannedPass<TextureKinds>,
         pipelines: &[&Pipeline],
     ) -> Result<()> {
         let &[caster, skinned, ..] = pipelines else {
@@ -397,23 +456,47 @@ impl ShadowTexturePasses {
     }
 }
 
-impl Passes for ShadowTexturePasses {
-    fn set_layout(&self, role: SetRole) -> Option<vk::DescriptorSetLayout> {
-        match role {
-            SHADOW_TEXTURE_SET => Some(self.texture_set.layout),
-            _ => self.meshes.set_layout(role),
+impl PassDraws<TextureKinds> for ShadowTexturePasses {
+    fn set(&self, set: TextureSet) -> Option<vk::DescriptorSet> {
+        match set {
+            TextureSet::ShadowTexture => Some(self.texture_set.set),
+            TextureSet::JointPalette => Some(self.meshes.palette_set()),
         }
     }
 
-    fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
-        match role {
-            SHADOW_TEXTURE_SET => Some(self.texture_set.set),
-            _ => self.meshes.set(role),
+    fn meshes(&self) -> Option<&GpuScene> {
+        Some(&self.meshes.meshes)
+    }
+
+    fn draw(
+        &self,
+        rec: &mut FrameRecorder,
+        scene: &Scene,
+        draw: TextureDraw,
+        pass: &PlannedPass<TextureKinds>,
+        pipelines: &[&Pipeline],
+    ) -> Result<()> {
+        match draw {
+            TextureDraw::CastersFromTheLight { .. } => self.draw_casters(rec, scene, pass, pipelines),
+            TextureDraw::Scene => self.meshes.draw_scene(rec, scene, &self.plane, pass, pipelines, 1.0),
+            TextureDraw::Receivers => self.draw_receivers(rec, scene, pipelines),
+            TextureDraw::Quad => self.draw_quad(rec, pipelines),
+        }
+    }
+}
+
+impl Passes<TextureKinds> for ShadowTexturePasses {
+    fn set_layout(&self, set: TextureSet) -> Option<vk::DescriptorSetLayout> {
+        match set {
+            TextureSet::ShadowTexture => Some(self.texture_set.layout),
+            TextureSet::JointPalette => Some(self.meshes.palette_layout()),
         }
     }
 
-    fn offscreen_pass(&self, name: &'static str) -> Option<(vk::RenderPass, usize)> {
-        (Target::Offscreen(name) == SHADOW_TEXTURE).then_some((self.target.render_pass.raw, 1))
+    fn offscreen_pass(&self, target: TextureTarget) -> Option<(vk::RenderPass, usize)> {
+        match target {
+            TextureTarget::ShadowTexture => Some((self.target.render_pass.raw, 1)),
+        }
     }
 
     fn prepare(&mut self, _renderer: &Renderer, scene: &Scene) -> Result<()> {
@@ -430,16 +513,6 @@ impl Passes for ShadowTexturePasses {
             _ => Mat4::ZERO,
         };
         Ok(())
-    }
-
-    fn draw(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()> {
-        match pass.draws {
-            CASTERS_FROM_THE_LIGHT | LOD_CASTERS_FROM_THE_LIGHT => self.draw_casters(rec, scene, pass, pipelines),
-            Draws::Objects => self.meshes.draw_scene(rec, scene, &self.plane, pass, pipelines, 1.0),
-            RECEIVERS => self.draw_receivers(rec, scene, pipelines),
-            QUAD => self.draw_quad(rec, pipelines),
-            _ => Err(Error::Internal(format!("shadow textures cannot draw pass '{}'", pass.name))),
-        }
     }
 
     fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {

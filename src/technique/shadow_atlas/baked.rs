@@ -5,6 +5,7 @@ use std::sync::Arc;
 
 use image::RgbaImage;
 
+use super::passes::AtlasKinds;
 use super::read_back::read_shadow_texture;
 use super::renderer::{build, ShadowPasses};
 use super::stats::AtlasInfo;
@@ -28,7 +29,7 @@ pub enum BakeStep {
 /// A scene's shadow textures, baked.
 pub struct Baked<'s> {
     scene: &'s Scene,
-    renderer: FrameRenderer<'s, ShadowPasses>,
+    renderer: FrameRenderer<'s, AtlasKinds, ShadowPasses>,
 }
 
 /// Builds the shadow-texture-atlas renderer for `scene` (frames of `options`' size) and renders

@@ -4,7 +4,7 @@
 
 use crate::pipeline::recipes::NO_WRITE;
 use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexAttribute, VertexLayout};
-use crate::render::plan::{Draws, MaterialVariant, PassPlan, PlannedPass, Push, SetRole, Target, When};
+use crate::render::plan::{DrawKind, Label, MaterialVariant, PassKinds, PassPlan, PlannedPass, SetRole, When};
 use crate::render::OBJECT_PUSH_BYTES;
 use crate::technique::material_variants::with_surface_variants;
 use crate::technique::options::ShadowKind;
@@ -22,28 +22,94 @@ pub const ATLAS_VERTEX: VertexLayout = VertexLayout {
     ],
 };
 
-/// The light's depth, stored for sampling.
-pub const SHADOW_MAP: Target = Target::Offscreen("shadow map (depth only)");
-/// Each model's raw bake, in atlas space.
-pub const ATLAS_SPACE: Target = Target::Offscreen("shadow texture (atlas space)");
-/// Each model's raw projective bake, in the light's view.
-pub const LIGHT_SPACE: Target = Target::Offscreen("shadow texture (light space)");
-/// Mip 0 of each model's shadow texture, dilated from the raw bake.
-pub const TEXTURE_MIP0: Target = Target::Offscreen("shadow texture mip 0");
+/// The kinds of the seed 004 plans.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct AtlasKinds;
 
-/// The light's view-projection and bias, with the shadow map for the compare.
-pub const LIGHT: SetRole = SetRole::Own("shadow light");
-/// A model's shadow texture, sampled trilinearly by the scene pass.
-pub const SHADOW_TEXTURE: SetRole = SetRole::Own("shadow texture");
-/// A model's raw bake, read texel by texel by the dilation.
-pub const RAW_BAKE: SetRole = SetRole::Own("raw bake");
+impl PassKinds for AtlasKinds {
+    type Draw = AtlasDraw;
+    type Set = AtlasSet;
+    type Target = AtlasTarget;
+}
 
-pub const SHADOW_MAP_PASS: &str = "shadow map";
-pub const BAKE_PASS: &str = "atlas bake";
-pub const PROJECTIVE_BAKE_PASS: &str = "projective bake";
-pub const DILATE_PASS: &str = "atlas dilate";
-pub const MIPS_PASS: &str = "atlas mips";
-pub const SCENE_PASS: &str = "scene";
+/// What the seed 004 renderer draws itself.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum AtlasDraw {
+    /// The casters from the light, depth only.
+    ShadowMap,
+    /// Each model at its atlas UVs, lit or shadowed per texel.
+    Bake,
+    /// Each model from the light (the projective texture's bake).
+    ProjectiveBake,
+    /// One full-screen pass per model, from its raw bake into its shadow texture.
+    Dilate,
+    /// Each shadow texture's mip chain, by blits.
+    Mips,
+    /// Every object, lit, its Lambert term scaled by its shadow.
+    Scene,
+}
+
+impl DrawKind for AtlasDraw {
+    fn describe(self) -> &'static str {
+        match self {
+            AtlasDraw::ShadowMap => "casters",
+            AtlasDraw::Bake => "each model at its atlas UVs",
+            AtlasDraw::ProjectiveBake => "each model from the light",
+            AtlasDraw::Dilate => "full screen per model",
+            AtlasDraw::Mips => "blits per model",
+            AtlasDraw::Scene => "objects",
+        }
+    }
+}
+
+/// The seed 004 descriptor sets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum AtlasSet {
+    /// The light's view-projection and bias, with the shadow map for the compare.
+    Light,
+    /// A model's shadow texture, sampled trilinearly by the scene pass.
+    ShadowTexture,
+    /// A model's raw bake, read texel by texel by the dilation.
+    RawBake,
+}
+
+impl Label for AtlasSet {
+    fn label(self) -> &'static str {
+        match self {
+            AtlasSet::Light => "shadow light",
+            AtlasSet::ShadowTexture => "shadow texture",
+            AtlasSet::RawBake => "raw bake",
+        }
+    }
+}
+
+/// The seed 004 render passes, before the frame's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum AtlasTarget {
+    /// The light's depth, stored for sampling.
+    ShadowMap,
+    /// Each model's raw bake, in atlas space.
+    AtlasSpace,
+    /// Each model's raw projective bake, in the light's view.
+    LightSpace,
+    /// Mip 0 of each model's shadow texture, dilated from the raw bake.
+    TextureMip0,
+}
+
+impl Label for AtlasTarget {
+    fn label(self) -> &'static str {
+        match self {
+            AtlasTarget::ShadowMap => "shadow map (depth only)",
+            AtlasTarget::AtlasSpace => "shadow texture (atlas space)",
+            AtlasTarget::LightSpace => "shadow texture (light space)",
+            AtlasTarget::TextureMip0 => "shadow texture mip 0",
+        }
+    }
+}
+
+const LIGHT: SetRole<AtlasSet> = SetRole::Own(AtlasSet::Light);
+const SHADOW_TEXTURE: SetRole<AtlasSet> = SetRole::Own(AtlasSet::ShadowTexture);
+const RAW_BAKE: SetRole<AtlasSet> = SetRole::Own(AtlasSet::RawBake);
 
 pub fn shadow_map_desc() -> PipelineDesc {
     PipelineDesc {
@@ -120,54 +186,50 @@ pub fn scene_desc(kind: ShadowKind) -> PipelineDesc {
 }
 
 /// The frame of `kind`, pass by pass (no stencil anywhere: there is no reference path).
-pub fn plan(kind: ShadowKind) -> PassPlan {
+pub fn plan(kind: ShadowKind) -> PassPlan<AtlasKinds> {
     let moved = When::LightOrCastersMoved;
     let mut plan = PassPlan::new();
     plan.push(
-        PlannedPass::new(
-            SHADOW_MAP_PASS,
+        PlannedPass::offscreen(
+            "shadow map",
             shadow_map_desc(),
-            Draws::Geometry("casters"),
-            Push::PerDraw("object transform"),
+            AtlasDraw::ShadowMap,
+            "object transform",
+            AtlasTarget::ShadowMap,
         )
         .or_variant(MaterialVariant::Masked, shadow_map_desc().name, shadow_map_masked_desc())
         .with_sets(&[LIGHT, SetRole::Material])
-        .into_target(SHADOW_MAP)
         .when(moved),
     );
     let scene_sets = match kind {
         ShadowKind::Map => [SetRole::Frame, SetRole::Material, LIGHT],
         ShadowKind::Atlas | ShadowKind::Projective => {
-            let (name, desc, draws, target) = if kind == ShadowKind::Atlas {
-                (BAKE_PASS, bake_desc(), "each model at its atlas UVs", ATLAS_SPACE)
+            let (name, desc, draw, target) = if kind == ShadowKind::Atlas {
+                ("atlas bake", bake_desc(), AtlasDraw::Bake, AtlasTarget::AtlasSpace)
             } else {
-                (PROJECTIVE_BAKE_PASS, projective_bake_desc(), "each model from the light", LIGHT_SPACE)
+                ("projective bake", projective_bake_desc(), AtlasDraw::ProjectiveBake, AtlasTarget::LightSpace)
             };
             plan.push(
-                PlannedPass::new(name, desc, Draws::Geometry(draws), Push::PerDraw("object transform"))
-                    .with_sets(&[LIGHT])
-                    .into_target(target)
-                    .when(moved),
+                PlannedPass::offscreen(name, desc, draw, "object transform", target).with_sets(&[LIGHT]).when(moved),
             );
             // Projective: radius 0, a copy (uncovered texels are lit, not a gutter).
             plan.push(
-                PlannedPass::new(
-                    DILATE_PASS,
+                PlannedPass::offscreen(
+                    "atlas dilate",
                     dilate_desc(),
-                    Draws::Geometry("full screen per model"),
-                    Push::PerDraw("dilation radius"),
+                    AtlasDraw::Dilate,
+                    "dilation radius",
+                    AtlasTarget::TextureMip0,
                 )
                 .with_sets(&[RAW_BAKE])
-                .into_target(TEXTURE_MIP0)
                 .when(moved),
             );
-            plan.push(PlannedPass::commands(MIPS_PASS, Draws::Geometry("blits per model"), TEXTURE_MIP0).when(moved));
+            plan.push(PlannedPass::commands("atlas mips", AtlasDraw::Mips, AtlasTarget::TextureMip0).when(moved));
             [SetRole::Frame, SetRole::Material, SHADOW_TEXTURE]
         }
     };
     let scene = scene_desc(kind);
-    let pass =
-        PlannedPass::new(SCENE_PASS, scene.clone(), Draws::Objects, Push::PerDraw("object transform and colour"));
+    let pass = PlannedPass::own("scene", scene.clone(), AtlasDraw::Scene, "object transform and colour");
     let pass = with_surface_variants(pass, &scene);
     plan.push(match kind {
         // The projection from the light is the light's (set 3).

@@ -12,7 +12,7 @@ use gpu_allocator::MemoryLocation;
 use super::atlas::{light_view_layout, mesh_atlas, MeshAtlas};
 use super::bake::AtlasTargets;
 use super::light::{light_at, ShadowLightUniforms};
-use super::passes::{self, ATLAS_SPACE, LIGHT, LIGHT_SPACE, RAW_BAKE, SHADOW_MAP, SHADOW_TEXTURE, TEXTURE_MIP0};
+use super::passes::{self, AtlasDraw, AtlasKinds, AtlasSet, AtlasTarget};
 use super::stats::{AtlasInfo, ShadowAtlasStats};
 use super::targets::{self, Framebuffer, RenderPass};
 use crate::error::{Error, Result};
@@ -21,7 +21,7 @@ use crate::gpu::memory::{Buffer, Image};
 use crate::gpu::texture::Sampler;
 use crate::gpu::Gpu;
 use crate::render::object_push::draw_order;
-use crate::render::plan::{MaterialVariant, PlannedPass, SetRole, When};
+use crate::render::plan::{MaterialVariant, PassDraws, PlannedPass, When};
 use crate::render::Pipeline;
 use crate::render::{
     object_push, scene_vertices, FrameOutput, FrameRecorder, GpuMaterials, GpuMesh, ObjectPush, Renderer,
@@ -87,10 +87,10 @@ pub fn build<'s>(
     scene: &'s Scene,
     options: &RenderOptions,
     progress: &mut dyn FnMut(usize, usize),
-) -> Result<FrameRenderer<'s, ShadowPasses>> {
+) -> Result<FrameRenderer<'s, AtlasKinds, ShadowPasses>> {
     // `frame_renderer::build_typed` checks the options before `make` runs.
     let atlas_options = options.shadow_atlas;
-    frame_renderer::build_typed(technique, gpu, scene, options, |_| {
+    frame_renderer::build_typed(technique, passes::plan(kind), gpu, scene, options, |_| {
         ShadowPasses::new(gpu, scene, kind, atlas_options, progress)
     })
 }
@@ -252,13 +252,19 @@ impl ShadowPasses {
         Ok(())
     }
 
-    fn atlas_targets(&self, pass: &PlannedPass) -> Result<&AtlasTargets> {
+    fn atlas_targets(&self, pass: &PlannedPass<AtlasKinds>) -> Result<&AtlasTargets> {
         self.atlas.as_ref().ok_or_else(|| Error::Internal(format!("pass '{}' without shadow textures", pass.name)))
     }
 
     /// The casters from the light, depth only; MASK casters through the pass's alpha-mask
     /// variant, with their material.
-    fn draw_shadow_map(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) {
+    fn draw_shadow_map(
+        &self,
+        rec: &mut FrameRecorder,
+        scene: &Scene,
+        pass: &PlannedPass<AtlasKinds>,
+        pipelines: &[&Pipeline],
+    ) {
         let Some(&opaque) = pipelines.first() else { return };
         let clear = [vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } }];
         let extent = vk::Extent2D { width: self.options.map_size, height: self.options.map_size };
@@ -283,7 +289,13 @@ impl ShadowPasses {
 
     /// Every object lit, its Lambert term scaled by its shadow texture or the map compare (the
     /// recorder bound the pipeline with the frame's set and the first object's shadow set).
-    fn draw_scene(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) {
+    fn draw_scene(
+        &self,
+        rec: &mut FrameRecorder,
+        scene: &Scene,
+        pass: &PlannedPass<AtlasKinds>,
+        pipelines: &[&Pipeline],
+    ) {
         let Some(&main) = pipelines.first() else { return };
         let mut bound = main;
         for index in draw_order(scene) {
@@ -304,36 +316,64 @@ impl ShadowPasses {
     }
 }
 
-impl Passes for ShadowPasses {
-    fn set_layout(&self, role: SetRole) -> Option<vk::DescriptorSetLayout> {
+impl PassDraws<AtlasKinds> for ShadowPasses {
+    fn set(&self, set: AtlasSet) -> Option<vk::DescriptorSet> {
         let first = || self.atlas.as_ref().and_then(|a| a.objects.first());
-        match role {
-            SetRole::Material => Some(self.materials.layout()),
-            LIGHT => Some(self.light_set.layout),
-            SHADOW_TEXTURE => first().map(|o| o.scene_set.layout),
-            RAW_BAKE => first().map(|o| o.dilate_set.layout),
-            _ => None,
+        match set {
+            AtlasSet::Light => Some(self.light_set.set),
+            AtlasSet::ShadowTexture => first().map(|o| o.scene_set.set),
+            AtlasSet::RawBake => first().map(|o| o.dilate_set.set),
         }
     }
 
-    fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
+    fn material_set(&self) -> Option<vk::DescriptorSet> {
+        Some(self.materials.template_set())
+    }
+
+    fn draw(
+        &self,
+        rec: &mut FrameRecorder,
+        scene: &Scene,
+        draw: AtlasDraw,
+        pass: &PlannedPass<AtlasKinds>,
+        pipelines: &[&Pipeline],
+    ) -> Result<()> {
+        let pipeline = || {
+            pipelines.first().copied().ok_or_else(|| Error::Internal(format!("pass '{}' has no pipeline", pass.name)))
+        };
+        match draw {
+            AtlasDraw::ShadowMap => self.draw_shadow_map(rec, scene, pass, pipelines),
+            AtlasDraw::Bake | AtlasDraw::ProjectiveBake => {
+                self.atlas_targets(pass)?.record_bake(rec, scene, &self.meshes, pipeline()?, self.light_set.set)
+            }
+            AtlasDraw::Dilate => self.atlas_targets(pass)?.record_dilate(rec, pipeline()?),
+            AtlasDraw::Mips => self.atlas_targets(pass)?.record_mips(rec),
+            AtlasDraw::Scene => self.draw_scene(rec, scene, pass, pipelines),
+        }
+        Ok(())
+    }
+}
+
+impl Passes<AtlasKinds> for ShadowPasses {
+    fn set_layout(&self, set: AtlasSet) -> Option<vk::DescriptorSetLayout> {
         let first = || self.atlas.as_ref().and_then(|a| a.objects.first());
-        match role {
-            SetRole::Material => Some(self.materials.template_set()),
-            LIGHT => Some(self.light_set.set),
-            SHADOW_TEXTURE => first().map(|o| o.scene_set.set),
-            RAW_BAKE => first().map(|o| o.dilate_set.set),
-            _ => None,
+        match set {
+            AtlasSet::Light => Some(self.light_set.layout),
+            AtlasSet::ShadowTexture => first().map(|o| o.scene_set.layout),
+            AtlasSet::RawBake => first().map(|o| o.dilate_set.layout),
         }
     }
 
-    fn offscreen_pass(&self, name: &'static str) -> Option<(vk::RenderPass, usize)> {
-        let target = crate::render::plan::Target::Offscreen(name);
+    fn material_layout(&self) -> Option<vk::DescriptorSetLayout> {
+        Some(self.materials.layout())
+    }
+
+    fn offscreen_pass(&self, target: AtlasTarget) -> Option<(vk::RenderPass, usize)> {
         match (target, &self.atlas) {
-            (SHADOW_MAP, _) => Some((self.map_pass.raw, 0)),
-            (ATLAS_SPACE | LIGHT_SPACE, Some(atlas)) => Some((atlas.bake_pass.raw, 1)),
-            (TEXTURE_MIP0, Some(atlas)) => Some((atlas.dilate_pass.raw, 1)),
-            _ => None,
+            (AtlasTarget::ShadowMap, _) => Some((self.map_pass.raw, 0)),
+            (AtlasTarget::AtlasSpace | AtlasTarget::LightSpace, Some(atlas)) => Some((atlas.bake_pass.raw, 1)),
+            (AtlasTarget::TextureMip0, Some(atlas)) => Some((atlas.dilate_pass.raw, 1)),
+            (_, None) => None,
         }
     }
 
@@ -364,23 +404,6 @@ impl Passes for ShadowPasses {
         } else {
             Vec::new()
         }
-    }
-
-    fn draw(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()> {
-        let pipeline = || {
-            pipelines.first().copied().ok_or_else(|| Error::Internal(format!("pass '{}' has no pipeline", pass.name)))
-        };
-        match pass.name.as_ref() {
-            passes::SHADOW_MAP_PASS => self.draw_shadow_map(rec, scene, pass, pipelines),
-            passes::BAKE_PASS | passes::PROJECTIVE_BAKE_PASS => {
-                self.atlas_targets(pass)?.record_bake(rec, scene, &self.meshes, pipeline()?, self.light_set.set)
-            }
-            passes::DILATE_PASS => self.atlas_targets(pass)?.record_dilate(rec, pipeline()?),
-            passes::MIPS_PASS => self.atlas_targets(pass)?.record_mips(rec),
-            passes::SCENE_PASS => self.draw_scene(rec, scene, pass, pipelines),
-            _ => return Err(Error::Internal(format!("pass '{}' is not a seed 004 pass", pass.name))),
-        }
-        Ok(())
     }
 
     fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {

@@ -81,7 +81,7 @@ impl Technique for ShadowTechnique {
     }
 
     fn plan(&self, _options: &RenderOptions) -> Result<PassPlan> {
-        Ok(plan(self.kind))
+        Ok(plan(self.kind).named())
     }
 
     fn build<'s>(

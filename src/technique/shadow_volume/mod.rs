@@ -38,7 +38,7 @@ impl Technique for ShadowVolumes {
     }
 
     fn plan(&self, options: &RenderOptions) -> Result<PassPlan> {
-        recipes::plan(&options.shadow_volume, options.stencil, options.samples)
+        recipes::plan(&options.shadow_volume, options.stencil, options.samples).map(|plan| plan.named())
     }
 
     fn build<'s>(

@@ -34,20 +34,58 @@ use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::pipeline::recipes::{self, NO_WRITE};
 use crate::pipeline::{BlendState, DepthState, FixedFunction, PipelineDesc, RasterState, VertexLayout};
-use crate::render::plan::{Draws, PassPlan, PlannedPass, Push, SetRole};
+use crate::render::plan::{fmt_f32, DrawKind, Draws, Label, NoOwn, PassKinds, PassPlan, PlannedPass, SetRole};
 use crate::render::OBJECT_PUSH_BYTES;
 use crate::technique::alpha_counter;
 use crate::technique::lit;
 use crate::technique::options::{Normalize, ShadowVolumeOptions, VolumeMethod};
 
 /// The subpass input that exposes the counter to full-screen passes.
-pub const COUNTER_INPUT: SetRole = SetRole::Own("counter input");
+/// The kinds of the shadow-volume plan: the volumes it draws itself, and the counter it reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct VolumeKinds;
+
+impl PassKinds for VolumeKinds {
+    type Draw = VolumeDraw;
+    type Set = VolumeSet;
+    type Target = NoOwn;
+}
+
+/// What the shadow-volume renderer draws itself.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum VolumeDraw {
+    /// Every caster's volume, black with alpha `alpha` (the increment k/255, or 0 on the
+    /// reference path), with each pipeline of the pass in turn.
+    Volumes { alpha: f32 },
+}
+
+impl DrawKind for VolumeDraw {
+    fn describe(self) -> &'static str {
+        match self {
+            VolumeDraw::Volumes { .. } => "shadow volumes",
+        }
+    }
+}
+
+/// The shadow-volume plan's own descriptor sets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum VolumeSet {
+    /// The colour target as an input attachment (and the saturation counter).
+    CounterInput,
+}
+
+impl Label for VolumeSet {
+    fn label(self) -> &'static str {
+        match self {
+            VolumeSet::CounterInput => "counter input",
+        }
+    }
+}
+
+pub const COUNTER_INPUT: SetRole<VolumeSet> = SetRole::Own(VolumeSet::CounterInput);
 
 /// The opt-in saturation probe's pass name (its occlusion query is the count).
 pub const SATURATION_PROBE: &str = "saturation probe";
-
-/// What the volume passes draw.
-pub const VOLUMES: Draws = Draws::Geometry("shadow volumes");
 
 fn volume_desc(name: &'static str, raster: RasterState, compare: vk::CompareOp, blend: BlendState) -> PipelineDesc {
     PipelineDesc {
@@ -171,7 +209,7 @@ const BLUE: vk::ColorComponentFlags = vk::ColorComponentFlags::B;
 /// only its channels, from the darkest up: the darkness steps set every shadowed pixel to
 /// exactly their D (from any value <= D, which the previous, darker step left) and keep lit
 /// pixels at 1. A grey shadow is one darkness step and one apply, as in the seed.
-fn tinted_darkness_and_apply(normalize: Normalize, rgb: [u8; 3]) -> Vec<PlannedPass> {
+fn tinted_darkness_and_apply(normalize: Normalize, rgb: [u8; 3]) -> Vec<PlannedPass<VolumeKinds>> {
     let mut factors = rgb.to_vec();
     factors.sort_unstable();
     factors.dedup();
@@ -240,7 +278,7 @@ fn solid(alpha: f32) -> Vec4 {
 /// The seed's normalisation: N0 then `iterations` iterations, each a full-screen pass writing
 /// alpha only, inside the volumes' scissors (outside them every count is 0 and the apply
 /// leaves the pixel alone).
-pub fn seed_normalisation(iterations: usize) -> Vec<PlannedPass> {
+pub fn seed_normalisation(iterations: usize) -> Vec<PlannedPass<VolumeKinds>> {
     let mut passes = vec![PlannedPass::full_screen("normalise N0", n0_desc(), solid(1.0)).scissored()];
     passes.extend(
         (1..=iterations)
@@ -253,7 +291,7 @@ pub fn seed_normalisation(iterations: usize) -> Vec<PlannedPass> {
 /// decided per scene when the renderer is built (`casters::choose_zfail`), so a plan asked for
 /// without a scene must name the method.
 /// The frame's passes for `options` in the `stencil` path, at `samples` samples per pixel.
-pub fn plan(options: &ShadowVolumeOptions, stencil: StencilMode, samples: u32) -> Result<PassPlan> {
+pub fn plan(options: &ShadowVolumeOptions, stencil: StencilMode, samples: u32) -> Result<PassPlan<VolumeKinds>> {
     let zfail =
         match options.method {
             VolumeMethod::ZPass => false,
@@ -269,7 +307,8 @@ pub fn plan(options: &ShadowVolumeOptions, stencil: StencilMode, samples: u32) -
     let [r, g, b] = options.shadow_rgb().map(|f| f as f32 / 255.0);
     let factors = Vec4::new(r, g, b, 0.0);
     let volumes = |name, desc, alpha| {
-        PlannedPass::new(name, desc, VOLUMES, Push::TransformAlpha(alpha)).with_sets(&[SetRole::Frame])
+        let push = format!("object transform, alpha {}", fmt_f32(alpha));
+        PlannedPass::own(name, desc, VolumeDraw::Volumes { alpha }, push).with_sets(&[SetRole::Frame])
     };
     let mut plan = PassPlan::new();
     // The scene writes alpha 0 everywhere: the counter starts at zero.
@@ -291,8 +330,7 @@ pub fn plan(options: &ShadowVolumeOptions, stencil: StencilMode, samples: u32) -
                     PlannedPass::new(
                         SATURATION_PROBE,
                         saturation_probe_desc(samples),
-                        Draws::FullScreen,
-                        Push::Nothing,
+                        Draws::FullScreen { push: None },
                     )
                     .with_sets(&[COUNTER_INPUT])
                     .reading_colour(),

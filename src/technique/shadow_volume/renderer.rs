@@ -10,8 +10,9 @@ use glam::Vec4;
 
 use super::bounds;
 use super::casters::{build_volume, choose_zfail, prepare_casters, Caster};
-use super::recipes::{COUNTER_INPUT, SATURATION_PROBE};
-use crate::error::{Error, Result};
+use super::recipes::SATURATION_PROBE;
+use super::recipes::{VolumeDraw, VolumeKinds, VolumeSet};
+use crate::error::Result;
 use crate::frame::StencilMode;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::Buffer;
@@ -19,7 +20,7 @@ use crate::gpu::Gpu;
 use crate::mesh::caster::CastPath;
 use crate::mesh::Reach;
 use crate::pipeline::recipes::STENCIL_COUNT_ZERO;
-use crate::render::plan::{PlannedPass, Push, Scissor, SetRole};
+use crate::render::plan::{PassDraws, PlannedPass, Scissor};
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, GpuScene, ObjectPush, Renderer};
 use crate::scene::Scene;
@@ -154,7 +155,8 @@ pub fn build<'s>(
         ..options.clone()
     };
     let requested = options.shadow_volume;
-    frame_renderer::build(technique, gpu, scene, &resolved, |ctx| {
+    let plan = super::recipes::plan(&resolved.shadow_volume, resolved.stencil, resolved.samples)?;
+    frame_renderer::build(technique, plan, gpu, scene, &resolved, |ctx| {
         let counting = ctx.options.stencil == StencilMode::Emulated
             && ctx.options.shadow_volume.normalize == Normalize::Subpass
             && fragment_atomics;
@@ -233,17 +235,55 @@ struct ShadowVolumePasses {
     stats: ShadowVolumeStats,
 }
 
-impl Passes for ShadowVolumePasses {
-    fn set_layout(&self, role: SetRole) -> Option<vk::DescriptorSetLayout> {
-        (role == COUNTER_INPUT).then(|| self.counter_input.as_ref().map(|s| s.layout)).flatten()
-    }
-
-    fn set(&self, role: SetRole) -> Option<vk::DescriptorSet> {
-        (role == COUNTER_INPUT).then(|| self.counter_input.as_ref().map(|s| s.set)).flatten()
+impl PassDraws<VolumeKinds> for ShadowVolumePasses {
+    fn set(&self, set: VolumeSet) -> Option<vk::DescriptorSet> {
+        match set {
+            VolumeSet::CounterInput => self.counter_input.as_ref().map(|s| s.set),
+        }
     }
 
     fn meshes(&self) -> Option<&GpuScene> {
         Some(&self.meshes)
+    }
+
+    fn scissor(&self) -> Scissor {
+        self.apply_scissor.clone()
+    }
+
+    /// Every volume with the pass's first pipeline (bound by the recorder), then again with each
+    /// further one: the alpha counter's decrements come after all its increments.
+    fn draw(
+        &self,
+        rec: &mut FrameRecorder,
+        scene: &Scene,
+        draw: VolumeDraw,
+        _pass: &PlannedPass<VolumeKinds>,
+        pipelines: &[&Pipeline],
+    ) -> Result<()> {
+        let VolumeDraw::Volumes { alpha } = draw;
+        for (index, pipeline) in pipelines.iter().enumerate() {
+            if index > 0 {
+                rec.bind(pipeline);
+            }
+            for volume in &self.volumes {
+                rec.set_scissor(volume.scissor);
+                let push = ObjectPush {
+                    model: scene.objects[volume.object].transform,
+                    colour: Vec4::new(0.0, 0.0, 0.0, alpha),
+                };
+                rec.push(pipeline, &push);
+                rec.draw_indexed(&volume.vertices, &volume.indices, volume.index_count);
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Passes<VolumeKinds> for ShadowVolumePasses {
+    fn set_layout(&self, set: VolumeSet) -> Option<vk::DescriptorSetLayout> {
+        match set {
+            VolumeSet::CounterInput => self.counter_input.as_ref().map(|s| s.layout),
+        }
     }
 
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
@@ -269,33 +309,6 @@ impl Passes for ShadowVolumePasses {
 
     fn clear_stencil(&self) -> u32 {
         STENCIL_COUNT_ZERO
-    }
-
-    fn scissor(&self) -> Scissor {
-        self.apply_scissor.clone()
-    }
-
-    /// Every volume with the pass's first pipeline (bound by the recorder), then again with each
-    /// further one: the alpha counter's decrements come after all its increments.
-    fn draw(&self, rec: &mut FrameRecorder, scene: &Scene, pass: &PlannedPass, pipelines: &[&Pipeline]) -> Result<()> {
-        let Push::TransformAlpha(alpha) = pass.push else {
-            return Err(Error::Internal(format!("shadow volumes cannot draw pass '{}'", pass.name)));
-        };
-        for (index, pipeline) in pipelines.iter().enumerate() {
-            if index > 0 {
-                rec.bind(pipeline);
-            }
-            for volume in &self.volumes {
-                rec.set_scissor(volume.scissor);
-                let push = ObjectPush {
-                    model: scene.objects[volume.object].transform,
-                    colour: Vec4::new(0.0, 0.0, 0.0, alpha),
-                };
-                rec.push(pipeline, &push);
-                rec.draw_indexed(&volume.vertices, &volume.indices, volume.index_count);
-            }
-        }
-        Ok(())
     }
 
     fn stats(&mut self, output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {
