@@ -3,7 +3,7 @@
 # - the Vulkan loader, lavapipe (Mesa's software Vulkan) and the Khronos validation layer;
 # - Xvfb and the X11 client libraries, for the windowed viewer and its test;
 # - shaderc, glslang and SPIRV-Tools as static libraries, merged into one archive that the
-#   shaderc crate links (see "Shader compilation" in README.md for why).
+#   shaderc crate links (see docs/shader-compilation.md for why).
 # Safe to run again: packages already present are kept, the archive is rebuilt.
 set -euo pipefail
 

@@ -160,7 +160,7 @@ fn progress_bar(shown: bool, total: u64) -> indicatif::ProgressBar {
 
 /// Timed rounds when `--runs` is not given: at 1280x720 on a 2-core machine shared with other
 /// work, 150 rounds kept the 95% interval of the shadow-volume subpass ratio within +-4% of its
-/// median (measured: README, Benchmarks), in about 40 s.
+/// median (measured: docs/profiling.md, Benchmarks), in about 40 s.
 pub const DEFAULT_RUNS: u32 = 150;
 
 pub struct BenchSettings {

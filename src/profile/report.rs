@@ -9,7 +9,7 @@ use crate::frame::render_pass::RenderPassTraffic;
 use crate::render::instances::{RenderPassInstance, RenderPassSums};
 use crate::render::FrameCounters;
 
-/// Version of the JSON layout; bump on any incompatible change (documented in README.md).
+/// Version of the JSON layout; bump on any incompatible change (documented in docs/command-line.md).
 pub const PROFILE_SCHEMA: &str = "nostencil-profile/2";
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -138,7 +138,7 @@ pub fn seed_iterations(k: u8, darkness: u8) -> Result<usize> {
 }
 
 /// The iteration counts for each D (rows) and k (columns), as a Markdown table: what the
-/// README prints and `nostencil passes --technique shadow-volume` shows.
+/// docs/shadow-volumes.md prints and `nostencil passes --technique shadow-volume` shows.
 pub fn iteration_table(darkness: &[u8], increments: &[u8]) -> Result<String> {
     let header: Vec<String> = increments.iter().map(|k| format!("k = {k}")).collect();
     let mut table = format!("| D | {} |\n|---|{}\n", header.join(" | "), "---|".repeat(increments.len()));
@@ -149,12 +149,12 @@ pub fn iteration_table(darkness: &[u8], increments: &[u8]) -> Result<String> {
     Ok(table)
 }
 
-/// The rows and columns of the table the README prints.
+/// The rows and columns of the table docs/shadow-volumes.md prints.
 pub const TABLE_DARKNESS: [u8; 6] = [0, 32, 64, 102, 128, 192];
 pub const TABLE_INCREMENTS: [u8; 4] = [1, 2, 4, 8];
 
 /// The iteration table with its heading: what `nostencil passes --technique shadow-volume`
-/// prints after the plans, and the README's copy of it (checked by a test).
+/// prints after the plans, and docs/shadow-volumes.md's copy of it (checked by a test).
 pub fn iteration_section() -> Result<String> {
     Ok(format!(
         "Iterations after N0 (`seed`, `max`) for shadow factor D and increment k: the smallest n\n\
@@ -286,9 +286,9 @@ mod tests {
 
     #[test]
     fn the_readme_prints_the_iteration_table() {
-        let readme = include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md"));
+        let readme = include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/shadow-volumes.md"));
         let section = iteration_section().unwrap();
-        assert!(readme.contains(&section), "README's iteration table differs; paste:\n{section}");
+        assert!(readme.contains(&section), "docs/shadow-volumes.md's iteration table differs; paste:\n{section}");
     }
 
     #[test]

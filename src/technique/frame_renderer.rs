@@ -34,7 +34,7 @@ pub trait Passes<K: PassKinds>: PassDraws<K> {
     /// The render pass (and its colour attachment count) of an offscreen target. Prepasses
     /// render at one sample: a shadow map's depth compare, a bake's texels and a mask's
     /// coverage are sampled and filtered later, where extra samples would only be resolved
-    /// away (README, "MSAA").
+    /// away (docs/msaa.md).
     fn offscreen_pass(&self, target: K::Target) -> Option<(vk::RenderPass, usize)> {
         let _ = target;
         None

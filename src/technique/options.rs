@@ -50,8 +50,8 @@ pub struct ShadowVolumeOptions {
     /// device without the feature; a plan printed without a device assumes the baseline.
     pub fragment_atomics: bool,
     /// Volumes end just past the receivers' bounds and each is scissored to where it can shade,
-    /// the apply to their union, in both paths alike (README, "Volumes clipped to where they can
-    /// shade"). Off: every volume reaches infinity over the whole frame, to measure what
+    /// the apply to their union, in both paths alike (docs/shadow-volumes.md, "Volumes clipped to
+    /// where they can shade"). Off: every volume reaches infinity over the whole frame, to measure what
     /// clipping saves.
     pub clip_volumes: bool,
 }

@@ -1,5 +1,5 @@
 //! The viewer's keys as one table: the key handler looks presses up in it, and `view --help`
-//! (and README's key table, checked by a test) are printed from it, so the keys a person reads
+//! (and docs/viewer.md's key table, checked by a test) are printed from it, so the keys a person reads
 //! about are the keys that act.
 
 use winit::keyboard::{Key, NamedKey};
@@ -273,7 +273,7 @@ pub(crate) fn help() -> String {
     text
 }
 
-/// The same rows as a Markdown table (README's).
+/// The same rows as a Markdown table (docs/viewer.md's).
 #[cfg(test)]
 fn markdown_table() -> String {
     let mut table = String::from("| input | does |\n|---|---|\n");
@@ -333,11 +333,11 @@ mod tests {
 
     #[test]
     fn the_readme_key_table_is_the_map() {
-        let readme = include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md"));
-        let start = readme.find("| input | does |").expect("README has a key table");
+        let readme = include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/viewer.md"));
+        let start = readme.find("| input | does |").expect("docs/viewer.md has a key table");
         let table: String =
             readme[start..].lines().take_while(|line| line.starts_with('|')).map(|line| format!("{line}\n")).collect();
-        assert_eq!(table, markdown_table(), "README's key table differs from viewer/keys.rs; paste the right side");
+        assert_eq!(table, markdown_table(), "docs/viewer.md's key table differs from keys.rs; paste the right side");
     }
 
     #[test]

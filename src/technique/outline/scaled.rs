@@ -2,7 +2,7 @@
 //! chosen so that the object's bounding sphere grows by the outline width in pixels at the
 //! distance of its centre, which keeps `--outline-width` meaningful for both methods. On a
 //! sphere this is a ring of that width; on a concave object the copy also moves the concave
-//! parts outwards, where the normal extrusion would have met them (README, "Outline methods").
+//! parts outwards, where the normal extrusion would have met them (docs/outline.md, "Outline methods").
 
 use glam::{Mat4, Vec3};
 
