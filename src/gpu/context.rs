@@ -40,6 +40,8 @@ pub struct Gpu {
     pub instance: Instance,
     /// `GpuOptions::without_pass_queries`.
     pub without_pass_queries: bool,
+    /// Command-buffer labels (VK_EXT_debug_utils), when the instance enabled the extension.
+    labels: Option<ash::ext::debug_utils::Device>,
 }
 
 impl Gpu {
@@ -75,6 +77,7 @@ impl Gpu {
             .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
         // SAFETY: `device` was just created and `queue_family` is one of its queue families.
         let command_pool = unsafe { device.raw.create_command_pool(&pool_info, None) }.vk("vkCreateCommandPool")?;
+        let labels = instance.debug_labels.then(|| ash::ext::debug_utils::Device::new(&instance.raw, &device.raw));
         Ok(Arc::new(Gpu {
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             command_pool: Mutex::new(command_pool),
@@ -82,11 +85,32 @@ impl Gpu {
             device,
             instance,
             without_pass_queries: options.without_pass_queries,
+            labels,
         }))
     }
 
     pub fn raw(&self) -> &ash::Device {
         &self.device.raw
+    }
+
+    /// Opens a label named `name` on `cmd` (nothing without VK_EXT_debug_utils). Every label
+    /// opened must be closed by [`Gpu::end_label`] in the same command buffer.
+    pub fn begin_label(&self, cmd: vk::CommandBuffer, name: &str) {
+        let Some(labels) = &self.labels else { return };
+        // A name with a NUL (none of ours has one) is cut there.
+        let name: Vec<u8> = name.bytes().take_while(|&b| b != 0).chain([0]).collect();
+        let Ok(name) = std::ffi::CStr::from_bytes_with_nul(&name) else { return };
+        let label = vk::DebugUtilsLabelEXT::default().label_name(name);
+        // SAFETY: `cmd` is recording (the caller's contract), the extension is enabled on this
+        // instance, and `label` with its name outlives the call.
+        unsafe { labels.cmd_begin_debug_utils_label(cmd, &label) };
+    }
+
+    /// Closes the label [`Gpu::begin_label`] opened last on `cmd`.
+    pub fn end_label(&self, cmd: vk::CommandBuffer) {
+        let Some(labels) = &self.labels else { return };
+        // SAFETY: `cmd` is recording and has a label open (the caller's contract).
+        unsafe { labels.cmd_end_debug_utils_label(cmd) };
     }
 
     pub fn allocator(&self) -> MutexGuard<'_, Allocator> {

@@ -33,6 +33,9 @@ pub struct Instance {
     pub raw: ash::Instance,
     messenger: Option<(debug_utils::Instance, vk::DebugUtilsMessengerEXT, Box<ValidationLog>)>,
     validation: Option<ValidationReport>,
+    /// VK_EXT_debug_utils is enabled, so command buffers can carry labels (each measured pass
+    /// is labelled with its name for RenderDoc, the validation layer and the fill-rate layer).
+    pub debug_labels: bool,
 }
 
 impl Instance {
@@ -62,8 +65,13 @@ impl Instance {
         if let Some(checks) = validation {
             report = Some(validation_layer_report(&entry, checks)?);
             layers.push(VALIDATION_LAYER.as_ptr());
-            extensions.push(debug_utils::NAME.as_ptr());
             extensions.push(validation_features::NAME.as_ptr());
+        }
+        // Labels cost nothing where no tool listens; the loader offers the extension almost
+        // everywhere, and validation needs it for its messenger.
+        let debug_labels = validation.is_some() || offers_debug_utils(&entry);
+        if debug_labels {
+            extensions.push(debug_utils::NAME.as_ptr());
         }
 
         let features = validation.map(ValidationChecks::enabled_features).unwrap_or_default();
@@ -87,7 +95,7 @@ impl Instance {
             }
         })?;
 
-        let mut instance = Instance { entry, raw, messenger: None, validation: report };
+        let mut instance = Instance { entry, raw, messenger: None, validation: report, debug_labels };
         if validation.is_some() {
             instance.install_messenger()?;
         }
@@ -124,6 +132,13 @@ impl Instance {
     pub fn validation_report(&self) -> Option<&ValidationReport> {
         self.validation.as_ref()
     }
+}
+
+/// Whether the loader (or an implicit layer) offers VK_EXT_debug_utils.
+fn offers_debug_utils(entry: &ash::Entry) -> bool {
+    // SAFETY: `entry` holds a loaded loader; no layer name is passed.
+    let extensions = unsafe { entry.enumerate_instance_extension_properties(None) }.unwrap_or_default();
+    extensions.iter().any(|e| e.extension_name_as_c_str().ok() == Some(debug_utils::NAME))
 }
 
 /// Checks that the validation layer is installed and offers VK_EXT_validation_features (through

@@ -89,6 +89,9 @@ pub struct FrameRecorder<'a> {
     colour_image: vk::Image,
     /// A pass narrowed the scissor: it is put back to the whole frame when the pass ends.
     scissor_narrowed: bool,
+    /// The open render pass was begun outside a measured pass (the frame's) and carries the
+    /// label "frame", closed with it.
+    frame_label_open: bool,
     /// Samples per pixel of the frame's render pass.
     frame_samples: u32,
 }
@@ -118,6 +121,7 @@ impl<'a> FrameRecorder<'a> {
             frame_set,
             colour_image,
             scissor_narrowed: false,
+            frame_label_open: false,
             frame_samples,
         }
     }
@@ -175,12 +179,16 @@ impl<'a> FrameRecorder<'a> {
         }
         self.passes.push(PassRecord { name: name.to_owned(), draws: 0, pipelines: Vec::new(), instances });
         self.open = true;
+        // The label brackets the pass's queries, so a tool reading labels sees the same extent
+        // the counters measure.
+        self.gpu.begin_label(self.cmd, name);
         self.queries.begin(self.cmd, index);
         let result = body(self);
         if std::mem::take(&mut self.scissor_narrowed) {
             self.record_scissor(vk::Rect2D { offset: vk::Offset2D::default(), extent: self.extent });
         }
         self.queries.end(self.cmd, index);
+        self.gpu.end_label(self.cmd);
         self.open = false;
         result
     }
@@ -264,6 +272,11 @@ impl<'a> FrameRecorder<'a> {
             Some(alike) => alike.count += 1,
             None => self.render_passes.push(traffic),
         }
+        if !self.open {
+            // The frame's render pass: its measured passes label themselves inside it.
+            self.gpu.begin_label(self.cmd, "frame");
+            self.frame_label_open = true;
+        }
         let device = self.gpu.raw();
         let begin = vk::RenderPassBeginInfo::default()
             .render_pass(render_pass)
@@ -286,6 +299,9 @@ impl<'a> FrameRecorder<'a> {
         self.open_instance = None;
         // SAFETY: see the note on `FrameRecorder`.
         unsafe { self.gpu.raw().cmd_end_render_pass(self.cmd) };
+        if std::mem::take(&mut self.frame_label_open) {
+            self.gpu.end_label(self.cmd);
+        }
     }
 
     /// The GPU, for technique code that records commands the recorder has no helper for.
