@@ -38,7 +38,8 @@
 //! passes and fixed-function state as data), [`render`] (the recorder that measures passes,
 //! pass plans), [`technique`](mod@technique) (every technique behind one interface) and [`profile`] (reports).
 
-// Raw Vulkan lives in gpu/, frame/ and render/ only, each unsafe block saying why it is sound.
+// Raw Vulkan lives in gpu/, frame/ and render/, and in layer/ (the fill-rate layer is raw Vulkan
+// by nature: it sits between a program and its driver); each unsafe block says why it is sound.
 #![warn(clippy::undocumented_unsafe_blocks)]
 
 #[doc(hidden)]

@@ -689,8 +689,8 @@ fn passes(technique: &str, normalize: Option<Normalize>, shadow_volume: ShadowVo
             println!("{}", crate::profile::passes::plan_table(&variant.label, &plan));
         }
     }
-    if technique.name() == "shadow-volume" {
-        println!("{}", crate::technique::alpha_counter::iteration_section()?);
+    if let Some(notes) = technique.plan_notes()? {
+        println!("{notes}");
     }
     Ok(())
 }

@@ -222,20 +222,6 @@ fn choose_physical_device(instance: &Instance, choice: &DeviceChoice) -> Result<
         .ok_or_else(|| Error::Device(format!("no Vulkan device matches {choice:?}; available: {available}")))
 }
 
-/// The names of all devices, for `nostencil info` on a machine where device creation fails.
-pub fn list_devices(instance: &Instance) -> Result<Vec<String>> {
-    // SAFETY: the instance is alive for the call.
-    let physicals = unsafe { instance.raw.enumerate_physical_devices() }.vk("vkEnumeratePhysicalDevices")?;
-    Ok(physicals
-        .into_iter()
-        .map(|p| {
-            // SAFETY: `p` was just enumerated from this instance.
-            let props = unsafe { instance.raw.get_physical_device_properties(p) };
-            props.device_name_as_c_str().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default()
-        })
-        .collect())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

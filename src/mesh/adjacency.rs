@@ -8,7 +8,7 @@
 use glam::Vec3;
 
 use super::weld::validate_triangle_list;
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// `Edge::faces[1]` of a boundary edge (one face only).
 pub const NO_FACE: u32 = u32::MAX;

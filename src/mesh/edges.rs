@@ -8,7 +8,7 @@
 use glam::{Vec2, Vec3};
 
 use super::adjacency::{EdgeAdjacency, NO_FACE};
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// Where the edges are seen from.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -324,9 +324,9 @@ fn point_key(v: Vec4) -> [u32; 4] {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::error::Result;
     use crate::mesh::shapes::{self, MeshData};
     use crate::mesh::weld::weld_by_position;
-    use crate::Result;
 
     struct Occluder {
         positions: Vec<Vec3>,

@@ -11,7 +11,7 @@ use std::f32::consts::{PI, TAU};
 
 use glam::{Vec2, Vec3};
 
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// An indexed triangle mesh with per-vertex attributes.
 #[derive(Debug, Clone, Default, PartialEq)]

@@ -9,7 +9,7 @@
 use glam::Vec3;
 
 use super::fast_hash::{u64_map_with_capacity, U64Map};
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// A triangle whose area is below `DEGENERATE_SINE * (longest edge)^2` is zero-area: its height
 /// is a millionth of its length, at the edge of what f32 positions can resolve.

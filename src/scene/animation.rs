@@ -9,7 +9,7 @@
 use glam::{Quat, Vec3, Vec4};
 
 use super::model::{Channel, ChannelValues, Interpolation, Model, Property, Transform};
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// One sampled property value.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -68,12 +68,6 @@ pub fn builtin_scene_at(name: &str, time: f32) -> Result<Scene> {
     }
 }
 
-/// The default scene: three closed shapes floating over a ground plane and the skinned
-/// character (at rest pose time 0) walking in place in front of them, lit from above-left.
-pub fn default_scene() -> Result<Scene> {
-    default_scene_at(0.0)
-}
-
 /// Where the character stands in the default scene.
 pub const DEFAULT_CHARACTER_PLACEMENT: Vec3 = Vec3::new(1.1, 0.0, 2.0);
 
@@ -81,6 +75,8 @@ pub const DEFAULT_CHARACTER_PLACEMENT: Vec3 = Vec3::new(1.1, 0.0, 2.0);
 /// arm falls across the torso's.
 pub const CHARACTER_LIGHT: Vec3 = Vec3::new(-0.62, -1.0, -0.25);
 
+/// The default scene: three closed shapes floating over a ground plane and the skinned
+/// character walking in place in front of them (at animation time `time`), lit from above-left.
 pub fn default_scene_at(time: f32) -> Result<Scene> {
     let camera = Camera::look_at(Vec3::new(0.0, 4.2, 8.5), Vec3::new(0.0, 0.7, 0.0));
     let light = Light::Directional { direction: Vec3::new(-0.45, -1.0, -0.35).normalize() };

@@ -9,7 +9,7 @@
 use glam::{Mat3, Mat4, Vec3};
 
 use super::model::{Model, Primitive, Transform};
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// World matrices of all nodes for the given local transforms (`local[i]` for node `i`; nodes
 /// beyond `local.len()` use their rest pose). Parents are visited before children.

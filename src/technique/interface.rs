@@ -103,6 +103,12 @@ pub trait Technique: Sync + 'static {
         })
     }
 
+    /// What `passes` prints after the plans, when the technique has more to say about them
+    /// (shadow volumes: the normalisation's iteration table).
+    fn plan_notes(&self) -> Result<Option<String>> {
+        Ok(None)
+    }
+
     /// A table of the technique's own that `bench` prints in place of timing its variants.
     fn bench_table(&self) -> Option<BenchTable> {
         None

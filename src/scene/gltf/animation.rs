@@ -6,8 +6,8 @@ use gltf::json;
 use json::accessor::{ComponentType as C, Type as T};
 
 use super::{checked, label, Loader, FLOAT_OR_NORM};
+use crate::error::Result;
 use crate::scene::model::{Animation, Channel, ChannelValues, Interpolation, Property};
-use crate::Result;
 
 impl Loader<'_> {
     pub(super) fn animations(&mut self) -> Result<Vec<Animation>> {

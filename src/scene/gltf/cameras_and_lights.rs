@@ -4,8 +4,8 @@ use glam::Vec3;
 use gltf::json;
 
 use super::{checked, label, Loader};
+use crate::error::Result;
 use crate::scene::model::{Camera, Light, LightKind, Projection};
-use crate::Result;
 
 impl Loader<'_> {
     pub(super) fn cameras(&mut self) -> Result<Vec<Camera>> {

@@ -10,8 +10,8 @@ use json::validation::Checked;
 use serde_json::Value;
 
 use super::{checked, label, Loader};
+use crate::error::Result;
 use crate::scene::model::{AlphaMode, Filter, Material, Sampler, TextureRef, TextureRgba8, TextureTransform, Wrap};
-use crate::Result;
 
 const SPEC_GLOSS: &str = "KHR_materials_pbrSpecularGlossiness";
 const UNLIT: &str = "KHR_materials_unlit";

@@ -8,9 +8,9 @@ use json::accessor::{ComponentType as C, Type as T};
 use json::validation::Checked;
 
 use super::{checked, label, Loader, FLOAT_OR_SNORM, FLOAT_OR_UNORM};
+use crate::error::Result;
 use crate::scene::model::{Material, Mesh, Primitive};
 use crate::scene::normals::smooth_normals;
-use crate::Result;
 
 impl Loader<'_> {
     pub(super) fn meshes(&mut self, materials: &[Material]) -> Result<Vec<Mesh>> {

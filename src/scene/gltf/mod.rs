@@ -55,8 +55,8 @@ use gltf::json;
 use json::accessor::{ComponentType as C, Type as T};
 use json::validation::Checked;
 
+use crate::error::{Error, Result};
 use crate::scene::model::{Model, TextureRgba8};
-use crate::{Error, Result};
 use accessors::Dense;
 
 /// What went wrong, without the file name: `load_gltf_slice` wraps it in `Error::Asset`.

@@ -5,8 +5,8 @@ use glam::{Mat4, Quat, Vec3};
 use gltf::json;
 
 use super::{label, Loader};
+use crate::error::Result;
 use crate::scene::model::{Node, Transform};
-use crate::Result;
 
 impl Loader<'_> {
     pub(super) fn nodes(&mut self) -> Result<Vec<Node>> {

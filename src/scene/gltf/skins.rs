@@ -7,8 +7,8 @@ use gltf::json;
 use json::accessor::{ComponentType as C, Type as T};
 
 use super::{label, Loader, FLOAT_OR_UNORM};
+use crate::error::{Error, Result};
 use crate::scene::model::{Mesh, Node, Skin, MAX_JOINTS};
-use crate::{Error, Result};
 
 /// JOINTS_0 and WEIGHTS_0 of one primitive.
 type SkinAttributes = (Vec<[u16; 4]>, Vec<[f32; 4]>);

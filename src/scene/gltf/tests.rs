@@ -7,10 +7,10 @@ use glam::{Mat4, Vec3};
 use serde_json::{json, Value};
 
 use super::{load_gltf, load_gltf_slice};
+use crate::error::Error;
 use crate::scene::animation::{pose_at, rest_pose, TimeMode};
 use crate::scene::model::{Filter, Model, Property, Transform, Wrap, MAX_JOINTS};
 use crate::scene::skinning::{joint_matrices, skin_positions_normals, world_matrices};
-use crate::Error;
 
 const ALL: [&str; 7] = [
     "Box.glb",

@@ -5,9 +5,9 @@
 
 use glam::{Vec2, Vec3};
 
+use crate::error::Result;
 use crate::mesh::atlas_charts::{self, overlap};
 use crate::mesh::{geometry_image, MeshData};
-use crate::Result;
 
 /// Where a mesh's atlas UVs came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]

@@ -50,6 +50,10 @@ impl Technique for ShadowVolumes {
         renderer::build(self, gpu, scene, options)
     }
 
+    fn plan_notes(&self) -> Result<Option<String>> {
+        super::alpha_counter::iteration_section().map(Some)
+    }
+
     fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
         // The probe is a diagnostic: never part of a timed frame (docs/design/saturation.md).
         let untimed_probe = ShadowVolumeOptions { saturation_probe: false, ..options.shadow_volume };
