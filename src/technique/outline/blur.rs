@@ -15,7 +15,7 @@ use ash::vk;
 use glam::Vec4;
 
 use super::copies::{copy_desc, outline_fixed};
-use super::recipes::{OutlineDraw, OutlineKinds, OutlineSet, OutlineTarget};
+use super::kinds::{OutlineDraw, OutlineKinds, OutlineSet, OutlineTarget};
 use crate::error::Result;
 use crate::frame::offscreen::{colour_render_pass, colour_stencil_render_pass, Framebuffer, RenderPass};
 use crate::frame::targets::choose_depth_format;

@@ -6,6 +6,7 @@
 
 pub mod blur;
 pub mod copies;
+pub mod kinds;
 pub mod recipes;
 pub mod renderer;
 pub mod scaled;

@@ -19,98 +19,13 @@ use glam::Vec4;
 
 use super::blur;
 use super::copies::{copy_desc, outline_fixed};
+use super::kinds::{OutlineDraw, OutlineKinds};
 use crate::frame::StencilMode;
 use crate::pipeline::recipes::{self, COLOUR_REPLACE, COLOUR_WHERE_ALPHA_ZERO};
 use crate::pipeline::PipelineDesc;
-use crate::render::plan::{DrawKind, Label, PassKinds, PassPlan, PlannedPass, SetRole};
-use crate::technique::cartoon_shading::{shade_desc, shade_pass, WithRamps};
+use crate::render::plan::{PassPlan, PlannedPass, SetRole};
+use crate::technique::cartoon_shading::{shade_desc, shade_pass};
 use crate::technique::options::{CartoonOptions, OutlineMethod};
-
-/// The kinds of the outline's plan.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct OutlineKinds;
-
-impl PassKinds for OutlineKinds {
-    type Draw = OutlineDraw;
-    type Set = OutlineSet;
-    type Target = OutlineTarget;
-}
-
-/// What the outline renderer draws itself.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum OutlineDraw {
-    /// The objects that are not selected, alpha 0.
-    NotSelected,
-    /// The selected objects, alpha 1: their mark.
-    Selected,
-    /// The selected objects' copies, extruded or scaled up.
-    Copies(OutlineMethod),
-    /// Blurred outline: the selected objects (mark), then their copies (outline), into the mask.
-    Mask,
-    /// Blurred outline: one 1D box pass of `radius` texels, along x or y.
-    Blur { along_x: bool, radius: u32 },
-}
-
-impl DrawKind for OutlineDraw {
-    fn describe(self) -> &'static str {
-        match self {
-            OutlineDraw::NotSelected => "objects not selected",
-            OutlineDraw::Selected => "selected objects",
-            OutlineDraw::Copies(OutlineMethod::Extrude) => "selected objects' extruded copies",
-            OutlineDraw::Copies(OutlineMethod::Scale) => "selected objects' scaled-up copies",
-            OutlineDraw::Mask => "selected objects (mark), then their copies (outline)",
-            OutlineDraw::Blur { .. } => "full screen",
-        }
-    }
-}
-
-/// The outline's descriptor sets.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum OutlineSet {
-    Ramps,
-    /// The mask, sampled by the first blur pass.
-    Mask,
-    /// The first blur's result, sampled by the second.
-    BlurredAlongX,
-    /// The blurred mask and the mask (for its selection mark), sampled by the apply pass.
-    Blurred,
-}
-
-impl Label for OutlineSet {
-    fn label(self) -> &'static str {
-        match self {
-            OutlineSet::Ramps => "toon ramps",
-            OutlineSet::Mask => "outline mask",
-            OutlineSet::BlurredAlongX => "outline blurred along x",
-            OutlineSet::Blurred => "blurred outline and mask",
-        }
-    }
-}
-
-impl WithRamps for OutlineSet {
-    const RAMPS: Self = OutlineSet::Ramps;
-}
-
-/// The blurred outline's render passes, before the frame's.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum OutlineTarget {
-    /// The sharp outline as a mask: R = outline, A = selected.
-    Mask,
-    /// The mask blurred along x.
-    BlurX,
-    /// Then along y.
-    BlurY,
-}
-
-impl Label for OutlineTarget {
-    fn label(self) -> &'static str {
-        match self {
-            OutlineTarget::Mask => "outline mask",
-            OutlineTarget::BlurX => "outline blur x",
-            OutlineTarget::BlurY => "outline blur y",
-        }
-    }
-}
 
 /// Reference only: the selected objects also write stencil 1.
 pub fn selected_stencil_desc() -> PipelineDesc {

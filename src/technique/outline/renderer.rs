@@ -8,7 +8,8 @@ use ash::vk;
 use glam::Vec4;
 
 use super::blur::{blur_push, BlurTargets};
-use super::recipes::{self, OutlineDraw, OutlineKinds, OutlineSet, OutlineTarget};
+use super::kinds::{OutlineDraw, OutlineKinds, OutlineSet, OutlineTarget};
+use super::recipes;
 use super::scaled::Bounds;
 use super::{resolve_selection, Outline};
 use crate::error::{Error, Result};
