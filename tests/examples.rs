@@ -1,0 +1,45 @@
+//! The programs in `examples/` build with the crate (`cargo test` builds them) and run: one
+//! glTF file from tests/assets to a PNG, and a missing file refused with its name.
+
+mod common;
+
+use std::path::PathBuf;
+use std::process::Command;
+
+/// An example's binary, built by `cargo test` beside this test's own (target/debug/examples).
+fn example(name: &str) -> PathBuf {
+    let exe = std::env::current_exe().expect("test binary path");
+    let debug = exe.parent().and_then(|deps| deps.parent()).expect("target/debug");
+    let path = debug.join("examples").join(name);
+    assert!(path.is_file(), "{} not built (cargo test builds examples)", path.display());
+    path
+}
+
+#[test]
+fn gltf_to_png_renders_a_real_file_and_names_a_missing_one() {
+    let dir = common::scratch_dir("example_gltf_to_png");
+    let out = dir.join("cornell.png");
+    let input = common::test_asset("CornellBox.glb");
+    let run = Command::new(example("gltf_to_png")).arg(&input).arg(&out).arg("shadow-volume").output().expect("run");
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let image = image::open(&out).expect("a PNG").to_rgba8();
+    assert_eq!(image.dimensions(), (320, 240));
+    let first = *image.get_pixel(0, 0);
+    assert!(image.pixels().any(|p| *p != first), "a uniform image");
+
+    let missing = dir.join("no such file.glb");
+    let run = Command::new(example("gltf_to_png")).arg(&missing).arg(dir.join("x.png")).output().expect("run");
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("no such file.glb"), "{stderr}");
+    assert!(!dir.join("x.png").exists());
+}
+
+#[test]
+fn pass_counters_prints_every_pass_of_the_frame() {
+    let run = Command::new(example("pass_counters")).args(["shadow-volume", "box"]).output().expect("run");
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    assert!(stdout.lines().any(|l| l.starts_with("scene ")), "{stdout}");
+    assert!(stdout.lines().any(|l| l.starts_with("volumes (alpha")), "{stdout}");
+}
