@@ -128,7 +128,7 @@ pub unsafe extern "system" fn vkNegotiateLoaderLayerInterfaceVersion(
     })
 }
 
-/// The exported vkGetInstanceProcAddr. The layer hands out [`get_instance_proc_addr`] instead of
+/// The exported vkGetInstanceProcAddr. The layer hands out `get_instance_proc_addr` instead of
 /// this symbol's address: inside a shared library, a reference to an exported name binds to the
 /// process's first definition, which is the loader's own vkGetInstanceProcAddr when the
 /// application links libvulkan directly (and calling back into the loader deadlocks it).

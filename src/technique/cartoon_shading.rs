@@ -119,7 +119,6 @@ impl CartoonScene {
         Ok(CartoonScene { meshes: GpuScene::upload(gpu, scene)?, ramps: Ramps::new(gpu)?, shading })
     }
 
-    /// The layout of [`RAMPS`].
     /// The layout of the ramps' set.
     pub fn ramps_layout(&self) -> vk::DescriptorSetLayout {
         self.ramps.set.layout
@@ -130,6 +129,9 @@ impl CartoonScene {
         self.ramps.set.set
     }
 
+    /// Draws the objects `which` picks (in `draw_order`) with the pass's pipeline their
+    /// material needs (`pipelines`: the pass's, the main one bound), each with its transform,
+    /// material and the alpha `alpha`.
     #[allow(clippy::too_many_arguments)]
     pub fn draw<K: PassKinds>(
         &self,
@@ -202,7 +204,7 @@ pub fn rim_ramp() -> RgbaImage {
     })
 }
 
-/// Both ramps on the GPU, in the descriptor set of [`RAMPS`].
+/// Both ramps on the GPU, in one descriptor set (`WithRamps::RAMPS`, set 2 of the scene pass).
 pub struct Ramps {
     pub set: DescriptorSet,
     _ramp: Texture,
