@@ -417,7 +417,21 @@ pub(super) unsafe extern "system" fn reset_command_buffer(
     unsafe { next(cmd, flags) }
 }
 
-/// Notes something on `cmd`'s recording (draws, labels), then makes the application's call.
+/// A draw on `cmd`: counted, and the layer's segments begun right before it (the first draw of
+/// a pass or subpass, see recording.rs). Returns the device for the application's call.
+fn before_draw(cmd: vk::CommandBuffer) -> Option<Arc<DeviceData>> {
+    let device = guard(None, || super::state::device_of(cmd.as_raw()))?;
+    let cmds = guard(Vec::new(), || {
+        if !device.active() {
+            return Vec::new();
+        }
+        device.state().buffers.get_mut(&cmd).map(|data| data.recording.draw()).unwrap_or_default()
+    });
+    guard((), || record(&device, cmd, &cmds));
+    Some(device)
+}
+
+/// Notes something on `cmd`'s recording (labels, resets), then makes the application's call.
 fn note(cmd: vk::CommandBuffer, f: impl FnOnce(&mut super::recording::Recording)) -> Option<Arc<DeviceData>> {
     let device = guard(None, || super::state::device_of(cmd.as_raw()))?;
     guard((), || {
@@ -437,7 +451,7 @@ pub(super) unsafe extern "system" fn cmd_draw(
     first_vertex: u32,
     first_instance: u32,
 ) {
-    if let Some(next) = note(cmd, |r| r.draw()).and_then(|d| d.next.cmd_draw) {
+    if let Some(next) = before_draw(cmd).and_then(|d| d.next.cmd_draw) {
         // SAFETY: the application's arguments, passed on.
         unsafe { next(cmd, vertices, instances, first_vertex, first_instance) }
     }
@@ -451,7 +465,7 @@ pub(super) unsafe extern "system" fn cmd_draw_indexed(
     vertex_offset: i32,
     first_instance: u32,
 ) {
-    if let Some(next) = note(cmd, |r| r.draw()).and_then(|d| d.next.cmd_draw_indexed) {
+    if let Some(next) = before_draw(cmd).and_then(|d| d.next.cmd_draw_indexed) {
         // SAFETY: the application's arguments, passed on.
         unsafe { next(cmd, indices, instances, first_index, vertex_offset, first_instance) }
     }
@@ -464,7 +478,7 @@ pub(super) unsafe extern "system" fn cmd_draw_indirect(
     count: u32,
     stride: u32,
 ) {
-    if let Some(next) = note(cmd, |r| r.draw()).and_then(|d| d.next.cmd_draw_indirect) {
+    if let Some(next) = before_draw(cmd).and_then(|d| d.next.cmd_draw_indirect) {
         // SAFETY: the application's arguments, passed on.
         unsafe { next(cmd, buffer, offset, count, stride) }
     }
@@ -477,7 +491,7 @@ pub(super) unsafe extern "system" fn cmd_draw_indexed_indirect(
     count: u32,
     stride: u32,
 ) {
-    if let Some(next) = note(cmd, |r| r.draw()).and_then(|d| d.next.cmd_draw_indexed_indirect) {
+    if let Some(next) = before_draw(cmd).and_then(|d| d.next.cmd_draw_indexed_indirect) {
         // SAFETY: the application's arguments, passed on.
         unsafe { next(cmd, buffer, offset, count, stride) }
     }
@@ -494,7 +508,7 @@ macro_rules! draw_count_hook {
             max_count: u32,
             stride: u32,
         ) {
-            let next: Option<vk::$pfn> = note(cmd, |r| r.draw()).and_then(|d| d.next.$field);
+            let next: Option<vk::$pfn> = before_draw(cmd).and_then(|d| d.next.$field);
             if let Some(next) = next {
                 // SAFETY: the application's arguments, passed on.
                 unsafe { next(cmd, buffer, offset, count_buffer, count_offset, max_count, stride) }
