@@ -158,6 +158,7 @@ pub fn report(device: &DeviceData, state: &mut DeviceState) -> FillrateReport {
         not_measured,
         frames: frames.kept.iter().cloned().collect(),
         aggregate: frames.aggregate.rows(),
+        run: None,
     }
 }
 
