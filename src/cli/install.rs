@@ -93,7 +93,7 @@ pub fn install(library: Option<&Path>, paths: &InstallPaths) -> Result<()> {
     Ok(())
 }
 
-/// Removes what [`install`] wrote (and the library's folder once empty); says what.
+/// Removes what [`install`] wrote, and the folders it made once empty; says what.
 pub fn uninstall(paths: &InstallPaths) -> Result<()> {
     let mut removed = 0;
     for path in [&paths.manifest, &paths.library] {
@@ -106,8 +106,11 @@ pub fn uninstall(paths: &InstallPaths) -> Result<()> {
             Err(e) => return Err(Error::Io { path: path.clone(), source: e }),
         }
     }
-    if let Some(dir) = paths.library.parent() {
-        // Only if empty: never anything of the user's.
+    // The folders install may have made, innermost first; remove_dir removes only empty ones,
+    // so nothing of the user's (or another layer's) goes.
+    let library_dirs = paths.library.ancestors().skip(1).take(2);
+    let manifest_dirs = paths.manifest.ancestors().skip(1).take(2);
+    for dir in library_dirs.chain(manifest_dirs) {
         let _ = std::fs::remove_dir(dir);
     }
     if removed == 0 {
