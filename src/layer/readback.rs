@@ -51,19 +51,21 @@ pub const APP_STATISTICS_GAP: &str = "pipeline statistics of a pass holding an a
 /// query on the CPU, and on Mesa 22.3 llvmpipe a second read of a statistics query changes the
 /// value (its fragment count grows 17-fold for the application's own read). Reading an
 /// application's query must never change what the application reads.
+/// `layer` reads the layer's own slots: from this submission's copy, or from the pools.
 fn read_pass(
     device: &DeviceData,
     state: &DeviceState,
     pass: &RecordedPass,
     timestamp_bits: u32,
+    layer: &dyn Fn(Slot, usize) -> Result<Vec<u64>, String>,
 ) -> Result<RawCounters, String> {
     let mut raw = RawCounters { draws: pass.draws, ..RawCounters::default() };
     for slot in &pass.occlusion {
-        raw.samples_passed += read_query(device, *slot, 1)?[0];
+        raw.samples_passed += layer(*slot, 1)?[0];
     }
     let mut stats = if device.info.support.pipeline_statistics { [Some(0u64); 3] } else { [None; 3] };
     for slot in &pass.statistics {
-        let values = read_query(device, *slot, 3)?;
+        let values = layer(*slot, 3)?;
         for (sum, value) in stats.iter_mut().zip(values) {
             *sum = sum.map(|s| s + value);
         }
@@ -83,8 +85,8 @@ fn read_pass(
     [raw.vertex_invocations, raw.clipping_primitives, raw.fragment_invocations] = stats;
     if let Some((begin, end)) = pass.timestamps {
         let mask = if timestamp_bits >= 64 { u64::MAX } else { (1u64 << timestamp_bits) - 1 };
-        let begin = read_query(device, begin, 1)?[0] & mask;
-        let end = read_query(device, end, 1)?[0] & mask;
+        let begin = layer(begin, 1)?[0] & mask;
+        let end = layer(end, 1)?[0] & mask;
         raw.gpu_ns = Some(end.wrapping_sub(begin) as f64 * device.info.timestamp_period);
     }
     Ok(raw)
@@ -114,18 +116,26 @@ fn row(pass: &RecordedPass, result: Result<RawCounters, String>) -> RenderPassRo
 pub fn read_completed(device: &DeviceData, state: &mut DeviceState, done: impl Fn(&Pending) -> bool) {
     let (ready, waiting): (Vec<Pending>, Vec<Pending>) = std::mem::take(&mut state.pending).into_iter().partition(done);
     state.pending = waiting;
-    for pending in ready {
+    for mut pending in ready {
+        let copy = pending.copy.take();
+        let layer = |slot: Slot, words: usize| match &copy {
+            Some(copy) => copy.read(slot, words),
+            None => read_query(device, slot, words),
+        };
         let rows: Vec<RenderPassRow> = pending
             .passes
             .iter()
             .map(|pass| {
                 let result = match &pending.spoiled {
                     Some(reason) => Err(reason.clone()),
-                    None => read_pass(device, state, pass, pending.timestamp_bits),
+                    None => read_pass(device, state, pass, pending.timestamp_bits, &layer),
                 };
                 row(pass, result)
             })
             .collect();
+        if let Some(copy) = copy {
+            copy.release(device);
+        }
         for row in &rows {
             if let Some(reason) = &row.not_measured {
                 state.count_not_measured(reason);

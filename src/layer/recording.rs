@@ -211,12 +211,10 @@ impl Recording {
         });
         self.open = Some(self.passes.len() - 1);
         let mut after = Vec::new();
-        if measuring {
-            if self.support.timestamps {
-                if let (Some(begin), Some(end)) = (self.timestamps.take(), self.timestamps.take()) {
-                    after.push(QueryCmd::Timestamp { slot: begin, stage: vk::PipelineStageFlags::TOP_OF_PIPE });
-                    self.open_pass().timestamps = Some((begin, end));
-                }
+        if measuring && self.support.timestamps {
+            if let (Some(begin), Some(end)) = (self.timestamps.take(), self.timestamps.take()) {
+                after.push(QueryCmd::Timestamp { slot: begin, stage: vk::PipelineStageFlags::TOP_OF_PIPE });
+                self.open_pass().timestamps = Some((begin, end));
             }
         }
         (before, after)
