@@ -18,11 +18,11 @@ use crate::profile::report::ReportFormat;
 
 /// Shown after `profile-app --help`.
 pub const AFTER_HELP: &str = "\
-The layer (libnostencil.so, built beside the nostencil executable) is enabled for the program
-only: VK_INSTANCE_LAYERS gets VK_LAYER_NOSTENCIL_fillrate first (nearest the application; layers
+The layer (libnostencil.so, built beside the nostencil executable, or installed for the user by
+`nostencil layer install`) is enabled for the program only: VK_INSTANCE_LAYERS gets VK_LAYER_NOSTENCIL_fillrate first (nearest the application; layers
 the user named stay, below it), VK_ADD_LAYER_PATH (or VK_LAYER_PATH, if set) its folder, and
-NOSTENCIL_FILLRATE_OUT/_FORMAT/_FRAMES/_EVERY tell it where and what to write (every finished
-frame is written at once). The program's stdio is its own; it runs in its own process group.
+NOSTENCIL_FILLRATE_OUT/_FORMAT/_FRAMES/_EVERY tell it where and what to write (finished frames
+are written as they come, at most every 100 ms). The program's stdio is its own; it runs in its own process group.
 The report follows once the program ends: by itself; after --frames N measured frames or
 --seconds S (SIGTERM, then SIGKILL 5 s later; --keep-running leaves it running after its N
 frames); or on Ctrl-C. A program that crashes or is killed still gets a report of the frames
@@ -221,7 +221,8 @@ pub fn layer_environment(
         layers,
         ("NOSTENCIL_FILLRATE_OUT".into(), result.as_os_str().to_owned()),
         ("NOSTENCIL_FILLRATE_FORMAT".into(), "json".into()),
-        // Every finished frame is on disk: a program that crashes or is killed still has a report.
+        // Finished frames go to disk as they come (at most every 100 ms): a program that crashes or
+        // is killed still has a report.
         ("NOSTENCIL_FILLRATE_EVERY".into(), "1".into()),
     ]);
     if let Some(frames) = frames {

@@ -18,7 +18,8 @@ pub struct Config {
     pub format: OutputFormat,
     /// `NOSTENCIL_FILLRATE_FRAMES`: measure the first N frames only.
     pub frames: Option<u64>,
-    /// `NOSTENCIL_FILLRATE_EVERY`: also rewrite the file every K frames (0: never).
+    /// `NOSTENCIL_FILLRATE_EVERY`: also rewrite the file every K frames, at most every 100 ms
+    /// (0: never).
     pub every: u64,
 }
 

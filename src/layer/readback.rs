@@ -172,10 +172,23 @@ pub fn report(device: &DeviceData, state: &mut DeviceState) -> FillrateReport {
     }
 }
 
+/// The least time between two periodic writes: rendering and renaming the whole report after
+/// every frame nearly doubled vkcube's run time (a frame there takes under 3 ms).
+pub const MIN_WRITE_INTERVAL: std::time::Duration = std::time::Duration::from_millis(100);
+
 /// Whether the file is written now: at the end (`last`), once the limited frames are all in
-/// (`done`), or when `every` more frames were measured since the last write.
-fn write_due(last: bool, done: bool, every: u64, measured: u64, written_at: u64) -> bool {
-    last || done || (every > 0 && measured >= written_at + every)
+/// (`done`), or when `every` more frames were measured since the last write and `since` it
+/// (None: never written) is at least [`MIN_WRITE_INTERVAL`].
+fn write_due(
+    last: bool,
+    done: bool,
+    every: u64,
+    measured: u64,
+    written_at: u64,
+    since: Option<std::time::Duration>,
+) -> bool {
+    let periodic = every > 0 && measured >= written_at + every && since.map_or(true, |t| t >= MIN_WRITE_INTERVAL);
+    last || done || periodic
 }
 
 /// Writes the file at the end (`last`), when the limited frames are all in, or every K frames.
@@ -186,7 +199,8 @@ pub fn write_if_due(device: &DeviceData, state: &mut DeviceState, last: bool) {
     }
     let frames = state.frames();
     let (measured, done) = (frames.frames_measured, frames.done());
-    if !write_due(last, done, device.config.every, measured, state.written_at) {
+    let since = state.last_write.map(|t| t.elapsed());
+    if !write_due(last, done, device.config.every, measured, state.written_at, since) {
         return;
     }
     let text = render(&report(device, state), device.config.format);
@@ -194,21 +208,25 @@ pub fn write_if_due(device: &DeviceData, state: &mut DeviceState, last: bool) {
         eprintln!("nostencil fill-rate layer: cannot write {}: {e}", path.display());
     }
     state.written_at = measured;
+    state.last_write = Some(std::time::Instant::now());
     state.finished = done;
 }
 
 #[cfg(test)]
 mod tests {
-    use super::write_due;
+    use super::{write_due, MIN_WRITE_INTERVAL};
+    use std::time::Duration;
 
     #[test]
     fn the_file_is_written_at_the_end_when_done_and_every_k_frames() {
-        assert!(write_due(true, false, 0, 0, 0));
-        assert!(write_due(false, true, 0, 3, 0));
-        assert!(!write_due(false, false, 0, 100, 0), "EVERY=0: only at the end");
-        assert!(!write_due(false, false, 3, 2, 0));
-        assert!(write_due(false, false, 3, 3, 0));
-        assert!(!write_due(false, false, 3, 5, 3));
-        assert!(write_due(false, false, 3, 6, 3));
+        let long = Some(MIN_WRITE_INTERVAL);
+        assert!(write_due(true, false, 0, 0, 0, None));
+        assert!(write_due(false, true, 0, 3, 0, Some(Duration::ZERO)), "done is written at once");
+        assert!(!write_due(false, false, 0, 100, 0, long), "EVERY=0: only at the end");
+        assert!(!write_due(false, false, 3, 2, 0, None));
+        assert!(write_due(false, false, 3, 3, 0, None));
+        assert!(!write_due(false, false, 3, 5, 3, long));
+        assert!(write_due(false, false, 3, 6, 3, long));
+        assert!(!write_due(false, false, 1, 7, 6, Some(Duration::from_millis(10))), "not twice in 10 ms");
     }
 }

@@ -183,6 +183,8 @@ pub struct DeviceState {
     pub not_measured: BTreeMap<String, u64>,
     /// Frames finished when the file was last written.
     pub written_at: u64,
+    /// When the file was last written.
+    pub last_write: Option<std::time::Instant>,
     /// The NOSTENCIL_FILLRATE_FRAMES file is written; nothing more is measured.
     pub finished: bool,
 }
