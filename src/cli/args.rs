@@ -81,6 +81,10 @@ pub enum Command {
         /// End the program after S seconds (SIGTERM, SIGKILL 5 s later) and report.
         #[arg(long, value_name = "S")]
         seconds: Option<f64>,
+        /// Also count each draw of a measured render pass on its own (fragments, samples, GPU
+        /// time; JSON `per_draw`, summing to the pass's counters). At most 256 draws a pass.
+        #[arg(long)]
+        per_draw: bool,
         #[arg(long, value_enum, default_value_t = FormatArg::Table)]
         format: FormatArg,
         /// Compare each render pass's draws, samples passed and fragment invocations (the most

@@ -32,8 +32,19 @@ pub fn run(cli: Cli) -> Result<()> {
             }
         }
         Command::Info { gpu, json } => info(&gpu, json),
-        Command::ProfileApp { frames, keep_running, seconds, format, budget, record_budget, chart, out, command } => {
-            let outputs = super::profile_app::AppOutputs { budget, record_budget, chart, out };
+        Command::ProfileApp {
+            frames,
+            keep_running,
+            seconds,
+            per_draw,
+            format,
+            budget,
+            record_budget,
+            chart,
+            out,
+            command,
+        } => {
+            let outputs = super::profile_app::AppOutputs { budget, record_budget, chart, out, per_draw };
             let stop = super::supervise::Stop { frames, seconds, keep_running };
             super::profile_app::run(&command, stop, report_format(format), &outputs)
         }

@@ -43,6 +43,8 @@ pub struct AppOutputs {
     pub chart: Option<PathBuf>,
     /// The report goes here instead of stdout.
     pub out: Option<PathBuf>,
+    /// Each draw counted on its own too (NOSTENCIL_FILLRATE_PER_DRAW).
+    pub per_draw: bool,
 }
 
 pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOutputs) -> Result<()> {
@@ -67,7 +69,10 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
     let work = ScratchDir::new()?;
     let layer_dir = layer_folder(&work.0)?;
     let result = work.0.join("result.json");
-    let environment = layer_environment(|name| std::env::var_os(name), layer_dir.as_deref(), &result, frames);
+    let mut environment = layer_environment(|name| std::env::var_os(name), layer_dir.as_deref(), &result, frames);
+    if outputs.per_draw {
+        environment.push(("NOSTENCIL_FILLRATE_PER_DRAW".into(), "1".into()));
+    }
 
     let mut child = std::process::Command::new(program);
     child.args(args).envs(environment);

@@ -68,6 +68,9 @@ fn slots_of(passes: &[RecordedPass]) -> Vec<(Slot, usize)> {
         if let Some((begin, end)) = pass.timestamps {
             slots.extend([(begin, 1), (end, 1)]);
         }
+        for (begin, end) in pass.draw_slots.iter().filter_map(|d| d.timestamps) {
+            slots.extend([(begin, 1), (end, 1)]);
+        }
     }
     slots
 }

@@ -253,6 +253,7 @@ mod tests {
         passes[1].index = 1;
         passes[0].label = Some("shadow, \"main\"".into());
         passes.push(RenderPassRow {
+            per_draw: Vec::new(),
             index: 2,
             counters: None,
             not_measured: Some("secondary command buffer".into()),

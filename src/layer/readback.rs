@@ -5,7 +5,7 @@ use ash::vk;
 
 use super::output::{render, write_atomically};
 use super::recording::RecordedPass;
-use super::report::{Counters, FillrateReport, NotMeasured, RawCounters, RenderPassRow, FILLRATE_SCHEMA};
+use super::report::{Counters, DrawRow, FillrateReport, NotMeasured, RawCounters, RenderPassRow, FILLRATE_SCHEMA};
 use super::slots::{QueryKind, Slot};
 use super::state::{DeviceData, DeviceState, Pending};
 
@@ -83,17 +83,56 @@ fn read_pass(
         }
     }
     [raw.vertex_invocations, raw.clipping_primitives, raw.fragment_invocations] = stats;
-    if let Some((begin, end)) = pass.timestamps {
-        let mask = if timestamp_bits >= 64 { u64::MAX } else { (1u64 << timestamp_bits) - 1 };
-        let begin = layer(begin, 1)?[0] & mask;
-        let end = layer(end, 1)?[0] & mask;
-        raw.gpu_ns = Some(end.wrapping_sub(begin) as f64 * device.info.timestamp_period);
+    if let Some(pair) = pass.timestamps {
+        raw.gpu_ns = Some(elapsed_ns(device, pair, timestamp_bits, layer)?);
     }
     Ok(raw)
 }
 
+/// GPU nanoseconds between two timestamps.
+fn elapsed_ns(
+    device: &DeviceData,
+    (begin, end): (Slot, Slot),
+    timestamp_bits: u32,
+    layer: &dyn Fn(Slot, usize) -> Result<Vec<u64>, String>,
+) -> Result<f64, String> {
+    let mask = if timestamp_bits >= 64 { u64::MAX } else { (1u64 << timestamp_bits) - 1 };
+    let begin = layer(begin, 1)?[0] & mask;
+    let end = layer(end, 1)?[0] & mask;
+    Ok(end.wrapping_sub(begin) as f64 * device.info.timestamp_period)
+}
+
+/// Each draw's own counters (`per_draw`); empty when a draw has no occlusion query of its own
+/// (it ran inside an application's query), since the sums would then not be the pass's.
+fn read_draws(
+    device: &DeviceData,
+    pass: &RecordedPass,
+    timestamp_bits: u32,
+    layer: &dyn Fn(Slot, usize) -> Result<Vec<u64>, String>,
+) -> Result<Vec<DrawRow>, String> {
+    if pass.draw_slots.iter().any(|d| d.occlusion.is_none()) || pass.gaps.iter().any(|g| g.kind != QueryKind::Timestamp)
+    {
+        return Ok(Vec::new());
+    }
+    pass.draw_slots
+        .iter()
+        .map(|draw| {
+            let samples_passed = draw.occlusion.map_or(Ok(0), |s| layer(s, 1).map(|v| v[0]))?;
+            let fragment_invocations = match draw.statistics {
+                Some(slot) => Some(layer(slot, STATISTICS.len())?[2]),
+                None => None,
+            };
+            let gpu_ms = match draw.timestamps {
+                Some(pair) => Some(elapsed_ns(device, pair, timestamp_bits, layer)? / 1e6),
+                None => None,
+            };
+            Ok(DrawRow { fragment_invocations, samples_passed, gpu_ms })
+        })
+        .collect()
+}
+
 /// The report row of a read-back pass (index set when the frame is assembled).
-fn row(pass: &RecordedPass, result: Result<RawCounters, String>) -> RenderPassRow {
+fn row(pass: &RecordedPass, result: Result<RawCounters, String>, per_draw: Vec<DrawRow>) -> RenderPassRow {
     let desc = &pass.desc;
     let (counters, not_measured) = match (pass.not_measured(), result) {
         (Some(reason), _) => (None, Some(reason.to_owned())),
@@ -107,6 +146,7 @@ fn row(pass: &RecordedPass, result: Result<RawCounters, String>) -> RenderPassRo
         render_area: desc.area,
         samples: desc.samples,
         attachments: desc.attachments.clone(),
+        per_draw: if counters.is_some() { per_draw } else { Vec::new() },
         counters,
         not_measured,
     }
@@ -130,7 +170,11 @@ pub fn read_completed(device: &DeviceData, state: &mut DeviceState, done: impl F
                     Some(reason) => Err(reason.clone()),
                     None => read_pass(device, state, pass, pending.timestamp_bits, &layer),
                 };
-                row(pass, result)
+                let per_draw = match (&result, pass.draw_slots.is_empty()) {
+                    (Ok(_), false) => read_draws(device, pass, pending.timestamp_bits, &layer).unwrap_or_default(),
+                    _ => Vec::new(),
+                };
+                row(pass, result, per_draw)
             })
             .collect();
         if let Some(copy) = copy {

@@ -26,6 +26,17 @@ use super::slots::{QueryCmd, QueryKind, Slot, SlotPool};
 /// Occlusion and statistics segments one render pass may use.
 pub const SEGMENTS_PER_PASS: u32 = 64;
 
+/// Draws one pass may have when each draw is measured alone (`per_draw`).
+pub const DRAWS_PER_PASS: u32 = 256;
+
+/// The queries of one draw measured alone.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DrawSlots {
+    pub occlusion: Option<Slot>,
+    pub statistics: Option<Slot>,
+    pub timestamps: Option<(Slot, Slot)>,
+}
+
 /// An application query inside a measured pass, whose result fills the layer's gap.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct AppGap {
@@ -61,6 +72,8 @@ pub struct RecordedPass {
     /// (begin, end) timestamps.
     pub timestamps: Option<(Slot, Slot)>,
     pub gaps: Vec<AppGap>,
+    /// `per_draw`: each draw's own queries.
+    pub draw_slots: Vec<DrawSlots>,
     active_occlusion: Option<Slot>,
     active_statistics: Option<Slot>,
     measuring: bool,
@@ -84,6 +97,8 @@ pub struct QuerySupport {
 #[derive(Debug)]
 pub struct Recording {
     pub secondary: bool,
+    /// Each draw gets segments and timestamps of its own (NOSTENCIL_FILLRATE_PER_DRAW).
+    pub per_draw: bool,
     /// Begun with SIMULTANEOUS_USE.
     pub simultaneous: bool,
     pub passes: Vec<RecordedPass>,
@@ -104,6 +119,7 @@ impl Recording {
     pub fn new(secondary: bool, support: QuerySupport) -> Self {
         Recording {
             secondary,
+            per_draw: false,
             simultaneous: false,
             passes: Vec::new(),
             open: None,
@@ -149,16 +165,34 @@ impl Recording {
         self.inserted_label = Some(label);
     }
 
-    /// A draw: counted in the open pass; returns the commands to record before it (the layer's
-    /// segments begin here, see the module notes).
-    pub fn draw(&mut self) -> Vec<QueryCmd> {
-        let mut before = Vec::new();
-        if let Some(pass) = self.open.and_then(|i| self.passes.get_mut(i)) {
-            pass.draws += 1;
+    /// A draw: counted in the open pass; returns the commands to record before and after it
+    /// (the layer's segments begin here, see the module notes; with `per_draw` each draw has
+    /// segments and timestamps of its own, ended right after it).
+    pub fn draw(&mut self) -> (Vec<QueryCmd>, Vec<QueryCmd>) {
+        let (mut before, mut after) = (Vec::new(), Vec::new());
+        let Some(index) = self.open else { return (before, after) };
+        self.passes[index].draws += 1;
+        if self.per_draw && self.passes[index].measuring {
+            self.end_segments(None, &mut before);
+            let timestamps =
+                if self.support.timestamps { self.timestamps.take().zip(self.timestamps.take()) } else { None };
+            if let Some((begin, _)) = timestamps {
+                before.push(QueryCmd::Timestamp { slot: begin, stage: vk::PipelineStageFlags::TOP_OF_PIPE });
+            }
             self.begin_segment(QueryKind::Occlusion, &mut before);
             self.begin_segment(QueryKind::Statistics, &mut before);
+            let pass = &mut self.passes[index];
+            let slots = DrawSlots { occlusion: pass.active_occlusion, statistics: pass.active_statistics, timestamps };
+            pass.draw_slots.push(slots);
+            self.end_segments(None, &mut after);
+            if let Some((_, end)) = timestamps {
+                after.push(QueryCmd::Timestamp { slot: end, stage: vk::PipelineStageFlags::BOTTOM_OF_PIPE });
+            }
+            return (before, after);
         }
-        before
+        self.begin_segment(QueryKind::Occlusion, &mut before);
+        self.begin_segment(QueryKind::Statistics, &mut before);
+        (before, after)
     }
 
     pub fn in_pass(&self) -> bool {
@@ -185,12 +219,15 @@ impl Recording {
         let mut before = Vec::new();
         if desc.not_measured.is_none() {
             let support = self.support;
-            let mut ok = self.occlusion.reserve(SEGMENTS_PER_PASS, create, &mut before);
+            // Resets go outside the pass: every slot the pass may use is reset before it.
+            let (segments, timestamps) =
+                if self.per_draw { (DRAWS_PER_PASS, 2 + 2 * DRAWS_PER_PASS) } else { (SEGMENTS_PER_PASS, 2) };
+            let mut ok = self.occlusion.reserve(segments, create, &mut before);
             if support.statistics {
-                ok &= self.statistics.reserve(SEGMENTS_PER_PASS, create, &mut before);
+                ok &= self.statistics.reserve(segments, create, &mut before);
             }
             if support.timestamps {
-                ok &= self.timestamps.reserve(2, create, &mut before);
+                ok &= self.timestamps.reserve(timestamps, create, &mut before);
             }
             if !ok {
                 desc.not_measured = Some("the layer could not create a query pool".into());
@@ -205,6 +242,7 @@ impl Recording {
             statistics: Vec::new(),
             timestamps: None,
             gaps: Vec::new(),
+            draw_slots: Vec::new(),
             active_occlusion: None,
             active_statistics: None,
             measuring,
@@ -407,17 +445,17 @@ mod tests {
         // Only the timestamp right after the begin: no query may begin before a pipeline is bound.
         assert_eq!(after.len(), 1);
         assert!(matches!(after[0], QueryCmd::Timestamp { stage: vk::PipelineStageFlags::TOP_OF_PIPE, .. }));
-        assert_eq!(begins(&rec.draw()), 2, "the first draw begins both segments");
-        assert!(rec.draw().is_empty(), "later draws continue them");
+        assert_eq!(begins(&rec.draw().0), 2, "the first draw begins both segments");
+        assert!(rec.draw().0.is_empty(), "later draws continue them");
         let (b, a) = rec.next_subpass(false);
         assert_eq!((ends(&b), a.len()), (2, 0));
         let (b, _) = rec.next_subpass(false);
         assert!(b.is_empty(), "a subpass without draws has no segment to end");
-        assert_eq!(begins(&rec.draw()), 2);
+        assert_eq!(begins(&rec.draw().0), 2);
         let end = rec.end_pass();
         assert_eq!(ends(&end), 2);
         assert!(matches!(end.last(), Some(QueryCmd::Timestamp { stage: vk::PipelineStageFlags::BOTTOM_OF_PIPE, .. })));
-        assert!(rec.draw().is_empty()); // outside a pass: not counted
+        assert!(rec.draw().0.is_empty()); // outside a pass: not counted
         let pass = &rec.passes[0];
         assert_eq!((pass.draws, pass.occlusion.len(), pass.statistics.len()), (3, 2, 2));
         assert_eq!(pass.label.as_deref(), Some("shadow"));
@@ -434,9 +472,9 @@ mod tests {
         let before = rec.app_begin_query(QueryKind::Occlusion, app, 3, true, none);
         assert_eq!(before.len(), 1);
         assert!(matches!(before[0], QueryCmd::End { slot } if slot == rec.passes[0].occlusion[0]));
-        assert!(rec.draw().is_empty(), "inside the application's query the layer's stays ended");
+        assert!(rec.draw().0.is_empty(), "inside the application's query the layer's stays ended");
         assert!(rec.app_end_query(app, 3).is_empty());
-        assert_eq!(begins(&rec.draw()), 1, "the next draw resumes the occlusion segment");
+        assert_eq!(begins(&rec.draw().0), 1, "the next draw resumes the occlusion segment");
         rec.end_pass();
         let pass = &rec.passes[0];
         assert_eq!((pass.occlusion.len(), pass.statistics.len(), pass.gaps.len()), (2, 1, 1));
@@ -462,6 +500,30 @@ mod tests {
         rec.app_end_query(app, 1);
         rec.end_pass();
         assert!(rec.passes[1].not_measured().is_some_and(|r| r.contains("imprecise")));
+    }
+
+    #[test]
+    fn per_draw_gives_each_draw_its_own_segments_and_timestamps() {
+        let (mut rec, mut create) = recording();
+        rec.per_draw = true;
+        let (before, _) = rec.begin_pass(desc(), &mut create);
+        assert!(before.iter().all(|c| matches!(c, QueryCmd::Reset { .. })));
+        for _ in 0..3 {
+            let (b, a) = rec.draw();
+            assert_eq!((begins(&b), ends(&a)), (2, 2), "segments around each draw: {b:?} {a:?}");
+            assert!(matches!(b[0], QueryCmd::Timestamp { stage: vk::PipelineStageFlags::TOP_OF_PIPE, .. }));
+            assert!(matches!(
+                a.last(),
+                Some(QueryCmd::Timestamp { stage: vk::PipelineStageFlags::BOTTOM_OF_PIPE, .. })
+            ));
+        }
+        assert_eq!(ends(&rec.end_pass()), 0, "nothing left active at the end");
+        let pass = &rec.passes[0];
+        assert_eq!((pass.draw_slots.len(), pass.occlusion.len(), pass.statistics.len()), (3, 3, 3));
+        assert_eq!(
+            pass.draw_slots.iter().map(|d| d.occlusion).collect::<Vec<_>>(),
+            pass.occlusion.iter().map(|s| Some(*s)).collect::<Vec<_>>()
+        );
     }
 
     #[test]

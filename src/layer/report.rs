@@ -78,6 +78,20 @@ pub struct RenderPassRow {
     pub counters: Option<Counters>,
     #[serde(default)]
     pub not_measured: Option<String>,
+    /// `NOSTENCIL_FILLRATE_PER_DRAW=1` (`profile-app --per-draw`): each draw, in recording order;
+    /// their sums are the pass's counters. Empty when off or when a draw could not be measured
+    /// alone (inside an application query of the same type).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub per_draw: Vec<DrawRow>,
+}
+
+/// One draw of a measured render pass.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct DrawRow {
+    pub fragment_invocations: Option<u64>,
+    pub samples_passed: u64,
+    /// Between timestamps right before and right after the draw.
+    pub gpu_ms: Option<f64>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
