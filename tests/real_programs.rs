@@ -218,6 +218,30 @@ fn ctrl_c_a_crash_and_a_kill_each_report_the_frames_measured() {
     }
 }
 
+/// A program of our own that crashes on purpose: `nostencil view` built with the test-only
+/// fault injection aborts right after its 8th present. profile-app reports the frames measured
+/// before, marked partial, and exits 1 naming the crash.
+#[test]
+fn a_program_that_crashes_on_purpose_still_gets_a_report_of_its_frames() {
+    let x = start_x_server();
+    let dir = common::scratch_dir("real_programs_crash");
+    let nostencil = env!("CARGO_BIN_EXE_nostencil");
+    let program = [nostencil, "view", "--frames", "1000", "--size", "64x64"];
+    let env = [("NOSTENCIL_FAULT_CRASH_AFTER", "8")];
+    let child = start_profile_app(&dir, "crash", &[], &program, &env, &x);
+    let output = finish(child, &dir, "crash", || {});
+    let stderr = common::assert_failure("profile-app -- nostencil view (crashing)", &output);
+    let report = read_report(&dir.join("crash.json"));
+    let run = report.run.as_ref().expect("run");
+    assert_eq!((run.how.as_str(), run.detail.as_str(), run.partial), ("crashed", "crashed with SIGABRT", true));
+    // Finished frames are written at most every 100 ms: some of the 8 may be missing, never more.
+    assert!((1..=8).contains(&report.frames_measured), "{report:#?}");
+    assert_eq!(report.frames.len() as u64, report.frames_measured);
+    assert!(report.frames.iter().all(|f| f.render_passes.iter().any(|p| p.counters.is_some())), "{report:#?}");
+    let line = format!("crashed with SIGABRT after {} measured frame", report.frames_measured);
+    assert!(stderr.contains(&line), "{stderr}");
+}
+
 /// Every file under `dir`.
 fn files_under(dir: &Path) -> Vec<PathBuf> {
     let mut files = Vec::new();
