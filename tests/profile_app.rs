@@ -455,3 +455,37 @@ fn a_missing_failing_or_silent_program_gets_a_one_line_error() {
     let err = common::assert_failure("profile-app --out PIPE", &output);
     assert!(err.contains("not a regular file"), "{err}");
 }
+
+/// `--per-draw` on `nostencil render --technique shadow-volume`: every draw of every measured
+/// render pass counted on its own, and the draws' sums are the pass's counters exactly, with the
+/// validation layer below silent.
+#[test]
+fn per_draw_counts_sum_to_each_render_pass_exactly() {
+    let dir = common::scratch_dir("profile_app_per_draw");
+    let settings = validation_settings(&dir);
+    let settings = settings.to_string_lossy();
+    let env = [("VK_INSTANCE_LAYERS", "VK_LAYER_KHRONOS_validation"), ("VK_LAYER_SETTINGS_PATH", settings.as_ref())];
+    let png = dir.join("frame.png");
+    let png = png.to_string_lossy();
+    let frame = ["--technique", "shadow-volume", "--stencil", "reference", "--size", "96x96", "--no-queries"];
+    let program = [&[env!("CARGO_BIN_EXE_nostencil")][..], &render_args(&png, &frame)].concat();
+    let (report, output) = profile_app(&dir, "per_draw", &["--per-draw"], &program, &env, None);
+    let problems = validation_problems(&output);
+    assert!(problems.is_empty(), "{} validation message(s):\n{}", problems.len(), problems.join("\n"));
+    let rows: Vec<&RenderPassRow> = report.frames.iter().flat_map(|f| &f.render_passes).collect();
+    let mut draws_seen = 0;
+    for row in rows.iter().filter(|r| r.counters.is_some()) {
+        let pass = measured(row);
+        assert_eq!(row.per_draw.len() as u64, pass.draws, "pass {}: {:?}", row.index, row.per_draw);
+        let samples: u64 = row.per_draw.iter().map(|d| d.samples_passed).sum();
+        let fragments: Option<u64> = row.per_draw.iter().map(|d| d.fragment_invocations).sum();
+        assert_eq!((samples, fragments), (pass.samples_passed, pass.fragment_invocations), "pass {}", row.index);
+        assert!(row.per_draw.iter().all(|d| d.gpu_ms.is_some_and(|t| t >= 0.0)), "{:?}", row.per_draw);
+        draws_seen += row.per_draw.len();
+    }
+    assert!(draws_seen > 5, "a shadow-volume frame has many draws: {report:#?}");
+    assert!(rows.iter().any(|r| r.per_draw.iter().filter(|d| d.samples_passed > 0).count() > 1), "{report:#?}");
+    // Without --per-draw there is no per-draw list.
+    let (plain, _) = profile_app(&dir, "plain", &[], &program, &[], None);
+    assert!(plain.frames.iter().flat_map(|f| &f.render_passes).all(|r| r.per_draw.is_empty()));
+}

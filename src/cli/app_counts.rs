@@ -134,6 +134,7 @@ mod tests {
             not_measured: Vec::new(),
             frames: Vec::new(),
             aggregate,
+            run: None,
         }
     }
 

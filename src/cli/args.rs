@@ -70,10 +70,21 @@ pub enum Command {
     /// traffic, per frame and aggregated (`nostencil profile-app --frames 10 -- vkcube --c 10`).
     #[command(after_help = crate::cli::profile_app::AFTER_HELP)]
     ProfileApp {
-        /// Measure the first N frames (presents) only; the program then runs on unmeasured.
-        /// Default: every frame (the report keeps the last 64, the aggregate covers all).
+        /// Measure the first N frames (presents), then end the program (SIGTERM, SIGKILL 5 s
+        /// later) and report. Default: every frame until the program exits (the report keeps the
+        /// last 64, the aggregate covers all).
         #[arg(long, value_name = "N")]
         frames: Option<u32>,
+        /// With --frames: leave the program running after N frames; report when it exits.
+        #[arg(long)]
+        keep_running: bool,
+        /// End the program after S seconds (SIGTERM, SIGKILL 5 s later) and report.
+        #[arg(long, value_name = "S")]
+        seconds: Option<f64>,
+        /// Also count each draw of a measured render pass on its own (fragments, samples, GPU
+        /// time; JSON `per_draw`, summing to the pass's counters). At most 256 draws a pass.
+        #[arg(long)]
+        per_draw: bool,
         #[arg(long, value_enum, default_value_t = FormatArg::Table)]
         format: FormatArg,
         /// Compare each render pass's draws, samples passed and fragment invocations (the most
@@ -94,6 +105,13 @@ pub enum Command {
         /// The program and its arguments, after `--`.
         #[arg(last = true, value_name = "COMMAND ARGS")]
         command: Vec<String>,
+    },
+    /// Install or remove the fill-rate layer for this user, so that
+    /// `VK_INSTANCE_LAYERS=VK_LAYER_NOSTENCIL_fillrate NOSTENCIL_FILLRATE_OUT=report.json PROGRAM`
+    /// works without profile-app.
+    Layer {
+        #[command(subcommand)]
+        action: LayerAction,
     },
     /// Print every pass of a technique with its fixed-function state, as a Markdown table.
     Passes {
@@ -345,6 +363,20 @@ pub struct FrameArgs {
     pub shadow_texture_size: u32,
     #[command(flatten)]
     pub gpu: GpuArgs,
+}
+
+/// `nostencil layer ...`.
+#[derive(Debug, Subcommand)]
+pub enum LayerAction {
+    /// Copy libnostencil.so to ~/.local/lib/nostencil/ and write its manifest to
+    /// $XDG_DATA_HOME/vulkan/explicit_layer.d/ (default ~/.local/share/...).
+    Install {
+        /// The layer library to install; default: the one built beside this executable.
+        #[arg(long, value_name = "PATH")]
+        library: Option<PathBuf>,
+    },
+    /// Remove what `layer install` wrote.
+    Uninstall,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]

@@ -3,7 +3,7 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use super::args::{Cli, Command, FormatArg, FrameArgs, GpuArgs};
+use super::args::{Cli, Command, FormatArg, FrameArgs, GpuArgs, LayerAction};
 use super::output_path::check_output_path;
 use crate::error::{Error, Result};
 use crate::frame::render_pass::COLOUR_FORMAT;
@@ -32,9 +32,28 @@ pub fn run(cli: Cli) -> Result<()> {
             }
         }
         Command::Info { gpu, json } => info(&gpu, json),
-        Command::ProfileApp { frames, format, budget, record_budget, chart, out, command } => {
-            let outputs = super::profile_app::AppOutputs { budget, record_budget, chart, out };
-            super::profile_app::run(&command, frames, report_format(format), &outputs)
+        Command::ProfileApp {
+            frames,
+            keep_running,
+            seconds,
+            per_draw,
+            format,
+            budget,
+            record_budget,
+            chart,
+            out,
+            command,
+        } => {
+            let outputs = super::profile_app::AppOutputs { budget, record_budget, chart, out, per_draw };
+            let stop = super::supervise::Stop { frames, seconds, keep_running };
+            super::profile_app::run(&command, stop, report_format(format), &outputs)
+        }
+        Command::Layer { action } => {
+            let paths = super::install::InstallPaths::current()?;
+            match action {
+                LayerAction::Install { library } => super::install::install(library.as_deref(), &paths),
+                LayerAction::Uninstall => super::install::uninstall(&paths),
+            }
         }
         Command::Passes { technique, normalize, increment, shadow_factor, shadow_colour } => passes(
             &technique,

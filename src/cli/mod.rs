@@ -3,8 +3,10 @@
 mod app_counts;
 mod args;
 mod commands;
+mod install;
 mod output_path;
 mod profile_app;
+mod supervise;
 
 use std::process::ExitCode;
 

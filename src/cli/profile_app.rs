@@ -6,7 +6,9 @@ use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
 use super::app_counts::{chart_rows, largest_area, worst_per_position, PositionCounts};
+use super::install::{InstallPaths, HOW_TO_INSTALL};
 use super::output_path::check_output_path;
+use super::supervise::{self, Stop};
 use crate::error::{Error, Result};
 use crate::layer::config::OutputFormat;
 use crate::layer::manifest::{manifest_json, newest_library, LAYER_NAME, LIBRARY_FILE, MANIFEST_FILE};
@@ -16,12 +18,17 @@ use crate::profile::report::ReportFormat;
 
 /// Shown after `profile-app --help`.
 pub const AFTER_HELP: &str = "\
-The layer (libnostencil.so, built beside the nostencil executable) is enabled for the program
-only: VK_INSTANCE_LAYERS gets VK_LAYER_NOSTENCIL_fillrate first (nearest the application; layers
+The layer (libnostencil.so, built beside the nostencil executable, or installed for the user by
+`nostencil layer install`) is enabled for the program only: VK_INSTANCE_LAYERS gets VK_LAYER_NOSTENCIL_fillrate first (nearest the application; layers
 the user named stay, below it), VK_ADD_LAYER_PATH (or VK_LAYER_PATH, if set) its folder, and
-NOSTENCIL_FILLRATE_OUT/_FORMAT/_FRAMES tell it where and what to write. The program's stdio is
-its own; the report follows once it exits. A frame is the render pass instances submitted
-between two presents (a program that never presents has one, ended when its device is destroyed).
+NOSTENCIL_FILLRATE_OUT/_FORMAT/_FRAMES/_EVERY tell it where and what to write (finished frames
+are written as they come, at most every 100 ms). The program's stdio is its own; it runs in its own process group.
+The report follows once the program ends: by itself; after --frames N measured frames or
+--seconds S (SIGTERM, then SIGKILL 5 s later; --keep-running leaves it running after its N
+frames); or on Ctrl-C. A program that crashes or is killed still gets a report of the frames
+measured before, marked partial, and profile-app then exits 1. A frame is the render pass
+instances submitted between two presents (a program that never presents has one, ended when its
+device is destroyed).
 
 Not measured (and named in the report): render passes recorded in secondary command buffers,
 multiview render passes, and render passes begun while the program has an occlusion or
@@ -36,9 +43,12 @@ pub struct AppOutputs {
     pub chart: Option<PathBuf>,
     /// The report goes here instead of stdout.
     pub out: Option<PathBuf>,
+    /// Each draw counted on its own too (NOSTENCIL_FILLRATE_PER_DRAW).
+    pub per_draw: bool,
 }
 
-pub fn run(command: &[String], frames: Option<u32>, format: ReportFormat, outputs: &AppOutputs) -> Result<()> {
+pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOutputs) -> Result<()> {
+    let frames = stop.frames;
     let Some((program, args)) = command.split_first() else {
         return Err(Error::InvalidInput(
             "profile-app needs the program to run after `--`, e.g. `nostencil profile-app -- vkcube --c 10`".into(),
@@ -47,6 +57,11 @@ pub fn run(command: &[String], frames: Option<u32>, format: ReportFormat, output
     if frames == Some(0) {
         return Err(Error::InvalidInput("--frames 0 would measure nothing; give 1 or more".into()));
     }
+    if let Some(seconds) = stop.seconds {
+        if !(seconds.is_finite() && seconds > 0.0) {
+            return Err(Error::InvalidInput(format!("--seconds {seconds} is not a positive number of seconds")));
+        }
+    }
     for path in [&outputs.record_budget, &outputs.chart, &outputs.out].into_iter().flatten() {
         check_output_path(path)?;
     }
@@ -54,25 +69,35 @@ pub fn run(command: &[String], frames: Option<u32>, format: ReportFormat, output
     let work = ScratchDir::new()?;
     let layer_dir = layer_folder(&work.0)?;
     let result = work.0.join("result.json");
-    let environment = layer_environment(|name| std::env::var_os(name), &layer_dir, &result, frames);
-
-    let status = std::process::Command::new(program).args(args).envs(environment).status().map_err(|e| {
-        let why = if e.kind() == std::io::ErrorKind::NotFound { "not found".to_owned() } else { e.to_string() };
-        Error::InvalidInput(format!("cannot start '{program}': {why}"))
-    })?;
-    if !status.success() {
-        let how = status.code().map_or_else(|| format!("was killed ({status})"), |c| format!("exited with status {c}"));
-        return Err(Error::InvalidInput(format!("'{program}' {how}; no report (its frames may be incomplete)")));
+    let mut environment = layer_environment(|name| std::env::var_os(name), layer_dir.as_deref(), &result, frames);
+    if outputs.per_draw {
+        environment.push(("NOSTENCIL_FILLRATE_PER_DRAW".into(), "1".into()));
     }
+
+    let mut child = std::process::Command::new(program);
+    child.args(args).envs(environment);
+    let mut ending = supervise::run(child, program, &result, stop)?;
     let text = std::fs::read_to_string(&result).map_err(|_| {
-        Error::InvalidInput(format!(
-            "'{program}' exited normally but the layer wrote no result: it created no Vulkan device or never \
-             destroyed it (the layer writes at vkDestroyDevice, or after --frames N), or the loader did not load \
-             {LAYER_NAME} (VK_LOADER_DEBUG=layer shows why)"
-        ))
+        if ending.how == "exited" {
+            Error::InvalidInput(format!(
+                "'{program}' exited normally but the layer wrote no result: it created no Vulkan device or never \
+                 finished a frame, or the loader did not load {LAYER_NAME} (VK_LOADER_DEBUG=layer shows why)"
+            ))
+        } else {
+            Error::InvalidInput(format!("'{program}' {} before a frame was measured; no report", ending.detail))
+        }
     })?;
-    let report =
+    let mut report =
         FillrateReport::from_json(&text).map_err(|e| Error::Asset { path: result.clone(), problem: e.to_string() })?;
+    let short = frames.is_some_and(|n| report.frames_measured < n as u64);
+    let failed = matches!(ending.how.as_str(), "crashed" | "killed" | "failed");
+    ending.partial = short || failed;
+    let measured = report.frames_measured;
+    let frames_word = if measured == 1 { "frame" } else { "frames" };
+    let failure = failed.then(|| {
+        format!("'{program}' {} after {measured} measured {frames_word}; the report covers those", ending.detail)
+    });
+    report.run = Some(ending);
 
     let rendered = crate::layer::output::render(&report, output_format(format));
     match &outputs.out {
@@ -103,7 +128,10 @@ pub fn run(command: &[String], frames: Option<u32>, format: ReportFormat, output
     if let (Some(budget), Some(path)) = (&budget, &outputs.budget) {
         check_budget(budget, path, &report, &worst)?;
     }
-    Ok(())
+    match failure {
+        Some(message) => Err(Error::InvalidInput(message)),
+        None => Ok(()),
+    }
 }
 
 /// Every render pass over `budget` on stderr, then an error naming them all.
@@ -137,27 +165,31 @@ fn output_format(format: ReportFormat) -> OutputFormat {
     }
 }
 
-/// The folder holding the layer's manifest: the build's, beside the executable, when the
-/// library it names (`./libnostencil.so`) is the newest build of the layer; else one written
-/// into `scratch` naming the newest library by its absolute path (`cargo test` leaves a fresher
-/// one in deps/).
-fn layer_folder(scratch: &Path) -> Result<PathBuf> {
+/// The folder holding the layer's manifest, or None when the layer is installed for the user
+/// (`nostencil layer install`; the loader finds it there). The build's folder, beside the
+/// executable, when the library it names (`./libnostencil.so`) is the newest build of the layer;
+/// else a manifest written into `scratch` naming the newest library by its absolute path
+/// (`cargo test` leaves a fresher one in deps/).
+fn layer_folder(scratch: &Path) -> Result<Option<PathBuf>> {
     let exe =
         std::env::current_exe().map_err(|e| Error::Internal(format!("cannot find the nostencil executable: {e}")))?;
     let dir = exe.parent().unwrap_or(Path::new(".")).to_path_buf();
     let Some(library) = newest_library(&dir) else {
+        if InstallPaths::current().is_ok_and(|p| p.installed()) {
+            return Ok(None);
+        }
         return Err(Error::InvalidInput(format!(
-            "the fill-rate layer {LIBRARY_FILE} is not beside nostencil in {}; build it with `cargo build` (the \
-             crate's cdylib)",
+            "the fill-rate layer is neither installed for this user nor beside nostencil ({LIBRARY_FILE} in {}); \
+             install it {HOW_TO_INSTALL}",
             dir.display()
         )));
     };
     if library == dir.join(LIBRARY_FILE) && dir.join(MANIFEST_FILE).is_file() {
-        return Ok(dir);
+        return Ok(Some(dir));
     }
     let text = manifest_json(&library.to_string_lossy());
     crate::frame::write_atomically(&scratch.join(MANIFEST_FILE), text.as_bytes())?;
-    Ok(scratch.to_path_buf())
+    Ok(Some(scratch.to_path_buf()))
 }
 
 /// The variables that enable the layer for the child: `current` reads the parent's environment.
@@ -167,7 +199,7 @@ fn layer_folder(scratch: &Path) -> Result<PathBuf> {
 /// those, so the folder goes there instead).
 pub fn layer_environment(
     current: impl Fn(&str) -> Option<OsString>,
-    layer_dir: &Path,
+    layer_dir: Option<&Path>,
     result: &Path,
     frames: Option<u32>,
 ) -> Vec<(String, OsString)> {
@@ -188,12 +220,16 @@ pub fn layer_environment(
         Some(user) if user.to_string_lossy().split(':').any(|l| l == LAYER_NAME) => ("VK_INSTANCE_LAYERS".into(), user),
         _ => prepend("VK_INSTANCE_LAYERS", LAYER_NAME.into()),
     };
-    let mut environment = vec![
-        prepend(search, layer_dir.as_os_str().to_owned()),
+    let mut environment: Vec<(String, OsString)> =
+        layer_dir.map(|dir| prepend(search, dir.as_os_str().to_owned())).into_iter().collect();
+    environment.extend([
         layers,
         ("NOSTENCIL_FILLRATE_OUT".into(), result.as_os_str().to_owned()),
         ("NOSTENCIL_FILLRATE_FORMAT".into(), "json".into()),
-    ];
+        // Finished frames go to disk as they come (at most every 100 ms): a program that crashes or
+        // is killed still has a report.
+        ("NOSTENCIL_FILLRATE_EVERY".into(), "1".into()),
+    ]);
     if let Some(frames) = frames {
         environment.push(("NOSTENCIL_FILLRATE_FRAMES".into(), frames.to_string().into()));
     }
@@ -233,7 +269,7 @@ mod tests {
     #[test]
     fn the_layer_comes_first_and_the_users_settings_stay() {
         let (dir, out) = (Path::new("/l"), Path::new("/t/r.json"));
-        let plain = layer_environment(env_of(&[]), dir, out, Some(5));
+        let plain = layer_environment(env_of(&[]), Some(dir), out, Some(5));
         assert_eq!(value(&plain, "VK_INSTANCE_LAYERS"), Some(LAYER_NAME));
         assert_eq!(value(&plain, "VK_ADD_LAYER_PATH"), Some("/l"));
         assert_eq!(value(&plain, "VK_LAYER_PATH"), None);
@@ -242,7 +278,7 @@ mod tests {
         assert_eq!(value(&plain, "NOSTENCIL_FILLRATE_FRAMES"), Some("5"));
 
         let user = [("VK_INSTANCE_LAYERS", "VK_LAYER_KHRONOS_validation"), ("VK_LAYER_PATH", "/mine")];
-        let mixed = layer_environment(env_of(&user), dir, out, None);
+        let mixed = layer_environment(env_of(&user), Some(dir), out, None);
         let expected = format!("{LAYER_NAME}:VK_LAYER_KHRONOS_validation");
         assert_eq!(value(&mixed, "VK_INSTANCE_LAYERS"), Some(expected.as_str()));
         assert_eq!(value(&mixed, "VK_LAYER_PATH"), Some("/l:/mine"));
@@ -251,7 +287,13 @@ mod tests {
 
         // Named already (to put it elsewhere in the order): left as the user wrote it.
         let placed = format!("VK_LAYER_KHRONOS_validation:{LAYER_NAME}");
-        let named = layer_environment(env_of(&[("VK_INSTANCE_LAYERS", &placed)]), dir, out, None);
+        let named = layer_environment(env_of(&[("VK_INSTANCE_LAYERS", &placed)]), Some(dir), out, None);
         assert_eq!(value(&named, "VK_INSTANCE_LAYERS"), Some(placed.as_str()));
+
+        // Installed for the user: the loader finds it, no folder is added.
+        let installed = layer_environment(env_of(&[]), None, out, None);
+        assert_eq!((value(&installed, "VK_ADD_LAYER_PATH"), value(&installed, "VK_LAYER_PATH")), (None, None));
+        assert_eq!(value(&installed, "VK_INSTANCE_LAYERS"), Some(LAYER_NAME));
+        assert_eq!(value(&installed, "NOSTENCIL_FILLRATE_EVERY"), Some("1"));
     }
 }

@@ -7,6 +7,8 @@
 //!   `present`: the viewer's copy to the window) fails with RESULT (`device-lost` or
 //!   `out-of-device-memory`).
 //! - `NOSTENCIL_FAULT_HEAP_MIB=N`: the device's heaps report at most N MiB.
+//! - `NOSTENCIL_FAULT_CRASH_AFTER=N`: the viewer aborts (SIGABRT) right after its Nth present: a
+//!   program that crashes on purpose, for profile-app's crash report.
 
 use ash::vk;
 
@@ -35,6 +37,14 @@ pub fn submit_fault(submission: Submission) -> Option<vk::Result> {
         _ => return None,
     };
     (wanted == submission).then_some(result)
+}
+
+/// The present after which the viewer crashes on purpose, if any.
+pub fn crash_after_presents() -> Option<u32> {
+    if !cfg!(feature = "fault-injection") {
+        return None;
+    }
+    std::env::var("NOSTENCIL_FAULT_CRASH_AFTER").ok()?.parse().ok()
 }
 
 /// The injected heap size limit in bytes, if any.

@@ -158,6 +158,7 @@ pub mod tests {
             gpu_ns,
         };
         RenderPassRow {
+            per_draw: Vec::new(),
             index: 0,
             label: None,
             api: "vkCmdBeginRenderPass".into(),

@@ -417,7 +417,23 @@ pub(super) unsafe extern "system" fn reset_command_buffer(
     unsafe { next(cmd, flags) }
 }
 
-/// Notes something on `cmd`'s recording (draws, labels), then makes the application's call.
+/// A draw on `cmd`: counted, and the layer's commands recorded around the application's draw,
+/// which `call` makes: segments begin right before the first draw of a pass or subpass (see
+/// recording.rs); with per-draw counting each draw is bracketed.
+fn draw(cmd: vk::CommandBuffer, call: impl FnOnce(&DeviceData)) {
+    let Some(device) = guard(None, || super::state::device_of(cmd.as_raw())) else { return };
+    let (before, after) = guard(Default::default(), || {
+        if !device.active() {
+            return Default::default();
+        }
+        device.state().buffers.get_mut(&cmd).map(|data| data.recording.draw()).unwrap_or_default()
+    });
+    guard((), || record(&device, cmd, &before));
+    call(&device);
+    guard((), || record(&device, cmd, &after));
+}
+
+/// Notes something on `cmd`'s recording (labels, resets), then makes the application's call.
 fn note(cmd: vk::CommandBuffer, f: impl FnOnce(&mut super::recording::Recording)) -> Option<Arc<DeviceData>> {
     let device = guard(None, || super::state::device_of(cmd.as_raw()))?;
     guard((), || {
@@ -437,10 +453,12 @@ pub(super) unsafe extern "system" fn cmd_draw(
     first_vertex: u32,
     first_instance: u32,
 ) {
-    if let Some(next) = note(cmd, |r| r.draw()).and_then(|d| d.next.cmd_draw) {
-        // SAFETY: the application's arguments, passed on.
-        unsafe { next(cmd, vertices, instances, first_vertex, first_instance) }
-    }
+    draw(cmd, |d| {
+        if let Some(next) = d.next.cmd_draw {
+            // SAFETY: the application's arguments, passed on.
+            unsafe { next(cmd, vertices, instances, first_vertex, first_instance) }
+        }
+    });
 }
 
 pub(super) unsafe extern "system" fn cmd_draw_indexed(
@@ -451,10 +469,12 @@ pub(super) unsafe extern "system" fn cmd_draw_indexed(
     vertex_offset: i32,
     first_instance: u32,
 ) {
-    if let Some(next) = note(cmd, |r| r.draw()).and_then(|d| d.next.cmd_draw_indexed) {
-        // SAFETY: the application's arguments, passed on.
-        unsafe { next(cmd, indices, instances, first_index, vertex_offset, first_instance) }
-    }
+    draw(cmd, |d| {
+        if let Some(next) = d.next.cmd_draw_indexed {
+            // SAFETY: the application's arguments, passed on.
+            unsafe { next(cmd, indices, instances, first_index, vertex_offset, first_instance) }
+        }
+    });
 }
 
 pub(super) unsafe extern "system" fn cmd_draw_indirect(
@@ -464,10 +484,12 @@ pub(super) unsafe extern "system" fn cmd_draw_indirect(
     count: u32,
     stride: u32,
 ) {
-    if let Some(next) = note(cmd, |r| r.draw()).and_then(|d| d.next.cmd_draw_indirect) {
-        // SAFETY: the application's arguments, passed on.
-        unsafe { next(cmd, buffer, offset, count, stride) }
-    }
+    draw(cmd, |d| {
+        if let Some(next) = d.next.cmd_draw_indirect {
+            // SAFETY: the application's arguments, passed on.
+            unsafe { next(cmd, buffer, offset, count, stride) }
+        }
+    });
 }
 
 pub(super) unsafe extern "system" fn cmd_draw_indexed_indirect(
@@ -477,10 +499,12 @@ pub(super) unsafe extern "system" fn cmd_draw_indexed_indirect(
     count: u32,
     stride: u32,
 ) {
-    if let Some(next) = note(cmd, |r| r.draw()).and_then(|d| d.next.cmd_draw_indexed_indirect) {
-        // SAFETY: the application's arguments, passed on.
-        unsafe { next(cmd, buffer, offset, count, stride) }
-    }
+    draw(cmd, |d| {
+        if let Some(next) = d.next.cmd_draw_indexed_indirect {
+            // SAFETY: the application's arguments, passed on.
+            unsafe { next(cmd, buffer, offset, count, stride) }
+        }
+    });
 }
 
 macro_rules! draw_count_hook {
@@ -494,11 +518,13 @@ macro_rules! draw_count_hook {
             max_count: u32,
             stride: u32,
         ) {
-            let next: Option<vk::$pfn> = note(cmd, |r| r.draw()).and_then(|d| d.next.$field);
-            if let Some(next) = next {
-                // SAFETY: the application's arguments, passed on.
-                unsafe { next(cmd, buffer, offset, count_buffer, count_offset, max_count, stride) }
-            }
+            draw(cmd, |d| {
+                let next: Option<vk::$pfn> = d.next.$field;
+                if let Some(next) = next {
+                    // SAFETY: the application's arguments, passed on.
+                    unsafe { next(cmd, buffer, offset, count_buffer, count_offset, max_count, stride) }
+                }
+            });
         }
     };
 }

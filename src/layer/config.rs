@@ -18,7 +18,10 @@ pub struct Config {
     pub format: OutputFormat,
     /// `NOSTENCIL_FILLRATE_FRAMES`: measure the first N frames only.
     pub frames: Option<u64>,
-    /// `NOSTENCIL_FILLRATE_EVERY`: also rewrite the file every K frames (0: never).
+    /// `NOSTENCIL_FILLRATE_PER_DRAW=1`: also count each draw of a measured pass on its own.
+    pub per_draw: bool,
+    /// `NOSTENCIL_FILLRATE_EVERY`: also rewrite the file every K frames, at most every 100 ms
+    /// (0: never).
     pub every: u64,
 }
 
@@ -60,7 +63,8 @@ impl Config {
             }
             other => other,
         };
-        (Config { out, format, frames, every }, warnings)
+        let per_draw = var("NOSTENCIL_FILLRATE_PER_DRAW").is_some_and(|v| v == "1");
+        (Config { out, format, frames, every, per_draw }, warnings)
     }
 }
 
@@ -75,7 +79,7 @@ mod tests {
     #[test]
     fn defaults_and_values_and_named_warnings() {
         let (config, warnings) = parse(&[]);
-        assert_eq!(config, Config { out: None, format: OutputFormat::Json, frames: None, every: 0 });
+        assert_eq!(config, Config { out: None, format: OutputFormat::Json, frames: None, every: 0, per_draw: false });
         assert!(warnings.is_empty());
         let (config, _) = parse(&[
             ("NOSTENCIL_FILLRATE_OUT", "/tmp/x.json"),

@@ -10,7 +10,9 @@ use ash::vk::Handle;
 
 use super::config::Config;
 use super::frames::FrameAssembler;
-use super::loader::{device_link, instance_link, LayerDeviceLink, LayerInstanceLink};
+use super::loader::{
+    device_link, device_loader_data, instance_link, LayerDeviceLink, LayerInstanceLink, PfnSetDeviceLoaderData,
+};
 use super::readback::{read_completed, write_if_due};
 use super::report::CounterSupport;
 use super::state::{self, guard, DeviceData, DeviceInfo, DeviceState, InstanceData, NextFns};
@@ -190,7 +192,9 @@ pub(super) unsafe extern "system" fn create_device(
     guard((), || {
         // SAFETY: vkCreateDevice succeeded.
         let handle = unsafe { *device };
-        register_device(&instance, physical, handle, next_gdpa, &supported);
+        // SAFETY: the loader's create info, with its chain.
+        let set_loader_data = unsafe { device_loader_data(info_ref) };
+        register_device(&instance, physical, handle, next_gdpa, &supported, set_loader_data);
     });
     result
 }
@@ -201,9 +205,12 @@ fn register_device(
     handle: vk::Device,
     gdpa: vk::PFN_vkGetDeviceProcAddr,
     supported: &vk::PhysicalDeviceFeatures,
+    set_loader_data: Option<PfnSetDeviceLoaderData>,
 ) {
     // SAFETY: `physical` belongs to `instance`.
     let properties = unsafe { instance.fns.get_physical_device_properties(physical) };
+    // SAFETY: as above.
+    let memory = unsafe { instance.fns.get_physical_device_memory_properties(physical) };
     // SAFETY: as above.
     let families = unsafe { instance.fns.get_physical_device_queue_family_properties(physical) };
     let timestamp_bits: Vec<u32> = families.iter().map(|f| f.timestamp_valid_bits).collect();
@@ -239,7 +246,14 @@ fn register_device(
         gdpa,
         fns,
         next,
-        info: DeviceInfo { name, support, timestamp_bits, timestamp_period: properties.limits.timestamp_period as f64 },
+        info: DeviceInfo {
+            name,
+            support,
+            timestamp_bits,
+            timestamp_period: properties.limits.timestamp_period as f64,
+            memory,
+            set_loader_data,
+        },
         application: instance.application.clone(),
         config: instance.config.clone(),
         state: Mutex::new(device_state),
@@ -262,6 +276,11 @@ pub(super) unsafe extern "system" fn destroy_device(device: vk::Device, allocato
         for pool in pools {
             // SAFETY: the layer's own pools; no work is pending at device destruction.
             unsafe { data.fns.destroy_query_pool(pool, None) };
+        }
+        super::proofs::destroy(&data, &mut st);
+        for (_, pool) in st.copy_pools.drain() {
+            // SAFETY: the layer's own command pools; their buffers were freed at read back.
+            unsafe { data.fns.destroy_command_pool(pool, None) };
         }
     });
     if let Some(destroy) = data.next.destroy_device {

@@ -9,6 +9,13 @@ use ash::vk;
 /// `VkLayerFunction::VK_LAYER_LINK_INFO`: the chain info's union holds `pLayerInfo`.
 pub const VK_LAYER_LINK_INFO: u32 = 0;
 
+/// `VkLayerFunction::VK_LOADER_DATA_CALLBACK`: the union holds `pfnSetDeviceLoaderData`.
+pub const VK_LOADER_DATA_CALLBACK: u32 = 1;
+
+/// `PFN_vkSetDeviceLoaderData`: gives a dispatchable object the layer created itself (a command
+/// buffer) the loader's dispatch pointer, so that the layers below can look it up.
+pub type PfnSetDeviceLoaderData = unsafe extern "system" fn(vk::Device, *mut c_void) -> vk::Result;
+
 /// `VkNegotiateLayerStructType::LAYER_NEGOTIATE_INTERFACE_STRUCT`.
 pub const LAYER_NEGOTIATE_INTERFACE_STRUCT: u32 = 1;
 
@@ -66,12 +73,12 @@ pub struct LayerDeviceCreateInfo {
     pub u: *mut c_void,
 }
 
-/// The first structure in a pNext chain with `s_type` whose `function` is VK_LAYER_LINK_INFO.
+/// The first structure in a pNext chain with `s_type` whose `function` is `function`.
 ///
 /// # Safety
 /// `p_next` is a valid Vulkan pNext chain (every node starts with sType, pNext), and every node
 /// with `s_type` has the layout of `T`, whose first three fields are sType, pNext, function.
-unsafe fn find_link<T>(mut p_next: *const c_void, s_type: vk::StructureType) -> Option<*mut T> {
+unsafe fn find_link<T>(mut p_next: *const c_void, s_type: vk::StructureType, function: u32) -> Option<*mut T> {
     while !p_next.is_null() {
         let base = p_next as *const vk::BaseInStructure;
         // SAFETY: the caller's contract: every node starts like VkBaseInStructure.
@@ -79,8 +86,8 @@ unsafe fn find_link<T>(mut p_next: *const c_void, s_type: vk::StructureType) -> 
         if ty == s_type {
             // SAFETY: a node of this sType is `T` (contract); `function` is its third field,
             // right after sType and pNext, as in both loader create-info structures.
-            let function = unsafe { *((p_next as *const u8).add(2 * std::mem::size_of::<usize>()) as *const u32) };
-            if function == VK_LAYER_LINK_INFO {
+            let found = unsafe { *((p_next as *const u8).add(2 * std::mem::size_of::<usize>()) as *const u32) };
+            if found == function {
                 return Some(p_next as *mut T);
             }
         }
@@ -97,8 +104,13 @@ unsafe fn find_link<T>(mut p_next: *const c_void, s_type: vk::StructureType) -> 
 pub unsafe fn instance_link(info: &vk::InstanceCreateInfo) -> Option<*mut LayerInstanceCreateInfo> {
     // SAFETY: the loader's chain is valid; its LOADER_INSTANCE_CREATE_INFO nodes are
     // VkLayerInstanceCreateInfo.
-    let node =
-        unsafe { find_link::<LayerInstanceCreateInfo>(info.p_next, vk::StructureType::LOADER_INSTANCE_CREATE_INFO) }?;
+    let node = unsafe {
+        find_link::<LayerInstanceCreateInfo>(
+            info.p_next,
+            vk::StructureType::LOADER_INSTANCE_CREATE_INFO,
+            VK_LAYER_LINK_INFO,
+        )
+    }?;
     // SAFETY: the node was found above; with VK_LAYER_LINK_INFO its union holds pLayerInfo.
     let link = unsafe { (*node).u[0] } as *mut LayerInstanceLink;
     (!link.is_null()).then_some(node)
@@ -110,11 +122,35 @@ pub unsafe fn instance_link(info: &vk::InstanceCreateInfo) -> Option<*mut LayerI
 /// `info` is the create info the loader passed to this layer's vkCreateDevice.
 pub unsafe fn device_link(info: &vk::DeviceCreateInfo) -> Option<*mut LayerDeviceCreateInfo> {
     // SAFETY: as in `instance_link`, for the device chain's structure.
-    let node =
-        unsafe { find_link::<LayerDeviceCreateInfo>(info.p_next, vk::StructureType::LOADER_DEVICE_CREATE_INFO) }?;
+    let node = unsafe {
+        find_link::<LayerDeviceCreateInfo>(
+            info.p_next,
+            vk::StructureType::LOADER_DEVICE_CREATE_INFO,
+            VK_LAYER_LINK_INFO,
+        )
+    }?;
     // SAFETY: the node was found above; with VK_LAYER_LINK_INFO its union is pLayerInfo.
     let link = unsafe { (*node).u } as *mut LayerDeviceLink;
     (!link.is_null()).then_some(node)
+}
+
+/// The loader's vkSetDeviceLoaderData from `vkCreateDevice`'s chain.
+///
+/// # Safety
+/// `info` is the create info the loader passed to this layer's vkCreateDevice.
+pub unsafe fn device_loader_data(info: &vk::DeviceCreateInfo) -> Option<PfnSetDeviceLoaderData> {
+    // SAFETY: as in `device_link`.
+    let node = unsafe {
+        find_link::<LayerDeviceCreateInfo>(
+            info.p_next,
+            vk::StructureType::LOADER_DEVICE_CREATE_INFO,
+            VK_LOADER_DATA_CALLBACK,
+        )
+    }?;
+    // SAFETY: with VK_LOADER_DATA_CALLBACK the union is pfnSetDeviceLoaderData (or null).
+    let f = unsafe { (*node).u };
+    // SAFETY: a non-null function pointer of that type, as the loader put it there.
+    (!f.is_null()).then(|| unsafe { std::mem::transmute::<*mut c_void, PfnSetDeviceLoaderData>(f) })
 }
 
 /// The key the loader's dispatch puts in every dispatchable handle (instance, physical device,

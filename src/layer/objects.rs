@@ -276,10 +276,9 @@ pub(super) unsafe extern "system" fn allocate_command_buffers(
             };
             let secondary = info.level == vk::CommandBufferLevel::SECONDARY;
             for &handle in handles {
-                st.buffers.insert(
-                    handle,
-                    CommandBufferData { pool: info.command_pool, recording: Recording::new(secondary, support) },
-                );
+                let mut recording = Recording::new(secondary, support);
+                recording.per_draw = dev.config.per_draw;
+                st.buffers.insert(handle, CommandBufferData { pool: info.command_pool, recording });
             }
         });
     }

@@ -121,6 +121,10 @@ fn table(report: &FillrateReport) -> String {
         if c.occlusion_precise { "yes" } else { "no" },
         if c.timestamps { "yes" } else { "no" },
     );
+    if let Some(run) = &report.run {
+        let partial = if run.partial { " (partial report: the frames measured before)" } else { "" };
+        let _ = writeln!(out, "run: {}{partial}", run.detail);
+    }
     if let Some(frame) = report.frames.last() {
         let _ = writeln!(out, "\nframe {} (last measured):", frame.index);
         let header = [
@@ -242,13 +246,14 @@ fn table(report: &FillrateReport) -> String {
 mod tests {
     use super::*;
     use crate::layer::aggregate::{tests::row, Aggregator};
-    use crate::layer::report::{CounterSupport, FrameRows, NotMeasured, FILLRATE_SCHEMA};
+    use crate::layer::report::{CounterSupport, FrameRows, NotMeasured, RunEnd, FILLRATE_SCHEMA};
 
     fn report() -> FillrateReport {
         let mut passes = vec![row(10, 100, Some(1e6)), row(20, 7, None)];
         passes[1].index = 1;
         passes[0].label = Some("shadow, \"main\"".into());
         passes.push(RenderPassRow {
+            per_draw: Vec::new(),
             index: 2,
             counters: None,
             not_measured: Some("secondary command buffer".into()),
@@ -265,6 +270,11 @@ mod tests {
             not_measured: vec![NotMeasured { what: "secondary command buffer".into(), count: 1 }],
             frames: vec![FrameRows { index: 0, render_passes: passes }],
             aggregate: aggregate.rows(),
+            run: Some(RunEnd {
+                how: "crashed".into(),
+                detail: "crashed with SIGSEGV after 1 measured frame".into(),
+                partial: true,
+            }),
         }
     }
 
@@ -299,6 +309,7 @@ mod tests {
     fn table_lists_the_last_frame_the_aggregate_and_what_was_not_measured() {
         let text = render(&report(), OutputFormat::Table);
         assert!(text.starts_with("app | gpu | 1 frame(s) measured | pipeline statistics yes"));
+        assert!(text.contains("run: crashed with SIGSEGV after 1 measured frame (partial report"));
         assert!(text.contains("#0 shadow, \"main\""));
         assert!(text.contains("not measured: secondary command buffer"));
         assert!(text.contains("aggregate over 1 frame(s)"));

@@ -5,31 +5,43 @@
 use ash::vk;
 use ash::vk::Handle;
 
+use std::sync::Once;
+
 use super::arrays::app_array;
+use super::copies;
 use super::objects::{device_and, flush_buffer, spoil_gaps};
+use super::proofs;
 use super::readback::{read_completed, write_if_due};
 use super::state::{guard, DeviceData, DeviceState, Pending};
 
-/// Notes the command buffers of one vkQueueSubmit(2) call, in submission order.
+/// Notes the command buffers of one vkQueueSubmit(2) call, in submission order. Returns the
+/// layer's copy command buffers (copies.rs) to submit after them, at the end of the call's last
+/// batch: never between two of the application's buffers, where a render pass may be suspended
+/// in one and resumed in the next. `can_copy`: the last batch may be given more buffers.
 fn submitted(
     device: &DeviceData,
     state: &mut DeviceState,
     queue: vk::Queue,
     buffers: &[vk::CommandBuffer],
     fence: vk::Fence,
-) {
+    can_copy: bool,
+) -> Vec<vk::CommandBuffer> {
     for &buffer in buffers {
         let simultaneous = state.buffers.get(&buffer).is_some_and(|b| b.recording.simultaneous);
         if simultaneous {
-            // The earlier submission may still run: read it if a fence proves it done, else its
-            // results are about to be overwritten by this one.
+            // The earlier submission may still run: read it if a fence proves it done. With a
+            // copy of its own on this queue it keeps its results; otherwise this submission is
+            // about to overwrite them.
             if state.pending.iter().any(|p| p.buffer == buffer) {
                 poll_fences(device, state);
             }
             for pending in state.pending.iter_mut().filter(|p| p.buffer == buffer) {
-                pending
-                    .spoiled
-                    .get_or_insert_with(|| "command buffer resubmitted while in use (SIMULTANEOUS_USE)".into());
+                let why = match (&pending.copy, pending.queue == queue) {
+                    (Some(_), true) => continue,
+                    (Some(_), false) => "command buffer resubmitted on another queue while in use (SIMULTANEOUS_USE)",
+                    (None, _) => "command buffer resubmitted while in use (SIMULTANEOUS_USE)",
+                };
+                pending.spoiled.get_or_insert_with(|| why.into());
             }
         } else {
             // Without SIMULTANEOUS_USE the buffer's last submission has completed (valid usage).
@@ -42,6 +54,7 @@ fn submitted(
         }
     }
     let measuring = !state.finished && state.frames().measuring();
+    let mut copies = Vec::new();
     for &buffer in buffers {
         if !measuring {
             break;
@@ -53,6 +66,18 @@ fn submitted(
         let passes = data.recording.passes.clone();
         let family = state.command_pools.get(&data.pool).copied().unwrap_or(0);
         let timestamp_bits = device.info.timestamp_bits.get(family as usize).copied().unwrap_or(0);
+        let copy = if can_copy {
+            // Without a copy the results are read from the pools, as long as nothing
+            // re-submits the buffer before (the spoiling above says so if it does).
+            copies::make(device, state, family, &passes).unwrap_or_else(|why| {
+                static ONCE: Once = Once::new();
+                ONCE.call_once(|| eprintln!("nostencil fill-rate layer: {why}; results read from the query pools"));
+                None
+            })
+        } else {
+            None
+        };
+        copies.extend(copy.as_ref().map(|c| c.command_buffer));
         state.sequence += 1;
         let frame = state.frames().submitted();
         state.pending.push(Pending {
@@ -63,26 +88,49 @@ fn submitted(
             passes,
             timestamp_bits,
             spoiled: None,
+            copy,
         });
     }
     if fence != vk::Fence::null() {
         state.fences.insert(fence, (queue, state.sequence));
     }
+    copies
 }
 
 /// Records the command buffers a submit sends (`gather` reads them from the application's
-/// submit infos), so that their passes are read back once the submit is known complete.
+/// submit infos), so that their passes are read back once the submit is known complete; returns
+/// the layer's command buffers to append to the last batch.
 fn note_submit(
     device: &DeviceData,
     queue: vk::Queue,
     fence: vk::Fence,
+    can_copy: bool,
     gather: impl FnOnce() -> Vec<vk::CommandBuffer>,
-) {
-    guard((), || {
-        if device.active() {
-            submitted(device, &mut device.state(), queue, &gather(), fence);
+) -> Vec<vk::CommandBuffer> {
+    guard(Vec::new(), || {
+        if !device.active() {
+            return Vec::new();
         }
-    });
+        submitted(device, &mut device.state(), queue, &gather(), fence, can_copy)
+    })
+}
+
+/// Whether a VkSubmitInfo's chain allows more command buffers: a device group's per-buffer
+/// masks must match the count, and a protected batch takes no unprotected buffer.
+///
+/// # Safety
+/// `p_next` is a valid pNext chain.
+unsafe fn batch_extendable(mut p_next: *const std::ffi::c_void) -> bool {
+    while !p_next.is_null() {
+        let base = p_next as *const vk::BaseInStructure;
+        // SAFETY: every chain node starts like VkBaseInStructure.
+        let (ty, next) = unsafe { ((*base).s_type, (*base).p_next.cast()) };
+        if ty == vk::StructureType::DEVICE_GROUP_SUBMIT_INFO || ty == vk::StructureType::PROTECTED_SUBMIT_INFO {
+            return false;
+        }
+        p_next = next;
+    }
+    true
 }
 
 pub(super) unsafe extern "system" fn queue_submit(
@@ -94,18 +142,31 @@ pub(super) unsafe extern "system" fn queue_submit(
     let Some((device, next)) = device_and(queue.as_raw(), |d| d.next.queue_submit) else {
         return vk::Result::ERROR_INITIALIZATION_FAILED;
     };
-    note_submit(&device, queue, fence, || {
-        // SAFETY: `submits` holds `count` valid submit infos, each with its buffer array.
-        let submits = unsafe { app_array(submits, count) };
-        // SAFETY: as above.
-        submits
+    // SAFETY: `submits` holds `count` valid submit infos, each with its buffer array.
+    let infos = unsafe { app_array(submits, count) };
+    // SAFETY: as above.
+    let can_copy = infos.last().is_some_and(|s| unsafe { batch_extendable(s.p_next) });
+    let copies = note_submit(&device, queue, fence, can_copy, || {
+        infos
             .iter()
+            // SAFETY: as above.
             .flat_map(|s| unsafe { app_array(s.p_command_buffers, s.command_buffer_count) })
             .copied()
             .collect()
     });
-    // SAFETY: the application's arguments, passed on.
-    unsafe { next(queue, count, submits, fence) }
+    let Some(last) = infos.last().filter(|_| !copies.is_empty()) else {
+        // SAFETY: the application's arguments, passed on.
+        return unsafe { next(queue, count, submits, fence) };
+    };
+    // SAFETY: as above.
+    let mut buffers = unsafe { app_array(last.p_command_buffers, last.command_buffer_count) }.to_vec();
+    buffers.extend(&copies);
+    let mut batches = infos.to_vec();
+    let end = batches.len() - 1;
+    batches[end].command_buffer_count = buffers.len() as u32;
+    batches[end].p_command_buffers = buffers.as_ptr();
+    // SAFETY: the application's batches, the last with the layer's buffers after its own.
+    unsafe { next(queue, count, batches.as_ptr(), fence) }
 }
 
 unsafe fn queue_submit2_with(
@@ -118,18 +179,32 @@ unsafe fn queue_submit2_with(
     let Some((device, next)) = device_and(queue.as_raw(), pick) else {
         return vk::Result::ERROR_INITIALIZATION_FAILED;
     };
-    note_submit(&device, queue, fence, || {
-        // SAFETY: `submits` holds `count` valid VkSubmitInfo2, each with its buffer infos.
-        let submits = unsafe { app_array(submits, count) };
-        submits
+    // SAFETY: `submits` holds `count` valid VkSubmitInfo2, each with its buffer infos.
+    let infos = unsafe { app_array(submits, count) };
+    let can_copy = infos.last().is_some_and(|s| !s.flags.contains(vk::SubmitFlags::PROTECTED));
+    let copies = note_submit(&device, queue, fence, can_copy, || {
+        infos
             .iter()
             // SAFETY: as above.
             .flat_map(|s| unsafe { app_array(s.p_command_buffer_infos, s.command_buffer_info_count) })
             .map(|info| info.command_buffer)
             .collect()
     });
-    // SAFETY: the application's arguments, passed on.
-    unsafe { next(queue, count, submits, fence) }
+    let Some(last) = infos.last().filter(|_| !copies.is_empty()) else {
+        // SAFETY: the application's arguments, passed on.
+        return unsafe { next(queue, count, submits, fence) };
+    };
+    // SAFETY: as above.
+    let mut buffers = unsafe { app_array(last.p_command_buffer_infos, last.command_buffer_info_count) }.to_vec();
+    // The same device mask as the application's last buffer (0: all devices).
+    let mask = buffers.last().map_or(0, |b| b.device_mask);
+    buffers.extend(copies.iter().map(|&c| vk::CommandBufferSubmitInfo::default().command_buffer(c).device_mask(mask)));
+    let mut batches = infos.to_vec();
+    let end = batches.len() - 1;
+    batches[end].command_buffer_info_count = buffers.len() as u32;
+    batches[end].p_command_buffer_infos = buffers.as_ptr();
+    // SAFETY: the application's batches, the last with the layer's buffers after its own.
+    unsafe { next(queue, count, batches.as_ptr(), fence) }
 }
 
 pub(super) unsafe extern "system" fn queue_submit2(
@@ -165,6 +240,8 @@ pub(super) unsafe extern "system" fn queue_present(
         if device.active() {
             let mut st = device.state();
             st.frames().present();
+            proofs::poll(&device, &mut st);
+            proofs::add(&device, &mut st, queue);
             if st.frames().finish_ready() > 0 {
                 write_if_due(&device, &mut st, false);
             }

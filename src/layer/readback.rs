@@ -5,7 +5,7 @@ use ash::vk;
 
 use super::output::{render, write_atomically};
 use super::recording::RecordedPass;
-use super::report::{Counters, FillrateReport, NotMeasured, RawCounters, RenderPassRow, FILLRATE_SCHEMA};
+use super::report::{Counters, DrawRow, FillrateReport, NotMeasured, RawCounters, RenderPassRow, FILLRATE_SCHEMA};
 use super::slots::{QueryKind, Slot};
 use super::state::{DeviceData, DeviceState, Pending};
 
@@ -51,19 +51,21 @@ pub const APP_STATISTICS_GAP: &str = "pipeline statistics of a pass holding an a
 /// query on the CPU, and on Mesa 22.3 llvmpipe a second read of a statistics query changes the
 /// value (its fragment count grows 17-fold for the application's own read). Reading an
 /// application's query must never change what the application reads.
+/// `layer` reads the layer's own slots: from this submission's copy, or from the pools.
 fn read_pass(
     device: &DeviceData,
     state: &DeviceState,
     pass: &RecordedPass,
     timestamp_bits: u32,
+    layer: &dyn Fn(Slot, usize) -> Result<Vec<u64>, String>,
 ) -> Result<RawCounters, String> {
     let mut raw = RawCounters { draws: pass.draws, ..RawCounters::default() };
     for slot in &pass.occlusion {
-        raw.samples_passed += read_query(device, *slot, 1)?[0];
+        raw.samples_passed += layer(*slot, 1)?[0];
     }
     let mut stats = if device.info.support.pipeline_statistics { [Some(0u64); 3] } else { [None; 3] };
     for slot in &pass.statistics {
-        let values = read_query(device, *slot, 3)?;
+        let values = layer(*slot, 3)?;
         for (sum, value) in stats.iter_mut().zip(values) {
             *sum = sum.map(|s| s + value);
         }
@@ -81,17 +83,56 @@ fn read_pass(
         }
     }
     [raw.vertex_invocations, raw.clipping_primitives, raw.fragment_invocations] = stats;
-    if let Some((begin, end)) = pass.timestamps {
-        let mask = if timestamp_bits >= 64 { u64::MAX } else { (1u64 << timestamp_bits) - 1 };
-        let begin = read_query(device, begin, 1)?[0] & mask;
-        let end = read_query(device, end, 1)?[0] & mask;
-        raw.gpu_ns = Some(end.wrapping_sub(begin) as f64 * device.info.timestamp_period);
+    if let Some(pair) = pass.timestamps {
+        raw.gpu_ns = Some(elapsed_ns(device, pair, timestamp_bits, layer)?);
     }
     Ok(raw)
 }
 
+/// GPU nanoseconds between two timestamps.
+fn elapsed_ns(
+    device: &DeviceData,
+    (begin, end): (Slot, Slot),
+    timestamp_bits: u32,
+    layer: &dyn Fn(Slot, usize) -> Result<Vec<u64>, String>,
+) -> Result<f64, String> {
+    let mask = if timestamp_bits >= 64 { u64::MAX } else { (1u64 << timestamp_bits) - 1 };
+    let begin = layer(begin, 1)?[0] & mask;
+    let end = layer(end, 1)?[0] & mask;
+    Ok(end.wrapping_sub(begin) as f64 * device.info.timestamp_period)
+}
+
+/// Each draw's own counters (`per_draw`); empty when a draw has no occlusion query of its own
+/// (it ran inside an application's query), since the sums would then not be the pass's.
+fn read_draws(
+    device: &DeviceData,
+    pass: &RecordedPass,
+    timestamp_bits: u32,
+    layer: &dyn Fn(Slot, usize) -> Result<Vec<u64>, String>,
+) -> Result<Vec<DrawRow>, String> {
+    if pass.draw_slots.iter().any(|d| d.occlusion.is_none()) || pass.gaps.iter().any(|g| g.kind != QueryKind::Timestamp)
+    {
+        return Ok(Vec::new());
+    }
+    pass.draw_slots
+        .iter()
+        .map(|draw| {
+            let samples_passed = draw.occlusion.map_or(Ok(0), |s| layer(s, 1).map(|v| v[0]))?;
+            let fragment_invocations = match draw.statistics {
+                Some(slot) => Some(layer(slot, STATISTICS.len())?[2]),
+                None => None,
+            };
+            let gpu_ms = match draw.timestamps {
+                Some(pair) => Some(elapsed_ns(device, pair, timestamp_bits, layer)? / 1e6),
+                None => None,
+            };
+            Ok(DrawRow { fragment_invocations, samples_passed, gpu_ms })
+        })
+        .collect()
+}
+
 /// The report row of a read-back pass (index set when the frame is assembled).
-fn row(pass: &RecordedPass, result: Result<RawCounters, String>) -> RenderPassRow {
+fn row(pass: &RecordedPass, result: Result<RawCounters, String>, per_draw: Vec<DrawRow>) -> RenderPassRow {
     let desc = &pass.desc;
     let (counters, not_measured) = match (pass.not_measured(), result) {
         (Some(reason), _) => (None, Some(reason.to_owned())),
@@ -105,6 +146,7 @@ fn row(pass: &RecordedPass, result: Result<RawCounters, String>) -> RenderPassRo
         render_area: desc.area,
         samples: desc.samples,
         attachments: desc.attachments.clone(),
+        per_draw: if counters.is_some() { per_draw } else { Vec::new() },
         counters,
         not_measured,
     }
@@ -114,18 +156,30 @@ fn row(pass: &RecordedPass, result: Result<RawCounters, String>) -> RenderPassRo
 pub fn read_completed(device: &DeviceData, state: &mut DeviceState, done: impl Fn(&Pending) -> bool) {
     let (ready, waiting): (Vec<Pending>, Vec<Pending>) = std::mem::take(&mut state.pending).into_iter().partition(done);
     state.pending = waiting;
-    for pending in ready {
+    for mut pending in ready {
+        let copy = pending.copy.take();
+        let layer = |slot: Slot, words: usize| match &copy {
+            Some(copy) => copy.read(slot, words),
+            None => read_query(device, slot, words),
+        };
         let rows: Vec<RenderPassRow> = pending
             .passes
             .iter()
             .map(|pass| {
                 let result = match &pending.spoiled {
                     Some(reason) => Err(reason.clone()),
-                    None => read_pass(device, state, pass, pending.timestamp_bits),
+                    None => read_pass(device, state, pass, pending.timestamp_bits, &layer),
                 };
-                row(pass, result)
+                let per_draw = match (&result, pass.draw_slots.is_empty()) {
+                    (Ok(_), false) => read_draws(device, pass, pending.timestamp_bits, &layer).unwrap_or_default(),
+                    _ => Vec::new(),
+                };
+                row(pass, result, per_draw)
             })
             .collect();
+        if let Some(copy) = copy {
+            copy.release(&device.fns);
+        }
         for row in &rows {
             if let Some(reason) = &row.not_measured {
                 state.count_not_measured(reason);
@@ -158,13 +212,27 @@ pub fn report(device: &DeviceData, state: &mut DeviceState) -> FillrateReport {
         not_measured,
         frames: frames.kept.iter().cloned().collect(),
         aggregate: frames.aggregate.rows(),
+        run: None,
     }
 }
 
+/// The least time between two periodic writes: rendering and renaming the whole report after
+/// every frame nearly doubled vkcube's run time (a frame there takes under 3 ms).
+pub const MIN_WRITE_INTERVAL: std::time::Duration = std::time::Duration::from_millis(100);
+
 /// Whether the file is written now: at the end (`last`), once the limited frames are all in
-/// (`done`), or when `every` more frames were measured since the last write.
-fn write_due(last: bool, done: bool, every: u64, measured: u64, written_at: u64) -> bool {
-    last || done || (every > 0 && measured >= written_at + every)
+/// (`done`), or when `every` more frames were measured since the last write and `since` it
+/// (None: never written) is at least [`MIN_WRITE_INTERVAL`].
+fn write_due(
+    last: bool,
+    done: bool,
+    every: u64,
+    measured: u64,
+    written_at: u64,
+    since: Option<std::time::Duration>,
+) -> bool {
+    let periodic = every > 0 && measured >= written_at + every && since.map_or(true, |t| t >= MIN_WRITE_INTERVAL);
+    last || done || periodic
 }
 
 /// Writes the file at the end (`last`), when the limited frames are all in, or every K frames.
@@ -175,7 +243,8 @@ pub fn write_if_due(device: &DeviceData, state: &mut DeviceState, last: bool) {
     }
     let frames = state.frames();
     let (measured, done) = (frames.frames_measured, frames.done());
-    if !write_due(last, done, device.config.every, measured, state.written_at) {
+    let since = state.last_write.map(|t| t.elapsed());
+    if !write_due(last, done, device.config.every, measured, state.written_at, since) {
         return;
     }
     let text = render(&report(device, state), device.config.format);
@@ -183,21 +252,25 @@ pub fn write_if_due(device: &DeviceData, state: &mut DeviceState, last: bool) {
         eprintln!("nostencil fill-rate layer: cannot write {}: {e}", path.display());
     }
     state.written_at = measured;
+    state.last_write = Some(std::time::Instant::now());
     state.finished = done;
 }
 
 #[cfg(test)]
 mod tests {
-    use super::write_due;
+    use super::{write_due, MIN_WRITE_INTERVAL};
+    use std::time::Duration;
 
     #[test]
     fn the_file_is_written_at_the_end_when_done_and_every_k_frames() {
-        assert!(write_due(true, false, 0, 0, 0));
-        assert!(write_due(false, true, 0, 3, 0));
-        assert!(!write_due(false, false, 0, 100, 0), "EVERY=0: only at the end");
-        assert!(!write_due(false, false, 3, 2, 0));
-        assert!(write_due(false, false, 3, 3, 0));
-        assert!(!write_due(false, false, 3, 5, 3));
-        assert!(write_due(false, false, 3, 6, 3));
+        let long = Some(MIN_WRITE_INTERVAL);
+        assert!(write_due(true, false, 0, 0, 0, None));
+        assert!(write_due(false, true, 0, 3, 0, Some(Duration::ZERO)), "done is written at once");
+        assert!(!write_due(false, false, 0, 100, 0, long), "EVERY=0: only at the end");
+        assert!(!write_due(false, false, 3, 2, 0, None));
+        assert!(write_due(false, false, 3, 3, 0, None));
+        assert!(!write_due(false, false, 3, 5, 3, long));
+        assert!(write_due(false, false, 3, 6, 3, long));
+        assert!(!write_due(false, false, 1, 7, 6, Some(Duration::from_millis(10))), "not twice in 10 ms");
     }
 }

@@ -4,6 +4,11 @@
 //! GPU. Vulkan rules it follows:
 //! - a query begun inside a render pass ends in the same subpass: the layer's queries are split
 //!   into segments at every vkCmdNextSubpass, summed at read back;
+//! - a segment begins right before a draw, never right after the render pass begins: only a
+//!   draw guarantees the application has bound a graphics pipeline, and lavapipe (Mesa 22.3)
+//!   flushes the graphics state at vkCmdBeginQuery, dereferencing the missing pipeline's shaders
+//!   when dynamic state was set first (vkd3d's clears: SIGSEGV in its queue thread). Fragments
+//!   and samples come only from draws, so nothing is lost; a pass with no draw counts zero;
 //! - two queries of one type cannot be active at once: when the application begins its own
 //!   occlusion or statistics query inside a measured pass, the layer's segment of that type ends
 //!   and the application's query covers the gap (read back from its pool and added); a new
@@ -20,6 +25,17 @@ use super::slots::{QueryCmd, QueryKind, Slot, SlotPool};
 
 /// Occlusion and statistics segments one render pass may use.
 pub const SEGMENTS_PER_PASS: u32 = 64;
+
+/// Draws one pass may have when each draw is measured alone (`per_draw`).
+pub const DRAWS_PER_PASS: u32 = 256;
+
+/// The queries of one draw measured alone.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DrawSlots {
+    pub occlusion: Option<Slot>,
+    pub statistics: Option<Slot>,
+    pub timestamps: Option<(Slot, Slot)>,
+}
 
 /// An application query inside a measured pass, whose result fills the layer's gap.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -56,6 +72,8 @@ pub struct RecordedPass {
     /// (begin, end) timestamps.
     pub timestamps: Option<(Slot, Slot)>,
     pub gaps: Vec<AppGap>,
+    /// `per_draw`: each draw's own queries.
+    pub draw_slots: Vec<DrawSlots>,
     active_occlusion: Option<Slot>,
     active_statistics: Option<Slot>,
     measuring: bool,
@@ -79,6 +97,8 @@ pub struct QuerySupport {
 #[derive(Debug)]
 pub struct Recording {
     pub secondary: bool,
+    /// Each draw gets segments and timestamps of its own (NOSTENCIL_FILLRATE_PER_DRAW).
+    pub per_draw: bool,
     /// Begun with SIMULTANEOUS_USE.
     pub simultaneous: bool,
     pub passes: Vec<RecordedPass>,
@@ -99,6 +119,7 @@ impl Recording {
     pub fn new(secondary: bool, support: QuerySupport) -> Self {
         Recording {
             secondary,
+            per_draw: false,
             simultaneous: false,
             passes: Vec::new(),
             open: None,
@@ -144,10 +165,34 @@ impl Recording {
         self.inserted_label = Some(label);
     }
 
-    pub fn draw(&mut self) {
-        if let Some(pass) = self.open.and_then(|i| self.passes.get_mut(i)) {
-            pass.draws += 1;
+    /// A draw: counted in the open pass; returns the commands to record before and after it
+    /// (the layer's segments begin here, see the module notes; with `per_draw` each draw has
+    /// segments and timestamps of its own, ended right after it).
+    pub fn draw(&mut self) -> (Vec<QueryCmd>, Vec<QueryCmd>) {
+        let (mut before, mut after) = (Vec::new(), Vec::new());
+        let Some(index) = self.open else { return (before, after) };
+        self.passes[index].draws += 1;
+        if self.per_draw && self.passes[index].measuring {
+            self.end_segments(None, &mut before);
+            let timestamps =
+                if self.support.timestamps { self.timestamps.take().zip(self.timestamps.take()) } else { None };
+            if let Some((begin, _)) = timestamps {
+                before.push(QueryCmd::Timestamp { slot: begin, stage: vk::PipelineStageFlags::TOP_OF_PIPE });
+            }
+            self.begin_segment(QueryKind::Occlusion, &mut before);
+            self.begin_segment(QueryKind::Statistics, &mut before);
+            let pass = &mut self.passes[index];
+            let slots = DrawSlots { occlusion: pass.active_occlusion, statistics: pass.active_statistics, timestamps };
+            pass.draw_slots.push(slots);
+            self.end_segments(None, &mut after);
+            if let Some((_, end)) = timestamps {
+                after.push(QueryCmd::Timestamp { slot: end, stage: vk::PipelineStageFlags::BOTTOM_OF_PIPE });
+            }
+            return (before, after);
         }
+        self.begin_segment(QueryKind::Occlusion, &mut before);
+        self.begin_segment(QueryKind::Statistics, &mut before);
+        (before, after)
     }
 
     pub fn in_pass(&self) -> bool {
@@ -174,12 +219,15 @@ impl Recording {
         let mut before = Vec::new();
         if desc.not_measured.is_none() {
             let support = self.support;
-            let mut ok = self.occlusion.reserve(SEGMENTS_PER_PASS, create, &mut before);
+            // Resets go outside the pass: every slot the pass may use is reset before it.
+            let (segments, timestamps) =
+                if self.per_draw { (DRAWS_PER_PASS, 2 + 2 * DRAWS_PER_PASS) } else { (SEGMENTS_PER_PASS, 2) };
+            let mut ok = self.occlusion.reserve(segments, create, &mut before);
             if support.statistics {
-                ok &= self.statistics.reserve(SEGMENTS_PER_PASS, create, &mut before);
+                ok &= self.statistics.reserve(segments, create, &mut before);
             }
             if support.timestamps {
-                ok &= self.timestamps.reserve(2, create, &mut before);
+                ok &= self.timestamps.reserve(timestamps, create, &mut before);
             }
             if !ok {
                 desc.not_measured = Some("the layer could not create a query pool".into());
@@ -194,21 +242,18 @@ impl Recording {
             statistics: Vec::new(),
             timestamps: None,
             gaps: Vec::new(),
+            draw_slots: Vec::new(),
             active_occlusion: None,
             active_statistics: None,
             measuring,
         });
         self.open = Some(self.passes.len() - 1);
         let mut after = Vec::new();
-        if measuring {
-            if self.support.timestamps {
-                if let (Some(begin), Some(end)) = (self.timestamps.take(), self.timestamps.take()) {
-                    after.push(QueryCmd::Timestamp { slot: begin, stage: vk::PipelineStageFlags::TOP_OF_PIPE });
-                    self.open_pass().timestamps = Some((begin, end));
-                }
+        if measuring && self.support.timestamps {
+            if let (Some(begin), Some(end)) = (self.timestamps.take(), self.timestamps.take()) {
+                after.push(QueryCmd::Timestamp { slot: begin, stage: vk::PipelineStageFlags::TOP_OF_PIPE });
+                self.open_pass().timestamps = Some((begin, end));
             }
-            self.begin_segment(QueryKind::Occlusion, &mut after);
-            self.begin_segment(QueryKind::Statistics, &mut after);
         }
         (before, after)
     }
@@ -218,13 +263,17 @@ impl Recording {
         &mut self.passes[index]
     }
 
-    /// Begins a new layer segment of `kind` in the open pass, unless an application query of
-    /// that kind is active in it.
+    /// Begins a new layer segment of `kind` in the open pass, unless one is active or an
+    /// application query of that kind is.
     fn begin_segment(&mut self, kind: QueryKind, out: &mut Vec<QueryCmd>) {
         let (support, precise) = (self.support, self.support.precise);
         let Some(index) = self.open else { return };
         let pass = &self.passes[index];
-        if !pass.measuring || pass.gaps.iter().any(|g| g.open && g.kind == kind) {
+        let active = match kind {
+            QueryKind::Occlusion => pass.active_occlusion.is_some(),
+            _ => pass.active_statistics.is_some(),
+        };
+        if !pass.measuring || active || pass.gaps.iter().any(|g| g.open && g.kind == kind) {
             return;
         }
         let slot = match kind {
@@ -268,11 +317,12 @@ impl Recording {
         }
     }
 
-    /// vkCmdNextSubpass: (before, after). `secondary_contents`: the next subpass runs
-    /// secondary command buffers, which the layer cannot measure.
+    /// vkCmdNextSubpass: (before, after); the next segments begin at the next draw.
+    /// `secondary_contents`: the next subpass runs secondary command buffers, which the layer
+    /// cannot measure.
     pub fn next_subpass(&mut self, secondary_contents: bool) -> (Vec<QueryCmd>, Vec<QueryCmd>) {
         let mut before = Vec::new();
-        let mut after = Vec::new();
+        let after = Vec::new();
         if self.open.is_none() {
             return (before, after);
         }
@@ -284,8 +334,6 @@ impl Recording {
                 pass.desc.not_measured = Some("secondary command buffer".into());
             }
         }
-        self.begin_segment(QueryKind::Occlusion, &mut after);
-        self.begin_segment(QueryKind::Statistics, &mut after);
         (before, after)
     }
 
@@ -339,9 +387,10 @@ impl Recording {
         before
     }
 
-    /// The application ends a query: commands after its call.
+    /// The application ends a query: commands after its call (none: the next segment of that
+    /// kind begins at the next draw).
     pub fn app_end_query(&mut self, pool: vk::QueryPool, query: u32) -> Vec<QueryCmd> {
-        let mut after = Vec::new();
+        let after = Vec::new();
         if self.app_active.remove(&(pool, query)).is_some() {
             return after;
         }
@@ -351,8 +400,6 @@ impl Recording {
             return after;
         };
         gap.open = false;
-        let kind = gap.kind;
-        self.begin_segment(kind, &mut after);
         after
     }
 }
@@ -395,18 +442,22 @@ mod tests {
         rec.push_label("shadow".into());
         let (before, after) = rec.begin_pass(desc(), &mut create);
         assert!(before.iter().all(|c| matches!(c, QueryCmd::Reset { .. })) && before.len() == 3);
-        assert_eq!((begins(&after), after.len()), (2, 3));
+        // Only the timestamp right after the begin: no query may begin before a pipeline is bound.
+        assert_eq!(after.len(), 1);
         assert!(matches!(after[0], QueryCmd::Timestamp { stage: vk::PipelineStageFlags::TOP_OF_PIPE, .. }));
-        rec.draw();
+        assert_eq!(begins(&rec.draw().0), 2, "the first draw begins both segments");
+        assert!(rec.draw().0.is_empty(), "later draws continue them");
         let (b, a) = rec.next_subpass(false);
-        assert_eq!((ends(&b), begins(&a)), (2, 2));
-        rec.draw();
+        assert_eq!((ends(&b), a.len()), (2, 0));
+        let (b, _) = rec.next_subpass(false);
+        assert!(b.is_empty(), "a subpass without draws has no segment to end");
+        assert_eq!(begins(&rec.draw().0), 2);
         let end = rec.end_pass();
         assert_eq!(ends(&end), 2);
         assert!(matches!(end.last(), Some(QueryCmd::Timestamp { stage: vk::PipelineStageFlags::BOTTOM_OF_PIPE, .. })));
-        rec.draw(); // outside a pass: not counted
+        assert!(rec.draw().0.is_empty()); // outside a pass: not counted
         let pass = &rec.passes[0];
-        assert_eq!((pass.draws, pass.occlusion.len(), pass.statistics.len()), (2, 2, 2));
+        assert_eq!((pass.draws, pass.occlusion.len(), pass.statistics.len()), (3, 2, 2));
         assert_eq!(pass.label.as_deref(), Some("shadow"));
         assert!(pass.not_measured().is_none());
     }
@@ -415,13 +466,15 @@ mod tests {
     fn an_application_query_inside_a_pass_becomes_a_gap_between_segments() {
         let (mut rec, mut create) = recording();
         rec.begin_pass(desc(), &mut create);
+        rec.draw();
         let app = vk::QueryPool::from_raw(7);
         let none = vk::QueryPipelineStatisticFlags::empty();
         let before = rec.app_begin_query(QueryKind::Occlusion, app, 3, true, none);
         assert_eq!(before.len(), 1);
         assert!(matches!(before[0], QueryCmd::End { slot } if slot == rec.passes[0].occlusion[0]));
-        let after = rec.app_end_query(app, 3);
-        assert_eq!(begins(&after), 1);
+        assert!(rec.draw().0.is_empty(), "inside the application's query the layer's stays ended");
+        assert!(rec.app_end_query(app, 3).is_empty());
+        assert_eq!(begins(&rec.draw().0), 1, "the next draw resumes the occlusion segment");
         rec.end_pass();
         let pass = &rec.passes[0];
         assert_eq!((pass.occlusion.len(), pass.statistics.len(), pass.gaps.len()), (2, 1, 1));
@@ -441,11 +494,36 @@ mod tests {
         rec.app_end_query(app, 0);
         // Imprecise application occlusion inside a precise pass: not measured, layer queries end.
         rec.begin_pass(desc(), &mut create);
+        rec.draw();
         let before = rec.app_begin_query(QueryKind::Occlusion, app, 1, false, none);
         assert_eq!(ends(&before), 2);
         rec.app_end_query(app, 1);
         rec.end_pass();
         assert!(rec.passes[1].not_measured().is_some_and(|r| r.contains("imprecise")));
+    }
+
+    #[test]
+    fn per_draw_gives_each_draw_its_own_segments_and_timestamps() {
+        let (mut rec, mut create) = recording();
+        rec.per_draw = true;
+        let (before, _) = rec.begin_pass(desc(), &mut create);
+        assert!(before.iter().all(|c| matches!(c, QueryCmd::Reset { .. })));
+        for _ in 0..3 {
+            let (b, a) = rec.draw();
+            assert_eq!((begins(&b), ends(&a)), (2, 2), "segments around each draw: {b:?} {a:?}");
+            assert!(matches!(b[0], QueryCmd::Timestamp { stage: vk::PipelineStageFlags::TOP_OF_PIPE, .. }));
+            assert!(matches!(
+                a.last(),
+                Some(QueryCmd::Timestamp { stage: vk::PipelineStageFlags::BOTTOM_OF_PIPE, .. })
+            ));
+        }
+        assert_eq!(ends(&rec.end_pass()), 0, "nothing left active at the end");
+        let pass = &rec.passes[0];
+        assert_eq!((pass.draw_slots.len(), pass.occlusion.len(), pass.statistics.len()), (3, 3, 3));
+        assert_eq!(
+            pass.draw_slots.iter().map(|d| d.occlusion).collect::<Vec<_>>(),
+            pass.occlusion.iter().map(|s| Some(*s)).collect::<Vec<_>>()
+        );
     }
 
     #[test]

@@ -23,6 +23,22 @@ pub struct FillrateReport {
     pub not_measured: Vec<NotMeasured>,
     pub frames: Vec<FrameRows>,
     pub aggregate: Vec<AggregateRow>,
+    /// How the program's run ended, when `profile-app` ran it (the layer itself leaves it out).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub run: Option<RunEnd>,
+}
+
+/// How a program run by `profile-app` ended, and whether the report covers all it was asked to.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct RunEnd {
+    /// "exited" (by itself), "ended" (by profile-app: --frames, --seconds), "interrupted"
+    /// (Ctrl-C), "killed" (a signal from elsewhere), "crashed" (SIGSEGV, SIGABRT, ...) or "failed"
+    /// (a non-zero exit status).
+    pub how: String,
+    /// One line for a person, e.g. "crashed with SIGSEGV after 3 measured frames".
+    pub detail: String,
+    /// The frames asked for were not all measured: the report holds those that were.
+    pub partial: bool,
 }
 
 /// Which counters the device gave the layer.
@@ -62,6 +78,20 @@ pub struct RenderPassRow {
     pub counters: Option<Counters>,
     #[serde(default)]
     pub not_measured: Option<String>,
+    /// `NOSTENCIL_FILLRATE_PER_DRAW=1` (`profile-app --per-draw`): each draw, in recording order;
+    /// their sums are the pass's counters. Empty when off or when a draw could not be measured
+    /// alone (inside an application query of the same type).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub per_draw: Vec<DrawRow>,
+}
+
+/// One draw of a measured render pass.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct DrawRow {
+    pub fragment_invocations: Option<u64>,
+    pub samples_passed: u64,
+    /// Between timestamps right before and right after the draw.
+    pub gpu_ms: Option<f64>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

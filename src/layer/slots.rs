@@ -15,7 +15,7 @@ pub enum QueryKind {
 }
 
 /// One query: its pool and index.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct Slot {
     pub pool: vk::QueryPool,
     pub query: u32,

@@ -11,7 +11,9 @@ use ash::vk::Handle;
 use super::attachments::RenderPassInfo;
 use super::config::Config;
 use super::frames::FrameAssembler;
-use super::loader::dispatch_key;
+use super::in_flight::Proof;
+use super::in_flight::SubmissionCopy;
+use super::loader::{dispatch_key, PfnSetDeviceLoaderData};
 use super::recording::{RecordedPass, Recording};
 use super::report::CounterSupport;
 
@@ -133,6 +135,10 @@ pub struct DeviceInfo {
     pub timestamp_bits: Vec<u32>,
     /// Nanoseconds per timestamp tick.
     pub timestamp_period: f64,
+    /// For the host-visible buffers the layer copies results into (copies.rs).
+    pub memory: vk::PhysicalDeviceMemoryProperties,
+    /// The loader's callback for command buffers the layer allocates itself.
+    pub set_loader_data: Option<PfnSetDeviceLoaderData>,
 }
 
 /// A command buffer the layer saw allocated.
@@ -151,6 +157,8 @@ pub struct Pending {
     pub timestamp_bits: u32,
     /// Set when the results can no longer be trusted (why).
     pub spoiled: Option<String>,
+    /// This submission's own copy of the layer's results (None: read from the query pools).
+    pub copy: Option<SubmissionCopy>,
 }
 
 #[derive(Default)]
@@ -163,6 +171,11 @@ pub struct DeviceState {
     /// The application's query pools: type and statistic bits.
     pub app_pools: HashMap<vk::QueryPool, (vk::QueryType, vk::QueryPipelineStatisticFlags)>,
     pub pending: Vec<Pending>,
+    /// The layer's command pools for its copy command buffers, by queue family.
+    pub copy_pools: HashMap<u32, vk::CommandPool>,
+    /// The layer's fences in flight that prove submissions done (proofs.rs), and spare ones.
+    pub proofs: Vec<Proof>,
+    pub spare_fences: Vec<vk::Fence>,
     /// The last submission that signals each fence: (queue, sequence).
     pub fences: HashMap<vk::Fence, (vk::Queue, u64)>,
     pub sequence: u64,
@@ -170,6 +183,8 @@ pub struct DeviceState {
     pub not_measured: BTreeMap<String, u64>,
     /// Frames finished when the file was last written.
     pub written_at: u64,
+    /// When the file was last written.
+    pub last_write: Option<std::time::Instant>,
     /// The NOSTENCIL_FILLRATE_FRAMES file is written; nothing more is measured.
     pub finished: bool,
 }

@@ -271,6 +271,9 @@ impl<'s> RunningWindow<'s> {
             Err(e) => return Err(e),
         }
         session.presented += 1;
+        if crate::gpu::faults::crash_after_presents() == Some(session.presented) {
+            std::process::abort();
+        }
         session.last = Some(frame);
         report_tour(session);
         update_title(&self.window, session)?;

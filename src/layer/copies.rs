@@ -1,0 +1,174 @@
+//! Per-submission results. A command buffer's query slots are fixed when it is recorded, so a
+//! pre-recorded buffer submitted again (SIMULTANEOUS_USE: even while in flight) would overwrite
+//! the results of its previous submission before the layer reads them. So each submission gets
+//! a command buffer of the layer's, submitted right after the application's in the same batch,
+//! that copies the slots' results into a host-visible buffer of that submission's own.
+//! Query commands on one queue execute in submission order (Vulkan spec, "Queries": an implicit
+//! execution dependency between query commands on the same query and queue), so the copy sees
+//! exactly this submission's results; WAIT makes it wait for them on the GPU.
+
+use ash::vk;
+use ash::vk::Handle;
+
+use super::in_flight::{SubmissionCopy, STRIDE};
+use super::readback::STATISTICS;
+use super::recording::RecordedPass;
+use super::slots::Slot;
+use super::state::{DeviceData, DeviceState};
+
+/// The slots of `passes` and how many values each has.
+fn slots_of(passes: &[RecordedPass]) -> Vec<(Slot, usize)> {
+    let mut slots = Vec::new();
+    for pass in passes.iter().filter(|p| p.not_measured().is_none()) {
+        slots.extend(pass.occlusion.iter().map(|&s| (s, 1)));
+        slots.extend(pass.statistics.iter().map(|&s| (s, STATISTICS.len())));
+        if let Some((begin, end)) = pass.timestamps {
+            slots.extend([(begin, 1), (end, 1)]);
+        }
+        for (begin, end) in pass.draw_slots.iter().filter_map(|d| d.timestamps) {
+            slots.extend([(begin, 1), (end, 1)]);
+        }
+    }
+    slots
+}
+
+fn host_memory_type(device: &DeviceData, bits: u32) -> Option<u32> {
+    let wanted = vk::MemoryPropertyFlags::HOST_VISIBLE | vk::MemoryPropertyFlags::HOST_COHERENT;
+    let props = &device.info.memory;
+    (0..props.memory_type_count)
+        .find(|&i| bits & (1 << i) != 0 && props.memory_types[i as usize].property_flags.contains(wanted))
+}
+
+/// A copy for one submission of `passes` on a queue of `family`; Err says why there is none.
+pub fn make(
+    device: &DeviceData,
+    state: &mut DeviceState,
+    family: u32,
+    passes: &[RecordedPass],
+) -> Result<Option<SubmissionCopy>, String> {
+    let slots = slots_of(passes);
+    if slots.is_empty() {
+        return Ok(None);
+    }
+    let set_loader_data = device.info.set_loader_data.ok_or("the loader gave no vkSetDeviceLoaderData")?;
+    let failed = |what: &str, e: vk::Result| format!("the layer could not {what} ({e:?})");
+    let pool = match state.copy_pools.get(&family) {
+        Some(&pool) => pool,
+        None => {
+            let info = vk::CommandPoolCreateInfo::default()
+                .queue_family_index(family)
+                .flags(vk::CommandPoolCreateFlags::TRANSIENT);
+            // SAFETY: the device is alive; the pool is the layer's, used under the state lock.
+            let pool =
+                unsafe { device.fns.create_command_pool(&info, None) }.map_err(|e| failed("make a command pool", e))?;
+            state.copy_pools.insert(family, pool);
+            pool
+        }
+    };
+    let size = slots.len() as u64 * STRIDE;
+    let info = vk::BufferCreateInfo::default().size(size).usage(vk::BufferUsageFlags::TRANSFER_DST);
+    // SAFETY: plain object creation on the live device; every object is released on each
+    // failure path below.
+    unsafe {
+        let buffer = device.fns.create_buffer(&info, None).map_err(|e| failed("make a buffer", e))?;
+        let requirements = device.fns.get_buffer_memory_requirements(buffer);
+        let Some(memory_type) = host_memory_type(device, requirements.memory_type_bits) else {
+            device.fns.destroy_buffer(buffer, None);
+            return Err("no host-visible memory for the layer's results".into());
+        };
+        let allocate =
+            vk::MemoryAllocateInfo::default().allocation_size(requirements.size).memory_type_index(memory_type);
+        let memory = match device.fns.allocate_memory(&allocate, None) {
+            Ok(memory) => memory,
+            Err(e) => {
+                device.fns.destroy_buffer(buffer, None);
+                return Err(failed("allocate memory", e));
+            }
+        };
+        let mapped = device
+            .fns
+            .bind_buffer_memory(buffer, memory, 0)
+            .and_then(|()| device.fns.map_memory(memory, 0, vk::WHOLE_SIZE, vk::MemoryMapFlags::empty()));
+        let allocated = mapped.and_then(|mapped| {
+            let info = vk::CommandBufferAllocateInfo::default()
+                .command_pool(pool)
+                .level(vk::CommandBufferLevel::PRIMARY)
+                .command_buffer_count(1);
+            let cmd = device.fns.allocate_command_buffers(&info)?[0];
+            Ok((mapped, cmd))
+        });
+        let (mapped, cmd) = match allocated {
+            Ok(pair) => pair,
+            Err(e) => {
+                device.fns.destroy_buffer(buffer, None);
+                device.fns.free_memory(memory, None);
+                return Err(failed("set up a result copy", e));
+            }
+        };
+        let copy = SubmissionCopy {
+            command_buffer: cmd,
+            pool,
+            buffer,
+            memory,
+            mapped: mapped as usize,
+            index: slots.iter().enumerate().map(|(i, (slot, _))| (*slot, i)).collect(),
+        };
+        // The loader's dispatch pointer, which the layers below look the buffer up by.
+        let result = set_loader_data(device.handle, cmd.as_raw() as usize as *mut std::ffi::c_void);
+        if result != vk::Result::SUCCESS {
+            copy.release(&device.fns);
+            return Err(failed("register its command buffer with the loader", result));
+        }
+        if let Err(e) = record(device, &copy, &slots, buffer) {
+            copy.release(&device.fns);
+            return Err(failed("record its result copy", e));
+        }
+        Ok(Some(copy))
+    }
+}
+
+/// Records the copy of every slot, then makes the writes visible to the host.
+///
+/// # Safety
+/// `copy.command_buffer` is the layer's, freshly allocated; `buffer` holds every slot.
+unsafe fn record(
+    device: &DeviceData,
+    copy: &SubmissionCopy,
+    slots: &[(Slot, usize)],
+    buffer: vk::Buffer,
+) -> ash::prelude::VkResult<()> {
+    let cmd = copy.command_buffer;
+    let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+    // SAFETY: the caller's contract; every query was reset and written by the application's
+    // command buffer submitted just before this one in the same batch.
+    unsafe {
+        device.fns.begin_command_buffer(cmd, &begin)?;
+        let flags =
+            vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT | vk::QueryResultFlags::WITH_AVAILABILITY;
+        for (i, (slot, _)) in slots.iter().enumerate() {
+            device.fns.cmd_copy_query_pool_results(
+                cmd,
+                slot.pool,
+                slot.query,
+                1,
+                buffer,
+                i as u64 * STRIDE,
+                STRIDE,
+                flags,
+            );
+        }
+        let barrier = [vk::MemoryBarrier::default()
+            .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
+            .dst_access_mask(vk::AccessFlags::HOST_READ)];
+        device.fns.cmd_pipeline_barrier(
+            cmd,
+            vk::PipelineStageFlags::TRANSFER,
+            vk::PipelineStageFlags::HOST,
+            vk::DependencyFlags::empty(),
+            &barrier,
+            &[],
+            &[],
+        );
+        device.fns.end_command_buffer(cmd)
+    }
+}

@@ -1,0 +1,60 @@
+//! What the layer keeps per submission until the GPU is proven done with it: the copy of a
+//! submission's query results (`copies`) and the fences that prove submissions done (`proofs`).
+//! Plain data, below the device state that holds it, so that the modules that make and read
+//! them can import that state without a circle.
+
+use std::collections::HashMap;
+
+use ash::vk;
+
+use super::slots::Slot;
+
+/// Bytes per copied query: up to three statistics and the availability word.
+pub(super) const STRIDE: u64 = 32;
+
+/// One submission's copy: the layer's command buffer and the memory it copies into.
+#[derive(Debug)]
+pub struct SubmissionCopy {
+    pub command_buffer: vk::CommandBuffer,
+    pub(super) pool: vk::CommandPool,
+    pub(super) buffer: vk::Buffer,
+    pub(super) memory: vk::DeviceMemory,
+    /// The mapped memory (an address: the state is shared between threads).
+    pub(super) mapped: usize,
+    /// Each slot's index in the buffer.
+    pub(super) index: HashMap<Slot, usize>,
+}
+
+impl SubmissionCopy {
+    /// The `words` values of `slot` as this submission left them.
+    pub fn read(&self, slot: Slot, words: usize) -> Result<Vec<u64>, String> {
+        let index = *self.index.get(&slot).ok_or("query not copied")?;
+        let base = self.mapped + index * STRIDE as usize;
+        // SAFETY: the mapping covers every slot's STRIDE bytes; the submission that wrote them is
+        // complete (the caller's proof) and the memory is host-coherent; `words` + 1 <= 4.
+        let values: Vec<u64> =
+            (0..=words).map(|i| unsafe { std::ptr::read_volatile((base + i * 8) as *const u64) }).collect();
+        if values[words] == 0 {
+            return Err("query results not available when read".into());
+        }
+        Ok(values[..words].to_vec())
+    }
+
+    /// Frees the command buffer and the memory (the submission is complete or never ran).
+    pub fn release(self, device: &ash::Device) {
+        // SAFETY: the layer's own objects, made on `device`; the submission using them is complete.
+        unsafe {
+            device.free_command_buffers(self.pool, &[self.command_buffer]);
+            device.destroy_buffer(self.buffer, None);
+            device.free_memory(self.memory, None);
+        }
+    }
+}
+
+/// A proof in flight: its fence signals when `queue`'s submissions up to `sequence` are done.
+#[derive(Debug, Clone, Copy)]
+pub struct Proof {
+    pub(super) fence: vk::Fence,
+    pub(super) queue: vk::Queue,
+    pub(super) sequence: u64,
+}

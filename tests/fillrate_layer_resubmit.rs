@@ -1,0 +1,450 @@
+//! A small Vulkan program of our own under the fill-rate layer, with the Khronos validation layer
+//! below it (this test binary holds this one test: it sets the loader's environment). It
+//! pre-records three command buffers with SIMULTANEOUS_USE, drawing one, two and three
+//! full-viewport triangles into an 8x8 depth image (64 samples each), and submits them five
+//! times without waiting in between, so each is re-submitted while its previous submission may
+//! still be in flight. In the same batches: a dynamic render pass suspended in one command
+//! buffer and resumed in the next (the layer must put nothing between them), and once a render
+//! pass running a secondary command buffer. The program's own occlusion queries, around the same
+//! draws, give the reference counts.
+
+mod common;
+
+use std::ffi::{c_void, CStr};
+use std::path::Path;
+use std::sync::Mutex;
+
+use ash::vk;
+use nostencil::layer::manifest::{manifest_json, newest_library, LAYER_NAME, MANIFEST_FILE};
+use nostencil::layer::report::FillrateReport;
+
+static MESSAGES: Mutex<Vec<String>> = Mutex::new(Vec::new());
+
+unsafe extern "system" fn on_message(
+    severity: vk::DebugUtilsMessageSeverityFlagsEXT,
+    _types: vk::DebugUtilsMessageTypeFlagsEXT,
+    data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,
+    _user: *mut c_void,
+) -> vk::Bool32 {
+    if severity
+        .intersects(vk::DebugUtilsMessageSeverityFlagsEXT::WARNING | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR)
+    {
+        // SAFETY: the validation layer passes a valid callback data with a C string message.
+        let text = unsafe { data.as_ref() }
+            .filter(|d| !d.p_message.is_null())
+            // SAFETY: as above.
+            .map(|d| unsafe { CStr::from_ptr(d.p_message) }.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        MESSAGES.lock().unwrap_or_else(|e| e.into_inner()).push(text);
+    }
+    vk::FALSE
+}
+
+const SIZE: u32 = 8;
+const DEPTH: vk::Format = vk::Format::D32_SFLOAT;
+/// Rounds of submitting the three pre-recorded buffers without waiting.
+const ROUNDS: usize = 5;
+
+fn shader(device: &ash::Device, name: &str) -> vk::ShaderModule {
+    let code = nostencil::shaders::spirv(name).expect("shader");
+    // SAFETY: valid SPIR-V from the crate's build.
+    unsafe { device.create_shader_module(&vk::ShaderModuleCreateInfo::default().code(&code), None) }.expect("module")
+}
+
+/// A pipeline drawing `fullscreen.vert` depth-only, every sample passing (depth test ALWAYS),
+/// for `render_pass` or (when null) dynamic rendering into a D32 attachment.
+fn pipeline(device: &ash::Device, layout: vk::PipelineLayout, render_pass: vk::RenderPass) -> vk::Pipeline {
+    let (vert, frag) = (shader(device, "fullscreen.vert"), shader(device, "shadow_map.frag"));
+    let stages = [
+        vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::VERTEX).module(vert).name(c"main"),
+        vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::FRAGMENT).module(frag).name(c"main"),
+    ];
+    let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
+    let assembly = vk::PipelineInputAssemblyStateCreateInfo::default().topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+    let viewports =
+        [vk::Viewport { x: 0.0, y: 0.0, width: SIZE as f32, height: SIZE as f32, min_depth: 0.0, max_depth: 1.0 }];
+    let scissors = [vk::Rect2D { offset: vk::Offset2D::default(), extent: vk::Extent2D { width: SIZE, height: SIZE } }];
+    let viewport = vk::PipelineViewportStateCreateInfo::default().viewports(&viewports).scissors(&scissors);
+    let raster = vk::PipelineRasterizationStateCreateInfo::default()
+        .polygon_mode(vk::PolygonMode::FILL)
+        .cull_mode(vk::CullModeFlags::NONE)
+        .line_width(1.0);
+    let multisample =
+        vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(vk::SampleCountFlags::TYPE_1);
+    let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+        .depth_test_enable(true)
+        .depth_write_enable(false)
+        .depth_compare_op(vk::CompareOp::ALWAYS);
+    let blend = vk::PipelineColorBlendStateCreateInfo::default();
+    let mut rendering = vk::PipelineRenderingCreateInfo::default().depth_attachment_format(DEPTH);
+    let mut info = vk::GraphicsPipelineCreateInfo::default()
+        .stages(&stages)
+        .vertex_input_state(&vertex_input)
+        .input_assembly_state(&assembly)
+        .viewport_state(&viewport)
+        .rasterization_state(&raster)
+        .multisample_state(&multisample)
+        .depth_stencil_state(&depth)
+        .color_blend_state(&blend)
+        .layout(layout)
+        .render_pass(render_pass);
+    if render_pass == vk::RenderPass::null() {
+        info = info.push_next(&mut rendering);
+    }
+    // SAFETY: every state the pipeline needs is given above and alive for the call.
+    let pipeline = unsafe { device.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) }
+        .map_err(|(_, e)| e)
+        .expect("pipeline")[0];
+    // SAFETY: the modules are no longer needed once the pipeline exists.
+    unsafe {
+        device.destroy_shader_module(vert, None);
+        device.destroy_shader_module(frag, None);
+    }
+    pipeline
+}
+
+#[test]
+fn resubmitted_simultaneous_use_buffers_are_measured_every_time_and_suspended_passes_are_left_whole() {
+    let dir = common::scratch_dir("fillrate_layer_resubmit");
+    let bin_dir = Path::new(env!("CARGO_BIN_EXE_nostencil")).parent().expect("binary folder");
+    let library = newest_library(bin_dir).expect("libnostencil.so built");
+    std::fs::write(dir.join(MANIFEST_FILE), manifest_json(library.to_str().expect("utf-8"))).expect("manifest");
+    let out = dir.join("fillrate.json");
+    std::env::set_var("VK_ADD_LAYER_PATH", &dir);
+    std::env::set_var("VK_INSTANCE_LAYERS", format!("{LAYER_NAME}:VK_LAYER_KHRONOS_validation"));
+    std::env::set_var("NOSTENCIL_FILLRATE_OUT", &out);
+    std::env::remove_var("NOSTENCIL_FILLRATE_FRAMES");
+
+    let reference: Vec<u64>;
+    // SAFETY: plain Vulkan use in order: every handle is created before use, used only while
+    // alive, and destroyed after the fence wait that proves the GPU done with it.
+    unsafe {
+        let entry = ash::Entry::load().expect("libvulkan");
+        let app = vk::ApplicationInfo::default().application_name(c"resubmit").api_version(vk::API_VERSION_1_3);
+        let extensions = [ash::ext::debug_utils::NAME.as_ptr()];
+        let instance = entry
+            .create_instance(
+                &vk::InstanceCreateInfo::default().application_info(&app).enabled_extension_names(&extensions),
+                None,
+            )
+            .expect("instance");
+        let debug = ash::ext::debug_utils::Instance::new(&entry, &instance);
+        let messenger = debug
+            .create_debug_utils_messenger(
+                &vk::DebugUtilsMessengerCreateInfoEXT::default()
+                    .message_severity(
+                        vk::DebugUtilsMessageSeverityFlagsEXT::WARNING | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR,
+                    )
+                    .message_type(
+                        vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION | vk::DebugUtilsMessageTypeFlagsEXT::GENERAL,
+                    )
+                    .pfn_user_callback(Some(on_message)),
+                None,
+            )
+            .expect("messenger");
+        let physical = instance.enumerate_physical_devices().expect("devices")[0];
+        let family = instance
+            .get_physical_device_queue_family_properties(physical)
+            .iter()
+            .position(|f| f.queue_flags.contains(vk::QueueFlags::GRAPHICS))
+            .expect("graphics queue") as u32;
+        let priorities = [1.0];
+        let queues = [vk::DeviceQueueCreateInfo::default().queue_family_index(family).queue_priorities(&priorities)];
+        let mut v13 = vk::PhysicalDeviceVulkan13Features::default().dynamic_rendering(true).synchronization2(true);
+        let mut features2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut v13);
+        let device = instance
+            .create_device(
+                physical,
+                &vk::DeviceCreateInfo::default().queue_create_infos(&queues).push_next(&mut features2),
+                None,
+            )
+            .expect("device");
+        let queue = device.get_device_queue(family, 0);
+
+        let image = device
+            .create_image(
+                &vk::ImageCreateInfo::default()
+                    .image_type(vk::ImageType::TYPE_2D)
+                    .format(DEPTH)
+                    .extent(vk::Extent3D { width: SIZE, height: SIZE, depth: 1 })
+                    .mip_levels(1)
+                    .array_layers(1)
+                    .samples(vk::SampleCountFlags::TYPE_1)
+                    .usage(vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT),
+                None,
+            )
+            .expect("image");
+        let requirements = device.get_image_memory_requirements(image);
+        let props = instance.get_physical_device_memory_properties(physical);
+        let memory_type =
+            (0..props.memory_type_count).find(|&i| requirements.memory_type_bits & (1 << i) != 0).expect("memory type");
+        let memory = device
+            .allocate_memory(
+                &vk::MemoryAllocateInfo::default().allocation_size(requirements.size).memory_type_index(memory_type),
+                None,
+            )
+            .expect("memory");
+        device.bind_image_memory(image, memory, 0).expect("bind");
+        let range = vk::ImageSubresourceRange {
+            aspect_mask: vk::ImageAspectFlags::DEPTH,
+            base_mip_level: 0,
+            level_count: 1,
+            base_array_layer: 0,
+            layer_count: 1,
+        };
+        let view = device
+            .create_image_view(
+                &vk::ImageViewCreateInfo::default()
+                    .image(image)
+                    .view_type(vk::ImageViewType::TYPE_2D)
+                    .format(DEPTH)
+                    .subresource_range(range),
+                None,
+            )
+            .expect("view");
+        let layout_depth = vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+        let attachments = [vk::AttachmentDescription::default()
+            .format(DEPTH)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
+            .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .initial_layout(vk::ImageLayout::UNDEFINED)
+            .final_layout(layout_depth)];
+        let depth_ref = vk::AttachmentReference { attachment: 0, layout: layout_depth };
+        let subpasses = [vk::SubpassDescription::default()
+            .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
+            .depth_stencil_attachment(&depth_ref)];
+        let depth_stages = vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS;
+        let depth_access =
+            vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_READ;
+        // Each pass clears the image the last one used: depth work waits for the last pass's.
+        let dependencies = [vk::SubpassDependency {
+            src_subpass: vk::SUBPASS_EXTERNAL,
+            dst_subpass: 0,
+            src_stage_mask: depth_stages,
+            dst_stage_mask: depth_stages,
+            src_access_mask: depth_access,
+            dst_access_mask: depth_access,
+            dependency_flags: vk::DependencyFlags::empty(),
+        }];
+        let render_pass = device
+            .create_render_pass(
+                &vk::RenderPassCreateInfo::default()
+                    .attachments(&attachments)
+                    .subpasses(&subpasses)
+                    .dependencies(&dependencies),
+                None,
+            )
+            .expect("render pass");
+        let views = [view];
+        let framebuffer = device
+            .create_framebuffer(
+                &vk::FramebufferCreateInfo::default()
+                    .render_pass(render_pass)
+                    .attachments(&views)
+                    .width(SIZE)
+                    .height(SIZE)
+                    .layers(1),
+                None,
+            )
+            .expect("framebuffer");
+        let layout = device.create_pipeline_layout(&vk::PipelineLayoutCreateInfo::default(), None).expect("layout");
+        let pass_pipeline = pipeline(&device, layout, render_pass);
+        let dynamic_pipeline = pipeline(&device, layout, vk::RenderPass::null());
+        let app_queries = device
+            .create_query_pool(
+                &vk::QueryPoolCreateInfo::default().query_type(vk::QueryType::OCCLUSION).query_count(3),
+                None,
+            )
+            .expect("query pool");
+        let pool = device
+            .create_command_pool(&vk::CommandPoolCreateInfo::default().queue_family_index(family), None)
+            .expect("command pool");
+        let allocate = |level, count| {
+            device
+                .allocate_command_buffers(
+                    &vk::CommandBufferAllocateInfo::default()
+                        .command_pool(pool)
+                        .level(level)
+                        .command_buffer_count(count),
+                )
+                .expect("command buffers")
+        };
+        let primaries = allocate(vk::CommandBufferLevel::PRIMARY, 7);
+        let secondary = allocate(vk::CommandBufferLevel::SECONDARY, 1)[0];
+        let (reference_cmd, pre_recorded, suspend, resume, with_secondary) =
+            (primaries[0], &primaries[1..4], primaries[4], primaries[5], primaries[6]);
+
+        let clear = [vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } }];
+        let area = vk::Rect2D { offset: vk::Offset2D::default(), extent: vk::Extent2D { width: SIZE, height: SIZE } };
+        let begin_pass = vk::RenderPassBeginInfo::default()
+            .render_pass(render_pass)
+            .framebuffer(framebuffer)
+            .render_area(area)
+            .clear_values(&clear);
+        let draws_into = |cmd: vk::CommandBuffer, pipeline: vk::Pipeline, draws: u32| {
+            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+            for _ in 0..draws {
+                device.cmd_draw(cmd, 3, 1, 0, 0);
+            }
+        };
+
+        // The reference: the program's own occlusion query across each of the three passes.
+        device.begin_command_buffer(reference_cmd, &vk::CommandBufferBeginInfo::default()).expect("begin");
+        device.cmd_reset_query_pool(reference_cmd, app_queries, 0, 3);
+        for draws in 1..=3u32 {
+            device.cmd_begin_query(reference_cmd, app_queries, draws - 1, vk::QueryControlFlags::PRECISE);
+            device.cmd_begin_render_pass(reference_cmd, &begin_pass, vk::SubpassContents::INLINE);
+            draws_into(reference_cmd, pass_pipeline, draws);
+            device.cmd_end_render_pass(reference_cmd);
+            device.cmd_end_query(reference_cmd, app_queries, draws - 1);
+        }
+        device.end_command_buffer(reference_cmd).expect("end");
+        let fence = device.create_fence(&vk::FenceCreateInfo::default(), None).expect("fence");
+        let one = [reference_cmd];
+        device.queue_submit(queue, &[vk::SubmitInfo::default().command_buffers(&one)], fence).expect("submit");
+        device.wait_for_fences(&[fence], true, u64::MAX).expect("wait");
+        device.reset_fences(&[fence]).expect("reset");
+        let mut samples = [0u64; 3];
+        device
+            .get_query_pool_results(
+                app_queries,
+                0,
+                &mut samples,
+                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+            )
+            .expect("the program's own queries");
+        reference = samples.to_vec();
+
+        // Three buffers recorded once, submitted again and again.
+        let simultaneous = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::SIMULTANEOUS_USE);
+        for (i, &cmd) in pre_recorded.iter().enumerate() {
+            device.begin_command_buffer(cmd, &simultaneous).expect("begin");
+            device.cmd_begin_render_pass(cmd, &begin_pass, vk::SubpassContents::INLINE);
+            draws_into(cmd, pass_pipeline, i as u32 + 1);
+            device.cmd_end_render_pass(cmd);
+            device.end_command_buffer(cmd).expect("end");
+        }
+        // A dynamic render pass suspended in one buffer and resumed in the next.
+        let to_depth = [vk::ImageMemoryBarrier::default()
+            .image(image)
+            .subresource_range(range)
+            .old_layout(vk::ImageLayout::UNDEFINED)
+            .new_layout(layout_depth)
+            .src_access_mask(depth_access)
+            .dst_access_mask(depth_access)];
+        let depth_attachment = vk::RenderingAttachmentInfo::default()
+            .image_view(view)
+            .image_layout(layout_depth)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(clear[0]);
+        let rendering = |flags| {
+            vk::RenderingInfo::default()
+                .render_area(area)
+                .layer_count(1)
+                .depth_attachment(&depth_attachment)
+                .flags(flags)
+        };
+        for (cmd, flags) in [(suspend, vk::RenderingFlags::SUSPENDING), (resume, vk::RenderingFlags::RESUMING)] {
+            device.begin_command_buffer(cmd, &simultaneous).expect("begin");
+            if flags == vk::RenderingFlags::SUSPENDING {
+                device.cmd_pipeline_barrier(
+                    cmd,
+                    depth_stages,
+                    depth_stages,
+                    vk::DependencyFlags::empty(),
+                    &[],
+                    &[],
+                    &to_depth,
+                );
+            }
+            device.cmd_begin_rendering(cmd, &rendering(flags));
+            draws_into(cmd, dynamic_pipeline, 1);
+            device.cmd_end_rendering(cmd);
+            device.end_command_buffer(cmd).expect("end");
+        }
+        // A render pass whose draw is in a secondary command buffer.
+        let inheritance =
+            vk::CommandBufferInheritanceInfo::default().render_pass(render_pass).subpass(0).framebuffer(framebuffer);
+        device
+            .begin_command_buffer(
+                secondary,
+                &vk::CommandBufferBeginInfo::default()
+                    .flags(vk::CommandBufferUsageFlags::RENDER_PASS_CONTINUE)
+                    .inheritance_info(&inheritance),
+            )
+            .expect("begin secondary");
+        draws_into(secondary, pass_pipeline, 1);
+        device.end_command_buffer(secondary).expect("end secondary");
+        device.begin_command_buffer(with_secondary, &vk::CommandBufferBeginInfo::default()).expect("begin");
+        device.cmd_begin_render_pass(with_secondary, &begin_pass, vk::SubpassContents::SECONDARY_COMMAND_BUFFERS);
+        device.cmd_execute_commands(with_secondary, &[secondary]);
+        device.cmd_end_render_pass(with_secondary);
+        device.end_command_buffer(with_secondary).expect("end");
+
+        // Every round in one submit, none waited for before the next: A, suspend, resume, B, C.
+        let batch = [pre_recorded[0], suspend, resume, pre_recorded[1], pre_recorded[2]];
+        for round in 0..ROUNDS {
+            let last = round + 1 == ROUNDS;
+            let signal = if last { fence } else { vk::Fence::null() };
+            if round == 1 {
+                // vkQueueSubmit2, with the secondary command buffer's pass first.
+                let infos: Vec<vk::CommandBufferSubmitInfo> = [with_secondary]
+                    .iter()
+                    .chain(&batch)
+                    .map(|&c| vk::CommandBufferSubmitInfo::default().command_buffer(c))
+                    .collect();
+                device
+                    .queue_submit2(queue, &[vk::SubmitInfo2::default().command_buffer_infos(&infos)], signal)
+                    .expect("submit2");
+            } else {
+                device
+                    .queue_submit(queue, &[vk::SubmitInfo::default().command_buffers(&batch)], signal)
+                    .expect("submit");
+            }
+        }
+        device.wait_for_fences(&[fence], true, u64::MAX).expect("wait");
+
+        device.destroy_fence(fence, None);
+        device.destroy_command_pool(pool, None);
+        device.destroy_query_pool(app_queries, None);
+        device.destroy_pipeline(pass_pipeline, None);
+        device.destroy_pipeline(dynamic_pipeline, None);
+        device.destroy_pipeline_layout(layout, None);
+        device.destroy_framebuffer(framebuffer, None);
+        device.destroy_render_pass(render_pass, None);
+        device.destroy_image_view(view, None);
+        device.destroy_image(image, None);
+        device.free_memory(memory, None);
+        device.destroy_device(None);
+        debug.destroy_debug_utils_messenger(messenger, None);
+        instance.destroy_instance(None);
+    }
+
+    let messages = MESSAGES.lock().unwrap_or_else(|e| e.into_inner()).clone();
+    assert!(messages.is_empty(), "{} validation message(s):\n{}", messages.len(), messages.join("\n"));
+    let pixels = (SIZE * SIZE) as u64;
+    assert_eq!(reference, [pixels, 2 * pixels, 3 * pixels], "the program's own queries");
+    let text = std::fs::read_to_string(&out).expect("the layer wrote its result at vkDestroyDevice");
+    let report = FillrateReport::from_json(&text).expect("result");
+    // The program never presents: all its work is one frame.
+    let rows = &report.frames[0].render_passes;
+    let measured: Vec<(u64, u64)> =
+        rows.iter().filter_map(|r| r.counters.as_ref()).map(|c| (c.draws, c.samples_passed)).collect();
+    let expected: Vec<(u64, u64)> =
+        (0..ROUNDS).flat_map(|_| (1..=3u64).map(|d| (d, reference[d as usize - 1]))).collect();
+    assert_eq!(measured, expected, "every submission of the pre-recorded buffers, as the program counts them");
+    let mut named: Vec<(&str, u64)> = report.not_measured.iter().map(|n| (n.what.as_str(), n.count)).collect();
+    named.sort();
+    assert_eq!(
+        named,
+        vec![
+            ("application occlusion query active across the pass", 3),
+            ("secondary command buffer", 1),
+            ("suspended or resumed dynamic render pass", 2 * ROUNDS as u64),
+        ]
+    );
+}
