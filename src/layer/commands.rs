@@ -43,7 +43,7 @@ fn create_pool(device: &DeviceData, kind: QueryKind) -> Option<vk::QueryPool> {
     let (ty, stats) = match kind {
         QueryKind::Occlusion => (vk::QueryType::OCCLUSION, vk::QueryPipelineStatisticFlags::empty()),
         QueryKind::Statistics => {
-            let bits = super::readback::STATISTICS.iter().fold(vk::QueryPipelineStatisticFlags::empty(), |a, &b| a | b);
+            let bits = super::slots::STATISTICS.iter().fold(vk::QueryPipelineStatisticFlags::empty(), |a, &b| a | b);
             (vk::QueryType::PIPELINE_STATISTICS, bits)
         }
         QueryKind::Timestamp => (vk::QueryType::TIMESTAMP, vk::QueryPipelineStatisticFlags::empty()),

@@ -12,10 +12,20 @@ use std::collections::HashMap;
 use ash::vk;
 use ash::vk::Handle;
 
-use super::readback::STATISTICS;
+use super::loader::PfnSetDeviceLoaderData;
 use super::recording::RecordedPass;
-use super::slots::Slot;
-use super::state::{DeviceData, DeviceState};
+use super::slots::{Slot, STATISTICS};
+
+/// What making a copy needs of the device (kept apart from the device state, which holds the
+/// copies).
+pub struct Device<'a> {
+    /// The next layer's functions.
+    pub fns: &'a ash::Device,
+    pub memory: &'a vk::PhysicalDeviceMemoryProperties,
+    pub set_loader_data: Option<PfnSetDeviceLoaderData>,
+    /// The layer's command pools for copies, by queue family.
+    pub pools: &'a mut HashMap<u32, vk::CommandPool>,
+}
 
 /// Bytes per copied query: up to three statistics and the availability word.
 const STRIDE: u64 = 32;
@@ -49,12 +59,12 @@ impl SubmissionCopy {
     }
 
     /// Frees the command buffer and the memory (the submission is complete or never ran).
-    pub fn release(self, device: &DeviceData) {
+    pub fn release(self, fns: &ash::Device) {
         // SAFETY: the layer's own objects; the submission using them is complete.
         unsafe {
-            device.fns.free_command_buffers(self.pool, &[self.command_buffer]);
-            device.fns.destroy_buffer(self.buffer, None);
-            device.fns.free_memory(self.memory, None);
+            fns.free_command_buffers(self.pool, &[self.command_buffer]);
+            fns.destroy_buffer(self.buffer, None);
+            fns.free_memory(self.memory, None);
         }
     }
 }
@@ -75,27 +85,21 @@ fn slots_of(passes: &[RecordedPass]) -> Vec<(Slot, usize)> {
     slots
 }
 
-fn host_memory_type(device: &DeviceData, bits: u32) -> Option<u32> {
+fn host_memory_type(props: &vk::PhysicalDeviceMemoryProperties, bits: u32) -> Option<u32> {
     let wanted = vk::MemoryPropertyFlags::HOST_VISIBLE | vk::MemoryPropertyFlags::HOST_COHERENT;
-    let props = &device.info.memory;
     (0..props.memory_type_count)
         .find(|&i| bits & (1 << i) != 0 && props.memory_types[i as usize].property_flags.contains(wanted))
 }
 
 /// A copy for one submission of `passes` on a queue of `family`; Err says why there is none.
-pub fn make(
-    device: &DeviceData,
-    state: &mut DeviceState,
-    family: u32,
-    passes: &[RecordedPass],
-) -> Result<Option<SubmissionCopy>, String> {
+pub fn make(device: Device<'_>, family: u32, passes: &[RecordedPass]) -> Result<Option<SubmissionCopy>, String> {
     let slots = slots_of(passes);
     if slots.is_empty() {
         return Ok(None);
     }
-    let set_loader_data = device.info.set_loader_data.ok_or("the loader gave no vkSetDeviceLoaderData")?;
+    let set_loader_data = device.set_loader_data.ok_or("the loader gave no vkSetDeviceLoaderData")?;
     let failed = |what: &str, e: vk::Result| format!("the layer could not {what} ({e:?})");
-    let pool = match state.copy_pools.get(&family) {
+    let pool = match device.pools.get(&family) {
         Some(&pool) => pool,
         None => {
             let info = vk::CommandPoolCreateInfo::default()
@@ -104,7 +108,7 @@ pub fn make(
             // SAFETY: the device is alive; the pool is the layer's, used under the state lock.
             let pool =
                 unsafe { device.fns.create_command_pool(&info, None) }.map_err(|e| failed("make a command pool", e))?;
-            state.copy_pools.insert(family, pool);
+            device.pools.insert(family, pool);
             pool
         }
     };
@@ -115,7 +119,7 @@ pub fn make(
     unsafe {
         let buffer = device.fns.create_buffer(&info, None).map_err(|e| failed("make a buffer", e))?;
         let requirements = device.fns.get_buffer_memory_requirements(buffer);
-        let Some(memory_type) = host_memory_type(device, requirements.memory_type_bits) else {
+        let Some(memory_type) = host_memory_type(device.memory, requirements.memory_type_bits) else {
             device.fns.destroy_buffer(buffer, None);
             return Err("no host-visible memory for the layer's results".into());
         };
@@ -157,13 +161,13 @@ pub fn make(
             index: slots.iter().enumerate().map(|(i, (slot, _))| (*slot, i)).collect(),
         };
         // The loader's dispatch pointer, which the layers below look the buffer up by.
-        let result = set_loader_data(device.handle, cmd.as_raw() as usize as *mut std::ffi::c_void);
+        let result = set_loader_data(device.fns.handle(), cmd.as_raw() as usize as *mut std::ffi::c_void);
         if result != vk::Result::SUCCESS {
-            copy.release(device);
+            copy.release(device.fns);
             return Err(failed("register its command buffer with the loader", result));
         }
-        if let Err(e) = record(device, &copy, &slots, buffer) {
-            copy.release(device);
+        if let Err(e) = record(device.fns, &copy, &slots, buffer) {
+            copy.release(device.fns);
             return Err(failed("record its result copy", e));
         }
         Ok(Some(copy))
@@ -175,7 +179,7 @@ pub fn make(
 /// # Safety
 /// `copy.command_buffer` is the layer's, freshly allocated; `buffer` holds every slot.
 unsafe fn record(
-    device: &DeviceData,
+    fns: &ash::Device,
     copy: &SubmissionCopy,
     slots: &[(Slot, usize)],
     buffer: vk::Buffer,
@@ -185,25 +189,16 @@ unsafe fn record(
     // SAFETY: the caller's contract; every query was reset and written by the application's
     // command buffer submitted just before this one in the same batch.
     unsafe {
-        device.fns.begin_command_buffer(cmd, &begin)?;
+        fns.begin_command_buffer(cmd, &begin)?;
         let flags =
             vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT | vk::QueryResultFlags::WITH_AVAILABILITY;
         for (i, (slot, _)) in slots.iter().enumerate() {
-            device.fns.cmd_copy_query_pool_results(
-                cmd,
-                slot.pool,
-                slot.query,
-                1,
-                buffer,
-                i as u64 * STRIDE,
-                STRIDE,
-                flags,
-            );
+            fns.cmd_copy_query_pool_results(cmd, slot.pool, slot.query, 1, buffer, i as u64 * STRIDE, STRIDE, flags);
         }
         let barrier = [vk::MemoryBarrier::default()
             .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
             .dst_access_mask(vk::AccessFlags::HOST_READ)];
-        device.fns.cmd_pipeline_barrier(
+        fns.cmd_pipeline_barrier(
             cmd,
             vk::PipelineStageFlags::TRANSFER,
             vk::PipelineStageFlags::HOST,
@@ -212,6 +207,6 @@ unsafe fn record(
             &[],
             &[],
         );
-        device.fns.end_command_buffer(cmd)
+        fns.end_command_buffer(cmd)
     }
 }

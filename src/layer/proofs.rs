@@ -8,15 +8,7 @@
 use ash::vk;
 
 use super::readback::read_completed;
-use super::state::{DeviceData, DeviceState};
-
-/// A proof in flight: its fence signals when `queue`'s submissions up to `sequence` are done.
-#[derive(Debug, Clone, Copy)]
-pub struct Proof {
-    fence: vk::Fence,
-    queue: vk::Queue,
-    sequence: u64,
-}
+use super::state::{DeviceData, DeviceState, Proof};
 
 /// Reads back what signalled proofs show complete, recycling their fences; never waits.
 pub fn poll(device: &DeviceData, state: &mut DeviceState) {

@@ -69,7 +69,13 @@ fn submitted(
         let copy = if can_copy {
             // Without a copy the results are read from the pools, as long as nothing
             // re-submits the buffer before (the spoiling above says so if it does).
-            copies::make(device, state, family, &passes).unwrap_or_else(|why| {
+            let target = copies::Device {
+                fns: &device.fns,
+                memory: &device.info.memory,
+                set_loader_data: device.info.set_loader_data,
+                pools: &mut state.copy_pools,
+            };
+            copies::make(target, family, &passes).unwrap_or_else(|why| {
                 static ONCE: Once = Once::new();
                 ONCE.call_once(|| eprintln!("nostencil fill-rate layer: {why}; results read from the query pools"));
                 None

@@ -6,15 +6,8 @@ use ash::vk;
 use super::output::{render, write_atomically};
 use super::recording::RecordedPass;
 use super::report::{Counters, DrawRow, FillrateReport, NotMeasured, RawCounters, RenderPassRow, FILLRATE_SCHEMA};
-use super::slots::{QueryKind, Slot};
+use super::slots::{QueryKind, Slot, STATISTICS};
 use super::state::{DeviceData, DeviceState, Pending};
-
-/// Statistic bits the layer's own pools count, in result order.
-pub const STATISTICS: [vk::QueryPipelineStatisticFlags; 3] = [
-    vk::QueryPipelineStatisticFlags::VERTEX_SHADER_INVOCATIONS,
-    vk::QueryPipelineStatisticFlags::CLIPPING_PRIMITIVES,
-    vk::QueryPipelineStatisticFlags::FRAGMENT_SHADER_INVOCATIONS,
-];
 
 /// The values of one query (`words` u64s), if available: never waits, so a result the layer
 /// got wrong about being complete shows up as "not available" instead of a hang.
@@ -178,7 +171,7 @@ pub fn read_completed(device: &DeviceData, state: &mut DeviceState, done: impl F
             })
             .collect();
         if let Some(copy) = copy {
-            copy.release(device);
+            copy.release(&device.fns);
         }
         for row in &rows {
             if let Some(reason) = &row.not_measured {

@@ -4,6 +4,13 @@
 
 use ash::vk;
 
+/// Statistic bits the layer's own pools count, in result order.
+pub const STATISTICS: [vk::QueryPipelineStatisticFlags; 3] = [
+    vk::QueryPipelineStatisticFlags::VERTEX_SHADER_INVOCATIONS,
+    vk::QueryPipelineStatisticFlags::CLIPPING_PRIMITIVES,
+    vk::QueryPipelineStatisticFlags::FRAGMENT_SHADER_INVOCATIONS,
+];
+
 /// Queries per pool chunk.
 pub const CHUNK: u32 = 64;
 

@@ -13,7 +13,6 @@ use super::config::Config;
 use super::copies::SubmissionCopy;
 use super::frames::FrameAssembler;
 use super::loader::{dispatch_key, PfnSetDeviceLoaderData};
-use super::proofs::Proof;
 use super::recording::{RecordedPass, Recording};
 use super::report::CounterSupport;
 
@@ -139,6 +138,15 @@ pub struct DeviceInfo {
     pub memory: vk::PhysicalDeviceMemoryProperties,
     /// The loader's callback for command buffers the layer allocates itself.
     pub set_loader_data: Option<PfnSetDeviceLoaderData>,
+}
+
+/// One of the layer's fences in flight (proofs.rs): it signals when `queue`'s submissions up to
+/// `sequence` are done.
+#[derive(Debug, Clone, Copy)]
+pub struct Proof {
+    pub fence: vk::Fence,
+    pub queue: vk::Queue,
+    pub sequence: u64,
 }
 
 /// A command buffer the layer saw allocated.
