@@ -119,35 +119,8 @@ fn resubmitted_simultaneous_use_buffers_are_measured_every_time_and_suspended_pa
     // SAFETY: plain Vulkan use in order: every handle is created before use, used only while
     // alive, and destroyed after the fence wait that proves the GPU done with it.
     unsafe {
-        let entry = ash::Entry::load().expect("libvulkan");
-        let app = vk::ApplicationInfo::default().application_name(c"resubmit").api_version(vk::API_VERSION_1_3);
-        let extensions = [ash::ext::debug_utils::NAME.as_ptr()];
-        let instance = entry
-            .create_instance(
-                &vk::InstanceCreateInfo::default().application_info(&app).enabled_extension_names(&extensions),
-                None,
-            )
-            .expect("instance");
-        let debug = ash::ext::debug_utils::Instance::new(&entry, &instance);
-        let messenger = debug
-            .create_debug_utils_messenger(
-                &vk::DebugUtilsMessengerCreateInfoEXT::default()
-                    .message_severity(
-                        vk::DebugUtilsMessageSeverityFlagsEXT::WARNING | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR,
-                    )
-                    .message_type(
-                        vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION | vk::DebugUtilsMessageTypeFlagsEXT::GENERAL,
-                    )
-                    .pfn_user_callback(Some(on_message)),
-                None,
-            )
-            .expect("messenger");
-        let physical = instance.enumerate_physical_devices().expect("devices")[0];
-        let family = instance
-            .get_physical_device_queue_family_properties(physical)
-            .iter()
-            .position(|f| f.queue_flags.contains(vk::QueueFlags::GRAPHICS))
-            .expect("graphics queue") as u32;
+        let raw = common::raw_vulkan::raw_instance(c"resubmit", Some(on_message));
+        let (instance, physical, family) = (&raw.instance, raw.physical, raw.family);
         let priorities = [1.0];
         let queues = [vk::DeviceQueueCreateInfo::default().queue_family_index(family).queue_priorities(&priorities)];
         let mut v13 = vk::PhysicalDeviceVulkan13Features::default().dynamic_rendering(true).synchronization2(true);
@@ -420,8 +393,7 @@ fn resubmitted_simultaneous_use_buffers_are_measured_every_time_and_suspended_pa
         device.destroy_image(image, None);
         device.free_memory(memory, None);
         device.destroy_device(None);
-        debug.destroy_debug_utils_messenger(messenger, None);
-        instance.destroy_instance(None);
+        raw.destroy();
     }
 
     let messages = MESSAGES.lock().unwrap_or_else(|e| e.into_inner()).clone();

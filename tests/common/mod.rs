@@ -7,6 +7,7 @@ use std::sync::Arc;
 
 use nostencil::gpu::{Gpu, GpuOptions};
 
+pub mod raw_vulkan;
 pub mod ray_world;
 pub mod x_server;
 

@@ -1,0 +1,61 @@
+//! A Vulkan 1.3 instance made by hand, as a program nobody here wrote would make it: for the
+//! tests that run a small program of their own under the fill-rate layer (the loader inserts the
+//! layers named in `VK_INSTANCE_LAYERS`). Every validation message reaches `on_message`.
+
+use ash::vk;
+
+/// The instance, its messenger, and the first device's graphics queue family.
+pub struct RawInstance {
+    pub entry: ash::Entry,
+    pub instance: ash::Instance,
+    pub debug: ash::ext::debug_utils::Instance,
+    pub messenger: vk::DebugUtilsMessengerEXT,
+    pub physical: vk::PhysicalDevice,
+    pub family: u32,
+}
+
+/// Makes the instance named `name` with VK_EXT_debug_utils and a messenger for warnings and
+/// errors (validation and general) calling `on_message`.
+///
+/// # Safety
+/// Plain Vulkan use: the caller destroys what it gets with [`RawInstance::destroy`], after every
+/// object made from it.
+pub unsafe fn raw_instance(name: &std::ffi::CStr, on_message: vk::PFN_vkDebugUtilsMessengerCallbackEXT) -> RawInstance {
+    let entry = ash::Entry::load().expect("libvulkan");
+    let app = vk::ApplicationInfo::default().application_name(name).api_version(vk::API_VERSION_1_3);
+    let extensions = [ash::ext::debug_utils::NAME.as_ptr()];
+    let info = vk::InstanceCreateInfo::default().application_info(&app).enabled_extension_names(&extensions);
+    let instance = entry.create_instance(&info, None).expect("instance");
+    let debug = ash::ext::debug_utils::Instance::new(&entry, &instance);
+    let messenger = debug
+        .create_debug_utils_messenger(
+            &vk::DebugUtilsMessengerCreateInfoEXT::default()
+                .message_severity(
+                    vk::DebugUtilsMessageSeverityFlagsEXT::WARNING | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR,
+                )
+                .message_type(
+                    vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION | vk::DebugUtilsMessageTypeFlagsEXT::GENERAL,
+                )
+                .pfn_user_callback(on_message),
+            None,
+        )
+        .expect("messenger");
+    let physical = instance.enumerate_physical_devices().expect("devices")[0];
+    let family = instance
+        .get_physical_device_queue_family_properties(physical)
+        .iter()
+        .position(|f| f.queue_flags.contains(vk::QueueFlags::GRAPHICS))
+        .expect("graphics queue") as u32;
+    RawInstance { entry, instance, debug, messenger, physical, family }
+}
+
+impl RawInstance {
+    /// Destroys the messenger, then the instance.
+    ///
+    /// # Safety
+    /// Every object made from this instance is destroyed already.
+    pub unsafe fn destroy(self) {
+        self.debug.destroy_debug_utils_messenger(self.messenger, None);
+        self.instance.destroy_instance(None);
+    }
+}
