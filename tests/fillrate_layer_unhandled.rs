@@ -205,7 +205,7 @@ fn what_cannot_be_measured_is_named_and_every_begin_api_is_measured() {
         };
         let (plain_fb, multiview_fb) = (framebuffer(plain_pass), framebuffer(multiview_pass));
         let loading_fb = framebuffer(loading_pass);
-        let labels = ash::ext::debug_utils::Device::new(&instance, &device);
+        let labels = ash::ext::debug_utils::Device::new(instance, &device);
         let app_queries = device
             .create_query_pool(
                 &vk::QueryPoolCreateInfo::default().query_type(vk::QueryType::OCCLUSION).query_count(1),
