@@ -10,35 +10,11 @@
 
 mod common;
 
-use std::ffi::{c_void, CStr};
 use std::path::Path;
-use std::sync::Mutex;
 
 use ash::vk;
 use nostencil::layer::manifest::{manifest_json, newest_library, LAYER_NAME, MANIFEST_FILE};
 use nostencil::layer::report::FillrateReport;
-
-static MESSAGES: Mutex<Vec<String>> = Mutex::new(Vec::new());
-
-unsafe extern "system" fn on_message(
-    severity: vk::DebugUtilsMessageSeverityFlagsEXT,
-    _types: vk::DebugUtilsMessageTypeFlagsEXT,
-    data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,
-    _user: *mut c_void,
-) -> vk::Bool32 {
-    if severity
-        .intersects(vk::DebugUtilsMessageSeverityFlagsEXT::WARNING | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR)
-    {
-        // SAFETY: the validation layer passes a valid callback data with a C string message.
-        let text = unsafe { data.as_ref() }
-            .filter(|d| !d.p_message.is_null())
-            // SAFETY: as above.
-            .map(|d| unsafe { CStr::from_ptr(d.p_message) }.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        MESSAGES.lock().unwrap_or_else(|e| e.into_inner()).push(text);
-    }
-    vk::FALSE
-}
 
 const SIZE: u32 = 8;
 const DEPTH: vk::Format = vk::Format::D32_SFLOAT;
@@ -119,7 +95,7 @@ fn resubmitted_simultaneous_use_buffers_are_measured_every_time_and_suspended_pa
     // SAFETY: plain Vulkan use in order: every handle is created before use, used only while
     // alive, and destroyed after the fence wait that proves the GPU done with it.
     unsafe {
-        let raw = common::raw_vulkan::raw_instance(c"resubmit", Some(on_message));
+        let raw = common::raw_vulkan::raw_instance(c"resubmit");
         let (instance, physical, family) = (&raw.instance, raw.physical, raw.family);
         let priorities = [1.0];
         let queues = [vk::DeviceQueueCreateInfo::default().queue_family_index(family).queue_priorities(&priorities)];
@@ -396,7 +372,7 @@ fn resubmitted_simultaneous_use_buffers_are_measured_every_time_and_suspended_pa
         raw.destroy();
     }
 
-    let messages = MESSAGES.lock().unwrap_or_else(|e| e.into_inner()).clone();
+    let messages = common::raw_vulkan::MESSAGES.lock().unwrap_or_else(|e| e.into_inner()).clone();
     assert!(messages.is_empty(), "{} validation message(s):\n{}", messages.len(), messages.join("\n"));
     let pixels = (SIZE * SIZE) as u64;
     assert_eq!(reference, [pixels, 2 * pixels, 3 * pixels], "the program's own queries");

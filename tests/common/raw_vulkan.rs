@@ -1,8 +1,35 @@
 //! A Vulkan 1.3 instance made by hand, as a program nobody here wrote would make it: for the
 //! tests that run a small program of their own under the fill-rate layer (the loader inserts the
-//! layers named in `VK_INSTANCE_LAYERS`). Every validation message reaches `on_message`.
+//! layers named in `VK_INSTANCE_LAYERS`). Every warning and error message is kept in
+//! [`MESSAGES`].
+
+use std::ffi::{c_void, CStr};
+use std::sync::Mutex;
 
 use ash::vk;
+
+/// Every warning and error the messenger received (validation below the layer included).
+pub static MESSAGES: Mutex<Vec<String>> = Mutex::new(Vec::new());
+
+unsafe extern "system" fn on_message(
+    severity: vk::DebugUtilsMessageSeverityFlagsEXT,
+    _types: vk::DebugUtilsMessageTypeFlagsEXT,
+    data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,
+    _user: *mut c_void,
+) -> vk::Bool32 {
+    if severity
+        .intersects(vk::DebugUtilsMessageSeverityFlagsEXT::WARNING | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR)
+    {
+        // SAFETY: the validation layer passes a valid callback data with a C string message.
+        let text = unsafe { data.as_ref() }
+            .filter(|d| !d.p_message.is_null())
+            // SAFETY: as above.
+            .map(|d| unsafe { CStr::from_ptr(d.p_message) }.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        MESSAGES.lock().unwrap_or_else(|e| e.into_inner()).push(text);
+    }
+    vk::FALSE
+}
 
 /// The instance, its messenger, and the first device's graphics queue family.
 pub struct RawInstance {
@@ -15,12 +42,12 @@ pub struct RawInstance {
 }
 
 /// Makes the instance named `name` with VK_EXT_debug_utils and a messenger for warnings and
-/// errors (validation and general) calling `on_message`.
+/// errors (validation and general) kept in [`MESSAGES`].
 ///
 /// # Safety
 /// Plain Vulkan use: the caller destroys what it gets with [`RawInstance::destroy`], after every
 /// object made from it.
-pub unsafe fn raw_instance(name: &std::ffi::CStr, on_message: vk::PFN_vkDebugUtilsMessengerCallbackEXT) -> RawInstance {
+pub unsafe fn raw_instance(name: &CStr) -> RawInstance {
     let entry = ash::Entry::load().expect("libvulkan");
     let app = vk::ApplicationInfo::default().application_name(name).api_version(vk::API_VERSION_1_3);
     let extensions = [ash::ext::debug_utils::NAME.as_ptr()];
@@ -36,7 +63,7 @@ pub unsafe fn raw_instance(name: &std::ffi::CStr, on_message: vk::PFN_vkDebugUti
                 .message_type(
                     vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION | vk::DebugUtilsMessageTypeFlagsEXT::GENERAL,
                 )
-                .pfn_user_callback(on_message),
+                .pfn_user_callback(Some(on_message)),
             None,
         )
         .expect("messenger");
