@@ -8,7 +8,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::interface::{check_same_scene, FrameStats, RenderOptions, SceneRenderer, Technique, TechniqueFrame};
+use super::interface::{check_same_scene, FrameStats, RenderOptions, SceneRenderer, TechniqueFrame};
 use crate::error::{Error, Result};
 use crate::frame::FrameTargets;
 use crate::gpu::Gpu;
@@ -107,24 +107,13 @@ pub struct BuildContext<'a, K: PassKinds> {
     pub plan: &'a PassPlan<K>,
 }
 
-/// Builds `technique`'s renderer for `scene`: checks the options, plans the
-/// frame, makes the frame renderer (with colour feedback when a pass reads the colour target),
-/// lets `make` build the technique's resources, then the plan's pipelines.
-pub fn build<'s, K: PassKinds, P: Passes<K> + 's>(
-    technique: &dyn Technique,
-    plan: PassPlan<K>,
-    gpu: &Arc<Gpu>,
-    scene: &'s Scene,
-    options: &RenderOptions,
-    make: impl FnOnce(BuildContext<K>) -> Result<P>,
-) -> Result<Box<dyn SceneRenderer + 's>> {
-    Ok(Box::new(build_typed(technique, plan, gpu, scene, options, make)?))
-}
-
-/// As [`build`], keeping the technique's `Passes` type: for callers that read its resources
-/// back after a frame (`nostencil bake` reads a shadow texture).
+/// Builds the renderer of the technique called `technique` for `scene` with `plan`: checks the
+/// options, makes the frame renderer (with colour feedback when a pass reads the colour
+/// target), lets `make` build the technique's resources, then the plan's pipelines. Written
+/// once for every technique by `unit::build_unit`; `nostencil bake` calls it directly to keep
+/// the technique's `Passes` type (it reads a shadow texture back).
 pub fn build_typed<'s, K: PassKinds, P: Passes<K> + 's>(
-    technique: &dyn Technique,
+    technique: &'static str,
     plan: PassPlan<K>,
     gpu: &Arc<Gpu>,
     scene: &'s Scene,
@@ -161,21 +150,21 @@ pub fn build_typed<'s, K: PassKinds, P: Passes<K> + 's>(
                 .offscreen_pass(target)
                 .map(|(render_pass, colour_attachments)| PipelineTarget::one_sample(render_pass, colour_attachments))
                 .ok_or_else(|| {
-                    Error::Internal(format!("{}: built without render pass '{}'", technique.name(), target.label()))
+                    Error::Internal(format!("{}: built without render pass '{}'", technique, target.label()))
                 }),
         },
         |role| match role {
             SetRole::Frame => Ok(frame_layout),
             SetRole::Own(set) => passes
                 .set_layout(set)
-                .ok_or_else(|| Error::Internal(format!("{}: built without set '{}'", technique.name(), set.label()))),
+                .ok_or_else(|| Error::Internal(format!("{}: built without set '{}'", technique, set.label()))),
             SetRole::Material => {
-                passes.material_layout().ok_or_else(|| Error::Internal(format!("{}: no materials", technique.name())))
+                passes.material_layout().ok_or_else(|| Error::Internal(format!("{}: no materials", technique)))
             }
         },
     )?;
     let named_plan = plan.named();
-    Ok(FrameRenderer { technique: technique.name(), scene, renderer, plan, named_plan, pipelines, passes })
+    Ok(FrameRenderer { technique, scene, renderer, plan, named_plan, pipelines, passes })
 }
 
 impl<K: PassKinds, P> FrameRenderer<'_, K, P> {

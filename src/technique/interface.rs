@@ -1,7 +1,8 @@
-//! The one interface every technique implements. The command line, `passes`, `bench`,
+//! The erased face of every technique, [`Technique`], and what crosses it: the options that
+//! select a frame, a built renderer, a rendered frame. The command line, `passes`, `bench`,
 //! `profile --compare` and the viewer all work through it: none of them knows a technique by
-//! name. A new technique is one module with a type implementing [`Technique`], plus its line
-//! in [`super::registry::TECHNIQUES`].
+//! name. A technique implements `unit::TechniqueUnit` and is listed in
+//! [`super::registry::TECHNIQUES`] (docs/adding-a-technique.md).
 
 use std::any::Any;
 use std::fmt;
@@ -65,16 +66,17 @@ pub struct Variant {
     pub options: RenderOptions,
 }
 
+/// A technique as the command line, `bench`, `passes` and the viewer hold it (`&dyn
+/// Technique`). Nothing implements it by hand: every `unit::TechniqueUnit` is one, through
+/// the blanket impl in `unit.rs`, whose trait documents each method.
 pub trait Technique: Sync + 'static {
     /// The `--technique` value.
     fn name(&self) -> &'static str;
 
-    /// One line for `--help` and `info`: what it draws, and which seed it comes from.
+    /// One line for `--help` and `info`.
     fn about(&self) -> &'static str;
 
-    /// The passes of a frame with `options`, in the order they run. Everything that decides the
-    /// plan is in the options: a choice that depends on the scene (the shadow-volume counting
-    /// method under `auto`) is made by `build`, which plans with the resolved options.
+    /// The passes of a frame with `options`, by name.
     fn plan(&self, options: &RenderOptions) -> Result<PassPlan>;
 
     /// Its renderer for `scene`, built once and then asked for frames.
@@ -85,39 +87,23 @@ pub trait Technique: Sync + 'static {
         options: &RenderOptions,
     ) -> Result<Box<dyn SceneRenderer + 's>>;
 
-    /// What `bench` times side by side, the real-stencil reference first where there is one.
-    fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
-        stencil_variants(self.name(), options)
-    }
+    /// What `bench` times side by side.
+    fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant>;
 
-    /// Every plan `passes` prints and the plan test checks: each path and each option that
-    /// changes the passes.
-    fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant> {
-        stencil_variants(self.name(), options)
-    }
+    /// Every plan `passes` prints and the plan test checks.
+    fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant>;
 
     /// `profile --compare NAME`: the options of the variant called `name`.
-    fn compare_variant(&self, name: &str, options: &RenderOptions) -> Result<RenderOptions> {
-        stencil_variant(name, options).ok_or_else(|| {
-            Error::InvalidInput(format!("--compare {name}: {} has the variants emulated and reference", self.name()))
-        })
-    }
+    fn compare_variant(&self, name: &str, options: &RenderOptions) -> Result<RenderOptions>;
 
-    /// What `passes` prints after the plans, when the technique has more to say about them
-    /// (shadow volumes: the normalisation's iteration table).
-    fn plan_notes(&self) -> Result<Option<String>> {
-        Ok(None)
-    }
+    /// What `passes` prints after the plans.
+    fn plan_notes(&self) -> Result<Option<String>>;
 
     /// A table of the technique's own that `bench` prints in place of timing its variants.
-    fn bench_table(&self) -> Option<BenchTable> {
-        None
-    }
+    fn bench_table(&self) -> Option<BenchTable>;
 
-    /// The viewer's title: the technique and the options that matter to it.
-    fn describe(&self, options: &RenderOptions) -> String {
-        format!("{} ({})", self.name(), options.stencil.name())
-    }
+    /// The viewer's title.
+    fn describe(&self, options: &RenderOptions) -> String;
 }
 
 /// The benchmark tables a technique can ask `bench` for.

@@ -3,10 +3,10 @@
 
 use std::sync::Arc;
 
-use super::frame_renderer::{self, Passes};
-use super::interface::RenderOptions;
-use super::interface::{NoStats, SceneRenderer, Technique};
+use super::frame_renderer::{BuildContext, Passes};
+use super::interface::{NoStats, RenderOptions};
 use super::material_variants::with_surface_variants;
+use super::unit::{Prepared, TechniqueUnit};
 use crate::error::Result;
 use crate::gpu::Gpu;
 use crate::pipeline::{FixedFunction, PipelineDesc, VertexLayout};
@@ -37,7 +37,11 @@ pub fn scene_pass<K: PassKinds>(alpha: f32) -> PlannedPass<K> {
 /// Lambert + ambient, no shadows.
 pub struct Lit;
 
-impl Technique for Lit {
+impl TechniqueUnit for Lit {
+    type Kinds = RecorderOnly;
+    type Setup = ();
+    type Passes = LitPasses;
+
     fn name(&self) -> &'static str {
         "lit"
     }
@@ -46,28 +50,21 @@ impl Technique for Lit {
         "Lambert + ambient, no shadows: the base every technique adds to"
     }
 
-    fn plan(&self, options: &RenderOptions) -> Result<PassPlan> {
-        Ok(plan(options).named())
+    /// The lit frame: the scene pass alone.
+    fn plan(&self, _options: &RenderOptions) -> Result<PassPlan<RecorderOnly>> {
+        Ok(PassPlan { passes: vec![scene_pass(1.0)] })
     }
 
-    fn build<'s>(
-        &self,
-        gpu: &Arc<Gpu>,
-        scene: &'s Scene,
-        options: &RenderOptions,
-    ) -> Result<Box<dyn SceneRenderer + 's>> {
-        frame_renderer::build(self, plan(options), gpu, scene, options, |ctx| {
-            Ok(LitPasses { gpu: ctx.gpu.clone(), meshes: GpuScene::upload(ctx.gpu, scene)? })
-        })
+    fn setup(&self, _gpu: &Gpu, _scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
+        Ok(Prepared::as_given(options))
+    }
+
+    fn make(&self, ctx: BuildContext<'_, RecorderOnly>, scene: &Scene, _setup: ()) -> Result<LitPasses> {
+        Ok(LitPasses { gpu: ctx.gpu.clone(), meshes: GpuScene::upload(ctx.gpu, scene)? })
     }
 }
 
-/// The lit frame: the scene pass alone.
-fn plan(_options: &RenderOptions) -> PassPlan<RecorderOnly> {
-    PassPlan { passes: vec![scene_pass(1.0)] }
-}
-
-struct LitPasses {
+pub struct LitPasses {
     gpu: Arc<Gpu>,
     meshes: GpuScene,
 }

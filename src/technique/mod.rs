@@ -1,5 +1,6 @@
-//! Techniques: each implements [`Technique`] (its name, its pass plan, its renderer, its
-//! variants) and is listed once in [`registry::TECHNIQUES`]. The renderer skeleton they share
+//! Techniques: each is one folder implementing [`TechniqueUnit`] (its name, its pass kinds and
+//! plan, its renderer's part, its variants), held as a [`Technique`] and listed once in
+//! [`registry::TECHNIQUES`]. The renderer skeleton they share
 //! is [`frame_renderer`].
 
 pub mod alpha_counter;
@@ -17,6 +18,7 @@ pub mod planar;
 pub mod registry;
 pub mod shadow_atlas;
 pub mod shadow_volume;
+pub mod unit;
 
 use std::sync::Arc;
 
@@ -34,6 +36,7 @@ pub use planar::{GivenPlane, PlanarOptions, PlanarStats};
 pub use registry::{by_name, TECHNIQUES};
 pub use shadow_atlas::ShadowAtlasStats;
 pub use shadow_volume::ShadowVolumeStats;
+pub use unit::{Prepared, TechniqueUnit};
 
 /// Renders `scene` with the options' technique and returns the steady-state frame (a cached
 /// shadow map or bake already skipped) with its counters.

@@ -16,15 +16,16 @@ pub mod edges;
 pub mod recipes;
 pub mod renderer;
 
-use std::sync::Arc;
-
-use super::interface::RenderOptions;
-use super::interface::{SceneRenderer, Technique, Variant};
+use super::frame_renderer::BuildContext;
+use super::interface::{RenderOptions, Variant};
 use super::options::SilhouetteMethod;
+use super::unit::{Prepared, TechniqueUnit};
 use crate::error::Result;
 use crate::gpu::Gpu;
 use crate::render::plan::PassPlan;
 use crate::scene::Scene;
+use recipes::InkKinds;
+use renderer::InkPasses;
 
 /// Ink on the scene's silhouettes, shaded Lambert or through a toon ramp.
 pub struct Ink {
@@ -41,7 +42,11 @@ pub static SILHOUETTE: Ink =
 pub static TOON: Ink =
     Ink { name: "toon", about: "toon shading (N.L through a ramp) with ink lines (seed 002)", toon: true };
 
-impl Technique for Ink {
+impl TechniqueUnit for Ink {
+    type Kinds = InkKinds;
+    type Setup = ();
+    type Passes = InkPasses;
+
     fn name(&self) -> &'static str {
         self.name
     }
@@ -50,17 +55,16 @@ impl Technique for Ink {
         self.about
     }
 
-    fn plan(&self, options: &RenderOptions) -> Result<PassPlan> {
-        Ok(recipes::plan(options.cartoon.silhouette).named())
+    fn plan(&self, options: &RenderOptions) -> Result<PassPlan<InkKinds>> {
+        Ok(recipes::plan(options.cartoon.silhouette))
     }
 
-    fn build<'s>(
-        &self,
-        gpu: &Arc<Gpu>,
-        scene: &'s Scene,
-        options: &RenderOptions,
-    ) -> Result<Box<dyn SceneRenderer + 's>> {
-        renderer::build(self, self.toon, gpu, scene, options)
+    fn setup(&self, _gpu: &Gpu, _scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
+        Ok(Prepared::as_given(options))
+    }
+
+    fn make(&self, ctx: BuildContext<'_, InkKinds>, scene: &Scene, _setup: ()) -> Result<InkPasses> {
+        renderer::make(ctx, scene, self.toon)
     }
 
     fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {

@@ -10,7 +10,7 @@ use ash::vk;
 use glam::{Mat4, Vec4};
 
 use super::edges::{InkMesh, InkQuads, InkVertex};
-use super::recipes::{self, InkDraw, InkKinds, InkSet, EDGE_CLASSES};
+use super::recipes::{InkDraw, InkKinds, InkSet, EDGE_CLASSES};
 use crate::error::{Error, Result};
 use crate::frame::srgb;
 use crate::gpu::memory::Buffer;
@@ -23,43 +23,34 @@ use crate::scene::Scene;
 use crate::technique::cartoon::CartoonStats;
 use crate::technique::cartoon_shading::{self, CartoonPush, CartoonScene, Shading};
 use crate::technique::extruded::{ExtrudedCopies, Extrusion};
-use crate::technique::frame_renderer::{self, Passes};
-use crate::technique::interface::RenderOptions;
-use crate::technique::interface::{FrameStats, SceneRenderer, Technique};
+use crate::technique::frame_renderer::{BuildContext, Passes};
+use crate::technique::interface::FrameStats;
 use crate::technique::options::{CartoonOptions, Seams, SilhouetteMethod};
 
 /// The ink, in every method.
 /// Linear RGBA of ink lines.
 pub const INK_COLOUR: Vec4 = Vec4::new(0.04, 0.04, 0.06, 1.0);
 
-/// Builds the renderer of `technique` (`toon`: the scene through the toon ramp).
-pub fn build<'s>(
-    technique: &dyn Technique,
-    toon: bool,
-    gpu: &Arc<Gpu>,
-    scene: &'s Scene,
-    options: &RenderOptions,
-) -> Result<Box<dyn SceneRenderer + 's>> {
-    let cartoon = &options.cartoon;
+/// The technique's part of the renderer (`toon`: the scene through the toon ramp).
+pub fn make(ctx: BuildContext<'_, InkKinds>, scene: &Scene, toon: bool) -> Result<InkPasses> {
+    let cartoon = &ctx.options.cartoon;
     let method = cartoon.silhouette;
     let shading = Shading { toon, rim: method == SilhouetteMethod::Shader, ink_only: cartoon.ink_only };
-    frame_renderer::build(technique, recipes::plan(method), gpu, scene, options, |ctx| {
-        let scene_pass = CartoonScene::new(ctx.gpu, scene, shading)?;
-        let lines = match method {
-            SilhouetteMethod::Edges => Ink::Edges(Box::new(EdgeLines::new(scene, cartoon.crease_deg, cartoon.seams)?)),
-            SilhouetteMethod::Shader => Ink::Rim,
-            SilhouetteMethod::AlphaTest => Ink::AlphaTest(cartoon.alpha_ref),
-            SilhouetteMethod::Hull | SilhouetteMethod::Extrusion => Ink::Hull(ExtrudedCopies::new(ctx.gpu, scene)?),
-        };
-        Ok(InkPasses {
-            gpu: ctx.gpu.clone(),
-            method,
-            scene_pass,
-            ink: lines,
-            styles: [0, 1, 2].map(|class| class_style(cartoon, class)),
-            viewport: Vec4::ZERO,
-            pull: 0.0,
-        })
+    let scene_pass = CartoonScene::new(ctx.gpu, scene, shading)?;
+    let lines = match method {
+        SilhouetteMethod::Edges => Ink::Edges(Box::new(EdgeLines::new(scene, cartoon.crease_deg, cartoon.seams)?)),
+        SilhouetteMethod::Shader => Ink::Rim,
+        SilhouetteMethod::AlphaTest => Ink::AlphaTest(cartoon.alpha_ref),
+        SilhouetteMethod::Hull | SilhouetteMethod::Extrusion => Ink::Hull(ExtrudedCopies::new(ctx.gpu, scene)?),
+    };
+    Ok(InkPasses {
+        gpu: ctx.gpu.clone(),
+        method,
+        scene_pass,
+        ink: lines,
+        styles: [0, 1, 2].map(|class| class_style(cartoon, class)),
+        viewport: Vec4::ZERO,
+        pull: 0.0,
     })
 }
 
@@ -85,7 +76,7 @@ enum Ink {
     AlphaTest(f32),
 }
 
-struct InkPasses {
+pub struct InkPasses {
     gpu: Arc<Gpu>,
     method: SilhouetteMethod,
     scene_pass: CartoonScene,

@@ -11,21 +11,27 @@ pub mod recipes;
 pub mod renderer;
 pub mod scaled;
 
-use std::sync::Arc;
-
-use super::interface::RenderOptions;
-use super::interface::{stencil_variants, SceneRenderer, Technique, Variant};
+use super::frame_renderer::BuildContext;
+use super::interface::{stencil_variants, RenderOptions, Variant};
+use super::unit::{Prepared, TechniqueUnit};
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::Gpu;
 use crate::render::plan::PassPlan;
 use crate::scene::Scene;
 use crate::technique::options::OutlineMethod;
+use kinds::OutlineKinds;
+use renderer::OutlinePasses;
 
 /// Selected objects outlined in one colour, emulated in alpha or with the real stencil.
 pub struct Outline;
 
-impl Technique for Outline {
+impl TechniqueUnit for Outline {
+    type Kinds = OutlineKinds;
+    /// Per object: whether it is outlined.
+    type Setup = Vec<bool>;
+    type Passes = OutlinePasses;
+
     fn name(&self) -> &'static str {
         "outline"
     }
@@ -34,17 +40,18 @@ impl Technique for Outline {
         "selection outline without a stencil (seed 003)"
     }
 
-    fn plan(&self, options: &RenderOptions) -> Result<PassPlan> {
-        Ok(recipes::plan(options.stencil, &options.cartoon).named())
+    fn plan(&self, options: &RenderOptions) -> Result<PassPlan<OutlineKinds>> {
+        Ok(recipes::plan(options.stencil, &options.cartoon))
     }
 
-    fn build<'s>(
-        &self,
-        gpu: &Arc<Gpu>,
-        scene: &'s Scene,
-        options: &RenderOptions,
-    ) -> Result<Box<dyn SceneRenderer + 's>> {
-        renderer::build(self, gpu, scene, options)
+    /// An unknown selected name is refused before anything is uploaded.
+    fn setup(&self, _gpu: &Gpu, scene: &Scene, options: &RenderOptions) -> Result<Prepared<Vec<bool>>> {
+        let selected = resolve_selection(scene, &options.cartoon.select)?;
+        Ok(Prepared { options: options.clone(), setup: selected })
+    }
+
+    fn make(&self, ctx: BuildContext<'_, OutlineKinds>, scene: &Scene, selected: Vec<bool>) -> Result<OutlinePasses> {
+        renderer::make(ctx, scene, selected)
     }
 
     fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
@@ -58,7 +65,7 @@ impl Technique for Outline {
     fn describe(&self, options: &RenderOptions) -> String {
         let cartoon = &options.cartoon;
         let blur = if cartoon.outline_blur > 0 { format!(", blur {}", cartoon.outline_blur) } else { String::new() };
-        format!("{} ({}, {}{blur})", self.name(), options.stencil.name(), cartoon.outline_method.name())
+        format!("{} ({}, {}{blur})", TechniqueUnit::name(self), options.stencil.name(), cartoon.outline_method.name())
     }
 }
 

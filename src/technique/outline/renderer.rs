@@ -11,7 +11,6 @@ use super::blur::{blur_push, BlurTargets};
 use super::kinds::{OutlineDraw, OutlineKinds, OutlineSet, OutlineTarget};
 use super::recipes;
 use super::scaled::Bounds;
-use super::{resolve_selection, Outline};
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
 use crate::render::plan::{PassDraws, PlannedPass, Target};
@@ -21,46 +20,38 @@ use crate::scene::Scene;
 use crate::technique::cartoon::CartoonStats;
 use crate::technique::cartoon_shading::{self, CartoonScene, Shading};
 use crate::technique::extruded::{ExtrudedCopies, Extrusion};
-use crate::technique::frame_renderer::{self, Passes};
-use crate::technique::interface::RenderOptions;
-use crate::technique::interface::{FrameStats, SceneRenderer};
+use crate::technique::frame_renderer::{BuildContext, Passes};
+use crate::technique::interface::FrameStats;
 use crate::technique::options::OutlineMethod;
 
-/// Builds the renderer; an unknown selected name is refused before anything is uploaded.
-pub fn build<'s>(
-    technique: &Outline,
-    gpu: &Arc<Gpu>,
-    scene: &'s Scene,
-    options: &RenderOptions,
-) -> Result<Box<dyn SceneRenderer + 's>> {
-    // The numbers are checked by `frame_renderer::build`; the selection needs the scene.
-    let cartoon = &options.cartoon;
-    let selected = resolve_selection(scene, &cartoon.select)?;
+/// The technique's part of the renderer: the copies, their bounds, the blur's targets. The
+/// selection was resolved by `setup`, before anything was uploaded.
+pub fn make(ctx: BuildContext<'_, OutlineKinds>, scene: &Scene, selected: Vec<bool>) -> Result<OutlinePasses> {
+    let cartoon = &ctx.options.cartoon;
     // The colour is given in sRGB bytes, as the PNG shows it; the shader writes linear light.
     let extrusion = Extrusion { width_px: cartoon.outline_width, colour: recipes::linear_colour(cartoon) };
-    let (blur, method) = (cartoon.outline_blur > 0, cartoon.outline_method);
-    let plan = recipes::plan(options.stencil, cartoon);
-    frame_renderer::build(technique, plan, gpu, scene, options, |ctx| {
-        let copies = ExtrudedCopies::new(ctx.gpu, scene)?;
-        let bounds = (0..scene.objects.len()).map(|i| Bounds::of(copies.positions(i))).collect();
-        let blur =
-            if blur { Some(BlurTargets::new(ctx.gpu, ctx.options.stencil, ctx.renderer.extent())?) } else { None };
-        Ok(OutlinePasses {
-            gpu: ctx.gpu.clone(),
-            scene_pass: CartoonScene::new(ctx.gpu, scene, Shading::default())?,
-            copies,
-            bounds,
-            scales: vec![1.0; scene.objects.len()],
-            selected,
-            extrusion,
-            method,
-            blur,
-            viewport: Vec4::ZERO,
-        })
+    let copies = ExtrudedCopies::new(ctx.gpu, scene)?;
+    let bounds = (0..scene.objects.len()).map(|i| Bounds::of(copies.positions(i))).collect();
+    let blur = if cartoon.outline_blur > 0 {
+        Some(BlurTargets::new(ctx.gpu, ctx.options.stencil, ctx.renderer.extent())?)
+    } else {
+        None
+    };
+    Ok(OutlinePasses {
+        gpu: ctx.gpu.clone(),
+        scene_pass: CartoonScene::new(ctx.gpu, scene, Shading::default())?,
+        copies,
+        bounds,
+        scales: vec![1.0; scene.objects.len()],
+        selected,
+        extrusion,
+        method: cartoon.outline_method,
+        blur,
+        viewport: Vec4::ZERO,
     })
 }
 
-struct OutlinePasses {
+pub struct OutlinePasses {
     gpu: Arc<Gpu>,
     scene_pass: CartoonScene,
     copies: ExtrudedCopies,

@@ -9,8 +9,6 @@
 //! close: they multiply (no stencil would be wanted there either). No stencil path differs: with
 //! `--stencil reference` the same draws run on a depth+stencil target.
 
-use std::sync::Arc;
-
 use ash::vk;
 use glam::{Vec2, Vec3};
 use image::{Rgba, RgbaImage};
@@ -29,9 +27,10 @@ use crate::render::plan::{DrawKind, Label, NoOwn, PassDraws, PassKinds, PassPlan
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, GpuScene, Renderer};
 use crate::scene::{bounds_of, Scene};
-use crate::technique::frame_renderer::{self, BuildContext, Passes};
+use crate::technique::frame_renderer::{BuildContext, Passes};
 use crate::technique::interface::RenderOptions;
-use crate::technique::interface::{FrameStats, SceneRenderer, Technique, Variant};
+use crate::technique::interface::{FrameStats, Variant};
+use crate::technique::unit::{Prepared, TechniqueUnit};
 
 /// position (vec3), uv (vec2), strength (float).
 pub const BLOB_LAYOUT: VertexLayout =
@@ -211,7 +210,11 @@ fn blob_vertices(blobs: &[Blob]) -> Vec<BlobVertex> {
     vertices
 }
 
-impl Technique for BlobShadows {
+impl TechniqueUnit for BlobShadows {
+    type Kinds = BlobKinds;
+    type Setup = ();
+    type Passes = BlobPasses;
+
     fn name(&self) -> &'static str {
         "blob"
     }
@@ -220,17 +223,16 @@ impl Technique for BlobShadows {
         "a soft round texture on a quad under each caster (seed 001's cheapest shadow)"
     }
 
-    fn plan(&self, _options: &RenderOptions) -> Result<PassPlan> {
-        Ok(plan().named())
+    fn plan(&self, _options: &RenderOptions) -> Result<PassPlan<BlobKinds>> {
+        Ok(plan())
     }
 
-    fn build<'s>(
-        &self,
-        gpu: &Arc<Gpu>,
-        scene: &'s Scene,
-        options: &RenderOptions,
-    ) -> Result<Box<dyn SceneRenderer + 's>> {
-        frame_renderer::build(self, plan(), gpu, scene, options, |ctx| BlobPasses::new(&ctx, scene))
+    fn setup(&self, _gpu: &Gpu, _scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
+        Ok(Prepared::as_given(options))
+    }
+
+    fn make(&self, ctx: BuildContext<'_, BlobKinds>, scene: &Scene, _setup: ()) -> Result<BlobPasses> {
+        BlobPasses::new(&ctx, scene)
     }
 
     fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
@@ -239,7 +241,7 @@ impl Technique for BlobShadows {
 }
 
 /// The blob renderer's own part: the scene's meshes, the blob texture, and this frame's quads.
-struct BlobPasses {
+pub struct BlobPasses {
     shadow_factor: u8,
     plane: ReceiverPlane,
     meshes: SceneMeshes,

@@ -16,8 +16,6 @@
 //! Pass IncrWrap, ZFail Keep, blending `ADD, ZERO, SRC_ALPHA` with fragment alpha `F/255`. Both
 //! multiply each shadowed pixel once by the same 8-bit factor, so their RGB are identical.
 
-use std::sync::Arc;
-
 use ash::vk;
 use glam::{Mat4, Vec4};
 
@@ -37,10 +35,11 @@ use crate::render::plan::{DrawKind, Label, MaterialVariant, NoOwn, PassDraws, Pa
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, GpuScene, Renderer};
 use crate::scene::Scene;
-use crate::technique::frame_renderer::{self, BuildContext, Passes};
+use crate::technique::frame_renderer::{BuildContext, Passes};
 use crate::technique::interface::RenderOptions;
-use crate::technique::interface::{stencil_variants, FrameStats, SceneRenderer, Technique, Variant};
+use crate::technique::interface::{stencil_variants, FrameStats, Variant};
 use crate::technique::options::PlanarOptions;
+use crate::technique::unit::{Prepared, TechniqueUnit};
 
 /// Mirrors `PlanarPush` in `shaders/planar_push.glsl`.
 #[repr(C)]
@@ -201,7 +200,11 @@ pub fn plan(options: &PlanarOptions, stencil: StencilMode) -> PassPlan<PlanarKin
 // ---------------------------------------------------------------------------------------------
 // The technique.
 
-impl Technique for Planar {
+impl TechniqueUnit for Planar {
+    type Kinds = PlanarKinds;
+    type Setup = ();
+    type Passes = PlanarPasses;
+
     fn name(&self) -> &'static str {
         "planar"
     }
@@ -210,18 +213,16 @@ impl Technique for Planar {
         "casters skinned on the GPU and projected onto the ground, double darkening stopped in alpha (seed 001)"
     }
 
-    fn plan(&self, options: &RenderOptions) -> Result<PassPlan> {
-        Ok(plan(&options.planar, options.stencil).named())
+    fn plan(&self, options: &RenderOptions) -> Result<PassPlan<PlanarKinds>> {
+        Ok(plan(&options.planar, options.stencil))
     }
 
-    fn build<'s>(
-        &self,
-        gpu: &Arc<Gpu>,
-        scene: &'s Scene,
-        options: &RenderOptions,
-    ) -> Result<Box<dyn SceneRenderer + 's>> {
-        let plan = plan(&options.planar, options.stencil);
-        frame_renderer::build(self, plan, gpu, scene, options, |ctx| PlanarPasses::new(&ctx, scene))
+    fn setup(&self, _gpu: &Gpu, _scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
+        Ok(Prepared::as_given(options))
+    }
+
+    fn make(&self, ctx: BuildContext<'_, PlanarKinds>, scene: &Scene, _setup: ()) -> Result<PlanarPasses> {
+        PlanarPasses::new(&ctx, scene)
     }
 
     fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
@@ -231,21 +232,21 @@ impl Technique for Planar {
     /// Each path, with and without the shadow pass, and each with the shadow cast from
     /// simplified meshes.
     fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant> {
-        let mut variants = stencil_variants(self.name(), options);
+        let mut variants = stencil_variants(TechniqueUnit::name(self), options);
         let lod = PlanarOptions {
             shadow_lod: Some(options.planar.shadow_lod.unwrap_or(DEFAULT_SHADOW_LOD)),
             ..options.planar
         };
         for stencil in [StencilMode::Reference, StencilMode::Emulated] {
             variants.push(Variant {
-                label: format!("{} ({}, shadow LOD)", self.name(), stencil.name()),
+                label: format!("{} ({}, shadow LOD)", TechniqueUnit::name(self), stencil.name()),
                 options: RenderOptions { stencil, planar: lod, ..options.clone() },
             });
         }
         let scene_only = PlanarOptions { shadows: false, ..options.planar };
         for stencil in [StencilMode::Reference, StencilMode::Emulated] {
             variants.push(Variant {
-                label: format!("{} ({}, no shadows)", self.name(), stencil.name()),
+                label: format!("{} ({}, no shadows)", TechniqueUnit::name(self), stencil.name()),
                 options: RenderOptions { stencil, planar: scene_only, ..options.clone() },
             });
         }
@@ -255,7 +256,7 @@ impl Technique for Planar {
 
 /// The planar renderer's own part: the receiver plane and the scene's meshes (joint palettes
 /// are uploaded each frame, as an animated character needs).
-struct PlanarPasses {
+pub struct PlanarPasses {
     options: PlanarOptions,
     stencil: StencilMode,
     plane: ReceiverPlane,

@@ -40,10 +40,11 @@ use crate::render::plan::{DrawKind, Label, MaterialVariant, PassDraws, PassKinds
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, GpuMesh, GpuScene, ObjectPush, Renderer, OBJECT_PUSH_BYTES};
 use crate::scene::{Light, Scene};
-use crate::technique::frame_renderer::{self, BuildContext, Passes};
+use crate::technique::frame_renderer::{BuildContext, Passes};
 use crate::technique::interface::RenderOptions;
-use crate::technique::interface::{FrameStats, SceneRenderer, Technique, Variant};
+use crate::technique::interface::{FrameStats, Variant};
 use crate::technique::options::{PlanarOptions, TextureShadowOn};
+use crate::technique::unit::{Prepared, TechniqueUnit};
 
 const SHADOW_TEXTURE_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
 
@@ -278,7 +279,11 @@ impl ShadowTarget {
     }
 }
 
-impl Technique for ShadowTexture {
+impl TechniqueUnit for ShadowTexture {
+    type Kinds = TextureKinds;
+    type Setup = ();
+    type Passes = ShadowTexturePasses;
+
     fn name(&self) -> &'static str {
         "shadow-texture"
     }
@@ -287,8 +292,8 @@ impl Technique for ShadowTexture {
         "casters drawn from the light into a small texture that the ground looks up (seed 001)"
     }
 
-    fn plan(&self, options: &RenderOptions) -> Result<PassPlan> {
-        Ok(plan(&options.planar).named())
+    fn plan(&self, options: &RenderOptions) -> Result<PassPlan<TextureKinds>> {
+        Ok(plan(&options.planar))
     }
 
     /// The texture on the receivers and on the seed's quad, each also from simplified casters.
@@ -304,7 +309,7 @@ impl Technique for ShadowTexture {
         .map(|(texture_on, shadow_lod)| Variant {
             label: format!(
                 "{} (on {}{})",
-                self.name(),
+                TechniqueUnit::name(self),
                 texture_on.name(),
                 if shadow_lod.is_some() { ", shadow LOD" } else { "" }
             ),
@@ -317,15 +322,12 @@ impl Technique for ShadowTexture {
         .collect()
     }
 
-    fn build<'s>(
-        &self,
-        gpu: &Arc<Gpu>,
-        scene: &'s Scene,
-        options: &RenderOptions,
-    ) -> Result<Box<dyn SceneRenderer + 's>> {
-        frame_renderer::build(self, plan(&options.planar), gpu, scene, options, |ctx| {
-            ShadowTexturePasses::new(&ctx, scene)
-        })
+    fn setup(&self, _gpu: &Gpu, _scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
+        Ok(Prepared::as_given(options))
+    }
+
+    fn make(&self, ctx: BuildContext<'_, TextureKinds>, scene: &Scene, _setup: ()) -> Result<ShadowTexturePasses> {
+        ShadowTexturePasses::new(&ctx, scene)
     }
 
     fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
@@ -335,7 +337,7 @@ impl Technique for ShadowTexture {
 
 /// The shadow-texture renderer's own part: the scene's meshes, the texture and its lookup, and
 /// this frame's light view-projection.
-struct ShadowTexturePasses {
+pub struct ShadowTexturePasses {
     shadow_factor: u8,
     texture_size: u32,
     plane: ReceiverPlane,

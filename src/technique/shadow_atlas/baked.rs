@@ -42,7 +42,7 @@ pub fn bake<'s>(
 ) -> Result<Baked<'s>> {
     let options = RenderOptions { technique: &SHADOW_TEXTURE_ATLAS, ..options.clone() };
     let mut layout = |done, total| progress(BakeStep::Layout { done, total });
-    let mut renderer = build(&SHADOW_TEXTURE_ATLAS, ShadowKind::Atlas, gpu, scene, &options, &mut layout)?;
+    let mut renderer = build(ShadowKind::Atlas.name(), ShadowKind::Atlas, gpu, scene, &options, &mut layout)?;
     progress(BakeStep::Rendering);
     renderer.frame_with(scene)?;
     Ok(Baked { scene, renderer })

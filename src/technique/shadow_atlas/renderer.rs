@@ -29,7 +29,7 @@ use crate::render::{
 use crate::scene::objects::SceneMesh;
 use crate::scene::{Light, PoseTracker, Scene};
 use crate::technique::frame_renderer::{self, FrameRenderer, Passes};
-use crate::technique::interface::{FrameStats, RenderOptions, Technique};
+use crate::technique::interface::{FrameStats, RenderOptions};
 use crate::technique::options::{LightMode, ShadowAtlasOptions, ShadowKind};
 
 /// Per mesh: the mesh vertex and the atlas UV of each GPU vertex, to lay a re-posed skin out
@@ -81,7 +81,7 @@ pub struct ShadowPasses {
 /// Builds the `kind` renderer for `scene`, calling `progress(done, total)` as each mesh's atlas
 /// is laid out (generating atlases for many or large meshes takes a while).
 pub fn build<'s>(
-    technique: &dyn Technique,
+    technique: &'static str,
     kind: ShadowKind,
     gpu: &Arc<Gpu>,
     scene: &'s Scene,
@@ -96,7 +96,7 @@ pub fn build<'s>(
 }
 
 impl ShadowPasses {
-    fn new(
+    pub(super) fn new(
         gpu: &Arc<Gpu>,
         scene: &Scene,
         kind: ShadowKind,

@@ -1,16 +1,16 @@
 //! The seed 004 techniques, as the registry, `bench` and Table 1 name them: the atlas, the
 //! shadow map it is timed against, and the projective texture it replaces.
 
-use std::sync::Arc;
-
-use super::passes::plan;
-use super::renderer::build;
+use super::passes::{plan, AtlasKinds};
+use super::renderer::ShadowPasses;
 use crate::error::Result;
 use crate::gpu::Gpu;
 use crate::render::plan::PassPlan;
 use crate::scene::Scene;
-use crate::technique::interface::{BenchTable, RenderOptions, SceneRenderer, Technique, Variant};
+use crate::technique::frame_renderer::BuildContext;
+use crate::technique::interface::{BenchTable, RenderOptions, Technique, Variant};
 use crate::technique::options::{LightMode, ShadowKind};
+use crate::technique::unit::{Prepared, TechniqueUnit};
 
 /// One of the two seed 004 techniques: the shadow map sampled in the scene pass, or shadow
 /// textures baked from it into each model's atlas.
@@ -47,16 +47,6 @@ pub fn technique_of(kind: ShadowKind) -> &'static dyn Technique {
     }
 }
 
-fn build_boxed<'s>(
-    technique: &'static dyn Technique,
-    kind: ShadowKind,
-    gpu: &Arc<Gpu>,
-    scene: &'s Scene,
-    options: &RenderOptions,
-) -> Result<Box<dyn SceneRenderer + 's>> {
-    Ok(Box::new(build(technique, kind, gpu, scene, options, &mut |_, _| {})?))
-}
-
 /// Both light modes: a moving light re-renders the cached passes every frame.
 fn light_variants(name: &str, options: &RenderOptions) -> Vec<Variant> {
     [LightMode::Fixed, LightMode::Moving]
@@ -71,7 +61,11 @@ fn light_variants(name: &str, options: &RenderOptions) -> Vec<Variant> {
         .collect()
 }
 
-impl Technique for ShadowTechnique {
+impl TechniqueUnit for ShadowTechnique {
+    type Kinds = AtlasKinds;
+    type Setup = ();
+    type Passes = ShadowPasses;
+
     fn name(&self) -> &'static str {
         self.kind.name()
     }
@@ -80,21 +74,20 @@ impl Technique for ShadowTechnique {
         self.about
     }
 
-    fn plan(&self, _options: &RenderOptions) -> Result<PassPlan> {
-        Ok(plan(self.kind).named())
+    fn plan(&self, _options: &RenderOptions) -> Result<PassPlan<AtlasKinds>> {
+        Ok(plan(self.kind))
     }
 
-    fn build<'s>(
-        &self,
-        gpu: &Arc<Gpu>,
-        scene: &'s Scene,
-        options: &RenderOptions,
-    ) -> Result<Box<dyn SceneRenderer + 's>> {
-        build_boxed(technique_of(self.kind), self.kind, gpu, scene, options)
+    fn setup(&self, _gpu: &Gpu, _scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
+        Ok(Prepared::as_given(options))
+    }
+
+    fn make(&self, ctx: BuildContext<'_, AtlasKinds>, scene: &Scene, _setup: ()) -> Result<ShadowPasses> {
+        ShadowPasses::new(ctx.gpu, scene, self.kind, ctx.options.shadow_atlas, &mut |_, _| {})
     }
 
     fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant> {
-        light_variants(self.name(), options)
+        light_variants(TechniqueUnit::name(self), options)
     }
 
     /// The projective texture is timed against the atlas that replaces it (the atlas with a
@@ -107,7 +100,12 @@ impl Technique for ShadowTechnique {
     }
 
     fn describe(&self, options: &RenderOptions) -> String {
-        format!("{} ({}, {} light)", self.name(), options.stencil.name(), options.shadow_atlas.light.name())
+        format!(
+            "{} ({}, {} light)",
+            TechniqueUnit::name(self),
+            options.stencil.name(),
+            options.shadow_atlas.light.name()
+        )
     }
 
     fn bench_table(&self) -> Option<BenchTable> {

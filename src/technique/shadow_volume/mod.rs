@@ -8,14 +8,16 @@ pub mod casters;
 pub mod recipes;
 pub mod renderer;
 
-use std::sync::Arc;
-
-use super::interface::{RenderOptions, SceneRenderer, Technique, Variant};
+use super::frame_renderer::BuildContext;
+use super::interface::{RenderOptions, Variant};
+use super::unit::{Prepared, TechniqueUnit};
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::Gpu;
 use crate::render::plan::PassPlan;
 use crate::scene::Scene;
+use recipes::VolumeKinds;
+use renderer::{ShadowVolumePasses, VolumeSetup};
 
 pub use super::options::{Normalize, ShadowVolumeOptions, VolumeMethod};
 pub use casters::{build_volume, camera_inside_volume, choose_zfail, prepare_casters, Caster};
@@ -28,7 +30,11 @@ pub use renderer::{CasterReport, ShadowVolumeStats};
 /// Shadow volumes counted in alpha (seed 000).
 pub struct ShadowVolumes;
 
-impl Technique for ShadowVolumes {
+impl TechniqueUnit for ShadowVolumes {
+    type Kinds = VolumeKinds;
+    type Setup = VolumeSetup;
+    type Passes = ShadowVolumePasses;
+
     fn name(&self) -> &'static str {
         "shadow-volume"
     }
@@ -37,17 +43,21 @@ impl Technique for ShadowVolumes {
         "shadow volumes counted in the alpha channel (seed 000)"
     }
 
-    fn plan(&self, options: &RenderOptions) -> Result<PassPlan> {
-        recipes::plan(&options.shadow_volume, options.stencil, options.samples).map(|plan| plan.named())
+    fn plan(&self, options: &RenderOptions) -> Result<PassPlan<VolumeKinds>> {
+        recipes::plan(&options.shadow_volume, options.stencil, options.samples)
     }
 
-    fn build<'s>(
+    fn setup(&self, gpu: &Gpu, scene: &Scene, options: &RenderOptions) -> Result<Prepared<VolumeSetup>> {
+        renderer::setup(gpu, scene, options)
+    }
+
+    fn make(
         &self,
-        gpu: &Arc<Gpu>,
-        scene: &'s Scene,
-        options: &RenderOptions,
-    ) -> Result<Box<dyn SceneRenderer + 's>> {
-        renderer::build(self, gpu, scene, options)
+        ctx: BuildContext<'_, VolumeKinds>,
+        scene: &Scene,
+        setup: VolumeSetup,
+    ) -> Result<ShadowVolumePasses> {
+        renderer::make(ctx, scene, setup)
     }
 
     fn plan_notes(&self) -> Result<Option<String>> {
@@ -128,6 +138,11 @@ impl Technique for ShadowVolumes {
             StencilMode::Emulated => format!(", {}", options.shadow_volume.normalize.name()),
             StencilMode::Reference => String::new(),
         };
-        format!("{} ({}{normalise}, k={})", self.name(), options.stencil.name(), options.shadow_volume.increment)
+        format!(
+            "{} ({}{normalise}, k={})",
+            TechniqueUnit::name(self),
+            options.stencil.name(),
+            options.shadow_volume.increment
+        )
     }
 }

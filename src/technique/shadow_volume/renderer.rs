@@ -25,9 +25,10 @@ use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, GpuScene, ObjectPush, Renderer};
 use crate::scene::Scene;
 use crate::technique::alpha_counter;
-use crate::technique::frame_renderer::{self, Passes};
-use crate::technique::interface::{FrameStats, RenderOptions, SceneRenderer, Technique};
+use crate::technique::frame_renderer::{BuildContext, Passes};
+use crate::technique::interface::{FrameStats, RenderOptions};
 use crate::technique::options::{Normalize, ShadowVolumeOptions, VolumeMethod};
+use crate::technique::unit::Prepared;
 
 const MEASURED_BY_APPLY: &str = "counted by the subpass apply with fragment atomics";
 const MEASURED_BY_PROBE: &str = "counted by the saturation probe pass";
@@ -133,21 +134,25 @@ struct GpuVolume {
     scissor: vk::Rect2D,
 }
 
-/// Builds the renderer: casters are prepared first, so that `auto` can pick the counting
-/// method for this scene's camera before the frame is planned.
-pub fn build<'s>(
-    technique: &dyn Technique,
-    gpu: &Arc<Gpu>,
-    scene: &'s Scene,
-    options: &RenderOptions,
-) -> Result<Box<dyn SceneRenderer + 's>> {
-    let k = alpha_counter::check_increment(options.shadow_volume.increment)?;
+/// What is worked out from the scene before the frame is planned: the casters, whose volumes
+/// decide whether `auto` counts z-fail for this camera.
+pub struct VolumeSetup {
+    casters: Vec<Caster>,
+    warnings: Vec<String>,
+    zfail: bool,
+    /// The options as asked (`auto` still `auto`).
+    requested: ShadowVolumeOptions,
+}
+
+/// Prepares the casters and resolves the counting method (and whether the subpass apply can
+/// count saturation: only where the device has fragment atomics, and the caller did not turn
+/// them off, as a port for a device without them would).
+pub fn setup(gpu: &Gpu, scene: &Scene, options: &RenderOptions) -> Result<Prepared<VolumeSetup>> {
+    alpha_counter::check_increment(options.shadow_volume.increment)?;
     let (casters, warnings) = prepare_casters(scene);
     let aspect = options.width as f32 / options.height as f32;
     let zfail = choose_zfail(&options.shadow_volume, scene, &casters, aspect);
     let method = if zfail { VolumeMethod::ZFail } else { VolumeMethod::ZPass };
-    // The subpass apply counts saturation only where the device has fragment atomics (and the
-    // caller did not turn them off, as a port for a device without them would).
     let fragment_atomics =
         options.shadow_volume.fragment_atomics && gpu.device.info.features.fragment_stores_and_atomics;
     let resolved = RenderOptions {
@@ -155,65 +160,69 @@ pub fn build<'s>(
         ..options.clone()
     };
     let requested = options.shadow_volume;
-    let plan = super::recipes::plan(&resolved.shadow_volume, resolved.stencil, resolved.samples)?;
-    frame_renderer::build(technique, plan, gpu, scene, &resolved, |ctx| {
-        let counting = ctx.options.stencil == StencilMode::Emulated
-            && ctx.options.shadow_volume.normalize == Normalize::Subpass
-            && fragment_atomics;
-        let saturation_counter = if counting {
-            Some(Buffer::with_data(ctx.gpu, "saturated sample count", &[0u32], vk::BufferUsageFlags::STORAGE_BUFFER)?)
-        } else {
-            None
-        };
-        let counter_input = match ctx.options.stencil {
-            StencilMode::Emulated => {
-                let mut bindings = vec![Binding::InputAttachment {
-                    view: ctx.renderer.targets.drawn_colour().view,
-                    layout: vk::ImageLayout::GENERAL,
-                }];
-                if let Some(buffer) = &saturation_counter {
-                    bindings.push(Binding::FragmentStorageBuffer { buffer: buffer.raw, range: buffer.size });
-                }
-                Some(DescriptorSet::new(ctx.gpu, &bindings)?)
+    Ok(Prepared { options: resolved, setup: VolumeSetup { casters, warnings, zfail, requested } })
+}
+
+/// The technique's part of the renderer, planned with the resolved options.
+pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetup) -> Result<ShadowVolumePasses> {
+    let VolumeSetup { casters, warnings, zfail, requested } = setup;
+    let options = ctx.options;
+    let k = alpha_counter::check_increment(options.shadow_volume.increment)?;
+    let fragment_atomics = options.shadow_volume.fragment_atomics;
+    let counting = ctx.options.stencil == StencilMode::Emulated
+        && ctx.options.shadow_volume.normalize == Normalize::Subpass
+        && fragment_atomics;
+    let saturation_counter = if counting {
+        Some(Buffer::with_data(ctx.gpu, "saturated sample count", &[0u32], vk::BufferUsageFlags::STORAGE_BUFFER)?)
+    } else {
+        None
+    };
+    let counter_input = match ctx.options.stencil {
+        StencilMode::Emulated => {
+            let mut bindings = vec![Binding::InputAttachment {
+                view: ctx.renderer.targets.drawn_colour().view,
+                layout: vk::ImageLayout::GENERAL,
+            }];
+            if let Some(buffer) = &saturation_counter {
+                bindings.push(Binding::FragmentStorageBuffer { buffer: buffer.raw, range: buffer.size });
             }
-            StencilMode::Reference => None,
-        };
-        let saturation_measured_by = match ctx.options.stencil {
-            StencilMode::Reference => NOT_COUNTED_REFERENCE,
-            StencilMode::Emulated if counting => MEASURED_BY_APPLY,
-            StencilMode::Emulated if ctx.options.shadow_volume.saturation_probe => MEASURED_BY_PROBE,
-            StencilMode::Emulated if ctx.options.shadow_volume.normalize == Normalize::Subpass => {
-                NOT_MEASURED_NO_ATOMICS
-            }
-            StencilMode::Emulated => NOT_MEASURED,
-        };
-        let capacity = alpha_counter::capacity(k);
-        let reports = casters.iter().map(|c| CasterReport::new(scene, c, capacity)).collect();
-        Ok(ShadowVolumePasses {
-            gpu: ctx.gpu.clone(),
-            requested,
-            casters,
-            warnings,
-            meshes: GpuScene::upload(ctx.gpu, scene)?,
-            counter_input,
-            saturation_counter,
-            volumes: Vec::new(),
-            apply_scissor: Scissor::Frame,
-            stats: ShadowVolumeStats {
-                zfail,
-                seed_iterations: alpha_counter::seed_iterations(k, options.shadow_volume.darkest())?,
-                capacity,
-                saturated_samples: None,
-                saturation_measured_by,
-                probe_saturated_samples: None,
-                increment: k,
-                casters: reports,
-            },
-        })
+            Some(DescriptorSet::new(ctx.gpu, &bindings)?)
+        }
+        StencilMode::Reference => None,
+    };
+    let saturation_measured_by = match ctx.options.stencil {
+        StencilMode::Reference => NOT_COUNTED_REFERENCE,
+        StencilMode::Emulated if counting => MEASURED_BY_APPLY,
+        StencilMode::Emulated if ctx.options.shadow_volume.saturation_probe => MEASURED_BY_PROBE,
+        StencilMode::Emulated if ctx.options.shadow_volume.normalize == Normalize::Subpass => NOT_MEASURED_NO_ATOMICS,
+        StencilMode::Emulated => NOT_MEASURED,
+    };
+    let capacity = alpha_counter::capacity(k);
+    let reports = casters.iter().map(|c| CasterReport::new(scene, c, capacity)).collect();
+    Ok(ShadowVolumePasses {
+        gpu: ctx.gpu.clone(),
+        requested,
+        casters,
+        warnings,
+        meshes: GpuScene::upload(ctx.gpu, scene)?,
+        counter_input,
+        saturation_counter,
+        volumes: Vec::new(),
+        apply_scissor: Scissor::Frame,
+        stats: ShadowVolumeStats {
+            zfail,
+            seed_iterations: alpha_counter::seed_iterations(k, options.shadow_volume.darkest())?,
+            capacity,
+            saturated_samples: None,
+            saturation_measured_by,
+            probe_saturated_samples: None,
+            increment: k,
+            casters: reports,
+        },
     })
 }
 
-struct ShadowVolumePasses {
+pub struct ShadowVolumePasses {
     gpu: Arc<Gpu>,
     /// The options as asked (`auto` still `auto`: the viewer asks whether the camera moved
     /// into or out of a volume).

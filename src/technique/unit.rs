@@ -1,0 +1,152 @@
+//! A technique as one typed unit: what a technique's folder implements. Its pass kinds tie its
+//! plan to its draws (an exhaustive `match`, checked when it compiles), and the build every
+//! technique shares is written once, here, by the blanket `impl Technique` that turns a unit
+//! into the erased [`Technique`] the command line, `bench`, `passes` and the viewer hold.
+//! Adding a technique: docs/adding-a-technique.md.
+
+use std::sync::Arc;
+
+use super::frame_renderer::{self, BuildContext, Passes};
+use super::interface::{
+    stencil_variant, stencil_variants, BenchTable, RenderOptions, SceneRenderer, Technique, Variant,
+};
+use crate::error::{Error, Result};
+use crate::gpu::Gpu;
+use crate::render::plan::{PassKinds, PassPlan};
+use crate::scene::Scene;
+
+/// What a technique's folder implements (see docs/adding-a-technique.md).
+pub trait TechniqueUnit: Sync + 'static {
+    /// Its own draws, descriptor sets and render passes (`RecorderOnly` when it has none).
+    type Kinds: PassKinds;
+    /// What it works out from the scene on the CPU before the frame is planned (the casters
+    /// whose volumes decide z-fail, the objects an outline selects): `()` when nothing.
+    type Setup;
+    /// What it builds for a scene: its GPU resources, its draws, its statistics.
+    type Passes: Passes<Self::Kinds>;
+
+    /// The `--technique` value.
+    fn name(&self) -> &'static str;
+
+    /// One line for `--help` and `info`: what it draws, and which seed it comes from.
+    fn about(&self) -> &'static str;
+
+    /// The passes of a frame with `options`, in the order they run. A choice that depends on
+    /// the scene is made by `setup`, whose options the built renderer plans with.
+    fn plan(&self, options: &RenderOptions) -> Result<PassPlan<Self::Kinds>>;
+
+    /// The CPU work on `scene` before planning, and the options resolved with it. Errors
+    /// here come before anything is uploaded.
+    fn setup(&self, gpu: &Gpu, scene: &Scene, options: &RenderOptions) -> Result<Prepared<Self::Setup>>;
+
+    /// Builds the technique's part of a renderer for `scene`, once the frame renderer exists.
+    fn make(&self, ctx: BuildContext<'_, Self::Kinds>, scene: &Scene, setup: Self::Setup) -> Result<Self::Passes>;
+
+    /// What `bench` times side by side, the real-stencil reference first where there is one.
+    fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+        stencil_variants(self.name(), options)
+    }
+
+    /// Every plan `passes` prints and the plan test checks: each path and each option that
+    /// changes the passes.
+    fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+        stencil_variants(self.name(), options)
+    }
+
+    /// `profile --compare NAME`: the options of the variant called `name`.
+    fn compare_variant(&self, name: &str, options: &RenderOptions) -> Result<RenderOptions> {
+        stencil_variant(name, options).ok_or_else(|| {
+            Error::InvalidInput(format!("--compare {name}: {} has the variants emulated and reference", self.name()))
+        })
+    }
+
+    /// What `passes` prints after the plans, when the technique has more to say about them.
+    fn plan_notes(&self) -> Result<Option<String>> {
+        Ok(None)
+    }
+
+    /// A table of the technique's own that `bench` prints in place of timing its variants.
+    fn bench_table(&self) -> Option<BenchTable> {
+        None
+    }
+
+    /// The viewer's title: the technique and the options that matter to it.
+    fn describe(&self, options: &RenderOptions) -> String {
+        format!("{} ({})", self.name(), options.stencil.name())
+    }
+}
+
+/// The result of [`TechniqueUnit::setup`]: the options the renderer is planned and built with
+/// (a scene-dependent choice resolved) and the unit's CPU work.
+pub struct Prepared<S> {
+    pub options: RenderOptions,
+    pub setup: S,
+}
+
+impl Prepared<()> {
+    /// The options as given, nothing worked out: for units with no setup.
+    pub fn as_given(options: &RenderOptions) -> Self {
+        Prepared { options: options.clone(), setup: () }
+    }
+}
+
+/// The build every technique shares: setup, plan with the resolved options, then the frame
+/// renderer around the unit's `Passes`.
+pub fn build_unit<'s, T: TechniqueUnit>(
+    unit: &T,
+    gpu: &Arc<Gpu>,
+    scene: &'s Scene,
+    options: &RenderOptions,
+) -> Result<frame_renderer::FrameRenderer<'s, T::Kinds, T::Passes>> {
+    options.check()?;
+    let Prepared { options, setup } = unit.setup(gpu, scene, options)?;
+    let plan = unit.plan(&options)?;
+    frame_renderer::build_typed(unit.name(), plan, gpu, scene, &options, |ctx| unit.make(ctx, scene, setup))
+}
+
+impl<T: TechniqueUnit> Technique for T {
+    fn name(&self) -> &'static str {
+        TechniqueUnit::name(self)
+    }
+
+    fn about(&self) -> &'static str {
+        TechniqueUnit::about(self)
+    }
+
+    fn plan(&self, options: &RenderOptions) -> Result<PassPlan> {
+        TechniqueUnit::plan(self, options).map(|plan| plan.named())
+    }
+
+    fn build<'s>(
+        &self,
+        gpu: &Arc<Gpu>,
+        scene: &'s Scene,
+        options: &RenderOptions,
+    ) -> Result<Box<dyn SceneRenderer + 's>> {
+        Ok(Box::new(build_unit(self, gpu, scene, options)?))
+    }
+
+    fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+        TechniqueUnit::bench_variants(self, options)
+    }
+
+    fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+        TechniqueUnit::plan_variants(self, options)
+    }
+
+    fn compare_variant(&self, name: &str, options: &RenderOptions) -> Result<RenderOptions> {
+        TechniqueUnit::compare_variant(self, name, options)
+    }
+
+    fn plan_notes(&self) -> Result<Option<String>> {
+        TechniqueUnit::plan_notes(self)
+    }
+
+    fn bench_table(&self) -> Option<BenchTable> {
+        TechniqueUnit::bench_table(self)
+    }
+
+    fn describe(&self, options: &RenderOptions) -> String {
+        TechniqueUnit::describe(self, options)
+    }
+}
