@@ -59,11 +59,13 @@ fn every_frame_runs_exactly_its_printed_plan() {
 #[test]
 fn every_technique_without_a_stencil_equals_its_stencil_reference() {
     let gpu = common::gpu();
+    // Per technique: the pixels it changes from the lit image, over the scenes.
+    let mut changed_over_scenes = vec![0usize; TECHNIQUES.len()];
     for scene_name in ["default", "outline", "open-box", "touching"] {
         let scene = builtin_scene(scene_name).expect("scene");
         let lit = RenderOptions { width: 96, height: 72, ..Default::default() };
         let lit_image = render_scene(&gpu, &scene, &lit).expect("lit").output.image;
-        for technique in TECHNIQUES {
+        for (changed_sum, technique) in changed_over_scenes.iter_mut().zip(TECHNIQUES) {
             let emulated = RenderOptions { technique: *technique, ..lit.clone() };
             let reference = RenderOptions { stencil: StencilMode::Reference, ..emulated.clone() };
             let a = render_scene(&gpu, &scene, &emulated).expect("emulated").output.image;
@@ -71,14 +73,13 @@ fn every_technique_without_a_stencil_equals_its_stencil_reference() {
             assert_eq!(a.dimensions(), b.dimensions());
             let differing = a.pixels().zip(b.pixels()).filter(|(p, q)| p.0[..3] != q.0[..3]).count();
             assert_eq!(differing, 0, "{} on {scene_name}: {differing} pixels differ", technique.name());
-            // Not vacuous: every technique but the lit base changes the lit image.
-            let changed = a.pixels().zip(lit_image.pixels()).filter(|(p, q)| p.0[..3] != q.0[..3]).count();
-            assert!(
-                technique.name() == "lit" || changed > 50,
-                "{} on {scene_name}: only {changed} pixels",
-                technique.name()
-            );
+            *changed_sum += a.pixels().zip(lit_image.pixels()).filter(|(p, q)| p.0[..3] != q.0[..3]).count();
         }
+    }
+    // Not vacuous: every technique but the lit base changes the lit image (x-ray only where
+    // something hides a caster: nowhere in open-box).
+    for (changed, technique) in changed_over_scenes.iter().zip(TECHNIQUES) {
+        assert!(technique.name() == "lit" || *changed > 50, "{}: only {changed} pixels", technique.name());
     }
     common::assert_no_validation_messages(&gpu);
 }

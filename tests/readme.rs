@@ -258,3 +258,35 @@ fn headings_become_githubs_anchors() {
     assert_eq!(anchors(page), ["a-title", "how-it-is-checked-testsprofile_apprs", "a-title-1"]);
     assert_eq!(link_targets("see [a](b.md#c) and `[d](e.md)`, ![f](g.png \"t\")"), ["b.md#c", "g.png"]);
 }
+
+#[test]
+fn the_walkthrough_quotes_the_code_it_walks_through() {
+    let page = read("docs/adding-a-technique.md");
+    let sources = [read("src/technique/xray/mod.rs"), read("src/technique/registry.rs")].join("\n");
+    let mut blocks = Vec::new();
+    let mut current: Option<Vec<&str>> = None;
+    for line in page.lines() {
+        match (&mut current, line.trim_start()) {
+            (None, "```rust") => current = Some(Vec::new()),
+            (Some(block), "```") => {
+                blocks.push(block.join("\n"));
+                current = None;
+            }
+            (Some(block), _) => block.push(line),
+            _ => {}
+        }
+    }
+    assert!(blocks.len() >= 5, "the walkthrough shows only {} code blocks", blocks.len());
+    for block in &blocks {
+        assert!(
+            sources.contains(block.as_str()),
+            "docs/adding-a-technique.md quotes code the source no longer has:\n{block}"
+        );
+    }
+    // The line count it gives is the folder's.
+    let lines = read("src/technique/xray/mod.rs").lines().count();
+    assert!(
+        page.contains(&format!("`src/technique/xray/mod.rs` ({lines} lines")),
+        "the walkthrough's line count is not {lines}"
+    );
+}

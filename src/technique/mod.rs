@@ -19,6 +19,7 @@ pub mod registry;
 pub mod shadow_atlas;
 pub mod shadow_volume;
 pub mod unit;
+pub mod xray;
 
 use std::sync::Arc;
 

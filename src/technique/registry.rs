@@ -22,6 +22,7 @@ pub static TECHNIQUES: &[&dyn Technique] = &[
     &super::shadow_atlas::SHADOW_MAP,
     &super::shadow_atlas::SHADOW_TEXTURE_ATLAS,
     &super::shadow_atlas::PROJECTIVE_TEXTURE,
+    &super::xray::XRay,
 ];
 
 impl Default for RenderOptions {

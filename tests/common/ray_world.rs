@@ -88,9 +88,25 @@ impl RayWorld {
         found
     }
 
+    /// Every triangle the ray hits, with its distance, in no particular order.
+    #[allow(dead_code)] // Not every test binary that includes this module asks.
+    pub fn every_hit(&self, origin: Vec3, dir: Vec3) -> Vec<(Placed, f32)> {
+        let mut hits = Vec::new();
+        self.walk_all(origin, dir, true, &mut |placed, distance| {
+            hits.push((*placed, distance));
+            false
+        });
+        hits
+    }
+
     /// Calls `visit(triangle, distance)` for triangles the ray hits (every one nearer than the
     /// nearest so far: boxes beyond it are skipped) until `visit` returns true.
     fn walk(&self, origin: Vec3, dir: Vec3, visit: &mut dyn FnMut(&Placed, f32) -> bool) {
+        self.walk_all(origin, dir, false, visit)
+    }
+
+    /// As `walk`; `beyond`: boxes beyond the nearest hit are visited too.
+    fn walk_all(&self, origin: Vec3, dir: Vec3, beyond: bool, visit: &mut dyn FnMut(&Placed, f32) -> bool) {
         let inverse = dir.recip();
         let mut nearest = f32::INFINITY;
         let mut stack = if self.triangles.is_empty() { Vec::new() } else { vec![0usize] };
@@ -108,7 +124,9 @@ impl RayWorld {
                     if visit(placed, distance) {
                         return;
                     }
-                    nearest = nearest.min(distance);
+                    if !beyond {
+                        nearest = nearest.min(distance);
+                    }
                 }
             }
         }
