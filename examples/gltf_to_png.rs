@@ -8,9 +8,9 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use nostencil::frame::png::write_png;
-use nostencil::scene::scene_and_warnings_from_gltf;
-use nostencil::{render_scene, technique, Gpu, GpuOptions, RenderOptions, StencilMode};
+use nostencil::{
+    render_scene, scene_and_warnings_from_gltf, technique, write_png, Gpu, GpuOptions, RenderOptions, StencilMode,
+};
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();

@@ -2,12 +2,26 @@
 //! Every stencil effect is rebuilt on the alpha channel with fixed-function blend states, and
 //! checked against a reference path that uses a real stencil.
 //!
-//! # Use from a port
+//! # Start here
 //!
-//! A scene goes in, a technique's renderer is built for it once, and frames come out with their
-//! fill-rate counters:
+//! This page is the whole library a port calls; everything else is private to the crate.
+//! 1. A [`Gpu`] ([`GpuOptions`] chooses the device and the validation layer).
+//! 2. A [`Scene`]: [`builtin_scene`] (the names are in [`BUILTIN_SCENES`]), or
+//!    [`scene_from_gltf`] / [`scene_and_warnings_from_gltf`] for a `.gltf`/`.glb` file.
+//! 3. A technique, by name ([`technique`]; all of them in [`TECHNIQUES`]), and its
+//!    [`RenderOptions`]: size, samples, [`StencilMode`] and each family's options
+//!    ([`ShadowVolumeOptions`], [`PlanarOptions`], [`CartoonOptions`], [`ShadowAtlasOptions`]).
+//! 4. A frame: [`render_scene`] for one, or [`Technique::build`] for a [`SceneRenderer`] that
+//!    renders frame after frame of a moving scene (`frame_with`). A [`TechniqueFrame`] holds
+//!    the image ([`write_png`] writes it), its per-pass [`FrameCounters`] and the technique's
+//!    statistics ([`stats`]). `renderer_mut().keep_on_gpu(true)` leaves frames on the GPU instead of
+//!    reading them back.
+//! 5. Counters by pass: [`FrameCounters::drawing`] finds the passes in which a technique drew
+//!    one of its own draw kinds ([`draws`]), typed; [`FrameCounters::passes`] lists them all
+//!    in the order they ran.
 //!
 //! ```
+//! use nostencil::draws::VolumeDraw;
 //! use nostencil::{render_scene, technique, Gpu, GpuOptions, RenderOptions, StencilMode};
 //!
 //! # fn main() -> nostencil::Result<()> {
@@ -23,45 +37,87 @@
 //! let frame = render_scene(&gpu, &scene, &options)?;
 //! assert_eq!(frame.output.image.dimensions(), (64, 48));
 //! // Per measured pass: draws, fragments, samples passed, GPU time.
-//! let volumes = frame.output.counters.pass("volumes (alpha, z-pass)").expect("a pass");
+//! let volumes = frame.output.counters.drawing(VolumeDraw::Volumes { alpha: 0.0 }).next().expect("a pass");
 //! assert!(volumes.samples_passed > 0);
 //! # Ok(())
 //! # }
 //! ```
 //!
-//! For many frames of one scene (an animation, a moving camera), keep the renderer:
-//! `options.technique.build(&gpu, &scene, &options)?` returns a [`SceneRenderer`] whose
-//! `frame_with(&moved_scene)` renders a moved pose of the same scene.
-//!
-//! The pieces, bottom up: [`gpu`] (device under the mobile profile, memory, queries), [`mesh`]
-//! (CPU mesh work), [`scene`] (built-in scenes, glTF), [`frame`] and [`pipeline`] (render
-//! passes and fixed-function state as data), [`render`] (the recorder that measures passes,
-//! pass plans), [`technique`](mod@technique) (every technique behind one interface) and [`profile`] (reports).
+//! `examples/` holds two programs built on this page alone: a glTF file to a PNG, and per-pass
+//! counters printed. How the crate is built inside: docs/architecture.md; adding a technique:
+//! docs/adding-a-technique.md.
 
 // Raw Vulkan lives in gpu/, frame/ and render/, and in layer/ (the fill-rate layer is raw Vulkan
 // by nature: it sits between a program and its driver); each unsafe block says why it is sound.
 #![warn(clippy::undocumented_unsafe_blocks)]
 
+/// Declares the modules below the façade: `pub(crate)` in a normal build, so that a port sees
+/// only what this page documents, and public (hidden from the docs) with the `internals`
+/// feature, which only this crate's own tests, benches and examples turn on (through its
+/// dev-dependency on itself).
+macro_rules! internal_modules {
+    ($($(#[$attr:meta])* mod $name:ident;)*) => {
+        $(
+            $(#[$attr])*
+            #[cfg(feature = "internals")]
+            #[doc(hidden)]
+            pub mod $name;
+            $(#[$attr])*
+            #[cfg(not(feature = "internals"))]
+            #[allow(dead_code, unused_imports)]
+            pub(crate) mod $name;
+        )*
+    };
+}
+
+internal_modules! {
+    mod frame;
+    mod gpu;
+    mod layer;
+    mod mesh;
+    mod names;
+    mod pipeline;
+    mod profile;
+    mod render;
+    mod scene;
+    mod shaders;
+    mod technique;
+    mod viewer;
+}
+
 #[doc(hidden)]
 pub mod cli;
 pub mod error;
-pub mod frame;
-pub mod gpu;
-pub mod layer;
-pub mod mesh;
-pub mod names;
-pub mod pipeline;
-pub mod profile;
-pub mod render;
-pub mod scene;
-pub mod shaders;
-pub mod technique;
-#[doc(hidden)]
-pub mod viewer;
 
 pub use error::{Error, Result};
-pub use frame::StencilMode;
-pub use gpu::{Gpu, GpuOptions};
-pub use render::{FrameCounters, FrameOutput};
-pub use scene::{builtin_scene, scene_from_gltf, Scene};
-pub use technique::{by_name as technique, render_scene, RenderOptions, SceneRenderer, Technique, TechniqueFrame};
+pub use frame::{write_png, StencilMode};
+pub use gpu::{DeviceChoice, Gpu, GpuOptions};
+pub use render::{FrameCounters, FrameOutput, PassCounters, Renderer};
+pub use scene::{
+    builtin_scene, builtin_scene_at, scene_and_warnings_from_gltf, scene_from_gltf, Camera, Light, Scene, SceneObject,
+    BUILTIN_SCENES,
+};
+pub use technique::{
+    by_name as technique, render_scene, CartoonOptions, FrameStats, GivenPlane, InkStyle, LightMode, Normalize,
+    OutlineMethod, PlanarOptions, RenderOptions, SceneRenderer, Seams, ShadowAtlasOptions, ShadowVolumeOptions,
+    SilhouetteMethod, Technique, TechniqueFrame, TextureShadowOn, VolumeMethod, TECHNIQUES,
+};
+
+/// What each technique reports about a frame, beyond its counters
+/// ([`TechniqueFrame::stats`]).
+pub mod stats {
+    pub use crate::technique::{CartoonStats, PlanarStats, ShadowAtlasStats, ShadowVolumeStats};
+}
+
+/// The draws each technique records itself, to find their passes' counters by type
+/// ([`FrameCounters::drawing`]).
+pub mod draws {
+    pub use crate::technique::ink::recipes::InkDraw;
+    pub use crate::technique::outline::kinds::OutlineDraw;
+    pub use crate::technique::planar::blob::BlobDraw;
+    pub use crate::technique::planar::projected::PlanarDraw;
+    pub use crate::technique::planar::shadow_texture::TextureDraw;
+    pub use crate::technique::shadow_atlas::passes::AtlasDraw;
+    pub use crate::technique::shadow_volume::recipes::VolumeDraw;
+    pub use crate::technique::xray::XRayDraw;
+}

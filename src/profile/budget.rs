@@ -194,6 +194,7 @@ mod tests {
     fn frame(samples: u64) -> FrameCounters {
         let pass = |name: &str, samples| PassCounters {
             name: name.into(),
+            own_draw: None,
             draws: 2,
             vertex_invocations: Some(6),
             clipping_primitives: Some(2),

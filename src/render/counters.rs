@@ -10,12 +10,17 @@
 use serde::Serialize;
 
 use super::instances::{RenderPassInstance, RenderPassSums};
+use super::plan::DrawKind;
 use crate::frame::render_pass::RenderPassTraffic;
 use crate::gpu::queries::RawPassQueries;
 
 #[derive(Debug, Clone, Serialize)]
 pub struct PassCounters {
     pub name: String,
+    /// What the technique drew in the pass itself, as its draw kind describes it (`None` for
+    /// the passes the recorder draws: objects, full screen). Found by [`FrameCounters::drawing`].
+    #[serde(skip)]
+    pub own_draw: Option<&'static str>,
     pub draws: u32,
     /// Vertex shader invocations (pipeline statistics; None where the device lacks them).
     pub vertex_invocations: Option<u64>,
@@ -38,6 +43,7 @@ pub struct PassCounters {
 impl PassCounters {
     pub fn from_queries(
         name: String,
+        own_draw: Option<&'static str>,
         draws: u32,
         render_pass_instances: Vec<u32>,
         raw: &RawPassQueries,
@@ -45,6 +51,7 @@ impl PassCounters {
     ) -> Self {
         PassCounters {
             name,
+            own_draw,
             draws,
             vertex_invocations: raw.vertex_invocations,
             clipping_primitives: raw.clipping_primitives,
@@ -77,6 +84,14 @@ impl FrameCounters {
 
     pub fn pass(&self, name: &str) -> Option<&PassCounters> {
         self.passes.iter().find(|p| p.name == name)
+    }
+
+    /// The passes in which the technique drew `draw`, one of its own draw kinds (such as
+    /// `VolumeDraw::Volumes`), matched as the `passes` table describes it (the alpha a volume
+    /// draw carries does not change it), in the order they ran.
+    pub fn drawing<D: DrawKind>(&self, draw: D) -> impl Iterator<Item = &PassCounters> {
+        let wanted = draw.describe();
+        self.passes.iter().filter(move |p| p.own_draw == Some(wanted))
     }
 
     /// Sum of fragment shader invocations over all passes (None without pipeline statistics).
@@ -168,6 +183,7 @@ mod tests {
     fn pass(name: &str, samples_passed: u64) -> PassCounters {
         PassCounters {
             name: name.into(),
+            own_draw: None,
             draws: 1,
             vertex_invocations: None,
             clipping_primitives: None,
@@ -217,6 +233,7 @@ mod tests {
     fn pass_in(name: &str, instances: &[u32], samples: u64) -> PassCounters {
         PassCounters {
             name: name.into(),
+            own_draw: None,
             draws: 1,
             vertex_invocations: None,
             clipping_primitives: None,

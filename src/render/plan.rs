@@ -673,6 +673,9 @@ pub fn record_plan<K: PassKinds>(
         // The pipelines bound, in the plan's order (an unplanned one last): material variants
         // are bound in object order, which is the scene's business, not the plan's.
         if let Some(record) = rec.passes.last_mut() {
+            if let Draws::Own { draw, .. } = &pass.draws {
+                record.own_draw = Some(draw.describe());
+            }
             let rank = |name: &&'static str| pass.pipelines.iter().position(|d| d.name == *name).unwrap_or(usize::MAX);
             record.pipelines.sort_by_key(rank);
         }

@@ -18,6 +18,9 @@ use crate::render::Pipeline;
 
 pub(crate) struct PassRecord {
     pub name: String,
+    /// What the technique drew in it itself (`DrawKind::describe` of its own draw kind), for
+    /// [`FrameCounters::drawing`](super::FrameCounters::drawing).
+    pub own_draw: Option<&'static str>,
     pub draws: u32,
     /// Labels of the pipelines bound in the pass, in first-bound order (the plan test compares
     /// them with the plan).
@@ -177,7 +180,7 @@ impl<'a> FrameRecorder<'a> {
         if let Some(instance) = self.open_instance.and_then(|i| self.instances.get_mut(i as usize)) {
             instance.passes.push(name.to_owned());
         }
-        self.passes.push(PassRecord { name: name.to_owned(), draws: 0, pipelines: Vec::new(), instances });
+        self.passes.push(PassRecord { name: name.to_owned(), own_draw: None, draws: 0, pipelines: Vec::new(), instances });
         self.open = true;
         // The label brackets the pass's queries, so a tool reading labels sees the same extent
         // the counters measure.

@@ -311,7 +311,7 @@ pub struct CartoonOptions {
     pub crease_deg: f32,
     /// Ink line width in pixels (edges), and the width of the hull rim.
     pub line_width: f32,
-    /// Per edge class (silhouette, crease, boundary; see [`INK_STYLE_FLAGS`]): width and colour
+    /// Per edge class (silhouette, crease, boundary; see `INK_STYLE_FLAGS`): width and colour
     /// over `line_width` and the default ink. The methods that only find silhouettes use the
     /// silhouette's.
     pub ink: [InkStyle; 3],

@@ -40,7 +40,7 @@ impl PassKinds for InkKinds {
 pub enum InkDraw {
     /// Every object, shaded (Lambert, toon ramp, rim).
     Scene,
-    /// One edge class's screen-space quads (an index into [`EDGE_CLASSES`]).
+    /// One edge class's screen-space quads (an index into the edge classes: silhouette, crease, boundary).
     EdgeQuads(usize),
     /// Every object's extruded copy (the inverted hull).
     Hull,
