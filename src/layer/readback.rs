@@ -4,8 +4,10 @@
 use ash::vk;
 
 use super::output::{render, write_atomically};
-use super::recording::RecordedPass;
-use super::report::{Counters, DrawRow, FillrateReport, NotMeasured, RawCounters, RenderPassRow, FILLRATE_SCHEMA};
+use super::recording::{AppGap, RecordedPass};
+use super::report::{
+    Counters, DrawRow, FillrateReport, NotMeasured, RawCounters, RenderPassRow, SectionRow, FILLRATE_SCHEMA,
+};
 use super::slots::{QueryKind, Slot};
 use super::state::{DeviceData, DeviceState, Pending};
 
@@ -59,18 +61,44 @@ fn read_pass(
     timestamp_bits: u32,
     layer: &dyn Fn(Slot, usize) -> Result<Vec<u64>, String>,
 ) -> Result<RawCounters, String> {
-    let mut raw = RawCounters { draws: pass.draws, ..RawCounters::default() };
-    for slot in &pass.occlusion {
+    let part = Part {
+        occlusion: &pass.occlusion,
+        statistics: &pass.statistics,
+        gaps: &pass.gaps,
+        draws: pass.draws,
+        timestamps: pass.timestamps,
+    };
+    read_part(device, state, &part, timestamp_bits, layer)
+}
+
+/// A pass, or one of its sections: segments, gaps, draws and timestamps.
+struct Part<'a> {
+    occlusion: &'a [Slot],
+    statistics: &'a [Slot],
+    gaps: &'a [AppGap],
+    draws: u64,
+    timestamps: Option<(Slot, Slot)>,
+}
+
+fn read_part(
+    device: &DeviceData,
+    state: &DeviceState,
+    part: &Part<'_>,
+    timestamp_bits: u32,
+    layer: &dyn Fn(Slot, usize) -> Result<Vec<u64>, String>,
+) -> Result<RawCounters, String> {
+    let mut raw = RawCounters { draws: part.draws, ..RawCounters::default() };
+    for slot in part.occlusion {
         raw.samples_passed += layer(*slot, 1)?[0];
     }
     let mut stats = if device.info.support.pipeline_statistics { [Some(0u64); 3] } else { [None; 3] };
-    for slot in &pass.statistics {
+    for slot in part.statistics {
         let values = layer(*slot, 3)?;
         for (sum, value) in stats.iter_mut().zip(values) {
             *sum = sum.map(|s| s + value);
         }
     }
-    for gap in &pass.gaps {
+    for gap in part.gaps {
         if !state.app_pools.contains_key(&gap.pool) {
             return Err("application query pool destroyed before the layer read it".into());
         }
@@ -83,10 +111,54 @@ fn read_pass(
         }
     }
     [raw.vertex_invocations, raw.clipping_primitives, raw.fragment_invocations] = stats;
-    if let Some(pair) = pass.timestamps {
+    if let Some(pair) = part.timestamps {
         raw.gpu_ns = Some(elapsed_ns(device, pair, timestamp_bits, layer)?);
     }
     Ok(raw)
+}
+
+/// The section rows of a pass a label call split (none otherwise): each section's counters
+/// from its share of the pass's segments and gaps, and its share of the per-draw rows. An
+/// unlabelled section with no draw and no application query is left out (it counted nothing).
+fn read_sections(
+    device: &DeviceData,
+    state: &DeviceState,
+    pass: &RecordedPass,
+    timestamp_bits: u32,
+    layer: &dyn Fn(Slot, usize) -> Result<Vec<u64>, String>,
+    per_draw: &[DrawRow],
+) -> Vec<SectionRow> {
+    if !pass.split() || pass.not_measured().is_some() {
+        return Vec::new();
+    }
+    let desc = &pass.desc;
+    pass.sections
+        .iter()
+        .enumerate()
+        .filter_map(|(index, section)| {
+            let [occlusion, statistics, gaps, draws] = pass.section_ranges(index);
+            if section.label.is_none() && section.draws == 0 && gaps.is_empty() {
+                return None;
+            }
+            let part = Part {
+                occlusion: pass.occlusion.get(occlusion).unwrap_or_default(),
+                statistics: pass.statistics.get(statistics).unwrap_or_default(),
+                gaps: pass.gaps.get(gaps).unwrap_or_default(),
+                draws: section.draws,
+                timestamps: section.timestamps,
+            };
+            let (counters, not_measured) = match read_part(device, state, &part, timestamp_bits, layer) {
+                Ok(raw) => (Some(Counters::new(&raw, &desc.area, desc.samples, &[])), None),
+                Err(reason) => (None, Some(reason)),
+            };
+            let per_draw = if per_draw.len() == pass.draw_slots.len() {
+                per_draw.get(draws).map(<[DrawRow]>::to_vec).unwrap_or_default()
+            } else {
+                Vec::new()
+            };
+            Some(SectionRow { label: section.label.clone(), counters, not_measured, per_draw })
+        })
+        .collect()
 }
 
 /// GPU nanoseconds between two timestamps.
@@ -132,7 +204,12 @@ fn read_draws(
 }
 
 /// The report row of a read-back pass (index set when the frame is assembled).
-fn row(pass: &RecordedPass, result: Result<RawCounters, String>, per_draw: Vec<DrawRow>) -> RenderPassRow {
+fn row(
+    pass: &RecordedPass,
+    result: Result<RawCounters, String>,
+    per_draw: Vec<DrawRow>,
+    sections: Vec<SectionRow>,
+) -> RenderPassRow {
     let desc = &pass.desc;
     let (counters, not_measured) = match (pass.not_measured(), result) {
         (Some(reason), _) => (None, Some(reason.to_owned())),
@@ -147,6 +224,7 @@ fn row(pass: &RecordedPass, result: Result<RawCounters, String>, per_draw: Vec<D
         samples: desc.samples,
         attachments: desc.attachments.clone(),
         per_draw: if counters.is_some() { per_draw } else { Vec::new() },
+        sections: if counters.is_some() { sections } else { Vec::new() },
         counters,
         not_measured,
     }
@@ -174,7 +252,11 @@ pub fn read_completed(device: &DeviceData, state: &mut DeviceState, done: impl F
                     (Ok(_), false) => read_draws(device, pass, pending.timestamp_bits, &layer).unwrap_or_default(),
                     _ => Vec::new(),
                 };
-                row(pass, result, per_draw)
+                let sections = match &result {
+                    Ok(_) => read_sections(device, state, pass, pending.timestamp_bits, &layer, &per_draw),
+                    Err(_) => Vec::new(),
+                };
+                row(pass, result, per_draw, sections)
             })
             .collect();
         if let Some(copy) = copy {

@@ -83,6 +83,27 @@ pub struct RenderPassRow {
     /// alone (inside an application query of the same type).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub per_draw: Vec<DrawRow>,
+    /// The parts of the pass between debug-utils label calls made inside it (an application
+    /// that labels draw groups inside one render pass), in recording order; their counters sum
+    /// to the pass's exactly (GPU time aside: the pass's also covers its loads, stores and
+    /// what lies between sections). Empty when no label call was made inside the pass.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub sections: Vec<SectionRow>,
+}
+
+/// A section of a render pass instance: its draws between two label calls.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SectionRow {
+    /// The labels begun inside the pass and open in this section, outermost first, joined by
+    /// " / "; null for the unlabelled draws between labelled sections.
+    pub label: Option<String>,
+    /// Tile traffic belongs to the pass: a section's bytes are 0.
+    pub counters: Option<Counters>,
+    #[serde(default)]
+    pub not_measured: Option<String>,
+    /// `per_draw`: this section's share of the pass's draws.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub per_draw: Vec<DrawRow>,
 }
 
 /// One draw of a measured render pass.
@@ -191,6 +212,22 @@ pub struct AggregateRow {
     pub frames: u64,
     /// The label of the last frame's pass at this position.
     pub label: Option<String>,
+    pub mean: Counters<f64>,
+    pub min: Counters,
+    pub max: Counters,
+    /// The pass's sections (see [`RenderPassRow::sections`]), each over the frames that had it.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub sections: Vec<AggregateSection>,
+}
+
+/// Mean, min and max of one section of an aggregated pass: the same position in the pass and
+/// the same label.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AggregateSection {
+    /// Position among the pass's section rows, from 0.
+    pub index: u32,
+    pub label: Option<String>,
+    pub frames: u64,
     pub mean: Counters<f64>,
     pub min: Counters,
     pub max: Counters,
