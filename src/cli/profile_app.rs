@@ -10,9 +10,10 @@ use super::install::{InstallPaths, HOW_TO_INSTALL};
 use super::output_path::check_output_path;
 use super::supervise::{self, Stop};
 use crate::error::{Error, Result};
+use crate::layer::aggregate::report_from_journal;
 use crate::layer::config::OutputFormat;
 use crate::layer::manifest::{manifest_json, newest_library, LAYER_NAME, LIBRARY_FILE, MANIFEST_FILE};
-use crate::layer::report::FillrateReport;
+use crate::layer::report::{journal_path, FillrateReport};
 use crate::profile::budget::Budget;
 use crate::profile::report::ReportFormat;
 
@@ -77,7 +78,24 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
     let mut child = std::process::Command::new(program);
     child.args(args).envs(environment);
     let mut ending = supervise::run(child, program, &result, stop)?;
-    let text = std::fs::read_to_string(&result).map_err(|_| {
+    // The frame journal beside the result holds every finished frame even when the program
+    // died between two rewrites of the result: the fuller of the two is the report.
+    let journal = std::fs::read_to_string(journal_path(&result))
+        .ok()
+        .and_then(|text| report_from_journal(&text, frames.is_some()));
+    let written = match std::fs::read_to_string(&result) {
+        Ok(text) => Some(
+            FillrateReport::from_json(&text)
+                .map_err(|e| Error::Asset { path: result.clone(), problem: e.to_string() })?,
+        ),
+        Err(_) => None,
+    };
+    let report = match (written, journal) {
+        (Some(written), Some(journal)) if journal.frames_measured > written.frames_measured => Some(journal),
+        (Some(written), _) => Some(written),
+        (None, journal) => journal,
+    };
+    let mut report = report.ok_or_else(|| {
         if ending.how == "exited" {
             Error::InvalidInput(format!(
                 "'{program}' exited normally but the layer wrote no result: it created no Vulkan device or never \
@@ -87,8 +105,6 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
             Error::InvalidInput(format!("'{program}' {} before a frame was measured; no report", ending.detail))
         }
     })?;
-    let mut report =
-        FillrateReport::from_json(&text).map_err(|e| Error::Asset { path: result.clone(), problem: e.to_string() })?;
     let short = frames.is_some_and(|n| report.frames_measured < n as u64);
     let failed = matches!(ending.how.as_str(), "crashed" | "killed" | "failed");
     ending.partial = short || failed;

@@ -4,7 +4,10 @@
 
 use std::collections::BTreeMap;
 
-use super::report::{AggregateRow, AggregateSection, Counters, RenderPassRow};
+use super::report::{
+    AggregateRow, AggregateSection, Counters, FillrateReport, FrameRows, JournalLine, RenderPassRow, FILLRATE_SCHEMA,
+    KEPT_FRAMES,
+};
 
 /// Sums, minima and maxima of one pass's (or section's) counters over frames.
 #[derive(Debug, Clone)]
@@ -177,6 +180,33 @@ impl Aggregator {
     }
 }
 
+/// The report the journal's text holds: every frame it lists (the last [`KEPT_FRAMES`]
+/// kept) and their aggregate; None without a whole line. A torn last line (the program died
+/// while it was written) is left out.
+pub fn report_from_journal(text: &str, keep_all: bool) -> Option<FillrateReport> {
+    let lines: Vec<JournalLine> = text.lines().filter_map(|l| serde_json::from_str(l).ok()).collect();
+    let last = lines.last()?.clone();
+    let mut aggregate = Aggregator::default();
+    for line in &lines {
+        aggregate.add_frame(&line.frame.render_passes);
+    }
+    let mut frames: Vec<FrameRows> = lines.into_iter().map(|l| l.frame).collect();
+    if !keep_all && frames.len() > KEPT_FRAMES {
+        frames.drain(..frames.len() - KEPT_FRAMES);
+    }
+    Some(FillrateReport {
+        schema: FILLRATE_SCHEMA.into(),
+        application: last.application,
+        device: last.device,
+        counters: last.counters,
+        frames_measured: last.frames_measured,
+        not_measured: last.not_measured,
+        frames,
+        aggregate: aggregate.rows(),
+        run: None,
+    })
+}
+
 #[cfg(test)]
 pub mod tests {
     use super::*;
@@ -204,6 +234,28 @@ pub mod tests {
             counters: Some(Counters::new(&raw, &area, 1, &[])),
             not_measured: None,
         }
+    }
+
+    #[test]
+    fn the_journal_gives_every_frame_and_their_aggregate_and_drops_a_torn_line() {
+        use crate::layer::report::{CounterSupport, FrameRows, JournalLine};
+        let line = |index: u64| JournalLine {
+            application: "app".into(),
+            device: "gpu".into(),
+            counters: CounterSupport::default(),
+            frames_measured: index + 1,
+            not_measured: Vec::new(),
+            frame: FrameRows { index, render_passes: vec![row(10, 100 * (index + 1), None)] },
+        };
+        let mut text: String =
+            (0..3).map(|i| serde_json::to_string(&line(i)).expect("json") + "\n").collect::<String>();
+        let torn = serde_json::to_string(&line(3)).expect("json");
+        text += &torn[..torn.len() / 2];
+        let report = report_from_journal(&text, false).expect("a report");
+        assert_eq!((report.frames_measured, report.frames.len()), (3, 3));
+        assert_eq!(report.aggregate[0].frames, 3);
+        assert_eq!(report.aggregate[0].mean.samples_passed, 200.0);
+        assert_eq!(report_from_journal("", false), None);
     }
 
     #[test]

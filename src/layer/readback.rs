@@ -6,7 +6,8 @@ use ash::vk;
 use super::output::{render, write_atomically};
 use super::recording::{AppGap, RecordedPass};
 use super::report::{
-    Counters, DrawRow, FillrateReport, NotMeasured, RawCounters, RenderPassRow, SectionRow, FILLRATE_SCHEMA,
+    journal_path, Counters, DrawRow, FillrateReport, JournalLine, NotMeasured, RawCounters, RenderPassRow, SectionRow,
+    FILLRATE_SCHEMA,
 };
 use super::slots::{QueryKind, Slot};
 use super::state::{DeviceData, DeviceState, Pending};
@@ -317,11 +318,61 @@ fn write_due(
     last || done || periodic
 }
 
-/// Writes the file at the end (`last`), when the limited frames are all in, or every K frames.
+/// Appends each frame finished since the last call to the journal beside `out` (one small
+/// line a frame, whatever the report's size), so a crash between two rewrites of the report
+/// loses no finished frame.
+fn journal_frames(device: &DeviceData, state: &mut DeviceState, out: &std::path::Path) {
+    use std::io::Write as _;
+    let measured = state.frames().frames_measured;
+    let new = measured.saturating_sub(state.journaled);
+    if new == 0 {
+        return;
+    }
+    let not_measured: Vec<NotMeasured> =
+        state.not_measured.iter().map(|(what, count)| NotMeasured { what: what.clone(), count: *count }).collect();
+    let frames = state.frames();
+    let first = frames.kept.len().saturating_sub(new as usize);
+    let mut text = String::new();
+    for frame in frames.kept.iter().skip(first) {
+        let line = JournalLine {
+            application: device.application.clone(),
+            device: device.info.name.clone(),
+            counters: device.info.support,
+            frames_measured: measured,
+            not_measured: not_measured.clone(),
+            frame: frame.clone(),
+        };
+        if let Ok(json) = serde_json::to_string(&line) {
+            text += &json;
+            text.push('\n');
+        }
+    }
+    state.journaled = measured;
+    if state.journal.is_none() {
+        let path = journal_path(out);
+        match std::fs::OpenOptions::new().create(true).write(true).truncate(true).open(&path) {
+            Ok(file) => state.journal = Some(file),
+            Err(e) => eprintln!("nostencil fill-rate layer: cannot write {}: {e}", path.display()),
+        }
+    }
+    if let Some(file) = &mut state.journal {
+        // One write: the kernel keeps what it took if the program dies right after.
+        if let Err(e) = file.write_all(text.as_bytes()) {
+            eprintln!("nostencil fill-rate layer: cannot append to the frame journal: {e}");
+            state.journal = None;
+        }
+    }
+}
+
+/// Writes the file at the end (`last`), when the limited frames are all in, or every K frames
+/// (and then journals every finished frame at once, see [`journal_frames`]).
 pub fn write_if_due(device: &DeviceData, state: &mut DeviceState, last: bool) {
     let Some(path) = device.config.out.clone() else { return };
     if state.finished {
         return;
+    }
+    if device.config.every > 0 {
+        journal_frames(device, state, &path);
     }
     let frames = state.frames();
     let (measured, done) = (frames.frames_measured, frames.done());
@@ -336,6 +387,10 @@ pub fn write_if_due(device: &DeviceData, state: &mut DeviceState, last: bool) {
     state.written_at = measured;
     state.last_write = Some(std::time::Instant::now());
     state.finished = done;
+    if (last || done) && state.journal.take().is_some() {
+        // The report is complete: the journal is no longer needed.
+        let _ = std::fs::remove_file(journal_path(&path));
+    }
 }
 
 #[cfg(test)]

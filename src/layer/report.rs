@@ -28,6 +28,27 @@ pub struct FillrateReport {
     pub run: Option<RunEnd>,
 }
 
+/// One line of the frame journal, `OUT.frames` beside the result file (written when
+/// `NOSTENCIL_FILLRATE_EVERY` is set, as profile-app sets it): a finished frame and the report's
+/// totals then, appended as the frame finishes, so a program that dies leaves every frame it
+/// finished even between two rewrites of the whole file. Removed once the report is complete.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct JournalLine {
+    pub application: String,
+    pub device: String,
+    pub counters: CounterSupport,
+    pub frames_measured: u64,
+    pub not_measured: Vec<NotMeasured>,
+    pub frame: FrameRows,
+}
+
+/// The journal beside the result file `out`.
+pub fn journal_path(out: &std::path::Path) -> std::path::PathBuf {
+    let mut path = out.as_os_str().to_owned();
+    path.push(".frames");
+    path.into()
+}
+
 /// How a program run by `profile-app` ended, and whether the report covers all it was asked to.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct RunEnd {
