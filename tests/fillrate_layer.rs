@@ -287,6 +287,51 @@ fn every_pass_label_inside_the_frame_is_a_section_whose_counters_sum_to_the_pass
             assert_eq!(counters.samples_passed, samples, "{technique} '{label}': samples passed");
             assert_eq!(counters.fragment_invocations, None, "{technique} '{label}'");
         }
+        // With `render --no-queries` nostencil records no query of its own: the layer's own
+        // segments measure each section, and every counter equals profile's for that pass
+        // exactly, fragments, vertices and primitives included (lavapipe's counts are
+        // deterministic). shadow-volume and outline also count each draw alone (per-draw rows
+        // must sum to their section's counters).
+        let per_draw = ["shadow-volume", "outline"].contains(&technique);
+        let out = dir.join(format!("{technique}-no-queries.json"));
+        let render = [&render[..], &["--no-queries"]].concat();
+        let env: &[(&str, &str)] = if per_draw { &[("NOSTENCIL_FILLRATE_PER_DRAW", "1")] } else { &[] };
+        let output = run_under_layer(&render, Some(&out), env, "");
+        assert_success(&format!("render --no-queries --technique {technique} under the layer"), &output);
+        assert_no_validation_errors(technique, &output);
+        let report = read_report(&out);
+        let rows = &report.frames.last().expect("a frame").render_passes;
+        let frame = rows.iter().rev().find(|r| r.label.as_deref() == Some("frame")).expect("the frame's render pass");
+        let total = frame.counters.expect("measured");
+        let fragments: Option<u64> =
+            frame.sections.iter().map(|s| s.counters.and_then(|c| c.fragment_invocations)).sum();
+        assert_eq!(fragments, total.fragment_invocations, "{technique}: fragments sum");
+        assert!(total.fragment_invocations.is_some(), "{technique}: no query of the program's, so statistics");
+        for section in &frame.sections {
+            let label = section.label.clone().unwrap_or_default();
+            let pass = passes.iter().find(|p| name(p) == label).expect("a profiled pass");
+            let c = section.counters.expect("measured");
+            let ours = [
+                Some(c.draws),
+                Some(c.samples_passed),
+                c.fragment_invocations,
+                c.vertex_invocations,
+                c.clipping_primitives,
+            ];
+            let keys = ["draws", "samples_passed", "fragment_invocations", "vertex_invocations", "clipping_primitives"];
+            let theirs: Vec<Option<u64>> = keys.iter().map(|k| pass[k].as_u64()).collect();
+            assert_eq!(ours.to_vec(), theirs, "{technique} '{label}': layer section vs profile ({keys:?})");
+            if per_draw {
+                assert_eq!(section.per_draw.len() as u64, c.draws, "{technique} '{label}': per-draw rows");
+                let samples: u64 = section.per_draw.iter().map(|d| d.samples_passed).sum();
+                let fragments: Option<u64> = section.per_draw.iter().map(|d| d.fragment_invocations).sum();
+                assert_eq!((samples, fragments), (c.samples_passed, c.fragment_invocations), "{technique} '{label}'");
+            }
+        }
+        if per_draw {
+            assert_eq!(frame.per_draw.len() as u64, total.draws, "{technique}: the pass's per-draw rows");
+        }
+
         // The aggregate keeps the sections.
         let aggregate = report.aggregate.iter().rev().find(|a| a.label.as_deref() == Some("frame")).expect("frame");
         let aggregated: Vec<String> = aggregate.sections.iter().map(|s| s.label.clone().unwrap_or_default()).collect();
