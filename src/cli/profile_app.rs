@@ -22,8 +22,9 @@ pub const AFTER_HELP: &str = "\
 The layer (libnostencil.so, built beside the nostencil executable, or installed for the user by
 `nostencil layer install`) is enabled for the program only: VK_INSTANCE_LAYERS gets VK_LAYER_NOSTENCIL_fillrate first (nearest the application; layers
 the user named stay, below it), VK_ADD_LAYER_PATH (or VK_LAYER_PATH, if set) its folder, and
-NOSTENCIL_FILLRATE_OUT/_FORMAT/_FRAMES/_EVERY tell it where and what to write (finished frames
-are written as they come, at most every 100 ms). The program's stdio is its own; it runs in its own process group.
+NOSTENCIL_FILLRATE_OUT/_FORMAT/_FRAMES/_EVERY tell it where and what to write (the report is
+rewritten at most every 100 ms, and each finished frame is appended to a journal beside it as it
+finishes). The program's stdio is its own; it runs in its own process group.
 The report follows once the program ends: by itself; after --frames N measured frames or
 --seconds S (SIGTERM, then SIGKILL 5 s later; --keep-running leaves it running after its N
 frames); or on Ctrl-C. A program that crashes or is killed still gets a report of the frames
@@ -242,8 +243,8 @@ pub fn layer_environment(
         layers,
         ("NOSTENCIL_FILLRATE_OUT".into(), result.as_os_str().to_owned()),
         ("NOSTENCIL_FILLRATE_FORMAT".into(), "json".into()),
-        // Finished frames go to disk as they come (at most every 100 ms): a program that crashes or
-        // is killed still has a report.
+        // Finished frames go to disk as they come (the report at most every 100 ms, each frame to
+        // the journal at once): a program that crashes or is killed has a report of every one.
         ("NOSTENCIL_FILLRATE_EVERY".into(), "1".into()),
     ]);
     if let Some(frames) = frames {
