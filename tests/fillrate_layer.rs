@@ -194,7 +194,10 @@ fn csv_and_table_outputs_and_no_output_named() {
     assert!(lines[0].starts_with("frame,index,label,api,x,y,width,height,samples,attachments,draws,"));
     // nostencil labels its frame's render pass "frame" (VK_EXT_debug_utils), which the layer reports.
     assert!(lines[1].starts_with("0,0,frame,vkCmdBeginRenderPass,0,0,64,48,1,"), "{}", lines[1]);
-    assert_eq!(lines.iter().filter(|l| l.starts_with("mean,0,")).count(), 1);
+    // The pass's aggregate lines leave the section column empty; its sections' name theirs.
+    assert_eq!(lines.iter().filter(|l| l.starts_with("mean,0,") && l.ends_with(",,")).count(), 1);
+    assert!(lines.iter().any(|l| l.starts_with("0,0,frame,") && l.ends_with(",scene")), "{text}");
+    assert!(lines.iter().any(|l| l.starts_with("mean,0,frame,") && l.ends_with(",scene")), "{text}");
 
     let table = dir.join("fillrate.txt");
     assert_success("table", &run_under_layer(&render, Some(&table), &[("NOSTENCIL_FILLRATE_FORMAT", "table")], ""));
@@ -205,4 +208,133 @@ fn csv_and_table_outputs_and_no_output_named() {
     let output = run_under_layer(&render, None, &[], "");
     let (_, stderr) = assert_success("no output", &output);
     assert_eq!(stderr.matches("NOSTENCIL_FILLRATE_OUT is not set: measuring nothing").count(), 1, "{stderr}");
+}
+
+/// `nostencil passes --technique T`: the Markdown tables naming every pass of the technique.
+fn passes_table(technique: &str) -> String {
+    let (stdout, _) = assert_success(
+        "nostencil passes",
+        &nostencil_command(&["passes", "--technique", technique]).output().expect("run nostencil passes"),
+    );
+    stdout
+}
+
+#[test]
+fn every_pass_label_inside_the_frame_is_a_section_whose_counters_sum_to_the_pass() {
+    // nostencil labels each measured pass inside its one "frame" render pass (draw groups, no
+    // subpasses): the layer reports each as a section under the frame's row, for every technique.
+    let dir = scratch_dir("fillrate_layer_sections");
+    for technique in nostencil::technique::registry::names() {
+        let out = dir.join(format!("{technique}.json"));
+        let png = dir.join(format!("{technique}.png"));
+        let args = ["--size", "64x64", "--technique", technique];
+        let render = [&["render"], &args[..], &["--out", png.to_str().expect("utf-8")]].concat();
+        let output = run_under_layer(&render, Some(&out), &[], "");
+        assert_success(&format!("render --technique {technique} under the layer"), &output);
+        assert_no_validation_errors(technique, &output);
+        let report = read_report(&out);
+        let rows = &report.frames.last().expect("a frame").render_passes;
+        let profile = profile(&args);
+        let passes = profile["passes"].as_array().expect("passes");
+        let name = |p: &serde_json::Value| p["name"].as_str().unwrap_or_default().to_owned();
+
+        // Every pass `profile` measured is named in the report: as a section of the frame, or
+        // (a prepass with a render pass of its own) as a render pass's label.
+        let labels: Vec<String> = rows
+            .iter()
+            .flat_map(|r| r.label.iter().cloned().chain(r.sections.iter().filter_map(|s| s.label.clone())))
+            .collect();
+        let table = passes_table(technique);
+        for pass in passes {
+            assert!(labels.contains(&name(pass)), "{technique}: no row for '{}' in {labels:?}", name(pass));
+            assert!(table.contains(&format!("| {} |", name(pass))), "{technique}: '{}' not in passes", name(pass));
+        }
+        // The frame's render pass (the last one labelled "frame": shadow-map renders its map
+        // first): its sections are the passes drawn in it, in order, none unlabelled.
+        let prepasses: Vec<&str> = rows.iter().filter_map(|r| r.label.as_deref()).filter(|l| *l != "frame").collect();
+        let frame = rows.iter().rev().find(|r| r.label.as_deref() == Some("frame")).expect("the frame's render pass");
+        let in_frame: Vec<String> = passes.iter().map(name).filter(|n| !prepasses.contains(&n.as_str())).collect();
+        let sections: Vec<String> = frame.sections.iter().map(|s| s.label.clone().unwrap_or_default()).collect();
+        assert_eq!(sections, in_frame, "{technique}: the frame's sections");
+
+        for row in rows.iter().filter(|r| !r.sections.is_empty()) {
+            let total = row.counters.expect("a pass with sections is measured");
+            let counters: Vec<_> =
+                row.sections.iter().map(|s| s.counters.expect("a section of a measured pass")).collect();
+            assert_eq!(counters.iter().map(|c| c.draws).sum::<u64>(), total.draws, "{technique}: draws");
+            assert_eq!(counters.iter().map(|c| c.samples_passed).sum::<u64>(), total.samples_passed, "{technique}");
+            if let Some(fragments) = total.fragment_invocations {
+                let sum: Option<u64> = counters.iter().map(|c| c.fragment_invocations).sum();
+                assert_eq!(sum, Some(fragments), "{technique}: fragments");
+            }
+            assert!(counters.iter().all(|c| c.gpu_ms.is_some()), "{technique}: each section is timed");
+        }
+
+        // Differential: nostencil's own per-pass counters against the layer's sections. Draws
+        // are counted independently (nostencil by its recorder, the layer by hooking vkCmdDraw*).
+        // Samples passed: inside each pass nostencil's own precise occlusion query is active,
+        // so the layer's section holds that query as a gap and adds its result: equal values
+        // prove the attribution of queries to sections, not a second measurement. Fragment
+        // invocations cannot be compared: nostencil's own statistics query is active in every
+        // pass, and the layer never reads an application's statistics query (on llvmpipe a
+        // second read changes the value), so the sections have none.
+        for section in &frame.sections {
+            let label = section.label.clone().unwrap_or_default();
+            let pass = passes.iter().find(|p| name(p) == label).expect("a profiled pass");
+            let counters = section.counters.expect("measured");
+            assert_eq!(counters.draws, pass["draws"].as_u64().unwrap_or(u64::MAX), "{technique} '{label}': draws");
+            let samples = pass["samples_passed"].as_u64().unwrap_or(u64::MAX);
+            assert_eq!(counters.samples_passed, samples, "{technique} '{label}': samples passed");
+            assert_eq!(counters.fragment_invocations, None, "{technique} '{label}'");
+        }
+        // With `render --no-queries` nostencil records no query of its own: the layer's own
+        // segments measure each section, and every counter equals profile's for that pass
+        // exactly, fragments, vertices and primitives included (lavapipe's counts are
+        // deterministic). shadow-volume and outline also count each draw alone (per-draw rows
+        // must sum to their section's counters).
+        let per_draw = ["shadow-volume", "outline"].contains(&technique);
+        let out = dir.join(format!("{technique}-no-queries.json"));
+        let render = [&render[..], &["--no-queries"]].concat();
+        let env: &[(&str, &str)] = if per_draw { &[("NOSTENCIL_FILLRATE_PER_DRAW", "1")] } else { &[] };
+        let output = run_under_layer(&render, Some(&out), env, "");
+        assert_success(&format!("render --no-queries --technique {technique} under the layer"), &output);
+        assert_no_validation_errors(technique, &output);
+        let report = read_report(&out);
+        let rows = &report.frames.last().expect("a frame").render_passes;
+        let frame = rows.iter().rev().find(|r| r.label.as_deref() == Some("frame")).expect("the frame's render pass");
+        let total = frame.counters.expect("measured");
+        let fragments: Option<u64> =
+            frame.sections.iter().map(|s| s.counters.and_then(|c| c.fragment_invocations)).sum();
+        assert_eq!(fragments, total.fragment_invocations, "{technique}: fragments sum");
+        assert!(total.fragment_invocations.is_some(), "{technique}: no query of the program's, so statistics");
+        for section in &frame.sections {
+            let label = section.label.clone().unwrap_or_default();
+            let pass = passes.iter().find(|p| name(p) == label).expect("a profiled pass");
+            let c = section.counters.expect("measured");
+            let ours = [
+                Some(c.draws),
+                Some(c.samples_passed),
+                c.fragment_invocations,
+                c.vertex_invocations,
+                c.clipping_primitives,
+            ];
+            let keys = ["draws", "samples_passed", "fragment_invocations", "vertex_invocations", "clipping_primitives"];
+            let theirs: Vec<Option<u64>> = keys.iter().map(|k| pass[k].as_u64()).collect();
+            assert_eq!(ours.to_vec(), theirs, "{technique} '{label}': layer section vs profile ({keys:?})");
+            if per_draw {
+                assert_eq!(section.per_draw.len() as u64, c.draws, "{technique} '{label}': per-draw rows");
+                let samples: u64 = section.per_draw.iter().map(|d| d.samples_passed).sum();
+                let fragments: Option<u64> = section.per_draw.iter().map(|d| d.fragment_invocations).sum();
+                assert_eq!((samples, fragments), (c.samples_passed, c.fragment_invocations), "{technique} '{label}'");
+            }
+        }
+        if per_draw {
+            assert_eq!(frame.per_draw.len() as u64, total.draws, "{technique}: the pass's per-draw rows");
+        }
+
+        // The aggregate keeps the sections.
+        let aggregate = report.aggregate.iter().rev().find(|a| a.label.as_deref() == Some("frame")).expect("frame");
+        let aggregated: Vec<String> = aggregate.sections.iter().map(|s| s.label.clone().unwrap_or_default()).collect();
+        assert_eq!(aggregated, in_frame, "{technique}: aggregate sections");
+    }
 }

@@ -121,6 +121,7 @@ mod tests {
             mean,
             min: counters(max / 2),
             max: counters(max),
+            sections: Vec::new(),
         }
     }
 

@@ -10,9 +10,10 @@ use super::install::{InstallPaths, HOW_TO_INSTALL};
 use super::output_path::check_output_path;
 use super::supervise::{self, Stop};
 use crate::error::{Error, Result};
+use crate::layer::aggregate::report_from_journal;
 use crate::layer::config::OutputFormat;
 use crate::layer::manifest::{manifest_json, newest_library, LAYER_NAME, LIBRARY_FILE, MANIFEST_FILE};
-use crate::layer::report::FillrateReport;
+use crate::layer::report::{journal_path, FillrateReport};
 use crate::profile::budget::Budget;
 use crate::profile::report::ReportFormat;
 
@@ -21,8 +22,9 @@ pub const AFTER_HELP: &str = "\
 The layer (libnostencil.so, built beside the nostencil executable, or installed for the user by
 `nostencil layer install`) is enabled for the program only: VK_INSTANCE_LAYERS gets VK_LAYER_NOSTENCIL_fillrate first (nearest the application; layers
 the user named stay, below it), VK_ADD_LAYER_PATH (or VK_LAYER_PATH, if set) its folder, and
-NOSTENCIL_FILLRATE_OUT/_FORMAT/_FRAMES/_EVERY tell it where and what to write (finished frames
-are written as they come, at most every 100 ms). The program's stdio is its own; it runs in its own process group.
+NOSTENCIL_FILLRATE_OUT/_FORMAT/_FRAMES/_EVERY tell it where and what to write (the report is
+rewritten at most every 100 ms, and each finished frame is appended to a journal beside it as it
+finishes). The program's stdio is its own; it runs in its own process group.
 The report follows once the program ends: by itself; after --frames N measured frames or
 --seconds S (SIGTERM, then SIGKILL 5 s later; --keep-running leaves it running after its N
 frames); or on Ctrl-C. A program that crashes or is killed still gets a report of the frames
@@ -77,7 +79,24 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
     let mut child = std::process::Command::new(program);
     child.args(args).envs(environment);
     let mut ending = supervise::run(child, program, &result, stop)?;
-    let text = std::fs::read_to_string(&result).map_err(|_| {
+    // The frame journal beside the result holds every finished frame even when the program
+    // died between two rewrites of the result: the fuller of the two is the report.
+    let journal = std::fs::read_to_string(journal_path(&result))
+        .ok()
+        .and_then(|text| report_from_journal(&text, frames.is_some()));
+    let written = match std::fs::read_to_string(&result) {
+        Ok(text) => Some(
+            FillrateReport::from_json(&text)
+                .map_err(|e| Error::Asset { path: result.clone(), problem: e.to_string() })?,
+        ),
+        Err(_) => None,
+    };
+    let report = match (written, journal) {
+        (Some(written), Some(journal)) if journal.frames_measured > written.frames_measured => Some(journal),
+        (Some(written), _) => Some(written),
+        (None, journal) => journal,
+    };
+    let mut report = report.ok_or_else(|| {
         if ending.how == "exited" {
             Error::InvalidInput(format!(
                 "'{program}' exited normally but the layer wrote no result: it created no Vulkan device or never \
@@ -87,8 +106,6 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
             Error::InvalidInput(format!("'{program}' {} before a frame was measured; no report", ending.detail))
         }
     })?;
-    let mut report =
-        FillrateReport::from_json(&text).map_err(|e| Error::Asset { path: result.clone(), problem: e.to_string() })?;
     let short = frames.is_some_and(|n| report.frames_measured < n as u64);
     let failed = matches!(ending.how.as_str(), "crashed" | "killed" | "failed");
     ending.partial = short || failed;
@@ -226,8 +243,8 @@ pub fn layer_environment(
         layers,
         ("NOSTENCIL_FILLRATE_OUT".into(), result.as_os_str().to_owned()),
         ("NOSTENCIL_FILLRATE_FORMAT".into(), "json".into()),
-        // Finished frames go to disk as they come (at most every 100 ms): a program that crashes or
-        // is killed still has a report.
+        // Finished frames go to disk as they come (the report at most every 100 ms, each frame to
+        // the journal at once): a program that crashes or is killed has a report of every one.
         ("NOSTENCIL_FILLRATE_EVERY".into(), "1".into()),
     ]);
     if let Some(frames) = frames {

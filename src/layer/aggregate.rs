@@ -1,19 +1,91 @@
 //! Mean, min and max of each render pass over the measured frames, matching passes across
-//! frames by their position in the frame and their key (render area, attachment formats/ops).
+//! frames by their position in the frame and their key (render area, attachment formats/ops);
+//! a pass's sections matched by their position in the pass and their label.
 
 use std::collections::BTreeMap;
 
-use super::report::{AggregateRow, Counters, RenderPassRow};
+use super::report::{
+    AggregateRow, AggregateSection, Counters, FillrateReport, FrameRows, JournalLine, RenderPassRow, FILLRATE_SCHEMA,
+    KEPT_FRAMES,
+};
 
+/// Sums, minima and maxima of one pass's (or section's) counters over frames.
 #[derive(Debug, Clone)]
-struct Accumulator {
+struct Stats {
     frames: u64,
-    label: Option<String>,
     sum: Counters<f64>,
     /// How many frames had each optional counter (a mean over frames that lack one is null).
     optional_frames: [u64; 5],
     min: Counters,
     max: Counters,
+}
+
+impl Stats {
+    fn new(c: &Counters) -> Self {
+        let zero = Counters {
+            draws: 0.0,
+            vertex_invocations: None,
+            clipping_primitives: None,
+            fragment_invocations: None,
+            fragments_per_pixel: None,
+            samples_passed: 0.0,
+            overdraw: 0.0,
+            gpu_ms: None,
+            bytes_loaded: 0.0,
+            bytes_stored: 0.0,
+        };
+        let mut stats = Stats { frames: 0, sum: zero, optional_frames: [0; 5], min: *c, max: *c };
+        stats.add(c);
+        stats
+    }
+
+    fn add(&mut self, c: &Counters) {
+        if self.frames > 0 {
+            self.min = combine(&self.min, c, u64::min, f64::min);
+            self.max = combine(&self.max, c, u64::max, f64::max);
+        }
+        self.frames += 1;
+        let f = |v: Option<u64>| v.map(|v| v as f64);
+        let (s, n) = (&mut self.sum, &mut self.optional_frames);
+        s.draws += c.draws as f64;
+        s.samples_passed += c.samples_passed as f64;
+        s.overdraw += c.overdraw;
+        s.bytes_loaded += c.bytes_loaded as f64;
+        s.bytes_stored += c.bytes_stored as f64;
+        add_opt(&mut s.vertex_invocations, f(c.vertex_invocations), &mut n[0]);
+        add_opt(&mut s.clipping_primitives, f(c.clipping_primitives), &mut n[1]);
+        add_opt(&mut s.fragment_invocations, f(c.fragment_invocations), &mut n[2]);
+        add_opt(&mut s.fragments_per_pixel, c.fragments_per_pixel, &mut n[3]);
+        add_opt(&mut s.gpu_ms, c.gpu_ms, &mut n[4]);
+    }
+
+    fn mean(&self) -> Counters<f64> {
+        let frames = self.frames as f64;
+        let n = &self.optional_frames;
+        let s = &self.sum;
+        // A counter some frames lacked has no honest mean.
+        let mean = |v: Option<f64>, seen: u64| v.filter(|_| seen == self.frames).map(|v| v / frames);
+        Counters {
+            draws: s.draws / frames,
+            vertex_invocations: mean(s.vertex_invocations, n[0]),
+            clipping_primitives: mean(s.clipping_primitives, n[1]),
+            fragment_invocations: mean(s.fragment_invocations, n[2]),
+            fragments_per_pixel: mean(s.fragments_per_pixel, n[3]),
+            samples_passed: s.samples_passed / frames,
+            overdraw: s.overdraw / frames,
+            gpu_ms: mean(s.gpu_ms, n[4]),
+            bytes_loaded: s.bytes_loaded / frames,
+            bytes_stored: s.bytes_stored / frames,
+        }
+    }
+}
+
+#[derive(Debug, Clone)]
+struct Accumulator {
+    label: Option<String>,
+    stats: Stats,
+    /// Sections by (position in the pass, label): the same section of the same pass.
+    sections: BTreeMap<(u32, Option<String>), Stats>,
 }
 
 #[derive(Debug, Default)]
@@ -51,95 +123,88 @@ fn combine(a: &Counters, b: &Counters, int: fn(u64, u64) -> u64, float: fn(f64, 
 }
 
 impl Aggregator {
-    /// Adds one finished frame's measured passes.
+    /// Adds one finished frame's measured passes, and their measured sections.
     pub fn add_frame(&mut self, passes: &[RenderPassRow]) {
         for (position, row) in passes.iter().enumerate() {
             let Some(c) = &row.counters else { continue };
             let key = (position as u32, row.key());
-            let f = |v: Option<u64>| v.map(|v| v as f64);
-            match self.passes.get_mut(&key) {
-                None => {
-                    let mut acc = Accumulator {
-                        frames: 1,
-                        label: row.label.clone(),
-                        sum: Counters {
-                            draws: c.draws as f64,
-                            vertex_invocations: None,
-                            clipping_primitives: None,
-                            fragment_invocations: None,
-                            fragments_per_pixel: None,
-                            samples_passed: c.samples_passed as f64,
-                            overdraw: c.overdraw,
-                            gpu_ms: None,
-                            bytes_loaded: c.bytes_loaded as f64,
-                            bytes_stored: c.bytes_stored as f64,
-                        },
-                        optional_frames: [0; 5],
-                        min: *c,
-                        max: *c,
-                    };
-                    let (s, n) = (&mut acc.sum, &mut acc.optional_frames);
-                    add_opt(&mut s.vertex_invocations, f(c.vertex_invocations), &mut n[0]);
-                    add_opt(&mut s.clipping_primitives, f(c.clipping_primitives), &mut n[1]);
-                    add_opt(&mut s.fragment_invocations, f(c.fragment_invocations), &mut n[2]);
-                    add_opt(&mut s.fragments_per_pixel, c.fragments_per_pixel, &mut n[3]);
-                    add_opt(&mut s.gpu_ms, c.gpu_ms, &mut n[4]);
-                    self.passes.insert(key, acc);
+            let acc = match self.passes.entry(key) {
+                std::collections::btree_map::Entry::Vacant(e) => {
+                    e.insert(Accumulator { label: None, stats: Stats::new(c), sections: BTreeMap::new() })
                 }
-                Some(acc) => {
-                    acc.frames += 1;
-                    acc.label = row.label.clone();
-                    let (s, n) = (&mut acc.sum, &mut acc.optional_frames);
-                    s.draws += c.draws as f64;
-                    s.samples_passed += c.samples_passed as f64;
-                    s.overdraw += c.overdraw;
-                    s.bytes_loaded += c.bytes_loaded as f64;
-                    s.bytes_stored += c.bytes_stored as f64;
-                    add_opt(&mut s.vertex_invocations, f(c.vertex_invocations), &mut n[0]);
-                    add_opt(&mut s.clipping_primitives, f(c.clipping_primitives), &mut n[1]);
-                    add_opt(&mut s.fragment_invocations, f(c.fragment_invocations), &mut n[2]);
-                    add_opt(&mut s.fragments_per_pixel, c.fragments_per_pixel, &mut n[3]);
-                    add_opt(&mut s.gpu_ms, c.gpu_ms, &mut n[4]);
-                    acc.min = combine(&acc.min, c, u64::min, f64::min);
-                    acc.max = combine(&acc.max, c, u64::max, f64::max);
+                std::collections::btree_map::Entry::Occupied(e) => {
+                    let acc = e.into_mut();
+                    acc.stats.add(c);
+                    acc
+                }
+            };
+            acc.label = row.label.clone();
+            for (index, section) in row.sections.iter().enumerate() {
+                let Some(c) = &section.counters else { continue };
+                match acc.sections.get_mut(&(index as u32, section.label.clone())) {
+                    Some(stats) => stats.add(c),
+                    None => {
+                        acc.sections.insert((index as u32, section.label.clone()), Stats::new(c));
+                    }
                 }
             }
         }
     }
 
-    /// One row per (position, key), in position order.
+    /// One row per (position, key), in position order, with its sections in theirs.
     pub fn rows(&self) -> Vec<AggregateRow> {
         self.passes
             .iter()
-            .map(|((position, key), acc)| {
-                let frames = acc.frames as f64;
-                let n = &acc.optional_frames;
-                let s = &acc.sum;
-                // A counter some frames lacked has no honest mean.
-                let mean = |v: Option<f64>, seen: u64| v.filter(|_| seen == acc.frames).map(|v| v / frames);
-                AggregateRow {
-                    position: *position,
-                    key: key.clone(),
-                    frames: acc.frames,
-                    label: acc.label.clone(),
-                    mean: Counters {
-                        draws: s.draws / frames,
-                        vertex_invocations: mean(s.vertex_invocations, n[0]),
-                        clipping_primitives: mean(s.clipping_primitives, n[1]),
-                        fragment_invocations: mean(s.fragment_invocations, n[2]),
-                        fragments_per_pixel: mean(s.fragments_per_pixel, n[3]),
-                        samples_passed: s.samples_passed / frames,
-                        overdraw: s.overdraw / frames,
-                        gpu_ms: mean(s.gpu_ms, n[4]),
-                        bytes_loaded: s.bytes_loaded / frames,
-                        bytes_stored: s.bytes_stored / frames,
-                    },
-                    min: acc.min,
-                    max: acc.max,
-                }
+            .map(|((position, key), acc)| AggregateRow {
+                position: *position,
+                key: key.clone(),
+                frames: acc.stats.frames,
+                label: acc.label.clone(),
+                mean: acc.stats.mean(),
+                min: acc.stats.min,
+                max: acc.stats.max,
+                sections: acc
+                    .sections
+                    .iter()
+                    .map(|((index, label), stats)| AggregateSection {
+                        index: *index,
+                        label: label.clone(),
+                        frames: stats.frames,
+                        mean: stats.mean(),
+                        min: stats.min,
+                        max: stats.max,
+                    })
+                    .collect(),
             })
             .collect()
     }
+}
+
+/// The report the journal's text holds: every frame it lists (the last [`KEPT_FRAMES`]
+/// kept) and their aggregate; None without a whole line. A torn last line (the program died
+/// while it was written) is left out.
+pub fn report_from_journal(text: &str, keep_all: bool) -> Option<FillrateReport> {
+    let lines: Vec<JournalLine> = text.lines().filter_map(|l| serde_json::from_str(l).ok()).collect();
+    let last = lines.last()?.clone();
+    let mut aggregate = Aggregator::default();
+    for line in &lines {
+        aggregate.add_frame(&line.frame.render_passes);
+    }
+    let mut frames: Vec<FrameRows> = lines.into_iter().map(|l| l.frame).collect();
+    if !keep_all && frames.len() > KEPT_FRAMES {
+        frames.drain(..frames.len() - KEPT_FRAMES);
+    }
+    Some(FillrateReport {
+        schema: FILLRATE_SCHEMA.into(),
+        application: last.application,
+        device: last.device,
+        counters: last.counters,
+        frames_measured: last.frames_measured,
+        not_measured: last.not_measured,
+        frames,
+        aggregate: aggregate.rows(),
+        run: None,
+    })
 }
 
 #[cfg(test)]
@@ -159,6 +224,7 @@ pub mod tests {
         };
         RenderPassRow {
             per_draw: Vec::new(),
+            sections: Vec::new(),
             index: 0,
             label: None,
             api: "vkCmdBeginRenderPass".into(),
@@ -168,6 +234,28 @@ pub mod tests {
             counters: Some(Counters::new(&raw, &area, 1, &[])),
             not_measured: None,
         }
+    }
+
+    #[test]
+    fn the_journal_gives_every_frame_and_their_aggregate_and_drops_a_torn_line() {
+        use crate::layer::report::{CounterSupport, FrameRows, JournalLine};
+        let line = |index: u64| JournalLine {
+            application: "app".into(),
+            device: "gpu".into(),
+            counters: CounterSupport::default(),
+            frames_measured: index + 1,
+            not_measured: Vec::new(),
+            frame: FrameRows { index, render_passes: vec![row(10, 100 * (index + 1), None)] },
+        };
+        let mut text: String =
+            (0..3).map(|i| serde_json::to_string(&line(i)).expect("json") + "\n").collect::<String>();
+        let torn = serde_json::to_string(&line(3)).expect("json");
+        text += &torn[..torn.len() / 2];
+        let report = report_from_journal(&text, false).expect("a report");
+        assert_eq!((report.frames_measured, report.frames.len()), (3, 3));
+        assert_eq!(report.aggregate[0].frames, 3);
+        assert_eq!(report.aggregate[0].mean.samples_passed, 200.0);
+        assert_eq!(report_from_journal("", false), None);
     }
 
     #[test]

@@ -554,21 +554,39 @@ pub(super) unsafe extern "system" fn cmd_begin_debug_utils_label(
     cmd: vk::CommandBuffer,
     label: *const vk::DebugUtilsLabelEXT<'_>,
 ) {
-    // SAFETY: the application's label.
-    let name = guard(None, || unsafe { label_name(label) });
-    if let Some(next) =
-        note(cmd, |r| r.push_label(name.unwrap_or_default())).and_then(|d| d.next.cmd_begin_debug_utils_label)
-    {
-        // SAFETY: the application's arguments, passed on.
-        unsafe { next(cmd, label) }
-    }
+    around(
+        cmd,
+        |d| {
+            if let Some(next) = d.next.cmd_begin_debug_utils_label {
+                // SAFETY: the application's arguments, passed on.
+                unsafe { next(cmd, label) }
+            }
+        },
+        |_, st| {
+            // SAFETY: the application's label.
+            let name = unsafe { label_name(label) };
+            let Some(data) = st.buffers.get_mut(&cmd) else { return Default::default() };
+            data.recording.push_label(name.unwrap_or_default())
+        },
+    );
 }
 
+/// Ending a label inside a render pass ends its section: the layer's commands go before the
+/// application's call (they close the section) and after it (the next section's timestamp).
 pub(super) unsafe extern "system" fn cmd_end_debug_utils_label(cmd: vk::CommandBuffer) {
-    if let Some(next) = note(cmd, |r| r.pop_label()).and_then(|d| d.next.cmd_end_debug_utils_label) {
-        // SAFETY: the application's arguments, passed on.
-        unsafe { next(cmd) }
-    }
+    around(
+        cmd,
+        |d| {
+            if let Some(next) = d.next.cmd_end_debug_utils_label {
+                // SAFETY: the application's arguments, passed on.
+                unsafe { next(cmd) }
+            }
+        },
+        |_, st| {
+            let Some(data) = st.buffers.get_mut(&cmd) else { return Default::default() };
+            data.recording.pop_label()
+        },
+    );
 }
 
 pub(super) unsafe extern "system" fn cmd_insert_debug_utils_label(

@@ -20,7 +20,8 @@ pub struct Config {
     pub frames: Option<u64>,
     /// `NOSTENCIL_FILLRATE_PER_DRAW=1`: also count each draw of a measured pass on its own.
     pub per_draw: bool,
-    /// `NOSTENCIL_FILLRATE_EVERY`: also rewrite the file every K frames, at most every 100 ms
+    /// `NOSTENCIL_FILLRATE_EVERY`: also rewrite the file every K frames, at most every 100 ms,
+    /// and append each finished frame to the journal beside it (report.rs, `JournalLine`)
     /// (0: never).
     pub every: u64,
 }

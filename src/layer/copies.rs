@@ -28,6 +28,9 @@ fn slots_of(passes: &[RecordedPass]) -> Vec<(Slot, usize)> {
         for (begin, end) in pass.draw_slots.iter().filter_map(|d| d.timestamps) {
             slots.extend([(begin, 1), (end, 1)]);
         }
+        for (begin, end) in pass.sections.iter().filter_map(|s| s.timestamps) {
+            slots.extend([(begin, 1), (end, 1)]);
+        }
     }
     slots
 }

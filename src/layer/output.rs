@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use super::config::OutputFormat;
-use super::report::{Counters, FillrateReport, RenderPassRow};
+use super::report::{Counters, FillrateReport, RenderPassRow, SectionRow};
 use crate::profile::text_table::aligned_lines;
 
 pub fn render(report: &FillrateReport, format: OutputFormat) -> String {
@@ -37,7 +37,7 @@ fn csv_field(text: &str) -> String {
 
 const CSV_HEADER: &str = "frame,index,label,api,x,y,width,height,samples,attachments,draws,vertex_invocations,\
 clipping_primitives,fragment_invocations,fragments_per_pixel,samples_passed,overdraw,gpu_ms,bytes_loaded,bytes_stored,\
-not_measured";
+not_measured,section";
 
 fn opt<T: std::fmt::Display>(value: Option<T>) -> String {
     value.map_or(String::new(), |v| v.to_string())
@@ -68,7 +68,7 @@ fn csv(report: &FillrateReport) -> String {
             let counters = row.counters.as_ref().map_or(",,,,,,,,,".to_owned(), csv_counters);
             let _ = writeln!(
                 out,
-                "{},{},{},{},{},{},{},{},{},{},{counters},{}",
+                "{},{},{},{},{},{},{},{},{},{},{counters},{},",
                 frame.index,
                 row.index,
                 csv_field(row.label.as_deref().unwrap_or("")),
@@ -81,6 +81,26 @@ fn csv(report: &FillrateReport) -> String {
                 csv_field(&row.key()),
                 csv_field(row.not_measured.as_deref().unwrap_or(""))
             );
+            // A section: the pass's columns, its own counters, its label in the last column.
+            for section in &row.sections {
+                let counters = section.counters.as_ref().map_or(",,,,,,,,,".to_owned(), csv_counters);
+                let _ = writeln!(
+                    out,
+                    "{},{},{},{},{},{},{},{},{},{},{counters},{},{}",
+                    frame.index,
+                    row.index,
+                    csv_field(row.label.as_deref().unwrap_or("")),
+                    row.api,
+                    a.x,
+                    a.y,
+                    a.width,
+                    a.height,
+                    row.samples,
+                    csv_field(&row.key()),
+                    csv_field(section.not_measured.as_deref().unwrap_or("")),
+                    csv_field(&section_name(section.label.as_deref()))
+                );
+            }
         }
     }
     // The aggregate: "mean"/"min"/"max" in the frame column, the position as index.
@@ -90,7 +110,18 @@ fn csv(report: &FillrateReport) -> String {
         let lines =
             [("mean", csv_counters(&agg.mean)), ("min", csv_counters(&agg.min)), ("max", csv_counters(&agg.max))];
         for (what, counters) in lines {
-            let _ = writeln!(out, "{what},{},{label},,,,,,,{key},{counters},", agg.position);
+            let _ = writeln!(out, "{what},{},{label},,,,,,,{key},{counters},,", agg.position);
+        }
+        for section in &agg.sections {
+            let name = csv_field(&section_name(section.label.as_deref()));
+            let lines = [
+                ("mean", csv_counters(&section.mean)),
+                ("min", csv_counters(&section.min)),
+                ("max", csv_counters(&section.max)),
+            ];
+            for (what, counters) in lines {
+                let _ = writeln!(out, "{what},{},{label},,,,,,,{key},{counters},,{name}", agg.position);
+            }
         }
     }
     out
@@ -101,11 +132,21 @@ fn aligned(header: &[&str], rows: &[Vec<String>]) -> String {
     aligned_lines(header, rows).into_iter().map(|line| line + "\n").collect()
 }
 
+/// A section's name: its label, or "(unlabelled)" for the draws between labelled sections.
+pub fn section_name(label: Option<&str>) -> String {
+    label.unwrap_or("(unlabelled)").to_owned()
+}
+
 fn pass_name(row: &RenderPassRow) -> String {
     match &row.label {
         Some(label) => format!("#{} {label}", row.index),
         None => format!("#{}", row.index),
     }
+}
+
+/// "#3 frame / volumes (alpha, z-pass)": the pass's name, then the section's.
+fn section_row_name(row: &RenderPassRow, section: &SectionRow) -> String {
+    format!("{} / {}", pass_name(row), section_name(section.label.as_deref()))
 }
 
 fn table(report: &FillrateReport) -> String {
@@ -142,18 +183,16 @@ fn table(report: &FillrateReport) -> String {
             "loaded B",
             "stored B",
         ];
-        let rows: Vec<Vec<String>> = frame
-            .render_passes
-            .iter()
-            .map(|r| {
-                let a = &r.render_area;
-                let mut cells = vec![pass_name(r), r.api.clone(), format!("{}x{}x{}", a.width, a.height, r.samples)];
-                match &r.counters {
+        let optu2 = optu;
+        let cells_of =
+            move |name: String, api: String, area: String, counters: Option<&Counters>, why: Option<&str>| {
+                let mut cells = vec![name, api, area];
+                match counters {
                     Some(c) => cells.extend([
                         c.draws.to_string(),
-                        optu(c.vertex_invocations),
-                        optu(c.clipping_primitives),
-                        optu(c.fragment_invocations),
+                        optu2(c.vertex_invocations),
+                        optu2(c.clipping_primitives),
+                        optu2(c.fragment_invocations),
                         optf(c.fragments_per_pixel),
                         c.samples_passed.to_string(),
                         format!("{:.3}", c.overdraw),
@@ -162,13 +201,24 @@ fn table(report: &FillrateReport) -> String {
                         c.bytes_stored.to_string(),
                     ]),
                     None => {
-                        cells.push(format!("not measured: {}", r.not_measured.as_deref().unwrap_or("unknown")));
+                        cells.push(format!("not measured: {}", why.unwrap_or("unknown")));
                         cells.extend(vec![String::new(); 9]);
                     }
                 }
                 cells
-            })
-            .collect();
+            };
+        let mut rows: Vec<Vec<String>> = Vec::new();
+        for r in &frame.render_passes {
+            let a = &r.render_area;
+            let area = format!("{}x{}x{}", a.width, a.height, r.samples);
+            rows.push(cells_of(pass_name(r), r.api.clone(), area, r.counters.as_ref(), r.not_measured.as_deref()));
+            // Sections under their pass: "#3 frame / volumes (alpha, z-pass)".
+            for section in &r.sections {
+                let name = section_row_name(r, section);
+                let why = section.not_measured.as_deref();
+                rows.push(cells_of(name, String::new(), String::new(), section.counters.as_ref(), why));
+            }
+        }
         out += &aligned(&header, &rows);
         let _ = writeln!(out, "\nattachments (tile traffic from the load/store ops, over the render area):");
         for r in &frame.render_passes {
@@ -205,29 +255,33 @@ fn table(report: &FillrateReport) -> String {
             "min",
             "max",
         ];
-        let rows: Vec<Vec<String>> = report
-            .aggregate
-            .iter()
-            .map(|a| {
-                let name = match &a.label {
-                    Some(label) => format!("#{} {label}", a.position),
-                    None => format!("#{}", a.position),
-                };
+        let mut rows: Vec<Vec<String>> = Vec::new();
+        for a in &report.aggregate {
+            let name = match &a.label {
+                Some(label) => format!("#{} {label}", a.position),
+                None => format!("#{}", a.position),
+            };
+            let cells = |name: String, frames: u64, mean: &Counters<f64>, min: &Counters, max: &Counters| {
                 vec![
                     name,
-                    a.frames.to_string(),
-                    format!("{:.1}", a.mean.samples_passed),
-                    a.min.samples_passed.to_string(),
-                    a.max.samples_passed.to_string(),
-                    optf(a.mean.fragment_invocations),
-                    optu(a.min.fragment_invocations),
-                    optu(a.max.fragment_invocations),
-                    optf(a.mean.gpu_ms),
-                    optf(a.min.gpu_ms),
-                    optf(a.max.gpu_ms),
+                    frames.to_string(),
+                    format!("{:.1}", mean.samples_passed),
+                    min.samples_passed.to_string(),
+                    max.samples_passed.to_string(),
+                    optf(mean.fragment_invocations),
+                    optu(min.fragment_invocations),
+                    optu(max.fragment_invocations),
+                    optf(mean.gpu_ms),
+                    optf(min.gpu_ms),
+                    optf(max.gpu_ms),
                 ]
-            })
-            .collect();
+            };
+            rows.push(cells(name.clone(), a.frames, &a.mean, &a.min, &a.max));
+            for s in &a.sections {
+                let section = format!("{name} / {}", section_name(s.label.as_deref()));
+                rows.push(cells(section, s.frames, &s.mean, &s.min, &s.max));
+            }
+        }
         out += &aligned(&header, &rows);
         for a in &report.aggregate {
             let _ = writeln!(out, "  #{}: {}", a.position, a.key);
@@ -254,6 +308,7 @@ mod tests {
         passes[0].label = Some("shadow, \"main\"".into());
         passes.push(RenderPassRow {
             per_draw: Vec::new(),
+            sections: Vec::new(),
             index: 2,
             counters: None,
             not_measured: Some("secondary command buffer".into()),
@@ -296,7 +351,7 @@ mod tests {
         assert_eq!(lines.len(), 1 + 3 + 6);
         assert!(lines[1].starts_with("0,0,\"shadow, \"\"main\"\"\",vkCmdBeginRenderPass,0,0,10,10,1,"));
         assert!(lines[1].contains(",2,6,2,200,2,100,1,1,0,0,"), "{}", lines[1]);
-        assert!(lines[3].ends_with(",secondary command buffer"));
+        assert!(lines[3].ends_with(",secondary command buffer,"));
         assert!(lines[4].starts_with("mean,0,"));
         assert!(lines[5].starts_with("min,0,") && lines[6].starts_with("max,0,"));
         // Every line has the header's columns (lines with a quoted comma aside).
@@ -314,6 +369,36 @@ mod tests {
         assert!(text.contains("not measured: secondary command buffer"));
         assert!(text.contains("aggregate over 1 frame(s)"));
         assert!(text.contains("1 x secondary command buffer"));
+    }
+
+    #[test]
+    fn sections_are_rows_under_their_pass_in_every_format_and_the_aggregate() {
+        let mut report = report();
+        let pass = &mut report.frames[0].render_passes[0];
+        pass.label = Some("frame".into());
+        let section = |label: Option<&str>, samples| SectionRow {
+            label: label.map(str::to_owned),
+            counters: row(10, samples, None).counters,
+            not_measured: None,
+            per_draw: Vec::new(),
+        };
+        pass.sections = vec![section(Some("volumes (alpha, z-pass)"), 60), section(None, 40)];
+        let mut aggregate = Aggregator::default();
+        aggregate.add_frame(&report.frames[0].render_passes);
+        report.aggregate = aggregate.rows();
+        assert_eq!(report.aggregate[0].sections.len(), 2);
+        assert_eq!(report.aggregate[0].sections[0].min.samples_passed, 60);
+
+        let table = render(&report, OutputFormat::Table);
+        assert!(table.contains("#0 frame / volumes (alpha, z-pass)"), "{table}");
+        assert!(table.contains("#0 frame / (unlabelled)"), "{table}");
+        let csv = render(&report, OutputFormat::Csv);
+        let sections: Vec<&str> = csv.lines().filter(|l| l.ends_with(",\"volumes (alpha, z-pass)\"")).collect();
+        // The frame's line and the aggregate's mean, min and max.
+        assert_eq!(sections.len(), 4, "{csv}");
+        assert!(sections[0].starts_with("0,0,frame,"), "{}", sections[0]);
+        let json = render(&report, OutputFormat::Json);
+        assert_eq!(FillrateReport::from_json(&json), Ok(report));
     }
 
     #[test]

@@ -4,8 +4,11 @@
 use ash::vk;
 
 use super::output::{render, write_atomically};
-use super::recording::RecordedPass;
-use super::report::{Counters, DrawRow, FillrateReport, NotMeasured, RawCounters, RenderPassRow, FILLRATE_SCHEMA};
+use super::recording::{AppGap, RecordedPass};
+use super::report::{
+    journal_path, Counters, DrawRow, FillrateReport, JournalLine, NotMeasured, RawCounters, RenderPassRow, SectionRow,
+    FILLRATE_SCHEMA,
+};
 use super::slots::{QueryKind, Slot};
 use super::state::{DeviceData, DeviceState, Pending};
 
@@ -59,18 +62,44 @@ fn read_pass(
     timestamp_bits: u32,
     layer: &dyn Fn(Slot, usize) -> Result<Vec<u64>, String>,
 ) -> Result<RawCounters, String> {
-    let mut raw = RawCounters { draws: pass.draws, ..RawCounters::default() };
-    for slot in &pass.occlusion {
+    let part = Part {
+        occlusion: &pass.occlusion,
+        statistics: &pass.statistics,
+        gaps: &pass.gaps,
+        draws: pass.draws,
+        timestamps: pass.timestamps,
+    };
+    read_part(device, state, &part, timestamp_bits, layer)
+}
+
+/// A pass, or one of its sections: segments, gaps, draws and timestamps.
+struct Part<'a> {
+    occlusion: &'a [Slot],
+    statistics: &'a [Slot],
+    gaps: &'a [AppGap],
+    draws: u64,
+    timestamps: Option<(Slot, Slot)>,
+}
+
+fn read_part(
+    device: &DeviceData,
+    state: &DeviceState,
+    part: &Part<'_>,
+    timestamp_bits: u32,
+    layer: &dyn Fn(Slot, usize) -> Result<Vec<u64>, String>,
+) -> Result<RawCounters, String> {
+    let mut raw = RawCounters { draws: part.draws, ..RawCounters::default() };
+    for slot in part.occlusion {
         raw.samples_passed += layer(*slot, 1)?[0];
     }
     let mut stats = if device.info.support.pipeline_statistics { [Some(0u64); 3] } else { [None; 3] };
-    for slot in &pass.statistics {
+    for slot in part.statistics {
         let values = layer(*slot, 3)?;
         for (sum, value) in stats.iter_mut().zip(values) {
             *sum = sum.map(|s| s + value);
         }
     }
-    for gap in &pass.gaps {
+    for gap in part.gaps {
         if !state.app_pools.contains_key(&gap.pool) {
             return Err("application query pool destroyed before the layer read it".into());
         }
@@ -83,10 +112,54 @@ fn read_pass(
         }
     }
     [raw.vertex_invocations, raw.clipping_primitives, raw.fragment_invocations] = stats;
-    if let Some(pair) = pass.timestamps {
+    if let Some(pair) = part.timestamps {
         raw.gpu_ns = Some(elapsed_ns(device, pair, timestamp_bits, layer)?);
     }
     Ok(raw)
+}
+
+/// The section rows of a pass a label call split (none otherwise): each section's counters
+/// from its share of the pass's segments and gaps, and its share of the per-draw rows. An
+/// unlabelled section with no draw and no application query is left out (it counted nothing).
+fn read_sections(
+    device: &DeviceData,
+    state: &DeviceState,
+    pass: &RecordedPass,
+    timestamp_bits: u32,
+    layer: &dyn Fn(Slot, usize) -> Result<Vec<u64>, String>,
+    per_draw: &[DrawRow],
+) -> Vec<SectionRow> {
+    if !pass.split() || pass.not_measured().is_some() {
+        return Vec::new();
+    }
+    let desc = &pass.desc;
+    pass.sections
+        .iter()
+        .enumerate()
+        .filter_map(|(index, section)| {
+            let [occlusion, statistics, gaps, draws] = pass.section_ranges(index);
+            if section.label.is_none() && section.draws == 0 && gaps.is_empty() {
+                return None;
+            }
+            let part = Part {
+                occlusion: pass.occlusion.get(occlusion).unwrap_or_default(),
+                statistics: pass.statistics.get(statistics).unwrap_or_default(),
+                gaps: pass.gaps.get(gaps).unwrap_or_default(),
+                draws: section.draws,
+                timestamps: section.timestamps,
+            };
+            let (counters, not_measured) = match read_part(device, state, &part, timestamp_bits, layer) {
+                Ok(raw) => (Some(Counters::new(&raw, &desc.area, desc.samples, &[])), None),
+                Err(reason) => (None, Some(reason)),
+            };
+            let per_draw = if per_draw.len() == pass.draw_slots.len() {
+                per_draw.get(draws).map(<[DrawRow]>::to_vec).unwrap_or_default()
+            } else {
+                Vec::new()
+            };
+            Some(SectionRow { label: section.label.clone(), counters, not_measured, per_draw })
+        })
+        .collect()
 }
 
 /// GPU nanoseconds between two timestamps.
@@ -132,7 +205,12 @@ fn read_draws(
 }
 
 /// The report row of a read-back pass (index set when the frame is assembled).
-fn row(pass: &RecordedPass, result: Result<RawCounters, String>, per_draw: Vec<DrawRow>) -> RenderPassRow {
+fn row(
+    pass: &RecordedPass,
+    result: Result<RawCounters, String>,
+    per_draw: Vec<DrawRow>,
+    sections: Vec<SectionRow>,
+) -> RenderPassRow {
     let desc = &pass.desc;
     let (counters, not_measured) = match (pass.not_measured(), result) {
         (Some(reason), _) => (None, Some(reason.to_owned())),
@@ -147,6 +225,7 @@ fn row(pass: &RecordedPass, result: Result<RawCounters, String>, per_draw: Vec<D
         samples: desc.samples,
         attachments: desc.attachments.clone(),
         per_draw: if counters.is_some() { per_draw } else { Vec::new() },
+        sections: if counters.is_some() { sections } else { Vec::new() },
         counters,
         not_measured,
     }
@@ -174,7 +253,11 @@ pub fn read_completed(device: &DeviceData, state: &mut DeviceState, done: impl F
                     (Ok(_), false) => read_draws(device, pass, pending.timestamp_bits, &layer).unwrap_or_default(),
                     _ => Vec::new(),
                 };
-                row(pass, result, per_draw)
+                let sections = match &result {
+                    Ok(_) => read_sections(device, state, pass, pending.timestamp_bits, &layer, &per_draw),
+                    Err(_) => Vec::new(),
+                };
+                row(pass, result, per_draw, sections)
             })
             .collect();
         if let Some(copy) = copy {
@@ -235,11 +318,61 @@ fn write_due(
     last || done || periodic
 }
 
-/// Writes the file at the end (`last`), when the limited frames are all in, or every K frames.
+/// Appends each frame finished since the last call to the journal beside `out` (one small
+/// line a frame, whatever the report's size), so a crash between two rewrites of the report
+/// loses no finished frame.
+fn journal_frames(device: &DeviceData, state: &mut DeviceState, out: &std::path::Path) {
+    use std::io::Write as _;
+    let measured = state.frames().frames_measured;
+    let new = measured.saturating_sub(state.journaled);
+    if new == 0 {
+        return;
+    }
+    let not_measured: Vec<NotMeasured> =
+        state.not_measured.iter().map(|(what, count)| NotMeasured { what: what.clone(), count: *count }).collect();
+    let frames = state.frames();
+    let first = frames.kept.len().saturating_sub(new as usize);
+    let mut text = String::new();
+    for frame in frames.kept.iter().skip(first) {
+        let line = JournalLine {
+            application: device.application.clone(),
+            device: device.info.name.clone(),
+            counters: device.info.support,
+            frames_measured: measured,
+            not_measured: not_measured.clone(),
+            frame: frame.clone(),
+        };
+        if let Ok(json) = serde_json::to_string(&line) {
+            text += &json;
+            text.push('\n');
+        }
+    }
+    state.journaled = measured;
+    if state.journal.is_none() {
+        let path = journal_path(out);
+        match std::fs::OpenOptions::new().create(true).write(true).truncate(true).open(&path) {
+            Ok(file) => state.journal = Some(file),
+            Err(e) => eprintln!("nostencil fill-rate layer: cannot write {}: {e}", path.display()),
+        }
+    }
+    if let Some(file) = &mut state.journal {
+        // One write: the kernel keeps what it took if the program dies right after.
+        if let Err(e) = file.write_all(text.as_bytes()) {
+            eprintln!("nostencil fill-rate layer: cannot append to the frame journal: {e}");
+            state.journal = None;
+        }
+    }
+}
+
+/// Writes the file at the end (`last`), when the limited frames are all in, or every K frames
+/// (and then journals every finished frame at once, see [`journal_frames`]).
 pub fn write_if_due(device: &DeviceData, state: &mut DeviceState, last: bool) {
     let Some(path) = device.config.out.clone() else { return };
     if state.finished {
         return;
+    }
+    if device.config.every > 0 {
+        journal_frames(device, state, &path);
     }
     let frames = state.frames();
     let (measured, done) = (frames.frames_measured, frames.done());
@@ -254,6 +387,10 @@ pub fn write_if_due(device: &DeviceData, state: &mut DeviceState, last: bool) {
     state.written_at = measured;
     state.last_write = Some(std::time::Instant::now());
     state.finished = done;
+    if (last || done) && state.journal.take().is_some() {
+        // The report is complete: the journal is no longer needed.
+        let _ = std::fs::remove_file(journal_path(&path));
+    }
 }
 
 #[cfg(test)]

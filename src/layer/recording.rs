@@ -15,6 +15,13 @@
 //!   segment begins when the application's query ends;
 //! - an application query of those types already active when a pass begins: the pass is not
 //!   measured (the layer cannot begin its own), and said so.
+//!
+//! Sections: a debug-utils label begun or ended inside a pass splits it. The layer's active
+//! segments end at the label call (ending a query needs no pipeline) and the next draw begins
+//! new ones, so every segment, gap and per-draw query falls in exactly one section: a section is
+//! where its lists begin in the pass's lists, and the pass's counters are the sum of its
+//! sections' exactly. Each section opened by a label call also gets two timestamps of its own.
+//! An application query is counted in the section it began in.
 
 use std::collections::HashMap;
 
@@ -28,6 +35,23 @@ pub const SEGMENTS_PER_PASS: u32 = 64;
 
 /// Draws one pass may have when each draw is measured alone (`per_draw`).
 pub const DRAWS_PER_PASS: u32 = 256;
+
+/// Sections of one pass that get timestamps of their own (later ones have no GPU time): with
+/// the pass's own two, one pool chunk.
+pub const TIMED_SECTIONS_PER_PASS: u32 = 31;
+
+/// A part of a render pass instance between two debug-utils label calls made inside it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Section {
+    /// The labels begun inside the pass and open here, outermost first, joined by " / ".
+    pub label: Option<String>,
+    /// Where this section's entries begin in the pass's `occlusion`, `statistics`, `gaps` and
+    /// `draw_slots` (they end where the next section's begin).
+    pub from: [usize; 4],
+    pub draws: u64,
+    /// (begin, end) timestamps: sections opened by a label call.
+    pub timestamps: Option<(Slot, Slot)>,
+}
 
 /// The queries of one draw measured alone.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -74,6 +98,10 @@ pub struct RecordedPass {
     pub gaps: Vec<AppGap>,
     /// `per_draw`: each draw's own queries.
     pub draw_slots: Vec<DrawSlots>,
+    /// At least one; more when labels were begun or ended inside the pass.
+    pub sections: Vec<Section>,
+    /// Labels open when the pass began (those inside it name its sections).
+    label_base: usize,
     active_occlusion: Option<Slot>,
     active_statistics: Option<Slot>,
     measuring: bool,
@@ -82,6 +110,19 @@ pub struct RecordedPass {
 impl RecordedPass {
     pub fn not_measured(&self) -> Option<&str> {
         self.desc.not_measured.as_deref()
+    }
+
+    /// Whether a label call inside the pass split it into sections.
+    pub fn split(&self) -> bool {
+        self.sections.len() > 1
+    }
+
+    /// Section `index`'s ranges in the pass's occlusion, statistics, gaps and draw_slots lists.
+    pub fn section_ranges(&self, index: usize) -> [std::ops::Range<usize>; 4] {
+        let ends = [self.occlusion.len(), self.statistics.len(), self.gaps.len(), self.draw_slots.len()];
+        let from = self.sections.get(index).map_or(ends, |s| s.from);
+        let to = self.sections.get(index + 1).map_or(ends, |s| s.from);
+        [0, 1, 2, 3].map(|i| from[i]..to[i].max(from[i]))
     }
 }
 
@@ -153,12 +194,50 @@ impl Recording {
         [&self.occlusion, &self.statistics, &self.timestamps].into_iter().flat_map(|s| s.pools.iter().copied())
     }
 
-    pub fn push_label(&mut self, label: String) {
+    /// vkCmdBeginDebugUtilsLabelEXT: inside a pass, a new section begins (commands before and
+    /// after the application's call).
+    pub fn push_label(&mut self, label: String) -> (Vec<QueryCmd>, Vec<QueryCmd>) {
         self.labels.push(label);
+        self.split_section()
     }
 
-    pub fn pop_label(&mut self) {
+    /// vkCmdEndDebugUtilsLabelEXT: ending a label begun inside the pass begins a new section.
+    pub fn pop_label(&mut self) -> (Vec<QueryCmd>, Vec<QueryCmd>) {
         self.labels.pop();
+        let depth = self.labels.len();
+        match self.open {
+            Some(index) if depth < self.passes[index].label_base => {
+                // A label begun before the pass ended inside it: nothing of the pass's closes.
+                self.passes[index].label_base = depth;
+                Default::default()
+            }
+            Some(_) => self.split_section(),
+            None => Default::default(),
+        }
+    }
+
+    /// Closes the open pass's current section and opens the next, named by the labels begun
+    /// inside the pass that are open now.
+    fn split_section(&mut self) -> (Vec<QueryCmd>, Vec<QueryCmd>) {
+        let (mut before, mut after) = (Vec::new(), Vec::new());
+        let Some(index) = self.open else { return (before, after) };
+        self.end_segments(None, &mut before);
+        let base = self.passes[index].label_base.min(self.labels.len());
+        let label = (base < self.labels.len()).then(|| self.labels[base..].join(" / "));
+        let pass = &self.passes[index];
+        if let Some((_, end)) = pass.sections.last().and_then(|s| s.timestamps) {
+            before.push(QueryCmd::Timestamp { slot: end, stage: vk::PipelineStageFlags::BOTTOM_OF_PIPE });
+        }
+        let timed =
+            pass.measuring && self.support.timestamps && pass.sections.len() <= TIMED_SECTIONS_PER_PASS as usize;
+        let timestamps = if timed { self.timestamps.take().zip(self.timestamps.take()) } else { None };
+        if let Some((begin, _)) = timestamps {
+            after.push(QueryCmd::Timestamp { slot: begin, stage: vk::PipelineStageFlags::TOP_OF_PIPE });
+        }
+        let pass = &mut self.passes[index];
+        let from = [pass.occlusion.len(), pass.statistics.len(), pass.gaps.len(), pass.draw_slots.len()];
+        pass.sections.push(Section { label, from, draws: 0, timestamps });
+        (before, after)
     }
 
     pub fn insert_label(&mut self, label: String) {
@@ -172,6 +251,9 @@ impl Recording {
         let (mut before, mut after) = (Vec::new(), Vec::new());
         let Some(index) = self.open else { return (before, after) };
         self.passes[index].draws += 1;
+        if let Some(section) = self.passes[index].sections.last_mut() {
+            section.draws += 1;
+        }
         if self.per_draw && self.passes[index].measuring {
             self.end_segments(None, &mut before);
             let timestamps =
@@ -220,8 +302,12 @@ impl Recording {
         if desc.not_measured.is_none() {
             let support = self.support;
             // Resets go outside the pass: every slot the pass may use is reset before it.
-            let (segments, timestamps) =
-                if self.per_draw { (DRAWS_PER_PASS, 2 + 2 * DRAWS_PER_PASS) } else { (SEGMENTS_PER_PASS, 2) };
+            let sections = 2 * TIMED_SECTIONS_PER_PASS;
+            let (segments, timestamps) = if self.per_draw {
+                (DRAWS_PER_PASS, 2 + 2 * DRAWS_PER_PASS + sections)
+            } else {
+                (SEGMENTS_PER_PASS, 2 + sections)
+            };
             let mut ok = self.occlusion.reserve(segments, create, &mut before);
             if support.statistics {
                 ok &= self.statistics.reserve(segments, create, &mut before);
@@ -243,6 +329,8 @@ impl Recording {
             timestamps: None,
             gaps: Vec::new(),
             draw_slots: Vec::new(),
+            sections: vec![Section { label: None, from: [0; 4], draws: 0, timestamps: None }],
+            label_base: self.labels.len(),
             active_occlusion: None,
             active_statistics: None,
             measuring,
@@ -343,6 +431,9 @@ impl Recording {
         let Some(index) = self.open else { return before };
         self.end_segments(None, &mut before);
         let pass = &mut self.passes[index];
+        if let Some((_, end)) = pass.sections.last().and_then(|s| s.timestamps) {
+            before.push(QueryCmd::Timestamp { slot: end, stage: vk::PipelineStageFlags::BOTTOM_OF_PIPE });
+        }
         if let Some((_, end)) = pass.timestamps {
             // The timestamps were taken when the pass began measuring; write the end one even if
             // the pass stopped measuring since, so the slot is never left unwritten.
@@ -524,6 +615,62 @@ mod tests {
             pass.draw_slots.iter().map(|d| d.occlusion).collect::<Vec<_>>(),
             pass.occlusion.iter().map(|s| Some(*s)).collect::<Vec<_>>()
         );
+    }
+
+    #[test]
+    fn labels_inside_a_pass_split_it_into_sections_whose_lists_partition_the_pass() {
+        let (mut rec, mut create) = recording();
+        rec.push_label("frame".into());
+        rec.begin_pass(desc(), &mut create);
+        rec.draw(); // unlabelled draws before the first section
+        let (before, after) = rec.push_label("scene".into());
+        assert_eq!(ends(&before), 2, "the label ends the active segments: {before:?}");
+        assert!(begins(&after) == 0 && after.len() == 1, "only the section's timestamp: {after:?}");
+        assert_eq!(begins(&rec.draw().0), 2, "the first draw of the section begins its segments");
+        rec.draw();
+        let (before, _) = rec.push_label("inner".into());
+        assert_eq!(ends(&before), 2);
+        assert!(matches!(
+            before.last(),
+            Some(QueryCmd::Timestamp { stage: vk::PipelineStageFlags::BOTTOM_OF_PIPE, .. })
+        ));
+        rec.draw();
+        rec.pop_label();
+        let (before, _) = rec.pop_label();
+        assert!(ends(&before) == 0, "no draw since the last split: nothing active");
+        let app = vk::QueryPool::from_raw(7);
+        rec.app_begin_query(QueryKind::Occlusion, app, 0, true, vk::QueryPipelineStatisticFlags::empty());
+        rec.draw();
+        rec.app_end_query(app, 0);
+        let end = rec.end_pass();
+        assert_eq!(ends(&end), 1, "the statistics segment of the last section");
+        rec.pop_label(); // "frame", begun before the pass
+        let pass = &rec.passes[0];
+        assert_eq!(pass.label.as_deref(), Some("frame"));
+        let labels: Vec<Option<&str>> = pass.sections.iter().map(|s| s.label.as_deref()).collect();
+        assert_eq!(labels, [None, Some("scene"), Some("scene / inner"), Some("scene"), None]);
+        let draws: Vec<u64> = pass.sections.iter().map(|s| s.draws).collect();
+        assert_eq!(draws, [1, 2, 1, 0, 1]);
+        assert!(pass.sections[0].timestamps.is_none() && pass.sections[1..].iter().all(|s| s.timestamps.is_some()));
+        // The sections' ranges partition the pass's lists.
+        let ranges: Vec<_> = (0..pass.sections.len()).map(|i| pass.section_ranges(i)).collect();
+        let occlusion: Vec<usize> = ranges.iter().map(|r| r[0].len()).collect();
+        assert_eq!(occlusion, [1, 1, 1, 0, 0], "the last section's samples are the application's gap");
+        let gaps: Vec<usize> = ranges.iter().map(|r| r[2].len()).collect();
+        assert_eq!(gaps, [0, 0, 0, 0, 1]);
+        assert_eq!(ranges.iter().map(|r| r[1].len()).sum::<usize>(), pass.statistics.len());
+    }
+
+    #[test]
+    fn a_label_begun_before_the_pass_and_ended_inside_it_does_not_split_it() {
+        let (mut rec, mut create) = recording();
+        rec.push_label("outer".into());
+        rec.begin_pass(desc(), &mut create);
+        rec.draw();
+        assert_eq!(rec.pop_label(), (Vec::new(), Vec::new()));
+        rec.draw();
+        rec.end_pass();
+        assert!(!rec.passes[0].split());
     }
 
     #[test]

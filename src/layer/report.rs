@@ -28,6 +28,27 @@ pub struct FillrateReport {
     pub run: Option<RunEnd>,
 }
 
+/// One line of the frame journal, `OUT.frames` beside the result file (written when
+/// `NOSTENCIL_FILLRATE_EVERY` is set, as profile-app sets it): a finished frame and the report's
+/// totals then, appended as the frame finishes, so a program that dies leaves every frame it
+/// finished even between two rewrites of the whole file. Removed once the report is complete.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct JournalLine {
+    pub application: String,
+    pub device: String,
+    pub counters: CounterSupport,
+    pub frames_measured: u64,
+    pub not_measured: Vec<NotMeasured>,
+    pub frame: FrameRows,
+}
+
+/// The journal beside the result file `out`.
+pub fn journal_path(out: &std::path::Path) -> std::path::PathBuf {
+    let mut path = out.as_os_str().to_owned();
+    path.push(".frames");
+    path.into()
+}
+
 /// How a program run by `profile-app` ended, and whether the report covers all it was asked to.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct RunEnd {
@@ -81,6 +102,27 @@ pub struct RenderPassRow {
     /// `NOSTENCIL_FILLRATE_PER_DRAW=1` (`profile-app --per-draw`): each draw, in recording order;
     /// their sums are the pass's counters. Empty when off or when a draw could not be measured
     /// alone (inside an application query of the same type).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub per_draw: Vec<DrawRow>,
+    /// The parts of the pass between debug-utils label calls made inside it (an application
+    /// that labels draw groups inside one render pass), in recording order; their counters sum
+    /// to the pass's exactly (GPU time aside: the pass's also covers its loads, stores and
+    /// what lies between sections). Empty when no label call was made inside the pass.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub sections: Vec<SectionRow>,
+}
+
+/// A section of a render pass instance: its draws between two label calls.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SectionRow {
+    /// The labels begun inside the pass and open in this section, outermost first, joined by
+    /// " / "; null for the unlabelled draws between labelled sections.
+    pub label: Option<String>,
+    /// Tile traffic belongs to the pass: a section's bytes are 0.
+    pub counters: Option<Counters>,
+    #[serde(default)]
+    pub not_measured: Option<String>,
+    /// `per_draw`: this section's share of the pass's draws.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub per_draw: Vec<DrawRow>,
 }
@@ -191,6 +233,22 @@ pub struct AggregateRow {
     pub frames: u64,
     /// The label of the last frame's pass at this position.
     pub label: Option<String>,
+    pub mean: Counters<f64>,
+    pub min: Counters,
+    pub max: Counters,
+    /// The pass's sections (see [`RenderPassRow::sections`]), each over the frames that had it.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub sections: Vec<AggregateSection>,
+}
+
+/// Mean, min and max of one section of an aggregated pass: the same position in the pass and
+/// the same label.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AggregateSection {
+    /// Position among the pass's section rows, from 0.
+    pub index: u32,
+    pub label: Option<String>,
+    pub frames: u64,
     pub mean: Counters<f64>,
     pub min: Counters,
     pub max: Counters,

@@ -187,6 +187,9 @@ pub struct DeviceState {
     pub last_write: Option<std::time::Instant>,
     /// The NOSTENCIL_FILLRATE_FRAMES file is written; nothing more is measured.
     pub finished: bool,
+    /// Frames appended to the journal (report.rs, `JournalLine`), and the open journal.
+    pub journaled: u64,
+    pub journal: Option<std::fs::File>,
 }
 
 impl DeviceState {
