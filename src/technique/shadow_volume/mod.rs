@@ -38,7 +38,8 @@ impl Technique for ShadowVolumes {
     }
 
     fn plan(&self, options: &RenderOptions) -> Result<PassPlan> {
-        recipes::plan(&options.shadow_volume, options.stencil, options.samples).map(|plan| plan.named())
+        recipes::plan(&options.shadow_volume, options.shadow_tone, options.stencil, options.samples)
+            .map(|plan| plan.named())
     }
 
     fn build<'s>(

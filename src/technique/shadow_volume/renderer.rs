@@ -155,7 +155,7 @@ pub fn build<'s>(
         ..options.clone()
     };
     let requested = options.shadow_volume;
-    let plan = super::recipes::plan(&resolved.shadow_volume, resolved.stencil, resolved.samples)?;
+    let plan = super::recipes::plan(&resolved.shadow_volume, resolved.shadow_tone, resolved.stencil, resolved.samples)?;
     frame_renderer::build(technique, plan, gpu, scene, &resolved, |ctx| {
         let counting = ctx.options.stencil == StencilMode::Emulated
             && ctx.options.shadow_volume.normalize == Normalize::Subpass
@@ -201,7 +201,7 @@ pub fn build<'s>(
             apply_scissor: Scissor::Frame,
             stats: ShadowVolumeStats {
                 zfail,
-                seed_iterations: alpha_counter::seed_iterations(k, options.shadow_volume.darkest())?,
+                seed_iterations: alpha_counter::seed_iterations(k, options.shadow_tone.darkest())?,
                 capacity,
                 saturated_samples: None,
                 saturation_measured_by,
