@@ -1,5 +1,6 @@
 //! Command-line arguments. Options shared by `render`, `profile` and later subcommands live in
-//! `FrameArgs`, so each new technique slots in as a `--technique` value and its own options.
+//! `FrameArgs`, so each new technique slots in as a `--technique` value; a technique family's
+//! own options are its options struct (`clap::Args`, in `technique`), flattened here.
 
 use std::path::PathBuf;
 
@@ -237,7 +238,7 @@ pub struct FrameArgs {
     /// Animation time in seconds: a glTF scene's first animation (looping), the built-in character's walk.
     #[arg(long, default_value_t = 0.0, value_name = "SECONDS")]
     pub time: f32,
-    // Each technique family's options and their flags, in its own folder: moved as they are
+    // Each technique family's options and their flags, declared by the family (`technique`): moved as they are
     // into `RenderOptions`.
     #[command(flatten)]
     pub shadow_volume: ShadowVolumeOptions,

@@ -1,4 +1,5 @@
-//! The options of each technique family, as plain data: what the command line, the viewer and
+//! The options of each technique family, as plain data and as their own flags (`clap::Args`,
+//! flattened into the command line): what the command line, the viewer and
 //! a port set. (Which technique, the size and the stencil path are in `RenderOptions`, beside
 //! the `Technique` interface.)
 
