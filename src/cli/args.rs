@@ -238,8 +238,8 @@ pub struct FrameArgs {
     /// Animation time in seconds: a glTF scene's first animation (looping), the built-in character's walk.
     #[arg(long, default_value_t = 0.0, value_name = "SECONDS")]
     pub time: f32,
-    // Each technique family's options and their flags, declared by the family (`technique`): moved as they are
-    // into `RenderOptions`.
+    // Each technique family's options and their flags, declared by the family (`technique`):
+    // moved as they are into `RenderOptions`.
     #[command(flatten)]
     pub shadow_volume: ShadowVolumeOptions,
     #[command(flatten)]
