@@ -951,9 +951,9 @@ fn the_seed_path_for_k_1_is_the_seeds_own_pass_list() {
     // The frame draws exactly that list, and it is the reference's image.
     let gpu = common::gpu();
     let scene = builtin_scene("default").expect("scene");
-    let emulated = render(&gpu, &scene, StencilMode::Emulated, options);
+    let emulated = render_toned(&gpu, &scene, StencilMode::Emulated, options, ShadowTone::Grey(192));
     assert_eq!(pass_names(&emulated), expected);
-    let reference = render(&gpu, &scene, StencilMode::Reference, options);
+    let reference = render_toned(&gpu, &scene, StencilMode::Reference, options, ShadowTone::Grey(192));
     assert_eq!(rgb_differences(&emulated.output.image, &reference.output.image), 0);
     common::assert_no_validation_messages(&gpu);
 }
