@@ -282,7 +282,9 @@ fn each_edge_class_is_drawn_in_its_own_width_and_colour() {
         InkStyle { width: Some(3.0), colour: Some([0, 255, 0]) },
         InkStyle { width: Some(1.0), colour: Some([0, 0, 255]) },
     ];
-    let options = CartoonOptions { ink: styles, line_width: 2.0, ..CartoonOptions::default() };
+    let [silhouette, crease, boundary] = styles.map(Some);
+    let ink = nostencil::technique::InkStyles { silhouette, crease, boundary };
+    let options = CartoonOptions { ink, line_width: 2.0, ..CartoonOptions::default() };
     // (class, mesh, a point of a horizontal edge of that class, one-sided outward)
     let cases = [
         (0, shapes::cube(1.0), Vec3::new(0.0, 0.5, 0.5), true),
@@ -417,7 +419,7 @@ fn render_seams(
     gpu: &Arc<Gpu>,
     scene: &Scene,
     size: (u32, u32),
-    ink: [nostencil::technique::InkStyle; 3],
+    ink: nostencil::technique::InkStyles,
     seams: nostencil::technique::Seams,
 ) -> nostencil::technique::TechniqueFrame {
     let cartoon = CartoonOptions { ink, seams, ..CartoonOptions::default() };
@@ -428,7 +430,7 @@ fn render_seams(
 
 #[test]
 fn uv_seams_are_boundaries_when_asked_for() {
-    use nostencil::technique::{InkStyle, Seams};
+    use nostencil::technique::{InkStyle, InkStyles, Seams};
     let gpu = common::gpu();
     let size = (128, 128);
     // The sphere's u = 0 meridian (on +X) turned towards the eye: a UV seam down the middle of
@@ -436,8 +438,7 @@ fn uv_seams_are_boundaries_when_asked_for() {
     let turned = Mat4::from_rotation_y(-std::f32::consts::FRAC_PI_2);
     let scene = face_on_scene(&[(unit_sphere(), turned, Vec3::new(0.3, 0.5, 0.8))]);
     let blue = [0, 0, 255];
-    let mut ink = [InkStyle::default(); 3];
-    ink[2] = InkStyle { width: Some(2.0), colour: Some(blue) };
+    let ink = InkStyles { boundary: Some(InkStyle { width: Some(2.0), colour: Some(blue) }), ..Default::default() };
     let radius = radius_where_n_dot_v_is(0.0, EYE_DISTANCE, focal_px(&scene, size.1));
     for (seams, expect_seam) in [(Seams { uv: true, ..Seams::default() }, true), (Seams::default(), false)] {
         let frame = render_seams(&gpu, &scene, size, ink, seams);
@@ -512,7 +513,7 @@ fn two_material_sphere_gltf() -> String {
 
 #[test]
 fn material_seams_inside_a_gltf_mesh_are_boundaries_only_when_asked_for() {
-    use nostencil::technique::{InkStyle, Seams};
+    use nostencil::technique::{InkStyle, InkStyles, Seams};
     let gpu = common::gpu();
     let size = (128u32, 128u32);
     let dir = common::scratch_dir("ink-material-seams");
@@ -530,8 +531,7 @@ fn material_seams_inside_a_gltf_mesh_are_boundaries_only_when_asked_for() {
     scene.camera = Camera::look_at(Vec3::new(0.0, 0.0, EYE_DISTANCE), Vec3::ZERO);
     scene.light = Light::Directional { direction: Vec3::new(0.0, 0.0, -1.0) };
     let blue = [0, 0, 255];
-    let mut ink = [InkStyle::default(); 3];
-    ink[2] = InkStyle { width: Some(2.0), colour: Some(blue) };
+    let ink = InkStyles { boundary: Some(InkStyle { width: Some(2.0), colour: Some(blue) }), ..Default::default() };
     let radius = radius_where_n_dot_v_is(0.0, EYE_DISTANCE, focal_px(&scene, size.1));
     let centre = size.0 as f32 / 2.0;
     for material in [true, false] {

@@ -24,7 +24,7 @@ use nostencil::scene::{builtin_scene, Scene};
 use nostencil::technique::shadow_volume::recipes::{VolumeDraw, VolumeKinds, VolumeSet};
 use nostencil::technique::shadow_volume::{self, bounds, build_volume, prepare_casters};
 use nostencil::technique::shadow_volume::{Normalize, ShadowVolumeOptions, VolumeMethod};
-use nostencil::technique::{RenderOptions, Technique};
+use nostencil::technique::{RenderOptions, ShadowTone, Technique};
 
 const SAMPLES: u32 = 4;
 
@@ -218,7 +218,7 @@ fn counts_per_sample(
     let targets = FrameTargets::with_samples(gpu, width, height, stencil, false, SAMPLES, true).expect("targets");
     let mut renderer = Renderer::with_targets(gpu, targets).expect("renderer");
     renderer.stencil_clear = STENCIL_COUNT_ZERO;
-    let full = shadow_volume::recipes::plan(&options, stencil, SAMPLES).expect("plan");
+    let full = shadow_volume::recipes::plan(&options, ShadowTone::default(), stencil, SAMPLES).expect("plan");
     let volumes = full.passes.iter().position(|p| p.name.starts_with("volumes")).expect("volume pass");
     let mut plan = PassPlan::new();
     plan.extend(full.passes[..=volumes].iter().cloned());
@@ -338,9 +338,9 @@ fn shadow_edges_resolve_between_lit_and_shadowed_only_at_4x() {
     };
     let lit = RenderOptions { technique: technique("lit"), ..base.clone() };
     let cases = [
-        ("shadow-volume subpass", volumes(Normalize::Subpass), &lit, ShadowVolumeOptions::default().shadow_factor),
-        ("shadow-volume seed", volumes(Normalize::Seed), &lit, ShadowVolumeOptions::default().shadow_factor),
-        ("planar", planar.clone(), &unshadowed_planar, planar.planar.shadow_factor),
+        ("shadow-volume subpass", volumes(Normalize::Subpass), &lit, ShadowTone::default().darkest()),
+        ("shadow-volume seed", volumes(Normalize::Seed), &lit, ShadowTone::default().darkest()),
+        ("planar", planar.clone(), &unshadowed_planar, planar.shadow_tone.darkest()),
     ];
     for (what, options, unshadowed, factor) in cases {
         let one = frame(&gpu, &scene, &options, 1).output.image;
@@ -390,7 +390,7 @@ fn the_box_shadow_at_4x_thresholded_at_half_coverage_is_its_projected_outline() 
         let options = ShadowVolumeOptions { normalize, ..Default::default() };
         let volumes = RenderOptions { technique: technique("shadow-volume"), shadow_volume: options, ..base.clone() };
         let shadowed = frame(&gpu, &scene, &volumes, SAMPLES).output.image;
-        let coverage = shadow_coverage(&shadowed, &unshadowed, options.shadow_factor);
+        let coverage = shadow_coverage(&shadowed, &unshadowed, volumes.shadow_tone.darkest());
         let dark = |i: usize| coverage[i].is_some_and(|t| t >= 0.5);
         let (both, either) = common::outline_overlap(&scene.camera, BIG, &triangles, &caster_pixels, dark);
         let partial = caster_pixels.iter().zip(&coverage).filter(|(&skip, &c)| !skip && is_between(c)).count();

@@ -18,7 +18,8 @@ use nostencil::technique::planar::{self, project_onto_plane, GivenPlane, PlanarO
 use nostencil::technique::{render_scene, RenderOptions, Technique, TechniqueFrame};
 
 const SIZE: (u32, u32) = (160, 120);
-const FACTOR: u8 = 102;
+/// The default shadow tone, grey: shadowed colour x 102/255.
+const FACTOR: u8 = nostencil::technique::ShadowTone::DEFAULT_FACTOR;
 
 fn render(gpu: &Arc<Gpu>, scene: &Scene, stencil: StencilMode, shadows: bool) -> TechniqueFrame {
     let options = PlanarOptions { shadows, ..Default::default() };
@@ -571,7 +572,7 @@ fn the_seeds_render_texture_quad_holds_the_shadow_where_the_projection_puts_it()
     {
         let scene = builtin_scene_at(name, time).expect("scene");
         let plane = planar::receiver_plane(&scene, given.as_ref()).expect("plane");
-        let base = PlanarOptions { shadow_factor: FACTOR, plane: given, ..Default::default() };
+        let base = PlanarOptions { plane: given, ..Default::default() };
         let unshadowed = render_with(
             &gpu,
             &scene,
@@ -679,7 +680,7 @@ fn shadow_texture_covers_the_planar_shadow_and_blobs_sit_under_the_casters() {
         let planar_mask =
             changed(&render(&gpu, &scene, StencilMode::Emulated, true).output.image, &unshadowed.output.image);
 
-        let options = PlanarOptions { shadow_factor: FACTOR, ..Default::default() };
+        let options = PlanarOptions::default();
         let texture = render_with(&gpu, &scene, &planar::ShadowTexture, SIZE, StencilMode::Emulated, options)
             .expect("shadow texture");
         let texture_mask = changed(&texture.output.image, &unshadowed.output.image);

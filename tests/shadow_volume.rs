@@ -21,7 +21,7 @@ use nostencil::render::Pipeline;
 use nostencil::render::{FrameRecorder, FrameUniforms, Renderer};
 use nostencil::scene::{builtin_scene, Scene, BUILTIN_SCENES};
 use nostencil::technique::shadow_volume::{self, Normalize, ShadowVolumeOptions, VolumeMethod};
-use nostencil::technique::{alpha_counter, render_scene, RenderOptions, Technique};
+use nostencil::technique::{alpha_counter, render_scene, RenderOptions, ShadowTone, Technique};
 
 const SIZE: (u32, u32) = (128, 96);
 
@@ -35,6 +35,17 @@ fn render(gpu: &Arc<Gpu>, scene: &Scene, stencil: StencilMode, options: ShadowVo
     render_sized(gpu, scene, stencil, options, SIZE)
 }
 
+/// `render` with a shadow tone other than the default.
+fn render_toned(
+    gpu: &Arc<Gpu>,
+    scene: &Scene,
+    stencil: StencilMode,
+    options: ShadowVolumeOptions,
+    shadow_tone: ShadowTone,
+) -> Frame {
+    try_render(gpu, scene, stencil, options, SIZE, shadow_tone).expect("shadow-volume frame")
+}
+
 fn render_sized(
     gpu: &Arc<Gpu>,
     scene: &Scene,
@@ -42,7 +53,7 @@ fn render_sized(
     options: ShadowVolumeOptions,
     size: (u32, u32),
 ) -> Frame {
-    try_render(gpu, scene, stencil, options, size).expect("shadow-volume frame")
+    try_render(gpu, scene, stencil, options, size, ShadowTone::default()).expect("shadow-volume frame")
 }
 
 fn try_render(
@@ -51,6 +62,7 @@ fn try_render(
     stencil: StencilMode,
     options: ShadowVolumeOptions,
     size: (u32, u32),
+    shadow_tone: ShadowTone,
 ) -> nostencil::Result<Frame> {
     let options = RenderOptions {
         width: size.0,
@@ -58,6 +70,7 @@ fn try_render(
         stencil,
         technique: technique("shadow-volume"),
         shadow_volume: options,
+        shadow_tone,
         ..Default::default()
     };
     let frame = render_scene(gpu, scene, &options)?;
@@ -97,14 +110,15 @@ fn emulated_equals_reference_for_every_scene_increment_darkness_and_normalisatio
         for (method, d) in
             [VolumeMethod::Auto, VolumeMethod::ZFail].into_iter().flat_map(|m| SWEEP_DARKNESS.map(|d| (m, d)))
         {
-            let base = ShadowVolumeOptions { method, shadow_factor: d, ..Default::default() };
-            let reference = render(&gpu, &scene, StencilMode::Reference, base);
+            let base = ShadowVolumeOptions { method, ..Default::default() };
+            let tone = ShadowTone::Grey(d);
+            let reference = render_toned(&gpu, &scene, StencilMode::Reference, base, tone);
             let shadowed_pixels = shadow_mask(&reference.output.image, &unshadowed).iter().filter(|s| **s).count();
             assert!(shadowed_pixels > 50, "{name}: the reference shows no shadow ({shadowed_pixels} pixels)");
             for k in [1u8, 2, 4, 8] {
                 for &normalize in Normalize::ALL {
                     let options = ShadowVolumeOptions { increment: k, normalize, ..base };
-                    let emulated = render(&gpu, &scene, StencilMode::Emulated, options);
+                    let emulated = render_toned(&gpu, &scene, StencilMode::Emulated, options, tone);
                     // Only the subpass apply counts saturation without the probe.
                     let measured = (normalize == Normalize::Subpass).then_some(0);
                     assert_eq!(emulated.stats.saturated_samples, measured, "{name} k={k}");
@@ -125,8 +139,7 @@ fn emulated_equals_reference_for_every_scene_increment_darkness_and_normalisatio
 fn seed_path_runs_three_iterations_at_d_102_and_k_4() {
     let gpu = common::gpu();
     let scene = builtin_scene("default").expect("scene");
-    let options =
-        ShadowVolumeOptions { increment: 4, shadow_factor: 102, normalize: Normalize::Seed, ..Default::default() };
+    let options = ShadowVolumeOptions { increment: 4, normalize: Normalize::Seed, ..Default::default() };
     let emulated = render(&gpu, &scene, StencilMode::Emulated, options);
     let reference = render(&gpu, &scene, StencilMode::Reference, options);
     assert_eq!(emulated.stats.seed_iterations, 3);
@@ -204,14 +217,10 @@ fn normalisation_table_is_read_back_from_the_gpu() {
     for (k, d) in cases {
         for normalize in [Normalize::Seed, Normalize::Max] {
             // The plan's normalisation passes for this k and D: N0 up to the apply.
-            let options = ShadowVolumeOptions {
-                increment: k,
-                shadow_factor: d,
-                normalize,
-                method: VolumeMethod::ZPass,
-                ..Default::default()
-            };
-            let plan = shadow_volume::recipes::plan(&options, StencilMode::Emulated, 1).expect("plan");
+            let options =
+                ShadowVolumeOptions { increment: k, normalize, method: VolumeMethod::ZPass, ..Default::default() };
+            let plan =
+                shadow_volume::recipes::plan(&options, ShadowTone::Grey(d), StencilMode::Emulated, 1).expect("plan");
             let first = plan.passes.iter().position(|p| p.name == "normalise N0").expect("N0 in the plan");
             let last = plan.passes.iter().position(|p| p.name == "apply").expect("apply in the plan");
             let steps = &plan.passes[first..last];
@@ -542,7 +551,8 @@ fn casters_report_their_path_reason_and_capacity() {
         for (scene_name, object, path, reason) in expected {
             let scene = builtin_scene(scene_name).expect("scene");
             let options = ShadowVolumeOptions { increment: k, ..Default::default() };
-            let frame = try_render(&gpu, &scene, StencilMode::Emulated, options, (64, 48)).expect("frame");
+            let frame = try_render(&gpu, &scene, StencilMode::Emulated, options, (64, 48), ShadowTone::default())
+                .expect("frame");
             let report = frame.stats.casters.iter().find(|c| c.object == object).expect("the caster is reported");
             assert_eq!((report.path, report.reason.as_str()), (path, reason), "{scene_name}/{object}");
             let per_crossing = if path == "two-sided" { 2 } else { 1 };
@@ -879,12 +889,13 @@ fn a_tinted_shadow_is_the_references_in_every_path_and_multiplies_each_channel()
     let unshadowed = lit(&gpu, &scene);
     // Three factors, two equal ones, and a grey given as a colour (it must match --shadow-factor).
     for tint in [[51u8, 128, 204], [200, 90, 200], [102, 102, 102]] {
-        let base = ShadowVolumeOptions { shadow_colour: Some(tint), ..Default::default() };
-        let reference = render(&gpu, &scene, StencilMode::Reference, base);
+        let base = ShadowVolumeOptions::default();
+        let tone = ShadowTone::Tinted(tint);
+        let reference = render_toned(&gpu, &scene, StencilMode::Reference, base, tone);
         for &normalize in Normalize::ALL {
             for k in [1u8, 4] {
                 let options = ShadowVolumeOptions { normalize, increment: k, ..base };
-                let emulated = render(&gpu, &scene, StencilMode::Emulated, options);
+                let emulated = render_toned(&gpu, &scene, StencilMode::Emulated, options, tone);
                 let differing = rgb_differences(&emulated.output.image, &reference.output.image);
                 assert_eq!(differing, 0, "tint {tint:?}, {} k={k}: {differing} pixels differ", normalize.name());
             }
@@ -903,10 +914,11 @@ fn a_tinted_shadow_is_the_references_in_every_path_and_multiplies_each_channel()
         assert!(checked > 100, "tint {tint:?}: only {checked} shadowed pixels");
     }
     // A grey tint is --shadow-factor.
-    let grey = ShadowVolumeOptions { shadow_colour: Some([102; 3]), ..Default::default() };
-    let factor = ShadowVolumeOptions { shadow_factor: 102, ..Default::default() };
-    let (a, b) =
-        (render(&gpu, &scene, StencilMode::Emulated, grey), render(&gpu, &scene, StencilMode::Emulated, factor));
+    let options = ShadowVolumeOptions::default();
+    let (a, b) = (
+        render_toned(&gpu, &scene, StencilMode::Emulated, options, ShadowTone::Tinted([102; 3])),
+        render_toned(&gpu, &scene, StencilMode::Emulated, options, ShadowTone::Grey(102)),
+    );
     assert_eq!(rgb_differences(&a.output.image, &b.output.image), 0);
     assert_eq!(pass_names(&a), pass_names(&b), "a grey tint draws the grey plan");
     common::assert_no_validation_messages(&gpu);
@@ -925,12 +937,11 @@ fn the_seed_path_for_k_1_is_the_seeds_own_pass_list() {
     assert_eq!(alpha_counter::seed_iterations(1, 138).expect("k = 1"), 5);
     let options = ShadowVolumeOptions {
         increment: 1,
-        shadow_factor: 192,
         normalize: Normalize::Seed,
         method: VolumeMethod::ZPass,
         ..Default::default()
     };
-    let plan = shadow_volume::recipes::plan(&options, StencilMode::Emulated, 1).expect("plan");
+    let plan = shadow_volume::recipes::plan(&options, ShadowTone::Grey(192), StencilMode::Emulated, 1).expect("plan");
     let names: Vec<&str> = plan.passes.iter().map(|p| p.name.as_ref()).collect();
     let build =
         ["volumes (alpha, z-pass)", "normalise N0", "normalise N1", "normalise N2", "normalise N3", "normalise N4"];
@@ -940,9 +951,9 @@ fn the_seed_path_for_k_1_is_the_seeds_own_pass_list() {
     // The frame draws exactly that list, and it is the reference's image.
     let gpu = common::gpu();
     let scene = builtin_scene("default").expect("scene");
-    let emulated = render(&gpu, &scene, StencilMode::Emulated, options);
+    let emulated = render_toned(&gpu, &scene, StencilMode::Emulated, options, ShadowTone::Grey(192));
     assert_eq!(pass_names(&emulated), expected);
-    let reference = render(&gpu, &scene, StencilMode::Reference, options);
+    let reference = render_toned(&gpu, &scene, StencilMode::Reference, options, ShadowTone::Grey(192));
     assert_eq!(rgb_differences(&emulated.output.image, &reference.output.image), 0);
     common::assert_no_validation_messages(&gpu);
 }

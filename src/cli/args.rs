@@ -1,17 +1,20 @@
 //! Command-line arguments. Options shared by `render`, `profile` and later subcommands live in
-//! `FrameArgs`, so each new technique slots in as a `--technique` value and its own options.
+//! `FrameArgs`, so each new technique slots in as a `--technique` value; a technique family's
+//! own options are its options struct (`clap::Args`, in `technique`), flattened here.
 
 use std::path::PathBuf;
 
-use clap::{Args, Parser, Subcommand, ValueEnum};
+use clap::parser::ValueSource;
+use clap::{ArgMatches, Args, FromArgMatches, Parser, Subcommand, ValueEnum};
 
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::mobile_profile;
 use crate::gpu::validation::ValidationChecks;
-use crate::technique::options::parse_rgb_hex;
 use crate::technique::registry::DEFAULT_TECHNIQUE;
-use crate::technique::{LightMode, Normalize, OutlineMethod, SilhouetteMethod, TextureShadowOn, VolumeMethod};
+use crate::technique::{
+    CartoonOptions, Normalize, PlanarOptions, ShadowAtlasOptions, ShadowToneArgs, ShadowVolumeOptions, VolumeMethod,
+};
 
 #[derive(Debug, Parser)]
 #[command(
@@ -117,20 +120,8 @@ pub enum Command {
     Passes {
         #[arg(long, default_value = DEFAULT_TECHNIQUE)]
         technique: String,
-        /// shadow-volume: list only this normalisation path; all by default.
-        #[arg(long, value_enum)]
-        normalize: Option<Normalize>,
-        /// shadow-volume: alpha added per volume wall, in 1/255 steps (1..=8).
-        #[arg(long, default_value_t = 1, value_name = "K")]
-        increment: u8,
-        /// shadow-volume and planar: shadowed colour = colour x F/255; for shadow volumes the
-        /// normalisation's iteration count follows it.
-        #[arg(long, default_value_t = 102, value_name = "F")]
-        shadow_factor: u8,
-        /// shadow-volume: a tinted shadow's factors (`#RRGGBB`): the blend-only paths add a
-        /// darkness step and an apply per distinct factor.
-        #[arg(long, value_name = "#RRGGBB", value_parser = parse_rgb8, conflicts_with = "shadow_factor")]
-        shadow_colour: Option<[u8; 3]>,
+        #[command(flatten)]
+        plans: PassesArgs,
     },
     /// Time frames of a technique's variants (the real-stencil reference first) in one run.
     Bench {
@@ -185,13 +176,8 @@ pub enum Command {
         /// Save the last presented image as an RGB PNG (atomic write); needs --frames.
         #[arg(long, value_name = "FILE.png")]
         screenshot: Option<PathBuf>,
-        /// After N presented frames, resize the window to WxH (for tests of the resize path).
-        #[arg(long, num_args = 2, value_names = ["N", "WxH"])]
-        resize_after: Option<Vec<String>>,
-        /// After N presented frames, act as if KEY (a letter from the key list) was pressed
-        /// (for tests of a live switch, such as M for the sample count).
-        #[arg(long, num_args = 2, value_names = ["N", "KEY"])]
-        press_after: Option<Vec<String>>,
+        #[command(flatten)]
+        script: ViewScript,
         /// Start with the animation (casters turning, animated models playing) paused: frames
         /// then match `render`.
         #[arg(long)]
@@ -252,117 +238,85 @@ pub struct FrameArgs {
     /// Animation time in seconds: a glTF scene's first animation (looping), the built-in character's walk.
     #[arg(long, default_value_t = 0.0, value_name = "SECONDS")]
     pub time: f32,
-    /// shadow-volume: alpha added per volume wall, in 1/255 steps (1..=8).
-    #[arg(long, default_value_t = 1, value_name = "K")]
-    pub increment: u8,
-    /// shadow-volume: `auto` (z-fail when the camera is inside a volume), `zpass` or `zfail`.
-    #[arg(long, value_enum, default_value_t)]
-    pub volume_method: VolumeMethod,
-    /// shadow-volume: how counts become a mask.
-    #[arg(long, value_enum, default_value_t)]
-    pub normalize: Normalize,
-    /// shadow-volume: add the full-screen saturation probe, a diagnostic pass (`seed` and `max`
-    /// count saturation only with it; `subpass` counts it in its apply, and the probe then
-    /// cross-checks that count). Never part of a timed `bench` frame.
-    #[arg(long)]
-    pub saturation_probe: bool,
-    /// shadow-volume: draw every volume whole, to infinity and over the whole frame, instead of
-    /// clipped to the receivers' bounds and scissored to where it can shade (to measure what
-    /// the clipping saves; the image is the same).
-    #[arg(long)]
-    pub unclipped_volumes: bool,
-    /// outline: objects to outline, by name (default: the scene's first shadow caster).
-    #[arg(long, value_name = "NAME,...", default_value = "")]
-    pub select: String,
-    /// silhouette/toon: how ink is found: `edges` (CPU, screen-space quads), `shader` (N.V rim),
-    /// `hull` (inverted hull) or `alpha-test` (N.V per pixel against `--alpha-ref`).
-    #[arg(long, value_enum, default_value_t)]
-    pub silhouette: SilhouetteMethod,
-    /// silhouette/toon: edges whose faces fold by more than this are creases (degrees).
-    #[arg(long, default_value_t = 40.0, value_name = "DEG")]
-    pub crease_angle: f32,
-    /// silhouette/toon: ink line width in pixels (edges and hull).
-    #[arg(long, default_value_t = 2.0, value_name = "PX")]
-    pub line_width: f32,
-    /// silhouette/toon: silhouette ink as WIDTH[,#RRGGBB] (sRGB); default `--line-width` and
-    /// the dark ink. The methods other than `edges` draw silhouettes only, in this style.
-    #[arg(long, value_name = "WIDTH[,#RRGGBB]")]
-    pub ink_silhouette: Option<String>,
-    /// silhouette/toon `--silhouette edges`: crease ink as WIDTH[,#RRGGBB].
-    #[arg(long, value_name = "WIDTH[,#RRGGBB]")]
-    pub ink_crease: Option<String>,
-    /// silhouette/toon `--silhouette edges`: boundary ink as WIDTH[,#RRGGBB].
-    #[arg(long, value_name = "WIDTH[,#RRGGBB]")]
-    pub ink_boundary: Option<String>,
-    /// silhouette/toon: faces filled with the background colour, ink on top (the seed's
-    /// figure 5.1.1, middle).
-    #[arg(long)]
-    pub ink_only: bool,
-    /// silhouette/toon `--silhouette edges`: attribute seams drawn as boundaries: `normal`, `uv`,
-    /// `material` (borders between a glTF mesh's primitives; comma-separated) or `none`.
-    #[arg(long, default_value = "normal,material", value_name = "normal,uv,material|none")]
-    pub seams: String,
-    /// silhouette/toon `--silhouette alpha-test`: pixels with N.V at most this are ink (0..=1;
-    /// larger: thicker lines).
-    #[arg(long, default_value_t = 0.3, value_name = "N.V")]
-    pub alpha_ref: f32,
-    /// outline: outline width in pixels (0.5..=64).
-    #[arg(long, default_value_t = 4.0, value_name = "PX")]
-    pub outline_width: f32,
-    /// outline: how the outline copy is made: `extrude` (pushed out along its smooth normals) or
-    /// `scale` (scaled up about its centre, as the document does).
-    #[arg(long, value_enum, default_value_t)]
-    pub outline_method: OutlineMethod,
-    /// outline: outline colour as the PNG shows it, sRGB hex.
-    #[arg(long, visible_alias = "outline-color", default_value = "#FFA000", value_name = "#RRGGBB",
-          value_parser = parse_colour_arg)]
-    pub outline_colour: [u8; 3],
-    /// outline: blur the outline by two 1D box passes of this radius in pixels (0..=16; 0: sharp).
-    // Negative numbers are values here, so that `-1` is refused as a bad radius, by name.
-    #[arg(long, default_value_t = 0, value_name = "PX", allow_negative_numbers = true)]
-    pub outline_blur: u32,
-    /// shadow-volume, planar, blob, shadow-texture: shadowed colour = colour x F/255 (0..=255;
-    /// 255: no shadow). For shadow volumes the normalisation's iteration count follows it.
-    #[arg(long, default_value_t = 102, value_name = "F")]
-    pub shadow_factor: u8,
-    /// shadow-volume: a tinted shadow (seed 000's apply modulates with a shadow colour):
-    /// shadowed colour = colour x RR/255, GG/255, BB/255 per channel, linear factors given in hex
-    /// (`#RRGGBB` or `RRGGBB`), in every path. Instead of --shadow-factor.
-    #[arg(long, value_name = "#RRGGBB", value_parser = parse_rgb8, conflicts_with = "shadow_factor")]
-    pub shadow_colour: Option<[u8; 3]>,
-    /// planar, shadow-texture, blob: the receiving plane crosses the y axis at H (default: the
-    /// lowest flat horizontal non-caster is the ground).
-    #[arg(long, value_name = "H", allow_hyphen_values = true)]
-    pub plane_height: Option<f32>,
-    /// planar, shadow-texture: the receiving plane's normal (any length but zero; default
-    /// 0,1,0), projected onto with Blinn's shadow matrix; e.g. `--scene slope --plane-normal 0,3,1`.
-    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
-    pub plane_normal: Option<String>,
-    /// planar, shadow-texture: cast the shadow from each caster simplified with meshoptimizer
-    /// to about this fraction of its triangles (0 < RATIO <= 1; `bench` adds a variant with it).
-    #[arg(long, value_name = "RATIO")]
-    pub shadow_lod: Option<f32>,
-    /// shadow-texture: side of the texture the casters are drawn into from the light, in texels
-    /// (the seed's render texture; small on purpose).
-    #[arg(long, default_value_t = crate::technique::options::DEFAULT_TEXTURE_SHADOW_SIZE, value_name = "N")]
-    pub render_texture_size: u32,
-    /// shadow-texture: show the texture on the `receivers` drawn again (clipped to them) or, as
-    /// the seed does, on one `quad` on the plane around the casters' shadow.
-    #[arg(long, value_enum, default_value_t)]
-    pub render_texture_on: TextureShadowOn,
-    /// shadow-map, shadow-texture-atlas, projective-texture: `moving` (turns every frame:
-    /// re-bake) or `fixed` (after the first frame the shadow map and bake are skipped).
-    #[arg(long, value_enum, default_value_t)]
-    pub light: LightMode,
-    /// shadow-map, shadow-texture-atlas, projective-texture: shadow map side in texels (power of
-    /// two; also the projective texture's side).
-    #[arg(long, default_value_t = 512, value_name = "N")]
-    pub shadow_map_size: u32,
-    /// shadow-texture-atlas: shadow texture side for meshes that are not geometry images.
-    #[arg(long, default_value_t = 256, value_name = "N")]
-    pub shadow_texture_size: u32,
+    // Each technique family's options and their flags, declared by the family (`technique`):
+    // moved as they are into `RenderOptions`.
+    #[command(flatten)]
+    pub shadow_volume: ShadowVolumeOptions,
+    #[command(flatten)]
+    pub cartoon: CartoonOptions,
+    #[command(flatten)]
+    pub shadow_tone: ShadowToneArgs,
+    #[command(flatten)]
+    pub planar: PlanarOptions,
+    #[command(flatten)]
+    pub shadow_atlas: ShadowAtlasOptions,
     #[command(flatten)]
     pub gpu: GpuArgs,
+}
+
+/// `view`'s scripted events (for tests), typed where they are parsed: `--resize-after N WxH` and
+/// `--press-after N KEY` (two values each, which clap's derive cannot type one by one).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ViewScript {
+    /// After this many presented frames, resize the window to this size.
+    pub resize_after: Option<(u32, (u32, u32))>,
+    /// After this many presented frames, act as if this key was pressed.
+    pub press_after: Option<(u32, char)>,
+}
+
+impl Args for ViewScript {
+    fn augment_args(command: clap::Command) -> clap::Command {
+        command
+            .arg(
+                clap::Arg::new("resize_after")
+                    .long("resize-after")
+                    .num_args(2)
+                    .value_names(["N", "WxH"])
+                    .help("After N presented frames, resize the window to WxH (for tests of the resize path)"),
+            )
+            .arg(clap::Arg::new("press_after").long("press-after").num_args(2).value_names(["N", "KEY"]).help(
+                "After N presented frames, act as if KEY (a letter from the key list) was pressed (for tests of a \
+                 live switch, such as M for the sample count)",
+            ))
+    }
+
+    fn augment_args_for_update(command: clap::Command) -> clap::Command {
+        ViewScript::augment_args(command)
+    }
+}
+
+impl FromArgMatches for ViewScript {
+    fn from_arg_matches(matches: &ArgMatches) -> std::result::Result<Self, clap::Error> {
+        let invalid = |e: Error| clap::Error::raw(clap::error::ErrorKind::ValueValidation, format!("{e}\n"));
+        let pair = |id: &str| -> Option<[String; 2]> {
+            let values: Vec<String> = matches.get_many::<String>(id)?.cloned().collect();
+            <[String; 2]>::try_from(values).ok()
+        };
+        let resize_after = match pair("resize_after") {
+            Some([after, size]) => {
+                Some((frame_count("--resize-after", &after).map_err(invalid)?, parse_size(&size).map_err(invalid)?))
+            }
+            None => None,
+        };
+        let press_after = match pair("press_after") {
+            Some([after, key]) => Some((
+                frame_count("--press-after", &after).map_err(invalid)?,
+                crate::viewer::keys::scripted_key(&key).map_err(invalid)?,
+            )),
+            None => None,
+        };
+        Ok(ViewScript { resize_after, press_after })
+    }
+
+    fn update_from_arg_matches(&mut self, matches: &ArgMatches) -> std::result::Result<(), clap::Error> {
+        *self = ViewScript::from_arg_matches(matches)?;
+        Ok(())
+    }
+}
+
+/// `--resize-after`'s or `--press-after`'s frame count.
+fn frame_count(flag: &str, text: &str) -> Result<u32> {
+    text.parse().map_err(|_| Error::InvalidInput(format!("{flag} {text}: expected a frame count, such as 3")))
 }
 
 /// `nostencil layer ...`.
@@ -396,18 +350,55 @@ pub fn parse_size(text: &str) -> Result<(u32, u32)> {
     Ok((width, height))
 }
 
-fn parse_colour_arg(text: &str) -> std::result::Result<[u8; 3], String> {
-    // clap names the option and the value already.
-    parse_rgb_hex("--outline-colour", text).map_err(|_| "expected six hex digits, such as #FFA000".to_string())
-}
-
 fn parse_size_arg(text: &str) -> std::result::Result<(u32, u32), String> {
     parse_size(text).map_err(|e| e.to_string())
 }
 
-/// `#RRGGBB` or `RRGGBB` as three bytes, for clap (the one parser is `parse_rgb_hex`).
-fn parse_rgb8(text: &str) -> Result<[u8; 3], String> {
-    parse_rgb_hex("colour", text).map_err(|e| e.to_string())
+/// `passes`' options: the frames' shadow-volume flags and shadow tone, the same flattened
+/// structs, except that `--normalize` and `--volume-method` keep only that path's plans (every
+/// plan by default) instead of choosing one path.
+#[derive(Debug, Clone)]
+pub struct PassesArgs {
+    pub shadow_volume: ShadowVolumeOptions,
+    pub shadow_tone: ShadowToneArgs,
+    /// `--normalize`, if given.
+    pub only_normalize: Option<Normalize>,
+    /// `--volume-method`, if given and not `auto`.
+    pub only_method: Option<VolumeMethod>,
+}
+
+impl FromArgMatches for PassesArgs {
+    fn from_arg_matches(matches: &ArgMatches) -> std::result::Result<Self, clap::Error> {
+        let given = |id: &str| matches.value_source(id) == Some(ValueSource::CommandLine);
+        let shadow_volume = ShadowVolumeOptions::from_arg_matches(matches)?;
+        Ok(PassesArgs {
+            only_normalize: given("normalize").then_some(shadow_volume.normalize),
+            only_method: (shadow_volume.method != VolumeMethod::Auto).then_some(shadow_volume.method),
+            shadow_volume,
+            shadow_tone: ShadowToneArgs::from_arg_matches(matches)?,
+        })
+    }
+
+    fn update_from_arg_matches(&mut self, matches: &ArgMatches) -> std::result::Result<(), clap::Error> {
+        *self = PassesArgs::from_arg_matches(matches)?;
+        Ok(())
+    }
+}
+
+impl Args for PassesArgs {
+    fn augment_args(command: clap::Command) -> clap::Command {
+        ShadowToneArgs::augment_args(ShadowVolumeOptions::augment_args(command))
+            .mut_arg("normalize", |arg| {
+                arg.help("shadow-volume: list only this normalisation path; all by default").hide_default_value(true)
+            })
+            .mut_arg("volume_method", |arg| {
+                arg.help("shadow-volume: list only this counting method's plans; `auto`: both")
+            })
+    }
+
+    fn augment_args_for_update(command: clap::Command) -> clap::Command {
+        PassesArgs::augment_args(command)
+    }
 }
 
 #[cfg(test)]

@@ -3,7 +3,7 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use super::args::{Cli, Command, FormatArg, FrameArgs, GpuArgs, LayerAction};
+use super::args::{Cli, Command, FormatArg, FrameArgs, GpuArgs, LayerAction, PassesArgs, ViewScript};
 use super::output_path::check_output_path;
 use crate::error::{Error, Result};
 use crate::frame::render_pass::COLOUR_FORMAT;
@@ -15,10 +15,7 @@ use crate::profile::budget::Budget;
 use crate::profile::report::{FrameFormats, ProfileReport, ReportContext, ReportFormat};
 use crate::scene::{builtin_scene_at, scene_and_warnings_from_gltf, Scene, BUILTIN_SCENES, OTHER_SCENES};
 use crate::technique::interface::BenchTable;
-use crate::technique::{
-    by_name, render_scene, shadow_atlas, CartoonOptions, GivenPlane, InkStyle, Normalize, PlanarOptions, RenderOptions,
-    Seams, ShadowAtlasOptions, ShadowVolumeOptions, INK_STYLE_FLAGS, TECHNIQUES,
-};
+use crate::technique::{by_name, render_scene, shadow_atlas, RenderOptions, TECHNIQUES};
 
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
@@ -55,11 +52,7 @@ pub fn run(cli: Cli) -> Result<()> {
                 LayerAction::Uninstall => super::install::uninstall(&paths),
             }
         }
-        Command::Passes { technique, normalize, increment, shadow_factor, shadow_colour } => passes(
-            &technique,
-            normalize,
-            ShadowVolumeOptions { increment, shadow_factor, shadow_colour, ..Default::default() },
-        ),
+        Command::Passes { technique, plans } => passes(&technique, &plans),
         Command::Bench { frame, warmup: _, runs, json, table1_out, mip_flicker: Some(steps) } => {
             if table1_out.is_some() || runs.is_some() {
                 return Err(Error::InvalidInput("--mip-flicker is not timed: drop --table1-out and --runs".into()));
@@ -70,8 +63,8 @@ pub fn run(cli: Cli) -> Result<()> {
             bench(&frame, warmup, runs, json, table1_out.as_deref())
         }
         Command::Bake { frame, model, mip, out } => bake(&frame, model.as_deref(), mip, &out),
-        Command::View { frame, frames, screenshot, resize_after, press_after, paused, tour } => {
-            view(&frame, frames, screenshot, ViewScript { resize_after, press_after, tour }, paused)
+        Command::View { frame, frames, screenshot, script, paused, tour } => {
+            view(&frame, frames, screenshot, script, tour, paused)
         }
     }
 }
@@ -109,15 +102,8 @@ fn print_warnings(technique: &str, warnings: &[String]) {
     }
 }
 
+/// The frame's options: each family's parsed flags moved in as they are, then checked.
 fn options(frame: &FrameArgs) -> Result<RenderOptions> {
-    let mut ink = [InkStyle::default(); 3];
-    for ((style, text), flag) in
-        ink.iter_mut().zip([&frame.ink_silhouette, &frame.ink_crease, &frame.ink_boundary]).zip(INK_STYLE_FLAGS)
-    {
-        if let Some(text) = text {
-            *style = InkStyle::parse(flag, text)?;
-        }
-    }
     let options = RenderOptions {
         width: frame.size.0,
         height: frame.size.1,
@@ -125,59 +111,15 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
         samples: frame.samples,
         keep_samples: false,
         technique: by_name(&frame.technique)?,
-        shadow_volume: ShadowVolumeOptions {
-            increment: frame.increment,
-            method: frame.volume_method,
-            normalize: frame.normalize,
-            shadow_factor: frame.shadow_factor,
-            shadow_colour: frame.shadow_colour,
-            saturation_probe: frame.saturation_probe,
-            clip_volumes: !frame.unclipped_volumes,
-            ..Default::default()
-        },
-        shadow_atlas: ShadowAtlasOptions {
-            map_size: frame.shadow_map_size,
-            texture_size: frame.shadow_texture_size,
-            light: frame.light,
-        },
+        shadow_volume: frame.shadow_volume,
+        shadow_tone: frame.shadow_tone.tone(),
+        shadow_atlas: frame.shadow_atlas,
         count_overdraw: false,
-        cartoon: CartoonOptions {
-            select: CartoonOptions::parse_select(&frame.select),
-            silhouette: frame.silhouette,
-            crease_deg: frame.crease_angle,
-            line_width: frame.line_width,
-            outline_width: frame.outline_width,
-            outline_colour: frame.outline_colour,
-            outline_method: frame.outline_method,
-            outline_blur: frame.outline_blur,
-            alpha_ref: frame.alpha_ref,
-            ink,
-            ink_only: frame.ink_only,
-            seams: Seams::parse(&frame.seams)?,
-        },
-        planar: PlanarOptions {
-            shadow_factor: frame.shadow_factor,
-            plane: given_plane(frame)?,
-            shadow_lod: frame.shadow_lod,
-            texture_size: frame.render_texture_size,
-            texture_on: frame.render_texture_on,
-            ..Default::default()
-        },
+        cartoon: frame.cartoon.clone(),
+        planar: frame.planar,
     };
     options.check()?;
     Ok(options)
-}
-
-/// The receiving plane `--plane-normal`/`--plane-height` give, if either is given.
-fn given_plane(frame: &FrameArgs) -> Result<Option<GivenPlane>> {
-    if frame.plane_height.is_none() && frame.plane_normal.is_none() {
-        return Ok(None);
-    }
-    let default = GivenPlane::default();
-    let normal = frame.plane_normal.as_deref().map(GivenPlane::parse_normal).transpose()?.unwrap_or(default.normal);
-    let plane = GivenPlane { normal, height: frame.plane_height.unwrap_or(default.height) };
-    plane.check()?;
-    Ok(Some(plane))
 }
 
 fn render(frame: &FrameArgs, out: &Path, keep_alpha: bool, no_queries: bool) -> Result<()> {
@@ -502,7 +444,7 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: Option<u32>, json: bool, table1_o
     if runs == Some(0) {
         return Err(Error::InvalidInput("--runs must be at least 1".into()));
     }
-    if frame.saturation_probe {
+    if frame.shadow_volume.saturation_probe {
         return Err(Error::InvalidInput(
             "--saturation-probe is a diagnostic pass and is never timed: use it with render or profile".into(),
         ));
@@ -615,23 +557,12 @@ fn bench_mip_flicker(frame: &FrameArgs, steps: u32, json: bool) -> Result<()> {
     Ok(())
 }
 
-/// The viewer's scripted events, as given on the command line.
-struct ViewScript {
-    resize_after: Option<Vec<String>>,
-    press_after: Option<Vec<String>>,
-    tour: Option<u32>,
-}
-
-/// `--resize-after`'s or `--press-after`'s frame count.
-fn frame_count(flag: &str, text: &str) -> Result<u32> {
-    text.parse().map_err(|_| Error::InvalidInput(format!("{flag} {text}: expected a frame count, such as 3")))
-}
-
 fn view(
     frame: &FrameArgs,
     frames: Option<u32>,
     screenshot: Option<std::path::PathBuf>,
     script: ViewScript,
+    tour: Option<u32>,
     paused: bool,
 ) -> Result<()> {
     use crate::viewer::{live::Settings, ViewerOptions};
@@ -647,17 +578,7 @@ fn view(
     if frames == Some(0) {
         return Err(Error::InvalidInput("--frames must be at least 1".into()));
     }
-    let resize_after = match script.resize_after.as_deref() {
-        None => None,
-        Some([after, size]) => Some((frame_count("--resize-after", after)?, super::args::parse_size(size)?)),
-        Some(_) => return Err(Error::InvalidInput("--resize-after takes a frame count and WxH".into())),
-    };
-    let press_after = match script.press_after.as_deref() {
-        None => None,
-        Some([after, key]) => Some((frame_count("--press-after", after)?, crate::viewer::keys::scripted_key(key)?)),
-        Some(_) => return Err(Error::InvalidInput("--press-after takes a frame count and a key".into())),
-    };
-    if script.tour == Some(0) {
+    if tour == Some(0) {
         return Err(Error::InvalidInput("--tour must be at least 1 (frames per stop)".into()));
     }
     let options = options(frame)?;
@@ -670,9 +591,9 @@ fn view(
             gpu: GpuOptions { validation: frame.gpu.validation, device, without_pass_queries: false },
             frames,
             screenshot,
-            resize_after,
-            press_after,
-            tour: script.tour,
+            resize_after: script.resize_after,
+            press_after: script.press_after,
+            tour,
             paused,
             start_time: frame.time,
         },
@@ -684,25 +605,37 @@ fn view(
 /// Markdown tables; `--normalize` keeps one shadow-volume normalisation. For shadow volumes,
 /// the plans are for k, D (or the tint) of `shadow_volume`, and the table of iteration counts
 /// for other k and D follows them.
-fn passes(technique: &str, normalize: Option<Normalize>, shadow_volume: ShadowVolumeOptions) -> Result<()> {
+fn passes(technique: &str, plans: &PassesArgs) -> Result<()> {
     let technique = by_name(technique)?;
-    shadow_volume.check()?;
-    let planar = PlanarOptions { shadow_factor: shadow_volume.shadow_factor, ..Default::default() };
-    let base = RenderOptions { technique, shadow_volume, planar, ..Default::default() };
+    plans.shadow_volume.check()?;
+    let base = RenderOptions {
+        technique,
+        shadow_volume: plans.shadow_volume,
+        shadow_tone: plans.shadow_tone.tone(),
+        ..Default::default()
+    };
     println!("## {}: passes and fixed-function state\n", technique.name());
     println!("{}\n", technique.about());
     let variants = technique.plan_variants(&base);
     let normalisations =
         variants.iter().map(|v| v.options.shadow_volume.normalize).collect::<std::collections::HashSet<_>>().len();
+    let methods =
+        variants.iter().map(|v| v.options.shadow_volume.method).collect::<std::collections::HashSet<_>>().len();
     for variant in variants {
-        // `--normalize` keeps the reference and that normalisation's plans, for techniques whose
-        // plans depend on it.
-        let kept = match normalize {
+        // `--normalize` keeps the reference and that normalisation's plans, `--volume-method`
+        // that method's, for techniques whose plans depend on them.
+        let volumes = &variant.options.shadow_volume;
+        let kept_normalize = match plans.only_normalize {
             Some(n) if normalisations > 1 => {
-                variant.options.stencil == StencilMode::Reference || variant.options.shadow_volume.normalize == n
+                variant.options.stencil == StencilMode::Reference || volumes.normalize == n
             }
             _ => true,
         };
+        let kept = kept_normalize
+            && match plans.only_method {
+                Some(m) if methods > 1 => volumes.method == m,
+                _ => true,
+            };
         if kept {
             let plan = technique.plan(&variant.options)?;
             println!("{}", crate::profile::passes::plan_table(&variant.label, &plan));

@@ -121,7 +121,8 @@ mod tests {
     #[test]
     fn shadow_volume_table_shows_the_seed_recipes() {
         let options = ShadowVolumeOptions { method: VolumeMethod::ZPass, ..Default::default() };
-        let emulated = plan_table("emulated", &recipes::plan(&options, StencilMode::Emulated, 1).unwrap());
+        let emulated =
+            plan_table("emulated", &recipes::plan(&options, Default::default(), StencilMode::Emulated, 1).unwrap());
         assert!(emulated.contains("| normalise N0 | normalise N0 |"));
         assert!(emulated.contains("| normalise N1 | normalise iteration |"));
         assert!(emulated.contains("SUBTRACT (ONE_MINUS_DST_ALPHA, ONE)"));
@@ -130,7 +131,8 @@ mod tests {
         for line in emulated.lines().filter(|l| l.starts_with("| ") && !l.starts_with("| #")) {
             assert!(line.ends_with("| none | none |"), "{line}");
         }
-        let reference = plan_table("reference", &recipes::plan(&options, StencilMode::Reference, 1).unwrap());
+        let reference =
+            plan_table("reference", &recipes::plan(&options, Default::default(), StencilMode::Reference, 1).unwrap());
         assert!(reference.contains("INCREMENT_AND_WRAP"));
     }
 }

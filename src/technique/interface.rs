@@ -9,6 +9,7 @@ use std::fmt;
 use std::sync::Arc;
 
 use super::options::{CartoonOptions, PlanarOptions, ShadowAtlasOptions, ShadowVolumeOptions};
+use super::shadow_tone::ShadowTone;
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::Gpu;
@@ -26,6 +27,8 @@ pub struct RenderOptions {
     pub stencil: StencilMode,
     pub technique: &'static dyn Technique,
     pub shadow_volume: ShadowVolumeOptions,
+    /// How dark shadows are: shadow volumes and the planar family share it.
+    pub shadow_tone: ShadowTone,
     pub shadow_atlas: ShadowAtlasOptions,
     /// Heat-map frame: alpha ends up holding the fragments shaded per pixel.
     pub count_overdraw: bool,

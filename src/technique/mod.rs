@@ -17,6 +17,7 @@ pub mod outline;
 pub mod planar;
 pub mod registry;
 pub mod shadow_atlas;
+pub mod shadow_tone;
 pub mod shadow_volume;
 pub mod unit;
 pub mod xray;
@@ -30,12 +31,13 @@ use crate::scene::Scene;
 pub use cartoon::CartoonStats;
 pub use interface::{check_same_scene, FrameStats, RenderOptions, SceneRenderer, Technique, TechniqueFrame, Variant};
 pub use options::{
-    CartoonOptions, InkStyle, LightMode, Normalize, OutlineMethod, Seams, ShadowAtlasOptions, ShadowKind,
+    CartoonOptions, InkStyle, InkStyles, LightMode, Normalize, OutlineMethod, Seams, ShadowAtlasOptions, ShadowKind,
     ShadowVolumeOptions, SilhouetteMethod, TextureShadowOn, VolumeMethod, INK_STYLE_FLAGS,
 };
 pub use planar::{GivenPlane, PlanarOptions, PlanarStats};
 pub use registry::{by_name, TECHNIQUES};
 pub use shadow_atlas::ShadowAtlasStats;
+pub use shadow_tone::{ShadowTone, ShadowToneArgs};
 pub use shadow_volume::ShadowVolumeStats;
 pub use unit::{Prepared, TechniqueUnit};
 

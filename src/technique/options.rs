@@ -1,9 +1,23 @@
-//! The options of each technique family, as plain data: what the command line, the viewer and
+//! The options of each technique family, as plain data and as their own flags (`clap::Args`,
+//! flattened into the command line): what the command line, the viewer and
 //! a port set. (Which technique, the size and the stencil path are in `RenderOptions`, beside
 //! the `Technique` interface.)
 
+use clap::ArgAction;
+
 use super::alpha_counter;
 use crate::error::{Error, Result};
+
+/// What a family's options are when no flag is given: its `Default`. The defaults are written
+/// once, on the flags of its `clap::Args` struct (where `--help` shows them).
+pub(crate) fn clap_defaults<T: clap::Args + clap::FromArgMatches>() -> T {
+    let command = T::augment_args(clap::Command::new("defaults").no_binary_name(true));
+    match command.try_get_matches_from(std::iter::empty::<&str>()).and_then(|m| T::from_arg_matches(&m)) {
+        Ok(options) => options,
+        // The flags' own defaults, not user input: a unit test parses each family's.
+        Err(e) => panic!("the defaults of {} do not parse: {e}", std::any::type_name::<T>()),
+    }
+}
 
 crate::names::named_enum! {
     /// How volume walls are counted.
@@ -29,65 +43,78 @@ crate::names::named_enum! {
     }
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+/// The shadow-volume family's options (`shadow-volume`), and its flags. How dark the shadow is
+/// is `RenderOptions::shadow_tone`, shared with the planar family.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, clap::Args)]
 pub struct ShadowVolumeOptions {
-    /// k: each volume wall adds or removes k/255 of alpha (1..=8).
+    // k: each volume wall adds or removes k/255 of alpha.
+    /// shadow-volume: alpha added per volume wall, in 1/255 steps (1..=8).
+    #[arg(long, default_value_t = 1, value_name = "K")]
     pub increment: u8,
+    /// shadow-volume: `auto` (z-fail when the camera is inside a volume), `zpass` or `zfail`.
+    #[arg(id = "volume_method", long = "volume-method", value_name = "VOLUME_METHOD", value_enum, default_value_t)]
     pub method: VolumeMethod,
+    /// shadow-volume: how counts become a mask.
+    #[arg(long, value_enum, default_value_t)]
     pub normalize: Normalize,
-    /// Shadowed colour = colour x shadow_factor/255. An 8-bit value, so that every path
-    /// multiplies by exactly the same number.
-    pub shadow_factor: u8,
-    /// A tinted shadow (seed 000's apply modulates with a shadow colour): shadowed colour =
-    /// colour x these factors / 255, per channel (linear, as the blend unit multiplies).
-    /// Overrides `shadow_factor`.
-    pub shadow_colour: Option<[u8; 3]>,
-    /// Add the full-screen saturation probe (docs/design/saturation.md): a diagnostic pass a user
-    /// asks for, never part of a timed frame. The `subpass` apply counts saturation without it.
+    // A diagnostic pass a user asks for (docs/design/saturation.md), never part of a timed frame.
+    /// shadow-volume: add the full-screen saturation probe, a diagnostic pass (`seed` and `max`
+    /// count saturation only with it; `subpass` counts it in its apply, and the probe then
+    /// cross-checks that count). Never part of a timed `bench` frame.
+    #[arg(long)]
     pub saturation_probe: bool,
+    // Volumes end just past the receivers' bounds and each is scissored to where it can shade,
+    // the apply to their union, in both paths alike (docs/shadow-volumes.md, "Volumes clipped to
+    // where they can shade"). Off (`--unclipped-volumes`): every volume reaches infinity over
+    // the whole frame, to measure what clipping saves.
+    /// shadow-volume: draw every volume whole, to infinity and over the whole frame, instead of
+    /// clipped to the receivers' bounds and scissored to where it can shade (to measure what
+    /// the clipping saves; the image is the same).
+    #[arg(id = "unclipped_volumes", long = "unclipped-volumes", action = ArgAction::SetFalse)]
+    pub clip_volumes: bool,
     /// The device has `fragmentStoresAndAtomics` (Android Baseline 2022), so the `subpass`
     /// apply counts saturated samples with one atomic add per pixel. The renderer turns it off on a
     /// device without the feature; a plan printed without a device assumes the baseline.
+    #[arg(skip = true)]
     pub fragment_atomics: bool,
-    /// Volumes end just past the receivers' bounds and each is scissored to where it can shade,
-    /// the apply to their union, in both paths alike (docs/shadow-volumes.md, "Volumes clipped to
-    /// where they can shade"). Off: every volume reaches infinity over the whole frame, to measure what
-    /// clipping saves.
-    pub clip_volumes: bool,
 }
 
 impl Default for ShadowVolumeOptions {
     fn default() -> Self {
-        ShadowVolumeOptions {
-            increment: 1,
-            method: VolumeMethod::Auto,
-            normalize: Normalize::Seed,
-            shadow_factor: 102,
-            shadow_colour: None,
-            saturation_probe: false,
-            fragment_atomics: true,
-            clip_volumes: true,
-        }
+        clap_defaults()
     }
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+/// The planar family's options (`planar`, `blob`, `shadow-texture`), and their flags. How dark
+/// the shadow is is `RenderOptions::shadow_tone` (its darkest factor: these shadows darken every
+/// channel alike).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, clap::Args)]
 pub struct PlanarOptions {
-    /// Shadowed receiver colour = colour x shadow_factor/255 (`1 - s` as an 8-bit value, so that
-    /// both paths multiply by exactly the same number).
-    pub shadow_factor: u8,
     /// Draw the projected shadows (off: the scene pass alone, GPU-skinned, with the receiver
     /// mask in alpha: what the tests compare against).
+    #[arg(skip = true)]
     pub shadows: bool,
-    /// The receiving plane as the user gives it; `None`: the lowest flat horizontal
-    /// non-caster is found.
+    // `None`: the lowest flat horizontal non-caster is found.
+    #[command(flatten)]
     pub plane: Option<GivenPlane>,
-    /// Cast the shadow from each caster simplified (meshoptimizer) to about this fraction of
-    /// its triangles, in (0, 1]; `None`: from the full mesh.
+    // In (0, 1]; `None`: from the full mesh.
+    /// planar, shadow-texture: cast the shadow from each caster simplified with meshoptimizer
+    /// to about this fraction of its triangles (0 < RATIO <= 1; `bench` adds a variant with it).
+    #[arg(long, value_name = "RATIO")]
     pub shadow_lod: Option<f32>,
-    /// `shadow-texture`: the side of the texture the casters are drawn into from the light.
+    /// shadow-texture: side of the texture the casters are drawn into from the light, in texels
+    /// (the seed's render texture; small on purpose).
+    #[arg(id = "render_texture_size", long = "render-texture-size", default_value_t = DEFAULT_TEXTURE_SHADOW_SIZE, value_name = "N")]
     pub texture_size: u32,
-    /// `shadow-texture`: what shows the texture: the receivers drawn again, or a quad.
+    /// shadow-texture: show the texture on the `receivers` drawn again (clipped to them) or, as
+    /// the seed does, on one `quad` on the plane around the casters' shadow.
+    #[arg(
+        id = "render_texture_on",
+        long = "render-texture-on",
+        value_name = "RENDER_TEXTURE_ON",
+        value_enum,
+        default_value_t
+    )]
     pub texture_on: TextureShadowOn,
 }
 
@@ -107,14 +134,7 @@ pub const DEFAULT_TEXTURE_SHADOW_SIZE: u32 = 128;
 
 impl Default for PlanarOptions {
     fn default() -> Self {
-        PlanarOptions {
-            shadow_factor: 102,
-            shadows: true,
-            plane: None,
-            shadow_lod: None,
-            texture_size: DEFAULT_TEXTURE_SHADOW_SIZE,
-            texture_on: TextureShadowOn::Receivers,
-        }
+        clap_defaults()
     }
 }
 
@@ -142,18 +162,44 @@ impl PlanarOptions {
     }
 }
 
-/// A receiving plane given by the user (`--plane-normal X,Y,Z`, `--plane-height H`): the plane
-/// with normal `normal` (any length but zero) through the point (0, H, 0).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+// A receiving plane given by the user (`--plane-normal X,Y,Z`, `--plane-height H`): the plane
+// with normal `normal` (any length but zero) through the point (0, H, 0). Flattened as an
+// `Option` into `PlanarOptions`: `None` unless one of its flags is given.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, clap::Args)]
 pub struct GivenPlane {
-    pub normal: [f32; 3],
+    /// planar, shadow-texture, blob: the receiving plane crosses the y axis at H (default: the
+    /// lowest flat horizontal non-caster is the ground).
+    #[arg(
+        id = "plane_height",
+        long = "plane-height",
+        value_name = "H",
+        allow_hyphen_values = true,
+        default_value_t = 0.0,
+        hide_default_value = true
+    )]
     pub height: f32,
+    /// planar, shadow-texture: the receiving plane's normal (any length but zero; default
+    /// 0,1,0), projected onto with Blinn's shadow matrix; e.g. `--scene slope --plane-normal 0,3,1`.
+    #[arg(
+        id = "plane_normal", long = "plane-normal",
+        value_name = "X,Y,Z",
+        allow_hyphen_values = true,
+        default_value = "0,1,0",
+        hide_default_value = true,
+        value_parser = parse_plane_normal
+    )]
+    pub normal: [f32; 3],
 }
 
 impl Default for GivenPlane {
     fn default() -> Self {
-        GivenPlane { normal: [0.0, 1.0, 0.0], height: 0.0 }
+        clap_defaults()
     }
+}
+
+/// `--plane-normal`'s value, for clap (which names the option and the value).
+fn parse_plane_normal(text: &str) -> std::result::Result<[f32; 3], String> {
+    GivenPlane::parse_normal(text).map_err(|_| "expected three numbers X,Y,Z".to_owned())
 }
 
 impl GivenPlane {
@@ -230,6 +276,11 @@ impl Default for Seams {
 impl Seams {
     /// Parses `--seams normal,uv,material` (any of them, or `none`).
     pub fn parse(text: &str) -> Result<Seams> {
+        Seams::parse_value(text).map_err(|why| Error::InvalidInput(format!("--seams {why}")))
+    }
+
+    /// `parse` for clap, which names the option and the value.
+    fn parse_value(text: &str) -> std::result::Result<Seams, String> {
         let mut seams = Seams { normal: false, uv: false, material: false };
         for word in text.split(',').map(str::trim) {
             match word {
@@ -237,14 +288,25 @@ impl Seams {
                 "uv" => seams.uv = true,
                 "material" => seams.material = true,
                 "none" | "" => {}
-                other => {
-                    return Err(Error::InvalidInput(format!(
-                        "--seams '{other}': use normal, uv, material or none, comma-separated"
-                    )))
-                }
+                other => return Err(format!("'{other}': use normal, uv, material or none, comma-separated")),
             }
         }
         Ok(seams)
+    }
+}
+
+impl std::fmt::Display for Seams {
+    /// As `--seams` takes it (`normal,material`, or `none`).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let words: Vec<&str> = [(self.normal, "normal"), (self.uv, "uv"), (self.material, "material")]
+            .into_iter()
+            .filter_map(|(on, word)| on.then_some(word))
+            .collect();
+        if words.is_empty() {
+            f.write_str("none")
+        } else {
+            f.write_str(&words.join(","))
+        }
     }
 }
 
@@ -254,7 +316,12 @@ pub const INK_STYLE_FLAGS: [&str; 3] = ["--ink-silhouette", "--ink-crease", "--i
 impl InkStyle {
     /// Parses `WIDTH`, `WIDTH,#RRGGBB` or `#RRGGBB` (the `#` is optional), for `flag`.
     pub fn parse(flag: &str, text: &str) -> Result<InkStyle> {
-        let bad = |why: &str| Error::InvalidInput(format!("{flag} '{text}': {why}; expected WIDTH[,#RRGGBB]"));
+        InkStyle::parse_value(text).map_err(|why| Error::InvalidInput(format!("{flag} '{text}': {why}")))
+    }
+
+    /// `parse` for clap, which names the option and the value.
+    fn parse_value(text: &str) -> std::result::Result<InkStyle, String> {
+        let bad = |why: &str| format!("{why}; expected WIDTH[,#RRGGBB]");
         let (width, colour) = match text.split_once(',') {
             Some((width, colour)) => (Some(width.trim()), Some(colour.trim())),
             None if text.trim().starts_with('#') => (None, Some(text.trim())),
@@ -276,8 +343,10 @@ impl InkStyle {
             None => None,
         };
         let style = InkStyle { width, colour };
-        style.check(flag)?;
-        Ok(style)
+        match style.width {
+            Some(w) if !(w.is_finite() && (0.5..=64.0).contains(&w)) => Err(format!("width {w}: use 0.5 to 64 pixels")),
+            _ => Ok(style),
+        }
     }
 
     fn check(&self, flag: &str) -> Result<()> {
@@ -287,6 +356,29 @@ impl InkStyle {
             }
             _ => Ok(()),
         }
+    }
+}
+
+/// Each edge class's ink (`--ink-silhouette`, `--ink-crease`, `--ink-boundary`); `None`: the
+/// default style (`--line-width`, the dark ink).
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, clap::Args)]
+pub struct InkStyles {
+    /// silhouette/toon: silhouette ink as WIDTH[,#RRGGBB] (sRGB); default `--line-width` and
+    /// the dark ink. The methods other than `edges` draw silhouettes only, in this style.
+    #[arg(id = "ink_silhouette", long = "ink-silhouette", value_name = "WIDTH[,#RRGGBB]", value_parser = InkStyle::parse_value)]
+    pub silhouette: Option<InkStyle>,
+    /// silhouette/toon `--silhouette edges`: crease ink as WIDTH[,#RRGGBB].
+    #[arg(id = "ink_crease", long = "ink-crease", value_name = "WIDTH[,#RRGGBB]", value_parser = InkStyle::parse_value)]
+    pub crease: Option<InkStyle>,
+    /// silhouette/toon `--silhouette edges`: boundary ink as WIDTH[,#RRGGBB].
+    #[arg(id = "ink_boundary", long = "ink-boundary", value_name = "WIDTH[,#RRGGBB]", value_parser = InkStyle::parse_value)]
+    pub boundary: Option<InkStyle>,
+}
+
+impl InkStyles {
+    /// Edge class `class`'s style (0 silhouette, 1 crease, 2 boundary, as `INK_STYLE_FLAGS`).
+    pub fn get(&self, class: usize) -> InkStyle {
+        [self.silhouette, self.crease, self.boundary].get(class).copied().flatten().unwrap_or_default()
     }
 }
 
@@ -302,33 +394,58 @@ crate::names::named_enum! {
     }
 }
 
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+/// The cartoon family's options (`outline`, `silhouette`, `toon`), and their flags.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, clap::Args)]
 pub struct CartoonOptions {
-    /// Objects to outline (`outline`); empty: the scene's first shadow caster, else its first object.
+    /// outline: objects to outline, by name (default: the scene's first shadow caster).
+    #[arg(long, value_name = "NAME,...", value_delimiter = ',', value_parser = parse_object_name)]
     pub select: Vec<String>,
+    /// silhouette/toon: how ink is found: `edges` (CPU, screen-space quads), `shader` (N.V rim),
+    /// `hull` (inverted hull) or `alpha-test` (N.V per pixel against `--alpha-ref`).
+    #[arg(long, value_enum, default_value_t)]
     pub silhouette: SilhouetteMethod,
-    /// Edges whose faces fold by more than this many degrees are creases.
+    /// silhouette/toon: edges whose faces fold by more than this are creases (degrees).
+    #[arg(id = "crease_angle", long = "crease-angle", default_value_t = 40.0, value_name = "DEG")]
     pub crease_deg: f32,
-    /// Ink line width in pixels (edges), and the width of the hull rim.
+    /// silhouette/toon: ink line width in pixels (edges and hull).
+    #[arg(long, default_value_t = 2.0, value_name = "PX")]
     pub line_width: f32,
-    /// Per edge class (silhouette, crease, boundary; see `INK_STYLE_FLAGS`): width and colour
-    /// over `line_width` and the default ink. The methods that only find silhouettes use the
-    /// silhouette's.
-    pub ink: [InkStyle; 3],
-    /// Which attribute seams are boundaries (edges method).
-    pub seams: Seams,
-    /// Faces filled with the background colour, ink on top (the seed's figure 5.1.1, middle).
+    // Per edge class: width and colour over `line_width` and the default ink. The methods that
+    // only find silhouettes use the silhouette's.
+    #[command(flatten)]
+    pub ink: InkStyles,
+    /// silhouette/toon: faces filled with the background colour, ink on top (the seed's
+    /// figure 5.1.1, middle).
+    #[arg(long)]
     pub ink_only: bool,
-    /// Outline width in pixels (`outline`).
-    pub outline_width: f32,
-    /// `alpha-test` ink: pixels whose N.V is at most this are ink (0: a hairline; larger:
-    /// thicker lines).
+    /// silhouette/toon `--silhouette edges`: attribute seams drawn as boundaries: `normal`, `uv`,
+    /// `material` (borders between a glTF mesh's primitives; comma-separated) or `none`.
+    #[arg(
+        long,
+        default_value_t = Seams::default(),
+        value_name = "normal,uv,material|none",
+        value_parser = Seams::parse_value
+    )]
+    pub seams: Seams,
+    /// silhouette/toon `--silhouette alpha-test`: pixels with N.V at most this are ink (0..=1;
+    /// larger: thicker lines).
+    #[arg(long, default_value_t = 0.3, value_name = "N.V")]
     pub alpha_ref: f32,
-    /// Outline colour, 8-bit RGB (so every path writes the same bytes).
-    pub outline_colour: [u8; 3],
-    /// How the outline copy is made (`outline`).
+    /// outline: outline width in pixels (0.5..=64).
+    #[arg(long, default_value_t = 4.0, value_name = "PX")]
+    pub outline_width: f32,
+    /// outline: how the outline copy is made: `extrude` (pushed out along its smooth normals) or
+    /// `scale` (scaled up about its centre, as the document does).
+    #[arg(long, value_enum, default_value_t)]
     pub outline_method: OutlineMethod,
-    /// Blur radius of the outline in pixels, 0 for a sharp outline (`outline`).
+    // 8-bit RGB, so every path writes the same bytes.
+    /// outline: outline colour as the PNG shows it, sRGB hex.
+    #[arg(long, visible_alias = "outline-color", default_value = "#FFA000", value_name = "#RRGGBB",
+          value_parser = parse_colour_arg)]
+    pub outline_colour: [u8; 3],
+    /// outline: blur the outline by two 1D box passes of this radius in pixels (0..=16; 0: sharp).
+    // Negative numbers are values here, so that `-1` is refused as a bad radius, by name.
+    #[arg(long, default_value_t = 0, value_name = "PX", allow_negative_numbers = true)]
     pub outline_blur: u32,
 }
 
@@ -337,20 +454,20 @@ pub const MAX_OUTLINE_BLUR: u32 = 16;
 
 impl Default for CartoonOptions {
     fn default() -> Self {
-        CartoonOptions {
-            select: Vec::new(),
-            silhouette: SilhouetteMethod::Edges,
-            crease_deg: 40.0,
-            line_width: 2.0,
-            ink: [InkStyle::default(); 3],
-            ink_only: false,
-            seams: Seams::default(),
-            outline_width: 4.0,
-            alpha_ref: 0.3,
-            outline_colour: [255, 160, 0],
-            outline_method: OutlineMethod::Extrude,
-            outline_blur: 0,
-        }
+        clap_defaults()
+    }
+}
+
+/// `--outline-colour`'s value, for clap (which names the option and the value).
+fn parse_colour_arg(text: &str) -> std::result::Result<[u8; 3], String> {
+    parse_rgb_hex("--outline-colour", text).map_err(|_| "expected six hex digits, such as #FFA000".to_string())
+}
+
+/// One name of `--select NAME,...`, trimmed.
+fn parse_object_name(text: &str) -> std::result::Result<String, String> {
+    match text.trim() {
+        "" => Err("an empty object name; expected NAME,NAME,...".to_owned()),
+        name => Ok(name.to_owned()),
     }
 }
 
@@ -369,8 +486,8 @@ impl CartoonOptions {
                 self.outline_blur
             )));
         }
-        for (style, flag) in self.ink.iter().zip(INK_STYLE_FLAGS) {
-            style.check(flag)?;
+        for (class, flag) in INK_STYLE_FLAGS.into_iter().enumerate() {
+            self.ink.get(class).check(flag)?;
         }
         if !(self.alpha_ref.is_finite() && (0.0..=1.0).contains(&self.alpha_ref)) {
             return Err(Error::InvalidInput(format!("--alpha-ref {}: use 0 to 1 (N.V)", self.alpha_ref)));
@@ -383,12 +500,7 @@ impl CartoonOptions {
 
     /// The width of edge class `class` (0 silhouette, 1 crease, 2 boundary) in pixels.
     pub fn ink_width(&self, class: usize) -> f32 {
-        self.ink.get(class).and_then(|s| s.width).unwrap_or(self.line_width)
-    }
-
-    /// Parses `--select NAME,NAME,...` (empty: the default selection).
-    pub fn parse_select(text: &str) -> Vec<String> {
-        text.split(',').map(str::trim).filter(|s| !s.is_empty()).map(str::to_owned).collect()
+        self.ink.get(class).width.unwrap_or(self.line_width)
     }
 }
 
@@ -440,19 +552,28 @@ crate::names::named_enum! {
     }
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+/// The shadow-map family's options (`shadow-map`, `shadow-texture-atlas`,
+/// `projective-texture`), and their flags.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, clap::Args)]
 pub struct ShadowAtlasOptions {
-    /// Shadow map side in texels (the paper: 512).
-    pub map_size: u32,
-    /// Shadow texture side for meshes that are not geometry images (those use n - 1 rounded
-    /// up to a power of two: 256 for 257x257, 64 for 64x64).
-    pub texture_size: u32,
+    /// shadow-map, shadow-texture-atlas, projective-texture: `moving` (turns every frame:
+    /// re-bake) or `fixed` (after the first frame the shadow map and bake are skipped).
+    #[arg(long, value_enum, default_value_t)]
     pub light: LightMode,
+    // The paper: 512.
+    /// shadow-map, shadow-texture-atlas, projective-texture: shadow map side in texels (power of
+    /// two; also the projective texture's side).
+    #[arg(id = "shadow_map_size", long = "shadow-map-size", default_value_t = 512, value_name = "N")]
+    pub map_size: u32,
+    // Geometry images use n - 1 rounded up to a power of two: 256 for 257x257, 64 for 64x64.
+    /// shadow-texture-atlas: shadow texture side for meshes that are not geometry images.
+    #[arg(id = "shadow_texture_size", long = "shadow-texture-size", default_value_t = 256, value_name = "N")]
+    pub texture_size: u32,
 }
 
 impl Default for ShadowAtlasOptions {
     fn default() -> Self {
-        ShadowAtlasOptions { map_size: 512, texture_size: 256, light: LightMode::Fixed }
+        clap_defaults()
     }
 }
 
@@ -469,16 +590,6 @@ impl ShadowVolumeOptions {
     pub fn check(&self) -> Result<()> {
         alpha_counter::check_increment(self.increment).map(|_| ())
     }
-
-    /// The shadowed colour's factor per channel (R, G, B), in 1/255: the tint, else D on all.
-    pub fn shadow_rgb(&self) -> [u8; 3] {
-        self.shadow_colour.unwrap_or([self.shadow_factor; 3])
-    }
-
-    /// The darkest factor: what the blend-only normalisation must bring every count to.
-    pub fn darkest(&self) -> u8 {
-        self.shadow_rgb().into_iter().min().unwrap_or(self.shadow_factor)
-    }
 }
 
 impl ShadowAtlasOptions {
@@ -492,6 +603,37 @@ impl ShadowAtlasOptions {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn every_familys_defaults_are_its_flags_defaults() {
+        let volumes = ShadowVolumeOptions::default();
+        assert_eq!((volumes.increment, volumes.method, volumes.normalize), (1, VolumeMethod::Auto, Normalize::Seed));
+        assert!(volumes.clip_volumes && volumes.fragment_atomics && !volumes.saturation_probe);
+        let planar = PlanarOptions::default();
+        assert_eq!(planar.plane, None, "no plane flag given: the plane is found");
+        assert!(planar.shadows && planar.shadow_lod.is_none());
+        assert_eq!((planar.texture_size, planar.texture_on), (DEFAULT_TEXTURE_SHADOW_SIZE, TextureShadowOn::Receivers));
+        assert_eq!(GivenPlane::default(), GivenPlane { normal: [0.0, 1.0, 0.0], height: 0.0 });
+        let cartoon = CartoonOptions::default();
+        assert_eq!(
+            (cartoon.outline_colour, cartoon.seams, cartoon.ink),
+            ([255, 160, 0], Seams::default(), InkStyles::default())
+        );
+        assert_eq!(
+            (cartoon.crease_deg, cartoon.line_width, cartoon.outline_width, cartoon.alpha_ref),
+            (40.0, 2.0, 4.0, 0.3)
+        );
+        assert!(cartoon.select.is_empty());
+        let atlas = ShadowAtlasOptions::default();
+        assert_eq!((atlas.map_size, atlas.texture_size, atlas.light), (512, 256, LightMode::Fixed));
+    }
+
+    #[test]
+    fn seams_print_as_they_parse() {
+        for text in ["normal,material", "none", "uv", "normal,uv,material"] {
+            assert_eq!(Seams::parse(text).map(|s| s.to_string()).ok().as_deref(), Some(text));
+        }
+    }
 
     #[test]
     fn rgb_hex_parses_six_digits_and_names_bad_input() {

@@ -60,7 +60,7 @@ fn class_style(cartoon: &CartoonOptions, class: usize) -> (f32, Vec4) {
     let colour = cartoon
         .ink
         .get(class)
-        .and_then(|s| s.colour)
+        .colour
         .map_or(INK_COLOUR, |rgb| Vec4::new(srgb::decode(rgb[0]), srgb::decode(rgb[1]), srgb::decode(rgb[2]), 1.0));
     (cartoon.ink_width(class), colour)
 }

@@ -31,6 +31,7 @@ use crate::technique::frame_renderer::{BuildContext, Passes};
 use crate::technique::interface::RenderOptions;
 use crate::technique::interface::{FrameStats, Variant};
 use crate::technique::unit::{Prepared, TechniqueUnit};
+use crate::technique::shadow_tone::ShadowTone;
 
 /// position (vec3), uv (vec2), strength (float).
 pub const BLOB_LAYOUT: VertexLayout =
@@ -242,7 +243,7 @@ impl TechniqueUnit for BlobShadows {
 
 /// The blob renderer's own part: the scene's meshes, the blob texture, and this frame's quads.
 pub struct BlobPasses {
-    shadow_factor: u8,
+    tone: ShadowTone,
     plane: ReceiverPlane,
     meshes: SceneMeshes,
     /// This frame's blob quads and their vertex count; none without blobs.
@@ -281,14 +282,7 @@ impl BlobPasses {
                 stages: vk::ShaderStageFlags::FRAGMENT,
             }],
         )?;
-        Ok(BlobPasses {
-            shadow_factor: ctx.options.planar.shadow_factor,
-            plane,
-            meshes,
-            quads: None,
-            blob_set,
-            _texture: texture,
-        })
+        Ok(BlobPasses { tone: ctx.options.shadow_tone, plane, meshes, quads: None, blob_set, _texture: texture })
     }
 }
 
@@ -334,7 +328,7 @@ impl Passes<BlobKinds> for BlobPasses {
 
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
         self.meshes.update_palettes(scene)?;
-        let darkness = 1.0 - self.shadow_factor as f32 / 255.0;
+        let darkness = 1.0 - self.tone.darkest_factor();
         let vertices = if light_reaches_plane(&scene.light, &self.plane.plane) {
             blob_vertices(&blobs(scene, &self.plane, darkness))
         } else {
@@ -351,7 +345,7 @@ impl Passes<BlobKinds> for BlobPasses {
     }
 
     fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {
-        Box::new(PlanarStats::of(&self.plane, &self.meshes, self.shadow_factor))
+        Box::new(PlanarStats::of(&self.plane, &self.meshes, self.tone))
     }
 }
 

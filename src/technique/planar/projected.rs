@@ -40,6 +40,7 @@ use crate::technique::interface::RenderOptions;
 use crate::technique::interface::{stencil_variants, FrameStats, Variant};
 use crate::technique::options::PlanarOptions;
 use crate::technique::unit::{Prepared, TechniqueUnit};
+use crate::technique::shadow_tone::ShadowTone;
 
 /// Mirrors `PlanarPush` in `shaders/planar_push.glsl`.
 #[repr(C)]
@@ -257,7 +258,7 @@ impl TechniqueUnit for Planar {
 /// The planar renderer's own part: the receiver plane and the scene's meshes (joint palettes
 /// are uploaded each frame, as an animated character needs).
 pub struct PlanarPasses {
-    options: PlanarOptions,
+    tone: ShadowTone,
     stencil: StencilMode,
     plane: ReceiverPlane,
     meshes: SceneMeshes,
@@ -274,11 +275,11 @@ impl PlanarPasses {
             Some(ratio) => Some(CasterLods::build(ctx.gpu, scene, &plane.receivers, ratio)?),
             None => None,
         };
-        Ok(PlanarPasses { options: ctx.options.planar, stencil: ctx.options.stencil, plane, meshes, lods })
+        Ok(PlanarPasses { tone: ctx.options.shadow_tone, stencil: ctx.options.stencil, plane, meshes, lods })
     }
 
     fn factor(&self) -> f32 {
-        self.options.shadow_factor as f32 / 255.0
+        self.tone.darkest_factor()
     }
 
     /// Every caster flattened onto the plane: `[static, skinned]` pipelines.
@@ -363,7 +364,7 @@ impl Passes<PlanarKinds> for PlanarPasses {
     }
 
     fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {
-        Box::new(PlanarStats::of(&self.plane, &self.meshes, self.options.shadow_factor).with_lods(self.lods.as_ref()))
+        Box::new(PlanarStats::of(&self.plane, &self.meshes, self.tone).with_lods(self.lods.as_ref()))
     }
 }
 

@@ -45,6 +45,7 @@ use crate::technique::interface::RenderOptions;
 use crate::technique::interface::{FrameStats, Variant};
 use crate::technique::options::{PlanarOptions, TextureShadowOn};
 use crate::technique::unit::{Prepared, TechniqueUnit};
+use crate::technique::shadow_tone::ShadowTone;
 
 const SHADOW_TEXTURE_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
 
@@ -338,7 +339,7 @@ impl TechniqueUnit for ShadowTexture {
 /// The shadow-texture renderer's own part: the scene's meshes, the texture and its lookup, and
 /// this frame's light view-projection.
 pub struct ShadowTexturePasses {
-    shadow_factor: u8,
+    tone: ShadowTone,
     texture_size: u32,
     plane: ReceiverPlane,
     meshes: SceneMeshes,
@@ -383,7 +384,7 @@ impl ShadowTexturePasses {
             }],
         )?;
         Ok(ShadowTexturePasses {
-            shadow_factor: options.shadow_factor,
+            tone: ctx.options.shadow_tone,
             texture_size: options.texture_size,
             plane,
             meshes,
@@ -414,7 +415,7 @@ impl ShadowTexturePasses {
         rec.begin_offscreen_pass(&self.target.render_pass, self.target.framebuffer.raw, extent, &white);
         // No light above the plane: the texture stays cleared to white (unshadowed).
         if self.light_view_proj != Mat4::ZERO {
-            let factor = self.shadow_factor as f32 / 255.0;
+            let factor = self.tone.darkest_factor();
             for (index, object) in scene.objects.iter().enumerate().filter(|(i, _)| !self.plane.receivers[*i]) {
                 let push = ObjectPush {
                     model: self.light_view_proj * object.transform,
@@ -518,6 +519,6 @@ impl Passes<TextureKinds> for ShadowTexturePasses {
     }
 
     fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {
-        Box::new(PlanarStats::of(&self.plane, &self.meshes, self.shadow_factor).with_lods(self.lods.as_ref()))
+        Box::new(PlanarStats::of(&self.plane, &self.meshes, self.tone).with_lods(self.lods.as_ref()))
     }
 }

@@ -11,6 +11,7 @@ use crate::frame::StencilMode;
 use crate::pipeline::DepthBias;
 use crate::technique::interface::{FrameStats, RenderOptions, Technique, Variant};
 use crate::technique::options::{PlanarOptions, TextureShadowOn};
+use crate::technique::shadow_tone::ShadowTone;
 
 /// Planar projected shadows, double darkening stopped in alpha (implemented in `projected`).
 pub struct Planar;
@@ -45,13 +46,13 @@ pub struct PlanarStats {
 }
 
 impl PlanarStats {
-    pub(crate) fn of(plane: &ReceiverPlane, meshes: &SceneMeshes, shadow_factor: u8) -> Self {
+    pub(crate) fn of(plane: &ReceiverPlane, meshes: &SceneMeshes, tone: ShadowTone) -> Self {
         PlanarStats {
             plane_height: plane.height,
             plane_normal: plane.plane.normal.to_array(),
             casters: plane.receivers.iter().filter(|r| !**r).count(),
             skinned_casters: meshes.skinned.iter().filter(|s| s.is_some()).count(),
-            shadow_factor,
+            shadow_factor: tone.darkest(),
             caster_triangles: None,
             lod_triangles: None,
         }

@@ -44,7 +44,7 @@ impl TechniqueUnit for ShadowVolumes {
     }
 
     fn plan(&self, options: &RenderOptions) -> Result<PassPlan<VolumeKinds>> {
-        recipes::plan(&options.shadow_volume, options.stencil, options.samples)
+        recipes::plan(&options.shadow_volume, options.shadow_tone, options.stencil, options.samples)
     }
 
     fn setup(&self, gpu: &Gpu, scene: &Scene, options: &RenderOptions) -> Result<Prepared<VolumeSetup>> {

@@ -39,6 +39,7 @@ use crate::render::OBJECT_PUSH_BYTES;
 use crate::technique::alpha_counter;
 use crate::technique::lit;
 use crate::technique::options::{Normalize, ShadowVolumeOptions, VolumeMethod};
+use crate::technique::shadow_tone::ShadowTone;
 
 /// The subpass input that exposes the counter to full-screen passes.
 /// The kinds of the shadow-volume plan: the volumes it draws itself, and the counter it reads.
@@ -209,7 +210,8 @@ const BLUE: vk::ColorComponentFlags = vk::ColorComponentFlags::B;
 /// only its channels, from the darkest up: the darkness steps set every shadowed pixel to
 /// exactly their D (from any value <= D, which the previous, darker step left) and keep lit
 /// pixels at 1. A grey shadow is one darkness step and one apply, as in the seed.
-fn tinted_darkness_and_apply(normalize: Normalize, rgb: [u8; 3]) -> Vec<PlannedPass<VolumeKinds>> {
+fn tinted_darkness_and_apply(normalize: Normalize, tone: ShadowTone) -> Vec<PlannedPass<VolumeKinds>> {
+    let rgb = tone.rgb();
     let mut factors = rgb.to_vec();
     factors.sort_unstable();
     factors.dedup();
@@ -225,7 +227,7 @@ fn tinted_darkness_and_apply(normalize: Normalize, rgb: [u8; 3]) -> Vec<PlannedP
         let suffix = if grey { String::new() } else { format!(" {}", &apply.name["apply ".len()..]) };
         for desc in darkness_descs(normalize) {
             let name = format!("{}{suffix}", desc.name);
-            passes.push(PlannedPass::full_screen(name, desc, solid(factor as f32 / 255.0)).scissored());
+            passes.push(PlannedPass::full_screen(name, desc, solid(ShadowTone::factor(factor))).scissored());
         }
         passes.push(PlannedPass::full_screen(apply.name, apply, solid(1.0)).scissored());
     }
@@ -291,7 +293,12 @@ pub fn seed_normalisation(iterations: usize) -> Vec<PlannedPass<VolumeKinds>> {
 /// decided per scene when the renderer is built (`casters::choose_zfail`), so a plan asked for
 /// without a scene must name the method.
 /// The frame's passes for `options` in the `stencil` path, at `samples` samples per pixel.
-pub fn plan(options: &ShadowVolumeOptions, stencil: StencilMode, samples: u32) -> Result<PassPlan<VolumeKinds>> {
+pub fn plan(
+    options: &ShadowVolumeOptions,
+    tone: ShadowTone,
+    stencil: StencilMode,
+    samples: u32,
+) -> Result<PassPlan<VolumeKinds>> {
     let zfail =
         match options.method {
             VolumeMethod::ZPass => false,
@@ -304,8 +311,7 @@ pub fn plan(options: &ShadowVolumeOptions, stencil: StencilMode, samples: u32) -
     let k = alpha_counter::check_increment(options.increment)?;
     let step = k as f32 / 255.0;
     // The shadowed colour's factors per channel (a grey D, or a tint).
-    let [r, g, b] = options.shadow_rgb().map(|f| f as f32 / 255.0);
-    let factors = Vec4::new(r, g, b, 0.0);
+    let factors = tone.vec3().extend(0.0);
     let volumes = |name, desc, alpha| {
         let push = format!("object transform, alpha {}", fmt_f32(alpha));
         PlannedPass::own(name, desc, VolumeDraw::Volumes { alpha }, push).with_sets(&[SetRole::Frame])
@@ -338,8 +344,8 @@ pub fn plan(options: &ShadowVolumeOptions, stencil: StencilMode, samples: u32) -
             }
             match options.normalize {
                 Normalize::Seed | Normalize::Max => {
-                    plan.extend(seed_normalisation(alpha_counter::seed_iterations(k, options.darkest())?));
-                    plan.extend(tinted_darkness_and_apply(options.normalize, options.shadow_rgb()));
+                    plan.extend(seed_normalisation(alpha_counter::seed_iterations(k, tone.darkest())?));
+                    plan.extend(tinted_darkness_and_apply(options.normalize, tone));
                 }
                 Normalize::Subpass => {
                     let apply = if options.fragment_atomics {

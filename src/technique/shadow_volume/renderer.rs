@@ -211,7 +211,7 @@ pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetu
         apply_scissor: Scissor::Frame,
         stats: ShadowVolumeStats {
             zfail,
-            seed_iterations: alpha_counter::seed_iterations(k, options.shadow_volume.darkest())?,
+            seed_iterations: alpha_counter::seed_iterations(k, options.shadow_tone.darkest())?,
             capacity,
             saturated_samples: None,
             saturation_measured_by,
