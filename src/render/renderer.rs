@@ -8,10 +8,12 @@ use gpu_allocator::MemoryLocation;
 use image::RgbaImage;
 
 use super::counters::{FrameCounters, PassCounters};
+use super::instances::RenderPassInstance;
 use super::recorder::{FrameRecorder, OverdrawPipelines, PassRecord};
 use super::sample_readback::{self, FrameSamples};
 use super::uniforms::{FrameDescriptors, FrameUniforms};
 use crate::error::Result;
+use crate::frame::render_pass::RenderPassTraffic;
 use crate::frame::{image_from_rgba8, FrameTargets, StencilMode};
 use crate::gpu::barriers;
 use crate::gpu::commands::submit_frame_and_wait;
@@ -154,23 +156,7 @@ impl Renderer {
                     recorder.count_overdraw(pipelines);
                 }
                 prepass(&mut recorder)?;
-                // The resolve target (if any) is not cleared; its value is never read.
-                let clear_values = [
-                    vk::ClearValue { color: vk::ClearColorValue { float32: clear } },
-                    vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: stencil_clear } },
-                    vk::ClearValue { color: vk::ClearColorValue { float32: clear } },
-                ];
-                let attachments = targets.desc.attachments();
-                recorder.begin_render_pass(
-                    targets.render_pass,
-                    &attachments,
-                    targets.framebuffer,
-                    extent,
-                    &clear_values,
-                );
-                let recorded = record(&mut recorder);
-                recorder.end_render_pass();
-                recorded?;
+                record_frame_pass(&mut recorder, targets, (clear, stencil_clear), record)?;
                 // A technique's fragment shaders may count into a buffer read after the frame.
                 barriers::fragment_stores_to_host(device, cmd);
                 if let Some(e) = recorder.deferred_error.take() {
@@ -184,25 +170,21 @@ impl Renderer {
                     return Ok(records);
                 }
 
-                // The render pass left the colour target in TRANSFER_SRC_OPTIMAL.
-                let region = regions::colour_to_buffer(extent);
-                // SAFETY: `cmd` is recording outside the render pass; the colour target and the
-                // read-back buffer (sized width x height x 4 for this extent) belong to `self`, which
-                // outlives the submission `submit_and_wait` waits for.
-                unsafe {
-                    device.cmd_copy_image_to_buffer(
-                        cmd,
-                        targets.colour.raw,
-                        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                        readback.raw,
-                        &[region],
-                    )
-                };
-                barriers::transfer_to_host(device, cmd, readback.raw);
+                record_readback(device, cmd, targets, readback);
                 Ok(records)
             })?;
-
         self.drawn = true;
+        self.output(pass_records, render_passes, render_pass_instances)
+    }
+
+    /// The frame's image (unless kept on the GPU) and counters, once it completed.
+    fn output(
+        &self,
+        pass_records: Vec<PassRecord>,
+        render_passes: Vec<RenderPassTraffic>,
+        render_pass_instances: Vec<RenderPassInstance>,
+    ) -> Result<FrameOutput> {
+        let extent = self.targets.extent;
         let raw = self.queries.results(pass_records.len() as u32)?;
         let frame_start = raw.first().map_or(0.0, |r| r.begin_ns);
         let trace = pass_records.iter().map(|r| (r.name.clone(), r.pipelines.clone())).collect();
@@ -231,6 +213,46 @@ impl Renderer {
             trace,
         })
     }
+}
+
+/// The frame's render pass: cleared to `clear` (colour) and `stencil_clear` (the reference
+/// path's stencil), the technique's passes recorded by `record`.
+fn record_frame_pass(
+    recorder: &mut FrameRecorder,
+    targets: &FrameTargets,
+    (clear, stencil_clear): ([f32; 4], u32),
+    record: impl FnOnce(&mut FrameRecorder) -> Result<()>,
+) -> Result<()> {
+    // The resolve target (if any) is not cleared; its value is never read.
+    let clear_values = [
+        vk::ClearValue { color: vk::ClearColorValue { float32: clear } },
+        vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: stencil_clear } },
+        vk::ClearValue { color: vk::ClearColorValue { float32: clear } },
+    ];
+    let attachments = targets.desc.attachments();
+    recorder.begin_render_pass(targets.render_pass, &attachments, targets.framebuffer, targets.extent, &clear_values);
+    let recorded = record(recorder);
+    recorder.end_render_pass();
+    recorded
+}
+
+/// Copies the finished colour target into the read-back buffer, visible to the host.
+fn record_readback(device: &ash::Device, cmd: vk::CommandBuffer, targets: &FrameTargets, readback: &Buffer) {
+    // The render pass left the colour target in TRANSFER_SRC_OPTIMAL.
+    let region = regions::colour_to_buffer(targets.extent);
+    // SAFETY: `cmd` is recording outside the render pass; the colour target and the read-back
+    // buffer (sized width x height x 4 for this extent) belong to the renderer, which outlives
+    // the submission `submit_frame_and_wait` waits for.
+    unsafe {
+        device.cmd_copy_image_to_buffer(
+            cmd,
+            targets.colour.raw,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            readback.raw,
+            &[region],
+        )
+    };
+    barriers::transfer_to_host(device, cmd, readback.raw);
 }
 
 /// "the frame's passes: shadow volumes, apply" for a failed submit.

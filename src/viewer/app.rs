@@ -188,17 +188,13 @@ impl<'s> RunningWindow<'s> {
         (s.width, s.height)
     }
 
-    /// One frame: render the technique, copy it into a swapchain image, present.
+    /// One frame: render the technique, copy it into a swapchain image, present; then the
+    /// scripted test hooks, and the screenshot after the last frame.
     fn draw(&mut self, session: &mut Session<'s>, event_loop: &ActiveEventLoop) -> Result<()> {
         if session.done {
             return Ok(());
         }
-        let now = Instant::now();
-        if !session.live.paused {
-            session.live.time += (now - session.last_tick).as_secs_f32();
-        }
-        session.last_tick = now;
-
+        advance_clock(session);
         if self.needs_recreate {
             let size = self.size();
             self.output.recreate(&session.gpu, &self.surface, size)?;
@@ -208,36 +204,10 @@ impl<'s> RunningWindow<'s> {
         // No area to draw on (minimised): wait for a resize.
         let Output::Presenting(presenter) = &mut self.output else { return Ok(()) };
         let extent = presenter.extent();
-        if let Some(wanted) = self.resize_pending {
-            if (extent.width, extent.height) == wanted {
-                self.resize_pending = None;
-            } else {
-                self.frames_since_resize += 1;
-                if self.frames_since_resize > RESIZE_TIMEOUT_FRAMES {
-                    return Err(Error::Device(format!(
-                        "the window system never resized the window to {}x{} (it is {}x{})",
-                        wanted.0, wanted.1, extent.width, extent.height
-                    )));
-                }
-            }
-        }
-
+        follow_resize(&mut self.resize_pending, &mut self.frames_since_resize, extent)?;
         // The previous frame's copy reads the colour target the technique is about to clear.
         presenter.wait_slots()?;
-
-        // The frame size follows the window, within the mobile profile's limit.
-        let frame_extent = vk::Extent2D {
-            width: extent.width.min(mobile_profile::MAX_IMAGE_SIDE),
-            height: extent.height.min(mobile_profile::MAX_IMAGE_SIDE),
-        };
-        if frame_extent != extent {
-            return Err(Error::InvalidInput(format!(
-                "the window is {}x{}; frames are at most {} pixels a side (the mobile profile)",
-                extent.width,
-                extent.height,
-                mobile_profile::MAX_IMAGE_SIDE
-            )));
-        }
+        let frame_extent = frame_extent_of(extent)?;
         session.live.apply(session.base, &mut session.scene)?;
         let technique =
             self.technique.get(&session.gpu, session.base, &session.settings, frame_extent, &session.scene)?;
@@ -277,7 +247,15 @@ impl<'s> RunningWindow<'s> {
         session.last = Some(frame);
         report_tour(session);
         update_title(&self.window, session)?;
+        self.run_script(session, event_loop);
+        if last_frame {
+            self.finish(session, event_loop)?;
+        }
+        Ok(())
+    }
 
+    /// `--press-after` and `--resize-after`, at their frame.
+    fn run_script(&mut self, session: &mut Session<'s>, event_loop: &ActiveEventLoop) {
         if let Some((after, letter)) = session.options.press_after {
             if session.presented == after {
                 if let Some(action) = keys::action_for_letter(letter) {
@@ -294,24 +272,65 @@ impl<'s> RunningWindow<'s> {
                 let _ = self.window.request_inner_size(PhysicalSize::new(size.0, size.1));
             }
         }
-        if last_frame {
-            session.done = true;
-            if let Some(path) = &session.options.screenshot {
-                let image = presenter.read_screenshot()?;
-                crate::frame::write_png(&image, path, false)?;
-                eprintln!(
-                    "nostencil view: wrote {} ({}x{}, frame {}, {})",
-                    path.display(),
-                    image.width(),
-                    image.height(),
-                    session.presented,
-                    session.settings.describe()
-                );
-            }
-            event_loop.exit();
+    }
+
+    /// After `--frames N`: write `--screenshot`, and end the loop.
+    fn finish(&mut self, session: &mut Session<'s>, event_loop: &ActiveEventLoop) -> Result<()> {
+        session.done = true;
+        if let (Some(path), Output::Presenting(presenter)) = (&session.options.screenshot, &mut self.output) {
+            let image = presenter.read_screenshot()?;
+            crate::frame::write_png(&image, path, false)?;
+            eprintln!(
+                "nostencil view: wrote {} ({}x{}, frame {}, {})",
+                path.display(),
+                image.width(),
+                image.height(),
+                session.presented,
+                session.settings.describe()
+            );
         }
+        event_loop.exit();
         Ok(())
     }
+}
+
+/// The animation clock: it runs unless paused.
+fn advance_clock(session: &mut Session) {
+    let now = Instant::now();
+    if !session.live.paused {
+        session.live.time += (now - session.last_tick).as_secs_f32();
+    }
+    session.last_tick = now;
+}
+
+/// A resize the viewer asked for (`--resize-after`): done once the swapchain has the size;
+/// an error if the window system never gives it.
+fn follow_resize(pending: &mut Option<(u32, u32)>, frames_waited: &mut u32, extent: vk::Extent2D) -> Result<()> {
+    let Some(wanted) = *pending else { return Ok(()) };
+    if (extent.width, extent.height) == wanted {
+        *pending = None;
+        return Ok(());
+    }
+    *frames_waited += 1;
+    if *frames_waited > RESIZE_TIMEOUT_FRAMES {
+        return Err(Error::Device(format!(
+            "the window system never resized the window to {}x{} (it is {}x{})",
+            wanted.0, wanted.1, extent.width, extent.height
+        )));
+    }
+    Ok(())
+}
+
+/// The frame size: the window's, which must be within the mobile profile's limit.
+fn frame_extent_of(extent: vk::Extent2D) -> Result<vk::Extent2D> {
+    let side = mobile_profile::MAX_IMAGE_SIDE;
+    if extent.width > side || extent.height > side {
+        return Err(Error::InvalidInput(format!(
+            "the window is {}x{}; frames are at most {side} pixels a side (the mobile profile)",
+            extent.width, extent.height
+        )));
+    }
+    Ok(extent)
 }
 
 impl RunningWindow<'_> {

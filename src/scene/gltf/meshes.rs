@@ -29,6 +29,8 @@ impl Loader<'_> {
         Ok(out)
     }
 
+    /// One primitive, read and checked; `None` (with a warning naming it) for one that draws
+    /// nothing: not triangles, no positions, no whole triangle.
     fn primitive(
         &mut self,
         what: &str,
@@ -44,167 +46,29 @@ impl Loader<'_> {
         if prim.extensions.as_ref().is_some_and(|e| e.others.contains_key(DRACO)) {
             self.draco_fallback(what, prim)?;
         }
-        let attribute = |s: Semantic| prim.attributes.get(&Checked::Valid(s)).map(|i| i.value());
-        let Some(pos_index) = attribute(Semantic::Positions) else {
+        let Some(pos_index) = attribute(prim, Semantic::Positions) else {
             self.warnings.push(format!("{what}: no POSITION attribute; skipped"));
             return Ok(None);
         };
         if prim.targets.as_ref().is_some_and(|t| !t.is_empty()) {
             self.warnings.push(format!("{what}: morph targets are not supported and were ignored"));
         }
-
-        let flat = self.quantizable_floats(pos_index, &format!("{what} POSITION"), T::Vec3, &[C::F32])?;
-        let positions: Vec<Vec3> = flat.chunks_exact(3).map(Vec3::from_slice).collect();
-        if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
-            return Err(self.fail(format!(
-                "{what}: POSITION of vertex {v} is not finite ({})",
-                positions.get(v).copied().unwrap_or_default()
-            )));
-        }
+        let positions = self.positions(what, pos_index)?;
         let n = positions.len();
-        let same_count = |this: &Self, name: &str, count: usize| -> Result<()> {
-            if count == n {
-                Ok(())
-            } else {
-                Err(this.fail(format!("{what}: {name} has {count} elements but POSITION has {n}")))
-            }
-        };
-
-        let normals = match attribute(Semantic::Normals) {
-            Some(i) => {
-                let name = format!("{what} NORMAL");
-                let components: &[C] = if self.quantized { FLOAT_OR_SNORM } else { &[C::F32] };
-                let flat = self.floats(i, &name, T::Vec3, components)?;
-                let normals: Vec<Vec3> = flat.chunks_exact(3).map(Vec3::from_slice).collect();
-                same_count(self, "NORMAL", normals.len())?;
-                if let Some(v) = normals.iter().position(|p| !p.is_finite()) {
-                    return Err(self.fail(format!("{name} of vertex {v} is not finite")));
-                }
-                Some(normals.into_iter().map(|v| v.try_normalize().unwrap_or(Vec3::Z)).collect::<Vec<_>>())
-            }
-            None => None,
-        };
-
-        let uv = |set: u32| -> Result<Option<Vec<Vec2>>> {
-            let Some(i) = attribute(Semantic::TexCoords(set)) else {
-                return Ok(None);
-            };
-            let name = format!("TEXCOORD_{set}");
-            let flat = self.quantizable_floats(i, &format!("{what} {name}"), T::Vec2, FLOAT_OR_UNORM)?;
-            let uvs: Vec<Vec2> = flat.chunks_exact(2).map(Vec2::from_slice).collect();
-            same_count(self, &name, uvs.len())?;
-            Ok(Some(uvs))
-        };
-        let uv0 = uv(0)?;
-        let uv1 = uv(1)?;
-
-        let colors = match attribute(Semantic::Colors(0)) {
-            Some(i) => {
-                let name = format!("{what} COLOR_0");
-                let dense = self.accessor(i, &name, &[T::Vec3, T::Vec4], FLOAT_OR_UNORM)?;
-                if dense.component != C::F32 && !dense.normalized {
-                    return Err(self.fail(format!("{name}: integer colours must be normalized")));
-                }
-                let k = dense.components();
-                let flat = dense.floats();
-                let colors: Vec<Vec4> = flat
-                    .chunks_exact(k)
-                    .map(|c| match c {
-                        [r, g, b] => Vec4::new(*r, *g, *b, 1.0),
-                        _ => Vec4::from_slice(c),
-                    })
-                    .collect();
-                same_count(self, "COLOR_0", colors.len())?;
-                Some(colors)
-            }
-            None => None,
-        };
-
-        let (joints, weights) = match (attribute(Semantic::Joints(0)), attribute(Semantic::Weights(0))) {
-            (Some(j), Some(w)) => {
-                // Further sets (JOINTS_1/WEIGHTS_1, ...) carry influences 5 to 8 and beyond.
-                let mut sets = vec![(j, w)];
-                while let (Some(j), Some(w)) =
-                    (attribute(Semantic::Joints(sets.len() as u32)), attribute(Semantic::Weights(sets.len() as u32)))
-                {
-                    sets.push((j, w));
-                }
-                let (joints, weights) = self.skin_attributes(what, &sets, n)?;
-                (Some(joints), Some(weights))
-            }
-            (None, None) => (None, None),
-            _ => {
-                self.warnings.push(format!("{what}: JOINTS_0 without WEIGHTS_0 or the reverse; drawn unskinned"));
-                (None, None)
-            }
-        };
-
-        let (indices, source_index_width) = match prim.indices {
-            Some(i) => {
-                let name = format!("{what} indices");
-                let dense = self.accessor(i.value(), &name, &[T::Scalar], &[C::U8, C::U16, C::U32])?;
-                let width = match dense.component {
-                    C::U8 => 1,
-                    C::U16 => 2,
-                    _ => 4,
-                };
-                let indices = dense.uints();
-                if let Some((k, bad)) = indices.iter().enumerate().find(|(_, &x)| x as usize >= n) {
-                    return Err(self.fail(format!("{name}: index {k} is {bad}, out of range of the {n} vertices")));
-                }
-                (indices, Some(width))
-            }
-            None => {
-                let n32 =
-                    u32::try_from(n).map_err(|_| self.fail(format!("{what}: {n} vertices do not fit u32 indices")))?;
-                ((0..n32).collect(), None)
-            }
-        };
-        let indices = match mode {
-            Mode::TriangleStrip => strip_to_list(&indices),
-            Mode::TriangleFan => fan_to_list(&indices),
-            _ => {
-                let mut indices = indices;
-                let extra = indices.len() % 3;
-                if extra != 0 {
-                    // Valid glTF (the validator only warns): the incomplete last triangle is
-                    // not drawn, as a GPU would not draw it.
-                    self.warnings.push(format!(
-                        "{what}: {} vertices/indices are not a whole number of triangles; the last {extra} \
-                         are ignored",
-                        indices.len()
-                    ));
-                    indices.truncate(indices.len() - extra);
-                }
-                indices
-            }
-        };
-
+        let normals = self.normals(what, prim, n)?;
+        let uv0 = self.tex_coords(what, prim, 0, n)?;
+        let uv1 = self.tex_coords(what, prim, 1, n)?;
+        let colors = self.colours(what, prim, n)?;
+        let (joints, weights) = self.skin_of(what, prim, n)?;
+        let (indices, source_index_width) = self.indices(what, prim, n)?;
+        let indices = self.triangle_list(what, mode, indices);
         if indices.is_empty() {
             // Nothing to draw, and an empty index buffer is nothing a GPU can upload.
             self.warnings.push(format!("{what}: no whole triangle ({n} vertices); skipped"));
             return Ok(None);
         }
-
         let material = prim.material.map(|m| m.value());
-        if let Some(m) = material.filter(|&m| m >= materials.len()) {
-            return Err(self.fail(format!("{what}: material {m} does not exist")));
-        }
-        let textures = material.and_then(|m| materials.get(m)).into_iter().flat_map(|m| {
-            [("base colour", m.base_color_texture), ("emissive", m.emissive_texture)]
-                .into_iter()
-                .filter_map(|(slot, t)| Some((slot, t?)))
-        });
-        for (slot, texture) in textures {
-            let present = if texture.tex_coord == 0 { uv0.is_some() } else { uv1.is_some() };
-            if !present {
-                self.warnings.push(format!(
-                    "{what}: its material's {slot} texture reads TEXCOORD_{}, which the primitive lacks",
-                    texture.tex_coord
-                ));
-            }
-        }
-
+        self.check_material(what, material, materials, [uv0.is_some(), uv1.is_some()])?;
         let (normals, normals_generated) = match normals {
             Some(normals) => (normals, false),
             None => (smooth_normals(&positions, &indices), true),
@@ -223,6 +87,185 @@ impl Loader<'_> {
             material,
         }))
     }
+
+    /// POSITION, every value finite.
+    fn positions(&mut self, what: &str, index: usize) -> Result<Vec<Vec3>> {
+        let flat = self.quantizable_floats(index, &format!("{what} POSITION"), T::Vec3, &[C::F32])?;
+        let positions: Vec<Vec3> = flat.chunks_exact(3).map(Vec3::from_slice).collect();
+        if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(self.fail(format!(
+                "{what}: POSITION of vertex {v} is not finite ({})",
+                positions.get(v).copied().unwrap_or_default()
+            )));
+        }
+        Ok(positions)
+    }
+
+    /// An attribute's count checked against POSITION's `n`.
+    fn same_count(&self, what: &str, name: &str, count: usize, n: usize) -> Result<()> {
+        if count == n {
+            Ok(())
+        } else {
+            Err(self.fail(format!("{what}: {name} has {count} elements but POSITION has {n}")))
+        }
+    }
+
+    /// NORMAL, finite, normalised (a zero normal becomes +Z); `None` when absent.
+    fn normals(&mut self, what: &str, prim: &json::mesh::Primitive, n: usize) -> Result<Option<Vec<Vec3>>> {
+        let Some(i) = attribute(prim, json::mesh::Semantic::Normals) else {
+            return Ok(None);
+        };
+        let name = format!("{what} NORMAL");
+        let components: &[C] = if self.quantized { FLOAT_OR_SNORM } else { &[C::F32] };
+        let flat = self.floats(i, &name, T::Vec3, components)?;
+        let normals: Vec<Vec3> = flat.chunks_exact(3).map(Vec3::from_slice).collect();
+        self.same_count(what, "NORMAL", normals.len(), n)?;
+        if let Some(v) = normals.iter().position(|p| !p.is_finite()) {
+            return Err(self.fail(format!("{name} of vertex {v} is not finite")));
+        }
+        Ok(Some(normals.into_iter().map(|v| v.try_normalize().unwrap_or(Vec3::Z)).collect()))
+    }
+
+    /// TEXCOORD_`set`, when present.
+    fn tex_coords(&mut self, what: &str, prim: &json::mesh::Primitive, set: u32, n: usize) -> Result<Option<Vec<Vec2>>> {
+        let Some(i) = attribute(prim, json::mesh::Semantic::TexCoords(set)) else {
+            return Ok(None);
+        };
+        let name = format!("TEXCOORD_{set}");
+        let flat = self.quantizable_floats(i, &format!("{what} {name}"), T::Vec2, FLOAT_OR_UNORM)?;
+        let uvs: Vec<Vec2> = flat.chunks_exact(2).map(Vec2::from_slice).collect();
+        self.same_count(what, &name, uvs.len(), n)?;
+        Ok(Some(uvs))
+    }
+
+    /// COLOR_0 as RGBA (an RGB colour gets alpha 1), when present.
+    fn colours(&mut self, what: &str, prim: &json::mesh::Primitive, n: usize) -> Result<Option<Vec<Vec4>>> {
+        let Some(i) = attribute(prim, json::mesh::Semantic::Colors(0)) else {
+            return Ok(None);
+        };
+        let name = format!("{what} COLOR_0");
+        let dense = self.accessor(i, &name, &[T::Vec3, T::Vec4], FLOAT_OR_UNORM)?;
+        if dense.component != C::F32 && !dense.normalized {
+            return Err(self.fail(format!("{name}: integer colours must be normalized")));
+        }
+        let k = dense.components();
+        let colors: Vec<Vec4> = dense
+            .floats()
+            .chunks_exact(k)
+            .map(|c| match c {
+                [r, g, b] => Vec4::new(*r, *g, *b, 1.0),
+                _ => Vec4::from_slice(c),
+            })
+            .collect();
+        self.same_count(what, "COLOR_0", colors.len(), n)?;
+        Ok(Some(colors))
+    }
+
+    /// JOINTS_n and WEIGHTS_n, every set of them; none (with a warning) when one comes without
+    /// the other.
+    fn skin_of(&mut self, what: &str, prim: &json::mesh::Primitive, n: usize) -> Result<OptionalSkin> {
+        use json::mesh::Semantic;
+        match (attribute(prim, Semantic::Joints(0)), attribute(prim, Semantic::Weights(0))) {
+            (Some(j), Some(w)) => {
+                // Further sets (JOINTS_1/WEIGHTS_1, ...) carry influences 5 to 8 and beyond.
+                let mut sets = vec![(j, w)];
+                while let (Some(j), Some(w)) = (
+                    attribute(prim, Semantic::Joints(sets.len() as u32)),
+                    attribute(prim, Semantic::Weights(sets.len() as u32)),
+                ) {
+                    sets.push((j, w));
+                }
+                let (joints, weights) = self.skin_attributes(what, &sets, n)?;
+                Ok((Some(joints), Some(weights)))
+            }
+            (None, None) => Ok((None, None)),
+            _ => {
+                self.warnings.push(format!("{what}: JOINTS_0 without WEIGHTS_0 or the reverse; drawn unskinned"));
+                Ok((None, None))
+            }
+        }
+    }
+
+    /// The indices, in range of the `n` vertices, and their width in the file (`None`: the
+    /// primitive has none, and its vertices are taken in order).
+    fn indices(&mut self, what: &str, prim: &json::mesh::Primitive, n: usize) -> Result<(Vec<u32>, Option<u8>)> {
+        let Some(i) = prim.indices else {
+            let n32 = u32::try_from(n).map_err(|_| self.fail(format!("{what}: {n} vertices do not fit u32 indices")))?;
+            return Ok(((0..n32).collect(), None));
+        };
+        let name = format!("{what} indices");
+        let dense = self.accessor(i.value(), &name, &[T::Scalar], &[C::U8, C::U16, C::U32])?;
+        let width = match dense.component {
+            C::U8 => 1,
+            C::U16 => 2,
+            _ => 4,
+        };
+        let indices = dense.uints();
+        if let Some((k, bad)) = indices.iter().enumerate().find(|(_, &x)| x as usize >= n) {
+            return Err(self.fail(format!("{name}: index {k} is {bad}, out of range of the {n} vertices")));
+        }
+        Ok((indices, Some(width)))
+    }
+
+    /// Strips and fans as lists; a list's incomplete last triangle dropped, with a warning.
+    fn triangle_list(&mut self, what: &str, mode: json::mesh::Mode, mut indices: Vec<u32>) -> Vec<u32> {
+        use json::mesh::Mode;
+        match mode {
+            Mode::TriangleStrip => strip_to_list(&indices),
+            Mode::TriangleFan => fan_to_list(&indices),
+            _ => {
+                let extra = indices.len() % 3;
+                if extra != 0 {
+                    // Valid glTF (the validator only warns): the incomplete last triangle is
+                    // not drawn, as a GPU would not draw it.
+                    self.warnings.push(format!(
+                        "{what}: {} vertices/indices are not a whole number of triangles; the last {extra} \
+                         are ignored",
+                        indices.len()
+                    ));
+                    indices.truncate(indices.len() - extra);
+                }
+                indices
+            }
+        }
+    }
+
+    /// The material exists, and each texture of it reads a texture coordinate set the
+    /// primitive has (`has_uv`: TEXCOORD_0, TEXCOORD_1), else a warning names it.
+    fn check_material(
+        &mut self,
+        what: &str,
+        material: Option<usize>,
+        materials: &[Material],
+        has_uv: [bool; 2],
+    ) -> Result<()> {
+        if let Some(m) = material.filter(|&m| m >= materials.len()) {
+            return Err(self.fail(format!("{what}: material {m} does not exist")));
+        }
+        let textures = material.and_then(|m| materials.get(m)).into_iter().flat_map(|m| {
+            [("base colour", m.base_color_texture), ("emissive", m.emissive_texture)]
+                .into_iter()
+                .filter_map(|(slot, t)| Some((slot, t?)))
+        });
+        for (slot, texture) in textures {
+            let present = has_uv.get(texture.tex_coord as usize).copied().unwrap_or(false);
+            if !present {
+                self.warnings.push(format!(
+                    "{what}: its material's {slot} texture reads TEXCOORD_{}, which the primitive lacks",
+                    texture.tex_coord
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A primitive's joints and weights, when it is skinned.
+type OptionalSkin = (Option<Vec<[u16; 4]>>, Option<Vec<[f32; 4]>>);
+
+/// The accessor index of `prim`'s attribute `semantic`, when it has one.
+fn attribute(prim: &json::mesh::Primitive, semantic: json::mesh::Semantic) -> Option<usize> {
+    prim.attributes.get(&Checked::Valid(semantic)).map(|i| i.value())
 }
 
 const DRACO: &str = "KHR_draco_mesh_compression";
