@@ -104,9 +104,9 @@ pub fn forbidden_features_enabled(features: &vk::PhysicalDeviceFeatures) -> Vec<
 }
 
 /// A push-constant block size a pipeline asks for, checked against the profile.
-pub fn check_push_constants(pipeline: &str, bytes: u32) -> crate::Result<()> {
+pub fn check_push_constants(pipeline: &str, bytes: u32) -> crate::error::Result<()> {
     if bytes > MAX_PUSH_CONSTANT_BYTES {
-        return Err(crate::Error::InvalidInput(format!(
+        return Err(crate::error::Error::InvalidInput(format!(
             "pipeline '{pipeline}' needs {bytes} bytes of push constants; the mobile profile allows {MAX_PUSH_CONSTANT_BYTES}"
         )));
     }
@@ -114,14 +114,14 @@ pub fn check_push_constants(pipeline: &str, bytes: u32) -> crate::Result<()> {
 }
 
 /// A render target side, checked against the profile (0 and above 4096 are refused).
-pub fn check_image_size(what: &str, width: u32, height: u32) -> crate::Result<()> {
+pub fn check_image_size(what: &str, width: u32, height: u32) -> crate::error::Result<()> {
     if width == 0 || height == 0 {
-        return Err(crate::Error::InvalidInput(format!(
+        return Err(crate::error::Error::InvalidInput(format!(
             "{what} size {width}x{height}: width and height must be at least 1"
         )));
     }
     if width > MAX_IMAGE_SIDE || height > MAX_IMAGE_SIDE {
-        return Err(crate::Error::InvalidInput(format!(
+        return Err(crate::error::Error::InvalidInput(format!(
             "{what} size {width}x{height}: the mobile profile allows at most {MAX_IMAGE_SIDE} pixels per side"
         )));
     }

@@ -20,12 +20,12 @@ pub enum ReportFormat {
 }
 
 impl ReportFormat {
-    pub fn parse(text: &str) -> crate::Result<Self> {
+    pub fn parse(text: &str) -> crate::error::Result<Self> {
         match text {
             "table" => Ok(ReportFormat::Table),
             "json" => Ok(ReportFormat::Json),
             "csv" => Ok(ReportFormat::Csv),
-            _ => Err(crate::Error::InvalidInput(format!("unknown format '{text}'; use table, json or csv"))),
+            _ => Err(crate::error::Error::InvalidInput(format!("unknown format '{text}'; use table, json or csv"))),
         }
     }
 }

@@ -116,7 +116,7 @@ impl Pipeline {
     pub fn overdraw_counter(&self) -> Result<Pipeline> {
         let mut desc = self.desc.clone();
         desc.fragment_shader = crate::shaders::overdraw_counter_for(desc.vertex_shader).ok_or_else(|| {
-            crate::Error::Internal(format!("no overdraw counter for vertex shader '{}'", desc.vertex_shader))
+            crate::error::Error::Internal(format!("no overdraw counter for vertex shader '{}'", desc.vertex_shader))
         })?;
         desc.fixed.blend = BlendState {
             colour: None,

@@ -93,7 +93,7 @@ impl Renderer {
     /// samples (`RenderOptions.keep_samples`). A one-off pass and copy, never in a timed frame.
     pub fn read_samples(&self) -> Result<FrameSamples> {
         if !self.drawn {
-            return Err(crate::Error::InvalidInput("read_samples: no frame has been rendered yet".into()));
+            return Err(crate::error::Error::InvalidInput("read_samples: no frame has been rendered yet".into()));
         }
         sample_readback::read_samples(&self.gpu, &self.targets)
     }

@@ -45,7 +45,7 @@ fn scene_from_model(mut model: Model, path: &Path, time: f32) -> Result<(Scene, 
     let mut scene =
         Scene::empty(&name, Camera::look_at(Vec3::new(0.0, 2.0, 5.0), Vec3::ZERO), default_light(model, &world));
     let Some((low, high)) = add_model(&mut scene, &rig, &world)? else {
-        return Err(crate::Error::Asset {
+        return Err(crate::error::Error::Asset {
             path: path.to_path_buf(),
             problem: "the file has no triangle meshes to render".into(),
         });
