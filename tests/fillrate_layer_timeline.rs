@@ -6,12 +6,14 @@
 //! - batch 1 runs a long-lived command buffer (1, 2 or 3 full-viewport triangles into an 8x8
 //!   depth image, by dynamic rendering) and signals `v + 1`;
 //! - batch 2 waits for `v + 2`, which the host signals later (wait-before-signal), runs a
-//!   one-time command buffer of its own pool (4 triangles) and signals `v + 3`.
+//!   one-time command buffer of its own pool (4 triangles, inside an occlusion query of the
+//!   program's own) and signals `v + 3`.
 //!
 //! The host waits for `v + 1` (vkWaitSemaphores) and right away resets the long-lived buffer
 //! (vkResetCommandBuffer, or by re-recording it on odd frames) while batch 2 cannot have run yet.
-//! Then it signals `v + 2`, waits for `v + 3`, and frees the one-time buffer and destroys its pool
-//! (on odd frames destroys the pool alone). When the device offers a second queue (of the
+//! Then it signals `v + 2`, waits for `v + 3`, reads its own query and resets it on the host
+//! (vkResetQueryPool: the layer must have read the query at the wait), and frees the one-time
+//! buffer and destroys its pool (on odd frames destroys the pool alone). When the device offers a second queue (of the
 //! graphics family, or another graphics family), odd frames go to it. Last, one call runs a
 //! SIMULTANEOUS_USE buffer twice in one batch and once in the next.
 
@@ -50,6 +52,7 @@ fn timeline_only_program_on_its_queues_is_measured_with_buffers_reset_and_freed_
     std::env::set_var("NOSTENCIL_FILLRATE_OUT", &out);
     std::env::remove_var("NOSTENCIL_FILLRATE_FRAMES");
 
+    let mut app_samples = Vec::new();
     // SAFETY: plain Vulkan use in order: every handle is created before use, used only while
     // alive, and destroyed after the timeline wait that proves the GPU done with it.
     unsafe {
@@ -74,9 +77,12 @@ fn timeline_only_program_on_its_queues_is_measured_with_buffers_reset_and_freed_
             queues.push((other, 0));
         }
         eprintln!("queues used: {}", queues.len());
-        let mut v12 = vk::PhysicalDeviceVulkan12Features::default().timeline_semaphore(true);
+        let mut v12 = vk::PhysicalDeviceVulkan12Features::default().timeline_semaphore(true).host_query_reset(true);
         let mut v13 = vk::PhysicalDeviceVulkan13Features::default().dynamic_rendering(true).synchronization2(true);
-        let mut features2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut v12).push_next(&mut v13);
+        let mut features2 = vk::PhysicalDeviceFeatures2::default()
+            .features(vk::PhysicalDeviceFeatures::default().occlusion_query_precise(true))
+            .push_next(&mut v12)
+            .push_next(&mut v13);
         let device = instance
             .create_device(
                 physical,
@@ -173,9 +179,18 @@ fn timeline_only_program_on_its_queues_is_measured_with_buffers_reset_and_freed_
         let layout_depth = vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL;
         let clear = vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } };
         let area = vk::Rect2D { offset: vk::Offset2D::default(), extent: vk::Extent2D { width: SIZE, height: SIZE } };
-        // One dynamic render pass of `draws` full-viewport triangles, after a barrier that
-        // orders it after every earlier pass on the image (each clears it).
-        let record = |cmd: vk::CommandBuffer, flags: vk::CommandBufferUsageFlags, draws: u32| {
+        // The program's own occlusion query, inside the one-time buffer's pass.
+        let app_queries = device
+            .create_query_pool(
+                &vk::QueryPoolCreateInfo::default().query_type(vk::QueryType::OCCLUSION).query_count(1),
+                None,
+            )
+            .expect("query pool");
+        device.reset_query_pool(app_queries, 0, 1);
+        // One dynamic render pass of `draws` full-viewport triangles (inside the program's own
+        // occlusion query if `query`), after a barrier that orders it after every earlier pass on
+        // the image (each clears it).
+        let record = |cmd: vk::CommandBuffer, flags: vk::CommandBufferUsageFlags, draws: u32, query: bool| {
             device.begin_command_buffer(cmd, &vk::CommandBufferBeginInfo::default().flags(flags)).expect("begin");
             let barriers = [vk::ImageMemoryBarrier2::default()
                 .image(image)
@@ -198,14 +213,20 @@ fn timeline_only_program_on_its_queues_is_measured_with_buffers_reset_and_freed_
                 &vk::RenderingInfo::default().render_area(area).layer_count(1).depth_attachment(&attachment),
             );
             device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+            if query {
+                device.cmd_begin_query(cmd, app_queries, 0, vk::QueryControlFlags::PRECISE);
+            }
             for _ in 0..draws {
                 device.cmd_draw(cmd, 3, 1, 0, 0);
+            }
+            if query {
+                device.cmd_end_query(cmd, app_queries, 0);
             }
             device.cmd_end_rendering(cmd);
             device.end_command_buffer(cmd).expect("end");
         };
         for (i, &(_, cmd)) in long_lived.iter().enumerate() {
-            record(cmd, vk::CommandBufferUsageFlags::empty(), reused_draws(i as u64));
+            record(cmd, vk::CommandBufferUsageFlags::empty(), reused_draws(i as u64), false);
         }
 
         let mut value = 0u64;
@@ -229,7 +250,7 @@ fn timeline_only_program_on_its_queues_is_measured_with_buffers_reset_and_freed_
                         .command_buffer_count(1),
                 )
                 .expect("command buffer")[0];
-            record(once, vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT, ONCE_DRAWS);
+            record(once, vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT, ONCE_DRAWS, true);
 
             // Batch 1 after everything before (v), batch 2 after the host's signal (v + 2).
             let waits = [value, value + 2];
@@ -291,11 +312,18 @@ fn timeline_only_program_on_its_queues_is_measured_with_buffers_reset_and_freed_
             if frame % 2 == 0 {
                 device.reset_command_buffer(reused, vk::CommandBufferResetFlags::empty()).expect("reset");
             }
-            record(reused, vk::CommandBufferUsageFlags::empty(), next_draws);
+            record(reused, vk::CommandBufferUsageFlags::empty(), next_draws, false);
             device
                 .signal_semaphore(&vk::SemaphoreSignalInfo::default().semaphore(timeline).value(value + 2))
                 .expect("signal");
             wait_for(value + 3);
+            // The program reads its own query and resets it on the host for the next frame.
+            let mut samples = [0u64];
+            device
+                .get_query_pool_results(app_queries, 0, &mut samples, vk::QueryResultFlags::TYPE_64)
+                .expect("the program's own query");
+            app_samples.push(samples[0]);
+            device.reset_query_pool(app_queries, 0, 1);
             if frame % 2 == 0 {
                 device.free_command_buffers(once_pool, &[once]);
             }
@@ -308,7 +336,7 @@ fn timeline_only_program_on_its_queues_is_measured_with_buffers_reset_and_freed_
         // layer puts nothing between the application's buffers): named. The other two are
         // measured, each from its own batch's copy.
         let twice = long_lived[0].1;
-        record(twice, vk::CommandBufferUsageFlags::SIMULTANEOUS_USE, TWICE_DRAWS);
+        record(twice, vk::CommandBufferUsageFlags::SIMULTANEOUS_USE, TWICE_DRAWS, false);
         let twice_infos = [vk::CommandBufferSubmitInfo::default().command_buffer(twice); 2];
         let signal = [vk::SemaphoreSubmitInfo::default()
             .semaphore(timeline)
@@ -325,6 +353,7 @@ fn timeline_only_program_on_its_queues_is_measured_with_buffers_reset_and_freed_
             device.destroy_command_pool(pool, None);
         }
         device.destroy_semaphore(timeline, None);
+        device.destroy_query_pool(app_queries, None);
         device.destroy_pipeline(pipeline, None);
         device.destroy_pipeline_layout(layout, None);
         device.destroy_image_view(view, None);
@@ -334,6 +363,8 @@ fn timeline_only_program_on_its_queues_is_measured_with_buffers_reset_and_freed_
         raw.destroy();
     }
 
+    let pixels = (SIZE * SIZE) as u64;
+    assert_eq!(app_samples, [ONCE_DRAWS as u64 * pixels; FRAMES as usize], "the program's own query");
     let messages = common::raw_vulkan::MESSAGES.lock().unwrap_or_else(|e| e.into_inner()).clone();
     assert!(messages.is_empty(), "{} validation message(s):\n{}", messages.len(), messages.join("\n"));
     let text = std::fs::read_to_string(&out).expect("the layer wrote its result at vkDestroyDevice");
@@ -347,7 +378,6 @@ fn timeline_only_program_on_its_queues_is_measured_with_buffers_reset_and_freed_
         .iter()
         .map(|r| (r.counters.as_ref().map_or(0, |c| c.draws), r.counters.as_ref().map(|c| c.samples_passed)))
         .collect();
-    let pixels = (SIZE * SIZE) as u64;
     let twice = TWICE_DRAWS as u64;
     let expected: Vec<(u64, Option<u64>)> = (0..FRAMES)
         .flat_map(|frame| {

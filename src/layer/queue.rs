@@ -9,6 +9,7 @@ use std::sync::Once;
 
 use super::arrays::app_array;
 use super::copies;
+use super::in_flight::TimelineSignal;
 use super::objects::{device_and, flush_buffer, spoil_gaps};
 use super::proofs;
 use super::readback::{read_completed, write_if_due};
@@ -19,6 +20,8 @@ use super::state::{guard, DeviceData, DeviceState, Pending};
 struct Batch {
     buffers: Vec<vk::CommandBuffer>,
     can_copy: bool,
+    /// The semaphores it signals with their values (a timeline's; a binary one's is ignored).
+    signals: Vec<(vk::Semaphore, u64)>,
 }
 
 /// Notes the command buffers of one vkQueueSubmit(2) call, in submission order. Returns, per
@@ -106,6 +109,11 @@ fn submitted(
             });
         }
         copies.push(batch_copies);
+        let sequence = state.sequence;
+        if state.pending.iter().any(|p| p.queue == queue && p.sequence <= sequence) {
+            let signals = batch.signals.iter().map(|&(semaphore, value)| TimelineSignal { semaphore, value, queue, sequence });
+            state.timeline_signals.extend(signals);
+        }
     }
     // A buffer submitted twice in one call (SIMULTANEOUS_USE): the second run overwrites the
     // first's queries before the first's copy (at the end of its batch) or read-back sees them.
@@ -122,7 +130,177 @@ fn submitted(
     if fence != vk::Fence::null() {
         state.fences.insert(fence, (queue, state.sequence));
     }
+    forget_proven_signals(state);
     copies
+}
+
+/// Drops the timeline signals that would prove nothing still pending.
+fn forget_proven_signals(state: &mut DeviceState) {
+    let pending = &state.pending;
+    state.timeline_signals.retain(|s| pending.iter().any(|p| p.queue == s.queue && p.sequence <= s.sequence));
+}
+
+/// The signal values of a VkSubmitInfo's signal semaphores, from its
+/// VkTimelineSemaphoreSubmitInfo (none without one: binary semaphores only).
+///
+/// # Safety
+/// `info` is a valid VkSubmitInfo with its pNext chain.
+unsafe fn signals_of(info: &vk::SubmitInfo<'_>) -> Vec<(vk::Semaphore, u64)> {
+    let mut p_next = info.p_next;
+    while !p_next.is_null() {
+        let base = p_next as *const vk::BaseInStructure;
+        // SAFETY: every chain node starts like VkBaseInStructure.
+        let (ty, next) = unsafe { ((*base).s_type, (*base).p_next.cast()) };
+        if ty == vk::StructureType::TIMELINE_SEMAPHORE_SUBMIT_INFO {
+            // SAFETY: the node is a VkTimelineSemaphoreSubmitInfo; its value array holds
+            // signalSemaphoreValueCount values (equal to signalSemaphoreCount when not 0).
+            let values = unsafe {
+                let timeline = &*(p_next as *const vk::TimelineSemaphoreSubmitInfo<'_>);
+                app_array(timeline.p_signal_semaphore_values, timeline.signal_semaphore_value_count)
+            };
+            // SAFETY: the batch's signal semaphores.
+            let semaphores = unsafe { app_array(info.p_signal_semaphores, info.signal_semaphore_count) };
+            return semaphores.iter().copied().zip(values.iter().copied()).collect();
+        }
+        p_next = next;
+    }
+    Vec::new()
+}
+
+/// `semaphore` has reached `value`: the batches whose signals it passed are complete, with
+/// everything before them on their queues. Reads them back.
+fn timeline_reached(device: &DeviceData, state: &mut DeviceState, semaphore: vk::Semaphore, value: u64) {
+    let (reached, rest): (Vec<TimelineSignal>, Vec<TimelineSignal>) = std::mem::take(&mut state.timeline_signals)
+        .into_iter()
+        .partition(|s| s.semaphore == semaphore && s.value <= value);
+    state.timeline_signals = rest;
+    for signal in reached {
+        read_completed(device, state, |p| p.queue == signal.queue && p.sequence <= signal.sequence);
+    }
+    forget_proven_signals(state);
+}
+
+/// vkWaitSemaphores and its KHR alias: a successful wait proves the batches that signal what it
+/// waited for complete (with VK_SEMAPHORE_WAIT_ANY, those whose semaphore has got there).
+unsafe fn wait_semaphores_with(
+    pick: fn(&DeviceData) -> Option<vk::PFN_vkWaitSemaphores>,
+    device: vk::Device,
+    info: *const vk::SemaphoreWaitInfo<'_>,
+    timeout: u64,
+) -> vk::Result {
+    let Some((data, next)) = device_and(device.as_raw(), pick) else {
+        return vk::Result::ERROR_INITIALIZATION_FAILED;
+    };
+    // SAFETY: the application's arguments, passed on.
+    let result = unsafe { next(device, info, timeout) };
+    if result == vk::Result::SUCCESS {
+        guard((), || {
+            if !data.active() {
+                return;
+            }
+            // SAFETY: the application's valid wait info, with `semaphoreCount` of each array.
+            let (info, semaphores, values) = unsafe {
+                let info = &*info;
+                (info, app_array(info.p_semaphores, info.semaphore_count), app_array(info.p_values, info.semaphore_count))
+            };
+            let any = info.flags.contains(vk::SemaphoreWaitFlags::ANY);
+            let counter = data.next.get_semaphore_counter_value.or(data.next.get_semaphore_counter_value_khr);
+            let mut st = data.state();
+            for (&semaphore, &value) in semaphores.iter().zip(values) {
+                let reached = if any {
+                    let Some(counter) = counter else { continue };
+                    let mut now = 0u64;
+                    // SAFETY: a timeline semaphore of this device the application just waited on.
+                    if unsafe { counter(device, semaphore, &mut now) } != vk::Result::SUCCESS {
+                        continue;
+                    }
+                    now
+                } else {
+                    value
+                };
+                timeline_reached(&data, &mut st, semaphore, reached);
+            }
+        });
+    }
+    result
+}
+
+pub(super) unsafe extern "system" fn wait_semaphores(
+    device: vk::Device,
+    info: *const vk::SemaphoreWaitInfo<'_>,
+    timeout: u64,
+) -> vk::Result {
+    // SAFETY: the application's arguments.
+    unsafe { wait_semaphores_with(|d| d.next.wait_semaphores, device, info, timeout) }
+}
+
+pub(super) unsafe extern "system" fn wait_semaphores_khr(
+    device: vk::Device,
+    info: *const vk::SemaphoreWaitInfo<'_>,
+    timeout: u64,
+) -> vk::Result {
+    // SAFETY: the application's arguments.
+    unsafe { wait_semaphores_with(|d| d.next.wait_semaphores_khr, device, info, timeout) }
+}
+
+/// vkGetSemaphoreCounterValue and its KHR alias: the value read proves its signals done.
+unsafe fn get_semaphore_counter_value_with(
+    pick: fn(&DeviceData) -> Option<vk::PFN_vkGetSemaphoreCounterValue>,
+    device: vk::Device,
+    semaphore: vk::Semaphore,
+    value: *mut u64,
+) -> vk::Result {
+    let Some((data, next)) = device_and(device.as_raw(), pick) else {
+        return vk::Result::ERROR_INITIALIZATION_FAILED;
+    };
+    // SAFETY: the application's arguments, passed on.
+    let result = unsafe { next(device, semaphore, value) };
+    if result == vk::Result::SUCCESS {
+        guard((), || {
+            if data.active() {
+                // SAFETY: the call succeeded, so `value` holds the counter.
+                let reached = unsafe { *value };
+                timeline_reached(&data, &mut data.state(), semaphore, reached);
+            }
+        });
+    }
+    result
+}
+
+pub(super) unsafe extern "system" fn get_semaphore_counter_value(
+    device: vk::Device,
+    semaphore: vk::Semaphore,
+    value: *mut u64,
+) -> vk::Result {
+    // SAFETY: the application's arguments.
+    unsafe { get_semaphore_counter_value_with(|d| d.next.get_semaphore_counter_value, device, semaphore, value) }
+}
+
+pub(super) unsafe extern "system" fn get_semaphore_counter_value_khr(
+    device: vk::Device,
+    semaphore: vk::Semaphore,
+    value: *mut u64,
+) -> vk::Result {
+    // SAFETY: the application's arguments.
+    unsafe { get_semaphore_counter_value_with(|d| d.next.get_semaphore_counter_value_khr, device, semaphore, value) }
+}
+
+/// vkDestroySemaphore: every batch that refers to the semaphore has completed (valid usage), so
+/// its signals prove their submissions done; read them, then forget them (the handle may be
+/// reused).
+pub(super) unsafe extern "system" fn destroy_semaphore(
+    device: vk::Device,
+    semaphore: vk::Semaphore,
+    allocator: *const vk::AllocationCallbacks<'_>,
+) {
+    let Some((data, next)) = device_and(device.as_raw(), |d| d.next.destroy_semaphore) else { return };
+    guard((), || {
+        if data.active() {
+            timeline_reached(&data, &mut data.state(), semaphore, u64::MAX);
+        }
+    });
+    // SAFETY: the application's arguments, passed on.
+    unsafe { next(device, semaphore, allocator) }
 }
 
 /// Records the command buffers a submit sends (`gather` reads its batches from the application's
@@ -179,6 +357,8 @@ pub(super) unsafe extern "system" fn queue_submit(
                 buffers: unsafe { app_array(s.p_command_buffers, s.command_buffer_count) }.to_vec(),
                 // SAFETY: as above.
                 can_copy: unsafe { batch_extendable(s.p_next) },
+                // SAFETY: as above.
+                signals: unsafe { signals_of(s) },
             })
             .collect()
     });
@@ -227,6 +407,11 @@ unsafe fn queue_submit2_with(
                     .map(|info| info.command_buffer)
                     .collect(),
                 can_copy: !s.flags.contains(vk::SubmitFlags::PROTECTED),
+                // SAFETY: as above.
+                signals: unsafe { app_array(s.p_signal_semaphore_infos, s.signal_semaphore_info_count) }
+                    .iter()
+                    .map(|info| (info.semaphore, info.value))
+                    .collect(),
             })
             .collect()
     });
