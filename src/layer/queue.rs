@@ -1,6 +1,6 @@
 //! Queue and synchronisation hooks: submissions record which measured passes ran, in order;
-//! a present closes the frame; a fence, a queue or device idle proves submissions complete, and
-//! their results are read back then.
+//! a present closes the frame; a fence, a queue or device idle, or a timeline semaphore reaching
+//! a value a batch signals proves submissions complete, and their results are read back then.
 
 use ash::vk;
 use ash::vk::Handle;
