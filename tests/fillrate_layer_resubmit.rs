@@ -21,64 +21,6 @@ const DEPTH: vk::Format = vk::Format::D32_SFLOAT;
 /// Rounds of submitting the three pre-recorded buffers without waiting.
 const ROUNDS: usize = 5;
 
-fn shader(device: &ash::Device, name: &str) -> vk::ShaderModule {
-    let code = nostencil::shaders::spirv(name).expect("shader");
-    // SAFETY: valid SPIR-V from the crate's build.
-    unsafe { device.create_shader_module(&vk::ShaderModuleCreateInfo::default().code(&code), None) }.expect("module")
-}
-
-/// A pipeline drawing `fullscreen.vert` depth-only, every sample passing (depth test ALWAYS),
-/// for `render_pass` or (when null) dynamic rendering into a D32 attachment.
-fn pipeline(device: &ash::Device, layout: vk::PipelineLayout, render_pass: vk::RenderPass) -> vk::Pipeline {
-    let (vert, frag) = (shader(device, "fullscreen.vert"), shader(device, "shadow_map.frag"));
-    let stages = [
-        vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::VERTEX).module(vert).name(c"main"),
-        vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::FRAGMENT).module(frag).name(c"main"),
-    ];
-    let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
-    let assembly = vk::PipelineInputAssemblyStateCreateInfo::default().topology(vk::PrimitiveTopology::TRIANGLE_LIST);
-    let viewports =
-        [vk::Viewport { x: 0.0, y: 0.0, width: SIZE as f32, height: SIZE as f32, min_depth: 0.0, max_depth: 1.0 }];
-    let scissors = [vk::Rect2D { offset: vk::Offset2D::default(), extent: vk::Extent2D { width: SIZE, height: SIZE } }];
-    let viewport = vk::PipelineViewportStateCreateInfo::default().viewports(&viewports).scissors(&scissors);
-    let raster = vk::PipelineRasterizationStateCreateInfo::default()
-        .polygon_mode(vk::PolygonMode::FILL)
-        .cull_mode(vk::CullModeFlags::NONE)
-        .line_width(1.0);
-    let multisample =
-        vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(vk::SampleCountFlags::TYPE_1);
-    let depth = vk::PipelineDepthStencilStateCreateInfo::default()
-        .depth_test_enable(true)
-        .depth_write_enable(false)
-        .depth_compare_op(vk::CompareOp::ALWAYS);
-    let blend = vk::PipelineColorBlendStateCreateInfo::default();
-    let mut rendering = vk::PipelineRenderingCreateInfo::default().depth_attachment_format(DEPTH);
-    let mut info = vk::GraphicsPipelineCreateInfo::default()
-        .stages(&stages)
-        .vertex_input_state(&vertex_input)
-        .input_assembly_state(&assembly)
-        .viewport_state(&viewport)
-        .rasterization_state(&raster)
-        .multisample_state(&multisample)
-        .depth_stencil_state(&depth)
-        .color_blend_state(&blend)
-        .layout(layout)
-        .render_pass(render_pass);
-    if render_pass == vk::RenderPass::null() {
-        info = info.push_next(&mut rendering);
-    }
-    // SAFETY: every state the pipeline needs is given above and alive for the call.
-    let pipeline = unsafe { device.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) }
-        .map_err(|(_, e)| e)
-        .expect("pipeline")[0];
-    // SAFETY: the modules are no longer needed once the pipeline exists.
-    unsafe {
-        device.destroy_shader_module(vert, None);
-        device.destroy_shader_module(frag, None);
-    }
-    pipeline
-}
-
 #[test]
 fn resubmitted_simultaneous_use_buffers_are_measured_every_time_and_suspended_passes_are_left_whole() {
     let dir = common::scratch_dir("fillrate_layer_resubmit");
@@ -200,8 +142,8 @@ fn resubmitted_simultaneous_use_buffers_are_measured_every_time_and_suspended_pa
             )
             .expect("framebuffer");
         let layout = device.create_pipeline_layout(&vk::PipelineLayoutCreateInfo::default(), None).expect("layout");
-        let pass_pipeline = pipeline(&device, layout, render_pass);
-        let dynamic_pipeline = pipeline(&device, layout, vk::RenderPass::null());
+        let pass_pipeline = common::raw_vulkan::depth_pipeline(&device, layout, render_pass, SIZE, DEPTH);
+        let dynamic_pipeline = common::raw_vulkan::depth_pipeline(&device, layout, vk::RenderPass::null(), SIZE, DEPTH);
         let app_queries = device
             .create_query_pool(
                 &vk::QueryPoolCreateInfo::default().query_type(vk::QueryType::OCCLUSION).query_count(3),

@@ -89,6 +89,13 @@ fn device_hook(name: &str) -> vk::PFN_vkVoidFunction {
         "vkGetFenceStatus" => void_fn!(q::get_fence_status, vk::PFN_vkGetFenceStatus),
         "vkQueueWaitIdle" => void_fn!(q::queue_wait_idle, vk::PFN_vkQueueWaitIdle),
         "vkDeviceWaitIdle" => void_fn!(q::device_wait_idle, vk::PFN_vkDeviceWaitIdle),
+        "vkWaitSemaphores" => void_fn!(q::wait_semaphores, vk::PFN_vkWaitSemaphores),
+        "vkWaitSemaphoresKHR" => void_fn!(q::wait_semaphores_khr, vk::PFN_vkWaitSemaphores),
+        "vkGetSemaphoreCounterValue" => void_fn!(q::get_semaphore_counter_value, vk::PFN_vkGetSemaphoreCounterValue),
+        "vkGetSemaphoreCounterValueKHR" => {
+            void_fn!(q::get_semaphore_counter_value_khr, vk::PFN_vkGetSemaphoreCounterValue)
+        }
+        "vkDestroySemaphore" => void_fn!(q::destroy_semaphore, vk::PFN_vkDestroySemaphore),
         _ => None,
     }
 }

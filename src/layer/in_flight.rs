@@ -58,3 +58,14 @@ pub struct Proof {
     pub(super) queue: vk::Queue,
     pub(super) sequence: u64,
 }
+
+/// A timeline semaphore signal in a batch: once the semaphore reaches `value`, `queue`'s
+/// submissions up to `sequence` are complete (a signal's first scope holds every command before
+/// it on its queue, and a valid program's timeline values only grow).
+#[derive(Debug, Clone, Copy)]
+pub struct TimelineSignal {
+    pub(super) semaphore: vk::Semaphore,
+    pub(super) value: u64,
+    pub(super) queue: vk::Queue,
+    pub(super) sequence: u64,
+}

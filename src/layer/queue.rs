@@ -1,6 +1,6 @@
 //! Queue and synchronisation hooks: submissions record which measured passes ran, in order;
-//! a present closes the frame; a fence, a queue or device idle proves submissions complete, and
-//! their results are read back then.
+//! a present closes the frame; a fence, a queue or device idle, or a timeline semaphore reaching
+//! a value a batch signals proves submissions complete, and their results are read back then.
 
 use ash::vk;
 use ash::vk::Handle;
@@ -9,24 +9,36 @@ use std::sync::Once;
 
 use super::arrays::app_array;
 use super::copies;
+use super::in_flight::TimelineSignal;
 use super::objects::{device_and, flush_buffer, spoil_gaps};
 use super::proofs;
 use super::readback::{read_completed, write_if_due};
 use super::state::{guard, DeviceData, DeviceState, Pending};
 
-/// Notes the command buffers of one vkQueueSubmit(2) call, in submission order. Returns the
-/// layer's copy command buffers (copies.rs) to submit after them, at the end of the call's last
-/// batch: never between two of the application's buffers, where a render pass may be suspended
-/// in one and resumed in the next. `can_copy`: the last batch may be given more buffers.
+/// One batch of a submit call: its command buffers, and whether the layer may append buffers of
+/// its own to it.
+struct Batch {
+    buffers: Vec<vk::CommandBuffer>,
+    can_copy: bool,
+    /// The semaphores it signals with their values (a timeline's; a binary one's is ignored).
+    signals: Vec<(vk::Semaphore, u64)>,
+}
+
+/// Notes the command buffers of one vkQueueSubmit(2) call, in submission order. Returns, per
+/// batch, the layer's copy command buffers (copies.rs) to submit at the end of that batch: never
+/// between two of the application's buffers, where a render pass may be suspended in one and
+/// resumed in the next (a suspended render pass is resumed within its batch: VUID-VkSubmitInfo2-
+/// commandBuffer-06010, VUID-VkSubmitInfo-pCommandBuffers-06193). Each batch gets its own: a
+/// semaphore signalled by a batch, which the application may wait for and then free or reset the
+/// batch's buffers, covers the batch's copies too, and no later batch's.
 fn submitted(
     device: &DeviceData,
     state: &mut DeviceState,
     queue: vk::Queue,
-    buffers: &[vk::CommandBuffer],
+    batches: &[Batch],
     fence: vk::Fence,
-    can_copy: bool,
-) -> Vec<vk::CommandBuffer> {
-    for &buffer in buffers {
+) -> Vec<Vec<vk::CommandBuffer>> {
+    for &buffer in batches.iter().flat_map(|b| &b.buffers) {
         let simultaneous = state.buffers.get(&buffer).is_some_and(|b| b.recording.simultaneous);
         if simultaneous {
             // The earlier submission may still run: read it if a fence proves it done. With a
@@ -55,63 +67,256 @@ fn submitted(
     }
     let measuring = !state.finished && state.frames().measuring();
     let mut copies = Vec::new();
-    for &buffer in buffers {
-        if !measuring {
-            break;
-        }
-        let Some(data) = state.buffers.get(&buffer) else { continue };
-        if data.recording.passes.is_empty() {
-            continue;
-        }
-        let passes = data.recording.passes.clone();
-        let family = state.command_pools.get(&data.pool).copied().unwrap_or(0);
-        let timestamp_bits = device.info.timestamp_bits.get(family as usize).copied().unwrap_or(0);
-        let copy = if can_copy {
-            // Without a copy the results are read from the pools, as long as nothing
-            // re-submits the buffer before (the spoiling above says so if it does).
-            copies::make(device, state, family, &passes).unwrap_or_else(|why| {
-                static ONCE: Once = Once::new();
-                ONCE.call_once(|| eprintln!("nostencil fill-rate layer: {why}; results read from the query pools"));
+    // Where each submission of this call was noted in `state.pending`: (batch, position).
+    let mut noted: Vec<(usize, usize)> = Vec::new();
+    for (b, batch) in batches.iter().enumerate() {
+        let mut batch_copies = Vec::new();
+        for &buffer in &batch.buffers {
+            if !measuring {
+                break;
+            }
+            let Some(data) = state.buffers.get(&buffer) else { continue };
+            if data.recording.passes.is_empty() {
+                continue;
+            }
+            let passes = data.recording.passes.clone();
+            let family = state.command_pools.get(&data.pool).copied().unwrap_or(0);
+            let timestamp_bits = device.info.timestamp_bits.get(family as usize).copied().unwrap_or(0);
+            let copy = if batch.can_copy {
+                // Without a copy the results are read from the pools, as long as nothing
+                // re-submits the buffer before (the spoiling above says so if it does).
+                copies::make(device, state, family, &passes).unwrap_or_else(|why| {
+                    static ONCE: Once = Once::new();
+                    ONCE.call_once(|| eprintln!("nostencil fill-rate layer: {why}; results read from the query pools"));
+                    None
+                })
+            } else {
                 None
-            })
-        } else {
-            None
-        };
-        copies.extend(copy.as_ref().map(|c| c.command_buffer));
-        state.sequence += 1;
-        let frame = state.frames().submitted();
-        state.pending.push(Pending {
-            queue,
-            sequence: state.sequence,
-            frame,
-            buffer,
-            passes,
-            timestamp_bits,
-            spoiled: None,
-            copy,
-        });
+            };
+            batch_copies.extend(copy.as_ref().map(|c| c.command_buffer));
+            state.sequence += 1;
+            let frame = state.frames().submitted();
+            noted.push((b, state.pending.len()));
+            state.pending.push(Pending {
+                queue,
+                sequence: state.sequence,
+                frame,
+                buffer,
+                passes,
+                timestamp_bits,
+                spoiled: None,
+                copy,
+            });
+        }
+        copies.push(batch_copies);
+        let sequence = state.sequence;
+        if state.pending.iter().any(|p| p.queue == queue && p.sequence <= sequence) {
+            let signals = batch.signals.iter().map(|&(semaphore, value)| TimelineSignal { semaphore, value, queue, sequence });
+            state.timeline_signals.extend(signals);
+        }
+    }
+    // A buffer submitted twice in one call (SIMULTANEOUS_USE): the second run overwrites the
+    // first's queries before the first's copy (at the end of its batch) or read-back sees them.
+    for (i, &(batch, at)) in noted.iter().enumerate() {
+        let buffer = state.pending[at].buffer;
+        let has_copy = state.pending[at].copy.is_some();
+        let overwritten = noted[i + 1..]
+            .iter()
+            .any(|&(later_batch, later)| state.pending[later].buffer == buffer && (!has_copy || later_batch == batch));
+        if overwritten {
+            state.pending[at].spoiled.get_or_insert_with(|| "command buffer submitted again before its results were copied".into());
+        }
     }
     if fence != vk::Fence::null() {
         state.fences.insert(fence, (queue, state.sequence));
     }
+    forget_proven_signals(state);
     copies
 }
 
-/// Records the command buffers a submit sends (`gather` reads them from the application's
+/// Drops the timeline signals that would prove nothing still pending.
+fn forget_proven_signals(state: &mut DeviceState) {
+    let pending = &state.pending;
+    state.timeline_signals.retain(|s| pending.iter().any(|p| p.queue == s.queue && p.sequence <= s.sequence));
+}
+
+/// The signal values of a VkSubmitInfo's signal semaphores, from its
+/// VkTimelineSemaphoreSubmitInfo (none without one: binary semaphores only).
+///
+/// # Safety
+/// `info` is a valid VkSubmitInfo with its pNext chain.
+unsafe fn signals_of(info: &vk::SubmitInfo<'_>) -> Vec<(vk::Semaphore, u64)> {
+    let mut p_next = info.p_next;
+    while !p_next.is_null() {
+        let base = p_next as *const vk::BaseInStructure;
+        // SAFETY: every chain node starts like VkBaseInStructure.
+        let (ty, next) = unsafe { ((*base).s_type, (*base).p_next.cast()) };
+        if ty == vk::StructureType::TIMELINE_SEMAPHORE_SUBMIT_INFO {
+            // SAFETY: the node is a VkTimelineSemaphoreSubmitInfo; its value array holds
+            // signalSemaphoreValueCount values (equal to signalSemaphoreCount when not 0).
+            let values = unsafe {
+                let timeline = &*(p_next as *const vk::TimelineSemaphoreSubmitInfo<'_>);
+                app_array(timeline.p_signal_semaphore_values, timeline.signal_semaphore_value_count)
+            };
+            // SAFETY: the batch's signal semaphores.
+            let semaphores = unsafe { app_array(info.p_signal_semaphores, info.signal_semaphore_count) };
+            return semaphores.iter().copied().zip(values.iter().copied()).collect();
+        }
+        p_next = next;
+    }
+    Vec::new()
+}
+
+/// `semaphore` has reached `value`: the batches whose signals it passed are complete, with
+/// everything before them on their queues. Reads them back.
+fn timeline_reached(device: &DeviceData, state: &mut DeviceState, semaphore: vk::Semaphore, value: u64) {
+    let (reached, rest): (Vec<TimelineSignal>, Vec<TimelineSignal>) = std::mem::take(&mut state.timeline_signals)
+        .into_iter()
+        .partition(|s| s.semaphore == semaphore && s.value <= value);
+    state.timeline_signals = rest;
+    for signal in reached {
+        read_completed(device, state, |p| p.queue == signal.queue && p.sequence <= signal.sequence);
+    }
+    forget_proven_signals(state);
+}
+
+/// vkWaitSemaphores and its KHR alias: a successful wait proves the batches that signal what it
+/// waited for complete (with VK_SEMAPHORE_WAIT_ANY, those whose semaphore has got there).
+unsafe fn wait_semaphores_with(
+    pick: fn(&DeviceData) -> Option<vk::PFN_vkWaitSemaphores>,
+    device: vk::Device,
+    info: *const vk::SemaphoreWaitInfo<'_>,
+    timeout: u64,
+) -> vk::Result {
+    let Some((data, next)) = device_and(device.as_raw(), pick) else {
+        return vk::Result::ERROR_INITIALIZATION_FAILED;
+    };
+    // SAFETY: the application's arguments, passed on.
+    let result = unsafe { next(device, info, timeout) };
+    if result == vk::Result::SUCCESS {
+        guard((), || {
+            if !data.active() {
+                return;
+            }
+            // SAFETY: the application's valid wait info, with `semaphoreCount` of each array.
+            let (info, semaphores, values) = unsafe {
+                let info = &*info;
+                (info, app_array(info.p_semaphores, info.semaphore_count), app_array(info.p_values, info.semaphore_count))
+            };
+            let any = info.flags.contains(vk::SemaphoreWaitFlags::ANY);
+            let counter = data.next.get_semaphore_counter_value.or(data.next.get_semaphore_counter_value_khr);
+            let mut st = data.state();
+            for (&semaphore, &value) in semaphores.iter().zip(values) {
+                let reached = if any {
+                    let Some(counter) = counter else { continue };
+                    let mut now = 0u64;
+                    // SAFETY: a timeline semaphore of this device the application just waited on.
+                    if unsafe { counter(device, semaphore, &mut now) } != vk::Result::SUCCESS {
+                        continue;
+                    }
+                    now
+                } else {
+                    value
+                };
+                timeline_reached(&data, &mut st, semaphore, reached);
+            }
+        });
+    }
+    result
+}
+
+pub(super) unsafe extern "system" fn wait_semaphores(
+    device: vk::Device,
+    info: *const vk::SemaphoreWaitInfo<'_>,
+    timeout: u64,
+) -> vk::Result {
+    // SAFETY: the application's arguments.
+    unsafe { wait_semaphores_with(|d| d.next.wait_semaphores, device, info, timeout) }
+}
+
+pub(super) unsafe extern "system" fn wait_semaphores_khr(
+    device: vk::Device,
+    info: *const vk::SemaphoreWaitInfo<'_>,
+    timeout: u64,
+) -> vk::Result {
+    // SAFETY: the application's arguments.
+    unsafe { wait_semaphores_with(|d| d.next.wait_semaphores_khr, device, info, timeout) }
+}
+
+/// vkGetSemaphoreCounterValue and its KHR alias: the value read proves its signals done.
+unsafe fn get_semaphore_counter_value_with(
+    pick: fn(&DeviceData) -> Option<vk::PFN_vkGetSemaphoreCounterValue>,
+    device: vk::Device,
+    semaphore: vk::Semaphore,
+    value: *mut u64,
+) -> vk::Result {
+    let Some((data, next)) = device_and(device.as_raw(), pick) else {
+        return vk::Result::ERROR_INITIALIZATION_FAILED;
+    };
+    // SAFETY: the application's arguments, passed on.
+    let result = unsafe { next(device, semaphore, value) };
+    if result == vk::Result::SUCCESS {
+        guard((), || {
+            if data.active() {
+                // SAFETY: the call succeeded, so `value` holds the counter.
+                let reached = unsafe { *value };
+                timeline_reached(&data, &mut data.state(), semaphore, reached);
+            }
+        });
+    }
+    result
+}
+
+pub(super) unsafe extern "system" fn get_semaphore_counter_value(
+    device: vk::Device,
+    semaphore: vk::Semaphore,
+    value: *mut u64,
+) -> vk::Result {
+    // SAFETY: the application's arguments.
+    unsafe { get_semaphore_counter_value_with(|d| d.next.get_semaphore_counter_value, device, semaphore, value) }
+}
+
+pub(super) unsafe extern "system" fn get_semaphore_counter_value_khr(
+    device: vk::Device,
+    semaphore: vk::Semaphore,
+    value: *mut u64,
+) -> vk::Result {
+    // SAFETY: the application's arguments.
+    unsafe { get_semaphore_counter_value_with(|d| d.next.get_semaphore_counter_value_khr, device, semaphore, value) }
+}
+
+/// vkDestroySemaphore: every batch that refers to the semaphore has completed (valid usage), so
+/// its signals prove their submissions done; read them, then forget them (the handle may be
+/// reused).
+pub(super) unsafe extern "system" fn destroy_semaphore(
+    device: vk::Device,
+    semaphore: vk::Semaphore,
+    allocator: *const vk::AllocationCallbacks<'_>,
+) {
+    let Some((data, next)) = device_and(device.as_raw(), |d| d.next.destroy_semaphore) else { return };
+    guard((), || {
+        if data.active() {
+            timeline_reached(&data, &mut data.state(), semaphore, u64::MAX);
+        }
+    });
+    // SAFETY: the application's arguments, passed on.
+    unsafe { next(device, semaphore, allocator) }
+}
+
+/// Records the command buffers a submit sends (`gather` reads its batches from the application's
 /// submit infos), so that their passes are read back once the submit is known complete; returns
-/// the layer's command buffers to append to the last batch.
+/// the layer's command buffers to append to each batch.
 fn note_submit(
     device: &DeviceData,
     queue: vk::Queue,
     fence: vk::Fence,
-    can_copy: bool,
-    gather: impl FnOnce() -> Vec<vk::CommandBuffer>,
-) -> Vec<vk::CommandBuffer> {
+    gather: impl FnOnce() -> Vec<Batch>,
+) -> Vec<Vec<vk::CommandBuffer>> {
     guard(Vec::new(), || {
         if !device.active() {
             return Vec::new();
         }
-        submitted(device, &mut device.state(), queue, &gather(), fence, can_copy)
+        submitted(device, &mut device.state(), queue, &gather(), fence)
     })
 }
 
@@ -144,28 +349,39 @@ pub(super) unsafe extern "system" fn queue_submit(
     };
     // SAFETY: `submits` holds `count` valid submit infos, each with its buffer array.
     let infos = unsafe { app_array(submits, count) };
-    // SAFETY: as above.
-    let can_copy = infos.last().is_some_and(|s| unsafe { batch_extendable(s.p_next) });
-    let copies = note_submit(&device, queue, fence, can_copy, || {
+    let copies = note_submit(&device, queue, fence, || {
         infos
             .iter()
-            // SAFETY: as above.
-            .flat_map(|s| unsafe { app_array(s.p_command_buffers, s.command_buffer_count) })
-            .copied()
+            .map(|s| Batch {
+                // SAFETY: as above.
+                buffers: unsafe { app_array(s.p_command_buffers, s.command_buffer_count) }.to_vec(),
+                // SAFETY: as above.
+                can_copy: unsafe { batch_extendable(s.p_next) },
+                // SAFETY: as above.
+                signals: unsafe { signals_of(s) },
+            })
             .collect()
     });
-    let Some(last) = infos.last().filter(|_| !copies.is_empty()) else {
+    if copies.iter().all(Vec::is_empty) {
         // SAFETY: the application's arguments, passed on.
         return unsafe { next(queue, count, submits, fence) };
-    };
-    // SAFETY: as above.
-    let mut buffers = unsafe { app_array(last.p_command_buffers, last.command_buffer_count) }.to_vec();
-    buffers.extend(&copies);
+    }
+    let buffers: Vec<Vec<vk::CommandBuffer>> = infos
+        .iter()
+        .zip(&copies)
+        .map(|(info, copies)| {
+            // SAFETY: as above.
+            let mut own = unsafe { app_array(info.p_command_buffers, info.command_buffer_count) }.to_vec();
+            own.extend(copies);
+            own
+        })
+        .collect();
     let mut batches = infos.to_vec();
-    let end = batches.len() - 1;
-    batches[end].command_buffer_count = buffers.len() as u32;
-    batches[end].p_command_buffers = buffers.as_ptr();
-    // SAFETY: the application's batches, the last with the layer's buffers after its own.
+    for (batch, buffers) in batches.iter_mut().zip(&buffers) {
+        batch.command_buffer_count = buffers.len() as u32;
+        batch.p_command_buffers = buffers.as_ptr();
+    }
+    // SAFETY: the application's batches, each with the layer's buffers after its own.
     unsafe { next(queue, count, batches.as_ptr(), fence) }
 }
 
@@ -181,29 +397,46 @@ unsafe fn queue_submit2_with(
     };
     // SAFETY: `submits` holds `count` valid VkSubmitInfo2, each with its buffer infos.
     let infos = unsafe { app_array(submits, count) };
-    let can_copy = infos.last().is_some_and(|s| !s.flags.contains(vk::SubmitFlags::PROTECTED));
-    let copies = note_submit(&device, queue, fence, can_copy, || {
+    let copies = note_submit(&device, queue, fence, || {
         infos
             .iter()
-            // SAFETY: as above.
-            .flat_map(|s| unsafe { app_array(s.p_command_buffer_infos, s.command_buffer_info_count) })
-            .map(|info| info.command_buffer)
+            .map(|s| Batch {
+                // SAFETY: as above.
+                buffers: unsafe { app_array(s.p_command_buffer_infos, s.command_buffer_info_count) }
+                    .iter()
+                    .map(|info| info.command_buffer)
+                    .collect(),
+                can_copy: !s.flags.contains(vk::SubmitFlags::PROTECTED),
+                // SAFETY: as above.
+                signals: unsafe { app_array(s.p_signal_semaphore_infos, s.signal_semaphore_info_count) }
+                    .iter()
+                    .map(|info| (info.semaphore, info.value))
+                    .collect(),
+            })
             .collect()
     });
-    let Some(last) = infos.last().filter(|_| !copies.is_empty()) else {
+    if copies.iter().all(Vec::is_empty) {
         // SAFETY: the application's arguments, passed on.
         return unsafe { next(queue, count, submits, fence) };
-    };
-    // SAFETY: as above.
-    let mut buffers = unsafe { app_array(last.p_command_buffer_infos, last.command_buffer_info_count) }.to_vec();
-    // The same device mask as the application's last buffer (0: all devices).
-    let mask = buffers.last().map_or(0, |b| b.device_mask);
-    buffers.extend(copies.iter().map(|&c| vk::CommandBufferSubmitInfo::default().command_buffer(c).device_mask(mask)));
+    }
+    let buffers: Vec<Vec<vk::CommandBufferSubmitInfo>> = infos
+        .iter()
+        .zip(&copies)
+        .map(|(info, copies)| {
+            // SAFETY: as above.
+            let mut own = unsafe { app_array(info.p_command_buffer_infos, info.command_buffer_info_count) }.to_vec();
+            // The same device mask as the batch's last buffer (0: all devices).
+            let mask = own.last().map_or(0, |b| b.device_mask);
+            own.extend(copies.iter().map(|&c| vk::CommandBufferSubmitInfo::default().command_buffer(c).device_mask(mask)));
+            own
+        })
+        .collect();
     let mut batches = infos.to_vec();
-    let end = batches.len() - 1;
-    batches[end].command_buffer_info_count = buffers.len() as u32;
-    batches[end].p_command_buffer_infos = buffers.as_ptr();
-    // SAFETY: the application's batches, the last with the layer's buffers after its own.
+    for (batch, buffers) in batches.iter_mut().zip(&buffers) {
+        batch.command_buffer_info_count = buffers.len() as u32;
+        batch.p_command_buffer_infos = buffers.as_ptr();
+    }
+    // SAFETY: the application's batches, each with the layer's buffers after its own.
     unsafe { next(queue, count, batches.as_ptr(), fence) }
 }
 

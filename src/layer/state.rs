@@ -13,6 +13,7 @@ use super::config::Config;
 use super::frames::FrameAssembler;
 use super::in_flight::Proof;
 use super::in_flight::SubmissionCopy;
+use super::in_flight::TimelineSignal;
 use super::loader::{dispatch_key, PfnSetDeviceLoaderData};
 use super::recording::{RecordedPass, Recording};
 use super::report::CounterSupport;
@@ -117,6 +118,11 @@ next_fns! {
     get_fence_status: PFN_vkGetFenceStatus = "vkGetFenceStatus",
     queue_wait_idle: PFN_vkQueueWaitIdle = "vkQueueWaitIdle",
     device_wait_idle: PFN_vkDeviceWaitIdle = "vkDeviceWaitIdle",
+    wait_semaphores: PFN_vkWaitSemaphores = "vkWaitSemaphores",
+    wait_semaphores_khr: PFN_vkWaitSemaphores = "vkWaitSemaphoresKHR",
+    get_semaphore_counter_value: PFN_vkGetSemaphoreCounterValue = "vkGetSemaphoreCounterValue",
+    get_semaphore_counter_value_khr: PFN_vkGetSemaphoreCounterValue = "vkGetSemaphoreCounterValueKHR",
+    destroy_semaphore: PFN_vkDestroySemaphore = "vkDestroySemaphore",
 }
 
 pub struct InstanceData {
@@ -178,6 +184,8 @@ pub struct DeviceState {
     pub spare_fences: Vec<vk::Fence>,
     /// The last submission that signals each fence: (queue, sequence).
     pub fences: HashMap<vk::Fence, (vk::Queue, u64)>,
+    /// Timeline semaphore signals that would prove pending submissions complete.
+    pub timeline_signals: Vec<TimelineSignal>,
     pub sequence: u64,
     pub frames: Option<FrameAssembler>,
     pub not_measured: BTreeMap<String, u64>,

@@ -86,3 +86,71 @@ impl RawInstance {
         self.instance.destroy_instance(None);
     }
 }
+
+/// A shader module of the crate's SPIR-V named `name`.
+///
+/// # Safety
+/// `device` is alive; the caller destroys the module.
+pub unsafe fn shader(device: &ash::Device, name: &str) -> vk::ShaderModule {
+    let code = nostencil::shaders::spirv(name).expect("shader");
+    device.create_shader_module(&vk::ShaderModuleCreateInfo::default().code(&code), None).expect("module")
+}
+
+/// A pipeline drawing `fullscreen.vert` depth-only over a `size` x `size` viewport, every sample
+/// passing (depth test ALWAYS, no depth write), for `render_pass` or (when null) dynamic
+/// rendering into a `depth` attachment. Each draw of 3 vertices covers every pixel once.
+///
+/// # Safety
+/// `device` is alive, with dynamic rendering enabled when `render_pass` is null.
+pub unsafe fn depth_pipeline(
+    device: &ash::Device,
+    layout: vk::PipelineLayout,
+    render_pass: vk::RenderPass,
+    size: u32,
+    depth: vk::Format,
+) -> vk::Pipeline {
+    let (vert, frag) = (shader(device, "fullscreen.vert"), shader(device, "shadow_map.frag"));
+    let stages = [
+        vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::VERTEX).module(vert).name(c"main"),
+        vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::FRAGMENT).module(frag).name(c"main"),
+    ];
+    let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
+    let assembly = vk::PipelineInputAssemblyStateCreateInfo::default().topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+    let viewports =
+        [vk::Viewport { x: 0.0, y: 0.0, width: size as f32, height: size as f32, min_depth: 0.0, max_depth: 1.0 }];
+    let scissors = [vk::Rect2D { offset: vk::Offset2D::default(), extent: vk::Extent2D { width: size, height: size } }];
+    let viewport = vk::PipelineViewportStateCreateInfo::default().viewports(&viewports).scissors(&scissors);
+    let raster = vk::PipelineRasterizationStateCreateInfo::default()
+        .polygon_mode(vk::PolygonMode::FILL)
+        .cull_mode(vk::CullModeFlags::NONE)
+        .line_width(1.0);
+    let multisample =
+        vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(vk::SampleCountFlags::TYPE_1);
+    let depth_state = vk::PipelineDepthStencilStateCreateInfo::default()
+        .depth_test_enable(true)
+        .depth_write_enable(false)
+        .depth_compare_op(vk::CompareOp::ALWAYS);
+    let blend = vk::PipelineColorBlendStateCreateInfo::default();
+    let mut rendering = vk::PipelineRenderingCreateInfo::default().depth_attachment_format(depth);
+    let mut info = vk::GraphicsPipelineCreateInfo::default()
+        .stages(&stages)
+        .vertex_input_state(&vertex_input)
+        .input_assembly_state(&assembly)
+        .viewport_state(&viewport)
+        .rasterization_state(&raster)
+        .multisample_state(&multisample)
+        .depth_stencil_state(&depth_state)
+        .color_blend_state(&blend)
+        .layout(layout)
+        .render_pass(render_pass);
+    if render_pass == vk::RenderPass::null() {
+        info = info.push_next(&mut rendering);
+    }
+    let pipeline = device
+        .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
+        .map_err(|(_, e)| e)
+        .expect("pipeline")[0];
+    device.destroy_shader_module(vert, None);
+    device.destroy_shader_module(frag, None);
+    pipeline
+}
