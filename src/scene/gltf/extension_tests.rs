@@ -293,3 +293,14 @@ fn emissive_strength_scales_the_emissive_factor() {
     assert!(model.materials.iter().filter(|m| !std::ptr::eq(*m, light)).all(|m| m.emissive == Vec3::ZERO));
     assert!(!model.warnings.iter().any(|w| w.contains("emissive_strength")), "{:?}", model.warnings);
 }
+
+#[test]
+fn a_file_requiring_emissive_strength_is_read_with_it() {
+    // Blender's exporter lists KHR_materials_emissive_strength as required when it writes it.
+    let (mut json, bin) = glb_parts(&std::fs::read(assets().join("CornellBox.glb")).expect("CornellBox.glb"));
+    json["extensionsRequired"] = json!(["KHR_materials_emissive_strength"]);
+    let model = load_derived("EmissiveRequired.glb", &json, &bin);
+    let light = model.materials.iter().find(|m| m.name.as_deref() == Some("Emitter_Light_temp")).expect("the light");
+    assert_eq!(light.emissive, Vec3::splat(100.0));
+    assert!(!model.warnings.iter().any(|w| w.contains("emissive_strength")), "{:?}", model.warnings);
+}

@@ -125,7 +125,6 @@ fn label(kind: &str, index: usize, name: Option<&str>) -> String {
 /// Extensions the loader reads, or that change nothing it draws, beyond those it honours when
 /// required (`repair::SUPPORTED_REQUIRED_EXTENSIONS`).
 const READ_EXTENSIONS: &[&str] = &[
-    materials::EMISSIVE_STRENGTH,
     // A texture with only such a source is named in a warning of its own.
     "EXT_texture_webp",
     "KHR_texture_basisu",

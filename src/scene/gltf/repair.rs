@@ -11,6 +11,7 @@ use super::Problem;
 pub(super) const SUPPORTED_REQUIRED_EXTENSIONS: &[&str] = &[
     "EXT_meshopt_compression",
     "KHR_lights_punctual",
+    "KHR_materials_emissive_strength",
     "KHR_materials_pbrSpecularGlossiness",
     "KHR_materials_transmission",
     "KHR_materials_unlit",
