@@ -92,47 +92,8 @@ fn timeline_only_program_on_its_queues_is_measured_with_buffers_reset_and_freed_
             .expect("device");
         let queues: Vec<(u32, vk::Queue)> = queues.iter().map(|&(f, i)| (f, device.get_device_queue(f, i))).collect();
 
-        let image = device
-            .create_image(
-                &vk::ImageCreateInfo::default()
-                    .image_type(vk::ImageType::TYPE_2D)
-                    .format(DEPTH)
-                    .extent(vk::Extent3D { width: SIZE, height: SIZE, depth: 1 })
-                    .mip_levels(1)
-                    .array_layers(1)
-                    .samples(vk::SampleCountFlags::TYPE_1)
-                    .usage(vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT),
-                None,
-            )
-            .expect("image");
-        let requirements = device.get_image_memory_requirements(image);
-        let props = instance.get_physical_device_memory_properties(physical);
-        let memory_type =
-            (0..props.memory_type_count).find(|&i| requirements.memory_type_bits & (1 << i) != 0).expect("memory type");
-        let memory = device
-            .allocate_memory(
-                &vk::MemoryAllocateInfo::default().allocation_size(requirements.size).memory_type_index(memory_type),
-                None,
-            )
-            .expect("memory");
-        device.bind_image_memory(image, memory, 0).expect("bind");
-        let range = vk::ImageSubresourceRange {
-            aspect_mask: vk::ImageAspectFlags::DEPTH,
-            base_mip_level: 0,
-            level_count: 1,
-            base_array_layer: 0,
-            layer_count: 1,
-        };
-        let view = device
-            .create_image_view(
-                &vk::ImageViewCreateInfo::default()
-                    .image(image)
-                    .view_type(vk::ImageViewType::TYPE_2D)
-                    .format(DEPTH)
-                    .subresource_range(range),
-                None,
-            )
-            .expect("view");
+        let (image, memory, view) = common::raw_vulkan::depth_target(instance, physical, &device, DEPTH, SIZE);
+        let range = common::raw_vulkan::DEPTH_RANGE;
         let layout = device.create_pipeline_layout(&vk::PipelineLayoutCreateInfo::default(), None).expect("layout");
         let pipeline = common::raw_vulkan::depth_pipeline(&device, layout, vk::RenderPass::null(), SIZE, DEPTH);
 

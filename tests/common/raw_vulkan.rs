@@ -154,3 +154,62 @@ pub unsafe fn depth_pipeline(
     device.destroy_shader_module(frag, None);
     pipeline
 }
+
+/// The one mip and layer of a depth image.
+pub const DEPTH_RANGE: vk::ImageSubresourceRange = vk::ImageSubresourceRange {
+    aspect_mask: vk::ImageAspectFlags::DEPTH,
+    base_mip_level: 0,
+    level_count: 1,
+    base_array_layer: 0,
+    layer_count: 1,
+};
+
+/// A `size`-square depth image of `format` in device memory, and its view: the depth target
+/// the layer tests' programs render into. Destroy the three in reverse order.
+///
+/// # Safety
+/// `device` was created from `physical` of `instance`.
+pub unsafe fn depth_target(
+    instance: &ash::Instance,
+    physical: vk::PhysicalDevice,
+    device: &ash::Device,
+    format: vk::Format,
+    size: u32,
+) -> (vk::Image, vk::DeviceMemory, vk::ImageView) {
+    let image = device
+        .create_image(
+            &vk::ImageCreateInfo::default()
+                .image_type(vk::ImageType::TYPE_2D)
+                .format(format)
+                .extent(vk::Extent3D { width: size, height: size, depth: 1 })
+                .mip_levels(1)
+                .array_layers(1)
+                .samples(vk::SampleCountFlags::TYPE_1)
+                .usage(vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT),
+            None,
+        )
+        .expect("image");
+    let requirements = device.get_image_memory_requirements(image);
+    let props = instance.get_physical_device_memory_properties(physical);
+    let memory_type =
+        (0..props.memory_type_count).find(|&i| requirements.memory_type_bits & (1 << i) != 0).expect("memory type");
+    let memory = device
+        .allocate_memory(
+            &vk::MemoryAllocateInfo::default().allocation_size(requirements.size).memory_type_index(memory_type),
+            None,
+        )
+        .expect("memory");
+    device.bind_image_memory(image, memory, 0).expect("bind");
+    let range = DEPTH_RANGE;
+    let view = device
+        .create_image_view(
+            &vk::ImageViewCreateInfo::default()
+                .image(image)
+                .view_type(vk::ImageViewType::TYPE_2D)
+                .format(format)
+                .subresource_range(range),
+            None,
+        )
+        .expect("view");
+    (image, memory, view)
+}
