@@ -10,10 +10,7 @@
 
 mod common;
 
-use std::path::Path;
-
 use ash::vk;
-use nostencil::layer::manifest::{manifest_json, newest_library, LAYER_NAME, MANIFEST_FILE};
 use nostencil::layer::report::FillrateReport;
 
 const SIZE: u32 = 8;
@@ -23,15 +20,8 @@ const ROUNDS: usize = 5;
 
 #[test]
 fn resubmitted_simultaneous_use_buffers_are_measured_every_time_and_suspended_passes_are_left_whole() {
-    let dir = common::scratch_dir("fillrate_layer_resubmit");
-    let bin_dir = Path::new(env!("CARGO_BIN_EXE_nostencil")).parent().expect("binary folder");
-    let library = newest_library(bin_dir).expect("libnostencil.so built");
-    std::fs::write(dir.join(MANIFEST_FILE), manifest_json(library.to_str().expect("utf-8"))).expect("manifest");
-    let out = dir.join("fillrate.json");
-    std::env::set_var("VK_ADD_LAYER_PATH", &dir);
-    std::env::set_var("VK_INSTANCE_LAYERS", format!("{LAYER_NAME}:VK_LAYER_KHRONOS_validation"));
-    std::env::set_var("NOSTENCIL_FILLRATE_OUT", &out);
-    std::env::remove_var("NOSTENCIL_FILLRATE_FRAMES");
+    // This binary holds this one test: setting the process environment races with nothing.
+    let out = common::raw_vulkan::under_the_layer("fillrate_layer_resubmit");
 
     let reference: Vec<u64>;
     // SAFETY: plain Vulkan use in order: every handle is created before use, used only while

@@ -19,10 +19,7 @@
 
 mod common;
 
-use std::path::Path;
-
 use ash::vk;
-use nostencil::layer::manifest::{manifest_json, newest_library, LAYER_NAME, MANIFEST_FILE};
 use nostencil::layer::report::FillrateReport;
 
 const SIZE: u32 = 8;
@@ -42,15 +39,8 @@ fn reused_draws(frame: u64) -> u32 {
 
 #[test]
 fn timeline_only_program_on_its_queues_is_measured_with_buffers_reset_and_freed_as_soon_as_waited() {
-    let dir = common::scratch_dir("fillrate_layer_timeline");
-    let bin_dir = Path::new(env!("CARGO_BIN_EXE_nostencil")).parent().expect("binary folder");
-    let library = newest_library(bin_dir).expect("libnostencil.so built");
-    std::fs::write(dir.join(MANIFEST_FILE), manifest_json(library.to_str().expect("utf-8"))).expect("manifest");
-    let out = dir.join("fillrate.json");
-    std::env::set_var("VK_ADD_LAYER_PATH", &dir);
-    std::env::set_var("VK_INSTANCE_LAYERS", format!("{LAYER_NAME}:VK_LAYER_KHRONOS_validation"));
-    std::env::set_var("NOSTENCIL_FILLRATE_OUT", &out);
-    std::env::remove_var("NOSTENCIL_FILLRATE_FRAMES");
+    // This binary holds this one test: setting the process environment races with nothing.
+    let out = common::raw_vulkan::under_the_layer("fillrate_layer_timeline");
 
     let mut app_samples = Vec::new();
     // SAFETY: plain Vulkan use in order: every handle is created before use, used only while

@@ -9,33 +9,13 @@
 
 mod common;
 
-use std::path::Path;
-
 use ash::vk;
-use nostencil::layer::manifest::{manifest_json, newest_library, LAYER_NAME, MANIFEST_FILE};
 use nostencil::layer::report::FillrateReport;
-
-fn memory_type(props: &vk::PhysicalDeviceMemoryProperties, bits: u32) -> u32 {
-    (0..props.memory_type_count)
-        .find(|&i| {
-            bits & (1 << i) != 0
-                && props.memory_types[i as usize].property_flags.contains(vk::MemoryPropertyFlags::DEVICE_LOCAL)
-        })
-        .expect("a device-local memory type")
-}
 
 #[test]
 fn what_cannot_be_measured_is_named_and_every_begin_api_is_measured() {
-    let dir = common::scratch_dir("fillrate_layer_unhandled");
-    let bin_dir = Path::new(env!("CARGO_BIN_EXE_nostencil")).parent().expect("binary folder");
-    let library = newest_library(bin_dir).expect("libnostencil.so built");
-    std::fs::write(dir.join(MANIFEST_FILE), manifest_json(library.to_str().expect("utf-8"))).expect("manifest");
-    let out = dir.join("fillrate.json");
     // This binary holds this one test: setting the process environment races with nothing.
-    std::env::set_var("VK_ADD_LAYER_PATH", &dir);
-    std::env::set_var("VK_INSTANCE_LAYERS", format!("{LAYER_NAME}:VK_LAYER_KHRONOS_validation"));
-    std::env::set_var("NOSTENCIL_FILLRATE_OUT", &out);
-    std::env::remove_var("NOSTENCIL_FILLRATE_FRAMES");
+    let out = common::raw_vulkan::under_the_layer("fillrate_layer_unhandled");
 
     // SAFETY: the whole body is plain Vulkan use in order: every handle is created before use,
     // used only while alive, and destroyed after the fence wait that proves the GPU done with it.
@@ -77,9 +57,9 @@ fn what_cannot_be_measured_is_named_and_every_begin_api_is_measured() {
         let memory_props = instance.get_physical_device_memory_properties(physical);
         let memory = device
             .allocate_memory(
-                &vk::MemoryAllocateInfo::default()
-                    .allocation_size(requirements.size)
-                    .memory_type_index(memory_type(&memory_props, requirements.memory_type_bits)),
+                &vk::MemoryAllocateInfo::default().allocation_size(requirements.size).memory_type_index(
+                    common::raw_vulkan::device_local_memory_type(&memory_props, requirements.memory_type_bits),
+                ),
                 None,
             )
             .expect("memory");

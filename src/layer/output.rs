@@ -60,46 +60,37 @@ fn csv_counters<N: std::fmt::Display + Copy>(c: &Counters<N>) -> String {
     )
 }
 
+/// A render pass row's first columns (frame to attachments), shared by its sections' rows.
+fn csv_row_prefix(frame: u64, row: &RenderPassRow) -> String {
+    let a = &row.render_area;
+    format!(
+        "{frame},{},{},{},{},{},{},{},{},{}",
+        row.index,
+        csv_field(row.label.as_deref().unwrap_or("")),
+        row.api,
+        a.x,
+        a.y,
+        a.width,
+        a.height,
+        row.samples,
+        csv_field(&row.key())
+    )
+}
+
 fn csv(report: &FillrateReport) -> String {
     let mut out = format!("{CSV_HEADER}\n");
     for frame in &report.frames {
         for row in &frame.render_passes {
-            let a = &row.render_area;
+            let prefix = csv_row_prefix(frame.index, row);
             let counters = row.counters.as_ref().map_or(",,,,,,,,,".to_owned(), csv_counters);
-            let _ = writeln!(
-                out,
-                "{},{},{},{},{},{},{},{},{},{},{counters},{},",
-                frame.index,
-                row.index,
-                csv_field(row.label.as_deref().unwrap_or("")),
-                row.api,
-                a.x,
-                a.y,
-                a.width,
-                a.height,
-                row.samples,
-                csv_field(&row.key()),
-                csv_field(row.not_measured.as_deref().unwrap_or(""))
-            );
+            let not_measured = csv_field(row.not_measured.as_deref().unwrap_or(""));
+            let _ = writeln!(out, "{prefix},{counters},{not_measured},");
             // A section: the pass's columns, its own counters, its label in the last column.
             for section in &row.sections {
                 let counters = section.counters.as_ref().map_or(",,,,,,,,,".to_owned(), csv_counters);
-                let _ = writeln!(
-                    out,
-                    "{},{},{},{},{},{},{},{},{},{},{counters},{},{}",
-                    frame.index,
-                    row.index,
-                    csv_field(row.label.as_deref().unwrap_or("")),
-                    row.api,
-                    a.x,
-                    a.y,
-                    a.width,
-                    a.height,
-                    row.samples,
-                    csv_field(&row.key()),
-                    csv_field(section.not_measured.as_deref().unwrap_or("")),
-                    csv_field(&section_name(section.label.as_deref()))
-                );
+                let not_measured = csv_field(section.not_measured.as_deref().unwrap_or(""));
+                let name = csv_field(&section_name(section.label.as_deref()));
+                let _ = writeln!(out, "{prefix},{counters},{not_measured},{name}");
             }
         }
     }

@@ -107,8 +107,8 @@ pub struct BuildContext<'a, K: PassKinds> {
     pub plan: &'a PassPlan<K>,
 }
 
-/// Builds the renderer of the technique called `technique` for `scene` with `plan`: checks the
-/// options, makes the frame renderer (with colour feedback when a pass reads the colour
+/// Builds the renderer of the technique called `technique` for `scene` with `plan`, from
+/// options the caller has checked (`RenderOptions::check`): makes the frame renderer (with colour feedback when a pass reads the colour
 /// target), lets `make` build the technique's resources, then the plan's pipelines. Written
 /// once for every technique by `unit::build_unit`; `nostencil bake` calls it directly to keep
 /// the technique's `Passes` type (it reads a shadow texture back).
@@ -120,7 +120,6 @@ pub fn build_typed<'s, K: PassKinds, P: Passes<K> + 's>(
     options: &RenderOptions,
     make: impl FnOnce(BuildContext<K>) -> Result<P>,
 ) -> Result<FrameRenderer<'s, K, P>> {
-    options.check()?;
     let colour_feedback = plan.passes.iter().any(|p| p.reads_colour);
     let targets = FrameTargets::with_samples(
         gpu,

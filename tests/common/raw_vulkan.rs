@@ -4,6 +4,7 @@
 //! [`MESSAGES`].
 
 use std::ffi::{c_void, CStr};
+use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
 use ash::vk;
@@ -191,8 +192,7 @@ pub unsafe fn depth_target(
         .expect("image");
     let requirements = device.get_image_memory_requirements(image);
     let props = instance.get_physical_device_memory_properties(physical);
-    let memory_type =
-        (0..props.memory_type_count).find(|&i| requirements.memory_type_bits & (1 << i) != 0).expect("memory type");
+    let memory_type = device_local_memory_type(&props, requirements.memory_type_bits);
     let memory = device
         .allocate_memory(
             &vk::MemoryAllocateInfo::default().allocation_size(requirements.size).memory_type_index(memory_type),
@@ -212,4 +212,32 @@ pub unsafe fn depth_target(
         )
         .expect("view");
     (image, memory, view)
+}
+
+/// Puts the fill-rate layer built beside this test's `nostencil` binary, with the validation
+/// layer below it, into every instance this process creates from now on, reporting to the
+/// returned path in a scratch folder named after `test`. It sets the process environment:
+/// only for a test binary that holds this one test.
+pub fn under_the_layer(test: &str) -> PathBuf {
+    use nostencil::layer::manifest::{manifest_json, newest_library, LAYER_NAME, MANIFEST_FILE};
+    let dir = super::scratch_dir(test);
+    let bin_dir = Path::new(env!("CARGO_BIN_EXE_nostencil")).parent().expect("binary folder");
+    let library = newest_library(bin_dir).expect("libnostencil.so built");
+    std::fs::write(dir.join(MANIFEST_FILE), manifest_json(library.to_str().expect("utf-8"))).expect("manifest");
+    let out = dir.join("fillrate.json");
+    std::env::set_var("VK_ADD_LAYER_PATH", &dir);
+    std::env::set_var("VK_INSTANCE_LAYERS", format!("{LAYER_NAME}:VK_LAYER_KHRONOS_validation"));
+    std::env::set_var("NOSTENCIL_FILLRATE_OUT", &out);
+    std::env::remove_var("NOSTENCIL_FILLRATE_FRAMES");
+    out
+}
+
+/// A device-local memory type among `bits`.
+pub fn device_local_memory_type(props: &vk::PhysicalDeviceMemoryProperties, bits: u32) -> u32 {
+    (0..props.memory_type_count)
+        .find(|&i| {
+            bits & (1 << i) != 0
+                && props.memory_types[i as usize].property_flags.contains(vk::MemoryPropertyFlags::DEVICE_LOCAL)
+        })
+        .expect("a device-local memory type")
 }

@@ -88,7 +88,8 @@ pub fn build<'s>(
     options: &RenderOptions,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<FrameRenderer<'s, AtlasKinds, ShadowPasses>> {
-    // `frame_renderer::build_typed` checks the options before `make` runs.
+    // Checked before the atlases are laid out, which takes a while.
+    options.check()?;
     let atlas_options = options.shadow_atlas;
     frame_renderer::build_typed(technique, passes::plan(kind), gpu, scene, options, |_| {
         ShadowPasses::new(gpu, scene, kind, atlas_options, progress)

@@ -146,9 +146,9 @@ pub struct VolumeSetup {
 
 /// Prepares the casters and resolves the counting method (and whether the subpass apply can
 /// count saturation: only where the device has fragment atomics, and the caller did not turn
-/// them off, as a port for a device without them would).
+/// them off, as a port for a device without them would). The options were checked by
+/// `unit::build_unit`, k among them.
 pub fn setup(gpu: &Gpu, scene: &Scene, options: &RenderOptions) -> Result<Prepared<VolumeSetup>> {
-    alpha_counter::check_increment(options.shadow_volume.increment)?;
     let (casters, warnings) = prepare_casters(scene);
     let aspect = options.width as f32 / options.height as f32;
     let zfail = choose_zfail(&options.shadow_volume, scene, &casters, aspect);
