@@ -2,7 +2,7 @@
 // cartoon_shade_blend.frag: ALPHA_BLEND).
 // Lambert, or N.L through a 1D ramp (toon), on the material's surface; optionally times the
 // dark-rim texture at N.V.
-#include "frame_uniforms.glsl"
+#include "lights.glsl"
 #include "cartoon_push.glsl"
 #include "material.glsl"
 
@@ -27,13 +27,12 @@ void main() {
         shade = object.colour.rgb;
     } else {
         vec3 n = surface_normal(world_normal);
-        float ndl = frame_lambert(world_position, n);
         vec3 light;
         if (object.params.x > 0.5) {
-            light = texture(ramp, vec2(ndl, 0.5)).rgb;
+            // Toon: the ramp at the primary light's N.L (a one-light stylisation).
+            light = texture(ramp, vec2(frame_lambert(world_position, n), 0.5)).rgb;
         } else {
-            float ambient = frame.shading.x;
-            light = vec3(ambient + (1.0 - ambient) * ndl);
+            light = all_lights(world_position, n);
         }
         shade = material_shade(base, light, uv0, uv1);
     }

@@ -1,10 +1,10 @@
 // Included by shadow_map_scene*.frag (SHADOW_FROM_MAP defined), projective_scene*.frag
 // (SHADOW_PROJECTIVE defined) and shadow_atlas_scene*.frag, and their material variants
 // (ALPHA_MASK, ALPHA_BLEND).
-// Lambert + ambient on the material's surface, the Lambert term scaled by the light's
+// Lambert + ambient on the material's surface, the primary light's term scaled by its
 // visibility: the shadow map's depth compare, the model's shadow texture projected from the
 // light, or the model's baked shadow texture (trilinear).
-#include "frame_uniforms.glsl"
+#include "lights.glsl"
 #include "object_push.glsl"
 #include "material.glsl"
 #ifdef SHADOW_FROM_MAP
@@ -30,7 +30,6 @@ layout(location = 0) out vec4 out_colour;
 void main() {
     vec4 base = material_surface(uv0, uv1, vertex_colour);
     vec3 n = surface_normal(world_normal);
-    float lambert = frame_lambert(world_position, n);
 #if defined(SHADOW_FROM_MAP)
     float visible = shadow_visibility(world_position, world_normal);
 #elif defined(SHADOW_PROJECTIVE)
@@ -39,7 +38,13 @@ void main() {
 #else
     float visible = texture(shadow_texture, atlas_uv).r;
 #endif
-    float ambient = frame.shading.x;
-    vec3 light = vec3(ambient + (1.0 - ambient) * lambert * visible);
+    // The map or texture holds the primary light's visibility (frame.shading.z): it weights
+    // that light alone; the others shade unshadowed.
+    vec3 light = vec3(frame.shading.x);
+    int shadowed = int(frame.shading.z);
+    for (int i = 0; i < LIGHT_COUNT; ++i) {
+        float weight = i == shadowed ? visible : 1.0;
+        light += light_contribution(frame.lights[i], world_position, n) * weight;
+    }
     out_colour = vec4(material_shade(base, light, uv0, uv1), written_alpha(base));
 }

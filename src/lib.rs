@@ -94,13 +94,13 @@ pub use frame::{write_png, StencilMode};
 pub use gpu::{DeviceChoice, Gpu, GpuOptions};
 pub use render::{FrameCounters, FrameOutput, PassCounters, Renderer};
 pub use scene::{
-    builtin_scene, builtin_scene_at, scene_and_warnings_from_gltf, scene_from_gltf, Camera, Light, Scene, SceneObject,
-    BUILTIN_SCENES,
+    builtin_scene, builtin_scene_at, scene_and_warnings_from_gltf, scene_from_gltf, Camera, Light, Scene, SceneLight,
+    SceneObject, BUILTIN_SCENES, MAX_LIGHTS,
 };
 pub use technique::{
     by_name as technique, render_scene, CartoonOptions, FrameStats, GivenPlane, InkStyle, LightMode, Normalize,
-    OutlineMethod, PlanarOptions, RenderOptions, SceneRenderer, Seams, ShadowAtlasOptions, ShadowVolumeOptions,
-    SilhouetteMethod, Technique, TechniqueFrame, TextureShadowOn, VolumeMethod, TECHNIQUES,
+    OutlineMethod, PlanarOptions, RenderOptions, SceneRenderer, Seams, ShadowAtlasOptions, ShadowMode,
+    ShadowVolumeOptions, SilhouetteMethod, Technique, TechniqueFrame, TextureShadowOn, VolumeMethod, TECHNIQUES,
 };
 
 /// What each technique reports about a frame, beyond its counters

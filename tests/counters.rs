@@ -18,7 +18,13 @@ use nostencil::render::Pipeline;
 use nostencil::render::{FrameUniforms, Renderer};
 
 fn uniforms() -> FrameUniforms {
-    FrameUniforms { view_proj: Mat4::IDENTITY, light: Vec4::ZERO, camera_position: Vec4::ZERO, shading: Vec4::ZERO }
+    FrameUniforms {
+        view_proj: Mat4::IDENTITY,
+        light: Vec4::ZERO,
+        camera_position: Vec4::ZERO,
+        shading: Vec4::ZERO,
+        lights: Default::default(),
+    }
 }
 
 fn clip_pipeline(gpu: &Arc<Gpu>, renderer: &Renderer, depth: DepthState) -> Pipeline {

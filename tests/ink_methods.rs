@@ -529,7 +529,7 @@ fn material_seams_inside_a_gltf_mesh_are_boundaries_only_when_asked_for() {
     assert_eq!(scene.mesh_instances(), vec![vec![0, 1]]);
     // Seen face on from +Z, the front cut (x = 0, z > 0) runs down the middle of the disc.
     scene.camera = Camera::look_at(Vec3::new(0.0, 0.0, EYE_DISTANCE), Vec3::ZERO);
-    scene.light = Light::Directional { direction: Vec3::new(0.0, 0.0, -1.0) };
+    scene.set_light(Light::Directional { direction: Vec3::new(0.0, 0.0, -1.0) });
     let blue = [0, 0, 255];
     let ink = InkStyles { boundary: Some(InkStyle { width: Some(2.0), colour: Some(blue) }), ..Default::default() };
     let radius = radius_where_n_dot_v_is(0.0, EYE_DISTANCE, focal_px(&scene, size.1));

@@ -5,6 +5,8 @@
 
 mod common;
 
+use nostencil::technique::ShadowMode;
+
 use std::sync::Arc;
 
 use ash::vk;
@@ -151,7 +153,7 @@ impl<'a> VolumeDraws<'a> {
             .iter()
             .map(|caster| {
                 let caster_box = boxes[caster.object].expect("caster bounds");
-                let reach = bounds::caster_bounds(&scene.light, caster_box, receivers).reach;
+                let reach = bounds::caster_bounds(&scene.light(), caster_box, receivers).reach;
                 assert!(!matches!(reach, Reach::Infinite), "a clipped volume");
                 let volume = build_volume(scene, caster, reach, true);
                 let mut indices = volume.sides.clone();
@@ -191,7 +193,7 @@ impl PassDraws<VolumeKinds> for VolumeDraws<'_> {
         _: &PlannedPass<VolumeKinds>,
         pipelines: &[&Pipeline],
     ) -> nostencil::Result<()> {
-        let VolumeDraw::Volumes { alpha } = draw;
+        let VolumeDraw::Volumes { alpha, .. } = draw;
         for (index, pipeline) in pipelines.iter().enumerate() {
             if index > 0 {
                 rec.bind(pipeline);
@@ -218,7 +220,14 @@ fn counts_per_sample(
     let targets = FrameTargets::with_samples(gpu, width, height, stencil, false, SAMPLES, true).expect("targets");
     let mut renderer = Renderer::with_targets(gpu, targets).expect("renderer");
     renderer.stencil_clear = STENCIL_COUNT_ZERO;
-    let full = shadow_volume::recipes::plan(&options, ShadowTone::default(), stencil, SAMPLES).expect("plan");
+    let full = shadow_volume::recipes::plan(
+        &options,
+        ShadowTone::default(),
+        stencil,
+        SAMPLES,
+        &nostencil::technique::light_loop::PlannedLight::default_lights(),
+    )
+    .expect("plan");
     let volumes = full.passes.iter().position(|p| p.name.starts_with("volumes")).expect("volume pass");
     let mut plan = PassPlan::new();
     plan.extend(full.passes[..=volumes].iter().cloned());
@@ -232,7 +241,12 @@ fn counts_per_sample(
         plan.push(stencil_to_alpha("stencil count above", vk::CompareOp::LESS, STENCIL_COUNT_ZERO + SHOWN_COUNTS, 255));
     }
     let draws = VolumeDraws::new(gpu, scene, options.method == VolumeMethod::ZFail);
-    let target = PipelineTarget { render_pass: renderer.targets.render_pass, colour_attachments: 1, samples: SAMPLES };
+    let target = PipelineTarget {
+        render_pass: renderer.targets.render_pass,
+        colour_attachments: 1,
+        samples: SAMPLES,
+        lights: 1,
+    };
     let frame_layout = renderer.frame.layout;
     let material_layout = draws.meshes.materials.layout();
     let pipelines = PlanPipelines::build(
@@ -260,7 +274,9 @@ fn the_alpha_counter_equals_the_stencil_count_in_every_sample() {
     let scene = builtin_scene("overlap").expect("scene");
     for method in [VolumeMethod::ZPass, VolumeMethod::ZFail] {
         for k in [1u8, 4] {
-            let options = ShadowVolumeOptions { method, increment: k, ..Default::default() };
+            // The seed's up-counter (modulate mode): alpha = k x the stencil's count.
+            let mode = nostencil::technique::ShadowMode::Modulate;
+            let options = ShadowVolumeOptions { method, increment: k, mode, ..Default::default() };
             let emulated = counts_per_sample(&gpu, &scene, StencilMode::Emulated, options);
             let reference = counts_per_sample(&gpu, &scene, StencilMode::Reference, options);
             let what = format!("{} k = {k}", method.name());
@@ -328,7 +344,7 @@ fn shadow_edges_resolve_between_lit_and_shadowed_only_at_4x() {
     let base = RenderOptions { width: 256, height: 192, ..Default::default() };
     let volumes = |normalize| RenderOptions {
         technique: technique("shadow-volume"),
-        shadow_volume: ShadowVolumeOptions { normalize, ..Default::default() },
+        shadow_volume: ShadowVolumeOptions { normalize, mode: ShadowMode::Modulate, ..Default::default() },
         ..base.clone()
     };
     let planar = RenderOptions { technique: technique("planar"), ..base.clone() };
@@ -387,7 +403,8 @@ fn the_box_shadow_at_4x_thresholded_at_half_coverage_is_its_projected_outline() 
     let background = frame(&gpu, &without, &lit, SAMPLES).output.image;
     let caster_pixels = common::differing_pixels(&unshadowed, &background);
     for &normalize in Normalize::ALL {
-        let options = ShadowVolumeOptions { normalize, ..Default::default() };
+        // The seed's frame: a shadowed pixel is the lit one times D (`shadow_coverage`).
+        let options = ShadowVolumeOptions { normalize, mode: ShadowMode::Modulate, ..Default::default() };
         let volumes = RenderOptions { technique: technique("shadow-volume"), shadow_volume: options, ..base.clone() };
         let shadowed = frame(&gpu, &scene, &volumes, SAMPLES).output.image;
         let coverage = shadow_coverage(&shadowed, &unshadowed, volumes.shadow_tone.darkest());
@@ -404,6 +421,41 @@ fn the_box_shadow_at_4x_thresholded_at_half_coverage_is_its_projected_outline() 
     common::assert_no_validation_messages(&gpu);
 }
 
+/// The additive loop at 4x (tests/shadow_volume.rs runs it at 1x): emulated equals Ogre's
+/// per-light stencil loop on every built-in scene, z-fail and the scene's choice, k = 1 and 4,
+/// all three normalisations. Per sample: the mask, the depth-equal shading and the reset all
+/// blend per sample, and the reference's stencil tests per sample.
+#[test]
+fn additive_emulated_equals_reference_at_4x_on_every_scene() {
+    let gpu = common::gpu();
+    let base = RenderOptions { width: 96, height: 72, technique: technique("shadow-volume"), ..Default::default() };
+    for (name, _) in nostencil::scene::BUILTIN_SCENES {
+        let scene = builtin_scene(name).expect("scene");
+        for method in [VolumeMethod::Auto, VolumeMethod::ZFail] {
+            let with = |stencil, increment, normalize| RenderOptions {
+                stencil,
+                shadow_volume: ShadowVolumeOptions { method, increment, normalize, ..Default::default() },
+                ..base.clone()
+            };
+            let reference = frame(&gpu, &scene, &with(StencilMode::Reference, 1, Normalize::Seed), SAMPLES);
+            for k in [1u8, 4] {
+                for &normalize in Normalize::ALL {
+                    let emulated = frame(&gpu, &scene, &with(StencilMode::Emulated, k, normalize), SAMPLES);
+                    let differing = emulated
+                        .output
+                        .image
+                        .chunks_exact(4)
+                        .zip(reference.output.image.chunks_exact(4))
+                        .filter(|(a, b)| a[..3] != b[..3])
+                        .count();
+                    assert_eq!(differing, 0, "{name} {method:?} k={k} {}: {differing} pixels differ", normalize.name());
+                }
+            }
+        }
+    }
+    common::assert_no_validation_messages(&gpu);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Saturation, per sample.
 
@@ -412,7 +464,7 @@ fn the_box_shadow_at_4x_thresholded_at_half_coverage_is_its_projected_outline() 
 fn stack_scene(boxes: usize) -> Scene {
     let mut scene = builtin_scene("box").expect("scene");
     scene.objects.retain(|o| o.name == "ground");
-    scene.light = nostencil::scene::Light::Directional { direction: glam::Vec3::NEG_Y };
+    scene.set_light(nostencil::scene::Light::Directional { direction: glam::Vec3::NEG_Y });
     let cube = scene.add_mesh("thin box", nostencil::mesh::shapes::cube(1.0));
     for i in 0..boxes {
         let transform = glam::Mat4::from_scale_rotation_translation(
@@ -442,10 +494,12 @@ fn saturation_is_counted_per_sample_at_4x() {
         samples,
         keep_samples: samples > 1,
         technique: technique("shadow-volume"),
+        // The seed's up-counter, whose clamp the probe and the read-back find at alpha 255.
         shadow_volume: ShadowVolumeOptions {
             increment: 8,
             normalize: Normalize::Subpass,
             saturation_probe,
+            mode: nostencil::technique::ShadowMode::Modulate,
             ..Default::default()
         },
         ..Default::default()

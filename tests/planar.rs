@@ -104,7 +104,7 @@ fn projected_triangles(scene: &Scene, objects: impl Fn(usize) -> bool, h: f32) -
     for (_, o) in scene.objects.iter().enumerate().filter(|(i, _)| objects(*i)) {
         let data = &scene.meshes[o.mesh].data;
         let world =
-            |v: u32| project_onto_plane(o.transform.transform_point3(data.positions[v as usize]), &scene.light, h);
+            |v: u32| project_onto_plane(o.transform.transform_point3(data.positions[v as usize]), &scene.light(), h);
         for t in data.indices.chunks_exact(3) {
             out.push([world(t[0]), world(t[1]), world(t[2])]);
         }
@@ -129,7 +129,8 @@ const LEFT_ARM: std::ops::Range<usize> = 48..72;
 fn character_part_triangles(scene: &Scene, part: std::ops::Range<usize>, h: f32) -> Vec<[Vec3; 3]> {
     let o = scene.object("character").expect("character");
     let data = &scene.meshes[o.mesh].data;
-    let world = |v: u32| project_onto_plane(o.transform.transform_point3(data.positions[v as usize]), &scene.light, h);
+    let world =
+        |v: u32| project_onto_plane(o.transform.transform_point3(data.positions[v as usize]), &scene.light(), h);
     data.indices
         .chunks_exact(3)
         .filter(|t| part.contains(&(t[0] as usize)))
@@ -370,7 +371,7 @@ fn a_given_tilted_plane_receives_the_shadow_matrix_projection() {
     ] {
         let mut scene = builtin_scene_at("slope", time).expect("scene");
         if let Some(light) = light {
-            scene.light = light;
+            scene.set_light(light);
         }
         let frame = |stencil, shadows| {
             render_with(&gpu, &scene, &planar::Planar, SIZE, stencil, options(shadows)).expect("planar frame")
@@ -387,11 +388,11 @@ fn a_given_tilted_plane_receives_the_shadow_matrix_projection() {
         assert_eq!(casters.receivers.iter().filter(|r| **r).count(), 1, "the tilted ground alone receives");
         let cpu_mask = cpu_shadow_mask(
             &scene,
-            &triangles_projected_by(&scene, |i| !casters.receivers[i], |p| plane.project(p, &scene.light)),
+            &triangles_projected_by(&scene, |i| !casters.receivers[i], |p| plane.project(p, &scene.light())),
         );
         let flat_mask = cpu_shadow_mask(
             &scene,
-            &triangles_projected_by(&scene, |i| !casters.receivers[i], |p| project_onto_plane(p, &scene.light, 0.0)),
+            &triangles_projected_by(&scene, |i| !casters.receivers[i], |p| project_onto_plane(p, &scene.light(), 0.0)),
         );
         let (mut inside, mut mismatches) = (0, Vec::new());
         for y in 0..SIZE.1 {
@@ -430,7 +431,7 @@ fn a_given_tilted_plane_receives_the_shadow_matrix_projection() {
     let error = refused(&scene, Some(GivenPlane { normal: [0.0, 3.0, 1.0], height: 0.5 }));
     assert!(error.contains("no flat non-casting object lies in the plane"), "{error}");
     let mut parallel = scene.clone();
-    parallel.light = Light::Directional { direction: Vec3::new(1.0, 0.0, 0.0) };
+    parallel.set_light(Light::Directional { direction: Vec3::new(1.0, 0.0, 0.0) });
     let error = refused(&parallel, Some(given));
     assert!(error.contains("parallel"), "{error}");
     let out = common::scratch_dir("planar-given-plane").join("out.png");
@@ -592,8 +593,10 @@ fn the_seeds_render_texture_quad_holds_the_shadow_where_the_projection_puts_it()
         let on_quad = texture(TextureShadowOn::Quad, 128);
         let on_receivers = texture(TextureShadowOn::Receivers, 128);
         let casters = |i: usize| !plane.receivers[i];
-        let cpu =
-            cpu_shadow_mask(&scene, &triangles_projected_by(&scene, casters, |p| plane.plane.project(p, &scene.light)));
+        let cpu = cpu_shadow_mask(
+            &scene,
+            &triangles_projected_by(&scene, casters, |p| plane.plane.project(p, &scene.light())),
+        );
         let corners = planar::texture_quad::shadow_quad(&scene, &plane).expect("casters");
         let quad_pixels =
             cpu_shadow_mask(&scene, &[[corners[0], corners[1], corners[2]], [corners[0], corners[2], corners[3]]]);

@@ -35,13 +35,15 @@ fn stacked_fullscreen_at(gpu: &Arc<Gpu>, passes: &[(&str, u32)], count_overdraw:
         push_constant_bytes: 16,
         subpass: 0,
     };
-    let target = PipelineTarget { render_pass: renderer.targets.render_pass, colour_attachments: 1, samples };
+    let target =
+        PipelineTarget { render_pass: renderer.targets.render_pass, colour_attachments: 1, samples, lights: 1 };
     let pipeline = Pipeline::for_target(gpu, &desc, target, &[]).expect("pipeline");
     let uniforms = FrameUniforms {
         view_proj: Mat4::IDENTITY,
         light: Vec4::ZERO,
         camera_position: Vec4::ZERO,
         shading: Vec4::ZERO,
+        lights: Default::default(),
     };
     renderer
         .render(&uniforms, [0.0, 0.0, 0.0, 1.0], |rec| {
@@ -318,7 +320,7 @@ fn tile_traffic_is_listed_per_render_pass_with_known_sizes() {
         "shadow-texture-atlas",
         "--scene",
         "atlas-one",
-        "--light",
+        "--light-motion",
         "moving",
     ]);
     let passes = atlas["render_passes"].as_array().expect("render_passes");
@@ -348,7 +350,7 @@ fn tile_traffic_is_listed_per_render_pass_with_known_sizes() {
 #[test]
 fn counters_are_summed_per_render_pass_instance_in_submission_order() {
     let args = ["profile", "--size", "96x64", "--format", "json", "--technique", "shadow-texture-atlas"];
-    let (stdout, _) = common::run_ok(&[&args[..], &["--scene", "atlas-one", "--light", "moving"]].concat());
+    let (stdout, _) = common::run_ok(&[&args[..], &["--scene", "atlas-one", "--light-motion", "moving"]].concat());
     let report: serde_json::Value = serde_json::from_str(&stdout).expect("JSON");
     let instances = report["render_pass_instances"].as_array().expect("render_pass_instances");
     let owners: Vec<&str> = instances.iter().map(|i| i["passes"][0].as_str().unwrap_or("?")).collect();

@@ -479,7 +479,7 @@ fn atlas_125_models_are_shadowed_where_a_cpu_ray_cast_says() {
     let gpu = common::gpu();
     let scene = builtin_scene("atlas-125").expect("scene");
     let baked = bake(&gpu, &scene, ShadowAtlasOptions::default());
-    let Light::Directional { direction } = scene.light else { panic!("atlas-125 has a directional light") };
+    let Light::Directional { direction } = scene.light() else { panic!("atlas-125 has a directional light") };
     let to_light = -direction.normalize();
     let radius = horned_radius(&nostencil::scene::builtin::ATLAS_HORNS);
     // Which shadow-casting object (if any) a ray from `origin` towards the light hits first-found.
@@ -592,7 +592,7 @@ fn ray_world_answers_as_every_triangle_does() {
             .filter_map(|(i, t)| ray_hits_triangle(origin, dir, *t).map(|d| (*i, d)))
             .min_by(|a, b| a.1.total_cmp(&b.1))
     };
-    let Light::Directional { direction } = scene.light else { panic!("atlas-one has a directional light") };
+    let Light::Directional { direction } = scene.light() else { panic!("atlas-one has a directional light") };
     let inverse = scene.camera.view_projection(1.0).inverse();
     let eye = scene.camera.eye;
     let (mut hits, mut occluded) = (0, 0);
@@ -805,7 +805,7 @@ fn atlas_125_frame_is_shadowed_where_a_cpu_ray_cast_says() {
         let expected = if index == ground { AtlasSource::TexCoord0 } else { AtlasSource::GeometryImage { n: 64 } };
         assert_eq!(source, expected, "{}", object.name);
     }
-    let Light::Directional { direction } = scene.light else { panic!("atlas-125 has a directional light") };
+    let Light::Directional { direction } = scene.light() else { panic!("atlas-125 has a directional light") };
     let cpu = CpuFrame {
         scene: &scene,
         world: RayWorld::of(&scene),
@@ -969,7 +969,7 @@ fn projective_texture_shadows_lit_parts_of_a_concave_model_that_the_atlas_leaves
 
     // CPU answer for a pixel: the nearest surface on its camera ray and whether a ray from
     // there reaches the light (None: not a light-facing point of the model).
-    let Light::Directional { direction } = scene.light else { panic!("atlas-one has a directional light") };
+    let Light::Directional { direction } = scene.light() else { panic!("atlas-one has a directional light") };
     let to_light = -direction.normalize();
     let triangles = world_triangles(&scene);
     let model = scene.objects.iter().position(|o| o.name == "model").expect("the model");

@@ -21,9 +21,15 @@ use nostencil::render::Pipeline;
 use nostencil::render::{FrameRecorder, FrameUniforms, Renderer};
 use nostencil::scene::{builtin_scene, Scene, BUILTIN_SCENES};
 use nostencil::technique::shadow_volume::{self, Normalize, ShadowVolumeOptions, VolumeMethod};
-use nostencil::technique::{alpha_counter, render_scene, RenderOptions, ShadowTone, Technique};
+use nostencil::technique::{alpha_counter, render_scene, RenderOptions, ShadowMode, ShadowTone, Technique};
 
 const SIZE: (u32, u32) = (128, 96);
+
+/// The seed's frame (Hall's apply, `--shadow-mode modulate`): what most proofs here are about.
+/// The additive loop's own proofs are `additive_*` below and in tests/lights.rs.
+fn seed() -> ShadowVolumeOptions {
+    ShadowVolumeOptions { mode: ShadowMode::Modulate, ..Default::default() }
+}
 
 /// A shadow-volume frame with the technique's statistics.
 struct Frame {
@@ -110,7 +116,7 @@ fn emulated_equals_reference_for_every_scene_increment_darkness_and_normalisatio
         for (method, d) in
             [VolumeMethod::Auto, VolumeMethod::ZFail].into_iter().flat_map(|m| SWEEP_DARKNESS.map(|d| (m, d)))
         {
-            let base = ShadowVolumeOptions { method, ..Default::default() };
+            let base = ShadowVolumeOptions { method, ..seed() };
             let tone = ShadowTone::Grey(d);
             let reference = render_toned(&gpu, &scene, StencilMode::Reference, base, tone);
             let shadowed_pixels = shadow_mask(&reference.output.image, &unshadowed).iter().filter(|s| **s).count();
@@ -132,6 +138,40 @@ fn emulated_equals_reference_for_every_scene_increment_darkness_and_normalisatio
     common::assert_no_validation_messages(&gpu);
 }
 
+/// The additive loop (docs/shadow-volumes.md, "Several lights"), emulated against Ogre's
+/// per-light stencil loop, at 1x: every built-in scene (the `lights` scene's three lights
+/// among them), z-fail and the scene's own choice, k = 1 and 4, all three normalisations,
+/// pixel for pixel. tests/msaa_samples.rs runs the same at 4x.
+#[test]
+fn additive_emulated_equals_reference_on_every_scene() {
+    let gpu = common::gpu();
+    for (name, _) in BUILTIN_SCENES {
+        let scene = builtin_scene(name).expect("scene");
+        let unshadowed = lit(&gpu, &scene);
+        for method in [VolumeMethod::Auto, VolumeMethod::ZFail] {
+            let base = ShadowVolumeOptions { method, ..Default::default() };
+            assert_eq!(base.mode, ShadowMode::Additive, "additive is the default");
+            let reference = render(&gpu, &scene, StencilMode::Reference, base);
+            let darkened = shadow_mask(&reference.output.image, &unshadowed).iter().filter(|s| **s).count();
+            assert!(darkened > 50, "{name}: the reference shows no shadow ({darkened} pixels)");
+            for k in [1u8, 4] {
+                for &normalize in Normalize::ALL {
+                    let options = ShadowVolumeOptions { increment: k, normalize, ..base };
+                    let emulated = render(&gpu, &scene, StencilMode::Emulated, options);
+                    let differing = rgb_differences(&emulated.output.image, &reference.output.image);
+                    let what = format!("{name} {method:?} k={k} {}", normalize.name());
+                    assert_eq!(differing, 0, "{what}: {differing} pixels differ");
+                    // The subpass mask counts saturation (none here: every count is far from
+                    // 255/k).
+                    let measured = (normalize == Normalize::Subpass).then_some(0);
+                    assert_eq!(emulated.stats.saturated_samples, measured, "{what}");
+                }
+            }
+        }
+    }
+    common::assert_no_validation_messages(&gpu);
+}
+
 /// docs/design/blend-rounding.md: at D = 102 and k = 4 three iterations bring every shadowed count to
 /// <= D on any GPU (reaching 0 under lavapipe's rounding took four), and the image is still the
 /// reference's.
@@ -139,7 +179,7 @@ fn emulated_equals_reference_for_every_scene_increment_darkness_and_normalisatio
 fn seed_path_runs_three_iterations_at_d_102_and_k_4() {
     let gpu = common::gpu();
     let scene = builtin_scene("default").expect("scene");
-    let options = ShadowVolumeOptions { increment: 4, normalize: Normalize::Seed, ..Default::default() };
+    let options = ShadowVolumeOptions { increment: 4, normalize: Normalize::Seed, ..seed() };
     let emulated = render(&gpu, &scene, StencilMode::Emulated, options);
     let reference = render(&gpu, &scene, StencilMode::Reference, options);
     assert_eq!(emulated.stats.seed_iterations, 3);
@@ -205,6 +245,7 @@ fn normalisation_table_is_read_back_from_the_gpu() {
         light: Vec4::ZERO,
         camera_position: Vec4::ZERO,
         shading: Vec4::ZERO,
+        lights: Default::default(),
     };
     let mut renderer = Renderer::new(&gpu, 16, 16, StencilMode::Emulated, false).expect("renderer");
     // On the format the frame ships in: alpha is linear UNORM8 there, the colour sRGB.
@@ -217,10 +258,21 @@ fn normalisation_table_is_read_back_from_the_gpu() {
     for (k, d) in cases {
         for normalize in [Normalize::Seed, Normalize::Max] {
             // The plan's normalisation passes for this k and D: N0 up to the apply.
-            let options =
-                ShadowVolumeOptions { increment: k, normalize, method: VolumeMethod::ZPass, ..Default::default() };
-            let plan =
-                shadow_volume::recipes::plan(&options, ShadowTone::Grey(d), StencilMode::Emulated, 1).expect("plan");
+            let options = ShadowVolumeOptions {
+                increment: k,
+                normalize,
+                method: VolumeMethod::ZPass,
+                mode: nostencil::technique::ShadowMode::Modulate,
+                ..Default::default()
+            };
+            let plan = shadow_volume::recipes::plan(
+                &options,
+                ShadowTone::Grey(d),
+                StencilMode::Emulated,
+                1,
+                &nostencil::technique::light_loop::PlannedLight::default_lights(),
+            )
+            .expect("plan");
             let first = plan.passes.iter().position(|p| p.name == "normalise N0").expect("N0 in the plan");
             let last = plan.passes.iter().position(|p| p.name == "apply").expect("apply in the plan");
             let steps = &plan.passes[first..last];
@@ -314,7 +366,7 @@ fn box_shadow_matches_its_projected_outline() {
     let gpu = common::gpu();
     let scene = builtin_scene("box").expect("scene");
     for &normalize in Normalize::ALL {
-        let iou = projected_outline_iou(&gpu, &scene, ShadowVolumeOptions { normalize, ..Default::default() });
+        let iou = projected_outline_iou(&gpu, &scene, ShadowVolumeOptions { normalize, ..seed() });
         assert!(iou > 0.99, "{}: intersection over union {iou:.4}", normalize.name());
     }
     common::assert_no_validation_messages(&gpu);
@@ -331,7 +383,7 @@ fn open_casters_shadow_their_projected_outline_in_zpass_and_zfail() {
         let scene = builtin_scene(scene_name).expect("scene");
         for method in [VolumeMethod::ZPass, VolumeMethod::ZFail] {
             for normalize in [Normalize::Seed, Normalize::Subpass] {
-                let options = ShadowVolumeOptions { method, normalize, ..Default::default() };
+                let options = ShadowVolumeOptions { method, normalize, ..seed() };
                 let iou = projected_outline_iou(&gpu, &scene, options);
                 println!("{scene_name} {method:?} {}: IoU {iou:.4}", normalize.name());
                 assert!(iou >= 0.99, "{scene_name} {method:?} {}: intersection over union {iou:.4}", normalize.name());
@@ -349,16 +401,16 @@ fn camera_inside_a_volume_needs_zfail_and_auto_chooses_it() {
         &gpu,
         &scene,
         StencilMode::Reference,
-        ShadowVolumeOptions { method: VolumeMethod::ZFail, ..Default::default() },
+        ShadowVolumeOptions { method: VolumeMethod::ZFail, ..seed() },
     );
-    let auto = render(&gpu, &scene, StencilMode::Emulated, ShadowVolumeOptions::default());
+    let auto = render(&gpu, &scene, StencilMode::Emulated, seed());
     assert!(auto.stats.zfail, "auto must choose z-fail with the camera inside the slab's volume");
     assert_eq!(rgb_differences(&auto.output.image, &reference.output.image), 0);
     let zpass = render(
         &gpu,
         &scene,
         StencilMode::Emulated,
-        ShadowVolumeOptions { method: VolumeMethod::ZPass, ..Default::default() },
+        ShadowVolumeOptions { method: VolumeMethod::ZPass, ..seed() },
     );
     let wrong = rgb_differences(&zpass.output.image, &reference.output.image);
     assert!(
@@ -370,7 +422,7 @@ fn camera_inside_a_volume_needs_zfail_and_auto_chooses_it() {
     // ground far beyond the slab's shadow is lit.
     let unshadowed = lit(&gpu, &scene);
     let mask = shadow_mask(&auto.output.image, &unshadowed);
-    let nostencil::scene::Light::Directional { direction } = scene.light else { panic!() };
+    let nostencil::scene::Light::Directional { direction } = scene.light() else { panic!() };
     let slab = scene.object("slab").expect("slab");
     let under_slab = |p: Vec3| {
         // Project the ground point up the light onto the slab's bottom face (y = 2.85).
@@ -400,7 +452,7 @@ fn background_behind_volumes_is_never_darkened() {
         let sky = common::srgb8(scene.background);
         for method in [VolumeMethod::ZPass, VolumeMethod::ZFail] {
             let frame =
-                render(&gpu, &scene, StencilMode::Emulated, ShadowVolumeOptions { method, ..Default::default() });
+                render(&gpu, &scene, StencilMode::Emulated, ShadowVolumeOptions { method, ..seed() });
             let image = &frame.output.image;
             let darkened_sky = image
                 .chunks_exact(4)
@@ -423,7 +475,7 @@ fn background_behind_volumes_is_never_darkened() {
 fn stack_scene(boxes: usize) -> Scene {
     let mut scene = builtin_scene("box").expect("scene");
     scene.objects.retain(|o| o.name == "ground");
-    scene.light = nostencil::scene::Light::Directional { direction: Vec3::NEG_Y };
+    scene.set_light(nostencil::scene::Light::Directional { direction: Vec3::NEG_Y });
     let cube = scene.add_mesh("thin box", nostencil::mesh::shapes::cube(1.0));
     for i in 0..boxes {
         let transform = Mat4::from_scale_rotation_translation(
@@ -454,7 +506,7 @@ fn the_subpass_apply_counts_saturation_with_no_probe_and_matches_the_probe() {
         increment,
         normalize: Normalize::Subpass,
         saturation_probe,
-        ..Default::default()
+        ..seed()
     };
     let k8 = render(&gpu, &scene, StencilMode::Emulated, subpass(8, false));
     assert_eq!(k8.stats.capacity, 31);
@@ -474,7 +526,7 @@ fn the_subpass_apply_counts_saturation_with_no_probe_and_matches_the_probe() {
     assert_eq!(both.stats.saturated_samples, Some(counted), "the probe changed the apply's count");
 
     // The blend-only paths count only with the probe, and find the same pixels.
-    let seed = ShadowVolumeOptions { increment: 8, ..Default::default() };
+    let seed = ShadowVolumeOptions { increment: 8, ..seed() };
     let unmeasured = render(&gpu, &scene, StencilMode::Emulated, seed);
     assert_eq!(unmeasured.stats.saturated_samples, None);
     assert!(!pass_names(&unmeasured).contains(&shadow_volume::SATURATION_PROBE));
@@ -505,7 +557,7 @@ fn the_subpass_apply_counts_saturation_with_no_probe_and_matches_the_probe() {
 fn the_reference_is_volumes_and_one_apply_and_leaves_negative_counts_lit() {
     let gpu = common::gpu();
     let scene = builtin_scene("inside").expect("scene");
-    let zpass = ShadowVolumeOptions { method: VolumeMethod::ZPass, ..Default::default() };
+    let zpass = ShadowVolumeOptions { method: VolumeMethod::ZPass, ..seed() };
     let reference = render(&gpu, &scene, StencilMode::Reference, zpass);
     let names = pass_names(&reference);
     assert_eq!(names, ["scene", "volumes (stencil, z-pass)", "apply (stencil)"], "{names:?}");
@@ -550,7 +602,7 @@ fn casters_report_their_path_reason_and_capacity() {
     for k in [1u8, 4] {
         for (scene_name, object, path, reason) in expected {
             let scene = builtin_scene(scene_name).expect("scene");
-            let options = ShadowVolumeOptions { increment: k, ..Default::default() };
+            let options = ShadowVolumeOptions { increment: k, ..seed() };
             let frame = try_render(&gpu, &scene, StencilMode::Emulated, options, (64, 48), ShadowTone::default())
                 .expect("frame");
             let report = frame.stats.casters.iter().find(|c| c.object == object).expect("the caster is reported");
@@ -632,7 +684,7 @@ fn open_casters_under_a_point_light_shadow_what_the_cpu_ray_cast_finds() {
     let gpu = common::gpu();
     for scene_name in ["open-quad", "open-box", "non-manifold", "touching"] {
         let mut scene = builtin_scene(scene_name).expect("scene");
-        scene.light = nostencil::scene::Light::Point { position: Vec3::new(-1.5, 6.0, 1.0) };
+        scene.set_light(nostencil::scene::Light::Point { position: Vec3::new(-1.5, 6.0, 1.0) });
         let casters: Vec<PlacedMesh> = scene
             .objects
             .iter()
@@ -643,14 +695,14 @@ fn open_casters_under_a_point_light_shadow_what_the_cpu_ray_cast_finds() {
                 model: o.transform,
             })
             .collect();
-        let nostencil::scene::Light::Point { position } = scene.light else { unreachable!() };
+        let nostencil::scene::Light::Point { position } = scene.light() else { unreachable!() };
         let light = nostencil::mesh::Light::Point(position);
         let unshadowed = lit_sized(&gpu, &scene, BIG);
         let mut without = scene.clone();
         without.objects.retain(|o| !o.casts_shadow);
         let background = lit_sized(&gpu, &without, BIG);
         for method in [VolumeMethod::ZPass, VolumeMethod::ZFail] {
-            let options = ShadowVolumeOptions { method, ..Default::default() };
+            let options = ShadowVolumeOptions { method, ..seed() };
             let emulated = render_sized(&gpu, &scene, StencilMode::Emulated, options, BIG);
             let reference = render_sized(&gpu, &scene, StencilMode::Reference, options, BIG);
             let differing = rgb_differences(&emulated.output.image, &reference.output.image);
@@ -759,7 +811,7 @@ fn mirrored_and_inside_out_casters_shadow_their_projected_outline() {
     }
     for (label, scene) in [("mirrored", &mirrored), ("inside out", &inside_out)] {
         for method in [VolumeMethod::ZPass, VolumeMethod::ZFail] {
-            let options = ShadowVolumeOptions { method, ..Default::default() };
+            let options = ShadowVolumeOptions { method, ..seed() };
             let reference = render_sized(&gpu, scene, StencilMode::Reference, options, (128, 96));
             let emulated = render_sized(&gpu, scene, StencilMode::Emulated, options, (128, 96));
             assert_eq!(rgb_differences(&emulated.output.image, &reference.output.image), 0, "{label} {method:?}");
@@ -779,7 +831,8 @@ fn the_command_line_sets_the_shadow_factor_and_the_iterations_follow_it() {
         let out = dir.join(name);
         let out = out.to_str().expect("a UTF-8 path");
         // One sample: every darkened pixel is then wholly in shadow (4x blends the borders).
-        let mut all = vec!["render", "--size", "128x96", "--samples", "1", "--out", out];
+        // The seed's frame, whose shadow the factor darkens.
+        let mut all = vec!["render", "--size", "128x96", "--samples", "1", "--shadow-mode", "modulate", "--out", out];
         all.extend_from_slice(args);
         common::run_ok(&all);
         common::read_png(Path::new(out))
@@ -805,8 +858,18 @@ fn the_command_line_sets_the_shadow_factor_and_the_iterations_follow_it() {
     }
     // k = 4: D = 64 needs four iterations when products round up, D = 102 three.
     for (factor, iterations) in [("64", 4), ("102", 3)] {
-        let args =
-            ["--technique", "shadow-volume", "--normalize", "max", "--increment", "4", "--shadow-factor", factor];
+        let args = [
+            "--technique",
+            "shadow-volume",
+            "--shadow-mode",
+            "modulate",
+            "--normalize",
+            "max",
+            "--increment",
+            "4",
+            "--shadow-factor",
+            factor,
+        ];
         let (passes, _) = common::run_ok(&[&["passes"], &args[..]].concat());
         assert!(passes.contains(&format!("normalise N{iterations} ")), "D = {factor}:\n{passes}");
         assert!(!passes.contains(&format!("normalise N{} ", iterations + 1)), "D = {factor}:\n{passes}");
@@ -844,7 +907,7 @@ fn clipped_volumes_draw_the_unclipped_image_with_fewer_fragments() {
         let scene = builtin_scene(name).expect("scene");
         let unshadowed = lit(&gpu, &scene);
         for method in [VolumeMethod::Auto, VolumeMethod::ZFail] {
-            let base = ShadowVolumeOptions { method, ..Default::default() };
+            let base = ShadowVolumeOptions { method, ..seed() };
             let unclipped_reference =
                 render(&gpu, &scene, StencilMode::Reference, ShadowVolumeOptions { clip_volumes: false, ..base });
             let clipped_reference = render(&gpu, &scene, StencilMode::Reference, base);
@@ -889,7 +952,7 @@ fn a_tinted_shadow_is_the_references_in_every_path_and_multiplies_each_channel()
     let unshadowed = lit(&gpu, &scene);
     // Three factors, two equal ones, and a grey given as a colour (it must match --shadow-factor).
     for tint in [[51u8, 128, 204], [200, 90, 200], [102, 102, 102]] {
-        let base = ShadowVolumeOptions::default();
+        let base = seed();
         let tone = ShadowTone::Tinted(tint);
         let reference = render_toned(&gpu, &scene, StencilMode::Reference, base, tone);
         for &normalize in Normalize::ALL {
@@ -939,9 +1002,17 @@ fn the_seed_path_for_k_1_is_the_seeds_own_pass_list() {
         increment: 1,
         normalize: Normalize::Seed,
         method: VolumeMethod::ZPass,
+        mode: nostencil::technique::ShadowMode::Modulate,
         ..Default::default()
     };
-    let plan = shadow_volume::recipes::plan(&options, ShadowTone::Grey(192), StencilMode::Emulated, 1).expect("plan");
+    let plan = shadow_volume::recipes::plan(
+        &options,
+        ShadowTone::Grey(192),
+        StencilMode::Emulated,
+        1,
+        &nostencil::technique::light_loop::PlannedLight::default_lights(),
+    )
+    .expect("plan");
     let names: Vec<&str> = plan.passes.iter().map(|p| p.name.as_ref()).collect();
     let build =
         ["volumes (alpha, z-pass)", "normalise N0", "normalise N1", "normalise N2", "normalise N3", "normalise N4"];

@@ -45,7 +45,7 @@ fn rgb_differences(a: &RgbaImage, b: &RgbaImage) -> usize {
 /// colour) every darkened pixel lies in the convex hull of the casters' vertices projected
 /// along the light onto the ground, and the shadow covers a good share of that hull.
 fn assert_ground_shadow(label: &str, scene: &Scene, shadowed: &RgbaImage, lit: &RgbaImage) -> usize {
-    let Light::Directional { direction } = scene.light else {
+    let Light::Directional { direction } = scene.light() else {
         panic!("{label}: expected the default directional light")
     };
     let ground = scene.object("ground").expect("the scene has a ground");

@@ -11,6 +11,7 @@ use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::mobile_profile;
 use crate::gpu::validation::ValidationChecks;
+use crate::scene::SceneLight;
 use crate::technique::registry::DEFAULT_TECHNIQUE;
 use crate::technique::{
     CartoonOptions, Normalize, PlanarOptions, ShadowAtlasOptions, ShadowToneArgs, ShadowVolumeOptions, VolumeMethod,
@@ -238,6 +239,14 @@ pub struct FrameArgs {
     /// Animation time in seconds: a glTF scene's first animation (looping), the built-in character's walk.
     #[arg(long, default_value_t = 0.0, value_name = "SECONDS")]
     pub time: f32,
+    /// Adds a light to the scene's (repeatable): KIND[:key=value]..., KIND directional, point or
+    /// spot; keys name, at=x,y,z, dir=x,y,z, aim=x,y,z, colour=r,g,b, intensity, range, inner and
+    /// outer (degrees), shadows=on|off. Example: point:at=2,4,1:colour=1,0.3,0.2:intensity=20:range=8
+    #[arg(long = "light", value_name = "SPEC", value_parser = parse_light_arg)]
+    pub lights: Vec<SceneLight>,
+    /// The --light lights replace the scene's (or the file's) lights instead of adding to them.
+    #[arg(long, requires = "lights")]
+    pub replace_lights: bool,
     // Each technique family's options and their flags, declared by the family (`technique`):
     // moved as they are into `RenderOptions`.
     #[command(flatten)]
@@ -252,6 +261,10 @@ pub struct FrameArgs {
     pub shadow_atlas: ShadowAtlasOptions,
     #[command(flatten)]
     pub gpu: GpuArgs,
+}
+
+fn parse_light_arg(spec: &str) -> std::result::Result<SceneLight, String> {
+    crate::scene::lights::parse_light_spec(spec).map_err(|e| e.to_string())
 }
 
 /// `view`'s scripted events (for tests), typed where they are parsed: `--resize-after N WxH` and

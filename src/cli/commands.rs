@@ -13,8 +13,10 @@ use crate::gpu::validation::ValidationReport;
 use crate::gpu::{mobile_profile, DeviceChoice, Gpu, GpuOptions};
 use crate::profile::budget::Budget;
 use crate::profile::report::{FrameFormats, ProfileReport, ReportContext, ReportFormat};
+use crate::scene::lights::apply_light_specs;
 use crate::scene::{builtin_scene_at, scene_and_warnings_from_gltf, Scene, BUILTIN_SCENES, OTHER_SCENES};
 use crate::technique::interface::BenchTable;
+use crate::technique::light_loop::PlannedLight;
 use crate::technique::{by_name, render_scene, shadow_atlas, RenderOptions, TECHNIQUES};
 
 pub fn run(cli: Cli) -> Result<()> {
@@ -81,18 +83,23 @@ fn open_gpu_with(args: &GpuArgs, without_pass_queries: bool) -> Result<Arc<Gpu>>
 
 /// A built-in scene by name, or a .gltf/.glb file posed at `time` seconds; the loader's
 /// warnings (what it skipped or repaired in the file) go to stderr.
-fn load_scene(name: &str, time: f32) -> Result<Scene> {
+/// The frame's scene: a built-in one or a glTF file, at its time, with the command line's
+/// lights added (or in place of its own).
+fn load_scene(frame: &FrameArgs) -> Result<Scene> {
+    let (name, time) = (frame.scene.as_str(), frame.time);
     let path = Path::new(name);
     let is_gltf = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"));
-    if is_gltf || path.exists() {
+    let mut scene = if is_gltf || path.exists() {
         let (scene, warnings) = scene_and_warnings_from_gltf(path, time)?;
         for warning in warnings {
             eprintln!("nostencil: warning: {}: {warning}", path.display());
         }
-        Ok(scene)
+        scene
     } else {
-        builtin_scene_at(name, time)
-    }
+        builtin_scene_at(name, time)?
+    };
+    apply_light_specs(&mut scene.lights, &frame.lights, frame.replace_lights)?;
+    Ok(scene)
 }
 
 /// A technique's warnings (what it could not honour in the scene), on stderr.
@@ -117,6 +124,7 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
         count_overdraw: false,
         cartoon: frame.cartoon.clone(),
         planar: frame.planar,
+        lights: PlannedLight::default_lights(),
     };
     options.check()?;
     Ok(options)
@@ -125,7 +133,7 @@ fn options(frame: &FrameArgs) -> Result<RenderOptions> {
 fn render(frame: &FrameArgs, out: &Path, keep_alpha: bool, no_queries: bool) -> Result<()> {
     check_output_path(out)?;
     let options = options(frame)?;
-    let scene = load_scene(&frame.scene, frame.time)?;
+    let scene = load_scene(frame)?;
     let gpu = open_gpu_with(&frame.gpu, no_queries)?;
     let frame = render_scene(&gpu, &scene, &options)?;
     print_warnings(options.technique.name(), &frame.warnings);
@@ -167,7 +175,7 @@ fn profile(frame: &FrameArgs, format: FormatArg, outputs: &ProfileOutputs) -> Re
         check_output_path(path)?;
     }
     let options = options(frame)?;
-    let scene = load_scene(&frame.scene, frame.time)?;
+    let scene = load_scene(frame)?;
     let gpu = open_gpu(&frame.gpu)?;
     // One frame first: llvmpipe compiles shaders at first draw, which is not the frame's cost.
     render_scene(&gpu, &scene, &options)?;
@@ -236,7 +244,7 @@ fn bake(frame: &FrameArgs, model: Option<&str>, mip: u32, out: &Path) -> Result<
     use crate::technique::shadow_atlas::BakeStep;
     check_output_path(out)?;
     let options = options(frame)?;
-    let scene = load_scene(&frame.scene, frame.time)?;
+    let scene = load_scene(frame)?;
     let object = match model {
         Some(name) => scene.objects.iter().position(|o| o.name == name).ok_or_else(|| {
             Error::InvalidInput(format!(
@@ -297,7 +305,7 @@ fn bake(frame: &FrameArgs, model: Option<&str>, mip: u32, out: &Path) -> Result<
 fn profile_compare(frame: &FrameArgs, format: FormatArg, variants: &[String]) -> Result<()> {
     use crate::profile::compare::{Comparison, VariantFrame};
     let base = options(frame)?;
-    let scene = load_scene(&frame.scene, frame.time)?;
+    let scene = load_scene(frame)?;
     let gpu = open_gpu(&frame.gpu)?;
     let mut frames = Vec::new();
     for variant in variants {
@@ -472,7 +480,7 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: Option<u32>, json: bool, table1_o
         // Made (or refused) before minutes of timing, not after.
         std::fs::create_dir_all(dir).map_err(|source| Error::Io { path: dir.to_owned(), source })?;
     }
-    let scene = load_scene(&frame.scene, frame.time)?;
+    let scene = load_scene(frame)?;
     let gpu = open_gpu(&frame.gpu)?;
     let (width, height) = (options.width, options.height);
     if let Some(BenchTable::Seed004Table1) = options.technique.bench_table() {
@@ -546,7 +554,7 @@ fn bench_mip_flicker(frame: &FrameArgs, steps: u32, json: bool) -> Result<()> {
             options.technique.name()
         )));
     }
-    let scene = load_scene(&frame.scene, frame.time)?;
+    let scene = load_scene(frame)?;
     let gpu = open_gpu(&frame.gpu)?;
     let report = crate::profile::mip_flicker::measure(&gpu, &scene, &options, steps)?;
     if json {
@@ -582,7 +590,7 @@ fn view(
         return Err(Error::InvalidInput("--tour must be at least 1 (frames per stop)".into()));
     }
     let options = options(frame)?;
-    let scene = load_scene(&frame.scene, frame.time)?;
+    let scene = load_scene(frame)?;
     let device = frame.gpu.device.as_deref().map(DeviceChoice::parse).unwrap_or_default();
     crate::viewer::run(
         ViewerOptions {

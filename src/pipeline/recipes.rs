@@ -75,6 +75,32 @@ pub const COLOUR_WHERE_ALPHA_ZERO: BlendState =
     colour_blend(vk::BlendOp::ADD, vk::BlendFactor::ONE_MINUS_DST_ALPHA, vk::BlendFactor::DST_ALPHA);
 
 // ---------------------------------------------------------------------------------------------
+// The additive loop (docs/shadow-volumes.md, "Several lights"): per light, a down-counter in
+// alpha (1 = a count of 0), its mask, and the light added where the mask holds 1.
+
+/// A volume wall entering, counting down from 1: alpha -= k/255, clamped at 0.
+pub const COUNTER_DOWN_ENTER: BlendState = alpha_blend(vk::BlendOp::REVERSE_SUBTRACT, ONE, ONE);
+
+/// A volume wall leaving: alpha += k/255, clamped at 1 (a negative count stays lit).
+pub const COUNTER_DOWN_LEAVE: BlendState = alpha_blend(vk::BlendOp::ADD, ONE, ONE);
+
+/// The subpass mask: alpha := 0 where the shader finds the light's count above 0 (written
+/// without a blend; colour masked off).
+pub const MASK_SHADOWED: BlendState = BlendState { colour: None, alpha: None, write_mask: ALPHA_ONLY };
+
+/// One light's shading: colour += the light's contribution x destination alpha (the mask: 1
+/// lit, 0 shadowed), and alpha := the fragment's 1, which resets the counter for the next light
+/// in the same pass: blend factors read the destination before the fragment is written.
+pub const ADD_LIGHT_WHERE_LIT_RESET: BlendState = BlendState {
+    colour: Some(BlendEquation::new(vk::BlendOp::ADD, vk::BlendFactor::DST_ALPHA, ONE)),
+    alpha: Some(BlendEquation::new(vk::BlendOp::ADD, ONE, vk::BlendFactor::ZERO)),
+    write_mask: vk::ColorComponentFlags::RGBA,
+};
+
+/// The reference's shading: colour += the light's contribution where the stencil test passes.
+pub const ADD_LIGHT: BlendState = colour_blend(vk::BlendOp::ADD, ONE, ONE);
+
+// ---------------------------------------------------------------------------------------------
 // Ground shadows (docs/design/planar-shadows.md).
 
 /// colour *= the fragment's colour (a factor per channel: a blob, a shadow-texture lookup, a
@@ -153,6 +179,17 @@ pub const STENCIL_COUNT_ZERO: u32 = 0x80;
 /// the shadow-volume reference's one apply test, which leaves negative counts lit.
 pub const STENCIL_COUNT_POSITIVE: StencilState =
     both_faces(stencil_face(vk::CompareOp::LESS, STENCIL_COUNT_ZERO, 0, vk::StencilOp::KEEP, vk::StencilOp::KEEP));
+
+/// Passes where the biased count is not positive (`0x80 >= stencil`: lit, a negative count
+/// included), and writes nothing: the additive reference's shading test, Ogre's `EQUAL 0` on
+/// the repo's biased stencil.
+pub const STENCIL_COUNT_NOT_POSITIVE: StencilState = both_faces(stencil_face(
+    vk::CompareOp::GREATER_OR_EQUAL,
+    STENCIL_COUNT_ZERO,
+    0,
+    vk::StencilOp::KEEP,
+    vk::StencilOp::KEEP,
+));
 
 /// The seed 001 test: `Ref 0 Comp Equal Pass IncrWrap ZFail Keep` (a receiver pixel is darkened
 /// once, then holds 1 and refuses the next shadow fragment).

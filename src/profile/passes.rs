@@ -116,13 +116,17 @@ fn state_columns(desc: &PipelineDesc) -> String {
 mod tests {
     use super::*;
     use crate::frame::StencilMode;
+    use crate::technique::light_loop::PlannedLight;
     use crate::technique::shadow_volume::{recipes, ShadowVolumeOptions, VolumeMethod};
+    use crate::technique::ShadowMode;
 
     #[test]
     fn shadow_volume_table_shows_the_seed_recipes() {
-        let options = ShadowVolumeOptions { method: VolumeMethod::ZPass, ..Default::default() };
-        let emulated =
-            plan_table("emulated", &recipes::plan(&options, Default::default(), StencilMode::Emulated, 1).unwrap());
+        let options =
+            ShadowVolumeOptions { method: VolumeMethod::ZPass, mode: ShadowMode::Modulate, ..Default::default() };
+        let lights = PlannedLight::default_lights();
+        let plan = |stencil| recipes::plan(&options, Default::default(), stencil, 1, &lights).unwrap();
+        let emulated = plan_table("emulated", &plan(StencilMode::Emulated));
         assert!(emulated.contains("| normalise N0 | normalise N0 |"));
         assert!(emulated.contains("| normalise N1 | normalise iteration |"));
         assert!(emulated.contains("SUBTRACT (ONE_MINUS_DST_ALPHA, ONE)"));
@@ -131,8 +135,34 @@ mod tests {
         for line in emulated.lines().filter(|l| l.starts_with("| ") && !l.starts_with("| #")) {
             assert!(line.ends_with("| none | none |"), "{line}");
         }
-        let reference =
-            plan_table("reference", &recipes::plan(&options, Default::default(), StencilMode::Reference, 1).unwrap());
+        let reference = plan_table("reference", &plan(StencilMode::Reference));
         assert!(reference.contains("INCREMENT_AND_WRAP"));
+    }
+
+    #[test]
+    fn the_additive_table_shows_the_loop_of_each_light() {
+        let options = ShadowVolumeOptions { method: VolumeMethod::ZPass, ..Default::default() };
+        let lights = vec![
+            PlannedLight { name: "sun".into(), shadows: true },
+            PlannedLight { name: "lamp".into(), shadows: true },
+            PlannedLight { name: "fill".into(), shadows: false },
+        ];
+        let plan = |stencil| recipes::plan(&options, Default::default(), stencil, 1, &lights).unwrap();
+        let emulated = plan_table("emulated", &plan(StencilMode::Emulated));
+        for row in [
+            "| scene (ambient) | scene (ambient) |",
+            "| sun: volumes (alpha, z-pass) | volume enter (z-pass) |",
+            "| sun: normalise N6 | normalise iteration |",
+            "| lamp: normalise N1 | normalise iteration |",
+            "| lamp: shading | shading |",
+            "| fill: shading | shading (no shadows) |",
+        ] {
+            assert!(emulated.contains(row), "{row}\n{emulated}");
+        }
+        assert!(!emulated.contains("sun: normalise N7") && !emulated.contains("fill: volumes"));
+        assert!(emulated.contains("ADD (DST_ALPHA, ONE) | ADD (ONE, ZERO)"), "the shading pass resets the counter");
+        let reference = plan_table("reference", &plan(StencilMode::Reference));
+        assert!(reference.contains("| lamp: shading (stencil) | shading (stencil) |"));
+        assert!(reference.contains("GREATER_OR_EQUAL ref 128"));
     }
 }

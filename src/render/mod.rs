@@ -19,7 +19,7 @@ pub mod uniforms;
 pub use counters::{FrameCounters, PassCounters};
 pub use gpu_mesh::{scene_vertices, GpuMesh, GpuScene, SceneVertex};
 pub use materials::{GpuMaterials, MATERIAL_SET};
-pub use object_push::{object_push, ObjectPush, OBJECT_PUSH_BYTES};
+pub use object_push::{object_push, LightPush, ObjectPush, LIGHT_PUSH_BYTES, OBJECT_PUSH_BYTES};
 pub use pipeline_object::{Pipeline, PipelineTarget};
 pub use recorder::FrameRecorder;
 pub use renderer::{FrameOutput, Renderer};

@@ -34,3 +34,15 @@ pub struct ObjectPush {
 }
 
 pub const OBJECT_PUSH_BYTES: u32 = std::mem::size_of::<ObjectPush>() as u32;
+
+/// Mirrors `LightPush` in `shaders/light_push.glsl`: a per-light pass's object push, and which
+/// of the frame's lights it shades.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct LightPush {
+    pub object: ObjectPush,
+    /// x: the light's index in the frame's lights.
+    pub light: [u32; 4],
+}
+
+pub const LIGHT_PUSH_BYTES: u32 = std::mem::size_of::<LightPush>() as u32;

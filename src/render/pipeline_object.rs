@@ -33,12 +33,19 @@ pub struct PipelineTarget {
     pub render_pass: vk::RenderPass,
     pub colour_attachments: usize,
     pub samples: u32,
+    /// The lights the forward passes sum (fragment specialization constant 1).
+    pub lights: u32,
 }
 
 impl PipelineTarget {
     /// A one-sample target (every offscreen prepass).
     pub fn one_sample(render_pass: vk::RenderPass, colour_attachments: usize) -> Self {
-        PipelineTarget { render_pass, colour_attachments, samples: 1 }
+        PipelineTarget { render_pass, colour_attachments, samples: 1, lights: 1 }
+    }
+
+    /// The same target for a frame of `lights` lights.
+    pub fn with_lights(self, lights: usize) -> Self {
+        PipelineTarget { lights: lights as u32, ..self }
     }
 }
 
@@ -52,6 +59,8 @@ pub struct Pipeline {
     pub render_pass: vk::RenderPass,
     /// Samples per pixel of the render pass's attachments.
     pub samples: u32,
+    /// The light count it was specialised for.
+    pub lights: u32,
     /// False for overdraw counters, which borrow their original's layout.
     owns_layout: bool,
     pub desc: PipelineDesc,
@@ -123,7 +132,12 @@ impl Pipeline {
             alpha: Some(BlendEquation::new(vk::BlendOp::ADD, vk::BlendFactor::ONE, vk::BlendFactor::ONE)),
             write_mask: vk::ColorComponentFlags::A,
         };
-        let target = PipelineTarget { render_pass: self.render_pass, colour_attachments: 1, samples: self.samples };
+        let target = PipelineTarget {
+            render_pass: self.render_pass,
+            colour_attachments: 1,
+            samples: self.samples,
+            lights: self.lights,
+        };
         Self::with_layout(&self.gpu, &desc, target, self.layout, self.set_count, false)
     }
 
@@ -135,7 +149,7 @@ impl Pipeline {
         set_count: u32,
         owns_layout: bool,
     ) -> Result<Self> {
-        let PipelineTarget { render_pass, colour_attachments, samples } = target;
+        let PipelineTarget { render_pass, colour_attachments, samples, lights } = target;
         let device = gpu.raw();
         let mut pipeline = Pipeline {
             gpu: gpu.clone(),
@@ -144,6 +158,7 @@ impl Pipeline {
             set_count,
             render_pass,
             samples,
+            lights,
             owns_layout,
             desc: desc.clone(),
         };
@@ -151,10 +166,14 @@ impl Pipeline {
         let vertex_module = ShaderModule::new(gpu, desc.vertex_shader)?;
         let fragment_module = ShaderModule::new(gpu, desc.fragment_shader)?;
         // Fragment specialization constant 0 is the target's sample count, for shaders that
-        // read every sample of a multisampled input (a shader without it ignores it).
-        let sample_count = (samples as i32).to_ne_bytes();
-        let sample_entry = [vk::SpecializationMapEntry { constant_id: 0, offset: 0, size: 4 }];
-        let specialization = vk::SpecializationInfo::default().map_entries(&sample_entry).data(&sample_count);
+        // read every sample of a multisampled input; 1 the frame's light count, for shaders
+        // that sum the lights (a shader without them ignores them).
+        let constants: Vec<u8> = [samples as i32, lights as i32].iter().flat_map(|c| c.to_ne_bytes()).collect();
+        let entries = [
+            vk::SpecializationMapEntry { constant_id: 0, offset: 0, size: 4 },
+            vk::SpecializationMapEntry { constant_id: 1, offset: 4, size: 4 },
+        ];
+        let specialization = vk::SpecializationInfo::default().map_entries(&entries).data(&constants);
         let stages = [
             vk::PipelineShaderStageCreateInfo::default()
                 .stage(vk::ShaderStageFlags::VERTEX)

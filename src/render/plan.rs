@@ -17,7 +17,7 @@ use glam::Vec4;
 use super::gpu_mesh::GpuScene;
 pub use super::materials::MaterialVariant;
 use super::materials::MATERIAL_SET;
-use super::object_push::{draw_order, object_push};
+use super::object_push::{draw_order, object_push, LightPush};
 use super::pipeline_object::PipelineTarget;
 use super::recorder::FrameRecorder;
 use crate::error::{Error, Result};
@@ -241,6 +241,37 @@ pub struct PlannedPass<K: PassKinds = Named> {
     /// Drawn inside the technique's scissor for the frame (`PassDraws::scissor`) rather than
     /// over the whole frame.
     pub scissored: bool,
+    /// The light (index into the scene's lights) a pass of a per-light loop is for: its
+    /// scissor is that light's, and an object pass pushes the index after `ObjectPush`.
+    pub light: Option<u8>,
+    /// Which objects an object pass draws.
+    pub only: Only,
+}
+
+/// Which objects an object pass draws, by how their material blends.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Only {
+    #[default]
+    All,
+    /// Opaque and cut-out materials: the per-light loop's passes (depth-equal shading needs
+    /// the depth a surface wrote).
+    Opaque,
+    /// Blended materials: drawn after the loop, lit by every light.
+    Blended,
+}
+
+impl Only {
+    fn draws(self, material: &crate::scene::model::Material) -> bool {
+        let blended = matches!(
+            MaterialVariant::for_surface(material),
+            Some(MaterialVariant::Blend | MaterialVariant::BlendDoubleSided)
+        );
+        match self {
+            Only::All => true,
+            Only::Opaque => !blended,
+            Only::Blended => blended,
+        }
+    }
 }
 
 /// The rectangles a full-screen pass of a scissored plan is drawn in: `rects`, or, at several
@@ -292,6 +323,8 @@ impl<K: PassKinds> PlannedPass<K> {
             when: When::Always,
             reads_colour: false,
             scissored: false,
+            light: None,
+            only: Only::All,
         }
     }
 
@@ -340,6 +373,8 @@ impl<K: PassKinds> PlannedPass<K> {
             when: When::Always,
             reads_colour: false,
             scissored: false,
+            light: None,
+            only: Only::All,
         }
     }
 
@@ -394,6 +429,16 @@ impl<K: PassKinds> PlannedPass<K> {
     }
 
     /// Drawn inside the technique's scissor for the frame (see [`PassDraws::scissor`]).
+    pub fn for_light(mut self, light: u8) -> Self {
+        self.light = Some(light);
+        self
+    }
+
+    pub fn only(mut self, only: Only) -> Self {
+        self.only = only;
+        self
+    }
+
     pub fn scissored(mut self) -> Self {
         self.scissored = true;
         self
@@ -406,7 +451,10 @@ impl<K: PassKinds> PlannedPass<K> {
 
     /// What the pass pushes, for the table.
     pub fn describe_push(&self) -> String {
-        self.draws.describe_push()
+        match (&self.draws, self.light) {
+            (Draws::Objects { .. }, Some(light)) => format!("{}, light {light}", self.draws.describe_push()),
+            _ => self.draws.describe_push(),
+        }
     }
 
     /// This pass with its kinds kept by name (see [`PassPlan::named`]).
@@ -433,6 +481,8 @@ impl<K: PassKinds> PlannedPass<K> {
             when: self.when,
             reads_colour: self.reads_colour,
             scissored: self.scissored,
+            light: self.light,
+            only: self.only,
         }
     }
 }
@@ -573,8 +623,10 @@ pub trait PassDraws<K: PassKinds> {
         self.meshes().map(|meshes| meshes.materials.template_set())
     }
 
-    /// Where the plan's scissored passes draw this frame.
-    fn scissor(&self) -> Scissor {
+    /// Where the plan's scissored pass `pass` draws this frame (in a per-light loop, its
+    /// `light` says whose scissor).
+    fn scissor(&self, pass: &PlannedPass<K>) -> Scissor {
+        let _ = pass;
         Scissor::Frame
     }
 
@@ -643,7 +695,7 @@ pub fn record_plan<K: PassKinds>(
                 return Err(Error::Internal(format!("pass '{}' has no pipeline", pass.name)));
             };
             rec.bind_with_sets(main, &sets);
-            let scissor = if pass.scissored { draws.scissor() } else { Scissor::Frame };
+            let scissor = if pass.scissored { draws.scissor(pass) } else { Scissor::Frame };
             match &pass.draws {
                 Draws::FullScreen { push } => {
                     if let Some(value) = push {
@@ -662,6 +714,13 @@ pub fn record_plan<K: PassKinds>(
                 }
                 Draws::Objects { alpha } => match draws.meshes() {
                     Some(meshes) => {
+                        // Objects are drawn once, inside the bounding rectangle of the scissor.
+                        if let Scissor::Rects(rects) = &scissor {
+                            match bounding_rect(rects) {
+                                Some(rect) => rec.set_scissor(rect),
+                                None => return Ok(()),
+                            }
+                        }
                         draw_objects(rec, pass, &bound, scene, meshes, *alpha);
                         Ok(())
                     }
@@ -700,6 +759,9 @@ pub fn draw_objects<K: PassKinds>(
     for index in draw_order(scene) {
         let object = &scene.objects[index];
         let material = scene.material_of(object);
+        if !pass.only.draws(material) {
+            continue;
+        }
         let main = pipelines.first().map_or("", |p| p.desc.name);
         let wanted = pass.variant_index(main, MaterialVariant::for_surface(material)).unwrap_or(0);
         let Some(&pipeline) = pipelines.get(wanted) else { continue };
@@ -710,7 +772,12 @@ pub fn draw_objects<K: PassKinds>(
         if with_material {
             rec.bind_material(pipeline, meshes.materials.set(object.material));
         }
-        rec.push(pipeline, &object_push(scene, object, alpha));
+        let push = object_push(scene, object, alpha);
+        match pass.light {
+            // A per-light pass says which light (`shaders/light_push.glsl`).
+            Some(light) => rec.push(pipeline, &LightPush { object: push, light: [u32::from(light), 0, 0, 0] }),
+            None => rec.push(pipeline, &push),
+        }
         rec.draw_mesh(&meshes.meshes[object.mesh]);
     }
 }

@@ -403,6 +403,23 @@ impl<'a> FrameRecorder<'a> {
         unsafe { self.gpu.raw().cmd_clear_attachments(self.cmd, &[attachment], &[rect]) };
     }
 
+    /// Sets the stencil to `value` inside `rect` (the frame's render pass, reference paths): the
+    /// per-light clear of Doom 3's and Ogre's loops, in the light's scissor.
+    pub fn clear_stencil_in(&mut self, value: u32, rect: vk::Rect2D) {
+        let attachment = vk::ClearAttachment {
+            aspect_mask: vk::ImageAspectFlags::STENCIL,
+            color_attachment: 0,
+            clear_value: vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: value } },
+        };
+        let rect = vk::ClearRect { rect, base_array_layer: 0, layer_count: 1 };
+        if rect.rect.extent.width == 0 || rect.rect.extent.height == 0 {
+            return;
+        }
+        // SAFETY: see the note on `FrameRecorder`; as `clear_stencil`, with `rect` inside the
+        // frame (callers clamp it) and not empty (checked above).
+        unsafe { self.gpu.raw().cmd_clear_attachments(self.cmd, &[attachment], &[rect]) };
+    }
+
     /// Fills mips 1.. of a colour image from its mip 0 (in TRANSFER_DST_OPTIMAL) with linear
     /// blits, leaving every mip sampled (SHADER_READ_ONLY_OPTIMAL); the old contents of mips 1..
     /// are dropped.

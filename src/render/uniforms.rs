@@ -11,25 +11,75 @@ use crate::error::Result;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
-use crate::scene::Scene;
+use crate::scene::camera::Light;
+use crate::scene::{Scene, SceneLight, MAX_LIGHTS};
+
+/// Mirrors `FrameLight` in `shaders/frame_uniforms.glsl` (std140: four vec4s).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuLight {
+    /// xyz: position (w = 1) or the direction the light travels (w = 0), as `toward_light`
+    /// reads it.
+    pub position: Vec4,
+    /// xyz: a spot light's axis (the way it shines); w: 1 / range (0: no range).
+    pub direction: Vec4,
+    /// rgb: colour x intensity; w unused.
+    pub radiance: Vec4,
+    /// x, y: KHR_lights_punctual's spot scale and offset ((0, 1) without a cone).
+    pub cone: Vec4,
+}
+
+impl GpuLight {
+    pub fn of(light: &SceneLight) -> Self {
+        let (scale, offset) = light.cone_scale_offset();
+        GpuLight {
+            position: light.geometry().as_vec4(),
+            direction: light.direction.extend(light.range.map_or(0.0, |r| 1.0 / r)),
+            radiance: light.radiance().extend(0.0),
+            cone: Vec4::new(scale, offset, 0.0, 0.0),
+        }
+    }
+}
 
 /// Mirrors `FrameUniforms` in `shaders/frame_uniforms.glsl` (std140: vec4s and a mat4).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 pub struct FrameUniforms {
     pub view_proj: Mat4,
+    /// The primary light's geometry (the one light of the one-light techniques).
     pub light: Vec4,
     pub camera_position: Vec4,
+    /// x: the ambient term; y: the number of lights; z: the primary light's index.
     pub shading: Vec4,
+    pub lights: [GpuLight; MAX_LIGHTS],
 }
 
 impl FrameUniforms {
     pub fn for_scene(scene: &Scene, aspect: f32) -> Self {
+        let mut lights = [GpuLight::default(); MAX_LIGHTS];
+        for (slot, light) in lights.iter_mut().zip(&scene.lights) {
+            *slot = GpuLight::of(light);
+        }
         FrameUniforms {
             view_proj: scene.camera.view_projection(aspect),
-            light: scene.light.as_vec4(),
+            light: scene.light().as_vec4(),
             camera_position: scene.camera.eye.extend(1.0),
-            shading: Vec4::new(scene.ambient, 0.0, 0.0, 0.0),
+            shading: Vec4::new(
+                scene.ambient,
+                scene.lights.len().min(MAX_LIGHTS) as f32,
+                scene.primary_light_index().unwrap_or(0) as f32,
+                0.0,
+            ),
+            lights,
+        }
+    }
+
+    /// Moves the primary light (light `primary` of the scene) to `light` for this frame: a
+    /// technique that turns the light (the atlas's moving light) turns it for every pass.
+    pub fn move_primary_light(&mut self, primary: Option<usize>, light: Light) {
+        self.light = light.as_vec4();
+        if let Some(slot) = primary.and_then(|i| self.lights.get_mut(i)) {
+            slot.position = light.as_vec4();
         }
     }
 }

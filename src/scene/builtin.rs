@@ -5,6 +5,7 @@ use glam::{Mat4, Quat, Vec3};
 use super::camera::{Camera, Light};
 use super::character;
 use super::layout::{ground_plane, with_ground};
+use super::lights::parse_light_spec;
 use super::open_casters;
 // Re-exported for callers of the path it had before it moved to `layout`.
 use super::objects::Scene;
@@ -25,6 +26,7 @@ pub const BUILTIN_SCENES: &[(&str, &str)] = &[
     ("open-box", "a box without its top, the camera looking in through the hole"),
     ("non-manifold", "three quads sharing one edge (a non-manifold fan) and a box with a flipped triangle"),
     ("touching", "boxes touching along an edge (non-manifold) and at a corner, one mesh each"),
+    ("lights", "a warm sun, a red point lamp and a blue spot whose shadows overlap on a box, a torus and a pillar"),
 ];
 
 /// Scenes outside the shadow-volume sweep (too heavy to render dozens of times in tests, or
@@ -58,6 +60,7 @@ pub fn builtin_scene_at(name: &str, time: f32) -> Result<Scene> {
         "open-box" => Ok(open_casters::open_box_scene()),
         "non-manifold" => Ok(open_casters::non_manifold_scene()),
         "touching" => Ok(open_casters::touching_scene()),
+        "lights" => lights_scene(),
         "slope" => slope_scene(time),
         "atlas-one" => atlas_one_scene(),
         "atlas-125" => atlas_125_scene(),
@@ -173,7 +176,7 @@ fn overlap_scene() -> Result<Scene> {
 fn point_light_scene(time: f32) -> Result<Scene> {
     let mut scene = default_scene_at(time)?;
     scene.name = "point-light".into();
-    scene.light = Light::Point { position: Vec3::new(-1.0, 6.0, 2.0) };
+    scene.set_light(Light::Point { position: Vec3::new(-1.0, 6.0, 2.0) });
     Ok(scene)
 }
 
@@ -191,6 +194,49 @@ fn inside_scene() -> Result<Scene> {
     let transform =
         Mat4::from_scale_rotation_translation(Vec3::new(0.4, 1.2, 0.4), Quat::IDENTITY, Vec3::new(1.2, 0.6, -3.0));
     scene.add_object("post", post, transform, Vec3::new(0.86, 0.36, 0.24), true);
+    Ok(scene)
+}
+
+/// Three lights of the three KHR_lights_punctual kinds, coloured, over casters each of them
+/// reaches, so that their shadows overlap: the additive loop's scene (docs/shadow-volumes.md).
+pub fn lights_scene() -> Result<Scene> {
+    let camera = Camera::look_at(Vec3::new(0.3, 3.6, 5.2), Vec3::new(0.0, 0.5, 0.2));
+    let sun = Light::Directional { direction: Vec3::new(0.5, -1.0, -0.3).normalize() };
+    let mut scene = with_ground("lights", camera, sun);
+    scene.lights[0].colour = Vec3::new(1.0, 0.85, 0.6);
+    scene.lights[0].intensity = 0.45;
+    let add = |spec: &str, scene: &mut Scene| -> Result<()> {
+        let light = parse_light_spec(spec)?;
+        scene.lights.push(light);
+        Ok(())
+    };
+    add("point:name=lamp:at=-2.2,2.4,1.4:colour=1,0.3,0.2:intensity=6:range=7", &mut scene)?;
+    add("spot:name=spot:at=2.4,4.2,1.6:aim=0.4,0,-0.2:colour=0.3,0.5,1:intensity=14:range=9:inner=20:outer=32", &mut scene)?;
+
+    let cube = scene.add_mesh("box", shapes::cube(1.1));
+    scene.add_object(
+        "box",
+        cube,
+        Mat4::from_rotation_translation(Quat::from_rotation_y(0.5), Vec3::new(0.0, 0.8, -0.3)),
+        Vec3::new(0.75, 0.75, 0.72),
+        true,
+    );
+    let torus = scene.add_mesh("torus", shapes::torus(0.6, 0.22, 40, 20)?);
+    scene.add_object(
+        "torus",
+        torus,
+        Mat4::from_rotation_translation(Quat::from_rotation_x(1.2), Vec3::new(-1.3, 1.2, 0.9)),
+        Vec3::new(0.8, 0.8, 0.8),
+        true,
+    );
+    let pillar = scene.add_mesh("pillar", shapes::cube(1.0));
+    scene.add_object(
+        "pillar",
+        pillar,
+        Mat4::from_scale_rotation_translation(Vec3::new(0.35, 2.2, 0.35), Quat::IDENTITY, Vec3::new(1.4, 1.1, 0.8)),
+        Vec3::new(0.75, 0.75, 0.78),
+        true,
+    );
     Ok(scene)
 }
 

@@ -11,6 +11,7 @@ use super::animation::{pose_at, rest_pose, TimeMode};
 use super::camera::{Camera, Light};
 use super::gltf::{load_gltf, load_gltf_slice};
 use super::layout::ground_plane;
+use super::lights::{unique_name, LightNode, SceneLight, MAX_LIGHTS};
 use super::model::{LightKind, Model};
 use super::objects::Scene;
 use super::place::add_model;
@@ -35,7 +36,7 @@ pub fn scene_and_warnings_from_gltf_slice(bytes: &[u8], path: &Path, time: f32) 
 }
 
 fn scene_from_model(mut model: Model, path: &Path, time: f32) -> Result<(Scene, Vec<String>)> {
-    let warnings = std::mem::take(&mut model.warnings);
+    let mut warnings = std::mem::take(&mut model.warnings);
     let name = path.file_name().map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned());
     let local = if model.animations.is_empty() { rest_pose(&model) } else { pose_at(&model, 0, time, TimeMode::Loop)? };
     let world = world_matrices(&model, &local);
@@ -44,6 +45,10 @@ fn scene_from_model(mut model: Model, path: &Path, time: f32) -> Result<(Scene, 
 
     let mut scene =
         Scene::empty(&name, Camera::look_at(Vec3::new(0.0, 2.0, 5.0), Vec3::ZERO), default_light(model, &world));
+    let lights = file_lights(&rig, &world, &mut warnings);
+    if !lights.is_empty() {
+        scene.lights = lights;
+    }
     let Some((low, high)) = add_model(&mut scene, &rig, &world)? else {
         return Err(crate::error::Error::Asset {
             path: path.to_path_buf(),
@@ -70,12 +75,49 @@ fn default_light(model: &Model, world: &[Mat4]) -> Light {
         .unwrap_or(Light::Directional { direction: Vec3::new(-0.45, -1.0, -0.35).normalize() })
 }
 
+/// Every KHR_lights_punctual light on a node, placed by its node and following it when the scene
+/// is re-posed: named after the light, else its node, else "light N". Lights past a frame's
+/// [`MAX_LIGHTS`] are named in a warning and left out.
+fn file_lights(rig: &Arc<Rig>, world: &[Mat4], warnings: &mut Vec<String>) -> Vec<SceneLight> {
+    let model = &rig.model;
+    let mut lights: Vec<SceneLight> = Vec::new();
+    let mut left_out = Vec::new();
+    for (index, node) in model.nodes.iter().enumerate() {
+        let Some(light) = node.light.and_then(|l| model.lights.get(l)) else { continue };
+        let base = light.name.clone().or_else(|| node.name.clone()).unwrap_or_else(|| format!("light {}", lights.len() + 1));
+        if lights.len() == MAX_LIGHTS {
+            left_out.push(base);
+            continue;
+        }
+        let mut scene_light = SceneLight {
+            name: unique_name(&lights, &base),
+            kind: light.kind,
+            position: Vec3::ZERO,
+            direction: Vec3::NEG_Z,
+            colour: light.color,
+            intensity: light.intensity,
+            range: light.range,
+            casts_shadow: true,
+            node: Some(LightNode { rig: rig.clone(), node: index }),
+        };
+        scene_light.place(world.get(index).copied().unwrap_or(Mat4::IDENTITY));
+        lights.push(scene_light);
+    }
+    if !left_out.is_empty() {
+        warnings.push(format!(
+            "KHR_lights_punctual: a frame holds {MAX_LIGHTS} lights; left out: {}",
+            left_out.join(", ")
+        ));
+    }
+    lights
+}
+
 /// A ground plane just under the model, and a camera that frames the model and its shadow.
 fn fit_ground_and_camera(scene: &mut Scene, low: Vec3, high: Vec3) {
     let centre = (low + high) * 0.5;
     let radius = ((high - low).length() * 0.5).max(1e-3);
     let ground_y = low.y - radius * 0.02;
-    let footprint = frame_with_shadow(low, high, ground_y, &scene.light);
+    let footprint = frame_with_shadow(low, high, ground_y, &scene.light());
     let ground = scene.add_mesh("ground", ground_plane(footprint.radius.max(radius) * 8.0));
     let below = Mat4::from_translation(Vec3::new(centre.x, ground_y, centre.z));
     scene.add_object("ground", ground, below, Vec3::new(0.82, 0.80, 0.74), false);

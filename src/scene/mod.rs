@@ -6,14 +6,15 @@
 //   animation, skinning -> model
 //   gltf/ (the loader)  -> model, normals
 //   rig                 -> animation, model, skinning
-//   objects             -> camera, rig, skinning
+//   lights              -> camera, model, rig
+//   objects             -> camera, lights, rig, skinning
 //   posing              -> objects, rig, skinning
 //   layout              -> camera, objects
 //   place               -> model, objects, rig, skinning
 //   character           -> model, objects, place, rig, skinning
 //   from_gltf           -> animation, camera, gltf, layout, model, objects, place, rig, skinning
 //   open_casters        -> camera, layout, objects
-//   builtin             -> camera, character, layout, objects, open_casters
+//   builtin             -> camera, character, layout, lights, objects, open_casters
 
 pub mod animation;
 pub mod builtin;
@@ -22,6 +23,7 @@ pub mod character;
 pub mod from_gltf;
 pub mod gltf;
 pub mod layout;
+pub mod lights;
 pub mod model;
 pub mod normals;
 pub mod objects;
@@ -34,6 +36,7 @@ pub mod skinning;
 pub use animation::{pose_at, rest_pose, sample_channel, TimeMode};
 pub use builtin::{builtin_scene, builtin_scene_at, BUILTIN_SCENES, OTHER_SCENES};
 pub use camera::{Camera, Light};
+pub use lights::{SceneLight, MAX_LIGHTS};
 pub use from_gltf::{scene_and_warnings_from_gltf, scene_and_warnings_from_gltf_slice, scene_from_gltf};
 // `self::`: `gltf` alone would also name the gltf crate.
 pub use self::gltf::{load_gltf, load_gltf_slice};

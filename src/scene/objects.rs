@@ -1,4 +1,4 @@
-//! What a frame draws: meshes, the objects placed from them, one light and a camera.
+//! What a frame draws: meshes, the objects placed from them, lights and a camera.
 
 use std::borrow::Cow;
 use std::sync::Arc;
@@ -6,6 +6,7 @@ use std::sync::Arc;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use super::camera::{Camera, Light};
+use super::lights::SceneLight;
 use super::model::{Material, TextureRgba8};
 use super::rig::ObjectRig;
 use super::skinning::{blend_joints, skin_normal};
@@ -106,7 +107,9 @@ pub struct Scene {
     pub materials: Vec<Material>,
     /// Colour textures (base colour, emissive), shared by the materials that name them.
     pub textures: Vec<Arc<TextureRgba8>>,
-    pub light: Light,
+    /// Every light, in the order passes draw them; the first that casts shadows is the primary
+    /// light ([`Scene::light`]) of the techniques that shadow one light.
+    pub lights: Vec<SceneLight>,
     pub ambient: f32,
     pub camera: Camera,
     /// Clear colour (linear RGB); its alpha is set by the technique.
@@ -123,10 +126,34 @@ impl Scene {
             objects: Vec::new(),
             materials: Vec::new(),
             textures: Vec::new(),
-            light,
+            lights: vec![SceneLight::from_geometry(light)],
             ambient: 0.25,
             camera,
             background: Vec3::new(0.55, 0.65, 0.78),
+        }
+    }
+
+    /// The primary light's geometry: the first light that casts shadows, else the first light,
+    /// else one straight down.
+    pub fn light(&self) -> Light {
+        self.primary_light().map_or(Light::Directional { direction: glam::Vec3::NEG_Y }, |l| l.geometry())
+    }
+
+    /// The primary light: the first that casts shadows, else the first.
+    pub fn primary_light(&self) -> Option<&SceneLight> {
+        self.lights.iter().find(|l| l.casts_shadow).or(self.lights.first())
+    }
+
+    /// Index of the primary light in `lights`.
+    pub fn primary_light_index(&self) -> Option<usize> {
+        self.lights.iter().position(|l| l.casts_shadow).or((!self.lights.is_empty()).then_some(0))
+    }
+
+    /// Moves the primary light to `light` (a scene without lights gets one).
+    pub fn set_light(&mut self, light: Light) {
+        match self.primary_light_index() {
+            Some(index) => self.lights[index].set_geometry(light),
+            None => self.lights.push(SceneLight::from_geometry(light)),
         }
     }
 

@@ -65,12 +65,26 @@ impl Scene {
                 skin.joint_matrices = joint_matrices(&placed.rig.model, skin_index, world, node_world)?;
             }
         }
+        // File lights ride on their nodes (KHR_lights_punctual).
+        for light in &mut self.lights {
+            let Some(on) = &light.node else { continue };
+            let key = Arc::as_ptr(&on.rig);
+            let world = match worlds.iter().position(|(k, _)| *k == key) {
+                Some(i) => &worlds[i].1,
+                None => {
+                    worlds.push((key, on.rig.world_at(time)?));
+                    &worlds[worlds.len() - 1].1
+                }
+            };
+            let node_world = world.get(on.node).copied().unwrap_or(Mat4::IDENTITY);
+            light.place(node_world);
+        }
         Ok(())
     }
 
     /// Whether [`Scene::pose_at`] changes anything.
     pub fn is_animated(&self) -> bool {
-        self.objects.iter().any(|o| o.rig.is_some())
+        self.objects.iter().any(|o| o.rig.is_some()) || self.lights.iter().any(|l| l.node.is_some())
     }
 }
 

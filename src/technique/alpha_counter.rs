@@ -137,6 +137,33 @@ pub fn seed_iterations(k: u8, darkness: u8) -> Result<usize> {
         .ok_or_else(|| Error::Internal(format!("k = {k}, D = {darkness}: shadowed counts never reach D")))
 }
 
+/// The additive mode's iterations (docs/shadow-volumes.md, "Several lights"): its counter
+/// counts down from 1 (255 - count x k), so no N0 is needed (1 is the iteration's fixed
+/// point), and the smallest n that brings every shadowed count to exactly 0 when every product
+/// rounds up (the worst case) makes a mask of exactly {0, 1} on any conforming GPU.
+pub fn down_iterations(k: u8) -> Result<usize> {
+    let k = check_increment(k)?;
+    let lit_stays_lit = Rounding::ALL.iter().all(|&r| Step::Iteration.apply(255, 0, r) == 255);
+    if !lit_stays_lit {
+        return Err(Error::Internal("the iteration does not keep a count of 0 at 1".into()));
+    }
+    (0..=ITERATION_BOUND)
+        .find(|&n| down_counts_after(k, n, Rounding::Up).all(|a| a == 0))
+        .ok_or_else(|| Error::Internal(format!("k = {k}: shadowed down-counts never reach 0")))
+}
+
+/// The alpha of every shadowed down-count (255 - k, 255 - 2k, ... down to the clamp at 0)
+/// after `iterations` iterations under `rounding`.
+pub fn down_counts_after(k: u8, iterations: usize, rounding: Rounding) -> impl Iterator<Item = u8> {
+    (1..=capacity(k)).map(move |count| {
+        let mut a = 255u32.saturating_sub(count * k as u32) as u8;
+        for _ in 0..iterations {
+            a = Step::Iteration.apply(a, 0, rounding);
+        }
+        a
+    })
+}
+
 /// The iteration counts for each D (rows) and k (columns), as a Markdown table: what the
 /// docs/shadow-volumes.md prints and `nostencil passes --technique shadow-volume` shows.
 pub fn iteration_table(darkness: &[u8], increments: &[u8]) -> Result<String> {
@@ -289,6 +316,24 @@ mod tests {
         let readme = include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/shadow-volumes.md"));
         let section = iteration_section().unwrap();
         assert!(readme.contains(&section), "docs/shadow-volumes.md's iteration table differs; paste:\n{section}");
+    }
+
+    #[test]
+    fn down_counts_reach_zero_in_the_derived_iterations_and_not_one_sooner() {
+        let derived: Vec<usize> = TABLE_INCREMENTS.iter().map(|&k| down_iterations(k).expect("k")).collect();
+        assert_eq!(derived, [6, 5, 5, 4]);
+        for (&k, &n) in TABLE_INCREMENTS.iter().zip(&derived) {
+            for rounding in Rounding::ALL.iter().copied() {
+                assert!(down_counts_after(k, n, rounding).all(|a| a == 0), "k = {k}, {rounding:?}");
+            }
+            assert!(down_counts_after(k, n - 1, Rounding::Up).any(|a| a > 0), "k = {k}: n - 1 would do");
+            // A count of 0 (alpha 1) is the iteration's fixed point: lit stays exactly lit.
+            let mut lit = 255;
+            for _ in 0..n {
+                lit = Step::Iteration.apply(lit, 0, Rounding::Up);
+            }
+            assert_eq!(lit, 255);
+        }
     }
 
     #[test]

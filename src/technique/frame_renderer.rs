@@ -97,6 +97,9 @@ pub struct FrameRenderer<'s, K: PassKinds, P> {
     named_plan: PassPlan,
     pipelines: PlanPipelines,
     passes: P,
+    /// What the build could not honour in the scene: the technique's own warnings, and the
+    /// lights it leaves unshadowed (`unit::build_unit`).
+    pub warnings: Vec<String>,
 }
 
 /// Everything a technique's `Passes` is built from.
@@ -137,6 +140,7 @@ pub fn build_typed<'s, K: PassKinds, P: Passes<K> + 's>(
         render_pass: renderer.targets.render_pass,
         colour_attachments: 1,
         samples: renderer.targets.samples(),
+        lights: scene.lights.len() as u32,
     };
     let frame_layout = renderer.frame.layout;
     let pipelines = PlanPipelines::build(
@@ -147,7 +151,9 @@ pub fn build_typed<'s, K: PassKinds, P: Passes<K> + 's>(
             // Prepasses draw at one sample: see `Passes::offscreen_pass`.
             Target::Offscreen(target) => passes
                 .offscreen_pass(target)
-                .map(|(render_pass, colour_attachments)| PipelineTarget::one_sample(render_pass, colour_attachments))
+                .map(|(render_pass, colour_attachments)| {
+                    PipelineTarget::one_sample(render_pass, colour_attachments).with_lights(scene.lights.len())
+                })
                 .ok_or_else(|| {
                     Error::Internal(format!("{}: built without render pass '{}'", technique, target.label()))
                 }),
@@ -163,7 +169,8 @@ pub fn build_typed<'s, K: PassKinds, P: Passes<K> + 's>(
         },
     )?;
     let named_plan = plan.named();
-    Ok(FrameRenderer { technique, scene, renderer, plan, named_plan, pipelines, passes })
+    let warnings = passes.warnings().to_vec();
+    Ok(FrameRenderer { technique, scene, renderer, plan, named_plan, pipelines, passes, warnings })
 }
 
 impl<K: PassKinds, P> FrameRenderer<'_, K, P> {
@@ -179,7 +186,7 @@ impl<K: PassKinds, P: Passes<K>> SceneRenderer for FrameRenderer<'_, K, P> {
         self.passes.prepare(&self.renderer, scene)?;
         let mut uniforms = FrameUniforms::for_scene(scene, self.renderer.aspect());
         if let Some(light) = self.passes.frame_light() {
-            uniforms.light = light.as_vec4();
+            uniforms.move_primary_light(scene.primary_light_index(), light);
         }
         let clear = scene.background.extend(self.passes.clear_alpha()).to_array();
         self.renderer.stencil_clear = self.passes.clear_stencil();
@@ -193,7 +200,7 @@ impl<K: PassKinds, P: Passes<K>> SceneRenderer for FrameRenderer<'_, K, P> {
             |rec| record_plan(rec, plan, pipelines, true, &holds, scene, draws),
         )?;
         let stats = self.passes.stats(&output, scene);
-        Ok(TechniqueFrame { output, stats, conditions, warnings: self.passes.warnings().to_vec() })
+        Ok(TechniqueFrame { output, stats, conditions, warnings: self.warnings.clone() })
     }
 
     fn renderer_mut(&mut self) -> &mut Renderer {
@@ -213,7 +220,7 @@ impl<K: PassKinds, P: Passes<K>> SceneRenderer for FrameRenderer<'_, K, P> {
     }
 
     fn warnings(&self) -> &[String] {
-        self.passes.warnings()
+        &self.warnings
     }
 }
 

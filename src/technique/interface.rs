@@ -8,6 +8,7 @@ use std::any::Any;
 use std::fmt;
 use std::sync::Arc;
 
+use super::light_loop::PlannedLight;
 use super::options::{CartoonOptions, PlanarOptions, ShadowAtlasOptions, ShadowVolumeOptions};
 use super::shadow_tone::ShadowTone;
 use crate::error::{Error, Result};
@@ -40,6 +41,9 @@ pub struct RenderOptions {
     /// Store the multisampled colour instead of leaving it in tile memory, so that a test can
     /// read every sample back (`Renderer::read_samples`). Never in a timed frame.
     pub keep_samples: bool,
+    /// The lights a per-light loop is planned for: the scene's, filled in when a renderer is
+    /// built (`unit::build_unit`); a plan printed without a scene has the one default sun.
+    pub lights: Vec<PlannedLight>,
 }
 
 impl RenderOptions {
@@ -48,6 +52,13 @@ impl RenderOptions {
     pub fn check(&self) -> Result<()> {
         if !matches!(self.samples, 1 | 2 | 4) {
             return Err(Error::InvalidInput(format!("--samples {}: use 1, 2 or 4", self.samples)));
+        }
+        if self.lights.len() > crate::scene::MAX_LIGHTS {
+            return Err(Error::InvalidInput(format!(
+                "{} lights: a frame holds at most {}",
+                self.lights.len(),
+                crate::scene::MAX_LIGHTS
+            )));
         }
         self.shadow_volume.check()?;
         self.shadow_atlas.check()?;
@@ -254,11 +265,14 @@ pub fn check_same_scene(built_for: &Scene, scene: &Scene, technique: &str) -> Re
         && built_for.meshes.iter().zip(&scene.meshes).all(|(a, b)| {
             a.data.positions.len() == b.data.positions.len() && a.data.indices.len() == b.data.indices.len()
         });
-    if same_objects && same_meshes {
+    // The passes are planned per light, and the shaders sum as many lights as were built in.
+    let same_lights = built_for.lights.len() == scene.lights.len()
+        && built_for.lights.iter().zip(&scene.lights).all(|(a, b)| a.casts_shadow == b.casts_shadow);
+    if same_objects && same_meshes && same_lights {
         Ok(())
     } else {
         Err(Error::InvalidInput(format!(
-            "scene '{}' is not the one this {technique} renderer was built for (its objects or meshes differ)",
+            "scene '{}' is not the one this {technique} renderer was built for (its objects, meshes or lights differ)",
             scene.name
         )))
     }

@@ -18,6 +18,27 @@ use crate::render::plan::{MaterialVariant, PassKinds, PlannedPass};
 fn variant_names(base: &str) -> Option<[&'static str; 4]> {
     Some(match base {
         "scene" => ["scene (alpha mask)", "scene (double-sided)", "scene (blend)", "scene (blend, double-sided)"],
+        // The additive loop's passes draw opaque and cut-out materials only (`Only::Opaque`):
+        // their blend variants are never bound.
+        "scene (ambient)" => [
+            "scene (ambient, alpha mask)",
+            "scene (ambient, double-sided)",
+            "scene (ambient, blend)",
+            "scene (ambient, blend, double-sided)",
+        ],
+        "shading" => ["shading (alpha mask)", "shading (double-sided)", "shading (blend)", "shading (blend, double-sided)"],
+        "shading (stencil)" => [
+            "shading (stencil, alpha mask)",
+            "shading (stencil, double-sided)",
+            "shading (blend, no stencil)",
+            "shading (blend, double-sided, no stencil)",
+        ],
+        "shading (no shadows)" => [
+            "shading (no shadows, alpha mask)",
+            "shading (no shadows, double-sided)",
+            "shading (no shadows, blend)",
+            "shading (no shadows, blend, double-sided)",
+        ],
         "scene (stencil 1)" => [
             "scene (stencil 1, alpha mask)",
             "scene (stencil 1, double-sided)",
@@ -50,6 +71,8 @@ fn variant_names(base: &str) -> Option<[&'static str; 4]> {
 fn variant_shaders(fragment: &str) -> Option<(&'static str, &'static str)> {
     Some(match fragment {
         "lit.frag" => ("lit_masked.frag", "lit_blend.frag"),
+        "lit_ambient.frag" => ("lit_ambient_masked.frag", "lit_blend.frag"),
+        "lit_light.frag" => ("lit_light_masked.frag", "lit_blend.frag"),
         "cartoon_shade.frag" => ("cartoon_shade_masked.frag", "cartoon_shade_blend.frag"),
         "shadow_atlas_scene.frag" => ("shadow_atlas_scene_masked.frag", "shadow_atlas_scene_blend.frag"),
         "shadow_map_scene.frag" => ("shadow_map_scene_masked.frag", "shadow_map_scene_blend.frag"),

@@ -10,6 +10,7 @@ pub mod extruded;
 pub mod frame_renderer;
 pub mod ink;
 pub mod interface;
+pub mod light_loop;
 pub mod lit;
 pub mod material_variants;
 pub mod options;
@@ -32,7 +33,7 @@ pub use cartoon::CartoonStats;
 pub use interface::{check_same_scene, FrameStats, RenderOptions, SceneRenderer, Technique, TechniqueFrame, Variant};
 pub use options::{
     CartoonOptions, InkStyle, InkStyles, LightMode, Normalize, OutlineMethod, Seams, ShadowAtlasOptions, ShadowKind,
-    ShadowVolumeOptions, SilhouetteMethod, TextureShadowOn, VolumeMethod, INK_STYLE_FLAGS,
+    ShadowMode, ShadowVolumeOptions, SilhouetteMethod, TextureShadowOn, VolumeMethod, INK_STYLE_FLAGS,
 };
 pub use planar::{GivenPlane, PlanarOptions, PlanarStats};
 pub use registry::{by_name, TECHNIQUES};

@@ -31,6 +31,19 @@ crate::names::named_enum! {
 }
 
 crate::names::named_enum! {
+    /// What a shadow does to the frame.
+    pub enum ShadowMode {
+        /// Doom 3's and Ogre's additive loop: ambient first, then each light added where its
+        /// own shadow does not fall. A shadow removes only its light.
+        #[default]
+        Additive = "additive",
+        /// The seed's apply (Hall): the finished, lit frame darkened where the primary light's
+        /// shadow falls.
+        Modulate = "modulate",
+    }
+}
+
+crate::names::named_enum! {
     /// How the count becomes a shadow mask.
     pub enum Normalize {
         /// The seed's fixed-function sequence: N0, iterations, REVERSE_SUBTRACT D, ADD D, apply.
@@ -57,6 +70,11 @@ pub struct ShadowVolumeOptions {
     /// shadow-volume: how counts become a mask.
     #[arg(long, value_enum, default_value_t)]
     pub normalize: Normalize,
+    /// shadow-volume: `additive` (ambient, then each light added where its own shadow does not
+    /// fall: Doom 3's and Ogre's loop) or `modulate` (the seed's apply: the lit frame darkened
+    /// where the primary light's shadow falls).
+    #[arg(long = "shadow-mode", value_enum, default_value_t)]
+    pub mode: ShadowMode,
     // A diagnostic pass a user asks for (docs/design/saturation.md), never part of a timed frame.
     /// shadow-volume: add the full-screen saturation probe, a diagnostic pass (`seed` and `max`
     /// count saturation only with it; `subpass` counts it in its apply, and the probe then
@@ -542,7 +560,7 @@ impl ShadowKind {
 }
 
 crate::names::named_enum! {
-    /// `--light`: whether the light turns from frame to frame.
+    /// `--light-motion`: whether the light turns from frame to frame.
     pub enum LightMode {
         /// Turns about the vertical by a small step a frame: every frame re-bakes.
         Moving = "moving",
@@ -558,7 +576,7 @@ crate::names::named_enum! {
 pub struct ShadowAtlasOptions {
     /// shadow-map, shadow-texture-atlas, projective-texture: `moving` (turns every frame:
     /// re-bake) or `fixed` (after the first frame the shadow map and bake are skipped).
-    #[arg(long, value_enum, default_value_t)]
+    #[arg(id = "light_motion", long = "light-motion", value_enum, default_value_t, value_name = "moving|fixed")]
     pub light: LightMode,
     // The paper: 512.
     /// shadow-map, shadow-texture-atlas, projective-texture: shadow map side in texels (power of

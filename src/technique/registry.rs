@@ -1,6 +1,7 @@
 //! The list of techniques: the only place that names them all. The command line, `passes`,
 //! `bench`, `profile --compare`, `info` and the viewer read it.
 
+use super::light_loop::PlannedLight;
 use super::interface::{RenderOptions, Technique};
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
@@ -41,6 +42,7 @@ impl Default for RenderOptions {
             planar: Default::default(),
             samples: 1,
             keep_samples: false,
+            lights: PlannedLight::default_lights(),
         }
     }
 }

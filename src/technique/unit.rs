@@ -6,6 +6,7 @@
 
 use std::sync::Arc;
 
+use super::light_loop::PlannedLight;
 use super::frame_renderer::{self, BuildContext, Passes};
 use super::interface::{
     stencil_variant, stencil_variants, BenchTable, RenderOptions, SceneRenderer, Technique, Variant,
@@ -74,6 +75,45 @@ pub trait TechniqueUnit: Sync + 'static {
     fn describe(&self, options: &RenderOptions) -> String {
         format!("{} ({})", self.name(), options.stencil.name())
     }
+
+    /// Which of the scene's lights the technique shadows with `options` (none, by default).
+    /// One that shadows the primary light alone shades the others unshadowed, and a frame's
+    /// warnings name them.
+    fn shadowed_lights(&self, options: &RenderOptions) -> ShadowedLights {
+        let _ = options;
+        ShadowedLights::None
+    }
+}
+
+/// Which lights a technique shadows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ShadowedLights {
+    /// Every light that casts shadows (the additive loop).
+    Every,
+    /// The primary light only (the first that casts shadows).
+    Primary,
+    /// None: the technique draws no shadows (lit, outlines, ink).
+    None,
+}
+
+/// The warning naming the lights `shadowed` leaves unshadowed in `scene`, if any.
+pub fn unshadowed_lights_warning(technique: &str, shadowed: ShadowedLights, scene: &Scene) -> Option<String> {
+    let primary = scene.primary_light_index();
+    let left: Vec<String> = scene
+        .lights
+        .iter()
+        .enumerate()
+        .filter(|(i, light)| light.casts_shadow && shadowed == ShadowedLights::Primary && Some(*i) != primary)
+        .map(|(_, light)| format!("'{}'", light.name))
+        .collect();
+    (!left.is_empty()).then(|| {
+        format!(
+            "{} shadows only the primary light ('{}'): {} shade unshadowed (--technique shadow-volume shadows every light)",
+            technique,
+            scene.primary_light().map_or("", |l| l.name.as_str()),
+            left.join(", ")
+        )
+    })
 }
 
 /// The result of [`TechniqueUnit::setup`]: the options the renderer is planned and built with
@@ -98,10 +138,15 @@ pub fn build_unit<'s, T: TechniqueUnit>(
     scene: &'s Scene,
     options: &RenderOptions,
 ) -> Result<frame_renderer::FrameRenderer<'s, T::Kinds, T::Passes>> {
+    // Per-light loops are planned for the scene's lights.
+    let options = &RenderOptions { lights: PlannedLight::of_scene(scene), ..options.clone() };
     options.check()?;
     let Prepared { options, setup } = unit.setup(gpu, scene, options)?;
     let plan = unit.plan(&options)?;
-    frame_renderer::build_typed(unit.name(), plan, gpu, scene, &options, |ctx| unit.make(ctx, scene, setup))
+    let mut renderer =
+        frame_renderer::build_typed(unit.name(), plan, gpu, scene, &options, |ctx| unit.make(ctx, scene, setup))?;
+    renderer.warnings.extend(unshadowed_lights_warning(unit.name(), unit.shadowed_lights(&options), scene));
+    Ok(renderer)
 }
 
 impl<T: TechniqueUnit> Technique for T {

@@ -70,7 +70,7 @@ impl Live {
 
     pub fn apply(&self, base: &Scene, scene: &mut Scene) -> Result<()> {
         scene.camera.eye = self.orbit.eye(base.camera.target);
-        scene.light = match base.light {
+        scene.set_light(match base.light() {
             Light::Directional { direction } => {
                 let yawed = Mat4::from_rotation_y(self.light_yaw).transform_vector3(direction);
                 let side = yawed.cross(Vec3::Y).normalize_or_zero();
@@ -86,7 +86,7 @@ impl Live {
                 position: Mat4::from_rotation_y(self.light_yaw).transform_point3(position)
                     + Vec3::Y * self.light_tilt * 2.0,
             },
-        };
+        });
         // Animated objects take their pose at this time (transforms and joint palettes; GPU
         // skinning shows the new palettes, CPU-skinned meshes keep the starting pose). Every
         // frame: the turn below is applied to the posed transforms.

@@ -112,7 +112,7 @@ pub use nostencil::frame::srgb::{decode as srgb_decode, encode as srgb_encode};
 /// directional light: colour x (ambient + (1 - ambient) x max(N.L, 0)), in 8 bits. None under
 /// a point light, where it varies over the surface.
 pub fn lit_facing_up(scene: &nostencil::scene::Scene, colour: glam::Vec3) -> Option<[u8; 3]> {
-    let nostencil::scene::Light::Directional { direction } = scene.light else { return None };
+    let nostencil::scene::Light::Directional { direction } = scene.light() else { return None };
     let lambert = (-direction.normalize()).dot(glam::Vec3::Y).max(0.0);
     Some(srgb8(colour * (scene.ambient + (1.0 - scene.ambient) * lambert)))
 }
@@ -194,7 +194,7 @@ pub fn pixel_y(scene: &nostencil::scene::Scene, point: glam::Vec3, size: (u32, u
 /// # Panics
 /// If the scene's light is not directional.
 pub fn caster_triangles_on_ground(scene: &nostencil::scene::Scene) -> Vec<[glam::Vec2; 3]> {
-    let nostencil::scene::Light::Directional { direction } = scene.light else { panic!("directional light") };
+    let nostencil::scene::Light::Directional { direction } = scene.light() else { panic!("directional light") };
     let to_ground = |c: glam::Vec3| {
         let p = c + direction * (c.y / -direction.y);
         glam::Vec2::new(p.x, p.z)

@@ -30,7 +30,7 @@ use crate::scene::{bounds_of, Scene};
 use crate::technique::frame_renderer::{BuildContext, Passes};
 use crate::technique::interface::RenderOptions;
 use crate::technique::interface::{FrameStats, Variant};
-use crate::technique::unit::{Prepared, TechniqueUnit};
+use crate::technique::unit::{Prepared, ShadowedLights, TechniqueUnit};
 use crate::technique::shadow_tone::ShadowTone;
 
 /// position (vec3), uv (vec2), strength (float).
@@ -220,6 +220,10 @@ impl TechniqueUnit for BlobShadows {
         "blob"
     }
 
+    fn shadowed_lights(&self, _options: &RenderOptions) -> ShadowedLights {
+        ShadowedLights::Primary
+    }
+
     fn about(&self) -> &'static str {
         "a soft round texture on a quad under each caster (seed 001's cheapest shadow)"
     }
@@ -329,7 +333,7 @@ impl Passes<BlobKinds> for BlobPasses {
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
         self.meshes.update_palettes(scene)?;
         let darkness = 1.0 - self.tone.darkest_factor();
-        let vertices = if light_reaches_plane(&scene.light, &self.plane.plane) {
+        let vertices = if light_reaches_plane(&scene.light(), &self.plane.plane) {
             blob_vertices(&blobs(scene, &self.plane, darkness))
         } else {
             Vec::new()

@@ -39,7 +39,7 @@ use crate::technique::frame_renderer::{BuildContext, Passes};
 use crate::technique::interface::RenderOptions;
 use crate::technique::interface::{stencil_variants, FrameStats, Variant};
 use crate::technique::options::PlanarOptions;
-use crate::technique::unit::{Prepared, TechniqueUnit};
+use crate::technique::unit::{Prepared, ShadowedLights, TechniqueUnit};
 use crate::technique::shadow_tone::ShadowTone;
 
 /// Mirrors `PlanarPush` in `shaders/planar_push.glsl`.
@@ -210,6 +210,10 @@ impl TechniqueUnit for Planar {
         "planar"
     }
 
+    fn shadowed_lights(&self, _options: &RenderOptions) -> ShadowedLights {
+        ShadowedLights::Primary
+    }
+
     fn about(&self) -> &'static str {
         "casters skinned on the GPU and projected onto the ground, double darkening stopped in alpha (seed 001)"
     }
@@ -269,7 +273,7 @@ pub struct PlanarPasses {
 impl PlanarPasses {
     fn new(ctx: &BuildContext<PlanarKinds>, scene: &Scene) -> Result<Self> {
         let plane = receiver_plane(scene, ctx.options.planar.plane.as_ref())?;
-        plane.plane.check_light(&scene.light)?;
+        plane.plane.check_light(&scene.light())?;
         let meshes = SceneMeshes::upload(ctx.gpu, scene)?;
         let lods = match ctx.options.planar.shadow_lod {
             Some(ratio) => Some(CasterLods::build(ctx.gpu, scene, &plane.receivers, ratio)?),
@@ -351,12 +355,12 @@ impl Passes<PlanarKinds> for PlanarPasses {
     }
 
     fn prepare(&mut self, _renderer: &Renderer, scene: &Scene) -> Result<()> {
-        self.plane.plane.check_light(&scene.light)?;
+        self.plane.plane.check_light(&scene.light())?;
         self.meshes.update_palettes(scene)
     }
 
     fn conditions(&self, scene: &Scene) -> Vec<When> {
-        if light_reaches_plane(&scene.light, &self.plane.plane) {
+        if light_reaches_plane(&scene.light(), &self.plane.plane) {
             vec![When::LightAbovePlane]
         } else {
             Vec::new()

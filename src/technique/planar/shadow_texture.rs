@@ -44,7 +44,7 @@ use crate::technique::frame_renderer::{BuildContext, Passes};
 use crate::technique::interface::RenderOptions;
 use crate::technique::interface::{FrameStats, Variant};
 use crate::technique::options::{PlanarOptions, TextureShadowOn};
-use crate::technique::unit::{Prepared, TechniqueUnit};
+use crate::technique::unit::{Prepared, ShadowedLights, TechniqueUnit};
 use crate::technique::shadow_tone::ShadowTone;
 
 const SHADOW_TEXTURE_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
@@ -289,6 +289,10 @@ impl TechniqueUnit for ShadowTexture {
         "shadow-texture"
     }
 
+    fn shadowed_lights(&self, _options: &RenderOptions) -> ShadowedLights {
+        ShadowedLights::Primary
+    }
+
     fn about(&self) -> &'static str {
         "casters drawn from the light into a small texture that the ground looks up (seed 001)"
     }
@@ -361,7 +365,7 @@ impl ShadowTexturePasses {
     fn new(ctx: &BuildContext<TextureKinds>, scene: &Scene) -> Result<Self> {
         let gpu = ctx.gpu;
         let plane = receiver_plane(scene, ctx.options.planar.plane.as_ref())?;
-        plane.plane.check_light(&scene.light)?;
+        plane.plane.check_light(&scene.light())?;
         let meshes = SceneMeshes::upload(gpu, scene)?;
         let options = &ctx.options.planar;
         let lods = match options.shadow_lod {
@@ -503,15 +507,15 @@ impl Passes<TextureKinds> for ShadowTexturePasses {
     }
 
     fn prepare(&mut self, _renderer: &Renderer, scene: &Scene) -> Result<()> {
-        self.plane.plane.check_light(&scene.light)?;
+        self.plane.plane.check_light(&scene.light())?;
         self.meshes.update_palettes(scene)?;
         self.quad_model = match self.quad {
             Some(_) => shadow_quad(scene, &self.plane).map(|corners| quad_model(&corners, self.plane.plane.normal)),
             None => None,
         };
         self.light_view_proj = match caster_bounds(scene, &self.plane) {
-            Some((low, high)) if light_reaches_plane(&scene.light, &self.plane.plane) => {
-                light_view_projection(&scene.light, low, high)
+            Some((low, high)) if light_reaches_plane(&scene.light(), &self.plane.plane) => {
+                light_view_projection(&scene.light(), low, high)
             }
             _ => Mat4::ZERO,
         };

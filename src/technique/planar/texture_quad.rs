@@ -29,7 +29,7 @@ pub fn shadow_quad(scene: &Scene, plane: &ReceiverPlane) -> Option<[Vec3; 4]> {
             if i & 2 == 0 { low.y } else { high.y },
             if i & 4 == 0 { low.z } else { high.z },
         );
-        let p = plane.plane.project(c, &scene.light) - origin;
+        let p = plane.plane.project(c, &scene.light()) - origin;
         (p.dot(u), p.dot(v))
     });
     let (mut lo, mut hi) = ((f32::MAX, f32::MAX), (f32::MIN, f32::MIN));
@@ -83,7 +83,7 @@ mod tests {
         let inverse = model.inverse();
         for (_, object) in scene.objects.iter().enumerate().filter(|(i, _)| !plane.receivers[*i]) {
             for p in &scene.meshes[object.mesh].data.positions {
-                let shadow = plane.plane.project(object.transform.transform_point3(*p), &scene.light);
+                let shadow = plane.plane.project(object.transform.transform_point3(*p), &scene.light());
                 let q = inverse.transform_point3(shadow);
                 assert!((0.0..=1.0).contains(&q.x) && (0.0..=1.0).contains(&q.y), "{shadow} outside the quad ({q})");
             }

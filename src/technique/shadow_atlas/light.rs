@@ -70,10 +70,10 @@ pub fn light_view_projection(light: &Light, centre: Vec3, radius: f32) -> Mat4 {
 /// The scene's light at frame `index` under `mode`.
 pub fn light_at(scene: &Scene, mode: LightMode, index: u32) -> Light {
     let turn = match mode {
-        LightMode::Fixed => return scene.light,
+        LightMode::Fixed => return scene.light(),
         LightMode::Moving => Quat::from_rotation_y(MOVING_LIGHT_STEP * index as f32),
     };
-    match scene.light {
+    match scene.light() {
         Light::Directional { direction } => Light::Directional { direction: turn * direction },
         Light::Point { position } => Light::Point { position: turn * position },
     }

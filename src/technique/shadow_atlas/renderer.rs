@@ -204,7 +204,7 @@ impl ShadowPasses {
             atlases,
             frames: 0,
             cache: None,
-            light: scene.light,
+            light: scene.light(),
             key: None,
             fresh: true,
         })

@@ -10,7 +10,7 @@ use crate::scene::Scene;
 use crate::technique::frame_renderer::BuildContext;
 use crate::technique::interface::{BenchTable, RenderOptions, Technique, Variant};
 use crate::technique::options::{LightMode, ShadowKind};
-use crate::technique::unit::{Prepared, TechniqueUnit};
+use crate::technique::unit::{Prepared, ShadowedLights, TechniqueUnit};
 
 /// One of the two seed 004 techniques: the shadow map sampled in the scene pass, or shadow
 /// textures baked from it into each model's atlas.
@@ -68,6 +68,10 @@ impl TechniqueUnit for ShadowTechnique {
 
     fn name(&self) -> &'static str {
         self.kind.name()
+    }
+
+    fn shadowed_lights(&self, _options: &RenderOptions) -> ShadowedLights {
+        ShadowedLights::Primary
     }
 
     fn about(&self) -> &'static str {

@@ -13,7 +13,9 @@ use ash::vk;
 use glam::{Vec3, Vec4};
 
 use crate::mesh::Reach;
-use crate::scene::{Camera, Light, Scene};
+use crate::render::plan::Scissor;
+use crate::scene::lights::Reach as LightReach;
+use crate::scene::{Camera, Light, Scene, SceneLight};
 
 /// An axis-aligned box in world space.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -217,7 +219,7 @@ pub fn screen_rect(points: &[Vec3], camera: &Camera, extent: vk::Extent2D) -> Op
 }
 
 /// The overlap of two rectangles; `None` where they do not overlap.
-fn rect_intersection(a: vk::Rect2D, b: vk::Rect2D) -> Option<vk::Rect2D> {
+pub fn rect_intersection(a: vk::Rect2D, b: vk::Rect2D) -> Option<vk::Rect2D> {
     let x0 = a.offset.x.max(b.offset.x);
     let y0 = a.offset.y.max(b.offset.y);
     let x1 = (a.offset.x + a.extent.width as i32).min(b.offset.x + b.extent.width as i32);
@@ -226,6 +228,41 @@ fn rect_intersection(a: vk::Rect2D, b: vk::Rect2D) -> Option<vk::Rect2D> {
         offset: vk::Offset2D { x: x0, y: y0 },
         extent: vk::Extent2D { width: (x1 - x0) as u32, height: (y1 - y0) as u32 },
     })
+}
+
+/// Doom 3's light scissor: the screen rectangle around what light `light` can reach of the
+/// receivers (its range's sphere, for a point or spot light with a range), where its passes
+/// draw; the whole frame for a light that reaches everywhere, and no rectangle for one that
+/// reaches nothing on screen.
+pub fn light_scissor(light: &SceneLight, receivers: Option<Aabb>, camera: &Camera, extent: vk::Extent2D) -> Scissor {
+    let LightReach::Sphere { centre, radius } = light.reach() else { return Scissor::Frame };
+    let sphere = Aabb { lo: centre - Vec3::splat(radius), hi: centre + Vec3::splat(radius) };
+    let region = match receivers {
+        Some(receivers) => sphere.intersection(receivers),
+        None => None,
+    };
+    Scissor::Rects(region.and_then(|r| screen_rect(&r.corners(), camera, extent)).into_iter().collect())
+}
+
+/// `rect` less `pixels` on every side; `None` when nothing is left.
+pub fn shrunk(rect: vk::Rect2D, pixels: u32) -> Option<vk::Rect2D> {
+    let (width, height) = (rect.extent.width.checked_sub(2 * pixels)?, rect.extent.height.checked_sub(2 * pixels)?);
+    (width > 0 && height > 0).then_some(vk::Rect2D {
+        offset: vk::Offset2D { x: rect.offset.x + pixels as i32, y: rect.offset.y + pixels as i32 },
+        extent: vk::Extent2D { width, height },
+    })
+}
+
+/// `rect` and `pixels` more on every side, inside an `extent` frame.
+pub fn grown(rect: vk::Rect2D, pixels: u32, extent: vk::Extent2D) -> vk::Rect2D {
+    let x0 = (rect.offset.x - pixels as i32).max(0);
+    let y0 = (rect.offset.y - pixels as i32).max(0);
+    let x1 = (rect.offset.x + (rect.extent.width + pixels) as i32).min(extent.width as i32);
+    let y1 = (rect.offset.y + (rect.extent.height + pixels) as i32).min(extent.height as i32);
+    vk::Rect2D {
+        offset: vk::Offset2D { x: x0, y: y0 },
+        extent: vk::Extent2D { width: (x1 - x0).max(0) as u32, height: (y1 - y0).max(0) as u32 },
+    }
 }
 
 /// Rectangles that cover exactly the pixels of `rects`, none twice: an apply drawn once per

@@ -40,11 +40,16 @@ fn light_in_object_space(light: &Light, model: &Mat4) -> mesh::Light {
     }
 }
 
-/// The caster's volume for the scene's light in its current pose, reaching as far as `reach`:
-/// caps with `caps` (the two-sided path always has them).
+/// The caster's volume for the scene's primary light in its current pose, reaching as far as
+/// `reach`: caps with `caps` (the two-sided path always has them).
 pub fn build_volume(scene: &Scene, caster: &Caster, reach: Reach, caps: bool) -> VolumeGeometry {
+    build_volume_for(scene, caster, &scene.light(), reach, caps)
+}
+
+/// [`build_volume`] for the light `light`.
+pub fn build_volume_for(scene: &Scene, caster: &Caster, light: &Light, reach: Reach, caps: bool) -> VolumeGeometry {
     let object = &scene.objects[caster.object];
-    let light = light_in_object_space(&scene.light, &object.transform);
+    let light = light_in_object_space(light, &object.transform);
     let (adjacency, welded) = (&caster.mesh.adjacency, &caster.mesh.welded);
     let (mut volume, mut multiplicities) = (VolumeGeometry::default(), Vec::new());
     if let Some(positions) = posed_welded_positions(scene, caster) {
@@ -70,8 +75,15 @@ fn posed_welded_positions(scene: &Scene, caster: &Caster) -> Option<Vec<Vec3>> {
     Some(positions)
 }
 
-/// z-pass breaks when the near plane cuts a volume: test the eye and the near-plane corners.
+/// z-pass breaks when the near plane cuts a volume: test the eye and the near-plane corners,
+/// against the volumes of every light that casts shadows.
 pub fn camera_inside_volume(scene: &Scene, casters: &[Caster], aspect: f32) -> bool {
+    let lights: Vec<Light> = scene.lights.iter().filter(|l| l.casts_shadow).map(|l| l.geometry()).collect();
+    lights.iter().any(|light| camera_inside_volume_of(scene, casters, aspect, light))
+}
+
+/// [`camera_inside_volume`] for one light.
+pub fn camera_inside_volume_of(scene: &Scene, casters: &[Caster], aspect: f32, light: &Light) -> bool {
     let camera = &scene.camera;
     let inverse = camera.view_projection(aspect).inverse();
     let corners =
@@ -87,7 +99,7 @@ pub fn camera_inside_volume(scene: &Scene, casters: &[Caster], aspect: f32) -> b
             model: scene.objects[caster.object].transform,
         })
         .collect();
-    let light = match scene.light {
+    let light = match *light {
         Light::Directional { direction } => mesh::Light::Directional(direction),
         Light::Point { position } => mesh::Light::Point(position),
     };

@@ -10,7 +10,7 @@ pub mod renderer;
 
 use super::frame_renderer::BuildContext;
 use super::interface::{RenderOptions, Variant};
-use super::unit::{Prepared, TechniqueUnit};
+use super::unit::{Prepared, ShadowedLights, TechniqueUnit};
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::Gpu;
@@ -19,7 +19,7 @@ use crate::scene::Scene;
 use recipes::VolumeKinds;
 use renderer::{ShadowVolumePasses, VolumeSetup};
 
-pub use super::options::{Normalize, ShadowVolumeOptions, VolumeMethod};
+pub use super::options::{Normalize, ShadowMode, ShadowVolumeOptions, VolumeMethod};
 pub use casters::{build_volume, camera_inside_volume, choose_zfail, prepare_casters, Caster};
 pub use recipes::{
     apply_desc, counting_subpass_apply_desc, darkness_descs, iteration_desc, n0_desc, reference_apply_desc,
@@ -44,7 +44,7 @@ impl TechniqueUnit for ShadowVolumes {
     }
 
     fn plan(&self, options: &RenderOptions) -> Result<PassPlan<VolumeKinds>> {
-        recipes::plan(&options.shadow_volume, options.shadow_tone, options.stencil, options.samples)
+        recipes::plan(&options.shadow_volume, options.shadow_tone, options.stencil, options.samples, &options.lights)
     }
 
     fn setup(&self, gpu: &Gpu, scene: &Scene, options: &RenderOptions) -> Result<Prepared<VolumeSetup>> {
@@ -131,6 +131,13 @@ impl TechniqueUnit for ShadowVolumes {
             shadow_volume: ShadowVolumeOptions { normalize, ..options.shadow_volume },
             ..options.clone()
         })
+    }
+
+    fn shadowed_lights(&self, options: &RenderOptions) -> ShadowedLights {
+        match options.shadow_volume.mode {
+            ShadowMode::Additive => ShadowedLights::Every,
+            ShadowMode::Modulate => ShadowedLights::Primary,
+        }
     }
 
     fn describe(&self, options: &RenderOptions) -> String {

@@ -34,11 +34,13 @@ use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::pipeline::recipes::{self, NO_WRITE};
 use crate::pipeline::{BlendState, DepthState, FixedFunction, PipelineDesc, RasterState, VertexLayout};
-use crate::render::plan::{fmt_f32, DrawKind, Draws, Label, NoOwn, PassKinds, PassPlan, PlannedPass, SetRole};
-use crate::render::OBJECT_PUSH_BYTES;
+use crate::render::plan::{fmt_f32, DrawKind, Draws, Label, NoOwn, Only, PassKinds, PassPlan, PlannedPass, SetRole};
+use crate::render::{LIGHT_PUSH_BYTES, OBJECT_PUSH_BYTES};
 use crate::technique::alpha_counter;
+use crate::technique::light_loop::{self, PlannedLight};
 use crate::technique::lit;
-use crate::technique::options::{Normalize, ShadowVolumeOptions, VolumeMethod};
+use crate::technique::material_variants::with_surface_variants;
+use crate::technique::options::{Normalize, ShadowMode, ShadowVolumeOptions, VolumeMethod};
 use crate::technique::shadow_tone::ShadowTone;
 
 /// The subpass input that exposes the counter to full-screen passes.
@@ -55,9 +57,11 @@ impl PassKinds for VolumeKinds {
 /// What the shadow-volume renderer draws itself.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum VolumeDraw {
-    /// Every caster's volume, black with alpha `alpha` (the increment k/255, or 0 on the
-    /// reference path), with each pipeline of the pass in turn.
-    Volumes { alpha: f32 },
+    /// Every caster's volume for light `light` (an index into the scene's lights), black with
+    /// alpha `alpha` (the increment k/255, or 0 on the reference path), with each pipeline of
+    /// the pass in turn; first, with `clear_stencil`, the stencil cleared to a count of 0 in
+    /// the light's scissor (the reference's per-light clear, Doom 3's and Ogre's).
+    Volumes { alpha: f32, light: u8, clear_stencil: bool },
 }
 
 impl DrawKind for VolumeDraw {
@@ -289,15 +293,16 @@ pub fn seed_normalisation(iterations: usize) -> Vec<PlannedPass<VolumeKinds>> {
     passes
 }
 
-/// The frame's passes for `options` at `stencil`, counting with z-fail or z-pass. `auto` is
-/// decided per scene when the renderer is built (`casters::choose_zfail`), so a plan asked for
-/// without a scene must name the method.
-/// The frame's passes for `options` in the `stencil` path, at `samples` samples per pixel.
+/// The frame's passes for `options` in the `stencil` path, at `samples` samples per pixel, for
+/// `lights` (the additive loop runs over them; the seed's modulate mode shadows the primary
+/// one). `auto` is decided per scene when the renderer is built (`casters::choose_zfail`), so a
+/// plan asked for without a scene must name the method.
 pub fn plan(
     options: &ShadowVolumeOptions,
     tone: ShadowTone,
     stencil: StencilMode,
     samples: u32,
+    lights: &[PlannedLight],
 ) -> Result<PassPlan<VolumeKinds>> {
     let zfail =
         match options.method {
@@ -309,20 +314,47 @@ pub fn plan(
             )),
         };
     let k = alpha_counter::check_increment(options.increment)?;
+    match options.mode {
+        ShadowMode::Modulate => modulate_plan(options, tone, stencil, samples, zfail, k, lights),
+        ShadowMode::Additive => additive_plan(options, stencil, samples, zfail, k, lights),
+    }
+}
+
+fn volumes_pass(
+    name: impl Into<std::borrow::Cow<'static, str>>,
+    desc: PipelineDesc,
+    alpha: f32,
+    light: u8,
+    clear_stencil: bool,
+) -> PlannedPass<VolumeKinds> {
+    let push = format!("object transform, alpha {}", fmt_f32(alpha));
+    PlannedPass::own(name, desc, VolumeDraw::Volumes { alpha, light, clear_stencil }, push)
+        .with_sets(&[SetRole::Frame])
+        .for_light(light)
+}
+
+/// The seed's frame (Hall): the lit scene, the primary light's volumes counted up from 0, the
+/// normalisation and the apply that darkens the finished frame.
+fn modulate_plan(
+    options: &ShadowVolumeOptions,
+    tone: ShadowTone,
+    stencil: StencilMode,
+    samples: u32,
+    zfail: bool,
+    k: u8,
+    lights: &[PlannedLight],
+) -> Result<PassPlan<VolumeKinds>> {
     let step = k as f32 / 255.0;
+    let primary = light_loop::primary(lights).unwrap_or(0) as u8;
     // The shadowed colour's factors per channel (a grey D, or a tint).
     let factors = tone.vec3().extend(0.0);
-    let volumes = |name, desc, alpha| {
-        let push = format!("object transform, alpha {}", fmt_f32(alpha));
-        PlannedPass::own(name, desc, VolumeDraw::Volumes { alpha }, push).with_sets(&[SetRole::Frame])
-    };
     let mut plan = PassPlan::new();
     // The scene writes alpha 0 everywhere: the counter starts at zero.
     plan.push(lit::scene_pass(0.0));
     match stencil {
         StencilMode::Reference => {
             let desc = reference_volume_desc(zfail);
-            plan.push(volumes(desc.name, desc, 0.0));
+            plan.push(volumes_pass(desc.name, desc, 0.0, primary, false));
             plan.push(PlannedPass::full_screen("apply (stencil)", reference_apply_desc(), factors).scissored());
         }
         StencilMode::Emulated => {
@@ -330,7 +362,7 @@ pub fn plan(
             // decrements (`renderer` draws them in that order).
             let [increment, decrement] = volume_descs(zfail);
             let name = if zfail { "volumes (alpha, z-fail)" } else { "volumes (alpha, z-pass)" };
-            plan.push(volumes(name, increment, step).or_pipeline(decrement));
+            plan.push(volumes_pass(name, increment, step, primary, false).or_pipeline(decrement));
             if options.saturation_probe {
                 plan.push(
                     PlannedPass::new(
@@ -364,4 +396,138 @@ pub fn plan(
         }
     }
     Ok(plan)
+}
+
+/// Down-counting volume pipelines (additive mode): entering walls take k/255 off, leaving
+/// walls give it back, with the faces and depth tests of `volume_descs`.
+pub fn down_volume_descs(zfail: bool) -> [PipelineDesc; 2] {
+    use recipes::{COUNTER_DOWN_ENTER, COUNTER_DOWN_LEAVE};
+    const GREATER_OR_EQUAL: vk::CompareOp = vk::CompareOp::GREATER_OR_EQUAL;
+    const LESS: vk::CompareOp = vk::CompareOp::LESS;
+    if zfail {
+        [
+            volume_desc("volume enter (z-fail)", RasterState::CULL_FRONT, GREATER_OR_EQUAL, COUNTER_DOWN_ENTER),
+            volume_desc("volume leave (z-fail)", RasterState::CULL_BACK, GREATER_OR_EQUAL, COUNTER_DOWN_LEAVE),
+        ]
+    } else {
+        [
+            volume_desc("volume enter (z-pass)", RasterState::CULL_BACK, LESS, COUNTER_DOWN_ENTER),
+            volume_desc("volume leave (z-pass)", RasterState::CULL_FRONT, LESS, COUNTER_DOWN_LEAVE),
+        ]
+    }
+}
+
+/// The ambient pass of the additive loop: depth, ambient x albedo and emissive, alpha 1 (every
+/// light's down-counter starts at a count of 0). Blended materials wait for `transparent`.
+pub fn ambient_pass() -> PlannedPass<VolumeKinds> {
+    let desc = PipelineDesc { name: "scene (ambient)", fragment_shader: "lit_ambient.frag", ..lit::scene_pipeline_desc() };
+    let pass = PlannedPass::objects("scene (ambient)", desc.clone(), 1.0).only(Only::Opaque);
+    with_surface_variants(pass, &desc).with_sets(&[SetRole::Frame, SetRole::Material])
+}
+
+/// One light's shading pipeline: the scene's vertex stage (invariant, so depth EQUAL meets the
+/// ambient pass's depth), the light's contribution out, blended by `blend`.
+fn shading_desc(name: &'static str, blend: BlendState, stencil: Option<crate::pipeline::StencilState>) -> PipelineDesc {
+    let mut desc = PipelineDesc {
+        name,
+        fragment_shader: "lit_light.frag",
+        push_constant_bytes: LIGHT_PUSH_BYTES,
+        ..lit::scene_pipeline_desc()
+    };
+    desc.fixed.depth = DepthState { compare: Some(vk::CompareOp::EQUAL), write: false };
+    desc.fixed.blend = blend;
+    desc.fixed.stencil = stencil;
+    desc
+}
+
+/// Light `light`'s shading pass: `desc` over every opaque object in the light's scissor.
+fn shading_pass(name: String, desc: PipelineDesc, light: u8) -> PlannedPass<VolumeKinds> {
+    let pass = PlannedPass::objects(name, desc.clone(), 1.0).only(Only::Opaque);
+    with_surface_variants(pass, &desc).with_sets(&[SetRole::Frame, SetRole::Material]).for_light(light).scissored()
+}
+
+/// Doom 3's and Ogre's loop on the alpha channel (docs/shadow-volumes.md, "Several lights"):
+/// ambient, then per light its volumes counted down from 1 and turned into a 0/1 mask, and its
+/// contribution added through the mask by a pass whose alpha blend also resets the counter for
+/// the next light. The reference clears its stencil per light instead and shades where the
+/// count is not positive.
+fn additive_plan(
+    options: &ShadowVolumeOptions,
+    stencil: StencilMode,
+    samples: u32,
+    zfail: bool,
+    k: u8,
+    lights: &[PlannedLight],
+) -> Result<PassPlan<VolumeKinds>> {
+    let step = k as f32 / 255.0;
+    let mut plan = PassPlan::new();
+    plan.push(ambient_pass());
+    let mut first_shadowing = true;
+    for (index, light) in lights.iter().enumerate() {
+        let i = index as u8;
+        if !light.shadows {
+            let desc = shading_desc("shading (no shadows)", recipes::ADD_LIGHT, None);
+            plan.push(shading_pass(light_loop::pass_name(light, "shading"), desc, i));
+            continue;
+        }
+        match stencil {
+            StencilMode::Reference => {
+                let desc = reference_volume_desc(zfail);
+                let clear = !first_shadowing;
+                plan.push(volumes_pass(light_loop::pass_name(light, desc.name), desc, 0.0, i, clear));
+                let desc = shading_desc("shading (stencil)", recipes::ADD_LIGHT, Some(recipes::STENCIL_COUNT_NOT_POSITIVE));
+                plan.push(shading_pass(light_loop::pass_name(light, "shading (stencil)"), desc, i));
+            }
+            StencilMode::Emulated => {
+                let [enter, leave] = down_volume_descs(zfail);
+                let name = if zfail { "volumes (alpha, z-fail)" } else { "volumes (alpha, z-pass)" };
+                plan.push(volumes_pass(light_loop::pass_name(light, name), enter, step, i, false).or_pipeline(leave));
+                match options.normalize {
+                    // No darkness step: the mask is exactly 0 or 1, and the light's own term
+                    // is what a shadow removes. `max` differed from `seed` only there.
+                    Normalize::Seed | Normalize::Max => {
+                        for n in 1..=alpha_counter::down_iterations(k)? {
+                            let name = light_loop::pass_name(light, &format!("normalise N{n}"));
+                            plan.push(
+                                PlannedPass::full_screen(name, iteration_desc(), solid(1.0)).scissored().for_light(i),
+                            );
+                        }
+                    }
+                    Normalize::Subpass => {
+                        let name = light_loop::pass_name(light, "mask (subpass)");
+                        plan.push(
+                            PlannedPass::new(name, mask_desc(samples, options.fragment_atomics), Draws::FullScreen { push: None })
+                                .with_sets(&[COUNTER_INPUT])
+                                .reading_colour()
+                                .scissored()
+                                .for_light(i),
+                        );
+                    }
+                }
+                let desc = shading_desc("shading", recipes::ADD_LIGHT_WHERE_LIT_RESET, None);
+                plan.push(shading_pass(light_loop::pass_name(light, "shading"), desc, i));
+            }
+        }
+        first_shadowing = false;
+    }
+    // Blended materials after the loop, lit by every light and unshadowed, as Doom 3 and Ogre
+    // draw translucent surfaces.
+    let desc = lit::scene_pipeline_desc();
+    let transparent = PlannedPass::objects("transparent", desc.clone(), 1.0).only(Only::Blended);
+    plan.push(with_surface_variants(transparent, &desc).with_sets(&[SetRole::Frame, SetRole::Material]));
+    Ok(plan)
+}
+
+/// The additive subpass mask: alpha := 0 on the light's shadowed samples.
+pub fn mask_desc(samples: u32, counts_saturation: bool) -> PipelineDesc {
+    let shader = match (samples > 1, counts_saturation) {
+        (false, false) => "shadow_subpass_mask.frag",
+        (true, false) => "shadow_subpass_mask_ms.frag",
+        (false, true) => "shadow_subpass_mask_counted.frag",
+        (true, true) => "shadow_subpass_mask_counted_ms.frag",
+    };
+    let name = if counts_saturation { "mask (subpass, counts saturation)" } else { "mask (subpass)" };
+    let mut desc = fullscreen_desc(name, shader, recipes::MASK_SHADOWED);
+    desc.push_constant_bytes = 0;
+    desc
 }

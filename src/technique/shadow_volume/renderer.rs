@@ -9,7 +9,7 @@ use ash::vk;
 use glam::Vec4;
 
 use super::bounds;
-use super::casters::{build_volume, choose_zfail, prepare_casters, Caster};
+use super::casters::{build_volume_for, choose_zfail, prepare_casters, Caster};
 use super::recipes::SATURATION_PROBE;
 use super::recipes::{VolumeDraw, VolumeKinds, VolumeSet};
 use crate::error::Result;
@@ -20,14 +20,15 @@ use crate::gpu::Gpu;
 use crate::mesh::caster::CastPath;
 use crate::mesh::Reach;
 use crate::pipeline::recipes::STENCIL_COUNT_ZERO;
-use crate::render::plan::{PassDraws, PlannedPass, Scissor};
+use crate::render::plan::{Draws, PassDraws, PlannedPass, Scissor};
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, GpuScene, ObjectPush, Renderer};
-use crate::scene::Scene;
+use crate::scene::{Scene, SceneLight};
 use crate::technique::alpha_counter;
 use crate::technique::frame_renderer::{BuildContext, Passes};
 use crate::technique::interface::{FrameStats, RenderOptions};
-use crate::technique::options::{Normalize, ShadowVolumeOptions, VolumeMethod};
+use crate::technique::options::{Normalize, ShadowMode, ShadowVolumeOptions, VolumeMethod};
+use crate::technique::shadow_tone::ShadowTone;
 use crate::technique::unit::Prepared;
 
 const MEASURED_BY_APPLY: &str = "counted by the subpass apply with fragment atomics";
@@ -35,6 +36,9 @@ const MEASURED_BY_PROBE: &str = "counted by the saturation probe pass";
 const NOT_MEASURED: &str = "not measured (use --saturation-probe)";
 const NOT_MEASURED_NO_ATOMICS: &str =
     "not measured: the device lacks fragmentStoresAndAtomics (use --saturation-probe)";
+const MEASURED_BY_MASK: &str = "counted by the subpass mask with fragment atomics";
+const NOT_MEASURED_ADDITIVE: &str =
+    "not measured: in additive mode the subpass mask counts it (--normalize subpass, fragment atomics)";
 const NOT_COUNTED_REFERENCE: &str = "n/a (reference: the stencil wraps, it does not clamp)";
 
 /// What the frame did, beyond its image and counters.
@@ -59,6 +63,20 @@ pub struct ShadowVolumeStats {
     pub increment: u8,
     /// Each caster's volume path and what the counter holds of it.
     pub casters: Vec<CasterReport>,
+    /// `additive` or `modulate`.
+    pub mode: &'static str,
+    /// Per light: whether it casts, and the volumes drawn for it this frame.
+    pub lights: Vec<LightReport>,
+}
+
+/// One light of the frame, as the shadow volumes saw it.
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
+pub struct LightReport {
+    pub name: String,
+    pub shadows: bool,
+    /// Casters whose volume was drawn for this light (the others are out of its reach, or
+    /// shade nothing on screen).
+    pub volumes: usize,
 }
 
 /// How one caster casts.
@@ -97,11 +115,16 @@ impl FrameStats for ShadowVolumeStats {
             (None, _) => self.saturation_measured_by.to_owned(),
         };
         let mut report = format!(
-            "shadow volumes: {} | counter capacity {} volumes (k = {}) | saturated samples: {saturation}",
+            "shadow volumes: {}, {} | counter capacity {} volumes (k = {}) | saturated samples: {saturation}",
+            self.mode,
             if self.zfail { "z-fail" } else { "z-pass" },
             self.capacity,
             self.increment,
         );
+        for light in &self.lights {
+            let shadows = if light.shadows { format!("{} volumes", light.volumes) } else { "casts no shadow".into() };
+            report.push_str(&format!("\n  light '{}': {shadows}", light.name));
+        }
         for caster in &self.casters {
             report.push_str(&format!(
                 "\n  caster '{}': {} ({}), capacity {}",
@@ -165,7 +188,21 @@ pub fn setup(gpu: &Gpu, scene: &Scene, options: &RenderOptions) -> Result<Prepar
 
 /// The technique's part of the renderer, planned with the resolved options.
 pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetup) -> Result<ShadowVolumePasses> {
-    let VolumeSetup { casters, warnings, zfail, requested } = setup;
+    let VolumeSetup { casters, mut warnings, zfail, requested } = setup;
+    if requested.mode == ShadowMode::Additive && requested.saturation_probe {
+        warnings.push(
+            "--saturation-probe reads the modulate mode's up-counter and is not drawn in additive mode (the default); \
+             there --normalize subpass counts saturated samples"
+                .into(),
+        );
+    }
+    if requested.mode == ShadowMode::Additive && ctx.options.shadow_tone != ShadowTone::default() {
+        warnings.push(
+            "--shadow-factor and --shadow-colour shape the modulate mode's shadow; in additive mode (the default) a \
+             shadow leaves its light out and the ambient term in (add --shadow-mode modulate)"
+                .into(),
+        );
+    }
     let options = ctx.options;
     let k = alpha_counter::check_increment(options.shadow_volume.increment)?;
     let fragment_atomics = options.shadow_volume.fragment_atomics;
@@ -190,14 +227,22 @@ pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetu
         }
         StencilMode::Reference => None,
     };
+    let additive = ctx.options.shadow_volume.mode == ShadowMode::Additive;
     let saturation_measured_by = match ctx.options.stencil {
         StencilMode::Reference => NOT_COUNTED_REFERENCE,
+        StencilMode::Emulated if additive && counting => MEASURED_BY_MASK,
+        StencilMode::Emulated if additive => NOT_MEASURED_ADDITIVE,
         StencilMode::Emulated if counting => MEASURED_BY_APPLY,
         StencilMode::Emulated if ctx.options.shadow_volume.saturation_probe => MEASURED_BY_PROBE,
         StencilMode::Emulated if ctx.options.shadow_volume.normalize == Normalize::Subpass => NOT_MEASURED_NO_ATOMICS,
         StencilMode::Emulated => NOT_MEASURED,
     };
     let capacity = alpha_counter::capacity(k);
+    let primary = scene.primary_light_index().unwrap_or(0);
+    let shadowed: Vec<bool> = match options.shadow_volume.mode {
+        ShadowMode::Additive => scene.lights.iter().map(|l| l.casts_shadow).collect(),
+        ShadowMode::Modulate => (0..scene.lights.len()).map(|i| i == primary).collect(),
+    };
     let reports = casters.iter().map(|c| CasterReport::new(scene, c, capacity)).collect();
     Ok(ShadowVolumePasses {
         gpu: ctx.gpu.clone(),
@@ -208,7 +253,10 @@ pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetu
         counter_input,
         saturation_counter,
         volumes: Vec::new(),
-        apply_scissor: Scissor::Frame,
+        covers: Vec::new(),
+        light_rects: Vec::new(),
+        primary,
+        shadowed,
         stats: ShadowVolumeStats {
             zfail,
             seed_iterations: alpha_counter::seed_iterations(k, options.shadow_tone.darkest())?,
@@ -218,6 +266,8 @@ pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetu
             probe_saturated_samples: None,
             increment: k,
             casters: reports,
+            mode: options.shadow_volume.mode.name(),
+            lights: Vec::new(),
         },
     })
 }
@@ -237,10 +287,17 @@ pub struct ShadowVolumePasses {
     /// One u32 the subpass apply adds each pixel's saturated samples to (declared after the set that
     /// names it, so that it is dropped after it).
     saturation_counter: Option<Buffer>,
-    /// This frame's volumes (those that can shade something on screen).
-    volumes: Vec<GpuVolume>,
-    /// Where the apply draws: the union of the volumes' scissors.
-    apply_scissor: Scissor,
+    /// This frame's volumes per light (those that can shade something on screen; none for a
+    /// light the plan does not shadow).
+    volumes: Vec<Vec<GpuVolume>>,
+    /// Per light: where its full-screen passes draw (the union of its volumes' scissors).
+    covers: Vec<Scissor>,
+    /// Per light: its light scissor (Doom 3's), where its shading pass draws.
+    light_rects: Vec<Scissor>,
+    /// The light the modulate mode shadows.
+    primary: usize,
+    /// Which lights get volumes: the shadowing ones (additive), the primary one (modulate).
+    shadowed: Vec<bool>,
     stats: ShadowVolumeStats,
 }
 
@@ -255,8 +312,12 @@ impl PassDraws<VolumeKinds> for ShadowVolumePasses {
         Some(&self.meshes)
     }
 
-    fn scissor(&self) -> Scissor {
-        self.apply_scissor.clone()
+    /// A light's shading pass draws in its light scissor; full-screen passes in the cover of
+    /// its volumes (the modulate apply: the primary light's).
+    fn scissor(&self, pass: &PlannedPass<VolumeKinds>) -> Scissor {
+        let light = pass.light.map_or(self.primary, usize::from);
+        let per_light = if matches!(pass.draws, Draws::Objects { .. }) { &self.light_rects } else { &self.covers };
+        per_light.get(light).cloned().unwrap_or(Scissor::Frame)
     }
 
     /// Every volume with the pass's first pipeline (bound by the recorder), then again with each
@@ -269,12 +330,25 @@ impl PassDraws<VolumeKinds> for ShadowVolumePasses {
         _pass: &PlannedPass<VolumeKinds>,
         pipelines: &[&Pipeline],
     ) -> Result<()> {
-        let VolumeDraw::Volumes { alpha } = draw;
+        let VolumeDraw::Volumes { alpha, light, clear_stencil } = draw;
+        let light = usize::from(light);
+        if clear_stencil {
+            // Ogre's and Doom 3's per-light clear, in the light's scissor grown by the pixel a
+            // multisampled scissored draw may reach past it (docs/design/msaa.md).
+            let rect = match self.light_rects.get(light) {
+                Some(Scissor::Rects(rects)) => rects.first().map(|r| bounds::grown(*r, 1, rec.extent)),
+                _ => Some(vk::Rect2D { offset: vk::Offset2D::default(), extent: rec.extent }),
+            };
+            if let Some(rect) = rect {
+                rec.clear_stencil_in(STENCIL_COUNT_ZERO, rect);
+            }
+        }
+        let volumes = self.volumes.get(light).map_or(&[][..], Vec::as_slice);
         for (index, pipeline) in pipelines.iter().enumerate() {
             if index > 0 {
                 rec.bind(pipeline);
             }
-            for volume in &self.volumes {
+            for volume in volumes {
                 rec.set_scissor(volume.scissor);
                 let push = ObjectPush {
                     model: scene.objects[volume.object].transform,
@@ -298,13 +372,35 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
         self.meshes.follow_pose(&self.gpu, scene)?;
         let extent = renderer.extent();
-        self.volumes = upload_volumes(&self.gpu, scene, &self.casters, self.stats.zfail, self.requested, extent)?;
-        self.apply_scissor = if self.requested.clip_volumes {
-            let rects: Vec<vk::Rect2D> = self.volumes.iter().map(|v| v.scissor).collect();
-            Scissor::Rects(bounds::disjoint_cover(&rects))
-        } else {
-            Scissor::Frame
-        };
+        let boxes = bounds::object_boxes(scene);
+        let receivers = bounds::receivers_box(&boxes);
+        (self.volumes, self.covers, self.light_rects, self.stats.lights) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for (index, light) in scene.lights.iter().enumerate() {
+            let light_rect = if self.requested.clip_volumes {
+                bounds::light_scissor(light, receivers, &scene.camera, extent)
+            } else {
+                Scissor::Frame
+            };
+            let volumes = if self.shadowed.get(index).copied().unwrap_or(false) {
+                let lit = LitBy { light, rect: &light_rect };
+                upload_volumes(&self.gpu, scene, &self.casters, self.stats.zfail, self.requested, extent, lit)?
+            } else {
+                Vec::new()
+            };
+            self.covers.push(if self.requested.clip_volumes {
+                let rects: Vec<vk::Rect2D> = volumes.iter().map(|v| v.scissor).collect();
+                Scissor::Rects(bounds::disjoint_cover(&rects))
+            } else {
+                Scissor::Frame
+            });
+            self.stats.lights.push(LightReport {
+                name: light.name.clone(),
+                shadows: self.shadowed.get(index).copied().unwrap_or(false),
+                volumes: volumes.len(),
+            });
+            self.volumes.push(volumes);
+            self.light_rects.push(light_rect);
+        }
         // The previous frame has finished (frames wait for their fence): the count restarts.
         if let Some(counter) = &mut self.saturation_counter {
             counter.write(0, &[0u32])?;
@@ -312,8 +408,13 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
         Ok(())
     }
 
+    /// The counter's start: a count of 0 is alpha 0 counting up (modulate), 1 counting down
+    /// (additive).
     fn clear_alpha(&self) -> f32 {
-        0.0
+        match self.requested.mode {
+            ShadowMode::Modulate => 0.0,
+            ShadowMode::Additive => 1.0,
+        }
     }
 
     fn clear_stencil(&self) -> u32 {
@@ -343,6 +444,12 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
     }
 }
 
+/// The light a frame's volumes are built for, and its light scissor.
+struct LitBy<'a> {
+    light: &'a SceneLight,
+    rect: &'a Scissor,
+}
+
 fn upload_volumes(
     gpu: &Arc<Gpu>,
     scene: &Scene,
@@ -350,21 +457,41 @@ fn upload_volumes(
     zfail: bool,
     options: ShadowVolumeOptions,
     extent: vk::Extent2D,
+    lit: LitBy,
 ) -> Result<Vec<GpuVolume>> {
     let whole_frame = vk::Rect2D { offset: vk::Offset2D::default(), extent };
     let boxes = if options.clip_volumes { bounds::object_boxes(scene) } else { Vec::new() };
     let receivers = bounds::receivers_box(&boxes);
+    let geometry = lit.light.geometry();
+    // Volumes stay a pixel inside the light's scissor, where its shading pass resets the
+    // counter even where a multisampled scissored draw reaches a pixel past its edge.
+    let inner = match lit.rect {
+        Scissor::Frame => None,
+        Scissor::Rects(rects) => match rects.first() {
+            Some(rect) => Some(bounds::shrunk(*rect, 1)),
+            None => return Ok(Vec::new()),
+        },
+    };
     let mut volumes = Vec::with_capacity(casters.len());
     for caster in casters {
         let object = &scene.objects[caster.object];
         // Clipped: the volume ends past the receivers and is scissored to where it can shade;
-        // a caster whose volume misses every receiver, or lies off screen, is not drawn.
+        // a caster whose volume misses every receiver, or lies off screen, or out of the
+        // light's reach, is not drawn.
         let (reach, scissor) = match (receivers, boxes.get(caster.object).copied().flatten()) {
             (Some(receivers), Some(caster_box)) => {
-                let clipped = bounds::caster_bounds(&scene.light, caster_box, receivers);
-                match clipped.screen_rect(&scene.camera, extent) {
-                    Some(rect) => (clipped.reach, rect),
-                    None => continue,
+                if !lit.light.reaches_box(caster_box.lo, caster_box.hi) {
+                    continue;
+                }
+                let clipped = bounds::caster_bounds(&geometry, caster_box, receivers);
+                let rect = clipped.screen_rect(&scene.camera, extent);
+                match (rect, inner) {
+                    (Some(rect), None) => (clipped.reach, rect),
+                    (Some(rect), Some(inner)) => match inner.and_then(|inner| bounds::rect_intersection(rect, inner)) {
+                        Some(rect) => (clipped.reach, rect),
+                        None => continue,
+                    },
+                    (None, _) => continue,
                 }
             }
             _ => (Reach::Infinite, whole_frame),
@@ -374,7 +501,7 @@ fn upload_volumes(
         // z-fail, and for two-sided casters in z-pass too: a ray may pass one of their
         // triangles that the scene pass culled (seen from behind, as through the hole of an
         // open box), so the caster itself does not hide its near cap.
-        let volume = build_volume(scene, caster, reach, true);
+        let volume = build_volume_for(scene, caster, &geometry, reach, true);
         let mut indices = volume.sides.clone();
         if zfail || matches!(caster.mesh.path, CastPath::TwoSided { .. }) {
             indices.extend_from_slice(&volume.near_cap);

@@ -1,0 +1,24 @@
+// Included by lit_light.frag and lit_light_masked.frag (ALPHA_MASK): one light's contribution
+// to an opaque or cut-out surface, for the additive loop's `L: shading` pass (depth EQUAL). No
+// ambient and no emissive (the ambient pass drew them); an unlit material adds nothing. Alpha
+// out is 1: with blend factors (DST_ALPHA, ONE) on colour and (ONE, ZERO) on alpha, the pass adds
+// the light where the shadow mask holds 1 and resets the counter for the next light.
+#include "lights.glsl"
+#include "light_push.glsl"
+#include "material.glsl"
+
+layout(location = 0) in vec3 world_position;
+layout(location = 1) in vec3 world_normal;
+layout(location = 2) in vec2 uv0;
+layout(location = 3) in vec2 uv1;
+layout(location = 4) in vec4 vertex_colour;
+
+layout(location = 0) out vec4 out_colour;
+
+void main() {
+    vec4 base = material_surface(uv0, uv1, vertex_colour);
+    vec3 n = surface_normal(world_normal);
+    vec3 light = light_contribution(frame.lights[object.light.x], world_position, n);
+    vec3 lit = material.params.y > 0.5 ? vec3(0.0) : base.rgb * light;
+    out_colour = vec4(lit, 1.0);
+}

@@ -1,0 +1,253 @@
+//! Several lights, and shadows that remove only their own light (issue 27): the additive loop
+//! of shadow volumes measured against witnesses it does not share code with: the shadow map
+//! (which sees only real occlusion), CPU rays toward each light, and the KHR_lights_punctual
+//! formulas evaluated on the CPU.
+
+mod common;
+
+use common::ray_world::RayWorld;
+use glam::{Mat4, Vec3};
+use nostencil::scene::lights::parse_light_spec;
+use nostencil::scene::{Camera, Light, Scene, SceneLight};
+use nostencil::technique::ShadowMode;
+use nostencil::{builtin_scene, render_scene, technique, RenderOptions, StencilMode};
+
+/// Renders `scene` with `technique` at `size`, one sample.
+fn render(scene: &Scene, name: &str, size: (u32, u32), mode: ShadowMode) -> image::RgbaImage {
+    let gpu = common::gpu();
+    let mut options = RenderOptions {
+        width: size.0,
+        height: size.1,
+        technique: technique(name).expect("technique"),
+        ..RenderOptions::default()
+    };
+    options.shadow_volume.mode = mode;
+    let frame = render_scene(&gpu, scene, &options).unwrap_or_else(|e| panic!("{name} renders: {e}"));
+    common::assert_no_validation_messages(&gpu);
+    frame.output.image
+}
+
+/// Pixels darker than `lit` by more than 8 levels summed over RGB.
+fn darkened(lit: &image::RgbaImage, frame: &image::RgbaImage) -> Vec<bool> {
+    lit.pixels()
+        .zip(frame.pixels())
+        .map(|(l, f)| (0..3).map(|c| i32::from(l[c]) - i32::from(f[c])).sum::<i32>() > 8)
+        .collect()
+}
+
+fn count(mask: &[bool]) -> usize {
+    mask.iter().filter(|&&m| m).count()
+}
+
+fn intersection_over_union(a: &[bool], b: &[bool]) -> f64 {
+    let both = a.iter().zip(b).filter(|(x, y)| **x && **y).count();
+    let either = a.iter().zip(b).filter(|(x, y)| **x || **y).count();
+    both as f64 / either.max(1) as f64
+}
+
+/// The world ray through the point (x, y) of a `size` frame, in pixels.
+fn pixel_ray(camera: &Camera, (x, y): (f32, f32), size: (u32, u32)) -> (Vec3, Vec3) {
+    let inverse = camera.view_projection(size.0 as f32 / size.1 as f32).inverse();
+    let ndc = |p: f32, side: u32| p / side as f32 * 2.0 - 1.0;
+    let near = inverse.project_point3(Vec3::new(ndc(x, size.0), ndc(y, size.1), 0.0));
+    let far = inverse.project_point3(Vec3::new(ndc(x, size.0), ndc(y, size.1), 0.5));
+    (near, (far - near).normalize())
+}
+
+/// The issue's measure: on the default scene at 320x240, the pixels each shadow mode darkens
+/// below `lit` against those the shadow map darkens. Modulate darkens faces the light already
+/// leaves dark and the terminator bands a second time; additive removes only the light, so it
+/// darkens (almost) only where the map sees occlusion.
+#[test]
+fn additive_darkens_where_the_shadow_map_does_and_modulate_does_not() {
+    const SIZE: (u32, u32) = (320, 240);
+    let scene = builtin_scene("default").expect("scene");
+    let lit = render(&scene, "lit", SIZE, ShadowMode::Additive);
+    let map = darkened(&lit, &render(&scene, "shadow-map", SIZE, ShadowMode::Additive));
+    let modulate = darkened(&lit, &render(&scene, "shadow-volume", SIZE, ShadowMode::Modulate));
+    let additive = darkened(&lit, &render(&scene, "shadow-volume", SIZE, ShadowMode::Additive));
+    let beyond = |mask: &[bool]| mask.iter().zip(&map).filter(|(m, in_map)| **m && !**in_map).count();
+    let (modulate_extra, additive_extra) = (beyond(&modulate), beyond(&additive));
+    let iou = intersection_over_union(&additive, &map);
+    println!(
+        "darkened: map {}, modulate {} ({} beyond the map), additive {} ({} beyond the map), IoU(additive, map) {iou:.3}",
+        count(&map),
+        count(&modulate),
+        modulate_extra,
+        count(&additive),
+        additive_extra
+    );
+    assert!(
+        modulate_extra >= 1000,
+        "modulate darkens only {modulate_extra} pixels the map does not: the measure is void"
+    );
+    assert!(
+        additive_extra * 5 <= modulate_extra,
+        "additive darkens {additive_extra} pixels the map does not, modulate {modulate_extra}: not cut by 80%"
+    );
+    assert!(iou >= 0.85, "IoU of additive's and the map's darkened pixels: {iou:.3}");
+}
+
+/// A caster's own pixel is darker than `lit` only where a CPU ray from its surface toward the
+/// light finds something in the way (self-shadowing included), never where the light already
+/// leaves it dark: the second half of "no double darkening", against rays.
+#[test]
+fn a_surface_is_darkened_only_where_a_ray_to_the_light_is_blocked() {
+    const SIZE: (u32, u32) = (256, 192);
+    let scene = builtin_scene("default").expect("scene");
+    let lit = render(&scene, "lit", SIZE, ShadowMode::Additive);
+    let additive = darkened(&lit, &render(&scene, "shadow-volume", SIZE, ShadowMode::Additive));
+    let world = RayWorld::of(&scene);
+    let Light::Directional { direction } = scene.light() else { panic!("the default scene's sun") };
+    let toward_light = -direction.normalize();
+    let radius = scene.camera.eye.length();
+    // Whether the surface seen at a point of the pixel is in the light's shadow (by a ray).
+    let blocked_at = |x: f32, y: f32| -> Option<bool> {
+        let (near, dir) = pixel_ray(&scene.camera, (x, y), SIZE);
+        let hit = world.first_hit(near, dir)?;
+        let point = near + dir * hit.distance;
+        Some(world.occluder(point + toward_light * 1e-3 * radius, toward_light).is_some())
+    };
+    let (mut checked, mut wrong) = (0, Vec::new());
+    for (i, &dark) in additive.iter().enumerate() {
+        let (x, y) = ((i as u32 % SIZE.0) as f32 + 0.5, (i as u32 / SIZE.0) as f32 + 0.5);
+        let Some(centre) = blocked_at(x, y) else { continue };
+        // Pixels on a shadow's edge (or an object's) may go either way.
+        let edge = [(-0.5, -0.5), (0.5, -0.5), (-0.5, 0.5), (0.5, 0.5)]
+            .into_iter()
+            .any(|(dx, dy)| blocked_at(x + dx, y + dy) != Some(centre));
+        if edge {
+            continue;
+        }
+        checked += 1;
+        if dark && !centre {
+            wrong.push((x as u32, y as u32));
+        }
+    }
+    println!("{checked} pixels checked, {} darkened with an open ray to the light", wrong.len());
+    assert!(checked > SIZE.0 as usize * SIZE.1 as usize / 2, "only {checked} pixels away from edges");
+    assert!(
+        wrong.len() * 1000 <= checked,
+        "{} pixels darkened though the ray to the light is open (more than 0.1%), e.g. {:?}",
+        wrong.len(),
+        &wrong[..wrong.len().min(8)]
+    );
+}
+
+/// The KHR_lights_punctual contribution of `light` at `point` on a surface of normal `n`
+/// (`shaders/lights.glsl`, written again).
+fn contribution(light: &SceneLight, point: Vec3, n: Vec3) -> Vec3 {
+    let to_light = light.position - point;
+    let d = to_light.length();
+    let l = to_light / d;
+    let range = light.range.map_or(f32::INFINITY, |r| r);
+    let window = (1.0 - (d / range).powi(4)).clamp(0.0, 1.0);
+    light.radiance() * n.dot(l).max(0.0) * window / (d * d)
+}
+
+/// Two coloured point lights (red and green) and a box on the ground: the ground falls into
+/// regions lit by both, by one, by the other and by none, as CPU rays to each light decide.
+fn two_lights_scene() -> Scene {
+    let camera = Camera::look_at(Vec3::new(0.0, 6.0, 6.5), Vec3::new(0.0, 0.0, 0.5));
+    let mut scene = Scene::empty("two-lights", camera, Light::Directional { direction: Vec3::NEG_Y });
+    let ground = scene.add_mesh("ground", nostencil::mesh::shapes::quad(Vec3::ZERO, Vec3::Y, glam::Vec2::splat(16.0)));
+    scene.add_object("ground", ground, Mat4::IDENTITY, Vec3::splat(0.8), false);
+    let cube = scene.add_mesh("box", nostencil::mesh::shapes::cube(1.0));
+    scene.add_object("box", cube, Mat4::from_translation(Vec3::new(0.0, 0.5, 0.0)), Vec3::splat(0.8), true);
+    scene.lights = vec![
+        parse_light_spec("point:name=red:at=-0.9,2.4,-1.3:colour=1,0,0:intensity=7:range=12").expect("spec"),
+        parse_light_spec("point:name=green:at=0.9,2.6,-1.1:colour=0,1,0:intensity=8:range=12").expect("spec"),
+    ];
+    scene
+}
+
+/// Each ground pixel equals ambient plus the contributions of the lights whose ray reaches it,
+/// computed on the CPU, within 2/255; each light's shadow (read from its own channel) matches
+/// the rays' outline with IoU >= 0.99. Emulated and reference frames are equal first.
+#[test]
+fn two_point_lights_and_a_box_match_the_cpu() {
+    const SIZE: (u32, u32) = (256, 192);
+    let scene = two_lights_scene();
+    let gpu = common::gpu();
+    let options = RenderOptions {
+        width: SIZE.0,
+        height: SIZE.1,
+        technique: technique("shadow-volume").expect("technique"),
+        ..RenderOptions::default()
+    };
+    let frame = render_scene(&gpu, &scene, &options).expect("renders").output.image;
+    let reference = render_scene(&gpu, &scene, &RenderOptions { stencil: StencilMode::Reference, ..options.clone() })
+        .expect("reference renders")
+        .output
+        .image;
+    common::assert_no_validation_messages(&gpu);
+    assert_eq!(
+        common::differing_pixels(frame.as_raw(), reference.as_raw()).iter().filter(|&&d| d).count(),
+        0,
+        "emulated and reference differ"
+    );
+
+    let world = RayWorld::of(&scene);
+    let albedo = Vec3::splat(0.8);
+    // (ground point, lit by each light) through a point of the frame, None off the ground.
+    let classify = |x: f32, y: f32| -> Option<(Vec3, [bool; 2])> {
+        let (near, dir) = pixel_ray(&scene.camera, (x, y), SIZE);
+        let hit = world.first_hit(near, dir)?;
+        (scene.objects[hit.object].name == "ground").then_some(())?;
+        let point = near + dir * hit.distance;
+        let lit = [0, 1].map(|i| {
+            let to_light = scene.lights[i].position - point;
+            let blocker = world.first_hit(point + Vec3::Y * 1e-4, to_light.normalize());
+            blocker.is_none_or(|b| b.distance > to_light.length())
+        });
+        Some((point, lit))
+    };
+    let (mut regions, mut worst, mut checked) = ([0usize; 4], 0u8, 0usize);
+    let mut masks = [vec![false; frame.len() / 4], vec![false; frame.len() / 4]];
+    let mut truths = masks.clone();
+    let mut ground = vec![false; frame.len() / 4];
+    for y in 0..SIZE.1 {
+        for x in 0..SIZE.0 {
+            let (cx, cy) = (x as f32 + 0.5, y as f32 + 0.5);
+            let Some((point, lit)) = classify(cx, cy) else { continue };
+            let i = (y * SIZE.0 + x) as usize;
+            ground[i] = true;
+            let pixel = frame.get_pixel(x, y);
+            let mut expected = albedo * scene.ambient;
+            for (light, _) in scene.lights.iter().zip(lit).filter(|(_, lit)| *lit) {
+                expected += albedo * contribution(light, point, Vec3::Y);
+            }
+            let expected = common::srgb8(expected);
+            // Each light's shadow, read from its own channel: shadowed where the channel is
+            // nearer the unlit value than the lit one.
+            for (c, light) in scene.lights.iter().enumerate() {
+                let unlit = albedo * scene.ambient;
+                let full = unlit + albedo * contribution(light, point, Vec3::Y);
+                let (dark, bright) = (common::srgb8(unlit)[c] as f32, common::srgb8(full)[c] as f32);
+                masks[c][i] = bright - dark > 6.0 && (pixel[c] as f32) < (dark + bright) / 2.0;
+                truths[c][i] = bright - dark > 6.0 && !lit[c];
+            }
+            let edge = [(-0.5, -0.5), (0.5, -0.5), (-0.5, 0.5), (0.5, 0.5)]
+                .into_iter()
+                .any(|(dx, dy)| classify(cx + dx, cy + dy).map(|(_, l)| l) != Some(lit));
+            if edge {
+                continue;
+            }
+            checked += 1;
+            regions[usize::from(lit[0]) + 2 * usize::from(lit[1])] += 1;
+            let off = (0..3).map(|c| pixel[c].abs_diff(expected[c])).max().unwrap_or(0);
+            worst = worst.max(off);
+            assert!(off <= 2, "pixel ({x}, {y}), lit by {lit:?}: {:?}, the CPU says {expected:?}", &pixel.0[..3]);
+        }
+    }
+    println!("{checked} ground pixels checked; regions (none, red, green, both): {regions:?}; worst {worst}/255");
+    assert!(regions.iter().all(|&n| n > 100), "each region needs pixels: {regions:?}");
+    for (c, light) in scene.lights.iter().enumerate() {
+        let (mask, truth): (Vec<bool>, Vec<bool>) =
+            masks[c].iter().zip(&truths[c]).zip(&ground).map(|((m, t), g)| (*m && *g, *t && *g)).unzip();
+        let iou = intersection_over_union(&mask, &truth);
+        println!("'{}': shadow of {} pixels, IoU against the rays {iou:.4}", light.name, count(&truth));
+        assert!(count(&truth) > 200, "'{}' casts too small a shadow to measure", light.name);
+        assert!(iou >= 0.99, "'{}': IoU {iou:.4}", light.name);
+    }
+}
