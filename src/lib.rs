@@ -37,7 +37,9 @@
 //! let frame = render_scene(&gpu, &scene, &options)?;
 //! assert_eq!(frame.output.image.dimensions(), (64, 48));
 //! // Per measured pass: draws, fragments, samples passed, GPU time.
-//! let volumes = frame.output.counters.drawing(VolumeDraw::Volumes { alpha: 0.0 }).next().expect("a pass");
+//! // The first light's volumes (a draw kind matches whatever its fields hold).
+//! let any_volumes = VolumeDraw::Volumes { alpha: 0.0, light: 0, clear_stencil: false };
+//! let volumes = frame.output.counters.drawing(any_volumes).next().expect("a pass");
 //! assert!(volumes.samples_passed > 0);
 //! # Ok(())
 //! # }

@@ -41,5 +41,5 @@ fn pass_counters_prints_every_pass_of_the_frame() {
     let stdout = String::from_utf8_lossy(&run.stdout);
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
     assert!(stdout.lines().any(|l| l.starts_with("scene ")), "{stdout}");
-    assert!(stdout.lines().any(|l| l.starts_with("volumes (alpha")), "{stdout}");
+    assert!(stdout.lines().any(|l| l.starts_with("sun: volumes (alpha")), "{stdout}");
 }

@@ -196,8 +196,8 @@ fn csv_and_table_outputs_and_no_output_named() {
     assert!(lines[1].starts_with("0,0,frame,vkCmdBeginRenderPass,0,0,64,48,1,"), "{}", lines[1]);
     // The pass's aggregate lines leave the section column empty; its sections' name theirs.
     assert_eq!(lines.iter().filter(|l| l.starts_with("mean,0,") && l.ends_with(",,")).count(), 1);
-    assert!(lines.iter().any(|l| l.starts_with("0,0,frame,") && l.ends_with(",scene")), "{text}");
-    assert!(lines.iter().any(|l| l.starts_with("mean,0,frame,") && l.ends_with(",scene")), "{text}");
+    assert!(lines.iter().any(|l| l.starts_with("0,0,frame,") && l.ends_with(",scene (ambient)")), "{text}");
+    assert!(lines.iter().any(|l| l.starts_with("mean,0,frame,") && l.ends_with(",scene (ambient)")), "{text}");
 
     let table = dir.join("fillrate.txt");
     assert_success("table", &run_under_layer(&render, Some(&table), &[("NOSTENCIL_FILLRATE_FORMAT", "table")], ""));

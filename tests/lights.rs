@@ -251,3 +251,124 @@ fn two_point_lights_and_a_box_match_the_cpu() {
         assert!(iou >= 0.99, "'{}': IoU {iou:.4}", light.name);
     }
 }
+
+/// A glTF file with a box and three KHR_lights_punctual lights on nodes: a sun, a red point
+/// lamp with a range, and a blue spot on a node whose translation is animated over 1 s (from
+/// x = 1.5 to x = -0.5).
+fn three_lights_gltf() -> Vec<u8> {
+    use base64::Engine as _;
+    let cube = nostencil::mesh::shapes::cube(1.0);
+    let mut bin: Vec<u8> = Vec::new();
+    let floats = |bin: &mut Vec<u8>, values: &[f32]| values.iter().for_each(|v| bin.extend(v.to_le_bytes()));
+    floats(&mut bin, &cube.positions.iter().flat_map(|p| p.to_array()).collect::<Vec<f32>>());
+    let normals_at = bin.len();
+    floats(&mut bin, &cube.normals.iter().flat_map(|n| n.to_array()).collect::<Vec<f32>>());
+    let indices_at = bin.len();
+    cube.indices.iter().for_each(|i| bin.extend(i.to_le_bytes()));
+    let times_at = bin.len();
+    floats(&mut bin, &[0.0, 1.0]);
+    let moves_at = bin.len();
+    floats(&mut bin, &[1.5, 3.0, 0.5, -0.5, 3.0, 0.5]);
+    let n = cube.positions.len();
+    let view =
+        |offset: usize, length: usize| serde_json::json!({ "buffer": 0, "byteOffset": offset, "byteLength": length });
+    let (lo, hi) = (Vec3::splat(-0.5), Vec3::splat(0.5));
+    let json = serde_json::json!({
+        "asset": { "version": "2.0" },
+        "extensionsUsed": ["KHR_lights_punctual"],
+        "extensions": { "KHR_lights_punctual": { "lights": [
+            { "name": "sun", "type": "directional", "color": [1.0, 0.9, 0.8], "intensity": 0.5 },
+            { "name": "lamp", "type": "point", "color": [1.0, 0.2, 0.1], "intensity": 2.0, "range": 6.0 },
+            { "name": "spot", "type": "spot", "color": [0.2, 0.4, 1.0], "intensity": 12.0, "range": 9.0,
+              "spot": { "innerConeAngle": 0.3, "outerConeAngle": 0.5 } }
+        ] } },
+        "scene": 0,
+        "scenes": [{ "nodes": [0, 1, 2, 3] }],
+        "nodes": [
+            { "name": "box", "mesh": 0, "translation": [0.0, 0.5, 0.0] },
+            { "name": "sun node", "rotation": [-0.5, 0.0, 0.0, 0.8660254], "extensions": { "KHR_lights_punctual": { "light": 0 } } },
+            { "name": "lamp node", "translation": [-1.5, 2.0, 1.0], "extensions": { "KHR_lights_punctual": { "light": 1 } } },
+            { "name": "spot node", "translation": [1.5, 3.0, 0.5], "rotation": [-0.70710677, 0.0, 0.0, 0.70710677],
+              "extensions": { "KHR_lights_punctual": { "light": 2 } } }
+        ],
+        "meshes": [{ "primitives": [{ "attributes": { "POSITION": 0, "NORMAL": 1 }, "indices": 2 }] }],
+        "accessors": [
+            { "bufferView": 0, "componentType": 5126, "count": n, "type": "VEC3", "min": lo.to_array(), "max": hi.to_array() },
+            { "bufferView": 1, "componentType": 5126, "count": n, "type": "VEC3" },
+            { "bufferView": 2, "componentType": 5125, "count": cube.indices.len(), "type": "SCALAR" },
+            { "bufferView": 3, "componentType": 5126, "count": 2, "type": "SCALAR", "min": [0.0], "max": [1.0] },
+            { "bufferView": 4, "componentType": 5126, "count": 2, "type": "VEC3" }
+        ],
+        "bufferViews": [
+            view(0, normals_at), view(normals_at, indices_at - normals_at), view(indices_at, times_at - indices_at),
+            view(times_at, moves_at - times_at), view(moves_at, bin.len() - moves_at)
+        ],
+        "animations": [{
+            "samplers": [{ "input": 3, "output": 4, "interpolation": "LINEAR" }],
+            "channels": [{ "sampler": 0, "target": { "node": 3, "path": "translation" } }]
+        }],
+        "buffers": [{
+            "byteLength": bin.len(),
+            "uri": format!("data:application/octet-stream;base64,{}", base64::engine::general_purpose::STANDARD.encode(&bin))
+        }]
+    });
+    serde_json::to_vec(&json).expect("JSON")
+}
+
+/// KHR_lights_punctual lights on their nodes become the scene's lights, named, coloured and
+/// placed by their nodes; an animated node carries its light along; and the frame shows each
+/// light's colour where it reaches, emulated equal to the reference.
+#[test]
+fn a_gltf_files_lights_light_the_frame_and_follow_their_nodes() {
+    use nostencil::scene::{model::LightKind, scene_and_warnings_from_gltf_slice};
+    let bytes = three_lights_gltf();
+    let path = std::path::Path::new("three-lights.gltf");
+    let (scene, warnings) = scene_and_warnings_from_gltf_slice(&bytes, path, 0.0).expect("the file loads");
+    assert!(warnings.is_empty(), "{warnings:?}");
+    let names: Vec<&str> = scene.lights.iter().map(|l| l.name.as_str()).collect();
+    assert_eq!(names, ["sun", "lamp", "spot"]);
+    let (sun, lamp, spot) = (&scene.lights[0], &scene.lights[1], &scene.lights[2]);
+    assert_eq!(sun.kind, LightKind::Directional);
+    assert!(sun.direction.distance(Vec3::new(0.0, -0.8660254, -0.5)) < 1e-4, "{}", sun.direction);
+    assert_eq!((lamp.kind, lamp.range, lamp.colour), (LightKind::Point, Some(6.0), Vec3::new(1.0, 0.2, 0.1)));
+    assert!(lamp.position.distance(Vec3::new(-1.5, 2.0, 1.0)) < 1e-5);
+    assert_eq!(spot.kind, LightKind::Spot { inner_cone_angle: 0.3, outer_cone_angle: 0.5 });
+    assert!(spot.direction.distance(Vec3::NEG_Y) < 1e-5, "{}", spot.direction);
+    assert!(spot.position.distance(Vec3::new(1.5, 3.0, 0.5)) < 1e-5);
+    // The spot rides on its animated node: half-way through, half-way along.
+    let (half, _) = scene_and_warnings_from_gltf_slice(&bytes, path, 0.5).expect("the file loads");
+    assert!(half.lights[2].position.distance(Vec3::new(0.5, 3.0, 0.5)) < 1e-4, "{}", half.lights[2].position);
+    let mut posed = scene.clone();
+    posed.pose_at(0.5).expect("pose");
+    assert!(posed.lights[2].position.distance(half.lights[2].position) < 1e-6);
+
+    // The lamp's red where it reaches: the ground under it, with and without the lamp.
+    const SIZE: (u32, u32) = (128, 96);
+    let with = render(&scene, "shadow-volume", SIZE, ShadowMode::Additive);
+    let mut without_lamp = scene.clone();
+    without_lamp.lights.remove(1);
+    let without = render(&without_lamp, "shadow-volume", SIZE, ShadowMode::Additive);
+    let ground = scene.object("ground").expect("the loader's ground plane");
+    // Between the box and the lamp's foot, a metre from each: in the frame the loader fits.
+    let near_lamp = Vec3::new(-0.9, ground.transform.w_axis.y, 0.6);
+    let clip = scene.camera.view_projection(SIZE.0 as f32 / SIZE.1 as f32) * near_lamp.extend(1.0);
+    let (x, y) = ((clip.x / clip.w * 0.5 + 0.5) * SIZE.0 as f32, (clip.y / clip.w * 0.5 + 0.5) * SIZE.1 as f32);
+    assert!((0.0..SIZE.0 as f32).contains(&x) && (0.0..SIZE.1 as f32).contains(&y), "({x}, {y}) is off the frame");
+    let (a, b) = (with.get_pixel(x as u32, y as u32), without.get_pixel(x as u32, y as u32));
+    // What the lamp adds, in linear light: red, five times its green (its colour 1, 0.2, 0.1).
+    let added = |c: usize| common::srgb_decode(a[c]) - common::srgb_decode(b[c]);
+    assert!(added(0) > 0.1 && added(0) > 3.0 * added(1), "near the red lamp: {a:?} with it, {b:?} without");
+    let gpu = common::gpu();
+    let options = RenderOptions {
+        width: SIZE.0,
+        height: SIZE.1,
+        technique: technique("shadow-volume").expect("technique"),
+        ..RenderOptions::default()
+    };
+    let reference = render_scene(&gpu, &scene, &RenderOptions { stencil: StencilMode::Reference, ..options })
+        .expect("reference")
+        .output
+        .image;
+    let differing = common::differing_pixels(with.as_raw(), reference.as_raw()).iter().filter(|&&d| d).count();
+    assert_eq!(differing, 0, "emulated and reference differ in {differing} pixels");
+}

@@ -151,8 +151,12 @@ fn budget_recipe_from_the_command_line() {
 
     // Tighten one pass's budget: the same frame is now "more expensive" than allowed.
     let mut recorded: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&budget).unwrap()).unwrap();
-    let pass =
-        recorded["passes"].as_array_mut().unwrap().iter_mut().find(|p| p["name"] == "volumes (alpha, z-pass)").unwrap();
+    let pass = recorded["passes"]
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .find(|p| p["name"] == "sun: volumes (alpha, z-pass)")
+        .unwrap();
     pass["samples_passed"] = serde_json::json!(pass["samples_passed"].as_u64().unwrap() / 2);
     std::fs::write(&budget, serde_json::to_string(&recorded).unwrap()).unwrap();
     let stderr = common::run_err(&[&args[..], &["--budget", b]].concat());
@@ -175,11 +179,11 @@ fn json_matches_the_table_and_totals_add_up() {
         assert!(row.contains(&pass["samples_passed"].to_string()), "{row}");
         assert!(row.contains(&pass["fragment_invocations"].to_string()), "{row}");
     }
-    // The default (seed) frame draws no probe: saturation is not measured, and says so.
+    // The default frame (additive, seed) counts no saturation: it says so, and where it would.
     assert!(report["technique_stats"]["saturated_samples"].is_null());
     let measured_by = report["technique_stats"]["saturation_measured_by"].as_str().expect("saturation source");
-    assert!(measured_by.contains("not measured (use --saturation-probe)"), "{measured_by}");
-    assert!(table.contains("saturated samples: not measured (use --saturation-probe)"), "{table}");
+    assert!(measured_by.contains("not measured") && measured_by.contains("subpass"), "{measured_by}");
+    assert!(table.contains("saturated samples: not measured"), "{table}");
     assert!(!table.contains("saturation probe"), "{table}");
     // The frame's formats are named: sRGB colour, and a depth format with no stencil aspect.
     assert_eq!(report["frame_formats"]["colour"], "R8G8B8A8_SRGB");
@@ -200,14 +204,19 @@ fn saturation_is_reported_where_measured_and_the_probe_is_opt_in() {
     };
     let (subpass, names) = stats(&["--normalize", "subpass"]);
     assert_eq!(subpass["saturated_samples"], 0, "{subpass}");
-    assert!(subpass["saturation_measured_by"].as_str().unwrap().contains("subpass apply"), "{subpass}");
+    assert!(subpass["saturation_measured_by"].as_str().unwrap().contains("subpass mask"), "{subpass}");
     assert!(!names.iter().any(|n| n == "saturation probe"), "{names:?}");
-    let (probed, names) = stats(&["--normalize", "max", "--saturation-probe"]);
+    let (subpass, _) = stats(&["--normalize", "subpass", "--shadow-mode", "modulate"]);
+    assert!(subpass["saturation_measured_by"].as_str().unwrap().contains("subpass apply"), "{subpass}");
+    // The probe reads the seed's up-counter: the modulate mode's.
+    let (probed, names) = stats(&["--normalize", "max", "--saturation-probe", "--shadow-mode", "modulate"]);
     assert!(names.iter().any(|n| n == "saturation probe"), "{names:?}");
     assert_eq!(probed["saturated_samples"], 0, "{probed}");
     assert_eq!(probed["probe_saturated_samples"], 0, "{probed}");
     let (reference, names) = stats(&["--stencil", "reference"]);
     assert!(reference["saturated_samples"].is_null(), "{reference}");
+    assert_eq!(names, ["scene (ambient)", "sun: volumes (stencil, z-pass)", "sun: shading (stencil)", "transparent"]);
+    let (_, names) = stats(&["--stencil", "reference", "--shadow-mode", "modulate"]);
     assert_eq!(names, ["scene", "volumes (stencil, z-pass)", "apply (stencil)"]);
     // The probe is never timed.
     let stderr = common::run_err(&["bench", "--technique", "shadow-volume", "--size", "32x32", "--saturation-probe"]);
@@ -249,7 +258,7 @@ fn heatmap_chart_compare_and_passes_from_the_command_line() {
         "--compare",
         "reference,seed,subpass",
     ]);
-    assert!(text.contains("ratio to reference") && text.contains("apply (subpass)"), "{text}");
+    assert!(text.contains("ratio to reference") && text.contains("sun: mask (subpass)"), "{text}");
 
     let (text, _) = common::run_ok(&["passes", "--technique", "shadow-volume"]);
     // Every plan: both counting methods, each path; the seed's steps in order.
@@ -258,10 +267,20 @@ fn heatmap_chart_compare_and_passes_from_the_command_line() {
     {
         assert!(text.contains(title), "{title} missing:\n{text}");
     }
+    assert!(text.contains("| sun: normalise N1 | normalise iteration |") && !text.contains("normalise N0"), "{text}");
+    assert!(text.contains("| sun: shading | shading |"), "{text}");
+    assert!(text.contains("DECREMENT_AND_WRAP"), "{text}");
+    // The seed's frame, and the loop of a scene's lights.
+    let (text, _) = common::run_ok(&["passes", "--technique", "shadow-volume", "--shadow-mode", "modulate"]);
     assert!(
         text.contains("| normalise N0 | normalise N0 |") && text.contains("| normalise N1 | normalise iteration |")
     );
-    assert!(text.contains("DECREMENT_AND_WRAP"), "{text}");
+    let (text, _) = common::run_ok(&["passes", "--technique", "shadow-volume", "--scene", "lights"]);
+    for row in
+        ["| sun: volumes (alpha, z-pass) |", "| lamp: normalise N1 |", "| spot: mask (subpass) |", "| spot: shading |"]
+    {
+        assert!(text.contains(row), "{row} missing:\n{text}");
+    }
 }
 
 /// Every technique whose passes all draw into the frame: its heat map holds, summed over the

@@ -397,21 +397,13 @@ fn open_casters_shadow_their_projected_outline_in_zpass_and_zfail() {
 fn camera_inside_a_volume_needs_zfail_and_auto_chooses_it() {
     let gpu = common::gpu();
     let scene = builtin_scene("inside").expect("scene");
-    let reference = render(
-        &gpu,
-        &scene,
-        StencilMode::Reference,
-        ShadowVolumeOptions { method: VolumeMethod::ZFail, ..seed() },
-    );
+    let reference =
+        render(&gpu, &scene, StencilMode::Reference, ShadowVolumeOptions { method: VolumeMethod::ZFail, ..seed() });
     let auto = render(&gpu, &scene, StencilMode::Emulated, seed());
     assert!(auto.stats.zfail, "auto must choose z-fail with the camera inside the slab's volume");
     assert_eq!(rgb_differences(&auto.output.image, &reference.output.image), 0);
-    let zpass = render(
-        &gpu,
-        &scene,
-        StencilMode::Emulated,
-        ShadowVolumeOptions { method: VolumeMethod::ZPass, ..seed() },
-    );
+    let zpass =
+        render(&gpu, &scene, StencilMode::Emulated, ShadowVolumeOptions { method: VolumeMethod::ZPass, ..seed() });
     let wrong = rgb_differences(&zpass.output.image, &reference.output.image);
     assert!(
         wrong > (SIZE.0 * SIZE.1 / 10) as usize,
@@ -451,8 +443,7 @@ fn background_behind_volumes_is_never_darkened() {
         let unshadowed = lit(&gpu, &scene);
         let sky = common::srgb8(scene.background);
         for method in [VolumeMethod::ZPass, VolumeMethod::ZFail] {
-            let frame =
-                render(&gpu, &scene, StencilMode::Emulated, ShadowVolumeOptions { method, ..seed() });
+            let frame = render(&gpu, &scene, StencilMode::Emulated, ShadowVolumeOptions { method, ..seed() });
             let image = &frame.output.image;
             let darkened_sky = image
                 .chunks_exact(4)

@@ -70,13 +70,16 @@ fn assert_ground_shadow(label: &str, scene: &Scene, shadowed: &RgbaImage, lit: &
     for y in 0..SIZE.1 {
         for x in 0..SIZE.0 {
             let (s, l) = (shadowed.get_pixel(x, y).0, lit.get_pixel(x, y).0);
-            assert!((0..3).all(|c| s[c] <= l[c]), "{label}: ({x}, {y}) is brighter than lit: {s:?} vs {l:?}");
+            // The additive loop adds ambient and light in two passes, each rounded to 8 bits: a
+            // lit pixel may differ from `lit`'s by a level or two, a shadowed one is far darker.
+            let brighter = (0..3).any(|c| s[c] > l[c].saturating_add(2));
+            assert!(!brighter, "{label}: ({x}, {y}) is brighter than lit: {s:?} vs {l:?}");
             if !common::near(&l, &ground_colour, 1) {
                 continue;
             }
             ground_pixels += 1;
             under += under_casters(x, y) as usize;
-            if s[..3] != l[..3] {
+            if (0..3).map(|c| i32::from(l[c]) - i32::from(s[c])).sum::<i32>() > 8 {
                 darkened += 1;
                 // A pixel on the hull's border may go either way: its neighbours decide.
                 let near_hull = (x.saturating_sub(1)..=x + 1)

@@ -412,6 +412,62 @@ fn m_switches_between_one_and_four_samples_live() {
     }
 }
 
+/// V switches the shadow mode live: the lights scene switched to modulate after its second frame
+/// equals `render --shadow-mode modulate`; in a window I selects the next light and X switches
+/// it off, and the title says which light and whether it is off.
+#[test]
+fn v_switches_the_shadow_mode_and_i_x_select_and_switch_off_lights_live() {
+    let x = start_x_server();
+    let dir = common::scratch_dir("viewer-lights");
+    let base = [
+        "--validation",
+        "--device",
+        "lavapipe",
+        "--paused",
+        "--technique",
+        "shadow-volume",
+        "--scene",
+        "lights",
+        "--size",
+        "128x96",
+        "--samples",
+        "1",
+    ];
+    let path = dir.join("switched.png");
+    let args =
+        [&["view"], &base[..], &["--press-after", "2", "v", "--frames", "5", "--screenshot", path.to_str().unwrap()]]
+            .concat();
+    let output = run(&x, &args);
+    assert_clean(&output, "view --press-after 2 v");
+    let switched = rgb(&path);
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let args = [&["render"], &base[..], extra, &["--out", out.to_str().unwrap()]].concat();
+        let args: Vec<&str> = args.into_iter().filter(|a| *a != "--paused").collect();
+        assert_clean(&common::nostencil(&args), "render");
+        rgb(&out)
+    };
+    let modulate = render("modulate.png", &["--shadow-mode", "modulate"]);
+    let additive = render("additive.png", &[]);
+    let differing = switched.pixels().zip(modulate.pixels()).filter(|(a, b)| a != b).count();
+    assert_eq!(differing, 0, "the frame switched to modulate differs from `render --shadow-mode modulate`");
+    assert!(switched.pixels().zip(additive.pixels()).filter(|(a, b)| a != b).count() > 100, "V changed nothing");
+
+    // Live, by key, in a window: the sun is selected first (the primary light).
+    let args = [&["view"], &base[..]].concat();
+    let child = spawn_on(&x, &args);
+    let (child, window) = wait_for_window(&x, child);
+    wait_for_title(&x, &window, "| light 1/3 'sun' |");
+    xdotool(&x, &["windowfocus", &window]);
+    xdotool(&x, &["key", "i"]);
+    wait_for_title(&x, &window, "| light 2/3 'lamp' |");
+    xdotool(&x, &["key", "x"]);
+    wait_for_title(&x, &window, "| light 2/3 'lamp' off |");
+    xdotool(&x, &["key", "Escape"]);
+    let output = wait_with_timeout(child, Duration::from_secs(60));
+    assert_clean(&output, "view selecting and switching off lights");
+}
+
 /// One `--tour` report line: (tours done, frames, resident KiB, live objects).
 fn tour_reports(err: &str) -> Vec<(u32, u32, u64, String)> {
     err.lines()

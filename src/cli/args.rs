@@ -121,6 +121,16 @@ pub enum Command {
     Passes {
         #[arg(long, default_value = DEFAULT_TECHNIQUE)]
         technique: String,
+        /// Plan for this scene's lights (a built-in scene or a .gltf/.glb file): the additive
+        /// loop has passes per light.
+        #[arg(long, default_value = "default")]
+        scene: String,
+        /// Adds a light to the scene's, as for `render` (repeatable).
+        #[arg(long = "light", value_name = "SPEC", value_parser = parse_light_arg)]
+        lights: Vec<SceneLight>,
+        /// The --light lights replace the scene's.
+        #[arg(long, requires = "lights")]
+        replace_lights: bool,
         #[command(flatten)]
         plans: PassesArgs,
     },

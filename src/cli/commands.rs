@@ -14,7 +14,7 @@ use crate::gpu::{mobile_profile, DeviceChoice, Gpu, GpuOptions};
 use crate::profile::budget::Budget;
 use crate::profile::report::{FrameFormats, ProfileReport, ReportContext, ReportFormat};
 use crate::scene::lights::apply_light_specs;
-use crate::scene::{builtin_scene_at, scene_and_warnings_from_gltf, Scene, BUILTIN_SCENES, OTHER_SCENES};
+use crate::scene::{builtin_scene_at, scene_and_warnings_from_gltf, Scene, SceneLight, BUILTIN_SCENES, OTHER_SCENES};
 use crate::technique::interface::BenchTable;
 use crate::technique::light_loop::PlannedLight;
 use crate::technique::{by_name, render_scene, shadow_atlas, RenderOptions, TECHNIQUES};
@@ -54,7 +54,10 @@ pub fn run(cli: Cli) -> Result<()> {
                 LayerAction::Uninstall => super::install::uninstall(&paths),
             }
         }
-        Command::Passes { technique, plans } => passes(&technique, &plans),
+        Command::Passes { technique, scene, lights, replace_lights, plans } => {
+            let scene = load_named_scene(&scene, 0.0, &lights, replace_lights)?;
+            passes(&technique, &plans, PlannedLight::of_scene(&scene))
+        }
         Command::Bench { frame, warmup: _, runs, json, table1_out, mip_flicker: Some(steps) } => {
             if table1_out.is_some() || runs.is_some() {
                 return Err(Error::InvalidInput("--mip-flicker is not timed: drop --table1-out and --runs".into()));
@@ -86,7 +89,11 @@ fn open_gpu_with(args: &GpuArgs, without_pass_queries: bool) -> Result<Arc<Gpu>>
 /// The frame's scene: a built-in one or a glTF file, at its time, with the command line's
 /// lights added (or in place of its own).
 fn load_scene(frame: &FrameArgs) -> Result<Scene> {
-    let (name, time) = (frame.scene.as_str(), frame.time);
+    load_named_scene(&frame.scene, frame.time, &frame.lights, frame.replace_lights)
+}
+
+/// The scene `name` at `time`, with the lights `specs` added to its own (or in their place).
+fn load_named_scene(name: &str, time: f32, specs: &[SceneLight], replace: bool) -> Result<Scene> {
     let path = Path::new(name);
     let is_gltf = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"));
     let mut scene = if is_gltf || path.exists() {
@@ -98,7 +105,7 @@ fn load_scene(frame: &FrameArgs) -> Result<Scene> {
     } else {
         builtin_scene_at(name, time)?
     };
-    apply_light_specs(&mut scene.lights, &frame.lights, frame.replace_lights)?;
+    apply_light_specs(&mut scene.lights, specs, replace)?;
     Ok(scene)
 }
 
@@ -613,13 +620,14 @@ fn view(
 /// Markdown tables; `--normalize` keeps one shadow-volume normalisation. For shadow volumes,
 /// the plans are for k, D (or the tint) of `shadow_volume`, and the table of iteration counts
 /// for other k and D follows them.
-fn passes(technique: &str, plans: &PassesArgs) -> Result<()> {
+fn passes(technique: &str, plans: &PassesArgs, lights: Vec<PlannedLight>) -> Result<()> {
     let technique = by_name(technique)?;
     plans.shadow_volume.check()?;
     let base = RenderOptions {
         technique,
         shadow_volume: plans.shadow_volume,
         shadow_tone: plans.shadow_tone.tone(),
+        lights,
         ..Default::default()
     };
     println!("## {}: passes and fixed-function state\n", technique.name());

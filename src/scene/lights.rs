@@ -403,7 +403,7 @@ mod tests {
         apply_light_specs(&mut lights, &[lamp.clone(), lamp.clone()], false).expect("added");
         let names: Vec<&str> = lights.iter().map(|l| l.name.as_str()).collect();
         assert_eq!(names, ["sun", "lamp", "lamp 2"]);
-        apply_light_specs(&mut lights, &[lamp.clone()], true).expect("replaced");
+        apply_light_specs(&mut lights, std::slice::from_ref(&lamp), true).expect("replaced");
         assert_eq!(lights.len(), 1);
         assert!(apply_light_specs(&mut lights, &[], true).is_err());
         assert!(apply_light_specs(&mut lights, &vec![lamp; MAX_LIGHTS], false).is_err());

@@ -411,9 +411,10 @@ fn update_title(window: &Window, session: &Session) -> Result<()> {
         counters.total_fragment_invocations().map_or("n/a".to_owned(), |f| format!("{:.2}", f as f64 / pixels));
     let method = frame.brief.as_ref().map_or(String::new(), |b| format!(" {b}"));
     let title = format!(
-        "nostencil view | {} | {}{method} | {}x MSAA | {fragments} fragments/px, overdraw {:.2} | {:.2} ms GPU | {}x{}{}",
+        "nostencil view | {} | {}{method} | {} | {}x MSAA | {fragments} fragments/px, overdraw {:.2} | {:.2} ms GPU | {}x{}{}",
         session.base.name,
         session.settings.describe(),
+        session.live.describe_light(session.base),
         counters.samples,
         counters.overdraw(),
         counters.total_gpu_ms(),

@@ -8,7 +8,7 @@ use super::controls::Live;
 use super::live::Settings;
 use crate::frame::StencilMode;
 use crate::scene::Scene;
-use crate::technique::{LightMode, Normalize, OutlineMethod, SilhouetteMethod, TECHNIQUES};
+use crate::technique::{LightMode, Normalize, OutlineMethod, ShadowMode, SilhouetteMethod, TECHNIQUES};
 
 /// How far one press of an arrow turns or tilts the light (radians).
 const LIGHT_STEP: f32 = 0.15;
@@ -62,6 +62,10 @@ pub(super) enum Action {
     SwitchAtlasLight,
     NextSampleCount,
     Pause,
+    NextLight,
+    PreviousLight,
+    SwitchLightOff,
+    SwitchShadowMode,
     TurnLight,
     TurnLightBack,
     TiltLight,
@@ -138,22 +142,46 @@ pub(super) const BINDINGS: &[Binding] = &[
         action: Action::Pause,
     },
     Binding {
+        keys: &[KeyPress::Letter('i')],
+        description: "select the next light (the arrows move it; the title names it)",
+        action: Action::NextLight,
+    },
+    Binding { keys: &[KeyPress::Upper('I')], description: "select the previous light", action: Action::PreviousLight },
+    Binding {
+        keys: &[KeyPress::Letter('x')],
+        description: "switch the selected light off / on (add lights with `view --light SPEC`)",
+        action: Action::SwitchLightOff,
+    },
+    Binding {
+        keys: &[KeyPress::Letter('v')],
+        description: "shadow-volume shadows: additive (each light added where its shadow does not fall) / modulate (the seed's)",
+        action: Action::SwitchShadowMode,
+    },
+    Binding {
         keys: &[KeyPress::Named(NamedKey::ArrowLeft)],
-        description: "light: turn about the vertical axis",
+        description: "selected light: turn about the vertical axis",
         action: Action::TurnLight,
     },
     Binding {
         keys: &[KeyPress::Named(NamedKey::ArrowRight)],
-        description: "light: turn about the vertical axis, the other way",
+        description: "selected light: turn about the vertical axis, the other way",
         action: Action::TurnLightBack,
     },
-    Binding { keys: &[KeyPress::Named(NamedKey::ArrowUp)], description: "light: tilt", action: Action::TiltLight },
+    Binding {
+        keys: &[KeyPress::Named(NamedKey::ArrowUp)],
+        description: "selected light: tilt (a point or spot light: raise)",
+        action: Action::TiltLight,
+    },
     Binding {
         keys: &[KeyPress::Named(NamedKey::ArrowDown)],
-        description: "light: tilt the other way",
+        description: "selected light: tilt the other way (lower)",
         action: Action::TiltLightBack,
     },
-    Binding { keys: &[KeyPress::Letter('r')], description: "reset camera, light and animation", action: Action::Reset },
+    Binding {
+        keys: &[KeyPress::Letter('r')],
+        description: "reset camera, lights and animation",
+        action: Action::Reset,
+    },
     Binding {
         keys: &[KeyPress::Named(NamedKey::Escape), KeyPress::Letter('q')],
         description: "quit",
@@ -230,10 +258,24 @@ impl Action {
             }
             Action::NextSampleCount => s.samples = cycle(&SAMPLE_COUNTS, s.samples, 1),
             Action::Pause => live.paused = !live.paused,
-            Action::TurnLight => live.light_yaw -= LIGHT_STEP,
-            Action::TurnLightBack => live.light_yaw += LIGHT_STEP,
-            Action::TiltLight => live.light_tilt = (live.light_tilt + LIGHT_STEP).min(MAX_TILT),
-            Action::TiltLightBack => live.light_tilt = (live.light_tilt - LIGHT_STEP).max(-MAX_TILT),
+            Action::NextLight => live.select_light(1),
+            Action::PreviousLight => live.select_light(-1),
+            Action::SwitchLightOff => {
+                if let Some(off) = live.lights_off.get_mut(live.selected_light) {
+                    *off = !*off;
+                }
+            }
+            Action::SwitchShadowMode => s.shadow_volume.mode = cycle(ShadowMode::ALL, s.shadow_volume.mode, 1),
+            Action::TurnLight | Action::TurnLightBack | Action::TiltLight | Action::TiltLightBack => {
+                if let Some(turn) = live.selected_turn() {
+                    match self {
+                        Action::TurnLight => turn.yaw -= LIGHT_STEP,
+                        Action::TurnLightBack => turn.yaw += LIGHT_STEP,
+                        Action::TiltLight => turn.tilt = (turn.tilt + LIGHT_STEP).min(MAX_TILT),
+                        _ => turn.tilt = (turn.tilt - LIGHT_STEP).max(-MAX_TILT),
+                    }
+                }
+            }
             Action::Reset => live.reset(base),
             Action::Quit => return Flow::Quit,
         }
