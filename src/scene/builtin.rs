@@ -124,8 +124,20 @@ const CHARACTER_COLOUR: Vec3 = Vec3::new(0.93, 0.72, 0.30);
 fn character_scene(time: f32, light: Light) -> Result<Scene> {
     let camera = Camera::look_at(Vec3::new(1.0, 3.3, 3.4), Vec3::new(-0.5, 0.5, -0.2));
     let mut scene = with_ground("character", camera, light);
+    light_the_origin_as_the_sun_would(&mut scene);
     character::add_character(&mut scene, Mat4::IDENTITY, time, CHARACTER_COLOUR)?;
     Ok(scene)
+}
+
+/// A built-in point light falls off with distance squared (KHR_lights_punctual): its intensity
+/// is set so that at the scene's origin, where its objects stand, it is as bright as the
+/// built-in sun.
+fn light_the_origin_as_the_sun_would(scene: &mut Scene) {
+    for light in &mut scene.lights {
+        if light.kind != super::model::LightKind::Directional {
+            light.intensity = super::lights::DEFAULT_INTENSITY * light.position.length_squared();
+        }
+    }
 }
 
 /// The normal of the `slope` scene's ground: typed exactly as `--plane-normal 0,3,1`.
@@ -177,6 +189,7 @@ fn point_light_scene(time: f32) -> Result<Scene> {
     let mut scene = default_scene_at(time)?;
     scene.name = "point-light".into();
     scene.set_light(Light::Point { position: Vec3::new(-1.0, 6.0, 2.0) });
+    light_the_origin_as_the_sun_would(&mut scene);
     Ok(scene)
 }
 

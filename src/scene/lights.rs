@@ -58,7 +58,9 @@ impl SceneLight {
     /// A white light with the built-in intensity, named after its kind.
     pub fn from_geometry(light: Light) -> Self {
         let (name, kind, position, direction) = match light {
-            Light::Directional { direction } => ("sun", LightKind::Directional, Vec3::ZERO, direction.normalize()),
+            // Kept as given (callers pass a unit vector): a renormalised direction would move
+            // shadow edges by a pixel against frames made before lights were a list.
+            Light::Directional { direction } => ("sun", LightKind::Directional, Vec3::ZERO, direction),
             Light::Point { position } => ("lamp", LightKind::Point, position, Vec3::NEG_Y),
         };
         SceneLight {
@@ -83,13 +85,13 @@ impl SceneLight {
         }
     }
 
-    /// Moves the light to `light`'s geometry (a directional light takes its direction, a point
-    /// or spot light its position); a change of kind changes the light's kind.
+    /// Moves the light to `light`'s geometry (a directional light takes its direction, unit as
+    /// given; a point or spot light its position); a change of kind changes the light's kind.
     pub fn set_geometry(&mut self, light: Light) {
         match light {
             Light::Directional { direction } => {
                 self.kind = LightKind::Directional;
-                self.direction = direction.normalize();
+                self.direction = direction;
             }
             Light::Point { position } => {
                 if self.kind == LightKind::Directional {

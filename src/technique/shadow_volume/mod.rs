@@ -27,6 +27,12 @@ pub use recipes::{
 };
 pub use renderer::{CasterReport, ShadowVolumeStats};
 
+/// The normalisations worth listing in `mode`: in the additive loop `max` runs exactly `seed`'s
+/// passes (it differed only in the darkness step, which the loop has no use for).
+fn normalisations(mode: ShadowMode) -> impl Iterator<Item = Normalize> {
+    Normalize::ALL.iter().copied().filter(move |&n| !(mode == ShadowMode::Additive && n == Normalize::Max))
+}
+
 /// Shadow volumes counted in alpha (seed 000).
 pub struct ShadowVolumes;
 
@@ -61,7 +67,15 @@ impl TechniqueUnit for ShadowVolumes {
     }
 
     fn plan_notes(&self) -> Result<Option<String>> {
-        super::alpha_counter::iteration_section().map(Some)
+        let additive = "In the additive loop (`--shadow-mode additive`, the default) `max` runs the same passes as \
+                        `seed`: the mask is exactly 0 or 1, with no darkness step. Its counter counts down from 1, \
+                        so no N0; iterations for k = 1, 2, 4, 8: ";
+        let down: Vec<String> = super::alpha_counter::TABLE_INCREMENTS
+            .iter()
+            .map(|&k| super::alpha_counter::down_iterations(k).map(|n| n.to_string()))
+            .collect::<Result<_>>()?;
+        let modulate = super::alpha_counter::iteration_section()?;
+        Ok(Some(format!("{additive}{}.\n\n{modulate}", down.join(", "))))
     }
 
     fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
@@ -72,7 +86,7 @@ impl TechniqueUnit for ShadowVolumes {
             label: "reference (stencil)".into(),
             options: RenderOptions { stencil: StencilMode::Reference, ..options.clone() },
         }];
-        variants.extend(Normalize::ALL.iter().copied().map(|normalize| Variant {
+        variants.extend(normalisations(options.shadow_volume.mode).map(|normalize| Variant {
             label: format!("emulated {}", normalize.name()),
             options: RenderOptions {
                 stencil: StencilMode::Emulated,
@@ -80,6 +94,21 @@ impl TechniqueUnit for ShadowVolumes {
                 ..options.clone()
             },
         }));
+        // The additive loop's cost beside the seed's single darkening of the finished frame.
+        if options.shadow_volume.mode == ShadowMode::Additive {
+            variants.push(Variant {
+                label: "emulated seed, modulate".into(),
+                options: RenderOptions {
+                    stencil: StencilMode::Emulated,
+                    shadow_volume: ShadowVolumeOptions {
+                        normalize: Normalize::Seed,
+                        mode: ShadowMode::Modulate,
+                        ..options.shadow_volume
+                    },
+                    ..options.clone()
+                },
+            });
+        }
         variants
     }
 
@@ -91,7 +120,7 @@ impl TechniqueUnit for ShadowVolumes {
                 label: format!("reference, {}", method.name()),
                 options: RenderOptions { stencil: StencilMode::Reference, shadow_volume: counting, ..options.clone() },
             });
-            for &normalize in Normalize::ALL {
+            for normalize in normalisations(options.shadow_volume.mode) {
                 variants.push(Variant {
                     label: format!("emulated {}, {}", normalize.name(), method.name()),
                     options: RenderOptions {
@@ -102,15 +131,17 @@ impl TechniqueUnit for ShadowVolumes {
                 });
             }
         }
-        // The opt-in probe, beside the subpass apply's own count (a cross-check).
+        // The opt-in probe, beside the subpass apply's own count (a cross-check): it reads the
+        // seed's up-counter, so the modulate mode's frame.
         variants.push(Variant {
-            label: "emulated subpass, zpass, --saturation-probe".into(),
+            label: "emulated subpass, zpass, modulate, --saturation-probe".into(),
             options: RenderOptions {
                 stencil: StencilMode::Emulated,
                 shadow_volume: ShadowVolumeOptions {
                     method: VolumeMethod::ZPass,
                     normalize: Normalize::Subpass,
                     saturation_probe: true,
+                    mode: ShadowMode::Modulate,
                     ..options.shadow_volume
                 },
                 ..options.clone()
