@@ -7,13 +7,7 @@
 #include "light_push.glsl"
 #include "material.glsl"
 
-layout(location = 0) in vec3 world_position;
-layout(location = 1) in vec3 world_normal;
-layout(location = 2) in vec2 uv0;
-layout(location = 3) in vec2 uv1;
-layout(location = 4) in vec4 vertex_colour;
-
-layout(location = 0) out vec4 out_colour;
+#include "lit_inputs.glsl"
 
 void main() {
     vec4 base = material_surface(uv0, uv1, vertex_colour);

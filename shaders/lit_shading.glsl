@@ -1,19 +1,14 @@
 // Included by lit.frag and its material variants (lit_masked.frag: ALPHA_MASK,
 // lit_blend.frag: ALPHA_BLEND), and the additive loop's ambient pass (lit_ambient*.frag:
 // AMBIENT_ONLY).
-// Lambert + ambient on the material's surface, every light of the frame summed. Alpha is not lighting: it is the emulated
-// stencil's starting value (the draw's), whatever the material's alpha.
+// Lambert + ambient on the material's surface, every light of the frame summed. Alpha is not
+// lighting: it is the emulated stencil's starting value (the draw's), whatever the material's
+// alpha.
 #include "lights.glsl"
 #include "object_push.glsl"
 #include "material.glsl"
 
-layout(location = 0) in vec3 world_position;
-layout(location = 1) in vec3 world_normal;
-layout(location = 2) in vec2 uv0;
-layout(location = 3) in vec2 uv1;
-layout(location = 4) in vec4 vertex_colour;
-
-layout(location = 0) out vec4 out_colour;
+#include "lit_inputs.glsl"
 
 void main() {
     vec4 base = material_surface(uv0, uv1, vertex_colour);

@@ -122,24 +122,34 @@ fn fullscreen_desc(name: &'static str, fragment_shader: &'static str, blend: Ble
     }
 }
 
-/// Increment and decrement pipelines for one counting method.
-pub fn volume_descs(zfail: bool) -> [PipelineDesc; 2] {
-    use recipes::{COUNTER_DECREMENT, COUNTER_INCREMENT};
-    const GREATER_OR_EQUAL: vk::CompareOp = vk::CompareOp::GREATER_OR_EQUAL;
-    const LESS: vk::CompareOp = vk::CompareOp::LESS;
+/// The two pipelines of a volume pass for one counting method: entering walls blended with
+/// `enter`, then leaving walls with `leave`, named `names[0]` and `names[1]` with the method.
+/// z-fail counts the walls behind the visible surface (back faces enter, front faces leave),
+/// z-pass those in front (front faces enter, back faces leave).
+fn counting_descs(zfail: bool, names: [[&'static str; 2]; 2], [enter, leave]: [BlendState; 2]) -> [PipelineDesc; 2] {
+    let [zpass_names, zfail_names] = names;
     if zfail {
-        // Walls behind the visible surface count: back faces up, front faces down.
+        let compare = vk::CompareOp::GREATER_OR_EQUAL;
         [
-            volume_desc("volume increment (z-fail)", RasterState::CULL_FRONT, GREATER_OR_EQUAL, COUNTER_INCREMENT),
-            volume_desc("volume decrement (z-fail)", RasterState::CULL_BACK, GREATER_OR_EQUAL, COUNTER_DECREMENT),
+            volume_desc(zfail_names[0], RasterState::CULL_FRONT, compare, enter),
+            volume_desc(zfail_names[1], RasterState::CULL_BACK, compare, leave),
         ]
     } else {
-        // Walls in front of the visible surface count: front faces up, back faces down.
+        let compare = vk::CompareOp::LESS;
         [
-            volume_desc("volume increment (z-pass)", RasterState::CULL_BACK, LESS, COUNTER_INCREMENT),
-            volume_desc("volume decrement (z-pass)", RasterState::CULL_FRONT, LESS, COUNTER_DECREMENT),
+            volume_desc(zpass_names[0], RasterState::CULL_BACK, compare, enter),
+            volume_desc(zpass_names[1], RasterState::CULL_FRONT, compare, leave),
         ]
     }
+}
+
+/// Increment and decrement pipelines for one counting method (the seed's up-counter).
+pub fn volume_descs(zfail: bool) -> [PipelineDesc; 2] {
+    let names = [
+        ["volume increment (z-pass)", "volume decrement (z-pass)"],
+        ["volume increment (z-fail)", "volume decrement (z-fail)"],
+    ];
+    counting_descs(zfail, names, [recipes::COUNTER_INCREMENT, recipes::COUNTER_DECREMENT])
 }
 
 pub fn n0_desc() -> PipelineDesc {
@@ -401,20 +411,8 @@ fn modulate_plan(
 /// Down-counting volume pipelines (additive mode): entering walls take k/255 off, leaving
 /// walls give it back, with the faces and depth tests of `volume_descs`.
 pub fn down_volume_descs(zfail: bool) -> [PipelineDesc; 2] {
-    use recipes::{COUNTER_DOWN_ENTER, COUNTER_DOWN_LEAVE};
-    const GREATER_OR_EQUAL: vk::CompareOp = vk::CompareOp::GREATER_OR_EQUAL;
-    const LESS: vk::CompareOp = vk::CompareOp::LESS;
-    if zfail {
-        [
-            volume_desc("volume enter (z-fail)", RasterState::CULL_FRONT, GREATER_OR_EQUAL, COUNTER_DOWN_ENTER),
-            volume_desc("volume leave (z-fail)", RasterState::CULL_BACK, GREATER_OR_EQUAL, COUNTER_DOWN_LEAVE),
-        ]
-    } else {
-        [
-            volume_desc("volume enter (z-pass)", RasterState::CULL_BACK, LESS, COUNTER_DOWN_ENTER),
-            volume_desc("volume leave (z-pass)", RasterState::CULL_FRONT, LESS, COUNTER_DOWN_LEAVE),
-        ]
-    }
+    let names = [["volume enter (z-pass)", "volume leave (z-pass)"], ["volume enter (z-fail)", "volume leave (z-fail)"]];
+    counting_descs(zfail, names, [recipes::COUNTER_DOWN_ENTER, recipes::COUNTER_DOWN_LEAVE])
 }
 
 /// The ambient pass of the additive loop: depth, ambient x albedo and emissive, alpha 1 (every
