@@ -369,6 +369,7 @@ fn a_gltf_files_lights_light_the_frame_and_follow_their_nodes() {
         .expect("reference")
         .output
         .image;
+    common::assert_no_validation_messages(&gpu);
     let differing = common::differing_pixels(with.as_raw(), reference.as_raw()).iter().filter(|&&d| d).count();
     assert_eq!(differing, 0, "emulated and reference differ in {differing} pixels");
 }

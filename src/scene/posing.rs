@@ -42,6 +42,18 @@ impl PoseTracker {
     }
 }
 
+/// Index in `worlds` of `rig`'s node world matrices at `time`, evaluated once per rig.
+fn rig_world(worlds: &mut Vec<(*const Rig, Vec<Mat4>)>, rig: &Arc<Rig>, time: f32) -> Result<usize> {
+    let key = Arc::as_ptr(rig);
+    match worlds.iter().position(|(k, _)| *k == key) {
+        Some(index) => Ok(index),
+        None => {
+            worlds.push((key, rig.world_at(time)?));
+            Ok(worlds.len() - 1)
+        }
+    }
+}
+
 impl Scene {
     /// Re-poses every animated object at `time` seconds: its transform becomes its node's
     /// world matrix, its joint palette (skinned objects) that of the new pose. Meshes are not
@@ -51,14 +63,8 @@ impl Scene {
         let mut worlds: Vec<(*const Rig, Vec<Mat4>)> = Vec::new();
         for object in &mut self.objects {
             let Some(placed) = &object.rig else { continue };
-            let key = Arc::as_ptr(&placed.rig);
-            let world = match worlds.iter().position(|(k, _)| *k == key) {
-                Some(i) => &worlds[i].1,
-                None => {
-                    worlds.push((key, placed.rig.world_at(time)?));
-                    &worlds[worlds.len() - 1].1
-                }
-            };
+            let index = rig_world(&mut worlds, &placed.rig, time)?;
+            let world = &worlds[index].1;
             let node_world = world.get(placed.node).copied().unwrap_or(Mat4::IDENTITY);
             object.transform = node_world;
             if let (Some(skin_index), Some(skin)) = (placed.skin, object.skin.as_mut()) {
@@ -68,14 +74,8 @@ impl Scene {
         // File lights ride on their nodes (KHR_lights_punctual).
         for light in &mut self.lights {
             let Some(on) = &light.node else { continue };
-            let key = Arc::as_ptr(&on.rig);
-            let world = match worlds.iter().position(|(k, _)| *k == key) {
-                Some(i) => &worlds[i].1,
-                None => {
-                    worlds.push((key, on.rig.world_at(time)?));
-                    &worlds[worlds.len() - 1].1
-                }
-            };
+            let index = rig_world(&mut worlds, &on.rig, time)?;
+            let world = &worlds[index].1;
             let node_world = world.get(on.node).copied().unwrap_or(Mat4::IDENTITY);
             light.place(node_world);
         }
