@@ -12,5 +12,5 @@
 void main() {
     pass_material_inputs();
     vec3 world = (planar.model * (skin_matrix(in_joints, in_weights) * vec4(in_position, 1.0))).xyz;
-    gl_Position = frame.view_proj * vec4(project_onto_plane(world, frame.light, planar.plane), 1.0);
+    gl_Position = frame.view_proj * vec4(project_onto_plane(world, frame.lights[planar.light.x].position, planar.plane), 1.0);
 }

@@ -7,6 +7,9 @@
 #include "planar_skinning.glsl"
 #include "skinned_vertex.glsl"
 
+// Invariant: each light's shading pass meets the ambient pass's depth with depth EQUAL.
+invariant gl_Position;
+
 layout(location = 0) out vec3 world_position;
 layout(location = 1) out vec3 world_normal;
 layout(location = 2) out vec2 uv0;

@@ -142,7 +142,109 @@ fn contribution(light: &SceneLight, point: Vec3, n: Vec3) -> Vec3 {
     let l = to_light / d;
     let range = light.range.map_or(f32::INFINITY, |r| r);
     let window = (1.0 - (d / range).powi(4)).clamp(0.0, 1.0);
-    light.radiance() * n.dot(l).max(0.0) * window / (d * d)
+    let (scale, offset) = light.cone_scale_offset();
+    let cone = (light.direction.normalize().dot(-l) * scale + offset).clamp(0.0, 1.0);
+    light.radiance() * n.dot(l).max(0.0) * window * cone * cone / (d * d)
+}
+
+/// A blue spot with a hard edge (inner cone 0.6 degrees inside the outer) and a red point lamp
+/// whose range ends on the ground, over a bare ground: each channel holds one light.
+fn cone_and_range_scene() -> Scene {
+    let camera = Camera::look_at(Vec3::new(0.0, 13.0, 3.0), Vec3::ZERO);
+    let mut scene = Scene::empty("cone-and-range", camera, Light::Directional { direction: Vec3::NEG_Y });
+    let ground = scene.add_mesh("ground", nostencil::mesh::shapes::quad(Vec3::ZERO, Vec3::Y, glam::Vec2::splat(30.0)));
+    scene.add_object("ground", ground, Mat4::IDENTITY, Vec3::splat(0.8), false);
+    scene.lights = vec![
+        parse_light_spec("spot:name=spot:at=-2.5,4,0:dir=0,-1,0:outer=30:inner=29.4:colour=0,0,1:intensity=40")
+            .expect("spec"),
+        parse_light_spec("point:name=lamp:at=3,1,0:range=3:colour=1,0,0:intensity=4").expect("spec"),
+    ];
+    scene
+}
+
+/// The spot's cone edge on the ground lies within 1 px of the CPU's cone: every pixel whose
+/// neighbours all lie inside the inner cone is lit, and every lit pixel has a neighbour inside
+/// the outer cone. The lamp's light ends at its range: nothing is added beyond it, and inside it
+/// each pixel is ambient plus the KHR falloff computed on the CPU, within 2/255 (as are the
+/// spot's pixels).
+#[test]
+fn a_spots_cone_edge_and_a_lamps_range_fall_where_the_spec_says() {
+    const SIZE: (u32, u32) = (256, 256);
+    let scene = cone_and_range_scene();
+    let frame = render(&scene, "lit", SIZE, ShadowMode::Additive);
+    let [spot, lamp] = [&scene.lights[0], &scene.lights[1]];
+    let LightKindAngles { inner, outer } = angles(spot);
+    let ground_at = |x: f32, y: f32| {
+        let (near, dir) = pixel_ray(&scene.camera, (x, y), SIZE);
+        (dir.y < 0.0).then(|| near + dir * (-near.y / dir.y))
+    };
+    let axis_cos = |p: Vec3| (p - spot.position).normalize().dot(spot.direction.normalize());
+    let (w, h) = (SIZE.0 as i32, SIZE.1 as i32);
+    let points: Vec<Option<Vec3>> = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .map(|(x, y)| ground_at(x as f32 + 0.5, y as f32 + 0.5))
+        .collect();
+    let neighbours = |x: i32, y: i32| {
+        (-1..=1)
+            .flat_map(move |dy| (-1..=1).map(move |dx| (x + dx, y + dy)))
+            .filter(|&(x, y)| x >= 0 && y >= 0 && x < w && y < h)
+    };
+    let ambient = common::srgb8(Vec3::splat(0.8 * scene.ambient));
+    let (mut inside, mut edge_pixels, mut beyond, mut in_range, mut worst) = (0, 0, 0, 0, 0u8);
+    for y in 0..h {
+        for x in 0..w {
+            let Some(point) = points[(y * w + x) as usize] else { continue };
+            let pixel = frame.get_pixel(x as u32, y as u32);
+            let lit = pixel[2] > ambient[2] + 2;
+            let all_inner =
+                neighbours(x, y).all(|(x, y)| points[(y * w + x) as usize].is_some_and(|p| axis_cos(p) >= inner.cos()));
+            let any_outer =
+                neighbours(x, y).any(|(x, y)| points[(y * w + x) as usize].is_some_and(|p| axis_cos(p) > outer.cos()));
+            assert!(!all_inner || lit, "pixel ({x}, {y}) lies inside the inner cone, yet the spot does not light it");
+            assert!(!lit || any_outer, "pixel ({x}, {y}) is lit more than 1 px outside the outer cone");
+            inside += usize::from(all_inner);
+            edge_pixels += usize::from(lit && !all_inner);
+            // The lamp: nothing beyond its range; the spec's falloff inside it.
+            let d = point.distance(lamp.position);
+            if d > lamp.range.unwrap_or(f32::INFINITY) {
+                beyond += 1;
+                assert_eq!(
+                    pixel[0], ambient[0],
+                    "pixel ({x}, {y}) at {d:.3} m lies beyond the lamp's range, yet is lit"
+                );
+            } else {
+                in_range += 1;
+            }
+            let spot_settled = all_inner || !any_outer;
+            if spot_settled {
+                let expected = common::srgb8(
+                    Vec3::splat(0.8)
+                        * (Vec3::splat(scene.ambient)
+                            + contribution(spot, point, Vec3::Y)
+                            + contribution(lamp, point, Vec3::Y)),
+                );
+                let off = (0..3).map(|c| pixel[c].abs_diff(expected[c])).max().unwrap_or(0);
+                worst = worst.max(off);
+                assert!(off <= 2, "pixel ({x}, {y}) at {point}: {:?}, the CPU says {expected:?}", &pixel.0[..3]);
+            }
+        }
+    }
+    println!("spot: {inside} pixels inside the inner cone, {edge_pixels} lit on the edge band; lamp: {in_range} pixels in range, {beyond} beyond; worst {worst}/255");
+    assert!(inside > 2_000 && in_range > 2_000 && beyond > 10_000, "{inside} {in_range} {beyond}");
+}
+
+struct LightKindAngles {
+    inner: f32,
+    outer: f32,
+}
+
+fn angles(light: &SceneLight) -> LightKindAngles {
+    match light.kind {
+        nostencil::scene::model::LightKind::Spot { inner_cone_angle, outer_cone_angle } => {
+            LightKindAngles { inner: inner_cone_angle, outer: outer_cone_angle }
+        }
+        _ => panic!("'{}' is not a spot", light.name),
+    }
 }
 
 /// Two coloured point lights (red and green) and a box on the ground: the ground falls into
@@ -372,4 +474,42 @@ fn a_gltf_files_lights_light_the_frame_and_follow_their_nodes() {
     common::assert_no_validation_messages(&gpu);
     let differing = common::differing_pixels(with.as_raw(), reference.as_raw()).iter().filter(|&&d| d).count();
     assert_eq!(differing, 0, "emulated and reference differ in {differing} pixels");
+}
+
+/// The command line's lights: `--light` adds to the scene's, `--replace-lights` puts the given
+/// ones in their place, `--light-scale` multiplies every light's intensity (not ambient or
+/// emissive); a bad value is named with its flag.
+#[test]
+fn command_line_lights_add_replace_and_scale() {
+    let dir = common::scratch_dir("command-line-lights");
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let args =
+            [&["render", "--technique", "lit", "--size", "96x72", "--out", out.to_str().unwrap()], extra].concat();
+        common::run_ok(&args);
+        common::read_png(&out)
+    };
+    let base = render("base.png", &[]);
+    let red = render("red.png", &["--light", "point:at=0,3,0:colour=1,0,0:intensity=30"]);
+    let brighter = base.pixels().zip(red.pixels()).filter(|(b, r)| r[0] > b[0]).count();
+    assert!(brighter > 1_000, "a red point light brightened only {brighter} pixels' red");
+    assert!(
+        base.pixels().zip(red.pixels()).all(|(b, r)| r[0] >= b[0] && r[1] == b[1] && r[2] == b[2]),
+        "a red light added changed green or blue, or darkened red"
+    );
+    let replaced = render("replaced.png", &["--replace-lights", "--light", "directional:dir=0,-1,0:intensity=0"]);
+    let unlit = render("unlit.png", &["--light-scale", "0"]);
+    assert_eq!(replaced, unlit, "no light left (replaced by a dark one) differs from every light scaled to 0");
+    assert!(base.pixels().zip(unlit.pixels()).all(|(b, u)| (0..3).all(|c| u[c] <= b[c])), "scale 0 brightened");
+    let doubled = render("doubled.png", &["--light-scale", "2"]);
+    assert!(
+        base.pixels().zip(doubled.pixels()).filter(|(b, d)| d[0] > b[0]).count() > 1_000,
+        "scale 2 changed nothing"
+    );
+
+    let err = common::run_err(&["render", "--light-scale=-1", "--out", dir.join("x.png").to_str().unwrap()]);
+    assert!(err.contains("--light-scale") && err.contains("-1"), "{err}");
+    let err = common::run_err(&["render", "--light=point:range=-2", "--out", dir.join("x.png").to_str().unwrap()]);
+    assert!(err.contains("range") && err.contains("-2"), "{err}");
+    assert!(!dir.join("x.png").exists(), "a refused command wrote its output");
 }

@@ -1,7 +1,9 @@
 //! Planar projected shadows (seed 001): the one-pass alpha trick equals the real-stencil
 //! reference pixel for pixel; every shadowed pixel is darkened exactly once by the same factor;
 //! the GPU projection lands where the CPU formula says; GPU skinning matches the CPU oracle; and
-//! real glTF files render with animated shadows.
+//! real glTF files render with animated shadows. With several lights (the additive loop), each
+//! light's projected shadow removes only that light, as the CPU's projection says, and the
+//! emulated loop equals Ogre's stencil loop on every built-in scene.
 
 mod common;
 
@@ -15,7 +17,7 @@ use nostencil::gpu::Gpu;
 use nostencil::scene::Light;
 use nostencil::scene::{builtin_scene_at, scene_from_gltf, Scene};
 use nostencil::technique::planar::{self, project_onto_plane, GivenPlane, PlanarOptions, Plane, TextureShadowOn};
-use nostencil::technique::{render_scene, RenderOptions, Technique, TechniqueFrame};
+use nostencil::technique::{render_scene, RenderOptions, ShadowMode, ShadowVolumeOptions, Technique, TechniqueFrame};
 
 const SIZE: (u32, u32) = (160, 120);
 /// The default shadow tone, grey: shadowed colour x 102/255.
@@ -26,7 +28,8 @@ fn render(gpu: &Arc<Gpu>, scene: &Scene, stencil: StencilMode, shadows: bool) ->
     render_with(gpu, scene, &planar::Planar, SIZE, stencil, options).expect("planar frame")
 }
 
-/// Renders `scene` with one of the seed 001 techniques.
+/// Renders `scene` with one of the seed 001 techniques, as the seed draws it (`--shadow-mode
+/// modulate`: the lit frame darkened by one factor; the additive loop's tests are at the end).
 fn render_with(
     gpu: &Arc<Gpu>,
     scene: &Scene,
@@ -35,7 +38,12 @@ fn render_with(
     stencil: StencilMode,
     planar: PlanarOptions,
 ) -> nostencil::error::Result<TechniqueFrame> {
-    render_scene(gpu, scene, &RenderOptions { width, height, stencil, technique, planar, ..Default::default() })
+    let shadow_volume = ShadowVolumeOptions { mode: ShadowMode::Modulate, ..Default::default() };
+    render_scene(
+        gpu,
+        scene,
+        &RenderOptions { width, height, stencil, technique, planar, shadow_volume, ..Default::default() },
+    )
 }
 
 fn rgb_differences(a: &RgbaImage, b: &RgbaImage) -> usize {
@@ -309,6 +317,11 @@ fn every_test_asset_renders_with_planar_shadows_animated_ones_moving() {
             let reference = render(&gpu, &scene, StencilMode::Reference, true);
             let unshadowed = render(&gpu, &scene, StencilMode::Emulated, false);
             assert_eq!(rgb_differences(&emulated.output.image, &reference.output.image), 0, "{file} at {time}s");
+            // The additive loop on the same content (skins, cut-outs, blended materials).
+            let loop_emulated = additive(&gpu, &scene, SIZE, StencilMode::Emulated, 1);
+            let loop_reference = additive(&gpu, &scene, SIZE, StencilMode::Reference, 1);
+            let differing = rgb_differences(&loop_emulated.output.image, &loop_reference.output.image);
+            assert_eq!(differing, 0, "{file} at {time}s, additive: {differing} pixels differ from the reference");
             let mask = changed(&emulated.output.image, &unshadowed.output.image);
             assert!(mask.iter().filter(|m| **m).count() > 20, "{file} at {time}s: no visible planar shadow");
             let skinned = scene.objects.iter().filter(|o| o.skin.is_some()).count();
@@ -745,7 +758,7 @@ fn profile_shows_each_shadow_kind() {
     for (technique, expected) in [
         ("blob", &["scene", "blob shadow"][..]),
         ("shadow-texture", &["shadow texture", "scene", "shadow texture receive"][..]),
-        ("planar", &["scene", "planar shadow"][..]),
+        ("planar", &["scene (ambient)", "sun: planar shadow", "sun: shading", "transparent"][..]),
     ] {
         let (stdout, err) = common::run_ok(&[
             "profile",
@@ -837,4 +850,134 @@ fn a_renderer_built_once_follows_the_walk_as_if_rebuilt_at_each_time() {
 /// A technique of the registry, by name.
 fn technique(name: &str) -> &'static dyn Technique {
     nostencil::technique::by_name(name).expect("technique")
+}
+
+// ---------------------------------------------------------------------------------------------
+// Several lights: the additive loop (docs/design/planar-shadows.md, "Several lights").
+
+/// Renders `scene` with planar shadows in the additive loop (the default mode).
+fn additive(gpu: &Arc<Gpu>, scene: &Scene, size: (u32, u32), stencil: StencilMode, samples: u32) -> TechniqueFrame {
+    let (width, height) = size;
+    let options = RenderOptions { width, height, stencil, samples, technique: &planar::Planar, ..Default::default() };
+    render_scene(gpu, scene, &options).expect("additive planar frame")
+}
+
+#[test]
+fn additive_planar_equals_the_reference_on_every_scene_at_1x_and_4x() {
+    let gpu = common::gpu();
+    let size = (96, 72);
+    let mut compared = 0;
+    for &(name, _) in nostencil::scene::BUILTIN_SCENES {
+        let scene = builtin_scene_at(name, 0.5).expect("scene");
+        if planar::receiver_plane(&scene, None).is_err() {
+            continue; // slope: a tilted plane is given by hand (tested above)
+        }
+        for samples in [1, 4] {
+            let emulated = additive(&gpu, &scene, size, StencilMode::Emulated, samples);
+            let reference = additive(&gpu, &scene, size, StencilMode::Reference, samples);
+            let differing = rgb_differences(&emulated.output.image, &reference.output.image);
+            assert_eq!(differing, 0, "{name} at {samples}x: {differing} pixels differ from Ogre's stencil loop");
+            let flags = |f: &TechniqueFrame| {
+                f.output.counters.passes.iter().filter(|p| p.name.ends_with("planar shadow")).count()
+            };
+            assert_eq!(flags(&emulated), flags(&reference), "{name}: the same flags drawn");
+            compared += 1;
+        }
+    }
+    assert!(compared >= 20, "only {compared} scene x sample cases have a ground");
+    common::assert_no_validation_messages(&gpu);
+}
+
+#[test]
+fn each_lights_planar_shadow_removes_only_that_light() {
+    let gpu = common::gpu();
+    let scene = builtin_scene_at("lights", 0.0).expect("lights");
+    let plane = planar::receiver_plane(&scene, None).expect("ground");
+    let receivers = receiver_mask(&render(&gpu, &scene, StencilMode::Emulated, false).output.image);
+    let frame = additive(&gpu, &scene, SIZE, StencilMode::Emulated, 1);
+    assert!(frame.warnings.is_empty(), "{:?}", frame.warnings);
+    // Where the CPU projects each light's casters.
+    let masks: Vec<Vec<bool>> = scene
+        .lights
+        .iter()
+        .map(|light| {
+            let caster = |i: usize| !plane.receivers[i];
+            let project = |p: Vec3| project_onto_plane(p, &light.geometry(), plane.height);
+            cpu_shadow_mask(&scene, &triangles_projected_by(&scene, caster, project))
+        })
+        .collect();
+    // Receiver pixels away from every shadow's edge, by the set of lights whose shadow covers them.
+    let mut by_shadows: std::collections::BTreeMap<u32, Vec<usize>> = Default::default();
+    for y in 0..SIZE.1 {
+        for x in 0..SIZE.0 {
+            let i = (y * SIZE.0 + x) as usize;
+            if interior(&receivers, x, y) && receivers[i] && masks.iter().all(|m| interior(m, x, y)) {
+                let shadows = masks.iter().enumerate().filter(|(_, m)| m[i]).fold(0, |bits, (l, _)| bits | 1 << l);
+                by_shadows.entry(shadows).or_default().push(i);
+            }
+        }
+    }
+    // Each region equals the lit frame without the lights that shadow it: a shadow removes its
+    // own light's term and nothing else, once however many casters overlap there.
+    let mut worst = 0;
+    for (&shadows, pixels) in &by_shadows {
+        let mut without = scene.clone();
+        for (l, light) in without.lights.iter_mut().enumerate() {
+            if shadows & 1 << l != 0 {
+                light.intensity = 0.0;
+            }
+        }
+        let options =
+            RenderOptions { width: SIZE.0, height: SIZE.1, technique: technique("lit"), ..Default::default() };
+        let lit = render_scene(&gpu, &without, &options).expect("lit").output.image;
+        for &i in pixels {
+            let (p, q) = (&frame.output.image.as_raw()[i * 4..i * 4 + 3], &lit.as_raw()[i * 4..i * 4 + 3]);
+            let d = (0..3).map(|c| p[c].abs_diff(q[c])).max().unwrap_or(0);
+            worst = worst.max(d);
+            assert!(d <= 2, "pixel {i} under shadows {shadows:03b}: {p:?}, lit without them {q:?}");
+        }
+    }
+    let count = |bits: u32| by_shadows.get(&bits).map_or(0, Vec::len);
+    for l in 0..scene.lights.len() {
+        assert!(count(1 << l) >= 15, "light {l}'s shadow alone covers {} pixels: {by_shadows:?}", count(1 << l));
+    }
+    assert!(
+        by_shadows.keys().any(|bits| bits.count_ones() >= 2 && count(*bits) >= 5),
+        "no two shadows overlap: {:?}",
+        by_shadows.iter().map(|(b, p)| (b, p.len())).collect::<Vec<_>>()
+    );
+    eprintln!(
+        "regions: {:?}, worst {worst}/255",
+        by_shadows.iter().map(|(b, p)| (format!("{b:03b}"), p.len())).collect::<Vec<_>>()
+    );
+    common::assert_no_validation_messages(&gpu);
+}
+
+#[test]
+fn a_light_that_cannot_reach_the_plane_is_named_and_still_shades() {
+    let gpu = common::gpu();
+    let mut scene = builtin_scene_at("default", 0.0).expect("default");
+    let mut grazing =
+        nostencil::scene::lights::parse_light_spec("directional:name=grazing:dir=1,0,0:intensity=0.5").expect("spec");
+    grazing.colour = Vec3::new(0.2, 0.6, 1.0);
+    scene.lights.push(grazing);
+    let emulated = additive(&gpu, &scene, SIZE, StencilMode::Emulated, 1);
+    let reference = additive(&gpu, &scene, SIZE, StencilMode::Reference, 1);
+    assert!(
+        emulated.warnings.iter().any(|w| w.contains("'grazing' casts no shadow") && w.contains("parallel")),
+        "{:?}",
+        emulated.warnings
+    );
+    assert_eq!(rgb_differences(&emulated.output.image, &reference.output.image), 0);
+    let without = additive(&gpu, &builtin_scene_at("default", 0.0).expect("default"), SIZE, StencilMode::Emulated, 1);
+    let lit_by_it = rgb_differences(&emulated.output.image, &without.output.image);
+    assert!(lit_by_it > 500, "the grazing light shades only {lit_by_it} pixels");
+    // The seed's mode has one shadow, from the primary light: it still refuses a parallel one.
+    let mut parallel = builtin_scene_at("default", 0.0).expect("default");
+    parallel.lights[0].direction = Vec3::X;
+    let err = render_with(&gpu, &parallel, &planar::Planar, SIZE, StencilMode::Emulated, PlanarOptions::default())
+        .err()
+        .expect("modulate refuses a light parallel to the plane");
+    assert!(err.to_string().contains("parallel"), "{err}");
+    common::assert_no_validation_messages(&gpu);
 }

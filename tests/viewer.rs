@@ -582,3 +582,64 @@ fn a_failing_submit_ends_the_viewer_with_an_error_naming_the_work() {
         }
     }
 }
+
+/// A adds a point light live and selects it; the frame equals `render --light` with the spec
+/// the viewer printed. Shift+X removes the selected light, rebuilding the technique for the
+/// lights left: on the lights scene, removing the sun gives the frame that switching it off
+/// (X) gives, to the pixel.
+#[test]
+fn a_adds_a_light_and_shift_x_removes_one_live() {
+    let x = start_x_server();
+    let dir = common::scratch_dir("viewer-add-light");
+    let base = [
+        "--validation",
+        "--device",
+        "lavapipe",
+        "--paused",
+        "--technique",
+        "shadow-volume",
+        "--size",
+        "128x96",
+        "--samples",
+        "1",
+    ];
+    let shot = |name: &str, extra: &[&str], key: &str| {
+        let path = dir.join(name);
+        let args = [
+            &["view"],
+            &base[..],
+            extra,
+            &["--press-after", "2", key, "--frames", "5", "--screenshot", path.to_str().unwrap()],
+        ]
+        .concat();
+        let output = run(&x, &args);
+        assert_clean(&output, &format!("view --press-after 2 {key}"));
+        (rgb(&path), stderr(&output))
+    };
+    let (added, err) = shot("added.png", &[], "a");
+    let spec = err
+        .lines()
+        .find_map(|line| line.split("added a light: --light '").nth(1))
+        .and_then(|rest| rest.strip_suffix('\''))
+        .unwrap_or_else(|| panic!("no spec printed:\n{err}"));
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let args = [&["render"], &base[..], extra, &["--out", out.to_str().unwrap()]].concat();
+        let args: Vec<&str> = args.into_iter().filter(|a| *a != "--paused").collect();
+        assert_clean(&common::nostencil(&args), "render");
+        rgb(&out)
+    };
+    let with_it = render("with.png", &["--light", spec]);
+    let without = render("without.png", &[]);
+    let differing = added.pixels().zip(with_it.pixels()).filter(|(a, b)| a != b).count();
+    assert_eq!(differing, 0, "the frame with the added light differs from `render --light '{spec}'`");
+    assert!(added.pixels().zip(without.pixels()).filter(|(a, b)| a != b).count() > 100, "A added no light");
+
+    let (removed, err) = shot("removed.png", &["--scene", "lights"], "X");
+    assert!(err.contains("removed the light 'sun'"), "{err}");
+    let (off, _) = shot("off.png", &["--scene", "lights"], "x");
+    let loaded = render("lights.png", &["--scene", "lights"]);
+    let differing = removed.pixels().zip(off.pixels()).filter(|(a, b)| a != b).count();
+    assert_eq!(differing, 0, "the sun removed differs from the sun switched off");
+    assert!(removed.pixels().zip(loaded.pixels()).filter(|(a, b)| a != b).count() > 100, "Shift+X removed nothing");
+}

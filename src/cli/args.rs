@@ -257,6 +257,12 @@ pub struct FrameArgs {
     /// The --light lights replace the scene's (or the file's) lights instead of adding to them.
     #[arg(long, requires = "lights")]
     pub replace_lights: bool,
+    // glTF intensities are physical (candela, lux): a file exported in watts lights far brighter
+    // than the built-in scenes' units, and saturates.
+    /// Multiplies every light's intensity (ambient and emissive stay): e.g. 0.01 for a file whose
+    /// lights saturate the frame.
+    #[arg(long, default_value_t = 1.0, value_name = "F", value_parser = parse_light_scale)]
+    pub light_scale: f32,
     // Each technique family's options and their flags, declared by the family (`technique`):
     // moved as they are into `RenderOptions`.
     #[command(flatten)]
@@ -271,6 +277,13 @@ pub struct FrameArgs {
     pub shadow_atlas: ShadowAtlasOptions,
     #[command(flatten)]
     pub gpu: GpuArgs,
+}
+
+fn parse_light_scale(value: &str) -> std::result::Result<f32, String> {
+    match value.trim().parse::<f32>() {
+        Ok(scale) if scale.is_finite() && scale >= 0.0 => Ok(scale),
+        _ => Err(format!("'{value}' is not a number >= 0")),
+    }
 }
 
 fn parse_light_arg(spec: &str) -> std::result::Result<SceneLight, String> {

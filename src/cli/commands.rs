@@ -89,7 +89,11 @@ fn open_gpu_with(args: &GpuArgs, without_pass_queries: bool) -> Result<Arc<Gpu>>
 /// The frame's scene: a built-in one or a glTF file, at its time, with the command line's
 /// lights added (or in place of its own).
 fn load_scene(frame: &FrameArgs) -> Result<Scene> {
-    load_named_scene(&frame.scene, frame.time, &frame.lights, frame.replace_lights)
+    let mut scene = load_named_scene(&frame.scene, frame.time, &frame.lights, frame.replace_lights)?;
+    if frame.light_scale != 1.0 {
+        scene.lights.iter_mut().for_each(|light| light.intensity *= frame.light_scale);
+    }
+    Ok(scene)
 }
 
 /// The scene `name` at `time`, with the lights `specs` added to its own (or in their place).

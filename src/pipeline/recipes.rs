@@ -150,6 +150,11 @@ pub const fn stencil_replace(reference: u32) -> StencilState {
     both_faces(stencil_face(vk::CompareOp::ALWAYS, reference, 0xff, vk::StencilOp::REPLACE, vk::StencilOp::KEEP))
 }
 
+/// Passes where the stencil is `reference`, and writes nothing.
+pub const fn stencil_equal(reference: u32) -> StencilState {
+    both_faces(stencil_face(vk::CompareOp::EQUAL, reference, 0, vk::StencilOp::KEEP, vk::StencilOp::KEEP))
+}
+
 /// Passes where the stencil is not `reference`, and writes nothing.
 pub const fn stencil_not_equal(reference: u32) -> StencilState {
     both_faces(stencil_face(vk::CompareOp::NOT_EQUAL, reference, 0, vk::StencilOp::KEEP, vk::StencilOp::KEEP))

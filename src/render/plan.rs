@@ -177,6 +177,9 @@ pub enum When {
     LightOrCastersMoved,
     /// Only where the light reaches the receiver plane from above.
     LightAbovePlane,
+    /// Only where light `n` of the frame casts shadows and reaches the receiver plane from
+    /// above (the additive planar loop's per-light shadow).
+    LightReachesPlane(u8),
 }
 
 impl When {
@@ -190,6 +193,7 @@ impl When {
             When::Always => "every frame",
             When::LightOrCastersMoved => "when the light or a caster moved",
             When::LightAbovePlane => "when the light is above the plane",
+            When::LightReachesPlane(_) => "when this light is above the plane",
         }
     }
 }
@@ -261,7 +265,8 @@ pub enum Only {
 }
 
 impl Only {
-    fn draws(self, material: &crate::scene::model::Material) -> bool {
+    /// Whether a pass with `self` draws an object of `material`.
+    pub fn draws(self, material: &crate::scene::model::Material) -> bool {
         let blended = matches!(
             MaterialVariant::for_surface(material),
             Some(MaterialVariant::Blend | MaterialVariant::BlendDoubleSided)
@@ -538,8 +543,16 @@ impl<K: PassKinds> PassPlan<K> {
             .iter()
             .filter(|p| holds(p.when))
             .map(|p| {
-                let bound = p.pipelines.iter().zip(&p.variants).filter(|(_, v)| v.map_or(true, &needed));
-                (p.name.to_string(), bound.map(|(d, _)| d.name).collect())
+                // A pass of blended objects draws each through a blend variant: of its own
+                // pipelines only the main one is bound (by the recorder, as the pass opens).
+                let fixed = |i: usize| p.only != Only::Blended || i == 0;
+                let bound = p
+                    .pipelines
+                    .iter()
+                    .zip(&p.variants)
+                    .enumerate()
+                    .filter(|(i, (_, v))| v.map_or(fixed(*i), &needed));
+                (p.name.to_string(), bound.map(|(_, (d, _))| d.name).collect())
             })
             .collect()
     }

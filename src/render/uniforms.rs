@@ -60,6 +60,10 @@ impl FrameUniforms {
         for (slot, light) in lights.iter_mut().zip(&scene.lights) {
             *slot = GpuLight::of(light);
         }
+        // The primary slot holds the primary light's geometry even in a scene without lights,
+        // so passes that index the primary light (planar shadows) find the default one there.
+        let primary = scene.primary_light_index().unwrap_or(0);
+        lights[primary].position = scene.light().as_vec4();
         FrameUniforms {
             view_proj: scene.camera.view_projection(aspect),
             light: scene.light().as_vec4(),
@@ -78,7 +82,7 @@ impl FrameUniforms {
     /// technique that turns the light (the atlas's moving light) turns it for every pass.
     pub fn move_primary_light(&mut self, primary: Option<usize>, light: Light) {
         self.light = light.as_vec4();
-        if let Some(slot) = primary.and_then(|i| self.lights.get_mut(i)) {
+        if let Some(slot) = self.lights.get_mut(primary.unwrap_or(0)) {
             slot.position = light.as_vec4();
         }
     }

@@ -33,6 +33,24 @@ fn variant_names(base: &str) -> Option<[&'static str; 4]> {
             "shading (blend, no stencil)",
             "shading (blend, double-sided, no stencil)",
         ],
+        "scene (ambient, skinned)" => [
+            "scene (ambient, skinned, alpha mask)",
+            "scene (ambient, skinned, double-sided)",
+            "scene (ambient, skinned, blend)",
+            "scene (ambient, skinned, blend, double-sided)",
+        ],
+        "shading (casters)" => [
+            "shading (casters, alpha mask)",
+            "shading (casters, double-sided)",
+            "shading (casters, blend)",
+            "shading (casters, blend, double-sided)",
+        ],
+        "shading (skinned)" => [
+            "shading (skinned, alpha mask)",
+            "shading (skinned, double-sided)",
+            "shading (skinned, blend)",
+            "shading (skinned, blend, double-sided)",
+        ],
         "shading (no shadows)" => [
             "shading (no shadows, alpha mask)",
             "shading (no shadows, double-sided)",

@@ -108,7 +108,7 @@ pub fn unshadowed_lights_warning(technique: &str, shadowed: ShadowedLights, scen
         .collect();
     (!left.is_empty()).then(|| {
         format!(
-            "{} shadows only the primary light ('{}'): {} shade unshadowed (--technique shadow-volume shadows every light)",
+            "{} shadows only the primary light ('{}'): {} shade unshadowed (--technique shadow-volume or planar shadows every light)",
             technique,
             scene.primary_light().map_or("", |l| l.name.as_str()),
             left.join(", ")

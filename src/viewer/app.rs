@@ -47,6 +47,10 @@ struct Session<'s> {
     gpu: Arc<Gpu>,
     /// The scene as loaded; `scene` is its copy posed by `live` each frame.
     base: &'s Scene,
+    /// What the technique is built from: `base`, or once lights were added or removed, `base`
+    /// with the live lights, kept in `lit_scenes` while a renderer may borrow it.
+    lit: &'s Scene,
+    lit_scenes: &'s typed_arena::Arena<Scene>,
     scene: Scene,
     options: ViewerOptions,
     settings: Settings,
@@ -89,11 +93,18 @@ struct TechniqueCache<'s> {
 }
 
 impl<'s> App<'s> {
-    pub(super) fn new(gpu: Arc<Gpu>, base: &'s Scene, options: ViewerOptions) -> Self {
+    pub(super) fn new(
+        gpu: Arc<Gpu>,
+        base: &'s Scene,
+        lit_scenes: &'s typed_arena::Arena<Scene>,
+        options: ViewerOptions,
+    ) -> Self {
         let tour = options.tour.map(|every| (Tour::new(every, options.size), None));
         let session = Session {
             gpu,
             base,
+            lit: base,
+            lit_scenes,
             scene: base.clone(),
             settings: options.settings.clone(),
             live: Live::new(base, options.paused, options.start_time),
@@ -209,8 +220,16 @@ impl<'s> RunningWindow<'s> {
         presenter.wait_slots()?;
         let frame_extent = frame_extent_of(extent)?;
         session.live.apply(session.base, &mut session.scene)?;
+        if !session.live.lights_shaped_as(session.lit) {
+            // Lights added or removed: the technique is planned anew for them.
+            session.lit = if session.live.lights_shaped_as(session.base) {
+                session.base
+            } else {
+                session.lit_scenes.alloc(session.live.lit(session.base))
+            };
+        }
         let technique =
-            self.technique.get(&session.gpu, session.base, &session.settings, frame_extent, &session.scene)?;
+            self.technique.get(&session.gpu, session.lit, &session.settings, frame_extent, &session.scene)?;
         let frame = technique.frame(&session.scene)?;
         let colour = technique.colour_image();
 
@@ -380,8 +399,10 @@ impl<'s> TechniqueCache<'s> {
         extent: vk::Extent2D,
         scene: &Scene,
     ) -> Result<&mut LiveTechnique<'s>> {
-        let fresh =
-            self.built.as_ref().is_some_and(|t| t.settings == *settings && t.extent == extent && !t.stale_for(scene));
+        let fresh = self
+            .built
+            .as_ref()
+            .is_some_and(|t| t.settings == *settings && t.extent == extent && t.lit_as(scene) && !t.stale_for(scene));
         let technique = match self.built.take() {
             Some(technique) if fresh => technique,
             old => {
@@ -414,7 +435,7 @@ fn update_title(window: &Window, session: &Session) -> Result<()> {
         "nostencil view | {} | {}{method} | {} | {}x MSAA | {fragments} fragments/px, overdraw {:.2} | {:.2} ms GPU | {}x{}{}",
         session.base.name,
         session.settings.describe(),
-        session.live.describe_light(session.base),
+        session.live.describe_light(),
         counters.samples,
         counters.overdraw(),
         counters.total_gpu_ms(),

@@ -4,7 +4,8 @@
 use glam::{Mat4, Vec3};
 
 use crate::error::Result;
-use crate::scene::{Light, Scene};
+use crate::scene::lights::{light_spec, parse_light_spec, unique_name};
+use crate::scene::{Light, Scene, SceneLight, MAX_LIGHTS};
 
 /// Camera orbit around the scene camera's target, in spherical coordinates.
 #[derive(Debug, Clone, Copy)]
@@ -66,13 +67,50 @@ pub struct LightTurn {
     pub tilt: f32,
 }
 
+/// A light as a person has left it: as loaded (or added), turned, perhaps switched off.
+#[derive(Debug, Clone)]
+pub struct LiveLight {
+    pub light: SceneLight,
+    pub turn: LightTurn,
+    /// Switched off: it adds nothing, and its passes stay, so nothing is rebuilt.
+    pub off: bool,
+}
+
+impl LiveLight {
+    fn of(light: &SceneLight) -> Self {
+        LiveLight { light: light.clone(), turn: LightTurn::default(), off: false }
+    }
+
+    /// The light this frame.
+    fn current(&self) -> SceneLight {
+        let mut light = self.light.clone();
+        // An unturned light keeps its loaded geometry to the bit (a renormalised direction
+        // would move a shadow edge by a pixel against `render`).
+        if self.turn != LightTurn::default() {
+            light.set_geometry(turned(self.light.geometry(), self.turn));
+            // A spot turns with its position: its axis turns about the vertical alike.
+            light.direction = Mat4::from_rotation_y(self.turn.yaw).transform_vector3(self.light.direction);
+        }
+        if self.off {
+            light.intensity = 0.0;
+        }
+        light
+    }
+}
+
+/// The kinds of light a key adds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AddedLight {
+    Point,
+    Spot,
+}
+
 /// The live state a person changes, applied to a copy of the loaded scene each frame.
 pub struct Live {
     pub orbit: Orbit,
-    /// Per light of the scene: how it has been turned.
-    pub light_turns: Vec<LightTurn>,
-    /// Per light: switched off (it adds nothing; its passes stay, so nothing is rebuilt).
-    pub lights_off: Vec<bool>,
+    /// The scene's lights as a person has left them: turned, switched off, added, removed.
+    /// Adding or removing one rebuilds the technique (its passes are planned per light).
+    pub lights: Vec<LiveLight>,
     /// The light the arrows move.
     pub selected_light: usize,
     pub paused: bool,
@@ -86,11 +124,9 @@ pub struct Live {
 impl Live {
     /// The scene as loaded, seen from its own camera, at `start_time`.
     pub fn new(base: &Scene, paused: bool, start_time: f32) -> Self {
-        let lights = base.lights.len();
         Live {
             orbit: Orbit::of(base),
-            light_turns: vec![LightTurn::default(); lights],
-            lights_off: vec![false; lights],
+            lights: base.lights.iter().map(LiveLight::of).collect(),
             selected_light: base.primary_light_index().unwrap_or(0),
             paused,
             time: 0.0,
@@ -98,55 +134,93 @@ impl Live {
         }
     }
 
-    /// The selected light's turn.
-    pub fn selected_turn(&mut self) -> Option<&mut LightTurn> {
-        self.light_turns.get_mut(self.selected_light)
+    /// The selected light.
+    pub fn selected(&mut self) -> Option<&mut LiveLight> {
+        self.lights.get_mut(self.selected_light)
     }
 
     /// Selects the light `step` places after the selected one, wrapping.
     pub fn select_light(&mut self, step: isize) {
-        let n = self.light_turns.len() as isize;
+        let n = self.lights.len() as isize;
         if n > 0 {
             self.selected_light = (self.selected_light as isize + step).rem_euclid(n) as usize;
         }
     }
 
+    /// Adds a light of `kind` near `target` (the camera's), white, as `--light` would with the
+    /// spec it returns (printed so that `render --light` can draw the same frame), and selects
+    /// it. A frame holds at most `MAX_LIGHTS`: then nothing is added and the error says so.
+    pub fn add_light(&mut self, kind: AddedLight, target: Vec3) -> std::result::Result<String, String> {
+        if self.lights.len() >= MAX_LIGHTS {
+            return Err(format!("a frame holds at most {MAX_LIGHTS} lights; remove one first (Shift+X)"));
+        }
+        // Spread successive lights around the target, above it.
+        let turn = Mat4::from_rotation_y(self.lights.len() as f32 * 2.4);
+        let at = target + turn.transform_vector3(Vec3::new(1.5, 3.0, 1.5));
+        let p = |v: Vec3| format!("{},{},{}", v.x, v.y, v.z);
+        let spec = match kind {
+            AddedLight::Point => format!("point:at={}", p(at)),
+            AddedLight::Spot => format!("spot:at={}:aim={}:outer=35:inner=25", p(at), p(target)),
+        };
+        let mut light = parse_light_spec(&spec).map_err(|e| e.to_string())?;
+        let taken: Vec<SceneLight> = self.lights.iter().map(|l| l.light.clone()).collect();
+        light.name = unique_name(&taken, &light.name);
+        let spec = light_spec(&light);
+        self.lights.push(LiveLight::of(&light));
+        self.selected_light = self.lights.len() - 1;
+        Ok(spec)
+    }
+
+    /// Removes the selected light (its name, for a message); the previous one is selected.
+    pub fn remove_selected_light(&mut self) -> Option<String> {
+        if self.selected_light >= self.lights.len() {
+            return None;
+        }
+        let removed = self.lights.remove(self.selected_light);
+        self.selected_light = self.selected_light.saturating_sub(1).min(self.lights.len().saturating_sub(1));
+        Some(removed.light.name)
+    }
+
     /// "light 2/3 'lamp'" for the title (and "off" when it is switched off).
-    pub fn describe_light(&self, scene: &Scene) -> String {
-        match scene.lights.get(self.selected_light) {
-            Some(light) => format!(
+    pub fn describe_light(&self) -> String {
+        match self.lights.get(self.selected_light) {
+            Some(live) => format!(
                 "light {}/{} '{}'{}",
                 self.selected_light + 1,
-                scene.lights.len(),
-                light.name,
-                if self.lights_off.get(self.selected_light).copied().unwrap_or(false) { " off" } else { "" }
+                self.lights.len(),
+                live.light.name,
+                if live.off { " off" } else { "" }
             ),
             None => "no light".into(),
         }
     }
 
-    /// Back to the loaded camera, light and animation time (the pause stays as it is).
+    /// Back to the loaded camera, lights and animation time (the pause stays as it is).
     pub fn reset(&mut self, base: &Scene) {
         self.orbit = Orbit::of(base);
-        self.light_turns.iter_mut().for_each(|turn| *turn = LightTurn::default());
-        self.lights_off.iter_mut().for_each(|off| *off = false);
+        self.lights = base.lights.iter().map(LiveLight::of).collect();
+        self.selected_light = base.primary_light_index().unwrap_or(0);
         self.time = 0.0;
+    }
+
+    /// Whether `scene`'s lights are the live ones in number and in what casts shadows: what a
+    /// technique's passes are planned for.
+    pub fn lights_shaped_as(&self, scene: &Scene) -> bool {
+        scene.lights.len() == self.lights.len()
+            && scene.lights.iter().zip(&self.lights).all(|(a, b)| a.casts_shadow == b.light.casts_shadow)
+    }
+
+    /// `base` with the live lights (unturned, on): the scene a technique is built from.
+    pub fn lit(&self, base: &Scene) -> Scene {
+        let mut scene = base.clone();
+        scene.lights = self.lights.iter().map(|l| l.light.clone()).collect();
+        scene
     }
 
     pub fn apply(&self, base: &Scene, scene: &mut Scene) -> Result<()> {
         scene.camera.eye = self.orbit.eye_for(&base.camera);
-        for (index, (light, original)) in scene.lights.iter_mut().zip(&base.lights).enumerate() {
-            let turn = self.light_turns.get(index).copied().unwrap_or_default();
-            // An unturned light keeps its loaded geometry to the bit (a renormalised direction
-            // would move a shadow edge by a pixel against `render`).
-            if turn != LightTurn::default() {
-                light.set_geometry(turned(original.geometry(), turn));
-                // A spot turns with its position: its axis turns about the vertical alike.
-                light.direction = Mat4::from_rotation_y(turn.yaw).transform_vector3(original.direction);
-            }
-            let off = self.lights_off.get(index).copied().unwrap_or(false);
-            light.intensity = if off { 0.0 } else { original.intensity };
-        }
+        scene.lights.clear();
+        scene.lights.extend(self.lights.iter().map(LiveLight::current));
         // Animated objects take their pose at this time (transforms and joint palettes; GPU
         // skinning shows the new palettes, CPU-skinned meshes keep the starting pose). Every
         // frame: the turn below is applied to the posed transforms.

@@ -4,7 +4,7 @@
 
 use winit::keyboard::{Key, NamedKey};
 
-use super::controls::Live;
+use super::controls::{AddedLight, Live};
 use super::live::Settings;
 use crate::frame::StencilMode;
 use crate::scene::Scene;
@@ -65,6 +65,9 @@ pub(super) enum Action {
     NextLight,
     PreviousLight,
     SwitchLightOff,
+    AddPointLight,
+    AddSpotLight,
+    RemoveLight,
     SwitchShadowMode,
     TurnLight,
     TurnLightBack,
@@ -149,12 +152,27 @@ pub(super) const BINDINGS: &[Binding] = &[
     Binding { keys: &[KeyPress::Upper('I')], description: "select the previous light", action: Action::PreviousLight },
     Binding {
         keys: &[KeyPress::Letter('x')],
-        description: "switch the selected light off / on (add lights with `view --light SPEC`)",
+        description: "switch the selected light off / on",
         action: Action::SwitchLightOff,
     },
     Binding {
+        keys: &[KeyPress::Letter('a')],
+        description: "add a point light above the target, and select it (its `--light` spec is printed)",
+        action: Action::AddPointLight,
+    },
+    Binding {
+        keys: &[KeyPress::Upper('A')],
+        description: "add a spot light aimed at the target, and select it",
+        action: Action::AddSpotLight,
+    },
+    Binding {
+        keys: &[KeyPress::Upper('X')],
+        description: "remove the selected light",
+        action: Action::RemoveLight,
+    },
+    Binding {
         keys: &[KeyPress::Letter('v')],
-        description: "shadow-volume shadows: additive (each light added where its shadow does not fall) / modulate (the seed's)",
+        description: "shadow volumes and planar: additive (each light added where its shadow does not fall) / modulate (the seeds')",
         action: Action::SwitchShadowMode,
     },
     Binding {
@@ -261,13 +279,25 @@ impl Action {
             Action::NextLight => live.select_light(1),
             Action::PreviousLight => live.select_light(-1),
             Action::SwitchLightOff => {
-                if let Some(off) = live.lights_off.get_mut(live.selected_light) {
-                    *off = !*off;
+                if let Some(light) = live.selected() {
+                    light.off = !light.off;
+                }
+            }
+            Action::AddPointLight | Action::AddSpotLight => {
+                let kind = if self == Action::AddSpotLight { AddedLight::Spot } else { AddedLight::Point };
+                match live.add_light(kind, base.camera.target) {
+                    Ok(spec) => eprintln!("nostencil: added a light: --light '{spec}'"),
+                    Err(why) => eprintln!("nostencil: no light added: {why}"),
+                }
+            }
+            Action::RemoveLight => {
+                if let Some(name) = live.remove_selected_light() {
+                    eprintln!("nostencil: removed the light '{name}'");
                 }
             }
             Action::SwitchShadowMode => s.shadow_volume.mode = cycle(ShadowMode::ALL, s.shadow_volume.mode, 1),
             Action::TurnLight | Action::TurnLightBack | Action::TiltLight | Action::TiltLightBack => {
-                if let Some(turn) = live.selected_turn() {
+                if let Some(turn) = live.selected().map(|l| &mut l.turn) {
                     match self {
                         Action::TurnLight => turn.yaw -= LIGHT_STEP,
                         Action::TurnLightBack => turn.yaw += LIGHT_STEP,

@@ -30,6 +30,8 @@ pub struct LiveTechnique<'s> {
     pub settings: Settings,
     pub extent: vk::Extent2D,
     renderer: Box<dyn SceneRenderer + 's>,
+    /// Whether each light of the scene it was built for casts shadows: its passes' lights.
+    lights: Vec<bool>,
 }
 
 /// What one frame reports.
@@ -45,7 +47,13 @@ impl<'s> LiveTechnique<'s> {
         let options = RenderOptions { width: extent.width, height: extent.height, ..settings.render.clone() };
         let mut renderer = options.technique.build(gpu, base, &options)?;
         renderer.renderer_mut().keep_on_gpu(true);
-        Ok(LiveTechnique { settings, extent, renderer })
+        let lights = base.lights.iter().map(|l| l.casts_shadow).collect();
+        Ok(LiveTechnique { settings, extent, renderer, lights })
+    }
+
+    /// Whether it was built for `scene`'s lights (their number, and which cast shadows).
+    pub fn lit_as(&self, scene: &Scene) -> bool {
+        self.lights.iter().copied().eq(scene.lights.iter().map(|l| l.casts_shadow))
     }
 
     /// What the technique could not honour in the scene (see `SceneRenderer::warnings`).

@@ -72,7 +72,8 @@ pub fn run(options: ViewerOptions, scene: Scene) -> Result<()> {
         ash_window::enumerate_required_extensions(display).vk("ash_window::enumerate_required_extensions")?;
     let gpu = Gpu::for_presentation(&options.gpu, extensions)?;
 
-    let mut app = App::new(gpu, &scene, options);
+    let lit_scenes = typed_arena::Arena::new();
+    let mut app = App::new(gpu, &scene, &lit_scenes, options);
     event_loop.run_app(&mut app).map_err(|e| Error::Device(format!("the window's event loop failed: {e}")))?;
     app.finish()
 }

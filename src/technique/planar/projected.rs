@@ -11,6 +11,13 @@
 //!    fragments on non-receivers multiply by 1: the shadow is clipped to the receivers. Depth
 //!    LESS_OR_EQUAL with a small bias towards the camera keeps occluders in front of it.
 //!
+//! With several lights (`--shadow-mode additive`, the default), Doom 3's and Ogre's loop on the
+//! same flag: the scene with ambient light only; then per light, its casters flattened along it
+//! writing alpha 0 (colour masked: a flag, so overlaps cannot count twice), and its shading,
+//! which adds the light on receivers through `DST_ALPHA` and resets alpha to 1 with the same
+//! blend; casters and skinned objects add it unmasked. The reference clears its stencil per
+//! light, marks the flattened casters `EQUAL 0, INCR_WRAP` and shades receivers where it is 0.
+//!
 //! Reference frame (`--stencil reference`), as the seed does it: stencil cleared to 1, receivers
 //! write 0 and everything else 1 (REPLACE); the shadow draws with stencil Ref 0, Comp Equal,
 //! Pass IncrWrap, ZFail Keep, blending `ADD, ZERO, SRC_ALPHA` with fragment alpha `F/255`. Both
@@ -20,25 +27,30 @@ use ash::vk;
 use glam::{Mat4, Vec4};
 
 use super::lod::CasterLods;
-use super::receiver::{light_reaches_plane, receiver_plane, ReceiverPlane};
-use super::scene_meshes::{scene_desc, scene_pass, scene_sets, SceneMeshes, WithPalette};
+use super::receiver::{light_reaches_plane, receiver_plane, Plane, ReceiverPlane};
+use super::scene_meshes::{named_scene_pass, scene_desc, scene_pass, scene_sets, SceneMeshes, WithPalette};
 use super::shared::{Planar, PlanarStats, DEFAULT_SHADOW_LOD, SHADOW_BIAS};
 use super::skin::SKINNED_LAYOUT;
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::Gpu;
 use crate::pipeline::recipes::{
-    stencil_replace, MODULATE_BY_DST_ALPHA_ONCE, MODULATE_BY_SRC_ALPHA_WRITING_ALPHA, STENCIL_EQUAL_ZERO_THEN_INCREMENT,
+    stencil_equal, stencil_replace, ADD_LIGHT, ADD_LIGHT_WHERE_LIT_RESET, MASK_SHADOWED, MODULATE_BY_DST_ALPHA_ONCE,
+    MODULATE_BY_SRC_ALPHA_WRITING_ALPHA, NO_WRITE, STENCIL_EQUAL_ZERO_THEN_INCREMENT,
 };
-use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexLayout};
-use crate::render::plan::{DrawKind, Label, MaterialVariant, NoOwn, PassDraws, PassKinds, PassPlan, PlannedPass, When};
+use crate::pipeline::{BlendState, DepthState, FixedFunction, PipelineDesc, RasterState, StencilState, VertexLayout};
+use crate::render::plan::{
+    DrawKind, Label, MaterialVariant, NoOwn, Only, PassDraws, PassKinds, PassPlan, PlannedPass, When,
+};
+use crate::render::LIGHT_PUSH_BYTES;
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, GpuScene, Renderer};
-use crate::scene::Scene;
+use crate::scene::{Scene, SceneLight};
 use crate::technique::frame_renderer::{BuildContext, Passes};
 use crate::technique::interface::RenderOptions;
 use crate::technique::interface::{stencil_variants, FrameStats, Variant};
-use crate::technique::options::PlanarOptions;
+use crate::technique::light_loop::{self, PlannedLight};
+use crate::technique::options::{PlanarOptions, ShadowMode, ShadowVolumeOptions};
 use crate::technique::unit::{Prepared, ShadowedLights, TechniqueUnit};
 use crate::technique::shadow_tone::ShadowTone;
 
@@ -50,6 +62,8 @@ pub struct PlanarPush {
     pub colour: Vec4,
     /// The receiving plane (n, d): n.x + d = 0.
     pub plane: Vec4,
+    /// x: the index in the frame's lights of the light the shadow is cast from.
+    pub light: [u32; 4],
 }
 
 pub const PLANAR_PUSH_BYTES: u32 = std::mem::size_of::<PlanarPush>() as u32;
@@ -73,16 +87,31 @@ impl PassKinds for PlanarKinds {
 pub enum PlanarDraw {
     /// Every object, receivers writing the shadow factor into alpha (or marking the stencil).
     Scene,
-    /// The casters flattened onto the plane, or (`lod`) their simplified meshes.
-    ProjectedCasters { lod: bool },
+    /// The casters flattened onto the plane, or (`lod`) their simplified meshes, along `light`
+    /// (the additive loop's light; none: the seed's one shadow, from the primary light).
+    ProjectedCasters { lod: bool, light: Option<u8> },
+    /// The additive loop's first pass: opaque objects in ambient light, alpha 1 (the
+    /// reference clears its stencil to 0 first).
+    Ambient,
+    /// Light `light` added to the opaque objects: on receivers only where its flag is unset
+    /// when it is `shadowed` (the reference clears its stencil again after it).
+    Shading { light: u8, shadowed: bool },
+    /// Blended objects after the loop, lit by every light and unshadowed.
+    Transparent,
 }
 
 impl DrawKind for PlanarDraw {
     fn describe(self) -> &'static str {
         match self {
             PlanarDraw::Scene => "objects",
-            PlanarDraw::ProjectedCasters { lod: false } => "casters flattened onto the plane",
-            PlanarDraw::ProjectedCasters { lod: true } => "simplified casters (meshoptimizer) flattened onto the plane",
+            PlanarDraw::ProjectedCasters { lod: false, .. } => "casters flattened onto the plane",
+            PlanarDraw::ProjectedCasters { lod: true, .. } => {
+                "simplified casters (meshoptimizer) flattened onto the plane"
+            }
+            PlanarDraw::Ambient => "opaque objects, ambient light",
+            PlanarDraw::Shading { shadowed: true, .. } => "opaque objects, the light added where unshadowed",
+            PlanarDraw::Shading { shadowed: false, .. } => "opaque objects, the light added",
+            PlanarDraw::Transparent => "blended objects, every light",
         }
     }
 }
@@ -109,6 +138,16 @@ impl WithPalette for PlanarSet {
 // Pipelines (docs/design/planar-shadows.md) and the frame's plan.
 
 fn shadow_desc(name: &'static str, skinned: bool, reference: bool) -> PipelineDesc {
+    // The reference: the stencil lets one fragment per receiver pixel through, which
+    // multiplies by its alpha F/255. Emulated: the first fragment multiplies by the
+    // receiver's alpha F/255 and sets it to 1.
+    let stencil = reference.then_some(STENCIL_EQUAL_ZERO_THEN_INCREMENT);
+    let blend = if reference { MODULATE_BY_SRC_ALPHA_WRITING_ALPHA } else { MODULATE_BY_DST_ALPHA_ONCE };
+    flattened_desc(name, skinned, blend, stencil)
+}
+
+/// A flattened-caster pipeline with `blend` and `stencil`.
+fn flattened_desc(name: &'static str, skinned: bool, blend: BlendState, stencil: Option<StencilState>) -> PipelineDesc {
     PipelineDesc {
         name,
         vertex_shader: if skinned { "planar_shadow_skinned.vert" } else { "planar_shadow.vert" },
@@ -120,11 +159,8 @@ fn shadow_desc(name: &'static str, skinned: bool, reference: bool) -> PipelineDe
             // exactly the overlap the blend (or the stencil) must not count twice.
             raster: RasterState { depth_bias: Some(SHADOW_BIAS), ..RasterState::CULL_NONE },
             depth: DepthState { compare: Some(vk::CompareOp::LESS_OR_EQUAL), write: false },
-            // The reference: the stencil lets one fragment per receiver pixel through, which
-            // multiplies by its alpha F/255. Emulated: the first fragment multiplies by the
-            // receiver's alpha F/255 and sets it to 1.
-            stencil: reference.then_some(STENCIL_EQUAL_ZERO_THEN_INCREMENT),
-            blend: if reference { MODULATE_BY_SRC_ALPHA_WRITING_ALPHA } else { MODULATE_BY_DST_ALPHA_ONCE },
+            stencil,
+            blend,
         },
         push_constant_bytes: PLANAR_PUSH_BYTES,
         subpass: 0,
@@ -153,6 +189,11 @@ pub fn scene_pass_of(stencil: StencilMode) -> PlannedPass<PlanarKinds> {
 /// The shadow pass of one path, run where the light reaches the plane: [static, skinned];
 /// `lod`: from the casters' simplified meshes.
 pub fn shadow_pass_of(stencil: StencilMode, lod: bool) -> PlannedPass<PlanarKinds> {
+    shadow_pass_along(stencil, lod, None)
+}
+
+/// [`shadow_pass_of`] along `light` (none: the primary light).
+fn shadow_pass_along(stencil: StencilMode, lod: bool, light: Option<u8>) -> PlannedPass<PlanarKinds> {
     let (name, skinned, reference, push) = match stencil {
         StencilMode::Emulated => {
             ("planar shadow", "planar shadow (skinned)", false, "caster transform, black with alpha 1, plane (n, d)")
@@ -176,7 +217,7 @@ pub fn shadow_pass_of(stencil: StencilMode, lod: bool) -> PlannedPass<PlanarKind
         fragment_shader: "object_colour_masked.frag",
         ..shadow_desc(name, skinned, reference)
     };
-    PlannedPass::own(name, shadow_desc(name, false, reference), PlanarDraw::ProjectedCasters { lod }, push)
+    PlannedPass::own(name, shadow_desc(name, false, reference), PlanarDraw::ProjectedCasters { lod, light }, push)
         .or_pipeline(shadow_desc(skinned, true, reference))
         .or_variant(MaterialVariant::Masked, name, cut_out(masked, "planar_shadow_masked.vert", false))
         .or_variant(
@@ -188,14 +229,120 @@ pub fn shadow_pass_of(stencil: StencilMode, lod: bool) -> PlannedPass<PlanarKind
         .when(When::LightAbovePlane)
 }
 
-/// The frame's passes: the scene, then (unless `options.shadows` is off) the shadow.
-pub fn plan(options: &PlanarOptions, stencil: StencilMode) -> PassPlan<PlanarKinds> {
+/// The frame's passes: the seed's (the scene, then unless `options.shadows` is off the
+/// shadow), or with shadows in `additive` mode the per-light loop.
+pub fn plan(options: &PlanarOptions, stencil: StencilMode, mode: ShadowMode, lights: &[PlannedLight]) -> PassPlan<PlanarKinds> {
+    if options.shadows && mode == ShadowMode::Additive {
+        return additive_plan(options, stencil, lights);
+    }
     let mut plan = PassPlan::new();
     plan.push(scene_pass_of(stencil));
     if options.shadows {
         plan.push(shadow_pass_of(stencil, options.shadow_lod.is_some()));
     }
     plan
+}
+
+/// Doom 3's and Ogre's loop with flattened casters: ambient, then per light its flag and its
+/// shading, then the blended objects.
+fn additive_plan(options: &PlanarOptions, stencil: StencilMode, lights: &[PlannedLight]) -> PassPlan<PlanarKinds> {
+    let mut plan = PassPlan::new();
+    let ambient = PipelineDesc { fragment_shader: "lit_ambient.frag", ..scene_desc("scene (ambient)", false, None) };
+    let ambient_skinned =
+        PipelineDesc { fragment_shader: "lit_ambient.frag", ..scene_desc("scene (ambient, skinned)", true, None) };
+    let push = "object transform and colour, alpha 1";
+    let pass = named_scene_pass("scene (ambient)", ambient.clone(), ambient, ambient_skinned, push, PlanarDraw::Ambient);
+    plan.push(pass.only(Only::Opaque));
+    for (index, light) in lights.iter().enumerate() {
+        let i = index as u8;
+        if light.shadows {
+            plan.push(flag_pass(stencil, options.shadow_lod.is_some(), light, i));
+        }
+        plan.push(light_shading_pass(stencil, light, i));
+    }
+    let scene = scene_desc("scene", false, None);
+    let skinned = scene_desc("scene (skinned)", true, None);
+    let transparent = named_scene_pass("transparent", scene.clone(), scene, skinned, push, PlanarDraw::Transparent);
+    plan.push(transparent.only(Only::Blended));
+    plan
+}
+
+/// Light `i`'s flag: its casters flattened along it, alpha := 0 where they land (emulated), or
+/// stencil `EQUAL 0, INCR_WRAP` (the reference). Colour is left alone: the light's shading reads
+/// the flag.
+fn flag_pass(stencil: StencilMode, lod: bool, light: &PlannedLight, i: u8) -> PlannedPass<PlanarKinds> {
+    let (names, blend, test, push) = match stencil {
+        StencilMode::Emulated => (
+            [
+                "planar shadow (alpha flag)",
+                "planar shadow (skinned, alpha flag)",
+                "planar shadow (alpha flag, alpha mask)",
+                "planar shadow (skinned, alpha flag, alpha mask)",
+            ],
+            MASK_SHADOWED,
+            None,
+            "caster transform, alpha 0, plane (n, d), light",
+        ),
+        StencilMode::Reference => (
+            [
+                "planar shadow (stencil flag)",
+                "planar shadow (skinned, stencil flag)",
+                "planar shadow (stencil flag, alpha mask)",
+                "planar shadow (skinned, stencil flag, alpha mask)",
+            ],
+            NO_WRITE,
+            Some(STENCIL_EQUAL_ZERO_THEN_INCREMENT),
+            "caster transform, plane (n, d), light",
+        ),
+    };
+    let [plain, skinned, masked, skinned_masked] = names;
+    let cut_out = |name: &'static str, vertex_shader: &'static str, is_skinned: bool| PipelineDesc {
+        name,
+        vertex_shader,
+        fragment_shader: "object_colour_masked.frag",
+        ..flattened_desc(name, is_skinned, blend, test)
+    };
+    let draw = PlanarDraw::ProjectedCasters { lod, light: Some(i) };
+    PlannedPass::own(light_loop::pass_name(light, "planar shadow"), flattened_desc(plain, false, blend, test), draw, push)
+        .or_pipeline(flattened_desc(skinned, true, blend, test))
+        .or_variant(MaterialVariant::Masked, plain, cut_out(masked, "planar_shadow_masked.vert", false))
+        .or_variant(
+            MaterialVariant::Masked,
+            skinned,
+            cut_out(skinned_masked, "planar_shadow_skinned_masked.vert", true),
+        )
+        .with_sets(&scene_sets())
+        .when(When::LightReachesPlane(i))
+        .for_light(i)
+}
+
+/// A light's shading pipeline: the scene's vertex stage (invariant: depth EQUAL meets the
+/// ambient pass), the light's contribution out through `blend`.
+fn shading_desc(name: &'static str, skinned: bool, blend: BlendState, stencil: Option<StencilState>) -> PipelineDesc {
+    let mut desc =
+        PipelineDesc { fragment_shader: "lit_light.frag", push_constant_bytes: LIGHT_PUSH_BYTES, ..scene_desc(name, skinned, stencil) };
+    desc.fixed.depth = DepthState { compare: Some(vk::CompareOp::EQUAL), write: false };
+    desc.fixed.blend = blend;
+    desc
+}
+
+/// Light `i`'s shading: receivers through its flag when it casts shadows (emulated: `DST_ALPHA`,
+/// alpha reset to 1 by the same blend; reference: stencil `EQUAL 0`), casters and skinned
+/// objects unmasked (a stray flattened fragment on them must not count).
+fn light_shading_pass(stencil: StencilMode, light: &PlannedLight, i: u8) -> PlannedPass<PlanarKinds> {
+    let casters = shading_desc("shading (casters)", false, ADD_LIGHT, None);
+    let skinned = shading_desc("shading (skinned)", true, ADD_LIGHT, None);
+    let receivers = match (light.shadows, stencil) {
+        (false, _) => shading_desc("shading (no shadows)", false, ADD_LIGHT, None),
+        (true, StencilMode::Emulated) => shading_desc("shading", false, ADD_LIGHT_WHERE_LIT_RESET, None),
+        (true, StencilMode::Reference) => shading_desc("shading (stencil)", false, ADD_LIGHT, Some(stencil_equal(0))),
+    };
+    let others = if light.shadows { casters } else { receivers.clone() };
+    let draw = PlanarDraw::Shading { light: i, shadowed: light.shadows };
+    let push = "object transform and colour, alpha 1, light";
+    named_scene_pass(light_loop::pass_name(light, "shading"), receivers, others, skinned, push, draw)
+        .only(Only::Opaque)
+        .for_light(i)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -210,8 +357,11 @@ impl TechniqueUnit for Planar {
         "planar"
     }
 
-    fn shadowed_lights(&self, _options: &RenderOptions) -> ShadowedLights {
-        ShadowedLights::Primary
+    fn shadowed_lights(&self, options: &RenderOptions) -> ShadowedLights {
+        match options.shadow_volume.mode {
+            ShadowMode::Additive => ShadowedLights::Every,
+            ShadowMode::Modulate => ShadowedLights::Primary,
+        }
     }
 
     fn about(&self) -> &'static str {
@@ -219,7 +369,7 @@ impl TechniqueUnit for Planar {
     }
 
     fn plan(&self, options: &RenderOptions) -> Result<PassPlan<PlanarKinds>> {
-        Ok(plan(&options.planar, options.stencil))
+        Ok(plan(&options.planar, options.stencil, options.shadow_volume.mode, &options.lights))
     }
 
     fn setup(&self, _gpu: &Gpu, _scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
@@ -234,10 +384,17 @@ impl TechniqueUnit for Planar {
         super::shared::bench_variants(options)
     }
 
-    /// Each path, with and without the shadow pass, and each with the shadow cast from
-    /// simplified meshes.
+    /// Each path: in the additive loop and as the seed draws it (modulate), with and without
+    /// the shadow pass, and each with the shadow cast from simplified meshes.
     fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant> {
         let mut variants = stencil_variants(TechniqueUnit::name(self), options);
+        let seed = ShadowVolumeOptions { mode: ShadowMode::Modulate, ..options.shadow_volume };
+        for stencil in [StencilMode::Reference, StencilMode::Emulated] {
+            variants.push(Variant {
+                label: format!("{} ({}, modulate)", TechniqueUnit::name(self), stencil.name()),
+                options: RenderOptions { stencil, shadow_volume: seed, ..options.clone() },
+            });
+        }
         let lod = PlanarOptions {
             shadow_lod: Some(options.planar.shadow_lod.unwrap_or(DEFAULT_SHADOW_LOD)),
             ..options.planar
@@ -264,6 +421,9 @@ impl TechniqueUnit for Planar {
 pub struct PlanarPasses {
     tone: ShadowTone,
     stencil: StencilMode,
+    mode: ShadowMode,
+    /// The lights that cast no shadow on the plane (below it, or level with it).
+    warnings: Vec<String>,
     plane: ReceiverPlane,
     meshes: SceneMeshes,
     /// The casters' simplified meshes, with `--shadow-lod`.
@@ -273,13 +433,21 @@ pub struct PlanarPasses {
 impl PlanarPasses {
     fn new(ctx: &BuildContext<PlanarKinds>, scene: &Scene) -> Result<Self> {
         let plane = receiver_plane(scene, ctx.options.planar.plane.as_ref())?;
-        plane.plane.check_light(&scene.light())?;
+        let mode = ctx.options.shadow_volume.mode;
+        let mut warnings = Vec::new();
+        match mode {
+            ShadowMode::Modulate => plane.plane.check_light(&scene.light())?,
+            ShadowMode::Additive => warnings.extend(
+                scene.lights.iter().filter(|l| l.casts_shadow).filter_map(|l| unreached_warning(l, &plane.plane)),
+            ),
+        }
         let meshes = SceneMeshes::upload(ctx.gpu, scene)?;
         let lods = match ctx.options.planar.shadow_lod {
             Some(ratio) => Some(CasterLods::build(ctx.gpu, scene, &plane.receivers, ratio)?),
             None => None,
         };
-        Ok(PlanarPasses { tone: ctx.options.shadow_tone, stencil: ctx.options.stencil, plane, meshes, lods })
+        let tone = ctx.options.shadow_tone;
+        Ok(PlanarPasses { tone, stencil: ctx.options.stencil, mode, warnings, plane, meshes, lods })
     }
 
     fn factor(&self) -> f32 {
@@ -293,21 +461,25 @@ impl PlanarPasses {
         scene: &Scene,
         pass: &PlannedPass<PlanarKinds>,
         pipelines: &[&Pipeline],
+        light: Option<u8>,
     ) -> Result<()> {
         let &[shadow, skinned, ..] = pipelines else {
             return Err(Error::Internal(format!("the planar shadow pass has {} pipelines", pipelines.len())));
         };
-        let alpha = match self.stencil {
-            StencilMode::Reference => self.factor(),
-            StencilMode::Emulated => 1.0,
+        let alpha = match (self.stencil, light) {
+            (StencilMode::Reference, None) => self.factor(),
+            (StencilMode::Emulated, None) => 1.0,
+            // The additive loop's flag: alpha 0 (emulated); the reference writes no colour.
+            (_, Some(_)) => 0.0,
         };
         let colour = Vec4::new(0.0, 0.0, 0.0, alpha);
         let plane = self.plane.plane.as_vec4();
+        let light = light.map_or(scene.primary_light_index().unwrap_or(0) as u32, u32::from);
         for (index, object) in scene.objects.iter().enumerate() {
             if self.plane.receivers[index] {
                 continue;
             }
-            let push = PlanarPush { model: object.transform, colour, plane };
+            let push = PlanarPush { model: object.transform, colour, plane, light: [light, 0, 0, 0] };
             let casters = SceneMeshes::caster_pipelines(scene, index, pass, pipelines, [shadow, skinned]);
             self.meshes.draw_caster(rec, scene, index, casters, &push, self.lods.as_ref());
         }
@@ -342,7 +514,24 @@ impl PassDraws<PlanarKinds> for PlanarPasses {
                 }
                 self.meshes.draw_scene(rec, scene, &self.plane, pass, pipelines, self.factor())
             }
-            PlanarDraw::ProjectedCasters { .. } => self.draw_shadow(rec, scene, pass, pipelines),
+            PlanarDraw::ProjectedCasters { light, .. } => self.draw_shadow(rec, scene, pass, pipelines, light),
+            PlanarDraw::Ambient => {
+                if self.stencil == StencilMode::Reference {
+                    // Ogre's loop starts each light on a cleared stencil.
+                    rec.clear_stencil(0);
+                }
+                self.meshes.draw_scene(rec, scene, &self.plane, pass, pipelines, 1.0)
+            }
+            PlanarDraw::Shading { light, shadowed } => {
+                self.meshes.draw_scene_for(rec, scene, &self.plane, pass, pipelines, 1.0, Some(light))?;
+                if shadowed && self.stencil == StencilMode::Reference {
+                    // The next light starts on a cleared stencil, whether its flag is drawn or
+                    // (its light below the plane) not.
+                    rec.clear_stencil(0);
+                }
+                Ok(())
+            }
+            PlanarDraw::Transparent => self.meshes.draw_scene(rec, scene, &self.plane, pass, pipelines, 1.0),
         }
     }
 }
@@ -355,21 +544,49 @@ impl Passes<PlanarKinds> for PlanarPasses {
     }
 
     fn prepare(&mut self, _renderer: &Renderer, scene: &Scene) -> Result<()> {
-        self.plane.plane.check_light(&scene.light())?;
+        if self.mode == ShadowMode::Modulate {
+            self.plane.plane.check_light(&scene.light())?;
+        }
         self.meshes.update_palettes(scene)
     }
 
     fn conditions(&self, scene: &Scene) -> Vec<When> {
-        if light_reaches_plane(&scene.light(), &self.plane.plane) {
-            vec![When::LightAbovePlane]
-        } else {
-            Vec::new()
+        let plane = &self.plane.plane;
+        let mut conditions = Vec::new();
+        if light_reaches_plane(&scene.light(), plane) {
+            conditions.push(When::LightAbovePlane);
         }
+        if self.mode == ShadowMode::Additive {
+            let reaching = scene.lights.iter().enumerate().filter(|(_, l)| l.casts_shadow);
+            conditions.extend(
+                reaching
+                    .filter(|(_, l)| light_reaches_plane(&l.geometry(), plane))
+                    .map(|(i, _)| When::LightReachesPlane(i as u8)),
+            );
+        }
+        conditions
+    }
+
+    fn warnings(&self) -> &[String] {
+        &self.warnings
     }
 
     fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {
         Box::new(PlanarStats::of(&self.plane, &self.meshes, self.tone).with_lods(self.lods.as_ref()))
     }
+}
+
+/// The warning for a shadowing `light` that casts no planar shadow on `plane`.
+fn unreached_warning(light: &SceneLight, plane: &Plane) -> Option<String> {
+    let geometry = light.geometry();
+    if light_reaches_plane(&geometry, plane) {
+        return None;
+    }
+    let why = match plane.check_light(&geometry) {
+        Err(e) => e.to_string(),
+        Ok(()) => "it lies below the receiving plane".to_string(),
+    };
+    Some(format!("planar: '{}' casts no shadow ({why}); it still shades", light.name))
 }
 
 #[cfg(test)]
@@ -378,10 +595,13 @@ mod tests {
 
     #[test]
     fn push_constants_fit_the_profile() {
-        assert_eq!(PLANAR_PUSH_BYTES, 96);
+        assert_eq!(PLANAR_PUSH_BYTES, 112);
+        let lights = crate::technique::light_loop::PlannedLight::default_lights();
         for stencil in [StencilMode::Emulated, StencilMode::Reference] {
-            let plan = plan(&PlanarOptions::default(), stencil);
-            assert!(plan.passes.iter().flat_map(|p| &p.pipelines).all(|d| d.push_constant_bytes <= 128));
+            for mode in ShadowMode::ALL {
+                let plan = plan(&PlanarOptions::default(), stencil, *mode, &lights);
+                assert!(plan.passes.iter().flat_map(|p| &p.pipelines).all(|d| d.push_constant_bytes <= 128));
+            }
         }
     }
 }

@@ -15,7 +15,7 @@ use crate::pipeline::{FixedFunction, PipelineDesc, StencilState, VertexLayout};
 use crate::render::object_push::draw_order;
 use crate::render::plan::{Label, MaterialVariant, PassKinds, PlannedPass, SetRole};
 use crate::render::Pipeline;
-use crate::render::{object_push, FrameRecorder, GpuScene, OBJECT_PUSH_BYTES};
+use crate::render::{object_push, FrameRecorder, GpuScene, LightPush, OBJECT_PUSH_BYTES};
 use crate::scene::Scene;
 use crate::technique::material_variants::with_surface_variants;
 
@@ -57,8 +57,24 @@ pub fn scene_pass<K: PassKinds>(
 where
     K::Set: WithPalette,
 {
+    named_scene_pass("scene", receiver, other, skinned, push, draw)
+}
+
+/// [`scene_pass`] under another name (the additive loop's ambient, shading and transparent
+/// passes draw the objects the same way).
+pub fn named_scene_pass<K: PassKinds>(
+    name: impl Into<std::borrow::Cow<'static, str>>,
+    receiver: PipelineDesc,
+    other: PipelineDesc,
+    skinned: PipelineDesc,
+    push: impl Into<std::borrow::Cow<'static, str>>,
+    draw: K::Draw,
+) -> PlannedPass<K>
+where
+    K::Set: WithPalette,
+{
     let distinct = other.name != receiver.name;
-    let mut pass = PlannedPass::own("scene", receiver, draw, push).with_sets(&scene_sets());
+    let mut pass = PlannedPass::own(name, receiver, draw, push).with_sets(&scene_sets());
     if distinct {
         pass = pass.or_pipeline(other.clone());
     }
@@ -194,6 +210,22 @@ impl SceneMeshes {
         pipelines: &[&Pipeline],
         receiver_alpha: f32,
     ) -> Result<()> {
+        self.draw_scene_for(rec, scene, plane, pass, pipelines, receiver_alpha, None)
+    }
+
+    /// [`SceneMeshes::draw_scene`]; with `light`, each draw pushes which of the frame's lights
+    /// it shades (`LightPush`, a per-light pass).
+    #[allow(clippy::too_many_arguments)]
+    pub fn draw_scene_for<K: PassKinds>(
+        &self,
+        rec: &mut FrameRecorder,
+        scene: &Scene,
+        plane: &ReceiverPlane,
+        pass: &PlannedPass<K>,
+        pipelines: &[&Pipeline],
+        receiver_alpha: f32,
+        light: Option<u8>,
+    ) -> Result<()> {
         let fixed = pipelines.len() - pass.variants.iter().filter(|v| v.is_some()).count();
         let (receiver, other, skinned) = match pipelines[..fixed.min(pipelines.len())] {
             [receiver, skinned] => (receiver, receiver, skinned),
@@ -202,6 +234,9 @@ impl SceneMeshes {
         };
         for index in draw_order(scene) {
             let object = &scene.objects[index];
+            if !pass.only.draws(scene.material_of(object)) {
+                continue;
+            }
             let on_plane = plane.receivers[index];
             let alpha = if on_plane { receiver_alpha } else { 1.0 };
             let push = object_push(scene, object, alpha);
@@ -211,7 +246,13 @@ impl SceneMeshes {
             let variant = MaterialVariant::for_surface(scene.material_of(object));
             let chosen = if on_plane { receiver } else { pass.variant(pipelines, other, variant) };
             let skinned = pass.variant(pipelines, skinned, variant);
-            self.draw(rec, scene, index, [chosen, skinned], &push);
+            match light {
+                Some(light) => {
+                    let push = LightPush { object: push, light: [u32::from(light), 0, 0, 0] };
+                    self.draw(rec, scene, index, [chosen, skinned], &push)
+                }
+                None => self.draw(rec, scene, index, [chosen, skinned], &push),
+            }
         }
         Ok(())
     }
