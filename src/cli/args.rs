@@ -131,6 +131,10 @@ pub enum Command {
         /// The --light lights replace the scene's.
         #[arg(long, requires = "lights")]
         replace_lights: bool,
+        /// Samples per pixel the plans are for, as `render --samples` (some passes differ: a
+        /// shadow-volume `subpass` frame reads its count in the shading pass at one sample).
+        #[arg(long, default_value_t = 4, value_name = "1|2|4")]
+        samples: u32,
         #[command(flatten)]
         plans: PassesArgs,
     },

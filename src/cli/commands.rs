@@ -54,9 +54,9 @@ pub fn run(cli: Cli) -> Result<()> {
                 LayerAction::Uninstall => super::install::uninstall(&paths),
             }
         }
-        Command::Passes { technique, scene, lights, replace_lights, plans } => {
+        Command::Passes { technique, scene, lights, replace_lights, samples, plans } => {
             let scene = load_named_scene(&scene, 0.0, &lights, replace_lights)?;
-            passes(&technique, &plans, PlannedLight::of_scene(&scene))
+            passes(&technique, &plans, PlannedLight::of_scene(&scene), samples)
         }
         Command::Bench { frame, warmup: _, runs, json, table1_out, mip_flicker: Some(steps) } => {
             if table1_out.is_some() || runs.is_some() {
@@ -624,16 +624,17 @@ fn view(
 /// Markdown tables; `--normalize` keeps one shadow-volume normalisation. For shadow volumes,
 /// the plans are for k, D (or the tint) of `shadow_volume`, and the table of iteration counts
 /// for other k and D follows them.
-fn passes(technique: &str, plans: &PassesArgs, lights: Vec<PlannedLight>) -> Result<()> {
+fn passes(technique: &str, plans: &PassesArgs, lights: Vec<PlannedLight>, samples: u32) -> Result<()> {
     let technique = by_name(technique)?;
-    plans.shadow_volume.check()?;
     let base = RenderOptions {
         technique,
         shadow_volume: plans.shadow_volume,
         shadow_tone: plans.shadow_tone.tone(),
         lights,
+        samples,
         ..Default::default()
     };
+    base.check()?;
     println!("## {}: passes and fixed-function state\n", technique.name());
     println!("{}\n", technique.about());
     let variants = technique.plan_variants(&base);

@@ -100,6 +100,14 @@ pub const ADD_LIGHT_WHERE_LIT_RESET: BlendState = BlendState {
 /// The reference's shading: colour += the light's contribution where the stencil test passes.
 pub const ADD_LIGHT: BlendState = colour_blend(vk::BlendOp::ADD, ONE, ONE);
 
+/// One light's shading where the fragment itself says how much to add (0 where it read a
+/// shadow): colour += the fragment's, alpha := the fragment's 1, which resets the counter.
+pub const ADD_LIGHT_RESET: BlendState = BlendState {
+    colour: Some(BlendEquation::new(vk::BlendOp::ADD, ONE, ONE)),
+    alpha: Some(BlendEquation::new(vk::BlendOp::ADD, ONE, vk::BlendFactor::ZERO)),
+    write_mask: vk::ColorComponentFlags::RGBA,
+};
+
 // ---------------------------------------------------------------------------------------------
 // Ground shadows (docs/design/planar-shadows.md).
 

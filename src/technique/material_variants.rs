@@ -27,6 +27,18 @@ fn variant_names(base: &str) -> Option<[&'static str; 4]> {
             "scene (ambient, blend, double-sided)",
         ],
         "shading" => ["shading (alpha mask)", "shading (double-sided)", "shading (blend)", "shading (blend, double-sided)"],
+        "shading (subpass)" => [
+            "shading (subpass, alpha mask)",
+            "shading (subpass, double-sided)",
+            "shading (subpass, blend)",
+            "shading (subpass, blend, double-sided)",
+        ],
+        "shading (subpass, counts saturation)" => [
+            "shading (subpass, counts saturation, alpha mask)",
+            "shading (subpass, counts saturation, double-sided)",
+            "shading (subpass, counts saturation, blend)",
+            "shading (subpass, counts saturation, blend, double-sided)",
+        ],
         "shading (stencil)" => [
             "shading (stencil, alpha mask)",
             "shading (stencil, double-sided)",
@@ -91,6 +103,8 @@ fn variant_shaders(fragment: &str) -> Option<(&'static str, &'static str)> {
         "lit.frag" => ("lit_masked.frag", "lit_blend.frag"),
         "lit_ambient.frag" => ("lit_ambient_masked.frag", "lit_blend.frag"),
         "lit_light.frag" => ("lit_light_masked.frag", "lit_blend.frag"),
+        "lit_light_subpass.frag" => ("lit_light_subpass_masked.frag", "lit_blend.frag"),
+        "lit_light_subpass_counted.frag" => ("lit_light_subpass_counted_masked.frag", "lit_blend.frag"),
         "cartoon_shade.frag" => ("cartoon_shade_masked.frag", "cartoon_shade_blend.frag"),
         "shadow_atlas_scene.frag" => ("shadow_atlas_scene_masked.frag", "shadow_atlas_scene_blend.frag"),
         "shadow_map_scene.frag" => ("shadow_map_scene_masked.frag", "shadow_map_scene_blend.frag"),

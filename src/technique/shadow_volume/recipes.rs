@@ -491,6 +491,32 @@ fn additive_plan(
                             );
                         }
                     }
+                    // One sample: the shading pass reads the count itself (one invocation per
+                    // pixel holds the pixel's one count), so no mask pass.
+                    Normalize::Subpass if samples == 1 => {
+                        let (name, shader) = if options.fragment_atomics {
+                            ("shading (subpass, counts saturation)", "lit_light_subpass_counted.frag")
+                        } else {
+                            ("shading (subpass)", "lit_light_subpass.frag")
+                        };
+                        let desc = PipelineDesc {
+                            fragment_shader: shader,
+                            ..shading_desc(name, recipes::ADD_LIGHT_RESET, None)
+                        };
+                        let pass = PlannedPass::objects(light_loop::pass_name(light, "shading"), desc.clone(), 1.0)
+                            .only(Only::Opaque);
+                        plan.push(
+                            with_surface_variants(pass, &desc)
+                                .with_sets(&[SetRole::Frame, SetRole::Material, COUNTER_INPUT])
+                                .reading_colour()
+                                .for_light(i)
+                                .scissored(),
+                        );
+                        first_shadowing = false;
+                        continue;
+                    }
+                    // Several samples: one invocation per pixel cannot add the light to some of
+                    // its samples and only reset the others, so a mask pass writes 0 first.
                     Normalize::Subpass => {
                         let name = light_loop::pass_name(light, "mask (subpass)");
                         plan.push(

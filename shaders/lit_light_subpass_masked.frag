@@ -1,0 +1,5 @@
+#version 450
+// As lit_light_subpass.frag, on MASK and double-sided materials.
+#define READS_COUNT
+#define ALPHA_MASK
+#include "lit_light_shading.glsl"
