@@ -294,9 +294,9 @@ fn fixed_light_skips_the_shadow_passes_and_moving_light_does_not() {
         };
         let cached =
             |f: &nostencil::technique::TechniqueFrame| f.stats::<ShadowAtlasStats>().expect("atlas stats").cached;
-        assert!(!cached(&first) && names(&first).contains(&"shadow map".to_string()));
+        assert!(!cached(&first) && names(&first).contains(&"sun: shadow map".to_string()));
         assert_eq!(cached(&second), light == LightMode::Fixed, "{light:?} {kind:?}");
-        assert_eq!(names(&second).contains(&"shadow map".to_string()), light == LightMode::Moving);
+        assert_eq!(names(&second).contains(&"sun: shadow map".to_string()), light == LightMode::Moving);
         assert_eq!(
             names(&second).contains(&"atlas bake".to_string()),
             light == LightMode::Moving && kind == ShadowKind::Atlas

@@ -1,6 +1,7 @@
 //! The seed 004 techniques, as the registry, `bench` and Table 1 name them: the atlas, the
 //! shadow map it is timed against, and the projective texture it replaces.
 
+use super::maps::{self, Coverage};
 use super::passes::{plan, AtlasKinds};
 use super::renderer::ShadowPasses;
 use crate::error::Result;
@@ -70,20 +71,30 @@ impl TechniqueUnit for ShadowTechnique {
         self.kind.name()
     }
 
-    fn shadowed_lights(&self, _options: &RenderOptions) -> ShadowedLights {
-        ShadowedLights::Primary
+    /// The lights with a map layer, as `setup` planned them.
+    fn shadowed_lights(&self, options: &RenderOptions) -> ShadowedLights {
+        ShadowedLights::Listed(maps::shadowed_mask(&options.lights))
+    }
+
+    fn unshadowed_reason(&self, scene: &Scene, light: usize) -> Option<String> {
+        match maps::coverage(self.kind, scene).get(light) {
+            Some(Coverage::Unshadowed(why)) => Some((*why).to_owned()),
+            _ => None,
+        }
     }
 
     fn about(&self) -> &'static str {
         self.about
     }
 
-    fn plan(&self, _options: &RenderOptions) -> Result<PassPlan<AtlasKinds>> {
-        Ok(plan(self.kind))
+    fn plan(&self, options: &RenderOptions) -> Result<PassPlan<AtlasKinds>> {
+        Ok(plan(self.kind, &options.lights))
     }
 
-    fn setup(&self, _gpu: &Gpu, _scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
-        Ok(Prepared::as_given(options))
+    /// Plans a map pass for each light that gets a layer (`maps::coverage`).
+    fn setup(&self, _gpu: &Gpu, scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
+        let lights = maps::planned_lights(&maps::coverage(self.kind, scene), scene);
+        Ok(Prepared::as_given(&RenderOptions { lights, ..options.clone() }))
     }
 
     fn make(&self, ctx: BuildContext<'_, AtlasKinds>, scene: &Scene, _setup: ()) -> Result<ShadowPasses> {
