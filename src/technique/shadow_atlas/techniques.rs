@@ -23,13 +23,13 @@ pub struct ShadowTechnique {
 /// A depth-compared shadow map from the light.
 pub static SHADOW_MAP: ShadowTechnique = ShadowTechnique {
     kind: ShadowKind::Map,
-    about: "a depth-compared shadow map from the light (seed 004's comparison)",
+    about: "depth-compared shadow maps, one per light (seed 004's comparison)",
 };
 
 /// Shadow textures baked into each model's atlas from the shadow map.
 pub static SHADOW_TEXTURE_ATLAS: ShadowTechnique = ShadowTechnique {
     kind: ShadowKind::Atlas,
-    about: "shadow textures baked into each model's atlas from the shadow map (seed 004)",
+    about: "shadow textures baked into each model's atlas from the shadow maps, a channel per light (seed 004)",
 };
 
 /// Each model's shadow texture projected from the light: the method the atlas replaces, which
