@@ -260,3 +260,19 @@ fn lights_left_unshadowed_are_named_and_still_shade() {
     let warning = frame(&gpu, &four, "shadow-texture-atlas").warnings.join("\n");
     assert!(warning.contains("'moon' (a baked texel holds the shadows of 3 lights) shades unshadowed"), "{warning}");
 }
+
+/// A scene whose one light casts no shadows: no light has a map, the array's one layer is
+/// cleared all the same (bound, never weighed), and every technique of the family draws the
+/// `lit` frame, with no validation message.
+#[test]
+fn a_light_without_shadows_leaves_the_lit_frame() {
+    let gpu = common::gpu();
+    let mut scene = builtin_scene("box").expect("scene");
+    scene.lights[0].casts_shadow = false;
+    let lit = frame(&gpu, &scene, "lit").output.image;
+    for technique in ["shadow-map", "shadow-texture-atlas", "projective-texture"] {
+        let frame = frame(&gpu, &scene, technique);
+        assert!(frame.warnings.is_empty(), "{technique}: {:?}", frame.warnings);
+        assert_eq!(frame.output.image, lit, "{technique}");
+    }
+}

@@ -292,30 +292,3 @@ pub fn swapchain_to_present(
         &[barrier],
     );
 }
-
-/// Every layer of a depth image no pass has written yet becomes sampleable (a shadow-map array
-/// whose lights all went without a map is still bound, never read). Recorded once, at build.
-pub fn unwritten_depth_to_sampled(device: &ash::Device, cmd: vk::CommandBuffer, image: vk::Image, layers: u32) {
-    let barrier = vk::ImageMemoryBarrier::default()
-        .src_access_mask(vk::AccessFlags::empty())
-        .dst_access_mask(vk::AccessFlags::SHADER_READ)
-        .old_layout(vk::ImageLayout::UNDEFINED)
-        .new_layout(vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL)
-        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-        .image(image)
-        .subresource_range(vk::ImageSubresourceRange {
-            aspect_mask: vk::ImageAspectFlags::DEPTH,
-            base_mip_level: 0,
-            level_count: 1,
-            base_array_layer: 0,
-            layer_count: layers,
-        });
-    record_image_barriers(
-        device,
-        cmd,
-        (vk::PipelineStageFlags::TOP_OF_PIPE, vk::PipelineStageFlags::FRAGMENT_SHADER),
-        vk::DependencyFlags::empty(),
-        &[barrier],
-    );
-}

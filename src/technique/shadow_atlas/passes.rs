@@ -38,6 +38,8 @@ impl PassKinds for AtlasKinds {
 pub enum AtlasDraw {
     /// The casters from the pass's light, depth only, into its layer.
     ShadowMap,
+    /// Layer 0 cleared, nothing drawn: no light has a map, and the array is bound all the same.
+    ClearMap,
     /// Each model at its atlas UVs, lit or shadowed per texel.
     Bake,
     /// Each model from the light (the projective texture's bake).
@@ -54,6 +56,7 @@ impl DrawKind for AtlasDraw {
     fn describe(self) -> &'static str {
         match self {
             AtlasDraw::ShadowMap => "casters",
+            AtlasDraw::ClearMap => "nothing (the layer is cleared)",
             AtlasDraw::Bake => "each model at its atlas UVs",
             AtlasDraw::ProjectiveBake => "each model from the light",
             AtlasDraw::Dilate => "full screen per model",
@@ -205,6 +208,14 @@ pub fn plan(kind: ShadowKind, lights: &[PlannedLight]) -> PassPlan<AtlasKinds> {
             .with_sets(&[LIGHT, SetRole::Material])
             .for_light(index as u8)
             .when(moved),
+        );
+    }
+    if !lights.iter().any(|l| l.shadows) {
+        // The scene pass binds the map array all the same: its one layer is cleared, so that
+        // it is in a layout to sample (every light's weight ignores it).
+        plan.push(
+            PlannedPass::commands("shadow map (no light has one)", AtlasDraw::ClearMap, AtlasTarget::ShadowMap)
+                .when(moved),
         );
     }
     let scene_sets = match kind {

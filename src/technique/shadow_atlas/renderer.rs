@@ -18,8 +18,6 @@ use super::passes::{self, AtlasDraw, AtlasKinds, AtlasSet, AtlasTarget};
 use super::stats::{AtlasInfo, ShadowAtlasStats};
 use super::targets::{self, Framebuffer, ImageView, RenderPass};
 use crate::error::{Error, Result};
-use crate::gpu::barriers;
-use crate::gpu::commands::submit_and_wait;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::{Buffer, Image};
 use crate::gpu::texture::Sampler;
@@ -167,16 +165,10 @@ impl ShadowPasses {
         let coverage = maps::coverage(kind, scene);
         let layers = maps::layer_count(&coverage);
         let map = targets::shadow_map_image(gpu, options.map_size, layers)?;
-        if layers == 0 {
-            // No pass writes the one layer the scene pass still binds.
-            submit_and_wait(gpu, |cmd| {
-                barriers::unwritten_depth_to_sampled(gpu.raw(), cmd, map.raw, map.layers);
-                Ok(())
-            })?;
-        }
         let map_pass = targets::shadow_map_render_pass(gpu)?;
         let map_extent = vk::Extent2D { width: options.map_size, height: options.map_size };
-        let map_layers = (0..layers)
+        // Without a light that has one, layer 0 is still bound, so still cleared (`passes::plan`).
+        let map_layers = (0..layers.max(1))
             .map(|layer| ImageView::layer(gpu, &map, layer, vk::ImageAspectFlags::DEPTH))
             .collect::<Result<Vec<_>>>()?;
         let map_framebuffers = map_layers
@@ -295,16 +287,14 @@ impl ShadowPasses {
         pipelines: &[&Pipeline],
     ) -> Result<()> {
         let Some(&opaque) = pipelines.first() else { return Ok(()) };
-        let light = pass.light.map_or(0, usize::from);
+        let light = pass.light.unwrap_or(0);
         let framebuffer = self
             .coverage
-            .get(light)
+            .get(usize::from(light))
             .and_then(|c| c.layer())
             .and_then(|layer| self.map_framebuffers.get(layer as usize))
             .ok_or_else(|| Error::Internal(format!("pass '{}': light {light} has no map layer", pass.name)))?;
-        let clear = [vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } }];
-        let extent = vk::Extent2D { width: self.options.map_size, height: self.options.map_size };
-        rec.begin_offscreen_pass(&self.map_pass, framebuffer.raw, extent, &clear);
+        self.begin_map_layer(rec, framebuffer);
         rec.bind_with_sets(opaque, &[self.light_set.set, self.materials.template_set()]);
         let mut bound = opaque;
         for object in scene.objects.iter().filter(|o| o.casts_shadow) {
@@ -318,9 +308,25 @@ impl ShadowPasses {
                 rec.bind_material(pipeline, self.materials.set(object.material));
             }
             let push = ObjectPush { model: object.transform, colour: Vec4::ONE };
-            rec.push(pipeline, &LightPush { object: push, light: [light as u32, 0, 0, 0] });
+            rec.push(pipeline, &LightPush { object: push, light: [u32::from(light), 0, 0, 0] });
             rec.draw_mesh(&self.meshes[object.mesh]);
         }
+        rec.end_render_pass();
+        Ok(())
+    }
+
+    /// The map pass into `framebuffer` (a layer), cleared to the far plane.
+    fn begin_map_layer(&self, rec: &mut FrameRecorder, framebuffer: &Framebuffer) {
+        let clear = [vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } }];
+        let extent = vk::Extent2D { width: self.options.map_size, height: self.options.map_size };
+        rec.begin_offscreen_pass(&self.map_pass, framebuffer.raw, extent, &clear);
+    }
+
+    /// Layer 0 cleared and left for sampling, when no light has a map (`passes::plan`).
+    fn clear_map(&self, rec: &mut FrameRecorder) -> Result<()> {
+        let framebuffer =
+            self.map_framebuffers.first().ok_or_else(|| Error::Internal("a map array without layers".into()))?;
+        self.begin_map_layer(rec, framebuffer);
         rec.end_render_pass();
         Ok(())
     }
@@ -381,6 +387,7 @@ impl PassDraws<AtlasKinds> for ShadowPasses {
         };
         match draw {
             AtlasDraw::ShadowMap => self.draw_shadow_map(rec, scene, pass, pipelines)?,
+            AtlasDraw::ClearMap => self.clear_map(rec)?,
             AtlasDraw::Bake | AtlasDraw::ProjectiveBake => {
                 self.atlas_targets(pass)?.record_bake(rec, scene, &self.meshes, pipeline()?, self.light_set.set)
             }

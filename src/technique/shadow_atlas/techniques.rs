@@ -71,13 +71,18 @@ impl TechniqueUnit for ShadowTechnique {
         self.kind.name()
     }
 
-    /// The lights with a map layer, as `setup` planned them.
+    /// The lights with a map layer, as `setup` planned them (the projective texture: the
+    /// primary light's alone, which the warning says as it always has).
     fn shadowed_lights(&self, options: &RenderOptions) -> ShadowedLights {
-        ShadowedLights::Listed(maps::shadowed_mask(&options.lights))
+        match self.kind {
+            ShadowKind::Projective => ShadowedLights::Primary,
+            _ => ShadowedLights::Listed(maps::shadowed_mask(&options.lights)),
+        }
     }
 
     fn unshadowed_reason(&self, scene: &Scene, light: usize) -> Option<String> {
         match maps::coverage(self.kind, scene).get(light) {
+            _ if self.kind == ShadowKind::Projective => None,
             Some(Coverage::Unshadowed(why)) => Some((*why).to_owned()),
             _ => None,
         }
