@@ -1,5 +1,5 @@
-//! Fitting the light's view to the scene: the scene's bounds, the light's view-projection and
-//! bias uniforms, and where a moving light is at a given frame.
+//! Fitting each light's view to the scene: the scene's bounds, the lights' view-projections and
+//! bias uniforms (a spot's from its cone), and where a moving light is at a given frame.
 
 use glam::{IVec4, Mat4, Quat, Vec3, Vec4};
 

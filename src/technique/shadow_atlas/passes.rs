@@ -1,6 +1,7 @@
 //! The pipelines of the seed 004 techniques, as data, and the frame's pass plan: a shadow-map
-//! prepass per shadowing light (its layer of the map array), then (atlas and projective) the bakes, dilations and mips, all cached while
-//! neither the light nor a model moves, then the scene pass.
+//! prepass per shadowing light (its layer of the map array), then (atlas and projective) the
+//! bakes, dilations and mips, all cached while neither a light nor a model moves, then the scene
+//! pass.
 
 use crate::pipeline::recipes::NO_WRITE;
 use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexAttribute, VertexLayout};

@@ -1,8 +1,7 @@
 //! The seed 004 renderer's part (`Passes`): the shadow maps (a layer per shadowing light), the
-//! lights' uniforms, the atlas
-//! vertices and (atlas only) every model's shadow texture, built once; per frame, where the
-//! light is, whether it or a model moved (else the shadow map and bake are skipped: cached),
-//! and the draws of each pass.
+//! lights' uniforms, the atlas vertices and (atlas only) every model's shadow texture, built
+//! once; per frame, where the lights are, whether one of them or a model moved (else the shadow
+//! maps and bake are skipped: cached), and the draws of each pass.
 
 use std::sync::Arc;
 
@@ -331,7 +330,7 @@ impl ShadowPasses {
         Ok(())
     }
 
-    /// Every object lit, its Lambert term scaled by its shadow texture or the map compare (the
+    /// Every object lit, each light's term scaled by its shadow texture or map compare (the
     /// recorder bound the pipeline with the frame's set and the first object's shadow set).
     fn draw_scene(
         &self,

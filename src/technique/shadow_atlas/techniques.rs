@@ -20,13 +20,13 @@ pub struct ShadowTechnique {
     about: &'static str,
 }
 
-/// A depth-compared shadow map from the light.
+/// Depth-compared shadow maps, one per shadowing light.
 pub static SHADOW_MAP: ShadowTechnique = ShadowTechnique {
     kind: ShadowKind::Map,
     about: "depth-compared shadow maps, one per light (seed 004's comparison)",
 };
 
-/// Shadow textures baked into each model's atlas from the shadow map.
+/// Shadow textures baked into each model's atlas from the shadow maps, a channel per light.
 pub static SHADOW_TEXTURE_ATLAS: ShadowTechnique = ShadowTechnique {
     kind: ShadowKind::Atlas,
     about: "shadow textures baked into each model's atlas from the shadow maps, a channel per light (seed 004)",
@@ -81,8 +81,10 @@ impl TechniqueUnit for ShadowTechnique {
     }
 
     fn unshadowed_reason(&self, scene: &Scene, light: usize) -> Option<String> {
+        if self.kind == ShadowKind::Projective {
+            return None;
+        }
         match maps::coverage(self.kind, scene).get(light) {
-            _ if self.kind == ShadowKind::Projective => None,
             Some(Coverage::Unshadowed(why)) => Some((*why).to_owned()),
             _ => None,
         }
