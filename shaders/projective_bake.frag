@@ -12,8 +12,9 @@ layout(location = 1) in vec3 world_normal;
 layout(location = 0) out vec4 out_texel;
 
 void main() {
-    vec3 to_light = toward_light(shadow.light, world_position);
-    if (dot(world_normal, to_light) <= 0.0 || shadow_visibility(world_position, world_normal) > 0.5) {
+    int primary = shadow.primary.x;
+    vec3 to_light = toward_light(shadow.lights[primary].light, world_position);
+    if (dot(world_normal, to_light) <= 0.0 || shadow_weight(primary, world_position, world_normal) > 0.5) {
         discard;
     }
     out_texel = vec4(0.0, 0.0, 0.0, 1.0);

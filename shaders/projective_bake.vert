@@ -1,5 +1,5 @@
 #version 450
-// Projective bake: each triangle drawn where the light sees it (the shadow map's projection),
+// Projective bake: each triangle drawn where the primary light sees it (the shadow map's projection),
 // carrying its world position and normal to the fragment shader.
 #define LIGHT_SET 0
 #include "shadow_atlas_light.glsl"
@@ -14,5 +14,5 @@ void main() {
     vec4 world = object.model * vec4(in_position, 1.0);
     world_position = world.xyz;
     world_normal = transpose(inverse(mat3(object.model))) * in_normal;
-    gl_Position = shadow.view_proj * world;
+    gl_Position = shadow.lights[shadow.primary.x].view_proj * world;
 }

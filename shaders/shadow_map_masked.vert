@@ -2,11 +2,11 @@
 // Shadow-map pass, MASK casters: as shadow_map.vert, with the material's inputs.
 #define LIGHT_SET 0
 #include "shadow_atlas_light.glsl"
-#include "object_push.glsl"
+#include "light_push.glsl"
 #include "atlas_vertex.glsl"
 #include "material_out.glsl"
 
 void main() {
     pass_material_inputs();
-    gl_Position = shadow.view_proj * (object.model * vec4(in_position, 1.0));
+    gl_Position = shadow.lights[object.light.x].view_proj * (object.model * vec4(in_position, 1.0));
 }

@@ -327,7 +327,7 @@ fn tile_traffic_is_listed_per_render_pass_with_known_sizes() {
     assert_eq!(frame[1]["bytes_stored"], 0);
     assert!(frame.iter().all(|a| a["samples"] == 1), "{frame:?}");
 
-    // The atlas with a moving light: the shadow map (512^2 depth, stored), one bake and one
+    // The atlas with a moving light: the sun's shadow map (512^2 depth, stored), one bake and one
     // dilate per model (colour, stored) under their passes, then the frame.
     let atlas = json(&[
         "profile",
@@ -344,7 +344,7 @@ fn tile_traffic_is_listed_per_render_pass_with_known_sizes() {
     ]);
     let passes = atlas["render_passes"].as_array().expect("render_passes");
     let names: Vec<&str> = passes.iter().filter_map(|p| p["pass"].as_str()).collect();
-    assert_eq!(names, ["shadow map", "atlas bake", "atlas dilate", "frame"], "{passes:?}");
+    assert_eq!(names, ["sun: shadow map", "atlas bake", "atlas dilate", "frame"], "{passes:?}");
     let map = &passes[0];
     assert_eq!((map["width"].as_u64(), map["height"].as_u64()), (Some(512), Some(512)));
     let depth = &map["attachments"][0];
@@ -374,7 +374,7 @@ fn counters_are_summed_per_render_pass_instance_in_submission_order() {
     let instances = report["render_pass_instances"].as_array().expect("render_pass_instances");
     let owners: Vec<&str> = instances.iter().map(|i| i["passes"][0].as_str().unwrap_or("?")).collect();
     // atlas-one: two models, so two bakes and two dilates.
-    assert_eq!(owners, ["shadow map", "atlas bake", "atlas bake", "atlas dilate", "atlas dilate", "scene"]);
+    assert_eq!(owners, ["sun: shadow map", "atlas bake", "atlas bake", "atlas dilate", "atlas dilate", "scene"]);
     assert!(instances.iter().enumerate().all(|(i, inst)| inst["index"] == i as u64));
     let sums = report["render_pass_sums"].as_array().expect("render_pass_sums");
     let spans: Vec<(u64, u64)> =

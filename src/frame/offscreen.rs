@@ -103,6 +103,30 @@ impl ImageView {
         gpu.created(ObjectKind::ImageView);
         Ok(ImageView { gpu: gpu.clone(), raw })
     }
+
+    /// A 2D view of layer `layer` of an arrayed image, mip 0, aspect `aspect` (a framebuffer
+    /// per shadow-map layer).
+    pub fn layer(gpu: &Arc<Gpu>, image: &Image, layer: u32, aspect: vk::ImageAspectFlags) -> Result<Self> {
+        if layer >= image.layers {
+            return Err(Error::Internal(format!("layer {layer} of an image with {} layers", image.layers)));
+        }
+        let info = vk::ImageViewCreateInfo::default()
+            .image(image.raw)
+            .view_type(vk::ImageViewType::TYPE_2D)
+            .format(image.format)
+            .subresource_range(vk::ImageSubresourceRange {
+                aspect_mask: aspect,
+                base_mip_level: 0,
+                level_count: 1,
+                base_array_layer: layer,
+                layer_count: 1,
+            });
+        // SAFETY: `image` is alive (borrowed) and `layer` one of its layers (checked above); the
+        // caller names an aspect of its format.
+        let raw = unsafe { gpu.raw().create_image_view(&info, None) }.vk("vkCreateImageView")?;
+        gpu.created(ObjectKind::ImageView);
+        Ok(ImageView { gpu: gpu.clone(), raw })
+    }
 }
 
 impl Drop for ImageView {

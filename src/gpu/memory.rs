@@ -146,6 +146,8 @@ pub struct Image {
     pub format: vk::Format,
     pub extent: vk::Extent2D,
     pub mip_levels: u32,
+    /// Array layers (1 but for `new_layered`'s images).
+    pub layers: u32,
     /// True when the memory is LAZILY_ALLOCATED (never backed on a tile-based GPU).
     pub lazily_allocated: bool,
     memory: Option<ImageMemory>,
@@ -174,6 +176,18 @@ pub struct ImageDesc<'a> {
 
 impl Image {
     pub fn new(gpu: &Arc<Gpu>, desc: &ImageDesc) -> Result<Self> {
+        Self::with_layers(gpu, desc, None)
+    }
+
+    /// A 2D array of `layers` layers (at least 1), its view a `TYPE_2D_ARRAY` over all of them
+    /// (one shadow map layer per light, sampled as one `sampler2DArrayShadow`).
+    pub fn new_layered(gpu: &Arc<Gpu>, desc: &ImageDesc, layers: u32) -> Result<Self> {
+        Self::with_layers(gpu, desc, Some(layers.max(1)))
+    }
+
+    /// `array`: the layer count of an arrayed image and view; `None`: one layer, a 2D view.
+    fn with_layers(gpu: &Arc<Gpu>, desc: &ImageDesc, array: Option<u32>) -> Result<Self> {
+        let layers = array.unwrap_or(1);
         super::mobile_profile::check_image_size(desc.name, desc.extent.width, desc.extent.height)?;
         let device = gpu.raw();
         let info = vk::ImageCreateInfo::default()
@@ -181,7 +195,7 @@ impl Image {
             .format(desc.format)
             .extent(vk::Extent3D { width: desc.extent.width, height: desc.extent.height, depth: 1 })
             .mip_levels(desc.mip_levels.max(1))
-            .array_layers(1)
+            .array_layers(layers)
             .samples(sample_count_flags(desc.samples))
             .tiling(vk::ImageTiling::OPTIMAL)
             .usage(desc.usage)
@@ -246,6 +260,7 @@ impl Image {
             format: desc.format,
             extent: desc.extent,
             mip_levels: desc.mip_levels.max(1),
+            layers,
             lazily_allocated: matches!(memory, ImageMemory::Lazy(_)),
             memory: Some(memory),
         };
@@ -254,14 +269,14 @@ impl Image {
         unsafe { device.bind_image_memory(raw, vk_memory, offset) }.vk("vkBindImageMemory")?;
         let view_info = vk::ImageViewCreateInfo::default()
             .image(raw)
-            .view_type(vk::ImageViewType::TYPE_2D)
+            .view_type(if array.is_some() { vk::ImageViewType::TYPE_2D_ARRAY } else { vk::ImageViewType::TYPE_2D })
             .format(desc.format)
             .subresource_range(vk::ImageSubresourceRange {
                 aspect_mask: desc.aspect,
                 base_mip_level: 0,
                 level_count: image.mip_levels,
                 base_array_layer: 0,
-                layer_count: 1,
+                layer_count: layers,
             });
         // SAFETY: `raw` is alive with its memory bound, and the view covers its format, aspect
         // and mips.

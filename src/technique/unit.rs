@@ -83,6 +83,13 @@ pub trait TechniqueUnit: Sync + 'static {
         let _ = options;
         ShadowedLights::None
     }
+
+    /// Why light `light` of `scene`, which casts shadows, goes unshadowed (the warning says
+    /// it beside the light's name); `None`: no reason beyond the technique's.
+    fn unshadowed_reason(&self, scene: &Scene, light: usize) -> Option<String> {
+        let _ = (scene, light);
+        None
+    }
 }
 
 /// Which lights a technique shadows.
@@ -94,25 +101,64 @@ pub enum ShadowedLights {
     Primary,
     /// None: the technique draws no shadows (lit, outlines, ink).
     None,
+    /// The lights whose bit is set (bit i: the scene's light i), the others not: shadow maps
+    /// cover what one frustum can (no cube map for a point light inside the scene).
+    Listed(u8),
 }
 
-/// The warning naming the lights `shadowed` leaves unshadowed in `scene`, if any.
-pub fn unshadowed_lights_warning(technique: &str, shadowed: ShadowedLights, scene: &Scene) -> Option<String> {
-    let primary = scene.primary_light_index();
-    let left: Vec<String> = scene
-        .lights
-        .iter()
-        .enumerate()
-        .filter(|(i, light)| light.casts_shadow && shadowed == ShadowedLights::Primary && Some(*i) != primary)
-        .map(|(_, light)| format!("'{}'", light.name))
-        .collect();
-    (!left.is_empty()).then(|| {
-        format!(
-            "{} shadows only the primary light ('{}'): {} shade unshadowed (--technique shadow-volume or planar shadows every light)",
+impl ShadowedLights {
+    /// Whether light `index` of `scene`, which casts shadows, is shadowed.
+    fn covers(self, scene: &Scene, index: usize) -> bool {
+        match self {
+            ShadowedLights::Every => true,
+            ShadowedLights::Primary => scene.primary_light_index() == Some(index),
+            ShadowedLights::None => false,
+            ShadowedLights::Listed(mask) => index < 8 && mask & (1 << index) != 0,
+        }
+    }
+}
+
+/// The warning naming the lights `shadowed` leaves unshadowed in `scene`, if any, each with
+/// `reason(index)` when there is one.
+pub fn unshadowed_lights_warning(
+    technique: &str,
+    shadowed: ShadowedLights,
+    scene: &Scene,
+    reason: &dyn Fn(usize) -> Option<String>,
+) -> Option<String> {
+    if shadowed == ShadowedLights::None {
+        return None;
+    }
+    let casting = || scene.lights.iter().enumerate().filter(|(_, light)| light.casts_shadow);
+    let named = |i: usize| {
+        let name = format!("'{}'", scene.lights[i].name);
+        reason(i).map_or(name.clone(), |why| format!("{name} ({why})"))
+    };
+    let left: Vec<String> = casting().filter(|(i, _)| !shadowed.covers(scene, *i)).map(|(i, _)| named(i)).collect();
+    if left.is_empty() {
+        return None;
+    }
+    let hint = match technique {
+        // Their seed frame (`--shadow-mode modulate`) has one shadow.
+        "shadow-volume" | "planar" => "--shadow-mode additive shadows every light",
+        _ => "--technique shadow-volume or planar shadows every light",
+    };
+    Some(match shadowed {
+        ShadowedLights::Listed(_) => {
+            let kept: Vec<String> = casting()
+                .filter(|(i, _)| shadowed.covers(scene, *i))
+                .map(|(_, light)| format!("'{}'", light.name))
+                .collect();
+            let kept = if kept.is_empty() { "no light".to_owned() } else { kept.join(", ") };
+            let verb = if left.len() == 1 { "shades" } else { "shade" };
+            format!("{technique} shadows {kept}: {} {verb} unshadowed ({hint})", left.join(", "))
+        }
+        _ => format!(
+            "{} shadows only the primary light ('{}'): {} shade unshadowed ({hint})",
             technique,
             scene.primary_light().map_or("", |l| l.name.as_str()),
             left.join(", ")
-        )
+        ),
     })
 }
 
@@ -145,7 +191,8 @@ pub fn build_unit<'s, T: TechniqueUnit>(
     let plan = unit.plan(&options)?;
     let mut renderer =
         frame_renderer::build_typed(unit.name(), plan, gpu, scene, &options, |ctx| unit.make(ctx, scene, setup))?;
-    renderer.warnings.extend(unshadowed_lights_warning(unit.name(), unit.shadowed_lights(&options), scene));
+    let reason = |light: usize| unit.unshadowed_reason(scene, light);
+    renderer.warnings.extend(unshadowed_lights_warning(unit.name(), unit.shadowed_lights(&options), scene, &reason));
     Ok(renderer)
 }
 

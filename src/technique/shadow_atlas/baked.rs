@@ -49,8 +49,8 @@ pub fn bake<'s>(
 }
 
 impl Baked<'_> {
-    /// Mip `mip` of object `object`'s shadow texture (R: 255 lit, 0 shadowed; A: 255 where a
-    /// triangle covers the texel or dilation reached it).
+    /// Mip `mip` of object `object`'s shadow texture (R, G, B: the lights in map layers 0, 1,
+    /// 2, 255 lit, 0 shadowed; A: 255 where a triangle covers the texel or dilation reached it).
     pub fn read_shadow_texture(&self, object: usize, mip: u32) -> Result<RgbaImage> {
         let passes = self.renderer.passes();
         read_shadow_texture(passes.gpu(), self.scene, passes.atlas(), passes.frames(), object, mip)

@@ -1,11 +1,13 @@
-//! The pipelines of the seed 004 techniques, as data, and the frame's pass plan: the shadow
-//! map prepass, then (atlas and projective) the bakes, dilations and mips, all cached while
-//! neither the light nor a model moves, then the scene pass.
+//! The pipelines of the seed 004 techniques, as data, and the frame's pass plan: a shadow-map
+//! prepass per shadowing light (its layer of the map array), then (atlas and projective) the
+//! bakes, dilations and mips, all cached while neither a light nor a model moves, then the scene
+//! pass.
 
 use crate::pipeline::recipes::NO_WRITE;
 use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexAttribute, VertexLayout};
 use crate::render::plan::{DrawKind, Label, MaterialVariant, PassKinds, PassPlan, PlannedPass, SetRole, When};
-use crate::render::OBJECT_PUSH_BYTES;
+use crate::render::{LIGHT_PUSH_BYTES, OBJECT_PUSH_BYTES};
+use crate::technique::light_loop::{self, PlannedLight};
 use crate::technique::material_variants::with_surface_variants;
 use crate::technique::options::ShadowKind;
 
@@ -35,8 +37,10 @@ impl PassKinds for AtlasKinds {
 /// What the seed 004 renderer draws itself.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum AtlasDraw {
-    /// The casters from the light, depth only.
+    /// The casters from the pass's light, depth only, into its layer.
     ShadowMap,
+    /// Layer 0 cleared, nothing drawn: no light has a map, and the array is bound all the same.
+    ClearMap,
     /// Each model at its atlas UVs, lit or shadowed per texel.
     Bake,
     /// Each model from the light (the projective texture's bake).
@@ -53,6 +57,7 @@ impl DrawKind for AtlasDraw {
     fn describe(self) -> &'static str {
         match self {
             AtlasDraw::ShadowMap => "casters",
+            AtlasDraw::ClearMap => "nothing (the layer is cleared)",
             AtlasDraw::Bake => "each model at its atlas UVs",
             AtlasDraw::ProjectiveBake => "each model from the light",
             AtlasDraw::Dilate => "full screen per model",
@@ -65,7 +70,7 @@ impl DrawKind for AtlasDraw {
 /// The seed 004 descriptor sets.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum AtlasSet {
-    /// The light's view-projection and bias, with the shadow map for the compare.
+    /// Every light's view-projection, bias and map layer, with the map array for the compare.
     Light,
     /// A model's shadow texture, sampled trilinearly by the scene pass.
     ShadowTexture,
@@ -86,7 +91,7 @@ impl Label for AtlasSet {
 /// The seed 004 render passes, before the frame's.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum AtlasTarget {
-    /// The light's depth, stored for sampling.
+    /// A layer of the lights' depth array, stored for sampling.
     ShadowMap,
     /// Each model's raw bake, in atlas space.
     AtlasSpace,
@@ -118,7 +123,8 @@ pub fn shadow_map_desc() -> PipelineDesc {
         fragment_shader: "shadow_map.frag",
         vertex_layout: ATLAS_VERTEX,
         fixed: FixedFunction { raster: RasterState::CULL_NONE, blend: NO_WRITE, ..FixedFunction::OPAQUE },
-        push_constant_bytes: OBJECT_PUSH_BYTES,
+        // The object's push and which light (`shaders/light_push.glsl`).
+        push_constant_bytes: LIGHT_PUSH_BYTES,
         subpass: 0,
     }
 }
@@ -185,24 +191,36 @@ pub fn scene_desc(kind: ShadowKind) -> PipelineDesc {
     }
 }
 
-/// The frame of `kind`, pass by pass (no stencil anywhere: there is no reference path).
-pub fn plan(kind: ShadowKind) -> PassPlan<AtlasKinds> {
+/// The frame of `kind` with `lights` (a light "shadows" when it has a map layer: see
+/// `maps::planned_lights`), pass by pass (no stencil anywhere: there is no reference path).
+pub fn plan(kind: ShadowKind, lights: &[PlannedLight]) -> PassPlan<AtlasKinds> {
     let moved = When::LightOrCastersMoved;
     let mut plan = PassPlan::new();
-    plan.push(
-        PlannedPass::offscreen(
-            "shadow map",
-            shadow_map_desc(),
-            AtlasDraw::ShadowMap,
-            "object transform",
-            AtlasTarget::ShadowMap,
-        )
-        .or_variant(MaterialVariant::Masked, shadow_map_desc().name, shadow_map_masked_desc())
-        .with_sets(&[LIGHT, SetRole::Material])
-        .when(moved),
-    );
+    for (index, light) in lights.iter().enumerate().filter(|(_, l)| l.shadows) {
+        plan.push(
+            PlannedPass::offscreen(
+                light_loop::pass_name(light, "shadow map"),
+                shadow_map_desc(),
+                AtlasDraw::ShadowMap,
+                "object transform, light index",
+                AtlasTarget::ShadowMap,
+            )
+            .or_variant(MaterialVariant::Masked, shadow_map_desc().name, shadow_map_masked_desc())
+            .with_sets(&[LIGHT, SetRole::Material])
+            .for_light(index as u8)
+            .when(moved),
+        );
+    }
+    if !lights.iter().any(|l| l.shadows) {
+        // The scene pass binds the map array all the same: its one layer is cleared, so that
+        // it is in a layout to sample (every light's weight ignores it).
+        plan.push(
+            PlannedPass::commands("shadow map (no light has one)", AtlasDraw::ClearMap, AtlasTarget::ShadowMap)
+                .when(moved),
+        );
+    }
     let scene_sets = match kind {
-        ShadowKind::Map => [SetRole::Frame, SetRole::Material, LIGHT],
+        ShadowKind::Map => vec![SetRole::Frame, SetRole::Material, LIGHT],
         ShadowKind::Atlas | ShadowKind::Projective => {
             let (name, desc, draw, target) = if kind == ShadowKind::Atlas {
                 ("atlas bake", bake_desc(), AtlasDraw::Bake, AtlasTarget::AtlasSpace)
@@ -225,16 +243,13 @@ pub fn plan(kind: ShadowKind) -> PassPlan<AtlasKinds> {
                 .when(moved),
             );
             plan.push(PlannedPass::commands("atlas mips", AtlasDraw::Mips, AtlasTarget::TextureMip0).when(moved));
-            [SetRole::Frame, SetRole::Material, SHADOW_TEXTURE]
+            // Set 3: which light each baked channel holds (atlas), the projection from the
+            // primary light (projective).
+            vec![SetRole::Frame, SetRole::Material, SHADOW_TEXTURE, LIGHT]
         }
     };
     let scene = scene_desc(kind);
     let pass = PlannedPass::own("scene", scene.clone(), AtlasDraw::Scene, "object transform and colour");
-    let pass = with_surface_variants(pass, &scene);
-    plan.push(match kind {
-        // The projection from the light is the light's (set 3).
-        ShadowKind::Projective => pass.with_sets(&[scene_sets[0], scene_sets[1], scene_sets[2], LIGHT]),
-        _ => pass.with_sets(&scene_sets),
-    });
+    plan.push(with_surface_variants(pass, &scene).with_sets(&scene_sets));
     plan
 }

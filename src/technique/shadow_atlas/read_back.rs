@@ -11,8 +11,8 @@ use crate::gpu::texture::read_back_mip;
 use crate::gpu::Gpu;
 use crate::scene::Scene;
 
-/// Reads back mip `mip` of object `object`'s shadow texture (R: 255 lit, 0 shadowed; A: 255
-/// where a triangle covers the texel or dilation reached it). `frames`: frames rendered so far
+/// Reads back mip `mip` of object `object`'s shadow texture (R, G, B: the lights in map layers
+/// 0, 1, 2, 255 lit, 0 shadowed; A: 255 where a triangle covers the texel or dilation reached it). `frames`: frames rendered so far
 /// (none: nothing is baked yet).
 pub fn read_shadow_texture(
     gpu: &Arc<Gpu>,

@@ -1,7 +1,7 @@
-//! The seed 004 renderer's part (`Passes`): the shadow map, the light's uniforms, the atlas
-//! vertices and (atlas only) every model's shadow texture, built once; per frame, where the
-//! light is, whether it or a model moved (else the shadow map and bake are skipped: cached),
-//! and the draws of each pass.
+//! The seed 004 renderer's part (`Passes`): the shadow maps (a layer per shadowing light), the
+//! lights' uniforms, the atlas vertices and (atlas only) every model's shadow texture, built
+//! once; per frame, where the lights are, whether one of them or a model moved (else the shadow
+//! maps and bake are skipped: cached), and the draws of each pass.
 
 use std::sync::Arc;
 
@@ -12,9 +12,10 @@ use gpu_allocator::MemoryLocation;
 use super::atlas::{light_view_layout, mesh_atlas, MeshAtlas};
 use super::bake::AtlasTargets;
 use super::light::{light_at, ShadowLightUniforms};
+use super::maps::{self, Coverage};
 use super::passes::{self, AtlasDraw, AtlasKinds, AtlasSet, AtlasTarget};
 use super::stats::{AtlasInfo, ShadowAtlasStats};
-use super::targets::{self, Framebuffer, RenderPass};
+use super::targets::{self, Framebuffer, ImageView, RenderPass};
 use crate::error::{Error, Result};
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::{Buffer, Image};
@@ -24,7 +25,7 @@ use crate::render::object_push::draw_order;
 use crate::render::plan::{MaterialVariant, PassDraws, PlannedPass, When};
 use crate::render::Pipeline;
 use crate::render::{
-    object_push, scene_vertices, FrameOutput, FrameRecorder, GpuMaterials, GpuMesh, ObjectPush, Renderer,
+    object_push, scene_vertices, FrameOutput, FrameRecorder, GpuMaterials, GpuMesh, LightPush, ObjectPush, Renderer,
 };
 use crate::scene::objects::SceneMesh;
 use crate::scene::{Light, PoseTracker, Scene};
@@ -44,7 +45,8 @@ struct PosedLayout {
 /// What the cached passes were last rendered for.
 #[derive(Debug, Clone, PartialEq)]
 struct CacheKey {
-    light: Vec4,
+    /// Every light's geometry and direction (the primary light as it turns).
+    lights: Vec<[Vec4; 2]>,
     transforms: Vec<Mat4>,
     /// Skinned objects' palettes: a new pose is a moved model.
     palettes: Vec<Vec<Mat4>>,
@@ -56,10 +58,15 @@ pub struct ShadowPasses {
     kind: ShadowKind,
     options: ShadowAtlasOptions,
     atlas: Option<AtlasTargets>,
-    // Field order is drop order: the set and framebuffer before the map they point at.
+    /// Per scene light: its map layer, or why it has none.
+    coverage: Vec<Coverage>,
+    // Field order is drop order: the set and framebuffers before the views and map they
+    // point at.
     light_set: DescriptorSet,
     light_buffer: Buffer,
-    map_framebuffer: Framebuffer,
+    /// One per layer of the map array.
+    map_framebuffers: Vec<Framebuffer>,
+    _map_layers: Vec<ImageView>,
     map_pass: RenderPass,
     _compare: Sampler,
     _map: Image,
@@ -91,7 +98,8 @@ pub fn build<'s>(
     // Checked before the atlases are laid out, which takes a while.
     options.check()?;
     let atlas_options = options.shadow_atlas;
-    frame_renderer::build_typed(technique, passes::plan(kind), gpu, scene, options, |_| {
+    let lights = maps::planned_lights(&maps::coverage(kind, scene), scene);
+    frame_renderer::build_typed(technique, passes::plan(kind, &lights), gpu, scene, options, |_| {
         ShadowPasses::new(gpu, scene, kind, atlas_options, progress)
     })
 }
@@ -153,10 +161,19 @@ impl ShadowPasses {
             })
             .collect();
 
-        let map = targets::shadow_map_image(gpu, options.map_size)?;
+        let coverage = maps::coverage(kind, scene);
+        let layers = maps::layer_count(&coverage);
+        let map = targets::shadow_map_image(gpu, options.map_size, layers)?;
         let map_pass = targets::shadow_map_render_pass(gpu)?;
         let map_extent = vk::Extent2D { width: options.map_size, height: options.map_size };
-        let map_framebuffer = Framebuffer::new(gpu, &map_pass, map.view, map_extent)?;
+        // Without a light that has one, layer 0 is still bound, so still cleared (`passes::plan`).
+        let map_layers = (0..layers.max(1))
+            .map(|layer| ImageView::layer(gpu, &map, layer, vk::ImageAspectFlags::DEPTH))
+            .collect::<Result<Vec<_>>>()?;
+        let map_framebuffers = map_layers
+            .iter()
+            .map(|view| Framebuffer::new(gpu, &map_pass, view.raw, map_extent))
+            .collect::<Result<Vec<_>>>()?;
         let compare = Sampler::depth_compare(gpu)?;
         let light_size = std::mem::size_of::<ShadowLightUniforms>() as u64;
         let light_buffer = Buffer::new(
@@ -191,9 +208,11 @@ impl ShadowPasses {
             kind,
             options,
             atlas,
+            coverage,
             light_set,
             light_buffer,
-            map_framebuffer,
+            map_framebuffers,
+            _map_layers: map_layers,
             map_pass,
             _compare: compare,
             _map: map,
@@ -257,19 +276,24 @@ impl ShadowPasses {
         self.atlas.as_ref().ok_or_else(|| Error::Internal(format!("pass '{}' without shadow textures", pass.name)))
     }
 
-    /// The casters from the light, depth only; MASK casters through the pass's alpha-mask
-    /// variant, with their material.
+    /// The casters from the pass's light, depth only, into its layer; MASK casters through the
+    /// pass's alpha-mask variant, with their material.
     fn draw_shadow_map(
         &self,
         rec: &mut FrameRecorder,
         scene: &Scene,
         pass: &PlannedPass<AtlasKinds>,
         pipelines: &[&Pipeline],
-    ) {
-        let Some(&opaque) = pipelines.first() else { return };
-        let clear = [vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } }];
-        let extent = vk::Extent2D { width: self.options.map_size, height: self.options.map_size };
-        rec.begin_offscreen_pass(&self.map_pass, self.map_framebuffer.raw, extent, &clear);
+    ) -> Result<()> {
+        let Some(&opaque) = pipelines.first() else { return Ok(()) };
+        let light = pass.light.unwrap_or(0);
+        let framebuffer = self
+            .coverage
+            .get(usize::from(light))
+            .and_then(|c| c.layer())
+            .and_then(|layer| self.map_framebuffers.get(layer as usize))
+            .ok_or_else(|| Error::Internal(format!("pass '{}': light {light} has no map layer", pass.name)))?;
+        self.begin_map_layer(rec, framebuffer);
         rec.bind_with_sets(opaque, &[self.light_set.set, self.materials.template_set()]);
         let mut bound = opaque;
         for object in scene.objects.iter().filter(|o| o.casts_shadow) {
@@ -282,13 +306,31 @@ impl ShadowPasses {
             if variant.is_some() {
                 rec.bind_material(pipeline, self.materials.set(object.material));
             }
-            rec.push(pipeline, &ObjectPush { model: object.transform, colour: Vec4::ONE });
+            let push = ObjectPush { model: object.transform, colour: Vec4::ONE };
+            rec.push(pipeline, &LightPush { object: push, light: [u32::from(light), 0, 0, 0] });
             rec.draw_mesh(&self.meshes[object.mesh]);
         }
         rec.end_render_pass();
+        Ok(())
     }
 
-    /// Every object lit, its Lambert term scaled by its shadow texture or the map compare (the
+    /// The map pass into `framebuffer` (a layer), cleared to the far plane.
+    fn begin_map_layer(&self, rec: &mut FrameRecorder, framebuffer: &Framebuffer) {
+        let clear = [vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } }];
+        let extent = vk::Extent2D { width: self.options.map_size, height: self.options.map_size };
+        rec.begin_offscreen_pass(&self.map_pass, framebuffer.raw, extent, &clear);
+    }
+
+    /// Layer 0 cleared and left for sampling, when no light has a map (`passes::plan`).
+    fn clear_map(&self, rec: &mut FrameRecorder) -> Result<()> {
+        let framebuffer =
+            self.map_framebuffers.first().ok_or_else(|| Error::Internal("a map array without layers".into()))?;
+        self.begin_map_layer(rec, framebuffer);
+        rec.end_render_pass();
+        Ok(())
+    }
+
+    /// Every object lit, each light's term scaled by its shadow texture or map compare (the
     /// recorder bound the pipeline with the frame's set and the first object's shadow set).
     fn draw_scene(
         &self,
@@ -343,7 +385,8 @@ impl PassDraws<AtlasKinds> for ShadowPasses {
             pipelines.first().copied().ok_or_else(|| Error::Internal(format!("pass '{}' has no pipeline", pass.name)))
         };
         match draw {
-            AtlasDraw::ShadowMap => self.draw_shadow_map(rec, scene, pass, pipelines),
+            AtlasDraw::ShadowMap => self.draw_shadow_map(rec, scene, pass, pipelines)?,
+            AtlasDraw::ClearMap => self.clear_map(rec)?,
             AtlasDraw::Bake | AtlasDraw::ProjectiveBake => {
                 self.atlas_targets(pass)?.record_bake(rec, scene, &self.meshes, pipeline()?, self.light_set.set)
             }
@@ -381,14 +424,23 @@ impl Passes<AtlasKinds> for ShadowPasses {
     fn prepare(&mut self, _renderer: &Renderer, scene: &Scene) -> Result<()> {
         self.follow_pose(scene)?;
         self.light = light_at(scene, self.options.light, self.frames);
+        let primary = scene.primary_light_index();
         let key = CacheKey {
-            light: self.light.as_vec4(),
+            lights: scene
+                .lights
+                .iter()
+                .enumerate()
+                .map(|(i, l)| {
+                    let geometry = if Some(i) == primary { self.light } else { l.geometry() };
+                    [geometry.as_vec4(), l.direction.extend(0.0)]
+                })
+                .collect(),
             transforms: scene.objects.iter().map(|o| o.transform).collect(),
             palettes: scene.objects.iter().filter_map(|o| o.skin.as_ref().map(|s| s.joint_matrices.clone())).collect(),
         };
         self.fresh = self.cache.as_ref() != Some(&key);
         if self.fresh {
-            let uniforms = ShadowLightUniforms::fitted(scene, &self.light, self.options.map_size);
+            let uniforms = ShadowLightUniforms::fitted(scene, &self.light, &self.coverage, self.options.map_size);
             self.light_buffer.write(0, bytemuck::bytes_of(&uniforms))?;
         }
         self.key = Some(key);

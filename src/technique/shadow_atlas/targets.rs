@@ -1,5 +1,5 @@
-//! The targets the shadow techniques render into before the frame: the light's shadow map
-//! (depth, stored for sampling) and per-model shadow textures (colour, with mips).
+//! The targets the shadow techniques render into before the frame: the lights' shadow maps
+//! (a depth array, a layer per light, stored for sampling) and per-model shadow textures (colour, with mips).
 
 use std::sync::Arc;
 
@@ -25,11 +25,12 @@ pub fn colour_render_pass(gpu: &Arc<Gpu>, clear: bool, final_layout: vk::ImageLa
     crate::frame::offscreen::colour_render_pass(gpu, SHADOW_TEXTURE_FORMAT, clear, final_layout)
 }
 
-pub fn shadow_map_image(gpu: &Arc<Gpu>, size: u32) -> Result<Image> {
-    Image::new(
+/// The lights' shadow maps: one layer per shadowing light (at least one, bound even unused).
+pub fn shadow_map_image(gpu: &Arc<Gpu>, size: u32, layers: u32) -> Result<Image> {
+    Image::new_layered(
         gpu,
         &ImageDesc {
-            name: "shadow map",
+            name: "shadow maps",
             format: SHADOW_MAP_FORMAT,
             extent: vk::Extent2D { width: size, height: size },
             usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
@@ -37,6 +38,7 @@ pub fn shadow_map_image(gpu: &Arc<Gpu>, size: u32) -> Result<Image> {
             mip_levels: 1,
             samples: 1,
         },
+        layers,
     )
 }
 

@@ -1,6 +1,7 @@
 //! The seed 004 techniques, as the registry, `bench` and Table 1 name them: the atlas, the
 //! shadow map it is timed against, and the projective texture it replaces.
 
+use super::maps::{self, Coverage};
 use super::passes::{plan, AtlasKinds};
 use super::renderer::ShadowPasses;
 use crate::error::Result;
@@ -19,16 +20,16 @@ pub struct ShadowTechnique {
     about: &'static str,
 }
 
-/// A depth-compared shadow map from the light.
+/// Depth-compared shadow maps, one per shadowing light.
 pub static SHADOW_MAP: ShadowTechnique = ShadowTechnique {
     kind: ShadowKind::Map,
-    about: "a depth-compared shadow map from the light (seed 004's comparison)",
+    about: "depth-compared shadow maps, one per light (seed 004's comparison)",
 };
 
-/// Shadow textures baked into each model's atlas from the shadow map.
+/// Shadow textures baked into each model's atlas from the shadow maps, a channel per light.
 pub static SHADOW_TEXTURE_ATLAS: ShadowTechnique = ShadowTechnique {
     kind: ShadowKind::Atlas,
-    about: "shadow textures baked into each model's atlas from the shadow map (seed 004)",
+    about: "shadow textures baked into each model's atlas from the shadow maps, a channel per light (seed 004)",
 };
 
 /// Each model's shadow texture projected from the light: the method the atlas replaces, which
@@ -70,20 +71,37 @@ impl TechniqueUnit for ShadowTechnique {
         self.kind.name()
     }
 
-    fn shadowed_lights(&self, _options: &RenderOptions) -> ShadowedLights {
-        ShadowedLights::Primary
+    /// The lights with a map layer, as `setup` planned them (the projective texture: the
+    /// primary light's alone, which the warning says as it always has).
+    fn shadowed_lights(&self, options: &RenderOptions) -> ShadowedLights {
+        match self.kind {
+            ShadowKind::Projective => ShadowedLights::Primary,
+            _ => ShadowedLights::Listed(maps::shadowed_mask(&options.lights)),
+        }
+    }
+
+    fn unshadowed_reason(&self, scene: &Scene, light: usize) -> Option<String> {
+        if self.kind == ShadowKind::Projective {
+            return None;
+        }
+        match maps::coverage(self.kind, scene).get(light) {
+            Some(Coverage::Unshadowed(why)) => Some((*why).to_owned()),
+            _ => None,
+        }
     }
 
     fn about(&self) -> &'static str {
         self.about
     }
 
-    fn plan(&self, _options: &RenderOptions) -> Result<PassPlan<AtlasKinds>> {
-        Ok(plan(self.kind))
+    fn plan(&self, options: &RenderOptions) -> Result<PassPlan<AtlasKinds>> {
+        Ok(plan(self.kind, &options.lights))
     }
 
-    fn setup(&self, _gpu: &Gpu, _scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
-        Ok(Prepared::as_given(options))
+    /// Plans a map pass for each light that gets a layer (`maps::coverage`).
+    fn setup(&self, _gpu: &Gpu, scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
+        let lights = maps::planned_lights(&maps::coverage(self.kind, scene), scene);
+        Ok(Prepared::as_given(&RenderOptions { lights, ..options.clone() }))
     }
 
     fn make(&self, ctx: BuildContext<'_, AtlasKinds>, scene: &Scene, _setup: ()) -> Result<ShadowPasses> {
