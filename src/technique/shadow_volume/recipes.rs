@@ -503,15 +503,8 @@ fn additive_plan(
                             fragment_shader: shader,
                             ..shading_desc(name, recipes::ADD_LIGHT_RESET, None)
                         };
-                        let pass = PlannedPass::objects(light_loop::pass_name(light, "shading"), desc.clone(), 1.0)
-                            .only(Only::Opaque);
-                        plan.push(
-                            with_surface_variants(pass, &desc)
-                                .with_sets(&[SetRole::Frame, SetRole::Material, COUNTER_INPUT])
-                                .reading_colour()
-                                .for_light(i)
-                                .scissored(),
-                        );
+                        let pass = shading_pass(light_loop::pass_name(light, "shading"), desc, i);
+                        plan.push(pass.with_sets(&[SetRole::Frame, SetRole::Material, COUNTER_INPUT]).reading_colour());
                         first_shadowing = false;
                         continue;
                     }
