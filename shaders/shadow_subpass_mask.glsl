@@ -10,15 +10,16 @@ layout(location = 0) out vec4 out_colour;
 layout(constant_id = 0) const int SAMPLES = 4;
 layout(input_attachment_index = 0, set = 0, binding = 0) uniform subpassInputMS counter;
 
-// The samples whose alpha is below `limit`, as a coverage mask.
-int samples_below(float limit) {
-    int mask = 0;
+// The samples whose alpha is below 1 (shadowed) and at 0 (saturated), as coverage masks: each
+// sample read once.
+ivec2 shadowed_and_saturated() {
+    ivec2 masks = ivec2(0);
     for (int i = 0; i < SAMPLES; ++i) {
-        if (subpassLoad(counter, i).a < limit) {
-            mask |= 1 << i;
-        }
+        float a = subpassLoad(counter, i).a;
+        masks.x |= a < 1.0 ? 1 << i : 0;
+        masks.y |= a < 1.0 / 512.0 ? 1 << i : 0;
     }
-    return mask;
+    return masks;
 }
 #else
 layout(input_attachment_index = 0, set = 0, binding = 0) uniform subpassInput counter;
@@ -33,10 +34,11 @@ layout(set = 0, binding = 1, std430) buffer Saturation {
 
 void main() {
 #ifdef MULTISAMPLED
-    int shadowed = samples_below(1.0);
+    ivec2 masks = shadowed_and_saturated();
+    int shadowed = masks.x;
 #ifdef COUNTED
     // Only the samples this invocation covers (lavapipe may shade a pixel once per sample).
-    int saturated = samples_below(1.0 / 512.0) & gl_SampleMaskIn[0];
+    int saturated = masks.y & gl_SampleMaskIn[0];
     if (saturated != 0) {
         atomicAdd(saturation.saturated_samples, uint(bitCount(saturated)));
     }
