@@ -354,9 +354,9 @@ fn two_point_lights_and_a_box_match_the_cpu() {
     }
 }
 
-/// A glTF file with a box and three KHR_lights_punctual lights on nodes: a sun, a red point
-/// lamp with a range, and a blue spot on a node whose translation is animated over 1 s (from
-/// x = 1.5 to x = -0.5).
+/// A glTF file with a box and four KHR_lights_punctual lights on nodes: a sun, a red point
+/// lamp with a range, a blue spot on a node whose translation is animated over 1 s (from
+/// x = 1.5 to x = -0.5), and a dim green bulb, a point light without a range.
 fn three_lights_gltf() -> Vec<u8> {
     use base64::Engine as _;
     let cube = nostencil::mesh::shapes::cube(1.0);
@@ -382,16 +382,18 @@ fn three_lights_gltf() -> Vec<u8> {
             { "name": "sun", "type": "directional", "color": [1.0, 0.9, 0.8], "intensity": 0.5 },
             { "name": "lamp", "type": "point", "color": [1.0, 0.2, 0.1], "intensity": 2.0, "range": 6.0 },
             { "name": "spot", "type": "spot", "color": [0.2, 0.4, 1.0], "intensity": 12.0, "range": 9.0,
-              "spot": { "innerConeAngle": 0.3, "outerConeAngle": 0.5 } }
+              "spot": { "innerConeAngle": 0.3, "outerConeAngle": 0.5 } },
+            { "name": "bulb", "type": "point", "color": [0.3, 1.0, 0.4], "intensity": 1.5 }
         ] } },
         "scene": 0,
-        "scenes": [{ "nodes": [0, 1, 2, 3] }],
+        "scenes": [{ "nodes": [0, 1, 2, 3, 4] }],
         "nodes": [
             { "name": "box", "mesh": 0, "translation": [0.0, 0.5, 0.0] },
             { "name": "sun node", "rotation": [-0.5, 0.0, 0.0, 0.8660254], "extensions": { "KHR_lights_punctual": { "light": 0 } } },
             { "name": "lamp node", "translation": [-1.5, 2.0, 1.0], "extensions": { "KHR_lights_punctual": { "light": 1 } } },
             { "name": "spot node", "translation": [1.5, 3.0, 0.5], "rotation": [-0.70710677, 0.0, 0.0, 0.70710677],
-              "extensions": { "KHR_lights_punctual": { "light": 2 } } }
+              "extensions": { "KHR_lights_punctual": { "light": 2 } } },
+            { "name": "bulb node", "translation": [1.5, 2.5, -1.5], "extensions": { "KHR_lights_punctual": { "light": 3 } } }
         ],
         "meshes": [{ "primitives": [{ "attributes": { "POSITION": 0, "NORMAL": 1 }, "indices": 2 }] }],
         "accessors": [
@@ -428,7 +430,10 @@ fn a_gltf_files_lights_light_the_frame_and_follow_their_nodes() {
     let (scene, warnings) = scene_and_warnings_from_gltf_slice(&bytes, path, 0.0).expect("the file loads");
     assert!(warnings.is_empty(), "{warnings:?}");
     let names: Vec<&str> = scene.lights.iter().map(|l| l.name.as_str()).collect();
-    assert_eq!(names, ["sun", "lamp", "spot"]);
+    assert_eq!(names, ["sun", "lamp", "spot", "bulb"]);
+    let bulb = &scene.lights[3];
+    assert_eq!((bulb.kind, bulb.range), (LightKind::Point, None), "a point light without a range");
+    assert!(bulb.position.distance(Vec3::new(1.5, 2.5, -1.5)) < 1e-5);
     let (sun, lamp, spot) = (&scene.lights[0], &scene.lights[1], &scene.lights[2]);
     assert_eq!(sun.kind, LightKind::Directional);
     assert!(sun.direction.distance(Vec3::new(0.0, -0.8660254, -0.5)) < 1e-4, "{}", sun.direction);
@@ -467,13 +472,24 @@ fn a_gltf_files_lights_light_the_frame_and_follow_their_nodes() {
         technique: technique("shadow-volume").expect("technique"),
         ..RenderOptions::default()
     };
-    let reference = render_scene(&gpu, &scene, &RenderOptions { stencil: StencilMode::Reference, ..options })
+    let reference = render_scene(&gpu, &scene, &RenderOptions { stencil: StencilMode::Reference, ..options.clone() })
         .expect("reference")
         .output
         .image;
     common::assert_no_validation_messages(&gpu);
     let differing = common::differing_pixels(with.as_raw(), reference.as_raw()).iter().filter(|&&d| d).count();
     assert_eq!(differing, 0, "emulated and reference differ in {differing} pixels");
+    // Planar shadows, one per light, against their reference on the same file.
+    let planar = RenderOptions { technique: technique("planar").expect("technique"), ..options };
+    let emulated = render_scene(&gpu, &scene, &planar).expect("planar").output.image;
+    let reference = render_scene(&gpu, &scene, &RenderOptions { stencil: StencilMode::Reference, ..planar.clone() })
+        .expect("planar reference")
+        .output
+        .image;
+    common::assert_no_validation_messages(&gpu);
+    // RGB: alpha is each path's working state (the emulated flags, the reference's colour).
+    let differing = emulated.pixels().zip(reference.pixels()).filter(|(p, q)| p.0[..3] != q.0[..3]).count();
+    assert_eq!(differing, 0, "planar: emulated and reference differ in {differing} pixels");
 }
 
 /// The command line's lights: `--light` adds to the scene's, `--replace-lights` puts the given
