@@ -1,5 +1,5 @@
 //! The ground shadows of seed 001, each a technique of its own: planar projected shadows with
-//! double darkening stopped in alpha ([`projected`]), blobs ([`blob`]) and a render-texture
+//! double darkening stopped in alpha ([`projected`]; from several lights, [`per_light`]), blobs ([`blob`]) and a render-texture
 //! shadow ([`shadow_texture`]). What they share: the receiver plane and the projection onto it
 //! ([`receiver`]), the scene's meshes with GPU skins and the lit scene pass ([`scene_meshes`]),
 //! GPU skinning ([`skin`]), low-poly shadow casters ([`lod`]) and the quad the seed lays its
@@ -7,6 +7,7 @@
 
 pub mod blob;
 pub mod lod;
+pub mod per_light;
 pub mod projected;
 pub mod receiver;
 pub mod scene_meshes;
