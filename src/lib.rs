@@ -117,7 +117,7 @@ pub mod draws {
     pub use crate::technique::ink::recipes::InkDraw;
     pub use crate::technique::outline::kinds::OutlineDraw;
     pub use crate::technique::planar::blob::BlobDraw;
-    pub use crate::technique::planar::projected::PlanarDraw;
+    pub use crate::technique::planar::flattened::PlanarDraw;
     pub use crate::technique::planar::shadow_texture::TextureDraw;
     pub use crate::technique::shadow_atlas::passes::AtlasDraw;
     pub use crate::technique::shadow_volume::recipes::VolumeDraw;

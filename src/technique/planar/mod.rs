@@ -6,6 +6,7 @@
 //! render texture on ([`texture_quad`]).
 
 pub mod blob;
+pub mod flattened;
 pub mod lod;
 pub mod per_light;
 pub mod projected;
@@ -17,6 +18,6 @@ pub mod skin;
 pub mod texture_quad;
 
 pub use crate::technique::options::{GivenPlane, PlanarOptions, TextureShadowOn};
-pub use projected::{PlanarPush, PLANAR_PUSH_BYTES};
+pub use flattened::{PlanarPush, PLANAR_PUSH_BYTES};
 pub use receiver::{caster_bounds, light_reaches_plane, project_onto_plane, receiver_plane, Plane, ReceiverPlane};
 pub use shared::{bench_variants, BlobShadows, Planar, PlanarStats, ShadowTexture};

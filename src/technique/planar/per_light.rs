@@ -6,7 +6,7 @@
 
 use ash::vk;
 
-use super::projected::{flattened_desc, PlanarDraw, PlanarKinds};
+use super::flattened::{flattened_desc, PlanarDraw, PlanarKinds};
 use super::scene_meshes::{named_scene_pass, scene_desc, scene_sets};
 use crate::frame::StencilMode;
 use crate::pipeline::recipes::{

@@ -24,22 +24,22 @@
 //! multiply each shadowed pixel once by the same 8-bit factor, so their RGB are identical.
 
 use ash::vk;
-use glam::{Mat4, Vec4};
+use glam::Vec4;
 
+use super::flattened::{flattened_desc, PlanarDraw, PlanarKinds, PlanarPush, PlanarSet};
 use super::lod::CasterLods;
 use super::receiver::{light_reaches_plane, receiver_plane, Plane, ReceiverPlane};
-use super::scene_meshes::{scene_desc, scene_pass, scene_sets, SceneMeshes, WithPalette};
-use super::shared::{Planar, PlanarStats, DEFAULT_SHADOW_LOD, SHADOW_BIAS};
-use super::skin::SKINNED_LAYOUT;
+use super::scene_meshes::{scene_desc, scene_pass, scene_sets, SceneMeshes};
+use super::shared::{Planar, PlanarStats, DEFAULT_SHADOW_LOD};
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::Gpu;
 use crate::pipeline::recipes::{
     stencil_replace, MODULATE_BY_DST_ALPHA_ONCE, MODULATE_BY_SRC_ALPHA_WRITING_ALPHA, STENCIL_EQUAL_ZERO_THEN_INCREMENT,
 };
-use crate::pipeline::{BlendState, DepthState, FixedFunction, PipelineDesc, RasterState, StencilState, VertexLayout};
+use crate::pipeline::PipelineDesc;
 use crate::render::plan::{
-    DrawKind, Label, MaterialVariant, NoOwn, PassDraws, PassKinds, PassPlan, PlannedPass, When,
+    MaterialVariant, PassDraws, PassPlan, PlannedPass, When,
 };
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, GpuScene, Renderer};
@@ -52,85 +52,9 @@ use crate::technique::options::{PlanarOptions, ShadowMode, ShadowVolumeOptions};
 use crate::technique::unit::{Prepared, ShadowedLights, TechniqueUnit};
 use crate::technique::shadow_tone::ShadowTone;
 
-/// Mirrors `PlanarPush` in `shaders/planar_push.glsl`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct PlanarPush {
-    pub model: Mat4,
-    pub colour: Vec4,
-    /// The receiving plane (n, d): n.x + d = 0.
-    pub plane: Vec4,
-    /// x: the index in the frame's lights of the light the shadow is cast from.
-    pub light: [u32; 4],
-}
-
-pub const PLANAR_PUSH_BYTES: u32 = std::mem::size_of::<PlanarPush>() as u32;
-
 /// Stencil values of the reference path: receivers not yet shadowed hold 0.
 const STENCIL_RECEIVER: u32 = 0;
 const STENCIL_OTHER: u32 = 1;
-
-/// The kinds of the planar plan.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct PlanarKinds;
-
-impl PassKinds for PlanarKinds {
-    type Draw = PlanarDraw;
-    type Set = PlanarSet;
-    type Target = NoOwn;
-}
-
-/// What the planar renderer draws itself.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum PlanarDraw {
-    /// Every object, receivers writing the shadow factor into alpha (or marking the stencil).
-    Scene,
-    /// The casters flattened onto the plane, or (`lod`) their simplified meshes, along `light`
-    /// (the additive loop's light; none: the seed's one shadow, from the primary light).
-    ProjectedCasters { lod: bool, light: Option<u8> },
-    /// The additive loop's first pass: opaque objects in ambient light, alpha 1 (the
-    /// reference clears its stencil to 0 first).
-    Ambient,
-    /// Light `light` added to the opaque objects: on receivers only where its flag is unset
-    /// when it is `shadowed` (the reference clears its stencil again after it).
-    Shading { light: u8, shadowed: bool },
-    /// Blended objects after the loop, lit by every light and unshadowed.
-    Transparent,
-}
-
-impl DrawKind for PlanarDraw {
-    fn describe(self) -> &'static str {
-        match self {
-            PlanarDraw::Scene => "objects",
-            PlanarDraw::ProjectedCasters { lod: false, .. } => "casters flattened onto the plane",
-            PlanarDraw::ProjectedCasters { lod: true, .. } => {
-                "simplified casters (meshoptimizer) flattened onto the plane"
-            }
-            PlanarDraw::Ambient => "opaque objects, ambient light",
-            PlanarDraw::Shading { shadowed: true, .. } => "opaque objects, the light added where unshadowed",
-            PlanarDraw::Shading { shadowed: false, .. } => "opaque objects, the light added",
-            PlanarDraw::Transparent => "blended objects, every light",
-        }
-    }
-}
-
-/// The planar plan's descriptor sets.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum PlanarSet {
-    JointPalette,
-}
-
-impl Label for PlanarSet {
-    fn label(self) -> &'static str {
-        match self {
-            PlanarSet::JointPalette => "joint palette",
-        }
-    }
-}
-
-impl WithPalette for PlanarSet {
-    const JOINT_PALETTE: Self = PlanarSet::JointPalette;
-}
 
 // ---------------------------------------------------------------------------------------------
 // Pipelines (docs/design/planar-shadows.md) and the frame's plan.
@@ -142,27 +66,6 @@ fn shadow_desc(name: &'static str, skinned: bool, reference: bool) -> PipelineDe
     let stencil = reference.then_some(STENCIL_EQUAL_ZERO_THEN_INCREMENT);
     let blend = if reference { MODULATE_BY_SRC_ALPHA_WRITING_ALPHA } else { MODULATE_BY_DST_ALPHA_ONCE };
     flattened_desc(name, skinned, blend, stencil)
-}
-
-/// A flattened-caster pipeline with `blend` and `stencil`.
-pub(super) fn flattened_desc(name: &'static str, skinned: bool, blend: BlendState, stencil: Option<StencilState>) -> PipelineDesc {
-    PipelineDesc {
-        name,
-        vertex_shader: if skinned { "planar_shadow_skinned.vert" } else { "planar_shadow.vert" },
-        fragment_shader: "object_colour.frag",
-        vertex_layout: if skinned { SKINNED_LAYOUT } else { VertexLayout::SCENE },
-        fixed: FixedFunction {
-            topology: vk::PrimitiveTopology::TRIANGLE_LIST,
-            // Flattened, front and back faces both land on the plane: both are drawn, which is
-            // exactly the overlap the blend (or the stencil) must not count twice.
-            raster: RasterState { depth_bias: Some(SHADOW_BIAS), ..RasterState::CULL_NONE },
-            depth: DepthState { compare: Some(vk::CompareOp::LESS_OR_EQUAL), write: false },
-            stencil,
-            blend,
-        },
-        push_constant_bytes: PLANAR_PUSH_BYTES,
-        subpass: 0,
-    }
 }
 
 /// The scene pass of one path: receivers, other static objects and skinned objects (the
@@ -487,6 +390,7 @@ fn unreached_warning(light: &SceneLight, plane: &Plane) -> Option<String> {
 
 #[cfg(test)]
 mod tests {
+    use super::super::flattened::PLANAR_PUSH_BYTES;
     use super::*;
 
     #[test]
