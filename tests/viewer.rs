@@ -412,6 +412,15 @@ fn m_switches_between_one_and_four_samples_live() {
     }
 }
 
+/// `render` with the arguments a `view` was given (`--paused` aside) and `extra`, into `out`: the
+/// offscreen frame a live one must equal.
+fn render_as_viewed(out: &Path, view_args: &[&str], extra: &[&str]) -> image::RgbImage {
+    let args = [&["render"], view_args, extra, &["--out", out.to_str().unwrap()]].concat();
+    let args: Vec<&str> = args.into_iter().filter(|a| *a != "--paused").collect();
+    assert_clean(&common::nostencil(&args), "render");
+    rgb(out)
+}
+
 /// V switches the shadow mode live: the lights scene switched to modulate after its second frame
 /// equals `render --shadow-mode modulate`; in a window I selects the next light and X switches
 /// it off, and the title says which light and whether it is off.
@@ -440,13 +449,7 @@ fn v_switches_the_shadow_mode_and_i_x_select_and_switch_off_lights_live() {
     let output = run(&x, &args);
     assert_clean(&output, "view --press-after 2 v");
     let switched = rgb(&path);
-    let render = |name: &str, extra: &[&str]| {
-        let out = dir.join(name);
-        let args = [&["render"], &base[..], extra, &["--out", out.to_str().unwrap()]].concat();
-        let args: Vec<&str> = args.into_iter().filter(|a| *a != "--paused").collect();
-        assert_clean(&common::nostencil(&args), "render");
-        rgb(&out)
-    };
+    let render = |name: &str, extra: &[&str]| render_as_viewed(&dir.join(name), &base, extra);
     let modulate = render("modulate.png", &["--shadow-mode", "modulate"]);
     let additive = render("additive.png", &[]);
     let differing = switched.pixels().zip(modulate.pixels()).filter(|(a, b)| a != b).count();
@@ -622,13 +625,7 @@ fn a_adds_a_light_and_shift_x_removes_one_live() {
         .find_map(|line| line.split("added a light: --light '").nth(1))
         .and_then(|rest| rest.strip_suffix('\''))
         .unwrap_or_else(|| panic!("no spec printed:\n{err}"));
-    let render = |name: &str, extra: &[&str]| {
-        let out = dir.join(name);
-        let args = [&["render"], &base[..], extra, &["--out", out.to_str().unwrap()]].concat();
-        let args: Vec<&str> = args.into_iter().filter(|a| *a != "--paused").collect();
-        assert_clean(&common::nostencil(&args), "render");
-        rgb(&out)
-    };
+    let render = |name: &str, extra: &[&str]| render_as_viewed(&dir.join(name), &base, extra);
     let with_it = render("with.png", &["--light", spec]);
     let without = render("without.png", &[]);
     let differing = added.pixels().zip(with_it.pixels()).filter(|(a, b)| a != b).count();
