@@ -12,8 +12,12 @@
 #ifdef SHADOW_FROM_MAP
 #define LIGHT_SET 2
 #include "shadow_atlas_light.glsl"
-#else
+#elif defined(SHADOW_PROJECTIVE)
 layout(set = 2, binding = 0) uniform sampler2D shadow_texture;
+#define LIGHT_SET 3
+#include "shadow_atlas_light.glsl"
+#else
+#include "atlas_page_sample.glsl"
 #define LIGHT_SET 3
 #include "shadow_atlas_light.glsl"
 #endif
@@ -35,7 +39,7 @@ void main() {
     vec4 light_clip = shadow.lights[primary].view_proj * vec4(world_position, 1.0);
     float projected = texture(shadow_texture, light_clip.xy / light_clip.w * 0.5 + 0.5).r;
 #elif !defined(SHADOW_FROM_MAP)
-    vec4 baked = texture(shadow_texture, atlas_uv);
+    vec4 baked = sample_tile(atlas_uv);
 #endif
     vec3 light = vec3(frame.shading.x);
     for (int i = 0; i < LIGHT_COUNT; ++i) {

@@ -310,7 +310,7 @@ fn fixed_light_skips_the_shadow_passes_and_moving_light_does_not() {
             height: 64,
             stencil: StencilMode::Emulated,
             technique: technique_of(kind),
-            shadow_atlas: ShadowAtlasOptions { light, texture_size: 64, map_size: 64 },
+            shadow_atlas: ShadowAtlasOptions { light, texture_size: 64, map_size: 64, ..Default::default() },
             ..Default::default()
         };
         let mut renderer = technique_of(kind).build(&gpu, &scene, &options).expect("renderer");

@@ -217,6 +217,32 @@ pub fn colour_render_pass(
     build(gpu, attachment, &subpasses, &deps)
 }
 
+/// One colour attachment loaded and stored, entering and leaving in `layout`: a target
+/// updated in part (the atlas page's re-baked tiles), the rest kept.
+pub fn colour_render_pass_loaded(gpu: &Arc<Gpu>, format: vk::Format, layout: vk::ImageLayout) -> Result<RenderPass> {
+    let attachment = AttachmentDesc {
+        name: "colour",
+        format,
+        load: vk::AttachmentLoadOp::LOAD,
+        store: vk::AttachmentStoreOp::STORE,
+        stencil_load: vk::AttachmentLoadOp::DONT_CARE,
+        stencil_store: vk::AttachmentStoreOp::DONT_CARE,
+        final_layout: layout,
+        transient: false,
+        samples: 1,
+    };
+    let colour_ref = [vk::AttachmentReference { attachment: 0, layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL }];
+    let subpasses = [vk::SubpassDescription::default()
+        .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
+        .color_attachments(&colour_ref)];
+    // Loading reads the attachment: the write after the last pass's write is ordered too.
+    let deps = dependencies(
+        vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT,
+        vk::AccessFlags::COLOR_ATTACHMENT_WRITE | vk::AccessFlags::COLOR_ATTACHMENT_READ,
+    );
+    build(gpu, attachment, &subpasses, &deps)
+}
+
 /// A colour attachment as [`colour_render_pass`] makes it (cleared, stored, left for
 /// sampling) and a stencil attachment cleared to 0 and dropped: a mask drawn with a real
 /// stencil (the outline blur's reference path). `stencil_format` has a stencil aspect; its

@@ -196,9 +196,11 @@ impl RenderPassDesc {
 }
 
 impl AttachmentDesc {
-    /// The Vulkan attachment description: contents undefined on entry (every attachment here
-    /// is cleared or fully overwritten).
+    /// The Vulkan attachment description. Contents are undefined on entry (cleared or fully
+    /// overwritten), except for a loaded attachment: it enters in its final layout, the one the
+    /// same pass left it in (the atlas page, whose tiles not re-baked keep their texels).
     pub fn description(&self) -> vk::AttachmentDescription {
+        let loaded = self.load == vk::AttachmentLoadOp::LOAD || self.stencil_load == vk::AttachmentLoadOp::LOAD;
         vk::AttachmentDescription::default()
             .format(self.format)
             .samples(sample_count_flags(self.samples))
@@ -206,7 +208,7 @@ impl AttachmentDesc {
             .store_op(self.store)
             .stencil_load_op(self.stencil_load)
             .stencil_store_op(self.stencil_store)
-            .initial_layout(vk::ImageLayout::UNDEFINED)
+            .initial_layout(if loaded { self.final_layout } else { vk::ImageLayout::UNDEFINED })
             .final_layout(self.final_layout)
     }
 

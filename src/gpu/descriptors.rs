@@ -17,6 +17,20 @@ pub enum Binding {
         range: u64,
         stages: vk::ShaderStageFlags,
     },
+    /// `range` bytes of a uniform buffer from `offset` (a multiple of
+    /// `minUniformBufferOffsetAlignment`): one slot of a buffer of many.
+    UniformSlice {
+        buffer: vk::Buffer,
+        offset: u64,
+        range: u64,
+        stages: vk::ShaderStageFlags,
+    },
+    /// A storage buffer the shaders only read (no device feature needed).
+    ReadOnlyStorage {
+        buffer: vk::Buffer,
+        range: u64,
+        stages: vk::ShaderStageFlags,
+    },
     /// A sampled image; `layout` is the layout it is in when sampled.
     Texture {
         view: vk::ImageView,
@@ -39,7 +53,8 @@ pub enum Binding {
 impl Binding {
     fn descriptor_type(&self) -> vk::DescriptorType {
         match self {
-            Binding::UniformBuffer { .. } => vk::DescriptorType::UNIFORM_BUFFER,
+            Binding::UniformBuffer { .. } | Binding::UniformSlice { .. } => vk::DescriptorType::UNIFORM_BUFFER,
+            Binding::ReadOnlyStorage { .. } => vk::DescriptorType::STORAGE_BUFFER,
             Binding::Texture { .. } => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
             Binding::InputAttachment { .. } => vk::DescriptorType::INPUT_ATTACHMENT,
             Binding::FragmentStorageBuffer { .. } => vk::DescriptorType::STORAGE_BUFFER,
@@ -48,7 +63,10 @@ impl Binding {
 
     fn stages(&self) -> vk::ShaderStageFlags {
         match *self {
-            Binding::UniformBuffer { stages, .. } | Binding::Texture { stages, .. } => stages,
+            Binding::UniformBuffer { stages, .. }
+            | Binding::UniformSlice { stages, .. }
+            | Binding::ReadOnlyStorage { stages, .. }
+            | Binding::Texture { stages, .. } => stages,
             Binding::InputAttachment { .. } | Binding::FragmentStorageBuffer { .. } => vk::ShaderStageFlags::FRAGMENT,
         }
     }
@@ -117,9 +135,12 @@ impl DescriptorSet {
         let buffer_infos: Vec<[vk::DescriptorBufferInfo; 1]> = bindings
             .iter()
             .map(|b| match *b {
-                Binding::UniformBuffer { buffer, range, .. } | Binding::FragmentStorageBuffer { buffer, range } => {
+                Binding::UniformBuffer { buffer, range, .. }
+                | Binding::ReadOnlyStorage { buffer, range, .. }
+                | Binding::FragmentStorageBuffer { buffer, range } => {
                     [vk::DescriptorBufferInfo { buffer, offset: 0, range }]
                 }
+                Binding::UniformSlice { buffer, offset, range, .. } => [vk::DescriptorBufferInfo { buffer, offset, range }],
                 _ => [vk::DescriptorBufferInfo::default()],
             })
             .collect();
@@ -132,9 +153,10 @@ impl DescriptorSet {
                 Binding::InputAttachment { view, layout } => {
                     [vk::DescriptorImageInfo { sampler: vk::Sampler::null(), image_view: view, image_layout: layout }]
                 }
-                Binding::UniformBuffer { .. } | Binding::FragmentStorageBuffer { .. } => {
-                    [vk::DescriptorImageInfo::default()]
-                }
+                Binding::UniformBuffer { .. }
+                | Binding::UniformSlice { .. }
+                | Binding::ReadOnlyStorage { .. }
+                | Binding::FragmentStorageBuffer { .. } => [vk::DescriptorImageInfo::default()],
             })
             .collect();
         let writes: Vec<_> = bindings
@@ -146,9 +168,10 @@ impl DescriptorSet {
                     .dst_binding(i as u32)
                     .descriptor_type(b.descriptor_type());
                 match b {
-                    Binding::UniformBuffer { .. } | Binding::FragmentStorageBuffer { .. } => {
-                        write.buffer_info(&buffer_infos[i])
-                    }
+                    Binding::UniformBuffer { .. }
+                    | Binding::UniformSlice { .. }
+                    | Binding::ReadOnlyStorage { .. }
+                    | Binding::FragmentStorageBuffer { .. } => write.buffer_info(&buffer_infos[i]),
                     _ => write.image_info(&image_infos[i]),
                 }
             })

@@ -170,6 +170,12 @@ fn colour_layers(mip: u32) -> vk::ImageSubresourceLayers {
 /// Copies mip `mip` (`side` x `side`, RGBA8, SHADER_READ_ONLY_OPTIMAL) of a colour image to
 /// the CPU, leaving it sampled again.
 pub fn read_back_mip(gpu: &Arc<Gpu>, image: vk::Image, mip: u32, side: u32) -> Result<Vec<u8>> {
+    read_back_square(gpu, image, mip, (0, 0), side)
+}
+
+/// As [`read_back_mip`], the `side` x `side` square of mip `mip` whose corner is `corner` (a
+/// tile of an atlas page).
+pub fn read_back_square(gpu: &Arc<Gpu>, image: vk::Image, mip: u32, corner: (u32, u32), side: u32) -> Result<Vec<u8>> {
     let readback = Buffer::new(
         gpu,
         "shadow texture readback",
@@ -179,11 +185,10 @@ pub fn read_back_mip(gpu: &Arc<Gpu>, image: vk::Image, mip: u32, side: u32) -> R
     )?;
     submit_and_wait(gpu, |cmd| {
         barriers::sampled_to_read_back(gpu.raw(), cmd, image, mip);
-        let region = vk::BufferImageCopy::default().image_subresource(colour_layers(mip)).image_extent(vk::Extent3D {
-            width: side,
-            height: side,
-            depth: 1,
-        });
+        let region = vk::BufferImageCopy::default()
+            .image_subresource(colour_layers(mip))
+            .image_offset(vk::Offset3D { x: corner.0 as i32, y: corner.1 as i32, z: 0 })
+            .image_extent(vk::Extent3D { width: side, height: side, depth: 1 });
         // SAFETY: `cmd` is recording; the barrier above made the mip TRANSFER_SRC_OPTIMAL, the
         // region lies inside it and the buffer holds side * side RGBA8 texels.
         unsafe {
@@ -206,13 +211,45 @@ pub fn read_back_mip(gpu: &Arc<Gpu>, image: vk::Image, mip: u32, side: u32) -> R
 /// Builds mips 1.. from mip 0 (which must be in TRANSFER_DST_OPTIMAL, the others too) with
 /// linear blits, leaving every mip sampled (SHADER_READ_ONLY_OPTIMAL, for fragment shaders).
 pub fn record_mip_chain(gpu: &Gpu, cmd: vk::CommandBuffer, image: vk::Image, width: u32, height: u32, mip_levels: u32) {
-    if mip_levels == 0 {
-        return; // no image has no mips: nothing to build or transition
+    blit_chain(gpu, cmd, image, (width, height), mip_levels, false);
+}
+
+/// As [`record_mip_chain`], from a mip 0 left ready for sampling (SHADER_READ_ONLY_OPTIMAL,
+/// its writes made visible to transfers by the render pass that wrote it), which it keeps; the
+/// other mips' old contents are dropped.
+pub fn record_mip_chain_from_sampled(
+    gpu: &Gpu,
+    cmd: vk::CommandBuffer,
+    image: vk::Image,
+    width: u32,
+    height: u32,
+    mip_levels: u32,
+) {
+    if mip_levels > 1 {
+        barriers::upload_destination(gpu.raw(), cmd, image, 1..mip_levels);
+        barriers::sampled_to_read_back(gpu.raw(), cmd, image, 0);
+    }
+    blit_chain(gpu, cmd, image, (width, height), mip_levels, true);
+}
+
+/// Blits each mip from the one before; `first_source_ready`: mip 0 is already a blit source.
+fn blit_chain(
+    gpu: &Gpu,
+    cmd: vk::CommandBuffer,
+    image: vk::Image,
+    (width, height): (u32, u32),
+    mip_levels: u32,
+    first_source_ready: bool,
+) {
+    if mip_levels == 0 || (first_source_ready && mip_levels == 1) {
+        return; // nothing to build; a sampled mip 0 stays as it is
     }
     let device = gpu.raw();
     let (mut w, mut h) = (width as i32, height as i32);
     for mip in 1..mip_levels {
-        barriers::mip_to_blit_source(device, cmd, image, mip - 1);
+        if !(first_source_ready && mip == 1) {
+            barriers::mip_to_blit_source(device, cmd, image, mip - 1);
+        }
         let (nw, nh) = ((w / 2).max(1), (h / 2).max(1));
         let blit = vk::ImageBlit {
             src_subresource: colour_layers(mip - 1),

@@ -180,6 +180,9 @@ pub enum When {
     /// Only where light `n` of the frame casts shadows and reaches the receiver plane from
     /// above (the additive planar loop's per-light shadow).
     LightReachesPlane(u8),
+    /// Only in frames that re-bake a rasterised model's shadow texture (the atlas page's
+    /// raster bake; geometry images are baked by their texels).
+    RasterisedTilesStale,
 }
 
 impl When {
@@ -194,6 +197,7 @@ impl When {
             When::LightOrCastersMoved => "when the light or a caster moved",
             When::LightAbovePlane => "when the light is above the plane",
             When::LightReachesPlane(_) => "when this light is above the plane",
+            When::RasterisedTilesStale => "when a rasterised model's shadow texture is re-baked",
         }
     }
 }

@@ -229,6 +229,28 @@ impl<'a> FrameRecorder<'a> {
         self.begin_render_pass(render_pass.raw, &render_pass.attachments, framebuffer, extent, clear_values);
     }
 
+    /// As [`Self::begin_offscreen_pass`] with a render area `area` inside the framebuffer (the
+    /// atlas page's re-baked tiles): only that area is loaded, cleared and stored, and the
+    /// scissor keeps draws inside it (the viewport still spans `extent`).
+    pub fn begin_offscreen_pass_in(
+        &mut self,
+        render_pass: &RenderPass,
+        framebuffer: vk::Framebuffer,
+        extent: vk::Extent2D,
+        area: vk::Rect2D,
+        clear_values: &[vk::ClearValue],
+    ) {
+        if !self.open {
+            self.deferred_error.get_or_insert(Error::Internal(
+                "an offscreen render pass was begun outside a measured pass (its traffic and counters \
+                 would belong to no pass)"
+                    .into(),
+            ));
+        }
+        let target = (render_pass.raw, framebuffer, extent);
+        self.begin_render_pass_in(target, &render_pass.attachments, area, clear_values);
+    }
+
     /// Begins `render_pass`, whose attachments `attachments` describes (for the tile-traffic
     /// count: under the open measured pass, else under "frame"), with viewport and scissor
     /// covering `extent`.
@@ -240,6 +262,20 @@ impl<'a> FrameRecorder<'a> {
         extent: vk::Extent2D,
         clear_values: &[vk::ClearValue],
     ) {
+        let whole = vk::Rect2D { offset: vk::Offset2D::default(), extent };
+        self.begin_render_pass_in((render_pass, framebuffer, extent), attachments, whole, clear_values);
+    }
+
+    /// Begins `target` (render pass, framebuffer, its extent) over the render area `area`; the
+    /// tile traffic and the instance count the area.
+    fn begin_render_pass_in(
+        &mut self,
+        (render_pass, framebuffer, framebuffer_extent): (vk::RenderPass, vk::Framebuffer, vk::Extent2D),
+        attachments: &[AttachmentDesc],
+        area: vk::Rect2D,
+        clear_values: &[vk::ClearValue],
+    ) {
+        let extent = area.extent;
         let pass = match (self.open, self.passes.last()) {
             (true, Some(p)) => p.name.clone(),
             _ => "frame".to_owned(),
@@ -284,17 +320,17 @@ impl<'a> FrameRecorder<'a> {
         let begin = vk::RenderPassBeginInfo::default()
             .render_pass(render_pass)
             .framebuffer(framebuffer)
-            .render_area(vk::Rect2D { offset: vk::Offset2D::default(), extent })
+            .render_area(area)
             // One clear value per attachment: callers may pass one for an attachment this
             // variant lacks (the resolve target at one sample), which Vulkan would ignore.
             .clear_values(&clear_values[..clear_values.len().min(attachments.len())]);
-        let viewport = regions::full_viewport(extent);
+        let viewport = regions::full_viewport(framebuffer_extent);
         // SAFETY: see the note on `FrameRecorder`; `render_pass` and `framebuffer` come from
         // the same targets (so are compatible), and `clear_values` covers their attachments.
         unsafe {
             device.cmd_begin_render_pass(self.cmd, &begin, vk::SubpassContents::INLINE);
             device.cmd_set_viewport(self.cmd, 0, &[viewport]);
-            device.cmd_set_scissor(self.cmd, 0, &[vk::Rect2D { offset: vk::Offset2D::default(), extent }]);
+            device.cmd_set_scissor(self.cmd, 0, &[area]);
         }
     }
 
@@ -430,6 +466,27 @@ impl<'a> FrameRecorder<'a> {
         crate::gpu::texture::record_mip_chain(self.gpu, self.cmd, image, side, side, mip_levels);
     }
 
+    /// As [`Self::build_mips`] for a `width` x `height` image whose mip 0 was left ready for
+    /// sampling by the render pass that wrote it (the atlas page).
+    pub fn build_mips_from_sampled(&mut self, image: vk::Image, width: u32, height: u32, mip_levels: u32) {
+        crate::gpu::texture::record_mip_chain_from_sampled(self.gpu, self.cmd, image, width, height, mip_levels);
+    }
+
+    /// Viewport and scissor both `rect` until the render pass ends (a tile of an atlas page).
+    pub fn set_viewport_rect(&mut self, rect: vk::Rect2D) {
+        let viewport = vk::Viewport {
+            x: rect.offset.x as f32,
+            y: rect.offset.y as f32,
+            width: rect.extent.width as f32,
+            height: rect.extent.height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        };
+        // SAFETY: see the note on `FrameRecorder`; every pipeline has a dynamic viewport.
+        unsafe { self.gpu.raw().cmd_set_viewport(self.cmd, 0, &[viewport]) };
+        self.set_scissor(rect);
+    }
+
     /// Makes earlier colour writes of this subpass visible to input-attachment reads of the
     /// following draws (`barriers::colour_feedback`).
     pub fn colour_feedback_barrier(&mut self) {
@@ -494,6 +551,15 @@ impl<'a> FrameRecorder<'a> {
     }
 
     /// One full-screen triangle (`shaders/fullscreen.vert`).
+    /// `instances` instances of `vertices` vertices made by the vertex shader (no vertex
+    /// buffer), the first instance index `first_instance`.
+    pub fn draw_instances(&mut self, vertices: u32, instances: u32, first_instance: u32) {
+        // SAFETY: see the note on `FrameRecorder`; the vertex shader makes its vertices from
+        // gl_VertexIndex and gl_InstanceIndex, with no vertex buffer.
+        unsafe { self.gpu.raw().cmd_draw(self.cmd, vertices, instances, 0, first_instance) };
+        self.count_draw();
+    }
+
     pub fn draw_fullscreen(&mut self) {
         // SAFETY: see the note on `FrameRecorder`; the vertex shader makes the three vertices
         // from gl_VertexIndex, with no vertex buffer.

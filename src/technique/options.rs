@@ -572,6 +572,18 @@ crate::names::named_enum! {
     }
 }
 
+crate::names::named_enum! {
+    /// `--atlas-bake`: how a geometry image's shadow texture is baked.
+    pub enum AtlasBake {
+        /// One fragment per texel, from the surface point the texel holds (seed 004's geometry
+        /// images); other meshes are rasterised all the same.
+        #[default]
+        Texels = "texels",
+        /// Every mesh's triangles drawn at their atlas UVs (the general bake), for comparison.
+        Rasterised = "rasterised",
+    }
+}
+
 /// The shadow-map family's options (`shadow-map`, `shadow-texture-atlas`,
 /// `projective-texture`), and their flags.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, clap::Args)]
@@ -589,6 +601,10 @@ pub struct ShadowAtlasOptions {
     /// shadow-texture-atlas: shadow texture side for meshes that are not geometry images.
     #[arg(id = "shadow_texture_size", long = "shadow-texture-size", default_value_t = 256, value_name = "N")]
     pub texture_size: u32,
+    /// shadow-texture-atlas: bake geometry images by their `texels` (one fragment a texel) or
+    /// `rasterised` like every other mesh (their triangles at their atlas UVs), to compare.
+    #[arg(id = "atlas_bake", long = "atlas-bake", value_enum, default_value_t, value_name = "texels|rasterised")]
+    pub bake: AtlasBake,
 }
 
 impl Default for ShadowAtlasOptions {

@@ -48,12 +48,19 @@ pub fn bake<'s>(
     Ok(Baked { scene, renderer })
 }
 
-impl Baked<'_> {
+impl<'s> Baked<'s> {
+    /// Renders another frame of `scene` (the same scene, some models moved, say), which
+    /// re-bakes the shadow textures that can have changed; its statistics say how many.
+    pub fn frame_with(&mut self, scene: &'s Scene) -> Result<crate::technique::TechniqueFrame> {
+        self.scene = scene;
+        self.renderer.frame_with(scene)
+    }
+
     /// Mip `mip` of object `object`'s shadow texture (R, G, B: the lights in map layers 0, 1,
     /// 2, 255 lit, 0 shadowed; A: 255 where a triangle covers the texel or dilation reached it).
     pub fn read_shadow_texture(&self, object: usize, mip: u32) -> Result<RgbaImage> {
         let passes = self.renderer.passes();
-        read_shadow_texture(passes.gpu(), self.scene, passes.atlas(), passes.frames(), object, mip)
+        read_shadow_texture(passes.gpu(), self.scene, passes.shadow_textures(), passes.frames(), object, mip)
     }
 
     /// Each mesh's atlas layout, by mesh index.

@@ -1,7 +1,7 @@
 //! The pipelines of the seed 004 techniques, as data, and the frame's pass plan: a shadow-map
-//! prepass per shadowing light (its layer of the map array), then (atlas and projective) the
-//! bakes, dilations and mips, all cached while neither a light nor a model moves, then the scene
-//! pass.
+//! prepass per shadowing light (its layer of the map array), then the atlas page's bake, page
+//! pass and mips (the projective texture: per-model bakes, copies and mips), all cached while
+//! neither a light nor a model moves, then the scene pass.
 
 use crate::pipeline::recipes::NO_WRITE;
 use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexAttribute, VertexLayout};
@@ -41,12 +41,16 @@ pub enum AtlasDraw {
     ShadowMap,
     /// Layer 0 cleared, nothing drawn: no light has a map, and the array is bound all the same.
     ClearMap,
-    /// Each model at its atlas UVs, lit or shadowed per texel.
+    /// Each model at its atlas UVs, lit or shadowed per texel (the atlas: only the rasterised
+    /// models re-baked this frame, each in its tile of the raw page).
     Bake,
     /// Each model from the light (the projective texture's bake).
     ProjectiveBake,
     /// One full-screen pass per model, from its raw bake into its shadow texture.
     Dilate,
+    /// One quad per re-baked tile into the atlas page: a geometry image's texels baked from
+    /// their surface points, a rasterised model's tile dilated from the raw page.
+    Page,
     /// Each shadow texture's mip chain, by blits.
     Mips,
     /// Every object, lit, its Lambert term scaled by its shadow.
@@ -61,6 +65,7 @@ impl DrawKind for AtlasDraw {
             AtlasDraw::Bake => "each model at its atlas UVs",
             AtlasDraw::ProjectiveBake => "each model from the light",
             AtlasDraw::Dilate => "full screen per model",
+            AtlasDraw::Page => "a quad per re-baked tile",
             AtlasDraw::Mips => "blits per model",
             AtlasDraw::Scene => "objects",
         }
@@ -74,8 +79,10 @@ pub enum AtlasSet {
     Light,
     /// A model's shadow texture, sampled trilinearly by the scene pass.
     ShadowTexture,
-    /// A model's raw bake, read texel by texel by the dilation.
+    /// A model's raw bake (the atlas: the raw page), read texel by texel by the dilation.
     RawBake,
+    /// The atlas page's tiles and the geometry images' texel surfaces.
+    PageTiles,
 }
 
 impl Label for AtlasSet {
@@ -84,6 +91,7 @@ impl Label for AtlasSet {
             AtlasSet::Light => "shadow light",
             AtlasSet::ShadowTexture => "shadow texture",
             AtlasSet::RawBake => "raw bake",
+            AtlasSet::PageTiles => "page tiles",
         }
     }
 }
@@ -99,6 +107,8 @@ pub enum AtlasTarget {
     LightSpace,
     /// Mip 0 of each model's shadow texture, dilated from the raw bake.
     TextureMip0,
+    /// Mip 0 of the atlas page, loaded (the tiles not re-baked keep their texels).
+    PageMip0,
 }
 
 impl Label for AtlasTarget {
@@ -108,6 +118,7 @@ impl Label for AtlasTarget {
             AtlasTarget::AtlasSpace => "shadow texture (atlas space)",
             AtlasTarget::LightSpace => "shadow texture (light space)",
             AtlasTarget::TextureMip0 => "shadow texture mip 0",
+            AtlasTarget::PageMip0 => "atlas page mip 0 (loaded)",
         }
     }
 }
@@ -115,6 +126,7 @@ impl Label for AtlasTarget {
 const LIGHT: SetRole<AtlasSet> = SetRole::Own(AtlasSet::Light);
 const SHADOW_TEXTURE: SetRole<AtlasSet> = SetRole::Own(AtlasSet::ShadowTexture);
 const RAW_BAKE: SetRole<AtlasSet> = SetRole::Own(AtlasSet::RawBake);
+const PAGE_TILES: SetRole<AtlasSet> = SetRole::Own(AtlasSet::PageTiles);
 
 pub fn shadow_map_desc() -> PipelineDesc {
     PipelineDesc {
@@ -175,6 +187,20 @@ pub fn dilate_desc() -> PipelineDesc {
     }
 }
 
+/// The atlas page pass: a quad per tile from gl_VertexIndex and gl_InstanceIndex (no vertex
+/// buffer); the page's size in the push.
+pub fn page_desc() -> PipelineDesc {
+    PipelineDesc {
+        name: "atlas page",
+        vertex_shader: "shadow_atlas_page.vert",
+        fragment_shader: "shadow_atlas_page.frag",
+        vertex_layout: VertexLayout::NONE,
+        fixed: FixedFunction::FULLSCREEN,
+        push_constant_bytes: 16,
+        subpass: 0,
+    }
+}
+
 pub fn scene_desc(kind: ShadowKind) -> PipelineDesc {
     PipelineDesc {
         name: "scene",
@@ -221,16 +247,36 @@ pub fn plan(kind: ShadowKind, lights: &[PlannedLight]) -> PassPlan<AtlasKinds> {
     }
     let scene_sets = match kind {
         ShadowKind::Map => vec![SetRole::Frame, SetRole::Material, LIGHT],
-        ShadowKind::Atlas | ShadowKind::Projective => {
-            let (name, desc, draw, target) = if kind == ShadowKind::Atlas {
-                ("atlas bake", bake_desc(), AtlasDraw::Bake, AtlasTarget::AtlasSpace)
-            } else {
-                ("projective bake", projective_bake_desc(), AtlasDraw::ProjectiveBake, AtlasTarget::LightSpace)
-            };
+        ShadowKind::Atlas => {
+            // Every model's texture is a tile of one page: one raster bake (models that are not
+            // geometry images), one page pass (geometry images baked by their texels, the
+            // others dilated), one mip chain, however many models.
             plan.push(
-                PlannedPass::offscreen(name, desc, draw, "object transform", target).with_sets(&[LIGHT]).when(moved),
+                PlannedPass::offscreen("atlas bake", bake_desc(), AtlasDraw::Bake, "object transform", AtlasTarget::AtlasSpace)
+                    .with_sets(&[LIGHT])
+                    .when(When::RasterisedTilesStale),
             );
-            // Projective: radius 0, a copy (uncovered texels are lit, not a gutter).
+            plan.push(
+                PlannedPass::offscreen("atlas page", page_desc(), AtlasDraw::Page, "page size", AtlasTarget::PageMip0)
+                    .with_sets(&[LIGHT, PAGE_TILES, RAW_BAKE])
+                    .when(moved),
+            );
+            plan.push(PlannedPass::commands("atlas mips", AtlasDraw::Mips, AtlasTarget::PageMip0).when(moved));
+            vec![SetRole::Frame, SetRole::Material, SHADOW_TEXTURE, LIGHT]
+        }
+        ShadowKind::Projective => {
+            plan.push(
+                PlannedPass::offscreen(
+                    "projective bake",
+                    projective_bake_desc(),
+                    AtlasDraw::ProjectiveBake,
+                    "object transform",
+                    AtlasTarget::LightSpace,
+                )
+                .with_sets(&[LIGHT])
+                .when(moved),
+            );
+            // Radius 0, a copy (uncovered texels are lit, not a gutter).
             plan.push(
                 PlannedPass::offscreen(
                     "atlas dilate",

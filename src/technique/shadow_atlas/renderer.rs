@@ -13,8 +13,11 @@ use super::atlas::{light_view_layout, mesh_atlas, MeshAtlas};
 use super::bake::AtlasTargets;
 use super::light::{light_at, ShadowLightUniforms};
 use super::maps::{self, Coverage};
+use super::page_targets::AtlasPage;
 use super::passes::{self, AtlasDraw, AtlasKinds, AtlasSet, AtlasTarget};
-use super::stats::{AtlasInfo, ShadowAtlasStats};
+use super::read_back::ShadowTextures;
+use super::rebake::{stale_after_moves, Sphere};
+use super::stats::{AtlasInfo, PageStats, ShadowAtlasStats};
 use super::targets::{self, Framebuffer, ImageView, RenderPass};
 use crate::error::{Error, Result};
 use crate::gpu::descriptors::{Binding, DescriptorSet};
@@ -50,6 +53,8 @@ struct CacheKey {
     transforms: Vec<Mat4>,
     /// Skinned objects' palettes: a new pose is a moved model.
     palettes: Vec<Vec<Mat4>>,
+    /// The lights' uniforms as fitted to the scene: a model moving the fit re-bakes everything.
+    fitted: Vec<u8>,
 }
 
 /// Everything a seed 004 frame needs, built once for a scene.
@@ -57,7 +62,12 @@ pub struct ShadowPasses {
     gpu: Arc<Gpu>,
     kind: ShadowKind,
     options: ShadowAtlasOptions,
+    /// The projective texture's per-model textures.
     atlas: Option<AtlasTargets>,
+    /// The shadow-texture atlas: every model's texture a tile of one page.
+    page: Option<AtlasPage>,
+    /// Each mesh's bounding sphere (which tiles a moved model can shadow).
+    bounds: Vec<Sphere>,
     /// Per scene light: its map layer, or why it has none.
     coverage: Vec<Coverage>,
     // Field order is drop order: the set and framebuffers before the views and map they
@@ -79,10 +89,12 @@ pub struct ShadowPasses {
     /// Frames rendered, the current one not included until its statistics are taken.
     frames: u32,
     cache: Option<CacheKey>,
-    /// This frame's light and cache key, and whether the cached passes run.
+    /// This frame's light and cache key, whether the cached passes run, and the objects whose
+    /// shadow textures they re-bake (ascending).
     light: Light,
     key: Option<CacheKey>,
     fresh: bool,
+    rebake: Vec<usize>,
 }
 
 /// Builds the `kind` renderer for `scene`, calling `progress(done, total)` as each mesh's atlas
@@ -200,14 +212,21 @@ impl ShadowPasses {
             ],
         )?;
         let atlas = match kind {
-            ShadowKind::Map => None,
-            ShadowKind::Atlas | ShadowKind::Projective => Some(AtlasTargets::new(gpu, scene, &layouts)?),
+            ShadowKind::Projective => Some(AtlasTargets::new(gpu, scene, &layouts)?),
+            ShadowKind::Map | ShadowKind::Atlas => None,
         };
+        let page = match kind {
+            ShadowKind::Atlas => Some(AtlasPage::new(gpu, scene, &layouts, options.bake)?),
+            ShadowKind::Map | ShadowKind::Projective => None,
+        };
+        let bounds = scene.meshes.iter().map(|m| Sphere::around(&m.data.positions)).collect();
         Ok(ShadowPasses {
             gpu: gpu.clone(),
             kind,
             options,
             atlas,
+            page,
+            bounds,
             coverage,
             light_set,
             light_buffer,
@@ -226,6 +245,7 @@ impl ShadowPasses {
             light: scene.light(),
             key: None,
             fresh: true,
+            rebake: Vec::new(),
         })
     }
 
@@ -233,8 +253,13 @@ impl ShadowPasses {
         &self.atlases
     }
 
-    pub fn atlas(&self) -> Option<&AtlasTargets> {
-        self.atlas.as_ref()
+    /// The shadow textures to read back: the atlas page's tiles or the projective textures.
+    pub fn shadow_textures(&self) -> Option<ShadowTextures<'_>> {
+        match (&self.page, &self.atlas) {
+            (Some(page), _) => Some(ShadowTextures::Page(page)),
+            (None, Some(atlas)) => Some(ShadowTextures::PerModel(atlas)),
+            (None, None) => None,
+        }
     }
 
     /// Frames rendered so far.
@@ -274,6 +299,10 @@ impl ShadowPasses {
 
     fn atlas_targets(&self, pass: &PlannedPass<AtlasKinds>) -> Result<&AtlasTargets> {
         self.atlas.as_ref().ok_or_else(|| Error::Internal(format!("pass '{}' without shadow textures", pass.name)))
+    }
+
+    fn atlas_page(&self, pass: &PlannedPass<AtlasKinds>) -> Result<&AtlasPage> {
+        self.page.as_ref().ok_or_else(|| Error::Internal(format!("pass '{}' without an atlas page", pass.name)))
     }
 
     /// The casters from the pass's light, depth only, into its layer; MASK casters through the
@@ -349,8 +378,8 @@ impl ShadowPasses {
                 rec.bind(pipeline);
                 bound = pipeline;
             }
-            if let Some(shadow) = self.atlas.as_ref().and_then(|a| a.objects.get(index)) {
-                rec.bind_sets(pipeline, 2, &[shadow.scene_set.set]);
+            if let Some(set) = self.shadow_texture_set(index) {
+                rec.bind_sets(pipeline, 2, &[set]);
             }
             rec.bind_material(pipeline, self.materials.set(object.material));
             rec.push(pipeline, &object_push(scene, object, 1.0));
@@ -359,14 +388,52 @@ impl ShadowPasses {
     }
 }
 
+impl ShadowPasses {
+    /// Object `index`'s shadow texture as the scene pass binds it (set 2).
+    fn shadow_texture_set(&self, index: usize) -> Option<vk::DescriptorSet> {
+        match (&self.page, &self.atlas) {
+            (Some(page), _) => page.scene_sets.get(index).map(|s| s.set),
+            (None, Some(atlas)) => atlas.objects.get(index).map(|o| o.scene_set.set),
+            (None, None) => None,
+        }
+    }
+
+    /// The sets of the seed 004 roles: the first object's where there is one per object.
+    fn own_set(&self, set: AtlasSet) -> Option<&DescriptorSet> {
+        let first = || self.atlas.as_ref().and_then(|a| a.objects.first());
+        match (set, &self.page) {
+            (AtlasSet::Light, _) => Some(&self.light_set),
+            (AtlasSet::ShadowTexture, Some(page)) => page.scene_sets.first(),
+            (AtlasSet::ShadowTexture, None) => first().map(|o| &o.scene_set),
+            (AtlasSet::RawBake, Some(page)) => Some(&page.raw_set),
+            (AtlasSet::RawBake, None) => first().map(|o| &o.dilate_set),
+            (AtlasSet::PageTiles, Some(page)) => Some(&page.tiles_set),
+            (AtlasSet::PageTiles, None) => None,
+        }
+    }
+
+    /// Which objects' shadow textures this frame re-bakes, its cache key `key` against the
+    /// last frame's: all of them unless only models moved and the maps' fit held.
+    fn stale_tiles(&self, scene: &Scene, key: &CacheKey, lights: &[Light]) -> Vec<usize> {
+        let all = || (0..scene.objects.len()).collect();
+        let Some(before) = &self.cache else { return all() };
+        if before.lights != key.lights || before.palettes != key.palettes || before.fitted != key.fitted {
+            return all();
+        }
+        let moved: Vec<usize> =
+            (0..scene.objects.len()).filter(|&i| before.transforms.get(i) != key.transforms.get(i)).collect();
+        if moved.is_empty() {
+            return all();
+        }
+        let shadowing: Vec<Light> =
+            lights.iter().zip(&self.coverage).filter(|(_, c)| c.layer().is_some()).map(|(l, _)| *l).collect();
+        stale_after_moves(scene, &before.transforms, &moved, &self.bounds, &shadowing, self.options.map_size)
+    }
+}
+
 impl PassDraws<AtlasKinds> for ShadowPasses {
     fn set(&self, set: AtlasSet) -> Option<vk::DescriptorSet> {
-        let first = || self.atlas.as_ref().and_then(|a| a.objects.first());
-        match set {
-            AtlasSet::Light => Some(self.light_set.set),
-            AtlasSet::ShadowTexture => first().map(|o| o.scene_set.set),
-            AtlasSet::RawBake => first().map(|o| o.dilate_set.set),
-        }
+        self.own_set(set).map(|s| s.set)
     }
 
     fn material_set(&self) -> Option<vk::DescriptorSet> {
@@ -387,11 +454,22 @@ impl PassDraws<AtlasKinds> for ShadowPasses {
         match draw {
             AtlasDraw::ShadowMap => self.draw_shadow_map(rec, scene, pass, pipelines)?,
             AtlasDraw::ClearMap => self.clear_map(rec)?,
-            AtlasDraw::Bake | AtlasDraw::ProjectiveBake => {
+            AtlasDraw::Bake => {
+                let tiles = &self.rebake;
+                self.atlas_page(pass)?.record_raster_bake(rec, scene, &self.meshes, pipeline()?, self.light_set.set, tiles)
+            }
+            AtlasDraw::ProjectiveBake => {
                 self.atlas_targets(pass)?.record_bake(rec, scene, &self.meshes, pipeline()?, self.light_set.set)
             }
+            AtlasDraw::Page => {
+                let channels = maps::layer_count(&self.coverage).min(maps::BAKED_CHANNELS as u32);
+                self.atlas_page(pass)?.record_page(rec, pipeline()?, self.light_set.set, &self.rebake, channels)
+            }
             AtlasDraw::Dilate => self.atlas_targets(pass)?.record_dilate(rec, pipeline()?),
-            AtlasDraw::Mips => self.atlas_targets(pass)?.record_mips(rec),
+            AtlasDraw::Mips => match &self.page {
+                Some(page) => page.record_mips(rec),
+                None => self.atlas_targets(pass)?.record_mips(rec),
+            },
             AtlasDraw::Scene => self.draw_scene(rec, scene, pass, pipelines),
         }
         Ok(())
@@ -400,12 +478,7 @@ impl PassDraws<AtlasKinds> for ShadowPasses {
 
 impl Passes<AtlasKinds> for ShadowPasses {
     fn set_layout(&self, set: AtlasSet) -> Option<vk::DescriptorSetLayout> {
-        let first = || self.atlas.as_ref().and_then(|a| a.objects.first());
-        match set {
-            AtlasSet::Light => Some(self.light_set.layout),
-            AtlasSet::ShadowTexture => first().map(|o| o.scene_set.layout),
-            AtlasSet::RawBake => first().map(|o| o.dilate_set.layout),
-        }
+        self.own_set(set).map(|s| s.layout)
     }
 
     fn material_layout(&self) -> Option<vk::DescriptorSetLayout> {
@@ -413,11 +486,13 @@ impl Passes<AtlasKinds> for ShadowPasses {
     }
 
     fn offscreen_pass(&self, target: AtlasTarget) -> Option<(vk::RenderPass, usize)> {
-        match (target, &self.atlas) {
-            (AtlasTarget::ShadowMap, _) => Some((self.map_pass.raw, 0)),
-            (AtlasTarget::AtlasSpace | AtlasTarget::LightSpace, Some(atlas)) => Some((atlas.bake_pass.raw, 1)),
-            (AtlasTarget::TextureMip0, Some(atlas)) => Some((atlas.dilate_pass.raw, 1)),
-            (_, None) => None,
+        match (target, &self.page, &self.atlas) {
+            (AtlasTarget::ShadowMap, _, _) => Some((self.map_pass.raw, 0)),
+            (AtlasTarget::AtlasSpace, Some(page), _) => Some((page.raster_pass.raw, 1)),
+            (AtlasTarget::PageMip0, Some(page), _) => Some((page.page_pass.raw, 1)),
+            (AtlasTarget::LightSpace, _, Some(atlas)) => Some((atlas.bake_pass.raw, 1)),
+            (AtlasTarget::TextureMip0, _, Some(atlas)) => Some((atlas.dilate_pass.raw, 1)),
+            _ => None,
         }
     }
 
@@ -425,23 +500,29 @@ impl Passes<AtlasKinds> for ShadowPasses {
         self.follow_pose(scene)?;
         self.light = light_at(scene, self.options.light, self.frames);
         let primary = scene.primary_light_index();
+        let geometries: Vec<Light> = scene
+            .lights
+            .iter()
+            .enumerate()
+            .map(|(i, l)| if Some(i) == primary { self.light } else { l.geometry() })
+            .collect();
+        let uniforms = ShadowLightUniforms::fitted(scene, &self.light, &self.coverage, self.options.map_size);
         let key = CacheKey {
-            lights: scene
-                .lights
-                .iter()
-                .enumerate()
-                .map(|(i, l)| {
-                    let geometry = if Some(i) == primary { self.light } else { l.geometry() };
-                    [geometry.as_vec4(), l.direction.extend(0.0)]
-                })
-                .collect(),
+            lights: scene.lights.iter().zip(&geometries).map(|(l, g)| [g.as_vec4(), l.direction.extend(0.0)]).collect(),
             transforms: scene.objects.iter().map(|o| o.transform).collect(),
             palettes: scene.objects.iter().filter_map(|o| o.skin.as_ref().map(|s| s.joint_matrices.clone())).collect(),
+            fitted: bytemuck::bytes_of(&uniforms).to_vec(),
         };
         self.fresh = self.cache.as_ref() != Some(&key);
+        self.rebake.clear();
         if self.fresh {
-            let uniforms = ShadowLightUniforms::fitted(scene, &self.light, &self.coverage, self.options.map_size);
             self.light_buffer.write(0, bytemuck::bytes_of(&uniforms))?;
+            if self.page.is_some() {
+                self.rebake = self.stale_tiles(scene, &key, &geometries);
+            }
+            if let Some(page) = &mut self.page {
+                page.write_models(scene)?;
+            }
         }
         self.key = Some(key);
         Ok(())
@@ -452,11 +533,14 @@ impl Passes<AtlasKinds> for ShadowPasses {
     }
 
     fn conditions(&self, _scene: &Scene) -> Vec<When> {
+        let mut conditions = Vec::new();
         if self.fresh {
-            vec![When::LightOrCastersMoved]
-        } else {
-            Vec::new()
+            conditions.push(When::LightOrCastersMoved);
         }
+        if self.page.as_ref().is_some_and(|page| page.any_rasterised(&self.rebake)) {
+            conditions.push(When::RasterisedTilesStale);
+        }
+        conditions
     }
 
     fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {
@@ -469,6 +553,8 @@ impl Passes<AtlasKinds> for ShadowPasses {
             cached: !self.fresh,
             map_size: self.options.map_size,
             atlases: self.atlases.clone(),
+            page: self.page.as_ref().map(|page| PageStats::of(page, &self.coverage, self.options.map_size)),
+            rebaked_tiles: self.rebake.len(),
         })
     }
 

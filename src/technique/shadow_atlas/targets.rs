@@ -60,3 +60,23 @@ pub fn shadow_texture_image(gpu: &Arc<Gpu>, name: &str, size: u32, mip_levels: u
         },
     )
 }
+
+/// The atlas page (or its raw bake when `mip_levels` is 1): every model's shadow texture as a
+/// tile of one image.
+pub fn shadow_texture_page(gpu: &Arc<Gpu>, name: &str, extent: vk::Extent2D, mip_levels: u32) -> Result<Image> {
+    Image::new(
+        gpu,
+        &ImageDesc {
+            name,
+            format: SHADOW_TEXTURE_FORMAT,
+            extent,
+            usage: vk::ImageUsageFlags::COLOR_ATTACHMENT
+                | vk::ImageUsageFlags::SAMPLED
+                | vk::ImageUsageFlags::TRANSFER_SRC
+                | vk::ImageUsageFlags::TRANSFER_DST,
+            aspect: vk::ImageAspectFlags::COLOR,
+            mip_levels,
+            samples: 1,
+        },
+    )
+}

@@ -1,0 +1,428 @@
+//! The atlas page (`page`) on the GPU: one shadow texture with mips holding every model's tile,
+//! the raw page the rasterised bake writes, the tiles' records and the geometry images' texel
+//! surfaces, and the recording of the page's passes:
+//! - `atlas bake`: meshes that are not geometry images, drawn at their atlas UVs into their
+//!   tile of the raw page (one viewport per tile);
+//! - `atlas page`: one quad per re-baked tile into mip 0 of the page, which bakes a geometry
+//!   image's texels from their surface points and dilates a rasterised tile from the raw page;
+//! - `atlas mips`: one blit chain for the page.
+//!
+//! Mip 0 is loaded, not cleared: tiles that were not re-baked keep their texels.
+
+use std::sync::Arc;
+
+use ash::vk;
+use glam::{Mat4, Vec4};
+use gpu_allocator::MemoryLocation;
+
+use super::atlas::MeshAtlas;
+use super::page::{pack, PageLayout, Tile};
+use super::targets::{self, Framebuffer, ImageView, RenderPass};
+use super::texel_surface::texel_surface;
+use crate::error::{Error, Result};
+use crate::frame::offscreen;
+use crate::gpu::barriers;
+use crate::gpu::commands::submit_and_wait;
+use crate::gpu::descriptors::{Binding, DescriptorSet};
+use crate::gpu::memory::{Buffer, Image};
+use crate::gpu::texture::Sampler;
+use crate::gpu::Gpu;
+use crate::render::Pipeline;
+use crate::render::{FrameRecorder, GpuMesh, ObjectPush};
+use crate::scene::Scene;
+use crate::technique::options::AtlasBake;
+
+/// One tile as the page pass reads it (`shaders/atlas_page_tiles.glsl`, std430).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct TileRecord {
+    model: Mat4,
+    /// x, y, side; where the texels' surface points start (vec4s), -1 for a rasterised tile.
+    rect: [i32; 4],
+    /// x: the dilation radius.
+    params: [i32; 4],
+}
+
+/// One tile as the scene pass samples it (`shaders/atlas_page_sample.glsl`, std140).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct TileUniform {
+    rect: [f32; 4],
+    mips: [f32; 4],
+}
+
+/// How a model's tile is baked.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum TileBake {
+    /// A geometry image: one fragment per texel, from its surface point.
+    Texels,
+    /// Triangles at their atlas UVs into the raw page, then dilation.
+    Rasterised,
+}
+
+/// One model's shadow texture in the page.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PageTile {
+    pub tile: Tile,
+    pub mip_levels: u32,
+    pub bake: TileBake,
+    dilate_radius: u32,
+}
+
+/// Every model's shadow texture as tiles of one page.
+pub struct AtlasPage {
+    pub layout: PageLayout,
+    /// By object index.
+    pub tiles: Vec<PageTile>,
+    pub mip_levels: u32,
+    /// Mip 0 of the raw page when some tile is rasterised, else 1 x 1 (bound, never read).
+    raw_extent: vk::Extent2D,
+    // Field order is drop order: sets and framebuffers before the buffers, views and images.
+    /// Per object: the page and its tile, set 2 of the scene pass.
+    pub scene_sets: Vec<DescriptorSet>,
+    /// The tiles and texel surfaces: set 1 of the page pass.
+    pub tiles_set: DescriptorSet,
+    /// The raw page, read texel by texel: set 2 of the page pass.
+    pub raw_set: DescriptorSet,
+    raw_framebuffer: Framebuffer,
+    page_framebuffer: Framebuffer,
+    _mip0: ImageView,
+    records: Buffer,
+    _uniforms: Buffer,
+    _surface: Buffer,
+    pub raw: Image,
+    pub texture: Image,
+    pub raster_pass: RenderPass,
+    pub page_pass: RenderPass,
+    _trilinear: Sampler,
+    _nearest: Sampler,
+}
+
+impl AtlasPage {
+    /// Lays every object's shadow texture out in one page (`layouts` by mesh index) and creates
+    /// it, cleared to lit with no coverage. `bake`: whether geometry images are baked by their
+    /// texels or rasterised like other meshes.
+    pub fn new(gpu: &Arc<Gpu>, scene: &Scene, layouts: &[MeshAtlas], bake: AtlasBake) -> Result<Self> {
+        if scene.objects.is_empty() {
+            return Err(Error::InvalidInput(format!("scene '{}' has no objects", scene.name)));
+        }
+        let layout_of = |object: &crate::scene::SceneObject| {
+            layouts.get(object.mesh).ok_or_else(|| {
+                Error::Internal(format!("object '{}' has no atlas for mesh {}", object.name, object.mesh))
+            })
+        };
+        let sides = scene.objects.iter().map(|o| layout_of(o).map(|l| l.size)).collect::<Result<Vec<_>>>()?;
+        let max_side = gpu.device.info.limits.max_image_dimension2_d.min(crate::gpu::mobile_profile::MAX_IMAGE_SIDE);
+        let layout = pack(&sides, max_side)?;
+
+        // Texel surfaces, one block per geometry-image mesh (shared by its objects). A skinned
+        // object is re-posed on the CPU each frame: it keeps the rasterised bake.
+        let mut surface: Vec<[Vec4; 2]> = Vec::new();
+        let mut surface_start: Vec<Option<usize>> = vec![None; layouts.len()];
+        for (mesh, atlas) in layouts.iter().enumerate() {
+            let used_unskinned = scene.objects.iter().any(|o| o.mesh == mesh && o.skin.is_none());
+            let geometry_image = matches!(atlas.source, super::atlas::AtlasSource::GeometryImage { .. });
+            if !geometry_image || !used_unskinned || bake == AtlasBake::Rasterised {
+                continue;
+            }
+            if let Some(texels) = texel_surface(atlas) {
+                surface_start[mesh] = Some(surface.len());
+                surface.extend(texels);
+            }
+        }
+        let tiles: Vec<PageTile> = scene
+            .objects
+            .iter()
+            .zip(&layout.tiles)
+            .map(|(object, &tile)| {
+                let atlas = layout_of(object)?;
+                let texels = object.skin.is_none() && surface_start[object.mesh].is_some();
+                Ok(PageTile {
+                    tile,
+                    mip_levels: atlas.mip_levels,
+                    bake: if texels { TileBake::Texels } else { TileBake::Rasterised },
+                    dilate_radius: atlas.dilate_radius,
+                })
+            })
+            .collect::<Result<_>>()?;
+        let mip_levels = tiles.iter().map(|t| t.mip_levels).max().unwrap_or(1);
+        let rasterised = tiles.iter().any(|t| t.bake == TileBake::Rasterised);
+
+        let page_extent = vk::Extent2D { width: layout.width, height: layout.height };
+        let raw_extent = if rasterised { page_extent } else { vk::Extent2D { width: 1, height: 1 } };
+        let texture = targets::shadow_texture_page(gpu, "shadow-texture atlas page", page_extent, mip_levels)?;
+        let raw = targets::shadow_texture_page(gpu, "shadow-texture atlas page (raw bake)", raw_extent, 1)?;
+        clear_to_lit(gpu, &[&texture, &raw])?;
+        let mip0 = ImageView::mip(gpu, &texture, 0)?;
+        let raster_pass = targets::colour_render_pass(gpu, true, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)?;
+        let page_pass = offscreen::colour_render_pass_loaded(
+            gpu,
+            targets::SHADOW_TEXTURE_FORMAT,
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        )?;
+        let raw_framebuffer = Framebuffer::new(gpu, &raster_pass, raw.view, raw_extent)?;
+        let page_framebuffer = Framebuffer::new(gpu, &page_pass, mip0.raw, page_extent)?;
+
+        // The surface buffer is never empty (a storage buffer binding needs a range).
+        if surface.is_empty() {
+            surface.push([Vec4::ZERO; 2]);
+        }
+        let surface_buffer = Buffer::device_local(
+            gpu,
+            "atlas page texel surfaces",
+            &surface,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+        let records_size = (tiles.len() * std::mem::size_of::<TileRecord>()) as u64;
+        let records = Buffer::new(
+            gpu,
+            "atlas page tiles",
+            records_size,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )?;
+        let stride = aligned(std::mem::size_of::<TileUniform>() as u64, gpu.device.info.limits.min_uniform_buffer_offset_alignment);
+        let mut uniforms = Buffer::new(
+            gpu,
+            "atlas page tiles (scene)",
+            stride * tiles.len() as u64,
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )?;
+        let (width, height) = (layout.width as f32, layout.height as f32);
+        for (index, t) in tiles.iter().enumerate() {
+            let uniform = TileUniform {
+                rect: [
+                    t.tile.x as f32 / width,
+                    t.tile.y as f32 / height,
+                    t.tile.size as f32 / width,
+                    t.tile.size as f32 / height,
+                ],
+                mips: [(t.mip_levels - 1) as f32, t.tile.size as f32, 0.0, 0.0],
+            };
+            uniforms.write(index * stride as usize, std::slice::from_ref(&uniform))?;
+        }
+
+        let trilinear = Sampler::new(gpu, vk::Filter::LINEAR, vk::SamplerAddressMode::CLAMP_TO_EDGE)?;
+        let nearest = Sampler::new(gpu, vk::Filter::NEAREST, vk::SamplerAddressMode::CLAMP_TO_EDGE)?;
+        let texture_binding = |view, sampler: &Sampler| Binding::Texture {
+            view,
+            sampler: sampler.raw,
+            layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            stages: vk::ShaderStageFlags::FRAGMENT,
+        };
+        let scene_sets = (0..tiles.len())
+            .map(|index| {
+                DescriptorSet::new(
+                    gpu,
+                    &[
+                        texture_binding(texture.view, &trilinear),
+                        Binding::UniformSlice {
+                            buffer: uniforms.raw,
+                            offset: index as u64 * stride,
+                            range: std::mem::size_of::<TileUniform>() as u64,
+                            stages: vk::ShaderStageFlags::FRAGMENT,
+                        },
+                    ],
+                )
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let page_stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        let tiles_set = DescriptorSet::new(
+            gpu,
+            &[
+                Binding::ReadOnlyStorage { buffer: records.raw, range: records_size, stages: page_stages },
+                Binding::ReadOnlyStorage {
+                    buffer: surface_buffer.raw,
+                    range: surface_buffer.size,
+                    stages: vk::ShaderStageFlags::FRAGMENT,
+                },
+            ],
+        )?;
+        let raw_set = DescriptorSet::new(gpu, &[texture_binding(raw.view, &nearest)])?;
+        let mut page = AtlasPage {
+            layout,
+            tiles,
+            mip_levels,
+            raw_extent,
+            scene_sets,
+            tiles_set,
+            raw_set,
+            raw_framebuffer,
+            page_framebuffer,
+            _mip0: mip0,
+            records,
+            _uniforms: uniforms,
+            _surface: surface_buffer,
+            raw,
+            texture,
+            raster_pass,
+            page_pass,
+            _trilinear: trilinear,
+            _nearest: nearest,
+        };
+        page.write_records(scene, &surface_start, layouts)?;
+        Ok(page)
+    }
+
+    /// Every tile's record: its model matrix (rewritten when models move: `write_models`), rect
+    /// and where its texel surface starts.
+    fn write_records(&mut self, scene: &Scene, surface_start: &[Option<usize>], layouts: &[MeshAtlas]) -> Result<()> {
+        let records: Vec<TileRecord> = scene
+            .objects
+            .iter()
+            .zip(&self.tiles)
+            .map(|(object, t)| {
+                let start = match t.bake {
+                    TileBake::Texels => surface_start.get(object.mesh).copied().flatten().map_or(-1, |s| 2 * s as i32),
+                    TileBake::Rasterised => -1,
+                };
+                let radius = layouts.get(object.mesh).map_or(0, |l| l.dilate_radius);
+                TileRecord {
+                    model: object.transform,
+                    rect: [t.tile.x as i32, t.tile.y as i32, t.tile.size as i32, start],
+                    params: [radius as i32, 0, 0, 0],
+                }
+            })
+            .collect();
+        self.records.write(0, &records)
+    }
+
+    /// The tiles' model matrices, as the scene now places its objects.
+    pub fn write_models(&mut self, scene: &Scene) -> Result<()> {
+        let stride = std::mem::size_of::<TileRecord>();
+        for (index, object) in scene.objects.iter().enumerate() {
+            self.records.write(index * stride, std::slice::from_ref(&object.transform))?;
+        }
+        Ok(())
+    }
+
+    /// Whether any of `tiles` (object indices) is rasterised.
+    pub fn any_rasterised(&self, tiles: &[usize]) -> bool {
+        tiles.iter().any(|&i| self.tiles.get(i).is_some_and(|t| t.bake == TileBake::Rasterised))
+    }
+
+    /// The rasterised tiles among `tiles`: each model drawn at its atlas UVs into its tile of
+    /// the raw page (cleared: no coverage), lit or shadowed per texel.
+    pub fn record_raster_bake(
+        &self,
+        rec: &mut FrameRecorder,
+        scene: &Scene,
+        meshes: &[GpuMesh],
+        bake: &Pipeline,
+        light_set: vk::DescriptorSet,
+        tiles: &[usize],
+    ) {
+        let clear = [vk::ClearValue { color: vk::ClearColorValue { float32: [1.0, 1.0, 1.0, 0.0] } }];
+        let rasterised: Vec<usize> =
+            tiles.iter().copied().filter(|&i| self.tiles.get(i).is_some_and(|t| t.bake == TileBake::Rasterised)).collect();
+        let area = self.area_of(&rasterised, self.raw_extent);
+        rec.begin_offscreen_pass_in(&self.raster_pass, self.raw_framebuffer.raw, self.raw_extent, area, &clear);
+        rec.bind_with_sets(bake, &[light_set]);
+        for &index in &rasterised {
+            let (Some(t), Some(object)) = (self.tiles.get(index), scene.objects.get(index)) else { continue };
+            rec.set_viewport_rect(vk::Rect2D {
+                offset: vk::Offset2D { x: t.tile.x as i32, y: t.tile.y as i32 },
+                extent: vk::Extent2D { width: t.tile.size, height: t.tile.size },
+            });
+            rec.push(bake, &ObjectPush { model: object.transform, colour: Vec4::ONE });
+            rec.draw_mesh(&meshes[object.mesh]);
+        }
+        rec.end_render_pass();
+    }
+
+    /// `tiles` (object indices, ascending) written into mip 0 of the page: one quad each, a
+    /// draw per run of consecutive tiles.
+    /// `channels`: the lights the bake holds (channels 0 to `channels` - 1).
+    pub fn record_page(
+        &self,
+        rec: &mut FrameRecorder,
+        page: &Pipeline,
+        light_set: vk::DescriptorSet,
+        tiles: &[usize],
+        channels: u32,
+    ) {
+        let extent = vk::Extent2D { width: self.layout.width, height: self.layout.height };
+        let area = self.area_of(tiles, extent);
+        rec.begin_offscreen_pass_in(&self.page_pass, self.page_framebuffer.raw, extent, area, &[]);
+        rec.bind_with_sets(page, &[light_set, self.tiles_set.set, self.raw_set.set]);
+        rec.push(page, &[extent.width as f32, extent.height as f32, channels as f32, 0.0]);
+        let mut k = 0;
+        while k < tiles.len() {
+            let first = tiles[k];
+            let mut count = 1;
+            while tiles.get(k + count as usize) == Some(&(first + count as usize)) {
+                count += 1;
+            }
+            rec.draw_instances(6, count, first as u32);
+            k += count as usize;
+        }
+        rec.end_render_pass();
+    }
+
+    /// The render area of a pass over `tiles` (object indices): the smallest rectangle holding
+    /// them, so that a re-bake of a few tiles loads and stores only theirs (`extent`: the
+    /// whole page, when no tile is given).
+    fn area_of(&self, tiles: &[usize], extent: vk::Extent2D) -> vk::Rect2D {
+        let rects = tiles.iter().filter_map(|&i| self.tiles.get(i)).map(|t| t.tile);
+        let (lo, hi) = rects.fold(((u32::MAX, u32::MAX), (0, 0)), |(lo, hi), t| {
+            ((lo.0.min(t.x), lo.1.min(t.y)), (hi.0.max(t.x + t.size), hi.1.max(t.y + t.size)))
+        });
+        if lo.0 >= hi.0 || lo.1 >= hi.1 {
+            return vk::Rect2D { offset: vk::Offset2D::default(), extent };
+        }
+        let (w, h) = ((hi.0 - lo.0).min(extent.width), (hi.1 - lo.1).min(extent.height));
+        vk::Rect2D {
+            offset: vk::Offset2D { x: lo.0 as i32, y: lo.1 as i32 },
+            extent: vk::Extent2D { width: w, height: h },
+        }
+    }
+
+    /// The page's mip chain from its mip 0, left ready for sampling.
+    pub fn record_mips(&self, rec: &mut FrameRecorder) {
+        rec.build_mips_from_sampled(self.texture.raw, self.layout.width, self.layout.height, self.mip_levels);
+    }
+
+    /// Bytes of GPU memory the page holds: its mips, the raw page, the tiles and texel
+    /// surfaces.
+    pub fn memory_bytes(&self) -> u64 {
+        let texel = 4u64;
+        let mips: u64 = (0..self.mip_levels)
+            .map(|m| u64::from((self.layout.width >> m).max(1)) * u64::from((self.layout.height >> m).max(1)) * texel)
+            .sum();
+        let raw = u64::from(self.raw_extent.width) * u64::from(self.raw_extent.height) * texel;
+        mips + raw + self.records.size + self._surface.size + self._uniforms.size
+    }
+}
+
+fn aligned(size: u64, alignment: u64) -> u64 {
+    let alignment = alignment.max(1);
+    size.div_ceil(alignment) * alignment
+}
+
+/// Every mip of `images` cleared to lit with no coverage (1, 1, 1, 0) and left for sampling: the
+/// page pass loads mip 0, and texels no tile covers are then defined.
+fn clear_to_lit(gpu: &Arc<Gpu>, images: &[&Image]) -> Result<()> {
+    submit_and_wait(gpu, |cmd| {
+        for image in images {
+            let mips = 0..image.mip_levels;
+            barriers::upload_destination(gpu.raw(), cmd, image.raw, mips.clone());
+            let range = vk::ImageSubresourceRange {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                base_mip_level: 0,
+                level_count: image.mip_levels,
+                base_array_layer: 0,
+                layer_count: 1,
+            };
+            let lit = vk::ClearColorValue { float32: [1.0, 1.0, 1.0, 0.0] };
+            // SAFETY: `cmd` is recording; the barrier above made every mip TRANSFER_DST_OPTIMAL,
+            // and the image was created with TRANSFER_DST usage.
+            unsafe {
+                gpu.raw().cmd_clear_color_image(cmd, image.raw, vk::ImageLayout::TRANSFER_DST_OPTIMAL, &lit, &[range])
+            };
+            barriers::written_mip_to_sampled(gpu.raw(), cmd, image.raw, mips);
+        }
+        Ok(())
+    })
+}
