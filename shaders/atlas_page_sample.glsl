@@ -1,33 +1,27 @@
-// A model's shadow texture, read from its tile of the atlas page (shadow_atlas::page). The
-// hardware's trilinear filter would read across the tile's border (the page has neighbours
-// where a texture of its own had CLAMP_TO_EDGE) and past the tile's last clean mip, so the
-// levels are read by hand: the LOD as the hardware computes it (the larger footprint's log2),
-// clamped to the tile's mips, and each level's bilinear read kept half a texel inside the tile,
-// which is what CLAMP_TO_EDGE reads. A magnified tile (the common case up close) is one read.
+// A model's shadow texture, read from its tile of the atlas page (shadow_atlas::page). A texture
+// of its own was sampled trilinearly with CLAMP_TO_EDGE and its own mip count; in the page:
+// - the tile's set binds a view of the page with the tile's mip count, so the hardware's LOD
+//   stops at the tile's last clean mip;
+// - the UV is kept half a texel of the coarser level read inside the tile, so neither level's
+//   bilinear footprint reaches a neighbouring tile (at the finer level it then stops up to half
+//   a texel short of the border, where CLAMP_TO_EDGE would have repeated the border texel);
+// - the gradients are the unclamped UV's, so the LOD is the one the texture had everywhere.
+// One hardware read, as before: the LOD is computed in the shader only to place the clamp.
 layout(set = 2, binding = 0) uniform sampler2D shadow_page;
 layout(set = 2, binding = 1) uniform AtlasTile {
     // xy: the tile's corner, zw: its side, in page UV.
     vec4 rect;
-    // x: its last mip (a level past it would mix in gutters or neighbours); y: its side in
-    // texels of mip 0.
+    // x: its last mip; y: its side in texels of mip 0.
     vec4 mips;
 } atlas_tile;
 
-vec4 tile_level(vec2 uv, float level) {
-    float texels = atlas_tile.mips.y / exp2(level);
-    vec2 inside = clamp(uv, vec2(0.5 / texels), vec2(1.0 - 0.5 / texels));
-    return textureLod(shadow_page, atlas_tile.rect.xy + inside * atlas_tile.rect.zw, level);
-}
-
 vec4 sample_tile(vec2 uv) {
-    vec2 texel = uv * atlas_tile.mips.y;
-    float rho = max(length(dFdx(texel)), length(dFdy(texel)));
-    float lod = clamp(log2(rho), 0.0, atlas_tile.mips.x);
-    float base = floor(lod);
-    vec4 fine = tile_level(uv, base);
-    float blend = lod - base;
-    if (blend > 0.0) {
-        fine = mix(fine, tile_level(uv, base + 1.0), blend);
-    }
-    return fine;
+    vec2 dx = dFdx(uv);
+    vec2 dy = dFdy(uv);
+    float footprint = max(length(dx), length(dy)) * atlas_tile.mips.y;
+    float coarser = ceil(clamp(log2(footprint), 0.0, atlas_tile.mips.x));
+    float half_texel = 0.5 * exp2(coarser) / atlas_tile.mips.y;
+    vec2 inside = clamp(uv, vec2(half_texel), vec2(1.0 - half_texel));
+    vec2 scale = atlas_tile.rect.zw;
+    return textureGrad(shadow_page, atlas_tile.rect.xy + inside * scale, dx * scale, dy * scale);
 }

@@ -68,6 +68,11 @@ pub enum Command {
         /// Record this frame's deterministic counters as a budget file.
         #[arg(long, value_name = "FILE.json")]
         write_budget: Option<PathBuf>,
+        /// Profile the frame in which object NAME has just moved (a step of 1% of the scene's
+        /// size along x), the light and every other object still: shadow-texture-atlas then
+        /// re-bakes only the shadow textures that model can change.
+        #[arg(long, value_name = "NAME")]
+        move_model: Option<String>,
     },
     /// Run any Vulkan program under the fill-rate layer (VK_LAYER_NOSTENCIL_fillrate) and report
     /// its render pass instances: draws, fragments, samples passed, overdraw, GPU time, tile

@@ -22,8 +22,8 @@ use crate::technique::{by_name, render_scene, shadow_atlas, RenderOptions, TECHN
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Render { frame, out, keep_alpha, no_queries } => render(&frame, &out, keep_alpha, no_queries),
-        Command::Profile { frame, format, compare, heatmap, chart, budget, write_budget } => {
-            let outputs = ProfileOutputs { heatmap, chart, budget, write_budget };
+        Command::Profile { frame, format, compare, heatmap, chart, budget, write_budget, move_model } => {
+            let outputs = ProfileOutputs { heatmap, chart, budget, write_budget, move_model };
             if compare.is_empty() {
                 profile(&frame, format, &outputs)
             } else {
@@ -171,6 +171,36 @@ struct ProfileOutputs {
     chart: Option<std::path::PathBuf>,
     budget: Option<std::path::PathBuf>,
     write_budget: Option<std::path::PathBuf>,
+    move_model: Option<String>,
+}
+
+/// The steady frame of `scene` after object `name` moved by 1% of the scene's size along x,
+/// rendered by the renderer that drew it before the move (`profile --move-model`).
+fn render_after_a_move(
+    gpu: &Arc<Gpu>,
+    scene: &Scene,
+    options: &RenderOptions,
+    name: &str,
+) -> Result<crate::technique::TechniqueFrame> {
+    let index = scene.objects.iter().position(|o| o.name == name).ok_or_else(|| {
+        let names: Vec<&str> = scene.objects.iter().take(12).map(|o| o.name.as_str()).collect();
+        let more = if scene.objects.len() > names.len() { ", ..." } else { "" };
+        Error::InvalidInput(format!(
+            "--move-model '{name}': scene '{}' has no object of that name (it has {}{more})",
+            scene.name,
+            names.join(", ")
+        ))
+    })?;
+    let corners = scene.objects.iter().map(|o| o.transform.w_axis.truncate());
+    let size = crate::scene::bounds_of(corners).map_or(1.0, |(lo, hi)| (hi - lo).length().max(1.0));
+    let mut moved = scene.clone();
+    let step = glam::Mat4::from_translation(glam::Vec3::X * (0.01 * size));
+    moved.objects[index].transform = step * moved.objects[index].transform;
+    let mut renderer = options.technique.build(gpu, scene, options)?;
+    for _ in 0..renderer.frames_to_steady_state() {
+        renderer.frame_with(scene)?;
+    }
+    renderer.frame_with(&moved)
 }
 
 fn report_format(format: FormatArg) -> ReportFormat {
@@ -190,7 +220,10 @@ fn profile(frame: &FrameArgs, format: FormatArg, outputs: &ProfileOutputs) -> Re
     let gpu = open_gpu(&frame.gpu)?;
     // One frame first: llvmpipe compiles shaders at first draw, which is not the frame's cost.
     render_scene(&gpu, &scene, &options)?;
-    let frame_result = render_scene(&gpu, &scene, &options)?;
+    let frame_result = match &outputs.move_model {
+        None => render_scene(&gpu, &scene, &options)?,
+        Some(name) => render_after_a_move(&gpu, &scene, &options, name)?,
+    };
     print_warnings(options.technique.name(), &frame_result.warnings);
     let output = &frame_result.output;
     let (technique, stencil) = (options.technique.name(), options.stencil.name());

@@ -104,6 +104,30 @@ impl ImageView {
         Ok(ImageView { gpu: gpu.clone(), raw })
     }
 
+    /// A view of mips 0 to `levels` - 1 of a colour image: sampling through it clamps the LOD
+    /// to those levels (a tile of the atlas page with fewer clean mips than the page).
+    pub fn levels(gpu: &Arc<Gpu>, image: &Image, levels: u32) -> Result<Self> {
+        if levels == 0 || levels > image.mip_levels {
+            return Err(Error::Internal(format!("{levels} mips of an image with {}", image.mip_levels)));
+        }
+        let info = vk::ImageViewCreateInfo::default()
+            .image(image.raw)
+            .view_type(vk::ImageViewType::TYPE_2D)
+            .format(image.format)
+            .subresource_range(vk::ImageSubresourceRange {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                base_mip_level: 0,
+                level_count: levels,
+                base_array_layer: 0,
+                layer_count: 1,
+            });
+        // SAFETY: `image` is alive (borrowed) and has at least `levels` mips (checked above);
+        // the view keeps its format and colour aspect.
+        let raw = unsafe { gpu.raw().create_image_view(&info, None) }.vk("vkCreateImageView")?;
+        gpu.created(ObjectKind::ImageView);
+        Ok(ImageView { gpu: gpu.clone(), raw })
+    }
+
     /// A 2D view of layer `layer` of an arrayed image, mip 0, aspect `aspect` (a framebuffer
     /// per shadow-map layer).
     pub fn layer(gpu: &Arc<Gpu>, image: &Image, layer: u32, aspect: vk::ImageAspectFlags) -> Result<Self> {

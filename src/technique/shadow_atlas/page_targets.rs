@@ -88,6 +88,9 @@ pub struct AtlasPage {
     raw_framebuffer: Framebuffer,
     page_framebuffer: Framebuffer,
     _mip0: ImageView,
+    /// Per mip count of some tile, a view of the page with that many levels (sampling through
+    /// it keeps the LOD within the tile's clean mips).
+    _level_views: Vec<(u32, ImageView)>,
     records: Buffer,
     _uniforms: Buffer,
     _surface: Buffer,
@@ -212,12 +215,21 @@ impl AtlasPage {
             layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
             stages: vk::ShaderStageFlags::FRAGMENT,
         };
-        let scene_sets = (0..tiles.len())
-            .map(|index| {
+        let mut level_views: Vec<(u32, ImageView)> = Vec::new();
+        for t in &tiles {
+            if !level_views.iter().any(|(levels, _)| *levels == t.mip_levels) {
+                level_views.push((t.mip_levels, ImageView::levels(gpu, &texture, t.mip_levels)?));
+            }
+        }
+        let view_of = |levels: u32| level_views.iter().find(|(l, _)| *l == levels).map_or(texture.view, |(_, v)| v.raw);
+        let scene_sets = tiles
+            .iter()
+            .enumerate()
+            .map(|(index, t)| {
                 DescriptorSet::new(
                     gpu,
                     &[
-                        texture_binding(texture.view, &trilinear),
+                        texture_binding(view_of(t.mip_levels), &trilinear),
                         Binding::UniformSlice {
                             buffer: uniforms.raw,
                             offset: index as u64 * stride,
@@ -252,6 +264,7 @@ impl AtlasPage {
             raw_framebuffer,
             page_framebuffer,
             _mip0: mip0,
+            _level_views: level_views,
             records,
             _uniforms: uniforms,
             _surface: surface_buffer,
