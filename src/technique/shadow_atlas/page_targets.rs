@@ -202,7 +202,7 @@ impl AtlasPage {
                     t.tile.size as f32 / width,
                     t.tile.size as f32 / height,
                 ],
-                mips: [(t.mip_levels - 1) as f32, t.tile.size as f32, 0.0, 0.0],
+                mips: [(t.mip_levels - 1) as f32, t.tile.size as f32, 0.5 * (1u32 << (t.mip_levels - 1)) as f32, 0.0],
             };
             uniforms.write(index * stride as usize, std::slice::from_ref(&uniform))?;
         }
