@@ -51,7 +51,7 @@ pub enum AtlasDraw {
     /// One quad per re-baked tile into the atlas page: a geometry image's texels baked from
     /// their surface points, a rasterised model's tile dilated from the raw page.
     Page,
-    /// Each shadow texture's mip chain, by blits.
+    /// The atlas page's mip chain (the projective texture: each model's), by blits.
     Mips,
     /// Every object, lit, its Lambert term scaled by its shadow.
     Scene,
@@ -66,7 +66,7 @@ impl DrawKind for AtlasDraw {
             AtlasDraw::ProjectiveBake => "each model from the light",
             AtlasDraw::Dilate => "full screen per model",
             AtlasDraw::Page => "a quad per re-baked tile",
-            AtlasDraw::Mips => "blits per model",
+            AtlasDraw::Mips => "one blit chain (the projective texture: one per model)",
             AtlasDraw::Scene => "objects",
         }
     }
