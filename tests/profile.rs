@@ -508,3 +508,54 @@ fn heat_map_at_four_samples_is_the_per_pixel_mean_of_the_samples() {
     }
     common::assert_no_validation_messages(&gpu);
 }
+
+/// The bandwidth estimates (frame/bandwidth.rs, after Mesa turnip) of one frame at 1 and 4
+/// samples, against figures computed here by hand from the attachments and the samples passed:
+/// on a tiler the 4x frame moves what the 1x one does (its samples stay in tile memory; only
+/// the resolve is stored), on an immediate-mode GPU about 4x as much.
+#[test]
+fn bandwidth_estimates_match_hand_computed_figures_at_one_and_four_samples() {
+    let (width, height) = (96u64, 64u64);
+    let pixels = width * height;
+    let frame = |samples: &str| -> serde_json::Value {
+        let args = ["profile", "--size", "96x64", "--samples", samples, "--technique", "shadow-volume"];
+        let (stdout, _) = common::run_ok(&[&args[..], &["--format", "json"]].concat());
+        serde_json::from_str(&stdout).expect("JSON")
+    };
+    let (one, four) = (frame("1"), frame("4"));
+    let depth_bytes = |report: &serde_json::Value| match report["frame_formats"]["depth"].as_str() {
+        Some("D16_UNORM") => 2,
+        Some("D32_SFLOAT" | "X8_D24_UNORM_PACK32" | "D24_UNORM_S8_UINT") => 4,
+        Some("D32_SFLOAT_S8_UINT") => 5,
+        other => panic!("depth format {other:?}"),
+    };
+    let u64_of = |v: &serde_json::Value| v.as_u64().unwrap_or_else(|| panic!("not a number: {v}"));
+    for report in [&one, &four] {
+        assert_eq!(report["render_passes"].as_array().map(Vec::len), Some(1), "one render pass: {report}");
+    }
+    let colour = 4u64; // R8G8B8A8_SRGB
+                       // 1x: colour cleared and stored, depth cleared and dropped; every passing sample reads and
+                       // writes the colour and the depth.
+    let (depth, samples_one) = (depth_bytes(&one), u64_of(&one["totals"]["samples_passed"]));
+    let tiler_one = pixels * colour;
+    let immediate_one = pixels * (colour + depth) + samples_one * 2 * (colour + depth);
+    assert_eq!(u64_of(&one["totals"]["tiler_bytes"]), tiler_one);
+    assert_eq!(u64_of(&one["totals"]["immediate_bytes"]), immediate_one);
+    // 4x: both cleared at 4 samples and dropped; the colour resolved (4 samples read, 1 written)
+    // into the one-sample target, the only store.
+    let samples_four = u64_of(&four["totals"]["samples_passed"]);
+    let tiler_four = pixels * colour;
+    let immediate_four = pixels * 4 * (colour + depth) + pixels * colour * 5 + samples_four * 2 * (colour + depth);
+    assert_eq!(u64_of(&four["totals"]["tiler_bytes"]), tiler_four);
+    assert_eq!(u64_of(&four["totals"]["immediate_bytes"]), immediate_four);
+    // The render pass's own figures are the frame's (one render pass).
+    assert_eq!(u64_of(&four["render_pass_sums"][0]["immediate_bytes"]), immediate_four);
+    let tiler_ratio = tiler_four as f64 / tiler_one as f64;
+    let immediate_ratio = immediate_four as f64 / immediate_one as f64;
+    assert!((tiler_ratio - 1.0).abs() < 0.03, "tiler 4x / 1x = {tiler_ratio}");
+    assert!((3.5..=5.0).contains(&immediate_ratio), "immediate 4x / 1x = {immediate_ratio}");
+    eprintln!(
+        "bandwidth 96x64 shadow-volume: 1x tiler {tiler_one} B immediate {immediate_one} B; \
+         4x tiler {tiler_four} B immediate {immediate_four} B (ratio {immediate_ratio:.2})"
+    );
+}

@@ -2,6 +2,7 @@
 //! `profile`'s budgets and charts take: one entry per position in the frame, named by position
 //! and debug label.
 
+use crate::frame::bandwidth::Bandwidth;
 use crate::layer::report::{AggregateRow, FillrateReport};
 use crate::profile::budget::PassBudget;
 use crate::profile::chart::ChartRow;
@@ -52,6 +53,16 @@ pub fn worst_per_position(report: &FillrateReport) -> Vec<PositionCounts> {
         .collect()
 }
 
+/// The most bytes one kept frame moved, on a tiler and on an immediate-mode GPU (each its own
+/// worst frame): what a budget holds per frame.
+pub fn worst_frame_bandwidth(report: &FillrateReport) -> Bandwidth {
+    let frames = report.frames.iter().map(|f| f.render_passes.iter().filter_map(|p| p.counters).map(|c| c.bandwidth()));
+    frames.map(|passes| passes.sum::<Bandwidth>()).fold(Bandwidth::default(), |worst, frame| Bandwidth {
+        tiler_bytes: worst.tiler_bytes.max(frame.tiler_bytes),
+        immediate_bytes: worst.immediate_bytes.max(frame.immediate_bytes),
+    })
+}
+
 /// The "WxH" an aggregate key starts with.
 fn area_of_key(key: &str) -> String {
     key.split_whitespace().next().unwrap_or("?").to_owned()
@@ -97,6 +108,8 @@ mod tests {
             gpu_ms: None,
             bytes_loaded: 0,
             bytes_stored: 0,
+            tiler_bytes: 0,
+            immediate_bytes: 0,
         }
     }
 
@@ -112,6 +125,8 @@ mod tests {
             gpu_ms: Some(1.5),
             bytes_loaded: 0.0,
             bytes_stored: 0.0,
+            tiler_bytes: 0.0,
+            immediate_bytes: 0.0,
         };
         AggregateRow {
             position,

@@ -5,7 +5,7 @@
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
-use super::app_counts::{chart_rows, largest_area, worst_per_position, PositionCounts};
+use super::app_counts::{chart_rows, largest_area, worst_frame_bandwidth, worst_per_position, PositionCounts};
 use super::install::{InstallPaths, HOW_TO_INSTALL};
 use super::output_path::check_output_path;
 use super::supervise::{self, Stop};
@@ -139,7 +139,8 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
         }
         let (width, height) = largest_area(&report);
         let counts: Vec<_> = worst.iter().map(|p| p.count.clone()).collect();
-        Budget::for_application(&report.application, width, height, &counts).write(path)?;
+        let bytes = worst_frame_bandwidth(&report);
+        Budget::for_application(&report.application, width, height, &counts, bytes).write(path)?;
         eprintln!("wrote budget {} ({} render passes)", path.display(), counts.len());
     }
     if let (Some(budget), Some(path)) = (&budget, &outputs.budget) {
@@ -154,7 +155,7 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
 /// Every render pass over `budget` on stderr, then an error naming them all.
 fn check_budget(budget: &Budget, path: &Path, report: &FillrateReport, worst: &[PositionCounts]) -> Result<()> {
     let counts: Vec<_> = worst.iter().map(|p| p.count.clone()).collect();
-    let overruns = budget.check_application(&report.application, &counts)?;
+    let overruns = budget.check_application(&report.application, &counts, worst_frame_bandwidth(report))?;
     if overruns.is_empty() {
         eprintln!("within budget {}", path.display());
         return Ok(());

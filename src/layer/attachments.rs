@@ -359,6 +359,8 @@ pub fn attachment_rows(attachments: &[AttachmentInfo], area: &RenderArea) -> Vec
                 stencil_store_op: stencil.then(|| op_name(a.stencil_store)),
                 bytes_loaded: traffic.bytes_loaded,
                 bytes_stored: traffic.bytes_stored,
+                bytes_cleared: traffic.bytes_cleared,
+                bytes_per_sample: traffic.bytes_per_sample,
             }
         })
         .collect()

@@ -37,7 +37,7 @@ fn csv_field(text: &str) -> String {
 
 const CSV_HEADER: &str = "frame,index,label,api,x,y,width,height,samples,attachments,draws,vertex_invocations,\
 clipping_primitives,fragment_invocations,fragments_per_pixel,samples_passed,overdraw,gpu_ms,bytes_loaded,bytes_stored,\
-not_measured,section";
+tiler_bytes,immediate_bytes,not_measured,section";
 
 fn opt<T: std::fmt::Display>(value: Option<T>) -> String {
     value.map_or(String::new(), |v| v.to_string())
@@ -46,7 +46,7 @@ fn opt<T: std::fmt::Display>(value: Option<T>) -> String {
 /// The counter columns of a CSV line.
 fn csv_counters<N: std::fmt::Display + Copy>(c: &Counters<N>) -> String {
     format!(
-        "{},{},{},{},{},{},{},{},{},{}",
+        "{},{},{},{},{},{},{},{},{},{},{},{}",
         c.draws,
         opt(c.vertex_invocations),
         opt(c.clipping_primitives),
@@ -56,7 +56,9 @@ fn csv_counters<N: std::fmt::Display + Copy>(c: &Counters<N>) -> String {
         c.overdraw,
         opt(c.gpu_ms),
         c.bytes_loaded,
-        c.bytes_stored
+        c.bytes_stored,
+        c.tiler_bytes,
+        c.immediate_bytes
     )
 }
 
@@ -82,12 +84,12 @@ fn csv(report: &FillrateReport) -> String {
     for frame in &report.frames {
         for row in &frame.render_passes {
             let prefix = csv_row_prefix(frame.index, row);
-            let counters = row.counters.as_ref().map_or(",,,,,,,,,".to_owned(), csv_counters);
+            let counters = row.counters.as_ref().map_or(",,,,,,,,,,,".to_owned(), csv_counters);
             let not_measured = csv_field(row.not_measured.as_deref().unwrap_or(""));
             let _ = writeln!(out, "{prefix},{counters},{not_measured},");
             // A section: the pass's columns, its own counters, its label in the last column.
             for section in &row.sections {
-                let counters = section.counters.as_ref().map_or(",,,,,,,,,".to_owned(), csv_counters);
+                let counters = section.counters.as_ref().map_or(",,,,,,,,,,,".to_owned(), csv_counters);
                 let not_measured = csv_field(section.not_measured.as_deref().unwrap_or(""));
                 let name = csv_field(&section_name(section.label.as_deref()));
                 let _ = writeln!(out, "{prefix},{counters},{not_measured},{name}");
@@ -173,6 +175,8 @@ fn table(report: &FillrateReport) -> String {
             "GPU ms",
             "loaded B",
             "stored B",
+            "tiler B",
+            "immediate B",
         ];
         let optu2 = optu;
         let cells_of =
@@ -190,10 +194,12 @@ fn table(report: &FillrateReport) -> String {
                         optf(c.gpu_ms),
                         c.bytes_loaded.to_string(),
                         c.bytes_stored.to_string(),
+                        c.tiler_bytes.to_string(),
+                        c.immediate_bytes.to_string(),
                     ]),
                     None => {
                         cells.push(format!("not measured: {}", why.unwrap_or("unknown")));
-                        cells.extend(vec![String::new(); 9]);
+                        cells.extend(vec![String::new(); 11]);
                     }
                 }
                 cells
@@ -211,6 +217,13 @@ fn table(report: &FillrateReport) -> String {
             }
         }
         out += &aligned(&header, &rows);
+        let measured = frame.render_passes.iter().filter_map(|r| r.counters.as_ref());
+        let bytes: crate::frame::bandwidth::Bandwidth = measured.map(Counters::bandwidth).sum();
+        let _ = writeln!(
+            out,
+            "frame bandwidth estimate: tiler {} B, immediate-mode {} B (Mesa turnip's model, docs/fillrate-layer.md)",
+            bytes.tiler_bytes, bytes.immediate_bytes
+        );
         let _ = writeln!(out, "\nattachments (tile traffic from the load/store ops, over the render area):");
         for r in &frame.render_passes {
             let _ = writeln!(out, "  {}", pass_name(r));
