@@ -489,3 +489,44 @@ fn per_draw_counts_sum_to_each_render_pass_exactly() {
     let (plain, _) = profile_app(&dir, "plain", &[], &program, &[], None);
     assert!(plain.frames.iter().flat_map(|f| &f.render_passes).all(|r| r.per_draw.is_empty()));
 }
+
+/// `profile-app --tiler-check` on programs that do it right: `nostencil render`, every
+/// technique at 1 and 4 samples, gets no flag and writes the very PNG it writes without the
+/// layer (the pattern fills only what the frame never reads: the dropped depth, DONT_CARE loads
+/// that the frame overwrites whole); vkcube gets no flag either (its image is presented to a
+/// window, not written: it is not compared).
+#[test]
+fn the_tiler_check_flags_nothing_and_changes_no_pixel_of_programs_that_do_it_right() {
+    let dir = common::scratch_dir("profile_app_tiler_check");
+    let mut poisoned = 0;
+    for technique in nostencil::technique::registry::names() {
+        for samples in ["1", "4"] {
+            let name = format!("{technique}-{samples}");
+            let png = |kind: &str| dir.join(format!("{name}-{kind}.png"));
+            let (plain_png, checked_png) = (png("plain"), png("checked"));
+            let (plain_arg, checked_arg) = (plain_png.to_string_lossy(), checked_png.to_string_lossy());
+            let frame = ["--technique", technique, "--samples", samples, "--size", "64x64"];
+            let plain = run_nostencil(&dir, &format!("{name}-plain"), &render_args(&plain_arg, &frame), &[], None);
+            common::assert_success("render without the layer", &plain);
+            let program = [&[env!("CARGO_BIN_EXE_nostencil")], &render_args(&checked_arg, &frame)[..]].concat();
+            let (report, output) =
+                profile_app(&dir, &format!("{name}-checked"), &["--tiler-check"], &program, &[], None);
+            let check = report.tiler_check.as_ref().unwrap_or_else(|| panic!("{name}: no tiler check in the report"));
+            assert!(check.flags.is_empty(), "{name}: {:#?}", check.flags);
+            assert!(text(&output.stderr).contains("tiler check: no flag"), "{name}");
+            let bytes = |p: &PathBuf| std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+            assert!(bytes(&plain_png) == bytes(&checked_png), "{name}: the tiler check changed the PNG");
+            poisoned += check.poisoned.len();
+        }
+    }
+    assert!(poisoned > 0, "the frames drop their depth: something was poisoned");
+
+    let x = start_x_server();
+    let program = vkcube_args(8, Some((128, 128)));
+    let program: Vec<&str> = program.iter().map(String::as_str).collect();
+    let (report, _) = profile_app(&dir, "vkcube", &["--frames", "5", "--tiler-check"], &program, &[], Some(&x));
+    let check = report.tiler_check.expect("vkcube's tiler check");
+    assert!(check.flags.is_empty(), "vkcube: {:#?}", check.flags);
+    // Its depth is cleared and dropped each frame: poisoned after the pass, never read.
+    assert!(check.poisoned.iter().all(|p| p.read_by.is_none()), "{:?}", check.poisoned);
+}

@@ -151,6 +151,7 @@ mod tests {
             frames: Vec::new(),
             aggregate,
             run: None,
+            tiler_check: None,
         }
     }
 

@@ -89,6 +89,14 @@ pub enum Command {
         /// time; JSON `per_draw`, summing to the pass's counters). At most 256 draws a pass.
         #[arg(long)]
         per_draw: bool,
+        /// Check the load/store ops as a tile-based GPU would (NOSTENCIL_FILLRATE_TILER=1): fill
+        /// what a tiler would not keep (DONT_CARE loads and stores) with a magenta and green
+        /// pattern, and flag, by pass and attachment, multisampled stores, vkCmdResolveImage,
+        /// transient images used outside their pass, outputs stored and never read or
+        /// overwritten unread, dead passes, and LOADs of what a pass left DONT_CARE. Exit 1 on
+        /// any flag.
+        #[arg(long)]
+        tiler_check: bool,
         #[arg(long, value_enum, default_value_t = FormatArg::Table)]
         format: FormatArg,
         /// Compare each render pass's draws, samples passed and fragment invocations (the most

@@ -36,6 +36,7 @@ pub fn run(cli: Cli) -> Result<()> {
             keep_running,
             seconds,
             per_draw,
+            tiler_check,
             format,
             budget,
             record_budget,
@@ -43,7 +44,7 @@ pub fn run(cli: Cli) -> Result<()> {
             out,
             command,
         } => {
-            let outputs = super::profile_app::AppOutputs { budget, record_budget, chart, out, per_draw };
+            let outputs = super::profile_app::AppOutputs { budget, record_budget, chart, out, per_draw, tiler_check };
             let stop = super::supervise::Stop { frames, seconds, keep_running };
             super::profile_app::run(&command, stop, report_format(format), &outputs)
         }

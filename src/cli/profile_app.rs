@@ -47,6 +47,8 @@ pub struct AppOutputs {
     pub out: Option<PathBuf>,
     /// Each draw counted on its own too (NOSTENCIL_FILLRATE_PER_DRAW).
     pub per_draw: bool,
+    /// The tiler check (NOSTENCIL_FILLRATE_TILER): exit 1 on any flag.
+    pub tiler_check: bool,
 }
 
 pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOutputs) -> Result<()> {
@@ -74,6 +76,9 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
     let mut environment = layer_environment(|name| std::env::var_os(name), layer_dir.as_deref(), &result, frames);
     if outputs.per_draw {
         environment.push(("NOSTENCIL_FILLRATE_PER_DRAW".into(), "1".into()));
+    }
+    if outputs.tiler_check {
+        environment.push(("NOSTENCIL_FILLRATE_TILER".into(), "1".into()));
     }
 
     let mut child = std::process::Command::new(program);
@@ -146,10 +151,34 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
     if let (Some(budget), Some(path)) = (&budget, &outputs.budget) {
         check_budget(budget, path, &report, &worst)?;
     }
+    if outputs.tiler_check {
+        check_tiler(&report, program)?;
+    }
     match failure {
         Some(message) => Err(Error::InvalidInput(message)),
         None => Ok(()),
     }
+}
+
+/// The tiler check's flags on stderr (when the report went elsewhere than a table on stdout),
+/// then an error counting them.
+fn check_tiler(report: &FillrateReport, program: &str) -> Result<()> {
+    let Some(check) = &report.tiler_check else {
+        return Err(Error::InvalidInput(format!(
+            "the layer wrote no tiler check for '{program}': is the layer older than this nostencil?"
+        )));
+    };
+    if check.flags.is_empty() {
+        eprintln!("tiler check: no flag");
+        return Ok(());
+    }
+    eprint!("{}", crate::layer::output::tiler_lines(check));
+    let kinds: std::collections::BTreeSet<&str> = check.flags.iter().map(|f| f.kind.as_str()).collect();
+    Err(Error::InvalidInput(format!(
+        "{} tiler-check flag(s) for '{program}': {}",
+        check.flags.len(),
+        kinds.into_iter().collect::<Vec<_>>().join(", ")
+    )))
 }
 
 /// Every render pass over `budget` on stderr, then an error naming them all.

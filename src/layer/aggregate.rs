@@ -212,6 +212,7 @@ pub fn report_from_journal(text: &str, keep_all: bool) -> Option<FillrateReport>
         frames,
         aggregate: aggregate.rows(),
         run: None,
+        tiler_check: None,
     })
 }
 

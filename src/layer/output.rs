@@ -7,6 +7,7 @@ use std::path::Path;
 
 use super::config::OutputFormat;
 use super::report::{Counters, FillrateReport, RenderPassRow, SectionRow};
+use super::tiler_check::TilerReport;
 use crate::profile::text_table::aligned_lines;
 
 pub fn render(report: &FillrateReport, format: OutputFormat) -> String {
@@ -115,6 +116,39 @@ fn csv(report: &FillrateReport) -> String {
             for (what, counters) in lines {
                 let _ = writeln!(out, "{what},{},{label},,,,,,,{key},{counters},,{name}", agg.position);
             }
+        }
+    }
+    out
+}
+
+/// The tiler check's flags and poisoned attachments, one line each.
+pub fn tiler_lines(check: &TilerReport) -> String {
+    let mut out = String::new();
+    let name = |pass: u32, label: &Option<String>| match label {
+        Some(label) => format!("pass #{pass} '{label}'"),
+        None => format!("pass #{pass}"),
+    };
+    let _ = writeln!(out, "\ntiler check: {} flag(s)", check.flags.len());
+    for f in &check.flags {
+        let attachment = f.attachment.as_deref().map_or(String::new(), |a| format!(" {a}"));
+        let times = if f.count > 1 { format!(" (x{})", f.count) } else { String::new() };
+        let _ = writeln!(
+            out,
+            "  {}: frame {} {}{attachment}{times}: {}",
+            f.kind,
+            f.frame,
+            name(f.pass, &f.label),
+            f.detail
+        );
+    }
+    if let Some(why) = &check.reads_unknown {
+        let _ = writeln!(out, "  (reads not all seen: {why}; unread and dead-pass flags are not given)");
+    }
+    if !check.poisoned.is_empty() {
+        let _ = writeln!(out, "filled with the pattern (what a tiler would not keep):");
+        for p in &check.poisoned {
+            let read = p.read_by.as_deref().map_or("nothing read it".to_owned(), |r| format!("read by {r}"));
+            let _ = writeln!(out, "  {} {} {}: {read}", name(p.pass, &p.label), p.attachment, p.when);
         }
     }
     out
@@ -291,6 +325,9 @@ fn table(report: &FillrateReport) -> String {
             let _ = writeln!(out, "  #{}: {}", a.position, a.key);
         }
     }
+    if let Some(check) = &report.tiler_check {
+        out += &tiler_lines(check);
+    }
     if !report.not_measured.is_empty() {
         let _ = writeln!(out, "\nnot measured:");
         for n in &report.not_measured {
@@ -334,6 +371,7 @@ mod tests {
                 detail: "crashed with SIGSEGV after 1 measured frame".into(),
                 partial: true,
             }),
+            tiler_check: None,
         }
     }
 

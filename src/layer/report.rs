@@ -28,6 +28,10 @@ pub struct FillrateReport {
     /// How the program's run ended, when `profile-app` ran it (the layer itself leaves it out).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub run: Option<RunEnd>,
+    /// With `NOSTENCIL_FILLRATE_TILER=1` (`profile-app --tiler-check`): the load/store mistakes
+    /// found and the attachments filled with the pattern (tiler_check.rs).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tiler_check: Option<super::tiler_check::TilerReport>,
 }
 
 /// One line of the frame journal, `OUT.frames` beside the result file (written when
