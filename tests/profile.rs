@@ -559,3 +559,78 @@ fn bandwidth_estimates_match_hand_computed_figures_at_one_and_four_samples() {
          4x tiler {tiler_four} B immediate {immediate_four} B (ratio {immediate_ratio:.2})"
     );
 }
+
+/// The trace-event JSON's schema (ui.perfetto.dev and chrome://tracing open it): `traceEvents`,
+/// complete events (`ph` "X") with `ts` and `dur` in microseconds, counter events (`ph` "C"),
+/// process and thread names; every event has `pid` and `tid`.
+fn trace_events(path: &std::path::Path) -> Vec<serde_json::Value> {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let trace: serde_json::Value = serde_json::from_str(&text).expect("the trace is JSON");
+    let events = trace["traceEvents"].as_array().expect("traceEvents").clone();
+    for e in &events {
+        assert!(e["pid"].is_u64() && e["tid"].is_u64() && e["name"].is_string(), "{e}");
+        match e["ph"].as_str() {
+            Some("X") => assert!(
+                e["ts"].as_f64().is_some_and(|t| t >= 0.0) && e["dur"].as_f64().is_some_and(|d| d >= 0.0),
+                "{e}"
+            ),
+            Some("C") => assert!(e["ts"].is_number() && e["args"].is_object(), "{e}"),
+            Some("M") => assert!(["process_name", "thread_name"].contains(&e["name"].as_str().unwrap_or("")), "{e}"),
+            other => panic!("unexpected phase {other:?}: {e}"),
+        }
+    }
+    let named = |name: &str, tid: u64| events.iter().any(|e| e["ph"] == "M" && e["name"] == name && e["tid"] == tid);
+    assert!(named("process_name", 0) && named("thread_name", 1), "process and GPU track named");
+    events
+}
+
+/// `profile --trace`: one GPU slice per pass, its duration the report's GPU time in
+/// microseconds; the CPU's record, submit and wait on their own track; the frame's counters
+/// equal the report's totals. `bench --trace`: every frame it rendered, each with its CPU phases.
+#[test]
+fn the_trace_has_a_slice_per_pass_with_the_reports_gpu_times_and_its_counters() {
+    let dir = common::scratch_dir("profile_trace");
+    let path = dir.join("trace.json");
+    let path_arg = path.to_string_lossy().into_owned();
+    let args = ["profile", "--size", "96x64", "--technique", "shadow-volume", "--format", "json", "--trace", &path_arg];
+    let (stdout, _) = common::run_ok(&args);
+    let report: serde_json::Value = serde_json::from_str(&stdout).expect("JSON");
+    let events = trace_events(&path);
+    assert!(events.iter().any(|e| e["ph"] == "M" && e["name"] == "thread_name" && e["tid"] == 2), "CPU track named");
+    let gpu: Vec<&serde_json::Value> = events.iter().filter(|e| e["ph"] == "X" && e["tid"] == 1).collect();
+    let passes = report["passes"].as_array().expect("passes");
+    assert_eq!(gpu.len(), passes.len(), "one slice per pass");
+    for (slice, pass) in gpu.iter().zip(passes) {
+        assert_eq!(slice["name"], pass["name"]);
+        let (dur, ms) = (slice["dur"].as_f64().unwrap_or(-1.0), pass["gpu_ms"].as_f64().unwrap_or(-2.0));
+        assert!((dur - ms * 1e3).abs() < 1e-6 * dur.max(1.0), "{slice} against {pass}");
+    }
+    // Laid out from the timestamps: in order, none before the previous one began.
+    assert!(gpu.windows(2).all(|w| w[1]["ts"].as_f64() >= w[0]["ts"].as_f64()));
+    let cpu: Vec<&str> =
+        events.iter().filter(|e| e["ph"] == "X" && e["tid"] == 2).filter_map(|e| e["name"].as_str()).collect();
+    assert_eq!(cpu, ["record", "submit", "wait"]);
+    let counter = |name: &str, series: &str| {
+        let found = events.iter().find(|e| e["ph"] == "C" && e["name"] == name);
+        found.map(|e| e["args"][series].clone()).unwrap_or_else(|| panic!("counter {name}"))
+    };
+    let totals = &report["totals"];
+    assert_eq!(counter("samples", "samples passed"), totals["samples_passed"]);
+    assert_eq!(counter("bytes", "tiler"), totals["tiler_bytes"]);
+    assert_eq!(counter("bytes", "immediate-mode"), totals["immediate_bytes"]);
+    if totals["fragment_invocations"].is_u64() {
+        assert_eq!(counter("fragments", "fragments"), totals["fragment_invocations"]);
+    }
+
+    let bench_path = dir.join("bench.json");
+    let bench_arg = bench_path.to_string_lossy().into_owned();
+    let bench = ["bench", "--technique", "lit", "--size", "32x32", "--samples", "1", "--warmup", "1", "--runs", "2"];
+    let (stdout, _) = common::run_ok(&[&bench[..], &["--json", "--trace", &bench_arg]].concat());
+    let report: serde_json::Value = serde_json::from_str(&stdout).expect("bench JSON");
+    let variants = report["variants"].as_array().map_or(0, Vec::len);
+    let events = trace_events(&bench_path);
+    let waits = events.iter().filter(|e| e["ph"] == "X" && e["name"] == "wait").count();
+    assert_eq!(waits, variants * 3, "one frame per variant and round, the warm-up round too");
+    let samples = events.iter().filter(|e| e["ph"] == "C" && e["name"] == "samples").count();
+    assert_eq!(samples, waits, "counters per frame");
+}

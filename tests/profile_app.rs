@@ -530,3 +530,38 @@ fn the_tiler_check_flags_nothing_and_changes_no_pixel_of_programs_that_do_it_rig
     // Its depth is cleared and dropped each frame: poisoned after the pass, never read.
     assert!(check.poisoned.iter().all(|p| p.read_by.is_none()), "{:?}", check.poisoned);
 }
+
+/// `profile-app --trace`: the layer's measured passes, one GPU slice each with the report's GPU
+/// time, laid end to end; the frame's counters (samples, bytes) equal the report's.
+#[test]
+fn the_trace_of_an_applications_frames_has_the_reports_passes_and_counters() {
+    let dir = common::scratch_dir("profile_app_trace");
+    let (png, trace) = (dir.join("frame.png"), dir.join("trace.json"));
+    let (png_arg, trace_arg) = (png.to_string_lossy().into_owned(), trace.to_string_lossy().into_owned());
+    let frame = ["--technique", "outline", "--outline-blur", "2", "--size", "64x64", "--samples", "1"];
+    // --no-queries: the layer's queries alone, every render pass measured.
+    let program = [&[env!("CARGO_BIN_EXE_nostencil")], &render_args(&png_arg, &frame)[..], &["--no-queries"]].concat();
+    let (report, _) = profile_app(&dir, "report", &["--trace", &trace_arg], &program, &[], None);
+    let text = std::fs::read_to_string(&trace).expect("trace written");
+    let trace: serde_json::Value = serde_json::from_str(&text).expect("the trace is JSON");
+    let events = trace["traceEvents"].as_array().expect("traceEvents");
+    let slices: Vec<&serde_json::Value> = events.iter().filter(|e| e["ph"] == "X").collect();
+    let measured: Vec<f64> = report.frames[0].render_passes.iter().filter_map(|p| p.counters?.gpu_ms).collect();
+    assert!(measured.len() >= 4, "three prepasses and the frame: {measured:?}");
+    assert_eq!(slices.len(), measured.len());
+    let mut end = 0.0;
+    for (slice, ms) in slices.iter().zip(&measured) {
+        let (ts, dur) = (slice["ts"].as_f64().expect("ts"), slice["dur"].as_f64().expect("dur"));
+        assert!((dur - ms * 1e3).abs() < 1e-6 * dur.max(1.0), "{slice} against {ms} ms");
+        assert!((ts - end).abs() < 1e-6 * ts.max(1.0), "laid end to end: {slice}");
+        end = ts + dur;
+    }
+    let counters: Vec<_> = report.frames[0].render_passes.iter().filter_map(|p| p.counters).collect();
+    let samples: u64 = counters.iter().map(|c| c.samples_passed).sum();
+    let tiler: u64 = counters.iter().map(|c| c.tiler_bytes).sum();
+    let counter = |name: &str, series: &str| {
+        events.iter().find(|e| e["ph"] == "C" && e["name"] == name).map(|e| e["args"][series].clone())
+    };
+    assert_eq!(counter("samples", "samples passed"), Some(samples.into()));
+    assert_eq!(counter("bytes", "tiler"), Some(tiler.into()));
+}

@@ -43,6 +43,8 @@ pub struct AppOutputs {
     pub budget: Option<PathBuf>,
     pub record_budget: Option<PathBuf>,
     pub chart: Option<PathBuf>,
+    /// The measured frames on a timeline (Chrome trace-event JSON).
+    pub trace: Option<PathBuf>,
     /// The report goes here instead of stdout.
     pub out: Option<PathBuf>,
     /// Each draw counted on its own too (NOSTENCIL_FILLRATE_PER_DRAW).
@@ -66,7 +68,7 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
             return Err(Error::InvalidInput(format!("--seconds {seconds} is not a positive number of seconds")));
         }
     }
-    for path in [&outputs.record_budget, &outputs.chart, &outputs.out].into_iter().flatten() {
+    for path in [&outputs.record_budget, &outputs.chart, &outputs.trace, &outputs.out].into_iter().flatten() {
         check_output_path(path)?;
     }
     let budget = outputs.budget.as_deref().map(Budget::load).transpose()?;
@@ -134,6 +136,12 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
         let title = format!("{} on {} ({} frames)", report.application, report.device, report.frames_measured);
         let svg = crate::profile::chart::chart_rows_svg(&title, &chart_rows(&report));
         crate::frame::write_atomically(path, svg.as_bytes())?;
+        eprintln!("wrote {}", path.display());
+    }
+    if let Some(path) = &outputs.trace {
+        let mut trace = crate::profile::trace::Trace::new(&format!("{} (profile-app)", report.application), false);
+        trace.layer_frames(&report);
+        trace.write(path)?;
         eprintln!("wrote {}", path.display());
     }
     if let Some(path) = &outputs.record_budget {

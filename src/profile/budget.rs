@@ -247,6 +247,7 @@ mod tests {
             passes: vec![pass("scene", 64), pass("overlay", samples)],
             render_passes: Vec::new(),
             render_pass_instances: Vec::new(),
+            cpu: Default::default(),
         }
     }
 

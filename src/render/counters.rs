@@ -12,6 +12,7 @@ use serde::Serialize;
 use super::instances::{group_bandwidth, RenderPassInstance, RenderPassSums};
 use super::plan::DrawKind;
 use crate::frame::bandwidth::Bandwidth;
+use crate::gpu::commands::CpuPhases;
 use crate::frame::render_pass::RenderPassTraffic;
 use crate::gpu::queries::RawPassQueries;
 
@@ -76,6 +77,8 @@ pub struct FrameCounters {
     pub render_passes: Vec<RenderPassTraffic>,
     /// Every render pass instance the frame began, in submission order.
     pub render_pass_instances: Vec<RenderPassInstance>,
+    /// Where the CPU spent the frame's submission (recording, submit, wait).
+    pub cpu: CpuPhases,
 }
 
 impl FrameCounters {
@@ -228,6 +231,7 @@ mod tests {
             passes: vec![pass("shadow texture", 50), pass("scene", 400)],
             render_passes: vec![traffic("shadow texture", 1), traffic("frame", 4)],
             render_pass_instances: Vec::new(),
+            cpu: Default::default(),
         };
         let (prepass, scene) = (&counters.passes[0], &counters.passes[1]);
         assert_eq!((counters.pass_samples(prepass), counters.pass_samples(scene)), (1, 4));
