@@ -452,7 +452,9 @@ fn each_mistake_is_flagged_by_name_and_the_dont_care_load_shows_the_pattern() {
     assert_eq!(check.poisoned[0].read_by.as_deref(), Some("the pass's first draw (blending)"));
 
     // Pass #0's image: the magenta and green checkerboard of 16-pixel cells under the white.
-    let cell = nostencil::layer::poison::CELL as usize;
+    let area = vk::Rect2D { offset: vk::Offset2D::default(), extent: vk::Extent2D { width: SIZE, height: SIZE } };
+    let cell = nostencil::layer::poison::cell_size(area) as usize;
+    assert_eq!(cell, 16);
     for (i, pixel) in poisoned.chunks(4).enumerate() {
         let (x, y) = (i % SIZE as usize, i / SIZE as usize);
         let under = if (x / cell + y / cell) % 2 == 1 { [0, 255, 0] } else { [255, 0, 255] };

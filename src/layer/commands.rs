@@ -119,6 +119,7 @@ fn tiler_begin_render_pass(
     st: &mut DeviceState,
     cmd: vk::CommandBuffer,
     begin: &vk::RenderPassBeginInfo,
+    contents: vk::SubpassContents,
 ) -> Vec<PoisonClear> {
     if !device.config.tiler {
         return Vec::new();
@@ -134,7 +135,7 @@ fn tiler_begin_render_pass(
     let Some(data) = st.buffers.get_mut(&cmd) else { return Vec::new() };
     let label = data.recording.label_now();
     data.tiler.pass_began();
-    tiler_pass::begin(&mut data.tiler, label, plan)
+    tiler_pass::begin(&mut data.tiler, label, plan, contents == vk::SubpassContents::INLINE)
 }
 
 /// The views of an imageless framebuffer, from VkRenderPassAttachmentBeginInfo.
@@ -225,7 +226,7 @@ pub(super) unsafe extern "system" fn cmd_begin_render_pass(
         |d, st| {
             // SAFETY: the application's valid begin info.
             let begin = unsafe { &*begin };
-            let poison = tiler_begin_render_pass(d, st, cmd, begin);
+            let poison = tiler_begin_render_pass(d, st, cmd, begin, contents);
             let desc = pass_desc(st, "vkCmdBeginRenderPass", begin, contents);
             let (before, after) = begin_pass(d, st, cmd, desc);
             (before, after, poison)
@@ -251,7 +252,7 @@ unsafe fn begin_render_pass2_with(
         |d, st| {
             // SAFETY: the application's valid begin infos.
             let (begin, contents) = unsafe { (&*begin, (*subpass).contents) };
-            let poison = tiler_begin_render_pass(d, st, cmd, begin);
+            let poison = tiler_begin_render_pass(d, st, cmd, begin, contents);
             let desc = pass_desc(st, "vkCmdBeginRenderPass2", begin, contents);
             let (before, after) = begin_pass(d, st, cmd, desc);
             (before, after, poison)
@@ -285,6 +286,7 @@ fn next_subpass(
     let Some(data) = st.buffers.get_mut(&cmd) else { return Default::default() };
     // Only the first subpass's first draw is checked against the DONT_CARE loads.
     data.tiler.first_draw = None;
+    data.tiler.inline = contents == vk::SubpassContents::INLINE;
     data.recording.next_subpass(contents == vk::SubpassContents::SECONDARY_COMMAND_BUFFERS)
 }
 
@@ -424,7 +426,8 @@ unsafe fn begin_rendering_with(
                     Some(data) => {
                         let label = data.recording.label_now();
                         data.tiler.pass_began();
-                        tiler_pass::begin(&mut data.tiler, label, plan)
+                        let inline = !flags.contains(vk::RenderingFlags::CONTENTS_SECONDARY_COMMAND_BUFFERS);
+                        tiler_pass::begin(&mut data.tiler, label, plan, inline)
                     }
                     None => Vec::new(),
                 }

@@ -95,6 +95,8 @@ pub struct CommandTiler {
     pipeline: Option<vk::Pipeline>,
     pub first_draw: Option<FirstDraw>,
     pub end_poison: Vec<super::poison::PoisonClear>,
+    /// The current subpass's commands are recorded inline (not in secondary command buffers).
+    pub inline: bool,
 }
 
 impl CommandTiler {

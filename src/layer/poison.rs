@@ -1,13 +1,20 @@
 //! The tiler check's pattern: what a tile-based GPU would hand back for contents it was told it
-//! need not keep, made conspicuous. A magenta and green checkerboard of 16-pixel cells for
-//! colour (any channel the program reads is 0 or full), 0.0 and 1.0 cells for depth and 0x00 and
-//! 0xff cells for stencil, written with vkCmdClearAttachments inside the render pass (no image
-//! usage, layout or barrier of the program's changes).
+//! need not keep, made conspicuous. A magenta and green checkerboard for colour (any channel the
+//! program reads is 0 or full), 0.0 and 1.0 cells for depth and 0x00 and 0xff cells for stencil,
+//! written with vkCmdClearAttachments inside the render pass (no image usage, layout or barrier
+//! of the program's changes). Cells are 16 pixels, or an eighth of the area's shorter side when
+//! that is more (8 cells along the shorter side), so the clear's rects stay few: lavapipe clears
+//! them one by one.
 
 use ash::vk;
 
-/// Side of one checkerboard cell, in pixels.
+/// The smallest side of a checkerboard cell, in pixels.
 pub const CELL: u32 = 16;
+
+/// The side of the checkerboard's cells over `area`.
+pub fn cell_size(area: vk::Rect2D) -> u32 {
+    CELL.max(area.extent.width.min(area.extent.height) / 8)
+}
 
 /// The clear value family of a colour format (a clear value is read by the format's type).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -85,6 +92,7 @@ fn value(target: Target, odd: bool) -> vk::ClearAttachment {
 
 /// The checkerboard's odd cells inside `area`.
 fn odd_cells(area: vk::Rect2D) -> Vec<vk::ClearRect> {
+    let cell = cell_size(area);
     let (x0, y0) = (area.offset.x.max(0) as u32, area.offset.y.max(0) as u32);
     let (x1, y1) = (x0 + area.extent.width, y0 + area.extent.height);
     let mut rects = Vec::new();
@@ -92,19 +100,19 @@ fn odd_cells(area: vk::Rect2D) -> Vec<vk::ClearRect> {
     while y < y1 {
         let mut x = x0;
         while x < x1 {
-            if ((x - x0) / CELL + (y - y0) / CELL) % 2 == 1 {
+            if ((x - x0) / cell + (y - y0) / cell) % 2 == 1 {
                 rects.push(vk::ClearRect {
                     rect: vk::Rect2D {
                         offset: vk::Offset2D { x: x as i32, y: y as i32 },
-                        extent: vk::Extent2D { width: CELL.min(x1 - x), height: CELL.min(y1 - y) },
+                        extent: vk::Extent2D { width: cell.min(x1 - x), height: cell.min(y1 - y) },
                     },
                     base_array_layer: 0,
                     layer_count: 1,
                 });
             }
-            x += CELL;
+            x += cell;
         }
-        y += CELL;
+        y += cell;
     }
     rects
 }
@@ -148,5 +156,9 @@ mod tests {
         assert_eq!(ColourClass::of(vk::Format::R16_SINT), ColourClass::Sint);
         assert_eq!(ColourClass::of(vk::Format::B8G8R8A8_SRGB), ColourClass::Float);
         assert!(pattern(&[], area).is_empty());
+        // A large area: cells an eighth of its shorter side, 10 x 8 of them.
+        let large = vk::Rect2D { offset: vk::Offset2D::default(), extent: vk::Extent2D { width: 500, height: 400 } };
+        assert_eq!(cell_size(large), 50);
+        assert_eq!(pattern(&[Target::DepthStencil { aspects: vk::ImageAspectFlags::DEPTH }], large)[1].rects.len(), 40);
     }
 }

@@ -247,17 +247,36 @@ pub fn rendering_plan(
 }
 
 /// Notes the pass's begin in `buffer`'s events and keeps what its end and first draw need;
-/// returns the clears to record right after the application's begin call.
-pub fn begin(buffer: &mut CommandTiler, label: Option<String>, plan: PassPlan) -> Vec<PoisonClear> {
+/// returns the clears to record right after the application's begin call. `inline`: the first
+/// subpass's commands are recorded here, not in secondary command buffers (where the layer can
+/// neither clear nor see the draws).
+pub fn begin(buffer: &mut CommandTiler, label: Option<String>, mut plan: PassPlan, inline: bool) -> Vec<PoisonClear> {
+    if !inline {
+        plan.begin_poison.clear();
+        plan.attachments.iter_mut().for_each(|a| a.poisoned_before = false);
+    }
     buffer.events.push(Event::PassBegin { label, attachments: plan.attachments });
     buffer.end_poison = plan.end_poison;
-    buffer.first_draw = Some(plan.first_draw);
+    buffer.first_draw = inline.then_some(plan.first_draw);
+    buffer.inline = inline;
     plan.begin_poison
 }
 
-/// Notes the pass's end; returns the clears to record right before the application's end call.
+/// Notes the pass's end; returns the clears to record right before the application's end call
+/// (none when the last subpass runs secondary command buffers: a clear may not be recorded
+/// there).
 pub fn end(buffer: &mut CommandTiler) -> Vec<PoisonClear> {
     buffer.first_draw = None;
+    let poison = std::mem::take(&mut buffer.end_poison);
+    if !buffer.inline {
+        if let Some(Event::PassBegin { attachments, .. }) =
+            buffer.events.iter_mut().rev().find(|e| matches!(e, Event::PassBegin { .. }))
+        {
+            attachments.iter_mut().for_each(|a| a.poisoned_after = false);
+        }
+        buffer.events.push(Event::PassEnd);
+        return Vec::new();
+    }
     buffer.events.push(Event::PassEnd);
-    std::mem::take(&mut buffer.end_poison)
+    poison
 }
