@@ -131,8 +131,13 @@ fn budget_fails_on_a_costlier_pass_and_passes_on_the_recorded_frame() {
     let costly = stacked_fullscreen(&gpu, &[("scene", 1), ("overlay", 3)], false);
     let overruns = budget.check("test", "stack", "emulated", &costly.counters).expect("comparable");
     assert!(!overruns.is_empty());
-    assert!(overruns.iter().all(|o| o.pass == "overlay"), "{overruns:?}");
+    // ...and the frame's bytes on an immediate-mode GPU (every passing sample read and written);
+    // a tiler's stay: the overdraw never leaves tile memory.
+    let (frame, passes): (Vec<_>, Vec<_>) = overruns.iter().partition(|o| o.pass == "frame");
+    assert!(passes.iter().all(|o| o.pass == "overlay"), "{overruns:?}");
     assert!(overruns.iter().any(|o| o.counter == "samples passed" && o.actual == 3 * o.budget));
+    let counters: Vec<&str> = frame.iter().map(|o| o.counter).collect();
+    assert_eq!(counters, ["immediate-mode bytes per frame"], "{overruns:?}");
     // A 4x frame passes 4 times the samples: it is not compared with a 1x budget at all.
     let four = stacked_fullscreen_at(&gpu, &[("scene", 1), ("overlay", 1)], false, 4);
     let refused = budget.check("test", "stack", "emulated", &four.counters).expect_err("4x frame, 1x budget");
