@@ -494,7 +494,8 @@ fn per_draw_counts_sum_to_each_render_pass_exactly() {
 /// technique at 1 and 4 samples, gets no flag and writes the very PNG it writes without the
 /// layer (the pattern fills only what the frame never reads: the dropped depth, DONT_CARE loads
 /// that the frame overwrites whole); vkcube gets no flag either (its image is presented to a
-/// window, not written: it is not compared).
+/// window, not written: it is not compared), nor `nostencil view`, whose presented image (its
+/// screenshot) is the same with the check.
 #[test]
 fn the_tiler_check_flags_nothing_and_changes_no_pixel_of_programs_that_do_it_right() {
     let dir = common::scratch_dir("profile_app_tiler_check");
@@ -529,6 +530,29 @@ fn the_tiler_check_flags_nothing_and_changes_no_pixel_of_programs_that_do_it_rig
     assert!(check.flags.is_empty(), "vkcube: {:#?}", check.flags);
     // Its depth is cleared and dropped each frame: poisoned after the pass, never read.
     assert!(check.poisoned.iter().all(|p| p.read_by.is_none()), "{:?}", check.poisoned);
+
+    // A presenting program whose presented image can be compared: `nostencil view`'s screenshot
+    // is a copy of the swapchain image it presents.
+    let shot = |kind: &str| dir.join(format!("view-{kind}.png"));
+    let (plain_shot, checked_shot) = (shot("plain"), shot("checked"));
+    let view = |png: &PathBuf| {
+        let png = png.to_string_lossy().into_owned();
+        ["view", "--frames", "3", "--size", "64x64", "--paused", "--screenshot"]
+            .map(str::to_owned)
+            .into_iter()
+            .chain([png])
+    };
+    let plain_args: Vec<String> = view(&plain_shot).collect();
+    let plain_args: Vec<&str> = plain_args.iter().map(String::as_str).collect();
+    common::assert_success("view without the layer", &run_nostencil(&dir, "view-plain", &plain_args, &[], Some(&x)));
+    let checked_args: Vec<String> = view(&checked_shot).collect();
+    let program: Vec<&str> =
+        [env!("CARGO_BIN_EXE_nostencil")].into_iter().chain(checked_args.iter().map(String::as_str)).collect();
+    let (report, _) = profile_app(&dir, "view", &["--tiler-check"], &program, &[], Some(&x));
+    let check = report.tiler_check.expect("view's tiler check");
+    assert!(check.flags.is_empty(), "view: {:#?}", check.flags);
+    let bytes = |p: &PathBuf| std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+    assert!(bytes(&plain_shot) == bytes(&checked_shot), "the tiler check changed view's presented image");
 }
 
 /// `profile-app --trace`: the layer's measured passes, one GPU slice each with the report's GPU
