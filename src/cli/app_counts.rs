@@ -1,11 +1,13 @@
 //! An application's render passes, as the fill-rate layer measured them, turned into what
-//! `profile`'s budgets and charts take: one entry per position in the frame, named by position
-//! and debug label.
+//! `profile`'s budgets, charts and traces take: one entry per position in the frame, named by
+//! position and debug label.
 
 use crate::frame::bandwidth::Bandwidth;
 use crate::layer::report::{AggregateRow, FillrateReport};
 use crate::profile::budget::PassBudget;
 use crate::profile::chart::ChartRow;
+use crate::profile::trace::{Trace, GPU_TID};
+use serde_json::json;
 
 /// "render pass #2", or "render pass #2 'shadows'" when the application labelled it: what a
 /// budget matches, so the same pass matches at another window size.
@@ -61,6 +63,37 @@ pub fn worst_frame_bandwidth(report: &FillrateReport) -> Bandwidth {
         tiler_bytes: worst.tiler_bytes.max(frame.tiler_bytes),
         immediate_bytes: worst.immediate_bytes.max(frame.immediate_bytes),
     })
+}
+
+/// The layer's kept frames on `trace`'s timeline (`profile-app --trace`): each measured pass's GPU time laid end to end, frame after
+/// frame (the layer keeps each pass's duration, not its place on the GPU's clock).
+pub fn trace_frames(trace: &mut Trace, report: &FillrateReport) {
+    let mut cursor = 0.0;
+    for frame in &report.frames {
+        let measured: Vec<_> = frame.render_passes.iter().filter_map(|p| Some((p, p.counters?))).collect();
+        let fragments = measured.iter().map(|(_, c)| c.fragment_invocations).sum::<Option<u64>>();
+        let samples = measured.iter().map(|(_, c)| c.samples_passed).sum();
+        let bytes = measured.iter().map(|(_, c)| c.bandwidth()).sum();
+        trace.counters(cursor, frame.index, fragments, samples, bytes);
+        for (pass, counters) in measured {
+            let Some(ms) = counters.gpu_ms else { continue };
+            let name = match &pass.label {
+                Some(label) => format!("#{} {label}", pass.index),
+                None => format!("#{}", pass.index),
+            };
+            let args = json!({
+                "frame": frame.index,
+                "area": format!("{}x{}x{}", pass.render_area.width, pass.render_area.height, pass.samples),
+                "draws": counters.draws,
+                "samples passed": counters.samples_passed,
+                "fragments": counters.fragment_invocations,
+                "tiler bytes": counters.tiler_bytes,
+                "immediate-mode bytes": counters.immediate_bytes,
+            });
+            trace.slice(GPU_TID, &name, "gpu", cursor, ms * 1e3, args);
+            cursor += ms * 1e3;
+        }
+    }
 }
 
 /// The "WxH" an aggregate key starts with.

@@ -5,7 +5,9 @@
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
-use super::app_counts::{chart_rows, largest_area, worst_frame_bandwidth, worst_per_position, PositionCounts};
+use super::app_counts::{
+    chart_rows, largest_area, trace_frames, worst_frame_bandwidth, worst_per_position, PositionCounts,
+};
 use super::install::{InstallPaths, HOW_TO_INSTALL};
 use super::output_path::check_output_path;
 use super::supervise::{self, Stop};
@@ -140,7 +142,7 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
     }
     if let Some(path) = &outputs.trace {
         let mut trace = crate::profile::trace::Trace::new(&format!("{} (profile-app)", report.application), false);
-        trace.layer_frames(&report);
+        trace_frames(&mut trace, &report);
         trace.write(path)?;
         eprintln!("wrote {}", path.display());
     }

@@ -105,8 +105,8 @@ fn hook(name: &str, tiler: bool) -> vk::PFN_vkVoidFunction {
     device_hook(name).or_else(|| if tiler { tiler_hook(name) } else { None })
 }
 
-/// The tiler check's hooks (image_use.rs): they pass every call on, noting it only when the
-/// check is on.
+/// The tiler check's hooks (image_use.rs), handed out only when the check is on: each notes
+/// what it needs and passes the call on.
 fn tiler_hook(name: &str) -> vk::PFN_vkVoidFunction {
     match name {
         "vkCreateFramebuffer" => void_fn!(t::create_framebuffer, vk::PFN_vkCreateFramebuffer),

@@ -27,3 +27,4 @@ pub mod slots;
 pub mod state;
 pub mod tiler_check;
 pub mod tiler_pass;
+pub mod tiler_state;

@@ -137,7 +137,7 @@ pub(super) unsafe extern "system" fn create_image(
             let (info, handle) = unsafe { (&*info, *image) };
             let mut st = dev.state();
             st.image_samples.insert(handle, info.samples.as_raw().max(1));
-            let tiler = super::image_use::TilerImage {
+            let tiler = super::tiler_state::TilerImage {
                 transient: info.usage.contains(vk::ImageUsageFlags::TRANSIENT_ATTACHMENT),
                 extent: (info.extent.width, info.extent.height),
                 single: info.mip_levels == 1 && info.array_layers == 1,
@@ -186,7 +186,7 @@ pub(super) unsafe extern "system" fn create_image_view(
                 mip: range.base_mip_level,
                 layer: range.base_array_layer,
             };
-            st.tiler.views.insert(handle, super::image_use::ViewTarget { image, key });
+            st.tiler.views.insert(handle, super::tiler_state::ViewTarget { image, key });
             // Swapchain images are not created through vkCreateImage: one sample.
             let samples = st.image_samples.get(&image).copied().unwrap_or(1);
             st.views.insert(handle, (format, samples));

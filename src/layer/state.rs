@@ -179,8 +179,8 @@ pub struct DeviceInfo {
 pub struct CommandBufferData {
     pub pool: vk::CommandPool,
     pub recording: Recording,
-    /// The tiler check's events and bindings (image_use.rs).
-    pub tiler: super::image_use::CommandTiler,
+    /// The tiler check's events and bindings (tiler_state.rs).
+    pub tiler: super::tiler_state::CommandTiler,
 }
 
 /// One command buffer's measured passes in one submission, waiting to be read back.
@@ -228,8 +228,8 @@ pub struct DeviceState {
     /// Frames appended to the journal (report.rs, `JournalLine`), and the open journal.
     pub journaled: u64,
     pub journal: Option<std::fs::File>,
-    /// The tiler check's objects and verdicts (image_use.rs, tiler_check.rs).
-    pub tiler: super::image_use::TilerState,
+    /// The tiler check's objects and verdicts (tiler_state.rs, tiler_check.rs).
+    pub tiler: super::tiler_state::TilerState,
 }
 
 impl DeviceState {

@@ -11,7 +11,7 @@
 use ash::vk;
 
 use super::attachments::{has_depth, AttachmentInfo, RenderPassInfo, SubpassUses};
-use super::image_use::{CommandTiler, FirstDraw, TilerState};
+use super::tiler_state::{CommandTiler, FirstDraw, TilerState};
 use super::poison::{pattern, ColourClass, PoisonClear, Target};
 use super::tiler_check::{Event, Load, PassAttachment, Store};
 use crate::frame::render_pass::format_has_stencil;

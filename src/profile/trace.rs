@@ -7,7 +7,8 @@
 //!
 //! The GPU's and the CPU's clocks are not calibrated against each other: a frame's passes start
 //! where its submit ended on the CPU track (nostencil's frames) or right after the previous
-//! frame's passes (an application's, whose CPU side the layer does not time).
+//! frame's passes (an application's, whose CPU side the layer does not time: cli/app_counts.rs
+//! lays those out).
 
 use std::path::Path;
 
@@ -16,7 +17,6 @@ use serde_json::{json, Value};
 
 use crate::error::{Error, Result};
 use crate::frame::bandwidth::Bandwidth;
-use crate::layer::report::FillrateReport;
 use crate::render::FrameCounters;
 
 pub const PID: u32 = 1;
@@ -71,12 +71,13 @@ impl Trace {
         Trace { trace_events, display_time_unit: "ms" }
     }
 
-    fn slice(&mut self, tid: u32, name: &str, cat: &'static str, ts: f64, dur: f64, args: Value) {
+    /// A complete event on track `tid`: `ts` and `dur` in microseconds.
+    pub fn slice(&mut self, tid: u32, name: &str, cat: &'static str, ts: f64, dur: f64, args: Value) {
         self.trace_events.push(TraceEvent { name: name.into(), cat: Some(cat), ph: "X", pid: PID, tid, ts, dur: Some(dur), args });
     }
 
     /// The frame's counters at `ts`: one counter track each for fragments, samples and bytes.
-    fn counters(&mut self, ts: f64, frame: u64, fragments: Option<u64>, samples: u64, bytes: Bandwidth) {
+    pub fn counters(&mut self, ts: f64, frame: u64, fragments: Option<u64>, samples: u64, bytes: Bandwidth) {
         let counter = |name: &str, args: Value| TraceEvent {
             name: name.into(),
             cat: Some("frame"),
@@ -123,37 +124,6 @@ impl Trace {
         let fragments = counters.total_fragment_invocations();
         self.counters(start, frame, fragments, counters.total_samples_passed(), counters.bandwidth());
         end
-    }
-
-    /// The layer's kept frames: each measured pass's GPU time laid end to end, frame after
-    /// frame (the layer keeps each pass's duration, not its place on the GPU's clock).
-    pub fn layer_frames(&mut self, report: &FillrateReport) {
-        let mut cursor = 0.0;
-        for frame in &report.frames {
-            let measured: Vec<_> = frame.render_passes.iter().filter_map(|p| Some((p, p.counters?))).collect();
-            let fragments = measured.iter().map(|(_, c)| c.fragment_invocations).sum::<Option<u64>>();
-            let samples = measured.iter().map(|(_, c)| c.samples_passed).sum();
-            let bytes = measured.iter().map(|(_, c)| c.bandwidth()).sum();
-            self.counters(cursor, frame.index, fragments, samples, bytes);
-            for (pass, counters) in measured {
-                let Some(ms) = counters.gpu_ms else { continue };
-                let name = match &pass.label {
-                    Some(label) => format!("#{} {label}", pass.index),
-                    None => format!("#{}", pass.index),
-                };
-                let args = json!({
-                    "frame": frame.index,
-                    "area": format!("{}x{}x{}", pass.render_area.width, pass.render_area.height, pass.samples),
-                    "draws": counters.draws,
-                    "samples passed": counters.samples_passed,
-                    "fragments": counters.fragment_invocations,
-                    "tiler bytes": counters.tiler_bytes,
-                    "immediate-mode bytes": counters.immediate_bytes,
-                });
-                self.slice(GPU_TID, &name, "gpu", cursor, ms * 1e3, args);
-                cursor += ms * 1e3;
-            }
-        }
     }
 
     /// Written through a temporary file and a rename, like every output.
