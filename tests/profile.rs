@@ -131,8 +131,13 @@ fn budget_fails_on_a_costlier_pass_and_passes_on_the_recorded_frame() {
     let costly = stacked_fullscreen(&gpu, &[("scene", 1), ("overlay", 3)], false);
     let overruns = budget.check("test", "stack", "emulated", &costly.counters).expect("comparable");
     assert!(!overruns.is_empty());
-    assert!(overruns.iter().all(|o| o.pass == "overlay"), "{overruns:?}");
+    // ...and the frame's bytes on an immediate-mode GPU (every passing sample read and written);
+    // a tiler's stay: the overdraw never leaves tile memory.
+    let (frame, passes): (Vec<_>, Vec<_>) = overruns.iter().partition(|o| o.pass == "frame");
+    assert!(passes.iter().all(|o| o.pass == "overlay"), "{overruns:?}");
     assert!(overruns.iter().any(|o| o.counter == "samples passed" && o.actual == 3 * o.budget));
+    let counters: Vec<&str> = frame.iter().map(|o| o.counter).collect();
+    assert_eq!(counters, ["immediate-mode bytes per frame"], "{overruns:?}");
     // A 4x frame passes 4 times the samples: it is not compared with a 1x budget at all.
     let four = stacked_fullscreen_at(&gpu, &[("scene", 1), ("overlay", 1)], false, 4);
     let refused = budget.check("test", "stack", "emulated", &four.counters).expect_err("4x frame, 1x budget");
@@ -507,4 +512,130 @@ fn heat_map_at_four_samples_is_the_per_pixel_mean_of_the_samples() {
         assert!(summed > 96 * 64 / 2, "{name}: only {summed} in 96x64");
     }
     common::assert_no_validation_messages(&gpu);
+}
+
+/// The bandwidth estimates (frame/bandwidth.rs, after Mesa turnip) of one frame at 1 and 4
+/// samples, against figures computed here by hand from the attachments and the samples passed:
+/// on a tiler the 4x frame moves what the 1x one does (its samples stay in tile memory; only
+/// the resolve is stored), on an immediate-mode GPU about 4x as much.
+#[test]
+fn bandwidth_estimates_match_hand_computed_figures_at_one_and_four_samples() {
+    let (width, height) = (96u64, 64u64);
+    let pixels = width * height;
+    let frame = |samples: &str| -> serde_json::Value {
+        let args = ["profile", "--size", "96x64", "--samples", samples, "--technique", "shadow-volume"];
+        let (stdout, _) = common::run_ok(&[&args[..], &["--format", "json"]].concat());
+        serde_json::from_str(&stdout).expect("JSON")
+    };
+    let (one, four) = (frame("1"), frame("4"));
+    let depth_bytes = |report: &serde_json::Value| match report["frame_formats"]["depth"].as_str() {
+        Some("D16_UNORM") => 2,
+        Some("D32_SFLOAT" | "X8_D24_UNORM_PACK32" | "D24_UNORM_S8_UINT") => 4,
+        Some("D32_SFLOAT_S8_UINT") => 5,
+        other => panic!("depth format {other:?}"),
+    };
+    let u64_of = |v: &serde_json::Value| v.as_u64().unwrap_or_else(|| panic!("not a number: {v}"));
+    for report in [&one, &four] {
+        assert_eq!(report["render_passes"].as_array().map(Vec::len), Some(1), "one render pass: {report}");
+    }
+    let colour = 4u64; // R8G8B8A8_SRGB
+                       // 1x: colour cleared and stored, depth cleared and dropped; every passing sample reads and
+                       // writes the colour and the depth.
+    let (depth, samples_one) = (depth_bytes(&one), u64_of(&one["totals"]["samples_passed"]));
+    let tiler_one = pixels * colour;
+    let immediate_one = pixels * (colour + depth) + samples_one * 2 * (colour + depth);
+    assert_eq!(u64_of(&one["totals"]["tiler_bytes"]), tiler_one);
+    assert_eq!(u64_of(&one["totals"]["immediate_bytes"]), immediate_one);
+    // 4x: both cleared at 4 samples and dropped; the colour resolved (4 samples read, 1 written)
+    // into the one-sample target, the only store.
+    let samples_four = u64_of(&four["totals"]["samples_passed"]);
+    let tiler_four = pixels * colour;
+    let immediate_four = pixels * 4 * (colour + depth) + pixels * colour * 5 + samples_four * 2 * (colour + depth);
+    assert_eq!(u64_of(&four["totals"]["tiler_bytes"]), tiler_four);
+    assert_eq!(u64_of(&four["totals"]["immediate_bytes"]), immediate_four);
+    // The render pass's own figures are the frame's (one render pass).
+    assert_eq!(u64_of(&four["render_pass_sums"][0]["immediate_bytes"]), immediate_four);
+    let tiler_ratio = tiler_four as f64 / tiler_one as f64;
+    let immediate_ratio = immediate_four as f64 / immediate_one as f64;
+    assert!((tiler_ratio - 1.0).abs() < 0.03, "tiler 4x / 1x = {tiler_ratio}");
+    assert!((3.5..=5.0).contains(&immediate_ratio), "immediate 4x / 1x = {immediate_ratio}");
+    eprintln!(
+        "bandwidth 96x64 shadow-volume: 1x tiler {tiler_one} B immediate {immediate_one} B; \
+         4x tiler {tiler_four} B immediate {immediate_four} B (ratio {immediate_ratio:.2})"
+    );
+}
+
+/// The trace-event JSON's schema (ui.perfetto.dev and chrome://tracing open it): `traceEvents`,
+/// complete events (`ph` "X") with `ts` and `dur` in microseconds, counter events (`ph` "C"),
+/// process and thread names; every event has `pid` and `tid`.
+fn trace_events(path: &std::path::Path) -> Vec<serde_json::Value> {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let trace: serde_json::Value = serde_json::from_str(&text).expect("the trace is JSON");
+    let events = trace["traceEvents"].as_array().expect("traceEvents").clone();
+    for e in &events {
+        assert!(e["pid"].is_u64() && e["tid"].is_u64() && e["name"].is_string(), "{e}");
+        match e["ph"].as_str() {
+            Some("X") => assert!(
+                e["ts"].as_f64().is_some_and(|t| t >= 0.0) && e["dur"].as_f64().is_some_and(|d| d >= 0.0),
+                "{e}"
+            ),
+            Some("C") => assert!(e["ts"].is_number() && e["args"].is_object(), "{e}"),
+            Some("M") => assert!(["process_name", "thread_name"].contains(&e["name"].as_str().unwrap_or("")), "{e}"),
+            other => panic!("unexpected phase {other:?}: {e}"),
+        }
+    }
+    let named = |name: &str, tid: u64| events.iter().any(|e| e["ph"] == "M" && e["name"] == name && e["tid"] == tid);
+    assert!(named("process_name", 0) && named("thread_name", 1), "process and GPU track named");
+    events
+}
+
+/// `profile --trace`: one GPU slice per pass, its duration the report's GPU time in
+/// microseconds; the CPU's record, submit and wait on their own track; the frame's counters
+/// equal the report's totals. `bench --trace`: every frame it rendered, each with its CPU phases.
+#[test]
+fn the_trace_has_a_slice_per_pass_with_the_reports_gpu_times_and_its_counters() {
+    let dir = common::scratch_dir("profile_trace");
+    let path = dir.join("trace.json");
+    let path_arg = path.to_string_lossy().into_owned();
+    let args = ["profile", "--size", "96x64", "--technique", "shadow-volume", "--format", "json", "--trace", &path_arg];
+    let (stdout, _) = common::run_ok(&args);
+    let report: serde_json::Value = serde_json::from_str(&stdout).expect("JSON");
+    let events = trace_events(&path);
+    assert!(events.iter().any(|e| e["ph"] == "M" && e["name"] == "thread_name" && e["tid"] == 2), "CPU track named");
+    let gpu: Vec<&serde_json::Value> = events.iter().filter(|e| e["ph"] == "X" && e["tid"] == 1).collect();
+    let passes = report["passes"].as_array().expect("passes");
+    assert_eq!(gpu.len(), passes.len(), "one slice per pass");
+    for (slice, pass) in gpu.iter().zip(passes) {
+        assert_eq!(slice["name"], pass["name"]);
+        let (dur, ms) = (slice["dur"].as_f64().unwrap_or(-1.0), pass["gpu_ms"].as_f64().unwrap_or(-2.0));
+        assert!((dur - ms * 1e3).abs() < 1e-6 * dur.max(1.0), "{slice} against {pass}");
+    }
+    // Laid out from the timestamps: in order, none before the previous one began.
+    assert!(gpu.windows(2).all(|w| w[1]["ts"].as_f64() >= w[0]["ts"].as_f64()));
+    let cpu: Vec<&str> =
+        events.iter().filter(|e| e["ph"] == "X" && e["tid"] == 2).filter_map(|e| e["name"].as_str()).collect();
+    assert_eq!(cpu, ["record", "submit", "wait"]);
+    let counter = |name: &str, series: &str| {
+        let found = events.iter().find(|e| e["ph"] == "C" && e["name"] == name);
+        found.map(|e| e["args"][series].clone()).unwrap_or_else(|| panic!("counter {name}"))
+    };
+    let totals = &report["totals"];
+    assert_eq!(counter("samples", "samples passed"), totals["samples_passed"]);
+    assert_eq!(counter("bytes", "tiler"), totals["tiler_bytes"]);
+    assert_eq!(counter("bytes", "immediate-mode"), totals["immediate_bytes"]);
+    if totals["fragment_invocations"].is_u64() {
+        assert_eq!(counter("fragments", "fragments"), totals["fragment_invocations"]);
+    }
+
+    let bench_path = dir.join("bench.json");
+    let bench_arg = bench_path.to_string_lossy().into_owned();
+    let bench = ["bench", "--technique", "lit", "--size", "32x32", "--samples", "1", "--warmup", "1", "--runs", "2"];
+    let (stdout, _) = common::run_ok(&[&bench[..], &["--json", "--trace", &bench_arg]].concat());
+    let report: serde_json::Value = serde_json::from_str(&stdout).expect("bench JSON");
+    let variants = report["variants"].as_array().map_or(0, Vec::len);
+    let events = trace_events(&bench_path);
+    let waits = events.iter().filter(|e| e["ph"] == "X" && e["name"] == "wait").count();
+    assert_eq!(waits, variants * 3, "one frame per variant and round, the warm-up round too");
+    let samples = events.iter().filter(|e| e["ph"] == "C" && e["name"] == "samples").count();
+    assert_eq!(samples, waits, "counters per frame");
 }

@@ -489,3 +489,103 @@ fn per_draw_counts_sum_to_each_render_pass_exactly() {
     let (plain, _) = profile_app(&dir, "plain", &[], &program, &[], None);
     assert!(plain.frames.iter().flat_map(|f| &f.render_passes).all(|r| r.per_draw.is_empty()));
 }
+
+/// `profile-app --tiler-check` on programs that do it right: `nostencil render`, every
+/// technique at 1 and 4 samples, gets no flag and writes the very PNG it writes without the
+/// layer (the pattern fills only what the frame never reads: the dropped depth, DONT_CARE loads
+/// that the frame overwrites whole); vkcube gets no flag either (its image is presented to a
+/// window, not written: it is not compared), nor `nostencil view`, whose presented image (its
+/// screenshot) is the same with the check.
+#[test]
+fn the_tiler_check_flags_nothing_and_changes_no_pixel_of_programs_that_do_it_right() {
+    let dir = common::scratch_dir("profile_app_tiler_check");
+    let mut poisoned = 0;
+    for technique in nostencil::technique::registry::names() {
+        for samples in ["1", "4"] {
+            let name = format!("{technique}-{samples}");
+            let png = |kind: &str| dir.join(format!("{name}-{kind}.png"));
+            let (plain_png, checked_png) = (png("plain"), png("checked"));
+            let (plain_arg, checked_arg) = (plain_png.to_string_lossy(), checked_png.to_string_lossy());
+            let frame = ["--technique", technique, "--samples", samples, "--size", "64x64"];
+            let plain = run_nostencil(&dir, &format!("{name}-plain"), &render_args(&plain_arg, &frame), &[], None);
+            common::assert_success("render without the layer", &plain);
+            let program = [&[env!("CARGO_BIN_EXE_nostencil")], &render_args(&checked_arg, &frame)[..]].concat();
+            let (report, output) =
+                profile_app(&dir, &format!("{name}-checked"), &["--tiler-check"], &program, &[], None);
+            let check = report.tiler_check.as_ref().unwrap_or_else(|| panic!("{name}: no tiler check in the report"));
+            assert!(check.flags.is_empty(), "{name}: {:#?}", check.flags);
+            assert!(text(&output.stderr).contains("tiler check: no flag"), "{name}");
+            let bytes = |p: &PathBuf| std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+            assert!(bytes(&plain_png) == bytes(&checked_png), "{name}: the tiler check changed the PNG");
+            poisoned += check.poisoned.len();
+        }
+    }
+    assert!(poisoned > 0, "the frames drop their depth: something was poisoned");
+
+    let x = start_x_server();
+    let program = vkcube_args(8, Some((128, 128)));
+    let program: Vec<&str> = program.iter().map(String::as_str).collect();
+    let (report, _) = profile_app(&dir, "vkcube", &["--frames", "5", "--tiler-check"], &program, &[], Some(&x));
+    let check = report.tiler_check.expect("vkcube's tiler check");
+    assert!(check.flags.is_empty(), "vkcube: {:#?}", check.flags);
+    // Its depth is cleared and dropped each frame: poisoned after the pass, never read.
+    assert!(check.poisoned.iter().all(|p| p.read_by.is_none()), "{:?}", check.poisoned);
+
+    // A presenting program whose presented image can be compared: `nostencil view`'s screenshot
+    // is a copy of the swapchain image it presents.
+    let shot = |kind: &str| dir.join(format!("view-{kind}.png"));
+    let (plain_shot, checked_shot) = (shot("plain"), shot("checked"));
+    let view = |png: &PathBuf| {
+        let png = png.to_string_lossy().into_owned();
+        ["view", "--frames", "3", "--size", "64x64", "--paused", "--screenshot"]
+            .map(str::to_owned)
+            .into_iter()
+            .chain([png])
+    };
+    let plain_args: Vec<String> = view(&plain_shot).collect();
+    let plain_args: Vec<&str> = plain_args.iter().map(String::as_str).collect();
+    common::assert_success("view without the layer", &run_nostencil(&dir, "view-plain", &plain_args, &[], Some(&x)));
+    let checked_args: Vec<String> = view(&checked_shot).collect();
+    let program: Vec<&str> =
+        [env!("CARGO_BIN_EXE_nostencil")].into_iter().chain(checked_args.iter().map(String::as_str)).collect();
+    let (report, _) = profile_app(&dir, "view", &["--tiler-check"], &program, &[], Some(&x));
+    let check = report.tiler_check.expect("view's tiler check");
+    assert!(check.flags.is_empty(), "view: {:#?}", check.flags);
+    let bytes = |p: &PathBuf| std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+    assert!(bytes(&plain_shot) == bytes(&checked_shot), "the tiler check changed view's presented image");
+}
+
+/// `profile-app --trace`: the layer's measured passes, one GPU slice each with the report's GPU
+/// time, laid end to end; the frame's counters (samples, bytes) equal the report's.
+#[test]
+fn the_trace_of_an_applications_frames_has_the_reports_passes_and_counters() {
+    let dir = common::scratch_dir("profile_app_trace");
+    let (png, trace) = (dir.join("frame.png"), dir.join("trace.json"));
+    let (png_arg, trace_arg) = (png.to_string_lossy().into_owned(), trace.to_string_lossy().into_owned());
+    let frame = ["--technique", "outline", "--outline-blur", "2", "--size", "64x64", "--samples", "1"];
+    // --no-queries: the layer's queries alone, every render pass measured.
+    let program = [&[env!("CARGO_BIN_EXE_nostencil")], &render_args(&png_arg, &frame)[..], &["--no-queries"]].concat();
+    let (report, _) = profile_app(&dir, "report", &["--trace", &trace_arg], &program, &[], None);
+    let text = std::fs::read_to_string(&trace).expect("trace written");
+    let trace: serde_json::Value = serde_json::from_str(&text).expect("the trace is JSON");
+    let events = trace["traceEvents"].as_array().expect("traceEvents");
+    let slices: Vec<&serde_json::Value> = events.iter().filter(|e| e["ph"] == "X").collect();
+    let measured: Vec<f64> = report.frames[0].render_passes.iter().filter_map(|p| p.counters?.gpu_ms).collect();
+    assert!(measured.len() >= 4, "three prepasses and the frame: {measured:?}");
+    assert_eq!(slices.len(), measured.len());
+    let mut end = 0.0;
+    for (slice, ms) in slices.iter().zip(&measured) {
+        let (ts, dur) = (slice["ts"].as_f64().expect("ts"), slice["dur"].as_f64().expect("dur"));
+        assert!((dur - ms * 1e3).abs() < 1e-6 * dur.max(1.0), "{slice} against {ms} ms");
+        assert!((ts - end).abs() < 1e-6 * ts.max(1.0), "laid end to end: {slice}");
+        end = ts + dur;
+    }
+    let counters: Vec<_> = report.frames[0].render_passes.iter().filter_map(|p| p.counters).collect();
+    let samples: u64 = counters.iter().map(|c| c.samples_passed).sum();
+    let tiler: u64 = counters.iter().map(|c| c.tiler_bytes).sum();
+    let counter = |name: &str, series: &str| {
+        events.iter().find(|e| e["ph"] == "C" && e["name"] == name).map(|e| e["args"][series].clone())
+    };
+    assert_eq!(counter("samples", "samples passed"), Some(samples.into()));
+    assert_eq!(counter("bytes", "tiler"), Some(tiler.into()));
+}

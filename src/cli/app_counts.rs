@@ -1,10 +1,13 @@
 //! An application's render passes, as the fill-rate layer measured them, turned into what
-//! `profile`'s budgets and charts take: one entry per position in the frame, named by position
-//! and debug label.
+//! `profile`'s budgets, charts and traces take: one entry per position in the frame, named by
+//! position and debug label.
 
+use crate::frame::bandwidth::Bandwidth;
 use crate::layer::report::{AggregateRow, FillrateReport};
 use crate::profile::budget::PassBudget;
 use crate::profile::chart::ChartRow;
+use crate::profile::trace::{Trace, GPU_TID};
+use serde_json::json;
 
 /// "render pass #2", or "render pass #2 'shadows'" when the application labelled it: what a
 /// budget matches, so the same pass matches at another window size.
@@ -52,6 +55,47 @@ pub fn worst_per_position(report: &FillrateReport) -> Vec<PositionCounts> {
         .collect()
 }
 
+/// The most bytes one kept frame moved, on a tiler and on an immediate-mode GPU (each its own
+/// worst frame): what a budget holds per frame.
+pub fn worst_frame_bandwidth(report: &FillrateReport) -> Bandwidth {
+    let frames = report.frames.iter().map(|f| f.render_passes.iter().filter_map(|p| p.counters).map(|c| c.bandwidth()));
+    frames.map(|passes| passes.sum::<Bandwidth>()).fold(Bandwidth::default(), |worst, frame| Bandwidth {
+        tiler_bytes: worst.tiler_bytes.max(frame.tiler_bytes),
+        immediate_bytes: worst.immediate_bytes.max(frame.immediate_bytes),
+    })
+}
+
+/// The layer's kept frames on `trace`'s timeline (`profile-app --trace`): each measured pass's GPU time laid end to end, frame after
+/// frame (the layer keeps each pass's duration, not its place on the GPU's clock).
+pub fn trace_frames(trace: &mut Trace, report: &FillrateReport) {
+    let mut cursor = 0.0;
+    for frame in &report.frames {
+        let measured: Vec<_> = frame.render_passes.iter().filter_map(|p| Some((p, p.counters?))).collect();
+        let fragments = measured.iter().map(|(_, c)| c.fragment_invocations).sum::<Option<u64>>();
+        let samples = measured.iter().map(|(_, c)| c.samples_passed).sum();
+        let bytes = measured.iter().map(|(_, c)| c.bandwidth()).sum();
+        trace.counters(cursor, frame.index, fragments, samples, bytes);
+        for (pass, counters) in measured {
+            let Some(ms) = counters.gpu_ms else { continue };
+            let name = match &pass.label {
+                Some(label) => format!("#{} {label}", pass.index),
+                None => format!("#{}", pass.index),
+            };
+            let args = json!({
+                "frame": frame.index,
+                "area": format!("{}x{}x{}", pass.render_area.width, pass.render_area.height, pass.samples),
+                "draws": counters.draws,
+                "samples passed": counters.samples_passed,
+                "fragments": counters.fragment_invocations,
+                "tiler bytes": counters.tiler_bytes,
+                "immediate-mode bytes": counters.immediate_bytes,
+            });
+            trace.slice(GPU_TID, &name, "gpu", cursor, ms * 1e3, args);
+            cursor += ms * 1e3;
+        }
+    }
+}
+
 /// The "WxH" an aggregate key starts with.
 fn area_of_key(key: &str) -> String {
     key.split_whitespace().next().unwrap_or("?").to_owned()
@@ -97,6 +141,8 @@ mod tests {
             gpu_ms: None,
             bytes_loaded: 0,
             bytes_stored: 0,
+            tiler_bytes: 0,
+            immediate_bytes: 0,
         }
     }
 
@@ -112,6 +158,8 @@ mod tests {
             gpu_ms: Some(1.5),
             bytes_loaded: 0.0,
             bytes_stored: 0.0,
+            tiler_bytes: 0.0,
+            immediate_bytes: 0.0,
         };
         AggregateRow {
             position,
@@ -136,6 +184,7 @@ mod tests {
             frames: Vec::new(),
             aggregate,
             run: None,
+            tiler_check: None,
         }
     }
 

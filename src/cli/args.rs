@@ -65,6 +65,11 @@ pub enum Command {
         /// Compare deterministic counters with a budget file; exit 1 naming every pass over it.
         #[arg(long, value_name = "FILE.json")]
         budget: Option<PathBuf>,
+        /// Also write the frame on a timeline: Chrome trace-event JSON (ui.perfetto.dev,
+        /// chrome://tracing) with a GPU track (a slice per pass), the CPU's record, submit and
+        /// wait, and counter tracks (fragments, samples, bytes).
+        #[arg(long, value_name = "FILE.json")]
+        trace: Option<PathBuf>,
         /// Record this frame's deterministic counters as a budget file.
         #[arg(long, value_name = "FILE.json")]
         write_budget: Option<PathBuf>,
@@ -94,6 +99,14 @@ pub enum Command {
         /// time; JSON `per_draw`, summing to the pass's counters). At most 256 draws a pass.
         #[arg(long)]
         per_draw: bool,
+        /// Check the load/store ops as a tile-based GPU would (NOSTENCIL_FILLRATE_TILER=1): fill
+        /// what a tiler would not keep (DONT_CARE loads and stores) with a magenta and green
+        /// pattern, and flag, by pass and attachment, multisampled stores, vkCmdResolveImage,
+        /// transient images used outside their pass, outputs stored and never read or
+        /// overwritten unread, dead passes, and LOADs of what a pass left DONT_CARE. Exit 1 on
+        /// any flag.
+        #[arg(long)]
+        tiler_check: bool,
         #[arg(long, value_enum, default_value_t = FormatArg::Table)]
         format: FormatArg,
         /// Compare each render pass's draws, samples passed and fragment invocations (the most
@@ -108,6 +121,11 @@ pub enum Command {
         /// Also write a bar chart of the render passes (mean over frames).
         #[arg(long, value_name = "FILE.svg")]
         chart: Option<PathBuf>,
+        /// Also write the measured frames on a timeline: Chrome trace-event JSON
+        /// (ui.perfetto.dev, chrome://tracing), a GPU track with each pass's GPU time laid end to
+        /// end and counter tracks per frame (fragments, samples, bytes).
+        #[arg(long, value_name = "FILE.json")]
+        trace: Option<PathBuf>,
         /// Write the report (in --format) to FILE instead of stdout, which stays the program's.
         #[arg(long, value_name = "FILE")]
         out: Option<PathBuf>,
@@ -159,6 +177,10 @@ pub enum Command {
         /// Print JSON instead of a table.
         #[arg(long)]
         json: bool,
+        /// Also write every frame rendered (warm-up ones too) on a timeline: Chrome trace-event
+        /// JSON (ui.perfetto.dev, chrome://tracing) with GPU, CPU and counter tracks.
+        #[arg(long, value_name = "FILE.json")]
+        trace: Option<PathBuf>,
         /// shadow-texture-atlas only: also record seed 004's Table 1 (measured beside the
         /// paper's values) as DIR/table1.json and DIR/table1.md.
         #[arg(long, value_name = "DIR")]

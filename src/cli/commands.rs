@@ -22,10 +22,12 @@ use crate::technique::{by_name, render_scene, shadow_atlas, RenderOptions, TECHN
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Render { frame, out, keep_alpha, no_queries } => render(&frame, &out, keep_alpha, no_queries),
-        Command::Profile { frame, format, compare, heatmap, chart, budget, write_budget, move_model } => {
-            let outputs = ProfileOutputs { heatmap, chart, budget, write_budget, move_model };
+        Command::Profile { frame, format, compare, heatmap, chart, budget, write_budget, trace, move_model } => {
+            let outputs = ProfileOutputs { heatmap, chart, budget, write_budget, trace, move_model };
             if compare.is_empty() {
                 profile(&frame, format, &outputs)
+            } else if outputs.trace.is_some() {
+                Err(Error::InvalidInput("--trace writes one frame's timeline: drop --compare".into()))
             } else {
                 profile_compare(&frame, format, &compare)
             }
@@ -36,14 +38,17 @@ pub fn run(cli: Cli) -> Result<()> {
             keep_running,
             seconds,
             per_draw,
+            tiler_check,
             format,
             budget,
             record_budget,
             chart,
+            trace,
             out,
             command,
         } => {
-            let outputs = super::profile_app::AppOutputs { budget, record_budget, chart, out, per_draw };
+            let outputs =
+                super::profile_app::AppOutputs { budget, record_budget, chart, trace, out, per_draw, tiler_check };
             let stop = super::supervise::Stop { frames, seconds, keep_running };
             super::profile_app::run(&command, stop, report_format(format), &outputs)
         }
@@ -58,14 +63,21 @@ pub fn run(cli: Cli) -> Result<()> {
             let scene = load_named_scene(&scene, 0.0, &lights, replace_lights)?;
             passes(&technique, &plans, PlannedLight::of_scene(&scene), samples)
         }
-        Command::Bench { frame, warmup: _, runs, json, table1_out, mip_flicker: Some(steps) } => {
-            if table1_out.is_some() || runs.is_some() {
-                return Err(Error::InvalidInput("--mip-flicker is not timed: drop --table1-out and --runs".into()));
+        Command::Bench { frame, warmup: _, runs, json, trace, table1_out, mip_flicker: Some(steps) } => {
+            if table1_out.is_some() || runs.is_some() || trace.is_some() {
+                return Err(Error::InvalidInput(
+                    "--mip-flicker is not timed: drop --table1-out, --runs and --trace".into(),
+                ));
             }
             bench_mip_flicker(&frame, steps, json)
         }
-        Command::Bench { frame, warmup, runs, json, table1_out, mip_flicker: None } => {
-            bench(&frame, warmup, runs, json, table1_out.as_deref())
+        Command::Bench { frame, warmup, runs, json, trace, table1_out, mip_flicker: None } => {
+            if trace.is_some() && (frame.technique == "all" || table1_out.is_some()) {
+                return Err(Error::InvalidInput(
+                    "--trace writes one technique's frames: give one --technique, without --table1-out".into(),
+                ));
+            }
+            bench(&frame, warmup, runs, json, table1_out.as_deref(), trace.as_deref())
         }
         Command::Bake { frame, model, mip, out } => bake(&frame, model.as_deref(), mip, &out),
         Command::View { frame, frames, screenshot, script, paused, tour } => {
@@ -171,6 +183,7 @@ struct ProfileOutputs {
     chart: Option<std::path::PathBuf>,
     budget: Option<std::path::PathBuf>,
     write_budget: Option<std::path::PathBuf>,
+    trace: Option<std::path::PathBuf>,
     move_model: Option<String>,
 }
 
@@ -212,7 +225,7 @@ fn report_format(format: FormatArg) -> ReportFormat {
 }
 
 fn profile(frame: &FrameArgs, format: FormatArg, outputs: &ProfileOutputs) -> Result<()> {
-    for path in [&outputs.heatmap, &outputs.chart, &outputs.write_budget].into_iter().flatten() {
+    for path in [&outputs.heatmap, &outputs.chart, &outputs.write_budget, &outputs.trace].into_iter().flatten() {
         check_output_path(path)?;
     }
     let options = options(frame)?;
@@ -252,6 +265,13 @@ fn profile(frame: &FrameArgs, format: FormatArg, outputs: &ProfileOutputs) -> Re
         let counting = RenderOptions { count_overdraw: true, ..options.clone() };
         let counted = render_scene(&gpu, &scene, &counting)?;
         crate::frame::write_png(&crate::profile::heatmap::render_heatmap(&counted.output.image), path, false)?;
+        eprintln!("wrote {}", path.display());
+    }
+    if let Some(path) = &outputs.trace {
+        let process = format!("nostencil profile: {technique} ({stencil}) on {}", scene.name);
+        let mut trace = crate::profile::trace::Trace::new(&process, true);
+        trace.own_frame(technique, 0, 0.0, &output.counters);
+        trace.write(path)?;
         eprintln!("wrote {}", path.display());
     }
     if let Some(path) = &outputs.chart {
@@ -490,7 +510,14 @@ fn print_validation(report: Option<&ValidationReport>) {
     }
 }
 
-fn bench(frame: &FrameArgs, warmup: u32, runs: Option<u32>, json: bool, table1_out: Option<&Path>) -> Result<()> {
+fn bench(
+    frame: &FrameArgs,
+    warmup: u32,
+    runs: Option<u32>,
+    json: bool,
+    table1_out: Option<&Path>,
+    trace_path: Option<&Path>,
+) -> Result<()> {
     use crate::profile::bench::{self, BenchReport, BenchSettings, Variant};
 
     if runs == Some(0) {
@@ -508,7 +535,7 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: Option<u32>, json: bool, table1_o
         for technique in TECHNIQUES {
             let one = FrameArgs { technique: technique.name().to_owned(), ..frame.clone() };
             // Only the technique with a paper table records it.
-            bench(&one, warmup, runs, false, table1_out.filter(|_| technique.bench_table().is_some()))?;
+            bench(&one, warmup, runs, false, table1_out.filter(|_| technique.bench_table().is_some()), None)?;
             println!();
         }
         return Ok(());
@@ -519,6 +546,9 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: Option<u32>, json: bool, table1_o
             "--table1-out records seed 004's Table 1: use it with --technique shadow-texture-atlas or shadow-map, not {}",
             options.technique.name()
         )));
+    }
+    if let Some(path) = trace_path {
+        check_output_path(path)?;
     }
     if let Some(dir) = table1_out {
         // Made (or refused) before minutes of timing, not after.
@@ -555,7 +585,13 @@ fn bench(frame: &FrameArgs, warmup: u32, runs: Option<u32>, json: bool, table1_o
         let scene = &scene;
         variants.push(Variant { name: label, frame: Box::new(move || Ok(renderer.frame_with(scene)?.output)) });
     }
-    let results = bench::run(variants, &BenchSettings { warmup, runs, progress: !json })?;
+    let process = format!("nostencil bench: {} on {}", options.technique.name(), scene.name);
+    let mut trace = trace_path.map(|_| crate::profile::trace::Trace::new(&process, true));
+    let results = bench::run_traced(variants, &BenchSettings { warmup, runs, progress: !json }, trace.as_mut())?;
+    if let (Some(trace), Some(path)) = (&trace, trace_path) {
+        trace.write(path)?;
+        eprintln!("wrote {}", path.display());
+    }
     let bootstrap = crate::profile::bootstrap::Bootstrap::DEFAULT;
     let msaa = if samples > 1 {
         let labels = options.technique.bench_variants(&options).into_iter().map(|v| v.label);

@@ -5,7 +5,9 @@
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
-use super::app_counts::{chart_rows, largest_area, worst_per_position, PositionCounts};
+use super::app_counts::{
+    chart_rows, largest_area, trace_frames, worst_frame_bandwidth, worst_per_position, PositionCounts,
+};
 use super::install::{InstallPaths, HOW_TO_INSTALL};
 use super::output_path::check_output_path;
 use super::supervise::{self, Stop};
@@ -43,10 +45,14 @@ pub struct AppOutputs {
     pub budget: Option<PathBuf>,
     pub record_budget: Option<PathBuf>,
     pub chart: Option<PathBuf>,
+    /// The measured frames on a timeline (Chrome trace-event JSON).
+    pub trace: Option<PathBuf>,
     /// The report goes here instead of stdout.
     pub out: Option<PathBuf>,
     /// Each draw counted on its own too (NOSTENCIL_FILLRATE_PER_DRAW).
     pub per_draw: bool,
+    /// The tiler check (NOSTENCIL_FILLRATE_TILER): exit 1 on any flag.
+    pub tiler_check: bool,
 }
 
 pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOutputs) -> Result<()> {
@@ -64,7 +70,7 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
             return Err(Error::InvalidInput(format!("--seconds {seconds} is not a positive number of seconds")));
         }
     }
-    for path in [&outputs.record_budget, &outputs.chart, &outputs.out].into_iter().flatten() {
+    for path in [&outputs.record_budget, &outputs.chart, &outputs.trace, &outputs.out].into_iter().flatten() {
         check_output_path(path)?;
     }
     let budget = outputs.budget.as_deref().map(Budget::load).transpose()?;
@@ -74,6 +80,9 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
     let mut environment = layer_environment(|name| std::env::var_os(name), layer_dir.as_deref(), &result, frames);
     if outputs.per_draw {
         environment.push(("NOSTENCIL_FILLRATE_PER_DRAW".into(), "1".into()));
+    }
+    if outputs.tiler_check {
+        environment.push(("NOSTENCIL_FILLRATE_TILER".into(), "1".into()));
     }
 
     let mut child = std::process::Command::new(program);
@@ -131,6 +140,12 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
         crate::frame::write_atomically(path, svg.as_bytes())?;
         eprintln!("wrote {}", path.display());
     }
+    if let Some(path) = &outputs.trace {
+        let mut trace = crate::profile::trace::Trace::new(&format!("{} (profile-app)", report.application), false);
+        trace_frames(&mut trace, &report);
+        trace.write(path)?;
+        eprintln!("wrote {}", path.display());
+    }
     if let Some(path) = &outputs.record_budget {
         if worst.is_empty() {
             return Err(Error::InvalidInput(format!(
@@ -139,11 +154,15 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
         }
         let (width, height) = largest_area(&report);
         let counts: Vec<_> = worst.iter().map(|p| p.count.clone()).collect();
-        Budget::for_application(&report.application, width, height, &counts).write(path)?;
+        let bytes = worst_frame_bandwidth(&report);
+        Budget::for_application(&report.application, width, height, &counts, bytes).write(path)?;
         eprintln!("wrote budget {} ({} render passes)", path.display(), counts.len());
     }
     if let (Some(budget), Some(path)) = (&budget, &outputs.budget) {
         check_budget(budget, path, &report, &worst)?;
+    }
+    if outputs.tiler_check {
+        check_tiler(&report, program)?;
     }
     match failure {
         Some(message) => Err(Error::InvalidInput(message)),
@@ -151,10 +170,31 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
     }
 }
 
+/// The tiler check's flags on stderr (when the report went elsewhere than a table on stdout),
+/// then an error counting them.
+fn check_tiler(report: &FillrateReport, program: &str) -> Result<()> {
+    let Some(check) = &report.tiler_check else {
+        return Err(Error::InvalidInput(format!(
+            "the layer wrote no tiler check for '{program}': is the layer older than this nostencil?"
+        )));
+    };
+    if check.flags.is_empty() {
+        eprintln!("tiler check: no flag");
+        return Ok(());
+    }
+    eprint!("{}", crate::layer::output::tiler_lines(check));
+    let kinds: std::collections::BTreeSet<&str> = check.flags.iter().map(|f| f.kind.as_str()).collect();
+    Err(Error::InvalidInput(format!(
+        "{} tiler-check flag(s) for '{program}': {}",
+        check.flags.len(),
+        kinds.into_iter().collect::<Vec<_>>().join(", ")
+    )))
+}
+
 /// Every render pass over `budget` on stderr, then an error naming them all.
 fn check_budget(budget: &Budget, path: &Path, report: &FillrateReport, worst: &[PositionCounts]) -> Result<()> {
     let counts: Vec<_> = worst.iter().map(|p| p.count.clone()).collect();
-    let overruns = budget.check_application(&report.application, &counts)?;
+    let overruns = budget.check_application(&report.application, &counts, worst_frame_bandwidth(report))?;
     if overruns.is_empty() {
         eprintln!("within budget {}", path.display());
         return Ok(());

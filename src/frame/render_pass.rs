@@ -52,6 +52,9 @@ pub struct RenderPassDesc {
 /// transfer), so the alpha counter's arithmetic is the same as on R8G8B8A8_UNORM.
 pub const COLOUR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
 
+/// The name of a multisampled frame's resolve attachment (what the bandwidth model resolves into).
+pub const RESOLVED_NAME: &str = "colour (resolved)";
+
 pub fn format_has_stencil(format: vk::Format) -> bool {
     matches!(
         format,
@@ -110,7 +113,7 @@ impl RenderPassDesc {
             samples,
             ..output
         };
-        let resolved = AttachmentDesc { name: "colour (resolved)", load: vk::AttachmentLoadOp::DONT_CARE, ..output };
+        let resolved = AttachmentDesc { name: RESOLVED_NAME, load: vk::AttachmentLoadOp::DONT_CARE, ..output };
         RenderPassDesc { colour: multisampled, depth, resolve: Some(resolved), colour_feedback }
     }
 
@@ -222,6 +225,8 @@ impl AttachmentDesc {
             |op: vk::AttachmentLoadOp, bytes: u64| if op == vk::AttachmentLoadOp::LOAD { bytes * pixels } else { 0 };
         let stored =
             |op: vk::AttachmentStoreOp, bytes: u64| if op == vk::AttachmentStoreOp::STORE { bytes * pixels } else { 0 };
+        let cleared =
+            |op: vk::AttachmentLoadOp, bytes: u64| if op == vk::AttachmentLoadOp::CLEAR { bytes * pixels } else { 0 };
         AttachmentTraffic {
             attachment: self.name,
             format: format!("{:?}", self.format),
@@ -229,21 +234,34 @@ impl AttachmentDesc {
             store_op: format!("{:?}", self.store),
             bytes_loaded: loaded(self.load, depth_bytes) + loaded(self.stencil_load, stencil_bytes),
             bytes_stored: stored(self.store, depth_bytes) + stored(self.stencil_store, stencil_bytes),
+            bytes_cleared: cleared(self.load, depth_bytes) + cleared(self.stencil_load, stencil_bytes),
+            bytes_per_sample: depth_bytes + stencil_bytes,
             transient: self.transient,
             samples: self.samples,
         }
     }
 }
 
-/// (colour-or-depth bytes, stencil bytes) per texel.
-fn texel_bytes(format: vk::Format) -> (u64, u64) {
+/// (colour-or-depth bytes, stencil bytes) per texel; 4 bytes for a format not listed.
+pub fn texel_bytes(format: vk::Format) -> (u64, u64) {
     match format {
-        vk::Format::R8G8B8A8_UNORM
-        | vk::Format::R8G8B8A8_SRGB
-        | vk::Format::B8G8R8A8_UNORM
-        | vk::Format::B8G8R8A8_SRGB
-        | vk::Format::D32_SFLOAT => (4, 0),
-        vk::Format::D16_UNORM => (2, 0),
+        vk::Format::R8_UNORM | vk::Format::R8_SNORM | vk::Format::R8_UINT | vk::Format::R8_SINT | vk::Format::R8_SRGB => {
+            (1, 0)
+        }
+        vk::Format::R8G8_UNORM
+        | vk::Format::R8G8_UINT
+        | vk::Format::R16_UNORM
+        | vk::Format::R16_SFLOAT
+        | vk::Format::R16_UINT
+        | vk::Format::R5G6B5_UNORM_PACK16
+        | vk::Format::D16_UNORM => (2, 0),
+        vk::Format::R16G16B16A16_SFLOAT
+        | vk::Format::R16G16B16A16_UNORM
+        | vk::Format::R16G16B16A16_UINT
+        | vk::Format::R32G32_SFLOAT
+        | vk::Format::R32G32_UINT => (8, 0),
+        vk::Format::R32G32B32A32_SFLOAT | vk::Format::R32G32B32A32_UINT => (16, 0),
+        vk::Format::D16_UNORM_S8_UINT => (2, 1),
         vk::Format::D24_UNORM_S8_UINT => (3, 1),
         vk::Format::D32_SFLOAT_S8_UINT => (4, 1),
         vk::Format::S8_UINT => (0, 1),
@@ -281,6 +299,10 @@ pub struct AttachmentTraffic {
     pub store_op: String,
     pub bytes_loaded: u64,
     pub bytes_stored: u64,
+    /// Bytes its CLEAR ops write over the render area, every sample (the immediate-mode cost).
+    pub bytes_cleared: u64,
+    /// Bytes of one sample, all aspects.
+    pub bytes_per_sample: u64,
     pub transient: bool,
     pub samples: u32,
 }

@@ -33,7 +33,7 @@ pub fn free_primary(gpu: &Gpu, cmd: vk::CommandBuffer) {
 
 /// Records `record` into a one-time command buffer, submits it and waits for completion.
 pub fn submit_and_wait<T>(gpu: &Gpu, record: impl FnOnce(vk::CommandBuffer) -> Result<T>) -> Result<T> {
-    submit_and_wait_named(gpu, None, record)
+    submit_and_wait_named(gpu, None, record).map(|(value, _)| value)
 }
 
 /// As `submit_and_wait`, for a frame: a failed submit or wait (device lost, out of device
@@ -42,7 +42,7 @@ pub fn submit_frame_and_wait<T>(
     gpu: &Gpu,
     work: impl Fn(&T) -> String,
     record: impl FnOnce(vk::CommandBuffer) -> Result<T>,
-) -> Result<T> {
+) -> Result<(T, CpuPhases)> {
     let mut named = None;
     let result = submit_and_wait_named(gpu, Some(&mut |value: &T| named = Some(work(value))), record);
     match (result, named) {
@@ -53,13 +53,26 @@ pub fn submit_frame_and_wait<T>(
     }
 }
 
+/// Where the CPU spent a submission's time: (start, duration) in milliseconds from the start of
+/// its recording, for recording (begin to end of the command buffer), vkQueueSubmit and the
+/// fence wait (`--trace`'s CPU track).
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
+pub struct CpuPhases {
+    pub record: (f64, f64),
+    pub submit: (f64, f64),
+    pub wait: (f64, f64),
+}
+
 fn submit_and_wait_named<T>(
     gpu: &Gpu,
     name: Option<&mut dyn FnMut(&T)>,
     record: impl FnOnce(vk::CommandBuffer) -> Result<T>,
-) -> Result<T> {
+) -> Result<(T, CpuPhases)> {
     let device = gpu.raw();
     let cmd = allocate_primary(gpu)?;
+    let start = std::time::Instant::now();
+    let since = |at: std::time::Instant| at.duration_since(start).as_secs_f64() * 1e3;
+    let mut phases = CpuPhases::default();
 
     let result = (|| {
         let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
@@ -77,24 +90,29 @@ fn submit_and_wait_named<T>(
         };
         // SAFETY: `cmd` is recording (begun above).
         unsafe { device.end_command_buffer(cmd) }.vk("vkEndCommandBuffer")?;
+        phases.record = (0.0, since(std::time::Instant::now()));
 
         // SAFETY: a plain unsignalled fence of `device`.
         let fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }.vk("vkCreateFence")?;
         gpu.created(ObjectKind::Fence);
         let cmds = [cmd];
         let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
+        let submit_start = since(std::time::Instant::now());
         let submitted = match injected {
             Some(result) => Err(Error::Vulkan { call: "vkQueueSubmit", result }),
             // SAFETY: `cmd` is ended, `fence` unsignalled and unused; `submit` outlives the call.
             None => unsafe { device.queue_submit(gpu.device.queue, &submit, fence) }.vk("vkQueueSubmit"),
         };
+        let wait_start = since(std::time::Instant::now());
+        phases.submit = (submit_start, wait_start - submit_start);
         // SAFETY: `fence` is alive.
         let waited =
             submitted.and_then(|_| unsafe { device.wait_for_fences(&[fence], true, u64::MAX) }.vk("vkWaitForFences"));
+        phases.wait = (wait_start, since(std::time::Instant::now()) - wait_start);
         // SAFETY: the fence is signalled, or was never submitted, or the device is lost.
         unsafe { device.destroy_fence(fence, None) };
         gpu.destroyed(ObjectKind::Fence);
-        waited.map(|_| value)
+        waited.map(|_| (value, phases))
     })();
     // `cmd` is not pending: it was never submitted, or the fence wait returned (a failed wait
     // means the device is lost).

@@ -33,6 +33,8 @@ impl Stats {
             gpu_ms: None,
             bytes_loaded: 0.0,
             bytes_stored: 0.0,
+            tiler_bytes: 0.0,
+            immediate_bytes: 0.0,
         };
         let mut stats = Stats { frames: 0, sum: zero, optional_frames: [0; 5], min: *c, max: *c };
         stats.add(c);
@@ -52,6 +54,8 @@ impl Stats {
         s.overdraw += c.overdraw;
         s.bytes_loaded += c.bytes_loaded as f64;
         s.bytes_stored += c.bytes_stored as f64;
+        s.tiler_bytes += c.tiler_bytes as f64;
+        s.immediate_bytes += c.immediate_bytes as f64;
         add_opt(&mut s.vertex_invocations, f(c.vertex_invocations), &mut n[0]);
         add_opt(&mut s.clipping_primitives, f(c.clipping_primitives), &mut n[1]);
         add_opt(&mut s.fragment_invocations, f(c.fragment_invocations), &mut n[2]);
@@ -76,6 +80,8 @@ impl Stats {
             gpu_ms: mean(s.gpu_ms, n[4]),
             bytes_loaded: s.bytes_loaded / frames,
             bytes_stored: s.bytes_stored / frames,
+            tiler_bytes: s.tiler_bytes / frames,
+            immediate_bytes: s.immediate_bytes / frames,
         }
     }
 }
@@ -119,6 +125,8 @@ fn combine(a: &Counters, b: &Counters, int: fn(u64, u64) -> u64, float: fn(f64, 
         gpu_ms: pick(a.gpu_ms, b.gpu_ms, float),
         bytes_loaded: int(a.bytes_loaded, b.bytes_loaded),
         bytes_stored: int(a.bytes_stored, b.bytes_stored),
+        tiler_bytes: int(a.tiler_bytes, b.tiler_bytes),
+        immediate_bytes: int(a.immediate_bytes, b.immediate_bytes),
     }
 }
 
@@ -204,6 +212,7 @@ pub fn report_from_journal(text: &str, keep_all: bool) -> Option<FillrateReport>
         frames,
         aggregate: aggregate.rows(),
         run: None,
+        tiler_check: None,
     })
 }
 

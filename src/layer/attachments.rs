@@ -17,17 +17,22 @@ pub struct AttachmentInfo {
     pub store: vk::AttachmentStoreOp,
     pub stencil_load: vk::AttachmentLoadOp,
     pub stencil_store: vk::AttachmentStoreOp,
+    /// The render pass begins from the UNDEFINED layout: old contents are not kept, whatever
+    /// the load op (the tiler check's concern).
+    pub initial_undefined: bool,
 }
 
 /// A render pass object as the layer keeps it.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct RenderPassInfo {
     pub attachments: Vec<AttachmentInfo>,
+    /// Each subpass's uses of the attachments (the tiler check poisons the first and last's).
+    pub subpasses: Vec<SubpassUses>,
     /// Some subpass has a non-zero view mask.
     pub multiview: bool,
 }
 
-fn has_depth(format: vk::Format) -> bool {
+pub fn has_depth(format: vk::Format) -> bool {
     matches!(
         format,
         vk::Format::D16_UNORM
@@ -49,12 +54,16 @@ fn depth_role(format: vk::Format) -> &'static str {
 }
 
 /// The attachment indices one subpass uses, by kind.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct SubpassUses {
     pub colour: Vec<u32>,
     pub resolve: Vec<u32>,
     pub depth: Option<u32>,
     pub input: Vec<u32>,
+    /// The depth/stencil reference's layout is read-only (it cannot be cleared in the subpass).
+    pub depth_read_only: bool,
+    /// A depth/stencil resolve (VkSubpassDescriptionDepthStencilResolve) writes it out.
+    pub depth_resolved: bool,
 }
 
 /// The role of each attachment index by its first use in the subpasses.
@@ -67,7 +76,7 @@ pub fn roles(count: usize, formats: &[vk::Format], subpasses: &[SubpassUses]) ->
             }
         }
     };
-    for SubpassUses { colour, resolve, depth, input } in subpasses {
+    for SubpassUses { colour, resolve, depth, input, .. } in subpasses {
         colour.iter().filter(|&&a| a != vk::ATTACHMENT_UNUSED).for_each(|&a| set(a, "colour"));
         resolve.iter().filter(|&&a| a != vk::ATTACHMENT_UNUSED).for_each(|&a| set(a, "resolve"));
         if let Some(a) = depth.filter(|&a| a != vk::ATTACHMENT_UNUSED) {
@@ -100,6 +109,7 @@ macro_rules! attachment_fields {
                     store: self.store_op,
                     stencil_load: self.stencil_load_op,
                     stencil_store: self.stencil_store_op,
+                    initial_undefined: self.initial_layout == vk::ImageLayout::UNDEFINED,
                 }
             }
             fn format(&self) -> vk::Format {
@@ -114,11 +124,15 @@ attachment_fields!(vk::AttachmentDescription2<'_>);
 /// `VkAttachmentReference` and `2`: the attachment index.
 trait AttachmentIndex {
     fn index(&self) -> u32;
+    fn layout(&self) -> vk::ImageLayout;
 }
 
 impl AttachmentIndex for vk::AttachmentReference {
     fn index(&self) -> u32 {
         self.attachment
+    }
+    fn layout(&self) -> vk::ImageLayout {
+        self.layout
     }
 }
 
@@ -126,6 +140,23 @@ impl AttachmentIndex for vk::AttachmentReference2<'_> {
     fn index(&self) -> u32 {
         self.attachment
     }
+    fn layout(&self) -> vk::ImageLayout {
+        self.layout
+    }
+}
+
+/// A depth/stencil layout in which the subpass may not write (or clear) the attachment.
+fn read_only(layout: vk::ImageLayout) -> bool {
+    matches!(
+        layout,
+        vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL
+            | vk::ImageLayout::DEPTH_READ_ONLY_OPTIMAL
+            | vk::ImageLayout::STENCIL_READ_ONLY_OPTIMAL
+            | vk::ImageLayout::DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL
+            | vk::ImageLayout::DEPTH_ATTACHMENT_STENCIL_READ_ONLY_OPTIMAL
+            | vk::ImageLayout::READ_ONLY_OPTIMAL
+            | vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL
+    )
 }
 
 /// One subpass's attachment uses from its reference arrays.
@@ -143,12 +174,16 @@ unsafe fn subpass_uses<R: AttachmentIndex>(
 ) -> SubpassUses {
     // SAFETY: the caller's contract, for each array.
     let indices = |p: *const R, n: u32| unsafe { app_array(p, n) }.iter().map(R::index).collect::<Vec<u32>>();
+    // SAFETY: null or one valid reference.
+    let depth_ref = unsafe { depth.as_ref() };
     SubpassUses {
         colour: indices(colour, colour_count),
         resolve: indices(resolve, colour_count),
         // SAFETY: null or one valid reference.
         depth: unsafe { depth.as_ref() }.map(R::index),
         input: indices(input, input_count),
+        depth_read_only: depth_ref.is_some_and(|d| read_only(d.layout())),
+        depth_resolved: false,
     }
 }
 
@@ -186,7 +221,7 @@ fn render_pass_info<A: AttachmentFields>(descriptions: &[A], uses: &[SubpassUses
     let formats: Vec<_> = descriptions.iter().map(A::format).collect();
     let roles = roles(descriptions.len(), &formats, uses);
     let attachments = descriptions.iter().zip(roles).map(|(d, role)| d.info(role)).collect();
-    RenderPassInfo { attachments, multiview }
+    RenderPassInfo { attachments, subpasses: uses.to_vec(), multiview }
 }
 
 impl RenderPassInfo {
@@ -212,9 +247,34 @@ impl RenderPassInfo {
         // SAFETY: as above.
         let subpasses = unsafe { app_array(info.p_subpasses, info.subpass_count) };
         // SAFETY: a valid subpass description's arrays (valid usage).
-        let uses: Vec<_> = subpasses.iter().map(|s| unsafe { s.uses() }).collect();
+        let mut uses: Vec<_> = subpasses.iter().map(|s| unsafe { s.uses() }).collect();
+        for (subpass, uses) in subpasses.iter().zip(&mut uses) {
+            // SAFETY: a valid subpass description's pNext chain.
+            uses.depth_resolved = unsafe { depth_resolve(subpass.p_next) };
+        }
         render_pass_info(descriptions, &uses, subpasses.iter().any(|s| s.view_mask != 0))
     }
+}
+
+/// Whether a VkSubpassDescriptionDepthStencilResolve in the chain resolves the depth/stencil.
+///
+/// # Safety
+/// `p_next` is a valid pNext chain.
+unsafe fn depth_resolve(mut p_next: *const std::ffi::c_void) -> bool {
+    while !p_next.is_null() {
+        let base = p_next as *const vk::BaseInStructure;
+        // SAFETY: every chain node starts like VkBaseInStructure.
+        let (ty, next) = unsafe { ((*base).s_type, (*base).p_next as *const std::ffi::c_void) };
+        if ty == vk::StructureType::SUBPASS_DESCRIPTION_DEPTH_STENCIL_RESOLVE {
+            // SAFETY: a node of this sType is VkSubpassDescriptionDepthStencilResolve.
+            let resolve = unsafe { &*(p_next as *const vk::SubpassDescriptionDepthStencilResolve) };
+            // SAFETY: null or one valid reference.
+            let target = unsafe { resolve.p_depth_stencil_resolve_attachment.as_ref() };
+            return target.is_some_and(|t| t.attachment != vk::ATTACHMENT_UNUSED);
+        }
+        p_next = next;
+    }
+    false
 }
 
 /// Whether a VkRenderPassMultiviewCreateInfo in the chain sets any view mask.
@@ -262,6 +322,7 @@ pub unsafe fn rendering_attachments(
                 store: c.store_op,
                 stencil_load: dont_care.0,
                 stencil_store: dont_care.1,
+                initial_undefined: false,
             });
         }
         if c.resolve_mode != vk::ResolveModeFlags::NONE && c.resolve_image_view != vk::ImageView::null() {
@@ -275,6 +336,7 @@ pub unsafe fn rendering_attachments(
                 store: vk::AttachmentStoreOp::STORE,
                 stencil_load: dont_care.0,
                 stencil_store: dont_care.1,
+                initial_undefined: false,
             });
         }
     }
@@ -293,6 +355,7 @@ pub unsafe fn rendering_attachments(
                 store: d.store_op,
                 stencil_load: s.load_op,
                 stencil_store: s.store_op,
+                initial_undefined: false,
             });
         }
         (depth, stencil) => {
@@ -306,6 +369,7 @@ pub unsafe fn rendering_attachments(
                     store: d.store_op,
                     stencil_load: dont_care.0,
                     stencil_store: dont_care.1,
+                    initial_undefined: false,
                 });
             }
             if let Some(s) = stencil {
@@ -318,9 +382,36 @@ pub unsafe fn rendering_attachments(
                     store: s.store_op,
                     stencil_load: s.load_op,
                     stencil_store: s.store_op,
+                    initial_undefined: false,
                 });
             }
         }
+    }
+    out
+}
+
+/// The image view of each attachment [`rendering_attachments`] lists, in its order.
+///
+/// # Safety
+/// `info` is a valid VkRenderingInfo.
+pub unsafe fn rendering_views(info: &vk::RenderingInfo) -> Vec<Option<vk::ImageView>> {
+    let mut out = Vec::new();
+    // SAFETY: pColorAttachments holds colorAttachmentCount entries (valid usage).
+    for c in unsafe { app_array(info.p_color_attachments, info.color_attachment_count) } {
+        if c.image_view != vk::ImageView::null() {
+            out.push(Some(c.image_view));
+        }
+        if c.resolve_mode != vk::ResolveModeFlags::NONE && c.resolve_image_view != vk::ImageView::null() {
+            out.push(Some(c.resolve_image_view));
+        }
+    }
+    // SAFETY: pDepthAttachment / pStencilAttachment are null or one valid struct each.
+    let (depth, stencil) = unsafe { (info.p_depth_attachment.as_ref(), info.p_stencil_attachment.as_ref()) };
+    let depth = depth.map(|d| d.image_view).filter(|&v| v != vk::ImageView::null());
+    let stencil = stencil.map(|s| s.image_view).filter(|&v| v != vk::ImageView::null());
+    match (depth, stencil) {
+        (Some(d), Some(s)) if d == s => out.push(Some(d)),
+        (depth, stencil) => out.extend([depth, stencil].into_iter().flatten().map(Some)),
     }
     out
 }
@@ -359,6 +450,8 @@ pub fn attachment_rows(attachments: &[AttachmentInfo], area: &RenderArea) -> Vec
                 stencil_store_op: stencil.then(|| op_name(a.stencil_store)),
                 bytes_loaded: traffic.bytes_loaded,
                 bytes_stored: traffic.bytes_stored,
+                bytes_cleared: traffic.bytes_cleared,
+                bytes_per_sample: traffic.bytes_per_sample,
             }
         })
         .collect()
@@ -377,6 +470,7 @@ mod tests {
             store: vk::AttachmentStoreOp::STORE,
             stencil_load: vk::AttachmentLoadOp::LOAD,
             stencil_store: vk::AttachmentStoreOp::DONT_CARE,
+            initial_undefined: false,
         }
     }
 
@@ -416,7 +510,7 @@ mod tests {
             vk::Format::R8_UNORM,
         ];
         let subpasses = vec![
-            SubpassUses { colour: vec![0], resolve: vec![2], depth: Some(1), input: vec![] },
+            SubpassUses { colour: vec![0], resolve: vec![2], depth: Some(1), ..SubpassUses::default() },
             SubpassUses { input: vec![0, 3], ..SubpassUses::default() },
         ];
         assert_eq!(roles(5, &formats, &subpasses), vec!["colour", "depth_stencil", "resolve", "input", "unused"]);

@@ -9,7 +9,9 @@ use std::sync::Arc;
 use ash::vk;
 use ash::vk::Handle;
 
-use super::attachments::{attachment_rows, rendering_attachments};
+use super::attachments::{attachment_rows, rendering_attachments, rendering_views};
+use super::poison::PoisonClear;
+use super::tiler_pass;
 use super::objects::{device_and, flush_buffer};
 use super::recording::PassDesc;
 use super::report::RenderArea;
@@ -73,6 +75,92 @@ fn around(
     guard((), || record(&device, cmd, &after));
 }
 
+/// [`around`] for a render pass's begin or end: `f` also returns the tiler check's clears,
+/// recorded right after the application's call (`after_call`, at a begin: before the layer's
+/// timestamp, so the pass's GPU time leaves them out) or right before it (at an end: after the
+/// layer's queries and timestamps).
+fn around_pass(
+    cmd: vk::CommandBuffer,
+    after_call: bool,
+    call: impl FnOnce(&DeviceData),
+    f: impl FnOnce(&DeviceData, &mut DeviceState) -> (Vec<QueryCmd>, Vec<QueryCmd>, Vec<PoisonClear>),
+) {
+    let Some(device) = guard(None, || super::state::device_of(cmd.as_raw())) else { return };
+    let (before, after, poison) = guard(Default::default(), || {
+        if !device.active() {
+            return Default::default();
+        }
+        f(&device, &mut device.state())
+    });
+    guard((), || record(&device, cmd, &before));
+    if !after_call {
+        guard((), || record_poison(&device, cmd, &poison));
+    }
+    call(&device);
+    if after_call {
+        guard((), || record_poison(&device, cmd, &poison));
+    }
+    guard((), || record(&device, cmd, &after));
+}
+
+/// Records the tiler check's pattern into `cmd`, inside its render pass.
+fn record_poison(device: &DeviceData, cmd: vk::CommandBuffer, clears: &[PoisonClear]) {
+    for clear in clears {
+        // SAFETY: `cmd` is recording inside the render pass instance the plan was made for; each
+        // attachment is one of the current subpass's (colour slot or depth/stencil aspects it
+        // has, not read-only) and each rect lies in the render area, one layer.
+        unsafe { device.fns.cmd_clear_attachments(cmd, &clear.attachments, &clear.rects) }
+    }
+}
+
+/// The tiler check at a render pass object's begin: notes the pass, returns its first clears.
+fn tiler_begin_render_pass(
+    device: &DeviceData,
+    st: &mut DeviceState,
+    cmd: vk::CommandBuffer,
+    begin: &vk::RenderPassBeginInfo,
+    contents: vk::SubpassContents,
+) -> Vec<PoisonClear> {
+    if !device.config.tiler {
+        return Vec::new();
+    }
+    let plan = {
+        let Some(info) = st.render_passes.get(&begin.render_pass) else { return Vec::new() };
+        // SAFETY: the application's valid begin info and its pNext chain.
+        let views = unsafe { imageless_views(begin.p_next) }
+            .or_else(|| st.tiler.framebuffers.get(&begin.framebuffer).cloned())
+            .unwrap_or_default();
+        tiler_pass::render_pass_plan(&st.tiler, info, &views, begin.render_area)
+    };
+    let Some(data) = st.buffers.get_mut(&cmd) else { return Vec::new() };
+    let label = data.recording.label_now();
+    data.tiler.pass_began();
+    tiler_pass::begin(&mut data.tiler, label, plan, contents == vk::SubpassContents::INLINE)
+}
+
+/// The views of an imageless framebuffer, from VkRenderPassAttachmentBeginInfo.
+///
+/// # Safety
+/// `p_next` is a valid pNext chain.
+unsafe fn imageless_views(mut p_next: *const std::ffi::c_void) -> Option<Vec<vk::ImageView>> {
+    while !p_next.is_null() {
+        let base = p_next as *const vk::BaseInStructure;
+        // SAFETY: every chain node starts like VkBaseInStructure.
+        let (ty, next) = unsafe { ((*base).s_type, (*base).p_next as *const std::ffi::c_void) };
+        if ty == vk::StructureType::RENDER_PASS_ATTACHMENT_BEGIN_INFO {
+            // SAFETY: a node of this sType is VkRenderPassAttachmentBeginInfo, its array as long
+            // as its count.
+            let views = unsafe {
+                let info = &*(p_next as *const vk::RenderPassAttachmentBeginInfo);
+                super::arrays::app_array(info.p_attachments, info.attachment_count).to_vec()
+            };
+            return Some(views);
+        }
+        p_next = next;
+    }
+    None
+}
+
 /// Whether new passes are measured now (an output is set and the frame limit not reached).
 fn measuring(state: &mut DeviceState) -> bool {
     !state.finished && state.frames().measuring()
@@ -126,8 +214,9 @@ pub(super) unsafe extern "system" fn cmd_begin_render_pass(
     begin: *const vk::RenderPassBeginInfo<'_>,
     contents: vk::SubpassContents,
 ) {
-    around(
+    around_pass(
         cmd,
+        true,
         |d| {
             if let Some(next) = d.next.cmd_begin_render_pass {
                 // SAFETY: the application's arguments, passed on.
@@ -136,8 +225,11 @@ pub(super) unsafe extern "system" fn cmd_begin_render_pass(
         },
         |d, st| {
             // SAFETY: the application's valid begin info.
-            let desc = pass_desc(st, "vkCmdBeginRenderPass", unsafe { &*begin }, contents);
-            begin_pass(d, st, cmd, desc)
+            let begin = unsafe { &*begin };
+            let poison = tiler_begin_render_pass(d, st, cmd, begin, contents);
+            let desc = pass_desc(st, "vkCmdBeginRenderPass", begin, contents);
+            let (before, after) = begin_pass(d, st, cmd, desc);
+            (before, after, poison)
         },
     );
 }
@@ -148,8 +240,9 @@ unsafe fn begin_render_pass2_with(
     begin: *const vk::RenderPassBeginInfo<'_>,
     subpass: *const vk::SubpassBeginInfo<'_>,
 ) {
-    around(
+    around_pass(
         cmd,
+        true,
         |d| {
             if let Some(next) = pick(d) {
                 // SAFETY: the application's arguments, passed on.
@@ -159,8 +252,10 @@ unsafe fn begin_render_pass2_with(
         |d, st| {
             // SAFETY: the application's valid begin infos.
             let (begin, contents) = unsafe { (&*begin, (*subpass).contents) };
+            let poison = tiler_begin_render_pass(d, st, cmd, begin, contents);
             let desc = pass_desc(st, "vkCmdBeginRenderPass2", begin, contents);
-            begin_pass(d, st, cmd, desc)
+            let (before, after) = begin_pass(d, st, cmd, desc);
+            (before, after, poison)
         },
     );
 }
@@ -189,6 +284,9 @@ fn next_subpass(
     contents: vk::SubpassContents,
 ) -> (Vec<QueryCmd>, Vec<QueryCmd>) {
     let Some(data) = st.buffers.get_mut(&cmd) else { return Default::default() };
+    // Only the first subpass's first draw is checked against the DONT_CARE loads.
+    data.tiler.first_draw = None;
+    data.tiler.inline = contents == vk::SubpassContents::INLINE;
     data.recording.next_subpass(contents == vk::SubpassContents::SECONDARY_COMMAND_BUFFERS)
 }
 
@@ -242,21 +340,27 @@ pub(super) unsafe extern "system" fn cmd_next_subpass2_khr(
     unsafe { next_subpass2_with(|d| d.next.cmd_next_subpass2_khr, cmd, begin, end) }
 }
 
-fn end_pass(st: &mut DeviceState, cmd: vk::CommandBuffer) -> (Vec<QueryCmd>, Vec<QueryCmd>) {
+fn end_pass(
+    device: &DeviceData,
+    st: &mut DeviceState,
+    cmd: vk::CommandBuffer,
+) -> (Vec<QueryCmd>, Vec<QueryCmd>, Vec<PoisonClear>) {
     let Some(data) = st.buffers.get_mut(&cmd) else { return Default::default() };
-    (data.recording.end_pass(), Vec::new())
+    let poison = if device.config.tiler { tiler_pass::end(&mut data.tiler) } else { Vec::new() };
+    (data.recording.end_pass(), Vec::new(), poison)
 }
 
 pub(super) unsafe extern "system" fn cmd_end_render_pass(cmd: vk::CommandBuffer) {
-    around(
+    around_pass(
         cmd,
+        false,
         |d| {
             if let Some(next) = d.next.cmd_end_render_pass {
                 // SAFETY: the application's arguments, passed on.
                 unsafe { next(cmd) }
             }
         },
-        |_, st| end_pass(st, cmd),
+        |d, st| end_pass(d, st, cmd),
     );
 }
 
@@ -265,15 +369,16 @@ unsafe fn end_render_pass2_with(
     cmd: vk::CommandBuffer,
     end: *const vk::SubpassEndInfo<'_>,
 ) {
-    around(
+    around_pass(
         cmd,
+        false,
         |d| {
             if let Some(next) = pick(d) {
                 // SAFETY: the application's arguments, passed on.
                 unsafe { next(cmd, end) }
             }
         },
-        |_, st| end_pass(st, cmd),
+        |d, st| end_pass(d, st, cmd),
     );
 }
 
@@ -295,8 +400,9 @@ unsafe fn begin_rendering_with(
     cmd: vk::CommandBuffer,
     info: *const vk::RenderingInfo<'_>,
 ) {
-    around(
+    around_pass(
         cmd,
+        true,
         |d| {
             if let Some(next) = pick(d) {
                 // SAFETY: the application's arguments, passed on.
@@ -306,6 +412,28 @@ unsafe fn begin_rendering_with(
         |d, st| {
             // SAFETY: the application's valid rendering info.
             let info = unsafe { &*info };
+            let poison = if d.config.tiler {
+                let views = &st.views;
+                // SAFETY: as above.
+                let infos = unsafe { rendering_attachments(info, &|v| views.get(&v).copied()) };
+                // SAFETY: as above.
+                let pairs: Vec<_> = infos.into_iter().zip(unsafe { rendering_views(info) }).collect();
+                let (flags, multiview) = (info.flags, info.view_mask != 0);
+                let suspending = flags.contains(vk::RenderingFlags::SUSPENDING);
+                let resuming = flags.contains(vk::RenderingFlags::RESUMING);
+                let plan = tiler_pass::rendering_plan(&st.tiler, &pairs, info.render_area, suspending, resuming, multiview);
+                match st.buffers.get_mut(&cmd) {
+                    Some(data) => {
+                        let label = data.recording.label_now();
+                        data.tiler.pass_began();
+                        let inline = !flags.contains(vk::RenderingFlags::CONTENTS_SECONDARY_COMMAND_BUFFERS);
+                        tiler_pass::begin(&mut data.tiler, label, plan, inline)
+                    }
+                    None => Vec::new(),
+                }
+            } else {
+                Vec::new()
+            };
             let area = RenderArea {
                 x: info.render_area.offset.x,
                 y: info.render_area.offset.y,
@@ -328,7 +456,8 @@ unsafe fn begin_rendering_with(
             };
             let samples = attachments.iter().map(|a| a.samples).max().unwrap_or(1);
             let desc = PassDesc { api: "vkCmdBeginRendering", area, samples, attachments, not_measured };
-            begin_pass(d, st, cmd, desc)
+            let (before, after) = begin_pass(d, st, cmd, desc);
+            (before, after, poison)
         },
     );
 }
@@ -347,28 +476,30 @@ pub(super) unsafe extern "system" fn cmd_begin_rendering_khr(
 }
 
 pub(super) unsafe extern "system" fn cmd_end_rendering(cmd: vk::CommandBuffer) {
-    around(
+    around_pass(
         cmd,
+        false,
         |d| {
             if let Some(next) = d.next.cmd_end_rendering {
                 // SAFETY: the application's arguments, passed on.
                 unsafe { next(cmd) }
             }
         },
-        |_, st| end_pass(st, cmd),
+        |d, st| end_pass(d, st, cmd),
     );
 }
 
 pub(super) unsafe extern "system" fn cmd_end_rendering_khr(cmd: vk::CommandBuffer) {
-    around(
+    around_pass(
         cmd,
+        false,
         |d| {
             if let Some(next) = d.next.cmd_end_rendering_khr {
                 // SAFETY: the application's arguments, passed on.
                 unsafe { next(cmd) }
             }
         },
-        |_, st| end_pass(st, cmd),
+        |d, st| end_pass(d, st, cmd),
     );
 }
 
@@ -390,6 +521,7 @@ pub(super) unsafe extern "system" fn begin_command_buffer(
         flush_buffer(&device, &mut st, cmd);
         if let Some(data) = st.buffers.get_mut(&cmd) {
             data.recording.restart(simultaneous);
+            data.tiler.restart();
         }
     });
     // SAFETY: the application's arguments, passed on.
@@ -411,6 +543,7 @@ pub(super) unsafe extern "system" fn reset_command_buffer(
         flush_buffer(&device, &mut st, cmd);
         if let Some(data) = st.buffers.get_mut(&cmd) {
             data.recording.restart(false);
+            data.tiler.restart();
         }
     });
     // SAFETY: the application's arguments, passed on.
@@ -422,12 +555,19 @@ pub(super) unsafe extern "system" fn reset_command_buffer(
 /// recording.rs); with per-draw counting each draw is bracketed.
 fn draw(cmd: vk::CommandBuffer, call: impl FnOnce(&DeviceData)) {
     let Some(device) = guard(None, || super::state::device_of(cmd.as_raw())) else { return };
-    let (before, after) = guard(Default::default(), || {
+    let (before, after) = guard(None, || {
         if !device.active() {
-            return Default::default();
+            return None;
         }
-        device.state().buffers.get_mut(&cmd).map(|data| data.recording.draw()).unwrap_or_default()
-    });
+        let mut st = device.state();
+        let DeviceState { tiler, buffers, .. } = &mut *st;
+        let data = buffers.get_mut(&cmd)?;
+        if device.config.tiler {
+            data.tiler.draw(tiler, vk::PipelineBindPoint::GRAPHICS);
+        }
+        Some(data.recording.draw())
+    })
+    .unwrap_or_default();
     guard((), || record(&device, cmd, &before));
     call(&device);
     guard((), || record(&device, cmd, &after));

@@ -20,6 +20,9 @@ pub struct Config {
     pub frames: Option<u64>,
     /// `NOSTENCIL_FILLRATE_PER_DRAW=1`: also count each draw of a measured pass on its own.
     pub per_draw: bool,
+    /// `NOSTENCIL_FILLRATE_TILER=1`: the tiler check (tiler_check.rs): poison what a tiler
+    /// would not keep and flag the load/store mistakes.
+    pub tiler: bool,
     /// `NOSTENCIL_FILLRATE_EVERY`: also rewrite the file every K frames, at most every 100 ms,
     /// and append each finished frame to the journal beside it (report.rs, `JournalLine`)
     /// (0: never).
@@ -65,7 +68,8 @@ impl Config {
             other => other,
         };
         let per_draw = var("NOSTENCIL_FILLRATE_PER_DRAW").is_some_and(|v| v == "1");
-        (Config { out, format, frames, every, per_draw }, warnings)
+        let tiler = var("NOSTENCIL_FILLRATE_TILER").is_some_and(|v| v == "1");
+        (Config { out, format, frames, every, per_draw, tiler }, warnings)
     }
 }
 
@@ -80,7 +84,11 @@ mod tests {
     #[test]
     fn defaults_and_values_and_named_warnings() {
         let (config, warnings) = parse(&[]);
-        assert_eq!(config, Config { out: None, format: OutputFormat::Json, frames: None, every: 0, per_draw: false });
+        assert_eq!(
+            config,
+            Config { out: None, format: OutputFormat::Json, frames: None, every: 0, per_draw: false, tiler: false }
+        );
+        assert!(parse(&[("NOSTENCIL_FILLRATE_TILER", "1")]).0.tiler);
         assert!(warnings.is_empty());
         let (config, _) = parse(&[
             ("NOSTENCIL_FILLRATE_OUT", "/tmp/x.json"),

@@ -10,7 +10,7 @@ use ash::vk::Handle;
 use super::lifecycle::{c_name, create_device, create_instance, destroy_device, destroy_instance};
 use super::loader::{NegotiateLayerInterface, LAYER_INTERFACE_VERSION, LAYER_NEGOTIATE_INTERFACE_STRUCT};
 use super::state::{self, guard};
-use super::{commands as c, objects as o, queue as q};
+use super::{commands as c, image_use as t, objects as o, queue as q};
 
 /// A hook as the loader's generic function pointer.
 macro_rules! void_fn {
@@ -100,6 +100,57 @@ fn device_hook(name: &str) -> vk::PFN_vkVoidFunction {
     }
 }
 
+/// The layer's hook for `name`: its own, and the tiler check's when the check is on.
+fn hook(name: &str, tiler: bool) -> vk::PFN_vkVoidFunction {
+    device_hook(name).or_else(|| if tiler { tiler_hook(name) } else { None })
+}
+
+/// The tiler check's hooks (image_use.rs), handed out only when the check is on: each notes
+/// what it needs and passes the call on.
+fn tiler_hook(name: &str) -> vk::PFN_vkVoidFunction {
+    match name {
+        "vkCreateFramebuffer" => void_fn!(t::create_framebuffer, vk::PFN_vkCreateFramebuffer),
+        "vkDestroyFramebuffer" => void_fn!(t::destroy_framebuffer, vk::PFN_vkDestroyFramebuffer),
+        "vkUpdateDescriptorSets" => void_fn!(t::update_descriptor_sets, vk::PFN_vkUpdateDescriptorSets),
+        "vkUpdateDescriptorSetWithTemplate" => {
+            void_fn!(t::update_descriptor_set_with_template, vk::PFN_vkUpdateDescriptorSetWithTemplate)
+        }
+        "vkUpdateDescriptorSetWithTemplateKHR" => {
+            void_fn!(t::update_descriptor_set_with_template_khr, vk::PFN_vkUpdateDescriptorSetWithTemplate)
+        }
+        "vkCreateGraphicsPipelines" => void_fn!(t::create_graphics_pipelines, vk::PFN_vkCreateGraphicsPipelines),
+        "vkCmdBindPipeline" => void_fn!(t::cmd_bind_pipeline, vk::PFN_vkCmdBindPipeline),
+        "vkCmdBindDescriptorSets" => void_fn!(t::cmd_bind_descriptor_sets, vk::PFN_vkCmdBindDescriptorSets),
+        "vkCmdPushDescriptorSetKHR" => void_fn!(t::cmd_push_descriptor_set, vk::PFN_vkCmdPushDescriptorSetKHR),
+        "vkCmdDispatch" => void_fn!(t::cmd_dispatch, vk::PFN_vkCmdDispatch),
+        "vkCmdDispatchIndirect" => void_fn!(t::cmd_dispatch_indirect, vk::PFN_vkCmdDispatchIndirect),
+        "vkCmdCopyImage" => void_fn!(t::cmd_copy_image, vk::PFN_vkCmdCopyImage),
+        "vkCmdCopyImageToBuffer" => void_fn!(t::cmd_copy_image_to_buffer, vk::PFN_vkCmdCopyImageToBuffer),
+        "vkCmdBlitImage" => void_fn!(t::cmd_blit_image, vk::PFN_vkCmdBlitImage),
+        "vkCmdResolveImage" => void_fn!(t::cmd_resolve_image, vk::PFN_vkCmdResolveImage),
+        "vkCmdClearColorImage" => void_fn!(t::cmd_clear_color_image, vk::PFN_vkCmdClearColorImage),
+        "vkCmdClearDepthStencilImage" => {
+            void_fn!(t::cmd_clear_depth_stencil_image, vk::PFN_vkCmdClearDepthStencilImage)
+        }
+        "vkCmdCopyBufferToImage" => void_fn!(t::cmd_copy_buffer_to_image, vk::PFN_vkCmdCopyBufferToImage),
+        "vkCmdCopyImage2" => void_fn!(t::cmd_copy_image2, vk::PFN_vkCmdCopyImage2),
+        "vkCmdCopyImage2KHR" => void_fn!(t::cmd_copy_image2_khr, vk::PFN_vkCmdCopyImage2),
+        "vkCmdCopyImageToBuffer2" => void_fn!(t::cmd_copy_image_to_buffer2, vk::PFN_vkCmdCopyImageToBuffer2),
+        "vkCmdCopyImageToBuffer2KHR" => {
+            void_fn!(t::cmd_copy_image_to_buffer2_khr, vk::PFN_vkCmdCopyImageToBuffer2)
+        }
+        "vkCmdBlitImage2" => void_fn!(t::cmd_blit_image2, vk::PFN_vkCmdBlitImage2),
+        "vkCmdBlitImage2KHR" => void_fn!(t::cmd_blit_image2_khr, vk::PFN_vkCmdBlitImage2),
+        "vkCmdResolveImage2" => void_fn!(t::cmd_resolve_image2, vk::PFN_vkCmdResolveImage2),
+        "vkCmdResolveImage2KHR" => void_fn!(t::cmd_resolve_image2_khr, vk::PFN_vkCmdResolveImage2),
+        "vkCmdCopyBufferToImage2" => void_fn!(t::cmd_copy_buffer_to_image2, vk::PFN_vkCmdCopyBufferToImage2),
+        "vkCmdCopyBufferToImage2KHR" => {
+            void_fn!(t::cmd_copy_buffer_to_image2_khr, vk::PFN_vkCmdCopyBufferToImage2)
+        }
+        _ => None,
+    }
+}
+
 /// The layer's hook for an instance-level function name.
 fn instance_hook(name: &str) -> vk::PFN_vkVoidFunction {
     match name {
@@ -177,7 +228,7 @@ unsafe extern "system" fn get_instance_proc_addr(
         // SAFETY: the next layer's GIPA with its instance and the caller's name.
         let next = unsafe { (data.gipa)(instance, name) };
         if next.is_some() && data.config.out.is_some() {
-            if let Some(hook) = device_hook(name_str) {
+            if let Some(hook) = hook(name_str, data.config.tiler) {
                 return Some(hook);
             }
         }
@@ -198,7 +249,7 @@ unsafe extern "system" fn get_device_proc_addr(device: vk::Device, name: *const 
         // SAFETY: the next layer's GDPA with the device it created and the caller's name.
         let next = unsafe { (data.gdpa)(device, name) };
         if next.is_some() && (data.active() || name_str == "vkDestroyDevice") {
-            if let Some(hook) = device_hook(name_str) {
+            if let Some(hook) = hook(name_str, data.config.tiler) {
                 return Some(hook);
             }
         }

@@ -271,6 +271,9 @@ pub(super) unsafe extern "system" fn destroy_device(device: vk::Device, allocato
         read_completed(&data, &mut st, |_| true);
         st.frames().close_last();
         st.frames().finish_ready();
+        if data.config.tiler {
+            st.tiler.check.finish();
+        }
         write_if_due(&data, &mut st, true);
         let pools: Vec<vk::QueryPool> = st.buffers.values().flat_map(|b| b.recording.pools()).collect();
         for pool in pools {

@@ -134,8 +134,15 @@ pub(super) unsafe extern "system" fn create_image(
     if result == vk::Result::SUCCESS {
         guard((), || {
             // SAFETY: a valid create info and the new handle.
-            let (samples, handle) = unsafe { ((*info).samples.as_raw().max(1), *image) };
-            dev.state().image_samples.insert(handle, samples);
+            let (info, handle) = unsafe { (&*info, *image) };
+            let mut st = dev.state();
+            st.image_samples.insert(handle, info.samples.as_raw().max(1));
+            let tiler = super::tiler_state::TilerImage {
+                transient: info.usage.contains(vk::ImageUsageFlags::TRANSIENT_ATTACHMENT),
+                extent: (info.extent.width, info.extent.height),
+                single: info.mip_levels == 1 && info.array_layers == 1,
+            };
+            st.tiler.images.insert(handle, tiler);
         });
     }
     result
@@ -148,7 +155,9 @@ pub(super) unsafe extern "system" fn destroy_image(
 ) {
     let Some((dev, next)) = device_and(device.as_raw(), |d| d.next.destroy_image) else { return };
     guard((), || {
-        dev.state().image_samples.remove(&image);
+        let mut st = dev.state();
+        st.image_samples.remove(&image);
+        st.tiler.images.remove(&image);
     });
     // SAFETY: the application's arguments, passed on.
     unsafe { next(device, image, allocator) }
@@ -169,7 +178,15 @@ pub(super) unsafe extern "system" fn create_image_view(
         guard((), || {
             // SAFETY: a valid create info and the new handle.
             let (format, image, handle) = unsafe { ((*info).format, (*info).image, *view) };
+            // SAFETY: as above.
+            let range = unsafe { (*info).subresource_range };
             let mut st = dev.state();
+            let key = super::tiler_check::ImageKey {
+                image: image.as_raw(),
+                mip: range.base_mip_level,
+                layer: range.base_array_layer,
+            };
+            st.tiler.views.insert(handle, super::tiler_state::ViewTarget { image, key });
             // Swapchain images are not created through vkCreateImage: one sample.
             let samples = st.image_samples.get(&image).copied().unwrap_or(1);
             st.views.insert(handle, (format, samples));
@@ -185,7 +202,9 @@ pub(super) unsafe extern "system" fn destroy_image_view(
 ) {
     let Some((dev, next)) = device_and(device.as_raw(), |d| d.next.destroy_image_view) else { return };
     guard((), || {
-        dev.state().views.remove(&view);
+        let mut st = dev.state();
+        st.views.remove(&view);
+        st.tiler.views.remove(&view);
     });
     // SAFETY: the application's arguments, passed on.
     unsafe { next(device, view, allocator) }
@@ -246,6 +265,7 @@ pub(super) unsafe extern "system" fn reset_command_pool(
             flush_buffer(&dev, &mut st, buffer);
             if let Some(data) = st.buffers.get_mut(&buffer) {
                 data.recording.restart(false);
+                data.tiler.restart();
             }
         }
     });
@@ -278,7 +298,8 @@ pub(super) unsafe extern "system" fn allocate_command_buffers(
             for &handle in handles {
                 let mut recording = Recording::new(secondary, support);
                 recording.per_draw = dev.config.per_draw;
-                st.buffers.insert(handle, CommandBufferData { pool: info.command_pool, recording });
+                let tiler = Default::default();
+                st.buffers.insert(handle, CommandBufferData { pool: info.command_pool, recording, tiler });
             }
         });
     }

@@ -7,6 +7,7 @@ use std::path::Path;
 
 use super::config::OutputFormat;
 use super::report::{Counters, FillrateReport, RenderPassRow, SectionRow};
+use super::tiler_check::TilerReport;
 use crate::profile::text_table::aligned_lines;
 
 pub fn render(report: &FillrateReport, format: OutputFormat) -> String {
@@ -37,7 +38,7 @@ fn csv_field(text: &str) -> String {
 
 const CSV_HEADER: &str = "frame,index,label,api,x,y,width,height,samples,attachments,draws,vertex_invocations,\
 clipping_primitives,fragment_invocations,fragments_per_pixel,samples_passed,overdraw,gpu_ms,bytes_loaded,bytes_stored,\
-not_measured,section";
+tiler_bytes,immediate_bytes,not_measured,section";
 
 fn opt<T: std::fmt::Display>(value: Option<T>) -> String {
     value.map_or(String::new(), |v| v.to_string())
@@ -46,7 +47,7 @@ fn opt<T: std::fmt::Display>(value: Option<T>) -> String {
 /// The counter columns of a CSV line.
 fn csv_counters<N: std::fmt::Display + Copy>(c: &Counters<N>) -> String {
     format!(
-        "{},{},{},{},{},{},{},{},{},{}",
+        "{},{},{},{},{},{},{},{},{},{},{},{}",
         c.draws,
         opt(c.vertex_invocations),
         opt(c.clipping_primitives),
@@ -56,7 +57,9 @@ fn csv_counters<N: std::fmt::Display + Copy>(c: &Counters<N>) -> String {
         c.overdraw,
         opt(c.gpu_ms),
         c.bytes_loaded,
-        c.bytes_stored
+        c.bytes_stored,
+        c.tiler_bytes,
+        c.immediate_bytes
     )
 }
 
@@ -82,12 +85,12 @@ fn csv(report: &FillrateReport) -> String {
     for frame in &report.frames {
         for row in &frame.render_passes {
             let prefix = csv_row_prefix(frame.index, row);
-            let counters = row.counters.as_ref().map_or(",,,,,,,,,".to_owned(), csv_counters);
+            let counters = row.counters.as_ref().map_or(",,,,,,,,,,,".to_owned(), csv_counters);
             let not_measured = csv_field(row.not_measured.as_deref().unwrap_or(""));
             let _ = writeln!(out, "{prefix},{counters},{not_measured},");
             // A section: the pass's columns, its own counters, its label in the last column.
             for section in &row.sections {
-                let counters = section.counters.as_ref().map_or(",,,,,,,,,".to_owned(), csv_counters);
+                let counters = section.counters.as_ref().map_or(",,,,,,,,,,,".to_owned(), csv_counters);
                 let not_measured = csv_field(section.not_measured.as_deref().unwrap_or(""));
                 let name = csv_field(&section_name(section.label.as_deref()));
                 let _ = writeln!(out, "{prefix},{counters},{not_measured},{name}");
@@ -113,6 +116,39 @@ fn csv(report: &FillrateReport) -> String {
             for (what, counters) in lines {
                 let _ = writeln!(out, "{what},{},{label},,,,,,,{key},{counters},,{name}", agg.position);
             }
+        }
+    }
+    out
+}
+
+/// The tiler check's flags and poisoned attachments, one line each.
+pub fn tiler_lines(check: &TilerReport) -> String {
+    let mut out = String::new();
+    let name = |pass: u32, label: &Option<String>| match label {
+        Some(label) => format!("pass #{pass} '{label}'"),
+        None => format!("pass #{pass}"),
+    };
+    let _ = writeln!(out, "\ntiler check: {} flag(s)", check.flags.len());
+    for f in &check.flags {
+        let attachment = f.attachment.as_deref().map_or(String::new(), |a| format!(" {a}"));
+        let times = if f.count > 1 { format!(" (x{})", f.count) } else { String::new() };
+        let _ = writeln!(
+            out,
+            "  {}: frame {} {}{attachment}{times}: {}",
+            f.kind,
+            f.frame,
+            name(f.pass, &f.label),
+            f.detail
+        );
+    }
+    if let Some(why) = &check.reads_unknown {
+        let _ = writeln!(out, "  (reads not all seen: {why}; unread and dead-pass flags are not given)");
+    }
+    if !check.poisoned.is_empty() {
+        let _ = writeln!(out, "filled with the pattern (what a tiler would not keep):");
+        for p in &check.poisoned {
+            let read = p.read_by.as_deref().map_or("nothing read it".to_owned(), |r| format!("read by {r}"));
+            let _ = writeln!(out, "  {} {} {}: {read}", name(p.pass, &p.label), p.attachment, p.when);
         }
     }
     out
@@ -173,6 +209,8 @@ fn table(report: &FillrateReport) -> String {
             "GPU ms",
             "loaded B",
             "stored B",
+            "tiler B",
+            "immediate B",
         ];
         let optu2 = optu;
         let cells_of =
@@ -190,10 +228,12 @@ fn table(report: &FillrateReport) -> String {
                         optf(c.gpu_ms),
                         c.bytes_loaded.to_string(),
                         c.bytes_stored.to_string(),
+                        c.tiler_bytes.to_string(),
+                        c.immediate_bytes.to_string(),
                     ]),
                     None => {
                         cells.push(format!("not measured: {}", why.unwrap_or("unknown")));
-                        cells.extend(vec![String::new(); 9]);
+                        cells.extend(vec![String::new(); 11]);
                     }
                 }
                 cells
@@ -211,6 +251,13 @@ fn table(report: &FillrateReport) -> String {
             }
         }
         out += &aligned(&header, &rows);
+        let measured = frame.render_passes.iter().filter_map(|r| r.counters.as_ref());
+        let bytes: crate::frame::bandwidth::Bandwidth = measured.map(Counters::bandwidth).sum();
+        let _ = writeln!(
+            out,
+            "frame bandwidth estimate: tiler {} B, immediate-mode {} B (Mesa turnip's model, docs/fillrate-layer.md)",
+            bytes.tiler_bytes, bytes.immediate_bytes
+        );
         let _ = writeln!(out, "\nattachments (tile traffic from the load/store ops, over the render area):");
         for r in &frame.render_passes {
             let _ = writeln!(out, "  {}", pass_name(r));
@@ -278,6 +325,9 @@ fn table(report: &FillrateReport) -> String {
             let _ = writeln!(out, "  #{}: {}", a.position, a.key);
         }
     }
+    if let Some(check) = &report.tiler_check {
+        out += &tiler_lines(check);
+    }
     if !report.not_measured.is_empty() {
         let _ = writeln!(out, "\nnot measured:");
         for n in &report.not_measured {
@@ -321,6 +371,7 @@ mod tests {
                 detail: "crashed with SIGSEGV after 1 measured frame".into(),
                 partial: true,
             }),
+            tiler_check: None,
         }
     }
 

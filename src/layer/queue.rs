@@ -38,6 +38,16 @@ fn submitted(
     batches: &[Batch],
     fence: vk::Fence,
 ) -> Vec<Vec<vk::CommandBuffer>> {
+    if device.config.tiler {
+        // The check reads the command stream in submission order (a resubmitted buffer runs,
+        // and is read, again).
+        for &buffer in batches.iter().flat_map(|b| &b.buffers) {
+            let DeviceState { tiler, buffers, .. } = &mut *state;
+            if let Some(data) = buffers.get(&buffer) {
+                tiler.check.process(&data.tiler.events);
+            }
+        }
+    }
     for &buffer in batches.iter().flat_map(|b| &b.buffers) {
         let simultaneous = state.buffers.get(&buffer).is_some_and(|b| b.recording.simultaneous);
         if simultaneous {
@@ -472,6 +482,9 @@ pub(super) unsafe extern "system" fn queue_present(
     guard((), || {
         if device.active() {
             let mut st = device.state();
+            if device.config.tiler {
+                st.tiler.check.end_frame();
+            }
             st.frames().present();
             proofs::poll(&device, &mut st);
             proofs::add(&device, &mut st, queue);

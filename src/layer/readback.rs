@@ -296,6 +296,7 @@ pub fn report(device: &DeviceData, state: &mut DeviceState) -> FillrateReport {
         frames: frames.kept.iter().cloned().collect(),
         aggregate: frames.aggregate.rows(),
         run: None,
+        tiler_check: device.config.tiler.then(|| state.tiler.check.report()),
     }
 }
 

@@ -240,6 +240,11 @@ impl Recording {
         (before, after)
     }
 
+    /// The label a pass beginning now is named by (as `begin_pass` names it).
+    pub fn label_now(&self) -> Option<String> {
+        self.labels.last().cloned().or_else(|| self.inserted_label.clone())
+    }
+
     pub fn insert_label(&mut self, label: String) {
         self.inserted_label = Some(label);
     }

@@ -3,6 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::frame::bandwidth::{pass_bandwidth, AttachmentCost, Bandwidth};
+
 /// Version of the JSON layout; bump on any incompatible change.
 pub const FILLRATE_SCHEMA: &str = "nostencil-fillrate/1";
 
@@ -26,6 +28,10 @@ pub struct FillrateReport {
     /// How the program's run ended, when `profile-app` ran it (the layer itself leaves it out).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub run: Option<RunEnd>,
+    /// With `NOSTENCIL_FILLRATE_TILER=1` (`profile-app --tiler-check`): the load/store mistakes
+    /// found and the attachments filled with the pattern (tiler_check.rs).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tiler_check: Option<super::tiler_check::TilerReport>,
 }
 
 /// One line of the frame journal, `OUT.frames` beside the result file (written when
@@ -168,6 +174,13 @@ pub struct AttachmentRow {
     /// stores W x H x bytes x samples; CLEAR, DONT_CARE and NONE move nothing).
     pub bytes_loaded: u64,
     pub bytes_stored: u64,
+    /// Bytes its CLEAR ops write over the render area, every sample (the immediate-mode
+    /// estimate's; frame/bandwidth.rs).
+    #[serde(default)]
+    pub bytes_cleared: u64,
+    /// Bytes of one sample of its format, all aspects.
+    #[serde(default)]
+    pub bytes_per_sample: u64,
 }
 
 /// One render pass instance's counters (`N` = u64), or their mean over frames (`N` = f64).
@@ -187,6 +200,13 @@ pub struct Counters<N = u64> {
     pub gpu_ms: Option<f64>,
     pub bytes_loaded: N,
     pub bytes_stored: N,
+    /// Bytes a tile-based GPU moves for the pass (loads, stores, resolves) and an immediate-mode
+    /// one (clears, resolves, every passing sample read and written): frame/bandwidth.rs, after
+    /// Mesa turnip's `tu_render_pass_bandwidth_config` and autotuner.
+    #[serde(default)]
+    pub tiler_bytes: N,
+    #[serde(default)]
+    pub immediate_bytes: N,
 }
 
 /// Raw per-pass results before the derived figures are filled in.
@@ -206,6 +226,20 @@ impl Counters {
     /// sample count and attachments' traffic.
     pub fn new(raw: &RawCounters, area: &RenderArea, samples: u32, attachments: &[AttachmentRow]) -> Self {
         let pixels = area.pixels().max(1);
+        let costs: Vec<AttachmentCost> = attachments
+            .iter()
+            .map(|a| {
+                let resolve = a.role == "resolve";
+                AttachmentCost {
+                    tile_bytes: a.bytes_loaded + a.bytes_stored,
+                    cleared_bytes: a.bytes_cleared,
+                    bytes_per_sample: a.bytes_per_sample,
+                    resolve_of: resolve.then_some(samples.max(1)),
+                    drawn: matches!(a.role.as_str(), "colour" | "depth" | "stencil" | "depth_stencil"),
+                }
+            })
+            .collect();
+        let bandwidth = pass_bandwidth(&costs, area.pixels(), raw.samples_passed);
         Counters {
             draws: raw.draws,
             vertex_invocations: raw.vertex_invocations,
@@ -217,7 +251,14 @@ impl Counters {
             gpu_ms: raw.gpu_ns.map(|ns| ns.max(0.0) / 1e6),
             bytes_loaded: attachments.iter().map(|a| a.bytes_loaded).sum(),
             bytes_stored: attachments.iter().map(|a| a.bytes_stored).sum(),
+            tiler_bytes: bandwidth.tiler_bytes,
+            immediate_bytes: bandwidth.immediate_bytes,
         }
+    }
+
+    /// The pass's bytes on a tiler and an immediate-mode GPU.
+    pub fn bandwidth(&self) -> Bandwidth {
+        Bandwidth { tiler_bytes: self.tiler_bytes, immediate_bytes: self.immediate_bytes }
     }
 }
 

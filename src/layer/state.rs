@@ -123,6 +123,34 @@ next_fns! {
     get_semaphore_counter_value: PFN_vkGetSemaphoreCounterValue = "vkGetSemaphoreCounterValue",
     get_semaphore_counter_value_khr: PFN_vkGetSemaphoreCounterValue = "vkGetSemaphoreCounterValueKHR",
     destroy_semaphore: PFN_vkDestroySemaphore = "vkDestroySemaphore",
+    create_framebuffer: PFN_vkCreateFramebuffer = "vkCreateFramebuffer",
+    destroy_framebuffer: PFN_vkDestroyFramebuffer = "vkDestroyFramebuffer",
+    update_descriptor_sets: PFN_vkUpdateDescriptorSets = "vkUpdateDescriptorSets",
+    update_descriptor_set_with_template: PFN_vkUpdateDescriptorSetWithTemplate = "vkUpdateDescriptorSetWithTemplate",
+    update_descriptor_set_with_template_khr: PFN_vkUpdateDescriptorSetWithTemplate = "vkUpdateDescriptorSetWithTemplateKHR",
+    create_graphics_pipelines: PFN_vkCreateGraphicsPipelines = "vkCreateGraphicsPipelines",
+    cmd_bind_pipeline: PFN_vkCmdBindPipeline = "vkCmdBindPipeline",
+    cmd_bind_descriptor_sets: PFN_vkCmdBindDescriptorSets = "vkCmdBindDescriptorSets",
+    cmd_push_descriptor_set: PFN_vkCmdPushDescriptorSetKHR = "vkCmdPushDescriptorSetKHR",
+    cmd_dispatch: PFN_vkCmdDispatch = "vkCmdDispatch",
+    cmd_dispatch_indirect: PFN_vkCmdDispatchIndirect = "vkCmdDispatchIndirect",
+    cmd_copy_image: PFN_vkCmdCopyImage = "vkCmdCopyImage",
+    cmd_copy_image_to_buffer: PFN_vkCmdCopyImageToBuffer = "vkCmdCopyImageToBuffer",
+    cmd_blit_image: PFN_vkCmdBlitImage = "vkCmdBlitImage",
+    cmd_resolve_image: PFN_vkCmdResolveImage = "vkCmdResolveImage",
+    cmd_clear_color_image: PFN_vkCmdClearColorImage = "vkCmdClearColorImage",
+    cmd_clear_depth_stencil_image: PFN_vkCmdClearDepthStencilImage = "vkCmdClearDepthStencilImage",
+    cmd_copy_buffer_to_image: PFN_vkCmdCopyBufferToImage = "vkCmdCopyBufferToImage",
+    cmd_copy_image2: PFN_vkCmdCopyImage2 = "vkCmdCopyImage2",
+    cmd_copy_image2_khr: PFN_vkCmdCopyImage2 = "vkCmdCopyImage2KHR",
+    cmd_copy_image_to_buffer2: PFN_vkCmdCopyImageToBuffer2 = "vkCmdCopyImageToBuffer2",
+    cmd_copy_image_to_buffer2_khr: PFN_vkCmdCopyImageToBuffer2 = "vkCmdCopyImageToBuffer2KHR",
+    cmd_blit_image2: PFN_vkCmdBlitImage2 = "vkCmdBlitImage2",
+    cmd_blit_image2_khr: PFN_vkCmdBlitImage2 = "vkCmdBlitImage2KHR",
+    cmd_resolve_image2: PFN_vkCmdResolveImage2 = "vkCmdResolveImage2",
+    cmd_resolve_image2_khr: PFN_vkCmdResolveImage2 = "vkCmdResolveImage2KHR",
+    cmd_copy_buffer_to_image2: PFN_vkCmdCopyBufferToImage2 = "vkCmdCopyBufferToImage2",
+    cmd_copy_buffer_to_image2_khr: PFN_vkCmdCopyBufferToImage2 = "vkCmdCopyBufferToImage2KHR",
 }
 
 pub struct InstanceData {
@@ -151,6 +179,8 @@ pub struct DeviceInfo {
 pub struct CommandBufferData {
     pub pool: vk::CommandPool,
     pub recording: Recording,
+    /// The tiler check's events and bindings (tiler_state.rs).
+    pub tiler: super::tiler_state::CommandTiler,
 }
 
 /// One command buffer's measured passes in one submission, waiting to be read back.
@@ -198,6 +228,8 @@ pub struct DeviceState {
     /// Frames appended to the journal (report.rs, `JournalLine`), and the open journal.
     pub journaled: u64,
     pub journal: Option<std::fs::File>,
+    /// The tiler check's objects and verdicts (tiler_state.rs, tiler_check.rs).
+    pub tiler: super::tiler_state::TilerState,
 }
 
 impl DeviceState {

@@ -199,8 +199,20 @@ struct Timing {
 
 /// Runs `warmup + runs` rounds of the variants, round-robin, and summarises each variant; the
 /// first variant is the reference of the ratios.
-pub fn run(mut variants: Vec<Variant>, settings: &BenchSettings) -> Result<Vec<VariantResult>> {
+pub fn run(variants: Vec<Variant>, settings: &BenchSettings) -> Result<Vec<VariantResult>> {
+    run_traced(variants, settings, None)
+}
+
+/// [`run`], each frame (warm-up ones too) also put on `trace`'s timeline (`bench --trace`) at
+/// the time it began.
+pub fn run_traced(
+    mut variants: Vec<Variant>,
+    settings: &BenchSettings,
+    mut trace: Option<&mut crate::profile::trace::Trace>,
+) -> Result<Vec<VariantResult>> {
     let count = variants.len();
+    let origin = Instant::now();
+    let mut traced = 0u64;
     let progress = progress_bar(settings.progress, count as u64 * u64::from(settings.warmup + settings.runs));
     let mut last: Vec<Option<FrameCounters>> = vec![None; count];
     let rounds = round_robin(count, settings.warmup, settings.runs, |v| {
@@ -210,6 +222,11 @@ pub fn run(mut variants: Vec<Variant>, settings: &BenchSettings) -> Result<Vec<V
         let output = (variants[v].frame)().inspect_err(|_| progress.finish_and_clear())?;
         let frame_ms = start.elapsed().as_secs_f64() * 1e3;
         let gpu_ms = output.counters.total_gpu_ms();
+        if let Some(trace) = trace.as_deref_mut() {
+            let at = start.duration_since(origin).as_secs_f64() * 1e6;
+            trace.own_frame(&variants[v].name, traced, at, &output.counters);
+            traced += 1;
+        }
         last[v] = Some(output.counters);
         progress.inc(1);
         Ok(Timing { frame_ms, gpu_ms })

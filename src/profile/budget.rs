@@ -7,6 +7,7 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
+use crate::frame::bandwidth::Bandwidth;
 use crate::render::FrameCounters;
 
 pub const BUDGET_SCHEMA: &str = "nostencil-budget/1";
@@ -36,6 +37,10 @@ pub struct Budget {
     #[serde(default = "one_sample")]
     pub samples: u32,
     pub passes: Vec<PassBudget>,
+    /// Bytes per frame on a tiler and an immediate-mode GPU (frame/bandwidth.rs); budgets
+    /// written before the estimate have none and hold no bytes.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frame_bandwidth: Option<Bandwidth>,
 }
 
 fn one_sample() -> u32 {
@@ -88,12 +93,19 @@ impl Budget {
             height: counters.height,
             samples: counters.samples,
             passes: frame_passes(counters),
+            frame_bandwidth: Some(counters.bandwidth()),
         }
     }
 
     /// A budget for an application's frame (`profile-app`): `scene` is the application's name,
     /// `width` x `height` the largest render area, and the passes its render pass instances.
-    pub fn for_application(application: &str, width: u32, height: u32, passes: &[PassBudget]) -> Self {
+    pub fn for_application(
+        application: &str,
+        width: u32,
+        height: u32,
+        passes: &[PassBudget],
+        frame_bandwidth: Bandwidth,
+    ) -> Self {
         Budget {
             schema: BUDGET_SCHEMA.into(),
             scene: application.into(),
@@ -103,13 +115,19 @@ impl Budget {
             height,
             samples: 1,
             passes: passes.to_vec(),
+            frame_bandwidth: Some(frame_bandwidth),
         }
     }
 
     /// Every counter of an application's passes over budget. The frame size is not compared: a
     /// larger window is what the budget is there to catch. A budget of another kind, another
     /// application's, or a pass it does not list is an error naming it.
-    pub fn check_application(&self, application: &str, passes: &[PassBudget]) -> Result<Vec<Overrun>> {
+    pub fn check_application(
+        &self,
+        application: &str,
+        passes: &[PassBudget],
+        frame_bandwidth: Bandwidth,
+    ) -> Result<Vec<Overrun>> {
         if self.technique != APPLICATION_TECHNIQUE {
             return Err(Error::InvalidInput(format!(
                 "the budget is for nostencil's own frame ({} / {}), not an application: record one with \
@@ -123,7 +141,23 @@ impl Budget {
                 self.scene
             )));
         }
-        self.check_passes(passes)
+        let mut overruns = self.check_passes(passes)?;
+        overruns.extend(self.check_bandwidth(frame_bandwidth));
+        Ok(overruns)
+    }
+
+    /// The frame's bytes over the budget's (none when the budget holds no bytes).
+    fn check_bandwidth(&self, actual: Bandwidth) -> Vec<Overrun> {
+        let Some(budget) = self.frame_bandwidth else { return Vec::new() };
+        let figures = [
+            ("tiler bytes per frame", budget.tiler_bytes, actual.tiler_bytes),
+            ("immediate-mode bytes per frame", budget.immediate_bytes, actual.immediate_bytes),
+        ];
+        figures
+            .into_iter()
+            .filter(|&(_, budget, actual)| actual > budget)
+            .map(|(counter, budget, actual)| Overrun { pass: "frame".into(), counter, budget, actual })
+            .collect()
     }
 
     pub fn load(path: &Path) -> Result<Self> {
@@ -160,7 +194,9 @@ impl Budget {
                 self.samples, counters.samples, counters.samples, self.samples
             )));
         }
-        self.check_passes(&frame_passes(counters))
+        let mut overruns = self.check_passes(&frame_passes(counters))?;
+        overruns.extend(self.check_bandwidth(counters.bandwidth()));
+        Ok(overruns)
     }
 
     /// Every counter over budget, pass by pass (matched by name).
@@ -211,6 +247,7 @@ mod tests {
             passes: vec![pass("scene", 64), pass("overlay", samples)],
             render_passes: Vec::new(),
             render_pass_instances: Vec::new(),
+            cpu: Default::default(),
         }
     }
 
@@ -233,15 +270,20 @@ mod tests {
             samples_passed: samples,
             fragment_invocations: Some(samples),
         };
-        let budget = Budget::for_application("vkcube", 500, 500, &[pass(1000)]);
-        assert!(budget.check_application("vkcube", &[pass(1000)]).unwrap().is_empty());
-        let overruns = budget.check_application("vkcube", &[pass(1500)]).unwrap();
+        let bytes = |tiler, immediate| Bandwidth { tiler_bytes: tiler, immediate_bytes: immediate };
+        let budget = Budget::for_application("vkcube", 500, 500, &[pass(1000)], bytes(100, 200));
+        assert!(budget.check_application("vkcube", &[pass(1000)], bytes(100, 200)).unwrap().is_empty());
+        let overruns = budget.check_application("vkcube", &[pass(1500)], bytes(100, 200)).unwrap();
         assert_eq!(overruns.len(), 2);
         assert!(overruns[0].to_string().contains("pass 'render pass #0': samples passed 1500 > budget 1000"));
-        assert!(budget.check_application("other", &[pass(1000)]).is_err());
+        // Bytes per frame are held too, named by the frame.
+        let overruns = budget.check_application("vkcube", &[pass(1000)], bytes(101, 200)).unwrap();
+        assert_eq!(overruns.len(), 1);
+        assert!(overruns[0].to_string().contains("pass 'frame': tiler bytes per frame 101 > budget 100"));
+        assert!(budget.check_application("other", &[pass(1000)], bytes(0, 0)).is_err());
         let extra = PassBudget { name: "render pass #1".into(), ..pass(1) };
-        assert!(budget.check_application("vkcube", &[pass(1), extra]).is_err());
+        assert!(budget.check_application("vkcube", &[pass(1), extra], bytes(0, 0)).is_err());
         let own = Budget::from_frame("s", "t", "emulated", &frame(10));
-        assert!(own.check_application("s", &[pass(1)]).is_err());
+        assert!(own.check_application("s", &[pass(1)], bytes(0, 0)).is_err());
     }
 }

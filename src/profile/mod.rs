@@ -12,3 +12,4 @@ pub mod passes;
 pub mod report;
 pub mod table1;
 pub mod text_table;
+pub mod trace;

@@ -5,6 +5,7 @@ use std::fmt::Write as _;
 use serde::Serialize;
 
 use super::text_table::aligned_lines;
+use crate::frame::bandwidth::Bandwidth;
 use crate::frame::render_pass::RenderPassTraffic;
 use crate::render::instances::{RenderPassInstance, RenderPassSums};
 use crate::render::FrameCounters;
@@ -59,6 +60,10 @@ pub struct Totals {
     /// Samples passed / (width x height x samples) over all passes.
     pub overdraw: f64,
     pub gpu_ms: f64,
+    /// The frame's bytes to and from memory on a tiler and an immediate-mode GPU
+    /// (frame/bandwidth.rs, after Mesa turnip's model).
+    #[serde(flatten)]
+    pub bandwidth: Bandwidth,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -146,6 +151,7 @@ impl ProfileReport {
                 samples_passed: counters.total_samples_passed(),
                 overdraw: counters.overdraw(),
                 gpu_ms: total_ms,
+                bandwidth: counters.bandwidth(),
             },
             render_passes: counters.render_passes.clone(),
             render_pass_instances: counters.render_pass_instances.clone(),
@@ -262,6 +268,14 @@ impl ProfileReport {
             self.render_passes.iter().fold((0, 0), |(l, s), rp| (l + rp.bytes_loaded(), s + rp.bytes_stored()));
         let _ = writeln!(out, "  frame total: loaded {loaded} B, stored {stored} B");
         self.instance_table(&mut out);
+        let bandwidth = self.totals.bandwidth;
+        let _ = writeln!(
+            out,
+            "\nframe bandwidth estimate: tiler {} B, immediate-mode {} B (Mesa turnip's model: loads,\n\
+             stores and resolves on a tiler; clears, resolves and every passing sample read and written\n\
+             on an immediate-mode GPU; docs/profiling.md)",
+            bandwidth.tiler_bytes, bandwidth.immediate_bytes
+        );
         let _ = writeln!(
             out,
             "\nfragments = fragment shader invocations (pipeline statistics; on lavapipe 16 per 4x4 block a\n\
@@ -288,10 +302,12 @@ impl ProfileReport {
             let fragments = sum.fragment_invocations.map_or("n/a".to_owned(), |f| f.to_string());
             let _ = writeln!(
                 out,
-                "  {span}{size}  draws {}  samples {}  fragments {}  ({})",
+                "  {span}{size}  draws {}  samples {}  fragments {}  tiler {} B  immediate {} B  ({})",
                 sum.draws,
                 sum.samples_passed,
                 fragments,
+                sum.bandwidth.tiler_bytes,
+                sum.bandwidth.immediate_bytes,
                 sum.passes.join(", ")
             );
         }

@@ -9,8 +9,10 @@
 
 use serde::Serialize;
 
-use super::instances::{RenderPassInstance, RenderPassSums};
+use super::instances::{group_bandwidth, RenderPassInstance, RenderPassSums};
 use super::plan::DrawKind;
+use crate::frame::bandwidth::Bandwidth;
+use crate::gpu::commands::CpuPhases;
 use crate::frame::render_pass::RenderPassTraffic;
 use crate::gpu::queries::RawPassQueries;
 
@@ -75,6 +77,8 @@ pub struct FrameCounters {
     pub render_passes: Vec<RenderPassTraffic>,
     /// Every render pass instance the frame began, in submission order.
     pub render_pass_instances: Vec<RenderPassInstance>,
+    /// Where the CPU spent the frame's submission (recording, submit, wait).
+    pub cpu: CpuPhases,
 }
 
 impl FrameCounters {
@@ -106,6 +110,11 @@ impl FrameCounters {
     /// The passes' counters summed per render pass instance (`instances::render_pass_sums`).
     pub fn render_pass_sums(&self) -> Vec<RenderPassSums> {
         render_pass_sums(&self.render_pass_instances, &self.passes)
+    }
+
+    /// The frame's bytes on a tiler and an immediate-mode GPU: its render pass instances'.
+    pub fn bandwidth(&self) -> Bandwidth {
+        self.render_pass_sums().iter().map(|s| s.bandwidth).sum()
     }
 
     pub fn total_gpu_ms(&self) -> f64 {
@@ -162,13 +171,15 @@ fn render_pass_sums(instances: &[RenderPassInstance], passes: &[PassCounters]) -
         }
         let inside = |p: &&PassCounters| p.render_pass_instances.iter().any(|&i| (first..=last).contains(&i));
         let members: Vec<&PassCounters> = passes.iter().filter(inside).collect();
+        let samples_passed = members.iter().map(|p| p.samples_passed).sum();
         sums.push(RenderPassSums {
             first,
             count: last - first + 1,
             passes: members.iter().map(|p| p.name.clone()).collect(),
             draws: members.iter().map(|p| p.draws).sum(),
-            samples_passed: members.iter().map(|p| p.samples_passed).sum(),
+            samples_passed,
             fragment_invocations: members.iter().map(|p| p.fragment_invocations).sum(),
+            bandwidth: group_bandwidth(&instances[first as usize..=last as usize], samples_passed),
         });
         first = last + 1;
     }
@@ -203,6 +214,8 @@ mod tests {
             store_op: "STORE".into(),
             bytes_loaded: 0,
             bytes_stored: 0,
+            bytes_cleared: 0,
+            bytes_per_sample: 4,
             transient: false,
             samples,
         };
@@ -218,6 +231,7 @@ mod tests {
             passes: vec![pass("shadow texture", 50), pass("scene", 400)],
             render_passes: vec![traffic("shadow texture", 1), traffic("frame", 4)],
             render_pass_instances: Vec::new(),
+            cpu: Default::default(),
         };
         let (prepass, scene) = (&counters.passes[0], &counters.passes[1]);
         assert_eq!((counters.pass_samples(prepass), counters.pass_samples(scene)), (1, 4));

@@ -5,7 +5,8 @@
 
 use serde::Serialize;
 
-use crate::frame::render_pass::AttachmentTraffic;
+use crate::frame::bandwidth::{pass_bandwidth, AttachmentCost, Bandwidth};
+use crate::frame::render_pass::{AttachmentTraffic, RESOLVED_NAME};
 
 /// One render pass instance the frame began, in recording (and submission) order.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -33,4 +34,40 @@ pub struct RenderPassSums {
     pub samples_passed: u64,
     /// None without pipeline statistics.
     pub fragment_invocations: Option<u64>,
+    /// Bytes the instances move to and from memory on a tiler and an immediate-mode GPU
+    /// (frame/bandwidth.rs, after Mesa turnip).
+    #[serde(flatten)]
+    pub bandwidth: Bandwidth,
+}
+
+impl RenderPassInstance {
+    /// Its attachments as the bandwidth model sees them.
+    pub fn costs(&self) -> Vec<AttachmentCost> {
+        self.attachments
+            .iter()
+            .map(|a| {
+                let resolve = a.attachment == RESOLVED_NAME;
+                AttachmentCost {
+                    tile_bytes: a.bytes_loaded + a.bytes_stored,
+                    cleared_bytes: a.bytes_cleared,
+                    bytes_per_sample: a.bytes_per_sample,
+                    resolve_of: resolve.then_some(self.samples),
+                    drawn: !resolve,
+                }
+            })
+            .collect()
+    }
+}
+
+/// The traffic of consecutive `instances` whose draws let `samples_passed` samples pass (the
+/// draws' bytes per sample are the first instance's: the instances of one group are alike).
+pub fn group_bandwidth(instances: &[RenderPassInstance], samples_passed: u64) -> Bandwidth {
+    instances
+        .iter()
+        .enumerate()
+        .map(|(i, instance)| {
+            let pixels = instance.width as u64 * instance.height as u64;
+            pass_bandwidth(&instance.costs(), pixels, if i == 0 { samples_passed } else { 0 })
+        })
+        .sum()
 }

@@ -140,7 +140,7 @@ impl Renderer {
         let (targets, queries, readback, frame_set) = (&self.targets, &self.queries, &self.readback, self.frame.set);
         let (keep_on_gpu, stencil_clear) = (self.keep_on_gpu, self.stencil_clear);
 
-        let (pass_records, (render_passes, render_pass_instances)) =
+        let ((pass_records, (render_passes, render_pass_instances)), cpu) =
             submit_frame_and_wait(&gpu, describe_passes, |cmd| {
                 queries.reset(cmd);
                 let mut recorder = FrameRecorder::new(
@@ -174,7 +174,9 @@ impl Renderer {
                 Ok(records)
             })?;
         self.drawn = true;
-        self.output(pass_records, render_passes, render_pass_instances)
+        let mut output = self.output(pass_records, render_passes, render_pass_instances)?;
+        output.counters.cpu = cpu;
+        Ok(output)
     }
 
     /// The frame's image (unless kept on the GPU) and counters, once it completed.
@@ -209,6 +211,7 @@ impl Renderer {
                 passes,
                 render_passes,
                 render_pass_instances,
+                cpu: Default::default(),
             },
             trace,
         })
