@@ -332,8 +332,9 @@ fn tile_traffic_is_listed_per_render_pass_with_known_sizes() {
     assert_eq!(frame[1]["bytes_stored"], 0);
     assert!(frame.iter().all(|a| a["samples"] == 1), "{frame:?}");
 
-    // The atlas with a moving light: the sun's shadow map (512^2 depth, stored), one bake and one
-    // dilate per model (colour, stored) under their passes, then the frame.
+    // The atlas with a moving light: the sun's shadow map (512^2 depth, stored), the raster bake
+    // of the ground (its 256^2 tile of the raw page: the render area is the re-baked tiles), the
+    // page pass over both tiles (loaded and stored: 512x256), then the frame.
     let atlas = json(&[
         "profile",
         "--size",
@@ -349,16 +350,25 @@ fn tile_traffic_is_listed_per_render_pass_with_known_sizes() {
     ]);
     let passes = atlas["render_passes"].as_array().expect("render_passes");
     let names: Vec<&str> = passes.iter().filter_map(|p| p["pass"].as_str()).collect();
-    assert_eq!(names, ["sun: shadow map", "atlas bake", "atlas dilate", "frame"], "{passes:?}");
+    assert_eq!(names, ["sun: shadow map", "atlas bake", "atlas page", "frame"], "{passes:?}");
     let map = &passes[0];
     assert_eq!((map["width"].as_u64(), map["height"].as_u64()), (Some(512), Some(512)));
     let depth = &map["attachments"][0];
     let texel = if depth["format"] == "D16_UNORM" { 2 } else { 4 };
     assert_eq!(depth["bytes_stored"], 512 * 512 * texel);
-    // atlas-one: the model and the ground, each with a 256x256 shadow texture.
+    // atlas-one: the model (a geometry image, baked by its texels in the page pass) and the
+    // ground (rasterised), each a 256x256 tile of a 512x256 page.
     let bake = &passes[1];
-    assert_eq!((bake["width"].as_u64(), bake["count"].as_u64()), (Some(256), Some(2)));
+    assert_eq!(
+        (bake["width"].as_u64(), bake["height"].as_u64(), bake["count"].as_u64()),
+        (Some(256), Some(256), Some(1))
+    );
     assert_eq!(bake["attachments"][0]["bytes_stored"], 256 * 256 * 4);
+    let page = &passes[2];
+    assert_eq!((page["width"].as_u64(), page["height"].as_u64()), (Some(512), Some(256)));
+    assert_eq!(page["attachments"][0]["load_op"], "LOAD");
+    assert_eq!(page["attachments"][0]["bytes_loaded"], 512 * 256 * 4);
+    assert_eq!(page["attachments"][0]["bytes_stored"], 512 * 256 * 4);
 
     // The planar render-texture shadow: its 128x128 texture under its own pass, not "frame".
     let planar = json(&["profile", "--size", "96x64", "--format", "json", "--technique", "shadow-texture"]);
@@ -369,8 +379,8 @@ fn tile_traffic_is_listed_per_render_pass_with_known_sizes() {
 }
 
 /// The counters per render pass instance: the atlas with a moving light begins the shadow map,
-/// one bake and one dilate per model, then the frame, in that order; each instance's sum is its
-/// passes' (the bakes of one pass together), and the sums add up to the frame's totals.
+/// the raster bake, the page pass, then the frame, in that order, one instance each however many
+/// models; each instance's sum is its passes', and the sums add up to the frame's totals.
 #[test]
 fn counters_are_summed_per_render_pass_instance_in_submission_order() {
     let args = ["profile", "--size", "96x64", "--format", "json", "--technique", "shadow-texture-atlas"];
@@ -378,13 +388,13 @@ fn counters_are_summed_per_render_pass_instance_in_submission_order() {
     let report: serde_json::Value = serde_json::from_str(&stdout).expect("JSON");
     let instances = report["render_pass_instances"].as_array().expect("render_pass_instances");
     let owners: Vec<&str> = instances.iter().map(|i| i["passes"][0].as_str().unwrap_or("?")).collect();
-    // atlas-one: two models, so two bakes and two dilates.
-    assert_eq!(owners, ["sun: shadow map", "atlas bake", "atlas bake", "atlas dilate", "atlas dilate", "scene"]);
+    // atlas-one: two models, one instance per pass all the same.
+    assert_eq!(owners, ["sun: shadow map", "atlas bake", "atlas page", "scene"]);
     assert!(instances.iter().enumerate().all(|(i, inst)| inst["index"] == i as u64));
     let sums = report["render_pass_sums"].as_array().expect("render_pass_sums");
     let spans: Vec<(u64, u64)> =
         sums.iter().map(|s| (s["first"].as_u64().unwrap_or(99), s["count"].as_u64().unwrap_or(99))).collect();
-    assert_eq!(spans, [(0, 1), (1, 2), (3, 2), (5, 1)]);
+    assert_eq!(spans, [(0, 1), (1, 1), (2, 1), (3, 1)]);
     let passes = report["passes"].as_array().expect("passes");
     let pass = |name: &str| passes.iter().find(|p| p["name"] == name).unwrap_or_else(|| panic!("no pass {name}"));
     for sum in sums {

@@ -540,7 +540,7 @@ pub fn parse_rgb_hex(what: &str, text: &str) -> Result<[u8; 3]> {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum ShadowKind {
-    /// Shadow textures baked into each model's atlas (the paper's method).
+    /// Shadow textures baked into each model's tile of an atlas page (the paper's method).
     Atlas,
     /// The shadow map sampled in the scene pass.
     Map,

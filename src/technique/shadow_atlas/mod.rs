@@ -1,5 +1,5 @@
-//! Shadow textures baked into a per-model atlas (seed 004, docs/design/shadow-atlas.md), and the plain
-//! shadow map they are compared with.
+//! Shadow textures baked into an atlas page, a tile per model (seed 004,
+//! docs/design/shadow-atlas.md), and the plain shadow map they are compared with.
 //!
 //! Pre-pass (outside the frame's render pass, skipped when neither lights nor models moved):
 //! 1. shadow maps: per shadowing light, casters from it, depth only, into its layer of one

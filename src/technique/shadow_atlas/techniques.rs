@@ -14,7 +14,7 @@ use crate::technique::options::{LightMode, ShadowKind};
 use crate::technique::unit::{Prepared, ShadowedLights, TechniqueUnit};
 
 /// One of the two seed 004 techniques: the shadow map sampled in the scene pass, or shadow
-/// textures baked from it into each model's atlas.
+/// textures baked from it into each model's tile of one atlas page.
 pub struct ShadowTechnique {
     kind: ShadowKind,
     about: &'static str,
@@ -26,10 +26,11 @@ pub static SHADOW_MAP: ShadowTechnique = ShadowTechnique {
     about: "depth-compared shadow maps, one per light (seed 004's comparison)",
 };
 
-/// Shadow textures baked into each model's atlas from the shadow maps, a channel per light.
+/// Shadow textures baked from the shadow maps into one atlas page, a tile per model, a channel
+/// per light.
 pub static SHADOW_TEXTURE_ATLAS: ShadowTechnique = ShadowTechnique {
     kind: ShadowKind::Atlas,
-    about: "shadow textures baked into each model's atlas from the shadow maps, a channel per light (seed 004)",
+    about: "shadow textures baked from the shadow maps into one atlas page, a tile per model, a channel per light (seed 004)",
 };
 
 /// Each model's shadow texture projected from the light: the method the atlas replaces, which
