@@ -86,22 +86,7 @@ impl ImageView {
         if mip >= image.mip_levels {
             return Err(Error::Internal(format!("mip {mip} of an image with {} mips", image.mip_levels)));
         }
-        let info = vk::ImageViewCreateInfo::default()
-            .image(image.raw)
-            .view_type(vk::ImageViewType::TYPE_2D)
-            .format(image.format)
-            .subresource_range(vk::ImageSubresourceRange {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
-                base_mip_level: mip,
-                level_count: 1,
-                base_array_layer: 0,
-                layer_count: 1,
-            });
-        // SAFETY: `image` is alive (borrowed) and `mip` one of its mips (checked above); the view
-        // keeps its format and colour aspect.
-        let raw = unsafe { gpu.raw().create_image_view(&info, None) }.vk("vkCreateImageView")?;
-        gpu.created(ObjectKind::ImageView);
-        Ok(ImageView { gpu: gpu.clone(), raw })
+        Self::colour_mips(gpu, image, mip, 1)
     }
 
     /// A view of mips 0 to `levels` - 1 of a colour image: sampling through it clamps the LOD
@@ -110,19 +95,24 @@ impl ImageView {
         if levels == 0 || levels > image.mip_levels {
             return Err(Error::Internal(format!("{levels} mips of an image with {}", image.mip_levels)));
         }
+        Self::colour_mips(gpu, image, 0, levels)
+    }
+
+    /// A 2D colour view of `count` mips from `base` (the callers check the range).
+    fn colour_mips(gpu: &Arc<Gpu>, image: &Image, base: u32, count: u32) -> Result<Self> {
         let info = vk::ImageViewCreateInfo::default()
             .image(image.raw)
             .view_type(vk::ImageViewType::TYPE_2D)
             .format(image.format)
             .subresource_range(vk::ImageSubresourceRange {
                 aspect_mask: vk::ImageAspectFlags::COLOR,
-                base_mip_level: 0,
-                level_count: levels,
+                base_mip_level: base,
+                level_count: count,
                 base_array_layer: 0,
                 layer_count: 1,
             });
-        // SAFETY: `image` is alive (borrowed) and has at least `levels` mips (checked above);
-        // the view keeps its format and colour aspect.
+        // SAFETY: `image` is alive (borrowed) and holds mips `base..base + count` (checked by
+        // the callers); the view keeps its format and colour aspect.
         let raw = unsafe { gpu.raw().create_image_view(&info, None) }.vk("vkCreateImageView")?;
         gpu.created(ObjectKind::ImageView);
         Ok(ImageView { gpu: gpu.clone(), raw })
@@ -222,10 +212,31 @@ pub fn colour_render_pass(
     clear: bool,
     final_layout: vk::ImageLayout,
 ) -> Result<RenderPass> {
+    let load = if clear { vk::AttachmentLoadOp::CLEAR } else { vk::AttachmentLoadOp::DONT_CARE };
+    single_colour(gpu, format, load, final_layout, vk::AccessFlags::COLOR_ATTACHMENT_WRITE)
+}
+
+/// One colour attachment loaded and stored, entering and leaving in `layout`: a target
+/// updated in part (the atlas page's re-baked tiles), the rest kept.
+pub fn colour_render_pass_loaded(gpu: &Arc<Gpu>, format: vk::Format, layout: vk::ImageLayout) -> Result<RenderPass> {
+    // Loading reads the attachment: the write after the last pass's write is ordered too.
+    let access = vk::AccessFlags::COLOR_ATTACHMENT_WRITE | vk::AccessFlags::COLOR_ATTACHMENT_READ;
+    single_colour(gpu, format, vk::AttachmentLoadOp::LOAD, layout, access)
+}
+
+/// A render pass of one stored colour attachment loaded by `load`, left in `final_layout`,
+/// whose external dependencies order `access` against the shaders and transfers around it.
+fn single_colour(
+    gpu: &Arc<Gpu>,
+    format: vk::Format,
+    load: vk::AttachmentLoadOp,
+    final_layout: vk::ImageLayout,
+    access: vk::AccessFlags,
+) -> Result<RenderPass> {
     let attachment = AttachmentDesc {
         name: "colour",
         format,
-        load: if clear { vk::AttachmentLoadOp::CLEAR } else { vk::AttachmentLoadOp::DONT_CARE },
+        load,
         store: vk::AttachmentStoreOp::STORE,
         stencil_load: vk::AttachmentLoadOp::DONT_CARE,
         stencil_store: vk::AttachmentStoreOp::DONT_CARE,
@@ -237,33 +248,7 @@ pub fn colour_render_pass(
     let subpasses = [vk::SubpassDescription::default()
         .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
         .color_attachments(&colour_ref)];
-    let deps = dependencies(vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT, vk::AccessFlags::COLOR_ATTACHMENT_WRITE);
-    build(gpu, attachment, &subpasses, &deps)
-}
-
-/// One colour attachment loaded and stored, entering and leaving in `layout`: a target
-/// updated in part (the atlas page's re-baked tiles), the rest kept.
-pub fn colour_render_pass_loaded(gpu: &Arc<Gpu>, format: vk::Format, layout: vk::ImageLayout) -> Result<RenderPass> {
-    let attachment = AttachmentDesc {
-        name: "colour",
-        format,
-        load: vk::AttachmentLoadOp::LOAD,
-        store: vk::AttachmentStoreOp::STORE,
-        stencil_load: vk::AttachmentLoadOp::DONT_CARE,
-        stencil_store: vk::AttachmentStoreOp::DONT_CARE,
-        final_layout: layout,
-        transient: false,
-        samples: 1,
-    };
-    let colour_ref = [vk::AttachmentReference { attachment: 0, layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL }];
-    let subpasses = [vk::SubpassDescription::default()
-        .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
-        .color_attachments(&colour_ref)];
-    // Loading reads the attachment: the write after the last pass's write is ordered too.
-    let deps = dependencies(
-        vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT,
-        vk::AccessFlags::COLOR_ATTACHMENT_WRITE | vk::AccessFlags::COLOR_ATTACHMENT_READ,
-    );
+    let deps = dependencies(vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT, access);
     build(gpu, attachment, &subpasses, &deps)
 }
 

@@ -219,14 +219,8 @@ impl<'a> FrameRecorder<'a> {
         extent: vk::Extent2D,
         clear_values: &[vk::ClearValue],
     ) {
-        if !self.open {
-            self.deferred_error.get_or_insert(Error::Internal(
-                "an offscreen render pass was begun outside a measured pass (its traffic and counters \
-                 would belong to no pass)"
-                    .into(),
-            ));
-        }
-        self.begin_render_pass(render_pass.raw, &render_pass.attachments, framebuffer, extent, clear_values);
+        let whole = vk::Rect2D { offset: vk::Offset2D::default(), extent };
+        self.begin_offscreen_pass_in(render_pass, framebuffer, extent, whole, clear_values);
     }
 
     /// As [`Self::begin_offscreen_pass`] with a render area `area` inside the framebuffer (the

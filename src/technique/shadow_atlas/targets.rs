@@ -44,21 +44,7 @@ pub fn shadow_map_image(gpu: &Arc<Gpu>, size: u32, layers: u32) -> Result<Image>
 
 /// A shadow texture (or the bake's raw target when `mip_levels` is 1).
 pub fn shadow_texture_image(gpu: &Arc<Gpu>, name: &str, size: u32, mip_levels: u32) -> Result<Image> {
-    Image::new(
-        gpu,
-        &ImageDesc {
-            name,
-            format: SHADOW_TEXTURE_FORMAT,
-            extent: vk::Extent2D { width: size, height: size },
-            usage: vk::ImageUsageFlags::COLOR_ATTACHMENT
-                | vk::ImageUsageFlags::SAMPLED
-                | vk::ImageUsageFlags::TRANSFER_SRC
-                | vk::ImageUsageFlags::TRANSFER_DST,
-            aspect: vk::ImageAspectFlags::COLOR,
-            mip_levels,
-            samples: 1,
-        },
-    )
+    shadow_texture_page(gpu, name, vk::Extent2D { width: size, height: size }, mip_levels)
 }
 
 /// The atlas page (or its raw bake when `mip_levels` is 1): every model's shadow texture as a
