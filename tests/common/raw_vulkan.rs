@@ -110,7 +110,29 @@ pub unsafe fn depth_pipeline(
     size: u32,
     depth: vk::Format,
 ) -> vk::Pipeline {
-    let (vert, frag) = (shader(device, "fullscreen.vert"), shader(device, "shadow_map.frag"));
+    let depth_state = vk::PipelineDepthStencilStateCreateInfo::default()
+        .depth_test_enable(true)
+        .depth_write_enable(false)
+        .depth_compare_op(vk::CompareOp::ALWAYS);
+    fullscreen_pipeline(device, layout, render_pass, size, "shadow_map.frag", Some((depth, depth_state)), &[])
+}
+
+/// `fullscreen.vert` + `fragment` over a `size`-square viewport, no culling, one sample:
+/// `depth` (its format for dynamic rendering, and its test) when the pass has one, `blends` one
+/// state per colour attachment. `render_pass` null: dynamic rendering.
+///
+/// # Safety
+/// `device` is alive, with dynamic rendering enabled when `render_pass` is null.
+pub unsafe fn fullscreen_pipeline(
+    device: &ash::Device,
+    layout: vk::PipelineLayout,
+    render_pass: vk::RenderPass,
+    size: u32,
+    fragment: &str,
+    depth: Option<(vk::Format, vk::PipelineDepthStencilStateCreateInfo)>,
+    blends: &[vk::PipelineColorBlendAttachmentState],
+) -> vk::Pipeline {
+    let (vert, frag) = (shader(device, "fullscreen.vert"), shader(device, fragment));
     let stages = [
         vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::VERTEX).module(vert).name(c"main"),
         vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::FRAGMENT).module(frag).name(c"main"),
@@ -127,12 +149,9 @@ pub unsafe fn depth_pipeline(
         .line_width(1.0);
     let multisample =
         vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(vk::SampleCountFlags::TYPE_1);
-    let depth_state = vk::PipelineDepthStencilStateCreateInfo::default()
-        .depth_test_enable(true)
-        .depth_write_enable(false)
-        .depth_compare_op(vk::CompareOp::ALWAYS);
-    let blend = vk::PipelineColorBlendStateCreateInfo::default();
-    let mut rendering = vk::PipelineRenderingCreateInfo::default().depth_attachment_format(depth);
+    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(blends);
+    let depth_format = depth.map_or(vk::Format::UNDEFINED, |(format, _)| format);
+    let mut rendering = vk::PipelineRenderingCreateInfo::default().depth_attachment_format(depth_format);
     let mut info = vk::GraphicsPipelineCreateInfo::default()
         .stages(&stages)
         .vertex_input_state(&vertex_input)
@@ -140,10 +159,12 @@ pub unsafe fn depth_pipeline(
         .viewport_state(&viewport)
         .rasterization_state(&raster)
         .multisample_state(&multisample)
-        .depth_stencil_state(&depth_state)
         .color_blend_state(&blend)
         .layout(layout)
         .render_pass(render_pass);
+    if let Some((_, state)) = &depth {
+        info = info.depth_stencil_state(state);
+    }
     if render_pass == vk::RenderPass::null() {
         info = info.push_next(&mut rendering);
     }
