@@ -95,42 +95,10 @@ unsafe fn image(
     samples: vk::SampleCountFlags,
     usage: vk::ImageUsageFlags,
 ) -> (vk::Image, vk::DeviceMemory, vk::ImageView) {
-    let image = device
-        .create_image(
-            &vk::ImageCreateInfo::default()
-                .image_type(vk::ImageType::TYPE_2D)
-                .format(format)
-                .extent(vk::Extent3D { width: SIZE, height: SIZE, depth: 1 })
-                .mip_levels(1)
-                .array_layers(1)
-                .samples(samples)
-                .usage(usage),
-            None,
-        )
-        .expect("image");
-    let requirements = device.get_image_memory_requirements(image);
-    let props = raw.instance.get_physical_device_memory_properties(raw.physical);
-    let memory_type = common::raw_vulkan::device_local_memory_type(&props, requirements.memory_type_bits);
-    let memory = device
-        .allocate_memory(
-            &vk::MemoryAllocateInfo::default().allocation_size(requirements.size).memory_type_index(memory_type),
-            None,
-        )
-        .expect("memory");
-    device.bind_image_memory(image, memory, 0).expect("bind");
     let aspect = if format == DEPTH { vk::ImageAspectFlags::DEPTH } else { vk::ImageAspectFlags::COLOR };
     let range = vk::ImageSubresourceRange { aspect_mask: aspect, level_count: 1, layer_count: 1, ..Default::default() };
-    let view = device
-        .create_image_view(
-            &vk::ImageViewCreateInfo::default()
-                .image(image)
-                .view_type(vk::ImageViewType::TYPE_2D)
-                .format(format)
-                .subresource_range(range),
-            None,
-        )
-        .expect("view");
-    (image, memory, view)
+    let target = (&raw.instance, raw.physical, device);
+    common::raw_vulkan::image_target(target, format, SIZE, samples, usage, range)
 }
 
 const COLOUR_RANGE: vk::ImageSubresourceRange = vk::ImageSubresourceRange {

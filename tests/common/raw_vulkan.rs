@@ -198,6 +198,23 @@ pub unsafe fn depth_target(
     format: vk::Format,
     size: u32,
 ) -> (vk::Image, vk::DeviceMemory, vk::ImageView) {
+    let usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT;
+    image_target((instance, physical, device), format, size, vk::SampleCountFlags::TYPE_1, usage, DEPTH_RANGE)
+}
+
+/// A `size`-square image of `format` with `samples` and `usage` in device memory, and its
+/// view of `range`. Destroy the three in reverse order.
+///
+/// # Safety
+/// `device` was created from `physical` of `instance`.
+pub unsafe fn image_target(
+    (instance, physical, device): (&ash::Instance, vk::PhysicalDevice, &ash::Device),
+    format: vk::Format,
+    size: u32,
+    samples: vk::SampleCountFlags,
+    usage: vk::ImageUsageFlags,
+    range: vk::ImageSubresourceRange,
+) -> (vk::Image, vk::DeviceMemory, vk::ImageView) {
     let image = device
         .create_image(
             &vk::ImageCreateInfo::default()
@@ -206,8 +223,8 @@ pub unsafe fn depth_target(
                 .extent(vk::Extent3D { width: size, height: size, depth: 1 })
                 .mip_levels(1)
                 .array_layers(1)
-                .samples(vk::SampleCountFlags::TYPE_1)
-                .usage(vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT),
+                .samples(samples)
+                .usage(usage),
             None,
         )
         .expect("image");
@@ -221,7 +238,6 @@ pub unsafe fn depth_target(
         )
         .expect("memory");
     device.bind_image_memory(image, memory, 0).expect("bind");
-    let range = DEPTH_RANGE;
     let view = device
         .create_image_view(
             &vk::ImageViewCreateInfo::default()
