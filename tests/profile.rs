@@ -332,38 +332,48 @@ fn tile_traffic_is_listed_per_render_pass_with_known_sizes() {
     assert_eq!(frame[1]["bytes_stored"], 0);
     assert!(frame.iter().all(|a| a["samples"] == 1), "{frame:?}");
 
-    // The atlas with a moving light: the sun's shadow map (512^2 depth, stored), the raster bake
-    // of the ground (its 256^2 tile of the raw page: the render area is the re-baked tiles), the
-    // page pass over both tiles (loaded and stored: 512x256), then the frame.
-    let atlas = json(&[
-        "profile",
-        "--size",
-        "96x64",
-        "--format",
-        "json",
-        "--technique",
-        "shadow-texture-atlas",
-        "--scene",
-        "atlas-one",
-        "--light-motion",
-        "moving",
-    ]);
+    // The atlas with a moving light: the sun's shadow map (512^2 depth, stored), the page pass
+    // over both tiles (loaded and stored: 512x256), then the frame. Both of atlas-one's models
+    // are baked by their texels (a geometry image and the ground, a quad mapped whole); with
+    // `--atlas-bake rasterised` they are rasterised into the raw page first (512x256 stored).
+    let atlas_args = |bake: &'static str| {
+        [
+            "profile",
+            "--size",
+            "96x64",
+            "--format",
+            "json",
+            "--technique",
+            "shadow-texture-atlas",
+            "--scene",
+            "atlas-one",
+            "--light-motion",
+            "moving",
+            "--atlas-bake",
+            bake,
+        ]
+    };
+    let names_of = |report: &serde_json::Value| -> Vec<String> {
+        let passes = report["render_passes"].as_array().cloned().unwrap_or_default();
+        passes.iter().filter_map(|p| p["pass"].as_str().map(String::from)).collect()
+    };
+    assert_eq!(names_of(&json(&atlas_args("texels"))), ["sun: shadow map", "atlas page", "frame"]);
+    let atlas = json(&atlas_args("rasterised"));
     let passes = atlas["render_passes"].as_array().expect("render_passes");
-    let names: Vec<&str> = passes.iter().filter_map(|p| p["pass"].as_str()).collect();
-    assert_eq!(names, ["sun: shadow map", "atlas bake", "atlas page", "frame"], "{passes:?}");
+    assert_eq!(names_of(&atlas), ["sun: shadow map", "atlas bake", "atlas page", "frame"], "{passes:?}");
     let map = &passes[0];
     assert_eq!((map["width"].as_u64(), map["height"].as_u64()), (Some(512), Some(512)));
     let depth = &map["attachments"][0];
     let texel = if depth["format"] == "D16_UNORM" { 2 } else { 4 };
     assert_eq!(depth["bytes_stored"], 512 * 512 * texel);
-    // atlas-one: the model (a geometry image, baked by its texels in the page pass) and the
-    // ground (rasterised), each a 256x256 tile of a 512x256 page.
+    // atlas-one: the model and the ground, each a 256x256 tile of a 512x256 page, both
+    // rasterised here.
     let bake = &passes[1];
     assert_eq!(
         (bake["width"].as_u64(), bake["height"].as_u64(), bake["count"].as_u64()),
-        (Some(256), Some(256), Some(1))
+        (Some(512), Some(256), Some(1))
     );
-    assert_eq!(bake["attachments"][0]["bytes_stored"], 256 * 256 * 4);
+    assert_eq!(bake["attachments"][0]["bytes_stored"], 512 * 256 * 4);
     let page = &passes[2];
     assert_eq!((page["width"].as_u64(), page["height"].as_u64()), (Some(512), Some(256)));
     assert_eq!(page["attachments"][0]["load_op"], "LOAD");
@@ -378,17 +388,18 @@ fn tile_traffic_is_listed_per_render_pass_with_known_sizes() {
     assert_eq!(passes[0]["attachments"][0]["bytes_stored"], 128 * 128 * 4);
 }
 
-/// The counters per render pass instance: the atlas with a moving light begins the shadow map,
-/// the raster bake, the page pass, then the frame, in that order, one instance each however many
-/// models; each instance's sum is its passes', and the sums add up to the frame's totals.
+/// The counters per render pass instance: the atlas with a moving light (`--atlas-bake
+/// rasterised`) begins the shadow map, the raster bake, the page pass, then the frame, in that
+/// order, one instance each however many models; each instance's sum is its passes', and the sums add up to the frame's totals.
 #[test]
 fn counters_are_summed_per_render_pass_instance_in_submission_order() {
     let args = ["profile", "--size", "96x64", "--format", "json", "--technique", "shadow-texture-atlas"];
-    let (stdout, _) = common::run_ok(&[&args[..], &["--scene", "atlas-one", "--light-motion", "moving"]].concat());
+    let rasterised = ["--scene", "atlas-one", "--light-motion", "moving", "--atlas-bake", "rasterised"];
+    let (stdout, _) = common::run_ok(&[&args[..], &rasterised].concat());
     let report: serde_json::Value = serde_json::from_str(&stdout).expect("JSON");
     let instances = report["render_pass_instances"].as_array().expect("render_pass_instances");
     let owners: Vec<&str> = instances.iter().map(|i| i["passes"][0].as_str().unwrap_or("?")).collect();
-    // atlas-one: two models, one instance per pass all the same.
+    // atlas-one, both models rasterised: one instance per pass all the same.
     assert_eq!(owners, ["sun: shadow map", "atlas bake", "atlas page", "scene"]);
     assert!(instances.iter().enumerate().all(|(i, inst)| inst["index"] == i as u64));
     let sums = report["render_pass_sums"].as_array().expect("render_pass_sums");

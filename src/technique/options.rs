@@ -573,10 +573,11 @@ crate::names::named_enum! {
 }
 
 crate::names::named_enum! {
-    /// `--atlas-bake`: how a geometry image's shadow texture is baked.
+    /// `--atlas-bake`: how a shadow texture whose atlas covers every texel is baked.
     pub enum AtlasBake {
         /// One fragment per texel, from the surface point the texel holds (seed 004's geometry
-        /// images); other meshes are rasterised all the same.
+        /// images, and a mesh mapped whole onto its square); meshes whose charts leave a
+        /// gutter, and skins, are rasterised all the same.
         #[default]
         Texels = "texels",
         /// Every mesh's triangles drawn at their atlas UVs (the general bake), for comparison.
@@ -601,8 +602,9 @@ pub struct ShadowAtlasOptions {
     /// shadow-texture-atlas: shadow texture side for meshes that are not geometry images.
     #[arg(id = "shadow_texture_size", long = "shadow-texture-size", default_value_t = 256, value_name = "N")]
     pub texture_size: u32,
-    /// shadow-texture-atlas: bake geometry images by their `texels` (one fragment a texel) or
-    /// `rasterised` like every other mesh (their triangles at their atlas UVs), to compare.
+    /// shadow-texture-atlas: bake geometry images (and meshes whose atlas covers every texel)
+    /// by their `texels` (one fragment a texel) or `rasterised` like every other mesh (their
+    /// triangles at their atlas UVs), to compare.
     #[arg(id = "atlas_bake", long = "atlas-bake", value_enum, default_value_t, value_name = "texels|rasterised")]
     pub bake: AtlasBake,
 }

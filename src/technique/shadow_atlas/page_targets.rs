@@ -1,10 +1,12 @@
 //! The atlas page (`page`) on the GPU: one shadow texture with mips holding every model's tile,
-//! the raw page the rasterised bake writes, the tiles' records and the geometry images' texel
-//! surfaces, and the recording of the page's passes:
-//! - `atlas bake`: meshes that are not geometry images, drawn at their atlas UVs into their
-//!   tile of the raw page (one viewport per tile);
-//! - `atlas page`: one quad per re-baked tile into mip 0 of the page, which bakes a geometry
-//!   image's texels from their surface points and dilates a rasterised tile from the raw page;
+//! the raw page the rasterised bake writes, the tiles' records and the texel surfaces of the
+//! meshes whose atlas covers every texel (geometry images, a quad mapped whole), and the
+//! recording of the page's passes:
+//! - `atlas bake`: the other meshes (charts with gutters, skins), drawn at their atlas UVs into
+//!   their tile of the raw page (one viewport per tile);
+//! - `atlas page`: one quad per re-baked tile into mip 0 of the page, which bakes a texel
+//!   tile's texels from their surface points and dilates a rasterised tile from the raw page
+//!   (a pipeline each);
 //! - `atlas mips`: one blit chain for the page.
 //!
 //! Mip 0 is loaded, not cleared: tiles that were not re-baked keep their texels.
@@ -18,7 +20,7 @@ use gpu_allocator::MemoryLocation;
 use super::atlas::MeshAtlas;
 use super::page::{pack, PageLayout, Tile};
 use super::targets::{self, Framebuffer, ImageView, RenderPass};
-use super::texel_surface::texel_surface;
+use super::texel_surface::{packed, texel_surface};
 use crate::error::{Error, Result};
 use crate::frame::offscreen;
 use crate::gpu::barriers;
@@ -37,7 +39,8 @@ use crate::technique::options::AtlasBake;
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct TileRecord {
     model: Mat4,
-    /// x, y, side; where the texels' surface points start (vec4s), -1 for a rasterised tile.
+    /// x, y, side; where the texels' surface points start (one uvec4 each), -1 for a
+    /// rasterised tile.
     rect: [i32; 4],
     /// x: the dilation radius.
     params: [i32; 4],
@@ -51,11 +54,21 @@ struct TileUniform {
     mips: [f32; 4],
 }
 
+/// The page pass's two pipelines (same layout and vertex shader).
+#[derive(Clone, Copy)]
+pub struct PagePipelines<'p> {
+    /// Texel tiles, baked from their texels' surface points.
+    pub texels: &'p Pipeline,
+    /// Rasterised tiles, dilated from the raw page.
+    pub dilate: &'p Pipeline,
+}
+
 /// How a model's tile is baked.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum TileBake {
-    /// A geometry image: one fragment per texel, from its surface point.
+    /// A mesh whose atlas covers every texel centre (a geometry image, a quad mapped whole):
+    /// one fragment per texel, from its surface point.
     Texels,
     /// Triangles at their atlas UVs into the raw page, then dilation.
     Rasterised,
@@ -104,7 +117,7 @@ pub struct AtlasPage {
 
 impl AtlasPage {
     /// Lays every object's shadow texture out in one page (`layouts` by mesh index) and creates
-    /// it, cleared to lit with no coverage. `bake`: whether geometry images are baked by their
+    /// it, cleared to lit with no coverage. `bake`: whether meshes covering their tile are baked by their
     /// texels or rasterised like other meshes.
     pub fn new(gpu: &Arc<Gpu>, scene: &Scene, layouts: &[MeshAtlas], bake: AtlasBake) -> Result<Self> {
         if scene.objects.is_empty() {
@@ -119,19 +132,20 @@ impl AtlasPage {
         let max_side = gpu.device.info.limits.max_image_dimension2_d.min(crate::gpu::mobile_profile::MAX_IMAGE_SIDE);
         let layout = pack(&sides, max_side)?;
 
-        // Texel surfaces, one block per geometry-image mesh (shared by its objects). A skinned
-        // object is re-posed on the CPU each frame: it keeps the rasterised bake.
-        let mut surface: Vec<[Vec4; 2]> = Vec::new();
+        // Texel surfaces, one block per mesh whose atlas covers every texel centre (a geometry
+        // image, or a mesh mapped whole onto its square like the ground), shared by its
+        // objects. A skinned object is re-posed on the CPU each frame, and a chart with a
+        // gutter needs dilating: both keep the rasterised bake.
+        let mut surface: Vec<[u32; 4]> = Vec::new();
         let mut surface_start: Vec<Option<usize>> = vec![None; layouts.len()];
         for (mesh, atlas) in layouts.iter().enumerate() {
             let used_unskinned = scene.objects.iter().any(|o| o.mesh == mesh && o.skin.is_none());
-            let geometry_image = matches!(atlas.source, super::atlas::AtlasSource::GeometryImage { .. });
-            if !geometry_image || !used_unskinned || bake == AtlasBake::Rasterised {
+            if !used_unskinned || bake == AtlasBake::Rasterised {
                 continue;
             }
             if let Some(texels) = texel_surface(atlas) {
                 surface_start[mesh] = Some(surface.len());
-                surface.extend(texels);
+                surface.extend(texels.into_iter().map(packed));
             }
         }
         let tiles: Vec<PageTile> = scene
@@ -169,7 +183,7 @@ impl AtlasPage {
 
         // The surface buffer is never empty (a storage buffer binding needs a range).
         if surface.is_empty() {
-            surface.push([Vec4::ZERO; 2]);
+            surface.push([0; 4]);
         }
         let surface_buffer = Buffer::device_local(
             gpu,
@@ -288,7 +302,7 @@ impl AtlasPage {
             .zip(&self.tiles)
             .map(|(object, t)| {
                 let start = match t.bake {
-                    TileBake::Texels => surface_start.get(object.mesh).copied().flatten().map_or(-1, |s| 2 * s as i32),
+                    TileBake::Texels => surface_start.get(object.mesh).copied().flatten().map_or(-1, |s| s as i32),
                     TileBake::Rasterised => -1,
                 };
                 let radius = layouts.get(object.mesh).map_or(0, |l| l.dilate_radius);
@@ -346,12 +360,14 @@ impl AtlasPage {
     }
 
     /// `tiles` (object indices, ascending) written into mip 0 of the page: one quad each, a
-    /// draw per run of consecutive tiles.
+    /// draw per run of consecutive tiles baked alike, `texels` for texel tiles and
+    /// `dilate` for rasterised tiles (two pipelines, not a branch: a software rasteriser would
+    /// run both sides for every texel).
     /// `channels`: the lights the bake holds (channels 0 to `channels` - 1).
     pub fn record_page(
         &self,
         rec: &mut FrameRecorder,
-        page: &Pipeline,
+        pipelines: PagePipelines,
         light_set: vk::DescriptorSet,
         tiles: &[usize],
         channels: u32,
@@ -359,19 +375,35 @@ impl AtlasPage {
         let extent = vk::Extent2D { width: self.layout.width, height: self.layout.height };
         let area = self.area_of(tiles, extent);
         rec.begin_offscreen_pass_in(&self.page_pass, self.page_framebuffer.raw, extent, area, &[]);
-        rec.bind_with_sets(page, &[light_set, self.tiles_set.set, self.raw_set.set]);
-        rec.push(page, &[extent.width as f32, extent.height as f32, channels as f32, 0.0]);
-        let mut k = 0;
-        while k < tiles.len() {
-            let first = tiles[k];
-            let mut count = 1;
-            while tiles.get(k + count as usize) == Some(&(first + count as usize)) {
-                count += 1;
+        let sets = [light_set, self.tiles_set.set, self.raw_set.set];
+        let push = [extent.width as f32, extent.height as f32, channels as f32, 0.0];
+        let mut bound = None;
+        for (bake, first, count) in self.runs(tiles) {
+            let pipeline = match bake {
+                TileBake::Texels => pipelines.texels,
+                TileBake::Rasterised => pipelines.dilate,
+            };
+            if bound != Some(bake) {
+                rec.bind_with_sets(pipeline, &sets);
+                rec.push(pipeline, &push);
+                bound = Some(bake);
             }
             rec.draw_instances(6, count, first as u32);
-            k += count as usize;
         }
         rec.end_render_pass();
+    }
+
+    /// `tiles` (ascending) as runs of consecutive tiles baked alike: (bake, first, count).
+    fn runs(&self, tiles: &[usize]) -> Vec<(TileBake, usize, u32)> {
+        let mut runs: Vec<(TileBake, usize, u32)> = Vec::new();
+        for &index in tiles {
+            let Some(tile) = self.tiles.get(index) else { continue };
+            match runs.last_mut() {
+                Some((bake, first, count)) if *bake == tile.bake && *first + *count as usize == index => *count += 1,
+                _ => runs.push((tile.bake, index, 1)),
+            }
+        }
+        runs
     }
 
     /// The render area of a pass over `tiles` (object indices): the smallest rectangle holding

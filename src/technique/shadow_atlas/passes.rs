@@ -187,8 +187,9 @@ pub fn dilate_desc() -> PipelineDesc {
     }
 }
 
-/// The atlas page pass: a quad per tile from gl_VertexIndex and gl_InstanceIndex (no vertex
-/// buffer); the page's size in the push.
+/// The atlas page pass over geometry images' tiles: a quad per tile from gl_VertexIndex and
+/// gl_InstanceIndex (no vertex buffer), each texel baked from its surface point; the page's
+/// size in the push.
 pub fn page_desc() -> PipelineDesc {
     PipelineDesc {
         name: "atlas page",
@@ -198,6 +199,17 @@ pub fn page_desc() -> PipelineDesc {
         fixed: FixedFunction::FULLSCREEN,
         push_constant_bytes: 16,
         subpass: 0,
+    }
+}
+
+/// The atlas page pass over rasterised tiles: the same quads, each texel dilated from the
+/// raw page.
+pub fn page_dilate_desc() -> PipelineDesc {
+    PipelineDesc {
+        name: "atlas page (dilate)",
+        vertex_shader: "shadow_atlas_page_dilate.vert",
+        fragment_shader: "shadow_atlas_page_dilate.frag",
+        ..page_desc()
     }
 }
 
@@ -258,6 +270,7 @@ pub fn plan(kind: ShadowKind, lights: &[PlannedLight]) -> PassPlan<AtlasKinds> {
             );
             plan.push(
                 PlannedPass::offscreen("atlas page", page_desc(), AtlasDraw::Page, "page size", AtlasTarget::PageMip0)
+                    .or_pipeline(page_dilate_desc())
                     .with_sets(&[LIGHT, PAGE_TILES, RAW_BAKE])
                     .when(moved),
             );

@@ -13,7 +13,7 @@ use super::atlas::{light_view_layout, mesh_atlas, MeshAtlas};
 use super::bake::AtlasTargets;
 use super::light::{light_at, ShadowLightUniforms};
 use super::maps::{self, Coverage};
-use super::page_targets::AtlasPage;
+use super::page_targets::{AtlasPage, PagePipelines};
 use super::passes::{self, AtlasDraw, AtlasKinds, AtlasSet, AtlasTarget};
 use super::read_back::ShadowTextures;
 use super::rebake::{stale_after_moves, Sphere};
@@ -463,7 +463,12 @@ impl PassDraws<AtlasKinds> for ShadowPasses {
             }
             AtlasDraw::Page => {
                 let channels = maps::layer_count(&self.coverage).min(maps::BAKED_CHANNELS as u32);
-                self.atlas_page(pass)?.record_page(rec, pipeline()?, self.light_set.set, &self.rebake, channels)
+                let dilate = pipelines
+                    .get(1)
+                    .copied()
+                    .ok_or_else(|| Error::Internal(format!("pass '{}' has no dilation pipeline", pass.name)))?;
+                let pipelines = PagePipelines { texels: pipeline()?, dilate };
+                self.atlas_page(pass)?.record_page(rec, pipelines, self.light_set.set, &self.rebake, channels)
             }
             AtlasDraw::Dilate => self.atlas_targets(pass)?.record_dilate(rec, pipeline()?),
             AtlasDraw::Mips => match &self.page {
