@@ -70,6 +70,8 @@ fn profile_json_is_readable_by_a_program() {
 fn profile_csv_and_table_list_the_passes() {
     let (csv, _) = common::run_ok(&["profile", "--size", "64x64", "--format", "csv"]);
     assert!(csv.starts_with("pass,draws,"), "{csv}");
+    let header = csv.lines().next().unwrap_or_default();
+    assert!(header.ends_with(",share,render_pass_instances,tiler_bytes,immediate_bytes"), "{header}");
     assert!(csv.lines().any(|l| l.starts_with("scene (ambient),")), "{csv}");
     let (table, _) = common::run_ok(&["profile", "--size", "64x64"]);
     assert!(table.contains("samples/px"), "{table}");

@@ -586,6 +586,70 @@ fn bandwidth_estimates_match_hand_computed_figures_at_one_and_four_samples() {
     );
 }
 
+/// A CSV row's render pass instances, tiler bytes and immediate-mode bytes.
+type CsvBytes = (Vec<u64>, u64, u64);
+
+/// `profile ARGS` as JSON and as CSV; checks the CSV's header and that its bandwidth columns
+/// are the JSON passes' and sum to the JSON's per-frame and per-group figures. Returns the rows'
+/// bandwidth columns and the JSON's `render_pass_sums`.
+fn csv_bytes_against_json(args: &[&str]) -> (Vec<CsvBytes>, Vec<serde_json::Value>) {
+    let (json, _) = common::run_ok(&[args, &["--format", "json"]].concat());
+    let (csv, _) = common::run_ok(&[args, &["--format", "csv"]].concat());
+    let report: serde_json::Value = serde_json::from_str(&json).expect("JSON");
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next(),
+        Some(
+            "pass,draws,vertex_invocations,clipping_primitives,fragment_invocations,fragments_per_pixel,\
+             samples_passed,samples_per_pixel,gpu_ms,share,render_pass_instances,tiler_bytes,immediate_bytes"
+        )
+    );
+    // The last three fields, which hold no comma (a pass's name may).
+    let rows: Vec<CsvBytes> = lines
+        .map(|line| {
+            let fields: Vec<&str> = line.rsplitn(4, ',').collect();
+            let number = |f: &str| f.parse::<u64>().unwrap_or_else(|e| panic!("{f:?} in {line}: {e}"));
+            (fields[2].split_whitespace().map(number).collect(), number(fields[1]), number(fields[0]))
+        })
+        .collect();
+    let u64_of = |v: &serde_json::Value| v.as_u64().unwrap_or_else(|| panic!("not a number: {v}"));
+    let passes = report["passes"].as_array().expect("passes");
+    assert_eq!(rows.len(), passes.len(), "{csv}");
+    for (row, pass) in rows.iter().zip(passes) {
+        let instances = pass["render_pass_instances"].as_array().expect("instances").iter().map(u64_of).collect();
+        assert_eq!(row, &(instances, u64_of(&pass["tiler_bytes"]), u64_of(&pass["immediate_bytes"])));
+    }
+    let column = |rows: &[&CsvBytes]| rows.iter().fold((0, 0), |(t, i), r| (t + r.1, i + r.2));
+    let all: Vec<&CsvBytes> = rows.iter().collect();
+    let totals = &report["totals"];
+    assert_eq!(column(&all), (u64_of(&totals["tiler_bytes"]), u64_of(&totals["immediate_bytes"])), "{csv}");
+    let sums = report["render_pass_sums"].as_array().expect("render_pass_sums").clone();
+    for sum in &sums {
+        let span = u64_of(&sum["first"])..u64_of(&sum["first"]) + u64_of(&sum["count"]);
+        let members: Vec<&CsvBytes> = rows.iter().filter(|r| r.0.iter().any(|i| span.contains(i))).collect();
+        assert_eq!(column(&members), (u64_of(&sum["tiler_bytes"]), u64_of(&sum["immediate_bytes"])), "{sum}");
+    }
+    (rows, sums)
+}
+
+/// `profile --format csv`: each pass's row names the render pass instances it drew into and
+/// carries its part of the frame's bytes, so that the columns sum to the JSON's per-frame
+/// figures and each group of instances' rows to that group's own. Two frames: shadow textures
+/// (a prepass, then two passes in the frame's render pass) and the atlas with a moving light
+/// (shadow map, bake, page, frame, and a mip build that only copies).
+#[test]
+fn csv_bandwidth_columns_sum_to_the_jsons_frame_figures() {
+    let texture = ["profile", "--size", "96x64", "--technique", "shadow-texture"];
+    let (_, sums) = csv_bytes_against_json(&texture);
+    let shared = sums.iter().find(|s| s["passes"].as_array().is_some_and(|p| p.len() > 1));
+    assert!(sums.len() == 2 && shared.is_some(), "a prepass, then two passes in one instance: {sums:?}");
+    let atlas = ["profile", "--size", "96x64", "--technique", "shadow-texture-atlas", "--scene", "atlas-one"];
+    let (rows, sums) = csv_bytes_against_json(&[&atlas[..], &["--light-motion", "moving"]].concat());
+    assert_eq!(sums.len(), 4, "{sums:?}");
+    // The mip build drew into no render pass: no instance, no bytes.
+    assert!(rows.iter().any(|r| r.0.is_empty() && r.1 == 0 && r.2 == 0), "{rows:?}");
+}
+
 /// The trace-event JSON's schema (ui.perfetto.dev and chrome://tracing open it): `traceEvents`,
 /// complete events (`ph` "X") with `ts` and `dur` in microseconds, counter events (`ph` "C"),
 /// process and thread names; every event has `pid` and `tid`.

@@ -271,6 +271,18 @@ fn validation_problems(output: &Output) -> Vec<String> {
     all.lines().filter(|l| kinds.iter().any(|k| l.contains(k))).map(str::to_owned).collect()
 }
 
+/// Fails unless the validation layer loaded with synchronisation checks and reported nothing.
+fn assert_validation_silent(name: &str, output: &Output) {
+    let stdout = text(&output.stdout);
+    assert!(
+        stdout.contains("Current Enables: VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION"),
+        "{name}: the validation layer did not load with synchronisation checks:\n{stdout}\n{}",
+        text(&output.stderr)
+    );
+    let problems = validation_problems(output);
+    assert!(problems.is_empty(), "{name}: {} validation message(s):\n{}", problems.len(), problems.join("\n"));
+}
+
 #[test]
 fn validation_below_the_layer_reports_nothing_but_would_report_an_application_error() {
     let x = start_x_server();
@@ -299,14 +311,7 @@ fn validation_below_the_layer_reports_nothing_but_would_report_an_application_er
     let vkcube: Vec<&str> = vkcube.iter().map(String::as_str).collect();
     for (name, program) in [("vkcube", &vkcube[..]), ("render", &nostencil_render[..])] {
         let (report, output) = profile_app(&dir, name, &[], program, &env, Some(&x));
-        let stdout = text(&output.stdout);
-        assert!(
-            stdout.contains("Current Enables: VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION"),
-            "{name}: the validation layer did not load with synchronisation checks:\n{stdout}\n{}",
-            text(&output.stderr)
-        );
-        let problems = validation_problems(&output);
-        assert!(problems.is_empty(), "{name}: {} validation message(s):\n{}", problems.len(), problems.join("\n"));
+        assert_validation_silent(name, &output);
         let measured_rows = report.frames.iter().flat_map(|f| &f.render_passes).filter(|r| r.counters.is_some());
         assert!(measured_rows.count() > 0, "{name}: nothing measured: {report:#?}");
     }
@@ -493,9 +498,8 @@ fn per_draw_counts_sum_to_each_render_pass_exactly() {
 /// `profile-app --tiler-check` on programs that do it right: `nostencil render`, every
 /// technique at 1 and 4 samples, gets no flag and writes the very PNG it writes without the
 /// layer (the pattern fills only what the frame never reads: the dropped depth, DONT_CARE loads
-/// that the frame overwrites whole); vkcube gets no flag either (its image is presented to a
-/// window, not written: it is not compared), nor `nostencil view`, whose presented image (its
-/// screenshot) is the same with the check.
+/// that the frame overwrites whole); nor `nostencil view`, whose presented image (its
+/// screenshot) is the same with the check. (vkcube: the next test.)
 #[test]
 fn the_tiler_check_flags_nothing_and_changes_no_pixel_of_programs_that_do_it_right() {
     let dir = common::scratch_dir("profile_app_tiler_check");
@@ -522,17 +526,9 @@ fn the_tiler_check_flags_nothing_and_changes_no_pixel_of_programs_that_do_it_rig
     }
     assert!(poisoned > 0, "the frames drop their depth: something was poisoned");
 
-    let x = start_x_server();
-    let program = vkcube_args(8, Some((128, 128)));
-    let program: Vec<&str> = program.iter().map(String::as_str).collect();
-    let (report, _) = profile_app(&dir, "vkcube", &["--frames", "5", "--tiler-check"], &program, &[], Some(&x));
-    let check = report.tiler_check.expect("vkcube's tiler check");
-    assert!(check.flags.is_empty(), "vkcube: {:#?}", check.flags);
-    // Its depth is cleared and dropped each frame: poisoned after the pass, never read.
-    assert!(check.poisoned.iter().all(|p| p.read_by.is_none()), "{:?}", check.poisoned);
-
     // A presenting program whose presented image can be compared: `nostencil view`'s screenshot
     // is a copy of the swapchain image it presents.
+    let x = start_x_server();
     let shot = |kind: &str| dir.join(format!("view-{kind}.png"));
     let (plain_shot, checked_shot) = (shot("plain"), shot("checked"));
     let view = |png: &PathBuf| {
@@ -553,6 +549,65 @@ fn the_tiler_check_flags_nothing_and_changes_no_pixel_of_programs_that_do_it_rig
     assert!(check.flags.is_empty(), "view: {:#?}", check.flags);
     let bytes = |p: &PathBuf| std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
     assert!(bytes(&plain_shot) == bytes(&checked_shot), "the tiler check changed view's presented image");
+}
+
+/// `profile-app --capture FILE.png --capture-frame N -- vkcube --c 6`, the Khronos validation
+/// layer (synchronisation checks on) below the fill-rate layer: the image vkcube presents at
+/// the end of frame N, copied by the layer. Returns the PNG's bytes and the layer's report;
+/// fails on any validation message.
+fn vkcube_capture(dir: &Path, name: &str, frame: u32, extra: &[&str], x: &XServer) -> (Vec<u8>, FillrateReport) {
+    let settings = validation_settings(dir);
+    let settings = settings.to_string_lossy();
+    let env = [("VK_INSTANCE_LAYERS", "VK_LAYER_KHRONOS_validation"), ("VK_LAYER_SETTINGS_PATH", settings.as_ref())];
+    let png = dir.join(format!("{name}.png"));
+    let png_arg = png.to_string_lossy().into_owned();
+    let frame = frame.to_string();
+    let args = [&["--capture", png_arg.as_str(), "--capture-frame", frame.as_str()], extra].concat();
+    // vkcube turns its cube by a fixed angle each frame: frame N is the same image every run.
+    let program = vkcube_args(6, Some((128, 128)));
+    let program: Vec<&str> = program.iter().map(String::as_str).collect();
+    let (report, output) = profile_app(dir, name, &args, &program, &env, Some(x));
+    assert_validation_silent(name, &output);
+    (std::fs::read(&png).unwrap_or_else(|e| panic!("{}: {e}", png.display())), report)
+}
+
+/// vkcube does it right for a tiler: `--tiler-check` flags nothing, and the image it presents
+/// (the layer's capture of frame 4) is byte for byte the one it presents without the check,
+/// which is the same in two runs without it; frame 2's is another (the cube turns).
+#[test]
+fn vkcube_gets_no_tiler_flag_and_presents_the_same_image_with_the_check() {
+    let x = start_x_server();
+    let dir = common::scratch_dir("profile_app_vkcube_capture");
+    let (plain, _) = vkcube_capture(&dir, "plain", 4, &[], &x);
+    let (again, _) = vkcube_capture(&dir, "again", 4, &[], &x);
+    assert!(plain == again, "vkcube's frame 4 differs between two runs: no comparison can be made");
+    let image = image::load_from_memory(&plain).expect("a PNG").to_rgb8();
+    assert_eq!(image.dimensions(), (128, 128));
+    let (corner, centre) = (image.get_pixel(2, 2), image.get_pixel(64, 64));
+    assert_ne!(corner, centre, "the cube in the middle of the background");
+    let (earlier, _) = vkcube_capture(&dir, "frame-2", 2, &[], &x);
+    assert!(earlier != plain, "frame 2's image is frame 4's: the capture did not pick its frame");
+
+    let (checked, report) = vkcube_capture(&dir, "checked", 4, &["--tiler-check"], &x);
+    let check = report.tiler_check.expect("vkcube's tiler check");
+    assert!(check.flags.is_empty(), "vkcube: {:#?}", check.flags);
+    // Its depth is cleared and dropped each frame: poisoned after the pass, never read.
+    assert!(!check.poisoned.is_empty() && check.poisoned.iter().all(|p| p.read_by.is_none()), "{:?}", check.poisoned);
+    assert!(checked == plain, "the tiler check changed vkcube's presented image");
+
+    // A frame the program never presents: no image, and an error that says so; with --frames,
+    // refused before the program runs.
+    let never = dir.join("never.png");
+    let never_arg = never.to_string_lossy().into_owned();
+    let vkcube = vkcube_args(6, Some((128, 128)));
+    let vkcube: Vec<&str> = vkcube.iter().map(String::as_str).collect();
+    for (frames, message) in [(None, "captured no image of frame 9"), (Some("9"), "is not among the 9 frames")] {
+        let frames: Vec<&str> = frames.map(|n| vec!["--frames", n]).unwrap_or_default();
+        let capture = ["profile-app", "--capture", &never_arg, "--capture-frame", "9"];
+        let args = [&capture[..], &frames, &["--"], &vkcube].concat();
+        let stderr = common::assert_failure(&args.join(" "), &run_nostencil(&dir, "never", &args, &[], Some(&x)));
+        assert!(stderr.contains(message) && !never.exists(), "{stderr}");
+    }
 }
 
 /// `profile-app --trace`: the layer's measured passes, one GPU slice each with the report's GPU

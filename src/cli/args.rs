@@ -129,6 +129,14 @@ pub enum Command {
         /// Write the report (in --format) to FILE instead of stdout, which stays the program's.
         #[arg(long, value_name = "FILE")]
         out: Option<PathBuf>,
+        /// Write the image the program presents at the end of frame --capture-frame as an RGB
+        /// PNG (NOSTENCIL_FILLRATE_CAPTURE): the layer copies the presented swapchain image (8-bit
+        /// RGBA or BGRA). Exit 1 if no image was captured.
+        #[arg(long, value_name = "FILE.png")]
+        capture: Option<PathBuf>,
+        /// The frame whose presented image --capture writes, from 0 (the report's frame index).
+        #[arg(long, value_name = "N", requires = "capture", default_value_t = 0)]
+        capture_frame: u64,
         /// The program and its arguments, after `--`.
         #[arg(last = true, value_name = "COMMAND ARGS")]
         command: Vec<String>,

@@ -45,10 +45,21 @@ pub fn run(cli: Cli) -> Result<()> {
             chart,
             trace,
             out,
+            capture,
+            capture_frame,
             command,
         } => {
-            let outputs =
-                super::profile_app::AppOutputs { budget, record_budget, chart, trace, out, per_draw, tiler_check };
+            let capture = capture.map(|path| (path, capture_frame));
+            let outputs = super::profile_app::AppOutputs {
+                budget,
+                record_budget,
+                chart,
+                trace,
+                out,
+                per_draw,
+                tiler_check,
+                capture,
+            };
             let stop = super::supervise::Stop { frames, seconds, keep_running };
             super::profile_app::run(&command, stop, report_format(format), &outputs)
         }

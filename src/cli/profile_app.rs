@@ -24,7 +24,8 @@ pub const AFTER_HELP: &str = "\
 The layer (libnostencil.so, built beside the nostencil executable, or installed for the user by
 `nostencil layer install`) is enabled for the program only: VK_INSTANCE_LAYERS gets VK_LAYER_NOSTENCIL_fillrate first (nearest the application; layers
 the user named stay, below it), VK_ADD_LAYER_PATH (or VK_LAYER_PATH, if set) its folder, and
-NOSTENCIL_FILLRATE_OUT/_FORMAT/_FRAMES/_EVERY tell it where and what to write (the report is
+NOSTENCIL_FILLRATE_OUT/_FORMAT/_FRAMES/_EVERY tell it where and what to write (--capture sets
+NOSTENCIL_FILLRATE_CAPTURE/_CAPTURE_FRAME; the report is
 rewritten at most every 100 ms, and each finished frame is appended to a journal beside it as it
 finishes). The program's stdio is its own; it runs in its own process group.
 The report follows once the program ends: by itself; after --frames N measured frames or
@@ -53,6 +54,9 @@ pub struct AppOutputs {
     pub per_draw: bool,
     /// The tiler check (NOSTENCIL_FILLRATE_TILER): exit 1 on any flag.
     pub tiler_check: bool,
+    /// The image presented at the end of a frame, written as a PNG (NOSTENCIL_FILLRATE_CAPTURE):
+    /// (file, frame).
+    pub capture: Option<(PathBuf, u64)>,
 }
 
 pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOutputs) -> Result<()> {
@@ -65,12 +69,23 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
     if frames == Some(0) {
         return Err(Error::InvalidInput("--frames 0 would measure nothing; give 1 or more".into()));
     }
+    if let (Some(n), Some((_, frame))) = (frames, &outputs.capture) {
+        if *frame >= n as u64 {
+            return Err(Error::InvalidInput(format!(
+                "--capture-frame {frame} is not among the {n} frames measured (0 to {}); the program is ended before",
+                n - 1
+            )));
+        }
+    }
     if let Some(seconds) = stop.seconds {
         if !(seconds.is_finite() && seconds > 0.0) {
             return Err(Error::InvalidInput(format!("--seconds {seconds} is not a positive number of seconds")));
         }
     }
-    for path in [&outputs.record_budget, &outputs.chart, &outputs.trace, &outputs.out].into_iter().flatten() {
+    let capture_path = outputs.capture.as_ref().map(|(path, _)| path.clone());
+    for path in
+        [&outputs.record_budget, &outputs.chart, &outputs.trace, &outputs.out, &capture_path].into_iter().flatten()
+    {
         check_output_path(path)?;
     }
     let budget = outputs.budget.as_deref().map(Budget::load).transpose()?;
@@ -83,6 +98,13 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
     }
     if outputs.tiler_check {
         environment.push(("NOSTENCIL_FILLRATE_TILER".into(), "1".into()));
+    }
+    // The layer writes the capture into the scratch folder; it is moved to the user's path
+    // only if the layer wrote one (a file already there is not taken for it).
+    let captured = work.0.join("capture.png");
+    if let Some((_, frame)) = &outputs.capture {
+        environment.push(("NOSTENCIL_FILLRATE_CAPTURE".into(), captured.clone().into_os_string()));
+        environment.push(("NOSTENCIL_FILLRATE_CAPTURE_FRAME".into(), frame.to_string().into()));
     }
 
     let mut child = std::process::Command::new(program);
@@ -146,6 +168,9 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
         trace.write(path)?;
         eprintln!("wrote {}", path.display());
     }
+    if let Some((path, frame)) = &outputs.capture {
+        keep_capture(&captured, path, *frame, program)?;
+    }
     if let Some(path) = &outputs.record_budget {
         if worst.is_empty() {
             return Err(Error::InvalidInput(format!(
@@ -168,6 +193,19 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
         Some(message) => Err(Error::InvalidInput(message)),
         None => Ok(()),
     }
+}
+
+/// Moves the layer's capture of `frame` to `path`, or says why there is none.
+fn keep_capture(captured: &Path, path: &Path, frame: u64, program: &str) -> Result<()> {
+    let bytes = std::fs::read(captured).map_err(|_| {
+        Error::InvalidInput(format!(
+            "the layer captured no image of frame {frame} of '{program}': it presented fewer frames, or the \
+             capture failed (the layer's line on stderr says why)"
+        ))
+    })?;
+    crate::frame::write_atomically(path, &bytes)?;
+    eprintln!("wrote {}", path.display());
+    Ok(())
 }
 
 /// The tiler check's flags on stderr (when the report went elsewhere than a table on stdout),

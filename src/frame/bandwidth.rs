@@ -54,8 +54,18 @@ pub struct AttachmentCost {
 
 /// The pass's traffic over `pixels` render-area pixels with `samples_passed` samples passing.
 pub fn pass_bandwidth(attachments: &[AttachmentCost], pixels: u64, samples_passed: u64) -> Bandwidth {
+    let fixed = fixed_bandwidth(attachments, pixels);
+    Bandwidth {
+        tiler_bytes: fixed.tiler_bytes,
+        immediate_bytes: fixed.immediate_bytes + samples_passed * bytes_per_passing_sample(attachments),
+    }
+}
+
+/// What the pass moves whatever its draws do: loads, stores and resolves on a tiler; clears and
+/// resolves on an immediate-mode GPU.
+pub fn fixed_bandwidth(attachments: &[AttachmentCost], pixels: u64) -> Bandwidth {
     let tiler_bytes = attachments.iter().map(|a| a.tile_bytes).sum();
-    let fixed: u64 = attachments
+    let immediate_bytes = attachments
         .iter()
         .map(|a| {
             // The resolve reads every source sample and writes the one-sample texel.
@@ -63,8 +73,13 @@ pub fn pass_bandwidth(attachments: &[AttachmentCost], pixels: u64, samples_passe
             a.cleared_bytes + resolve
         })
         .sum();
-    let per_sample: u64 = attachments.iter().filter(|a| a.drawn).map(|a| 2 * a.bytes_per_sample).sum();
-    Bandwidth { tiler_bytes, immediate_bytes: fixed + samples_passed * per_sample }
+    Bandwidth { tiler_bytes, immediate_bytes }
+}
+
+/// Bytes an immediate-mode GPU reads and writes for each sample that passes: every drawn
+/// attachment's sample, read and written (a tiler keeps them in tile memory: 0).
+pub fn bytes_per_passing_sample(attachments: &[AttachmentCost]) -> u64 {
+    attachments.iter().filter(|a| a.drawn).map(|a| 2 * a.bytes_per_sample).sum()
 }
 
 #[cfg(test)]

@@ -100,7 +100,7 @@ fn is_srgb(format: vk::Format) -> bool {
 }
 
 /// The order of the four 8-bit channels in memory, for the RGBA8-family formats.
-fn byte_order(format: vk::Format) -> Option<&'static str> {
+pub fn byte_order(format: vk::Format) -> Option<&'static str> {
     match format {
         vk::Format::R8G8B8A8_UNORM
         | vk::Format::R8G8B8A8_SRGB

@@ -27,6 +27,17 @@ pub struct Config {
     /// and append each finished frame to the journal beside it (report.rs, `JournalLine`)
     /// (0: never).
     pub every: u64,
+    /// `NOSTENCIL_FILLRATE_CAPTURE` (and `_CAPTURE_FRAME`): write the image presented at the
+    /// end of one frame as a PNG (capture.rs).
+    pub capture: Option<CaptureConfig>,
+}
+
+/// Where and when to capture a presented image.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CaptureConfig {
+    pub path: PathBuf,
+    /// The frame whose present is captured, from 0 (the report's frame index).
+    pub frame: u64,
 }
 
 impl Config {
@@ -60,6 +71,7 @@ impl Config {
         };
         let frames = number("NOSTENCIL_FILLRATE_FRAMES");
         let every = number("NOSTENCIL_FILLRATE_EVERY").unwrap_or(0);
+        let capture_frame = number("NOSTENCIL_FILLRATE_CAPTURE_FRAME");
         let frames = match frames {
             Some(0) => {
                 warnings.push("NOSTENCIL_FILLRATE_FRAMES=0 measures nothing; measuring every frame".into());
@@ -69,7 +81,12 @@ impl Config {
         };
         let per_draw = var("NOSTENCIL_FILLRATE_PER_DRAW").is_some_and(|v| v == "1");
         let tiler = var("NOSTENCIL_FILLRATE_TILER").is_some_and(|v| v == "1");
-        (Config { out, format, frames, every, per_draw, tiler }, warnings)
+        let capture = var("NOSTENCIL_FILLRATE_CAPTURE").filter(|p| !p.is_empty()).map(PathBuf::from);
+        if capture.is_none() && capture_frame.is_some() {
+            warnings.push("NOSTENCIL_FILLRATE_CAPTURE_FRAME without NOSTENCIL_FILLRATE_CAPTURE: nothing captured".into());
+        }
+        let capture = capture.map(|path| CaptureConfig { path, frame: capture_frame.unwrap_or(0) });
+        (Config { out, format, frames, every, per_draw, tiler, capture }, warnings)
     }
 }
 
@@ -86,7 +103,15 @@ mod tests {
         let (config, warnings) = parse(&[]);
         assert_eq!(
             config,
-            Config { out: None, format: OutputFormat::Json, frames: None, every: 0, per_draw: false, tiler: false }
+            Config {
+                out: None,
+                format: OutputFormat::Json,
+                frames: None,
+                every: 0,
+                per_draw: false,
+                tiler: false,
+                capture: None
+            }
         );
         assert!(parse(&[("NOSTENCIL_FILLRATE_TILER", "1")]).0.tiler);
         assert!(warnings.is_empty());
@@ -102,5 +127,12 @@ mod tests {
         assert_eq!((config.format, config.frames), (OutputFormat::Json, None));
         assert_eq!(warnings.len(), 2);
         assert!(warnings[0].contains("xml") && warnings[1].contains("NOSTENCIL_FILLRATE_FRAMES"));
+        let (config, warnings) =
+            parse(&[("NOSTENCIL_FILLRATE_CAPTURE", "/tmp/f.png"), ("NOSTENCIL_FILLRATE_CAPTURE_FRAME", "4")]);
+        let frame_4 = CaptureConfig { path: "/tmp/f.png".into(), frame: 4 };
+        assert_eq!((config.capture, warnings.len()), (Some(frame_4), 0));
+        assert_eq!(parse(&[("NOSTENCIL_FILLRATE_CAPTURE", "/tmp/f.png")]).0.capture.map(|c| c.frame), Some(0));
+        let (config, warnings) = parse(&[("NOSTENCIL_FILLRATE_CAPTURE_FRAME", "4")]);
+        assert!(config.capture.is_none() && warnings[0].contains("without NOSTENCIL_FILLRATE_CAPTURE"), "{warnings:?}");
     }
 }

@@ -35,7 +35,7 @@ fn slots_of(passes: &[RecordedPass]) -> Vec<(Slot, usize)> {
     slots
 }
 
-fn host_memory_type(device: &DeviceData, bits: u32) -> Option<u32> {
+pub(super) fn host_memory_type(device: &DeviceData, bits: u32) -> Option<u32> {
     let wanted = vk::MemoryPropertyFlags::HOST_VISIBLE | vk::MemoryPropertyFlags::HOST_COHERENT;
     let props = &device.info.memory;
     (0..props.memory_type_count)

@@ -10,7 +10,8 @@ use ash::vk::Handle;
 use super::lifecycle::{c_name, create_device, create_instance, destroy_device, destroy_instance};
 use super::loader::{NegotiateLayerInterface, LAYER_INTERFACE_VERSION, LAYER_NEGOTIATE_INTERFACE_STRUCT};
 use super::state::{self, guard};
-use super::{commands as c, image_use as t, objects as o, queue as q};
+use super::config::Config;
+use super::{capture, commands as c, image_use as t, objects as o, queue as q};
 
 /// A hook as the loader's generic function pointer.
 macro_rules! void_fn {
@@ -100,9 +101,21 @@ fn device_hook(name: &str) -> vk::PFN_vkVoidFunction {
     }
 }
 
-/// The layer's hook for `name`: its own, and the tiler check's when the check is on.
-fn hook(name: &str, tiler: bool) -> vk::PFN_vkVoidFunction {
-    device_hook(name).or_else(|| if tiler { tiler_hook(name) } else { None })
+/// The layer's hook for `name`: its own, the tiler check's when the check is on, and the
+/// capture's when capturing.
+fn hook(name: &str, config: &Config) -> vk::PFN_vkVoidFunction {
+    device_hook(name)
+        .or_else(|| if config.tiler { tiler_hook(name) } else { None })
+        .or_else(|| if config.capture.is_some() { capture_hook(name) } else { None })
+}
+
+/// The capture's hooks (capture.rs): the swapchain's usage gets TRANSFER_SRC.
+fn capture_hook(name: &str) -> vk::PFN_vkVoidFunction {
+    match name {
+        "vkCreateSwapchainKHR" => void_fn!(capture::create_swapchain, vk::PFN_vkCreateSwapchainKHR),
+        "vkDestroySwapchainKHR" => void_fn!(capture::destroy_swapchain, vk::PFN_vkDestroySwapchainKHR),
+        _ => None,
+    }
 }
 
 /// The tiler check's hooks (image_use.rs), handed out only when the check is on: each notes
@@ -228,7 +241,7 @@ unsafe extern "system" fn get_instance_proc_addr(
         // SAFETY: the next layer's GIPA with its instance and the caller's name.
         let next = unsafe { (data.gipa)(instance, name) };
         if next.is_some() && data.config.out.is_some() {
-            if let Some(hook) = hook(name_str, data.config.tiler) {
+            if let Some(hook) = hook(name_str, &data.config) {
                 return Some(hook);
             }
         }
@@ -249,7 +262,7 @@ unsafe extern "system" fn get_device_proc_addr(device: vk::Device, name: *const 
         // SAFETY: the next layer's GDPA with the device it created and the caller's name.
         let next = unsafe { (data.gdpa)(device, name) };
         if next.is_some() && (data.active() || name_str == "vkDestroyDevice") {
-            if let Some(hook) = hook(name_str, data.config.tiler) {
+            if let Some(hook) = hook(name_str, &data.config) {
                 return Some(hook);
             }
         }

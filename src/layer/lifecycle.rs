@@ -8,6 +8,7 @@ use std::sync::{Arc, Mutex, Once};
 use ash::vk;
 use ash::vk::Handle;
 
+use super::capture::CaptureDevice;
 use super::config::Config;
 use super::frames::FrameAssembler;
 use super::loader::{
@@ -73,7 +74,8 @@ pub(super) unsafe extern "system" fn create_instance(
         }
         if config.out.is_none() {
             static ONCE: Once = Once::new();
-            say_once(&ONCE, "NOSTENCIL_FILLRATE_OUT is not set: measuring nothing");
+            let capture = if config.capture.is_some() { " (nor capturing)" } else { "" };
+            say_once(&ONCE, &format!("NOSTENCIL_FILLRATE_OUT is not set: measuring nothing{capture}"));
         }
         // SAFETY: the next layer's GIPA with the instance it created.
         let fns =
@@ -194,14 +196,14 @@ pub(super) unsafe extern "system" fn create_device(
         let handle = unsafe { *device };
         // SAFETY: the loader's create info, with its chain.
         let set_loader_data = unsafe { device_loader_data(info_ref) };
-        register_device(&instance, physical, handle, next_gdpa, &supported, set_loader_data);
+        register_device(&instance, (physical, info_ref), handle, next_gdpa, &supported, set_loader_data);
     });
     result
 }
 
 fn register_device(
     instance: &InstanceData,
-    physical: vk::PhysicalDevice,
+    (physical, create_info): (vk::PhysicalDevice, &vk::DeviceCreateInfo<'_>),
     handle: vk::Device,
     gdpa: vk::PFN_vkGetDeviceProcAddr,
     supported: &vk::PhysicalDeviceFeatures,
@@ -239,6 +241,11 @@ fn register_device(
     // SAFETY: as above.
     let next = unsafe { NextFns::load(gdpa, handle) };
     let name = properties.device_name_as_c_str().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let capture = match instance.config.capture {
+        // SAFETY: the application's create info, with which the device was just made.
+        Some(_) => unsafe { CaptureDevice::new(instance, physical, &families, create_info) },
+        None => CaptureDevice::default(),
+    };
     let device_state =
         DeviceState { frames: Some(FrameAssembler::new(instance.config.frames)), ..DeviceState::default() };
     state::add_device(Arc::new(DeviceData {
@@ -253,6 +260,7 @@ fn register_device(
             timestamp_period: properties.limits.timestamp_period as f64,
             memory,
             set_loader_data,
+            capture,
         },
         application: instance.application.clone(),
         config: instance.config.clone(),
@@ -281,6 +289,7 @@ pub(super) unsafe extern "system" fn destroy_device(device: vk::Device, allocato
             unsafe { data.fns.destroy_query_pool(pool, None) };
         }
         super::proofs::destroy(&data, &mut st);
+        super::capture::destroy(&data, &mut st);
         for (_, pool) in st.copy_pools.drain() {
             // SAFETY: the layer's own command pools; their buffers were freed at read back.
             unsafe { data.fns.destroy_command_pool(pool, None) };

@@ -5,6 +5,7 @@
 pub mod aggregate;
 pub mod arrays;
 pub mod attachments;
+pub mod capture;
 pub mod commands;
 pub mod config;
 pub mod copies;

@@ -8,6 +8,7 @@ use ash::vk::Handle;
 use std::sync::Once;
 
 use super::arrays::app_array;
+use super::capture;
 use super::copies;
 use super::in_flight::TimelineSignal;
 use super::objects::{device_and, flush_buffer, spoil_gaps};
@@ -477,8 +478,20 @@ pub(super) unsafe extern "system" fn queue_present(
     let Some((device, next)) = device_and(queue.as_raw(), |d| d.next.queue_present) else {
         return vk::Result::ERROR_INITIALIZATION_FAILED;
     };
-    // SAFETY: the application's arguments, passed on.
-    let result = unsafe { next(queue, info) };
+    // SAFETY: the application's valid present info (or null), for the call.
+    let app_info = unsafe { info.as_ref() };
+    // SAFETY: as above; the queue is the caller's for the call.
+    let capturing = guard(None, || app_info.and_then(|i| unsafe { capture::begin(&device, queue, i) }));
+    let result = match (&capturing, app_info) {
+        // SAFETY: the application's present, waiting on the layer's copy instead (which waited
+        // on the application's semaphores).
+        (Some(c), Some(app_info)) => unsafe { next(queue, &c.patched(app_info)) },
+        // SAFETY: the application's arguments, passed on.
+        _ => unsafe { next(queue, info) },
+    };
+    if let Some(capturing) = capturing {
+        guard((), || capture::finish(&device, capturing));
+    }
     guard((), || {
         if device.active() {
             let mut st = device.state();

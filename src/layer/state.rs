@@ -151,6 +151,9 @@ next_fns! {
     cmd_resolve_image2_khr: PFN_vkCmdResolveImage2 = "vkCmdResolveImage2KHR",
     cmd_copy_buffer_to_image2: PFN_vkCmdCopyBufferToImage2 = "vkCmdCopyBufferToImage2",
     cmd_copy_buffer_to_image2_khr: PFN_vkCmdCopyBufferToImage2 = "vkCmdCopyBufferToImage2KHR",
+    create_swapchain_khr: PFN_vkCreateSwapchainKHR = "vkCreateSwapchainKHR",
+    destroy_swapchain_khr: PFN_vkDestroySwapchainKHR = "vkDestroySwapchainKHR",
+    get_swapchain_images_khr: PFN_vkGetSwapchainImagesKHR = "vkGetSwapchainImagesKHR",
 }
 
 pub struct InstanceData {
@@ -173,6 +176,8 @@ pub struct DeviceInfo {
     pub memory: vk::PhysicalDeviceMemoryProperties,
     /// The loader's callback for command buffers the layer allocates itself.
     pub set_loader_data: Option<PfnSetDeviceLoaderData>,
+    /// What the capture (capture.rs) needs to know of the device's queues and surfaces.
+    pub capture: super::capture::CaptureDevice,
 }
 
 /// A command buffer the layer saw allocated.
@@ -230,6 +235,8 @@ pub struct DeviceState {
     pub journal: Option<std::fs::File>,
     /// The tiler check's objects and verdicts (tiler_state.rs, tiler_check.rs).
     pub tiler: super::tiler_state::TilerState,
+    /// The capture's swapchains and presents (capture.rs).
+    pub capture: super::capture::CaptureState,
 }
 
 impl DeviceState {

@@ -105,8 +105,8 @@ pub struct PoisonNote {
     pub pass: u32,
     pub label: Option<String>,
     pub attachment: String,
-    /// What read the pattern, if anything did ("the pass's first draw, by blending", "loaded
-    /// by pass #2"); null: nothing read it, the output cannot show it.
+    /// What read the pattern, if anything did ("the pass's first draw (blending)", "pass #2's
+    /// LOAD", "vkCmdCopyImage"); null: nothing read it, the output cannot show it.
     pub read_by: Option<String>,
     pub count: u64,
 }
@@ -316,7 +316,7 @@ impl TilerCheck {
                             pass_name(o.pass, &o.label)
                         );
                         self.flag("load_after_dont_care", (self.frame, pass, &label), Some(&a.name), detail);
-                        self.pattern_read(o.note, format!("loaded by {here}"));
+                        self.pattern_read(o.note, format!("{here}'s LOAD"));
                     }
                     self.read_key(key);
                 }
@@ -412,7 +412,7 @@ impl TilerCheck {
                     pass_name(o.pass, &o.label)
                 );
                 self.flag("load_after_dont_care", (o.frame, o.pass, &o.label), Some(&o.attachment), detail);
-                self.pattern_read(o.note, format!("read by {how}"));
+                self.pattern_read(o.note, how.to_owned());
             }
             self.read_key(key);
         }
@@ -614,7 +614,7 @@ mod tests {
             notes,
             vec![
                 ("before the pass (DONT_CARE load)", 0, Some("the pass's first draw (blending)")),
-                ("after the pass (DONT_CARE store)", 5, Some("loaded by pass #6")),
+                ("after the pass (DONT_CARE store)", 5, Some("pass #6's LOAD")),
             ]
         );
     }

@@ -49,6 +49,12 @@ pub struct PassRow {
     pub gpu_ms: f64,
     /// This pass's share of the frame's GPU time, 0..1.
     pub share: f64,
+    /// The render pass instances its draws went into (indices into `render_pass_instances`).
+    pub render_pass_instances: Vec<u32>,
+    /// Its part of the frame's bytes (`FrameCounters::pass_bandwidths`): its draws' bytes, and
+    /// in the first pass of a group of instances the group's loads, stores, clears and resolves.
+    #[serde(flatten)]
+    pub bandwidth: Bandwidth,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -118,7 +124,8 @@ impl ProfileReport {
         let passes = counters
             .passes
             .iter()
-            .map(|p| PassRow {
+            .zip(counters.pass_bandwidths())
+            .map(|(p, bandwidth)| PassRow {
                 name: p.name.clone(),
                 draws: p.draws,
                 vertex_invocations: p.vertex_invocations,
@@ -130,6 +137,8 @@ impl ProfileReport {
                 samples_per_pixel: counters.samples_per_pixel(p),
                 gpu_ms: p.gpu_ms,
                 share: if total_ms > 0.0 { p.gpu_ms / total_ms } else { 0.0 },
+                render_pass_instances: p.render_pass_instances.clone(),
+                bandwidth,
             })
             .collect();
         let fragments = counters.total_fragment_invocations();
@@ -313,16 +322,18 @@ impl ProfileReport {
         }
     }
 
+    /// One row per measured pass. `render_pass_instances` lists the instances its draws went
+    /// into (space-separated); `tiler_bytes` and `immediate_bytes` are its part of the frame's
+    /// bytes, so that each column sums to the frame's (`PassRow::bandwidth`).
     fn csv(&self) -> String {
         let opt = |v: Option<u64>| v.map_or(String::new(), |v| v.to_string());
         let optf = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:.6}"));
-        let mut out = String::from(
-            "pass,draws,vertex_invocations,clipping_primitives,fragment_invocations,fragments_per_pixel,samples_passed,samples_per_pixel,gpu_ms,share\n",
-        );
+        let mut out = format!("{CSV_HEADER}\n");
         for p in &self.passes {
+            let instances: Vec<String> = p.render_pass_instances.iter().map(u32::to_string).collect();
             let _ = writeln!(
                 out,
-                "{},{},{},{},{},{},{},{:.6},{:.6},{:.6}",
+                "{},{},{},{},{},{},{},{:.6},{:.6},{:.6},{},{},{}",
                 csv_field(&p.name),
                 p.draws,
                 opt(p.vertex_invocations),
@@ -332,12 +343,19 @@ impl ProfileReport {
                 p.samples_passed,
                 p.samples_per_pixel,
                 p.gpu_ms,
-                p.share
+                p.share,
+                instances.join(" "),
+                p.bandwidth.tiler_bytes,
+                p.bandwidth.immediate_bytes
             );
         }
         out
     }
 }
+
+/// The CSV's columns (docs/profiling.md says what the last three mean).
+pub const CSV_HEADER: &str = "pass,draws,vertex_invocations,clipping_primitives,fragment_invocations,\
+fragments_per_pixel,samples_passed,samples_per_pixel,gpu_ms,share,render_pass_instances,tiler_bytes,immediate_bytes";
 
 fn csv_field(text: &str) -> String {
     if text.contains([',', '"', '\n']) {

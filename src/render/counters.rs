@@ -9,7 +9,9 @@
 
 use serde::Serialize;
 
-use super::instances::{group_bandwidth, RenderPassInstance, RenderPassSums};
+use super::instances::{
+    group_bandwidth, group_bytes_per_sample, group_fixed_bandwidth, RenderPassInstance, RenderPassSums,
+};
 use super::plan::DrawKind;
 use crate::frame::bandwidth::Bandwidth;
 use crate::gpu::commands::CpuPhases;
@@ -115,6 +117,29 @@ impl FrameCounters {
     /// The frame's bytes on a tiler and an immediate-mode GPU: its render pass instances'.
     pub fn bandwidth(&self) -> Bandwidth {
         self.render_pass_sums().iter().map(|s| s.bandwidth).sum()
+    }
+
+    /// Each pass's part of the frame's bytes, in `passes` order, the parts summing to
+    /// [`Self::bandwidth`]: the pass's own draws (its samples passed x the bytes an
+    /// immediate-mode GPU moves per sample of the render pass it drew into), and, in the first
+    /// pass that drew into a group of instances (`render_pass_sums`), the group's loads, stores,
+    /// clears and resolves. A pass that drew into no render pass (copies only) moves none here.
+    pub fn pass_bandwidths(&self) -> Vec<Bandwidth> {
+        let mut parts = vec![Bandwidth::default(); self.passes.len()];
+        for sum in self.render_pass_sums() {
+            let span = sum.first..sum.first + sum.count;
+            let group = self.render_pass_instances.get(span.start as usize..span.end as usize).unwrap_or_default();
+            let per_sample = group_bytes_per_sample(group);
+            let mut fixed = Some(group_fixed_bandwidth(group));
+            let drew_in = |pass: &PassCounters| pass.render_pass_instances.iter().any(|i| span.contains(i));
+            for (pass, part) in self.passes.iter().zip(&mut parts).filter(|(p, _)| drew_in(p)) {
+                part.immediate_bytes += pass.samples_passed * per_sample;
+                if let Some(fixed) = fixed.take() {
+                    *part = *part + fixed;
+                }
+            }
+        }
+        parts
     }
 
     pub fn total_gpu_ms(&self) -> f64 {
@@ -274,5 +299,47 @@ mod tests {
         assert_eq!(spans, [(0, 1, 10), (1, 3, 20), (4, 1, 107)]);
         assert_eq!(sums[2].passes, ["scene", "apply"]);
         assert_eq!((sums[2].draws, sums[2].fragment_invocations), (2, Some(214)));
+    }
+
+    fn cleared_and_stored(width: u32, height: u32) -> RenderPassInstance {
+        let bytes = (width * height * 4) as u64;
+        let colour = AttachmentTraffic { bytes_stored: bytes, bytes_cleared: bytes, ..traffic("x", 1).attachments[0].clone() };
+        RenderPassInstance { attachments: vec![colour], width, height, ..instance(0) }
+    }
+
+    #[test]
+    fn each_passes_bytes_are_its_draws_and_the_first_pass_of_a_group_carries_its_loads_and_stores() {
+        // A shadow map (#0), two bakes by one pass (#1, #2), the frame (#3) with two passes in it.
+        let instances: Vec<_> = (0..4u32)
+            .map(|i| RenderPassInstance { index: i, ..cleared_and_stored(4 + i, 4) })
+            .collect();
+        let passes = [
+            pass_in("shadow map", &[0], 10),
+            pass_in("bake", &[1, 2], 20),
+            pass_in("mips", &[], 0),
+            pass_in("scene", &[3], 100),
+            pass_in("apply", &[3], 7),
+        ];
+        let counters = FrameCounters {
+            width: 7,
+            height: 4,
+            samples: 1,
+            passes: passes.to_vec(),
+            render_passes: Vec::new(),
+            render_pass_instances: instances,
+            cpu: Default::default(),
+        };
+        let parts = counters.pass_bandwidths();
+        // Colour RGBA8: cleared and stored once per instance; 8 bytes per passing sample.
+        let fixed = |w: u64| w * 4 * 4;
+        let expected = [
+            Bandwidth { tiler_bytes: fixed(4), immediate_bytes: fixed(4) + 10 * 8 },
+            Bandwidth { tiler_bytes: fixed(5) + fixed(6), immediate_bytes: fixed(5) + fixed(6) + 20 * 8 },
+            Bandwidth::default(),
+            Bandwidth { tiler_bytes: fixed(7), immediate_bytes: fixed(7) + 100 * 8 },
+            Bandwidth { tiler_bytes: 0, immediate_bytes: 7 * 8 },
+        ];
+        assert_eq!(parts, expected);
+        assert_eq!(parts.iter().copied().sum::<Bandwidth>(), counters.bandwidth());
     }
 }

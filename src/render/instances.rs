@@ -5,7 +5,7 @@
 
 use serde::Serialize;
 
-use crate::frame::bandwidth::{pass_bandwidth, AttachmentCost, Bandwidth};
+use crate::frame::bandwidth::{bytes_per_passing_sample, fixed_bandwidth, AttachmentCost, Bandwidth};
 use crate::frame::render_pass::{AttachmentTraffic, RESOLVED_NAME};
 
 /// One render pass instance the frame began, in recording (and submission) order.
@@ -62,12 +62,22 @@ impl RenderPassInstance {
 /// The traffic of consecutive `instances` whose draws let `samples_passed` samples pass (the
 /// draws' bytes per sample are the first instance's: the instances of one group are alike).
 pub fn group_bandwidth(instances: &[RenderPassInstance], samples_passed: u64) -> Bandwidth {
+    let fixed = group_fixed_bandwidth(instances);
+    Bandwidth {
+        tiler_bytes: fixed.tiler_bytes,
+        immediate_bytes: fixed.immediate_bytes + samples_passed * group_bytes_per_sample(instances),
+    }
+}
+
+/// What consecutive `instances` move whatever is drawn in them: loads, stores, clears, resolves.
+pub fn group_fixed_bandwidth(instances: &[RenderPassInstance]) -> Bandwidth {
     instances
         .iter()
-        .enumerate()
-        .map(|(i, instance)| {
-            let pixels = instance.width as u64 * instance.height as u64;
-            pass_bandwidth(&instance.costs(), pixels, if i == 0 { samples_passed } else { 0 })
-        })
+        .map(|instance| fixed_bandwidth(&instance.costs(), instance.width as u64 * instance.height as u64))
         .sum()
+}
+
+/// Bytes an immediate-mode GPU moves per sample passing in the group (its first instance's).
+pub fn group_bytes_per_sample(instances: &[RenderPassInstance]) -> u64 {
+    instances.first().map_or(0, |instance| bytes_per_passing_sample(&instance.costs()))
 }

@@ -269,12 +269,35 @@ pub fn under_the_layer(test: &str) -> PathBuf {
     out
 }
 
+/// A buffer of `size` bytes that copies write into (TRANSFER_DST), in host-visible, coherent
+/// memory: where the layer tests' programs read their images back. Destroy the buffer, then
+/// free the memory.
+///
+/// # Safety
+/// `device` was created from `physical` of `instance`.
+pub unsafe fn host_buffer(
+    (instance, physical, device): (&ash::Instance, vk::PhysicalDevice, &ash::Device),
+    size: u64,
+) -> (vk::Buffer, vk::DeviceMemory) {
+    let info = vk::BufferCreateInfo::default().size(size).usage(vk::BufferUsageFlags::TRANSFER_DST);
+    let buffer = device.create_buffer(&info, None).expect("buffer");
+    let requirements = device.get_buffer_memory_requirements(buffer);
+    let props = instance.get_physical_device_memory_properties(physical);
+    let host = vk::MemoryPropertyFlags::HOST_VISIBLE | vk::MemoryPropertyFlags::HOST_COHERENT;
+    let memory_type = memory_type(&props, requirements.memory_type_bits, host).expect("host-visible memory");
+    let allocate = vk::MemoryAllocateInfo::default().allocation_size(requirements.size).memory_type_index(memory_type);
+    let memory = device.allocate_memory(&allocate, None).expect("memory");
+    device.bind_buffer_memory(buffer, memory, 0).expect("bind");
+    (buffer, memory)
+}
+
 /// A device-local memory type among `bits`.
 pub fn device_local_memory_type(props: &vk::PhysicalDeviceMemoryProperties, bits: u32) -> u32 {
+    memory_type(props, bits, vk::MemoryPropertyFlags::DEVICE_LOCAL).expect("a device-local memory type")
+}
+
+/// The first memory type among `bits` with every property in `wanted`.
+fn memory_type(props: &vk::PhysicalDeviceMemoryProperties, bits: u32, wanted: vk::MemoryPropertyFlags) -> Option<u32> {
     (0..props.memory_type_count)
-        .find(|&i| {
-            bits & (1 << i) != 0
-                && props.memory_types[i as usize].property_flags.contains(vk::MemoryPropertyFlags::DEVICE_LOCAL)
-        })
-        .expect("a device-local memory type")
+        .find(|&i| bits & (1 << i) != 0 && props.memory_types[i as usize].property_flags.contains(wanted))
 }
