@@ -6,7 +6,7 @@
 #include "atlas_page_tiles.glsl"
 
 layout(push_constant) uniform Page {
-    // xy: the page's size in texels; z: the baked channels (lights with a map, at most 3).
+    // xy: the page's size in texels.
     vec4 size;
 } page;
 

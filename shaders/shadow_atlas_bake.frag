@@ -11,12 +11,17 @@ layout(location = 1) in vec3 world_normal;
 
 layout(location = 0) out vec4 out_texel;
 
+// The scene's lights (specialization constant 1): the loop unrolls, so each light's uniforms are
+// read at constant offsets (see shadow_atlas_page.frag, whose texels this bake must equal).
+layout(constant_id = 1) const int LIGHT_COUNT = 1;
+
 void main() {
     vec3 visible = vec3(1.0);
-    for (int c = 0; c < 3; ++c) {
-        int light = shadow.channels[c];
-        float v = shadow_visibility(max(light, 0), world_position, world_normal);
-        visible[c] = light >= 0 ? v : 1.0;
+    for (int i = 0; i < LIGHT_COUNT; ++i) {
+        float v = shadow_visibility(i, world_position, world_normal);
+        for (int c = 0; c < 3; ++c) {
+            visible[c] = shadow.channels[c] == i ? v : visible[c];
+        }
     }
     out_texel = vec4(visible, 1.0);
 }

@@ -8,10 +8,11 @@
 #include "shadow_atlas_light.glsl"
 #include "atlas_page_tiles.glsl"
 
-layout(push_constant) uniform Page {
-    // xy: the page's size in texels; z: the baked channels (lights with a map, at most 3).
-    vec4 size;
-} page;
+// The scene's lights (specialization constant 1, as in lights.glsl): the loop below unrolls,
+// so every light's uniforms are read at constant offsets. Indexed by a value read from a
+// uniform (the channel's light), they would be a gather per lane on a software rasteriser,
+// which made the bake half again as slow.
+layout(constant_id = 1) const int LIGHT_COUNT = 1;
 
 layout(location = 0) flat in ivec4 rect;
 layout(location = 2) flat in mat4 model;
@@ -24,11 +25,14 @@ void main() {
     uvec4 texel = surface[rect.w + local.y * rect.z + local.x];
     vec3 world_position = (model * vec4(texel_position(texel), 1.0)).xyz;
     vec3 world_normal = normal_matrix * texel_normal(texel);
-    // Channel c holds the light in map layer c (maps.rs), so the baked channels come first.
+    // Channel c holds the light in map layer c (maps.rs); a light with no channel is not
+    // baked (its visibility is computed all the same: selects, no branch on a uniform).
     vec3 visible = vec3(1.0);
-    int channels = int(page.size.z);
-    for (int c = 0; c < channels; ++c) {
-        visible[c] = shadow_visibility(shadow.channels[c], world_position, world_normal);
+    for (int i = 0; i < LIGHT_COUNT; ++i) {
+        float v = shadow_visibility(i, world_position, world_normal);
+        for (int c = 0; c < 3; ++c) {
+            visible[c] = shadow.channels[c] == i ? v : visible[c];
+        }
     }
     out_texel = vec4(visible, 1.0);
 }

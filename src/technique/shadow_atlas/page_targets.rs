@@ -363,20 +363,18 @@ impl AtlasPage {
     /// draw per run of consecutive tiles baked alike, `texels` for texel tiles and
     /// `dilate` for rasterised tiles (two pipelines, not a branch: a software rasteriser would
     /// run both sides for every texel).
-    /// `channels`: the lights the bake holds (channels 0 to `channels` - 1).
     pub fn record_page(
         &self,
         rec: &mut FrameRecorder,
         pipelines: PagePipelines,
         light_set: vk::DescriptorSet,
         tiles: &[usize],
-        channels: u32,
     ) {
         let extent = vk::Extent2D { width: self.layout.width, height: self.layout.height };
         let area = self.area_of(tiles, extent);
         rec.begin_offscreen_pass_in(&self.page_pass, self.page_framebuffer.raw, extent, area, &[]);
         let sets = [light_set, self.tiles_set.set, self.raw_set.set];
-        let push = [extent.width as f32, extent.height as f32, channels as f32, 0.0];
+        let push = [extent.width as f32, extent.height as f32, 0.0, 0.0];
         let mut bound = None;
         for (bake, first, count) in self.runs(tiles) {
             let pipeline = match bake {

@@ -462,13 +462,12 @@ impl PassDraws<AtlasKinds> for ShadowPasses {
                 self.atlas_targets(pass)?.record_bake(rec, scene, &self.meshes, pipeline()?, self.light_set.set)
             }
             AtlasDraw::Page => {
-                let channels = maps::layer_count(&self.coverage).min(maps::BAKED_CHANNELS as u32);
                 let dilate = pipelines
                     .get(1)
                     .copied()
                     .ok_or_else(|| Error::Internal(format!("pass '{}' has no dilation pipeline", pass.name)))?;
                 let pipelines = PagePipelines { texels: pipeline()?, dilate };
-                self.atlas_page(pass)?.record_page(rec, pipelines, self.light_set.set, &self.rebake, channels)
+                self.atlas_page(pass)?.record_page(rec, pipelines, self.light_set.set, &self.rebake)
             }
             AtlasDraw::Dilate => self.atlas_targets(pass)?.record_dilate(rec, pipeline()?),
             AtlasDraw::Mips => match &self.page {
