@@ -8,13 +8,13 @@
 //! goes PRESENT_SRC -> TRANSFER_SRC_OPTIMAL -> PRESENT_SRC around the copy. Once the copy's fence
 //! signals, BGRA is swizzled to RGB and the PNG written (a temporary file, then a rename).
 
-use std::collections::HashMap;
 use std::path::Path;
 
 use ash::vk;
 use ash::vk::Handle;
 
 use super::arrays::app_array;
+use super::capture_state::{CaptureDevice, SwapchainInfo};
 use super::config::CaptureConfig;
 use super::copies::host_memory_type;
 use super::objects::device_and;
@@ -23,63 +23,31 @@ use super::state::{guard, DeviceData, DeviceState, InstanceData};
 /// How long the layer waits for its copy before giving the capture up.
 const COPY_TIMEOUT_NS: u64 = 10_000_000_000;
 
-/// What the capture needs of the device, learnt at vkCreateDevice (only when capturing).
-#[derive(Default)]
-pub struct CaptureDevice {
-    pub physical: vk::PhysicalDevice,
-    /// Each queue family's capabilities.
-    pub families: Vec<vk::QueueFlags>,
-    /// The queues the application asked for: (family, count), unprotected only.
-    pub queues: Vec<(u32, u32)>,
-    /// The next layer's vkGetPhysicalDeviceSurfaceCapabilitiesKHR (None without the extension).
-    pub surface_capabilities: Option<vk::PFN_vkGetPhysicalDeviceSurfaceCapabilitiesKHR>,
-}
-
-impl CaptureDevice {
-    /// # Safety
-    /// `info` is the application's valid device create info; `physical` belongs to `instance`.
-    pub unsafe fn new(
-        instance: &InstanceData,
-        physical: vk::PhysicalDevice,
-        families: &[vk::QueueFamilyProperties],
-        info: &vk::DeviceCreateInfo<'_>,
-    ) -> Self {
-        // SAFETY: the caller's create info holds queueCreateInfoCount queue infos.
-        let queues = unsafe { app_array(info.p_queue_create_infos, info.queue_create_info_count) };
-        let queues = queues.iter().filter(|q| q.flags.is_empty()).map(|q| (q.queue_family_index, q.queue_count));
-        // SAFETY: the next layer's GIPA with its own instance; the pointer, when given, has the
-        // named function's type.
-        let surface_capabilities = unsafe {
-            (instance.gipa)(instance.handle, c"vkGetPhysicalDeviceSurfaceCapabilitiesKHR".as_ptr())
-                .map(|f| std::mem::transmute::<unsafe extern "system" fn(), vk::PFN_vkGetPhysicalDeviceSurfaceCapabilitiesKHR>(f))
-        };
-        CaptureDevice {
-            physical,
-            families: families.iter().map(|f| f.queue_flags).collect(),
-            queues: queues.collect(),
-            surface_capabilities,
-        }
+/// What the capture needs of a device being created (only when capturing).
+///
+/// # Safety
+/// `info` is the application's valid device create info; `physical` belongs to `instance`.
+pub unsafe fn capture_device(
+    instance: &InstanceData,
+    physical: vk::PhysicalDevice,
+    families: &[vk::QueueFamilyProperties],
+    info: &vk::DeviceCreateInfo<'_>,
+) -> CaptureDevice {
+    // SAFETY: the caller's create info holds queueCreateInfoCount queue infos.
+    let queues = unsafe { app_array(info.p_queue_create_infos, info.queue_create_info_count) };
+    let queues = queues.iter().filter(|q| q.flags.is_empty()).map(|q| (q.queue_family_index, q.queue_count));
+    // SAFETY: the next layer's GIPA with its own instance; the pointer, when given, has the
+    // named function's type.
+    let surface_capabilities = unsafe {
+        (instance.gipa)(instance.handle, c"vkGetPhysicalDeviceSurfaceCapabilitiesKHR".as_ptr())
+            .map(|f| std::mem::transmute::<unsafe extern "system" fn(), vk::PFN_vkGetPhysicalDeviceSurfaceCapabilitiesKHR>(f))
+    };
+    CaptureDevice {
+        physical,
+        families: families.iter().map(|f| f.queue_flags).collect(),
+        queues: queues.collect(),
+        surface_capabilities,
     }
-}
-
-/// A swapchain as the capture sees it.
-#[derive(Debug, Clone)]
-pub struct SwapchainInfo {
-    pub format: vk::Format,
-    pub extent: vk::Extent2D,
-    /// Its images can be copied (TRANSFER_SRC usage), or why not.
-    pub readable: Result<(), String>,
-}
-
-/// The device's part of the capture.
-#[derive(Default)]
-pub struct CaptureState {
-    pub swapchains: HashMap<vk::SwapchainKHR, SwapchainInfo>,
-    /// Presents so far: the frame the next present ends.
-    pub presents: u64,
-    /// Semaphores presents waited on: a present does not say when it is done with them, so
-    /// they are destroyed with the device.
-    pub semaphores: Vec<vk::Semaphore>,
 }
 
 /// Says `message` about the capture on stderr.

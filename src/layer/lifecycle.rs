@@ -8,7 +8,8 @@ use std::sync::{Arc, Mutex, Once};
 use ash::vk;
 use ash::vk::Handle;
 
-use super::capture::CaptureDevice;
+use super::capture::capture_device;
+use super::capture_state::CaptureDevice;
 use super::config::Config;
 use super::frames::FrameAssembler;
 use super::loader::{
@@ -243,7 +244,7 @@ fn register_device(
     let name = properties.device_name_as_c_str().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let capture = match instance.config.capture {
         // SAFETY: the application's create info, with which the device was just made.
-        Some(_) => unsafe { CaptureDevice::new(instance, physical, &families, create_info) },
+        Some(_) => unsafe { capture_device(instance, physical, &families, create_info) },
         None => CaptureDevice::default(),
     };
     let device_state =

@@ -6,6 +6,7 @@ pub mod aggregate;
 pub mod arrays;
 pub mod attachments;
 pub mod capture;
+pub mod capture_state;
 pub mod commands;
 pub mod config;
 pub mod copies;

@@ -177,7 +177,7 @@ pub struct DeviceInfo {
     /// The loader's callback for command buffers the layer allocates itself.
     pub set_loader_data: Option<PfnSetDeviceLoaderData>,
     /// What the capture (capture.rs) needs to know of the device's queues and surfaces.
-    pub capture: super::capture::CaptureDevice,
+    pub capture: super::capture_state::CaptureDevice,
 }
 
 /// A command buffer the layer saw allocated.
@@ -236,7 +236,7 @@ pub struct DeviceState {
     /// The tiler check's objects and verdicts (tiler_state.rs, tiler_check.rs).
     pub tiler: super::tiler_state::TilerState,
     /// The capture's swapchains and presents (capture.rs).
-    pub capture: super::capture::CaptureState,
+    pub capture: super::capture_state::CaptureState,
 }
 
 impl DeviceState {
