@@ -635,8 +635,8 @@ fn csv_bytes_against_json(args: &[&str]) -> (Vec<CsvBytes>, Vec<serde_json::Valu
 /// `profile --format csv`: each pass's row names the render pass instances it drew into and
 /// carries its part of the frame's bytes, so that the columns sum to the JSON's per-frame
 /// figures and each group of instances' rows to that group's own. Two frames: shadow textures
-/// (a prepass, then two passes in the frame's render pass) and the atlas with a moving light
-/// (shadow map, bake, page, frame, and a mip build that only copies).
+/// (a prepass, then two passes in the frame's render pass) and the atlas with a moving light,
+/// rasterised (shadow map, raster bake, page, frame, and a mip build that only copies).
 #[test]
 fn csv_bandwidth_columns_sum_to_the_jsons_frame_figures() {
     let texture = ["profile", "--size", "96x64", "--technique", "shadow-texture"];
@@ -644,7 +644,8 @@ fn csv_bandwidth_columns_sum_to_the_jsons_frame_figures() {
     let shared = sums.iter().find(|s| s["passes"].as_array().is_some_and(|p| p.len() > 1));
     assert!(sums.len() == 2 && shared.is_some(), "a prepass, then two passes in one instance: {sums:?}");
     let atlas = ["profile", "--size", "96x64", "--technique", "shadow-texture-atlas", "--scene", "atlas-one"];
-    let (rows, sums) = csv_bytes_against_json(&[&atlas[..], &["--light-motion", "moving"]].concat());
+    let moving = ["--light-motion", "moving", "--atlas-bake", "rasterised"];
+    let (rows, sums) = csv_bytes_against_json(&[&atlas[..], &moving].concat());
     assert_eq!(sums.len(), 4, "{sums:?}");
     // The mip build drew into no render pass: no instance, no bytes.
     assert!(rows.iter().any(|r| r.0.is_empty() && r.1 == 0 && r.2 == 0), "{rows:?}");
