@@ -276,3 +276,46 @@ fn a_light_without_shadows_leaves_the_lit_frame() {
         assert_eq!(frame.output.image, lit, "{technique}");
     }
 }
+
+/// `passes --scene` plans what the renderer runs: the bulb, a point light inside the scene's
+/// box, gets no map pass in the printed plan, as in the profiled frame.
+#[test]
+fn passes_prints_no_map_pass_for_a_light_left_unshadowed() {
+    let bulb = "point:name=bulb:at=0.6,0.9,1.6:colour=0.1,1,0.1:intensity=3:range=4";
+    let mapped = |names: Vec<String>| {
+        let mut maps: Vec<String> = names.into_iter().filter(|n| n.ends_with(": shadow map")).collect();
+        maps.dedup();
+        maps
+    };
+    let expected = ["sun: shadow map", "lamp: shadow map", "spot: shadow map"];
+    for technique in ["shadow-map", "shadow-texture-atlas"] {
+        let (table, _) = common::run_ok(&["passes", "--technique", technique, "--scene", "lights", "--light", bulb]);
+        // The plan with a moving light, its rows' second column.
+        let moving = table.split("(moving light)").nth(1).and_then(|t| t.split("\n### ").next());
+        let moving = moving.expect("a moving-light plan");
+        let planned = mapped(moving.lines().filter_map(|l| l.split('|').nth(2)).map(|c| c.trim().to_owned()).collect());
+        assert_eq!(planned, expected, "{technique}:\n{table}");
+
+        let (json, _) = common::run_ok(&[
+            "profile",
+            "--technique",
+            technique,
+            "--scene",
+            "lights",
+            "--light",
+            bulb,
+            "--light-motion",
+            "moving",
+            "--size",
+            "64x48",
+            "--samples",
+            "1",
+            "--format",
+            "json",
+        ]);
+        let report: serde_json::Value = serde_json::from_str(&json).expect("JSON");
+        let ran = report["passes"].as_array().expect("passes").iter();
+        let profiled = mapped(ran.map(|p| p["name"].as_str().unwrap_or("").to_owned()).collect());
+        assert_eq!(profiled, expected, "{technique}:\n{json}");
+    }
+}

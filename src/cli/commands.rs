@@ -72,7 +72,7 @@ pub fn run(cli: Cli) -> Result<()> {
         }
         Command::Passes { technique, scene, lights, replace_lights, samples, plans } => {
             let scene = load_named_scene(&scene, 0.0, &lights, replace_lights)?;
-            passes(&technique, &plans, PlannedLight::of_scene(&scene), samples)
+            passes(&technique, &plans, &scene, samples)
         }
         Command::Bench { frame, warmup: _, runs, json, trace, table1_out, mip_flicker: Some(steps) } => {
             if table1_out.is_some() || runs.is_some() || trace.is_some() {
@@ -704,13 +704,14 @@ fn view(
 /// Markdown tables; `--normalize` keeps one shadow-volume normalisation. For shadow volumes,
 /// the plans are for k, D (or the tint) of `shadow_volume`, and the table of iteration counts
 /// for other k and D follows them.
-fn passes(technique: &str, plans: &PassesArgs, lights: Vec<PlannedLight>, samples: u32) -> Result<()> {
+fn passes(technique: &str, plans: &PassesArgs, scene: &Scene, samples: u32) -> Result<()> {
     let technique = by_name(technique)?;
     let base = RenderOptions {
         technique,
         shadow_volume: plans.shadow_volume,
         shadow_tone: plans.shadow_tone.tone(),
-        lights,
+        // The lights its renderer would loop over for this scene.
+        lights: technique.planned_lights(scene),
         samples,
         ..Default::default()
     };

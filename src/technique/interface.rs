@@ -118,6 +118,9 @@ pub trait Technique: Sync + 'static {
 
     /// The viewer's title.
     fn describe(&self, options: &RenderOptions) -> String;
+
+    /// `scene`'s lights as the plan loops over them (`passes --scene` plans with these).
+    fn planned_lights(&self, scene: &Scene) -> Vec<PlannedLight>;
 }
 
 /// The benchmark tables a technique can ask `bench` for.

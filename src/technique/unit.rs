@@ -76,6 +76,13 @@ pub trait TechniqueUnit: Sync + 'static {
         format!("{} ({})", self.name(), options.stencil.name())
     }
 
+    /// `scene`'s lights as this technique's plan loops over them: by default each casts
+    /// shadows as the scene says; a technique that cannot shadow some light plans it as
+    /// unshadowed, so that `passes` prints the passes its renderer runs.
+    fn planned_lights(&self, scene: &Scene) -> Vec<PlannedLight> {
+        PlannedLight::of_scene(scene)
+    }
+
     /// Which of the scene's lights the technique shadows with `options` (none, by default).
     /// One that shadows the primary light alone shades the others unshadowed, and a frame's
     /// warnings name them.
@@ -185,7 +192,7 @@ pub fn build_unit<'s, T: TechniqueUnit>(
     options: &RenderOptions,
 ) -> Result<frame_renderer::FrameRenderer<'s, T::Kinds, T::Passes>> {
     // Per-light loops are planned for the scene's lights.
-    let options = &RenderOptions { lights: PlannedLight::of_scene(scene), ..options.clone() };
+    let options = &RenderOptions { lights: unit.planned_lights(scene), ..options.clone() };
     options.check()?;
     let Prepared { options, setup } = unit.setup(gpu, scene, options)?;
     let plan = unit.plan(&options)?;
@@ -240,5 +247,9 @@ impl<T: TechniqueUnit> Technique for T {
 
     fn describe(&self, options: &RenderOptions) -> String {
         TechniqueUnit::describe(self, options)
+    }
+
+    fn planned_lights(&self, scene: &Scene) -> Vec<PlannedLight> {
+        TechniqueUnit::planned_lights(self, scene)
     }
 }

@@ -10,6 +10,7 @@ use crate::render::plan::PassPlan;
 use crate::scene::Scene;
 use crate::technique::frame_renderer::BuildContext;
 use crate::technique::interface::{BenchTable, RenderOptions, Technique, Variant};
+use crate::technique::light_loop::PlannedLight;
 use crate::technique::options::{LightMode, ShadowKind};
 use crate::technique::unit::{Prepared, ShadowedLights, TechniqueUnit};
 
@@ -99,10 +100,13 @@ impl TechniqueUnit for ShadowTechnique {
         Ok(plan(self.kind, &options.lights))
     }
 
-    /// Plans a map pass for each light that gets a layer (`maps::coverage`).
-    fn setup(&self, _gpu: &Gpu, scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
-        let lights = maps::planned_lights(&maps::coverage(self.kind, scene), scene);
-        Ok(Prepared::as_given(&RenderOptions { lights, ..options.clone() }))
+    fn setup(&self, _gpu: &Gpu, _scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
+        Ok(Prepared::as_given(options))
+    }
+
+    /// A map pass for each light that gets a layer (`maps::coverage`), none for the others.
+    fn planned_lights(&self, scene: &Scene) -> Vec<PlannedLight> {
+        maps::planned_lights(&maps::coverage(self.kind, scene), scene)
     }
 
     fn make(&self, ctx: BuildContext<'_, AtlasKinds>, scene: &Scene, _setup: ()) -> Result<ShadowPasses> {
