@@ -296,8 +296,9 @@ fn passes_prints_no_map_pass_for_a_light_left_unshadowed() {
         let planned = mapped(moving.lines().filter_map(|l| l.split('|').nth(2)).map(|c| c.trim().to_owned()).collect());
         assert_eq!(planned, expected, "{technique}:\n{table}");
 
-        let (json, _) = common::run_ok(&[
+        let (json, stderr) = common::run_ok(&[
             "profile",
+            "--validation",
             "--technique",
             technique,
             "--scene",
@@ -317,5 +318,6 @@ fn passes_prints_no_map_pass_for_a_light_left_unshadowed() {
         let ran = report["passes"].as_array().expect("passes").iter();
         let profiled = mapped(ran.map(|p| p["name"].as_str().unwrap_or("").to_owned()).collect());
         assert_eq!(profiled, expected, "{technique}:\n{json}");
+        assert!(!stderr.contains("vulkan validation"), "{technique}: {stderr}");
     }
 }

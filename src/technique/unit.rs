@@ -191,7 +191,7 @@ pub fn build_unit<'s, T: TechniqueUnit>(
     scene: &'s Scene,
     options: &RenderOptions,
 ) -> Result<frame_renderer::FrameRenderer<'s, T::Kinds, T::Passes>> {
-    // Per-light loops are planned for the scene's lights.
+    // Per-light loops are planned for the scene's lights, as the technique can shadow them.
     let options = &RenderOptions { lights: unit.planned_lights(scene), ..options.clone() };
     options.check()?;
     let Prepared { options, setup } = unit.setup(gpu, scene, options)?;
