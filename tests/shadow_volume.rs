@@ -943,6 +943,94 @@ fn clipped_volumes_draw_the_unclipped_image_with_fewer_fragments() {
     common::assert_no_validation_messages(&gpu);
 }
 
+/// The box scene with a roof over its box and a second, smaller box under the roof: from the
+/// sun both boxes lie wholly in the roof's shadow, so they cast nothing new (the nested parts of
+/// an assembly, in miniature).
+fn nested_scene() -> Scene {
+    let mut scene = builtin_scene("box").expect("scene");
+    let cube = scene.add_mesh("roof", nostencil::mesh::shapes::cube(1.0));
+    let roof = Mat4::from_scale_rotation_translation(
+        Vec3::new(3.4, 0.2, 3.4),
+        glam::Quat::IDENTITY,
+        Vec3::new(-0.8, 3.6, 0.2),
+    );
+    scene.add_object("roof", cube, roof, Vec3::new(0.7, 0.7, 0.72), true);
+    let small = scene.add_mesh("small box", nostencil::mesh::shapes::cube(1.0));
+    let place = Mat4::from_scale_rotation_translation(Vec3::splat(0.5), glam::Quat::IDENTITY, Vec3::new(0.6, 0.6, 0.3));
+    scene.add_object("small box", small, place, Vec3::new(0.85, 0.4, 0.3), true);
+    scene
+}
+
+/// Casters wholly in the shadow of other casters cast nothing new (CC Shadow Volumes' culling,
+/// docs/shadow-volumes.md "Casters culled"): with culling on and off, every path draws the same
+/// image, each emulated path equals its reference, on every built-in scene and on a nested one,
+/// in both modes, both counting methods and at 1 and 4 samples; culling never raises the
+/// volumes' fragments, and on the nested scene it culls both boxes and saves fragments.
+#[test]
+fn culled_casters_draw_the_unculled_image_with_fewer_fragments() {
+    let gpu = common::gpu();
+    let volume_fragments = |frame: &Frame| -> u64 {
+        let passes = frame.output.counters.passes.iter();
+        passes.filter(|p| p.name.contains("volumes")).filter_map(|p| p.fragment_invocations).sum()
+    };
+    let frame = |scene: &Scene, stencil, options: ShadowVolumeOptions, samples| {
+        let options = RenderOptions {
+            width: SIZE.0,
+            height: SIZE.1,
+            stencil,
+            technique: technique("shadow-volume"),
+            shadow_volume: options,
+            samples,
+            ..Default::default()
+        };
+        let frame = render_scene(&gpu, scene, &options).expect("shadow-volume frame");
+        let stats = frame.stats::<nostencil::technique::ShadowVolumeStats>().expect("statistics").clone();
+        Frame { output: frame.output, stats }
+    };
+    let mut scenes: Vec<(String, Scene)> =
+        BUILTIN_SCENES.iter().map(|(name, _)| (name.to_string(), builtin_scene(name).expect("scene"))).collect();
+    scenes.push(("nested".into(), nested_scene()));
+    let mut nested_culled = None;
+    for (name, scene) in &scenes {
+        for mode in [ShadowMode::Additive, ShadowMode::Modulate] {
+            for method in [VolumeMethod::Auto, VolumeMethod::ZFail] {
+                for samples in [1, 4] {
+                    let base = ShadowVolumeOptions { mode, method, ..Default::default() };
+                    let what = format!("{name} {mode:?} {method:?} {samples}x");
+                    let unculled = frame(scene, StencilMode::Reference, base, samples);
+                    let base = ShadowVolumeOptions { cull_casters: true, ..base };
+                    let culled = frame(scene, StencilMode::Reference, base, samples);
+                    let differing = rgb_differences(&culled.output.image, &unculled.output.image);
+                    assert_eq!(differing, 0, "{what}: culling changed {differing} pixels of the reference");
+                    for &normalize in Normalize::ALL {
+                        let emulated =
+                            frame(scene, StencilMode::Emulated, ShadowVolumeOptions { normalize, ..base }, samples);
+                        let differing = rgb_differences(&emulated.output.image, &culled.output.image);
+                        assert_eq!(
+                            differing,
+                            0,
+                            "{what} {}: {differing} pixels differ from the reference",
+                            normalize.name()
+                        );
+                    }
+                    let (c, u) = (volume_fragments(&culled), volume_fragments(&unculled));
+                    assert!(c <= u, "{what}: culled volumes shade {c} fragments, unculled {u}");
+                    let culled_casters: usize = culled.stats.lights.iter().map(|l| l.culled).sum();
+                    assert!(unculled.stats.lights.iter().all(|l| l.culled == 0), "{what}: culled with culling off");
+                    if name == "nested" && samples == 1 && method == VolumeMethod::Auto && mode == ShadowMode::Modulate
+                    {
+                        nested_culled = Some((culled_casters, c, u));
+                    }
+                }
+            }
+        }
+    }
+    let (casters, culled, unculled) = nested_culled.expect("the nested scene was rendered");
+    assert_eq!(casters, 2, "the nested scene's two boxes lie in the roof's shadow");
+    assert!(culled < unculled, "culling two boxes saved no fragments: {culled} of {unculled}");
+    common::assert_no_validation_messages(&gpu);
+}
+
 /// Seed 000's apply modulates with a shadow colour: `--shadow-colour` tints the shadow in every
 /// path, each still equal to the reference pixel for pixel, and a shadowed pixel is its lit
 /// colour times the tint, channel by channel (in linear light, where the blend multiplies).

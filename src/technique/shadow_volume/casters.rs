@@ -65,7 +65,7 @@ pub fn build_volume_for(scene: &Scene, caster: &Caster, light: &Light, reach: Re
 
 /// A skinned caster's welded vertices in its current pose (`Scene::pose_at` moves palettes,
 /// not meshes; the welded topology stays); `None` for a rigid caster.
-fn posed_welded_positions(scene: &Scene, caster: &Caster) -> Option<Vec<Vec3>> {
+pub(super) fn posed_welded_positions(scene: &Scene, caster: &Caster) -> Option<Vec<Vec3>> {
     let skin = scene.objects[caster.object].skin.as_ref()?;
     if skin.positions.len() < caster.mesh.welded.remap.len() {
         return None;

@@ -5,6 +5,7 @@
 
 pub mod bounds;
 pub mod casters;
+pub mod culling;
 pub mod recipes;
 pub mod renderer;
 

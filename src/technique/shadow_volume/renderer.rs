@@ -10,6 +10,7 @@ use glam::Vec4;
 
 use super::bounds;
 use super::casters::{build_volume_for, choose_zfail, prepare_casters, Caster};
+use super::culling::{self, Culling};
 use super::recipes::SATURATION_PROBE;
 use super::recipes::{VolumeDraw, VolumeKinds, VolumeSet};
 use crate::error::Result;
@@ -67,16 +68,30 @@ pub struct ShadowVolumeStats {
     pub mode: &'static str,
     /// Per light: whether it casts, and the volumes drawn for it this frame.
     pub lights: Vec<LightReport>,
+    /// CPU time this frame spent deciding which casters are culled, over every light (0 with
+    /// `--no-caster-culling`): what culling adds to a frame whose light moves.
+    pub culling_cpu_ms: f64,
 }
 
 /// One light of the frame, as the shadow volumes saw it.
-#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct LightReport {
     pub name: String,
     pub shadows: bool,
     /// Casters whose volume was drawn for this light (the others are out of its reach, or
-    /// shade nothing on screen).
+    /// shade nothing on screen, or culled).
     pub volumes: usize,
+    /// Casters left out because they lie wholly in the shadow of other casters
+    /// (`--cull-casters`).
+    pub culled: usize,
+    /// Fragment shader invocations of this light's volume passes per pixel of the frame: the
+    /// volumes' fill (None where the device has no pipeline statistics).
+    pub volume_fill: Option<f64>,
+    /// Samples of this light's volume passes that passed the depth test, per pixel of the frame.
+    /// In z-pass these are the volume fragments in front of the visible surfaces: what even
+    /// volumes clamped exactly to the visible receivers would still draw, the floor under the
+    /// fill. (In z-fail, those behind them.)
+    pub volume_samples_passed: f64,
 }
 
 /// How one caster casts.
@@ -122,7 +137,18 @@ impl FrameStats for ShadowVolumeStats {
             self.increment,
         );
         for light in &self.lights {
-            let shadows = if light.shadows { format!("{} volumes", light.volumes) } else { "casts no shadow".into() };
+            let shadows = if light.shadows {
+                let fill = light.volume_fill.map_or("not measured".into(), |f| format!("{f:.2}"));
+                format!(
+                    "{} volumes, {} casters culled | volume fill {fill} fragments/px, {:.2} samples passed/px{}",
+                    light.volumes,
+                    light.culled,
+                    light.volume_samples_passed,
+                    if self.zfail { "" } else { " (the floor: in front of the receivers)" },
+                )
+            } else {
+                "casts no shadow".into()
+            };
             report.push_str(&format!("\n  light '{}': {shadows}", light.name));
         }
         for caster in &self.casters {
@@ -268,6 +294,7 @@ pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetu
             casters: reports,
             mode: options.shadow_volume.mode.name(),
             lights: Vec::new(),
+            culling_cpu_ms: 0.0,
         },
     })
 }
@@ -375,14 +402,22 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
         let boxes = bounds::object_boxes(scene);
         let receivers = bounds::receivers_box(&boxes);
         (self.volumes, self.covers, self.light_rects, self.stats.lights) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        self.stats.culling_cpu_ms = 0.0;
         for (index, light) in scene.lights.iter().enumerate() {
             let light_rect = if self.requested.clip_volumes {
                 bounds::light_scissor(light, receivers, &scene.camera, extent)
             } else {
                 Scissor::Frame
             };
-            let volumes = if self.shadowed.get(index).copied().unwrap_or(false) {
-                let lit = LitBy { light, rect: &light_rect };
+            let shadows = self.shadowed.get(index).copied().unwrap_or(false);
+            let culled = if shadows && self.requested.cull_casters {
+                culling::hidden_casters(scene, &self.casters, light, &boxes)
+            } else {
+                Culling::none(self.casters.len())
+            };
+            self.stats.culling_cpu_ms += culled.cpu_ms;
+            let volumes = if shadows {
+                let lit = LitBy { light, rect: &light_rect, culled: &culled };
                 upload_volumes(&self.gpu, scene, &self.casters, self.stats.zfail, self.requested, extent, lit)?
             } else {
                 Vec::new()
@@ -395,8 +430,11 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
             });
             self.stats.lights.push(LightReport {
                 name: light.name.clone(),
-                shadows: self.shadowed.get(index).copied().unwrap_or(false),
+                shadows,
                 volumes: volumes.len(),
+                culled: culled.count(),
+                volume_fill: None,
+                volume_samples_passed: 0.0,
             });
             self.volumes.push(volumes);
             self.light_rects.push(light_rect);
@@ -423,6 +461,21 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
 
     fn stats(&mut self, output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {
         let mut stats = self.stats.clone();
+        let pixels = f64::from(output.counters.width) * f64::from(output.counters.height);
+        let samples = pixels * f64::from(output.counters.samples.max(1));
+        for (index, light) in stats.lights.iter_mut().enumerate() {
+            // Additive passes are named after their light; the modulate frame has one set,
+            // the primary light's.
+            let prefix = match self.requested.mode {
+                ShadowMode::Additive => format!("{}: volumes", light.name),
+                ShadowMode::Modulate if index == self.primary => "volumes".to_owned(),
+                ShadowMode::Modulate => continue,
+            };
+            let passes: Vec<_> = output.counters.passes.iter().filter(|p| p.name.starts_with(&prefix)).collect();
+            light.volume_fill =
+                passes.iter().map(|p| p.fragment_invocations).sum::<Option<u64>>().map(|f| f as f64 / pixels);
+            light.volume_samples_passed = passes.iter().map(|p| p.samples_passed).sum::<u64>() as f64 / samples;
+        }
         stats.probe_saturated_samples = output.counters.pass(SATURATION_PROBE).map(|p| p.samples_passed);
         stats.saturated_samples = match &self.saturation_counter {
             Some(counter) => counter
@@ -444,10 +497,11 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
     }
 }
 
-/// The light a frame's volumes are built for, and its light scissor.
+/// The light a frame's volumes are built for, its light scissor, and the casters it culls.
 struct LitBy<'a> {
     light: &'a SceneLight,
     rect: &'a Scissor,
+    culled: &'a Culling,
 }
 
 fn upload_volumes(
@@ -473,7 +527,10 @@ fn upload_volumes(
         },
     };
     let mut volumes = Vec::with_capacity(casters.len());
-    for caster in casters {
+    for (index, caster) in casters.iter().enumerate() {
+        if lit.culled.is_hidden(index) {
+            continue;
+        }
         let object = &scene.objects[caster.object];
         // Clipped: the volume ends past the receivers and is scissored to where it can shade;
         // a caster whose volume misses every receiver, or lies off screen, or out of the
