@@ -336,6 +336,34 @@ fn bench_samples_4_pairs_every_variant_with_itself_at_1x() {
     assert_eq!(names, ["lit (reference)", "lit (emulated)"]);
 }
 
+/// `bench --technique A,B` interleaves whole techniques, each as the command line renders it,
+/// and gives each one's ratios to A: in the table and in JSON, with exact counters per
+/// technique equal to that technique's own `profile` frame.
+#[test]
+fn bench_compares_listed_techniques_in_one_run() {
+    let args = "bench --technique shadow-volume,shadow-map --size 48x32 --samples 1 --warmup 1 --runs 3 --json";
+    let (out, _) = common::run_ok(&args.split(' ').collect::<Vec<_>>());
+    let report: serde_json::Value = serde_json::from_str(&out).expect("JSON");
+    assert_eq!(report["technique"], "shadow-volume,shadow-map");
+    let variants = report["variants"].as_array().expect("variants");
+    let names: Vec<&str> = variants.iter().filter_map(|v| v["name"].as_str()).collect();
+    assert_eq!(names, ["shadow-volume", "shadow-map"]);
+    assert_eq!(variants[0]["frame_ratio"]["median"].as_f64(), Some(1.0), "the first listed is the reference");
+    assert!(variants[1]["frame_ratio"]["median"].as_f64().is_some_and(|r| r > 0.0), "{report}");
+    // Each technique's counters are its own frame's: the shadow-volume frame as profile draws it.
+    let profiled = "profile --technique shadow-volume --size 48x32 --samples 1 --format json";
+    let (profile, _) = common::run_ok(&profiled.split(' ').collect::<Vec<_>>());
+    let profile: serde_json::Value = serde_json::from_str(&profile).expect("profile JSON");
+    let passes = profile["passes"].as_array().expect("passes");
+    assert_eq!(variants[0]["passes"].as_u64(), Some(passes.len() as u64), "{report}");
+
+    let (table, _) = common::run_ok(&args.trim_end_matches(" --json").split(' ').collect::<Vec<_>>());
+    assert!(table.contains("the first row's (shadow-volume)"), "{table}");
+    refused(&["bench", "--technique", "shadow-volume,shadow-volume"], "each technique once");
+    refused(&["bench", "--technique", "shadow-volume,all"], "each technique once");
+    refused(&["bench", "--technique", "shadow-volume,nope"], "nope");
+}
+
 #[test]
 fn bench_refuses_zero_runs() {
     refused(&["bench", "--technique", "planar", "--size", "64x64", "--runs", "0"], "--runs");

@@ -88,7 +88,7 @@ pub fn run(cli: Cli) -> Result<()> {
                     "--trace writes one technique's frames: give one --technique, without --table1-out".into(),
                 ));
             }
-            bench(&frame, warmup, runs, json, table1_out.as_deref(), trace.as_deref())
+            super::bench::bench(&frame, warmup, runs, json, table1_out.as_deref(), trace.as_deref())
         }
         Command::Bake { frame, model, mip, out } => bake(&frame, model.as_deref(), mip, &out),
         Command::View { frame, frames, screenshot, script, paused, tour } => {
@@ -97,7 +97,7 @@ pub fn run(cli: Cli) -> Result<()> {
     }
 }
 
-fn open_gpu(args: &GpuArgs) -> Result<Arc<Gpu>> {
+pub(super) fn open_gpu(args: &GpuArgs) -> Result<Arc<Gpu>> {
     open_gpu_with(args, false)
 }
 
@@ -111,7 +111,7 @@ fn open_gpu_with(args: &GpuArgs, without_pass_queries: bool) -> Result<Arc<Gpu>>
 /// warnings (what it skipped or repaired in the file) go to stderr.
 /// The frame's scene: a built-in one or a glTF file, at its time, with the command line's
 /// lights added (or in place of its own).
-fn load_scene(frame: &FrameArgs) -> Result<Scene> {
+pub(super) fn load_scene(frame: &FrameArgs) -> Result<Scene> {
     let mut scene = load_named_scene(&frame.scene, frame.time, &frame.lights, frame.replace_lights)?;
     if frame.light_scale != 1.0 {
         scene.lights.iter_mut().for_each(|light| light.intensity *= frame.light_scale);
@@ -137,14 +137,14 @@ fn load_named_scene(name: &str, time: f32, specs: &[SceneLight], replace: bool) 
 }
 
 /// A technique's warnings (what it could not honour in the scene), on stderr.
-fn print_warnings(technique: &str, warnings: &[String]) {
+pub(super) fn print_warnings(technique: &str, warnings: &[String]) {
     for warning in warnings {
         eprintln!("nostencil: warning: {technique}: {warning}");
     }
 }
 
 /// The frame's options: each family's parsed flags moved in as they are, then checked.
-fn options(frame: &FrameArgs) -> Result<RenderOptions> {
+pub(super) fn options(frame: &FrameArgs) -> Result<RenderOptions> {
     let options = RenderOptions {
         width: frame.size.0,
         height: frame.size.1,
@@ -519,121 +519,6 @@ fn print_validation(report: Option<&ValidationReport>) {
     for silenced in v.silenced {
         println!("  silenced: {}: {}", silenced.id, silenced.why);
     }
-}
-
-fn bench(
-    frame: &FrameArgs,
-    warmup: u32,
-    runs: Option<u32>,
-    json: bool,
-    table1_out: Option<&Path>,
-    trace_path: Option<&Path>,
-) -> Result<()> {
-    use crate::profile::bench::{self, BenchReport, BenchSettings, Variant};
-
-    if runs == Some(0) {
-        return Err(Error::InvalidInput("--runs must be at least 1".into()));
-    }
-    if frame.shadow_volume.saturation_probe {
-        return Err(Error::InvalidInput(
-            "--saturation-probe is a diagnostic pass and is never timed: use it with render or profile".into(),
-        ));
-    }
-    if frame.technique == "all" {
-        if json {
-            return Err(Error::InvalidInput("--json takes one technique; run bench once per technique".into()));
-        }
-        for technique in TECHNIQUES {
-            let one = FrameArgs { technique: technique.name().to_owned(), ..frame.clone() };
-            // Only the technique with a paper table records it.
-            bench(&one, warmup, runs, false, table1_out.filter(|_| technique.bench_table().is_some()), None)?;
-            println!();
-        }
-        return Ok(());
-    }
-    let options = options(frame)?;
-    if table1_out.is_some() && options.technique.bench_table().is_none() {
-        return Err(Error::InvalidInput(format!(
-            "--table1-out records seed 004's Table 1: use it with --technique shadow-texture-atlas or shadow-map, not {}",
-            options.technique.name()
-        )));
-    }
-    if let Some(path) = trace_path {
-        check_output_path(path)?;
-    }
-    if let Some(dir) = table1_out {
-        // Made (or refused) before minutes of timing, not after.
-        std::fs::create_dir_all(dir).map_err(|source| Error::Io { path: dir.to_owned(), source })?;
-    }
-    let scene = load_scene(frame)?;
-    let gpu = open_gpu(&frame.gpu)?;
-    let (width, height) = (options.width, options.height);
-    if let Some(BenchTable::Seed004Table1) = options.technique.bench_table() {
-        // Seed 004's Table 1: both techniques, fixed and moving light, on its two scenes.
-        let runs = runs.unwrap_or(crate::profile::table1::DEFAULT_RUNS);
-        return crate::profile::table1::bench(&gpu, &options, warmup, runs, json, table1_out);
-    }
-    let runs = runs.unwrap_or(bench::DEFAULT_RUNS);
-    let samples = options.samples;
-    // At N > 1 samples each variant also runs at 1, next to it in every round: (label, options).
-    let mut timed = Vec::new();
-    for variant in options.technique.bench_variants(&options) {
-        if samples > 1 {
-            let single = RenderOptions { samples: 1, ..variant.options.clone() };
-            timed.push((bench::label_at(&variant.label, samples), variant.options));
-            timed.push((bench::label_at(&variant.label, 1), single));
-        } else {
-            timed.push((variant.label, variant.options));
-        }
-    }
-    let mut variants = Vec::new();
-    for (index, (label, variant_options)) in timed.into_iter().enumerate() {
-        let mut renderer = variant_options.technique.build(&gpu, &scene, &variant_options)?;
-        if index == 0 {
-            // Every variant draws the same scene: its warnings once.
-            print_warnings(options.technique.name(), renderer.warnings());
-        }
-        let scene = &scene;
-        variants.push(Variant { name: label, frame: Box::new(move || Ok(renderer.frame_with(scene)?.output)) });
-    }
-    let process = format!("nostencil bench: {} on {}", options.technique.name(), scene.name);
-    let mut trace = trace_path.map(|_| crate::profile::trace::Trace::new(&process, true));
-    let results = bench::run_traced(variants, &BenchSettings { warmup, runs, progress: !json }, trace.as_mut())?;
-    if let (Some(trace), Some(path)) = (&trace, trace_path) {
-        trace.write(path)?;
-        eprintln!("wrote {}", path.display());
-    }
-    let bootstrap = crate::profile::bootstrap::Bootstrap::DEFAULT;
-    let msaa = if samples > 1 {
-        let labels = options.technique.bench_variants(&options).into_iter().map(|v| v.label);
-        labels
-            .zip(results.chunks_exact(2))
-            .map(|(label, pair)| bench::MsaaRatio::of(&label, samples, &pair[0], &pair[1], &bootstrap))
-            .collect()
-    } else {
-        Vec::new()
-    };
-    let report = BenchReport {
-        schema: "nostencil-bench/2",
-        order: "round-robin",
-        bootstrap,
-        device: gpu.device.info.name.clone(),
-        technique: options.technique.name().into(),
-        scene: scene.name.clone(),
-        width,
-        height,
-        samples,
-        warmup,
-        runs,
-        variants: results,
-        msaa,
-    };
-    if json {
-        println!("{}", serde_json::to_string_pretty(&report).map_err(|e| Error::Internal(e.to_string()))?);
-    } else {
-        print!("{}", report.table());
-    }
-    Ok(())
 }
 
 /// `bench --mip-flicker`: seed 004's anti-aliasing claim measured on `--scene`.

@@ -2,6 +2,7 @@
 
 mod app_counts;
 mod args;
+mod bench;
 mod commands;
 mod install;
 mod output_path;

@@ -77,7 +77,7 @@ impl LightView {
             Projection::Perspective { eye } => {
                 let d = p - eye;
                 let z = d.dot(self.forward);
-                if !(z > self.near) {
+                if z.is_nan() || z <= self.near {
                     return None;
                 }
                 let at = Vec2::new(d.dot(self.right), d.dot(self.up)) / z;
@@ -138,7 +138,7 @@ impl OccluderMap {
             (near, far) = (near.min(q.depth), far.max(q.depth));
         }
         let size = hi - lo;
-        if !(size.max_element() > 0.0) || resolution == 0 {
+        if size.max_element().is_nan() || size.max_element() <= 0.0 || resolution == 0 {
             return None;
         }
         let texel = size.max_element() / resolution as f32;
@@ -366,8 +366,9 @@ fn outline(triangles: &[MapTriangle]) -> Vec<(Vec2, Vec2)> {
             [a, b] => {
                 let e = *q - *p;
                 let (sa, sb) = (e.perp_dot(*a - *p), e.perp_dot(*b - *p));
-                // Interior only when the two lie strictly on either side.
-                !(sa * sb < 0.0)
+                // Interior only when the two lie strictly on either side (NaN: outline).
+                let apart = sa * sb;
+                apart.is_nan() || apart >= 0.0
             }
             _ => true,
         })

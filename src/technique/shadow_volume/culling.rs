@@ -18,7 +18,7 @@ use crate::scene::{Light, Scene, SceneLight};
 
 /// Texels along the occluder map's longer side: fine enough that a part's faces cover whole
 /// texels, small enough to build in a few milliseconds.
-pub const MAP_RESOLUTION: usize = 512;
+pub const MAP_RESOLUTION: usize = 256;
 
 /// Which casters a light's volumes can leave out, and what deciding it cost.
 #[derive(Debug, Clone, Default)]
