@@ -725,3 +725,44 @@ fn the_trace_has_a_slice_per_pass_with_the_reports_gpu_times_and_its_counters() 
     let samples = events.iter().filter(|e| e["ph"] == "C" && e["name"] == "samples").count();
     assert_eq!(samples, waits, "counters per frame");
 }
+
+/// `profile --caster-fill`: each caster's volumes drawn alone, with the frame's counters. The
+/// volumes are independent draws, so the casters' fragments and samples add up to the frame's
+/// volume passes exactly; each light's fill and floor in the technique stats are those passes'
+/// own counters per pixel; the top list is sorted; another technique is refused by name.
+#[test]
+fn caster_fill_adds_up_to_the_volume_passes_and_lights_report_their_fill() {
+    let args =
+        "profile --technique shadow-volume --scene lights --size 64x48 --samples 1 --format json --caster-fill 99";
+    let (out, _) = common::run_ok(&args.split(' ').collect::<Vec<_>>());
+    let report: serde_json::Value = serde_json::from_str(&out).expect("JSON");
+    let volume_passes: Vec<&serde_json::Value> = report["passes"]
+        .as_array()
+        .expect("passes")
+        .iter()
+        .filter(|p| p["name"].as_str().is_some_and(|n| n.contains("volumes")))
+        .collect();
+    let sum = |key: &str| volume_passes.iter().map(|p| p[key].as_u64().expect(key)).sum::<u64>();
+    let stats = &report["technique_stats"];
+    let fills = stats["caster_fill"].as_array().expect("caster_fill");
+    assert_eq!(fills.len(), stats["casters"].as_array().map_or(0, Vec::len), "every caster listed with 99");
+    let fragments: Vec<u64> = fills.iter().map(|f| f["fragments"].as_u64().expect("fragments")).collect();
+    assert!(fragments.windows(2).all(|w| w[0] >= w[1]), "sorted: {fragments:?}");
+    assert_eq!(fragments.iter().sum::<u64>(), sum("fragment_invocations"), "{stats}");
+    let samples: u64 = fills.iter().map(|f| f["samples_passed"].as_u64().expect("samples")).sum();
+    assert_eq!(samples, sum("samples_passed"));
+    let pixels = 64.0 * 48.0;
+    let lights = stats["lights"].as_array().expect("lights");
+    assert_eq!(lights.len(), 3);
+    let fill: f64 = lights.iter().map(|l| l["volume_fill"].as_f64().expect("fill")).sum();
+    let floor: f64 = lights.iter().map(|l| l["volume_samples_passed"].as_f64().expect("floor")).sum();
+    assert!((fill * pixels - sum("fragment_invocations") as f64).abs() < 0.5, "{fill}");
+    assert!((floor * pixels - sum("samples_passed") as f64).abs() < 0.5, "{floor}");
+
+    let table = "profile --technique shadow-volume --scene lights --size 64x48 --samples 1 --caster-fill 2";
+    let (out, _) = common::run_ok(&table.split(' ').collect::<Vec<_>>());
+    let section = out.split("casters spending most of the volume fill").nth(1).expect("the caster table");
+    assert_eq!(section.lines().filter(|l| l.contains("silhouette") || l.contains("two-sided")).count(), 2, "{out}");
+    let refused = common::run_err(&["profile", "--technique", "shadow-map", "--size", "32x32", "--caster-fill"]);
+    assert!(refused.contains("--caster-fill") && refused.contains("shadow-map"), "{refused}");
+}

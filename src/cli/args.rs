@@ -78,6 +78,10 @@ pub enum Command {
         /// re-bakes only the shadow textures that model can change.
         #[arg(long, value_name = "NAME")]
         move_model: Option<String>,
+        /// shadow-volume: also measure each caster's volumes alone (a frame per caster, the
+        /// same counters) and list the N casters that spend most of the volume fill.
+        #[arg(long, value_name = "N", num_args = 0..=1, default_missing_value = "10")]
+        caster_fill: Option<usize>,
     },
     /// Run any Vulkan program under the fill-rate layer (VK_LAYER_NOSTENCIL_fillrate) and report
     /// its render pass instances: draws, fragments, samples passed, overdraw, GPU time, tile

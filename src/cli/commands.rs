@@ -22,8 +22,19 @@ use crate::technique::{by_name, render_scene, shadow_atlas, RenderOptions, TECHN
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Render { frame, out, keep_alpha, no_queries } => render(&frame, &out, keep_alpha, no_queries),
-        Command::Profile { frame, format, compare, heatmap, chart, budget, write_budget, trace, move_model } => {
-            let outputs = ProfileOutputs { heatmap, chart, budget, write_budget, trace, move_model };
+        Command::Profile {
+            frame,
+            format,
+            compare,
+            heatmap,
+            chart,
+            budget,
+            write_budget,
+            trace,
+            move_model,
+            caster_fill,
+        } => {
+            let outputs = ProfileOutputs { heatmap, chart, budget, write_budget, trace, move_model, caster_fill };
             if compare.is_empty() {
                 profile(&frame, format, &outputs)
             } else if outputs.trace.is_some() {
@@ -196,6 +207,8 @@ struct ProfileOutputs {
     write_budget: Option<std::path::PathBuf>,
     trace: Option<std::path::PathBuf>,
     move_model: Option<String>,
+    /// `--caster-fill N`: the N casters spending most of the volume fill.
+    caster_fill: Option<usize>,
 }
 
 /// The steady frame of `scene` after object `name` moved by 1% of the scene's size along x,
@@ -264,12 +277,22 @@ fn profile(frame: &FrameArgs, format: FormatArg, outputs: &ProfileOutputs) -> Re
         },
         &output.counters,
     );
-    let stats = frame_result.stats.json();
+    let mut stats = frame_result.stats.json();
+    let caster_fill = match outputs.caster_fill {
+        Some(top) => Some(crate::profile::caster_fill::measure(&gpu, &scene, &options, &frame_result, top)?),
+        None => None,
+    };
+    if let (Some(fill), Some(object)) = (&caster_fill, stats.as_object_mut()) {
+        object.insert("caster_fill".into(), serde_json::to_value(fill).map_err(|e| Error::Internal(e.to_string()))?);
+    }
     report.technique_stats = (!stats.is_null()).then_some(stats);
     print!("{}", report.render(report_format(format)));
     let lines = frame_result.stats.report();
     if format == FormatArg::Table && !lines.is_empty() {
         println!("\n{lines}");
+    }
+    if let (Some(fill), FormatArg::Table) = (&caster_fill, format) {
+        print!("\n{}", crate::profile::caster_fill::table(fill));
     }
 
     if let Some(path) = &outputs.heatmap {

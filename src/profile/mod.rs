@@ -4,6 +4,7 @@
 pub mod bench;
 pub mod bootstrap;
 pub mod budget;
+pub mod caster_fill;
 pub mod chart;
 pub mod compare;
 pub mod heatmap;

@@ -100,6 +100,11 @@ pub struct ShadowVolumeOptions {
     /// same; `profile` reports the casters culled and the CPU time).
     #[arg(long = "cull-casters")]
     pub cull_casters: bool,
+    /// Draw the volumes of this caster only (its index among the frame's casters,
+    /// `technique_stats.casters`): how `profile --caster-fill` measures each caster's share of
+    /// the fill, frame by frame. Never set by a user.
+    #[arg(skip)]
+    pub only_caster: Option<u32>,
     /// The device has `fragmentStoresAndAtomics` (Android Baseline 2022), so the `subpass`
     /// apply counts saturated samples with one atomic add per pixel. The renderer turns it off on a
     /// device without the feature; a plan printed without a device assumes the baseline.

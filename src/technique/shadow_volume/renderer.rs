@@ -528,7 +528,8 @@ fn upload_volumes(
     };
     let mut volumes = Vec::with_capacity(casters.len());
     for (index, caster) in casters.iter().enumerate() {
-        if lit.culled.is_hidden(index) {
+        let measured_alone = options.only_caster.map_or(true, |only| only as usize == index);
+        if lit.culled.is_hidden(index) || !measured_alone {
             continue;
         }
         let object = &scene.objects[caster.object];
