@@ -66,7 +66,7 @@ pub fn measure(
             share: fragments as f64 / total as f64,
         });
     }
-    fills.sort_by(|a, b| b.fragments.cmp(&a.fragments));
+    fills.sort_by_key(|f| std::cmp::Reverse(f.fragments));
     fills.truncate(top);
     Ok(fills)
 }
