@@ -7,7 +7,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use super::args::FrameArgs;
-use super::commands::{load_scene, open_gpu, options, print_warnings};
+use super::frame_setup::{load_scene, open_gpu, options, print_warnings};
 use super::output_path::check_output_path;
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;

@@ -171,12 +171,22 @@ impl CartoonScene {
         if !std::ptr::eq(pipeline, bound) {
             rec.bind(pipeline);
         }
-        let colour = if self.shading.ink_only { scene.background } else { scene.base_colour(object) }.extend(alpha);
+        let colour = if self.shading.ink_only { background_fill(scene) } else { scene.base_colour(object) }.extend(alpha);
         rec.bind_material(pipeline, self.meshes.materials.set(object.material));
         rec.push(pipeline, &CartoonPush { model: object.transform, colour, params: self.shading.params(), viewport });
         rec.draw_mesh(&self.meshes.meshes[object.mesh]);
         pipeline
     }
+}
+
+/// `--ink-only`'s face colour: the background, snapped to the middle of its 8-bit sRGB code. The
+/// sky is the clear colour, converted to sRGB by the clear; the faces are the same colour written
+/// by a shader, converted by the blend unit's own path, and Vulkan lets the two round a value
+/// near a code's edge differently (lavapipe turns 0.78 into 229 in a clear, 228 from a shader).
+/// From a code's middle both land on it.
+fn background_fill(scene: &Scene) -> glam::Vec3 {
+    let snap = |linear: f32| crate::frame::srgb::decode(crate::frame::srgb::encode(linear));
+    glam::Vec3::new(snap(scene.background.x), snap(scene.background.y), snap(scene.background.z))
 }
 
 // ---------------------------------------------------------------------------------------------
