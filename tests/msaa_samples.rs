@@ -162,6 +162,8 @@ impl<'a> VolumeDraws<'a> {
                     indices.extend_from_slice(&volume.near_cap);
                 }
                 indices.extend_from_slice(&volume.far_cap);
+                // This test's counter is a stencil: repeated walls as copies.
+                indices.extend(volume.repeated_copies());
                 let usage = vk::BufferUsageFlags::VERTEX_BUFFER;
                 Volume {
                     object: caster.object,

@@ -52,6 +52,11 @@ pub struct VolumeGeometry {
     pub far_cap: Vec<u32>,
     /// Per mesh face, whether it faces the light.
     pub lit_faces: Vec<bool>,
+    /// Two-sided walls of edges that casting faces run |m| >= 2 times on balance (with their far
+    /// cap's fan triangles), each wall once, grouped by |m|: `(m, indices)`, m ascending. A
+    /// stencil draws each list m times ([`VolumeGeometry::repeated_copies`]); the alpha counter
+    /// draws it once adding m k, the same count for a fraction of the fill.
+    pub repeated_walls: Vec<(u32, Vec<u32>)>,
 }
 
 /// Builds the shadow volume of a mesh, with caps for z-fail (`caps = true`) or sides only for
@@ -234,6 +239,7 @@ pub(super) fn start_volume(
     out.near_cap.clear();
     out.far_cap.clear();
     out.lit_faces.clear();
+    out.repeated_walls.clear();
     out.lit_faces.extend(face_normals[..adjacency.face_count()].iter().enumerate().map(|(face, normal)| {
         let travel = match light {
             Light::Directional(direction) => direction,
@@ -267,9 +273,14 @@ pub(super) fn start_volume(
 }
 
 impl VolumeGeometry {
-    /// Number of triangles in all three lists.
+    /// Number of triangles drawn with a stencil: the three lists and every repeated wall's copies.
     pub fn triangle_count(&self) -> usize {
-        (self.sides.len() + self.near_cap.len() + self.far_cap.len()) / 3
+        (self.sides.len() + self.near_cap.len() + self.far_cap.len() + self.repeated_copies().count()) / 3
+    }
+
+    /// The repeated walls as a stencil draws them: each list `m` times over.
+    pub fn repeated_copies(&self) -> impl Iterator<Item = u32> + '_ {
+        self.repeated_walls.iter().flat_map(|(m, list)| (0..*m).flat_map(move |_| list.iter().copied()))
     }
 
     /// Every directed edge of sides + caps is matched by its reverse (as a multiset), with
@@ -295,7 +306,8 @@ impl VolumeGeometry {
 
         // +1 for u -> v with u < v, -1 for the reverse: matched edges cancel.
         let mut balance: U64Map<i32> = u64_map_with_capacity(3 * self.triangle_count());
-        for list in [&self.sides, &self.near_cap, &self.far_cap] {
+        let copies: Vec<u32> = self.repeated_copies().collect();
+        for list in [&self.sides, &self.near_cap, &self.far_cap, &copies] {
             for triangle in list.chunks_exact(3) {
                 for k in 0..3 {
                     let from = point_ids[triangle[k] as usize];

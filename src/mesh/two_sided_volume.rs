@@ -9,15 +9,20 @@
 //! directed edge a -> b is drawn `m` times, `m` being the number of oriented triangles that run
 //! a -> b minus those that run b -> a ([`edge_multiplicities`]).
 //!
-//! An edge with `|m| > 1` (a non-manifold fan, two sheets stacked) is drawn as `|m|` copies of
-//! one wall rather than one wall with an increment of `|m| k`: copies keep one pipeline and one
-//! push constant per caster, and the real-stencil reference counts them the same way with its
-//! wrap ops. Such edges are rare, so the extra triangles cost little.
+//! An edge with `|m| > 1` (every silhouette edge of a closed part, whose front and back faces
+//! both cast; a non-manifold fan; two sheets stacked) keeps its wall once, in a list per `|m|`
+//! (`VolumeGeometry::repeated_walls`). The real-stencil reference draws such a list `|m|` times
+//! (its wrap ops add 1 per fragment); the alpha counter draws it once with an increment of
+//! `|m| k`, which blends to the same count (ADD and REVERSE_SUBTRACT clamp alike whether the
+//! increment comes at once or in steps) for a fraction of the fill: on a real assembly of open
+//! parts, where every silhouette is such an edge, about a quarter of the volumes' fragments.
 //!
 //! The multiplicities come from the edge list built once per mesh (`EdgeAdjacency`, which keeps
 //! only two faces per edge, so each triangle corner is mapped to its edge once, in
 //! [`CornerEdges`]); per light they are one linear sweep over the triangles, on the CPU (the
 //! mobile profile has no geometry shaders).
+
+use std::collections::BTreeMap;
 
 use glam::Vec3;
 
@@ -111,16 +116,25 @@ pub fn build_two_sided_volume_into(
     );
     let extrusion = start_volume(adjacency, positions, face_normals, light, reach, out);
     edge_multiplicities(adjacency, corners, &out.lit_faces, multiplicities);
+    let mut repeated: BTreeMap<u32, (Vec<u32>, Vec<u32>)> = BTreeMap::new();
     for (edge, &m) in adjacency.edges.iter().zip(multiplicities.iter()) {
         if m == 0 {
             continue;
         }
         // (a, b) as the oriented faces run it on balance; its wall runs b -> a.
         let [a, b] = if m > 0 { edge.v } else { [edge.v[1], edge.v[0]] };
-        for _ in 0..m.unsigned_abs() {
-            extrusion.push_wall(a, b, &mut out.sides, &mut out.far_cap);
+        match m.unsigned_abs() {
+            1 => extrusion.push_wall(a, b, &mut out.sides, &mut out.far_cap),
+            times => {
+                let (walls, fan) = repeated.entry(times).or_default();
+                extrusion.push_wall(a, b, walls, fan);
+            }
         }
     }
+    out.repeated_walls.extend(repeated.into_iter().map(|(times, (mut walls, fan))| {
+        walls.extend_from_slice(&fan);
+        (times, walls)
+    }));
 
     for (corners, &faces_light) in adjacency.indices.chunks_exact(3).zip(&out.lit_faces) {
         // A face seen from behind keeps its first corner and swaps the other two.
@@ -185,7 +199,8 @@ mod tests {
             }
         };
         let mut count = 0;
-        for t in [&volume.sides, &volume.near_cap, &volume.far_cap].into_iter().flat_map(|l| l.chunks_exact(3)) {
+        let copies: Vec<u32> = volume.repeated_copies().collect();
+        for t in [&volume.sides, &volume.near_cap, &volume.far_cap, &copies].into_iter().flat_map(|l| l.chunks_exact(3)) {
             // The side's finite corner anchors its points at infinity (directional light).
             let anchor = t
                 .iter()
@@ -289,7 +304,11 @@ mod tests {
             adjacency.edges.iter().zip(&m).filter(|(e, _)| e.v != [0, 2]).map(|(_, m)| m.abs()).collect();
         assert_eq!(rim, [2, 2, 2, 2]);
         let v = volume(&positions, &adjacency, Light::Directional(Vec3::NEG_Y))?;
-        assert_eq!(v.sides.len() / 3, 8, "two copies of each rim wall");
+        // The four rim walls once each, as one list a stencil draws twice.
+        assert!(v.sides.is_empty(), "{:?}", v.sides);
+        assert_eq!(v.repeated_walls.len(), 1);
+        assert_eq!((v.repeated_walls[0].0, v.repeated_walls[0].1.len() / 3), (2, 4));
+        assert_eq!(v.repeated_copies().count() / 3, 8, "two copies of each rim wall");
         assert!(v.is_closed());
         Ok(())
     }

@@ -531,6 +531,21 @@ impl<'a> FrameRecorder<'a> {
         self.count_draw();
     }
 
+    /// [`FrameRecorder::draw_indexed`] of `index_count` indices from index `first_index` on.
+    pub fn draw_indexed_range(&mut self, vertices: &Buffer, indices: &Buffer, first_index: u32, index_count: u32) {
+        if index_count == 0 {
+            return;
+        }
+        let device = self.gpu.raw();
+        // SAFETY: as `draw_indexed`; the range lies inside the index buffer (its owner sized it).
+        unsafe {
+            device.cmd_bind_vertex_buffers(self.cmd, 0, &[vertices.raw], &[0]);
+            device.cmd_bind_index_buffer(self.cmd, indices.raw, 0, vk::IndexType::UINT32);
+            device.cmd_draw_indexed(self.cmd, index_count, 1, first_index, 0, 0);
+        }
+        self.count_draw();
+    }
+
     pub fn draw_vertices(&mut self, vertices: &Buffer, vertex_count: u32) {
         if vertex_count == 0 {
             return;

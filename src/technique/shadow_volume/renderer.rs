@@ -178,9 +178,20 @@ struct GpuVolume {
     object: usize,
     vertices: Buffer,
     indices: Buffer,
-    index_count: u32,
+    /// What to draw, and how many counts each of its fragments adds.
+    ranges: Vec<IndexRange>,
     /// Where it can shade: its walls are rasterised only there.
     scissor: vk::Rect2D,
+}
+
+/// Indices `first..first + count` of a volume, whose every fragment adds `times` counts: drawn
+/// once with `times` k (the alpha counter), or `times` times over (the stencil's +1 ops, for
+/// which a volume has one range of every copy).
+#[derive(Debug, Clone, Copy)]
+struct IndexRange {
+    first: u32,
+    count: u32,
+    times: u32,
 }
 
 /// What is worked out from the scene before the frame is planned: the casters, whose volumes
@@ -278,6 +289,7 @@ pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetu
         meshes: GpuScene::upload(ctx.gpu, scene)?,
         counter_input,
         saturation_counter,
+        stencil: ctx.options.stencil,
         volumes: Vec::new(),
         covers: Vec::new(),
         light_rects: Vec::new(),
@@ -326,6 +338,8 @@ pub struct ShadowVolumePasses {
     /// Which lights get volumes: the shadowing ones (additive), the primary one (modulate).
     shadowed: Vec<bool>,
     stats: ShadowVolumeStats,
+    /// Which counter draws the volumes (repeated walls: copies for the stencil).
+    stencil: StencilMode,
 }
 
 impl PassDraws<VolumeKinds> for ShadowVolumePasses {
@@ -377,12 +391,14 @@ impl PassDraws<VolumeKinds> for ShadowVolumePasses {
             }
             for volume in volumes {
                 rec.set_scissor(volume.scissor);
-                let push = ObjectPush {
-                    model: scene.objects[volume.object].transform,
-                    colour: Vec4::new(0.0, 0.0, 0.0, alpha),
-                };
-                rec.push(pipeline, &push);
-                rec.draw_indexed(&volume.vertices, &volume.indices, volume.index_count);
+                for range in &volume.ranges {
+                    let push = ObjectPush {
+                        model: scene.objects[volume.object].transform,
+                        colour: Vec4::new(0.0, 0.0, 0.0, alpha * range.times as f32),
+                    };
+                    rec.push(pipeline, &push);
+                    rec.draw_indexed_range(&volume.vertices, &volume.indices, range.first, range.count);
+                }
             }
         }
         Ok(())
@@ -418,7 +434,8 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
             self.stats.culling_cpu_ms += culled.cpu_ms;
             let volumes = if shadows {
                 let lit = LitBy { light, rect: &light_rect, culled: &culled };
-                upload_volumes(&self.gpu, scene, &self.casters, self.stats.zfail, self.requested, extent, lit)?
+                let counting = Counting { zfail: self.stats.zfail, stencil: self.stencil };
+                upload_volumes(&self.gpu, scene, &self.casters, counting, self.requested, extent, lit)?
             } else {
                 Vec::new()
             };
@@ -497,6 +514,14 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
     }
 }
 
+/// How the volumes are counted: the method, and by which counter (the stencil draws repeated
+/// walls as copies, the alpha counter once with their multiplicity).
+#[derive(Debug, Clone, Copy)]
+struct Counting {
+    zfail: bool,
+    stencil: StencilMode,
+}
+
 /// The light a frame's volumes are built for, its light scissor, and the casters it culls.
 struct LitBy<'a> {
     light: &'a SceneLight,
@@ -508,11 +533,12 @@ fn upload_volumes(
     gpu: &Arc<Gpu>,
     scene: &Scene,
     casters: &[Caster],
-    zfail: bool,
+    counting: Counting,
     options: ShadowVolumeOptions,
     extent: vk::Extent2D,
     lit: LitBy,
 ) -> Result<Vec<GpuVolume>> {
+    let zfail = counting.zfail;
     let whole_frame = vk::Rect2D { offset: vk::Offset2D::default(), extent };
     let boxes = if options.clip_volumes { bounds::object_boxes(scene) } else { Vec::new() };
     let receivers = bounds::receivers_box(&boxes);
@@ -565,6 +591,17 @@ fn upload_volumes(
             indices.extend_from_slice(&volume.near_cap);
         }
         indices.extend_from_slice(&volume.far_cap);
+        let mut ranges = vec![IndexRange { first: 0, count: 0, times: 1 }];
+        match counting.stencil {
+            StencilMode::Reference => indices.extend(volume.repeated_copies()),
+            StencilMode::Emulated => {
+                for (times, walls) in &volume.repeated_walls {
+                    ranges.push(IndexRange { first: indices.len() as u32, count: walls.len() as u32, times: *times });
+                    indices.extend_from_slice(walls);
+                }
+            }
+        }
+        ranges[0].count = ranges.get(1).map_or(indices.len() as u32, |r| r.first);
         // A mirroring transform (negative determinant) flips every winding on screen: turn
         // the triangles back so that the volume's faces still point out.
         if object.transform.determinant() < 0.0 {
@@ -582,7 +619,7 @@ fn upload_volumes(
                 vk::BufferUsageFlags::VERTEX_BUFFER,
             )?,
             indices: Buffer::with_data(gpu, "shadow volume indices", &indices, vk::BufferUsageFlags::INDEX_BUFFER)?,
-            index_count: indices.len() as u32,
+            ranges,
             scissor,
         });
     }
