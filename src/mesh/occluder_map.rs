@@ -281,10 +281,7 @@ impl MapTriangle {
     fn cover_corners(&self, rect: &TexelRect, covered: &mut [bool]) {
         let edges = self.edges();
         let (lo, hi) = self.bounds();
-        let x0 = (lo.x.ceil() as isize).max(rect.x0 as isize);
-        let y0 = (lo.y.ceil() as isize).max(rect.y0 as isize);
-        let x1 = (hi.x.floor() as isize).min((rect.x0 + rect.width) as isize);
-        let y1 = (hi.y.floor() as isize).min((rect.y0 + rect.height) as isize);
+        let [x0, y0, x1, y1] = rect.clamp(lo.ceil(), hi.floor());
         for y in y0..=y1 {
             for x in x0..=x1 {
                 let p = Vec2::new(x as f32, y as f32);
@@ -300,10 +297,7 @@ impl MapTriangle {
     fn deepen(&self, rect: &TexelRect, view: &LightView, deepest: &mut [f32]) {
         let edges = self.edges();
         let (lo, hi) = self.bounds();
-        let x0 = (lo.x.floor() as isize).max(rect.x0 as isize);
-        let y0 = (lo.y.floor() as isize).max(rect.y0 as isize);
-        let x1 = (hi.x.ceil() as isize).min((rect.x0 + rect.width) as isize);
-        let y1 = (hi.y.ceil() as isize).min((rect.y0 + rect.height) as isize);
+        let [x0, y0, x1, y1] = rect.clamp(lo.floor(), hi.ceil());
         for y in y0..y1 {
             for x in x0..x1 {
                 let (fx, fy) = (x as f32, y as f32);
@@ -344,6 +338,17 @@ impl TexelRect {
         let y1 = (hi.y.ceil().max(0.0) as usize).min(map_height);
         (x1 > x0 && y1 > y0).then(|| TexelRect { x0, y0, width: x1 - x0, height: y1 - y0 })
     }
+
+    /// Whole map coordinates from `lo` to `hi` (already rounded outwards or inwards), limited to
+    /// the lattice of this rectangle's texel corners: `[x0, y0, x1, y1]`.
+    fn clamp(&self, lo: Vec2, hi: Vec2) -> [isize; 4] {
+        [
+            (lo.x as isize).max(self.x0 as isize),
+            (lo.y as isize).max(self.y0 as isize),
+            (hi.x as isize).min((self.x0 + self.width) as isize),
+            (hi.y as isize).min((self.y0 + self.height) as isize),
+        ]
+    }
 }
 
 /// The outline of one set of triangles: every edge not shared by exactly two of them on
@@ -380,10 +385,7 @@ fn outline(triangles: &[MapTriangle]) -> Vec<(Vec2, Vec2)> {
 fn mark_segment(p: Vec2, q: Vec2, rect: &TexelRect, outlined: &mut [bool]) {
     const MARGIN: f32 = 1e-2;
     let (lo, hi) = (p.min(q) - MARGIN, p.max(q) + MARGIN);
-    let x0 = (lo.x.floor() as isize).max(rect.x0 as isize);
-    let y0 = (lo.y.floor() as isize).max(rect.y0 as isize);
-    let x1 = (hi.x.ceil() as isize).min((rect.x0 + rect.width) as isize);
-    let y1 = (hi.y.ceil() as isize).min((rect.y0 + rect.height) as isize);
+    let [x0, y0, x1, y1] = rect.clamp(lo.floor(), hi.ceil());
     let direction = q - p;
     let normal = direction.perp().try_normalize();
     for y in y0..y1 {

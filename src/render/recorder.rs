@@ -517,18 +517,7 @@ impl<'a> FrameRecorder<'a> {
     }
 
     pub fn draw_indexed(&mut self, vertices: &Buffer, indices: &Buffer, index_count: u32) {
-        if index_count == 0 {
-            return;
-        }
-        let device = self.gpu.raw();
-        // SAFETY: see the note on `FrameRecorder`; the indices were checked against their
-        // vertices when the mesh was built (the glTF loader refuses any out of range).
-        unsafe {
-            device.cmd_bind_vertex_buffers(self.cmd, 0, &[vertices.raw], &[0]);
-            device.cmd_bind_index_buffer(self.cmd, indices.raw, 0, vk::IndexType::UINT32);
-            device.cmd_draw_indexed(self.cmd, index_count, 1, 0, 0, 0);
-        }
-        self.count_draw();
+        self.draw_indexed_range(vertices, indices, 0, index_count);
     }
 
     /// [`FrameRecorder::draw_indexed`] of `index_count` indices from index `first_index` on.
@@ -537,7 +526,9 @@ impl<'a> FrameRecorder<'a> {
             return;
         }
         let device = self.gpu.raw();
-        // SAFETY: as `draw_indexed`; the range lies inside the index buffer (its owner sized it).
+        // SAFETY: see the note on `FrameRecorder`; the indices were checked against their
+        // vertices when the mesh was built (the glTF loader refuses any out of range), and the
+        // range lies inside the index buffer (its owner sized it).
         unsafe {
             device.cmd_bind_vertex_buffers(self.cmd, 0, &[vertices.raw], &[0]);
             device.cmd_bind_index_buffer(self.cmd, indices.raw, 0, vk::IndexType::UINT32);
