@@ -283,7 +283,8 @@ pub struct FrameArgs {
     /// ships: the samples live in tile memory and only the resolved frame is stored.
     #[arg(long, default_value_t = 4, value_name = "1|2|4")]
     pub samples: u32,
-    /// Technique to render (`bench` also takes `all`).
+    /// Technique to render (`bench` also takes `all`, or a list such as `shadow-volume,shadow-map` to
+    /// compare whole techniques in one run).
     #[arg(long, default_value = DEFAULT_TECHNIQUE)]
     pub technique: String,
     /// Built-in scene name (see `nostencil info`) or a .gltf/.glb file.
