@@ -107,6 +107,12 @@ pub enum Command {
         /// any flag.
         #[arg(long)]
         tiler_check: bool,
+        /// What ends a frame when the program does not mark frames with VK_EXT_frame_boundary:
+        /// a present (default), every queue submission, or every host wait (a fence,
+        /// vkQueueWaitIdle, vkDeviceWaitIdle, a timeline semaphore). For programs that never
+        /// present, such as a headless filter.
+        #[arg(long, value_enum, default_value_t = FrameOnArg::Present)]
+        frame_on: FrameOnArg,
         #[arg(long, value_enum, default_value_t = FormatArg::Table)]
         format: FormatArg,
         /// Compare each render pass's draws, samples passed and fragment invocations (the most
@@ -406,6 +412,24 @@ pub enum LayerAction {
     },
     /// Remove what `layer install` wrote.
     Uninstall,
+}
+
+/// `profile-app --frame-on` (the layer's NOSTENCIL_FILLRATE_FRAME_ON).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum FrameOnArg {
+    Present,
+    Submit,
+    Wait,
+}
+
+impl FrameOnArg {
+    pub fn name(self) -> &'static str {
+        match self {
+            FrameOnArg::Present => "present",
+            FrameOnArg::Submit => "submit",
+            FrameOnArg::Wait => "wait",
+        }
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]

@@ -39,6 +39,7 @@ pub fn run(cli: Cli) -> Result<()> {
             seconds,
             per_draw,
             tiler_check,
+            frame_on,
             format,
             budget,
             record_budget,
@@ -58,6 +59,7 @@ pub fn run(cli: Cli) -> Result<()> {
                 out,
                 per_draw,
                 tiler_check,
+                frame_on: frame_on.name(),
                 capture,
             };
             let stop = super::supervise::Stop { frames, seconds, keep_running };

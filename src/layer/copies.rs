@@ -13,12 +13,19 @@ use ash::vk::Handle;
 use super::in_flight::{SubmissionCopy, STRIDE};
 use super::readback::STATISTICS;
 use super::recording::RecordedPass;
+use super::work::RecordedWork;
 use super::slots::Slot;
 use super::state::{DeviceData, DeviceState};
 
-/// The slots of `passes` and how many values each has.
-fn slots_of(passes: &[RecordedPass]) -> Vec<(Slot, usize)> {
+/// The slots of `passes` and `work` and how many values each has.
+fn slots_of(passes: &[RecordedPass], work: &[RecordedWork]) -> Vec<(Slot, usize)> {
     let mut slots = Vec::new();
+    for w in work {
+        slots.extend(w.statistics.map(|s| (s, 1)));
+        if let Some((begin, end)) = w.timestamps {
+            slots.extend([(begin, 1), (end, 1)]);
+        }
+    }
     for pass in passes.iter().filter(|p| p.not_measured().is_none()) {
         slots.extend(pass.occlusion.iter().map(|&s| (s, 1)));
         slots.extend(pass.statistics.iter().map(|&s| (s, STATISTICS.len())));
@@ -48,8 +55,9 @@ pub fn make(
     state: &mut DeviceState,
     family: u32,
     passes: &[RecordedPass],
+    work: &[RecordedWork],
 ) -> Result<Option<SubmissionCopy>, String> {
-    let slots = slots_of(passes);
+    let slots = slots_of(passes, work);
     if slots.is_empty() {
         return Ok(None);
     }

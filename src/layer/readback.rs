@@ -108,7 +108,7 @@ fn read_part(
                 raw.samples_passed += read_query(device, Slot { pool: gap.pool, query: gap.query }, 1)?[0]
             }
             QueryKind::Statistics => stats = [None; 3],
-            QueryKind::Timestamp => {}
+            QueryKind::Timestamp | QueryKind::Compute => {}
         }
     }
     [raw.vertex_invocations, raw.clipping_primitives, raw.fragment_invocations] = stats;
@@ -163,7 +163,7 @@ fn read_sections(
 }
 
 /// GPU nanoseconds between two timestamps.
-fn elapsed_ns(
+pub(super) fn elapsed_ns(
     device: &DeviceData,
     (begin, end): (Slot, Slot),
     timestamp_bits: u32,
@@ -260,6 +260,14 @@ pub fn read_completed(device: &DeviceData, state: &mut DeviceState, done: impl F
                 row(pass, result, per_draw, sections)
             })
             .collect();
+        let work: Vec<_> = pending
+            .work
+            .iter()
+            .map(|w| {
+                let spoiled = pending.spoiled.as_deref();
+                super::work_report::read_work(device, w, pending.timestamp_bits, spoiled, &layer)
+            })
+            .collect();
         if let Some(copy) = copy {
             copy.release(&device.fns);
         }
@@ -273,7 +281,12 @@ pub fn read_completed(device: &DeviceData, state: &mut DeviceState, done: impl F
         for _ in 0..statistics_gaps {
             state.count_not_measured(APP_STATISTICS_GAP);
         }
-        state.frames().completed(pending.frame, pending.sequence, rows);
+        for row in &work {
+            if let Some(reason) = &row.not_measured {
+                state.count_not_measured(reason);
+            }
+        }
+        state.frames().completed_with_work(pending.frame, pending.sequence, rows, work);
     }
     let finished = state.frames().finish_ready();
     if finished > 0 {
@@ -295,6 +308,7 @@ pub fn report(device: &DeviceData, state: &mut DeviceState) -> FillrateReport {
         not_measured,
         frames: frames.kept.iter().cloned().collect(),
         aggregate: frames.aggregate.rows(),
+        work_aggregate: frames.work_aggregate.rows(),
         run: None,
         tiler_check: device.config.tiler.then(|| state.tiler.check.report()),
     }
