@@ -11,7 +11,7 @@ use super::lifecycle::{c_name, create_device, create_instance, destroy_device, d
 use super::loader::{NegotiateLayerInterface, LAYER_INTERFACE_VERSION, LAYER_NEGOTIATE_INTERFACE_STRUCT};
 use super::state::{self, guard};
 use super::config::Config;
-use super::{capture, commands as c, image_use as t, objects as o, queue as q, work_hooks as w};
+use super::{capture, commands as c, frame_boundary as fb, image_use as t, objects as o, queue as q, work_hooks as w};
 
 /// A hook as the loader's generic function pointer.
 macro_rules! void_fn {
@@ -224,6 +224,15 @@ fn instance_hook(name: &str) -> vk::PFN_vkVoidFunction {
         "vkCreateInstance" => void_fn!(create_instance, vk::PFN_vkCreateInstance),
         "vkDestroyInstance" => void_fn!(destroy_instance, vk::PFN_vkDestroyInstance),
         "vkCreateDevice" => void_fn!(create_device, vk::PFN_vkCreateDevice),
+        "vkEnumerateDeviceExtensionProperties" => {
+            void_fn!(fb::enumerate_device_extension_properties, vk::PFN_vkEnumerateDeviceExtensionProperties)
+        }
+        "vkGetPhysicalDeviceFeatures2" => {
+            void_fn!(fb::get_physical_device_features2, vk::PFN_vkGetPhysicalDeviceFeatures2)
+        }
+        "vkGetPhysicalDeviceFeatures2KHR" => {
+            void_fn!(fb::get_physical_device_features2_khr, vk::PFN_vkGetPhysicalDeviceFeatures2)
+        }
         _ => None,
     }
 }

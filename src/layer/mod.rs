@@ -11,6 +11,7 @@ pub mod commands;
 pub mod config;
 pub mod copies;
 pub mod exports;
+pub mod frame_boundary;
 pub mod frame_cuts;
 pub mod frames;
 pub mod image_use;

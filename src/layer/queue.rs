@@ -11,6 +11,7 @@ use super::arrays::app_array;
 use super::capture;
 use super::config::FrameOn;
 use super::copies;
+use super::frame_boundary;
 use super::frame_cuts;
 use super::in_flight::TimelineSignal;
 use super::objects::{device_and, flush_buffer, spoil_gaps};
@@ -378,6 +379,7 @@ pub(super) unsafe extern "system" fn queue_submit(
     let Some((device, next)) = device_and(queue.as_raw(), |d| d.next.queue_submit) else {
         return vk::Result::ERROR_INITIALIZATION_FAILED;
     };
+
     // SAFETY: `submits` holds `count` valid submit infos, each with its buffer array.
     let infos = unsafe { app_array(submits, count) };
     let copies = note_submit(&device, queue, fence, || {
@@ -395,9 +397,17 @@ pub(super) unsafe extern "system" fn queue_submit(
             })
             .collect()
     });
+    // The batches' frame boundaries (read above) are kept from a driver that lacks them, and
+    // put back after the call.
+    let emulated = device.info.frame_boundary_emulated;
+    // SAFETY: the application's infos, restored below.
+    let unlinked = unsafe { frame_boundary::strip(emulated, submits, count, |s| std::ptr::addr_of_mut!((*s).p_next).cast()) };
     if copies.iter().all(Vec::is_empty) {
         // SAFETY: the application's arguments, passed on.
-        return unsafe { next(queue, count, submits, fence) };
+        let result = unsafe { next(queue, count, submits, fence) };
+        // SAFETY: the same infos.
+        unsafe { unlinked.restore() };
+        return result;
     }
     let buffers: Vec<Vec<vk::CommandBuffer>> = infos
         .iter()
@@ -415,7 +425,10 @@ pub(super) unsafe extern "system" fn queue_submit(
         batch.p_command_buffers = buffers.as_ptr();
     }
     // SAFETY: the application's batches, each with the layer's buffers after its own.
-    unsafe { next(queue, count, batches.as_ptr(), fence) }
+    let result = unsafe { next(queue, count, batches.as_ptr(), fence) };
+    // SAFETY: the same infos.
+    unsafe { unlinked.restore() };
+    result
 }
 
 unsafe fn queue_submit2_with(
@@ -450,9 +463,15 @@ unsafe fn queue_submit2_with(
             })
             .collect()
     });
+    let emulated = device.info.frame_boundary_emulated;
+    // SAFETY: the application's infos, restored below.
+    let unlinked = unsafe { frame_boundary::strip(emulated, submits, count, |s| std::ptr::addr_of_mut!((*s).p_next).cast()) };
     if copies.iter().all(Vec::is_empty) {
         // SAFETY: the application's arguments, passed on.
-        return unsafe { next(queue, count, submits, fence) };
+        let result = unsafe { next(queue, count, submits, fence) };
+        // SAFETY: the same infos.
+        unsafe { unlinked.restore() };
+        return result;
     }
     let buffers: Vec<Vec<vk::CommandBufferSubmitInfo>> = infos
         .iter()
@@ -472,7 +491,10 @@ unsafe fn queue_submit2_with(
         batch.p_command_buffer_infos = buffers.as_ptr();
     }
     // SAFETY: the application's batches, each with the layer's buffers after its own.
-    unsafe { next(queue, count, batches.as_ptr(), fence) }
+    let result = unsafe { next(queue, count, batches.as_ptr(), fence) };
+    // SAFETY: the same infos.
+    unsafe { unlinked.restore() };
+    result
 }
 
 pub(super) unsafe extern "system" fn queue_submit2(
@@ -506,6 +528,12 @@ pub(super) unsafe extern "system" fn queue_present(
     let app_info = unsafe { info.as_ref() };
     // SAFETY: as above; the queue is the caller's for the call.
     let capturing = guard(None, || app_info.and_then(|i| unsafe { capture::begin(&device, queue, i) }));
+    // SAFETY: as above: the present's frame boundary (read below, after the call) is kept from
+    // a driver that lacks it and put back right after.
+    let boundary = app_info.is_some_and(|i| unsafe { frame_cuts::frame_end(i.p_next) });
+    let emulated = device.info.frame_boundary_emulated;
+    // SAFETY: the application's info, restored below.
+    let unlinked = unsafe { frame_boundary::strip(emulated, info, 1, |i| std::ptr::addr_of_mut!((*i).p_next).cast()) };
     let result = match (&capturing, app_info) {
         // SAFETY: the application's present, waiting on the layer's copy instead (which waited
         // on the application's semaphores).
@@ -513,6 +541,8 @@ pub(super) unsafe extern "system" fn queue_present(
         // SAFETY: the application's arguments, passed on.
         _ => unsafe { next(queue, info) },
     };
+    // SAFETY: the same info.
+    unsafe { unlinked.restore() };
     if let Some(capturing) = capturing {
         guard((), || capture::finish(&device, capturing));
     }
@@ -522,8 +552,6 @@ pub(super) unsafe extern "system" fn queue_present(
             if device.config.tiler {
                 st.tiler.check.end_frame();
             }
-            // SAFETY: the application's valid present info and its chain.
-            let boundary = app_info.is_some_and(|i| unsafe { frame_cuts::frame_end(i.p_next) });
             if boundary {
                 frame_cuts::boundary(&device, &mut st);
             } else if frame_cuts::cuts_on(&device, &st, FrameOn::Present) {

@@ -195,6 +195,9 @@ pub struct DeviceInfo {
     pub set_loader_data: Option<PfnSetDeviceLoaderData>,
     /// What the capture (capture.rs) needs to know of the device's queues and surfaces.
     pub capture: super::capture_state::CaptureDevice,
+    /// The program enabled VK_EXT_frame_boundary, which the layer offers and keeps from the
+    /// driver (frame_boundary.rs): its structs are taken out of the chains passed on.
+    pub frame_boundary_emulated: bool,
 }
 
 /// A command buffer the layer saw allocated.
