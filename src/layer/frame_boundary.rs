@@ -72,11 +72,9 @@ pub(super) unsafe extern "system" fn enumerate_device_extension_properties(
     let Some(instance) = guard(None, || state::instance_of(physical.as_raw())) else {
         return vk::Result::ERROR_INITIALIZATION_FAILED;
     };
-    // SAFETY: the next layer's function by its name, for this instance.
-    let next = unsafe { (instance.gipa)(instance.handle, c"vkEnumerateDeviceExtensionProperties".as_ptr()) };
-    let Some(next) = next else { return vk::Result::ERROR_INITIALIZATION_FAILED };
-    // SAFETY: the pointer is the next layer's vkEnumerateDeviceExtensionProperties.
-    let next: vk::PFN_vkEnumerateDeviceExtensionProperties = unsafe { std::mem::transmute(next) };
+    // Loaded when the instance was created: asked now, the loader's terminator would look the
+    // name up in the chain's finished table and hand back the top of the chain (this hook).
+    let next = instance.fns.fp_v1_0().enumerate_device_extension_properties;
     if asked.is_some() {
         // SAFETY: the application's arguments, passed on.
         return unsafe { next(physical, layer, count, out) };
@@ -169,12 +167,11 @@ pub unsafe fn without_name(names: *const *const c_char, count: u32) -> Option<Ve
 
 /// vkGetPhysicalDeviceFeatures2 (and its KHR alias): the feature struct is kept from the layers
 /// below and answered `frameBoundary = VK_TRUE` when they lack the extension.
-unsafe fn features2_with(name: &CStr, physical: vk::PhysicalDevice, features: *mut vk::PhysicalDeviceFeatures2<'_>) {
+unsafe fn features2_with(physical: vk::PhysicalDevice, features: *mut vk::PhysicalDeviceFeatures2<'_>) {
     let Some(instance) = guard(None, || state::instance_of(physical.as_raw())) else { return };
-    // SAFETY: the next layer's function by its name, for this instance.
-    let Some(next) = (unsafe { (instance.gipa)(instance.handle, name.as_ptr()) }) else { return };
-    // SAFETY: the pointer is the next layer's function of that name.
-    let next: vk::PFN_vkGetPhysicalDeviceFeatures2 = unsafe { std::mem::transmute(next) };
+    // Loaded when the instance was created (see enumerate_device_extension_properties); the
+    // KHR alias is the same function.
+    let next = instance.fns.fp_v1_1().get_physical_device_features2;
     let emulate = guard(false, || !below_has(&instance, physical));
     if !emulate || features.is_null() {
         // SAFETY: the application's arguments, passed on.
@@ -202,7 +199,7 @@ pub(super) unsafe extern "system" fn get_physical_device_features2(
     features: *mut vk::PhysicalDeviceFeatures2<'_>,
 ) {
     // SAFETY: the application's arguments.
-    unsafe { features2_with(c"vkGetPhysicalDeviceFeatures2", physical, features) }
+    unsafe { features2_with(physical, features) }
 }
 
 pub(super) unsafe extern "system" fn get_physical_device_features2_khr(
@@ -210,7 +207,7 @@ pub(super) unsafe extern "system" fn get_physical_device_features2_khr(
     features: *mut vk::PhysicalDeviceFeatures2<'_>,
 ) {
     // SAFETY: the application's arguments.
-    unsafe { features2_with(c"vkGetPhysicalDeviceFeatures2KHR", physical, features) }
+    unsafe { features2_with(physical, features) }
 }
 
 #[cfg(test)]
