@@ -33,7 +33,7 @@ pub unsafe fn frame_end(mut p_next: *const std::ffi::c_void) -> bool {
 /// Ends the current frame (if anything was submitted to it) and finishes what is read back.
 pub fn cut(device: &DeviceData, state: &mut DeviceState) {
     state.frames().cut();
-    if state.frames().finish_ready() > 0 {
+    if super::readback::finish_frames(device, state) > 0 {
         write_if_due(device, state, false);
     }
 }

@@ -305,7 +305,7 @@ pub(super) unsafe extern "system" fn destroy_device(device: vk::Device, allocato
         // The application has waited for all its work before destroying the device.
         read_completed(&data, &mut st, |_| true);
         st.frames().close_last();
-        st.frames().finish_ready();
+        super::readback::finish_frames(&data, &mut st);
         if data.config.tiler {
             st.tiler.check.finish();
         }

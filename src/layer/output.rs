@@ -182,14 +182,11 @@ pub fn tiler_lines(check: &TilerReport) -> String {
     for f in &check.flags {
         let attachment = f.attachment.as_deref().map_or(String::new(), |a| format!(" {a}"));
         let times = if f.count > 1 { format!(" (x{})", f.count) } else { String::new() };
-        let _ = writeln!(
-            out,
-            "  {}: frame {} {}{attachment}{times}: {}",
-            f.kind,
-            f.frame,
-            name(f.pass, &f.label),
-            f.detail
-        );
+        let place = match f.work {
+            Some(work) => work_name(work, f.label.as_deref()).replacen('#', "work #", 1),
+            None => name(f.pass, &f.label),
+        };
+        let _ = writeln!(out, "  {}: frame {} {place}{attachment}{times}: {}", f.kind, f.frame, f.detail);
     }
     if let Some(why) = &check.reads_unknown {
         let _ = writeln!(out, "  (reads not all seen: {why}; unread and dead-pass flags are not given)");

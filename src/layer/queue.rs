@@ -559,7 +559,7 @@ pub(super) unsafe extern "system" fn queue_present(
             }
             proofs::poll(&device, &mut st);
             proofs::add(&device, &mut st, queue);
-            if st.frames().finish_ready() > 0 {
+            if super::readback::finish_frames(&device, &mut st) > 0 {
                 write_if_due(&device, &mut st, false);
             }
         }

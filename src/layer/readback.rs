@@ -288,10 +288,20 @@ pub fn read_completed(device: &DeviceData, state: &mut DeviceState, done: impl F
         }
         state.frames().completed_with_work(pending.frame, pending.sequence, rows, work);
     }
-    let finished = state.frames().finish_ready();
+    let finished = finish_frames(device, state);
     if finished > 0 {
         write_if_due(device, state, false);
     }
+}
+
+/// Moves the frames that are complete to the report (frames.rs) and gives the tiler check
+/// their work rows' findings; returns how many.
+pub fn finish_frames(device: &DeviceData, state: &mut DeviceState) -> u64 {
+    let finished = state.frames().finish_ready();
+    if finished > 0 && device.config.tiler {
+        super::work_report::flag_swapchain_copies(state, finished);
+    }
+    finished
 }
 
 /// The report of everything finished so far.

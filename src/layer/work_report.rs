@@ -4,7 +4,7 @@ use std::collections::BTreeMap;
 
 use super::report::{AggregateWork, WorkCounters, WorkRow};
 use super::slots::Slot;
-use super::state::DeviceData;
+use super::state::{DeviceData, DeviceState};
 use super::work::RecordedWork;
 
 /// The row of one read-back dispatch group or transfer (index set when the frame is assembled).
@@ -49,6 +49,21 @@ pub fn read_work(
         counters,
         not_measured,
         note: work.moved.note.clone(),
+    }
+}
+
+/// The tiler check's findings in the frames just finished (the last `finished` kept): each
+/// work row noted as a full-frame copy or blit into a swapchain image.
+pub fn flag_swapchain_copies(state: &mut DeviceState, finished: u64) {
+    let DeviceState { frames, tiler, .. } = state;
+    let Some(frames) = frames else { return };
+    let first = frames.kept.len().saturating_sub(finished as usize);
+    for frame in frames.kept.iter().skip(first) {
+        for w in frame.work.iter() {
+            if let Some(note) = &w.note {
+                tiler.check.swapchain_copy(frame.index, w.index, &w.label, note);
+            }
+        }
     }
 }
 
