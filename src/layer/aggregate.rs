@@ -195,7 +195,7 @@ pub fn report_from_journal(text: &str, keep_all: bool) -> Option<FillrateReport>
     let lines: Vec<JournalLine> = text.lines().filter_map(|l| serde_json::from_str(l).ok()).collect();
     let last = lines.last()?.clone();
     let mut aggregate = Aggregator::default();
-    let mut work = crate::layer::work_report::WorkAggregator::default();
+    let mut work = crate::layer::work_aggregate::WorkAggregator::default();
     for line in &lines {
         aggregate.add_frame(&line.frame.render_passes);
         work.add_frame(&line.frame.work);

@@ -64,7 +64,7 @@ pub(super) unsafe extern "system" fn enumerate_device_extension_properties(
     out: *mut vk::ExtensionProperties,
 ) -> vk::Result {
     // SAFETY: the caller's name, null or a C string.
-    let asked = unsafe { super::lifecycle::c_name(layer) };
+    let asked = (!layer.is_null()).then(|| unsafe { CStr::from_ptr(layer) }.to_str().ok()).flatten();
     if asked == Some(super::manifest::LAYER_NAME) {
         // SAFETY: the caller's arrays.
         return unsafe { answer(&[property()], count, out) };

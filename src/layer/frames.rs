@@ -6,7 +6,7 @@ use std::collections::{BTreeMap, VecDeque};
 
 use super::aggregate::Aggregator;
 use super::report::{FrameRows, RenderPassRow, WorkRow, KEPT_FRAMES};
-use super::work_report::WorkAggregator;
+use super::work_aggregate::WorkAggregator;
 
 #[derive(Debug, Default)]
 struct FrameBuild {

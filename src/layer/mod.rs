@@ -34,5 +34,5 @@ pub mod tiler_pass;
 pub mod tiler_state;
 pub mod transfer_bytes;
 pub mod work;
+pub mod work_aggregate;
 pub mod work_hooks;
-pub mod work_report;

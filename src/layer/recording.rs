@@ -206,6 +206,47 @@ impl Recording {
         self.app_active.values().any(|k| *k == QueryKind::Statistics)
     }
 
+    /// What the work bookkeeping (work.rs) needs to know now, and the work state itself.
+    fn work_context(&mut self) -> (super::work::Context<'_>, &mut super::work::WorkState) {
+        // The open label only: an inserted label names the next render pass, not work.
+        let label = self.labels.last().cloned();
+        let statistics = self.support.statistics && !self.app_statistics_active();
+        let cx = super::work::Context {
+            skip: self.secondary || self.open.is_some(),
+            statistics,
+            timestamps: self.support.timestamps.then_some(&mut self.timestamps),
+            label,
+        };
+        (cx, &mut self.work)
+    }
+
+    /// A dispatch outside a render pass (work.rs): commands before the application's call.
+    pub fn dispatch(
+        &mut self,
+        api: &'static str,
+        groups: Option<u64>,
+        create: &mut dyn FnMut(QueryKind) -> Option<vk::QueryPool>,
+    ) -> Vec<QueryCmd> {
+        let (cx, work) = self.work_context();
+        work.dispatch(cx, api, groups, create)
+    }
+
+    /// A transfer outside a render pass (work.rs): commands before and after the call.
+    pub fn transfer(
+        &mut self,
+        api: &'static str,
+        moved: super::work::Moved,
+        create: &mut dyn FnMut(QueryKind) -> Option<vk::QueryPool>,
+    ) -> (Vec<QueryCmd>, Vec<QueryCmd>) {
+        let (cx, work) = self.work_context();
+        work.transfer(cx, api, moved, create)
+    }
+
+    /// Closes the open dispatch group: commands before whatever closes it.
+    pub fn close_work(&mut self) -> Vec<QueryCmd> {
+        self.work.close()
+    }
+
     /// vkCmdBeginDebugUtilsLabelEXT: inside a pass, a new section begins (commands before and
     /// after the application's call).
     pub fn push_label(&mut self, label: String) -> (Vec<QueryCmd>, Vec<QueryCmd>) {
@@ -701,6 +742,22 @@ mod tests {
         rec.draw();
         rec.end_pass();
         assert!(!rec.passes[0].split());
+    }
+
+    #[test]
+    fn labels_and_passes_close_a_dispatch_group_which_the_label_names() {
+        let (mut rec, mut create) = recording();
+        rec.push_label("blur".into());
+        assert_eq!(begins(&rec.dispatch("vkCmdDispatch", Some(2), &mut create)), 1);
+        let (before, _) = rec.pop_label();
+        assert_eq!(ends(&before), 1, "the label's end closes the group: {before:?}");
+        rec.dispatch("vkCmdDispatch", Some(2), &mut create);
+        let (before, _) = rec.begin_pass(desc(), &mut create);
+        assert_eq!(ends(&before), 1, "a render pass closes it too: {before:?}");
+        assert!(rec.dispatch("vkCmdDispatch", Some(1), &mut create).is_empty(), "not inside a pass");
+        rec.end_pass();
+        let labels: Vec<Option<&str>> = rec.work.list.iter().map(|w| w.label.as_deref()).collect();
+        assert_eq!(labels, [Some("blur"), None]);
     }
 
     #[test]

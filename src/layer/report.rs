@@ -25,7 +25,7 @@ pub struct FillrateReport {
     pub not_measured: Vec<NotMeasured>,
     pub frames: Vec<FrameRows>,
     pub aggregate: Vec<AggregateRow>,
-    /// Mean, min and max of each dispatch group and transfer over the frames (work_report.rs),
+    /// Mean, min and max of each dispatch group and transfer over the frames (work_aggregate.rs),
     /// matched by position among the frame's work, kind, command and label.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub work_aggregate: Vec<AggregateWork>,

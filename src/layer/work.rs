@@ -13,7 +13,6 @@
 
 use ash::vk;
 
-use super::recording::Recording;
 use super::slots::{QueryCmd, QueryKind, Slot, SlotPool};
 
 /// The statistic the layer's compute pools count.
@@ -83,56 +82,85 @@ impl WorkState {
     }
 }
 
-impl Recording {
+/// What the command buffer's recording tells the work bookkeeping at each command.
+pub struct Context<'a> {
+    /// Not recorded: a secondary command buffer, or inside a render pass (where a dispatch or
+    /// transfer is not valid anyway).
+    pub skip: bool,
+    /// The device counts pipeline statistics and no application statistics query is active.
+    pub statistics: bool,
+    /// The recording's timestamp slots; None when the queue family writes no timestamps.
+    pub timestamps: Option<&'a mut SlotPool>,
+    /// The label the work is named by.
+    pub label: Option<String>,
+}
+
+impl Context<'_> {
+    /// Two fresh timestamp slots for a work row.
+    fn timestamps(
+        &mut self,
+        create: &mut dyn FnMut(QueryKind) -> Option<vk::QueryPool>,
+        before: &mut Vec<QueryCmd>,
+    ) -> Option<(Slot, Slot)> {
+        let pool = self.timestamps.as_mut()?;
+        if !pool.reserve(2, create, before) {
+            return None;
+        }
+        pool.take().zip(pool.take())
+    }
+}
+
+impl WorkState {
     /// A dispatch (`groups`: its workgroups, None for an indirect one): joins the open group
     /// or opens one. Returns the commands to record before the application's call.
     pub fn dispatch(
         &mut self,
+        mut cx: Context<'_>,
         api: &'static str,
         groups: Option<u64>,
         create: &mut dyn FnMut(QueryKind) -> Option<vk::QueryPool>,
     ) -> Vec<QueryCmd> {
         let mut before = Vec::new();
-        if self.secondary || self.in_pass() {
+        if cx.skip {
             return before;
         }
-        if let Some(index) = self.work.open {
-            let group = &mut self.work.list[index];
+        if let Some(index) = self.open {
+            let group = &mut self.list[index];
             group.commands += 1;
             group.workgroups = group.workgroups.zip(groups).map(|(a, b)| a + b);
             return before;
         }
-        let statistics = if self.support.statistics && !self.app_statistics_active() {
-            self.work.compute.reserve(1, create, &mut before).then(|| self.work.compute.take()).flatten()
+        let statistics = if cx.statistics {
+            self.compute.reserve(1, create, &mut before).then(|| self.compute.take()).flatten()
         } else {
             None
         };
-        let timestamps = self.work_timestamps(create, &mut before);
+        let timestamps = cx.timestamps(create, &mut before);
         if let Some((begin, _)) = timestamps {
             before.push(QueryCmd::Timestamp { slot: begin, stage: vk::PipelineStageFlags::TOP_OF_PIPE });
         }
         if let Some(slot) = statistics {
             before.push(QueryCmd::Begin { slot, precise: false });
         }
-        self.work.list.push(RecordedWork {
+        self.list.push(RecordedWork {
             kind: WorkKind::Compute,
             api,
-            label: self.label_now(),
+            label: cx.label,
             commands: 1,
             workgroups: groups,
             moved: Moved::default(),
             statistics,
             timestamps,
         });
-        self.work.open = Some(self.work.list.len() - 1);
+        self.open = Some(self.list.len() - 1);
         before
     }
 
     /// Closes the open dispatch group, if any: the commands to record before whatever closes it.
-    pub fn close_work(&mut self) -> Vec<QueryCmd> {
+    pub fn close(&mut self) -> Vec<QueryCmd> {
         let mut before = Vec::new();
-        let Some(index) = self.work.open.take() else { return before };
-        let group = &self.work.list[index];
+        let Some(index) = self.open.take() else { return before };
+        let group = &self.list[index];
         if let Some(slot) = group.statistics {
             before.push(QueryCmd::End { slot });
         }
@@ -146,24 +174,25 @@ impl Recording {
     /// to record before and after the application's call.
     pub fn transfer(
         &mut self,
+        mut cx: Context<'_>,
         api: &'static str,
         moved: Moved,
         create: &mut dyn FnMut(QueryKind) -> Option<vk::QueryPool>,
     ) -> (Vec<QueryCmd>, Vec<QueryCmd>) {
         let (mut before, mut after) = (Vec::new(), Vec::new());
-        if self.secondary || self.in_pass() {
+        if cx.skip {
             return (before, after);
         }
-        before.extend(self.close_work());
-        let timestamps = self.work_timestamps(create, &mut before);
+        before.extend(self.close());
+        let timestamps = cx.timestamps(create, &mut before);
         if let Some((begin, end)) = timestamps {
             before.push(QueryCmd::Timestamp { slot: begin, stage: vk::PipelineStageFlags::TOP_OF_PIPE });
             after.push(QueryCmd::Timestamp { slot: end, stage: vk::PipelineStageFlags::BOTTOM_OF_PIPE });
         }
-        self.work.list.push(RecordedWork {
+        self.list.push(RecordedWork {
             kind: WorkKind::Transfer,
             api,
-            label: self.label_now(),
+            label: cx.label,
             commands: 1,
             workgroups: None,
             moved,
@@ -172,67 +201,58 @@ impl Recording {
         });
         (before, after)
     }
-
-    /// Two fresh timestamp slots for a work row, when the queue family writes timestamps.
-    fn work_timestamps(
-        &mut self,
-        create: &mut dyn FnMut(QueryKind) -> Option<vk::QueryPool>,
-        before: &mut Vec<QueryCmd>,
-    ) -> Option<(Slot, Slot)> {
-        if !self.support.timestamps || !self.timestamps.reserve(2, create, before) {
-            return None;
-        }
-        self.timestamps.take().zip(self.timestamps.take())
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::layer::recording::QuerySupport;
     use ash::vk::Handle;
 
-    fn recording() -> (Recording, impl FnMut(QueryKind) -> Option<vk::QueryPool>) {
+    fn create() -> impl FnMut(QueryKind) -> Option<vk::QueryPool> {
         let mut next = 100u64;
-        let create = move |kind: QueryKind| {
+        move |kind: QueryKind| {
             next += 1;
             Some(vk::QueryPool::from_raw(next * 10 + kind as u64))
-        };
-        (Recording::new(false, QuerySupport { statistics: true, precise: true, timestamps: true }), create)
+        }
+    }
+
+    fn cx(timestamps: &mut SlotPool) -> Context<'_> {
+        Context { skip: false, statistics: true, timestamps: Some(timestamps), label: None }
     }
 
     #[test]
     fn consecutive_dispatches_are_one_group_until_something_closes_it() {
-        let (mut rec, mut create) = recording();
-        let before = rec.dispatch("vkCmdDispatch", Some(4), &mut create);
+        let (mut work, mut stamps, mut create) = (WorkState::default(), SlotPool::new(QueryKind::Timestamp), create());
+        let before = work.dispatch(cx(&mut stamps), "vkCmdDispatch", Some(4), &mut create);
         assert!(matches!(before.last(), Some(QueryCmd::Begin { precise: false, .. })), "{before:?}");
         assert!(before.iter().any(|c| matches!(c, QueryCmd::Timestamp { .. })));
-        assert!(rec.dispatch("vkCmdDispatch", Some(6), &mut create).is_empty(), "joins the group");
-        let close = rec.close_work();
+        assert!(work.dispatch(cx(&mut stamps), "vkCmdDispatch", Some(6), &mut create).is_empty(), "joins");
+        let close = work.close();
         assert_eq!(close.len(), 2, "ends the statistics query and writes the end timestamp: {close:?}");
-        assert!(rec.close_work().is_empty(), "closed once");
-        rec.dispatch("vkCmdDispatchIndirect", None, &mut create);
-        rec.dispatch("vkCmdDispatch", Some(1), &mut create);
-        let (before, after) = rec.transfer("vkCmdCopyBuffer", Moved { read: 8, written: 8, note: None }, &mut create);
+        assert!(work.close().is_empty(), "closed once");
+        work.dispatch(cx(&mut stamps), "vkCmdDispatchIndirect", None, &mut create);
+        work.dispatch(cx(&mut stamps), "vkCmdDispatch", Some(1), &mut create);
+        let moved = Moved { read: 8, written: 8, note: None };
+        let (before, after) = work.transfer(cx(&mut stamps), "vkCmdCopyBuffer", moved, &mut create);
         assert!(matches!(before[0], QueryCmd::End { .. }), "a transfer closes the group: {before:?}");
         assert_eq!(after.len(), 1);
-        let work = &rec.work.list;
-        assert_eq!(work.len(), 3);
-        assert_eq!((work[0].commands, work[0].workgroups), (2, Some(10)));
-        assert_eq!((work[1].commands, work[1].workgroups), (2, None), "an indirect dispatch's count is unknown");
-        assert_eq!((work[2].kind, work[2].moved.read), (WorkKind::Transfer, 8));
-        assert!(work[2].statistics.is_none() && work[2].timestamps.is_some());
+        let list = &work.list;
+        assert_eq!(list.len(), 3);
+        assert_eq!((list[0].commands, list[0].workgroups), (2, Some(10)));
+        assert_eq!((list[1].commands, list[1].workgroups), (2, None), "an indirect dispatch's count is unknown");
+        assert_eq!((list[2].kind, list[2].moved.read), (WorkKind::Transfer, 8));
+        assert!(list[2].statistics.is_none() && list[2].timestamps.is_some());
     }
 
     #[test]
-    fn labels_name_groups_and_work_inside_a_pass_or_a_secondary_buffer_is_not_recorded() {
-        let (mut rec, mut create) = recording();
-        rec.push_label("blur".into());
-        rec.dispatch("vkCmdDispatch", Some(1), &mut create);
-        rec.close_work();
-        assert_eq!(rec.work.list[0].label.as_deref(), Some("blur"));
-        let mut secondary = Recording::new(true, rec.support);
-        assert!(secondary.dispatch("vkCmdDispatch", Some(1), &mut create).is_empty());
-        assert!(secondary.work.list.is_empty());
+    fn skipped_work_is_not_recorded_and_no_timestamps_means_no_gpu_time() {
+        let (mut work, mut create) = (WorkState::default(), create());
+        let skip = Context { skip: true, statistics: true, timestamps: None, label: None };
+        assert!(work.dispatch(skip, "vkCmdDispatch", Some(1), &mut create).is_empty());
+        assert!(work.list.is_empty());
+        let plain = Context { skip: false, statistics: false, timestamps: None, label: Some("blur".into()) };
+        assert!(work.dispatch(plain, "vkCmdDispatch", Some(1), &mut create).is_empty());
+        assert_eq!((work.list[0].statistics, work.list[0].timestamps), (None, None));
+        assert_eq!(work.list[0].label.as_deref(), Some("blur"));
     }
 }

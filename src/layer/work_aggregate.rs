@@ -1,71 +1,9 @@
-//! Work rows (work.rs) read back into the report, and their mean, min and max over frames.
+//! Mean, min and max of each work row (work.rs) over the measured frames, matched by position
+//! among the frame's work, kind, command and label.
 
 use std::collections::BTreeMap;
 
 use super::report::{AggregateWork, WorkCounters, WorkRow};
-use super::slots::Slot;
-use super::state::{DeviceData, DeviceState};
-use super::work::RecordedWork;
-
-/// The row of one read-back dispatch group or transfer (index set when the frame is assembled).
-/// `spoiled`: why the submission's results cannot be trusted.
-pub fn read_work(
-    device: &DeviceData,
-    work: &RecordedWork,
-    timestamp_bits: u32,
-    spoiled: Option<&str>,
-    layer: &dyn Fn(Slot, usize) -> Result<Vec<u64>, String>,
-) -> WorkRow {
-    let read = || -> Result<WorkCounters, String> {
-        if let Some(reason) = spoiled {
-            return Err(reason.to_owned());
-        }
-        let compute_invocations = match work.statistics {
-            Some(slot) => Some(layer(slot, 1)?[0]),
-            None => None,
-        };
-        let gpu_ms = match work.timestamps {
-            Some(pair) => Some(super::readback::elapsed_ns(device, pair, timestamp_bits, layer)?.max(0.0) / 1e6),
-            None => None,
-        };
-        Ok(WorkCounters {
-            commands: work.commands as u64,
-            workgroups: work.workgroups,
-            compute_invocations,
-            bytes_read: work.moved.read,
-            bytes_written: work.moved.written,
-            gpu_ms,
-        })
-    };
-    let (counters, not_measured) = match read() {
-        Ok(counters) => (Some(counters), None),
-        Err(reason) => (None, Some(reason)),
-    };
-    WorkRow {
-        index: 0,
-        kind: work.kind.name().to_owned(),
-        api: work.api.to_owned(),
-        label: work.label.clone(),
-        counters,
-        not_measured,
-        note: work.moved.note.clone(),
-    }
-}
-
-/// The tiler check's findings in the frames just finished (the last `finished` kept): each
-/// work row noted as a full-frame copy or blit into a swapchain image.
-pub fn flag_swapchain_copies(state: &mut DeviceState, finished: u64) {
-    let DeviceState { frames, tiler, .. } = state;
-    let Some(frames) = frames else { return };
-    let first = frames.kept.len().saturating_sub(finished as usize);
-    for frame in frames.kept.iter().skip(first) {
-        for w in frame.work.iter() {
-            if let Some(note) = &w.note {
-                tiler.check.swapchain_copy(frame.index, w.index, &w.label, note);
-            }
-        }
-    }
-}
 
 #[derive(Debug, Clone)]
 struct Stats {
