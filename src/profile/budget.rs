@@ -350,7 +350,7 @@ mod tests {
         assert_eq!(overruns.len(), 1);
         assert!(overruns[0].to_string().contains("'compute #0 'blur'': compute invocations 2048 > budget 1024"));
         let other = WorkBudget { name: "transfer #1".into(), ..work(0) };
-        assert!(budget.check_application("app", &[], bytes, &[other.clone()]).is_err());
+        assert!(budget.check_application("app", &[], bytes, std::slice::from_ref(&other)).is_err());
         let old = Budget::for_application("app", 0, 0, &[], bytes, &[]);
         assert!(old.check_application("app", &[], bytes, &[other]).unwrap().is_empty());
     }
