@@ -632,8 +632,9 @@ fn vkcube_gets_no_tiler_flag_and_presents_the_same_image_with_the_check() {
     }
 }
 
-/// `profile-app --trace`: the layer's measured passes, one GPU slice each with the report's GPU
-/// time, laid end to end; the frame's counters (samples, bytes) equal the report's.
+/// `profile-app --trace`: the layer's measured passes, then the frame's work rows, one GPU slice
+/// each with the report's GPU time, laid end to end; the frame's counters (samples, bytes, a
+/// transfer's counted) equal the report's.
 #[test]
 fn the_trace_of_an_applications_frames_has_the_reports_passes_and_counters() {
     let dir = common::scratch_dir("profile_app_trace");
@@ -647,8 +648,11 @@ fn the_trace_of_an_applications_frames_has_the_reports_passes_and_counters() {
     let trace: serde_json::Value = serde_json::from_str(&text).expect("the trace is JSON");
     let events = trace["traceEvents"].as_array().expect("traceEvents");
     let slices: Vec<&serde_json::Value> = events.iter().filter(|e| e["ph"] == "X").collect();
-    let measured: Vec<f64> = report.frames[0].render_passes.iter().filter_map(|p| p.counters?.gpu_ms).collect();
-    assert!(measured.len() >= 4, "three prepasses and the frame: {measured:?}");
+    let passes: Vec<f64> = report.frames[0].render_passes.iter().filter_map(|p| p.counters?.gpu_ms).collect();
+    assert!(passes.len() >= 4, "three prepasses and the frame: {passes:?}");
+    // Then the frame's work outside render passes (uploads, the read-back copy), also timed.
+    let work = report.frames[0].work.iter().filter_map(|w| w.counters?.gpu_ms);
+    let measured: Vec<f64> = passes.iter().copied().chain(work).collect();
     assert_eq!(slices.len(), measured.len());
     let mut end = 0.0;
     for (slice, ms) in slices.iter().zip(&measured) {
@@ -659,7 +663,9 @@ fn the_trace_of_an_applications_frames_has_the_reports_passes_and_counters() {
     }
     let counters: Vec<_> = report.frames[0].render_passes.iter().filter_map(|p| p.counters).collect();
     let samples: u64 = counters.iter().map(|c| c.samples_passed).sum();
-    let tiler: u64 = counters.iter().map(|c| c.tiler_bytes).sum();
+    let transfers: u64 =
+        report.frames[0].work.iter().filter_map(|w| w.counters).map(|c| c.bandwidth().tiler_bytes).sum();
+    let tiler: u64 = counters.iter().map(|c| c.tiler_bytes).sum::<u64>() + transfers;
     let counter = |name: &str, series: &str| {
         events.iter().find(|e| e["ph"] == "C" && e["name"] == name).map(|e| e["args"][series].clone())
     };

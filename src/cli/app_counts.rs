@@ -107,7 +107,9 @@ pub fn trace_frames(trace: &mut Trace, report: &FillrateReport) {
         let measured: Vec<_> = frame.render_passes.iter().filter_map(|p| Some((p, p.counters?))).collect();
         let fragments = measured.iter().map(|(_, c)| c.fragment_invocations).sum::<Option<u64>>();
         let samples = measured.iter().map(|(_, c)| c.samples_passed).sum();
-        let bytes = measured.iter().map(|(_, c)| c.bandwidth()).sum();
+        // The frame's bytes: its passes' and its transfers' (as the table's estimate counts them).
+        let transfers = frame.work.iter().filter_map(|w| w.counters).map(|c| c.bandwidth());
+        let bytes = measured.iter().map(|(_, c)| c.bandwidth()).chain(transfers).sum();
         trace.counters(cursor, frame.index, fragments, samples, bytes);
         for (pass, counters) in measured {
             let Some(ms) = counters.gpu_ms else { continue };

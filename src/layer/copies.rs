@@ -58,7 +58,12 @@ pub fn make(
     work: &[RecordedWork],
 ) -> Result<Option<SubmissionCopy>, String> {
     let slots = slots_of(passes, work);
-    if slots.is_empty() {
+    // Indirect dispatches' arguments, where the layer made the buffer readable (work_hooks.rs).
+    let mut indirect: Vec<(vk::Buffer, u64)> =
+        work.iter().flat_map(|w| w.indirect.iter().copied()).filter(|(b, _)| state.indirect_buffers.contains(b)).collect();
+    indirect.sort_unstable();
+    indirect.dedup();
+    if slots.is_empty() && indirect.is_empty() {
         return Ok(None);
     }
     let set_loader_data = device.info.set_loader_data.ok_or("the loader gave no vkSetDeviceLoaderData")?;
@@ -76,7 +81,8 @@ pub fn make(
             pool
         }
     };
-    let size = slots.len() as u64 * STRIDE;
+    let indirect_base = slots.len() as u64 * STRIDE;
+    let size = indirect_base + indirect.len() as u64 * INDIRECT_STRIDE;
     let info = vk::BufferCreateInfo::default().size(size).usage(vk::BufferUsageFlags::TRANSFER_DST);
     // SAFETY: plain object creation on the live device; every object is released on each
     // failure path below.
@@ -123,6 +129,11 @@ pub fn make(
             memory,
             mapped: mapped as usize,
             index: slots.iter().enumerate().map(|(i, (slot, _))| (*slot, i)).collect(),
+            indirect: indirect
+                .iter()
+                .enumerate()
+                .map(|(i, &at)| (at, (indirect_base + i as u64 * INDIRECT_STRIDE) as usize))
+                .collect(),
         };
         // The loader's dispatch pointer, which the layers below look the buffer up by.
         let result = set_loader_data(device.handle, cmd.as_raw() as usize as *mut std::ffi::c_void);
@@ -130,7 +141,7 @@ pub fn make(
             copy.release(&device.fns);
             return Err(failed("register its command buffer with the loader", result));
         }
-        if let Err(e) = record(device, &copy, &slots, buffer) {
+        if let Err(e) = record(device, &copy, (&slots, &indirect), buffer) {
             copy.release(&device.fns);
             return Err(failed("record its result copy", e));
         }
@@ -138,14 +149,19 @@ pub fn make(
     }
 }
 
-/// Records the copy of every slot, then makes the writes visible to the host.
+/// Bytes per copied indirect dispatch's arguments (three u32, padded).
+const INDIRECT_STRIDE: u64 = 16;
+
+/// Records the copy of every slot and of the indirect dispatches' arguments, then makes the
+/// writes visible to the host.
 ///
 /// # Safety
-/// `copy.command_buffer` is the layer's, freshly allocated; `buffer` holds every slot.
+/// `copy.command_buffer` is the layer's, freshly allocated; `buffer` holds every slot and
+/// argument; each argument buffer has TRANSFER_SRC usage.
 unsafe fn record(
     device: &DeviceData,
     copy: &SubmissionCopy,
-    slots: &[(Slot, usize)],
+    (slots, indirect): (&[(Slot, usize)], &[(vk::Buffer, u64)]),
     buffer: vk::Buffer,
 ) -> ash::prelude::VkResult<()> {
     let cmd = copy.command_buffer;
@@ -154,6 +170,18 @@ unsafe fn record(
     // command buffer submitted just before this one in the same batch.
     unsafe {
         device.fns.begin_command_buffer(cmd, &begin)?;
+        if !indirect.is_empty() {
+            // The arguments as the batch left them: after every write before this buffer.
+            let barrier = [vk::MemoryBarrier::default()
+                .src_access_mask(vk::AccessFlags::MEMORY_WRITE)
+                .dst_access_mask(vk::AccessFlags::TRANSFER_READ)];
+            let (src, dst) = (vk::PipelineStageFlags::ALL_COMMANDS, vk::PipelineStageFlags::TRANSFER);
+            device.fns.cmd_pipeline_barrier(cmd, src, dst, vk::DependencyFlags::empty(), &barrier, &[], &[]);
+        }
+        for (&(source, offset), &at) in indirect.iter().zip(indirect.iter().map(|k| &copy.indirect[k])) {
+            let region = vk::BufferCopy { src_offset: offset, dst_offset: at as u64, size: 12 };
+            device.fns.cmd_copy_buffer(cmd, source, buffer, &[region]);
+        }
         let flags =
             vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT | vk::QueryResultFlags::WITH_AVAILABILITY;
         for (i, (slot, _)) in slots.iter().enumerate() {
@@ -171,10 +199,12 @@ unsafe fn record(
         let barrier = [vk::MemoryBarrier::default()
             .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
             .dst_access_mask(vk::AccessFlags::HOST_READ)];
+        // ALL_COMMANDS too: later writes of the program's to the argument buffers wait for the
+        // layer's reads of them.
         device.fns.cmd_pipeline_barrier(
             cmd,
             vk::PipelineStageFlags::TRANSFER,
-            vk::PipelineStageFlags::HOST,
+            vk::PipelineStageFlags::HOST | vk::PipelineStageFlags::ALL_COMMANDS,
             vk::DependencyFlags::empty(),
             &barrier,
             &[],

@@ -167,11 +167,15 @@ pub unsafe fn without_name(names: *const *const c_char, count: u32) -> Option<Ve
 
 /// vkGetPhysicalDeviceFeatures2 (and its KHR alias): the feature struct is kept from the layers
 /// below and answered `frameBoundary = VK_TRUE` when they lack the extension.
-unsafe fn features2_with(physical: vk::PhysicalDevice, features: *mut vk::PhysicalDeviceFeatures2<'_>) {
+unsafe fn features2_with(
+    pick: fn(&InstanceData) -> Option<vk::PFN_vkGetPhysicalDeviceFeatures2>,
+    physical: vk::PhysicalDevice,
+    features: *mut vk::PhysicalDeviceFeatures2<'_>,
+) {
     let Some(instance) = guard(None, || state::instance_of(physical.as_raw())) else { return };
-    // Loaded when the instance was created (see enumerate_device_extension_properties); the
-    // KHR alias is the same function.
-    let next = instance.fns.fp_v1_1().get_physical_device_features2;
+    // Loaded when the instance was created (see enumerate_device_extension_properties), by the
+    // name the program called: the KHR alias on a Vulkan 1.0 instance.
+    let Some(next) = pick(&instance) else { return };
     let emulate = guard(false, || !below_has(&instance, physical));
     if !emulate || features.is_null() {
         // SAFETY: the application's arguments, passed on.
@@ -199,7 +203,7 @@ pub(super) unsafe extern "system" fn get_physical_device_features2(
     features: *mut vk::PhysicalDeviceFeatures2<'_>,
 ) {
     // SAFETY: the application's arguments.
-    unsafe { features2_with(physical, features) }
+    unsafe { features2_with(|i| Some(i.fns.fp_v1_1().get_physical_device_features2), physical, features) }
 }
 
 pub(super) unsafe extern "system" fn get_physical_device_features2_khr(
@@ -207,7 +211,7 @@ pub(super) unsafe extern "system" fn get_physical_device_features2_khr(
     features: *mut vk::PhysicalDeviceFeatures2<'_>,
 ) {
     // SAFETY: the application's arguments.
-    unsafe { features2_with(physical, features) }
+    unsafe { features2_with(|i| i.features2_khr, physical, features) }
 }
 
 #[cfg(test)]

@@ -266,7 +266,8 @@ pub fn read_completed(device: &DeviceData, state: &mut DeviceState, done: impl F
             .iter()
             .map(|w| {
                 let spoiled = pending.spoiled.as_deref();
-                read_work(device, w, pending.timestamp_bits, spoiled, &layer)
+                let indirect = |b, o| copy.as_ref().and_then(|c| c.workgroups(b, o));
+                read_work(device, w, pending.timestamp_bits, spoiled, &layer, &indirect)
             })
             .collect();
         if let Some(copy) = copy {
@@ -313,6 +314,7 @@ pub fn read_work(
     timestamp_bits: u32,
     spoiled: Option<&str>,
     layer: &dyn Fn(Slot, usize) -> Result<Vec<u64>, String>,
+    indirect: &dyn Fn(vk::Buffer, u64) -> Option<u64>,
 ) -> WorkRow {
     let read = || -> Result<WorkCounters, String> {
         if let Some(reason) = spoiled {
@@ -328,7 +330,11 @@ pub fn read_work(
         };
         Ok(WorkCounters {
             commands: work.commands as u64,
-            workgroups: work.workgroups,
+            workgroups: match work.workgroups {
+                // Read back from the submission's copy; unknown when any was not copied.
+                Some(recorded) => work.indirect.iter().try_fold(recorded, |sum, &(b, o)| Some(sum + indirect(b, o)?)),
+                None => None,
+            },
             compute_invocations,
             bytes_read: work.moved.read,
             bytes_written: work.moved.written,

@@ -224,7 +224,7 @@ impl Recording {
     pub fn dispatch(
         &mut self,
         api: &'static str,
-        groups: Option<u64>,
+        groups: super::work::Workgroups,
         create: &mut dyn FnMut(QueryKind) -> Option<vk::QueryPool>,
     ) -> Vec<QueryCmd> {
         let (cx, work) = self.work_context();
@@ -748,13 +748,13 @@ mod tests {
     fn labels_and_passes_close_a_dispatch_group_which_the_label_names() {
         let (mut rec, mut create) = recording();
         rec.push_label("blur".into());
-        assert_eq!(begins(&rec.dispatch("vkCmdDispatch", Some(2), &mut create)), 1);
+        assert_eq!(begins(&rec.dispatch("vkCmdDispatch", super::super::work::Workgroups::Recorded(2), &mut create)), 1);
         let (before, _) = rec.pop_label();
         assert_eq!(ends(&before), 1, "the label's end closes the group: {before:?}");
-        rec.dispatch("vkCmdDispatch", Some(2), &mut create);
+        rec.dispatch("vkCmdDispatch", super::super::work::Workgroups::Recorded(2), &mut create);
         let (before, _) = rec.begin_pass(desc(), &mut create);
         assert_eq!(ends(&before), 1, "a render pass closes it too: {before:?}");
-        assert!(rec.dispatch("vkCmdDispatch", Some(1), &mut create).is_empty(), "not inside a pass");
+        assert!(rec.dispatch("vkCmdDispatch", super::super::work::Workgroups::Recorded(1), &mut create).is_empty(), "not inside a pass");
         rec.end_pass();
         let labels: Vec<Option<&str>> = rec.work.list.iter().map(|w| w.label.as_deref()).collect();
         assert_eq!(labels, [Some("blur"), None]);

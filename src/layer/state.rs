@@ -177,6 +177,9 @@ pub struct InstanceData {
     pub handle: vk::Instance,
     pub gipa: vk::PFN_vkGetInstanceProcAddr,
     pub fns: ash::Instance,
+    /// The next layer's vkGetPhysicalDeviceFeatures2KHR (an instance extension's: not in
+    /// `fns`), loaded with them at vkCreateInstance.
+    pub features2_khr: Option<vk::PFN_vkGetPhysicalDeviceFeatures2>,
     pub application: String,
     pub config: Config,
 }
@@ -232,6 +235,9 @@ pub struct DeviceState {
     pub images: HashMap<vk::Image, super::transfer_bytes::ImageInfo>,
     /// Buffers' sizes (vkCmdFillBuffer with VK_WHOLE_SIZE).
     pub buffer_sizes: HashMap<vk::Buffer, u64>,
+    /// Indirect-argument buffers the layer made readable (TRANSFER_SRC), whose dispatch
+    /// arguments it copies at the end of a submission.
+    pub indirect_buffers: std::collections::HashSet<vk::Buffer>,
     /// Swapchains' format and extent, for their images.
     pub swapchains: HashMap<vk::SwapchainKHR, (vk::Format, vk::Extent2D)>,
     pub views: HashMap<vk::ImageView, (vk::Format, u32)>,

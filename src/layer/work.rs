@@ -52,8 +52,11 @@ pub struct RecordedWork {
     /// The innermost debug label open at the first command.
     pub label: Option<String>,
     pub commands: u32,
-    /// Workgroups as recorded; None once an indirect dispatch joined (its count is on the GPU).
+    /// Workgroups as recorded (the direct dispatches'); None for a transfer.
     pub workgroups: Option<u64>,
+    /// The indirect dispatches' argument locations (buffer, offset): their counts are read back
+    /// at the end of the submission (copies.rs).
+    pub indirect: Vec<(vk::Buffer, u64)>,
     pub moved: Moved,
     pub statistics: Option<Slot>,
     pub timestamps: Option<(Slot, Slot)>,
@@ -80,6 +83,13 @@ impl WorkState {
         self.open = None;
         self.compute.restart();
     }
+}
+
+/// A dispatch's workgroups: as recorded, or in a buffer (an indirect dispatch's arguments).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Workgroups {
+    Recorded(u64),
+    Indirect(vk::Buffer, u64),
 }
 
 /// What the command buffer's recording tells the work bookkeeping at each command.
@@ -111,13 +121,13 @@ impl Context<'_> {
 }
 
 impl WorkState {
-    /// A dispatch (`groups`: its workgroups, None for an indirect one): joins the open group
-    /// or opens one. Returns the commands to record before the application's call.
+    /// A dispatch: joins the open group or opens one. Returns the commands to record before the
+    /// application's call.
     pub fn dispatch(
         &mut self,
         mut cx: Context<'_>,
         api: &'static str,
-        groups: Option<u64>,
+        groups: Workgroups,
         create: &mut dyn FnMut(QueryKind) -> Option<vk::QueryPool>,
     ) -> Vec<QueryCmd> {
         let mut before = Vec::new();
@@ -127,7 +137,10 @@ impl WorkState {
         if let Some(index) = self.open {
             let group = &mut self.list[index];
             group.commands += 1;
-            group.workgroups = group.workgroups.zip(groups).map(|(a, b)| a + b);
+            match groups {
+                Workgroups::Recorded(n) => group.workgroups = group.workgroups.map(|w| w + n),
+                Workgroups::Indirect(buffer, offset) => group.indirect.push((buffer, offset)),
+            }
             return before;
         }
         let statistics = if cx.statistics {
@@ -147,7 +160,14 @@ impl WorkState {
             api,
             label: cx.label,
             commands: 1,
-            workgroups: groups,
+            workgroups: Some(match groups {
+                Workgroups::Recorded(n) => n,
+                Workgroups::Indirect(..) => 0,
+            }),
+            indirect: match groups {
+                Workgroups::Indirect(buffer, offset) => vec![(buffer, offset)],
+                Workgroups::Recorded(_) => Vec::new(),
+            },
             moved: Moved::default(),
             statistics,
             timestamps,
@@ -195,6 +215,7 @@ impl WorkState {
             label: cx.label,
             commands: 1,
             workgroups: None,
+            indirect: Vec::new(),
             moved,
             statistics: None,
             timestamps,
@@ -223,15 +244,16 @@ mod tests {
     #[test]
     fn consecutive_dispatches_are_one_group_until_something_closes_it() {
         let (mut work, mut stamps, mut create) = (WorkState::default(), SlotPool::new(QueryKind::Timestamp), create());
-        let before = work.dispatch(cx(&mut stamps), "vkCmdDispatch", Some(4), &mut create);
+        let before = work.dispatch(cx(&mut stamps), "vkCmdDispatch", Workgroups::Recorded(4), &mut create);
         assert!(matches!(before.last(), Some(QueryCmd::Begin { precise: false, .. })), "{before:?}");
         assert!(before.iter().any(|c| matches!(c, QueryCmd::Timestamp { .. })));
-        assert!(work.dispatch(cx(&mut stamps), "vkCmdDispatch", Some(6), &mut create).is_empty(), "joins");
+        assert!(work.dispatch(cx(&mut stamps), "vkCmdDispatch", Workgroups::Recorded(6), &mut create).is_empty(), "joins");
         let close = work.close();
         assert_eq!(close.len(), 2, "ends the statistics query and writes the end timestamp: {close:?}");
         assert!(work.close().is_empty(), "closed once");
-        work.dispatch(cx(&mut stamps), "vkCmdDispatchIndirect", None, &mut create);
-        work.dispatch(cx(&mut stamps), "vkCmdDispatch", Some(1), &mut create);
+        let args = vk::Buffer::from_raw(9);
+        work.dispatch(cx(&mut stamps), "vkCmdDispatchIndirect", Workgroups::Indirect(args, 12), &mut create);
+        work.dispatch(cx(&mut stamps), "vkCmdDispatch", Workgroups::Recorded(1), &mut create);
         let moved = Moved { read: 8, written: 8, note: None };
         let (before, after) = work.transfer(cx(&mut stamps), "vkCmdCopyBuffer", moved, &mut create);
         assert!(matches!(before[0], QueryCmd::End { .. }), "a transfer closes the group: {before:?}");
@@ -239,7 +261,8 @@ mod tests {
         let list = &work.list;
         assert_eq!(list.len(), 3);
         assert_eq!((list[0].commands, list[0].workgroups), (2, Some(10)));
-        assert_eq!((list[1].commands, list[1].workgroups), (2, None), "an indirect dispatch's count is unknown");
+        assert_eq!((list[1].commands, list[1].workgroups), (2, Some(1)), "the recorded part");
+        assert_eq!(list[1].indirect, [(args, 12)], "the indirect arguments, read back later");
         assert_eq!((list[2].kind, list[2].moved.read), (WorkKind::Transfer, 8));
         assert!(list[2].statistics.is_none() && list[2].timestamps.is_some());
     }
@@ -248,10 +271,10 @@ mod tests {
     fn skipped_work_is_not_recorded_and_no_timestamps_means_no_gpu_time() {
         let (mut work, mut create) = (WorkState::default(), create());
         let skip = Context { skip: true, statistics: true, timestamps: None, label: None };
-        assert!(work.dispatch(skip, "vkCmdDispatch", Some(1), &mut create).is_empty());
+        assert!(work.dispatch(skip, "vkCmdDispatch", Workgroups::Recorded(1), &mut create).is_empty());
         assert!(work.list.is_empty());
         let plain = Context { skip: false, statistics: false, timestamps: None, label: Some("blur".into()) };
-        assert!(work.dispatch(plain, "vkCmdDispatch", Some(1), &mut create).is_empty());
+        assert!(work.dispatch(plain, "vkCmdDispatch", Workgroups::Recorded(1), &mut create).is_empty());
         assert_eq!((work.list[0].statistics, work.list[0].timestamps), (None, None));
         assert_eq!(work.list[0].label.as_deref(), Some("blur"));
     }

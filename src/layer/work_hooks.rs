@@ -14,12 +14,12 @@ use super::objects::device_and;
 use super::slots::QueryCmd;
 use super::state::{guard, DeviceData, DeviceState};
 use super::transfer_bytes as bytes;
-use super::work::Moved;
+use super::work::{Moved, Workgroups};
 
 type Cmds = (Vec<QueryCmd>, Vec<QueryCmd>);
 
-/// A dispatch of `groups` workgroups (None: indirect) on `cmd`.
-fn dispatch(device: &DeviceData, st: &mut DeviceState, cmd: vk::CommandBuffer, api: &'static str, groups: Option<u64>) -> Cmds {
+/// A dispatch of `groups` workgroups on `cmd`.
+fn dispatch(device: &DeviceData, st: &mut DeviceState, cmd: vk::CommandBuffer, api: &'static str, groups: Workgroups) -> Cmds {
     if !measuring(st) {
         return Default::default();
     }
@@ -49,8 +49,8 @@ fn close(st: &mut DeviceState, cmd: vk::CommandBuffer) -> Cmds {
     (data.recording.close_work(), Vec::new())
 }
 
-fn groups(x: u32, y: u32, z: u32) -> Option<u64> {
-    Some(x as u64 * y as u64 * z as u64)
+fn groups(x: u32, y: u32, z: u32) -> Workgroups {
+    Workgroups::Recorded(x as u64 * y as u64 * z as u64)
 }
 
 pub(super) unsafe extern "system" fn cmd_dispatch(cmd: vk::CommandBuffer, x: u32, y: u32, z: u32) {
@@ -81,7 +81,7 @@ pub(super) unsafe extern "system" fn cmd_dispatch_indirect(cmd: vk::CommandBuffe
                 unsafe { next(cmd, buffer, offset) }
             }
         },
-        |d, st| dispatch(d, st, cmd, "vkCmdDispatchIndirect", None),
+        |d, st| dispatch(d, st, cmd, "vkCmdDispatchIndirect", Workgroups::Indirect(buffer, offset)),
     );
 }
 
@@ -760,13 +760,26 @@ pub(super) unsafe extern "system" fn create_buffer(
     let Some((data, next)) = device_and(device.as_raw(), |d| d.next.create_buffer) else {
         return vk::Result::ERROR_INITIALIZATION_FAILED;
     };
-    // SAFETY: the application's arguments, passed on.
-    let result = unsafe { next(device, info, allocator, buffer) };
+    // SAFETY: the application's valid create info.
+    let Some(app_info) = (unsafe { info.as_ref() }) else { return vk::Result::ERROR_INITIALIZATION_FAILED };
+    // An indirect-argument buffer may also be copied from, so the layer can read back what an
+    // indirect dispatch ran (copies.rs); nothing else of the buffer changes.
+    let indirect = data.active() && app_info.usage.contains(vk::BufferUsageFlags::INDIRECT_BUFFER);
+    let mut ours = *app_info;
+    if indirect {
+        ours.usage |= vk::BufferUsageFlags::TRANSFER_SRC;
+    }
+    // SAFETY: the application's create info, at most one usage bit added.
+    let result = unsafe { next(device, &ours, allocator, buffer) };
     if result == vk::Result::SUCCESS {
         guard((), || {
-            // SAFETY: a valid create info and the new handle (the call succeeded).
-            let (size, handle) = unsafe { ((*info).size, *buffer) };
-            data.state().buffer_sizes.insert(handle, size);
+            // SAFETY: the new handle (the call succeeded).
+            let handle = unsafe { *buffer };
+            let mut st = data.state();
+            st.buffer_sizes.insert(handle, app_info.size);
+            if indirect {
+                st.indirect_buffers.insert(handle);
+            }
         });
     }
     result
@@ -779,7 +792,9 @@ pub(super) unsafe extern "system" fn destroy_buffer(
 ) {
     let Some((data, next)) = device_and(device.as_raw(), |d| d.next.destroy_buffer) else { return };
     guard((), || {
-        data.state().buffer_sizes.remove(&buffer);
+        let mut st = data.state();
+        st.buffer_sizes.remove(&buffer);
+        st.indirect_buffers.remove(&buffer);
     });
     // SAFETY: the application's arguments, passed on.
     unsafe { next(device, buffer, allocator) }

@@ -42,7 +42,8 @@ pub fn expected_rows(options: WorkOptions) -> Vec<ExpectedRow> {
         ("transfer", "vkCmdFillBuffer", None, 1, None, None, 0, words),
         ("transfer", "vkCmdFillBuffer", None, 1, None, None, 0, words),
         ("compute", "vkCmdDispatch", Some("add"), 2, Some(4 * g), Some(4 * g * LOCAL), 0, 0),
-        ("compute", "vkCmdDispatchIndirect", None, 1, None, Some(g * LOCAL), 0, 0),
+        // Read back by the layer from the program's argument buffer.
+        ("compute", "vkCmdDispatchIndirect", None, 1, Some(g), Some(g * LOCAL), 0, 0),
         ("compute", "vkCmdDispatchBase", None, 1, Some(1), Some(LOCAL), 0, 0),
         ("transfer", "vkCmdCopyBuffer", None, 1, None, None, words, words),
         ("transfer", "vkCmdCopyBuffer", None, 1, None, None, words, words),
