@@ -19,13 +19,32 @@ use super::work::{Moved, Workgroups};
 type Cmds = (Vec<QueryCmd>, Vec<QueryCmd>);
 
 /// A dispatch of `groups` workgroups on `cmd`.
-fn dispatch(device: &DeviceData, st: &mut DeviceState, cmd: vk::CommandBuffer, api: &'static str, groups: Workgroups) -> Cmds {
-    if !measuring(st) {
+fn dispatch(
+    device: &DeviceData,
+    st: &mut DeviceState,
+    cmd: vk::CommandBuffer,
+    api: &'static str,
+    groups: Workgroups,
+) -> Cmds {
+    if !measuring(st) || in_secondary(st, cmd) {
         return Default::default();
     }
     let Some(data) = st.buffers.get_mut(&cmd) else { return Default::default() };
     (data.recording.dispatch(api, groups, &mut |kind| create_pool(device, kind)), Vec::new())
 }
+
+/// Work recorded in a secondary command buffer is not measured (its queries would have to run
+/// wherever the buffer is executed); it is named, once per recorded command.
+fn in_secondary(st: &mut DeviceState, cmd: vk::CommandBuffer) -> bool {
+    let secondary = st.buffers.get(&cmd).is_some_and(|b| b.recording.secondary);
+    if secondary {
+        st.count_not_measured(SECONDARY_WORK);
+    }
+    secondary
+}
+
+/// The reason [`in_secondary`] names.
+pub const SECONDARY_WORK: &str = "dispatch or transfer recorded in a secondary command buffer";
 
 /// A transfer on `cmd`; `moved` works out its bytes from the device's images and buffers.
 fn transfer(
@@ -35,7 +54,7 @@ fn transfer(
     api: &'static str,
     moved: impl FnOnce(&DeviceState) -> Moved,
 ) -> Cmds {
-    if !measuring(st) {
+    if !measuring(st) || in_secondary(st, cmd) {
         return Default::default();
     }
     let moved = moved(st);

@@ -1,8 +1,8 @@
 //! A headless Vulkan program of the tests' own that does only work outside render passes, for
 //! the fill-rate layer's compute and transfer rows: each submission (one command buffer, a
 //! fence, a host wait) fills two storage buffers, runs `add_to_words.comp` as three dispatch
-//! groups, copies the buffers out, clears an image, blits it into a larger one, copies that out
-//! and updates a small buffer. It checks what it computed on the host, every submission, and
+//! groups, copies the buffers out, clears an image, blits it into a larger one, copies that out,
+//! updates a small buffer and runs a secondary command buffer that fills one more. It checks what it computed on the host, every submission, and
 //! returns the expected rows (invocations, workgroups and bytes exact) for the layer's report.
 
 use std::ffi::CStr;
@@ -86,6 +86,9 @@ struct Objects {
     host_mapped: *const u8,
     small_buffer: vk::Buffer,
     images: [vk::Image; 2],
+    /// A secondary command buffer that fills `spare` (work the layer names but cannot measure).
+    secondary: vk::CommandBuffer,
+    spare: vk::Buffer,
 }
 
 /// A buffer of `size` bytes with `usage` in memory with `flags`, bound; the memory is returned
@@ -271,6 +274,13 @@ unsafe fn record(
     };
     device.cmd_copy_image_to_buffer(cmd, o.images[1], vk::ImageLayout::TRANSFER_SRC_OPTIMAL, o.host, &[region]);
     device.cmd_update_buffer(cmd, o.small_buffer, 0, &[7u8; UPDATE as usize]);
+    // A fill in a secondary command buffer: not a row (the layer names it as not measured).
+    let inheritance = vk::CommandBufferInheritanceInfo::default();
+    let begin = vk::CommandBufferBeginInfo::default().inheritance_info(&inheritance);
+    device.begin_command_buffer(o.secondary, &begin).expect("begin secondary");
+    device.cmd_fill_buffer(o.secondary, o.spare, 0, vk::WHOLE_SIZE, 1);
+    device.end_command_buffer(o.secondary).expect("end secondary");
+    device.cmd_execute_commands(cmd, &[o.secondary]);
     let host = (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ);
     barrier(device, cmd, transfer, host, &[]);
     device.end_command_buffer(cmd).expect("end");
@@ -378,6 +388,7 @@ pub unsafe fn run(name: &CStr, options: WorkOptions) {
             .buffer_info(&info);
         device.update_descriptor_sets(&[write], &[]);
     }
+    let (spare, spare_memory) = buffer(instance, physical, &device, 16, vk::BufferUsageFlags::TRANSFER_DST, local);
     let objects = Objects {
         pipeline,
         layout,
@@ -388,6 +399,8 @@ pub unsafe fn run(name: &CStr, options: WorkOptions) {
         host_mapped: host_mapped as *const u8,
         small_buffer,
         images: [small_image, large_image],
+        secondary: vk::CommandBuffer::null(),
+        spare,
     };
 
     let command_pool = device
@@ -404,6 +417,15 @@ pub unsafe fn run(name: &CStr, options: WorkOptions) {
         )
         .expect("command buffer")[0];
     let debug = ash::ext::debug_utils::Device::new(instance, &device);
+    let secondary = device
+        .allocate_command_buffers(
+            &vk::CommandBufferAllocateInfo::default()
+                .command_pool(command_pool)
+                .level(vk::CommandBufferLevel::SECONDARY)
+                .command_buffer_count(1),
+        )
+        .expect("secondary command buffer")[0];
+    let objects = Objects { secondary, ..objects };
     let fence = device.create_fence(&vk::FenceCreateInfo::default(), None).expect("fence");
     let (want_x, want_y) = expected_words(options);
     for submission in 0..options.submissions {
@@ -436,9 +458,15 @@ pub unsafe fn run(name: &CStr, options: WorkOptions) {
         device.destroy_image(image, None);
         device.free_memory(memory, None);
     }
-    for (buffer, memory) in
-        [(x, x_memory), (y, y_memory), (indirect, indirect_memory), (host, host_memory), (small_buffer, small_memory)]
-    {
+    let buffers = [
+        (x, x_memory),
+        (y, y_memory),
+        (indirect, indirect_memory),
+        (host, host_memory),
+        (small_buffer, small_memory),
+        (spare, spare_memory),
+    ];
+    for (buffer, memory) in buffers {
         device.destroy_buffer(buffer, None);
         device.free_memory(memory, None);
     }
