@@ -62,13 +62,26 @@ fn frame_on_submit_gives_a_frame_per_submission_and_a_budget_catches_a_compute_r
     let budget = dir.join("budget.json");
     let budget_arg = budget.to_string_lossy().into_owned();
 
-    let output = profile(&dir, "record", &["--record-budget", budget_arg.as_str()], 2);
+    let (chart, trace) = (dir.join("chart.svg"), dir.join("trace.json"));
+    let (chart_arg, trace_arg) = (chart.to_string_lossy().into_owned(), trace.to_string_lossy().into_owned());
+    let extra = ["--record-budget", budget_arg.as_str(), "--chart", chart_arg.as_str(), "--trace", trace_arg.as_str()];
+    let output = profile(&dir, "record", &extra, 2);
     let (_, stderr) = common::assert_success("record a budget", &output);
     assert!(stderr.contains("dispatch groups and transfers"), "{stderr}");
     let text = std::fs::read_to_string(dir.join("record.json")).expect("report");
     let report = FillrateReport::from_json(&text).expect("report");
     assert_eq!(report.frames_measured, SUBMISSIONS as u64, "one frame per submission");
-    assert!(report.frames.iter().all(|f| f.work.len() == expected_rows(options(2)).len()));
+    let rows = expected_rows(options(2));
+    assert!(report.frames.iter().all(|f| f.work.len() == rows.len()));
+    // A bar per work row in the chart, a GPU slice per work row of every frame in the trace.
+    let svg = std::fs::read_to_string(&chart).expect("chart");
+    assert!(svg.contains("compute #2") && svg.contains("vkCmdDispatchIndirect"), "{svg}");
+    let trace: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&trace).expect("trace")).expect("JSON");
+    let slices = trace["traceEvents"].as_array().expect("events").iter().filter(|e| e["ph"] == "X");
+    let compute = slices.filter(|e| e["cat"] == "compute").count();
+    let groups = rows.iter().filter(|r| r.0 == "compute").count();
+    assert_eq!(compute, groups * SUBMISSIONS as usize);
 
     let output = profile(&dir, "same", &["--budget", budget_arg.as_str()], 2);
     let (_, stderr) = common::assert_success("the same work within its budget", &output);

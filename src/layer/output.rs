@@ -573,6 +573,56 @@ mod tests {
     }
 
     #[test]
+    fn work_rows_follow_the_passes_in_the_table_and_csv_and_count_in_the_frames_bytes() {
+        use crate::layer::report::{WorkCounters, WorkRow};
+        use crate::layer::work_aggregate::WorkAggregator;
+        let mut report = report();
+        let counters = |invocations, read, written| WorkCounters {
+            commands: 2,
+            workgroups: Some(12),
+            compute_invocations: invocations,
+            bytes_read: read,
+            bytes_written: written,
+            gpu_ms: Some(0.5),
+        };
+        let row = |index, kind: &str, api: &str, c| WorkRow {
+            index,
+            kind: kind.into(),
+            api: api.into(),
+            label: Some("blur".into()),
+            counters: Some(c),
+            not_measured: None,
+            note: None,
+        };
+        report.frames[0].work = vec![
+            row(0, "compute", "vkCmdDispatch", counters(Some(384), 0, 0)),
+            WorkRow { note: Some("full-frame blit into a swapchain image (8x8)".into()), ..row(1, "transfer", "vkCmdBlitImage", counters(None, 256, 1024)) },
+        ];
+        let mut aggregate = WorkAggregator::default();
+        aggregate.add_frame(&report.frames[0].work);
+        report.work_aggregate = aggregate.rows();
+
+        let table = render(&report, OutputFormat::Table);
+        assert!(table.contains("compute and transfers outside render passes"), "{table}");
+        assert!(table.contains("#0 blur") && table.contains("384") && table.contains("vkCmdBlitImage"), "{table}");
+        assert!(table.contains("#1 blur: full-frame blit into a swapchain image (8x8)"), "{table}");
+        assert!(table.contains("transfers' 1280 B included"), "{table}");
+        assert!(table.contains("aggregate of the work outside render passes"), "{table}");
+        let csv = render(&report, OutputFormat::Csv);
+        let columns = CSV_HEADER.split(',').count();
+        let work: Vec<&str> = csv.lines().filter(|l| l.contains(",vkCmdDispatch,") || l.contains(",vkCmdBlitImage,")).collect();
+        // The frame's two rows, and mean, min and max of each.
+        assert_eq!(work.len(), 2 + 6, "{csv}");
+        for line in &work {
+            assert_eq!(line.split(',').count(), columns, "{line}");
+        }
+        assert!(work[0].starts_with("0,0,blur,vkCmdDispatch,") && work[0].ends_with(",compute,2,12,384,0,0"), "{}", work[0]);
+        assert!(work[1].ends_with(",1280,1280,,,transfer,2,12,,256,1024"), "{}", work[1]);
+        let json = render(&report, OutputFormat::Json);
+        assert_eq!(FillrateReport::from_json(&json), Ok(report));
+    }
+
+    #[test]
     fn atomic_write_leaves_only_the_target() {
         let dir = std::env::temp_dir().join(format!("nostencil-fillrate-{}", std::process::id()));
         std::fs::create_dir_all(&dir).expect("temp dir");
