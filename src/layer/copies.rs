@@ -59,7 +59,7 @@ pub fn make(
 ) -> Result<Option<SubmissionCopy>, String> {
     let slots = slots_of(passes, work);
     // Indirect dispatches' arguments, where the layer made the buffer readable (work_hooks.rs).
-    let mut indirect: Vec<(vk::Buffer, u64)> =
+    let mut indirect: Vec<Arguments> =
         work.iter().flat_map(|w| w.indirect.iter().copied()).filter(|(b, _)| state.indirect_buffers.contains(b)).collect();
     indirect.sort_unstable();
     indirect.dedup();
@@ -152,6 +152,9 @@ pub fn make(
 /// Bytes per copied indirect dispatch's arguments (three u32, padded).
 const INDIRECT_STRIDE: u64 = 16;
 
+/// Where an indirect dispatch's arguments are: the program's buffer and the offset in it.
+type Arguments = (vk::Buffer, u64);
+
 /// Records the copy of every slot and of the indirect dispatches' arguments, then makes the
 /// writes visible to the host.
 ///
@@ -161,7 +164,7 @@ const INDIRECT_STRIDE: u64 = 16;
 unsafe fn record(
     device: &DeviceData,
     copy: &SubmissionCopy,
-    (slots, indirect): (&[(Slot, usize)], &[(vk::Buffer, u64)]),
+    (slots, indirect): (&[(Slot, usize)], &[Arguments]),
     buffer: vk::Buffer,
 ) -> ash::prelude::VkResult<()> {
     let cmd = copy.command_buffer;
