@@ -1,7 +1,8 @@
 //! The bytes a transfer command reads and writes, from its regions and the images' formats:
-//! what a tiler pays in system-memory traffic for it. Worked out on the CPU at record time;
-//! texel sizes come from `texel_bytes` (4 bytes for a format it does not list, compressed
-//! formats included), and a multisampled image moves every sample.
+//! what a tiler pays in system-memory traffic for it. Worked out on the CPU at record time: a
+//! block-compressed format (BC, ETC2/EAC, ASTC: what mobile textures are) counts its blocks, a
+//! multi-planar format's plane its own texels, other formats `texel_bytes` (4 bytes for one it
+//! does not list); a multisampled image moves every sample.
 
 use ash::vk;
 
@@ -21,10 +22,74 @@ pub struct ImageInfo {
     pub swapchain: bool,
 }
 
+/// A block-compressed format's block: (width, height, bytes).
+fn block(format: vk::Format) -> Option<(u64, u64, u64)> {
+    // ASTC's block sizes in the order the formats are numbered (UNORM and SRGB pairs in core,
+    // SFLOAT alone in VK_EXT_texture_compression_astc_hdr).
+    const ASTC: [(u64, u64); 14] =
+        [(4, 4), (5, 4), (5, 5), (6, 5), (6, 6), (8, 5), (8, 6), (8, 8), (10, 5), (10, 6), (10, 8), (10, 10), (12, 10), (12, 12)];
+    let raw = format.as_raw();
+    let (bc1, bc7) = (vk::Format::BC1_RGB_UNORM_BLOCK.as_raw(), vk::Format::BC7_SRGB_BLOCK.as_raw());
+    let (etc, eac) = (vk::Format::ETC2_R8G8B8_UNORM_BLOCK.as_raw(), vk::Format::EAC_R11G11_SNORM_BLOCK.as_raw());
+    let (astc, astc_end) = (vk::Format::ASTC_4X4_UNORM_BLOCK.as_raw(), vk::Format::ASTC_12X12_SRGB_BLOCK.as_raw());
+    let hdr = vk::Format::ASTC_4X4_SFLOAT_BLOCK.as_raw();
+    match raw {
+        // BC1 and BC4 blocks are 8 bytes, the others 16.
+        _ if (bc1..=bc7).contains(&raw) => {
+            let small = raw <= vk::Format::BC1_RGBA_SRGB_BLOCK.as_raw()
+                || (vk::Format::BC4_UNORM_BLOCK.as_raw()..=vk::Format::BC4_SNORM_BLOCK.as_raw()).contains(&raw);
+            Some((4, 4, if small { 8 } else { 16 }))
+        }
+        // ETC2 RGB, RGB A1 and EAC R11: 8 bytes; ETC2 RGBA and EAC RG11: 16.
+        _ if (etc..=eac).contains(&raw) => {
+            let wide = (vk::Format::ETC2_R8G8B8A8_UNORM_BLOCK.as_raw()..=vk::Format::ETC2_R8G8B8A8_SRGB_BLOCK.as_raw())
+                .contains(&raw)
+                || raw >= vk::Format::EAC_R11G11_UNORM_BLOCK.as_raw();
+            Some((4, 4, if wide { 16 } else { 8 }))
+        }
+        _ if (astc..=astc_end).contains(&raw) => {
+            let (w, h) = ASTC[((raw - astc) / 2) as usize];
+            Some((w, h, 16))
+        }
+        _ if (hdr..hdr + 14).contains(&raw) => {
+            let (w, h) = ASTC[(raw - hdr) as usize];
+            Some((w, h, 16))
+        }
+        _ => None,
+    }
+}
+
+/// Bytes of one texel of a multi-planar format's plane `aspect` (8-bit 4:2:0 and 4:2:2 ones:
+/// the chroma plane of a 2-plane format holds two bytes a texel).
+fn plane_texel(format: vk::Format, aspect: vk::ImageAspectFlags) -> Option<u64> {
+    let two_plane = matches!(
+        format,
+        vk::Format::G8_B8R8_2PLANE_420_UNORM | vk::Format::G8_B8R8_2PLANE_422_UNORM | vk::Format::G8_B8R8_2PLANE_444_UNORM
+    );
+    let three_plane = matches!(
+        format,
+        vk::Format::G8_B8_R8_3PLANE_420_UNORM | vk::Format::G8_B8_R8_3PLANE_422_UNORM | vk::Format::G8_B8_R8_3PLANE_444_UNORM
+    );
+    let planes = vk::ImageAspectFlags::PLANE_0 | vk::ImageAspectFlags::PLANE_1 | vk::ImageAspectFlags::PLANE_2;
+    if !aspect.intersects(planes) || !(two_plane || three_plane) {
+        return None;
+    }
+    Some(if two_plane && aspect.contains(vk::ImageAspectFlags::PLANE_1) { 2 } else { 1 })
+}
+
 impl ImageInfo {
-    /// Bytes of one texel (all samples) of the aspects in `aspects`.
+    /// Bytes of one texel (all samples) of the aspects in `aspects` (of an uncompressed format).
     fn texel(&self, aspects: vk::ImageAspectFlags) -> u64 {
-        let (main, stencil) = texel_bytes(self.format);
+        if let Some(bytes) = plane_texel(self.format, aspects) {
+            return bytes;
+        }
+        let (main, stencil) = match self.format {
+            vk::Format::R32G32B32_SFLOAT | vk::Format::R32G32B32_UINT | vk::Format::R32G32B32_SINT => (12, 0),
+            vk::Format::R8G8B8_UNORM | vk::Format::R8G8B8_SRGB | vk::Format::B8G8R8_UNORM => (3, 0),
+            vk::Format::R16G16B16_SFLOAT | vk::Format::R16G16B16_UNORM => (6, 0),
+            vk::Format::R64_SFLOAT | vk::Format::R64_UINT => (8, 0),
+            _ => texel_bytes(self.format),
+        };
         let mut bytes = 0;
         if aspects.intersects(vk::ImageAspectFlags::COLOR | vk::ImageAspectFlags::DEPTH) {
             bytes += main;
@@ -33,6 +98,15 @@ impl ImageInfo {
             bytes += stencil;
         }
         bytes * self.samples.max(1) as u64
+    }
+
+    /// Bytes of a `w` x `h` x `d` region of the aspects in `aspects`: whole blocks of a
+    /// compressed format, texels otherwise.
+    fn region(&self, aspects: vk::ImageAspectFlags, (w, h, d): (u64, u64, u64)) -> u64 {
+        match block(self.format) {
+            Some((bw, bh, bytes)) => w.div_ceil(bw) * h.div_ceil(bh) * d * bytes,
+            None => self.texel(aspects) * w * h * d,
+        }
     }
 
     /// The extent of mip `level`.
@@ -50,13 +124,10 @@ fn layers(subresource: &vk::ImageSubresourceLayers, image: Option<&ImageInfo>) -
     }
 }
 
-fn volume(extent: vk::Extent3D) -> u64 {
-    extent.width as u64 * extent.height as u64 * extent.depth.max(1) as u64
-}
-
 /// Bytes of `extent` texels of `subresource` in `image` (0 for an image the layer never saw).
 fn region_bytes(image: Option<&ImageInfo>, subresource: &vk::ImageSubresourceLayers, extent: vk::Extent3D) -> u64 {
-    image.map_or(0, |i| i.texel(subresource.aspect_mask) * volume(extent) * layers(subresource, Some(i)))
+    let size = (extent.width as u64, extent.height as u64, extent.depth.max(1) as u64);
+    image.map_or(0, |i| i.region(subresource.aspect_mask, size) * layers(subresource, Some(i)))
 }
 
 /// Whether `extent` at `offset` of mip 0 covers the whole of a swapchain image.
@@ -152,8 +223,7 @@ pub fn clear_image(image: Option<&ImageInfo>, ranges: &[vk::ImageSubresourceRang
             range.layer_count
         };
         for level in range.base_mip_level..range.base_mip_level.saturating_add(levels) {
-            let (w, h, d) = i.mip(level);
-            written += i.texel(range.aspect_mask) * w * h * d * layers as u64;
+            written += i.region(range.aspect_mask, i.mip(level)) * layers as u64;
         }
     }
     Moved { read: 0, written, note: None }
@@ -219,6 +289,30 @@ mod tests {
         let both = vk::ImageSubresourceRange { aspect_mask: vk::ImageAspectFlags::DEPTH | vk::ImageAspectFlags::STENCIL, level_count: 1, ..all };
         assert_eq!(clear_image(Some(&depth), &[both]).written, 4 * 64);
         assert_eq!(fill_buffer(Some(103), 2, vk::WHOLE_SIZE).written, 100);
+        // Compressed: whole blocks (a 30x30 region is 8x8 blocks of BC1's 4x4, 3x3 of ASTC 12x12);
+        // a 2-plane 4:2:0 image's chroma plane holds two bytes a texel.
+        let region = |format, aspect, w, h| {
+            let image = image(format, 64, 1, false);
+            let subresource = vk::ImageSubresourceLayers { aspect_mask: aspect, ..layers(aspect) };
+            let copy = vk::BufferImageCopy {
+                image_subresource: subresource,
+                image_extent: vk::Extent3D { width: w, height: h, depth: 1 },
+                ..Default::default()
+            };
+            buffer_image(Some(&image), &[copy], true).written
+        };
+        let colour = vk::ImageAspectFlags::COLOR;
+        assert_eq!(region(vk::Format::BC1_RGB_UNORM_BLOCK, colour, 30, 30), 8 * 8 * 8);
+        assert_eq!(region(vk::Format::BC7_UNORM_BLOCK, colour, 30, 30), 8 * 8 * 16);
+        assert_eq!(region(vk::Format::ETC2_R8G8B8A8_SRGB_BLOCK, colour, 8, 8), 4 * 16);
+        assert_eq!(region(vk::Format::EAC_R11_UNORM_BLOCK, colour, 8, 8), 4 * 8);
+        assert_eq!(region(vk::Format::ASTC_12X12_SRGB_BLOCK, colour, 30, 30), 3 * 3 * 16);
+        assert_eq!(region(vk::Format::ASTC_6X5_UNORM_BLOCK, colour, 12, 10), 2 * 2 * 16);
+        assert_eq!(region(vk::Format::ASTC_8X8_SFLOAT_BLOCK, colour, 16, 16), 4 * 16);
+        let nv12 = vk::Format::G8_B8R8_2PLANE_420_UNORM;
+        assert_eq!(region(nv12, vk::ImageAspectFlags::PLANE_0, 64, 64), 64 * 64);
+        assert_eq!(region(nv12, vk::ImageAspectFlags::PLANE_1, 32, 32), 32 * 32 * 2);
+        assert_eq!(region(vk::Format::R32G32B32_SFLOAT, colour, 2, 2), 48);
         assert_eq!(copy_buffer(&[vk::BufferCopy { size: 12, ..Default::default() }]).read, 12);
         assert_eq!(copy_image(None, None, &[copy]), Moved::default(), "unknown images move nothing known");
     }
