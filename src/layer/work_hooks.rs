@@ -770,6 +770,23 @@ pub(super) unsafe extern "system" fn end_command_buffer(cmd: vk::CommandBuffer) 
     result
 }
 
+/// Whether a pNext chain holds a struct of type `ty`.
+///
+/// # Safety
+/// `p_next` is a valid pNext chain.
+unsafe fn chain_has(mut p_next: *const std::ffi::c_void, ty: vk::StructureType) -> bool {
+    while !p_next.is_null() {
+        let base = p_next as *const vk::BaseInStructure<'_>;
+        // SAFETY: every chain node starts like VkBaseInStructure.
+        let (node, next) = unsafe { ((*base).s_type, (*base).p_next.cast()) };
+        if node == ty {
+            return true;
+        }
+        p_next = next;
+    }
+    false
+}
+
 pub(super) unsafe extern "system" fn create_buffer(
     device: vk::Device,
     info: *const vk::BufferCreateInfo<'_>,
@@ -783,7 +800,10 @@ pub(super) unsafe extern "system" fn create_buffer(
     let Some(app_info) = (unsafe { info.as_ref() }) else { return vk::Result::ERROR_INITIALIZATION_FAILED };
     // An indirect-argument buffer may also be copied from, so the layer can read back what an
     // indirect dispatch ran (copies.rs); nothing else of the buffer changes.
-    let indirect = data.active() && app_info.usage.contains(vk::BufferUsageFlags::INDIRECT_BUFFER);
+    // (Not when VK_KHR_maintenance5's usage struct in the chain replaces `usage`.)
+    // SAFETY: the application's valid chain.
+    let usage2 = unsafe { chain_has(app_info.p_next, vk::StructureType::BUFFER_USAGE_FLAGS_2_CREATE_INFO_KHR) };
+    let indirect = data.active() && !usage2 && app_info.usage.contains(vk::BufferUsageFlags::INDIRECT_BUFFER);
     let mut ours = *app_info;
     if indirect {
         ours.usage |= vk::BufferUsageFlags::TRANSFER_SRC;
