@@ -81,10 +81,11 @@ pub enum Command {
     },
     /// Run any Vulkan program under the fill-rate layer (VK_LAYER_NOSTENCIL_fillrate) and report
     /// its render pass instances: draws, fragments, samples passed, overdraw, GPU time, tile
-    /// traffic, per frame and aggregated (`nostencil profile-app --frames 10 -- vkcube --c 10`).
+    /// traffic; and its dispatches and transfers: invocations, workgroups, bytes, GPU time; per
+    /// frame and aggregated (`nostencil profile-app --frames 10 -- vkcube --c 10`).
     #[command(after_help = crate::cli::profile_app::AFTER_HELP)]
     ProfileApp {
-        /// Measure the first N frames (presents), then end the program (SIGTERM, SIGKILL 5 s
+        /// Measure the first N frames (see --frame-on), then end the program (SIGTERM, SIGKILL 5 s
         /// later) and report. Default: every frame until the program exits (the report keeps the
         /// last 64, the aggregate covers all).
         #[arg(long, value_name = "N")]

@@ -31,13 +31,16 @@ finishes). The program's stdio is its own; it runs in its own process group.
 The report follows once the program ends: by itself; after --frames N measured frames or
 --seconds S (SIGTERM, then SIGKILL 5 s later; --keep-running leaves it running after its N
 frames); or on Ctrl-C. A program that crashes or is killed still gets a report of the frames
-measured before, marked partial, and profile-app then exits 1. A frame is the render pass
-instances submitted between two presents (a program that never presents has one, ended when its
-device is destroyed).
+measured before, marked partial, and profile-app then exits 1. A frame is the work submitted
+between two presents: render pass instances, and the dispatch groups and transfers outside them
+(a program that never presents has one, ended when its device is destroyed, unless it marks
+frames with VK_EXT_frame_boundary, which the layer offers, or --frame-on submit|wait cuts them
+per queue submission or per host wait).
 
-Not measured (and named in the report): render passes recorded in secondary command buffers,
-multiview render passes, and render passes begun while the program has an occlusion or
-statistics query of its own open. --chart draws `profile`'s bar chart per render pass; there is
+Not measured (and named in the report): render passes, dispatches and transfers recorded in
+secondary command buffers, multiview render passes, and render passes begun while the program
+has an occlusion or statistics query of its own open. --chart draws `profile`'s bar chart per
+render pass and work row; there is
 no heat map: `profile --heatmap` counts fragments with this crate's own shaders, which a foreign
 program does not have.";
 
