@@ -379,7 +379,6 @@ pub(super) unsafe extern "system" fn queue_submit(
     let Some((device, next)) = device_and(queue.as_raw(), |d| d.next.queue_submit) else {
         return vk::Result::ERROR_INITIALIZATION_FAILED;
     };
-
     // SAFETY: `submits` holds `count` valid submit infos, each with its buffer array.
     let infos = unsafe { app_array(submits, count) };
     let copies = note_submit(&device, queue, fence, || {
@@ -528,8 +527,8 @@ pub(super) unsafe extern "system" fn queue_present(
     let app_info = unsafe { info.as_ref() };
     // SAFETY: as above; the queue is the caller's for the call.
     let capturing = guard(None, || app_info.and_then(|i| unsafe { capture::begin(&device, queue, i) }));
-    // SAFETY: as above: the present's frame boundary (read below, after the call) is kept from
-    // a driver that lacks it and put back right after.
+    // SAFETY: as above. The present's frame boundary, read here, is kept from a driver that
+    // lacks it and put back right after the call.
     let boundary = app_info.is_some_and(|i| unsafe { frame_cuts::frame_end(i.p_next) });
     let emulated = device.info.frame_boundary_emulated;
     // SAFETY: the application's info, restored below.
