@@ -11,7 +11,7 @@ use super::lifecycle::{c_name, create_device, create_instance, destroy_device, d
 use super::loader::{NegotiateLayerInterface, LAYER_INTERFACE_VERSION, LAYER_NEGOTIATE_INTERFACE_STRUCT};
 use super::state::{self, guard};
 use super::config::Config;
-use super::{capture, commands as c, frame_boundary as fb, image_use as t, objects as o, queue as q, work_hooks as w};
+use super::{capture, commands as c, frame_boundary as fb, image_use as t, objects as o, queue as q, transfer_hooks as x, work_hooks as w, work_objects as wo};
 
 /// A hook as the loader's generic function pointer.
 macro_rules! void_fn {
@@ -115,41 +115,41 @@ fn hook(name: &str, config: &Config) -> vk::PFN_vkVoidFunction {
 fn work_hook(name: &str) -> vk::PFN_vkVoidFunction {
     match name {
         "vkEndCommandBuffer" => void_fn!(w::end_command_buffer, vk::PFN_vkEndCommandBuffer),
-        "vkCreateBuffer" => void_fn!(w::create_buffer, vk::PFN_vkCreateBuffer),
-        "vkDestroyBuffer" => void_fn!(w::destroy_buffer, vk::PFN_vkDestroyBuffer),
-        "vkCreateSwapchainKHR" => void_fn!(w::create_swapchain, vk::PFN_vkCreateSwapchainKHR),
-        "vkGetSwapchainImagesKHR" => void_fn!(w::get_swapchain_images, vk::PFN_vkGetSwapchainImagesKHR),
+        "vkCreateBuffer" => void_fn!(wo::create_buffer, vk::PFN_vkCreateBuffer),
+        "vkDestroyBuffer" => void_fn!(wo::destroy_buffer, vk::PFN_vkDestroyBuffer),
+        "vkCreateSwapchainKHR" => void_fn!(wo::create_swapchain, vk::PFN_vkCreateSwapchainKHR),
+        "vkGetSwapchainImagesKHR" => void_fn!(wo::get_swapchain_images, vk::PFN_vkGetSwapchainImagesKHR),
         "vkCmdDispatch" => void_fn!(w::cmd_dispatch, vk::PFN_vkCmdDispatch),
         "vkCmdDispatchIndirect" => void_fn!(w::cmd_dispatch_indirect, vk::PFN_vkCmdDispatchIndirect),
         "vkCmdDispatchBase" => void_fn!(w::cmd_dispatch_base, vk::PFN_vkCmdDispatchBase),
         "vkCmdDispatchBaseKHR" => void_fn!(w::cmd_dispatch_base_khr, vk::PFN_vkCmdDispatchBase),
-        "vkCmdCopyBuffer" => void_fn!(w::cmd_copy_buffer, vk::PFN_vkCmdCopyBuffer),
-        "vkCmdCopyBuffer2" => void_fn!(w::cmd_copy_buffer2, vk::PFN_vkCmdCopyBuffer2),
-        "vkCmdCopyBuffer2KHR" => void_fn!(w::cmd_copy_buffer2_khr, vk::PFN_vkCmdCopyBuffer2),
-        "vkCmdFillBuffer" => void_fn!(w::cmd_fill_buffer, vk::PFN_vkCmdFillBuffer),
-        "vkCmdUpdateBuffer" => void_fn!(w::cmd_update_buffer, vk::PFN_vkCmdUpdateBuffer),
-        "vkCmdCopyImage" => void_fn!(w::cmd_copy_image, vk::PFN_vkCmdCopyImage),
-        "vkCmdCopyImageToBuffer" => void_fn!(w::cmd_copy_image_to_buffer, vk::PFN_vkCmdCopyImageToBuffer),
-        "vkCmdBlitImage" => void_fn!(w::cmd_blit_image, vk::PFN_vkCmdBlitImage),
-        "vkCmdResolveImage" => void_fn!(w::cmd_resolve_image, vk::PFN_vkCmdResolveImage),
-        "vkCmdClearColorImage" => void_fn!(w::cmd_clear_color_image, vk::PFN_vkCmdClearColorImage),
+        "vkCmdCopyBuffer" => void_fn!(x::cmd_copy_buffer, vk::PFN_vkCmdCopyBuffer),
+        "vkCmdCopyBuffer2" => void_fn!(x::cmd_copy_buffer2, vk::PFN_vkCmdCopyBuffer2),
+        "vkCmdCopyBuffer2KHR" => void_fn!(x::cmd_copy_buffer2_khr, vk::PFN_vkCmdCopyBuffer2),
+        "vkCmdFillBuffer" => void_fn!(x::cmd_fill_buffer, vk::PFN_vkCmdFillBuffer),
+        "vkCmdUpdateBuffer" => void_fn!(x::cmd_update_buffer, vk::PFN_vkCmdUpdateBuffer),
+        "vkCmdCopyImage" => void_fn!(x::cmd_copy_image, vk::PFN_vkCmdCopyImage),
+        "vkCmdCopyImageToBuffer" => void_fn!(x::cmd_copy_image_to_buffer, vk::PFN_vkCmdCopyImageToBuffer),
+        "vkCmdBlitImage" => void_fn!(x::cmd_blit_image, vk::PFN_vkCmdBlitImage),
+        "vkCmdResolveImage" => void_fn!(x::cmd_resolve_image, vk::PFN_vkCmdResolveImage),
+        "vkCmdClearColorImage" => void_fn!(x::cmd_clear_color_image, vk::PFN_vkCmdClearColorImage),
         "vkCmdClearDepthStencilImage" => {
-            void_fn!(w::cmd_clear_depth_stencil_image, vk::PFN_vkCmdClearDepthStencilImage)
+            void_fn!(x::cmd_clear_depth_stencil_image, vk::PFN_vkCmdClearDepthStencilImage)
         }
-        "vkCmdCopyBufferToImage" => void_fn!(w::cmd_copy_buffer_to_image, vk::PFN_vkCmdCopyBufferToImage),
-        "vkCmdCopyImage2" => void_fn!(w::cmd_copy_image2, vk::PFN_vkCmdCopyImage2),
-        "vkCmdCopyImage2KHR" => void_fn!(w::cmd_copy_image2_khr, vk::PFN_vkCmdCopyImage2),
-        "vkCmdCopyImageToBuffer2" => void_fn!(w::cmd_copy_image_to_buffer2, vk::PFN_vkCmdCopyImageToBuffer2),
+        "vkCmdCopyBufferToImage" => void_fn!(x::cmd_copy_buffer_to_image, vk::PFN_vkCmdCopyBufferToImage),
+        "vkCmdCopyImage2" => void_fn!(x::cmd_copy_image2, vk::PFN_vkCmdCopyImage2),
+        "vkCmdCopyImage2KHR" => void_fn!(x::cmd_copy_image2_khr, vk::PFN_vkCmdCopyImage2),
+        "vkCmdCopyImageToBuffer2" => void_fn!(x::cmd_copy_image_to_buffer2, vk::PFN_vkCmdCopyImageToBuffer2),
         "vkCmdCopyImageToBuffer2KHR" => {
-            void_fn!(w::cmd_copy_image_to_buffer2_khr, vk::PFN_vkCmdCopyImageToBuffer2)
+            void_fn!(x::cmd_copy_image_to_buffer2_khr, vk::PFN_vkCmdCopyImageToBuffer2)
         }
-        "vkCmdBlitImage2" => void_fn!(w::cmd_blit_image2, vk::PFN_vkCmdBlitImage2),
-        "vkCmdBlitImage2KHR" => void_fn!(w::cmd_blit_image2_khr, vk::PFN_vkCmdBlitImage2),
-        "vkCmdResolveImage2" => void_fn!(w::cmd_resolve_image2, vk::PFN_vkCmdResolveImage2),
-        "vkCmdResolveImage2KHR" => void_fn!(w::cmd_resolve_image2_khr, vk::PFN_vkCmdResolveImage2),
-        "vkCmdCopyBufferToImage2" => void_fn!(w::cmd_copy_buffer_to_image2, vk::PFN_vkCmdCopyBufferToImage2),
+        "vkCmdBlitImage2" => void_fn!(x::cmd_blit_image2, vk::PFN_vkCmdBlitImage2),
+        "vkCmdBlitImage2KHR" => void_fn!(x::cmd_blit_image2_khr, vk::PFN_vkCmdBlitImage2),
+        "vkCmdResolveImage2" => void_fn!(x::cmd_resolve_image2, vk::PFN_vkCmdResolveImage2),
+        "vkCmdResolveImage2KHR" => void_fn!(x::cmd_resolve_image2_khr, vk::PFN_vkCmdResolveImage2),
+        "vkCmdCopyBufferToImage2" => void_fn!(x::cmd_copy_buffer_to_image2, vk::PFN_vkCmdCopyBufferToImage2),
         "vkCmdCopyBufferToImage2KHR" => {
-            void_fn!(w::cmd_copy_buffer_to_image2_khr, vk::PFN_vkCmdCopyBufferToImage2)
+            void_fn!(x::cmd_copy_buffer_to_image2_khr, vk::PFN_vkCmdCopyBufferToImage2)
         }
         "vkCmdPipelineBarrier" => void_fn!(w::cmd_pipeline_barrier, vk::PFN_vkCmdPipelineBarrier),
         "vkCmdPipelineBarrier2" => void_fn!(w::cmd_pipeline_barrier2, vk::PFN_vkCmdPipelineBarrier2),

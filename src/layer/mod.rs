@@ -33,6 +33,8 @@ pub mod tiler_check;
 pub mod tiler_pass;
 pub mod tiler_state;
 pub mod transfer_bytes;
+pub mod transfer_hooks;
 pub mod work;
 pub mod work_aggregate;
 pub mod work_hooks;
+pub mod work_objects;
