@@ -199,6 +199,18 @@ unsafe fn record(
     device.begin_command_buffer(cmd, &vk::CommandBufferBeginInfo::default()).expect("begin");
     // What the previous submission did is complete (its fence was waited for); the barrier
     // still orders this one's transfers after it for the synchronisation checks.
+    // Graphics dynamic state set and no graphics pipeline ever bound: lavapipe flushes graphics
+    // state at vkCmdBeginQuery (recording.rs), which the layer's query before the first dispatch
+    // must survive.
+    let viewport = vk::Viewport { x: 0.0, y: 0.0, width: 8.0, height: 8.0, min_depth: 0.0, max_depth: 1.0 };
+    device.cmd_set_viewport(cmd, 0, &[viewport]);
+    device.cmd_set_scissor(
+        cmd,
+        0,
+        &[vk::Rect2D { offset: vk::Offset2D::default(), extent: vk::Extent2D { width: 8, height: 8 } }],
+    );
+    device.cmd_set_blend_constants(cmd, &[0.0; 4]);
+    device.cmd_set_stencil_reference(cmd, vk::StencilFaceFlags::FRONT_AND_BACK, 1);
     barrier(device, cmd, transfer, transfer, &[]);
     device.cmd_fill_buffer(cmd, o.storage[0], 0, vk::WHOLE_SIZE, 0);
     device.cmd_fill_buffer(cmd, o.storage[1], 0, bytes, 0);
