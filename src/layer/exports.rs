@@ -224,6 +224,14 @@ fn instance_hook(name: &str) -> vk::PFN_vkVoidFunction {
         "vkCreateInstance" => void_fn!(create_instance, vk::PFN_vkCreateInstance),
         "vkDestroyInstance" => void_fn!(destroy_instance, vk::PFN_vkDestroyInstance),
         "vkCreateDevice" => void_fn!(create_device, vk::PFN_vkCreateDevice),
+        _ => None,
+    }
+}
+
+/// The hooks that offer VK_EXT_frame_boundary (frame_boundary.rs), handed out for the functions
+/// the chain below has.
+fn boundary_hook(name: &str) -> vk::PFN_vkVoidFunction {
+    match name {
         "vkEnumerateDeviceExtensionProperties" => {
             void_fn!(fb::enumerate_device_extension_properties, vk::PFN_vkEnumerateDeviceExtensionProperties)
         }
@@ -302,6 +310,9 @@ unsafe extern "system" fn get_instance_proc_addr(
         let data = state::instance_of(instance.as_raw())?;
         // SAFETY: the next layer's GIPA with its instance and the caller's name.
         let next = unsafe { (data.gipa)(instance, name) };
+        if let Some(hook) = next.and(boundary_hook(name_str)) {
+            return Some(hook);
+        }
         if next.is_some() && data.config.out.is_some() {
             if let Some(hook) = hook(name_str, &data.config) {
                 return Some(hook);

@@ -203,7 +203,7 @@ pub(super) unsafe extern "system" fn get_physical_device_features2(
     features: *mut vk::PhysicalDeviceFeatures2<'_>,
 ) {
     // SAFETY: the application's arguments.
-    unsafe { features2_with(|i| Some(i.fns.fp_v1_1().get_physical_device_features2), physical, features) }
+    unsafe { features2_with(|i| i.features2[0], physical, features) }
 }
 
 pub(super) unsafe extern "system" fn get_physical_device_features2_khr(
@@ -211,7 +211,7 @@ pub(super) unsafe extern "system" fn get_physical_device_features2_khr(
     features: *mut vk::PhysicalDeviceFeatures2<'_>,
 ) {
     // SAFETY: the application's arguments.
-    unsafe { features2_with(|i| i.features2_khr, physical, features) }
+    unsafe { features2_with(|i| i.features2[1], physical, features) }
 }
 
 #[cfg(test)]

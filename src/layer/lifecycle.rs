@@ -82,14 +82,16 @@ pub(super) unsafe extern "system" fn create_instance(
         // SAFETY: the next layer's GIPA with the instance it created.
         let fns =
             unsafe { ash::Instance::load_with(|name| std::mem::transmute(next_gipa(handle, name.as_ptr())), handle) };
-        // SAFETY: as above; the function has this type, or is null (None: both one pointer).
-        let features2_khr = unsafe {
-            std::mem::transmute::<vk::PFN_vkVoidFunction, Option<vk::PFN_vkGetPhysicalDeviceFeatures2>>(next_gipa(
-                handle,
-                c"vkGetPhysicalDeviceFeatures2KHR".as_ptr(),
-            ))
-        };
-        state::add_instance(InstanceData { handle, gipa: next_gipa, fns, features2_khr, application, config });
+        let features2 = [c"vkGetPhysicalDeviceFeatures2", c"vkGetPhysicalDeviceFeatures2KHR"].map(|name| {
+            // SAFETY: as above; the function has this type, or is null (None: both one pointer).
+            unsafe {
+                std::mem::transmute::<vk::PFN_vkVoidFunction, Option<vk::PFN_vkGetPhysicalDeviceFeatures2>>(next_gipa(
+                    handle,
+                    name.as_ptr(),
+                ))
+            }
+        });
+        state::add_instance(InstanceData { handle, gipa: next_gipa, fns, features2, application, config });
     });
     result
 }

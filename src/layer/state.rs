@@ -177,9 +177,9 @@ pub struct InstanceData {
     pub handle: vk::Instance,
     pub gipa: vk::PFN_vkGetInstanceProcAddr,
     pub fns: ash::Instance,
-    /// The next layer's vkGetPhysicalDeviceFeatures2KHR (an instance extension's: not in
-    /// `fns`), loaded with them at vkCreateInstance.
-    pub features2_khr: Option<vk::PFN_vkGetPhysicalDeviceFeatures2>,
+    /// The next layer's vkGetPhysicalDeviceFeatures2 and its KHR alias, loaded with `fns` at
+    /// vkCreateInstance (None where the instance has none: a Vulkan 1.0 instance, no extension).
+    pub features2: [Option<vk::PFN_vkGetPhysicalDeviceFeatures2>; 2],
     pub application: String,
     pub config: Config,
 }
