@@ -83,6 +83,12 @@ fn frame_on_submit_gives_a_frame_per_submission_and_a_budget_catches_a_compute_r
     let groups = rows.iter().filter(|r| r.0 == "compute").count();
     assert_eq!(compute, groups * SUBMISSIONS as usize);
 
+    // --frames counts these frames too: two of the three submissions are measured.
+    let output = profile(&dir, "two", &["--frames", "2"], 2);
+    common::assert_success("--frames 2 --frame-on submit", &output);
+    let text = std::fs::read_to_string(dir.join("two.json")).expect("report");
+    assert_eq!(FillrateReport::from_json(&text).expect("report").frames_measured, 2);
+
     let output = profile(&dir, "same", &["--budget", budget_arg.as_str()], 2);
     let (_, stderr) = common::assert_success("the same work within its budget", &output);
     assert!(stderr.contains("within budget"), "{stderr}");
