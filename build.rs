@@ -9,8 +9,11 @@ use std::path::{Path, PathBuf};
 #[allow(dead_code)]
 mod layer_manifest;
 
-const STAGES: [(&str, shaderc::ShaderKind); 2] =
-    [("vert", shaderc::ShaderKind::Vertex), ("frag", shaderc::ShaderKind::Fragment)];
+const STAGES: [(&str, shaderc::ShaderKind); 3] = [
+    ("vert", shaderc::ShaderKind::Vertex),
+    ("frag", shaderc::ShaderKind::Fragment),
+    ("comp", shaderc::ShaderKind::Compute),
+];
 
 fn main() {
     let manifest = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("cargo sets this"));

@@ -498,8 +498,9 @@ fn per_draw_counts_sum_to_each_render_pass_exactly() {
 /// `profile-app --tiler-check` on programs that do it right: `nostencil render`, every
 /// technique at 1 and 4 samples, gets no flag and writes the very PNG it writes without the
 /// layer (the pattern fills only what the frame never reads: the dropped depth, DONT_CARE loads
-/// that the frame overwrites whole); nor `nostencil view`, whose presented image (its
-/// screenshot) is the same with the check. (vkcube: the next test.)
+/// that the frame overwrites whole); nor does `nostencil view`, but for the blit of its frame
+/// into the swapchain image (a full frame of system-memory traffic on a tiler), and its
+/// presented image (its screenshot) is the same with the check. (vkcube: the next test.)
 #[test]
 fn the_tiler_check_flags_nothing_and_changes_no_pixel_of_programs_that_do_it_right() {
     let dir = common::scratch_dir("profile_app_tiler_check");
@@ -544,9 +545,30 @@ fn the_tiler_check_flags_nothing_and_changes_no_pixel_of_programs_that_do_it_rig
     let checked_args: Vec<String> = view(&checked_shot).collect();
     let program: Vec<&str> =
         [env!("CARGO_BIN_EXE_nostencil")].into_iter().chain(checked_args.iter().map(String::as_str)).collect();
-    let (report, _) = profile_app(&dir, "view", &["--tiler-check"], &program, &[], Some(&x));
-    let check = report.tiler_check.expect("view's tiler check");
-    assert!(check.flags.is_empty(), "view: {:#?}", check.flags);
+    // view renders offscreen and blits the frame into the swapchain image: that blit is a work
+    // row with the frame's bytes, and the check's one finding (exit 1).
+    let result = dir.join("view.json");
+    let result_arg = result.to_string_lossy().into_owned();
+    let args =
+        [&["profile-app", "--format", "json", "--out", result_arg.as_str(), "--tiler-check", "--"], &program[..]]
+            .concat();
+    let output = run_nostencil(&dir, "view", &args, &[], Some(&x));
+    let stderr = common::assert_failure("view under --tiler-check", &output);
+    assert!(stderr.contains("tiler-check flag(s) for") && stderr.contains("full_frame_copy_to_swapchain"), "{stderr}");
+    let report = read_report(&result);
+    let check = report.tiler_check.as_ref().expect("view's tiler check");
+    let kinds: Vec<&str> = check.flags.iter().map(|f| f.kind.as_str()).collect();
+    assert!(
+        !kinds.is_empty() && kinds.iter().all(|k| *k == "full_frame_copy_to_swapchain"),
+        "view: {:#?}",
+        check.flags
+    );
+    for frame in &report.frames {
+        let blits: Vec<_> = frame.work.iter().filter(|w| w.api == "vkCmdBlitImage" && w.note.is_some()).collect();
+        assert_eq!(blits.len(), 1, "frame {}: one blit into the swapchain image", frame.index);
+        let c = blits[0].counters.expect("measured");
+        assert_eq!((c.bytes_read, c.bytes_written), (64 * 64 * 4, 64 * 64 * 4), "frame {}", frame.index);
+    }
     let bytes = |p: &PathBuf| std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
     assert!(bytes(&plain_shot) == bytes(&checked_shot), "the tiler check changed view's presented image");
 }
@@ -610,8 +632,9 @@ fn vkcube_gets_no_tiler_flag_and_presents_the_same_image_with_the_check() {
     }
 }
 
-/// `profile-app --trace`: the layer's measured passes, one GPU slice each with the report's GPU
-/// time, laid end to end; the frame's counters (samples, bytes) equal the report's.
+/// `profile-app --trace`: the layer's measured passes, then the frame's work rows, one GPU slice
+/// each with the report's GPU time, laid end to end; the frame's counters (samples, bytes, a
+/// transfer's counted) equal the report's.
 #[test]
 fn the_trace_of_an_applications_frames_has_the_reports_passes_and_counters() {
     let dir = common::scratch_dir("profile_app_trace");
@@ -625,8 +648,11 @@ fn the_trace_of_an_applications_frames_has_the_reports_passes_and_counters() {
     let trace: serde_json::Value = serde_json::from_str(&text).expect("the trace is JSON");
     let events = trace["traceEvents"].as_array().expect("traceEvents");
     let slices: Vec<&serde_json::Value> = events.iter().filter(|e| e["ph"] == "X").collect();
-    let measured: Vec<f64> = report.frames[0].render_passes.iter().filter_map(|p| p.counters?.gpu_ms).collect();
-    assert!(measured.len() >= 4, "three prepasses and the frame: {measured:?}");
+    let passes: Vec<f64> = report.frames[0].render_passes.iter().filter_map(|p| p.counters?.gpu_ms).collect();
+    assert!(passes.len() >= 4, "three prepasses and the frame: {passes:?}");
+    // Then the frame's work outside render passes (uploads, the read-back copy), also timed.
+    let work = report.frames[0].work.iter().filter_map(|w| w.counters?.gpu_ms);
+    let measured: Vec<f64> = passes.iter().copied().chain(work).collect();
     assert_eq!(slices.len(), measured.len());
     let mut end = 0.0;
     for (slice, ms) in slices.iter().zip(&measured) {
@@ -637,7 +663,9 @@ fn the_trace_of_an_applications_frames_has_the_reports_passes_and_counters() {
     }
     let counters: Vec<_> = report.frames[0].render_passes.iter().filter_map(|p| p.counters).collect();
     let samples: u64 = counters.iter().map(|c| c.samples_passed).sum();
-    let tiler: u64 = counters.iter().map(|c| c.tiler_bytes).sum();
+    let transfers: u64 =
+        report.frames[0].work.iter().filter_map(|w| w.counters).map(|c| c.bandwidth().tiler_bytes).sum();
+    let tiler: u64 = counters.iter().map(|c| c.tiler_bytes).sum::<u64>() + transfers;
     let counter = |name: &str, series: &str| {
         events.iter().find(|e| e["ph"] == "C" && e["name"] == name).map(|e| e["args"][series].clone())
     };

@@ -19,8 +19,9 @@ packages=(
   xvfb xauth xdotool
   libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon0 libxkbcommon-x11-0
   # tests/real_programs.rs: programs nobody here wrote, run under the fill-rate layer
-  # (vkd3d-gears, vkd3d-triangle: Direct3D 12 through vkd3d; vkcube comes with vulkan-tools).
-  vkd3d-demos
+  # (vkd3d-gears, vkd3d-triangle: Direct3D 12 through vkd3d; vkcube comes with vulkan-tools;
+  # mpv with Vulkan output and ffmpeg's libplacebo filter: compute and transfers).
+  vkd3d-demos mpv ffmpeg
 )
 
 as_root=()

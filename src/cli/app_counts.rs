@@ -4,7 +4,7 @@
 
 use crate::frame::bandwidth::Bandwidth;
 use crate::layer::report::{AggregateRow, FillrateReport};
-use crate::profile::budget::PassBudget;
+use crate::profile::budget::{PassBudget, WorkBudget};
 use crate::profile::chart::ChartRow;
 use crate::profile::trace::{Trace, GPU_TID};
 use serde_json::json;
@@ -55,11 +55,45 @@ pub fn worst_per_position(report: &FillrateReport) -> Vec<PositionCounts> {
         .collect()
 }
 
+/// "compute #0", "transfer #2 'upload'": what a budget matches a work row by.
+pub fn work_name(kind: &str, position: u32, label: Option<&str>) -> String {
+    match label {
+        Some(label) => format!("{kind} #{position} '{label}'"),
+        None => format!("{kind} #{position}"),
+    }
+}
+
+/// Per work row (position, kind, label), the most of each figure over the measured frames.
+pub fn worst_work(report: &FillrateReport) -> Vec<WorkBudget> {
+    let mut worst: Vec<WorkBudget> = Vec::new();
+    for w in &report.work_aggregate {
+        let name = work_name(&w.kind, w.position, w.label.as_deref());
+        let bytes = w.max.bytes_read + w.max.bytes_written;
+        match worst.iter_mut().find(|b| b.name == name) {
+            Some(b) => {
+                b.workgroups = b.workgroups.max(w.max.workgroups);
+                b.compute_invocations = b.compute_invocations.max(w.max.compute_invocations);
+                b.bytes = b.bytes.max(bytes);
+            }
+            None => worst.push(WorkBudget {
+                name,
+                workgroups: w.max.workgroups,
+                compute_invocations: w.max.compute_invocations,
+                bytes,
+            }),
+        }
+    }
+    worst
+}
+
 /// The most bytes one kept frame moved, on a tiler and on an immediate-mode GPU (each its own
-/// worst frame): what a budget holds per frame.
+/// worst frame): what a budget holds per frame. A transfer's bytes count on both.
 pub fn worst_frame_bandwidth(report: &FillrateReport) -> Bandwidth {
-    let frames = report.frames.iter().map(|f| f.render_passes.iter().filter_map(|p| p.counters).map(|c| c.bandwidth()));
-    frames.map(|passes| passes.sum::<Bandwidth>()).fold(Bandwidth::default(), |worst, frame| Bandwidth {
+    let frames = report.frames.iter().map(|f| {
+        let passes = f.render_passes.iter().filter_map(|p| p.counters).map(|c| c.bandwidth());
+        passes.chain(f.work.iter().filter_map(|w| w.counters).map(|c| c.bandwidth())).collect::<Vec<_>>()
+    });
+    frames.map(|parts| parts.into_iter().sum::<Bandwidth>()).fold(Bandwidth::default(), |worst, frame| Bandwidth {
         tiler_bytes: worst.tiler_bytes.max(frame.tiler_bytes),
         immediate_bytes: worst.immediate_bytes.max(frame.immediate_bytes),
     })
@@ -73,7 +107,9 @@ pub fn trace_frames(trace: &mut Trace, report: &FillrateReport) {
         let measured: Vec<_> = frame.render_passes.iter().filter_map(|p| Some((p, p.counters?))).collect();
         let fragments = measured.iter().map(|(_, c)| c.fragment_invocations).sum::<Option<u64>>();
         let samples = measured.iter().map(|(_, c)| c.samples_passed).sum();
-        let bytes = measured.iter().map(|(_, c)| c.bandwidth()).sum();
+        // The frame's bytes: its passes' and its transfers' (as the table's estimate counts them).
+        let transfers = frame.work.iter().filter_map(|w| w.counters).map(|c| c.bandwidth());
+        let bytes = measured.iter().map(|(_, c)| c.bandwidth()).chain(transfers).sum();
         trace.counters(cursor, frame.index, fragments, samples, bytes);
         for (pass, counters) in measured {
             let Some(ms) = counters.gpu_ms else { continue };
@@ -93,6 +129,24 @@ pub fn trace_frames(trace: &mut Trace, report: &FillrateReport) {
             trace.slice(GPU_TID, &name, "gpu", cursor, ms * 1e3, args);
             cursor += ms * 1e3;
         }
+        // Then the frame's dispatch groups and transfers, also end to end.
+        for w in &frame.work {
+            let Some(ms) = w.counters.and_then(|c| c.gpu_ms) else { continue };
+            let Some(c) = w.counters else { continue };
+            let name = work_name(&w.kind, w.index, w.label.as_deref());
+            let args = json!({
+                "frame": frame.index,
+                "command": w.api,
+                "commands": c.commands,
+                "workgroups": c.workgroups,
+                "compute invocations": c.compute_invocations,
+                "bytes read": c.bytes_read,
+                "bytes written": c.bytes_written,
+            });
+            let category = if w.kind == "compute" { "compute" } else { "transfer" };
+            trace.slice(GPU_TID, &name, category, cursor, ms * 1e3, args);
+            cursor += ms * 1e3;
+        }
     }
 }
 
@@ -110,18 +164,22 @@ pub fn largest_area(report: &FillrateReport) -> (u32, u32) {
     sizes.max_by_key(|&(w, h): &(u32, u32)| w as u64 * h as u64).unwrap_or((0, 0))
 }
 
-/// One chart row per aggregate row: the mean over frames.
+/// One chart row per aggregate row: the mean over frames; then one per work row (dispatch
+/// group or transfer), which has GPU time only.
 pub fn chart_rows(report: &FillrateReport) -> Vec<ChartRow> {
-    report
-        .aggregate
-        .iter()
-        .map(|a| ChartRow {
-            name: format!("{} {}", pass_name(a.position, a.label.as_deref()), area_of_key(&a.key)),
-            fragments_per_pixel: a.mean.fragments_per_pixel.unwrap_or(0.0),
-            samples_per_pixel: a.mean.overdraw,
-            gpu_ms: a.mean.gpu_ms.unwrap_or(0.0),
-        })
-        .collect()
+    let passes = report.aggregate.iter().map(|a| ChartRow {
+        name: format!("{} {}", pass_name(a.position, a.label.as_deref()), area_of_key(&a.key)),
+        fragments_per_pixel: a.mean.fragments_per_pixel.unwrap_or(0.0),
+        samples_per_pixel: a.mean.overdraw,
+        gpu_ms: a.mean.gpu_ms.unwrap_or(0.0),
+    });
+    let work = report.work_aggregate.iter().map(|w| ChartRow {
+        name: format!("{} {}", work_name(&w.kind, w.position, w.label.as_deref()), w.api),
+        fragments_per_pixel: 0.0,
+        samples_per_pixel: 0.0,
+        gpu_ms: w.mean.gpu_ms.unwrap_or(0.0),
+    });
+    passes.chain(work).collect()
 }
 
 #[cfg(test)]
@@ -183,6 +241,7 @@ mod tests {
             not_measured: Vec::new(),
             frames: Vec::new(),
             aggregate,
+            work_aggregate: Vec::new(),
             run: None,
             tiler_check: None,
         }

@@ -85,10 +85,11 @@ pub enum Command {
     },
     /// Run any Vulkan program under the fill-rate layer (VK_LAYER_NOSTENCIL_fillrate) and report
     /// its render pass instances: draws, fragments, samples passed, overdraw, GPU time, tile
-    /// traffic, per frame and aggregated (`nostencil profile-app --frames 10 -- vkcube --c 10`).
+    /// traffic; and its dispatches and transfers: invocations, workgroups, bytes, GPU time; per
+    /// frame and aggregated (`nostencil profile-app --frames 10 -- vkcube --c 10`).
     #[command(after_help = crate::cli::profile_app::AFTER_HELP)]
     ProfileApp {
-        /// Measure the first N frames (presents), then end the program (SIGTERM, SIGKILL 5 s
+        /// Measure the first N frames (see --frame-on), then end the program (SIGTERM, SIGKILL 5 s
         /// later) and report. Default: every frame until the program exits (the report keeps the
         /// last 64, the aggregate covers all).
         #[arg(long, value_name = "N")]
@@ -111,6 +112,12 @@ pub enum Command {
         /// any flag.
         #[arg(long)]
         tiler_check: bool,
+        /// What ends a frame when the program does not mark frames with VK_EXT_frame_boundary:
+        /// a present (default), every queue submission, or every host wait (a fence,
+        /// vkQueueWaitIdle, vkDeviceWaitIdle, a timeline semaphore). For programs that never
+        /// present, such as a headless filter.
+        #[arg(long, value_enum, default_value_t = FrameOnArg::Present)]
+        frame_on: FrameOnArg,
         #[arg(long, value_enum, default_value_t = FormatArg::Table)]
         format: FormatArg,
         /// Compare each render pass's draws, samples passed and fragment invocations (the most
@@ -411,6 +418,24 @@ pub enum LayerAction {
     },
     /// Remove what `layer install` wrote.
     Uninstall,
+}
+
+/// `profile-app --frame-on` (the layer's NOSTENCIL_FILLRATE_FRAME_ON).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum FrameOnArg {
+    Present,
+    Submit,
+    Wait,
+}
+
+impl FrameOnArg {
+    pub fn name(self) -> &'static str {
+        match self {
+            FrameOnArg::Present => "present",
+            FrameOnArg::Submit => "submit",
+            FrameOnArg::Wait => "wait",
+        }
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]

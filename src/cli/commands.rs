@@ -49,6 +49,7 @@ pub fn run(cli: Cli) -> Result<()> {
             seconds,
             per_draw,
             tiler_check,
+            frame_on,
             format,
             budget,
             record_budget,
@@ -68,6 +69,7 @@ pub fn run(cli: Cli) -> Result<()> {
                 out,
                 per_draw,
                 tiler_check,
+                frame_on: frame_on.name(),
                 capture,
             };
             let stop = super::supervise::Stop { frames, seconds, keep_running };

@@ -6,7 +6,7 @@ use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
 use super::app_counts::{
-    chart_rows, largest_area, trace_frames, worst_frame_bandwidth, worst_per_position, PositionCounts,
+    chart_rows, largest_area, trace_frames, worst_frame_bandwidth, worst_per_position, worst_work, PositionCounts,
 };
 use super::install::{InstallPaths, HOW_TO_INSTALL};
 use super::output_path::check_output_path;
@@ -31,13 +31,16 @@ finishes). The program's stdio is its own; it runs in its own process group.
 The report follows once the program ends: by itself; after --frames N measured frames or
 --seconds S (SIGTERM, then SIGKILL 5 s later; --keep-running leaves it running after its N
 frames); or on Ctrl-C. A program that crashes or is killed still gets a report of the frames
-measured before, marked partial, and profile-app then exits 1. A frame is the render pass
-instances submitted between two presents (a program that never presents has one, ended when its
-device is destroyed).
+measured before, marked partial, and profile-app then exits 1. A frame is the work submitted
+between two presents: render pass instances, and the dispatch groups and transfers outside them
+(a program that never presents has one, ended when its device is destroyed, unless it marks
+frames with VK_EXT_frame_boundary, which the layer offers, or --frame-on submit|wait cuts them
+per queue submission or per host wait).
 
-Not measured (and named in the report): render passes recorded in secondary command buffers,
-multiview render passes, and render passes begun while the program has an occlusion or
-statistics query of its own open. --chart draws `profile`'s bar chart per render pass; there is
+Not measured (and named in the report): render passes, dispatches and transfers recorded in
+secondary command buffers, multiview render passes, and render passes begun while the program
+has an occlusion or statistics query of its own open. --chart draws `profile`'s bar chart per
+render pass and work row; there is
 no heat map: `profile --heatmap` counts fragments with this crate's own shaders, which a foreign
 program does not have.";
 
@@ -54,6 +57,8 @@ pub struct AppOutputs {
     pub per_draw: bool,
     /// The tiler check (NOSTENCIL_FILLRATE_TILER): exit 1 on any flag.
     pub tiler_check: bool,
+    /// What ends a frame: "present", "submit" or "wait" (NOSTENCIL_FILLRATE_FRAME_ON).
+    pub frame_on: &'static str,
     /// The image presented at the end of a frame, written as a PNG (NOSTENCIL_FILLRATE_CAPTURE):
     /// (file, frame).
     pub capture: Option<(PathBuf, u64)>,
@@ -95,6 +100,9 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
     let mut environment = layer_environment(|name| std::env::var_os(name), layer_dir.as_deref(), &result, frames);
     if outputs.per_draw {
         environment.push(("NOSTENCIL_FILLRATE_PER_DRAW".into(), "1".into()));
+    }
+    if outputs.frame_on != "present" {
+        environment.push(("NOSTENCIL_FILLRATE_FRAME_ON".into(), outputs.frame_on.into()));
     }
     if outputs.tiler_check {
         environment.push(("NOSTENCIL_FILLRATE_TILER".into(), "1".into()));
@@ -172,16 +180,19 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
         keep_capture(&captured, path, *frame, program)?;
     }
     if let Some(path) = &outputs.record_budget {
-        if worst.is_empty() {
+        let work = worst_work(&report);
+        if worst.is_empty() && work.is_empty() {
             return Err(Error::InvalidInput(format!(
-                "no render pass of '{program}' was measured: no budget to record"
+                "no render pass, dispatch or transfer of '{program}' was measured: no budget to record"
             )));
         }
         let (width, height) = largest_area(&report);
         let counts: Vec<_> = worst.iter().map(|p| p.count.clone()).collect();
         let bytes = worst_frame_bandwidth(&report);
-        Budget::for_application(&report.application, width, height, &counts, bytes).write(path)?;
-        eprintln!("wrote budget {} ({} render passes)", path.display(), counts.len());
+        Budget::for_application(&report.application, width, height, &counts, bytes, &work).write(path)?;
+        let work_note =
+            if work.is_empty() { String::new() } else { format!(", {} dispatch groups and transfers", work.len()) };
+        eprintln!("wrote budget {} ({} render passes{work_note})", path.display(), counts.len());
     }
     if let (Some(budget), Some(path)) = (&budget, &outputs.budget) {
         check_budget(budget, path, &report, &worst)?;
@@ -232,19 +243,31 @@ fn check_tiler(report: &FillrateReport, program: &str) -> Result<()> {
 /// Every render pass over `budget` on stderr, then an error naming them all.
 fn check_budget(budget: &Budget, path: &Path, report: &FillrateReport, worst: &[PositionCounts]) -> Result<()> {
     let counts: Vec<_> = worst.iter().map(|p| p.count.clone()).collect();
-    let overruns = budget.check_application(&report.application, &counts, worst_frame_bandwidth(report))?;
+    let work = worst_work(report);
+    let overruns = budget.check_application(&report.application, &counts, worst_frame_bandwidth(report), &work)?;
     if overruns.is_empty() {
         eprintln!("within budget {}", path.display());
         return Ok(());
     }
-    let area = |name: &str| worst.iter().find(|p| p.count.name == name).map_or("?", |p| p.area.as_str());
+    // Render passes are named with their area; work rows (dispatches, transfers) have none.
+    let area = |name: &str| worst.iter().find(|p| p.count.name == name).map(|p| p.area.as_str());
     for overrun in &overruns {
-        eprintln!("over budget: {overrun} (render area {})", area(&overrun.pass));
+        match area(&overrun.pass) {
+            Some(area) => eprintln!("over budget: {overrun} (render area {area})"),
+            None => eprintln!("over budget: {overrun}"),
+        }
     }
-    let mut passes: Vec<String> = overruns.iter().map(|o| format!("{} ({})", o.pass, area(&o.pass))).collect();
+    let mut passes: Vec<String> = overruns
+        .iter()
+        .map(|o| match area(&o.pass) {
+            Some(area) => format!("{} ({area})", o.pass),
+            None => o.pass.clone(),
+        })
+        .collect();
     passes.dedup();
+    let what = if overruns.iter().all(|o| area(&o.pass).is_some()) { "render pass(es)" } else { "part(s)" };
     Err(Error::InvalidInput(format!(
-        "{} render pass(es) of '{}' over the budget in {}: {}",
+        "{} {what} of '{}' over the budget in {}: {}",
         passes.len(),
         report.application,
         path.display(),

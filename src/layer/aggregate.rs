@@ -195,8 +195,10 @@ pub fn report_from_journal(text: &str, keep_all: bool) -> Option<FillrateReport>
     let lines: Vec<JournalLine> = text.lines().filter_map(|l| serde_json::from_str(l).ok()).collect();
     let last = lines.last()?.clone();
     let mut aggregate = Aggregator::default();
+    let mut work = crate::layer::work_aggregate::WorkAggregator::default();
     for line in &lines {
         aggregate.add_frame(&line.frame.render_passes);
+        work.add_frame(&line.frame.work);
     }
     let mut frames: Vec<FrameRows> = lines.into_iter().map(|l| l.frame).collect();
     if !keep_all && frames.len() > KEPT_FRAMES {
@@ -211,6 +213,7 @@ pub fn report_from_journal(text: &str, keep_all: bool) -> Option<FillrateReport>
         not_measured: last.not_measured,
         frames,
         aggregate: aggregate.rows(),
+        work_aggregate: work.rows(),
         run: None,
         tiler_check: None,
     })
@@ -254,7 +257,7 @@ pub mod tests {
             counters: CounterSupport::default(),
             frames_measured: index + 1,
             not_measured: Vec::new(),
-            frame: FrameRows { index, render_passes: vec![row(10, 100 * (index + 1), None)] },
+            frame: FrameRows { index, render_passes: vec![row(10, 100 * (index + 1), None)], work: Vec::new() },
         };
         let mut text: String =
             (0..3).map(|i| serde_json::to_string(&line(i)).expect("json") + "\n").collect::<String>();

@@ -41,7 +41,7 @@ fn record(device: &DeviceData, cmd: vk::CommandBuffer, cmds: &[QueryCmd]) {
 }
 
 /// A new query pool of `kind` for the layer.
-fn create_pool(device: &DeviceData, kind: QueryKind) -> Option<vk::QueryPool> {
+pub(super) fn create_pool(device: &DeviceData, kind: QueryKind) -> Option<vk::QueryPool> {
     let (ty, stats) = match kind {
         QueryKind::Occlusion => (vk::QueryType::OCCLUSION, vk::QueryPipelineStatisticFlags::empty()),
         QueryKind::Statistics => {
@@ -49,6 +49,7 @@ fn create_pool(device: &DeviceData, kind: QueryKind) -> Option<vk::QueryPool> {
             (vk::QueryType::PIPELINE_STATISTICS, bits)
         }
         QueryKind::Timestamp => (vk::QueryType::TIMESTAMP, vk::QueryPipelineStatisticFlags::empty()),
+        QueryKind::Compute => (vk::QueryType::PIPELINE_STATISTICS, super::work::COMPUTE_STATISTICS),
     };
     let info = vk::QueryPoolCreateInfo::default().query_type(ty).query_count(CHUNK).pipeline_statistics(stats);
     // SAFETY: the device is alive; statistics pools are made only when the device has (and the
@@ -58,7 +59,7 @@ fn create_pool(device: &DeviceData, kind: QueryKind) -> Option<vk::QueryPool> {
 
 /// Runs `f` on `cmd`'s recording if the layer is measuring; records what it returns before and
 /// after `call`, which makes the application's call.
-fn around(
+pub(super) fn around(
     cmd: vk::CommandBuffer,
     call: impl FnOnce(&DeviceData),
     f: impl FnOnce(&DeviceData, &mut DeviceState) -> (Vec<QueryCmd>, Vec<QueryCmd>),
@@ -162,7 +163,7 @@ unsafe fn imageless_views(mut p_next: *const std::ffi::c_void) -> Option<Vec<vk:
 }
 
 /// Whether new passes are measured now (an output is set and the frame limit not reached).
-fn measuring(state: &mut DeviceState) -> bool {
+pub(super) fn measuring(state: &mut DeviceState) -> bool {
     !state.finished && state.frames().measuring()
 }
 

@@ -10,6 +10,29 @@ pub enum OutputFormat {
     Table,
 }
 
+/// What ends a frame when the program does not mark frames with VK_EXT_frame_boundary.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum FrameOn {
+    /// vkQueuePresentKHR (the default).
+    #[default]
+    Present,
+    /// Every vkQueueSubmit / vkQueueSubmit2 call.
+    Submit,
+    /// Every successful host wait: a fence, a timeline semaphore, a queue or the device idle.
+    Wait,
+}
+
+impl FrameOn {
+    pub fn parse(text: &str) -> Option<Self> {
+        match text {
+            "present" => Some(FrameOn::Present),
+            "submit" => Some(FrameOn::Submit),
+            "wait" => Some(FrameOn::Wait),
+            _ => None,
+        }
+    }
+}
+
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Config {
     /// `NOSTENCIL_FILLRATE_OUT`: without it the layer measures nothing.
@@ -30,6 +53,8 @@ pub struct Config {
     /// `NOSTENCIL_FILLRATE_CAPTURE` (and `_CAPTURE_FRAME`): write the image presented at the
     /// end of one frame as a PNG (capture.rs).
     pub capture: Option<CaptureConfig>,
+    /// `NOSTENCIL_FILLRATE_FRAME_ON`: present (default), submit or wait.
+    pub frame_on: FrameOn,
 }
 
 /// Where and when to capture a presented image.
@@ -86,7 +111,14 @@ impl Config {
             warnings.push("NOSTENCIL_FILLRATE_CAPTURE_FRAME without NOSTENCIL_FILLRATE_CAPTURE: nothing captured".into());
         }
         let capture = capture.map(|path| CaptureConfig { path, frame: capture_frame.unwrap_or(0) });
-        (Config { out, format, frames, every, per_draw, tiler, capture }, warnings)
+        let frame_on = match var("NOSTENCIL_FILLRATE_FRAME_ON").filter(|v| !v.is_empty()) {
+            None => FrameOn::Present,
+            Some(text) => FrameOn::parse(&text).unwrap_or_else(|| {
+                warnings.push(format!("NOSTENCIL_FILLRATE_FRAME_ON='{text}' is not present, submit or wait; using present"));
+                FrameOn::Present
+            }),
+        };
+        (Config { out, format, frames, every, per_draw, tiler, capture, frame_on }, warnings)
     }
 }
 
@@ -110,11 +142,15 @@ mod tests {
                 every: 0,
                 per_draw: false,
                 tiler: false,
-                capture: None
+                capture: None,
+                frame_on: FrameOn::Present,
             }
         );
         assert!(parse(&[("NOSTENCIL_FILLRATE_TILER", "1")]).0.tiler);
         assert!(warnings.is_empty());
+        assert_eq!(parse(&[("NOSTENCIL_FILLRATE_FRAME_ON", "submit")]).0.frame_on, FrameOn::Submit);
+        let (config, warnings) = parse(&[("NOSTENCIL_FILLRATE_FRAME_ON", "fence")]);
+        assert!(config.frame_on == FrameOn::Present && warnings[0].contains("fence"), "{warnings:?}");
         let (config, _) = parse(&[
             ("NOSTENCIL_FILLRATE_OUT", "/tmp/x.json"),
             ("NOSTENCIL_FILLRATE_FORMAT", "csv"),

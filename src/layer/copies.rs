@@ -13,12 +13,19 @@ use ash::vk::Handle;
 use super::in_flight::{SubmissionCopy, STRIDE};
 use super::readback::STATISTICS;
 use super::recording::RecordedPass;
+use super::work::RecordedWork;
 use super::slots::Slot;
 use super::state::{DeviceData, DeviceState};
 
-/// The slots of `passes` and how many values each has.
-fn slots_of(passes: &[RecordedPass]) -> Vec<(Slot, usize)> {
+/// The slots of `passes` and `work` and how many values each has.
+fn slots_of(passes: &[RecordedPass], work: &[RecordedWork]) -> Vec<(Slot, usize)> {
     let mut slots = Vec::new();
+    for w in work {
+        slots.extend(w.statistics.map(|s| (s, 1)));
+        if let Some((begin, end)) = w.timestamps {
+            slots.extend([(begin, 1), (end, 1)]);
+        }
+    }
     for pass in passes.iter().filter(|p| p.not_measured().is_none()) {
         slots.extend(pass.occlusion.iter().map(|&s| (s, 1)));
         slots.extend(pass.statistics.iter().map(|&s| (s, STATISTICS.len())));
@@ -48,9 +55,15 @@ pub fn make(
     state: &mut DeviceState,
     family: u32,
     passes: &[RecordedPass],
+    work: &[RecordedWork],
 ) -> Result<Option<SubmissionCopy>, String> {
-    let slots = slots_of(passes);
-    if slots.is_empty() {
+    let slots = slots_of(passes, work);
+    // Indirect dispatches' arguments, where the layer made the buffer readable (work_hooks.rs).
+    let mut indirect: Vec<Arguments> =
+        work.iter().flat_map(|w| w.indirect.iter().copied()).filter(|(b, _)| state.indirect_buffers.contains(b)).collect();
+    indirect.sort_unstable();
+    indirect.dedup();
+    if slots.is_empty() && indirect.is_empty() {
         return Ok(None);
     }
     let set_loader_data = device.info.set_loader_data.ok_or("the loader gave no vkSetDeviceLoaderData")?;
@@ -68,7 +81,8 @@ pub fn make(
             pool
         }
     };
-    let size = slots.len() as u64 * STRIDE;
+    let indirect_base = slots.len() as u64 * STRIDE;
+    let size = indirect_base + indirect.len() as u64 * INDIRECT_STRIDE;
     let info = vk::BufferCreateInfo::default().size(size).usage(vk::BufferUsageFlags::TRANSFER_DST);
     // SAFETY: plain object creation on the live device; every object is released on each
     // failure path below.
@@ -115,6 +129,11 @@ pub fn make(
             memory,
             mapped: mapped as usize,
             index: slots.iter().enumerate().map(|(i, (slot, _))| (*slot, i)).collect(),
+            indirect: indirect
+                .iter()
+                .enumerate()
+                .map(|(i, &at)| (at, (indirect_base + i as u64 * INDIRECT_STRIDE) as usize))
+                .collect(),
         };
         // The loader's dispatch pointer, which the layers below look the buffer up by.
         let result = set_loader_data(device.handle, cmd.as_raw() as usize as *mut std::ffi::c_void);
@@ -122,7 +141,7 @@ pub fn make(
             copy.release(&device.fns);
             return Err(failed("register its command buffer with the loader", result));
         }
-        if let Err(e) = record(device, &copy, &slots, buffer) {
+        if let Err(e) = record(device, &copy, (&slots, &indirect), buffer) {
             copy.release(&device.fns);
             return Err(failed("record its result copy", e));
         }
@@ -130,14 +149,22 @@ pub fn make(
     }
 }
 
-/// Records the copy of every slot, then makes the writes visible to the host.
+/// Bytes per copied indirect dispatch's arguments (three u32, padded).
+const INDIRECT_STRIDE: u64 = 16;
+
+/// Where an indirect dispatch's arguments are: the program's buffer and the offset in it.
+type Arguments = (vk::Buffer, u64);
+
+/// Records the copy of every slot and of the indirect dispatches' arguments, then makes the
+/// writes visible to the host.
 ///
 /// # Safety
-/// `copy.command_buffer` is the layer's, freshly allocated; `buffer` holds every slot.
+/// `copy.command_buffer` is the layer's, freshly allocated; `buffer` holds every slot and
+/// argument; each argument buffer has TRANSFER_SRC usage.
 unsafe fn record(
     device: &DeviceData,
     copy: &SubmissionCopy,
-    slots: &[(Slot, usize)],
+    (slots, indirect): (&[(Slot, usize)], &[Arguments]),
     buffer: vk::Buffer,
 ) -> ash::prelude::VkResult<()> {
     let cmd = copy.command_buffer;
@@ -146,6 +173,18 @@ unsafe fn record(
     // command buffer submitted just before this one in the same batch.
     unsafe {
         device.fns.begin_command_buffer(cmd, &begin)?;
+        if !indirect.is_empty() {
+            // The arguments as the batch left them: after every write before this buffer.
+            let barrier = [vk::MemoryBarrier::default()
+                .src_access_mask(vk::AccessFlags::MEMORY_WRITE)
+                .dst_access_mask(vk::AccessFlags::TRANSFER_READ)];
+            let (src, dst) = (vk::PipelineStageFlags::ALL_COMMANDS, vk::PipelineStageFlags::TRANSFER);
+            device.fns.cmd_pipeline_barrier(cmd, src, dst, vk::DependencyFlags::empty(), &barrier, &[], &[]);
+        }
+        for (&(source, offset), &at) in indirect.iter().zip(indirect.iter().map(|k| &copy.indirect[k])) {
+            let region = vk::BufferCopy { src_offset: offset, dst_offset: at as u64, size: 12 };
+            device.fns.cmd_copy_buffer(cmd, source, buffer, &[region]);
+        }
         let flags =
             vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT | vk::QueryResultFlags::WITH_AVAILABILITY;
         for (i, (slot, _)) in slots.iter().enumerate() {
@@ -163,10 +202,12 @@ unsafe fn record(
         let barrier = [vk::MemoryBarrier::default()
             .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
             .dst_access_mask(vk::AccessFlags::HOST_READ)];
+        // ALL_COMMANDS too: later writes of the program's to the argument buffers wait for the
+        // layer's reads of them.
         device.fns.cmd_pipeline_barrier(
             cmd,
             vk::PipelineStageFlags::TRANSFER,
-            vk::PipelineStageFlags::HOST,
+            vk::PipelineStageFlags::HOST | vk::PipelineStageFlags::ALL_COMMANDS,
             vk::DependencyFlags::empty(),
             &barrier,
             &[],

@@ -11,7 +11,7 @@ use super::lifecycle::{c_name, create_device, create_instance, destroy_device, d
 use super::loader::{NegotiateLayerInterface, LAYER_INTERFACE_VERSION, LAYER_NEGOTIATE_INTERFACE_STRUCT};
 use super::state::{self, guard};
 use super::config::Config;
-use super::{capture, commands as c, image_use as t, objects as o, queue as q};
+use super::{capture, commands as c, frame_boundary as fb, image_use as t, objects as o, queue as q, transfer_hooks as x, work_hooks as w, work_objects as wo};
 
 /// A hook as the loader's generic function pointer.
 macro_rules! void_fn {
@@ -104,9 +104,62 @@ fn device_hook(name: &str) -> vk::PFN_vkVoidFunction {
 /// The layer's hook for `name`: its own, the tiler check's when the check is on, and the
 /// capture's when capturing.
 fn hook(name: &str, config: &Config) -> vk::PFN_vkVoidFunction {
-    device_hook(name)
+    work_hook(name)
+        .or_else(|| device_hook(name))
         .or_else(|| if config.tiler { tiler_hook(name) } else { None })
         .or_else(|| if config.capture.is_some() { capture_hook(name) } else { None })
+}
+
+/// The hooks for work outside render passes (work_hooks.rs): they pass the call on through the
+/// tiler check's or the capture's hook of the same name when those are on.
+fn work_hook(name: &str) -> vk::PFN_vkVoidFunction {
+    match name {
+        "vkEndCommandBuffer" => void_fn!(w::end_command_buffer, vk::PFN_vkEndCommandBuffer),
+        "vkCreateBuffer" => void_fn!(wo::create_buffer, vk::PFN_vkCreateBuffer),
+        "vkDestroyBuffer" => void_fn!(wo::destroy_buffer, vk::PFN_vkDestroyBuffer),
+        "vkCreateSwapchainKHR" => void_fn!(wo::create_swapchain, vk::PFN_vkCreateSwapchainKHR),
+        "vkGetSwapchainImagesKHR" => void_fn!(wo::get_swapchain_images, vk::PFN_vkGetSwapchainImagesKHR),
+        "vkCmdDispatch" => void_fn!(w::cmd_dispatch, vk::PFN_vkCmdDispatch),
+        "vkCmdDispatchIndirect" => void_fn!(w::cmd_dispatch_indirect, vk::PFN_vkCmdDispatchIndirect),
+        "vkCmdDispatchBase" => void_fn!(w::cmd_dispatch_base, vk::PFN_vkCmdDispatchBase),
+        "vkCmdDispatchBaseKHR" => void_fn!(w::cmd_dispatch_base_khr, vk::PFN_vkCmdDispatchBase),
+        "vkCmdCopyBuffer" => void_fn!(x::cmd_copy_buffer, vk::PFN_vkCmdCopyBuffer),
+        "vkCmdCopyBuffer2" => void_fn!(x::cmd_copy_buffer2, vk::PFN_vkCmdCopyBuffer2),
+        "vkCmdCopyBuffer2KHR" => void_fn!(x::cmd_copy_buffer2_khr, vk::PFN_vkCmdCopyBuffer2),
+        "vkCmdFillBuffer" => void_fn!(x::cmd_fill_buffer, vk::PFN_vkCmdFillBuffer),
+        "vkCmdUpdateBuffer" => void_fn!(x::cmd_update_buffer, vk::PFN_vkCmdUpdateBuffer),
+        "vkCmdCopyImage" => void_fn!(x::cmd_copy_image, vk::PFN_vkCmdCopyImage),
+        "vkCmdCopyImageToBuffer" => void_fn!(x::cmd_copy_image_to_buffer, vk::PFN_vkCmdCopyImageToBuffer),
+        "vkCmdBlitImage" => void_fn!(x::cmd_blit_image, vk::PFN_vkCmdBlitImage),
+        "vkCmdResolveImage" => void_fn!(x::cmd_resolve_image, vk::PFN_vkCmdResolveImage),
+        "vkCmdClearColorImage" => void_fn!(x::cmd_clear_color_image, vk::PFN_vkCmdClearColorImage),
+        "vkCmdClearDepthStencilImage" => {
+            void_fn!(x::cmd_clear_depth_stencil_image, vk::PFN_vkCmdClearDepthStencilImage)
+        }
+        "vkCmdCopyBufferToImage" => void_fn!(x::cmd_copy_buffer_to_image, vk::PFN_vkCmdCopyBufferToImage),
+        "vkCmdCopyImage2" => void_fn!(x::cmd_copy_image2, vk::PFN_vkCmdCopyImage2),
+        "vkCmdCopyImage2KHR" => void_fn!(x::cmd_copy_image2_khr, vk::PFN_vkCmdCopyImage2),
+        "vkCmdCopyImageToBuffer2" => void_fn!(x::cmd_copy_image_to_buffer2, vk::PFN_vkCmdCopyImageToBuffer2),
+        "vkCmdCopyImageToBuffer2KHR" => {
+            void_fn!(x::cmd_copy_image_to_buffer2_khr, vk::PFN_vkCmdCopyImageToBuffer2)
+        }
+        "vkCmdBlitImage2" => void_fn!(x::cmd_blit_image2, vk::PFN_vkCmdBlitImage2),
+        "vkCmdBlitImage2KHR" => void_fn!(x::cmd_blit_image2_khr, vk::PFN_vkCmdBlitImage2),
+        "vkCmdResolveImage2" => void_fn!(x::cmd_resolve_image2, vk::PFN_vkCmdResolveImage2),
+        "vkCmdResolveImage2KHR" => void_fn!(x::cmd_resolve_image2_khr, vk::PFN_vkCmdResolveImage2),
+        "vkCmdCopyBufferToImage2" => void_fn!(x::cmd_copy_buffer_to_image2, vk::PFN_vkCmdCopyBufferToImage2),
+        "vkCmdCopyBufferToImage2KHR" => {
+            void_fn!(x::cmd_copy_buffer_to_image2_khr, vk::PFN_vkCmdCopyBufferToImage2)
+        }
+        "vkCmdPipelineBarrier" => void_fn!(w::cmd_pipeline_barrier, vk::PFN_vkCmdPipelineBarrier),
+        "vkCmdPipelineBarrier2" => void_fn!(w::cmd_pipeline_barrier2, vk::PFN_vkCmdPipelineBarrier2),
+        "vkCmdPipelineBarrier2KHR" => void_fn!(w::cmd_pipeline_barrier2_khr, vk::PFN_vkCmdPipelineBarrier2),
+        "vkCmdWaitEvents" => void_fn!(w::cmd_wait_events, vk::PFN_vkCmdWaitEvents),
+        "vkCmdWaitEvents2" => void_fn!(w::cmd_wait_events2, vk::PFN_vkCmdWaitEvents2),
+        "vkCmdWaitEvents2KHR" => void_fn!(w::cmd_wait_events2_khr, vk::PFN_vkCmdWaitEvents2),
+        "vkCmdExecuteCommands" => void_fn!(w::cmd_execute_commands, vk::PFN_vkCmdExecuteCommands),
+        _ => None,
+    }
 }
 
 /// The capture's hooks (capture.rs): the swapchain's usage gets TRANSFER_SRC.
@@ -171,6 +224,23 @@ fn instance_hook(name: &str) -> vk::PFN_vkVoidFunction {
         "vkCreateInstance" => void_fn!(create_instance, vk::PFN_vkCreateInstance),
         "vkDestroyInstance" => void_fn!(destroy_instance, vk::PFN_vkDestroyInstance),
         "vkCreateDevice" => void_fn!(create_device, vk::PFN_vkCreateDevice),
+        _ => None,
+    }
+}
+
+/// The hooks that offer VK_EXT_frame_boundary (frame_boundary.rs), handed out for the functions
+/// the chain below has.
+fn boundary_hook(name: &str) -> vk::PFN_vkVoidFunction {
+    match name {
+        "vkEnumerateDeviceExtensionProperties" => {
+            void_fn!(fb::enumerate_device_extension_properties, vk::PFN_vkEnumerateDeviceExtensionProperties)
+        }
+        "vkGetPhysicalDeviceFeatures2" => {
+            void_fn!(fb::get_physical_device_features2, vk::PFN_vkGetPhysicalDeviceFeatures2)
+        }
+        "vkGetPhysicalDeviceFeatures2KHR" => {
+            void_fn!(fb::get_physical_device_features2_khr, vk::PFN_vkGetPhysicalDeviceFeatures2)
+        }
         _ => None,
     }
 }
@@ -240,6 +310,9 @@ unsafe extern "system" fn get_instance_proc_addr(
         let data = state::instance_of(instance.as_raw())?;
         // SAFETY: the next layer's GIPA with its instance and the caller's name.
         let next = unsafe { (data.gipa)(instance, name) };
+        if let Some(hook) = next.and(boundary_hook(name_str)) {
+            return Some(hook);
+        }
         if next.is_some() && data.config.out.is_some() {
             if let Some(hook) = hook(name_str, &data.config) {
                 return Some(hook);

@@ -5,7 +5,8 @@
 use std::collections::{BTreeMap, VecDeque};
 
 use super::aggregate::Aggregator;
-use super::report::{FrameRows, RenderPassRow, KEPT_FRAMES};
+use super::report::{FrameRows, RenderPassRow, WorkRow, KEPT_FRAMES};
+use super::work_aggregate::WorkAggregator;
 
 #[derive(Debug, Default)]
 struct FrameBuild {
@@ -14,6 +15,8 @@ struct FrameBuild {
     pending: u32,
     /// (submission sequence, pass order in it, row).
     rows: Vec<(u64, u32, RenderPassRow)>,
+    /// (submission sequence, order in it, row): dispatch groups and transfers.
+    work: Vec<(u64, u32, WorkRow)>,
 }
 
 #[derive(Debug)]
@@ -26,6 +29,7 @@ pub struct FrameAssembler {
     /// Finished frames kept for the report.
     pub kept: VecDeque<FrameRows>,
     pub aggregate: Aggregator,
+    pub work_aggregate: WorkAggregator,
     pub frames_measured: u64,
 }
 
@@ -37,6 +41,7 @@ impl FrameAssembler {
             building: BTreeMap::new(),
             kept: VecDeque::new(),
             aggregate: Aggregator::default(),
+            work_aggregate: WorkAggregator::default(),
             frames_measured: 0,
         }
     }
@@ -63,10 +68,27 @@ impl FrameAssembler {
 
     /// A submission of `frame` was read back: its rows (in recording order).
     pub fn completed(&mut self, frame: u64, sequence: u64, rows: Vec<RenderPassRow>) {
+        self.completed_with_work(frame, sequence, rows, Vec::new());
+    }
+
+    /// [`Self::completed`] with the submission's work rows too.
+    pub fn completed_with_work(&mut self, frame: u64, sequence: u64, rows: Vec<RenderPassRow>, work: Vec<WorkRow>) {
         let build = self.building.entry(frame).or_default();
         build.pending = build.pending.saturating_sub(1);
         for (order, row) in rows.into_iter().enumerate() {
             build.rows.push((sequence, order as u32, row));
+        }
+        for (order, row) in work.into_iter().enumerate() {
+            build.work.push((sequence, order as u32, row));
+        }
+    }
+
+    /// Ends the current frame where frames are cut by submissions, host waits or frame
+    /// boundaries: unlike a present, nothing happens unless something was submitted to it, so
+    /// waits with nothing new in flight make no empty frames.
+    pub fn cut(&mut self) {
+        if self.building.contains_key(&self.current) {
+            self.present();
         }
     }
 
@@ -104,8 +126,19 @@ impl FrameAssembler {
                     row
                 })
                 .collect();
+            build.work.sort_by_key(|(sequence, order, _)| (*sequence, *order));
+            let work: Vec<WorkRow> = build
+                .work
+                .into_iter()
+                .enumerate()
+                .map(|(i, (_, _, mut row))| {
+                    row.index = i as u32;
+                    row
+                })
+                .collect();
             self.aggregate.add_frame(&render_passes);
-            self.kept.push_back(FrameRows { index, render_passes });
+            self.work_aggregate.add_frame(&work);
+            self.kept.push_back(FrameRows { index, render_passes, work });
             if self.limit.is_none() && self.kept.len() > KEPT_FRAMES {
                 self.kept.pop_front();
             }

@@ -23,6 +23,9 @@ pub struct SubmissionCopy {
     pub(super) mapped: usize,
     /// Each slot's index in the buffer.
     pub(super) index: HashMap<Slot, usize>,
+    /// Where each indirect dispatch's arguments (buffer, offset) were copied: bytes from the
+    /// start of the mapping.
+    pub(super) indirect: HashMap<(vk::Buffer, u64), usize>,
 }
 
 impl SubmissionCopy {
@@ -38,6 +41,17 @@ impl SubmissionCopy {
             return Err("query results not available when read".into());
         }
         Ok(values[..words].to_vec())
+    }
+
+    /// The workgroups of the indirect dispatch whose arguments are at (`buffer`, `offset`), as
+    /// they were when the submission's batch ended; None when they were not copied.
+    pub fn workgroups(&self, buffer: vk::Buffer, offset: u64) -> Option<u64> {
+        let at = *self.indirect.get(&(buffer, offset))?;
+        // SAFETY: the mapping covers the copied arguments (three u32 at `at`, 4-aligned); the
+        // submission is complete (the caller's proof) and the memory host-coherent.
+        let counts: Vec<u64> =
+            (0..3).map(|i| unsafe { std::ptr::read_volatile((self.mapped + at + 4 * i) as *const u32) } as u64).collect();
+        Some(counts.iter().product())
     }
 
     /// Frees the command buffer and the memory (the submission is complete or never ran).

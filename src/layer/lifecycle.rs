@@ -11,6 +11,7 @@ use ash::vk::Handle;
 use super::capture::capture_device;
 use super::capture_state::CaptureDevice;
 use super::config::Config;
+use super::frame_boundary;
 use super::frames::FrameAssembler;
 use super::loader::{
     device_link, device_loader_data, instance_link, LayerDeviceLink, LayerInstanceLink, PfnSetDeviceLoaderData,
@@ -81,7 +82,16 @@ pub(super) unsafe extern "system" fn create_instance(
         // SAFETY: the next layer's GIPA with the instance it created.
         let fns =
             unsafe { ash::Instance::load_with(|name| std::mem::transmute(next_gipa(handle, name.as_ptr())), handle) };
-        state::add_instance(InstanceData { handle, gipa: next_gipa, fns, application, config });
+        let features2 = [c"vkGetPhysicalDeviceFeatures2", c"vkGetPhysicalDeviceFeatures2KHR"].map(|name| {
+            // SAFETY: as above; the function has this type, or is null (None: both one pointer).
+            unsafe {
+                std::mem::transmute::<vk::PFN_vkVoidFunction, Option<vk::PFN_vkGetPhysicalDeviceFeatures2>>(next_gipa(
+                    handle,
+                    name.as_ptr(),
+                ))
+            }
+        });
+        state::add_instance(InstanceData { handle, gipa: next_gipa, fns, features2, application, config });
     });
     result
 }
@@ -183,8 +193,23 @@ pub(super) unsafe extern "system" fn create_device(
             copy.p_enabled_features = &features;
         }
     }
-    // SAFETY: the application's create info, with at most the two query features added.
+    // VK_EXT_frame_boundary, offered by the layer where the driver lacks it: kept from below.
+    // SAFETY: the application's extension names.
+    let without = unsafe { frame_boundary::without_name(info_ref.pp_enabled_extension_names, info_ref.enabled_extension_count) };
+    let emulated = without.is_some() && !guard(true, || frame_boundary::below_has(&instance, physical));
+    let mut unlinked = frame_boundary::Unlinked::default();
+    if let (true, Some(names)) = (emulated, &without) {
+        copy.pp_enabled_extension_names = names.as_ptr();
+        copy.enabled_extension_count = names.len() as u32;
+        let ty = vk::StructureType::PHYSICAL_DEVICE_FRAME_BOUNDARY_FEATURES_EXT;
+        // SAFETY: the chain starts at our copy's field; its nodes are restored after the call.
+        unsafe { frame_boundary::unlink(std::ptr::addr_of_mut!(copy.p_next).cast(), ty, &mut unlinked) };
+    }
+    // SAFETY: the application's create info, with at most the two query features added (and
+    // the frame-boundary extension the layer provides taken out).
     let result = unsafe { create(physical, &copy, allocator, device) };
+    // SAFETY: the same chain, still alive.
+    unsafe { unlinked.restore() };
     if let Some((features2, original)) = restore {
         // SAFETY: the same node, still alive: the application's values back.
         unsafe { (*features2).features = original };
@@ -197,14 +222,19 @@ pub(super) unsafe extern "system" fn create_device(
         let handle = unsafe { *device };
         // SAFETY: the loader's create info, with its chain.
         let set_loader_data = unsafe { device_loader_data(info_ref) };
-        register_device(&instance, (physical, info_ref), handle, next_gdpa, &supported, set_loader_data);
+        let created = (physical, info_ref, (without.is_some(), emulated));
+        register_device(&instance, created, handle, next_gdpa, &supported, set_loader_data);
     });
     result
 }
 
 fn register_device(
     instance: &InstanceData,
-    (physical, create_info): (vk::PhysicalDevice, &vk::DeviceCreateInfo<'_>),
+    (physical, create_info, (frame_boundaries, frame_boundary_emulated)): (
+        vk::PhysicalDevice,
+        &vk::DeviceCreateInfo<'_>,
+        (bool, bool),
+    ),
     handle: vk::Device,
     gdpa: vk::PFN_vkGetDeviceProcAddr,
     supported: &vk::PhysicalDeviceFeatures,
@@ -247,8 +277,12 @@ fn register_device(
         Some(_) => unsafe { capture_device(instance, physical, &families, create_info) },
         None => CaptureDevice::default(),
     };
-    let device_state =
-        DeviceState { frames: Some(FrameAssembler::new(instance.config.frames)), ..DeviceState::default() };
+    // A program that enabled VK_EXT_frame_boundary marks its frames: only its marks cut them.
+    let device_state = DeviceState {
+        frames: Some(FrameAssembler::new(instance.config.frames)),
+        boundaries: frame_boundaries,
+        ..DeviceState::default()
+    };
     state::add_device(Arc::new(DeviceData {
         handle,
         gdpa,
@@ -262,6 +296,7 @@ fn register_device(
             memory,
             set_loader_data,
             capture,
+            frame_boundary_emulated,
         },
         application: instance.application.clone(),
         config: instance.config.clone(),
@@ -279,7 +314,7 @@ pub(super) unsafe extern "system" fn destroy_device(device: vk::Device, allocato
         // The application has waited for all its work before destroying the device.
         read_completed(&data, &mut st, |_| true);
         st.frames().close_last();
-        st.frames().finish_ready();
+        super::readback::finish_frames(&data, &mut st);
         if data.config.tiler {
             st.tiler.check.finish();
         }

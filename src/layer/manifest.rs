@@ -21,7 +21,9 @@ pub fn manifest_json(library_path: &str) -> String {
         "{{\n  \"file_format_version\": \"1.2.0\",\n  \"layer\": {{\n    \"name\": \"{LAYER_NAME}\",\n    \
          \"type\": \"INSTANCE\",\n    \"library_path\": \"{}\",\n    \"api_version\": \"1.3.239\",\n    \
          \"implementation_version\": \"1\",\n    \"description\": \"nostencil fill-rate counters per render pass \
-         instance (pipeline statistics, precise occlusion, timestamps, tile traffic)\"\n  }}\n}}\n",
+         instance (pipeline statistics, precise occlusion, timestamps, tile traffic)\",\n    \
+         \"device_extensions\": [{{ \"name\": \"VK_EXT_frame_boundary\", \"spec_version\": \"1\", \
+         \"entrypoints\": [] }}]\n  }}\n}}\n",
         json_escape(library_path)
     )
 }
@@ -66,5 +68,7 @@ mod tests {
         assert_eq!(value["layer"]["library_path"], "/tmp/a \"b\"/libnostencil.so");
         assert_eq!(value["layer"]["implementation_version"], "1");
         assert!(value["layer"]["api_version"].as_str().is_some_and(|v| v.starts_with("1.3.")));
+        // The loader accepts the extension the layer offers only if its manifest lists it.
+        assert_eq!(value["layer"]["device_extensions"][0]["name"], "VK_EXT_frame_boundary");
     }
 }

@@ -137,6 +137,15 @@ pub(super) unsafe extern "system" fn create_image(
             let (info, handle) = unsafe { (&*info, *image) };
             let mut st = dev.state();
             st.image_samples.insert(handle, info.samples.as_raw().max(1));
+            let image = super::transfer_bytes::ImageInfo {
+                format: info.format,
+                extent: info.extent,
+                mip_levels: info.mip_levels,
+                array_layers: info.array_layers,
+                samples: info.samples.as_raw().max(1),
+                swapchain: false,
+            };
+            st.images.insert(handle, image);
             let tiler = super::tiler_state::TilerImage {
                 transient: info.usage.contains(vk::ImageUsageFlags::TRANSIENT_ATTACHMENT),
                 extent: (info.extent.width, info.extent.height),
@@ -157,6 +166,7 @@ pub(super) unsafe extern "system" fn destroy_image(
     guard((), || {
         let mut st = dev.state();
         st.image_samples.remove(&image);
+        st.images.remove(&image);
         st.tiler.images.remove(&image);
     });
     // SAFETY: the application's arguments, passed on.

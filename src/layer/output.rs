@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use super::config::OutputFormat;
-use super::report::{Counters, FillrateReport, RenderPassRow, SectionRow};
+use super::report::{Counters, FillrateReport, RenderPassRow, SectionRow, WorkCounters};
 use super::tiler_check::TilerReport;
 use crate::profile::text_table::aligned_lines;
 
@@ -38,7 +38,41 @@ fn csv_field(text: &str) -> String {
 
 const CSV_HEADER: &str = "frame,index,label,api,x,y,width,height,samples,attachments,draws,vertex_invocations,\
 clipping_primitives,fragment_invocations,fragments_per_pixel,samples_passed,overdraw,gpu_ms,bytes_loaded,bytes_stored,\
-tiler_bytes,immediate_bytes,not_measured,section";
+tiler_bytes,immediate_bytes,not_measured,section,kind,commands,workgroups,compute_invocations,bytes_read,bytes_written";
+
+/// The last columns of a render pass's (or section's) line: its kind, and no work figures.
+const CSV_PASS_TAIL: &str = "render_pass,,,,,";
+
+/// A work row's line (work.rs): the pass columns empty but GPU time and the bytes, then the
+/// work columns. `frame` is the frame index, or "mean"/"min"/"max" in the aggregate.
+fn csv_work_line<N: std::fmt::Display + Copy>(
+    frame: &str,
+    index: u32,
+    (kind, api, label): (&str, &str, Option<&str>),
+    counters: Option<&WorkCounters<N>>,
+    tiler_bytes: String,
+    not_measured: Option<&str>,
+) -> String {
+    let label = csv_field(label.unwrap_or(""));
+    let not_measured = csv_field(not_measured.unwrap_or(""));
+    let (gpu_ms, figures) = match counters {
+        Some(c) => (
+            opt(c.gpu_ms),
+            format!(
+                "{},{},{},{},{}",
+                c.commands,
+                opt(c.workgroups),
+                opt(c.compute_invocations),
+                c.bytes_read,
+                c.bytes_written
+            ),
+        ),
+        None => (String::new(), ",,,,".to_owned()),
+    };
+    format!(
+        "{frame},{index},{label},{api},,,,,,,,,,,,,,{gpu_ms},,,{tiler_bytes},{tiler_bytes},{not_measured},,{kind},{figures}"
+    )
+}
 
 fn opt<T: std::fmt::Display>(value: Option<T>) -> String {
     value.map_or(String::new(), |v| v.to_string())
@@ -87,14 +121,20 @@ fn csv(report: &FillrateReport) -> String {
             let prefix = csv_row_prefix(frame.index, row);
             let counters = row.counters.as_ref().map_or(",,,,,,,,,,,".to_owned(), csv_counters);
             let not_measured = csv_field(row.not_measured.as_deref().unwrap_or(""));
-            let _ = writeln!(out, "{prefix},{counters},{not_measured},");
-            // A section: the pass's columns, its own counters, its label in the last column.
+            let _ = writeln!(out, "{prefix},{counters},{not_measured},,{CSV_PASS_TAIL}");
+            // A section: the pass's columns, its own counters, its label in the section column.
             for section in &row.sections {
                 let counters = section.counters.as_ref().map_or(",,,,,,,,,,,".to_owned(), csv_counters);
                 let not_measured = csv_field(section.not_measured.as_deref().unwrap_or(""));
                 let name = csv_field(&section_name(section.label.as_deref()));
-                let _ = writeln!(out, "{prefix},{counters},{not_measured},{name}");
+                let _ = writeln!(out, "{prefix},{counters},{not_measured},{name},{CSV_PASS_TAIL}");
             }
+        }
+        for w in &frame.work {
+            let bytes = w.counters.map_or(String::new(), |c| c.bandwidth().tiler_bytes.to_string());
+            let what = (w.kind.as_str(), w.api.as_str(), w.label.as_deref());
+            let line = csv_work_line(&frame.index.to_string(), w.index, what, w.counters.as_ref(), bytes, w.not_measured.as_deref());
+            let _ = writeln!(out, "{line}");
         }
     }
     // The aggregate: "mean"/"min"/"max" in the frame column, the position as index.
@@ -104,7 +144,7 @@ fn csv(report: &FillrateReport) -> String {
         let lines =
             [("mean", csv_counters(&agg.mean)), ("min", csv_counters(&agg.min)), ("max", csv_counters(&agg.max))];
         for (what, counters) in lines {
-            let _ = writeln!(out, "{what},{},{label},,,,,,,{key},{counters},,", agg.position);
+            let _ = writeln!(out, "{what},{},{label},,,,,,,{key},{counters},,,{CSV_PASS_TAIL}", agg.position);
         }
         for section in &agg.sections {
             let name = csv_field(&section_name(section.label.as_deref()));
@@ -114,9 +154,19 @@ fn csv(report: &FillrateReport) -> String {
                 ("max", csv_counters(&section.max)),
             ];
             for (what, counters) in lines {
-                let _ = writeln!(out, "{what},{},{label},,,,,,,{key},{counters},,{name}", agg.position);
+                let _ = writeln!(out, "{what},{},{label},,,,,,,{key},{counters},,{name},{CSV_PASS_TAIL}", agg.position);
             }
         }
+    }
+    for w in &report.work_aggregate {
+        let what = (w.kind.as_str(), w.api.as_str(), w.label.as_deref());
+        let mean_bytes = (w.mean.bytes_read + w.mean.bytes_written).to_string();
+        let line = |frame: &str, c: &WorkCounters, bytes: u64| {
+            csv_work_line(frame, w.position, what, Some(c), bytes.to_string(), None)
+        };
+        let _ = writeln!(out, "{}", csv_work_line("mean", w.position, what, Some(&w.mean), mean_bytes, None));
+        let _ = writeln!(out, "{}", line("min", &w.min, w.min.bandwidth().tiler_bytes));
+        let _ = writeln!(out, "{}", line("max", &w.max, w.max.bandwidth().tiler_bytes));
     }
     out
 }
@@ -132,14 +182,11 @@ pub fn tiler_lines(check: &TilerReport) -> String {
     for f in &check.flags {
         let attachment = f.attachment.as_deref().map_or(String::new(), |a| format!(" {a}"));
         let times = if f.count > 1 { format!(" (x{})", f.count) } else { String::new() };
-        let _ = writeln!(
-            out,
-            "  {}: frame {} {}{attachment}{times}: {}",
-            f.kind,
-            f.frame,
-            name(f.pass, &f.label),
-            f.detail
-        );
+        let place = match f.work {
+            Some(work) => work_name(work, f.label.as_deref()).replacen('#', "work #", 1),
+            None => name(f.pass, &f.label),
+        };
+        let _ = writeln!(out, "  {}: frame {} {place}{attachment}{times}: {}", f.kind, f.frame, f.detail);
     }
     if let Some(why) = &check.reads_unknown {
         let _ = writeln!(out, "  (reads not all seen: {why}; unread and dead-pass flags are not given)");
@@ -151,6 +198,81 @@ pub fn tiler_lines(check: &TilerReport) -> String {
             let _ = writeln!(out, "  {} {} {}: {read}", name(p.pass, &p.label), p.attachment, p.when);
         }
     }
+    out
+}
+
+/// "#2 blur": a work row's name.
+fn work_name(index: u32, label: Option<&str>) -> String {
+    match label {
+        Some(label) => format!("#{index} {label}"),
+        None => format!("#{index}"),
+    }
+}
+
+/// The frame's dispatch groups and transfers, one row each (nothing when it has none).
+fn work_table(work: &[super::report::WorkRow]) -> String {
+    if work.is_empty() {
+        return String::new();
+    }
+    let optu = |v: Option<u64>| v.map_or("n/a".to_owned(), |v| v.to_string());
+    let header = ["work", "kind", "api", "commands", "workgroups", "invocations", "read B", "written B", "GPU ms"];
+    let mut rows = Vec::new();
+    for w in work {
+        let mut cells = vec![work_name(w.index, w.label.as_deref()), w.kind.clone(), w.api.clone()];
+        match &w.counters {
+            Some(c) => cells.extend([
+                c.commands.to_string(),
+                optu(c.workgroups),
+                optu(c.compute_invocations),
+                c.bytes_read.to_string(),
+                c.bytes_written.to_string(),
+                c.gpu_ms.map_or("n/a".to_owned(), |v| format!("{v:.3}")),
+            ]),
+            None => {
+                cells.push(format!("not measured: {}", w.not_measured.as_deref().unwrap_or("unknown")));
+                cells.extend(vec![String::new(); 5]);
+            }
+        }
+        rows.push(cells);
+    }
+    let mut out = String::from("\ncompute and transfers outside render passes (bytes: transfers' regions):\n");
+    out += &aligned(&header, &rows);
+    for w in work.iter().filter(|w| w.note.is_some()) {
+        let _ = writeln!(out, "  {}: {}", work_name(w.index, w.label.as_deref()), w.note.as_deref().unwrap_or(""));
+    }
+    out
+}
+
+/// Mean, min and max of each work row over the frames (nothing when there was no work).
+fn work_aggregate_table(report: &FillrateReport) -> String {
+    if report.work_aggregate.is_empty() {
+        return String::new();
+    }
+    let optu = |v: Option<u64>| v.map_or("n/a".to_owned(), |v| v.to_string());
+    let optf = |v: Option<f64>| v.map_or("n/a".to_owned(), |v| format!("{v:.3}"));
+    let header =
+        ["work", "kind", "api", "frames", "invocations mean", "min", "max", "bytes mean", "GPU ms mean", "min", "max"];
+    let rows: Vec<Vec<String>> = report
+        .work_aggregate
+        .iter()
+        .map(|w| {
+            vec![
+                work_name(w.position, w.label.as_deref()),
+                w.kind.clone(),
+                w.api.clone(),
+                w.frames.to_string(),
+                w.mean.compute_invocations.map_or("n/a".to_owned(), |v| format!("{v:.1}")),
+                optu(w.min.compute_invocations),
+                optu(w.max.compute_invocations),
+                format!("{:.0}", w.mean.bytes_read + w.mean.bytes_written),
+                optf(w.mean.gpu_ms),
+                optf(w.min.gpu_ms),
+                optf(w.max.gpu_ms),
+            ]
+        })
+        .collect();
+    let mut out = String::from("\naggregate of the work outside render passes, matched by position, kind, command and label:\n");
+    out += &aligned(&header, &rows);
     out
 }
 
@@ -251,12 +373,16 @@ fn table(report: &FillrateReport) -> String {
             }
         }
         out += &aligned(&header, &rows);
+        out += &work_table(&frame.work);
         let measured = frame.render_passes.iter().filter_map(|r| r.counters.as_ref());
-        let bytes: crate::frame::bandwidth::Bandwidth = measured.map(Counters::bandwidth).sum();
+        let passes: crate::frame::bandwidth::Bandwidth = measured.map(Counters::bandwidth).sum();
+        let transfers: crate::frame::bandwidth::Bandwidth =
+            frame.work.iter().filter_map(|w| w.counters).map(|c| c.bandwidth()).sum();
+        let bytes = passes + transfers;
         let _ = writeln!(
             out,
-            "frame bandwidth estimate: tiler {} B, immediate-mode {} B (Mesa turnip's model, docs/fillrate-layer.md)",
-            bytes.tiler_bytes, bytes.immediate_bytes
+            "frame bandwidth estimate: tiler {} B, immediate-mode {} B, transfers' {} B included (Mesa turnip's model, docs/fillrate-layer.md)",
+            bytes.tiler_bytes, bytes.immediate_bytes, transfers.tiler_bytes
         );
         let _ = writeln!(out, "\nattachments (tile traffic from the load/store ops, over the render area):");
         for r in &frame.render_passes {
@@ -325,6 +451,7 @@ fn table(report: &FillrateReport) -> String {
             let _ = writeln!(out, "  #{}: {}", a.position, a.key);
         }
     }
+    out += &work_aggregate_table(report);
     if let Some(check) = &report.tiler_check {
         out += &tiler_lines(check);
     }
@@ -364,8 +491,9 @@ mod tests {
             counters: CounterSupport { pipeline_statistics: true, occlusion_precise: true, timestamps: false },
             frames_measured: 1,
             not_measured: vec![NotMeasured { what: "secondary command buffer".into(), count: 1 }],
-            frames: vec![FrameRows { index: 0, render_passes: passes }],
+            frames: vec![FrameRows { index: 0, render_passes: passes, work: Vec::new() }],
             aggregate: aggregate.rows(),
+            work_aggregate: Vec::new(),
             run: Some(RunEnd {
                 how: "crashed".into(),
                 detail: "crashed with SIGSEGV after 1 measured frame".into(),
@@ -393,7 +521,7 @@ mod tests {
         assert_eq!(lines.len(), 1 + 3 + 6);
         assert!(lines[1].starts_with("0,0,\"shadow, \"\"main\"\"\",vkCmdBeginRenderPass,0,0,10,10,1,"));
         assert!(lines[1].contains(",2,6,2,200,2,100,1,1,0,0,"), "{}", lines[1]);
-        assert!(lines[3].ends_with(",secondary command buffer,"));
+        assert!(lines[3].ends_with(",secondary command buffer,,render_pass,,,,,"), "{}", lines[3]);
         assert!(lines[4].starts_with("mean,0,"));
         assert!(lines[5].starts_with("min,0,") && lines[6].starts_with("max,0,"));
         // Every line has the header's columns (lines with a quoted comma aside).
@@ -435,10 +563,61 @@ mod tests {
         assert!(table.contains("#0 frame / volumes (alpha, z-pass)"), "{table}");
         assert!(table.contains("#0 frame / (unlabelled)"), "{table}");
         let csv = render(&report, OutputFormat::Csv);
-        let sections: Vec<&str> = csv.lines().filter(|l| l.ends_with(",\"volumes (alpha, z-pass)\"")).collect();
+        let sections: Vec<&str> =
+            csv.lines().filter(|l| l.ends_with(",\"volumes (alpha, z-pass)\",render_pass,,,,,")).collect();
         // The frame's line and the aggregate's mean, min and max.
         assert_eq!(sections.len(), 4, "{csv}");
         assert!(sections[0].starts_with("0,0,frame,"), "{}", sections[0]);
+        let json = render(&report, OutputFormat::Json);
+        assert_eq!(FillrateReport::from_json(&json), Ok(report));
+    }
+
+    #[test]
+    fn work_rows_follow_the_passes_in_the_table_and_csv_and_count_in_the_frames_bytes() {
+        use crate::layer::report::{WorkCounters, WorkRow};
+        use crate::layer::work_aggregate::WorkAggregator;
+        let mut report = report();
+        let counters = |invocations, read, written| WorkCounters {
+            commands: 2,
+            workgroups: Some(12),
+            compute_invocations: invocations,
+            bytes_read: read,
+            bytes_written: written,
+            gpu_ms: Some(0.5),
+        };
+        let row = |index, kind: &str, api: &str, c| WorkRow {
+            index,
+            kind: kind.into(),
+            api: api.into(),
+            label: Some("blur".into()),
+            counters: Some(c),
+            not_measured: None,
+            note: None,
+        };
+        report.frames[0].work = vec![
+            row(0, "compute", "vkCmdDispatch", counters(Some(384), 0, 0)),
+            WorkRow { note: Some("full-frame blit into a swapchain image (8x8)".into()), ..row(1, "transfer", "vkCmdBlitImage", counters(None, 256, 1024)) },
+        ];
+        let mut aggregate = WorkAggregator::default();
+        aggregate.add_frame(&report.frames[0].work);
+        report.work_aggregate = aggregate.rows();
+
+        let table = render(&report, OutputFormat::Table);
+        assert!(table.contains("compute and transfers outside render passes"), "{table}");
+        assert!(table.contains("#0 blur") && table.contains("384") && table.contains("vkCmdBlitImage"), "{table}");
+        assert!(table.contains("#1 blur: full-frame blit into a swapchain image (8x8)"), "{table}");
+        assert!(table.contains("transfers' 1280 B included"), "{table}");
+        assert!(table.contains("aggregate of the work outside render passes"), "{table}");
+        let csv = render(&report, OutputFormat::Csv);
+        let columns = CSV_HEADER.split(',').count();
+        let work: Vec<&str> = csv.lines().filter(|l| l.contains(",vkCmdDispatch,") || l.contains(",vkCmdBlitImage,")).collect();
+        // The frame's two rows, and mean, min and max of each.
+        assert_eq!(work.len(), 2 + 6, "{csv}");
+        for line in &work {
+            assert_eq!(line.split(',').count(), columns, "{line}");
+        }
+        assert!(work[0].starts_with("0,0,blur,vkCmdDispatch,") && work[0].ends_with(",compute,2,12,384,0,0"), "{}", work[0]);
+        assert!(work[1].ends_with(",1280,1280,,,transfer,2,12,,256,1024"), "{}", work[1]);
         let json = render(&report, OutputFormat::Json);
         assert_eq!(FillrateReport::from_json(&json), Ok(report));
     }

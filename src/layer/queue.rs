@@ -9,7 +9,10 @@ use std::sync::Once;
 
 use super::arrays::app_array;
 use super::capture;
+use super::config::FrameOn;
 use super::copies;
+use super::frame_boundary;
+use super::frame_cuts;
 use super::in_flight::TimelineSignal;
 use super::objects::{device_and, flush_buffer, spoil_gaps};
 use super::proofs;
@@ -23,6 +26,8 @@ struct Batch {
     can_copy: bool,
     /// The semaphores it signals with their values (a timeline's; a binary one's is ignored).
     signals: Vec<(vk::Semaphore, u64)>,
+    /// It ends a frame (VkFrameBoundaryEXT with FRAME_END in its chain).
+    frame_end: bool,
 }
 
 /// Notes the command buffers of one vkQueueSubmit(2) call, in submission order. Returns, per
@@ -87,16 +92,17 @@ fn submitted(
                 break;
             }
             let Some(data) = state.buffers.get(&buffer) else { continue };
-            if data.recording.passes.is_empty() {
+            if data.recording.passes.is_empty() && data.recording.work.list.is_empty() {
                 continue;
             }
             let passes = data.recording.passes.clone();
+            let work = data.recording.work.list.clone();
             let family = state.command_pools.get(&data.pool).copied().unwrap_or(0);
             let timestamp_bits = device.info.timestamp_bits.get(family as usize).copied().unwrap_or(0);
             let copy = if batch.can_copy {
                 // Without a copy the results are read from the pools, as long as nothing
                 // re-submits the buffer before (the spoiling above says so if it does).
-                copies::make(device, state, family, &passes).unwrap_or_else(|why| {
+                copies::make(device, state, family, &passes, &work).unwrap_or_else(|why| {
                     static ONCE: Once = Once::new();
                     ONCE.call_once(|| eprintln!("nostencil fill-rate layer: {why}; results read from the query pools"));
                     None
@@ -114,12 +120,16 @@ fn submitted(
                 frame,
                 buffer,
                 passes,
+                work,
                 timestamp_bits,
                 spoiled: None,
                 copy,
             });
         }
         copies.push(batch_copies);
+        if batch.frame_end {
+            frame_cuts::boundary(device, state);
+        }
         let sequence = state.sequence;
         if state.pending.iter().any(|p| p.queue == queue && p.sequence <= sequence) {
             let signals = batch.signals.iter().map(|&(semaphore, value)| TimelineSignal { semaphore, value, queue, sequence });
@@ -142,6 +152,9 @@ fn submitted(
         state.fences.insert(fence, (queue, state.sequence));
     }
     forget_proven_signals(state);
+    if frame_cuts::cuts_on(device, state, FrameOn::Submit) {
+        frame_cuts::cut(device, state);
+    }
     copies
 }
 
@@ -231,9 +244,17 @@ unsafe fn wait_semaphores_with(
                 };
                 timeline_reached(&data, &mut st, semaphore, reached);
             }
+            waited(&data, &mut st);
         });
     }
     result
+}
+
+/// A successful host wait: the frame ends here with `--frame-on wait`.
+fn waited(device: &DeviceData, state: &mut DeviceState) {
+    if frame_cuts::cuts_on(device, state, FrameOn::Wait) {
+        frame_cuts::cut(device, state);
+    }
 }
 
 pub(super) unsafe extern "system" fn wait_semaphores(
@@ -370,12 +391,22 @@ pub(super) unsafe extern "system" fn queue_submit(
                 can_copy: unsafe { batch_extendable(s.p_next) },
                 // SAFETY: as above.
                 signals: unsafe { signals_of(s) },
+                // SAFETY: as above.
+                frame_end: unsafe { frame_cuts::frame_end(s.p_next) },
             })
             .collect()
     });
+    // The batches' frame boundaries (read above) are kept from a driver that lacks them, and
+    // put back after the call.
+    let emulated = device.info.frame_boundary_emulated;
+    // SAFETY: the application's infos, restored below.
+    let unlinked = unsafe { frame_boundary::strip(emulated, submits, count, |s| std::ptr::addr_of_mut!((*s).p_next).cast()) };
     if copies.iter().all(Vec::is_empty) {
         // SAFETY: the application's arguments, passed on.
-        return unsafe { next(queue, count, submits, fence) };
+        let result = unsafe { next(queue, count, submits, fence) };
+        // SAFETY: the same infos.
+        unsafe { unlinked.restore() };
+        return result;
     }
     let buffers: Vec<Vec<vk::CommandBuffer>> = infos
         .iter()
@@ -393,7 +424,10 @@ pub(super) unsafe extern "system" fn queue_submit(
         batch.p_command_buffers = buffers.as_ptr();
     }
     // SAFETY: the application's batches, each with the layer's buffers after its own.
-    unsafe { next(queue, count, batches.as_ptr(), fence) }
+    let result = unsafe { next(queue, count, batches.as_ptr(), fence) };
+    // SAFETY: the same infos.
+    unsafe { unlinked.restore() };
+    result
 }
 
 unsafe fn queue_submit2_with(
@@ -423,12 +457,20 @@ unsafe fn queue_submit2_with(
                     .iter()
                     .map(|info| (info.semaphore, info.value))
                     .collect(),
+                // SAFETY: as above.
+                frame_end: unsafe { frame_cuts::frame_end(s.p_next) },
             })
             .collect()
     });
+    let emulated = device.info.frame_boundary_emulated;
+    // SAFETY: the application's infos, restored below.
+    let unlinked = unsafe { frame_boundary::strip(emulated, submits, count, |s| std::ptr::addr_of_mut!((*s).p_next).cast()) };
     if copies.iter().all(Vec::is_empty) {
         // SAFETY: the application's arguments, passed on.
-        return unsafe { next(queue, count, submits, fence) };
+        let result = unsafe { next(queue, count, submits, fence) };
+        // SAFETY: the same infos.
+        unsafe { unlinked.restore() };
+        return result;
     }
     let buffers: Vec<Vec<vk::CommandBufferSubmitInfo>> = infos
         .iter()
@@ -448,7 +490,10 @@ unsafe fn queue_submit2_with(
         batch.p_command_buffer_infos = buffers.as_ptr();
     }
     // SAFETY: the application's batches, each with the layer's buffers after its own.
-    unsafe { next(queue, count, batches.as_ptr(), fence) }
+    let result = unsafe { next(queue, count, batches.as_ptr(), fence) };
+    // SAFETY: the same infos.
+    unsafe { unlinked.restore() };
+    result
 }
 
 pub(super) unsafe extern "system" fn queue_submit2(
@@ -482,6 +527,12 @@ pub(super) unsafe extern "system" fn queue_present(
     let app_info = unsafe { info.as_ref() };
     // SAFETY: as above; the queue is the caller's for the call.
     let capturing = guard(None, || app_info.and_then(|i| unsafe { capture::begin(&device, queue, i) }));
+    // SAFETY: as above. The present's frame boundary, read here, is kept from a driver that
+    // lacks it and put back right after the call.
+    let boundary = app_info.is_some_and(|i| unsafe { frame_cuts::frame_end(i.p_next) });
+    let emulated = device.info.frame_boundary_emulated;
+    // SAFETY: the application's info, restored below.
+    let unlinked = unsafe { frame_boundary::strip(emulated, info, 1, |i| std::ptr::addr_of_mut!((*i).p_next).cast()) };
     let result = match (&capturing, app_info) {
         // SAFETY: the application's present, waiting on the layer's copy instead (which waited
         // on the application's semaphores).
@@ -489,6 +540,8 @@ pub(super) unsafe extern "system" fn queue_present(
         // SAFETY: the application's arguments, passed on.
         _ => unsafe { next(queue, info) },
     };
+    // SAFETY: the same info.
+    unsafe { unlinked.restore() };
     if let Some(capturing) = capturing {
         guard((), || capture::finish(&device, capturing));
     }
@@ -498,10 +551,14 @@ pub(super) unsafe extern "system" fn queue_present(
             if device.config.tiler {
                 st.tiler.check.end_frame();
             }
-            st.frames().present();
+            if boundary {
+                frame_cuts::boundary(&device, &mut st);
+            } else if frame_cuts::cuts_on(&device, &st, FrameOn::Present) {
+                st.frames().present();
+            }
             proofs::poll(&device, &mut st);
             proofs::add(&device, &mut st, queue);
-            if st.frames().finish_ready() > 0 {
+            if super::readback::finish_frames(&device, &mut st) > 0 {
                 write_if_due(&device, &mut st, false);
             }
         }
@@ -563,6 +620,7 @@ pub(super) unsafe extern "system" fn wait_for_fences(
                     fence_signalled(&data, &mut st, fence);
                 }
             }
+            waited(&data, &mut st);
         });
     }
     result
@@ -593,7 +651,9 @@ pub(super) unsafe extern "system" fn queue_wait_idle(queue: vk::Queue) -> vk::Re
     if result == vk::Result::SUCCESS {
         guard((), || {
             if device.active() {
-                read_completed(&device, &mut device.state(), |p| p.queue == queue);
+                let mut st = device.state();
+                read_completed(&device, &mut st, |p| p.queue == queue);
+                waited(&device, &mut st);
             }
         });
     }
@@ -609,7 +669,9 @@ pub(super) unsafe extern "system" fn device_wait_idle(device: vk::Device) -> vk:
     if result == vk::Result::SUCCESS {
         guard((), || {
             if data.active() {
-                read_completed(&data, &mut data.state(), |_| true);
+                let mut st = data.state();
+                read_completed(&data, &mut st, |_| true);
+                waited(&data, &mut st);
             }
         });
     }

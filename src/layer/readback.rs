@@ -7,8 +7,9 @@ use super::output::{render, write_atomically};
 use super::recording::{AppGap, RecordedPass};
 use super::report::{
     journal_path, Counters, DrawRow, FillrateReport, JournalLine, NotMeasured, RawCounters, RenderPassRow, SectionRow,
-    FILLRATE_SCHEMA,
+    WorkCounters, WorkRow, FILLRATE_SCHEMA,
 };
+use super::work::RecordedWork;
 use super::slots::{QueryKind, Slot};
 use super::state::{DeviceData, DeviceState, Pending};
 
@@ -108,7 +109,7 @@ fn read_part(
                 raw.samples_passed += read_query(device, Slot { pool: gap.pool, query: gap.query }, 1)?[0]
             }
             QueryKind::Statistics => stats = [None; 3],
-            QueryKind::Timestamp => {}
+            QueryKind::Timestamp | QueryKind::Compute => {}
         }
     }
     [raw.vertex_invocations, raw.clipping_primitives, raw.fragment_invocations] = stats;
@@ -163,7 +164,7 @@ fn read_sections(
 }
 
 /// GPU nanoseconds between two timestamps.
-fn elapsed_ns(
+pub(super) fn elapsed_ns(
     device: &DeviceData,
     (begin, end): (Slot, Slot),
     timestamp_bits: u32,
@@ -260,6 +261,15 @@ pub fn read_completed(device: &DeviceData, state: &mut DeviceState, done: impl F
                 row(pass, result, per_draw, sections)
             })
             .collect();
+        let work: Vec<_> = pending
+            .work
+            .iter()
+            .map(|w| {
+                let spoiled = pending.spoiled.as_deref();
+                let indirect = |b, o| copy.as_ref().and_then(|c| c.workgroups(b, o));
+                read_work(device, w, pending.timestamp_bits, spoiled, &layer, &indirect)
+            })
+            .collect();
         if let Some(copy) = copy {
             copy.release(&device.fns);
         }
@@ -273,11 +283,91 @@ pub fn read_completed(device: &DeviceData, state: &mut DeviceState, done: impl F
         for _ in 0..statistics_gaps {
             state.count_not_measured(APP_STATISTICS_GAP);
         }
-        state.frames().completed(pending.frame, pending.sequence, rows);
+        for row in &work {
+            if let Some(reason) = &row.not_measured {
+                state.count_not_measured(reason);
+            }
+        }
+        state.frames().completed_with_work(pending.frame, pending.sequence, rows, work);
     }
-    let finished = state.frames().finish_ready();
+    let finished = finish_frames(device, state);
     if finished > 0 {
         write_if_due(device, state, false);
+    }
+}
+
+/// Moves the frames that are complete to the report (frames.rs) and gives the tiler check
+/// their work rows' findings; returns how many.
+pub fn finish_frames(device: &DeviceData, state: &mut DeviceState) -> u64 {
+    let finished = state.frames().finish_ready();
+    if finished > 0 && device.config.tiler {
+        flag_swapchain_copies(state, finished);
+    }
+    finished
+}
+
+/// The row of one read-back dispatch group or transfer (index set when the frame is assembled).
+/// `spoiled`: why the submission's results cannot be trusted.
+pub fn read_work(
+    device: &DeviceData,
+    work: &RecordedWork,
+    timestamp_bits: u32,
+    spoiled: Option<&str>,
+    layer: &dyn Fn(Slot, usize) -> Result<Vec<u64>, String>,
+    indirect: &dyn Fn(vk::Buffer, u64) -> Option<u64>,
+) -> WorkRow {
+    let read = || -> Result<WorkCounters, String> {
+        if let Some(reason) = spoiled {
+            return Err(reason.to_owned());
+        }
+        let compute_invocations = match work.statistics {
+            Some(slot) => Some(layer(slot, 1)?[0]),
+            None => None,
+        };
+        let gpu_ms = match work.timestamps {
+            Some(pair) => Some(elapsed_ns(device, pair, timestamp_bits, layer)?.max(0.0) / 1e6),
+            None => None,
+        };
+        Ok(WorkCounters {
+            commands: work.commands as u64,
+            workgroups: match work.workgroups {
+                // Read back from the submission's copy; unknown when any was not copied.
+                Some(recorded) => work.indirect.iter().try_fold(recorded, |sum, &(b, o)| Some(sum + indirect(b, o)?)),
+                None => None,
+            },
+            compute_invocations,
+            bytes_read: work.moved.read,
+            bytes_written: work.moved.written,
+            gpu_ms,
+        })
+    };
+    let (counters, not_measured) = match read() {
+        Ok(counters) => (Some(counters), None),
+        Err(reason) => (None, Some(reason)),
+    };
+    WorkRow {
+        index: 0,
+        kind: work.kind.name().to_owned(),
+        api: work.api.to_owned(),
+        label: work.label.clone(),
+        counters,
+        not_measured,
+        note: work.moved.note.clone(),
+    }
+}
+
+/// The tiler check's findings in the frames just finished (the last `finished` kept): each
+/// work row noted as a full-frame copy or blit into a swapchain image.
+pub fn flag_swapchain_copies(state: &mut DeviceState, finished: u64) {
+    let DeviceState { frames, tiler, .. } = state;
+    let Some(frames) = frames else { return };
+    let first = frames.kept.len().saturating_sub(finished as usize);
+    for frame in frames.kept.iter().skip(first) {
+        for w in frame.work.iter() {
+            if let Some(note) = &w.note {
+                tiler.check.swapchain_copy(frame.index, w.index, &w.label, note);
+            }
+        }
     }
 }
 
@@ -295,6 +385,7 @@ pub fn report(device: &DeviceData, state: &mut DeviceState) -> FillrateReport {
         not_measured,
         frames: frames.kept.iter().cloned().collect(),
         aggregate: frames.aggregate.rows(),
+        work_aggregate: frames.work_aggregate.rows(),
         run: None,
         tiler_check: device.config.tiler.then(|| state.tiler.check.report()),
     }

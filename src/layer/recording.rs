@@ -154,6 +154,8 @@ pub struct Recording {
     pub occlusion: SlotPool,
     pub statistics: SlotPool,
     pub timestamps: SlotPool,
+    /// Dispatch groups and transfers outside render passes (work.rs).
+    pub work: super::work::WorkState,
 }
 
 impl Recording {
@@ -172,6 +174,7 @@ impl Recording {
             occlusion: SlotPool::new(QueryKind::Occlusion),
             statistics: SlotPool::new(QueryKind::Statistics),
             timestamps: SlotPool::new(QueryKind::Timestamp),
+            work: Default::default(),
         }
     }
 
@@ -187,22 +190,82 @@ impl Recording {
         self.occlusion.restart();
         self.statistics.restart();
         self.timestamps.restart();
+        self.work.restart();
     }
 
     /// Every pool this recording created (to destroy with the command buffer).
     pub fn pools(&self) -> impl Iterator<Item = vk::QueryPool> + '_ {
-        [&self.occlusion, &self.statistics, &self.timestamps].into_iter().flat_map(|s| s.pools.iter().copied())
+        [&self.occlusion, &self.statistics, &self.timestamps, &self.work.compute]
+            .into_iter()
+            .flat_map(|s| s.pools.iter().copied())
+    }
+
+    /// An application statistics query is active outside any pass (a dispatch group then has
+    /// no statistics of the layer's: two cannot be active at once).
+    pub fn app_statistics_active(&self) -> bool {
+        self.app_active.values().any(|k| *k == QueryKind::Statistics)
+    }
+
+    /// What the work bookkeeping (work.rs) needs to know now, and the work state itself.
+    fn work_context(&mut self) -> (super::work::Context<'_>, &mut super::work::WorkState) {
+        // The open label only: an inserted label names the next render pass, not work.
+        let label = self.labels.last().cloned();
+        let statistics = self.support.statistics && !self.app_statistics_active();
+        let cx = super::work::Context {
+            skip: self.secondary || self.open.is_some(),
+            statistics,
+            timestamps: self.support.timestamps.then_some(&mut self.timestamps),
+            label,
+        };
+        (cx, &mut self.work)
+    }
+
+    /// A dispatch outside a render pass (work.rs): commands before the application's call.
+    pub fn dispatch(
+        &mut self,
+        api: &'static str,
+        groups: super::work::Workgroups,
+        create: &mut dyn FnMut(QueryKind) -> Option<vk::QueryPool>,
+    ) -> Vec<QueryCmd> {
+        let (cx, work) = self.work_context();
+        work.dispatch(cx, api, groups, create)
+    }
+
+    /// A transfer outside a render pass (work.rs): commands before and after the call.
+    pub fn transfer(
+        &mut self,
+        api: &'static str,
+        moved: super::work::Moved,
+        create: &mut dyn FnMut(QueryKind) -> Option<vk::QueryPool>,
+    ) -> (Vec<QueryCmd>, Vec<QueryCmd>) {
+        let (cx, work) = self.work_context();
+        work.transfer(cx, api, moved, create)
+    }
+
+    /// Closes the open dispatch group: commands before whatever closes it.
+    pub fn close_work(&mut self) -> Vec<QueryCmd> {
+        self.work.close()
     }
 
     /// vkCmdBeginDebugUtilsLabelEXT: inside a pass, a new section begins (commands before and
     /// after the application's call).
     pub fn push_label(&mut self, label: String) -> (Vec<QueryCmd>, Vec<QueryCmd>) {
+        // A label also ends a dispatch group (work.rs).
+        let closed = self.close_work();
         self.labels.push(label);
-        self.split_section()
+        let (mut before, after) = self.split_section();
+        before.splice(0..0, closed);
+        (before, after)
     }
 
     /// vkCmdEndDebugUtilsLabelEXT: ending a label begun inside the pass begins a new section.
     pub fn pop_label(&mut self) -> (Vec<QueryCmd>, Vec<QueryCmd>) {
+        let closed = self.close_work();
+        if !closed.is_empty() {
+            // Outside any pass (a dispatch group was open): nothing of a pass's to split.
+            self.labels.pop();
+            return (closed, Vec::new());
+        }
         self.labels.pop();
         let depth = self.labels.len();
         match self.open {
@@ -303,7 +366,8 @@ impl Recording {
                 desc.not_measured = Some("application pipeline statistics query active across the pass".into());
             }
         }
-        let mut before = Vec::new();
+        // A render pass ends a dispatch group (work.rs).
+        let mut before = self.close_work();
         if desc.not_measured.is_none() {
             let support = self.support;
             // Resets go outside the pass: every slot the pass may use is reset before it.
@@ -466,6 +530,8 @@ impl Recording {
             return before;
         }
         let Some(index) = self.open else {
+            // The application's query must not overlap a dispatch group's.
+            before.extend(self.close_work());
             self.app_active.insert((pool, query), kind);
             return before;
         };
@@ -676,6 +742,22 @@ mod tests {
         rec.draw();
         rec.end_pass();
         assert!(!rec.passes[0].split());
+    }
+
+    #[test]
+    fn labels_and_passes_close_a_dispatch_group_which_the_label_names() {
+        let (mut rec, mut create) = recording();
+        rec.push_label("blur".into());
+        assert_eq!(begins(&rec.dispatch("vkCmdDispatch", super::super::work::Workgroups::Recorded(2), &mut create)), 1);
+        let (before, _) = rec.pop_label();
+        assert_eq!(ends(&before), 1, "the label's end closes the group: {before:?}");
+        rec.dispatch("vkCmdDispatch", super::super::work::Workgroups::Recorded(2), &mut create);
+        let (before, _) = rec.begin_pass(desc(), &mut create);
+        assert_eq!(ends(&before), 1, "a render pass closes it too: {before:?}");
+        assert!(rec.dispatch("vkCmdDispatch", super::super::work::Workgroups::Recorded(1), &mut create).is_empty(), "not inside a pass");
+        rec.end_pass();
+        let labels: Vec<Option<&str>> = rec.work.list.iter().map(|w| w.label.as_deref()).collect();
+        assert_eq!(labels, [Some("blur"), None]);
     }
 
     #[test]

@@ -25,6 +25,10 @@ pub struct FillrateReport {
     pub not_measured: Vec<NotMeasured>,
     pub frames: Vec<FrameRows>,
     pub aggregate: Vec<AggregateRow>,
+    /// Mean, min and max of each dispatch group and transfer over the frames (work_aggregate.rs),
+    /// matched by position among the frame's work, kind, command and label.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub work_aggregate: Vec<AggregateWork>,
     /// How the program's run ended, when `profile-app` ran it (the layer itself leaves it out).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub run: Option<RunEnd>,
@@ -87,6 +91,68 @@ pub struct NotMeasured {
 pub struct FrameRows {
     pub index: u64,
     pub render_passes: Vec<RenderPassRow>,
+    /// Compute and transfer work outside render passes, in submission order (work.rs).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub work: Vec<WorkRow>,
+}
+
+/// A group of dispatches (between two barriers, label calls or other work) or one transfer
+/// command, outside render passes.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct WorkRow {
+    /// Position among the frame's work rows, from 0.
+    pub index: u32,
+    /// "compute" | "transfer".
+    pub kind: String,
+    /// The (first) command, e.g. "vkCmdDispatch", "vkCmdBlitImage".
+    pub api: String,
+    /// The innermost debug-utils label open at the first command, if any.
+    pub label: Option<String>,
+    /// Null when the results could not be read (then `not_measured` says why).
+    pub counters: Option<WorkCounters>,
+    #[serde(default)]
+    pub not_measured: Option<String>,
+    /// e.g. a full-frame blit into a swapchain image (a `--tiler-check` finding).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
+}
+
+/// A work row's figures (`N` = u64), or their mean over frames (`N` = f64).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct WorkCounters<N = u64> {
+    /// Dispatches in the group; 1 for a transfer.
+    pub commands: N,
+    /// Workgroups as recorded (null when an indirect dispatch is in the group, and for
+    /// transfers).
+    pub workgroups: Option<N>,
+    /// Compute-shader invocations (pipeline statistics; null without them, and for transfers).
+    pub compute_invocations: Option<N>,
+    /// Bytes a transfer reads and writes, from its regions (0 for compute: its memory traffic
+    /// is not known to the layer).
+    pub bytes_read: N,
+    pub bytes_written: N,
+    pub gpu_ms: Option<f64>,
+}
+
+impl WorkCounters {
+    /// A transfer's bytes go through system memory on a tiler and an immediate-mode GPU alike.
+    pub fn bandwidth(&self) -> Bandwidth {
+        let bytes = self.bytes_read + self.bytes_written;
+        Bandwidth { tiler_bytes: bytes, immediate_bytes: bytes }
+    }
+}
+
+/// Mean, min and max of one work row over the frames that had it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AggregateWork {
+    pub position: u32,
+    pub kind: String,
+    pub api: String,
+    pub label: Option<String>,
+    pub frames: u64,
+    pub mean: WorkCounters<f64>,
+    pub min: WorkCounters,
+    pub max: WorkCounters,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -12,6 +12,8 @@ pub enum QueryKind {
     Occlusion,
     Statistics,
     Timestamp,
+    /// Pipeline statistics of compute-shader invocations only (work.rs).
+    Compute,
 }
 
 /// One query: its pool and index.

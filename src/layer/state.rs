@@ -154,12 +154,32 @@ next_fns! {
     create_swapchain_khr: PFN_vkCreateSwapchainKHR = "vkCreateSwapchainKHR",
     destroy_swapchain_khr: PFN_vkDestroySwapchainKHR = "vkDestroySwapchainKHR",
     get_swapchain_images_khr: PFN_vkGetSwapchainImagesKHR = "vkGetSwapchainImagesKHR",
+    end_command_buffer: PFN_vkEndCommandBuffer = "vkEndCommandBuffer",
+    create_buffer: PFN_vkCreateBuffer = "vkCreateBuffer",
+    destroy_buffer: PFN_vkDestroyBuffer = "vkDestroyBuffer",
+    cmd_dispatch_base: PFN_vkCmdDispatchBase = "vkCmdDispatchBase",
+    cmd_dispatch_base_khr: PFN_vkCmdDispatchBase = "vkCmdDispatchBaseKHR",
+    cmd_copy_buffer: PFN_vkCmdCopyBuffer = "vkCmdCopyBuffer",
+    cmd_copy_buffer2: PFN_vkCmdCopyBuffer2 = "vkCmdCopyBuffer2",
+    cmd_copy_buffer2_khr: PFN_vkCmdCopyBuffer2 = "vkCmdCopyBuffer2KHR",
+    cmd_fill_buffer: PFN_vkCmdFillBuffer = "vkCmdFillBuffer",
+    cmd_update_buffer: PFN_vkCmdUpdateBuffer = "vkCmdUpdateBuffer",
+    cmd_pipeline_barrier: PFN_vkCmdPipelineBarrier = "vkCmdPipelineBarrier",
+    cmd_pipeline_barrier2: PFN_vkCmdPipelineBarrier2 = "vkCmdPipelineBarrier2",
+    cmd_pipeline_barrier2_khr: PFN_vkCmdPipelineBarrier2 = "vkCmdPipelineBarrier2KHR",
+    cmd_wait_events: PFN_vkCmdWaitEvents = "vkCmdWaitEvents",
+    cmd_wait_events2: PFN_vkCmdWaitEvents2 = "vkCmdWaitEvents2",
+    cmd_wait_events2_khr: PFN_vkCmdWaitEvents2 = "vkCmdWaitEvents2KHR",
+    cmd_execute_commands: PFN_vkCmdExecuteCommands = "vkCmdExecuteCommands",
 }
 
 pub struct InstanceData {
     pub handle: vk::Instance,
     pub gipa: vk::PFN_vkGetInstanceProcAddr,
     pub fns: ash::Instance,
+    /// The next layer's vkGetPhysicalDeviceFeatures2 and its KHR alias, loaded with `fns` at
+    /// vkCreateInstance (None where the instance has none: a Vulkan 1.0 instance, no extension).
+    pub features2: [Option<vk::PFN_vkGetPhysicalDeviceFeatures2>; 2],
     pub application: String,
     pub config: Config,
 }
@@ -178,6 +198,9 @@ pub struct DeviceInfo {
     pub set_loader_data: Option<PfnSetDeviceLoaderData>,
     /// What the capture (capture.rs) needs to know of the device's queues and surfaces.
     pub capture: super::capture_state::CaptureDevice,
+    /// The program enabled VK_EXT_frame_boundary, which the layer offers and keeps from the
+    /// driver (frame_boundary.rs): its structs are taken out of the chains passed on.
+    pub frame_boundary_emulated: bool,
 }
 
 /// A command buffer the layer saw allocated.
@@ -195,6 +218,8 @@ pub struct Pending {
     pub frame: u64,
     pub buffer: vk::CommandBuffer,
     pub passes: Vec<RecordedPass>,
+    /// Dispatch groups and transfers outside render passes (work.rs).
+    pub work: Vec<super::work::RecordedWork>,
     pub timestamp_bits: u32,
     /// Set when the results can no longer be trusted (why).
     pub spoiled: Option<String>,
@@ -206,6 +231,15 @@ pub struct Pending {
 pub struct DeviceState {
     pub render_passes: HashMap<vk::RenderPass, RenderPassInfo>,
     pub image_samples: HashMap<vk::Image, u32>,
+    /// Images' formats and sizes, for the bytes of transfers (transfer_bytes.rs).
+    pub images: HashMap<vk::Image, super::transfer_bytes::ImageInfo>,
+    /// Buffers' sizes (vkCmdFillBuffer with VK_WHOLE_SIZE).
+    pub buffer_sizes: HashMap<vk::Buffer, u64>,
+    /// Indirect-argument buffers the layer made readable (TRANSFER_SRC), whose dispatch
+    /// arguments it copies at the end of a submission.
+    pub indirect_buffers: std::collections::HashSet<vk::Buffer>,
+    /// Swapchains' format and extent, for their images.
+    pub swapchains: HashMap<vk::SwapchainKHR, (vk::Format, vk::Extent2D)>,
     pub views: HashMap<vk::ImageView, (vk::Format, u32)>,
     pub command_pools: HashMap<vk::CommandPool, u32>,
     pub buffers: HashMap<vk::CommandBuffer, CommandBufferData>,
@@ -223,6 +257,8 @@ pub struct DeviceState {
     pub timeline_signals: Vec<TimelineSignal>,
     pub sequence: u64,
     pub frames: Option<FrameAssembler>,
+    /// The program marks its frames with VK_EXT_frame_boundary: only its boundaries cut frames.
+    pub boundaries: bool,
     pub not_measured: BTreeMap<String, u64>,
     /// Frames finished when the file was last written.
     pub written_at: u64,

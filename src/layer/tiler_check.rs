@@ -81,8 +81,8 @@ pub enum Event {
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct TilerFlag {
     /// "dont_care_load_read", "multisampled_stored", "resolve_outside_pass",
-    /// "transient_outside_pass", "stored_then_overwritten", "stored_never_read", "dead_pass" or
-    /// "load_after_dont_care".
+    /// "transient_outside_pass", "stored_then_overwritten", "stored_never_read", "dead_pass",
+    /// "load_after_dont_care" or "full_frame_copy_to_swapchain".
     pub kind: String,
     /// The first frame it was seen in.
     pub frame: u64,
@@ -94,6 +94,10 @@ pub struct TilerFlag {
     pub detail: String,
     /// How many times it was seen.
     pub count: u64,
+    /// For a finding about work outside render passes ("full_frame_copy_to_swapchain"): the
+    /// work row's position in the frame (then `pass` is 0 and means nothing).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub work: Option<u32>,
 }
 
 /// An attachment the check filled with the pattern, and whether a later use read it.
@@ -222,6 +226,28 @@ impl TilerCheck {
             attachment: attachment.map(str::to_owned),
             detail,
             count: 1,
+            work: None,
+        });
+    }
+
+    /// A copy or blit that writes a whole swapchain image (work row `work` of `frame`): the
+    /// frame went through system memory once more to reach the screen.
+    pub fn swapchain_copy(&mut self, frame: u64, work: u32, label: &Option<String>, detail: &str) {
+        let kind = "full_frame_copy_to_swapchain";
+        let same = |f: &&mut TilerFlag| f.kind == kind && f.work == Some(work) && f.label == *label;
+        if let Some(found) = self.report.flags.iter_mut().find(same) {
+            found.count += 1;
+            return;
+        }
+        self.report.flags.push(TilerFlag {
+            kind: kind.to_owned(),
+            frame,
+            pass: 0,
+            label: label.clone(),
+            attachment: None,
+            detail: format!("{detail}; render the last pass into the swapchain image instead"),
+            count: 1,
+            work: Some(work),
         });
     }
 

@@ -41,6 +41,22 @@ pub struct Budget {
     /// written before the estimate have none and hold no bytes.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub frame_bandwidth: Option<Bandwidth>,
+    /// An application's compute and transfer work outside render passes, by position (budgets
+    /// written before the layer measured it have none, and check none).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub work: Vec<WorkBudget>,
+}
+
+/// The deterministic figures of one dispatch group or transfer of an application's frame,
+/// the most over the measured frames.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct WorkBudget {
+    /// "compute #0", "transfer #3 'upload'": kind, position among the frame's work, label.
+    pub name: String,
+    pub workgroups: Option<u64>,
+    pub compute_invocations: Option<u64>,
+    /// Bytes read and written (transfers).
+    pub bytes: u64,
 }
 
 fn one_sample() -> u32 {
@@ -94,6 +110,7 @@ impl Budget {
             samples: counters.samples,
             passes: frame_passes(counters),
             frame_bandwidth: Some(counters.bandwidth()),
+            work: Vec::new(),
         }
     }
 
@@ -105,6 +122,7 @@ impl Budget {
         height: u32,
         passes: &[PassBudget],
         frame_bandwidth: Bandwidth,
+        work: &[WorkBudget],
     ) -> Self {
         Budget {
             schema: BUDGET_SCHEMA.into(),
@@ -116,6 +134,7 @@ impl Budget {
             samples: 1,
             passes: passes.to_vec(),
             frame_bandwidth: Some(frame_bandwidth),
+            work: work.to_vec(),
         }
     }
 
@@ -127,6 +146,7 @@ impl Budget {
         application: &str,
         passes: &[PassBudget],
         frame_bandwidth: Bandwidth,
+        work: &[WorkBudget],
     ) -> Result<Vec<Overrun>> {
         if self.technique != APPLICATION_TECHNIQUE {
             return Err(Error::InvalidInput(format!(
@@ -142,7 +162,35 @@ impl Budget {
             )));
         }
         let mut overruns = self.check_passes(passes)?;
+        overruns.extend(self.check_work(work)?);
         overruns.extend(self.check_bandwidth(frame_bandwidth));
+        Ok(overruns)
+    }
+
+    /// Every figure of the application's work over budget; none for a budget that holds no
+    /// work (written before the layer measured it), an error for work it does not list.
+    fn check_work(&self, work: &[WorkBudget]) -> Result<Vec<Overrun>> {
+        let mut overruns = Vec::new();
+        if self.work.is_empty() {
+            return Ok(overruns);
+        }
+        for w in work {
+            let budget = self.work.iter().find(|b| b.name == w.name).ok_or_else(|| {
+                Error::InvalidInput(format!("'{}' has no budget (record a new one)", w.name))
+            })?;
+            let figures = [
+                ("workgroups", budget.workgroups, w.workgroups),
+                ("compute invocations", budget.compute_invocations, w.compute_invocations),
+                ("bytes moved", Some(budget.bytes), Some(w.bytes)),
+            ];
+            for (counter, budget, actual) in figures {
+                if let (Some(budget), Some(actual)) = (budget, actual) {
+                    if actual > budget {
+                        overruns.push(Overrun { pass: w.name.clone(), counter, budget, actual });
+                    }
+                }
+            }
+        }
         Ok(overruns)
     }
 
@@ -271,19 +319,39 @@ mod tests {
             fragment_invocations: Some(samples),
         };
         let bytes = |tiler, immediate| Bandwidth { tiler_bytes: tiler, immediate_bytes: immediate };
-        let budget = Budget::for_application("vkcube", 500, 500, &[pass(1000)], bytes(100, 200));
-        assert!(budget.check_application("vkcube", &[pass(1000)], bytes(100, 200)).unwrap().is_empty());
-        let overruns = budget.check_application("vkcube", &[pass(1500)], bytes(100, 200)).unwrap();
+        let budget = Budget::for_application("vkcube", 500, 500, &[pass(1000)], bytes(100, 200), &[]);
+        assert!(budget.check_application("vkcube", &[pass(1000)], bytes(100, 200), &[]).unwrap().is_empty());
+        let overruns = budget.check_application("vkcube", &[pass(1500)], bytes(100, 200), &[]).unwrap();
         assert_eq!(overruns.len(), 2);
         assert!(overruns[0].to_string().contains("pass 'render pass #0': samples passed 1500 > budget 1000"));
         // Bytes per frame are held too, named by the frame.
-        let overruns = budget.check_application("vkcube", &[pass(1000)], bytes(101, 200)).unwrap();
+        let overruns = budget.check_application("vkcube", &[pass(1000)], bytes(101, 200), &[]).unwrap();
         assert_eq!(overruns.len(), 1);
         assert!(overruns[0].to_string().contains("pass 'frame': tiler bytes per frame 101 > budget 100"));
-        assert!(budget.check_application("other", &[pass(1000)], bytes(0, 0)).is_err());
+        assert!(budget.check_application("other", &[pass(1000)], bytes(0, 0), &[]).is_err());
         let extra = PassBudget { name: "render pass #1".into(), ..pass(1) };
-        assert!(budget.check_application("vkcube", &[pass(1), extra], bytes(0, 0)).is_err());
+        assert!(budget.check_application("vkcube", &[pass(1), extra], bytes(0, 0), &[]).is_err());
         let own = Budget::from_frame("s", "t", "emulated", &frame(10));
-        assert!(own.check_application("s", &[pass(1)], bytes(0, 0)).is_err());
+        assert!(own.check_application("s", &[pass(1)], bytes(0, 0), &[]).is_err());
+    }
+
+    #[test]
+    fn an_applications_work_is_checked_by_name_and_old_budgets_check_none() {
+        let work = |invocations| WorkBudget {
+            name: "compute #0 'blur'".into(),
+            workgroups: Some(16),
+            compute_invocations: Some(invocations),
+            bytes: 0,
+        };
+        let bytes = Bandwidth::default();
+        let budget = Budget::for_application("app", 0, 0, &[], bytes, &[work(1024)]);
+        assert!(budget.check_application("app", &[], bytes, &[work(1024)]).unwrap().is_empty());
+        let overruns = budget.check_application("app", &[], bytes, &[work(2048)]).unwrap();
+        assert_eq!(overruns.len(), 1);
+        assert!(overruns[0].to_string().contains("'compute #0 'blur'': compute invocations 2048 > budget 1024"));
+        let other = WorkBudget { name: "transfer #1".into(), ..work(0) };
+        assert!(budget.check_application("app", &[], bytes, std::slice::from_ref(&other)).is_err());
+        let old = Budget::for_application("app", 0, 0, &[], bytes, &[]);
+        assert!(old.check_application("app", &[], bytes, &[other]).unwrap().is_empty());
     }
 }

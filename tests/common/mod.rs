@@ -9,6 +9,7 @@ use nostencil::gpu::{Gpu, GpuOptions};
 
 pub mod raw_vulkan;
 pub mod ray_world;
+pub mod work_program;
 pub mod x_server;
 
 /// A GPU with the Khronos validation layer recording every message.
