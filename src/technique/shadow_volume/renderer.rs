@@ -433,7 +433,7 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
             };
             self.stats.culling_cpu_ms += culled.cpu_ms;
             let volumes = if shadows {
-                let lit = LitBy { light, rect: &light_rect, culled: &culled };
+                let lit = LitBy { light, rect: &light_rect, culled: &culled, boxes: &boxes };
                 let counting = Counting { zfail: self.stats.zfail, stencil: self.stencil };
                 upload_volumes(&self.gpu, scene, &self.casters, counting, self.requested, extent, lit)?
             } else {
@@ -527,6 +527,8 @@ struct LitBy<'a> {
     light: &'a SceneLight,
     rect: &'a Scissor,
     culled: &'a Culling,
+    /// Every object's posed world box, computed once a frame ([`bounds::object_boxes`]).
+    boxes: &'a [Option<bounds::Aabb>],
 }
 
 fn upload_volumes(
@@ -540,8 +542,9 @@ fn upload_volumes(
 ) -> Result<Vec<GpuVolume>> {
     let zfail = counting.zfail;
     let whole_frame = vk::Rect2D { offset: vk::Offset2D::default(), extent };
-    let boxes = if options.clip_volumes { bounds::object_boxes(scene) } else { Vec::new() };
-    let receivers = bounds::receivers_box(&boxes);
+    // Unclipped: no receivers' box, so every volume reaches infinity over the whole frame.
+    let boxes = if options.clip_volumes { lit.boxes } else { &[] };
+    let receivers = bounds::receivers_box(boxes);
     let geometry = lit.light.geometry();
     // Volumes stay a pixel inside the light's scissor, where its shading pass resets the
     // counter even where a multisampled scissored draw reaches a pixel past its edge.
