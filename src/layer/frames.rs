@@ -115,27 +115,9 @@ impl FrameAssembler {
             if !build.closed || build.pending > 0 {
                 break;
             }
-            let Some(mut build) = self.building.remove(&index) else { break };
-            build.rows.sort_by_key(|(sequence, order, _)| (*sequence, *order));
-            let render_passes: Vec<RenderPassRow> = build
-                .rows
-                .into_iter()
-                .enumerate()
-                .map(|(i, (_, _, mut row))| {
-                    row.index = i as u32;
-                    row
-                })
-                .collect();
-            build.work.sort_by_key(|(sequence, order, _)| (*sequence, *order));
-            let work: Vec<WorkRow> = build
-                .work
-                .into_iter()
-                .enumerate()
-                .map(|(i, (_, _, mut row))| {
-                    row.index = i as u32;
-                    row
-                })
-                .collect();
+            let Some(build) = self.building.remove(&index) else { break };
+            let render_passes = in_submission_order(build.rows, |row: &mut RenderPassRow, i| row.index = i);
+            let work = in_submission_order(build.work, |row: &mut WorkRow, i| row.index = i);
             self.aggregate.add_frame(&render_passes);
             self.work_aggregate.add_frame(&work);
             self.kept.push_back(FrameRows { index, render_passes, work });
@@ -208,4 +190,17 @@ mod tests {
         assert_eq!(frames.kept[0].index, 6);
         assert_eq!(frames.aggregate.rows()[0].frames, KEPT_FRAMES as u64 + 6);
     }
+}
+
+/// Rows keyed by (submission sequence, order within it), sorted and numbered from 0 with
+/// `number` in that order.
+fn in_submission_order<R>(mut rows: Vec<(u64, u32, R)>, number: fn(&mut R, u32)) -> Vec<R> {
+    rows.sort_by_key(|(sequence, order, _)| (*sequence, *order));
+    rows.into_iter()
+        .enumerate()
+        .map(|(i, (_, _, mut row))| {
+            number(&mut row, i as u32);
+            row
+        })
+        .collect()
 }
