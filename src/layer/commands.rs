@@ -57,6 +57,22 @@ pub(super) fn create_pool(device: &DeviceData, kind: QueryKind) -> Option<vk::Qu
     unsafe { device.fns.create_query_pool(&info, None) }.ok()
 }
 
+/// A command's call passed on down the chain, through the tiler check's own hook for it
+/// (`image_use.rs`) when the check is on: `pass_on_through_check!(d, cmd_copy_image(cmd, ...))`.
+/// Every hook of a command the check also watches passes its call on this way.
+macro_rules! pass_on_through_check {
+    ($d:expr, $name:ident($($arg:expr),* $(,)?)) => {
+        if $d.config.tiler {
+            // SAFETY: the application's arguments, passed on through the check.
+            unsafe { super::image_use::$name($($arg),*) }
+        } else if let Some(next) = $d.next.$name {
+            // SAFETY: the application's arguments, passed on.
+            unsafe { next($($arg),*) }
+        }
+    };
+}
+pub(super) use pass_on_through_check;
+
 /// Runs `f` on `cmd`'s recording if the layer is measuring; records what it returns before and
 /// after `call`, which makes the application's call.
 pub(super) fn around(

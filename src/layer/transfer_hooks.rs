@@ -5,7 +5,7 @@
 use ash::vk;
 
 use super::arrays::app_array;
-use super::commands::around;
+use super::commands::{around, pass_on_through_check};
 use super::image_use as t;
 use super::state::DeviceData;
 use super::transfer_bytes as bytes;
@@ -125,13 +125,7 @@ pub(super) unsafe extern "system" fn cmd_copy_image(
     around(
         cmd,
         |d| {
-            if d.config.tiler {
-                // SAFETY: the application's arguments, passed on through the check.
-                unsafe { t::cmd_copy_image(cmd, src, src_layout, dst, dst_layout, count, regions) }
-            } else if let Some(next) = d.next.cmd_copy_image {
-                // SAFETY: the application's arguments, passed on.
-                unsafe { next(cmd, src, src_layout, dst, dst_layout, count, regions) }
-            }
+            pass_on_through_check!(d, cmd_copy_image(cmd, src, src_layout, dst, dst_layout, count, regions));
         },
         |d, st| {
             transfer(d, st, cmd, "vkCmdCopyImage", |st| {
@@ -156,13 +150,7 @@ pub(super) unsafe extern "system" fn cmd_blit_image(
     around(
         cmd,
         |d| {
-            if d.config.tiler {
-                // SAFETY: the application's arguments, passed on through the check.
-                unsafe { t::cmd_blit_image(cmd, src, src_layout, dst, dst_layout, count, regions, filter) }
-            } else if let Some(next) = d.next.cmd_blit_image {
-                // SAFETY: the application's arguments, passed on.
-                unsafe { next(cmd, src, src_layout, dst, dst_layout, count, regions, filter) }
-            }
+            pass_on_through_check!(d, cmd_blit_image(cmd, src, src_layout, dst, dst_layout, count, regions, filter));
         },
         |d, st| {
             transfer(d, st, cmd, "vkCmdBlitImage", |st| {
@@ -186,13 +174,7 @@ pub(super) unsafe extern "system" fn cmd_resolve_image(
     around(
         cmd,
         |d| {
-            if d.config.tiler {
-                // SAFETY: the application's arguments, passed on through the check.
-                unsafe { t::cmd_resolve_image(cmd, src, src_layout, dst, dst_layout, count, regions) }
-            } else if let Some(next) = d.next.cmd_resolve_image {
-                // SAFETY: the application's arguments, passed on.
-                unsafe { next(cmd, src, src_layout, dst, dst_layout, count, regions) }
-            }
+            pass_on_through_check!(d, cmd_resolve_image(cmd, src, src_layout, dst, dst_layout, count, regions));
         },
         |d, st| {
             transfer(d, st, cmd, "vkCmdResolveImage", |st| {
@@ -214,13 +196,7 @@ pub(super) unsafe extern "system" fn cmd_copy_image_to_buffer(
     around(
         cmd,
         |d| {
-            if d.config.tiler {
-                // SAFETY: the application's arguments, passed on through the check.
-                unsafe { t::cmd_copy_image_to_buffer(cmd, src, layout, buffer, count, regions) }
-            } else if let Some(next) = d.next.cmd_copy_image_to_buffer {
-                // SAFETY: the application's arguments, passed on.
-                unsafe { next(cmd, src, layout, buffer, count, regions) }
-            }
+            pass_on_through_check!(d, cmd_copy_image_to_buffer(cmd, src, layout, buffer, count, regions));
         },
         |d, st| {
             transfer(d, st, cmd, "vkCmdCopyImageToBuffer", |st| {
@@ -242,13 +218,7 @@ pub(super) unsafe extern "system" fn cmd_copy_buffer_to_image(
     around(
         cmd,
         |d| {
-            if d.config.tiler {
-                // SAFETY: the application's arguments, passed on through the check.
-                unsafe { t::cmd_copy_buffer_to_image(cmd, buffer, dst, layout, count, regions) }
-            } else if let Some(next) = d.next.cmd_copy_buffer_to_image {
-                // SAFETY: the application's arguments, passed on.
-                unsafe { next(cmd, buffer, dst, layout, count, regions) }
-            }
+            pass_on_through_check!(d, cmd_copy_buffer_to_image(cmd, buffer, dst, layout, count, regions));
         },
         |d, st| {
             transfer(d, st, cmd, "vkCmdCopyBufferToImage", |st| {
@@ -270,13 +240,7 @@ pub(super) unsafe extern "system" fn cmd_clear_color_image(
     around(
         cmd,
         |d| {
-            if d.config.tiler {
-                // SAFETY: the application's arguments, passed on through the check.
-                unsafe { t::cmd_clear_color_image(cmd, image, layout, colour, count, ranges) }
-            } else if let Some(next) = d.next.cmd_clear_color_image {
-                // SAFETY: the application's arguments, passed on.
-                unsafe { next(cmd, image, layout, colour, count, ranges) }
-            }
+            pass_on_through_check!(d, cmd_clear_color_image(cmd, image, layout, colour, count, ranges));
         },
         |d, st| {
             transfer(d, st, cmd, "vkCmdClearColorImage", |st| {
@@ -298,13 +262,7 @@ pub(super) unsafe extern "system" fn cmd_clear_depth_stencil_image(
     around(
         cmd,
         |d| {
-            if d.config.tiler {
-                // SAFETY: the application's arguments, passed on through the check.
-                unsafe { t::cmd_clear_depth_stencil_image(cmd, image, layout, value, count, ranges) }
-            } else if let Some(next) = d.next.cmd_clear_depth_stencil_image {
-                // SAFETY: the application's arguments, passed on.
-                unsafe { next(cmd, image, layout, value, count, ranges) }
-            }
+            pass_on_through_check!(d, cmd_clear_depth_stencil_image(cmd, image, layout, value, count, ranges));
         },
         |d, st| {
             transfer(d, st, cmd, "vkCmdClearDepthStencilImage", |st| {

@@ -7,7 +7,7 @@
 
 use ash::vk;
 
-use super::commands::{around, create_pool, measuring};
+use super::commands::{around, create_pool, measuring, pass_on_through_check};
 use super::image_use as t;
 use super::slots::QueryCmd;
 use super::state::{DeviceData, DeviceState};
@@ -73,13 +73,7 @@ pub(super) unsafe extern "system" fn cmd_dispatch(cmd: vk::CommandBuffer, x: u32
     around(
         cmd,
         |d| {
-            if d.config.tiler {
-                // SAFETY: the application's arguments, passed on through the check.
-                unsafe { t::cmd_dispatch(cmd, x, y, z) }
-            } else if let Some(next) = d.next.cmd_dispatch {
-                // SAFETY: the application's arguments, passed on.
-                unsafe { next(cmd, x, y, z) }
-            }
+            pass_on_through_check!(d, cmd_dispatch(cmd, x, y, z));
         },
         |d, st| dispatch(d, st, cmd, "vkCmdDispatch", groups(x, y, z)),
     );
@@ -89,13 +83,7 @@ pub(super) unsafe extern "system" fn cmd_dispatch_indirect(cmd: vk::CommandBuffe
     around(
         cmd,
         |d| {
-            if d.config.tiler {
-                // SAFETY: the application's arguments, passed on through the check.
-                unsafe { t::cmd_dispatch_indirect(cmd, buffer, offset) }
-            } else if let Some(next) = d.next.cmd_dispatch_indirect {
-                // SAFETY: the application's arguments, passed on.
-                unsafe { next(cmd, buffer, offset) }
-            }
+            pass_on_through_check!(d, cmd_dispatch_indirect(cmd, buffer, offset));
         },
         |d, st| dispatch(d, st, cmd, "vkCmdDispatchIndirect", Workgroups::Indirect(buffer, offset)),
     );
