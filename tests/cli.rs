@@ -341,8 +341,10 @@ fn bench_samples_4_pairs_every_variant_with_itself_at_1x() {
 /// technique equal to that technique's own `profile` frame.
 #[test]
 fn bench_compares_listed_techniques_in_one_run() {
-    let args = "bench --technique shadow-volume,shadow-map --size 48x32 --samples 1 --warmup 1 --runs 3 --json";
-    let (out, _) = common::run_ok(&args.split(' ').collect::<Vec<_>>());
+    let args =
+        "bench --technique shadow-volume,shadow-map --size 48x32 --samples 1 --warmup 1 --runs 3 --validation --json";
+    let (out, err) = common::run_ok(&args.split(' ').collect::<Vec<_>>());
+    assert!(!err.contains("vulkan validation"), "{err}");
     let report: serde_json::Value = serde_json::from_str(&out).expect("JSON");
     assert_eq!(report["technique"], "shadow-volume,shadow-map");
     let variants = report["variants"].as_array().expect("variants");

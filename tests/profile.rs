@@ -732,9 +732,10 @@ fn the_trace_has_a_slice_per_pass_with_the_reports_gpu_times_and_its_counters() 
 /// own counters per pixel; the top list is sorted; another technique is refused by name.
 #[test]
 fn caster_fill_adds_up_to_the_volume_passes_and_lights_report_their_fill() {
-    let args =
-        "profile --technique shadow-volume --scene lights --size 64x48 --samples 1 --format json --caster-fill 99";
-    let (out, _) = common::run_ok(&args.split(' ').collect::<Vec<_>>());
+    let args = "profile --technique shadow-volume --scene lights --size 64x48 --samples 1 --format json \
+                --caster-fill 99 --validation";
+    let (out, err) = common::run_ok(&args.split_whitespace().collect::<Vec<_>>());
+    assert!(!err.contains("vulkan validation"), "{err}");
     let report: serde_json::Value = serde_json::from_str(&out).expect("JSON");
     let volume_passes: Vec<&serde_json::Value> = report["passes"]
         .as_array()
