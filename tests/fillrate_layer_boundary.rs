@@ -15,12 +15,7 @@ use nostencil::layer::report::FillrateReport;
 fn frame_boundaries_cut_frames_and_the_layer_offers_the_extension() {
     let out = common::raw_vulkan::under_the_layer("fillrate_layer_boundary");
     let dir = out.parent().expect("scratch folder").to_owned();
-    std::fs::write(
-        dir.join("vk_layer_settings.txt"),
-        "khronos_validation.enables = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT\n",
-    )
-    .expect("settings");
-    std::env::set_var("VK_LAYER_SETTINGS_PATH", dir.join("vk_layer_settings.txt"));
+    std::env::set_var("VK_LAYER_SETTINGS_PATH", common::raw_vulkan::synchronisation_settings(&dir));
     // A wait after every submission: boundaries must win over --frame-on wait.
     std::env::set_var("NOSTENCIL_FILLRATE_FRAME_ON", "wait");
 

@@ -16,12 +16,7 @@ use nostencil::layer::report::FillrateReport;
 fn dispatches_and_transfers_are_rows_with_exact_counts_one_frame_per_submission() {
     let out = common::raw_vulkan::under_the_layer("fillrate_layer_work");
     let dir = out.parent().expect("scratch folder").to_owned();
-    std::fs::write(
-        dir.join("vk_layer_settings.txt"),
-        "khronos_validation.enables = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT\n",
-    )
-    .expect("settings");
-    std::env::set_var("VK_LAYER_SETTINGS_PATH", dir.join("vk_layer_settings.txt"));
+    std::env::set_var("VK_LAYER_SETTINGS_PATH", common::raw_vulkan::synchronisation_settings(&dir));
     std::env::set_var("NOSTENCIL_FILLRATE_FRAME_ON", "submit");
     let options = WorkOptions { groups: 3, submissions: 3, boundary_every: 0 };
     // SAFETY: the program's own plain Vulkan use.

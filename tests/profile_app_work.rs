@@ -33,12 +33,7 @@ fn work_program() {
 /// `profile-app --frame-on submit --format json --out DIR/NAME.json EXTRA -- <this binary's
 /// work_program>` with `groups`, validation (synchronisation checks on) below the layer.
 fn profile(dir: &Path, name: &str, extra: &[&str], groups: u32) -> Output {
-    let settings = dir.join("vk_layer_settings.txt");
-    std::fs::write(
-        &settings,
-        "khronos_validation.enables = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT\n",
-    )
-    .expect("settings");
+    let settings = common::raw_vulkan::synchronisation_settings(dir);
     let out = dir.join(format!("{name}.json"));
     let me = std::env::current_exe().expect("this test binary");
     let (out, me) = (out.to_string_lossy().into_owned(), me.to_string_lossy().into_owned());

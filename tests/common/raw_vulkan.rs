@@ -269,6 +269,16 @@ pub fn under_the_layer(test: &str) -> PathBuf {
     out
 }
 
+/// A vk_layer_settings.txt in `dir` that turns on the validation layer's synchronisation checks
+/// (the messenger of the program under test reports what they find); returns its path.
+#[allow(dead_code)] // each test crate uses its own part of `common`
+pub fn synchronisation_settings(dir: &Path) -> PathBuf {
+    let path = dir.join("vk_layer_settings.txt");
+    let settings = "khronos_validation.enables = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT\n";
+    std::fs::write(&path, settings).expect("vk_layer_settings.txt");
+    path
+}
+
 /// A buffer of `size` bytes that copies write into (TRANSFER_DST), in host-visible, coherent
 /// memory: where the layer tests' programs read their images back. Destroy the buffer, then
 /// free the memory.
