@@ -8,7 +8,6 @@
 use ash::vk;
 
 use super::commands::{around, create_pool, measuring, pass_on_through_check};
-use super::image_use as t;
 use super::slots::QueryCmd;
 use super::state::{DeviceData, DeviceState};
 use super::work::{Moved, Workgroups};
