@@ -131,6 +131,19 @@ impl FrameAssembler {
     }
 }
 
+/// Rows keyed by (submission sequence, order within it), sorted and numbered from 0 with
+/// `number` in that order.
+fn in_submission_order<R>(mut rows: Vec<(u64, u32, R)>, number: fn(&mut R, u32)) -> Vec<R> {
+    rows.sort_by_key(|(sequence, order, _)| (*sequence, *order));
+    rows.into_iter()
+        .enumerate()
+        .map(|(i, (_, _, mut row))| {
+            number(&mut row, i as u32);
+            row
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -192,15 +205,3 @@ mod tests {
     }
 }
 
-/// Rows keyed by (submission sequence, order within it), sorted and numbered from 0 with
-/// `number` in that order.
-fn in_submission_order<R>(mut rows: Vec<(u64, u32, R)>, number: fn(&mut R, u32)) -> Vec<R> {
-    rows.sort_by_key(|(sequence, order, _)| (*sequence, *order));
-    rows.into_iter()
-        .enumerate()
-        .map(|(i, (_, _, mut row))| {
-            number(&mut row, i as u32);
-            row
-        })
-        .collect()
-}
