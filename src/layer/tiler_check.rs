@@ -211,35 +211,37 @@ impl TilerCheck {
             return;
         }
         let (frame, pass, label) = origin;
-        let same = |f: &&mut TilerFlag| {
-            f.kind == kind && f.pass == pass && f.label == *label && f.attachment.as_deref() == attachment
-        };
-        if let Some(found) = self.report.flags.iter_mut().find(same) {
-            found.count += 1;
-            return;
+        let same =
+            |f: &TilerFlag| f.kind == kind && f.pass == pass && f.label == *label && f.attachment.as_deref() == attachment;
+        self.count_or_add(
+            same,
+            TilerFlag {
+                kind: kind.to_owned(),
+                frame,
+                pass,
+                label: label.clone(),
+                attachment: attachment.map(str::to_owned),
+                detail,
+                count: 1,
+                work: None,
+            },
+        );
+    }
+
+    /// One more of the flag `same` finds (the same mistake again), or `flag` as the first.
+    fn count_or_add(&mut self, same: impl Fn(&TilerFlag) -> bool, flag: TilerFlag) {
+        match self.report.flags.iter_mut().find(|f| same(f)) {
+            Some(found) => found.count += 1,
+            None => self.report.flags.push(flag),
         }
-        self.report.flags.push(TilerFlag {
-            kind: kind.to_owned(),
-            frame,
-            pass,
-            label: label.clone(),
-            attachment: attachment.map(str::to_owned),
-            detail,
-            count: 1,
-            work: None,
-        });
     }
 
     /// A copy or blit that writes a whole swapchain image (work row `work` of `frame`): the
     /// frame went through system memory once more to reach the screen.
     pub fn swapchain_copy(&mut self, frame: u64, work: u32, label: &Option<String>, detail: &str) {
         let kind = "full_frame_copy_to_swapchain";
-        let same = |f: &&mut TilerFlag| f.kind == kind && f.work == Some(work) && f.label == *label;
-        if let Some(found) = self.report.flags.iter_mut().find(same) {
-            found.count += 1;
-            return;
-        }
-        self.report.flags.push(TilerFlag {
+        let same = |f: &TilerFlag| f.kind == kind && f.work == Some(work) && f.label == *label;
+        self.count_or_add(same, TilerFlag {
             kind: kind.to_owned(),
             frame,
             pass: 0,
