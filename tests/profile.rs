@@ -766,4 +766,6 @@ fn caster_fill_adds_up_to_the_volume_passes_and_lights_report_their_fill() {
     assert_eq!(section.lines().filter(|l| l.contains("silhouette") || l.contains("two-sided")).count(), 2, "{out}");
     let refused = common::run_err(&["profile", "--technique", "shadow-map", "--size", "32x32", "--caster-fill"]);
     assert!(refused.contains("--caster-fill") && refused.contains("shadow-map"), "{refused}");
+    let refused = common::run_err(&["profile", "--size", "32x32", "--caster-fill", "0"]);
+    assert!(refused.contains("--caster-fill"), "{refused}");
 }

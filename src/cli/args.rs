@@ -80,8 +80,9 @@ pub enum Command {
         move_model: Option<String>,
         /// shadow-volume: also measure each caster's volumes alone (a frame per caster, the
         /// same counters) and list the N casters that spend most of the volume fill.
-        #[arg(long, value_name = "N", num_args = 0..=1, default_missing_value = "10")]
-        caster_fill: Option<usize>,
+        #[arg(long, value_name = "N", num_args = 0..=1, default_missing_value = "10",
+              value_parser = clap::value_parser!(u32).range(1..))]
+        caster_fill: Option<u32>,
     },
     /// Run any Vulkan program under the fill-rate layer (VK_LAYER_NOSTENCIL_fillrate) and report
     /// its render pass instances: draws, fragments, samples passed, overdraw, GPU time, tile

@@ -142,7 +142,7 @@ struct ProfileOutputs {
     trace: Option<std::path::PathBuf>,
     move_model: Option<String>,
     /// `--caster-fill N`: the N casters spending most of the volume fill.
-    caster_fill: Option<usize>,
+    caster_fill: Option<u32>,
 }
 
 /// The steady frame of `scene` after object `name` moved by 1% of the scene's size along x,
@@ -213,7 +213,7 @@ fn profile(frame: &FrameArgs, format: FormatArg, outputs: &ProfileOutputs) -> Re
     );
     let mut stats = frame_result.stats.json();
     let caster_fill = match outputs.caster_fill {
-        Some(top) => Some(crate::profile::caster_fill::measure(&gpu, &scene, &options, &frame_result, top)?),
+        Some(top) => Some(crate::profile::caster_fill::measure(&gpu, &scene, &options, &frame_result, top as usize)?),
         None => None,
     };
     if let (Some(fill), Some(object)) = (&caster_fill, stats.as_object_mut()) {
