@@ -11,7 +11,7 @@ use super::lifecycle::{c_name, create_device, create_instance, destroy_device, d
 use super::loader::{NegotiateLayerInterface, LAYER_INTERFACE_VERSION, LAYER_NEGOTIATE_INTERFACE_STRUCT};
 use super::state::{self, guard};
 use super::config::Config;
-use super::{capture, commands as c, frame_boundary as fb, image_use as t, objects as o, queue as q, transfer_hooks as x, work_hooks as w, work_objects as wo};
+use super::{capture, commands as c, draw_hooks as d, frame_boundary as fb, image_use as t, objects as o, queue as q, transfer_hooks as x, work_hooks as w, work_objects as wo};
 
 /// A hook as the loader's generic function pointer.
 macro_rules! void_fn {
@@ -47,9 +47,9 @@ fn device_hook(name: &str) -> vk::PFN_vkVoidFunction {
         "vkResetQueryPoolEXT" => void_fn!(o::reset_query_pool_ext, vk::PFN_vkResetQueryPool),
         "vkBeginCommandBuffer" => void_fn!(c::begin_command_buffer, vk::PFN_vkBeginCommandBuffer),
         "vkResetCommandBuffer" => void_fn!(c::reset_command_buffer, vk::PFN_vkResetCommandBuffer),
-        "vkCmdResetQueryPool" => void_fn!(c::cmd_reset_query_pool, vk::PFN_vkCmdResetQueryPool),
-        "vkCmdBeginQuery" => void_fn!(c::cmd_begin_query, vk::PFN_vkCmdBeginQuery),
-        "vkCmdEndQuery" => void_fn!(c::cmd_end_query, vk::PFN_vkCmdEndQuery),
+        "vkCmdResetQueryPool" => void_fn!(d::cmd_reset_query_pool, vk::PFN_vkCmdResetQueryPool),
+        "vkCmdBeginQuery" => void_fn!(d::cmd_begin_query, vk::PFN_vkCmdBeginQuery),
+        "vkCmdEndQuery" => void_fn!(d::cmd_end_query, vk::PFN_vkCmdEndQuery),
         "vkCmdBeginRenderPass" => void_fn!(c::cmd_begin_render_pass, vk::PFN_vkCmdBeginRenderPass),
         "vkCmdBeginRenderPass2" => void_fn!(c::cmd_begin_render_pass2, vk::PFN_vkCmdBeginRenderPass2),
         "vkCmdBeginRenderPass2KHR" => void_fn!(c::cmd_begin_render_pass2_khr, vk::PFN_vkCmdBeginRenderPass2),
@@ -63,24 +63,24 @@ fn device_hook(name: &str) -> vk::PFN_vkVoidFunction {
         "vkCmdBeginRenderingKHR" => void_fn!(c::cmd_begin_rendering_khr, vk::PFN_vkCmdBeginRendering),
         "vkCmdEndRendering" => void_fn!(c::cmd_end_rendering, vk::PFN_vkCmdEndRendering),
         "vkCmdEndRenderingKHR" => void_fn!(c::cmd_end_rendering_khr, vk::PFN_vkCmdEndRendering),
-        "vkCmdDraw" => void_fn!(c::cmd_draw, vk::PFN_vkCmdDraw),
-        "vkCmdDrawIndexed" => void_fn!(c::cmd_draw_indexed, vk::PFN_vkCmdDrawIndexed),
-        "vkCmdDrawIndirect" => void_fn!(c::cmd_draw_indirect, vk::PFN_vkCmdDrawIndirect),
-        "vkCmdDrawIndexedIndirect" => void_fn!(c::cmd_draw_indexed_indirect, vk::PFN_vkCmdDrawIndexedIndirect),
-        "vkCmdDrawIndirectCount" => void_fn!(c::cmd_draw_indirect_count, vk::PFN_vkCmdDrawIndirectCount),
-        "vkCmdDrawIndirectCountKHR" => void_fn!(c::cmd_draw_indirect_count_khr, vk::PFN_vkCmdDrawIndirectCount),
+        "vkCmdDraw" => void_fn!(d::cmd_draw, vk::PFN_vkCmdDraw),
+        "vkCmdDrawIndexed" => void_fn!(d::cmd_draw_indexed, vk::PFN_vkCmdDrawIndexed),
+        "vkCmdDrawIndirect" => void_fn!(d::cmd_draw_indirect, vk::PFN_vkCmdDrawIndirect),
+        "vkCmdDrawIndexedIndirect" => void_fn!(d::cmd_draw_indexed_indirect, vk::PFN_vkCmdDrawIndexedIndirect),
+        "vkCmdDrawIndirectCount" => void_fn!(d::cmd_draw_indirect_count, vk::PFN_vkCmdDrawIndirectCount),
+        "vkCmdDrawIndirectCountKHR" => void_fn!(d::cmd_draw_indirect_count_khr, vk::PFN_vkCmdDrawIndirectCount),
         "vkCmdDrawIndexedIndirectCount" => {
-            void_fn!(c::cmd_draw_indexed_indirect_count, vk::PFN_vkCmdDrawIndexedIndirectCount)
+            void_fn!(d::cmd_draw_indexed_indirect_count, vk::PFN_vkCmdDrawIndexedIndirectCount)
         }
         "vkCmdDrawIndexedIndirectCountKHR" => {
-            void_fn!(c::cmd_draw_indexed_indirect_count_khr, vk::PFN_vkCmdDrawIndexedIndirectCount)
+            void_fn!(d::cmd_draw_indexed_indirect_count_khr, vk::PFN_vkCmdDrawIndexedIndirectCount)
         }
         "vkCmdBeginDebugUtilsLabelEXT" => {
-            void_fn!(c::cmd_begin_debug_utils_label, vk::PFN_vkCmdBeginDebugUtilsLabelEXT)
+            void_fn!(d::cmd_begin_debug_utils_label, vk::PFN_vkCmdBeginDebugUtilsLabelEXT)
         }
-        "vkCmdEndDebugUtilsLabelEXT" => void_fn!(c::cmd_end_debug_utils_label, vk::PFN_vkCmdEndDebugUtilsLabelEXT),
+        "vkCmdEndDebugUtilsLabelEXT" => void_fn!(d::cmd_end_debug_utils_label, vk::PFN_vkCmdEndDebugUtilsLabelEXT),
         "vkCmdInsertDebugUtilsLabelEXT" => {
-            void_fn!(c::cmd_insert_debug_utils_label, vk::PFN_vkCmdInsertDebugUtilsLabelEXT)
+            void_fn!(d::cmd_insert_debug_utils_label, vk::PFN_vkCmdInsertDebugUtilsLabelEXT)
         }
         "vkQueueSubmit" => void_fn!(q::queue_submit, vk::PFN_vkQueueSubmit),
         "vkQueueSubmit2" => void_fn!(q::queue_submit2, vk::PFN_vkQueueSubmit2),

@@ -10,6 +10,7 @@ pub mod capture_state;
 pub mod commands;
 pub mod config;
 pub mod copies;
+pub mod draw_hooks;
 pub mod exports;
 pub mod frame_boundary;
 pub mod frame_cuts;
