@@ -277,6 +277,32 @@ fn blit_chain(
     barriers::written_mip_to_sampled(device, cmd, image, mip_levels - 1..mip_levels);
 }
 
+/// Every mip of each of `images` cleared to `colour` and left for sampling (SHADER_READ_ONLY),
+/// in one submission. The images need TRANSFER_DST usage.
+pub fn clear_for_sampling(gpu: &Arc<Gpu>, images: &[&Image], colour: [f32; 4]) -> Result<()> {
+    submit_and_wait(gpu, |cmd| {
+        for image in images {
+            let mips = 0..image.mip_levels;
+            barriers::upload_destination(gpu.raw(), cmd, image.raw, mips.clone());
+            let range = vk::ImageSubresourceRange {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                base_mip_level: 0,
+                level_count: image.mip_levels,
+                base_array_layer: 0,
+                layer_count: 1,
+            };
+            let clear = vk::ClearColorValue { float32: colour };
+            // SAFETY: `cmd` is recording; the barrier above made every mip TRANSFER_DST_OPTIMAL,
+            // and the caller created the image with TRANSFER_DST usage.
+            unsafe {
+                gpu.raw().cmd_clear_color_image(cmd, image.raw, vk::ImageLayout::TRANSFER_DST_OPTIMAL, &clear, &[range])
+            };
+            barriers::written_mip_to_sampled(gpu.raw(), cmd, image.raw, mips);
+        }
+        Ok(())
+    })
+}
+
 #[cfg(test)]
 mod tests {
     #[test]

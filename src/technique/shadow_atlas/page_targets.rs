@@ -23,11 +23,9 @@ use super::targets::{self, Framebuffer, ImageView, RenderPass};
 use super::texel_surface::{packed, texel_surface};
 use crate::error::{Error, Result};
 use crate::frame::offscreen;
-use crate::gpu::barriers;
-use crate::gpu::commands::submit_and_wait;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::{Buffer, Image};
-use crate::gpu::texture::Sampler;
+use crate::gpu::texture::{self, Sampler};
 use crate::gpu::Gpu;
 use crate::render::Pipeline;
 use crate::render::{FrameRecorder, GpuMesh, ObjectPush};
@@ -170,7 +168,9 @@ impl AtlasPage {
         let raw_extent = if rasterised { page_extent } else { vk::Extent2D { width: 1, height: 1 } };
         let texture = targets::shadow_texture_page(gpu, "shadow-texture atlas page", page_extent, mip_levels)?;
         let raw = targets::shadow_texture_page(gpu, "shadow-texture atlas page (raw bake)", raw_extent, 1)?;
-        clear_to_lit(gpu, &[&texture, &raw])?;
+        // Lit with no coverage (1, 1, 1, 0): the page pass loads mip 0, and texels no tile
+        // covers are then defined.
+        texture::clear_for_sampling(gpu, &[&texture, &raw], [1.0, 1.0, 1.0, 0.0])?;
         let mip0 = ImageView::mip(gpu, &texture, 0)?;
         let raster_pass = targets::colour_render_pass(gpu, true, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)?;
         let page_pass = offscreen::colour_render_pass_loaded(
@@ -442,30 +442,4 @@ impl AtlasPage {
 fn aligned(size: u64, alignment: u64) -> u64 {
     let alignment = alignment.max(1);
     size.div_ceil(alignment) * alignment
-}
-
-/// Every mip of `images` cleared to lit with no coverage (1, 1, 1, 0) and left for sampling: the
-/// page pass loads mip 0, and texels no tile covers are then defined.
-fn clear_to_lit(gpu: &Arc<Gpu>, images: &[&Image]) -> Result<()> {
-    submit_and_wait(gpu, |cmd| {
-        for image in images {
-            let mips = 0..image.mip_levels;
-            barriers::upload_destination(gpu.raw(), cmd, image.raw, mips.clone());
-            let range = vk::ImageSubresourceRange {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
-                base_mip_level: 0,
-                level_count: image.mip_levels,
-                base_array_layer: 0,
-                layer_count: 1,
-            };
-            let lit = vk::ClearColorValue { float32: [1.0, 1.0, 1.0, 0.0] };
-            // SAFETY: `cmd` is recording; the barrier above made every mip TRANSFER_DST_OPTIMAL,
-            // and the image was created with TRANSFER_DST usage.
-            unsafe {
-                gpu.raw().cmd_clear_color_image(cmd, image.raw, vk::ImageLayout::TRANSFER_DST_OPTIMAL, &lit, &[range])
-            };
-            barriers::written_mip_to_sampled(gpu.raw(), cmd, image.raw, mips);
-        }
-        Ok(())
-    })
 }
