@@ -1,5 +1,6 @@
 //! Compiles every GLSL stage in `shaders/` to SPIR-V with shaderc and generates
-//! `$OUT_DIR/shaders.rs`, a table from shader file name to its SPIR-V bytes.
+//! `$OUT_DIR/shaders.rs`, a table from shader file name to its SPIR-V bytes, and a constant
+//! naming each shader (`crate::shaders::LIT_VERT`).
 //! A compile error stops the build with the file, line and message that glslang gave.
 
 use std::fmt::Write as _;
@@ -32,6 +33,8 @@ fn main() {
         .unwrap_or_else(|| fail("shaderc could not create a compiler (see tools/setup-debian.sh)"));
     let mut table = String::from("/// (file name, SPIR-V) for every shader in `shaders/`.\n");
     table.push_str("pub static SHADERS: &[(&str, &[u8])] = &[\n");
+    // One constant per shader file: code names a shader that exists, or does not build.
+    let mut names = String::new();
 
     for path in &sources {
         println!("cargo:rerun-if-changed={}", path.display());
@@ -46,6 +49,11 @@ fn main() {
         std::fs::write(&spv_path, spirv.as_binary_u8())
             .unwrap_or_else(|e| fail(&format!("cannot write {}: {e}", spv_path.display())));
         let _ = writeln!(table, "    ({file_name:?}, include_bytes!({:?})),", spv_path.display().to_string());
+        let _ = writeln!(
+            names,
+            "/// `shaders/{file_name}`.\npub const {}: Shader = Shader({file_name:?});",
+            constant_name(&file_name)
+        );
 
         if kind == shaderc::ShaderKind::Vertex {
             // The overdraw heat map swaps every fragment shader for a counter; one counter per
@@ -67,9 +75,15 @@ fn main() {
         }
     }
     table.push_str("];\n");
+    table.push_str(&names);
     let table_path = out_dir.join("shaders.rs");
     std::fs::write(&table_path, table).unwrap_or_else(|e| fail(&format!("cannot write {}: {e}", table_path.display())));
     write_layer_manifest(&out_dir);
+}
+
+/// The constant a shader file is named by: `shadow_volume.vert` -> `SHADOW_VOLUME_VERT`.
+fn constant_name(file_name: &str) -> String {
+    file_name.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_uppercase() } else { '_' }).collect()
 }
 
 /// `target/<profile>/VkLayer_nostencil_fillrate.json`, beside the `libnostencil.so` cargo links

@@ -1,11 +1,34 @@
 //! SPIR-V of the GLSL stages in `shaders/`, compiled by shaderc in `build.rs`.
 
+use std::fmt;
+
 use crate::error::{Error, Result};
 
 include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
 
-/// The SPIR-V words of a shader, by its file name (`lit.vert`).
-pub fn spirv(name: &str) -> Result<Vec<u32>> {
+/// A shader of `shaders/`, by its file name. Only this module makes one: `build.rs` writes a
+/// constant for every file it compiled (`LIT_VERT` is `lit.vert`), so naming a shader that does
+/// not exist fails the build, not a frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(transparent)]
+pub struct Shader(&'static str);
+
+impl Shader {
+    /// Its file name in `shaders/`.
+    pub fn file(self) -> &'static str {
+        self.0
+    }
+}
+
+impl fmt::Display for Shader {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.0)
+    }
+}
+
+/// The SPIR-V words of a shader.
+pub fn spirv(shader: Shader) -> Result<Vec<u32>> {
+    let name = shader.0;
     let bytes = SHADERS
         .iter()
         .find(|(file, _)| *file == name)
@@ -16,7 +39,7 @@ pub fn spirv(name: &str) -> Result<Vec<u32>> {
 }
 
 /// The overdraw counter made for a vertex shader by `build.rs` (`lit.vert` -> `lit.vert.count.frag`).
-pub fn overdraw_counter_for(vertex_shader: &str) -> Option<&'static str> {
-    let wanted = format!("{vertex_shader}.count.frag");
-    SHADERS.iter().map(|(name, _)| *name).find(|name| *name == wanted)
+pub fn overdraw_counter_for(vertex_shader: Shader) -> Option<Shader> {
+    let wanted = format!("{}.count.frag", vertex_shader.0);
+    SHADERS.iter().map(|(name, _)| *name).find(|name| *name == wanted).map(Shader)
 }

@@ -4,7 +4,7 @@
 //! texel, and a model moving among fixed ones re-bakes only the tiles it can shadow, leaving a
 //! page and a frame equal to a full re-bake.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

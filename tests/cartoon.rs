@@ -2,7 +2,7 @@
 //! pixel; ink lines are measured in the image against their analytic position and width; the
 //! shader and hull methods put dark ink on the silhouette.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

@@ -1,7 +1,7 @@
 //! The cartoon techniques from the command line: each renders and profiles, and bad cartoon
 //! options get a one-line error naming the option.
 
-mod common;
+use crate::common;
 
 use nostencil::scene::builtin_scene;
 use nostencil::technique::CartoonOptions;

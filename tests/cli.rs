@@ -1,7 +1,7 @@
 //! The command line as a user meets it: the README's commands work, and bad input gets a
 //! one-line error and a non-zero exit, never a panic or a partial file.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

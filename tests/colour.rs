@@ -2,7 +2,7 @@
 //! through the loader, the shaders, the R8G8B8A8_SRGB frame and the PNG, and the PNG holds the
 //! sRGB encoding of the material's linear colour.
 
-mod common;
+use crate::common;
 
 use base64::Engine as _;
 use glam::{Vec3, Vec4Swizzles};

@@ -1,7 +1,7 @@
 //! The programs in `examples/` build with the crate (`cargo test` builds them) and run: one
 //! glTF file from tests/assets to a PNG, and a missing file refused with its name.
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 use std::process::Command;

@@ -5,7 +5,7 @@
 //! program's own statistics query, which the layer never reads), the PNG is byte-identical
 //! with and without the layer, and validation above and below the layer stays silent.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::Output;

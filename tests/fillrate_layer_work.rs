@@ -7,47 +7,62 @@
 //! below the layer and must stay silent. This binary holds this one test (it sets the loader's
 //! environment).
 
-mod common;
+use crate::common;
 
 use common::work_program::{expected_rows, ExpectedRow, WorkOptions};
 use nostencil::layer::report::FillrateReport;
 
 #[test]
 fn dispatches_and_transfers_are_rows_with_exact_counts_one_frame_per_submission() {
-    let out = common::raw_vulkan::under_the_layer("fillrate_layer_work");
-    let dir = out.parent().expect("scratch folder").to_owned();
-    std::env::set_var("VK_LAYER_SETTINGS_PATH", common::raw_vulkan::synchronisation_settings(&dir));
-    std::env::set_var("NOSTENCIL_FILLRATE_FRAME_ON", "submit");
-    let options = WorkOptions { groups: 3, submissions: 3, boundary_every: 0 };
-    // SAFETY: the program's own plain Vulkan use.
-    unsafe { common::work_program::run(c"work", options) };
+    // It sets the process environment for the layer: in a process of its own.
+    common::in_own_process(
+        "fillrate_layer_work::dispatches_and_transfers_are_rows_with_exact_counts_one_frame_per_submission",
+        || {
+            let out = common::raw_vulkan::under_the_layer("fillrate_layer_work");
+            let dir = out.parent().expect("scratch folder").to_owned();
+            std::env::set_var("VK_LAYER_SETTINGS_PATH", common::raw_vulkan::synchronisation_settings(&dir));
+            std::env::set_var("NOSTENCIL_FILLRATE_FRAME_ON", "submit");
+            let options = WorkOptions { groups: 3, submissions: 3, boundary_every: 0 };
+            // SAFETY: the program's own plain Vulkan use.
+            unsafe { common::work_program::run(c"work", options) };
 
-    let messages = common::raw_vulkan::MESSAGES.lock().unwrap_or_else(|e| e.into_inner()).clone();
-    assert!(messages.is_empty(), "{} validation message(s):\n{}", messages.len(), messages.join("\n"));
-    let text = std::fs::read_to_string(&out).expect("the layer wrote its result at vkDestroyDevice");
-    let report = FillrateReport::from_json(&text).expect("result");
-    // The fill in a secondary command buffer, once per recording: named, not measured.
-    let named: Vec<(&str, u64)> = report.not_measured.iter().map(|n| (n.what.as_str(), n.count)).collect();
-    let secondary = "dispatch or transfer recorded in a secondary command buffer";
-    assert_eq!(named, [(secondary, options.submissions as u64)]);
-    assert_eq!(report.frames_measured, options.submissions as u64, "one frame per submission");
-    let expected = expected_rows(options);
-    for frame in &report.frames {
-        assert!(frame.render_passes.is_empty());
-        let rows: Vec<ExpectedRow> = frame
-            .work
-            .iter()
-            .map(|w| {
-                let c = w.counters.expect("measured");
-                assert!(c.gpu_ms.is_some(), "GPU time of {w:?}");
-                let kind: &'static str = if w.kind == "compute" { "compute" } else { "transfer" };
-                let api = expected.iter().find(|e| e.1 == w.api).map_or("?", |e| e.1);
-                let label = w.label.as_deref().map(|_| "add");
-                (kind, api, label, c.commands, c.workgroups, c.compute_invocations, c.bytes_read, c.bytes_written)
-            })
-            .collect();
-        assert_eq!(rows, expected, "frame {}", frame.index);
-    }
-    assert_eq!(report.work_aggregate.len(), expected.len());
-    assert!(report.work_aggregate.iter().all(|w| w.frames == options.submissions as u64));
+            let messages = common::raw_vulkan::MESSAGES.lock().unwrap_or_else(|e| e.into_inner()).clone();
+            assert!(messages.is_empty(), "{} validation message(s):\n{}", messages.len(), messages.join("\n"));
+            let text = std::fs::read_to_string(&out).expect("the layer wrote its result at vkDestroyDevice");
+            let report = FillrateReport::from_json(&text).expect("result");
+            // The fill in a secondary command buffer, once per recording: named, not measured.
+            let named: Vec<(&str, u64)> = report.not_measured.iter().map(|n| (n.what.as_str(), n.count)).collect();
+            let secondary = "dispatch or transfer recorded in a secondary command buffer";
+            assert_eq!(named, [(secondary, options.submissions as u64)]);
+            assert_eq!(report.frames_measured, options.submissions as u64, "one frame per submission");
+            let expected = expected_rows(options);
+            for frame in &report.frames {
+                assert!(frame.render_passes.is_empty());
+                let rows: Vec<ExpectedRow> = frame
+                    .work
+                    .iter()
+                    .map(|w| {
+                        let c = w.counters.expect("measured");
+                        assert!(c.gpu_ms.is_some(), "GPU time of {w:?}");
+                        let kind: &'static str = if w.kind == "compute" { "compute" } else { "transfer" };
+                        let api = expected.iter().find(|e| e.1 == w.api).map_or("?", |e| e.1);
+                        let label = w.label.as_deref().map(|_| "add");
+                        (
+                            kind,
+                            api,
+                            label,
+                            c.commands,
+                            c.workgroups,
+                            c.compute_invocations,
+                            c.bytes_read,
+                            c.bytes_written,
+                        )
+                    })
+                    .collect();
+                assert_eq!(rows, expected, "frame {}", frame.index);
+            }
+            assert_eq!(report.work_aggregate.len(), expected.len());
+            assert!(report.work_aggregate.iter().all(|w| w.frames == options.submissions as u64));
+        },
+    );
 }

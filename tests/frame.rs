@@ -1,7 +1,7 @@
 //! The main frame: no stencil aspect anywhere; the default scene renders lit, at the requested
 //! size, identically in the emulated and reference frames (no technique uses the stencil yet).
 
-mod common;
+use crate::common;
 
 use nostencil::frame::render_pass::format_has_stencil;
 use nostencil::frame::{FrameTargets, StencilMode};

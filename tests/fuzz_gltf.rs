@@ -14,7 +14,7 @@
 //! failing case is written to the target dir with what was done to it. Cases it found are kept
 //! in tests/gltf_regressions/ and replayed by `regression_files_end_in_a_scene_or_an_error`.
 
-mod common;
+use crate::common;
 #[path = "fuzz_gltf/mutate.rs"]
 mod mutate;
 

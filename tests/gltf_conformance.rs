@@ -9,7 +9,7 @@
 //!
 //! Run with `--nocapture` to see the counts.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;

@@ -4,7 +4,7 @@
 //! look small. Each ends in a one-line error that names what failed (for a frame, its
 //! passes), never a panic, and no file is written.
 
-mod common;
+use crate::common;
 
 use nostencil::scene::builtin_scene;
 use nostencil::technique::{by_name, render_scene, RenderOptions};

@@ -1,7 +1,7 @@
 //! The seed-002 ink methods measured against what they must draw, computed on the CPU: the
 //! alpha test's ring on a sphere is where N.V < the reference value.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

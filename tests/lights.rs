@@ -3,7 +3,7 @@
 //! (which sees only real occlusion), CPU rays toward each light, and the KHR_lights_punctual
 //! formulas evaluated on the CPU.
 
-mod common;
+use crate::common;
 
 use common::ray_world::RayWorld;
 use glam::{Mat4, Vec3};

@@ -4,7 +4,7 @@
 //! atlas's baked channels hold each light's visibility; a point light inside the scene and a
 //! fourth light in the atlas are named in the warning and still shade.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

@@ -3,7 +3,7 @@
 //! and in every kind of cast shadow, double-sided faces, BLEND drawn back to front, and every
 //! technique binding exactly the material variants its plan declares.
 
-mod common;
+use crate::common;
 
 use nostencil::render::plan::Only;
 

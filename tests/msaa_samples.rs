@@ -3,7 +3,7 @@
 //! sample, shadow edges with intermediate resolved values, the box's shadow still its projected
 //! outline at 4x, and saturation counted per sample.
 
-mod common;
+use crate::common;
 
 use nostencil::technique::ShadowMode;
 
@@ -18,7 +18,8 @@ use nostencil::mesh::caster::CastPath;
 use nostencil::mesh::Reach;
 use nostencil::pipeline::recipes::{both_faces, stencil_face, ALPHA_ONLY, STENCIL_COUNT_ZERO};
 use nostencil::pipeline::{BlendState, FixedFunction, PipelineDesc, VertexLayout};
-use nostencil::render::plan::{record_plan, PassDraws, PassPlan, PlanPipelines, PlannedPass, SetRole, Target};
+use nostencil::render::plan::{PassPlan, PlannedPass, SetRole, Target};
+use nostencil::render::plan_execution::{record_plan, PassDraws, PlanPipelines};
 use nostencil::render::{
     FrameRecorder, FrameSamples, FrameUniforms, GpuScene, ObjectPush, Pipeline, PipelineTarget, Renderer,
 };
@@ -113,8 +114,8 @@ fn stencil_to_alpha(
 ) -> PlannedPass<VolumeKinds> {
     let desc = PipelineDesc {
         name,
-        vertex_shader: "fullscreen.vert",
-        fragment_shader: "solid.frag",
+        vertex_shader: nostencil::shaders::FULLSCREEN_VERT,
+        fragment_shader: nostencil::shaders::SOLID_FRAG,
         vertex_layout: VertexLayout::NONE,
         fixed: FixedFunction {
             stencil: Some(both_faces(stencil_face(compare, reference, 0, vk::StencilOp::KEEP, vk::StencilOp::KEEP))),

@@ -3,7 +3,7 @@
 //! scaled outline of a sphere is measured against the ring computed here from the projection;
 //! and on a torus seen face-on the images show where the two methods differ.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

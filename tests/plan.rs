@@ -2,7 +2,7 @@
 //! recorder actually ran in a frame, with the labels of the pipelines each bound, are exactly
 //! the plan that `nostencil passes` prints.
 
-mod common;
+use crate::common;
 
 use nostencil::render::plan::When;
 use nostencil::scene::builtin_scene;

@@ -5,7 +5,7 @@
 //! light's projected shadow removes only that light, as the CPU's projection says, and the
 //! emulated loop equals Ogre's stencil loop on every built-in scene.
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 use std::sync::Arc;

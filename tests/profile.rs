@@ -1,7 +1,7 @@
 //! The fill-rate profiler: counters add up, the heat map counts what it claims, budgets catch a
 //! costlier frame, and every output format says the same thing.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 
@@ -28,8 +28,8 @@ fn stacked_fullscreen_at(gpu: &Arc<Gpu>, passes: &[(&str, u32)], count_overdraw:
     renderer.count_overdraw = count_overdraw;
     let desc = PipelineDesc {
         name: "full-screen",
-        vertex_shader: "fullscreen.vert",
-        fragment_shader: "solid.frag",
+        vertex_shader: nostencil::shaders::FULLSCREEN_VERT,
+        fragment_shader: nostencil::shaders::SOLID_FRAG,
         vertex_layout: VertexLayout::NONE,
         fixed: FixedFunction::FULLSCREEN,
         push_constant_bytes: 16,

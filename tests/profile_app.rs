@@ -9,7 +9,7 @@
 //! Needs vkcube (vulkan-tools) and Xvfb (tools/setup-debian.sh installs both): without them the
 //! tests fail saying so rather than skip.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};

@@ -1,11 +1,11 @@
 //! `nostencil profile-app` on a headless program of our own that only computes and copies
-//! (tests/common/work_program.rs, run as this binary's ignored test `work_program`): with
+//! (tests/common/work_program.rs, run as this binary's ignored test `profile_app_work::work_program`): with
 //! `--frame-on submit` each of its submissions is a frame, and a budget recorded at one size of
 //! its work catches a compute regression (more workgroups, more invocations) by the row's name.
 //! Validation with synchronisation checks runs below the layer in the program, which fails on
 //! any message.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::Output;
@@ -40,7 +40,7 @@ fn profile(dir: &Path, name: &str, extra: &[&str], groups: u32) -> Output {
     let args = [
         &["profile-app", "--frame-on", "submit", "--format", "json", "--out", out.as_str()][..],
         extra,
-        &["--", me.as_str(), "--exact", "work_program", "--ignored", "--test-threads=1"],
+        &["--", me.as_str(), "--exact", "profile_app_work::work_program", "--ignored", "--test-threads=1"],
     ]
     .concat();
     common::nostencil_command(&args)

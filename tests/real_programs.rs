@@ -10,7 +10,7 @@
 //! installs them):
 //! without them the tests fail saying so rather than skip.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};

@@ -3,7 +3,7 @@
 //! frame are shadowed where CPU ray casts say, the atlas and shadow-map renders agree except
 //! along shadow edges, and no mip of a generated atlas bleeds across chart borders.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

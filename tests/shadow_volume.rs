@@ -2,7 +2,7 @@
 //! hand-computed answers: the seed's normalisation table, a box's projected outline, a camera
 //! inside a volume, and the background behind a volume.
 
-mod common;
+use crate::common;
 
 use std::collections::{HashMap, HashSet};
 use std::path::Path;

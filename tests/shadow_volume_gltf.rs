@@ -2,7 +2,7 @@
 //! pose: the emulated frame still equals the real-stencil reference pixel for pixel, and the
 //! shadow is really there, on the ground under the casters and nowhere else.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

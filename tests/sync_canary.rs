@@ -8,7 +8,7 @@
 //! The same sequence with the barrier must stay silent: the message is about the missing barrier,
 //! not about anything else in the sequence.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

@@ -16,7 +16,7 @@
 //! the check and without: with it, each mistake is flagged by name and pass #0's and pass #6's
 //! images are the pattern (under the white for #0); without it, they are the clean colours.
 
-mod common;
+use crate::common;
 
 use std::ffi::CStr;
 use std::path::Path;
@@ -48,7 +48,15 @@ unsafe fn blend_pipeline(
         .dst_alpha_blend_factor(vk::BlendFactor::ZERO)
         .alpha_blend_op(vk::BlendOp::ADD)
         .color_write_mask(vk::ColorComponentFlags::RGBA)];
-    common::raw_vulkan::fullscreen_pipeline(device, layout, render_pass, SIZE, "solid.frag", None, &attachments)
+    common::raw_vulkan::fullscreen_pipeline(
+        device,
+        layout,
+        render_pass,
+        SIZE,
+        nostencil::shaders::SOLID_FRAG,
+        None,
+        &attachments,
+    )
 }
 
 /// An image and its memory and view, as `raw_vulkan::image_target` makes them.
@@ -459,85 +467,98 @@ fn flags_of(report: &FillrateReport) -> Vec<(String, u32, Option<String>)> {
 
 #[test]
 fn each_mistake_is_flagged_by_name_and_the_dont_care_load_shows_the_pattern() {
-    let first = common::raw_vulkan::under_the_layer("tiler_check");
-    let dir = first.parent().expect("scratch folder").to_path_buf();
-    let slot = |bytes: &[u8], n: u64| bytes[(n * BYTES) as usize..((n + 1) * BYTES) as usize].to_vec();
+    // It sets the process environment for the layer: in a process of its own.
+    common::in_own_process(
+        "tiler_check::each_mistake_is_flagged_by_name_and_the_dont_care_load_shows_the_pattern",
+        || {
+            let first = common::raw_vulkan::under_the_layer("tiler_check");
+            let dir = first.parent().expect("scratch folder").to_path_buf();
+            let slot = |bytes: &[u8], n: u64| bytes[(n * BYTES) as usize..((n + 1) * BYTES) as usize].to_vec();
 
-    let (off_bytes, report, messages) = run(&dir.join("off.json"), false, wrong_program);
-    assert!(messages.is_empty(), "validation messages (check off):\n{}", messages.join("\n"));
-    assert!(report.tiler_check.is_none(), "no check asked for");
-    let (clean, clean_loaded) = (slot(&off_bytes, 0), slot(&off_bytes, 3));
-    assert!(
-        clean.chunks(4).all(|p| near(p, over([0, 0, 255]))),
-        "without the check the blended image is the clean blue under white: {:?}",
-        &clean[..8]
+            let (off_bytes, report, messages) = run(&dir.join("off.json"), false, wrong_program);
+            assert!(messages.is_empty(), "validation messages (check off):\n{}", messages.join("\n"));
+            assert!(report.tiler_check.is_none(), "no check asked for");
+            let (clean, clean_loaded) = (slot(&off_bytes, 0), slot(&off_bytes, 3));
+            assert!(
+                clean.chunks(4).all(|p| near(p, over([0, 0, 255]))),
+                "without the check the blended image is the clean blue under white: {:?}",
+                &clean[..8]
+            );
+            assert!(clean_loaded.chunks(4).all(|p| near(p, [255, 255, 0])), "lavapipe kept the yellow pass #5 dropped");
+
+            let (on_bytes, report, messages) = run(&dir.join("on.json"), true, wrong_program);
+            assert!(messages.is_empty(), "validation messages (check on):\n{}", messages.join("\n"));
+            let check = report.tiler_check.clone().expect("the tiler check's report");
+            let colour = Some("colour #0 (R8G8B8A8_UNORM)".to_owned());
+            let mut expected = vec![
+                ("dont_care_load_read".to_owned(), 0, colour.clone()),
+                ("multisampled_stored".into(), 1, colour.clone()),
+                ("resolve_outside_pass".into(), 1, colour.clone()),
+                ("stored_never_read".into(), 2, Some("depth #0 (D16_UNORM)".into())),
+                ("dead_pass".into(), 2, None),
+                ("stored_then_overwritten".into(), 3, colour.clone()),
+                ("dead_pass".into(), 3, None),
+                ("load_after_dont_care".into(), 6, colour.clone()),
+            ];
+            expected.sort();
+            assert_eq!(flags_of(&report), expected, "{:#?}", check.flags);
+            assert!(check.flags.iter().all(|f| f.frame == 0 && f.count == 1 && !f.detail.is_empty()));
+            let notes: Vec<(&str, u32, Option<&str>)> =
+                check.poisoned.iter().map(|n| (n.when.as_str(), n.pass, n.read_by.as_deref())).collect();
+            assert_eq!(
+                notes,
+                [
+                    ("before the pass (DONT_CARE load)", 0, Some("the pass's first draw (blending)")),
+                    ("after the pass (DONT_CARE store)", 5, Some("pass #6's LOAD")),
+                ]
+            );
+
+            // Pass #0's image: the magenta and green checkerboard of 16-pixel cells under the white;
+            // pass #6's: the checkerboard pass #5 left, loaded.
+            let (poisoned, loaded) = (slot(&on_bytes, 0), slot(&on_bytes, 3));
+            for (i, (pixel, loaded)) in poisoned.chunks(4).zip(loaded.chunks(4)).enumerate() {
+                let (x, y) = (i % SIZE as usize, i / SIZE as usize);
+                assert!(near(pixel, over(pattern(i))), "pixel ({x}, {y}) is {pixel:?}, not the pattern under white");
+                assert!(near(loaded, pattern(i)), "pass #6's pixel ({x}, {y}) is {loaded:?}, not the pattern");
+            }
+            // The table's tiler lines, and both images side by side (docs/fillrate-layer.md shows them).
+            let table = nostencil::layer::output::render(&report, nostencil::layer::config::OutputFormat::Table);
+            for line in
+                ["tiler check: 8 flag(s)", "dead_pass: frame 0 pass #2", "load_after_dont_care: frame 0 pass #6"]
+            {
+                assert!(table.contains(line), "{line} not in:\n{table}");
+            }
+            std::fs::write(dir.join("tiler-check.txt"), &table).expect("table written");
+            // Each pixel four times as wide and high, so the cells show.
+            let side_by_side = image::RgbaImage::from_fn(8 * SIZE, 4 * SIZE, |x, y| {
+                let (x, y) = (x / 4, y / 4);
+                let (source, x) = if x < SIZE { (&clean, x) } else { (&poisoned, x - SIZE) };
+                let at = ((y * SIZE + x) * 4) as usize;
+                image::Rgba([source[at], source[at + 1], source[at + 2], 255])
+            });
+            side_by_side.save(dir.join("tiler-check.png")).expect("picture written");
+
+            // The check changed nothing but what a tiler would not have kept: the counters are alike.
+            let counters = |r: &FillrateReport| -> Vec<u64> {
+                r.frames
+                    .iter()
+                    .flat_map(|f| &f.render_passes)
+                    .filter_map(|p| p.counters)
+                    .map(|c| c.samples_passed)
+                    .collect()
+            };
+            let off = std::fs::read_to_string(dir.join("off.json")).expect("the first result");
+            let off = FillrateReport::from_json(&off).expect("a fill-rate report");
+            assert_eq!(counters(&report), counters(&off));
+
+            // The transient image copied after its pass: flagged by its pass and attachment; validation
+            // reports the image's invalid usage, and nothing else.
+            let (_, report, messages) = run(&dir.join("transient.json"), true, transient_program);
+            let invalid = "VUID-VkImageCreateInfo-usage-00963";
+            assert!(!messages.is_empty() && messages.iter().all(|m| m.contains(invalid)), "{}", messages.join("\n"));
+            assert_eq!(flags_of(&report), [("transient_outside_pass".to_owned(), 0, colour)]);
+            let detail = &report.tiler_check.as_ref().expect("the check").flags[0].detail;
+            assert!(detail.contains("vkCmdCopyImageToBuffer"), "{detail}");
+        },
     );
-    assert!(clean_loaded.chunks(4).all(|p| near(p, [255, 255, 0])), "lavapipe kept the yellow pass #5 dropped");
-
-    let (on_bytes, report, messages) = run(&dir.join("on.json"), true, wrong_program);
-    assert!(messages.is_empty(), "validation messages (check on):\n{}", messages.join("\n"));
-    let check = report.tiler_check.clone().expect("the tiler check's report");
-    let colour = Some("colour #0 (R8G8B8A8_UNORM)".to_owned());
-    let mut expected = vec![
-        ("dont_care_load_read".to_owned(), 0, colour.clone()),
-        ("multisampled_stored".into(), 1, colour.clone()),
-        ("resolve_outside_pass".into(), 1, colour.clone()),
-        ("stored_never_read".into(), 2, Some("depth #0 (D16_UNORM)".into())),
-        ("dead_pass".into(), 2, None),
-        ("stored_then_overwritten".into(), 3, colour.clone()),
-        ("dead_pass".into(), 3, None),
-        ("load_after_dont_care".into(), 6, colour.clone()),
-    ];
-    expected.sort();
-    assert_eq!(flags_of(&report), expected, "{:#?}", check.flags);
-    assert!(check.flags.iter().all(|f| f.frame == 0 && f.count == 1 && !f.detail.is_empty()));
-    let notes: Vec<(&str, u32, Option<&str>)> =
-        check.poisoned.iter().map(|n| (n.when.as_str(), n.pass, n.read_by.as_deref())).collect();
-    assert_eq!(
-        notes,
-        [
-            ("before the pass (DONT_CARE load)", 0, Some("the pass's first draw (blending)")),
-            ("after the pass (DONT_CARE store)", 5, Some("pass #6's LOAD")),
-        ]
-    );
-
-    // Pass #0's image: the magenta and green checkerboard of 16-pixel cells under the white;
-    // pass #6's: the checkerboard pass #5 left, loaded.
-    let (poisoned, loaded) = (slot(&on_bytes, 0), slot(&on_bytes, 3));
-    for (i, (pixel, loaded)) in poisoned.chunks(4).zip(loaded.chunks(4)).enumerate() {
-        let (x, y) = (i % SIZE as usize, i / SIZE as usize);
-        assert!(near(pixel, over(pattern(i))), "pixel ({x}, {y}) is {pixel:?}, not the pattern under white");
-        assert!(near(loaded, pattern(i)), "pass #6's pixel ({x}, {y}) is {loaded:?}, not the pattern");
-    }
-    // The table's tiler lines, and both images side by side (docs/fillrate-layer.md shows them).
-    let table = nostencil::layer::output::render(&report, nostencil::layer::config::OutputFormat::Table);
-    for line in ["tiler check: 8 flag(s)", "dead_pass: frame 0 pass #2", "load_after_dont_care: frame 0 pass #6"] {
-        assert!(table.contains(line), "{line} not in:\n{table}");
-    }
-    std::fs::write(dir.join("tiler-check.txt"), &table).expect("table written");
-    // Each pixel four times as wide and high, so the cells show.
-    let side_by_side = image::RgbaImage::from_fn(8 * SIZE, 4 * SIZE, |x, y| {
-        let (x, y) = (x / 4, y / 4);
-        let (source, x) = if x < SIZE { (&clean, x) } else { (&poisoned, x - SIZE) };
-        let at = ((y * SIZE + x) * 4) as usize;
-        image::Rgba([source[at], source[at + 1], source[at + 2], 255])
-    });
-    side_by_side.save(dir.join("tiler-check.png")).expect("picture written");
-
-    // The check changed nothing but what a tiler would not have kept: the counters are alike.
-    let counters = |r: &FillrateReport| -> Vec<u64> {
-        r.frames.iter().flat_map(|f| &f.render_passes).filter_map(|p| p.counters).map(|c| c.samples_passed).collect()
-    };
-    let off = std::fs::read_to_string(dir.join("off.json")).expect("the first result");
-    let off = FillrateReport::from_json(&off).expect("a fill-rate report");
-    assert_eq!(counters(&report), counters(&off));
-
-    // The transient image copied after its pass: flagged by its pass and attachment; validation
-    // reports the image's invalid usage, and nothing else.
-    let (_, report, messages) = run(&dir.join("transient.json"), true, transient_program);
-    let invalid = "VUID-VkImageCreateInfo-usage-00963";
-    assert!(!messages.is_empty() && messages.iter().all(|m| m.contains(invalid)), "{}", messages.join("\n"));
-    assert_eq!(flags_of(&report), [("transient_outside_pass".to_owned(), 0, colour)]);
-    let detail = &report.tiler_check.as_ref().expect("the check").flags[0].detail;
-    assert!(detail.contains("vkCmdCopyImageToBuffer"), "{detail}");
 }

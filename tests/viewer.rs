@@ -8,7 +8,7 @@
 //! Needs Xvfb and xdotool (tools/setup-debian.sh installs them): without them the tests fail
 //! saying so rather than skip.
 
-mod common;
+use crate::common;
 
 use common::x_server::{start_x_server, XServer};
 

@@ -2,7 +2,7 @@
 //! registry line), built through the registry like every other and rendered: it draws where,
 //! and as often as, CPU rays find a caster's front face behind the nearest surface.
 
-mod common;
+use crate::common;
 
 use common::ray_world::{Placed, RayWorld};
 use glam::Vec3;

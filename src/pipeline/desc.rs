@@ -2,6 +2,7 @@
 //! vertex layout, and the fixed-function state of `state.rs`. `render::Pipeline` turns a
 //! description into the Vulkan object.
 
+use crate::shaders::Shader;
 use ash::vk;
 
 use super::state::FixedFunction;
@@ -82,8 +83,8 @@ impl VertexLayout {
 pub struct PipelineDesc {
     /// The pass name this pipeline draws (shown in profiles and the `passes` table).
     pub name: &'static str,
-    pub vertex_shader: &'static str,
-    pub fragment_shader: &'static str,
+    pub vertex_shader: Shader,
+    pub fragment_shader: Shader,
     pub vertex_layout: VertexLayout,
     pub fixed: FixedFunction,
     pub push_constant_bytes: u32,

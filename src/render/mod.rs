@@ -10,6 +10,7 @@ pub mod materials;
 pub mod object_push;
 pub mod pipeline_object;
 pub mod plan;
+pub mod plan_execution;
 pub mod present;
 pub mod recorder;
 pub mod renderer;

@@ -281,8 +281,8 @@ struct ShaderModule<'a> {
 }
 
 impl<'a> ShaderModule<'a> {
-    fn new(gpu: &'a Gpu, name: &str) -> Result<Self> {
-        let code = crate::shaders::spirv(name)?;
+    fn new(gpu: &'a Gpu, shader: crate::shaders::Shader) -> Result<Self> {
+        let code = crate::shaders::spirv(shader)?;
         let info = vk::ShaderModuleCreateInfo::default().code(&code);
         // SAFETY: `code` is SPIR-V compiled by shaderc at build time, as u32 words.
         let raw = unsafe { gpu.raw().create_shader_module(&info, None) }.vk("vkCreateShaderModule")?;

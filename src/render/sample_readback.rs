@@ -14,6 +14,7 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use super::pipeline_object::Pipeline;
+use crate::shaders;
 use crate::error::{Error, Result};
 use crate::frame::offscreen::{colour_render_pass, Framebuffer};
 use crate::frame::FrameTargets;
@@ -52,8 +53,8 @@ impl FrameSamples {
 fn readback_desc() -> PipelineDesc {
     PipelineDesc {
         name: "sample read-back",
-        vertex_shader: "fullscreen.vert",
-        fragment_shader: "sample_readback.frag",
+        vertex_shader: shaders::FULLSCREEN_VERT,
+        fragment_shader: shaders::SAMPLE_READBACK_FRAG,
         vertex_layout: VertexLayout::NONE,
         fixed: FixedFunction::FULLSCREEN,
         push_constant_bytes: 4,

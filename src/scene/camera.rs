@@ -6,6 +6,7 @@ use glam::{Mat4, Vec3, Vec4};
 /// volume far caps) never passes a GREATER_OR_EQUAL test against the cleared depth of 1.0,
 /// which is what keeps the background out of z-fail counts.
 pub const INFINITY_DEPTH: f32 = 1.0 - 1.0 / (1 << 20) as f32;
+const _: () = assert!(INFINITY_DEPTH < 1.0);
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Camera {
@@ -79,7 +80,6 @@ mod tests {
         assert!(depth(Vec4::new(0.0, 0.0, -camera.near, 1.0)).abs() < 1e-5);
         assert!(depth(Vec4::new(0.0, 0.0, -10.0, 1.0)) < INFINITY_DEPTH);
         assert_eq!(depth(Vec4::new(0.0, 0.0, -1.0, 0.0)), INFINITY_DEPTH);
-        const { assert!(INFINITY_DEPTH < 1.0) };
         // y is flipped for Vulkan: up in the world is up on screen (negative NDC y).
         let up = p * Vec4::new(0.0, 1.0, -5.0, 1.0);
         assert!(up.y / up.w < 0.0);

@@ -8,6 +8,7 @@ use std::sync::Arc;
 use ash::vk;
 use glam::{Mat4, Vec4};
 
+use crate::shaders;
 use crate::error::Result;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::texture::{Sampler, Texture};
@@ -41,8 +42,8 @@ pub trait WithRamps: Label {
 /// A pipeline of the cartoon shaders (they all push a `CartoonPush`).
 pub fn cartoon_desc(
     name: &'static str,
-    vertex_shader: &'static str,
-    fragment_shader: &'static str,
+    vertex_shader: shaders::Shader,
+    fragment_shader: shaders::Shader,
     vertex_layout: VertexLayout,
     fixed: FixedFunction,
 ) -> PipelineDesc {
@@ -59,7 +60,7 @@ pub fn cartoon_desc(
 
 /// The scene: Lambert or toon, optionally with the N.V rim; writes the alpha it is given.
 pub fn shade_desc() -> PipelineDesc {
-    cartoon_desc("scene", "cartoon_shade.vert", "cartoon_shade.frag", VertexLayout::SCENE, FixedFunction::OPAQUE)
+    cartoon_desc("scene", shaders::CARTOON_SHADE_VERT, shaders::CARTOON_SHADE_FRAG, VertexLayout::SCENE, FixedFunction::OPAQUE)
 }
 
 /// A scene pass: the objects `draw` names, shaded by [`shade_desc`] or a variant of it, with

@@ -7,6 +7,7 @@ use ash::vk;
 use glam::{Mat4, Vec3, Vec4};
 
 use super::cartoon_shading::{cartoon_desc, CartoonPush};
+use crate::shaders;
 use crate::error::Result;
 use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
@@ -68,7 +69,7 @@ fn vertices(welded: &Welded) -> Vec<[Vec3; 2]> {
 
 /// A pipeline that draws extruded copies in one colour.
 pub fn extrude_desc(name: &'static str, fixed: FixedFunction) -> PipelineDesc {
-    cartoon_desc(name, "cartoon_extrude.vert", "cartoon_colour.frag", VertexLayout::POSITION_NORMAL, fixed)
+    cartoon_desc(name, shaders::CARTOON_EXTRUDE_VERT, shaders::CARTOON_COLOUR_FRAG, VertexLayout::POSITION_NORMAL, fixed)
 }
 
 /// How far copies are pushed out, and their colour.

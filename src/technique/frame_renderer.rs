@@ -12,7 +12,8 @@ use super::interface::{check_same_scene, FrameStats, RenderOptions, SceneRendere
 use crate::error::{Error, Result};
 use crate::frame::FrameTargets;
 use crate::gpu::Gpu;
-use crate::render::plan::{record_plan, Label, PassDraws, PassKinds, PassPlan, PlanPipelines, SetRole, Target, When};
+use crate::render::plan::{Label, PassKinds, PassPlan, SetRole, Target, When};
+use crate::render::plan_execution::{record_plan, PassDraws, PlanPipelines};
 use crate::render::PipelineTarget;
 use crate::render::{FrameOutput, FrameUniforms, Renderer};
 use crate::scene::{Light, Scene};

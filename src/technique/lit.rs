@@ -7,18 +7,20 @@ use super::frame_renderer::{BuildContext, Passes};
 use super::interface::{NoStats, RenderOptions};
 use super::material_variants::with_surface_variants;
 use super::unit::{Prepared, TechniqueUnit};
+use crate::shaders;
 use crate::error::Result;
 use crate::gpu::Gpu;
 use crate::pipeline::{FixedFunction, PipelineDesc, VertexLayout};
-use crate::render::plan::{NoOwn, PassDraws, PassKinds, PassPlan, PlannedPass, RecorderOnly, SetRole};
+use crate::render::plan::{NoOwn, PassKinds, PassPlan, PlannedPass, RecorderOnly, SetRole};
+use crate::render::plan_execution::PassDraws;
 use crate::render::{FrameOutput, FrameRecorder, GpuScene, Pipeline, Renderer, OBJECT_PUSH_BYTES};
 use crate::scene::Scene;
 
 pub fn scene_pipeline_desc() -> PipelineDesc {
     PipelineDesc {
         name: "scene",
-        vertex_shader: "lit.vert",
-        fragment_shader: "lit.frag",
+        vertex_shader: shaders::LIT_VERT,
+        fragment_shader: shaders::LIT_FRAG,
         vertex_layout: VertexLayout::SCENE,
         fixed: FixedFunction::OPAQUE,
         push_constant_bytes: OBJECT_PUSH_BYTES,

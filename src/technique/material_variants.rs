@@ -10,6 +10,7 @@
 //! Pipeline names are static: each opaque pipeline that has variants is listed here with its
 //! variants' names.
 
+use crate::shaders;
 use crate::pipeline::recipes::OVER_KEEPING_ALPHA;
 use crate::pipeline::{DepthState, PipelineDesc, RasterState};
 use crate::render::plan::{MaterialVariant, PassKinds, PlannedPass};
@@ -98,17 +99,17 @@ fn variant_names(base: &str) -> Option<[&'static str; 4]> {
 }
 
 /// The fragment shaders of the variants of an opaque fragment shader: (masked, blend).
-fn variant_shaders(fragment: &str) -> Option<(&'static str, &'static str)> {
+fn variant_shaders(fragment: shaders::Shader) -> Option<(shaders::Shader, shaders::Shader)> {
     Some(match fragment {
-        "lit.frag" => ("lit_masked.frag", "lit_blend.frag"),
-        "lit_ambient.frag" => ("lit_ambient_masked.frag", "lit_blend.frag"),
-        "lit_light.frag" => ("lit_light_masked.frag", "lit_blend.frag"),
-        "lit_light_subpass.frag" => ("lit_light_subpass_masked.frag", "lit_blend.frag"),
-        "lit_light_subpass_counted.frag" => ("lit_light_subpass_counted_masked.frag", "lit_blend.frag"),
-        "cartoon_shade.frag" => ("cartoon_shade_masked.frag", "cartoon_shade_blend.frag"),
-        "shadow_atlas_scene.frag" => ("shadow_atlas_scene_masked.frag", "shadow_atlas_scene_blend.frag"),
-        "shadow_map_scene.frag" => ("shadow_map_scene_masked.frag", "shadow_map_scene_blend.frag"),
-        "projective_scene.frag" => ("projective_scene_masked.frag", "projective_scene_blend.frag"),
+        shaders::LIT_FRAG => (shaders::LIT_MASKED_FRAG, shaders::LIT_BLEND_FRAG),
+        shaders::LIT_AMBIENT_FRAG => (shaders::LIT_AMBIENT_MASKED_FRAG, shaders::LIT_BLEND_FRAG),
+        shaders::LIT_LIGHT_FRAG => (shaders::LIT_LIGHT_MASKED_FRAG, shaders::LIT_BLEND_FRAG),
+        shaders::LIT_LIGHT_SUBPASS_FRAG => (shaders::LIT_LIGHT_SUBPASS_MASKED_FRAG, shaders::LIT_BLEND_FRAG),
+        shaders::LIT_LIGHT_SUBPASS_COUNTED_FRAG => (shaders::LIT_LIGHT_SUBPASS_COUNTED_MASKED_FRAG, shaders::LIT_BLEND_FRAG),
+        shaders::CARTOON_SHADE_FRAG => (shaders::CARTOON_SHADE_MASKED_FRAG, shaders::CARTOON_SHADE_BLEND_FRAG),
+        shaders::SHADOW_ATLAS_SCENE_FRAG => (shaders::SHADOW_ATLAS_SCENE_MASKED_FRAG, shaders::SHADOW_ATLAS_SCENE_BLEND_FRAG),
+        shaders::SHADOW_MAP_SCENE_FRAG => (shaders::SHADOW_MAP_SCENE_MASKED_FRAG, shaders::SHADOW_MAP_SCENE_BLEND_FRAG),
+        shaders::PROJECTIVE_SCENE_FRAG => (shaders::PROJECTIVE_SCENE_MASKED_FRAG, shaders::PROJECTIVE_SCENE_BLEND_FRAG),
         _ => return None,
     })
 }

@@ -91,6 +91,12 @@ pub trait TechniqueUnit: Sync + 'static {
         ShadowedLights::None
     }
 
+    /// What the warning about unshadowed lights tells a user to do to shadow every light.
+    /// A technique whose other mode shadows them all says which flag.
+    fn every_light_hint(&self) -> &'static str {
+        "--technique shadow-volume or planar shadows every light"
+    }
+
     /// Why light `light` of `scene`, which casts shadows, goes unshadowed (the warning says
     /// it beside the light's name); `None`: no reason beyond the technique's.
     fn unshadowed_reason(&self, scene: &Scene, light: usize) -> Option<String> {
@@ -126,9 +132,10 @@ impl ShadowedLights {
 }
 
 /// The warning naming the lights `shadowed` leaves unshadowed in `scene`, if any, each with
-/// `reason(index)` when there is one.
+/// `reason(index)` when there is one, and `hint` (how to shadow them all).
 pub fn unshadowed_lights_warning(
     technique: &str,
+    hint: &str,
     shadowed: ShadowedLights,
     scene: &Scene,
     reason: &dyn Fn(usize) -> Option<String>,
@@ -145,11 +152,6 @@ pub fn unshadowed_lights_warning(
     if left.is_empty() {
         return None;
     }
-    let hint = match technique {
-        // Their seed frame (`--shadow-mode modulate`) has one shadow.
-        "shadow-volume" | "planar" => "--shadow-mode additive shadows every light",
-        _ => "--technique shadow-volume or planar shadows every light",
-    };
     Some(match shadowed {
         ShadowedLights::Listed(_) => {
             let kept: Vec<String> = casting()
@@ -199,7 +201,8 @@ pub fn build_unit<'s, T: TechniqueUnit>(
     let mut renderer =
         frame_renderer::build_typed(unit.name(), plan, gpu, scene, &options, |ctx| unit.make(ctx, scene, setup))?;
     let reason = |light: usize| unit.unshadowed_reason(scene, light);
-    renderer.warnings.extend(unshadowed_lights_warning(unit.name(), unit.shadowed_lights(&options), scene, &reason));
+    let hint = unit.every_light_hint();
+    renderer.warnings.extend(unshadowed_lights_warning(unit.name(), hint, unit.shadowed_lights(&options), scene, &reason));
     Ok(renderer)
 }
 

@@ -27,6 +27,53 @@ pub fn assert_no_validation_messages(gpu: &Gpu) {
     assert!(messages.is_empty(), "{} validation message(s):\n{}", messages.len(), messages.join("\n"));
 }
 
+/// Whether a test that checks lavapipe's own figures (its fragment-count rule, its measured
+/// counts) applies to `gpu`. On lavapipe, the device `cargo test` uses, it does. On a device a
+/// user chose with `NOSTENCIL_DEVICE` it cannot, and says so on stderr (`--nocapture` shows
+/// it). Any other device fails the test, naming it: such a test never passes without checking.
+pub fn lavapipe_figures_apply(gpu: &Gpu, figures: &str) -> bool {
+    let name = &gpu.device.info.name;
+    if name.contains("llvmpipe") {
+        return true;
+    }
+    match std::env::var("NOSTENCIL_DEVICE") {
+        Ok(chosen) => {
+            eprintln!("SKIPPED: {figures} are lavapipe's; NOSTENCIL_DEVICE={chosen} chose '{name}'");
+            false
+        }
+        Err(_) => {
+            panic!("{figures} are lavapipe's, but the test device is '{name}' (set NOSTENCIL_DEVICE to choose it)")
+        }
+    }
+}
+
+/// Runs `body` in a child process of this test binary that runs the one test `path` (its
+/// `module::name`), so that `body` may set the process environment (the fill-rate layer tests
+/// load the layer into every instance their process creates) without reaching the tests that
+/// run beside it in this binary. In that child, runs `body`. The child must report the test
+/// passed, so a `path` that names no test fails instead of passing empty.
+pub fn in_own_process(path: &str, body: impl FnOnce()) {
+    const CHILD: &str = "NOSTENCIL_TEST_IN_OWN_PROCESS";
+    if std::env::var(CHILD).is_ok_and(|running| running == path) {
+        body();
+        return;
+    }
+    let me = std::env::current_exe().expect("this test binary");
+    let output = std::process::Command::new(me)
+        .args(["--exact", path, "--nocapture", "--test-threads=1"])
+        .env(CHILD, path)
+        .output()
+        .expect("run the test in a process of its own");
+    let (stdout, stderr) = (String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr));
+    print!("{stdout}");
+    eprint!("{stderr}");
+    assert!(
+        output.status.success() && stdout.contains("test result: ok. 1 passed"),
+        "{path} in a process of its own did not pass ({})",
+        output.status
+    );
+}
+
 /// Folder for files a test writes (under the target dir, removed and recreated per test name).
 pub fn scratch_dir(test: &str) -> std::path::PathBuf {
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(test);

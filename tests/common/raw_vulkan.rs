@@ -92,8 +92,8 @@ impl RawInstance {
 ///
 /// # Safety
 /// `device` is alive; the caller destroys the module.
-pub unsafe fn shader(device: &ash::Device, name: &str) -> vk::ShaderModule {
-    let code = nostencil::shaders::spirv(name).expect("shader");
+pub unsafe fn shader(device: &ash::Device, shader: nostencil::shaders::Shader) -> vk::ShaderModule {
+    let code = nostencil::shaders::spirv(shader).expect("shader");
     device.create_shader_module(&vk::ShaderModuleCreateInfo::default().code(&code), None).expect("module")
 }
 
@@ -114,7 +114,15 @@ pub unsafe fn depth_pipeline(
         .depth_test_enable(true)
         .depth_write_enable(false)
         .depth_compare_op(vk::CompareOp::ALWAYS);
-    fullscreen_pipeline(device, layout, render_pass, size, "shadow_map.frag", Some((depth, depth_state)), &[])
+    fullscreen_pipeline(
+        device,
+        layout,
+        render_pass,
+        size,
+        nostencil::shaders::SHADOW_MAP_FRAG,
+        Some((depth, depth_state)),
+        &[],
+    )
 }
 
 /// `fullscreen.vert` + `fragment` over a `size`-square viewport, no culling, one sample:
@@ -128,11 +136,11 @@ pub unsafe fn fullscreen_pipeline(
     layout: vk::PipelineLayout,
     render_pass: vk::RenderPass,
     size: u32,
-    fragment: &str,
+    fragment: nostencil::shaders::Shader,
     depth: Option<(vk::Format, vk::PipelineDepthStencilStateCreateInfo)>,
     blends: &[vk::PipelineColorBlendAttachmentState],
 ) -> vk::Pipeline {
-    let (vert, frag) = (shader(device, "fullscreen.vert"), shader(device, fragment));
+    let (vert, frag) = (shader(device, nostencil::shaders::FULLSCREEN_VERT), shader(device, fragment));
     let stages = [
         vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::VERTEX).module(vert).name(c"main"),
         vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::FRAGMENT).module(frag).name(c"main"),
@@ -254,7 +262,7 @@ pub unsafe fn image_target(
 /// Puts the fill-rate layer built beside this test's `nostencil` binary, with the validation
 /// layer below it, into every instance this process creates from now on, reporting to the
 /// returned path in a scratch folder named after `test`. It sets the process environment:
-/// only for a test binary that holds this one test.
+/// only inside [`super::in_own_process`].
 pub fn under_the_layer(test: &str) -> PathBuf {
     use nostencil::layer::manifest::{manifest_json, newest_library, LAYER_NAME, MANIFEST_FILE};
     let dir = super::scratch_dir(test);

@@ -13,6 +13,7 @@
 
 use ash::vk;
 
+use crate::shaders;
 use crate::pipeline::recipes::COLOUR_REPLACE;
 use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexAttribute, VertexLayout};
 use crate::render::plan::{DrawKind, Label, NoOwn, PassKinds, PassPlan, PlannedPass, SetRole};
@@ -100,8 +101,8 @@ pub const EDGE_CLASSES: [EdgeClassPass; 3] = [
 pub fn ink_desc() -> PipelineDesc {
     cartoon_desc(
         "ink lines",
-        "cartoon_ink.vert",
-        "cartoon_colour.frag",
+        shaders::CARTOON_INK_VERT,
+        shaders::CARTOON_COLOUR_FRAG,
         INK_LAYOUT,
         FixedFunction {
             topology: vk::PrimitiveTopology::TRIANGLE_LIST,
@@ -140,8 +141,8 @@ pub const ALPHA_TEST: &str = "alpha-test ink";
 pub fn alpha_test_desc() -> PipelineDesc {
     cartoon_desc(
         "alpha-test ink",
-        "cartoon_shade.vert",
-        "cartoon_alpha_test.frag",
+        shaders::CARTOON_SHADE_VERT,
+        shaders::CARTOON_ALPHA_TEST_FRAG,
         VertexLayout::SCENE,
         FixedFunction {
             depth: DepthState { compare: Some(vk::CompareOp::EQUAL), write: false },

@@ -16,6 +16,7 @@ use glam::Vec4;
 
 use super::copies::{copy_desc, outline_fixed};
 use super::kinds::{OutlineDraw, OutlineKinds, OutlineSet, OutlineTarget};
+use crate::shaders;
 use crate::error::Result;
 use crate::frame::offscreen::{colour_render_pass, colour_stencil_render_pass, Framebuffer, RenderPass};
 use crate::frame::targets::choose_depth_format;
@@ -51,7 +52,7 @@ pub fn mask_selected_desc(stencil: StencilMode) -> PipelineDesc {
         StencilMode::Reference => ("outline mask: selected (stencil)", Some(recipes::stencil_replace(1))),
     };
     let fixed = FixedFunction { stencil: stencil_state, ..mask_fixed(BlendState::OPAQUE) };
-    cartoon_desc(name, "outline_scale.vert", "cartoon_colour.frag", VertexLayout::POSITION_NORMAL, fixed)
+    cartoon_desc(name, shaders::OUTLINE_SCALE_VERT, shaders::CARTOON_COLOUR_FRAG, VertexLayout::POSITION_NORMAL, fixed)
 }
 
 /// The copies writing R = 1 where the selection is not marked: alpha 0 (emulated) or stencil
@@ -74,8 +75,8 @@ pub fn mask_copy_desc(stencil: StencilMode, method: OutlineMethod) -> PipelineDe
 pub fn blur_desc() -> PipelineDesc {
     PipelineDesc {
         name: "outline blur",
-        vertex_shader: "fullscreen.vert",
-        fragment_shader: "outline_blur.frag",
+        vertex_shader: shaders::FULLSCREEN_VERT,
+        fragment_shader: shaders::OUTLINE_BLUR_FRAG,
         vertex_layout: VertexLayout::NONE,
         fixed: FixedFunction::FULLSCREEN,
         push_constant_bytes: 16,
@@ -88,8 +89,8 @@ pub fn apply_desc() -> PipelineDesc {
     let blend = BlendState { write_mask: RGB_ONLY, ..OVER_KEEPING_ALPHA };
     PipelineDesc {
         name: "outline (blurred)",
-        vertex_shader: "fullscreen.vert",
-        fragment_shader: "outline_blur_apply.frag",
+        vertex_shader: shaders::FULLSCREEN_VERT,
+        fragment_shader: shaders::OUTLINE_BLUR_APPLY_FRAG,
         vertex_layout: VertexLayout::NONE,
         fixed: FixedFunction { blend, ..FixedFunction::FULLSCREEN },
         push_constant_bytes: 16,

@@ -3,6 +3,7 @@
 
 use ash::vk;
 
+use crate::shaders;
 use crate::pipeline::{BlendState, DepthState, FixedFunction, PipelineDesc, RasterState, VertexLayout};
 use crate::technique::cartoon_shading::cartoon_desc;
 use crate::technique::extruded::extrude_desc;
@@ -25,7 +26,7 @@ pub fn copy_desc(method: OutlineMethod, names: [&'static str; 2], fixed: FixedFu
     match method {
         OutlineMethod::Extrude => extrude_desc(names[0], fixed),
         OutlineMethod::Scale => {
-            cartoon_desc(names[1], "outline_scale.vert", "cartoon_colour.frag", VertexLayout::POSITION_NORMAL, fixed)
+            cartoon_desc(names[1], shaders::OUTLINE_SCALE_VERT, shaders::CARTOON_COLOUR_FRAG, VertexLayout::POSITION_NORMAL, fixed)
         }
     }
 }

@@ -16,6 +16,7 @@ use image::{Rgba, RgbaImage};
 use super::receiver::{light_reaches_plane, receiver_plane, ReceiverPlane};
 use super::scene_meshes::{lit_scene_pass, SceneMeshes, WithPalette};
 use super::shared::{BlobShadows, PlanarStats, SHADOW_BIAS};
+use crate::shaders;
 use crate::error::{Error, Result};
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::Buffer;
@@ -23,7 +24,8 @@ use crate::gpu::texture::{Sampler, Texture};
 use crate::gpu::Gpu;
 use crate::pipeline::recipes::MODULATE_BY_SRC_COLOUR;
 use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexAttribute, VertexLayout};
-use crate::render::plan::{DrawKind, Label, NoOwn, PassDraws, PassKinds, PassPlan, PlannedPass, SetRole};
+use crate::render::plan::{DrawKind, Label, NoOwn, PassKinds, PassPlan, PlannedPass, SetRole};
+use crate::render::plan_execution::PassDraws;
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, GpuScene, Renderer};
 use crate::scene::{bounds_of, Scene};
@@ -61,8 +63,8 @@ pub fn blob_image(size: u32) -> RgbaImage {
 pub fn blob_desc() -> PipelineDesc {
     PipelineDesc {
         name: "blob shadow",
-        vertex_shader: "planar_blob.vert",
-        fragment_shader: "planar_blob.frag",
+        vertex_shader: shaders::PLANAR_BLOB_VERT,
+        fragment_shader: shaders::PLANAR_BLOB_FRAG,
         vertex_layout: BLOB_LAYOUT,
         fixed: FixedFunction {
             topology: vk::PrimitiveTopology::TRIANGLE_LIST,

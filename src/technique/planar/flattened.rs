@@ -8,6 +8,7 @@ use glam::{Mat4, Vec4};
 use super::scene_meshes::WithPalette;
 use super::shared::SHADOW_BIAS;
 use super::skin::SKINNED_LAYOUT;
+use crate::shaders;
 use crate::pipeline::{BlendState, DepthState, FixedFunction, PipelineDesc, RasterState, StencilState, VertexLayout};
 use crate::render::plan::{DrawKind, Label, NoOwn, PassKinds};
 
@@ -24,6 +25,8 @@ pub struct PlanarPush {
 }
 
 pub const PLANAR_PUSH_BYTES: u32 = std::mem::size_of::<PlanarPush>() as u32;
+// The shaders' push block is 112 bytes, within the profile's 128.
+const _: () = assert!(PLANAR_PUSH_BYTES == 112);
 
 /// The kinds of the planar plan.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -91,8 +94,8 @@ impl WithPalette for PlanarSet {
 pub fn flattened_desc(name: &'static str, skinned: bool, blend: BlendState, stencil: Option<StencilState>) -> PipelineDesc {
     PipelineDesc {
         name,
-        vertex_shader: if skinned { "planar_shadow_skinned.vert" } else { "planar_shadow.vert" },
-        fragment_shader: "object_colour.frag",
+        vertex_shader: if skinned { shaders::PLANAR_SHADOW_SKINNED_VERT } else { shaders::PLANAR_SHADOW_VERT },
+        fragment_shader: shaders::OBJECT_COLOUR_FRAG,
         vertex_layout: if skinned { SKINNED_LAYOUT } else { VertexLayout::SCENE },
         fixed: FixedFunction {
             topology: vk::PrimitiveTopology::TRIANGLE_LIST,

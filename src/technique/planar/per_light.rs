@@ -8,6 +8,7 @@ use ash::vk;
 
 use super::flattened::{flattened_desc, PlanarDraw, PlanarKinds};
 use super::scene_meshes::{named_scene_pass, scene_desc, scene_sets};
+use crate::shaders;
 use crate::frame::StencilMode;
 use crate::pipeline::recipes::{
     stencil_equal, ADD_LIGHT, ADD_LIGHT_WHERE_LIT_RESET, MASK_SHADOWED, NO_WRITE, STENCIL_EQUAL_ZERO_THEN_INCREMENT,
@@ -22,9 +23,9 @@ use crate::technique::options::PlanarOptions;
 /// shading, then the blended objects.
 pub(super) fn plan(options: &PlanarOptions, stencil: StencilMode, lights: &[PlannedLight]) -> PassPlan<PlanarKinds> {
     let mut plan = PassPlan::new();
-    let ambient = PipelineDesc { fragment_shader: "lit_ambient.frag", ..scene_desc("scene (ambient)", false, None) };
+    let ambient = PipelineDesc { fragment_shader: shaders::LIT_AMBIENT_FRAG, ..scene_desc("scene (ambient)", false, None) };
     let ambient_skinned =
-        PipelineDesc { fragment_shader: "lit_ambient.frag", ..scene_desc("scene (ambient, skinned)", true, None) };
+        PipelineDesc { fragment_shader: shaders::LIT_AMBIENT_FRAG, ..scene_desc("scene (ambient, skinned)", true, None) };
     let push = "object transform and colour, alpha 1";
     let pass = named_scene_pass("scene (ambient)", ambient.clone(), ambient, ambient_skinned, push, PlanarDraw::Ambient);
     plan.push(pass.only(Only::Opaque));
@@ -71,20 +72,20 @@ fn flag_pass(stencil: StencilMode, lod: bool, light: &PlannedLight, i: u8) -> Pl
         ),
     };
     let [plain, skinned, masked, skinned_masked] = names;
-    let cut_out = |name: &'static str, vertex_shader: &'static str, is_skinned: bool| PipelineDesc {
+    let cut_out = |name: &'static str, vertex_shader: shaders::Shader, is_skinned: bool| PipelineDesc {
         name,
         vertex_shader,
-        fragment_shader: "object_colour_masked.frag",
+        fragment_shader: shaders::OBJECT_COLOUR_MASKED_FRAG,
         ..flattened_desc(name, is_skinned, blend, test)
     };
     let draw = PlanarDraw::ProjectedCasters { lod, light: Some(i) };
     PlannedPass::own(light_loop::pass_name(light, "planar shadow"), flattened_desc(plain, false, blend, test), draw, push)
         .or_pipeline(flattened_desc(skinned, true, blend, test))
-        .or_variant(MaterialVariant::Masked, plain, cut_out(masked, "planar_shadow_masked.vert", false))
+        .or_variant(MaterialVariant::Masked, plain, cut_out(masked, shaders::PLANAR_SHADOW_MASKED_VERT, false))
         .or_variant(
             MaterialVariant::Masked,
             skinned,
-            cut_out(skinned_masked, "planar_shadow_skinned_masked.vert", true),
+            cut_out(skinned_masked, shaders::PLANAR_SHADOW_SKINNED_MASKED_VERT, true),
         )
         .with_sets(&scene_sets())
         .when(When::LightReachesPlane(i))
@@ -95,7 +96,7 @@ fn flag_pass(stencil: StencilMode, lod: bool, light: &PlannedLight, i: u8) -> Pl
 /// ambient pass), the light's contribution out through `blend`.
 fn shading_desc(name: &'static str, skinned: bool, blend: BlendState, stencil: Option<StencilState>) -> PipelineDesc {
     let mut desc =
-        PipelineDesc { fragment_shader: "lit_light.frag", push_constant_bytes: LIGHT_PUSH_BYTES, ..scene_desc(name, skinned, stencil) };
+        PipelineDesc { fragment_shader: shaders::LIT_LIGHT_FRAG, push_constant_bytes: LIGHT_PUSH_BYTES, ..scene_desc(name, skinned, stencil) };
     desc.fixed.depth = DepthState { compare: Some(vk::CompareOp::EQUAL), write: false };
     desc.fixed.blend = blend;
     desc

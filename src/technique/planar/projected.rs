@@ -31,6 +31,7 @@ use super::lod::CasterLods;
 use super::receiver::{light_reaches_plane, receiver_plane, Plane, ReceiverPlane};
 use super::scene_meshes::{scene_desc, scene_pass, scene_sets, SceneMeshes};
 use super::shared::{Planar, PlanarStats, DEFAULT_SHADOW_LOD};
+use crate::shaders;
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::Gpu;
@@ -38,9 +39,8 @@ use crate::pipeline::recipes::{
     stencil_replace, MODULATE_BY_DST_ALPHA_ONCE, MODULATE_BY_SRC_ALPHA_WRITING_ALPHA, STENCIL_EQUAL_ZERO_THEN_INCREMENT,
 };
 use crate::pipeline::PipelineDesc;
-use crate::render::plan::{
-    MaterialVariant, PassDraws, PassPlan, PlannedPass, When,
-};
+use crate::render::plan::{MaterialVariant, PassPlan, PlannedPass, When};
+use crate::render::plan_execution::PassDraws;
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, GpuScene, Renderer};
 use crate::scene::{Scene, SceneLight};
@@ -112,19 +112,19 @@ fn shadow_pass_along(stencil: StencilMode, lod: bool, light: Option<u8>) -> Plan
             ("planar shadow (stencil, alpha mask)", "planar shadow (skinned, stencil, alpha mask)")
         }
     };
-    let cut_out = |name: &'static str, vertex_shader: &'static str, skinned: bool| PipelineDesc {
+    let cut_out = |name: &'static str, vertex_shader: shaders::Shader, skinned: bool| PipelineDesc {
         name,
         vertex_shader,
-        fragment_shader: "object_colour_masked.frag",
+        fragment_shader: shaders::OBJECT_COLOUR_MASKED_FRAG,
         ..shadow_desc(name, skinned, reference)
     };
     PlannedPass::own(name, shadow_desc(name, false, reference), PlanarDraw::ProjectedCasters { lod, light }, push)
         .or_pipeline(shadow_desc(skinned, true, reference))
-        .or_variant(MaterialVariant::Masked, name, cut_out(masked, "planar_shadow_masked.vert", false))
+        .or_variant(MaterialVariant::Masked, name, cut_out(masked, shaders::PLANAR_SHADOW_MASKED_VERT, false))
         .or_variant(
             MaterialVariant::Masked,
             skinned,
-            cut_out(skinned_masked, "planar_shadow_skinned_masked.vert", true),
+            cut_out(skinned_masked, shaders::PLANAR_SHADOW_SKINNED_MASKED_VERT, true),
         )
         .with_sets(&scene_sets())
         .when(When::LightAbovePlane)
@@ -154,6 +154,11 @@ impl TechniqueUnit for Planar {
 
     fn name(&self) -> &'static str {
         "planar"
+    }
+
+    /// Its seed frame (`--shadow-mode modulate`) has one shadow; the additive loop shadows all.
+    fn every_light_hint(&self) -> &'static str {
+        "--shadow-mode additive shadows every light"
     }
 
     fn shadowed_lights(&self, options: &RenderOptions) -> ShadowedLights {
@@ -390,12 +395,10 @@ fn unreached_warning(light: &SceneLight, plane: &Plane) -> Option<String> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::flattened::PLANAR_PUSH_BYTES;
     use super::*;
 
     #[test]
     fn push_constants_fit_the_profile() {
-        assert_eq!(PLANAR_PUSH_BYTES, 112);
         let lights = crate::technique::light_loop::PlannedLight::default_lights();
         for stencil in [StencilMode::Emulated, StencilMode::Reference] {
             for mode in ShadowMode::ALL {

@@ -9,6 +9,7 @@ use ash::vk;
 use super::lod::CasterLods;
 use super::receiver::ReceiverPlane;
 use super::skin::{self, SkinnedMesh, SKINNED_LAYOUT};
+use crate::shaders;
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
 use crate::pipeline::{FixedFunction, PipelineDesc, StencilState, VertexLayout};
@@ -35,8 +36,8 @@ pub fn scene_sets<S: WithPalette>() -> [SetRole<S>; 3] {
 pub fn scene_desc(name: &'static str, skinned: bool, stencil: Option<StencilState>) -> PipelineDesc {
     PipelineDesc {
         name,
-        vertex_shader: if skinned { "planar_skinned_lit.vert" } else { "lit.vert" },
-        fragment_shader: "lit.frag",
+        vertex_shader: if skinned { shaders::PLANAR_SKINNED_LIT_VERT } else { shaders::LIT_VERT },
+        fragment_shader: shaders::LIT_FRAG,
         vertex_layout: if skinned { SKINNED_LAYOUT } else { VertexLayout::SCENE },
         fixed: FixedFunction { stencil, ..FixedFunction::OPAQUE },
         push_constant_bytes: OBJECT_PUSH_BYTES,

@@ -27,6 +27,7 @@ use super::scene_meshes::{lit_scene_pass, scene_sets, SceneMeshes, WithPalette};
 use super::shared::{PlanarStats, ShadowTexture, DEFAULT_SHADOW_LOD, SHADOW_BIAS};
 use super::skin::SKINNED_LAYOUT;
 use super::texture_quad::{quad_model, shadow_quad, unit_square};
+use crate::shaders;
 use crate::error::{Error, Result};
 use crate::frame::offscreen::{colour_render_pass, Framebuffer, RenderPass};
 use crate::frame::StencilMode;
@@ -36,7 +37,8 @@ use crate::gpu::texture::Sampler;
 use crate::gpu::Gpu;
 use crate::pipeline::recipes::MODULATE_BY_SRC_COLOUR;
 use crate::pipeline::{BlendState, DepthState, FixedFunction, PipelineDesc, RasterState, VertexLayout};
-use crate::render::plan::{DrawKind, Label, MaterialVariant, PassDraws, PassKinds, PassPlan, PlannedPass, SetRole};
+use crate::render::plan::{DrawKind, Label, MaterialVariant, PassKinds, PassPlan, PlannedPass, SetRole};
+use crate::render::plan_execution::PassDraws;
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, GpuMesh, GpuScene, ObjectPush, Renderer, OBJECT_PUSH_BYTES};
 use crate::scene::{Light, Scene};
@@ -60,8 +62,8 @@ struct ReceivePush {
 fn caster_desc(skinned: bool) -> PipelineDesc {
     PipelineDesc {
         name: if skinned { "shadow texture caster (skinned)" } else { "shadow texture caster" },
-        vertex_shader: if skinned { "planar_texture_caster_skinned.vert" } else { "planar_texture_caster.vert" },
-        fragment_shader: "object_colour.frag",
+        vertex_shader: if skinned { shaders::PLANAR_TEXTURE_CASTER_SKINNED_VERT } else { shaders::PLANAR_TEXTURE_CASTER_VERT },
+        fragment_shader: shaders::OBJECT_COLOUR_FRAG,
         vertex_layout: if skinned { SKINNED_LAYOUT } else { VertexLayout::SCENE },
         fixed: FixedFunction {
             topology: vk::PrimitiveTopology::TRIANGLE_LIST,
@@ -78,8 +80,8 @@ fn caster_desc(skinned: bool) -> PipelineDesc {
 pub fn receive_desc() -> PipelineDesc {
     PipelineDesc {
         name: "shadow texture receive",
-        vertex_shader: "planar_texture_receive.vert",
-        fragment_shader: "planar_texture_receive.frag",
+        vertex_shader: shaders::PLANAR_TEXTURE_RECEIVE_VERT,
+        fragment_shader: shaders::PLANAR_TEXTURE_RECEIVE_FRAG,
         vertex_layout: VertexLayout::SCENE,
         fixed: FixedFunction {
             topology: vk::PrimitiveTopology::TRIANGLE_LIST,
@@ -192,8 +194,8 @@ pub fn plan(options: &PlanarOptions) -> PassPlan<TextureKinds> {
         caster_desc(false).name,
         PipelineDesc {
             name: "shadow texture caster (alpha mask)",
-            vertex_shader: "planar_texture_caster_masked.vert",
-            fragment_shader: "object_colour_masked.frag",
+            vertex_shader: shaders::PLANAR_TEXTURE_CASTER_MASKED_VERT,
+            fragment_shader: shaders::OBJECT_COLOUR_MASKED_FRAG,
             ..caster_desc(false)
         },
     )
@@ -202,8 +204,8 @@ pub fn plan(options: &PlanarOptions) -> PassPlan<TextureKinds> {
         caster_desc(true).name,
         PipelineDesc {
             name: "shadow texture caster (skinned, alpha mask)",
-            vertex_shader: "planar_texture_caster_skinned_masked.vert",
-            fragment_shader: "object_colour_masked.frag",
+            vertex_shader: shaders::PLANAR_TEXTURE_CASTER_SKINNED_MASKED_VERT,
+            fragment_shader: shaders::OBJECT_COLOUR_MASKED_FRAG,
             ..caster_desc(true)
         },
     )

@@ -3,6 +3,7 @@
 //! pass and mips (the projective texture: per-model bakes, copies and mips), all cached while
 //! neither a light nor a model moves, then the scene pass.
 
+use crate::shaders;
 use crate::pipeline::recipes::NO_WRITE;
 use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexAttribute, VertexLayout};
 use crate::render::plan::{DrawKind, Label, MaterialVariant, PassKinds, PassPlan, PlannedPass, SetRole, When};
@@ -131,8 +132,8 @@ const PAGE_TILES: SetRole<AtlasSet> = SetRole::Own(AtlasSet::PageTiles);
 pub fn shadow_map_desc() -> PipelineDesc {
     PipelineDesc {
         name: "shadow map",
-        vertex_shader: "shadow_map.vert",
-        fragment_shader: "shadow_map.frag",
+        vertex_shader: shaders::SHADOW_MAP_VERT,
+        fragment_shader: shaders::SHADOW_MAP_FRAG,
         vertex_layout: ATLAS_VERTEX,
         fixed: FixedFunction { raster: RasterState::CULL_NONE, blend: NO_WRITE, ..FixedFunction::OPAQUE },
         // The object's push and which light (`shaders/light_push.glsl`).
@@ -145,8 +146,8 @@ pub fn shadow_map_desc() -> PipelineDesc {
 pub fn shadow_map_masked_desc() -> PipelineDesc {
     PipelineDesc {
         name: "shadow map (alpha mask)",
-        vertex_shader: "shadow_map_masked.vert",
-        fragment_shader: "shadow_map_masked.frag",
+        vertex_shader: shaders::SHADOW_MAP_MASKED_VERT,
+        fragment_shader: shaders::SHADOW_MAP_MASKED_FRAG,
         ..shadow_map_desc()
     }
 }
@@ -154,8 +155,8 @@ pub fn shadow_map_masked_desc() -> PipelineDesc {
 pub fn bake_desc() -> PipelineDesc {
     PipelineDesc {
         name: "atlas bake",
-        vertex_shader: "shadow_atlas_bake.vert",
-        fragment_shader: "shadow_atlas_bake.frag",
+        vertex_shader: shaders::SHADOW_ATLAS_BAKE_VERT,
+        fragment_shader: shaders::SHADOW_ATLAS_BAKE_FRAG,
         vertex_layout: ATLAS_VERTEX,
         // Atlas space has no facing and no depth: every triangle writes its texels.
         fixed: FixedFunction { raster: RasterState::CULL_NONE, depth: DepthState::OFF, ..FixedFunction::OPAQUE },
@@ -169,8 +170,8 @@ pub fn bake_desc() -> PipelineDesc {
 pub fn projective_bake_desc() -> PipelineDesc {
     PipelineDesc {
         name: "projective bake",
-        vertex_shader: "projective_bake.vert",
-        fragment_shader: "projective_bake.frag",
+        vertex_shader: shaders::PROJECTIVE_BAKE_VERT,
+        fragment_shader: shaders::PROJECTIVE_BAKE_FRAG,
         ..bake_desc()
     }
 }
@@ -178,8 +179,8 @@ pub fn projective_bake_desc() -> PipelineDesc {
 pub fn dilate_desc() -> PipelineDesc {
     PipelineDesc {
         name: "atlas dilate",
-        vertex_shader: "fullscreen.vert",
-        fragment_shader: "shadow_atlas_dilate.frag",
+        vertex_shader: shaders::FULLSCREEN_VERT,
+        fragment_shader: shaders::SHADOW_ATLAS_DILATE_FRAG,
         vertex_layout: VertexLayout::NONE,
         fixed: FixedFunction::FULLSCREEN,
         push_constant_bytes: 16,
@@ -193,8 +194,8 @@ pub fn dilate_desc() -> PipelineDesc {
 pub fn page_desc() -> PipelineDesc {
     PipelineDesc {
         name: "atlas page",
-        vertex_shader: "shadow_atlas_page.vert",
-        fragment_shader: "shadow_atlas_page.frag",
+        vertex_shader: shaders::SHADOW_ATLAS_PAGE_VERT,
+        fragment_shader: shaders::SHADOW_ATLAS_PAGE_FRAG,
         vertex_layout: VertexLayout::NONE,
         fixed: FixedFunction::FULLSCREEN,
         push_constant_bytes: 16,
@@ -207,8 +208,8 @@ pub fn page_desc() -> PipelineDesc {
 pub fn page_dilate_desc() -> PipelineDesc {
     PipelineDesc {
         name: "atlas page (dilate)",
-        vertex_shader: "shadow_atlas_page_dilate.vert",
-        fragment_shader: "shadow_atlas_page_dilate.frag",
+        vertex_shader: shaders::SHADOW_ATLAS_PAGE_DILATE_VERT,
+        fragment_shader: shaders::SHADOW_ATLAS_PAGE_DILATE_FRAG,
         ..page_desc()
     }
 }
@@ -216,11 +217,11 @@ pub fn page_dilate_desc() -> PipelineDesc {
 pub fn scene_desc(kind: ShadowKind) -> PipelineDesc {
     PipelineDesc {
         name: "scene",
-        vertex_shader: "shadow_atlas_scene.vert",
+        vertex_shader: shaders::SHADOW_ATLAS_SCENE_VERT,
         fragment_shader: match kind {
-            ShadowKind::Atlas => "shadow_atlas_scene.frag",
-            ShadowKind::Map => "shadow_map_scene.frag",
-            ShadowKind::Projective => "projective_scene.frag",
+            ShadowKind::Atlas => shaders::SHADOW_ATLAS_SCENE_FRAG,
+            ShadowKind::Map => shaders::SHADOW_MAP_SCENE_FRAG,
+            ShadowKind::Projective => shaders::PROJECTIVE_SCENE_FRAG,
         },
         vertex_layout: ATLAS_VERTEX,
         fixed: FixedFunction::OPAQUE,

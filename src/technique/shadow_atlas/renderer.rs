@@ -25,7 +25,8 @@ use crate::gpu::memory::{Buffer, Image};
 use crate::gpu::texture::Sampler;
 use crate::gpu::Gpu;
 use crate::render::object_push::draw_order;
-use crate::render::plan::{MaterialVariant, PassDraws, PlannedPass, When};
+use crate::render::plan::{MaterialVariant, PlannedPass, When};
+use crate::render::plan_execution::PassDraws;
 use crate::render::Pipeline;
 use crate::render::{
     object_push, scene_vertices, FrameOutput, FrameRecorder, GpuMaterials, GpuMesh, LightPush, ObjectPush, Renderer,

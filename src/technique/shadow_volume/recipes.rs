@@ -30,6 +30,7 @@
 use ash::vk;
 use glam::Vec4;
 
+use crate::shaders;
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::pipeline::recipes::{self, NO_WRITE};
@@ -95,8 +96,8 @@ pub const SATURATION_PROBE: &str = "saturation probe";
 fn volume_desc(name: &'static str, raster: RasterState, compare: vk::CompareOp, blend: BlendState) -> PipelineDesc {
     PipelineDesc {
         name,
-        vertex_shader: "shadow_volume.vert",
-        fragment_shader: "object_colour.frag",
+        vertex_shader: shaders::SHADOW_VOLUME_VERT,
+        fragment_shader: shaders::OBJECT_COLOUR_FRAG,
         vertex_layout: VertexLayout::POSITION4,
         fixed: FixedFunction {
             topology: vk::PrimitiveTopology::TRIANGLE_LIST,
@@ -110,10 +111,10 @@ fn volume_desc(name: &'static str, raster: RasterState, compare: vk::CompareOp, 
     }
 }
 
-fn fullscreen_desc(name: &'static str, fragment_shader: &'static str, blend: BlendState) -> PipelineDesc {
+fn fullscreen_desc(name: &'static str, fragment_shader: shaders::Shader, blend: BlendState) -> PipelineDesc {
     PipelineDesc {
         name,
-        vertex_shader: "fullscreen.vert",
+        vertex_shader: shaders::FULLSCREEN_VERT,
         fragment_shader,
         vertex_layout: VertexLayout::NONE,
         fixed: FixedFunction { blend, ..FixedFunction::FULLSCREEN },
@@ -153,27 +154,27 @@ pub fn volume_descs(zfail: bool) -> [PipelineDesc; 2] {
 }
 
 pub fn n0_desc() -> PipelineDesc {
-    fullscreen_desc("normalise N0", "solid.frag", recipes::NORMALISE_N0)
+    fullscreen_desc("normalise N0", shaders::SOLID_FRAG, recipes::NORMALISE_N0)
 }
 
 pub fn iteration_desc() -> PipelineDesc {
-    fullscreen_desc("normalise iteration", "solid.frag", recipes::NORMALISE_ITERATION)
+    fullscreen_desc("normalise iteration", shaders::SOLID_FRAG, recipes::NORMALISE_ITERATION)
 }
 
 pub fn darkness_descs(normalize: Normalize) -> Vec<PipelineDesc> {
     match normalize {
         Normalize::Seed => vec![
-            fullscreen_desc("darkness subtract D", "solid.frag", recipes::DARKNESS_SUBTRACT),
-            fullscreen_desc("darkness add D", "solid.frag", recipes::DARKNESS_ADD),
+            fullscreen_desc("darkness subtract D", shaders::SOLID_FRAG, recipes::DARKNESS_SUBTRACT),
+            fullscreen_desc("darkness add D", shaders::SOLID_FRAG, recipes::DARKNESS_ADD),
         ],
-        Normalize::Max => vec![fullscreen_desc("darkness max D", "solid.frag", recipes::DARKNESS_MAX)],
+        Normalize::Max => vec![fullscreen_desc("darkness max D", shaders::SOLID_FRAG, recipes::DARKNESS_MAX)],
         Normalize::Subpass => vec![],
     }
 }
 
 /// The fragment shader of a subpass-reading pass: its one-sample form, or the one that reads
 /// every sample of a multisampled frame.
-fn counter_reader(one_sample: &'static str, multisampled: &'static str, samples: u32) -> &'static str {
+fn counter_reader(one_sample: shaders::Shader, multisampled: shaders::Shader, samples: u32) -> shaders::Shader {
     if samples > 1 {
         multisampled
     } else {
@@ -189,10 +190,10 @@ pub fn apply_desc(normalize: Normalize) -> PipelineDesc {
 pub fn subpass_aware_apply_desc(normalize: Normalize, samples: u32) -> PipelineDesc {
     match normalize {
         // colour *= dst alpha (1 where lit, D where shadowed).
-        Normalize::Seed | Normalize::Max => fullscreen_desc("apply", "solid.frag", recipes::MODULATE_BY_DST_ALPHA),
+        Normalize::Seed | Normalize::Max => fullscreen_desc("apply", shaders::SOLID_FRAG, recipes::MODULATE_BY_DST_ALPHA),
         // colour *= the factors the shader output where the count is not 0.
         Normalize::Subpass => {
-            let shader = counter_reader("shadow_subpass.frag", "shadow_subpass_ms.frag", samples);
+            let shader = counter_reader(shaders::SHADOW_SUBPASS_FRAG, shaders::SHADOW_SUBPASS_MS_FRAG, samples);
             fullscreen_desc("apply (subpass)", shader, recipes::MODULATE_BY_SRC_COLOUR)
         }
     }
@@ -210,7 +211,7 @@ fn channel_apply_desc(channels: vk::ColorComponentFlags) -> PipelineDesc {
         (false, true, false) => "apply (green)",
         _ => "apply (blue)",
     };
-    let mut desc = fullscreen_desc(name, "solid.frag", recipes::MODULATE_BY_DST_ALPHA);
+    let mut desc = fullscreen_desc(name, shaders::SOLID_FRAG, recipes::MODULATE_BY_DST_ALPHA);
     desc.fixed.blend.write_mask = channels;
     desc
 }
@@ -251,12 +252,12 @@ fn tinted_darkness_and_apply(normalize: Normalize, tone: ShadowTone) -> Vec<Plan
 /// The subpass apply that also counts saturated samples into a storage buffer (binding 1 of the
 /// counter input set): for devices with `fragmentStoresAndAtomics`.
 pub fn counting_subpass_apply_desc(samples: u32) -> PipelineDesc {
-    let shader = counter_reader("shadow_subpass_counted.frag", "shadow_subpass_counted_ms.frag", samples);
+    let shader = counter_reader(shaders::SHADOW_SUBPASS_COUNTED_FRAG, shaders::SHADOW_SUBPASS_COUNTED_MS_FRAG, samples);
     fullscreen_desc("apply (subpass, counts saturation)", shader, recipes::MODULATE_BY_SRC_COLOUR)
 }
 
 pub fn saturation_probe_desc(samples: u32) -> PipelineDesc {
-    let shader = counter_reader("saturation_probe.frag", "saturation_probe_ms.frag", samples);
+    let shader = counter_reader(shaders::SATURATION_PROBE_FRAG, shaders::SATURATION_PROBE_MS_FRAG, samples);
     let mut desc = fullscreen_desc("saturation probe", shader, NO_WRITE);
     desc.push_constant_bytes = 0;
     desc
@@ -282,7 +283,7 @@ pub fn reference_volume_desc(zfail: bool) -> PipelineDesc {
 /// paths then shade exactly where `increments - decrements` is in 1..=127 and agree bit for
 /// bit, with no pass that a port would not ship.
 pub fn reference_apply_desc() -> PipelineDesc {
-    let mut desc = fullscreen_desc("apply (stencil)", "solid.frag", recipes::MODULATE_BY_SRC_COLOUR);
+    let mut desc = fullscreen_desc("apply (stencil)", shaders::SOLID_FRAG, recipes::MODULATE_BY_SRC_COLOUR);
     desc.fixed.stencil = Some(recipes::STENCIL_COUNT_POSITIVE);
     desc
 }
@@ -418,7 +419,7 @@ pub fn down_volume_descs(zfail: bool) -> [PipelineDesc; 2] {
 /// The ambient pass of the additive loop: depth, ambient x albedo and emissive, alpha 1 (every
 /// light's down-counter starts at a count of 0). Blended materials wait for `transparent`.
 pub fn ambient_pass() -> PlannedPass<VolumeKinds> {
-    let desc = PipelineDesc { name: "scene (ambient)", fragment_shader: "lit_ambient.frag", ..lit::scene_pipeline_desc() };
+    let desc = PipelineDesc { name: "scene (ambient)", fragment_shader: shaders::LIT_AMBIENT_FRAG, ..lit::scene_pipeline_desc() };
     let pass = PlannedPass::objects("scene (ambient)", desc.clone(), 1.0).only(Only::Opaque);
     with_surface_variants(pass, &desc).with_sets(&[SetRole::Frame, SetRole::Material])
 }
@@ -428,7 +429,7 @@ pub fn ambient_pass() -> PlannedPass<VolumeKinds> {
 fn shading_desc(name: &'static str, blend: BlendState, stencil: Option<crate::pipeline::StencilState>) -> PipelineDesc {
     let mut desc = PipelineDesc {
         name,
-        fragment_shader: "lit_light.frag",
+        fragment_shader: shaders::LIT_LIGHT_FRAG,
         push_constant_bytes: LIGHT_PUSH_BYTES,
         ..lit::scene_pipeline_desc()
     };
@@ -495,9 +496,9 @@ fn additive_plan(
                     // pixel holds the pixel's one count), so no mask pass.
                     Normalize::Subpass if samples == 1 => {
                         let (name, shader) = if options.fragment_atomics {
-                            ("shading (subpass, counts saturation)", "lit_light_subpass_counted.frag")
+                            ("shading (subpass, counts saturation)", shaders::LIT_LIGHT_SUBPASS_COUNTED_FRAG)
                         } else {
-                            ("shading (subpass)", "lit_light_subpass.frag")
+                            ("shading (subpass)", shaders::LIT_LIGHT_SUBPASS_FRAG)
                         };
                         let desc = PipelineDesc {
                             fragment_shader: shader,
@@ -538,10 +539,10 @@ fn additive_plan(
 /// The additive subpass mask: alpha := 0 on the light's shadowed samples.
 pub fn mask_desc(samples: u32, counts_saturation: bool) -> PipelineDesc {
     let shader = match (samples > 1, counts_saturation) {
-        (false, false) => "shadow_subpass_mask.frag",
-        (true, false) => "shadow_subpass_mask_ms.frag",
-        (false, true) => "shadow_subpass_mask_counted.frag",
-        (true, true) => "shadow_subpass_mask_counted_ms.frag",
+        (false, false) => shaders::SHADOW_SUBPASS_MASK_FRAG,
+        (true, false) => shaders::SHADOW_SUBPASS_MASK_MS_FRAG,
+        (false, true) => shaders::SHADOW_SUBPASS_MASK_COUNTED_FRAG,
+        (true, true) => shaders::SHADOW_SUBPASS_MASK_COUNTED_MS_FRAG,
     };
     let name = if counts_saturation { "mask (subpass, counts saturation)" } else { "mask (subpass)" };
     let mut desc = fullscreen_desc(name, shader, recipes::MASK_SHADOWED);

@@ -12,11 +12,13 @@ use super::frame_renderer::{BuildContext, Passes};
 use super::interface::{NoStats, RenderOptions};
 use super::lit::scene_pass;
 use super::unit::{Prepared, TechniqueUnit};
+use crate::shaders;
 use crate::error::Result;
 use crate::gpu::Gpu;
 use crate::pipeline::{BlendEquation, BlendState, DepthState, FixedFunction, PipelineDesc, VertexLayout};
 use crate::render::object_push::object_push;
-use crate::render::plan::{DrawKind, NoOwn, PassDraws, PassKinds, PassPlan, PlannedPass, SetRole};
+use crate::render::plan::{DrawKind, NoOwn, PassKinds, PassPlan, PlannedPass, SetRole};
+use crate::render::plan_execution::PassDraws;
 use crate::render::{FrameOutput, FrameRecorder, GpuScene, Pipeline, Renderer, OBJECT_PUSH_BYTES};
 use crate::scene::Scene;
 
@@ -64,8 +66,8 @@ fn hidden_pass() -> PlannedPass<XRayKinds> {
     };
     let desc = PipelineDesc {
         name: "hidden casters",
-        vertex_shader: "lit.vert",
-        fragment_shader: "lit.frag",
+        vertex_shader: shaders::LIT_VERT,
+        fragment_shader: shaders::LIT_FRAG,
         vertex_layout: VertexLayout::SCENE,
         fixed: FixedFunction {
             depth: DepthState { compare: Some(vk::CompareOp::GREATER), write: false },
