@@ -48,6 +48,11 @@
 //! `examples/` holds two programs built on this page alone: a glTF file to a PNG, and per-pass
 //! counters printed. How the crate is built inside: docs/architecture.md; adding a technique:
 //! docs/adding-a-technique.md.
+//!
+//! *Seed NNN*, in these pages and the code's comments, names document NNN of the five the
+//! techniques come from (docs/sources.md, "The five documents the techniques come from"): seed
+//! 000 is Hall's alpha-counted shadow volumes, 001 the planar shadows, 002 the cartoon
+//! silhouettes, 003 the stencil outline, 004 Ryu and Oh's shadow textures.
 
 // Raw Vulkan lives in gpu/, frame/ and render/, and in layer/ (the fill-rate layer is raw Vulkan
 // by nature: it sits between a program and its driver); each unsafe block says why it is sound.

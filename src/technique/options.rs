@@ -46,7 +46,8 @@ crate::names::named_enum! {
 crate::names::named_enum! {
     /// How the count becomes a shadow mask.
     pub enum Normalize {
-        /// The seed's fixed-function sequence: N0, iterations, REVERSE_SUBTRACT D, ADD D, apply.
+        /// Seed 000's fixed-function sequence (Hall's article, docs/sources.md): N0, iterations,
+        /// REVERSE_SUBTRACT D, ADD D, apply.
         #[default]
         Seed = "seed",
         /// As `seed`, with one MAX pass in place of the two D passes.
