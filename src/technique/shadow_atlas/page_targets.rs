@@ -130,22 +130,7 @@ impl AtlasPage {
         let max_side = gpu.device.info.limits.max_image_dimension2_d.min(crate::gpu::mobile_profile::MAX_IMAGE_SIDE);
         let layout = pack(&sides, max_side)?;
 
-        // Texel surfaces, one block per mesh whose atlas covers every texel centre (a geometry
-        // image, or a mesh mapped whole onto its square like the ground), shared by its
-        // objects. A skinned object is re-posed on the CPU each frame, and a chart with a
-        // gutter needs dilating: both keep the rasterised bake.
-        let mut surface: Vec<[u32; 4]> = Vec::new();
-        let mut surface_start: Vec<Option<usize>> = vec![None; layouts.len()];
-        for (mesh, atlas) in layouts.iter().enumerate() {
-            let used_unskinned = scene.objects.iter().any(|o| o.mesh == mesh && o.skin.is_none());
-            if !used_unskinned || bake == AtlasBake::Rasterised {
-                continue;
-            }
-            if let Some(texels) = texel_surface(atlas) {
-                surface_start[mesh] = Some(surface.len());
-                surface.extend(texels.into_iter().map(packed));
-            }
-        }
+        let (surface, surface_start) = texel_surfaces(scene, layouts, bake);
         let tiles: Vec<PageTile> = scene
             .objects
             .iter()
@@ -181,91 +166,11 @@ impl AtlasPage {
         let raw_framebuffer = Framebuffer::new(gpu, &raster_pass, raw.view, raw_extent)?;
         let page_framebuffer = Framebuffer::new(gpu, &page_pass, mip0.raw, page_extent)?;
 
-        // The surface buffer is never empty (a storage buffer binding needs a range).
-        if surface.is_empty() {
-            surface.push([0; 4]);
-        }
-        let surface_buffer = Buffer::device_local(
-            gpu,
-            "atlas page texel surfaces",
-            &surface,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-        )?;
-        let records_size = (tiles.len() * std::mem::size_of::<TileRecord>()) as u64;
-        let records = Buffer::new(
-            gpu,
-            "atlas page tiles",
-            records_size,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-            MemoryLocation::CpuToGpu,
-        )?;
-        let stride = aligned(std::mem::size_of::<TileUniform>() as u64, gpu.device.info.limits.min_uniform_buffer_offset_alignment);
-        let mut uniforms = Buffer::new(
-            gpu,
-            "atlas page tiles (scene)",
-            stride * tiles.len() as u64,
-            vk::BufferUsageFlags::UNIFORM_BUFFER,
-            MemoryLocation::CpuToGpu,
-        )?;
-        let (width, height) = (layout.width as f32, layout.height as f32);
-        for (index, t) in tiles.iter().enumerate() {
-            let uniform = TileUniform {
-                rect: [
-                    t.tile.x as f32 / width,
-                    t.tile.y as f32 / height,
-                    t.tile.size as f32 / width,
-                    t.tile.size as f32 / height,
-                ],
-                mips: [(t.mip_levels - 1) as f32, t.tile.size as f32, 0.5 * (1u32 << (t.mip_levels - 1)) as f32, 0.0],
-            };
-            uniforms.write(index * stride as usize, std::slice::from_ref(&uniform))?;
-        }
-
+        let (records, surface_buffer, tiles_set) = tile_records(gpu, tiles.len(), surface)?;
+        let (uniforms, stride) = tile_uniforms(gpu, &layout, &tiles)?;
         let trilinear = Sampler::new(gpu, vk::Filter::LINEAR, vk::SamplerAddressMode::CLAMP_TO_EDGE)?;
         let nearest = Sampler::new(gpu, vk::Filter::NEAREST, vk::SamplerAddressMode::CLAMP_TO_EDGE)?;
-        let texture_binding = |view, sampler: &Sampler| Binding::Texture {
-            view,
-            sampler: sampler.raw,
-            layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-            stages: vk::ShaderStageFlags::FRAGMENT,
-        };
-        let mut level_views: Vec<(u32, ImageView)> = Vec::new();
-        for t in &tiles {
-            if !level_views.iter().any(|(levels, _)| *levels == t.mip_levels) {
-                level_views.push((t.mip_levels, ImageView::levels(gpu, &texture, t.mip_levels)?));
-            }
-        }
-        let view_of = |levels: u32| level_views.iter().find(|(l, _)| *l == levels).map_or(texture.view, |(_, v)| v.raw);
-        let scene_sets = tiles
-            .iter()
-            .enumerate()
-            .map(|(index, t)| {
-                DescriptorSet::new(
-                    gpu,
-                    &[
-                        texture_binding(view_of(t.mip_levels), &trilinear),
-                        Binding::UniformSlice {
-                            buffer: uniforms.raw,
-                            offset: index as u64 * stride,
-                            range: std::mem::size_of::<TileUniform>() as u64,
-                            stages: vk::ShaderStageFlags::FRAGMENT,
-                        },
-                    ],
-                )
-            })
-            .collect::<Result<Vec<_>>>()?;
-        let page_stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-        let tiles_set = DescriptorSet::new(
-            gpu,
-            &[
-                Binding::ReadOnlyStorage { buffer: records.raw, range: records_size, stages: page_stages },
-                Binding::ReadOnlyStorage {
-                    buffer: surface_buffer.raw,
-                    range: surface_buffer.size,
-                    stages: vk::ShaderStageFlags::FRAGMENT,
-                },
-            ],
-        )?;
+        let (scene_sets, level_views) = scene_sets(gpu, &texture, &tiles, (&uniforms, stride), &trilinear)?;
         let raw_set = DescriptorSet::new(gpu, &[texture_binding(raw.view, &nearest)])?;
         let mut page = AtlasPage {
             layout,
@@ -437,6 +342,129 @@ impl AtlasPage {
         let raw = u64::from(self.raw_extent.width) * u64::from(self.raw_extent.height) * texel;
         mips + raw + self.records.size + self._surface.size + self._uniforms.size
     }
+}
+
+/// The texel surfaces of the page, one block per mesh whose atlas covers every texel centre (a
+/// geometry image, or a mesh mapped whole onto its square like the ground), shared by its
+/// objects, and where each mesh's block starts. A skinned object is re-posed on the CPU each
+/// frame, and a chart with a gutter needs dilating: both keep the rasterised bake.
+fn texel_surfaces(scene: &Scene, layouts: &[MeshAtlas], bake: AtlasBake) -> (Vec<[u32; 4]>, Vec<Option<usize>>) {
+    let mut surface: Vec<[u32; 4]> = Vec::new();
+    let mut surface_start: Vec<Option<usize>> = vec![None; layouts.len()];
+    for (mesh, atlas) in layouts.iter().enumerate() {
+        let used_unskinned = scene.objects.iter().any(|o| o.mesh == mesh && o.skin.is_none());
+        if !used_unskinned || bake == AtlasBake::Rasterised {
+            continue;
+        }
+        if let Some(texels) = texel_surface(atlas) {
+            surface_start[mesh] = Some(surface.len());
+            surface.extend(texels.into_iter().map(packed));
+        }
+    }
+    (surface, surface_start)
+}
+
+/// Each tile's rect on the page and mip figures for the scene pass, one uniform slice a tile
+/// (slices `stride` bytes apart, the device's offset alignment).
+fn tile_uniforms(gpu: &Arc<Gpu>, layout: &PageLayout, tiles: &[PageTile]) -> Result<(Buffer, u64)> {
+    let alignment = gpu.device.info.limits.min_uniform_buffer_offset_alignment;
+    let stride = aligned(std::mem::size_of::<TileUniform>() as u64, alignment);
+    let mut uniforms = Buffer::new(
+        gpu,
+        "atlas page tiles (scene)",
+        stride * tiles.len() as u64,
+        vk::BufferUsageFlags::UNIFORM_BUFFER,
+        MemoryLocation::CpuToGpu,
+    )?;
+    let (width, height) = (layout.width as f32, layout.height as f32);
+    for (index, t) in tiles.iter().enumerate() {
+        let uniform = TileUniform {
+            rect: [
+                t.tile.x as f32 / width,
+                t.tile.y as f32 / height,
+                t.tile.size as f32 / width,
+                t.tile.size as f32 / height,
+            ],
+            mips: [(t.mip_levels - 1) as f32, t.tile.size as f32, 0.5 * (1u32 << (t.mip_levels - 1)) as f32, 0.0],
+        };
+        uniforms.write(index * stride as usize, std::slice::from_ref(&uniform))?;
+    }
+    Ok((uniforms, stride))
+}
+
+/// The page pass's storage: every tile's record (`tile_count` of them, written by
+/// `write_records`) and the texel surfaces, with the set that binds both.
+fn tile_records(gpu: &Arc<Gpu>, tile_count: usize, mut surface: Vec<[u32; 4]>) -> Result<(Buffer, Buffer, DescriptorSet)> {
+    // The surface buffer is never empty (a storage buffer binding needs a range).
+    if surface.is_empty() {
+        surface.push([0; 4]);
+    }
+    let surface =
+        Buffer::device_local(gpu, "atlas page texel surfaces", &surface, vk::BufferUsageFlags::STORAGE_BUFFER)?;
+    let records_size = (tile_count * std::mem::size_of::<TileRecord>()) as u64;
+    let records = Buffer::new(
+        gpu,
+        "atlas page tiles",
+        records_size,
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        MemoryLocation::CpuToGpu,
+    )?;
+    let page_stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+    let set = DescriptorSet::new(
+        gpu,
+        &[
+            Binding::ReadOnlyStorage { buffer: records.raw, range: records_size, stages: page_stages },
+            Binding::ReadOnlyStorage { buffer: surface.raw, range: surface.size, stages: vk::ShaderStageFlags::FRAGMENT },
+        ],
+    )?;
+    Ok((records, surface, set))
+}
+
+/// A texture binding of the fragment stage, sampled with `sampler`.
+fn texture_binding(view: vk::ImageView, sampler: &Sampler) -> Binding {
+    Binding::Texture {
+        view,
+        sampler: sampler.raw,
+        layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        stages: vk::ShaderStageFlags::FRAGMENT,
+    }
+}
+
+/// The scene pass's set for each tile: the page through a view with as many mips as the tile
+/// has (one view per mip count, returned to be kept alive) and the tile's uniform slice.
+fn scene_sets(
+    gpu: &Arc<Gpu>,
+    texture: &Image,
+    tiles: &[PageTile],
+    (uniforms, stride): (&Buffer, u64),
+    sampler: &Sampler,
+) -> Result<(Vec<DescriptorSet>, Vec<(u32, ImageView)>)> {
+    let mut level_views: Vec<(u32, ImageView)> = Vec::new();
+    for t in tiles {
+        if !level_views.iter().any(|(levels, _)| *levels == t.mip_levels) {
+            level_views.push((t.mip_levels, ImageView::levels(gpu, texture, t.mip_levels)?));
+        }
+    }
+    let view_of = |levels: u32| level_views.iter().find(|(l, _)| *l == levels).map_or(texture.view, |(_, v)| v.raw);
+    let sets = tiles
+        .iter()
+        .enumerate()
+        .map(|(index, t)| {
+            DescriptorSet::new(
+                gpu,
+                &[
+                    texture_binding(view_of(t.mip_levels), sampler),
+                    Binding::UniformSlice {
+                        buffer: uniforms.raw,
+                        offset: index as u64 * stride,
+                        range: std::mem::size_of::<TileUniform>() as u64,
+                        stages: vk::ShaderStageFlags::FRAGMENT,
+                    },
+                ],
+            )
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok((sets, level_views))
 }
 
 fn aligned(size: u64, alignment: u64) -> u64 {
