@@ -79,6 +79,74 @@ pub fn check_samples(gpu: &Gpu, stencil: StencilMode, samples: u32) -> Result<()
     )))
 }
 
+/// The frame's images for `desc`: the one-sample colour (the resolve target at several samples,
+/// read back and fed back as an input attachment at one), the multisampled colour at several
+/// samples (transient unless `keep_samples`), and the depth (transient: it never leaves tile
+/// memory).
+fn frame_images(
+    gpu: &Arc<Gpu>,
+    desc: &RenderPassDesc,
+    extent: vk::Extent2D,
+    samples: u32,
+    keep_samples: bool,
+) -> Result<(Image, Option<Image>, Image)> {
+    let multisampled_frame = desc.resolve.is_some();
+    let depth_format = desc.depth.format;
+    let mut colour_usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
+    if !multisampled_frame {
+        colour_usage |= vk::ImageUsageFlags::INPUT_ATTACHMENT;
+    }
+    let colour = Image::new(
+        gpu,
+        &ImageDesc {
+            name: "frame colour",
+            format: COLOUR_FORMAT,
+            extent,
+            usage: colour_usage,
+            aspect: vk::ImageAspectFlags::COLOR,
+            mip_levels: 1,
+            samples: 1,
+        },
+    )?;
+    let multisampled = if multisampled_frame {
+        // Transient: it lives in tile memory and is resolved before it would leave it.
+        let kept =
+            if keep_samples { vk::ImageUsageFlags::SAMPLED } else { vk::ImageUsageFlags::TRANSIENT_ATTACHMENT };
+        Some(Image::new(
+            gpu,
+            &ImageDesc {
+                name: "frame colour (multisampled)",
+                format: COLOUR_FORMAT,
+                extent,
+                usage: vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::INPUT_ATTACHMENT | kept,
+                aspect: vk::ImageAspectFlags::COLOR,
+                mip_levels: 1,
+                samples,
+            },
+        )?)
+    } else {
+        None
+    };
+    let depth_aspect = if desc.has_stencil() {
+        vk::ImageAspectFlags::DEPTH | vk::ImageAspectFlags::STENCIL
+    } else {
+        vk::ImageAspectFlags::DEPTH
+    };
+    let depth = Image::new(
+        gpu,
+        &ImageDesc {
+            name: "frame depth",
+            format: depth_format,
+            extent,
+            usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT,
+            aspect: depth_aspect,
+            mip_levels: 1,
+            samples,
+        },
+    )?;
+    Ok((colour, multisampled, depth))
+}
+
 impl FrameTargets {
     /// A one-sample frame at `width` x `height`. `colour_feedback`: the colour is also an input
     /// attachment of its own subpass.
@@ -103,60 +171,7 @@ impl FrameTargets {
         let depth_format = choose_depth_format(gpu, stencil)?;
         check_frame_fits(gpu, width, height, samples, depth_format)?;
         let desc = RenderPassDesc::frame(depth_format, colour_feedback, samples, keep_samples);
-        let multisampled_frame = desc.resolve.is_some();
-
-        let mut colour_usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
-        if !multisampled_frame {
-            colour_usage |= vk::ImageUsageFlags::INPUT_ATTACHMENT;
-        }
-        let colour = Image::new(
-            gpu,
-            &ImageDesc {
-                name: "frame colour",
-                format: COLOUR_FORMAT,
-                extent,
-                usage: colour_usage,
-                aspect: vk::ImageAspectFlags::COLOR,
-                mip_levels: 1,
-                samples: 1,
-            },
-        )?;
-        let multisampled = if multisampled_frame {
-            // Transient: it lives in tile memory and is resolved before it would leave it.
-            let kept =
-                if keep_samples { vk::ImageUsageFlags::SAMPLED } else { vk::ImageUsageFlags::TRANSIENT_ATTACHMENT };
-            Some(Image::new(
-                gpu,
-                &ImageDesc {
-                    name: "frame colour (multisampled)",
-                    format: COLOUR_FORMAT,
-                    extent,
-                    usage: vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::INPUT_ATTACHMENT | kept,
-                    aspect: vk::ImageAspectFlags::COLOR,
-                    mip_levels: 1,
-                    samples,
-                },
-            )?)
-        } else {
-            None
-        };
-        let depth_aspect = if desc.has_stencil() {
-            vk::ImageAspectFlags::DEPTH | vk::ImageAspectFlags::STENCIL
-        } else {
-            vk::ImageAspectFlags::DEPTH
-        };
-        let depth = Image::new(
-            gpu,
-            &ImageDesc {
-                name: "frame depth",
-                format: depth_format,
-                extent,
-                usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT,
-                aspect: depth_aspect,
-                mip_levels: 1,
-                samples,
-            },
-        )?;
+        let (colour, multisampled, depth) = frame_images(gpu, &desc, extent, samples, keep_samples)?;
 
         let device = gpu.raw();
         let render_pass = desc.build(device)?;

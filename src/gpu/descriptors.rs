@@ -132,57 +132,62 @@ impl DescriptorSet {
         }
         .vk("vkAllocateDescriptorSets")?[0];
 
-        let buffer_infos: Vec<[vk::DescriptorBufferInfo; 1]> = bindings
-            .iter()
-            .map(|b| match *b {
-                Binding::UniformBuffer { buffer, range, .. }
-                | Binding::ReadOnlyStorage { buffer, range, .. }
-                | Binding::FragmentStorageBuffer { buffer, range } => {
-                    [vk::DescriptorBufferInfo { buffer, offset: 0, range }]
-                }
-                Binding::UniformSlice { buffer, offset, range, .. } => [vk::DescriptorBufferInfo { buffer, offset, range }],
-                _ => [vk::DescriptorBufferInfo::default()],
-            })
-            .collect();
-        let image_infos: Vec<[vk::DescriptorImageInfo; 1]> = bindings
-            .iter()
-            .map(|b| match *b {
-                Binding::Texture { view, sampler, layout, .. } => {
-                    [vk::DescriptorImageInfo { sampler, image_view: view, image_layout: layout }]
-                }
-                Binding::InputAttachment { view, layout } => {
-                    [vk::DescriptorImageInfo { sampler: vk::Sampler::null(), image_view: view, image_layout: layout }]
-                }
+        write_bindings(device, set.set, bindings);
+        Ok(set)
+    }
+}
+
+/// Points binding i of the fresh `set` at `bindings[i]`.
+fn write_bindings(device: &ash::Device, set: vk::DescriptorSet, bindings: &[Binding]) {
+    let buffer_infos: Vec<[vk::DescriptorBufferInfo; 1]> = bindings
+        .iter()
+        .map(|b| match *b {
+            Binding::UniformBuffer { buffer, range, .. }
+            | Binding::ReadOnlyStorage { buffer, range, .. }
+            | Binding::FragmentStorageBuffer { buffer, range } => {
+                [vk::DescriptorBufferInfo { buffer, offset: 0, range }]
+            }
+            Binding::UniformSlice { buffer, offset, range, .. } => [vk::DescriptorBufferInfo { buffer, offset, range }],
+            _ => [vk::DescriptorBufferInfo::default()],
+        })
+        .collect();
+    let image_infos: Vec<[vk::DescriptorImageInfo; 1]> = bindings
+        .iter()
+        .map(|b| match *b {
+            Binding::Texture { view, sampler, layout, .. } => {
+                [vk::DescriptorImageInfo { sampler, image_view: view, image_layout: layout }]
+            }
+            Binding::InputAttachment { view, layout } => {
+                [vk::DescriptorImageInfo { sampler: vk::Sampler::null(), image_view: view, image_layout: layout }]
+            }
+            Binding::UniformBuffer { .. }
+            | Binding::UniformSlice { .. }
+            | Binding::ReadOnlyStorage { .. }
+            | Binding::FragmentStorageBuffer { .. } => [vk::DescriptorImageInfo::default()],
+        })
+        .collect();
+    let writes: Vec<_> = bindings
+        .iter()
+        .enumerate()
+        .map(|(i, b)| {
+            let write = vk::WriteDescriptorSet::default()
+                .dst_set(set)
+                .dst_binding(i as u32)
+                .descriptor_type(b.descriptor_type());
+            match b {
                 Binding::UniformBuffer { .. }
                 | Binding::UniformSlice { .. }
                 | Binding::ReadOnlyStorage { .. }
-                | Binding::FragmentStorageBuffer { .. } => [vk::DescriptorImageInfo::default()],
-            })
-            .collect();
-        let writes: Vec<_> = bindings
-            .iter()
-            .enumerate()
-            .map(|(i, b)| {
-                let write = vk::WriteDescriptorSet::default()
-                    .dst_set(set.set)
-                    .dst_binding(i as u32)
-                    .descriptor_type(b.descriptor_type());
-                match b {
-                    Binding::UniformBuffer { .. }
-                    | Binding::UniformSlice { .. }
-                    | Binding::ReadOnlyStorage { .. }
-                    | Binding::FragmentStorageBuffer { .. } => write.buffer_info(&buffer_infos[i]),
-                    _ => write.image_info(&image_infos[i]),
-                }
-            })
-            .collect();
-        // SAFETY: each write matches its binding's type and points into `buffer_infos` or
-        // `image_infos`, alive during the call; the set is not in use by any command yet. The
-        // buffers, views and samplers named are the caller's, alive now, and kept by it for as
-        // long as the set (the owners order their fields so).
-        unsafe { device.update_descriptor_sets(&writes, &[]) };
-        Ok(set)
-    }
+                | Binding::FragmentStorageBuffer { .. } => write.buffer_info(&buffer_infos[i]),
+                _ => write.image_info(&image_infos[i]),
+            }
+        })
+        .collect();
+    // SAFETY: each write matches its binding's type and points into `buffer_infos` or
+    // `image_infos`, alive during the call; the set was just allocated (by `DescriptorSet::new`, the only caller) and no command uses it yet. The
+    // buffers, views and samplers named are the caller's, alive now, and kept by it for as
+    // long as the set (the owners order their fields so).
+    unsafe { device.update_descriptor_sets(&writes, &[]) };
 }
 
 impl Drop for DescriptorSet {

@@ -141,6 +141,51 @@ pub enum Acquired {
     SurfaceLost,
 }
 
+/// The images' size: the surface's, or `window_size` within its limits when the surface leaves
+/// it to the application.
+fn image_extent(caps: &vk::SurfaceCapabilitiesKHR, window_size: (u32, u32)) -> vk::Extent2D {
+    if caps.current_extent.width != u32::MAX {
+        return caps.current_extent;
+    }
+    vk::Extent2D {
+        width: window_size.0.clamp(caps.min_image_extent.width, caps.max_image_extent.width),
+        height: window_size.1.clamp(caps.min_image_extent.height, caps.max_image_extent.height),
+    }
+}
+
+/// The surface's sRGB format that shows frames of `frame_format` best ([`classify`]), and how
+/// a frame is copied into it.
+fn surface_format(gpu: &Gpu, surface: &Surface, frame_format: vk::Format) -> Result<(vk::SurfaceFormatKHR, Transfer)> {
+    // SAFETY: the surface is alive (borrowed) and was made on this device's instance.
+    let formats = unsafe { surface.loader.get_physical_device_surface_formats(gpu.device.physical, surface.raw) }
+        .vk("vkGetPhysicalDeviceSurfaceFormatsKHR")?;
+    formats
+        .iter()
+        .filter(|f| f.color_space == vk::ColorSpaceKHR::SRGB_NONLINEAR)
+        .filter_map(|f| classify(gpu, frame_format, f.format).map(|(rank, transfer)| (rank, *f, transfer)))
+        .min_by_key(|(rank, _, _)| *rank)
+        .map(|(_, f, transfer)| (f, transfer))
+        .ok_or_else(|| {
+            Error::Device(format!(
+                "no swapchain format can show the {frame_format:?} frame unchanged; the window offers {:?}",
+                formats.iter().map(|f| f.format).collect::<Vec<_>>()
+            ))
+        })
+}
+
+/// Opaque where the surface allows it, else the first mode it has.
+fn composite_alpha(caps: &vk::SurfaceCapabilitiesKHR) -> vk::CompositeAlphaFlagsKHR {
+    [
+        vk::CompositeAlphaFlagsKHR::OPAQUE,
+        vk::CompositeAlphaFlagsKHR::INHERIT,
+        vk::CompositeAlphaFlagsKHR::PRE_MULTIPLIED,
+        vk::CompositeAlphaFlagsKHR::POST_MULTIPLIED,
+    ]
+    .into_iter()
+    .find(|a| caps.supported_composite_alpha.contains(*a))
+    .unwrap_or(vk::CompositeAlphaFlagsKHR::OPAQUE)
+}
+
 impl Swapchain {
     /// A swapchain for the surface at its current size (`window_size` when the surface leaves
     /// it to the application), for frames of `frame_format`; None while the window has no area
@@ -156,14 +201,7 @@ impl Swapchain {
         // SAFETY: the surface is alive (borrowed) and was made on this device's instance.
         let caps = unsafe { surface.loader.get_physical_device_surface_capabilities(physical, surface.raw) }
             .vk("vkGetPhysicalDeviceSurfaceCapabilitiesKHR")?;
-        let extent = if caps.current_extent.width == u32::MAX {
-            vk::Extent2D {
-                width: window_size.0.clamp(caps.min_image_extent.width, caps.max_image_extent.width),
-                height: window_size.1.clamp(caps.min_image_extent.height, caps.max_image_extent.height),
-            }
-        } else {
-            caps.current_extent
-        };
+        let extent = image_extent(&caps, window_size);
         if extent.width == 0 || extent.height == 0 {
             return Ok(None);
         }
@@ -172,35 +210,13 @@ impl Swapchain {
         }
         let readable = caps.supported_usage_flags.contains(vk::ImageUsageFlags::TRANSFER_SRC);
 
-        // SAFETY: as above.
-        let formats = unsafe { surface.loader.get_physical_device_surface_formats(physical, surface.raw) }
-            .vk("vkGetPhysicalDeviceSurfaceFormatsKHR")?;
-        let (surface_format, transfer) = formats
-            .iter()
-            .filter(|f| f.color_space == vk::ColorSpaceKHR::SRGB_NONLINEAR)
-            .filter_map(|f| classify(gpu, frame_format, f.format).map(|(rank, transfer)| (rank, *f, transfer)))
-            .min_by_key(|(rank, _, _)| *rank)
-            .map(|(_, f, transfer)| (f, transfer))
-            .ok_or_else(|| {
-                Error::Device(format!(
-                    "no swapchain format can show the {frame_format:?} frame unchanged; the window offers {:?}",
-                    formats.iter().map(|f| f.format).collect::<Vec<_>>()
-                ))
-            })?;
+        let (surface_format, transfer) = surface_format(gpu, surface, frame_format)?;
 
         let mut image_count = caps.min_image_count + 1;
         if caps.max_image_count > 0 {
             image_count = image_count.min(caps.max_image_count);
         }
-        let composite_alpha = [
-            vk::CompositeAlphaFlagsKHR::OPAQUE,
-            vk::CompositeAlphaFlagsKHR::INHERIT,
-            vk::CompositeAlphaFlagsKHR::PRE_MULTIPLIED,
-            vk::CompositeAlphaFlagsKHR::POST_MULTIPLIED,
-        ]
-        .into_iter()
-        .find(|a| caps.supported_composite_alpha.contains(*a))
-        .unwrap_or(vk::CompositeAlphaFlagsKHR::OPAQUE);
+        let composite_alpha = composite_alpha(&caps);
         let mut usage = vk::ImageUsageFlags::TRANSFER_DST;
         if readable {
             usage |= vk::ImageUsageFlags::TRANSFER_SRC;

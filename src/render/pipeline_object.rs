@@ -204,27 +204,12 @@ impl Pipeline {
         let fixed = &desc.fixed;
         let input_assembly = vk::PipelineInputAssemblyStateCreateInfo::default().topology(fixed.topology);
         let viewport = vk::PipelineViewportStateCreateInfo::default().viewport_count(1).scissor_count(1);
-        let bias = fixed.raster.depth_bias;
-        let raster = vk::PipelineRasterizationStateCreateInfo::default()
-            .polygon_mode(vk::PolygonMode::FILL)
-            .cull_mode(fixed.raster.cull)
-            .front_face(fixed.raster.front_face)
-            .line_width(1.0)
-            .depth_bias_enable(bias.is_some())
-            .depth_bias_constant_factor(bias.map_or(0.0, |b| b.constant))
-            .depth_bias_slope_factor(bias.map_or(0.0, |b| b.slope));
+        let raster = raster_state(fixed);
         // Rasterised at the target's sample count. No sample shading: `sampleRateShading` is not
         // in the mobile profile, so a shader that needs every sample reads them all itself.
         let multisample =
             vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(sample_count_flags(samples));
-        let mut depth_stencil = vk::PipelineDepthStencilStateCreateInfo::default()
-            .depth_test_enable(fixed.depth.compare.is_some())
-            .depth_write_enable(fixed.depth.write)
-            .depth_compare_op(fixed.depth.compare.unwrap_or(vk::CompareOp::ALWAYS));
-        if let Some(stencil) = fixed.stencil {
-            depth_stencil =
-                depth_stencil.stencil_test_enable(true).front(stencil.front.to_vk()).back(stencil.back.to_vk());
-        }
+        let depth_stencil = depth_stencil_state(fixed);
         let attachments = vec![blend_attachment(fixed); colour_attachments];
         let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&attachments);
         let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
@@ -254,6 +239,32 @@ impl Pipeline {
         pipeline.raw = raw[0];
         gpu.created(ObjectKind::Pipeline);
         Ok(pipeline)
+    }
+}
+
+/// Filled triangles as `fixed` culls and biases them, lines one pixel wide (no `wideLines` in
+/// the mobile profile).
+fn raster_state(fixed: &FixedFunction) -> vk::PipelineRasterizationStateCreateInfo<'static> {
+    let bias = fixed.raster.depth_bias;
+    vk::PipelineRasterizationStateCreateInfo::default()
+        .polygon_mode(vk::PolygonMode::FILL)
+        .cull_mode(fixed.raster.cull)
+        .front_face(fixed.raster.front_face)
+        .line_width(1.0)
+        .depth_bias_enable(bias.is_some())
+        .depth_bias_constant_factor(bias.map_or(0.0, |b| b.constant))
+        .depth_bias_slope_factor(bias.map_or(0.0, |b| b.slope))
+}
+
+/// `fixed`'s depth test and write, and its stencil test where it has one (the reference path).
+fn depth_stencil_state(fixed: &FixedFunction) -> vk::PipelineDepthStencilStateCreateInfo<'static> {
+    let depth_stencil = vk::PipelineDepthStencilStateCreateInfo::default()
+        .depth_test_enable(fixed.depth.compare.is_some())
+        .depth_write_enable(fixed.depth.write)
+        .depth_compare_op(fixed.depth.compare.unwrap_or(vk::CompareOp::ALWAYS));
+    match fixed.stencil {
+        Some(stencil) => depth_stencil.stencil_test_enable(true).front(stencil.front.to_vk()).back(stencil.back.to_vk()),
+        None => depth_stencil,
     }
 }
 

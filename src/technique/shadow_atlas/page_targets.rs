@@ -430,6 +430,9 @@ fn texture_binding(view: vk::ImageView, sampler: &Sampler) -> Binding {
     }
 }
 
+/// Views of the page with a given number of mips, one per mip count the tiles have.
+type LevelViews = Vec<(u32, ImageView)>;
+
 /// The scene pass's set for each tile: the page through a view with as many mips as the tile
 /// has (one view per mip count, returned to be kept alive) and the tile's uniform slice.
 fn scene_sets(
@@ -438,8 +441,8 @@ fn scene_sets(
     tiles: &[PageTile],
     (uniforms, stride): (&Buffer, u64),
     sampler: &Sampler,
-) -> Result<(Vec<DescriptorSet>, Vec<(u32, ImageView)>)> {
-    let mut level_views: Vec<(u32, ImageView)> = Vec::new();
+) -> Result<(Vec<DescriptorSet>, LevelViews)> {
+    let mut level_views: LevelViews = Vec::new();
     for t in tiles {
         if !level_views.iter().any(|(levels, _)| *levels == t.mip_levels) {
             level_views.push((t.mip_levels, ImageView::levels(gpu, texture, t.mip_levels)?));

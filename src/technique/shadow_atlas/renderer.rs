@@ -117,6 +117,55 @@ pub fn build<'s>(
     })
 }
 
+/// Each mesh's layout in its shadow texture, `progress` told after each: an atlas, or for the
+/// projective texture (which needs none, nor the time or the failures of one) the light's view.
+fn mesh_layouts(
+    scene: &Scene,
+    kind: ShadowKind,
+    options: ShadowAtlasOptions,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Vec<MeshAtlas>> {
+    let total = scene.meshes.len();
+    scene
+        .meshes
+        .iter()
+        .enumerate()
+        .map(|(i, m)| {
+            let atlas = match kind {
+                ShadowKind::Projective => Ok(light_view_layout(&m.data, options.map_size)),
+                _ => mesh_atlas(&m.name, &m.data, m.uv1.as_deref(), options.texture_size),
+            };
+            progress(i + 1, total);
+            atlas
+        })
+        .collect()
+}
+
+/// The shadow light's uniform buffer, and the set that binds it with the shadow `map` read
+/// through the depth-compare sampler `compare`.
+fn light_uniforms(gpu: &Arc<Gpu>, map: &Image, compare: &Sampler) -> Result<(Buffer, DescriptorSet)> {
+    let light_size = std::mem::size_of::<ShadowLightUniforms>() as u64;
+    let light_buffer =
+        Buffer::new(gpu, "shadow light", light_size, vk::BufferUsageFlags::UNIFORM_BUFFER, MemoryLocation::CpuToGpu)?;
+    let light_set = DescriptorSet::new(
+        gpu,
+        &[
+            Binding::UniformBuffer {
+                buffer: light_buffer.raw,
+                range: light_size,
+                stages: vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+            },
+            Binding::Texture {
+                view: map.view,
+                sampler: compare.raw,
+                layout: vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL,
+                stages: vk::ShaderStageFlags::FRAGMENT,
+            },
+        ],
+    )?;
+    Ok((light_buffer, light_set))
+}
+
 impl ShadowPasses {
     pub(super) fn new(
         gpu: &Arc<Gpu>,
@@ -125,21 +174,7 @@ impl ShadowPasses {
         options: ShadowAtlasOptions,
         progress: &mut dyn FnMut(usize, usize),
     ) -> Result<Self> {
-        let total = scene.meshes.len();
-        let layouts: Vec<MeshAtlas> = scene
-            .meshes
-            .iter()
-            .enumerate()
-            .map(|(i, m)| {
-                let atlas = match kind {
-                    // The projective texture needs no atlas (nor the time or the failures of one).
-                    ShadowKind::Projective => Ok(light_view_layout(&m.data, options.map_size)),
-                    _ => mesh_atlas(&m.name, &m.data, m.uv1.as_deref(), options.texture_size),
-                };
-                progress(i + 1, total);
-                atlas
-            })
-            .collect::<Result<_>>()?;
+        let layouts = mesh_layouts(scene, kind, options, progress)?;
         let posed_layouts: Vec<PosedLayout> = scene
             .meshes
             .iter()
@@ -188,30 +223,7 @@ impl ShadowPasses {
             .map(|view| Framebuffer::new(gpu, &map_pass, view.raw, map_extent))
             .collect::<Result<Vec<_>>>()?;
         let compare = Sampler::depth_compare(gpu)?;
-        let light_size = std::mem::size_of::<ShadowLightUniforms>() as u64;
-        let light_buffer = Buffer::new(
-            gpu,
-            "shadow light",
-            light_size,
-            vk::BufferUsageFlags::UNIFORM_BUFFER,
-            MemoryLocation::CpuToGpu,
-        )?;
-        let light_set = DescriptorSet::new(
-            gpu,
-            &[
-                Binding::UniformBuffer {
-                    buffer: light_buffer.raw,
-                    range: light_size,
-                    stages: vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
-                },
-                Binding::Texture {
-                    view: map.view,
-                    sampler: compare.raw,
-                    layout: vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL,
-                    stages: vk::ShaderStageFlags::FRAGMENT,
-                },
-            ],
-        )?;
+        let (light_buffer, light_set) = light_uniforms(gpu, &map, &compare)?;
         let atlas = match kind {
             ShadowKind::Projective => Some(AtlasTargets::new(gpu, scene, &layouts)?),
             ShadowKind::Map | ShadowKind::Atlas => None,
