@@ -2,7 +2,7 @@
 //! of themselves: the "seen through the wall" a game draws with a stencil. Without one it is one pass
 //! after the scene: the casters again, depth test GREATER (only where something nearer hides
 //! them), depth write off, blended over the frame. The walkthrough technique of
-//! docs/adding-a-technique.md: one folder and one registry line.
+//! docs/adding-a-technique.md: one folder and three one-line lists.
 
 use std::sync::Arc;
 
