@@ -7,6 +7,7 @@
 use std::sync::Arc;
 
 use super::light_loop::PlannedLight;
+use super::options::ShadowMode;
 use super::frame_renderer::{self, BuildContext, Passes};
 use super::interface::{
     stencil_variant, stencil_variants, BenchTable, RenderOptions, SceneRenderer, Technique, Variant,
@@ -120,6 +121,15 @@ pub enum ShadowedLights {
 }
 
 impl ShadowedLights {
+    /// The lights a family with both modes shadows: every one in the additive loop, the primary
+    /// light in the seeds' modulated frame.
+    pub fn in_mode(mode: ShadowMode) -> Self {
+        match mode {
+            ShadowMode::Additive => ShadowedLights::Every,
+            ShadowMode::Modulate => ShadowedLights::Primary,
+        }
+    }
+
     /// Whether light `index` of `scene`, which casts shadows, is shadowed.
     fn covers(self, scene: &Scene, index: usize) -> bool {
         match self {

@@ -162,10 +162,7 @@ impl TechniqueUnit for Planar {
     }
 
     fn shadowed_lights(&self, options: &RenderOptions) -> ShadowedLights {
-        match options.shadow_volume.mode {
-            ShadowMode::Additive => ShadowedLights::Every,
-            ShadowMode::Modulate => ShadowedLights::Primary,
-        }
+        ShadowedLights::in_mode(options.shadow_volume.mode)
     }
 
     fn about(&self) -> &'static str {

@@ -171,10 +171,7 @@ impl TechniqueUnit for ShadowVolumes {
     }
 
     fn shadowed_lights(&self, options: &RenderOptions) -> ShadowedLights {
-        match options.shadow_volume.mode {
-            ShadowMode::Additive => ShadowedLights::Every,
-            ShadowMode::Modulate => ShadowedLights::Primary,
-        }
+        ShadowedLights::in_mode(options.shadow_volume.mode)
     }
 
     fn describe(&self, options: &RenderOptions) -> String {
