@@ -460,9 +460,10 @@ pub(super) unsafe extern "system" fn cmd_copy_buffer_to_image(
     }
 }
 
-/// The `*2` transfer commands and their KHR aliases: one info struct naming the images.
+/// The hooks of a `*2` transfer command (one info struct naming the images) under each of its
+/// names, core and KHR alias, which note the same image uses.
 macro_rules! transfer2_hook {
-    ($name:ident, $field:ident, $info:ty, |$t:ident, $i:ident| $events:expr) => {
+    ([$($name:ident),+], $info:ty, |$t:ident, $i:ident| $events:expr) => {$(
         pub(super) unsafe extern "system" fn $name(cmd: vk::CommandBuffer, info: *const $info) {
             let Some(d) = note_events(cmd, |$t| {
                 // SAFETY: the application's valid info.
@@ -471,51 +472,28 @@ macro_rules! transfer2_hook {
             }) else {
                 return;
             };
-            if let Some(next) = d.next.$field {
+            if let Some(next) = d.next.$name {
                 // SAFETY: the application's arguments, passed on.
                 unsafe { next(cmd, info) }
             }
         }
-    };
+    )+};
 }
 
-transfer2_hook!(cmd_copy_image2, cmd_copy_image2, vk::CopyImageInfo2<'_>, |t, i| vec![
+transfer2_hook!([cmd_copy_image2, cmd_copy_image2_khr], vk::CopyImageInfo2<'_>, |t, i| vec![
     t.read(i.src_image, "vkCmdCopyImage2"),
     t.overwrite(i.dst_image, "vkCmdCopyImage2", false)
 ]);
-transfer2_hook!(cmd_copy_image2_khr, cmd_copy_image2_khr, vk::CopyImageInfo2<'_>, |t, i| vec![
-    t.read(i.src_image, "vkCmdCopyImage2"),
-    t.overwrite(i.dst_image, "vkCmdCopyImage2", false)
-]);
-transfer2_hook!(cmd_copy_image_to_buffer2, cmd_copy_image_to_buffer2, vk::CopyImageToBufferInfo2<'_>, |t, i| vec![
+transfer2_hook!([cmd_copy_image_to_buffer2, cmd_copy_image_to_buffer2_khr], vk::CopyImageToBufferInfo2<'_>, |t, i| vec![
     t.read(i.src_image, "vkCmdCopyImageToBuffer2")
 ]);
-transfer2_hook!(
-    cmd_copy_image_to_buffer2_khr,
-    cmd_copy_image_to_buffer2_khr,
-    vk::CopyImageToBufferInfo2<'_>,
-    |t, i| vec![t.read(i.src_image, "vkCmdCopyImageToBuffer2")]
-);
-transfer2_hook!(cmd_blit_image2, cmd_blit_image2, vk::BlitImageInfo2<'_>, |t, i| vec![
+transfer2_hook!([cmd_blit_image2, cmd_blit_image2_khr], vk::BlitImageInfo2<'_>, |t, i| vec![
     t.read(i.src_image, "vkCmdBlitImage2"),
     t.overwrite(i.dst_image, "vkCmdBlitImage2", false)
 ]);
-transfer2_hook!(cmd_blit_image2_khr, cmd_blit_image2_khr, vk::BlitImageInfo2<'_>, |t, i| vec![
-    t.read(i.src_image, "vkCmdBlitImage2"),
-    t.overwrite(i.dst_image, "vkCmdBlitImage2", false)
-]);
-transfer2_hook!(cmd_resolve_image2, cmd_resolve_image2, vk::ResolveImageInfo2<'_>, |t, i| vec![
+transfer2_hook!([cmd_resolve_image2, cmd_resolve_image2_khr], vk::ResolveImageInfo2<'_>, |t, i| vec![
     t.resolve(i.src_image, i.dst_image)
 ]);
-transfer2_hook!(cmd_resolve_image2_khr, cmd_resolve_image2_khr, vk::ResolveImageInfo2<'_>, |t, i| vec![
-    t.resolve(i.src_image, i.dst_image)
-]);
-transfer2_hook!(cmd_copy_buffer_to_image2, cmd_copy_buffer_to_image2, vk::CopyBufferToImageInfo2<'_>, |t, i| vec![
+transfer2_hook!([cmd_copy_buffer_to_image2, cmd_copy_buffer_to_image2_khr], vk::CopyBufferToImageInfo2<'_>, |t, i| vec![
     t.overwrite(i.dst_image, "vkCmdCopyBufferToImage2", false)
 ]);
-transfer2_hook!(
-    cmd_copy_buffer_to_image2_khr,
-    cmd_copy_buffer_to_image2_khr,
-    vk::CopyBufferToImageInfo2<'_>,
-    |t, i| vec![t.overwrite(i.dst_image, "vkCmdCopyBufferToImage2", false)]
-);

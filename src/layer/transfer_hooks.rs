@@ -273,18 +273,19 @@ pub(super) unsafe extern "system" fn cmd_clear_depth_stencil_image(
     );
 }
 
-/// The `*2` image transfers and their KHR aliases: `$tiler` is the check's hook, `$moved`
-/// works out the bytes from the state and the info.
+/// The hooks of a `*2` image transfer under each of its names, core and KHR alias: each passes
+/// on to the tiler check's hook of its name (`t::`) or the next layer's, and `$moved` works out
+/// the bytes from the state and the info.
 macro_rules! transfer2_hook {
-    ($name:ident, $field:ident, $tiler:path, $info:ty, $api:literal, |$st:ident, $i:ident| $moved:expr) => {
+    ([$($name:ident),+], $info:ty, $api:literal, |$st:ident, $i:ident| $moved:expr) => {$(
         pub(super) unsafe extern "system" fn $name(cmd: vk::CommandBuffer, info: *const $info) {
             around(
                 cmd,
                 |d| {
                     if d.config.tiler {
                         // SAFETY: the application's arguments, passed on through the check.
-                        unsafe { $tiler(cmd, info) }
-                    } else if let Some(next) = d.next.$field {
+                        unsafe { t::$name(cmd, info) }
+                    } else if let Some(next) = d.next.$name {
                         // SAFETY: the application's arguments, passed on.
                         unsafe { next(cmd, info) }
                     }
@@ -298,7 +299,7 @@ macro_rules! transfer2_hook {
                 },
             );
         }
-    };
+    )+};
 }
 
 fn image_copies(i: &vk::CopyImageInfo2<'_>) -> Vec<vk::ImageCopy> {
@@ -363,75 +364,33 @@ unsafe fn buffer_image_copies(pointer: *const vk::BufferImageCopy2<'_>, count: u
         .collect()
 }
 
-transfer2_hook!(cmd_copy_image2, cmd_copy_image2, t::cmd_copy_image2, vk::CopyImageInfo2<'_>, "vkCmdCopyImage2", |st, i| {
-    bytes::copy_image(st.images.get(&i.src_image), st.images.get(&i.dst_image), &image_copies(i))
-});
 transfer2_hook!(
-    cmd_copy_image2_khr,
-    cmd_copy_image2_khr,
-    t::cmd_copy_image2_khr,
+    [cmd_copy_image2, cmd_copy_image2_khr],
     vk::CopyImageInfo2<'_>,
     "vkCmdCopyImage2",
     |st, i| bytes::copy_image(st.images.get(&i.src_image), st.images.get(&i.dst_image), &image_copies(i))
 );
-transfer2_hook!(cmd_blit_image2, cmd_blit_image2, t::cmd_blit_image2, vk::BlitImageInfo2<'_>, "vkCmdBlitImage2", |st, i| {
-    bytes::blit_image(st.images.get(&i.src_image), st.images.get(&i.dst_image), &image_blits(i))
-});
 transfer2_hook!(
-    cmd_blit_image2_khr,
-    cmd_blit_image2_khr,
-    t::cmd_blit_image2_khr,
+    [cmd_blit_image2, cmd_blit_image2_khr],
     vk::BlitImageInfo2<'_>,
     "vkCmdBlitImage2",
     |st, i| bytes::blit_image(st.images.get(&i.src_image), st.images.get(&i.dst_image), &image_blits(i))
 );
 transfer2_hook!(
-    cmd_resolve_image2,
-    cmd_resolve_image2,
-    t::cmd_resolve_image2,
+    [cmd_resolve_image2, cmd_resolve_image2_khr],
     vk::ResolveImageInfo2<'_>,
     "vkCmdResolveImage2",
     |st, i| bytes::resolve_image(st.images.get(&i.src_image), st.images.get(&i.dst_image), &image_resolves(i))
 );
 transfer2_hook!(
-    cmd_resolve_image2_khr,
-    cmd_resolve_image2_khr,
-    t::cmd_resolve_image2_khr,
-    vk::ResolveImageInfo2<'_>,
-    "vkCmdResolveImage2",
-    |st, i| bytes::resolve_image(st.images.get(&i.src_image), st.images.get(&i.dst_image), &image_resolves(i))
-);
-transfer2_hook!(
-    cmd_copy_image_to_buffer2,
-    cmd_copy_image_to_buffer2,
-    t::cmd_copy_image_to_buffer2,
+    [cmd_copy_image_to_buffer2, cmd_copy_image_to_buffer2_khr],
     vk::CopyImageToBufferInfo2<'_>,
     "vkCmdCopyImageToBuffer2",
     // SAFETY: the info's regions.
     |st, i| bytes::buffer_image(st.images.get(&i.src_image), &unsafe { buffer_image_copies(i.p_regions, i.region_count) }, false)
 );
 transfer2_hook!(
-    cmd_copy_image_to_buffer2_khr,
-    cmd_copy_image_to_buffer2_khr,
-    t::cmd_copy_image_to_buffer2_khr,
-    vk::CopyImageToBufferInfo2<'_>,
-    "vkCmdCopyImageToBuffer2",
-    // SAFETY: the info's regions.
-    |st, i| bytes::buffer_image(st.images.get(&i.src_image), &unsafe { buffer_image_copies(i.p_regions, i.region_count) }, false)
-);
-transfer2_hook!(
-    cmd_copy_buffer_to_image2,
-    cmd_copy_buffer_to_image2,
-    t::cmd_copy_buffer_to_image2,
-    vk::CopyBufferToImageInfo2<'_>,
-    "vkCmdCopyBufferToImage2",
-    // SAFETY: the info's regions.
-    |st, i| bytes::buffer_image(st.images.get(&i.dst_image), &unsafe { buffer_image_copies(i.p_regions, i.region_count) }, true)
-);
-transfer2_hook!(
-    cmd_copy_buffer_to_image2_khr,
-    cmd_copy_buffer_to_image2_khr,
-    t::cmd_copy_buffer_to_image2_khr,
+    [cmd_copy_buffer_to_image2, cmd_copy_buffer_to_image2_khr],
     vk::CopyBufferToImageInfo2<'_>,
     "vkCmdCopyBufferToImage2",
     // SAFETY: the info's regions.
