@@ -9,7 +9,6 @@ use crate::common;
 
 use ash::vk;
 use common::work_program::{expected_rows, WorkOptions};
-use nostencil::layer::report::FillrateReport;
 
 #[test]
 fn frame_boundaries_cut_frames_and_the_layer_offers_the_extension() {
@@ -40,9 +39,8 @@ fn frame_boundaries_cut_frames_and_the_layer_offers_the_extension() {
             // SAFETY: the program's own plain Vulkan use.
             unsafe { common::work_program::run(c"boundary", options) };
 
-            let messages = common::raw_vulkan::MESSAGES.lock().unwrap_or_else(|e| e.into_inner()).clone();
-            assert!(messages.is_empty(), "{} validation message(s):\n{}", messages.len(), messages.join("\n"));
-            let report = FillrateReport::from_json(&std::fs::read_to_string(&out).expect("result")).expect("result");
+            common::raw_vulkan::assert_no_messages();
+            let report = common::raw_vulkan::layer_report(&out);
             assert_eq!(report.frames_measured, 2, "two frames of two submissions each");
             let per_submission = expected_rows(options).len();
             for frame in &report.frames {

@@ -11,7 +11,6 @@
 use crate::common;
 
 use ash::vk;
-use nostencil::layer::report::FillrateReport;
 
 const SIZE: u32 = 8;
 const DEPTH: vk::Format = vk::Format::D32_SFLOAT;
@@ -266,12 +265,10 @@ fn resubmitted_simultaneous_use_buffers_are_measured_every_time_and_suspended_pa
             raw.destroy();
         }
 
-        let messages = common::raw_vulkan::MESSAGES.lock().unwrap_or_else(|e| e.into_inner()).clone();
-        assert!(messages.is_empty(), "{} validation message(s):\n{}", messages.len(), messages.join("\n"));
+        common::raw_vulkan::assert_no_messages();
         let pixels = (SIZE * SIZE) as u64;
         assert_eq!(reference, [pixels, 2 * pixels, 3 * pixels], "the program's own queries");
-        let text = std::fs::read_to_string(&out).expect("the layer wrote its result at vkDestroyDevice");
-        let report = FillrateReport::from_json(&text).expect("result");
+        let report = common::raw_vulkan::layer_report(&out);
         // The program never presents: all its work is one frame.
         let rows = &report.frames[0].render_passes;
         let measured: Vec<(u64, u64)> =

@@ -20,7 +20,6 @@
 use crate::common;
 
 use ash::vk;
-use nostencil::layer::report::FillrateReport;
 
 const SIZE: u32 = 8;
 const DEPTH: vk::Format = vk::Format::D32_SFLOAT;
@@ -317,10 +316,8 @@ fn timeline_only_program_on_its_queues_is_measured_with_buffers_reset_and_freed_
 
         let pixels = (SIZE * SIZE) as u64;
         assert_eq!(app_samples, [ONCE_DRAWS as u64 * pixels; FRAMES as usize], "the program's own query");
-        let messages = common::raw_vulkan::MESSAGES.lock().unwrap_or_else(|e| e.into_inner()).clone();
-        assert!(messages.is_empty(), "{} validation message(s):\n{}", messages.len(), messages.join("\n"));
-        let text = std::fs::read_to_string(&out).expect("the layer wrote its result at vkDestroyDevice");
-        let report = FillrateReport::from_json(&text).expect("result");
+        common::raw_vulkan::assert_no_messages();
+        let report = common::raw_vulkan::layer_report(&out);
         let named: Vec<(&str, u64)> = report.not_measured.iter().map(|n| (n.what.as_str(), n.count)).collect();
         assert_eq!(named, [(OVERWRITTEN, 1)], "only the first of two runs in one batch is left unmeasured");
         // The program never presents: all its work is one frame, in submission order.

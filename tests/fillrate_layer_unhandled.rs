@@ -10,7 +10,6 @@
 use crate::common;
 
 use ash::vk;
-use nostencil::layer::report::FillrateReport;
 
 #[test]
 fn what_cannot_be_measured_is_named_and_every_begin_api_is_measured() {
@@ -294,10 +293,8 @@ fn what_cannot_be_measured_is_named_and_every_begin_api_is_measured() {
                 raw.destroy();
             }
 
-            let messages = common::raw_vulkan::MESSAGES.lock().unwrap_or_else(|e| e.into_inner()).clone();
-            assert!(messages.is_empty(), "{} validation message(s):\n{}", messages.len(), messages.join("\n"));
-            let text = std::fs::read_to_string(&out).expect("the layer wrote its result at vkDestroyDevice");
-            let report = FillrateReport::from_json(&text).expect("result");
+            common::raw_vulkan::assert_no_messages();
+            let report = common::raw_vulkan::layer_report(&out);
             assert_eq!(report.application, "unhandled-cases");
             let rows = &report.frames[0].render_passes;
             let reasons: Vec<Option<&str>> = rows.iter().map(|r| r.not_measured.as_deref()).collect();

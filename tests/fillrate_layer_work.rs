@@ -10,7 +10,6 @@
 use crate::common;
 
 use common::work_program::{expected_rows, ExpectedRow, WorkOptions};
-use nostencil::layer::report::FillrateReport;
 
 #[test]
 fn dispatches_and_transfers_are_rows_with_exact_counts_one_frame_per_submission() {
@@ -26,10 +25,8 @@ fn dispatches_and_transfers_are_rows_with_exact_counts_one_frame_per_submission(
             // SAFETY: the program's own plain Vulkan use.
             unsafe { common::work_program::run(c"work", options) };
 
-            let messages = common::raw_vulkan::MESSAGES.lock().unwrap_or_else(|e| e.into_inner()).clone();
-            assert!(messages.is_empty(), "{} validation message(s):\n{}", messages.len(), messages.join("\n"));
-            let text = std::fs::read_to_string(&out).expect("the layer wrote its result at vkDestroyDevice");
-            let report = FillrateReport::from_json(&text).expect("result");
+            common::raw_vulkan::assert_no_messages();
+            let report = common::raw_vulkan::layer_report(&out);
             // The fill in a secondary command buffer, once per recording: named, not measured.
             let named: Vec<(&str, u64)> = report.not_measured.iter().map(|n| (n.what.as_str(), n.count)).collect();
             let secondary = "dispatch or transfer recorded in a secondary command buffer";

@@ -26,8 +26,7 @@ fn work_program() {
     let groups = std::env::var("WORK_GROUPS").ok().and_then(|g| g.parse().ok()).unwrap_or(2);
     // SAFETY: the program's own plain Vulkan use.
     unsafe { common::work_program::run(c"work", options(groups)) };
-    let messages = common::raw_vulkan::MESSAGES.lock().unwrap_or_else(|e| e.into_inner()).clone();
-    assert!(messages.is_empty(), "{} validation message(s):\n{}", messages.len(), messages.join("\n"));
+    common::raw_vulkan::assert_no_messages();
 }
 
 /// `profile-app --frame-on submit --format json --out DIR/NAME.json EXTRA -- <this binary's

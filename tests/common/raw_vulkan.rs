@@ -277,6 +277,19 @@ pub fn under_the_layer(test: &str) -> PathBuf {
     out
 }
 
+/// Fails the test on any message the validation layer below the program's layers raised (kept
+/// in [`MESSAGES`] by the raw instance's messenger).
+pub fn assert_no_messages() {
+    let messages = MESSAGES.lock().unwrap_or_else(|e| e.into_inner()).clone();
+    assert!(messages.is_empty(), "{} validation message(s):\n{}", messages.len(), messages.join("\n"));
+}
+
+/// The fill-rate layer's report at `out`, which it writes at vkDestroyDevice.
+pub fn layer_report(out: &Path) -> nostencil::layer::report::FillrateReport {
+    let text = std::fs::read_to_string(out).expect("the layer wrote its result at vkDestroyDevice");
+    nostencil::layer::report::FillrateReport::from_json(&text).expect("a fill-rate report")
+}
+
 /// A vk_layer_settings.txt in `dir` that turns on the validation layer's synchronisation checks
 /// (the messenger of the program under test reports what they find); returns its path.
 #[allow(dead_code)] // each test crate uses its own part of `common`
