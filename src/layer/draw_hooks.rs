@@ -80,35 +80,28 @@ pub(super) unsafe extern "system" fn cmd_draw_indexed(
     });
 }
 
-pub(super) unsafe extern "system" fn cmd_draw_indirect(
-    cmd: vk::CommandBuffer,
-    buffer: vk::Buffer,
-    offset: vk::DeviceSize,
-    count: u32,
-    stride: u32,
-) {
-    draw(cmd, |d| {
-        if let Some(next) = d.next.cmd_draw_indirect {
-            // SAFETY: the application's arguments, passed on.
-            unsafe { next(cmd, buffer, offset, count, stride) }
+/// The indirect draws, whose arguments a buffer holds: one hook for each name of the same
+/// signature.
+macro_rules! draw_indirect_hook {
+    ($($name:ident),+) => {$(
+        pub(super) unsafe extern "system" fn $name(
+            cmd: vk::CommandBuffer,
+            buffer: vk::Buffer,
+            offset: vk::DeviceSize,
+            count: u32,
+            stride: u32,
+        ) {
+            draw(cmd, |d| {
+                if let Some(next) = d.next.$name {
+                    // SAFETY: the application's arguments, passed on.
+                    unsafe { next(cmd, buffer, offset, count, stride) }
+                }
+            });
         }
-    });
+    )+};
 }
 
-pub(super) unsafe extern "system" fn cmd_draw_indexed_indirect(
-    cmd: vk::CommandBuffer,
-    buffer: vk::Buffer,
-    offset: vk::DeviceSize,
-    count: u32,
-    stride: u32,
-) {
-    draw(cmd, |d| {
-        if let Some(next) = d.next.cmd_draw_indexed_indirect {
-            // SAFETY: the application's arguments, passed on.
-            unsafe { next(cmd, buffer, offset, count, stride) }
-        }
-    });
-}
+draw_indirect_hook!(cmd_draw_indirect, cmd_draw_indexed_indirect);
 
 macro_rules! draw_count_hook {
     ($name:ident, $field:ident, $pfn:ident) => {
