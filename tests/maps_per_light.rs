@@ -261,6 +261,40 @@ fn lights_left_unshadowed_are_named_and_still_shade() {
     assert!(warning.contains("'moon' (a baked texel holds the shadows of 3 lights) shades unshadowed"), "{warning}");
 }
 
+/// The warning about lights left unshadowed tells how to shadow them all: a technique that
+/// shadows every light in the additive mode names that mode, the others name the techniques
+/// that do (derived from each technique's own `shadowed_lights`).
+#[test]
+fn the_unshadowed_lights_warning_names_the_way_to_shadow_them_all() {
+    use nostencil::ShadowMode;
+    let gpu = common::gpu();
+    let scene = builtin_scene("lights").expect("scene");
+    for (technique, fix) in [
+        ("shadow-volume", "(--shadow-mode additive shadows every light)"),
+        ("planar", "(--shadow-mode additive shadows every light)"),
+        ("blob", "(--technique shadow-volume or planar shadows every light)"),
+    ] {
+        let mut options = RenderOptions {
+            width: SIZE.0,
+            height: SIZE.1,
+            samples: 1,
+            technique: nostencil::technique::by_name(technique).expect("technique"),
+            ..RenderOptions::default()
+        };
+        options.shadow_volume.mode = ShadowMode::Modulate;
+        let frame = render_scene(&gpu, &scene, &options).unwrap_or_else(|e| panic!("{technique}: {e}"));
+        let warning = frame.warnings.join("\n");
+        assert!(warning.contains("'lamp', 'spot' shade unshadowed") && warning.contains(fix), "{technique}: {warning}");
+        // In the additive loop the two families shadow every light and say nothing.
+        if technique != "blob" {
+            options.shadow_volume.mode = ShadowMode::Additive;
+            let frame = render_scene(&gpu, &scene, &options).expect("additive");
+            assert!(frame.warnings.iter().all(|w| !w.contains("unshadowed")), "{technique}: {:?}", frame.warnings);
+        }
+    }
+    common::assert_no_validation_messages(&gpu);
+}
+
 /// A scene whose one light casts no shadows: no light has a map, the array's one layer is
 /// cleared all the same (bound, never weighed), and every technique of the family draws the
 /// `lit` frame, with no validation message.

@@ -7,7 +7,7 @@
 use std::sync::Arc;
 
 use super::light_loop::PlannedLight;
-use super::options::ShadowMode;
+use super::options::{ShadowMode, ShadowVolumeOptions};
 use super::frame_renderer::{self, BuildContext, Passes};
 use super::interface::{
     stencil_variant, stencil_variants, BenchTable, RenderOptions, SceneRenderer, Technique, Variant,
@@ -92,12 +92,6 @@ pub trait TechniqueUnit: Sync + 'static {
         ShadowedLights::None
     }
 
-    /// What the warning about unshadowed lights tells a user to do to shadow every light.
-    /// A technique whose other mode shadows them all says which flag.
-    fn every_light_hint(&self) -> &'static str {
-        "--technique shadow-volume or planar shadows every light"
-    }
-
     /// Why light `light` of `scene`, which casts shadows, goes unshadowed (the warning says
     /// it beside the light's name); `None`: no reason beyond the technique's.
     fn unshadowed_reason(&self, scene: &Scene, light: usize) -> Option<String> {
@@ -138,6 +132,21 @@ impl ShadowedLights {
             ShadowedLights::None => false,
             ShadowedLights::Listed(mask) => index < 8 && mask & (1 << index) != 0,
         }
+    }
+}
+
+/// What the warning about unshadowed lights tells a user to do: a technique that shadows every
+/// light in the additive mode (shadow volumes, planar) names that mode; the others name those
+/// two techniques.
+fn every_light_hint<T: TechniqueUnit>(unit: &T, options: &RenderOptions) -> &'static str {
+    let additive = RenderOptions {
+        shadow_volume: ShadowVolumeOptions { mode: ShadowMode::Additive, ..options.shadow_volume },
+        ..options.clone()
+    };
+    if unit.shadowed_lights(&additive) == ShadowedLights::Every {
+        "--shadow-mode additive shadows every light"
+    } else {
+        "--technique shadow-volume or planar shadows every light"
     }
 }
 
@@ -211,7 +220,7 @@ pub fn build_unit<'s, T: TechniqueUnit>(
     let mut renderer =
         frame_renderer::build_typed(unit.name(), plan, gpu, scene, &options, |ctx| unit.make(ctx, scene, setup))?;
     let reason = |light: usize| unit.unshadowed_reason(scene, light);
-    let hint = unit.every_light_hint();
+    let hint = every_light_hint(unit, &options);
     renderer.warnings.extend(unshadowed_lights_warning(unit.name(), hint, unit.shadowed_lights(&options), scene, &reason));
     Ok(renderer)
 }

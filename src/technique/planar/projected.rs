@@ -156,11 +156,6 @@ impl TechniqueUnit for Planar {
         "planar"
     }
 
-    /// Its seed frame (`--shadow-mode modulate`) has one shadow; the additive loop shadows all.
-    fn every_light_hint(&self) -> &'static str {
-        "--shadow-mode additive shadows every light"
-    }
-
     fn shadowed_lights(&self, options: &RenderOptions) -> ShadowedLights {
         ShadowedLights::in_mode(options.shadow_volume.mode)
     }

@@ -46,11 +46,6 @@ impl TechniqueUnit for ShadowVolumes {
         "shadow-volume"
     }
 
-    /// Its seed frame (`--shadow-mode modulate`) has one shadow; the additive loop shadows all.
-    fn every_light_hint(&self) -> &'static str {
-        "--shadow-mode additive shadows every light"
-    }
-
     fn about(&self) -> &'static str {
         "shadow volumes counted in the alpha channel (seed 000)"
     }
