@@ -6,10 +6,6 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-#[path = "src/layer/manifest.rs"]
-#[allow(dead_code)]
-mod layer_manifest;
-
 const STAGES: [(&str, shaderc::ShaderKind); 3] = [
     ("vert", shaderc::ShaderKind::Vertex),
     ("frag", shaderc::ShaderKind::Fragment),
@@ -21,7 +17,6 @@ fn main() {
     let out_dir = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets this"));
     let shader_dir = manifest.join("shaders");
     println!("cargo:rerun-if-changed={}", shader_dir.display());
-    println!("cargo:rerun-if-changed=src/layer/manifest.rs");
 
     let mut sources: Vec<PathBuf> = std::fs::read_dir(&shader_dir)
         .unwrap_or_else(|e| fail(&format!("cannot read {}: {e}", shader_dir.display())))
@@ -78,24 +73,11 @@ fn main() {
     table.push_str(&names);
     let table_path = out_dir.join("shaders.rs");
     std::fs::write(&table_path, table).unwrap_or_else(|e| fail(&format!("cannot write {}: {e}", table_path.display())));
-    write_layer_manifest(&out_dir);
 }
 
 /// The constant a shader file is named by: `shadow_volume.vert` -> `SHADOW_VOLUME_VERT`.
 fn constant_name(file_name: &str) -> String {
     file_name.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_uppercase() } else { '_' }).collect()
-}
-
-/// `target/<profile>/VkLayer_nostencil_fillrate.json`, beside the `libnostencil.so` cargo links
-/// there: `VK_LAYER_PATH=target/debug` enables the layer. OUT_DIR is
-/// `target/<profile>/build/nostencil-<hash>/out`, three folders below.
-fn write_layer_manifest(out_dir: &Path) {
-    let Some(profile_dir) = out_dir.ancestors().nth(3) else { return };
-    let text = layer_manifest::manifest_json(&format!("./{}", layer_manifest::LIBRARY_FILE));
-    let path = profile_dir.join(layer_manifest::MANIFEST_FILE);
-    if std::fs::read_to_string(&path).ok().as_deref() != Some(text.as_str()) {
-        std::fs::write(&path, text).unwrap_or_else(|e| fail(&format!("cannot write {}: {e}", path.display())));
-    }
 }
 
 /// A fragment shader that adds 1/255 to alpha and declares, as unused inputs, every

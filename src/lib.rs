@@ -80,7 +80,6 @@ macro_rules! internal_modules {
 internal_modules! {
     mod frame;
     mod gpu;
-    mod layer;
     mod mesh;
     mod names;
     mod pipeline;

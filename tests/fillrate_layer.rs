@@ -11,8 +11,8 @@ use std::path::{Path, PathBuf};
 use std::process::Output;
 
 use common::{assert_success, nostencil_command, scratch_dir};
-use nostencil::layer::manifest::{manifest_json, newest_library, LAYER_NAME, LIBRARY_FILE, MANIFEST_FILE};
-use nostencil::layer::report::{FillrateReport, FILLRATE_SCHEMA};
+use nostencil_fillrate_report::manifest::{manifest_json, newest_library, LAYER_NAME, LIBRARY_FILE, MANIFEST_FILE};
+use nostencil_fillrate_report::report::{FillrateReport, FILLRATE_SCHEMA};
 
 /// A folder with a manifest for the freshest layer library cargo built beside the binary
 /// (`cargo test` rebuilds it in deps/ only); build.rs's own manifest must exist too.
@@ -96,7 +96,7 @@ fn render_under_the_layer_writes_profiles_counters_and_an_identical_png() {
     // No present: one frame, closed when the device was destroyed.
     assert_eq!((report.frames_measured, report.frames.len()), (1, 1));
     let not_measured: Vec<(&str, u64)> = report.not_measured.iter().map(|n| (n.what.as_str(), n.count)).collect();
-    assert_eq!(not_measured, [(nostencil::layer::readback::APP_STATISTICS_GAP, 1)]);
+    assert_eq!(not_measured, [(nostencil_fillrate::readback::APP_STATISTICS_GAP, 1)]);
 
     let profile = profile(&args);
     let render_passes = profile["render_passes"].as_array().expect("render_passes");
@@ -149,7 +149,7 @@ fn an_application_query_across_a_prepass_is_named_and_the_frame_still_measured()
     assert_eq!(passes[0].not_measured.as_deref(), Some(reason));
     assert!(passes[0].counters.is_none());
     // The frame's render pass holds `render`'s own statistics queries: no statistics of the layer's.
-    let statistics = nostencil::layer::readback::APP_STATISTICS_GAP;
+    let statistics = nostencil_fillrate::readback::APP_STATISTICS_GAP;
     let not_measured: Vec<(&str, u64)> = report.not_measured.iter().map(|n| (n.what.as_str(), n.count)).collect();
     assert_eq!(not_measured, vec![(reason, 1), (statistics, 1)]);
     // The frame: every logical pass that drew into it (all but the prepass) summed.

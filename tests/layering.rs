@@ -1,7 +1,9 @@
-//! The layering rule, checked on the source: a module imports only from layers below its own,
-//! never from one beside it or above it, and the files inside one top-level module import each
-//! other without circles. `cargo doc` and the compiler accept both mistakes, so they are caught
-//! here, with every offending file:line in the failure message.
+//! The layering rule, checked on the source: a module of the renderer imports only from layers
+//! below its own, never from one beside it or above it, and the files inside one top-level
+//! module (and the fill-rate layer's crate) import each other without circles. `cargo doc` and
+//! the compiler accept both mistakes, so they are caught here, with every offending file:line in
+//! the failure message. Between crates the compiler itself enforces the rule: the layer's crate
+//! and the report's cannot name the renderer, which does not name the layer.
 //!
 //! Imports are found on tokens, not text: comments, strings and character literals are skipped,
 //! `use crate::{a, b::c}` groups are expanded, `crate::x::f()` in expressions counts, and so do
@@ -22,7 +24,6 @@ const LAYERS: &[&[&str]] = &[
     &["render"],
     &["technique"],
     &["profile"],
-    &["layer"],
     &["viewer"],
     &["cli"],
 ];
@@ -41,6 +42,26 @@ fn no_module_imports_from_a_layer_above_or_beside_it_and_no_module_has_circles()
     assert!(files.len() > 20, "only {} source files found under {}", files.len(), src.display());
     let problems = check(&files);
     assert!(problems.is_empty(), "{} layering problem(s):\n{}", problems.len(), problems.join("\n"));
+}
+
+#[test]
+fn the_fill_rate_layers_modules_have_no_circles() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("crates/fillrate-layer/src");
+    let mut files = Vec::new();
+    collect_rust_files(&src, &src, &mut files);
+    assert!(files.len() > 20, "only {} source files found under {}", files.len(), src.display());
+    // Its modules as the one top-level module `layer` they were inside the renderer: its own
+    // `crate::` is that module.
+    let files: Vec<(String, String)> = files
+        .into_iter()
+        .map(|(path, text)| {
+            let path = if path == "lib.rs" { "layer/mod.rs".to_owned() } else { format!("layer/{path}") };
+            (path, text.replace("crate::", "crate::layer::"))
+        })
+        .collect();
+    let tree = tree::SourceTree::new(&files);
+    let problems = rules::circles(&tree);
+    assert!(problems.is_empty(), "{} circle(s) in the layer:\n{}", problems.len(), problems.join("\n"));
 }
 
 /// Every `.rs` file under `dir` as (path relative to `root`, with '/', and its text).

@@ -16,7 +16,7 @@ use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 use common::x_server::{start_x_server, XServer};
-use nostencil::layer::report::{FillrateReport, RenderPassRow};
+use nostencil_fillrate_report::report::{FillrateReport, RenderPassRow};
 
 /// vkcube's window (and so its swapchain) when no --width/--height is given.
 const VKCUBE_SIZE: (u32, u32) = (500, 500);
@@ -82,7 +82,7 @@ fn profile_app(
 }
 
 /// The counters of a measured row; fails naming the row when it was not measured.
-fn measured(row: &RenderPassRow) -> &nostencil::layer::report::Counters {
+fn measured(row: &RenderPassRow) -> &nostencil_fillrate_report::report::Counters {
     row.counters.as_ref().unwrap_or_else(|| panic!("render pass {} not measured: {:?}", row.index, row.not_measured))
 }
 
@@ -390,7 +390,7 @@ fn an_application_with_queries_of_its_own_runs_and_the_layer_names_what_it_skipp
     let count = |what: &str| report.not_measured.iter().filter(|n| n.what == what).map(|n| n.count).sum::<u64>();
     let across = report.not_measured.iter().filter(|n| n.what.contains("across")).map(|n| n.count).sum::<u64>();
     assert_eq!(across, 2, "{:?}", report.not_measured);
-    assert_eq!(count(nostencil::layer::readback::APP_STATISTICS_GAP), 2, "{:?}", report.not_measured);
+    assert_eq!(count(nostencil_fillrate::readback::APP_STATISTICS_GAP), 2, "{:?}", report.not_measured);
 }
 
 /// The program's own fragment counts, too, are the same under the layer. On lavapipe (Mesa

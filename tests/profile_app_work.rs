@@ -11,7 +11,7 @@ use std::path::Path;
 use std::process::Output;
 
 use common::work_program::{expected_rows, WorkOptions, LOCAL};
-use nostencil::layer::report::FillrateReport;
+use nostencil_fillrate_report::report::FillrateReport;
 
 const SUBMISSIONS: u32 = 3;
 

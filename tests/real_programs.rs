@@ -17,7 +17,7 @@ use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 use common::x_server::{start_x_server, XServer};
-use nostencil::layer::report::FillrateReport;
+use nostencil_fillrate_report::report::FillrateReport;
 
 /// Every child gets at most this long; then it is killed and the test fails.
 const LIMIT: Duration = Duration::from_secs(120);
@@ -308,7 +308,7 @@ fn ctrl_c_a_crash_and_a_kill_each_report_the_frames_measured() {
         let line = format!("after {} measured frames; the report covers those", report.frames_measured);
         assert!(stderr.contains(&line), "{stderr}");
         // Every measured frame is in the report, up to the 64 it keeps without --frames.
-        let kept = report.frames_measured.min(nostencil::layer::report::KEPT_FRAMES as u64);
+        let kept = report.frames_measured.min(nostencil_fillrate_report::report::KEPT_FRAMES as u64);
         assert_eq!(report.frames.len() as u64, kept);
     }
 }
@@ -373,7 +373,7 @@ fn installed_in_a_fresh_home_the_layer_is_turned_on_by_its_name_alone() {
     };
     let (_, said) = common::assert_success("nostencil layer install", &in_home(&["layer", "install"]));
     let manifest = home.join(".local/share/vulkan/explicit_layer.d/VkLayer_nostencil_fillrate.json");
-    let library = home.join(".local/lib/nostencil/libnostencil.so");
+    let library = home.join(".local/lib/nostencil/libnostencil_fillrate.so");
     assert!(manifest.is_file() && library.is_file(), "{said}");
     let value: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&manifest).expect("manifest")).expect("manifest JSON");

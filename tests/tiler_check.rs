@@ -23,7 +23,7 @@ use std::path::Path;
 
 use ash::vk;
 use common::raw_vulkan::RawInstance;
-use nostencil::layer::report::FillrateReport;
+use nostencil_fillrate_report::report::FillrateReport;
 
 const SIZE: u32 = 64;
 const COLOUR: vk::Format = vk::Format::R8G8B8A8_UNORM;
@@ -447,7 +447,7 @@ fn near(a: &[u8], b: [u8; 3]) -> bool {
 /// The checkerboard's colour at pixel `i` of a `SIZE`-square image (16-pixel cells).
 fn pattern(i: usize) -> [u8; 3] {
     let area = vk::Rect2D { offset: vk::Offset2D::default(), extent: vk::Extent2D { width: SIZE, height: SIZE } };
-    let cell = nostencil::layer::poison::cell_size(area) as usize;
+    let cell = nostencil_fillrate::poison::cell_size(area) as usize;
     assert_eq!(cell, 16);
     let (x, y) = (i % SIZE as usize, i / SIZE as usize);
     if (x / cell + y / cell) % 2 == 1 {
@@ -522,7 +522,10 @@ fn each_mistake_is_flagged_by_name_and_the_dont_care_load_shows_the_pattern() {
                 assert!(near(loaded, pattern(i)), "pass #6's pixel ({x}, {y}) is {loaded:?}, not the pattern");
             }
             // The table's tiler lines, and both images side by side (docs/fillrate-layer.md shows them).
-            let table = nostencil::layer::output::render(&report, nostencil::layer::config::OutputFormat::Table);
+            let table = nostencil_fillrate_report::output::render(
+                &report,
+                nostencil_fillrate_report::output::OutputFormat::Table,
+            );
             for line in
                 ["tiler check: 8 flag(s)", "dead_pass: frame 0 pass #2", "load_after_dont_care: frame 0 pass #6"]
             {

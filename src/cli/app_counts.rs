@@ -3,10 +3,10 @@
 //! position and debug label.
 
 use crate::frame::bandwidth::Bandwidth;
-use crate::layer::report::{AggregateRow, FillrateReport};
 use crate::profile::budget::{PassBudget, WorkBudget};
 use crate::profile::chart::ChartRow;
 use crate::profile::trace::{Trace, GPU_TID};
+use nostencil_fillrate_report::report::{AggregateRow, FillrateReport};
 use serde_json::json;
 
 /// "render pass #2", or "render pass #2 'shadows'" when the application labelled it: what a
@@ -185,7 +185,7 @@ pub fn chart_rows(report: &FillrateReport) -> Vec<ChartRow> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::layer::report::{CounterSupport, Counters, FILLRATE_SCHEMA};
+    use nostencil_fillrate_report::report::{CounterSupport, Counters, FILLRATE_SCHEMA};
 
     fn counters(samples: u64) -> Counters {
         Counters {

@@ -410,7 +410,7 @@ fn frame_count(flag: &str, text: &str) -> Result<u32> {
 /// `nostencil layer ...`.
 #[derive(Debug, Subcommand)]
 pub enum LayerAction {
-    /// Copy libnostencil.so to ~/.local/lib/nostencil/ and write its manifest to
+    /// Copy libnostencil_fillrate.so to ~/.local/lib/nostencil/ and write its manifest to
     /// $XDG_DATA_HOME/vulkan/explicit_layer.d/ (default ~/.local/share/...).
     Install {
         /// The layer library to install; default: the one built beside this executable.

@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
-use crate::layer::manifest::{manifest_json, newest_library, LIBRARY_FILE, MANIFEST_FILE};
+use nostencil_fillrate_report::manifest::{manifest_json, newest_library, LIBRARY_FILE, MANIFEST_FILE};
 
 /// Where an installed layer lives for the user whose environment `var` reads.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -47,7 +47,7 @@ impl InstallPaths {
 
 /// The command that installs the layer, for messages.
 pub const HOW_TO_INSTALL: &str = "from nostencil's source folder: `cargo build --release && \
-target/release/nostencil layer install` (or `nostencil layer install --library PATH/libnostencil.so`)";
+target/release/nostencil layer install` (or `nostencil layer install --library PATH/libnostencil_fillrate.so`)";
 
 /// The layer library to install: `library`, or the one built beside this executable.
 fn source_library(library: Option<&Path>) -> Result<PathBuf> {

@@ -12,16 +12,16 @@ use super::install::{InstallPaths, HOW_TO_INSTALL};
 use super::output_path::check_output_path;
 use super::supervise::{self, Stop};
 use crate::error::{Error, Result};
-use crate::layer::aggregate::report_from_journal;
-use crate::layer::config::OutputFormat;
-use crate::layer::manifest::{manifest_json, newest_library, LAYER_NAME, LIBRARY_FILE, MANIFEST_FILE};
-use crate::layer::report::{journal_path, FillrateReport};
 use crate::profile::budget::Budget;
 use crate::profile::report::ReportFormat;
+use nostencil_fillrate_report::aggregate::report_from_journal;
+use nostencil_fillrate_report::manifest::{manifest_json, newest_library, LAYER_NAME, LIBRARY_FILE, MANIFEST_FILE};
+use nostencil_fillrate_report::output::OutputFormat;
+use nostencil_fillrate_report::report::{journal_path, FillrateReport};
 
 /// Shown after `profile-app --help`.
 pub const AFTER_HELP: &str = "\
-The layer (libnostencil.so, built beside the nostencil executable, or installed for the user by
+The layer (libnostencil_fillrate.so, built beside the nostencil executable, or installed for the user by
 `nostencil layer install`) is enabled for the program only: VK_INSTANCE_LAYERS gets VK_LAYER_NOSTENCIL_fillrate first (nearest the application; layers
 the user named stay, below it), VK_ADD_LAYER_PATH (or VK_LAYER_PATH, if set) its folder, and
 NOSTENCIL_FILLRATE_OUT/_FORMAT/_FRAMES/_EVERY tell it where and what to write (--capture sets
@@ -155,7 +155,7 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
     });
     report.run = Some(ending);
 
-    let rendered = crate::layer::output::render(&report, output_format(format));
+    let rendered = nostencil_fillrate_report::output::render(&report, output_format(format));
     match &outputs.out {
         Some(path) => {
             crate::frame::write_atomically(path, rendered.as_bytes())?;
@@ -231,7 +231,7 @@ fn check_tiler(report: &FillrateReport, program: &str) -> Result<()> {
         eprintln!("tiler check: no flag");
         return Ok(());
     }
-    eprint!("{}", crate::layer::output::tiler_lines(check));
+    eprint!("{}", nostencil_fillrate_report::output::tiler_lines(check));
     let kinds: std::collections::BTreeSet<&str> = check.flags.iter().map(|f| f.kind.as_str()).collect();
     Err(Error::InvalidInput(format!(
         "{} tiler-check flag(s) for '{program}': {}",
@@ -285,7 +285,7 @@ fn output_format(format: ReportFormat) -> OutputFormat {
 
 /// The folder holding the layer's manifest, or None when the layer is installed for the user
 /// (`nostencil layer install`; the loader finds it there). The build's folder, beside the
-/// executable, when the library it names (`./libnostencil.so`) is the newest build of the layer;
+/// executable, when the library it names (`./libnostencil_fillrate.so`) is the newest build of the layer;
 /// else a manifest written into `scratch` naming the newest library by its absolute path
 /// (`cargo test` leaves a fresher one in deps/).
 fn layer_folder(scratch: &Path) -> Result<Option<PathBuf>> {

@@ -8,7 +8,7 @@ use std::sync::atomic::{AtomicI32, Ordering};
 use std::time::{Duration, Instant};
 
 use crate::error::{Error, Result};
-use crate::layer::report::{FillrateReport, RunEnd};
+use nostencil_fillrate_report::report::{FillrateReport, RunEnd};
 
 /// How long a program has to exit after SIGTERM before it gets SIGKILL.
 pub const GRACE: Duration = Duration::from_secs(5);

@@ -1,7 +1,7 @@
 //! The frame: render-pass descriptions as data, the render targets, and the read-back image
 //! (an `image::RgbaImage`) written as PNG, and the sRGB encoding the frame's colour uses.
 
-pub mod bandwidth;
+pub use nostencil_tiler::bandwidth;
 pub mod offscreen;
 pub mod png;
 pub mod readback;

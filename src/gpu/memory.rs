@@ -153,15 +153,7 @@ pub struct Image {
     memory: Option<ImageMemory>,
 }
 
-/// The Vulkan flag of `samples` samples per pixel (1, 2, 4 or 8; anything else is one).
-pub fn sample_count_flags(samples: u32) -> vk::SampleCountFlags {
-    match samples {
-        2 => vk::SampleCountFlags::TYPE_2,
-        4 => vk::SampleCountFlags::TYPE_4,
-        8 => vk::SampleCountFlags::TYPE_8,
-        _ => vk::SampleCountFlags::TYPE_1,
-    }
-}
+pub use nostencil_tiler::attachment::sample_count_flags;
 
 pub struct ImageDesc<'a> {
     pub name: &'a str,

@@ -99,17 +99,7 @@ fn is_srgb(format: vk::Format) -> bool {
     matches!(format, vk::Format::R8G8B8A8_SRGB | vk::Format::B8G8R8A8_SRGB | vk::Format::A8B8G8R8_SRGB_PACK32)
 }
 
-/// The order of the four 8-bit channels in memory, for the RGBA8-family formats.
-pub fn byte_order(format: vk::Format) -> Option<&'static str> {
-    match format {
-        vk::Format::R8G8B8A8_UNORM
-        | vk::Format::R8G8B8A8_SRGB
-        | vk::Format::A8B8G8R8_UNORM_PACK32
-        | vk::Format::A8B8G8R8_SRGB_PACK32 => Some("RGBA"),
-        vk::Format::B8G8R8A8_UNORM | vk::Format::B8G8R8A8_SRGB => Some("BGRA"),
-        _ => None,
-    }
-}
+pub use nostencil_tiler::formats::byte_order;
 
 /// Whether a swapchain format stores blue in the first byte (the screenshot swizzles back).
 pub fn is_bgra(format: vk::Format) -> bool {

@@ -12,5 +12,5 @@ pub mod mip_flicker;
 pub mod passes;
 pub mod report;
 pub mod table1;
-pub mod text_table;
+pub use nostencil_fillrate_report::text_table;
 pub mod trace;

@@ -264,10 +264,10 @@ pub unsafe fn image_target(
 /// returned path in a scratch folder named after `test`. It sets the process environment:
 /// only inside [`super::in_own_process`].
 pub fn under_the_layer(test: &str) -> PathBuf {
-    use nostencil::layer::manifest::{manifest_json, newest_library, LAYER_NAME, MANIFEST_FILE};
+    use nostencil_fillrate_report::manifest::{manifest_json, newest_library, LAYER_NAME, MANIFEST_FILE};
     let dir = super::scratch_dir(test);
     let bin_dir = Path::new(env!("CARGO_BIN_EXE_nostencil")).parent().expect("binary folder");
-    let library = newest_library(bin_dir).expect("libnostencil.so built");
+    let library = newest_library(bin_dir).expect("libnostencil_fillrate.so built");
     std::fs::write(dir.join(MANIFEST_FILE), manifest_json(library.to_str().expect("utf-8"))).expect("manifest");
     let out = dir.join("fillrate.json");
     std::env::set_var("VK_ADD_LAYER_PATH", &dir);
@@ -285,9 +285,9 @@ pub fn assert_no_messages() {
 }
 
 /// The fill-rate layer's report at `out`, which it writes at vkDestroyDevice.
-pub fn layer_report(out: &Path) -> nostencil::layer::report::FillrateReport {
+pub fn layer_report(out: &Path) -> nostencil_fillrate_report::report::FillrateReport {
     let text = std::fs::read_to_string(out).expect("the layer wrote its result at vkDestroyDevice");
-    nostencil::layer::report::FillrateReport::from_json(&text).expect("a fill-rate report")
+    nostencil_fillrate_report::report::FillrateReport::from_json(&text).expect("a fill-rate report")
 }
 
 /// A vk_layer_settings.txt in `dir` that turns on the validation layer's synchronisation checks

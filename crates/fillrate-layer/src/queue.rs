@@ -1,0 +1,690 @@
+//! Queue and synchronisation hooks: submissions record which measured passes ran, in order;
+//! a present closes the frame; a fence, a queue or device idle, or a timeline semaphore reaching
+//! a value a batch signals proves submissions complete, and their results are read back then.
+
+use ash::vk;
+use ash::vk::Handle;
+
+use std::sync::Once;
+
+use super::arrays::app_array;
+use super::capture;
+use super::config::FrameOn;
+use super::copies;
+use super::frame_boundary;
+use super::frame_cuts;
+use super::in_flight::TimelineSignal;
+use super::objects::{device_and, flush_buffer, spoil_gaps};
+use super::proofs;
+use super::readback::{read_completed, write_if_due};
+use super::state::{guard, DeviceData, DeviceState, Pending};
+
+/// One batch of a submit call: its command buffers, and whether the layer may append buffers of
+/// its own to it.
+struct Batch {
+    buffers: Vec<vk::CommandBuffer>,
+    can_copy: bool,
+    /// The semaphores it signals with their values (a timeline's; a binary one's is ignored).
+    signals: Vec<(vk::Semaphore, u64)>,
+    /// It ends a frame (VkFrameBoundaryEXT with FRAME_END in its chain).
+    frame_end: bool,
+}
+
+/// Notes the command buffers of one vkQueueSubmit(2) call, in submission order. Returns, per
+/// batch, the layer's copy command buffers (copies.rs) to submit at the end of that batch: never
+/// between two of the application's buffers, where a render pass may be suspended in one and
+/// resumed in the next (a suspended render pass is resumed within its batch: VUID-VkSubmitInfo2-
+/// commandBuffer-06010, VUID-VkSubmitInfo-pCommandBuffers-06193). Each batch gets its own: a
+/// semaphore signalled by a batch, which the application may wait for and then free or reset the
+/// batch's buffers, covers the batch's copies too, and no later batch's.
+fn submitted(
+    device: &DeviceData,
+    state: &mut DeviceState,
+    queue: vk::Queue,
+    batches: &[Batch],
+    fence: vk::Fence,
+) -> Vec<Vec<vk::CommandBuffer>> {
+    if device.config.tiler {
+        // The check reads the command stream in submission order (a resubmitted buffer runs,
+        // and is read, again).
+        for &buffer in batches.iter().flat_map(|b| &b.buffers) {
+            let DeviceState { tiler, buffers, .. } = &mut *state;
+            if let Some(data) = buffers.get(&buffer) {
+                tiler.check.process(&data.tiler.events);
+            }
+        }
+    }
+    for &buffer in batches.iter().flat_map(|b| &b.buffers) {
+        let simultaneous = state.buffers.get(&buffer).is_some_and(|b| b.recording.simultaneous);
+        if simultaneous {
+            // The earlier submission may still run: read it if a fence proves it done. With a
+            // copy of its own on this queue it keeps its results; otherwise this submission is
+            // about to overwrite them.
+            if state.pending.iter().any(|p| p.buffer == buffer) {
+                poll_fences(device, state);
+            }
+            for pending in state.pending.iter_mut().filter(|p| p.buffer == buffer) {
+                let why = match (&pending.copy, pending.queue == queue) {
+                    (Some(_), true) => continue,
+                    (Some(_), false) => "command buffer resubmitted on another queue while in use (SIMULTANEOUS_USE)",
+                    (None, _) => "command buffer resubmitted while in use (SIMULTANEOUS_USE)",
+                };
+                pending.spoiled.get_or_insert_with(|| why.into());
+            }
+        } else {
+            // Without SIMULTANEOUS_USE the buffer's last submission has completed (valid usage).
+            flush_buffer(device, state, buffer);
+        }
+        // The application's resets in this buffer may overwrite queries the layer still reads.
+        let resets = state.buffers.get(&buffer).map(|b| b.recording.app_resets.clone()).unwrap_or_default();
+        for (pool, first, count) in resets {
+            spoil_gaps(state, pool, first, count, "application reset its query before the layer read it");
+        }
+    }
+    let measuring = !state.finished && state.frames().measuring();
+    let mut copies = Vec::new();
+    // Where each submission of this call was noted in `state.pending`: (batch, position).
+    let mut noted: Vec<(usize, usize)> = Vec::new();
+    for (b, batch) in batches.iter().enumerate() {
+        let mut batch_copies = Vec::new();
+        for &buffer in &batch.buffers {
+            if !measuring {
+                break;
+            }
+            let Some(data) = state.buffers.get(&buffer) else { continue };
+            if data.recording.passes.is_empty() && data.recording.work.list.is_empty() {
+                continue;
+            }
+            let passes = data.recording.passes.clone();
+            let work = data.recording.work.list.clone();
+            let family = state.command_pools.get(&data.pool).copied().unwrap_or(0);
+            let timestamp_bits = device.info.timestamp_bits.get(family as usize).copied().unwrap_or(0);
+            let copy = if batch.can_copy {
+                // Without a copy the results are read from the pools, as long as nothing
+                // re-submits the buffer before (the spoiling above says so if it does).
+                copies::make(device, state, family, &passes, &work).unwrap_or_else(|why| {
+                    static ONCE: Once = Once::new();
+                    ONCE.call_once(|| eprintln!("nostencil fill-rate layer: {why}; results read from the query pools"));
+                    None
+                })
+            } else {
+                None
+            };
+            batch_copies.extend(copy.as_ref().map(|c| c.command_buffer));
+            state.sequence += 1;
+            let frame = state.frames().submitted();
+            noted.push((b, state.pending.len()));
+            state.pending.push(Pending {
+                queue,
+                sequence: state.sequence,
+                frame,
+                buffer,
+                passes,
+                work,
+                timestamp_bits,
+                spoiled: None,
+                copy,
+            });
+        }
+        copies.push(batch_copies);
+        if batch.frame_end {
+            frame_cuts::boundary(device, state);
+        }
+        let sequence = state.sequence;
+        if state.pending.iter().any(|p| p.queue == queue && p.sequence <= sequence) {
+            let signals =
+                batch.signals.iter().map(|&(semaphore, value)| TimelineSignal { semaphore, value, queue, sequence });
+            state.timeline_signals.extend(signals);
+        }
+    }
+    // A buffer submitted twice in one call (SIMULTANEOUS_USE): the second run overwrites the
+    // first's queries before the first's copy (at the end of its batch) or read-back sees them.
+    for (i, &(batch, at)) in noted.iter().enumerate() {
+        let buffer = state.pending[at].buffer;
+        let has_copy = state.pending[at].copy.is_some();
+        let overwritten = noted[i + 1..]
+            .iter()
+            .any(|&(later_batch, later)| state.pending[later].buffer == buffer && (!has_copy || later_batch == batch));
+        if overwritten {
+            state.pending[at]
+                .spoiled
+                .get_or_insert_with(|| "command buffer submitted again before its results were copied".into());
+        }
+    }
+    if fence != vk::Fence::null() {
+        state.fences.insert(fence, (queue, state.sequence));
+    }
+    forget_proven_signals(state);
+    if frame_cuts::cuts_on(device, state, FrameOn::Submit) {
+        frame_cuts::cut(device, state);
+    }
+    copies
+}
+
+/// Drops the timeline signals that would prove nothing still pending.
+fn forget_proven_signals(state: &mut DeviceState) {
+    let pending = &state.pending;
+    state.timeline_signals.retain(|s| pending.iter().any(|p| p.queue == s.queue && p.sequence <= s.sequence));
+}
+
+/// The signal values of a VkSubmitInfo's signal semaphores, from its
+/// VkTimelineSemaphoreSubmitInfo (none without one: binary semaphores only).
+///
+/// # Safety
+/// `info` is a valid VkSubmitInfo with its pNext chain.
+unsafe fn signals_of(info: &vk::SubmitInfo<'_>) -> Vec<(vk::Semaphore, u64)> {
+    let mut p_next = info.p_next;
+    while !p_next.is_null() {
+        let base = p_next as *const vk::BaseInStructure;
+        // SAFETY: every chain node starts like VkBaseInStructure.
+        let (ty, next) = unsafe { ((*base).s_type, (*base).p_next.cast()) };
+        if ty == vk::StructureType::TIMELINE_SEMAPHORE_SUBMIT_INFO {
+            // SAFETY: the node is a VkTimelineSemaphoreSubmitInfo; its value array holds
+            // signalSemaphoreValueCount values (equal to signalSemaphoreCount when not 0).
+            let values = unsafe {
+                let timeline = &*(p_next as *const vk::TimelineSemaphoreSubmitInfo<'_>);
+                app_array(timeline.p_signal_semaphore_values, timeline.signal_semaphore_value_count)
+            };
+            // SAFETY: the batch's signal semaphores.
+            let semaphores = unsafe { app_array(info.p_signal_semaphores, info.signal_semaphore_count) };
+            return semaphores.iter().copied().zip(values.iter().copied()).collect();
+        }
+        p_next = next;
+    }
+    Vec::new()
+}
+
+/// `semaphore` has reached `value`: the batches whose signals it passed are complete, with
+/// everything before them on their queues. Reads them back.
+fn timeline_reached(device: &DeviceData, state: &mut DeviceState, semaphore: vk::Semaphore, value: u64) {
+    let (reached, rest): (Vec<TimelineSignal>, Vec<TimelineSignal>) = std::mem::take(&mut state.timeline_signals)
+        .into_iter()
+        .partition(|s| s.semaphore == semaphore && s.value <= value);
+    state.timeline_signals = rest;
+    for signal in reached {
+        read_completed(device, state, |p| p.queue == signal.queue && p.sequence <= signal.sequence);
+    }
+    forget_proven_signals(state);
+}
+
+/// vkWaitSemaphores and its KHR alias: a successful wait proves the batches that signal what it
+/// waited for complete (with VK_SEMAPHORE_WAIT_ANY, those whose semaphore has got there).
+unsafe fn wait_semaphores_with(
+    pick: fn(&DeviceData) -> Option<vk::PFN_vkWaitSemaphores>,
+    device: vk::Device,
+    info: *const vk::SemaphoreWaitInfo<'_>,
+    timeout: u64,
+) -> vk::Result {
+    let Some((data, next)) = device_and(device.as_raw(), pick) else {
+        return vk::Result::ERROR_INITIALIZATION_FAILED;
+    };
+    // SAFETY: the application's arguments, passed on.
+    let result = unsafe { next(device, info, timeout) };
+    if result == vk::Result::SUCCESS {
+        guard((), || {
+            if !data.active() {
+                return;
+            }
+            // SAFETY: the application's valid wait info, with `semaphoreCount` of each array.
+            let (info, semaphores, values) = unsafe {
+                let info = &*info;
+                (
+                    info,
+                    app_array(info.p_semaphores, info.semaphore_count),
+                    app_array(info.p_values, info.semaphore_count),
+                )
+            };
+            let any = info.flags.contains(vk::SemaphoreWaitFlags::ANY);
+            let counter = data.next.get_semaphore_counter_value.or(data.next.get_semaphore_counter_value_khr);
+            let mut st = data.state();
+            for (&semaphore, &value) in semaphores.iter().zip(values) {
+                let reached = if any {
+                    let Some(counter) = counter else { continue };
+                    let mut now = 0u64;
+                    // SAFETY: a timeline semaphore of this device the application just waited on.
+                    if unsafe { counter(device, semaphore, &mut now) } != vk::Result::SUCCESS {
+                        continue;
+                    }
+                    now
+                } else {
+                    value
+                };
+                timeline_reached(&data, &mut st, semaphore, reached);
+            }
+            waited(&data, &mut st);
+        });
+    }
+    result
+}
+
+/// A successful host wait: the frame ends here with `--frame-on wait`.
+fn waited(device: &DeviceData, state: &mut DeviceState) {
+    if frame_cuts::cuts_on(device, state, FrameOn::Wait) {
+        frame_cuts::cut(device, state);
+    }
+}
+
+pub(super) unsafe extern "system" fn wait_semaphores(
+    device: vk::Device,
+    info: *const vk::SemaphoreWaitInfo<'_>,
+    timeout: u64,
+) -> vk::Result {
+    // SAFETY: the application's arguments.
+    unsafe { wait_semaphores_with(|d| d.next.wait_semaphores, device, info, timeout) }
+}
+
+pub(super) unsafe extern "system" fn wait_semaphores_khr(
+    device: vk::Device,
+    info: *const vk::SemaphoreWaitInfo<'_>,
+    timeout: u64,
+) -> vk::Result {
+    // SAFETY: the application's arguments.
+    unsafe { wait_semaphores_with(|d| d.next.wait_semaphores_khr, device, info, timeout) }
+}
+
+/// vkGetSemaphoreCounterValue and its KHR alias: the value read proves its signals done.
+unsafe fn get_semaphore_counter_value_with(
+    pick: fn(&DeviceData) -> Option<vk::PFN_vkGetSemaphoreCounterValue>,
+    device: vk::Device,
+    semaphore: vk::Semaphore,
+    value: *mut u64,
+) -> vk::Result {
+    let Some((data, next)) = device_and(device.as_raw(), pick) else {
+        return vk::Result::ERROR_INITIALIZATION_FAILED;
+    };
+    // SAFETY: the application's arguments, passed on.
+    let result = unsafe { next(device, semaphore, value) };
+    if result == vk::Result::SUCCESS {
+        guard((), || {
+            if data.active() {
+                // SAFETY: the call succeeded, so `value` holds the counter.
+                let reached = unsafe { *value };
+                timeline_reached(&data, &mut data.state(), semaphore, reached);
+            }
+        });
+    }
+    result
+}
+
+pub(super) unsafe extern "system" fn get_semaphore_counter_value(
+    device: vk::Device,
+    semaphore: vk::Semaphore,
+    value: *mut u64,
+) -> vk::Result {
+    // SAFETY: the application's arguments.
+    unsafe { get_semaphore_counter_value_with(|d| d.next.get_semaphore_counter_value, device, semaphore, value) }
+}
+
+pub(super) unsafe extern "system" fn get_semaphore_counter_value_khr(
+    device: vk::Device,
+    semaphore: vk::Semaphore,
+    value: *mut u64,
+) -> vk::Result {
+    // SAFETY: the application's arguments.
+    unsafe { get_semaphore_counter_value_with(|d| d.next.get_semaphore_counter_value_khr, device, semaphore, value) }
+}
+
+/// vkDestroySemaphore: every batch that refers to the semaphore has completed (valid usage), so
+/// its signals prove their submissions done; read them, then forget them (the handle may be
+/// reused).
+pub(super) unsafe extern "system" fn destroy_semaphore(
+    device: vk::Device,
+    semaphore: vk::Semaphore,
+    allocator: *const vk::AllocationCallbacks<'_>,
+) {
+    let Some((data, next)) = device_and(device.as_raw(), |d| d.next.destroy_semaphore) else { return };
+    guard((), || {
+        if data.active() {
+            timeline_reached(&data, &mut data.state(), semaphore, u64::MAX);
+        }
+    });
+    // SAFETY: the application's arguments, passed on.
+    unsafe { next(device, semaphore, allocator) }
+}
+
+/// Records the command buffers a submit sends (`gather` reads its batches from the application's
+/// submit infos), so that their passes are read back once the submit is known complete; returns
+/// the layer's command buffers to append to each batch.
+fn note_submit(
+    device: &DeviceData,
+    queue: vk::Queue,
+    fence: vk::Fence,
+    gather: impl FnOnce() -> Vec<Batch>,
+) -> Vec<Vec<vk::CommandBuffer>> {
+    guard(Vec::new(), || {
+        if !device.active() {
+            return Vec::new();
+        }
+        submitted(device, &mut device.state(), queue, &gather(), fence)
+    })
+}
+
+/// Whether a VkSubmitInfo's chain allows more command buffers: a device group's per-buffer
+/// masks must match the count, and a protected batch takes no unprotected buffer.
+///
+/// # Safety
+/// `p_next` is a valid pNext chain.
+unsafe fn batch_extendable(mut p_next: *const std::ffi::c_void) -> bool {
+    while !p_next.is_null() {
+        let base = p_next as *const vk::BaseInStructure;
+        // SAFETY: every chain node starts like VkBaseInStructure.
+        let (ty, next) = unsafe { ((*base).s_type, (*base).p_next.cast()) };
+        if ty == vk::StructureType::DEVICE_GROUP_SUBMIT_INFO || ty == vk::StructureType::PROTECTED_SUBMIT_INFO {
+            return false;
+        }
+        p_next = next;
+    }
+    true
+}
+
+pub(super) unsafe extern "system" fn queue_submit(
+    queue: vk::Queue,
+    count: u32,
+    submits: *const vk::SubmitInfo<'_>,
+    fence: vk::Fence,
+) -> vk::Result {
+    let Some((device, next)) = device_and(queue.as_raw(), |d| d.next.queue_submit) else {
+        return vk::Result::ERROR_INITIALIZATION_FAILED;
+    };
+    // SAFETY: `submits` holds `count` valid submit infos, each with its buffer array.
+    let infos = unsafe { app_array(submits, count) };
+    let copies = note_submit(&device, queue, fence, || {
+        infos
+            .iter()
+            .map(|s| Batch {
+                // SAFETY: as above.
+                buffers: unsafe { app_array(s.p_command_buffers, s.command_buffer_count) }.to_vec(),
+                // SAFETY: as above.
+                can_copy: unsafe { batch_extendable(s.p_next) },
+                // SAFETY: as above.
+                signals: unsafe { signals_of(s) },
+                // SAFETY: as above.
+                frame_end: unsafe { frame_cuts::frame_end(s.p_next) },
+            })
+            .collect()
+    });
+    // The batches' frame boundaries (read above) are kept from a driver that lacks them, and
+    // put back after the call.
+    let emulated = device.info.frame_boundary_emulated;
+    // SAFETY: the application's infos, restored below.
+    let unlinked =
+        unsafe { frame_boundary::strip(emulated, submits, count, |s| std::ptr::addr_of_mut!((*s).p_next).cast()) };
+    if copies.iter().all(Vec::is_empty) {
+        // SAFETY: the application's arguments, passed on.
+        let result = unsafe { next(queue, count, submits, fence) };
+        // SAFETY: the same infos.
+        unsafe { unlinked.restore() };
+        return result;
+    }
+    let buffers: Vec<Vec<vk::CommandBuffer>> = infos
+        .iter()
+        .zip(&copies)
+        .map(|(info, copies)| {
+            // SAFETY: as above.
+            let mut own = unsafe { app_array(info.p_command_buffers, info.command_buffer_count) }.to_vec();
+            own.extend(copies);
+            own
+        })
+        .collect();
+    let mut batches = infos.to_vec();
+    for (batch, buffers) in batches.iter_mut().zip(&buffers) {
+        batch.command_buffer_count = buffers.len() as u32;
+        batch.p_command_buffers = buffers.as_ptr();
+    }
+    // SAFETY: the application's batches, each with the layer's buffers after its own.
+    let result = unsafe { next(queue, count, batches.as_ptr(), fence) };
+    // SAFETY: the same infos.
+    unsafe { unlinked.restore() };
+    result
+}
+
+unsafe fn queue_submit2_with(
+    pick: fn(&DeviceData) -> Option<vk::PFN_vkQueueSubmit2>,
+    queue: vk::Queue,
+    count: u32,
+    submits: *const vk::SubmitInfo2<'_>,
+    fence: vk::Fence,
+) -> vk::Result {
+    let Some((device, next)) = device_and(queue.as_raw(), pick) else {
+        return vk::Result::ERROR_INITIALIZATION_FAILED;
+    };
+    // SAFETY: `submits` holds `count` valid VkSubmitInfo2, each with its buffer infos.
+    let infos = unsafe { app_array(submits, count) };
+    let copies = note_submit(&device, queue, fence, || {
+        infos
+            .iter()
+            .map(|s| Batch {
+                // SAFETY: as above.
+                buffers: unsafe { app_array(s.p_command_buffer_infos, s.command_buffer_info_count) }
+                    .iter()
+                    .map(|info| info.command_buffer)
+                    .collect(),
+                can_copy: !s.flags.contains(vk::SubmitFlags::PROTECTED),
+                // SAFETY: as above.
+                signals: unsafe { app_array(s.p_signal_semaphore_infos, s.signal_semaphore_info_count) }
+                    .iter()
+                    .map(|info| (info.semaphore, info.value))
+                    .collect(),
+                // SAFETY: as above.
+                frame_end: unsafe { frame_cuts::frame_end(s.p_next) },
+            })
+            .collect()
+    });
+    let emulated = device.info.frame_boundary_emulated;
+    // SAFETY: the application's infos, restored below.
+    let unlinked =
+        unsafe { frame_boundary::strip(emulated, submits, count, |s| std::ptr::addr_of_mut!((*s).p_next).cast()) };
+    if copies.iter().all(Vec::is_empty) {
+        // SAFETY: the application's arguments, passed on.
+        let result = unsafe { next(queue, count, submits, fence) };
+        // SAFETY: the same infos.
+        unsafe { unlinked.restore() };
+        return result;
+    }
+    let buffers: Vec<Vec<vk::CommandBufferSubmitInfo>> = infos
+        .iter()
+        .zip(&copies)
+        .map(|(info, copies)| {
+            // SAFETY: as above.
+            let mut own = unsafe { app_array(info.p_command_buffer_infos, info.command_buffer_info_count) }.to_vec();
+            // The same device mask as the batch's last buffer (0: all devices).
+            let mask = own.last().map_or(0, |b| b.device_mask);
+            own.extend(
+                copies.iter().map(|&c| vk::CommandBufferSubmitInfo::default().command_buffer(c).device_mask(mask)),
+            );
+            own
+        })
+        .collect();
+    let mut batches = infos.to_vec();
+    for (batch, buffers) in batches.iter_mut().zip(&buffers) {
+        batch.command_buffer_info_count = buffers.len() as u32;
+        batch.p_command_buffer_infos = buffers.as_ptr();
+    }
+    // SAFETY: the application's batches, each with the layer's buffers after its own.
+    let result = unsafe { next(queue, count, batches.as_ptr(), fence) };
+    // SAFETY: the same infos.
+    unsafe { unlinked.restore() };
+    result
+}
+
+pub(super) unsafe extern "system" fn queue_submit2(
+    queue: vk::Queue,
+    count: u32,
+    submits: *const vk::SubmitInfo2<'_>,
+    fence: vk::Fence,
+) -> vk::Result {
+    // SAFETY: the application's arguments.
+    unsafe { queue_submit2_with(|d| d.next.queue_submit2, queue, count, submits, fence) }
+}
+
+pub(super) unsafe extern "system" fn queue_submit2_khr(
+    queue: vk::Queue,
+    count: u32,
+    submits: *const vk::SubmitInfo2<'_>,
+    fence: vk::Fence,
+) -> vk::Result {
+    // SAFETY: the application's arguments.
+    unsafe { queue_submit2_with(|d| d.next.queue_submit2_khr, queue, count, submits, fence) }
+}
+
+pub(super) unsafe extern "system" fn queue_present(
+    queue: vk::Queue,
+    info: *const vk::PresentInfoKHR<'_>,
+) -> vk::Result {
+    let Some((device, next)) = device_and(queue.as_raw(), |d| d.next.queue_present) else {
+        return vk::Result::ERROR_INITIALIZATION_FAILED;
+    };
+    // SAFETY: the application's valid present info (or null), for the call.
+    let app_info = unsafe { info.as_ref() };
+    // SAFETY: as above; the queue is the caller's for the call.
+    let capturing = guard(None, || app_info.and_then(|i| unsafe { capture::begin(&device, queue, i) }));
+    // SAFETY: as above. The present's frame boundary, read here, is kept from a driver that
+    // lacks it and put back right after the call.
+    let boundary = app_info.is_some_and(|i| unsafe { frame_cuts::frame_end(i.p_next) });
+    let emulated = device.info.frame_boundary_emulated;
+    // SAFETY: the application's info, restored below.
+    let unlinked = unsafe { frame_boundary::strip(emulated, info, 1, |i| std::ptr::addr_of_mut!((*i).p_next).cast()) };
+    let result = match (&capturing, app_info) {
+        // SAFETY: the application's present, waiting on the layer's copy instead (which waited
+        // on the application's semaphores).
+        (Some(c), Some(app_info)) => unsafe { next(queue, &c.patched(app_info)) },
+        // SAFETY: the application's arguments, passed on.
+        _ => unsafe { next(queue, info) },
+    };
+    // SAFETY: the same info.
+    unsafe { unlinked.restore() };
+    if let Some(capturing) = capturing {
+        guard((), || capture::finish(&device, capturing));
+    }
+    guard((), || {
+        if device.active() {
+            let mut st = device.state();
+            if device.config.tiler {
+                st.tiler.check.end_frame();
+            }
+            if boundary {
+                frame_cuts::boundary(&device, &mut st);
+            } else if frame_cuts::cuts_on(&device, &st, FrameOn::Present) {
+                st.frames().present();
+            }
+            proofs::poll(&device, &mut st);
+            proofs::add(&device, &mut st, queue);
+            if super::readback::finish_frames(&device, &mut st) > 0 {
+                write_if_due(&device, &mut st, false);
+            }
+        }
+    });
+    result
+}
+
+/// Reads back what any fence the application submitted with proves complete, asking the fences'
+/// status (no waiting).
+fn poll_fences(device: &DeviceData, state: &mut DeviceState) {
+    let Some(status) = device.next.get_fence_status else { return };
+    let fences: Vec<(vk::Fence, vk::Queue, u64)> = state
+        .fences
+        .iter()
+        .filter(|(_, (queue, sequence))| state.pending.iter().any(|p| p.queue == *queue && p.sequence <= *sequence))
+        .map(|(&fence, &(queue, sequence))| (fence, queue, sequence))
+        .collect();
+    for (fence, queue, sequence) in fences {
+        // SAFETY: a fence of this device the application submitted (a destroyed one would be an
+        // application error: it may not destroy a fence a pending submission signals).
+        if unsafe { status(device.handle, fence) } == vk::Result::SUCCESS {
+            read_completed(device, state, |p| p.queue == queue && p.sequence <= sequence);
+        }
+    }
+}
+
+/// `fence` has signalled: its submission and everything before it on its queue are complete.
+fn fence_signalled(device: &DeviceData, state: &mut DeviceState, fence: vk::Fence) {
+    if let Some(&(queue, sequence)) = state.fences.get(&fence) {
+        read_completed(device, state, |p| p.queue == queue && p.sequence <= sequence);
+    }
+}
+
+pub(super) unsafe extern "system" fn wait_for_fences(
+    device: vk::Device,
+    count: u32,
+    fences: *const vk::Fence,
+    wait_all: vk::Bool32,
+    timeout: u64,
+) -> vk::Result {
+    let Some((data, next)) = device_and(device.as_raw(), |d| d.next.wait_for_fences) else {
+        return vk::Result::ERROR_INITIALIZATION_FAILED;
+    };
+    // SAFETY: the application's arguments, passed on.
+    let result = unsafe { next(device, count, fences, wait_all, timeout) };
+    if result == vk::Result::SUCCESS {
+        guard((), || {
+            if !data.active() {
+                return;
+            }
+            // SAFETY: `fences` holds `count` handles.
+            let fences = unsafe { app_array(fences, count) };
+            let mut st = data.state();
+            for &fence in fences {
+                let signalled = wait_all == vk::TRUE
+                    // SAFETY: a fence of this device, which the application just waited on.
+                    || data.next.get_fence_status.is_some_and(|status| unsafe { status(device, fence) } == vk::Result::SUCCESS);
+                if signalled {
+                    fence_signalled(&data, &mut st, fence);
+                }
+            }
+            waited(&data, &mut st);
+        });
+    }
+    result
+}
+
+pub(super) unsafe extern "system" fn get_fence_status(device: vk::Device, fence: vk::Fence) -> vk::Result {
+    let Some((data, next)) = device_and(device.as_raw(), |d| d.next.get_fence_status) else {
+        return vk::Result::ERROR_INITIALIZATION_FAILED;
+    };
+    // SAFETY: the application's arguments, passed on.
+    let result = unsafe { next(device, fence) };
+    if result == vk::Result::SUCCESS {
+        guard((), || {
+            if data.active() {
+                fence_signalled(&data, &mut data.state(), fence);
+            }
+        });
+    }
+    result
+}
+
+pub(super) unsafe extern "system" fn queue_wait_idle(queue: vk::Queue) -> vk::Result {
+    let Some((device, next)) = device_and(queue.as_raw(), |d| d.next.queue_wait_idle) else {
+        return vk::Result::ERROR_INITIALIZATION_FAILED;
+    };
+    // SAFETY: the application's arguments, passed on.
+    let result = unsafe { next(queue) };
+    if result == vk::Result::SUCCESS {
+        guard((), || {
+            if device.active() {
+                let mut st = device.state();
+                read_completed(&device, &mut st, |p| p.queue == queue);
+                waited(&device, &mut st);
+            }
+        });
+    }
+    result
+}
+
+pub(super) unsafe extern "system" fn device_wait_idle(device: vk::Device) -> vk::Result {
+    let Some((data, next)) = device_and(device.as_raw(), |d| d.next.device_wait_idle) else {
+        return vk::Result::ERROR_INITIALIZATION_FAILED;
+    };
+    // SAFETY: the application's arguments, passed on.
+    let result = unsafe { next(device) };
+    if result == vk::Result::SUCCESS {
+        guard((), || {
+            if data.active() {
+                let mut st = data.state();
+                read_completed(&data, &mut st, |_| true);
+                waited(&data, &mut st);
+            }
+        });
+    }
+    result
+}
