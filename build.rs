@@ -73,6 +73,38 @@ fn main() {
     table.push_str(&names);
     let table_path = out_dir.join("shaders.rs");
     std::fs::write(&table_path, table).unwrap_or_else(|e| fail(&format!("cannot write {}: {e}", table_path.display())));
+    if std::env::var_os("CARGO_FEATURE_EMBEDDED_LAYER").is_some() {
+        build_layer_into(&manifest, &out_dir);
+    }
+}
+
+/// With the `embedded-layer` feature: the fill-rate layer's library, built from its crate in this
+/// workspace (release, in a target folder of its own under OUT_DIR) and copied to
+/// `$OUT_DIR/libnostencil_fillrate.so`, which `cli/install.rs` includes. `cargo install` installs
+/// only executables, so this is how an installed `nostencil` still has a layer to install.
+fn build_layer_into(manifest: &Path, out_dir: &Path) {
+    const LIBRARY: &str = "libnostencil_fillrate.so";
+    let layer_crate = manifest.join("crates/fillrate-layer");
+    println!("cargo:rerun-if-changed={}", layer_crate.display());
+    println!("cargo:rerun-if-changed={}", manifest.join("crates/fillrate-report").display());
+    println!("cargo:rerun-if-changed={}", manifest.join("crates/tiler").display());
+    let target_dir = out_dir.join("layer-build");
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let status = std::process::Command::new(cargo)
+        .args(["build", "--release", "--lib", "--package", "nostencil-fillrate-layer", "--manifest-path"])
+        .arg(manifest.join("Cargo.toml"))
+        .arg("--target-dir")
+        .arg(&target_dir)
+        .env_remove("CARGO_TARGET_DIR")
+        .env_remove("CARGO_ENCODED_RUSTFLAGS")
+        .status()
+        .unwrap_or_else(|e| fail(&format!("cannot run cargo to build the layer: {e}")));
+    if !status.success() {
+        fail(&format!("building the fill-rate layer for `embedded-layer` failed ({status})"));
+    }
+    let built = target_dir.join("release").join(LIBRARY);
+    std::fs::copy(&built, out_dir.join(LIBRARY))
+        .unwrap_or_else(|e| fail(&format!("cannot copy {}: {e}", built.display())));
 }
 
 /// The constant a shader file is named by: `shadow_volume.vert` -> `SHADOW_VOLUME_VERT`.

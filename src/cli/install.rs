@@ -47,25 +47,44 @@ impl InstallPaths {
 
 /// The command that installs the layer, for messages.
 pub const HOW_TO_INSTALL: &str = "from nostencil's source folder: `cargo build --release && \
-target/release/nostencil layer install` (or `nostencil layer install --library PATH/libnostencil_fillrate.so`)";
+target/release/nostencil layer install` (or `nostencil layer install --library PATH/libnostencil_fillrate.so`, \
+or an executable that carries the layer: `cargo install --path . --features embedded-layer`)";
 
-/// The layer library to install: `library`, or the one built beside this executable.
-fn source_library(library: Option<&Path>) -> Result<PathBuf> {
+/// The layer library this executable carries, built into it with the `embedded-layer` feature
+/// (build.rs builds the layer's crate for it): what `cargo install` gives, which installs no
+/// library beside the executable.
+#[cfg(feature = "embedded-layer")]
+const EMBEDDED_LAYER: Option<&[u8]> = Some(include_bytes!(concat!(env!("OUT_DIR"), "/libnostencil_fillrate.so")));
+#[cfg(not(feature = "embedded-layer"))]
+const EMBEDDED_LAYER: Option<&[u8]> = None;
+
+/// Where the library to install comes from.
+enum Source {
+    File(PathBuf),
+    Embedded(&'static [u8]),
+}
+
+/// The layer library to install: `library`, or the one built beside this executable, or the one
+/// it carries.
+fn source_library(library: Option<&Path>) -> Result<Source> {
     if let Some(path) = library {
         if !path.is_file() {
             return Err(Error::InvalidInput(format!("--library {}: no such file", path.display())));
         }
-        return Ok(path.to_path_buf());
+        return Ok(Source::File(path.to_path_buf()));
     }
     let exe =
         std::env::current_exe().map_err(|e| Error::Internal(format!("cannot find the nostencil executable: {e}")))?;
     let dir = exe.parent().unwrap_or(Path::new(".")).to_path_buf();
-    newest_library(&dir).ok_or_else(|| {
-        Error::InvalidInput(format!(
-            "no {LIBRARY_FILE} beside {} (`cargo install` installs only the executable); install {HOW_TO_INSTALL}",
+    match (newest_library(&dir), EMBEDDED_LAYER) {
+        (Some(path), _) => Ok(Source::File(path)),
+        (None, Some(bytes)) => Ok(Source::Embedded(bytes)),
+        (None, None) => Err(Error::InvalidInput(format!(
+            "no {LIBRARY_FILE} beside {} (`cargo install` installs only the executable, unless built with \
+             `--features embedded-layer`); install {HOW_TO_INSTALL}",
             exe.display()
-        ))
-    })
+        ))),
+    }
 }
 
 fn io(path: &Path) -> impl FnOnce(std::io::Error) -> Error + '_ {
@@ -78,13 +97,22 @@ pub fn install(library: Option<&Path>, paths: &InstallPaths) -> Result<()> {
     for dir in [paths.library.parent(), paths.manifest.parent()].into_iter().flatten() {
         std::fs::create_dir_all(dir).map_err(io(dir))?;
     }
-    // Copied beside, then renamed: a program loading the old library meanwhile keeps its copy.
+    // Written beside, then renamed: a program loading the old library meanwhile keeps its copy.
     let temp = paths.library.with_extension("so.new");
-    std::fs::copy(&source, &temp).map_err(io(&temp))?;
+    let from = match &source {
+        Source::File(path) => {
+            std::fs::copy(path, &temp).map_err(io(&temp))?;
+            path.display().to_string()
+        }
+        Source::Embedded(bytes) => {
+            std::fs::write(&temp, bytes).map_err(io(&temp))?;
+            "the copy this executable carries".to_owned()
+        }
+    };
     std::fs::rename(&temp, &paths.library).map_err(io(&paths.library))?;
     let text = manifest_json(&paths.library.to_string_lossy());
     crate::frame::write_atomically(&paths.manifest, text.as_bytes())?;
-    eprintln!("installed {} (from {})", paths.library.display(), source.display());
+    eprintln!("installed {} (from {from})", paths.library.display());
     eprintln!("installed {}", paths.manifest.display());
     eprintln!(
         "turn it on for a program: VK_INSTANCE_LAYERS=VK_LAYER_NOSTENCIL_fillrate NOSTENCIL_FILLRATE_OUT=report.json \
