@@ -44,7 +44,7 @@ pub struct Transform {
 impl Transform {
     pub const IDENTITY: Transform = Transform { translation: Vec3::ZERO, rotation: Quat::IDENTITY, scale: Vec3::ONE };
 
-    pub fn to_mat4(&self) -> Mat4 {
+    pub fn to_mat4(self) -> Mat4 {
         Mat4::from_scale_rotation_translation(self.scale, self.rotation, self.translation)
     }
 

@@ -16,7 +16,7 @@ use crate::error::{Error, Result};
 pub fn world_matrices(model: &Model, local: &[Transform]) -> Vec<Mat4> {
     let count = model.nodes.len();
     let local_of = |i: usize| {
-        local.get(i).or_else(|| model.nodes.get(i).map(|n| &n.local)).map_or(Mat4::IDENTITY, Transform::to_mat4)
+        local.get(i).or_else(|| model.nodes.get(i).map(|n| &n.local)).map_or(Mat4::IDENTITY, |t| t.to_mat4())
     };
     let mut world = vec![Mat4::IDENTITY; count];
     let mut visited = vec![false; count];
