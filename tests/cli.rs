@@ -279,6 +279,36 @@ fn bench_json_reports_round_robin_ratios_with_intervals() {
 /// pass about 4 times the samples at 4x (every covered sample counts; edges make it inexact).
 /// `--samples 1` benches the variants alone, with no ratios.
 #[test]
+fn bench_loop_plays_animated_frames_of_each_technique_and_counts_what_each_makes() {
+    let args = "bench --loop 4 --warmup 1 --technique shadow-volume,lit --size 64x48 --samples 1 --json --validation";
+    let (out, err) = common::run_ok(&args.split(' ').collect::<Vec<_>>());
+    assert!(!err.contains("vulkan validation"), "{err}");
+    let report: serde_json::Value = serde_json::from_str(&out).expect("bench --loop --json is JSON");
+    let results = report["results"].as_array().expect("results");
+    let names: Vec<&str> = results.iter().filter_map(|r| r["technique"].as_str()).collect();
+    assert_eq!(names, ["shadow-volume", "lit"], "{report}");
+    let number = |r: &serde_json::Value, key: &str| r[key].as_f64().unwrap_or_else(|| panic!("{key} in {r}"));
+    for result in results {
+        assert_eq!(result["frames"], 4, "{result}");
+        let frame_ms = number(result, "frame_ms");
+        assert!((number(result, "frames_per_second") * frame_ms / 1e3 - 1.0).abs() < 1e-9, "{result}");
+        assert!(number(result, "cpu_ms") <= frame_ms && number(result, "wait_ms") <= frame_ms, "{result}");
+        // Each frame waits for its own fence; every buffer has its own allocation.
+        assert!(number(result, "waits_per_frame") >= 1.0, "{result}");
+        assert!(number(result, "allocations_per_frame") >= number(result, "buffers_per_frame"), "{result}");
+    }
+    assert!(results[0]["throughput_ratio"].is_null(), "the first is the reference: {report}");
+    let ratio = &results[1]["throughput_ratio"];
+    let (low, high) = (number(&ratio["ci95"], "low"), number(&ratio["ci95"], "high"));
+    assert!(low <= number(ratio, "median") && number(ratio, "median") <= high, "{ratio}");
+
+    let err = common::run_err(&["bench", "--loop", "0", "--size", "64x48"]);
+    assert!(err.contains("--loop") && err.contains("at least 1"), "{err}");
+    let err = common::run_err(&["bench", "--loop", "3", "--runs", "5", "--size", "64x48"]);
+    assert!(err.contains("drop --table1-out, --runs and --trace"), "{err}");
+}
+
+#[test]
 fn bench_samples_4_pairs_every_variant_with_itself_at_1x() {
     let args = "bench --technique lit --size 64x64 --warmup 1 --runs 5 --json --validation --samples 4";
     let (out, err) = common::run_ok(&args.split(' ').collect::<Vec<_>>());

@@ -210,6 +210,13 @@ pub enum Command {
         /// against shadow map (seed 004's figures 6 and 7; use a small --size to minify).
         #[arg(long, value_name = "STEPS", num_args = 0..=1, default_missing_value = "12")]
         mip_flicker: Option<u32>,
+        /// Instead of timing single frames: play N frames of each technique (`--technique` one,
+        /// a list, or all) as a game's loop does, the scene animated as in the viewer, frames
+        /// kept on the GPU, the techniques in turn; report frames per second (and its ratio to
+        /// the first technique), the render thread's CPU ms a frame, and the memory allocations,
+        /// buffers and fence waits a frame makes.
+        #[arg(long = "loop", value_name = "N")]
+        frame_loop: Option<u32>,
     },
     /// Bake one model's shadow texture (shadow-texture-atlas) and write it as PNG.
     Bake {

@@ -86,15 +86,32 @@ pub fn run(cli: Cli) -> Result<()> {
             let scene = load_named_scene(&scene, 0.0, &lights, replace_lights)?;
             passes(&technique, &plans, &scene, samples)
         }
-        Command::Bench { frame, warmup: _, runs, json, trace, table1_out, mip_flicker: Some(steps) } => {
-            if table1_out.is_some() || runs.is_some() || trace.is_some() {
+        Command::Bench { frame, warmup: _, runs, json, trace, table1_out, mip_flicker: Some(steps), frame_loop } => {
+            if table1_out.is_some() || runs.is_some() || trace.is_some() || frame_loop.is_some() {
                 return Err(Error::InvalidInput(
-                    "--mip-flicker is not timed: drop --table1-out, --runs and --trace".into(),
+                    "--mip-flicker is not timed: drop --table1-out, --runs, --trace and --loop".into(),
                 ));
             }
             bench_mip_flicker(&frame, steps, json)
         }
-        Command::Bench { frame, warmup, runs, json, trace, table1_out, mip_flicker: None } => {
+        Command::Bench {
+            frame,
+            warmup,
+            runs,
+            json,
+            trace,
+            table1_out,
+            mip_flicker: None,
+            frame_loop: Some(frames),
+        } => {
+            if table1_out.is_some() || runs.is_some() || trace.is_some() {
+                return Err(Error::InvalidInput(
+                    "--loop plays N frames of each technique: drop --table1-out, --runs and --trace".into(),
+                ));
+            }
+            super::frame_loop::bench_loop(&frame, frames, warmup, json)
+        }
+        Command::Bench { frame, warmup, runs, json, trace, table1_out, mip_flicker: None, frame_loop: None } => {
             if trace.is_some() && (frame.technique == "all" || table1_out.is_some()) {
                 return Err(Error::InvalidInput(
                     "--trace writes one technique's frames: give one --technique, without --table1-out".into(),

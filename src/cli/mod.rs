@@ -4,6 +4,7 @@ mod app_counts;
 mod args;
 mod bench;
 mod commands;
+mod frame_loop;
 mod frame_setup;
 mod install;
 mod output_path;

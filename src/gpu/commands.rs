@@ -105,9 +105,11 @@ fn submit_and_wait_named<T>(
         };
         let wait_start = since(std::time::Instant::now());
         phases.submit = (submit_start, wait_start - submit_start);
+        let wait_began = std::time::Instant::now();
         // SAFETY: `fence` is alive.
         let waited =
             submitted.and_then(|_| unsafe { device.wait_for_fences(&[fence], true, u64::MAX) }.vk("vkWaitForFences"));
+        gpu.waited(wait_began.elapsed());
         phases.wait = (wait_start, since(std::time::Instant::now()) - wait_start);
         // SAFETY: the fence is signalled, or was never submitted, or the device is lost.
         unsafe { device.destroy_fence(fence, None) };

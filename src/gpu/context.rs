@@ -9,7 +9,7 @@ use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
 use super::device::{Device, DeviceChoice};
 use super::instance::Instance;
-use super::live_objects::{LiveObjects, ObjectCounts, ObjectKind};
+use super::live_objects::{Activity, LiveObjects, ObjectCounts, ObjectKind};
 use super::validation::ValidationChecks;
 use crate::error::{Error, Result, VkContext};
 
@@ -136,6 +136,16 @@ impl Gpu {
     /// Counts an object of `kind` destroyed.
     pub fn destroyed(&self, kind: ObjectKind) {
         self.objects.destroyed(kind)
+    }
+
+    /// Counts a host wait on the GPU that took `took` (fence waits: frames, uploads, presents).
+    pub fn waited(&self, took: std::time::Duration) {
+        self.objects.waited(took)
+    }
+
+    /// Objects made and host waits since the device opened (see `Activity::since`).
+    pub fn activity(&self) -> Activity {
+        self.objects.activity()
     }
 
     /// Validation messages recorded so far (empty when validation is off).

@@ -4,7 +4,8 @@
 //! compares them.
 
 use std::fmt;
-use std::sync::atomic::{AtomicI64, Ordering};
+use std::sync::atomic::{AtomicI64, AtomicU64, Ordering};
+use std::time::Duration;
 
 /// A kind of Vulkan object the crate creates and destroys itself.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -78,15 +79,37 @@ impl ObjectKind {
     }
 }
 
-/// Live objects of each kind on one device.
+/// Live objects of each kind on one device, what was made since it opened, and the host's
+/// waits on it.
 #[derive(Default)]
 pub struct LiveObjects {
     counts: [AtomicI64; ObjectKind::ALL.len()],
+    /// Objects made since the device opened, per kind (never counted down).
+    made: [AtomicU64; ObjectKind::ALL.len()],
+    /// Host waits on the GPU (fences), and the nanoseconds they took.
+    waits: AtomicU64,
+    wait_ns: AtomicU64,
 }
 
 impl LiveObjects {
     pub fn created(&self, kind: ObjectKind) {
         self.counts[kind.index()].fetch_add(1, Ordering::Relaxed);
+        self.made[kind.index()].fetch_add(1, Ordering::Relaxed);
+    }
+
+    /// Counts one host wait on the GPU that took `took`.
+    pub fn waited(&self, took: Duration) {
+        self.waits.fetch_add(1, Ordering::Relaxed);
+        self.wait_ns.fetch_add(u64::try_from(took.as_nanos()).unwrap_or(u64::MAX), Ordering::Relaxed);
+    }
+
+    /// What was made and waited for so far: two of these a frame apart are what the frame did.
+    pub fn activity(&self) -> Activity {
+        Activity {
+            made: ObjectKind::ALL.map(|kind| self.made[kind.index()].load(Ordering::Relaxed)),
+            waits: self.waits.load(Ordering::Relaxed),
+            wait_ns: self.wait_ns.load(Ordering::Relaxed),
+        }
     }
 
     pub fn destroyed(&self, kind: ObjectKind) {
@@ -99,6 +122,35 @@ impl LiveObjects {
             live: ObjectKind::ALL.map(|kind| self.counts[kind.index()].load(Ordering::Relaxed)),
             memory_blocks,
         }
+    }
+}
+
+/// Objects made per kind and host waits, since the device opened or (from [`Activity::since`])
+/// over a stretch of time.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Activity {
+    made: [u64; ObjectKind::ALL.len()],
+    pub waits: u64,
+    pub wait_ns: u64,
+}
+
+impl Activity {
+    /// What happened between `earlier` and this.
+    pub fn since(&self, earlier: &Activity) -> Activity {
+        let mut made = [0; ObjectKind::ALL.len()];
+        for (i, m) in made.iter_mut().enumerate() {
+            *m = self.made[i].saturating_sub(earlier.made[i]);
+        }
+        Activity {
+            made,
+            waits: self.waits.saturating_sub(earlier.waits),
+            wait_ns: self.wait_ns.saturating_sub(earlier.wait_ns),
+        }
+    }
+
+    /// Objects of `kind` made.
+    pub fn made(&self, kind: ObjectKind) -> u64 {
+        self.made[kind.index()]
     }
 }
 
@@ -146,5 +198,21 @@ mod tests {
         assert!(text.starts_with("buffers=0 images=1 image-views=0"), "{text}");
         assert!(text.ends_with("swapchains=0 memory-blocks=2"), "{text}");
         assert_eq!(text.split(' ').count(), ObjectKind::ALL.len() + 1);
+    }
+
+    #[test]
+    fn activity_counts_what_was_made_and_waited_for_between_two_moments() {
+        let live = LiveObjects::default();
+        live.created(ObjectKind::Buffer);
+        let before = live.activity();
+        live.created(ObjectKind::Buffer);
+        live.destroyed(ObjectKind::Buffer);
+        live.created(ObjectKind::MemoryAllocation);
+        live.waited(Duration::from_micros(3));
+        let during = live.activity().since(&before);
+        assert_eq!(during.made(ObjectKind::Buffer), 1, "made, whatever was destroyed");
+        assert_eq!(during.made(ObjectKind::MemoryAllocation), 1);
+        assert_eq!(during.made(ObjectKind::Image), 0);
+        assert_eq!((during.waits, during.wait_ns), (1, 3_000));
     }
 }

@@ -7,6 +7,7 @@ pub mod budget;
 pub mod caster_fill;
 pub mod chart;
 pub mod compare;
+pub mod frame_loop;
 pub mod heatmap;
 pub mod mip_flicker;
 pub mod passes;

@@ -102,9 +102,12 @@ impl Presenter {
     /// Waits until no frame slot is in flight: their copies read the frame's colour target.
     pub fn wait_slots(&self) -> Result<()> {
         let fences: Vec<vk::Fence> = self.slots.slots.iter().map(|slot| slot.in_flight).collect();
+        let began = std::time::Instant::now();
         // SAFETY: the fences are the slots' own, alive while `self` is; each was created
         // signalled or is reset only just before the submission that signals it.
-        unsafe { self.gpu.raw().wait_for_fences(&fences, true, u64::MAX) }.map_err(|result| Error::Submit {
+        let waited = unsafe { self.gpu.raw().wait_for_fences(&fences, true, u64::MAX) };
+        self.gpu.waited(began.elapsed());
+        waited.map_err(|result| Error::Submit {
             work: "the previous frames' copies to the window".into(),
             call: "vkWaitForFences",
             result,

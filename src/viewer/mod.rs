@@ -19,7 +19,7 @@
 //! frame on screen is `render::present` and `render::frame_copy`, over `gpu::swapchain`.
 
 mod app;
-mod controls;
+pub mod controls;
 pub(crate) mod keys;
 pub mod live;
 mod tour;
