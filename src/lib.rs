@@ -97,7 +97,7 @@ pub mod error;
 
 pub use error::{Error, Result};
 pub use frame::{write_png, StencilMode};
-pub use gpu::{DeviceChoice, Gpu, GpuOptions};
+pub use gpu::{DeviceChoice, Gpu, GpuOptions, ValidationChecks};
 pub use render::{FrameCounters, FrameOutput, PassCounters, Renderer};
 pub use scene::{
     builtin_scene, builtin_scene_at, scene_and_warnings_from_gltf, scene_from_gltf, Camera, Light, Scene, SceneLight,

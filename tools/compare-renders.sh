@@ -20,6 +20,11 @@ if [ ! -d "$base_tree" ] || [ "$(git -C "$base_tree" rev-parse HEAD)" != "$base_
   git worktree remove --force "$base_tree" 2>/dev/null || rm -rf "$base_tree"
   git worktree add --detach "$base_tree" "$base_commit" >/dev/null
 fi
+# The base tree sits inside this workspace's folder: a base from before the workspace declares
+# none, and cargo would take it for a member of this one. An empty table makes it its own.
+if ! grep -q '^\[workspace\]' "$base_tree/Cargo.toml"; then
+  printf '\n[workspace]\n' >> "$base_tree/Cargo.toml"
+fi
 # The shader compiler archive is prepared by tools/setup-debian.sh, not committed.
 mkdir -p "$base_tree/tools/shaderc-lib"
 cp -u tools/shaderc-lib/* "$base_tree/tools/shaderc-lib/" 2>/dev/null || true

@@ -24,13 +24,6 @@ pub struct GpuOptions {
     pub without_pass_queries: bool,
 }
 
-impl GpuOptions {
-    /// What tests use: validation on, device from `NOSTENCIL_DEVICE` or automatic.
-    pub fn for_tests() -> Self {
-        GpuOptions { validation: Some(ValidationChecks::ALL), device: DeviceChoice::Auto, without_pass_queries: false }
-    }
-}
-
 pub struct Gpu {
     allocator: ManuallyDrop<Mutex<Allocator>>,
     command_pool: Mutex<vk::CommandPool>,

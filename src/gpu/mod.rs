@@ -20,3 +20,4 @@ pub mod validation;
 
 pub use context::{Gpu, GpuOptions};
 pub use device::DeviceChoice;
+pub use validation::ValidationChecks;

@@ -12,9 +12,11 @@ pub mod ray_world;
 pub mod work_program;
 pub mod x_server;
 
-/// A GPU with the Khronos validation layer recording every message.
+/// A GPU with the Khronos validation layer recording every message (every check), on the
+/// device `NOSTENCIL_DEVICE` names or the one chosen automatically.
 pub fn gpu() -> Arc<Gpu> {
-    match Gpu::new(&GpuOptions::for_tests()) {
+    let options = GpuOptions { validation: Some(nostencil::ValidationChecks::ALL), ..GpuOptions::default() };
+    match Gpu::new(&options) {
         Ok(gpu) => gpu,
         Err(e) => panic!("tests need a Vulkan device with the validation layer (run tools/setup-debian.sh): {e}"),
     }
