@@ -120,6 +120,45 @@ impl Buffer {
     }
 }
 
+/// A host-visible buffer rewritten in place frame after frame, made again (with room to grow)
+/// only when the data outgrows it: per-frame geometry that allocates nothing in a steady state.
+/// The caller writes it only once the GPU no longer reads it (the frames it drew waited for).
+pub struct ReusedBuffer {
+    name: &'static str,
+    usage: vk::BufferUsageFlags,
+    buffer: Option<Buffer>,
+}
+
+impl ReusedBuffer {
+    pub fn new(name: &'static str, usage: vk::BufferUsageFlags) -> Self {
+        ReusedBuffer { name, usage, buffer: None }
+    }
+
+    /// Writes `data` from byte 0, first making a buffer twice the size of `data` where the one
+    /// it has is too small, and returns it.
+    pub fn fill<T: Pod>(&mut self, gpu: &Arc<Gpu>, data: &[T]) -> Result<&Buffer> {
+        let bytes: &[u8] = bytemuck::cast_slice(data);
+        let fits = self.buffer.as_ref().is_some_and(|b| b.size >= bytes.len() as u64);
+        if !fits {
+            self.buffer = None;
+            let size = (bytes.len() as u64 * 2).max(256);
+            self.buffer = Some(Buffer::new(gpu, self.name, size, self.usage, MemoryLocation::CpuToGpu)?);
+        }
+        match &mut self.buffer {
+            Some(buffer) => {
+                buffer.write(0, bytes)?;
+                Ok(buffer)
+            }
+            None => Err(Error::Internal(format!("{}: no buffer after making one", self.name))),
+        }
+    }
+
+    /// The buffer last filled.
+    pub fn buffer(&self) -> Option<&Buffer> {
+        self.buffer.as_ref()
+    }
+}
+
 impl Drop for Buffer {
     fn drop(&mut self) {
         // SAFETY: the GPU no longer uses the buffer: offscreen submissions are waited for by

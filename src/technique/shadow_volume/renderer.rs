@@ -1,6 +1,7 @@
-//! The shadow-volume renderer: casters prepared once, volumes rebuilt and uploaded every frame
-//! (whether or not the light or a caster moved: a cache is left for later), drawn by the plan
-//! of `recipes`.
+//! The shadow-volume renderer: casters prepared once, volumes rebuilt every frame (whether or
+//! not the light or a caster moved: a cache is left for later) and written into buffers kept
+//! from frame to frame (made again only when a volume outgrows them), drawn by the plan of
+//! `recipes`.
 
 use std::any::Any;
 use std::sync::Arc;
@@ -16,7 +17,7 @@ use super::recipes::{VolumeDraw, VolumeKinds, VolumeSet};
 use crate::error::Result;
 use crate::frame::StencilMode;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
-use crate::gpu::memory::Buffer;
+use crate::gpu::memory::{Buffer, ReusedBuffer};
 use crate::gpu::Gpu;
 use crate::mesh::caster::CastPath;
 use crate::mesh::Reach;
@@ -174,15 +175,31 @@ impl FrameStats for ShadowVolumeStats {
     }
 }
 
-/// One caster's volume, uploaded for this frame.
+/// One caster's volume, uploaded for this frame into its light's and caster's buffers.
 struct GpuVolume {
     object: usize,
-    vertices: Buffer,
-    indices: Buffer,
+    /// Its caster's index among the frame's casters: which of its light's buffers hold it.
+    caster: usize,
     /// What to draw, and how many counts each of its fragments adds.
     ranges: Vec<IndexRange>,
     /// Where it can shade: its walls are rasterised only there.
     scissor: vk::Rect2D,
+}
+
+/// The buffers one caster's volume for one light is written into, frame after frame: made once,
+/// and again only when a volume outgrows them.
+struct VolumeBuffers {
+    vertices: ReusedBuffer,
+    indices: ReusedBuffer,
+}
+
+impl VolumeBuffers {
+    fn new() -> Self {
+        VolumeBuffers {
+            vertices: ReusedBuffer::new("shadow volume vertices", vk::BufferUsageFlags::VERTEX_BUFFER),
+            indices: ReusedBuffer::new("shadow volume indices", vk::BufferUsageFlags::INDEX_BUFFER),
+        }
+    }
 }
 
 /// Indices `first..first + count` of a volume, whose every fragment adds `times` counts: drawn
@@ -292,6 +309,7 @@ pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetu
         saturation_counter,
         stencil: ctx.options.stencil,
         volumes: Vec::new(),
+        buffers: Vec::new(),
         covers: Vec::new(),
         light_rects: Vec::new(),
         primary,
@@ -330,6 +348,8 @@ pub struct ShadowVolumePasses {
     /// This frame's volumes per light (those that can shade something on screen; none for a
     /// light the plan does not shadow).
     volumes: Vec<Vec<GpuVolume>>,
+    /// Per light, per caster: the buffers its volume is written into, kept from frame to frame.
+    buffers: Vec<Vec<VolumeBuffers>>,
     /// Per light: where its full-screen passes draw (the union of its volumes' scissors).
     covers: Vec<Scissor>,
     /// Per light: its light scissor (Doom 3's), where its shading pass draws.
@@ -386,11 +406,17 @@ impl PassDraws<VolumeKinds> for ShadowVolumePasses {
             }
         }
         let volumes = self.volumes.get(light).map_or(&[][..], Vec::as_slice);
+        let buffers = self.buffers.get(light).map_or(&[][..], Vec::as_slice);
         for (index, pipeline) in pipelines.iter().enumerate() {
             if index > 0 {
                 rec.bind(pipeline);
             }
             for volume in volumes {
+                let slot = buffers.get(volume.caster);
+                let Some((vertices, indices)) = slot.and_then(|b| Some((b.vertices.buffer()?, b.indices.buffer()?)))
+                else {
+                    continue;
+                };
                 rec.set_scissor(volume.scissor);
                 for range in &volume.ranges {
                     let push = ObjectPush {
@@ -398,7 +424,7 @@ impl PassDraws<VolumeKinds> for ShadowVolumePasses {
                         colour: Vec4::new(0.0, 0.0, 0.0, alpha * range.times as f32),
                     };
                     rec.push(pipeline, &push);
-                    rec.draw_indexed_range(&volume.vertices, &volume.indices, range.first, range.count);
+                    rec.draw_indexed_range(vertices, indices, range.first, range.count);
                 }
             }
         }
@@ -436,7 +462,15 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
             let volumes = if shadows {
                 let lit = LitBy { light, rect: &light_rect, culled: &culled, boxes: &boxes };
                 let counting = Counting { zfail: self.stats.zfail, stencil: self.stencil };
-                upload_volumes(&self.gpu, scene, &self.casters, counting, self.requested, extent, lit)?
+                if self.buffers.len() <= index {
+                    self.buffers.resize_with(index + 1, Vec::new);
+                }
+                let buffers = &mut self.buffers[index];
+                if buffers.len() < self.casters.len() {
+                    buffers.resize_with(self.casters.len(), VolumeBuffers::new);
+                }
+                let uploads = Uploads { gpu: &self.gpu, buffers };
+                upload_volumes(uploads, scene, &self.casters, counting, self.requested, extent, lit)?
             } else {
                 Vec::new()
             };
@@ -532,8 +566,14 @@ struct LitBy<'a> {
     boxes: &'a [Option<bounds::Aabb>],
 }
 
+/// Where a light's volumes go: each caster's buffers, rewritten in place.
+struct Uploads<'a> {
+    gpu: &'a Arc<Gpu>,
+    buffers: &'a mut [VolumeBuffers],
+}
+
 fn upload_volumes(
-    gpu: &Arc<Gpu>,
+    uploads: Uploads,
     scene: &Scene,
     casters: &[Caster],
     counting: Counting,
@@ -614,18 +654,11 @@ fn upload_volumes(
         if indices.is_empty() {
             continue;
         }
-        volumes.push(GpuVolume {
-            object: caster.object,
-            vertices: Buffer::with_data(
-                gpu,
-                "shadow volume vertices",
-                &volume.vertices,
-                vk::BufferUsageFlags::VERTEX_BUFFER,
-            )?,
-            indices: Buffer::with_data(gpu, "shadow volume indices", &indices, vk::BufferUsageFlags::INDEX_BUFFER)?,
-            ranges,
-            scissor,
-        });
+        // The previous frame has finished (frames wait for their fence): its buffers are free.
+        let Some(slot) = uploads.buffers.get_mut(index) else { continue };
+        slot.vertices.fill(uploads.gpu, &volume.vertices)?;
+        slot.indices.fill(uploads.gpu, &indices)?;
+        volumes.push(GpuVolume { object: caster.object, caster: index, ranges, scissor });
     }
     Ok(volumes)
 }
