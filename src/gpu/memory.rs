@@ -96,6 +96,20 @@ impl Buffer {
         Ok(buffer)
     }
 
+    /// Writes `data` over this buffer in place where it is host-visible and large enough, else
+    /// replaces it with a host-visible buffer of `data` (the first pose of geometry whose buffer
+    /// was device-local): posed vertices rewritten every frame without an allocation. The GPU
+    /// must no longer read it (the frames that drew it were waited for).
+    pub fn rewrite<T: Pod>(&mut self, gpu: &Arc<Gpu>, name: &str, data: &[T], usage: vk::BufferUsageFlags) -> Result<()> {
+        let bytes: &[u8] = bytemuck::cast_slice(data);
+        let host_visible = self.allocation.as_ref().is_some_and(|a| a.mapped_ptr().is_some());
+        if host_visible && self.size >= bytes.len() as u64 {
+            return self.write(0, bytes);
+        }
+        *self = Buffer::with_data(gpu, name, data, usage)?;
+        Ok(())
+    }
+
     /// Copies `data` to byte `offset` of a host-visible buffer.
     pub fn write<T: Pod>(&mut self, offset: usize, data: &[T]) -> Result<()> {
         let data: &[u8] = bytemuck::cast_slice(data);

@@ -62,10 +62,10 @@ impl GpuScene {
         Ok(GpuScene { meshes, materials, posed: PoseTracker::new(scene) })
     }
 
-    /// Re-uploads the vertices of every skinned object whose palette changed since they were
+    /// Rewrites the vertices of every skinned object whose palette changed since they were
     /// uploaded, skinned on the CPU by the new palette (`Scene::pose_at` moves palettes, not
-    /// meshes); returns those objects. The caller's previous frame must be complete: the old
-    /// buffers are dropped.
+    /// meshes), into a host-visible buffer made at the first pose and written in place after it;
+    /// returns those objects. The caller's previous frame must be complete.
     pub fn follow_pose(&mut self, gpu: &Arc<Gpu>, scene: &Scene) -> Result<Vec<usize>> {
         let changed = self.posed.changed(scene);
         for &index in &changed {
@@ -78,7 +78,7 @@ impl GpuScene {
             let (positions, normals) = skin.posed_positions_normals();
             let name = format!("{} vertices (posed)", object.name);
             let vertices = scene_vertices(source, &positions, &normals);
-            mesh.vertices = Buffer::device_local(gpu, &name, &vertices, vk::BufferUsageFlags::VERTEX_BUFFER)?;
+            mesh.vertices.rewrite(gpu, &name, &vertices, vk::BufferUsageFlags::VERTEX_BUFFER)?;
         }
         Ok(changed)
     }

@@ -9,7 +9,6 @@ use glam::{Mat4, Vec3, Vec4};
 use super::cartoon_shading::{cartoon_desc, CartoonPush};
 use crate::shaders;
 use crate::error::Result;
-use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
 use crate::mesh::{self, Welded};
 use crate::pipeline::{FixedFunction, PipelineDesc, VertexLayout};
@@ -110,7 +109,7 @@ impl ExtrudedCopies {
             if !follow_skin(welded, skin) {
                 continue;
             }
-            mesh.vertices = Buffer::device_local(
+            mesh.vertices.rewrite(
                 gpu,
                 &format!("{} (extruded, posed)", object.name),
                 &vertices(welded),

@@ -9,11 +9,11 @@ use std::time::Instant;
 use ash::vk;
 use glam::{Mat4, Vec4};
 
-use super::edges::{InkMesh, InkQuads, InkVertex};
+use super::edges::{InkMesh, InkQuads};
 use super::recipes::{InkDraw, InkKinds, InkSet, EDGE_CLASSES};
 use crate::error::{Error, Result};
 use crate::frame::srgb;
-use crate::gpu::memory::Buffer;
+use crate::gpu::memory::ReusedBuffer;
 use crate::gpu::Gpu;
 use crate::render::object_push::draw_order;
 use crate::render::plan::PlannedPass;
@@ -156,8 +156,9 @@ impl PassDraws<InkKinds> for InkPasses {
                     viewport: self.viewport,
                 };
                 rec.push(pipeline, &push);
-                if let Some(Some((buffer, count))) = lines.buffers.get(class) {
-                    rec.draw_vertices(buffer, *count);
+                let count = lines.counts.get(class).copied().unwrap_or(0);
+                if let (Some(buffer), 1..) = (lines.buffers.get(class).and_then(ReusedBuffer::buffer), count) {
+                    rec.draw_vertices(buffer, count);
                 }
             }
             // The plan and the ink resources are both made from `self.method`: a draw of
@@ -235,8 +236,10 @@ struct EdgeLines {
     meshes: Vec<InkMesh>,
     crease_deg: f32,
     quads: InkQuads,
-    /// This frame's quads on the GPU, per class (none where the class drew no edge).
-    buffers: [Option<(Buffer, u32)>; 3],
+    /// This frame's quads on the GPU per class, in buffers kept from frame to frame, and their
+    /// vertex counts (0 where the class drew no edge).
+    buffers: [ReusedBuffer; 3],
+    counts: [u32; 3],
     /// CPU time of this frame's edge work (ms).
     cpu_ms: f64,
     /// Objects whose face normals and creases this frame recomputed.
@@ -257,7 +260,12 @@ impl EdgeLines {
             meshes,
             crease_deg,
             quads: InkQuads::default(),
-            buffers: [None, None, None],
+            buffers: [
+                ReusedBuffer::new("ink silhouette quads", vk::BufferUsageFlags::VERTEX_BUFFER),
+                ReusedBuffer::new("ink crease quads", vk::BufferUsageFlags::VERTEX_BUFFER),
+                ReusedBuffer::new("ink boundary quads", vk::BufferUsageFlags::VERTEX_BUFFER),
+            ],
+            counts: [0; 3],
             cpu_ms: 0.0,
             normal_updates: 0,
             warnings,
@@ -289,18 +297,14 @@ impl EdgeLines {
             mesh.append_quads(&model, eye, &mut self.quads);
         }
         self.cpu_ms = start.elapsed().as_secs_f64() * 1e3;
-        let upload = |name: &str, vertices: &[InkVertex]| -> Result<Option<(Buffer, u32)>> {
-            if vertices.is_empty() {
-                return Ok(None);
+        // The previous frame has finished (frames wait for their fence): the buffers are free.
+        let classes = [&self.quads.silhouette, &self.quads.crease, &self.quads.boundary];
+        for ((buffer, count), vertices) in self.buffers.iter_mut().zip(&mut self.counts).zip(classes) {
+            if !vertices.is_empty() {
+                buffer.fill(gpu, vertices)?;
             }
-            let buffer = Buffer::with_data(gpu, name, vertices, vk::BufferUsageFlags::VERTEX_BUFFER)?;
-            Ok(Some((buffer, vertices.len() as u32)))
-        };
-        self.buffers = [
-            upload("ink silhouette quads", &self.quads.silhouette)?,
-            upload("ink crease quads", &self.quads.crease)?,
-            upload("ink boundary quads", &self.quads.boundary)?,
-        ];
+            *count = vertices.len() as u32;
+        }
         Ok(())
     }
 }

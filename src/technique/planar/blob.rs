@@ -19,7 +19,7 @@ use super::shared::{BlobShadows, PlanarStats, SHADOW_BIAS};
 use crate::shaders;
 use crate::error::{Error, Result};
 use crate::gpu::descriptors::{Binding, DescriptorSet};
-use crate::gpu::memory::Buffer;
+use crate::gpu::memory::ReusedBuffer;
 use crate::gpu::texture::{Sampler, Texture};
 use crate::gpu::Gpu;
 use crate::pipeline::recipes::MODULATE_BY_SRC_COLOUR;
@@ -252,8 +252,10 @@ pub struct BlobPasses {
     tone: ShadowTone,
     plane: ReceiverPlane,
     meshes: SceneMeshes,
-    /// This frame's blob quads and their vertex count; none without blobs.
-    quads: Option<(Buffer, u32)>,
+    /// This frame's blob quads, in a buffer kept from frame to frame, and their vertex count
+    /// (0 without blobs).
+    quads: ReusedBuffer,
+    quad_vertices: u32,
     // Field order: the set is destroyed before the texture it points at.
     blob_set: DescriptorSet,
     _texture: Texture,
@@ -288,7 +290,7 @@ impl BlobPasses {
                 stages: vk::ShaderStageFlags::FRAGMENT,
             }],
         )?;
-        Ok(BlobPasses { tone: ctx.options.shadow_tone, plane, meshes, quads: None, blob_set, _texture: texture })
+        Ok(BlobPasses { tone: ctx.options.shadow_tone, plane, meshes, quads: ReusedBuffer::new("blob quads", vk::BufferUsageFlags::VERTEX_BUFFER), quad_vertices: 0, blob_set, _texture: texture })
     }
 }
 
@@ -315,8 +317,8 @@ impl PassDraws<BlobKinds> for BlobPasses {
         match draw {
             BlobDraw::Scene => self.meshes.draw_scene(rec, scene, &self.plane, pass, pipelines, 1.0),
             BlobDraw::Quads => {
-                if let Some((quads, vertex_count)) = &self.quads {
-                    rec.draw_vertices(quads, *vertex_count);
+                if let (Some(quads), 1..) = (self.quads.buffer(), self.quad_vertices) {
+                    rec.draw_vertices(quads, self.quad_vertices);
                 }
                 Ok(())
             }
@@ -340,13 +342,11 @@ impl Passes<BlobKinds> for BlobPasses {
         } else {
             Vec::new()
         };
-        self.quads = if vertices.is_empty() {
-            None
-        } else {
-            let buffer =
-                Buffer::with_data(&renderer.gpu, "blob quads", &vertices, vk::BufferUsageFlags::VERTEX_BUFFER)?;
-            Some((buffer, vertices.len() as u32))
-        };
+        // The previous frame has finished (frames wait for their fence): the buffer is free.
+        if !vertices.is_empty() {
+            self.quads.fill(&renderer.gpu, &vertices)?;
+        }
+        self.quad_vertices = vertices.len() as u32;
         Ok(())
     }
 

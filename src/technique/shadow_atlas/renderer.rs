@@ -300,7 +300,7 @@ impl ShadowPasses {
             };
             let interleaved =
                 atlas_vertices(&pick(&positions, Vec3::ZERO), &pick(&normals, Vec3::Y), &layout.uvs, &layout.surface);
-            mesh.vertices = Buffer::device_local(
+            mesh.vertices.rewrite(
                 &self.gpu,
                 &format!("{} atlas vertices (posed)", object.name),
                 &interleaved,
