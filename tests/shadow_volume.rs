@@ -19,7 +19,7 @@ use nostencil::mesh::MeshData;
 use nostencil::render::plan::{Draws, PassKinds, PlannedPass};
 use nostencil::render::Pipeline;
 use nostencil::render::{FrameRecorder, FrameUniforms, Renderer};
-use nostencil::scene::{builtin_scene, Scene, BUILTIN_SCENES};
+use nostencil::scene::{builtin_scene, Light, Scene, BUILTIN_SCENES};
 use nostencil::technique::shadow_volume::{self, Normalize, ShadowVolumeOptions, VolumeMethod};
 use nostencil::technique::{alpha_counter, render_scene, RenderOptions, ShadowMode, ShadowTone, Technique};
 
@@ -1115,5 +1115,60 @@ fn the_seed_path_for_k_1_is_the_seeds_own_pass_list() {
     assert_eq!(pass_names(&emulated), expected);
     let reference = render_toned(&gpu, &scene, StencilMode::Reference, options, ShadowTone::Grey(192));
     assert_eq!(rgb_differences(&emulated.output.image, &reference.output.image), 0);
+    common::assert_no_validation_messages(&gpu);
+}
+
+/// A volume whose light, reach and caster did not move is drawn from the buffers of the frames
+/// before, not built again, and draws the same image; where the light moved, or one caster
+/// turned, exactly those volumes are built again, and the frame equals a fresh renderer's.
+#[test]
+fn unmoved_volumes_are_reused_and_moved_ones_built_again_to_the_same_image() {
+    let gpu = common::gpu();
+    // Several casters, none skinned (a skinned caster is built again every frame whatever moved).
+    let base = builtin_scene("overlap").expect("scene");
+    assert!(
+        base.objects.iter().all(|o| o.skin.is_none()) && base.objects.iter().filter(|o| o.casts_shadow).count() > 1
+    );
+    for stencil in [StencilMode::Emulated, StencilMode::Reference] {
+        let options = RenderOptions {
+            width: SIZE.0,
+            height: SIZE.1,
+            samples: 1,
+            stencil,
+            technique: technique("shadow-volume"),
+            ..Default::default()
+        };
+        let frame = |renderer: &mut Box<dyn nostencil::SceneRenderer + '_>, scene: &Scene| {
+            let frame = renderer.frame_with(scene).expect("frame");
+            let stats = frame.stats::<nostencil::technique::ShadowVolumeStats>().expect("statistics").clone();
+            (frame.output.image, stats.lights[0].clone())
+        };
+        let mut renderer = options.technique.build(&gpu, &base, &options).expect("renderer");
+        let (first, built) = frame(&mut renderer, &base);
+        assert!(built.volumes > 0 && built.reused == 0, "{stencil:?}: {built:?}");
+        let (second, again) = frame(&mut renderer, &base);
+        assert_eq!(again.reused, again.volumes, "{stencil:?}: nothing moved, every volume reused: {again:?}");
+        assert!(first == second, "{stencil:?}: the reused volumes drew another image");
+
+        let mut moved_light = base.clone();
+        let Light::Directional { direction } = moved_light.lights[0].geometry() else { panic!("a sun") };
+        moved_light.lights[0]
+            .set_geometry(Light::Directional { direction: (direction + Vec3::new(0.2, 0.0, 0.1)).normalize() });
+        let mut turned = base.clone();
+        let caster = turned.objects.iter().position(|o| o.casts_shadow).expect("a caster");
+        turned.objects[caster].transform = Mat4::from_rotation_y(0.4) * turned.objects[caster].transform;
+        for (what, moved, most_reused) in
+            [("a moved light", &moved_light, 0), ("a turned caster", &turned, again.volumes - 1)]
+        {
+            let (image, report) = frame(&mut renderer, moved);
+            assert!(report.reused <= most_reused, "{stencil:?}, {what}: {report:?}");
+            let mut fresh = options.technique.build(&gpu, &base, &options).expect("renderer");
+            let (expected, _) = frame(&mut fresh, moved);
+            assert!(image == expected, "{stencil:?}, {what}: the rebuilt volumes drew another image");
+            // Back to where it was: built again for the base scene, the base image.
+            let (back, _) = frame(&mut renderer, &base);
+            assert!(back == first, "{stencil:?}, {what}: not the base image after moving back");
+        }
+    }
     common::assert_no_validation_messages(&gpu);
 }

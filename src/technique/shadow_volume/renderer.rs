@@ -7,7 +7,7 @@ use std::any::Any;
 use std::sync::Arc;
 
 use ash::vk;
-use glam::Vec4;
+use glam::{Mat4, Vec4};
 
 use super::bounds;
 use super::casters::{build_volume_for, choose_zfail, prepare_casters, Caster};
@@ -26,7 +26,7 @@ use crate::render::plan::{Draws, PlannedPass, Scissor};
 use crate::render::plan_execution::PassDraws;
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, GpuScene, ObjectPush, Renderer};
-use crate::scene::{Scene, SceneLight};
+use crate::scene::{Light, Scene, SceneLight};
 use crate::technique::alpha_counter;
 use crate::technique::frame_renderer::{BuildContext, Passes};
 use crate::technique::interface::{FrameStats, RenderOptions};
@@ -83,6 +83,9 @@ pub struct LightReport {
     /// Casters whose volume was drawn for this light (the others are out of its reach, or
     /// shade nothing on screen, or culled).
     pub volumes: usize,
+    /// Of those, the volumes drawn from the previous frames' buffers: neither the light nor the
+    /// caster moved, so they were not built again (an unposed caster's only).
+    pub reused: usize,
     /// Casters left out because they lie wholly in the shadow of other casters
     /// (`--cull-casters`).
     pub culled: usize,
@@ -142,8 +145,9 @@ impl FrameStats for ShadowVolumeStats {
             let shadows = if light.shadows {
                 let fill = light.volume_fill.map_or("not measured".into(), |f| format!("{f:.2}"));
                 format!(
-                    "{} volumes, {} casters culled | volume fill {fill} fragments/px, {:.2} samples passed/px{}",
+                    "{} volumes ({} reused from earlier frames), {} casters culled | volume fill {fill} fragments/px, {:.2} samples passed/px{}",
                     light.volumes,
+                    light.reused,
                     light.culled,
                     light.volume_samples_passed,
                     if self.zfail { "" } else { " (the floor: in front of the receivers)" },
@@ -191,6 +195,8 @@ struct GpuVolume {
 struct VolumeBuffers {
     vertices: ReusedBuffer,
     indices: ReusedBuffer,
+    /// What they hold.
+    built: Option<BuiltVolume>,
 }
 
 impl VolumeBuffers {
@@ -198,6 +204,7 @@ impl VolumeBuffers {
         VolumeBuffers {
             vertices: ReusedBuffer::new("shadow volume vertices", vk::BufferUsageFlags::VERTEX_BUFFER),
             indices: ReusedBuffer::new("shadow volume indices", vk::BufferUsageFlags::INDEX_BUFFER),
+            built: None,
         }
     }
 }
@@ -459,6 +466,7 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
                 Culling::none(self.casters.len())
             };
             self.stats.culling_cpu_ms += culled.cpu_ms;
+            let mut reused = 0;
             let volumes = if shadows {
                 let lit = LitBy { light, rect: &light_rect, culled: &culled, boxes: &boxes };
                 let counting = Counting { zfail: self.stats.zfail, stencil: self.stencil };
@@ -469,7 +477,7 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
                 if buffers.len() < self.casters.len() {
                     buffers.resize_with(self.casters.len(), VolumeBuffers::new);
                 }
-                let uploads = Uploads { gpu: &self.gpu, buffers };
+                let uploads = Uploads { gpu: &self.gpu, buffers, reused: &mut reused };
                 upload_volumes(uploads, scene, &self.casters, counting, self.requested, extent, lit)?
             } else {
                 Vec::new()
@@ -484,6 +492,7 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
                 name: light.name.clone(),
                 shadows,
                 volumes: volumes.len(),
+                reused,
                 culled: culled.count(),
                 volume_fill: None,
                 volume_samples_passed: 0.0,
@@ -570,6 +579,8 @@ struct LitBy<'a> {
 struct Uploads<'a> {
     gpu: &'a Arc<Gpu>,
     buffers: &'a mut [VolumeBuffers],
+    /// Counts the volumes whose buffers already held them.
+    reused: &'a mut usize,
 }
 
 fn upload_volumes(
@@ -581,7 +592,6 @@ fn upload_volumes(
     extent: vk::Extent2D,
     lit: LitBy,
 ) -> Result<Vec<GpuVolume>> {
-    let zfail = counting.zfail;
     let whole_frame = vk::Rect2D { offset: vk::Offset2D::default(), extent };
     // Unclipped: no receivers' box, so every volume reaches infinity over the whole frame.
     let boxes = if options.clip_volumes { lit.boxes } else { &[] };
@@ -624,41 +634,78 @@ fn upload_volumes(
             }
             _ => (Reach::Infinite, whole_frame),
         };
-        // Far caps close the volumes (point lights, and every clipped volume): drawn in both
-        // methods, so that the background (depth 1) behind a volume never counts. Near caps for
-        // z-fail, and for two-sided casters in z-pass too: a ray may pass one of their
-        // triangles that the scene pass culled (seen from behind, as through the hole of an
-        // open box), so the caster itself does not hide its near cap.
-        let volume = build_volume_for(scene, caster, &geometry, reach, true);
-        let mut indices = volume.sides.clone();
-        if zfail || matches!(caster.mesh.path, CastPath::TwoSided { .. }) {
-            indices.extend_from_slice(&volume.near_cap);
-        }
-        indices.extend_from_slice(&volume.far_cap);
-        let mut ranges = vec![IndexRange { first: 0, count: 0, times: 1 }];
-        match counting.stencil {
-            StencilMode::Reference => indices.extend(volume.repeated_copies()),
-            StencilMode::Emulated => {
-                for (times, walls) in &volume.repeated_walls {
-                    ranges.push(IndexRange { first: indices.len() as u32, count: walls.len() as u32, times: *times });
-                    indices.extend_from_slice(walls);
-                }
+        let Some(slot) = uploads.buffers.get_mut(index) else { continue };
+        // A volume is a function of the light, its reach and the caster's transform (and pose):
+        // where none of them moved, its buffers still hold it (Doom 3's static shadows).
+        let key = VolumeKey { light: geometry, reach, transform: object.transform };
+        let ranges = match &slot.built {
+            Some(built) if object.skin.is_none() && built.key == key => {
+                *uploads.reused += 1;
+                built.ranges.clone()
             }
-        }
-        ranges[0].count = ranges.get(1).map_or(indices.len() as u32, |r| r.first);
-        // A mirroring transform (negative determinant) flips every winding on screen: turn
-        // the triangles back so that the volume's faces still point out.
-        if object.transform.determinant() < 0.0 {
-            indices.chunks_exact_mut(3).for_each(|t| t.swap(1, 2));
-        }
-        if indices.is_empty() {
+            _ => {
+                let (vertices, indices, ranges) = volume_for(scene, caster, key, counting);
+                // The previous frame has finished (frames wait for their fence): its buffers are free.
+                if !indices.is_empty() {
+                    slot.vertices.fill(uploads.gpu, &vertices)?;
+                    slot.indices.fill(uploads.gpu, &indices)?;
+                }
+                slot.built = Some(BuiltVolume { key, ranges: ranges.clone() });
+                ranges
+            }
+        };
+        if ranges.iter().all(|r| r.count == 0) {
             continue;
         }
-        // The previous frame has finished (frames wait for their fence): its buffers are free.
-        let Some(slot) = uploads.buffers.get_mut(index) else { continue };
-        slot.vertices.fill(uploads.gpu, &volume.vertices)?;
-        slot.indices.fill(uploads.gpu, &indices)?;
         volumes.push(GpuVolume { object: caster.object, caster: index, ranges, scissor });
     }
     Ok(volumes)
+}
+
+/// What a volume is built from, beside its caster: equal keys (and an unposed caster) give equal
+/// volumes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct VolumeKey {
+    light: Light,
+    reach: Reach,
+    transform: Mat4,
+}
+
+/// The volume last written into a caster's buffers for one light, and what it was built from.
+struct BuiltVolume {
+    key: VolumeKey,
+    ranges: Vec<IndexRange>,
+}
+
+/// `caster`'s volume for `key`: its vertices, its indices in the order it is drawn, and its
+/// index ranges (empty indices: it casts nothing).
+fn volume_for(scene: &Scene, caster: &Caster, key: VolumeKey, counting: Counting) -> (Vec<Vec4>, Vec<u32>, Vec<IndexRange>) {
+    // Far caps close the volumes (point lights, and every clipped volume): drawn in both
+    // methods, so that the background (depth 1) behind a volume never counts. Near caps for
+    // z-fail, and for two-sided casters in z-pass too: a ray may pass one of their
+    // triangles that the scene pass culled (seen from behind, as through the hole of an
+    // open box), so the caster itself does not hide its near cap.
+    let volume = build_volume_for(scene, caster, &key.light, key.reach, true);
+    let mut indices = volume.sides.clone();
+    if counting.zfail || matches!(caster.mesh.path, CastPath::TwoSided { .. }) {
+        indices.extend_from_slice(&volume.near_cap);
+    }
+    indices.extend_from_slice(&volume.far_cap);
+    let mut ranges = vec![IndexRange { first: 0, count: 0, times: 1 }];
+    match counting.stencil {
+        StencilMode::Reference => indices.extend(volume.repeated_copies()),
+        StencilMode::Emulated => {
+            for (times, walls) in &volume.repeated_walls {
+                ranges.push(IndexRange { first: indices.len() as u32, count: walls.len() as u32, times: *times });
+                indices.extend_from_slice(walls);
+            }
+        }
+    }
+    ranges[0].count = ranges.get(1).map_or(indices.len() as u32, |r| r.first);
+    // A mirroring transform (negative determinant) flips every winding on screen: turn
+    // the triangles back so that the volume's faces still point out.
+    if key.transform.determinant() < 0.0 {
+        indices.chunks_exact_mut(3).for_each(|t| t.swap(1, 2));
+    }
+    (volume.vertices, indices, ranges)
 }
