@@ -102,12 +102,18 @@ impl Buffer {
     /// must no longer read it (the frames that drew it were waited for).
     pub fn rewrite<T: Pod>(&mut self, gpu: &Arc<Gpu>, name: &str, data: &[T], usage: vk::BufferUsageFlags) -> Result<()> {
         let bytes: &[u8] = bytemuck::cast_slice(data);
-        let host_visible = self.allocation.as_ref().is_some_and(|a| a.mapped_ptr().is_some());
-        if host_visible && self.size >= bytes.len() as u64 {
+        if self.writable_in_place(bytes.len()) {
             return self.write(0, bytes);
         }
         *self = Buffer::with_data(gpu, name, data, usage)?;
         Ok(())
+    }
+
+    /// Whether `bytes` bytes can be written over this buffer from byte 0: it is host-visible and
+    /// large enough.
+    fn writable_in_place(&self, bytes: usize) -> bool {
+        let host_visible = self.allocation.as_ref().is_some_and(|a| a.mapped_ptr().is_some());
+        host_visible && self.size >= bytes as u64
     }
 
     /// Copies `data` to byte `offset` of a host-visible buffer.
@@ -141,35 +147,38 @@ pub struct ReusedBuffer {
     name: &'static str,
     usage: vk::BufferUsageFlags,
     buffer: Option<Buffer>,
+    /// Elements the last fill wrote.
+    len: u32,
 }
 
 impl ReusedBuffer {
     pub fn new(name: &'static str, usage: vk::BufferUsageFlags) -> Self {
-        ReusedBuffer { name, usage, buffer: None }
+        ReusedBuffer { name, usage, buffer: None, len: 0 }
     }
 
     /// Writes `data` from byte 0, first making a buffer twice the size of `data` where the one
-    /// it has is too small, and returns it.
-    pub fn fill<T: Pod>(&mut self, gpu: &Arc<Gpu>, data: &[T]) -> Result<&Buffer> {
+    /// it has is too small (none for no data: then it holds nothing to draw).
+    pub fn fill<T: Pod>(&mut self, gpu: &Arc<Gpu>, data: &[T]) -> Result<()> {
+        self.len = 0;
+        if data.is_empty() {
+            return Ok(());
+        }
         let bytes: &[u8] = bytemuck::cast_slice(data);
-        let fits = self.buffer.as_ref().is_some_and(|b| b.size >= bytes.len() as u64);
-        if !fits {
+        if !self.buffer.as_ref().is_some_and(|b| b.writable_in_place(bytes.len())) {
             self.buffer = None;
             let size = (bytes.len() as u64 * 2).max(256);
             self.buffer = Some(Buffer::new(gpu, self.name, size, self.usage, MemoryLocation::CpuToGpu)?);
         }
-        match &mut self.buffer {
-            Some(buffer) => {
-                buffer.write(0, bytes)?;
-                Ok(buffer)
-            }
-            None => Err(Error::Internal(format!("{}: no buffer after making one", self.name))),
+        if let Some(buffer) = &mut self.buffer {
+            buffer.write(0, bytes)?;
         }
+        self.len = data.len() as u32;
+        Ok(())
     }
 
-    /// The buffer last filled.
-    pub fn buffer(&self) -> Option<&Buffer> {
-        self.buffer.as_ref()
+    /// The buffer and the elements the last fill wrote into it; none when it wrote none.
+    pub fn filled(&self) -> Option<(&Buffer, u32)> {
+        self.buffer.as_ref().filter(|_| self.len > 0).map(|b| (b, self.len))
     }
 }
 

@@ -156,8 +156,7 @@ impl PassDraws<InkKinds> for InkPasses {
                     viewport: self.viewport,
                 };
                 rec.push(pipeline, &push);
-                let count = lines.counts.get(class).copied().unwrap_or(0);
-                if let (Some(buffer), 1..) = (lines.buffers.get(class).and_then(ReusedBuffer::buffer), count) {
+                if let Some((buffer, count)) = lines.buffers.get(class).and_then(ReusedBuffer::filled) {
                     rec.draw_vertices(buffer, count);
                 }
             }
@@ -236,10 +235,9 @@ struct EdgeLines {
     meshes: Vec<InkMesh>,
     crease_deg: f32,
     quads: InkQuads,
-    /// This frame's quads on the GPU per class, in buffers kept from frame to frame, and their
-    /// vertex counts (0 where the class drew no edge).
+    /// This frame's quads on the GPU per class, in buffers kept from frame to frame (none filled
+    /// where the class drew no edge).
     buffers: [ReusedBuffer; 3],
-    counts: [u32; 3],
     /// CPU time of this frame's edge work (ms).
     cpu_ms: f64,
     /// Objects whose face normals and creases this frame recomputed.
@@ -265,7 +263,6 @@ impl EdgeLines {
                 ReusedBuffer::new("ink crease quads", vk::BufferUsageFlags::VERTEX_BUFFER),
                 ReusedBuffer::new("ink boundary quads", vk::BufferUsageFlags::VERTEX_BUFFER),
             ],
-            counts: [0; 3],
             cpu_ms: 0.0,
             normal_updates: 0,
             warnings,
@@ -299,11 +296,8 @@ impl EdgeLines {
         self.cpu_ms = start.elapsed().as_secs_f64() * 1e3;
         // The previous frame has finished (frames wait for their fence): the buffers are free.
         let classes = [&self.quads.silhouette, &self.quads.crease, &self.quads.boundary];
-        for ((buffer, count), vertices) in self.buffers.iter_mut().zip(&mut self.counts).zip(classes) {
-            if !vertices.is_empty() {
-                buffer.fill(gpu, vertices)?;
-            }
-            *count = vertices.len() as u32;
+        for (buffer, vertices) in self.buffers.iter_mut().zip(classes) {
+            buffer.fill(gpu, vertices)?;
         }
         Ok(())
     }

@@ -252,10 +252,8 @@ pub struct BlobPasses {
     tone: ShadowTone,
     plane: ReceiverPlane,
     meshes: SceneMeshes,
-    /// This frame's blob quads, in a buffer kept from frame to frame, and their vertex count
-    /// (0 without blobs).
+    /// This frame's blob quads, in a buffer kept from frame to frame (none filled without blobs).
     quads: ReusedBuffer,
-    quad_vertices: u32,
     // Field order: the set is destroyed before the texture it points at.
     blob_set: DescriptorSet,
     _texture: Texture,
@@ -290,7 +288,7 @@ impl BlobPasses {
                 stages: vk::ShaderStageFlags::FRAGMENT,
             }],
         )?;
-        Ok(BlobPasses { tone: ctx.options.shadow_tone, plane, meshes, quads: ReusedBuffer::new("blob quads", vk::BufferUsageFlags::VERTEX_BUFFER), quad_vertices: 0, blob_set, _texture: texture })
+        Ok(BlobPasses { tone: ctx.options.shadow_tone, plane, meshes, quads: ReusedBuffer::new("blob quads", vk::BufferUsageFlags::VERTEX_BUFFER), blob_set, _texture: texture })
     }
 }
 
@@ -317,8 +315,8 @@ impl PassDraws<BlobKinds> for BlobPasses {
         match draw {
             BlobDraw::Scene => self.meshes.draw_scene(rec, scene, &self.plane, pass, pipelines, 1.0),
             BlobDraw::Quads => {
-                if let (Some(quads), 1..) = (self.quads.buffer(), self.quad_vertices) {
-                    rec.draw_vertices(quads, self.quad_vertices);
+                if let Some((quads, vertex_count)) = self.quads.filled() {
+                    rec.draw_vertices(quads, vertex_count);
                 }
                 Ok(())
             }
@@ -343,10 +341,7 @@ impl Passes<BlobKinds> for BlobPasses {
             Vec::new()
         };
         // The previous frame has finished (frames wait for their fence): the buffer is free.
-        if !vertices.is_empty() {
-            self.quads.fill(&renderer.gpu, &vertices)?;
-        }
-        self.quad_vertices = vertices.len() as u32;
+        self.quads.fill(&renderer.gpu, &vertices)?;
         Ok(())
     }
 

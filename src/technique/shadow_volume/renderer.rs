@@ -420,7 +420,7 @@ impl PassDraws<VolumeKinds> for ShadowVolumePasses {
             }
             for volume in volumes {
                 let slot = buffers.get(volume.caster);
-                let Some((vertices, indices)) = slot.and_then(|b| Some((b.vertices.buffer()?, b.indices.buffer()?)))
+                let Some((vertices, indices)) = slot.and_then(|b| Some((b.vertices.filled()?.0, b.indices.filled()?.0)))
                 else {
                     continue;
                 };
@@ -646,10 +646,8 @@ fn upload_volumes(
             _ => {
                 let (vertices, indices, ranges) = volume_for(scene, caster, key, counting);
                 // The previous frame has finished (frames wait for their fence): its buffers are free.
-                if !indices.is_empty() {
-                    slot.vertices.fill(uploads.gpu, &vertices)?;
-                    slot.indices.fill(uploads.gpu, &indices)?;
-                }
+                slot.vertices.fill(uploads.gpu, &vertices)?;
+                slot.indices.fill(uploads.gpu, &indices)?;
                 slot.built = Some(BuiltVolume { key, ranges: ranges.clone() });
                 ranges
             }
