@@ -58,38 +58,41 @@
 // by nature: it sits between a program and its driver); each unsafe block says why it is sound.
 #![warn(clippy::undocumented_unsafe_blocks)]
 
-/// Declares the modules below the façade: `pub(crate)` in a normal build, so that a port sees
-/// only what this page documents, and public (hidden from the docs) with the `internals`
-/// feature, which only this crate's own tests, benches and examples turn on (through its
-/// dev-dependency on itself).
-macro_rules! internal_modules {
-    ($($(#[$attr:meta])* mod $name:ident;)*) => {
-        $(
-            $(#[$attr])*
-            #[cfg(feature = "internals")]
-            #[doc(hidden)]
-            pub mod $name;
-            $(#[$attr])*
-            #[cfg(not(feature = "internals"))]
-            #[allow(dead_code, unused_imports)]
-            pub(crate) mod $name;
-        )*
-    };
-}
+// Everything below the façade is private to the crate: a port sees only what this page
+// documents. The tests that reach inside (tests/inside/) are compiled into the crate's own test
+// build, where `nostencil::` names the crate itself, as it does for the integration tests.
+#[cfg(test)]
+extern crate self as nostencil;
+#[cfg(test)]
+#[path = "../tests/inside/common.rs"]
+mod common;
+#[cfg(test)]
+#[path = "../tests/inside/mod.rs"]
+mod inside;
 
-internal_modules! {
-    mod frame;
-    mod gpu;
-    mod mesh;
-    mod names;
-    mod pipeline;
-    mod profile;
-    mod render;
-    mod scene;
-    mod shaders;
-    mod technique;
-    mod viewer;
-}
+// Some items only the tests or one build of the program use.
+#[allow(dead_code, unused_imports)]
+mod frame;
+#[allow(dead_code, unused_imports)]
+mod gpu;
+#[allow(dead_code, unused_imports)]
+mod mesh;
+#[allow(dead_code, unused_imports)]
+mod names;
+#[allow(dead_code, unused_imports)]
+mod pipeline;
+#[allow(dead_code, unused_imports)]
+mod profile;
+#[allow(dead_code, unused_imports)]
+mod render;
+#[allow(dead_code, unused_imports)]
+mod scene;
+#[allow(dead_code, unused_imports)]
+mod shaders;
+#[allow(dead_code, unused_imports)]
+mod technique;
+#[allow(dead_code, unused_imports)]
+mod viewer;
 
 #[doc(hidden)]
 pub mod cli;

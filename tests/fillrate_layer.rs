@@ -227,7 +227,7 @@ fn every_pass_label_inside_the_frame_is_a_section_whose_counters_sum_to_the_pass
     // nostencil labels each measured pass inside its one "frame" render pass (draw groups, no
     // subpasses): the layer reports each as a section under the frame's row, for every technique.
     let dir = scratch_dir("fillrate_layer_sections");
-    for technique in nostencil::technique::registry::names() {
+    for technique in nostencil::TECHNIQUES.iter().map(|t| t.name()) {
         let out = dir.join(format!("{technique}.json"));
         let png = dir.join(format!("{technique}.png"));
         let args = ["--size", "64x64", "--technique", technique];

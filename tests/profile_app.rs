@@ -505,7 +505,7 @@ fn per_draw_counts_sum_to_each_render_pass_exactly() {
 fn the_tiler_check_flags_nothing_and_changes_no_pixel_of_programs_that_do_it_right() {
     let dir = common::scratch_dir("profile_app_tiler_check");
     let mut poisoned = 0;
-    for technique in nostencil::technique::registry::names() {
+    for technique in nostencil::TECHNIQUES.iter().map(|t| t.name()) {
         for samples in ["1", "4"] {
             let name = format!("{technique}-{samples}");
             let png = |kind: &str| dir.join(format!("{name}-{kind}.png"));

@@ -123,12 +123,17 @@ fn docs_tests_has_a_row_for_every_test_file() {
     let page = read("docs/tests.md");
     let rows: Vec<String> =
         table_after(&page, "## What each test file proves").iter().map(|row| code_cell(&row[0])).collect();
-    let mut files: Vec<String> = std::fs::read_dir(root().join("tests"))
-        .expect("tests/")
-        .flatten()
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|name| name.ends_with(".rs"))
-        .collect();
+    // The integration suite's files, and those compiled into the library as `inside/NAME.rs`.
+    let rust_files = |folder: &str, prefix: &str| -> Vec<String> {
+        std::fs::read_dir(root().join(folder))
+            .unwrap_or_else(|e| panic!("{folder}: {e}"))
+            .flatten()
+            .map(|e| format!("{prefix}{}", e.file_name().to_string_lossy()))
+            .filter(|name| name.ends_with(".rs"))
+            .collect()
+    };
+    let mut files = rust_files("tests", "");
+    files.extend(rust_files("tests/inside", "inside/"));
     files.sort();
     let missing: Vec<&String> = files.iter().filter(|f| !rows.contains(f)).collect();
     let gone: Vec<&String> = rows.iter().filter(|r| !files.contains(r)).collect();

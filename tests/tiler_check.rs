@@ -53,7 +53,7 @@ unsafe fn blend_pipeline(
         layout,
         render_pass,
         SIZE,
-        nostencil::shaders::SOLID_FRAG,
+        common::raw_vulkan::SOLID_FRAG,
         None,
         &attachments,
     )

@@ -13,7 +13,7 @@ packages=(
   libvulkan1 libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
   libshaderc-dev glslang-dev spirv-tools
   binutils pkg-config
-  # `nostencil view` and tests/viewer.rs: an X server without a screen, and the libraries
+  # `nostencil view` and tests/inside/viewer.rs: an X server without a screen, and the libraries
   # winit opens at run time for X11 (Xlib, XCB, Xcursor, XRandR, XInput2, xkbcommon); the test
   # presses keys and closes the window with xdotool.
   xvfb xauth xdotool

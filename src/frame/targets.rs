@@ -110,8 +110,7 @@ fn frame_images(
     )?;
     let multisampled = if multisampled_frame {
         // Transient: it lives in tile memory and is resolved before it would leave it.
-        let kept =
-            if keep_samples { vk::ImageUsageFlags::SAMPLED } else { vk::ImageUsageFlags::TRANSIENT_ATTACHMENT };
+        let kept = if keep_samples { vk::ImageUsageFlags::SAMPLED } else { vk::ImageUsageFlags::TRANSIENT_ATTACHMENT };
         Some(Image::new(
             gpu,
             &ImageDesc {

@@ -1,7 +1,7 @@
-//! Test-only fault injection: GPU failures the driver cannot be made to produce on demand
-//! (a lost device, device memory running out, a small heap). Compiled in only with the cargo
-//! feature `fault-injection`, which the crate's dev-dependency on itself turns on for its own
-//! tests; a normal build reads no variable here and every function answers "no fault".
+//! Fault injection for tests: GPU failures the driver cannot be made to produce on demand
+//! (a lost device, device memory running out, a small heap). The tests run the real `nostencil`
+//! program, so the hooks are in every build, each behind an environment variable read once;
+//! with none of them set (a user's run) every function answers "no fault".
 //!
 //! - `NOSTENCIL_FAULT_SUBMIT=WHERE:RESULT`: the submit of WHERE (`frame`: a frame's passes;
 //!   `present`: the viewer's copy to the window) fails with RESULT (`device-lost` or
@@ -9,6 +9,8 @@
 //! - `NOSTENCIL_FAULT_HEAP_MIB=N`: the device's heaps report at most N MiB.
 //! - `NOSTENCIL_FAULT_CRASH_AFTER=N`: the viewer aborts (SIGABRT) right after its Nth present: a
 //!   program that crashes on purpose, for profile-app's crash report.
+
+use std::sync::OnceLock;
 
 use ash::vk;
 
@@ -21,10 +23,8 @@ pub enum Submission {
 
 /// The result an injected fault makes the `submission` submit fail with, if any.
 pub fn submit_fault(submission: Submission) -> Option<vk::Result> {
-    if !cfg!(feature = "fault-injection") {
-        return None;
-    }
-    let value = std::env::var("NOSTENCIL_FAULT_SUBMIT").ok()?;
+    static FAULT: OnceLock<Option<String>> = OnceLock::new();
+    let value = FAULT.get_or_init(|| std::env::var("NOSTENCIL_FAULT_SUBMIT").ok()).as_deref()?;
     let (at, result) = value.split_once(':')?;
     let wanted = match at {
         "frame" => Submission::Frame,
@@ -41,17 +41,12 @@ pub fn submit_fault(submission: Submission) -> Option<vk::Result> {
 
 /// The present after which the viewer crashes on purpose, if any.
 pub fn crash_after_presents() -> Option<u32> {
-    if !cfg!(feature = "fault-injection") {
-        return None;
-    }
-    std::env::var("NOSTENCIL_FAULT_CRASH_AFTER").ok()?.parse().ok()
+    static AFTER: OnceLock<Option<u32>> = OnceLock::new();
+    *AFTER.get_or_init(|| std::env::var("NOSTENCIL_FAULT_CRASH_AFTER").ok()?.parse().ok())
 }
 
 /// The injected heap size limit in bytes, if any.
 pub fn heap_limit() -> Option<u64> {
-    if !cfg!(feature = "fault-injection") {
-        return None;
-    }
-    let mib: u64 = std::env::var("NOSTENCIL_FAULT_HEAP_MIB").ok()?.parse().ok()?;
-    Some(mib << 20)
+    static LIMIT: OnceLock<Option<u64>> = OnceLock::new();
+    *LIMIT.get_or_init(|| std::env::var("NOSTENCIL_FAULT_HEAP_MIB").ok()?.parse::<u64>().ok().map(|mib| mib << 20))
 }

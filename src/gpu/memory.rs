@@ -100,7 +100,13 @@ impl Buffer {
     /// replaces it with a host-visible buffer of `data` (the first pose of geometry whose buffer
     /// was device-local): posed vertices rewritten every frame without an allocation. The GPU
     /// must no longer read it (the frames that drew it were waited for).
-    pub fn rewrite<T: Pod>(&mut self, gpu: &Arc<Gpu>, name: &str, data: &[T], usage: vk::BufferUsageFlags) -> Result<()> {
+    pub fn rewrite<T: Pod>(
+        &mut self,
+        gpu: &Arc<Gpu>,
+        name: &str,
+        data: &[T],
+        usage: vk::BufferUsageFlags,
+    ) -> Result<()> {
         let bytes: &[u8] = bytemuck::cast_slice(data);
         if self.writable_in_place(bytes.len()) {
             return self.write(0, bytes);

@@ -11,7 +11,7 @@ use serde::Serialize;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 pub struct ValidationChecks {
     /// Synchronisation validation: hazards between commands (a read after a write with no
-    /// barrier, a layout transition racing a draw). The canary test (tests/sync_canary.rs)
+    /// barrier, a layout transition racing a draw). The canary test (tests/inside/sync_canary.rs)
     /// proves it bites. Its state in this layer version (1.3.239) grows by tens of KiB per
     /// submitted frame for the life of the device, so a long session may leave it out.
     pub synchronization: bool,

@@ -184,7 +184,11 @@ impl OccluderMap {
                 continue;
             }
             let set = usize::from(area < 0.0);
-            triangles[set].push(MapTriangle { vertices: [t[0], t[1], t[2]], at: [a.0, b.0, c.0], affine: [a.1, b.1, c.1] });
+            triangles[set].push(MapTriangle {
+                vertices: [t[0], t[1], t[2]],
+                at: [a.0, b.0, c.0],
+                affine: [a.1, b.1, c.1],
+            });
         }
         for set in &triangles {
             self.add_surface(set);
@@ -301,7 +305,8 @@ impl MapTriangle {
         for y in y0..y1 {
             for x in x0..x1 {
                 let (fx, fy) = (x as f32, y as f32);
-                let corners = [(fx, fy), (fx + 1.0, fy), (fx, fy + 1.0), (fx + 1.0, fy + 1.0)].map(|(u, v)| Vec2::new(u, v));
+                let corners =
+                    [(fx, fy), (fx + 1.0, fy), (fx, fy + 1.0), (fx + 1.0, fy + 1.0)].map(|(u, v)| Vec2::new(u, v));
                 // Apart only when all four corners lie outside one edge (a margin keeps
                 // rounding on the overlapping side).
                 let apart = edges.iter().any(|&(o, e)| corners.iter().all(|&c| e.perp_dot(c - o) < -1e-3 * e.length()));
@@ -331,7 +336,8 @@ struct TexelRect {
 
 impl TexelRect {
     fn around(points: impl Iterator<Item = Vec2>, map_width: usize, map_height: usize) -> Option<TexelRect> {
-        let (lo, hi) = points.fold((Vec2::splat(f32::MAX), Vec2::splat(f32::MIN)), |(lo, hi), p| (lo.min(p), hi.max(p)));
+        let (lo, hi) =
+            points.fold((Vec2::splat(f32::MAX), Vec2::splat(f32::MIN)), |(lo, hi), p| (lo.min(p), hi.max(p)));
         let x0 = lo.x.floor().max(0.0) as usize;
         let y0 = lo.y.floor().max(0.0) as usize;
         let x1 = (hi.x.ceil().max(0.0) as usize).min(map_width);

@@ -200,7 +200,8 @@ mod tests {
         };
         let mut count = 0;
         let copies: Vec<u32> = volume.repeated_copies().collect();
-        for t in [&volume.sides, &volume.near_cap, &volume.far_cap, &copies].into_iter().flat_map(|l| l.chunks_exact(3)) {
+        for t in [&volume.sides, &volume.near_cap, &volume.far_cap, &copies].into_iter().flat_map(|l| l.chunks_exact(3))
+        {
             // The side's finite corner anchors its points at infinity (directional light).
             let anchor = t
                 .iter()

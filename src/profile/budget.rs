@@ -175,9 +175,11 @@ impl Budget {
             return Ok(overruns);
         }
         for w in work {
-            let budget = self.work.iter().find(|b| b.name == w.name).ok_or_else(|| {
-                Error::InvalidInput(format!("'{}' has no budget (record a new one)", w.name))
-            })?;
+            let budget = self
+                .work
+                .iter()
+                .find(|b| b.name == w.name)
+                .ok_or_else(|| Error::InvalidInput(format!("'{}' has no budget (record a new one)", w.name)))?;
             let figures = [
                 ("workgroups", budget.workgroups, w.workgroups),
                 ("compute invocations", budget.compute_invocations, w.compute_invocations),

@@ -132,7 +132,17 @@ impl LoopReport {
             self.warmup,
             self.results.first().map_or(0, |r| r.frames),
         );
-        let header = ["technique", "frames/s", "x [95% CI]", "frame ms", "CPU ms", "wait ms", "allocs/frame", "buffers/frame", "waits/frame"];
+        let header = [
+            "technique",
+            "frames/s",
+            "x [95% CI]",
+            "frame ms",
+            "CPU ms",
+            "wait ms",
+            "allocs/frame",
+            "buffers/frame",
+            "waits/frame",
+        ];
         let rows: Vec<Vec<String>> = self
             .results
             .iter()

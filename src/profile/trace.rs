@@ -64,7 +64,8 @@ impl Trace {
             dur: None,
             args: json!({ "name": value }),
         };
-        let mut trace_events = vec![meta("process_name", 0, process), meta("thread_name", GPU_TID, "GPU (render passes)")];
+        let mut trace_events =
+            vec![meta("process_name", 0, process), meta("thread_name", GPU_TID, "GPU (render passes)")];
         if cpu_track {
             trace_events.push(meta("thread_name", CPU_TID, "CPU (nostencil: record, submit, wait)"));
         }
@@ -73,7 +74,16 @@ impl Trace {
 
     /// A complete event on track `tid`: `ts` and `dur` in microseconds.
     pub fn slice(&mut self, tid: u32, name: &str, cat: &'static str, ts: f64, dur: f64, args: Value) {
-        self.trace_events.push(TraceEvent { name: name.into(), cat: Some(cat), ph: "X", pid: PID, tid, ts, dur: Some(dur), args });
+        self.trace_events.push(TraceEvent {
+            name: name.into(),
+            cat: Some(cat),
+            ph: "X",
+            pid: PID,
+            tid,
+            ts,
+            dur: Some(dur),
+            args,
+        });
     }
 
     /// The frame's counters at `ts`: one counter track each for fragments, samples and bytes.

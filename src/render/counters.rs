@@ -14,8 +14,8 @@ use super::instances::{
 };
 use super::plan::DrawKind;
 use crate::frame::bandwidth::Bandwidth;
-use crate::gpu::commands::CpuPhases;
 use crate::frame::render_pass::RenderPassTraffic;
+use crate::gpu::commands::CpuPhases;
 use crate::gpu::queries::RawPassQueries;
 
 #[derive(Debug, Clone, Serialize)]
@@ -303,16 +303,16 @@ mod tests {
 
     fn cleared_and_stored(width: u32, height: u32) -> RenderPassInstance {
         let bytes = (width * height * 4) as u64;
-        let colour = AttachmentTraffic { bytes_stored: bytes, bytes_cleared: bytes, ..traffic("x", 1).attachments[0].clone() };
+        let colour =
+            AttachmentTraffic { bytes_stored: bytes, bytes_cleared: bytes, ..traffic("x", 1).attachments[0].clone() };
         RenderPassInstance { attachments: vec![colour], width, height, ..instance(0) }
     }
 
     #[test]
     fn each_passes_bytes_are_its_draws_and_the_first_pass_of_a_group_carries_its_loads_and_stores() {
         // A shadow map (#0), two bakes by one pass (#1, #2), the frame (#3) with two passes in it.
-        let instances: Vec<_> = (0..4u32)
-            .map(|i| RenderPassInstance { index: i, ..cleared_and_stored(4 + i, 4) })
-            .collect();
+        let instances: Vec<_> =
+            (0..4u32).map(|i| RenderPassInstance { index: i, ..cleared_and_stored(4 + i, 4) }).collect();
         let passes = [
             pass_in("shadow map", &[0], 10),
             pass_in("bake", &[1, 2], 20),

@@ -263,7 +263,9 @@ fn depth_stencil_state(fixed: &FixedFunction) -> vk::PipelineDepthStencilStateCr
         .depth_write_enable(fixed.depth.write)
         .depth_compare_op(fixed.depth.compare.unwrap_or(vk::CompareOp::ALWAYS));
     match fixed.stencil {
-        Some(stencil) => depth_stencil.stencil_test_enable(true).front(stencil.front.to_vk()).back(stencil.back.to_vk()),
+        Some(stencil) => {
+            depth_stencil.stencil_test_enable(true).front(stencil.front.to_vk()).back(stencil.back.to_vk())
+        }
         None => depth_stencil,
     }
 }

@@ -515,12 +515,8 @@ impl<K: PassKinds> PassPlan<K> {
                 // A pass of blended objects draws each through a blend variant: of its own
                 // pipelines only the main one is bound (by the recorder, as the pass opens).
                 let fixed = |i: usize| p.only != Only::Blended || i == 0;
-                let bound = p
-                    .pipelines
-                    .iter()
-                    .zip(&p.variants)
-                    .enumerate()
-                    .filter(|(i, (_, v))| v.map_or(fixed(*i), &needed));
+                let bound =
+                    p.pipelines.iter().zip(&p.variants).enumerate().filter(|(i, (_, v))| v.map_or(fixed(*i), &needed));
                 (p.name.to_string(), bound.map(|(_, (d, _))| d.name).collect())
             })
             .collect()

@@ -180,7 +180,13 @@ impl<'a> FrameRecorder<'a> {
         if let Some(instance) = self.open_instance.and_then(|i| self.instances.get_mut(i as usize)) {
             instance.passes.push(name.to_owned());
         }
-        self.passes.push(PassRecord { name: name.to_owned(), own_draw: None, draws: 0, pipelines: Vec::new(), instances });
+        self.passes.push(PassRecord {
+            name: name.to_owned(),
+            own_draw: None,
+            draws: 0,
+            pipelines: Vec::new(),
+            instances,
+        });
         self.open = true;
         // The label brackets the pass's queries, so a tool reading labels sees the same extent
         // the counters measure.

@@ -194,7 +194,14 @@ impl Renderer {
             .into_iter()
             .zip(&raw)
             .map(|(record, raw)| {
-                PassCounters::from_queries(record.name, record.own_draw, record.draws, record.instances, raw, frame_start)
+                PassCounters::from_queries(
+                    record.name,
+                    record.own_draw,
+                    record.draws,
+                    record.instances,
+                    raw,
+                    frame_start,
+                )
             })
             .collect();
         let image = if self.keep_on_gpu {

@@ -14,7 +14,6 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use super::pipeline_object::Pipeline;
-use crate::shaders;
 use crate::error::{Error, Result};
 use crate::frame::offscreen::{colour_render_pass, Framebuffer};
 use crate::frame::FrameTargets;
@@ -26,6 +25,7 @@ use crate::gpu::regions;
 use crate::gpu::texture::Sampler;
 use crate::gpu::Gpu;
 use crate::pipeline::{FixedFunction, PipelineDesc, VertexLayout};
+use crate::shaders;
 
 /// Every sample of a frame, as stored (RGBA8, the frame's format).
 #[derive(Debug, Clone, PartialEq, Eq)]

@@ -224,7 +224,10 @@ pub fn lights_scene() -> Result<Scene> {
         Ok(())
     };
     add("point:name=lamp:at=-2.2,2.4,1.4:colour=1,0.3,0.2:intensity=6:range=7", &mut scene)?;
-    add("spot:name=spot:at=2.4,4.2,1.6:aim=0.4,0,-0.2:colour=0.3,0.5,1:intensity=14:range=9:inner=20:outer=32", &mut scene)?;
+    add(
+        "spot:name=spot:at=2.4,4.2,1.6:aim=0.4,0,-0.2:colour=0.3,0.5,1:intensity=14:range=9:inner=20:outer=32",
+        &mut scene,
+    )?;
 
     let cube = scene.add_mesh("box", shapes::cube(1.1));
     scene.add_object(

@@ -84,7 +84,8 @@ fn file_lights(rig: &Arc<Rig>, world: &[Mat4], warnings: &mut Vec<String>) -> Ve
     let mut left_out = Vec::new();
     for (index, node) in model.nodes.iter().enumerate() {
         let Some(light) = node.light.and_then(|l| model.lights.get(l)) else { continue };
-        let base = light.name.clone().or_else(|| node.name.clone()).unwrap_or_else(|| format!("light {}", lights.len() + 1));
+        let base =
+            light.name.clone().or_else(|| node.name.clone()).unwrap_or_else(|| format!("light {}", lights.len() + 1));
         if lights.len() == MAX_LIGHTS {
             left_out.push(base);
             continue;
@@ -104,10 +105,8 @@ fn file_lights(rig: &Arc<Rig>, world: &[Mat4], warnings: &mut Vec<String>) -> Ve
         lights.push(scene_light);
     }
     if !left_out.is_empty() {
-        warnings.push(format!(
-            "KHR_lights_punctual: a frame holds {MAX_LIGHTS} lights; left out: {}",
-            left_out.join(", ")
-        ));
+        warnings
+            .push(format!("KHR_lights_punctual: a frame holds {MAX_LIGHTS} lights; left out: {}", left_out.join(", ")));
     }
     lights
 }

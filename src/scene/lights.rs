@@ -190,7 +190,12 @@ pub fn parse_light_spec(spec: &str) -> Result<SceneLight> {
     for part in parts {
         let (key, value) = part.split_once('=').ok_or_else(|| bad(format!("'{part}' is not key=value")))?;
         let number = |value: &str| -> Result<f32> {
-            value.trim().parse::<f32>().ok().filter(|v| v.is_finite()).ok_or_else(|| bad(format!("{key}: '{value}' is not a number")))
+            value
+                .trim()
+                .parse::<f32>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| bad(format!("{key}: '{value}' is not a number")))
         };
         let vector = |value: &str| -> Result<Vec3> {
             let numbers = value.split(',').map(number).collect::<Result<Vec<f32>>>()?;
@@ -247,7 +252,8 @@ pub fn parse_light_spec(spec: &str) -> Result<SceneLight> {
         }
     }
     if let Some(target) = aim {
-        let direction = target - if kind_name == "directional" || kind_name == "sun" { Vec3::ZERO } else { light.position };
+        let direction =
+            target - if kind_name == "directional" || kind_name == "sun" { Vec3::ZERO } else { light.position };
         if direction.length_squared() == 0.0 {
             return Err(bad("aim: the light sits on the point it aims at".into()));
         }
@@ -255,7 +261,9 @@ pub fn parse_light_spec(spec: &str) -> Result<SceneLight> {
     }
     if kind_name == "spot" {
         if !(0.0..=90.0).contains(&outer) || !(0.0..outer).contains(&inner) {
-            return Err(bad(format!("spot cone: need 0 <= inner < outer <= 90 degrees (inner {inner}, outer {outer})")));
+            return Err(bad(format!(
+                "spot cone: need 0 <= inner < outer <= 90 degrees (inner {inner}, outer {outer})"
+            )));
         }
         light.kind = LightKind::Spot { inner_cone_angle: inner.to_radians(), outer_cone_angle: outer.to_radians() };
     }
@@ -374,7 +382,10 @@ mod tests {
         assert!((inner_cone_angle - 10f32.to_radians()).abs() < 1e-6);
         assert!((outer_cone_angle - 25f32.to_radians()).abs() < 1e-6);
         let again = parse_light_spec(&light_spec(&light)).expect("its own spec");
-        assert_eq!((again.name, again.kind, again.range, again.casts_shadow), (light.name, light.kind, light.range, false));
+        assert_eq!(
+            (again.name, again.kind, again.range, again.casts_shadow),
+            (light.name, light.kind, light.range, false)
+        );
         assert!(again.position.distance(light.position) < 1e-6 && again.direction.distance(light.direction) < 1e-6);
     }
 

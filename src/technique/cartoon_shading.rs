@@ -8,7 +8,6 @@ use std::sync::Arc;
 use ash::vk;
 use glam::{Mat4, Vec4};
 
-use crate::shaders;
 use crate::error::Result;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::texture::{Sampler, Texture};
@@ -19,6 +18,7 @@ use crate::render::plan::{Label, MaterialVariant, PassKinds, PlannedPass, SetRol
 use crate::render::Pipeline;
 use crate::render::{FrameRecorder, GpuScene};
 use crate::scene::Scene;
+use crate::shaders;
 use crate::technique::material_variants::with_surface_variants;
 
 /// Mirrors `CartoonPush` in `shaders/cartoon_push.glsl`.
@@ -60,7 +60,13 @@ pub fn cartoon_desc(
 
 /// The scene: Lambert or toon, optionally with the N.V rim; writes the alpha it is given.
 pub fn shade_desc() -> PipelineDesc {
-    cartoon_desc("scene", shaders::CARTOON_SHADE_VERT, shaders::CARTOON_SHADE_FRAG, VertexLayout::SCENE, FixedFunction::OPAQUE)
+    cartoon_desc(
+        "scene",
+        shaders::CARTOON_SHADE_VERT,
+        shaders::CARTOON_SHADE_FRAG,
+        VertexLayout::SCENE,
+        FixedFunction::OPAQUE,
+    )
 }
 
 /// A scene pass: the objects `draw` names, shaded by [`shade_desc`] or a variant of it, with
@@ -172,7 +178,8 @@ impl CartoonScene {
         if !std::ptr::eq(pipeline, bound) {
             rec.bind(pipeline);
         }
-        let colour = if self.shading.ink_only { background_fill(scene) } else { scene.base_colour(object) }.extend(alpha);
+        let colour =
+            if self.shading.ink_only { background_fill(scene) } else { scene.base_colour(object) }.extend(alpha);
         rec.bind_material(pipeline, self.meshes.materials.set(object.material));
         rec.push(pipeline, &CartoonPush { model: object.transform, colour, params: self.shading.params(), viewport });
         rec.draw_mesh(&self.meshes.meshes[object.mesh]);

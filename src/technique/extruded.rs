@@ -7,7 +7,6 @@ use ash::vk;
 use glam::{Mat4, Vec3, Vec4};
 
 use super::cartoon_shading::{cartoon_desc, CartoonPush};
-use crate::shaders;
 use crate::error::Result;
 use crate::gpu::Gpu;
 use crate::mesh::{self, Welded};
@@ -15,6 +14,7 @@ use crate::pipeline::{FixedFunction, PipelineDesc, VertexLayout};
 use crate::render::Pipeline;
 use crate::render::{FrameRecorder, GpuMesh};
 use crate::scene::{Scene, SceneSkin};
+use crate::shaders;
 
 /// Positions closer than this weld into one vertex (UV seams, split normals): a seam of the
 /// vertex buffer is no seam of the surface, so it neither breaks a line nor cracks a copy open.
@@ -68,7 +68,13 @@ fn vertices(welded: &Welded) -> Vec<[Vec3; 2]> {
 
 /// A pipeline that draws extruded copies in one colour.
 pub fn extrude_desc(name: &'static str, fixed: FixedFunction) -> PipelineDesc {
-    cartoon_desc(name, shaders::CARTOON_EXTRUDE_VERT, shaders::CARTOON_COLOUR_FRAG, VertexLayout::POSITION_NORMAL, fixed)
+    cartoon_desc(
+        name,
+        shaders::CARTOON_EXTRUDE_VERT,
+        shaders::CARTOON_COLOUR_FRAG,
+        VertexLayout::POSITION_NORMAL,
+        fixed,
+    )
 }
 
 /// How far copies are pushed out, and their colour.

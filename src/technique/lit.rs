@@ -7,7 +7,6 @@ use super::frame_renderer::{BuildContext, Passes};
 use super::interface::{NoStats, RenderOptions};
 use super::material_variants::with_surface_variants;
 use super::unit::{Prepared, TechniqueUnit};
-use crate::shaders;
 use crate::error::Result;
 use crate::gpu::Gpu;
 use crate::pipeline::{FixedFunction, PipelineDesc, VertexLayout};
@@ -15,6 +14,7 @@ use crate::render::plan::{NoOwn, PassKinds, PassPlan, PlannedPass, RecorderOnly,
 use crate::render::plan_execution::PassDraws;
 use crate::render::{FrameOutput, FrameRecorder, GpuScene, Pipeline, Renderer, OBJECT_PUSH_BYTES};
 use crate::scene::Scene;
+use crate::shaders;
 
 pub fn scene_pipeline_desc() -> PipelineDesc {
     PipelineDesc {

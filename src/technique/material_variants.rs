@@ -10,10 +10,10 @@
 //! Pipeline names are static: each opaque pipeline that has variants is listed here with its
 //! variants' names.
 
-use crate::shaders;
 use crate::pipeline::recipes::OVER_KEEPING_ALPHA;
 use crate::pipeline::{DepthState, PipelineDesc, RasterState};
 use crate::render::plan::{MaterialVariant, PassKinds, PlannedPass};
+use crate::shaders;
 
 /// [masked, double-sided, blend, blend double-sided] names of the variants of `base`.
 fn variant_names(base: &str) -> Option<[&'static str; 4]> {
@@ -27,7 +27,9 @@ fn variant_names(base: &str) -> Option<[&'static str; 4]> {
             "scene (ambient, blend)",
             "scene (ambient, blend, double-sided)",
         ],
-        "shading" => ["shading (alpha mask)", "shading (double-sided)", "shading (blend)", "shading (blend, double-sided)"],
+        "shading" => {
+            ["shading (alpha mask)", "shading (double-sided)", "shading (blend)", "shading (blend, double-sided)"]
+        }
         "shading (subpass)" => [
             "shading (subpass, alpha mask)",
             "shading (subpass, double-sided)",
@@ -105,9 +107,13 @@ fn variant_shaders(fragment: shaders::Shader) -> Option<(shaders::Shader, shader
         shaders::LIT_AMBIENT_FRAG => (shaders::LIT_AMBIENT_MASKED_FRAG, shaders::LIT_BLEND_FRAG),
         shaders::LIT_LIGHT_FRAG => (shaders::LIT_LIGHT_MASKED_FRAG, shaders::LIT_BLEND_FRAG),
         shaders::LIT_LIGHT_SUBPASS_FRAG => (shaders::LIT_LIGHT_SUBPASS_MASKED_FRAG, shaders::LIT_BLEND_FRAG),
-        shaders::LIT_LIGHT_SUBPASS_COUNTED_FRAG => (shaders::LIT_LIGHT_SUBPASS_COUNTED_MASKED_FRAG, shaders::LIT_BLEND_FRAG),
+        shaders::LIT_LIGHT_SUBPASS_COUNTED_FRAG => {
+            (shaders::LIT_LIGHT_SUBPASS_COUNTED_MASKED_FRAG, shaders::LIT_BLEND_FRAG)
+        }
         shaders::CARTOON_SHADE_FRAG => (shaders::CARTOON_SHADE_MASKED_FRAG, shaders::CARTOON_SHADE_BLEND_FRAG),
-        shaders::SHADOW_ATLAS_SCENE_FRAG => (shaders::SHADOW_ATLAS_SCENE_MASKED_FRAG, shaders::SHADOW_ATLAS_SCENE_BLEND_FRAG),
+        shaders::SHADOW_ATLAS_SCENE_FRAG => {
+            (shaders::SHADOW_ATLAS_SCENE_MASKED_FRAG, shaders::SHADOW_ATLAS_SCENE_BLEND_FRAG)
+        }
         shaders::SHADOW_MAP_SCENE_FRAG => (shaders::SHADOW_MAP_SCENE_MASKED_FRAG, shaders::SHADOW_MAP_SCENE_BLEND_FRAG),
         shaders::PROJECTIVE_SCENE_FRAG => (shaders::PROJECTIVE_SCENE_MASKED_FRAG, shaders::PROJECTIVE_SCENE_BLEND_FRAG),
         _ => return None,

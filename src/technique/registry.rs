@@ -1,8 +1,8 @@
 //! The list of techniques: the only place that names them all. The command line, `passes`,
 //! `bench`, `profile --compare`, `info` and the viewer read it.
 
-use super::light_loop::PlannedLight;
 use super::interface::{RenderOptions, Technique};
+use super::light_loop::PlannedLight;
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 

@@ -6,12 +6,12 @@
 
 use std::sync::Arc;
 
-use super::light_loop::PlannedLight;
-use super::options::{ShadowMode, ShadowVolumeOptions};
 use super::frame_renderer::{self, BuildContext, Passes};
 use super::interface::{
     stencil_variant, stencil_variants, BenchTable, RenderOptions, SceneRenderer, Technique, Variant,
 };
+use super::light_loop::PlannedLight;
+use super::options::{ShadowMode, ShadowVolumeOptions};
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
 use crate::render::plan::{PassKinds, PassPlan};
@@ -221,7 +221,13 @@ pub fn build_unit<'s, T: TechniqueUnit>(
         frame_renderer::build_typed(unit.name(), plan, gpu, scene, &options, |ctx| unit.make(ctx, scene, setup))?;
     let reason = |light: usize| unit.unshadowed_reason(scene, light);
     let hint = every_light_hint(unit, &options);
-    renderer.warnings.extend(unshadowed_lights_warning(unit.name(), hint, unit.shadowed_lights(&options), scene, &reason));
+    renderer.warnings.extend(unshadowed_lights_warning(
+        unit.name(),
+        hint,
+        unit.shadowed_lights(&options),
+        scene,
+        &reason,
+    ));
     Ok(renderer)
 }
 

@@ -253,8 +253,11 @@ fn turned(light: Light, turn: LightTurn) -> Light {
         Light::Directional { direction } => {
             let yawed = Mat4::from_rotation_y(turn.yaw).transform_vector3(direction);
             let side = yawed.cross(Vec3::Y).normalize_or_zero();
-            let tilted =
-                if side == Vec3::ZERO { yawed } else { Mat4::from_axis_angle(side, turn.tilt).transform_vector3(yawed) };
+            let tilted = if side == Vec3::ZERO {
+                yawed
+            } else {
+                Mat4::from_axis_angle(side, turn.tilt).transform_vector3(yawed)
+            };
             // Keep the light above the horizon.
             Light::Directional { direction: Vec3::new(tilted.x, tilted.y.min(-0.05), tilted.z).normalize() }
         }

@@ -88,12 +88,29 @@ impl RawInstance {
     }
 }
 
-/// A shader module of the crate's SPIR-V named `name`.
+/// SPIR-V that the crate's build.rs compiled from one file of `shaders/`.
+#[derive(Clone, Copy)]
+pub struct Spirv(&'static [u8]);
+
+/// The SPIR-V of `shaders/FILE`, taken when the test builds: a shader that does not exist fails
+/// the build.
+macro_rules! spirv_of {
+    ($file:literal) => {
+        Spirv(include_bytes!(concat!(env!("OUT_DIR"), "/", $file, ".spv")))
+    };
+}
+
+pub const FULLSCREEN_VERT: Spirv = spirv_of!("fullscreen.vert");
+pub const SHADOW_MAP_FRAG: Spirv = spirv_of!("shadow_map.frag");
+pub const SOLID_FRAG: Spirv = spirv_of!("solid.frag");
+pub const ADD_TO_WORDS_COMP: Spirv = spirv_of!("add_to_words.comp");
+
+/// A shader module of `shader`.
 ///
 /// # Safety
 /// `device` is alive; the caller destroys the module.
-pub unsafe fn shader(device: &ash::Device, shader: nostencil::shaders::Shader) -> vk::ShaderModule {
-    let code = nostencil::shaders::spirv(shader).expect("shader");
+pub unsafe fn shader(device: &ash::Device, shader: Spirv) -> vk::ShaderModule {
+    let code = ash::util::read_spv(&mut std::io::Cursor::new(shader.0)).expect("SPIR-V");
     device.create_shader_module(&vk::ShaderModuleCreateInfo::default().code(&code), None).expect("module")
 }
 
@@ -114,15 +131,7 @@ pub unsafe fn depth_pipeline(
         .depth_test_enable(true)
         .depth_write_enable(false)
         .depth_compare_op(vk::CompareOp::ALWAYS);
-    fullscreen_pipeline(
-        device,
-        layout,
-        render_pass,
-        size,
-        nostencil::shaders::SHADOW_MAP_FRAG,
-        Some((depth, depth_state)),
-        &[],
-    )
+    fullscreen_pipeline(device, layout, render_pass, size, SHADOW_MAP_FRAG, Some((depth, depth_state)), &[])
 }
 
 /// `fullscreen.vert` + `fragment` over a `size`-square viewport, no culling, one sample:
@@ -136,11 +145,11 @@ pub unsafe fn fullscreen_pipeline(
     layout: vk::PipelineLayout,
     render_pass: vk::RenderPass,
     size: u32,
-    fragment: nostencil::shaders::Shader,
+    fragment: Spirv,
     depth: Option<(vk::Format, vk::PipelineDepthStencilStateCreateInfo)>,
     blends: &[vk::PipelineColorBlendAttachmentState],
 ) -> vk::Pipeline {
-    let (vert, frag) = (shader(device, nostencil::shaders::FULLSCREEN_VERT), shader(device, fragment));
+    let (vert, frag) = (shader(device, FULLSCREEN_VERT), shader(device, fragment));
     let stages = [
         vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::VERTEX).module(vert).name(c"main"),
         vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::FRAGMENT).module(frag).name(c"main"),
@@ -266,7 +275,8 @@ pub unsafe fn image_target(
 pub fn under_the_layer(test: &str) -> PathBuf {
     use nostencil_fillrate_report::manifest::{manifest_json, newest_library, LAYER_NAME, MANIFEST_FILE};
     let dir = super::scratch_dir(test);
-    let bin_dir = Path::new(env!("CARGO_BIN_EXE_nostencil")).parent().expect("binary folder");
+    let program = super::program();
+    let bin_dir = program.parent().expect("binary folder");
     let library = newest_library(bin_dir).expect("libnostencil_fillrate.so built");
     std::fs::write(dir.join(MANIFEST_FILE), manifest_json(library.to_str().expect("utf-8"))).expect("manifest");
     let out = dir.join("fillrate.json");

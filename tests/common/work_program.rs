@@ -368,7 +368,7 @@ pub unsafe fn run(name: &CStr, options: WorkOptions) {
             None,
         )
         .expect("layout");
-    let module = super::raw_vulkan::shader(&device, nostencil::shaders::ADD_TO_WORDS_COMP);
+    let module = super::raw_vulkan::shader(&device, super::raw_vulkan::ADD_TO_WORDS_COMP);
     let stage =
         vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::COMPUTE).module(module).name(c"main");
     let pipeline = device

@@ -111,7 +111,7 @@ pub(super) const MAX_ZERO_FILLED_BYTES: usize = 64 << 20;
 /// `ZERO_FILL_PER_BYTE` bytes per byte of the file. Every zero-filled byte grows about sevenfold
 /// on its way to a scene (f32 values, vertices, normals, indices), so without this a 250-byte
 /// file with `count: 3000000` and no bufferView cost 250 MB before it was drawn or refused
-/// (found by tests/fuzz_gltf.rs). 1 MiB is 87,000 VEC3 float vertices of zeros.
+/// (found by tests/inside/fuzz_gltf.rs). 1 MiB is 87,000 VEC3 float vertices of zeros.
 const ZERO_FILL_FLOOR: usize = 1 << 20;
 const ZERO_FILL_PER_BYTE: usize = 4;
 
@@ -120,7 +120,7 @@ const ZERO_FILL_PER_BYTE: usize = 4;
 /// loaded (external, data URIs, meshopt-decoded). A valid file reads each accessor about once
 /// (a few times where primitives share one); without a bound, 300 primitives naming the same
 /// 100 kB accessors in a 130 kB file cost 85 MB, and 10,000 of them gigabytes (found by
-/// tests/fuzz_gltf.rs).
+/// tests/inside/fuzz_gltf.rs).
 const READ_FLOOR: usize = 4 << 20;
 const READ_PER_BYTE: usize = 16;
 

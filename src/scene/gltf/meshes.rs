@@ -127,7 +127,13 @@ impl Loader<'_> {
     }
 
     /// TEXCOORD_`set`, when present.
-    fn tex_coords(&mut self, what: &str, prim: &json::mesh::Primitive, set: u32, n: usize) -> Result<Option<Vec<Vec2>>> {
+    fn tex_coords(
+        &mut self,
+        what: &str,
+        prim: &json::mesh::Primitive,
+        set: u32,
+        n: usize,
+    ) -> Result<Option<Vec<Vec2>>> {
         let Some(i) = attribute(prim, json::mesh::Semantic::TexCoords(set)) else {
             return Ok(None);
         };
@@ -190,7 +196,8 @@ impl Loader<'_> {
     /// primitive has none, and its vertices are taken in order).
     fn indices(&mut self, what: &str, prim: &json::mesh::Primitive, n: usize) -> Result<(Vec<u32>, Option<u8>)> {
         let Some(i) = prim.indices else {
-            let n32 = u32::try_from(n).map_err(|_| self.fail(format!("{what}: {n} vertices do not fit u32 indices")))?;
+            let n32 =
+                u32::try_from(n).map_err(|_| self.fail(format!("{what}: {n} vertices do not fit u32 indices")))?;
             return Ok(((0..n32).collect(), None));
         };
         let name = format!("{what} indices");

@@ -13,10 +13,10 @@
 
 use ash::vk;
 
-use crate::shaders;
 use crate::pipeline::recipes::COLOUR_REPLACE;
 use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexAttribute, VertexLayout};
 use crate::render::plan::{DrawKind, Label, NoOwn, PassKinds, PassPlan, PlannedPass, SetRole};
+use crate::shaders;
 use crate::technique::cartoon_shading::{cartoon_desc, shade_desc, shade_pass, WithRamps};
 use crate::technique::extruded::extrude_desc;
 use crate::technique::options::SilhouetteMethod;

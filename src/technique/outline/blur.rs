@@ -16,7 +16,6 @@ use glam::Vec4;
 
 use super::copies::{copy_desc, outline_fixed};
 use super::kinds::{OutlineDraw, OutlineKinds, OutlineSet, OutlineTarget};
-use crate::shaders;
 use crate::error::Result;
 use crate::frame::offscreen::{colour_render_pass, colour_stencil_render_pass, Framebuffer, RenderPass};
 use crate::frame::targets::choose_depth_format;
@@ -28,6 +27,7 @@ use crate::gpu::Gpu;
 use crate::pipeline::recipes::{self, COLOUR_REPLACE, COLOUR_WHERE_ALPHA_ZERO, OVER_KEEPING_ALPHA, RGB_ONLY};
 use crate::pipeline::{BlendState, FixedFunction, PipelineDesc, VertexLayout};
 use crate::render::plan::{PlannedPass, SetRole};
+use crate::shaders;
 use crate::technique::cartoon_shading::cartoon_desc;
 use crate::technique::options::OutlineMethod;
 

@@ -3,8 +3,8 @@
 
 use ash::vk;
 
-use crate::shaders;
 use crate::pipeline::{BlendState, DepthState, FixedFunction, PipelineDesc, RasterState, VertexLayout};
+use crate::shaders;
 use crate::technique::cartoon_shading::cartoon_desc;
 use crate::technique::extruded::extrude_desc;
 use crate::technique::options::OutlineMethod;
@@ -25,8 +25,12 @@ pub fn outline_fixed(blend: BlendState) -> FixedFunction {
 pub fn copy_desc(method: OutlineMethod, names: [&'static str; 2], fixed: FixedFunction) -> PipelineDesc {
     match method {
         OutlineMethod::Extrude => extrude_desc(names[0], fixed),
-        OutlineMethod::Scale => {
-            cartoon_desc(names[1], shaders::OUTLINE_SCALE_VERT, shaders::CARTOON_COLOUR_FRAG, VertexLayout::POSITION_NORMAL, fixed)
-        }
+        OutlineMethod::Scale => cartoon_desc(
+            names[1],
+            shaders::OUTLINE_SCALE_VERT,
+            shaders::CARTOON_COLOUR_FRAG,
+            VertexLayout::POSITION_NORMAL,
+            fixed,
+        ),
     }
 }

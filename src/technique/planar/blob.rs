@@ -16,7 +16,6 @@ use image::{Rgba, RgbaImage};
 use super::receiver::{light_reaches_plane, receiver_plane, ReceiverPlane};
 use super::scene_meshes::{lit_scene_pass, SceneMeshes, WithPalette};
 use super::shared::{BlobShadows, PlanarStats, SHADOW_BIAS};
-use crate::shaders;
 use crate::error::{Error, Result};
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::ReusedBuffer;
@@ -29,11 +28,12 @@ use crate::render::plan_execution::PassDraws;
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, GpuScene, Renderer};
 use crate::scene::{bounds_of, Scene};
+use crate::shaders;
 use crate::technique::frame_renderer::{BuildContext, Passes};
 use crate::technique::interface::RenderOptions;
 use crate::technique::interface::{FrameStats, Variant};
-use crate::technique::unit::{Prepared, ShadowedLights, TechniqueUnit};
 use crate::technique::shadow_tone::ShadowTone;
+use crate::technique::unit::{Prepared, ShadowedLights, TechniqueUnit};
 
 /// position (vec3), uv (vec2), strength (float).
 pub const BLOB_LAYOUT: VertexLayout =
@@ -288,7 +288,14 @@ impl BlobPasses {
                 stages: vk::ShaderStageFlags::FRAGMENT,
             }],
         )?;
-        Ok(BlobPasses { tone: ctx.options.shadow_tone, plane, meshes, quads: ReusedBuffer::new("blob quads", vk::BufferUsageFlags::VERTEX_BUFFER), blob_set, _texture: texture })
+        Ok(BlobPasses {
+            tone: ctx.options.shadow_tone,
+            plane,
+            meshes,
+            quads: ReusedBuffer::new("blob quads", vk::BufferUsageFlags::VERTEX_BUFFER),
+            blob_set,
+            _texture: texture,
+        })
     }
 }
 

@@ -8,9 +8,9 @@ use glam::{Mat4, Vec4};
 use super::scene_meshes::WithPalette;
 use super::shared::SHADOW_BIAS;
 use super::skin::SKINNED_LAYOUT;
-use crate::shaders;
 use crate::pipeline::{BlendState, DepthState, FixedFunction, PipelineDesc, RasterState, StencilState, VertexLayout};
 use crate::render::plan::{DrawKind, Label, NoOwn, PassKinds};
+use crate::shaders;
 
 /// Mirrors `PlanarPush` in `shaders/planar_push.glsl`.
 #[repr(C)]
@@ -91,7 +91,12 @@ impl WithPalette for PlanarSet {
 }
 
 /// A flattened-caster pipeline with `blend` and `stencil`.
-pub fn flattened_desc(name: &'static str, skinned: bool, blend: BlendState, stencil: Option<StencilState>) -> PipelineDesc {
+pub fn flattened_desc(
+    name: &'static str,
+    skinned: bool,
+    blend: BlendState,
+    stencil: Option<StencilState>,
+) -> PipelineDesc {
     PipelineDesc {
         name,
         vertex_shader: if skinned { shaders::PLANAR_SHADOW_SKINNED_VERT } else { shaders::PLANAR_SHADOW_VERT },

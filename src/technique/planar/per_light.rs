@@ -8,7 +8,6 @@ use ash::vk;
 
 use super::flattened::{flattened_desc, PlanarDraw, PlanarKinds};
 use super::scene_meshes::{named_scene_pass, scene_desc, scene_sets};
-use crate::shaders;
 use crate::frame::StencilMode;
 use crate::pipeline::recipes::{
     stencil_equal, ADD_LIGHT, ADD_LIGHT_WHERE_LIT_RESET, MASK_SHADOWED, NO_WRITE, STENCIL_EQUAL_ZERO_THEN_INCREMENT,
@@ -16,6 +15,7 @@ use crate::pipeline::recipes::{
 use crate::pipeline::{BlendState, DepthState, PipelineDesc, StencilState};
 use crate::render::plan::{MaterialVariant, Only, PassPlan, PlannedPass, When};
 use crate::render::LIGHT_PUSH_BYTES;
+use crate::shaders;
 use crate::technique::light_loop::{self, PlannedLight};
 use crate::technique::options::PlanarOptions;
 
@@ -23,11 +23,15 @@ use crate::technique::options::PlanarOptions;
 /// shading, then the blended objects.
 pub(super) fn plan(options: &PlanarOptions, stencil: StencilMode, lights: &[PlannedLight]) -> PassPlan<PlanarKinds> {
     let mut plan = PassPlan::new();
-    let ambient = PipelineDesc { fragment_shader: shaders::LIT_AMBIENT_FRAG, ..scene_desc("scene (ambient)", false, None) };
-    let ambient_skinned =
-        PipelineDesc { fragment_shader: shaders::LIT_AMBIENT_FRAG, ..scene_desc("scene (ambient, skinned)", true, None) };
+    let ambient =
+        PipelineDesc { fragment_shader: shaders::LIT_AMBIENT_FRAG, ..scene_desc("scene (ambient)", false, None) };
+    let ambient_skinned = PipelineDesc {
+        fragment_shader: shaders::LIT_AMBIENT_FRAG,
+        ..scene_desc("scene (ambient, skinned)", true, None)
+    };
     let push = "object transform and colour, alpha 1";
-    let pass = named_scene_pass("scene (ambient)", ambient.clone(), ambient, ambient_skinned, push, PlanarDraw::Ambient);
+    let pass =
+        named_scene_pass("scene (ambient)", ambient.clone(), ambient, ambient_skinned, push, PlanarDraw::Ambient);
     plan.push(pass.only(Only::Opaque));
     for (index, light) in lights.iter().enumerate() {
         let i = index as u8;
@@ -79,24 +83,32 @@ fn flag_pass(stencil: StencilMode, lod: bool, light: &PlannedLight, i: u8) -> Pl
         ..flattened_desc(name, is_skinned, blend, test)
     };
     let draw = PlanarDraw::ProjectedCasters { lod, light: Some(i) };
-    PlannedPass::own(light_loop::pass_name(light, "planar shadow"), flattened_desc(plain, false, blend, test), draw, push)
-        .or_pipeline(flattened_desc(skinned, true, blend, test))
-        .or_variant(MaterialVariant::Masked, plain, cut_out(masked, shaders::PLANAR_SHADOW_MASKED_VERT, false))
-        .or_variant(
-            MaterialVariant::Masked,
-            skinned,
-            cut_out(skinned_masked, shaders::PLANAR_SHADOW_SKINNED_MASKED_VERT, true),
-        )
-        .with_sets(&scene_sets())
-        .when(When::LightReachesPlane(i))
-        .for_light(i)
+    PlannedPass::own(
+        light_loop::pass_name(light, "planar shadow"),
+        flattened_desc(plain, false, blend, test),
+        draw,
+        push,
+    )
+    .or_pipeline(flattened_desc(skinned, true, blend, test))
+    .or_variant(MaterialVariant::Masked, plain, cut_out(masked, shaders::PLANAR_SHADOW_MASKED_VERT, false))
+    .or_variant(
+        MaterialVariant::Masked,
+        skinned,
+        cut_out(skinned_masked, shaders::PLANAR_SHADOW_SKINNED_MASKED_VERT, true),
+    )
+    .with_sets(&scene_sets())
+    .when(When::LightReachesPlane(i))
+    .for_light(i)
 }
 
 /// A light's shading pipeline: the scene's vertex stage (invariant: depth EQUAL meets the
 /// ambient pass), the light's contribution out through `blend`.
 fn shading_desc(name: &'static str, skinned: bool, blend: BlendState, stencil: Option<StencilState>) -> PipelineDesc {
-    let mut desc =
-        PipelineDesc { fragment_shader: shaders::LIT_LIGHT_FRAG, push_constant_bytes: LIGHT_PUSH_BYTES, ..scene_desc(name, skinned, stencil) };
+    let mut desc = PipelineDesc {
+        fragment_shader: shaders::LIT_LIGHT_FRAG,
+        push_constant_bytes: LIGHT_PUSH_BYTES,
+        ..scene_desc(name, skinned, stencil)
+    };
     desc.fixed.depth = DepthState { compare: Some(vk::CompareOp::EQUAL), write: false };
     desc.fixed.blend = blend;
     desc

@@ -31,7 +31,6 @@ use super::lod::CasterLods;
 use super::receiver::{light_reaches_plane, receiver_plane, Plane, ReceiverPlane};
 use super::scene_meshes::{scene_desc, scene_pass, scene_sets, SceneMeshes};
 use super::shared::{Planar, PlanarStats, DEFAULT_SHADOW_LOD};
-use crate::shaders;
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::Gpu;
@@ -44,13 +43,14 @@ use crate::render::plan_execution::PassDraws;
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, GpuScene, Renderer};
 use crate::scene::{Scene, SceneLight};
+use crate::shaders;
 use crate::technique::frame_renderer::{BuildContext, Passes};
 use crate::technique::interface::RenderOptions;
 use crate::technique::interface::{stencil_variants, FrameStats, Variant};
 use crate::technique::light_loop::PlannedLight;
 use crate::technique::options::{PlanarOptions, ShadowMode, ShadowVolumeOptions};
-use crate::technique::unit::{Prepared, ShadowedLights, TechniqueUnit};
 use crate::technique::shadow_tone::ShadowTone;
+use crate::technique::unit::{Prepared, ShadowedLights, TechniqueUnit};
 
 /// Stencil values of the reference path: receivers not yet shadowed hold 0.
 const STENCIL_RECEIVER: u32 = 0;
@@ -132,7 +132,12 @@ fn shadow_pass_along(stencil: StencilMode, lod: bool, light: Option<u8>) -> Plan
 
 /// The frame's passes: the seed's (the scene, then unless `options.shadows` is off the
 /// shadow), or with shadows in `additive` mode the per-light loop.
-pub fn plan(options: &PlanarOptions, stencil: StencilMode, mode: ShadowMode, lights: &[PlannedLight]) -> PassPlan<PlanarKinds> {
+pub fn plan(
+    options: &PlanarOptions,
+    stencil: StencilMode,
+    mode: ShadowMode,
+    lights: &[PlannedLight],
+) -> PassPlan<PlanarKinds> {
     if options.shadows && mode == ShadowMode::Additive {
         return super::per_light::plan(options, stencil, lights);
     }

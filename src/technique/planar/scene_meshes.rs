@@ -9,7 +9,6 @@ use ash::vk;
 use super::lod::CasterLods;
 use super::receiver::ReceiverPlane;
 use super::skin::{self, SkinnedMesh, SKINNED_LAYOUT};
-use crate::shaders;
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
 use crate::pipeline::{FixedFunction, PipelineDesc, StencilState, VertexLayout};
@@ -18,6 +17,7 @@ use crate::render::plan::{Label, MaterialVariant, PassKinds, PlannedPass, SetRol
 use crate::render::Pipeline;
 use crate::render::{object_push, FrameRecorder, GpuScene, LightPush, OBJECT_PUSH_BYTES};
 use crate::scene::Scene;
+use crate::shaders;
 use crate::technique::material_variants::with_surface_variants;
 
 /// A planar technique's set kinds, which include a skinned object's joint palette (set 2).

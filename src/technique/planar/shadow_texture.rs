@@ -27,7 +27,6 @@ use super::scene_meshes::{lit_scene_pass, scene_sets, SceneMeshes, WithPalette};
 use super::shared::{PlanarStats, ShadowTexture, DEFAULT_SHADOW_LOD, SHADOW_BIAS};
 use super::skin::SKINNED_LAYOUT;
 use super::texture_quad::{quad_model, shadow_quad, unit_square};
-use crate::shaders;
 use crate::error::{Error, Result};
 use crate::frame::offscreen::{colour_render_pass, Framebuffer, RenderPass};
 use crate::frame::StencilMode;
@@ -42,12 +41,13 @@ use crate::render::plan_execution::PassDraws;
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, GpuMesh, GpuScene, ObjectPush, Renderer, OBJECT_PUSH_BYTES};
 use crate::scene::{Light, Scene};
+use crate::shaders;
 use crate::technique::frame_renderer::{BuildContext, Passes};
 use crate::technique::interface::RenderOptions;
 use crate::technique::interface::{FrameStats, Variant};
 use crate::technique::options::{PlanarOptions, TextureShadowOn};
-use crate::technique::unit::{Prepared, ShadowedLights, TechniqueUnit};
 use crate::technique::shadow_tone::ShadowTone;
+use crate::technique::unit::{Prepared, ShadowedLights, TechniqueUnit};
 
 const SHADOW_TEXTURE_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
 
@@ -62,7 +62,11 @@ struct ReceivePush {
 fn caster_desc(skinned: bool) -> PipelineDesc {
     PipelineDesc {
         name: if skinned { "shadow texture caster (skinned)" } else { "shadow texture caster" },
-        vertex_shader: if skinned { shaders::PLANAR_TEXTURE_CASTER_SKINNED_VERT } else { shaders::PLANAR_TEXTURE_CASTER_VERT },
+        vertex_shader: if skinned {
+            shaders::PLANAR_TEXTURE_CASTER_SKINNED_VERT
+        } else {
+            shaders::PLANAR_TEXTURE_CASTER_VERT
+        },
         fragment_shader: shaders::OBJECT_COLOUR_FRAG,
         vertex_layout: if skinned { SKINNED_LAYOUT } else { VertexLayout::SCENE },
         fixed: FixedFunction {

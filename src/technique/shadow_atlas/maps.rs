@@ -15,7 +15,8 @@ use crate::technique::options::ShadowKind;
 pub const BAKED_CHANNELS: usize = 3;
 
 /// Why a point light inside the scene goes unshadowed.
-pub const POINT_INSIDE: &str = "a point light inside the scene's bounds: no one frustum covers it, and there are no cube maps";
+pub const POINT_INSIDE: &str =
+    "a point light inside the scene's bounds: no one frustum covers it, and there are no cube maps";
 /// Why a fourth shadowing light goes unshadowed in the atlas.
 pub const ATLAS_FULL: &str = "a baked texel holds the shadows of 3 lights";
 /// Why the projective texture shadows the primary light alone.
@@ -100,8 +101,8 @@ pub fn shadowed_mask(lights: &[PlannedLight]) -> u8 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::lights::parse_light_spec;
     use crate::scene::builtin_scene;
+    use crate::scene::lights::parse_light_spec;
 
     #[test]
     fn the_lights_scene_maps_all_three_and_a_point_light_inside_goes_without() {

@@ -247,8 +247,11 @@ impl AtlasPage {
         tiles: &[usize],
     ) {
         let clear = [vk::ClearValue { color: vk::ClearColorValue { float32: [1.0, 1.0, 1.0, 0.0] } }];
-        let rasterised: Vec<usize> =
-            tiles.iter().copied().filter(|&i| self.tiles.get(i).is_some_and(|t| t.bake == TileBake::Rasterised)).collect();
+        let rasterised: Vec<usize> = tiles
+            .iter()
+            .copied()
+            .filter(|&i| self.tiles.get(i).is_some_and(|t| t.bake == TileBake::Rasterised))
+            .collect();
         let area = self.area_of(&rasterised, self.raw_extent);
         rec.begin_offscreen_pass_in(&self.raster_pass, self.raw_framebuffer.raw, self.raw_extent, area, &clear);
         rec.bind_with_sets(bake, &[light_set]);
@@ -394,7 +397,11 @@ fn tile_uniforms(gpu: &Arc<Gpu>, layout: &PageLayout, tiles: &[PageTile]) -> Res
 
 /// The page pass's storage: every tile's record (`tile_count` of them, written by
 /// `write_records`) and the texel surfaces, with the set that binds both.
-fn tile_records(gpu: &Arc<Gpu>, tile_count: usize, mut surface: Vec<[u32; 4]>) -> Result<(Buffer, Buffer, DescriptorSet)> {
+fn tile_records(
+    gpu: &Arc<Gpu>,
+    tile_count: usize,
+    mut surface: Vec<[u32; 4]>,
+) -> Result<(Buffer, Buffer, DescriptorSet)> {
     // The surface buffer is never empty (a storage buffer binding needs a range).
     if surface.is_empty() {
         surface.push([0; 4]);
@@ -414,7 +421,11 @@ fn tile_records(gpu: &Arc<Gpu>, tile_count: usize, mut surface: Vec<[u32; 4]>) -
         gpu,
         &[
             Binding::ReadOnlyStorage { buffer: records.raw, range: records_size, stages: page_stages },
-            Binding::ReadOnlyStorage { buffer: surface.raw, range: surface.size, stages: vk::ShaderStageFlags::FRAGMENT },
+            Binding::ReadOnlyStorage {
+                buffer: surface.raw,
+                range: surface.size,
+                stages: vk::ShaderStageFlags::FRAGMENT,
+            },
         ],
     )?;
     Ok((records, surface, set))

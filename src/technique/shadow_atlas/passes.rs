@@ -3,11 +3,11 @@
 //! pass and mips (the projective texture: per-model bakes, copies and mips), all cached while
 //! neither a light nor a model moves, then the scene pass.
 
-use crate::shaders;
 use crate::pipeline::recipes::NO_WRITE;
 use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexAttribute, VertexLayout};
 use crate::render::plan::{DrawKind, Label, MaterialVariant, PassKinds, PassPlan, PlannedPass, SetRole, When};
 use crate::render::{LIGHT_PUSH_BYTES, OBJECT_PUSH_BYTES};
+use crate::shaders;
 use crate::technique::light_loop::{self, PlannedLight};
 use crate::technique::material_variants::with_surface_variants;
 use crate::technique::options::ShadowKind;
@@ -265,9 +265,15 @@ pub fn plan(kind: ShadowKind, lights: &[PlannedLight]) -> PassPlan<AtlasKinds> {
             // geometry images), one page pass (geometry images baked by their texels, the
             // others dilated), one mip chain, however many models.
             plan.push(
-                PlannedPass::offscreen("atlas bake", bake_desc(), AtlasDraw::Bake, "object transform", AtlasTarget::AtlasSpace)
-                    .with_sets(&[LIGHT])
-                    .when(When::RasterisedTilesStale),
+                PlannedPass::offscreen(
+                    "atlas bake",
+                    bake_desc(),
+                    AtlasDraw::Bake,
+                    "object transform",
+                    AtlasTarget::AtlasSpace,
+                )
+                .with_sets(&[LIGHT])
+                .when(When::RasterisedTilesStale),
             );
             plan.push(
                 PlannedPass::offscreen("atlas page", page_desc(), AtlasDraw::Page, "page size", AtlasTarget::PageMip0)

@@ -73,9 +73,9 @@ pub fn stale_after_moves(
                 return true;
             }
             let receiver = sphere(r, &scene.objects[r].transform);
-            casters.iter().any(|caster| {
-                lights.iter().any(|light| can_shadow(light, caster, &receiver, scene_radius, map_size))
-            })
+            casters
+                .iter()
+                .any(|caster| lights.iter().any(|light| can_shadow(light, caster, &receiver, scene_radius, map_size)))
         })
         .collect()
 }
@@ -121,7 +121,6 @@ fn can_shadow(light: &Light, caster: &Sphere, receiver: &Sphere, scene_radius: f
 #[cfg(test)]
 mod tests {
     use super::*;
-
 
     #[test]
     fn a_caster_shadows_what_lies_downlight_of_it_only() {

@@ -469,7 +469,14 @@ impl PassDraws<AtlasKinds> for ShadowPasses {
             AtlasDraw::ClearMap => self.clear_map(rec)?,
             AtlasDraw::Bake => {
                 let tiles = &self.rebake;
-                self.atlas_page(pass)?.record_raster_bake(rec, scene, &self.meshes, pipeline()?, self.light_set.set, tiles)
+                self.atlas_page(pass)?.record_raster_bake(
+                    rec,
+                    scene,
+                    &self.meshes,
+                    pipeline()?,
+                    self.light_set.set,
+                    tiles,
+                )
             }
             AtlasDraw::ProjectiveBake => {
                 self.atlas_targets(pass)?.record_bake(rec, scene, &self.meshes, pipeline()?, self.light_set.set)
@@ -530,9 +537,10 @@ impl Passes<AtlasKinds> for ShadowPasses {
             fitted: Vec::new(),
         };
         // Nothing moved: the fit (which walks every posed vertex) is the cached one.
-        let unmoved = self.cache.as_ref().filter(|c| {
-            (&c.lights, &c.transforms, &c.palettes) == (&key.lights, &key.transforms, &key.palettes)
-        });
+        let unmoved = self
+            .cache
+            .as_ref()
+            .filter(|c| (&c.lights, &c.transforms, &c.palettes) == (&key.lights, &key.transforms, &key.palettes));
         self.rebake.clear();
         match unmoved {
             Some(cache) => {

@@ -65,7 +65,12 @@ pub fn hidden_casters(scene: &Scene, casters: &[Caster], light: &SceneLight, box
 
 /// Every reached caster's triangles drawn into a map from the light over their boxes; `None`
 /// when fewer than two casters are reached or the light sits among them.
-fn occluder_map(scene: &Scene, casters: &[Caster], light: &SceneLight, reached: &[Option<Aabb>]) -> Option<OccluderMap> {
+fn occluder_map(
+    scene: &Scene,
+    casters: &[Caster],
+    light: &SceneLight,
+    reached: &[Option<Aabb>],
+) -> Option<OccluderMap> {
     if reached.iter().flatten().count() < 2 {
         return None;
     }

@@ -30,13 +30,13 @@
 use ash::vk;
 use glam::Vec4;
 
-use crate::shaders;
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::pipeline::recipes::{self, NO_WRITE};
 use crate::pipeline::{BlendState, DepthState, FixedFunction, PipelineDesc, RasterState, VertexLayout};
 use crate::render::plan::{fmt_f32, DrawKind, Draws, Label, NoOwn, Only, PassKinds, PassPlan, PlannedPass, SetRole};
 use crate::render::{LIGHT_PUSH_BYTES, OBJECT_PUSH_BYTES};
+use crate::shaders;
 use crate::technique::alpha_counter;
 use crate::technique::light_loop::{self, PlannedLight};
 use crate::technique::lit;
@@ -190,7 +190,9 @@ pub fn apply_desc(normalize: Normalize) -> PipelineDesc {
 pub fn subpass_aware_apply_desc(normalize: Normalize, samples: u32) -> PipelineDesc {
     match normalize {
         // colour *= dst alpha (1 where lit, D where shadowed).
-        Normalize::Seed | Normalize::Max => fullscreen_desc("apply", shaders::SOLID_FRAG, recipes::MODULATE_BY_DST_ALPHA),
+        Normalize::Seed | Normalize::Max => {
+            fullscreen_desc("apply", shaders::SOLID_FRAG, recipes::MODULATE_BY_DST_ALPHA)
+        }
         // colour *= the factors the shader output where the count is not 0.
         Normalize::Subpass => {
             let shader = counter_reader(shaders::SHADOW_SUBPASS_FRAG, shaders::SHADOW_SUBPASS_MS_FRAG, samples);
@@ -412,14 +414,19 @@ fn modulate_plan(
 /// Down-counting volume pipelines (additive mode): entering walls take k/255 off, leaving
 /// walls give it back, with the faces and depth tests of `volume_descs`.
 pub fn down_volume_descs(zfail: bool) -> [PipelineDesc; 2] {
-    let names = [["volume enter (z-pass)", "volume leave (z-pass)"], ["volume enter (z-fail)", "volume leave (z-fail)"]];
+    let names =
+        [["volume enter (z-pass)", "volume leave (z-pass)"], ["volume enter (z-fail)", "volume leave (z-fail)"]];
     counting_descs(zfail, names, [recipes::COUNTER_DOWN_ENTER, recipes::COUNTER_DOWN_LEAVE])
 }
 
 /// The ambient pass of the additive loop: depth, ambient x albedo and emissive, alpha 1 (every
 /// light's down-counter starts at a count of 0). Blended materials wait for `transparent`.
 pub fn ambient_pass() -> PlannedPass<VolumeKinds> {
-    let desc = PipelineDesc { name: "scene (ambient)", fragment_shader: shaders::LIT_AMBIENT_FRAG, ..lit::scene_pipeline_desc() };
+    let desc = PipelineDesc {
+        name: "scene (ambient)",
+        fragment_shader: shaders::LIT_AMBIENT_FRAG,
+        ..lit::scene_pipeline_desc()
+    };
     let pass = PlannedPass::objects("scene (ambient)", desc.clone(), 1.0).only(Only::Opaque);
     with_surface_variants(pass, &desc).with_sets(&[SetRole::Frame, SetRole::Material])
 }
@@ -474,7 +481,8 @@ fn additive_plan(
                 let desc = reference_volume_desc(zfail);
                 let clear = !first_shadowing;
                 plan.push(volumes_pass(light_loop::pass_name(light, desc.name), desc, 0.0, i, clear));
-                let desc = shading_desc("shading (stencil)", recipes::ADD_LIGHT, Some(recipes::STENCIL_COUNT_NOT_POSITIVE));
+                let desc =
+                    shading_desc("shading (stencil)", recipes::ADD_LIGHT, Some(recipes::STENCIL_COUNT_NOT_POSITIVE));
                 plan.push(shading_pass(light_loop::pass_name(light, "shading (stencil)"), desc, i));
             }
             StencilMode::Emulated => {
@@ -514,11 +522,15 @@ fn additive_plan(
                     Normalize::Subpass => {
                         let name = light_loop::pass_name(light, "mask (subpass)");
                         plan.push(
-                            PlannedPass::new(name, mask_desc(samples, options.fragment_atomics), Draws::FullScreen { push: None })
-                                .with_sets(&[COUNTER_INPUT])
-                                .reading_colour()
-                                .scissored()
-                                .for_light(i),
+                            PlannedPass::new(
+                                name,
+                                mask_desc(samples, options.fragment_atomics),
+                                Draws::FullScreen { push: None },
+                            )
+                            .with_sets(&[COUNTER_INPUT])
+                            .reading_colour()
+                            .scissored()
+                            .for_light(i),
                         );
                     }
                 }

@@ -420,7 +420,8 @@ impl PassDraws<VolumeKinds> for ShadowVolumePasses {
             }
             for volume in volumes {
                 let slot = buffers.get(volume.caster);
-                let Some((vertices, indices)) = slot.and_then(|b| Some((b.vertices.filled()?.0, b.indices.filled()?.0)))
+                let Some((vertices, indices)) =
+                    slot.and_then(|b| Some((b.vertices.filled()?.0, b.indices.filled()?.0)))
                 else {
                     continue;
                 };
@@ -451,7 +452,8 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
         let extent = renderer.extent();
         let boxes = bounds::object_boxes(scene);
         let receivers = bounds::receivers_box(&boxes);
-        (self.volumes, self.covers, self.light_rects, self.stats.lights) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        (self.volumes, self.covers, self.light_rects, self.stats.lights) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         self.stats.culling_cpu_ms = 0.0;
         for (index, light) in scene.lights.iter().enumerate() {
             let light_rect = if self.requested.clip_volumes {
@@ -677,7 +679,12 @@ struct BuiltVolume {
 
 /// `caster`'s volume for `key`: its vertices, its indices in the order it is drawn, and its
 /// index ranges (empty indices: it casts nothing).
-fn volume_for(scene: &Scene, caster: &Caster, key: VolumeKey, counting: Counting) -> (Vec<Vec4>, Vec<u32>, Vec<IndexRange>) {
+fn volume_for(
+    scene: &Scene,
+    caster: &Caster,
+    key: VolumeKey,
+    counting: Counting,
+) -> (Vec<Vec4>, Vec<u32>, Vec<IndexRange>) {
     // Far caps close the volumes (point lights, and every clipped volume): drawn in both
     // methods, so that the background (depth 1) behind a volume never counts. Near caps for
     // z-fail, and for two-sided casters in z-pass too: a ray may pass one of their

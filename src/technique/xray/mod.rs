@@ -12,7 +12,6 @@ use super::frame_renderer::{BuildContext, Passes};
 use super::interface::{NoStats, RenderOptions};
 use super::lit::scene_pass;
 use super::unit::{Prepared, TechniqueUnit};
-use crate::shaders;
 use crate::error::Result;
 use crate::gpu::Gpu;
 use crate::pipeline::{BlendEquation, BlendState, DepthState, FixedFunction, PipelineDesc, VertexLayout};
@@ -21,6 +20,7 @@ use crate::render::plan::{DrawKind, NoOwn, PassKinds, PassPlan, PlannedPass, Set
 use crate::render::plan_execution::PassDraws;
 use crate::render::{FrameOutput, FrameRecorder, GpuScene, Pipeline, Renderer, OBJECT_PUSH_BYTES};
 use crate::scene::Scene;
+use crate::shaders;
 
 /// How much of a hidden caster's colour shows through (the blend's source alpha).
 pub const SHOW_THROUGH: f32 = 0.5;

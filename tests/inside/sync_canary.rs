@@ -16,7 +16,7 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 use nostencil::gpu::commands::submit_and_wait;
 use nostencil::gpu::memory::Buffer;
-use nostencil::gpu::Gpu;
+use nostencil::Gpu;
 
 const SIZE: u64 = 256;
 

@@ -10,13 +10,13 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
 use image::RgbaImage;
-use nostencil::frame::StencilMode;
-use nostencil::gpu::Gpu;
-use nostencil::scene::{builtin_scene, Scene};
 use nostencil::technique::shadow_atlas::{
     self, technique_of, AtlasBake, Baked, LightMode, ShadowAtlasOptions, ShadowAtlasStats, ShadowKind,
 };
-use nostencil::technique::RenderOptions;
+use nostencil::Gpu;
+use nostencil::RenderOptions;
+use nostencil::StencilMode;
+use nostencil::{builtin_scene, Scene};
 
 fn options(bake: AtlasBake, light: LightMode, size: u32) -> RenderOptions {
     RenderOptions {

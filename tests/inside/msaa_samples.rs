@@ -5,34 +5,35 @@
 
 use crate::common;
 
-use nostencil::technique::ShadowMode;
+use nostencil::ShadowMode;
 
 use std::sync::Arc;
 
 use ash::vk;
 use glam::Vec4;
-use nostencil::frame::{FrameTargets, StencilMode};
+use nostencil::frame::FrameTargets;
 use nostencil::gpu::memory::Buffer;
-use nostencil::gpu::Gpu;
 use nostencil::mesh::caster::CastPath;
 use nostencil::mesh::Reach;
 use nostencil::pipeline::recipes::{both_faces, stencil_face, ALPHA_ONLY, STENCIL_COUNT_ZERO};
 use nostencil::pipeline::{BlendState, FixedFunction, PipelineDesc, VertexLayout};
 use nostencil::render::plan::{PassPlan, PlannedPass, SetRole, Target};
 use nostencil::render::plan_execution::{record_plan, PassDraws, PlanPipelines};
-use nostencil::render::{
-    FrameRecorder, FrameSamples, FrameUniforms, GpuScene, ObjectPush, Pipeline, PipelineTarget, Renderer,
-};
-use nostencil::scene::{builtin_scene, Scene};
+use nostencil::render::{FrameRecorder, FrameSamples, FrameUniforms, GpuScene, ObjectPush, Pipeline, PipelineTarget};
 use nostencil::technique::shadow_volume::recipes::{VolumeDraw, VolumeKinds, VolumeSet};
 use nostencil::technique::shadow_volume::{self, bounds, build_volume, prepare_casters};
 use nostencil::technique::shadow_volume::{Normalize, ShadowVolumeOptions, VolumeMethod};
-use nostencil::technique::{RenderOptions, ShadowTone, Technique};
+use nostencil::technique::ShadowTone;
+use nostencil::Gpu;
+use nostencil::Renderer;
+use nostencil::StencilMode;
+use nostencil::{builtin_scene, Scene};
+use nostencil::{RenderOptions, Technique};
 
 const SAMPLES: u32 = 4;
 
 fn technique(name: &str) -> &'static dyn Technique {
-    nostencil::technique::by_name(name).expect("technique")
+    nostencil::technique(name).expect("technique")
 }
 
 /// A shadow-volume frame at 4x that keeps its samples, and every sample read back.
@@ -278,7 +279,7 @@ fn the_alpha_counter_equals_the_stencil_count_in_every_sample() {
     for method in [VolumeMethod::ZPass, VolumeMethod::ZFail] {
         for k in [1u8, 4] {
             // The seed's up-counter (modulate mode): alpha = k x the stencil's count.
-            let mode = nostencil::technique::ShadowMode::Modulate;
+            let mode = nostencil::ShadowMode::Modulate;
             let options = ShadowVolumeOptions { method, increment: k, mode, ..Default::default() };
             let emulated = counts_per_sample(&gpu, &scene, StencilMode::Emulated, options);
             let reference = counts_per_sample(&gpu, &scene, StencilMode::Reference, options);
@@ -308,9 +309,9 @@ fn the_alpha_counter_equals_the_stencil_count_in_every_sample() {
 // Resolved edges and the analytic outline.
 
 /// A frame of `options` at `samples` samples.
-fn frame(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions, samples: u32) -> nostencil::technique::TechniqueFrame {
+fn frame(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions, samples: u32) -> nostencil::TechniqueFrame {
     let options = RenderOptions { samples, ..options.clone() };
-    nostencil::technique::render_scene(gpu, scene, &options).expect("frame")
+    nostencil::render_scene(gpu, scene, &options).expect("frame")
 }
 
 /// How far each pixel of `shadowed` is from `unshadowed` toward the full shadow (colour x
@@ -351,10 +352,8 @@ fn shadow_edges_resolve_between_lit_and_shadowed_only_at_4x() {
         ..base.clone()
     };
     let planar = RenderOptions { technique: technique("planar"), ..base.clone() };
-    let unshadowed_planar = RenderOptions {
-        planar: nostencil::technique::PlanarOptions { shadows: false, ..planar.planar },
-        ..planar.clone()
-    };
+    let unshadowed_planar =
+        RenderOptions { planar: nostencil::PlanarOptions { shadows: false, ..planar.planar }, ..planar.clone() };
     let lit = RenderOptions { technique: technique("lit"), ..base.clone() };
     let cases = [
         ("shadow-volume subpass", volumes(Normalize::Subpass), &lit, ShadowTone::default().darkest()),
@@ -386,7 +385,7 @@ fn shadow_edges_resolve_between_lit_and_shadowed_only_at_4x() {
     common::assert_no_validation_messages(&gpu);
 }
 
-/// As tests/shadow_volume.rs's 1x check, at 4x: the ground pixels shadowed to at least half
+/// As tests/inside/shadow_volume.rs's 1x check, at 4x: the ground pixels shadowed to at least half
 /// coverage (`shadow_coverage` >= 0.5) against those whose centre lies inside the casters'
 /// projected outline, computed on the CPU (every casting triangle projected along the light
 /// onto the ground). Pixels where the 4x lit frame shows a caster (its edges included) are
@@ -424,7 +423,7 @@ fn the_box_shadow_at_4x_thresholded_at_half_coverage_is_its_projected_outline() 
     common::assert_no_validation_messages(&gpu);
 }
 
-/// The additive loop at 4x (tests/shadow_volume.rs runs it at 1x): emulated equals Ogre's
+/// The additive loop at 4x (tests/inside/shadow_volume.rs runs it at 1x): emulated equals Ogre's
 /// per-light stencil loop on every built-in scene, z-fail and the scene's choice, k = 1 and 4,
 /// all three normalisations. Per sample: the mask, the depth-equal shading and the reset all
 /// blend per sample, and the reference's stencil tests per sample.
@@ -432,7 +431,7 @@ fn the_box_shadow_at_4x_thresholded_at_half_coverage_is_its_projected_outline() 
 fn additive_emulated_equals_reference_at_4x_on_every_scene() {
     let gpu = common::gpu();
     let base = RenderOptions { width: 96, height: 72, technique: technique("shadow-volume"), ..Default::default() };
-    for (name, _) in nostencil::scene::BUILTIN_SCENES {
+    for (name, _) in nostencil::BUILTIN_SCENES {
         let scene = builtin_scene(name).expect("scene");
         for method in [VolumeMethod::Auto, VolumeMethod::ZFail] {
             let with = |stencil, increment, normalize| RenderOptions {
@@ -463,11 +462,11 @@ fn additive_emulated_equals_reference_at_4x_on_every_scene() {
 // Saturation, per sample.
 
 /// Ground, and `boxes` thin boxes stacked under a light straight down: ground pixels under the
-/// stack sit inside up to `boxes` volumes (as tests/shadow_volume.rs's saturation scene).
+/// stack sit inside up to `boxes` volumes (as tests/inside/shadow_volume.rs's saturation scene).
 fn stack_scene(boxes: usize) -> Scene {
     let mut scene = builtin_scene("box").expect("scene");
     scene.objects.retain(|o| o.name == "ground");
-    scene.set_light(nostencil::scene::Light::Directional { direction: glam::Vec3::NEG_Y });
+    scene.set_light(nostencil::Light::Directional { direction: glam::Vec3::NEG_Y });
     let cube = scene.add_mesh("thin box", nostencil::mesh::shapes::cube(1.0));
     for i in 0..boxes {
         let transform = glam::Mat4::from_scale_rotation_translation(
@@ -502,7 +501,7 @@ fn saturation_is_counted_per_sample_at_4x() {
             increment: 8,
             normalize: Normalize::Subpass,
             saturation_probe,
-            mode: nostencil::technique::ShadowMode::Modulate,
+            mode: nostencil::ShadowMode::Modulate,
             ..Default::default()
         },
         ..Default::default()
@@ -510,7 +509,7 @@ fn saturation_is_counted_per_sample_at_4x() {
     let run = |options: RenderOptions| {
         let mut renderer = options.technique.build(&gpu, &scene, &options).expect("renderer");
         let frame = renderer.frame_with(&scene).expect("frame");
-        let stats = frame.stats::<nostencil::technique::ShadowVolumeStats>().expect("statistics").clone();
+        let stats = frame.stats::<nostencil::stats::ShadowVolumeStats>().expect("statistics").clone();
         let samples = (options.samples > 1).then(|| renderer.renderer_mut().read_samples().expect("samples"));
         (stats, samples)
     };

@@ -11,13 +11,14 @@ use std::sync::Arc;
 use common::ray_world::RayWorld;
 use glam::{Vec2, Vec3};
 use image::RgbaImage;
-use nostencil::gpu::Gpu;
 use nostencil::scene::lights::parse_light_spec;
-use nostencil::scene::{builtin_scene, model::LightKind, Scene, SceneLight};
+use nostencil::scene::model::LightKind;
 use nostencil::technique::shadow_atlas::atlas::mesh_atlas;
 use nostencil::technique::shadow_atlas::maps::{self, Coverage};
 use nostencil::technique::shadow_atlas::{self, ShadowAtlasOptions, ShadowKind, ShadowLightUniforms};
-use nostencil::technique::{render_scene, RenderOptions, TechniqueFrame};
+use nostencil::Gpu;
+use nostencil::{builtin_scene, Scene, SceneLight};
+use nostencil::{render_scene, RenderOptions, TechniqueFrame};
 
 const SIZE: (u32, u32) = (160, 120);
 
@@ -26,7 +27,7 @@ fn frame(gpu: &Arc<Gpu>, scene: &Scene, technique: &str) -> TechniqueFrame {
         width: SIZE.0,
         height: SIZE.1,
         samples: 1,
-        technique: nostencil::technique::by_name(technique).expect("technique"),
+        technique: nostencil::technique(technique).expect("technique"),
         ..RenderOptions::default()
     };
     let frame = render_scene(gpu, scene, &options).unwrap_or_else(|e| panic!("{technique} renders: {e}"));
@@ -278,7 +279,7 @@ fn the_unshadowed_lights_warning_names_the_way_to_shadow_them_all() {
             width: SIZE.0,
             height: SIZE.1,
             samples: 1,
-            technique: nostencil::technique::by_name(technique).expect("technique"),
+            technique: nostencil::technique(technique).expect("technique"),
             ..RenderOptions::default()
         };
         options.shadow_volume.mode = ShadowMode::Modulate;

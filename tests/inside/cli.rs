@@ -5,7 +5,7 @@ use crate::common;
 
 use std::path::Path;
 
-use nostencil::scene::{builtin_scene, scene_from_gltf};
+use nostencil::{builtin_scene, scene_from_gltf};
 
 /// A failure a user caused: non-zero exit, one line on stderr naming the problem, no panic.
 fn assert_clean_failure(what: &str, output: &std::process::Output, mentions: &str) {

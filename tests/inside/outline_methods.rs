@@ -9,12 +9,12 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
 use image::RgbaImage;
-use nostencil::frame::StencilMode;
-use nostencil::gpu::Gpu;
 use nostencil::mesh::{shapes, MeshData};
-use nostencil::scene::{builtin_scene, Camera, Light, Scene};
 use nostencil::technique::outline::Outline;
-use nostencil::technique::{render_scene, CartoonOptions, OutlineMethod, RenderOptions};
+use nostencil::Gpu;
+use nostencil::StencilMode;
+use nostencil::{builtin_scene, Camera, Light, Scene};
+use nostencil::{render_scene, CartoonOptions, OutlineMethod, RenderOptions};
 
 const SIZE: (u32, u32) = (160, 120);
 /// The camera's distance from the shapes of the face-on scenes.

@@ -8,9 +8,9 @@ use crate::common;
 use common::ray_world::RayWorld;
 use glam::{Mat4, Vec3};
 use nostencil::scene::lights::parse_light_spec;
-use nostencil::scene::{Camera, Light, Scene, SceneLight};
-use nostencil::technique::ShadowMode;
+use nostencil::ShadowMode;
 use nostencil::{builtin_scene, render_scene, technique, RenderOptions, StencilMode};
+use nostencil::{Camera, Light, Scene, SceneLight};
 
 /// Renders `scene` with `technique` at `size`, one sample.
 fn render(scene: &Scene, name: &str, size: (u32, u32), mode: ShadowMode) -> image::RgbaImage {

@@ -14,9 +14,9 @@ use image::RgbaImage;
 use nostencil::mesh::MeshData;
 use nostencil::render::plan::MaterialVariant;
 use nostencil::scene::model::{AlphaMode, Filter, Material, Sampler, TextureRef, TextureRgba8, TextureTransform, Wrap};
-use nostencil::scene::{Camera, Light, Scene};
-use nostencil::technique::{by_name, render_scene, RenderOptions, TECHNIQUES};
 use nostencil::StencilMode;
+use nostencil::{render_scene, technique as by_name, RenderOptions, TECHNIQUES};
+use nostencil::{Camera, Light, Scene};
 
 // ---------------------------------------------------------------------------------------------
 // Colour arithmetic of the frame.

@@ -26,10 +26,11 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{mpsc, Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use nostencil::frame::StencilMode;
-use nostencil::gpu::Gpu;
-use nostencil::scene::{scene_and_warnings_from_gltf_slice, Scene};
-use nostencil::technique::{render_scene, RenderOptions, TECHNIQUES};
+use nostencil::scene::scene_and_warnings_from_gltf_slice;
+use nostencil::Gpu;
+use nostencil::Scene;
+use nostencil::StencilMode;
+use nostencil::{render_scene, RenderOptions, TECHNIQUES};
 
 use mutate::{mutate, Rng};
 
@@ -269,7 +270,7 @@ fn render_small(gpu: &Arc<Gpu>, scene: &Scene, k: usize) -> Result<(), String> {
 
 /// Keeps a failing case for replay by hand: its bytes beside a note of what was done.
 fn save_failure(index: usize, source: &Path, bytes: &[u8], note: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("fuzz_gltf_failures");
+    let dir = common::scratch_root().join("fuzz_gltf_failures");
     let _ = std::fs::create_dir_all(&dir);
     let ext = if bytes.starts_with(b"glTF") { "glb" } else { "gltf" };
     let path = dir.join(format!("case{index}.{ext}"));

@@ -12,12 +12,12 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
 use image::RgbaImage;
-use nostencil::frame::StencilMode;
-use nostencil::gpu::Gpu;
-use nostencil::scene::Light;
-use nostencil::scene::{builtin_scene_at, scene_from_gltf, Scene};
 use nostencil::technique::planar::{self, project_onto_plane, GivenPlane, PlanarOptions, Plane, TextureShadowOn};
-use nostencil::technique::{render_scene, RenderOptions, ShadowMode, ShadowVolumeOptions, Technique, TechniqueFrame};
+use nostencil::Gpu;
+use nostencil::Light;
+use nostencil::StencilMode;
+use nostencil::{builtin_scene_at, scene_from_gltf, Scene};
+use nostencil::{render_scene, RenderOptions, ShadowMode, ShadowVolumeOptions, Technique, TechniqueFrame};
 
 const SIZE: (u32, u32) = (160, 120);
 /// The default shadow tone, grey: shadowed colour x 102/255.
@@ -809,7 +809,7 @@ fn a_renderer_built_once_follows_the_walk_as_if_rebuilt_at_each_time() {
     })
     .collect();
     let mut hull = variants[2].1.clone();
-    hull.cartoon.silhouette = nostencil::technique::SilhouetteMethod::Hull;
+    hull.cartoon.silhouette = nostencil::SilhouetteMethod::Hull;
     variants.push(("silhouette hull".into(), hull));
     for (name, build) in &sources {
         let start = build(0.0);
@@ -849,7 +849,7 @@ fn a_renderer_built_once_follows_the_walk_as_if_rebuilt_at_each_time() {
 
 /// A technique of the registry, by name.
 fn technique(name: &str) -> &'static dyn Technique {
-    nostencil::technique::by_name(name).expect("technique")
+    nostencil::technique(name).expect("technique")
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -867,7 +867,7 @@ fn additive_planar_equals_the_reference_on_every_scene_at_1x_and_4x() {
     let gpu = common::gpu();
     let size = (96, 72);
     let mut compared = 0;
-    for &(name, _) in nostencil::scene::BUILTIN_SCENES {
+    for &(name, _) in nostencil::BUILTIN_SCENES {
         let scene = builtin_scene_at(name, 0.5).expect("scene");
         if planar::receiver_plane(&scene, None).is_err() {
             continue; // slope: a tilted plane is given by hand (tested above)

@@ -1,10 +1,11 @@
 //! CPU-side hot paths: welding and edge extraction for a 131,072-face mesh (the paper's 257x257
 //! geometry image size), shadow-volume building (silhouette and two-sided), animation sampling and CPU skinning.
-//! `cargo bench --bench cpu`
+//! Criterion, run from an ignored test because the functions it times are private to the crate:
+//! `cargo test --release --lib cpu_bench -- --ignored --nocapture`.
 
 use std::path::Path;
 
-use criterion::{criterion_group, criterion_main, Criterion};
+use criterion::Criterion;
 use glam::Vec3;
 use nostencil::mesh::{self, shapes, EdgeAdjacency, View};
 use nostencil::scene::{self, TimeMode};
@@ -89,5 +90,11 @@ fn animation(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, edges, animation);
-criterion_main!(benches);
+#[test]
+#[ignore = "a benchmark: cargo test --release --lib cpu_bench -- --ignored --nocapture"]
+fn cpu_bench() {
+    let mut criterion = Criterion::default();
+    edges(&mut criterion);
+    animation(&mut criterion);
+    criterion.final_summary();
+}

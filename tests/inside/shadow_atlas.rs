@@ -9,17 +9,17 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec2, Vec3};
 use image::RgbaImage;
-use nostencil::frame::StencilMode;
-use nostencil::gpu::Gpu;
 use nostencil::mesh::geometry_image::{geometry_image, horned_radius, octahedral_direction};
 use nostencil::mesh::ray::ray_hits_triangle;
 use nostencil::mesh::{shapes, MeshData};
-use nostencil::scene::{builtin_scene, Camera, Light, Scene};
 use nostencil::technique::shadow_atlas::atlas::{mesh_atlas, AtlasSource};
 use nostencil::technique::shadow_atlas::{
     self, technique_of, Baked, LightMode, ShadowAtlasOptions, ShadowAtlasStats, ShadowKind,
 };
-use nostencil::technique::{render_scene, RenderOptions, Technique};
+use nostencil::Gpu;
+use nostencil::StencilMode;
+use nostencil::{builtin_scene, Camera, Light, Scene};
+use nostencil::{render_scene, RenderOptions, Technique};
 
 use common::ray_world::RayWorld;
 
@@ -137,7 +137,7 @@ fn assert_atlas_agrees_with_shadow_map(gpu: &Arc<Gpu>, scene: &Scene, size: (u32
     // Kept for a person to look at.
     let dir = common::scratch_dir(&format!("atlas-vs-map-{}", scene.name));
     for (image, name) in [(&atlas, "atlas"), (&map, "shadow-map"), (&lit, "lit")] {
-        nostencil::frame::write_png(image, &dir.join(format!("{name}.png")), false).expect("write png");
+        nostencil::write_png(image, &dir.join(format!("{name}.png")), false).expect("write png");
     }
     let (w, h) = size;
     // The shadow map's shadow: pixels darker than the unshadowed frame.
@@ -316,11 +316,9 @@ fn fixed_light_skips_the_shadow_passes_and_moving_light_does_not() {
         let mut renderer = technique_of(kind).build(&gpu, &scene, &options).expect("renderer");
         let first = renderer.frame_with(&scene).expect("frame 1");
         let second = renderer.frame_with(&scene).expect("frame 2");
-        let names = |f: &nostencil::technique::TechniqueFrame| {
-            f.output.counters.passes.iter().map(|p| p.name.clone()).collect::<Vec<_>>()
-        };
-        let cached =
-            |f: &nostencil::technique::TechniqueFrame| f.stats::<ShadowAtlasStats>().expect("atlas stats").cached;
+        let names =
+            |f: &nostencil::TechniqueFrame| f.output.counters.passes.iter().map(|p| p.name.clone()).collect::<Vec<_>>();
+        let cached = |f: &nostencil::TechniqueFrame| f.stats::<ShadowAtlasStats>().expect("atlas stats").cached;
         assert!(!cached(&first) && names(&first).contains(&"sun: shadow map".to_string()));
         assert_eq!(cached(&second), light == LightMode::Fixed, "{light:?} {kind:?}");
         assert_eq!(names(&second).contains(&"sun: shadow map".to_string()), light == LightMode::Moving);
@@ -339,7 +337,7 @@ fn fixed_light_skips_the_shadow_passes_and_moving_light_does_not() {
 #[test]
 fn texcoord1_is_used_when_it_does_not_overlap_and_replaced_when_it_does() {
     let path = common::test_asset("CornellBox.glb");
-    let scene = nostencil::scene::scene_from_gltf(&path, 0.0).expect("CornellBox.glb");
+    let scene = nostencil::scene_from_gltf(&path, 0.0).expect("CornellBox.glb");
     let with_uv1: Vec<_> = scene.meshes.iter().filter(|m| m.uv1.is_some()).collect();
     assert!(!with_uv1.is_empty(), "CornellBox.glb has TEXCOORD_1");
     for mesh in &with_uv1 {
@@ -436,7 +434,7 @@ fn bake_writes_the_models_shadow_texture_from_the_command_line() {
 
 /// A technique of the registry, by name.
 fn technique(name: &str) -> &'static dyn Technique {
-    nostencil::technique::by_name(name).expect("technique")
+    nostencil::technique(name).expect("technique")
 }
 
 #[test]
@@ -594,7 +592,7 @@ fn atlas_125_models_are_shadowed_where_a_cpu_ray_cast_says() {
 /// The ray casts' hierarchy answers as testing every triangle does: nearest hits (object and
 /// distance) and occluders of camera and shadow rays over atlas-one.
 /// Every triangle of the scene in world space, with the index of its object.
-fn world_triangles(scene: &nostencil::scene::Scene) -> Vec<(usize, [Vec3; 3])> {
+fn world_triangles(scene: &nostencil::Scene) -> Vec<(usize, [Vec3; 3])> {
     scene
         .objects
         .iter()
@@ -914,7 +912,7 @@ fn atlas_125_frame_is_shadowed_where_a_cpu_ray_cast_says() {
     }
     let dir = common::scratch_dir("atlas-125-frame");
     for (image, name) in [(&atlas, "atlas"), (&lit_frame, "lit"), (&mask, "checked")] {
-        nostencil::frame::write_png(image, &dir.join(format!("{name}.png")), false).expect("write png");
+        nostencil::write_png(image, &dir.join(format!("{name}.png")), false).expect("write png");
     }
     let on_models = lit + shadowed - on_ground;
     println!(
@@ -983,7 +981,7 @@ fn projective_texture_shadows_lit_parts_of_a_concave_model_that_the_atlas_leaves
     let atlas = render(&gpu, &scene, technique("shadow-texture-atlas"), (w, h));
     let dir = common::scratch_dir("projective-vs-atlas");
     for (image, name) in [(&projective, "projective-texture"), (&atlas, "atlas")] {
-        nostencil::frame::write_png(image, &dir.join(format!("{name}.png")), false).expect("write png");
+        nostencil::write_png(image, &dir.join(format!("{name}.png")), false).expect("write png");
     }
     // Pixels the projective texture leaves clearly darker than the atlas.
     let darker: Vec<(u32, u32)> = (0..h)

@@ -4,10 +4,10 @@
 
 use crate::common;
 
+use nostencil::builtin_scene;
 use nostencil::render::plan::When;
-use nostencil::scene::builtin_scene;
-use nostencil::technique::{render_scene, LightMode, RenderOptions, TECHNIQUES};
 use nostencil::StencilMode;
+use nostencil::{render_scene, LightMode, RenderOptions, TECHNIQUES};
 
 /// Which conditional passes must run in frame `index` of the default scene, decided here and
 /// not by the renderer: the first frame bakes everything; a moving light re-bakes every frame,

@@ -14,9 +14,10 @@ use crate::common;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use nostencil::gpu::Gpu;
-use nostencil::scene::{load_gltf, scene_from_gltf};
-use nostencil::technique::{render_scene, RenderOptions};
+use nostencil::scene::load_gltf;
+use nostencil::scene_from_gltf;
+use nostencil::Gpu;
+use nostencil::{render_scene, RenderOptions};
 
 #[path = "gltf_conformance/accepted.rs"]
 mod accepted;

@@ -7,12 +7,12 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec2, Vec3};
 use image::RgbaImage;
-use nostencil::frame::StencilMode;
-use nostencil::gpu::Gpu;
 use nostencil::mesh::{shapes, MeshData};
-use nostencil::scene::{Camera, Light, Scene};
 use nostencil::technique::ink::{SILHOUETTE, TOON};
-use nostencil::technique::{render_scene, CartoonOptions, RenderOptions, SilhouetteMethod, Technique};
+use nostencil::Gpu;
+use nostencil::StencilMode;
+use nostencil::{render_scene, CartoonOptions, RenderOptions, SilhouetteMethod, Technique};
+use nostencil::{Camera, Light, Scene};
 
 /// The ink colour as the sRGB frame stores it.
 fn ink() -> [u8; 3] {
@@ -273,7 +273,7 @@ fn ridge() -> MeshData {
 
 #[test]
 fn each_edge_class_is_drawn_in_its_own_width_and_colour() {
-    use nostencil::technique::InkStyle;
+    use nostencil::InkStyle;
     let gpu = common::gpu();
     let size = (128, 128);
     // Widths and colours all different (pure primaries: the sRGB frame stores them exactly).
@@ -325,7 +325,7 @@ fn each_edge_class_is_drawn_in_its_own_width_and_colour() {
 
 #[test]
 fn ink_styles_parse_and_bad_ones_are_one_line_errors() {
-    use nostencil::technique::InkStyle;
+    use nostencil::InkStyle;
     assert_eq!(InkStyle::parse("--ink-crease", "3").ok(), Some(InkStyle { width: Some(3.0), colour: None }));
     assert_eq!(
         InkStyle::parse("--ink-crease", "2.5,#FF8000").ok(),
@@ -357,7 +357,7 @@ fn ink_only_leaves_no_face_colour_only_background_and_ink() {
     let gpu = common::gpu();
     let size = (128, 96);
     for scene_name in ["duck", "default"] {
-        let scene = nostencil::scene::builtin_scene(scene_name).expect("scene");
+        let scene = nostencil::builtin_scene(scene_name).expect("scene");
         let background = common::srgb8(scene.background);
         for &method in SilhouetteMethod::ALL {
             let options = CartoonOptions { silhouette: method, ink_only: true, ..CartoonOptions::default() };
@@ -383,8 +383,8 @@ fn ink_only_leaves_no_face_colour_only_background_and_ink() {
 
 #[test]
 fn face_normals_and_creases_are_recomputed_only_for_deformed_meshes() {
-    use nostencil::scene::builtin_scene_at;
-    use nostencil::technique::CartoonStats;
+    use nostencil::builtin_scene_at;
+    use nostencil::stats::CartoonStats;
     let gpu = common::gpu();
     let rest = builtin_scene_at("default", 0.0).expect("scene");
     let walking = builtin_scene_at("default", 0.4).expect("scene");
@@ -420,8 +420,8 @@ fn render_seams(
     scene: &Scene,
     size: (u32, u32),
     ink: nostencil::technique::InkStyles,
-    seams: nostencil::technique::Seams,
-) -> nostencil::technique::TechniqueFrame {
+    seams: nostencil::Seams,
+) -> nostencil::TechniqueFrame {
     let cartoon = CartoonOptions { ink, seams, ..CartoonOptions::default() };
     let options =
         RenderOptions { width: size.0, height: size.1, technique: &SILHOUETTE, cartoon, ..Default::default() };
@@ -430,7 +430,8 @@ fn render_seams(
 
 #[test]
 fn uv_seams_are_boundaries_when_asked_for() {
-    use nostencil::technique::{InkStyle, InkStyles, Seams};
+    use nostencil::technique::InkStyles;
+    use nostencil::{InkStyle, Seams};
     let gpu = common::gpu();
     let size = (128, 128);
     // The sphere's u = 0 meridian (on +X) turned towards the eye: a UV seam down the middle of
@@ -442,7 +443,7 @@ fn uv_seams_are_boundaries_when_asked_for() {
     let radius = radius_where_n_dot_v_is(0.0, EYE_DISTANCE, focal_px(&scene, size.1));
     for (seams, expect_seam) in [(Seams { uv: true, ..Seams::default() }, true), (Seams::default(), false)] {
         let frame = render_seams(&gpu, &scene, size, ink, seams);
-        let stats = frame.stats::<nostencil::technique::CartoonStats>().expect("stats");
+        let stats = frame.stats::<nostencil::stats::CartoonStats>().expect("stats");
         let image = &frame.output.image;
         // Every row across the middle of the disc crosses the seam in blue, within a pixel of
         // the centre column; without UV seams nothing is blue.
@@ -513,13 +514,14 @@ fn two_material_sphere_gltf() -> String {
 
 #[test]
 fn material_seams_inside_a_gltf_mesh_are_boundaries_only_when_asked_for() {
-    use nostencil::technique::{InkStyle, InkStyles, Seams};
+    use nostencil::technique::InkStyles;
+    use nostencil::{InkStyle, Seams};
     let gpu = common::gpu();
     let size = (128u32, 128u32);
     let dir = common::scratch_dir("ink-material-seams");
     let file = dir.join("two-material-sphere.gltf");
     std::fs::write(&file, two_material_sphere_gltf()).expect("write the test file");
-    let mut scene = nostencil::scene::scene_from_gltf(&file, 0.0).expect("the file loads");
+    let mut scene = nostencil::scene_from_gltf(&file, 0.0).expect("the file loads");
     // Only the sphere: the loader's ground plane is open, its rim a boundary of its own.
     scene.objects.retain(|o| o.name != "ground");
     // The loader keeps both halves as one mesh instance: the ink sees one closed sphere.
@@ -537,7 +539,7 @@ fn material_seams_inside_a_gltf_mesh_are_boundaries_only_when_asked_for() {
     for material in [true, false] {
         let seams = Seams { material, ..Seams::default() };
         let frame = render_seams(&gpu, &scene, size, ink, seams);
-        let stats = frame.stats::<nostencil::technique::CartoonStats>().expect("stats");
+        let stats = frame.stats::<nostencil::stats::CartoonStats>().expect("stats");
         let image = &frame.output.image;
         image.save(dir.join(format!("material-seams-{material}.png"))).expect("save");
         let rows = (size.1 / 2 - (radius * 0.6) as u32)..(size.1 / 2 + (radius * 0.6) as u32);

@@ -9,14 +9,14 @@ use std::sync::Arc;
 use glam::{Mat4, Vec2, Vec3};
 use image::RgbaImage;
 use nostencil::error::Result;
-use nostencil::frame::StencilMode;
-use nostencil::gpu::Gpu;
 use nostencil::mesh::{shapes, MeshData};
-use nostencil::scene::{builtin_scene, Camera, Light, Scene};
 use nostencil::technique::ink::{SILHOUETTE, TOON};
 use nostencil::technique::outline::Outline;
-use nostencil::technique::{
-    render_scene, CartoonOptions, CartoonStats, RenderOptions, SilhouetteMethod, Technique, TechniqueFrame,
+use nostencil::Gpu;
+use nostencil::StencilMode;
+use nostencil::{builtin_scene, Camera, Light, Scene};
+use nostencil::{
+    render_scene, stats::CartoonStats, CartoonOptions, RenderOptions, SilhouetteMethod, Technique, TechniqueFrame,
 };
 
 const SIZE: (u32, u32) = (160, 120);

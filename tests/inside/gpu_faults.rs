@@ -6,8 +6,8 @@
 
 use crate::common;
 
-use nostencil::scene::builtin_scene;
-use nostencil::technique::{by_name, render_scene, RenderOptions};
+use nostencil::builtin_scene;
+use nostencil::{render_scene, technique as by_name, RenderOptions};
 
 /// `nostencil ARGS` with the environment variable `key` set to `value`.
 fn nostencil_with(key: &str, value: &str, args: &[&str]) -> std::process::Output {

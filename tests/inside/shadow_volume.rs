@@ -13,20 +13,22 @@ use ash::vk;
 use glam::{Mat4, Vec3, Vec4};
 use image::RgbaImage;
 use nostencil::frame::render_pass::COLOUR_FORMAT;
-use nostencil::frame::StencilMode;
-use nostencil::gpu::Gpu;
 use nostencil::mesh::MeshData;
 use nostencil::render::plan::{Draws, PassKinds, PlannedPass};
 use nostencil::render::Pipeline;
-use nostencil::render::{FrameRecorder, FrameUniforms, Renderer};
-use nostencil::scene::{builtin_scene, Light, Scene, BUILTIN_SCENES};
+use nostencil::render::{FrameRecorder, FrameUniforms};
 use nostencil::technique::shadow_volume::{self, Normalize, ShadowVolumeOptions, VolumeMethod};
-use nostencil::technique::{alpha_counter, render_scene, RenderOptions, ShadowMode, ShadowTone, Technique};
+use nostencil::technique::{alpha_counter, ShadowTone};
+use nostencil::Gpu;
+use nostencil::Renderer;
+use nostencil::StencilMode;
+use nostencil::{builtin_scene, Light, Scene, BUILTIN_SCENES};
+use nostencil::{render_scene, RenderOptions, ShadowMode, Technique};
 
 const SIZE: (u32, u32) = (128, 96);
 
 /// The seed's frame (Hall's apply, `--shadow-mode modulate`): what most proofs here are about.
-/// The additive loop's own proofs are `additive_*` below and in tests/lights.rs.
+/// The additive loop's own proofs are `additive_*` below and in tests/inside/lights.rs.
 fn seed() -> ShadowVolumeOptions {
     ShadowVolumeOptions { mode: ShadowMode::Modulate, ..Default::default() }
 }
@@ -34,7 +36,7 @@ fn seed() -> ShadowVolumeOptions {
 /// A shadow-volume frame with the technique's statistics.
 struct Frame {
     output: nostencil::FrameOutput,
-    stats: nostencil::technique::ShadowVolumeStats,
+    stats: nostencil::stats::ShadowVolumeStats,
 }
 
 fn render(gpu: &Arc<Gpu>, scene: &Scene, stencil: StencilMode, options: ShadowVolumeOptions) -> Frame {
@@ -80,7 +82,7 @@ fn try_render(
         ..Default::default()
     };
     let frame = render_scene(gpu, scene, &options)?;
-    let stats = frame.stats::<nostencil::technique::ShadowVolumeStats>().expect("shadow-volume statistics").clone();
+    let stats = frame.stats::<nostencil::stats::ShadowVolumeStats>().expect("shadow-volume statistics").clone();
     Ok(Frame { output: frame.output, stats })
 }
 
@@ -141,7 +143,7 @@ fn emulated_equals_reference_for_every_scene_increment_darkness_and_normalisatio
 /// The additive loop (docs/shadow-volumes.md, "Several lights"), emulated against Ogre's
 /// per-light stencil loop, at 1x: every built-in scene (the `lights` scene's three lights
 /// among them), z-fail and the scene's own choice, k = 1 and 4, all three normalisations,
-/// pixel for pixel. tests/msaa_samples.rs runs the same at 4x.
+/// pixel for pixel. tests/inside/msaa_samples.rs runs the same at 4x.
 #[test]
 fn additive_emulated_equals_reference_on_every_scene() {
     let gpu = common::gpu();
@@ -272,7 +274,7 @@ fn normalisation_table_is_read_back_from_the_gpu() {
                 increment: k,
                 normalize,
                 method: VolumeMethod::ZPass,
-                mode: nostencil::technique::ShadowMode::Modulate,
+                mode: nostencil::ShadowMode::Modulate,
                 ..Default::default()
             };
             let plan = shadow_volume::recipes::plan(
@@ -424,7 +426,7 @@ fn camera_inside_a_volume_needs_zfail_and_auto_chooses_it() {
     // ground far beyond the slab's shadow is lit.
     let unshadowed = lit(&gpu, &scene);
     let mask = shadow_mask(&auto.output.image, &unshadowed);
-    let nostencil::scene::Light::Directional { direction } = scene.light() else { panic!() };
+    let nostencil::Light::Directional { direction } = scene.light() else { panic!() };
     let slab = scene.object("slab").expect("slab");
     let under_slab = |p: Vec3| {
         // Project the ground point up the light onto the slab's bottom face (y = 2.85).
@@ -476,7 +478,7 @@ fn background_behind_volumes_is_never_darkened() {
 fn stack_scene(boxes: usize) -> Scene {
     let mut scene = builtin_scene("box").expect("scene");
     scene.objects.retain(|o| o.name == "ground");
-    scene.set_light(nostencil::scene::Light::Directional { direction: Vec3::NEG_Y });
+    scene.set_light(nostencil::Light::Directional { direction: Vec3::NEG_Y });
     let cube = scene.add_mesh("thin box", nostencil::mesh::shapes::cube(1.0));
     for i in 0..boxes {
         let transform = Mat4::from_scale_rotation_translation(
@@ -648,7 +650,7 @@ fn a_caster_that_cannot_cast_is_named_in_a_warning() {
 
 /// A technique of the registry, by name.
 fn technique(name: &str) -> &'static dyn Technique {
-    nostencil::technique::by_name(name).expect("technique")
+    nostencil::technique(name).expect("technique")
 }
 
 /// `nostencil profile` prints each caster's path, reason and capacity, in the table and in JSON.
@@ -685,7 +687,7 @@ fn open_casters_under_a_point_light_shadow_what_the_cpu_ray_cast_finds() {
     let gpu = common::gpu();
     for scene_name in ["open-quad", "open-box", "non-manifold", "touching"] {
         let mut scene = builtin_scene(scene_name).expect("scene");
-        scene.set_light(nostencil::scene::Light::Point { position: Vec3::new(-1.5, 6.0, 1.0) });
+        scene.set_light(nostencil::Light::Point { position: Vec3::new(-1.5, 6.0, 1.0) });
         let casters: Vec<PlacedMesh> = scene
             .objects
             .iter()
@@ -696,7 +698,7 @@ fn open_casters_under_a_point_light_shadow_what_the_cpu_ray_cast_finds() {
                 model: o.transform,
             })
             .collect();
-        let nostencil::scene::Light::Point { position } = scene.light() else { unreachable!() };
+        let nostencil::Light::Point { position } = scene.light() else { unreachable!() };
         let light = nostencil::mesh::Light::Point(position);
         let unshadowed = lit_sized(&gpu, &scene, BIG);
         let mut without = scene.clone();
@@ -984,7 +986,7 @@ fn culled_casters_draw_the_unculled_image_with_fewer_fragments() {
             ..Default::default()
         };
         let frame = render_scene(&gpu, scene, &options).expect("shadow-volume frame");
-        let stats = frame.stats::<nostencil::technique::ShadowVolumeStats>().expect("statistics").clone();
+        let stats = frame.stats::<nostencil::stats::ShadowVolumeStats>().expect("statistics").clone();
         Frame { output: frame.output, stats }
     };
     let mut scenes: Vec<(String, Scene)> =
@@ -1091,7 +1093,7 @@ fn the_seed_path_for_k_1_is_the_seeds_own_pass_list() {
         increment: 1,
         normalize: Normalize::Seed,
         method: VolumeMethod::ZPass,
-        mode: nostencil::technique::ShadowMode::Modulate,
+        mode: nostencil::ShadowMode::Modulate,
         ..Default::default()
     };
     let plan = shadow_volume::recipes::plan(
@@ -1140,7 +1142,7 @@ fn unmoved_volumes_are_reused_and_moved_ones_built_again_to_the_same_image() {
         };
         let frame = |renderer: &mut Box<dyn nostencil::SceneRenderer + '_>, scene: &Scene| {
             let frame = renderer.frame_with(scene).expect("frame");
-            let stats = frame.stats::<nostencil::technique::ShadowVolumeStats>().expect("statistics").clone();
+            let stats = frame.stats::<nostencil::stats::ShadowVolumeStats>().expect("statistics").clone();
             (frame.output.image, stats.lights[0].clone())
         };
         let mut renderer = options.technique.build(&gpu, &base, &options).expect("renderer");

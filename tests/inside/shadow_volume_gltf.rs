@@ -8,13 +8,13 @@ use std::sync::Arc;
 
 use glam::Vec2;
 use image::RgbaImage;
-use nostencil::frame::StencilMode;
-use nostencil::gpu::Gpu;
-use nostencil::scene::{scene_from_gltf, Light, Scene};
 use nostencil::technique::lit::Lit;
 use nostencil::technique::shadow_volume::ShadowVolumes;
 use nostencil::technique::shadow_volume::{Normalize, ShadowVolumeOptions};
-use nostencil::technique::{render_scene, RenderOptions};
+use nostencil::Gpu;
+use nostencil::StencilMode;
+use nostencil::{render_scene, RenderOptions};
+use nostencil::{scene_from_gltf, Light, Scene};
 
 const SIZE: (u32, u32) = (128, 96);
 
@@ -130,8 +130,8 @@ fn gltf_casters_match_the_reference_and_follow_the_skinned_pose() {
 /// real-stencil reference pixel for pixel in z-pass and z-fail and every normalisation.
 #[test]
 fn open_gltf_meshes_cast_two_sided_and_match_the_reference() {
+    use nostencil::stats::ShadowVolumeStats;
     use nostencil::technique::shadow_volume::VolumeMethod;
-    use nostencil::technique::ShadowVolumeStats;
     let gpu = common::gpu();
     for (file, time) in
         [("CornellBox.glb", 0.0), ("SimpleSkin.gltf", 0.5), ("BoxAnimated.glb", 0.0), ("BoxAnimated.glb", 1.5)]
@@ -248,7 +248,7 @@ fn heavy_content_keeps_its_proof_and_its_fill(content: &HeavyContent) {
             ..Default::default()
         };
         let frame = render_scene(&gpu, &scene, &options).expect("shadow-volume frame");
-        let stats = frame.stats::<nostencil::technique::ShadowVolumeStats>().expect("statistics").clone();
+        let stats = frame.stats::<nostencil::stats::ShadowVolumeStats>().expect("statistics").clone();
         (frame.output, stats)
     };
     let whole = ShadowVolumeOptions::default();

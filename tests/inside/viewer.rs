@@ -18,7 +18,7 @@ use std::time::{Duration, Instant};
 
 /// Starts `nostencil ARGS` on the X server.
 fn spawn_on(x: &XServer, args: &[&str]) -> Child {
-    Command::new(env!("CARGO_BIN_EXE_nostencil"))
+    Command::new(common::program())
         .args(args)
         .env("DISPLAY", &x.display)
         .env_remove("WAYLAND_DISPLAY")
@@ -222,7 +222,7 @@ fn keys_switch_the_technique_live_and_closing_the_window_ends_cleanly() {
 fn without_a_display_the_viewer_fails_in_one_line_and_offscreen_commands_still_work() {
     let dir = common::scratch_dir("viewer-no-display");
     let nostencil = || {
-        let mut command = Command::new(env!("CARGO_BIN_EXE_nostencil"));
+        let mut command = Command::new(common::program());
         command.env_remove("DISPLAY").env_remove("WAYLAND_DISPLAY");
         command
     };
@@ -240,7 +240,7 @@ fn without_a_display_the_viewer_fails_in_one_line_and_offscreen_commands_still_w
     // The default scene, lit: sky along the top row, lit.frag's ground colour at the bottom.
     let image = rgb(&out);
     assert_eq!(image.dimensions(), (64, 48));
-    let scene = nostencil::scene::builtin_scene("default").expect("scene");
+    let scene = nostencil::builtin_scene("default").expect("scene");
     let sky = common::srgb8(scene.background);
     assert!((0..64).all(|x| image.get_pixel(x, 0).0 == sky), "top row is not the sky {sky:?}");
     let (bottom, ground) = (image.get_pixel(32, 47).0, common::lit_ground(&scene));
@@ -403,9 +403,8 @@ fn m_switches_between_one_and_four_samples_live() {
     xdotool(&x, &["key", "Escape"]);
     let output = wait_with_timeout(child, Duration::from_secs(60));
     assert_clean(&output, "view switching its sample count");
-    let offers_two =
-        nostencil::frame::targets::frame_sample_counts(&common::gpu(), nostencil::frame::StencilMode::Emulated)
-            .contains(ash::vk::SampleCountFlags::TYPE_2);
+    let offers_two = nostencil::frame::targets::frame_sample_counts(&common::gpu(), nostencil::StencilMode::Emulated)
+        .contains(ash::vk::SampleCountFlags::TYPE_2);
     if !offers_two {
         let err = stderr(&output);
         assert!(err.contains("2x skipped") && err.contains("offers 1, 4"), "the missing 2x was not named:\n{err}");
@@ -491,7 +490,7 @@ fn tour_reports(err: &str) -> Vec<(u32, u32, u64, String)> {
 /// first; returns the reports (tours, frames, resident KiB, objects).
 fn soak(checks: &str, tours: u32) -> Vec<(u32, u32, u64, String)> {
     const FRAMES_PER_STOP: u32 = 12;
-    let stops = 4 * nostencil::technique::TECHNIQUES.len() as u32;
+    let stops = 4 * nostencil::TECHNIQUES.len() as u32;
     let frames = FRAMES_PER_STOP * stops * tours;
     let x = start_x_server();
     let tour = FRAMES_PER_STOP.to_string();
@@ -564,7 +563,7 @@ fn a_failing_submit_ends_the_viewer_with_an_error_naming_the_work() {
     ];
     for (fault, says, work) in cases {
         let args = ["view", "--validation", "--device", "lavapipe", "--technique", "planar", "--size", "96x72"];
-        let child = Command::new(env!("CARGO_BIN_EXE_nostencil"))
+        let child = Command::new(common::program())
             .args([&args[..], &["--frames", "3"]].concat())
             .env("DISPLAY", &x.display)
             .env_remove("WAYLAND_DISPLAY")

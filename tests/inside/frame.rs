@@ -3,10 +3,11 @@
 
 use crate::common;
 
+use nostencil::builtin_scene;
 use nostencil::frame::render_pass::format_has_stencil;
-use nostencil::frame::{FrameTargets, StencilMode};
-use nostencil::scene::builtin_scene;
-use nostencil::technique::{render_scene, RenderOptions, Technique};
+use nostencil::frame::FrameTargets;
+use nostencil::StencilMode;
+use nostencil::{render_scene, RenderOptions, Technique};
 
 #[test]
 fn main_frame_has_no_stencil_aspect_and_reference_has_one() {
@@ -84,5 +85,5 @@ fn zero_and_oversized_frames_are_refused() {
 
 /// A technique of the registry, by name.
 fn technique(name: &str) -> &'static dyn Technique {
-    nostencil::technique::by_name(name).expect("technique")
+    nostencil::technique(name).expect("technique")
 }

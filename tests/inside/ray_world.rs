@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 use nostencil::mesh::ray::ray_hits_triangle;
-use nostencil::scene::Scene;
+use nostencil::Scene;
 
 /// Triangles per leaf.
 const LEAF: usize = 8;

@@ -6,14 +6,16 @@ use crate::common;
 use std::sync::Arc;
 
 use glam::{Mat4, Vec4};
-use nostencil::frame::{FrameTargets, StencilMode};
-use nostencil::gpu::Gpu;
+use nostencil::frame::FrameTargets;
 use nostencil::pipeline::{FixedFunction, PipelineDesc, VertexLayout};
 use nostencil::profile::budget::Budget;
 use nostencil::profile::heatmap;
 use nostencil::profile::report::{FrameFormats, ProfileReport, ReportContext};
-use nostencil::render::{FrameOutput, FrameUniforms, Renderer};
+use nostencil::render::FrameUniforms;
 use nostencil::render::{Pipeline, PipelineTarget};
+use nostencil::Gpu;
+use nostencil::StencilMode;
+use nostencil::{FrameOutput, Renderer};
 
 /// A frame of `passes`, each drawing `quads` full-screen triangles, counted or not.
 fn stacked_fullscreen(gpu: &Arc<Gpu>, passes: &[(&str, u32)], count_overdraw: bool) -> FrameOutput {
@@ -293,9 +295,9 @@ fn heatmap_chart_compare_and_passes_from_the_command_line() {
 /// each pipeline's depth test and replace only its blend), so no pass escapes the count.
 #[test]
 fn heat_map_sums_to_the_samples_every_technique_passed() {
-    use nostencil::technique::{render_scene, RenderOptions, TECHNIQUES};
+    use nostencil::{render_scene, RenderOptions, TECHNIQUES};
     let gpu = common::gpu();
-    let scene = nostencil::scene::builtin_scene("default").expect("default scene");
+    let scene = nostencil::builtin_scene("default").expect("default scene");
     // Not the shadow texture, map, atlas and projective texture: their prepasses draw outside
     // the frame.
     let in_frame_only = TECHNIQUES.iter().copied().filter(|t| {
@@ -506,9 +508,9 @@ fn tile_traffic_at_four_samples_stores_only_the_resolve_target() {
 /// rounding of the pixels whose samples differ (on edges, at most 1/2 each, times 4).
 #[test]
 fn heat_map_at_four_samples_is_the_per_pixel_mean_of_the_samples() {
-    use nostencil::technique::{by_name, render_scene, RenderOptions};
+    use nostencil::{render_scene, technique as by_name, RenderOptions};
     let gpu = common::gpu();
-    let scene = nostencil::scene::builtin_scene("default").expect("default scene");
+    let scene = nostencil::builtin_scene("default").expect("default scene");
     for name in ["lit", "shadow-volume", "planar"] {
         let technique = by_name(name).expect("technique");
         let options =

@@ -9,13 +9,14 @@ use std::sync::Arc;
 
 use ash::vk;
 use glam::{Mat4, Vec2, Vec4};
-use nostencil::frame::StencilMode;
 use nostencil::gpu::memory::Buffer;
-use nostencil::gpu::Gpu;
 use nostencil::pipeline::{BlendState, DepthState, FixedFunction, PipelineDesc, RasterState, VertexLayout};
-use nostencil::render::FrameCounters;
+use nostencil::render::FrameUniforms;
 use nostencil::render::Pipeline;
-use nostencil::render::{FrameUniforms, Renderer};
+use nostencil::FrameCounters;
+use nostencil::Gpu;
+use nostencil::Renderer;
+use nostencil::StencilMode;
 
 fn uniforms() -> FrameUniforms {
     FrameUniforms {

@@ -3,8 +3,8 @@
 
 use crate::common;
 
-use nostencil::scene::builtin_scene;
-use nostencil::technique::CartoonOptions;
+use nostencil::builtin_scene;
+use nostencil::CartoonOptions;
 
 /// Ink: the edge methods' (10, 10, 15) and the shader method's darkened rim alike.
 /// Within 25 of the ink colour as the sRGB frame stores it.

@@ -6,7 +6,7 @@ use crate::common;
 
 use common::ray_world::{Placed, RayWorld};
 use glam::Vec3;
-use nostencil::scene::Scene;
+use nostencil::Scene;
 use nostencil::{builtin_scene, render_scene, technique, RenderOptions};
 
 const SIZE: u32 = 128;
