@@ -14,7 +14,7 @@
 //! 4. A frame: [`render_scene`] for one, or [`Technique::build`] for a [`SceneRenderer`] that
 //!    renders frame after frame of a moving scene (`frame_with`). A [`TechniqueFrame`] holds
 //!    the image ([`write_png`] writes it), its per-pass [`FrameCounters`] and the technique's
-//!    statistics ([`stats`]). `renderer_mut().keep_on_gpu(true)` leaves frames on the GPU instead of
+//!    statistics ([`stats`]). `keep_on_gpu(true)` leaves frames on the GPU instead of
 //!    reading them back.
 //! 5. Counters by pass: [`FrameCounters::drawing`] finds the passes in which a technique drew
 //!    one of its own draw kinds ([`draws`]), typed; [`FrameCounters::passes`] lists them all
@@ -101,7 +101,7 @@ pub mod error;
 pub use error::{Error, Result};
 pub use frame::{write_png, StencilMode};
 pub use gpu::{DeviceChoice, Gpu, GpuOptions, ValidationChecks};
-pub use render::{FrameCounters, FrameOutput, PassCounters, Renderer};
+pub use render::{FrameCounters, FrameOutput, PassCounters};
 pub use scene::{
     builtin_scene, builtin_scene_at, scene_and_warnings_from_gltf, scene_from_gltf, Camera, Light, Scene, SceneLight,
     SceneObject, BUILTIN_SCENES, MAX_LIGHTS,

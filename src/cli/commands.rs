@@ -569,12 +569,12 @@ fn passes(technique: &str, plans: &PassesArgs, scene: &Scene, samples: u32) -> R
         technique,
         shadow_volume: plans.shadow_volume,
         shadow_tone: plans.shadow_tone.tone(),
-        // The lights its renderer would loop over for this scene.
-        lights: technique.planned_lights(scene),
         samples,
         ..Default::default()
     };
     base.check()?;
+    // The lights its renderer would loop over for this scene.
+    let lights = technique.planned_lights(scene);
     println!("## {}: passes and fixed-function state\n", technique.name());
     println!("{}\n", technique.about());
     let variants = technique.plan_variants(&base);
@@ -598,7 +598,7 @@ fn passes(technique: &str, plans: &PassesArgs, scene: &Scene, samples: u32) -> R
                 _ => true,
             };
         if kept {
-            let plan = technique.plan(&variant.options)?;
+            let plan = technique.plan(&variant.options, &lights)?;
             println!("{}", crate::profile::passes::plan_table(&variant.label, &plan));
         }
     }

@@ -41,7 +41,7 @@ pub(super) fn bench_loop(frame: &FrameArgs, frames: u32, warmup: u32, json: bool
     let gpu = open_gpu(&frame.gpu)?;
     let mut variants = Vec::new();
     for (name, options) in &listed {
-        let mut renderer: Box<dyn SceneRenderer + '_> = options.technique.build(&gpu, &base, options)?;
+        let mut renderer: SceneRenderer<'_> = options.technique.build(&gpu, &base, options)?;
         print_warnings(options.technique.name(), renderer.warnings());
         // A game's frame stays on the GPU: no read-back.
         renderer.renderer_mut().keep_on_gpu(true);

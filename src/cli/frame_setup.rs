@@ -9,7 +9,6 @@ use crate::error::Result;
 use crate::gpu::{DeviceChoice, Gpu, GpuOptions};
 use crate::scene::lights::apply_light_specs;
 use crate::scene::{builtin_scene_at, scene_and_warnings_from_gltf, Scene, SceneLight};
-use crate::technique::light_loop::PlannedLight;
 use crate::technique::{by_name, RenderOptions};
 
 pub(super) fn open_gpu(args: &GpuArgs) -> Result<Arc<Gpu>> {
@@ -73,7 +72,6 @@ pub(super) fn options(frame: &FrameArgs) -> Result<RenderOptions> {
         count_overdraw: false,
         cartoon: frame.cartoon.clone(),
         planar: frame.planar,
-        lights: PlannedLight::default_lights(),
     };
     options.check()?;
     Ok(options)

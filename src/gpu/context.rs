@@ -28,11 +28,11 @@ pub struct Gpu {
     allocator: ManuallyDrop<Mutex<Allocator>>,
     command_pool: Mutex<vk::CommandPool>,
     /// What the crate has created on this device and not yet destroyed.
-    pub objects: LiveObjects,
-    pub device: Device,
-    pub instance: Instance,
+    pub(crate) objects: LiveObjects,
+    pub(crate) device: Device,
+    pub(crate) instance: Instance,
     /// `GpuOptions::without_pass_queries`.
-    pub without_pass_queries: bool,
+    pub(crate) without_pass_queries: bool,
     /// Command-buffer labels (VK_EXT_debug_utils), when the instance enabled the extension.
     labels: Option<ash::ext::debug_utils::Device>,
 }
@@ -45,7 +45,10 @@ impl Gpu {
     /// A Gpu that can present: the instance enables `surface_extensions` (from
     /// `ash_window::enumerate_required_extensions`) and the device `VK_KHR_swapchain`. Only the
     /// viewer uses it; offscreen commands never touch the window system.
-    pub fn for_presentation(options: &GpuOptions, surface_extensions: &[*const std::ffi::c_char]) -> Result<Arc<Self>> {
+    pub(crate) fn for_presentation(
+        options: &GpuOptions,
+        surface_extensions: &[*const std::ffi::c_char],
+    ) -> Result<Arc<Self>> {
         Self::create(options, surface_extensions, &[ash::khr::swapchain::NAME])
     }
 
@@ -82,13 +85,13 @@ impl Gpu {
         }))
     }
 
-    pub fn raw(&self) -> &ash::Device {
+    pub(crate) fn raw(&self) -> &ash::Device {
         &self.device.raw
     }
 
     /// Opens a label named `name` on `cmd` (nothing without VK_EXT_debug_utils). Every label
     /// opened must be closed by [`Gpu::end_label`] in the same command buffer.
-    pub fn begin_label(&self, cmd: vk::CommandBuffer, name: &str) {
+    pub(crate) fn begin_label(&self, cmd: vk::CommandBuffer, name: &str) {
         let Some(labels) = &self.labels else { return };
         // A name with a NUL (none of ours has one) is cut there.
         let name: Vec<u8> = name.bytes().take_while(|&b| b != 0).chain([0]).collect();
@@ -100,13 +103,13 @@ impl Gpu {
     }
 
     /// Closes the label [`Gpu::begin_label`] opened last on `cmd`.
-    pub fn end_label(&self, cmd: vk::CommandBuffer) {
+    pub(crate) fn end_label(&self, cmd: vk::CommandBuffer) {
         let Some(labels) = &self.labels else { return };
         // SAFETY: `cmd` is recording and has a label open (the caller's contract).
         unsafe { labels.cmd_end_debug_utils_label(cmd) };
     }
 
-    pub fn allocator(&self) -> MutexGuard<'_, Allocator> {
+    pub(crate) fn allocator(&self) -> MutexGuard<'_, Allocator> {
         // A poisoned lock means another thread panicked mid-allocation; the allocator's own
         // state is still consistent, so keep going.
         self.allocator.lock().unwrap_or_else(|p| p.into_inner())
@@ -117,31 +120,36 @@ impl Gpu {
     }
 
     /// The Vulkan objects alive on this device now, and the allocator's memory blocks.
-    pub fn live_objects(&self) -> ObjectCounts {
+    pub(crate) fn live_objects(&self) -> ObjectCounts {
         self.objects.snapshot(self.allocator().generate_report().blocks.len())
     }
 
     /// Counts an object of `kind` created (see `LiveObjects`).
-    pub fn created(&self, kind: ObjectKind) {
+    pub(crate) fn created(&self, kind: ObjectKind) {
         self.objects.created(kind)
     }
 
     /// Counts an object of `kind` destroyed.
-    pub fn destroyed(&self, kind: ObjectKind) {
+    pub(crate) fn destroyed(&self, kind: ObjectKind) {
         self.objects.destroyed(kind)
     }
 
     /// Counts a host wait on the GPU that took `took` (fence waits: frames, uploads, presents).
-    pub fn waited(&self, took: std::time::Duration) {
+    pub(crate) fn waited(&self, took: std::time::Duration) {
         self.objects.waited(took)
     }
 
     /// Objects made and host waits since the device opened (see `Activity::since`).
-    pub fn activity(&self) -> Activity {
+    pub(crate) fn activity(&self) -> Activity {
         self.objects.activity()
     }
 
     /// Validation messages recorded so far (empty when validation is off).
+    /// The physical device's name (`llvmpipe (LLVM ...)` on lavapipe).
+    pub fn device_name(&self) -> &str {
+        &self.device.info.name
+    }
+
     pub fn validation_messages(&self) -> Vec<String> {
         self.instance.validation_log().map(|l| l.messages()).unwrap_or_default()
     }
@@ -152,7 +160,7 @@ impl Gpu {
 
     /// Which validation checks run (layer, core, synchronisation, best practices, silenced
     /// messages); None when validation is off.
-    pub fn validation_report(&self) -> Option<&crate::gpu::validation::ValidationReport> {
+    pub(crate) fn validation_report(&self) -> Option<&crate::gpu::validation::ValidationReport> {
         self.instance.validation_report()
     }
 

@@ -8,7 +8,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::interface::{check_same_scene, FrameStats, RenderOptions, SceneRenderer, TechniqueFrame};
+use super::interface::{check_same_scene, FrameStats, RenderOptions, TechniqueFrame, TechniqueRenderer};
 use crate::error::{Error, Result};
 use crate::frame::FrameTargets;
 use crate::gpu::Gpu;
@@ -181,7 +181,7 @@ impl<K: PassKinds, P> FrameRenderer<'_, K, P> {
     }
 }
 
-impl<K: PassKinds, P: Passes<K>> SceneRenderer for FrameRenderer<'_, K, P> {
+impl<K: PassKinds, P: Passes<K>> TechniqueRenderer for FrameRenderer<'_, K, P> {
     fn frame_with(&mut self, scene: &Scene) -> Result<TechniqueFrame> {
         check_same_scene(self.scene, scene, self.technique)?;
         self.passes.prepare(&self.renderer, scene)?;

@@ -26,7 +26,7 @@ pub struct RenderOptions {
     pub width: u32,
     pub height: u32,
     pub stencil: StencilMode,
-    pub technique: &'static dyn Technique,
+    pub technique: Technique,
     pub shadow_volume: ShadowVolumeOptions,
     /// How dark shadows are: shadow volumes and the planar family share it.
     pub shadow_tone: ShadowTone,
@@ -41,9 +41,6 @@ pub struct RenderOptions {
     /// Store the multisampled colour instead of leaving it in tile memory, so that a test can
     /// read every sample back (`Renderer::read_samples`). Never in a timed frame.
     pub keep_samples: bool,
-    /// The lights a per-light loop is planned for: the scene's, filled in when a renderer is
-    /// built (`unit::build_unit`); a plan printed without a scene has the one default sun.
-    pub lights: Vec<PlannedLight>,
 }
 
 impl RenderOptions {
@@ -53,13 +50,6 @@ impl RenderOptions {
         if !matches!(self.samples, 1 | 2 | 4) {
             return Err(Error::InvalidInput(format!("--samples {}: use 1, 2 or 4", self.samples)));
         }
-        if self.lights.len() > crate::scene::MAX_LIGHTS {
-            return Err(Error::InvalidInput(format!(
-                "{} lights: a frame holds at most {}",
-                self.lights.len(),
-                crate::scene::MAX_LIGHTS
-            )));
-        }
         self.shadow_volume.check()?;
         self.shadow_atlas.check()?;
         self.planar.check()?;
@@ -67,7 +57,7 @@ impl RenderOptions {
     }
 
     /// These options with another technique.
-    pub fn with_technique(&self, technique: &'static dyn Technique) -> Self {
+    pub fn with_technique(&self, technique: Technique) -> Self {
         RenderOptions { technique, ..self.clone() }
     }
 }
@@ -80,46 +70,102 @@ pub struct Variant {
     pub options: RenderOptions,
 }
 
-/// A technique as the command line, `bench`, `passes` and the viewer hold it (`&dyn
-/// Technique`). Nothing implements it by hand: every `unit::TechniqueUnit` is one, through
-/// the blanket impl in `unit.rs`, whose trait documents each method.
-pub trait Technique: Sync + 'static {
+/// A technique: what [`by_name`](super::by_name) finds and [`TECHNIQUES`](super::TECHNIQUES)
+/// lists. A port asks it for its name and builds it for a scene; the crate also plans, benches
+/// and compares its variants through it.
+#[derive(Clone, Copy)]
+pub struct Technique(pub(super) &'static dyn ErasedTechnique);
+
+impl Technique {
     /// The `--technique` value.
-    fn name(&self) -> &'static str;
+    pub fn name(self) -> &'static str {
+        self.0.name()
+    }
 
-    /// One line for `--help` and `info`.
-    fn about(&self) -> &'static str;
+    /// One line: what it draws, and which seed it comes from.
+    pub fn about(self) -> &'static str {
+        self.0.about()
+    }
 
-    /// The passes of a frame with `options`, by name.
-    fn plan(&self, options: &RenderOptions) -> Result<PassPlan>;
+    /// A few words naming it with `options` (the viewer's title).
+    pub fn describe(self, options: &RenderOptions) -> String {
+        self.0.describe(options)
+    }
 
     /// Its renderer for `scene`, built once and then asked for frames.
+    pub fn build<'s>(self, gpu: &Arc<Gpu>, scene: &'s Scene, options: &RenderOptions) -> Result<SceneRenderer<'s>> {
+        self.0.build(gpu, scene, options).map(SceneRenderer)
+    }
+
+    /// The passes of a frame with `options`, planned for `lights`, by name.
+    pub(crate) fn plan(self, options: &RenderOptions, lights: &[PlannedLight]) -> Result<PassPlan> {
+        self.0.plan(options, lights)
+    }
+
+    /// What `bench` times side by side.
+    pub(crate) fn bench_variants(self, options: &RenderOptions) -> Vec<Variant> {
+        self.0.bench_variants(options)
+    }
+
+    /// Every plan `passes` prints and the plan test checks.
+    pub(crate) fn plan_variants(self, options: &RenderOptions) -> Vec<Variant> {
+        self.0.plan_variants(options)
+    }
+
+    /// `profile --compare NAME`: the options of the variant called `name`.
+    pub(crate) fn compare_variant(self, name: &str, options: &RenderOptions) -> Result<RenderOptions> {
+        self.0.compare_variant(name, options)
+    }
+
+    /// What `passes` prints after the plans.
+    pub(crate) fn plan_notes(self) -> Result<Option<String>> {
+        self.0.plan_notes()
+    }
+
+    /// A table of the technique's own that `bench` prints in place of timing its variants.
+    pub(crate) fn bench_table(self) -> Option<BenchTable> {
+        self.0.bench_table()
+    }
+
+    /// `scene`'s lights as the plan loops over them (`passes --scene` plans with these).
+    pub(crate) fn planned_lights(self, scene: &Scene) -> Vec<PlannedLight> {
+        self.0.planned_lights(scene)
+    }
+}
+
+impl fmt::Debug for Technique {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl PartialEq for Technique {
+    fn eq(&self, other: &Self) -> bool {
+        self.name() == other.name()
+    }
+}
+
+impl Eq for Technique {}
+
+/// A technique as the crate holds it. Nothing implements it by hand: every
+/// `unit::TechniqueUnit` is one, through the blanket impl in `unit.rs`, whose trait documents
+/// each method.
+pub(crate) trait ErasedTechnique: Sync + 'static {
+    fn name(&self) -> &'static str;
+    fn about(&self) -> &'static str;
+    fn plan(&self, options: &RenderOptions, lights: &[PlannedLight]) -> Result<PassPlan>;
     fn build<'s>(
         &self,
         gpu: &Arc<Gpu>,
         scene: &'s Scene,
         options: &RenderOptions,
-    ) -> Result<Box<dyn SceneRenderer + 's>>;
-
-    /// What `bench` times side by side.
+    ) -> Result<Box<dyn TechniqueRenderer + 's>>;
     fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant>;
-
-    /// Every plan `passes` prints and the plan test checks.
     fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant>;
-
-    /// `profile --compare NAME`: the options of the variant called `name`.
     fn compare_variant(&self, name: &str, options: &RenderOptions) -> Result<RenderOptions>;
-
-    /// What `passes` prints after the plans.
     fn plan_notes(&self) -> Result<Option<String>>;
-
-    /// A table of the technique's own that `bench` prints in place of timing its variants.
     fn bench_table(&self) -> Option<BenchTable>;
-
-    /// The viewer's title.
     fn describe(&self, options: &RenderOptions) -> String;
-
-    /// `scene`'s lights as the plan loops over them (`passes --scene` plans with these).
     fn planned_lights(&self, scene: &Scene) -> Vec<PlannedLight>;
 }
 
@@ -129,18 +175,6 @@ pub enum BenchTable {
     /// Seed 004's Table 1: shadow textures and the shadow map, fixed and moving light, on the
     /// paper's two scenes.
     Seed004Table1,
-}
-
-impl fmt::Debug for dyn Technique {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl PartialEq for dyn Technique {
-    fn eq(&self, other: &Self) -> bool {
-        self.name() == other.name()
-    }
 }
 
 /// The emulated and the reference path, reference first.
@@ -164,36 +198,65 @@ pub fn stencil_variant(name: &str, options: &RenderOptions) -> Option<RenderOpti
     Some(RenderOptions { stencil, ..options.clone() })
 }
 
-/// A renderer built once for a scene: it renders that scene frame after frame while its camera,
-/// light, object transforms and joint palettes change. `render` and `profile` take one frame
-/// from it; the viewer takes every frame.
-pub trait SceneRenderer {
-    /// Renders `scene`: the scene this renderer was built for, with camera, light, object
-    /// transforms and joint palettes free to change (meshes and objects may not: see
-    /// `check_same_scene`).
-    fn frame_with(&mut self, scene: &Scene) -> Result<TechniqueFrame>;
+/// A renderer built once for a scene ([`Technique::build`]): it renders that scene frame after
+/// frame while its camera, lights, object transforms and joint palettes change (its meshes and
+/// objects may not).
+pub struct SceneRenderer<'s>(Box<dyn TechniqueRenderer + 's>);
 
-    /// The frame renderer, for its switches (`keep_on_gpu`, `count_overdraw`) and targets.
-    fn renderer_mut(&mut self) -> &mut Renderer;
+impl SceneRenderer<'_> {
+    /// Renders `scene`: the scene this renderer was built for, moved.
+    pub fn frame_with(&mut self, scene: &Scene) -> Result<TechniqueFrame> {
+        self.0.frame_with(scene)
+    }
 
-    /// The plan this renderer executes.
-    fn plan(&self) -> &PassPlan;
+    /// Leaves each frame on the GPU instead of reading its image back (a frame loop that
+    /// presents or only measures).
+    pub fn keep_on_gpu(&mut self, keep: bool) {
+        self.0.renderer_mut().keep_on_gpu(keep);
+    }
 
-    /// Whether drawing `scene` needs a rebuilt renderer (shadow volumes with `auto`: the camera
-    /// moved into or out of a volume, so the counting method changes).
-    fn stale_for(&self, _scene: &Scene) -> bool {
-        false
+    /// What the technique could not honour in the scene, one line each naming the object and
+    /// the reason (a mesh that casts no shadow). Fixed when the renderer is built.
+    pub fn warnings(&self) -> &[String] {
+        self.0.warnings()
     }
 
     /// Frames until the counters show the steady state, which one-frame renders report (a
     /// fixed light's shadow map and atlases are baked by the first frame and cached after).
+    pub fn frames_to_steady_state(&self) -> u32 {
+        self.0.frames_to_steady_state()
+    }
+
+    /// Whether drawing `scene` needs a rebuilt renderer (shadow volumes with `auto`: the camera
+    /// moved into or out of a volume, so the counting method changes).
+    pub fn stale_for(&self, scene: &Scene) -> bool {
+        self.0.stale_for(scene)
+    }
+
+    /// The frame renderer, for its switches and targets.
+    pub(crate) fn renderer_mut(&mut self) -> &mut Renderer {
+        self.0.renderer_mut()
+    }
+
+    /// The plan this renderer executes.
+    pub(crate) fn plan(&self) -> &PassPlan {
+        self.0.plan()
+    }
+}
+
+/// What every technique's renderer is inside a [`SceneRenderer`] (`frame_renderer.rs`'s
+/// `FrameRenderer`).
+pub(crate) trait TechniqueRenderer {
+    /// See [`SceneRenderer::frame_with`]; `check_same_scene` refuses another scene.
+    fn frame_with(&mut self, scene: &Scene) -> Result<TechniqueFrame>;
+    fn renderer_mut(&mut self) -> &mut Renderer;
+    fn plan(&self) -> &PassPlan;
+    fn stale_for(&self, _scene: &Scene) -> bool {
+        false
+    }
     fn frames_to_steady_state(&self) -> u32 {
         1
     }
-
-    /// What the technique could not honour in this scene, one line each naming the object and
-    /// the reason (a mesh that casts no shadow). Fixed when the renderer is built; the command
-    /// line prints them once on stderr.
     fn warnings(&self) -> &[String] {
         &[]
     }
@@ -238,7 +301,7 @@ pub struct TechniqueFrame {
     pub output: FrameOutput,
     pub stats: Box<dyn FrameStats>,
     /// Which conditional passes ran (see `render::plan::When`).
-    pub conditions: Vec<When>,
+    pub(crate) conditions: Vec<When>,
     /// The renderer's warnings (`SceneRenderer::warnings`), for callers that keep only the
     /// frame.
     pub warnings: Vec<String>,
@@ -251,7 +314,7 @@ impl TechniqueFrame {
     }
 
     /// Whether the passes conditioned on `when` ran in this frame.
-    pub fn held(&self, when: When) -> bool {
+    pub(crate) fn held(&self, when: When) -> bool {
         when.holds_in(&self.conditions)
     }
 }

@@ -5,6 +5,7 @@ use std::sync::Arc;
 
 use super::frame_renderer::{BuildContext, Passes};
 use super::interface::{NoStats, RenderOptions};
+use super::light_loop::PlannedLight;
 use super::material_variants::with_surface_variants;
 use super::unit::{Prepared, TechniqueUnit};
 use crate::error::Result;
@@ -53,7 +54,7 @@ impl TechniqueUnit for Lit {
     }
 
     /// The lit frame: the scene pass alone.
-    fn plan(&self, _options: &RenderOptions) -> Result<PassPlan<RecorderOnly>> {
+    fn plan(&self, _options: &RenderOptions, _lights: &[PlannedLight]) -> Result<PassPlan<RecorderOnly>> {
         Ok(PassPlan { passes: vec![scene_pass(1.0)] })
     }
 

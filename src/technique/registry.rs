@@ -2,7 +2,6 @@
 //! `bench`, `profile --compare`, `info` and the viewer read it.
 
 use super::interface::{RenderOptions, Technique};
-use super::light_loop::PlannedLight;
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 
@@ -11,19 +10,19 @@ use crate::frame::StencilMode;
 pub const DEFAULT_TECHNIQUE: &str = "shadow-volume";
 
 /// Every technique, in the order `info`, `--help` and the viewer's T key list them.
-pub static TECHNIQUES: &[&dyn Technique] = &[
-    &super::lit::Lit,
-    &super::shadow_volume::ShadowVolumes,
-    &super::outline::Outline,
-    &super::ink::SILHOUETTE,
-    &super::ink::TOON,
-    &super::planar::Planar,
-    &super::planar::BlobShadows,
-    &super::planar::ShadowTexture,
-    &super::shadow_atlas::SHADOW_MAP,
-    &super::shadow_atlas::SHADOW_TEXTURE_ATLAS,
-    &super::shadow_atlas::PROJECTIVE_TEXTURE,
-    &super::xray::XRay,
+pub static TECHNIQUES: &[Technique] = &[
+    Technique(&super::lit::Lit),
+    Technique(&super::shadow_volume::ShadowVolumes),
+    Technique(&super::outline::Outline),
+    Technique(&super::ink::SILHOUETTE),
+    Technique(&super::ink::TOON),
+    Technique(&super::planar::Planar),
+    Technique(&super::planar::BlobShadows),
+    Technique(&super::planar::ShadowTexture),
+    Technique(&super::shadow_atlas::SHADOW_MAP),
+    Technique(&super::shadow_atlas::SHADOW_TEXTURE_ATLAS),
+    Technique(&super::shadow_atlas::PROJECTIVE_TEXTURE),
+    Technique(&super::xray::XRay),
 ];
 
 impl Default for RenderOptions {
@@ -33,7 +32,7 @@ impl Default for RenderOptions {
             width: 256,
             height: 256,
             stencil: StencilMode::Emulated,
-            technique: &super::lit::Lit,
+            technique: Technique(&super::lit::Lit),
             shadow_volume: Default::default(),
             shadow_tone: Default::default(),
             shadow_atlas: Default::default(),
@@ -42,13 +41,12 @@ impl Default for RenderOptions {
             planar: Default::default(),
             samples: 1,
             keep_samples: false,
-            lights: PlannedLight::default_lights(),
         }
     }
 }
 
 /// The technique called `name`.
-pub fn by_name(name: &str) -> Result<&'static dyn Technique> {
+pub fn by_name(name: &str) -> Result<Technique> {
     TECHNIQUES
         .iter()
         .copied()

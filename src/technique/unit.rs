@@ -8,7 +8,7 @@ use std::sync::Arc;
 
 use super::frame_renderer::{self, BuildContext, Passes};
 use super::interface::{
-    stencil_variant, stencil_variants, BenchTable, RenderOptions, SceneRenderer, Technique, Variant,
+    stencil_variant, stencil_variants, BenchTable, ErasedTechnique, RenderOptions, TechniqueRenderer, Variant,
 };
 use super::light_loop::PlannedLight;
 use super::options::{ShadowMode, ShadowVolumeOptions};
@@ -33,9 +33,11 @@ pub trait TechniqueUnit: Sync + 'static {
     /// One line for `--help` and `info`: what it draws, and which seed it comes from.
     fn about(&self) -> &'static str;
 
-    /// The passes of a frame with `options`, in the order they run. A choice that depends on
-    /// the scene is made by `setup`, whose options the built renderer plans with.
-    fn plan(&self, options: &RenderOptions) -> Result<PassPlan<Self::Kinds>>;
+    /// The passes of a frame with `options`, in the order they run, with a per-light loop over
+    /// `lights` (`planned_lights` of the scene; a plan printed without a scene has the one
+    /// default sun). A choice that depends on the scene is made by `setup`, whose options the
+    /// built renderer plans with.
+    fn plan(&self, options: &RenderOptions, lights: &[PlannedLight]) -> Result<PassPlan<Self::Kinds>>;
 
     /// The CPU work on `scene` before planning, and the options resolved with it. Errors
     /// here come before anything is uploaded.
@@ -84,11 +86,11 @@ pub trait TechniqueUnit: Sync + 'static {
         PlannedLight::of_scene(scene)
     }
 
-    /// Which of the scene's lights the technique shadows with `options` (none, by default).
-    /// One that shadows the primary light alone shades the others unshadowed, and a frame's
-    /// warnings name them.
-    fn shadowed_lights(&self, options: &RenderOptions) -> ShadowedLights {
-        let _ = options;
+    /// Which of the scene's lights the technique shadows with `options`, its lights planned as
+    /// `lights` (none, by default). One that shadows the primary light alone shades the others
+    /// unshadowed, and a frame's warnings name them.
+    fn shadowed_lights(&self, options: &RenderOptions, lights: &[PlannedLight]) -> ShadowedLights {
+        let _ = (options, lights);
         ShadowedLights::None
     }
 
@@ -138,12 +140,12 @@ impl ShadowedLights {
 /// What the warning about unshadowed lights tells a user to do: a technique that shadows every
 /// light in the additive mode (shadow volumes, planar) names that mode; the others name those
 /// two techniques.
-fn every_light_hint<T: TechniqueUnit>(unit: &T, options: &RenderOptions) -> &'static str {
+fn every_light_hint<T: TechniqueUnit>(unit: &T, options: &RenderOptions, lights: &[PlannedLight]) -> &'static str {
     let additive = RenderOptions {
         shadow_volume: ShadowVolumeOptions { mode: ShadowMode::Additive, ..options.shadow_volume },
         ..options.clone()
     };
-    if unit.shadowed_lights(&additive) == ShadowedLights::Every {
+    if unit.shadowed_lights(&additive, lights) == ShadowedLights::Every {
         "--shadow-mode additive shadows every light"
     } else {
         "--technique shadow-volume or planar shadows every light"
@@ -212,26 +214,33 @@ pub fn build_unit<'s, T: TechniqueUnit>(
     scene: &'s Scene,
     options: &RenderOptions,
 ) -> Result<frame_renderer::FrameRenderer<'s, T::Kinds, T::Passes>> {
-    // Per-light loops are planned for the scene's lights, as the technique can shadow them.
-    let options = &RenderOptions { lights: unit.planned_lights(scene), ..options.clone() };
     options.check()?;
+    // Per-light loops are planned for the scene's lights, as the technique can shadow them.
+    let lights = unit.planned_lights(scene);
+    if lights.len() > crate::scene::MAX_LIGHTS {
+        return Err(Error::InvalidInput(format!(
+            "{} lights: a frame holds at most {}",
+            lights.len(),
+            crate::scene::MAX_LIGHTS
+        )));
+    }
     let Prepared { options, setup } = unit.setup(gpu, scene, options)?;
-    let plan = unit.plan(&options)?;
+    let plan = unit.plan(&options, &lights)?;
     let mut renderer =
         frame_renderer::build_typed(unit.name(), plan, gpu, scene, &options, |ctx| unit.make(ctx, scene, setup))?;
     let reason = |light: usize| unit.unshadowed_reason(scene, light);
-    let hint = every_light_hint(unit, &options);
+    let hint = every_light_hint(unit, &options, &lights);
     renderer.warnings.extend(unshadowed_lights_warning(
         unit.name(),
         hint,
-        unit.shadowed_lights(&options),
+        unit.shadowed_lights(&options, &lights),
         scene,
         &reason,
     ));
     Ok(renderer)
 }
 
-impl<T: TechniqueUnit> Technique for T {
+impl<T: TechniqueUnit> ErasedTechnique for T {
     fn name(&self) -> &'static str {
         TechniqueUnit::name(self)
     }
@@ -240,8 +249,8 @@ impl<T: TechniqueUnit> Technique for T {
         TechniqueUnit::about(self)
     }
 
-    fn plan(&self, options: &RenderOptions) -> Result<PassPlan> {
-        TechniqueUnit::plan(self, options).map(|plan| plan.named())
+    fn plan(&self, options: &RenderOptions, lights: &[PlannedLight]) -> Result<PassPlan> {
+        TechniqueUnit::plan(self, options, lights).map(|plan| plan.named())
     }
 
     fn build<'s>(
@@ -249,7 +258,7 @@ impl<T: TechniqueUnit> Technique for T {
         gpu: &Arc<Gpu>,
         scene: &'s Scene,
         options: &RenderOptions,
-    ) -> Result<Box<dyn SceneRenderer + 's>> {
+    ) -> Result<Box<dyn TechniqueRenderer + 's>> {
         Ok(Box::new(build_unit(self, gpu, scene, options)?))
     }
 

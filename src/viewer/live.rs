@@ -29,7 +29,7 @@ impl Settings {
 pub struct LiveTechnique<'s> {
     pub settings: Settings,
     pub extent: vk::Extent2D,
-    renderer: Box<dyn SceneRenderer + 's>,
+    renderer: SceneRenderer<'s>,
     /// Whether each light of the scene it was built for casts shadows: its passes' lights.
     lights: Vec<bool>,
 }

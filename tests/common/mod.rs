@@ -34,7 +34,7 @@ pub fn assert_no_validation_messages(gpu: &Gpu) {
 /// user chose with `NOSTENCIL_DEVICE` it cannot, and says so on stderr (`--nocapture` shows
 /// it). Any other device fails the test, naming it: such a test never passes without checking.
 pub fn lavapipe_figures_apply(gpu: &Gpu, figures: &str) -> bool {
-    let name = &gpu.device.info.name;
+    let name = gpu.device_name();
     if name.contains("llvmpipe") {
         return true;
     }

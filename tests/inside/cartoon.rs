@@ -10,8 +10,6 @@ use glam::{Mat4, Vec2, Vec3};
 use image::RgbaImage;
 use nostencil::error::Result;
 use nostencil::mesh::{shapes, MeshData};
-use nostencil::technique::ink::{SILHOUETTE, TOON};
-use nostencil::technique::outline::Outline;
 use nostencil::Gpu;
 use nostencil::StencilMode;
 use nostencil::{builtin_scene, Camera, Light, Scene};
@@ -30,7 +28,7 @@ fn render_frame(
     gpu: &Arc<Gpu>,
     scene: &Scene,
     stencil: StencilMode,
-    technique: &'static dyn Technique,
+    technique: Technique,
     options: &CartoonOptions,
     size: (u32, u32),
 ) -> Result<TechniqueFrame> {
@@ -49,7 +47,7 @@ fn render(
     gpu: &Arc<Gpu>,
     scene: &Scene,
     stencil: StencilMode,
-    technique: &'static dyn Technique,
+    technique: Technique,
     options: &CartoonOptions,
     size: (u32, u32),
 ) -> (RgbaImage, CartoonStats) {
@@ -85,8 +83,8 @@ fn outline_emulated_equals_reference_for_one_and_several_overlapping_objects() {
     for (scene, names) in cases {
         let options =
             CartoonOptions { select: names.iter().map(|s| s.to_string()).collect(), ..CartoonOptions::default() };
-        let (reference, _) = render(&gpu, scene, StencilMode::Reference, &Outline, &options, SIZE);
-        let (emulated, stats) = render(&gpu, scene, StencilMode::Emulated, &Outline, &options, SIZE);
+        let (reference, _) = render(&gpu, scene, StencilMode::Reference, technique("outline"), &options, SIZE);
+        let (emulated, stats) = render(&gpu, scene, StencilMode::Emulated, technique("outline"), &options, SIZE);
         let label = format!("{} {names:?}", scene.name);
         assert!(!stats.selected.is_empty(), "{label}: nothing selected");
         let outline_pixels = count_rgb(&reference, orange);
@@ -110,10 +108,10 @@ fn outline_never_covers_a_selected_surface_and_hugs_the_selected_object() {
     let gpu = common::gpu();
     let scene = builtin_scene("outline").expect("scene");
     let one = CartoonOptions { select: vec!["box".into()], ..CartoonOptions::default() };
-    let (image, _) = render(&gpu, &scene, StencilMode::Emulated, &Outline, &one, SIZE);
+    let (image, _) = render(&gpu, &scene, StencilMode::Emulated, technique("outline"), &one, SIZE);
     let mut alone_scene = scene.clone();
     alone_scene.objects.retain(|o| o.name == "box");
-    let (alone, _) = render(&gpu, &alone_scene, StencilMode::Emulated, &Outline, &one, SIZE);
+    let (alone, _) = render(&gpu, &alone_scene, StencilMode::Emulated, technique("outline"), &one, SIZE);
     let orange = one.outline_colour;
     let (w, h) = (image.width() as i32, image.height() as i32);
     let reach = one.outline_width.ceil() as i32 + 1;
@@ -153,7 +151,7 @@ fn unknown_selection_is_refused_with_the_objects_names() {
     let gpu = common::gpu();
     let scene = builtin_scene("outline").expect("scene");
     let options = CartoonOptions { select: vec!["teapot".into()], ..CartoonOptions::default() };
-    let error = render_frame(&gpu, &scene, StencilMode::Emulated, &Outline, &options, (64, 64))
+    let error = render_frame(&gpu, &scene, StencilMode::Emulated, technique("outline"), &options, (64, 64))
         .err()
         .expect("unknown object")
         .to_string();
@@ -206,7 +204,7 @@ fn ink_line_width_in_the_image_is_the_requested_width() {
         let scene = &scene;
         for width in [1.0f32, 2.0, 3.0, 5.0] {
             let options = CartoonOptions { line_width: width, ..CartoonOptions::default() };
-            let (image, stats) = render(&gpu, scene, StencilMode::Emulated, &SILHOUETTE, &options, size);
+            let (image, stats) = render(&gpu, scene, StencilMode::Emulated, technique("silhouette"), &options, size);
             let (top, bottom) = if *outward { (y - width, y) } else { (y - 0.5 * width, y + 0.5 * width) };
             // The analytic band must not put a pixel centre on its border (that would test the
             // tie rule, not the width).
@@ -230,7 +228,7 @@ fn ink_lines_sit_on_the_sphere_silhouette_without_gaps() {
     let size = (128, 128);
     let scene = face_on_scene(shapes::uv_sphere(24, 48).expect("sphere"), Mat4::IDENTITY);
     let options = CartoonOptions { line_width: 2.0, ..CartoonOptions::default() };
-    let (image, stats) = render(&gpu, &scene, StencilMode::Emulated, &SILHOUETTE, &options, size);
+    let (image, stats) = render(&gpu, &scene, StencilMode::Emulated, technique("silhouette"), &options, size);
     assert!(stats.silhouette_edges >= 48, "{stats:?}");
     // The contour seen from distance d of a unit sphere: radius sin(asin(1/d)) at depth 1/d,
     // i.e. tangent angle asin(1/5) from the axis.
@@ -265,7 +263,7 @@ fn every_ink_method_darkens_the_silhouette_and_toon_shading_has_bands() {
     let dark = |p: [u8; 4]| (0..3).all(|c| p[c] <= ink[c].saturating_add(25));
     for &method in SilhouetteMethod::ALL {
         let options = CartoonOptions { silhouette: method, line_width: 3.0, ..CartoonOptions::default() };
-        for technique in [&SILHOUETTE as &'static dyn Technique, &TOON] {
+        for technique in [technique("silhouette"), technique("toon")] {
             let (image, _) = render(&gpu, &scene, StencilMode::Emulated, technique, &options, size);
             // The sphere's centre is lit, its contour (radius ~ 21 px) is dark.
             assert!(!dark(image.get_pixel(48, 48).0), "{method:?} {technique:?}: centre is dark");
@@ -285,7 +283,7 @@ fn every_ink_method_darkens_the_silhouette_and_toon_shading_has_bands() {
     // The toon ramp has three levels: a toon frame without ink shows at most three shades of
     // the albedo on the sphere (plus the background).
     let options = CartoonOptions { silhouette: SilhouetteMethod::Hull, line_width: 0.5, ..CartoonOptions::default() };
-    let (image, _) = render(&gpu, &scene, StencilMode::Emulated, &TOON, &options, size);
+    let (image, _) = render(&gpu, &scene, StencilMode::Emulated, technique("toon"), &options, size);
     let mut colours: Vec<[u8; 3]> = image.chunks_exact(4).map(|p| [p[0], p[1], p[2]]).collect();
     colours.sort();
     colours.dedup();
@@ -297,8 +295,8 @@ fn every_ink_method_darkens_the_silhouette_and_toon_shading_has_bands() {
 fn ink_passes_are_measured_one_per_edge_class() {
     let gpu = common::gpu();
     let scene = builtin_scene("default").expect("scene");
-    let frame =
-        render_frame(&gpu, &scene, StencilMode::Emulated, &TOON, &CartoonOptions::default(), SIZE).expect("frame");
+    let frame = render_frame(&gpu, &scene, StencilMode::Emulated, technique("toon"), &CartoonOptions::default(), SIZE)
+        .expect("frame");
     let names: Vec<&str> = frame.output.counters.passes.iter().map(|p| p.name.as_str()).collect();
     assert_eq!(names, ["scene", "ink silhouette", "ink crease", "ink boundary"]);
     for pass in &frame.output.counters.passes {
@@ -319,7 +317,7 @@ fn crease_lines_of_a_cube_are_unbroken_and_stay_on_the_edges() {
     let mut scene = face_on_scene(shapes::cube(1.0), Mat4::IDENTITY);
     scene.camera = Camera::look_at(Vec3::new(2.2, 1.9, 2.6), Vec3::ZERO);
     let options = CartoonOptions { line_width: 2.0, ..CartoonOptions::default() };
-    let (image, stats) = render(&gpu, &scene, StencilMode::Emulated, &SILHOUETTE, &options, size);
+    let (image, stats) = render(&gpu, &scene, StencilMode::Emulated, technique("silhouette"), &options, size);
     assert_eq!((stats.silhouette_edges, stats.crease_edges), (6, 6), "{stats:?}");
     let view_proj = scene.camera.view_projection(1.0);
     let to_pixel = |p: Vec3| {
@@ -336,4 +334,9 @@ fn crease_lines_of_a_cube_are_unbroken_and_stay_on_the_edges() {
         assert_ne!(image.get_pixel(face_centre.x as u32, face_centre.y as u32).0[..3], ink(), "face {axis}");
     }
     common::assert_no_validation_messages(&gpu);
+}
+
+/// The technique called `name`.
+fn technique(name: &str) -> Technique {
+    nostencil::technique(name).expect("technique")
 }

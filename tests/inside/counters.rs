@@ -13,9 +13,9 @@ use nostencil::gpu::memory::Buffer;
 use nostencil::pipeline::{BlendState, DepthState, FixedFunction, PipelineDesc, RasterState, VertexLayout};
 use nostencil::render::FrameUniforms;
 use nostencil::render::Pipeline;
+use nostencil::render::Renderer;
 use nostencil::FrameCounters;
 use nostencil::Gpu;
-use nostencil::Renderer;
 use nostencil::StencilMode;
 
 fn uniforms() -> FrameUniforms {

@@ -84,6 +84,6 @@ fn zero_and_oversized_frames_are_refused() {
 }
 
 /// A technique of the registry, by name.
-fn technique(name: &str) -> &'static dyn Technique {
+fn technique(name: &str) -> Technique {
     nostencil::technique(name).expect("technique")
 }

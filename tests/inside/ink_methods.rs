@@ -8,7 +8,7 @@ use std::sync::Arc;
 use glam::{Mat4, Vec2, Vec3};
 use image::RgbaImage;
 use nostencil::mesh::{shapes, MeshData};
-use nostencil::technique::ink::{SILHOUETTE, TOON};
+use nostencil::technique::light_loop::PlannedLight;
 use nostencil::Gpu;
 use nostencil::StencilMode;
 use nostencil::{render_scene, CartoonOptions, RenderOptions, SilhouetteMethod, Technique};
@@ -42,7 +42,7 @@ fn unit_sphere() -> MeshData {
 fn render(
     gpu: &Arc<Gpu>,
     scene: &Scene,
-    technique: &'static dyn Technique,
+    technique: Technique,
     options: &CartoonOptions,
     size: (u32, u32),
 ) -> RgbaImage {
@@ -119,7 +119,7 @@ fn alpha_test_ring_on_a_sphere_is_where_n_dot_v_is_below_the_reference() {
             alpha_ref: reference,
             ..CartoonOptions::default()
         };
-        for technique in [&SILHOUETTE as &'static dyn Technique, &TOON] {
+        for technique in [technique("silhouette"), technique("toon")] {
             let image = render(&gpu, &scene, technique, &options, size);
             let label = format!("{} alpha-ref {reference}", technique.name());
             for (ray, span) in ink_span_per_ray(&image, 72, contour + 4.0).into_iter().enumerate() {
@@ -149,7 +149,7 @@ fn extrusion_rings_a_sphere_like_the_hull() {
     let contour = radius_where_n_dot_v_is(0.0, EYE_DISTANCE, focal_px(&scene, size.1));
     for width in [2.0f32, 4.0] {
         let options = |method| CartoonOptions { silhouette: method, line_width: width, ..CartoonOptions::default() };
-        let extrusion = render(&gpu, &scene, &SILHOUETTE, &options(SilhouetteMethod::Extrusion), size);
+        let extrusion = render(&gpu, &scene, technique("silhouette"), &options(SilhouetteMethod::Extrusion), size);
         for (ray, span) in ink_span_per_ray(&extrusion, 72, contour + width + 4.0).into_iter().enumerate() {
             let (first, last) = span.unwrap_or_else(|| panic!("width {width}: no ink on ray {ray}"));
             // The copy is pushed out by `width` pixels along the normal, which is across the
@@ -159,7 +159,7 @@ fn extrusion_rings_a_sphere_like_the_hull() {
         }
         // Alone, nothing is in front of the copy or drawn before it: the same ring as the
         // inverted hull's (a closed copy's front and back faces cover the same pixels).
-        let hull = render(&gpu, &scene, &SILHOUETTE, &options(SilhouetteMethod::Hull), size);
+        let hull = render(&gpu, &scene, technique("silhouette"), &options(SilhouetteMethod::Hull), size);
         let differing = extrusion.pixels().zip(hull.pixels()).filter(|(a, b)| a.0[..3] != b.0[..3]).count();
         assert_eq!(differing, 0, "width {width}: extrusion and hull differ on a lone sphere");
     }
@@ -179,8 +179,8 @@ fn extruded_copy_with_depth_off_shows_through_an_object_in_front_and_the_hull_do
     let options = |method| CartoonOptions { silhouette: method, line_width: 3.0, ..CartoonOptions::default() };
     let extrusion = options(SilhouetteMethod::Extrusion);
     // Masks from each sphere rendered alone: B's ring, and A's body well inside its ring.
-    let b_alone = render(&gpu, &face_on_scene(&[b]), &SILHOUETTE, &extrusion, size);
-    let a_alone = render(&gpu, &face_on_scene(&[a]), &SILHOUETTE, &extrusion, size);
+    let b_alone = render(&gpu, &face_on_scene(&[b]), technique("silhouette"), &extrusion, size);
+    let a_alone = render(&gpu, &face_on_scene(&[a]), technique("silhouette"), &extrusion, size);
     let background = common::srgb8(both.background);
     let (w, h) = (size.0 as i32, size.1 as i32);
     let a_inside = |x: i32, y: i32| {
@@ -200,8 +200,8 @@ fn extruded_copy_with_depth_off_shows_through_an_object_in_front_and_the_hull_do
         .map(|(x, y)| (x as u32, y as u32))
         .collect();
     assert!(crossing.len() > 20, "B's ring crosses A's body at only {} pixels", crossing.len());
-    let with_extrusion = render(&gpu, &both, &SILHOUETTE, &extrusion, size);
-    let with_hull = render(&gpu, &both, &SILHOUETTE, &options(SilhouetteMethod::Hull), size);
+    let with_extrusion = render(&gpu, &both, technique("silhouette"), &extrusion, size);
+    let with_hull = render(&gpu, &both, technique("silhouette"), &options(SilhouetteMethod::Hull), size);
     for &(x, y) in &crossing {
         assert!(is_ink(with_extrusion.get_pixel(x, y)), "extrusion: B's ring hidden by A at ({x}, {y})");
         assert_eq!(with_hull.get_pixel(x, y), a_alone.get_pixel(x, y), "hull: A's body changed at ({x}, {y})");
@@ -214,11 +214,11 @@ fn extrusion_and_hull_plans_differ_in_passes_and_depth_and_cull_state() {
     use ash::vk;
     let plan = |method| {
         let options = RenderOptions {
-            technique: &SILHOUETTE,
+            technique: technique("silhouette"),
             cartoon: CartoonOptions { silhouette: method, ..CartoonOptions::default() },
             ..Default::default()
         };
-        SILHOUETTE.plan(&options).expect("plan")
+        technique("silhouette").plan(&options, &PlannedLight::default_lights()).expect("plan")
     };
     let hull = plan(SilhouetteMethod::Hull);
     let names = |p: &nostencil::render::plan::PassPlan| p.passes.iter().map(|p| p.name.to_string()).collect::<Vec<_>>();
@@ -302,7 +302,7 @@ fn each_edge_class_is_drawn_in_its_own_width_and_colour() {
         };
         let lift = (0..200).map(|i| 0.1 + i as f32 * 0.001).find(|&l| (at(l).1.fract() - 0.25).abs() < 0.05);
         let (scene, y) = at(lift.expect("a lift that puts the edge at .25"));
-        let image = render(&gpu, &scene, &SILHOUETTE, &options, size);
+        let image = render(&gpu, &scene, technique("silhouette"), &options, size);
         let (width, colour) = (styles[class].width.unwrap_or(0.0), styles[class].colour.unwrap_or_default());
         let (top, bottom) = if outward { (y - width, y) } else { (y - 0.5 * width, y + 0.5 * width) };
         let expected = common::rows_between(top, bottom);
@@ -315,7 +315,13 @@ fn each_edge_class_is_drawn_in_its_own_width_and_colour() {
     // The GPU methods draw silhouettes only, in the silhouette's style.
     let scene = face_on_scene(&[(unit_sphere(), Mat4::IDENTITY, Vec3::new(0.3, 0.5, 0.8))]);
     for method in [SilhouetteMethod::Hull, SilhouetteMethod::Extrusion, SilhouetteMethod::AlphaTest] {
-        let image = render(&gpu, &scene, &SILHOUETTE, &CartoonOptions { silhouette: method, ..options.clone() }, size);
+        let image = render(
+            &gpu,
+            &scene,
+            technique("silhouette"),
+            &CartoonOptions { silhouette: method, ..options.clone() },
+            size,
+        );
         let red = image.pixels().filter(|p| p.0[..3] == [255, 0, 0]).count();
         assert!(red > 100, "{method:?}: {red} pixels of the silhouette colour");
         assert!(!image.pixels().any(is_ink), "{method:?}: default ink drawn");
@@ -361,7 +367,7 @@ fn ink_only_leaves_no_face_colour_only_background_and_ink() {
         let background = common::srgb8(scene.background);
         for &method in SilhouetteMethod::ALL {
             let options = CartoonOptions { silhouette: method, ink_only: true, ..CartoonOptions::default() };
-            for technique in [&SILHOUETTE as &'static dyn Technique, &TOON] {
+            for technique in [technique("silhouette"), technique("toon")] {
                 let image = render(&gpu, &scene, technique, &options, size);
                 // The shader method's ink is the rim ramp's black times the face colour.
                 let ink = if method == SilhouetteMethod::Shader { [0, 0, 0] } else { ink() };
@@ -390,8 +396,8 @@ fn face_normals_and_creases_are_recomputed_only_for_deformed_meshes() {
     let walking = builtin_scene_at("default", 0.4).expect("scene");
     let skinned = rest.objects.iter().filter(|o| o.skin.is_some()).count();
     assert!(skinned > 0 && skinned < rest.objects.len(), "the default scene has rigid and skinned objects");
-    let options = RenderOptions { width: 96, height: 72, technique: &SILHOUETTE, ..Default::default() };
-    let mut renderer = SILHOUETTE.build(&gpu, &rest, &options).expect("renderer");
+    let options = RenderOptions { width: 96, height: 72, technique: technique("silhouette"), ..Default::default() };
+    let mut renderer = technique("silhouette").build(&gpu, &rest, &options).expect("renderer");
     let mut frame = |scene: &Scene| {
         let frame = renderer.frame_with(scene).expect("frame");
         (frame.stats::<CartoonStats>().expect("cartoon stats").clone(), frame.output.image)
@@ -423,8 +429,13 @@ fn render_seams(
     seams: nostencil::Seams,
 ) -> nostencil::TechniqueFrame {
     let cartoon = CartoonOptions { ink, seams, ..CartoonOptions::default() };
-    let options =
-        RenderOptions { width: size.0, height: size.1, technique: &SILHOUETTE, cartoon, ..Default::default() };
+    let options = RenderOptions {
+        width: size.0,
+        height: size.1,
+        technique: technique("silhouette"),
+        cartoon,
+        ..Default::default()
+    };
     render_scene(gpu, scene, &options).expect("frame")
 }
 
@@ -559,4 +570,9 @@ fn material_seams_inside_a_gltf_mesh_are_boundaries_only_when_asked_for() {
         }
     }
     common::assert_no_validation_messages(&gpu);
+}
+
+/// The technique called `name`.
+fn technique(name: &str) -> Technique {
+    nostencil::technique(name).expect("technique")
 }

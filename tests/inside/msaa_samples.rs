@@ -19,20 +19,20 @@ use nostencil::pipeline::recipes::{both_faces, stencil_face, ALPHA_ONLY, STENCIL
 use nostencil::pipeline::{BlendState, FixedFunction, PipelineDesc, VertexLayout};
 use nostencil::render::plan::{PassPlan, PlannedPass, SetRole, Target};
 use nostencil::render::plan_execution::{record_plan, PassDraws, PlanPipelines};
+use nostencil::render::Renderer;
 use nostencil::render::{FrameRecorder, FrameSamples, FrameUniforms, GpuScene, ObjectPush, Pipeline, PipelineTarget};
 use nostencil::technique::shadow_volume::recipes::{VolumeDraw, VolumeKinds, VolumeSet};
 use nostencil::technique::shadow_volume::{self, bounds, build_volume, prepare_casters};
 use nostencil::technique::shadow_volume::{Normalize, ShadowVolumeOptions, VolumeMethod};
 use nostencil::technique::ShadowTone;
 use nostencil::Gpu;
-use nostencil::Renderer;
 use nostencil::StencilMode;
 use nostencil::{builtin_scene, Scene};
 use nostencil::{RenderOptions, Technique};
 
 const SAMPLES: u32 = 4;
 
-fn technique(name: &str) -> &'static dyn Technique {
+fn technique(name: &str) -> Technique {
     nostencil::technique(name).expect("technique")
 }
 

@@ -10,7 +10,6 @@ use std::sync::Arc;
 use glam::{Mat4, Vec3};
 use image::RgbaImage;
 use nostencil::mesh::{shapes, MeshData};
-use nostencil::technique::outline::Outline;
 use nostencil::Gpu;
 use nostencil::StencilMode;
 use nostencil::{builtin_scene, Camera, Light, Scene};
@@ -25,7 +24,7 @@ fn render(gpu: &Arc<Gpu>, scene: &Scene, stencil: StencilMode, cartoon: &Cartoon
         width: SIZE.0,
         height: SIZE.1,
         stencil,
-        technique: &Outline,
+        technique: technique("outline"),
         cartoon: cartoon.clone(),
         ..Default::default()
     };
@@ -288,4 +287,9 @@ fn blurred_outline_extends_the_sharp_one_by_the_radius() {
         }
     }
     common::assert_no_validation_messages(&gpu);
+}
+
+/// The technique called `name`.
+fn technique(name: &str) -> nostencil::Technique {
+    nostencil::technique(name).expect("technique")
 }

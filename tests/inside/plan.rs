@@ -32,7 +32,7 @@ fn every_frame_runs_exactly_its_printed_plan() {
         let variants = technique.plan_variants(&base);
         assert!(!variants.is_empty(), "{}: no plan to check", technique.name());
         for variant in variants {
-            let printed = technique.plan(&variant.options).expect("plan");
+            let printed = technique.plan(&variant.options, &technique.planned_lights(&scene)).expect("plan");
             assert!(!printed.passes.is_empty(), "{}: empty plan", variant.label);
             let mut renderer = technique.build(&gpu, &scene, &variant.options).expect("renderer");
             // The renderer plans what `passes` prints, pass for pass.

@@ -25,7 +25,7 @@ const FACTOR: u8 = nostencil::technique::ShadowTone::DEFAULT_FACTOR;
 
 fn render(gpu: &Arc<Gpu>, scene: &Scene, stencil: StencilMode, shadows: bool) -> TechniqueFrame {
     let options = PlanarOptions { shadows, ..Default::default() };
-    render_with(gpu, scene, &planar::Planar, SIZE, stencil, options).expect("planar frame")
+    render_with(gpu, scene, technique("planar"), SIZE, stencil, options).expect("planar frame")
 }
 
 /// Renders `scene` with one of the seed 001 techniques, as the seed draws it (`--shadow-mode
@@ -33,7 +33,7 @@ fn render(gpu: &Arc<Gpu>, scene: &Scene, stencil: StencilMode, shadows: bool) ->
 fn render_with(
     gpu: &Arc<Gpu>,
     scene: &Scene,
-    technique: &'static dyn Technique,
+    technique: Technique,
     (width, height): (u32, u32),
     stencil: StencilMode,
     planar: PlanarOptions,
@@ -387,7 +387,7 @@ fn a_given_tilted_plane_receives_the_shadow_matrix_projection() {
             scene.set_light(light);
         }
         let frame = |stencil, shadows| {
-            render_with(&gpu, &scene, &planar::Planar, SIZE, stencil, options(shadows)).expect("planar frame")
+            render_with(&gpu, &scene, technique("planar"), SIZE, stencil, options(shadows)).expect("planar frame")
         };
         let unshadowed = frame(StencilMode::Emulated, false);
         let emulated = frame(StencilMode::Emulated, true);
@@ -432,7 +432,7 @@ fn a_given_tilted_plane_receives_the_shadow_matrix_projection() {
     let scene = builtin_scene_at("slope", 0.0).expect("scene");
     let refused = |scene: &Scene, plane: Option<GivenPlane>| {
         let options = PlanarOptions { plane, ..Default::default() };
-        render_with(&gpu, scene, &planar::Planar, (64, 64), StencilMode::Emulated, options)
+        render_with(&gpu, scene, technique("planar"), (64, 64), StencilMode::Emulated, options)
             .err()
             .expect("refused")
             .to_string()
@@ -527,7 +527,7 @@ fn a_simplified_caster_casts_within_a_few_pixels_of_the_full_mesh() {
     for (name, scene) in &scenes {
         let frame = |stencil, shadows, shadow_lod| {
             let options = PlanarOptions { shadows, shadow_lod, ..Default::default() };
-            render_with(&gpu, scene, &planar::Planar, SIZE, stencil, options).expect("planar frame")
+            render_with(&gpu, scene, technique("planar"), SIZE, stencil, options).expect("planar frame")
         };
         let unshadowed = frame(StencilMode::Emulated, false, None);
         let full = frame(StencilMode::Emulated, true, None);
@@ -557,7 +557,8 @@ fn a_simplified_caster_casts_within_a_few_pixels_of_the_full_mesh() {
         // the same shadow up to the texels.
         let texture = |shadow_lod| {
             let options = PlanarOptions { shadow_lod, ..Default::default() };
-            render_with(&gpu, scene, &planar::ShadowTexture, SIZE, StencilMode::Emulated, options).expect("texture")
+            render_with(&gpu, scene, technique("shadow-texture"), SIZE, StencilMode::Emulated, options)
+                .expect("texture")
         };
         let (texture_full, texture_lod) = (texture(None), texture(Some(RATIO)));
         let prepass_vertices = |f: &TechniqueFrame| {
@@ -590,7 +591,7 @@ fn the_seeds_render_texture_quad_holds_the_shadow_where_the_projection_puts_it()
         let unshadowed = render_with(
             &gpu,
             &scene,
-            &planar::Planar,
+            technique("planar"),
             SIZE,
             StencilMode::Emulated,
             PlanarOptions { shadows: false, ..base },
@@ -599,7 +600,7 @@ fn the_seeds_render_texture_quad_holds_the_shadow_where_the_projection_puts_it()
         let receivers = receiver_mask(&unshadowed.output.image);
         let texture = |texture_on, texture_size| {
             let options = PlanarOptions { texture_on, texture_size, ..base };
-            let frame = render_with(&gpu, &scene, &planar::ShadowTexture, SIZE, StencilMode::Emulated, options)
+            let frame = render_with(&gpu, &scene, technique("shadow-texture"), SIZE, StencilMode::Emulated, options)
                 .expect("shadow texture");
             changed(&frame.output.image, &unshadowed.output.image)
         };
@@ -637,10 +638,11 @@ fn bad_input_gets_a_clear_error() {
     // No ground to project onto.
     let mut scene = builtin_scene_at("character", 0.0).expect("scene");
     scene.objects.retain(|o| o.name != "ground");
-    let error = render_with(&gpu, &scene, &planar::Planar, (64, 64), StencilMode::Emulated, PlanarOptions::default())
-        .err()
-        .expect("refused")
-        .to_string();
+    let error =
+        render_with(&gpu, &scene, technique("planar"), (64, 64), StencilMode::Emulated, PlanarOptions::default())
+            .err()
+            .expect("refused")
+            .to_string();
     assert!(error.contains("no flat horizontal receiver"), "{error}");
 
     // More joints than the 16 KiB palette holds.
@@ -648,10 +650,11 @@ fn bad_input_gets_a_clear_error() {
     if let Some(skin) = scene.objects.iter_mut().find_map(|o| o.skin.as_mut()) {
         skin.joint_matrices = vec![Mat4::IDENTITY; nostencil::scene::MAX_JOINTS + 1];
     }
-    let error = render_with(&gpu, &scene, &planar::Planar, (64, 64), StencilMode::Emulated, PlanarOptions::default())
-        .err()
-        .expect("refused")
-        .to_string();
+    let error =
+        render_with(&gpu, &scene, technique("planar"), (64, 64), StencilMode::Emulated, PlanarOptions::default())
+            .err()
+            .expect("refused")
+            .to_string();
     assert!(error.contains("at most 256"), "{error}");
 
     // Malformed files, through the command line with the planar technique: one line naming the
@@ -697,7 +700,7 @@ fn shadow_texture_covers_the_planar_shadow_and_blobs_sit_under_the_casters() {
             changed(&render(&gpu, &scene, StencilMode::Emulated, true).output.image, &unshadowed.output.image);
 
         let options = PlanarOptions::default();
-        let texture = render_with(&gpu, &scene, &planar::ShadowTexture, SIZE, StencilMode::Emulated, options)
+        let texture = render_with(&gpu, &scene, technique("shadow-texture"), SIZE, StencilMode::Emulated, options)
             .expect("shadow texture");
         let texture_mask = changed(&texture.output.image, &unshadowed.output.image);
         let (mut both, mut either, mut exact, mut darkened) = (0, 0, 0, 0);
@@ -723,7 +726,7 @@ fn shadow_texture_covers_the_planar_shadow_and_blobs_sit_under_the_casters() {
             "{name}: only {exact} of {darkened} texture-shadow pixels at full factor"
         );
 
-        let blob = render_with(&gpu, &scene, &planar::BlobShadows, SIZE, StencilMode::Emulated, options).expect("blob");
+        let blob = render_with(&gpu, &scene, technique("blob"), SIZE, StencilMode::Emulated, options).expect("blob");
         let blob_mask = changed(&blob.output.image, &unshadowed.output.image);
         assert!(blob_mask.iter().zip(&receivers).all(|(b, r)| !b || *r), "{name}: blob off the receivers");
         // One blob under each foot: the lowest points of the two legs (boxes 4 and 5).
@@ -848,7 +851,7 @@ fn a_renderer_built_once_follows_the_walk_as_if_rebuilt_at_each_time() {
 }
 
 /// A technique of the registry, by name.
-fn technique(name: &str) -> &'static dyn Technique {
+fn technique(name: &str) -> Technique {
     nostencil::technique(name).expect("technique")
 }
 
@@ -858,7 +861,8 @@ fn technique(name: &str) -> &'static dyn Technique {
 /// Renders `scene` with planar shadows in the additive loop (the default mode).
 fn additive(gpu: &Arc<Gpu>, scene: &Scene, size: (u32, u32), stencil: StencilMode, samples: u32) -> TechniqueFrame {
     let (width, height) = size;
-    let options = RenderOptions { width, height, stencil, samples, technique: &planar::Planar, ..Default::default() };
+    let options =
+        RenderOptions { width, height, stencil, samples, technique: technique("planar"), ..Default::default() };
     render_scene(gpu, scene, &options).expect("additive planar frame")
 }
 
@@ -975,7 +979,7 @@ fn a_light_that_cannot_reach_the_plane_is_named_and_still_shades() {
     // The seed's mode has one shadow, from the primary light: it still refuses a parallel one.
     let mut parallel = builtin_scene_at("default", 0.0).expect("default");
     parallel.lights[0].direction = Vec3::X;
-    let err = render_with(&gpu, &parallel, &planar::Planar, SIZE, StencilMode::Emulated, PlanarOptions::default())
+    let err = render_with(&gpu, &parallel, technique("planar"), SIZE, StencilMode::Emulated, PlanarOptions::default())
         .err()
         .expect("modulate refuses a light parallel to the plane");
     assert!(err.to_string().contains("parallel"), "{err}");

@@ -12,10 +12,11 @@ use nostencil::profile::budget::Budget;
 use nostencil::profile::heatmap;
 use nostencil::profile::report::{FrameFormats, ProfileReport, ReportContext};
 use nostencil::render::FrameUniforms;
+use nostencil::render::Renderer;
 use nostencil::render::{Pipeline, PipelineTarget};
+use nostencil::FrameOutput;
 use nostencil::Gpu;
 use nostencil::StencilMode;
-use nostencil::{FrameOutput, Renderer};
 
 /// A frame of `passes`, each drawing `quads` full-screen triangles, counted or not.
 fn stacked_fullscreen(gpu: &Arc<Gpu>, passes: &[(&str, u32)], count_overdraw: bool) -> FrameOutput {

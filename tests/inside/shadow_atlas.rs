@@ -114,7 +114,7 @@ fn concave_model_shadows_itself_in_its_baked_texture() {
     common::assert_no_validation_messages(&gpu);
 }
 
-fn render(gpu: &Arc<Gpu>, scene: &Scene, technique: &'static dyn Technique, size: (u32, u32)) -> RgbaImage {
+fn render(gpu: &Arc<Gpu>, scene: &Scene, technique: Technique, size: (u32, u32)) -> RgbaImage {
     let options = RenderOptions {
         width: size.0,
         height: size.1,
@@ -433,7 +433,7 @@ fn bake_writes_the_models_shadow_texture_from_the_command_line() {
 }
 
 /// A technique of the registry, by name.
-fn technique(name: &str) -> &'static dyn Technique {
+fn technique(name: &str) -> Technique {
     nostencil::technique(name).expect("technique")
 }
 

@@ -16,11 +16,11 @@ use nostencil::frame::render_pass::COLOUR_FORMAT;
 use nostencil::mesh::MeshData;
 use nostencil::render::plan::{Draws, PassKinds, PlannedPass};
 use nostencil::render::Pipeline;
+use nostencil::render::Renderer;
 use nostencil::render::{FrameRecorder, FrameUniforms};
 use nostencil::technique::shadow_volume::{self, Normalize, ShadowVolumeOptions, VolumeMethod};
 use nostencil::technique::{alpha_counter, ShadowTone};
 use nostencil::Gpu;
-use nostencil::Renderer;
 use nostencil::StencilMode;
 use nostencil::{builtin_scene, Light, Scene, BUILTIN_SCENES};
 use nostencil::{render_scene, RenderOptions, ShadowMode, Technique};
@@ -649,7 +649,7 @@ fn a_caster_that_cannot_cast_is_named_in_a_warning() {
 }
 
 /// A technique of the registry, by name.
-fn technique(name: &str) -> &'static dyn Technique {
+fn technique(name: &str) -> Technique {
     nostencil::technique(name).expect("technique")
 }
 
@@ -1140,7 +1140,7 @@ fn unmoved_volumes_are_reused_and_moved_ones_built_again_to_the_same_image() {
             technique: technique("shadow-volume"),
             ..Default::default()
         };
-        let frame = |renderer: &mut Box<dyn nostencil::SceneRenderer + '_>, scene: &Scene| {
+        let frame = |renderer: &mut nostencil::SceneRenderer<'_>, scene: &Scene| {
             let frame = renderer.frame_with(scene).expect("frame");
             let stats = frame.stats::<nostencil::stats::ShadowVolumeStats>().expect("statistics").clone();
             (frame.output.image, stats.lights[0].clone())

@@ -8,8 +8,6 @@ use std::sync::Arc;
 
 use glam::Vec2;
 use image::RgbaImage;
-use nostencil::technique::lit::Lit;
-use nostencil::technique::shadow_volume::ShadowVolumes;
 use nostencil::technique::shadow_volume::{Normalize, ShadowVolumeOptions};
 use nostencil::Gpu;
 use nostencil::StencilMode;
@@ -19,7 +17,7 @@ use nostencil::{scene_from_gltf, Light, Scene};
 const SIZE: (u32, u32) = (128, 96);
 
 fn lit(gpu: &Arc<Gpu>, scene: &Scene) -> RgbaImage {
-    let options = RenderOptions { width: SIZE.0, height: SIZE.1, technique: &Lit, ..Default::default() };
+    let options = RenderOptions { width: SIZE.0, height: SIZE.1, technique: technique("lit"), ..Default::default() };
     render_scene(gpu, scene, &options).expect("lit frame").output.image
 }
 
@@ -28,7 +26,7 @@ fn shadowed(gpu: &Arc<Gpu>, scene: &Scene, stencil: StencilMode, options: &Shado
         width: SIZE.0,
         height: SIZE.1,
         stencil,
-        technique: &ShadowVolumes,
+        technique: technique("shadow-volume"),
         shadow_volume: *options,
         ..Default::default()
     };
@@ -148,7 +146,7 @@ fn open_gltf_meshes_cast_two_sided_and_match_the_reference() {
                     width: SIZE.0,
                     height: SIZE.1,
                     stencil,
-                    technique: &ShadowVolumes,
+                    technique: technique("shadow-volume"),
                     shadow_volume: options,
                     ..Default::default()
                 };
@@ -243,7 +241,7 @@ fn heavy_content_keeps_its_proof_and_its_fill(content: &HeavyContent) {
             height: 240,
             samples: 1,
             stencil,
-            technique: &ShadowVolumes,
+            technique: technique("shadow-volume"),
             shadow_volume: options,
             ..Default::default()
         };
@@ -283,4 +281,9 @@ fn heavy_content_keeps_its_proof_and_its_fill(content: &HeavyContent) {
         }
     }
     common::assert_no_validation_messages(&gpu);
+}
+
+/// The technique called `name`.
+fn technique(name: &str) -> nostencil::Technique {
+    nostencil::technique(name).expect("technique")
 }

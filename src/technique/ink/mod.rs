@@ -18,6 +18,7 @@ pub mod renderer;
 
 use super::frame_renderer::BuildContext;
 use super::interface::{RenderOptions, Variant};
+use super::light_loop::PlannedLight;
 use super::options::SilhouetteMethod;
 use super::unit::{Prepared, TechniqueUnit};
 use crate::error::Result;
@@ -55,7 +56,7 @@ impl TechniqueUnit for Ink {
         self.about
     }
 
-    fn plan(&self, options: &RenderOptions) -> Result<PassPlan<InkKinds>> {
+    fn plan(&self, options: &RenderOptions, _lights: &[PlannedLight]) -> Result<PassPlan<InkKinds>> {
         Ok(recipes::plan(options.cartoon.silhouette))
     }
 

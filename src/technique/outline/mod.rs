@@ -13,6 +13,7 @@ pub mod scaled;
 
 use super::frame_renderer::BuildContext;
 use super::interface::{stencil_variants, RenderOptions, Variant};
+use super::light_loop::PlannedLight;
 use super::unit::{Prepared, TechniqueUnit};
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
@@ -40,7 +41,7 @@ impl TechniqueUnit for Outline {
         "selection outline without a stencil (seed 003)"
     }
 
-    fn plan(&self, options: &RenderOptions) -> Result<PassPlan<OutlineKinds>> {
+    fn plan(&self, options: &RenderOptions, _lights: &[PlannedLight]) -> Result<PassPlan<OutlineKinds>> {
         Ok(recipes::plan(options.stencil, &options.cartoon))
     }
 

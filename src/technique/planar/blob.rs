@@ -32,6 +32,7 @@ use crate::shaders;
 use crate::technique::frame_renderer::{BuildContext, Passes};
 use crate::technique::interface::RenderOptions;
 use crate::technique::interface::{FrameStats, Variant};
+use crate::technique::light_loop::PlannedLight;
 use crate::technique::shadow_tone::ShadowTone;
 use crate::technique::unit::{Prepared, ShadowedLights, TechniqueUnit};
 
@@ -222,7 +223,7 @@ impl TechniqueUnit for BlobShadows {
         "blob"
     }
 
-    fn shadowed_lights(&self, _options: &RenderOptions) -> ShadowedLights {
+    fn shadowed_lights(&self, _options: &RenderOptions, _lights: &[PlannedLight]) -> ShadowedLights {
         ShadowedLights::Primary
     }
 
@@ -230,7 +231,7 @@ impl TechniqueUnit for BlobShadows {
         "a soft round texture on a quad under each caster (seed 001's cheapest shadow)"
     }
 
-    fn plan(&self, _options: &RenderOptions) -> Result<PassPlan<BlobKinds>> {
+    fn plan(&self, _options: &RenderOptions, _lights: &[PlannedLight]) -> Result<PassPlan<BlobKinds>> {
         Ok(plan())
     }
 

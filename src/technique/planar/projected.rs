@@ -161,7 +161,7 @@ impl TechniqueUnit for Planar {
         "planar"
     }
 
-    fn shadowed_lights(&self, options: &RenderOptions) -> ShadowedLights {
+    fn shadowed_lights(&self, options: &RenderOptions, _lights: &[PlannedLight]) -> ShadowedLights {
         ShadowedLights::in_mode(options.shadow_volume.mode)
     }
 
@@ -169,8 +169,8 @@ impl TechniqueUnit for Planar {
         "casters skinned on the GPU and projected onto the ground, double darkening stopped in alpha (seed 001)"
     }
 
-    fn plan(&self, options: &RenderOptions) -> Result<PassPlan<PlanarKinds>> {
-        Ok(plan(&options.planar, options.stencil, options.shadow_volume.mode, &options.lights))
+    fn plan(&self, options: &RenderOptions, lights: &[PlannedLight]) -> Result<PassPlan<PlanarKinds>> {
+        Ok(plan(&options.planar, options.stencil, options.shadow_volume.mode, lights))
     }
 
     fn setup(&self, _gpu: &Gpu, _scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {

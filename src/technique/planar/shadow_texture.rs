@@ -45,6 +45,7 @@ use crate::shaders;
 use crate::technique::frame_renderer::{BuildContext, Passes};
 use crate::technique::interface::RenderOptions;
 use crate::technique::interface::{FrameStats, Variant};
+use crate::technique::light_loop::PlannedLight;
 use crate::technique::options::{PlanarOptions, TextureShadowOn};
 use crate::technique::shadow_tone::ShadowTone;
 use crate::technique::unit::{Prepared, ShadowedLights, TechniqueUnit};
@@ -295,7 +296,7 @@ impl TechniqueUnit for ShadowTexture {
         "shadow-texture"
     }
 
-    fn shadowed_lights(&self, _options: &RenderOptions) -> ShadowedLights {
+    fn shadowed_lights(&self, _options: &RenderOptions, _lights: &[PlannedLight]) -> ShadowedLights {
         ShadowedLights::Primary
     }
 
@@ -303,7 +304,7 @@ impl TechniqueUnit for ShadowTexture {
         "casters drawn from the light into a small texture that the ground looks up (seed 001)"
     }
 
-    fn plan(&self, options: &RenderOptions) -> Result<PassPlan<TextureKinds>> {
+    fn plan(&self, options: &RenderOptions, _lights: &[PlannedLight]) -> Result<PassPlan<TextureKinds>> {
         Ok(plan(&options.planar))
     }
 

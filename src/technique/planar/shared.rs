@@ -89,7 +89,7 @@ impl FrameStats for PlanarStats {
 /// real-stencil reference first.
 pub fn bench_variants(options: &RenderOptions) -> Vec<Variant> {
     let full = PlanarOptions { shadow_lod: None, texture_on: TextureShadowOn::Receivers, ..options.planar };
-    let with = |label: &str, technique: &'static dyn Technique, stencil| Variant {
+    let with = |label: &str, technique: Technique, stencil| Variant {
         label: label.into(),
         options: RenderOptions { technique, stencil, planar: full, ..options.clone() },
     };
@@ -97,18 +97,18 @@ pub fn bench_variants(options: &RenderOptions) -> Vec<Variant> {
         PlanarOptions { shadow_lod: Some(options.planar.shadow_lod.unwrap_or(DEFAULT_SHADOW_LOD)), ..options.planar };
     let with_lod = |label: &str, stencil| Variant {
         label: format!("{label} {:.2}", lod.shadow_lod.unwrap_or(DEFAULT_SHADOW_LOD)),
-        options: RenderOptions { technique: &Planar, stencil, planar: lod, ..options.clone() },
+        options: RenderOptions { technique: Technique(&Planar), stencil, planar: lod, ..options.clone() },
     };
     vec![
-        with("planar reference (stencil)", &Planar, StencilMode::Reference),
-        with("planar emulated (alpha)", &Planar, StencilMode::Emulated),
+        with("planar reference (stencil)", Technique(&Planar), StencilMode::Reference),
+        with("planar emulated (alpha)", Technique(&Planar), StencilMode::Emulated),
         with_lod("planar emulated, shadow LOD", StencilMode::Emulated),
-        with("blob", &BlobShadows, StencilMode::Emulated),
-        with("shadow texture", &ShadowTexture, StencilMode::Emulated),
+        with("blob", Technique(&BlobShadows), StencilMode::Emulated),
+        with("shadow texture", Technique(&ShadowTexture), StencilMode::Emulated),
         Variant {
             label: "shadow texture on a quad (the seed's)".into(),
             options: RenderOptions {
-                technique: &ShadowTexture,
+                technique: Technique(&ShadowTexture),
                 stencil: StencilMode::Emulated,
                 planar: PlanarOptions { texture_on: TextureShadowOn::Quad, ..full },
                 ..options.clone()

@@ -14,7 +14,7 @@ use crate::error::Result;
 use crate::gpu::Gpu;
 use crate::scene::Scene;
 use crate::technique::frame_renderer::FrameRenderer;
-use crate::technique::interface::{RenderOptions, SceneRenderer};
+use crate::technique::interface::{RenderOptions, Technique, TechniqueRenderer};
 use crate::technique::options::ShadowKind;
 
 /// How far `bake` is.
@@ -40,7 +40,7 @@ pub fn bake<'s>(
     options: &RenderOptions,
     progress: &mut dyn FnMut(BakeStep),
 ) -> Result<Baked<'s>> {
-    let options = RenderOptions { technique: &SHADOW_TEXTURE_ATLAS, ..options.clone() };
+    let options = RenderOptions { technique: Technique(&SHADOW_TEXTURE_ATLAS), ..options.clone() };
     let mut layout = |done, total| progress(BakeStep::Layout { done, total });
     let mut renderer = build(ShadowKind::Atlas.name(), ShadowKind::Atlas, gpu, scene, &options, &mut layout)?;
     progress(BakeStep::Rendering);

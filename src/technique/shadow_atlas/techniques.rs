@@ -42,11 +42,11 @@ pub static PROJECTIVE_TEXTURE: ShadowTechnique = ShadowTechnique {
 };
 
 /// The technique that draws `kind`.
-pub fn technique_of(kind: ShadowKind) -> &'static dyn Technique {
+pub fn technique_of(kind: ShadowKind) -> Technique {
     match kind {
-        ShadowKind::Map => &SHADOW_MAP,
-        ShadowKind::Atlas => &SHADOW_TEXTURE_ATLAS,
-        ShadowKind::Projective => &PROJECTIVE_TEXTURE,
+        ShadowKind::Map => Technique(&SHADOW_MAP),
+        ShadowKind::Atlas => Technique(&SHADOW_TEXTURE_ATLAS),
+        ShadowKind::Projective => Technique(&PROJECTIVE_TEXTURE),
     }
 }
 
@@ -75,10 +75,10 @@ impl TechniqueUnit for ShadowTechnique {
 
     /// The lights with a map layer, as `setup` planned them (the projective texture: the
     /// primary light's alone, which the warning says as it always has).
-    fn shadowed_lights(&self, options: &RenderOptions) -> ShadowedLights {
+    fn shadowed_lights(&self, _options: &RenderOptions, lights: &[PlannedLight]) -> ShadowedLights {
         match self.kind {
             ShadowKind::Projective => ShadowedLights::Primary,
-            _ => ShadowedLights::Listed(maps::shadowed_mask(&options.lights)),
+            _ => ShadowedLights::Listed(maps::shadowed_mask(lights)),
         }
     }
 
@@ -96,8 +96,8 @@ impl TechniqueUnit for ShadowTechnique {
         self.about
     }
 
-    fn plan(&self, options: &RenderOptions) -> Result<PassPlan<AtlasKinds>> {
-        Ok(plan(self.kind, &options.lights))
+    fn plan(&self, _options: &RenderOptions, lights: &[PlannedLight]) -> Result<PassPlan<AtlasKinds>> {
+        Ok(plan(self.kind, lights))
     }
 
     fn setup(&self, _gpu: &Gpu, _scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
@@ -120,10 +120,9 @@ impl TechniqueUnit for ShadowTechnique {
     /// The projective texture is timed against the atlas that replaces it (the atlas with a
     /// fixed light is the reference), both lights each; the others have Table 1.
     fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
-        let with = |technique: &'static dyn Technique| {
-            light_variants(technique.name(), &RenderOptions { technique, ..options.clone() })
-        };
-        with(&SHADOW_TEXTURE_ATLAS).into_iter().chain(with(technique_of(self.kind))).collect()
+        let with =
+            |technique: Technique| light_variants(technique.name(), &RenderOptions { technique, ..options.clone() });
+        with(Technique(&SHADOW_TEXTURE_ATLAS)).into_iter().chain(with(technique_of(self.kind))).collect()
     }
 
     fn describe(&self, options: &RenderOptions) -> String {

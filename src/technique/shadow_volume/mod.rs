@@ -11,6 +11,7 @@ pub mod renderer;
 
 use super::frame_renderer::BuildContext;
 use super::interface::{RenderOptions, Variant};
+use super::light_loop::PlannedLight;
 use super::unit::{Prepared, ShadowedLights, TechniqueUnit};
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
@@ -50,8 +51,8 @@ impl TechniqueUnit for ShadowVolumes {
         "shadow volumes counted in the alpha channel (seed 000)"
     }
 
-    fn plan(&self, options: &RenderOptions) -> Result<PassPlan<VolumeKinds>> {
-        recipes::plan(&options.shadow_volume, options.shadow_tone, options.stencil, options.samples, &options.lights)
+    fn plan(&self, options: &RenderOptions, lights: &[PlannedLight]) -> Result<PassPlan<VolumeKinds>> {
+        recipes::plan(&options.shadow_volume, options.shadow_tone, options.stencil, options.samples, lights)
     }
 
     fn setup(&self, gpu: &Gpu, scene: &Scene, options: &RenderOptions) -> Result<Prepared<VolumeSetup>> {
@@ -165,7 +166,7 @@ impl TechniqueUnit for ShadowVolumes {
         })
     }
 
-    fn shadowed_lights(&self, options: &RenderOptions) -> ShadowedLights {
+    fn shadowed_lights(&self, options: &RenderOptions, _lights: &[PlannedLight]) -> ShadowedLights {
         ShadowedLights::in_mode(options.shadow_volume.mode)
     }
 

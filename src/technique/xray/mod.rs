@@ -10,6 +10,7 @@ use ash::vk;
 
 use super::frame_renderer::{BuildContext, Passes};
 use super::interface::{NoStats, RenderOptions};
+use super::light_loop::PlannedLight;
 use super::lit::scene_pass;
 use super::unit::{Prepared, TechniqueUnit};
 use crate::error::Result;
@@ -94,7 +95,7 @@ impl TechniqueUnit for XRay {
         "hidden shadow casters shown through what hides them, by a depth-GREATER pass (the technique docs/adding-a-technique.md adds)"
     }
 
-    fn plan(&self, _options: &RenderOptions) -> Result<PassPlan<XRayKinds>> {
+    fn plan(&self, _options: &RenderOptions, _lights: &[PlannedLight]) -> Result<PassPlan<XRayKinds>> {
         Ok(PassPlan { passes: vec![scene_pass(1.0), hidden_pass()] })
     }
 
