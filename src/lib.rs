@@ -20,6 +20,10 @@
 //!    one of its own draw kinds ([`draws`]), typed; [`FrameCounters::passes`] lists them all
 //!    in the order they ran.
 //!
+//! Every type these signatures name is on this page or in its modules: a scene's data in
+//! [`model`], the render passes' traffic and the CPU's phases in [`counters`], each technique's
+//! statistics in [`stats`] and its draw kinds in [`draws`].
+//!
 //! ```
 //! use nostencil::draws::VolumeDraw;
 //! use nostencil::{render_scene, technique, Gpu, GpuOptions, RenderOptions, StencilMode};
@@ -102,25 +106,48 @@ pub use error::{Error, Result};
 pub use frame::{write_png, StencilMode};
 pub use gpu::{DeviceChoice, Gpu, GpuOptions, ValidationChecks};
 pub use render::{FrameCounters, FrameOutput, PassCounters};
+
+/// What a frame's counters hold beyond each pass's figures ([`FrameCounters`]'s fields).
+pub mod counters {
+    pub use crate::frame::render_pass::{AttachmentDesc, AttachmentTraffic, RenderPassTraffic};
+    pub use crate::gpu::commands::CpuPhases;
+    pub use crate::render::instances::{RenderPassInstance, RenderPassSums};
+}
+
+/// The data a [`Scene`] holds: meshes, materials, textures and skins, as a glTF file or a
+/// built-in scene fills them in.
+pub mod model {
+    pub use crate::mesh::MeshData;
+    pub use crate::scene::model::{
+        AlphaMode, Filter, LightKind, Material, Sampler, TextureRef, TextureRgba8, TextureTransform, Wrap,
+    };
+    pub use crate::scene::objects::SceneMesh;
+    pub use crate::scene::SceneSkin;
+}
 pub use scene::{
     builtin_scene, builtin_scene_at, scene_and_warnings_from_gltf, scene_from_gltf, Camera, Light, Scene, SceneLight,
     SceneObject, BUILTIN_SCENES, MAX_LIGHTS,
 };
 pub use technique::{
-    by_name as technique, render_scene, CartoonOptions, FrameStats, GivenPlane, InkStyle, LightMode, Normalize,
-    OutlineMethod, PlanarOptions, RenderOptions, SceneRenderer, Seams, ShadowAtlasOptions, ShadowMode,
-    ShadowVolumeOptions, SilhouetteMethod, Technique, TechniqueFrame, TextureShadowOn, VolumeMethod, TECHNIQUES,
+    by_name as technique, render_scene, AtlasBake, CartoonOptions, FrameStats, GivenPlane, InkStyle, InkStyles,
+    LightMode, Normalize, OutlineMethod, PlanarOptions, RenderOptions, SceneRenderer, Seams, ShadowAtlasOptions,
+    ShadowKind, ShadowMode, ShadowTone, ShadowVolumeOptions, SilhouetteMethod, Technique, TechniqueFrame,
+    TextureShadowOn, VolumeMethod, TECHNIQUES,
 };
 
 /// What each technique reports about a frame, beyond its counters
 /// ([`TechniqueFrame::stats`]).
 pub mod stats {
+    pub use crate::technique::shadow_atlas::atlas::AtlasSource;
+    pub use crate::technique::shadow_atlas::stats::{AtlasInfo, PageStats};
+    pub use crate::technique::shadow_volume::renderer::{CasterReport, LightReport};
     pub use crate::technique::{CartoonStats, PlanarStats, ShadowAtlasStats, ShadowVolumeStats};
 }
 
 /// The draws each technique records itself, to find their passes' counters by type
 /// ([`FrameCounters::drawing`]).
 pub mod draws {
+    pub use crate::render::plan::DrawKind;
     pub use crate::technique::ink::recipes::InkDraw;
     pub use crate::technique::outline::kinds::OutlineDraw;
     pub use crate::technique::planar::blob::BlobDraw;

@@ -15,7 +15,7 @@ use std::process::ExitCode;
 
 use clap::Parser;
 
-pub use args::{parse_size, Cli, Command};
+use args::Cli;
 
 /// Runs the CLI and maps every failure to a one-line message and a non-zero exit code.
 pub fn main() -> ExitCode {

@@ -45,7 +45,7 @@ pub struct PassCounters {
 }
 
 impl PassCounters {
-    pub fn from_queries(
+    pub(crate) fn from_queries(
         name: String,
         own_draw: Option<&'static str>,
         draws: u32,

@@ -37,7 +37,7 @@ pub struct SceneLight {
     pub range: Option<f32>,
     pub casts_shadow: bool,
     /// The glTF node the light hangs on, followed when the scene is re-posed.
-    pub node: Option<LightNode>,
+    pub(crate) node: Option<LightNode>,
 }
 
 /// A file light's node.
@@ -104,7 +104,7 @@ impl SceneLight {
 
     /// Where the light can reach: a point or spot light with a range, the range's sphere (a
     /// spot's cone lies inside it).
-    pub fn reach(&self) -> Reach {
+    pub(crate) fn reach(&self) -> Reach {
         match (self.kind, self.range) {
             (LightKind::Directional, _) | (_, None) => Reach::Everywhere,
             (_, Some(radius)) => Reach::Sphere { centre: self.position, radius },

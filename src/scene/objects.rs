@@ -40,7 +40,7 @@ pub struct SceneObject {
     /// vertices already posed on the CPU (what the lit pass and shadow volumes draw).
     pub skin: Option<Box<SceneSkin>>,
     /// The animated model and node the object was placed from, for [`Scene::pose_at`].
-    pub rig: Option<ObjectRig>,
+    pub(crate) rig: Option<ObjectRig>,
     /// Objects placed from the primitives of one glTF mesh on one node share this number
     /// (unique within the scene, see [`Scene::new_mesh_instance`]); `None` for an object that
     /// stands alone. A primitive per material splits a mesh, and ink lines need the whole

@@ -32,8 +32,8 @@ use crate::scene::Scene;
 pub use cartoon::CartoonStats;
 pub use interface::{check_same_scene, FrameStats, RenderOptions, SceneRenderer, Technique, TechniqueFrame, Variant};
 pub use options::{
-    CartoonOptions, InkStyle, InkStyles, LightMode, Normalize, OutlineMethod, Seams, ShadowAtlasOptions, ShadowKind,
-    ShadowMode, ShadowVolumeOptions, SilhouetteMethod, TextureShadowOn, VolumeMethod, INK_STYLE_FLAGS,
+    AtlasBake, CartoonOptions, InkStyle, InkStyles, LightMode, Normalize, OutlineMethod, Seams, ShadowAtlasOptions,
+    ShadowKind, ShadowMode, ShadowVolumeOptions, SilhouetteMethod, TextureShadowOn, VolumeMethod, INK_STYLE_FLAGS,
 };
 pub use planar::{GivenPlane, PlanarOptions, PlanarStats};
 pub use registry::{by_name, TECHNIQUES};

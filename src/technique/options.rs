@@ -396,6 +396,8 @@ impl InkStyle {
 /// Each edge class's ink (`--ink-silhouette`, `--ink-crease`, `--ink-boundary`); `None`: the
 /// default style (`--line-width`, the dark ink).
 #[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, clap::Args)]
+// The fields' comments are `--help` text, where WIDTH[,#RRGGBB] is the usage, not a link.
+#[allow(rustdoc::broken_intra_doc_links)]
 pub struct InkStyles {
     /// silhouette/toon: silhouette ink as WIDTH[,#RRGGBB] (sRGB); default `--line-width` and
     /// the dark ink. The methods other than `edges` draw silhouettes only, in this style.

@@ -67,7 +67,7 @@ pub struct PageStats {
 }
 
 impl PageStats {
-    pub fn of(page: &AtlasPage, coverage: &[Coverage], map_size: u32) -> PageStats {
+    pub(crate) fn of(page: &AtlasPage, coverage: &[Coverage], map_size: u32) -> PageStats {
         let texel = 4u64; // RGBA8
         let (width, height) = (u64::from(page.layout.width), u64::from(page.layout.height));
         let maps = coverage.iter().filter(|c| c.layer().is_some()).count() as u64;
