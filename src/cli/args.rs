@@ -14,7 +14,7 @@ use crate::gpu::validation::ValidationChecks;
 use crate::scene::SceneLight;
 use crate::technique::registry::DEFAULT_TECHNIQUE;
 use crate::technique::{
-    CartoonOptions, Normalize, PlanarOptions, ShadowAtlasOptions, ShadowToneArgs, ShadowVolumeOptions, VolumeMethod,
+    CartoonOptions, Normalize, PlanarOptions, ShadowAtlasOptions, ShadowVolumeOptions, SharedShadowArgs, VolumeMethod,
 };
 
 #[derive(Debug, Parser)]
@@ -329,7 +329,7 @@ pub struct FrameArgs {
     #[command(flatten)]
     pub cartoon: CartoonOptions,
     #[command(flatten)]
-    pub shadow_tone: ShadowToneArgs,
+    pub shadow_tone: SharedShadowArgs,
     #[command(flatten)]
     pub planar: PlanarOptions,
     #[command(flatten)]
@@ -473,7 +473,7 @@ fn parse_size_arg(text: &str) -> std::result::Result<(u32, u32), String> {
 #[derive(Debug, Clone)]
 pub struct PassesArgs {
     pub shadow_volume: ShadowVolumeOptions,
-    pub shadow_tone: ShadowToneArgs,
+    pub shadow_tone: SharedShadowArgs,
     /// `--normalize`, if given.
     pub only_normalize: Option<Normalize>,
     /// `--volume-method`, if given and not `auto`.
@@ -488,7 +488,7 @@ impl FromArgMatches for PassesArgs {
             only_normalize: given("normalize").then_some(shadow_volume.normalize),
             only_method: (shadow_volume.method != VolumeMethod::Auto).then_some(shadow_volume.method),
             shadow_volume,
-            shadow_tone: ShadowToneArgs::from_arg_matches(matches)?,
+            shadow_tone: SharedShadowArgs::from_arg_matches(matches)?,
         })
     }
 
@@ -500,7 +500,7 @@ impl FromArgMatches for PassesArgs {
 
 impl Args for PassesArgs {
     fn augment_args(command: clap::Command) -> clap::Command {
-        ShadowToneArgs::augment_args(ShadowVolumeOptions::augment_args(command))
+        SharedShadowArgs::augment_args(ShadowVolumeOptions::augment_args(command))
             .mut_arg("normalize", |arg| {
                 arg.help("shadow-volume: list only this normalisation path; all by default").hide_default_value(true)
             })

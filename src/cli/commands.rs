@@ -568,6 +568,7 @@ fn passes(technique: &str, plans: &PassesArgs, scene: &Scene, samples: u32) -> R
     let base = RenderOptions {
         technique,
         shadow_volume: plans.shadow_volume,
+        shadow_mode: plans.shadow_tone.shadow_mode,
         shadow_tone: plans.shadow_tone.tone(),
         samples,
         ..Default::default()

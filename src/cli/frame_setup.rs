@@ -67,6 +67,7 @@ pub(super) fn options(frame: &FrameArgs) -> Result<RenderOptions> {
         keep_samples: false,
         technique: by_name(&frame.technique)?,
         shadow_volume: frame.shadow_volume,
+        shadow_mode: frame.shadow_tone.shadow_mode,
         shadow_tone: frame.shadow_tone.tone(),
         shadow_atlas: frame.shadow_atlas,
         count_overdraw: false,

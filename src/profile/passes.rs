@@ -122,10 +122,10 @@ mod tests {
 
     #[test]
     fn shadow_volume_table_shows_the_seed_recipes() {
-        let options =
-            ShadowVolumeOptions { method: VolumeMethod::ZPass, mode: ShadowMode::Modulate, ..Default::default() };
+        let options = ShadowVolumeOptions { method: VolumeMethod::ZPass, ..Default::default() };
         let lights = PlannedLight::default_lights();
-        let plan = |stencil| recipes::plan(&options, Default::default(), stencil, 1, &lights).unwrap();
+        let plan =
+            |stencil| recipes::plan(&options, ShadowMode::Modulate, Default::default(), stencil, 1, &lights).unwrap();
         let emulated = plan_table("emulated", &plan(StencilMode::Emulated));
         assert!(emulated.contains("| normalise N0 | normalise N0 |"));
         assert!(emulated.contains("| normalise N1 | normalise iteration |"));
@@ -147,7 +147,8 @@ mod tests {
             PlannedLight { name: "lamp".into(), shadows: true },
             PlannedLight { name: "fill".into(), shadows: false },
         ];
-        let plan = |stencil| recipes::plan(&options, Default::default(), stencil, 1, &lights).unwrap();
+        let plan =
+            |stencil| recipes::plan(&options, ShadowMode::Additive, Default::default(), stencil, 1, &lights).unwrap();
         let emulated = plan_table("emulated", &plan(StencilMode::Emulated));
         for row in [
             "| scene (ambient) | scene (ambient) |",

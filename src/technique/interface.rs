@@ -9,7 +9,7 @@ use std::fmt;
 use std::sync::Arc;
 
 use super::light_loop::PlannedLight;
-use super::options::{CartoonOptions, PlanarOptions, ShadowAtlasOptions, ShadowVolumeOptions};
+use super::options::{CartoonOptions, PlanarOptions, ShadowAtlasOptions, ShadowMode, ShadowVolumeOptions};
 use super::shadow_tone::ShadowTone;
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
@@ -28,6 +28,9 @@ pub struct RenderOptions {
     pub stencil: StencilMode,
     pub technique: Technique,
     pub shadow_volume: ShadowVolumeOptions,
+    /// The frame's lighting loop, additive (Doom 3's and Ogre's) or the seeds' modulated frame:
+    /// shadow volumes and the planar family read it.
+    pub shadow_mode: ShadowMode,
     /// How dark shadows are: shadow volumes and the planar family share it.
     pub shadow_tone: ShadowTone,
     pub shadow_atlas: ShadowAtlasOptions,

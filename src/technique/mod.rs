@@ -38,7 +38,7 @@ pub use options::{
 pub use planar::{GivenPlane, PlanarOptions, PlanarStats};
 pub use registry::{by_name, TECHNIQUES};
 pub use shadow_atlas::ShadowAtlasStats;
-pub use shadow_tone::{ShadowTone, ShadowToneArgs};
+pub use shadow_tone::{ShadowTone, SharedShadowArgs};
 pub use shadow_volume::ShadowVolumeStats;
 pub use unit::{Prepared, TechniqueUnit};
 

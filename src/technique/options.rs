@@ -71,13 +71,6 @@ pub struct ShadowVolumeOptions {
     /// shadow-volume: how counts become a mask.
     #[arg(long, value_enum, default_value_t)]
     pub normalize: Normalize,
-    // Planar shadows read it too (`RenderOptions::shadow_volume.mode`): one flag for the one
-    // choice a user makes between the engines' loop and the seeds' frame.
-    /// shadow-volume and planar: `additive` (ambient, then each light added where its own shadow
-    /// does not fall: Doom 3's and Ogre's loop) or `modulate` (the seeds' frame: the lit frame
-    /// darkened where the primary light's shadow falls).
-    #[arg(long = "shadow-mode", value_enum, default_value_t)]
-    pub mode: ShadowMode,
     // A diagnostic pass a user asks for (docs/design/saturation.md), never part of a timed frame.
     /// shadow-volume: add the full-screen saturation probe, a diagnostic pass (`seed` and `max`
     /// count saturation only with it; `subpass` counts it in its apply, and the probe then

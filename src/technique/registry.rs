@@ -34,6 +34,7 @@ impl Default for RenderOptions {
             stencil: StencilMode::Emulated,
             technique: Technique(&super::lit::Lit),
             shadow_volume: Default::default(),
+            shadow_mode: Default::default(),
             shadow_tone: Default::default(),
             shadow_atlas: Default::default(),
             count_overdraw: false,

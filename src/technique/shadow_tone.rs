@@ -1,11 +1,11 @@
 //! How dark a shadow is: the shadowed colour's factor, one grey byte or a tint per channel. Shared
 //! by the shadow volumes and the planar family (`RenderOptions::shadow_tone`), parsed once from
-//! `--shadow-factor F` or `--shadow-colour #RRGGBB` ([`ShadowToneArgs`]), and turned into the
+//! `--shadow-factor F` or `--shadow-colour #RRGGBB` ([`SharedShadowArgs`]), and turned into the
 //! floats the blend constants and push constants carry in one place ([`ShadowTone::factors`]).
 
 use glam::Vec3;
 
-use super::options::parse_rgb_hex;
+use super::options::{parse_rgb_hex, ShadowMode};
 
 /// A shadowed pixel's colour is its colour times these factors, in 1/255 steps (8-bit values, so
 /// that every path multiplies by exactly the same number).
@@ -65,10 +65,16 @@ impl Default for ShadowTone {
     }
 }
 
-/// The two flags that give a [`ShadowTone`], flattened into every command that renders shadows
-/// (and `passes`).
+/// The flags the shadow-volume and planar families share, flattened into every command that
+/// renders shadows (and `passes`): the frame's loop, [`ShadowMode`], and the two that give a
+/// [`ShadowTone`]. Both go into `RenderOptions`, where every family reads them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::Args)]
-pub struct ShadowToneArgs {
+pub struct SharedShadowArgs {
+    /// shadow-volume and planar: `additive` (ambient, then each light added where its own shadow
+    /// does not fall: Doom 3's and Ogre's loop) or `modulate` (the seeds' frame: the lit frame
+    /// darkened where the primary light's shadow falls).
+    #[arg(long = "shadow-mode", value_enum, default_value_t)]
+    pub shadow_mode: ShadowMode,
     /// shadow-volume, planar, blob, shadow-texture: shadowed colour = colour x F/255 (0..=255;
     /// 255: no shadow). For shadow volumes the normalisation's iteration count follows it.
     #[arg(long, default_value_t = ShadowTone::DEFAULT_FACTOR, value_name = "F")]
@@ -81,7 +87,7 @@ pub struct ShadowToneArgs {
     pub shadow_colour: Option<[u8; 3]>,
 }
 
-impl ShadowToneArgs {
+impl SharedShadowArgs {
     /// The tone the flags give: the tint if there is one, else the grey factor.
     pub fn tone(&self) -> ShadowTone {
         match self.shadow_colour {

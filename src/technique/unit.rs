@@ -141,10 +141,7 @@ impl ShadowedLights {
 /// light in the additive mode (shadow volumes, planar) names that mode; the others name those
 /// two techniques.
 fn every_light_hint<T: TechniqueUnit>(unit: &T, options: &RenderOptions, lights: &[PlannedLight]) -> &'static str {
-    let additive = RenderOptions {
-        shadow_volume: ShadowVolumeOptions { mode: ShadowMode::Additive, ..options.shadow_volume },
-        ..options.clone()
-    };
+    let additive = RenderOptions { shadow_mode: ShadowMode::Additive, ..options.clone() };
     if unit.shadowed_lights(&additive, lights) == ShadowedLights::Every {
         "--shadow-mode additive shadows every light"
     } else {

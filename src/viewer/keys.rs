@@ -295,7 +295,7 @@ impl Action {
                     eprintln!("nostencil: removed the light '{name}'");
                 }
             }
-            Action::SwitchShadowMode => s.shadow_volume.mode = cycle(ShadowMode::ALL, s.shadow_volume.mode, 1),
+            Action::SwitchShadowMode => s.shadow_mode = cycle(ShadowMode::ALL, s.shadow_mode, 1),
             Action::TurnLight | Action::TurnLightBack | Action::TiltLight | Action::TiltLightBack => {
                 if let Some(turn) = live.selected().map(|l| &mut l.turn) {
                     match self {

@@ -21,7 +21,7 @@ fn render(scene: &Scene, name: &str, size: (u32, u32), mode: ShadowMode) -> imag
         technique: technique(name).expect("technique"),
         ..RenderOptions::default()
     };
-    options.shadow_volume.mode = mode;
+    options.shadow_mode = mode;
     let frame = render_scene(&gpu, scene, &options).unwrap_or_else(|e| panic!("{name} renders: {e}"));
     common::assert_no_validation_messages(&gpu);
     frame.output.image

@@ -282,13 +282,13 @@ fn the_unshadowed_lights_warning_names_the_way_to_shadow_them_all() {
             technique: nostencil::technique(technique).expect("technique"),
             ..RenderOptions::default()
         };
-        options.shadow_volume.mode = ShadowMode::Modulate;
+        options.shadow_mode = ShadowMode::Modulate;
         let frame = render_scene(&gpu, &scene, &options).unwrap_or_else(|e| panic!("{technique}: {e}"));
         let warning = frame.warnings.join("\n");
         assert!(warning.contains("'lamp', 'spot' shade unshadowed") && warning.contains(fix), "{technique}: {warning}");
         // In the additive loop the two families shadow every light and say nothing.
         if technique != "blob" {
-            options.shadow_volume.mode = ShadowMode::Additive;
+            options.shadow_mode = ShadowMode::Additive;
             let frame = render_scene(&gpu, &scene, &options).expect("additive");
             assert!(frame.warnings.iter().all(|w| !w.contains("unshadowed")), "{technique}: {:?}", frame.warnings);
         }

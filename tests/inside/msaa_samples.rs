@@ -226,6 +226,7 @@ fn counts_per_sample(
     renderer.stencil_clear = STENCIL_COUNT_ZERO;
     let full = shadow_volume::recipes::plan(
         &options,
+        nostencil::ShadowMode::Modulate,
         ShadowTone::default(),
         stencil,
         SAMPLES,
@@ -279,8 +280,7 @@ fn the_alpha_counter_equals_the_stencil_count_in_every_sample() {
     for method in [VolumeMethod::ZPass, VolumeMethod::ZFail] {
         for k in [1u8, 4] {
             // The seed's up-counter (modulate mode): alpha = k x the stencil's count.
-            let mode = nostencil::ShadowMode::Modulate;
-            let options = ShadowVolumeOptions { method, increment: k, mode, ..Default::default() };
+            let options = ShadowVolumeOptions { method, increment: k, ..Default::default() };
             let emulated = counts_per_sample(&gpu, &scene, StencilMode::Emulated, options);
             let reference = counts_per_sample(&gpu, &scene, StencilMode::Reference, options);
             let what = format!("{} k = {k}", method.name());
@@ -348,7 +348,8 @@ fn shadow_edges_resolve_between_lit_and_shadowed_only_at_4x() {
     let base = RenderOptions { width: 256, height: 192, ..Default::default() };
     let volumes = |normalize| RenderOptions {
         technique: technique("shadow-volume"),
-        shadow_volume: ShadowVolumeOptions { normalize, mode: ShadowMode::Modulate, ..Default::default() },
+        shadow_volume: ShadowVolumeOptions { normalize, ..Default::default() },
+        shadow_mode: ShadowMode::Modulate,
         ..base.clone()
     };
     let planar = RenderOptions { technique: technique("planar"), ..base.clone() };
@@ -406,8 +407,13 @@ fn the_box_shadow_at_4x_thresholded_at_half_coverage_is_its_projected_outline() 
     let caster_pixels = common::differing_pixels(&unshadowed, &background);
     for &normalize in Normalize::ALL {
         // The seed's frame: a shadowed pixel is the lit one times D (`shadow_coverage`).
-        let options = ShadowVolumeOptions { normalize, mode: ShadowMode::Modulate, ..Default::default() };
-        let volumes = RenderOptions { technique: technique("shadow-volume"), shadow_volume: options, ..base.clone() };
+        let options = ShadowVolumeOptions { normalize, ..Default::default() };
+        let volumes = RenderOptions {
+            technique: technique("shadow-volume"),
+            shadow_volume: options,
+            shadow_mode: ShadowMode::Modulate,
+            ..base.clone()
+        };
         let shadowed = frame(&gpu, &scene, &volumes, SAMPLES).output.image;
         let coverage = shadow_coverage(&shadowed, &unshadowed, volumes.shadow_tone.darkest());
         let dark = |i: usize| coverage[i].is_some_and(|t| t >= 0.5);
@@ -501,9 +507,9 @@ fn saturation_is_counted_per_sample_at_4x() {
             increment: 8,
             normalize: Normalize::Subpass,
             saturation_probe,
-            mode: nostencil::ShadowMode::Modulate,
             ..Default::default()
         },
+        shadow_mode: nostencil::ShadowMode::Modulate,
         ..Default::default()
     };
     let run = |options: RenderOptions| {

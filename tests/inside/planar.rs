@@ -17,7 +17,7 @@ use nostencil::Gpu;
 use nostencil::Light;
 use nostencil::StencilMode;
 use nostencil::{builtin_scene_at, scene_from_gltf, Scene};
-use nostencil::{render_scene, RenderOptions, ShadowMode, ShadowVolumeOptions, Technique, TechniqueFrame};
+use nostencil::{render_scene, RenderOptions, ShadowMode, Technique, TechniqueFrame};
 
 const SIZE: (u32, u32) = (160, 120);
 /// The default shadow tone, grey: shadowed colour x 102/255.
@@ -38,11 +38,11 @@ fn render_with(
     stencil: StencilMode,
     planar: PlanarOptions,
 ) -> nostencil::error::Result<TechniqueFrame> {
-    let shadow_volume = ShadowVolumeOptions { mode: ShadowMode::Modulate, ..Default::default() };
+    let shadow_mode = ShadowMode::Modulate;
     render_scene(
         gpu,
         scene,
-        &RenderOptions { width, height, stencil, technique, planar, shadow_volume, ..Default::default() },
+        &RenderOptions { width, height, stencil, technique, planar, shadow_mode, ..Default::default() },
     )
 }
 

@@ -27,10 +27,11 @@ use nostencil::{render_scene, RenderOptions, ShadowMode, Technique};
 
 const SIZE: (u32, u32) = (128, 96);
 
-/// The seed's frame (Hall's apply, `--shadow-mode modulate`): what most proofs here are about.
-/// The additive loop's own proofs are `additive_*` below and in tests/inside/lights.rs.
+/// The family's options for the seed's frame (Hall's apply, `--shadow-mode modulate`), what most
+/// proofs here are about: `render` and its siblings draw that frame. The additive loop's own
+/// proofs are `additive_*` below (`render_additive`) and in tests/inside/lights.rs.
 fn seed() -> ShadowVolumeOptions {
-    ShadowVolumeOptions { mode: ShadowMode::Modulate, ..Default::default() }
+    ShadowVolumeOptions::default()
 }
 
 /// A shadow-volume frame with the technique's statistics.
@@ -43,6 +44,12 @@ fn render(gpu: &Arc<Gpu>, scene: &Scene, stencil: StencilMode, options: ShadowVo
     render_sized(gpu, scene, stencil, options, SIZE)
 }
 
+/// `render` in the additive loop.
+fn render_additive(gpu: &Arc<Gpu>, scene: &Scene, stencil: StencilMode, options: ShadowVolumeOptions) -> Frame {
+    try_render(gpu, scene, stencil, ShadowMode::Additive, options, SIZE, ShadowTone::default())
+        .expect("shadow-volume frame")
+}
+
 /// `render` with a shadow tone other than the default.
 fn render_toned(
     gpu: &Arc<Gpu>,
@@ -51,7 +58,7 @@ fn render_toned(
     options: ShadowVolumeOptions,
     shadow_tone: ShadowTone,
 ) -> Frame {
-    try_render(gpu, scene, stencil, options, SIZE, shadow_tone).expect("shadow-volume frame")
+    try_render(gpu, scene, stencil, ShadowMode::Modulate, options, SIZE, shadow_tone).expect("shadow-volume frame")
 }
 
 fn render_sized(
@@ -61,13 +68,15 @@ fn render_sized(
     options: ShadowVolumeOptions,
     size: (u32, u32),
 ) -> Frame {
-    try_render(gpu, scene, stencil, options, size, ShadowTone::default()).expect("shadow-volume frame")
+    try_render(gpu, scene, stencil, ShadowMode::Modulate, options, size, ShadowTone::default())
+        .expect("shadow-volume frame")
 }
 
 fn try_render(
     gpu: &Arc<Gpu>,
     scene: &Scene,
     stencil: StencilMode,
+    shadow_mode: ShadowMode,
     options: ShadowVolumeOptions,
     size: (u32, u32),
     shadow_tone: ShadowTone,
@@ -78,6 +87,7 @@ fn try_render(
         stencil,
         technique: technique("shadow-volume"),
         shadow_volume: options,
+        shadow_mode,
         shadow_tone,
         ..Default::default()
     };
@@ -152,14 +162,14 @@ fn additive_emulated_equals_reference_on_every_scene() {
         let unshadowed = lit(&gpu, &scene);
         for method in [VolumeMethod::Auto, VolumeMethod::ZFail] {
             let base = ShadowVolumeOptions { method, ..Default::default() };
-            assert_eq!(base.mode, ShadowMode::Additive, "additive is the default");
-            let reference = render(&gpu, &scene, StencilMode::Reference, base);
+            assert_eq!(RenderOptions::default().shadow_mode, ShadowMode::Additive, "additive is the default");
+            let reference = render_additive(&gpu, &scene, StencilMode::Reference, base);
             let darkened = shadow_mask(&reference.output.image, &unshadowed).iter().filter(|s| **s).count();
             assert!(darkened > 50, "{name}: the reference shows no shadow ({darkened} pixels)");
             for k in [1u8, 4] {
                 for &normalize in Normalize::ALL {
                     let options = ShadowVolumeOptions { increment: k, normalize, ..base };
-                    let emulated = render(&gpu, &scene, StencilMode::Emulated, options);
+                    let emulated = render_additive(&gpu, &scene, StencilMode::Emulated, options);
                     let differing = rgb_differences(&emulated.output.image, &reference.output.image);
                     let what = format!("{name} {method:?} k={k} {}", normalize.name());
                     assert_eq!(differing, 0, "{what}: {differing} pixels differ");
@@ -173,7 +183,7 @@ fn additive_emulated_equals_reference_on_every_scene() {
                         let passes = |f: &Frame| f.output.counters.passes.len();
                         assert_eq!(passes(&emulated), passes(&reference), "{what}: passes");
                         let uncounted = ShadowVolumeOptions { fragment_atomics: false, ..options };
-                        let emulated = render(&gpu, &scene, StencilMode::Emulated, uncounted);
+                        let emulated = render_additive(&gpu, &scene, StencilMode::Emulated, uncounted);
                         let differing = rgb_differences(&emulated.output.image, &reference.output.image);
                         assert_eq!(differing, 0, "{what}, no fragment atomics: {differing} pixels differ");
                     }
@@ -270,15 +280,11 @@ fn normalisation_table_is_read_back_from_the_gpu() {
     for (k, d) in cases {
         for normalize in [Normalize::Seed, Normalize::Max] {
             // The plan's normalisation passes for this k and D: N0 up to the apply.
-            let options = ShadowVolumeOptions {
-                increment: k,
-                normalize,
-                method: VolumeMethod::ZPass,
-                mode: nostencil::ShadowMode::Modulate,
-                ..Default::default()
-            };
+            let options =
+                ShadowVolumeOptions { increment: k, normalize, method: VolumeMethod::ZPass, ..Default::default() };
             let plan = shadow_volume::recipes::plan(
                 &options,
+                nostencil::ShadowMode::Modulate,
                 ShadowTone::Grey(d),
                 StencilMode::Emulated,
                 1,
@@ -606,8 +612,16 @@ fn casters_report_their_path_reason_and_capacity() {
         for (scene_name, object, path, reason) in expected {
             let scene = builtin_scene(scene_name).expect("scene");
             let options = ShadowVolumeOptions { increment: k, ..seed() };
-            let frame = try_render(&gpu, &scene, StencilMode::Emulated, options, (64, 48), ShadowTone::default())
-                .expect("frame");
+            let frame = try_render(
+                &gpu,
+                &scene,
+                StencilMode::Emulated,
+                ShadowMode::Modulate,
+                options,
+                (64, 48),
+                ShadowTone::default(),
+            )
+            .expect("frame");
             let report = frame.stats.casters.iter().find(|c| c.object == object).expect("the caster is reported");
             assert_eq!((report.path, report.reason.as_str()), (path, reason), "{scene_name}/{object}");
             let per_crossing = if path == "two-sided" { 2 } else { 1 };
@@ -975,13 +989,14 @@ fn culled_casters_draw_the_unculled_image_with_fewer_fragments() {
         let passes = frame.output.counters.passes.iter();
         passes.filter(|p| p.name.contains("volumes")).filter_map(|p| p.fragment_invocations).sum()
     };
-    let frame = |scene: &Scene, stencil, options: ShadowVolumeOptions, samples| {
+    let frame = |scene: &Scene, stencil, (options, shadow_mode): (ShadowVolumeOptions, ShadowMode), samples| {
         let options = RenderOptions {
             width: SIZE.0,
             height: SIZE.1,
             stencil,
             technique: technique("shadow-volume"),
             shadow_volume: options,
+            shadow_mode,
             samples,
             ..Default::default()
         };
@@ -997,16 +1012,20 @@ fn culled_casters_draw_the_unculled_image_with_fewer_fragments() {
         for mode in [ShadowMode::Additive, ShadowMode::Modulate] {
             for method in [VolumeMethod::Auto, VolumeMethod::ZFail] {
                 for samples in [1, 4] {
-                    let base = ShadowVolumeOptions { mode, method, ..Default::default() };
+                    let base = ShadowVolumeOptions { method, ..Default::default() };
                     let what = format!("{name} {mode:?} {method:?} {samples}x");
-                    let unculled = frame(scene, StencilMode::Reference, base, samples);
+                    let unculled = frame(scene, StencilMode::Reference, (base, mode), samples);
                     let base = ShadowVolumeOptions { cull_casters: true, ..base };
-                    let culled = frame(scene, StencilMode::Reference, base, samples);
+                    let culled = frame(scene, StencilMode::Reference, (base, mode), samples);
                     let differing = rgb_differences(&culled.output.image, &unculled.output.image);
                     assert_eq!(differing, 0, "{what}: culling changed {differing} pixels of the reference");
                     for &normalize in Normalize::ALL {
-                        let emulated =
-                            frame(scene, StencilMode::Emulated, ShadowVolumeOptions { normalize, ..base }, samples);
+                        let emulated = frame(
+                            scene,
+                            StencilMode::Emulated,
+                            (ShadowVolumeOptions { normalize, ..base }, mode),
+                            samples,
+                        );
                         let differing = rgb_differences(&emulated.output.image, &culled.output.image);
                         assert_eq!(
                             differing,
@@ -1093,11 +1112,11 @@ fn the_seed_path_for_k_1_is_the_seeds_own_pass_list() {
         increment: 1,
         normalize: Normalize::Seed,
         method: VolumeMethod::ZPass,
-        mode: nostencil::ShadowMode::Modulate,
         ..Default::default()
     };
     let plan = shadow_volume::recipes::plan(
         &options,
+        nostencil::ShadowMode::Modulate,
         ShadowTone::Grey(192),
         StencilMode::Emulated,
         1,

@@ -162,7 +162,7 @@ impl TechniqueUnit for Planar {
     }
 
     fn shadowed_lights(&self, options: &RenderOptions, _lights: &[PlannedLight]) -> ShadowedLights {
-        ShadowedLights::in_mode(options.shadow_volume.mode)
+        ShadowedLights::in_mode(options.shadow_mode)
     }
 
     fn about(&self) -> &'static str {
@@ -170,7 +170,7 @@ impl TechniqueUnit for Planar {
     }
 
     fn plan(&self, options: &RenderOptions, lights: &[PlannedLight]) -> Result<PassPlan<PlanarKinds>> {
-        Ok(plan(&options.planar, options.stencil, options.shadow_volume.mode, lights))
+        Ok(plan(&options.planar, options.stencil, options.shadow_mode, lights))
     }
 
     fn setup(&self, _gpu: &Gpu, _scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
@@ -189,11 +189,10 @@ impl TechniqueUnit for Planar {
     /// the shadow pass, and each with the shadow cast from simplified meshes.
     fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant> {
         let mut variants = stencil_variants(TechniqueUnit::name(self), options);
-        let seed = ShadowVolumeOptions { mode: ShadowMode::Modulate, ..options.shadow_volume };
         for stencil in [StencilMode::Reference, StencilMode::Emulated] {
             variants.push(Variant {
                 label: format!("{} ({}, modulate)", TechniqueUnit::name(self), stencil.name()),
-                options: RenderOptions { stencil, shadow_volume: seed, ..options.clone() },
+                options: RenderOptions { stencil, shadow_mode: ShadowMode::Modulate, ..options.clone() },
             });
         }
         let lod = PlanarOptions {
@@ -234,7 +233,7 @@ pub struct PlanarPasses {
 impl PlanarPasses {
     fn new(ctx: &BuildContext<PlanarKinds>, scene: &Scene) -> Result<Self> {
         let plane = receiver_plane(scene, ctx.options.planar.plane.as_ref())?;
-        let mode = ctx.options.shadow_volume.mode;
+        let mode = ctx.options.shadow_mode;
         let mut warnings = Vec::new();
         match mode {
             ShadowMode::Modulate => plane.plane.check_light(&scene.light())?,

@@ -52,7 +52,14 @@ impl TechniqueUnit for ShadowVolumes {
     }
 
     fn plan(&self, options: &RenderOptions, lights: &[PlannedLight]) -> Result<PassPlan<VolumeKinds>> {
-        recipes::plan(&options.shadow_volume, options.shadow_tone, options.stencil, options.samples, lights)
+        recipes::plan(
+            &options.shadow_volume,
+            options.shadow_mode,
+            options.shadow_tone,
+            options.stencil,
+            options.samples,
+            lights,
+        )
     }
 
     fn setup(&self, gpu: &Gpu, scene: &Scene, options: &RenderOptions) -> Result<Prepared<VolumeSetup>> {
@@ -88,7 +95,7 @@ impl TechniqueUnit for ShadowVolumes {
             label: "reference (stencil)".into(),
             options: RenderOptions { stencil: StencilMode::Reference, ..options.clone() },
         }];
-        variants.extend(normalisations(options.shadow_volume.mode).map(|normalize| Variant {
+        variants.extend(normalisations(options.shadow_mode).map(|normalize| Variant {
             label: format!("emulated {}", normalize.name()),
             options: RenderOptions {
                 stencil: StencilMode::Emulated,
@@ -97,16 +104,13 @@ impl TechniqueUnit for ShadowVolumes {
             },
         }));
         // The additive loop's cost beside the seed's single darkening of the finished frame.
-        if options.shadow_volume.mode == ShadowMode::Additive {
+        if options.shadow_mode == ShadowMode::Additive {
             variants.push(Variant {
                 label: "emulated seed, modulate".into(),
                 options: RenderOptions {
                     stencil: StencilMode::Emulated,
-                    shadow_volume: ShadowVolumeOptions {
-                        normalize: Normalize::Seed,
-                        mode: ShadowMode::Modulate,
-                        ..options.shadow_volume
-                    },
+                    shadow_volume: ShadowVolumeOptions { normalize: Normalize::Seed, ..options.shadow_volume },
+                    shadow_mode: ShadowMode::Modulate,
                     ..options.clone()
                 },
             });
@@ -122,7 +126,7 @@ impl TechniqueUnit for ShadowVolumes {
                 label: format!("reference, {}", method.name()),
                 options: RenderOptions { stencil: StencilMode::Reference, shadow_volume: counting, ..options.clone() },
             });
-            for normalize in normalisations(options.shadow_volume.mode) {
+            for normalize in normalisations(options.shadow_mode) {
                 variants.push(Variant {
                     label: format!("emulated {}, {}", normalize.name(), method.name()),
                     options: RenderOptions {
@@ -143,9 +147,9 @@ impl TechniqueUnit for ShadowVolumes {
                     method: VolumeMethod::ZPass,
                     normalize: Normalize::Subpass,
                     saturation_probe: true,
-                    mode: ShadowMode::Modulate,
                     ..options.shadow_volume
                 },
+                shadow_mode: ShadowMode::Modulate,
                 ..options.clone()
             },
         });
@@ -167,7 +171,7 @@ impl TechniqueUnit for ShadowVolumes {
     }
 
     fn shadowed_lights(&self, options: &RenderOptions, _lights: &[PlannedLight]) -> ShadowedLights {
-        ShadowedLights::in_mode(options.shadow_volume.mode)
+        ShadowedLights::in_mode(options.shadow_mode)
     }
 
     fn describe(&self, options: &RenderOptions) -> String {

@@ -312,6 +312,7 @@ pub fn seed_normalisation(iterations: usize) -> Vec<PlannedPass<VolumeKinds>> {
 /// plan asked for without a scene must name the method.
 pub fn plan(
     options: &ShadowVolumeOptions,
+    mode: ShadowMode,
     tone: ShadowTone,
     stencil: StencilMode,
     samples: u32,
@@ -327,7 +328,7 @@ pub fn plan(
             )),
         };
     let k = alpha_counter::check_increment(options.increment)?;
-    match options.mode {
+    match mode {
         ShadowMode::Modulate => modulate_plan(options, tone, stencil, samples, zfail, k, lights),
         ShadowMode::Additive => additive_plan(options, stencil, samples, zfail, k, lights),
     }

@@ -227,6 +227,7 @@ pub struct VolumeSetup {
     zfail: bool,
     /// The options as asked (`auto` still `auto`).
     requested: ShadowVolumeOptions,
+    mode: ShadowMode,
 }
 
 /// Prepares the casters and resolves the counting method (and whether the subpass apply can
@@ -245,20 +246,21 @@ pub fn setup(gpu: &Gpu, scene: &Scene, options: &RenderOptions) -> Result<Prepar
         ..options.clone()
     };
     let requested = options.shadow_volume;
-    Ok(Prepared { options: resolved, setup: VolumeSetup { casters, warnings, zfail, requested } })
+    let mode = options.shadow_mode;
+    Ok(Prepared { options: resolved, setup: VolumeSetup { casters, warnings, zfail, requested, mode } })
 }
 
 /// The technique's part of the renderer, planned with the resolved options.
 pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetup) -> Result<ShadowVolumePasses> {
-    let VolumeSetup { casters, mut warnings, zfail, requested } = setup;
-    if requested.mode == ShadowMode::Additive && requested.saturation_probe {
+    let VolumeSetup { casters, mut warnings, zfail, requested, mode } = setup;
+    if mode == ShadowMode::Additive && requested.saturation_probe {
         warnings.push(
             "--saturation-probe reads the modulate mode's up-counter and is not drawn in additive mode (the default); \
              there --normalize subpass counts saturated samples"
                 .into(),
         );
     }
-    if requested.mode == ShadowMode::Additive && ctx.options.shadow_tone != ShadowTone::default() {
+    if mode == ShadowMode::Additive && ctx.options.shadow_tone != ShadowTone::default() {
         warnings.push(
             "--shadow-factor and --shadow-colour shape the modulate mode's shadow; in additive mode (the default) a \
              shadow leaves its light out and the ambient term in (add --shadow-mode modulate)"
@@ -289,7 +291,7 @@ pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetu
         }
         StencilMode::Reference => None,
     };
-    let additive = ctx.options.shadow_volume.mode == ShadowMode::Additive;
+    let additive = ctx.options.shadow_mode == ShadowMode::Additive;
     let saturation_measured_by = match ctx.options.stencil {
         StencilMode::Reference => NOT_COUNTED_REFERENCE,
         StencilMode::Emulated if additive && counting => MEASURED_BY_MASK,
@@ -301,7 +303,7 @@ pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetu
     };
     let capacity = alpha_counter::capacity(k);
     let primary = scene.primary_light_index().unwrap_or(0);
-    let shadowed: Vec<bool> = match options.shadow_volume.mode {
+    let shadowed: Vec<bool> = match options.shadow_mode {
         ShadowMode::Additive => scene.lights.iter().map(|l| l.casts_shadow).collect(),
         ShadowMode::Modulate => (0..scene.lights.len()).map(|i| i == primary).collect(),
     };
@@ -309,6 +311,7 @@ pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetu
     Ok(ShadowVolumePasses {
         gpu: ctx.gpu.clone(),
         requested,
+        mode,
         casters,
         warnings,
         meshes: GpuScene::upload(ctx.gpu, scene)?,
@@ -330,7 +333,7 @@ pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetu
             probe_saturated_samples: None,
             increment: k,
             casters: reports,
-            mode: options.shadow_volume.mode.name(),
+            mode: options.shadow_mode.name(),
             lights: Vec::new(),
             culling_cpu_ms: 0.0,
         },
@@ -342,6 +345,8 @@ pub struct ShadowVolumePasses {
     /// The options as asked (`auto` still `auto`: the viewer asks whether the camera moved
     /// into or out of a volume).
     requested: ShadowVolumeOptions,
+    /// The frame's loop: additive or the seeds' modulated frame.
+    mode: ShadowMode,
     casters: Vec<Caster>,
     /// Casting objects that cast nothing, and why.
     warnings: Vec<String>,
@@ -512,7 +517,7 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
     /// The counter's start: a count of 0 is alpha 0 counting up (modulate), 1 counting down
     /// (additive).
     fn clear_alpha(&self) -> f32 {
-        match self.requested.mode {
+        match self.mode {
             ShadowMode::Modulate => 0.0,
             ShadowMode::Additive => 1.0,
         }
@@ -529,7 +534,7 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
         for (index, light) in stats.lights.iter_mut().enumerate() {
             // Additive passes are named after their light; the modulate frame has one set,
             // the primary light's.
-            let prefix = match self.requested.mode {
+            let prefix = match self.mode {
                 ShadowMode::Additive => format!("{}: volumes", light.name),
                 ShadowMode::Modulate if index == self.primary => "volumes".to_owned(),
                 ShadowMode::Modulate => continue,
