@@ -6,6 +6,7 @@
 pub mod bounds;
 pub mod casters;
 pub mod culling;
+pub mod options;
 pub mod recipes;
 pub mod renderer;
 

@@ -1,0 +1,107 @@
+//! The shadow-volume family's options, as plain data and as their own flags (`clap::Args`,
+//! flattened into the command line).
+
+use clap::ArgAction;
+
+use crate::error::Result;
+use crate::technique::alpha_counter;
+use crate::technique::options::clap_defaults;
+
+crate::names::named_enum! {
+    /// How volume walls are counted.
+    pub enum VolumeMethod {
+        /// z-fail when the camera (or its near plane) is inside a volume, else z-pass.
+        #[default]
+        Auto = "auto",
+        ZPass = "zpass",
+        ZFail = "zfail",
+    }
+}
+
+crate::names::named_enum! {
+    /// How the count becomes a shadow mask.
+    pub enum Normalize {
+        /// Seed 000's fixed-function sequence (Hall's article, docs/sources.md): N0, iterations,
+        /// REVERSE_SUBTRACT D, ADD D, apply.
+        #[default]
+        Seed = "seed",
+        /// As `seed`, with one MAX pass in place of the two D passes.
+        Max = "max",
+        /// One full-screen pass reading the count as an input attachment.
+        Subpass = "subpass",
+    }
+}
+
+/// The shadow-volume family's options (`shadow-volume`), and its flags. How dark the shadow is
+/// is `RenderOptions::shadow_tone`, shared with the planar family.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, clap::Args)]
+pub struct ShadowVolumeOptions {
+    // k: each volume wall adds or removes k/255 of alpha.
+    /// shadow-volume: alpha added per volume wall, in 1/255 steps (1..=8).
+    #[arg(long, default_value_t = 1, value_name = "K")]
+    pub increment: u8,
+    /// shadow-volume: `auto` (z-fail when the camera is inside a volume), `zpass` or `zfail`.
+    #[arg(id = "volume_method", long = "volume-method", value_name = "VOLUME_METHOD", value_enum, default_value_t)]
+    pub method: VolumeMethod,
+    /// shadow-volume: how counts become a mask.
+    #[arg(long, value_enum, default_value_t)]
+    pub normalize: Normalize,
+    // A diagnostic pass a user asks for (docs/design/saturation.md), never part of a timed frame.
+    /// shadow-volume: add the full-screen saturation probe, a diagnostic pass (`seed` and `max`
+    /// count saturation only with it; `subpass` counts it in its apply, and the probe then
+    /// cross-checks that count). Never part of a timed `bench` frame.
+    #[arg(long)]
+    pub saturation_probe: bool,
+    // Volumes end just past the receivers' bounds and each is scissored to where it can shade,
+    // the apply to their union, in both paths alike (docs/shadow-volumes.md, "Volumes clipped to
+    // where they can shade"). Off (`--unclipped-volumes`): every volume reaches infinity over
+    // the whole frame, to measure what clipping saves.
+    /// shadow-volume: draw every volume whole, to infinity and over the whole frame, instead of
+    /// clipped to the receivers' bounds and scissored to where it can shade (to measure what
+    /// the clipping saves; the image is the same).
+    #[arg(id = "unclipped_volumes", long = "unclipped-volumes", action = ArgAction::SetFalse)]
+    pub clip_volumes: bool,
+    // A caster wholly in the shadow of other casters, as the light sees it, casts nothing new
+    // (CC Shadow Volumes' culling, made conservative: docs/shadow-volumes.md, "Casters culled").
+    // Opt-in: on real assemblies it finds few casters for its CPU cost (measured there).
+    /// shadow-volume: leave out, per light, the volumes of casters that lie wholly in the shadow
+    /// of other casters, found on the CPU from a conservative occluder map (the image is the
+    /// same; `profile` reports the casters culled and the CPU time).
+    #[arg(long = "cull-casters")]
+    pub cull_casters: bool,
+    /// Draw the volumes of this caster only (its index among the frame's casters,
+    /// `technique_stats.casters`): how `profile --caster-fill` measures each caster's share of
+    /// the fill, frame by frame. Never set by a user.
+    #[arg(skip)]
+    pub only_caster: Option<u32>,
+    /// The device has `fragmentStoresAndAtomics` (Android Baseline 2022), so the `subpass`
+    /// apply counts saturated samples with one atomic add per pixel. The renderer turns it off on a
+    /// device without the feature; a plan printed without a device assumes the baseline.
+    #[arg(skip = true)]
+    pub fragment_atomics: bool,
+}
+
+impl Default for ShadowVolumeOptions {
+    fn default() -> Self {
+        clap_defaults()
+    }
+}
+
+impl ShadowVolumeOptions {
+    /// Checks the numbers a user typed (k in 1..=8).
+    pub fn check(&self) -> Result<()> {
+        alpha_counter::check_increment(self.increment).map(|_| ())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_defaults_are_the_flags_defaults() {
+        let volumes = ShadowVolumeOptions::default();
+        assert_eq!((volumes.increment, volumes.method, volumes.normalize), (1, VolumeMethod::Auto, Normalize::Seed));
+        assert!(volumes.clip_volumes && volumes.fragment_atomics && !volumes.saturation_probe);
+    }
+}
