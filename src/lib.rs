@@ -140,7 +140,7 @@ pub use technique::{
 pub mod stats {
     pub use crate::technique::shadow_atlas::atlas::AtlasSource;
     pub use crate::technique::shadow_atlas::stats::{AtlasInfo, PageStats};
-    pub use crate::technique::shadow_volume::renderer::{CasterReport, LightReport};
+    pub use crate::technique::shadow_volume::stats::{CasterReport, LightReport};
     pub use crate::technique::{CartoonStats, PlanarStats, ShadowAtlasStats, ShadowVolumeStats};
 }
 

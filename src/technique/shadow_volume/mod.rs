@@ -9,6 +9,7 @@ pub mod culling;
 pub mod options;
 pub mod recipes;
 pub mod renderer;
+pub mod stats;
 
 use super::frame_renderer::BuildContext;
 use super::interface::{RenderOptions, Variant};

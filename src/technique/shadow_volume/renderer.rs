@@ -1,7 +1,7 @@
-//! The shadow-volume renderer: casters prepared once, volumes rebuilt every frame (whether or
-//! not the light or a caster moved: a cache is left for later) and written into buffers kept
-//! from frame to frame (made again only when a volume outgrows them), drawn by the plan of
-//! `recipes`.
+//! The shadow-volume renderer: casters prepared once, each volume built again only when its
+//! light, reach or caster moved (else the buffers of the frames before are drawn again), written
+//! into buffers kept from frame to frame (made again only when a volume outgrows them), drawn by
+//! the plan of `recipes`. What a frame reports is in `stats`.
 
 use std::any::Any;
 use std::sync::Arc;
@@ -14,6 +14,11 @@ use super::casters::{build_volume_for, choose_zfail, prepare_casters, Caster};
 use super::culling::{self, Culling};
 use super::recipes::SATURATION_PROBE;
 use super::recipes::{VolumeDraw, VolumeKinds, VolumeSet};
+pub use super::stats::{CasterReport, LightReport, ShadowVolumeStats};
+use super::stats::{
+    MEASURED_BY_APPLY, MEASURED_BY_MASK, MEASURED_BY_PROBE, NOT_COUNTED_REFERENCE, NOT_MEASURED, NOT_MEASURED_ADDITIVE,
+    NOT_MEASURED_NO_ATOMICS,
+};
 use crate::error::Result;
 use crate::frame::StencilMode;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
@@ -33,151 +38,6 @@ use crate::technique::interface::{FrameStats, RenderOptions};
 use crate::technique::options::{Normalize, ShadowMode, ShadowVolumeOptions, VolumeMethod};
 use crate::technique::shadow_tone::ShadowTone;
 use crate::technique::unit::Prepared;
-
-const MEASURED_BY_APPLY: &str = "counted by the subpass apply with fragment atomics";
-const MEASURED_BY_PROBE: &str = "counted by the saturation probe pass";
-const NOT_MEASURED: &str = "not measured (use --saturation-probe)";
-const NOT_MEASURED_NO_ATOMICS: &str =
-    "not measured: the device lacks fragmentStoresAndAtomics (use --saturation-probe)";
-const MEASURED_BY_MASK: &str = "counted by the subpass mask with fragment atomics";
-const NOT_MEASURED_ADDITIVE: &str =
-    "not measured: in additive mode the subpass mask counts it (--normalize subpass, fragment atomics)";
-const NOT_COUNTED_REFERENCE: &str = "n/a (reference: the stencil wraps, it does not clamp)";
-
-/// What the frame did, beyond its image and counters.
-#[derive(Debug, Clone, serde::Serialize)]
-pub struct ShadowVolumeStats {
-    pub zfail: bool,
-    pub seed_iterations: usize,
-    /// The largest count the alpha counter holds: 255 / k.
-    pub capacity: u32,
-    /// Samples whose counter sits at its clamp (a count of 255/k or more) once every volume is
-    /// drawn, as many per pixel as it has samples at the clamp (a pixel at one sample): counted
-    /// by the subpass apply's atomic add, else by the opt-in probe's samples passed; `None`
-    /// where neither ran (and always on the reference, whose stencil wraps instead).
-    pub saturated_samples: Option<u64>,
-    /// Where `saturated_samples` comes from, or why it is not measured.
-    pub saturation_measured_by: &'static str,
-    /// The probe's own count of samples when `--saturation-probe` ran (for `subpass`, a cross-check of
-    /// the apply's count on the same frame).
-    pub probe_saturated_samples: Option<u64>,
-    /// k, for the report.
-    #[serde(skip)]
-    pub increment: u8,
-    /// Each caster's volume path and what the counter holds of it.
-    pub casters: Vec<CasterReport>,
-    /// `additive` or `modulate`.
-    pub mode: &'static str,
-    /// Per light: whether it casts, and the volumes drawn for it this frame.
-    pub lights: Vec<LightReport>,
-    /// CPU time this frame spent deciding which casters are culled, over every light (0 with
-    /// `--no-caster-culling`): what culling adds to a frame whose light moves.
-    pub culling_cpu_ms: f64,
-}
-
-/// One light of the frame, as the shadow volumes saw it.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct LightReport {
-    pub name: String,
-    pub shadows: bool,
-    /// Casters whose volume was drawn for this light (the others are out of its reach, or
-    /// shade nothing on screen, or culled).
-    pub volumes: usize,
-    /// Of those, the volumes drawn from the previous frames' buffers: neither the light nor the
-    /// caster moved, so they were not built again (an unposed caster's only).
-    pub reused: usize,
-    /// Casters left out because they lie wholly in the shadow of other casters
-    /// (`--cull-casters`).
-    pub culled: usize,
-    /// Fragment shader invocations of this light's volume passes per pixel of the frame: the
-    /// volumes' fill (None where the device has no pipeline statistics).
-    pub volume_fill: Option<f64>,
-    /// Samples of this light's volume passes that passed the depth test, per pixel of the frame.
-    /// In z-pass these are the volume fragments in front of the visible surfaces: what even
-    /// volumes clamped exactly to the visible receivers would still draw, the floor under the
-    /// fill. (In z-fail, those behind them.)
-    pub volume_samples_passed: f64,
-}
-
-/// How one caster casts.
-#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
-pub struct CasterReport {
-    /// The object's name.
-    pub object: String,
-    /// "silhouette" or "two-sided".
-    pub path: &'static str,
-    /// Why that path: "closed and consistently wound", "open (4 boundary edges)", ...
-    pub reason: String,
-    /// Closed parts of this caster the counter holds over one pixel: 255 / k, halved for a
-    /// two-sided caster (it counts 2 per crossing).
-    pub capacity: u32,
-}
-
-impl CasterReport {
-    fn new(scene: &Scene, caster: &Caster, counter_capacity: u32) -> Self {
-        let path = &caster.mesh.path;
-        CasterReport {
-            object: scene.objects[caster.object].name.clone(),
-            path: path.name(),
-            reason: path.reason().to_owned(),
-            capacity: counter_capacity / path.count_per_crossing(),
-        }
-    }
-}
-
-impl FrameStats for ShadowVolumeStats {
-    fn report(&self) -> String {
-        let saturation = match (self.saturated_samples, self.probe_saturated_samples) {
-            (Some(n), Some(probe)) if self.saturation_measured_by != MEASURED_BY_PROBE => {
-                format!("{n} ({}; the probe counts {probe})", self.saturation_measured_by)
-            }
-            (Some(n), _) => format!("{n} ({})", self.saturation_measured_by),
-            (None, _) => self.saturation_measured_by.to_owned(),
-        };
-        let mut report = format!(
-            "shadow volumes: {}, {} | counter capacity {} volumes (k = {}) | saturated samples: {saturation}",
-            self.mode,
-            if self.zfail { "z-fail" } else { "z-pass" },
-            self.capacity,
-            self.increment,
-        );
-        for light in &self.lights {
-            let shadows = if light.shadows {
-                let fill = light.volume_fill.map_or("not measured".into(), |f| format!("{f:.2}"));
-                format!(
-                    "{} volumes ({} reused from earlier frames), {} casters culled | volume fill {fill} fragments/px, {:.2} samples passed/px{}",
-                    light.volumes,
-                    light.reused,
-                    light.culled,
-                    light.volume_samples_passed,
-                    if self.zfail { "" } else { " (the floor: in front of the receivers)" },
-                )
-            } else {
-                "casts no shadow".into()
-            };
-            report.push_str(&format!("\n  light '{}': {shadows}", light.name));
-        }
-        for caster in &self.casters {
-            report.push_str(&format!(
-                "\n  caster '{}': {} ({}), capacity {}",
-                caster.object, caster.path, caster.reason, caster.capacity
-            ));
-        }
-        report
-    }
-
-    fn json(&self) -> serde_json::Value {
-        serde_json::to_value(self).unwrap_or_default()
-    }
-
-    fn brief(&self) -> Option<String> {
-        Some(if self.zfail { "z-fail" } else { "z-pass" }.into())
-    }
-
-    fn as_any(&self) -> &dyn Any {
-        self
-    }
-}
 
 /// One caster's volume, uploaded for this frame into its light's and caster's buffers.
 struct GpuVolume {
