@@ -2,7 +2,7 @@
 //! flags (`clap::Args`, flattened into the command line).
 
 use crate::error::{Error, Result};
-use crate::technique::options::{clap_defaults, parse_rgb_hex};
+use crate::technique::flags::{clap_defaults, parse_rgb_hex};
 
 crate::names::named_enum! {
     /// How `silhouette` and `toon` find their ink.

@@ -8,6 +8,7 @@ pub mod cartoon;
 pub mod cartoon_options;
 pub mod cartoon_shading;
 pub mod extruded;
+pub mod flags;
 pub mod frame_renderer;
 pub mod ink;
 pub mod interface;

@@ -5,7 +5,8 @@
 
 use glam::Vec3;
 
-use super::options::{parse_rgb_hex, ShadowMode};
+use super::flags::parse_rgb_hex;
+use super::options::ShadowMode;
 
 /// A shadowed pixel's colour is its colour times these factors, in 1/255 steps (8-bit values, so
 /// that every path multiplies by exactly the same number).

@@ -2,7 +2,7 @@
 //! into the command line).
 
 use crate::error::{Error, Result};
-use crate::technique::options::clap_defaults;
+use crate::technique::flags::clap_defaults;
 
 /// The planar family's options (`planar`, `blob`, `shadow-texture`), and their flags. How dark
 /// the shadow is is `RenderOptions::shadow_tone` (its darkest factor: these shadows darken every

@@ -2,7 +2,7 @@
 //! plain data and as their own flags (`clap::Args`, flattened into the command line).
 
 use crate::error::{Error, Result};
-use crate::technique::options::clap_defaults;
+use crate::technique::flags::clap_defaults;
 
 /// Which of the two seed 004 shadow techniques a renderer draws. Not a command-line value
 /// (the technique is): JSON keeps its short spelling, `name()` is the technique's.

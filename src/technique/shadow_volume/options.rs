@@ -5,7 +5,7 @@ use clap::ArgAction;
 
 use crate::error::Result;
 use crate::technique::alpha_counter;
-use crate::technique::options::clap_defaults;
+use crate::technique::flags::clap_defaults;
 
 crate::names::named_enum! {
     /// How volume walls are counted.
