@@ -74,7 +74,7 @@ pub struct SharedShadowArgs {
     /// shadow-volume and planar: `additive` (ambient, then each light added where its own shadow
     /// does not fall: Doom 3's and Ogre's loop) or `modulate` (the seeds' frame: the lit frame
     /// darkened where the primary light's shadow falls).
-    #[arg(long = "shadow-mode", value_enum, default_value_t)]
+    #[arg(long = "shadow-mode", value_name = "MODE", value_enum, default_value_t)]
     pub shadow_mode: ShadowMode,
     /// shadow-volume, planar, blob, shadow-texture: shadowed colour = colour x F/255 (0..=255;
     /// 255: no shadow). For shadow volumes the normalisation's iteration count follows it.
