@@ -14,6 +14,7 @@ use super::pipeline_object::PipelineTarget;
 use super::plan::{DrawKind, Draws, Label, PassKinds, PassPlan, PlannedPass, Scissor, SetRole, Target, When};
 use super::recorder::FrameRecorder;
 use crate::error::{Error, Result};
+use crate::gpu::descriptors::DescriptorSet;
 use crate::gpu::Gpu;
 use crate::render::Pipeline;
 use crate::scene::Scene;
@@ -80,8 +81,9 @@ impl PlanPipelines {
 /// What a technique supplies to execute its plan: the descriptor sets of its own, the scene's
 /// meshes for the object passes the recorder draws, and the draws only it knows how to make.
 pub trait PassDraws<K: PassKinds> {
-    /// The set bound for a set of its own (the frame's uniforms are the recorder's).
-    fn set(&self, set: K::Set) -> Option<vk::DescriptorSet> {
+    /// A set of its own, bound by the passes that name it (its layout is also what the
+    /// pipelines are built with; the frame's uniforms are the recorder's).
+    fn set(&self, set: K::Set) -> Option<&DescriptorSet> {
         let _ = set;
         None
     }
@@ -141,7 +143,7 @@ pub fn record_plan<K: PassKinds>(
             .iter()
             .map(|role| match role {
                 SetRole::Frame => Ok(rec.frame_set()),
-                SetRole::Own(set) => draws.set(*set).ok_or_else(|| {
+                SetRole::Own(set) => draws.set(*set).map(|s| s.set).ok_or_else(|| {
                     Error::Internal(format!(
                         "pass '{}': the renderer was built without set '{}'",
                         pass.name,

@@ -126,14 +126,9 @@ impl CartoonScene {
         Ok(CartoonScene { meshes: GpuScene::upload(gpu, scene)?, ramps: Ramps::new(gpu)?, shading })
     }
 
-    /// The layout of the ramps' set.
-    pub fn ramps_layout(&self) -> vk::DescriptorSetLayout {
-        self.ramps.set.layout
-    }
-
     /// The ramps' set.
-    pub fn ramps_set(&self) -> vk::DescriptorSet {
-        self.ramps.set.set
+    pub fn ramps(&self) -> &DescriptorSet {
+        &self.ramps.set
     }
 
     /// Draws the objects `which` picks (in `draw_order`) with the pass's pipeline their

@@ -21,12 +21,6 @@ use crate::scene::{Light, Scene};
 /// A technique's side of a renderer: what it built for the scene, and what it does per frame.
 /// Its sets, meshes and own draws come through [`PassDraws`], typed by the technique's kinds.
 pub trait Passes<K: PassKinds>: PassDraws<K> {
-    /// The layout of a set of its own (the frame's uniforms are the renderer's).
-    fn set_layout(&self, set: K::Set) -> Option<vk::DescriptorSetLayout> {
-        let _ = set;
-        None
-    }
-
     /// The layout of the material set, when the plan binds one.
     fn material_layout(&self) -> Option<vk::DescriptorSetLayout> {
         self.meshes().map(|meshes| meshes.materials.layout())
@@ -162,7 +156,8 @@ pub fn build_typed<'s, K: PassKinds, P: Passes<K> + 's>(
         |role| match role {
             SetRole::Frame => Ok(frame_layout),
             SetRole::Own(set) => passes
-                .set_layout(set)
+                .set(set)
+                .map(|s| s.layout)
                 .ok_or_else(|| Error::Internal(format!("{}: built without set '{}'", technique, set.label()))),
             SetRole::Material => {
                 passes.material_layout().ok_or_else(|| Error::Internal(format!("{}: no materials", technique)))

@@ -21,7 +21,7 @@ use nostencil::render::plan::{PassPlan, PlannedPass, SetRole, Target};
 use nostencil::render::plan_execution::{record_plan, PassDraws, PlanPipelines};
 use nostencil::render::Renderer;
 use nostencil::render::{FrameRecorder, FrameSamples, FrameUniforms, GpuScene, ObjectPush, Pipeline, PipelineTarget};
-use nostencil::technique::shadow_volume::recipes::{VolumeDraw, VolumeKinds, VolumeSet};
+use nostencil::technique::shadow_volume::recipes::{VolumeDraw, VolumeKinds};
 use nostencil::technique::shadow_volume::{self, bounds, build_volume, prepare_casters};
 use nostencil::technique::shadow_volume::{Normalize, ShadowVolumeOptions, VolumeMethod};
 use nostencil::technique::ShadowTone;
@@ -181,10 +181,6 @@ impl<'a> VolumeDraws<'a> {
 }
 
 impl PassDraws<VolumeKinds> for VolumeDraws<'_> {
-    fn set(&self, _: VolumeSet) -> Option<vk::DescriptorSet> {
-        None
-    }
-
     fn meshes(&self) -> Option<&GpuScene> {
         Some(&self.meshes)
     }

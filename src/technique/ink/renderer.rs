@@ -13,6 +13,7 @@ use super::edges::{InkMesh, InkQuads};
 use super::recipes::{InkDraw, InkKinds, InkSet, EDGE_CLASSES};
 use crate::error::{Error, Result};
 use crate::frame::srgb;
+use crate::gpu::descriptors::DescriptorSet;
 use crate::gpu::memory::ReusedBuffer;
 use crate::gpu::Gpu;
 use crate::render::object_push::draw_order;
@@ -98,9 +99,9 @@ impl InkPasses {
 }
 
 impl PassDraws<InkKinds> for InkPasses {
-    fn set(&self, set: InkSet) -> Option<vk::DescriptorSet> {
+    fn set(&self, set: InkSet) -> Option<&DescriptorSet> {
         match set {
-            InkSet::Ramps => Some(self.scene_pass.ramps_set()),
+            InkSet::Ramps => Some(self.scene_pass.ramps()),
         }
     }
 
@@ -175,12 +176,6 @@ impl PassDraws<InkKinds> for InkPasses {
 }
 
 impl Passes<InkKinds> for InkPasses {
-    fn set_layout(&self, set: InkSet) -> Option<vk::DescriptorSetLayout> {
-        match set {
-            InkSet::Ramps => Some(self.scene_pass.ramps_layout()),
-        }
-    }
-
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
         let changed = self.scene_pass.meshes.follow_pose(&self.gpu, scene)?;
         match &mut self.ink {

@@ -12,6 +12,7 @@ use super::kinds::{OutlineDraw, OutlineKinds, OutlineSet, OutlineTarget};
 use super::recipes;
 use super::scaled::Bounds;
 use crate::error::{Error, Result};
+use crate::gpu::descriptors::DescriptorSet;
 use crate::gpu::Gpu;
 use crate::render::plan::{PlannedPass, Target};
 use crate::render::plan_execution::PassDraws;
@@ -132,10 +133,10 @@ impl OutlinePasses {
 }
 
 impl PassDraws<OutlineKinds> for OutlinePasses {
-    fn set(&self, set: OutlineSet) -> Option<vk::DescriptorSet> {
+    fn set(&self, set: OutlineSet) -> Option<&DescriptorSet> {
         match set {
-            OutlineSet::Ramps => Some(self.scene_pass.ramps_set()),
-            _ => self.blur.as_ref().and_then(|b| b.set(set)).map(|s| s.set),
+            OutlineSet::Ramps => Some(self.scene_pass.ramps()),
+            _ => self.blur.as_ref().and_then(|b| b.set(set)),
         }
     }
 
@@ -172,13 +173,6 @@ impl PassDraws<OutlineKinds> for OutlinePasses {
 }
 
 impl Passes<OutlineKinds> for OutlinePasses {
-    fn set_layout(&self, set: OutlineSet) -> Option<vk::DescriptorSetLayout> {
-        match set {
-            OutlineSet::Ramps => Some(self.scene_pass.ramps_layout()),
-            _ => self.blur.as_ref().and_then(|b| b.set(set)).map(|s| s.layout),
-        }
-    }
-
     fn offscreen_pass(&self, target: OutlineTarget) -> Option<(vk::RenderPass, usize)> {
         self.blur.as_ref().map(|b| b.render_pass(target))
     }

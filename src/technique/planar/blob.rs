@@ -301,10 +301,10 @@ impl BlobPasses {
 }
 
 impl PassDraws<BlobKinds> for BlobPasses {
-    fn set(&self, set: BlobSet) -> Option<vk::DescriptorSet> {
+    fn set(&self, set: BlobSet) -> Option<&DescriptorSet> {
         match set {
-            BlobSet::BlobTexture => Some(self.blob_set.set),
-            BlobSet::JointPalette => Some(self.meshes.palette_set()),
+            BlobSet::BlobTexture => Some(&self.blob_set),
+            BlobSet::JointPalette => Some(self.meshes.palette()),
         }
     }
 
@@ -333,13 +333,6 @@ impl PassDraws<BlobKinds> for BlobPasses {
 }
 
 impl Passes<BlobKinds> for BlobPasses {
-    fn set_layout(&self, set: BlobSet) -> Option<vk::DescriptorSetLayout> {
-        match set {
-            BlobSet::BlobTexture => Some(self.blob_set.layout),
-            BlobSet::JointPalette => Some(self.meshes.palette_layout()),
-        }
-    }
-
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
         self.meshes.update_palettes(scene)?;
         let darkness = 1.0 - self.tone.darkest_factor();

@@ -33,6 +33,7 @@ use super::scene_meshes::{scene_desc, scene_pass, scene_sets, SceneMeshes};
 use super::shared::{Planar, PlanarStats, DEFAULT_SHADOW_LOD};
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
+use crate::gpu::descriptors::DescriptorSet;
 use crate::gpu::Gpu;
 use crate::pipeline::recipes::{
     stencil_replace, MODULATE_BY_DST_ALPHA_ONCE, MODULATE_BY_SRC_ALPHA_WRITING_ALPHA, STENCIL_EQUAL_ZERO_THEN_INCREMENT,
@@ -288,9 +289,9 @@ impl PlanarPasses {
 }
 
 impl PassDraws<PlanarKinds> for PlanarPasses {
-    fn set(&self, set: PlanarSet) -> Option<vk::DescriptorSet> {
+    fn set(&self, set: PlanarSet) -> Option<&DescriptorSet> {
         match set {
-            PlanarSet::JointPalette => Some(self.meshes.palette_set()),
+            PlanarSet::JointPalette => Some(self.meshes.palette()),
         }
     }
 
@@ -337,12 +338,6 @@ impl PassDraws<PlanarKinds> for PlanarPasses {
 }
 
 impl Passes<PlanarKinds> for PlanarPasses {
-    fn set_layout(&self, set: PlanarSet) -> Option<vk::DescriptorSetLayout> {
-        match set {
-            PlanarSet::JointPalette => Some(self.meshes.palette_layout()),
-        }
-    }
-
     fn prepare(&mut self, _renderer: &Renderer, scene: &Scene) -> Result<()> {
         if self.mode == ShadowMode::Modulate {
             self.plane.plane.check_light(&scene.light())?;

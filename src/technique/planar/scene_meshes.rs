@@ -10,6 +10,7 @@ use super::lod::CasterLods;
 use super::receiver::ReceiverPlane;
 use super::skin::{self, SkinnedMesh, SKINNED_LAYOUT};
 use crate::error::{Error, Result};
+use crate::gpu::descriptors::DescriptorSet;
 use crate::gpu::Gpu;
 use crate::pipeline::{FixedFunction, PipelineDesc, StencilState, VertexLayout};
 use crate::render::object_push::draw_order;
@@ -121,14 +122,10 @@ impl SceneMeshes {
         })
     }
 
-    /// The palette layout, for `Passes::set_layout`.
-    pub fn palette_layout(&self) -> vk::DescriptorSetLayout {
-        self.template.descriptors.layout
-    }
-
-    /// The palette set a pass binds before its first skinned draw binds the object's own.
-    pub fn palette_set(&self) -> vk::DescriptorSet {
-        self.template.descriptors.set
+    /// The palette set a pass binds before its first skinned draw binds the object's own (its
+    /// layout is the pipelines').
+    pub fn palette(&self) -> &DescriptorSet {
+        &self.template.descriptors
     }
 
     /// This frame's joint palettes.

@@ -471,10 +471,10 @@ impl ShadowTexturePasses {
 }
 
 impl PassDraws<TextureKinds> for ShadowTexturePasses {
-    fn set(&self, set: TextureSet) -> Option<vk::DescriptorSet> {
+    fn set(&self, set: TextureSet) -> Option<&DescriptorSet> {
         match set {
-            TextureSet::ShadowTexture => Some(self.texture_set.set),
-            TextureSet::JointPalette => Some(self.meshes.palette_set()),
+            TextureSet::ShadowTexture => Some(&self.texture_set),
+            TextureSet::JointPalette => Some(self.meshes.palette()),
         }
     }
 
@@ -500,13 +500,6 @@ impl PassDraws<TextureKinds> for ShadowTexturePasses {
 }
 
 impl Passes<TextureKinds> for ShadowTexturePasses {
-    fn set_layout(&self, set: TextureSet) -> Option<vk::DescriptorSetLayout> {
-        match set {
-            TextureSet::ShadowTexture => Some(self.texture_set.layout),
-            TextureSet::JointPalette => Some(self.meshes.palette_layout()),
-        }
-    }
-
     fn offscreen_pass(&self, target: TextureTarget) -> Option<(vk::RenderPass, usize)> {
         match target {
             TextureTarget::ShadowTexture => Some((self.target.render_pass.raw, 1)),

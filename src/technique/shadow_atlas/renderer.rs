@@ -445,8 +445,8 @@ impl ShadowPasses {
 }
 
 impl PassDraws<AtlasKinds> for ShadowPasses {
-    fn set(&self, set: AtlasSet) -> Option<vk::DescriptorSet> {
-        self.own_set(set).map(|s| s.set)
+    fn set(&self, set: AtlasSet) -> Option<&DescriptorSet> {
+        self.own_set(set)
     }
 
     fn material_set(&self) -> Option<vk::DescriptorSet> {
@@ -501,10 +501,6 @@ impl PassDraws<AtlasKinds> for ShadowPasses {
 }
 
 impl Passes<AtlasKinds> for ShadowPasses {
-    fn set_layout(&self, set: AtlasSet) -> Option<vk::DescriptorSetLayout> {
-        self.own_set(set).map(|s| s.layout)
-    }
-
     fn material_layout(&self) -> Option<vk::DescriptorSetLayout> {
         Some(self.materials.layout())
     }

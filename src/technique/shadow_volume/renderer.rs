@@ -236,9 +236,9 @@ pub struct ShadowVolumePasses {
 }
 
 impl PassDraws<VolumeKinds> for ShadowVolumePasses {
-    fn set(&self, set: VolumeSet) -> Option<vk::DescriptorSet> {
+    fn set(&self, set: VolumeSet) -> Option<&DescriptorSet> {
         match set {
-            VolumeSet::CounterInput => self.counter_input.as_ref().map(|s| s.set),
+            VolumeSet::CounterInput => self.counter_input.as_ref(),
         }
     }
 
@@ -306,12 +306,6 @@ impl PassDraws<VolumeKinds> for ShadowVolumePasses {
 }
 
 impl Passes<VolumeKinds> for ShadowVolumePasses {
-    fn set_layout(&self, set: VolumeSet) -> Option<vk::DescriptorSetLayout> {
-        match set {
-            VolumeSet::CounterInput => self.counter_input.as_ref().map(|s| s.layout),
-        }
-    }
-
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
         self.meshes.follow_pose(&self.gpu, scene)?;
         let extent = renderer.extent();
