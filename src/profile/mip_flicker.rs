@@ -13,7 +13,7 @@ use image::RgbaImage;
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
 use crate::scene::Scene;
-use crate::technique::shadow_atlas::{technique_of, LightMode, ShadowAtlasOptions, ShadowKind, MOVING_LIGHT_STEP};
+use crate::technique::options::{LightMode, ShadowAtlasOptions, ShadowKind, MOVING_LIGHT_STEP};
 use crate::technique::RenderOptions;
 
 /// Largest jump of any colour channel (sRGB-encoded, 0..=255) between two neighbouring light
@@ -58,7 +58,7 @@ pub fn measure(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions, steps: u3
     let rows = [ShadowKind::Atlas, ShadowKind::Map]
         .into_iter()
         .map(|kind| {
-            let technique = technique_of(kind);
+            let technique = kind.technique();
             let opts = RenderOptions {
                 technique,
                 shadow_atlas: ShadowAtlasOptions { light: LightMode::Moving, ..options.shadow_atlas },

@@ -12,7 +12,7 @@ use super::bootstrap::Bootstrap;
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
 use crate::scene::builtin_scene;
-use crate::technique::shadow_atlas::{technique_of, LightMode, ShadowAtlasOptions, ShadowKind};
+use crate::technique::options::{LightMode, ShadowAtlasOptions, ShadowKind};
 use crate::technique::RenderOptions;
 
 /// The paper's Table 1 (fps): (scene, technique, moving light, fixed light).
@@ -77,7 +77,7 @@ pub fn run(gpu: &Arc<Gpu>, options: &RenderOptions, warmup: u32, runs: u32, prog
     for scene in &scenes {
         for (name, kind, moving_fps, fixed_fps) in PAPER_TABLE1.iter().filter(|r| r.0 == scene.name) {
             for (light, paper_fps) in [(LightMode::Moving, *moving_fps), (LightMode::Fixed, *fixed_fps)] {
-                let technique = technique_of(*kind);
+                let technique = kind.technique();
                 let opts = RenderOptions {
                     technique,
                     shadow_atlas: ShadowAtlasOptions { light, ..options.shadow_atlas },

@@ -10,6 +10,7 @@ pub use super::cartoon_options::{
     CartoonOptions, InkStyle, InkStyles, OutlineMethod, Seams, SilhouetteMethod, INK_STYLE_FLAGS,
 };
 pub use super::planar::options::{GivenPlane, PlanarOptions, TextureShadowOn, DEFAULT_TEXTURE_SHADOW_SIZE};
+pub use super::shadow_atlas::light::MOVING_LIGHT_STEP;
 pub use super::shadow_atlas::options::{check_size, AtlasBake, LightMode, ShadowAtlasOptions, ShadowKind};
 pub use super::shadow_volume::options::{Normalize, ShadowVolumeOptions, VolumeMethod};
 

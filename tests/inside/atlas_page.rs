@@ -11,7 +11,7 @@ use std::sync::Arc;
 use glam::{Mat4, Vec3};
 use image::RgbaImage;
 use nostencil::technique::shadow_atlas::{
-    self, technique_of, AtlasBake, Baked, LightMode, ShadowAtlasOptions, ShadowAtlasStats, ShadowKind,
+    self, AtlasBake, Baked, LightMode, ShadowAtlasOptions, ShadowAtlasStats, ShadowKind,
 };
 use nostencil::Gpu;
 use nostencil::RenderOptions;
@@ -24,7 +24,7 @@ fn options(bake: AtlasBake, light: LightMode, size: u32) -> RenderOptions {
         height: size,
         samples: 1,
         stencil: StencilMode::Emulated,
-        technique: technique_of(ShadowKind::Atlas),
+        technique: ShadowKind::Atlas.technique(),
         shadow_atlas: ShadowAtlasOptions { bake, light, ..Default::default() },
         ..Default::default()
     }
@@ -92,7 +92,7 @@ fn a_moving_light_rebakes_the_page_in_a_handful_of_passes_one_fragment_a_texel()
     let gpu = common::gpu();
     let scene = builtin_scene("atlas-125").expect("scene");
     let options = options(AtlasBake::Texels, LightMode::Moving, 64);
-    let mut renderer = technique_of(ShadowKind::Atlas).build(&gpu, &scene, &options).expect("renderer");
+    let mut renderer = ShadowKind::Atlas.technique().build(&gpu, &scene, &options).expect("renderer");
     for frame in 0..2 {
         let frame = renderer.frame_with(&scene).unwrap_or_else(|e| panic!("frame {frame}: {e}"));
         let stats = frame.stats::<ShadowAtlasStats>().expect("atlas stats");
@@ -140,7 +140,7 @@ fn a_model_moving_among_fixed_ones_rebakes_only_what_it_can_shadow() {
     for (object, (a, b)) in tiles(&incremental, &moved).iter().zip(tiles(&full, &moved)).enumerate() {
         assert!(a == &b, "object {object}'s shadow texture differs from a full re-bake's");
     }
-    let mut fresh = technique_of(ShadowKind::Atlas).build(&gpu, &moved, &options).expect("renderer");
+    let mut fresh = ShadowKind::Atlas.technique().build(&gpu, &moved, &options).expect("renderer");
     let reference = fresh.frame_with(&moved).expect("full re-bake");
     assert!(frame.output.image == reference.output.image, "the frame differs from a full re-bake's");
 

@@ -13,9 +13,7 @@ use nostencil::mesh::geometry_image::{geometry_image, horned_radius, octahedral_
 use nostencil::mesh::ray::ray_hits_triangle;
 use nostencil::mesh::{shapes, MeshData};
 use nostencil::technique::shadow_atlas::atlas::{mesh_atlas, AtlasSource};
-use nostencil::technique::shadow_atlas::{
-    self, technique_of, Baked, LightMode, ShadowAtlasOptions, ShadowAtlasStats, ShadowKind,
-};
+use nostencil::technique::shadow_atlas::{self, Baked, LightMode, ShadowAtlasOptions, ShadowAtlasStats, ShadowKind};
 use nostencil::Gpu;
 use nostencil::StencilMode;
 use nostencil::{builtin_scene, Camera, Light, Scene};
@@ -309,11 +307,11 @@ fn fixed_light_skips_the_shadow_passes_and_moving_light_does_not() {
             width: 64,
             height: 64,
             stencil: StencilMode::Emulated,
-            technique: technique_of(kind),
+            technique: kind.technique(),
             shadow_atlas: ShadowAtlasOptions { light, texture_size: 64, map_size: 64, ..Default::default() },
             ..Default::default()
         };
-        let mut renderer = technique_of(kind).build(&gpu, &scene, &options).expect("renderer");
+        let mut renderer = kind.technique().build(&gpu, &scene, &options).expect("renderer");
         let first = renderer.frame_with(&scene).expect("frame 1");
         let second = renderer.frame_with(&scene).expect("frame 2");
         let names =

@@ -42,4 +42,4 @@ pub use super::options::{check_size, AtlasBake, LightMode, ShadowAtlasOptions, S
 pub use baked::{bake, BakeStep, Baked};
 pub use light::{light_at, light_view_projection, scene_bounds, ShadowLightUniforms, MOVING_LIGHT_STEP};
 pub use stats::{AtlasInfo, ShadowAtlasStats};
-pub use techniques::{technique_of, ShadowTechnique, PROJECTIVE_TEXTURE, SHADOW_MAP, SHADOW_TEXTURE_ATLAS};
+pub use techniques::{ShadowTechnique, PROJECTIVE_TEXTURE, SHADOW_MAP, SHADOW_TEXTURE_ATLAS};

@@ -41,12 +41,14 @@ pub static PROJECTIVE_TEXTURE: ShadowTechnique = ShadowTechnique {
     about: "each model's shadow texture projected from the light (seed 004's figure 2: wrong on concave models)",
 };
 
-/// The technique that draws `kind`.
-pub fn technique_of(kind: ShadowKind) -> Technique {
-    match kind {
-        ShadowKind::Map => Technique(&SHADOW_MAP),
-        ShadowKind::Atlas => Technique(&SHADOW_TEXTURE_ATLAS),
-        ShadowKind::Projective => Technique(&PROJECTIVE_TEXTURE),
+impl ShadowKind {
+    /// The technique that draws this kind.
+    pub fn technique(self) -> Technique {
+        match self {
+            ShadowKind::Map => Technique(&SHADOW_MAP),
+            ShadowKind::Atlas => Technique(&SHADOW_TEXTURE_ATLAS),
+            ShadowKind::Projective => Technique(&PROJECTIVE_TEXTURE),
+        }
     }
 }
 
@@ -122,7 +124,7 @@ impl TechniqueUnit for ShadowTechnique {
     fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
         let with =
             |technique: Technique| light_variants(technique.name(), &RenderOptions { technique, ..options.clone() });
-        with(Technique(&SHADOW_TEXTURE_ATLAS)).into_iter().chain(with(technique_of(self.kind))).collect()
+        with(Technique(&SHADOW_TEXTURE_ATLAS)).into_iter().chain(with(self.kind.technique())).collect()
     }
 
     fn describe(&self, options: &RenderOptions) -> String {
