@@ -41,7 +41,6 @@ use crate::technique::unit::Prepared;
 
 /// One caster's volume, uploaded for this frame into its light's and caster's buffers.
 struct GpuVolume {
-    object: usize,
     /// Its caster's index among the frame's casters: which of its light's buffers hold it.
     caster: usize,
     /// What to draw, and how many counts each of its fragments adds.
@@ -87,7 +86,6 @@ pub struct VolumeSetup {
     zfail: bool,
     /// The options as asked (`auto` still `auto`).
     requested: ShadowVolumeOptions,
-    mode: ShadowMode,
 }
 
 /// Prepares the casters and resolves the counting method (and whether the subpass apply can
@@ -106,13 +104,14 @@ pub fn setup(gpu: &Gpu, scene: &Scene, options: &RenderOptions) -> Result<Prepar
         ..options.clone()
     };
     let requested = options.shadow_volume;
-    let mode = options.shadow_mode;
-    Ok(Prepared { options: resolved, setup: VolumeSetup { casters, warnings, zfail, requested, mode } })
+    Ok(Prepared { options: resolved, setup: VolumeSetup { casters, warnings, zfail, requested } })
 }
 
 /// The technique's part of the renderer, planned with the resolved options.
 pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetup) -> Result<ShadowVolumePasses> {
-    let VolumeSetup { casters, mut warnings, zfail, requested, mode } = setup;
+    let VolumeSetup { casters, mut warnings, zfail, requested } = setup;
+    // `setup` resolves the counting method only: the mode is the one asked for.
+    let mode = ctx.options.shadow_mode;
     if mode == ShadowMode::Additive && requested.saturation_probe {
         warnings.push(
             "--saturation-probe reads the modulate mode's up-counter and is not drawn in additive mode (the default); \
@@ -151,7 +150,7 @@ pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetu
         }
         StencilMode::Reference => None,
     };
-    let additive = ctx.options.shadow_mode == ShadowMode::Additive;
+    let additive = mode == ShadowMode::Additive;
     let saturation_measured_by = match ctx.options.stencil {
         StencilMode::Reference => NOT_COUNTED_REFERENCE,
         StencilMode::Emulated if additive && counting => MEASURED_BY_MASK,
@@ -163,7 +162,7 @@ pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetu
     };
     let capacity = alpha_counter::capacity(k);
     let primary = scene.primary_light_index().unwrap_or(0);
-    let shadowed: Vec<bool> = match options.shadow_mode {
+    let shadowed: Vec<bool> = match mode {
         ShadowMode::Additive => scene.lights.iter().map(|l| l.casts_shadow).collect(),
         ShadowMode::Modulate => (0..scene.lights.len()).map(|i| i == primary).collect(),
     };
@@ -193,7 +192,7 @@ pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetu
             probe_saturated_samples: None,
             increment: k,
             casters: reports,
-            mode: options.shadow_mode.name(),
+            mode: mode.name(),
             lights: Vec::new(),
             culling_cpu_ms: 0.0,
         },
@@ -293,7 +292,7 @@ impl PassDraws<VolumeKinds> for ShadowVolumePasses {
                 rec.set_scissor(volume.scissor);
                 for range in &volume.ranges {
                     let push = ObjectPush {
-                        model: scene.objects[volume.object].transform,
+                        model: scene.objects[self.casters[volume.caster].object].transform,
                         colour: Vec4::new(0.0, 0.0, 0.0, alpha * range.times as f32),
                     };
                     rec.push(pipeline, &push);
@@ -516,7 +515,7 @@ fn upload_volumes(
         if ranges.iter().all(|r| r.count == 0) {
             continue;
         }
-        volumes.push(GpuVolume { object: caster.object, caster: index, ranges, scissor });
+        volumes.push(GpuVolume { caster: index, ranges, scissor });
     }
     Ok(volumes)
 }
