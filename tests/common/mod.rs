@@ -22,6 +22,11 @@ pub fn gpu() -> Arc<Gpu> {
     }
 }
 
+/// The technique of the registry called `name`; a name that is not one fails the test.
+pub fn technique(name: &str) -> nostencil::Technique {
+    nostencil::technique(name).unwrap_or_else(|e| panic!("{e}"))
+}
+
 /// Fails the test on any validation message.
 pub fn assert_no_validation_messages(gpu: &Gpu) {
     assert!(gpu.validation_enabled(), "validation layer is not on");

@@ -2,7 +2,7 @@
 //! pixel; ink lines are measured in the image against their analytic position and width; the
 //! shader and hull methods put dark ink on the silhouette.
 
-use crate::common;
+use crate::common::{self, technique};
 
 use std::sync::Arc;
 
@@ -334,9 +334,4 @@ fn crease_lines_of_a_cube_are_unbroken_and_stay_on_the_edges() {
         assert_ne!(image.get_pixel(face_centre.x as u32, face_centre.y as u32).0[..3], ink(), "face {axis}");
     }
     common::assert_no_validation_messages(&gpu);
-}
-
-/// The technique called `name`.
-fn technique(name: &str) -> Technique {
-    nostencil::technique(name).expect("technique")
 }

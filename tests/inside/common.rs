@@ -172,3 +172,14 @@ pub fn outline_overlap(
     }
     (both, either)
 }
+
+/// Frame uniforms for draws given in clip space: the identity view-projection, no light.
+pub fn clip_space_uniforms() -> nostencil::render::FrameUniforms {
+    nostencil::render::FrameUniforms {
+        view_proj: glam::Mat4::IDENTITY,
+        light: glam::Vec4::ZERO,
+        camera_position: glam::Vec4::ZERO,
+        shading: glam::Vec4::ZERO,
+        lights: Default::default(),
+    }
+}

@@ -8,25 +8,14 @@ use crate::common;
 use std::sync::Arc;
 
 use ash::vk;
-use glam::{Mat4, Vec2, Vec4};
+use glam::{Vec2, Vec4};
 use nostencil::gpu::memory::Buffer;
 use nostencil::pipeline::{BlendState, DepthState, FixedFunction, PipelineDesc, RasterState, VertexLayout};
-use nostencil::render::FrameUniforms;
 use nostencil::render::Pipeline;
 use nostencil::render::Renderer;
 use nostencil::FrameCounters;
 use nostencil::Gpu;
 use nostencil::StencilMode;
-
-fn uniforms() -> FrameUniforms {
-    FrameUniforms {
-        view_proj: Mat4::IDENTITY,
-        light: Vec4::ZERO,
-        camera_position: Vec4::ZERO,
-        shading: Vec4::ZERO,
-        lights: Default::default(),
-    }
-}
 
 fn clip_pipeline(gpu: &Arc<Gpu>, renderer: &Renderer, depth: DepthState) -> Pipeline {
     let desc = PipelineDesc {
@@ -76,7 +65,7 @@ fn render_passes(
         })
         .collect();
     let output = renderer
-        .render(&uniforms(), [0.0; 4], |rec| {
+        .render(&common::clip_space_uniforms(), [0.0; 4], |rec| {
             for (i, (buffer, count)) in buffers.iter().enumerate() {
                 rec.pass(&format!("pass {i}"), |rec| {
                     rec.bind(&pipeline);

@@ -1,13 +1,13 @@
 //! The main frame: no stencil aspect anywhere; the default scene renders lit, at the requested
 //! size, identically in the emulated and reference frames (no technique uses the stencil yet).
 
-use crate::common;
+use crate::common::{self, technique};
 
 use nostencil::builtin_scene;
 use nostencil::frame::render_pass::format_has_stencil;
 use nostencil::frame::FrameTargets;
 use nostencil::StencilMode;
-use nostencil::{render_scene, RenderOptions, Technique};
+use nostencil::{render_scene, RenderOptions};
 
 #[test]
 fn main_frame_has_no_stencil_aspect_and_reference_has_one() {
@@ -81,9 +81,4 @@ fn zero_and_oversized_frames_are_refused() {
         assert!(error.to_string().contains("size"), "{error}");
     }
     common::assert_no_validation_messages(&gpu);
-}
-
-/// A technique of the registry, by name.
-fn technique(name: &str) -> Technique {
-    nostencil::technique(name).expect("technique")
 }

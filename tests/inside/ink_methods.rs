@@ -1,7 +1,7 @@
 //! The seed-002 ink methods measured against what they must draw, computed on the CPU: the
 //! alpha test's ring on a sphere is where N.V < the reference value.
 
-use crate::common;
+use crate::common::{self, technique};
 
 use std::sync::Arc;
 
@@ -570,9 +570,4 @@ fn material_seams_inside_a_gltf_mesh_are_boundaries_only_when_asked_for() {
         }
     }
     common::assert_no_validation_messages(&gpu);
-}
-
-/// The technique called `name`.
-fn technique(name: &str) -> Technique {
-    nostencil::technique(name).expect("technique")
 }

@@ -27,7 +27,7 @@ fn frame(gpu: &Arc<Gpu>, scene: &Scene, technique: &str) -> TechniqueFrame {
         width: SIZE.0,
         height: SIZE.1,
         samples: 1,
-        technique: nostencil::technique(technique).expect("technique"),
+        technique: common::technique(technique),
         ..RenderOptions::default()
     };
     let frame = render_scene(gpu, scene, &options).unwrap_or_else(|e| panic!("{technique} renders: {e}"));
@@ -279,7 +279,7 @@ fn the_unshadowed_lights_warning_names_the_way_to_shadow_them_all() {
             width: SIZE.0,
             height: SIZE.1,
             samples: 1,
-            technique: nostencil::technique(technique).expect("technique"),
+            technique: common::technique(technique),
             ..RenderOptions::default()
         };
         options.shadow_mode = ShadowMode::Modulate;

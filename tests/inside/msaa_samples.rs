@@ -3,7 +3,7 @@
 //! sample, shadow edges with intermediate resolved values, the box's shadow still its projected
 //! outline at 4x, and saturation counted per sample.
 
-use crate::common;
+use crate::common::{self, technique};
 
 use nostencil::ShadowMode;
 
@@ -26,15 +26,11 @@ use nostencil::technique::shadow_volume::{self, bounds, build_volume, prepare_ca
 use nostencil::technique::shadow_volume::{Normalize, ShadowVolumeOptions, VolumeMethod};
 use nostencil::technique::ShadowTone;
 use nostencil::Gpu;
+use nostencil::RenderOptions;
 use nostencil::StencilMode;
 use nostencil::{builtin_scene, Scene};
-use nostencil::{RenderOptions, Technique};
 
 const SAMPLES: u32 = 4;
-
-fn technique(name: &str) -> Technique {
-    nostencil::technique(name).expect("technique")
-}
 
 /// A shadow-volume frame at 4x that keeps its samples, and every sample read back.
 fn kept_frame(gpu: &Arc<Gpu>, scene: &Scene, options: RenderOptions) -> (nostencil::FrameOutput, FrameSamples) {

@@ -3,7 +3,7 @@
 //! scaled outline of a sphere is measured against the ring computed here from the projection;
 //! and on a torus seen face-on the images show where the two methods differ.
 
-use crate::common;
+use crate::common::{self, technique};
 
 use std::sync::Arc;
 
@@ -287,9 +287,4 @@ fn blurred_outline_extends_the_sharp_one_by_the_radius() {
         }
     }
     common::assert_no_validation_messages(&gpu);
-}
-
-/// The technique called `name`.
-fn technique(name: &str) -> nostencil::Technique {
-    nostencil::technique(name).expect("technique")
 }

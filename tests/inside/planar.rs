@@ -5,7 +5,7 @@
 //! light's projected shadow removes only that light, as the CPU's projection says, and the
 //! emulated loop equals Ogre's stencil loop on every built-in scene.
 
-use crate::common;
+use crate::common::{self, technique};
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -848,11 +848,6 @@ fn a_renderer_built_once_follows_the_walk_as_if_rebuilt_at_each_time() {
         }
     }
     common::assert_no_validation_messages(&gpu);
-}
-
-/// A technique of the registry, by name.
-fn technique(name: &str) -> Technique {
-    nostencil::technique(name).expect("technique")
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -5,13 +5,12 @@ use crate::common;
 
 use std::sync::Arc;
 
-use glam::{Mat4, Vec4};
+use glam::Vec4;
 use nostencil::frame::FrameTargets;
 use nostencil::pipeline::{FixedFunction, PipelineDesc, VertexLayout};
 use nostencil::profile::budget::Budget;
 use nostencil::profile::heatmap;
 use nostencil::profile::report::{FrameFormats, ProfileReport, ReportContext};
-use nostencil::render::FrameUniforms;
 use nostencil::render::Renderer;
 use nostencil::render::{Pipeline, PipelineTarget};
 use nostencil::FrameOutput;
@@ -41,13 +40,7 @@ fn stacked_fullscreen_at(gpu: &Arc<Gpu>, passes: &[(&str, u32)], count_overdraw:
     let target =
         PipelineTarget { render_pass: renderer.targets.render_pass, colour_attachments: 1, samples, lights: 1 };
     let pipeline = Pipeline::for_target(gpu, &desc, target, &[]).expect("pipeline");
-    let uniforms = FrameUniforms {
-        view_proj: Mat4::IDENTITY,
-        light: Vec4::ZERO,
-        camera_position: Vec4::ZERO,
-        shading: Vec4::ZERO,
-        lights: Default::default(),
-    };
+    let uniforms = common::clip_space_uniforms();
     renderer
         .render(&uniforms, [0.0, 0.0, 0.0, 1.0], |rec| {
             for (name, quads) in passes {

@@ -3,7 +3,7 @@
 //! frame are shadowed where CPU ray casts say, the atlas and shadow-map renders agree except
 //! along shadow edges, and no mip of a generated atlas bleeds across chart borders.
 
-use crate::common;
+use crate::common::{self, technique};
 
 use std::sync::Arc;
 
@@ -428,11 +428,6 @@ fn bake_writes_the_models_shadow_texture_from_the_command_line() {
     let last = err.trim_end().lines().last().unwrap_or_default();
     assert!(last.starts_with("nostencil: error:") && last.contains("400 atlas charts do not fit"), "{err:?}");
     assert!(!out.exists());
-}
-
-/// A technique of the registry, by name.
-fn technique(name: &str) -> Technique {
-    nostencil::technique(name).expect("technique")
 }
 
 #[test]

@@ -2,7 +2,7 @@
 //! hand-computed answers: the seed's normalisation table, a box's projected outline, a camera
 //! inside a volume, and the background behind a volume.
 
-use crate::common;
+use crate::common::{self, technique};
 
 use std::collections::{HashMap, HashSet};
 use std::path::Path;
@@ -10,20 +10,20 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat4, Vec3};
 use image::RgbaImage;
 use nostencil::frame::render_pass::COLOUR_FORMAT;
 use nostencil::mesh::MeshData;
 use nostencil::render::plan::{Draws, PassKinds, PlannedPass};
+use nostencil::render::FrameRecorder;
 use nostencil::render::Pipeline;
 use nostencil::render::Renderer;
-use nostencil::render::{FrameRecorder, FrameUniforms};
 use nostencil::technique::shadow_volume::{self, Normalize, ShadowVolumeOptions, VolumeMethod};
 use nostencil::technique::{alpha_counter, ShadowTone};
 use nostencil::Gpu;
 use nostencil::StencilMode;
 use nostencil::{builtin_scene, Light, Scene, BUILTIN_SCENES};
-use nostencil::{render_scene, RenderOptions, ShadowMode, Technique};
+use nostencil::{render_scene, RenderOptions, ShadowMode};
 
 const SIZE: (u32, u32) = (128, 96);
 
@@ -262,13 +262,7 @@ fn normalisation_table_is_read_back_from_the_gpu() {
     // iteration, under lavapipe's rounding.
     assert_eq!(alpha_counter::seed_sequence(1), [253u8, 249, 237, 202, 107, 0]);
     let gpu = common::gpu();
-    let uniforms = FrameUniforms {
-        view_proj: Mat4::IDENTITY,
-        light: Vec4::ZERO,
-        camera_position: Vec4::ZERO,
-        shading: Vec4::ZERO,
-        lights: Default::default(),
-    };
+    let uniforms = common::clip_space_uniforms();
     let mut renderer = Renderer::new(&gpu, 16, 16, StencilMode::Emulated, false).expect("renderer");
     // On the format the frame ships in: alpha is linear UNORM8 there, the colour sRGB.
     assert_eq!(renderer.targets.desc.colour.format, COLOUR_FORMAT);
@@ -660,11 +654,6 @@ fn a_caster_that_cannot_cast_is_named_in_a_warning() {
     let warning = &frame.warnings[0];
     assert!(warning.contains("flat needle") && warning.contains("no triangle"), "{warning}");
     common::assert_no_validation_messages(&gpu);
-}
-
-/// A technique of the registry, by name.
-fn technique(name: &str) -> Technique {
-    nostencil::technique(name).expect("technique")
 }
 
 /// `nostencil profile` prints each caster's path, reason and capacity, in the table and in JSON.

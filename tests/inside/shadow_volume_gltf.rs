@@ -2,7 +2,7 @@
 //! pose: the emulated frame still equals the real-stencil reference pixel for pixel, and the
 //! shadow is really there, on the ground under the casters and nowhere else.
 
-use crate::common;
+use crate::common::{self, technique};
 
 use std::sync::Arc;
 
@@ -281,9 +281,4 @@ fn heavy_content_keeps_its_proof_and_its_fill(content: &HeavyContent) {
         }
     }
     common::assert_no_validation_messages(&gpu);
-}
-
-/// The technique called `name`.
-fn technique(name: &str) -> nostencil::Technique {
-    nostencil::technique(name).expect("technique")
 }
