@@ -12,8 +12,8 @@ use super::output_path::check_output_path;
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
 use crate::profile::bench::{self, BenchReport, BenchSettings, Variant};
+use crate::profile::table1;
 use crate::scene::Scene;
-use crate::technique::interface::BenchTable;
 use crate::technique::{by_name, RenderOptions, TECHNIQUES};
 
 /// What `bench` times and how it reports it.
@@ -52,7 +52,7 @@ pub(super) fn bench(
         for technique in TECHNIQUES {
             let one = FrameArgs { technique: technique.name().to_owned(), ..frame.clone() };
             // Only the technique with a paper table records it.
-            bench(&one, warmup, runs, false, table1_out.filter(|_| technique.bench_table().is_some()), None)?;
+            bench(&one, warmup, runs, false, table1_out.filter(|_| table1::covers(*technique)), None)?;
             println!();
         }
         return Ok(());
@@ -66,7 +66,7 @@ pub(super) fn bench(
         return bench_techniques(frame, warmup, runs, json, trace_path);
     }
     let options = options(frame)?;
-    if table1_out.is_some() && options.technique.bench_table().is_none() {
+    if table1_out.is_some() && !table1::covers(options.technique) {
         return Err(Error::InvalidInput(format!(
             "--table1-out records seed 004's Table 1: use it with --technique shadow-texture-atlas or shadow-map, not {}",
             options.technique.name()
@@ -81,10 +81,10 @@ pub(super) fn bench(
     }
     let scene = load_scene(frame)?;
     let gpu = open_gpu(&frame.gpu)?;
-    if let Some(BenchTable::Seed004Table1) = options.technique.bench_table() {
+    if table1::covers(options.technique) {
         // Seed 004's Table 1: both techniques, fixed and moving light, on its two scenes.
-        let runs = runs.unwrap_or(crate::profile::table1::DEFAULT_RUNS);
-        return crate::profile::table1::bench(&gpu, &options, warmup, runs, json, table1_out);
+        let runs = runs.unwrap_or(table1::DEFAULT_RUNS);
+        return table1::bench(&gpu, &options, warmup, runs, json, table1_out);
     }
     let variants = options.technique.bench_variants(&options).into_iter().map(|v| (v.label, v.options)).collect();
     let timed = Timed {

@@ -15,7 +15,6 @@ use crate::gpu::{mobile_profile, DeviceChoice, Gpu, GpuOptions};
 use crate::profile::budget::Budget;
 use crate::profile::report::{FrameFormats, ProfileReport, ReportContext, ReportFormat};
 use crate::scene::{Scene, BUILTIN_SCENES, OTHER_SCENES};
-use crate::technique::interface::BenchTable;
 use crate::technique::{by_name, render_scene, shadow_atlas, RenderOptions, TECHNIQUES};
 
 pub fn run(cli: Cli) -> Result<()> {
@@ -498,7 +497,7 @@ fn print_validation(report: Option<&ValidationReport>) {
 /// `bench --mip-flicker`: seed 004's anti-aliasing claim measured on `--scene`.
 fn bench_mip_flicker(frame: &FrameArgs, steps: u32, json: bool) -> Result<()> {
     let options = options(frame)?;
-    if options.technique.bench_table() != Some(BenchTable::Seed004Table1) {
+    if !crate::profile::mip_flicker::compares(options.technique) {
         return Err(Error::InvalidInput(format!(
             "--mip-flicker compares seed 004's shadow texture and shadow map: use it with --technique shadow-texture-atlas or shadow-map, not {}",
             options.technique.name()

@@ -14,12 +14,20 @@ use crate::error::{Error, Result};
 use crate::gpu::Gpu;
 use crate::scene::Scene;
 use crate::technique::options::{LightMode, ShadowAtlasOptions, ShadowKind, MOVING_LIGHT_STEP};
-use crate::technique::RenderOptions;
+use crate::technique::{RenderOptions, Technique};
 
 /// Largest jump of any colour channel (sRGB-encoded, 0..=255) between two neighbouring light
 /// angles that does not count as a flicker. A 0.02 radian turn moves N.L by at most 0.02, a few
 /// levels; a pixel crossing from lit to shadowed drops by the whole Lambert term.
 pub const FLICKER_THRESHOLD: u8 = 32;
+
+/// The techniques compared: seed 004's shadow texture atlas and the shadow map.
+pub const TECHNIQUES: [ShadowKind; 2] = [ShadowKind::Atlas, ShadowKind::Map];
+
+/// Whether `bench --mip-flicker` takes `technique` (either of the two it compares).
+pub fn compares(technique: Technique) -> bool {
+    TECHNIQUES.iter().any(|kind| kind.technique() == technique)
+}
 
 /// Light steps when the caller does not say.
 pub const DEFAULT_STEPS: u32 = 12;
@@ -55,7 +63,7 @@ pub fn measure(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions, steps: u3
     if steps == 0 {
         return Err(Error::InvalidInput("--mip-flicker needs at least 1 light step".into()));
     }
-    let rows = [ShadowKind::Atlas, ShadowKind::Map]
+    let rows = TECHNIQUES
         .into_iter()
         .map(|kind| {
             let technique = kind.technique();

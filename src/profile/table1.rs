@@ -13,7 +13,7 @@ use crate::error::{Error, Result};
 use crate::gpu::Gpu;
 use crate::scene::builtin_scene;
 use crate::technique::options::{LightMode, ShadowAtlasOptions, ShadowKind};
-use crate::technique::RenderOptions;
+use crate::technique::{RenderOptions, Technique};
 
 /// The paper's Table 1 (fps): (scene, technique, moving light, fixed light).
 pub const PAPER_TABLE1: [(&str, ShadowKind, f64, f64); 4] = [
@@ -22,6 +22,15 @@ pub const PAPER_TABLE1: [(&str, ShadowKind, f64, f64); 4] = [
     ("atlas-125", ShadowKind::Atlas, 12.33, 27.04),
     ("atlas-125", ShadowKind::Map, 13.44, 27.06),
 ];
+
+/// The techniques Table 1 compares: `bench` with one of them prints the table in place of
+/// timing the technique's variants.
+pub const TECHNIQUES: [ShadowKind; 2] = [ShadowKind::Atlas, ShadowKind::Map];
+
+/// Whether `bench --technique` with `technique` reproduces Table 1.
+pub fn covers(technique: Technique) -> bool {
+    TECHNIQUES.iter().any(|kind| kind.technique() == technique)
+}
 
 /// Timed rounds when `--runs` is not given: the atlas-125 rows take seconds a frame, and the
 /// table is read against the paper's figures, not to a few percent.
@@ -182,7 +191,7 @@ impl Table1 {
                     ratios.push(self.fps_ratio(scene, compared, a, m));
                 }
             }
-            for kind in [ShadowKind::Atlas, ShadowKind::Map] {
+            for kind in TECHNIQUES {
                 if let (Some(f), Some(m)) =
                     (self.row(scene, kind, LightMode::Fixed), self.row(scene, kind, LightMode::Moving))
                 {

@@ -125,11 +125,6 @@ impl Technique {
         self.0.plan_notes()
     }
 
-    /// A table of the technique's own that `bench` prints in place of timing its variants.
-    pub(crate) fn bench_table(self) -> Option<BenchTable> {
-        self.0.bench_table()
-    }
-
     /// `scene`'s lights as the plan loops over them (`passes --scene` plans with these).
     pub(crate) fn planned_lights(self, scene: &Scene) -> Vec<PlannedLight> {
         self.0.planned_lights(scene)
@@ -167,17 +162,8 @@ pub(crate) trait ErasedTechnique: Sync + 'static {
     fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant>;
     fn compare_variant(&self, name: &str, options: &RenderOptions) -> Result<RenderOptions>;
     fn plan_notes(&self) -> Result<Option<String>>;
-    fn bench_table(&self) -> Option<BenchTable>;
     fn describe(&self, options: &RenderOptions) -> String;
     fn planned_lights(&self, scene: &Scene) -> Vec<PlannedLight>;
-}
-
-/// The benchmark tables a technique can ask `bench` for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum BenchTable {
-    /// Seed 004's Table 1: shadow textures and the shadow map, fixed and moving light, on the
-    /// paper's two scenes.
-    Seed004Table1,
 }
 
 /// The emulated and the reference path, reference first.

@@ -8,7 +8,7 @@ use std::sync::Arc;
 
 use super::frame_renderer::{self, BuildContext, Passes};
 use super::interface::{
-    stencil_variant, stencil_variants, BenchTable, ErasedTechnique, RenderOptions, TechniqueRenderer, Variant,
+    stencil_variant, stencil_variants, ErasedTechnique, RenderOptions, TechniqueRenderer, Variant,
 };
 use super::light_loop::PlannedLight;
 use super::options::{ShadowMode, ShadowVolumeOptions};
@@ -67,11 +67,6 @@ pub trait TechniqueUnit: Sync + 'static {
     /// What `passes` prints after the plans, when the technique has more to say about them.
     fn plan_notes(&self) -> Result<Option<String>> {
         Ok(None)
-    }
-
-    /// A table of the technique's own that `bench` prints in place of timing its variants.
-    fn bench_table(&self) -> Option<BenchTable> {
-        None
     }
 
     /// The viewer's title: the technique and the options that matter to it.
@@ -273,10 +268,6 @@ impl<T: TechniqueUnit> ErasedTechnique for T {
 
     fn plan_notes(&self) -> Result<Option<String>> {
         TechniqueUnit::plan_notes(self)
-    }
-
-    fn bench_table(&self) -> Option<BenchTable> {
-        TechniqueUnit::bench_table(self)
     }
 
     fn describe(&self, options: &RenderOptions) -> String {

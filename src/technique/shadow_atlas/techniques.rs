@@ -9,7 +9,7 @@ use crate::gpu::Gpu;
 use crate::render::plan::PassPlan;
 use crate::scene::Scene;
 use crate::technique::frame_renderer::BuildContext;
-use crate::technique::interface::{BenchTable, RenderOptions, Technique, Variant};
+use crate::technique::interface::{RenderOptions, Technique, Variant};
 use crate::technique::light_loop::PlannedLight;
 use crate::technique::options::{LightMode, ShadowKind};
 use crate::technique::unit::{Prepared, ShadowedLights, TechniqueUnit};
@@ -134,10 +134,5 @@ impl TechniqueUnit for ShadowTechnique {
             options.stencil.name(),
             options.shadow_atlas.light.name()
         )
-    }
-
-    fn bench_table(&self) -> Option<BenchTable> {
-        // Table 1 compares the atlas and the map; the projective texture is not in it.
-        (self.kind != ShadowKind::Projective).then_some(BenchTable::Seed004Table1)
     }
 }
