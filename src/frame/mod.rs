@@ -11,5 +11,5 @@ pub mod targets;
 
 pub use png::{write_atomically, write_png};
 pub use readback::image_from_rgba8;
-pub use render_pass::{RenderPassDesc, StencilMode};
+pub use render_pass::StencilMode;
 pub use targets::FrameTargets;

@@ -5,7 +5,7 @@
 
 use ash::vk;
 pub use nostencil_tiler::attachment::{AttachmentDesc, AttachmentTraffic, RenderPassTraffic};
-pub use nostencil_tiler::formats::{format_has_stencil, texel_bytes};
+pub use nostencil_tiler::formats::format_has_stencil;
 
 use crate::error::{Result, VkContext};
 

@@ -4,10 +4,12 @@
 
 pub mod counters;
 pub mod frame_copy;
+pub mod frame_stats;
 pub mod gpu_mesh;
 pub mod instances;
 pub mod materials;
 pub mod object_push;
+pub mod passes;
 pub mod pipeline_object;
 pub mod plan;
 pub mod plan_execution;
@@ -19,10 +21,10 @@ pub mod uniforms;
 
 pub use counters::{FrameCounters, PassCounters};
 pub use gpu_mesh::{scene_vertices, GpuMesh, GpuScene, SceneVertex};
-pub use materials::{GpuMaterials, MATERIAL_SET};
+pub use materials::GpuMaterials;
 pub use object_push::{object_push, LightPush, ObjectPush, LIGHT_PUSH_BYTES, OBJECT_PUSH_BYTES};
 pub use pipeline_object::{Pipeline, PipelineTarget};
 pub use recorder::FrameRecorder;
 pub use renderer::{FrameOutput, Renderer};
 pub use sample_readback::FrameSamples;
-pub use uniforms::{FrameDescriptors, FrameUniforms};
+pub use uniforms::FrameUniforms;

@@ -236,7 +236,7 @@ pub struct PlannedPass<K: PassKinds = Named> {
     /// Reads the colour target written by earlier passes of its subpass (a by-region barrier
     /// first: on a tiler, the read stays in tile memory).
     pub reads_colour: bool,
-    /// Drawn inside the technique's scissor for the frame (`PassDraws::scissor`) rather than
+    /// Drawn inside the technique's scissor for the frame (`Passes::scissor`) rather than
     /// over the whole frame.
     pub scissored: bool,
     /// The light (index into the scene's lights) a pass of a per-light loop is for: its
@@ -402,7 +402,7 @@ impl<K: PassKinds> PlannedPass<K> {
         self
     }
 
-    /// Drawn inside the technique's scissor for the frame (see [`PassDraws::scissor`]).
+    /// Drawn inside the technique's scissor for the frame (see [`Passes::scissor`](super::passes::Passes::scissor)).
     pub fn for_light(mut self, light: u8) -> Self {
         self.light = Some(light);
         self

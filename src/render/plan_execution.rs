@@ -1,6 +1,6 @@
-//! Executing a [`PassPlan`]: its pipelines built once ([`PlanPipelines`]), what a technique
-//! supplies to run it ([`PassDraws`]), and the recording of its passes in order
-//! ([`record_plan`]), with the object passes the recorder draws itself ([`draw_objects`]).
+//! Executing a [`PassPlan`]: its pipelines built once ([`PlanPipelines`]) and the recording
+//! of its passes in order ([`record_plan`]) from what the technique supplies ([`Passes`]),
+//! with the object passes the recorder draws itself ([`draw_objects`]).
 
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -10,11 +10,11 @@ use ash::vk;
 use super::gpu_mesh::GpuScene;
 use super::materials::{MaterialVariant, MATERIAL_SET};
 use super::object_push::{draw_order, object_push, LightPush};
+use super::passes::Passes;
 use super::pipeline_object::PipelineTarget;
 use super::plan::{DrawKind, Draws, Label, PassKinds, PassPlan, PlannedPass, Scissor, SetRole, Target, When};
 use super::recorder::FrameRecorder;
 use crate::error::{Error, Result};
-use crate::gpu::descriptors::DescriptorSet;
 use crate::gpu::Gpu;
 use crate::render::Pipeline;
 use crate::scene::Scene;
@@ -78,46 +78,6 @@ impl PlanPipelines {
     }
 }
 
-/// What a technique supplies to execute its plan: the descriptor sets of its own, the scene's
-/// meshes for the object passes the recorder draws, and the draws only it knows how to make.
-pub trait PassDraws<K: PassKinds> {
-    /// A set of its own, bound by the passes that name it (its layout is also what the
-    /// pipelines are built with; the frame's uniforms are the recorder's).
-    fn set(&self, set: K::Set) -> Option<&DescriptorSet> {
-        let _ = set;
-        None
-    }
-
-    /// The scene's meshes, for passes that draw [`Draws::Objects`] (the recorder draws those).
-    fn meshes(&self) -> Option<&GpuScene> {
-        None
-    }
-
-    /// The material set template bound with the pass's sets (each object then binds its own).
-    fn material_set(&self) -> Option<vk::DescriptorSet> {
-        self.meshes().map(|meshes| meshes.materials.template_set())
-    }
-
-    /// Where the plan's scissored pass `pass` draws this frame (in a per-light loop, its
-    /// `light` says whose scissor).
-    fn scissor(&self, pass: &PlannedPass<K>) -> Scissor {
-        let _ = pass;
-        Scissor::Frame
-    }
-
-    /// Records the technique's own draw `draw` of `pass` (the recorder has opened the measured
-    /// pass, made the colour target readable if the pass reads it, and, in the frame's render
-    /// pass, bound the pass's main pipeline with its sets).
-    fn draw(
-        &self,
-        rec: &mut FrameRecorder,
-        scene: &Scene,
-        draw: K::Draw,
-        pass: &PlannedPass<K>,
-        pipelines: &[&Pipeline],
-    ) -> Result<()>;
-}
-
 /// Whether a conditional pass runs this frame.
 pub type Conditions<'a> = &'a dyn Fn(When) -> bool;
 
@@ -131,7 +91,7 @@ pub fn record_plan<K: PassKinds>(
     in_frame: bool,
     holds: Conditions,
     scene: &Scene,
-    draws: &dyn PassDraws<K>,
+    draws: &dyn Passes<K>,
 ) -> Result<()> {
     for (index, pass) in plan.passes.iter().enumerate() {
         if (pass.target == Target::Frame) != in_frame || !holds(pass.when) {

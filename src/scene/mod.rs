@@ -33,15 +33,14 @@ pub mod posing;
 pub mod rig;
 pub mod skinning;
 
-pub use animation::{pose_at, rest_pose, sample_channel, TimeMode};
+pub use animation::{pose_at, TimeMode};
 pub use builtin::{builtin_scene, builtin_scene_at, BUILTIN_SCENES, OTHER_SCENES};
 pub use camera::{Camera, Light};
 pub use from_gltf::{scene_and_warnings_from_gltf, scene_and_warnings_from_gltf_slice, scene_from_gltf};
 pub use lights::{SceneLight, MAX_LIGHTS};
 // `self::`: `gltf` alone would also name the gltf crate.
-pub use self::gltf::{load_gltf, load_gltf_slice};
-pub use model::{Animation, Model, Transform, MAX_JOINTS};
+pub use self::gltf::load_gltf;
+pub use model::MAX_JOINTS;
 pub use objects::{bounds_of, Scene, SceneObject, SceneSkin};
 pub use posing::PoseTracker;
-pub use rig::{ObjectRig, PoseSource, Rig, RigPose};
 pub use skinning::{joint_matrices, skin_positions_normals, world_matrices};

@@ -6,81 +6,16 @@
 
 use std::sync::Arc;
 
-use ash::vk;
-
-use super::interface::{check_same_scene, FrameStats, RenderOptions, TechniqueFrame, TechniqueRenderer};
+use super::interface::{check_same_scene, RenderOptions, TechniqueFrame, TechniqueRenderer};
 use crate::error::{Error, Result};
 use crate::frame::FrameTargets;
 use crate::gpu::Gpu;
+use crate::render::passes::Passes;
 use crate::render::plan::{Label, PassKinds, PassPlan, SetRole, Target, When};
-use crate::render::plan_execution::{record_plan, PassDraws, PlanPipelines};
+use crate::render::plan_execution::{record_plan, PlanPipelines};
 use crate::render::PipelineTarget;
-use crate::render::{FrameOutput, FrameUniforms, Renderer};
-use crate::scene::{Light, Scene};
-
-/// A technique's side of a renderer: what it built for the scene, and what it does per frame.
-/// Its sets, meshes and own draws come through [`PassDraws`], typed by the technique's kinds.
-pub trait Passes<K: PassKinds>: PassDraws<K> {
-    /// The layout of the material set, when the plan binds one.
-    fn material_layout(&self) -> Option<vk::DescriptorSetLayout> {
-        self.meshes().map(|meshes| meshes.materials.layout())
-    }
-
-    /// The render pass (and its colour attachment count) of an offscreen target. Prepasses
-    /// render at one sample: a shadow map's depth compare, a bake's texels and a mask's
-    /// coverage are sampled and filtered later, where extra samples would only be resolved
-    /// away (docs/msaa.md).
-    fn offscreen_pass(&self, target: K::Target) -> Option<(vk::RenderPass, usize)> {
-        let _ = target;
-        None
-    }
-
-    /// Per-frame CPU work before recording: re-pose skinned copies, rebuild and upload the
-    /// geometry the frame draws.
-    fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()>;
-
-    /// The colour target's clear alpha (1 for most; the counter's 0 for shadow volumes).
-    fn clear_alpha(&self) -> f32 {
-        1.0
-    }
-
-    /// The stencil's clear value on the reference path (0 for most; the volume count's zero
-    /// for shadow volumes).
-    fn clear_stencil(&self) -> u32 {
-        0
-    }
-
-    /// The light of this frame's uniforms, when it is not the scene's (a light that turns
-    /// from frame to frame).
-    fn frame_light(&self) -> Option<Light> {
-        None
-    }
-
-    /// Which conditional passes run in this frame.
-    fn conditions(&self, scene: &Scene) -> Vec<When> {
-        let _ = scene;
-        Vec::new()
-    }
-
-    /// What the frame did, from its output; called once per frame after it completed.
-    fn stats(&mut self, output: &FrameOutput, scene: &Scene) -> Box<dyn FrameStats>;
-
-    /// Whether `scene` needs a rebuilt renderer (see `SceneRenderer::stale_for`).
-    fn stale_for(&self, renderer: &Renderer, scene: &Scene) -> bool {
-        let _ = (renderer, scene);
-        false
-    }
-
-    /// See `SceneRenderer::frames_to_steady_state`.
-    fn frames_to_steady_state(&self) -> u32 {
-        1
-    }
-
-    /// See `SceneRenderer::warnings`.
-    fn warnings(&self) -> &[String] {
-        &[]
-    }
-}
+use crate::render::{FrameUniforms, Renderer};
+use crate::scene::Scene;
 
 /// A built renderer: the frame renderer, the plan and its pipelines, and the technique's part.
 pub struct FrameRenderer<'s, K: PassKinds, P> {

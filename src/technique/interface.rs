@@ -4,16 +4,16 @@
 //! name. A technique implements `unit::TechniqueUnit` and is listed in
 //! [`super::registry::TECHNIQUES`] (docs/adding-a-technique.md).
 
-use std::any::Any;
 use std::fmt;
 use std::sync::Arc;
 
-use super::light_loop::PlannedLight;
+use super::light_loop::{PlannedLight, ShadowedLights};
 use super::options::{CartoonOptions, PlanarOptions, ShadowAtlasOptions, ShadowMode, ShadowVolumeOptions};
 use super::shadow_tone::ShadowTone;
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::Gpu;
+pub use crate::render::frame_stats::FrameStats;
 use crate::render::plan::{PassPlan, When};
 use crate::render::{FrameOutput, Renderer};
 use crate::scene::Scene;
@@ -102,7 +102,7 @@ impl Technique {
 
     /// The passes of a frame with `options`, planned for `lights`, by name.
     pub(crate) fn plan(self, options: &RenderOptions, lights: &[PlannedLight]) -> Result<PassPlan> {
-        self.0.plan(options, lights)
+        self.0.plan_by_name(options, lights)
     }
 
     /// What `bench` times side by side.
@@ -145,25 +145,80 @@ impl PartialEq for Technique {
 
 impl Eq for Technique {}
 
-/// A technique as the crate holds it. Nothing implements it by hand: every
-/// `unit::TechniqueUnit` is one, through the blanket impl in `unit.rs`, whose trait documents
-/// each method.
-pub(crate) trait ErasedTechnique: Sync + 'static {
+/// What a technique says about itself and the variants it runs, the half of a technique that
+/// needs no types of its own: the [`Technique`] handle reaches it directly. Only `name` and
+/// `about` have no default. The other half, what it plans and builds, is
+/// `unit::TechniqueUnit`.
+pub trait TechniqueInfo: Sync + 'static {
+    /// The `--technique` value.
     fn name(&self) -> &'static str;
+
+    /// One line for `--help` and `info`: what it draws, and which seed it comes from.
     fn about(&self) -> &'static str;
-    fn plan(&self, options: &RenderOptions, lights: &[PlannedLight]) -> Result<PassPlan>;
+
+    /// What `bench` times side by side, the real-stencil reference first where there is one.
+    fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+        stencil_variants(self.name(), options)
+    }
+
+    /// Every plan `passes` prints and the plan test checks: each path and each option that
+    /// changes the passes.
+    fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+        stencil_variants(self.name(), options)
+    }
+
+    /// `profile --compare NAME`: the options of the variant called `name`.
+    fn compare_variant(&self, name: &str, options: &RenderOptions) -> Result<RenderOptions> {
+        stencil_variant(name, options).ok_or_else(|| {
+            Error::InvalidInput(format!("--compare {name}: {} has the variants emulated and reference", self.name()))
+        })
+    }
+
+    /// What `passes` prints after the plans, when the technique has more to say about them.
+    fn plan_notes(&self) -> Result<Option<String>> {
+        Ok(None)
+    }
+
+    /// The viewer's title: the technique and the options that matter to it.
+    fn describe(&self, options: &RenderOptions) -> String {
+        format!("{} ({})", self.name(), options.stencil.name())
+    }
+
+    /// `scene`'s lights as this technique's plan loops over them: by default each casts
+    /// shadows as the scene says; a technique that cannot shadow some light plans it as
+    /// unshadowed, so that `passes` prints the passes its renderer runs.
+    fn planned_lights(&self, scene: &Scene) -> Vec<PlannedLight> {
+        PlannedLight::of_scene(scene)
+    }
+
+    /// Which of the scene's lights the technique shadows with `options`, its lights planned as
+    /// `lights` (none, by default). One that shadows the primary light alone shades the others
+    /// unshadowed, and a frame's warnings name them.
+    fn shadowed_lights(&self, options: &RenderOptions, lights: &[PlannedLight]) -> ShadowedLights {
+        let _ = (options, lights);
+        ShadowedLights::None
+    }
+
+    /// Why light `light` of `scene`, which casts shadows, goes unshadowed (the warning says
+    /// it beside the light's name); `None`: no reason beyond the technique's.
+    fn unshadowed_reason(&self, scene: &Scene, light: usize) -> Option<String> {
+        let _ = (scene, light);
+        None
+    }
+}
+
+/// A technique as the crate holds it: its [`TechniqueInfo`], and the plan and build of its
+/// `unit::TechniqueUnit` with the unit's types erased. Nothing implements it by hand: the
+/// blanket impl in `unit.rs` does, for every unit.
+pub(crate) trait ErasedTechnique: TechniqueInfo {
+    /// The unit's plan, its kinds kept by name.
+    fn plan_by_name(&self, options: &RenderOptions, lights: &[PlannedLight]) -> Result<PassPlan>;
     fn build<'s>(
         &self,
         gpu: &Arc<Gpu>,
         scene: &'s Scene,
         options: &RenderOptions,
     ) -> Result<Box<dyn TechniqueRenderer + 's>>;
-    fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant>;
-    fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant>;
-    fn compare_variant(&self, name: &str, options: &RenderOptions) -> Result<RenderOptions>;
-    fn plan_notes(&self) -> Result<Option<String>>;
-    fn describe(&self, options: &RenderOptions) -> String;
-    fn planned_lights(&self, scene: &Scene) -> Vec<PlannedLight>;
 }
 
 /// The emulated and the reference path, reference first.
@@ -248,40 +303,6 @@ pub(crate) trait TechniqueRenderer {
     }
     fn warnings(&self) -> &[String] {
         &[]
-    }
-}
-
-/// What a technique reports about a frame beyond its counters.
-pub trait FrameStats: fmt::Debug {
-    /// Lines printed under `profile`'s table (none for a technique with nothing to add).
-    fn report(&self) -> String;
-
-    /// The `technique_stats` object of `profile --format json`.
-    fn json(&self) -> serde_json::Value;
-
-    /// A few words for the viewer's title ("z-fail").
-    fn brief(&self) -> Option<String> {
-        None
-    }
-
-    fn as_any(&self) -> &dyn Any;
-}
-
-/// A technique with nothing to report.
-#[derive(Debug)]
-pub struct NoStats;
-
-impl FrameStats for NoStats {
-    fn report(&self) -> String {
-        String::new()
-    }
-
-    fn json(&self) -> serde_json::Value {
-        serde_json::Value::Null
-    }
-
-    fn as_any(&self) -> &dyn Any {
-        self
     }
 }
 

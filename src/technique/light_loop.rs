@@ -34,3 +34,29 @@ pub fn primary(lights: &[PlannedLight]) -> Option<usize> {
 pub fn pass_name(light: &PlannedLight, pass: &str) -> String {
     format!("{}: {pass}", light.name)
 }
+
+/// Which lights a technique shadows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ShadowedLights {
+    /// Every light that casts shadows (the additive loop).
+    Every,
+    /// The primary light only (the first that casts shadows).
+    Primary,
+    /// None: the technique draws no shadows (lit, outlines, ink).
+    None,
+    /// The lights whose bit is set (bit i: the scene's light i), the others not: shadow maps
+    /// cover what one frustum can (no cube map for a point light inside the scene).
+    Listed(u8),
+}
+
+impl ShadowedLights {
+    /// Whether light `index` of `scene`, which casts shadows, is shadowed.
+    pub fn covers(self, scene: &Scene, index: usize) -> bool {
+        match self {
+            ShadowedLights::Every => true,
+            ShadowedLights::Primary => scene.primary_light_index() == Some(index),
+            ShadowedLights::None => false,
+            ShadowedLights::Listed(mask) => index < 8 && mask & (1 << index) != 0,
+        }
+    }
+}

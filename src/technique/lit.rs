@@ -3,17 +3,17 @@
 
 use std::sync::Arc;
 
-use super::frame_renderer::{BuildContext, Passes};
-use super::interface::{NoStats, RenderOptions};
+use super::frame_renderer::BuildContext;
+use super::interface::{RenderOptions, TechniqueInfo};
 use super::light_loop::PlannedLight;
 use super::material_variants::with_surface_variants;
-use super::unit::{Prepared, TechniqueUnit};
+use super::unit::TechniqueUnit;
 use crate::error::Result;
 use crate::gpu::Gpu;
 use crate::pipeline::{FixedFunction, PipelineDesc, VertexLayout};
+use crate::render::passes::Passes;
 use crate::render::plan::{NoOwn, PassKinds, PassPlan, PlannedPass, RecorderOnly, SetRole};
-use crate::render::plan_execution::PassDraws;
-use crate::render::{FrameOutput, FrameRecorder, GpuScene, Pipeline, Renderer, OBJECT_PUSH_BYTES};
+use crate::render::{FrameRecorder, GpuScene, Pipeline, Renderer, OBJECT_PUSH_BYTES};
 use crate::scene::Scene;
 use crate::shaders;
 
@@ -40,11 +40,7 @@ pub fn scene_pass<K: PassKinds>(alpha: f32) -> PlannedPass<K> {
 /// Lambert + ambient, no shadows.
 pub struct Lit;
 
-impl TechniqueUnit for Lit {
-    type Kinds = RecorderOnly;
-    type Setup = ();
-    type Passes = LitPasses;
-
+impl TechniqueInfo for Lit {
     fn name(&self) -> &'static str {
         "lit"
     }
@@ -52,14 +48,16 @@ impl TechniqueUnit for Lit {
     fn about(&self) -> &'static str {
         "Lambert + ambient, no shadows: the base every technique adds to"
     }
+}
+
+impl TechniqueUnit for Lit {
+    type Kinds = RecorderOnly;
+    type Setup = ();
+    type Passes = LitPasses;
 
     /// The lit frame: the scene pass alone.
     fn plan(&self, _options: &RenderOptions, _lights: &[PlannedLight]) -> Result<PassPlan<RecorderOnly>> {
         Ok(PassPlan { passes: vec![scene_pass(1.0)] })
-    }
-
-    fn setup(&self, _gpu: &Gpu, _scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
-        Ok(Prepared::as_given(options))
     }
 
     fn make(&self, ctx: BuildContext<'_, RecorderOnly>, scene: &Scene, _setup: ()) -> Result<LitPasses> {
@@ -72,7 +70,7 @@ pub struct LitPasses {
     meshes: GpuScene,
 }
 
-impl PassDraws<RecorderOnly> for LitPasses {
+impl Passes<RecorderOnly> for LitPasses {
     fn meshes(&self) -> Option<&GpuScene> {
         Some(&self.meshes)
     }
@@ -87,14 +85,8 @@ impl PassDraws<RecorderOnly> for LitPasses {
     ) -> Result<()> {
         match draw {}
     }
-}
 
-impl Passes<RecorderOnly> for LitPasses {
     fn prepare(&mut self, _renderer: &Renderer, scene: &Scene) -> Result<()> {
         self.meshes.follow_pose(&self.gpu, scene).map(|_| ())
-    }
-
-    fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn super::interface::FrameStats> {
-        Box::new(NoStats)
     }
 }

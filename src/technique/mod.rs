@@ -32,17 +32,16 @@ use crate::gpu::Gpu;
 use crate::scene::Scene;
 
 pub use cartoon::CartoonStats;
-pub use interface::{check_same_scene, FrameStats, RenderOptions, SceneRenderer, Technique, TechniqueFrame, Variant};
+pub use interface::{FrameStats, RenderOptions, SceneRenderer, Technique, TechniqueFrame};
 pub use options::{
     AtlasBake, CartoonOptions, InkStyle, InkStyles, LightMode, Normalize, OutlineMethod, Seams, ShadowAtlasOptions,
-    ShadowKind, ShadowMode, ShadowVolumeOptions, SilhouetteMethod, TextureShadowOn, VolumeMethod, INK_STYLE_FLAGS,
+    ShadowKind, ShadowMode, ShadowVolumeOptions, SilhouetteMethod, TextureShadowOn, VolumeMethod,
 };
 pub use planar::{GivenPlane, PlanarOptions, PlanarStats};
 pub use registry::{by_name, TECHNIQUES};
 pub use shadow_atlas::ShadowAtlasStats;
 pub use shadow_tone::{ShadowTone, SharedShadowArgs};
 pub use shadow_volume::ShadowVolumeStats;
-pub use unit::{Prepared, TechniqueUnit};
 
 /// Renders `scene` with the options' technique and returns the steady-state frame (a cached
 /// shadow map or bake already skipped) with its counters.

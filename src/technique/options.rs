@@ -4,14 +4,12 @@
 //! share is in `flags`. (Which technique, the size and the stencil path are in
 //! `RenderOptions`, beside the `Technique` interface.)
 
-pub use super::flags::parse_rgb_hex;
+use super::light_loop::ShadowedLights;
 
-pub use super::cartoon_options::{
-    CartoonOptions, InkStyle, InkStyles, OutlineMethod, Seams, SilhouetteMethod, INK_STYLE_FLAGS,
-};
-pub use super::planar::options::{GivenPlane, PlanarOptions, TextureShadowOn, DEFAULT_TEXTURE_SHADOW_SIZE};
+pub use super::cartoon_options::{CartoonOptions, InkStyle, InkStyles, OutlineMethod, Seams, SilhouetteMethod};
+pub use super::planar::options::{GivenPlane, PlanarOptions, TextureShadowOn};
 pub use super::shadow_atlas::light::MOVING_LIGHT_STEP;
-pub use super::shadow_atlas::options::{check_size, AtlasBake, LightMode, ShadowAtlasOptions, ShadowKind};
+pub use super::shadow_atlas::options::{AtlasBake, LightMode, ShadowAtlasOptions, ShadowKind};
 pub use super::shadow_volume::options::{Normalize, ShadowVolumeOptions, VolumeMethod};
 
 crate::names::named_enum! {
@@ -24,5 +22,16 @@ crate::names::named_enum! {
         /// The seed's apply (Hall): the finished, lit frame darkened where the primary light's
         /// shadow falls.
         Modulate = "modulate",
+    }
+}
+
+impl ShadowMode {
+    /// The lights a family with both modes shadows: every one in the additive loop, the primary
+    /// light in the seeds' modulated frame.
+    pub fn shadowed_lights(self) -> ShadowedLights {
+        match self {
+            ShadowMode::Additive => ShadowedLights::Every,
+            ShadowMode::Modulate => ShadowedLights::Primary,
+        }
     }
 }

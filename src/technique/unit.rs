@@ -1,37 +1,33 @@
-//! A technique as one typed unit: what a technique's folder implements. Its pass kinds tie its
-//! plan to its draws (an exhaustive `match`, checked when it compiles), and the build every
-//! technique shares is written once, here, by the blanket `impl Technique` that turns a unit
-//! into the erased [`Technique`] the command line, `bench`, `passes` and the viewer hold.
+//! A technique as one typed unit: the half of a technique's folder that has types of its own
+//! (the other half is [`TechniqueInfo`]). Its pass kinds tie its plan to its draws (an
+//! exhaustive `match`, checked when it compiles), and the build every technique shares is
+//! written once, here, by the blanket `impl ErasedTechnique` that lets the registry hold a unit
+//! as the [`Technique`](super::Technique) the command line, `bench`, `passes` and the viewer
+//! hold.
 //! Adding a technique: docs/adding-a-technique.md.
 
 use std::sync::Arc;
 
-use super::frame_renderer::{self, BuildContext, Passes};
-use super::interface::{
-    stencil_variant, stencil_variants, ErasedTechnique, RenderOptions, TechniqueRenderer, Variant,
-};
-use super::light_loop::PlannedLight;
-use super::options::{ShadowMode, ShadowVolumeOptions};
+use super::frame_renderer::{self, BuildContext};
+use super::interface::{ErasedTechnique, RenderOptions, TechniqueInfo, TechniqueRenderer};
+use super::light_loop::{PlannedLight, ShadowedLights};
+use super::options::ShadowMode;
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
+use crate::render::passes::Passes;
 use crate::render::plan::{PassKinds, PassPlan};
 use crate::scene::Scene;
 
-/// What a technique's folder implements (see docs/adding-a-technique.md).
-pub trait TechniqueUnit: Sync + 'static {
+/// What a technique's folder implements, beside [`TechniqueInfo`]: the types that tie its plan
+/// to its draws, its plan, and what it builds for a scene (see docs/adding-a-technique.md).
+pub trait TechniqueUnit: TechniqueInfo {
     /// Its own draws, descriptor sets and render passes (`RecorderOnly` when it has none).
     type Kinds: PassKinds;
     /// What it works out from the scene on the CPU before the frame is planned (the casters
     /// whose volumes decide z-fail, the objects an outline selects): `()` when nothing.
-    type Setup;
+    type Setup: Default;
     /// What it builds for a scene: its GPU resources, its draws, its statistics.
     type Passes: Passes<Self::Kinds>;
-
-    /// The `--technique` value.
-    fn name(&self) -> &'static str;
-
-    /// One line for `--help` and `info`: what it draws, and which seed it comes from.
-    fn about(&self) -> &'static str;
 
     /// The passes of a frame with `options`, in the order they run, with a per-light loop over
     /// `lights` (`planned_lights` of the scene; a plan printed without a scene has the one
@@ -40,96 +36,14 @@ pub trait TechniqueUnit: Sync + 'static {
     fn plan(&self, options: &RenderOptions, lights: &[PlannedLight]) -> Result<PassPlan<Self::Kinds>>;
 
     /// The CPU work on `scene` before planning, and the options resolved with it. Errors
-    /// here come before anything is uploaded.
-    fn setup(&self, gpu: &Gpu, scene: &Scene, options: &RenderOptions) -> Result<Prepared<Self::Setup>>;
+    /// here come before anything is uploaded. By default there is none: the options as given.
+    fn setup(&self, gpu: &Gpu, scene: &Scene, options: &RenderOptions) -> Result<Prepared<Self::Setup>> {
+        let _ = (gpu, scene);
+        Ok(Prepared { options: options.clone(), setup: Self::Setup::default() })
+    }
 
     /// Builds the technique's part of a renderer for `scene`, once the frame renderer exists.
     fn make(&self, ctx: BuildContext<'_, Self::Kinds>, scene: &Scene, setup: Self::Setup) -> Result<Self::Passes>;
-
-    /// What `bench` times side by side, the real-stencil reference first where there is one.
-    fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
-        stencil_variants(self.name(), options)
-    }
-
-    /// Every plan `passes` prints and the plan test checks: each path and each option that
-    /// changes the passes.
-    fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant> {
-        stencil_variants(self.name(), options)
-    }
-
-    /// `profile --compare NAME`: the options of the variant called `name`.
-    fn compare_variant(&self, name: &str, options: &RenderOptions) -> Result<RenderOptions> {
-        stencil_variant(name, options).ok_or_else(|| {
-            Error::InvalidInput(format!("--compare {name}: {} has the variants emulated and reference", self.name()))
-        })
-    }
-
-    /// What `passes` prints after the plans, when the technique has more to say about them.
-    fn plan_notes(&self) -> Result<Option<String>> {
-        Ok(None)
-    }
-
-    /// The viewer's title: the technique and the options that matter to it.
-    fn describe(&self, options: &RenderOptions) -> String {
-        format!("{} ({})", self.name(), options.stencil.name())
-    }
-
-    /// `scene`'s lights as this technique's plan loops over them: by default each casts
-    /// shadows as the scene says; a technique that cannot shadow some light plans it as
-    /// unshadowed, so that `passes` prints the passes its renderer runs.
-    fn planned_lights(&self, scene: &Scene) -> Vec<PlannedLight> {
-        PlannedLight::of_scene(scene)
-    }
-
-    /// Which of the scene's lights the technique shadows with `options`, its lights planned as
-    /// `lights` (none, by default). One that shadows the primary light alone shades the others
-    /// unshadowed, and a frame's warnings name them.
-    fn shadowed_lights(&self, options: &RenderOptions, lights: &[PlannedLight]) -> ShadowedLights {
-        let _ = (options, lights);
-        ShadowedLights::None
-    }
-
-    /// Why light `light` of `scene`, which casts shadows, goes unshadowed (the warning says
-    /// it beside the light's name); `None`: no reason beyond the technique's.
-    fn unshadowed_reason(&self, scene: &Scene, light: usize) -> Option<String> {
-        let _ = (scene, light);
-        None
-    }
-}
-
-/// Which lights a technique shadows.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ShadowedLights {
-    /// Every light that casts shadows (the additive loop).
-    Every,
-    /// The primary light only (the first that casts shadows).
-    Primary,
-    /// None: the technique draws no shadows (lit, outlines, ink).
-    None,
-    /// The lights whose bit is set (bit i: the scene's light i), the others not: shadow maps
-    /// cover what one frustum can (no cube map for a point light inside the scene).
-    Listed(u8),
-}
-
-impl ShadowedLights {
-    /// The lights a family with both modes shadows: every one in the additive loop, the primary
-    /// light in the seeds' modulated frame.
-    pub fn in_mode(mode: ShadowMode) -> Self {
-        match mode {
-            ShadowMode::Additive => ShadowedLights::Every,
-            ShadowMode::Modulate => ShadowedLights::Primary,
-        }
-    }
-
-    /// Whether light `index` of `scene`, which casts shadows, is shadowed.
-    fn covers(self, scene: &Scene, index: usize) -> bool {
-        match self {
-            ShadowedLights::Every => true,
-            ShadowedLights::Primary => scene.primary_light_index() == Some(index),
-            ShadowedLights::None => false,
-            ShadowedLights::Listed(mask) => index < 8 && mask & (1 << index) != 0,
-        }
-    }
 }
 
 /// What the warning about unshadowed lights tells a user to do: a technique that shadows every
@@ -191,13 +105,6 @@ pub struct Prepared<S> {
     pub setup: S,
 }
 
-impl Prepared<()> {
-    /// The options as given, nothing worked out: for units with no setup.
-    pub fn as_given(options: &RenderOptions) -> Self {
-        Prepared { options: options.clone(), setup: () }
-    }
-}
-
 /// The build every technique shares: setup, plan with the resolved options, then the frame
 /// renderer around the unit's `Passes`.
 pub fn build_unit<'s, T: TechniqueUnit>(
@@ -233,16 +140,8 @@ pub fn build_unit<'s, T: TechniqueUnit>(
 }
 
 impl<T: TechniqueUnit> ErasedTechnique for T {
-    fn name(&self) -> &'static str {
-        TechniqueUnit::name(self)
-    }
-
-    fn about(&self) -> &'static str {
-        TechniqueUnit::about(self)
-    }
-
-    fn plan(&self, options: &RenderOptions, lights: &[PlannedLight]) -> Result<PassPlan> {
-        TechniqueUnit::plan(self, options, lights).map(|plan| plan.named())
+    fn plan_by_name(&self, options: &RenderOptions, lights: &[PlannedLight]) -> Result<PassPlan> {
+        self.plan(options, lights).map(|plan| plan.named())
     }
 
     fn build<'s>(
@@ -252,29 +151,5 @@ impl<T: TechniqueUnit> ErasedTechnique for T {
         options: &RenderOptions,
     ) -> Result<Box<dyn TechniqueRenderer + 's>> {
         Ok(Box::new(build_unit(self, gpu, scene, options)?))
-    }
-
-    fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
-        TechniqueUnit::bench_variants(self, options)
-    }
-
-    fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant> {
-        TechniqueUnit::plan_variants(self, options)
-    }
-
-    fn compare_variant(&self, name: &str, options: &RenderOptions) -> Result<RenderOptions> {
-        TechniqueUnit::compare_variant(self, name, options)
-    }
-
-    fn plan_notes(&self) -> Result<Option<String>> {
-        TechniqueUnit::plan_notes(self)
-    }
-
-    fn describe(&self, options: &RenderOptions) -> String {
-        TechniqueUnit::describe(self, options)
-    }
-
-    fn planned_lights(&self, scene: &Scene) -> Vec<PlannedLight> {
-        TechniqueUnit::planned_lights(self, scene)
     }
 }

@@ -1,5 +1,5 @@
-//! Out-of-memory and device errors, simulated where lavapipe cannot be made to fail: the
-//! `fault-injection` feature (on for this crate's tests only, src/gpu/faults.rs) makes a
+//! Out-of-memory and device errors, simulated where lavapipe cannot be made to fail: the fault
+//! hooks of src/gpu/faults.rs, each behind its `NOSTENCIL_FAULT_*` variable, make a
 //! submit return VK_ERROR_DEVICE_LOST or VK_ERROR_OUT_OF_DEVICE_MEMORY, or the device's heaps
 //! look small. Each ends in a one-line error that names what failed (for a frame, its
 //! passes), never a panic, and no file is written.

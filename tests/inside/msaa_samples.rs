@@ -17,8 +17,9 @@ use nostencil::mesh::caster::CastPath;
 use nostencil::mesh::Reach;
 use nostencil::pipeline::recipes::{both_faces, stencil_face, ALPHA_ONLY, STENCIL_COUNT_ZERO};
 use nostencil::pipeline::{BlendState, FixedFunction, PipelineDesc, VertexLayout};
+use nostencil::render::passes::Passes;
 use nostencil::render::plan::{PassPlan, PlannedPass, SetRole, Target};
-use nostencil::render::plan_execution::{record_plan, PassDraws, PlanPipelines};
+use nostencil::render::plan_execution::{record_plan, PlanPipelines};
 use nostencil::render::Renderer;
 use nostencil::render::{FrameRecorder, FrameSamples, FrameUniforms, GpuScene, ObjectPush, Pipeline, PipelineTarget};
 use nostencil::technique::shadow_volume::recipes::{VolumeDraw, VolumeKinds};
@@ -176,7 +177,7 @@ impl<'a> VolumeDraws<'a> {
     }
 }
 
-impl PassDraws<VolumeKinds> for VolumeDraws<'_> {
+impl Passes<VolumeKinds> for VolumeDraws<'_> {
     fn meshes(&self) -> Option<&GpuScene> {
         Some(&self.meshes)
     }
@@ -200,6 +201,11 @@ impl PassDraws<VolumeKinds> for VolumeDraws<'_> {
                 rec.draw_indexed(&volume.vertices, &volume.indices, volume.count);
             }
         }
+        Ok(())
+    }
+
+    /// The scene is static and its volumes were built once, by `new`.
+    fn prepare(&mut self, _: &Renderer, _: &Scene) -> nostencil::Result<()> {
         Ok(())
     }
 }

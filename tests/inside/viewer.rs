@@ -551,7 +551,7 @@ fn soak_thousands_of_frames_through_every_technique_leaks_nothing() {
 
 /// A lost device or exhausted device memory at a submit ends the viewer with a one-line error
 /// naming the work (the frame's passes, or the copy to the window): no panic, no hang.
-/// Simulated by the test-only `fault-injection` feature (src/gpu/faults.rs).
+/// Simulated by the fault hooks of src/gpu/faults.rs (`NOSTENCIL_FAULT_SUBMIT`).
 #[test]
 fn a_failing_submit_ends_the_viewer_with_an_error_naming_the_work() {
     let x = start_x_server();

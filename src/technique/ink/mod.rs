@@ -17,12 +17,11 @@ pub mod recipes;
 pub mod renderer;
 
 use super::frame_renderer::BuildContext;
-use super::interface::{RenderOptions, Variant};
+use super::interface::{RenderOptions, TechniqueInfo, Variant};
 use super::light_loop::PlannedLight;
 use super::options::SilhouetteMethod;
-use super::unit::{Prepared, TechniqueUnit};
+use super::unit::TechniqueUnit;
 use crate::error::Result;
-use crate::gpu::Gpu;
 use crate::render::plan::PassPlan;
 use crate::scene::Scene;
 use recipes::InkKinds;
@@ -43,29 +42,13 @@ pub static SILHOUETTE: Ink =
 pub static TOON: Ink =
     Ink { name: "toon", about: "toon shading (N.L through a ramp) with ink lines (seed 002)", toon: true };
 
-impl TechniqueUnit for Ink {
-    type Kinds = InkKinds;
-    type Setup = ();
-    type Passes = InkPasses;
-
+impl TechniqueInfo for Ink {
     fn name(&self) -> &'static str {
         self.name
     }
 
     fn about(&self) -> &'static str {
         self.about
-    }
-
-    fn plan(&self, options: &RenderOptions, _lights: &[PlannedLight]) -> Result<PassPlan<InkKinds>> {
-        Ok(recipes::plan(options.cartoon.silhouette))
-    }
-
-    fn setup(&self, _gpu: &Gpu, _scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
-        Ok(Prepared::as_given(options))
-    }
-
-    fn make(&self, ctx: BuildContext<'_, InkKinds>, scene: &Scene, _setup: ()) -> Result<InkPasses> {
-        renderer::make(ctx, scene, self.toon)
     }
 
     fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
@@ -79,6 +62,20 @@ impl TechniqueUnit for Ink {
     fn describe(&self, options: &RenderOptions) -> String {
         let ink_only = if options.cartoon.ink_only { ", ink only" } else { "" };
         format!("{} ({}, {}{ink_only})", self.name, options.stencil.name(), options.cartoon.silhouette.name())
+    }
+}
+
+impl TechniqueUnit for Ink {
+    type Kinds = InkKinds;
+    type Setup = ();
+    type Passes = InkPasses;
+
+    fn plan(&self, options: &RenderOptions, _lights: &[PlannedLight]) -> Result<PassPlan<InkKinds>> {
+        Ok(recipes::plan(options.cartoon.silhouette))
+    }
+
+    fn make(&self, ctx: BuildContext<'_, InkKinds>, scene: &Scene, _setup: ()) -> Result<InkPasses> {
+        renderer::make(ctx, scene, self.toon)
     }
 }
 

@@ -17,15 +17,15 @@ use crate::gpu::descriptors::DescriptorSet;
 use crate::gpu::memory::ReusedBuffer;
 use crate::gpu::Gpu;
 use crate::render::object_push::draw_order;
+use crate::render::passes::Passes;
 use crate::render::plan::PlannedPass;
-use crate::render::plan_execution::PassDraws;
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, Renderer};
 use crate::scene::Scene;
 use crate::technique::cartoon::CartoonStats;
 use crate::technique::cartoon_shading::{self, CartoonPush, CartoonScene, Shading};
 use crate::technique::extruded::{ExtrudedCopies, Extrusion};
-use crate::technique::frame_renderer::{BuildContext, Passes};
+use crate::technique::frame_renderer::BuildContext;
 use crate::technique::interface::FrameStats;
 use crate::technique::options::{CartoonOptions, Seams, SilhouetteMethod};
 
@@ -98,7 +98,7 @@ impl InkPasses {
     }
 }
 
-impl PassDraws<InkKinds> for InkPasses {
+impl Passes<InkKinds> for InkPasses {
     fn set(&self, set: InkSet) -> Option<&DescriptorSet> {
         match set {
             InkSet::Ramps => Some(self.scene_pass.ramps()),
@@ -173,9 +173,7 @@ impl PassDraws<InkKinds> for InkPasses {
         }
         Ok(())
     }
-}
 
-impl Passes<InkKinds> for InkPasses {
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
         let changed = self.scene_pass.meshes.follow_pose(&self.gpu, scene)?;
         match &mut self.ink {

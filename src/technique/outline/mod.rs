@@ -12,7 +12,7 @@ pub mod renderer;
 pub mod scaled;
 
 use super::frame_renderer::BuildContext;
-use super::interface::{stencil_variants, RenderOptions, Variant};
+use super::interface::{stencil_variants, RenderOptions, TechniqueInfo, Variant};
 use super::light_loop::PlannedLight;
 use super::unit::{Prepared, TechniqueUnit};
 use crate::error::{Error, Result};
@@ -27,32 +27,13 @@ use renderer::OutlinePasses;
 /// Selected objects outlined in one colour, emulated in alpha or with the real stencil.
 pub struct Outline;
 
-impl TechniqueUnit for Outline {
-    type Kinds = OutlineKinds;
-    /// Per object: whether it is outlined.
-    type Setup = Vec<bool>;
-    type Passes = OutlinePasses;
-
+impl TechniqueInfo for Outline {
     fn name(&self) -> &'static str {
         "outline"
     }
 
     fn about(&self) -> &'static str {
         "selection outline without a stencil (seed 003)"
-    }
-
-    fn plan(&self, options: &RenderOptions, _lights: &[PlannedLight]) -> Result<PassPlan<OutlineKinds>> {
-        Ok(recipes::plan(options.stencil, &options.cartoon))
-    }
-
-    /// An unknown selected name is refused before anything is uploaded.
-    fn setup(&self, _gpu: &Gpu, scene: &Scene, options: &RenderOptions) -> Result<Prepared<Vec<bool>>> {
-        let selected = resolve_selection(scene, &options.cartoon.select)?;
-        Ok(Prepared { options: options.clone(), setup: selected })
-    }
-
-    fn make(&self, ctx: BuildContext<'_, OutlineKinds>, scene: &Scene, selected: Vec<bool>) -> Result<OutlinePasses> {
-        renderer::make(ctx, scene, selected)
     }
 
     fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
@@ -66,7 +47,29 @@ impl TechniqueUnit for Outline {
     fn describe(&self, options: &RenderOptions) -> String {
         let cartoon = &options.cartoon;
         let blur = if cartoon.outline_blur > 0 { format!(", blur {}", cartoon.outline_blur) } else { String::new() };
-        format!("{} ({}, {}{blur})", TechniqueUnit::name(self), options.stencil.name(), cartoon.outline_method.name())
+        format!("{} ({}, {}{blur})", self.name(), options.stencil.name(), cartoon.outline_method.name())
+    }
+}
+
+impl TechniqueUnit for Outline {
+    type Kinds = OutlineKinds;
+
+    /// Per object: whether it is outlined.
+    type Setup = Vec<bool>;
+    type Passes = OutlinePasses;
+
+    fn plan(&self, options: &RenderOptions, _lights: &[PlannedLight]) -> Result<PassPlan<OutlineKinds>> {
+        Ok(recipes::plan(options.stencil, &options.cartoon))
+    }
+
+    /// An unknown selected name is refused before anything is uploaded.
+    fn setup(&self, _gpu: &Gpu, scene: &Scene, options: &RenderOptions) -> Result<Prepared<Vec<bool>>> {
+        let selected = resolve_selection(scene, &options.cartoon.select)?;
+        Ok(Prepared { options: options.clone(), setup: selected })
+    }
+
+    fn make(&self, ctx: BuildContext<'_, OutlineKinds>, scene: &Scene, selected: Vec<bool>) -> Result<OutlinePasses> {
+        renderer::make(ctx, scene, selected)
     }
 }
 

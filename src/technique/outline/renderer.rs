@@ -14,15 +14,15 @@ use super::scaled::Bounds;
 use crate::error::{Error, Result};
 use crate::gpu::descriptors::DescriptorSet;
 use crate::gpu::Gpu;
+use crate::render::passes::Passes;
 use crate::render::plan::{PlannedPass, Target};
-use crate::render::plan_execution::PassDraws;
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, Renderer};
 use crate::scene::Scene;
 use crate::technique::cartoon::CartoonStats;
 use crate::technique::cartoon_shading::{self, CartoonScene, Shading};
 use crate::technique::extruded::{ExtrudedCopies, Extrusion};
-use crate::technique::frame_renderer::{BuildContext, Passes};
+use crate::technique::frame_renderer::BuildContext;
 use crate::technique::interface::FrameStats;
 use crate::technique::options::OutlineMethod;
 
@@ -132,7 +132,7 @@ impl OutlinePasses {
     }
 }
 
-impl PassDraws<OutlineKinds> for OutlinePasses {
+impl Passes<OutlineKinds> for OutlinePasses {
     fn set(&self, set: OutlineSet) -> Option<&DescriptorSet> {
         match set {
             OutlineSet::Ramps => Some(self.scene_pass.ramps()),
@@ -170,9 +170,7 @@ impl PassDraws<OutlineKinds> for OutlinePasses {
         }
         Ok(())
     }
-}
 
-impl Passes<OutlineKinds> for OutlinePasses {
     fn offscreen_pass(&self, target: OutlineTarget) -> Option<(vk::RenderPass, usize)> {
         self.blur.as_ref().map(|b| b.render_pass(target))
     }

@@ -20,21 +20,20 @@ use crate::error::{Error, Result};
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::ReusedBuffer;
 use crate::gpu::texture::{Sampler, Texture};
-use crate::gpu::Gpu;
 use crate::pipeline::recipes::MODULATE_BY_SRC_COLOUR;
 use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexAttribute, VertexLayout};
+use crate::render::passes::Passes;
 use crate::render::plan::{DrawKind, Label, NoOwn, PassKinds, PassPlan, PlannedPass, SetRole};
-use crate::render::plan_execution::PassDraws;
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, GpuScene, Renderer};
 use crate::scene::{bounds_of, Scene};
 use crate::shaders;
-use crate::technique::frame_renderer::{BuildContext, Passes};
-use crate::technique::interface::RenderOptions;
+use crate::technique::frame_renderer::BuildContext;
 use crate::technique::interface::{FrameStats, Variant};
-use crate::technique::light_loop::PlannedLight;
+use crate::technique::interface::{RenderOptions, TechniqueInfo};
+use crate::technique::light_loop::{PlannedLight, ShadowedLights};
 use crate::technique::shadow_tone::ShadowTone;
-use crate::technique::unit::{Prepared, ShadowedLights, TechniqueUnit};
+use crate::technique::unit::TechniqueUnit;
 
 /// position (vec3), uv (vec2), strength (float).
 pub const BLOB_LAYOUT: VertexLayout =
@@ -214,11 +213,7 @@ fn blob_vertices(blobs: &[Blob]) -> Vec<BlobVertex> {
     vertices
 }
 
-impl TechniqueUnit for BlobShadows {
-    type Kinds = BlobKinds;
-    type Setup = ();
-    type Passes = BlobPasses;
-
+impl TechniqueInfo for BlobShadows {
     fn name(&self) -> &'static str {
         "blob"
     }
@@ -231,20 +226,22 @@ impl TechniqueUnit for BlobShadows {
         "a soft round texture on a quad under each caster (seed 001's cheapest shadow)"
     }
 
+    fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+        super::shared::bench_variants(options)
+    }
+}
+
+impl TechniqueUnit for BlobShadows {
+    type Kinds = BlobKinds;
+    type Setup = ();
+    type Passes = BlobPasses;
+
     fn plan(&self, _options: &RenderOptions, _lights: &[PlannedLight]) -> Result<PassPlan<BlobKinds>> {
         Ok(plan())
     }
 
-    fn setup(&self, _gpu: &Gpu, _scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
-        Ok(Prepared::as_given(options))
-    }
-
     fn make(&self, ctx: BuildContext<'_, BlobKinds>, scene: &Scene, _setup: ()) -> Result<BlobPasses> {
         BlobPasses::new(&ctx, scene)
-    }
-
-    fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
-        super::shared::bench_variants(options)
     }
 }
 
@@ -300,7 +297,7 @@ impl BlobPasses {
     }
 }
 
-impl PassDraws<BlobKinds> for BlobPasses {
+impl Passes<BlobKinds> for BlobPasses {
     fn set(&self, set: BlobSet) -> Option<&DescriptorSet> {
         match set {
             BlobSet::BlobTexture => Some(&self.blob_set),
@@ -330,9 +327,7 @@ impl PassDraws<BlobKinds> for BlobPasses {
             }
         }
     }
-}
 
-impl Passes<BlobKinds> for BlobPasses {
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
         self.meshes.update_palettes(scene)?;
         let darkness = 1.0 - self.tone.darkest_factor();

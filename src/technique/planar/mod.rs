@@ -19,6 +19,5 @@ pub mod skin;
 pub mod texture_quad;
 
 pub use crate::technique::options::{GivenPlane, PlanarOptions, TextureShadowOn};
-pub use flattened::{PlanarPush, PLANAR_PUSH_BYTES};
-pub use receiver::{caster_bounds, light_reaches_plane, project_onto_plane, receiver_plane, Plane, ReceiverPlane};
-pub use shared::{bench_variants, BlobShadows, Planar, PlanarStats, ShadowTexture};
+pub use receiver::{project_onto_plane, receiver_plane, Plane};
+pub use shared::{BlobShadows, Planar, PlanarStats, ShadowTexture};

@@ -23,7 +23,6 @@
 //! Pass IncrWrap, ZFail Keep, blending `ADD, ZERO, SRC_ALPHA` with fragment alpha `F/255`. Both
 //! multiply each shadowed pixel once by the same 8-bit factor, so their RGB are identical.
 
-use ash::vk;
 use glam::Vec4;
 
 use super::flattened::{flattened_desc, PlanarDraw, PlanarKinds, PlanarPush, PlanarSet};
@@ -34,24 +33,23 @@ use super::shared::{Planar, PlanarStats, DEFAULT_SHADOW_LOD};
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::descriptors::DescriptorSet;
-use crate::gpu::Gpu;
 use crate::pipeline::recipes::{
     stencil_replace, MODULATE_BY_DST_ALPHA_ONCE, MODULATE_BY_SRC_ALPHA_WRITING_ALPHA, STENCIL_EQUAL_ZERO_THEN_INCREMENT,
 };
 use crate::pipeline::PipelineDesc;
+use crate::render::passes::Passes;
 use crate::render::plan::{MaterialVariant, PassPlan, PlannedPass, When};
-use crate::render::plan_execution::PassDraws;
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, GpuScene, Renderer};
 use crate::scene::{Scene, SceneLight};
 use crate::shaders;
-use crate::technique::frame_renderer::{BuildContext, Passes};
-use crate::technique::interface::RenderOptions;
+use crate::technique::frame_renderer::BuildContext;
 use crate::technique::interface::{stencil_variants, FrameStats, Variant};
-use crate::technique::light_loop::PlannedLight;
-use crate::technique::options::{PlanarOptions, ShadowMode, ShadowVolumeOptions};
+use crate::technique::interface::{RenderOptions, TechniqueInfo};
+use crate::technique::light_loop::{PlannedLight, ShadowedLights};
+use crate::technique::options::{PlanarOptions, ShadowMode};
 use crate::technique::shadow_tone::ShadowTone;
-use crate::technique::unit::{Prepared, ShadowedLights, TechniqueUnit};
+use crate::technique::unit::TechniqueUnit;
 
 /// Stencil values of the reference path: receivers not yet shadowed hold 0.
 const STENCIL_RECEIVER: u32 = 0;
@@ -153,33 +151,17 @@ pub fn plan(
 // ---------------------------------------------------------------------------------------------
 // The technique.
 
-impl TechniqueUnit for Planar {
-    type Kinds = PlanarKinds;
-    type Setup = ();
-    type Passes = PlanarPasses;
-
+impl TechniqueInfo for Planar {
     fn name(&self) -> &'static str {
         "planar"
     }
 
     fn shadowed_lights(&self, options: &RenderOptions, _lights: &[PlannedLight]) -> ShadowedLights {
-        ShadowedLights::in_mode(options.shadow_mode)
+        options.shadow_mode.shadowed_lights()
     }
 
     fn about(&self) -> &'static str {
         "casters skinned on the GPU and projected onto the ground, double darkening stopped in alpha (seed 001)"
-    }
-
-    fn plan(&self, options: &RenderOptions, lights: &[PlannedLight]) -> Result<PassPlan<PlanarKinds>> {
-        Ok(plan(&options.planar, options.stencil, options.shadow_mode, lights))
-    }
-
-    fn setup(&self, _gpu: &Gpu, _scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
-        Ok(Prepared::as_given(options))
-    }
-
-    fn make(&self, ctx: BuildContext<'_, PlanarKinds>, scene: &Scene, _setup: ()) -> Result<PlanarPasses> {
-        PlanarPasses::new(&ctx, scene)
     }
 
     fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
@@ -189,10 +171,10 @@ impl TechniqueUnit for Planar {
     /// Each path: in the additive loop and as the seed draws it (modulate), with and without
     /// the shadow pass, and each with the shadow cast from simplified meshes.
     fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant> {
-        let mut variants = stencil_variants(TechniqueUnit::name(self), options);
+        let mut variants = stencil_variants(self.name(), options);
         for stencil in [StencilMode::Reference, StencilMode::Emulated] {
             variants.push(Variant {
-                label: format!("{} ({}, modulate)", TechniqueUnit::name(self), stencil.name()),
+                label: format!("{} ({}, modulate)", self.name(), stencil.name()),
                 options: RenderOptions { stencil, shadow_mode: ShadowMode::Modulate, ..options.clone() },
             });
         }
@@ -202,18 +184,32 @@ impl TechniqueUnit for Planar {
         };
         for stencil in [StencilMode::Reference, StencilMode::Emulated] {
             variants.push(Variant {
-                label: format!("{} ({}, shadow LOD)", TechniqueUnit::name(self), stencil.name()),
+                label: format!("{} ({}, shadow LOD)", self.name(), stencil.name()),
                 options: RenderOptions { stencil, planar: lod, ..options.clone() },
             });
         }
         let scene_only = PlanarOptions { shadows: false, ..options.planar };
         for stencil in [StencilMode::Reference, StencilMode::Emulated] {
             variants.push(Variant {
-                label: format!("{} ({}, no shadows)", TechniqueUnit::name(self), stencil.name()),
+                label: format!("{} ({}, no shadows)", self.name(), stencil.name()),
                 options: RenderOptions { stencil, planar: scene_only, ..options.clone() },
             });
         }
         variants
+    }
+}
+
+impl TechniqueUnit for Planar {
+    type Kinds = PlanarKinds;
+    type Setup = ();
+    type Passes = PlanarPasses;
+
+    fn plan(&self, options: &RenderOptions, lights: &[PlannedLight]) -> Result<PassPlan<PlanarKinds>> {
+        Ok(plan(&options.planar, options.stencil, options.shadow_mode, lights))
+    }
+
+    fn make(&self, ctx: BuildContext<'_, PlanarKinds>, scene: &Scene, _setup: ()) -> Result<PlanarPasses> {
+        PlanarPasses::new(&ctx, scene)
     }
 }
 
@@ -288,7 +284,7 @@ impl PlanarPasses {
     }
 }
 
-impl PassDraws<PlanarKinds> for PlanarPasses {
+impl Passes<PlanarKinds> for PlanarPasses {
     fn set(&self, set: PlanarSet) -> Option<&DescriptorSet> {
         match set {
             PlanarSet::JointPalette => Some(self.meshes.palette()),
@@ -335,9 +331,7 @@ impl PassDraws<PlanarKinds> for PlanarPasses {
             PlanarDraw::Transparent => self.meshes.draw_scene(rec, scene, &self.plane, pass, pipelines, 1.0),
         }
     }
-}
 
-impl Passes<PlanarKinds> for PlanarPasses {
     fn prepare(&mut self, _renderer: &Renderer, scene: &Scene) -> Result<()> {
         if self.mode == ShadowMode::Modulate {
             self.plane.plane.check_light(&scene.light())?;

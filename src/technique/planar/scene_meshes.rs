@@ -4,8 +4,6 @@
 
 use std::sync::Arc;
 
-use ash::vk;
-
 use super::lod::CasterLods;
 use super::receiver::ReceiverPlane;
 use super::skin::{self, SkinnedMesh, SKINNED_LAYOUT};

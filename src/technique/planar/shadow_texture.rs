@@ -36,19 +36,19 @@ use crate::gpu::texture::Sampler;
 use crate::gpu::Gpu;
 use crate::pipeline::recipes::MODULATE_BY_SRC_COLOUR;
 use crate::pipeline::{BlendState, DepthState, FixedFunction, PipelineDesc, RasterState, VertexLayout};
+use crate::render::passes::Passes;
 use crate::render::plan::{DrawKind, Label, MaterialVariant, PassKinds, PassPlan, PlannedPass, SetRole};
-use crate::render::plan_execution::PassDraws;
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, GpuMesh, GpuScene, ObjectPush, Renderer, OBJECT_PUSH_BYTES};
 use crate::scene::{Light, Scene};
 use crate::shaders;
-use crate::technique::frame_renderer::{BuildContext, Passes};
-use crate::technique::interface::RenderOptions;
+use crate::technique::frame_renderer::BuildContext;
 use crate::technique::interface::{FrameStats, Variant};
-use crate::technique::light_loop::PlannedLight;
+use crate::technique::interface::{RenderOptions, TechniqueInfo};
+use crate::technique::light_loop::{PlannedLight, ShadowedLights};
 use crate::technique::options::{PlanarOptions, TextureShadowOn};
 use crate::technique::shadow_tone::ShadowTone;
-use crate::technique::unit::{Prepared, ShadowedLights, TechniqueUnit};
+use crate::technique::unit::TechniqueUnit;
 
 const SHADOW_TEXTURE_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
 
@@ -287,11 +287,7 @@ impl ShadowTarget {
     }
 }
 
-impl TechniqueUnit for ShadowTexture {
-    type Kinds = TextureKinds;
-    type Setup = ();
-    type Passes = ShadowTexturePasses;
-
+impl TechniqueInfo for ShadowTexture {
     fn name(&self) -> &'static str {
         "shadow-texture"
     }
@@ -302,10 +298,6 @@ impl TechniqueUnit for ShadowTexture {
 
     fn about(&self) -> &'static str {
         "casters drawn from the light into a small texture that the ground looks up (seed 001)"
-    }
-
-    fn plan(&self, options: &RenderOptions, _lights: &[PlannedLight]) -> Result<PassPlan<TextureKinds>> {
-        Ok(plan(&options.planar))
     }
 
     /// The texture on the receivers and on the seed's quad, each also from simplified casters.
@@ -321,7 +313,7 @@ impl TechniqueUnit for ShadowTexture {
         .map(|(texture_on, shadow_lod)| Variant {
             label: format!(
                 "{} (on {}{})",
-                TechniqueUnit::name(self),
+                self.name(),
                 texture_on.name(),
                 if shadow_lod.is_some() { ", shadow LOD" } else { "" }
             ),
@@ -334,16 +326,22 @@ impl TechniqueUnit for ShadowTexture {
         .collect()
     }
 
-    fn setup(&self, _gpu: &Gpu, _scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
-        Ok(Prepared::as_given(options))
+    fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
+        super::shared::bench_variants(options)
+    }
+}
+
+impl TechniqueUnit for ShadowTexture {
+    type Kinds = TextureKinds;
+    type Setup = ();
+    type Passes = ShadowTexturePasses;
+
+    fn plan(&self, options: &RenderOptions, _lights: &[PlannedLight]) -> Result<PassPlan<TextureKinds>> {
+        Ok(plan(&options.planar))
     }
 
     fn make(&self, ctx: BuildContext<'_, TextureKinds>, scene: &Scene, _setup: ()) -> Result<ShadowTexturePasses> {
         ShadowTexturePasses::new(&ctx, scene)
-    }
-
-    fn bench_variants(&self, options: &RenderOptions) -> Vec<Variant> {
-        super::shared::bench_variants(options)
     }
 }
 
@@ -470,7 +468,7 @@ impl ShadowTexturePasses {
     }
 }
 
-impl PassDraws<TextureKinds> for ShadowTexturePasses {
+impl Passes<TextureKinds> for ShadowTexturePasses {
     fn set(&self, set: TextureSet) -> Option<&DescriptorSet> {
         match set {
             TextureSet::ShadowTexture => Some(&self.texture_set),
@@ -497,9 +495,7 @@ impl PassDraws<TextureKinds> for ShadowTexturePasses {
             TextureDraw::Quad => self.draw_quad(rec, pipelines),
         }
     }
-}
 
-impl Passes<TextureKinds> for ShadowTexturePasses {
     fn offscreen_pass(&self, target: TextureTarget) -> Option<(vk::RenderPass, usize)> {
         match target {
             TextureTarget::ShadowTexture => Some((self.target.render_pass.raw, 1)),

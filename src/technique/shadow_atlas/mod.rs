@@ -38,8 +38,8 @@ pub mod targets;
 pub mod techniques;
 pub mod texel_surface;
 
-pub use super::options::{check_size, AtlasBake, LightMode, ShadowAtlasOptions, ShadowKind};
+pub use super::options::{AtlasBake, LightMode, ShadowAtlasOptions, ShadowKind};
 pub use baked::{bake, BakeStep, Baked};
-pub use light::{light_at, light_view_projection, scene_bounds, ShadowLightUniforms, MOVING_LIGHT_STEP};
-pub use stats::{AtlasInfo, ShadowAtlasStats};
-pub use techniques::{ShadowTechnique, PROJECTIVE_TEXTURE, SHADOW_MAP, SHADOW_TEXTURE_ATLAS};
+pub use light::{scene_bounds, ShadowLightUniforms};
+pub use stats::ShadowAtlasStats;
+pub use techniques::{PROJECTIVE_TEXTURE, SHADOW_MAP, SHADOW_TEXTURE_ATLAS};

@@ -25,15 +25,15 @@ use crate::gpu::memory::{Buffer, Image};
 use crate::gpu::texture::Sampler;
 use crate::gpu::Gpu;
 use crate::render::object_push::draw_order;
+use crate::render::passes::Passes;
 use crate::render::plan::{MaterialVariant, PlannedPass, When};
-use crate::render::plan_execution::PassDraws;
 use crate::render::Pipeline;
 use crate::render::{
     object_push, scene_vertices, FrameOutput, FrameRecorder, GpuMaterials, GpuMesh, LightPush, ObjectPush, Renderer,
 };
 use crate::scene::objects::SceneMesh;
 use crate::scene::{Light, PoseTracker, Scene};
-use crate::technique::frame_renderer::{self, FrameRenderer, Passes};
+use crate::technique::frame_renderer::{self, FrameRenderer};
 use crate::technique::interface::{FrameStats, RenderOptions};
 use crate::technique::options::{LightMode, ShadowAtlasOptions, ShadowKind};
 
@@ -444,7 +444,7 @@ impl ShadowPasses {
     }
 }
 
-impl PassDraws<AtlasKinds> for ShadowPasses {
+impl Passes<AtlasKinds> for ShadowPasses {
     fn set(&self, set: AtlasSet) -> Option<&DescriptorSet> {
         self.own_set(set)
     }
@@ -498,9 +498,7 @@ impl PassDraws<AtlasKinds> for ShadowPasses {
         }
         Ok(())
     }
-}
 
-impl Passes<AtlasKinds> for ShadowPasses {
     fn material_layout(&self) -> Option<vk::DescriptorSetLayout> {
         Some(self.materials.layout())
     }

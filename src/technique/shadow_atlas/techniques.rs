@@ -5,14 +5,13 @@ use super::maps::{self, Coverage};
 use super::passes::{plan, AtlasKinds};
 use super::renderer::ShadowPasses;
 use crate::error::Result;
-use crate::gpu::Gpu;
 use crate::render::plan::PassPlan;
 use crate::scene::Scene;
 use crate::technique::frame_renderer::BuildContext;
-use crate::technique::interface::{RenderOptions, Technique, Variant};
-use crate::technique::light_loop::PlannedLight;
+use crate::technique::interface::{RenderOptions, Technique, TechniqueInfo, Variant};
+use crate::technique::light_loop::{PlannedLight, ShadowedLights};
 use crate::technique::options::{LightMode, ShadowKind};
-use crate::technique::unit::{Prepared, ShadowedLights, TechniqueUnit};
+use crate::technique::unit::TechniqueUnit;
 
 /// One of the two seed 004 techniques: the shadow map sampled in the scene pass, or shadow
 /// textures baked from it into each model's tile of one atlas page.
@@ -66,11 +65,7 @@ fn light_variants(name: &str, options: &RenderOptions) -> Vec<Variant> {
         .collect()
 }
 
-impl TechniqueUnit for ShadowTechnique {
-    type Kinds = AtlasKinds;
-    type Setup = ();
-    type Passes = ShadowPasses;
-
+impl TechniqueInfo for ShadowTechnique {
     fn name(&self) -> &'static str {
         self.kind.name()
     }
@@ -98,25 +93,13 @@ impl TechniqueUnit for ShadowTechnique {
         self.about
     }
 
-    fn plan(&self, _options: &RenderOptions, lights: &[PlannedLight]) -> Result<PassPlan<AtlasKinds>> {
-        Ok(plan(self.kind, lights))
-    }
-
-    fn setup(&self, _gpu: &Gpu, _scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
-        Ok(Prepared::as_given(options))
-    }
-
     /// A map pass for each light that gets a layer (`maps::coverage`), none for the others.
     fn planned_lights(&self, scene: &Scene) -> Vec<PlannedLight> {
         maps::planned_lights(&maps::coverage(self.kind, scene), scene)
     }
 
-    fn make(&self, ctx: BuildContext<'_, AtlasKinds>, scene: &Scene, _setup: ()) -> Result<ShadowPasses> {
-        ShadowPasses::new(ctx.gpu, scene, self.kind, ctx.options.shadow_atlas, &mut |_, _| {})
-    }
-
     fn plan_variants(&self, options: &RenderOptions) -> Vec<Variant> {
-        light_variants(TechniqueUnit::name(self), options)
+        light_variants(self.name(), options)
     }
 
     /// The projective texture is timed against the atlas that replaces it (the atlas with a
@@ -128,11 +111,20 @@ impl TechniqueUnit for ShadowTechnique {
     }
 
     fn describe(&self, options: &RenderOptions) -> String {
-        format!(
-            "{} ({}, {} light)",
-            TechniqueUnit::name(self),
-            options.stencil.name(),
-            options.shadow_atlas.light.name()
-        )
+        format!("{} ({}, {} light)", self.name(), options.stencil.name(), options.shadow_atlas.light.name())
+    }
+}
+
+impl TechniqueUnit for ShadowTechnique {
+    type Kinds = AtlasKinds;
+    type Setup = ();
+    type Passes = ShadowPasses;
+
+    fn plan(&self, _options: &RenderOptions, lights: &[PlannedLight]) -> Result<PassPlan<AtlasKinds>> {
+        Ok(plan(self.kind, lights))
+    }
+
+    fn make(&self, ctx: BuildContext<'_, AtlasKinds>, scene: &Scene, _setup: ()) -> Result<ShadowPasses> {
+        ShadowPasses::new(ctx.gpu, scene, self.kind, ctx.options.shadow_atlas, &mut |_, _| {})
     }
 }

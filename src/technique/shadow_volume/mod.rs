@@ -12,9 +12,9 @@ pub mod renderer;
 pub mod stats;
 
 use super::frame_renderer::BuildContext;
-use super::interface::{RenderOptions, Variant};
-use super::light_loop::PlannedLight;
-use super::unit::{Prepared, ShadowedLights, TechniqueUnit};
+use super::interface::{RenderOptions, TechniqueInfo, Variant};
+use super::light_loop::{PlannedLight, ShadowedLights};
+use super::unit::{Prepared, TechniqueUnit};
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::Gpu;
@@ -24,12 +24,9 @@ use recipes::VolumeKinds;
 use renderer::{ShadowVolumePasses, VolumeSetup};
 
 pub use super::options::{Normalize, ShadowMode, ShadowVolumeOptions, VolumeMethod};
-pub use casters::{build_volume, camera_inside_volume, choose_zfail, prepare_casters, Caster};
-pub use recipes::{
-    apply_desc, counting_subpass_apply_desc, darkness_descs, iteration_desc, n0_desc, reference_apply_desc,
-    reference_volume_desc, saturation_probe_desc, volume_descs, SATURATION_PROBE,
-};
-pub use renderer::{CasterReport, ShadowVolumeStats};
+pub use casters::{build_volume, prepare_casters};
+pub use recipes::SATURATION_PROBE;
+pub use renderer::ShadowVolumeStats;
 
 /// The normalisations worth listing in `mode`: in the additive loop `max` runs exactly `seed`'s
 /// passes (it differed only in the darkness step, which the loop has no use for).
@@ -40,41 +37,13 @@ fn normalisations(mode: ShadowMode) -> impl Iterator<Item = Normalize> {
 /// Shadow volumes counted in alpha (seed 000).
 pub struct ShadowVolumes;
 
-impl TechniqueUnit for ShadowVolumes {
-    type Kinds = VolumeKinds;
-    type Setup = VolumeSetup;
-    type Passes = ShadowVolumePasses;
-
+impl TechniqueInfo for ShadowVolumes {
     fn name(&self) -> &'static str {
         "shadow-volume"
     }
 
     fn about(&self) -> &'static str {
         "shadow volumes counted in the alpha channel (seed 000)"
-    }
-
-    fn plan(&self, options: &RenderOptions, lights: &[PlannedLight]) -> Result<PassPlan<VolumeKinds>> {
-        recipes::plan(
-            &options.shadow_volume,
-            options.shadow_mode,
-            options.shadow_tone,
-            options.stencil,
-            options.samples,
-            lights,
-        )
-    }
-
-    fn setup(&self, gpu: &Gpu, scene: &Scene, options: &RenderOptions) -> Result<Prepared<VolumeSetup>> {
-        renderer::setup(gpu, scene, options)
-    }
-
-    fn make(
-        &self,
-        ctx: BuildContext<'_, VolumeKinds>,
-        scene: &Scene,
-        setup: VolumeSetup,
-    ) -> Result<ShadowVolumePasses> {
-        renderer::make(ctx, scene, setup)
     }
 
     fn plan_notes(&self) -> Result<Option<String>> {
@@ -173,7 +142,7 @@ impl TechniqueUnit for ShadowVolumes {
     }
 
     fn shadowed_lights(&self, options: &RenderOptions, _lights: &[PlannedLight]) -> ShadowedLights {
-        ShadowedLights::in_mode(options.shadow_mode)
+        options.shadow_mode.shadowed_lights()
     }
 
     fn describe(&self, options: &RenderOptions) -> String {
@@ -181,11 +150,36 @@ impl TechniqueUnit for ShadowVolumes {
             StencilMode::Emulated => format!(", {}", options.shadow_volume.normalize.name()),
             StencilMode::Reference => String::new(),
         };
-        format!(
-            "{} ({}{normalise}, k={})",
-            TechniqueUnit::name(self),
-            options.stencil.name(),
-            options.shadow_volume.increment
+        format!("{} ({}{normalise}, k={})", self.name(), options.stencil.name(), options.shadow_volume.increment)
+    }
+}
+
+impl TechniqueUnit for ShadowVolumes {
+    type Kinds = VolumeKinds;
+    type Setup = VolumeSetup;
+    type Passes = ShadowVolumePasses;
+
+    fn plan(&self, options: &RenderOptions, lights: &[PlannedLight]) -> Result<PassPlan<VolumeKinds>> {
+        recipes::plan(
+            &options.shadow_volume,
+            options.shadow_mode,
+            options.shadow_tone,
+            options.stencil,
+            options.samples,
+            lights,
         )
+    }
+
+    fn setup(&self, gpu: &Gpu, scene: &Scene, options: &RenderOptions) -> Result<Prepared<VolumeSetup>> {
+        renderer::setup(gpu, scene, options)
+    }
+
+    fn make(
+        &self,
+        ctx: BuildContext<'_, VolumeKinds>,
+        scene: &Scene,
+        setup: VolumeSetup,
+    ) -> Result<ShadowVolumePasses> {
+        renderer::make(ctx, scene, setup)
     }
 }

@@ -3,7 +3,6 @@
 //! into buffers kept from frame to frame (made again only when a volume outgrows them), drawn by
 //! the plan of `recipes`. What a frame reports is in `stats`.
 
-use std::any::Any;
 use std::sync::Arc;
 
 use ash::vk;
@@ -27,13 +26,13 @@ use crate::gpu::Gpu;
 use crate::mesh::caster::CastPath;
 use crate::mesh::Reach;
 use crate::pipeline::recipes::STENCIL_COUNT_ZERO;
+use crate::render::passes::Passes;
 use crate::render::plan::{Draws, PlannedPass, Scissor};
-use crate::render::plan_execution::PassDraws;
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, GpuScene, ObjectPush, Renderer};
 use crate::scene::{Light, Scene, SceneLight};
 use crate::technique::alpha_counter;
-use crate::technique::frame_renderer::{BuildContext, Passes};
+use crate::technique::frame_renderer::BuildContext;
 use crate::technique::interface::{FrameStats, RenderOptions};
 use crate::technique::options::{Normalize, ShadowMode, ShadowVolumeOptions, VolumeMethod};
 use crate::technique::shadow_tone::ShadowTone;
@@ -80,6 +79,7 @@ struct IndexRange {
 
 /// What is worked out from the scene before the frame is planned: the casters, whose volumes
 /// decide whether `auto` counts z-fail for this camera.
+#[derive(Default)]
 pub struct VolumeSetup {
     casters: Vec<Caster>,
     warnings: Vec<String>,
@@ -234,7 +234,7 @@ pub struct ShadowVolumePasses {
     stencil: StencilMode,
 }
 
-impl PassDraws<VolumeKinds> for ShadowVolumePasses {
+impl Passes<VolumeKinds> for ShadowVolumePasses {
     fn set(&self, set: VolumeSet) -> Option<&DescriptorSet> {
         match set {
             VolumeSet::CounterInput => self.counter_input.as_ref(),
@@ -302,9 +302,7 @@ impl PassDraws<VolumeKinds> for ShadowVolumePasses {
         }
         Ok(())
     }
-}
 
-impl Passes<VolumeKinds> for ShadowVolumePasses {
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
         self.meshes.follow_pose(&self.gpu, scene)?;
         let extent = renderer.extent();

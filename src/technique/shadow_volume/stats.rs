@@ -5,7 +5,6 @@
 use std::any::Any;
 
 use super::casters::Caster;
-use crate::mesh::caster::CastPath;
 use crate::scene::Scene;
 use crate::technique::interface::FrameStats;
 pub(super) const MEASURED_BY_APPLY: &str = "counted by the subpass apply with fragment atomics";

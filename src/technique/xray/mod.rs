@@ -8,18 +8,18 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::frame_renderer::{BuildContext, Passes};
-use super::interface::{NoStats, RenderOptions};
+use super::frame_renderer::BuildContext;
+use super::interface::{RenderOptions, TechniqueInfo};
 use super::light_loop::PlannedLight;
 use super::lit::scene_pass;
-use super::unit::{Prepared, TechniqueUnit};
+use super::unit::TechniqueUnit;
 use crate::error::Result;
 use crate::gpu::Gpu;
 use crate::pipeline::{BlendEquation, BlendState, DepthState, FixedFunction, PipelineDesc, VertexLayout};
 use crate::render::object_push::object_push;
+use crate::render::passes::Passes;
 use crate::render::plan::{DrawKind, NoOwn, PassKinds, PassPlan, PlannedPass, SetRole};
-use crate::render::plan_execution::PassDraws;
-use crate::render::{FrameOutput, FrameRecorder, GpuScene, Pipeline, Renderer, OBJECT_PUSH_BYTES};
+use crate::render::{FrameRecorder, GpuScene, Pipeline, Renderer, OBJECT_PUSH_BYTES};
 use crate::scene::Scene;
 use crate::shaders;
 
@@ -82,11 +82,7 @@ fn hidden_pass() -> PlannedPass<XRayKinds> {
         .with_sets(&[SetRole::Frame, SetRole::Material])
 }
 
-impl TechniqueUnit for XRay {
-    type Kinds = XRayKinds;
-    type Setup = ();
-    type Passes = XRayPasses;
-
+impl TechniqueInfo for XRay {
     fn name(&self) -> &'static str {
         "x-ray"
     }
@@ -94,13 +90,15 @@ impl TechniqueUnit for XRay {
     fn about(&self) -> &'static str {
         "hidden shadow casters shown through what hides them, by a depth-GREATER pass (the technique docs/adding-a-technique.md adds)"
     }
+}
+
+impl TechniqueUnit for XRay {
+    type Kinds = XRayKinds;
+    type Setup = ();
+    type Passes = XRayPasses;
 
     fn plan(&self, _options: &RenderOptions, _lights: &[PlannedLight]) -> Result<PassPlan<XRayKinds>> {
         Ok(PassPlan { passes: vec![scene_pass(1.0), hidden_pass()] })
-    }
-
-    fn setup(&self, _gpu: &Gpu, _scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
-        Ok(Prepared::as_given(options))
     }
 
     fn make(&self, ctx: BuildContext<'_, XRayKinds>, scene: &Scene, _setup: ()) -> Result<XRayPasses> {
@@ -114,7 +112,7 @@ pub struct XRayPasses {
     meshes: GpuScene,
 }
 
-impl PassDraws<XRayKinds> for XRayPasses {
+impl Passes<XRayKinds> for XRayPasses {
     fn meshes(&self) -> Option<&GpuScene> {
         Some(&self.meshes)
     }
@@ -139,15 +137,9 @@ impl PassDraws<XRayKinds> for XRayPasses {
             }
         }
     }
-}
 
-impl Passes<XRayKinds> for XRayPasses {
     fn prepare(&mut self, _renderer: &Renderer, scene: &Scene) -> Result<()> {
         // Skinned casters are re-posed on the CPU, as the lit scene's are.
         self.meshes.follow_pose(&self.gpu, scene).map(|_| ())
-    }
-
-    fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn super::interface::FrameStats> {
-        Box::new(NoStats)
     }
 }

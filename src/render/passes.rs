@@ -1,0 +1,121 @@
+//! [`Passes`]: the one trait a technique implements for what it builds for a scene. The
+//! renderer skeleton (`technique::frame_renderer`) calls it around each frame, and
+//! [`record_plan`](super::plan_execution::record_plan) calls it for the sets, meshes and draws
+//! of the technique's plan, typed by the technique's [`PassKinds`].
+
+use ash::vk;
+
+use super::frame_stats::{FrameStats, NoStats};
+use super::gpu_mesh::GpuScene;
+use super::plan::{PassKinds, PlannedPass, Scissor, When};
+use super::recorder::FrameRecorder;
+use super::{FrameOutput, Pipeline, Renderer};
+use crate::error::Result;
+use crate::gpu::descriptors::DescriptorSet;
+use crate::scene::{Light, Scene};
+
+/// A technique's side of a renderer: what it built for the scene (its descriptor sets, the
+/// scene's meshes for the object passes the recorder draws, its offscreen render passes), the
+/// draws only it knows how to make, and what it does per frame. Only `draw` and `prepare` have
+/// no default.
+pub trait Passes<K: PassKinds> {
+    /// Records the technique's own draw `draw` of `pass` (the recorder has opened the measured
+    /// pass, made the colour target readable if the pass reads it, and, in the frame's render
+    /// pass, bound the pass's main pipeline with its sets).
+    fn draw(
+        &self,
+        rec: &mut FrameRecorder,
+        scene: &Scene,
+        draw: K::Draw,
+        pass: &PlannedPass<K>,
+        pipelines: &[&Pipeline],
+    ) -> Result<()>;
+
+    /// Per-frame CPU work before recording: re-pose skinned copies, rebuild and upload the
+    /// geometry the frame draws.
+    fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()>;
+
+    /// A set of its own, bound by the passes that name it (its layout is also what the
+    /// pipelines are built with; the frame's uniforms are the recorder's).
+    fn set(&self, set: K::Set) -> Option<&DescriptorSet> {
+        let _ = set;
+        None
+    }
+
+    /// The scene's meshes, for passes that draw `Draws::Objects` (the recorder draws those).
+    fn meshes(&self) -> Option<&GpuScene> {
+        None
+    }
+
+    /// The material set template bound with the pass's sets (each object then binds its own).
+    fn material_set(&self) -> Option<vk::DescriptorSet> {
+        self.meshes().map(|meshes| meshes.materials.template_set())
+    }
+
+    /// The layout of the material set, when the plan binds one.
+    fn material_layout(&self) -> Option<vk::DescriptorSetLayout> {
+        self.meshes().map(|meshes| meshes.materials.layout())
+    }
+
+    /// Where the plan's scissored pass `pass` draws this frame (in a per-light loop, its
+    /// `light` says whose scissor).
+    fn scissor(&self, pass: &PlannedPass<K>) -> Scissor {
+        let _ = pass;
+        Scissor::Frame
+    }
+
+    /// The render pass (and its colour attachment count) of an offscreen target. Prepasses
+    /// render at one sample: a shadow map's depth compare, a bake's texels and a mask's
+    /// coverage are sampled and filtered later, where extra samples would only be resolved
+    /// away (docs/msaa.md).
+    fn offscreen_pass(&self, target: K::Target) -> Option<(vk::RenderPass, usize)> {
+        let _ = target;
+        None
+    }
+
+    /// The colour target's clear alpha (1 for most; the counter's 0 for shadow volumes).
+    fn clear_alpha(&self) -> f32 {
+        1.0
+    }
+
+    /// The stencil's clear value on the reference path (0 for most; the volume count's zero
+    /// for shadow volumes).
+    fn clear_stencil(&self) -> u32 {
+        0
+    }
+
+    /// The light of this frame's uniforms, when it is not the scene's (a light that turns
+    /// from frame to frame).
+    fn frame_light(&self) -> Option<Light> {
+        None
+    }
+
+    /// Which conditional passes run in this frame.
+    fn conditions(&self, scene: &Scene) -> Vec<When> {
+        let _ = scene;
+        Vec::new()
+    }
+
+    /// What the frame did, from its output; called once per frame after it completed
+    /// ([`NoStats`] for a technique with nothing to report).
+    fn stats(&mut self, output: &FrameOutput, scene: &Scene) -> Box<dyn FrameStats> {
+        let _ = (output, scene);
+        Box::new(NoStats)
+    }
+
+    /// Whether `scene` needs a rebuilt renderer (see `SceneRenderer::stale_for`).
+    fn stale_for(&self, renderer: &Renderer, scene: &Scene) -> bool {
+        let _ = (renderer, scene);
+        false
+    }
+
+    /// See `SceneRenderer::frames_to_steady_state`.
+    fn frames_to_steady_state(&self) -> u32 {
+        1
+    }
+
+    /// See `SceneRenderer::warnings`.
+    fn warnings(&self) -> &[String] {
+        &[]
+    }
+}
