@@ -40,15 +40,16 @@ pub fn measure(
     whole: &TechniqueFrame,
     top: usize,
 ) -> Result<Vec<CasterFill>> {
-    if options.technique.name() != "shadow-volume" {
+    // Only the shadow-volume family reports casters: its statistics say whose frame this is.
+    let Some(stats) = whole.stats::<ShadowVolumeStats>() else {
         return Err(Error::InvalidInput(format!(
             "--caster-fill measures shadow volumes: use it with --technique shadow-volume, not {}",
             options.technique.name()
         )));
-    }
+    };
     let total = volume_counters(&whole.output).0.max(1);
     let pixels = f64::from(whole.output.counters.width) * f64::from(whole.output.counters.height);
-    let casters = whole.stats::<ShadowVolumeStats>().map(|s| s.casters.clone()).unwrap_or_default();
+    let casters = stats.casters.clone();
     let mut fills = Vec::with_capacity(casters.len());
     for (index, caster) in casters.iter().enumerate() {
         let alone = RenderOptions {

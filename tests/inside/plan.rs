@@ -97,6 +97,9 @@ fn every_technique_without_a_stencil_equals_its_stencil_reference() {
 /// and counting method, each silhouette method, ...), draws without a stencil exactly the
 /// resolved image of its real-stencil reference, on every built-in scene: blending and the
 /// stencil test are per sample, and the subpass apply writes per sample (docs/design/msaa.md).
+/// Seed 004's scenes are in it too: atlas-one for every technique, atlas-125 (the same kind of
+/// geometry-image model, 125 times, a third of this test's time for every technique) for the
+/// shadow-texture family it was made for and the lit base.
 #[test]
 fn multisampled_frames_without_a_stencil_equal_their_stencil_reference() {
     use nostencil::scene::builtin::{BUILTIN_SCENES, OTHER_SCENES};
@@ -109,7 +112,11 @@ fn multisampled_frames_without_a_stencil_equal_their_stencil_reference() {
         let lit = render_scene(&gpu, &scene, &base).expect("lit 4x").output.image;
         // Not vacuous: 4x resolves object borders to colours the 1x frame does not have there.
         edge_pixels += lit.pixels().zip(one_sample.output.image.pixels()).filter(|(p, q)| p.0[..3] != q.0[..3]).count();
+        let seed_004_family = ["lit", "shadow-map", "shadow-texture-atlas", "projective-texture"];
         for technique in TECHNIQUES {
+            if *scene_name == "atlas-125" && !seed_004_family.contains(&technique.name()) {
+                continue;
+            }
             let variants = technique.plan_variants(&RenderOptions { technique: *technique, ..base.clone() });
             for variant in variants.into_iter().filter(|v| v.options.stencil == StencilMode::Emulated) {
                 let reference = RenderOptions { stencil: StencilMode::Reference, ..variant.options.clone() };
