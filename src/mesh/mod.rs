@@ -20,11 +20,8 @@ pub mod shapes;
 pub mod two_sided_volume;
 pub mod weld;
 
-pub use adjacency::{face_normals, EdgeAdjacency, NO_FACE};
-pub use edges::{
-    attribute_seams, classify_creases_into, classify_into, classify_view_into, CornerAttributes, EdgeClasses, View,
-};
-pub use shadow_volume::{build_shadow_volume_into, Light, Reach, VolumeGeometry};
+pub use adjacency::{EdgeAdjacency, NO_FACE};
+pub use edges::{attribute_seams, classify_creases_into, classify_view_into, CornerAttributes, EdgeClasses, View};
+pub use shadow_volume::{Light, Reach, VolumeGeometry};
 pub use shapes::MeshData;
-pub use two_sided_volume::{build_two_sided_volume_into, CornerEdges};
 pub use weld::{weld_by_position, Welded};

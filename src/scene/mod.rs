@@ -33,7 +33,6 @@ pub mod posing;
 pub mod rig;
 pub mod skinning;
 
-pub use animation::{pose_at, TimeMode};
 pub use builtin::{builtin_scene, builtin_scene_at, BUILTIN_SCENES, OTHER_SCENES};
 pub use camera::{Camera, Light};
 pub use from_gltf::{scene_and_warnings_from_gltf, scene_and_warnings_from_gltf_slice, scene_from_gltf};
@@ -43,4 +42,3 @@ pub use self::gltf::load_gltf;
 pub use model::MAX_JOINTS;
 pub use objects::{bounds_of, Scene, SceneObject, SceneSkin};
 pub use posing::PoseTracker;
-pub use skinning::{joint_matrices, skin_positions_normals, world_matrices};

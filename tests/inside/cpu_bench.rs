@@ -1,14 +1,20 @@
 //! CPU-side hot paths: welding and edge extraction for a 131,072-face mesh (the paper's 257x257
 //! geometry image size), shadow-volume building (silhouette and two-sided), animation sampling and CPU skinning.
 //! Criterion, run from an ignored test because the functions it times are private to the crate:
-//! `cargo test --release --lib cpu_bench -- --ignored --nocapture`.
+//! `cargo test --release --lib --features cpu-bench cpu_bench -- --ignored --nocapture`.
 
 use std::path::Path;
 
 use criterion::Criterion;
 use glam::Vec3;
+use nostencil::mesh::adjacency::face_normals;
+use nostencil::mesh::edges::classify_into;
+use nostencil::mesh::shadow_volume::build_shadow_volume_into;
+use nostencil::mesh::two_sided_volume::{build_two_sided_volume_into, CornerEdges};
 use nostencil::mesh::{self, shapes, EdgeAdjacency, View};
-use nostencil::scene::{self, TimeMode};
+use nostencil::scene;
+use nostencil::scene::animation::{pose_at, TimeMode};
+use nostencil::scene::skinning::{joint_matrices, skin_positions_normals, world_matrices};
 
 fn big_torus() -> shapes::MeshData {
     // 256 x 256 quads = 131,072 triangles.
@@ -29,16 +35,16 @@ fn edges(c: &mut Criterion) {
     let mut classes = mesh::EdgeClasses::default();
     c.bench_function("per-frame face normals + silhouette/crease classify, 131072 faces", |b| {
         b.iter(|| {
-            mesh::face_normals(&welded.positions, &welded.indices, &mut normals);
+            face_normals(&welded.positions, &welded.indices, &mut normals);
             let view = View::Perspective { eye: Vec3::new(0.0, 2.0, 4.0) };
-            mesh::classify_into(&adjacency, &welded.positions, &normals, view, 40.0, &[], &mut classes);
+            classify_into(&adjacency, &welded.positions, &normals, view, 40.0, &[], &mut classes);
         })
     });
     let mut volume = mesh::VolumeGeometry::default();
     c.bench_function("capped shadow volume, point light, 131072 faces", |b| {
         b.iter(|| {
             let light = mesh::Light::Point(Vec3::new(2.0, 5.0, 1.0));
-            mesh::build_shadow_volume_into(
+            build_shadow_volume_into(
                 &adjacency,
                 &welded.positions,
                 &adjacency.face_normals,
@@ -50,12 +56,12 @@ fn edges(c: &mut Criterion) {
         })
     });
     // The same mesh cast two-sided (what an open or non-manifold mesh of that size costs).
-    let corners = mesh::CornerEdges::build(&adjacency).expect("corner edges");
+    let corners = CornerEdges::build(&adjacency).expect("corner edges");
     let mut multiplicities = Vec::new();
     c.bench_function("two-sided shadow volume, point light, 131072 faces", |b| {
         b.iter(|| {
             let light = mesh::Light::Point(Vec3::new(2.0, 5.0, 1.0));
-            mesh::build_two_sided_volume_into(
+            build_two_sided_volume_into(
                 &adjacency,
                 &corners,
                 &welded.positions,
@@ -75,23 +81,21 @@ fn animation(c: &mut Criterion) {
         eprintln!("skipped animation benches: {} not found", path.display());
         return;
     };
-    c.bench_function("pose_at (RiggedSimple)", |b| {
-        b.iter(|| scene::pose_at(&model, 0, 0.7, TimeMode::Loop).expect("pose"))
-    });
-    let pose = scene::pose_at(&model, 0, 0.7, TimeMode::Loop).expect("pose");
-    let world = scene::world_matrices(&model, &pose);
+    c.bench_function("pose_at (RiggedSimple)", |b| b.iter(|| pose_at(&model, 0, 0.7, TimeMode::Loop).expect("pose")));
+    let pose = pose_at(&model, 0, 0.7, TimeMode::Loop).expect("pose");
+    let world = world_matrices(&model, &pose);
     let (node, skin) =
         model.nodes.iter().enumerate().find_map(|(i, n)| n.skin.map(|s| (i, s))).expect("a skinned node");
-    let joints = scene::joint_matrices(&model, skin, &world, world[node]).expect("joints");
+    let joints = joint_matrices(&model, skin, &world, world[node]).expect("joints");
     let primitive = &model.meshes[model.nodes[node].mesh.expect("mesh")].primitives[0];
     let (mut positions, mut normals) = (Vec::new(), Vec::new());
     c.bench_function("CPU skinning (RiggedSimple)", |b| {
-        b.iter(|| scene::skin_positions_normals(primitive, &joints, &mut positions, &mut normals).expect("skin"))
+        b.iter(|| skin_positions_normals(primitive, &joints, &mut positions, &mut normals).expect("skin"))
     });
 }
 
 #[test]
-#[ignore = "a benchmark: cargo test --release --lib cpu_bench -- --ignored --nocapture"]
+#[ignore = "a benchmark: cargo test --release --lib --features cpu-bench cpu_bench -- --ignored --nocapture"]
 fn cpu_bench() {
     let mut criterion = Criterion::default();
     edges(&mut criterion);

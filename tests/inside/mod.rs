@@ -8,6 +8,7 @@ mod cartoon;
 mod cartoon_cli;
 mod cli;
 mod counters;
+#[cfg(feature = "cpu-bench")]
 mod cpu_bench;
 mod frame;
 mod fuzz_gltf;
