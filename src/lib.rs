@@ -76,39 +76,16 @@ mod inside;
 
 // Some items only the tests or one build of the program use; an import that even the tests
 // do not use is still a warning in the test build.
-#[allow(dead_code)]
-#[cfg_attr(not(test), allow(unused_imports))]
-mod frame;
-#[allow(dead_code)]
-#[cfg_attr(not(test), allow(unused_imports))]
-mod gpu;
-#[allow(dead_code)]
-#[cfg_attr(not(test), allow(unused_imports))]
-mod mesh;
-#[allow(dead_code)]
-#[cfg_attr(not(test), allow(unused_imports))]
-mod names;
-#[allow(dead_code)]
-#[cfg_attr(not(test), allow(unused_imports))]
-mod pipeline;
-#[allow(dead_code)]
-#[cfg_attr(not(test), allow(unused_imports))]
-mod profile;
-#[allow(dead_code)]
-#[cfg_attr(not(test), allow(unused_imports))]
-mod render;
-#[allow(dead_code)]
-#[cfg_attr(not(test), allow(unused_imports))]
-mod scene;
-#[allow(dead_code)]
-#[cfg_attr(not(test), allow(unused_imports))]
-mod shaders;
-#[allow(dead_code)]
-#[cfg_attr(not(test), allow(unused_imports))]
-mod technique;
-#[allow(dead_code)]
-#[cfg_attr(not(test), allow(unused_imports))]
-mod viewer;
+macro_rules! crate_modules {
+    ($($name:ident),* $(,)?) => {
+        $(
+            #[allow(dead_code)]
+            #[cfg_attr(not(test), allow(unused_imports))]
+            mod $name;
+        )*
+    };
+}
+crate_modules!(frame, gpu, mesh, names, pipeline, profile, render, scene, shaders, technique, viewer);
 
 #[doc(hidden)]
 pub mod cli;
