@@ -15,9 +15,16 @@ bin=${2:-target/debug/nostencil}
 size=160x120
 mkdir -p "$out"
 
-scenes=(default overlap point-light inside box outline duck open-quad open-box non-manifold touching character character-point atlas-one atlas-125)
+# Every technique and built-in scene the binary lists (`nostencil info`), so that one added to
+# the registry joins the matrix; plus the walking character, under a sun and a point light.
+listed() { "$bin" info 2>/dev/null | sed -n "s/^$1: *//p" | tr -d ','; }
+read -r -a scenes <<<"$(listed scenes) character character-point"
 # TECHNIQUES="lit shadow-volume" restricts the run (the default is every technique).
-read -r -a techniques <<<"${TECHNIQUES:-lit shadow-volume outline silhouette toon planar blob shadow-texture shadow-map shadow-texture-atlas}"
+read -r -a techniques <<<"${TECHNIQUES:-$(listed techniques)}"
+if [ "${#scenes[@]}" -le 2 ] || [ "${#techniques[@]}" -eq 0 ]; then
+  echo "render-matrix: '$bin info' listed no scenes or techniques" >&2
+  exit 1
+fi
 
 variants_of() {
   case "$1" in
