@@ -10,6 +10,7 @@ use std::sync::Arc;
 
 use image::RgbaImage;
 
+use super::table1::{self, TECHNIQUES};
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
 use crate::scene::Scene;
@@ -21,12 +22,10 @@ use crate::technique::{RenderOptions, Technique};
 /// levels; a pixel crossing from lit to shadowed drops by the whole Lambert term.
 pub const FLICKER_THRESHOLD: u8 = 32;
 
-/// The techniques compared: seed 004's shadow texture atlas and the shadow map.
-pub const TECHNIQUES: [ShadowKind; 2] = [ShadowKind::Atlas, ShadowKind::Map];
-
-/// Whether `bench --mip-flicker` takes `technique` (either of the two it compares).
+/// Whether `bench --mip-flicker` takes `technique`: either of the two Table 1 compares, seed
+/// 004's shadow texture atlas and the shadow map.
 pub fn compares(technique: Technique) -> bool {
-    TECHNIQUES.iter().any(|kind| kind.technique() == technique)
+    table1::covers(technique)
 }
 
 /// Light steps when the caller does not say.

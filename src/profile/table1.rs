@@ -23,8 +23,8 @@ pub const PAPER_TABLE1: [(&str, ShadowKind, f64, f64); 4] = [
     ("atlas-125", ShadowKind::Map, 13.44, 27.06),
 ];
 
-/// The techniques Table 1 compares: `bench` with one of them prints the table in place of
-/// timing the technique's variants.
+/// The techniques Table 1 compares (and the mip-flicker measure with it): `bench` with one of
+/// them prints the table in place of timing the technique's variants.
 pub const TECHNIQUES: [ShadowKind; 2] = [ShadowKind::Atlas, ShadowKind::Map];
 
 /// Whether `bench --technique` with `technique` reproduces Table 1.
