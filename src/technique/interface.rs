@@ -1,7 +1,7 @@
 //! The erased face of every technique, [`Technique`], and what crosses it: the options that
 //! select a frame, a built renderer, a rendered frame. The command line, `passes`, `bench`,
 //! `profile --compare` and the viewer all work through it: none of them knows a technique by
-//! name. A technique implements `unit::TechniqueUnit` and is listed in
+//! name. A technique implements [`TechniqueInfo`] and `unit::TechniqueUnit` and is listed in
 //! [`super::registry::TECHNIQUES`] (docs/adding-a-technique.md).
 
 use std::fmt;

@@ -1,5 +1,6 @@
-//! Techniques: each is one folder implementing [`TechniqueUnit`] (its name, its pass kinds and
-//! plan, its renderer's part, its variants), held as a [`Technique`] and listed once in
+//! Techniques: each is one folder implementing [`interface::TechniqueInfo`] (its name and
+//! variants), [`TechniqueUnit`] (its pass kinds and plan, and what it builds) and
+//! `render::passes::Passes` (its renderer's part), held as a [`Technique`] and listed once in
 //! [`registry::TECHNIQUES`]. The renderer skeleton they share
 //! is [`frame_renderer`].
 

@@ -79,6 +79,9 @@ struct IndexRange {
 
 /// What is worked out from the scene before the frame is planned: the casters, whose volumes
 /// decide whether `auto` counts z-fail for this camera.
+///
+/// `Default` (no casters, z-pass) only because every unit's `Setup` has one, for units whose
+/// `setup` is the trait's; this unit always works its setup out in `setup`.
 #[derive(Default)]
 pub struct VolumeSetup {
     casters: Vec<Caster>,
