@@ -239,15 +239,16 @@ impl OccluderMap {
             nearest = nearest.min(q.depth);
         }
         // Every texel the box's footprint touches (the hull of its corners lies in this rect).
+        // At least one texel, even for a flat footprint on a texel's edge, and checked against
+        // the map as such: one past a row's end is the next row's first texel.
         let (x0, y0) = (lo.x.floor(), lo.y.floor());
-        let (x1, y1) = (hi.x.ceil(), hi.y.ceil());
+        let (x1, y1) = (hi.x.ceil().max(x0 + 1.0), hi.y.ceil().max(y0 + 1.0));
         if x0 < 0.0 || y0 < 0.0 || x1 > self.width as f32 || y1 > self.height as f32 {
             return false;
         }
         let before = nearest - self.epsilon;
-        (y0 as usize..(y1 as usize).max(y0 as usize + 1)).all(|y| {
-            (x0 as usize..(x1 as usize).max(x0 as usize + 1))
-                .all(|x| self.blocked_by.get(y * self.width + x).is_some_and(|&d| d < before))
+        (y0 as usize..y1 as usize).all(|y| {
+            (x0 as usize..x1 as usize).all(|x| self.blocked_by.get(y * self.width + x).is_some_and(|&d| d < before))
         })
     }
 
@@ -489,6 +490,30 @@ mod tests {
         // Under one tile: hidden. Under the gap: not.
         assert!(map.hides_box(&box_corners(Vec3::new(0.5, 0.0, -0.5), Vec3::new(1.0, 0.5, 0.5))));
         assert!(!map.hides_box(&box_corners(Vec3::new(-0.5, 0.0, -0.5), Vec3::new(0.5, 0.5, 0.5))));
+    }
+
+    #[test]
+    fn a_flat_box_on_the_maps_far_edge_is_not_judged_by_the_next_rows_texel() {
+        // Only the texel at (0, 1) blocks. A box flat across the light at map x = 8, the
+        // right edge of an 8-texel row 0, lies beside no blocked texel; one texel past row 0's
+        // end is, in memory, row 1's first texel.
+        let mut map = map_over(LightView::directional(Vec3::NEG_Y).unwrap(), 4.0, 8);
+        map.blocked_by[map.width] = f32::MIN;
+        let view = map.view;
+        let world = |x: f32, y: f32, depth: f32| {
+            let at = map.origin + Vec2::new(x, y) * map.texel;
+            view.right * at.x + view.up * at.y + view.forward * depth
+        };
+        let flat = |x: f32| {
+            let (lo, hi) = (world(x, 0.2, 1.0), world(x, 0.8, 2.0));
+            box_corners(lo.min(hi), lo.max(hi))
+        };
+        assert!(!map.hides_box(&flat(8.0)));
+        // The same box at the row's start is judged by texel (0, 0): not blocked either, and
+        // the one blocked texel does hide what lies within it.
+        assert!(!map.hides_box(&flat(0.0)));
+        let (lo, hi) = (world(0.2, 1.2, 1.0), world(0.8, 1.8, 2.0));
+        assert!(map.hides_box(&box_corners(lo.min(hi), lo.max(hi))));
     }
 
     #[test]
