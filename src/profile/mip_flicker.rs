@@ -14,7 +14,8 @@ use super::table1::{self, TECHNIQUES};
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
 use crate::scene::Scene;
-use crate::technique::options::{LightMode, ShadowAtlasOptions, ShadowKind, MOVING_LIGHT_STEP};
+use crate::technique::options::{LightMode, ShadowAtlasOptions, ShadowKind};
+use crate::technique::shadow_atlas::light::MOVING_LIGHT_STEP;
 use crate::technique::{RenderOptions, Technique};
 
 /// Largest jump of any colour channel (sRGB-encoded, 0..=255) between two neighbouring light

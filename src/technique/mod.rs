@@ -6,7 +6,6 @@
 
 pub mod alpha_counter;
 pub mod cartoon;
-pub mod cartoon_options;
 pub mod cartoon_shading;
 pub mod extruded;
 pub mod flags;

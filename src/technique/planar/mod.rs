@@ -8,7 +8,6 @@
 pub mod blob;
 pub mod flattened;
 pub mod lod;
-pub mod options;
 pub mod per_light;
 pub mod projected;
 pub mod receiver;

@@ -26,7 +26,6 @@ pub mod bake;
 pub mod baked;
 pub mod light;
 pub mod maps;
-pub mod options;
 pub mod page;
 pub mod page_targets;
 pub mod passes;

@@ -6,7 +6,6 @@
 pub mod bounds;
 pub mod casters;
 pub mod culling;
-pub mod options;
 pub mod recipes;
 pub mod renderer;
 pub mod stats;
