@@ -17,7 +17,7 @@ use super::keys::{self, Action, Flow};
 use super::live::{LiveFrame, LiveTechnique, Settings};
 use super::tour::{self, Tour};
 use super::x_guard;
-use super::ViewerOptions;
+use super::options::ViewerOptions;
 use crate::error::{Error, Result};
 use crate::frame::targets::check_samples;
 use crate::gpu::swapchain::{Acquired, Surface};

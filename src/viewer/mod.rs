@@ -15,48 +15,26 @@
 //! previous frame's copy out of the colour target has finished (its fence).
 //!
 //! The parts: `app` (the event loop and the window's state), `controls` (orbit, light, clock),
-//! `keys` (the key map), `live` (the technique shown), `x_guard` (a lost X display). Getting the
+//! `keys` (the key map), `live` (the technique shown), `options` (what `view` was asked),
+//! `tour` (the soak's script), `x_guard` (a lost X display). Getting the
 //! frame on screen is `render::present` and `render::frame_copy`, over `gpu::swapchain`.
 
 mod app;
 pub mod controls;
 pub(crate) mod keys;
 pub mod live;
+mod options;
 mod tour;
 mod x_guard;
-
-use std::path::PathBuf;
 
 use winit::event_loop::EventLoop;
 use winit::raw_window_handle::HasDisplayHandle;
 
 use crate::error::{Error, Result, VkContext};
-use crate::gpu::{Gpu, GpuOptions};
+use crate::gpu::Gpu;
 use crate::scene::Scene;
 use app::App;
-use live::Settings;
-
-#[derive(Debug, Clone)]
-pub struct ViewerOptions {
-    pub settings: Settings,
-    pub size: (u32, u32),
-    pub gpu: GpuOptions,
-    /// Render this many frames, then exit (after the screenshot, if any).
-    pub frames: Option<u32>,
-    /// Save the last presented image here (RGB PNG, written atomically).
-    pub screenshot: Option<PathBuf>,
-    /// After this many presented frames, ask the window system for a new inner size.
-    pub resize_after: Option<(u32, (u32, u32))>,
-    /// After this many presented frames, act as if this key (a letter the key map binds) was
-    /// pressed: a scripted switch, for tests.
-    pub press_after: Option<(u32, char)>,
-    /// Start with the animation paused (frames then match `nostencil render`).
-    pub paused: bool,
-    /// Every this many presented frames, the next stop of the soak's tour (see `tour`).
-    pub tour: Option<u32>,
-    /// The animation time the scene was built at (`--time`); the viewer's clock starts there.
-    pub start_time: f32,
-}
+pub use options::ViewerOptions;
 
 /// Opens the window and runs until it is closed (or `--frames` are done).
 pub fn run(options: ViewerOptions, scene: Scene) -> Result<()> {
