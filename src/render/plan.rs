@@ -14,7 +14,7 @@ use glam::Vec4;
 
 pub use super::materials::MaterialVariant;
 use crate::pipeline::PipelineDesc;
-use crate::render::Pipeline;
+use crate::render::pipeline_object::Pipeline;
 
 /// A name a technique gives one of its own sets or render passes. Each technique declares an
 /// enum of them, so that its plan and its renderer share one list and a `match` over it is

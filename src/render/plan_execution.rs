@@ -16,7 +16,7 @@ use super::plan::{DrawKind, Draws, Label, PassKinds, PassPlan, PlannedPass, Scis
 use super::recorder::FrameRecorder;
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
-use crate::render::Pipeline;
+use crate::render::pipeline_object::Pipeline;
 use crate::scene::Scene;
 
 /// The pipelines of a plan, built once: one per distinct (pipeline name, target), shared by the

@@ -14,12 +14,12 @@ use crate::gpu::memory::Buffer;
 use crate::gpu::queries::PassQueryPools;
 use crate::gpu::regions;
 use crate::gpu::Gpu;
-use crate::render::Pipeline;
+use crate::render::pipeline_object::Pipeline;
 
 pub(crate) struct PassRecord {
     pub name: String,
     /// What the technique drew in it itself (`DrawKind::describe` of its own draw kind), for
-    /// [`FrameCounters::drawing`](super::FrameCounters::drawing).
+    /// [`FrameCounters::drawing`](super::counters::FrameCounters::drawing).
     pub own_draw: Option<&'static str>,
     pub draws: u32,
     /// Labels of the pipelines bound in the pass, in first-bound order (the plan test compares
