@@ -7,7 +7,7 @@ use gltf::json;
 use json::accessor::{ComponentType, Type};
 
 use super::buffers::Buffers;
-use super::Problem;
+use super::problem::Problem;
 
 pub(super) fn type_name(t: Type) -> &'static str {
     match t {

@@ -5,7 +5,7 @@ use glam::{Quat, Vec3};
 use gltf::json;
 use json::accessor::{ComponentType as C, Type as T};
 
-use super::{checked, label, Loader, FLOAT_OR_NORM};
+use super::loader::{checked, label, Loader, FLOAT_OR_NORM};
 use crate::error::Result;
 use crate::scene::model::{Animation, Channel, ChannelValues, Interpolation, Property};
 

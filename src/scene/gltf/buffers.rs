@@ -14,7 +14,8 @@ use base64::Engine as _;
 use gltf::json;
 use percent_encoding::percent_decode_str;
 
-use super::{meshopt, Problem};
+use super::meshopt;
+use super::problem::Problem;
 
 /// Standard base64 as exporters write it in data URIs: the unused low bits of the last
 /// character are not checked, and padding is stripped before decoding, so any amount of it (none

@@ -3,7 +3,7 @@
 use glam::Vec3;
 use gltf::json;
 
-use super::{checked, label, Loader};
+use super::loader::{checked, label, Loader};
 use crate::error::Result;
 use crate::scene::model::{Camera, Light, LightKind, Projection};
 

@@ -4,7 +4,8 @@
 use gltf::json;
 use json::validation::Validate;
 
-use super::{repair, Problem};
+use super::problem::Problem;
+use super::repair;
 
 /// JSON text to a validated glTF document.
 pub(super) fn parse_json(text: &[u8], warnings: &mut Vec<String>) -> std::result::Result<json::Root, Problem> {

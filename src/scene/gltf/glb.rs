@@ -1,7 +1,7 @@
 //! The GLB container: a binary glTF split into its JSON chunk and its BIN chunk, with every
 //! chunk length checked against the file.
 
-use super::Problem;
+use super::problem::Problem;
 
 /// The two parts of a file: its JSON text and, for GLB, the BIN chunk.
 #[derive(Debug)]

@@ -9,7 +9,7 @@ use gltf::json;
 use json::validation::Checked;
 use serde_json::Value;
 
-use super::{checked, label, Loader};
+use super::loader::{checked, label, Loader};
 use crate::error::Result;
 use crate::scene::model::{AlphaMode, Filter, Material, Sampler, TextureRef, TextureRgba8, TextureTransform, Wrap};
 

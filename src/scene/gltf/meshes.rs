@@ -7,7 +7,7 @@ use gltf::json;
 use json::accessor::{ComponentType as C, Type as T};
 use json::validation::Checked;
 
-use super::{checked, label, Loader, FLOAT_OR_SNORM, FLOAT_OR_UNORM};
+use super::loader::{checked, label, Loader, FLOAT_OR_SNORM, FLOAT_OR_UNORM};
 use crate::error::Result;
 use crate::scene::model::{Material, Mesh, Primitive};
 use crate::scene::normals::smooth_normals;

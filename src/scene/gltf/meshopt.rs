@@ -6,7 +6,7 @@ use std::os::raw::{c_int, c_uchar, c_void};
 
 use serde_json::Value;
 
-use super::Problem;
+use super::problem::Problem;
 
 pub(super) const EXTENSION: &str = "EXT_meshopt_compression";
 

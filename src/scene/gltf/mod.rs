@@ -39,34 +39,24 @@ mod document;
 #[cfg(test)]
 mod extension_tests;
 mod glb;
+mod loader;
 mod materials;
 mod meshes;
 mod meshopt;
 mod nodes;
+mod problem;
 mod repair;
 mod skins;
 #[cfg(test)]
 mod tests;
 
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
-
-use gltf::json;
-use json::accessor::{ComponentType as C, Type as T};
-use json::validation::Checked;
+use std::path::Path;
 
 use crate::error::{Error, Result};
-use crate::scene::model::{Model, TextureRgba8};
-use accessors::Dense;
-
-/// What went wrong, without the file name: `load_gltf_slice` wraps it in `Error::Asset`.
-type Problem = String;
-
-/// Component types glTF allows for float attributes stored as normalised integers.
-const FLOAT_OR_UNORM: &[C] = &[C::F32, C::U8, C::U16];
-const FLOAT_OR_NORM: &[C] = &[C::F32, C::I8, C::U8, C::I16, C::U16];
-/// Normals under KHR_mesh_quantization: float or normalised signed integers.
-const FLOAT_OR_SNORM: &[C] = &[C::F32, C::I8, C::I16];
+use crate::scene::model::Model;
+use loader::Loader;
+use problem::Problem;
 
 /// Loads a `.gltf` or `.glb` file. External buffers and images are resolved relative to it.
 pub fn load_gltf(path: &Path) -> Result<Model> {
@@ -94,123 +84,3 @@ pub fn load_gltf_slice(bytes: &[u8], path: &Path) -> Result<Model> {
     loader.model()
 }
 
-struct Loader<'a> {
-    path: PathBuf,
-    root: &'a json::Root,
-    buffers: &'a buffers::Buffers<'a>,
-    warnings: Vec<String>,
-    textures: Vec<TextureRgba8>,
-    /// glTF texture index -> index in `textures` (None: could not be decoded, warned).
-    texture_slots: HashMap<usize, Option<usize>>,
-    /// KHR_mesh_quantization is used: positions and UVs may be (un)normalised integers,
-    /// dequantised by the node transforms.
-    quantized: bool,
-}
-
-fn checked<V: Copy>(c: &Checked<V>) -> Option<V> {
-    match c {
-        Checked::Valid(v) => Some(*v),
-        Checked::Invalid => None,
-    }
-}
-
-/// "mesh 3 'Cylinder'" or "mesh 3".
-fn label(kind: &str, index: usize, name: Option<&str>) -> String {
-    match name {
-        Some(name) => format!("{kind} {index} '{name}'"),
-        None => format!("{kind} {index}"),
-    }
-}
-
-/// Extensions the loader reads, or that change nothing it draws, beyond those it honours when
-/// required (`repair::SUPPORTED_REQUIRED_EXTENSIONS`).
-const READ_EXTENSIONS: &[&str] = &[
-    // A texture with only such a source is named in a warning of its own.
-    "EXT_texture_webp",
-    "KHR_texture_basisu",
-    "MSFT_texture_dds",
-];
-
-impl Loader<'_> {
-    /// One warning per extension the file uses that nothing here reads (each named once), and
-    /// the one KHR_materials_variants warning.
-    fn extension_warnings(&mut self) {
-        let mut ignored: Vec<&str> = Vec::new();
-        for ext in &self.root.extensions_used {
-            let ext = ext.as_str();
-            let read = repair::SUPPORTED_REQUIRED_EXTENSIONS.contains(&ext) || READ_EXTENSIONS.contains(&ext);
-            if !read && !ignored.contains(&ext) {
-                ignored.push(ext);
-            }
-        }
-        if !ignored.is_empty() {
-            self.warnings.push(format!("extensions not supported and ignored: {}", ignored.join(", ")));
-        }
-        if self.root.extensions_used.iter().any(|e| e == "KHR_materials_variants") {
-            self.warnings.push(
-                "KHR_materials_variants: each primitive is drawn with its default material; variants are not \
-                 selectable"
-                    .into(),
-            );
-        }
-    }
-
-    fn fail(&self, problem: impl Into<String>) -> Error {
-        Error::Asset { path: self.path.clone(), problem: problem.into() }
-    }
-
-    fn accessor(&self, index: usize, what: &str, types: &[T], components: &[C]) -> Result<Dense> {
-        accessors::read_accessor(self.root, self.buffers, index, types, components)
-            .map_err(|e| self.fail(format!("{what}: {e}")))
-    }
-
-    /// A position or texture coordinate: float, or under KHR_mesh_quantization any 8- or 16-bit
-    /// integer, normalised or not.
-    fn quantizable_floats(&self, index: usize, what: &str, ty: T, plain: &[C]) -> Result<Vec<f32>> {
-        if !self.quantized {
-            return self.floats(index, what, ty, plain);
-        }
-        Ok(self.accessor(index, what, &[ty], &[C::F32, C::I8, C::U8, C::I16, C::U16])?.floats())
-    }
-
-    /// A float attribute; integer storage must be normalised.
-    fn floats(&self, index: usize, what: &str, ty: T, components: &[C]) -> Result<Vec<f32>> {
-        let dense = self.accessor(index, what, &[ty], components)?;
-        if dense.component != C::F32 && !dense.normalized {
-            return Err(self.fail(format!(
-                "{what}: accessor {index} stores {} without `normalized: true`",
-                accessors::component_name(dense.component)
-            )));
-        }
-        Ok(dense.floats())
-    }
-
-    fn model(&mut self) -> Result<Model> {
-        let mut nodes = self.nodes()?;
-        let mut roots = self.roots(&nodes);
-        let materials = self.materials()?;
-        let mut meshes = self.meshes(&materials)?;
-        if nodes.is_empty() && !meshes.is_empty() {
-            (nodes, roots) = self.nodes_for_unplaced_meshes(meshes.len());
-        }
-        let skins = self.skins()?;
-        self.check_skinned_meshes(&nodes, &skins, &mut meshes)?;
-        let animations = self.animations()?;
-        let cameras = self.cameras()?;
-        let lights = self.lights();
-        self.extension_warnings();
-        self.warnings.extend(self.buffers.take_warnings());
-        Ok(Model {
-            meshes,
-            materials,
-            textures: std::mem::take(&mut self.textures),
-            nodes,
-            roots,
-            skins,
-            animations,
-            cameras,
-            lights,
-            warnings: std::mem::take(&mut self.warnings),
-        })
-    }
-}

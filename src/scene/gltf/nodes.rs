@@ -4,7 +4,7 @@
 use glam::{Mat4, Quat, Vec3};
 use gltf::json;
 
-use super::{label, Loader};
+use super::loader::{label, Loader};
 use crate::error::Result;
 use crate::scene::model::{Node, Transform};
 

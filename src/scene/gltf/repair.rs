@@ -4,7 +4,7 @@
 //! and refusing, with a clear message, files that require an extension this loader cannot honour.
 //! A repair that changes what is drawn is reported as a warning.
 
-use super::Problem;
+use super::problem::Problem;
 
 /// Extensions this loader honours when a file lists them as required; any other required
 /// extension changes what the data means (compressed or transformed), so such a file is refused.

@@ -6,7 +6,7 @@ use glam::Mat4;
 use gltf::json;
 use json::accessor::{ComponentType as C, Type as T};
 
-use super::{label, Loader, FLOAT_OR_UNORM};
+use super::loader::{label, Loader, FLOAT_OR_UNORM};
 use crate::error::{Error, Result};
 use crate::scene::model::{Mesh, Node, Skin, MAX_JOINTS};
 
