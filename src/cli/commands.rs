@@ -15,6 +15,7 @@ use crate::gpu::{mobile_profile, DeviceChoice, Gpu, GpuOptions};
 use crate::profile::budget::Budget;
 use crate::profile::report::{FrameFormats, ProfileReport, ReportContext, ReportFormat};
 use crate::scene::{Scene, BUILTIN_SCENES, OTHER_SCENES};
+use crate::technique::registry::shadowing_every_light;
 use crate::technique::{by_name, render_scene, shadow_atlas, RenderOptions, TECHNIQUES};
 
 pub fn run(cli: Cli) -> Result<()> {
@@ -395,6 +396,8 @@ struct InfoReport<'a> {
     validation: Option<&'a ValidationReport>,
     scenes: Vec<&'static str>,
     techniques: Vec<&'static str>,
+    /// The techniques that shadow every light in the additive mode.
+    shadowing_every_light: Vec<&'static str>,
 }
 
 fn info(args: &GpuArgs, json: bool) -> Result<()> {
@@ -421,6 +424,7 @@ fn info(args: &GpuArgs, json: bool) -> Result<()> {
         validation: gpu.validation_report(),
         scenes: BUILTIN_SCENES.iter().chain(OTHER_SCENES).map(|(n, _)| *n).collect(),
         techniques: TECHNIQUES.iter().map(|t| t.name()).collect(),
+        shadowing_every_light: shadowing_every_light(),
     };
     if json {
         println!("{}", serde_json::to_string_pretty(&report).map_err(|e| Error::Internal(e.to_string()))?);
@@ -469,6 +473,7 @@ fn info(args: &GpuArgs, json: bool) -> Result<()> {
     print_validation(report.validation);
     println!("\nscenes:     {}", report.scenes.join(", "));
     println!("techniques: {}", report.techniques.join(", "));
+    println!("shadowing every light (--shadow-mode additive): {}", report.shadowing_every_light.join(", "));
     Ok(())
 }
 

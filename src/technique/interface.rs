@@ -129,6 +129,11 @@ impl Technique {
     pub(crate) fn planned_lights(self, scene: &Scene) -> Vec<PlannedLight> {
         self.0.planned_lights(scene)
     }
+
+    /// The lights it shadows with `options`, of `lights` as the plan loops over them.
+    pub(crate) fn shadowed_lights(self, options: &RenderOptions, lights: &[PlannedLight]) -> ShadowedLights {
+        self.0.shadowed_lights(options, lights)
+    }
 }
 
 impl fmt::Debug for Technique {

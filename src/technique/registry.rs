@@ -2,6 +2,8 @@
 //! `bench`, `profile --compare`, `info` and the viewer read it.
 
 use super::interface::{RenderOptions, Technique};
+use super::light_loop::ShadowedLights;
+use super::options::ShadowMode;
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 
@@ -55,6 +57,14 @@ pub fn by_name(name: &str) -> Result<Technique> {
         .ok_or_else(|| Error::InvalidInput(format!("unknown technique '{name}'; available: {}", names().join(", "))))
 }
 
+/// The techniques that shadow every light in the additive mode (`--shadow-mode additive`,
+/// the default), asked of each technique, in list order: what a user whose technique leaves
+/// lights unshadowed can switch to (`nostencil info` lists them).
+pub fn shadowing_every_light() -> Vec<&'static str> {
+    let additive = RenderOptions { shadow_mode: ShadowMode::Additive, ..RenderOptions::default() };
+    TECHNIQUES.iter().filter(|t| t.shadowed_lights(&additive, &[]) == ShadowedLights::Every).map(|t| t.name()).collect()
+}
+
 /// Every technique's name, in list order.
 pub fn names() -> Vec<&'static str> {
     TECHNIQUES.iter().map(|t| t.name()).collect()
@@ -72,5 +82,10 @@ mod tests {
             assert_eq!(by_name(technique.name()).map(|t| t.name()).ok(), Some(technique.name()));
         }
         assert!(by_name("nope").is_err());
+    }
+
+    #[test]
+    fn the_families_of_the_additive_loop_shadow_every_light() {
+        assert_eq!(shadowing_every_light(), ["shadow-volume", "planar"]);
     }
 }

@@ -47,14 +47,15 @@ pub trait TechniqueUnit: TechniqueInfo {
 }
 
 /// What the warning about unshadowed lights tells a user to do: a technique that shadows every
-/// light in the additive mode (shadow volumes, planar) names that mode; the others name those
-/// two techniques.
+/// light in the additive mode names that mode; the others point to the techniques that do,
+/// which `nostencil info` lists (`registry::shadowing_every_light`: this layer lies below the
+/// registry and names no technique).
 fn every_light_hint<T: TechniqueUnit>(unit: &T, options: &RenderOptions, lights: &[PlannedLight]) -> &'static str {
     let additive = RenderOptions { shadow_mode: ShadowMode::Additive, ..options.clone() };
     if unit.shadowed_lights(&additive, lights) == ShadowedLights::Every {
         "--shadow-mode additive shadows every light"
     } else {
-        "--technique shadow-volume or planar shadows every light"
+        "`nostencil info` lists the techniques that shadow every light"
     }
 }
 

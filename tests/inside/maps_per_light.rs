@@ -263,8 +263,9 @@ fn lights_left_unshadowed_are_named_and_still_shade() {
 }
 
 /// The warning about lights left unshadowed tells how to shadow them all: a technique that
-/// shadows every light in the additive mode names that mode, the others name the techniques
-/// that do (derived from each technique's own `shadowed_lights`).
+/// shadows every light in the additive mode names that mode, the others point to `nostencil
+/// info`, which lists the techniques that do (derived from each technique's own
+/// `shadowed_lights`: `registry::shadowing_every_light`).
 #[test]
 fn the_unshadowed_lights_warning_names_the_way_to_shadow_them_all() {
     use nostencil::ShadowMode;
@@ -273,7 +274,7 @@ fn the_unshadowed_lights_warning_names_the_way_to_shadow_them_all() {
     for (technique, fix) in [
         ("shadow-volume", "(--shadow-mode additive shadows every light)"),
         ("planar", "(--shadow-mode additive shadows every light)"),
-        ("blob", "(--technique shadow-volume or planar shadows every light)"),
+        ("blob", "(`nostencil info` lists the techniques that shadow every light)"),
     ] {
         let mut options = RenderOptions {
             width: SIZE.0,
