@@ -1,7 +1,6 @@
 //! Writing a read-back frame (`image::RgbaImage`) as PNG without ever leaving half a file.
 
-use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use image::RgbaImage;
 
@@ -29,29 +28,11 @@ pub fn encode_png(image: &RgbaImage, keep_alpha: bool) -> Result<Vec<u8>> {
     Ok(out)
 }
 
-/// Writes `bytes` under a temporary name in the same folder, then renames it to `path`, so a
-/// failure never leaves a partial file behind.
+/// Writes `bytes` to `path` through a temporary file and a rename (the report crate's
+/// writer), so a failure never leaves a partial file behind.
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
-    let io_err = |source: std::io::Error| Error::Io { path: path.to_path_buf(), source };
-    let temp = temporary_sibling(path);
-    let written = (|| {
-        let mut file = std::fs::File::create(&temp)?;
-        file.write_all(bytes)?;
-        file.sync_all()
-    })();
-    if let Err(e) = written {
-        let _ = std::fs::remove_file(&temp);
-        return Err(io_err(e));
-    }
-    std::fs::rename(&temp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&temp);
-        io_err(e)
-    })
-}
-
-fn temporary_sibling(path: &Path) -> PathBuf {
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "out.png".into());
-    path.with_file_name(format!(".{name}.{}.partial", std::process::id()))
+    nostencil_fillrate_report::output::write_atomically(path, bytes)
+        .map_err(|source| Error::Io { path: path.to_path_buf(), source })
 }
 
 #[cfg(test)]

@@ -27,12 +27,27 @@ pub fn render(report: &FillrateReport, format: OutputFormat) -> String {
     }
 }
 
-/// Writes `text` to `path` through a temp file and a rename, so a reader never sees half a file.
-pub fn write_atomically(path: &Path, text: impl AsRef<[u8]>) -> std::io::Result<()> {
-    let mut temp = path.as_os_str().to_owned();
-    temp.push(format!(".tmp{}", std::process::id()));
-    std::fs::write(&temp, text)?;
-    std::fs::rename(&temp, path)
+/// Writes `bytes` under a temporary name in the same folder, then renames it to `path`, so a
+/// reader never sees half a file and a failure leaves none behind (the temporary file is
+/// removed). The one writer of every output file: reports here, and the renderer's PNGs.
+pub fn write_atomically(path: &Path, bytes: impl AsRef<[u8]>) -> std::io::Result<()> {
+    let temp = temporary_sibling(path);
+    let written = (|| {
+        let mut file = std::fs::File::create(&temp)?;
+        std::io::Write::write_all(&mut file, bytes.as_ref())?;
+        file.sync_all()?;
+        std::fs::rename(&temp, path)
+    })();
+    if written.is_err() {
+        let _ = std::fs::remove_file(&temp);
+    }
+    written
+}
+
+/// A hidden name beside `path` that no other process writing the same file uses.
+fn temporary_sibling(path: &Path) -> std::path::PathBuf {
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "out".into());
+    path.with_file_name(format!(".{name}.{}.partial", std::process::id()))
 }
 
 fn csv_field(text: &str) -> String {
@@ -485,6 +500,24 @@ mod tests {
     use crate::aggregate::Aggregator;
     use crate::fixtures::row;
     use crate::report::{CounterSupport, FrameRows, NotMeasured, RunEnd, FILLRATE_SCHEMA};
+
+    #[test]
+    fn an_atomic_write_replaces_the_file_whole_and_a_failed_one_leaves_nothing() {
+        let dir = std::env::temp_dir().join(format!("fillrate-report-write-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("report.json");
+        write_atomically(&file, "first").unwrap();
+        write_atomically(&file, "second").unwrap();
+        assert_eq!(std::fs::read_to_string(&file).unwrap(), "second");
+        // The rename fails onto a folder that is not empty; its temporary file goes with it.
+        let occupied = dir.join("occupied");
+        std::fs::create_dir_all(occupied.join("inside")).unwrap();
+        assert!(write_atomically(&occupied, "text").is_err());
+        let names: Vec<String> =
+            std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+        assert!(names.iter().all(|n| !n.ends_with(".partial")), "{names:?}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 
     fn report() -> FillrateReport {
         let mut passes = vec![row(10, 100, Some(1e6)), row(20, 7, None)];
