@@ -1182,3 +1182,62 @@ fn unmoved_volumes_are_reused_and_moved_ones_built_again_to_the_same_image() {
     }
     common::assert_no_validation_messages(&gpu);
 }
+
+/// The culling a light decided (`--cull-casters`) is kept while neither the light nor any caster
+/// moves: the next frame culls the same casters without deciding again, and draws the same
+/// image; a moved light or a turned caster decides again, to a fresh renderer's image; and a
+/// scene with a skinned caster, which moves without a transform, decides every frame.
+#[test]
+fn an_unmoved_culling_is_kept_and_a_moved_one_decided_again() {
+    let gpu = common::gpu();
+    let base = nested_scene();
+    let options = RenderOptions {
+        width: SIZE.0,
+        height: SIZE.1,
+        samples: 1,
+        technique: technique("shadow-volume"),
+        shadow_volume: ShadowVolumeOptions { cull_casters: true, ..Default::default() },
+        ..Default::default()
+    };
+    let frame = |renderer: &mut nostencil::SceneRenderer<'_>, scene: &Scene| {
+        let frame = renderer.frame_with(scene).expect("frame");
+        let stats = frame.stats::<nostencil::stats::ShadowVolumeStats>().expect("statistics").clone();
+        (frame.output.image, stats.lights[0].clone())
+    };
+    let mut renderer = options.technique.build(&gpu, &base, &options).expect("renderer");
+    let (first, decided) = frame(&mut renderer, &base);
+    assert!(decided.culled == 2 && !decided.culling_reused, "{decided:?}");
+    let (second, kept) = frame(&mut renderer, &base);
+    assert!(kept.culling_reused && kept.culled == 2, "nothing moved, the culling is kept: {kept:?}");
+    assert!(first == second, "the kept culling drew another image");
+
+    let mut moved_light = base.clone();
+    let Light::Directional { direction } = moved_light.lights[0].geometry() else { panic!("a sun") };
+    moved_light.lights[0]
+        .set_geometry(Light::Directional { direction: (direction + Vec3::new(0.05, 0.0, 0.0)).normalize() });
+    let mut turned = base.clone();
+    let roof = turned.objects.iter().position(|o| o.name == "roof").expect("the roof");
+    turned.objects[roof].transform = Mat4::from_translation(Vec3::new(3.0, 0.0, 0.0)) * turned.objects[roof].transform;
+    for (what, moved) in [("a moved light", &moved_light), ("a moved roof", &turned)] {
+        let (image, report) = frame(&mut renderer, moved);
+        assert!(!report.culling_reused, "{what}: decided again: {report:?}");
+        let mut fresh = options.technique.build(&gpu, moved, &options).expect("renderer");
+        let (expected, fresh_report) = frame(&mut fresh, moved);
+        assert_eq!(report.culled, fresh_report.culled, "{what}");
+        assert!(image == expected, "{what}: another image than a fresh renderer's");
+        let (back, report) = frame(&mut renderer, &base);
+        assert!(!report.culling_reused && back == first, "{what}: moved back, decided again, the base image");
+    }
+    // The roof moved away: the boxes are in its shadow no more.
+    let (_, away) = frame(&mut options.technique.build(&gpu, &turned, &options).expect("renderer"), &turned);
+    assert_eq!(away.culled, 0, "{away:?}");
+
+    let walking = builtin_scene("default").expect("scene");
+    assert!(walking.objects.iter().any(|o| o.casts_shadow && o.skin.is_some()), "a skinned caster");
+    let mut renderer = options.technique.build(&gpu, &walking, &options).expect("renderer");
+    for _ in 0..2 {
+        let (_, report) = frame(&mut renderer, &walking);
+        assert!(!report.culling_reused, "a skinned caster: decided every frame: {report:?}");
+    }
+    common::assert_no_validation_messages(&gpu);
+}

@@ -9,11 +9,12 @@
 
 use std::time::Instant;
 
-use glam::Vec3;
+use glam::{Mat4, Vec3};
 
 use super::bounds::Aabb;
 use super::casters::{posed_welded_positions, Caster};
 use crate::mesh::occluder_map::{LightView, OccluderMap};
+use crate::scene::model::LightKind;
 use crate::scene::{Light, Scene, SceneLight};
 
 /// Texels along the occluder map's longer side: fine enough that a part's faces cover whole
@@ -42,6 +43,57 @@ impl Culling {
     pub fn is_hidden(&self, caster: usize) -> bool {
         self.hidden.get(caster).copied().unwrap_or(false)
     }
+}
+
+/// The culling last decided for one light, with what it was decided from. Where neither the light
+/// nor any caster moved, and no caster is skinned, the same inputs decide the same casters: the
+/// next frame takes it as it is (as the volumes' buffers are kept, Doom 3's static shadows).
+pub struct KeptCulling {
+    key: CullingKey,
+    culling: Culling,
+}
+
+/// What a culling depends on: the light's kind, geometry and range, and every caster's
+/// transform (its mesh is fixed; a skinned caster moves without one, so none is kept then).
+#[derive(Debug, Clone, PartialEq)]
+struct CullingKey {
+    kind: LightKind,
+    light: Light,
+    range: Option<f32>,
+    transforms: Vec<Mat4>,
+}
+
+impl CullingKey {
+    fn of(scene: &Scene, casters: &[Caster], light: &SceneLight) -> Option<CullingKey> {
+        let objects = || casters.iter().map(|c| &scene.objects[c.object]);
+        if objects().any(|o| o.skin.is_some()) {
+            return None;
+        }
+        let transforms = objects().map(|o| o.transform).collect();
+        Some(CullingKey { kind: light.kind, light: light.geometry(), range: light.range, transforms })
+    }
+}
+
+/// [`hidden_casters`], or the culling in `kept` where nothing it depends on moved; whether it
+/// was kept. A culling decided again replaces the one kept. Its `cpu_ms` is this frame's.
+pub fn hidden_casters_kept(
+    kept: &mut Option<KeptCulling>,
+    scene: &Scene,
+    casters: &[Caster],
+    light: &SceneLight,
+    boxes: &[Option<Aabb>],
+) -> (Culling, bool) {
+    let start = Instant::now();
+    let key = CullingKey::of(scene, casters, light);
+    if let (Some(key), Some(kept)) = (&key, kept.as_ref()) {
+        if *key == kept.key {
+            let culling = Culling { cpu_ms: start.elapsed().as_secs_f64() * 1e3, ..kept.culling.clone() };
+            return (culling, true);
+        }
+    }
+    let culling = hidden_casters(scene, casters, light, boxes);
+    *kept = key.map(|key| KeptCulling { key, culling: culling.clone() });
+    (culling, false)
 }
 
 /// The casters `light` reaches that lie wholly in the shadow of the others it reaches.

@@ -10,7 +10,7 @@ use glam::{Mat4, Vec4};
 
 use super::bounds;
 use super::casters::{build_volume_for, choose_zfail, prepare_casters, Caster};
-use super::culling::{self, Culling};
+use super::culling::{self, Culling, KeptCulling};
 use super::recipes::SATURATION_PROBE;
 use super::recipes::{VolumeDraw, VolumeKinds, VolumeSet};
 pub use super::stats::{CasterReport, LightReport, ShadowVolumeStats};
@@ -184,6 +184,7 @@ pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetu
         buffers: Vec::new(),
         covers: Vec::new(),
         light_rects: Vec::new(),
+        kept_culling: Vec::new(),
         primary,
         shadowed,
         stats: ShadowVolumeStats {
@@ -228,6 +229,8 @@ pub struct ShadowVolumePasses {
     covers: Vec<Scissor>,
     /// Per light: its light scissor (Doom 3's), where its shading pass draws.
     light_rects: Vec<Scissor>,
+    /// Per light: the culling last decided, kept while neither it nor a caster moves.
+    kept_culling: Vec<Option<KeptCulling>>,
     /// The light the modulate mode shadows.
     primary: usize,
     /// Which lights get volumes: the shadowing ones (additive), the primary one (modulate).
@@ -321,10 +324,13 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
                 Scissor::Frame
             };
             let shadows = self.shadowed.get(index).copied().unwrap_or(false);
-            let culled = if shadows && self.requested.cull_casters {
-                culling::hidden_casters(scene, &self.casters, light, &boxes)
+            if self.kept_culling.len() <= index {
+                self.kept_culling.resize_with(index + 1, || None);
+            }
+            let (culled, culling_reused) = if shadows && self.requested.cull_casters {
+                culling::hidden_casters_kept(&mut self.kept_culling[index], scene, &self.casters, light, &boxes)
             } else {
-                Culling::none(self.casters.len())
+                (Culling::none(self.casters.len()), false)
             };
             self.stats.culling_cpu_ms += culled.cpu_ms;
             let mut reused = 0;
@@ -355,6 +361,7 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
                 volumes: volumes.len(),
                 reused,
                 culled: culled.count(),
+                culling_reused,
                 volume_fill: None,
                 volume_samples_passed: 0.0,
             });

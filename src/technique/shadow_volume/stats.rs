@@ -43,8 +43,9 @@ pub struct ShadowVolumeStats {
     pub mode: &'static str,
     /// Per light: whether it casts, and the volumes drawn for it this frame.
     pub lights: Vec<LightReport>,
-    /// CPU time this frame spent deciding which casters are culled, over every light (0 with
-    /// `--no-caster-culling`): what culling adds to a frame whose light moves.
+    /// CPU time this frame spent deciding which casters are culled, over every light (0 without
+    /// `--cull-casters`; next to nothing where a light's culling is kept from an earlier frame):
+    /// what culling adds to a frame whose light moves.
     pub culling_cpu_ms: f64,
 }
 
@@ -62,6 +63,9 @@ pub struct LightReport {
     /// Casters left out because they lie wholly in the shadow of other casters
     /// (`--cull-casters`).
     pub culled: usize,
+    /// Whether that culling was decided on an earlier frame: neither the light nor any caster
+    /// moved since (and none is skinned), so it was not decided again.
+    pub culling_reused: bool,
     /// Fragment shader invocations of this light's volume passes per pixel of the frame: the
     /// volumes' fill (None where the device has no pipeline statistics).
     pub volume_fill: Option<f64>,
@@ -118,10 +122,11 @@ impl FrameStats for ShadowVolumeStats {
             let shadows = if light.shadows {
                 let fill = light.volume_fill.map_or("not measured".into(), |f| format!("{f:.2}"));
                 format!(
-                    "{} volumes ({} reused from earlier frames), {} casters culled | volume fill {fill} fragments/px, {:.2} samples passed/px{}",
+                    "{} volumes ({} reused from earlier frames), {} casters culled{} | volume fill {fill} fragments/px, {:.2} samples passed/px{}",
                     light.volumes,
                     light.reused,
                     light.culled,
+                    if light.culling_reused { " (decided on an earlier frame)" } else { "" },
                     light.volume_samples_passed,
                     if self.zfail { "" } else { " (the floor: in front of the receivers)" },
                 )
