@@ -1128,6 +1128,17 @@ fn the_seed_path_for_k_1_is_the_seeds_own_pass_list() {
     common::assert_no_validation_messages(&gpu);
 }
 
+/// The next frame of `renderer` for `scene`: its image and what the volumes report of the first
+/// light.
+fn next_frame(
+    renderer: &mut nostencil::SceneRenderer<'_>,
+    scene: &Scene,
+) -> (RgbaImage, nostencil::stats::LightReport) {
+    let frame = renderer.frame_with(scene).expect("frame");
+    let stats = frame.stats::<nostencil::stats::ShadowVolumeStats>().expect("statistics").clone();
+    (frame.output.image, stats.lights[0].clone())
+}
+
 /// A volume whose light, reach and caster did not move is drawn from the buffers of the frames
 /// before, not built again, and draws the same image; where the light moved, or one caster
 /// turned, exactly those volumes are built again, and the frame equals a fresh renderer's.
@@ -1148,15 +1159,10 @@ fn unmoved_volumes_are_reused_and_moved_ones_built_again_to_the_same_image() {
             technique: technique("shadow-volume"),
             ..Default::default()
         };
-        let frame = |renderer: &mut nostencil::SceneRenderer<'_>, scene: &Scene| {
-            let frame = renderer.frame_with(scene).expect("frame");
-            let stats = frame.stats::<nostencil::stats::ShadowVolumeStats>().expect("statistics").clone();
-            (frame.output.image, stats.lights[0].clone())
-        };
         let mut renderer = options.technique.build(&gpu, &base, &options).expect("renderer");
-        let (first, built) = frame(&mut renderer, &base);
+        let (first, built) = next_frame(&mut renderer, &base);
         assert!(built.volumes > 0 && built.reused == 0, "{stencil:?}: {built:?}");
-        let (second, again) = frame(&mut renderer, &base);
+        let (second, again) = next_frame(&mut renderer, &base);
         assert_eq!(again.reused, again.volumes, "{stencil:?}: nothing moved, every volume reused: {again:?}");
         assert!(first == second, "{stencil:?}: the reused volumes drew another image");
 
@@ -1170,13 +1176,13 @@ fn unmoved_volumes_are_reused_and_moved_ones_built_again_to_the_same_image() {
         for (what, moved, most_reused) in
             [("a moved light", &moved_light, 0), ("a turned caster", &turned, again.volumes - 1)]
         {
-            let (image, report) = frame(&mut renderer, moved);
+            let (image, report) = next_frame(&mut renderer, moved);
             assert!(report.reused <= most_reused, "{stencil:?}, {what}: {report:?}");
             let mut fresh = options.technique.build(&gpu, &base, &options).expect("renderer");
-            let (expected, _) = frame(&mut fresh, moved);
+            let (expected, _) = next_frame(&mut fresh, moved);
             assert!(image == expected, "{stencil:?}, {what}: the rebuilt volumes drew another image");
             // Back to where it was: built again for the base scene, the base image.
-            let (back, _) = frame(&mut renderer, &base);
+            let (back, _) = next_frame(&mut renderer, &base);
             assert!(back == first, "{stencil:?}, {what}: not the base image after moving back");
         }
     }
@@ -1199,15 +1205,10 @@ fn an_unmoved_culling_is_kept_and_a_moved_one_decided_again() {
         shadow_volume: ShadowVolumeOptions { cull_casters: true, ..Default::default() },
         ..Default::default()
     };
-    let frame = |renderer: &mut nostencil::SceneRenderer<'_>, scene: &Scene| {
-        let frame = renderer.frame_with(scene).expect("frame");
-        let stats = frame.stats::<nostencil::stats::ShadowVolumeStats>().expect("statistics").clone();
-        (frame.output.image, stats.lights[0].clone())
-    };
     let mut renderer = options.technique.build(&gpu, &base, &options).expect("renderer");
-    let (first, decided) = frame(&mut renderer, &base);
+    let (first, decided) = next_frame(&mut renderer, &base);
     assert!(decided.culled == 2 && !decided.culling_reused, "{decided:?}");
-    let (second, kept) = frame(&mut renderer, &base);
+    let (second, kept) = next_frame(&mut renderer, &base);
     assert!(kept.culling_reused && kept.culled == 2, "nothing moved, the culling is kept: {kept:?}");
     assert!(first == second, "the kept culling drew another image");
 
@@ -1219,24 +1220,24 @@ fn an_unmoved_culling_is_kept_and_a_moved_one_decided_again() {
     let roof = turned.objects.iter().position(|o| o.name == "roof").expect("the roof");
     turned.objects[roof].transform = Mat4::from_translation(Vec3::new(3.0, 0.0, 0.0)) * turned.objects[roof].transform;
     for (what, moved) in [("a moved light", &moved_light), ("a moved roof", &turned)] {
-        let (image, report) = frame(&mut renderer, moved);
+        let (image, report) = next_frame(&mut renderer, moved);
         assert!(!report.culling_reused, "{what}: decided again: {report:?}");
         let mut fresh = options.technique.build(&gpu, moved, &options).expect("renderer");
-        let (expected, fresh_report) = frame(&mut fresh, moved);
+        let (expected, fresh_report) = next_frame(&mut fresh, moved);
         assert_eq!(report.culled, fresh_report.culled, "{what}");
         assert!(image == expected, "{what}: another image than a fresh renderer's");
-        let (back, report) = frame(&mut renderer, &base);
+        let (back, report) = next_frame(&mut renderer, &base);
         assert!(!report.culling_reused && back == first, "{what}: moved back, decided again, the base image");
     }
     // The roof moved away: the boxes are in its shadow no more.
-    let (_, away) = frame(&mut options.technique.build(&gpu, &turned, &options).expect("renderer"), &turned);
+    let (_, away) = next_frame(&mut options.technique.build(&gpu, &turned, &options).expect("renderer"), &turned);
     assert_eq!(away.culled, 0, "{away:?}");
 
     let walking = builtin_scene("default").expect("scene");
     assert!(walking.objects.iter().any(|o| o.casts_shadow && o.skin.is_some()), "a skinned caster");
     let mut renderer = options.technique.build(&gpu, &walking, &options).expect("renderer");
     for _ in 0..2 {
-        let (_, report) = frame(&mut renderer, &walking);
+        let (_, report) = next_frame(&mut renderer, &walking);
         assert!(!report.culling_reused, "a skinned caster: decided every frame: {report:?}");
     }
     common::assert_no_validation_messages(&gpu);
