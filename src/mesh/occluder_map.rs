@@ -13,9 +13,9 @@
 //! directional light (an orthographic view), view-space z for a point light (a perspective
 //! view, where 1/z is the affine quantity).
 
-use std::collections::HashMap;
-
 use glam::{Vec2, Vec3};
+
+use super::fast_hash::{u64_map_with_capacity, U64Map};
 
 /// How the light sees the world.
 #[derive(Debug, Clone, Copy)]
@@ -361,30 +361,41 @@ impl TexelRect {
 /// The outline of one set of triangles: every edge not shared by exactly two of them on
 /// either side of it, as map-space segments.
 fn outline(triangles: &[MapTriangle]) -> Vec<(Vec2, Vec2)> {
-    // Per undirected edge: its end points and the opposite corners of the triangles on it.
-    let mut edges: HashMap<(u32, u32), (Vec2, Vec2, Vec<Vec2>)> = HashMap::with_capacity(triangles.len() * 2);
+    /// One undirected edge: its end points, the opposite corners of the first two triangles on
+    /// it, and how many triangles run it (a third makes it outline whatever the first two say).
+    struct EdgeUse {
+        ends: (Vec2, Vec2),
+        opposite: [Vec2; 2],
+        count: u32,
+    }
+    let mut edges: U64Map<EdgeUse> = u64_map_with_capacity(triangles.len() * 2);
     for t in triangles {
         for k in 0..3 {
             let (i, j, o) = (k, (k + 1) % 3, (k + 2) % 3);
             let (vi, vj) = (t.vertices[i], t.vertices[j]);
-            let key = (vi.min(vj), vi.max(vj));
-            let (p, q) = if vi < vj { (t.at[i], t.at[j]) } else { (t.at[j], t.at[i]) };
-            edges.entry(key).or_insert_with(|| (p, q, Vec::new())).2.push(t.at[o]);
+            let key = (u64::from(vi.min(vj)) << 32) | u64::from(vi.max(vj));
+            let ends = if vi < vj { (t.at[i], t.at[j]) } else { (t.at[j], t.at[i]) };
+            let edge = edges.entry(key).or_insert(EdgeUse { ends, opposite: [Vec2::ZERO; 2], count: 0 });
+            if let Some(slot) = edge.opposite.get_mut(edge.count as usize) {
+                *slot = t.at[o];
+            }
+            edge.count += 1;
         }
     }
     edges
         .into_values()
-        .filter(|(p, q, opposite)| match opposite.as_slice() {
-            [a, b] => {
-                let e = *q - *p;
-                let (sa, sb) = (e.perp_dot(*a - *p), e.perp_dot(*b - *p));
-                // Interior only when the two lie strictly on either side (NaN: outline).
-                let apart = sa * sb;
-                apart.is_nan() || apart >= 0.0
+        .filter(|edge| {
+            if edge.count != 2 {
+                return true;
             }
-            _ => true,
+            let ((p, q), [a, b]) = (edge.ends, edge.opposite);
+            let e = q - p;
+            let (sa, sb) = (e.perp_dot(a - p), e.perp_dot(b - p));
+            // Interior only when the two lie strictly on either side (NaN: outline).
+            let apart = sa * sb;
+            apart.is_nan() || apart >= 0.0
         })
-        .map(|(p, q, _)| (p, q))
+        .map(|edge| edge.ends)
         .collect()
 }
 
