@@ -88,6 +88,19 @@ fn info_prints_device_profile_and_limits() {
     assert_eq!(info["forbidden_features"].as_array().unwrap().len(), 6);
     assert_eq!(info["frame_colour_format"], "R8G8B8A8_SRGB");
     assert!(info["frame_depth_format_reference"].as_str().is_some_and(|f| f.ends_with("S8_UINT")));
+    // What the unshadowed-lights warning sends a user to: asked of each technique, in text too.
+    let every: Vec<&str> = info["shadowing_every_light"]
+        .as_array()
+        .expect("shadowing_every_light")
+        .iter()
+        .filter_map(|t| t.as_str())
+        .collect();
+    assert_eq!(every, ["shadow-volume", "planar"]);
+    let (text, _) = common::run_ok(&["info"]);
+    assert!(
+        text.lines().any(|l| l == "shadowing every light (--shadow-mode additive): shadow-volume, planar"),
+        "{text}"
+    );
 }
 
 #[test]
