@@ -531,31 +531,49 @@ fn the_tiler_check_flags_nothing_and_changes_no_pixel_of_programs_that_do_it_rig
     // is a copy of the swapchain image it presents.
     let x = start_x_server();
     let shot = |kind: &str| dir.join(format!("view-{kind}.png"));
-    let (plain_shot, checked_shot) = (shot("plain"), shot("checked"));
-    let view = |png: &PathBuf| {
+    let (plain_shot, checked_shot, copied_shot) = (shot("plain"), shot("checked"), shot("copied"));
+    let view = |png: &PathBuf, present: &str| {
         let png = png.to_string_lossy().into_owned();
-        ["view", "--frames", "3", "--size", "64x64", "--paused", "--screenshot"]
+        ["view", "--frames", "3", "--size", "64x64", "--paused", "--present", present, "--screenshot"]
             .map(str::to_owned)
             .into_iter()
             .chain([png])
+            .collect::<Vec<String>>()
     };
-    let plain_args: Vec<String> = view(&plain_shot).collect();
+    let plain_args = view(&plain_shot, "direct");
     let plain_args: Vec<&str> = plain_args.iter().map(String::as_str).collect();
     common::assert_success("view without the layer", &run_nostencil(&dir, "view-plain", &plain_args, &[], Some(&x)));
-    let checked_args: Vec<String> = view(&checked_shot).collect();
-    let program: Vec<&str> =
-        [env!("CARGO_BIN_EXE_nostencil")].into_iter().chain(checked_args.iter().map(String::as_str)).collect();
-    // view renders offscreen and blits the frame into the swapchain image: that blit is a work
-    // row with the frame's bytes, and the check's one finding (exit 1).
-    let result = dir.join("view.json");
-    let result_arg = result.to_string_lossy().into_owned();
-    let args =
-        [&["profile-app", "--format", "json", "--out", result_arg.as_str(), "--tiler-check", "--"], &program[..]]
-            .concat();
-    let output = run_nostencil(&dir, "view", &args, &[], Some(&x));
-    let stderr = common::assert_failure("view under --tiler-check", &output);
+    let under_check = |name: &str, args: &[String]| {
+        let program: Vec<&str> =
+            [env!("CARGO_BIN_EXE_nostencil")].into_iter().chain(args.iter().map(String::as_str)).collect();
+        let result = dir.join(format!("{name}.json"));
+        let result_arg = result.to_string_lossy().into_owned();
+        let args =
+            [&["profile-app", "--format", "json", "--out", result_arg.as_str(), "--tiler-check", "--"], &program[..]]
+                .concat();
+        (run_nostencil(&dir, name, &args, &[], Some(&x)), result)
+    };
+
+    // view draws into the swapchain image (its 4x frame resolved there in the render pass):
+    // no copy into it, and no flag.
+    let (output, report) = under_check("view-direct", &view(&checked_shot, "direct"));
+    common::assert_success("view under --tiler-check", &output);
+    let report = read_report(&report);
+    let check = report.tiler_check.as_ref().expect("view's tiler check");
+    assert!(check.flags.is_empty(), "view: {:#?}", check.flags);
+    assert!(!report.frames.is_empty());
+    for frame in &report.frames {
+        let copies: Vec<_> = frame.work.iter().filter(|w| w.note.is_some()).collect();
+        assert!(copies.is_empty(), "frame {}: a copy into the swapchain image: {copies:#?}", frame.index);
+        assert!(frame.render_passes.iter().any(|p| p.counters.is_some()), "frame {}: no measured pass", frame.index);
+    }
+
+    // `--present copy` renders offscreen and blits the frame into the swapchain image: that
+    // blit is a work row with the frame's bytes, and the check's one finding (exit 1).
+    let (output, report) = under_check("view-copy", &view(&copied_shot, "copy"));
+    let stderr = common::assert_failure("view --present copy under --tiler-check", &output);
     assert!(stderr.contains("tiler-check flag(s) for") && stderr.contains("full_frame_copy_to_swapchain"), "{stderr}");
-    let report = read_report(&result);
+    let report = read_report(&report);
     let check = report.tiler_check.as_ref().expect("view's tiler check");
     let kinds: Vec<&str> = check.flags.iter().map(|f| f.kind.as_str()).collect();
     assert!(
@@ -569,6 +587,10 @@ fn the_tiler_check_flags_nothing_and_changes_no_pixel_of_programs_that_do_it_rig
         let c = blits[0].counters.expect("measured");
         assert_eq!((c.bytes_read, c.bytes_written), (64 * 64 * 4, 64 * 64 * 4), "frame {}", frame.index);
     }
+    // The frame drawn into the swapchain image is the one copied in, to the byte.
+    let bytes = |p: &PathBuf| std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+    assert!(bytes(&plain_shot) == bytes(&checked_shot), "the tiler check changed view's presented image");
+    assert!(bytes(&plain_shot) == bytes(&copied_shot), "view's direct and copied frames differ");
     let bytes = |p: &PathBuf| std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
     assert!(bytes(&plain_shot) == bytes(&checked_shot), "the tiler check changed view's presented image");
 }

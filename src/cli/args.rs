@@ -16,6 +16,7 @@ use crate::technique::registry::DEFAULT_TECHNIQUE;
 use crate::technique::{
     CartoonOptions, Normalize, PlanarOptions, ShadowAtlasOptions, ShadowVolumeOptions, SharedShadowArgs, VolumeMethod,
 };
+use crate::viewer::PresentPath;
 
 #[derive(Debug, Parser)]
 #[command(
@@ -256,6 +257,11 @@ pub enum Command {
         /// print the resident memory and the live Vulkan objects (the soak test).
         #[arg(long, value_name = "N")]
         tour: Option<u32>,
+        /// How frames reach the window: drawn into the swapchain image, a multisampled frame
+        /// resolved into it in the render pass (`direct`, where its format allows), or drawn
+        /// offscreen and copied in (`copy`, to compare what the copy costs).
+        #[arg(long, value_enum, default_value_t = PresentPath::Direct, value_name = "PATH")]
+        present: PresentPath,
     },
     /// Print the device, the mobile profile, and every limit the device is checked against.
     Info {

@@ -17,6 +17,7 @@ use crate::profile::report::{FrameFormats, ProfileReport, ReportContext, ReportF
 use crate::scene::{Scene, BUILTIN_SCENES, OTHER_SCENES};
 use crate::technique::registry::shadowing_every_light;
 use crate::technique::{by_name, render_scene, shadow_atlas, RenderOptions, TECHNIQUES};
+use crate::viewer::PresentPath;
 
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
@@ -120,8 +121,8 @@ pub fn run(cli: Cli) -> Result<()> {
             super::bench::bench(&frame, warmup, runs, json, table1_out.as_deref(), trace.as_deref())
         }
         Command::Bake { frame, model, mip, out } => bake(&frame, model.as_deref(), mip, &out),
-        Command::View { frame, frames, screenshot, script, paused, tour } => {
-            view(&frame, frames, screenshot, script, tour, paused)
+        Command::View { frame, frames, screenshot, script, paused, tour, present } => {
+            view(&frame, frames, screenshot, script, (tour, paused), present)
         }
     }
 }
@@ -524,8 +525,8 @@ fn view(
     frames: Option<u32>,
     screenshot: Option<std::path::PathBuf>,
     script: ViewScript,
-    tour: Option<u32>,
-    paused: bool,
+    (tour, paused): (Option<u32>, bool),
+    present: PresentPath,
 ) -> Result<()> {
     use crate::viewer::{live::Settings, ViewerOptions};
 
@@ -558,6 +559,7 @@ fn view(
             tour,
             paused,
             start_time: frame.time,
+            present,
         },
         scene,
     )

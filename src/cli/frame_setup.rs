@@ -65,6 +65,7 @@ pub(super) fn options(frame: &FrameArgs) -> Result<RenderOptions> {
         stencil: frame.stencil,
         samples: frame.samples,
         keep_samples: false,
+        destination: Default::default(),
         technique: by_name(&frame.technique)?,
         shadow_volume: frame.shadow_volume,
         shadow_mode: frame.shadow_tone.shadow_mode,

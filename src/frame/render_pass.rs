@@ -31,12 +31,45 @@ pub struct RenderPassDesc {
     /// The colour attachment is also read as an input attachment by the same subpass
     /// (a by-region feedback loop, GENERAL layout): for the subpass normalisation path.
     pub colour_feedback: bool,
+    pub destination: FrameDestination,
 }
 
 /// The frame's colour: sRGB-encoded RGB as a phone's screen expects, blended in linear space by
 /// the hardware. Its alpha is plain linear UNORM8 (the spec leaves alpha out of the sRGB
 /// transfer), so the alpha counter's arithmetic is the same as on R8G8B8A8_UNORM.
 pub const COLOUR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
+
+/// Where the frame's one-sample colour (the resolve target at several samples) goes when the
+/// render pass ends.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum FrameDestination {
+    /// An image of the renderer's own in [`COLOUR_FORMAT`], left in TRANSFER_SRC_OPTIMAL: read
+    /// back, or kept on the GPU.
+    #[default]
+    Offscreen,
+    /// The images of a swapchain of `format` (an 8-bit sRGB format with alpha, whose values are
+    /// the same as [`COLOUR_FORMAT`]'s), left in PRESENT_SRC_KHR: presented as rendered, with no
+    /// copy after the pass.
+    Swapchain { format: vk::Format },
+}
+
+impl FrameDestination {
+    /// The one-sample colour's format.
+    pub fn format(self) -> vk::Format {
+        match self {
+            FrameDestination::Offscreen => COLOUR_FORMAT,
+            FrameDestination::Swapchain { format } => format,
+        }
+    }
+
+    /// The layout the render pass leaves the one-sample colour in.
+    pub fn final_layout(self) -> vk::ImageLayout {
+        match self {
+            FrameDestination::Offscreen => vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            FrameDestination::Swapchain { .. } => vk::ImageLayout::PRESENT_SRC_KHR,
+        }
+    }
+}
 
 /// The name of a multisampled frame's resolve attachment (what the bandwidth model resolves into).
 pub const RESOLVED_NAME: &str = "colour (resolved)";
@@ -47,17 +80,23 @@ impl RenderPassDesc {
     /// it after the pass. Several (docs/design/msaa.md): colour and depth both transient, cleared
     /// and discarded in tile memory, and the colour resolved into a one-sample attachment, the
     /// only one stored. `keep_samples` stores the multisampled colour too (the per-sample test
-    /// reads it back; never in a timed frame).
-    pub fn frame(depth_format: vk::Format, colour_feedback: bool, samples: u32, keep_samples: bool) -> Self {
+    /// reads it back; never in a timed frame). `destination`: where the one-sample colour goes.
+    pub fn frame(
+        depth_format: vk::Format,
+        colour_feedback: bool,
+        samples: u32,
+        keep_samples: bool,
+        destination: FrameDestination,
+    ) -> Self {
         let stencil = format_has_stencil(depth_format);
         let output = AttachmentDesc {
             name: "colour",
-            format: COLOUR_FORMAT,
+            format: destination.format(),
             load: vk::AttachmentLoadOp::CLEAR,
             store: vk::AttachmentStoreOp::STORE,
             stencil_load: vk::AttachmentLoadOp::DONT_CARE,
             stencil_store: vk::AttachmentStoreOp::DONT_CARE,
-            final_layout: vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            final_layout: destination.final_layout(),
             transient: false,
             samples: 1,
         };
@@ -74,7 +113,7 @@ impl RenderPassDesc {
             samples,
         };
         if samples <= 1 {
-            return RenderPassDesc { colour: output, depth, resolve: None, colour_feedback };
+            return RenderPassDesc { colour: output, depth, resolve: None, colour_feedback, destination };
         }
         let multisampled = AttachmentDesc {
             name: "colour (multisampled)",
@@ -90,7 +129,7 @@ impl RenderPassDesc {
             ..output
         };
         let resolved = AttachmentDesc { name: RESOLVED_NAME, load: vk::AttachmentLoadOp::DONT_CARE, ..output };
-        RenderPassDesc { colour: multisampled, depth, resolve: Some(resolved), colour_feedback }
+        RenderPassDesc { colour: multisampled, depth, resolve: Some(resolved), colour_feedback, destination }
     }
 
     /// Samples per pixel of the colour and depth attachments.
@@ -147,6 +186,24 @@ impl RenderPassDesc {
             dst_access_mask: dst_access,
             dependency_flags: vk::DependencyFlags::empty(),
         }];
+        if let FrameDestination::Swapchain { .. } = self.destination {
+            // The submission waits for the acquired image at COLOR_ATTACHMENT_OUTPUT: the
+            // layout transitions at the start of the pass must wait there too (the depth's
+            // after the last frame's depth writes, as the implicit dependency it replaces).
+            let fragment_tests =
+                vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS;
+            dependencies.push(vk::SubpassDependency {
+                src_subpass: vk::SUBPASS_EXTERNAL,
+                dst_subpass: 0,
+                src_stage_mask: vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT | fragment_tests,
+                dst_stage_mask: vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT | fragment_tests,
+                src_access_mask: vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                dst_access_mask: vk::AccessFlags::COLOR_ATTACHMENT_WRITE
+                    | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_READ
+                    | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                dependency_flags: vk::DependencyFlags::empty(),
+            });
+        }
         if self.colour_feedback {
             // A full-screen pass reads the pixel that earlier draws of this subpass wrote.
             dependencies.push(vk::SubpassDependency {
@@ -182,18 +239,37 @@ mod tests {
     fn main_frame_has_no_stencil_aspect_anywhere() {
         for depth in [vk::Format::D32_SFLOAT, vk::Format::D16_UNORM] {
             for feedback in [false, true] {
-                let desc = RenderPassDesc::frame(depth, feedback, 1, false);
+                let desc = RenderPassDesc::frame(depth, feedback, 1, false, FrameDestination::Offscreen);
                 assert!(!desc.has_stencil());
                 assert_eq!(desc.depth.stencil_load, vk::AttachmentLoadOp::DONT_CARE);
                 assert_eq!(desc.depth.stencil_store, vk::AttachmentStoreOp::DONT_CARE);
             }
         }
-        assert!(RenderPassDesc::frame(vk::Format::D32_SFLOAT_S8_UINT, false, 1, false).has_stencil());
+        assert!(RenderPassDesc::frame(vk::Format::D32_SFLOAT_S8_UINT, false, 1, false, FrameDestination::Offscreen).has_stencil());
+    }
+
+    #[test]
+    fn a_presented_frame_leaves_its_colour_in_the_swapchain_format_ready_to_present() {
+        let format = vk::Format::B8G8R8A8_SRGB;
+        let destination = FrameDestination::Swapchain { format };
+        let one = RenderPassDesc::frame(vk::Format::D32_SFLOAT, false, 1, false, destination);
+        assert_eq!((one.colour.format, one.colour.final_layout), (format, vk::ImageLayout::PRESENT_SRC_KHR));
+        assert_eq!(one.colour.store, vk::AttachmentStoreOp::STORE);
+        // At 4x the samples stay in tile memory and resolve into the swapchain image, whose
+        // format the resolve requires of them too.
+        let four = RenderPassDesc::frame(vk::Format::D32_SFLOAT, false, 4, false, destination);
+        let resolve = four.resolve.expect("a resolve attachment");
+        assert_eq!((resolve.format, resolve.final_layout), (format, vk::ImageLayout::PRESENT_SRC_KHR));
+        assert_eq!(resolve.load, vk::AttachmentLoadOp::DONT_CARE);
+        assert_eq!((four.colour.format, four.colour.store), (format, vk::AttachmentStoreOp::DONT_CARE));
+        assert!(four.colour.transient);
+        let offscreen = RenderPassDesc::frame(vk::Format::D32_SFLOAT, false, 4, false, FrameDestination::Offscreen);
+        assert_eq!(offscreen.resolve.map(|r| r.final_layout), Some(vk::ImageLayout::TRANSFER_SRC_OPTIMAL));
     }
 
     #[test]
     fn tile_traffic_follows_load_store_ops() {
-        let desc = RenderPassDesc::frame(vk::Format::D32_SFLOAT, false, 1, false);
+        let desc = RenderPassDesc::frame(vk::Format::D32_SFLOAT, false, 1, false, FrameDestination::Offscreen);
         let traffic = desc.attachments().iter().map(|a| a.tile_traffic(256, 256)).collect::<Vec<_>>();
         // Colour: cleared (nothing loaded), stored (4 bytes a pixel). Depth: nothing moves.
         assert_eq!(traffic[0].bytes_loaded, 0);
@@ -205,7 +281,7 @@ mod tests {
             store: vk::AttachmentStoreOp::STORE,
             stencil_load: vk::AttachmentLoadOp::LOAD,
             stencil_store: vk::AttachmentStoreOp::STORE,
-            ..RenderPassDesc::frame(vk::Format::D32_SFLOAT_S8_UINT, false, 1, false).depth
+            ..RenderPassDesc::frame(vk::Format::D32_SFLOAT_S8_UINT, false, 1, false, FrameDestination::Offscreen).depth
         };
         let traffic = kept.tile_traffic(16, 16);
         assert_eq!((traffic.bytes_loaded, traffic.bytes_stored), (5 * 256, 5 * 256));

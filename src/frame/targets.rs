@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::render_pass::{RenderPassDesc, StencilMode, COLOUR_FORMAT};
+use super::render_pass::{FrameDestination, RenderPassDesc, StencilMode};
 use crate::error::{Error, Result, VkContext};
 use crate::gpu::live_objects::ObjectKind;
 use crate::gpu::memory::{sample_count_flags, Image, ImageDesc};
@@ -18,14 +18,25 @@ pub struct FrameTargets {
     pub extent: vk::Extent2D,
     pub stencil: StencilMode,
     pub desc: RenderPassDesc,
-    /// The frame as it leaves the render pass (one sample; TRANSFER_SRC_OPTIMAL): read back,
-    /// presented.
-    pub colour: Image,
+    /// The frame as it leaves the render pass (one sample): read back, or presented.
+    pub output: OutputImages,
     /// The multisampled colour the passes draw into, when the frame has several samples.
     pub multisampled: Option<Image>,
     pub depth: Image,
     pub render_pass: vk::RenderPass,
-    pub framebuffer: vk::Framebuffer,
+    /// One per output image (one offscreen; one per swapchain image once attached).
+    framebuffers: Vec<vk::Framebuffer>,
+    /// The output image the next frame is drawn into.
+    current: usize,
+}
+
+/// The frame's one-sample colour images (`FrameDestination`).
+pub enum OutputImages {
+    /// The renderer's own image, left in TRANSFER_SRC_OPTIMAL.
+    Own(Image),
+    /// A swapchain's images (the swapchain's, not destroyed here) with a view of each made
+    /// here, left in PRESENT_SRC_KHR; none until `attach_swapchain`.
+    Swapchain { images: Vec<vk::Image>, views: Vec<vk::ImageView> },
 }
 
 /// Depth formats in order of preference, per stencil mode.
@@ -89,25 +100,28 @@ fn frame_images(
     extent: vk::Extent2D,
     samples: u32,
     keep_samples: bool,
-) -> Result<(Image, Option<Image>, Image)> {
+) -> Result<(OutputImages, Option<Image>, Image)> {
     let multisampled_frame = desc.resolve.is_some();
     let depth_format = desc.depth.format;
     let mut colour_usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
     if !multisampled_frame {
         colour_usage |= vk::ImageUsageFlags::INPUT_ATTACHMENT;
     }
-    let colour = Image::new(
-        gpu,
-        &ImageDesc {
-            name: "frame colour",
-            format: COLOUR_FORMAT,
-            extent,
-            usage: colour_usage,
-            aspect: vk::ImageAspectFlags::COLOR,
-            mip_levels: 1,
-            samples: 1,
-        },
-    )?;
+    let output = match desc.destination {
+        FrameDestination::Offscreen => OutputImages::Own(Image::new(
+            gpu,
+            &ImageDesc {
+                name: "frame colour",
+                format: desc.destination.format(),
+                extent,
+                usage: colour_usage,
+                aspect: vk::ImageAspectFlags::COLOR,
+                mip_levels: 1,
+                samples: 1,
+            },
+        )?),
+        FrameDestination::Swapchain { .. } => OutputImages::Swapchain { images: Vec::new(), views: Vec::new() },
+    };
     let multisampled = if multisampled_frame {
         // Transient: it lives in tile memory and is resolved before it would leave it.
         let kept = if keep_samples { vk::ImageUsageFlags::SAMPLED } else { vk::ImageUsageFlags::TRANSIENT_ATTACHMENT };
@@ -115,7 +129,7 @@ fn frame_images(
             gpu,
             &ImageDesc {
                 name: "frame colour (multisampled)",
-                format: COLOUR_FORMAT,
+                format: desc.destination.format(),
                 extent,
                 usage: vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::INPUT_ATTACHMENT | kept,
                 aspect: vk::ImageAspectFlags::COLOR,
@@ -143,7 +157,7 @@ fn frame_images(
             samples,
         },
     )?;
-    Ok((colour, multisampled, depth))
+    Ok((output, multisampled, depth))
 }
 
 impl FrameTargets {
@@ -164,76 +178,197 @@ impl FrameTargets {
         samples: u32,
         keep_samples: bool,
     ) -> Result<Self> {
+        let frame = (width, height, samples);
+        Self::build(gpu, frame, stencil, colour_feedback, keep_samples, FrameDestination::Offscreen)
+    }
+
+    /// A `width` x `height` frame of `samples` samples drawn into (or resolved into) the
+    /// images of a swapchain of `format`, attached with [`FrameTargets::attach_swapchain`].
+    /// A one-sample frame whose subpass reads its colour back (`colour_feedback`) cannot: its
+    /// input attachment would change with every image.
+    pub fn presenting(
+        gpu: &Arc<Gpu>,
+        (width, height, samples): (u32, u32, u32),
+        stencil: StencilMode,
+        colour_feedback: bool,
+        format: vk::Format,
+    ) -> Result<Self> {
+        if colour_feedback && samples == 1 {
+            return Err(Error::Internal(
+                "a one-sample frame that reads its own colour is not drawn into swapchain images".into(),
+            ));
+        }
+        let destination = FrameDestination::Swapchain { format };
+        Self::build(gpu, (width, height, samples), stencil, colour_feedback, false, destination)
+    }
+
+    fn build(
+        gpu: &Arc<Gpu>,
+        (width, height, samples): (u32, u32, u32),
+        stencil: StencilMode,
+        colour_feedback: bool,
+        keep_samples: bool,
+        destination: FrameDestination,
+    ) -> Result<Self> {
         crate::gpu::mobile_profile::check_image_size("frame", width, height)?;
         check_samples(gpu, stencil, samples)?;
         let extent = vk::Extent2D { width, height };
         let depth_format = choose_depth_format(gpu, stencil)?;
         check_frame_fits(gpu, width, height, samples, depth_format)?;
-        let desc = RenderPassDesc::frame(depth_format, colour_feedback, samples, keep_samples);
-        let (colour, multisampled, depth) = frame_images(gpu, &desc, extent, samples, keep_samples)?;
+        let desc = RenderPassDesc::frame(depth_format, colour_feedback, samples, keep_samples, destination);
+        let (output, multisampled, depth) = frame_images(gpu, &desc, extent, samples, keep_samples)?;
 
-        let device = gpu.raw();
-        let render_pass = desc.build(device)?;
+        let render_pass = desc.build(gpu.raw())?;
         gpu.created(ObjectKind::RenderPass);
-        let views = match &multisampled {
-            Some(drawn) => vec![drawn.view, depth.view, colour.view],
-            None => vec![colour.view, depth.view],
-        };
-        let fb_info = vk::FramebufferCreateInfo::default()
-            .render_pass(render_pass)
-            .attachments(&views)
-            .width(width)
-            .height(height)
-            .layers(1);
-        // SAFETY: the views are alive (owned by the images kept with the framebuffer) and match
-        // the render pass's attachments, in order, at the framebuffer's size.
-        let framebuffer = match unsafe { device.create_framebuffer(&fb_info, None) }.vk("vkCreateFramebuffer") {
-            Ok(fb) => {
-                gpu.created(ObjectKind::Framebuffer);
-                fb
-            }
-            Err(e) => {
-                // SAFETY: the render pass was just created and nothing uses it.
-                unsafe { device.destroy_render_pass(render_pass, None) };
-                gpu.destroyed(ObjectKind::RenderPass);
-                return Err(e);
-            }
-        };
-        Ok(FrameTargets {
+        let mut targets = FrameTargets {
             gpu: gpu.clone(),
             extent,
             stencil,
             desc,
-            colour,
+            output,
             multisampled,
             depth,
             render_pass,
-            framebuffer,
+            framebuffers: Vec::new(),
+            current: 0,
+        };
+        // On failure `targets` is dropped, destroying the render pass.
+        if let OutputImages::Own(colour) = &targets.output {
+            let framebuffer = targets.framebuffer_for(colour.view)?;
+            targets.framebuffers.push(framebuffer);
+        }
+        Ok(targets)
+    }
+
+    /// A framebuffer of the render pass with `output` as its one-sample colour.
+    fn framebuffer_for(&self, output: vk::ImageView) -> Result<vk::Framebuffer> {
+        let views = match &self.multisampled {
+            Some(drawn) => vec![drawn.view, self.depth.view, output],
+            None => vec![output, self.depth.view],
+        };
+        let info = vk::FramebufferCreateInfo::default()
+            .render_pass(self.render_pass)
+            .attachments(&views)
+            .width(self.extent.width)
+            .height(self.extent.height)
+            .layers(1);
+        // SAFETY: the views are alive (owned by the images kept with the framebuffer, or made
+        // for the attached swapchain's images and destroyed after it) and match the render
+        // pass's attachments, in order, at the framebuffer's size.
+        let framebuffer = unsafe { self.gpu.raw().create_framebuffer(&info, None) }.vk("vkCreateFramebuffer")?;
+        self.gpu.created(ObjectKind::Framebuffer);
+        Ok(framebuffer)
+    }
+
+    /// Draws the next frames into `images`, a swapchain's (at this frame's size and format),
+    /// replacing those attached before; the caller makes sure no frame still uses the old ones.
+    pub fn attach_swapchain(&mut self, images: &[vk::Image]) -> Result<()> {
+        let FrameDestination::Swapchain { format } = self.desc.destination else {
+            return Err(Error::Internal("an offscreen frame was given swapchain images".into()));
+        };
+        self.destroy_framebuffers();
+        for &image in images {
+            let info = vk::ImageViewCreateInfo::default()
+                .image(image)
+                .view_type(vk::ImageViewType::TYPE_2D)
+                .format(format)
+                .subresource_range(crate::gpu::regions::COLOUR_RANGE);
+            // SAFETY: `image` is a live swapchain image of `format` (the caller's), one layer.
+            let view = unsafe { self.gpu.raw().create_image_view(&info, None) }.vk("vkCreateImageView")?;
+            self.gpu.created(ObjectKind::ImageView);
+            if let OutputImages::Swapchain { images: kept, views } = &mut self.output {
+                kept.push(image);
+                views.push(view);
+            }
+            let framebuffer = self.framebuffer_for(view)?;
+            self.framebuffers.push(framebuffer);
+        }
+        self.current = 0;
+        Ok(())
+    }
+
+    /// The next frame is drawn into output image `index` (a swapchain image's index).
+    pub fn select_output(&mut self, index: u32) -> Result<()> {
+        if index as usize >= self.framebuffers.len() {
+            return Err(Error::Internal(format!(
+                "output image {index} of {}: attach the swapchain's images first",
+                self.framebuffers.len()
+            )));
+        }
+        self.current = index as usize;
+        Ok(())
+    }
+
+    /// The framebuffer the next frame is drawn into.
+    pub fn framebuffer(&self) -> Result<vk::Framebuffer> {
+        self.framebuffers.get(self.current).copied().ok_or_else(|| {
+            Error::Internal("a frame for swapchain images was drawn before the swapchain was attached".into())
         })
     }
 
-    /// The colour image the passes draw into (and a subpass reads as its input attachment):
-    /// the multisampled one, else the frame's colour.
-    pub fn drawn_colour(&self) -> &Image {
-        self.multisampled.as_ref().unwrap_or(&self.colour)
+    /// The renderer's own output image: None when frames go to a swapchain.
+    pub fn colour(&self) -> Option<&Image> {
+        match &self.output {
+            OutputImages::Own(image) => Some(image),
+            OutputImages::Swapchain { .. } => None,
+        }
+    }
+
+    /// The one-sample image the next frame leaves the render pass in.
+    pub fn output_image(&self) -> vk::Image {
+        match &self.output {
+            OutputImages::Own(image) => image.raw,
+            OutputImages::Swapchain { images, .. } => images.get(self.current).copied().unwrap_or_default(),
+        }
+    }
+
+    /// Whether frames are presented as rendered, into a swapchain's images.
+    pub fn presents(&self) -> bool {
+        matches!(self.desc.destination, FrameDestination::Swapchain { .. })
+    }
+
+    /// The colour image the passes draw into, if it is the renderer's own: the multisampled
+    /// one, else the frame's colour (a subpass reads it as its input attachment).
+    pub fn drawn_colour(&self) -> Option<&Image> {
+        self.multisampled.as_ref().or_else(|| self.colour())
+    }
+
+    /// The colour image the passes of the next frame draw into.
+    pub fn drawn_colour_image(&self) -> vk::Image {
+        self.multisampled.as_ref().map_or_else(|| self.output_image(), |image| image.raw)
     }
 
     /// Samples per pixel.
     pub fn samples(&self) -> u32 {
         self.desc.samples()
     }
+
+    fn destroy_framebuffers(&mut self) {
+        let device = self.gpu.raw();
+        // SAFETY: no pending command uses them (the owner's drop or the caller of
+        // `attach_swapchain` waited); each handle is destroyed once, framebuffers before views.
+        unsafe {
+            for framebuffer in self.framebuffers.drain(..) {
+                device.destroy_framebuffer(framebuffer, None);
+                self.gpu.destroyed(ObjectKind::Framebuffer);
+            }
+            if let OutputImages::Swapchain { images, views } = &mut self.output {
+                images.clear();
+                for view in views.drain(..) {
+                    device.destroy_image_view(view, None);
+                    self.gpu.destroyed(ObjectKind::ImageView);
+                }
+            }
+        }
+    }
 }
 
 impl Drop for FrameTargets {
     fn drop(&mut self) {
-        let device = self.gpu.raw();
-        // SAFETY: no pending command uses them (see `Buffer`'s drop); the framebuffer goes before
-        // its render pass, and the images (fields) after both.
-        unsafe {
-            device.destroy_framebuffer(self.framebuffer, None);
-            device.destroy_render_pass(self.render_pass, None);
-        }
-        self.gpu.destroyed(ObjectKind::Framebuffer);
+        self.destroy_framebuffers();
+        // SAFETY: no pending command uses it (see `Buffer`'s drop); the framebuffers went
+        // before it, and the images (fields) go after.
+        unsafe { self.gpu.raw().destroy_render_pass(self.render_pass, None) };
         self.gpu.destroyed(ObjectKind::RenderPass);
     }
 }

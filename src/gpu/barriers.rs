@@ -257,6 +257,25 @@ pub fn swapchain_to_read_back(device: &ash::Device, cmd: vk::CommandBuffer, swap
     );
 }
 
+/// A swapchain image the frame's render pass drew (or resolved) into and left in
+/// PRESENT_SRC_KHR is read back for a screenshot before it is presented.
+pub fn presented_to_read_back(device: &ash::Device, cmd: vk::CommandBuffer, swapchain_image: vk::Image) {
+    let barrier = image_barrier(
+        swapchain_image,
+        0..1,
+        (vk::ImageLayout::PRESENT_SRC_KHR, vk::ImageLayout::TRANSFER_SRC_OPTIMAL),
+        // The render pass's dependency to TRANSFER made its writes visible there; this chains.
+        (vk::AccessFlags::empty(), vk::AccessFlags::TRANSFER_READ),
+    );
+    record_image_barriers(
+        device,
+        cmd,
+        (vk::PipelineStageFlags::TRANSFER, vk::PipelineStageFlags::TRANSFER),
+        vk::DependencyFlags::empty(),
+        &[barrier],
+    );
+}
+
 /// What a swapchain image last went through before it is presented.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum BeforePresent {

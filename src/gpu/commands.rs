@@ -33,18 +33,29 @@ pub fn free_primary(gpu: &Gpu, cmd: vk::CommandBuffer) {
 
 /// Records `record` into a one-time command buffer, submits it and waits for completion.
 pub fn submit_and_wait<T>(gpu: &Gpu, record: impl FnOnce(vk::CommandBuffer) -> Result<T>) -> Result<T> {
-    submit_and_wait_named(gpu, None, record).map(|(value, _)| value)
+    submit_and_wait_named(gpu, FrameSync::default(), None, record).map(|(value, _)| value)
+}
+
+/// What a frame's submission waits on and signals besides its fence: for a frame drawn into a
+/// swapchain image, the image's acquire and its present.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct FrameSync {
+    /// Waited on before the given stages run.
+    pub wait: Option<(vk::Semaphore, vk::PipelineStageFlags)>,
+    /// Signalled when the frame's commands complete.
+    pub signal: Option<vk::Semaphore>,
 }
 
 /// As `submit_and_wait`, for a frame: a failed submit or wait (device lost, out of device
 /// memory) is reported naming the work, `work` of what the recording returned (its passes).
 pub fn submit_frame_and_wait<T>(
     gpu: &Gpu,
+    sync: FrameSync,
     work: impl Fn(&T) -> String,
     record: impl FnOnce(vk::CommandBuffer) -> Result<T>,
 ) -> Result<(T, CpuPhases)> {
     let mut named = None;
-    let result = submit_and_wait_named(gpu, Some(&mut |value: &T| named = Some(work(value))), record);
+    let result = submit_and_wait_named(gpu, sync, Some(&mut |value: &T| named = Some(work(value))), record);
     match (result, named) {
         (Err(Error::Vulkan { call, result }), Some(work)) if call != "vkEndCommandBuffer" => {
             Err(Error::Submit { work, call, result })
@@ -65,6 +76,7 @@ pub struct CpuPhases {
 
 fn submit_and_wait_named<T>(
     gpu: &Gpu,
+    sync: FrameSync,
     name: Option<&mut dyn FnMut(&T)>,
     record: impl FnOnce(vk::CommandBuffer) -> Result<T>,
 ) -> Result<(T, CpuPhases)> {
@@ -96,7 +108,17 @@ fn submit_and_wait_named<T>(
         let fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }.vk("vkCreateFence")?;
         gpu.created(ObjectKind::Fence);
         let cmds = [cmd];
-        let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
+        let mut info = vk::SubmitInfo::default().command_buffers(&cmds);
+        // Set only when there are some: an empty slice would still pass a pointer.
+        let (wait, stage) = (sync.wait.map(|(s, _)| [s]), sync.wait.map(|(_, stage)| [stage]));
+        if let (Some(wait), Some(stage)) = (&wait, &stage) {
+            info = info.wait_semaphores(wait).wait_dst_stage_mask(stage);
+        }
+        let signal = sync.signal.map(|s| [s]);
+        if let Some(signal) = &signal {
+            info = info.signal_semaphores(signal);
+        }
+        let submit = [info];
         let submit_start = since(std::time::Instant::now());
         let submitted = match injected {
             Some(result) => Err(Error::Vulkan { call: "vkQueueSubmit", result }),

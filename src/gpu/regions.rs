@@ -10,6 +10,15 @@ pub const COLOUR_LAYER: vk::ImageSubresourceLayers = vk::ImageSubresourceLayers 
     layer_count: 1,
 };
 
+/// Mip 0, layer 0 of a colour image, as a view or barrier range.
+pub const COLOUR_RANGE: vk::ImageSubresourceRange = vk::ImageSubresourceRange {
+    aspect_mask: vk::ImageAspectFlags::COLOR,
+    base_mip_level: 0,
+    level_count: 1,
+    base_array_layer: 0,
+    layer_count: 1,
+};
+
 /// A viewport covering `extent`, depth 0 to 1.
 pub fn full_viewport(extent: vk::Extent2D) -> vk::Viewport {
     vk::Viewport {

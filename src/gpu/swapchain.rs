@@ -1,7 +1,7 @@
-//! A window's surface and swapchain. The frame is never rendered into a swapchain image: it is
-//! built in the offscreen colour + depth targets like every offscreen frame and then blitted
-//! (or copied) into the acquired image, so the swapchain's format cannot change what the
-//! technique computes. The frame's colour format is the caller's (`frame_format`).
+//! A window's surface and swapchain. Where the surface offers an 8-bit sRGB format with alpha
+//! (the frame's own values, in either byte order), frames are drawn straight into its images
+//! (`Swapchain::drawable`); otherwise they are built offscreen and blitted (or copied) into the
+//! acquired image. The frame's colour format is the caller's (`frame_format`).
 
 use std::sync::Arc;
 
@@ -95,6 +95,16 @@ fn classify(gpu: &Gpu, frame_format: vk::Format, format: vk::Format) -> Option<(
     }
 }
 
+/// The 8-bit sRGB formats with alpha a frame can be drawn into directly: their stored values
+/// (and the alpha counter's arithmetic) are the frame's own, only the byte order differs.
+fn drawable_format(format: vk::Format) -> bool {
+    matches!(format, vk::Format::R8G8B8A8_SRGB | vk::Format::B8G8R8A8_SRGB)
+}
+
+/// Every swapchain made gets the next number, so that what was attached to one is never
+/// mistaken for another (handles may be reused).
+static SERIALS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+
 fn is_srgb(format: vk::Format) -> bool {
     matches!(format, vk::Format::R8G8B8A8_SRGB | vk::Format::B8G8R8A8_SRGB | vk::Format::A8B8G8R8_SRGB_PACK32)
 }
@@ -116,6 +126,13 @@ pub struct Swapchain {
     pub transfer: Transfer,
     /// The images can be read back (screenshots read the presented image itself).
     pub readable: bool,
+    /// Frames can be drawn into the images (COLOR_ATTACHMENT usage, a drawable format that
+    /// blends); else they are copied in.
+    pub drawable: bool,
+    /// Frames can be copied into the images (TRANSFER_DST usage).
+    pub copyable: bool,
+    /// This swapchain's number among all made (`SERIALS`).
+    pub serial: u64,
     /// Signalled when an image's frame is copied in, waited on by its present: one per image,
     /// so a semaphore is never reused while the presentation engine may still hold it.
     pub render_finished: Vec<vk::Semaphore>,
@@ -195,21 +212,38 @@ impl Swapchain {
         if extent.width == 0 || extent.height == 0 {
             return Ok(None);
         }
-        if !caps.supported_usage_flags.contains(vk::ImageUsageFlags::TRANSFER_DST) {
-            return Err(Error::Device("the window's swapchain images cannot be transfer destinations".into()));
-        }
         let readable = caps.supported_usage_flags.contains(vk::ImageUsageFlags::TRANSFER_SRC);
+        let copyable = caps.supported_usage_flags.contains(vk::ImageUsageFlags::TRANSFER_DST);
 
         let (surface_format, transfer) = surface_format(gpu, surface, frame_format)?;
+        // SAFETY: the physical device was enumerated from this live instance.
+        let features = unsafe {
+            gpu.instance.raw.get_physical_device_format_properties(physical, surface_format.format)
+        };
+        let drawable = drawable_format(surface_format.format)
+            && caps.supported_usage_flags.contains(vk::ImageUsageFlags::COLOR_ATTACHMENT)
+            && features.optimal_tiling_features.contains(vk::FormatFeatureFlags::COLOR_ATTACHMENT_BLEND);
+        if !copyable && !drawable {
+            return Err(Error::Device(format!(
+                "the window's swapchain images ({:?}) can neither be drawn into nor copied into",
+                surface_format.format
+            )));
+        }
 
         let mut image_count = caps.min_image_count + 1;
         if caps.max_image_count > 0 {
             image_count = image_count.min(caps.max_image_count);
         }
         let composite_alpha = composite_alpha(&caps);
-        let mut usage = vk::ImageUsageFlags::TRANSFER_DST;
+        let mut usage = vk::ImageUsageFlags::empty();
+        if copyable {
+            usage |= vk::ImageUsageFlags::TRANSFER_DST;
+        }
         if readable {
             usage |= vk::ImageUsageFlags::TRANSFER_SRC;
+        }
+        if drawable {
+            usage |= vk::ImageUsageFlags::COLOR_ATTACHMENT;
         }
         let info = vk::SwapchainCreateInfoKHR::default()
             .surface(surface.raw)
@@ -242,6 +276,9 @@ impl Swapchain {
             extent,
             transfer,
             readable,
+            drawable,
+            copyable,
+            serial: SERIALS.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
             render_finished: Vec::new(),
         };
         // SAFETY: `raw` was just created. On any failure from here `swapchain` is dropped, which

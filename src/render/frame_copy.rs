@@ -1,6 +1,8 @@
-//! The commands that put a rendered frame on screen: the RGBA8 colour target is blitted (or
-//! copied) into the acquired swapchain image, read back for a screenshot if asked, and the
-//! image is handed over to presentation.
+//! The commands that put a rendered frame on screen when it was not drawn into the swapchain
+//! image itself: the RGBA8 colour target is blitted (or copied) into the acquired swapchain
+//! image, read back for a screenshot if asked, and the image is handed over to presentation.
+//! A frame drawn into the swapchain image only needs the screenshot's read-back
+//! (`record_screenshot`).
 
 use ash::vk;
 
@@ -91,4 +93,31 @@ pub fn record(
         barriers::transfer_to_host(device, cmd, buffer);
     }
     barriers::swapchain_to_present(device, cmd, image, before_present);
+}
+
+/// Records into `cmd` (recording, after the frame's render pass) the read-back of swapchain
+/// image `image`, which the pass drew into and left in PRESENT_SRC_KHR, into `buffer` (sized for
+/// `extent` at 4 bytes a pixel); the image is left ready to present again.
+pub fn record_screenshot(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    image: vk::Image,
+    extent: vk::Extent2D,
+    buffer: vk::Buffer,
+) {
+    barriers::presented_to_read_back(device, cmd, image);
+    // SAFETY: `cmd` is recording outside a render pass; `image` is in TRANSFER_SRC_OPTIMAL (the
+    // barrier above) and `buffer` is the presenter's screenshot buffer, sized for `extent` in
+    // 4-byte pixels and alive until the frame's fence is waited for.
+    unsafe {
+        device.cmd_copy_image_to_buffer(
+            cmd,
+            image,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            buffer,
+            &[regions::colour_to_buffer(extent)],
+        )
+    };
+    barriers::transfer_to_host(device, cmd, buffer);
+    barriers::swapchain_to_present(device, cmd, image, BeforePresent::ReadBack);
 }

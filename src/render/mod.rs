@@ -25,6 +25,6 @@ pub use materials::GpuMaterials;
 pub use object_push::{object_push, LightPush, ObjectPush, LIGHT_PUSH_BYTES, OBJECT_PUSH_BYTES};
 pub use pipeline_object::{Pipeline, PipelineTarget};
 pub use recorder::FrameRecorder;
-pub use renderer::{FrameOutput, Renderer};
+pub use renderer::{FrameOutput, PresentedFrame, Renderer};
 pub use sample_readback::FrameSamples;
 pub use uniforms::FrameUniforms;

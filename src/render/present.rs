@@ -1,5 +1,8 @@
 //! Presenting: what a window shows frames through (a swapchain, or nothing while it has no
-//! area), the frame slots in flight, and screenshots read back from what was presented.
+//! area), the frame slots in flight, and screenshots read back from what was presented. A frame
+//! is drawn straight into the acquired image where the swapchain allows it
+//! (`Presenter::destination`, `Presenter::presented_frame`); otherwise it is copied in
+//! (`Presenter::submit_copy`).
 
 use std::sync::Arc;
 
@@ -8,7 +11,8 @@ use gpu_allocator::MemoryLocation;
 
 use super::frame_copy;
 use crate::error::{Error, Result, VkContext};
-use crate::frame::render_pass::COLOUR_FORMAT;
+use super::renderer::PresentedFrame;
+use crate::frame::render_pass::{FrameDestination, COLOUR_FORMAT};
 use crate::gpu::faults::{self, Submission};
 use crate::gpu::live_objects::ObjectKind;
 use crate::gpu::memory::Buffer;
@@ -29,9 +33,11 @@ pub enum Output {
 impl Output {
     /// The output for `surface` at its current size (`window_size` where the surface leaves the
     /// size to the application).
-    pub fn new(gpu: &Arc<Gpu>, surface: &Surface, window_size: (u32, u32)) -> Result<Self> {
+    /// `draw_into`: frames are drawn into the swapchain images where they allow it (else
+    /// always copied in: `nostencil view --present copy`).
+    pub fn new(gpu: &Arc<Gpu>, surface: &Surface, window_size: (u32, u32), draw_into: bool) -> Result<Self> {
         let output = match Swapchain::new(gpu, surface, window_size, COLOUR_FORMAT, None)? {
-            Some(swapchain) => Output::Presenting(Box::new(Presenter::new(gpu, swapchain)?)),
+            Some(swapchain) => Output::Presenting(Box::new(Presenter::new(gpu, swapchain, draw_into)?)),
             None => Output::NoArea,
         };
         output.report();
@@ -40,7 +46,13 @@ impl Output {
 
     /// Builds the swapchain again for the window's size now (after a resize, or when the
     /// old one is out of date or suboptimal); the new one replaces the old in place.
-    pub fn recreate(&mut self, gpu: &Arc<Gpu>, surface: &Surface, window_size: (u32, u32)) -> Result<()> {
+    pub fn recreate(
+        &mut self,
+        gpu: &Arc<Gpu>,
+        surface: &Surface,
+        window_size: (u32, u32),
+        draw_into: bool,
+    ) -> Result<()> {
         // The old swapchain's images may still be read or presented.
         gpu.wait_idle();
         let old = match self {
@@ -50,28 +62,35 @@ impl Output {
         match (Swapchain::new(gpu, surface, window_size, COLOUR_FORMAT, old)?, &mut *self) {
             // The old swapchain is destroyed once the new one, created from it, replaces it.
             (Some(swapchain), Output::Presenting(presenter)) => presenter.swapchain = swapchain,
-            (Some(swapchain), Output::NoArea) => *self = Output::Presenting(Box::new(Presenter::new(gpu, swapchain)?)),
+            (Some(swapchain), Output::NoArea) => {
+                *self = Output::Presenting(Box::new(Presenter::new(gpu, swapchain, draw_into)?))
+            }
             (None, _) => *self = Output::NoArea,
         }
         self.report();
         Ok(())
     }
 
-    /// One stderr line per swapchain: what the frame is copied into, and how.
+    /// One stderr line per swapchain: how frames reach its images.
     fn report(&self) {
         match self {
             Output::Presenting(presenter) => {
                 let s = &presenter.swapchain;
+                let copied = match s.transfer {
+                    Transfer::Blit => "copied in by blit",
+                    Transfer::Copy => "copied in",
+                };
+                let how = match (presenter.draw_into, s.drawable) {
+                    (true, true) => format!("frames drawn into its images (where a technique cannot: {copied})"),
+                    (false, _) => format!("frames {copied} (--present copy)"),
+                    (true, false) => format!("frames {copied}: its format cannot be drawn into"),
+                };
                 eprintln!(
-                    "nostencil view: swapchain {}x{} {:?} ({} images), frame copied by {}, screenshots read {}",
+                    "nostencil view: swapchain {}x{} {:?} ({} images), {how}, screenshots read {}",
                     s.extent.width,
                     s.extent.height,
                     s.format,
                     s.images.len(),
-                    match s.transfer {
-                        Transfer::Blit => "blit",
-                        Transfer::Copy => "copy",
-                    },
                     if s.readable { "the swapchain image" } else { "the frame" }
                 )
             }
@@ -87,11 +106,63 @@ pub struct Presenter {
     screenshot: Option<Buffer>,
     slots: FrameSlots,
     gpu: Arc<Gpu>,
+    /// Frames may be drawn into the swapchain images (not `--present copy`).
+    draw_into: bool,
 }
 
 impl Presenter {
-    fn new(gpu: &Arc<Gpu>, swapchain: Swapchain) -> Result<Self> {
-        Ok(Presenter { swapchain, screenshot: None, slots: FrameSlots::new(gpu)?, gpu: gpu.clone() })
+    fn new(gpu: &Arc<Gpu>, swapchain: Swapchain, draw_into: bool) -> Result<Self> {
+        Ok(Presenter { swapchain, screenshot: None, slots: FrameSlots::new(gpu)?, gpu: gpu.clone(), draw_into })
+    }
+
+    /// Where a technique should draw its frames: into the swapchain images where they can be
+    /// drawn into (and read back, when a `screenshot` will be taken), else offscreen.
+    pub fn destination(&self, screenshot: bool) -> FrameDestination {
+        let s = &self.swapchain;
+        if self.draw_into && s.drawable && (s.readable || !screenshot) {
+            FrameDestination::Swapchain { format: s.format }
+        } else {
+            FrameDestination::Offscreen
+        }
+    }
+
+    /// The swapchain's number (`Swapchain::serial`) and its images, for a technique that draws
+    /// into them.
+    pub fn images(&self) -> (u64, &[vk::Image]) {
+        (self.swapchain.serial, &self.swapchain.images)
+    }
+
+    /// Image `index`, acquired in the current slot, as the frame drawn into it is handed over:
+    /// after the acquire, before the present, and (with `screenshot`) read back on the way.
+    pub fn presented_frame(&mut self, index: u32, screenshot: bool) -> Result<PresentedFrame> {
+        let screenshot = if screenshot { Some(self.screenshot_buffer()?) } else { None };
+        let finished = *self
+            .swapchain
+            .render_finished
+            .get(index as usize)
+            .ok_or_else(|| Error::Internal(format!("swapchain image {index} was never acquired")))?;
+        Ok(PresentedFrame { index, acquired: self.slots.current().image_available, finished, screenshot })
+    }
+
+    /// The screenshot's read-back buffer, sized for the swapchain's images.
+    fn screenshot_buffer(&mut self) -> Result<vk::Buffer> {
+        let extent = self.swapchain.extent;
+        let size = extent.width as u64 * extent.height as u64 * 4;
+        match &self.screenshot {
+            Some(buffer) if buffer.size == size => Ok(buffer.raw),
+            _ => {
+                // The old buffer may still be written by a slot's copy.
+                self.wait_slots()?;
+                let buffer = Buffer::new(
+                    &self.gpu,
+                    "screenshot",
+                    size,
+                    vk::BufferUsageFlags::TRANSFER_DST,
+                    MemoryLocation::GpuToCpu,
+                )?;
+                Ok(self.screenshot.insert(buffer).raw)
+            }
+        }
     }
 
     /// The swapchain images' size.
@@ -122,18 +193,13 @@ impl Presenter {
     /// Records and submits, in the current slot, the copy of `colour` (the frame) into
     /// swapchain image `index`; with `screenshot`, also its read-back.
     pub fn submit_copy(&mut self, index: u32, colour: vk::Image, screenshot: bool) -> Result<()> {
-        let extent = self.swapchain.extent;
-        let screenshot_size = extent.width as u64 * extent.height as u64 * 4;
-        if screenshot && self.screenshot.as_ref().map_or(true, |b| b.size != screenshot_size) {
-            self.screenshot = Some(Buffer::new(
-                &self.gpu,
-                "screenshot",
-                screenshot_size,
-                vk::BufferUsageFlags::TRANSFER_DST,
-                MemoryLocation::GpuToCpu,
-            )?);
+        if !self.swapchain.copyable {
+            return Err(Error::Device(format!(
+                "the frame is drawn offscreen, and the window's swapchain images ({:?}) cannot be copied into",
+                self.swapchain.format
+            )));
         }
-        let screenshot_buffer = self.screenshot.as_ref().filter(|_| screenshot).map(|b| b.raw);
+        let screenshot_buffer = if screenshot { Some(self.screenshot_buffer()?) } else { None };
         let device = self.gpu.raw();
         let FrameSlot { cmd, image_available, in_flight } = *self.slots.current();
         // SAFETY: the caller waited for this slot's fence (`wait_slots`), so `cmd` is not

@@ -16,7 +16,7 @@ use crate::error::Result;
 use crate::frame::render_pass::RenderPassTraffic;
 use crate::frame::{image_from_rgba8, FrameTargets, StencilMode};
 use crate::gpu::barriers;
-use crate::gpu::commands::submit_frame_and_wait;
+use crate::gpu::commands::{submit_frame_and_wait, FrameSync};
 use crate::gpu::memory::Buffer;
 use crate::gpu::queries::PassQueryPools;
 use crate::gpu::regions;
@@ -30,6 +30,20 @@ pub struct FrameOutput {
     pub counters: FrameCounters,
     /// Every measured pass with the labels of the pipelines it bound, in order: what ran.
     pub trace: Vec<(String, Vec<&'static str>)>,
+}
+
+/// The swapchain image the next frame is drawn into, and how it is handed over.
+#[derive(Debug, Clone, Copy)]
+pub struct PresentedFrame {
+    /// The acquired image's index in the swapchain the targets are attached to.
+    pub index: u32,
+    /// Signalled by the acquire: the frame's colour writes wait for it.
+    pub acquired: vk::Semaphore,
+    /// Signalled when the frame completes: its present waits for it.
+    pub finished: vk::Semaphore,
+    /// Also copies the presented image into this buffer (a screenshot, sized for the frame at
+    /// 4 bytes a pixel), before it is presented.
+    pub screenshot: Option<vk::Buffer>,
 }
 
 pub struct Renderer {
@@ -48,6 +62,8 @@ pub struct Renderer {
     overdraw_pipelines: OverdrawPipelines,
     /// A frame has been drawn into the targets (what `read_samples` reads).
     drawn: bool,
+    /// Where the next frame goes, when the targets are a swapchain's (`present_next`).
+    presented: Option<PresentedFrame>,
 }
 
 impl Renderer {
@@ -60,11 +76,14 @@ impl Renderer {
     /// A frame drawn into `targets` (any sample count).
     pub fn with_targets(gpu: &Arc<Gpu>, targets: FrameTargets) -> Result<Self> {
         let (width, height) = (targets.extent.width, targets.extent.height);
+        let targets_presents = targets.presents();
         let targets_render_pass = targets.render_pass;
+        // A presented frame is never read back (its screenshot goes to the presenter's buffer).
+        let readback_size = if targets.presents() { 4 } else { width as u64 * height as u64 * 4 };
         let readback = Buffer::new(
             gpu,
             "frame readback",
-            width as u64 * height as u64 * 4,
+            readback_size,
             vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
@@ -74,19 +93,29 @@ impl Renderer {
             frame: FrameDescriptors::new(gpu)?,
             queries: PassQueryPools::new(gpu, MAX_PASSES_PER_FRAME)?,
             readback,
-            keep_on_gpu: false,
+            keep_on_gpu: targets_presents,
             count_overdraw: false,
             stencil_clear: 0,
             overdraw_pipelines: OverdrawPipelines::new(targets_render_pass),
             drawn: false,
+            presented: None,
         })
     }
 
-    /// Leaves each frame on the GPU, in `targets.colour` (layout TRANSFER_SRC_OPTIMAL) for the
-    /// caller to copy (the viewer presents it): `render` skips the copy to the CPU and returns
+    /// Draws the next frame into the swapchain image `frame` names (the targets are a
+    /// swapchain's: `FrameTargets::presenting`, attached to it).
+    pub fn present_next(&mut self, frame: PresentedFrame) -> Result<()> {
+        self.targets.select_output(frame.index)?;
+        self.presented = Some(frame);
+        Ok(())
+    }
+
+    /// Leaves each frame on the GPU, in `targets.colour()` (layout TRANSFER_SRC_OPTIMAL) for
+    /// the caller to copy (a viewer that cannot draw into its swapchain images): `render` skips the copy to the CPU and returns
     /// an empty 0x0 image. Counters are read back as usual.
     pub fn keep_on_gpu(&mut self, keep: bool) {
-        self.keep_on_gpu = keep;
+        // A presented frame has nothing of the renderer's own to read back.
+        self.keep_on_gpu = keep || self.targets.presents();
     }
 
     /// Every sample of the last frame, before its resolve: for frames whose targets keep their
@@ -139,9 +168,19 @@ impl Renderer {
         let extent = self.targets.extent;
         let (targets, queries, readback, frame_set) = (&self.targets, &self.queries, &self.readback, self.frame.set);
         let (keep_on_gpu, stencil_clear) = (self.keep_on_gpu, self.stencil_clear);
+        let presented = self.presented.take();
+        if self.targets.presents() && presented.is_none() {
+            return Err(crate::error::Error::Internal(
+                "a frame for swapchain images was rendered without an acquired image (present_next)".into(),
+            ));
+        }
+        let sync = FrameSync {
+            wait: presented.map(|p| (p.acquired, vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT)),
+            signal: presented.map(|p| p.finished),
+        };
 
         let ((pass_records, (render_passes, render_pass_instances)), cpu) =
-            submit_frame_and_wait(&gpu, describe_passes, |cmd| {
+            submit_frame_and_wait(&gpu, sync, describe_passes, |cmd| {
                 queries.reset(cmd);
                 let mut recorder = FrameRecorder::new(
                     &gpu,
@@ -149,7 +188,7 @@ impl Renderer {
                     queries,
                     extent,
                     frame_set,
-                    targets.drawn_colour().raw,
+                    targets.drawn_colour_image(),
                     targets.samples(),
                 );
                 if let Some(pipelines) = overdraw {
@@ -166,11 +205,14 @@ impl Renderer {
                     std::mem::take(&mut recorder.passes),
                     (std::mem::take(&mut recorder.render_passes), std::mem::take(&mut recorder.instances)),
                 );
+                if let Some(buffer) = presented.and_then(|p| p.screenshot) {
+                    super::frame_copy::record_screenshot(device, cmd, targets.output_image(), extent, buffer);
+                }
                 if keep_on_gpu {
                     return Ok(records);
                 }
 
-                record_readback(device, cmd, targets, readback);
+                record_readback(device, cmd, targets, readback)?;
                 Ok(records)
             })?;
         self.drawn = true;
@@ -240,14 +282,17 @@ fn record_frame_pass(
         vk::ClearValue { color: vk::ClearColorValue { float32: clear } },
     ];
     let attachments = targets.desc.attachments();
-    recorder.begin_render_pass(targets.render_pass, &attachments, targets.framebuffer, targets.extent, &clear_values);
+    recorder.begin_render_pass(targets.render_pass, &attachments, targets.framebuffer()?, targets.extent, &clear_values);
     let recorded = record(recorder);
     recorder.end_render_pass();
     recorded
 }
 
 /// Copies the finished colour target into the read-back buffer, visible to the host.
-fn record_readback(device: &ash::Device, cmd: vk::CommandBuffer, targets: &FrameTargets, readback: &Buffer) {
+fn record_readback(device: &ash::Device, cmd: vk::CommandBuffer, targets: &FrameTargets, readback: &Buffer) -> Result<()> {
+    let colour = targets
+        .colour()
+        .ok_or_else(|| crate::error::Error::Internal("a frame drawn into swapchain images was read back".into()))?;
     // The render pass left the colour target in TRANSFER_SRC_OPTIMAL.
     let region = regions::colour_to_buffer(targets.extent);
     // SAFETY: `cmd` is recording outside the render pass; the colour target and the read-back
@@ -256,13 +301,14 @@ fn record_readback(device: &ash::Device, cmd: vk::CommandBuffer, targets: &Frame
     unsafe {
         device.cmd_copy_image_to_buffer(
             cmd,
-            targets.colour.raw,
+            colour.raw,
             vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
             readback.raw,
             &[region],
         )
     };
     barriers::transfer_to_host(device, cmd, readback.raw);
+    Ok(())
 }
 
 /// "the frame's passes: shadow volumes, apply" for a failed submit.

@@ -76,7 +76,7 @@ pub fn read_samples(gpu: &Arc<Gpu>, targets: &FrameTargets) -> Result<FrameSampl
     if !gpu.device.info.limits.sampled_image_color_sample_counts.contains(sample_count_flags(samples)) {
         return Err(Error::Device(format!("read_samples: the device cannot sample a {samples}-sample colour image")));
     }
-    let format = targets.colour.format;
+    let format = targets.desc.destination.format();
     let extent = vk::Extent2D { width: targets.extent.width * samples, height: targets.extent.height };
     let target = Image::new(
         gpu,

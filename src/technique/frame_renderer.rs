@@ -8,6 +8,7 @@ use std::sync::Arc;
 
 use super::interface::{check_same_scene, RenderOptions, TechniqueFrame, TechniqueRenderer};
 use crate::error::{Error, Result};
+use crate::frame::render_pass::FrameDestination;
 use crate::frame::FrameTargets;
 use crate::gpu::Gpu;
 use crate::render::passes::Passes;
@@ -54,15 +55,23 @@ pub fn build_typed<'s, K: PassKinds, P: Passes<K> + 's>(
     make: impl FnOnce(BuildContext<K>) -> Result<P>,
 ) -> Result<FrameRenderer<'s, K, P>> {
     let colour_feedback = plan.passes.iter().any(|p| p.reads_colour);
-    let targets = FrameTargets::with_samples(
-        gpu,
-        options.width,
-        options.height,
-        options.stencil,
-        colour_feedback,
-        options.samples,
-        options.keep_samples,
-    )?;
+    let frame = (options.width, options.height, options.samples);
+    let targets = match options.destination {
+        // A one-sample subpass that reads its own colour needs an input attachment of the
+        // renderer's own: such a frame is drawn offscreen (`SceneRenderer::presents` says so).
+        FrameDestination::Swapchain { format } if !(colour_feedback && options.samples == 1) => {
+            FrameTargets::presenting(gpu, frame, options.stencil, colour_feedback, format)?
+        }
+        _ => FrameTargets::with_samples(
+            gpu,
+            options.width,
+            options.height,
+            options.stencil,
+            colour_feedback,
+            options.samples,
+            options.keep_samples,
+        )?,
+    };
     let mut renderer = Renderer::with_targets(gpu, targets)?;
     renderer.count_overdraw = options.count_overdraw;
     let passes = make(BuildContext { gpu, renderer: &renderer, options, plan: &plan })?;

@@ -11,11 +11,12 @@ use super::light_loop::{PlannedLight, ShadowedLights};
 use super::options::{CartoonOptions, PlanarOptions, ShadowAtlasOptions, ShadowMode, ShadowVolumeOptions};
 use super::shadow_tone::ShadowTone;
 use crate::error::{Error, Result};
+use crate::frame::render_pass::FrameDestination;
 use crate::frame::StencilMode;
 use crate::gpu::Gpu;
 pub use crate::render::frame_stats::FrameStats;
 use crate::render::plan::{PassPlan, When};
-use crate::render::{FrameOutput, Renderer};
+use crate::render::{FrameOutput, PresentedFrame, Renderer};
 use crate::scene::Scene;
 
 /// Everything that selects how a frame is rendered: size, stencil path, technique, and each
@@ -44,6 +45,9 @@ pub struct RenderOptions {
     /// Store the multisampled colour instead of leaving it in tile memory, so that a test can
     /// read every sample back (`Renderer::read_samples`). Never in a timed frame.
     pub keep_samples: bool,
+    /// Where the frame goes: the renderer's own image (read back, or kept on the GPU), or a
+    /// swapchain's images (the viewer), where the technique allows it (`SceneRenderer::presents`).
+    pub destination: FrameDestination,
 }
 
 impl RenderOptions {
@@ -280,6 +284,24 @@ impl SceneRenderer<'_> {
     /// moved into or out of a volume, so the counting method changes).
     pub fn stale_for(&self, scene: &Scene) -> bool {
         self.0.stale_for(scene)
+    }
+
+    /// Whether its frames are drawn into swapchain images. Asked for with
+    /// `RenderOptions.destination`; a one-sample technique whose subpass reads its own colour
+    /// back is drawn offscreen instead (`FrameTargets::presenting`).
+    pub fn presents(&mut self) -> bool {
+        self.0.renderer_mut().targets.presents()
+    }
+
+    /// Draws the next frames into `images`, a swapchain's of the format and size it was built
+    /// for (see `presents`); the caller makes sure no frame still uses the images attached before.
+    pub fn attach_swapchain(&mut self, images: &[ash::vk::Image]) -> Result<()> {
+        self.0.renderer_mut().targets.attach_swapchain(images)
+    }
+
+    /// Draws the next frame into the acquired swapchain image `frame` names.
+    pub fn present_next(&mut self, frame: PresentedFrame) -> Result<()> {
+        self.0.renderer_mut().present_next(frame)
     }
 
     /// The frame renderer, for its switches and targets.

@@ -44,6 +44,7 @@ impl Default for RenderOptions {
             planar: Default::default(),
             samples: 1,
             keep_samples: false,
+            destination: Default::default(),
         }
     }
 }

@@ -17,8 +17,9 @@ use super::keys::{self, Action, Flow};
 use super::live::{LiveFrame, LiveTechnique, Settings};
 use super::tour::{self, Tour};
 use super::x_guard;
-use super::options::ViewerOptions;
+use super::options::{PresentPath, ViewerOptions};
 use crate::error::{Error, Result};
+use crate::frame::render_pass::FrameDestination;
 use crate::frame::targets::check_samples;
 use crate::gpu::swapchain::{Acquired, Surface};
 use crate::gpu::{mobile_profile, Gpu};
@@ -176,7 +177,8 @@ impl<'s> RunningWindow<'s> {
             event_loop.create_window(attributes).map_err(|e| Error::Device(format!("cannot create a window: {e}")))?;
         let surface = Surface::new(&session.gpu, &window)?;
         let size = window.inner_size();
-        let output = Output::new(&session.gpu, &surface, (size.width, size.height))?;
+        let draw_into = session.options.present == PresentPath::Direct;
+        let output = Output::new(&session.gpu, &surface, (size.width, size.height), draw_into)?;
         Ok(RunningWindow {
             technique: TechniqueCache { built: None, warned: Default::default() },
             output,
@@ -199,8 +201,9 @@ impl<'s> RunningWindow<'s> {
         (s.width, s.height)
     }
 
-    /// One frame: render the technique, copy it into a swapchain image, present; then the
-    /// scripted test hooks, and the screenshot after the last frame.
+    /// One frame: acquire a swapchain image, render the technique into it (or offscreen, then
+    /// copy it in), present; then the scripted test hooks, and the screenshot after the last
+    /// frame.
     fn draw(&mut self, session: &mut Session<'s>, event_loop: &ActiveEventLoop) -> Result<()> {
         if session.done {
             return Ok(());
@@ -208,7 +211,8 @@ impl<'s> RunningWindow<'s> {
         advance_clock(session);
         if self.needs_recreate {
             let size = self.size();
-            self.output.recreate(&session.gpu, &self.surface, size)?;
+            let draw_into = session.options.present == PresentPath::Direct;
+            self.output.recreate(&session.gpu, &self.surface, size, draw_into)?;
             self.needs_recreate = false;
         }
         self.next_stop(session);
@@ -228,10 +232,12 @@ impl<'s> RunningWindow<'s> {
                 session.lit_scenes.alloc(session.live.lit(session.base))
             };
         }
+        let last_frame =
+            session.options.frames.is_some_and(|n| session.presented + 1 >= n) && self.resize_pending.is_none();
+        let screenshot = last_frame && session.options.screenshot.is_some();
+        session.settings.render.destination = presenter.destination(session.options.screenshot.is_some());
         let technique =
             self.technique.get(&session.gpu, session.lit, &session.settings, frame_extent, &session.scene)?;
-        let frame = technique.frame(&session.scene)?;
-        let colour = technique.colour_image();
 
         let index = match presenter.acquire()? {
             Acquired::OutOfDate => {
@@ -247,10 +253,16 @@ impl<'s> RunningWindow<'s> {
                 index
             }
         };
-        let last_frame =
-            session.options.frames.is_some_and(|n| session.presented + 1 >= n) && self.resize_pending.is_none();
-        let screenshot = last_frame && session.options.screenshot.is_some();
-        presenter.submit_copy(index, colour, screenshot)?;
+        let frame = if technique.presents() {
+            // Drawn into the acquired image, resolved there at several samples: nothing to copy.
+            let presented = presenter.presented_frame(index, screenshot)?;
+            technique.present_next(presenter.images(), presented)?;
+            technique.frame(&session.scene)?
+        } else {
+            let frame = technique.frame(&session.scene)?;
+            presenter.submit_copy(index, technique.colour_image()?, screenshot)?;
+            frame
+        };
         match presenter.present(index) {
             Ok(recreate) => self.needs_recreate |= recreate,
             Err(Error::Vulkan { result: vk::Result::ERROR_SURFACE_LOST_KHR, .. }) => {
@@ -408,9 +420,17 @@ impl<'s> TechniqueCache<'s> {
             old => {
                 // The old technique's GPU memory is freed before the new one allocates its own.
                 drop(old);
-                let technique = LiveTechnique::new(gpu, base, settings.clone(), extent)?;
-                for warning in technique.warnings() {
-                    let line = format!("nostencil: warning: {}: {warning}", settings.render.technique.name());
+                let mut technique = LiveTechnique::new(gpu, base, settings.clone(), extent)?;
+                let name = settings.render.technique.name();
+                let mut lines: Vec<String> =
+                    technique.warnings().iter().map(|w| format!("nostencil: warning: {name}: {w}")).collect();
+                if settings.render.destination != FrameDestination::Offscreen && !technique.presents() {
+                    lines.push(format!(
+                        "nostencil view: {name}: a one-sample frame whose subpass reads its own colour is drawn \
+                         offscreen and copied into the swapchain image (the fallback)"
+                    ));
+                }
+                for line in lines {
                     if self.warned.insert(line.clone()) {
                         eprintln!("{line}");
                     }

@@ -1,6 +1,7 @@
 //! The technique the viewer shows, built once per (technique, options, size) and kept between
-//! frames; each frame renders the live scene (moved camera, light, objects) into the RGBA8
-//! target, where it stays on the GPU for the copy to the window.
+//! frames; each frame renders the live scene (moved camera, light, objects) into the acquired
+//! swapchain image, or where the technique or the swapchain cannot, into the RGBA8 target,
+//! where it stays on the GPU for the copy to the window.
 
 use std::sync::Arc;
 
@@ -8,7 +9,7 @@ use ash::vk;
 
 use crate::error::Result;
 use crate::gpu::Gpu;
-use crate::render::FrameCounters;
+use crate::render::{FrameCounters, PresentedFrame};
 use crate::scene::Scene;
 use crate::technique::{RenderOptions, SceneRenderer};
 
@@ -32,6 +33,8 @@ pub struct LiveTechnique<'s> {
     renderer: SceneRenderer<'s>,
     /// Whether each light of the scene it was built for casts shadows: its passes' lights.
     lights: Vec<bool>,
+    /// The swapchain (`Swapchain::serial`) whose images its frames are drawn into.
+    attached: Option<u64>,
 }
 
 /// What one frame reports.
@@ -48,7 +51,7 @@ impl<'s> LiveTechnique<'s> {
         let mut renderer = options.technique.build(gpu, base, &options)?;
         renderer.renderer_mut().keep_on_gpu(true);
         let lights = base.lights.iter().map(|l| l.casts_shadow).collect();
-        Ok(LiveTechnique { settings, extent, renderer, lights })
+        Ok(LiveTechnique { settings, extent, renderer, lights, attached: None })
     }
 
     /// Whether it was built for `scene`'s lights (their number, and which cast shadows).
@@ -72,8 +75,28 @@ impl<'s> LiveTechnique<'s> {
         Ok(LiveFrame { counters: frame.output.counters, brief: frame.stats.brief() })
     }
 
-    /// The colour target holding the last frame (layout TRANSFER_SRC_OPTIMAL).
-    pub fn colour_image(&mut self) -> vk::Image {
-        self.renderer.renderer_mut().targets.colour.raw
+    /// Whether its frames are drawn into the swapchain images (`SceneRenderer::presents`).
+    pub fn presents(&mut self) -> bool {
+        self.renderer.presents()
+    }
+
+    /// Draws the next frame into image `frame.index` of the swapchain numbered `serial`, whose
+    /// images are `images` (attached anew when the swapchain is another; the old one's frames
+    /// are done: the swapchain is recreated after a device wait).
+    pub fn present_next(&mut self, (serial, images): (u64, &[vk::Image]), frame: PresentedFrame) -> Result<()> {
+        if self.attached != Some(serial) {
+            self.renderer.attach_swapchain(images)?;
+            self.attached = Some(serial);
+        }
+        self.renderer.present_next(frame)
+    }
+
+    /// The colour target holding the last frame (layout TRANSFER_SRC_OPTIMAL), for a frame
+    /// drawn offscreen.
+    pub fn colour_image(&mut self) -> Result<vk::Image> {
+        let targets = &self.renderer.renderer_mut().targets;
+        targets.colour().map(|image| image.raw).ok_or_else(|| {
+            crate::error::Error::Internal("a frame drawn into the swapchain has no colour target to copy".into())
+        })
     }
 }

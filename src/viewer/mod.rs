@@ -34,7 +34,7 @@ use crate::error::{Error, Result, VkContext};
 use crate::gpu::Gpu;
 use crate::scene::Scene;
 use app::App;
-pub use options::ViewerOptions;
+pub use options::{PresentPath, ViewerOptions};
 
 /// Opens the window and runs until it is closed (or `--frames` are done).
 pub fn run(options: ViewerOptions, scene: Scene) -> Result<()> {

@@ -6,6 +6,18 @@ use std::path::PathBuf;
 use super::live::Settings;
 use crate::gpu::GpuOptions;
 
+crate::names::named_enum! {
+    /// How frames reach the window's swapchain images.
+    pub enum PresentPath {
+        /// Drawn into the acquired image, a multisampled frame resolved into it inside the
+        /// render pass, where the swapchain's format allows it (else copied, and said so).
+        #[default]
+        Direct = "direct",
+        /// Always drawn offscreen and copied in: the cost of the copy a tiler pays, compared.
+        Copy = "copy",
+    }
+}
+
 #[derive(Debug, Clone)]
 pub struct ViewerOptions {
     pub settings: Settings,
@@ -26,4 +38,6 @@ pub struct ViewerOptions {
     pub tour: Option<u32>,
     /// The animation time the scene was built at (`--time`); the viewer's clock starts there.
     pub start_time: f32,
+    /// `--present`: how frames reach the swapchain images.
+    pub present: PresentPath,
 }

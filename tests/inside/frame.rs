@@ -15,13 +15,59 @@ fn main_frame_has_no_stencil_aspect_and_reference_has_one() {
     let main = FrameTargets::new(&gpu, 64, 64, StencilMode::Emulated, false).expect("targets");
     assert!(!main.desc.has_stencil(), "main render pass has a stencil aspect");
     assert!(!format_has_stencil(main.depth.format), "{:?}", main.depth.format);
-    assert!(!format_has_stencil(main.colour.format));
+    assert!(!format_has_stencil(main.colour().expect("an offscreen frame's own colour").format));
     let feedback = FrameTargets::new(&gpu, 64, 64, StencilMode::Emulated, true).expect("targets");
     assert!(!feedback.desc.has_stencil());
 
     let reference = FrameTargets::new(&gpu, 64, 64, StencilMode::Reference, false).expect("targets");
     assert!(format_has_stencil(reference.depth.format), "{:?}", reference.depth.format);
     drop((main, feedback, reference));
+    common::assert_no_validation_messages(&gpu);
+}
+
+/// The viewer's frame, drawn into swapchain images: one framebuffer per attached image, none
+/// before (a frame then is refused, not drawn), and a one-sample frame that reads its own
+/// colour is not made for them. Plain images of the swapchain's format stand in for its images.
+#[test]
+fn a_frame_for_swapchain_images_gets_a_framebuffer_per_attached_image() {
+    use nostencil::gpu::memory::{Image, ImageDesc};
+    let gpu = common::gpu();
+    let format = ash::vk::Format::B8G8R8A8_SRGB;
+    let extent = ash::vk::Extent2D { width: 32, height: 16 };
+    let images: Vec<Image> = (0..3)
+        .map(|_| {
+            let desc = ImageDesc {
+                name: "stand-in swapchain image",
+                format,
+                extent,
+                usage: ash::vk::ImageUsageFlags::COLOR_ATTACHMENT,
+                aspect: ash::vk::ImageAspectFlags::COLOR,
+                mip_levels: 1,
+                samples: 1,
+            };
+            Image::new(&gpu, &desc).expect("image")
+        })
+        .collect();
+    for samples in [1, 4] {
+        let mut targets =
+            FrameTargets::presenting(&gpu, (32, 16, samples), StencilMode::Emulated, false, format).expect("targets");
+        assert!(targets.presents() && targets.colour().is_none());
+        assert!(targets.framebuffer().is_err(), "a framebuffer before any image was attached");
+        let raw: Vec<ash::vk::Image> = images.iter().map(|i| i.raw).collect();
+        targets.attach_swapchain(&raw).expect("attach");
+        for index in 0..3 {
+            targets.select_output(index).expect("select");
+            assert_eq!(targets.output_image(), raw[index as usize]);
+            assert!(targets.framebuffer().is_ok());
+        }
+        assert!(targets.select_output(3).is_err(), "an image that was never attached");
+        // Attached again (a recreated swapchain): the old framebuffers are replaced.
+        targets.attach_swapchain(&raw[..2]).expect("attach again");
+        assert!(targets.select_output(2).is_err());
+    }
+    let refused = FrameTargets::presenting(&gpu, (32, 16, 1), StencilMode::Emulated, true, format);
+    assert!(refused.is_err(), "a one-sample frame reading its own colour was made for swapchain images");
+    drop(images);
     common::assert_no_validation_messages(&gpu);
 }
 

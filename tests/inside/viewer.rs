@@ -69,8 +69,15 @@ fn screenshot_after_a_resize_equals_the_offscreen_render() {
     let dir = common::scratch_dir("viewer-screenshot");
     // (scene, extra options): every technique; for shadow volumes both stencil paths and the
     // normalisation through an input attachment, whose render pass has the feedback loop.
-    let cases: [(&str, &[&str]); 12] = [
+    let cases: [(&str, &[&str]); 14] = [
         ("default", &["--technique", "shadow-volume"]),
+        // One sample: drawn into the swapchain image itself; and the subpass normalisation,
+        // which reads its own colour, drawn offscreen and copied in (the fallback, said).
+        ("default", &["--technique", "shadow-volume", "--samples", "1"]),
+        (
+            "overlap",
+            &["--technique", "shadow-volume", "--normalize", "subpass", "--shadow-mode", "modulate", "--samples", "1"],
+        ),
         ("point-light", &["--technique", "shadow-volume", "--stencil", "reference"]),
         ("overlap", &["--technique", "shadow-volume", "--normalize", "subpass", "--increment", "2"]),
         ("default", &["--technique", "lit"]),
@@ -97,6 +104,13 @@ fn screenshot_after_a_resize_equals_the_offscreen_render() {
         let err = stderr(&output);
         assert!(err.contains("swapchain 160x120"), "no first swapchain at 160x120:\n{err}");
         assert!(err.contains("swapchain 128x96"), "the swapchain was not recreated at 128x96:\n{err}");
+        assert!(err.contains("frames drawn into its images"), "not drawn into the swapchain images:\n{err}");
+        let fallback = technique.contains(&"subpass") && technique.contains(&"1");
+        assert_eq!(
+            err.contains("(the fallback)"),
+            fallback,
+            "{scene} {technique:?}: the fallback is named when used:\n{err}"
+        );
 
         let mut args = vec!["render", "--validation", "--device", "lavapipe", "--scene", scene, "--size", "128x96"];
         args.extend_from_slice(technique);
@@ -557,16 +571,18 @@ fn soak_thousands_of_frames_through_every_technique_leaks_nothing() {
 #[test]
 fn a_failing_submit_ends_the_viewer_with_an_error_naming_the_work() {
     let x = start_x_server();
+    // The frame drawn into the swapchain image is one submission; `--present copy` adds the copy's.
     let cases = [
-        ("frame:device-lost", "ERROR_DEVICE_LOST", "the frame's passes: "),
-        ("frame:out-of-device-memory", "ERROR_OUT_OF_DEVICE_MEMORY", "the frame's passes: "),
-        ("present:device-lost", "ERROR_DEVICE_LOST", "the copy of the frame to the window"),
-        ("present:out-of-device-memory", "ERROR_OUT_OF_DEVICE_MEMORY", "the copy of the frame to the window"),
+        ("frame:device-lost", "ERROR_DEVICE_LOST", "the frame's passes: ", "direct"),
+        ("frame:out-of-device-memory", "ERROR_OUT_OF_DEVICE_MEMORY", "the frame's passes: ", "direct"),
+        ("frame:device-lost", "ERROR_DEVICE_LOST", "the frame's passes: ", "copy"),
+        ("present:device-lost", "ERROR_DEVICE_LOST", "the copy of the frame to the window", "copy"),
+        ("present:out-of-device-memory", "ERROR_OUT_OF_DEVICE_MEMORY", "the copy of the frame to the window", "copy"),
     ];
-    for (fault, says, work) in cases {
+    for (fault, says, work, present) in cases {
         let args = ["view", "--validation", "--device", "lavapipe", "--technique", "planar", "--size", "96x72"];
         let child = Command::new(common::program())
-            .args([&args[..], &["--frames", "3"]].concat())
+            .args([&args[..], &["--frames", "3", "--present", present]].concat())
             .env("DISPLAY", &x.display)
             .env_remove("WAYLAND_DISPLAY")
             .env("NOSTENCIL_FAULT_SUBMIT", fault)

@@ -140,10 +140,13 @@ pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetu
     } else {
         None
     };
-    let counter_input = match ctx.options.stencil {
-        StencilMode::Emulated => {
+    // The colour the subpass normalisation reads back: the renderer's own image. A frame drawn
+    // into swapchain images has none at one sample, and then its plan reads no colour
+    // (`FrameTargets::presenting`): the set is not made.
+    let counter_input = match (ctx.options.stencil, ctx.renderer.targets.drawn_colour()) {
+        (StencilMode::Emulated, Some(drawn_colour)) => {
             let mut bindings = vec![Binding::InputAttachment {
-                view: ctx.renderer.targets.drawn_colour().view,
+                view: drawn_colour.view,
                 layout: vk::ImageLayout::GENERAL,
             }];
             if let Some(buffer) = &saturation_counter {
@@ -151,7 +154,7 @@ pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetu
             }
             Some(DescriptorSet::new(ctx.gpu, &bindings)?)
         }
-        StencilMode::Reference => None,
+        _ => None,
     };
     let additive = mode == ShadowMode::Additive;
     let saturation_measured_by = match ctx.options.stencil {
