@@ -48,31 +48,60 @@ pub fn build_volume(scene: &Scene, caster: &Caster, reach: Reach, caps: bool) ->
 
 /// [`build_volume`] for the light `light`.
 pub fn build_volume_for(scene: &Scene, caster: &Caster, light: &Light, reach: Reach, caps: bool) -> VolumeGeometry {
+    let mut scratch = VolumeScratch::default();
+    build_volume_into(scene, caster, light, reach, caps, &mut scratch);
+    scratch.volume
+}
+
+/// What building a volume writes besides the volume, and the volume itself: kept from caster
+/// to caster and frame to frame, so that a frame's volumes allocate nothing once it has grown.
+#[derive(Default)]
+pub struct VolumeScratch {
+    pub volume: VolumeGeometry,
+    multiplicities: Vec<i32>,
+    /// A skinned caster's posed welded positions and their face normals.
+    positions: Vec<Vec3>,
+    normals: Vec<Vec3>,
+}
+
+/// [`build_volume_for`] into `scratch.volume`, reusing its buffers.
+pub fn build_volume_into(
+    scene: &Scene,
+    caster: &Caster,
+    light: &Light,
+    reach: Reach,
+    caps: bool,
+    scratch: &mut VolumeScratch,
+) {
     let object = &scene.objects[caster.object];
     let light = light_in_object_space(light, &object.transform);
     let (adjacency, welded) = (&caster.mesh.adjacency, &caster.mesh.welded);
-    let (mut volume, mut multiplicities) = (VolumeGeometry::default(), Vec::new());
-    if let Some(positions) = posed_welded_positions(scene, caster) {
-        let mut normals = Vec::new();
-        adjacency.recompute_face_normals(&positions, &mut normals);
-        caster.mesh.build_volume_into(&positions, &normals, light, reach, caps, &mut multiplicities, &mut volume);
+    let VolumeScratch { volume, multiplicities, positions, normals } = scratch;
+    if gather_posed_welded_positions(scene, caster, positions) {
+        adjacency.recompute_face_normals(positions, normals);
+        caster.mesh.build_volume_into(positions, normals, light, reach, caps, multiplicities, volume);
     } else {
         let normals = &adjacency.face_normals;
-        caster.mesh.build_volume_into(&welded.positions, normals, light, reach, caps, &mut multiplicities, &mut volume);
+        caster.mesh.build_volume_into(&welded.positions, normals, light, reach, caps, multiplicities, volume);
     }
-    volume
+}
+
+/// A skinned caster's welded vertices in its current pose, into `out`; false (and `out`
+/// untouched) for a rigid caster.
+fn gather_posed_welded_positions(scene: &Scene, caster: &Caster, out: &mut Vec<Vec3>) -> bool {
+    let Some(skin) = scene.objects[caster.object].skin.as_ref() else { return false };
+    if skin.positions.len() < caster.mesh.welded.remap.len() {
+        return false;
+    }
+    caster.mesh.welded.gather_positions(&skin.posed_positions(), out);
+    true
 }
 
 /// A skinned caster's welded vertices in its current pose (`Scene::pose_at` moves palettes,
 /// not meshes; the welded topology stays); `None` for a rigid caster.
 pub(super) fn posed_welded_positions(scene: &Scene, caster: &Caster) -> Option<Vec<Vec3>> {
-    let skin = scene.objects[caster.object].skin.as_ref()?;
-    if skin.positions.len() < caster.mesh.welded.remap.len() {
-        return None;
-    }
     let mut positions = Vec::new();
-    caster.mesh.welded.gather_positions(&skin.posed_positions(), &mut positions);
-    Some(positions)
+    gather_posed_welded_positions(scene, caster, &mut positions).then_some(positions)
 }
 
 /// z-pass breaks when the near plane cuts a volume: test the eye and the near-plane corners,

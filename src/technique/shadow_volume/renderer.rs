@@ -9,7 +9,7 @@ use ash::vk;
 use glam::{Mat4, Vec4};
 
 use super::bounds;
-use super::casters::{build_volume_for, choose_zfail, prepare_casters, Caster};
+use super::casters::{build_volume_into, choose_zfail, prepare_casters, Caster, VolumeScratch};
 use super::culling::{self, Culling, KeptCulling};
 use super::recipes::SATURATION_PROBE;
 use super::recipes::{VolumeDraw, VolumeKinds, VolumeSet};
@@ -185,6 +185,7 @@ pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetu
         stencil: ctx.options.stencil,
         volumes: Vec::new(),
         buffers: Vec::new(),
+        scratch: Scratch::default(),
         covers: Vec::new(),
         light_rects: Vec::new(),
         kept_culling: Vec::new(),
@@ -228,6 +229,8 @@ pub struct ShadowVolumePasses {
     volumes: Vec<Vec<GpuVolume>>,
     /// Per light, per caster: the buffers its volume is written into, kept from frame to frame.
     buffers: Vec<Vec<VolumeBuffers>>,
+    /// Where volumes are built before they are written into their buffers.
+    scratch: Scratch,
     /// Per light: where its full-screen passes draw (the union of its volumes' scissors).
     covers: Vec<Scissor>,
     /// Per light: its light scissor (Doom 3's), where its shading pass draws.
@@ -347,7 +350,7 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
                 if buffers.len() < self.casters.len() {
                     buffers.resize_with(self.casters.len(), VolumeBuffers::new);
                 }
-                let uploads = Uploads { gpu: &self.gpu, buffers, reused: &mut reused };
+                let uploads = Uploads { gpu: &self.gpu, buffers, reused: &mut reused, scratch: &mut self.scratch };
                 upload_volumes(uploads, scene, &self.casters, counting, self.requested, extent, lit)?
             } else {
                 Vec::new()
@@ -452,6 +455,7 @@ struct Uploads<'a> {
     buffers: &'a mut [VolumeBuffers],
     /// Counts the volumes whose buffers already held them.
     reused: &'a mut usize,
+    scratch: &'a mut Scratch,
 }
 
 fn upload_volumes(
@@ -515,10 +519,10 @@ fn upload_volumes(
                 built.ranges.clone()
             }
             _ => {
-                let (vertices, indices, ranges) = volume_for(scene, caster, key, counting);
+                let ranges = volume_for(scene, caster, key, counting, uploads.scratch);
                 // The previous frame has finished (frames wait for their fence): its buffers are free.
-                slot.vertices.fill(uploads.gpu, &vertices)?;
-                slot.indices.fill(uploads.gpu, &indices)?;
+                slot.vertices.fill(uploads.gpu, &uploads.scratch.volume.volume.vertices)?;
+                slot.indices.fill(uploads.gpu, &uploads.scratch.indices)?;
                 slot.built = Some(BuiltVolume { key, ranges: ranges.clone() });
                 ranges
             }
@@ -553,14 +557,17 @@ fn volume_for(
     caster: &Caster,
     key: VolumeKey,
     counting: Counting,
-) -> (Vec<Vec4>, Vec<u32>, Vec<IndexRange>) {
+    scratch: &mut Scratch,
+) -> Vec<IndexRange> {
     // Far caps close the volumes (point lights, and every clipped volume): drawn in both
     // methods, so that the background (depth 1) behind a volume never counts. Near caps for
     // z-fail, and for two-sided casters in z-pass too: a ray may pass one of their
     // triangles that the scene pass culled (seen from behind, as through the hole of an
     // open box), so the caster itself does not hide its near cap.
-    let volume = build_volume_for(scene, caster, &key.light, key.reach, true);
-    let mut indices = volume.sides.clone();
+    build_volume_into(scene, caster, &key.light, key.reach, true, &mut scratch.volume);
+    let (volume, indices) = (&scratch.volume.volume, &mut scratch.indices);
+    indices.clear();
+    indices.extend_from_slice(&volume.sides);
     if counting.zfail || matches!(caster.mesh.path, CastPath::TwoSided { .. }) {
         indices.extend_from_slice(&volume.near_cap);
     }
@@ -581,5 +588,13 @@ fn volume_for(
     if key.transform.determinant() < 0.0 {
         indices.chunks_exact_mut(3).for_each(|t| t.swap(1, 2));
     }
-    (volume.vertices, indices, ranges)
+    ranges
+}
+
+/// What building a frame's volumes writes into, kept from frame to frame: the volume, and its
+/// indices in draw order. A frame then allocates nothing for its volumes once they have grown.
+#[derive(Default)]
+struct Scratch {
+    volume: VolumeScratch,
+    indices: Vec<u32>,
 }
