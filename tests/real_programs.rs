@@ -331,9 +331,10 @@ fn a_program_that_crashes_on_purpose_still_gets_a_report_of_its_frames() {
     assert_eq!((run.how.as_str(), run.detail.as_str(), run.partial), ("crashed", "crashed with SIGABRT", true));
     // Every frame finished before the abort is in the report: the layer journals each frame as
     // it finishes, whatever the 100 ms between rewrites of the whole report. The viewer draws
-    // each frame into the swapchain image and waits for it before presenting it: the 8 frames
-    // presented before the abort are all finished.
-    assert_eq!(report.frames_measured, 8, "{report:#?}");
+    // each frame into the swapchain image with 2 frames in flight: before the 8th, it waited
+    // for the 6th (whose slot the 8th reuses); the 7th and 8th may or may not have finished
+    // when it aborts. Every finished frame is reported, and no other.
+    assert!((6..=8).contains(&report.frames_measured), "{report:#?}");
     let indices: Vec<u64> = report.frames.iter().map(|f| f.index).collect();
     assert_eq!(indices, (0..report.frames_measured).collect::<Vec<_>>());
     assert_eq!(report.frames.len() as u64, report.frames_measured);

@@ -218,6 +218,13 @@ pub enum Command {
         /// buffers and fence waits a frame makes.
         #[arg(long = "loop", value_name = "N")]
         frame_loop: Option<u32>,
+        /// With --loop: frames each technique keeps in flight (1 to 3): a frame is submitted
+        /// without waiting for the one before. Each technique then plays turns of 8 frames,
+        /// its frames in flight finished at the end of each turn, the turn timed whole.
+        /// Techniques whose per-frame data is not kept per frame slot play one at a time.
+        #[arg(long, value_name = "N", default_value_t = 2, requires = "frame_loop",
+              value_parser = clap::value_parser!(u32).range(1..=3))]
+        frames_in_flight: u32,
     },
     /// Bake one model's shadow texture (shadow-texture-atlas) and write it as PNG.
     Bake {

@@ -87,7 +87,17 @@ pub fn run(cli: Cli) -> Result<()> {
             let scene = load_named_scene(&scene, 0.0, &lights, replace_lights)?;
             passes(&technique, &plans, &scene, samples)
         }
-        Command::Bench { frame, warmup: _, runs, json, trace, table1_out, mip_flicker: Some(steps), frame_loop } => {
+        Command::Bench {
+            frame,
+            warmup: _,
+            runs,
+            json,
+            trace,
+            table1_out,
+            mip_flicker: Some(steps),
+            frame_loop,
+            ..
+        } => {
             if table1_out.is_some() || runs.is_some() || trace.is_some() || frame_loop.is_some() {
                 return Err(Error::InvalidInput(
                     "--mip-flicker is not timed: drop --table1-out, --runs, --trace and --loop".into(),
@@ -104,15 +114,18 @@ pub fn run(cli: Cli) -> Result<()> {
             table1_out,
             mip_flicker: None,
             frame_loop: Some(frames),
+            frames_in_flight,
         } => {
             if table1_out.is_some() || runs.is_some() || trace.is_some() {
                 return Err(Error::InvalidInput(
                     "--loop plays N frames of each technique: drop --table1-out, --runs and --trace".into(),
                 ));
             }
-            super::frame_loop::bench_loop(&frame, frames, warmup, json)
+            super::frame_loop::bench_loop(&frame, (frames, frames_in_flight), warmup, json)
         }
-        Command::Bench { frame, warmup, runs, json, trace, table1_out, mip_flicker: None, frame_loop: None } => {
+        Command::Bench {
+            frame, warmup, runs, json, trace, table1_out, mip_flicker: None, frame_loop: None, ..
+        } => {
             if trace.is_some() && (frame.technique == "all" || table1_out.is_some()) {
                 return Err(Error::InvalidInput(
                     "--trace writes one technique's frames: give one --technique, without --table1-out".into(),

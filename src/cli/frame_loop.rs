@@ -8,13 +8,16 @@ use super::args::FrameArgs;
 use super::frame_setup::{load_scene, open_gpu, options, print_warnings};
 use crate::error::{Error, Result};
 use crate::profile::frame_loop::{self, LoopReport, LoopVariant};
-use crate::technique::{by_name, SceneRenderer, TECHNIQUES};
+use crate::technique::{by_name, RenderOptions, SceneRenderer, TECHNIQUES};
 use crate::viewer::controls::Live;
 
 /// The loop's clock: a frame every sixtieth of a second of animation.
 const FRAME_SECONDS: f32 = 1.0 / 60.0;
 
-pub(super) fn bench_loop(frame: &FrameArgs, frames: u32, warmup: u32, json: bool) -> Result<()> {
+/// Frames a technique plays in a turn when it keeps several in flight.
+const TURN_FRAMES: u32 = 8;
+
+pub(super) fn bench_loop(frame: &FrameArgs, (frames, in_flight): (u32, u32), warmup: u32, json: bool) -> Result<()> {
     if frames == 0 {
         return Err(Error::InvalidInput("--loop takes the number of frames to play, at least 1".into()));
     }
@@ -35,29 +38,37 @@ pub(super) fn bench_loop(frame: &FrameArgs, frames: u32, warmup: u32, json: bool
     };
     let mut listed = Vec::new();
     for name in &names {
-        listed.push((name.clone(), options(&FrameArgs { technique: name.clone(), ..frame.clone() })?));
+        let options = options(&FrameArgs { technique: name.clone(), ..frame.clone() })?;
+        listed.push((name.clone(), RenderOptions { frames_in_flight: in_flight, ..options }));
     }
+    let turn = if in_flight > 1 { TURN_FRAMES } else { 1 };
     let base = load_scene(frame)?;
     let gpu = open_gpu(&frame.gpu)?;
     let mut variants = Vec::new();
+    let mut kept_in_flight = Vec::new();
     for (name, options) in &listed {
-        let mut renderer: SceneRenderer<'_> = options.technique.build(&gpu, &base, options)?;
+        let renderer: SceneRenderer<'_> = options.technique.build(&gpu, &base, options)?;
         print_warnings(options.technique.name(), renderer.warnings());
+        // Shared by the frame and the end of the turn.
+        let renderer = std::rc::Rc::new(std::cell::RefCell::new(renderer));
         // A game's frame stays on the GPU: no read-back.
-        renderer.renderer_mut().keep_on_gpu(true);
+        renderer.borrow_mut().keep_on_gpu(true);
+        kept_in_flight.push(renderer.borrow_mut().frames_in_flight());
         let mut live = Live::new(&base, false, frame.time);
         let mut scene = live.lit(&base);
         let base = &base;
+        let finishing = renderer.clone();
         variants.push(LoopVariant {
             name: name.clone(),
             frame: Box::new(move |index| {
                 live.time = index as f32 * FRAME_SECONDS;
                 live.apply(base, &mut scene)?;
-                renderer.frame_with(&scene).map(|_| ())
+                renderer.borrow_mut().frame_with(&scene).map(|_| ())
             }),
+            finish: Box::new(move || finishing.borrow_mut().wait_all()),
         });
     }
-    let measured = frame_loop::play(&gpu, &mut variants, warmup, frames)?;
+    let measured = frame_loop::play(&gpu, &mut variants, warmup, frames, turn)?;
     let (width, height) = listed.first().map_or((0, 0), |(_, o)| (o.width, o.height));
     let report = LoopReport {
         device: gpu.device.info.name.clone(),
@@ -66,7 +77,8 @@ pub(super) fn bench_loop(frame: &FrameArgs, frames: u32, warmup: u32, json: bool
         height,
         samples: frame.samples,
         warmup,
-        results: frame_loop::summarise(&names, &measured),
+        turn,
+        results: frame_loop::summarise(&names, &kept_in_flight, &measured),
     };
     if json {
         println!("{}", serde_json::to_string_pretty(&report).map_err(|e| Error::Internal(e.to_string()))?);

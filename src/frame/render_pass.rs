@@ -186,24 +186,28 @@ impl RenderPassDesc {
             dst_access_mask: dst_access,
             dependency_flags: vk::DependencyFlags::empty(),
         }];
-        if let FrameDestination::Swapchain { .. } = self.destination {
-            // The submission waits for the acquired image at COLOR_ATTACHMENT_OUTPUT: the
-            // layout transitions at the start of the pass must wait there too (the depth's
-            // after the last frame's depth writes, as the implicit dependency it replaces).
-            let fragment_tests =
-                vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS;
-            dependencies.push(vk::SubpassDependency {
-                src_subpass: vk::SUBPASS_EXTERNAL,
-                dst_subpass: 0,
-                src_stage_mask: vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT | fragment_tests,
-                dst_stage_mask: vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT | fragment_tests,
-                src_access_mask: vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE,
-                dst_access_mask: vk::AccessFlags::COLOR_ATTACHMENT_WRITE
-                    | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_READ
-                    | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE,
-                dependency_flags: vk::DependencyFlags::empty(),
-            });
-        }
+        // What the frame before used these attachments for is done before this one clears
+        // them: with frames in flight the previous frame may still run (its colour and depth
+        // writes, its input-attachment reads, its read-back copy). A swapchain frame's
+        // submission waits for the acquired image at COLOR_ATTACHMENT_OUTPUT, which orders its
+        // layout transition here too. This replaces the implicit dependency, which waits for
+        // nothing.
+        let fragment_tests = vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS;
+        let attachment_stages = vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT | fragment_tests;
+        dependencies.push(vk::SubpassDependency {
+            src_subpass: vk::SUBPASS_EXTERNAL,
+            dst_subpass: 0,
+            src_stage_mask: attachment_stages
+                | vk::PipelineStageFlags::FRAGMENT_SHADER
+                | vk::PipelineStageFlags::TRANSFER,
+            dst_stage_mask: attachment_stages,
+            src_access_mask: vk::AccessFlags::COLOR_ATTACHMENT_WRITE | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE,
+            dst_access_mask: vk::AccessFlags::COLOR_ATTACHMENT_READ
+                | vk::AccessFlags::COLOR_ATTACHMENT_WRITE
+                | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_READ
+                | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE,
+            dependency_flags: vk::DependencyFlags::empty(),
+        });
         if self.colour_feedback {
             // A full-screen pass reads the pixel that earlier draws of this subpass wrote.
             dependencies.push(vk::SubpassDependency {

@@ -1,12 +1,12 @@
-//! The one place that records and submits command buffers: record into a fresh primary
-//! command buffer, submit, wait on a fence. Offscreen rendering needs nothing more elaborate.
+//! One-off submissions (uploads, bakes, read-backs): record into a fresh primary command
+//! buffer, submit, wait on a fence. A frame's submissions reuse their slot's command buffer
+//! and fence instead (`frame_submission`).
 
 use ash::vk;
 
 use super::context::Gpu;
-use super::faults::{self, Submission};
 use super::live_objects::ObjectKind;
-use crate::error::{Error, Result, VkContext};
+use crate::error::{Result, VkContext};
 
 /// One primary command buffer from the GPU's pool (freed by the caller, into the same pool).
 pub fn allocate_primary(gpu: &Gpu) -> Result<vk::CommandBuffer> {
@@ -33,7 +33,7 @@ pub fn free_primary(gpu: &Gpu, cmd: vk::CommandBuffer) {
 
 /// Records `record` into a one-time command buffer, submits it and waits for completion.
 pub fn submit_and_wait<T>(gpu: &Gpu, record: impl FnOnce(vk::CommandBuffer) -> Result<T>) -> Result<T> {
-    submit_and_wait_named(gpu, FrameSync::default(), None, record).map(|(value, _)| value)
+    submit_and_wait_timed(gpu, record).map(|(value, _)| value)
 }
 
 /// What a frame's submission waits on and signals besides its fence: for a frame drawn into a
@@ -46,24 +46,6 @@ pub struct FrameSync {
     pub signal: Option<vk::Semaphore>,
 }
 
-/// As `submit_and_wait`, for a frame: a failed submit or wait (device lost, out of device
-/// memory) is reported naming the work, `work` of what the recording returned (its passes).
-pub fn submit_frame_and_wait<T>(
-    gpu: &Gpu,
-    sync: FrameSync,
-    work: impl Fn(&T) -> String,
-    record: impl FnOnce(vk::CommandBuffer) -> Result<T>,
-) -> Result<(T, CpuPhases)> {
-    let mut named = None;
-    let result = submit_and_wait_named(gpu, sync, Some(&mut |value: &T| named = Some(work(value))), record);
-    match (result, named) {
-        (Err(Error::Vulkan { call, result }), Some(work)) if call != "vkEndCommandBuffer" => {
-            Err(Error::Submit { work, call, result })
-        }
-        (result, _) => result,
-    }
-}
-
 /// Where the CPU spent a submission's time: (start, duration) in milliseconds from the start of
 /// its recording, for recording (begin to end of the command buffer), vkQueueSubmit and the
 /// fence wait (`--trace`'s CPU track).
@@ -74,10 +56,8 @@ pub struct CpuPhases {
     pub wait: (f64, f64),
 }
 
-fn submit_and_wait_named<T>(
+fn submit_and_wait_timed<T>(
     gpu: &Gpu,
-    sync: FrameSync,
-    name: Option<&mut dyn FnMut(&T)>,
     record: impl FnOnce(vk::CommandBuffer) -> Result<T>,
 ) -> Result<(T, CpuPhases)> {
     let device = gpu.raw();
@@ -93,13 +73,6 @@ fn submit_and_wait_named<T>(
         // crate shares one across threads), the external synchronisation pool and queue need.
         unsafe { device.begin_command_buffer(cmd, &begin) }.vk("vkBeginCommandBuffer")?;
         let value = record(cmd)?;
-        let injected = match name {
-            Some(name) => {
-                name(&value);
-                faults::submit_fault(Submission::Frame)
-            }
-            None => None,
-        };
         // SAFETY: `cmd` is recording (begun above).
         unsafe { device.end_command_buffer(cmd) }.vk("vkEndCommandBuffer")?;
         phases.record = (0.0, since(std::time::Instant::now()));
@@ -108,23 +81,10 @@ fn submit_and_wait_named<T>(
         let fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }.vk("vkCreateFence")?;
         gpu.created(ObjectKind::Fence);
         let cmds = [cmd];
-        let mut info = vk::SubmitInfo::default().command_buffers(&cmds);
-        // Set only when there are some: an empty slice would still pass a pointer.
-        let (wait, stage) = (sync.wait.map(|(s, _)| [s]), sync.wait.map(|(_, stage)| [stage]));
-        if let (Some(wait), Some(stage)) = (&wait, &stage) {
-            info = info.wait_semaphores(wait).wait_dst_stage_mask(stage);
-        }
-        let signal = sync.signal.map(|s| [s]);
-        if let Some(signal) = &signal {
-            info = info.signal_semaphores(signal);
-        }
-        let submit = [info];
+        let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
         let submit_start = since(std::time::Instant::now());
-        let submitted = match injected {
-            Some(result) => Err(Error::Vulkan { call: "vkQueueSubmit", result }),
-            // SAFETY: `cmd` is ended, `fence` unsignalled and unused; `submit` outlives the call.
-            None => unsafe { device.queue_submit(gpu.device.queue, &submit, fence) }.vk("vkQueueSubmit"),
-        };
+        // SAFETY: `cmd` is ended, `fence` unsignalled and unused; `submit` outlives the call.
+        let submitted = unsafe { device.queue_submit(gpu.device.queue, &submit, fence) }.vk("vkQueueSubmit");
         let wait_start = since(std::time::Instant::now());
         phases.submit = (submit_start, wait_start - submit_start);
         let wait_began = std::time::Instant::now();

@@ -8,6 +8,7 @@ pub mod context;
 pub mod descriptors;
 pub mod device;
 pub mod faults;
+pub mod frame_submission;
 pub mod instance;
 pub mod live_objects;
 pub mod memory;

@@ -18,21 +18,36 @@ use crate::gpu::Gpu;
 /// One technique's loop: `frame(i)` renders its frame `i`.
 pub struct LoopVariant<'a> {
     pub name: String,
+    /// Renders frame N (submitted; with frames in flight it need not have finished).
     pub frame: Box<dyn FnMut(u32) -> Result<()> + 'a>,
+    /// Waits for its frames in flight: the end of its turn.
+    pub finish: Box<dyn FnMut() -> Result<()> + 'a>,
 }
 
-/// One frame of a loop, as the render thread saw it.
+/// One turn of a loop (one frame, or several in flight, finished at its end), as the render
+/// thread saw it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LoopFrame {
+    /// Frames the turn played.
+    pub frames: u32,
     pub wall_ms: f64,
-    /// What the frame made and waited for.
+    /// CPU time the render thread used in the turn, where the platform measures it.
+    pub thread_cpu_ms: Option<f64>,
+    /// What the turn made and waited for.
     pub activity: Activity,
 }
 
 impl LoopFrame {
-    /// Milliseconds the thread worked: the wall time without its waits for the GPU.
+    /// Milliseconds the render thread worked: its CPU time, else the wall time without its
+    /// waits for the GPU (on a software GPU sharing the cores, that also counts the time the
+    /// thread was not scheduled).
     pub fn cpu_ms(&self) -> f64 {
-        (self.wall_ms - self.activity.wait_ns as f64 / 1e6).max(0.0)
+        self.thread_cpu_ms.unwrap_or((self.wall_ms - self.activity.wait_ns as f64 / 1e6).max(0.0))
+    }
+
+    /// Wall milliseconds a frame of the turn took.
+    pub fn frame_ms(&self) -> f64 {
+        self.wall_ms / f64::from(self.frames.max(1))
     }
 }
 
@@ -40,6 +55,8 @@ impl LoopFrame {
 #[derive(Debug, Clone, Serialize)]
 pub struct LoopResult {
     pub technique: String,
+    /// Frames it kept in flight (1 where its per-frame data is not kept per frame slot).
+    pub frames_in_flight: usize,
     pub frames: usize,
     /// Frames per second over the timed frames (their wall times summed).
     pub frames_per_second: f64,
@@ -69,44 +86,75 @@ pub struct LoopReport {
     pub height: u32,
     pub samples: u32,
     pub warmup: u32,
+    /// Frames a technique plays in a turn before its frames in flight are finished.
+    pub turn: u32,
     pub results: Vec<LoopResult>,
 }
 
-/// Plays `warmup` then `frames` rounds, one frame of each variant per round, and measures each
-/// timed frame.
-pub fn play(gpu: &Gpu, variants: &mut [LoopVariant], warmup: u32, frames: u32) -> Result<Vec<Vec<LoopFrame>>> {
+/// Plays `warmup` then `frames` rounds, one turn of each variant per round (`turn` frames,
+/// then its `finish`), and measures each timed turn whole.
+pub fn play(
+    gpu: &Gpu,
+    variants: &mut [LoopVariant],
+    warmup: u32,
+    frames: u32,
+    turn: u32,
+) -> Result<Vec<Vec<LoopFrame>>> {
+    let turn = turn.max(1);
     let mut measured: Vec<Vec<LoopFrame>> = variants.iter().map(|_| Vec::new()).collect();
-    for index in 0..warmup + frames {
-        for (variant, frames) in variants.iter_mut().zip(&mut measured) {
+    for round in 0..warmup + frames {
+        for (variant, turns) in variants.iter_mut().zip(&mut measured) {
             let before = gpu.activity();
+            let cpu_before = thread_cpu_ms();
             let start = Instant::now();
-            (variant.frame)(index)?;
+            for frame in 0..turn {
+                (variant.frame)(round * turn + frame)?;
+            }
+            (variant.finish)()?;
             let wall_ms = start.elapsed().as_secs_f64() * 1e3;
-            if index >= warmup {
-                frames.push(LoopFrame { wall_ms, activity: gpu.activity().since(&before) });
+            let thread_cpu_ms = thread_cpu_ms().zip(cpu_before).map(|(after, before)| after - before);
+            if round >= warmup {
+                let activity = gpu.activity().since(&before);
+                turns.push(LoopFrame { frames: turn, wall_ms, thread_cpu_ms, activity });
             }
         }
     }
     Ok(measured)
 }
 
+/// CPU time the calling thread has used, in ms (`CLOCK_THREAD_CPUTIME_ID`).
+#[cfg(unix)]
+fn thread_cpu_ms() -> Option<f64> {
+    let mut now = libc::timespec { tv_sec: 0, tv_nsec: 0 };
+    // SAFETY: `now` is a valid timespec for the call to fill.
+    let read = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut now) };
+    (read == 0).then(|| now.tv_sec as f64 * 1e3 + now.tv_nsec as f64 / 1e6)
+}
+
+#[cfg(not(unix))]
+fn thread_cpu_ms() -> Option<f64> {
+    None
+}
+
 /// Each variant's figures from its frames (`names` and `measured` in the same order).
-pub fn summarise(names: &[String], measured: &[Vec<LoopFrame>]) -> Vec<LoopResult> {
+pub fn summarise(names: &[String], in_flight: &[usize], measured: &[Vec<LoopFrame>]) -> Vec<LoopResult> {
     let bootstrap = Bootstrap::DEFAULT;
-    let first: Vec<f64> = measured.first().map(|f| f.iter().map(|f| f.wall_ms).collect()).unwrap_or_default();
+    let first: Vec<f64> = measured.first().map(|f| f.iter().map(LoopFrame::frame_ms).collect()).unwrap_or_default();
     names
         .iter()
         .zip(measured)
         .enumerate()
         .map(|(index, (name, frames))| {
-            let count = frames.len().max(1) as f64;
+            let played: u32 = frames.iter().map(|f| f.frames).sum();
+            let count = f64::from(played.max(1));
             let mean = |value: &dyn Fn(&LoopFrame) -> f64| frames.iter().map(value).sum::<f64>() / count;
-            let wall: Vec<f64> = frames.iter().map(|f| f.wall_ms).collect();
-            let total_ms: f64 = wall.iter().sum();
+            let wall: Vec<f64> = frames.iter().map(LoopFrame::frame_ms).collect();
+            let total_ms: f64 = frames.iter().map(|f| f.wall_ms).sum();
             LoopResult {
                 technique: name.clone(),
-                frames: frames.len(),
-                frames_per_second: if total_ms > 0.0 { frames.len() as f64 / (total_ms / 1e3) } else { 0.0 },
+                frames_in_flight: in_flight.get(index).copied().unwrap_or(1),
+                frames: played as usize,
+                frames_per_second: if total_ms > 0.0 { f64::from(played) / (total_ms / 1e3) } else { 0.0 },
                 frame_ms: mean(&|f| f.wall_ms),
                 cpu_ms: mean(&|f| f.cpu_ms()),
                 wait_ms: mean(&|f| f.activity.wait_ns as f64 / 1e6),
@@ -123,17 +171,20 @@ pub fn summarise(names: &[String], measured: &[Vec<LoopFrame>]) -> Vec<LoopResul
 impl LoopReport {
     pub fn table(&self) -> String {
         let mut out = format!(
-            "{} | {} | {}x{} | {}x | {} warm-up + {} frames of each, in turn, the scene animated, frames kept on the GPU\n",
+            "{} | {} | {}x{} | {}x | {} warm-up + {} turns of {} frame(s) of each, in turn, the scene animated, \
+             frames kept on the GPU\n",
             self.device,
             self.scene,
             self.width,
             self.height,
             self.samples,
             self.warmup,
-            self.results.first().map_or(0, |r| r.frames),
+            self.results.first().map_or(0, |r| r.frames) / self.turn.max(1) as usize,
+            self.turn,
         );
         let header = [
             "technique",
+            "in flight",
             "frames/s",
             "x [95% CI]",
             "frame ms",
@@ -149,6 +200,7 @@ impl LoopReport {
             .map(|r| {
                 vec![
                     r.technique.clone(),
+                    r.frames_in_flight.to_string(),
                     format!("{:.1}", r.frames_per_second),
                     r.throughput_ratio.map_or("1.00".into(), |ratio| ratio.brief()),
                     format!("{:.2}", r.frame_ms),
@@ -164,9 +216,11 @@ impl LoopReport {
             let _ = writeln!(out, "{line}");
         }
         out.push_str(
-            "x: throughput over the first technique's (median over the frames of its frame time / this one's, \
-             bootstrap interval); CPU ms: the frame's wall time without its waits for the GPU; allocs: memory \
-             allocations made (gpu-allocator's and dedicated); waits: host waits on a fence\n",
+            "x: throughput over the first technique's (median over the turns of its frame time / this one's, \
+             bootstrap interval); in flight: frames submitted before the oldest is waited for (a turn's last \
+             frames are finished at its end, within its time); CPU ms: the render thread's CPU time a frame \
+             (without its waits for the GPU); allocs: memory allocations made (gpu-allocator's and dedicated); waits: host waits on a \
+             fence\n",
         );
         out
     }
@@ -177,7 +231,7 @@ mod tests {
     use super::*;
 
     fn frame(wall_ms: f64) -> LoopFrame {
-        LoopFrame { wall_ms, activity: Activity::default() }
+        LoopFrame { frames: 1, wall_ms, thread_cpu_ms: None, activity: Activity::default() }
     }
 
     #[test]
@@ -189,7 +243,7 @@ mod tests {
     fn throughput_is_frames_over_their_time_and_its_ratio_is_to_the_first() {
         let names = ["a".to_owned(), "b".to_owned()];
         let measured = vec![vec![frame(10.0); 4], vec![frame(20.0); 4]];
-        let results = summarise(&names, &measured);
+        let results = summarise(&names, &[1, 1], &measured);
         assert!((results[0].frames_per_second - 100.0).abs() < 1e-9);
         assert!((results[1].frames_per_second - 50.0).abs() < 1e-9);
         assert!(results[0].throughput_ratio.is_none());

@@ -14,7 +14,11 @@ use crate::scene::objects::SceneMesh;
 use crate::scene::{PoseTracker, Scene};
 
 pub struct GpuMesh {
+    /// The mesh as uploaded (device-local).
     pub vertices: Buffer,
+    /// Per frame slot, a skinned mesh's posed vertices (host-visible, written in place) once it
+    /// moved from the pose it was uploaded in; empty for a mesh that never moved.
+    posed: Vec<Option<Buffer>>,
     pub indices: Buffer,
     pub index_count: u32,
 }
@@ -36,7 +40,13 @@ impl GpuMesh {
                 vk::BufferUsageFlags::INDEX_BUFFER,
             )?,
             index_count: indices.len() as u32,
+            posed: Vec::new(),
         })
+    }
+
+    /// The vertices frame slot `slot` draws: its posed copy, else the mesh as uploaded.
+    pub fn vertices_in(&self, slot: usize) -> &Buffer {
+        self.posed.get(slot).and_then(Option::as_ref).unwrap_or(&self.vertices)
     }
 }
 
@@ -45,8 +55,10 @@ pub struct GpuScene {
     /// `VertexLayout::SCENE` vertices.
     pub meshes: Vec<GpuMesh>,
     pub materials: GpuMaterials,
-    /// The pose the skinned objects' uploaded vertices hold.
-    posed: PoseTracker,
+    /// Per frame slot, the pose its copy of the skinned objects' vertices holds.
+    posed: Vec<PoseTracker>,
+    /// The pose the uploaded vertices hold: where a new slot's copies start.
+    uploaded: PoseTracker,
 }
 
 impl GpuScene {
@@ -59,28 +71,54 @@ impl GpuScene {
             })
             .collect::<Result<_>>()?;
         let materials = GpuMaterials::upload(gpu, scene)?;
-        Ok(GpuScene { meshes, materials, posed: PoseTracker::new(scene) })
+        let uploaded = PoseTracker::new(scene);
+        Ok(GpuScene { meshes, materials, posed: vec![uploaded.clone()], uploaded })
     }
 
     /// Rewrites the vertices of every skinned object whose palette changed since they were
     /// uploaded, skinned on the CPU by the new palette (`Scene::pose_at` moves palettes, not
-    /// meshes), into a host-visible buffer made at the first pose and written in place after it;
-    /// returns those objects. The caller's previous frame must be complete.
+    /// meshes), into a host-visible copy made at the first pose and written in place after it;
+    /// returns those objects. For a renderer of one frame slot, whose previous frame is complete.
     pub fn follow_pose(&mut self, gpu: &Arc<Gpu>, scene: &Scene) -> Result<Vec<usize>> {
-        let changed = self.posed.changed(scene);
+        self.follow_pose_in(gpu, scene, 0)
+    }
+
+    /// As [`GpuScene::follow_pose`] for a frame in frame slot `slot`, whose draws read that
+    /// slot's copy of the posed vertices (`FrameRecorder::draw_mesh`): the other slots' copies
+    /// may still be read by frames in flight. The frame that last used `slot` must be complete.
+    pub fn follow_pose_in(&mut self, gpu: &Arc<Gpu>, scene: &Scene, slot: usize) -> Result<Vec<usize>> {
+        if self.posed.len() <= slot {
+            // A new slot's copies are the uploaded vertices: the pose the scene was built in.
+            self.posed.resize(slot + 1, self.uploaded.clone());
+        }
+        let changed = self.posed[slot].changed(scene);
         for &index in &changed {
-            let object = &scene.objects[index];
-            let (Some(skin), Some(mesh), Some(source)) =
-                (&object.skin, self.meshes.get_mut(object.mesh), scene.meshes.get(object.mesh))
-            else {
-                continue;
-            };
-            let (positions, normals) = skin.posed_positions_normals();
-            let name = format!("{} vertices (posed)", object.name);
-            let vertices = scene_vertices(source, &positions, &normals);
-            mesh.vertices.rewrite(gpu, &name, &vertices, vk::BufferUsageFlags::VERTEX_BUFFER)?;
+            if let Some((mesh, vertices, name)) = self.posed_vertices(scene, index) {
+                if mesh.posed.len() <= slot {
+                    mesh.posed.resize_with(slot + 1, || None);
+                }
+                match &mut mesh.posed[slot] {
+                    Some(buffer) => buffer.rewrite(gpu, &name, &vertices, vk::BufferUsageFlags::VERTEX_BUFFER)?,
+                    copy @ None => {
+                        *copy = Some(Buffer::with_data(gpu, &name, &vertices, vk::BufferUsageFlags::VERTEX_BUFFER)?)
+                    }
+                }
+            }
         }
         Ok(changed)
+    }
+
+    /// Object `index`'s mesh and its vertices skinned by the object's palette now.
+    fn posed_vertices(&mut self, scene: &Scene, index: usize) -> Option<(&mut GpuMesh, Vec<SceneVertex>, String)> {
+        let object = &scene.objects[index];
+        let (Some(skin), Some(mesh), Some(source)) =
+            (&object.skin, self.meshes.get_mut(object.mesh), scene.meshes.get(object.mesh))
+        else {
+            return None;
+        };
+        let (positions, normals) = skin.posed_positions_normals();
+        let name = format!("{} vertices (posed)", object.name);
+        Some((mesh, scene_vertices(source, &positions, &normals), name))
     }
 }
 

@@ -36,6 +36,14 @@ pub trait Passes<K: PassKinds> {
     /// geometry the frame draws.
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()>;
 
+    /// Whether every buffer `prepare` writes is written in the copy of the frame's slot
+    /// (`Renderer::slot`, `FrameRecorder::slot`), which no other frame in flight reads: then
+    /// the renderer may keep several frames in flight (`RenderOptions.frames_in_flight`).
+    /// Otherwise it renders one frame at a time.
+    fn writes_per_slot(&self) -> bool {
+        false
+    }
+
     /// A set of its own, bound by the passes that name it (its layout is also what the
     /// pipelines are built with; the frame's uniforms are the recorder's).
     fn set(&self, set: K::Set) -> Option<&DescriptorSet> {

@@ -20,7 +20,10 @@ use crate::gpu::swapchain::{self, Acquired, Surface, Swapchain, Transfer};
 use crate::gpu::Gpu;
 use image::RgbaImage;
 
-const FRAMES_IN_FLIGHT: usize = 2;
+/// Frames a window keeps in flight: its slots' acquire semaphores, and the frames a technique
+/// drawing into its images may keep in flight (no more, so that a slot's semaphore is reused
+/// only once the frame that waited on it was waited for).
+pub const FRAMES_IN_FLIGHT: usize = 2;
 
 /// What the window shows frames through.
 pub enum Output {
@@ -118,6 +121,7 @@ impl Presenter {
     /// Where a technique should draw its frames: into the swapchain images where they can be
     /// drawn into (and read back, when a `screenshot` will be taken), else offscreen.
     pub fn destination(&self, screenshot: bool) -> FrameDestination {
+        // (frames drawn offscreen are copied from one colour target: one at a time)
         let s = &self.swapchain;
         if self.draw_into && s.drawable && (s.readable || !screenshot) {
             FrameDestination::Swapchain { format: s.format }

@@ -97,6 +97,9 @@ pub struct FrameRecorder<'a> {
     frame_label_open: bool,
     /// Samples per pixel of the frame's render pass.
     frame_samples: u32,
+    /// The frame slot this frame is recorded in (`Renderer::slot`): which copy of per-frame
+    /// data its draws read.
+    slot: usize,
 }
 
 impl<'a> FrameRecorder<'a> {
@@ -126,7 +129,20 @@ impl<'a> FrameRecorder<'a> {
             scissor_narrowed: false,
             frame_label_open: false,
             frame_samples,
+            slot: 0,
         }
+    }
+
+    /// The recorder of a frame in frame slot `slot`.
+    pub(crate) fn in_slot(mut self, slot: usize) -> Self {
+        self.slot = slot;
+        self
+    }
+
+    /// The frame slot this frame is recorded in: draws bind that slot's copy of data written
+    /// every frame (`Renderer::slot`).
+    pub fn slot(&self) -> usize {
+        self.slot
     }
 
     /// Samples per pixel of the frame's render pass.
@@ -518,8 +534,9 @@ impl<'a> FrameRecorder<'a> {
         };
     }
 
+    /// Draws `mesh` as this frame's slot holds it (a skinned mesh's posed copy).
     pub fn draw_mesh(&mut self, mesh: &GpuMesh) {
-        self.draw_indexed(&mesh.vertices, &mesh.indices, mesh.index_count);
+        self.draw_indexed(mesh.vertices_in(self.slot), &mesh.indices, mesh.index_count);
     }
 
     pub fn draw_indexed(&mut self, vertices: &Buffer, indices: &Buffer, index_count: u32) {

@@ -81,7 +81,7 @@ pub fn build_typed<'s, K: PassKinds, P: Passes<K> + 's>(
         samples: renderer.targets.samples(),
         lights: scene.lights.len() as u32,
     };
-    let frame_layout = renderer.frame.layout;
+    let frame_layout = renderer.frame_layout;
     let pipelines = PlanPipelines::build(
         gpu,
         &plan,
@@ -108,6 +108,10 @@ pub fn build_typed<'s, K: PassKinds, P: Passes<K> + 's>(
             }
         },
     )?;
+    // Several frames in flight only where each one's data is its own.
+    let in_flight = options.frames_in_flight as usize;
+    let apart = passes.writes_per_slot() && !options.count_overdraw && !options.keep_samples;
+    renderer.set_frames_in_flight(if apart { in_flight } else { 1 })?;
     let named_plan = plan.named();
     let warnings = passes.warnings().to_vec();
     Ok(FrameRenderer { technique, scene, renderer, plan, named_plan, pipelines, passes, warnings })
@@ -123,6 +127,8 @@ impl<K: PassKinds, P> FrameRenderer<'_, K, P> {
 impl<K: PassKinds, P: Passes<K>> TechniqueRenderer for FrameRenderer<'_, K, P> {
     fn frame_with(&mut self, scene: &Scene) -> Result<TechniqueFrame> {
         check_same_scene(self.scene, scene, self.technique)?;
+        // The frame that last used this slot reads what `prepare` writes in it: done first.
+        self.renderer.wait_for_slot()?;
         self.passes.prepare(&self.renderer, scene)?;
         let mut uniforms = FrameUniforms::for_scene(scene, self.renderer.aspect());
         if let Some(light) = self.passes.frame_light() {

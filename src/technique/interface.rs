@@ -48,6 +48,11 @@ pub struct RenderOptions {
     /// Where the frame goes: the renderer's own image (read back, or kept on the GPU), or a
     /// swapchain's images (the viewer), where the technique allows it (`SceneRenderer::presents`).
     pub destination: FrameDestination,
+    /// Frames kept in flight (1 to 3): a frame is submitted without waiting, and its results
+    /// come back that many frames later (`Renderer::set_frames_in_flight`). Techniques whose
+    /// per-frame data is not kept per frame slot (`Passes::writes_per_slot`), heat maps and
+    /// kept samples render one frame at a time whatever is asked.
+    pub frames_in_flight: u32,
 }
 
 impl RenderOptions {
@@ -56,6 +61,13 @@ impl RenderOptions {
     pub fn check(&self) -> Result<()> {
         if !matches!(self.samples, 1 | 2 | 4) {
             return Err(Error::InvalidInput(format!("--samples {}: use 1, 2 or 4", self.samples)));
+        }
+        if !(1..=crate::render::renderer::MAX_FRAMES_IN_FLIGHT as u32).contains(&self.frames_in_flight) {
+            return Err(Error::InvalidInput(format!(
+                "{} frames in flight: use 1 to {}",
+                self.frames_in_flight,
+                crate::render::renderer::MAX_FRAMES_IN_FLIGHT
+            )));
         }
         self.shadow_volume.check()?;
         self.shadow_atlas.check()?;
@@ -297,6 +309,22 @@ impl SceneRenderer<'_> {
     /// for (see `presents`); the caller makes sure no frame still uses the images attached before.
     pub fn attach_swapchain(&mut self, images: &[ash::vk::Image]) -> Result<()> {
         self.0.renderer_mut().targets.attach_swapchain(images)
+    }
+
+    /// Frames it keeps in flight (`RenderOptions.frames_in_flight`, where its technique allows).
+    pub fn frames_in_flight(&mut self) -> usize {
+        self.0.renderer_mut().frames_in_flight()
+    }
+
+    /// Waits for every frame in flight (`Renderer::wait_all`; their results are dropped).
+    pub fn wait_all(&mut self) -> Result<()> {
+        self.0.renderer_mut().wait_all()
+    }
+
+    /// Waits for the frame that last used the next frame's slot (`Renderer::wait_for_slot`):
+    /// a presenter calls it before it acquires an image.
+    pub fn wait_for_slot(&mut self) -> Result<()> {
+        self.0.renderer_mut().wait_for_slot()
     }
 
     /// Draws the next frame into the acquired swapchain image `frame` names.

@@ -86,7 +86,11 @@ impl Passes<RecorderOnly> for LitPasses {
         match draw {}
     }
 
-    fn prepare(&mut self, _renderer: &Renderer, scene: &Scene) -> Result<()> {
-        self.meshes.follow_pose(&self.gpu, scene).map(|_| ())
+    fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
+        self.meshes.follow_pose_in(&self.gpu, scene, renderer.slot()).map(|_| ())
+    }
+
+    fn writes_per_slot(&self) -> bool {
+        true
     }
 }

@@ -45,6 +45,7 @@ impl Default for RenderOptions {
             samples: 1,
             keep_samples: false,
             destination: Default::default(),
+            frames_in_flight: 1,
         }
     }
 }

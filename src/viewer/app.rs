@@ -23,7 +23,7 @@ use crate::frame::render_pass::FrameDestination;
 use crate::frame::targets::check_samples;
 use crate::gpu::swapchain::{Acquired, Surface};
 use crate::gpu::{mobile_profile, Gpu};
-use crate::render::present::Output;
+use crate::render::present::{Output, FRAMES_IN_FLIGHT};
 use crate::scene::Scene;
 
 /// How long `--resize-after` waits for the window system to apply the new size.
@@ -235,9 +235,18 @@ impl<'s> RunningWindow<'s> {
         let last_frame =
             session.options.frames.is_some_and(|n| session.presented + 1 >= n) && self.resize_pending.is_none();
         let screenshot = last_frame && session.options.screenshot.is_some();
-        session.settings.render.destination = presenter.destination(session.options.screenshot.is_some());
+        let destination = presenter.destination(session.options.screenshot.is_some());
+        session.settings.render.destination = destination;
+        // Drawn into the swapchain images, frames stay in flight as the window's slots allow;
+        // drawn offscreen, each is copied from the one colour target before the next clears it.
+        session.settings.render.frames_in_flight = match destination {
+            FrameDestination::Swapchain { .. } => FRAMES_IN_FLIGHT as u32,
+            FrameDestination::Offscreen => 1,
+        };
         let technique =
             self.technique.get(&session.gpu, session.lit, &session.settings, frame_extent, &session.scene)?;
+        // The frame that last used this slot waited on the semaphore the acquire signals.
+        technique.wait_for_slot()?;
 
         let index = match presenter.acquire()? {
             Acquired::OutOfDate => {
@@ -275,7 +284,11 @@ impl<'s> RunningWindow<'s> {
         if crate::gpu::faults::crash_after_presents() == Some(session.presented) {
             std::process::abort();
         }
-        session.last = Some(frame);
+        // With frames in flight the counters come back frames late; a technique just built has
+        // none for its first frames, and the title keeps the last ones measured until then.
+        if !frame.counters.passes.is_empty() {
+            session.last = Some(frame);
+        }
         report_tour(session);
         update_title(&self.window, session)?;
         self.run_script(session, event_loop);
@@ -309,6 +322,8 @@ impl<'s> RunningWindow<'s> {
     fn finish(&mut self, session: &mut Session<'s>, event_loop: &ActiveEventLoop) -> Result<()> {
         session.done = true;
         if let (Some(path), Output::Presenting(presenter)) = (&session.options.screenshot, &mut self.output) {
+            // The last frames, the screenshot's read-back among them, may still be in flight.
+            session.gpu.wait_idle();
             let image = presenter.read_screenshot()?;
             crate::frame::write_png(&image, path, false)?;
             eprintln!(
@@ -454,7 +469,7 @@ fn update_title(window: &Window, session: &Session) -> Result<()> {
     let title = format!(
         "nostencil view | {} | {}{method} | {} | {}x MSAA | {fragments} fragments/px, overdraw {:.2} | {:.2} ms GPU | {}x{}{}",
         session.base.name,
-        session.settings.describe(),
+        frame.description,
         session.live.describe_light(),
         counters.samples,
         counters.overdraw(),

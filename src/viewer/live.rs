@@ -42,6 +42,8 @@ pub struct LiveFrame {
     pub counters: FrameCounters,
     /// What the technique says of the frame in a few words ("z-fail"), for the title.
     pub brief: Option<String>,
+    /// The settings it was drawn with, described (`Settings::describe`).
+    pub description: String,
 }
 
 impl<'s> LiveTechnique<'s> {
@@ -69,10 +71,18 @@ impl<'s> LiveTechnique<'s> {
         self.renderer.stale_for(scene)
     }
 
-    /// Renders `scene` into the colour target and waits for it (the counters are read back).
+    /// Renders `scene` (into the acquired image or the colour target); the counters are those
+    /// of the frame that last used its slot, none while no frame of it has finished.
     pub fn frame(&mut self, scene: &Scene) -> Result<LiveFrame> {
         let frame = self.renderer.frame_with(scene)?;
-        Ok(LiveFrame { counters: frame.output.counters, brief: frame.stats.brief() })
+        let description = self.settings.describe();
+        Ok(LiveFrame { counters: frame.output.counters, brief: frame.stats.brief(), description })
+    }
+
+    /// Waits for the frame that last used the next frame's slot (`SceneRenderer::wait_for_slot`),
+    /// before an image is acquired with the semaphore that frame waited on.
+    pub fn wait_for_slot(&mut self) -> Result<()> {
+        self.renderer.wait_for_slot()
     }
 
     /// Whether its frames are drawn into the swapchain images (`SceneRenderer::presents`).

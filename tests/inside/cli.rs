@@ -293,34 +293,48 @@ fn bench_json_reports_round_robin_ratios_with_intervals() {
 /// `--samples 1` benches the variants alone, with no ratios.
 #[test]
 fn bench_loop_plays_animated_frames_of_each_technique_and_counts_what_each_makes() {
-    let args = "bench --loop 4 --warmup 3 --technique shadow-volume,lit --size 64x48 --samples 1 --json --validation";
-    let (out, err) = common::run_ok(&args.split(' ').collect::<Vec<_>>());
-    assert!(!err.contains("vulkan validation"), "{err}");
-    let report: serde_json::Value = serde_json::from_str(&out).expect("bench --loop --json is JSON");
-    let results = report["results"].as_array().expect("results");
-    let names: Vec<&str> = results.iter().filter_map(|r| r["technique"].as_str()).collect();
-    assert_eq!(names, ["shadow-volume", "lit"], "{report}");
     let number = |r: &serde_json::Value, key: &str| r[key].as_f64().unwrap_or_else(|| panic!("{key} in {r}"));
-    for result in results {
-        assert_eq!(result["frames"], 4, "{result}");
-        let frame_ms = number(result, "frame_ms");
-        assert!((number(result, "frames_per_second") * frame_ms / 1e3 - 1.0).abs() < 1e-9, "{result}");
-        assert!(number(result, "cpu_ms") <= frame_ms && number(result, "wait_ms") <= frame_ms, "{result}");
-        // A steady-state frame waits for its own fence only, and allocates nothing: posed
-        // vertices and volumes are rewritten into the buffers of the frames before.
-        assert_eq!(number(result, "waits_per_frame"), 1.0, "{result}");
-        assert_eq!(number(result, "allocations_per_frame"), 0.0, "{result}");
-        assert_eq!(number(result, "buffers_per_frame"), 0.0, "{result}");
+    // One frame in flight, a frame a turn; two (the default) and three, turns of 8 frames,
+    // shadow-map (whose per-frame data is shared between frames) one at a time whatever is asked.
+    for (in_flight, turn) in [("1", 1), ("2", 8), ("3", 8)] {
+        let args = format!(
+            "bench --loop 4 --warmup 2 --technique shadow-volume,lit,shadow-map --size 64x48 --samples 1 --json \
+             --validation --frames-in-flight {in_flight}"
+        );
+        let (out, err) = common::run_ok(&args.split_whitespace().collect::<Vec<_>>());
+        assert!(!err.contains("vulkan validation"), "{err}");
+        let report: serde_json::Value = serde_json::from_str(&out).expect("bench --loop --json is JSON");
+        assert_eq!(report["turn"], turn, "{report}");
+        let results = report["results"].as_array().expect("results");
+        let names: Vec<&str> = results.iter().filter_map(|r| r["technique"].as_str()).collect();
+        assert_eq!(names, ["shadow-volume", "lit", "shadow-map"], "{report}");
+        for result in results {
+            let kept = if result["technique"] == "shadow-map" { "1" } else { in_flight };
+            assert_eq!(result["frames_in_flight"].to_string(), kept, "{result}");
+            assert_eq!(result["frames"], 4 * turn, "{result}");
+            let frame_ms = number(result, "frame_ms");
+            assert!((number(result, "frames_per_second") * frame_ms / 1e3 - 1.0).abs() < 1e-9, "{result}");
+            assert!(number(result, "cpu_ms") <= frame_ms && number(result, "wait_ms") <= frame_ms, "{result}");
+            // A steady-state frame waits once (for the frame that last used its slot; a turn's
+            // first frames find theirs finished, and its end waits for the last ones instead),
+            // and allocates nothing: posed vertices and volumes are rewritten into its slot's
+            // buffers.
+            assert_eq!(number(result, "waits_per_frame"), 1.0, "{result}");
+            assert_eq!(number(result, "allocations_per_frame"), 0.0, "{result}");
+            assert_eq!(number(result, "buffers_per_frame"), 0.0, "{result}");
+        }
+        assert!(results[0]["throughput_ratio"].is_null(), "the first is the reference: {report}");
+        let ratio = &results[1]["throughput_ratio"];
+        let (low, high) = (number(&ratio["ci95"], "low"), number(&ratio["ci95"], "high"));
+        assert!(low <= number(ratio, "median") && number(ratio, "median") <= high, "{ratio}");
     }
-    assert!(results[0]["throughput_ratio"].is_null(), "the first is the reference: {report}");
-    let ratio = &results[1]["throughput_ratio"];
-    let (low, high) = (number(&ratio["ci95"], "low"), number(&ratio["ci95"], "high"));
-    assert!(low <= number(ratio, "median") && number(ratio, "median") <= high, "{ratio}");
 
     let err = common::run_err(&["bench", "--loop", "0", "--size", "64x48"]);
     assert!(err.contains("--loop") && err.contains("at least 1"), "{err}");
     let err = common::run_err(&["bench", "--loop", "3", "--runs", "5", "--size", "64x48"]);
     assert!(err.contains("drop --table1-out, --runs and --trace"), "{err}");
+    let err = common::run_err(&["bench", "--loop", "3", "--frames-in-flight", "4", "--size", "64x48"]);
+    assert!(err.contains("--frames-in-flight"), "{err}");
 }
 
 #[test]

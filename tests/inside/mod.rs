@@ -11,6 +11,7 @@ mod counters;
 #[cfg(feature = "cpu-bench")]
 mod cpu_bench;
 mod frame;
+mod frames_in_flight;
 mod fuzz_gltf;
 mod gltf_conformance;
 mod gpu_faults;

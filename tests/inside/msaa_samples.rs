@@ -89,7 +89,7 @@ fn every_sample_is_read_back_and_resolves_to_the_frame() {
     // Nor can a frame that was never drawn.
     let targets =
         FrameTargets::with_samples(&gpu, 16, 16, StencilMode::Emulated, false, SAMPLES, true).expect("targets");
-    let fresh = Renderer::with_targets(&gpu, targets).expect("renderer");
+    let mut fresh = Renderer::with_targets(&gpu, targets).expect("renderer");
     let error = fresh.read_samples().expect_err("no frame yet").to_string();
     assert!(error.contains("no frame"), "{error}");
     common::assert_no_validation_messages(&gpu);
@@ -250,7 +250,7 @@ fn counts_per_sample(
         samples: SAMPLES,
         lights: 1,
     };
-    let frame_layout = renderer.frame.layout;
+    let frame_layout = renderer.frame_layout;
     let material_layout = draws.meshes.materials.layout();
     let pipelines = PlanPipelines::build(
         gpu,

@@ -227,8 +227,9 @@ pub struct ShadowVolumePasses {
     /// This frame's volumes per light (those that can shade something on screen; none for a
     /// light the plan does not shadow).
     volumes: Vec<Vec<GpuVolume>>,
-    /// Per light, per caster: the buffers its volume is written into, kept from frame to frame.
-    buffers: Vec<Vec<VolumeBuffers>>,
+    /// Per frame slot, per light, per caster: the buffers its volume is written into, kept
+    /// from frame to frame (a slot's are read by the frame in flight in it).
+    buffers: Vec<Vec<Vec<VolumeBuffers>>>,
     /// Where volumes are built before they are written into their buffers.
     scratch: Scratch,
     /// Per light: where its full-screen passes draw (the union of its volumes' scissors).
@@ -289,7 +290,7 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
             }
         }
         let volumes = self.volumes.get(light).map_or(&[][..], Vec::as_slice);
-        let buffers = self.buffers.get(light).map_or(&[][..], Vec::as_slice);
+        let buffers = self.buffers.get(rec.slot()).and_then(|lights| lights.get(light)).map_or(&[][..], Vec::as_slice);
         for (index, pipeline) in pipelines.iter().enumerate() {
             if index > 0 {
                 rec.bind(pipeline);
@@ -316,7 +317,11 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
     }
 
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
-        self.meshes.follow_pose(&self.gpu, scene)?;
+        let slot = renderer.slot();
+        self.meshes.follow_pose_in(&self.gpu, scene, slot)?;
+        if self.buffers.len() <= slot {
+            self.buffers.resize_with(slot + 1, Vec::new);
+        }
         let extent = renderer.extent();
         let boxes = bounds::object_boxes(scene);
         let receivers = bounds::receivers_box(&boxes);
@@ -343,10 +348,11 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
             let volumes = if shadows {
                 let lit = LitBy { light, rect: &light_rect, culled: &culled, boxes: &boxes };
                 let counting = Counting { zfail: self.stats.zfail, stencil: self.stencil };
-                if self.buffers.len() <= index {
-                    self.buffers.resize_with(index + 1, Vec::new);
+                let lights = &mut self.buffers[slot];
+                if lights.len() <= index {
+                    lights.resize_with(index + 1, Vec::new);
                 }
-                let buffers = &mut self.buffers[index];
+                let buffers = &mut lights[index];
                 if buffers.len() < self.casters.len() {
                     buffers.resize_with(self.casters.len(), VolumeBuffers::new);
                 }
@@ -421,6 +427,11 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
             None => stats.probe_saturated_samples,
         };
         Box::new(stats)
+    }
+
+    /// Everything but the saturation counter, read back after its frame, is written per slot.
+    fn writes_per_slot(&self) -> bool {
+        self.saturation_counter.is_none()
     }
 
     fn stale_for(&self, renderer: &Renderer, scene: &Scene) -> bool {
