@@ -1,7 +1,7 @@
 //! Frames in flight: a renderer that submits frames without waiting for the one before draws
 //! the same frames, to the byte, as one that waits for each, over the viewer's animation (the
-//! walk re-posed, the casters turning): each frame's posed vertices, volumes and uniforms are
-//! written into its own slot's copies. Its results come back as many frames late as it keeps
+//! walk re-posed, the casters turning): each frame's posed vertices, volumes, joint palettes,
+//! blob quads and uniforms are written into its own slot's copies. Its results come back as many frames late as it keeps
 //! in flight.
 
 use crate::common::{self, technique};
@@ -22,7 +22,7 @@ fn frames_in_flight_draw_every_frame_as_one_at_a_time_does_results_in_flight_fra
     let gpu = common::gpu();
     for scene_name in ["character", "default"] {
         let base: Scene = builtin_scene(scene_name).expect("scene");
-        for name in ["lit", "shadow-volume"] {
+        for name in ["lit", "shadow-volume", "planar", "blob", "x-ray"] {
             let options =
                 RenderOptions { width: SIZE.0, height: SIZE.1, technique: technique(name), ..Default::default() };
             let mut alone = options.technique.build(&gpu, &base, &options).expect("renderer");

@@ -250,8 +250,9 @@ pub struct BlobPasses {
     tone: ShadowTone,
     plane: ReceiverPlane,
     meshes: SceneMeshes,
-    /// This frame's blob quads, in a buffer kept from frame to frame (none filled without blobs).
-    quads: ReusedBuffer,
+    /// Per frame slot, that frame's blob quads, in a buffer kept from frame to frame (none
+    /// filled without blobs).
+    quads: Vec<ReusedBuffer>,
     // Field order: the set is destroyed before the texture it points at.
     blob_set: DescriptorSet,
     _texture: Texture,
@@ -290,7 +291,7 @@ impl BlobPasses {
             tone: ctx.options.shadow_tone,
             plane,
             meshes,
-            quads: ReusedBuffer::new("blob quads", vk::BufferUsageFlags::VERTEX_BUFFER),
+            quads: Vec::new(),
             blob_set,
             _texture: texture,
         })
@@ -320,7 +321,7 @@ impl Passes<BlobKinds> for BlobPasses {
         match draw {
             BlobDraw::Scene => self.meshes.draw_scene(rec, scene, &self.plane, pass, pipelines, 1.0),
             BlobDraw::Quads => {
-                if let Some((quads, vertex_count)) = self.quads.filled() {
+                if let Some((quads, vertex_count)) = self.quads.get(rec.slot()).and_then(ReusedBuffer::filled) {
                     rec.draw_vertices(quads, vertex_count);
                 }
                 Ok(())
@@ -329,16 +330,23 @@ impl Passes<BlobKinds> for BlobPasses {
     }
 
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
-        self.meshes.update_palettes(scene)?;
+        self.meshes.update_palettes(scene, renderer.slot())?;
         let darkness = 1.0 - self.tone.darkest_factor();
         let vertices = if light_reaches_plane(&scene.light(), &self.plane.plane) {
             blob_vertices(&blobs(scene, &self.plane, darkness))
         } else {
             Vec::new()
         };
-        // The previous frame has finished (frames wait for their fence): the buffer is free.
-        self.quads.fill(&renderer.gpu, &vertices)?;
-        Ok(())
+        // The frame that last used this slot has finished: its buffer is free.
+        let slot = renderer.slot();
+        while self.quads.len() <= slot {
+            self.quads.push(ReusedBuffer::new("blob quads", vk::BufferUsageFlags::VERTEX_BUFFER));
+        }
+        self.quads[slot].fill(&renderer.gpu, &vertices)
+    }
+
+    fn writes_per_slot(&self) -> bool {
+        true
     }
 
     fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {

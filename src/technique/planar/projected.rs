@@ -332,11 +332,16 @@ impl Passes<PlanarKinds> for PlanarPasses {
         }
     }
 
-    fn prepare(&mut self, _renderer: &Renderer, scene: &Scene) -> Result<()> {
+    fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
         if self.mode == ShadowMode::Modulate {
             self.plane.plane.check_light(&scene.light())?;
         }
-        self.meshes.update_palettes(scene)
+        self.meshes.update_palettes(scene, renderer.slot())
+    }
+
+    /// The joint palettes are its only per-frame data, a copy per slot.
+    fn writes_per_slot(&self) -> bool {
+        true
     }
 
     fn conditions(&self, scene: &Scene) -> Vec<When> {

@@ -123,14 +123,14 @@ impl SceneMeshes {
     /// The palette set a pass binds before its first skinned draw binds the object's own (its
     /// layout is the pipelines').
     pub fn palette(&self) -> &DescriptorSet {
-        &self.template.descriptors
+        self.template.descriptors(0)
     }
 
-    /// This frame's joint palettes.
-    pub fn update_palettes(&mut self, scene: &Scene) -> Result<()> {
+    /// This frame's joint palettes, written into frame slot `slot`'s copies.
+    pub fn update_palettes(&mut self, scene: &Scene, slot: usize) -> Result<()> {
         for (object, skinned) in scene.objects.iter().zip(&mut self.skinned) {
             if let (Some(skin), Some(gpu_skin)) = (&object.skin, skinned.as_mut()) {
-                gpu_skin.palette.update(&object.name, &skin.joint_matrices)?;
+                gpu_skin.palette.update(slot, &skin.joint_matrices)?;
             }
         }
         Ok(())
@@ -165,7 +165,7 @@ impl SceneMeshes {
             Some(gpu_skin) => {
                 rec.bind(skinned_pipeline);
                 rec.bind_material(skinned_pipeline, material);
-                rec.bind_sets(skinned_pipeline, 2, &[gpu_skin.palette.descriptors.set]);
+                rec.bind_sets(skinned_pipeline, 2, &[gpu_skin.palette.descriptors(rec.slot()).set]);
                 (skinned_pipeline, &gpu_skin.mesh)
             }
             None => {

@@ -502,9 +502,9 @@ impl Passes<TextureKinds> for ShadowTexturePasses {
         }
     }
 
-    fn prepare(&mut self, _renderer: &Renderer, scene: &Scene) -> Result<()> {
+    fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
         self.plane.plane.check_light(&scene.light())?;
-        self.meshes.update_palettes(scene)?;
+        self.meshes.update_palettes(scene, renderer.slot())?;
         self.quad_model = match self.quad {
             Some(_) => shadow_quad(scene, &self.plane).map(|corners| quad_model(&corners, self.plane.plane.normal)),
             None => None,

@@ -42,15 +42,23 @@ struct SkinnedVertex {
 /// Bytes of the joint palette: `MAX_JOINTS` mat4 (std140: 64 bytes each).
 pub const PALETTE_BYTES: u64 = (MAX_JOINTS * std::mem::size_of::<Mat4>()) as u64;
 
-/// One joint palette and the descriptor set that binds it.
+/// One joint palette and the descriptor set that binds it, a copy per frame slot (frames in
+/// flight each read their own).
 pub struct Palette {
+    gpu: Arc<Gpu>,
+    name: String,
+    /// Per frame slot, made when that slot first writes the palette (slot 0 with the palette).
+    copies: Vec<PaletteCopy>,
+}
+
+struct PaletteCopy {
     // Field order: the set is destroyed before the buffer it points at.
-    pub descriptors: DescriptorSet,
+    descriptors: DescriptorSet,
     buffer: Buffer,
 }
 
-impl Palette {
-    pub fn new(gpu: &Arc<Gpu>, name: &str) -> Result<Self> {
+impl PaletteCopy {
+    fn new(gpu: &Arc<Gpu>, name: &str) -> Result<Self> {
         let buffer = Buffer::new(
             gpu,
             &format!("{name} joint palette"),
@@ -66,18 +74,35 @@ impl Palette {
                 stages: vk::ShaderStageFlags::VERTEX,
             }],
         )?;
-        Ok(Palette { descriptors, buffer })
+        Ok(PaletteCopy { descriptors, buffer })
+    }
+}
+
+impl Palette {
+    pub fn new(gpu: &Arc<Gpu>, name: &str) -> Result<Self> {
+        let copies = vec![PaletteCopy::new(gpu, name)?];
+        Ok(Palette { gpu: gpu.clone(), name: name.to_owned(), copies })
     }
 
-    /// Writes this frame's joint matrices (unused entries stay as they were: no vertex uses them).
-    pub fn update(&mut self, name: &str, joint_matrices: &[Mat4]) -> Result<()> {
+    /// The set that binds frame slot `slot`'s copy (slot 0's where that slot never wrote one).
+    pub fn descriptors(&self, slot: usize) -> &DescriptorSet {
+        &self.copies.get(slot).unwrap_or(&self.copies[0]).descriptors
+    }
+
+    /// Writes this frame's joint matrices into frame slot `slot`'s copy (unused entries stay as
+    /// they were: no vertex uses them). No frame in flight may read that copy.
+    pub fn update(&mut self, slot: usize, joint_matrices: &[Mat4]) -> Result<()> {
         if joint_matrices.len() > MAX_JOINTS {
             return Err(Error::InvalidInput(format!(
-                "'{name}' has {} joints; the GPU palette holds at most {MAX_JOINTS}",
+                "'{}' has {} joints; the GPU palette holds at most {MAX_JOINTS}",
+                self.name,
                 joint_matrices.len()
             )));
         }
-        self.buffer.write(0, joint_matrices)
+        while self.copies.len() <= slot {
+            self.copies.push(PaletteCopy::new(&self.gpu, &self.name)?);
+        }
+        self.copies[slot].buffer.write(0, joint_matrices)
     }
 }
 
@@ -120,7 +145,7 @@ impl SkinnedMesh {
             .map(|(v, scene)| SkinnedVertex { scene, joints: skin.joints[v], weights: skin.weights[v] })
             .collect();
         let mut palette = Palette::new(gpu, name)?;
-        palette.update(name, &skin.joint_matrices)?;
+        palette.update(0, &skin.joint_matrices)?;
         Ok(SkinnedMesh { mesh: GpuMesh::from_raw(gpu, name, &vertices, indices)?, palette })
     }
 }

@@ -138,8 +138,12 @@ impl Passes<XRayKinds> for XRayPasses {
         }
     }
 
-    fn prepare(&mut self, _renderer: &Renderer, scene: &Scene) -> Result<()> {
+    fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
         // Skinned casters are re-posed on the CPU, as the lit scene's are.
-        self.meshes.follow_pose(&self.gpu, scene).map(|_| ())
+        self.meshes.follow_pose_in(&self.gpu, scene, renderer.slot()).map(|_| ())
+    }
+
+    fn writes_per_slot(&self) -> bool {
+        true
     }
 }
