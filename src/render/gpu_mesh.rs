@@ -44,6 +44,22 @@ impl GpuMesh {
         })
     }
 
+    /// Writes `vertices` (the mesh posed, same layout and count) into frame slot `slot`'s copy,
+    /// made host-visible at its first pose and written in place after it. No frame in flight
+    /// may read that copy.
+    pub fn write_posed<V: Pod>(&mut self, gpu: &Arc<Gpu>, slot: usize, name: &str, vertices: &[V]) -> Result<()> {
+        if self.posed.len() <= slot {
+            self.posed.resize_with(slot + 1, || None);
+        }
+        match &mut self.posed[slot] {
+            Some(buffer) => buffer.rewrite(gpu, name, vertices, vk::BufferUsageFlags::VERTEX_BUFFER),
+            copy @ None => {
+                *copy = Some(Buffer::with_data(gpu, name, vertices, vk::BufferUsageFlags::VERTEX_BUFFER)?);
+                Ok(())
+            }
+        }
+    }
+
     /// The vertices frame slot `slot` draws: its posed copy, else the mesh as uploaded.
     pub fn vertices_in(&self, slot: usize) -> &Buffer {
         self.posed.get(slot).and_then(Option::as_ref).unwrap_or(&self.vertices)
@@ -94,15 +110,7 @@ impl GpuScene {
         let changed = self.posed[slot].changed(scene);
         for &index in &changed {
             if let Some((mesh, vertices, name)) = self.posed_vertices(scene, index) {
-                if mesh.posed.len() <= slot {
-                    mesh.posed.resize_with(slot + 1, || None);
-                }
-                match &mut mesh.posed[slot] {
-                    Some(buffer) => buffer.rewrite(gpu, &name, &vertices, vk::BufferUsageFlags::VERTEX_BUFFER)?,
-                    copy @ None => {
-                        *copy = Some(Buffer::with_data(gpu, &name, &vertices, vk::BufferUsageFlags::VERTEX_BUFFER)?)
-                    }
-                }
+                mesh.write_posed(gpu, slot, &name, &vertices)?;
             }
         }
         Ok(changed)

@@ -3,7 +3,6 @@
 
 use std::sync::Arc;
 
-use ash::vk;
 use glam::{Mat4, Vec3, Vec4};
 
 use super::cartoon_shading::{cartoon_desc, CartoonPush};
@@ -13,7 +12,7 @@ use crate::mesh::{self, Welded};
 use crate::pipeline::{FixedFunction, PipelineDesc, VertexLayout};
 use crate::render::Pipeline;
 use crate::render::{FrameRecorder, GpuMesh};
-use crate::scene::{Scene, SceneSkin};
+use crate::scene::{PoseTracker, Scene, SceneSkin};
 use crate::shaders;
 
 /// Positions closer than this weld into one vertex (UV seams, split normals): a seam of the
@@ -86,8 +85,14 @@ pub struct Extrusion {
 
 /// Every object's extruded copy on the GPU, kept in the pose of its skin.
 pub struct ExtrudedCopies {
+    /// The copies' welded vertices on the CPU, in the pose `cpu_pose` says.
     welded: Vec<Welded>,
     meshes: Vec<GpuMesh>,
+    cpu_pose: PoseTracker,
+    /// Per frame slot, the pose its copies on the GPU hold (`GpuMesh::write_posed`).
+    slot_poses: Vec<PoseTracker>,
+    /// The pose the copies were uploaded in: where a new slot's start.
+    uploaded: PoseTracker,
 }
 
 impl ExtrudedCopies {
@@ -100,29 +105,42 @@ impl ExtrudedCopies {
             meshes.push(GpuMesh::from_raw(gpu, &name, &vertices(&mesh), &mesh.indices)?);
             welded.push(mesh);
         }
-        Ok(ExtrudedCopies { welded, meshes })
+        let uploaded = PoseTracker::new(scene);
+        Ok(ExtrudedCopies {
+            welded,
+            meshes,
+            cpu_pose: uploaded.clone(),
+            slot_poses: vec![uploaded.clone()],
+            uploaded,
+        })
     }
 
-    /// Re-poses the copies of the skinned objects in `changed` (whose palettes changed).
-    pub fn follow_pose(&mut self, gpu: &Arc<Gpu>, scene: &Scene, changed: &[usize]) -> Result<()> {
-        for &index in changed {
+    /// Re-poses the copies of the skinned objects whose palettes changed: on the CPU, and in
+    /// frame slot `slot`'s copies on the GPU (which no frame in flight reads). Returns the
+    /// objects whose CPU copy moved.
+    pub fn follow_pose(&mut self, gpu: &Arc<Gpu>, scene: &Scene, slot: usize) -> Result<Vec<usize>> {
+        let moved = self.cpu_pose.changed(scene);
+        for &index in &moved {
+            if let (Some(skin), Some(welded)) = (&scene.objects[index].skin, self.welded.get_mut(index)) {
+                follow_skin(welded, skin);
+            }
+        }
+        if self.slot_poses.len() <= slot {
+            self.slot_poses.resize(slot + 1, self.uploaded.clone());
+        }
+        for index in self.slot_poses[slot].changed(scene) {
             let object = &scene.objects[index];
             let (Some(skin), Some(welded), Some(mesh)) =
-                (&object.skin, self.welded.get_mut(index), self.meshes.get_mut(index))
+                (&object.skin, self.welded.get(index), self.meshes.get_mut(index))
             else {
                 continue;
             };
-            if !follow_skin(welded, skin) {
+            if skin.positions.len() < welded.remap.len() {
                 continue;
             }
-            mesh.vertices.rewrite(
-                gpu,
-                &format!("{} (extruded, posed)", object.name),
-                &vertices(welded),
-                vk::BufferUsageFlags::VERTEX_BUFFER,
-            )?;
+            mesh.write_posed(gpu, slot, &format!("{} (extruded, posed)", object.name), &vertices(welded))?;
         }
-        Ok(())
+        Ok(moved)
     }
 
     /// The welded positions of object `index`'s copy, in its current pose.

@@ -22,7 +22,7 @@ fn frames_in_flight_draw_every_frame_as_one_at_a_time_does_results_in_flight_fra
     let gpu = common::gpu();
     for scene_name in ["character", "default"] {
         let base: Scene = builtin_scene(scene_name).expect("scene");
-        for name in ["lit", "shadow-volume", "planar", "blob", "x-ray"] {
+        for name in ["lit", "shadow-volume", "planar", "blob", "x-ray", "silhouette", "toon", "outline"] {
             let options =
                 RenderOptions { width: SIZE.0, height: SIZE.1, technique: technique(name), ..Default::default() };
             let mut alone = options.technique.build(&gpu, &base, &options).expect("renderer");

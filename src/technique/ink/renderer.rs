@@ -21,7 +21,7 @@ use crate::render::passes::Passes;
 use crate::render::plan::PlannedPass;
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, Renderer};
-use crate::scene::Scene;
+use crate::scene::{PoseTracker, Scene};
 use crate::technique::cartoon::CartoonStats;
 use crate::technique::cartoon_shading::{self, CartoonPush, CartoonScene, Shading};
 use crate::technique::extruded::{ExtrudedCopies, Extrusion};
@@ -157,7 +157,8 @@ impl Passes<InkKinds> for InkPasses {
                     viewport: self.viewport,
                 };
                 rec.push(pipeline, &push);
-                if let Some((buffer, count)) = lines.buffers.get(class).and_then(ReusedBuffer::filled) {
+                let slot = lines.buffers.get(rec.slot());
+                if let Some((buffer, count)) = slot.and_then(|b| b.get(class)).and_then(ReusedBuffer::filled) {
                     rec.draw_vertices(buffer, count);
                 }
             }
@@ -175,14 +176,17 @@ impl Passes<InkKinds> for InkPasses {
     }
 
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
-        let changed = self.scene_pass.meshes.follow_pose(&self.gpu, scene)?;
+        let slot = renderer.slot();
+        self.scene_pass.meshes.follow_pose_in(&self.gpu, scene, slot)?;
         match &mut self.ink {
             Ink::Edges(lines) => {
-                lines.follow_pose(scene, &changed);
-                lines.rebuild(&self.gpu, scene)?;
+                lines.follow_pose(scene);
+                lines.rebuild(&self.gpu, scene, slot)?;
             }
             Ink::Rim | Ink::AlphaTest(_) => {}
-            Ink::Hull(copies) => copies.follow_pose(&self.gpu, scene, &changed)?,
+            Ink::Hull(copies) => {
+                copies.follow_pose(&self.gpu, scene, slot)?;
+            }
         }
         let extent = renderer.extent();
         self.viewport = cartoon_shading::viewport(scene, extent);
@@ -193,6 +197,11 @@ impl Passes<InkKinds> for InkPasses {
         let widest = self.styles.iter().map(|s| s.0).fold(0.0, f32::max);
         self.pull = scene.camera.near * (widest * pixel).max(1e-3);
         Ok(())
+    }
+
+    /// Posed vertices, hull copies and edge quads are written per slot.
+    fn writes_per_slot(&self) -> bool {
+        true
     }
 
     fn warnings(&self) -> &[String] {
@@ -228,9 +237,11 @@ struct EdgeLines {
     meshes: Vec<InkMesh>,
     crease_deg: f32,
     quads: InkQuads,
-    /// This frame's quads on the GPU per class, in buffers kept from frame to frame (none filled
-    /// where the class drew no edge).
-    buffers: [ReusedBuffer; 3],
+    /// Per frame slot, that frame's quads on the GPU per class, in buffers kept from frame to
+    /// frame (none filled where the class drew no edge).
+    buffers: Vec<[ReusedBuffer; 3]>,
+    /// The pose the meshes' welded positions (so their normals and edges) hold.
+    pose: PoseTracker,
     /// CPU time of this frame's edge work (ms).
     cpu_ms: f64,
     /// Objects whose face normals and creases this frame recomputed.
@@ -251,20 +262,18 @@ impl EdgeLines {
             meshes,
             crease_deg,
             quads: InkQuads::default(),
-            buffers: [
-                ReusedBuffer::new("ink silhouette quads", vk::BufferUsageFlags::VERTEX_BUFFER),
-                ReusedBuffer::new("ink crease quads", vk::BufferUsageFlags::VERTEX_BUFFER),
-                ReusedBuffer::new("ink boundary quads", vk::BufferUsageFlags::VERTEX_BUFFER),
-            ],
+            buffers: Vec::new(),
+            pose: PoseTracker::new(scene),
             cpu_ms: 0.0,
             normal_updates: 0,
             warnings,
         })
     }
 
-    /// Meshes with a skinned part in `changed` (whose palettes changed) get their welded
-    /// positions, so the face normals and edges, re-posed.
-    fn follow_pose(&mut self, scene: &Scene, changed: &[usize]) {
+    /// Meshes with a skinned part whose palette changed get their welded positions, so the face
+    /// normals and edges, re-posed.
+    fn follow_pose(&mut self, scene: &Scene) {
+        let changed = self.pose.changed(scene);
         let skinned = |index: &usize| scene.objects.get(*index).is_some_and(|o| o.skin.is_some());
         for mesh in &mut self.meshes {
             if mesh.parts.iter().any(|part| changed.contains(part) && skinned(part)) {
@@ -274,8 +283,8 @@ impl EdgeLines {
     }
 
     /// Classifies every object's edges from this frame's eye, builds their quads and uploads
-    /// them.
-    fn rebuild(&mut self, gpu: &Arc<Gpu>, scene: &Scene) -> Result<()> {
+    /// them into frame slot `slot`'s buffers.
+    fn rebuild(&mut self, gpu: &Arc<Gpu>, scene: &Scene, slot: usize) -> Result<()> {
         let start = Instant::now();
         let eye = scene.camera.eye;
         self.quads.clear();
@@ -287,9 +296,16 @@ impl EdgeLines {
             mesh.append_quads(&model, eye, &mut self.quads);
         }
         self.cpu_ms = start.elapsed().as_secs_f64() * 1e3;
-        // The previous frame has finished (frames wait for their fence): the buffers are free.
+        // The frame that last used this slot has finished: its buffers are free.
+        while self.buffers.len() <= slot {
+            self.buffers.push([
+                ReusedBuffer::new("ink silhouette quads", vk::BufferUsageFlags::VERTEX_BUFFER),
+                ReusedBuffer::new("ink crease quads", vk::BufferUsageFlags::VERTEX_BUFFER),
+                ReusedBuffer::new("ink boundary quads", vk::BufferUsageFlags::VERTEX_BUFFER),
+            ]);
+        }
         let classes = [&self.quads.silhouette, &self.quads.crease, &self.quads.boundary];
-        for (buffer, vertices) in self.buffers.iter_mut().zip(classes) {
+        for (buffer, vertices) in self.buffers[slot].iter_mut().zip(classes) {
             buffer.fill(gpu, vertices)?;
         }
         Ok(())

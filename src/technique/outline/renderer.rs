@@ -175,10 +175,16 @@ impl Passes<OutlineKinds> for OutlinePasses {
         self.blur.as_ref().map(|b| b.render_pass(target))
     }
 
+    /// Posed vertices and copies are written per slot; the blur's offscreen targets are one.
+    fn writes_per_slot(&self) -> bool {
+        self.blur.is_none()
+    }
+
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
-        let changed = self.scene_pass.meshes.follow_pose(&self.gpu, scene)?;
-        self.copies.follow_pose(&self.gpu, scene, &changed)?;
-        for &index in &changed {
+        let slot = renderer.slot();
+        self.scene_pass.meshes.follow_pose_in(&self.gpu, scene, slot)?;
+        let moved = self.copies.follow_pose(&self.gpu, scene, slot)?;
+        for &index in &moved {
             self.bounds[index] = Bounds::of(self.copies.positions(index));
         }
         self.viewport = cartoon_shading::viewport(scene, renderer.extent());
