@@ -240,32 +240,32 @@ pub fn frame_to_swapchain_copy(
     );
 }
 
-/// The swapchain image just copied to becomes the source of a screenshot read-back.
-pub fn swapchain_to_read_back(device: &ash::Device, cmd: vk::CommandBuffer, swapchain_image: vk::Image) {
-    let barrier = image_barrier(
-        swapchain_image,
-        0..1,
-        (vk::ImageLayout::TRANSFER_DST_OPTIMAL, vk::ImageLayout::TRANSFER_SRC_OPTIMAL),
-        (vk::AccessFlags::TRANSFER_WRITE, vk::AccessFlags::TRANSFER_READ),
-    );
-    record_image_barriers(
-        device,
-        cmd,
-        (vk::PipelineStageFlags::TRANSFER, vk::PipelineStageFlags::TRANSFER),
-        vk::DependencyFlags::empty(),
-        &[barrier],
-    );
+/// How the frame got into a swapchain image.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SwapchainFrame {
+    /// Copied in (TRANSFER_DST_OPTIMAL, transfer writes to make available).
+    Copied,
+    /// Drawn (or resolved) into by the frame's render pass, which left it in PRESENT_SRC_KHR
+    /// and made its writes visible to transfers (its dependency to TRANSFER; this chains).
+    Drawn,
 }
 
-/// A swapchain image the frame's render pass drew (or resolved) into and left in
-/// PRESENT_SRC_KHR is read back for a screenshot before it is presented.
-pub fn presented_to_read_back(device: &ash::Device, cmd: vk::CommandBuffer, swapchain_image: vk::Image) {
+/// The swapchain image holding the frame becomes the source of a screenshot read-back.
+pub fn swapchain_to_read_back(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    swapchain_image: vk::Image,
+    frame: SwapchainFrame,
+) {
+    let (from, src_access) = match frame {
+        SwapchainFrame::Copied => (vk::ImageLayout::TRANSFER_DST_OPTIMAL, vk::AccessFlags::TRANSFER_WRITE),
+        SwapchainFrame::Drawn => (vk::ImageLayout::PRESENT_SRC_KHR, vk::AccessFlags::empty()),
+    };
     let barrier = image_barrier(
         swapchain_image,
         0..1,
-        (vk::ImageLayout::PRESENT_SRC_KHR, vk::ImageLayout::TRANSFER_SRC_OPTIMAL),
-        // The render pass's dependency to TRANSFER made its writes visible there; this chains.
-        (vk::AccessFlags::empty(), vk::AccessFlags::TRANSFER_READ),
+        (from, vk::ImageLayout::TRANSFER_SRC_OPTIMAL),
+        (src_access, vk::AccessFlags::TRANSFER_READ),
     );
     record_image_barriers(
         device,

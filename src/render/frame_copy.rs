@@ -6,7 +6,7 @@
 
 use ash::vk;
 
-use crate::gpu::barriers::{self, BeforePresent};
+use crate::gpu::barriers::{self, BeforePresent, SwapchainFrame};
 use crate::gpu::regions;
 use crate::gpu::swapchain::{Swapchain, Transfer};
 
@@ -73,7 +73,7 @@ pub fn record(
         // Read back what will be presented, from the swapchain image itself (or, where its
         // images cannot be read, from the frame it was copied from).
         let source = if swapchain.readable {
-            barriers::swapchain_to_read_back(device, cmd, image);
+            barriers::swapchain_to_read_back(device, cmd, image, SwapchainFrame::Copied);
             before_present = BeforePresent::ReadBack;
             image
         } else {
@@ -105,7 +105,7 @@ pub fn record_screenshot(
     extent: vk::Extent2D,
     buffer: vk::Buffer,
 ) {
-    barriers::presented_to_read_back(device, cmd, image);
+    barriers::swapchain_to_read_back(device, cmd, image, SwapchainFrame::Drawn);
     // SAFETY: `cmd` is recording outside a render pass; `image` is in TRANSFER_SRC_OPTIMAL (the
     // barrier above) and `buffer` is the presenter's screenshot buffer, sized for `extent` in
     // 4-byte pixels and alive until the frame's fence is waited for.
