@@ -269,7 +269,11 @@ pub fn stencil_variant(name: &str, options: &RenderOptions) -> Option<RenderOpti
 pub struct SceneRenderer<'s>(Box<dyn TechniqueRenderer + 's>);
 
 impl SceneRenderer<'_> {
-    /// Renders `scene`: the scene this renderer was built for, moved.
+    /// Renders `scene`: the scene this renderer was built for, moved. With one frame in flight
+    /// (the default) the result is this frame's. With more (`RenderOptions.frames_in_flight`,
+    /// `frames_in_flight`) the frame is submitted without waiting, and the output (image and
+    /// counters) is that of the frame as many frames earlier, none while no frame has finished;
+    /// the statistics are the technique's for this frame's scene.
     pub fn frame_with(&mut self, scene: &Scene) -> Result<TechniqueFrame> {
         self.0.frame_with(scene)
     }

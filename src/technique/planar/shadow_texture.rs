@@ -256,17 +256,20 @@ pub fn light_view_projection(light: &Light, low: Vec3, high: Vec3) -> Mat4 {
     }
 }
 
-/// The offscreen target: image, render pass and framebuffer. Cleared (nothing of the last
-/// frame is kept), stored (the frame samples it), and left ready for sampling.
+/// The offscreen target: image, render pass and framebuffer, and the set the frame samples it
+/// through. Cleared (nothing of the last frame is kept), stored (the frame samples it), and left
+/// ready for sampling. One per frame slot: a frame in flight samples its own.
 struct ShadowTarget {
-    // Field order: the framebuffer goes before the render pass and image it refers to.
+    // Field order: the set goes before the image it points at, the framebuffer before the render
+    // pass and image it refers to.
+    texture_set: DescriptorSet,
     framebuffer: Framebuffer,
     render_pass: RenderPass,
     image: Image,
 }
 
 impl ShadowTarget {
-    fn new(gpu: &Arc<Gpu>, size: u32) -> Result<Self> {
+    fn new(gpu: &Arc<Gpu>, size: u32, sampler: &Sampler) -> Result<Self> {
         let extent = vk::Extent2D { width: size, height: size };
         let image = Image::new(
             gpu,
@@ -283,7 +286,16 @@ impl ShadowTarget {
         let render_pass =
             colour_render_pass(gpu, SHADOW_TEXTURE_FORMAT, true, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)?;
         let framebuffer = Framebuffer::new(gpu, &render_pass, image.view, extent)?;
-        Ok(ShadowTarget { framebuffer, render_pass, image })
+        let texture_set = DescriptorSet::new(
+            gpu,
+            &[Binding::Texture {
+                view: image.view,
+                sampler: sampler.raw,
+                layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                stages: vk::ShaderStageFlags::FRAGMENT,
+            }],
+        )?;
+        Ok(ShadowTarget { texture_set, framebuffer, render_pass, image })
     }
 }
 
@@ -360,10 +372,12 @@ pub struct ShadowTexturePasses {
     /// Fitted around the casters each frame; zero when there is nothing to draw (the texture
     /// stays clear and every lookup reads 1).
     light_view_proj: Mat4,
-    // Field order: the set goes before the sampler and target it points at.
-    texture_set: DescriptorSet,
-    _sampler: Sampler,
-    target: ShadowTarget,
+    // Field order: the targets (their sets) go before the sampler the sets point at.
+    /// Per frame slot, the texture its frame renders and samples.
+    targets: Vec<ShadowTarget>,
+    sampler: Sampler,
+    /// The slot of the frame being recorded (`prepare`'s), whose target the passes use.
+    slot: usize,
 }
 
 impl ShadowTexturePasses {
@@ -381,17 +395,8 @@ impl ShadowTexturePasses {
             TextureShadowOn::Quad => Some(unit_square(gpu)?),
             TextureShadowOn::Receivers => None,
         };
-        let target = ShadowTarget::new(gpu, options.texture_size)?;
         let sampler = Sampler::new(gpu, vk::Filter::LINEAR, vk::SamplerAddressMode::CLAMP_TO_EDGE)?;
-        let texture_set = DescriptorSet::new(
-            gpu,
-            &[Binding::Texture {
-                view: target.image.view,
-                sampler: sampler.raw,
-                layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                stages: vk::ShaderStageFlags::FRAGMENT,
-            }],
-        )?;
+        let target = ShadowTarget::new(gpu, options.texture_size, &sampler)?;
         Ok(ShadowTexturePasses {
             tone: ctx.options.shadow_tone,
             texture_size: options.texture_size,
@@ -401,9 +406,9 @@ impl ShadowTexturePasses {
             quad,
             quad_model: None,
             light_view_proj: Mat4::ZERO,
-            texture_set,
-            _sampler: sampler,
-            target,
+            targets: vec![target],
+            sampler,
+            slot: 0,
         })
     }
 
@@ -421,7 +426,8 @@ impl ShadowTexturePasses {
         };
         let extent = vk::Extent2D { width: self.texture_size, height: self.texture_size };
         let white = [vk::ClearValue { color: vk::ClearColorValue { float32: [1.0; 4] } }];
-        rec.begin_offscreen_pass(&self.target.render_pass, self.target.framebuffer.raw, extent, &white);
+        let target = self.target();
+        rec.begin_offscreen_pass(&target.render_pass, target.framebuffer.raw, extent, &white);
         // No light above the plane: the texture stays cleared to white (unshadowed).
         if self.light_view_proj != Mat4::ZERO {
             let factor = self.tone.darkest_factor();
@@ -453,6 +459,11 @@ impl ShadowTexturePasses {
 }
 
 impl ShadowTexturePasses {
+    /// The target of the frame being recorded.
+    fn target(&self) -> &ShadowTarget {
+        self.targets.get(self.slot).unwrap_or(&self.targets[0])
+    }
+
     /// The seed's quad around the casters' shadow, looking the texture up like a receiver.
     fn draw_quad(&self, rec: &mut FrameRecorder, pipelines: &[&Pipeline]) -> Result<()> {
         let &[quad_pipeline] = pipelines else {
@@ -471,7 +482,7 @@ impl ShadowTexturePasses {
 impl Passes<TextureKinds> for ShadowTexturePasses {
     fn set(&self, set: TextureSet) -> Option<&DescriptorSet> {
         match set {
-            TextureSet::ShadowTexture => Some(&self.texture_set),
+            TextureSet::ShadowTexture => Some(&self.target().texture_set),
             TextureSet::JointPalette => Some(self.meshes.palette()),
         }
     }
@@ -498,13 +509,18 @@ impl Passes<TextureKinds> for ShadowTexturePasses {
 
     fn offscreen_pass(&self, target: TextureTarget) -> Option<(vk::RenderPass, usize)> {
         match target {
-            TextureTarget::ShadowTexture => Some((self.target.render_pass.raw, 1)),
+            // Every slot's render pass is made alike: the pipelines built for slot 0's fit all.
+            TextureTarget::ShadowTexture => Some((self.targets[0].render_pass.raw, 1)),
         }
     }
 
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
         self.plane.plane.check_light(&scene.light())?;
-        self.meshes.update_palettes(scene, renderer.slot())?;
+        self.slot = renderer.slot();
+        while self.targets.len() <= self.slot {
+            self.targets.push(ShadowTarget::new(&renderer.gpu, self.texture_size, &self.sampler)?);
+        }
+        self.meshes.update_palettes(scene, self.slot)?;
         self.quad_model = match self.quad {
             Some(_) => shadow_quad(scene, &self.plane).map(|corners| quad_model(&corners, self.plane.plane.normal)),
             None => None,
@@ -516,6 +532,11 @@ impl Passes<TextureKinds> for ShadowTexturePasses {
             _ => Mat4::ZERO,
         };
         Ok(())
+    }
+
+    /// Palettes and the shadow texture are the slot's own.
+    fn writes_per_slot(&self) -> bool {
+        true
     }
 
     fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {
