@@ -22,9 +22,34 @@ fn frames_in_flight_draw_every_frame_as_one_at_a_time_does_results_in_flight_fra
     let gpu = common::gpu();
     for scene_name in ["character", "default"] {
         let base: Scene = builtin_scene(scene_name).expect("scene");
-        for name in ["lit", "shadow-volume", "planar", "blob", "x-ray", "silhouette", "toon", "outline"] {
-            let options =
-                RenderOptions { width: SIZE.0, height: SIZE.1, technique: technique(name), ..Default::default() };
+        let names = [
+            "lit",
+            "shadow-volume",
+            "planar",
+            "blob",
+            "shadow-texture",
+            "x-ray",
+            "silhouette",
+            "silhouette hull",
+            "toon",
+            "outline",
+            "outline blur",
+        ];
+        for name in names {
+            let mut options = RenderOptions {
+                width: SIZE.0,
+                height: SIZE.1,
+                technique: technique(name.split(' ').next().unwrap_or(name)),
+                ..Default::default()
+            };
+            if name.ends_with("hull") {
+                // The inverted hull: extruded copies re-posed per slot.
+                options.cartoon.silhouette = nostencil::SilhouetteMethod::Hull;
+            }
+            if name.ends_with("blur") {
+                // The blur's offscreen mask and passes, per slot.
+                options.cartoon.outline_blur = 4;
+            }
             let mut alone = options.technique.build(&gpu, &base, &options).expect("renderer");
             for in_flight in [2usize, 3] {
                 let pipelined = RenderOptions { frames_in_flight: in_flight as u32, ..options.clone() };

@@ -12,6 +12,7 @@ use super::kinds::{OutlineDraw, OutlineKinds, OutlineSet, OutlineTarget};
 use super::recipes;
 use super::scaled::Bounds;
 use crate::error::{Error, Result};
+use crate::frame::StencilMode;
 use crate::gpu::descriptors::DescriptorSet;
 use crate::gpu::Gpu;
 use crate::render::passes::Passes;
@@ -35,7 +36,8 @@ pub fn make(ctx: BuildContext<'_, OutlineKinds>, scene: &Scene, selected: Vec<bo
     let copies = ExtrudedCopies::new(ctx.gpu, scene)?;
     let bounds = (0..scene.objects.len()).map(|i| Bounds::of(copies.positions(i))).collect();
     let blur = if cartoon.outline_blur > 0 {
-        Some(BlurTargets::new(ctx.gpu, ctx.options.stencil, ctx.renderer.extent())?)
+        let (stencil, extent) = (ctx.options.stencil, ctx.renderer.extent());
+        Some(Blur { targets: vec![BlurTargets::new(ctx.gpu, stencil, extent)?], stencil, extent, slot: 0 })
     } else {
         None
     };
@@ -66,9 +68,34 @@ pub struct OutlinePasses {
     extrusion: Extrusion,
     method: OutlineMethod,
     /// The blur's targets (`--outline-blur`).
-    blur: Option<BlurTargets>,
+    blur: Option<Blur>,
     /// This frame's `CartoonPush::viewport`.
     viewport: Vec4,
+}
+
+/// The blur's offscreen targets, a set per frame slot (a frame in flight samples its own).
+struct Blur {
+    targets: Vec<BlurTargets>,
+    stencil: StencilMode,
+    extent: vk::Extent2D,
+    /// The slot of the frame being recorded (`prepare`'s).
+    slot: usize,
+}
+
+impl Blur {
+    /// The targets of the frame being recorded.
+    fn current(&self) -> &BlurTargets {
+        self.targets.get(self.slot).unwrap_or(&self.targets[0])
+    }
+
+    /// The frame about to be recorded is in slot `slot`: its targets, made if it has none.
+    fn use_slot(&mut self, gpu: &Arc<Gpu>, slot: usize) -> Result<()> {
+        while self.targets.len() <= slot {
+            self.targets.push(BlurTargets::new(gpu, self.stencil, self.extent)?);
+        }
+        self.slot = slot;
+        Ok(())
+    }
 }
 
 impl OutlinePasses {
@@ -101,7 +128,7 @@ impl OutlinePasses {
         pass: &PlannedPass<OutlineKinds>,
         pipelines: &[&Pipeline],
     ) -> Result<()> {
-        let (Some(blur), Target::Offscreen(target)) = (&self.blur, pass.target) else {
+        let (Some(blur), Target::Offscreen(target)) = (self.blur.as_ref().map(Blur::current), pass.target) else {
             return Err(Error::Internal(format!("outline pass '{}' needs the blur's targets", pass.name)));
         };
         let (render_pass, framebuffer, clear) = blur.begin(target);
@@ -136,7 +163,7 @@ impl Passes<OutlineKinds> for OutlinePasses {
     fn set(&self, set: OutlineSet) -> Option<&DescriptorSet> {
         match set {
             OutlineSet::Ramps => Some(self.scene_pass.ramps()),
-            _ => self.blur.as_ref().and_then(|b| b.set(set)),
+            _ => self.blur.as_ref().and_then(|b| b.current().set(set)),
         }
     }
 
@@ -172,16 +199,20 @@ impl Passes<OutlineKinds> for OutlinePasses {
     }
 
     fn offscreen_pass(&self, target: OutlineTarget) -> Option<(vk::RenderPass, usize)> {
-        self.blur.as_ref().map(|b| b.render_pass(target))
+        // Every slot's render passes are made alike: the pipelines built for slot 0's fit all.
+        self.blur.as_ref().map(|b| b.targets[0].render_pass(target))
     }
 
-    /// Posed vertices and copies are written per slot; the blur's offscreen targets are one.
+    /// Posed vertices, copies and the blur's targets are the slot's own.
     fn writes_per_slot(&self) -> bool {
-        self.blur.is_none()
+        true
     }
 
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
         let slot = renderer.slot();
+        if let Some(blur) = &mut self.blur {
+            blur.use_slot(&self.gpu, slot)?;
+        }
         self.scene_pass.meshes.follow_pose_in(&self.gpu, scene, slot)?;
         let moved = self.copies.follow_pose(&self.gpu, scene, slot)?;
         for &index in &moved {
