@@ -121,7 +121,6 @@ impl Presenter {
     /// Where a technique should draw its frames: into the swapchain images where they can be
     /// drawn into (and read back, when a `screenshot` will be taken), else offscreen.
     pub fn destination(&self, screenshot: bool) -> FrameDestination {
-        // (frames drawn offscreen are copied from one colour target: one at a time)
         let s = &self.swapchain;
         if self.draw_into && s.drawable && (s.readable || !screenshot) {
             FrameDestination::Swapchain { format: s.format }
