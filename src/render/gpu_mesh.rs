@@ -1,4 +1,5 @@
-//! Meshes uploaded to device-local vertex and index buffers.
+//! Meshes uploaded to device-local vertex and index buffers, and skinned meshes' posed copies
+//! (one per frame slot, host-visible, rewritten in place).
 
 use std::sync::Arc;
 

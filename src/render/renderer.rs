@@ -1,5 +1,7 @@
-//! Renders one offscreen frame: clear, the technique's measured passes inside one render pass
-//! (so a tile-based GPU keeps everything on chip), then a copy of the colour target to the CPU.
+//! Renders frames: clear, the technique's measured passes inside one render pass (so a
+//! tile-based GPU keeps everything on chip), then a copy of the colour target to the CPU (or
+//! none: kept on the GPU, or drawn into a swapchain image). One frame at a time by default, or
+//! up to `MAX_FRAMES_IN_FLIGHT` in flight, each in a slot of its own (`set_frames_in_flight`).
 
 use std::sync::Arc;
 
