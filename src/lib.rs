@@ -99,7 +99,7 @@ pub use render::{FrameCounters, FrameOutput, PassCounters};
 /// What a frame's counters hold beyond each pass's figures ([`FrameCounters`]'s fields).
 pub mod counters {
     pub use crate::frame::render_pass::{AttachmentDesc, AttachmentTraffic, RenderPassTraffic};
-    pub use crate::gpu::commands::CpuPhases;
+    pub use crate::gpu::frame_submission::CpuPhases;
     pub use crate::render::instances::{RenderPassInstance, RenderPassSums};
 }
 

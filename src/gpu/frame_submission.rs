@@ -8,11 +8,31 @@ use std::time::Instant;
 
 use ash::vk;
 
-use super::commands::{allocate_primary, free_primary, CpuPhases, FrameSync};
+use super::commands::{allocate_primary, free_primary};
 use super::context::Gpu;
 use super::faults::{self, Submission};
 use super::live_objects::ObjectKind;
 use crate::error::{Error, Result, VkContext};
+
+/// What a frame's submission waits on and signals besides its fence: for a frame drawn into a
+/// swapchain image, the image's acquire and its present.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct FrameSync {
+    /// Waited on before the given stages run.
+    pub wait: Option<(vk::Semaphore, vk::PipelineStageFlags)>,
+    /// Signalled when the frame's commands complete.
+    pub signal: Option<vk::Semaphore>,
+}
+
+/// Where the CPU spent a submission's time: (start, duration) in milliseconds from the start of
+/// its recording, for recording (begin to end of the command buffer), vkQueueSubmit and the
+/// fence wait (`--trace`'s CPU track).
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
+pub struct CpuPhases {
+    pub record: (f64, f64),
+    pub submit: (f64, f64),
+    pub wait: (f64, f64),
+}
 
 pub struct SubmitSlot {
     gpu: Arc<Gpu>,

@@ -15,7 +15,7 @@ use super::instances::{
 use super::plan::DrawKind;
 use crate::frame::bandwidth::Bandwidth;
 use crate::frame::render_pass::RenderPassTraffic;
-use crate::gpu::commands::CpuPhases;
+use crate::gpu::frame_submission::CpuPhases;
 use crate::gpu::queries::RawPassQueries;
 
 #[derive(Debug, Clone, Serialize)]

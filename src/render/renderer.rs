@@ -18,8 +18,7 @@ use crate::error::Result;
 use crate::frame::render_pass::RenderPassTraffic;
 use crate::frame::{image_from_rgba8, FrameTargets, StencilMode};
 use crate::gpu::barriers;
-use crate::gpu::commands::{CpuPhases, FrameSync};
-use crate::gpu::frame_submission::SubmitSlot;
+use crate::gpu::frame_submission::{CpuPhases, FrameSync, SubmitSlot};
 use crate::gpu::memory::Buffer;
 use crate::gpu::queries::PassQueryPools;
 use crate::gpu::regions;
@@ -197,6 +196,7 @@ impl Renderer {
         }
         Ok(())
     }
+
     /// Draws the next frame into the swapchain image `frame` names (the targets are a
     /// swapchain's: `FrameTargets::presenting`, attached to it).
     pub fn present_next(&mut self, frame: PresentedFrame) -> Result<()> {
