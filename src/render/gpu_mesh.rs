@@ -92,29 +92,22 @@ impl GpuScene {
         Ok(GpuScene { meshes, materials, posed: vec![uploaded.clone()], uploaded })
     }
 
-    /// Rewrites the vertices of every skinned object whose palette changed since they were
-    /// uploaded, skinned on the CPU by the new palette (`Scene::pose_at` moves palettes, not
-    /// meshes), into a host-visible copy made at the first pose and written in place after it;
-    /// returns those objects. For a renderer of one frame slot, whose previous frame is complete.
-    pub fn follow_pose(&mut self, gpu: &Arc<Gpu>, scene: &Scene) -> Result<Vec<usize>> {
-        self.follow_pose_in(gpu, scene, 0)
-    }
-
-    /// As [`GpuScene::follow_pose`] for a frame in frame slot `slot`, whose draws read that
-    /// slot's copy of the posed vertices (`FrameRecorder::draw_mesh`): the other slots' copies
-    /// may still be read by frames in flight. The frame that last used `slot` must be complete.
-    pub fn follow_pose_in(&mut self, gpu: &Arc<Gpu>, scene: &Scene, slot: usize) -> Result<Vec<usize>> {
+    /// Re-poses the skinned objects whose palette changed since frame slot `slot`'s copies
+    /// were posed (`Scene::pose_at` moves palettes, not meshes): skinned on the CPU, written
+    /// into that slot's host-visible copy (`GpuMesh::write_posed`), which the slot's draws read
+    /// (`FrameRecorder::draw_mesh`). The frame that last used `slot` must be complete; the other
+    /// slots' copies may still be read by frames in flight.
+    pub fn follow_pose(&mut self, gpu: &Arc<Gpu>, scene: &Scene, slot: usize) -> Result<()> {
         if self.posed.len() <= slot {
             // A new slot's copies are the uploaded vertices: the pose the scene was built in.
             self.posed.resize(slot + 1, self.uploaded.clone());
         }
-        let changed = self.posed[slot].changed(scene);
-        for &index in &changed {
+        for index in self.posed[slot].changed(scene) {
             if let Some((mesh, vertices, name)) = self.posed_vertices(scene, index) {
                 mesh.write_posed(gpu, slot, &name, &vertices)?;
             }
         }
-        Ok(changed)
+        Ok(())
     }
 
     /// Object `index`'s mesh and its vertices skinned by the object's palette now.

@@ -87,7 +87,7 @@ impl Passes<RecorderOnly> for LitPasses {
     }
 
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
-        self.meshes.follow_pose_in(&self.gpu, scene, renderer.slot()).map(|_| ())
+        self.meshes.follow_pose(&self.gpu, scene, renderer.slot())
     }
 
     fn writes_per_slot(&self) -> bool {

@@ -177,7 +177,7 @@ impl Passes<InkKinds> for InkPasses {
 
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
         let slot = renderer.slot();
-        self.scene_pass.meshes.follow_pose_in(&self.gpu, scene, slot)?;
+        self.scene_pass.meshes.follow_pose(&self.gpu, scene, slot)?;
         match &mut self.ink {
             Ink::Edges(lines) => {
                 lines.follow_pose(scene);

@@ -213,7 +213,7 @@ impl Passes<OutlineKinds> for OutlinePasses {
         if let Some(blur) = &mut self.blur {
             blur.use_slot(&self.gpu, slot)?;
         }
-        self.scene_pass.meshes.follow_pose_in(&self.gpu, scene, slot)?;
+        self.scene_pass.meshes.follow_pose(&self.gpu, scene, slot)?;
         let moved = self.copies.follow_pose(&self.gpu, scene, slot)?;
         for &index in &moved {
             self.bounds[index] = Bounds::of(self.copies.positions(index));

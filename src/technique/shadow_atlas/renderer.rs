@@ -300,12 +300,8 @@ impl ShadowPasses {
             };
             let interleaved =
                 atlas_vertices(&pick(&positions, Vec3::ZERO), &pick(&normals, Vec3::Y), &layout.uvs, &layout.surface);
-            mesh.vertices.rewrite(
-                &self.gpu,
-                &format!("{} atlas vertices (posed)", object.name),
-                &interleaved,
-                vk::BufferUsageFlags::VERTEX_BUFFER,
-            )?;
+            // One frame at a time (not `writes_per_slot`): slot 0's copy.
+            mesh.write_posed(&self.gpu, 0, &format!("{} atlas vertices (posed)", object.name), &interleaved)?;
         }
         Ok(())
     }

@@ -318,7 +318,7 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
 
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
         let slot = renderer.slot();
-        self.meshes.follow_pose_in(&self.gpu, scene, slot)?;
+        self.meshes.follow_pose(&self.gpu, scene, slot)?;
         if self.buffers.len() <= slot {
             self.buffers.resize_with(slot + 1, Vec::new);
         }

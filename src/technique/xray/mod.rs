@@ -140,7 +140,7 @@ impl Passes<XRayKinds> for XRayPasses {
 
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
         // Skinned casters are re-posed on the CPU, as the lit scene's are.
-        self.meshes.follow_pose_in(&self.gpu, scene, renderer.slot()).map(|_| ())
+        self.meshes.follow_pose(&self.gpu, scene, renderer.slot())
     }
 
     fn writes_per_slot(&self) -> bool {
