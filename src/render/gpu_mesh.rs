@@ -8,11 +8,12 @@ use bytemuck::Pod;
 use glam::{Vec2, Vec3, Vec4};
 
 use super::materials::GpuMaterials;
+use super::per_slot::slot_copy;
 use crate::error::Result;
 use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
 use crate::scene::objects::SceneMesh;
-use crate::scene::{PoseTracker, Scene};
+use crate::scene::{Scene, SlotPoses};
 
 pub struct GpuMesh {
     /// The mesh as uploaded (device-local).
@@ -49,10 +50,7 @@ impl GpuMesh {
     /// made host-visible at its first pose and written in place after it. No frame in flight
     /// may read that copy.
     pub fn write_posed<V: Pod>(&mut self, gpu: &Arc<Gpu>, slot: usize, name: &str, vertices: &[V]) -> Result<()> {
-        if self.posed.len() <= slot {
-            self.posed.resize_with(slot + 1, || None);
-        }
-        match &mut self.posed[slot] {
+        match slot_copy(&mut self.posed, slot, || Ok(None))? {
             Some(buffer) => buffer.rewrite(gpu, name, vertices, vk::BufferUsageFlags::VERTEX_BUFFER),
             copy @ None => {
                 *copy = Some(Buffer::with_data(gpu, name, vertices, vk::BufferUsageFlags::VERTEX_BUFFER)?);
@@ -73,9 +71,7 @@ pub struct GpuScene {
     pub meshes: Vec<GpuMesh>,
     pub materials: GpuMaterials,
     /// Per frame slot, the pose its copy of the skinned objects' vertices holds.
-    posed: Vec<PoseTracker>,
-    /// The pose the uploaded vertices hold: where a new slot's copies start.
-    uploaded: PoseTracker,
+    posed: SlotPoses,
 }
 
 impl GpuScene {
@@ -88,8 +84,7 @@ impl GpuScene {
             })
             .collect::<Result<_>>()?;
         let materials = GpuMaterials::upload(gpu, scene)?;
-        let uploaded = PoseTracker::new(scene);
-        Ok(GpuScene { meshes, materials, posed: vec![uploaded.clone()], uploaded })
+        Ok(GpuScene { meshes, materials, posed: SlotPoses::new(scene) })
     }
 
     /// Re-poses the skinned objects whose palette changed since frame slot `slot`'s copies
@@ -98,11 +93,7 @@ impl GpuScene {
     /// (`FrameRecorder::draw_mesh`). The frame that last used `slot` must be complete; the other
     /// slots' copies may still be read by frames in flight.
     pub fn follow_pose(&mut self, gpu: &Arc<Gpu>, scene: &Scene, slot: usize) -> Result<()> {
-        if self.posed.len() <= slot {
-            // A new slot's copies are the uploaded vertices: the pose the scene was built in.
-            self.posed.resize(slot + 1, self.uploaded.clone());
-        }
-        for index in self.posed[slot].changed(scene) {
+        for index in self.posed.changed(scene, slot) {
             if let Some((mesh, vertices, name)) = self.posed_vertices(scene, index) {
                 mesh.write_posed(gpu, slot, &name, &vertices)?;
             }

@@ -10,6 +10,7 @@ pub mod instances;
 pub mod materials;
 pub mod object_push;
 pub mod passes;
+pub mod per_slot;
 pub mod pipeline_object;
 pub mod plan;
 pub mod plan_execution;

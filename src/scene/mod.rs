@@ -41,4 +41,4 @@ pub use lights::{SceneLight, MAX_LIGHTS};
 pub use self::gltf::load_gltf;
 pub use model::MAX_JOINTS;
 pub use objects::{bounds_of, Scene, SceneObject, SceneSkin};
-pub use posing::PoseTracker;
+pub use posing::{PoseTracker, SlotPoses};

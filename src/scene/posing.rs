@@ -42,6 +42,31 @@ impl PoseTracker {
     }
 }
 
+/// The pose each frame slot's copies of the skinned objects hold (`PoseTracker` per slot): a
+/// slot's copies start in the pose they were uploaded in, and are re-posed when that slot's
+/// frame needs them to follow the scene.
+#[derive(Debug, Clone)]
+pub struct SlotPoses {
+    uploaded: PoseTracker,
+    slots: Vec<PoseTracker>,
+}
+
+impl SlotPoses {
+    /// Every slot's copies are in `scene`'s current pose (the one they are uploaded in).
+    pub fn new(scene: &Scene) -> Self {
+        SlotPoses { uploaded: PoseTracker::new(scene), slots: Vec::new() }
+    }
+
+    /// The skinned objects of `scene` whose palette differs from the one slot `slot`'s copies
+    /// hold (`PoseTracker::changed`); that slot's copies count as re-posed from now on.
+    pub fn changed(&mut self, scene: &Scene, slot: usize) -> Vec<usize> {
+        if self.slots.len() <= slot {
+            self.slots.resize(slot + 1, self.uploaded.clone());
+        }
+        self.slots[slot].changed(scene)
+    }
+}
+
 /// Index in `worlds` of `rig`'s node world matrices at `time`, evaluated once per rig.
 fn rig_world(worlds: &mut Vec<(*const Rig, Vec<Mat4>)>, rig: &Arc<Rig>, time: f32) -> Result<usize> {
     let key = Arc::as_ptr(rig);

@@ -12,7 +12,7 @@ use crate::mesh::{self, Welded};
 use crate::pipeline::{FixedFunction, PipelineDesc, VertexLayout};
 use crate::render::Pipeline;
 use crate::render::{FrameRecorder, GpuMesh};
-use crate::scene::{PoseTracker, Scene, SceneSkin};
+use crate::scene::{PoseTracker, Scene, SceneSkin, SlotPoses};
 use crate::shaders;
 
 /// Positions closer than this weld into one vertex (UV seams, split normals): a seam of the
@@ -90,9 +90,7 @@ pub struct ExtrudedCopies {
     meshes: Vec<GpuMesh>,
     cpu_pose: PoseTracker,
     /// Per frame slot, the pose its copies on the GPU hold (`GpuMesh::write_posed`).
-    slot_poses: Vec<PoseTracker>,
-    /// The pose the copies were uploaded in: where a new slot's start.
-    uploaded: PoseTracker,
+    slot_poses: SlotPoses,
 }
 
 impl ExtrudedCopies {
@@ -105,14 +103,7 @@ impl ExtrudedCopies {
             meshes.push(GpuMesh::from_raw(gpu, &name, &vertices(&mesh), &mesh.indices)?);
             welded.push(mesh);
         }
-        let uploaded = PoseTracker::new(scene);
-        Ok(ExtrudedCopies {
-            welded,
-            meshes,
-            cpu_pose: uploaded.clone(),
-            slot_poses: vec![uploaded.clone()],
-            uploaded,
-        })
+        Ok(ExtrudedCopies { welded, meshes, cpu_pose: PoseTracker::new(scene), slot_poses: SlotPoses::new(scene) })
     }
 
     /// Re-poses the copies of the skinned objects whose palettes changed: on the CPU, and in
@@ -125,10 +116,7 @@ impl ExtrudedCopies {
                 follow_skin(welded, skin);
             }
         }
-        if self.slot_poses.len() <= slot {
-            self.slot_poses.resize(slot + 1, self.uploaded.clone());
-        }
-        for index in self.slot_poses[slot].changed(scene) {
+        for index in self.slot_poses.changed(scene, slot) {
             let object = &scene.objects[index];
             let (Some(skin), Some(welded), Some(mesh)) =
                 (&object.skin, self.welded.get(index), self.meshes.get_mut(index))

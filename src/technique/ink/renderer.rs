@@ -16,6 +16,7 @@ use crate::frame::srgb;
 use crate::gpu::descriptors::DescriptorSet;
 use crate::gpu::memory::ReusedBuffer;
 use crate::gpu::Gpu;
+use crate::render::per_slot::slot_copy;
 use crate::render::object_push::draw_order;
 use crate::render::passes::Passes;
 use crate::render::plan::PlannedPass;
@@ -297,15 +298,15 @@ impl EdgeLines {
         }
         self.cpu_ms = start.elapsed().as_secs_f64() * 1e3;
         // The frame that last used this slot has finished: its buffers are free.
-        while self.buffers.len() <= slot {
-            self.buffers.push([
+        let buffers = slot_copy(&mut self.buffers, slot, || {
+            Ok([
                 ReusedBuffer::new("ink silhouette quads", vk::BufferUsageFlags::VERTEX_BUFFER),
                 ReusedBuffer::new("ink crease quads", vk::BufferUsageFlags::VERTEX_BUFFER),
                 ReusedBuffer::new("ink boundary quads", vk::BufferUsageFlags::VERTEX_BUFFER),
-            ]);
-        }
+            ])
+        })?;
         let classes = [&self.quads.silhouette, &self.quads.crease, &self.quads.boundary];
-        for (buffer, vertices) in self.buffers[slot].iter_mut().zip(classes) {
+        for (buffer, vertices) in buffers.iter_mut().zip(classes) {
             buffer.fill(gpu, vertices)?;
         }
         Ok(())

@@ -15,6 +15,7 @@ use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::descriptors::DescriptorSet;
 use crate::gpu::Gpu;
+use crate::render::per_slot::slot_copy;
 use crate::render::passes::Passes;
 use crate::render::plan::{PlannedPass, Target};
 use crate::render::Pipeline;
@@ -90,9 +91,8 @@ impl Blur {
 
     /// The frame about to be recorded is in slot `slot`: its targets, made if it has none.
     fn use_slot(&mut self, gpu: &Arc<Gpu>, slot: usize) -> Result<()> {
-        while self.targets.len() <= slot {
-            self.targets.push(BlurTargets::new(gpu, self.stencil, self.extent)?);
-        }
+        let (stencil, extent) = (self.stencil, self.extent);
+        slot_copy(&mut self.targets, slot, || BlurTargets::new(gpu, stencil, extent))?;
         self.slot = slot;
         Ok(())
     }

@@ -22,6 +22,7 @@ use crate::gpu::memory::ReusedBuffer;
 use crate::gpu::texture::{Sampler, Texture};
 use crate::pipeline::recipes::MODULATE_BY_SRC_COLOUR;
 use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexAttribute, VertexLayout};
+use crate::render::per_slot::slot_copy;
 use crate::render::passes::Passes;
 use crate::render::plan::{DrawKind, Label, NoOwn, PassKinds, PassPlan, PlannedPass, SetRole};
 use crate::render::Pipeline;
@@ -338,11 +339,8 @@ impl Passes<BlobKinds> for BlobPasses {
             Vec::new()
         };
         // The frame that last used this slot has finished: its buffer is free.
-        let slot = renderer.slot();
-        while self.quads.len() <= slot {
-            self.quads.push(ReusedBuffer::new("blob quads", vk::BufferUsageFlags::VERTEX_BUFFER));
-        }
-        self.quads[slot].fill(&renderer.gpu, &vertices)
+        let new = || Ok(ReusedBuffer::new("blob quads", vk::BufferUsageFlags::VERTEX_BUFFER));
+        slot_copy(&mut self.quads, renderer.slot(), new)?.fill(&renderer.gpu, &vertices)
     }
 
     fn writes_per_slot(&self) -> bool {

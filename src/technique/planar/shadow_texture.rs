@@ -36,6 +36,7 @@ use crate::gpu::texture::Sampler;
 use crate::gpu::Gpu;
 use crate::pipeline::recipes::MODULATE_BY_SRC_COLOUR;
 use crate::pipeline::{BlendState, DepthState, FixedFunction, PipelineDesc, RasterState, VertexLayout};
+use crate::render::per_slot::slot_copy;
 use crate::render::passes::Passes;
 use crate::render::plan::{DrawKind, Label, MaterialVariant, PassKinds, PassPlan, PlannedPass, SetRole};
 use crate::render::Pipeline;
@@ -517,9 +518,8 @@ impl Passes<TextureKinds> for ShadowTexturePasses {
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
         self.plane.plane.check_light(&scene.light())?;
         self.slot = renderer.slot();
-        while self.targets.len() <= self.slot {
-            self.targets.push(ShadowTarget::new(&renderer.gpu, self.texture_size, &self.sampler)?);
-        }
+        let (size, sampler) = (self.texture_size, &self.sampler);
+        slot_copy(&mut self.targets, self.slot, || ShadowTarget::new(&renderer.gpu, size, sampler))?;
         self.meshes.update_palettes(scene, self.slot)?;
         self.quad_model = match self.quad {
             Some(_) => shadow_quad(scene, &self.plane).map(|corners| quad_model(&corners, self.plane.plane.normal)),

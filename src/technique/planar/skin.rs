@@ -13,6 +13,7 @@ use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
 use crate::pipeline::{VertexAttribute, VertexLayout};
+use crate::render::per_slot::slot_copy;
 use crate::render::{scene_vertices, GpuMesh, SceneVertex};
 use crate::scene::objects::SceneMesh;
 use crate::scene::{SceneSkin, MAX_JOINTS};
@@ -99,10 +100,8 @@ impl Palette {
                 joint_matrices.len()
             )));
         }
-        while self.copies.len() <= slot {
-            self.copies.push(PaletteCopy::new(&self.gpu, &self.name)?);
-        }
-        self.copies[slot].buffer.write(0, joint_matrices)
+        let (gpu, name) = (&self.gpu, &self.name);
+        slot_copy(&mut self.copies, slot, || PaletteCopy::new(gpu, name))?.buffer.write(0, joint_matrices)
     }
 }
 

@@ -26,6 +26,7 @@ use crate::gpu::Gpu;
 use crate::mesh::caster::CastPath;
 use crate::mesh::Reach;
 use crate::pipeline::recipes::STENCIL_COUNT_ZERO;
+use crate::render::per_slot::slot_copy;
 use crate::render::passes::Passes;
 use crate::render::plan::{Draws, PlannedPass, Scissor};
 use crate::render::Pipeline;
@@ -319,9 +320,7 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
         let slot = renderer.slot();
         self.meshes.follow_pose(&self.gpu, scene, slot)?;
-        if self.buffers.len() <= slot {
-            self.buffers.resize_with(slot + 1, Vec::new);
-        }
+        slot_copy(&mut self.buffers, slot, || Ok(Vec::new()))?;
         let extent = renderer.extent();
         let boxes = bounds::object_boxes(scene);
         let receivers = bounds::receivers_box(&boxes);
