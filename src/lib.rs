@@ -121,7 +121,7 @@ pub use technique::{
     by_name as technique, render_scene, AtlasBake, CartoonOptions, FrameStats, GivenPlane, InkStyle, InkStyles,
     LightMode, Normalize, OutlineMethod, PlanarOptions, RenderOptions, SceneRenderer, Seams, ShadowAtlasOptions,
     ShadowKind, ShadowMode, ShadowTone, ShadowVolumeOptions, SilhouetteMethod, Technique, TechniqueFrame,
-    TextureShadowOn, VolumeMethod, TECHNIQUES,
+    TextureShadowOn, VolumeExtrusion, VolumeMethod, TECHNIQUES,
 };
 
 /// What each technique reports about a frame, beyond its counters

@@ -225,6 +225,10 @@ pub enum Command {
         #[arg(long, value_name = "N", default_value_t = 2, requires = "frame_loop",
               value_parser = clap::value_parser!(u32).range(1..=3))]
         frames_in_flight: u32,
+        /// With --loop: play shadow-volume once per volume extrusion (`indices` and `shader`),
+        /// in turn with the others, to compare their costs in one run.
+        #[arg(long)]
+        each_extrusion: bool,
     },
     /// Bake one model's shadow texture (shadow-texture-atlas) and write it as PNG.
     Bake {

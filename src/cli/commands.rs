@@ -115,14 +115,19 @@ pub fn run(cli: Cli) -> Result<()> {
             mip_flicker: None,
             frame_loop: Some(frames),
             frames_in_flight,
+            each_extrusion,
         } => {
             if table1_out.is_some() || runs.is_some() || trace.is_some() {
                 return Err(Error::InvalidInput(
                     "--loop plays N frames of each technique: drop --table1-out, --runs and --trace".into(),
                 ));
             }
-            super::frame_loop::bench_loop(&frame, (frames, frames_in_flight), warmup, json)
+            let playing = super::frame_loop::Playing { frames, in_flight: frames_in_flight, warmup, each_extrusion };
+            super::frame_loop::bench_loop(&frame, playing, json)
         }
+        Command::Bench { each_extrusion: true, frame_loop: None, .. } => Err(Error::InvalidInput(
+            "--each-extrusion plays shadow-volume once per volume extrusion in a frame loop: add --loop N".into(),
+        )),
         Command::Bench {
             frame, warmup, runs, json, trace, table1_out, mip_flicker: None, frame_loop: None, ..
         } => {

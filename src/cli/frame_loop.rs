@@ -8,7 +8,7 @@ use super::args::FrameArgs;
 use super::frame_setup::{load_scene, open_gpu, options, print_warnings};
 use crate::error::{Error, Result};
 use crate::profile::frame_loop::{self, LoopReport, LoopVariant};
-use crate::technique::{by_name, RenderOptions, SceneRenderer, TECHNIQUES};
+use crate::technique::{by_name, RenderOptions, SceneRenderer, ShadowVolumeOptions, VolumeExtrusion, TECHNIQUES};
 use crate::viewer::controls::Live;
 
 /// The loop's clock: a frame every sixtieth of a second of animation.
@@ -17,7 +17,17 @@ const FRAME_SECONDS: f32 = 1.0 / 60.0;
 /// Frames a technique plays in a turn when it keeps several in flight.
 const TURN_FRAMES: u32 = 8;
 
-pub(super) fn bench_loop(frame: &FrameArgs, (frames, in_flight): (u32, u32), warmup: u32, json: bool) -> Result<()> {
+/// How the loop plays: N frames a technique, after `warmup` turns, `in_flight` frames in
+/// flight, and shadow-volume once per volume extrusion with `each_extrusion`.
+pub(super) struct Playing {
+    pub frames: u32,
+    pub in_flight: u32,
+    pub warmup: u32,
+    pub each_extrusion: bool,
+}
+
+pub(super) fn bench_loop(frame: &FrameArgs, playing: Playing, json: bool) -> Result<()> {
+    let Playing { frames, in_flight, warmup, each_extrusion } = playing;
     if frames == 0 {
         return Err(Error::InvalidInput("--loop takes the number of frames to play, at least 1".into()));
     }
@@ -39,8 +49,18 @@ pub(super) fn bench_loop(frame: &FrameArgs, (frames, in_flight): (u32, u32), war
     let mut listed = Vec::new();
     for name in &names {
         let options = options(&FrameArgs { technique: name.clone(), ..frame.clone() })?;
-        listed.push((name.clone(), RenderOptions { frames_in_flight: in_flight, ..options }));
+        let options = RenderOptions { frames_in_flight: in_flight, ..options };
+        if each_extrusion && name == "shadow-volume" {
+            for extrusion in VolumeExtrusion::ALL {
+                let shadow_volume = ShadowVolumeOptions { extrusion: *extrusion, ..options.shadow_volume };
+                let named = format!("{name} ({})", extrusion.name());
+                listed.push((named, RenderOptions { shadow_volume, ..options.clone() }));
+            }
+        } else {
+            listed.push((name.clone(), options));
+        }
     }
+    let names: Vec<String> = listed.iter().map(|(name, _)| name.clone()).collect();
     let turn = if in_flight > 1 { TURN_FRAMES } else { 1 };
     let base = load_scene(frame)?;
     let gpu = open_gpu(&frame.gpu)?;

@@ -57,6 +57,10 @@ pub struct VolumeGeometry {
     /// stencil draws each list m times ([`VolumeGeometry::repeated_copies`]); the alpha counter
     /// draws it once adding m k, the same count for a fraction of the fill.
     pub repeated_walls: Vec<(u32, Vec<u32>)>,
+    /// Set by the caller: leave `vertices` empty, the indices naming the doubled layout all
+    /// the same (a vertex buffer of the mesh's positions at w = 1, then at w = 0, then the
+    /// centroid at w = 0: `doubled_vertices`), whose far points the vertex shader places.
+    pub indices_only: bool,
 }
 
 /// Builds the shadow volume of a mesh, with caps for z-fail (`caps = true`) or sides only for
@@ -249,6 +253,18 @@ pub(super) fn start_volume(
         normal.dot(travel) < 0.0
     }));
     let mesh = &positions[..vertex_count];
+    if out.indices_only {
+        // The far end's shape only: the far points are the vertex shader's.
+        let bounded = vertex_count > 0
+            && mesh.first().is_some_and(|&p| far_point(light, reach, p).is_some())
+            && reach != Reach::Infinite;
+        let shape = match (bounded, light) {
+            (true, _) => FarEnd::Fan(2 * vertex_count as u32),
+            (false, Light::Directional(_)) => FarEnd::Apex,
+            (false, Light::Point(_)) => FarEnd::Infinite,
+        };
+        return Extrusion { shape, vertex_count: vertex_count as u32 };
+    }
     out.vertices.extend(mesh.iter().map(|p| p.extend(1.0)));
     // Bounded only if every vertex can be (a bad reach is not half applied). The fan's apex is
     // the far image of the mesh's centroid: inside the far image of its hull, so beyond the
@@ -270,6 +286,17 @@ pub(super) fn start_volume(
         }
     };
     Extrusion { shape, vertex_count: vertex_count as u32 }
+}
+
+/// The vertex buffer an `indices_only` volume of a mesh at `positions` indexes: the positions
+/// at w = 1, again at w = 0 (pushed from the light by the vertex shader), and their centroid
+/// at w = 0 (the bounded far cap's apex), into `out`. Built once for a rigid mesh.
+pub fn doubled_vertices(positions: &[Vec3], out: &mut Vec<Vec4>) {
+    out.clear();
+    out.extend(positions.iter().map(|p| p.extend(1.0)));
+    out.extend(positions.iter().map(|p| p.extend(0.0)));
+    let centroid = positions.iter().copied().sum::<Vec3>() / positions.len().max(1) as f32;
+    out.push(centroid.extend(0.0));
 }
 
 impl VolumeGeometry {

@@ -560,6 +560,22 @@ impl<'a> FrameRecorder<'a> {
         self.count_draw();
     }
 
+    /// `instances` instances of indices `first_index..first_index + index_count` of `indices`,
+    /// with no vertex buffer: the vertex shader pulls its data by index (`gl_VertexIndex`).
+    pub fn draw_indexed_instances(&mut self, indices: &Buffer, first_index: u32, index_count: u32, instances: u32) {
+        if index_count == 0 || instances == 0 {
+            return;
+        }
+        let device = self.gpu.raw();
+        // SAFETY: see the note on `FrameRecorder`; the range lies inside the index buffer (its
+        // owner sized it), and the vertex shader reads no vertex buffer.
+        unsafe {
+            device.cmd_bind_index_buffer(self.cmd, indices.raw, 0, vk::IndexType::UINT32);
+            device.cmd_draw_indexed(self.cmd, index_count, instances, first_index, 0, 0);
+        }
+        self.count_draw();
+    }
+
     pub fn draw_vertices(&mut self, vertices: &Buffer, vertex_count: u32) {
         if vertex_count == 0 {
             return;

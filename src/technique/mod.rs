@@ -35,7 +35,7 @@ pub use cartoon::CartoonStats;
 pub use interface::{FrameStats, RenderOptions, SceneRenderer, Technique, TechniqueFrame};
 pub use options::{
     AtlasBake, CartoonOptions, InkStyle, InkStyles, LightMode, Normalize, OutlineMethod, Seams, ShadowAtlasOptions,
-    ShadowKind, ShadowMode, ShadowVolumeOptions, SilhouetteMethod, TextureShadowOn, VolumeMethod,
+    ShadowKind, ShadowMode, ShadowVolumeOptions, SilhouetteMethod, TextureShadowOn, VolumeExtrusion, VolumeMethod,
 };
 pub use planar::{GivenPlane, PlanarOptions, PlanarStats};
 pub use registry::{by_name, TECHNIQUES};

@@ -329,6 +329,23 @@ fn bench_loop_plays_animated_frames_of_each_technique_and_counts_what_each_makes
         assert!(low <= number(ratio, "median") && number(ratio, "median") <= high, "{ratio}");
     }
 
+    // `--each-extrusion`: shadow-volume once per volume extrusion, in turn with the others, each
+    // with no allocation and one wait a frame; the shader form builds nothing on the CPU.
+    let args = "bench --loop 2 --warmup 1 --technique lit,shadow-volume --each-extrusion --size 64x48 --samples 1 \
+                --json --validation";
+    let (out, err) = common::run_ok(&args.split_whitespace().collect::<Vec<_>>());
+    assert!(!err.contains("vulkan validation"), "{err}");
+    let report: serde_json::Value = serde_json::from_str(&out).expect("bench --loop --json is JSON");
+    let results = report["results"].as_array().expect("results");
+    let names: Vec<&str> = results.iter().filter_map(|r| r["technique"].as_str()).collect();
+    assert_eq!(names, ["lit", "shadow-volume (indices)", "shadow-volume (shader)"], "{report}");
+    for result in results {
+        assert_eq!(number(result, "allocations_per_frame"), 0.0, "{result}");
+        assert_eq!(number(result, "waits_per_frame"), 1.0, "{result}");
+    }
+    let err = common::run_err(&["bench", "--each-extrusion", "--size", "64x48"]);
+    assert!(err.contains("--loop"), "{err}");
+
     let err = common::run_err(&["bench", "--loop", "0", "--size", "64x48"]);
     assert!(err.contains("--loop") && err.contains("at least 1"), "{err}");
     let err = common::run_err(&["bench", "--loop", "3", "--runs", "5", "--size", "64x48"]);

@@ -1242,3 +1242,86 @@ fn an_unmoved_culling_is_kept_and_a_moved_one_decided_again() {
     }
     common::assert_no_validation_messages(&gpu);
 }
+
+/// Volumes extruded by the shadow mesh (`--volume-extrusion shader`: the vertex shader decides
+/// facing, walls, caps and their multiplicities) draw the bytes of the volumes whose indices
+/// the CPU chose, over closed, open, non-manifold and touching casters, a skinned one and a
+/// mirrored one (both keep the CPU's indices), under a sun, a point light and several lights,
+/// in both counting methods, on both counters, clipped or reaching infinity.
+#[test]
+fn volumes_extruded_by_the_shader_draw_the_bytes_of_cpu_chosen_indices() {
+    use nostencil::technique::shadow_volume::VolumeExtrusion;
+    let gpu = common::gpu();
+    let mut mirrored = builtin_scene("overlap").expect("scene");
+    let turned = mirrored.objects.iter().position(|o| o.casts_shadow).expect("a caster");
+    mirrored.objects[turned].transform *= Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0));
+    let mut scenes: Vec<(&str, Scene)> = ["default", "point-light", "non-manifold", "open-box", "touching", "lights"]
+        .into_iter()
+        .map(|name| (name, builtin_scene(name).expect("scene")))
+        .collect();
+    scenes.push(("overlap, one caster mirrored", mirrored));
+    let mut extruded_somewhere = 0;
+    for (name, scene) in &scenes {
+        let rigid = scene.objects.iter().filter(|o| o.casts_shadow && o.skin.is_none()).count();
+        for stencil in [StencilMode::Emulated, StencilMode::Reference] {
+            for method in [VolumeMethod::ZPass, VolumeMethod::ZFail] {
+                for clip_volumes in [true, false] {
+                    let options = ShadowVolumeOptions { method, clip_volumes, ..Default::default() };
+                    let shader = ShadowVolumeOptions { extrusion: VolumeExtrusion::Shader, ..options };
+                    let label = format!("{name}, {stencil:?}, {method:?}, clipped {clip_volumes}");
+                    let indexed = render_additive(&gpu, scene, stencil, options);
+                    let extruded = render_additive(&gpu, scene, stencil, shader);
+                    assert!(extruded.output.image == indexed.output.image, "{label}: the images differ");
+                    let count: usize = extruded.stats.lights.iter().map(|l| l.extruded).sum();
+                    let drawn: usize = extruded.stats.lights.iter().map(|l| l.volumes).sum();
+                    assert!(indexed.stats.lights.iter().all(|l| l.extruded == 0), "{label}: indices extrude nothing");
+                    // Every drawn volume of a rigid, unmirrored caster is the shader's.
+                    let mirrored_casters = usize::from(name.contains("mirrored"));
+                    assert!(count <= drawn && count <= rigid * scene.lights.len(), "{label}: {count} of {drawn}");
+                    if rigid > mirrored_casters && drawn > 0 {
+                        assert!(count > 0, "{label}: no volume extruded by the shader");
+                    }
+                    extruded_somewhere += count;
+                }
+            }
+        }
+    }
+    assert!(extruded_somewhere > 50, "only {extruded_somewhere} volumes extruded by the shader");
+    common::assert_no_validation_messages(&gpu);
+}
+
+/// Frame after frame, as the sun turns and a caster turns with it, the shadow mesh's volumes
+/// (nothing rebuilt on the CPU) draw what the CPU's indices (rebuilt as things move) draw.
+#[test]
+fn the_shadow_mesh_follows_a_moving_light_and_caster_frame_after_frame() {
+    use nostencil::technique::shadow_volume::VolumeExtrusion;
+    let gpu = common::gpu();
+    let base = builtin_scene("overlap").expect("scene");
+    let build = |extrusion| {
+        let options = RenderOptions {
+            width: SIZE.0,
+            height: SIZE.1,
+            samples: 1,
+            technique: technique("shadow-volume"),
+            shadow_volume: ShadowVolumeOptions { extrusion, ..Default::default() },
+            ..Default::default()
+        };
+        options.technique.build(&gpu, &base, &options).expect("renderer")
+    };
+    let (mut indexed, mut extruded) = (build(VolumeExtrusion::Indices), build(VolumeExtrusion::Shader));
+    let caster = base.objects.iter().position(|o| o.casts_shadow).expect("a caster");
+    let mut scene = base.clone();
+    for step in 0..6 {
+        let angle = step as f32 * 0.3;
+        let Light::Directional { direction } = base.lights[0].geometry() else { panic!("a sun") };
+        let turned = Mat4::from_rotation_y(angle).transform_vector3(direction);
+        scene.lights[0].set_geometry(Light::Directional { direction: turned.normalize() });
+        scene.objects[caster].transform = Mat4::from_rotation_y(angle * 0.5) * base.objects[caster].transform;
+        let (expected, built) = next_frame(&mut indexed, &scene);
+        let (image, report) = next_frame(&mut extruded, &scene);
+        assert!(image == expected, "frame {step}: the images differ");
+        assert!(step == 0 || built.reused < built.volumes, "frame {step}: the indices were rebuilt: {built:?}");
+        assert_eq!(report.extruded, report.volumes, "frame {step}: {report:?}");
+    }
+    common::assert_no_validation_messages(&gpu);
+}

@@ -15,7 +15,7 @@ use super::light_loop::ShadowedLights;
 pub use cartoon::{CartoonOptions, InkStyle, InkStyles, OutlineMethod, Seams, SilhouetteMethod};
 pub use planar::{GivenPlane, PlanarOptions, TextureShadowOn};
 pub use shadow_atlas::{AtlasBake, LightMode, ShadowAtlasOptions, ShadowKind};
-pub use shadow_volume::{Normalize, ShadowVolumeOptions, VolumeMethod};
+pub use shadow_volume::{Normalize, ShadowVolumeOptions, VolumeExtrusion, VolumeMethod};
 
 crate::names::named_enum! {
     /// What a shadow does to the frame.

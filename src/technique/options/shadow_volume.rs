@@ -32,6 +32,21 @@ crate::names::named_enum! {
     }
 }
 
+crate::names::named_enum! {
+    /// What the CPU does for a volume, and what the vertex shader does.
+    pub enum VolumeExtrusion {
+        /// Doom 3 BFG's: the CPU chooses the indices (silhouette walls and caps) when the light or
+        /// the caster moved, over doubled vertices uploaded once per rigid mesh, which the vertex
+        /// shader pushes away from the light.
+        #[default]
+        Indices = "indices",
+        /// The shadow-mesh form: the vertex shader decides everything from tables built at load,
+        /// so the CPU does nothing per frame, for the cost of shading every edge's candidates
+        /// (skinned and mirrored casters keep `indices`).
+        Shader = "shader",
+    }
+}
+
 /// The shadow-volume family's options (`shadow-volume`), and its flags. How dark the shadow is
 /// is `RenderOptions::shadow_tone`, shared with the planar family.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, clap::Args)]
@@ -69,6 +84,12 @@ pub struct ShadowVolumeOptions {
     /// same; `profile` reports the casters culled and the CPU time).
     #[arg(long = "cull-casters")]
     pub cull_casters: bool,
+    // Both forms draw the same bytes; `bench` compares their costs.
+    /// shadow-volume: `indices` (the CPU chooses each volume's indices when its light or caster
+    /// moved; the vertex shader extrudes) or `shader` (the vertex shader does it all from
+    /// tables built at load; no CPU work per frame, more vertex work). The image is the same.
+    #[arg(id = "volume_extrusion", long = "volume-extrusion", value_name = "WHERE", value_enum, default_value_t)]
+    pub extrusion: VolumeExtrusion,
     /// Draw the volumes of this caster only (its index among the frame's casters,
     /// `technique_stats.casters`): how `profile --caster-fill` measures each caster's share of
     /// the fill, frame by frame. Never set by a user.

@@ -32,7 +32,7 @@ pub fn prepare_casters(scene: &Scene) -> (Vec<Caster>, Vec<String>) {
 }
 
 /// The light in an object's own space (volumes are built there and transformed like the mesh).
-fn light_in_object_space(light: &Light, model: &Mat4) -> mesh::Light {
+pub(super) fn light_in_object_space(light: &Light, model: &Mat4) -> mesh::Light {
     let inverse = model.inverse();
     match *light {
         Light::Directional { direction } => mesh::Light::Directional(inverse.transform_vector3(direction)),
@@ -62,6 +62,9 @@ pub struct VolumeScratch {
     /// A skinned caster's posed welded positions and their face normals.
     positions: Vec<Vec3>,
     normals: Vec<Vec3>,
+    /// An `indices_only` volume of a skinned caster: its posed vertices, doubled
+    /// (`mesh::shadow_volume::doubled_vertices`), which the frame uploads with the indices.
+    pub doubled: Vec<glam::Vec4>,
 }
 
 /// [`build_volume_for`] into `scratch.volume`, reusing its buffers.
@@ -76,9 +79,13 @@ pub fn build_volume_into(
     let object = &scene.objects[caster.object];
     let light = light_in_object_space(light, &object.transform);
     let (adjacency, welded) = (&caster.mesh.adjacency, &caster.mesh.welded);
-    let VolumeScratch { volume, multiplicities, positions, normals } = scratch;
+    let VolumeScratch { volume, multiplicities, positions, normals, doubled } = scratch;
+    doubled.clear();
     if gather_posed_welded_positions(scene, caster, positions) {
         adjacency.recompute_face_normals(positions, normals);
+        if volume.indices_only {
+            crate::mesh::shadow_volume::doubled_vertices(&positions[..adjacency.vertex_count], doubled);
+        }
         caster.mesh.build_volume_into(positions, normals, light, reach, caps, multiplicities, volume);
     } else {
         let normals = &adjacency.face_normals;

@@ -6,6 +6,8 @@
 pub mod bounds;
 pub mod casters;
 pub mod culling;
+pub mod doubled;
+pub mod gpu_extrusion;
 pub mod recipes;
 pub mod renderer;
 pub mod stats;
@@ -22,7 +24,7 @@ use crate::scene::Scene;
 use recipes::VolumeKinds;
 use renderer::{ShadowVolumePasses, VolumeSetup};
 
-pub use super::options::{Normalize, ShadowMode, ShadowVolumeOptions, VolumeMethod};
+pub use super::options::{Normalize, ShadowMode, ShadowVolumeOptions, VolumeExtrusion, VolumeMethod};
 pub use casters::{build_volume, prepare_casters};
 pub use recipes::SATURATION_PROBE;
 pub use renderer::ShadowVolumeStats;
@@ -106,6 +108,25 @@ impl TechniqueInfo for ShadowVolumes {
                     },
                 });
             }
+        }
+        // Volumes extruded by the shadow mesh: its own pipelines, beside the indexed ones (for
+        // the casters it does not take), on both counters.
+        for (stencil, normalize, method) in
+            [(StencilMode::Reference, Normalize::Seed, VolumeMethod::ZFail), (StencilMode::Emulated, Normalize::Seed, VolumeMethod::ZPass)]
+        {
+            variants.push(Variant {
+                label: format!("{}, {}, --volume-extrusion shader", stencil.name(), method.name()),
+                options: RenderOptions {
+                    stencil,
+                    shadow_volume: ShadowVolumeOptions {
+                        method,
+                        normalize,
+                        extrusion: VolumeExtrusion::Shader,
+                        ..options.shadow_volume
+                    },
+                    ..options.clone()
+                },
+            });
         }
         // The opt-in probe, beside the subpass apply's own count (a cross-check): it reads the
         // seed's up-counter, so the modulate mode's frame.

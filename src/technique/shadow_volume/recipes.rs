@@ -35,13 +35,14 @@ use crate::frame::StencilMode;
 use crate::pipeline::recipes::{self, NO_WRITE};
 use crate::pipeline::{BlendState, DepthState, FixedFunction, PipelineDesc, RasterState, VertexLayout};
 use crate::render::plan::{fmt_f32, DrawKind, Draws, Label, NoOwn, Only, PassKinds, PassPlan, PlannedPass, SetRole};
-use crate::render::{LIGHT_PUSH_BYTES, OBJECT_PUSH_BYTES};
+use super::gpu_extrusion::VOLUME_PUSH_BYTES;
+use crate::render::LIGHT_PUSH_BYTES;
 use crate::shaders;
 use crate::technique::alpha_counter;
 use crate::technique::light_loop::{self, PlannedLight};
 use crate::technique::lit;
 use crate::technique::material_variants::with_surface_variants;
-use crate::technique::options::{Normalize, ShadowMode, ShadowVolumeOptions, VolumeMethod};
+use crate::technique::options::{Normalize, ShadowMode, ShadowVolumeOptions, VolumeExtrusion, VolumeMethod};
 use crate::technique::shadow_tone::ShadowTone;
 
 /// The subpass input that exposes the counter to full-screen passes.
@@ -78,17 +79,21 @@ impl DrawKind for VolumeDraw {
 pub enum VolumeSet {
     /// The colour target as an input attachment (and the saturation counter).
     CounterInput,
+    /// The casters' shadow-mesh tables, which volumes extruded on the GPU read.
+    ShadowMeshes,
 }
 
 impl Label for VolumeSet {
     fn label(self) -> &'static str {
         match self {
             VolumeSet::CounterInput => "counter input",
+            VolumeSet::ShadowMeshes => "shadow meshes",
         }
     }
 }
 
 pub const COUNTER_INPUT: SetRole<VolumeSet> = SetRole::Own(VolumeSet::CounterInput);
+pub const SHADOW_MESHES: SetRole<VolumeSet> = SetRole::Own(VolumeSet::ShadowMeshes);
 
 /// The opt-in saturation probe's pass name (its occlusion query is the count).
 pub const SATURATION_PROBE: &str = "saturation probe";
@@ -106,9 +111,41 @@ fn volume_desc(name: &'static str, raster: RasterState, compare: vk::CompareOp, 
             stencil: None,
             blend,
         },
-        push_constant_bytes: OBJECT_PUSH_BYTES,
+        // Both forms' pipelines share one layout (the GPU form's push constants and tables),
+        // so that a pass can switch between them without binding its sets again.
+        push_constant_bytes: VOLUME_PUSH_BYTES,
         subpass: 0,
     }
+}
+
+/// The GPU-extruded twin of a volume pipeline (`gpu_extrusion`): the same fixed function, the
+/// extruding shaders, no vertex buffer.
+pub fn extruded(desc: PipelineDesc) -> PipelineDesc {
+    let name = match desc.name {
+        "volume increment (z-pass)" => "volume increment (z-pass, extruded on the GPU)",
+        "volume decrement (z-pass)" => "volume decrement (z-pass, extruded on the GPU)",
+        "volume increment (z-fail)" => "volume increment (z-fail, extruded on the GPU)",
+        "volume decrement (z-fail)" => "volume decrement (z-fail, extruded on the GPU)",
+        "volume enter (z-pass)" => "volume enter (z-pass, extruded on the GPU)",
+        "volume leave (z-pass)" => "volume leave (z-pass, extruded on the GPU)",
+        "volume enter (z-fail)" => "volume enter (z-fail, extruded on the GPU)",
+        "volume leave (z-fail)" => "volume leave (z-fail, extruded on the GPU)",
+        "volumes (stencil, z-pass)" => "volumes (stencil, z-pass, extruded on the GPU)",
+        "volumes (stencil, z-fail)" => "volumes (stencil, z-fail, extruded on the GPU)",
+        _ => "volumes (extruded on the GPU)",
+    };
+    PipelineDesc {
+        name,
+        vertex_shader: shaders::SHADOW_VOLUME_EXTRUDE_VERT,
+        fragment_shader: shaders::SHADOW_VOLUME_EXTRUDE_FRAG,
+        vertex_layout: VertexLayout::NONE,
+        ..desc
+    }
+}
+
+/// Whether `desc` draws volumes extruded on the GPU.
+pub fn is_extruded(desc: &PipelineDesc) -> bool {
+    desc.vertex_shader == shaders::SHADOW_VOLUME_EXTRUDE_VERT
 }
 
 fn fullscreen_desc(name: &'static str, fragment_shader: shaders::Shader, blend: BlendState) -> PipelineDesc {
@@ -334,17 +371,31 @@ pub fn plan(
     }
 }
 
+/// A pass of light `light`'s volumes, drawn with `desc`, then with `then` if given (the
+/// alpha counter's decrements), each followed by its GPU-extruded twin where `extrusion` is
+/// `shader` (the CPU-chosen indices stay for the casters the shadow mesh does not take).
 fn volumes_pass(
     name: impl Into<std::borrow::Cow<'static, str>>,
-    desc: PipelineDesc,
-    alpha: f32,
-    light: u8,
-    clear_stencil: bool,
+    (desc, then): (PipelineDesc, Option<PipelineDesc>),
+    extrusion: VolumeExtrusion,
+    (alpha, light, clear_stencil): (f32, u8, bool),
 ) -> PlannedPass<VolumeKinds> {
     let push = format!("object transform, alpha {}", fmt_f32(alpha));
-    PlannedPass::own(name, desc, VolumeDraw::Volumes { alpha, light, clear_stencil }, push)
-        .with_sets(&[SetRole::Frame])
-        .for_light(light)
+    let gpu = extrusion == VolumeExtrusion::Shader;
+    let sets: &[SetRole<VolumeSet>] = if gpu { &[SetRole::Frame, SHADOW_MESHES] } else { &[SetRole::Frame] };
+    let mut pass = PlannedPass::own(name, desc.clone(), VolumeDraw::Volumes { alpha, light, clear_stencil }, push)
+        .with_sets(sets)
+        .for_light(light);
+    if gpu {
+        pass = pass.or_pipeline(extruded(desc));
+    }
+    if let Some(then) = then {
+        pass = pass.or_pipeline(then.clone());
+        if gpu {
+            pass = pass.or_pipeline(extruded(then));
+        }
+    }
+    pass
 }
 
 /// The seed's frame (Hall): the lit scene, the primary light's volumes counted up from 0, the
@@ -368,7 +419,7 @@ fn modulate_plan(
     match stencil {
         StencilMode::Reference => {
             let desc = reference_volume_desc(zfail);
-            plan.push(volumes_pass(desc.name, desc, 0.0, primary, false));
+            plan.push(volumes_pass(desc.name, (desc.clone(), None), options.extrusion, (0.0, primary, false)));
             plan.push(PlannedPass::full_screen("apply (stencil)", reference_apply_desc(), factors).scissored());
         }
         StencilMode::Emulated => {
@@ -376,7 +427,7 @@ fn modulate_plan(
             // decrements (`renderer` draws them in that order).
             let [increment, decrement] = volume_descs(zfail);
             let name = if zfail { "volumes (alpha, z-fail)" } else { "volumes (alpha, z-pass)" };
-            plan.push(volumes_pass(name, increment, step, primary, false).or_pipeline(decrement));
+            plan.push(volumes_pass(name, (increment, Some(decrement)), options.extrusion, (step, primary, false)));
             if options.saturation_probe {
                 plan.push(
                     PlannedPass::new(
@@ -481,7 +532,8 @@ fn additive_plan(
             StencilMode::Reference => {
                 let desc = reference_volume_desc(zfail);
                 let clear = !first_shadowing;
-                plan.push(volumes_pass(light_loop::pass_name(light, desc.name), desc, 0.0, i, clear));
+                let name = light_loop::pass_name(light, desc.name);
+                plan.push(volumes_pass(name, (desc, None), options.extrusion, (0.0, i, clear)));
                 let desc =
                     shading_desc("shading (stencil)", recipes::ADD_LIGHT, Some(recipes::STENCIL_COUNT_NOT_POSITIVE));
                 plan.push(shading_pass(light_loop::pass_name(light, "shading (stencil)"), desc, i));
@@ -489,7 +541,8 @@ fn additive_plan(
             StencilMode::Emulated => {
                 let [enter, leave] = down_volume_descs(zfail);
                 let name = if zfail { "volumes (alpha, z-fail)" } else { "volumes (alpha, z-pass)" };
-                plan.push(volumes_pass(light_loop::pass_name(light, name), enter, step, i, false).or_pipeline(leave));
+                let name = light_loop::pass_name(light, name);
+                plan.push(volumes_pass(name, (enter, Some(leave)), options.extrusion, (step, i, false)));
                 match options.normalize {
                     // No darkness step: the mask is exactly 0 or 1, and the light's own term
                     // is what a shadow removes. `max` differed from `seed` only there.

@@ -9,10 +9,12 @@ use ash::vk;
 use glam::{Mat4, Vec4};
 
 use super::bounds;
-use super::casters::{build_volume_into, choose_zfail, prepare_casters, Caster, VolumeScratch};
+use super::casters::{build_volume_into, choose_zfail, light_in_object_space, prepare_casters, Caster, VolumeScratch};
 use super::culling::{self, Culling, KeptCulling};
+use super::doubled::DoubledVertices;
+use super::gpu_extrusion::{ExtrudedVolume, ShadowMeshes, VolumePush};
 use super::recipes::SATURATION_PROBE;
-use super::recipes::{VolumeDraw, VolumeKinds, VolumeSet};
+use super::recipes::{is_extruded, VolumeDraw, VolumeKinds, VolumeSet};
 pub use super::stats::{CasterReport, LightReport, ShadowVolumeStats};
 use super::stats::{
     MEASURED_BY_APPLY, MEASURED_BY_MASK, MEASURED_BY_PROBE, NOT_COUNTED_REFERENCE, NOT_MEASURED, NOT_MEASURED_ADDITIVE,
@@ -30,23 +32,33 @@ use crate::render::per_slot::slot_copy;
 use crate::render::passes::Passes;
 use crate::render::plan::{Draws, PlannedPass, Scissor};
 use crate::render::Pipeline;
-use crate::render::{FrameOutput, FrameRecorder, GpuScene, ObjectPush, Renderer};
+use crate::render::{FrameOutput, FrameRecorder, GpuScene, Renderer};
 use crate::scene::{Light, Scene, SceneLight};
 use crate::technique::alpha_counter;
 use crate::technique::frame_renderer::BuildContext;
 use crate::technique::interface::{FrameStats, RenderOptions};
-use crate::technique::options::{Normalize, ShadowMode, ShadowVolumeOptions, VolumeMethod};
+use crate::technique::options::{Normalize, ShadowMode, ShadowVolumeOptions, VolumeExtrusion, VolumeMethod};
 use crate::technique::shadow_tone::ShadowTone;
 use crate::technique::unit::Prepared;
 
-/// One caster's volume, uploaded for this frame into its light's and caster's buffers.
+/// One caster's volume for this frame.
 struct GpuVolume {
     /// Its caster's index among the frame's casters: which of its light's buffers hold it.
     caster: usize,
-    /// What to draw, and how many counts each of its fragments adds.
-    ranges: Vec<IndexRange>,
+    form: VolumeForm,
     /// Where it can shade: its walls are rasterised only there.
     scissor: vk::Rect2D,
+}
+
+/// How a volume reaches the GPU.
+enum VolumeForm {
+    /// Its indices chosen on the CPU into its light's and caster's index buffer (Doom 3 BFG),
+    /// over doubled vertices (the mesh's, or a skinned caster's posed copy in the same
+    /// buffers) that the vertex shader extrudes as `push` says: what to draw, and how many
+    /// counts each of its fragments adds.
+    Indexed { ranges: Vec<IndexRange>, push: VolumePush },
+    /// Extruded in the vertex shader from its mesh's tables.
+    Extruded(ExtrudedVolume),
 }
 
 /// The buffers one caster's volume for one light is written into, frame after frame: made once,
@@ -174,6 +186,11 @@ pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetu
         ShadowMode::Modulate => (0..scene.lights.len()).map(|i| i == primary).collect(),
     };
     let reports = casters.iter().map(|c| CasterReport::new(scene, c, capacity)).collect();
+    let doubled = DoubledVertices::upload(ctx.gpu, scene, &casters)?;
+    let shadow_meshes = match options.shadow_volume.extrusion {
+        VolumeExtrusion::Shader => Some(ShadowMeshes::upload(ctx.gpu, scene, &casters, &mut warnings)?),
+        VolumeExtrusion::Indices => None,
+    };
     Ok(ShadowVolumePasses {
         gpu: ctx.gpu.clone(),
         requested,
@@ -181,6 +198,8 @@ pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetu
         casters,
         warnings,
         meshes: GpuScene::upload(ctx.gpu, scene)?,
+        shadow_meshes,
+        doubled,
         counter_input,
         saturation_counter,
         stencil: ctx.options.stencil,
@@ -219,6 +238,10 @@ pub struct ShadowVolumePasses {
     /// Casting objects that cast nothing, and why.
     warnings: Vec<String>,
     meshes: GpuScene,
+    /// The casters' tables, with `--volume-extrusion shader`.
+    shadow_meshes: Option<ShadowMeshes>,
+    /// The rigid casters' doubled vertices, which every volume with CPU-chosen indices draws.
+    doubled: DoubledVertices,
     /// The colour target as an input attachment (emulated: the probe and `subpass`), and the
     /// saturation counter at binding 1 when the subpass apply counts.
     counter_input: Option<DescriptorSet>,
@@ -252,6 +275,7 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
     fn set(&self, set: VolumeSet) -> Option<&DescriptorSet> {
         match set {
             VolumeSet::CounterInput => self.counter_input.as_ref(),
+            VolumeSet::ShadowMeshes => self.shadow_meshes.as_ref().map(ShadowMeshes::set),
         }
     }
 
@@ -272,7 +296,7 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
     fn draw(
         &self,
         rec: &mut FrameRecorder,
-        scene: &Scene,
+        _scene: &Scene,
         draw: VolumeDraw,
         _pass: &PlannedPass<VolumeKinds>,
         pipelines: &[&Pipeline],
@@ -296,19 +320,30 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
             if index > 0 {
                 rec.bind(pipeline);
             }
+            // Each pipeline draws the volumes of its form: the CPU form's pipeline those built
+            // on the CPU, its GPU-extruded twin (next in the pass) the others.
+            if is_extruded(&pipeline.desc) {
+                let Some(shadow_meshes) = &self.shadow_meshes else { continue };
+                shadow_meshes.bind(rec, pipeline);
+                for volume in volumes {
+                    if let VolumeForm::Extruded(extruded) = &volume.form {
+                        rec.set_scissor(volume.scissor);
+                        shadow_meshes.draw(rec, pipeline, extruded, alpha);
+                    }
+                }
+                continue;
+            }
             for volume in volumes {
-                let slot = buffers.get(volume.caster);
-                let Some((vertices, indices)) =
-                    slot.and_then(|b| Some((b.vertices.filled()?.0, b.indices.filled()?.0)))
-                else {
-                    continue;
+                let VolumeForm::Indexed { ranges, push } = &volume.form else { continue };
+                let Some(slot) = buffers.get(volume.caster) else { continue };
+                let vertices = match self.doubled.of_caster(volume.caster) {
+                    Some(rigid) => Some(rigid),
+                    None => slot.vertices.filled().map(|(buffer, _)| buffer),
                 };
+                let Some((vertices, (indices, _))) = vertices.zip(slot.indices.filled()) else { continue };
                 rec.set_scissor(volume.scissor);
-                for range in &volume.ranges {
-                    let push = ObjectPush {
-                        model: scene.objects[self.casters[volume.caster].object].transform,
-                        colour: Vec4::new(0.0, 0.0, 0.0, alpha * range.times as f32),
-                    };
+                for range in ranges {
+                    let push = VolumePush { colour: Vec4::new(0.0, 0.0, 0.0, alpha * range.times as f32), ..*push };
                     rec.push(pipeline, &push);
                     rec.draw_indexed_range(vertices, indices, range.first, range.count);
                 }
@@ -343,7 +378,7 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
                 (Culling::none(self.casters.len()), false)
             };
             self.stats.culling_cpu_ms += culled.cpu_ms;
-            let mut reused = 0;
+            let (mut reused, mut extruded) = (0, 0);
             let volumes = if shadows {
                 let lit = LitBy { light, rect: &light_rect, culled: &culled, boxes: &boxes };
                 let counting = Counting { zfail: self.stats.zfail, stencil: self.stencil };
@@ -355,7 +390,14 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
                 if buffers.len() < self.casters.len() {
                     buffers.resize_with(self.casters.len(), VolumeBuffers::new);
                 }
-                let uploads = Uploads { gpu: &self.gpu, buffers, reused: &mut reused, scratch: &mut self.scratch };
+                let uploads = Uploads {
+                    gpu: &self.gpu,
+                    buffers,
+                    reused: &mut reused,
+                    extruded: &mut extruded,
+                    scratch: &mut self.scratch,
+                    shadow_meshes: self.shadow_meshes.as_ref(),
+                };
                 upload_volumes(uploads, scene, &self.casters, counting, self.requested, extent, lit)?
             } else {
                 Vec::new()
@@ -371,6 +413,7 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
                 shadows,
                 volumes: volumes.len(),
                 reused,
+                extruded,
                 culled: culled.count(),
                 culling_reused,
                 volume_fill: None,
@@ -465,7 +508,11 @@ struct Uploads<'a> {
     buffers: &'a mut [VolumeBuffers],
     /// Counts the volumes whose buffers already held them.
     reused: &'a mut usize,
+    /// Counts the volumes extruded on the GPU.
+    extruded: &'a mut usize,
     scratch: &'a mut Scratch,
+    /// The casters' tables, where volumes are extruded on the GPU.
+    shadow_meshes: Option<&'a ShadowMeshes>,
 }
 
 fn upload_volumes(
@@ -519,19 +566,36 @@ fn upload_volumes(
             }
             _ => (Reach::Infinite, whole_frame),
         };
+        // Extruded on the GPU where the caster's mesh has tables: nothing to build.
+        let caps = counting.zfail || matches!(caster.mesh.path, CastPath::TwoSided { .. });
+        let stencil = counting.stencil == StencilMode::Reference;
+        let in_object_space = light_in_object_space(&geometry, &object.transform);
+        if let Some(extruded) = uploads
+            .shadow_meshes
+            .and_then(|meshes| meshes.volume(index, object.transform, in_object_space, reach, caps, stencil))
+        {
+            *uploads.extruded += 1;
+            volumes.push(GpuVolume { caster: index, form: VolumeForm::Extruded(extruded), scissor });
+            continue;
+        }
         let Some(slot) = uploads.buffers.get_mut(index) else { continue };
         // A volume is a function of the light, its reach and the caster's transform (and pose):
         // where none of them moved, its buffers still hold it (Doom 3's static shadows).
         let key = VolumeKey { light: geometry, reach, transform: object.transform };
+        let push = VolumePush::new(object.transform, in_object_space, reach);
+        let skinned = object.skin.is_some();
         let ranges = match &slot.built {
-            Some(built) if object.skin.is_none() && built.key == key => {
+            Some(built) if !skinned && built.key == key => {
                 *uploads.reused += 1;
                 built.ranges.clone()
             }
             _ => {
                 let ranges = volume_for(scene, caster, key, counting, uploads.scratch);
-                // The previous frame has finished (frames wait for their fence): its buffers are free.
-                slot.vertices.fill(uploads.gpu, &uploads.scratch.volume.volume.vertices)?;
+                // The previous frame in this slot has finished (frames wait for their
+                // fence): its buffers are free. A rigid caster's vertices are its mesh's.
+                if skinned {
+                    slot.vertices.fill(uploads.gpu, &uploads.scratch.volume.doubled)?;
+                }
                 slot.indices.fill(uploads.gpu, &uploads.scratch.indices)?;
                 slot.built = Some(BuiltVolume { key, ranges: ranges.clone() });
                 ranges
@@ -540,7 +604,7 @@ fn upload_volumes(
         if ranges.iter().all(|r| r.count == 0) {
             continue;
         }
-        volumes.push(GpuVolume { caster: index, ranges, scissor });
+        volumes.push(GpuVolume { caster: index, form: VolumeForm::Indexed { ranges, push }, scissor });
     }
     Ok(volumes)
 }
@@ -574,6 +638,7 @@ fn volume_for(
     // z-fail, and for two-sided casters in z-pass too: a ray may pass one of their
     // triangles that the scene pass culled (seen from behind, as through the hole of an
     // open box), so the caster itself does not hide its near cap.
+    scratch.volume.volume.indices_only = true;
     build_volume_into(scene, caster, &key.light, key.reach, true, &mut scratch.volume);
     let (volume, indices) = (&scratch.volume.volume, &mut scratch.indices);
     indices.clear();

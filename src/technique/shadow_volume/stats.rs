@@ -60,6 +60,9 @@ pub struct LightReport {
     /// Of those, the volumes drawn from the previous frames' buffers: neither the light nor the
     /// caster moved, so they were not built again (an unposed caster's only).
     pub reused: usize,
+    /// Of those, the volumes extruded in the vertex shader from tables built at load
+    /// (`--volume-extrusion gpu`): nothing built on the CPU.
+    pub extruded: usize,
     /// Casters left out because they lie wholly in the shadow of other casters
     /// (`--cull-casters`).
     pub culled: usize,
@@ -122,8 +125,9 @@ impl FrameStats for ShadowVolumeStats {
             let shadows = if light.shadows {
                 let fill = light.volume_fill.map_or("not measured".into(), |f| format!("{f:.2}"));
                 format!(
-                    "{} volumes ({} reused from earlier frames), {} casters culled{} | volume fill {fill} fragments/px, {:.2} samples passed/px{}",
+                    "{} volumes ({} extruded on the GPU, {} reused from earlier frames), {} casters culled{} | volume fill {fill} fragments/px, {:.2} samples passed/px{}",
                     light.volumes,
+                    light.extruded,
                     light.reused,
                     light.culled,
                     if light.culling_reused { " (decided on an earlier frame)" } else { "" },
