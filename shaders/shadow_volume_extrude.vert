@@ -1,8 +1,9 @@
 #version 450
 // A shadow volume extruded here from its caster's tables, built once at load
 // (src/mesh/shadow_mesh.rs, whose header says how): each index names one vertex of one
-// candidate triangle; the triangles the CPU builders would make for this light survive, vertex
-// for vertex and in their winding, and the others collapse off screen. Facing and extrusion
+// candidate triangle, wound here by the sign of its multiplicity; the triangles the CPU
+// builders would make for this light survive, vertex for vertex and in their winding, and the
+// others collapse off screen. Facing and extrusion
 // are computed exactly as the CPU computes them (`precise`: no fused multiply-add), so the
 // volumes are the CPU's to the bit.
 #include "frame_uniforms.glsl"
@@ -50,15 +51,14 @@ int casting(uint face) {
 void main() {
     uint code = uint(gl_VertexIndex);
     uint role = code & 3u;
-    int wanted = (code & 4u) != 0u ? -1 : 1;
-    uint end = (code >> 4) & 3u;
+    uint slot = (code >> 4) & 3u;
     uint id = code >> 6;
     int m = 0;
     uint vertex;
     if ((code & 8u) != 0u) {
-        // A wall: the edge's multiplicity over every face that has it.
+        // A wall: the edge's multiplicity over every face that has it; its ends in the order
+        // the casting faces run it on balance (swapped where m < 0).
         uint at = word(1u) + 4u * id;
-        vertex = word(at + end);
         uint first = word(2u) + word(at + 2u);
         uint count = word(at + 3u);
         for (uint i = 0u; i < count; i++) {
@@ -66,15 +66,16 @@ void main() {
             int c = casting(entry >> 1);
             m += (entry & 1u) != 0u ? c : -c;
         }
+        vertex = word(at + (m < 0 ? 1u - slot : slot));
     } else {
-        // A cap: its face, if it casts in this winding.
+        // A cap: its face, cast flipped (corners 1 and 2 swapped) where it faces away.
         uint at = word(0u) + 6u * id;
-        vertex = word(at + end);
         m = casting(id);
+        vertex = word(at + (m < 0 && slot != 0u ? 3u - slot : slot));
     }
     uint times = uint(abs(m));
     bool instanced = (object.flags & 1u) != 0u;
-    if (m * wanted <= 0 || (instanced && uint(gl_InstanceIndex) >= times)) {
+    if (m == 0 || (instanced && uint(gl_InstanceIndex) >= times)) {
         // Not drawn: every vertex of the triangle lands here, outside the clip volume.
         weight = 0.0;
         gl_Position = vec4(2.0, 2.0, 2.0, 1.0);

@@ -5,18 +5,19 @@
 //!
 //! Every index of the static index buffer names one vertex of one candidate triangle: a corner
 //! of a face (near cap, far cap) or an end of an edge (wall, and the far cap's fan triangle of
-//! a bounded volume), in each of its two windings. The shader works out, from the face normals
-//! and the light in object space, what the CPU builders (`shadow_volume`, `two_sided_volume`)
-//! decide per frame: which faces cast (`cast`: +1 facing the light, 0 or -1 facing away,
-//! silhouette and two-sided paths), each edge's multiplicity `m` (the sum over its faces of
-//! `cast` times +1 or -1 as the face runs it), and from them which winding of each candidate is
-//! drawn (`m` of its sign) and how many counts it adds (`|m|`). The other winding, and every
-//! candidate with `m = 0`, collapses off screen. The triangles that survive are the CPU
-//! builders' own, vertex for vertex and in the same winding, so the images are the same bytes.
+//! a bounded volume). The shader works out, from the face normals and the light in object
+//! space, what the CPU builders (`shadow_volume`, `two_sided_volume`) decide per frame: which
+//! faces cast (`cast`: +1 facing the light, 0 or -1 facing away, silhouette and two-sided
+//! paths), each edge's multiplicity `m` (the sum over its faces of `cast` times +1 or -1 as the
+//! face runs it), and from them each candidate's winding (the sign of `m`: the shader swaps the
+//! ends of a wall, or a face's last two corners) and how many counts it adds (`|m|`). Every
+//! candidate with `m = 0` collapses off screen. The triangles that survive are the CPU builders'
+//! own, vertex for vertex and in the same winding, so the images are the same bytes.
 //!
-//! Index code (must match the shader): `id << 6 | end << 4 | wall << 3 | reversed << 2 | role`,
-//! role 0 the point itself, 1 its far image, 2 the far image of the mesh's centroid (a fan's
-//! apex); `end` is a face's corner (0..=2) or an edge's end (0: `v[0]`, 1: `v[1]`).
+//! Index code (must match the shader): `id << 6 | slot << 4 | wall << 3 | role`, role 0 the
+//! point itself, 1 its far image, 2 the far image of the mesh's centroid (a fan's apex); `slot`
+//! is a face's corner (0..=2, corners 1 and 2 swapped for a face cast flipped) or a wall's end
+//! (0: `a`, 1: `b`, the edge's `v[0]` and `v[1]` where `m > 0`, swapped where `m < 0`).
 
 use std::ops::Range;
 
@@ -33,7 +34,6 @@ const MAX_ID: usize = 1 << 26;
 const ROLE_NEAR: u32 = 0;
 const ROLE_FAR: u32 = 1;
 const ROLE_APEX: u32 = 2;
-const REVERSED: u32 = 1 << 2;
 const WALL: u32 = 1 << 3;
 
 /// A caster mesh's tables and candidate triangles, built once.
@@ -94,35 +94,29 @@ impl ShadowMesh {
         }
         words.extend_from_slice(&incidences.entries);
 
-        let mut indices = Vec::with_capacity(18 * edges + 12 * faces);
-        let code = |id: usize, end: u32, flags: u32| ((id as u32) << 6) | (end << 4) | flags;
+        let mut indices = Vec::with_capacity(9 * edges + 6 * faces);
+        let code = |id: usize, slot: u32, flags: u32| ((id as u32) << 6) | (slot << 4) | flags;
+        // The wall runs b -> a (`shadow_volume::Extrusion::push_wall`).
+        const A: u32 = 0;
+        const B: u32 = 1;
         for edge in 0..edges {
-            // (a, b) as the casting faces run the edge on balance: v[0] -> v[1] for m > 0; the
-            // wall runs b -> a (`shadow_volume::Extrusion::push_wall`).
-            for (reversed, [a, b]) in [(0, [0, 1]), (REVERSED, [1, 0])] {
-                let at = |end, role| code(edge, end, WALL | reversed | role);
-                let (a_far, b_far) = (at(a, ROLE_FAR), at(b, ROLE_FAR));
-                indices.extend_from_slice(&[at(b, ROLE_NEAR), at(a, ROLE_NEAR), a_far, at(b, ROLE_NEAR), a_far, b_far]);
-            }
+            let at = |slot, role| code(edge, slot, WALL | role);
+            let (a_far, b_far) = (at(A, ROLE_FAR), at(B, ROLE_FAR));
+            indices.extend_from_slice(&[at(B, ROLE_NEAR), at(A, ROLE_NEAR), a_far, at(B, ROLE_NEAR), a_far, b_far]);
         }
         let walls = 0..indices.len() as u32;
         for edge in 0..edges {
-            for (reversed, [a, b]) in [(0, [0, 1]), (REVERSED, [1, 0])] {
-                let at = |end, role| code(edge, end, WALL | reversed | role);
-                indices.extend_from_slice(&[at(b, ROLE_FAR), at(a, ROLE_FAR), at(0, ROLE_APEX)]);
-            }
+            let at = |slot, role| code(edge, slot, WALL | role);
+            indices.extend_from_slice(&[at(B, ROLE_FAR), at(A, ROLE_FAR), at(A, ROLE_APEX)]);
         }
         let fans = walls.end..indices.len() as u32;
-        // A face seen from behind keeps its first corner and swaps the other two
-        // (`two_sided_volume`); its far cap is the face at infinity, reversed.
+        // The far cap is the face at the far end, reversed.
         for face in 0..faces {
             indices.extend_from_slice(&[0, 1, 2].map(|corner| code(face, corner, ROLE_NEAR)));
-            indices.extend_from_slice(&[0, 2, 1].map(|corner| code(face, corner, REVERSED | ROLE_NEAR)));
         }
         let near_caps = fans.end..indices.len() as u32;
         for face in 0..faces {
             indices.extend_from_slice(&[0, 2, 1].map(|corner| code(face, corner, ROLE_FAR)));
-            indices.extend_from_slice(&[0, 1, 2].map(|corner| code(face, corner, REVERSED | ROLE_FAR)));
         }
         let far_caps = near_caps.end..indices.len() as u32;
         let max_multiplicity = incidences.first.iter().map(|r| r.end - r.start).max().unwrap_or(0);
@@ -184,12 +178,12 @@ mod tests {
     }
 
     #[test]
-    fn a_cube_has_two_windings_of_every_candidate() -> Result<()> {
+    fn a_cube_has_one_candidate_of_each_kind_per_face_and_edge() -> Result<()> {
         let mesh = cube()?;
-        // 12 faces, 18 edges; each candidate in two windings.
-        assert_eq!(mesh.walls.len(), 18 * 12);
-        assert_eq!(mesh.fans.len(), 18 * 6);
-        assert_eq!((mesh.near_caps.len(), mesh.far_caps.len()), (12 * 6, 12 * 6));
+        // 12 faces, 18 edges.
+        assert_eq!(mesh.walls.len(), 18 * 6);
+        assert_eq!(mesh.fans.len(), 18 * 3);
+        assert_eq!((mesh.near_caps.len(), mesh.far_caps.len()), (12 * 3, 12 * 3));
         assert_eq!(mesh.max_multiplicity, 2);
         // Header, 8 positions, 12 faces, 18 edges, 36 incidences.
         assert_eq!(mesh.words.len(), 8 + 3 * 8 + 6 * 12 + 4 * 18 + 36);
