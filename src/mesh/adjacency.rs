@@ -153,6 +153,15 @@ impl EdgeAdjacency {
         })
     }
 
+    /// The index in `edges` of the edge between vertices `from` and `to` (either way round).
+    pub fn edge_between(&self, from: u32, to: u32) -> Result<usize> {
+        let key = [from.min(to), from.max(to)];
+        self.edges.binary_search_by(|e| e.v.cmp(&key)).map_err(|_| Error::Mesh {
+            mesh: self.mesh_name.clone(),
+            problem: format!("edge {from}-{to} is missing from its edge list"),
+        })
+    }
+
     pub fn face_count(&self) -> usize {
         self.indices.len() / 3
     }

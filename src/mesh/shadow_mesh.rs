@@ -139,11 +139,7 @@ fn incidences(adjacency: &EdgeAdjacency) -> Result<Incidences> {
     for t in adjacency.indices.chunks_exact(3) {
         for k in 0..3 {
             let (from, to) = (t[k], t[(k + 1) % 3]);
-            let key = [from.min(to), from.max(to)];
-            let edge = adjacency.edges.binary_search_by(|e| e.v.cmp(&key)).map_err(|_| Error::Mesh {
-                mesh: adjacency.mesh_name.clone(),
-                problem: format!("edge {from}-{to} is missing from its edge list"),
-            })?;
+            let edge = adjacency.edge_between(from, to)?;
             counts[edge] += 1;
             corner_edges.push((edge, from < to));
         }

@@ -52,11 +52,7 @@ impl CornerEdges {
         for t in adjacency.indices.chunks_exact(3) {
             for k in 0..3 {
                 let (from, to) = (t[k], t[(k + 1) % 3]);
-                let key = [from.min(to), from.max(to)];
-                let edge = adjacency.edges.binary_search_by(|e| e.v.cmp(&key)).map_err(|_| Error::Mesh {
-                    mesh: adjacency.mesh_name.clone(),
-                    problem: format!("edge {from}-{to} is missing from its edge list"),
-                })?;
+                let edge = adjacency.edge_between(from, to)?;
                 packed.push(((edge as u32) << 1) | u32::from(from < to));
             }
         }

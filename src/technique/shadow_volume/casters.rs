@@ -31,6 +31,38 @@ pub fn prepare_casters(scene: &Scene) -> (Vec<Caster>, Vec<String>) {
     (casters, warnings)
 }
 
+/// One `T` per scene mesh that a rigid (unskinned) caster uses, made by `make` for the first
+/// such caster (`None`: that mesh gets none), and per caster the index of its mesh's `T`
+/// (`None` for a skinned caster, or a mesh that got none): what is uploaded once per mesh.
+pub(super) fn per_rigid_mesh<T>(
+    scene: &Scene,
+    casters: &[Caster],
+    mut make: impl FnMut(&Caster) -> crate::error::Result<Option<T>>,
+) -> crate::error::Result<(Vec<T>, Vec<Option<usize>>)> {
+    let (mut made, mut of_caster) = (Vec::new(), Vec::with_capacity(casters.len()));
+    let mut of_scene_mesh: std::collections::HashMap<usize, Option<usize>> = std::collections::HashMap::new();
+    for caster in casters {
+        let object = &scene.objects[caster.object];
+        if object.skin.is_some() {
+            of_caster.push(None);
+            continue;
+        }
+        let index = match of_scene_mesh.get(&object.mesh) {
+            Some(&index) => index,
+            None => {
+                let index = make(caster)?.map(|value| {
+                    made.push(value);
+                    made.len() - 1
+                });
+                of_scene_mesh.insert(object.mesh, index);
+                index
+            }
+        };
+        of_caster.push(index);
+    }
+    Ok((made, of_caster))
+}
+
 /// The light in an object's own space (volumes are built there and transformed like the mesh).
 pub(super) fn light_in_object_space(light: &Light, model: &Mat4) -> mesh::Light {
     let inverse = model.inverse();

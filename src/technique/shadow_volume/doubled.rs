@@ -3,12 +3,11 @@
 //! Uploaded once per mesh at build, so that a frame whose light or caster moved writes only
 //! the indices the CPU chose (skinned casters upload their posed copy with them).
 
-use std::collections::HashMap;
 use std::sync::Arc;
 
 use ash::vk;
 
-use super::casters::Caster;
+use super::casters::{per_rigid_mesh, Caster};
 use crate::error::Result;
 use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
@@ -24,26 +23,13 @@ pub struct DoubledVertices {
 
 impl DoubledVertices {
     pub fn upload(gpu: &Arc<Gpu>, scene: &Scene, casters: &[Caster]) -> Result<Self> {
-        let (mut buffers, mut of_caster) = (Vec::new(), Vec::with_capacity(casters.len()));
-        let mut of_scene_mesh: HashMap<usize, usize> = HashMap::new();
         let mut doubled = Vec::new();
-        for caster in casters {
-            let object = &scene.objects[caster.object];
-            if object.skin.is_some() {
-                of_caster.push(None);
-                continue;
-            }
-            if let Some(&buffer) = of_scene_mesh.get(&object.mesh) {
-                of_caster.push(Some(buffer));
-                continue;
-            }
+        let (buffers, of_caster) = per_rigid_mesh(scene, casters, |caster| {
             let positions = &caster.mesh.welded.positions[..caster.mesh.adjacency.vertex_count];
             doubled_vertices(positions, &mut doubled);
-            let name = format!("shadow volume vertices ({})", scene.meshes[object.mesh].name);
-            buffers.push(Buffer::device_local(gpu, &name, &doubled, vk::BufferUsageFlags::VERTEX_BUFFER)?);
-            of_scene_mesh.insert(object.mesh, buffers.len() - 1);
-            of_caster.push(Some(buffers.len() - 1));
-        }
+            let name = format!("shadow volume vertices ({})", scene.meshes[scene.objects[caster.object].mesh].name);
+            Buffer::device_local(gpu, &name, &doubled, vk::BufferUsageFlags::VERTEX_BUFFER).map(Some)
+        })?;
         Ok(DoubledVertices { buffers, of_caster })
     }
 

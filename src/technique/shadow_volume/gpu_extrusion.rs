@@ -7,15 +7,14 @@
 //! Skinned casters (posed on the CPU, which the near caps must match), casters whose transform
 //! mirrors (their windings would turn) and meshes too large for the tables keep the CPU form.
 
-use std::collections::HashMap;
 use std::ops::Range;
 use std::sync::Arc;
 
 use ash::vk;
 use glam::{Mat4, Vec4};
 
-use super::casters::Caster;
-use crate::error::Result;
+use super::casters::{per_rigid_mesh, Caster};
+use crate::error::{Error, Result};
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
@@ -115,58 +114,43 @@ impl ShadowMeshes {
     pub fn upload(gpu: &Arc<Gpu>, scene: &Scene, casters: &[Caster], warnings: &mut Vec<String>) -> Result<Self> {
         let range = PROFILE_STORAGE_RANGE.min(u64::from(gpu.device.info.limits.max_storage_buffer_range));
         let mut words: Vec<u32> = Vec::new();
-        let mut meshes = Vec::new();
-        let mut of_scene_mesh: HashMap<usize, Option<usize>> = HashMap::new();
-        let mut of_caster = Vec::with_capacity(casters.len());
-        for caster in casters {
+        let (meshes, of_caster) = per_rigid_mesh(scene, casters, |caster| {
             let object = &scene.objects[caster.object];
-            if object.skin.is_some() {
-                of_caster.push(None);
-                continue;
-            }
-            if let Some(&uploaded) = of_scene_mesh.get(&object.mesh) {
-                of_caster.push(uploaded);
-                continue;
-            }
             let two_sided = matches!(caster.mesh.path, CastPath::TwoSided { .. });
             let built = ShadowMesh::build(&caster.mesh.adjacency, &caster.mesh.welded.positions, two_sided)
                 .and_then(|mesh| {
                     let bytes = 4 * (words.len() + mesh.words.len()) as u64;
                     if bytes > range {
-                        return Err(crate::error::Error::InvalidInput(format!(
+                        return Err(Error::InvalidInput(format!(
                             "the shadow-mesh tables would need {bytes} bytes, past the {range} a storage buffer holds"
                         )));
                     }
                     Ok(mesh)
                 });
-            let uploaded = match built {
-                Ok(mesh) => {
-                    let first_word = words.len() as u32;
-                    words.extend_from_slice(&mesh.words);
-                    let name = format!("shadow mesh indices ({})", scene.meshes[object.mesh].name);
-                    let indices = Buffer::device_local(gpu, &name, &mesh.indices, vk::BufferUsageFlags::INDEX_BUFFER)?;
-                    meshes.push(UploadedMesh {
-                        first_word,
-                        indices,
-                        walls: mesh.walls,
-                        fans: mesh.fans,
-                        near_caps: mesh.near_caps,
-                        far_caps: mesh.far_caps,
-                        copies: if two_sided { mesh.max_multiplicity.max(1) } else { 1 },
-                    });
-                    Some(meshes.len() - 1)
-                }
+            let mesh = match built {
+                Ok(mesh) => mesh,
                 Err(e) => {
                     warnings.push(format!(
                         "{} (object '{}'): its volume is extruded on the CPU: {e}",
                         scene.meshes[object.mesh].name, object.name
                     ));
-                    None
+                    return Ok(None);
                 }
             };
-            of_scene_mesh.insert(object.mesh, uploaded);
-            of_caster.push(uploaded);
-        }
+            let first_word = words.len() as u32;
+            words.extend_from_slice(&mesh.words);
+            let name = format!("shadow mesh indices ({})", scene.meshes[object.mesh].name);
+            let indices = Buffer::device_local(gpu, &name, &mesh.indices, vk::BufferUsageFlags::INDEX_BUFFER)?;
+            Ok(Some(UploadedMesh {
+                first_word,
+                indices,
+                walls: mesh.walls,
+                fans: mesh.fans,
+                near_caps: mesh.near_caps,
+                far_caps: mesh.far_caps,
+                copies: if two_sided { mesh.max_multiplicity.max(1) } else { 1 },
+            }))
+        })?;
         if words.is_empty() {
             words.push(0);
         }
