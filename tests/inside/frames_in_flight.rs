@@ -1,7 +1,7 @@
 //! Frames in flight: a renderer that submits frames without waiting for the one before draws
 //! the same frames, to the byte, as one that waits for each, over the viewer's animation (the
 //! walk re-posed, the casters turning): each frame's posed vertices, volumes, joint palettes,
-//! blob quads and uniforms are written into its own slot's copies. Its results come back as many frames late as it keeps
+//! blob quads, shadow-map light uniforms and uniforms are written into its own slot's copies. Its results come back as many frames late as it keeps
 //! in flight.
 
 use crate::common::{self, technique};
@@ -34,6 +34,7 @@ fn frames_in_flight_draw_every_frame_as_one_at_a_time_does_results_in_flight_fra
             "toon",
             "outline",
             "outline blur",
+            "shadow-map",
         ];
         for name in names {
             let mut options = RenderOptions {
@@ -90,7 +91,7 @@ fn frames_in_flight_draw_every_frame_as_one_at_a_time_does_results_in_flight_fra
         width: SIZE.0,
         height: SIZE.1,
         frames_in_flight: 3,
-        technique: technique("shadow-map"),
+        technique: technique("projective-texture"),
         ..Default::default()
     };
     let mut renderer = options.technique.build(&gpu, &base, &options).expect("renderer");

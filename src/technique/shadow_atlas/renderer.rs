@@ -26,13 +26,14 @@ use crate::gpu::texture::Sampler;
 use crate::gpu::Gpu;
 use crate::render::object_push::draw_order;
 use crate::render::passes::Passes;
+use crate::render::per_slot::slot_copy;
 use crate::render::plan::{MaterialVariant, PlannedPass, When};
 use crate::render::Pipeline;
 use crate::render::{
     object_push, scene_vertices, FrameOutput, FrameRecorder, GpuMaterials, GpuMesh, LightPush, ObjectPush, Renderer,
 };
 use crate::scene::objects::SceneMesh;
-use crate::scene::{Light, PoseTracker, Scene};
+use crate::scene::{Light, Scene, SlotPoses};
 use crate::technique::frame_renderer::{self, FrameRenderer};
 use crate::technique::interface::{FrameStats, RenderOptions};
 use crate::technique::options::{LightMode, ShadowAtlasOptions, ShadowKind};
@@ -71,24 +72,30 @@ pub struct ShadowPasses {
     bounds: Vec<Sphere>,
     /// Per scene light: its map layer, or why it has none.
     coverage: Vec<Coverage>,
-    // Field order is drop order: the set and framebuffers before the views and map they
+    // Field order is drop order: the sets and framebuffers before the views and map they
     // point at.
-    light_set: DescriptorSet,
-    light_buffer: Buffer,
+    /// Per frame slot, the lights' uniforms and the set that binds them with the map: a frame
+    /// writes its slot's while the one before may still read its own.
+    lights: Vec<LightSlot>,
     /// One per layer of the map array.
     map_framebuffers: Vec<Framebuffer>,
     _map_layers: Vec<ImageView>,
     map_pass: RenderPass,
-    _compare: Sampler,
-    _map: Image,
+    compare: Sampler,
+    map: Image,
     meshes: Vec<GpuMesh>,
     materials: GpuMaterials,
     layouts: Vec<PosedLayout>,
-    /// The pose the skinned objects' atlas vertices hold.
-    posed: PoseTracker,
+    /// The pose each slot's copy of the skinned objects' atlas vertices holds.
+    posed: SlotPoses,
+    /// The frame slot `prepare` wrote last: the copies this frame's draws read.
+    slot: usize,
     atlases: Vec<AtlasInfo>,
     /// Frames rendered, the current one not included until its statistics are taken.
     frames: u32,
+    /// Frames prepared: which one this is (the moving light's clock; with frames in flight
+    /// their statistics come later).
+    prepared: u32,
     cache: Option<CacheKey>,
     /// This frame's light and cache key, whether the cached passes run, and the objects whose
     /// shadow textures they re-bake (ascending).
@@ -141,9 +148,15 @@ fn mesh_layouts(
         .collect()
 }
 
+/// One frame slot's light uniforms (the set first: it is dropped before the buffer it names).
+struct LightSlot {
+    set: DescriptorSet,
+    buffer: Buffer,
+}
+
 /// The shadow light's uniform buffer, and the set that binds it with the shadow `map` read
 /// through the depth-compare sampler `compare`.
-fn light_uniforms(gpu: &Arc<Gpu>, map: &Image, compare: &Sampler) -> Result<(Buffer, DescriptorSet)> {
+fn light_uniforms(gpu: &Arc<Gpu>, map: &Image, compare: &Sampler) -> Result<LightSlot> {
     let light_size = std::mem::size_of::<ShadowLightUniforms>() as u64;
     let light_buffer =
         Buffer::new(gpu, "shadow light", light_size, vk::BufferUsageFlags::UNIFORM_BUFFER, MemoryLocation::CpuToGpu)?;
@@ -163,7 +176,7 @@ fn light_uniforms(gpu: &Arc<Gpu>, map: &Image, compare: &Sampler) -> Result<(Buf
             },
         ],
     )?;
-    Ok((light_buffer, light_set))
+    Ok(LightSlot { set: light_set, buffer: light_buffer })
 }
 
 impl ShadowPasses {
@@ -223,7 +236,7 @@ impl ShadowPasses {
             .map(|view| Framebuffer::new(gpu, &map_pass, view.raw, map_extent))
             .collect::<Result<Vec<_>>>()?;
         let compare = Sampler::depth_compare(gpu)?;
-        let (light_buffer, light_set) = light_uniforms(gpu, &map, &compare)?;
+        let lights = vec![light_uniforms(gpu, &map, &compare)?];
         let atlas = match kind {
             ShadowKind::Projective => Some(AtlasTargets::new(gpu, scene, &layouts)?),
             ShadowKind::Map | ShadowKind::Atlas => None,
@@ -241,19 +254,20 @@ impl ShadowPasses {
             page,
             bounds,
             coverage,
-            light_set,
-            light_buffer,
+            lights,
             map_framebuffers,
             _map_layers: map_layers,
             map_pass,
-            _compare: compare,
-            _map: map,
+            compare,
+            map,
             meshes,
             materials,
             layouts: posed_layouts,
-            posed: PoseTracker::new(scene),
+            posed: SlotPoses::new(scene),
+            slot: 0,
             atlases,
             frames: 0,
+            prepared: 0,
             cache: None,
             light: scene.light(),
             key: None,
@@ -284,10 +298,11 @@ impl ShadowPasses {
         &self.gpu
     }
 
-    /// Skinned objects whose palette changed (`Scene::pose_at`) get their atlas vertices
-    /// re-posed on the CPU and uploaded again (the atlas layout stays).
-    fn follow_pose(&mut self, scene: &Scene) -> Result<()> {
-        for index in self.posed.changed(scene) {
+    /// Skinned objects whose palette changed (`Scene::pose_at`) since slot `slot`'s copy was
+    /// posed get their atlas vertices re-posed on the CPU and uploaded into it (the atlas
+    /// layout stays).
+    fn follow_pose(&mut self, scene: &Scene, slot: usize) -> Result<()> {
+        for index in self.posed.changed(scene, slot) {
             let object = &scene.objects[index];
             let (Some(skin), Some(mesh), Some(layout)) =
                 (&object.skin, self.meshes.get_mut(object.mesh), self.layouts.get(object.mesh))
@@ -300,8 +315,7 @@ impl ShadowPasses {
             };
             let interleaved =
                 atlas_vertices(&pick(&positions, Vec3::ZERO), &pick(&normals, Vec3::Y), &layout.uvs, &layout.surface);
-            // One frame at a time (not `writes_per_slot`): slot 0's copy.
-            mesh.write_posed(&self.gpu, 0, &format!("{} atlas vertices (posed)", object.name), &interleaved)?;
+            mesh.write_posed(&self.gpu, slot, &format!("{} atlas vertices (posed)", object.name), &interleaved)?;
         }
         Ok(())
     }
@@ -332,13 +346,13 @@ impl ShadowPasses {
             .and_then(|layer| self.map_framebuffers.get(layer as usize))
             .ok_or_else(|| Error::Internal(format!("pass '{}': light {light} has no map layer", pass.name)))?;
         self.begin_map_layer(rec, framebuffer);
-        rec.bind_with_sets(opaque, &[self.light_set.set, self.materials.template_set()]);
+        rec.bind_with_sets(opaque, &[self.light_slot().set.set, self.materials.template_set()]);
         let mut bound = opaque;
         for object in scene.objects.iter().filter(|o| o.casts_shadow) {
             let variant = MaterialVariant::for_caster(scene.material_of(object));
             let pipeline = pass.variant(pipelines, opaque, variant);
             if !std::ptr::eq(pipeline, bound) {
-                rec.bind_with_sets(pipeline, &[self.light_set.set]);
+                rec.bind_with_sets(pipeline, &[self.light_slot().set.set]);
                 bound = pipeline;
             }
             if variant.is_some() {
@@ -407,11 +421,17 @@ impl ShadowPasses {
         }
     }
 
+    /// The light uniforms of the frame slot `prepare` wrote last (slot 0's before any).
+    fn light_slot(&self) -> &LightSlot {
+        // Never empty: made with slot 0's.
+        self.lights.get(self.slot).unwrap_or(&self.lights[0])
+    }
+
     /// The sets of the seed 004 roles: the first object's where there is one per object.
     fn own_set(&self, set: AtlasSet) -> Option<&DescriptorSet> {
         let first = || self.atlas.as_ref().and_then(|a| a.objects.first());
         match (set, &self.page) {
-            (AtlasSet::Light, _) => Some(&self.light_set),
+            (AtlasSet::Light, _) => Some(&self.light_slot().set),
             (AtlasSet::ShadowTexture, Some(page)) => page.scene_sets.first(),
             (AtlasSet::ShadowTexture, None) => first().map(|o| &o.scene_set),
             (AtlasSet::RawBake, Some(page)) => Some(&page.raw_set),
@@ -470,12 +490,12 @@ impl Passes<AtlasKinds> for ShadowPasses {
                     scene,
                     &self.meshes,
                     pipeline()?,
-                    self.light_set.set,
+                    self.light_slot().set.set,
                     tiles,
                 )
             }
             AtlasDraw::ProjectiveBake => {
-                self.atlas_targets(pass)?.record_bake(rec, scene, &self.meshes, pipeline()?, self.light_set.set)
+                self.atlas_targets(pass)?.record_bake(rec, scene, &self.meshes, pipeline()?, self.light_slot().set.set)
             }
             AtlasDraw::Page => {
                 let dilate = pipelines
@@ -483,7 +503,7 @@ impl Passes<AtlasKinds> for ShadowPasses {
                     .copied()
                     .ok_or_else(|| Error::Internal(format!("pass '{}' has no dilation pipeline", pass.name)))?;
                 let pipelines = PagePipelines { texels: pipeline()?, dilate };
-                self.atlas_page(pass)?.record_page(rec, pipelines, self.light_set.set, &self.rebake)
+                self.atlas_page(pass)?.record_page(rec, pipelines, self.light_slot().set.set, &self.rebake)
             }
             AtlasDraw::Dilate => self.atlas_targets(pass)?.record_dilate(rec, pipeline()?),
             AtlasDraw::Mips => match &self.page {
@@ -510,9 +530,11 @@ impl Passes<AtlasKinds> for ShadowPasses {
         }
     }
 
-    fn prepare(&mut self, _renderer: &Renderer, scene: &Scene) -> Result<()> {
-        self.follow_pose(scene)?;
-        self.light = light_at(scene, self.options.light, self.frames);
+    fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
+        let slot = renderer.slot();
+        self.follow_pose(scene, slot)?;
+        self.light = light_at(scene, self.options.light, self.prepared);
+        self.prepared += 1;
         let primary = scene.primary_light_index();
         let geometries: Vec<Light> = scene
             .lights
@@ -541,7 +563,6 @@ impl Passes<AtlasKinds> for ShadowPasses {
                 let uniforms = ShadowLightUniforms::fitted(scene, &self.light, &self.coverage, self.options.map_size);
                 key.fitted = bytemuck::bytes_of(&uniforms).to_vec();
                 self.fresh = true;
-                self.light_buffer.write(0, bytemuck::bytes_of(&uniforms))?;
                 if self.page.is_some() {
                     self.rebake = self.stale_tiles(scene, &key, &geometries);
                 }
@@ -550,6 +571,14 @@ impl Passes<AtlasKinds> for ShadowPasses {
                 }
             }
         }
+        // The slot's uniforms are the map's, whichever frame fitted them (a slot's copy may
+        // be from before the last fit).
+        let (gpu, map, compare) = (&self.gpu, &self.map, &self.compare);
+        let light = slot_copy(&mut self.lights, slot, || light_uniforms(gpu, map, compare))?;
+        light.buffer.write(0, &key.fitted)?;
+        self.slot = slot;
+        // The next frame's cache is what this one leaves in the map and textures.
+        self.cache = Some(key.clone());
         self.key = Some(key);
         Ok(())
     }
@@ -570,7 +599,6 @@ impl Passes<AtlasKinds> for ShadowPasses {
     }
 
     fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {
-        self.cache = self.key.take();
         self.frames += 1;
         Box::new(ShadowAtlasStats {
             technique: self.kind,
@@ -582,6 +610,14 @@ impl Passes<AtlasKinds> for ShadowPasses {
             page: self.page.as_ref().map(|page| PageStats::of(page, &self.coverage, self.options.map_size)),
             rebaked_tiles: self.rebake.len(),
         })
+    }
+
+    /// The shadow map keeps several frames in flight: its light uniforms and posed vertices
+    /// are per slot, and the map itself is written and read in queue order (its render pass
+    /// waits for the reads before it). The shadow textures' page and per-model targets are
+    /// written by the CPU too, once: they render one frame at a time.
+    fn writes_per_slot(&self) -> bool {
+        self.kind == ShadowKind::Map
     }
 
     fn frames_to_steady_state(&self) -> u32 {
