@@ -35,6 +35,7 @@ fn frames_in_flight_draw_every_frame_as_one_at_a_time_does_results_in_flight_fra
             "outline",
             "outline blur",
             "shadow-map",
+            "projective-texture",
         ];
         for name in names {
             let mut options = RenderOptions {
@@ -91,7 +92,7 @@ fn frames_in_flight_draw_every_frame_as_one_at_a_time_does_results_in_flight_fra
         width: SIZE.0,
         height: SIZE.1,
         frames_in_flight: 3,
-        technique: technique("projective-texture"),
+        technique: technique("shadow-texture-atlas"),
         ..Default::default()
     };
     let mut renderer = options.technique.build(&gpu, &base, &options).expect("renderer");

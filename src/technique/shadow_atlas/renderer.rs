@@ -612,12 +612,13 @@ impl Passes<AtlasKinds> for ShadowPasses {
         })
     }
 
-    /// The shadow map keeps several frames in flight: its light uniforms and posed vertices
-    /// are per slot, and the map itself is written and read in queue order (its render pass
-    /// waits for the reads before it). The shadow textures' page and per-model targets are
-    /// written by the CPU too, once: they render one frame at a time.
+    /// The shadow map and the projective textures keep several frames in flight: their light
+    /// uniforms and posed vertices are per slot, and the map and the per-model textures are
+    /// written and read in queue order (each render pass waits for the reads before it). The
+    /// atlas page's tile records are written by the CPU once for every frame: it renders one
+    /// frame at a time.
     fn writes_per_slot(&self) -> bool {
-        self.kind == ShadowKind::Map
+        self.page.is_none()
     }
 
     fn frames_to_steady_state(&self) -> u32 {
