@@ -1,7 +1,8 @@
 //! Frames in flight: a renderer that submits frames without waiting for the one before draws
 //! the same frames, to the byte, as one that waits for each, over the viewer's animation (the
 //! walk re-posed, the casters turning): each frame's posed vertices, volumes, joint palettes,
-//! blob quads, shadow-map light uniforms and uniforms are written into its own slot's copies. Its results come back as many frames late as it keeps
+//! blob quads, shadow-map light uniforms, atlas tile records and uniforms are written into its
+//! own slot's copies. Its results come back as many frames late as it keeps
 //! in flight.
 
 use crate::common::{self, technique};
@@ -36,6 +37,7 @@ fn frames_in_flight_draw_every_frame_as_one_at_a_time_does_results_in_flight_fra
             "outline blur",
             "shadow-map",
             "projective-texture",
+            "shadow-texture-atlas",
         ];
         for name in names {
             let mut options = RenderOptions {
@@ -86,13 +88,14 @@ fn frames_in_flight_draw_every_frame_as_one_at_a_time_does_results_in_flight_fra
             }
         }
     }
-    // A technique whose per-frame data is not kept per slot renders one frame at a time.
+    // A heat map (its overdraw pipelines are cleared per frame) renders one frame at a time.
     let base = builtin_scene("default").expect("scene");
     let options = RenderOptions {
         width: SIZE.0,
         height: SIZE.1,
         frames_in_flight: 3,
-        technique: technique("shadow-texture-atlas"),
+        count_overdraw: true,
+        technique: technique("shadow-volume"),
         ..Default::default()
     };
     let mut renderer = options.technique.build(&gpu, &base, &options).expect("renderer");

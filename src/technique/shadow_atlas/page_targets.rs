@@ -22,6 +22,7 @@ use super::page::{pack, PageLayout, Tile};
 use super::targets::{self, Framebuffer, ImageView, RenderPass};
 use super::texel_surface::{packed, texel_surface};
 use crate::error::{Error, Result};
+use crate::render::per_slot::slot_copy;
 use crate::frame::offscreen;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::{Buffer, Image};
@@ -92,8 +93,13 @@ pub struct AtlasPage {
     // Field order is drop order: sets and framebuffers before the buffers, views and images.
     /// Per object: the page and its tile, set 2 of the scene pass.
     pub scene_sets: Vec<DescriptorSet>,
-    /// The tiles and texel surfaces: set 1 of the page pass.
-    pub tiles_set: DescriptorSet,
+    /// Per frame slot, the tiles' records and the set that binds them with the texel surfaces
+    /// (set 1 of the page pass): a frame whose models moved writes its slot's copy.
+    tile_slots: Vec<TileSlot>,
+    /// The slot the last `write_models` wrote: the page pass of its frame reads it.
+    slot: usize,
+    /// The records as the CPU last wrote them (a new slot's copy starts from them).
+    records: Vec<TileRecord>,
     /// The raw page, read texel by texel: set 2 of the page pass.
     pub raw_set: DescriptorSet,
     raw_framebuffer: Framebuffer,
@@ -102,9 +108,8 @@ pub struct AtlasPage {
     /// Per mip count of some tile, a view of the page with that many levels (sampling through
     /// it keeps the LOD within the tile's clean mips).
     _level_views: Vec<(u32, ImageView)>,
-    records: Buffer,
     _uniforms: Buffer,
-    _surface: Buffer,
+    surface: Buffer,
     pub raw: Image,
     pub texture: Image,
     pub raster_pass: RenderPass,
@@ -166,7 +171,8 @@ impl AtlasPage {
         let raw_framebuffer = Framebuffer::new(gpu, &raster_pass, raw.view, raw_extent)?;
         let page_framebuffer = Framebuffer::new(gpu, &page_pass, mip0.raw, page_extent)?;
 
-        let (records, surface_buffer, tiles_set) = tile_records(gpu, tiles.len(), surface)?;
+        let surface = surface_buffer(gpu, surface)?;
+        let tile_slot = tile_slot(gpu, tiles.len(), &surface)?;
         let (uniforms, stride) = tile_uniforms(gpu, &layout, &tiles)?;
         let trilinear = Sampler::new(gpu, vk::Filter::LINEAR, vk::SamplerAddressMode::CLAMP_TO_EDGE)?;
         let nearest = Sampler::new(gpu, vk::Filter::NEAREST, vk::SamplerAddressMode::CLAMP_TO_EDGE)?;
@@ -178,15 +184,16 @@ impl AtlasPage {
             mip_levels,
             raw_extent,
             scene_sets,
-            tiles_set,
+            tile_slots: vec![tile_slot],
+            slot: 0,
+            records: Vec::new(),
             raw_set,
             raw_framebuffer,
             page_framebuffer,
             _mip0: mip0,
             _level_views: level_views,
-            records,
             _uniforms: uniforms,
-            _surface: surface_buffer,
+            surface,
             raw,
             texture,
             raster_pass,
@@ -201,7 +208,7 @@ impl AtlasPage {
     /// Every tile's record: its model matrix (rewritten when models move: `write_models`), rect
     /// and where its texel surface starts.
     fn write_records(&mut self, scene: &Scene, surface_start: &[Option<usize>], layouts: &[MeshAtlas]) -> Result<()> {
-        let records: Vec<TileRecord> = scene
+        self.records = scene
             .objects
             .iter()
             .zip(&self.tiles)
@@ -218,16 +225,27 @@ impl AtlasPage {
                 }
             })
             .collect();
-        self.records.write(0, &records)
+        let records = &self.records;
+        self.tile_slots.iter_mut().try_for_each(|slot| slot.records.write(0, records))
     }
 
-    /// The tiles' model matrices, as the scene now places its objects.
-    pub fn write_models(&mut self, scene: &Scene) -> Result<()> {
-        let stride = std::mem::size_of::<TileRecord>();
-        for (index, object) in scene.objects.iter().enumerate() {
-            self.records.write(index * stride, std::slice::from_ref(&object.transform))?;
+    /// The tiles' model matrices, as the scene now places its objects, into frame slot
+    /// `slot`'s records (made on its first use), which this frame's page pass reads.
+    pub fn write_models(&mut self, gpu: &Arc<Gpu>, scene: &Scene, slot: usize) -> Result<()> {
+        for (record, object) in self.records.iter_mut().zip(&scene.objects) {
+            record.model = object.transform;
         }
+        let (count, surface) = (self.tiles.len(), &self.surface);
+        let copy = slot_copy(&mut self.tile_slots, slot, || tile_slot(gpu, count, surface))?;
+        copy.records.write(0, &self.records)?;
+        self.slot = slot;
         Ok(())
+    }
+
+    /// The tiles and texel surfaces as the page pass of the frame last written reads them.
+    pub fn tiles_set(&self) -> &DescriptorSet {
+        // Never empty: made with slot 0's.
+        &self.tile_slots.get(self.slot).unwrap_or(&self.tile_slots[0]).set
     }
 
     /// Whether any of `tiles` (object indices) is rasterised.
@@ -281,7 +299,7 @@ impl AtlasPage {
         let extent = vk::Extent2D { width: self.layout.width, height: self.layout.height };
         let area = self.area_of(tiles, extent);
         rec.begin_offscreen_pass_in(&self.page_pass, self.page_framebuffer.raw, extent, area, &[]);
-        let sets = [light_set, self.tiles_set.set, self.raw_set.set];
+        let sets = [light_set, self.tiles_set().set, self.raw_set.set];
         let push = [extent.width as f32, extent.height as f32, 0.0, 0.0];
         let mut bound = None;
         for (bake, first, count) in self.runs(tiles) {
@@ -343,7 +361,8 @@ impl AtlasPage {
             .map(|m| u64::from((self.layout.width >> m).max(1)) * u64::from((self.layout.height >> m).max(1)) * texel)
             .sum();
         let raw = u64::from(self.raw_extent.width) * u64::from(self.raw_extent.height) * texel;
-        mips + raw + self.records.size + self._surface.size + self._uniforms.size
+        let records: u64 = self.tile_slots.iter().map(|slot| slot.records.size).sum();
+        mips + raw + records + self.surface.size + self._uniforms.size
     }
 }
 
@@ -395,19 +414,24 @@ fn tile_uniforms(gpu: &Arc<Gpu>, layout: &PageLayout, tiles: &[PageTile]) -> Res
     Ok((uniforms, stride))
 }
 
-/// The page pass's storage: every tile's record (`tile_count` of them, written by
-/// `write_records`) and the texel surfaces, with the set that binds both.
-fn tile_records(
-    gpu: &Arc<Gpu>,
-    tile_count: usize,
-    mut surface: Vec<[u32; 4]>,
-) -> Result<(Buffer, Buffer, DescriptorSet)> {
-    // The surface buffer is never empty (a storage buffer binding needs a range).
+/// The texel surfaces the page pass reads (never empty: a storage buffer binding needs a
+/// range).
+fn surface_buffer(gpu: &Arc<Gpu>, mut surface: Vec<[u32; 4]>) -> Result<Buffer> {
     if surface.is_empty() {
         surface.push([0; 4]);
     }
-    let surface =
-        Buffer::device_local(gpu, "atlas page texel surfaces", &surface, vk::BufferUsageFlags::STORAGE_BUFFER)?;
+    Buffer::device_local(gpu, "atlas page texel surfaces", &surface, vk::BufferUsageFlags::STORAGE_BUFFER)
+}
+
+/// One frame slot's tile records (`tile_count` of them, written by `write_records` and
+/// `write_models`) and the set that binds them with the texel surfaces (the set first: it is
+/// dropped before the buffer it names).
+struct TileSlot {
+    set: DescriptorSet,
+    records: Buffer,
+}
+
+fn tile_slot(gpu: &Arc<Gpu>, tile_count: usize, surface: &Buffer) -> Result<TileSlot> {
     let records_size = (tile_count * std::mem::size_of::<TileRecord>()) as u64;
     let records = Buffer::new(
         gpu,
@@ -428,7 +452,7 @@ fn tile_records(
             },
         ],
     )?;
-    Ok((records, surface, set))
+    Ok(TileSlot { set, records })
 }
 
 /// A texture binding of the fragment stage, sampled with `sampler`.

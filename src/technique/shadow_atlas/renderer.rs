@@ -436,7 +436,7 @@ impl ShadowPasses {
             (AtlasSet::ShadowTexture, None) => first().map(|o| &o.scene_set),
             (AtlasSet::RawBake, Some(page)) => Some(&page.raw_set),
             (AtlasSet::RawBake, None) => first().map(|o| &o.dilate_set),
-            (AtlasSet::PageTiles, Some(page)) => Some(&page.tiles_set),
+            (AtlasSet::PageTiles, Some(page)) => Some(page.tiles_set()),
             (AtlasSet::PageTiles, None) => None,
         }
     }
@@ -567,7 +567,7 @@ impl Passes<AtlasKinds> for ShadowPasses {
                     self.rebake = self.stale_tiles(scene, &key, &geometries);
                 }
                 if let Some(page) = &mut self.page {
-                    page.write_models(scene)?;
+                    page.write_models(&self.gpu, scene, slot)?;
                 }
             }
         }
@@ -612,13 +612,12 @@ impl Passes<AtlasKinds> for ShadowPasses {
         })
     }
 
-    /// The shadow map and the projective textures keep several frames in flight: their light
-    /// uniforms and posed vertices are per slot, and the map and the per-model textures are
-    /// written and read in queue order (each render pass waits for the reads before it). The
-    /// atlas page's tile records are written by the CPU once for every frame: it renders one
-    /// frame at a time.
+    /// Every kind keeps several frames in flight: the light uniforms, posed vertices and the
+    /// atlas page's tile records are per slot, and the map, the per-model textures and the page
+    /// are written and read in queue order (each render pass and mip chain waits for the reads
+    /// before it).
     fn writes_per_slot(&self) -> bool {
-        self.page.is_none()
+        true
     }
 
     fn frames_to_steady_state(&self) -> u32 {
