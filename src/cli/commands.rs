@@ -96,11 +96,13 @@ pub fn run(cli: Cli) -> Result<()> {
             table1_out,
             mip_flicker: Some(steps),
             frame_loop,
+            each_extrusion,
             ..
         } => {
-            if table1_out.is_some() || runs.is_some() || trace.is_some() || frame_loop.is_some() {
+            if table1_out.is_some() || runs.is_some() || trace.is_some() || frame_loop.is_some() || each_extrusion {
                 return Err(Error::InvalidInput(
-                    "--mip-flicker is not timed: drop --table1-out, --runs, --trace and --loop".into(),
+                    "--mip-flicker is not timed: drop --table1-out, --runs, --trace, --loop and --each-extrusion"
+                        .into(),
                 ));
             }
             bench_mip_flicker(&frame, steps, json)

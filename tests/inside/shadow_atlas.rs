@@ -961,6 +961,8 @@ fn mip_flicker_counts_flickering_pixels_of_both_techniques() {
 
     let refused = common::run_err(&["bench", "--technique", "planar", "--mip-flicker"]);
     assert!(refused.contains("--mip-flicker") && refused.contains("planar"), "{refused}");
+    let refused = common::run_err(&["bench", "--mip-flicker", "--each-extrusion"]);
+    assert!(refused.contains("--mip-flicker is not timed") && refused.contains("--each-extrusion"), "{refused}");
 }
 
 #[test]
