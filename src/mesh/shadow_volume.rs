@@ -211,6 +211,18 @@ impl Extrusion {
     }
 }
 
+/// Whether `reach` bounds a volume from `light`: a positive finite distance along a
+/// directional light, a finite scale above 1 from a point light. Any other reach (or a reach
+/// that does not fit the light) leaves the volume reaching infinity. The one rule for the CPU's
+/// far points and for the vertex shader's (`technique::shadow_volume::gpu_extrusion::VolumePush`).
+pub fn bounds_volume(light: Light, reach: Reach) -> bool {
+    match (light, reach) {
+        (Light::Directional(_), Reach::Along(t)) => t > 0.0 && t.is_finite(),
+        (Light::Point(_), Reach::Scaled(scale)) => scale > 1.0 && scale.is_finite(),
+        _ => false,
+    }
+}
+
 /// Where vertex `p` goes at the far end of the volume, homogeneous; `None` where `reach` does
 /// not fit `light` (the volume then reaches infinity).
 fn far_point(light: Light, reach: Reach, p: Vec3) -> Option<Vec4> {
@@ -255,9 +267,7 @@ pub(super) fn start_volume(
     let mesh = &positions[..vertex_count];
     if out.indices_only {
         // The far end's shape only: the far points are the vertex shader's.
-        let bounded = vertex_count > 0
-            && mesh.first().is_some_and(|&p| far_point(light, reach, p).is_some())
-            && reach != Reach::Infinite;
+        let bounded = vertex_count > 0 && bounds_volume(light, reach);
         let shape = match (bounded, light) {
             (true, _) => FarEnd::Fan(2 * vertex_count as u32),
             (false, Light::Directional(_)) => FarEnd::Apex,

@@ -20,6 +20,7 @@ use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
 use crate::mesh::caster::CastPath;
 use crate::mesh::shadow_mesh::ShadowMesh;
+use crate::mesh::shadow_volume::bounds_volume;
 use crate::mesh::{Light, Reach};
 use crate::render::{FrameRecorder, Pipeline};
 use crate::scene::Scene;
@@ -43,15 +44,16 @@ impl VolumePush {
     /// What a volume of a caster placed by `model` pushes for `light` (in the caster's space)
     /// reaching `reach`: the far end as `shadow_volume::start_volume` picks it, bounded only
     /// where the reach fits the light (else infinity). The colour is the draw's to set.
-    pub fn new(model: Mat4, light: Light, reach: Reach) -> Self {
-        let (light, point) = match light {
-            Light::Directional(direction) => (direction.extend(0.0), false),
-            Light::Point(at) => (at.extend(1.0), true),
+    pub fn new(model: Mat4, light_in_space: Light, reach: Reach) -> Self {
+        let light = match light_in_space {
+            Light::Directional(direction) => direction.extend(0.0),
+            Light::Point(at) => at.extend(1.0),
         };
-        let (far_end, reach) = match (point, reach) {
-            (false, Reach::Along(t)) if t > 0.0 && t.is_finite() => (FAR_ALONG, t),
-            (true, Reach::Scaled(scale)) if scale > 1.0 && scale.is_finite() => (FAR_SCALED, scale),
-            _ => (0, 0.0),
+        let (far_end, reach) = match reach {
+            _ if !bounds_volume(light_in_space, reach) => (0, 0.0),
+            Reach::Along(t) => (FAR_ALONG, t),
+            Reach::Scaled(scale) => (FAR_SCALED, scale),
+            Reach::Infinite => (0, 0.0),
         };
         VolumePush { model, colour: Vec4::ZERO, light, mesh: 0, flags: far_end, reach, unused: 0 }
     }
