@@ -39,34 +39,22 @@ fn main() {
         let source =
             std::fs::read_to_string(path).unwrap_or_else(|e| fail(&format!("cannot read {}: {e}", path.display())));
 
-        let spirv = compile(&compiler, &shader_dir, path, &source, kind);
-        let spv_path = out_dir.join(format!("{file_name}.spv"));
-        std::fs::write(&spv_path, spirv.as_binary_u8())
-            .unwrap_or_else(|e| fail(&format!("cannot write {}: {e}", spv_path.display())));
-        let _ = writeln!(table, "    ({file_name:?}, include_bytes!({:?})),", spv_path.display().to_string());
-        let _ = writeln!(
-            names,
-            "/// `shaders/{file_name}`.\npub const {}: Shader = Shader({file_name:?});",
-            constant_name(&file_name)
-        );
-
-        if kind == shaderc::ShaderKind::Vertex {
-            // The overdraw heat map swaps every fragment shader for a counter; one counter per
-            // vertex shader, declaring that stage's outputs as inputs so the interfaces match.
-            let counter_name = format!("{file_name}.count.frag");
-            let counter_source = overdraw_counter_source(&shader_dir, &source);
-            let counter = compile(
+        let mut variants = vec![(file_name.clone(), None)];
+        // A vertex shader marked as having a skinned twin is also compiled with SKINNED
+        // defined (`lit.vert` -> `lit.skinned.vert`): the same stage skinning its vertices on
+        // the GPU (`shaders/object_vertex.glsl`).
+        if kind == shaderc::ShaderKind::Vertex && source.lines().any(|l| l.trim() == SKINNED_TWIN_MARK) {
+            variants.push((file_name.replace(".vert", ".skinned.vert"), Some("SKINNED")));
+        }
+        for (name, define) in variants {
+            compile_variant(
                 &compiler,
                 &shader_dir,
-                &shader_dir.join(&counter_name),
-                &counter_source,
-                shaderc::ShaderKind::Fragment,
+                &out_dir,
+                (path, &source, kind),
+                (&name, define),
+                (&mut table, &mut names),
             );
-            let counter_path = out_dir.join(format!("{counter_name}.spv"));
-            std::fs::write(&counter_path, counter.as_binary_u8())
-                .unwrap_or_else(|e| fail(&format!("cannot write {}: {e}", counter_path.display())));
-            let _ =
-                writeln!(table, "    ({counter_name:?}, include_bytes!({:?})),", counter_path.display().to_string());
         }
     }
     table.push_str("];\n");
@@ -75,6 +63,50 @@ fn main() {
     std::fs::write(&table_path, table).unwrap_or_else(|e| fail(&format!("cannot write {}: {e}", table_path.display())));
     if std::env::var_os("CARGO_FEATURE_EMBEDDED_LAYER").is_some() {
         build_layer_into(&manifest, &out_dir);
+    }
+}
+
+/// The line that gives a vertex shader a skinned twin.
+const SKINNED_TWIN_MARK: &str = "// twin: skinned";
+
+/// Compiles one variant of a stage (`define`d when it is a twin), writes its SPIR-V, and adds it
+/// to the table and the names; a vertex stage also gets its overdraw counter.
+fn compile_variant(
+    compiler: &shaderc::Compiler,
+    shader_dir: &Path,
+    out_dir: &Path,
+    (path, source, kind): (&Path, &str, shaderc::ShaderKind),
+    (file_name, define): (&str, Option<&str>),
+    (table, names): (&mut String, &mut String),
+) {
+    let spirv = compile(compiler, shader_dir, path, source, kind, define);
+    let spv_path = out_dir.join(format!("{file_name}.spv"));
+    std::fs::write(&spv_path, spirv.as_binary_u8())
+        .unwrap_or_else(|e| fail(&format!("cannot write {}: {e}", spv_path.display())));
+    let _ = writeln!(table, "    ({file_name:?}, include_bytes!({:?})),", spv_path.display().to_string());
+    let _ = writeln!(
+        names,
+        "/// `shaders/{file_name}`.\npub const {}: Shader = Shader({file_name:?});",
+        constant_name(file_name)
+    );
+
+    if kind == shaderc::ShaderKind::Vertex {
+        // The overdraw heat map swaps every fragment shader for a counter; one counter per
+        // vertex shader, declaring that stage's outputs as inputs so the interfaces match.
+        let counter_name = format!("{file_name}.count.frag");
+        let counter_source = overdraw_counter_source(shader_dir, source);
+        let counter = compile(
+            compiler,
+            shader_dir,
+            &shader_dir.join(&counter_name),
+            &counter_source,
+            shaderc::ShaderKind::Fragment,
+            None,
+        );
+        let counter_path = out_dir.join(format!("{counter_name}.spv"));
+        std::fs::write(&counter_path, counter.as_binary_u8())
+            .unwrap_or_else(|e| fail(&format!("cannot write {}: {e}", counter_path.display())));
+        let _ = writeln!(table, "    ({counter_name:?}, include_bytes!({:?})),", counter_path.display().to_string());
     }
 }
 
@@ -153,12 +185,16 @@ fn compile(
     path: &Path,
     source: &str,
     kind: shaderc::ShaderKind,
+    define: Option<&str>,
 ) -> shaderc::CompilationArtifact {
     let mut options =
         shaderc::CompileOptions::new().unwrap_or_else(|| fail("shaderc could not create compile options"));
     // Vulkan 1.0 / SPIR-V 1.0: what every mobile-class device accepts.
     options.set_target_env(shaderc::TargetEnv::Vulkan, shaderc::EnvVersion::Vulkan1_0 as u32);
     options.set_warnings_as_errors();
+    if let Some(define) = define {
+        options.add_macro_definition(define, None);
+    }
     let include_dir = shader_dir.to_path_buf();
     options.set_include_callback(move |name, _kind, _from, _depth| {
         let include_path = include_dir.join(name);

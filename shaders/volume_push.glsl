@@ -1,4 +1,4 @@
-// Per-draw values of a volume extruded on the GPU (112 of the profile's 128 push-constant bytes;
+// Per-draw values of a volume extruded on the GPU (all of the profile's 128 push-constant bytes;
 // technique::shadow_volume::gpu_extrusion::VolumePush). The first 80 are ObjectPush's.
 layout(push_constant) uniform VolumePush {
     mat4 model;
@@ -7,6 +7,9 @@ layout(push_constant) uniform VolumePush {
     // The light in the caster's own space: xyz its position (w = 1) or the direction it
     // travels (w = 0).
     vec4 light;
+    // xyz: a GPU-skinned caster's centroid in this frame's pose, where its apex vertex (the
+    // bounded far cap's, which has no weights) starts.
+    vec4 apex;
     // The caster's first word in the shadow-mesh tables.
     uint mesh;
     // Bit 0: draw each wall |m| times as instances, each counting 1 (the stencil), instead of

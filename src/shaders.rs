@@ -38,6 +38,15 @@ pub fn spirv(shader: Shader) -> Result<Vec<u32>> {
         .map_err(|e| Error::Internal(format!("shader '{name}' is not valid SPIR-V: {e}")))
 }
 
+impl Shader {
+    /// The vertex shader's skinned twin made by `build.rs` (`lit.vert` -> `lit.skinned.vert`):
+    /// the same stage compiled with `SKINNED`, for vertices that carry joints and weights.
+    pub fn skinned_twin(self) -> Option<Shader> {
+        let wanted = self.0.strip_suffix(".vert").map(|stem| format!("{stem}.skinned.vert"))?;
+        SHADERS.iter().map(|(name, _)| *name).find(|name| *name == wanted).map(Shader)
+    }
+}
+
 /// The overdraw counter made for a vertex shader by `build.rs` (`lit.vert` -> `lit.vert.count.frag`).
 pub fn overdraw_counter_for(vertex_shader: Shader) -> Option<Shader> {
     let wanted = format!("{}.count.frag", vertex_shader.0);

@@ -11,6 +11,7 @@ use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::mobile_profile;
 use crate::gpu::validation::ValidationChecks;
+use crate::render::Skinning;
 use crate::scene::SceneLight;
 use crate::technique::registry::DEFAULT_TECHNIQUE;
 use crate::technique::{
@@ -319,6 +320,10 @@ pub struct FrameArgs {
     /// compare whole techniques in one run).
     #[arg(long, default_value = DEFAULT_TECHNIQUE)]
     pub technique: String,
+    /// Where skinned objects are posed: `gpu`, in the vertex stage of the techniques that can
+    /// (lit, shadow-volume), or `cpu` for every technique (the oracle).
+    #[arg(long, value_enum, default_value_t)]
+    pub skinning: Skinning,
     /// Built-in scene name (see `nostencil info`) or a .gltf/.glb file.
     #[arg(long, default_value = "default")]
     pub scene: String,

@@ -67,6 +67,7 @@ pub(super) fn options(frame: &FrameArgs) -> Result<RenderOptions> {
         keep_samples: false,
         destination: Default::default(),
         frames_in_flight: 1,
+        skinning: frame.skinning,
         technique: by_name(&frame.technique)?,
         shadow_volume: frame.shadow_volume,
         shadow_mode: frame.shadow_tone.shadow_mode,

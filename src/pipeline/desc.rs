@@ -74,6 +74,33 @@ impl VertexLayout {
     /// Clip-space position (vec4) given directly, for screen-space test geometry.
     pub const CLIP4: VertexLayout = VertexLayout { attributes: &[VertexAttribute::Vec4] };
 
+    /// `SCENE`, then JOINTS_0 (uvec4 read from four u16) and WEIGHTS_0 (vec4): a skinned
+    /// object's bind pose, which its vertex stage skins (80 bytes).
+    pub const SKINNED_SCENE: VertexLayout = VertexLayout {
+        attributes: &[
+            VertexAttribute::Vec3,
+            VertexAttribute::Vec3,
+            VertexAttribute::Vec2,
+            VertexAttribute::Vec2,
+            VertexAttribute::Vec4,
+            VertexAttribute::U16x4,
+            VertexAttribute::Vec4,
+        ],
+    };
+    /// `POSITION4`, then JOINTS_0 and WEIGHTS_0: a skinned caster's doubled volume vertices.
+    pub const SKINNED_POSITION4: VertexLayout =
+        VertexLayout { attributes: &[VertexAttribute::Vec4, VertexAttribute::U16x4, VertexAttribute::Vec4] };
+
+    /// The layout a skinned twin of a pipeline over this one reads: the same attributes, then
+    /// JOINTS_0 and WEIGHTS_0 (`None` for a layout no twin is made for).
+    pub fn skinned(&self) -> Option<VertexLayout> {
+        match *self {
+            VertexLayout::SCENE => Some(VertexLayout::SKINNED_SCENE),
+            VertexLayout::POSITION4 => Some(VertexLayout::SKINNED_POSITION4),
+            _ => None,
+        }
+    }
+
     pub fn stride(&self) -> u32 {
         self.attributes.iter().map(|a| a.size()).sum()
     }
@@ -89,4 +116,15 @@ pub struct PipelineDesc {
     pub fixed: FixedFunction,
     pub push_constant_bytes: u32,
     pub subpass: u32,
+}
+
+impl PipelineDesc {
+    /// The same pipeline for skinned vertices: the vertex shader's skinned twin (`build.rs`
+    /// compiles one for every vertex shader marked `// twin: skinned`) over the layout with
+    /// JOINTS_0 and WEIGHTS_0 added. `None` when the shader has no twin.
+    pub fn skinned_twin(&self) -> Option<PipelineDesc> {
+        let vertex_shader = self.vertex_shader.skinned_twin()?;
+        let vertex_layout = self.vertex_layout.skinned()?;
+        Some(PipelineDesc { vertex_shader, vertex_layout, ..self.clone() })
+    }
 }

@@ -9,11 +9,11 @@ use glam::{Vec2, Vec3, Vec4};
 
 use super::materials::GpuMaterials;
 use super::per_slot::slot_copy;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
-use crate::scene::objects::SceneMesh;
-use crate::scene::{Scene, SlotPoses};
+use crate::scene::objects::{SceneMesh, SceneSkin};
+use crate::scene::{JointPalettes, Scene, SlotPoses, MAX_JOINTS};
 
 pub struct GpuMesh {
     /// The mesh as uploaded (device-local).
@@ -65,17 +65,43 @@ impl GpuMesh {
     }
 }
 
+crate::names::named_enum! {
+    /// Where skinned objects are posed each frame.
+    pub enum Skinning {
+        /// In the vertex stage: each skinned object's bind pose is uploaded once with its joints
+        /// and weights, and every stage that draws it skins it from the frame's joint palettes
+        /// (the shaders' skinned twins). Techniques whose stages have no twins yet pose on the CPU.
+        #[default]
+        Gpu = "gpu",
+        /// On the CPU, into a host-visible copy per frame slot (the proven oracle).
+        Cpu = "cpu",
+    }
+}
+
 /// The scene's meshes on the GPU, in the scene's mesh order, and its materials.
 pub struct GpuScene {
     /// `VertexLayout::SCENE` vertices.
     pub meshes: Vec<GpuMesh>,
+    /// Per object, skinning on the GPU: a skinned object's bind pose
+    /// (`VertexLayout::SKINNED_SCENE`), its joints moved to its palette among the frame's.
+    skinned: Vec<Option<GpuMesh>>,
+    /// Where each skinned object's palette lies, skinning on the GPU.
+    palettes: Option<JointPalettes>,
     pub materials: GpuMaterials,
     /// Per frame slot, the pose its copy of the skinned objects' vertices holds.
     posed: SlotPoses,
 }
 
 impl GpuScene {
+    /// The scene's meshes, skinned objects posed on the CPU.
     pub fn upload(gpu: &Arc<Gpu>, scene: &Scene) -> Result<Self> {
+        Self::upload_for(gpu, scene, Skinning::Cpu)
+    }
+
+    /// The scene's meshes, skinned objects posed as `skinning` says: on the GPU, every pass
+    /// that draws them must bind its pipelines' skinned twins (`draw_objects` does), and the
+    /// frame must carry the palettes (`Renderer::write_joint_palettes`).
+    pub fn upload_for(gpu: &Arc<Gpu>, scene: &Scene, skinning: Skinning) -> Result<Self> {
         let meshes = scene
             .meshes
             .iter()
@@ -84,7 +110,24 @@ impl GpuScene {
             })
             .collect::<Result<_>>()?;
         let materials = GpuMaterials::upload(gpu, scene)?;
-        Ok(GpuScene { meshes, materials, posed: SlotPoses::new(scene) })
+        let (skinned, palettes) = match skinning {
+            Skinning::Cpu => (Vec::new(), None),
+            Skinning::Gpu => {
+                let palettes = JointPalettes::of(scene);
+                (upload_bind_poses(gpu, scene, &palettes)?, Some(palettes))
+            }
+        };
+        Ok(GpuScene { meshes, skinned, palettes, materials, posed: SlotPoses::new(scene) })
+    }
+
+    /// Where the skinned objects' palettes lie, when they are skinned on the GPU.
+    pub fn joint_palettes(&self) -> Option<&JointPalettes> {
+        self.palettes.as_ref()
+    }
+
+    /// Object `index`'s bind pose, when it is skinned on the GPU: drawn with a skinned twin.
+    pub fn skinned_mesh(&self, index: usize) -> Option<&GpuMesh> {
+        self.skinned.get(index).and_then(Option::as_ref)
     }
 
     /// Re-poses the skinned objects whose palette changed since frame slot `slot`'s copies
@@ -94,6 +137,9 @@ impl GpuScene {
     /// slots' copies may still be read by frames in flight.
     pub fn follow_pose(&mut self, gpu: &Arc<Gpu>, scene: &Scene, slot: usize) -> Result<()> {
         for index in self.posed.changed(scene, slot) {
+            if self.skinned_mesh(index).is_some() {
+                continue; // skinned in the vertex stage
+            }
             if let Some((mesh, vertices, name)) = self.posed_vertices(scene, index) {
                 mesh.write_posed(gpu, slot, &name, &vertices)?;
             }
@@ -115,6 +161,24 @@ impl GpuScene {
     }
 }
 
+/// Per object, a skinned object's bind pose with its joints moved to its palette (`None` for
+/// the others).
+fn upload_bind_poses(gpu: &Arc<Gpu>, scene: &Scene, palettes: &JointPalettes) -> Result<Vec<Option<GpuMesh>>> {
+    scene
+        .objects
+        .iter()
+        .zip(&palettes.first_joint)
+        .map(|(object, first)| {
+            let (Some(skin), Some(first), Some(source)) = (&object.skin, first, scene.meshes.get(object.mesh)) else {
+                return Ok(None);
+            };
+            let vertices = skinned_vertices(&object.name, source, skin, *first)?;
+            let name = format!("{} (bind pose)", object.name);
+            GpuMesh::from_raw(gpu, &name, &vertices, &source.data.indices).map(Some)
+        })
+        .collect()
+}
+
 /// One vertex of `VertexLayout::SCENE`.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
@@ -124,6 +188,50 @@ pub struct SceneVertex {
     pub uv0: [f32; 2],
     pub uv1: [f32; 2],
     pub colour: [f32; 4],
+}
+
+/// One vertex of `VertexLayout::SKINNED_SCENE`: the scene's, then JOINTS_0 and WEIGHTS_0.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct SkinnedVertex {
+    pub scene: SceneVertex,
+    pub joints: [u16; 4],
+    pub weights: [f32; 4],
+}
+
+/// `source`'s vertices in `skin`'s bind pose with its joints and weights, each joint index
+/// moved up by `joint_base` (where the object's palette starts among the frame's palettes).
+/// An error names the mesh when the skin's lists disagree with its vertices or a vertex uses a
+/// joint outside the palette.
+pub fn skinned_vertices(name: &str, source: &SceneMesh, skin: &SceneSkin, joint_base: u32) -> Result<Vec<SkinnedVertex>> {
+    let n = skin.positions.len();
+    let problem = |problem: String| Error::Mesh { mesh: name.to_owned(), problem };
+    if skin.joints.len() != n || skin.weights.len() != n {
+        return Err(problem(format!(
+            "{n} vertices but {} joint and {} weight entries",
+            skin.joints.len(),
+            skin.weights.len()
+        )));
+    }
+    let palette_len = skin.joint_matrices.len().min(MAX_JOINTS);
+    let vertices = scene_vertices(source, &skin.positions, &skin.normals);
+    (0..n)
+        .map(|v| {
+            let mut joints = skin.joints[v];
+            for joint in &mut joints {
+                if usize::from(*joint) >= palette_len {
+                    return Err(problem(format!(
+                        "vertex {v} uses joint {joint}, but the palette has {} joints",
+                        skin.joint_matrices.len()
+                    )));
+                }
+                *joint = u16::try_from(u32::from(*joint) + joint_base).map_err(|_| {
+                    problem(format!("the frame's joint palettes pass {} joints at vertex {v}", u16::MAX))
+                })?;
+            }
+            Ok(SkinnedVertex { scene: vertices[v], joints, weights: skin.weights[v] })
+        })
+        .collect()
 }
 
 /// `mesh`'s vertices at `positions` and `normals` (its own, or a posed copy) with its UV sets
@@ -148,5 +256,9 @@ mod tests {
     #[test]
     fn scene_vertex_matches_the_scene_layout() {
         assert_eq!(crate::pipeline::VertexLayout::SCENE.stride() as usize, std::mem::size_of::<super::SceneVertex>());
+        assert_eq!(
+            crate::pipeline::VertexLayout::SKINNED_SCENE.stride() as usize,
+            std::mem::size_of::<super::SkinnedVertex>()
+        );
     }
 }

@@ -21,7 +21,7 @@ pub mod sample_readback;
 pub mod uniforms;
 
 pub use counters::{FrameCounters, PassCounters};
-pub use gpu_mesh::{scene_vertices, GpuMesh, GpuScene, SceneVertex};
+pub use gpu_mesh::{scene_vertices, skinned_vertices, GpuMesh, GpuScene, SceneVertex, Skinning};
 pub use materials::GpuMaterials;
 pub use object_push::{object_push, LightPush, ObjectPush, LIGHT_PUSH_BYTES, OBJECT_PUSH_BYTES};
 pub use pipeline_object::{Pipeline, PipelineTarget};

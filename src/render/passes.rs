@@ -13,7 +13,7 @@ use super::pipeline_object::Pipeline;
 use super::renderer::{FrameOutput, Renderer};
 use crate::error::Result;
 use crate::gpu::descriptors::DescriptorSet;
-use crate::scene::{Light, Scene};
+use crate::scene::{JointPalettes, Light, Scene};
 
 /// A technique's side of a renderer: what it built for the scene (its descriptor sets, the
 /// scene's meshes for the object passes the recorder draws, its offscreen render passes), the
@@ -54,6 +54,14 @@ pub trait Passes<K: PassKinds> {
     /// The scene's meshes, for passes that draw `Draws::Objects` (the recorder draws those).
     fn meshes(&self) -> Option<&GpuScene> {
         None
+    }
+
+    /// Where the skinned objects' palettes lie, when the technique skins them on the GPU: each
+    /// of its passes that draws them binds its pipelines' skinned twins, which the plan is then
+    /// built with, and every frame carries the palettes. The meshes' choice by default
+    /// (`GpuScene::upload_for`).
+    fn joint_palettes(&self) -> Option<&JointPalettes> {
+        self.meshes().and_then(GpuScene::joint_palettes)
     }
 
     /// The material set template bound with the pass's sets (each object then binds its own).

@@ -59,11 +59,16 @@ pub struct Pipeline {
     pub render_pass: vk::RenderPass,
     /// Samples per pixel of the render pass's attachments.
     pub samples: u32,
+    /// Colour attachments of its subpass.
+    colour_attachments: usize,
     /// The light count it was specialised for.
     pub lights: u32,
-    /// False for overdraw counters, which borrow their original's layout.
+    /// False for overdraw counters and skinned twins, which borrow their original's layout.
     owns_layout: bool,
     pub desc: PipelineDesc,
+    /// The same pipeline for GPU-skinned objects (`with_skinned_twin`), sharing this one's
+    /// layout, so binding either keeps the sets bound.
+    skinned: Option<Box<Pipeline>>,
 }
 
 fn blend_attachment(fixed: &FixedFunction) -> vk::PipelineColorBlendAttachmentState {
@@ -141,6 +146,29 @@ impl Pipeline {
         Self::with_layout(&self.gpu, &desc, target, self.layout, self.set_count, false)
     }
 
+    /// This pipeline with its skinned twin built beside it (`PipelineDesc::skinned_twin`), for
+    /// the same target and layout: what draws a skinned object skinned on the GPU. Unchanged
+    /// when the description has no twin.
+    pub fn with_skinned_twin(mut self) -> Result<Self> {
+        if let Some(desc) = self.desc.skinned_twin() {
+            let target = PipelineTarget {
+                render_pass: self.render_pass,
+                colour_attachments: self.colour_attachments,
+                samples: self.samples,
+                lights: self.lights,
+            };
+            let twin = Self::with_layout(&self.gpu, &desc, target, self.layout, self.set_count, false)?;
+            self.skinned = Some(Box::new(twin));
+        }
+        Ok(self)
+    }
+
+    /// The pipeline that draws a skinned object with this one's state: its skinned twin.
+    /// `None` when it was built without one.
+    pub fn skinned(&self) -> Option<&Pipeline> {
+        self.skinned.as_deref()
+    }
+
     fn with_layout(
         gpu: &Arc<Gpu>,
         desc: &PipelineDesc,
@@ -158,9 +186,11 @@ impl Pipeline {
             set_count,
             render_pass,
             samples,
+            colour_attachments,
             lights,
             owns_layout,
             desc: desc.clone(),
+            skinned: None,
         };
 
         let vertex_module = ShaderModule::new(gpu, desc.vertex_shader)?;
@@ -272,6 +302,8 @@ fn depth_stencil_state(fixed: &FixedFunction) -> vk::PipelineDepthStencilStateCr
 
 impl Drop for Pipeline {
     fn drop(&mut self) {
+        // The twin borrows this layout: it goes first.
+        self.skinned = None;
         let device = self.gpu.raw();
         // SAFETY: no pending command uses the pipeline (see `Buffer`'s drop). Each layout is
         // destroyed once, by the pipeline that created it: overdraw twins borrow it and leave it.

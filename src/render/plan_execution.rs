@@ -30,10 +30,12 @@ pub struct PlanPipelines {
 impl PlanPipelines {
     /// Builds every pipeline of `plan`; `render_pass(target)` names the render pass a target's
     /// pipelines are built for, with its colour attachment and sample counts, and
-    /// `layout(role)` the set layout of each role.
+    /// `layout(role)` the set layout of each role. `skinned_twins`: every pipeline whose vertex
+    /// shader has a skinned twin is built with it (`Pipeline::with_skinned_twin`).
     pub fn build<K: PassKinds>(
         gpu: &Arc<Gpu>,
         plan: &PassPlan<K>,
+        skinned_twins: bool,
         render_pass: impl Fn(Target<K::Target>) -> Result<PipelineTarget>,
         layout: impl Fn(SetRole<K::Set>) -> Result<vk::DescriptorSetLayout>,
     ) -> Result<Self> {
@@ -59,7 +61,10 @@ impl PlanPipelines {
                         index
                     }
                     None => {
-                        let pipeline = Pipeline::for_target(gpu, desc, render_pass(pass.target)?, &layouts)?;
+                        let mut pipeline = Pipeline::for_target(gpu, desc, render_pass(pass.target)?, &layouts)?;
+                        if skinned_twins {
+                            pipeline = pipeline.with_skinned_twin()?;
+                        }
                         built.push(pipeline);
                         index_of.insert(key, built.len() - 1);
                         built.len() - 1
@@ -156,8 +161,7 @@ pub fn record_plan<K: PassKinds>(
                                 None => return Ok(()),
                             }
                         }
-                        draw_objects(rec, pass, &bound, scene, meshes, *alpha);
-                        Ok(())
+                        draw_objects(rec, pass, &bound, scene, meshes, *alpha)
                     }
                     None => Err(Error::Internal(format!("pass '{}' draws objects but has no meshes", pass.name))),
                 },
@@ -181,6 +185,8 @@ pub fn record_plan<K: PassKinds>(
 /// Draws every object of `scene` in [`draw_order`] with the pass's pipeline its material needs
 /// (the main one, bound by the caller, or a variant: see `MaterialVariant`), each with its
 /// transform, its base colour and the alpha `alpha`, and its material set when the pass has one.
+/// An object skinned on the GPU (`GpuScene::skinned_mesh`) is drawn from its bind pose with the
+/// pipeline's skinned twin.
 pub fn draw_objects<K: PassKinds>(
     rec: &mut FrameRecorder,
     pass: &PlannedPass<K>,
@@ -188,9 +194,10 @@ pub fn draw_objects<K: PassKinds>(
     scene: &Scene,
     meshes: &GpuScene,
     alpha: f32,
-) {
+) -> Result<()> {
     let with_material = pass.sets.contains(&SetRole::Material);
-    let mut bound = 0;
+    // (variant, skinned twin) of the pipeline bound last: the caller bound the main one.
+    let mut bound = (0, false);
     for index in draw_order(scene) {
         let object = &scene.objects[index];
         let material = scene.material_of(object);
@@ -199,10 +206,20 @@ pub fn draw_objects<K: PassKinds>(
         }
         let main = pipelines.first().map_or("", |p| p.desc.name);
         let wanted = pass.variant_index(main, MaterialVariant::for_surface(material)).unwrap_or(0);
-        let Some(&pipeline) = pipelines.get(wanted) else { continue };
-        if wanted != bound {
+        let Some(&variant) = pipelines.get(wanted) else { continue };
+        let skinned = meshes.skinned_mesh(index);
+        let pipeline = match skinned {
+            None => variant,
+            Some(_) => variant.skinned().ok_or_else(|| {
+                Error::Internal(format!(
+                    "pass '{}': '{}' is skinned on the GPU, but pipeline '{}' has no skinned twin",
+                    pass.name, object.name, variant.desc.name
+                ))
+            })?,
+        };
+        if (wanted, skinned.is_some()) != bound {
             rec.bind(pipeline);
-            bound = wanted;
+            bound = (wanted, skinned.is_some());
         }
         if with_material {
             rec.bind_material(pipeline, meshes.materials.set(object.material));
@@ -213,8 +230,9 @@ pub fn draw_objects<K: PassKinds>(
             Some(light) => rec.push(pipeline, &LightPush { object: push, light: [u32::from(light), 0, 0, 0] }),
             None => rec.push(pipeline, &push),
         }
-        rec.draw_mesh(&meshes.meshes[object.mesh]);
+        rec.draw_mesh(skinned.unwrap_or(&meshes.meshes[object.mesh]));
     }
+    Ok(())
 }
 
 /// The rectangles a full-screen pass of a scissored plan is drawn in: `rects`, or, at several

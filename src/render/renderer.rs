@@ -23,6 +23,7 @@ use crate::gpu::memory::Buffer;
 use crate::gpu::queries::PassQueryPools;
 use crate::gpu::regions;
 use crate::gpu::Gpu;
+use crate::scene::{JointPalettes, Scene};
 
 /// Measured passes a frame may hold.
 pub const MAX_PASSES_PER_FRAME: u32 = 64;
@@ -91,6 +92,8 @@ pub struct Renderer {
     /// test wants its counts to start elsewhere).
     pub stencil_clear: u32,
     overdraw_pipelines: OverdrawPipelines,
+    /// Joints of skinned objects' palettes each slot's frame set has room for.
+    palette_joints: usize,
     /// A frame has been drawn into the targets (what `read_samples` reads).
     drawn: bool,
     /// Where the next frame goes, when the targets are a swapchain's (`present_next`).
@@ -98,14 +101,14 @@ pub struct Renderer {
 }
 
 impl FrameSlot {
-    fn new(gpu: &Arc<Gpu>, targets: &FrameTargets) -> Result<Self> {
+    fn new(gpu: &Arc<Gpu>, targets: &FrameTargets, palette_joints: usize) -> Result<Self> {
         let (width, height) = (targets.extent.width, targets.extent.height);
         // A presented frame is never read back (its screenshot goes to the presenter's buffer).
         let readback_size = if targets.presents() { 4 } else { width as u64 * height as u64 * 4 };
         Ok(FrameSlot {
             submission: SubmitSlot::new(gpu)?,
             queries: PassQueryPools::new(gpu, MAX_PASSES_PER_FRAME)?,
-            frame: FrameDescriptors::new(gpu)?,
+            frame: FrameDescriptors::new(gpu, palette_joints)?,
             readback: Buffer::new(
                 gpu,
                 "frame readback",
@@ -128,7 +131,14 @@ impl Renderer {
     /// A frame drawn into `targets` (any sample count), one frame at a time
     /// (`set_frames_in_flight` for more).
     pub fn with_targets(gpu: &Arc<Gpu>, targets: FrameTargets) -> Result<Self> {
-        let slot = FrameSlot::new(gpu, &targets)?;
+        Self::with_palettes(gpu, targets, 0)
+    }
+
+    /// As `with_targets`, with room in every slot's frame set for `palette_joints` joints of
+    /// skinned objects' palettes (`scene::JointPalettes::joints`), which a GPU-skinning
+    /// technique writes each frame (`write_joint_palettes`).
+    pub fn with_palettes(gpu: &Arc<Gpu>, targets: FrameTargets, palette_joints: usize) -> Result<Self> {
+        let slot = FrameSlot::new(gpu, &targets, palette_joints)?;
         Ok(Renderer {
             gpu: gpu.clone(),
             frame_layout: slot.frame.layout,
@@ -140,6 +150,7 @@ impl Renderer {
             stencil_clear: 0,
             overdraw_pipelines: OverdrawPipelines::new(targets.render_pass),
             targets,
+            palette_joints,
             drawn: false,
             presented: None,
         })
@@ -159,7 +170,7 @@ impl Renderer {
         self.wait_all()?;
         self.slots.truncate(frames);
         while self.slots.len() < frames {
-            self.slots.push(FrameSlot::new(&self.gpu, &self.targets)?);
+            self.slots.push(FrameSlot::new(&self.gpu, &self.targets, self.palette_joints)?);
         }
         self.current = 0;
         Ok(())
@@ -186,6 +197,13 @@ impl Renderer {
             self.collected = self.collect(self.current)?;
         }
         Ok(())
+    }
+
+    /// Writes the skinned objects' joint palettes of `scene` into the next frame's slot (its
+    /// frame set's binding 1), for vertex stages that skin on the GPU. The slot must be free
+    /// (`wait_for_slot`).
+    pub fn write_joint_palettes(&mut self, scene: &Scene, palettes: &JointPalettes) -> Result<()> {
+        self.slots[self.current].frame.write_palettes(scene, palettes)
     }
 
     /// Waits for every frame in flight (their results are dropped).

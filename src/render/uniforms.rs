@@ -7,12 +7,12 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec4};
 use gpu_allocator::MemoryLocation;
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
 use crate::scene::camera::Light;
-use crate::scene::{Scene, SceneLight, MAX_LIGHTS};
+use crate::scene::{JointPalettes, Scene, SceneLight, MAX_LIGHTS};
 
 /// Mirrors `FrameLight` in `shaders/frame_uniforms.glsl` (std140: four vec4s).
 #[repr(C)]
@@ -88,31 +88,82 @@ impl FrameUniforms {
     }
 }
 
+/// A frame slot's set 0: its uniforms (binding 0) and its joint palettes (binding 1, every
+/// skinned object's palette for this frame, `shaders/joint_palettes.glsl`).
 pub struct FrameDescriptors {
     pub layout: vk::DescriptorSetLayout,
     pub set: vk::DescriptorSet,
-    // Field order: the set is destroyed before the buffer it points at.
+    // Field order: the set is destroyed before the buffers it points at.
     _descriptors: DescriptorSet,
     buffer: Buffer,
+    palettes: Buffer,
+    /// Joints the palettes' buffer holds: sized once, for the scene the renderer draws.
+    palette_joints: usize,
 }
 
+/// Bytes of one joint matrix in the palettes (std430 mat4).
+const JOINT_BYTES: u64 = std::mem::size_of::<Mat4>() as u64;
+
 impl FrameDescriptors {
-    pub fn new(gpu: &Arc<Gpu>) -> Result<Self> {
+    /// `palette_joints`: the joints of the frame's palettes (`JointPalettes::joints`; at least
+    /// one is kept, so the binding is never empty).
+    pub fn new(gpu: &Arc<Gpu>, palette_joints: usize) -> Result<Self> {
         let size = std::mem::size_of::<FrameUniforms>() as u64;
         let buffer =
             Buffer::new(gpu, "frame uniforms", size, vk::BufferUsageFlags::UNIFORM_BUFFER, MemoryLocation::CpuToGpu)?;
+        let palette_joints = palette_joints.max(1);
+        let palette_bytes = palette_joints as u64 * JOINT_BYTES;
+        // At most 2^16 joints (JOINTS_0 is u16): 4 MiB, inside any device's storage range.
+        let palettes = Buffer::new(
+            gpu,
+            "joint palettes",
+            palette_bytes,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )?;
         let descriptors = DescriptorSet::new(
             gpu,
-            &[Binding::UniformBuffer {
-                buffer: buffer.raw,
-                range: size,
-                stages: vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
-            }],
+            &[
+                Binding::UniformBuffer {
+                    buffer: buffer.raw,
+                    range: size,
+                    stages: vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+                },
+                Binding::ReadOnlyStorage {
+                    buffer: palettes.raw,
+                    range: palette_bytes,
+                    stages: vk::ShaderStageFlags::VERTEX,
+                },
+            ],
         )?;
-        Ok(FrameDescriptors { layout: descriptors.layout, set: descriptors.set, _descriptors: descriptors, buffer })
+        Ok(FrameDescriptors {
+            layout: descriptors.layout,
+            set: descriptors.set,
+            _descriptors: descriptors,
+            buffer,
+            palettes,
+            palette_joints,
+        })
     }
 
     pub fn update(&mut self, uniforms: &FrameUniforms) -> Result<()> {
         self.buffer.write(0, bytemuck::bytes_of(uniforms))
+    }
+
+    /// Writes every skinned object's palette of `scene` where `palettes` places it. No frame in
+    /// flight may read this slot.
+    pub fn write_palettes(&mut self, scene: &Scene, palettes: &JointPalettes) -> Result<()> {
+        if palettes.joints > self.palette_joints {
+            return Err(Error::Internal(format!(
+                "the scene's palettes hold {} joints; the frame's buffer was sized for {}",
+                palettes.joints, self.palette_joints
+            )));
+        }
+        for (object, first) in scene.objects.iter().zip(&palettes.first_joint) {
+            if let (Some(skin), Some(first)) = (&object.skin, first) {
+                self.palettes.write(*first as usize * JOINT_BYTES as usize, &skin.joint_matrices)?;
+            }
+        }
+        Ok(())
     }
 }

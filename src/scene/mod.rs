@@ -9,6 +9,7 @@
 //   lights              -> camera, model, rig
 //   objects             -> camera, lights, rig, skinning
 //   posing              -> objects, rig, skinning
+//   joint_palettes      -> objects
 //   layout              -> camera, objects
 //   place               -> model, objects, rig, skinning
 //   character           -> model, objects, place, rig, skinning
@@ -22,6 +23,7 @@ pub mod camera;
 pub mod character;
 pub mod from_gltf;
 pub mod gltf;
+pub mod joint_palettes;
 pub mod layout;
 pub mod lights;
 pub mod model;
@@ -40,5 +42,6 @@ pub use lights::{SceneLight, MAX_LIGHTS};
 // `self::`: `gltf` alone would also name the gltf crate.
 pub use self::gltf::load_gltf;
 pub use model::MAX_JOINTS;
+pub use joint_palettes::JointPalettes;
 pub use objects::{bounds_of, Scene, SceneObject, SceneSkin};
 pub use posing::{PoseTracker, SlotPoses};

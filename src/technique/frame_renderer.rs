@@ -16,7 +16,7 @@ use crate::render::plan::{Label, PassKinds, PassPlan, SetRole, Target, When};
 use crate::render::plan_execution::{record_plan, PlanPipelines};
 use crate::render::PipelineTarget;
 use crate::render::{FrameUniforms, Renderer};
-use crate::scene::Scene;
+use crate::scene::{JointPalettes, Scene};
 
 /// A built renderer: the frame renderer, the plan and its pipelines, and the technique's part.
 pub struct FrameRenderer<'s, K: PassKinds, P> {
@@ -72,7 +72,8 @@ pub fn build_typed<'s, K: PassKinds, P: Passes<K> + 's>(
             options.keep_samples,
         )?,
     };
-    let mut renderer = Renderer::with_targets(gpu, targets)?;
+    // Room for the palettes of GPU-skinned objects in every slot's frame set.
+    let mut renderer = Renderer::with_palettes(gpu, targets, JointPalettes::of(scene).joints)?;
     renderer.count_overdraw = options.count_overdraw;
     let passes = make(BuildContext { gpu, renderer: &renderer, options, plan: &plan })?;
     let frame_target = PipelineTarget {
@@ -82,9 +83,11 @@ pub fn build_typed<'s, K: PassKinds, P: Passes<K> + 's>(
         lights: scene.lights.len() as u32,
     };
     let frame_layout = renderer.frame_layout;
+    let skinned_twins = passes.joint_palettes().is_some();
     let pipelines = PlanPipelines::build(
         gpu,
         &plan,
+        skinned_twins,
         |target| match target {
             Target::Frame => Ok(frame_target),
             // Prepasses draw at one sample: see `Passes::offscreen_pass`.
@@ -130,6 +133,9 @@ impl<K: PassKinds, P: Passes<K>> TechniqueRenderer for FrameRenderer<'_, K, P> {
         // The frame that last used this slot reads what `prepare` writes in it: done first.
         self.renderer.wait_for_slot()?;
         self.passes.prepare(&self.renderer, scene)?;
+        if let Some(palettes) = self.passes.joint_palettes() {
+            self.renderer.write_joint_palettes(scene, palettes)?;
+        }
         let mut uniforms = FrameUniforms::for_scene(scene, self.renderer.aspect());
         if let Some(light) = self.passes.frame_light() {
             uniforms.move_primary_light(scene.primary_light_index(), light);

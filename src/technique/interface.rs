@@ -16,7 +16,7 @@ use crate::frame::StencilMode;
 use crate::gpu::Gpu;
 pub use crate::render::frame_stats::FrameStats;
 use crate::render::plan::{PassPlan, When};
-use crate::render::{FrameOutput, PresentedFrame, Renderer};
+use crate::render::{FrameOutput, PresentedFrame, Renderer, Skinning};
 use crate::scene::Scene;
 
 /// Everything that selects how a frame is rendered: size, stencil path, technique, and each
@@ -53,6 +53,9 @@ pub struct RenderOptions {
     /// per-frame data is not kept per frame slot (`Passes::writes_per_slot`), heat maps and
     /// kept samples render one frame at a time whatever is asked.
     pub frames_in_flight: u32,
+    /// Where skinned objects are posed: in the vertex stage, by techniques whose every stage
+    /// has a skinned twin, or on the CPU (`render::Skinning`).
+    pub skinning: Skinning,
 }
 
 impl RenderOptions {

@@ -61,7 +61,7 @@ impl TechniqueUnit for Lit {
     }
 
     fn make(&self, ctx: BuildContext<'_, RecorderOnly>, scene: &Scene, _setup: ()) -> Result<LitPasses> {
-        Ok(LitPasses { gpu: ctx.gpu.clone(), meshes: GpuScene::upload(ctx.gpu, scene)? })
+        Ok(LitPasses { gpu: ctx.gpu.clone(), meshes: GpuScene::upload_for(ctx.gpu, scene, ctx.options.skinning)? })
     }
 }
 

@@ -46,6 +46,7 @@ impl Default for RenderOptions {
             keep_samples: false,
             destination: Default::default(),
             frames_in_flight: 1,
+            skinning: Default::default(),
         }
     }
 }

@@ -255,6 +255,7 @@ fn counts_per_sample(
     let pipelines = PlanPipelines::build(
         gpu,
         &plan,
+        false,
         |t| {
             assert_eq!(t, Target::Frame);
             Ok(target)

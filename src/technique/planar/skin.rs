@@ -12,33 +12,14 @@ use crate::error::{Error, Result};
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
-use crate::pipeline::{VertexAttribute, VertexLayout};
+use crate::pipeline::VertexLayout;
 use crate::render::per_slot::slot_copy;
-use crate::render::{scene_vertices, GpuMesh, SceneVertex};
+use crate::render::{skinned_vertices, GpuMesh};
 use crate::scene::objects::SceneMesh;
 use crate::scene::{SceneSkin, MAX_JOINTS};
 
-/// The scene's vertex (`VertexLayout::SCENE`: position, normal, UV0, UV1, COLOR_0), then
-/// JOINTS_0 (uvec4 of u16) and WEIGHTS_0 (vec4): 80 bytes.
-pub const SKINNED_LAYOUT: VertexLayout = VertexLayout {
-    attributes: &[
-        VertexAttribute::Vec3,
-        VertexAttribute::Vec3,
-        VertexAttribute::Vec2,
-        VertexAttribute::Vec2,
-        VertexAttribute::Vec4,
-        VertexAttribute::U16x4,
-        VertexAttribute::Vec4,
-    ],
-};
-
-#[repr(C)]
-#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct SkinnedVertex {
-    scene: SceneVertex,
-    joints: [u16; 4],
-    weights: [f32; 4],
-}
+/// The scene's vertex, then JOINTS_0 and WEIGHTS_0 (`VertexLayout::SKINNED_SCENE`).
+pub const SKINNED_LAYOUT: VertexLayout = VertexLayout::SKINNED_SCENE;
 
 /// Bytes of the joint palette: `MAX_JOINTS` mat4 (std140: 64 bytes each).
 pub const PALETTE_BYTES: u64 = (MAX_JOINTS * std::mem::size_of::<Mat4>()) as u64;
@@ -115,34 +96,7 @@ impl SkinnedMesh {
     /// `source` is the object's scene mesh: its indices, UV sets and colours.
     pub fn upload(gpu: &Arc<Gpu>, name: &str, skin: &SceneSkin, source: &SceneMesh) -> Result<Self> {
         let indices = &source.data.indices;
-        let n = skin.positions.len();
-        if skin.joints.len() != n || skin.weights.len() != n {
-            return Err(Error::Mesh {
-                mesh: name.to_owned(),
-                problem: format!(
-                    "{n} vertices but {} joint and {} weight entries",
-                    skin.joints.len(),
-                    skin.weights.len()
-                ),
-            });
-        }
-        let palette_len = skin.joint_matrices.len();
-        if let Some((v, j)) = skin
-            .joints
-            .iter()
-            .enumerate()
-            .find_map(|(v, j)| j.iter().find(|&&j| j as usize >= palette_len.min(MAX_JOINTS)).map(|j| (v, *j)))
-        {
-            return Err(Error::Mesh {
-                mesh: name.to_owned(),
-                problem: format!("vertex {v} uses joint {j}, but the palette has {palette_len} joints"),
-            });
-        }
-        let vertices: Vec<SkinnedVertex> = scene_vertices(source, &skin.positions, &skin.normals)
-            .into_iter()
-            .enumerate()
-            .map(|(v, scene)| SkinnedVertex { scene, joints: skin.joints[v], weights: skin.weights[v] })
-            .collect();
+        let vertices = skinned_vertices(name, source, skin, 0)?;
         let mut palette = Palette::new(gpu, name)?;
         palette.update(0, &skin.joint_matrices)?;
         Ok(SkinnedMesh { mesh: GpuMesh::from_raw(gpu, name, &vertices, indices)?, palette })
@@ -155,7 +109,6 @@ mod tests {
 
     #[test]
     fn vertex_layout_matches_the_struct() {
-        assert_eq!(SKINNED_LAYOUT.stride() as usize, std::mem::size_of::<SkinnedVertex>());
         assert_eq!(PALETTE_BYTES, crate::gpu::mobile_profile::MAX_UNIFORM_BUFFER_RANGE as u64);
     }
 }

@@ -94,9 +94,21 @@ pub struct VolumeScratch {
     /// A skinned caster's posed welded positions and their face normals.
     positions: Vec<Vec3>,
     normals: Vec<Vec3>,
-    /// An `indices_only` volume of a skinned caster: its posed vertices, doubled
-    /// (`mesh::shadow_volume::doubled_vertices`), which the frame uploads with the indices.
+    /// An `indices_only` volume of a skinned caster posed on the CPU: its posed vertices,
+    /// doubled (`mesh::shadow_volume::doubled_vertices`), which the frame uploads with the
+    /// indices. Left empty when `skinned_on_gpu`.
     pub doubled: Vec<glam::Vec4>,
+    /// The caster being built is skinned on the GPU: its bind pose is uploaded already.
+    pub skinned_on_gpu: bool,
+}
+
+impl VolumeScratch {
+    /// The centroid of the skinned caster last built, in its current pose (`None` after a rigid
+    /// one): where the apex of its bounded far cap starts.
+    pub fn posed_centroid(&self, vertex_count: usize) -> Option<Vec3> {
+        let posed = &self.positions[..vertex_count.min(self.positions.len())];
+        (!posed.is_empty()).then(|| posed.iter().copied().sum::<Vec3>() / posed.len() as f32)
+    }
 }
 
 /// [`build_volume_for`] into `scratch.volume`, reusing its buffers.
@@ -111,11 +123,12 @@ pub fn build_volume_into(
     let object = &scene.objects[caster.object];
     let light = light_in_object_space(light, &object.transform);
     let (adjacency, welded) = (&caster.mesh.adjacency, &caster.mesh.welded);
-    let VolumeScratch { volume, multiplicities, positions, normals, doubled } = scratch;
+    let VolumeScratch { volume, multiplicities, positions, normals, doubled, skinned_on_gpu } = scratch;
     doubled.clear();
+    positions.clear();
     if gather_posed_welded_positions(scene, caster, positions) {
         adjacency.recompute_face_normals(positions, normals);
-        if volume.indices_only {
+        if volume.indices_only && !*skinned_on_gpu {
             crate::mesh::shadow_volume::doubled_vertices(&positions[..adjacency.vertex_count], doubled);
         }
         caster.mesh.build_volume_into(positions, normals, light, reach, caps, multiplicities, volume);

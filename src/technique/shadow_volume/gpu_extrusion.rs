@@ -32,6 +32,9 @@ pub struct VolumePush {
     pub model: Mat4,
     pub colour: Vec4,
     pub light: Vec4,
+    /// xyz: where a GPU-skinned caster's apex vertex (its bounded far cap's) starts: its
+    /// centroid in this frame's pose, which no vertex of its bind pose follows.
+    pub apex: Vec4,
     pub mesh: u32,
     pub flags: u32,
     pub reach: f32,
@@ -55,7 +58,7 @@ impl VolumePush {
             Reach::Scaled(scale) => (FAR_SCALED, scale),
             Reach::Infinite => (0, 0.0),
         };
-        VolumePush { model, colour: Vec4::ZERO, light, mesh: 0, flags: far_end, reach, unused: 0 }
+        VolumePush { model, colour: Vec4::ZERO, light, apex: Vec4::ZERO, mesh: 0, flags: far_end, reach, unused: 0 }
     }
 
     fn bounded(&self) -> bool {

@@ -11,7 +11,7 @@ use glam::{Mat4, Vec4};
 use super::bounds;
 use super::casters::{build_volume_into, choose_zfail, light_in_object_space, prepare_casters, Caster, VolumeScratch};
 use super::culling::{self, Culling, KeptCulling};
-use super::doubled::DoubledVertices;
+use super::doubled::{Doubled, DoubledVertices};
 use super::gpu_extrusion::{ExtrudedVolume, ShadowMeshes, VolumePush};
 use super::recipes::SATURATION_PROBE;
 use super::recipes::{is_extruded, VolumeDraw, VolumeKinds, VolumeSet};
@@ -20,7 +20,7 @@ use super::stats::{
     MEASURED_BY_APPLY, MEASURED_BY_MASK, MEASURED_BY_PROBE, NOT_COUNTED_REFERENCE, NOT_MEASURED, NOT_MEASURED_ADDITIVE,
     NOT_MEASURED_NO_ATOMICS,
 };
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::{Buffer, ReusedBuffer};
@@ -186,7 +186,8 @@ pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetu
         ShadowMode::Modulate => (0..scene.lights.len()).map(|i| i == primary).collect(),
     };
     let reports = casters.iter().map(|c| CasterReport::new(scene, c, capacity)).collect();
-    let doubled = DoubledVertices::upload(ctx.gpu, scene, &casters)?;
+    let meshes = GpuScene::upload_for(ctx.gpu, scene, ctx.options.skinning)?;
+    let doubled = DoubledVertices::upload(ctx.gpu, scene, &casters, meshes.joint_palettes())?;
     let shadow_meshes = match options.shadow_volume.extrusion {
         VolumeExtrusion::Shader => Some(ShadowMeshes::upload(ctx.gpu, scene, &casters, &mut warnings)?),
         VolumeExtrusion::Indices => None,
@@ -197,7 +198,7 @@ pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetu
         mode,
         casters,
         warnings,
-        meshes: GpuScene::upload(ctx.gpu, scene)?,
+        meshes,
         shadow_meshes,
         doubled,
         counter_input,
@@ -333,19 +334,33 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
                 }
                 continue;
             }
-            for volume in volumes {
-                let VolumeForm::Indexed { ranges, push } = &volume.form else { continue };
-                let Some(slot) = buffers.get(volume.caster) else { continue };
-                let vertices = match self.doubled.of_caster(volume.caster) {
-                    Some(rigid) => Some(rigid),
-                    None => slot.vertices.filled().map(|(buffer, _)| buffer),
-                };
-                let Some((vertices, (indices, _))) = vertices.zip(slot.indices.filled()) else { continue };
-                rec.set_scissor(volume.scissor);
-                for range in ranges {
-                    let push = VolumePush { colour: Vec4::new(0.0, 0.0, 0.0, alpha * range.times as f32), ..*push };
-                    rec.push(pipeline, &push);
-                    rec.draw_indexed_range(vertices, indices, range.first, range.count);
+            // Casters skinned on the GPU last, with the pipeline's skinned twin.
+            for skinned_pass in [false, true] {
+                let pipeline: &Pipeline = pipeline;
+                let mut bound = pipeline;
+                for volume in volumes {
+                    let VolumeForm::Indexed { ranges, push } = &volume.form else { continue };
+                    let Some(slot) = buffers.get(volume.caster) else { continue };
+                    let vertices = match self.doubled.of_caster(volume.caster) {
+                        Some(Doubled::Rigid(rigid)) if !skinned_pass => Some(rigid),
+                        Some(Doubled::Skinned(bind_pose)) if skinned_pass => Some(bind_pose),
+                        None if !skinned_pass => slot.vertices.filled().map(|(buffer, _)| buffer),
+                        _ => None,
+                    };
+                    let Some((vertices, (indices, _))) = vertices.zip(slot.indices.filled()) else { continue };
+                    if skinned_pass && std::ptr::eq(bound, pipeline) {
+                        bound = pipeline.skinned().ok_or_else(|| {
+                            Error::Internal(format!("volume pipeline '{}' has no skinned twin", pipeline.desc.name))
+                        })?;
+                        rec.bind(bound);
+                    }
+                    rec.set_scissor(volume.scissor);
+                    for range in ranges {
+                        let push =
+                            VolumePush { colour: Vec4::new(0.0, 0.0, 0.0, alpha * range.times as f32), ..*push };
+                        rec.push(bound, &push);
+                        rec.draw_indexed_range(vertices, indices, range.first, range.count);
+                    }
                 }
             }
         }
@@ -397,6 +412,7 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
                     extruded: &mut extruded,
                     scratch: &mut self.scratch,
                     shadow_meshes: self.shadow_meshes.as_ref(),
+                    doubled: &self.doubled,
                 };
                 upload_volumes(uploads, scene, &self.casters, counting, self.requested, extent, lit)?
             } else {
@@ -513,6 +529,8 @@ struct Uploads<'a> {
     scratch: &'a mut Scratch,
     /// The casters' tables, where volumes are extruded on the GPU.
     shadow_meshes: Option<&'a ShadowMeshes>,
+    /// The doubled vertices uploaded at build (which skinned casters are skinned on the GPU).
+    doubled: &'a DoubledVertices,
 }
 
 fn upload_volumes(
@@ -582,8 +600,10 @@ fn upload_volumes(
         // A volume is a function of the light, its reach and the caster's transform (and pose):
         // where none of them moved, its buffers still hold it (Doom 3's static shadows).
         let key = VolumeKey { light: geometry, reach, transform: object.transform };
-        let push = VolumePush::new(object.transform, in_object_space, reach);
+        let mut push = VolumePush::new(object.transform, in_object_space, reach);
         let skinned = object.skin.is_some();
+        let skinned_on_gpu = uploads.doubled.skinned_on_gpu(index);
+        uploads.scratch.volume.skinned_on_gpu = skinned_on_gpu;
         let ranges = match &slot.built {
             Some(built) if !skinned && built.key == key => {
                 *uploads.reused += 1;
@@ -593,7 +613,7 @@ fn upload_volumes(
                 let ranges = volume_for(scene, caster, key, counting, uploads.scratch);
                 // The previous frame in this slot has finished (frames wait for their
                 // fence): its buffers are free. A rigid caster's vertices are its mesh's.
-                if skinned {
+                if skinned && !skinned_on_gpu {
                     slot.vertices.fill(uploads.gpu, &uploads.scratch.volume.doubled)?;
                 }
                 slot.indices.fill(uploads.gpu, &uploads.scratch.indices)?;
@@ -603,6 +623,11 @@ fn upload_volumes(
         };
         if ranges.iter().all(|r| r.count == 0) {
             continue;
+        }
+        if skinned_on_gpu {
+            // Skinned casters are rebuilt every frame: the scratch holds this one's pose.
+            let centroid = uploads.scratch.volume.posed_centroid(caster.mesh.adjacency.vertex_count);
+            push.apex = centroid.unwrap_or_default().extend(1.0);
         }
         volumes.push(GpuVolume { caster: index, form: VolumeForm::Indexed { ranges, push }, scissor });
     }
