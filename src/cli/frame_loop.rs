@@ -73,7 +73,8 @@ pub(super) fn bench_loop(frame: &FrameArgs, playing: Playing, json: bool) -> Res
         let renderer = std::rc::Rc::new(std::cell::RefCell::new(renderer));
         // A game's frame stays on the GPU: no read-back.
         renderer.borrow_mut().keep_on_gpu(true);
-        kept_in_flight.push(renderer.borrow_mut().frames_in_flight());
+        let kept = (renderer.borrow_mut().frames_in_flight(), renderer.borrow().skinning());
+        kept_in_flight.push(kept);
         let mut live = Live::new(&base, false, frame.time);
         let mut scene = live.lit(&base);
         let base = &base;

@@ -14,6 +14,7 @@ use super::bootstrap::Bootstrap;
 use crate::error::Result;
 use crate::gpu::live_objects::{Activity, ObjectKind};
 use crate::gpu::Gpu;
+use crate::render::Skinning;
 
 /// One technique's loop: `frame(i)` renders its frame `i`.
 pub struct LoopVariant<'a> {
@@ -57,6 +58,8 @@ pub struct LoopResult {
     pub technique: String,
     /// Frames it kept in flight (1 where its per-frame data is not kept per frame slot).
     pub frames_in_flight: usize,
+    /// Where it posed skinned objects.
+    pub skinning: Skinning,
     pub frames: usize,
     /// Frames per second over the timed frames (their wall times summed).
     pub frames_per_second: f64,
@@ -137,7 +140,8 @@ fn thread_cpu_ms() -> Option<f64> {
 }
 
 /// Each variant's figures from its frames (`names` and `measured` in the same order).
-pub fn summarise(names: &[String], in_flight: &[usize], measured: &[Vec<LoopFrame>]) -> Vec<LoopResult> {
+/// `kept`: per technique, the frames it kept in flight and where it skinned.
+pub fn summarise(names: &[String], kept: &[(usize, Skinning)], measured: &[Vec<LoopFrame>]) -> Vec<LoopResult> {
     let bootstrap = Bootstrap::DEFAULT;
     let first: Vec<f64> = measured.first().map(|f| f.iter().map(LoopFrame::frame_ms).collect()).unwrap_or_default();
     names
@@ -152,7 +156,8 @@ pub fn summarise(names: &[String], in_flight: &[usize], measured: &[Vec<LoopFram
             let total_ms: f64 = frames.iter().map(|f| f.wall_ms).sum();
             LoopResult {
                 technique: name.clone(),
-                frames_in_flight: in_flight.get(index).copied().unwrap_or(1),
+                frames_in_flight: kept.get(index).map_or(1, |k| k.0),
+                skinning: kept.get(index).map_or(Skinning::Cpu, |k| k.1),
                 frames: played as usize,
                 frames_per_second: if total_ms > 0.0 { f64::from(played) / (total_ms / 1e3) } else { 0.0 },
                 frame_ms: mean(&|f| f.wall_ms),
@@ -185,6 +190,7 @@ impl LoopReport {
         let header = [
             "technique",
             "in flight",
+            "skinning",
             "frames/s",
             "x [95% CI]",
             "frame ms",
@@ -201,6 +207,7 @@ impl LoopReport {
                 vec![
                     r.technique.clone(),
                     r.frames_in_flight.to_string(),
+                    r.skinning.to_string(),
                     format!("{:.1}", r.frames_per_second),
                     r.throughput_ratio.map_or("1.00".into(), |ratio| ratio.brief()),
                     format!("{:.2}", r.frame_ms),
@@ -243,7 +250,7 @@ mod tests {
     fn throughput_is_frames_over_their_time_and_its_ratio_is_to_the_first() {
         let names = ["a".to_owned(), "b".to_owned()];
         let measured = vec![vec![frame(10.0); 4], vec![frame(20.0); 4]];
-        let results = summarise(&names, &[1, 1], &measured);
+        let results = summarise(&names, &[(1, Skinning::Cpu); 2], &measured);
         assert!((results[0].frames_per_second - 100.0).abs() < 1e-9);
         assert!((results[1].frames_per_second - 50.0).abs() < 1e-9);
         assert!(results[0].throughput_ratio.is_none());

@@ -9,6 +9,7 @@ use glam::{Vec2, Vec3, Vec4};
 
 use super::materials::GpuMaterials;
 use super::per_slot::slot_copy;
+use super::pipeline_object::Pipeline;
 use crate::error::{Error, Result};
 use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
@@ -128,6 +129,35 @@ impl GpuScene {
     /// Object `index`'s bind pose, when it is skinned on the GPU: drawn with a skinned twin.
     pub fn skinned_mesh(&self, index: usize) -> Option<&GpuMesh> {
         self.skinned.get(index).and_then(Option::as_ref)
+    }
+
+    /// What draws object `index` of `scene` with `pipeline`'s state: its mesh and `pipeline`,
+    /// or, for an object skinned on the GPU, its bind pose and `pipeline`'s skinned twin (an
+    /// error when the pipeline was built without one).
+    pub fn object_draw<'a>(
+        &'a self,
+        scene: &Scene,
+        index: usize,
+        pipeline: &'a Pipeline,
+    ) -> Result<(&'a GpuMesh, &'a Pipeline)> {
+        let object = scene.objects.get(index).ok_or_else(|| Error::Internal(format!("no object {index}")))?;
+        match self.skinned_mesh(index) {
+            Some(bind_pose) => {
+                let twin = pipeline.skinned().ok_or_else(|| {
+                    Error::Internal(format!(
+                        "'{}' is skinned on the GPU, but pipeline '{}' has no skinned twin",
+                        object.name, pipeline.desc.name
+                    ))
+                })?;
+                Ok((bind_pose, twin))
+            }
+            None => {
+                let mesh = self.meshes.get(object.mesh).ok_or_else(|| {
+                    Error::Internal(format!("'{}' uses mesh {}, which was not uploaded", object.name, object.mesh))
+                })?;
+                Ok((mesh, pipeline))
+            }
+        }
     }
 
     /// Re-poses the skinned objects whose palette changed since frame slot `slot`'s copies

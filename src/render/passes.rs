@@ -6,7 +6,7 @@
 use ash::vk;
 
 use super::frame_stats::{FrameStats, NoStats};
-use super::gpu_mesh::GpuScene;
+use super::gpu_mesh::{GpuScene, Skinning};
 use super::plan::{PassKinds, PlannedPass, Scissor, When};
 use super::recorder::FrameRecorder;
 use super::pipeline_object::Pipeline;
@@ -62,6 +62,16 @@ pub trait Passes<K: PassKinds> {
     /// (`GpuScene::upload_for`).
     fn joint_palettes(&self) -> Option<&JointPalettes> {
         self.meshes().and_then(GpuScene::joint_palettes)
+    }
+
+    /// Where it poses skinned objects: on the GPU where it has the palettes (`joint_palettes`);
+    /// the planar family skins on the GPU with palette sets of its own.
+    fn skinning(&self) -> Skinning {
+        if self.joint_palettes().is_some() {
+            Skinning::Gpu
+        } else {
+            Skinning::Cpu
+        }
     }
 
     /// The material set template bound with the pass's sets (each object then binds its own).

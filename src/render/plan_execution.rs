@@ -207,19 +207,13 @@ pub fn draw_objects<K: PassKinds>(
         let main = pipelines.first().map_or("", |p| p.desc.name);
         let wanted = pass.variant_index(main, MaterialVariant::for_surface(material)).unwrap_or(0);
         let Some(&variant) = pipelines.get(wanted) else { continue };
-        let skinned = meshes.skinned_mesh(index);
-        let pipeline = match skinned {
-            None => variant,
-            Some(_) => variant.skinned().ok_or_else(|| {
-                Error::Internal(format!(
-                    "pass '{}': '{}' is skinned on the GPU, but pipeline '{}' has no skinned twin",
-                    pass.name, object.name, variant.desc.name
-                ))
-            })?,
-        };
-        if (wanted, skinned.is_some()) != bound {
+        let (mesh, pipeline) = meshes
+            .object_draw(scene, index, variant)
+            .map_err(|e| Error::Internal(format!("pass '{}': {e}", pass.name)))?;
+        let skinned = !std::ptr::eq(pipeline, variant);
+        if (wanted, skinned) != bound {
             rec.bind(pipeline);
-            bound = (wanted, skinned.is_some());
+            bound = (wanted, skinned);
         }
         if with_material {
             rec.bind_material(pipeline, meshes.materials.set(object.material));
@@ -230,7 +224,7 @@ pub fn draw_objects<K: PassKinds>(
             Some(light) => rec.push(pipeline, &LightPush { object: push, light: [u32::from(light), 0, 0, 0] }),
             None => rec.push(pipeline, &push),
         }
-        rec.draw_mesh(skinned.unwrap_or(&meshes.meshes[object.mesh]));
+        rec.draw_mesh(mesh);
     }
     Ok(())
 }

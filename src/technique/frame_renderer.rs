@@ -15,7 +15,7 @@ use crate::render::passes::Passes;
 use crate::render::plan::{Label, PassKinds, PassPlan, SetRole, Target, When};
 use crate::render::plan_execution::{record_plan, PlanPipelines};
 use crate::render::PipelineTarget;
-use crate::render::{FrameUniforms, Renderer};
+use crate::render::{FrameUniforms, Renderer, Skinning};
 use crate::scene::{JointPalettes, Scene};
 
 /// A built renderer: the frame renderer, the plan and its pipelines, and the technique's part.
@@ -173,6 +173,10 @@ impl<K: PassKinds, P: Passes<K>> TechniqueRenderer for FrameRenderer<'_, K, P> {
 
     fn warnings(&self) -> &[String] {
         &self.warnings
+    }
+
+    fn skinning(&self) -> Skinning {
+        self.passes.skinning()
     }
 }
 

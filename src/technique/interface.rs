@@ -318,6 +318,12 @@ impl SceneRenderer<'_> {
         self.0.renderer_mut().targets.attach_swapchain(images)
     }
 
+    /// Where it poses skinned objects: `Gpu` where `RenderOptions.skinning` asks for it and
+    /// every stage of the technique that draws them has a skinned twin.
+    pub fn skinning(&self) -> Skinning {
+        self.0.skinning()
+    }
+
     /// Frames it keeps in flight (`RenderOptions.frames_in_flight`, where its technique allows).
     pub fn frames_in_flight(&mut self) -> usize {
         self.0.renderer_mut().frames_in_flight()
@@ -365,6 +371,9 @@ pub(crate) trait TechniqueRenderer {
     }
     fn warnings(&self) -> &[String] {
         &[]
+    }
+    fn skinning(&self) -> Skinning {
+        Skinning::Cpu
     }
 }
 

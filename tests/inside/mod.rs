@@ -15,6 +15,7 @@ mod frames_in_flight;
 mod fuzz_gltf;
 mod gltf_conformance;
 mod gpu_faults;
+mod gpu_skinning;
 mod ink_methods;
 mod lights;
 mod maps_per_light;

@@ -26,7 +26,7 @@ use crate::render::per_slot::slot_copy;
 use crate::render::passes::Passes;
 use crate::render::plan::{DrawKind, Label, NoOwn, PassKinds, PassPlan, PlannedPass, SetRole};
 use crate::render::Pipeline;
-use crate::render::{FrameOutput, FrameRecorder, GpuScene, Renderer};
+use crate::render::{FrameOutput, FrameRecorder, GpuScene, Renderer, Skinning};
 use crate::scene::{bounds_of, Scene};
 use crate::shaders;
 use crate::technique::frame_renderer::BuildContext;
@@ -345,6 +345,11 @@ impl Passes<BlobKinds> for BlobPasses {
 
     fn writes_per_slot(&self) -> bool {
         true
+    }
+
+    /// Skinned casters are skinned in the vertex stage, palettes in sets of the family's own.
+    fn skinning(&self) -> Skinning {
+        Skinning::Gpu
     }
 
     fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {

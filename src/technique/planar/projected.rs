@@ -40,7 +40,7 @@ use crate::pipeline::PipelineDesc;
 use crate::render::passes::Passes;
 use crate::render::plan::{MaterialVariant, PassPlan, PlannedPass, When};
 use crate::render::Pipeline;
-use crate::render::{FrameOutput, FrameRecorder, GpuScene, Renderer};
+use crate::render::{FrameOutput, FrameRecorder, GpuScene, Renderer, Skinning};
 use crate::scene::{Scene, SceneLight};
 use crate::shaders;
 use crate::technique::frame_renderer::BuildContext;
@@ -342,6 +342,11 @@ impl Passes<PlanarKinds> for PlanarPasses {
     /// The joint palettes are its only per-frame data, a copy per slot.
     fn writes_per_slot(&self) -> bool {
         true
+    }
+
+    /// Skinned casters are skinned in the vertex stage, palettes in sets of the family's own.
+    fn skinning(&self) -> Skinning {
+        Skinning::Gpu
     }
 
     fn conditions(&self, scene: &Scene) -> Vec<When> {

@@ -40,7 +40,7 @@ use crate::render::per_slot::slot_copy;
 use crate::render::passes::Passes;
 use crate::render::plan::{DrawKind, Label, MaterialVariant, PassKinds, PassPlan, PlannedPass, SetRole};
 use crate::render::Pipeline;
-use crate::render::{FrameOutput, FrameRecorder, GpuMesh, GpuScene, ObjectPush, Renderer, OBJECT_PUSH_BYTES};
+use crate::render::{FrameOutput, FrameRecorder, GpuMesh, GpuScene, ObjectPush, Renderer, OBJECT_PUSH_BYTES, Skinning};
 use crate::scene::{Light, Scene};
 use crate::shaders;
 use crate::technique::frame_renderer::BuildContext;
@@ -537,6 +537,11 @@ impl Passes<TextureKinds> for ShadowTexturePasses {
     /// Palettes and the shadow texture are the slot's own.
     fn writes_per_slot(&self) -> bool {
         true
+    }
+
+    /// Skinned casters are skinned in the vertex stage, palettes in sets of the family's own.
+    fn skinning(&self) -> Skinning {
+        Skinning::Gpu
     }
 
     fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {

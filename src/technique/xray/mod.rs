@@ -102,7 +102,7 @@ impl TechniqueUnit for XRay {
     }
 
     fn make(&self, ctx: BuildContext<'_, XRayKinds>, scene: &Scene, _setup: ()) -> Result<XRayPasses> {
-        Ok(XRayPasses { gpu: ctx.gpu.clone(), meshes: GpuScene::upload(ctx.gpu, scene)? })
+        Ok(XRayPasses { gpu: ctx.gpu.clone(), meshes: GpuScene::upload_for(ctx.gpu, scene, ctx.options.skinning)? })
     }
 }
 
@@ -128,10 +128,17 @@ impl Passes<XRayKinds> for XRayPasses {
         match draw {
             XRayDraw::HiddenCasters => {
                 let Some(&pipeline) = pipelines.first() else { return Ok(()) };
-                for object in scene.objects.iter().filter(|o| o.casts_shadow) {
-                    rec.bind_material(pipeline, self.meshes.materials.set(object.material));
-                    rec.push(pipeline, &object_push(scene, object, SHOW_THROUGH));
-                    rec.draw_mesh(&self.meshes.meshes[object.mesh]);
+                let mut bound = pipeline;
+                for (index, object) in scene.objects.iter().enumerate().filter(|(_, o)| o.casts_shadow) {
+                    // A GPU-skinned caster is drawn by the pipeline's skinned twin.
+                    let (mesh, wanted) = self.meshes.object_draw(scene, index, pipeline)?;
+                    if !std::ptr::eq(wanted, bound) {
+                        rec.bind(wanted);
+                        bound = wanted;
+                    }
+                    rec.bind_material(bound, self.meshes.materials.set(object.material));
+                    rec.push(bound, &object_push(scene, object, SHOW_THROUGH));
+                    rec.draw_mesh(mesh);
                 }
                 Ok(())
             }
@@ -139,7 +146,7 @@ impl Passes<XRayKinds> for XRayPasses {
     }
 
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
-        // Skinned casters are re-posed on the CPU, as the lit scene's are.
+        // Skinned casters posed on the CPU follow the pose (`--skinning cpu`).
         self.meshes.follow_pose(&self.gpu, scene, renderer.slot())
     }
 
