@@ -230,6 +230,11 @@ pub enum Command {
         /// in turn with the others, to compare their costs in one run.
         #[arg(long)]
         each_extrusion: bool,
+        /// With --loop: play each technique once skinning on the GPU and once on the CPU
+        /// (`--skinning`), in turn, to compare their costs in one run (the `skinning` column
+        /// says where each one skinned).
+        #[arg(long, requires = "frame_loop")]
+        each_skinning: bool,
     },
     /// Bake one model's shadow texture (shadow-texture-atlas) and write it as PNG.
     Bake {

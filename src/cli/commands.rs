@@ -118,13 +118,20 @@ pub fn run(cli: Cli) -> Result<()> {
             frame_loop: Some(frames),
             frames_in_flight,
             each_extrusion,
+            each_skinning,
         } => {
             if table1_out.is_some() || runs.is_some() || trace.is_some() {
                 return Err(Error::InvalidInput(
                     "--loop plays N frames of each technique: drop --table1-out, --runs and --trace".into(),
                 ));
             }
-            let playing = super::frame_loop::Playing { frames, in_flight: frames_in_flight, warmup, each_extrusion };
+            let playing = super::frame_loop::Playing {
+                frames,
+                in_flight: frames_in_flight,
+                warmup,
+                each_extrusion,
+                each_skinning,
+            };
             super::frame_loop::bench_loop(&frame, playing, json)
         }
         Command::Bench { each_extrusion: true, frame_loop: None, .. } => Err(Error::InvalidInput(

@@ -7,6 +7,7 @@
 use super::args::FrameArgs;
 use super::frame_setup::{load_scene, open_gpu, options, print_warnings};
 use crate::error::{Error, Result};
+use crate::render::Skinning;
 use crate::profile::frame_loop::{self, LoopReport, LoopVariant};
 use crate::technique::{by_name, RenderOptions, SceneRenderer, ShadowVolumeOptions, VolumeExtrusion, TECHNIQUES};
 use crate::viewer::controls::Live;
@@ -18,16 +19,18 @@ const FRAME_SECONDS: f32 = 1.0 / 60.0;
 const TURN_FRAMES: u32 = 8;
 
 /// How the loop plays: N frames a technique, after `warmup` turns, `in_flight` frames in
-/// flight, and shadow-volume once per volume extrusion with `each_extrusion`.
+/// flight, shadow-volume once per volume extrusion with `each_extrusion`, and each technique
+/// once per skinning with `each_skinning`.
 pub(super) struct Playing {
     pub frames: u32,
     pub in_flight: u32,
     pub warmup: u32,
     pub each_extrusion: bool,
+    pub each_skinning: bool,
 }
 
 pub(super) fn bench_loop(frame: &FrameArgs, playing: Playing, json: bool) -> Result<()> {
-    let Playing { frames, in_flight, warmup, each_extrusion } = playing;
+    let Playing { frames, in_flight, warmup, each_extrusion, each_skinning } = playing;
     if frames == 0 {
         return Err(Error::InvalidInput("--loop takes the number of frames to play, at least 1".into()));
     }
@@ -60,6 +63,16 @@ pub(super) fn bench_loop(frame: &FrameArgs, playing: Playing, json: bool) -> Res
             listed.push((name.clone(), options));
         }
     }
+    if each_skinning {
+        listed = listed
+            .into_iter()
+            .flat_map(|(name, options)| {
+                Skinning::ALL.iter().map(move |skinning| {
+                    (format!("{name} ({skinning} skinning)"), RenderOptions { skinning: *skinning, ..options.clone() })
+                })
+            })
+            .collect();
+    }
     let names: Vec<String> = listed.iter().map(|(name, _)| name.clone()).collect();
     let turn = if in_flight > 1 { TURN_FRAMES } else { 1 };
     let base = load_scene(frame)?;
@@ -73,8 +86,8 @@ pub(super) fn bench_loop(frame: &FrameArgs, playing: Playing, json: bool) -> Res
         let renderer = std::rc::Rc::new(std::cell::RefCell::new(renderer));
         // A game's frame stays on the GPU: no read-back.
         renderer.borrow_mut().keep_on_gpu(true);
-        let kept = (renderer.borrow_mut().frames_in_flight(), renderer.borrow().skinning());
-        kept_in_flight.push(kept);
+        let in_flight = renderer.borrow_mut().frames_in_flight();
+        kept_in_flight.push((in_flight, renderer.borrow().skinning()));
         let mut live = Live::new(&base, false, frame.time);
         let mut scene = live.lit(&base);
         let base = &base;
