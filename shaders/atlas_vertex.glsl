@@ -7,3 +7,5 @@ layout(location = 2) in vec2 in_atlas_uv;
 layout(location = 3) in vec2 in_uv0;
 layout(location = 4) in vec2 in_uv1;
 layout(location = 5) in vec4 in_colour;
+// Where a skinned twin's JOINTS_0 and WEIGHTS_0 go (object_vertex.glsl).
+#define SKIN_LOCATION 6

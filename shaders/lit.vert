@@ -3,6 +3,7 @@
 // twin: skinned
 #include "frame_uniforms.glsl"
 #include "object_push.glsl"
+#include "scene_vertex.glsl"
 #include "object_vertex.glsl"
 
 // Invariant: shadow-volume caps reuse these positions and must land on the same depths.

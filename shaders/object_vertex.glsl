@@ -1,12 +1,12 @@
-// A scene object's vertex in the object's space. Compiled plain, it is the mesh's vertex as
-// stored (VertexLayout::SCENE); in a shader's skinned twin (SKINNED defined, see build.rs) it is
-// the bind pose skinned by the frame's joint palettes (VertexLayout::SKINNED_SCENE). Every
-// stage that draws scene objects reads its vertex here, so rigid and skinned objects go through
-// one shader source.
-#include "scene_vertex.glsl"
+// A scene object's vertex in the object's space, after the vertex inputs (scene_vertex.glsl or
+// atlas_vertex.glsl: in_position, in_normal, and SKIN_LOCATION, the first location they leave
+// free). Compiled plain, it is the mesh's vertex as stored; in a shader's skinned twin (SKINNED
+// defined, see build.rs) it is the bind pose skinned by the frame's joint palettes, JOINTS_0 and
+// WEIGHTS_0 following the layout's attributes (VertexLayout::skinned). Every stage that draws
+// scene objects reads its vertex here, so rigid and skinned objects go through one source.
 #ifdef SKINNED
-layout(location = 5) in uvec4 in_joints;
-layout(location = 6) in vec4 in_weights;
+layout(location = SKIN_LOCATION) in uvec4 in_joints;
+layout(location = SKIN_LOCATION + 1) in vec4 in_weights;
 #include "joint_palettes.glsl"
 #endif
 

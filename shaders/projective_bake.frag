@@ -3,7 +3,7 @@
 // its light ray faces the light and is in shadow; the texture is cleared to lit, so lit and
 // back-facing surfaces write nothing. One texel cannot tell the surfaces on its ray apart: the
 // lit surface in front of a shadowed one takes its shadow (the paper's figure 2).
-#define LIGHT_SET 0
+#define LIGHT_SET 1
 #include "shadow_atlas_light.glsl"
 
 layout(location = 0) in vec3 world_position;

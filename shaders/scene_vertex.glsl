@@ -6,3 +6,5 @@ layout(location = 1) in vec3 in_normal;
 layout(location = 2) in vec2 in_uv0;
 layout(location = 3) in vec2 in_uv1;
 layout(location = 4) in vec4 in_colour;
+// Where a skinned twin's JOINTS_0 and WEIGHTS_0 go (object_vertex.glsl).
+#define SKIN_LOCATION 5

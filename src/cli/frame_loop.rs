@@ -7,8 +7,8 @@
 use super::args::FrameArgs;
 use super::frame_setup::{load_scene, open_gpu, options, print_warnings};
 use crate::error::{Error, Result};
-use crate::render::Skinning;
 use crate::profile::frame_loop::{self, LoopReport, LoopVariant};
+use crate::render::Skinning;
 use crate::technique::{by_name, RenderOptions, SceneRenderer, ShadowVolumeOptions, VolumeExtrusion, TECHNIQUES};
 use crate::viewer::controls::Live;
 

@@ -87,6 +87,31 @@ impl VertexLayout {
             VertexAttribute::Vec4,
         ],
     };
+    /// The shadow techniques' vertex: position, normal (vec3), atlas UV, UV0, UV1 (vec2) and
+    /// COLOR_0 (vec4).
+    pub const ATLAS: VertexLayout = VertexLayout {
+        attributes: &[
+            VertexAttribute::Vec3,
+            VertexAttribute::Vec3,
+            VertexAttribute::Vec2,
+            VertexAttribute::Vec2,
+            VertexAttribute::Vec2,
+            VertexAttribute::Vec4,
+        ],
+    };
+    /// `ATLAS`, then JOINTS_0 and WEIGHTS_0.
+    pub const SKINNED_ATLAS: VertexLayout = VertexLayout {
+        attributes: &[
+            VertexAttribute::Vec3,
+            VertexAttribute::Vec3,
+            VertexAttribute::Vec2,
+            VertexAttribute::Vec2,
+            VertexAttribute::Vec2,
+            VertexAttribute::Vec4,
+            VertexAttribute::U16x4,
+            VertexAttribute::Vec4,
+        ],
+    };
     /// `POSITION4`, then JOINTS_0 and WEIGHTS_0: a skinned caster's doubled volume vertices.
     pub const SKINNED_POSITION4: VertexLayout =
         VertexLayout { attributes: &[VertexAttribute::Vec4, VertexAttribute::U16x4, VertexAttribute::Vec4] };
@@ -97,6 +122,7 @@ impl VertexLayout {
         match *self {
             VertexLayout::SCENE => Some(VertexLayout::SKINNED_SCENE),
             VertexLayout::POSITION4 => Some(VertexLayout::SKINNED_POSITION4),
+            VertexLayout::ATLAS => Some(VertexLayout::SKINNED_ATLAS),
             _ => None,
         }
     }

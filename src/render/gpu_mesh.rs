@@ -71,7 +71,8 @@ crate::names::named_enum! {
     pub enum Skinning {
         /// In the vertex stage: each skinned object's bind pose is uploaded once with its joints
         /// and weights, and every stage that draws it skins it from the frame's joint palettes
-        /// (the shaders' skinned twins). Techniques whose stages have no twins yet pose on the CPU.
+        /// (the shaders' skinned twins). Techniques whose stages have no twins (the cartoon
+        /// techniques, shadow-texture-atlas) pose on the CPU.
         #[default]
         Gpu = "gpu",
         /// On the CPU, into a host-visible copy per frame slot (the proven oracle).

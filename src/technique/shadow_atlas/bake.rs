@@ -95,23 +95,24 @@ impl AtlasTargets {
         Ok(AtlasTargets { objects, bake_pass, dilate_pass, _trilinear: trilinear, _nearest: nearest })
     }
 
-    /// Each model drawn at its atlas UVs into its raw bake, lit or shadowed per texel.
+    /// Each model drawn where the light sees it into its raw bake, lit or shadowed per texel:
+    /// `draws` holds each one's mesh and pipeline (the bake or its skinned twin, which share
+    /// the layout `sets` are bound for: the frame's and the lights').
     pub fn record_bake(
         &self,
         rec: &mut FrameRecorder,
         scene: &Scene,
-        meshes: &[GpuMesh],
-        bake: &Pipeline,
-        light_set: vk::DescriptorSet,
+        draws: &[(&GpuMesh, &Pipeline)],
+        sets: &[vk::DescriptorSet],
     ) {
         // Alpha 0: no triangle covers the texel (yet).
         let clear = [vk::ClearValue { color: vk::ClearColorValue { float32: [1.0, 1.0, 1.0, 0.0] } }];
-        for o in &self.objects {
+        for (o, (mesh, bake)) in self.objects.iter().zip(draws) {
             let object = &scene.objects[o.object];
             rec.begin_offscreen_pass(&self.bake_pass, o.bake_framebuffer.raw, o.extent(), &clear);
-            rec.bind_with_sets(bake, &[light_set]);
+            rec.bind_with_sets(bake, sets);
             rec.push(bake, &ObjectPush { model: object.transform, colour: Vec4::ONE });
-            rec.draw_mesh(&meshes[object.mesh]);
+            rec.draw_mesh(mesh);
             rec.end_render_pass();
         }
     }

@@ -4,7 +4,7 @@
 //! neither a light nor a model moves, then the scene pass.
 
 use crate::pipeline::recipes::NO_WRITE;
-use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexAttribute, VertexLayout};
+use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexLayout};
 use crate::render::plan::{DrawKind, Label, MaterialVariant, PassKinds, PassPlan, PlannedPass, SetRole, When};
 use crate::render::{LIGHT_PUSH_BYTES, OBJECT_PUSH_BYTES};
 use crate::shaders;
@@ -14,16 +14,7 @@ use crate::technique::options::ShadowKind;
 
 /// position (vec3) + normal (vec3) + atlas UV (vec2), then the material's inputs: UV0, UV1
 /// (vec2 each) and COLOR_0 (vec4).
-pub const ATLAS_VERTEX: VertexLayout = VertexLayout {
-    attributes: &[
-        VertexAttribute::Vec3,
-        VertexAttribute::Vec3,
-        VertexAttribute::Vec2,
-        VertexAttribute::Vec2,
-        VertexAttribute::Vec2,
-        VertexAttribute::Vec4,
-    ],
-};
+pub const ATLAS_VERTEX: VertexLayout = VertexLayout::ATLAS;
 
 /// The kinds of the seed 004 plans.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -245,7 +236,8 @@ pub fn plan(kind: ShadowKind, lights: &[PlannedLight]) -> PassPlan<AtlasKinds> {
                 AtlasTarget::ShadowMap,
             )
             .or_variant(MaterialVariant::Masked, shadow_map_desc().name, shadow_map_masked_desc())
-            .with_sets(&[LIGHT, SetRole::Material])
+            // The frame's set first: its joint palettes skin the casters on the GPU.
+            .with_sets(&[SetRole::Frame, SetRole::Material, LIGHT])
             .for_light(index as u8)
             .when(moved),
         );
@@ -293,7 +285,8 @@ pub fn plan(kind: ShadowKind, lights: &[PlannedLight]) -> PassPlan<AtlasKinds> {
                     "object transform",
                     AtlasTarget::LightSpace,
                 )
-                .with_sets(&[LIGHT])
+                // The frame's set first: its joint palettes skin the models on the GPU.
+                .with_sets(&[SetRole::Frame, LIGHT])
                 .when(moved),
             );
             // Radius 0, a copy (uncovered texels are lit, not a gutter).

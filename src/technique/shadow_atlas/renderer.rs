@@ -30,10 +30,10 @@ use crate::render::per_slot::slot_copy;
 use crate::render::plan::{MaterialVariant, PlannedPass, When};
 use crate::render::Pipeline;
 use crate::render::{
-    object_push, scene_vertices, FrameOutput, FrameRecorder, GpuMaterials, GpuMesh, LightPush, ObjectPush, Renderer,
+    object_push, scene_vertices, skinned_vertices, FrameOutput, FrameRecorder, GpuMaterials, GpuMesh, LightPush, ObjectPush, Renderer, Skinning,
 };
 use crate::scene::objects::SceneMesh;
-use crate::scene::{Light, Scene, SlotPoses};
+use crate::scene::{JointPalettes, Light, Scene, SlotPoses};
 use crate::technique::frame_renderer::{self, FrameRenderer};
 use crate::technique::interface::{FrameStats, RenderOptions};
 use crate::technique::options::{LightMode, ShadowAtlasOptions, ShadowKind};
@@ -45,6 +45,8 @@ struct PosedLayout {
     uvs: Vec<Vec2>,
     /// The material's inputs of each GPU vertex (UV0, UV1, COLOR_0), gathered once.
     surface: Vec<[f32; 8]>,
+    /// The atlas mesh's triangles.
+    indices: Vec<u32>,
 }
 
 /// What the cached passes were last rendered for.
@@ -84,6 +86,11 @@ pub struct ShadowPasses {
     compare: Sampler,
     map: Image,
     meshes: Vec<GpuMesh>,
+    /// Per object, skinned on the GPU: its bind pose's atlas vertices with joints and weights
+    /// (`VertexLayout::SKINNED_ATLAS`), drawn by the pipelines' skinned twins.
+    skinned: Vec<Option<GpuMesh>>,
+    /// Where the skinned objects' palettes lie, skinning on the GPU.
+    palettes: Option<JointPalettes>,
     materials: GpuMaterials,
     layouts: Vec<PosedLayout>,
     /// The pose each slot's copy of the skinned objects' atlas vertices holds.
@@ -120,7 +127,7 @@ pub fn build<'s>(
     let atlas_options = options.shadow_atlas;
     let lights = maps::planned_lights(&maps::coverage(kind, scene), scene);
     frame_renderer::build_typed(technique, passes::plan(kind, &lights), gpu, scene, options, |_| {
-        ShadowPasses::new(gpu, scene, kind, atlas_options, progress)
+        ShadowPasses::new(gpu, scene, kind, (atlas_options, options.skinning), progress)
     })
 }
 
@@ -180,11 +187,14 @@ fn light_uniforms(gpu: &Arc<Gpu>, map: &Image, compare: &Sampler) -> Result<Ligh
 }
 
 impl ShadowPasses {
+    /// `skinning`: where skinned objects are posed; the shadow map and the projective texture
+    /// skin them on the GPU when asked, the atlas on the CPU (its texels' surface points and its
+    /// bake follow the CPU's pose).
     pub(super) fn new(
         gpu: &Arc<Gpu>,
         scene: &Scene,
         kind: ShadowKind,
-        options: ShadowAtlasOptions,
+        (options, skinning): (ShadowAtlasOptions, Skinning),
         progress: &mut dyn FnMut(usize, usize),
     ) -> Result<Self> {
         let layouts = mesh_layouts(scene, kind, options, progress)?;
@@ -196,6 +206,7 @@ impl ShadowPasses {
                 sources: a.source_vertices.clone(),
                 uvs: a.uvs.clone(),
                 surface: surface_of(m, &a.source_vertices),
+                indices: a.indices.clone(),
             })
             .collect();
         let meshes = scene
@@ -209,6 +220,12 @@ impl ShadowPasses {
             })
             .collect::<Result<Vec<_>>>()?;
         let materials = GpuMaterials::upload(gpu, scene)?;
+        let on_gpu = skinning == Skinning::Gpu && matches!(kind, ShadowKind::Map | ShadowKind::Projective);
+        let palettes = on_gpu.then(|| JointPalettes::of(scene));
+        let skinned = match &palettes {
+            Some(palettes) => upload_bind_poses(gpu, scene, &posed_layouts, palettes)?,
+            None => Vec::new(),
+        };
         let atlases = scene
             .meshes
             .iter()
@@ -261,6 +278,8 @@ impl ShadowPasses {
             compare,
             map,
             meshes,
+            skinned,
+            palettes,
             materials,
             layouts: posed_layouts,
             posed: SlotPoses::new(scene),
@@ -303,6 +322,9 @@ impl ShadowPasses {
     /// layout stays).
     fn follow_pose(&mut self, scene: &Scene, slot: usize) -> Result<()> {
         for index in self.posed.changed(scene, slot) {
+            if self.skinned.get(index).is_some_and(Option::is_some) {
+                continue; // skinned in the vertex stage
+            }
             let object = &scene.objects[index];
             let (Some(skin), Some(mesh), Some(layout)) =
                 (&object.skin, self.meshes.get_mut(object.mesh), self.layouts.get(object.mesh))
@@ -346,13 +368,16 @@ impl ShadowPasses {
             .and_then(|layer| self.map_framebuffers.get(layer as usize))
             .ok_or_else(|| Error::Internal(format!("pass '{}': light {light} has no map layer", pass.name)))?;
         self.begin_map_layer(rec, framebuffer);
-        rec.bind_with_sets(opaque, &[self.light_slot().set.set, self.materials.template_set()]);
+        let sets = [rec.frame_set(), self.materials.template_set(), self.light_slot().set.set];
+        rec.bind_with_sets(opaque, &sets);
         let mut bound = opaque;
-        for object in scene.objects.iter().filter(|o| o.casts_shadow) {
+        for (index, object) in scene.objects.iter().enumerate().filter(|(_, o)| o.casts_shadow) {
             let variant = MaterialVariant::for_caster(scene.material_of(object));
-            let pipeline = pass.variant(pipelines, opaque, variant);
+            let (mesh, pipeline) = self.object_draw(scene, index, pass.variant(pipelines, opaque, variant))?;
             if !std::ptr::eq(pipeline, bound) {
-                rec.bind_with_sets(pipeline, &[self.light_slot().set.set]);
+                // Every pipeline of the pass shares its set layouts: the material and the
+                // lights stay bound.
+                rec.bind(pipeline);
                 bound = pipeline;
             }
             if variant.is_some() {
@@ -360,7 +385,7 @@ impl ShadowPasses {
             }
             let push = ObjectPush { model: object.transform, colour: Vec4::ONE };
             rec.push(pipeline, &LightPush { object: push, light: [u32::from(light), 0, 0, 0] });
-            rec.draw_mesh(&self.meshes[object.mesh]);
+            rec.draw_mesh(mesh);
         }
         rec.end_render_pass();
         Ok(())
@@ -390,13 +415,13 @@ impl ShadowPasses {
         scene: &Scene,
         pass: &PlannedPass<AtlasKinds>,
         pipelines: &[&Pipeline],
-    ) {
-        let Some(&main) = pipelines.first() else { return };
+    ) -> Result<()> {
+        let Some(&main) = pipelines.first() else { return Ok(()) };
         let mut bound = main;
         for index in draw_order(scene) {
             let object = &scene.objects[index];
             let variant = MaterialVariant::for_surface(scene.material_of(object));
-            let pipeline = pass.variant(pipelines, main, variant);
+            let (mesh, pipeline) = self.object_draw(scene, index, pass.variant(pipelines, main, variant))?;
             if !std::ptr::eq(pipeline, bound) {
                 rec.bind(pipeline);
                 bound = pipeline;
@@ -406,8 +431,28 @@ impl ShadowPasses {
             }
             rec.bind_material(pipeline, self.materials.set(object.material));
             rec.push(pipeline, &object_push(scene, object, 1.0));
-            rec.draw_mesh(&self.meshes[object.mesh]);
+            rec.draw_mesh(mesh);
         }
+        Ok(())
+    }
+
+    /// What draws object `index` with `pipeline`'s state: its mesh's atlas vertices and
+    /// `pipeline`, or, skinned on the GPU, its bind pose and the pipeline's skinned twin.
+    fn object_draw<'a>(
+        &'a self,
+        scene: &Scene,
+        index: usize,
+        pipeline: &'a Pipeline,
+    ) -> Result<(&'a GpuMesh, &'a Pipeline)> {
+        let object = scene.objects.get(index).ok_or_else(|| Error::Internal(format!("no object {index}")))?;
+        if let Some(bind_pose) = self.skinned.get(index).and_then(Option::as_ref) {
+            let twin = pipeline.skinned().ok_or_else(|| {
+                Error::Internal(format!("'{}' is skinned on the GPU, but '{}' has no twin", object.name, pipeline.desc.name))
+            })?;
+            return Ok((bind_pose, twin));
+        }
+        let mesh = self.meshes.get(object.mesh).ok_or_else(|| Error::Internal(format!("no mesh {}", object.mesh)))?;
+        Ok((mesh, pipeline))
     }
 }
 
@@ -495,7 +540,12 @@ impl Passes<AtlasKinds> for ShadowPasses {
                 )
             }
             AtlasDraw::ProjectiveBake => {
-                self.atlas_targets(pass)?.record_bake(rec, scene, &self.meshes, pipeline()?, self.light_slot().set.set)
+                let targets = self.atlas_targets(pass)?;
+                let bake = pipeline()?;
+                let draws =
+                    targets.objects.iter().map(|o| self.object_draw(scene, o.object, bake)).collect::<Result<Vec<_>>>()?;
+                let sets = [rec.frame_set(), self.light_slot().set.set];
+                targets.record_bake(rec, scene, &draws, &sets);
             }
             AtlasDraw::Page => {
                 let dilate = pipelines
@@ -510,7 +560,7 @@ impl Passes<AtlasKinds> for ShadowPasses {
                 Some(page) => page.record_mips(rec),
                 None => self.atlas_targets(pass)?.record_mips(rec),
             },
-            AtlasDraw::Scene => self.draw_scene(rec, scene, pass, pipelines),
+            AtlasDraw::Scene => self.draw_scene(rec, scene, pass, pipelines)?,
         }
         Ok(())
     }
@@ -620,6 +670,10 @@ impl Passes<AtlasKinds> for ShadowPasses {
         true
     }
 
+    fn joint_palettes(&self) -> Option<&JointPalettes> {
+        self.palettes.as_ref()
+    }
+
     fn frames_to_steady_state(&self) -> u32 {
         match self.options.light {
             LightMode::Moving => 1,
@@ -638,6 +692,55 @@ fn atlas_vertices(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], surface: &
             [p.x, p.y, p.z, n.x, n.y, n.z, uv.x, uv.y, s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7]]
         })
         .collect()
+}
+
+/// Per object skinned on the GPU, its mesh's atlas vertices in the skin's bind pose, each with
+/// the joints (moved to the object's palette) and weights of the vertex it comes from.
+fn upload_bind_poses(
+    gpu: &Arc<Gpu>,
+    scene: &Scene,
+    layouts: &[PosedLayout],
+    palettes: &JointPalettes,
+) -> Result<Vec<Option<GpuMesh>>> {
+    scene
+        .objects
+        .iter()
+        .zip(&palettes.first_joint)
+        .map(|(object, first)| {
+            let (Some(skin), Some(first), Some(source), Some(layout)) =
+                (&object.skin, first, scene.meshes.get(object.mesh), layouts.get(object.mesh))
+            else {
+                return Ok(None);
+            };
+            // The bind pose's vertices with their joints checked and moved (one per mesh vertex).
+            let skinned = skinned_vertices(&object.name, source, skin, *first)?;
+            let pick = |v: u32| skinned.get(v as usize);
+            let positions: Vec<Vec3> =
+                layout.sources.iter().map(|&v| pick(v).map_or(Vec3::ZERO, |s| s.scene.position.into())).collect();
+            let normals: Vec<Vec3> =
+                layout.sources.iter().map(|&v| pick(v).map_or(Vec3::Y, |s| s.scene.normal.into())).collect();
+            let atlas = atlas_vertices(&positions, &normals, &layout.uvs, &layout.surface);
+            let vertices: Vec<SkinnedAtlasVertex> = atlas
+                .into_iter()
+                .zip(&layout.sources)
+                .map(|(atlas, &v)| {
+                    let (joints, weights) = pick(v).map_or(([0; 4], [0.0; 4]), |s| (s.joints, s.weights));
+                    SkinnedAtlasVertex { atlas, joints, weights }
+                })
+                .collect();
+            let name = format!("{} atlas vertices (bind pose)", object.name);
+            GpuMesh::from_raw(gpu, &name, &vertices, &layout.indices).map(Some)
+        })
+        .collect()
+}
+
+/// One vertex of `VertexLayout::SKINNED_ATLAS`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct SkinnedAtlasVertex {
+    atlas: [f32; 16],
+    joints: [u16; 4],
+    weights: [f32; 4],
 }
 
 /// UV0, UV1 and COLOR_0 of `mesh`'s vertices `sources` (one per atlas vertex).

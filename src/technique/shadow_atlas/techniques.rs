@@ -125,6 +125,7 @@ impl TechniqueUnit for ShadowTechnique {
     }
 
     fn make(&self, ctx: BuildContext<'_, AtlasKinds>, scene: &Scene, _setup: ()) -> Result<ShadowPasses> {
-        ShadowPasses::new(ctx.gpu, scene, self.kind, ctx.options.shadow_atlas, &mut |_, _| {})
+        let options = (ctx.options.shadow_atlas, ctx.options.skinning);
+        ShadowPasses::new(ctx.gpu, scene, self.kind, options, &mut |_, _| {})
     }
 }
