@@ -1,12 +1,14 @@
 #version 450
 // Scene geometry for the cartoon techniques: world position and normal, and N.V per vertex
 // (seed 002's vertex-shader silhouette: the texture coordinate of the dark-rim lookup).
+// twin: skinned
 #include "frame_uniforms.glsl"
 #include "cartoon_push.glsl"
 
 invariant gl_Position;
 
 #include "scene_vertex.glsl"
+#include "object_vertex.glsl"
 
 layout(location = 0) out vec3 world_position;
 layout(location = 1) out vec3 world_normal;
@@ -16,9 +18,10 @@ layout(location = 4) out vec2 uv1;
 layout(location = 5) out vec4 vertex_colour;
 
 void main() {
-    vec4 world = object.model * vec4(in_position, 1.0);
+    ObjectVertex vertex = object_vertex();
+    vec4 world = object.model * vertex.position;
     world_position = world.xyz;
-    world_normal = transpose(inverse(mat3(object.model))) * in_normal;
+    world_normal = transpose(inverse(mat3(object.model))) * vertex.normal;
     vec3 to_eye = normalize(frame.camera_position.xyz - world.xyz);
     facing = dot(normalize(world_normal), to_eye);
     uv0 = in_uv0;

@@ -3,7 +3,7 @@
 // 0 shadowed, 1 for a channel no light holds); alpha 1 marks a texel the surface covers. One
 // pass reads every light's map: each model is rasterised once per bake rather than once per
 // light, and a texel is written whole (no write mask per channel).
-#define LIGHT_SET 0
+#define LIGHT_SET 1
 #include "shadow_atlas_light.glsl"
 
 layout(location = 0) in vec3 world_position;

@@ -325,9 +325,8 @@ pub struct FrameArgs {
     /// compare whole techniques in one run).
     #[arg(long, default_value = DEFAULT_TECHNIQUE)]
     pub technique: String,
-    /// Where skinned objects are posed: `gpu`, in the vertex stage of the techniques that can
-    /// (lit, shadow-volume, x-ray, shadow-map, projective-texture; the planar family always
-    /// does), or `cpu` (the oracle).
+    /// Where skinned objects are posed: `gpu`, in every technique's vertex stage, or `cpu`,
+    /// re-skinned on the CPU when the pose changes (the oracle).
     #[arg(long, value_enum, default_value_t)]
     pub skinning: Skinning,
     /// Built-in scene name (see `nostencil info`) or a .gltf/.glb file.

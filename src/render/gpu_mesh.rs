@@ -71,8 +71,7 @@ crate::names::named_enum! {
     pub enum Skinning {
         /// In the vertex stage: each skinned object's bind pose is uploaded once with its joints
         /// and weights, and every stage that draws it skins it from the frame's joint palettes
-        /// (the shaders' skinned twins). Techniques whose stages have no twins (the cartoon
-        /// techniques, shadow-texture-atlas) pose on the CPU.
+        /// (the shaders' skinned twins; the planar family's palettes are sets of its own).
         #[default]
         Gpu = "gpu",
         /// On the CPU, into a host-visible copy per frame slot (the proven oracle).
@@ -135,12 +134,12 @@ impl GpuScene {
     /// What draws object `index` of `scene` with `pipeline`'s state: its mesh and `pipeline`,
     /// or, for an object skinned on the GPU, its bind pose and `pipeline`'s skinned twin (an
     /// error when the pipeline was built without one).
-    pub fn object_draw<'a>(
-        &'a self,
+    pub fn object_draw<'m, 'p>(
+        &'m self,
         scene: &Scene,
         index: usize,
-        pipeline: &'a Pipeline,
-    ) -> Result<(&'a GpuMesh, &'a Pipeline)> {
+        pipeline: &'p Pipeline,
+    ) -> Result<(&'m GpuMesh, &'p Pipeline)> {
         let object = scene.objects.get(index).ok_or_else(|| Error::Internal(format!("no object {index}")))?;
         match self.skinned_mesh(index) {
             Some(bind_pose) => {

@@ -61,6 +61,9 @@ pub struct SceneSkin {
     /// At most `MAX_JOINTS` matrices, in the object's (mesh node's) space: what the CPU skinning
     /// applied to produce the mesh.
     pub joint_matrices: Vec<Mat4>,
+    /// The palette the object's mesh was skinned with when the scene was built: what its
+    /// CPU-side copies hold until `Scene::pose_at` moved `joint_matrices` on (`PoseTracker`).
+    pub mesh_pose: Vec<Mat4>,
 }
 
 impl SceneSkin {

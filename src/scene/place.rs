@@ -53,6 +53,7 @@ pub fn add_model(scene: &mut Scene, rig: &Arc<Rig>, world: &[Mat4]) -> Result<Op
                     joints: vertex_joints.clone(),
                     weights: weights.clone(),
                     joint_matrices: palette.clone(),
+                    mesh_pose: palette.clone(),
                 }));
             }
             for p in &positions {

@@ -20,11 +20,10 @@ pub struct PoseTracker {
 }
 
 impl PoseTracker {
-    /// Starts from `scene` as built: every copy is in the scene's current pose.
+    /// Starts from `scene`'s meshes: every copy is in the pose the scene was built in (a
+    /// scene re-posed before the renderer was built has its copies re-posed at the first frame).
     pub fn new(scene: &Scene) -> Self {
-        PoseTracker {
-            palettes: scene.objects.iter().map(|o| o.skin.as_ref().map(|s| s.joint_matrices.clone())).collect(),
-        }
+        PoseTracker { palettes: scene.objects.iter().map(|o| o.skin.as_ref().map(|s| s.mesh_pose.clone())).collect() }
     }
 
     /// The skinned objects of `scene` (indices, ascending) whose palette differs from the one
@@ -148,5 +147,17 @@ mod tests {
         assert_eq!(tracker.changed(&scene), Vec::<usize>::new(), "already re-posed");
         scene.pose_at(0.3).expect("pose");
         assert_eq!(tracker.changed(&scene), Vec::<usize>::new(), "the same time again");
+    }
+
+    #[test]
+    fn a_tracker_made_for_a_re_posed_scene_re_poses_its_copies_first() {
+        // The meshes keep the pose the scene was built in: a renderer built after `pose_at`
+        // must still re-pose its copies at its first frame.
+        let mut scene = builtin_scene_at("default", 0.0).expect("scene");
+        let skinned: Vec<usize> = (0..scene.objects.len()).filter(|&i| scene.objects[i].skin.is_some()).collect();
+        scene.pose_at(0.3).expect("pose");
+        let mut tracker = super::PoseTracker::new(&scene);
+        assert_eq!(tracker.changed(&scene), skinned);
+        assert_eq!(tracker.changed(&scene), Vec::<usize>::new());
     }
 }

@@ -16,7 +16,7 @@ use crate::pipeline::{FixedFunction, PipelineDesc, VertexLayout};
 use crate::render::object_push::draw_order;
 use crate::render::plan::{Label, MaterialVariant, PassKinds, PlannedPass, SetRole};
 use crate::render::Pipeline;
-use crate::render::{FrameRecorder, GpuScene};
+use crate::render::{FrameRecorder, GpuScene, Skinning};
 use crate::scene::Scene;
 use crate::shaders;
 use crate::technique::material_variants::with_surface_variants;
@@ -122,8 +122,10 @@ pub struct CartoonScene {
 }
 
 impl CartoonScene {
-    pub fn new(gpu: &Arc<Gpu>, scene: &Scene, shading: Shading) -> Result<Self> {
-        Ok(CartoonScene { meshes: GpuScene::upload(gpu, scene)?, ramps: Ramps::new(gpu)?, shading })
+    /// `skinning`: where skinned objects are posed (the scene pass has skinned twins; ink
+    /// edges and extruded copies are found on the CPU from the pose whatever is asked).
+    pub fn new(gpu: &Arc<Gpu>, scene: &Scene, shading: Shading, skinning: Skinning) -> Result<Self> {
+        Ok(CartoonScene { meshes: GpuScene::upload_for(gpu, scene, skinning)?, ramps: Ramps::new(gpu)?, shading })
     }
 
     /// The ramps' set.
@@ -144,16 +146,18 @@ impl CartoonScene {
         which: impl Fn(usize) -> bool,
         alpha: f32,
         viewport: Vec4,
-    ) {
-        let Some(&main) = pipelines.first() else { return };
+    ) -> Result<()> {
+        let Some(&main) = pipelines.first() else { return Ok(()) };
         let mut bound = main;
         for index in draw_order(scene).into_iter().filter(|i| which(*i)) {
-            bound = self.draw_object(rec, pass, pipelines, bound, scene, index, alpha, viewport);
+            bound = self.draw_object(rec, pass, pipelines, bound, scene, index, alpha, viewport)?;
         }
+        Ok(())
     }
 
     /// Draws object `index` as [`CartoonScene::draw`] does, `bound` being the pipeline bound
-    /// now (rebound only when its material needs another); returns the one bound after.
+    /// now (rebound only when its material needs another, or its skinned twin); returns the one
+    /// bound after.
     #[allow(clippy::too_many_arguments)]
     pub fn draw_object<'p, K: PassKinds>(
         &self,
@@ -165,11 +169,11 @@ impl CartoonScene {
         index: usize,
         alpha: f32,
         viewport: Vec4,
-    ) -> &'p Pipeline {
-        let Some(&main) = pipelines.first() else { return bound };
+    ) -> Result<&'p Pipeline> {
+        let Some(&main) = pipelines.first() else { return Ok(bound) };
         let object = &scene.objects[index];
         let variant = MaterialVariant::for_surface(scene.material_of(object));
-        let pipeline = pass.variant(pipelines, main, variant);
+        let (mesh, pipeline) = self.meshes.object_draw(scene, index, pass.variant(pipelines, main, variant))?;
         if !std::ptr::eq(pipeline, bound) {
             rec.bind(pipeline);
         }
@@ -177,8 +181,8 @@ impl CartoonScene {
             if self.shading.ink_only { background_fill(scene) } else { scene.base_colour(object) }.extend(alpha);
         rec.bind_material(pipeline, self.meshes.materials.set(object.material));
         rec.push(pipeline, &CartoonPush { model: object.transform, colour, params: self.shading.params(), viewport });
-        rec.draw_mesh(&self.meshes.meshes[object.mesh]);
-        pipeline
+        rec.draw_mesh(mesh);
+        Ok(pipeline)
     }
 }
 

@@ -39,7 +39,7 @@ pub fn make(ctx: BuildContext<'_, InkKinds>, scene: &Scene, toon: bool) -> Resul
     let cartoon = &ctx.options.cartoon;
     let method = cartoon.silhouette;
     let shading = Shading { toon, rim: method == SilhouetteMethod::Shader, ink_only: cartoon.ink_only };
-    let scene_pass = CartoonScene::new(ctx.gpu, scene, shading)?;
+    let scene_pass = CartoonScene::new(ctx.gpu, scene, shading, ctx.options.skinning)?;
     let lines = match method {
         SilhouetteMethod::Edges => Ink::Edges(Box::new(EdgeLines::new(scene, cartoon.crease_deg, cartoon.seams)?)),
         SilhouetteMethod::Shader => Ink::Rim,
@@ -122,15 +122,22 @@ impl Passes<InkKinds> for InkPasses {
             return Err(Error::Internal(format!("ink pass '{}' has no pipeline", pass.name)));
         };
         match (draw, &self.ink) {
-            (InkDraw::Scene, _) => self.scene_pass.draw(rec, pass, pipelines, scene, |_| true, 1.0, self.viewport),
+            (InkDraw::Scene, _) => self.scene_pass.draw(rec, pass, pipelines, scene, |_| true, 1.0, self.viewport)?,
             (InkDraw::AlphaTest, Ink::AlphaTest(reference)) => {
                 let params = Vec4::new(*reference, 0.0, 0.0, 0.0);
+                let mut bound: &Pipeline = pipeline;
                 for index in draw_order(scene) {
                     let object = &scene.objects[index];
+                    // A GPU-skinned object is drawn by the pipeline's skinned twin.
+                    let (mesh, wanted) = self.scene_pass.meshes.object_draw(scene, index, pipeline)?;
+                    if !std::ptr::eq(wanted, bound) {
+                        rec.bind(wanted);
+                        bound = wanted;
+                    }
                     let colour = self.styles[0].1;
                     let push = CartoonPush { model: object.transform, colour, params, viewport: self.viewport };
-                    rec.push(pipeline, &push);
-                    rec.draw_mesh(&self.scene_pass.meshes.meshes[object.mesh]);
+                    rec.push(bound, &push);
+                    rec.draw_mesh(mesh);
                 }
             }
             (InkDraw::CopyThenObject, Ink::Hull(copies)) => {
@@ -141,7 +148,7 @@ impl Passes<InkKinds> for InkPasses {
                 for index in draw_order(scene) {
                     rec.bind(copy);
                     copies.draw_one(rec, copy, scene, index, extrusion, self.viewport);
-                    self.scene_pass.draw_object(rec, pass, pipelines, copy, scene, index, 1.0, self.viewport);
+                    self.scene_pass.draw_object(rec, pass, pipelines, copy, scene, index, 1.0, self.viewport)?;
                 }
             }
             (InkDraw::Hull, Ink::Hull(copies)) => {

@@ -44,7 +44,7 @@ pub fn make(ctx: BuildContext<'_, OutlineKinds>, scene: &Scene, selected: Vec<bo
     };
     Ok(OutlinePasses {
         gpu: ctx.gpu.clone(),
-        scene_pass: CartoonScene::new(ctx.gpu, scene, Shading::default())?,
+        scene_pass: CartoonScene::new(ctx.gpu, scene, Shading::default(), ctx.options.skinning)?,
         copies,
         bounds,
         scales: vec![1.0; scene.objects.len()],
@@ -188,9 +188,9 @@ impl Passes<OutlineKinds> for OutlinePasses {
         let selected = |i: usize| self.selected[i];
         match draw {
             OutlineDraw::NotSelected => {
-                self.scene_pass.draw(rec, pass, pipelines, scene, |i| !selected(i), 0.0, self.viewport)
+                self.scene_pass.draw(rec, pass, pipelines, scene, |i| !selected(i), 0.0, self.viewport)?
             }
-            OutlineDraw::Selected => self.scene_pass.draw(rec, pass, pipelines, scene, selected, 1.0, self.viewport),
+            OutlineDraw::Selected => self.scene_pass.draw(rec, pass, pipelines, scene, selected, 1.0, self.viewport)?,
             OutlineDraw::Copies(_) => self.draw_copies(rec, pipeline, scene, self.extrusion.colour),
             // Offscreen only: handled above.
             OutlineDraw::Mask | OutlineDraw::Blur { .. } => {}

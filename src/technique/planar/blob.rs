@@ -269,7 +269,7 @@ impl BlobPasses {
                     .into(),
             ));
         }
-        let meshes = SceneMeshes::upload(gpu, scene)?;
+        let meshes = SceneMeshes::upload(gpu, scene, ctx.options.skinning)?;
         let sampler = Sampler::new(gpu, vk::Filter::LINEAR, vk::SamplerAddressMode::CLAMP_TO_EDGE)?;
         let texture = Texture::from_rgba8(
             gpu,
@@ -331,7 +331,7 @@ impl Passes<BlobKinds> for BlobPasses {
     }
 
     fn prepare(&mut self, renderer: &Renderer, scene: &Scene) -> Result<()> {
-        self.meshes.update_palettes(scene, renderer.slot())?;
+        self.meshes.follow_pose(&renderer.gpu, scene, renderer.slot())?;
         let darkness = 1.0 - self.tone.darkest_factor();
         let vertices = if light_reaches_plane(&scene.light(), &self.plane.plane) {
             blob_vertices(&blobs(scene, &self.plane, darkness))
@@ -347,9 +347,10 @@ impl Passes<BlobKinds> for BlobPasses {
         true
     }
 
-    /// Skinned casters are skinned in the vertex stage, palettes in sets of the family's own.
+    /// Skinned casters are skinned in the vertex stage (palettes in sets of the family's own)
+    /// unless `--skinning cpu` asked otherwise.
     fn skinning(&self) -> Skinning {
-        Skinning::Gpu
+        self.meshes.skinning()
     }
 
     fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {

@@ -238,7 +238,7 @@ impl PlanarPasses {
                 scene.lights.iter().filter(|l| l.casts_shadow).filter_map(|l| unreached_warning(l, &plane.plane)),
             ),
         }
-        let meshes = SceneMeshes::upload(ctx.gpu, scene)?;
+        let meshes = SceneMeshes::upload(ctx.gpu, scene, ctx.options.skinning)?;
         let lods = match ctx.options.planar.shadow_lod {
             Some(ratio) => Some(CasterLods::build(ctx.gpu, scene, &plane.receivers, ratio)?),
             None => None,
@@ -336,7 +336,7 @@ impl Passes<PlanarKinds> for PlanarPasses {
         if self.mode == ShadowMode::Modulate {
             self.plane.plane.check_light(&scene.light())?;
         }
-        self.meshes.update_palettes(scene, renderer.slot())
+        self.meshes.follow_pose(&renderer.gpu, scene, renderer.slot())
     }
 
     /// The joint palettes are its only per-frame data, a copy per slot.
@@ -344,9 +344,10 @@ impl Passes<PlanarKinds> for PlanarPasses {
         true
     }
 
-    /// Skinned casters are skinned in the vertex stage, palettes in sets of the family's own.
+    /// Skinned casters are skinned in the vertex stage (palettes in sets of the family's own)
+    /// unless `--skinning cpu` asked otherwise.
     fn skinning(&self) -> Skinning {
-        Skinning::Gpu
+        self.meshes.skinning()
     }
 
     fn conditions(&self, scene: &Scene) -> Vec<When> {

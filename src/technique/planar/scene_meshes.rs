@@ -14,7 +14,7 @@ use crate::pipeline::{FixedFunction, PipelineDesc, StencilState, VertexLayout};
 use crate::render::object_push::draw_order;
 use crate::render::plan::{Label, MaterialVariant, PassKinds, PlannedPass, SetRole};
 use crate::render::Pipeline;
-use crate::render::{object_push, FrameRecorder, GpuScene, LightPush, OBJECT_PUSH_BYTES};
+use crate::render::{object_push, FrameRecorder, GpuScene, LightPush, Skinning, OBJECT_PUSH_BYTES};
 use crate::scene::Scene;
 use crate::shaders;
 use crate::technique::material_variants::with_surface_variants;
@@ -96,26 +96,30 @@ where
 /// technique draws its lit pass (and its casters) from.
 pub(crate) struct SceneMeshes {
     pub meshes: GpuScene,
-    /// Per object: its GPU skin when it is skinned.
+    /// Per object: its GPU skin when it is skinned on the GPU.
     pub skinned: Vec<Option<SkinnedMesh>>,
+    skinning: Skinning,
     /// Gives skinned pipelines their palette layout even when the scene has no skinned object
     /// (every palette's layout is defined identically), and is bound until an object binds its own.
     pub template: skin::Palette,
 }
 
 impl SceneMeshes {
-    pub fn upload(gpu: &Arc<Gpu>, scene: &Scene) -> Result<Self> {
+    /// `skinning`: where skinned objects are posed (on the CPU, every object is drawn from the
+    /// scene's meshes, re-posed when the pose changes: `follow_pose`).
+    pub fn upload(gpu: &Arc<Gpu>, scene: &Scene, skinning: Skinning) -> Result<Self> {
         let skinned = scene
             .objects
             .iter()
-            .map(|o| match &o.skin {
-                Some(skin) => SkinnedMesh::upload(gpu, &o.name, skin, &scene.meshes[o.mesh]).map(Some),
-                None => Ok(None),
+            .map(|o| match (&o.skin, skinning) {
+                (Some(skin), Skinning::Gpu) => SkinnedMesh::upload(gpu, &o.name, skin, &scene.meshes[o.mesh]).map(Some),
+                _ => Ok(None),
             })
             .collect::<Result<Vec<_>>>()?;
         Ok(SceneMeshes {
             meshes: GpuScene::upload(gpu, scene)?,
             skinned,
+            skinning,
             template: skin::Palette::new(gpu, "layout template")?,
         })
     }
@@ -126,14 +130,23 @@ impl SceneMeshes {
         self.template.descriptors(0)
     }
 
-    /// This frame's joint palettes, written into frame slot `slot`'s copies.
-    pub fn update_palettes(&mut self, scene: &Scene, slot: usize) -> Result<()> {
+    /// This frame's pose, in frame slot `slot`'s copies: the joint palettes of the objects
+    /// skinned on the GPU, the re-posed vertices of those skinned on the CPU.
+    pub fn follow_pose(&mut self, gpu: &Arc<Gpu>, scene: &Scene, slot: usize) -> Result<()> {
         for (object, skinned) in scene.objects.iter().zip(&mut self.skinned) {
             if let (Some(skin), Some(gpu_skin)) = (&object.skin, skinned.as_mut()) {
                 gpu_skin.palette.update(slot, &skin.joint_matrices)?;
             }
         }
+        if self.skinning() == Skinning::Cpu {
+            self.meshes.follow_pose(gpu, scene, slot)?;
+        }
         Ok(())
+    }
+
+    /// Where its skinned objects are posed.
+    pub fn skinning(&self) -> Skinning {
+        self.skinning
     }
 
     /// Draws object `index` with `static_pipeline` or, skinned, `skinned_pipeline`, with its
@@ -176,7 +189,7 @@ impl SceneMeshes {
         };
         rec.push(pipeline, push);
         match lod.and_then(|l| l.per_object.get(index)).and_then(Option::as_ref) {
-            Some(simplified) => rec.draw_indexed(&mesh.vertices, &simplified.indices, simplified.index_count),
+            Some(simplified) => rec.draw_indexed(mesh.vertices_in(rec.slot()), &simplified.indices, simplified.index_count),
             None => rec.draw_mesh(mesh),
         }
     }

@@ -386,7 +386,7 @@ impl ShadowTexturePasses {
         let gpu = ctx.gpu;
         let plane = receiver_plane(scene, ctx.options.planar.plane.as_ref())?;
         plane.plane.check_light(&scene.light())?;
-        let meshes = SceneMeshes::upload(gpu, scene)?;
+        let meshes = SceneMeshes::upload(gpu, scene, ctx.options.skinning)?;
         let options = &ctx.options.planar;
         let lods = match options.shadow_lod {
             Some(ratio) => Some(CasterLods::build(gpu, scene, &plane.receivers, ratio)?),
@@ -520,7 +520,7 @@ impl Passes<TextureKinds> for ShadowTexturePasses {
         self.slot = renderer.slot();
         let (size, sampler) = (self.texture_size, &self.sampler);
         slot_copy(&mut self.targets, self.slot, || ShadowTarget::new(&renderer.gpu, size, sampler))?;
-        self.meshes.update_palettes(scene, self.slot)?;
+        self.meshes.follow_pose(&renderer.gpu, scene, self.slot)?;
         self.quad_model = match self.quad {
             Some(_) => shadow_quad(scene, &self.plane).map(|corners| quad_model(&corners, self.plane.plane.normal)),
             None => None,
@@ -539,9 +539,10 @@ impl Passes<TextureKinds> for ShadowTexturePasses {
         true
     }
 
-    /// Skinned casters are skinned in the vertex stage, palettes in sets of the family's own.
+    /// Skinned casters are skinned in the vertex stage (palettes in sets of the family's own)
+    /// unless `--skinning cpu` asked otherwise.
     fn skinning(&self) -> Skinning {
-        Skinning::Gpu
+        self.meshes.skinning()
     }
 
     fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {

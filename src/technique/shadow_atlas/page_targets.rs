@@ -254,14 +254,15 @@ impl AtlasPage {
     }
 
     /// The rasterised tiles among `tiles`: each model drawn at its atlas UVs into its tile of
-    /// the raw page (cleared: no coverage), lit or shadowed per texel.
+    /// the raw page (cleared: no coverage), lit or shadowed per texel. `draws` holds each
+    /// object's mesh and pipeline (the bake or its skinned twin, which share the layout `sets`
+    /// are bound for: the frame's and the lights').
     pub fn record_raster_bake(
         &self,
         rec: &mut FrameRecorder,
         scene: &Scene,
-        meshes: &[GpuMesh],
-        bake: &Pipeline,
-        light_set: vk::DescriptorSet,
+        draws: &[(&GpuMesh, &Pipeline)],
+        sets: &[vk::DescriptorSet],
         tiles: &[usize],
     ) {
         let clear = [vk::ClearValue { color: vk::ClearColorValue { float32: [1.0, 1.0, 1.0, 0.0] } }];
@@ -272,15 +273,23 @@ impl AtlasPage {
             .collect();
         let area = self.area_of(&rasterised, self.raw_extent);
         rec.begin_offscreen_pass_in(&self.raster_pass, self.raw_framebuffer.raw, self.raw_extent, area, &clear);
-        rec.bind_with_sets(bake, &[light_set]);
+        let mut bound = None;
         for &index in &rasterised {
-            let (Some(t), Some(object)) = (self.tiles.get(index), scene.objects.get(index)) else { continue };
+            let (Some(t), Some(object), Some(&(mesh, bake))) =
+                (self.tiles.get(index), scene.objects.get(index), draws.get(index))
+            else {
+                continue;
+            };
+            if bound.is_none_or(|b| !std::ptr::eq(b, bake)) {
+                rec.bind_with_sets(bake, sets);
+                bound = Some(bake);
+            }
             rec.set_viewport_rect(vk::Rect2D {
                 offset: vk::Offset2D { x: t.tile.x as i32, y: t.tile.y as i32 },
                 extent: vk::Extent2D { width: t.tile.size, height: t.tile.size },
             });
             rec.push(bake, &ObjectPush { model: object.transform, colour: Vec4::ONE });
-            rec.draw_mesh(&meshes[object.mesh]);
+            rec.draw_mesh(mesh);
         }
         rec.end_render_pass();
     }

@@ -264,7 +264,8 @@ pub fn plan(kind: ShadowKind, lights: &[PlannedLight]) -> PassPlan<AtlasKinds> {
                     "object transform",
                     AtlasTarget::AtlasSpace,
                 )
-                .with_sets(&[LIGHT])
+                // The frame's set first: its joint palettes skin the models on the GPU.
+                .with_sets(&[SetRole::Frame, LIGHT])
                 .when(When::RasterisedTilesStale),
             );
             plan.push(

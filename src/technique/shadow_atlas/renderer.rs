@@ -187,9 +187,8 @@ fn light_uniforms(gpu: &Arc<Gpu>, map: &Image, compare: &Sampler) -> Result<Ligh
 }
 
 impl ShadowPasses {
-    /// `skinning`: where skinned objects are posed; the shadow map and the projective texture
-    /// skin them on the GPU when asked, the atlas on the CPU (its texels' surface points and its
-    /// bake follow the CPU's pose).
+    /// `skinning`: where skinned objects are posed (the atlas's texel tiles are of rigid
+    /// objects only: a skinned object's tile is rasterised, by a pass with a skinned twin).
     pub(super) fn new(
         gpu: &Arc<Gpu>,
         scene: &Scene,
@@ -220,8 +219,7 @@ impl ShadowPasses {
             })
             .collect::<Result<Vec<_>>>()?;
         let materials = GpuMaterials::upload(gpu, scene)?;
-        let on_gpu = skinning == Skinning::Gpu && matches!(kind, ShadowKind::Map | ShadowKind::Projective);
-        let palettes = on_gpu.then(|| JointPalettes::of(scene));
+        let palettes = (skinning == Skinning::Gpu).then(|| JointPalettes::of(scene));
         let skinned = match &palettes {
             Some(palettes) => upload_bind_poses(gpu, scene, &posed_layouts, palettes)?,
             None => Vec::new(),
@@ -529,15 +527,11 @@ impl Passes<AtlasKinds> for ShadowPasses {
             AtlasDraw::ShadowMap => self.draw_shadow_map(rec, scene, pass, pipelines)?,
             AtlasDraw::ClearMap => self.clear_map(rec)?,
             AtlasDraw::Bake => {
-                let tiles = &self.rebake;
-                self.atlas_page(pass)?.record_raster_bake(
-                    rec,
-                    scene,
-                    &self.meshes,
-                    pipeline()?,
-                    self.light_slot().set.set,
-                    tiles,
-                )
+                let bake = pipeline()?;
+                let draws =
+                    (0..scene.objects.len()).map(|i| self.object_draw(scene, i, bake)).collect::<Result<Vec<_>>>()?;
+                let sets = [rec.frame_set(), self.light_slot().set.set];
+                self.atlas_page(pass)?.record_raster_bake(rec, scene, &draws, &sets, &self.rebake)
             }
             AtlasDraw::ProjectiveBake => {
                 let targets = self.atlas_targets(pass)?;
