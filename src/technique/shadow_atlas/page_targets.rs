@@ -280,7 +280,7 @@ impl AtlasPage {
             else {
                 continue;
             };
-            if bound.is_none_or(|b| !std::ptr::eq(b, bake)) {
+            if !bound.is_some_and(|b| std::ptr::eq(b, bake)) {
                 rec.bind_with_sets(bake, sets);
                 bound = Some(bake);
             }
