@@ -141,23 +141,7 @@ impl GpuScene {
         pipeline: &'p Pipeline,
     ) -> Result<(&'m GpuMesh, &'p Pipeline)> {
         let object = scene.objects.get(index).ok_or_else(|| Error::Internal(format!("no object {index}")))?;
-        match self.skinned_mesh(index) {
-            Some(bind_pose) => {
-                let twin = pipeline.skinned().ok_or_else(|| {
-                    Error::Internal(format!(
-                        "'{}' is skinned on the GPU, but pipeline '{}' has no skinned twin",
-                        object.name, pipeline.desc.name
-                    ))
-                })?;
-                Ok((bind_pose, twin))
-            }
-            None => {
-                let mesh = self.meshes.get(object.mesh).ok_or_else(|| {
-                    Error::Internal(format!("'{}' uses mesh {}, which was not uploaded", object.name, object.mesh))
-                })?;
-                Ok((mesh, pipeline))
-            }
-        }
+        object_draw(&object.name, (self.meshes.get(object.mesh), self.skinned_mesh(index)), pipeline)
     }
 
     /// Re-poses the skinned objects whose palette changed since frame slot `slot`'s copies
@@ -189,6 +173,27 @@ impl GpuScene {
         let name = format!("{} vertices (posed)", object.name);
         Some((mesh, scene_vertices(source, &positions, &normals), name))
     }
+}
+
+/// What draws the object called `name` with `pipeline`'s state, from its `(mesh, bind pose)`:
+/// its bind pose and `pipeline`'s skinned twin when it is skinned on the GPU, else its mesh and
+/// `pipeline`. An error when the pipeline was built without a twin, or the mesh is missing.
+pub fn object_draw<'m, 'p>(
+    name: &str,
+    (mesh, bind_pose): (Option<&'m GpuMesh>, Option<&'m GpuMesh>),
+    pipeline: &'p Pipeline,
+) -> Result<(&'m GpuMesh, &'p Pipeline)> {
+    if let Some(bind_pose) = bind_pose {
+        let twin = pipeline.skinned().ok_or_else(|| {
+            Error::Internal(format!(
+                "'{name}' is skinned on the GPU, but pipeline '{}' has no skinned twin",
+                pipeline.desc.name
+            ))
+        })?;
+        return Ok((bind_pose, twin));
+    }
+    let mesh = mesh.ok_or_else(|| Error::Internal(format!("'{name}' has no mesh on the GPU")))?;
+    Ok((mesh, pipeline))
 }
 
 /// Per object, a skinned object's bind pose with its joints moved to its palette (`None` for

@@ -24,6 +24,7 @@ use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::{Buffer, Image};
 use crate::gpu::texture::Sampler;
 use crate::gpu::Gpu;
+use crate::render::gpu_mesh::object_draw;
 use crate::render::object_push::draw_order;
 use crate::render::passes::Passes;
 use crate::render::per_slot::slot_copy;
@@ -436,21 +437,15 @@ impl ShadowPasses {
 
     /// What draws object `index` with `pipeline`'s state: its mesh's atlas vertices and
     /// `pipeline`, or, skinned on the GPU, its bind pose and the pipeline's skinned twin.
-    fn object_draw<'a>(
-        &'a self,
+    fn object_draw<'m, 'p>(
+        &'m self,
         scene: &Scene,
         index: usize,
-        pipeline: &'a Pipeline,
-    ) -> Result<(&'a GpuMesh, &'a Pipeline)> {
+        pipeline: &'p Pipeline,
+    ) -> Result<(&'m GpuMesh, &'p Pipeline)> {
         let object = scene.objects.get(index).ok_or_else(|| Error::Internal(format!("no object {index}")))?;
-        if let Some(bind_pose) = self.skinned.get(index).and_then(Option::as_ref) {
-            let twin = pipeline.skinned().ok_or_else(|| {
-                Error::Internal(format!("'{}' is skinned on the GPU, but '{}' has no twin", object.name, pipeline.desc.name))
-            })?;
-            return Ok((bind_pose, twin));
-        }
-        let mesh = self.meshes.get(object.mesh).ok_or_else(|| Error::Internal(format!("no mesh {}", object.mesh)))?;
-        Ok((mesh, pipeline))
+        let bind_pose = self.skinned.get(index).and_then(Option::as_ref);
+        object_draw(&object.name, (self.meshes.get(object.mesh), bind_pose), pipeline)
     }
 }
 
