@@ -71,7 +71,7 @@ crate::names::named_enum! {
     pub enum Skinning {
         /// In the vertex stage: each skinned object's bind pose is uploaded once with its joints
         /// and weights, and every stage that draws it skins it from the frame's joint palettes
-        /// (the shaders' skinned twins; the planar family's palettes are sets of its own).
+        /// (the shaders' skinned twins).
         #[default]
         Gpu = "gpu",
         /// On the CPU, into a host-visible copy per frame slot (the proven oracle).
@@ -129,6 +129,11 @@ impl GpuScene {
     /// Object `index`'s bind pose, when it is skinned on the GPU: drawn with a skinned twin.
     pub fn skinned_mesh(&self, index: usize) -> Option<&GpuMesh> {
         self.skinned.get(index).and_then(Option::as_ref)
+    }
+
+    /// Objects skinned on the GPU.
+    pub fn skinned_on_gpu(&self) -> usize {
+        self.skinned.iter().flatten().count()
     }
 
     /// What draws object `index` of `scene` with `pipeline`'s state: its mesh and `pipeline`,
@@ -236,9 +241,16 @@ pub struct SkinnedVertex {
 
 /// `source`'s vertices in `skin`'s bind pose with its joints and weights, each joint index
 /// moved up by `joint_base` (where the object's palette starts among the frame's palettes).
-/// An error names the mesh when the skin's lists disagree with its vertices or a vertex uses a
-/// joint outside the palette.
+/// An error names the mesh when the skin's lists disagree with its vertices, a vertex uses a
+/// joint outside the palette, or the palette has more than `MAX_JOINTS` joints.
 pub fn skinned_vertices(name: &str, source: &SceneMesh, skin: &SceneSkin, joint_base: u32) -> Result<Vec<SkinnedVertex>> {
+    if skin.joint_matrices.len() > MAX_JOINTS {
+        // The loader refuses such a skin; a scene built by hand may still hold one.
+        return Err(Error::InvalidInput(format!(
+            "'{name}' has {} joints; the GPU palette holds at most {MAX_JOINTS}",
+            skin.joint_matrices.len()
+        )));
+    }
     let n = skin.positions.len();
     let problem = |problem: String| Error::Mesh { mesh: name.to_owned(), problem };
     if skin.joints.len() != n || skin.weights.len() != n {

@@ -64,8 +64,14 @@ pub trait Passes<K: PassKinds> {
         self.meshes().and_then(GpuScene::joint_palettes)
     }
 
-    /// Where it poses skinned objects: on the GPU where it has the palettes (`joint_palettes`);
-    /// the planar family skins on the GPU with palette sets of its own.
+    /// Whether the plan's pipelines are built with their skinned twins (`Pipeline::skinned`),
+    /// which its draws bind for objects skinned on the GPU: where it has the palettes, unless
+    /// its plans name skinned pipelines of their own (the planar family).
+    fn skinned_twins(&self) -> bool {
+        self.joint_palettes().is_some()
+    }
+
+    /// Where it poses skinned objects: on the GPU where it has the palettes (`joint_palettes`).
     fn skinning(&self) -> Skinning {
         if self.joint_palettes().is_some() {
             Skinning::Gpu

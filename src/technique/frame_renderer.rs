@@ -83,7 +83,7 @@ pub fn build_typed<'s, K: PassKinds, P: Passes<K> + 's>(
         lights: scene.lights.len() as u32,
     };
     let frame_layout = renderer.frame_layout;
-    let skinned_twins = passes.joint_palettes().is_some();
+    let skinned_twins = passes.skinned_twins();
     let pipelines = PlanPipelines::build(
         gpu,
         &plan,

@@ -14,7 +14,7 @@ use glam::{Vec2, Vec3};
 use image::{Rgba, RgbaImage};
 
 use super::receiver::{light_reaches_plane, receiver_plane, ReceiverPlane};
-use super::scene_meshes::{lit_scene_pass, SceneMeshes, WithPalette};
+use super::scene_meshes::{lit_scene_pass, SceneMeshes};
 use super::shared::{BlobShadows, PlanarStats, SHADOW_BIAS};
 use crate::error::{Error, Result};
 use crate::gpu::descriptors::{Binding, DescriptorSet};
@@ -26,7 +26,7 @@ use crate::render::per_slot::slot_copy;
 use crate::render::passes::Passes;
 use crate::render::plan::{DrawKind, Label, NoOwn, PassKinds, PassPlan, PlannedPass, SetRole};
 use crate::render::Pipeline;
-use crate::render::{FrameOutput, FrameRecorder, GpuScene, Renderer, Skinning};
+use crate::render::{FrameOutput, FrameRecorder, GpuScene, Renderer};
 use crate::scene::{bounds_of, Scene};
 use crate::shaders;
 use crate::technique::frame_renderer::BuildContext;
@@ -110,7 +110,6 @@ impl DrawKind for BlobDraw {
 /// The blob plan's descriptor sets.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum BlobSet {
-    JointPalette,
     /// The blob texture, at set 1 of the blob pass.
     BlobTexture,
 }
@@ -118,14 +117,9 @@ pub enum BlobSet {
 impl Label for BlobSet {
     fn label(self) -> &'static str {
         match self {
-            BlobSet::JointPalette => "joint palette",
             BlobSet::BlobTexture => "blob texture",
         }
     }
-}
-
-impl WithPalette for BlobSet {
-    const JOINT_PALETTE: Self = BlobSet::JointPalette;
 }
 
 /// The frame's passes: the lit scene, then every blob quad (one draw, none without blobs).
@@ -303,7 +297,6 @@ impl Passes<BlobKinds> for BlobPasses {
     fn set(&self, set: BlobSet) -> Option<&DescriptorSet> {
         match set {
             BlobSet::BlobTexture => Some(&self.blob_set),
-            BlobSet::JointPalette => Some(self.meshes.palette()),
         }
     }
 
@@ -347,10 +340,9 @@ impl Passes<BlobKinds> for BlobPasses {
         true
     }
 
-    /// Skinned casters are skinned in the vertex stage (palettes in sets of the family's own)
-    /// unless `--skinning cpu` asked otherwise.
-    fn skinning(&self) -> Skinning {
-        self.meshes.skinning()
+    /// Its plans name the skinned pipelines of their own (`scene_desc`, `flattened_desc`).
+    fn skinned_twins(&self) -> bool {
+        false
     }
 
     fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {

@@ -5,11 +5,9 @@
 use ash::vk;
 use glam::{Mat4, Vec4};
 
-use super::scene_meshes::WithPalette;
 use super::shared::SHADOW_BIAS;
-use super::skin::SKINNED_LAYOUT;
 use crate::pipeline::{BlendState, DepthState, FixedFunction, PipelineDesc, RasterState, StencilState, VertexLayout};
-use crate::render::plan::{DrawKind, Label, NoOwn, PassKinds};
+use crate::render::plan::{DrawKind, NoOwn, PassKinds};
 use crate::shaders;
 
 /// Mirrors `PlanarPush` in `shaders/planar_push.glsl`.
@@ -34,7 +32,7 @@ pub struct PlanarKinds;
 
 impl PassKinds for PlanarKinds {
     type Draw = PlanarDraw;
-    type Set = PlanarSet;
+    type Set = NoOwn;
     type Target = NoOwn;
 }
 
@@ -72,24 +70,6 @@ impl DrawKind for PlanarDraw {
     }
 }
 
-/// The planar plan's descriptor sets.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum PlanarSet {
-    JointPalette,
-}
-
-impl Label for PlanarSet {
-    fn label(self) -> &'static str {
-        match self {
-            PlanarSet::JointPalette => "joint palette",
-        }
-    }
-}
-
-impl WithPalette for PlanarSet {
-    const JOINT_PALETTE: Self = PlanarSet::JointPalette;
-}
-
 /// A flattened-caster pipeline with `blend` and `stencil`.
 pub fn flattened_desc(
     name: &'static str,
@@ -101,7 +81,7 @@ pub fn flattened_desc(
         name,
         vertex_shader: if skinned { shaders::PLANAR_SHADOW_SKINNED_VERT } else { shaders::PLANAR_SHADOW_VERT },
         fragment_shader: shaders::OBJECT_COLOUR_FRAG,
-        vertex_layout: if skinned { SKINNED_LAYOUT } else { VertexLayout::SCENE },
+        vertex_layout: if skinned { VertexLayout::SKINNED_SCENE } else { VertexLayout::SCENE },
         fixed: FixedFunction {
             topology: vk::PrimitiveTopology::TRIANGLE_LIST,
             // Flattened, front and back faces both land on the plane: both are drawn, which is

@@ -1,9 +1,9 @@
 //! The ground shadows of seed 001, each a technique of its own: planar projected shadows with
 //! double darkening stopped in alpha ([`projected`]; from several lights, [`per_light`]), blobs ([`blob`]) and a render-texture
 //! shadow ([`shadow_texture`]). What they share: the receiver plane and the projection onto it
-//! ([`receiver`]), the scene's meshes with GPU skins and the lit scene pass ([`scene_meshes`]),
-//! GPU skinning ([`skin`]), low-poly shadow casters ([`lod`]) and the quad the seed lays its
-//! render texture on ([`texture_quad`]).
+//! ([`receiver`]), the scene's meshes and the lit scene pass ([`scene_meshes`]; skinned objects
+//! skinned on the GPU by the passes' skinned pipelines), low-poly shadow casters ([`lod`]) and
+//! the quad the seed lays its render texture on ([`texture_quad`]).
 
 pub mod blob;
 pub mod flattened;
@@ -14,7 +14,6 @@ pub mod receiver;
 pub mod scene_meshes;
 pub mod shadow_texture;
 pub mod shared;
-pub mod skin;
 pub mod texture_quad;
 
 pub use crate::technique::options::{GivenPlane, PlanarOptions, TextureShadowOn};

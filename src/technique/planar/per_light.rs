@@ -94,7 +94,7 @@ fn flag_pass(stencil: StencilMode, lod: bool, light: &PlannedLight, i: u8) -> Pl
     .or_variant(
         MaterialVariant::Masked,
         skinned,
-        cut_out(skinned_masked, shaders::PLANAR_SHADOW_SKINNED_MASKED_VERT, true),
+        cut_out(skinned_masked, shaders::PLANAR_SHADOW_MASKED_SKINNED_VERT, true),
     )
     .with_sets(&scene_sets())
     .when(When::LightReachesPlane(i))

@@ -25,14 +25,13 @@
 
 use glam::Vec4;
 
-use super::flattened::{flattened_desc, PlanarDraw, PlanarKinds, PlanarPush, PlanarSet};
+use super::flattened::{flattened_desc, PlanarDraw, PlanarKinds, PlanarPush};
 use super::lod::CasterLods;
 use super::receiver::{light_reaches_plane, receiver_plane, Plane, ReceiverPlane};
 use super::scene_meshes::{scene_desc, scene_pass, scene_sets, SceneMeshes};
 use super::shared::{Planar, PlanarStats, DEFAULT_SHADOW_LOD};
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
-use crate::gpu::descriptors::DescriptorSet;
 use crate::pipeline::recipes::{
     stencil_replace, MODULATE_BY_DST_ALPHA_ONCE, MODULATE_BY_SRC_ALPHA_WRITING_ALPHA, STENCIL_EQUAL_ZERO_THEN_INCREMENT,
 };
@@ -40,7 +39,7 @@ use crate::pipeline::PipelineDesc;
 use crate::render::passes::Passes;
 use crate::render::plan::{MaterialVariant, PassPlan, PlannedPass, When};
 use crate::render::Pipeline;
-use crate::render::{FrameOutput, FrameRecorder, GpuScene, Renderer, Skinning};
+use crate::render::{FrameOutput, FrameRecorder, GpuScene, Renderer};
 use crate::scene::{Scene, SceneLight};
 use crate::shaders;
 use crate::technique::frame_renderer::BuildContext;
@@ -123,7 +122,7 @@ fn shadow_pass_along(stencil: StencilMode, lod: bool, light: Option<u8>) -> Plan
         .or_variant(
             MaterialVariant::Masked,
             skinned,
-            cut_out(skinned_masked, shaders::PLANAR_SHADOW_SKINNED_MASKED_VERT, true),
+            cut_out(skinned_masked, shaders::PLANAR_SHADOW_MASKED_SKINNED_VERT, true),
         )
         .with_sets(&scene_sets())
         .when(When::LightAbovePlane)
@@ -285,11 +284,6 @@ impl PlanarPasses {
 }
 
 impl Passes<PlanarKinds> for PlanarPasses {
-    fn set(&self, set: PlanarSet) -> Option<&DescriptorSet> {
-        match set {
-            PlanarSet::JointPalette => Some(self.meshes.palette()),
-        }
-    }
 
     fn meshes(&self) -> Option<&GpuScene> {
         Some(&self.meshes.meshes)
@@ -344,10 +338,9 @@ impl Passes<PlanarKinds> for PlanarPasses {
         true
     }
 
-    /// Skinned casters are skinned in the vertex stage (palettes in sets of the family's own)
-    /// unless `--skinning cpu` asked otherwise.
-    fn skinning(&self) -> Skinning {
-        self.meshes.skinning()
+    /// Its plans name the skinned pipelines of their own (`scene_desc`, `flattened_desc`).
+    fn skinned_twins(&self) -> bool {
+        false
     }
 
     fn conditions(&self, scene: &Scene) -> Vec<When> {

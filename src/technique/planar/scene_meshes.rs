@@ -1,43 +1,36 @@
-//! The scene's meshes on the GPU, skinned objects with their joint palettes, and the lit scene
-//! pass every seed 001 shadow draws first: skinned objects are skinned on the GPU, with the
-//! object's palette bound at set 1.
+//! The scene's meshes on the GPU and the lit scene pass every seed 001 shadow draws first:
+//! skinned objects are skinned on the GPU by the passes' skinned pipelines, from the frame's
+//! joint palettes (`shaders/joint_palettes.glsl`), or posed on the CPU (`--skinning cpu`).
 
 use std::sync::Arc;
 
 use super::lod::CasterLods;
 use super::receiver::ReceiverPlane;
-use super::skin::{self, SkinnedMesh, SKINNED_LAYOUT};
 use crate::error::{Error, Result};
-use crate::gpu::descriptors::DescriptorSet;
 use crate::gpu::Gpu;
 use crate::pipeline::{FixedFunction, PipelineDesc, StencilState, VertexLayout};
 use crate::render::object_push::draw_order;
-use crate::render::plan::{Label, MaterialVariant, PassKinds, PlannedPass, SetRole};
+use crate::render::plan::{MaterialVariant, PassKinds, PlannedPass, SetRole};
 use crate::render::Pipeline;
 use crate::render::{object_push, FrameRecorder, GpuScene, LightPush, Skinning, OBJECT_PUSH_BYTES};
 use crate::scene::Scene;
 use crate::shaders;
 use crate::technique::material_variants::with_surface_variants;
 
-/// A planar technique's set kinds, which include a skinned object's joint palette (set 2).
-pub trait WithPalette: Label {
-    const JOINT_PALETTE: Self;
-}
-
 /// The sets of every pass that draws the scene's objects (the scene, the casters): the frame's
-/// uniforms, the material (casters cut out by MASK), the palette.
-pub fn scene_sets<S: WithPalette>() -> [SetRole<S>; 3] {
-    [SetRole::Frame, SetRole::Material, SetRole::Own(S::JOINT_PALETTE)]
+/// uniforms and joint palettes, the material (casters cut out by MASK).
+pub fn scene_sets<S>() -> [SetRole<S>; 2] {
+    [SetRole::Frame, SetRole::Material]
 }
 
-/// A lit scene pipeline: Lambert + ambient, static or GPU-skinned, with an optional stencil
-/// write (the planar reference marks receivers).
+/// A lit scene pipeline: Lambert + ambient, static or GPU-skinned (`lit.vert`'s skinned twin),
+/// with an optional stencil write (the planar reference marks receivers).
 pub fn scene_desc(name: &'static str, skinned: bool, stencil: Option<StencilState>) -> PipelineDesc {
     PipelineDesc {
         name,
-        vertex_shader: if skinned { shaders::PLANAR_SKINNED_LIT_VERT } else { shaders::LIT_VERT },
+        vertex_shader: if skinned { shaders::LIT_SKINNED_VERT } else { shaders::LIT_VERT },
         fragment_shader: shaders::LIT_FRAG,
-        vertex_layout: if skinned { SKINNED_LAYOUT } else { VertexLayout::SCENE },
+        vertex_layout: if skinned { VertexLayout::SKINNED_SCENE } else { VertexLayout::SCENE },
         fixed: FixedFunction { stencil, ..FixedFunction::OPAQUE },
         push_constant_bytes: OBJECT_PUSH_BYTES,
         subpass: 0,
@@ -54,8 +47,6 @@ pub fn scene_pass<K: PassKinds>(
     push: &'static str,
     draw: K::Draw,
 ) -> PlannedPass<K>
-where
-    K::Set: WithPalette,
 {
     named_scene_pass("scene", receiver, other, skinned, push, draw)
 }
@@ -70,8 +61,6 @@ pub fn named_scene_pass<K: PassKinds>(
     push: impl Into<std::borrow::Cow<'static, str>>,
     draw: K::Draw,
 ) -> PlannedPass<K>
-where
-    K::Set: WithPalette,
 {
     let distinct = other.name != receiver.name;
     let mut pass = PlannedPass::own(name, receiver, draw, push).with_sets(&scene_sets());
@@ -84,73 +73,33 @@ where
 
 /// The lit scene pass of the blob and shadow-texture techniques: every object alike, alpha 1.
 pub fn lit_scene_pass<K: PassKinds>(draw: K::Draw) -> PlannedPass<K>
-where
-    K::Set: WithPalette,
 {
     let scene = scene_desc("scene", false, None);
     let skinned = scene_desc("scene (skinned)", true, None);
     scene_pass(scene.clone(), scene, skinned, "object transform and colour, alpha 1", draw)
 }
 
-/// The scene's meshes on the GPU, skinned objects with their palettes: what every planar
-/// technique draws its lit pass (and its casters) from.
+/// The scene's meshes on the GPU (a skinned object's bind pose, skinning on the GPU): what
+/// every planar technique draws its lit pass (and its casters) from.
 pub(crate) struct SceneMeshes {
     pub meshes: GpuScene,
-    /// Per object: its GPU skin when it is skinned on the GPU.
-    pub skinned: Vec<Option<SkinnedMesh>>,
-    skinning: Skinning,
-    /// Gives skinned pipelines their palette layout even when the scene has no skinned object
-    /// (every palette's layout is defined identically), and is bound until an object binds its own.
-    pub template: skin::Palette,
 }
 
 impl SceneMeshes {
     /// `skinning`: where skinned objects are posed (on the CPU, every object is drawn from the
     /// scene's meshes, re-posed when the pose changes: `follow_pose`).
     pub fn upload(gpu: &Arc<Gpu>, scene: &Scene, skinning: Skinning) -> Result<Self> {
-        let skinned = scene
-            .objects
-            .iter()
-            .map(|o| match (&o.skin, skinning) {
-                (Some(skin), Skinning::Gpu) => SkinnedMesh::upload(gpu, &o.name, skin, &scene.meshes[o.mesh]).map(Some),
-                _ => Ok(None),
-            })
-            .collect::<Result<Vec<_>>>()?;
-        Ok(SceneMeshes {
-            meshes: GpuScene::upload(gpu, scene)?,
-            skinned,
-            skinning,
-            template: skin::Palette::new(gpu, "layout template")?,
-        })
+        Ok(SceneMeshes { meshes: GpuScene::upload_for(gpu, scene, skinning)? })
     }
 
-    /// The palette set a pass binds before its first skinned draw binds the object's own (its
-    /// layout is the pipelines').
-    pub fn palette(&self) -> &DescriptorSet {
-        self.template.descriptors(0)
-    }
-
-    /// This frame's pose, in frame slot `slot`'s copies: the joint palettes of the objects
-    /// skinned on the GPU, the re-posed vertices of those skinned on the CPU.
+    /// This frame's pose in frame slot `slot`'s copies of the objects posed on the CPU (those
+    /// skinned on the GPU read the frame's palettes).
     pub fn follow_pose(&mut self, gpu: &Arc<Gpu>, scene: &Scene, slot: usize) -> Result<()> {
-        for (object, skinned) in scene.objects.iter().zip(&mut self.skinned) {
-            if let (Some(skin), Some(gpu_skin)) = (&object.skin, skinned.as_mut()) {
-                gpu_skin.palette.update(slot, &skin.joint_matrices)?;
-            }
-        }
-        if self.skinning() == Skinning::Cpu {
-            self.meshes.follow_pose(gpu, scene, slot)?;
-        }
-        Ok(())
+        self.meshes.follow_pose(gpu, scene, slot)
     }
 
-    /// Where its skinned objects are posed.
-    pub fn skinning(&self) -> Skinning {
-        self.skinning
-    }
-
-    /// Draws object `index` with `static_pipeline` or, skinned, `skinned_pipeline`, with its
-    /// material at set 1 and its palette at set 2 (every planar pass has `SCENE_SETS`).
+    /// Draws object `index` with `static_pipeline` or, skinned on the GPU, `skinned_pipeline`,
+    /// with its material at set 1 (every planar pass has `scene_sets`).
     pub fn draw<T: bytemuck::Pod>(
         &self,
         rec: &mut FrameRecorder,
@@ -163,7 +112,7 @@ impl SceneMeshes {
     }
 
     /// [`SceneMeshes::draw`], with the caster's simplified triangles in place of its own when
-    /// `lod` holds them (same vertices, so the same pipelines and palette).
+    /// `lod` holds them (same vertices, so the same pipelines).
     pub fn draw_caster<T: bytemuck::Pod>(
         &self,
         rec: &mut FrameRecorder,
@@ -173,20 +122,13 @@ impl SceneMeshes {
         push: &T,
         lod: Option<&CasterLods>,
     ) {
-        let material = self.meshes.materials.set(scene.objects[index].material);
-        let (pipeline, mesh) = match &self.skinned[index] {
-            Some(gpu_skin) => {
-                rec.bind(skinned_pipeline);
-                rec.bind_material(skinned_pipeline, material);
-                rec.bind_sets(skinned_pipeline, 2, &[gpu_skin.palette.descriptors(rec.slot()).set]);
-                (skinned_pipeline, &gpu_skin.mesh)
-            }
-            None => {
-                rec.bind(static_pipeline);
-                rec.bind_material(static_pipeline, material);
-                (static_pipeline, &self.meshes.meshes[scene.objects[index].mesh])
-            }
+        let object = &scene.objects[index];
+        let (pipeline, mesh) = match self.meshes.skinned_mesh(index) {
+            Some(bind_pose) => (skinned_pipeline, bind_pose),
+            None => (static_pipeline, &self.meshes.meshes[object.mesh]),
         };
+        rec.bind(pipeline);
+        rec.bind_material(pipeline, self.meshes.materials.set(object.material));
         rec.push(pipeline, push);
         match lod.and_then(|l| l.per_object.get(index)).and_then(Option::as_ref) {
             Some(simplified) => rec.draw_indexed(mesh.vertices_in(rec.slot()), &simplified.indices, simplified.index_count),

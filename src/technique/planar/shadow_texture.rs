@@ -23,9 +23,8 @@ use glam::{Mat4, Vec3, Vec4};
 
 use super::lod::CasterLods;
 use super::receiver::{caster_bounds, light_reaches_plane, receiver_plane, ReceiverPlane};
-use super::scene_meshes::{lit_scene_pass, scene_sets, SceneMeshes, WithPalette};
+use super::scene_meshes::{lit_scene_pass, scene_sets, SceneMeshes};
 use super::shared::{PlanarStats, ShadowTexture, DEFAULT_SHADOW_LOD, SHADOW_BIAS};
-use super::skin::SKINNED_LAYOUT;
 use super::texture_quad::{quad_model, shadow_quad, unit_square};
 use crate::error::{Error, Result};
 use crate::frame::offscreen::{colour_render_pass, Framebuffer, RenderPass};
@@ -40,7 +39,7 @@ use crate::render::per_slot::slot_copy;
 use crate::render::passes::Passes;
 use crate::render::plan::{DrawKind, Label, MaterialVariant, PassKinds, PassPlan, PlannedPass, SetRole};
 use crate::render::Pipeline;
-use crate::render::{FrameOutput, FrameRecorder, GpuMesh, GpuScene, ObjectPush, Renderer, OBJECT_PUSH_BYTES, Skinning};
+use crate::render::{FrameOutput, FrameRecorder, GpuMesh, GpuScene, ObjectPush, Renderer, OBJECT_PUSH_BYTES};
 use crate::scene::{Light, Scene};
 use crate::shaders;
 use crate::technique::frame_renderer::BuildContext;
@@ -70,7 +69,7 @@ fn caster_desc(skinned: bool) -> PipelineDesc {
             shaders::PLANAR_TEXTURE_CASTER_VERT
         },
         fragment_shader: shaders::OBJECT_COLOUR_FRAG,
-        vertex_layout: if skinned { SKINNED_LAYOUT } else { VertexLayout::SCENE },
+        vertex_layout: if skinned { VertexLayout::SKINNED_SCENE } else { VertexLayout::SCENE },
         fixed: FixedFunction {
             topology: vk::PrimitiveTopology::TRIANGLE_LIST,
             raster: RasterState::CULL_NONE,
@@ -152,7 +151,6 @@ impl DrawKind for TextureDraw {
 /// The render-texture shadow's descriptor sets.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum TextureSet {
-    JointPalette,
     /// The shadow texture, at set 1 of the receive pass.
     ShadowTexture,
 }
@@ -160,14 +158,9 @@ pub enum TextureSet {
 impl Label for TextureSet {
     fn label(self) -> &'static str {
         match self {
-            TextureSet::JointPalette => "joint palette",
             TextureSet::ShadowTexture => "shadow texture",
         }
     }
-}
-
-impl WithPalette for TextureSet {
-    const JOINT_PALETTE: Self = TextureSet::JointPalette;
 }
 
 /// The offscreen target the casters are drawn into.
@@ -210,7 +203,7 @@ pub fn plan(options: &PlanarOptions) -> PassPlan<TextureKinds> {
         caster_desc(true).name,
         PipelineDesc {
             name: "shadow texture caster (skinned, alpha mask)",
-            vertex_shader: shaders::PLANAR_TEXTURE_CASTER_SKINNED_MASKED_VERT,
+            vertex_shader: shaders::PLANAR_TEXTURE_CASTER_MASKED_SKINNED_VERT,
             fragment_shader: shaders::OBJECT_COLOUR_MASKED_FRAG,
             ..caster_desc(true)
         },
@@ -484,7 +477,6 @@ impl Passes<TextureKinds> for ShadowTexturePasses {
     fn set(&self, set: TextureSet) -> Option<&DescriptorSet> {
         match set {
             TextureSet::ShadowTexture => Some(&self.target().texture_set),
-            TextureSet::JointPalette => Some(self.meshes.palette()),
         }
     }
 
@@ -539,10 +531,9 @@ impl Passes<TextureKinds> for ShadowTexturePasses {
         true
     }
 
-    /// Skinned casters are skinned in the vertex stage (palettes in sets of the family's own)
-    /// unless `--skinning cpu` asked otherwise.
-    fn skinning(&self) -> Skinning {
-        self.meshes.skinning()
+    /// Its plans name the skinned pipelines of their own (`scene_desc`, `flattened_desc`).
+    fn skinned_twins(&self) -> bool {
+        false
     }
 
     fn stats(&mut self, _output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {

@@ -38,6 +38,7 @@ pub struct PlanarStats {
     /// The receiving plane's unit normal (0, 1, 0 unless `--plane-normal` tilts it).
     pub plane_normal: [f32; 3],
     pub casters: usize,
+    /// Objects skinned on the GPU (0 with `--skinning cpu`).
     pub skinned_casters: usize,
     pub shadow_factor: u8,
     /// With `--shadow-lod`: the casters' triangles in full and as simplified.
@@ -51,7 +52,7 @@ impl PlanarStats {
             plane_height: plane.height,
             plane_normal: plane.plane.normal.to_array(),
             casters: plane.receivers.iter().filter(|r| !**r).count(),
-            skinned_casters: meshes.skinned.iter().filter(|s| s.is_some()).count(),
+            skinned_casters: meshes.meshes.skinned_on_gpu(),
             shadow_factor: tone.darkest(),
             caster_triangles: None,
             lod_triangles: None,
