@@ -145,8 +145,7 @@ impl GpuScene {
         index: usize,
         pipeline: &'p Pipeline,
     ) -> Result<(&'m GpuMesh, &'p Pipeline)> {
-        let object = scene.objects.get(index).ok_or_else(|| Error::Internal(format!("no object {index}")))?;
-        object_draw(&object.name, (self.meshes.get(object.mesh), self.skinned_mesh(index)), pipeline)
+        object_draw(scene, index, (&self.meshes, &self.skinned), pipeline)
     }
 
     /// Re-poses the skinned objects whose palette changed since frame slot `slot`'s copies
@@ -155,10 +154,11 @@ impl GpuScene {
     /// (`FrameRecorder::draw_mesh`). The frame that last used `slot` must be complete; the other
     /// slots' copies may still be read by frames in flight.
     pub fn follow_pose(&mut self, gpu: &Arc<Gpu>, scene: &Scene, slot: usize) -> Result<()> {
+        if self.palettes.is_some() {
+            // Every skinned object is skinned in the vertex stage: no copy to pose.
+            return Ok(());
+        }
         for index in self.posed.changed(scene, slot) {
-            if self.skinned_mesh(index).is_some() {
-                continue; // skinned in the vertex stage
-            }
             if let Some((mesh, vertices, name)) = self.posed_vertices(scene, index) {
                 mesh.write_posed(gpu, slot, &name, &vertices)?;
             }
@@ -180,15 +180,19 @@ impl GpuScene {
     }
 }
 
-/// What draws the object called `name` with `pipeline`'s state, from its `(mesh, bind pose)`:
-/// its bind pose and `pipeline`'s skinned twin when it is skinned on the GPU, else its mesh and
-/// `pipeline`. An error when the pipeline was built without a twin, or the mesh is missing.
+/// What draws object `index` of `scene` with `pipeline`'s state, from `(meshes, bind_poses)`
+/// (per scene mesh, and per object skinned on the GPU): its bind pose and `pipeline`'s skinned
+/// twin when it is skinned on the GPU, else its mesh and `pipeline`. An error when the pipeline
+/// was built without a twin, or the object or its mesh is missing.
 pub fn object_draw<'m, 'p>(
-    name: &str,
-    (mesh, bind_pose): (Option<&'m GpuMesh>, Option<&'m GpuMesh>),
+    scene: &Scene,
+    index: usize,
+    (meshes, bind_poses): (&'m [GpuMesh], &'m [Option<GpuMesh>]),
     pipeline: &'p Pipeline,
 ) -> Result<(&'m GpuMesh, &'p Pipeline)> {
-    if let Some(bind_pose) = bind_pose {
+    let object = scene.objects.get(index).ok_or_else(|| Error::Internal(format!("no object {index}")))?;
+    let name = &object.name;
+    if let Some(bind_pose) = bind_poses.get(index).and_then(Option::as_ref) {
         let twin = pipeline.skinned().ok_or_else(|| {
             Error::Internal(format!(
                 "'{name}' is skinned on the GPU, but pipeline '{}' has no skinned twin",
@@ -197,7 +201,7 @@ pub fn object_draw<'m, 'p>(
         })?;
         return Ok((bind_pose, twin));
     }
-    let mesh = mesh.ok_or_else(|| Error::Internal(format!("'{name}' has no mesh on the GPU")))?;
+    let mesh = meshes.get(object.mesh).ok_or_else(|| Error::Internal(format!("'{name}' has no mesh on the GPU")))?;
     Ok((mesh, pipeline))
 }
 
@@ -260,7 +264,7 @@ pub fn skinned_vertices(name: &str, source: &SceneMesh, skin: &SceneSkin, joint_
             skin.weights.len()
         )));
     }
-    let palette_len = skin.joint_matrices.len().min(MAX_JOINTS);
+    let palette_len = skin.joint_matrices.len();
     let vertices = scene_vertices(source, &skin.positions, &skin.normals);
     (0..n)
         .map(|v| {

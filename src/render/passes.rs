@@ -65,10 +65,11 @@ pub trait Passes<K: PassKinds> {
     }
 
     /// Whether the plan's pipelines are built with their skinned twins (`Pipeline::skinned`),
-    /// which its draws bind for objects skinned on the GPU: where it has the palettes, unless
-    /// its plans name skinned pipelines of their own (the planar family).
+    /// which its draws bind for objects skinned on the GPU: where it has the palettes of a scene
+    /// with skinned objects, unless its plans name skinned pipelines of their own (the planar
+    /// family).
     fn skinned_twins(&self) -> bool {
-        self.joint_palettes().is_some()
+        self.joint_palettes().is_some_and(|palettes| !palettes.is_empty())
     }
 
     /// Where it poses skinned objects: on the GPU where it has the palettes (`joint_palettes`).

@@ -111,9 +111,10 @@ impl FrameDescriptors {
         let size = std::mem::size_of::<FrameUniforms>() as u64;
         let buffer =
             Buffer::new(gpu, "frame uniforms", size, vk::BufferUsageFlags::UNIFORM_BUFFER, MemoryLocation::CpuToGpu)?;
-        let palette_joints = palette_joints.max(1);
+        // JOINTS_0 is u16, so at most 2^16 joints are ever indexed (`skinned_vertices` refuses
+        // more): 4 MiB, inside any device's storage range.
+        let palette_joints = palette_joints.clamp(1, 1 << 16);
         let palette_bytes = palette_joints as u64 * JOINT_BYTES;
-        // At most 2^16 joints (JOINTS_0 is u16): 4 MiB, inside any device's storage range.
         let palettes = Buffer::new(
             gpu,
             "joint palettes",

@@ -28,6 +28,11 @@ impl JointPalettes {
             .collect();
         JointPalettes { first_joint, joints }
     }
+
+    /// No object is skinned: nothing to skin, no twin to build.
+    pub fn is_empty(&self) -> bool {
+        self.first_joint.iter().all(Option::is_none)
+    }
 }
 
 #[cfg(test)]

@@ -133,7 +133,7 @@ impl<K: PassKinds, P: Passes<K>> TechniqueRenderer for FrameRenderer<'_, K, P> {
         // The frame that last used this slot reads what `prepare` writes in it: done first.
         self.renderer.wait_for_slot()?;
         self.passes.prepare(&self.renderer, scene)?;
-        if let Some(palettes) = self.passes.joint_palettes() {
+        if let Some(palettes) = self.passes.joint_palettes().filter(|p| !p.is_empty()) {
             self.renderer.write_joint_palettes(scene, palettes)?;
         }
         let mut uniforms = FrameUniforms::for_scene(scene, self.renderer.aspect());

@@ -320,10 +320,11 @@ impl ShadowPasses {
     /// posed get their atlas vertices re-posed on the CPU and uploaded into it (the atlas
     /// layout stays).
     fn follow_pose(&mut self, scene: &Scene, slot: usize) -> Result<()> {
+        if self.palettes.is_some() {
+            // Every skinned object is skinned in the vertex stage: no copy to pose.
+            return Ok(());
+        }
         for index in self.posed.changed(scene, slot) {
-            if self.skinned.get(index).is_some_and(Option::is_some) {
-                continue; // skinned in the vertex stage
-            }
             let object = &scene.objects[index];
             let (Some(skin), Some(mesh), Some(layout)) =
                 (&object.skin, self.meshes.get_mut(object.mesh), self.layouts.get(object.mesh))
@@ -372,7 +373,7 @@ impl ShadowPasses {
         let mut bound = opaque;
         for (index, object) in scene.objects.iter().enumerate().filter(|(_, o)| o.casts_shadow) {
             let variant = MaterialVariant::for_caster(scene.material_of(object));
-            let (mesh, pipeline) = self.object_draw(scene, index, pass.variant(pipelines, opaque, variant))?;
+            let (mesh, pipeline) = object_draw(scene, index, self.object_meshes(), pass.variant(pipelines, opaque, variant))?;
             if !std::ptr::eq(pipeline, bound) {
                 // Every pipeline of the pass shares its set layouts: the material and the
                 // lights stay bound.
@@ -420,7 +421,7 @@ impl ShadowPasses {
         for index in draw_order(scene) {
             let object = &scene.objects[index];
             let variant = MaterialVariant::for_surface(scene.material_of(object));
-            let (mesh, pipeline) = self.object_draw(scene, index, pass.variant(pipelines, main, variant))?;
+            let (mesh, pipeline) = object_draw(scene, index, self.object_meshes(), pass.variant(pipelines, main, variant))?;
             if !std::ptr::eq(pipeline, bound) {
                 rec.bind(pipeline);
                 bound = pipeline;
@@ -435,17 +436,10 @@ impl ShadowPasses {
         Ok(())
     }
 
-    /// What draws object `index` with `pipeline`'s state: its mesh's atlas vertices and
-    /// `pipeline`, or, skinned on the GPU, its bind pose and the pipeline's skinned twin.
-    fn object_draw<'m, 'p>(
-        &'m self,
-        scene: &Scene,
-        index: usize,
-        pipeline: &'p Pipeline,
-    ) -> Result<(&'m GpuMesh, &'p Pipeline)> {
-        let object = scene.objects.get(index).ok_or_else(|| Error::Internal(format!("no object {index}")))?;
-        let bind_pose = self.skinned.get(index).and_then(Option::as_ref);
-        object_draw(&object.name, (self.meshes.get(object.mesh), bind_pose), pipeline)
+    /// The meshes objects are drawn from (`gpu_mesh::object_draw`): the atlas vertices per
+    /// mesh, and per object skinned on the GPU its bind pose.
+    fn object_meshes(&self) -> (&[GpuMesh], &[Option<GpuMesh>]) {
+        (&self.meshes, &self.skinned)
     }
 }
 
@@ -524,7 +518,7 @@ impl Passes<AtlasKinds> for ShadowPasses {
             AtlasDraw::Bake => {
                 let bake = pipeline()?;
                 let draws =
-                    (0..scene.objects.len()).map(|i| self.object_draw(scene, i, bake)).collect::<Result<Vec<_>>>()?;
+                    (0..scene.objects.len()).map(|i| object_draw(scene, i, self.object_meshes(), bake)).collect::<Result<Vec<_>>>()?;
                 let sets = [rec.frame_set(), self.light_slot().set.set];
                 self.atlas_page(pass)?.record_raster_bake(rec, scene, &draws, &sets, &self.rebake)
             }
@@ -532,7 +526,7 @@ impl Passes<AtlasKinds> for ShadowPasses {
                 let targets = self.atlas_targets(pass)?;
                 let bake = pipeline()?;
                 let draws =
-                    targets.objects.iter().map(|o| self.object_draw(scene, o.object, bake)).collect::<Result<Vec<_>>>()?;
+                    targets.objects.iter().map(|o| object_draw(scene, o.object, self.object_meshes(), bake)).collect::<Result<Vec<_>>>()?;
                 let sets = [rec.frame_set(), self.light_slot().set.set];
                 targets.record_bake(rec, scene, &draws, &sets);
             }
