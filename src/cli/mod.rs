@@ -39,7 +39,18 @@ pub fn main() -> ExitCode {
             }
             // clap's first line says what is wrong; usage follows in `--help`.
             let rendered = e.render().to_string();
-            let first = rendered.lines().next().unwrap_or("error: invalid arguments");
+            let mut first = rendered.lines().next().unwrap_or("error: invalid arguments").to_owned();
+            // A first line ending in ':' lists what it means on the indented lines after it
+            // (the required arguments not given): they join it.
+            if first.ends_with(':') {
+                let listed: Vec<&str> = rendered
+                    .lines()
+                    .skip(1)
+                    .take_while(|l| l.starts_with(' ') && !l.trim().is_empty())
+                    .map(str::trim)
+                    .collect();
+                first = format!("{first} {}", listed.join(", "));
+            }
             // A value-enum option's choices stay on the one line.
             let choices = rendered.lines().map(str::trim).find(|l| l.starts_with("[possible values:"));
             match choices {

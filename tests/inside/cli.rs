@@ -144,6 +144,13 @@ fn unknown_option_is_a_one_line_error() {
 }
 
 #[test]
+fn an_option_that_needs_another_names_the_one_missing() {
+    // clap lists the missing arguments on the lines after its first: the one line keeps them.
+    refused(&["bench", "--each-skinning"], "--loop <N>");
+    refused(&["render", "--out", "x.png", "--skinning", "sideways"], "[possible values: gpu, cpu]");
+}
+
+#[test]
 fn zero_and_oversized_sizes_are_refused() {
     refused(&["render", "--size", "0x256", "--out", "x.png"], "at least 1");
     refused(&["profile", "--size", "5000x256"], "4096");
