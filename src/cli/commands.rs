@@ -264,11 +264,23 @@ fn profile(frame: &FrameArgs, format: FormatArg, outputs: &ProfileOutputs) -> Re
     if let (Some(fill), Some(object)) = (&caster_fill, stats.as_object_mut()) {
         object.insert("caster_fill".into(), serde_json::to_value(fill).map_err(|e| Error::Internal(e.to_string()))?);
     }
+    // The volumes' area, from one more frame of the same scene (not of a moved one).
+    let coverage = match outputs.move_model {
+        None => crate::profile::volume_coverage::measure(&gpu, &scene, &options, &frame_result)?,
+        Some(_) => None,
+    };
+    if let (Some(coverage), Some(object)) = (&coverage, stats.as_object_mut()) {
+        let value = serde_json::to_value(coverage).map_err(|e| Error::Internal(e.to_string()))?;
+        object.insert("volume_coverage".into(), value);
+    }
     report.technique_stats = (!stats.is_null()).then_some(stats);
     print!("{}", report.render(report_format(format)));
     let lines = frame_result.stats.report();
     if format == FormatArg::Table && !lines.is_empty() {
         println!("\n{lines}");
+    }
+    if let (Some(coverage), FormatArg::Table) = (&coverage, format) {
+        print!("\n{}", crate::profile::volume_coverage::table(coverage));
     }
     if let (Some(fill), FormatArg::Table) = (&caster_fill, format) {
         print!("\n{}", crate::profile::caster_fill::table(fill));

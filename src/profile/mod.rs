@@ -15,3 +15,4 @@ pub mod report;
 pub mod table1;
 pub use nostencil_fillrate_report::text_table;
 pub mod trace;
+pub mod volume_coverage;

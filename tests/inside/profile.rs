@@ -755,9 +755,23 @@ fn caster_fill_adds_up_to_the_volume_passes_and_lights_report_their_fill() {
     let floor: f64 = lights.iter().map(|l| l["volume_samples_passed"].as_f64().expect("floor")).sum();
     assert!((fill * pixels - sum("fragment_invocations") as f64).abs() < 0.5, "{fill}");
     assert!((floor * pixels - sum("samples_passed") as f64).abs() < 0.5, "{floor}");
+    // The volumes' area, from the same frame drawn again with their depth test off: at least
+    // the samples that pass, each light beside its own fill and floor.
+    let coverage = stats["volume_coverage"].as_array().expect("volume_coverage");
+    assert_eq!(coverage.len(), 3, "{stats}");
+    for (light, area) in lights.iter().zip(coverage) {
+        assert_eq!(area["fill_per_px"], light["volume_fill"], "{area}");
+        assert_eq!(area["samples_passed_per_px"], light["volume_samples_passed"], "{area}");
+        let (covered, passed) = (
+            area["samples_covered_per_px"].as_f64().expect("covered"),
+            area["samples_passed_per_px"].as_f64().expect("passed"),
+        );
+        assert!(covered > passed, "the probe kept the depth test: {area}");
+    }
 
     let table = "profile --technique shadow-volume --scene lights --size 64x48 --samples 1 --caster-fill 2";
     let (out, _) = common::run_ok(&table.split(' ').collect::<Vec<_>>());
+    assert!(out.contains("shadow volumes' area") && out.matches("samples covered/px").count() == 3, "{out}");
     let section = out.split("casters spending most of the volume fill").nth(1).expect("the caster table");
     assert_eq!(section.lines().filter(|l| l.contains("silhouette") || l.contains("two-sided")).count(), 2, "{out}");
     let refused = common::run_err(&["profile", "--technique", "shadow-map", "--size", "32x32", "--caster-fill"]);

@@ -193,6 +193,9 @@ struct HeavyContent {
     file: &'static str,
     reference_fragments: u64,
     emulated_fragments: u64,
+    /// The samples the alpha counter's volumes cover (drawn again without their depth test: the
+    /// area they rasterise, exact), which lavapipe's fill counter exceeds several times over.
+    emulated_covered_samples: u64,
     /// Whether `--cull-casters` finds a caster to leave out.
     culls: bool,
 }
@@ -204,6 +207,7 @@ const ENGINE: HeavyContent = HeavyContent {
     file: "heavy/2CylinderEngine.glb",
     reference_fragments: 8_043_488,
     emulated_fragments: 5_765_760,
+    emulated_covered_samples: 728_109,
     culls: true,
 };
 
@@ -214,6 +218,7 @@ const HOUSE: HeavyContent = HeavyContent {
     file: "heavy/FZKHaus.glb",
     reference_fragments: 1_624_832,
     emulated_fragments: 1_332_944,
+    emulated_covered_samples: 431_651,
     culls: true,
 };
 
@@ -255,6 +260,9 @@ fn heavy_content_keeps_its_proof_and_its_fill(content: &HeavyContent) {
         let volumes = output.counters.passes.iter().filter(|p| p.name.contains("volumes"));
         volumes.map(|p| p.fragment_invocations.expect("lavapipe has pipeline statistics")).sum()
     };
+    let volume_samples = |output: &nostencil::FrameOutput| -> u64 {
+        output.counters.passes.iter().filter(|p| p.name.contains("volumes")).map(|p| p.samples_passed).sum()
+    };
     let file = content.file;
     let (reference, stats) = frame(StencilMode::Reference, whole);
     let fragments = volume_fragments(&reference);
@@ -268,6 +276,16 @@ fn heavy_content_keeps_its_proof_and_its_fill(content: &HeavyContent) {
     if content.culls {
         assert!(culled_stats.lights[0].culled >= 1, "{file}: no caster culled: {:?}", culled_stats.lights[0]);
     }
+    // The volumes' area: every sample they cover, counted with the depth test off. It lies
+    // between the samples that pass (the floor) and lavapipe's block-granular fill.
+    let (whole_emulated, _) = frame(StencilMode::Emulated, whole);
+    let (probed, _) = frame(StencilMode::Emulated, ShadowVolumeOptions { coverage_probe: true, ..whole });
+    let (covered, passed, fill) =
+        (volume_samples(&probed), volume_samples(&whole_emulated), volume_fragments(&whole_emulated));
+    println!("{file}: emulated volumes cover {covered} samples, {passed} pass, fill {fill}");
+    assert!(covered <= content.emulated_covered_samples, "{file}: the volumes' area rose: {covered} samples");
+    assert!(covered > 3 * passed, "{file}: the probe kept the depth test: {covered} covered, {passed} passed");
+    assert!(2 * covered < fill, "{file}: {covered} samples covered against a fill of {fill}");
     for normalize in [Normalize::Seed, Normalize::Subpass] {
         for options in [whole, culling] {
             let (emulated, _) = frame(StencilMode::Emulated, ShadowVolumeOptions { normalize, ..options });

@@ -95,6 +95,11 @@ pub struct ShadowVolumeOptions {
     /// the fill, frame by frame. Never set by a user.
     #[arg(skip)]
     pub only_caster: Option<u32>,
+    /// Draw the volumes without their depth test, so that their passes' occlusion queries count
+    /// every sample the volumes cover: how `profile` measures the area they rasterise, beside
+    /// the fill counter and the samples that pass. The frame is no shadow. Never set by a user.
+    #[arg(skip)]
+    pub coverage_probe: bool,
     /// The device has `fragmentStoresAndAtomics` (Android Baseline 2022), so the `subpass`
     /// apply counts saturated samples with one atomic add per pixel. The renderer turns it off on a
     /// device without the feature; a plan printed without a device assumes the baseline.

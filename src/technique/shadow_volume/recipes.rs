@@ -372,16 +372,24 @@ pub fn plan(
 }
 
 /// A pass of light `light`'s volumes, drawn with `desc`, then with `then` if given (the
-/// alpha counter's decrements), each followed by its GPU-extruded twin where `extrusion` is
+/// alpha counter's decrements), each followed by its GPU-extruded twin where the extrusion is
 /// `shader` (the CPU-chosen indices stay for the casters the shadow mesh does not take).
+/// The coverage probe draws them without their depth test.
 fn volumes_pass(
     name: impl Into<std::borrow::Cow<'static, str>>,
     (desc, then): (PipelineDesc, Option<PipelineDesc>),
-    extrusion: VolumeExtrusion,
+    options: &ShadowVolumeOptions,
     (alpha, light, clear_stencil): (f32, u8, bool),
 ) -> PlannedPass<VolumeKinds> {
+    let probed = |mut desc: PipelineDesc| {
+        if options.coverage_probe {
+            desc.fixed.depth.compare = Some(vk::CompareOp::ALWAYS);
+        }
+        desc
+    };
+    let (desc, then) = (probed(desc), then.map(probed));
     let push = format!("object transform, alpha {}", fmt_f32(alpha));
-    let gpu = extrusion == VolumeExtrusion::Shader;
+    let gpu = options.extrusion == VolumeExtrusion::Shader;
     let sets: &[SetRole<VolumeSet>] = if gpu { &[SetRole::Frame, SHADOW_MESHES] } else { &[SetRole::Frame] };
     let mut pass = PlannedPass::own(name, desc.clone(), VolumeDraw::Volumes { alpha, light, clear_stencil }, push)
         .with_sets(sets)
@@ -419,7 +427,7 @@ fn modulate_plan(
     match stencil {
         StencilMode::Reference => {
             let desc = reference_volume_desc(zfail);
-            plan.push(volumes_pass(desc.name, (desc.clone(), None), options.extrusion, (0.0, primary, false)));
+            plan.push(volumes_pass(desc.name, (desc.clone(), None), options, (0.0, primary, false)));
             plan.push(PlannedPass::full_screen("apply (stencil)", reference_apply_desc(), factors).scissored());
         }
         StencilMode::Emulated => {
@@ -427,7 +435,7 @@ fn modulate_plan(
             // decrements (`renderer` draws them in that order).
             let [increment, decrement] = volume_descs(zfail);
             let name = if zfail { "volumes (alpha, z-fail)" } else { "volumes (alpha, z-pass)" };
-            plan.push(volumes_pass(name, (increment, Some(decrement)), options.extrusion, (step, primary, false)));
+            plan.push(volumes_pass(name, (increment, Some(decrement)), options, (step, primary, false)));
             if options.saturation_probe {
                 plan.push(
                     PlannedPass::new(
@@ -533,7 +541,7 @@ fn additive_plan(
                 let desc = reference_volume_desc(zfail);
                 let clear = !first_shadowing;
                 let name = light_loop::pass_name(light, desc.name);
-                plan.push(volumes_pass(name, (desc, None), options.extrusion, (0.0, i, clear)));
+                plan.push(volumes_pass(name, (desc, None), options, (0.0, i, clear)));
                 let desc =
                     shading_desc("shading (stencil)", recipes::ADD_LIGHT, Some(recipes::STENCIL_COUNT_NOT_POSITIVE));
                 plan.push(shading_pass(light_loop::pass_name(light, "shading (stencil)"), desc, i));
@@ -542,7 +550,7 @@ fn additive_plan(
                 let [enter, leave] = down_volume_descs(zfail);
                 let name = if zfail { "volumes (alpha, z-fail)" } else { "volumes (alpha, z-pass)" };
                 let name = light_loop::pass_name(light, name);
-                plan.push(volumes_pass(name, (enter, Some(leave)), options.extrusion, (step, i, false)));
+                plan.push(volumes_pass(name, (enter, Some(leave)), options, (step, i, false)));
                 match options.normalize {
                     // No darkness step: the mask is exactly 0 or 1, and the light's own term
                     // is what a shadow removes. `max` differed from `seed` only there.
