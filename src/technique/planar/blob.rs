@@ -340,7 +340,7 @@ impl Passes<BlobKinds> for BlobPasses {
         true
     }
 
-    /// Its plans name the skinned pipelines of their own (`scene_desc`, `flattened_desc`).
+    /// Its plan names its skinned scene pipeline itself (`lit_scene_pass`).
     fn skinned_twins(&self) -> bool {
         false
     }

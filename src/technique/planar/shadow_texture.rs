@@ -531,7 +531,7 @@ impl Passes<TextureKinds> for ShadowTexturePasses {
         true
     }
 
-    /// Its plans name the skinned pipelines of their own (`scene_desc`, `flattened_desc`).
+    /// Its plan names its skinned pipelines itself (`lit_scene_pass`, `caster_desc`).
     fn skinned_twins(&self) -> bool {
         false
     }
