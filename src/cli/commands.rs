@@ -279,8 +279,15 @@ fn profile(frame: &FrameArgs, format: FormatArg, outputs: &ProfileOutputs) -> Re
     if format == FormatArg::Table && !lines.is_empty() {
         println!("\n{lines}");
     }
-    if let (Some(coverage), FormatArg::Table) = (&coverage, format) {
-        print!("\n{}", crate::profile::volume_coverage::table(coverage));
+    if format == FormatArg::Table {
+        match (&coverage, &outputs.move_model) {
+            (Some(coverage), _) => print!("\n{}", crate::profile::volume_coverage::table(coverage)),
+            // Said, not left out unsaid: the probe redraws the scene as loaded.
+            (None, Some(_)) if frame_result.stats::<crate::technique::ShadowVolumeStats>().is_some() => {
+                println!("\nshadow volumes' area: not measured with --move-model");
+            }
+            _ => {}
+        }
     }
     if let (Some(fill), FormatArg::Table) = (&caster_fill, format) {
         print!("\n{}", crate::profile::caster_fill::table(fill));

@@ -772,6 +772,11 @@ fn caster_fill_adds_up_to_the_volume_passes_and_lights_report_their_fill() {
     let table = "profile --technique shadow-volume --scene lights --size 64x48 --samples 1 --caster-fill 2";
     let (out, _) = common::run_ok(&table.split(' ').collect::<Vec<_>>());
     assert!(out.contains("shadow volumes' area") && out.matches("samples covered/px").count() == 3, "{out}");
+    // After a move the probe would draw the scene as loaded, not as moved: it says so.
+    let moved = "profile --technique shadow-volume --scene lights --size 64x48 --samples 1 --move-model torus";
+    let (moved_out, _) = common::run_ok(&moved.split(' ').collect::<Vec<_>>());
+    assert!(moved_out.contains("shadow volumes' area: not measured with --move-model"), "{moved_out}");
+    assert!(!moved_out.contains("samples covered/px"), "{moved_out}");
     let section = out.split("casters spending most of the volume fill").nth(1).expect("the caster table");
     assert_eq!(section.lines().filter(|l| l.contains("silhouette") || l.contains("two-sided")).count(), 2, "{out}");
     let refused = common::run_err(&["profile", "--technique", "shadow-map", "--size", "32x32", "--caster-fill"]);
