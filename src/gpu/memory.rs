@@ -182,6 +182,35 @@ impl ReusedBuffer {
         Ok(())
     }
 
+    /// Writes `len` elements from byte 0 as [`ReusedBuffer::fill`] does, through `write`, which
+    /// gets exactly those `len` elements of the buffer's mapped memory: data gathered from
+    /// several lists, written once, straight where the GPU reads it.
+    pub fn fill_with<T: Pod>(&mut self, gpu: &Arc<Gpu>, len: usize, write: impl FnOnce(&mut [T])) -> Result<()> {
+        self.len = 0;
+        if len == 0 {
+            return Ok(());
+        }
+        let bytes = len
+            .checked_mul(std::mem::size_of::<T>())
+            .ok_or_else(|| Error::Memory(format!("'{}': {len} elements overflow", self.name)))?;
+        if !self.buffer.as_ref().is_some_and(|b| b.writable_in_place(bytes)) {
+            self.buffer = None;
+            let size = (bytes as u64 * 2).max(256);
+            self.buffer = Some(Buffer::new(gpu, self.name, size, self.usage, MemoryLocation::CpuToGpu)?);
+        }
+        let slice = self
+            .buffer
+            .as_mut()
+            .and_then(|b| b.allocation.as_mut())
+            .and_then(|a| a.mapped_slice_mut())
+            .ok_or_else(|| Error::Memory(format!("'{}' is not host-visible", self.name)))?;
+        let elements: &mut [T] = bytemuck::try_cast_slice_mut(&mut slice[..bytes])
+            .map_err(|e| Error::Memory(format!("'{}': mapped memory does not fit its elements: {e}", self.name)))?;
+        write(elements);
+        self.len = u32::try_from(len).map_err(|_| Error::Memory(format!("'{}': {len} elements", self.name)))?;
+        Ok(())
+    }
+
     /// The buffer and the elements the last fill wrote into it; none when it wrote none.
     pub fn filled(&self) -> Option<(&Buffer, u32)> {
         self.buffer.as_ref().filter(|_| self.len > 0).map(|b| (b, self.len))

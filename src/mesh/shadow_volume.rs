@@ -61,6 +61,9 @@ pub struct VolumeGeometry {
     /// the same (a vertex buffer of the mesh's positions at w = 1, then at w = 0, then the
     /// centroid at w = 0: `doubled_vertices`), whose far points the vertex shader places.
     pub indices_only: bool,
+    /// `repeated_walls`' lists from the last build, emptied, for the next to reuse: a volume
+    /// rebuilt every frame then allocates nothing once its lists have grown.
+    spare_lists: Vec<Vec<u32>>,
 }
 
 /// Builds the shadow volume of a mesh, with caps for z-fail (`caps = true`) or sides only for
@@ -202,6 +205,21 @@ impl Extrusion {
         }
     }
 
+    /// [`Extrusion::push_wall`] with the wall and its far cap's triangle in one list.
+    pub(super) fn push_wall_and_fan(&self, a: u32, b: u32, list: &mut Vec<u32>) {
+        let (a_far, b_far) = (self.far(a), self.far(b));
+        match self.shape {
+            FarEnd::Apex => list.extend_from_slice(&[b, a, a_far]),
+            FarEnd::Infinite => list.extend_from_slice(&[b, a, a_far, b, a_far, b_far]),
+            FarEnd::Fan(apex) => list.extend_from_slice(&[b, a, a_far, b, a_far, b_far, b_far, a_far, apex]),
+        }
+    }
+
+    /// Whether each casting face has its own far cap ([`Extrusion::push_far_cap`] writes one).
+    pub(super) fn caps_each_face(&self) -> bool {
+        self.shape == FarEnd::Infinite
+    }
+
     /// The far cap of a casting face `[a, b, c]` for a point light at infinity: the face at
     /// infinity, reversed. None where the walls meet at one apex or bring their own fan.
     pub(super) fn push_far_cap(&self, [a, b, c]: [u32; 3], far_cap: &mut Vec<u32>) {
@@ -255,15 +273,18 @@ pub(super) fn start_volume(
     out.near_cap.clear();
     out.far_cap.clear();
     out.lit_faces.clear();
-    out.repeated_walls.clear();
-    out.lit_faces.extend(face_normals[..adjacency.face_count()].iter().enumerate().map(|(face, normal)| {
-        let travel = match light {
-            Light::Directional(direction) => direction,
-            // N.(p - light) is the same for every point p of the face's plane.
-            Light::Point(at) => positions[adjacency.indices[3 * face] as usize] - at,
-        };
-        normal.dot(travel) < 0.0
-    }));
+    for (_, mut list) in out.repeated_walls.drain(..) {
+        list.clear();
+        out.spare_lists.push(list);
+    }
+    let normals = &face_normals[..adjacency.face_count()];
+    match light {
+        Light::Directional(direction) => out.lit_faces.extend(normals.iter().map(|n| n.dot(direction) < 0.0)),
+        // N.(p - light) is the same for every point p of the face's plane.
+        Light::Point(at) => out.lit_faces.extend(
+            normals.iter().zip(adjacency.indices.chunks_exact(3)).map(|(n, t)| n.dot(positions[t[0] as usize] - at) < 0.0),
+        ),
+    }
     let mesh = &positions[..vertex_count];
     if out.indices_only {
         // The far end's shape only: the far points are the vertex shader's.
@@ -310,6 +331,20 @@ pub fn doubled_vertices(positions: &[Vec3], out: &mut Vec<Vec4>) {
 }
 
 impl VolumeGeometry {
+    /// The list of repeated walls for multiplicity `times` (>= 2), made (from a spare list) in
+    /// its place by ascending `times` if the volume has none yet.
+    pub(super) fn repeated_list(&mut self, times: u32) -> &mut Vec<u32> {
+        let at = match self.repeated_walls.binary_search_by_key(&times, |(m, _)| *m) {
+            Ok(at) => at,
+            Err(at) => {
+                let list = self.spare_lists.pop().unwrap_or_default();
+                self.repeated_walls.insert(at, (times, list));
+                at
+            }
+        };
+        &mut self.repeated_walls[at].1
+    }
+
     /// Number of triangles drawn with a stencil: the three lists and every repeated wall's copies.
     pub fn triangle_count(&self) -> usize {
         (self.sides.len() + self.near_cap.len() + self.far_cap.len() + self.repeated_copies().count()) / 3

@@ -22,8 +22,6 @@
 //! [`CornerEdges`]); per light they are one linear sweep over the triangles, on the CPU (the
 //! mobile profile has no geometry shaders).
 
-use std::collections::BTreeMap;
-
 use glam::Vec3;
 
 use super::adjacency::EdgeAdjacency;
@@ -36,6 +34,9 @@ use crate::error::{Error, Result};
 pub struct CornerEdges {
     /// `edge index << 1 | runs v[0] -> v[1]`, three per triangle.
     packed: Vec<u32>,
+    /// Each edge's endpoints (`Edge::v`), packed apart from the rest of `Edge`: the walls'
+    /// sweep reads only these, every frame, for every edge that casts.
+    ends: Vec<[u32; 2]>,
 }
 
 impl CornerEdges {
@@ -56,7 +57,8 @@ impl CornerEdges {
                 packed.push(((edge as u32) << 1) | u32::from(from < to));
             }
         }
-        Ok(CornerEdges { packed })
+        let ends = adjacency.edges.iter().map(|edge| edge.v).collect();
+        Ok(CornerEdges { packed, ends })
     }
 
     /// The edge leaving corner `corner` (3 * face + k) and whether the face runs it
@@ -73,10 +75,13 @@ impl CornerEdges {
 pub fn edge_multiplicities(adjacency: &EdgeAdjacency, corners: &CornerEdges, lit: &[bool], out: &mut Vec<i32>) {
     out.clear();
     out.resize(adjacency.edges.len(), 0);
-    for (face, &faces_light) in lit.iter().enumerate().take(adjacency.face_count()) {
-        for k in 0..3 {
-            let (edge, forward) = corners.get(3 * face + k);
-            out[edge] += if forward == faces_light { 1 } else { -1 };
+    // Every frame over every corner of every casting mesh: one tight pass, no branch.
+    for (face, &faces_light) in corners.packed.chunks_exact(3).zip(lit.iter().take(adjacency.face_count())) {
+        for &packed in face {
+            let forward = packed & 1 == 1;
+            if let Some(m) = out.get_mut((packed >> 1) as usize) {
+                *m += 2 * i32::from(forward == faces_light) - 1;
+            }
         }
     }
 }
@@ -104,7 +109,8 @@ pub fn build_two_sided_volume_into(
     assert!(
         positions.len() >= vertex_count
             && face_normals.len() >= adjacency.face_count()
-            && corners.packed.len() == adjacency.indices.len(),
+            && corners.packed.len() == adjacency.indices.len()
+            && corners.ends.len() == adjacency.edges.len(),
         "mesh '{}': two-sided volume needs {} positions, {} face normals and its corner edges",
         adjacency.mesh_name,
         vertex_count,
@@ -112,32 +118,34 @@ pub fn build_two_sided_volume_into(
     );
     let extrusion = start_volume(adjacency, positions, face_normals, light, reach, out);
     edge_multiplicities(adjacency, corners, &out.lit_faces, multiplicities);
-    let mut repeated: BTreeMap<u32, (Vec<u32>, Vec<u32>)> = BTreeMap::new();
-    for (edge, &m) in adjacency.edges.iter().zip(multiplicities.iter()) {
+    for (&[v0, v1], &m) in corners.ends.iter().zip(multiplicities.iter()) {
         if m == 0 {
             continue;
         }
         // (a, b) as the oriented faces run it on balance; its wall runs b -> a.
-        let [a, b] = if m > 0 { edge.v } else { [edge.v[1], edge.v[0]] };
+        let [a, b] = if m > 0 { [v0, v1] } else { [v1, v0] };
         match m.unsigned_abs() {
             1 => extrusion.push_wall(a, b, &mut out.sides, &mut out.far_cap),
             times => {
-                let (walls, fan) = repeated.entry(times).or_default();
-                extrusion.push_wall(a, b, walls, fan);
+                // A wall and its fan triangle in one list: a list is counted whole, in any
+                // order (each pipeline's blend, and the stencil's wrapping ops, commute).
+                extrusion.push_wall_and_fan(a, b, out.repeated_list(times));
             }
         }
     }
-    out.repeated_walls.extend(repeated.into_iter().map(|(times, (mut walls, fan))| {
-        walls.extend_from_slice(&fan);
-        (times, walls)
-    }));
 
-    for (corners, &faces_light) in adjacency.indices.chunks_exact(3).zip(&out.lit_faces) {
-        // A face seen from behind keeps its first corner and swaps the other two.
-        let face =
-            if faces_light { [corners[0], corners[1], corners[2]] } else { [corners[0], corners[2], corners[1]] };
-        out.near_cap.extend_from_slice(&face);
-        extrusion.push_far_cap(face, &mut out.far_cap);
+    // Every face, turned to the light: a face seen from behind keeps its first corner and swaps
+    // the other two. Written in place (the near cap is most of a two-sided volume).
+    out.near_cap.resize(3 * out.lit_faces.len(), 0);
+    let faces = adjacency.indices.chunks_exact(3).zip(&out.lit_faces);
+    for (turned, (corners, &faces_light)) in out.near_cap.chunks_exact_mut(3).zip(faces) {
+        let (b, c) = if faces_light { (corners[1], corners[2]) } else { (corners[2], corners[1]) };
+        turned.copy_from_slice(&[corners[0], b, c]);
+    }
+    if extrusion.caps_each_face() {
+        for face in out.near_cap.chunks_exact(3) {
+            extrusion.push_far_cap([face[0], face[1], face[2]], &mut out.far_cap);
+        }
     }
 }
 
@@ -283,6 +291,33 @@ mod tests {
         let v = volume(&positions, &sheet, light)?;
         assert_eq!(count_at(&v, Vec3::new(0.5, -2.0, -0.5)), 1);
         assert_eq!(count_at(&v, Vec3::new(0.5, 2.0, -0.5)), 0, "above the quad is lit");
+        Ok(())
+    }
+
+    #[test]
+    fn a_volume_rebuilt_for_another_light_reuses_its_lists() -> Result<()> {
+        // Stacked sheets: every rim wall is repeated, so the volume has a list per |m|.
+        let (positions, indices) = quad();
+        let mut doubled = indices.clone();
+        doubled.extend([0, 2, 1, 0, 3, 2]);
+        let (positions, adjacency) = adjacency("double quad", &positions, &doubled)?;
+        let corners = CornerEdges::build(&adjacency)?;
+        let (mut out, mut m) = (VolumeGeometry::default(), Vec::new());
+        let mut build = |light: Light, out: &mut VolumeGeometry| {
+            let normals = &adjacency.face_normals;
+            let reach = Reach::Along(5.0);
+            build_two_sided_volume_into(&adjacency, &corners, &positions, normals, light, reach, &mut m, out);
+        };
+        build(Light::Directional(Vec3::NEG_Y), &mut out);
+        let first: Vec<*const u32> = out.repeated_walls.iter().map(|(_, list)| list.as_ptr()).collect();
+        assert_eq!(first.len(), 1);
+        for light in [Light::Directional(Vec3::new(0.2, -1.0, 0.1)), Light::Directional(Vec3::Y)] {
+            build(light, &mut out);
+            assert_eq!(out.repeated_walls.len(), 1, "{light:?}");
+            assert_eq!(out.repeated_walls[0].1.len(), 4 * 9, "{light:?}: four walls, each with its fan triangle");
+            assert_eq!(out.repeated_walls[0].1.as_ptr(), first[0], "{light:?}: the list was made again");
+            assert!(out.is_closed(), "{light:?}");
+        }
         Ok(())
     }
 

@@ -3,7 +3,7 @@
 use std::borrow::Cow;
 use std::sync::Arc;
 
-use glam::{Mat4, Vec2, Vec3, Vec4};
+use glam::{Mat4, Vec2, Vec3, Vec3A, Vec4};
 
 use super::camera::{Camera, Light};
 use super::lights::SceneLight;
@@ -268,9 +268,15 @@ impl Scene {
     }
 
     /// World-space bounds of object `index` in its current pose; `None` without vertices.
+    /// Every frame for every object (shadow volumes' clipping): a tight SIMD loop, the same
+    /// arithmetic as `transform_point3`.
     pub fn posed_bounds(&self, index: usize) -> Option<(Vec3, Vec3)> {
         let object = self.objects.get(index)?;
-        bounds_of(self.posed_positions(index).iter().map(|p| object.transform.transform_point3(*p)))
+        let positions = self.posed_positions(index);
+        let mut world = positions.iter().map(|&p| object.transform.transform_point3a(Vec3A::from(p)));
+        let first = world.next()?;
+        let (lo, hi) = world.fold((first, first), |(lo, hi), w| (lo.min(w), hi.max(w)));
+        Some((lo.into(), hi.into()))
     }
 
     pub fn triangle_count(&self) -> usize {

@@ -26,7 +26,7 @@ use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::{Buffer, ReusedBuffer};
 use crate::gpu::Gpu;
 use crate::mesh::caster::CastPath;
-use crate::mesh::Reach;
+use crate::mesh::{Reach, VolumeGeometry};
 use crate::pipeline::recipes::STENCIL_COUNT_ZERO;
 use crate::render::per_slot::slot_copy;
 use crate::render::passes::Passes;
@@ -206,7 +206,7 @@ pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetu
         stencil: ctx.options.stencil,
         volumes: Vec::new(),
         buffers: Vec::new(),
-        scratch: Scratch::default(),
+        scratch: VolumeScratch::default(),
         covers: Vec::new(),
         light_rects: Vec::new(),
         kept_culling: Vec::new(),
@@ -256,7 +256,7 @@ pub struct ShadowVolumePasses {
     /// from frame to frame (a slot's are read by the frame in flight in it).
     buffers: Vec<Vec<Vec<VolumeBuffers>>>,
     /// Where volumes are built before they are written into their buffers.
-    scratch: Scratch,
+    scratch: VolumeScratch,
     /// Per light: where its full-screen passes draw (the union of its volumes' scissors).
     covers: Vec<Scissor>,
     /// Per light: its light scissor (Doom 3's), where its shading pass draws.
@@ -526,7 +526,7 @@ struct Uploads<'a> {
     reused: &'a mut usize,
     /// Counts the volumes extruded on the GPU.
     extruded: &'a mut usize,
-    scratch: &'a mut Scratch,
+    scratch: &'a mut VolumeScratch,
     /// The casters' tables, where volumes are extruded on the GPU.
     shadow_meshes: Option<&'a ShadowMeshes>,
     /// The doubled vertices uploaded at build (which skinned casters are skinned on the GPU).
@@ -603,22 +603,22 @@ fn upload_volumes(
         let mut push = VolumePush::new(object.transform, in_object_space, reach);
         let skinned = object.skin.is_some();
         let skinned_on_gpu = uploads.doubled.skinned_on_gpu(index);
-        uploads.scratch.volume.skinned_on_gpu = skinned_on_gpu;
+        uploads.scratch.skinned_on_gpu = skinned_on_gpu;
         let ranges = match &slot.built {
             Some(built) if !skinned && built.key == key => {
                 *uploads.reused += 1;
                 built.ranges.clone()
             }
             _ => {
-                let ranges = volume_for(scene, caster, key, counting, uploads.scratch);
+                let built = volume_for(scene, caster, key, counting, uploads.scratch);
                 // The previous frame in this slot has finished (frames wait for their
                 // fence): its buffers are free. A rigid caster's vertices are its mesh's.
                 if skinned && !skinned_on_gpu {
-                    slot.vertices.fill(uploads.gpu, &uploads.scratch.volume.doubled)?;
+                    slot.vertices.fill(uploads.gpu, built.volume_vertices)?;
                 }
-                slot.indices.fill(uploads.gpu, &uploads.scratch.indices)?;
-                slot.built = Some(BuiltVolume { key, ranges: ranges.clone() });
-                ranges
+                slot.indices.fill_with(uploads.gpu, built.len, |out| built.write(counting.stencil, out))?;
+                slot.built = Some(BuiltVolume { key, ranges: built.ranges.clone() });
+                built.ranges
             }
         };
         if ranges.iter().all(|r| r.count == 0) {
@@ -626,7 +626,7 @@ fn upload_volumes(
         }
         if skinned_on_gpu {
             // Skinned casters are rebuilt every frame: the scratch holds this one's pose.
-            let centroid = uploads.scratch.volume.posed_centroid(caster.mesh.adjacency.vertex_count);
+            let centroid = uploads.scratch.posed_centroid(caster.mesh.adjacency.vertex_count);
             push.apex = centroid.unwrap_or_default().extend(1.0);
         }
         volumes.push(GpuVolume { caster: index, form: VolumeForm::Indexed { ranges, push }, scissor });
@@ -649,52 +649,80 @@ struct BuiltVolume {
     ranges: Vec<IndexRange>,
 }
 
-/// `caster`'s volume for `key`: its vertices, its indices in the order it is drawn, and its
-/// index ranges (empty indices: it casts nothing).
-fn volume_for(
+/// Builds `caster`'s volume for `key` into `scratch` (its vertices where posed on the CPU) and
+/// returns its index ranges in draw order (all empty: it casts nothing), with the lists they
+/// are written from ([`VolumeIndices::write`]).
+fn volume_for<'s>(
     scene: &Scene,
     caster: &Caster,
     key: VolumeKey,
     counting: Counting,
-    scratch: &mut Scratch,
-) -> Vec<IndexRange> {
+    scratch: &'s mut VolumeScratch,
+) -> VolumeIndices<'s> {
     // Far caps close the volumes (point lights, and every clipped volume): drawn in both
     // methods, so that the background (depth 1) behind a volume never counts. Near caps for
     // z-fail, and for two-sided casters in z-pass too: a ray may pass one of their
     // triangles that the scene pass culled (seen from behind, as through the hole of an
     // open box), so the caster itself does not hide its near cap.
-    scratch.volume.volume.indices_only = true;
-    build_volume_into(scene, caster, &key.light, key.reach, true, &mut scratch.volume);
-    let (volume, indices) = (&scratch.volume.volume, &mut scratch.indices);
-    indices.clear();
-    indices.extend_from_slice(&volume.sides);
-    if counting.zfail || matches!(caster.mesh.path, CastPath::TwoSided { .. }) {
-        indices.extend_from_slice(&volume.near_cap);
+    scratch.volume.indices_only = true;
+    build_volume_into(scene, caster, &key.light, key.reach, true, scratch);
+    let near_cap = counting.zfail || matches!(caster.mesh.path, CastPath::TwoSided { .. });
+    let VolumeScratch { volume, doubled, .. } = scratch;
+    if !near_cap {
+        volume.near_cap.clear();
     }
-    indices.extend_from_slice(&volume.far_cap);
-    let mut ranges = vec![IndexRange { first: 0, count: 0, times: 1 }];
-    match counting.stencil {
-        StencilMode::Reference => indices.extend(volume.repeated_copies()),
-        StencilMode::Emulated => {
-            for (times, walls) in &volume.repeated_walls {
-                ranges.push(IndexRange { first: indices.len() as u32, count: walls.len() as u32, times: *times });
-                indices.extend_from_slice(walls);
-            }
-        }
-    }
-    ranges[0].count = ranges.get(1).map_or(indices.len() as u32, |r| r.first);
     // A mirroring transform (negative determinant) flips every winding on screen: turn
     // the triangles back so that the volume's faces still point out.
     if key.transform.determinant() < 0.0 {
-        indices.chunks_exact_mut(3).for_each(|t| t.swap(1, 2));
+        let lists = [&mut volume.sides, &mut volume.near_cap, &mut volume.far_cap].into_iter();
+        for list in lists.chain(volume.repeated_walls.iter_mut().map(|(_, walls)| walls)) {
+            list.chunks_exact_mut(3).for_each(|t| t.swap(1, 2));
+        }
     }
-    ranges
+    let once = (volume.sides.len() + volume.near_cap.len() + volume.far_cap.len()) as u32;
+    let mut ranges = vec![IndexRange { first: 0, count: once, times: 1 }];
+    let mut end = once;
+    match counting.stencil {
+        // The stencil's ops add 1 a fragment: a repeated list is drawn `times` times over.
+        StencilMode::Reference => {
+            end += volume.repeated_walls.iter().map(|(times, walls)| times * walls.len() as u32).sum::<u32>();
+            ranges[0].count = end;
+        }
+        // The alpha counter draws it once, adding `times` k.
+        StencilMode::Emulated => {
+            for (times, walls) in &volume.repeated_walls {
+                ranges.push(IndexRange { first: end, count: walls.len() as u32, times: *times });
+                end += walls.len() as u32;
+            }
+        }
+    }
+    VolumeIndices { volume, volume_vertices: doubled, ranges, len: end as usize }
 }
 
-/// What building a frame's volumes writes into, kept from frame to frame: the volume, and its
-/// indices in draw order. A frame then allocates nothing for its volumes once they have grown.
-#[derive(Default)]
-struct Scratch {
-    volume: VolumeScratch,
-    indices: Vec<u32>,
+/// A volume built in a scratch, its ranges, and how many indices they hold.
+struct VolumeIndices<'s> {
+    volume: &'s VolumeGeometry,
+    /// A caster posed on the CPU: its posed vertices, doubled (else empty).
+    volume_vertices: &'s [Vec4],
+    ranges: Vec<IndexRange>,
+    len: usize,
 }
+
+impl VolumeIndices<'_> {
+    /// The indices in draw order into `out` (`len` long): sides, caps, then the repeated
+    /// walls (once each for the alpha counter, `times` times over for the stencil).
+    fn write(&self, stencil: StencilMode, out: &mut [u32]) {
+        let volume = self.volume;
+        let once = [&volume.sides, &volume.near_cap, &volume.far_cap].into_iter();
+        let repeated = volume.repeated_walls.iter().flat_map(|(times, walls)| {
+            let times = if stencil == StencilMode::Reference { *times as usize } else { 1 };
+            std::iter::repeat(walls).take(times)
+        });
+        let mut at = 0;
+        for list in once.chain(repeated) {
+            out[at..at + list.len()].copy_from_slice(list);
+            at += list.len();
+        }
+    }
+}
+
