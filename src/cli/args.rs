@@ -215,8 +215,8 @@ pub enum Command {
         /// Instead of timing single frames: play N frames of each technique (`--technique` one,
         /// a list, or all) as a game's loop does, the scene animated as in the viewer, frames
         /// kept on the GPU, the techniques in turn; report frames per second (and its ratio to
-        /// the first technique), the render thread's CPU ms a frame, and the memory allocations,
-        /// buffers and fence waits a frame makes.
+        /// the first technique), the render thread's CPU ms a frame and its jobs' on other cores
+        /// (shadow volumes), and the memory allocations, buffers and fence waits a frame makes.
         #[arg(long = "loop", value_name = "N")]
         frame_loop: Option<u32>,
         /// With --loop: frames each technique keeps in flight (1 to 3): a frame is submitted

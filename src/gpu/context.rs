@@ -140,6 +140,11 @@ impl Gpu {
     }
 
     /// Objects made and host waits since the device opened (see `Activity::since`).
+    /// Counts `ns` of CPU time a frame's job took on another thread (`render::jobs`).
+    pub(crate) fn counted_job_cpu(&self, ns: u64) {
+        self.objects.job_ran(ns)
+    }
+
     pub(crate) fn activity(&self) -> Activity {
         self.objects.activity()
     }

@@ -89,9 +89,16 @@ pub struct LiveObjects {
     /// Host waits on the GPU (fences), and the nanoseconds they took.
     waits: AtomicU64,
     wait_ns: AtomicU64,
+    /// CPU time of the jobs run for frames on other threads than the caller's.
+    job_ns: AtomicU64,
 }
 
 impl LiveObjects {
+    /// Counts `ns` of CPU time a job took on another thread.
+    pub fn job_ran(&self, ns: u64) {
+        self.job_ns.fetch_add(ns, Ordering::Relaxed);
+    }
+
     pub fn created(&self, kind: ObjectKind) {
         self.counts[kind.index()].fetch_add(1, Ordering::Relaxed);
         self.made[kind.index()].fetch_add(1, Ordering::Relaxed);
@@ -109,6 +116,7 @@ impl LiveObjects {
             made: ObjectKind::ALL.map(|kind| self.made[kind.index()].load(Ordering::Relaxed)),
             waits: self.waits.load(Ordering::Relaxed),
             wait_ns: self.wait_ns.load(Ordering::Relaxed),
+            job_ns: self.job_ns.load(Ordering::Relaxed),
         }
     }
 
@@ -132,6 +140,8 @@ pub struct Activity {
     made: [u64; ObjectKind::ALL.len()],
     pub waits: u64,
     pub wait_ns: u64,
+    /// CPU time of jobs on other threads (`render::jobs`).
+    pub job_ns: u64,
 }
 
 impl Activity {
@@ -145,6 +155,7 @@ impl Activity {
             made,
             waits: self.waits.saturating_sub(earlier.waits),
             wait_ns: self.wait_ns.saturating_sub(earlier.wait_ns),
+            job_ns: self.job_ns.saturating_sub(earlier.job_ns),
         }
     }
 

@@ -67,6 +67,9 @@ pub struct LoopResult {
     pub frame_ms: f64,
     /// Mean time a frame kept the render thread busy, its waits for the GPU taken out, ms.
     pub cpu_ms: f64,
+    /// Mean CPU time a frame's jobs took on other threads (shadow volumes built as Doom 3
+    /// BFG's jobs), ms: the render thread's `cpu_ms` plus this is the frame's CPU work.
+    pub jobs_cpu_ms: f64,
     /// Mean time a frame waited for the GPU, ms.
     pub wait_ms: f64,
     /// Memory allocations a frame made: gpu-allocator's sub-allocations and dedicated memory.
@@ -125,18 +128,9 @@ pub fn play(
     Ok(measured)
 }
 
-/// CPU time the calling thread has used, in ms (`CLOCK_THREAD_CPUTIME_ID`).
-#[cfg(unix)]
+/// CPU time the calling thread has used, in ms.
 fn thread_cpu_ms() -> Option<f64> {
-    let mut now = libc::timespec { tv_sec: 0, tv_nsec: 0 };
-    // SAFETY: `now` is a valid timespec for the call to fill.
-    let read = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut now) };
-    (read == 0).then(|| now.tv_sec as f64 * 1e3 + now.tv_nsec as f64 / 1e6)
-}
-
-#[cfg(not(unix))]
-fn thread_cpu_ms() -> Option<f64> {
-    None
+    crate::render::jobs::thread_cpu_ns().map(|ns| ns as f64 / 1e6)
 }
 
 /// Each variant's figures from its frames (`names` and `measured` in the same order).
@@ -162,6 +156,7 @@ pub fn summarise(names: &[String], kept: &[(usize, Skinning)], measured: &[Vec<L
                 frames_per_second: if total_ms > 0.0 { f64::from(played) / (total_ms / 1e3) } else { 0.0 },
                 frame_ms: mean(&|f| f.wall_ms),
                 cpu_ms: mean(&|f| f.cpu_ms()),
+                jobs_cpu_ms: mean(&|f| f.activity.job_ns as f64 / 1e6),
                 wait_ms: mean(&|f| f.activity.wait_ns as f64 / 1e6),
                 allocations_per_frame: mean(&|f| f.activity.made(ObjectKind::MemoryAllocation) as f64),
                 buffers_per_frame: mean(&|f| f.activity.made(ObjectKind::Buffer) as f64),
@@ -195,6 +190,7 @@ impl LoopReport {
             "x [95% CI]",
             "frame ms",
             "CPU ms",
+            "jobs ms",
             "wait ms",
             "allocs/frame",
             "buffers/frame",
@@ -212,6 +208,7 @@ impl LoopReport {
                     r.throughput_ratio.map_or("1.00".into(), |ratio| ratio.brief()),
                     format!("{:.2}", r.frame_ms),
                     format!("{:.2}", r.cpu_ms),
+                    format!("{:.2}", r.jobs_cpu_ms),
                     format!("{:.2}", r.wait_ms),
                     format!("{:.1}", r.allocations_per_frame),
                     format!("{:.1}", r.buffers_per_frame),
@@ -226,7 +223,8 @@ impl LoopReport {
             "x: throughput over the first technique's (median over the turns of its frame time / this one's, \
              bootstrap interval); in flight: frames submitted before the oldest is waited for (a turn's last \
              frames are finished at its end, within its time); CPU ms: the render thread's CPU time a frame \
-             (without its waits for the GPU); allocs: memory allocations made (gpu-allocator's and dedicated); waits: host waits on a \
+             (without its waits for the GPU); jobs ms: the CPU time a frame's jobs took on other threads \
+             (shadow volumes built on other cores); allocs: memory allocations made (gpu-allocator's and dedicated); waits: host waits on a \
              fence\n",
         );
         out

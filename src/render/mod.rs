@@ -1,12 +1,14 @@
 //! Rendering plumbing shared by every technique: uniforms, meshes on the GPU, pipelines built
 //! from their descriptions, the frame recorder that measures passes, the per-pass counters it
-//! returns, the offscreen renderer, the per-sample read-back of a kept multisampled frame, and presenting a frame through a swapchain.
+//! returns, the offscreen renderer, the per-sample read-back of a kept multisampled frame, presenting a frame through a swapchain,
+//! and the jobs that run a frame's CPU work on other cores.
 
 pub mod counters;
 pub mod frame_copy;
 pub mod frame_stats;
 pub mod gpu_mesh;
 pub mod instances;
+pub mod jobs;
 pub mod materials;
 pub mod object_push;
 pub mod passes;

@@ -548,15 +548,32 @@ impl<'a> FrameRecorder<'a> {
         if index_count == 0 {
             return;
         }
+        self.bind_indexed(vertices, indices);
+        self.draw_bound_range(first_index, index_count);
+    }
+
+    /// Binds `vertices` and `indices` (32-bit) for the [`FrameRecorder::draw_bound_range`]
+    /// calls that follow: several ranges of one geometry drawn with one binding.
+    pub fn bind_indexed(&mut self, vertices: &Buffer, indices: &Buffer) {
         let device = self.gpu.raw();
-        // SAFETY: see the note on `FrameRecorder`; the indices were checked against their
-        // vertices when the mesh was built (the glTF loader refuses any out of range), and the
-        // range lies inside the index buffer (its owner sized it).
+        // SAFETY: see the note on `FrameRecorder`; both buffers outlive the frame (their owners
+        // keep them until its fence).
         unsafe {
             device.cmd_bind_vertex_buffers(self.cmd, 0, &[vertices.raw], &[0]);
             device.cmd_bind_index_buffer(self.cmd, indices.raw, 0, vk::IndexType::UINT32);
-            device.cmd_draw_indexed(self.cmd, index_count, 1, first_index, 0, 0);
         }
+    }
+
+    /// Draws indices `first_index..first_index + index_count` of the buffers
+    /// [`FrameRecorder::bind_indexed`] bound last.
+    pub fn draw_bound_range(&mut self, first_index: u32, index_count: u32) {
+        if index_count == 0 {
+            return;
+        }
+        // SAFETY: see the note on `FrameRecorder`; the indices were checked against their
+        // vertices when the mesh was built (the glTF loader refuses any out of range), and the
+        // range lies inside the index buffer bound (its owner sized it).
+        unsafe { self.gpu.raw().cmd_draw_indexed(self.cmd, index_count, 1, first_index, 0, 0) };
         self.count_draw();
     }
 

@@ -12,7 +12,9 @@
 use ash::vk;
 use glam::{Vec3, Vec4};
 
+use crate::gpu::Gpu;
 use crate::mesh::Reach;
+use crate::render::jobs;
 use crate::render::plan::Scissor;
 use crate::scene::lights::Reach as LightReach;
 use crate::scene::{Camera, Light, Scene, SceneLight};
@@ -63,7 +65,17 @@ impl Aabb {
 /// Every object's world bounds in its current pose (`None` for one without vertices): computed
 /// once a frame, for the receivers' box and each caster's own.
 pub fn object_boxes(scene: &Scene) -> Vec<Option<Aabb>> {
-    (0..scene.objects.len()).map(|i| scene.posed_bounds(i).map(|(lo, hi)| Aabb { lo, hi })).collect()
+    (0..scene.objects.len()).map(|i| object_box(scene, i)).collect()
+}
+
+/// [`object_boxes`] as jobs on other cores than the caller's (`render::jobs`): they walk every
+/// posed vertex of the scene, every frame.
+pub fn object_boxes_in_jobs(gpu: &Gpu, scene: &Scene) -> Vec<Option<Aabb>> {
+    jobs::run(gpu, (0..scene.objects.len()).collect(), |i| object_box(scene, i))
+}
+
+fn object_box(scene: &Scene, index: usize) -> Option<Aabb> {
+    scene.posed_bounds(index).map(|(lo, hi)| Aabb { lo, hi })
 }
 
 /// The receivers' bounds: every object of the scene (any object a pixel shows can be in

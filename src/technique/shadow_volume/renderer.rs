@@ -28,6 +28,7 @@ use crate::gpu::Gpu;
 use crate::mesh::caster::CastPath;
 use crate::mesh::{Reach, VolumeGeometry};
 use crate::pipeline::recipes::STENCIL_COUNT_ZERO;
+use crate::render::jobs::{self, PerWorker};
 use crate::render::per_slot::slot_copy;
 use crate::render::passes::Passes;
 use crate::render::plan::{Draws, PlannedPass, Scissor};
@@ -206,7 +207,7 @@ pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetu
         stencil: ctx.options.stencil,
         volumes: Vec::new(),
         buffers: Vec::new(),
-        scratch: VolumeScratch::default(),
+        scratch: PerWorker::default(),
         covers: Vec::new(),
         light_rects: Vec::new(),
         kept_culling: Vec::new(),
@@ -255,8 +256,9 @@ pub struct ShadowVolumePasses {
     /// Per frame slot, per light, per caster: the buffers its volume is written into, kept
     /// from frame to frame (a slot's are read by the frame in flight in it).
     buffers: Vec<Vec<Vec<VolumeBuffers>>>,
-    /// Where volumes are built before they are written into their buffers.
-    scratch: VolumeScratch,
+    /// Where the jobs that build volumes build them before writing them into their buffers,
+    /// one per worker.
+    scratch: PerWorker<VolumeScratch>,
     /// Per light: where its full-screen passes draw (the union of its volumes' scissors).
     covers: Vec<Scissor>,
     /// Per light: its light scissor (Doom 3's), where its shading pass draws.
@@ -355,11 +357,13 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
                         rec.bind(bound);
                     }
                     rec.set_scissor(volume.scissor);
-                    for range in ranges {
+                    // One binding for the volume's ranges (lavapipe records every command).
+                    rec.bind_indexed(vertices, indices);
+                    for range in ranges.iter().filter(|range| range.count > 0) {
                         let push =
                             VolumePush { colour: Vec4::new(0.0, 0.0, 0.0, alpha * range.times as f32), ..*push };
                         rec.push(bound, &push);
-                        rec.draw_indexed_range(vertices, indices, range.first, range.count);
+                        rec.draw_bound_range(range.first, range.count);
                     }
                 }
             }
@@ -372,7 +376,7 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
         self.meshes.follow_pose(&self.gpu, scene, slot)?;
         slot_copy(&mut self.buffers, slot, || Ok(Vec::new()))?;
         let extent = renderer.extent();
-        let boxes = bounds::object_boxes(scene);
+        let boxes = bounds::object_boxes_in_jobs(&self.gpu, scene);
         let receivers = bounds::receivers_box(&boxes);
         (self.volumes, self.covers, self.light_rects, self.stats.lights) =
             (Vec::new(), Vec::new(), Vec::new(), Vec::new());
@@ -410,7 +414,7 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
                     buffers,
                     reused: &mut reused,
                     extruded: &mut extruded,
-                    scratch: &mut self.scratch,
+                    scratch: &self.scratch,
                     shadow_meshes: self.shadow_meshes.as_ref(),
                     doubled: &self.doubled,
                 };
@@ -526,11 +530,21 @@ struct Uploads<'a> {
     reused: &'a mut usize,
     /// Counts the volumes extruded on the GPU.
     extruded: &'a mut usize,
-    scratch: &'a mut VolumeScratch,
+    /// What the jobs that build volumes write into, one per worker.
+    scratch: &'a PerWorker<VolumeScratch>,
     /// The casters' tables, where volumes are extruded on the GPU.
     shadow_meshes: Option<&'a ShadowMeshes>,
     /// The doubled vertices uploaded at build (which skinned casters are skinned on the GPU).
     doubled: &'a DoubledVertices,
+}
+
+/// How a caster's volume was had this frame, for the light's report.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Source {
+    Built,
+    /// Its buffers already held it.
+    Reused,
+    ExtrudedOnGpu,
 }
 
 fn upload_volumes(
@@ -542,11 +556,8 @@ fn upload_volumes(
     extent: vk::Extent2D,
     lit: LitBy,
 ) -> Result<Vec<GpuVolume>> {
-    let whole_frame = vk::Rect2D { offset: vk::Offset2D::default(), extent };
     // Unclipped: no receivers' box, so every volume reaches infinity over the whole frame.
     let boxes = if options.clip_volumes { lit.boxes } else { &[] };
-    let receivers = bounds::receivers_box(boxes);
-    let geometry = lit.light.geometry();
     // Volumes stay a pixel inside the light's scissor, where its shading pass resets the
     // counter even where a multisampled scissored draw reaches a pixel past its edge.
     let inner = match lit.rect {
@@ -556,82 +567,138 @@ fn upload_volumes(
             None => return Ok(Vec::new()),
         },
     };
-    let mut volumes = Vec::with_capacity(casters.len());
-    for (index, caster) in casters.iter().enumerate() {
-        let measured_alone = options.only_caster.map_or(true, |only| only as usize == index);
-        if lit.culled.is_hidden(index) || !measured_alone {
-            continue;
+    let frame = FrameOfVolumes {
+        scene,
+        counting,
+        extent,
+        light: lit.light,
+        geometry: lit.light.geometry(),
+        boxes,
+        receivers: bounds::receivers_box(boxes),
+        inner,
+        gpu: uploads.gpu,
+        scratch: uploads.scratch,
+        shadow_meshes: uploads.shadow_meshes,
+        doubled: uploads.doubled,
+    };
+    // One job per caster, each with its own buffers: where its volume goes this frame, and
+    // the volume itself where its light, reach or pose moved (Doom 3 BFG's shadow jobs).
+    let jobs: Vec<(usize, &mut VolumeBuffers)> = uploads
+        .buffers
+        .iter_mut()
+        .enumerate()
+        .take(casters.len())
+        .filter(|(index, _)| {
+            let measured_alone = options.only_caster.map_or(true, |only| only as usize == *index);
+            !lit.culled.is_hidden(*index) && measured_alone
+        })
+        .collect();
+    let done = jobs::run(uploads.gpu, jobs, |(index, slot)| frame.volume_of(index, &casters[index], slot));
+    let mut volumes = Vec::with_capacity(done.len());
+    for result in done {
+        let Some((volume, source)) = result? else { continue };
+        match source {
+            Source::Reused => *uploads.reused += 1,
+            Source::ExtrudedOnGpu => *uploads.extruded += 1,
+            Source::Built => {}
         }
+        volumes.extend(volume);
+    }
+    Ok(volumes)
+}
+
+/// What every caster's volume job reads: the frame, the light, and where volumes are built.
+struct FrameOfVolumes<'a> {
+    scene: &'a Scene,
+    counting: Counting,
+    extent: vk::Extent2D,
+    light: &'a SceneLight,
+    geometry: Light,
+    /// The objects' boxes (none: volumes unclipped), the receivers' box, and the light's
+    /// scissor shrunk by a pixel.
+    boxes: &'a [Option<bounds::Aabb>],
+    receivers: Option<bounds::Aabb>,
+    inner: Option<Option<vk::Rect2D>>,
+    gpu: &'a Arc<Gpu>,
+    scratch: &'a PerWorker<VolumeScratch>,
+    shadow_meshes: Option<&'a ShadowMeshes>,
+    doubled: &'a DoubledVertices,
+}
+
+impl FrameOfVolumes<'_> {
+    /// Caster `index`'s volume this frame, built into `slot` where it moved, and how it was
+    /// had (no volume: it casts nothing); `None` where it is not drawn at all this frame.
+    fn volume_of(
+        &self,
+        index: usize,
+        caster: &Caster,
+        slot: &mut VolumeBuffers,
+    ) -> Result<Option<(Option<GpuVolume>, Source)>> {
+        let (scene, counting) = (self.scene, self.counting);
         let object = &scene.objects[caster.object];
         // Clipped: the volume ends past the receivers and is scissored to where it can shade;
         // a caster whose volume misses every receiver, or lies off screen, or out of the
         // light's reach, is not drawn.
-        let (reach, scissor) = match (receivers, boxes.get(caster.object).copied().flatten()) {
+        let (reach, scissor) = match (self.receivers, self.boxes.get(caster.object).copied().flatten()) {
             (Some(receivers), Some(caster_box)) => {
-                if !lit.light.reaches_box(caster_box.lo, caster_box.hi) {
-                    continue;
+                if !self.light.reaches_box(caster_box.lo, caster_box.hi) {
+                    return Ok(None);
                 }
-                let clipped = bounds::caster_bounds(&geometry, caster_box, receivers);
-                let rect = clipped.screen_rect(&scene.camera, extent);
-                match (rect, inner) {
-                    (Some(rect), None) => (clipped.reach, rect),
-                    (Some(rect), Some(inner)) => match inner.and_then(|inner| bounds::rect_intersection(rect, inner)) {
-                        Some(rect) => (clipped.reach, rect),
-                        None => continue,
-                    },
-                    (None, _) => continue,
-                }
+                let clipped = bounds::caster_bounds(&self.geometry, caster_box, receivers);
+                let Some(rect) = clipped.screen_rect(&scene.camera, self.extent) else { return Ok(None) };
+                let rect = match self.inner {
+                    None => Some(rect),
+                    Some(inner) => inner.and_then(|inner| bounds::rect_intersection(rect, inner)),
+                };
+                let Some(rect) = rect else { return Ok(None) };
+                (clipped.reach, rect)
             }
-            _ => (Reach::Infinite, whole_frame),
+            _ => (Reach::Infinite, vk::Rect2D { offset: vk::Offset2D::default(), extent: self.extent }),
         };
         // Extruded on the GPU where the caster's mesh has tables: nothing to build.
         let caps = counting.zfail || matches!(caster.mesh.path, CastPath::TwoSided { .. });
         let stencil = counting.stencil == StencilMode::Reference;
-        let in_object_space = light_in_object_space(&geometry, &object.transform);
-        if let Some(extruded) = uploads
+        let in_object_space = light_in_object_space(&self.geometry, &object.transform);
+        if let Some(extruded) = self
             .shadow_meshes
             .and_then(|meshes| meshes.volume(index, object.transform, in_object_space, reach, caps, stencil))
         {
-            *uploads.extruded += 1;
-            volumes.push(GpuVolume { caster: index, form: VolumeForm::Extruded(extruded), scissor });
-            continue;
+            let volume = GpuVolume { caster: index, form: VolumeForm::Extruded(extruded), scissor };
+            return Ok(Some((Some(volume), Source::ExtrudedOnGpu)));
         }
-        let Some(slot) = uploads.buffers.get_mut(index) else { continue };
         // A volume is a function of the light, its reach and the caster's transform (and pose):
         // where none of them moved, its buffers still hold it (Doom 3's static shadows).
-        let key = VolumeKey { light: geometry, reach, transform: object.transform };
+        let key = VolumeKey { light: self.geometry, reach, transform: object.transform };
         let mut push = VolumePush::new(object.transform, in_object_space, reach);
         let skinned = object.skin.is_some();
-        let skinned_on_gpu = uploads.doubled.skinned_on_gpu(index);
-        uploads.scratch.skinned_on_gpu = skinned_on_gpu;
-        let ranges = match &slot.built {
-            Some(built) if !skinned && built.key == key => {
-                *uploads.reused += 1;
-                built.ranges.clone()
-            }
+        let skinned_on_gpu = self.doubled.skinned_on_gpu(index);
+        let source = match &slot.built {
+            Some(built) if !skinned && built.key == key => Source::Reused,
             _ => {
-                let built = volume_for(scene, caster, key, counting, uploads.scratch);
+                let mut scratch = self.scratch.mine();
+                scratch.skinned_on_gpu = skinned_on_gpu;
+                let built = volume_for(scene, caster, key, counting, &mut scratch);
                 // The previous frame in this slot has finished (frames wait for their
                 // fence): its buffers are free. A rigid caster's vertices are its mesh's.
                 if skinned && !skinned_on_gpu {
-                    slot.vertices.fill(uploads.gpu, built.volume_vertices)?;
+                    slot.vertices.fill(self.gpu, built.volume_vertices)?;
                 }
-                slot.indices.fill_with(uploads.gpu, built.len, |out| built.write(counting.stencil, out))?;
-                slot.built = Some(BuiltVolume { key, ranges: built.ranges.clone() });
-                built.ranges
+                slot.indices.fill_with(self.gpu, built.len, |out| built.write(counting.stencil, out))?;
+                slot.built = Some(BuiltVolume { key, ranges: built.ranges });
+                if skinned_on_gpu {
+                    // Skinned casters are rebuilt every frame: the scratch holds this one's pose.
+                    let centroid = scratch.posed_centroid(caster.mesh.adjacency.vertex_count);
+                    push.apex = centroid.unwrap_or_default().extend(1.0);
+                }
+                Source::Built
             }
         };
-        if ranges.iter().all(|r| r.count == 0) {
-            continue;
-        }
-        if skinned_on_gpu {
-            // Skinned casters are rebuilt every frame: the scratch holds this one's pose.
-            let centroid = uploads.scratch.posed_centroid(caster.mesh.adjacency.vertex_count);
-            push.apex = centroid.unwrap_or_default().extend(1.0);
-        }
-        volumes.push(GpuVolume { caster: index, form: VolumeForm::Indexed { ranges, push }, scissor });
+        let volume = slot.built.as_ref().filter(|built| built.ranges.iter().any(|r| r.count > 0)).map(|built| {
+            let form = VolumeForm::Indexed { ranges: built.ranges.clone(), push };
+            GpuVolume { caster: index, form, scissor }
+        });
+        Ok(Some((volume, source)))
     }
-    Ok(volumes)
 }
 
 /// What a volume is built from, beside its caster: equal keys (and an unposed caster) give equal
