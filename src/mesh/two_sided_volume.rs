@@ -190,6 +190,14 @@ mod tests {
         (vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 0.0, -1.0), Vec3::NEG_Z], vec![0, 1, 2, 0, 2, 3])
     }
 
+    /// The quad twice, once reversed: two sheets sharing their rim.
+    fn stacked_sheets() -> Result<(Vec<Vec3>, EdgeAdjacency)> {
+        let (positions, indices) = quad();
+        let mut doubled = indices.clone();
+        doubled.extend([0, 2, 1, 0, 3, 2]);
+        adjacency("double quad", &positions, &doubled)
+    }
+
     /// Signed count of volume triangles a ray from `origin` along `dir` crosses: +1 entering
     /// (against a face's normal), -1 leaving. Points at infinity become far finite stand-ins.
     fn crossing_count(volume: &VolumeGeometry, light: Light, origin: Vec3, dir: Vec3) -> i32 {
@@ -297,10 +305,7 @@ mod tests {
     #[test]
     fn a_volume_rebuilt_for_another_light_reuses_its_lists() -> Result<()> {
         // Stacked sheets: every rim wall is repeated, so the volume has a list per |m|.
-        let (positions, indices) = quad();
-        let mut doubled = indices.clone();
-        doubled.extend([0, 2, 1, 0, 3, 2]);
-        let (positions, adjacency) = adjacency("double quad", &positions, &doubled)?;
+        let (positions, adjacency) = stacked_sheets()?;
         let corners = CornerEdges::build(&adjacency)?;
         let (mut out, mut m) = (VolumeGeometry::default(), Vec::new());
         let mut build = |light: Light, out: &mut VolumeGeometry| {
@@ -324,10 +329,7 @@ mod tests {
     #[test]
     fn two_stacked_sheets_sharing_a_rim_draw_doubled_walls() -> Result<()> {
         // The same quad twice, once reversed: every rim edge has m = +-2 once both face the light.
-        let (positions, indices) = quad();
-        let mut doubled = indices.clone();
-        doubled.extend([0, 2, 1, 0, 3, 2]);
-        let (positions, adjacency) = adjacency("double quad", &positions, &doubled)?;
+        let (positions, adjacency) = stacked_sheets()?;
         let corners = CornerEdges::build(&adjacency)?;
         let lit: Vec<bool> = adjacency.face_normals.iter().map(|n| n.y > 0.0).collect();
         let mut m = Vec::new();
