@@ -139,12 +139,12 @@ impl Gpu {
         self.objects.waited(took)
     }
 
-    /// Objects made and host waits since the device opened (see `Activity::since`).
     /// Counts `ns` of CPU time a frame's job took on another thread (`render::jobs`).
     pub(crate) fn counted_job_cpu(&self, ns: u64) {
         self.objects.job_ran(ns)
     }
 
+    /// Objects made and host waits since the device opened (see `Activity::since`).
     pub(crate) fn activity(&self) -> Activity {
         self.objects.activity()
     }

@@ -165,20 +165,13 @@ impl ReusedBuffer {
     /// Writes `data` from byte 0, first making a buffer twice the size of `data` where the one
     /// it has is too small (none for no data: then it holds nothing to draw).
     pub fn fill<T: Pod>(&mut self, gpu: &Arc<Gpu>, data: &[T]) -> Result<()> {
-        self.len = 0;
-        if data.is_empty() {
-            return Ok(());
-        }
         let bytes: &[u8] = bytemuck::cast_slice(data);
-        if !self.buffer.as_ref().is_some_and(|b| b.writable_in_place(bytes.len())) {
-            self.buffer = None;
-            let size = (bytes.len() as u64 * 2).max(256);
-            self.buffer = Some(Buffer::new(gpu, self.name, size, self.usage, MemoryLocation::CpuToGpu)?);
+        let count = self.count(data.len())?;
+        self.len = 0;
+        if let Some(mapped) = self.mapped(gpu, bytes.len())? {
+            mapped.copy_from_slice(bytes);
         }
-        if let Some(buffer) = &mut self.buffer {
-            buffer.write(0, bytes)?;
-        }
-        self.len = data.len() as u32;
+        self.len = count;
         Ok(())
     }
 
@@ -186,13 +179,32 @@ impl ReusedBuffer {
     /// gets exactly those `len` elements of the buffer's mapped memory: data gathered from
     /// several lists, written once, straight where the GPU reads it.
     pub fn fill_with<T: Pod>(&mut self, gpu: &Arc<Gpu>, len: usize, write: impl FnOnce(&mut [T])) -> Result<()> {
-        self.len = 0;
-        if len == 0 {
-            return Ok(());
-        }
+        let count = self.count(len)?;
         let bytes = len
             .checked_mul(std::mem::size_of::<T>())
             .ok_or_else(|| Error::Memory(format!("'{}': {len} elements overflow", self.name)))?;
+        self.len = 0;
+        let name = self.name;
+        if let Some(mapped) = self.mapped(gpu, bytes)? {
+            let elements: &mut [T] = bytemuck::try_cast_slice_mut(mapped)
+                .map_err(|e| Error::Memory(format!("'{name}': mapped memory does not fit its elements: {e}")))?;
+            write(elements);
+        }
+        self.len = count;
+        Ok(())
+    }
+
+    /// `len` as the element count a draw takes.
+    fn count(&self, len: usize) -> Result<u32> {
+        u32::try_from(len).map_err(|_| Error::Memory(format!("'{}': {len} elements", self.name)))
+    }
+
+    /// The first `bytes` bytes of the buffer's mapped memory, first making a buffer twice that
+    /// size where the one it has is too small; `None` for no bytes.
+    fn mapped(&mut self, gpu: &Arc<Gpu>, bytes: usize) -> Result<Option<&mut [u8]>> {
+        if bytes == 0 {
+            return Ok(None);
+        }
         if !self.buffer.as_ref().is_some_and(|b| b.writable_in_place(bytes)) {
             self.buffer = None;
             let size = (bytes as u64 * 2).max(256);
@@ -204,11 +216,7 @@ impl ReusedBuffer {
             .and_then(|b| b.allocation.as_mut())
             .and_then(|a| a.mapped_slice_mut())
             .ok_or_else(|| Error::Memory(format!("'{}' is not host-visible", self.name)))?;
-        let elements: &mut [T] = bytemuck::try_cast_slice_mut(&mut slice[..bytes])
-            .map_err(|e| Error::Memory(format!("'{}': mapped memory does not fit its elements: {e}", self.name)))?;
-        write(elements);
-        self.len = u32::try_from(len).map_err(|_| Error::Memory(format!("'{}': {len} elements", self.name)))?;
-        Ok(())
+        Ok(Some(&mut slice[..bytes]))
     }
 
     /// The buffer and the elements the last fill wrote into it; none when it wrote none.

@@ -40,7 +40,7 @@ pub enum Light {
 /// `vertices` holds the mesh positions with w = 1 at their own indices, then the points at
 /// infinity: one `(direction, 0)` for a directional light, or `(p - light, 0)` for each vertex
 /// `p` at index `vertex_count + i` for a point light.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default)]
 pub struct VolumeGeometry {
     pub vertices: Vec<Vec4>,
     /// Extruded silhouette edges (both z-pass and z-fail draw these).
@@ -328,6 +328,15 @@ pub fn doubled_vertices(positions: &[Vec3], out: &mut Vec<Vec4>) {
     out.extend(positions.iter().map(|p| p.extend(0.0)));
     let centroid = positions.iter().copied().sum::<Vec3>() / positions.len().max(1) as f32;
     out.push(centroid.extend(0.0));
+}
+
+/// Volumes are equal by what they draw: the spare lists a build left are not part of it.
+impl PartialEq for VolumeGeometry {
+    fn eq(&self, other: &Self) -> bool {
+        (&self.vertices, &self.sides, &self.near_cap, &self.far_cap, &self.lit_faces, &self.repeated_walls)
+            == (&other.vertices, &other.sides, &other.near_cap, &other.far_cap, &other.lit_faces, &other.repeated_walls)
+            && self.indices_only == other.indices_only
+    }
 }
 
 impl VolumeGeometry {

@@ -61,10 +61,9 @@ impl CornerEdges {
         Ok(CornerEdges { packed, ends })
     }
 
-    /// The edge leaving corner `corner` (3 * face + k) and whether the face runs it
+    /// A corner's edge, as `packed` holds it: its index and whether the face runs it
     /// `v[0] -> v[1]`.
-    fn get(&self, corner: usize) -> (usize, bool) {
-        let packed = self.packed[corner];
+    fn unpack(packed: u32) -> (usize, bool) {
         ((packed >> 1) as usize, packed & 1 == 1)
     }
 }
@@ -75,11 +74,11 @@ impl CornerEdges {
 pub fn edge_multiplicities(adjacency: &EdgeAdjacency, corners: &CornerEdges, lit: &[bool], out: &mut Vec<i32>) {
     out.clear();
     out.resize(adjacency.edges.len(), 0);
-    // Every frame over every corner of every casting mesh: one tight pass, no branch.
+    // Every frame over every corner of every casting mesh: one pass, the sign without a branch.
     for (face, &faces_light) in corners.packed.chunks_exact(3).zip(lit.iter().take(adjacency.face_count())) {
         for &packed in face {
-            let forward = packed & 1 == 1;
-            if let Some(m) = out.get_mut((packed >> 1) as usize) {
+            let (edge, forward) = CornerEdges::unpack(packed);
+            if let Some(m) = out.get_mut(edge) {
                 *m += 2 * i32::from(forward == faces_light) - 1;
             }
         }

@@ -683,7 +683,7 @@ impl FrameOfVolumes<'_> {
                 if skinned && !skinned_on_gpu {
                     slot.vertices.fill(self.gpu, built.volume_vertices)?;
                 }
-                slot.indices.fill_with(self.gpu, built.len, |out| built.write(counting.stencil, out))?;
+                slot.indices.fill_with(self.gpu, built.len, |out| built.write(out))?;
                 slot.built = Some(BuiltVolume { key, ranges: built.ranges });
                 if skinned_on_gpu {
                     // Skinned casters are rebuilt every frame: the scratch holds this one's pose.
@@ -763,7 +763,7 @@ fn volume_for<'s>(
             }
         }
     }
-    VolumeIndices { volume, volume_vertices: doubled, ranges, len: end as usize }
+    VolumeIndices { volume, volume_vertices: doubled, ranges, len: end as usize, stencil: counting.stencil }
 }
 
 /// A volume built in a scratch, its ranges, and how many indices they hold.
@@ -773,16 +773,18 @@ struct VolumeIndices<'s> {
     volume_vertices: &'s [Vec4],
     ranges: Vec<IndexRange>,
     len: usize,
+    /// Which counter the ranges were laid out for.
+    stencil: StencilMode,
 }
 
 impl VolumeIndices<'_> {
     /// The indices in draw order into `out` (`len` long): sides, caps, then the repeated
     /// walls (once each for the alpha counter, `times` times over for the stencil).
-    fn write(&self, stencil: StencilMode, out: &mut [u32]) {
+    fn write(&self, out: &mut [u32]) {
         let volume = self.volume;
         let once = [&volume.sides, &volume.near_cap, &volume.far_cap].into_iter();
         let repeated = volume.repeated_walls.iter().flat_map(|(times, walls)| {
-            let times = if stencil == StencilMode::Reference { *times as usize } else { 1 };
+            let times = if self.stencil == StencilMode::Reference { *times as usize } else { 1 };
             std::iter::repeat(walls).take(times)
         });
         let mut at = 0;
