@@ -18,11 +18,17 @@ layout(location = 2) in vec4 in_weights;
 #include "joint_palettes.glsl"
 #endif
 
+// How many counts each fragment adds (shadow_volume.frag): the multiplicity of the range
+// drawn, passed as its draw's first instance, so that the volume's one push serves all its
+// ranges (gl_InstanceIndex counts from firstInstance; each range is one instance).
+layout(location = 0) flat out float weight;
+
 // Invariant and written exactly as lit.vert writes it, so that caps on the occluder's own
 // triangles land on the same depths as the occluder.
 invariant gl_Position;
 
 void main() {
+    weight = float(gl_InstanceIndex);
 #ifdef SKINNED
     vec4 posed = in_weights == vec4(0.0) ? vec4(object.apex.xyz, 1.0)
                                          : joint_palette_matrix(in_joints, in_weights) * vec4(in_position.xyz, 1.0);

@@ -144,6 +144,11 @@ impl Gpu {
         self.objects.job_ran(ns)
     }
 
+    /// Counts `count` state and draw commands a frame recorded (`FrameRecorder`).
+    pub(crate) fn counted_commands(&self, count: u64) {
+        self.objects.recorded(count)
+    }
+
     /// Objects made and host waits since the device opened (see `Activity::since`).
     pub(crate) fn activity(&self) -> Activity {
         self.objects.activity()

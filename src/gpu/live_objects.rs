@@ -91,12 +91,19 @@ pub struct LiveObjects {
     wait_ns: AtomicU64,
     /// CPU time of the jobs run for frames on other threads than the caller's.
     job_ns: AtomicU64,
+    /// State and draw commands recorded into frames (`FrameRecorder`).
+    commands: AtomicU64,
 }
 
 impl LiveObjects {
     /// Counts `ns` of CPU time a job took on another thread.
     pub fn job_ran(&self, ns: u64) {
         self.job_ns.fetch_add(ns, Ordering::Relaxed);
+    }
+
+    /// Counts `count` state and draw commands a frame recorded.
+    pub fn recorded(&self, count: u64) {
+        self.commands.fetch_add(count, Ordering::Relaxed);
     }
 
     pub fn created(&self, kind: ObjectKind) {
@@ -117,6 +124,7 @@ impl LiveObjects {
             waits: self.waits.load(Ordering::Relaxed),
             wait_ns: self.wait_ns.load(Ordering::Relaxed),
             job_ns: self.job_ns.load(Ordering::Relaxed),
+            commands: self.commands.load(Ordering::Relaxed),
         }
     }
 
@@ -142,6 +150,11 @@ pub struct Activity {
     pub wait_ns: u64,
     /// CPU time of jobs on other threads (`render::jobs`).
     pub job_ns: u64,
+    /// State and draw commands recorded into frames: binds, pushes, scissors and viewports,
+    /// draws and clears (`FrameRecorder`). A driver records and checks each one by one, and
+    /// lavapipe allocates and frees each, so on the render thread they are most of a frame's
+    /// CPU once its volumes are built elsewhere.
+    pub commands: u64,
 }
 
 impl Activity {
@@ -156,6 +169,7 @@ impl Activity {
             waits: self.waits.saturating_sub(earlier.waits),
             wait_ns: self.wait_ns.saturating_sub(earlier.wait_ns),
             job_ns: self.job_ns.saturating_sub(earlier.job_ns),
+            commands: self.commands.saturating_sub(earlier.commands),
         }
     }
 

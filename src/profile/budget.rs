@@ -282,6 +282,7 @@ mod tests {
             name: name.into(),
             own_draw: None,
             draws: 2,
+            commands: 0,
             vertex_invocations: Some(6),
             clipping_primitives: Some(2),
             fragment_invocations: Some(samples + 100),

@@ -72,6 +72,9 @@ pub struct LoopResult {
     pub jobs_cpu_ms: f64,
     /// Mean time a frame waited for the GPU, ms.
     pub wait_ms: f64,
+    /// State and draw commands a frame recorded (binds, pushes, scissors, draws, clears: see
+    /// `Activity::commands`), exact: most of the render thread's CPU on lavapipe.
+    pub commands_per_frame: f64,
     /// Memory allocations a frame made: gpu-allocator's sub-allocations and dedicated memory.
     pub allocations_per_frame: f64,
     /// Vulkan buffers a frame made.
@@ -158,6 +161,7 @@ pub fn summarise(names: &[String], kept: &[(usize, Skinning)], measured: &[Vec<L
                 cpu_ms: mean(&|f| f.cpu_ms()),
                 jobs_cpu_ms: mean(&|f| f.activity.job_ns as f64 / 1e6),
                 wait_ms: mean(&|f| f.activity.wait_ns as f64 / 1e6),
+                commands_per_frame: mean(&|f| f.activity.commands as f64),
                 allocations_per_frame: mean(&|f| f.activity.made(ObjectKind::MemoryAllocation) as f64),
                 buffers_per_frame: mean(&|f| f.activity.made(ObjectKind::Buffer) as f64),
                 waits_per_frame: mean(&|f| f.activity.waits as f64),
@@ -191,6 +195,7 @@ impl LoopReport {
             "frame ms",
             "CPU ms",
             "jobs ms",
+            "commands",
             "wait ms",
             "allocs/frame",
             "buffers/frame",
@@ -209,6 +214,7 @@ impl LoopReport {
                     format!("{:.2}", r.frame_ms),
                     format!("{:.2}", r.cpu_ms),
                     format!("{:.2}", r.jobs_cpu_ms),
+                    format!("{:.0}", r.commands_per_frame),
                     format!("{:.2}", r.wait_ms),
                     format!("{:.1}", r.allocations_per_frame),
                     format!("{:.1}", r.buffers_per_frame),
@@ -224,7 +230,8 @@ impl LoopReport {
              bootstrap interval); in flight: frames submitted before the oldest is waited for (a turn's last \
              frames are finished at its end, within its time); CPU ms: the render thread's CPU time a frame \
              (without its waits for the GPU); jobs ms: the CPU time a frame's jobs took on other threads \
-             (shadow volumes built on other cores); allocs: memory allocations made (gpu-allocator's and dedicated); waits: host waits on a \
+             (shadow volumes built on other cores); commands: state and draw commands a frame recorded \
+             (binds, pushes, scissors, draws); allocs: memory allocations made (gpu-allocator's and dedicated); waits: host waits on a \
              fence\n",
         );
         out

@@ -35,6 +35,8 @@ impl ReportFormat {
 pub struct PassRow {
     pub name: String,
     pub draws: u32,
+    /// State and draw commands it recorded (`PassCounters::commands`).
+    pub commands: u32,
     pub vertex_invocations: Option<u64>,
     pub clipping_primitives: Option<u64>,
     pub fragment_invocations: Option<u64>,
@@ -60,6 +62,8 @@ pub struct PassRow {
 #[derive(Debug, Clone, Serialize)]
 pub struct Totals {
     pub draws: u32,
+    /// State and draw commands the measured passes recorded.
+    pub commands: u32,
     pub fragment_invocations: Option<u64>,
     pub fragments_per_pixel: Option<f64>,
     pub samples_passed: u64,
@@ -128,6 +132,7 @@ impl ProfileReport {
             .map(|(p, bandwidth)| PassRow {
                 name: p.name.clone(),
                 draws: p.draws,
+                commands: p.commands,
                 vertex_invocations: p.vertex_invocations,
                 clipping_primitives: p.clipping_primitives,
                 fragment_invocations: p.fragment_invocations,
@@ -155,6 +160,7 @@ impl ProfileReport {
             passes,
             totals: Totals {
                 draws: counters.passes.iter().map(|p| p.draws).sum(),
+                commands: counters.passes.iter().map(|p| p.commands).sum(),
                 fragment_invocations: fragments,
                 fragments_per_pixel: fragments.map(|f| f as f64 / pixels),
                 samples_passed: counters.total_samples_passed(),

@@ -26,6 +26,10 @@ pub struct PassCounters {
     #[serde(skip)]
     pub own_draw: Option<&'static str>,
     pub draws: u32,
+    /// State and draw commands the pass recorded: binds, pushes, scissors and viewports, draws
+    /// and clears (`Activity::commands`). Exact, and on lavapipe most of the CPU a pass costs
+    /// the render thread.
+    pub commands: u32,
     /// Vertex shader invocations (pipeline statistics; None where the device lacks them).
     pub vertex_invocations: Option<u64>,
     /// Primitives that left the clipper (pipeline statistics).
@@ -48,7 +52,7 @@ impl PassCounters {
     pub(crate) fn from_queries(
         name: String,
         own_draw: Option<&'static str>,
-        draws: u32,
+        (draws, commands): (u32, u32),
         render_pass_instances: Vec<u32>,
         raw: &RawPassQueries,
         frame_start_ns: f64,
@@ -57,6 +61,7 @@ impl PassCounters {
             name,
             own_draw,
             draws,
+            commands,
             vertex_invocations: raw.vertex_invocations,
             clipping_primitives: raw.clipping_primitives,
             fragment_invocations: raw.fragment_invocations,
@@ -221,6 +226,7 @@ mod tests {
             name: name.into(),
             own_draw: None,
             draws: 1,
+            commands: 0,
             vertex_invocations: None,
             clipping_primitives: None,
             fragment_invocations: None,
@@ -274,6 +280,7 @@ mod tests {
             name: name.into(),
             own_draw: None,
             draws: 1,
+            commands: 0,
             vertex_invocations: None,
             clipping_primitives: None,
             fragment_invocations: Some(samples * 2),

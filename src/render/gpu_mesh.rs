@@ -17,34 +17,58 @@ use crate::scene::objects::{SceneMesh, SceneSkin};
 use crate::scene::{JointPalettes, Scene, SlotPoses, MAX_JOINTS};
 
 pub struct GpuMesh {
-    /// The mesh as uploaded (device-local).
-    pub vertices: Buffer,
+    /// The mesh as uploaded (device-local): its vertices from `vertex_offset` on, in a buffer
+    /// it may share with other meshes of the same layout (`GpuMesh::packed`).
+    vertices: Arc<Buffer>,
+    vertex_offset: i32,
     /// Per frame slot, a skinned mesh's posed vertices (host-visible, written in place) once it
     /// moved from the pose it was uploaded in; empty for a mesh that never moved.
     posed: Vec<Option<Buffer>>,
-    pub indices: Buffer,
+    /// Its indices `first_index..first_index + index_count` of `indices` (maybe shared too).
+    indices: Arc<Buffer>,
+    pub first_index: u32,
     pub index_count: u32,
 }
 
 impl GpuMesh {
-    /// Any interleaved vertex type (it must match the pipeline's `VertexLayout`).
+    /// Any interleaved vertex type (it must match the pipeline's `VertexLayout`), in buffers of
+    /// its own.
     pub fn from_raw<V: Pod>(gpu: &Arc<Gpu>, name: &str, vertices: &[V], indices: &[u32]) -> Result<Self> {
-        Ok(GpuMesh {
-            vertices: Buffer::device_local(
-                gpu,
-                &format!("{name} vertices"),
-                vertices,
-                vk::BufferUsageFlags::VERTEX_BUFFER,
-            )?,
-            indices: Buffer::device_local(
-                gpu,
-                &format!("{name} indices"),
-                indices,
-                vk::BufferUsageFlags::INDEX_BUFFER,
-            )?,
-            index_count: indices.len() as u32,
-            posed: Vec::new(),
-        })
+        let mut packed = Self::packed(gpu, name, &[(vertices, indices)])?;
+        packed.pop().ok_or_else(|| Error::Internal(format!("mesh '{name}' was not uploaded")))
+    }
+
+    /// `meshes` (vertices and indices, one vertex type) one after another in one vertex and
+    /// one index buffer, named after `name`: a pass that draws them binds those once, where
+    /// buffers of their own would be bound again for every object (commands a driver records
+    /// and validates one by one).
+    pub fn packed<V: Pod>(gpu: &Arc<Gpu>, name: &str, meshes: &[(&[V], &[u32])]) -> Result<Vec<Self>> {
+        let (mut all_vertices, mut all_indices) = (Vec::new(), Vec::new());
+        let mut ranges = Vec::with_capacity(meshes.len());
+        for (vertices, indices) in meshes {
+            let too_many = || Error::InvalidInput(format!("{name}: more than {} vertices or indices", i32::MAX));
+            let vertex_offset = i32::try_from(all_vertices.len()).map_err(|_| too_many())?;
+            let first_index = u32::try_from(all_indices.len()).map_err(|_| too_many())?;
+            let index_count = u32::try_from(indices.len()).map_err(|_| too_many())?;
+            all_vertices.extend_from_slice(vertices);
+            all_indices.extend_from_slice(indices);
+            ranges.push((vertex_offset, first_index, index_count));
+        }
+        let usage = vk::BufferUsageFlags::VERTEX_BUFFER;
+        let vertices = Arc::new(Buffer::device_local(gpu, &format!("{name} vertices"), &all_vertices, usage)?);
+        let usage = vk::BufferUsageFlags::INDEX_BUFFER;
+        let indices = Arc::new(Buffer::device_local(gpu, &format!("{name} indices"), &all_indices, usage)?);
+        Ok(ranges
+            .into_iter()
+            .map(|(vertex_offset, first_index, index_count)| GpuMesh {
+                vertices: vertices.clone(),
+                vertex_offset,
+                posed: Vec::new(),
+                indices: indices.clone(),
+                first_index,
+                index_count,
+            })
+            .collect())
     }
 
     /// Writes `vertices` (the mesh posed, same layout and count) into frame slot `slot`'s copy,
@@ -60,9 +84,18 @@ impl GpuMesh {
         }
     }
 
-    /// The vertices frame slot `slot` draws: its posed copy, else the mesh as uploaded.
-    pub fn vertices_in(&self, slot: usize) -> &Buffer {
-        self.posed.get(slot).and_then(Option::as_ref).unwrap_or(&self.vertices)
+    /// The vertices frame slot `slot` draws, and where the mesh's start among them (the draws'
+    /// vertex offset): its posed copy (of its own), else the mesh as uploaded.
+    pub fn vertices_in(&self, slot: usize) -> (&Buffer, i32) {
+        match self.posed.get(slot).and_then(Option::as_ref) {
+            Some(posed) => (posed, 0),
+            None => (&self.vertices, self.vertex_offset),
+        }
+    }
+
+    /// The buffer holding the mesh's indices (`first_index..first_index + index_count`).
+    pub fn indices(&self) -> &Buffer {
+        &self.indices
     }
 }
 
@@ -103,13 +136,11 @@ impl GpuScene {
     /// that draws them must bind its pipelines' skinned twins (`draw_objects` does), and the
     /// frame must carry the palettes (`Renderer::write_joint_palettes`).
     pub fn upload_for(gpu: &Arc<Gpu>, scene: &Scene, skinning: Skinning) -> Result<Self> {
-        let meshes = scene
-            .meshes
-            .iter()
-            .map(|m| {
-                GpuMesh::from_raw(gpu, &m.name, &scene_vertices(m, &m.data.positions, &m.data.normals), &m.data.indices)
-            })
-            .collect::<Result<_>>()?;
+        let vertices: Vec<_> =
+            scene.meshes.iter().map(|m| scene_vertices(m, &m.data.positions, &m.data.normals)).collect();
+        let packed: Vec<_> =
+            scene.meshes.iter().zip(&vertices).map(|(m, v)| (v.as_slice(), m.data.indices.as_slice())).collect();
+        let meshes = if packed.is_empty() { Vec::new() } else { GpuMesh::packed(gpu, "scene meshes", &packed)? };
         let materials = GpuMaterials::upload(gpu, scene)?;
         let (skinned, palettes) = match skinning {
             Skinning::Cpu => (Vec::new(), None),

@@ -27,7 +27,7 @@ pub use gpu_mesh::{scene_vertices, skinned_vertices, GpuMesh, GpuScene, SceneVer
 pub use materials::GpuMaterials;
 pub use object_push::{object_push, LightPush, ObjectPush, LIGHT_PUSH_BYTES, OBJECT_PUSH_BYTES};
 pub use pipeline_object::{Pipeline, PipelineTarget};
-pub use recorder::FrameRecorder;
+pub use recorder::{BoundDraw, FrameRecorder};
 pub use renderer::{FrameOutput, PresentedFrame, Renderer};
 pub use sample_readback::FrameSamples;
 pub use uniforms::FrameUniforms;

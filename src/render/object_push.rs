@@ -6,16 +6,16 @@ use crate::scene::model::AlphaMode;
 use crate::scene::{Scene, SceneObject};
 
 /// The order objects are drawn in: every object not blended, in scene order, then the blended
-/// ones back to front (farthest centre from the eye first), as alpha blending needs.
-pub fn draw_order(scene: &Scene) -> Vec<usize> {
-    let blended = |i: &usize| matches!(scene.material_of(&scene.objects[*i]).alpha_mode, AlphaMode::Blend);
-    let (mut order, mut back): (Vec<usize>, Vec<usize>) = (0..scene.objects.len()).partition(|i| !blended(i));
+/// ones back to front (farthest centre from the eye first), as alpha blending needs. Only the
+/// blended objects are gathered: a frame's passes walk this for every pass, and an allocation
+/// of the whole scene's size on the render thread each time costs more than the walk.
+pub fn draw_order(scene: &Scene) -> impl Iterator<Item = usize> + '_ {
+    let blended = |i: usize| matches!(scene.material_of(&scene.objects[i]).alpha_mode, AlphaMode::Blend);
     let distance =
         |i: usize| scene.posed_bounds(i).map_or(0.0, |(lo, hi)| ((lo + hi) * 0.5).distance(scene.camera.eye));
-    let mut keyed: Vec<(f32, usize)> = back.drain(..).map(|i| (distance(i), i)).collect();
-    keyed.sort_by(|a, b| b.0.total_cmp(&a.0));
-    order.extend(keyed.into_iter().map(|(_, i)| i));
-    order
+    let mut back: Vec<(f32, usize)> = (0..scene.objects.len()).filter(|&i| blended(i)).map(|i| (distance(i), i)).collect();
+    back.sort_by(|a, b| b.0.total_cmp(&a.0));
+    (0..scene.objects.len()).filter(move |&i| !blended(i)).chain(back.into_iter().map(|(_, i)| i))
 }
 
 /// An object's push: its transform, its material's base colour factor (what passes that draw

@@ -198,6 +198,8 @@ pub fn draw_objects<K: PassKinds>(
     let with_material = pass.sets.contains(&SetRole::Material);
     // (variant, skinned twin) of the pipeline bound last: the caller bound the main one.
     let mut bound = (0, false);
+    // The material set bound since that pipeline: objects of one material in a row bind it once.
+    let mut material_bound = None;
     for index in draw_order(scene) {
         let object = &scene.objects[index];
         let material = scene.material_of(object);
@@ -214,9 +216,13 @@ pub fn draw_objects<K: PassKinds>(
         if (wanted, skinned) != bound {
             rec.bind(pipeline);
             bound = (wanted, skinned);
+            material_bound = None;
         }
         if with_material {
-            rec.bind_material(pipeline, meshes.materials.set(object.material));
+            let set = meshes.materials.set(object.material);
+            if material_bound.replace(set) != Some(set) {
+                rec.bind_material(pipeline, set);
+            }
         }
         let push = object_push(scene, object, alpha);
         match pass.light {

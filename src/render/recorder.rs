@@ -22,6 +22,8 @@ pub(crate) struct PassRecord {
     /// [`FrameCounters::drawing`](super::counters::FrameCounters::drawing).
     pub own_draw: Option<&'static str>,
     pub draws: u32,
+    /// State and draw commands it recorded (binds, pushes, scissors, draws, clears).
+    pub commands: u32,
     /// Labels of the pipelines bound in the pass, in first-bound order (the plan test compares
     /// them with the plan).
     pub pipelines: Vec<&'static str>,
@@ -63,6 +65,17 @@ impl OverdrawPipelines {
     }
 }
 
+/// One indexed draw of the buffers bound last ([`FrameRecorder::draw_bound`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BoundDraw {
+    pub first_index: u32,
+    pub index_count: u32,
+    /// Added to every index: where the draw's vertices start in the vertex buffer.
+    pub vertex_offset: i32,
+    /// The one instance's `gl_InstanceIndex`.
+    pub first_instance: u32,
+}
+
 /// Records one frame into `cmd`.
 ///
 /// Soundness of its raw Vulkan calls: `cmd` is recording (inside `submit_and_wait`'s closure),
@@ -100,6 +113,13 @@ pub struct FrameRecorder<'a> {
     /// The frame slot this frame is recorded in (`Renderer::slot`): which copy of per-frame
     /// data its draws read.
     slot: usize,
+    /// The vertex and index buffers bound last (binding 0), so that a draw of the geometry
+    /// bound already binds nothing: lavapipe allocates every command it records, and a port's
+    /// driver validates each. Every bind into `cmd` goes through this recorder.
+    bound_vertices: Option<vk::Buffer>,
+    bound_indices: Option<vk::Buffer>,
+    /// State and draw commands recorded so far (`Activity::commands`).
+    pub(crate) commands: u64,
 }
 
 impl<'a> FrameRecorder<'a> {
@@ -130,6 +150,9 @@ impl<'a> FrameRecorder<'a> {
             frame_label_open: false,
             frame_samples,
             slot: 0,
+            bound_vertices: None,
+            bound_indices: None,
+            commands: 0,
         }
     }
 
@@ -200,6 +223,7 @@ impl<'a> FrameRecorder<'a> {
             name: name.to_owned(),
             own_draw: None,
             draws: 0,
+            commands: 0,
             pipelines: Vec::new(),
             instances,
         });
@@ -225,7 +249,8 @@ impl<'a> FrameRecorder<'a> {
         self.record_scissor(rect);
     }
 
-    fn record_scissor(&self, rect: vk::Rect2D) {
+    fn record_scissor(&mut self, rect: vk::Rect2D) {
+        self.count_commands(1);
         // SAFETY: see the note on `FrameRecorder`; every pipeline has a dynamic scissor.
         unsafe { self.gpu.raw().cmd_set_scissor(self.cmd, 0, &[rect]) };
     }
@@ -348,6 +373,7 @@ impl<'a> FrameRecorder<'a> {
             device.cmd_set_viewport(self.cmd, 0, &[viewport]);
             device.cmd_set_scissor(self.cmd, 0, &[area]);
         }
+        self.count_commands(2);
     }
 
     pub fn end_render_pass(&mut self) {
@@ -359,14 +385,25 @@ impl<'a> FrameRecorder<'a> {
         }
     }
 
-    /// The GPU, for technique code that records commands the recorder has no helper for.
+    /// The GPU, for technique code that records commands the recorder has no helper for (not
+    /// binds: the recorder keeps what is bound, and skips binding it again).
     pub fn device(&self) -> &ash::Device {
         self.gpu.raw()
     }
 
+    /// Counts a draw recorded: in the open pass's draws, and as a command.
     fn count_draw(&mut self) {
+        self.count_commands(1);
         if let Some(pass) = self.passes.last_mut() {
             pass.draws += 1;
+        }
+    }
+
+    /// Counts `count` state and draw commands recorded: the frame's, and the open pass's.
+    fn count_commands(&mut self, count: u64) {
+        self.commands += count;
+        if let Some(pass) = self.passes.last_mut().filter(|_| self.open) {
+            pass.commands += count as u32;
         }
     }
 
@@ -390,6 +427,7 @@ impl<'a> FrameRecorder<'a> {
                 );
             }
         }
+        self.count_commands(1 + u64::from(pipeline.set_count > 0));
     }
 
     /// Binds a pipeline with descriptor sets of the technique's own (not the frame uniforms).
@@ -412,10 +450,12 @@ impl<'a> FrameRecorder<'a> {
                 );
             }
         }
+        self.count_commands(1 + u64::from(!sets.is_empty()));
     }
 
     /// Binds descriptor sets from `first` on, for the pipeline bound last (`pipeline`'s layout).
     pub fn bind_sets(&mut self, pipeline: &Pipeline, first: u32, sets: &[vk::DescriptorSet]) {
+        self.count_commands(1);
         // SAFETY: see the note on `FrameRecorder`; the caller's sets were made for `pipeline`'s
         // layout, which the pipeline bound last shares.
         unsafe {
@@ -453,6 +493,7 @@ impl<'a> FrameRecorder<'a> {
         // pass (callers clear the stencil only on the reference path, whose target has a stencil
         // aspect), and `rect` is the frame's extent, one layer.
         unsafe { self.gpu.raw().cmd_clear_attachments(self.cmd, &[attachment], &[rect]) };
+        self.count_commands(1);
     }
 
     /// Sets the stencil to `value` inside `rect` (the frame's render pass, reference paths): the
@@ -470,6 +511,7 @@ impl<'a> FrameRecorder<'a> {
         // SAFETY: see the note on `FrameRecorder`; as `clear_stencil`, with `rect` inside the
         // frame (callers clamp it) and not empty (checked above).
         unsafe { self.gpu.raw().cmd_clear_attachments(self.cmd, &[attachment], &[rect]) };
+        self.count_commands(1);
     }
 
     /// Fills mips 1.. of a colour image from its mip 0 (in TRANSFER_DST_OPTIMAL) with linear
@@ -500,6 +542,7 @@ impl<'a> FrameRecorder<'a> {
         };
         // SAFETY: see the note on `FrameRecorder`; every pipeline has a dynamic viewport.
         unsafe { self.gpu.raw().cmd_set_viewport(self.cmd, 0, &[viewport]) };
+        self.count_commands(1);
         self.set_scissor(rect);
     }
 
@@ -521,6 +564,7 @@ impl<'a> FrameRecorder<'a> {
             )));
             return;
         }
+        self.count_commands(1);
         // SAFETY: see the note on `FrameRecorder`; the bytes fit the layout's one range (offset
         // 0, vertex and fragment stages, checked just above) and are a whole number of words.
         unsafe {
@@ -536,7 +580,14 @@ impl<'a> FrameRecorder<'a> {
 
     /// Draws `mesh` as this frame's slot holds it (a skinned mesh's posed copy).
     pub fn draw_mesh(&mut self, mesh: &GpuMesh) {
-        self.draw_indexed(mesh.vertices_in(self.slot), &mesh.indices, mesh.index_count);
+        let (vertices, vertex_offset) = mesh.vertices_in(self.slot);
+        self.bind_indexed(vertices, mesh.indices());
+        self.draw_bound(BoundDraw {
+            first_index: mesh.first_index,
+            index_count: mesh.index_count,
+            vertex_offset,
+            first_instance: 0,
+        });
     }
 
     pub fn draw_indexed(&mut self, vertices: &Buffer, indices: &Buffer, index_count: u32) {
@@ -555,25 +606,58 @@ impl<'a> FrameRecorder<'a> {
     /// Binds `vertices` and `indices` (32-bit) for the [`FrameRecorder::draw_bound_range`]
     /// calls that follow: several ranges of one geometry drawn with one binding.
     pub fn bind_indexed(&mut self, vertices: &Buffer, indices: &Buffer) {
-        let device = self.gpu.raw();
-        // SAFETY: see the note on `FrameRecorder`; both buffers outlive the frame (their owners
-        // keep them until its fence).
-        unsafe {
-            device.cmd_bind_vertex_buffers(self.cmd, 0, &[vertices.raw], &[0]);
-            device.cmd_bind_index_buffer(self.cmd, indices.raw, 0, vk::IndexType::UINT32);
+        self.bind_vertices(vertices);
+        self.bind_indices(indices);
+    }
+
+    /// Binds `vertices` for the draws that follow (binding 0), unless they are bound already.
+    pub fn bind_vertices(&mut self, vertices: &Buffer) {
+        if self.bound_vertices.replace(vertices.raw) == Some(vertices.raw) {
+            return;
         }
+        // SAFETY: see the note on `FrameRecorder`; the buffer outlives the frame (its owner keeps
+        // it until its fence).
+        unsafe { self.gpu.raw().cmd_bind_vertex_buffers(self.cmd, 0, &[vertices.raw], &[0]) };
+        self.count_commands(1);
+    }
+
+    /// Binds `indices` (32-bit) for the indexed draws that follow, unless they are bound already.
+    pub fn bind_indices(&mut self, indices: &Buffer) {
+        if self.bound_indices.replace(indices.raw) == Some(indices.raw) {
+            return;
+        }
+        // SAFETY: as `bind_vertices`.
+        unsafe { self.gpu.raw().cmd_bind_index_buffer(self.cmd, indices.raw, 0, vk::IndexType::UINT32) };
+        self.count_commands(1);
     }
 
     /// Draws indices `first_index..first_index + index_count` of the buffers
     /// [`FrameRecorder::bind_indexed`] bound last.
     pub fn draw_bound_range(&mut self, first_index: u32, index_count: u32) {
-        if index_count == 0 {
+        self.draw_bound(BoundDraw { first_index, index_count, vertex_offset: 0, first_instance: 0 });
+    }
+
+    /// One instance of `draw`'s indices of the buffers bound last, their vertices from
+    /// `vertex_offset` on, `gl_InstanceIndex` its `first_instance` (a value the vertex shader
+    /// reads, with no push between draws).
+    pub fn draw_bound(&mut self, draw: BoundDraw) {
+        if draw.index_count == 0 {
             return;
         }
         // SAFETY: see the note on `FrameRecorder`; the indices were checked against their
         // vertices when the mesh was built (the glTF loader refuses any out of range), and the
-        // range lies inside the index buffer bound (its owner sized it).
-        unsafe { self.gpu.raw().cmd_draw_indexed(self.cmd, index_count, 1, first_index, 0, 0) };
+        // range lies inside the index buffer bound, its vertices from `vertex_offset` on inside
+        // the vertex buffer bound (their owners sized them).
+        unsafe {
+            self.gpu.raw().cmd_draw_indexed(
+                self.cmd,
+                draw.index_count,
+                1,
+                draw.first_index,
+                draw.vertex_offset,
+                draw.first_instance,
+            )
+        };
         self.count_draw();
     }
 
@@ -583,13 +667,10 @@ impl<'a> FrameRecorder<'a> {
         if index_count == 0 || instances == 0 {
             return;
         }
-        let device = self.gpu.raw();
+        self.bind_indices(indices);
         // SAFETY: see the note on `FrameRecorder`; the range lies inside the index buffer (its
         // owner sized it), and the vertex shader reads no vertex buffer.
-        unsafe {
-            device.cmd_bind_index_buffer(self.cmd, indices.raw, 0, vk::IndexType::UINT32);
-            device.cmd_draw_indexed(self.cmd, index_count, instances, first_index, 0, 0);
-        }
+        unsafe { self.gpu.raw().cmd_draw_indexed(self.cmd, index_count, instances, first_index, 0, 0) };
         self.count_draw();
     }
 
@@ -597,12 +678,10 @@ impl<'a> FrameRecorder<'a> {
         if vertex_count == 0 {
             return;
         }
+        self.bind_vertices(vertices);
         // SAFETY: see the note on `FrameRecorder`; `vertex_count` is the caller's count of the
         // vertices it uploaded to `vertices`.
-        unsafe {
-            self.gpu.raw().cmd_bind_vertex_buffers(self.cmd, 0, &[vertices.raw], &[0]);
-            self.gpu.raw().cmd_draw(self.cmd, vertex_count, 1, 0, 0);
-        }
+        unsafe { self.gpu.raw().cmd_draw(self.cmd, vertex_count, 1, 0, 0) };
         self.count_draw();
     }
 

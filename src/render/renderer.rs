@@ -323,6 +323,7 @@ impl Renderer {
             record_frame_pass(&mut recorder, targets, (clear, stencil_clear), record)?;
             // A technique's fragment shaders may count into a buffer read after the frame.
             barriers::fragment_stores_to_host(device, cmd);
+            gpu.counted_commands(recorder.commands);
             if let Some(e) = recorder.deferred_error.take() {
                 return Err(e);
             }
@@ -367,7 +368,7 @@ impl Renderer {
                 PassCounters::from_queries(
                     record.name,
                     record.own_draw,
-                    record.draws,
+                    (record.draws, record.commands),
                     record.instances,
                     raw,
                     frame_start,

@@ -149,7 +149,7 @@ impl CartoonScene {
     ) -> Result<()> {
         let Some(&main) = pipelines.first() else { return Ok(()) };
         let mut bound = main;
-        for index in draw_order(scene).into_iter().filter(|i| which(*i)) {
+        for index in draw_order(scene).filter(|i| which(*i)) {
             bound = self.draw_object(rec, pass, pipelines, bound, scene, index, alpha, viewport)?;
         }
         Ok(())

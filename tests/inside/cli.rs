@@ -328,6 +328,8 @@ fn bench_loop_plays_animated_frames_of_each_technique_and_counts_what_each_makes
             assert_eq!(number(result, "waits_per_frame"), 1.0, "{result}");
             assert_eq!(number(result, "allocations_per_frame"), 0.0, "{result}");
             assert_eq!(number(result, "buffers_per_frame"), 0.0, "{result}");
+            // Every frame records its passes' binds, pushes and draws, counted exactly.
+            assert!(number(result, "commands_per_frame") >= 1.0, "{result}");
             // Shadow volumes are built (and the objects' boxes taken) as jobs on other threads,
             // their CPU time counted apart from the render thread's; no other technique has any.
             let jobs_ms = number(result, "jobs_cpu_ms");

@@ -198,6 +198,9 @@ struct HeavyContent {
     emulated_covered_samples: u64,
     /// Whether `--cull-casters` finds a caster to leave out.
     culls: bool,
+    /// State and draw commands the alpha counter's frame records (`PassCounters::commands`),
+    /// exact: on lavapipe most of the render thread's CPU a frame costs.
+    emulated_commands: u32,
 }
 
 /// 115 casting primitives, most of them open, many nested in the housings: 104.7 fragments per
@@ -209,6 +212,7 @@ const ENGINE: HeavyContent = HeavyContent {
     emulated_fragments: 5_765_760,
     emulated_covered_samples: 728_109,
     culls: true,
+    emulated_commands: 1_886,
 };
 
 /// 294 casting primitives, 88 of them open or non-manifold, furniture and rooms nested inside the
@@ -220,7 +224,30 @@ const HOUSE: HeavyContent = HeavyContent {
     emulated_fragments: 1_332_944,
     emulated_covered_samples: 431_651,
     culls: true,
+    emulated_commands: 4_206,
 };
+
+/// What the frame records stays what the passes draw, and no more than `most` commands: an
+/// object costs its material, its push and its draw (the scene's meshes bound once), a volume
+/// its scissor, its indices and its push for each of its two pipelines (its vertices bound once),
+/// plus a draw per range.
+fn assert_commands_per_draw(file: &str, output: &nostencil::FrameOutput, volumes: usize, most: u32) {
+    let passes = &output.counters.passes;
+    for pass in passes {
+        let most_for_pass =
+            if pass.name.contains("volumes") { 6 * volumes as u32 } else { 2 * pass.draws } + pass.draws + 8;
+        assert!(
+            pass.commands <= most_for_pass,
+            "{file}: pass '{}' recorded {} commands for {} draws",
+            pass.name,
+            pass.commands,
+            pass.draws
+        );
+    }
+    let commands: u32 = passes.iter().map(|p| p.commands).sum();
+    println!("{file}: {commands} commands");
+    assert!(commands <= most, "{file}: the frame's commands rose: {commands} > {most}");
+}
 
 /// An assembly of open parts nested in open housings keeps its proof, and its fill does not rise.
 #[test]
@@ -280,10 +307,11 @@ fn heavy_content_keeps_its_proof_and_its_fill(content: &HeavyContent) {
     let mut whole_counters = None;
     for normalize in [Normalize::Seed, Normalize::Subpass] {
         for options in [whole, culling] {
-            let (emulated, _) = frame(StencilMode::Emulated, ShadowVolumeOptions { normalize, ..options });
+            let (emulated, stats) = frame(StencilMode::Emulated, ShadowVolumeOptions { normalize, ..options });
             let fragments = volume_fragments(&emulated);
             if normalize == Normalize::Seed && !options.cull_casters {
                 whole_counters = Some((volume_samples(&emulated), fragments));
+                assert_commands_per_draw(file, &emulated, stats.lights[0].volumes, content.emulated_commands);
             }
             println!("{file}: emulated ({}) volume fragments {fragments}", normalize.name());
             let most = content.emulated_fragments;

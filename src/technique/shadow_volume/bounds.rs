@@ -289,40 +289,44 @@ pub fn disjoint_cover(rects: &[vk::Rect2D]) -> Vec<vk::Rect2D> {
     let mut xs: Vec<i64> = rects.iter().flat_map(|r| [span(r).0, span(r).1]).collect();
     xs.sort_unstable();
     xs.dedup();
-    // Per column: x0, x1 and its merged y intervals; neighbours with equal intervals joined.
-    type Column = (i64, i64, Vec<(i64, i64)>);
-    let mut columns: Vec<Column> = Vec::new();
+    // Sorted by their y intervals once, so that each column meets its intervals in order. A
+    // frame has a rectangle per caster, and the render thread works this out every frame: the
+    // columns reuse two lists instead of allocating their own.
+    let mut spans: Vec<(i64, i64, i64, i64)> = rects.iter().map(span).filter(|s| s.2 < s.3).collect();
+    spans.sort_unstable_by_key(|&(_, _, y0, y1)| (y0, y1));
+    let mut cover = Vec::new();
+    // The column being grown and the next column's intervals.
+    let (mut open, mut next): (Column, Vec<(i64, i64)>) = ((0, 0, Vec::new()), Vec::new());
     for pair in xs.windows(2) {
         let (x0, x1) = (pair[0], pair[1]);
-        let mut ys: Vec<(i64, i64)> = rects
-            .iter()
-            .map(span)
-            .filter(|&(rx0, rx1, y0, y1)| rx0 <= x0 && x1 <= rx1 && y0 < y1)
-            .map(|(_, _, y0, y1)| (y0, y1))
-            .collect();
-        ys.sort_unstable();
-        let mut merged: Vec<(i64, i64)> = Vec::new();
-        for (y0, y1) in ys {
-            match merged.last_mut() {
+        next.clear();
+        for &(_, _, y0, y1) in spans.iter().filter(|&&(rx0, rx1, _, _)| rx0 <= x0 && x1 <= rx1) {
+            match next.last_mut() {
                 Some(last) if y0 <= last.1 => last.1 = last.1.max(y1),
-                _ => merged.push((y0, y1)),
+                _ => next.push((y0, y1)),
             }
         }
-        match columns.last_mut() {
-            Some(last) if last.1 == x0 && last.2 == merged => last.1 = x1,
-            _ if merged.is_empty() => {}
-            _ => columns.push((x0, x1, merged)),
+        if !next.is_empty() && open.1 == x0 && open.2 == next {
+            open.1 = x1;
+            continue;
         }
+        push_column(&open, &mut cover);
+        std::mem::swap(&mut open.2, &mut next);
+        (open.0, open.1) = (x0, x1);
     }
-    columns
-        .into_iter()
-        .flat_map(|(x0, x1, ys)| {
-            ys.into_iter().map(move |(y0, y1)| vk::Rect2D {
-                offset: vk::Offset2D { x: x0 as i32, y: y0 as i32 },
-                extent: vk::Extent2D { width: (x1 - x0) as u32, height: (y1 - y0) as u32 },
-            })
-        })
-        .collect()
+    push_column(&open, &mut cover);
+    cover
+}
+
+/// A column of `disjoint_cover`: its x0 and x1, and its merged y intervals.
+type Column = (i64, i64, Vec<(i64, i64)>);
+
+/// A column's rectangles, one per merged interval.
+fn push_column((x0, x1, ys): &Column, cover: &mut Vec<vk::Rect2D>) {
+    cover.extend(ys.iter().map(|&(y0, y1)| vk::Rect2D {
+        offset: vk::Offset2D { x: *x0 as i32, y: y0 as i32 },
+        extent: vk::Extent2D { width: (x1 - x0) as u32, height: (y1 - y0) as u32 },
+    }));
 }
 
 #[cfg(test)]
@@ -403,6 +407,7 @@ mod tests {
         let half = rect.extent.width as f32 / 2.0;
         assert!(half >= half_width_px && half <= half_width_px + 2.0, "{half} vs {half_width_px}");
     }
+
 
     #[test]
     fn disjoint_cover_covers_every_pixel_once() {

@@ -1,13 +1,15 @@
 //! Casters' doubled vertices (Doom 3 BFG's shadow vertices): each welded position at w = 1 and
 //! again at w = 0, which `shaders/shadow_volume.vert` pushes away from the light. Uploaded once
 //! at build, so that a frame whose light or caster moved writes only the indices the CPU chose:
-//! one buffer per rigid mesh, and per skinned caster skinned on the GPU its bind pose with its
-//! joints and weights, which the shader's skinned twin poses. (A skinned caster posed on the
-//! CPU uploads its posed copy with its indices instead.)
+//! every rigid mesh's one after another in one buffer, which a volume pass binds once (each
+//! volume's draws start at its mesh's first vertex), and per skinned caster skinned on the GPU
+//! its bind pose with its joints and weights, which the shader's skinned twin poses. (A skinned
+//! caster posed on the CPU uploads its posed copy with its indices instead.)
 
 use std::sync::Arc;
 
 use ash::vk;
+use glam::Vec4;
 
 use super::casters::{per_rigid_mesh, Caster};
 use crate::error::{Error, Result};
@@ -18,17 +20,20 @@ use crate::scene::{JointPalettes, Scene};
 
 /// Every caster's doubled vertices uploaded at build.
 pub struct DoubledVertices {
-    buffers: Vec<Buffer>,
-    /// Per caster: its rigid mesh's buffer, or `None` for a skinned caster.
-    of_caster: Vec<Option<usize>>,
+    /// Every rigid mesh's doubled vertices (`None` without a rigid caster).
+    rigid: Option<Buffer>,
+    /// Per caster: the first vertex of its rigid mesh's in `rigid`, or `None` for a skinned
+    /// caster.
+    rigid_first: Vec<Option<i32>>,
     /// Per caster skinned on the GPU: its bind pose, doubled (`VertexLayout::SKINNED_POSITION4`).
     skinned: Vec<Option<Buffer>>,
 }
 
 /// Where a caster's doubled vertices are, and how they are drawn.
 pub enum Doubled<'a> {
-    /// Placed by the caster's transform alone.
-    Rigid(&'a Buffer),
+    /// Placed by the caster's transform alone: its mesh's vertices start at `first_vertex`
+    /// of the buffer all rigid meshes share (the draws' vertex offset).
+    Rigid { vertices: &'a Buffer, first_vertex: i32 },
     /// Skinned by the frame's joint palettes (the pipeline's skinned twin draws them).
     Skinned(&'a Buffer),
 }
@@ -50,18 +55,30 @@ impl DoubledVertices {
         casters: &[Caster],
         palettes: Option<&JointPalettes>,
     ) -> Result<Self> {
-        let mut doubled = Vec::new();
-        let (buffers, of_caster) = per_rigid_mesh(scene, casters, |caster| {
+        let (mut all, mut doubled) = (Vec::<Vec4>::new(), Vec::new());
+        let (firsts, of_caster) = per_rigid_mesh(scene, casters, |caster| {
             let positions = &caster.mesh.welded.positions[..caster.mesh.adjacency.vertex_count];
             doubled_vertices(positions, &mut doubled);
-            let name = format!("shadow volume vertices ({})", scene.meshes[scene.objects[caster.object].mesh].name);
-            Buffer::device_local(gpu, &name, &doubled, vk::BufferUsageFlags::VERTEX_BUFFER).map(Some)
+            let first = i32::try_from(all.len()).map_err(|_| {
+                Error::InvalidInput(format!(
+                    "the casters' doubled vertices pass {} (a draw's vertex offset is 32-bit)",
+                    i32::MAX
+                ))
+            })?;
+            all.extend_from_slice(&doubled);
+            Ok(Some(first))
         })?;
+        let rigid = if all.is_empty() {
+            None
+        } else {
+            Some(Buffer::device_local(gpu, "shadow volume vertices", &all, vk::BufferUsageFlags::VERTEX_BUFFER)?)
+        };
+        let rigid_first = of_caster.iter().map(|mesh| mesh.map(|mesh| firsts[mesh])).collect();
         let skinned = match palettes {
             Some(palettes) => casters.iter().map(|c| upload_skinned(gpu, scene, c, palettes)).collect::<Result<_>>()?,
             None => Vec::new(),
         };
-        Ok(DoubledVertices { buffers, of_caster, skinned })
+        Ok(DoubledVertices { rigid, rigid_first, skinned })
     }
 
     /// Caster `caster`'s doubled vertices uploaded at build (none for a skinned caster posed on
@@ -70,7 +87,8 @@ impl DoubledVertices {
         if let Some(buffer) = self.skinned.get(caster).and_then(Option::as_ref) {
             return Some(Doubled::Skinned(buffer));
         }
-        self.buffers.get((*self.of_caster.get(caster)?)?).map(Doubled::Rigid)
+        let first_vertex = (*self.rigid_first.get(caster)?)?;
+        self.rigid.as_ref().map(|vertices| Doubled::Rigid { vertices, first_vertex })
     }
 
     /// Whether caster `caster` is skinned on the GPU.

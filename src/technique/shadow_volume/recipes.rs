@@ -102,7 +102,7 @@ fn volume_desc(name: &'static str, raster: RasterState, compare: vk::CompareOp, 
     PipelineDesc {
         name,
         vertex_shader: shaders::SHADOW_VOLUME_VERT,
-        fragment_shader: shaders::OBJECT_COLOUR_FRAG,
+        fragment_shader: shaders::SHADOW_VOLUME_FRAG,
         vertex_layout: VertexLayout::POSITION4,
         fixed: FixedFunction {
             topology: vk::PrimitiveTopology::TRIANGLE_LIST,
@@ -137,7 +137,7 @@ pub fn extruded(desc: PipelineDesc) -> PipelineDesc {
     PipelineDesc {
         name,
         vertex_shader: shaders::SHADOW_VOLUME_EXTRUDE_VERT,
-        fragment_shader: shaders::SHADOW_VOLUME_EXTRUDE_FRAG,
+        fragment_shader: shaders::SHADOW_VOLUME_FRAG,
         vertex_layout: VertexLayout::NONE,
         ..desc
     }

@@ -33,7 +33,7 @@ use crate::render::per_slot::slot_copy;
 use crate::render::passes::Passes;
 use crate::render::plan::{Draws, PlannedPass, Scissor};
 use crate::render::Pipeline;
-use crate::render::{FrameOutput, FrameRecorder, GpuScene, Renderer};
+use crate::render::{BoundDraw, FrameOutput, FrameRecorder, GpuScene, Renderer};
 use crate::scene::{Light, Scene, SceneLight};
 use crate::technique::alpha_counter;
 use crate::technique::frame_renderer::BuildContext;
@@ -336,34 +336,47 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
                 }
                 continue;
             }
-            // Casters skinned on the GPU last, with the pipeline's skinned twin.
+            // Casters skinned on the GPU last, with the pipeline's skinned twin. A volume
+            // pushes once for all its ranges (each passes its multiplicity as its first
+            // instance), and sets its scissor only where it changed (the recorder binds only
+            // what changed): lavapipe allocates every command it records.
             for skinned_pass in [false, true] {
                 let pipeline: &Pipeline = pipeline;
                 let mut bound = pipeline;
+                let mut scissor = None;
                 for volume in volumes {
                     let VolumeForm::Indexed { ranges, push } = &volume.form else { continue };
                     let Some(slot) = buffers.get(volume.caster) else { continue };
                     let vertices = match self.doubled.of_caster(volume.caster) {
-                        Some(Doubled::Rigid(rigid)) if !skinned_pass => Some(rigid),
-                        Some(Doubled::Skinned(bind_pose)) if skinned_pass => Some(bind_pose),
-                        None if !skinned_pass => slot.vertices.filled().map(|(buffer, _)| buffer),
+                        Some(Doubled::Rigid { vertices, first_vertex }) if !skinned_pass => {
+                            Some((vertices, first_vertex))
+                        }
+                        Some(Doubled::Skinned(bind_pose)) if skinned_pass => Some((bind_pose, 0)),
+                        None if !skinned_pass => slot.vertices.filled().map(|(buffer, _)| (buffer, 0)),
                         _ => None,
                     };
-                    let Some((vertices, (indices, _))) = vertices.zip(slot.indices.filled()) else { continue };
+                    let Some(((vertices, vertex_offset), (indices, _))) = vertices.zip(slot.indices.filled()) else {
+                        continue;
+                    };
                     if skinned_pass && std::ptr::eq(bound, pipeline) {
                         bound = pipeline.skinned().ok_or_else(|| {
                             Error::Internal(format!("volume pipeline '{}' has no skinned twin", pipeline.desc.name))
                         })?;
                         rec.bind(bound);
                     }
-                    rec.set_scissor(volume.scissor);
-                    // One binding for the volume's ranges (lavapipe records every command).
+                    if scissor != Some(volume.scissor) {
+                        rec.set_scissor(volume.scissor);
+                        scissor = Some(volume.scissor);
+                    }
                     rec.bind_indexed(vertices, indices);
-                    for range in ranges.iter().filter(|range| range.count > 0) {
-                        let push =
-                            VolumePush { colour: Vec4::new(0.0, 0.0, 0.0, alpha * range.times as f32), ..*push };
-                        rec.push(bound, &push);
-                        rec.draw_bound_range(range.first, range.count);
+                    rec.push(bound, &VolumePush { colour: Vec4::new(0.0, 0.0, 0.0, alpha), ..*push });
+                    for range in ranges {
+                        rec.draw_bound(BoundDraw {
+                            first_index: range.first,
+                            index_count: range.count,
+                            vertex_offset,
+                            first_instance: range.times,
+                        });
                     }
                 }
             }

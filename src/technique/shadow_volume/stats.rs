@@ -3,6 +3,7 @@
 //! (`profile`'s technique statistics, in its table and JSON).
 
 use std::any::Any;
+use std::sync::Arc;
 
 use super::casters::Caster;
 use crate::scene::Scene;
@@ -37,8 +38,9 @@ pub struct ShadowVolumeStats {
     /// k, for the report.
     #[serde(skip)]
     pub increment: u8,
-    /// Each caster's volume path and what the counter holds of it.
-    pub casters: Vec<CasterReport>,
+    /// Each caster's volume path and what the counter holds of it: fixed at build, and shared
+    /// by every frame's stats (a frame's clone costs no allocation per caster).
+    pub casters: Arc<[CasterReport]>,
     /// `additive` or `modulate`.
     pub mode: &'static str,
     /// Per light: whether it casts, and the volumes drawn for it this frame.
@@ -139,7 +141,7 @@ impl FrameStats for ShadowVolumeStats {
             };
             report.push_str(&format!("\n  light '{}': {shadows}", light.name));
         }
-        for caster in &self.casters {
+        for caster in self.casters.iter() {
             report.push_str(&format!(
                 "\n  caster '{}': {} ({}), capacity {}",
                 caster.object, caster.path, caster.reason, caster.capacity
