@@ -144,6 +144,11 @@ impl Gpu {
         self.objects.job_ran(ns)
     }
 
+    /// Counts `ns` of CPU time a frame slot's command-pool reset took on a worker thread.
+    pub(crate) fn counted_pool_reset_cpu(&self, ns: u64) {
+        self.objects.pool_reset(ns)
+    }
+
     /// Counts `count` state and draw commands a frame recorded (`FrameRecorder`).
     pub(crate) fn counted_commands(&self, count: u64) {
         self.objects.recorded(count)

@@ -1,17 +1,18 @@
-//! A frame slot's submission: a command buffer and a fence made once and used frame after
-//! frame, as a game's frames in flight use theirs. Submitting does not wait; `wait` waits for
-//! the slot's last submission, the one wait a steady-state frame makes (on the slot it is about
-//! to reuse).
+//! A frame slot's submission: a command pool with one command buffer, and a fence, made once
+//! and used frame after frame, as a game's frames in flight use theirs. Submitting does not
+//! wait; `wait` waits for the slot's last submission, the one wait a steady-state frame makes
+//! (on the slot it is about to reuse), and hands the reset of the slot's pool to a worker
+//! thread, which frees what the last frame recorded while the next one is prepared.
 
-use std::sync::Arc;
+use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::time::Instant;
 
 use ash::vk;
 
-use super::commands::{allocate_primary, free_primary};
 use super::context::Gpu;
 use super::faults::{self, Submission};
 use super::live_objects::ObjectKind;
+use super::thread_time::thread_cpu_ns;
 use crate::error::{Error, Result, VkContext};
 
 /// What a frame's submission waits on and signals besides its fence: for a frame drawn into a
@@ -36,26 +37,89 @@ pub struct CpuPhases {
 
 pub struct SubmitSlot {
     gpu: Arc<Gpu>,
+    /// The slot's own pool (one per frame in flight, as Vulkan's guides have it), holding
+    /// `cmd` alone: reset whole between frames, which frees at once whatever the frame recorded.
+    pool: vk::CommandPool,
     cmd: vk::CommandBuffer,
     fence: vk::Fence,
     /// What the pending submission does ("the frame's passes: ..."), for a failed wait; None
     /// when nothing is pending.
     pending: Option<String>,
+    /// Where the reset of `pool` stands, shared with the worker running it.
+    reset: Arc<PoolReset>,
+}
+
+/// A command pool's reset, handed to a worker thread once the slot's submission finished:
+/// lavapipe frees every command a frame recorded one by one (thousands on a heavy frame), which
+/// is then off the render thread's path, as an engine resets its frame's pools off the main
+/// thread. Its CPU time is counted on the device's activity, as a job's.
+#[derive(Default)]
+struct PoolReset {
+    state: Mutex<ResetState>,
+    finished: Condvar,
+}
+
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+enum ResetState {
+    /// Ready to record: a new pool, or one reset since its last recording.
+    #[default]
+    Ready,
+    /// Recorded into and not reset: reset it before recording again.
+    Used,
+    /// A worker is resetting it.
+    Running,
+    /// The worker's reset failed.
+    Failed(vk::Result),
+}
+
+impl PoolReset {
+    fn state(&self) -> MutexGuard<'_, ResetState> {
+        // A poisoned lock means a worker panicked mid-reset; the state it left is still one of
+        // the four, and the next `submit` acts on it.
+        self.state.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// Waits until no worker is resetting the pool; the state it left.
+    fn joined(&self) -> ResetState {
+        let mut state = self.state();
+        while *state == ResetState::Running {
+            state = self.finished.wait(state).unwrap_or_else(|p| p.into_inner());
+        }
+        *state
+    }
 }
 
 impl SubmitSlot {
     pub fn new(gpu: &Arc<Gpu>) -> Result<Self> {
-        let cmd = allocate_primary(gpu)?;
-        // SAFETY: `gpu` holds the device; a plain unsignalled fence.
-        let fence = match unsafe { gpu.raw().create_fence(&vk::FenceCreateInfo::default(), None) }.vk("vkCreateFence") {
-            Ok(fence) => fence,
-            Err(e) => {
-                free_primary(gpu, cmd);
-                return Err(e);
-            }
+        let device = gpu.raw();
+        // Its buffer is recorded again every frame: transient.
+        let pool_info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(gpu.device.queue_family)
+            .flags(vk::CommandPoolCreateFlags::TRANSIENT);
+        // SAFETY: `gpu` holds the device, and `queue_family` is its queue's family.
+        let pool = unsafe { device.create_command_pool(&pool_info, None) }.vk("vkCreateCommandPool")?;
+        gpu.created(ObjectKind::CommandPool);
+        // Owns the pool from here: a failure below destroys it with what it made.
+        let mut slot = SubmitSlot {
+            gpu: gpu.clone(),
+            pool,
+            cmd: vk::CommandBuffer::null(),
+            fence: vk::Fence::null(),
+            pending: None,
+            reset: Arc::default(),
         };
+        let info = vk::CommandBufferAllocateInfo::default()
+            .command_pool(pool)
+            .level(vk::CommandBufferLevel::PRIMARY)
+            .command_buffer_count(1);
+        // SAFETY: the pool is this device's, used by this thread alone; one buffer asked, so
+        // `[0]` exists.
+        slot.cmd = unsafe { device.allocate_command_buffers(&info) }.vk("vkAllocateCommandBuffers")?[0];
+        gpu.created(ObjectKind::CommandBuffer);
+        // SAFETY: `gpu` holds the device; a plain unsignalled fence.
+        slot.fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }.vk("vkCreateFence")?;
         gpu.created(ObjectKind::Fence);
-        Ok(SubmitSlot { gpu: gpu.clone(), cmd, fence, pending: None })
+        Ok(slot)
     }
 
     /// Whether a submission of this slot may still be running.
@@ -80,13 +144,21 @@ impl SubmitSlot {
         let since = |at: Instant| at.duration_since(start).as_secs_f64() * 1e3;
         let mut phases = CpuPhases::default();
         let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
-        // SAFETY: the command buffer is not pending (no submission is, checked above); its pool
-        // allows resetting one buffer. A `Gpu` is driven from one thread at a time, the external
-        // synchronisation the pool and queue need.
-        unsafe {
-            device.reset_command_buffer(self.cmd, vk::CommandBufferResetFlags::empty()).vk("vkResetCommandBuffer")?;
-            device.begin_command_buffer(self.cmd, &begin).vk("vkBeginCommandBuffer")?;
+        match self.reset.joined() {
+            ResetState::Ready => {}
+            // Never handed to a worker (its last submission was not waited for through `wait`).
+            // SAFETY: nothing of the pool is pending (no submission is, checked above), and no
+            // worker holds it (joined); this thread is the pool's only user.
+            ResetState::Used => unsafe { device.reset_command_pool(self.pool, vk::CommandPoolResetFlags::empty()) }
+                .vk("vkResetCommandPool")?,
+            ResetState::Running => return Err(Error::Internal("a frame slot's reset was still running".into())),
+            ResetState::Failed(result) => return Err(Error::Vulkan { call: "vkResetCommandPool", result }),
         }
+        *self.reset.state() = ResetState::Used;
+        // SAFETY: the command buffer is in its initial state (its pool reset, or new), and this
+        // thread is its pool's only user. A `Gpu` is driven from one thread at a time, the
+        // external synchronisation the queue needs.
+        unsafe { device.begin_command_buffer(self.cmd, &begin) }.vk("vkBeginCommandBuffer")?;
         let value = record(self.cmd)?;
         let described = work(&value);
         let injected = faults::submit_fault(Submission::Frame);
@@ -129,7 +201,35 @@ impl SubmitSlot {
         let took = began.elapsed();
         self.gpu.waited(took);
         waited.map_err(|result| Error::Submit { work, call: "vkWaitForFences", result })?;
+        self.reset_elsewhere();
         Ok(Some(took.as_secs_f64() * 1e3))
+    }
+
+    /// Hands the reset of the slot's pool, whose submission has finished, to a worker thread;
+    /// the next `submit` waits for it before recording.
+    fn reset_elsewhere(&mut self) {
+        let mut state = self.reset.state();
+        if *state != ResetState::Used {
+            return;
+        }
+        *state = ResetState::Running;
+        drop(state);
+        let (gpu, reset, pool) = (self.gpu.clone(), self.reset.clone(), self.pool);
+        rayon::spawn(move || {
+            let start = thread_cpu_ns();
+            // SAFETY: nothing of the pool is pending (its one buffer's fence signalled) and the
+            // slot touches the pool only once this reset is joined (`submit`, `drop`): this
+            // worker is its only user meanwhile.
+            let result = unsafe { gpu.raw().reset_command_pool(pool, vk::CommandPoolResetFlags::empty()) };
+            if let (Some(start), Some(end)) = (start, thread_cpu_ns()) {
+                gpu.counted_pool_reset_cpu(end.saturating_sub(start));
+            }
+            *reset.state() = match result {
+                Ok(()) => ResetState::Ready,
+                Err(result) => ResetState::Failed(result),
+            };
+            reset.finished.notify_all();
+        });
     }
 }
 
@@ -137,9 +237,21 @@ impl Drop for SubmitSlot {
     fn drop(&mut self) {
         // A failed wait means the device is lost: nothing runs any more either way.
         let _ = self.wait();
-        // SAFETY: nothing is pending (waited above); each handle is destroyed once.
-        unsafe { self.gpu.raw().destroy_fence(self.fence, None) };
-        self.gpu.destroyed(ObjectKind::Fence);
-        free_primary(&self.gpu, self.cmd);
+        self.reset.joined();
+        let device = self.gpu.raw();
+        // SAFETY: nothing is pending (waited above) and no worker holds the pool (joined); each
+        // handle is destroyed once, the null ones of a slot whose making failed skipped.
+        unsafe {
+            if self.fence != vk::Fence::null() {
+                device.destroy_fence(self.fence, None);
+                self.gpu.destroyed(ObjectKind::Fence);
+            }
+            if self.cmd != vk::CommandBuffer::null() {
+                device.free_command_buffers(self.pool, &[self.cmd]);
+                self.gpu.destroyed(ObjectKind::CommandBuffer);
+            }
+            device.destroy_command_pool(self.pool, None);
+        }
+        self.gpu.destroyed(ObjectKind::CommandPool);
     }
 }

@@ -24,6 +24,7 @@ pub enum ObjectKind {
     DescriptorPool,
     DescriptorSetLayout,
     QueryPool,
+    CommandPool,
     CommandBuffer,
     Fence,
     Semaphore,
@@ -31,7 +32,7 @@ pub enum ObjectKind {
 }
 
 impl ObjectKind {
-    pub const ALL: [ObjectKind; 17] = [
+    pub const ALL: [ObjectKind; 18] = [
         ObjectKind::Buffer,
         ObjectKind::Image,
         ObjectKind::ImageView,
@@ -45,6 +46,7 @@ impl ObjectKind {
         ObjectKind::DescriptorPool,
         ObjectKind::DescriptorSetLayout,
         ObjectKind::QueryPool,
+        ObjectKind::CommandPool,
         ObjectKind::CommandBuffer,
         ObjectKind::Fence,
         ObjectKind::Semaphore,
@@ -67,6 +69,7 @@ impl ObjectKind {
             ObjectKind::DescriptorPool => "descriptor-pools",
             ObjectKind::DescriptorSetLayout => "descriptor-set-layouts",
             ObjectKind::QueryPool => "query-pools",
+            ObjectKind::CommandPool => "command-pools",
             ObjectKind::CommandBuffer => "command-buffers",
             ObjectKind::Fence => "fences",
             ObjectKind::Semaphore => "semaphores",
@@ -91,6 +94,8 @@ pub struct LiveObjects {
     wait_ns: AtomicU64,
     /// CPU time of the jobs run for frames on other threads than the caller's.
     job_ns: AtomicU64,
+    /// Of that, the frame slots' command-pool resets.
+    pool_reset_ns: AtomicU64,
     /// State and draw commands recorded into frames (`FrameRecorder`).
     commands: AtomicU64,
 }
@@ -99,6 +104,12 @@ impl LiveObjects {
     /// Counts `ns` of CPU time a job took on another thread.
     pub fn job_ran(&self, ns: u64) {
         self.job_ns.fetch_add(ns, Ordering::Relaxed);
+    }
+
+    /// Counts `ns` of CPU time a frame slot's command-pool reset took on another thread (a job).
+    pub fn pool_reset(&self, ns: u64) {
+        self.job_ran(ns);
+        self.pool_reset_ns.fetch_add(ns, Ordering::Relaxed);
     }
 
     /// Counts `count` state and draw commands a frame recorded.
@@ -124,6 +135,7 @@ impl LiveObjects {
             waits: self.waits.load(Ordering::Relaxed),
             wait_ns: self.wait_ns.load(Ordering::Relaxed),
             job_ns: self.job_ns.load(Ordering::Relaxed),
+            pool_reset_ns: self.pool_reset_ns.load(Ordering::Relaxed),
             commands: self.commands.load(Ordering::Relaxed),
         }
     }
@@ -148,8 +160,10 @@ pub struct Activity {
     made: [u64; ObjectKind::ALL.len()],
     pub waits: u64,
     pub wait_ns: u64,
-    /// CPU time of jobs on other threads (`render::jobs`).
+    /// CPU time of jobs on other threads (`render::jobs`, and the pool resets below).
     pub job_ns: u64,
+    /// Of `job_ns`, the frame slots' command-pool resets (`gpu::frame_submission`).
+    pub pool_reset_ns: u64,
     /// State and draw commands recorded into frames: binds, pushes, scissors and viewports,
     /// draws and clears (`FrameRecorder`). A driver records and checks each one by one, and
     /// lavapipe allocates and frees each, so on the render thread they are most of a frame's
@@ -169,6 +183,7 @@ impl Activity {
             waits: self.waits.saturating_sub(earlier.waits),
             wait_ns: self.wait_ns.saturating_sub(earlier.wait_ns),
             job_ns: self.job_ns.saturating_sub(earlier.job_ns),
+            pool_reset_ns: self.pool_reset_ns.saturating_sub(earlier.pool_reset_ns),
             commands: self.commands.saturating_sub(earlier.commands),
         }
     }

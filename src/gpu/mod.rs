@@ -17,6 +17,7 @@ pub mod queries;
 pub mod regions;
 pub mod swapchain;
 pub mod texture;
+pub mod thread_time;
 pub mod validation;
 
 pub use context::{Gpu, GpuOptions};

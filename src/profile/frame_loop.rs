@@ -70,6 +70,9 @@ pub struct LoopResult {
     /// Mean CPU time a frame's jobs took on other threads (shadow volumes built as Doom 3
     /// BFG's jobs), ms: the render thread's `cpu_ms` plus this is the frame's CPU work.
     pub jobs_cpu_ms: f64,
+    /// Of `jobs_cpu_ms`, the frame slots' command-pool resets on a worker (every technique has
+    /// them; what else a technique runs as jobs is the rest).
+    pub pool_reset_cpu_ms: f64,
     /// Mean time a frame waited for the GPU, ms.
     pub wait_ms: f64,
     /// State and draw commands a frame recorded (binds, pushes, scissors, draws, clears: see
@@ -133,7 +136,7 @@ pub fn play(
 
 /// CPU time the calling thread has used, in ms.
 fn thread_cpu_ms() -> Option<f64> {
-    crate::render::jobs::thread_cpu_ns().map(|ns| ns as f64 / 1e6)
+    crate::gpu::thread_time::thread_cpu_ns().map(|ns| ns as f64 / 1e6)
 }
 
 /// Each variant's figures from its frames (`names` and `measured` in the same order).
@@ -160,6 +163,7 @@ pub fn summarise(names: &[String], kept: &[(usize, Skinning)], measured: &[Vec<L
                 frame_ms: mean(&|f| f.wall_ms),
                 cpu_ms: mean(&|f| f.cpu_ms()),
                 jobs_cpu_ms: mean(&|f| f.activity.job_ns as f64 / 1e6),
+                pool_reset_cpu_ms: mean(&|f| f.activity.pool_reset_ns as f64 / 1e6),
                 wait_ms: mean(&|f| f.activity.wait_ns as f64 / 1e6),
                 commands_per_frame: mean(&|f| f.activity.commands as f64),
                 allocations_per_frame: mean(&|f| f.activity.made(ObjectKind::MemoryAllocation) as f64),
@@ -230,7 +234,7 @@ impl LoopReport {
              bootstrap interval); in flight: frames submitted before the oldest is waited for (a turn's last \
              frames are finished at its end, within its time); CPU ms: the render thread's CPU time a frame \
              (without its waits for the GPU); jobs ms: the CPU time a frame's jobs took on other threads \
-             (shadow volumes built on other cores); commands: state and draw commands a frame recorded \
+             (shadow volumes built on other cores, the frame slot's command pool reset); commands: state and draw commands a frame recorded \
              (binds, pushes, scissors, draws); allocs: memory allocations made (gpu-allocator's and dedicated); waits: host waits on a \
              fence\n",
         );
