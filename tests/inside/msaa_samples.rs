@@ -21,7 +21,9 @@ use nostencil::render::passes::Passes;
 use nostencil::render::plan::{PassPlan, PlannedPass, SetRole, Target};
 use nostencil::render::plan_execution::{record_plan, PlanPipelines};
 use nostencil::render::Renderer;
-use nostencil::render::{FrameRecorder, FrameSamples, FrameUniforms, GpuScene, ObjectPush, Pipeline, PipelineTarget};
+use nostencil::render::{
+    BoundDraw, FrameRecorder, FrameSamples, FrameUniforms, GpuScene, ObjectPush, Pipeline, PipelineTarget,
+};
 use nostencil::technique::shadow_volume::recipes::{VolumeDraw, VolumeKinds};
 use nostencil::technique::shadow_volume::{self, bounds, build_volume, prepare_casters};
 use nostencil::technique::shadow_volume::{Normalize, ShadowVolumeOptions, VolumeMethod};
@@ -198,7 +200,11 @@ impl Passes<VolumeKinds> for VolumeDraws<'_> {
             for volume in &self.volumes {
                 let model = self.scene.objects[volume.object].transform;
                 rec.push(pipeline, &ObjectPush { model, colour: Vec4::new(0.0, 0.0, 0.0, alpha) });
-                rec.draw_indexed(&volume.vertices, &volume.indices, volume.count);
+                // The volume pipelines count each fragment as many times as the draw's first
+                // instance says (a range's multiplicity); every copy here counts once.
+                rec.bind_indexed(&volume.vertices, &volume.indices);
+                let draw = BoundDraw { first_index: 0, index_count: volume.count, vertex_offset: 0, first_instance: 1 };
+                rec.draw_bound(draw);
             }
         }
         Ok(())

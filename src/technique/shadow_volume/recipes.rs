@@ -98,6 +98,9 @@ pub const SHADOW_MESHES: SetRole<VolumeSet> = SetRole::Own(VolumeSet::ShadowMesh
 /// The opt-in saturation probe's pass name (its occlusion query is the count).
 pub const SATURATION_PROBE: &str = "saturation probe";
 
+/// A volume pipeline of the CPU-chosen indices: each fragment counts the push's alpha times the
+/// draw's first instance, the multiplicity of the range drawn (`shaders/shadow_volume.vert`), so
+/// a draw with first instance 0 counts nothing.
 fn volume_desc(name: &'static str, raster: RasterState, compare: vk::CompareOp, blend: BlendState) -> PipelineDesc {
     PipelineDesc {
         name,
