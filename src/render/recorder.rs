@@ -580,14 +580,16 @@ impl<'a> FrameRecorder<'a> {
 
     /// Draws `mesh` as this frame's slot holds it (a skinned mesh's posed copy).
     pub fn draw_mesh(&mut self, mesh: &GpuMesh) {
+        self.draw_mesh_vertices(mesh, mesh.indices(), mesh.first_index, mesh.index_count);
+    }
+
+    /// `mesh`'s vertices as this frame's slot holds them, drawn with indices `first_index..
+    /// first_index + index_count` of `indices`: the mesh's own, or a simplified set over the
+    /// same vertices (counted from the mesh's first vertex, wherever its buffer holds it).
+    pub fn draw_mesh_vertices(&mut self, mesh: &GpuMesh, indices: &Buffer, first_index: u32, index_count: u32) {
         let (vertices, vertex_offset) = mesh.vertices_in(self.slot);
-        self.bind_indexed(vertices, mesh.indices());
-        self.draw_bound(BoundDraw {
-            first_index: mesh.first_index,
-            index_count: mesh.index_count,
-            vertex_offset,
-            first_instance: 0,
-        });
+        self.bind_indexed(vertices, indices);
+        self.draw_bound(BoundDraw { first_index, index_count, vertex_offset, first_instance: 0 });
     }
 
     pub fn draw_indexed(&mut self, vertices: &Buffer, indices: &Buffer, index_count: u32) {
