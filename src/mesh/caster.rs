@@ -59,6 +59,10 @@ pub struct CasterMesh {
     pub welded: Welded,
     pub adjacency: EdgeAdjacency,
     pub path: CastPath,
+    /// Per welded face: its corners are the scene mesh's own positions, bit for bit, in the
+    /// scene's order, so that a scene pass draws exactly this triangle (its near cap can then
+    /// lie wholly under it: `technique::shadow_volume::near_caps`).
+    pub faces_as_drawn: Vec<bool>,
 }
 
 impl CasterMesh {
@@ -77,7 +81,8 @@ impl CasterMesh {
             None => CastPath::Silhouette,
             Some(reason) => CastPath::TwoSided { reason, corners: CornerEdges::build(&adjacency)? },
         };
-        Ok(CasterMesh { welded, adjacency, path })
+        let faces_as_drawn = faces_as_drawn(&welded, positions);
+        Ok(CasterMesh { welded, adjacency, path, faces_as_drawn })
     }
 
     /// This light's volume from `positions` (the welded vertices, posed) and their
@@ -110,6 +115,20 @@ impl CasterMesh {
             ),
         }
     }
+}
+
+/// Per welded face, whether welding left its three corners where the original mesh has them
+/// (a corner merged into a vertex a little way off has moved).
+fn faces_as_drawn(welded: &Welded, original: &[Vec3]) -> Vec<bool> {
+    let same = |a: Vec3, b: Vec3| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits);
+    welded
+        .indices
+        .chunks_exact(3)
+        .zip(welded.original_corners.chunks_exact(3))
+        .map(|(corners, originals)| {
+            corners.iter().zip(originals).all(|(&w, &o)| same(welded.positions[w as usize], original[o as usize]))
+        })
+        .collect()
 }
 
 /// `None` for a closed, consistently wound manifold; else what breaks it, in words.
@@ -164,6 +183,24 @@ mod tests {
         assert_eq!(open_box.path.name(), "two-sided");
         assert_eq!(open_box.path.reason(), "open (4 boundary edges)");
         assert_eq!(open_box.path.count_per_crossing(), 2);
+        Ok(())
+    }
+
+    #[test]
+    fn a_face_whose_corner_welding_moved_is_not_drawn_as_the_scene_draws_it() -> Result<()> {
+        // Two triangles sharing an edge; the second's copy of one shared corner lies 1e-6 off
+        // (welded into the first's), the first's duplicate of its other corner is exact.
+        let positions = [
+            Vec3::ZERO,
+            Vec3::X,
+            Vec3::Y,
+            Vec3::new(1.0, 1e-6, 0.0),
+            Vec3::Y,
+            Vec3::new(1.0, 1.0, 0.0),
+        ];
+        let caster = CasterMesh::prepare("two triangles", &positions, &[0, 1, 2, 3, 5, 4])?;
+        assert_eq!(caster.welded.positions.len(), 4, "both seams welded");
+        assert_eq!(caster.faces_as_drawn, [true, false]);
         Ok(())
     }
 

@@ -81,7 +81,17 @@ fn try_render(
     size: (u32, u32),
     shadow_tone: ShadowTone,
 ) -> nostencil::Result<Frame> {
-    let options = RenderOptions {
+    frame_of(gpu, scene, &render_options(stencil, shadow_mode, options, size, shadow_tone))
+}
+
+fn render_options(
+    stencil: StencilMode,
+    shadow_mode: ShadowMode,
+    options: ShadowVolumeOptions,
+    size: (u32, u32),
+    shadow_tone: ShadowTone,
+) -> RenderOptions {
+    RenderOptions {
         width: size.0,
         height: size.1,
         stencil,
@@ -90,8 +100,11 @@ fn try_render(
         shadow_mode,
         shadow_tone,
         ..Default::default()
-    };
-    let frame = render_scene(gpu, scene, &options)?;
+    }
+}
+
+fn frame_of(gpu: &Arc<Gpu>, scene: &Scene, options: &RenderOptions) -> nostencil::Result<Frame> {
+    let frame = render_scene(gpu, scene, options)?;
     let stats = frame.stats::<nostencil::stats::ShadowVolumeStats>().expect("shadow-volume statistics").clone();
     Ok(Frame { output: frame.output, stats })
 }
@@ -1038,6 +1051,59 @@ fn culled_casters_draw_the_unculled_image_with_fewer_fragments() {
     let (casters, culled, unculled) = nested_culled.expect("the nested scene was rendered");
     assert_eq!(casters, 2, "the nested scene's two boxes lie in the roof's shadow");
     assert!(culled < unculled, "culling two boxes saved no fragments: {culled} of {unculled}");
+    common::assert_no_validation_messages(&gpu);
+}
+
+/// The volume passes' vertex invocations, clipping primitives and fragment invocations.
+fn volume_work(frame: &Frame) -> [u64; 3] {
+    let volumes = frame.output.counters.passes.iter().filter(|p| p.name.contains("volumes"));
+    volumes.fold([0; 3], |[v, p, f], pass| {
+        let count = |c: Option<u64>| c.expect("lavapipe has pipeline statistics");
+        [v + count(pass.vertex_invocations), p + count(pass.clipping_primitives), f + count(pass.fragment_invocations)]
+    })
+}
+
+/// Each near cap of an open caster drawn only by the counting pipeline that can see it past its
+/// own face (docs/shadow-volumes.md, "Near caps under their faces"): on every built-in scene of
+/// open casters, in both modes and at 1 and 4 samples, the frame is the one with every near cap
+/// drawn by both pipelines (`--whole-near-caps`) and the reference's, in every normalisation,
+/// for less vertex and primitive work and no more fragments; z-fail, whose near caps count at
+/// their faces' own depth, draws them all.
+#[test]
+fn near_caps_left_to_the_pipeline_that_sees_them_draw_the_whole_image_for_less_work() {
+    let gpu = common::gpu();
+    let whole_caps = ShadowVolumeOptions { split_near_caps: false, ..seed() };
+    for name in ["open-quad", "open-box", "non-manifold", "touching"] {
+        let scene = builtin_scene(name).expect("scene");
+        for mode in [ShadowMode::Additive, ShadowMode::Modulate] {
+            for samples in [1, 4] {
+                let frame = |stencil, options| {
+                    let options = render_options(stencil, mode, options, SIZE, ShadowTone::default());
+                    frame_of(&gpu, &scene, &RenderOptions { samples, ..options }).expect("shadow-volume frame")
+                };
+                let what = format!("{name} {mode:?} {samples}x");
+                let reference = frame(StencilMode::Reference, seed());
+                let whole = frame(StencilMode::Emulated, whole_caps);
+                let differing = rgb_differences(&whole.output.image, &reference.output.image);
+                assert_eq!(differing, 0, "{what}: whole near caps differ from the reference at {differing} pixels");
+                for &normalize in Normalize::ALL {
+                    let split = frame(StencilMode::Emulated, ShadowVolumeOptions { normalize, ..seed() });
+                    let differing = rgb_differences(&split.output.image, &reference.output.image);
+                    let what = format!("{what} {}", normalize.name());
+                    assert_eq!(differing, 0, "{what}: split near caps differ from the reference at {differing} pixels");
+                    let ([sv, sp, sf], [wv, wp, wf]) = (volume_work(&split), volume_work(&whole));
+                    assert!(sv <= wv && sp < wp, "{what}: vertices {sv} of {wv}, primitives {sp} of {wp}");
+                    assert!(sf <= wf, "{what}: split near caps shade {sf} fragments, whole ones {wf}");
+                }
+            }
+        }
+        let zfail = ShadowVolumeOptions { method: VolumeMethod::ZFail, ..seed() };
+        let split = render(&gpu, &scene, StencilMode::Emulated, zfail);
+        let whole =
+            render(&gpu, &scene, StencilMode::Emulated, ShadowVolumeOptions { split_near_caps: false, ..zfail });
+        assert_eq!(volume_work(&split), volume_work(&whole), "{name}: z-fail's near caps were split");
+        assert_eq!(rgb_differences(&split.output.image, &whole.output.image), 0, "{name}: z-fail");
+    }
     common::assert_no_validation_messages(&gpu);
 }
 

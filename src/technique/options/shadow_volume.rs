@@ -84,6 +84,15 @@ pub struct ShadowVolumeOptions {
     /// same; `profile` reports the casters culled and the CPU time).
     #[arg(long = "cull-casters")]
     pub cull_casters: bool,
+    // In z-pass the alpha counter's two culled pipelines each draw every near cap of an open
+    // caster, though the face under a near cap hides it from one of them (docs/shadow-volumes.md,
+    // "Near caps under their faces"). Off (`--whole-near-caps`): both draw them all, to measure
+    // what leaving them out saves.
+    /// shadow-volume: in z-pass, draw every near cap of an open (two-sided) caster with both
+    /// counting pipelines, instead of only with the one that can see it past its own face (to
+    /// measure what that saves; the image is the same).
+    #[arg(id = "whole_near_caps", long = "whole-near-caps", action = ArgAction::SetFalse)]
+    pub split_near_caps: bool,
     // Both forms draw the same bytes; `bench` compares their costs.
     /// shadow-volume: `indices` (the CPU chooses each volume's indices when its light or caster
     /// moved; the vertex shader extrudes) or `shader` (the vertex shader does it all from
@@ -128,6 +137,7 @@ mod tests {
     fn the_defaults_are_the_flags_defaults() {
         let volumes = ShadowVolumeOptions::default();
         assert_eq!((volumes.increment, volumes.method, volumes.normalize), (1, VolumeMethod::Auto, Normalize::Seed));
-        assert!(volumes.clip_volumes && volumes.fragment_atomics && !volumes.saturation_probe);
+        assert!(volumes.clip_volumes && volumes.split_near_caps && volumes.fragment_atomics);
+        assert!(!volumes.saturation_probe);
     }
 }

@@ -8,6 +8,7 @@ pub mod casters;
 pub mod culling;
 pub mod doubled;
 pub mod gpu_extrusion;
+pub mod near_caps;
 pub mod recipes;
 pub mod renderer;
 pub mod stats;

@@ -13,6 +13,7 @@ use super::casters::{build_volume_into, choose_zfail, light_in_object_space, pre
 use super::culling::{self, Culling, KeptCulling};
 use super::doubled::{Doubled, DoubledVertices};
 use super::gpu_extrusion::{ExtrudedVolume, ShadowMeshes, VolumePush};
+use super::near_caps::{DrawnBy, NearCapSplit};
 use super::recipes::SATURATION_PROBE;
 use super::recipes::{is_extruded, VolumeDraw, VolumeKinds, VolumeSet};
 pub use super::stats::{CasterReport, LightReport, ShadowVolumeStats};
@@ -34,6 +35,7 @@ use crate::render::passes::Passes;
 use crate::render::plan::{Draws, PlannedPass, Scissor};
 use crate::render::Pipeline;
 use crate::render::{BoundDraw, FrameOutput, FrameRecorder, GpuScene, Renderer};
+use crate::scene::model::AlphaMode;
 use crate::scene::{Light, Scene, SceneLight};
 use crate::technique::alpha_counter;
 use crate::technique::frame_renderer::BuildContext;
@@ -89,6 +91,8 @@ struct IndexRange {
     first: u32,
     count: u32,
     times: u32,
+    /// Which pipelines draw it (a volume whose near caps are split has one range per kind).
+    drawn_by: DrawnBy,
 }
 
 /// What is worked out from the scene before the frame is planned: the casters, whose volumes
@@ -370,7 +374,8 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
                     }
                     rec.bind_indexed(vertices, indices);
                     rec.push(bound, &VolumePush { colour: Vec4::new(0.0, 0.0, 0.0, alpha), ..*push });
-                    for range in ranges {
+                    let cull = bound.desc.fixed.raster.cull;
+                    for range in ranges.iter().filter(|range| range.drawn_by.draws_with(cull)) {
                         rec.draw_bound(BoundDraw {
                             first_index: range.first,
                             index_count: range.count,
@@ -413,7 +418,11 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
             let (mut reused, mut extruded) = (0, 0);
             let volumes = if shadows {
                 let lit = LitBy { light, rect: &light_rect, culled: &culled, boxes: &boxes };
-                let counting = Counting { zfail: self.stats.zfail, stencil: self.stencil };
+                let counting = Counting {
+                    zfail: self.stats.zfail,
+                    stencil: self.stencil,
+                    split_near_caps: self.requested.split_near_caps,
+                };
                 let lights = &mut self.buffers[slot];
                 if lights.len() <= index {
                     lights.resize_with(index + 1, Vec::new);
@@ -524,6 +533,8 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
 struct Counting {
     zfail: bool,
     stencil: StencilMode,
+    /// Asked for (`--whole-near-caps` not given); done only where `near_caps` says it is exact.
+    split_near_caps: bool,
 }
 
 /// The light a frame's volumes are built for, its light scissor, and the casters it culls.
@@ -734,7 +745,7 @@ struct BuiltVolume {
 /// are written from ([`VolumeIndices::write`]).
 fn volume_for<'s>(
     scene: &Scene,
-    caster: &Caster,
+    caster: &'s Caster,
     key: VolumeKey,
     counting: Counting,
     scratch: &'s mut VolumeScratch,
@@ -760,23 +771,52 @@ fn volume_for<'s>(
         }
     }
     let once = (volume.sides.len() + volume.near_cap.len() + volume.far_cap.len()) as u32;
-    let mut ranges = vec![IndexRange { first: 0, count: once, times: 1 }];
+    let split = near_caps_split(scene, caster, key, counting).map(|as_drawn| {
+        let lit = &volume.lit_faces;
+        (NearCapSplit::of(lit, as_drawn), as_drawn)
+    });
+    let mut ranges = match split {
+        None => vec![IndexRange { first: 0, count: once, times: 1, drawn_by: DrawnBy::Every }],
+        // Laid out so that each culled pipeline's share is one run (`NearCapSplit::write_once`).
+        Some((groups, _)) => {
+            let ranges = groups.once_ranges(once).into_iter();
+            ranges.map(|(first, count, drawn_by)| IndexRange { first, count, times: 1, drawn_by }).collect()
+        }
+    };
     let mut end = once;
     match counting.stencil {
         // The stencil's ops add 1 a fragment: a repeated list is drawn `times` times over.
         StencilMode::Reference => {
             end += volume.repeated_walls.iter().map(|(times, walls)| times * walls.len() as u32).sum::<u32>();
-            ranges[0].count = end;
+            ranges = vec![IndexRange { first: 0, count: end, times: 1, drawn_by: DrawnBy::Every }];
         }
         // The alpha counter draws it once, adding `times` k.
         StencilMode::Emulated => {
             for (times, walls) in &volume.repeated_walls {
-                ranges.push(IndexRange { first: end, count: walls.len() as u32, times: *times });
+                let count = walls.len() as u32;
+                ranges.push(IndexRange { first: end, count, times: *times, drawn_by: DrawnBy::Every });
                 end += walls.len() as u32;
             }
         }
     }
-    VolumeIndices { volume, volume_vertices: doubled, ranges, len: end as usize, stencil: counting.stencil }
+    VolumeIndices { volume, volume_vertices: doubled, ranges, len: end as usize, stencil: counting.stencil, near_caps: split }
+}
+
+/// Where `caster`'s near caps may each be left to the one pipeline that can see them
+/// (`near_caps`), its faces drawn as the scene pass draws them; `None` where all are drawn by
+/// both: z-fail, the stencil, a closed caster (no near caps in z-pass), a skinned or mirrored
+/// one, or a material the depth buffer does not hold whole.
+fn near_caps_split<'c>(scene: &Scene, caster: &'c Caster, key: VolumeKey, counting: Counting) -> Option<&'c [bool]> {
+    let object = &scene.objects[caster.object];
+    let opaque = matches!(scene.material_of(object).alpha_mode, AlphaMode::Opaque);
+    let eligible = counting.split_near_caps
+        && !counting.zfail
+        && counting.stencil == StencilMode::Emulated
+        && matches!(caster.mesh.path, CastPath::TwoSided { .. })
+        && object.skin.is_none()
+        && key.transform.determinant() > 0.0
+        && opaque;
+    eligible.then_some(caster.mesh.faces_as_drawn.as_slice())
 }
 
 /// A volume built in a scratch, its ranges, and how many indices they hold.
@@ -788,6 +828,9 @@ struct VolumeIndices<'s> {
     len: usize,
     /// Which counter the ranges were laid out for.
     stencil: StencilMode,
+    /// Near caps split by the pipelines that see them: the groups, and which faces the scene
+    /// pass draws as they are.
+    near_caps: Option<(NearCapSplit, &'s [bool])>,
 }
 
 impl VolumeIndices<'_> {
@@ -795,13 +838,19 @@ impl VolumeIndices<'_> {
     /// walls (once each for the alpha counter, `times` times over for the stencil).
     fn write(&self, out: &mut [u32]) {
         let volume = self.volume;
-        let once = [&volume.sides, &volume.near_cap, &volume.far_cap].into_iter();
+        let mut at = 0;
+        let once: [&[u32]; 3] = match self.near_caps {
+            None => [&volume.sides, &volume.near_cap, &volume.far_cap],
+            Some((groups, as_drawn)) => {
+                at = groups.write_once(volume, as_drawn, out);
+                [&[]; 3]
+            }
+        };
         let repeated = volume.repeated_walls.iter().flat_map(|(times, walls)| {
             let times = if self.stencil == StencilMode::Reference { *times as usize } else { 1 };
-            std::iter::repeat(walls).take(times)
+            std::iter::repeat(walls.as_slice()).take(times)
         });
-        let mut at = 0;
-        for list in once.chain(repeated) {
+        for list in once.into_iter().chain(repeated) {
             out[at..at + list.len()].copy_from_slice(list);
             at += list.len();
         }
