@@ -1094,6 +1094,10 @@ fn near_caps_left_to_the_pipeline_that_sees_them_draw_the_whole_image_for_less_w
                     let ([sv, sp, sf], [wv, wp, wf]) = (volume_work(&split), volume_work(&whole));
                     assert!(sv <= wv && sp < wp, "{what}: vertices {sv} of {wv}, primitives {sp} of {wp}");
                     assert!(sf <= wf, "{what}: split near caps shade {sf} fragments, whole ones {wf}");
+                    let one_pipeline =
+                        |frame: &Frame| frame.stats.lights.iter().map(|l| l.near_caps_one_pipeline).sum();
+                    let (split_caps, whole_caps): (u64, u64) = (one_pipeline(&split), one_pipeline(&whole));
+                    assert!(split_caps > 0 && whole_caps == 0, "{what}: near caps split {split_caps}, {whole_caps}");
                 }
             }
         }

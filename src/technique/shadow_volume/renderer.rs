@@ -53,6 +53,19 @@ struct GpuVolume {
     scissor: vk::Rect2D,
 }
 
+impl GpuVolume {
+    /// Its near caps drawn by one counting pipeline (`near_caps`): those before the
+    /// front-keeping pipeline's run, and those after the back-keeping one's.
+    fn near_caps_one_pipeline(&self) -> u64 {
+        let VolumeForm::Indexed { ranges, .. } = &self.form else { return 0 };
+        let run = |by: DrawnBy| ranges.iter().find(|r| r.drawn_by == by);
+        match (run(DrawnBy::FrontKeeping), run(DrawnBy::BackKeeping), run(DrawnBy::Unculled)) {
+            (Some(front), Some(back), Some(whole)) => u64::from(front.first + whole.count - back.count) / 3,
+            _ => 0,
+        }
+    }
+}
+
 /// How a volume reaches the GPU.
 enum VolumeForm {
     /// Its indices chosen on the CPU into its light's and caster's index buffer (Doom 3 BFG),
@@ -458,6 +471,7 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
                 extruded,
                 culled: culled.count(),
                 culling_reused,
+                near_caps_one_pipeline: volumes.iter().map(GpuVolume::near_caps_one_pipeline).sum(),
                 volume_fill: None,
                 volume_samples_passed: 0.0,
             });

@@ -71,6 +71,10 @@ pub struct LightReport {
     /// Whether that culling was decided on an earlier frame: neither the light nor any caster
     /// moved since (and none is skinned), so it was not decided again.
     pub culling_reused: bool,
+    /// Near caps (triangles) of open casters drawn by one counting pipeline instead of both, in
+    /// z-pass: the other one sees them only behind their own faces (`near_caps`;
+    /// `--whole-near-caps` sets this to 0).
+    pub near_caps_one_pipeline: u64,
     /// Fragment shader invocations of this light's volume passes per pixel of the frame: the
     /// volumes' fill (None where the device has no pipeline statistics).
     pub volume_fill: Option<f64>,
@@ -127,12 +131,16 @@ impl FrameStats for ShadowVolumeStats {
             let shadows = if light.shadows {
                 let fill = light.volume_fill.map_or("not measured".into(), |f| format!("{f:.2}"));
                 format!(
-                    "{} volumes ({} extruded on the GPU, {} reused from earlier frames), {} casters culled{} | volume fill {fill} fragments/px, {:.2} samples passed/px{}",
+                    "{} volumes ({} extruded on the GPU, {} reused from earlier frames), {} casters culled{}{} | volume fill {fill} fragments/px, {:.2} samples passed/px{}",
                     light.volumes,
                     light.extruded,
                     light.reused,
                     light.culled,
                     if light.culling_reused { " (decided on an earlier frame)" } else { "" },
+                    match light.near_caps_one_pipeline {
+                        0 => String::new(),
+                        n => format!(", {n} near caps drawn by one pipeline"),
+                    },
                     light.volume_samples_passed,
                     if self.zfail { "" } else { " (the floor: in front of the receivers)" },
                 )
