@@ -55,32 +55,8 @@ fn scene_from_model(mut model: Model, path: &Path, time: f32) -> Result<(Scene, 
             problem: "the file has no triangle meshes to render".into(),
         });
     };
-    warnings.extend(mirrored_objects_warning(&scene));
     fit_ground_and_camera(&mut scene, low, high);
     Ok((scene, warnings))
-}
-
-/// glTF winds a mesh under a mirroring node (a world transform whose determinant is negative)
-/// clockwise; the scene passes take counter-clockwise faces as the front everywhere, so such a
-/// mesh is drawn inside out. Named here rather than left to be found in a frame.
-fn mirrored_objects_warning(scene: &Scene) -> Option<String> {
-    const NAMED: usize = 5;
-    let mirrored: Vec<&str> = scene
-        .objects
-        .iter()
-        .filter(|o| o.skin.is_none() && o.transform.determinant() < 0.0)
-        .map(|o| o.name.as_str())
-        .collect();
-    let more = mirrored.len().saturating_sub(NAMED);
-    let more = if more > 0 { format!(" (and {more} more)") } else { String::new() };
-    (!mirrored.is_empty()).then(|| {
-        format!(
-            "{} mesh primitive(s) under a mirroring node (negative scale) are drawn inside out: their clockwise \
-             winding is not honoured: {}{more}",
-            mirrored.len(),
-            mirrored[..mirrored.len().min(NAMED)].join(", ")
-        )
-    })
 }
 
 /// The file's first directional light (KHR_lights_punctual, shining along its node's -Z), else

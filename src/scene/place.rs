@@ -68,12 +68,15 @@ pub fn add_model(scene: &mut Scene, rig: &Arc<Rig>, world: &[Mat4]) -> Result<Op
                 "{}#{p}",
                 mesh.name.clone().or_else(|| node.name.clone()).unwrap_or_else(|| format!("node {node_index}"))
             );
-            let data = MeshData {
-                positions,
-                normals,
-                uvs: primitive.uv0.clone().unwrap_or_default(),
-                indices: primitive.indices.clone(),
-            };
+            let mut indices = primitive.indices.clone();
+            // glTF winds a mesh under a mirroring node (negative determinant) clockwise; every
+            // pass here takes counter-clockwise fronts, so its triangles are turned: in the
+            // world they then face out as the file means. (A skinned mesh's node transform is
+            // not its placement; its joints decide, and it is left as it is.)
+            if skin.is_none() && node_world.determinant() < 0.0 {
+                indices.chunks_exact_mut(3).for_each(|t| t.swap(1, 2));
+            }
+            let data = MeshData { positions, normals, uvs: primitive.uv0.clone().unwrap_or_default(), indices };
             // Every mesh of the file casts: each technique decides how (shadow volumes cast an
             // open or non-manifold mesh two-sided) and names in a warning what it cannot use.
             let mesh_index = scene.add_mesh_with_uv1(&label, data, primitive.uv1.clone());

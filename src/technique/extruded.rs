@@ -59,10 +59,14 @@ pub fn smooth_normals(welded: &Welded) -> Vec<Vec3> {
     normals.iter().map(|n| n.normalize_or(Vec3::Y)).collect()
 }
 
-/// The welded mesh with smooth normals, interleaved (`VertexLayout::POSITION_NORMAL`).
-fn vertices(welded: &Welded) -> Vec<[Vec3; 2]> {
+/// The welded mesh with smooth normals, interleaved (`VertexLayout::POSITION_NORMAL`). A rigid
+/// mesh under a mirroring transform is wound clockwise in its own space (the glTF loader turns
+/// its triangles to face out in the world), so its winding's normals point in there: they are
+/// turned back out.
+fn vertices(welded: &Welded, mirrored: bool) -> Vec<[Vec3; 2]> {
+    let out = if mirrored { -1.0 } else { 1.0 };
     let normals = smooth_normals(welded);
-    welded.positions.iter().zip(&normals).map(|(p, n)| [*p, *n]).collect()
+    welded.positions.iter().zip(&normals).map(|(p, n)| [*p, out * *n]).collect()
 }
 
 /// A pipeline that draws extruded copies in one colour.
@@ -100,7 +104,8 @@ impl ExtrudedCopies {
         for (index, object) in scene.objects.iter().enumerate() {
             let mesh = weld_object(scene, index)?;
             let name = format!("{} (extruded)", object.name);
-            meshes.push(GpuMesh::from_raw(gpu, &name, &vertices(&mesh), &mesh.indices)?);
+            let mirrored = object.skin.is_none() && object.transform.determinant() < 0.0;
+            meshes.push(GpuMesh::from_raw(gpu, &name, &vertices(&mesh, mirrored), &mesh.indices)?);
             welded.push(mesh);
         }
         Ok(ExtrudedCopies { welded, meshes, cpu_pose: PoseTracker::new(scene), slot_poses: SlotPoses::new(scene) })
@@ -126,7 +131,8 @@ impl ExtrudedCopies {
             if skin.positions.len() < welded.remap.len() {
                 continue;
             }
-            mesh.write_posed(gpu, slot, &format!("{} (extruded, posed)", object.name), &vertices(welded))?;
+            let name = format!("{} (extruded, posed)", object.name);
+            mesh.write_posed(gpu, slot, &name, &vertices(welded, false))?;
         }
         Ok(moved)
     }

@@ -20,6 +20,7 @@ mod ink_methods;
 mod lights;
 mod maps_per_light;
 mod materials;
+mod mirrored;
 mod msaa_samples;
 mod outline_methods;
 mod plan;

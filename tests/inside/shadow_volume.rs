@@ -814,15 +814,20 @@ fn the_command_line_names_a_mesh_that_casts_no_shadow() {
     assert!(!stderr.contains("'sheet"), "the sheet casts: {stderr}");
 }
 
-/// A caster mirrored by its transform (negative determinant: every winding flips on screen) and
-/// one wound inside out (closed, normals pointing in) still shadow their projected outline.
+/// A caster mirrored by its transform (negative determinant: every winding flips on screen, its
+/// triangles turned to face out in the world as the glTF loader turns them) and one wound
+/// inside out (closed, normals pointing in) still shadow their projected outline.
 #[test]
 fn mirrored_and_inside_out_casters_shadow_their_projected_outline() {
     let gpu = common::gpu();
+    // Mirrored as the glTF loader places a mirrored node: the transform mirrors, and the mesh's
+    // triangles are turned so that they face out in the world.
     let mut mirrored = builtin_scene("box").expect("scene");
     for object in mirrored.objects.iter_mut().filter(|o| o.name == "box") {
         object.transform *= Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0));
     }
+    let mesh = mirrored.object("box").expect("box").mesh;
+    mirrored.meshes[mesh].data.indices.chunks_exact_mut(3).for_each(|t| t.swap(1, 2));
     let mut inside_out = builtin_scene("box").expect("scene");
     let mesh = inside_out.object("box").expect("box").mesh;
     for t in inside_out.meshes[mesh].data.indices.chunks_exact_mut(3) {
@@ -838,6 +843,10 @@ fn mirrored_and_inside_out_casters_shadow_their_projected_outline() {
             assert!(iou >= 0.99, "{label} {method:?}: intersection over union {iou:.4}");
         }
     }
+    // The mirrored box is a solid wound as its own space should be: it keeps the silhouette path.
+    let frame = render_sized(&gpu, &mirrored, StencilMode::Emulated, seed(), (128, 96));
+    let paths: Vec<&str> = frame.stats.casters.iter().map(|c| c.path).collect();
+    assert_eq!(paths, ["silhouette"], "{:?}", frame.stats.casters);
     common::assert_no_validation_messages(&gpu);
 }
 

@@ -48,7 +48,7 @@ mod problem;
 mod repair;
 mod skins;
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;
 
 use std::collections::HashMap;
 use std::path::Path;

@@ -23,7 +23,15 @@ pub fn prepare_casters(scene: &Scene) -> (Vec<Caster>, Vec<String>) {
     for (object, o) in scene.objects.iter().enumerate().filter(|(_, o)| o.casts_shadow) {
         let data = &scene.meshes[o.mesh].data;
         let name = format!("{} (object '{}')", scene.meshes[o.mesh].name, o.name);
-        match CasterMesh::prepare(&name, &data.positions, &data.indices) {
+        // A rigid mesh under a mirroring transform is wound clockwise in its own space (faces
+        // out in the world: `scene::place`): its caster takes it turned back, wound as a solid's
+        // own space is, and `volume_for` turns the volume's triangles for the mirror.
+        let indices = if o.skin.is_none() && o.transform.determinant() < 0.0 {
+            std::borrow::Cow::Owned(data.indices.chunks_exact(3).flat_map(|t| [t[0], t[2], t[1]]).collect())
+        } else {
+            std::borrow::Cow::Borrowed(data.indices.as_slice())
+        };
+        match CasterMesh::prepare(&name, &data.positions, &indices) {
             Ok(mesh) => casters.push(Caster { object, mesh }),
             Err(e) => warnings.push(format!("casts no shadow: {e}")),
         }

@@ -282,21 +282,6 @@ fn points_and_lines_are_skipped_with_a_warning() {
 }
 
 #[test]
-fn a_mesh_under_a_mirroring_node_is_named_in_a_warning() {
-    let dir = assets();
-    let bytes = std::fs::read(dir.join("Box.glb")).unwrap();
-    let (_, plain) = crate::scene::scene_and_warnings_from_gltf_slice(&bytes, Path::new("Box.glb"), 0.0).unwrap();
-    assert!(!plain.iter().any(|w| w.contains("mirroring")), "{plain:?}");
-    let (mut json, bin) = glb_parts(&bytes);
-    json["nodes"][1]["scale"] = json!([-1.0, 1.0, 1.0]);
-    let path = Path::new("Mirrored.glb");
-    let (_, warnings) = crate::scene::scene_and_warnings_from_gltf_slice(&make_glb(&json, &bin), path, 0.0).unwrap();
-    let mirrored: Vec<&String> = warnings.iter().filter(|w| w.contains("mirroring")).collect();
-    assert_eq!(mirrored.len(), 1, "{warnings:?}");
-    assert!(mirrored[0].starts_with("1 mesh primitive(s)") && mirrored[0].contains("Mesh#0"), "{mirrored:?}");
-}
-
-#[test]
 fn unnormalised_and_zero_weights_are_repaired() {
     let dir = assets();
     let (json, mut bin) = glb_parts(&std::fs::read(dir.join("RiggedSimple.glb")).unwrap());

@@ -66,7 +66,7 @@ impl Drop for TempDir {
 }
 
 /// JSON and BIN chunks of a well-formed GLB.
-pub(super) fn glb_parts(bytes: &[u8]) -> (Value, Vec<u8>) {
+pub(crate) fn glb_parts(bytes: &[u8]) -> (Value, Vec<u8>) {
     let u32_at = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap()) as usize;
     let json_len = u32_at(12);
     let json: Value = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
@@ -80,7 +80,7 @@ pub(super) fn glb_parts(bytes: &[u8]) -> (Value, Vec<u8>) {
     (json, bin)
 }
 
-pub(super) fn make_glb(json: &Value, bin: &[u8]) -> Vec<u8> {
+pub(crate) fn make_glb(json: &Value, bin: &[u8]) -> Vec<u8> {
     let mut text = serde_json::to_vec(json).unwrap();
     while text.len() % 4 != 0 {
         text.push(b' ');
