@@ -48,6 +48,21 @@ pub struct SceneObject {
     pub mesh_instance: Option<u32>,
 }
 
+impl SceneObject {
+    /// A rigid object under a mirroring transform (negative determinant). glTF winds its mesh
+    /// clockwise; the loader turns its triangles to face out in the world (`scene::place`), so
+    /// in its own space the mesh is wound inside out. A skinned object is placed by its joints,
+    /// not its transform, and is never taken as mirrored.
+    pub fn mirrored(&self) -> bool {
+        Self::mirrors(&self.transform, self.skin.is_some())
+    }
+
+    /// [`SceneObject::mirrored`] for an object about to be placed with `transform`.
+    pub fn mirrors(transform: &Mat4, skinned: bool) -> bool {
+        !skinned && transform.determinant() < 0.0
+    }
+}
+
 /// A skinned object's bind-pose vertices, four influences each, and this frame's joint palette.
 #[derive(Debug, Clone)]
 pub struct SceneSkin {

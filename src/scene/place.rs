@@ -7,7 +7,7 @@ use std::sync::Arc;
 use glam::{Mat4, Vec3};
 
 use super::model::{Material, Model, TextureRef};
-use super::objects::{Scene, SceneSkin};
+use super::objects::{Scene, SceneObject, SceneSkin};
 use super::rig::{ObjectRig, Rig};
 use super::skinning::{joint_matrices, skin_positions_normals};
 use crate::error::Result;
@@ -73,7 +73,7 @@ pub fn add_model(scene: &mut Scene, rig: &Arc<Rig>, world: &[Mat4]) -> Result<Op
             // pass here takes counter-clockwise fronts, so its triangles are turned: in the
             // world they then face out as the file means. (A skinned mesh's node transform is
             // not its placement; its joints decide, and it is left as it is.)
-            if skin.is_none() && node_world.determinant() < 0.0 {
+            if SceneObject::mirrors(&node_world, skin.is_some()) {
                 indices.chunks_exact_mut(3).for_each(|t| t.swap(1, 2));
             }
             let data = MeshData { positions, normals, uvs: primitive.uv0.clone().unwrap_or_default(), indices };

@@ -104,8 +104,7 @@ impl ExtrudedCopies {
         for (index, object) in scene.objects.iter().enumerate() {
             let mesh = weld_object(scene, index)?;
             let name = format!("{} (extruded)", object.name);
-            let mirrored = object.skin.is_none() && object.transform.determinant() < 0.0;
-            meshes.push(GpuMesh::from_raw(gpu, &name, &vertices(&mesh, mirrored), &mesh.indices)?);
+            meshes.push(GpuMesh::from_raw(gpu, &name, &vertices(&mesh, object.mirrored()), &mesh.indices)?);
             welded.push(mesh);
         }
         Ok(ExtrudedCopies { welded, meshes, cpu_pose: PoseTracker::new(scene), slot_poses: SlotPoses::new(scene) })

@@ -26,7 +26,7 @@ pub fn prepare_casters(scene: &Scene) -> (Vec<Caster>, Vec<String>) {
         // A rigid mesh under a mirroring transform is wound clockwise in its own space (faces
         // out in the world: `scene::place`): its caster takes it turned back, wound as a solid's
         // own space is, and `volume_for` turns the volume's triangles for the mirror.
-        let indices = if o.skin.is_none() && o.transform.determinant() < 0.0 {
+        let indices = if o.mirrored() {
             std::borrow::Cow::Owned(data.indices.chunks_exact(3).flat_map(|t| [t[0], t[2], t[1]]).collect())
         } else {
             std::borrow::Cow::Borrowed(data.indices.as_slice())
