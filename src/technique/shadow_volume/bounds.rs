@@ -137,31 +137,46 @@ pub fn caster_bounds(light: &Light, caster: Aabb, receivers: Aabb) -> CasterBoun
             (corners.map(|c| c + t * direction), Reach::Along(t), hulls.collect())
         }
         Light::Point { position } => {
+            // The axes along which the whole caster lies on one side of the light, each with
+            // the receivers' face its rays leave by, and the scale from the light at which a
+            // ray through `c` meets that face's plane (depends on `c` along that axis only).
+            let sides: Vec<(usize, f32)> = (0..3)
+                .filter_map(|i| {
+                    let ahead = corners.iter().all(|c| c[i] > position[i]);
+                    let behind = corners.iter().all(|c| c[i] < position[i]);
+                    (ahead || behind).then_some((i, if ahead { receivers.hi[i] } else { receivers.lo[i] }))
+                })
+                .collect();
+            let exit_scale = |i: usize, exit: f32, c: Vec3| (exit - position[i]) / (c[i] - position[i]);
             // Every point of the caster is at least `nearest` from the light, and every
             // receiver at most `farthest`: scaled from the light by farthest / nearest, the
-            // caster lies beyond every receiver.
+            // caster lies beyond every receiver. Tighter along a side axis: every ray through
+            // the caster has left that slab (grown by the margin) by the greatest of its
+            // corners' exit scales, so the receivers by the least such over the side axes (a
+            // lamp over a floor: just past the floor under the caster).
             let nearest = caster.distance_to(position);
             let farthest = receivers.corners().iter().map(|c| c.distance(position)).fold(0.0, f32::max) + margin;
-            let scale = farthest / nearest;
+            let slab_exit = sides
+                .iter()
+                .map(|&(i, exit)| {
+                    let grown = exit + margin * (exit - position[i]).signum();
+                    corners.iter().map(|&c| exit_scale(i, grown, c)).fold(0.0, f32::max)
+                })
+                .fold(f32::MAX, f32::min);
+            let scale = (farthest / nearest).min(slab_exit);
             if !(nearest > 0.0 && scale.is_finite() && scale <= MAX_SCALE) {
                 return CasterBounds::unbounded(receivers);
             }
             let scale = scale.max(1.0 + MARGIN);
-            // Where the whole caster lies on one side of the light along axis i, its rays
-            // leave the receivers' slab i where the caster's central image on that face plane
-            // is: the volume's part inside lies between the caster and that image.
-            let hulls =
-                (0..3).filter_map(|i| {
-                    let ahead = corners.iter().all(|c| c[i] > position[i]);
-                    let behind = corners.iter().all(|c| c[i] < position[i]);
-                    let exit = if ahead { receivers.hi[i] } else { receivers.lo[i] };
-                    (ahead || behind).then(|| {
-                        with_image(corners.map(|c| {
-                            position + ((exit - position[i]) / (c[i] - position[i])).max(1.0) * (c - position)
-                        }))
-                    })
-                });
-            let hulls = hulls.collect();
+            // Along a side axis the caster's rays leave the receivers' slab where the caster's
+            // central image on that face plane is: the volume's part inside lies between the
+            // caster and that image.
+            let hulls = sides
+                .iter()
+                .map(|&(i, exit)| {
+                    with_image(corners.map(|c| position + exit_scale(i, exit, c).max(1.0) * (c - position)))
+                })
+                .collect();
             (corners.map(|c| position + scale * (c - position)), Reach::Scaled(scale), hulls)
         }
     };
@@ -374,6 +389,24 @@ mod tests {
         for c in caster.corners() {
             let far = Vec3::new(0.0, 3.0, 0.0) + scale * (c - Vec3::new(0.0, 3.0, 0.0));
             assert!(receivers.distance_to(far) > 0.0, "{far} is still inside the receivers");
+        }
+    }
+
+    #[test]
+    fn a_lamp_over_a_wide_floor_reaches_just_past_the_floor() {
+        // The floor's far corners are 70 away, the caster 2.5 from the lamp: scaled to reach
+        // them the volume would run 29 times the caster's distance, where its rays leave the
+        // floor's slab at under 3 times it.
+        let receivers = Aabb { lo: Vec3::new(-50.0, 0.0, -50.0), hi: Vec3::new(50.0, 3.0, 50.0) };
+        let lamp = Vec3::new(0.0, 5.0, 0.0);
+        let caster = unit_box(Vec3::new(0.5, 2.0, 0.0), 0.5);
+        let bounds = caster_bounds(&Light::Point { position: lamp }, caster, receivers);
+        let Reach::Scaled(scale) = bounds.reach else { panic!("{:?}", bounds.reach) };
+        let margin = MARGIN * receivers.diagonal();
+        assert!(scale < (5.0 + margin) / 2.5 + 1e-4, "{scale}");
+        for c in caster.corners() {
+            let far = lamp + scale * (c - lamp);
+            assert!(far.y <= -margin + 1e-4, "{far} is not past the floor by the margin");
         }
     }
 
