@@ -47,6 +47,46 @@ pub struct LightNode {
     pub node: usize,
 }
 
+/// Radians added to a spot's outer cone angle before anything is left out for lying outside
+/// it: far more than the rounding of the shader's cone factor, so nothing it lights is lost.
+pub const CONE_MARGIN: f32 = 0.01;
+
+/// A spot light's cone: the points whose direction from `apex` is within `half_angle` of
+/// `axis` (unit).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cone {
+    pub apex: Vec3,
+    pub axis: Vec3,
+    pub half_angle: f32,
+}
+
+impl Cone {
+    /// Whether the cone meets the box `low..high`, conservatively: it does where it meets the
+    /// box's bounding sphere (the angle to the sphere's centre, less the angle the sphere
+    /// subtends, is within the cone's).
+    pub fn meets_box(&self, low: Vec3, high: Vec3) -> bool {
+        let (centre, radius) = ((low + high) * 0.5, (high - low).length() * 0.5);
+        let to_centre = centre - self.apex;
+        let distance = to_centre.length();
+        if distance <= radius {
+            return true;
+        }
+        let off_axis = (to_centre.dot(self.axis) / distance).clamp(-1.0, 1.0).acos();
+        off_axis - (radius / distance).asin() <= self.half_angle
+    }
+
+    /// The corners of a pyramid that holds the cone's part within `height` of its apex along
+    /// the axis: the apex, and a square around the cone's circle at that height.
+    pub fn pyramid(&self, height: f32) -> [Vec3; 5] {
+        let side = self.axis.any_orthonormal_vector();
+        let up = self.axis.cross(side);
+        let centre = self.apex + self.axis * height;
+        let half = height * self.half_angle.tan();
+        let corner = |a: f32, b: f32| centre + (side * a + up * b) * half;
+        [self.apex, corner(1.0, 1.0), corner(1.0, -1.0), corner(-1.0, -1.0), corner(-1.0, 1.0)]
+    }
+}
+
 /// Where a light can reach: what casters and receivers it can touch.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Reach {
@@ -111,12 +151,32 @@ impl SceneLight {
         }
     }
 
-    /// Whether the light can reach anything of the box `low..high`.
+    /// Whether the light can reach anything of the box `low..high`: its range's sphere, and a
+    /// spot's cone.
     pub fn reaches_box(&self, low: Vec3, high: Vec3) -> bool {
-        match self.reach() {
+        let in_range = match self.reach() {
             Reach::Everywhere => true,
             Reach::Sphere { centre, radius } => centre.clamp(low, high).distance_squared(centre) <= radius * radius,
-        }
+        };
+        in_range && self.cone().map_or(true, |cone| cone.meets_box(low, high))
+    }
+
+    /// A spot light's cone, widened by [`CONE_MARGIN`]: everything the spot lights lies in it
+    /// (`shaders/lights.glsl` clamps its cone factor to 0 at `dot(direction, towards the
+    /// point)` of cos(outer) and below). `None` for other lights, and for a spot whose cone
+    /// is a half-space or more.
+    pub fn cone(&self) -> Option<Cone> {
+        let LightKind::Spot { outer_cone_angle, .. } = self.kind else { return None };
+        // The shader takes `direction` as given: with |direction| != 1 the edge is where the
+        // unit axis meets the way to the point at cos(outer) / |direction|.
+        let length = self.direction.length();
+        let cos_edge = outer_cone_angle.cos() / length;
+        let half_angle = cos_edge.clamp(-1.0, 1.0).acos() + CONE_MARGIN;
+        (length > 0.0 && half_angle < std::f32::consts::FRAC_PI_2).then(|| Cone {
+            apex: self.position,
+            axis: self.direction / length,
+            half_angle,
+        })
     }
 
     /// KHR_lights_punctual's spot attenuation as `clamp(cos * scale + offset, 0, 1)`: (scale,
@@ -336,6 +396,7 @@ pub fn check_count(lights: &[SceneLight]) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec2;
 
     fn spot(inner: f32, outer: f32) -> SceneLight {
         SceneLight {
@@ -355,6 +416,32 @@ mod tests {
         assert!((attenuation(std::f32::consts::FRAC_PI_4 * 0.5) - 0.7).abs() < 0.1);
         let point = SceneLight::from_geometry(Light::Point { position: Vec3::ZERO });
         assert_eq!(point.cone_scale_offset(), (0.0, 1.0));
+    }
+
+    #[test]
+    fn a_spots_cone_holds_every_box_it_lights_and_leaves_out_the_rest() {
+        // Pointing down from (0, 4, 0), 0.5 rad: on the floor (4 below) it lights a disc of
+        // radius 4 tan 0.5 = 2.19.
+        let light = SceneLight { range: None, ..spot(0.1, 0.5) };
+        let cone = light.cone().expect("a spot has a cone");
+        assert_eq!(cone.half_angle, 0.5 + CONE_MARGIN);
+        let floor_tile = |x: f32| (Vec3::new(x - 0.1, -0.1, -0.1), Vec3::new(x + 0.1, 0.0, 0.1));
+        for (x, lit) in [(0.0, true), (2.0, true), (2.25, true), (2.6, false), (-3.0, false)] {
+            let (lo, hi) = floor_tile(x);
+            assert_eq!(light.reaches_box(lo, hi), lit, "a tile at x = {x}");
+        }
+        // Above the light, behind the cone; around the apex.
+        assert!(!light.reaches_box(Vec3::new(-0.5, 6.0, -0.5), Vec3::new(0.5, 7.0, 0.5)));
+        assert!(light.reaches_box(Vec3::new(-0.1, 3.9, -0.1), Vec3::new(0.1, 4.1, 0.1)));
+        // Every corner of the pyramid's base lies outside the cone's circle at that height.
+        let [apex, base @ ..] = cone.pyramid(4.0);
+        assert_eq!(apex, light.position);
+        for corner in base {
+            assert!((corner.y - 0.0).abs() < 1e-5 && Vec2::new(corner.x, corner.z).length() >= 4.0 * cone.half_angle.tan());
+        }
+        // No cone for a point light, nor for a spot as wide as a half-space.
+        assert!(SceneLight::from_geometry(Light::Point { position: Vec3::ZERO }).cone().is_none());
+        assert!(spot(0.1, std::f32::consts::FRAC_PI_2).cone().is_none());
     }
 
     #[test]

@@ -14,10 +14,13 @@ use glam::{Mat4, Vec3};
 use image::RgbaImage;
 use nostencil::frame::render_pass::COLOUR_FORMAT;
 use nostencil::mesh::MeshData;
+use nostencil::render::plan::Scissor;
 use nostencil::render::plan::{Draws, PassKinds, PlannedPass};
 use nostencil::render::FrameRecorder;
 use nostencil::render::Pipeline;
 use nostencil::render::Renderer;
+use nostencil::scene::lights::parse_light_spec;
+use nostencil::technique::shadow_volume::bounds;
 use nostencil::technique::shadow_volume::{self, Normalize, ShadowVolumeOptions, VolumeMethod};
 use nostencil::technique::{alpha_counter, ShadowTone};
 use nostencil::Gpu;
@@ -967,6 +970,92 @@ fn clipped_volumes_draw_the_unclipped_image_with_fewer_fragments() {
     let frames = BUILTIN_SCENES.len() as u64 * 2 * u64::from(SIZE.0 * SIZE.1);
     assert!(edge_changes * 1000 < frames, "clipping changed {edge_changes} pixels of {frames}");
     assert!(clipped_total * 10 < unclipped_total * 9, "clipping saves under 10%: {clipped_total} of {unclipped_total}");
+    common::assert_no_validation_messages(&gpu);
+}
+
+/// A narrow spot: its cone (widened by `CONE_MARGIN`) bounds the casters it draws volumes for
+/// and the rectangle its passes draw in (Doom 3's light volume and light scissor). Every pixel
+/// the spot lights lies in that rectangle; in the additive loop at 1 and 4 samples each
+/// emulated normalisation equals the reference, and the frame equals the unclipped one; the
+/// spot's passes shade a fraction of the unclipped fragments, for fewer volumes.
+#[test]
+fn a_narrow_spots_cone_bounds_its_casters_and_its_passes() {
+    let gpu = common::gpu();
+    let base = builtin_scene("default").expect("scene");
+    let mut scene = base.clone();
+    let spot =
+        parse_light_spec("spot:name=narrow:at=-2.5,5,2:aim=-1.6,0.8,0:inner=6:outer=10:intensity=30").expect("spot");
+    scene.lights.push(spot.clone());
+
+    let extent = vk::Extent2D { width: SIZE.0, height: SIZE.1 };
+    let receivers = bounds::receivers_box(&bounds::object_boxes(&scene));
+    let Scissor::Rects(rects) = bounds::light_scissor(&spot, receivers, &scene.camera, extent) else {
+        panic!("a spot has a scissor rectangle")
+    };
+    let [rect] = rects[..] else { panic!("one rectangle: {rects:?}") };
+    let (without, with) = (lit(&gpu, &base), lit(&gpu, &scene));
+    let lit_by_spot: Vec<(u32, u32)> = (0..SIZE.1)
+        .flat_map(|y| (0..SIZE.0).map(move |x| (x, y)))
+        .filter(|&(x, y)| without.get_pixel(x, y).0[..3] != with.get_pixel(x, y).0[..3])
+        .collect();
+    assert!(lit_by_spot.len() > 100, "the spot lights {} pixels", lit_by_spot.len());
+    let inside = |&(x, y): &(u32, u32)| {
+        let (x, y) = (x as i32, y as i32);
+        x >= rect.offset.x
+            && y >= rect.offset.y
+            && x < rect.offset.x + rect.extent.width as i32
+            && y < rect.offset.y + rect.extent.height as i32
+    };
+    let outside: Vec<_> = lit_by_spot.iter().filter(|p| !inside(p)).collect();
+    assert!(outside.is_empty(), "lit outside the spot's scissor {rect:?}: {outside:?}");
+    let area = rect.extent.width * rect.extent.height;
+    assert!(area * 4 < SIZE.0 * SIZE.1, "the cone's rectangle {rect:?} is a quarter of the frame or more");
+
+    let spot_fragments = |frame: &Frame| -> u64 {
+        let passes = frame.output.counters.passes.iter().filter(|p| p.name.starts_with("narrow:"));
+        passes.filter_map(|p| p.fragment_invocations).sum()
+    };
+    let spot_volumes = |frame: &Frame| frame.stats.lights.iter().find(|l| l.name == "narrow").map(|l| l.volumes);
+    for samples in [1, 4] {
+        let frame = |stencil, normalize, clip_volumes| {
+            let options = ShadowVolumeOptions { normalize, clip_volumes, ..seed() };
+            let options = RenderOptions {
+                samples,
+                ..render_options(stencil, ShadowMode::Additive, options, SIZE, ShadowTone::default())
+            };
+            frame_of(&gpu, &scene, &options).expect("shadow-volume frame")
+        };
+        let reference = frame(StencilMode::Reference, Normalize::Seed, true);
+        for &normalize in Normalize::ALL {
+            let emulated = frame(StencilMode::Emulated, normalize, true);
+            let differing = rgb_differences(&emulated.output.image, &reference.output.image);
+            assert_eq!(differing, 0, "{samples}x {}: {differing} pixels differ from the reference", normalize.name());
+        }
+        // Clipping flips a grazing pixel now and then (`clipped_volumes_draw_the_unclipped_image_with_fewer_fragments`):
+        // with the spot, it flips none that it does not flip without it.
+        let unclipped = frame(StencilMode::Reference, Normalize::Seed, false);
+        let base_frame = |clip_volumes| {
+            let options = ShadowVolumeOptions { clip_volumes, ..seed() };
+            let options = RenderOptions {
+                samples,
+                ..render_options(StencilMode::Reference, ShadowMode::Additive, options, SIZE, ShadowTone::default())
+            };
+            frame_of(&gpu, &base, &options).expect("shadow-volume frame").output.image
+        };
+        let (base_clipped, base_unclipped) = (base_frame(true), base_frame(false));
+        let flipped = |a: &RgbaImage, b: &RgbaImage| -> HashSet<usize> {
+            let pixels = a.chunks_exact(4).zip(b.chunks_exact(4)).enumerate();
+            pixels.filter(|(_, (p, q))| p[..3] != q[..3]).map(|(i, _)| i).collect()
+        };
+        let with_spot = flipped(&reference.output.image, &unclipped.output.image);
+        let without = flipped(&base_clipped, &base_unclipped);
+        let added: Vec<_> = with_spot.difference(&without).collect();
+        assert!(added.is_empty(), "{samples}x: with the spot, clipping flips pixels {added:?}");
+        let (clipped, whole) = (spot_fragments(&reference), spot_fragments(&unclipped));
+        assert!(clipped * 4 < whole, "{samples}x: the spot's passes shade {clipped} fragments, unclipped {whole}");
+        let (drawn, all) = (spot_volumes(&reference), spot_volumes(&unclipped));
+        assert!(drawn < all, "{samples}x: the spot drew {drawn:?} volumes, unclipped {all:?}");
+    }
     common::assert_no_validation_messages(&gpu);
 }
 

@@ -13,6 +13,7 @@ use ash::vk;
 use glam::{Vec3, Vec4};
 
 use crate::gpu::Gpu;
+use super::convex_region::ConvexSolid;
 use crate::mesh::Reach;
 use crate::render::jobs;
 use crate::render::plan::Scissor;
@@ -258,17 +259,36 @@ pub fn rect_intersection(a: vk::Rect2D, b: vk::Rect2D) -> Option<vk::Rect2D> {
 }
 
 /// Doom 3's light scissor: the screen rectangle around what light `light` can reach of the
-/// receivers (its range's sphere, for a point or spot light with a range), where its passes
-/// draw; the whole frame for a light that reaches everywhere, and no rectangle for one that
-/// reaches nothing on screen.
+/// receivers, where its passes draw: for a point or spot light with a range, the part of the
+/// receivers' box in its sphere's box; for a spot, that part's overlap with its cone (a
+/// pyramid around the cone, as deep as the range or the farthest receiver). The whole frame
+/// for a light that reaches everywhere, and no rectangle for one that reaches nothing on
+/// screen.
 pub fn light_scissor(light: &SceneLight, receivers: Option<Aabb>, camera: &Camera, extent: vk::Extent2D) -> Scissor {
-    let LightReach::Sphere { centre, radius } = light.reach() else { return Scissor::Frame };
-    let sphere = Aabb { lo: centre - Vec3::splat(radius), hi: centre + Vec3::splat(radius) };
-    let region = match receivers {
-        Some(receivers) => sphere.intersection(receivers),
-        None => None,
+    let sphere = match light.reach() {
+        LightReach::Sphere { centre, radius } => Some((centre, radius)),
+        LightReach::Everywhere => None,
     };
-    Scissor::Rects(region.and_then(|r| screen_rect(&r.corners(), camera, extent)).into_iter().collect())
+    let cone = light.cone();
+    if sphere.is_none() && cone.is_none() {
+        return Scissor::Frame;
+    }
+    let rect = receivers.and_then(|receivers| {
+        let region = match sphere {
+            Some((centre, radius)) => {
+                Aabb { lo: centre - Vec3::splat(radius), hi: centre + Vec3::splat(radius) }.intersection(receivers)?
+            }
+            None => receivers,
+        };
+        let Some(cone) = cone else { return screen_rect(&region.corners(), camera, extent) };
+        // Every receiver lies within `farthest` of the apex, so its part in the cone within
+        // that height along the axis, inside the pyramid.
+        let farthest = region.corners().iter().map(|c| c.distance(cone.apex)).fold(0.0, f32::max);
+        let height = sphere.map_or(farthest, |(_, radius)| radius.min(farthest));
+        let pyramid = ConvexSolid::pyramid(&cone.pyramid(height));
+        screen_rect(&pyramid.overlap_corners(&ConvexSolid::of_box(region)), camera, extent)
+    });
+    Scissor::Rects(rect.into_iter().collect())
 }
 
 /// `rect` less `pixels` on every side; `None` when nothing is left.

@@ -5,6 +5,7 @@
 
 pub mod bounds;
 pub mod casters;
+pub mod convex_region;
 pub mod culling;
 pub mod doubled;
 pub mod gpu_extrusion;
