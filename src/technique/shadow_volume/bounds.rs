@@ -286,7 +286,7 @@ pub fn light_scissor(light: &SceneLight, receivers: Option<Aabb>, camera: &Camer
         let farthest = region.corners().iter().map(|c| c.distance(cone.apex)).fold(0.0, f32::max);
         let height = sphere.map_or(farthest, |(_, radius)| radius.min(farthest));
         let pyramid = ConvexSolid::pyramid(&cone.pyramid(height));
-        screen_rect(&pyramid.overlap_corners(&ConvexSolid::of_box(region)), camera, extent)
+        screen_rect(&pyramid.overlap_corners(&ConvexSolid::of_box(region.lo, region.hi)), camera, extent)
     });
     Scissor::Rects(rect.into_iter().collect())
 }

@@ -7,8 +7,6 @@
 
 use glam::Vec3;
 
-use super::bounds::Aabb;
-
 /// A convex solid: its faces as polygons, and its planes as (outward normal, offset): a point
 /// `p` is inside where `normal.dot(p) <= offset` for every plane.
 #[derive(Debug, Clone)]
@@ -18,14 +16,17 @@ pub struct ConvexSolid {
 }
 
 impl ConvexSolid {
-    pub fn of_box(aabb: Aabb) -> Self {
-        let c = aabb.corners();
-        // Corner i has x from bit 0, y from bit 1, z from bit 2 (`Aabb::corners`).
+    /// The box `lo..hi`.
+    pub fn of_box(lo: Vec3, hi: Vec3) -> Self {
+        // Corner i has x from bit 0, y from bit 1, z from bit 2.
+        let c: [Vec3; 8] = std::array::from_fn(|i| {
+            Vec3::new([lo.x, hi.x][i & 1], [lo.y, hi.y][(i >> 1) & 1], [lo.z, hi.z][(i >> 2) & 1])
+        });
         let faces = [[0, 2, 6, 4], [1, 3, 7, 5], [0, 1, 5, 4], [2, 3, 7, 6], [0, 1, 3, 2], [4, 5, 7, 6]];
         let planes = (0..3)
             .flat_map(|axis| {
                 let normal = Vec3::AXES[axis];
-                [(-normal, -aabb.lo[axis]), (normal, aabb.hi[axis])]
+                [(-normal, -lo[axis]), (normal, hi[axis])]
             })
             .collect();
         ConvexSolid { faces: faces.iter().map(|f| f.iter().map(|&i| c[i]).collect()).collect(), planes }
@@ -82,7 +83,7 @@ mod tests {
     use super::*;
 
     fn unit_cube() -> ConvexSolid {
-        ConvexSolid::of_box(Aabb { lo: Vec3::ZERO, hi: Vec3::ONE })
+        ConvexSolid::of_box(Vec3::ZERO, Vec3::ONE)
     }
 
     fn bounds(points: &[Vec3]) -> (Vec3, Vec3) {
@@ -91,7 +92,7 @@ mod tests {
 
     #[test]
     fn a_box_overlapping_a_box_has_the_corners_of_their_common_box() {
-        let shifted = ConvexSolid::of_box(Aabb { lo: Vec3::splat(0.5), hi: Vec3::splat(2.0) });
+        let shifted = ConvexSolid::of_box(Vec3::splat(0.5), Vec3::splat(2.0));
         let (lo, hi) = bounds(&unit_cube().overlap_corners(&shifted));
         assert!(lo.abs_diff_eq(Vec3::splat(0.5), 1e-6) && hi.abs_diff_eq(Vec3::ONE, 1e-6), "{lo} {hi}");
     }
@@ -103,7 +104,7 @@ mod tests {
         let apex = Vec3::new(0.0, 4.0, 0.0);
         let base = |x: f32, z: f32| Vec3::new(x, -4.0, z);
         let pyramid = ConvexSolid::pyramid(&[apex, base(4.0, 4.0), base(4.0, -4.0), base(-4.0, -4.0), base(-4.0, 4.0)]);
-        let slab = ConvexSolid::of_box(Aabb { lo: Vec3::new(-10.0, 0.0, -10.0), hi: Vec3::new(10.0, 1.0, 10.0) });
+        let slab = ConvexSolid::of_box(Vec3::new(-10.0, 0.0, -10.0), Vec3::new(10.0, 1.0, 10.0));
         let (lo, hi) = bounds(&pyramid.overlap_corners(&slab));
         assert!(lo.abs_diff_eq(Vec3::new(-2.0, 0.0, -2.0), 1e-5), "{lo}");
         assert!(hi.abs_diff_eq(Vec3::new(2.0, 1.0, 2.0), 1e-5), "{hi}");
@@ -111,14 +112,14 @@ mod tests {
 
     #[test]
     fn solids_apart_have_no_overlap() {
-        let far = ConvexSolid::of_box(Aabb { lo: Vec3::splat(3.0), hi: Vec3::splat(4.0) });
+        let far = ConvexSolid::of_box(Vec3::splat(3.0), Vec3::splat(4.0));
         assert!(unit_cube().overlap_corners(&far).is_empty());
     }
 
     #[test]
     fn a_solid_inside_another_is_the_overlap() {
-        let inner = Aabb { lo: Vec3::splat(0.25), hi: Vec3::splat(0.5) };
-        let (lo, hi) = bounds(&unit_cube().overlap_corners(&ConvexSolid::of_box(inner)));
-        assert_eq!((lo, hi), (inner.lo, inner.hi));
+        let (inner_lo, inner_hi) = (Vec3::splat(0.25), Vec3::splat(0.5));
+        let (lo, hi) = bounds(&unit_cube().overlap_corners(&ConvexSolid::of_box(inner_lo, inner_hi)));
+        assert_eq!((lo, hi), (inner_lo, inner_hi));
     }
 }
