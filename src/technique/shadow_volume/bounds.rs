@@ -12,8 +12,8 @@
 use ash::vk;
 use glam::{Vec3, Vec4};
 
-use crate::gpu::Gpu;
 use super::convex_region::ConvexSolid;
+use crate::gpu::Gpu;
 use crate::mesh::Reach;
 use crate::render::jobs;
 use crate::render::plan::Scissor;
