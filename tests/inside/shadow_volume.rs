@@ -976,8 +976,9 @@ fn clipped_volumes_draw_the_unclipped_image_with_fewer_fragments() {
 /// A narrow spot: its cone (widened by `CONE_MARGIN`) bounds the casters it draws volumes for
 /// and the rectangle its passes draw in (Doom 3's light volume and light scissor). Every pixel
 /// the spot lights lies in that rectangle; in the additive loop at 1 and 4 samples each
-/// emulated normalisation equals the reference, and the frame equals the unclipped one; the
-/// spot's passes shade a fraction of the unclipped fragments, for fewer volumes.
+/// emulated normalisation equals the reference, clipping flips no pixel with the spot that it
+/// does not flip without it (the grazing flips of clipped walls), and the spot's passes shade
+/// under a quarter of the unclipped fragments, for fewer volumes.
 #[test]
 fn a_narrow_spots_cone_bounds_its_casters_and_its_passes() {
     let gpu = common::gpu();
@@ -1015,16 +1016,20 @@ fn a_narrow_spots_cone_bounds_its_casters_and_its_passes() {
         let passes = frame.output.counters.passes.iter().filter(|p| p.name.starts_with("narrow:"));
         passes.filter_map(|p| p.fragment_invocations).sum()
     };
-    let spot_volumes = |frame: &Frame| frame.stats.lights.iter().find(|l| l.name == "narrow").map(|l| l.volumes);
+    let spot_volumes = |frame: &Frame| {
+        let report = frame.stats.lights.iter().find(|l| l.name == "narrow");
+        report.expect("the spot is reported").volumes
+    };
     for samples in [1, 4] {
-        let frame = |stencil, normalize, clip_volumes| {
+        let frame_of_scene = |scene: &Scene, stencil, normalize, clip_volumes| {
             let options = ShadowVolumeOptions { normalize, clip_volumes, ..seed() };
             let options = RenderOptions {
                 samples,
                 ..render_options(stencil, ShadowMode::Additive, options, SIZE, ShadowTone::default())
             };
-            frame_of(&gpu, &scene, &options).expect("shadow-volume frame")
+            frame_of(&gpu, scene, &options).expect("shadow-volume frame")
         };
+        let frame = |stencil, normalize, clip_volumes| frame_of_scene(&scene, stencil, normalize, clip_volumes);
         let reference = frame(StencilMode::Reference, Normalize::Seed, true);
         for &normalize in Normalize::ALL {
             let emulated = frame(StencilMode::Emulated, normalize, true);
@@ -1034,14 +1039,8 @@ fn a_narrow_spots_cone_bounds_its_casters_and_its_passes() {
         // Clipping flips a grazing pixel now and then (`clipped_volumes_draw_the_unclipped_image_with_fewer_fragments`):
         // with the spot, it flips none that it does not flip without it.
         let unclipped = frame(StencilMode::Reference, Normalize::Seed, false);
-        let base_frame = |clip_volumes| {
-            let options = ShadowVolumeOptions { clip_volumes, ..seed() };
-            let options = RenderOptions {
-                samples,
-                ..render_options(StencilMode::Reference, ShadowMode::Additive, options, SIZE, ShadowTone::default())
-            };
-            frame_of(&gpu, &base, &options).expect("shadow-volume frame").output.image
-        };
+        let base_frame =
+            |clip_volumes| frame_of_scene(&base, StencilMode::Reference, Normalize::Seed, clip_volumes).output.image;
         let (base_clipped, base_unclipped) = (base_frame(true), base_frame(false));
         let flipped = |a: &RgbaImage, b: &RgbaImage| -> HashSet<usize> {
             let pixels = a.chunks_exact(4).zip(b.chunks_exact(4)).enumerate();
@@ -1054,7 +1053,7 @@ fn a_narrow_spots_cone_bounds_its_casters_and_its_passes() {
         let (clipped, whole) = (spot_fragments(&reference), spot_fragments(&unclipped));
         assert!(clipped * 4 < whole, "{samples}x: the spot's passes shade {clipped} fragments, unclipped {whole}");
         let (drawn, all) = (spot_volumes(&reference), spot_volumes(&unclipped));
-        assert!(drawn < all, "{samples}x: the spot drew {drawn:?} volumes, unclipped {all:?}");
+        assert!(drawn < all, "{samples}x: the spot drew {drawn} volumes, unclipped {all}");
     }
     common::assert_no_validation_messages(&gpu);
 }
