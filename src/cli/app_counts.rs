@@ -243,6 +243,7 @@ mod tests {
             aggregate,
             work_aggregate: Vec::new(),
             run: None,
+            hidden_extensions: Vec::new(),
             tiler_check: None,
         }
     }

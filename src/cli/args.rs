@@ -116,11 +116,18 @@ pub enum Command {
         #[arg(long)]
         tiler_check: bool,
         /// What ends a frame when the program does not mark frames with VK_EXT_frame_boundary:
-        /// a present (default), every queue submission, or every host wait (a fence,
-        /// vkQueueWaitIdle, vkDeviceWaitIdle, a timeline semaphore). For programs that never
-        /// present, such as a headless filter.
-        #[arg(long, value_enum, default_value_t = FrameOnArg::Present)]
-        frame_on: FrameOnArg,
+        /// a present (default; with --gl, a swap), every queue submission, every host wait (a
+        /// fence, vkQueueWaitIdle, vkDeviceWaitIdle, a timeline semaphore), or every GL buffer
+        /// swap (glXSwapBuffers, eglSwapBuffers; --gl only). Submit and wait are for programs
+        /// that never present, such as a headless filter.
+        #[arg(long, value_enum)]
+        frame_on: Option<FrameOnArg>,
+        /// The program is an OpenGL or OpenGL ES program: run it on Vulkan through Mesa's zink
+        /// (on lavapipe: LIBGL_ALWAYS_SOFTWARE=1 GALLIUM_DRIVER=zink), with the layer's library
+        /// preloaded so that its buffer swaps end frames (docs/fillrate-layer.md, "OpenGL and
+        /// GLES programs").
+        #[arg(long)]
+        gl: bool,
         #[arg(long, value_enum, default_value_t = FormatArg::Table)]
         format: FormatArg,
         /// Compare each render pass's draws, samples passed and fragment invocations (the most
@@ -461,6 +468,7 @@ pub enum FrameOnArg {
     Present,
     Submit,
     Wait,
+    Swap,
 }
 
 impl FrameOnArg {
@@ -469,6 +477,7 @@ impl FrameOnArg {
             FrameOnArg::Present => "present",
             FrameOnArg::Submit => "submit",
             FrameOnArg::Wait => "wait",
+            FrameOnArg::Swap => "swap",
         }
     }
 }

@@ -3,7 +3,7 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use super::args::{Cli, Command, FormatArg, FrameArgs, GpuArgs, LayerAction, PassesArgs, ViewScript};
+use super::args::{Cli, Command, FormatArg, FrameArgs, FrameOnArg, GpuArgs, LayerAction, PassesArgs, ViewScript};
 use super::frame_setup::{load_named_scene, load_scene, open_gpu, open_gpu_with, options, print_warnings};
 use super::output_path::check_output_path;
 use crate::error::{Error, Result};
@@ -51,6 +51,7 @@ pub fn run(cli: Cli) -> Result<()> {
             per_draw,
             tiler_check,
             frame_on,
+            gl,
             format,
             budget,
             record_budget,
@@ -61,6 +62,16 @@ pub fn run(cli: Cli) -> Result<()> {
             capture_frame,
             command,
         } => {
+            let frame_on = match (frame_on, gl) {
+                (Some(FrameOnArg::Swap), false) => {
+                    return Err(Error::InvalidInput(
+                        "--frame-on swap cuts frames at a GL program's buffer swaps: give --gl too".into(),
+                    ))
+                }
+                (Some(on), _) => on,
+                (None, true) => FrameOnArg::Swap,
+                (None, false) => FrameOnArg::Present,
+            };
             let capture = capture.map(|path| (path, capture_frame));
             let outputs = super::profile_app::AppOutputs {
                 budget,
@@ -71,6 +82,7 @@ pub fn run(cli: Cli) -> Result<()> {
                 per_draw,
                 tiler_check,
                 frame_on: frame_on.name(),
+                gl,
                 capture,
             };
             let stop = super::supervise::Stop { frames, seconds, keep_running };

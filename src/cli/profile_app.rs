@@ -57,8 +57,10 @@ pub struct AppOutputs {
     pub per_draw: bool,
     /// The tiler check (NOSTENCIL_FILLRATE_TILER): exit 1 on any flag.
     pub tiler_check: bool,
-    /// What ends a frame: "present", "submit" or "wait" (NOSTENCIL_FILLRATE_FRAME_ON).
+    /// What ends a frame: "present", "submit", "wait" or "swap" (NOSTENCIL_FILLRATE_FRAME_ON).
     pub frame_on: &'static str,
+    /// An OpenGL or GLES program, run on zink with the layer's library preloaded.
+    pub gl: bool,
     /// The image presented at the end of a frame, written as a PNG (NOSTENCIL_FILLRATE_CAPTURE):
     /// (file, frame).
     pub capture: Option<(PathBuf, u64)>,
@@ -98,6 +100,10 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
     let layer_dir = layer_folder(&work.0)?;
     let result = work.0.join("result.json");
     let mut environment = layer_environment(|name| std::env::var_os(name), layer_dir.as_deref(), &result, frames);
+    if outputs.gl {
+        let library = layer_library(layer_dir.as_deref())?;
+        environment.extend(gl_environment(|name| std::env::var_os(name), &library));
+    }
     if outputs.per_draw {
         environment.push(("NOSTENCIL_FILLRATE_PER_DRAW".into(), "1".into()));
     }
@@ -308,6 +314,43 @@ fn layer_folder(scratch: &Path) -> Result<Option<PathBuf>> {
     let text = manifest_json(&library.to_string_lossy());
     crate::frame::write_atomically(&scratch.join(MANIFEST_FILE), text.as_bytes())?;
     Ok(Some(scratch.to_path_buf()))
+}
+
+/// The layer's library the loader will open: the one the manifest in `layer_dir` names, or the
+/// installed one. `--gl` preloads this same file, so that the program's GL swaps and its Vulkan
+/// commands reach one copy of the layer.
+fn layer_library(layer_dir: Option<&Path>) -> Result<PathBuf> {
+    let library = match layer_dir {
+        Some(dir) => {
+            let manifest = std::fs::read_to_string(dir.join(MANIFEST_FILE))
+                .map_err(|e| Error::Internal(format!("cannot read the layer's manifest in {}: {e}", dir.display())))?;
+            let value: serde_json::Value = serde_json::from_str(&manifest)
+                .map_err(|e| Error::Internal(format!("the layer's manifest in {} is not JSON: {e}", dir.display())))?;
+            let named = value["layer"]["library_path"].as_str().unwrap_or_default();
+            dir.join(named)
+        }
+        None => InstallPaths::current()?.library,
+    };
+    library.canonicalize().map_err(|e| {
+        Error::InvalidInput(format!("the fill-rate layer's library {} cannot be preloaded: {e}", library.display()))
+    })
+}
+
+/// What `--gl` adds: the program's GL runs on Vulkan through Mesa's zink on the CPU's Vulkan
+/// device (lavapipe), Mesa's GLX is the one chosen where several vendors are installed, and the
+/// layer's library is preloaded (before any library the user preloads) for its swap hooks.
+pub fn gl_environment(current: impl Fn(&str) -> Option<OsString>, library: &Path) -> Vec<(String, OsString)> {
+    let mut preload = library.as_os_str().to_owned();
+    if let Some(user) = current("LD_PRELOAD").filter(|v| !v.is_empty()) {
+        preload.push(":");
+        preload.push(user);
+    }
+    vec![
+        ("LD_PRELOAD".into(), preload),
+        ("GALLIUM_DRIVER".into(), "zink".into()),
+        ("LIBGL_ALWAYS_SOFTWARE".into(), "1".into()),
+        ("__GLX_VENDOR_LIBRARY_NAME".into(), "mesa".into()),
+    ]
 }
 
 /// The variables that enable the layer for the child: `current` reads the parent's environment.

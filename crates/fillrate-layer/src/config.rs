@@ -14,6 +14,9 @@ pub enum FrameOn {
     Submit,
     /// Every successful host wait: a fence, a timeline semaphore, a queue or the device idle.
     Wait,
+    /// Every buffer swap of a GL or GLES program (`glXSwapBuffers`, `eglSwapBuffers`), seen by
+    /// the layer's library preloaded into the program (gl_swaps.rs; `profile-app --gl`).
+    Swap,
 }
 
 impl FrameOn {
@@ -22,6 +25,7 @@ impl FrameOn {
             "present" => Some(FrameOn::Present),
             "submit" => Some(FrameOn::Submit),
             "wait" => Some(FrameOn::Wait),
+            "swap" => Some(FrameOn::Swap),
             _ => None,
         }
     }
@@ -110,7 +114,7 @@ impl Config {
             None => FrameOn::Present,
             Some(text) => FrameOn::parse(&text).unwrap_or_else(|| {
                 warnings.push(format!(
-                    "NOSTENCIL_FILLRATE_FRAME_ON='{text}' is not present, submit or wait; using present"
+                    "NOSTENCIL_FILLRATE_FRAME_ON='{text}' is not present, submit, wait or swap; using present"
                 ));
                 FrameOn::Present
             }),
@@ -146,6 +150,7 @@ mod tests {
         assert!(parse(&[("NOSTENCIL_FILLRATE_TILER", "1")]).0.tiler);
         assert!(warnings.is_empty());
         assert_eq!(parse(&[("NOSTENCIL_FILLRATE_FRAME_ON", "submit")]).0.frame_on, FrameOn::Submit);
+        assert_eq!(parse(&[("NOSTENCIL_FILLRATE_FRAME_ON", "swap")]).0.frame_on, FrameOn::Swap);
         let (config, warnings) = parse(&[("NOSTENCIL_FILLRATE_FRAME_ON", "fence")]);
         assert!(config.frame_on == FrameOn::Present && warnings[0].contains("fence"), "{warnings:?}");
         let (config, _) = parse(&[

@@ -13,10 +13,12 @@ use super::commands::{around, record};
 use super::slots::QueryKind;
 use super::state::{guard, DeviceData, DeviceState};
 
-/// A draw on `cmd`: counted, and the layer's commands recorded around the application's draw,
-/// which `call` makes: segments begin right before the first draw of a pass or subpass (see
-/// recording.rs); with per-draw counting each draw is bracketed.
-fn draw(cmd: vk::CommandBuffer, call: impl FnOnce(&DeviceData)) {
+/// A draw command on `cmd` that makes `draws` draws: counted, and the layer's commands recorded
+/// around the application's draw, which `call` makes: segments begin right before the first
+/// draw of a pass or subpass (see recording.rs); with per-draw counting each draw command is
+/// bracketed. Every draw command Vulkan has comes through here (docs/fillrate-layer.md, "What is
+/// measured"): a draw the layer did not see would begin no segment, and its pass would read 0.
+fn draw(cmd: vk::CommandBuffer, draws: u64, call: impl FnOnce(&DeviceData)) {
     let Some(device) = guard(None, || super::state::device_of(cmd.as_raw())) else { return };
     let (before, after) = guard(None, || {
         if !device.active() {
@@ -28,7 +30,7 @@ fn draw(cmd: vk::CommandBuffer, call: impl FnOnce(&DeviceData)) {
         if device.config.tiler {
             data.tiler.draw(tiler, vk::PipelineBindPoint::GRAPHICS);
         }
-        Some(data.recording.draw())
+        Some(data.recording.draw(draws))
     })
     .unwrap_or_default();
     guard((), || record(&device, cmd, &before));
@@ -56,7 +58,7 @@ pub(super) unsafe extern "system" fn cmd_draw(
     first_vertex: u32,
     first_instance: u32,
 ) {
-    draw(cmd, |d| {
+    draw(cmd, 1, |d| {
         if let Some(next) = d.next.cmd_draw {
             // SAFETY: the application's arguments, passed on.
             unsafe { next(cmd, vertices, instances, first_vertex, first_instance) }
@@ -72,7 +74,7 @@ pub(super) unsafe extern "system" fn cmd_draw_indexed(
     vertex_offset: i32,
     first_instance: u32,
 ) {
-    draw(cmd, |d| {
+    draw(cmd, 1, |d| {
         if let Some(next) = d.next.cmd_draw_indexed {
             // SAFETY: the application's arguments, passed on.
             unsafe { next(cmd, indices, instances, first_index, vertex_offset, first_instance) }
@@ -81,7 +83,7 @@ pub(super) unsafe extern "system" fn cmd_draw_indexed(
 }
 
 /// The indirect draws, whose arguments a buffer holds: one hook for each name of the same
-/// signature.
+/// signature (the mesh-task forms included). `count` draws, each with the buffer's arguments.
 macro_rules! draw_indirect_hook {
     ($($name:ident),+) => {$(
         pub(super) unsafe extern "system" fn $name(
@@ -91,7 +93,7 @@ macro_rules! draw_indirect_hook {
             count: u32,
             stride: u32,
         ) {
-            draw(cmd, |d| {
+            draw(cmd, count.into(), |d| {
                 if let Some(next) = d.next.$name {
                     // SAFETY: the application's arguments, passed on.
                     unsafe { next(cmd, buffer, offset, count, stride) }
@@ -101,8 +103,16 @@ macro_rules! draw_indirect_hook {
     )+};
 }
 
-draw_indirect_hook!(cmd_draw_indirect, cmd_draw_indexed_indirect);
+draw_indirect_hook!(
+    cmd_draw_indirect,
+    cmd_draw_indexed_indirect,
+    cmd_draw_mesh_tasks_indirect_ext,
+    cmd_draw_mesh_tasks_indirect_nv
+);
 
+/// The indirect-count draws: the number of draws is in a GPU buffer, read only when the GPU
+/// runs them, so each command counts as one draw (docs/fillrate-layer.md says so); the
+/// fragments and samples are the GPU's own.
 macro_rules! draw_count_hook {
     ($name:ident, $field:ident, $pfn:ident) => {
         pub(super) unsafe extern "system" fn $name(
@@ -114,7 +124,7 @@ macro_rules! draw_count_hook {
             max_count: u32,
             stride: u32,
         ) {
-            draw(cmd, |d| {
+            draw(cmd, 1, |d| {
                 let next: Option<vk::$pfn> = d.next.$field;
                 if let Some(next) = next {
                     // SAFETY: the application's arguments, passed on.
@@ -133,6 +143,89 @@ draw_count_hook!(
     cmd_draw_indexed_indirect_count_khr,
     PFN_vkCmdDrawIndexedIndirectCount
 );
+
+draw_count_hook!(
+    cmd_draw_mesh_tasks_indirect_count_ext,
+    cmd_draw_mesh_tasks_indirect_count_ext,
+    PFN_vkCmdDrawMeshTasksIndirectCountEXT
+);
+draw_count_hook!(
+    cmd_draw_mesh_tasks_indirect_count_nv,
+    cmd_draw_mesh_tasks_indirect_count_nv,
+    PFN_vkCmdDrawMeshTasksIndirectCountNV
+);
+
+/// VK_EXT_multi_draw: `count` draws in one command (zink draws every GL draw through it where
+/// the device offers it).
+pub(super) unsafe extern "system" fn cmd_draw_multi_ext(
+    cmd: vk::CommandBuffer,
+    count: u32,
+    vertex_info: *const vk::MultiDrawInfoEXT,
+    instances: u32,
+    first_instance: u32,
+    stride: u32,
+) {
+    draw(cmd, count.into(), |d| {
+        if let Some(next) = d.next.cmd_draw_multi_ext {
+            // SAFETY: the application's arguments, passed on.
+            unsafe { next(cmd, count, vertex_info, instances, first_instance, stride) }
+        }
+    });
+}
+
+pub(super) unsafe extern "system" fn cmd_draw_multi_indexed_ext(
+    cmd: vk::CommandBuffer,
+    count: u32,
+    index_info: *const vk::MultiDrawIndexedInfoEXT,
+    instances: u32,
+    first_instance: u32,
+    stride: u32,
+    vertex_offset: *const i32,
+) {
+    draw(cmd, count.into(), |d| {
+        if let Some(next) = d.next.cmd_draw_multi_indexed_ext {
+            // SAFETY: the application's arguments, passed on.
+            unsafe { next(cmd, count, index_info, instances, first_instance, stride, vertex_offset) }
+        }
+    });
+}
+
+/// VK_EXT_transform_feedback's draw of as many vertices as a transform feedback wrote.
+pub(super) unsafe extern "system" fn cmd_draw_indirect_byte_count_ext(
+    cmd: vk::CommandBuffer,
+    instances: u32,
+    first_instance: u32,
+    counter_buffer: vk::Buffer,
+    counter_offset: vk::DeviceSize,
+    counter_bias: u32,
+    vertex_stride: u32,
+) {
+    draw(cmd, 1, |d| {
+        if let Some(next) = d.next.cmd_draw_indirect_byte_count_ext {
+            // SAFETY: the application's arguments, passed on.
+            unsafe { next(cmd, instances, first_instance, counter_buffer, counter_offset, counter_bias, vertex_stride) }
+        }
+    });
+}
+
+/// VK_EXT_mesh_shader's and VK_NV_mesh_shader's direct draws.
+pub(super) unsafe extern "system" fn cmd_draw_mesh_tasks_ext(cmd: vk::CommandBuffer, x: u32, y: u32, z: u32) {
+    draw(cmd, 1, |d| {
+        if let Some(next) = d.next.cmd_draw_mesh_tasks_ext {
+            // SAFETY: the application's arguments, passed on.
+            unsafe { next(cmd, x, y, z) }
+        }
+    });
+}
+
+pub(super) unsafe extern "system" fn cmd_draw_mesh_tasks_nv(cmd: vk::CommandBuffer, tasks: u32, first_task: u32) {
+    draw(cmd, 1, |d| {
+        if let Some(next) = d.next.cmd_draw_mesh_tasks_nv {
+            // SAFETY: the application's arguments, passed on.
+            unsafe { next(cmd, tasks, first_task) }
+        }
+    });
+}
 
 /// # Safety
 /// `label` is null or a valid VkDebugUtilsLabelEXT.
@@ -239,6 +332,53 @@ pub(super) unsafe extern "system" fn cmd_begin_query(
             let Some(data) = st.buffers.get_mut(&cmd) else { return Default::default() };
             let precise = flags.contains(vk::QueryControlFlags::PRECISE);
             (data.recording.app_begin_query(kind, pool, query, precise, stats), Vec::new())
+        },
+    );
+}
+
+/// VK_EXT_transform_feedback's indexed begin: an occlusion or statistics query begun through it
+/// (index 0) is the application's query like any other, so the layer's never overlap it.
+pub(super) unsafe extern "system" fn cmd_begin_query_indexed_ext(
+    cmd: vk::CommandBuffer,
+    pool: vk::QueryPool,
+    query: u32,
+    flags: vk::QueryControlFlags,
+    index: u32,
+) {
+    around(
+        cmd,
+        |d| {
+            if let Some(next) = d.next.cmd_begin_query_indexed_ext {
+                // SAFETY: the application's arguments, passed on.
+                unsafe { next(cmd, pool, query, flags, index) }
+            }
+        },
+        |_, st| {
+            let Some((kind, stats)) = app_kind(st, pool) else { return Default::default() };
+            let Some(data) = st.buffers.get_mut(&cmd) else { return Default::default() };
+            let precise = flags.contains(vk::QueryControlFlags::PRECISE);
+            (data.recording.app_begin_query(kind, pool, query, precise, stats), Vec::new())
+        },
+    );
+}
+
+pub(super) unsafe extern "system" fn cmd_end_query_indexed_ext(
+    cmd: vk::CommandBuffer,
+    pool: vk::QueryPool,
+    query: u32,
+    index: u32,
+) {
+    around(
+        cmd,
+        |d| {
+            if let Some(next) = d.next.cmd_end_query_indexed_ext {
+                // SAFETY: the application's arguments, passed on.
+                unsafe { next(cmd, pool, query, index) }
+            }
+        },
+        |_, st| {
+            let Some(data) = st.buffers.get_mut(&cmd) else { return Default::default() };
+            (Vec::new(), data.recording.app_end_query(pool, query))
         },
     );
 }

@@ -78,6 +78,27 @@ fn device_hook(name: &str) -> vk::PFN_vkVoidFunction {
         "vkCmdDrawIndexedIndirectCountKHR" => {
             void_fn!(d::cmd_draw_indexed_indirect_count_khr, vk::PFN_vkCmdDrawIndexedIndirectCount)
         }
+        "vkCmdDrawMultiEXT" => void_fn!(d::cmd_draw_multi_ext, vk::PFN_vkCmdDrawMultiEXT),
+        "vkCmdDrawMultiIndexedEXT" => void_fn!(d::cmd_draw_multi_indexed_ext, vk::PFN_vkCmdDrawMultiIndexedEXT),
+        "vkCmdDrawIndirectByteCountEXT" => {
+            void_fn!(d::cmd_draw_indirect_byte_count_ext, vk::PFN_vkCmdDrawIndirectByteCountEXT)
+        }
+        "vkCmdDrawMeshTasksEXT" => void_fn!(d::cmd_draw_mesh_tasks_ext, vk::PFN_vkCmdDrawMeshTasksEXT),
+        "vkCmdDrawMeshTasksIndirectEXT" => {
+            void_fn!(d::cmd_draw_mesh_tasks_indirect_ext, vk::PFN_vkCmdDrawMeshTasksIndirectEXT)
+        }
+        "vkCmdDrawMeshTasksIndirectCountEXT" => {
+            void_fn!(d::cmd_draw_mesh_tasks_indirect_count_ext, vk::PFN_vkCmdDrawMeshTasksIndirectCountEXT)
+        }
+        "vkCmdDrawMeshTasksNV" => void_fn!(d::cmd_draw_mesh_tasks_nv, vk::PFN_vkCmdDrawMeshTasksNV),
+        "vkCmdDrawMeshTasksIndirectNV" => {
+            void_fn!(d::cmd_draw_mesh_tasks_indirect_nv, vk::PFN_vkCmdDrawMeshTasksIndirectNV)
+        }
+        "vkCmdDrawMeshTasksIndirectCountNV" => {
+            void_fn!(d::cmd_draw_mesh_tasks_indirect_count_nv, vk::PFN_vkCmdDrawMeshTasksIndirectCountNV)
+        }
+        "vkCmdBeginQueryIndexedEXT" => void_fn!(d::cmd_begin_query_indexed_ext, vk::PFN_vkCmdBeginQueryIndexedEXT),
+        "vkCmdEndQueryIndexedEXT" => void_fn!(d::cmd_end_query_indexed_ext, vk::PFN_vkCmdEndQueryIndexedEXT),
         "vkCmdBeginDebugUtilsLabelEXT" => {
             void_fn!(d::cmd_begin_debug_utils_label, vk::PFN_vkCmdBeginDebugUtilsLabelEXT)
         }

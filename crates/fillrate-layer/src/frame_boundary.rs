@@ -95,6 +95,10 @@ pub(super) unsafe extern "system" fn enumerate_device_extension_properties(
     if !list.iter().any(|e| e.extension_name_as_c_str() == Ok(NAME)) {
         list.push(property());
     }
+    if instance.config.out.is_some() {
+        // Measuring: only what the layer can measure is offered (extensions.rs).
+        list.retain(|e| guard(true, || super::extensions::offered(e)));
+    }
     // SAFETY: the caller's arrays.
     unsafe { answer(&list, count, out) }
 }
@@ -181,10 +185,18 @@ unsafe fn features2_with(
     // Loaded when the instance was created (see enumerate_device_extension_properties), by the
     // name the program called: the KHR alias on a Vulkan 1.0 instance.
     let Some(next) = pick(&instance) else { return };
+    let measuring = instance.config.out.is_some() && !features.is_null();
+    let hide = move || {
+        if measuring {
+            // SAFETY: the application's writable chain, after the call filled it.
+            guard((), || unsafe { super::extensions::hide_features((*features).p_next) })
+        }
+    };
     let emulate = guard(false, || !below_has(&instance, physical));
     if !emulate || features.is_null() {
         // SAFETY: the application's arguments, passed on.
-        return unsafe { next(physical, features) };
+        unsafe { next(physical, features) };
+        return hide();
     }
     let mut unlinked = Unlinked(Vec::new());
     let ty = vk::StructureType::PHYSICAL_DEVICE_FRAME_BOUNDARY_FEATURES_EXT;
@@ -201,6 +213,7 @@ unsafe fn features2_with(
             (*(node as *mut vk::PhysicalDeviceFrameBoundaryFeaturesEXT<'_>)).frame_boundary = vk::TRUE;
         }
     }
+    hide();
 }
 
 pub(super) unsafe extern "system" fn get_physical_device_features2(

@@ -218,7 +218,9 @@ fn row(
         (None, Ok(raw)) => (Some(Counters::new(&raw, &desc.area, desc.samples, &desc.attachments)), None),
         (None, Err(reason)) => (None, Some(reason)),
     };
+    let flag = counters.as_ref().and_then(Counters::disagreement);
     RenderPassRow {
+        flag,
         index: 0,
         label: pass.label.clone(),
         api: desc.api.to_owned(),
@@ -387,6 +389,7 @@ pub fn report(device: &DeviceData, state: &mut DeviceState) -> FillrateReport {
         aggregate: frames.aggregate.rows(),
         work_aggregate: frames.work_aggregate.rows(),
         run: None,
+        hidden_extensions: super::extensions::hidden_so_far(),
         tiler_check: device.config.tiler.then(|| state.tiler.check.report()),
     }
 }

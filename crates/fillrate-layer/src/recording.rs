@@ -312,15 +312,16 @@ impl Recording {
         self.inserted_label = Some(label);
     }
 
-    /// A draw: counted in the open pass; returns the commands to record before and after it
-    /// (the layer's segments begin here, see the module notes; with `per_draw` each draw has
+    /// A draw command making `draws` draws (a multi-draw or an indirect draw makes several):
+    /// counted in the open pass; returns the commands to record before and after it (the
+    /// layer's segments begin here, see the module notes; with `per_draw` each draw command has
     /// segments and timestamps of its own, ended right after it).
-    pub fn draw(&mut self) -> (Vec<QueryCmd>, Vec<QueryCmd>) {
+    pub fn draw(&mut self, draws: u64) -> (Vec<QueryCmd>, Vec<QueryCmd>) {
         let (mut before, mut after) = (Vec::new(), Vec::new());
         let Some(index) = self.open else { return (before, after) };
-        self.passes[index].draws += 1;
+        self.passes[index].draws += draws;
         if let Some(section) = self.passes[index].sections.last_mut() {
-            section.draws += 1;
+            section.draws += draws;
         }
         if self.per_draw && self.passes[index].measuring {
             self.end_segments(None, &mut before);

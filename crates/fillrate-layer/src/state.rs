@@ -107,6 +107,17 @@ next_fns! {
     cmd_draw_indirect_count_khr: PFN_vkCmdDrawIndirectCount = "vkCmdDrawIndirectCountKHR",
     cmd_draw_indexed_indirect_count: PFN_vkCmdDrawIndexedIndirectCount = "vkCmdDrawIndexedIndirectCount",
     cmd_draw_indexed_indirect_count_khr: PFN_vkCmdDrawIndexedIndirectCount = "vkCmdDrawIndexedIndirectCountKHR",
+    cmd_draw_multi_ext: PFN_vkCmdDrawMultiEXT = "vkCmdDrawMultiEXT",
+    cmd_draw_multi_indexed_ext: PFN_vkCmdDrawMultiIndexedEXT = "vkCmdDrawMultiIndexedEXT",
+    cmd_draw_indirect_byte_count_ext: PFN_vkCmdDrawIndirectByteCountEXT = "vkCmdDrawIndirectByteCountEXT",
+    cmd_draw_mesh_tasks_ext: PFN_vkCmdDrawMeshTasksEXT = "vkCmdDrawMeshTasksEXT",
+    cmd_draw_mesh_tasks_indirect_ext: PFN_vkCmdDrawMeshTasksIndirectEXT = "vkCmdDrawMeshTasksIndirectEXT",
+    cmd_draw_mesh_tasks_indirect_count_ext: PFN_vkCmdDrawMeshTasksIndirectCountEXT = "vkCmdDrawMeshTasksIndirectCountEXT",
+    cmd_draw_mesh_tasks_nv: PFN_vkCmdDrawMeshTasksNV = "vkCmdDrawMeshTasksNV",
+    cmd_draw_mesh_tasks_indirect_nv: PFN_vkCmdDrawMeshTasksIndirectNV = "vkCmdDrawMeshTasksIndirectNV",
+    cmd_draw_mesh_tasks_indirect_count_nv: PFN_vkCmdDrawMeshTasksIndirectCountNV = "vkCmdDrawMeshTasksIndirectCountNV",
+    cmd_begin_query_indexed_ext: PFN_vkCmdBeginQueryIndexedEXT = "vkCmdBeginQueryIndexedEXT",
+    cmd_end_query_indexed_ext: PFN_vkCmdEndQueryIndexedEXT = "vkCmdEndQueryIndexedEXT",
     cmd_begin_debug_utils_label: PFN_vkCmdBeginDebugUtilsLabelEXT = "vkCmdBeginDebugUtilsLabelEXT",
     cmd_end_debug_utils_label: PFN_vkCmdEndDebugUtilsLabelEXT = "vkCmdEndDebugUtilsLabelEXT",
     cmd_insert_debug_utils_label: PFN_vkCmdInsertDebugUtilsLabelEXT = "vkCmdInsertDebugUtilsLabelEXT",
@@ -346,6 +357,11 @@ pub fn instance_of(handle: u64) -> Option<Arc<InstanceData>> {
     }
     // A physical device whose key is not its instance's: the only instance, if there is one.
     (handle != 0 && list.len() == 1).then(|| list[0].clone())
+}
+
+/// Every device the layer created, alive now.
+pub fn all_devices() -> Vec<Arc<DeviceData>> {
+    lock(devices()).clone()
 }
 
 pub fn add_device(data: Arc<DeviceData>) {

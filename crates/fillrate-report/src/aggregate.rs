@@ -215,6 +215,7 @@ pub fn report_from_journal(text: &str, keep_all: bool) -> Option<FillrateReport>
         aggregate: aggregate.rows(),
         work_aggregate: work.rows(),
         run: None,
+        hidden_extensions: Vec::new(),
         tiler_check: None,
     })
 }

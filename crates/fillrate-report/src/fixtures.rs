@@ -24,5 +24,6 @@ pub fn row(width: u32, samples_passed: u64, gpu_ns: Option<f64>) -> RenderPassRo
         attachments: Vec::new(),
         counters: Some(Counters::new(&raw, &area, 1, &[])),
         not_measured: None,
+        flag: None,
     }
 }

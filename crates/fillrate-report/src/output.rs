@@ -485,6 +485,23 @@ fn table(report: &FillrateReport) -> String {
     if let Some(check) = &report.tiler_check {
         out += &tiler_lines(check);
     }
+    let flagged: Vec<_> = report
+        .frames
+        .iter()
+        .flat_map(|f| f.render_passes.iter().filter_map(move |p| Some((f.index, p.index, p.flag.as_ref()?))))
+        .collect();
+    if !flagged.is_empty() {
+        let _ = writeln!(out, "\nflagged (draws and statistics disagree):");
+        for (frame, pass, flag) in flagged {
+            let _ = writeln!(out, "  frame {frame} pass #{pass}: {flag}");
+        }
+    }
+    if !report.hidden_extensions.is_empty() {
+        let _ = writeln!(out, "\nhidden from the program (their commands would record work the layer cannot measure):");
+        for h in &report.hidden_extensions {
+            let _ = writeln!(out, "  {}: {}", h.name, h.why);
+        }
+    }
     if !report.not_measured.is_empty() {
         let _ = writeln!(out, "\nnot measured:");
         for n in &report.not_measured {
@@ -548,6 +565,7 @@ mod tests {
                 detail: "crashed with SIGSEGV after 1 measured frame".into(),
                 partial: true,
             }),
+            hidden_extensions: Vec::new(),
             tiler_check: None,
         }
     }

@@ -32,6 +32,10 @@ pub struct FillrateReport {
     /// How the program's run ended, when `profile-app` ran it (the layer itself leaves it out).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub run: Option<RunEnd>,
+    /// Device extensions the layer kept from the program, because their commands would record
+    /// work it cannot measure (the layer's extensions.rs), each with why.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub hidden_extensions: Vec<HiddenExtension>,
     /// With `NOSTENCIL_FILLRATE_TILER=1` (`profile-app --tiler-check`): the load/store mistakes
     /// found and the attachments filled with the pattern (tiler_check.rs).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -78,6 +82,13 @@ pub struct CounterSupport {
     pub pipeline_statistics: bool,
     pub occlusion_precise: bool,
     pub timestamps: bool,
+}
+
+/// A device extension the program was not offered.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct HiddenExtension {
+    pub name: String,
+    pub why: String,
 }
 
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
@@ -171,6 +182,10 @@ pub struct RenderPassRow {
     pub counters: Option<Counters>,
     #[serde(default)]
     pub not_measured: Option<String>,
+    /// The draws and the statistics disagree (`Counters::disagreement`): measured, but not to
+    /// be read as a clean figure.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flag: Option<String>,
     /// `NOSTENCIL_FILLRATE_PER_DRAW=1` (`profile-app --per-draw`): each draw, in recording order;
     /// their sums are the pass's counters. Empty when off or when a draw could not be measured
     /// alone (inside an application query of the same type).
@@ -325,6 +340,26 @@ impl Counters {
     /// The pass's bytes on a tiler and an immediate-mode GPU.
     pub fn bandwidth(&self) -> Bandwidth {
         Bandwidth { tiler_bytes: self.tiler_bytes, immediate_bytes: self.immediate_bytes }
+    }
+
+    /// Where the draw count and the statistics cannot both be true, why: draws with no
+    /// invocation at all (nothing in them, or a GPU that skipped them), or invocations with no
+    /// draw seen (a draw command the layer did not see). A pass that neither draws nor shades
+    /// (a clear) agrees.
+    pub fn disagreement(&self) -> Option<String> {
+        let shaded = [self.vertex_invocations, self.fragment_invocations].into_iter().flatten().sum::<u64>()
+            + self.samples_passed;
+        let known = self.vertex_invocations.is_some() || self.fragment_invocations.is_some();
+        if self.draws > 0 && known && shaded == 0 {
+            return Some(format!(
+                "{} draws, but no vertex or fragment shader invocation and no sample passed",
+                self.draws
+            ));
+        }
+        if self.draws == 0 && shaded > 0 {
+            return Some("vertex or fragment shader invocations with no draw seen".into());
+        }
+        None
     }
 }
 

@@ -39,17 +39,17 @@ fn a_pass_is_bracketed_and_its_subpasses_split_the_segments() {
     // Only the timestamp right after the begin: no query may begin before a pipeline is bound.
     assert_eq!(after.len(), 1);
     assert!(matches!(after[0], QueryCmd::Timestamp { stage: vk::PipelineStageFlags::TOP_OF_PIPE, .. }));
-    assert_eq!(begins(&rec.draw().0), 2, "the first draw begins both segments");
-    assert!(rec.draw().0.is_empty(), "later draws continue them");
+    assert_eq!(begins(&rec.draw(1).0), 2, "the first draw begins both segments");
+    assert!(rec.draw(1).0.is_empty(), "later draws continue them");
     let (b, a) = rec.next_subpass(false);
     assert_eq!((ends(&b), a.len()), (2, 0));
     let (b, _) = rec.next_subpass(false);
     assert!(b.is_empty(), "a subpass without draws has no segment to end");
-    assert_eq!(begins(&rec.draw().0), 2);
+    assert_eq!(begins(&rec.draw(1).0), 2);
     let end = rec.end_pass();
     assert_eq!(ends(&end), 2);
     assert!(matches!(end.last(), Some(QueryCmd::Timestamp { stage: vk::PipelineStageFlags::BOTTOM_OF_PIPE, .. })));
-    assert!(rec.draw().0.is_empty()); // outside a pass: not counted
+    assert!(rec.draw(1).0.is_empty()); // outside a pass: not counted
     let pass = &rec.passes[0];
     assert_eq!((pass.draws, pass.occlusion.len(), pass.statistics.len()), (3, 2, 2));
     assert_eq!(pass.label.as_deref(), Some("shadow"));
@@ -60,15 +60,15 @@ fn a_pass_is_bracketed_and_its_subpasses_split_the_segments() {
 fn an_application_query_inside_a_pass_becomes_a_gap_between_segments() {
     let (mut rec, mut create) = recording();
     rec.begin_pass(desc(), &mut create);
-    rec.draw();
+    rec.draw(1);
     let app = vk::QueryPool::from_raw(7);
     let none = vk::QueryPipelineStatisticFlags::empty();
     let before = rec.app_begin_query(QueryKind::Occlusion, app, 3, true, none);
     assert_eq!(before.len(), 1);
     assert!(matches!(before[0], QueryCmd::End { slot } if slot == rec.passes[0].occlusion[0]));
-    assert!(rec.draw().0.is_empty(), "inside the application's query the layer's stays ended");
+    assert!(rec.draw(1).0.is_empty(), "inside the application's query the layer's stays ended");
     assert!(rec.app_end_query(app, 3).is_empty());
-    assert_eq!(begins(&rec.draw().0), 1, "the next draw resumes the occlusion segment");
+    assert_eq!(begins(&rec.draw(1).0), 1, "the next draw resumes the occlusion segment");
     rec.end_pass();
     let pass = &rec.passes[0];
     assert_eq!((pass.occlusion.len(), pass.statistics.len(), pass.gaps.len()), (2, 1, 1));
@@ -88,7 +88,7 @@ fn application_queries_that_cannot_be_measured_around_are_named() {
     rec.app_end_query(app, 0);
     // Imprecise application occlusion inside a precise pass: not measured, layer queries end.
     rec.begin_pass(desc(), &mut create);
-    rec.draw();
+    rec.draw(1);
     let before = rec.app_begin_query(QueryKind::Occlusion, app, 1, false, none);
     assert_eq!(ends(&before), 2);
     rec.app_end_query(app, 1);
@@ -103,7 +103,7 @@ fn per_draw_gives_each_draw_its_own_segments_and_timestamps() {
     let (before, _) = rec.begin_pass(desc(), &mut create);
     assert!(before.iter().all(|c| matches!(c, QueryCmd::Reset { .. })));
     for _ in 0..3 {
-        let (b, a) = rec.draw();
+        let (b, a) = rec.draw(1);
         assert_eq!((begins(&b), ends(&a)), (2, 2), "segments around each draw: {b:?} {a:?}");
         assert!(matches!(b[0], QueryCmd::Timestamp { stage: vk::PipelineStageFlags::TOP_OF_PIPE, .. }));
         assert!(matches!(a.last(), Some(QueryCmd::Timestamp { stage: vk::PipelineStageFlags::BOTTOM_OF_PIPE, .. })));
@@ -122,22 +122,22 @@ fn labels_inside_a_pass_split_it_into_sections_whose_lists_partition_the_pass() 
     let (mut rec, mut create) = recording();
     rec.push_label("frame".into());
     rec.begin_pass(desc(), &mut create);
-    rec.draw(); // unlabelled draws before the first section
+    rec.draw(1); // unlabelled draws before the first section
     let (before, after) = rec.push_label("scene".into());
     assert_eq!(ends(&before), 2, "the label ends the active segments: {before:?}");
     assert!(begins(&after) == 0 && after.len() == 1, "only the section's timestamp: {after:?}");
-    assert_eq!(begins(&rec.draw().0), 2, "the first draw of the section begins its segments");
-    rec.draw();
+    assert_eq!(begins(&rec.draw(1).0), 2, "the first draw of the section begins its segments");
+    rec.draw(1);
     let (before, _) = rec.push_label("inner".into());
     assert_eq!(ends(&before), 2);
     assert!(matches!(before.last(), Some(QueryCmd::Timestamp { stage: vk::PipelineStageFlags::BOTTOM_OF_PIPE, .. })));
-    rec.draw();
+    rec.draw(1);
     rec.pop_label();
     let (before, _) = rec.pop_label();
     assert!(ends(&before) == 0, "no draw since the last split: nothing active");
     let app = vk::QueryPool::from_raw(7);
     rec.app_begin_query(QueryKind::Occlusion, app, 0, true, vk::QueryPipelineStatisticFlags::empty());
-    rec.draw();
+    rec.draw(1);
     rec.app_end_query(app, 0);
     let end = rec.end_pass();
     assert_eq!(ends(&end), 1, "the statistics segment of the last section");
@@ -163,9 +163,9 @@ fn a_label_begun_before_the_pass_and_ended_inside_it_does_not_split_it() {
     let (mut rec, mut create) = recording();
     rec.push_label("outer".into());
     rec.begin_pass(desc(), &mut create);
-    rec.draw();
+    rec.draw(1);
     assert_eq!(rec.pop_label(), (Vec::new(), Vec::new()));
-    rec.draw();
+    rec.draw(1);
     rec.end_pass();
     assert!(!rec.passes[0].split());
 }
