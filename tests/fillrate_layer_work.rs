@@ -27,10 +27,8 @@ fn dispatches_and_transfers_are_rows_with_exact_counts_one_frame_per_submission(
 
             common::raw_vulkan::assert_no_messages();
             let report = common::raw_vulkan::layer_report(&out);
-            // The fill in a secondary command buffer, once per recording: named, not measured.
-            let named: Vec<(&str, u64)> = report.not_measured.iter().map(|n| (n.what.as_str(), n.count)).collect();
-            let secondary = "dispatch or transfer recorded in a secondary command buffer";
-            assert_eq!(named, [(secondary, options.submissions as u64)]);
+            // The fill in a secondary command buffer is measured where the primary executes it.
+            assert!(report.not_measured.is_empty(), "{:?}", report.not_measured);
             assert_eq!(report.frames_measured, options.submissions as u64, "one frame per submission");
             let expected = expected_rows(options);
             for frame in &report.frames {

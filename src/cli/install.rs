@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
-use nostencil_fillrate_report::manifest::{manifest_json, newest_library, LIBRARY_FILE, MANIFEST_FILE};
+use nostencil_fillrate_report::manifest::{manifest_json, newest_library, GL_SWAPS_FILE, LIBRARY_FILE, MANIFEST_FILE};
 
 /// Where an installed layer lives for the user whose environment `var` reads.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -110,6 +110,15 @@ pub fn install(library: Option<&Path>, paths: &InstallPaths) -> Result<()> {
         }
     };
     std::fs::rename(&temp, &paths.library).map_err(io(&paths.library))?;
+    // The GL swap library `profile-app --gl` preloads, beside the layer, where it was built.
+    if let Source::File(path) = &source {
+        let swaps = path.with_file_name(GL_SWAPS_FILE);
+        if let (true, Some(dir)) = (swaps.is_file(), paths.library.parent()) {
+            let to = dir.join(GL_SWAPS_FILE);
+            std::fs::copy(&swaps, &to).map_err(io(&to))?;
+            eprintln!("installed {} (for profile-app --gl)", to.display());
+        }
+    }
     let text = manifest_json(&paths.library.to_string_lossy());
     crate::frame::write_atomically(&paths.manifest, text.as_bytes())?;
     eprintln!("installed {} (from {from})", paths.library.display());
@@ -124,7 +133,8 @@ pub fn install(library: Option<&Path>, paths: &InstallPaths) -> Result<()> {
 /// Removes what [`install`] wrote, and the folders it made once empty; says what.
 pub fn uninstall(paths: &InstallPaths) -> Result<()> {
     let mut removed = 0;
-    for path in [&paths.manifest, &paths.library] {
+    let swaps = paths.library.with_file_name(GL_SWAPS_FILE);
+    for path in [&paths.manifest, &paths.library, &swaps] {
         match std::fs::remove_file(path) {
             Ok(()) => {
                 eprintln!("removed {}", path.display());

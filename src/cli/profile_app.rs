@@ -15,7 +15,9 @@ use crate::error::{Error, Result};
 use crate::profile::budget::Budget;
 use crate::profile::report::ReportFormat;
 use nostencil_fillrate_report::aggregate::report_from_journal;
-use nostencil_fillrate_report::manifest::{manifest_json, newest_library, LAYER_NAME, LIBRARY_FILE, MANIFEST_FILE};
+use nostencil_fillrate_report::manifest::{
+    manifest_json, newest_build_of, newest_library, GL_SWAPS_FILE, LAYER_NAME, LIBRARY_FILE, MANIFEST_FILE,
+};
 use nostencil_fillrate_report::output::OutputFormat;
 use nostencil_fillrate_report::report::{journal_path, FillrateReport};
 
@@ -101,7 +103,7 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
     let result = work.0.join("result.json");
     let mut environment = layer_environment(|name| std::env::var_os(name), layer_dir.as_deref(), &result, frames);
     if outputs.gl {
-        let library = layer_library(layer_dir.as_deref())?;
+        let library = gl_swaps_library()?;
         environment.extend(gl_environment(|name| std::env::var_os(name), &library));
     }
     if outputs.per_draw {
@@ -316,29 +318,25 @@ fn layer_folder(scratch: &Path) -> Result<Option<PathBuf>> {
     Ok(Some(scratch.to_path_buf()))
 }
 
-/// The layer's library the loader will open: the one the manifest in `layer_dir` names, or the
-/// installed one. `--gl` preloads this same file, so that the program's GL swaps and its Vulkan
-/// commands reach one copy of the layer.
-fn layer_library(layer_dir: Option<&Path>) -> Result<PathBuf> {
-    let library = match layer_dir {
-        Some(dir) => {
-            let manifest = std::fs::read_to_string(dir.join(MANIFEST_FILE))
-                .map_err(|e| Error::Internal(format!("cannot read the layer's manifest in {}: {e}", dir.display())))?;
-            let value: serde_json::Value = serde_json::from_str(&manifest)
-                .map_err(|e| Error::Internal(format!("the layer's manifest in {} is not JSON: {e}", dir.display())))?;
-            let named = value["layer"]["library_path"].as_str().unwrap_or_default();
-            dir.join(named)
-        }
-        None => InstallPaths::current()?.library,
-    };
-    library.canonicalize().map_err(|e| {
-        Error::InvalidInput(format!("the fill-rate layer's library {} cannot be preloaded: {e}", library.display()))
-    })
+/// `libnostencil_gl_swaps.so`, which `--gl` preloads to find the program's buffer swaps: the
+/// newest build beside nostencil, else the one installed with the layer.
+fn gl_swaps_library() -> Result<PathBuf> {
+    let exe =
+        std::env::current_exe().map_err(|e| Error::Internal(format!("cannot find the nostencil executable: {e}")))?;
+    let dir = exe.parent().unwrap_or(Path::new(".")).to_path_buf();
+    let installed = InstallPaths::current().ok().and_then(|p| Some(p.library.parent()?.join(GL_SWAPS_FILE)));
+    let library = newest_build_of(&dir, GL_SWAPS_FILE).or(installed.filter(|p| p.is_file())).ok_or_else(|| {
+        Error::InvalidInput(format!(
+            "--gl preloads {GL_SWAPS_FILE} to find the program's buffer swaps, and there is none beside nostencil              ({}) nor installed: build it with `cargo build` in nostencil's source folder (it builds every crate),              or install it with the layer {HOW_TO_INSTALL}",
+            dir.display()
+        ))
+    })?;
+    library.canonicalize().map_err(|e| Error::InvalidInput(format!("{} cannot be preloaded: {e}", library.display())))
 }
 
 /// What `--gl` adds: the program's GL runs on Vulkan through Mesa's zink on the CPU's Vulkan
 /// device (lavapipe), Mesa's GLX is the one chosen where several vendors are installed, and the
-/// layer's library is preloaded (before any library the user preloads) for its swap hooks.
+/// swap library is preloaded (before any library the user preloads).
 pub fn gl_environment(current: impl Fn(&str) -> Option<OsString>, library: &Path) -> Vec<(String, OsString)> {
     let mut preload = library.as_os_str().to_owned();
     if let Some(user) = current("LD_PRELOAD").filter(|v| !v.is_empty()) {

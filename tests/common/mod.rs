@@ -8,6 +8,8 @@ use std::sync::Arc;
 
 use nostencil::{Gpu, GpuOptions};
 
+pub mod draw_program;
+pub mod gl_program;
 pub mod raw_vulkan;
 pub mod work_program;
 pub mod x_server;

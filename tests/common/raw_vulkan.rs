@@ -104,6 +104,7 @@ pub const FULLSCREEN_VERT: Spirv = spirv_of!("fullscreen.vert");
 pub const SHADOW_MAP_FRAG: Spirv = spirv_of!("shadow_map.frag");
 pub const SOLID_FRAG: Spirv = spirv_of!("solid.frag");
 pub const ADD_TO_WORDS_COMP: Spirv = spirv_of!("add_to_words.comp");
+pub const RECT_VERT: Spirv = spirv_of!("rect.vert");
 
 /// A shader module of `shader`.
 ///

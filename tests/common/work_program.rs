@@ -16,6 +16,8 @@ pub const SMALL: u32 = 16;
 pub const LARGE: u32 = 32;
 /// Bytes vkCmdUpdateBuffer writes.
 pub const UPDATE: u64 = 16;
+/// Bytes the secondary command buffer fills.
+pub const SPARE: u64 = 16;
 
 /// How the program runs.
 #[derive(Debug, Clone, Copy)]
@@ -51,6 +53,8 @@ pub fn expected_rows(options: WorkOptions) -> Vec<ExpectedRow> {
         ("transfer", "vkCmdBlitImage", None, 1, None, None, small, large),
         ("transfer", "vkCmdCopyImageToBuffer", None, 1, None, None, large, large),
         ("transfer", "vkCmdUpdateBuffer", None, 1, None, None, 0, UPDATE),
+        // The fill in the secondary command buffer, where the primary executes it.
+        ("transfer", "vkCmdFillBuffer", None, 1, None, None, 0, SPARE),
     ]
 }
 
@@ -86,7 +90,7 @@ struct Objects {
     host_mapped: *const u8,
     small_buffer: vk::Buffer,
     images: [vk::Image; 2],
-    /// A secondary command buffer that fills `spare` (work the layer names but cannot measure).
+    /// A secondary command buffer that fills `spare` (a row where the primary executes it).
     secondary: vk::CommandBuffer,
     spare: vk::Buffer,
 }
@@ -286,7 +290,7 @@ unsafe fn record(
     };
     device.cmd_copy_image_to_buffer(cmd, o.images[1], vk::ImageLayout::TRANSFER_SRC_OPTIMAL, o.host, &[region]);
     device.cmd_update_buffer(cmd, o.small_buffer, 0, &[7u8; UPDATE as usize]);
-    // A fill in a secondary command buffer: not a row (the layer names it as not measured).
+    // A fill in a secondary command buffer: a row of its own where the primary executes it.
     let inheritance = vk::CommandBufferInheritanceInfo::default();
     let begin = vk::CommandBufferBeginInfo::default().inheritance_info(&inheritance);
     device.begin_command_buffer(o.secondary, &begin).expect("begin secondary");
@@ -400,7 +404,7 @@ pub unsafe fn run(name: &CStr, options: WorkOptions) {
             .buffer_info(&info);
         device.update_descriptor_sets(&[write], &[]);
     }
-    let (spare, spare_memory) = buffer(instance, physical, &device, 16, vk::BufferUsageFlags::TRANSFER_DST, local);
+    let (spare, spare_memory) = buffer(instance, physical, &device, SPARE, vk::BufferUsageFlags::TRANSFER_DST, local);
     let objects = Objects {
         pipeline,
         layout,

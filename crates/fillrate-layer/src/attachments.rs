@@ -31,6 +31,16 @@ pub struct RenderPassInfo {
     pub subpasses: Vec<SubpassUses>,
     /// Some subpass has a non-zero view mask.
     pub multiview: bool,
+    /// Each subpass's view mask (empty when no subpass has one).
+    pub view_masks: Vec<u32>,
+}
+
+impl RenderPassInfo {
+    /// Views each subpass renders (1 each outside multiview): a multiview pass's queries take
+    /// that many consecutive indices in the subpass.
+    pub fn view_counts(&self) -> Vec<u32> {
+        self.view_masks.iter().map(|m| m.count_ones().max(1)).collect()
+    }
 }
 
 pub fn has_depth(format: vk::Format) -> bool {
@@ -218,11 +228,13 @@ subpass_fields!(vk::SubpassDescription<'_>);
 subpass_fields!(vk::SubpassDescription2<'_>);
 
 /// The render pass from its attachments and each subpass's uses of them.
-fn render_pass_info<A: AttachmentFields>(descriptions: &[A], uses: &[SubpassUses], multiview: bool) -> RenderPassInfo {
+fn render_pass_info<A: AttachmentFields>(descriptions: &[A], uses: &[SubpassUses], masks: Vec<u32>) -> RenderPassInfo {
     let formats: Vec<_> = descriptions.iter().map(A::format).collect();
     let roles = roles(descriptions.len(), &formats, uses);
     let attachments = descriptions.iter().zip(roles).map(|(d, role)| d.info(role)).collect();
-    RenderPassInfo { attachments, subpasses: uses.to_vec(), multiview }
+    let multiview = masks.iter().any(|&m| m != 0);
+    let view_masks = if multiview { masks } else { Vec::new() };
+    RenderPassInfo { attachments, subpasses: uses.to_vec(), multiview, view_masks }
 }
 
 impl RenderPassInfo {
@@ -236,8 +248,8 @@ impl RenderPassInfo {
         // SAFETY: a valid subpass description's arrays (valid usage).
         let uses: Vec<_> = subpasses.iter().map(|s| unsafe { s.uses() }).collect();
         // SAFETY: the pNext chain is valid; a multiview node is VkRenderPassMultiviewCreateInfo.
-        let multiview = unsafe { multiview_masks(info.p_next) };
-        render_pass_info(descriptions, &uses, multiview)
+        let masks = unsafe { multiview_masks(info.p_next) };
+        render_pass_info(descriptions, &uses, masks)
     }
 
     /// # Safety
@@ -253,7 +265,7 @@ impl RenderPassInfo {
             // SAFETY: a valid subpass description's pNext chain.
             uses.depth_resolved = unsafe { depth_resolve(subpass.p_next) };
         }
-        render_pass_info(descriptions, &uses, subpasses.iter().any(|s| s.view_mask != 0))
+        render_pass_info(descriptions, &uses, subpasses.iter().map(|s| s.view_mask).collect())
     }
 }
 
@@ -278,11 +290,11 @@ unsafe fn depth_resolve(mut p_next: *const std::ffi::c_void) -> bool {
     false
 }
 
-/// Whether a VkRenderPassMultiviewCreateInfo in the chain sets any view mask.
+/// The subpasses' view masks of a VkRenderPassMultiviewCreateInfo in the chain (empty: none).
 ///
 /// # Safety
 /// `p_next` is a valid pNext chain.
-unsafe fn multiview_masks(mut p_next: *const std::ffi::c_void) -> bool {
+unsafe fn multiview_masks(mut p_next: *const std::ffi::c_void) -> Vec<u32> {
     while !p_next.is_null() {
         let base = p_next as *const vk::BaseInStructure;
         // SAFETY: every chain node starts like VkBaseInStructure.
@@ -291,12 +303,11 @@ unsafe fn multiview_masks(mut p_next: *const std::ffi::c_void) -> bool {
             // SAFETY: a node of this sType is VkRenderPassMultiviewCreateInfo.
             let multiview = unsafe { &*(p_next as *const vk::RenderPassMultiviewCreateInfo) };
             // SAFETY: pViewMasks holds subpassCount masks.
-            let masks = unsafe { app_array(multiview.p_view_masks, multiview.subpass_count) };
-            return masks.iter().any(|&m| m != 0);
+            return unsafe { app_array(multiview.p_view_masks, multiview.subpass_count) }.to_vec();
         }
         p_next = next;
     }
-    false
+    Vec::new()
 }
 
 /// The attachments of a dynamic render pass instance; `view` gives an image view's

@@ -185,15 +185,12 @@ fn begin_pass(
     device: &DeviceData,
     state: &mut DeviceState,
     cmd: vk::CommandBuffer,
-    mut desc: PassDesc,
+    desc: PassDesc,
 ) -> (Vec<QueryCmd>, Vec<QueryCmd>) {
     if !measuring(state) {
         return Default::default();
     }
     let Some(data) = state.buffers.get_mut(&cmd) else { return Default::default() };
-    if data.recording.secondary && desc.not_measured.is_none() {
-        desc.not_measured = Some("secondary command buffer".into());
-    }
     data.recording.begin_pass(desc, &mut |kind| create_pool(device, kind))
 }
 
@@ -211,16 +208,11 @@ fn pass_desc(
     };
     let info = state.render_passes.get(&begin.render_pass);
     let attachments = info.map(|i| attachment_rows(&i.attachments, &area)).unwrap_or_default();
-    let not_measured = if info.is_some_and(|i| i.multiview) {
-        Some("multiview render pass".to_owned())
-    } else if contents == vk::SubpassContents::SECONDARY_COMMAND_BUFFERS {
-        Some("secondary command buffer".to_owned())
-    } else if info.is_none() {
-        Some("render pass created before the layer saw it".to_owned())
-    } else {
-        None
-    };
-    PassDesc { api, area, samples: attachments.iter().map(|a| a.samples).max().unwrap_or(1), attachments, not_measured }
+    let not_measured = info.is_none().then(|| "render pass created before the layer saw it".to_owned());
+    let samples = attachments.iter().map(|a| a.samples).max().unwrap_or(1);
+    let secondary_contents = contents == vk::SubpassContents::SECONDARY_COMMAND_BUFFERS;
+    let view_counts = info.map(|i| i.view_counts()).unwrap_or_default();
+    PassDesc { api, area, samples, attachments, not_measured, secondary_contents, view_counts }
 }
 
 pub(super) unsafe extern "system" fn cmd_begin_render_pass(
@@ -361,7 +353,8 @@ fn end_pass(
 ) -> (Vec<QueryCmd>, Vec<QueryCmd>, Vec<PoisonClear>) {
     let Some(data) = st.buffers.get_mut(&cmd) else { return Default::default() };
     let poison = if device.config.tiler { tiler_pass::end(&mut data.tiler) } else { Vec::new() };
-    (data.recording.end_pass(), Vec::new(), poison)
+    let (before, after) = data.recording.end_pass();
+    (before, after, poison)
 }
 
 pub(super) unsafe extern "system" fn cmd_end_render_pass(cmd: vk::CommandBuffer) {
@@ -460,17 +453,14 @@ unsafe fn begin_rendering_with(
             let attachments = unsafe { rendering_attachments(info, &|v| views.get(&v).copied()) };
             let attachments = attachment_rows(&attachments, &area);
             let flags = info.flags;
-            let not_measured = if info.view_mask != 0 {
-                Some("multiview render pass".to_owned())
-            } else if flags.intersects(vk::RenderingFlags::SUSPENDING | vk::RenderingFlags::RESUMING) {
-                Some("suspended or resumed dynamic render pass".to_owned())
-            } else if flags.contains(vk::RenderingFlags::CONTENTS_SECONDARY_COMMAND_BUFFERS) {
-                Some("secondary command buffer".to_owned())
-            } else {
-                None
-            };
+            let not_measured = flags
+                .intersects(vk::RenderingFlags::SUSPENDING | vk::RenderingFlags::RESUMING)
+                .then(|| "suspended or resumed dynamic render pass".to_owned());
+            let view_counts = if info.view_mask != 0 { vec![info.view_mask.count_ones()] } else { Vec::new() };
             let samples = attachments.iter().map(|a| a.samples).max().unwrap_or(1);
-            let desc = PassDesc { api: "vkCmdBeginRendering", area, samples, attachments, not_measured };
+            let secondary_contents = flags.contains(vk::RenderingFlags::CONTENTS_SECONDARY_COMMAND_BUFFERS);
+            let api = "vkCmdBeginRendering";
+            let desc = PassDesc { api, area, samples, attachments, not_measured, secondary_contents, view_counts };
             let (before, after) = begin_pass(d, st, cmd, desc);
             (before, after, poison)
         },
@@ -538,9 +528,57 @@ pub(super) unsafe extern "system" fn begin_command_buffer(
             data.recording.restart(simultaneous);
             data.tiler.restart();
         }
+        // SAFETY: the application's valid begin info.
+        let info = unsafe { &*info };
+        if info.flags.contains(vk::CommandBufferUsageFlags::RENDER_PASS_CONTINUE) && measuring(&mut st) {
+            // SAFETY: as above: a secondary's begin info has its inheritance info.
+            let desc = unsafe { continued_desc(&st, info) };
+            if let Some(data) = st.buffers.get_mut(&cmd).filter(|d| d.recording.secondary) {
+                data.recording.begin_continued_pass(desc, &mut |kind| create_pool(&device, kind));
+            }
+        }
     });
     // SAFETY: the application's arguments, passed on.
     unsafe { next(cmd, info) }
+}
+
+/// What the layer knows of the pass a secondary command buffer continues (its inheritance
+/// info): the views its subpass renders (its queries take one index each), since its figures
+/// join the executor's pass.
+///
+/// # Safety
+/// `info` is a valid begin info whose pInheritanceInfo, with its pNext chain, is valid.
+unsafe fn continued_desc(st: &DeviceState, info: &vk::CommandBufferBeginInfo<'_>) -> PassDesc {
+    let area = RenderArea { x: 0, y: 0, width: 0, height: 0 };
+    let mut desc = PassDesc {
+        api: "vkBeginCommandBuffer",
+        area,
+        samples: 1,
+        attachments: Vec::new(),
+        not_measured: None,
+        secondary_contents: false,
+        view_counts: Vec::new(),
+    };
+    // SAFETY: the caller's contract.
+    let Some(inheritance) = (unsafe { info.p_inheritance_info.as_ref() }) else { return desc };
+    let pass = st.render_passes.get(&inheritance.render_pass);
+    let mut mask = pass.and_then(|i| i.view_masks.get(inheritance.subpass as usize)).copied().unwrap_or(0);
+    let mut p_next = inheritance.p_next;
+    while !p_next.is_null() {
+        let base = p_next as *const vk::BaseInStructure;
+        // SAFETY: every chain node starts like VkBaseInStructure; this one is, by its sType,
+        // VkCommandBufferInheritanceRenderingInfo.
+        unsafe {
+            if (*base).s_type == vk::StructureType::COMMAND_BUFFER_INHERITANCE_RENDERING_INFO {
+                mask |= (*(p_next as *const vk::CommandBufferInheritanceRenderingInfo<'_>)).view_mask;
+            }
+            p_next = (*base).p_next.cast();
+        }
+    }
+    if mask != 0 {
+        desc.view_counts = vec![mask.count_ones()];
+    }
+    desc
 }
 
 pub(super) unsafe extern "system" fn reset_command_buffer(

@@ -15,7 +15,7 @@ pub enum FrameOn {
     /// Every successful host wait: a fence, a timeline semaphore, a queue or the device idle.
     Wait,
     /// Every buffer swap of a GL or GLES program (`glXSwapBuffers`, `eglSwapBuffers`), seen by
-    /// the layer's library preloaded into the program (gl_swaps.rs; `profile-app --gl`).
+    /// `libnostencil_gl_swaps.so` preloaded into the program (gl_swaps.rs; `profile-app --gl`).
     Swap,
 }
 

@@ -13,11 +13,13 @@ use ash::vk::Handle;
 use super::in_flight::{SubmissionCopy, STRIDE};
 use super::readback::STATISTICS;
 use super::recording::RecordedPass;
-use super::slots::Slot;
+use super::slots::{QueryCmd, Slot};
 use super::state::{DeviceData, DeviceState};
 use super::work::RecordedWork;
 
-/// The slots of `passes` and `work` and how many values each has.
+/// The slots of `passes` and `work` and how many values each has; the multiview queries'
+/// later indices are copied without waiting, since a driver may never make them available
+/// (readback.rs reads such a one as 0).
 fn slots_of(passes: &[RecordedPass], work: &[RecordedWork]) -> Vec<(Slot, usize)> {
     let mut slots = Vec::new();
     for w in work {
@@ -71,19 +73,7 @@ pub fn make(
     }
     let set_loader_data = device.info.set_loader_data.ok_or("the loader gave no vkSetDeviceLoaderData")?;
     let failed = |what: &str, e: vk::Result| format!("the layer could not {what} ({e:?})");
-    let pool = match state.copy_pools.get(&family) {
-        Some(&pool) => pool,
-        None => {
-            let info = vk::CommandPoolCreateInfo::default()
-                .queue_family_index(family)
-                .flags(vk::CommandPoolCreateFlags::TRANSIENT);
-            // SAFETY: the device is alive; the pool is the layer's, used under the state lock.
-            let pool =
-                unsafe { device.fns.create_command_pool(&info, None) }.map_err(|e| failed("make a command pool", e))?;
-            state.copy_pools.insert(family, pool);
-            pool
-        }
-    };
+    let pool = copy_pool(device, state, family).map_err(|e| failed("make a command pool", e))?;
     let indirect_base = slots.len() as u64 * STRIDE;
     let size = indirect_base + indirect.len() as u64 * INDIRECT_STRIDE;
     let info = vk::BufferCreateInfo::default().size(size).usage(vk::BufferUsageFlags::TRANSFER_DST);
@@ -144,12 +134,68 @@ pub fn make(
             copy.release(&device.fns);
             return Err(failed("register its command buffer with the loader", result));
         }
-        if let Err(e) = record(device, &copy, (&slots, &indirect), buffer) {
+        let extras: Vec<Slot> = passes.iter().flat_map(|p| p.view_extras.iter().copied()).collect();
+        if let Err(e) = record(device, &copy, (&slots, &indirect, &extras), buffer) {
             copy.release(&device.fns);
             return Err(failed("record its result copy", e));
         }
         Ok(Some(copy))
     }
+}
+
+/// A command buffer of the layer's that resets `resets` (queries a secondary command buffer
+/// uses inside its executor's render pass, where no reset may be recorded), to submit first in
+/// the batch: (its pool, the buffer).
+pub fn make_resets(
+    device: &DeviceData,
+    state: &mut DeviceState,
+    family: u32,
+    resets: &[QueryCmd],
+) -> Result<(vk::CommandPool, vk::CommandBuffer), String> {
+    let set_loader_data = device.info.set_loader_data.ok_or("the loader gave no vkSetDeviceLoaderData")?;
+    let failed = |what: &str, e: vk::Result| format!("the layer could not {what} ({e:?})");
+    let pool = copy_pool(device, state, family).map_err(|e| failed("make a command pool", e))?;
+    let info = vk::CommandBufferAllocateInfo::default()
+        .command_pool(pool)
+        .level(vk::CommandBufferLevel::PRIMARY)
+        .command_buffer_count(1);
+    // SAFETY: the layer's own pool on the live device, used under the state lock; the buffer is
+    // registered with the loader before any call on it, and freed on every failure path.
+    unsafe {
+        let cmd = device.fns.allocate_command_buffers(&info).map_err(|e| failed("allocate a command buffer", e))?[0];
+        let registered = set_loader_data(device.handle, cmd.as_raw() as usize as *mut std::ffi::c_void);
+        let recorded = if registered == vk::Result::SUCCESS {
+            let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+            device.fns.begin_command_buffer(cmd, &begin).and_then(|()| {
+                for reset in resets {
+                    if let QueryCmd::Reset { pool, first, count } = *reset {
+                        device.fns.cmd_reset_query_pool(cmd, pool, first, count);
+                    }
+                }
+                device.fns.end_command_buffer(cmd)
+            })
+        } else {
+            Err(registered)
+        };
+        if let Err(e) = recorded {
+            device.fns.free_command_buffers(pool, &[cmd]);
+            return Err(failed("record the resets of secondary command buffers' queries", e));
+        }
+        Ok((pool, cmd))
+    }
+}
+
+/// The layer's command pool for queue family `family`.
+fn copy_pool(device: &DeviceData, state: &mut DeviceState, family: u32) -> Result<vk::CommandPool, vk::Result> {
+    if let Some(&pool) = state.copy_pools.get(&family) {
+        return Ok(pool);
+    }
+    let info =
+        vk::CommandPoolCreateInfo::default().queue_family_index(family).flags(vk::CommandPoolCreateFlags::TRANSIENT);
+    // SAFETY: the device is alive; the pool is the layer's, used under the state lock.
+    let pool = unsafe { device.fns.create_command_pool(&info, None) }?;
+    state.copy_pools.insert(family, pool);
+    Ok(pool)
 }
 
 /// Bytes per copied indirect dispatch's arguments (three u32, padded).
@@ -167,7 +213,7 @@ type Arguments = (vk::Buffer, u64);
 unsafe fn record(
     device: &DeviceData,
     copy: &SubmissionCopy,
-    (slots, indirect): (&[(Slot, usize)], &[Arguments]),
+    (slots, indirect, extras): (&[(Slot, usize)], &[Arguments], &[Slot]),
     buffer: vk::Buffer,
 ) -> ash::prelude::VkResult<()> {
     let cmd = copy.command_buffer;
@@ -188,9 +234,9 @@ unsafe fn record(
             let region = vk::BufferCopy { src_offset: offset, dst_offset: at as u64, size: 12 };
             device.fns.cmd_copy_buffer(cmd, source, buffer, &[region]);
         }
-        let flags =
-            vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT | vk::QueryResultFlags::WITH_AVAILABILITY;
+        let flags = vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WITH_AVAILABILITY;
         for (i, (slot, _)) in slots.iter().enumerate() {
+            let flags = if extras.contains(slot) { flags } else { flags | vk::QueryResultFlags::WAIT };
             device.fns.cmd_copy_query_pool_results(
                 cmd,
                 slot.pool,

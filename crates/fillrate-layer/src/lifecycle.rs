@@ -79,6 +79,9 @@ pub(super) unsafe extern "system" fn create_instance(
             let capture = if config.capture.is_some() { " (nor capturing)" } else { "" };
             say_once(&ONCE, &format!("NOSTENCIL_FILLRATE_OUT is not set: measuring nothing{capture}"));
         }
+        if config.out.is_some() && config.frame_on == super::config::FrameOn::Swap {
+            super::gl_swaps::register();
+        }
         // SAFETY: the next layer's GIPA with the instance it created.
         let fns =
             unsafe { ash::Instance::load_with(|name| std::mem::transmute(next_gipa(handle, name.as_ptr())), handle) };

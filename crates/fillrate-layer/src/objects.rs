@@ -24,8 +24,9 @@ pub fn device_and<F>(handle: u64, pick: impl FnOnce(&DeviceData) -> Option<F>) -
 /// Reads back `buffer`'s submissions: called where the application guarantees the buffer is no
 /// longer pending (re-recording, reset, free, re-submission without SIMULTANEOUS_USE).
 pub fn flush_buffer(device: &DeviceData, state: &mut DeviceState, buffer: vk::CommandBuffer) {
-    if state.pending.iter().any(|p| p.buffer == buffer) {
-        read_completed(device, state, |p| p.buffer == buffer);
+    let uses = |p: &super::state::Pending| p.buffer == buffer || p.secondaries.contains(&buffer);
+    if state.pending.iter().any(uses) {
+        read_completed(device, state, uses);
     }
 }
 

@@ -30,6 +30,20 @@ struct Batch {
     frame_end: bool,
 }
 
+/// The layer's command buffers for one batch: those that reset the queries of secondary command
+/// buffers (copies.rs), submitted first, and the result copies, submitted last.
+#[derive(Default)]
+struct LayerBuffers {
+    first: Vec<vk::CommandBuffer>,
+    last: Vec<vk::CommandBuffer>,
+}
+
+impl LayerBuffers {
+    fn is_empty(&self) -> bool {
+        self.first.is_empty() && self.last.is_empty()
+    }
+}
+
 /// Notes the command buffers of one vkQueueSubmit(2) call, in submission order. Returns, per
 /// batch, the layer's copy command buffers (copies.rs) to submit at the end of that batch: never
 /// between two of the application's buffers, where a render pass may be suspended in one and
@@ -43,7 +57,7 @@ fn submitted(
     queue: vk::Queue,
     batches: &[Batch],
     fence: vk::Fence,
-) -> Vec<Vec<vk::CommandBuffer>> {
+) -> Vec<LayerBuffers> {
     if device.config.tiler {
         // The check reads the command stream in submission order (a resubmitted buffer runs,
         // and is read, again).
@@ -87,6 +101,7 @@ fn submitted(
     let mut noted: Vec<(usize, usize)> = Vec::new();
     for (b, batch) in batches.iter().enumerate() {
         let mut batch_copies = Vec::new();
+        let mut batch_resets = Vec::new();
         for &buffer in &batch.buffers {
             if !measuring {
                 break;
@@ -97,6 +112,8 @@ fn submitted(
             }
             let passes = data.recording.passes.clone();
             let work = data.recording.work.list.clone();
+            let secondaries = data.recording.executed.clone();
+            let deferred = data.recording.deferred_resets.clone();
             let family = state.command_pools.get(&data.pool).copied().unwrap_or(0);
             let timestamp_bits = device.info.timestamp_bits.get(family as usize).copied().unwrap_or(0);
             let copy = if batch.can_copy {
@@ -111,6 +128,19 @@ fn submitted(
                 None
             };
             batch_copies.extend(copy.as_ref().map(|c| c.command_buffer));
+            // Queries used inside render passes this buffer did not begin (its secondaries'):
+            // reset by a buffer of the layer's first in the batch.
+            let (resets, unreset) = match (deferred.is_empty(), batch.can_copy) {
+                (true, _) => (None, None),
+                (false, false) => {
+                    (None, Some("secondary command buffers in a batch the layer cannot add to".to_owned()))
+                }
+                (false, true) => match copies::make_resets(device, state, family, &deferred) {
+                    Ok(resets) => (Some(resets), None),
+                    Err(why) => (None, Some(why)),
+                },
+            };
+            batch_resets.extend(resets.map(|(_, cmd)| cmd));
             state.sequence += 1;
             let frame = state.frames().submitted();
             noted.push((b, state.pending.len()));
@@ -122,11 +152,13 @@ fn submitted(
                 passes,
                 work,
                 timestamp_bits,
-                spoiled: None,
+                spoiled: unreset,
                 copy,
+                secondaries,
+                resets,
             });
         }
-        copies.push(batch_copies);
+        copies.push(LayerBuffers { first: batch_resets, last: batch_copies });
         if batch.frame_end {
             frame_cuts::boundary(device, state);
         }
@@ -350,7 +382,7 @@ fn note_submit(
     queue: vk::Queue,
     fence: vk::Fence,
     gather: impl FnOnce() -> Vec<Batch>,
-) -> Vec<Vec<vk::CommandBuffer>> {
+) -> Vec<LayerBuffers> {
     guard(Vec::new(), || {
         if !device.active() {
             return Vec::new();
@@ -409,7 +441,7 @@ pub(super) unsafe extern "system" fn queue_submit(
     // SAFETY: the application's infos, restored below.
     let unlinked =
         unsafe { frame_boundary::strip(emulated, submits, count, |s| std::ptr::addr_of_mut!((*s).p_next).cast()) };
-    if copies.iter().all(Vec::is_empty) {
+    if copies.iter().all(LayerBuffers::is_empty) {
         // SAFETY: the application's arguments, passed on.
         let result = unsafe { next(queue, count, submits, fence) };
         // SAFETY: the same infos.
@@ -419,11 +451,12 @@ pub(super) unsafe extern "system" fn queue_submit(
     let buffers: Vec<Vec<vk::CommandBuffer>> = infos
         .iter()
         .zip(&copies)
-        .map(|(info, copies)| {
+        .map(|(info, layer)| {
+            let mut all = layer.first.clone();
             // SAFETY: as above.
-            let mut own = unsafe { app_array(info.p_command_buffers, info.command_buffer_count) }.to_vec();
-            own.extend(copies);
-            own
+            all.extend(unsafe { app_array(info.p_command_buffers, info.command_buffer_count) });
+            all.extend(&layer.last);
+            all
         })
         .collect();
     let mut batches = infos.to_vec();
@@ -431,7 +464,7 @@ pub(super) unsafe extern "system" fn queue_submit(
         batch.command_buffer_count = buffers.len() as u32;
         batch.p_command_buffers = buffers.as_ptr();
     }
-    // SAFETY: the application's batches, each with the layer's buffers after its own.
+    // SAFETY: the application's batches, each with the layer's buffers around its own.
     let result = unsafe { next(queue, count, batches.as_ptr(), fence) };
     // SAFETY: the same infos.
     unsafe { unlinked.restore() };
@@ -474,7 +507,7 @@ unsafe fn queue_submit2_with(
     // SAFETY: the application's infos, restored below.
     let unlinked =
         unsafe { frame_boundary::strip(emulated, submits, count, |s| std::ptr::addr_of_mut!((*s).p_next).cast()) };
-    if copies.iter().all(Vec::is_empty) {
+    if copies.iter().all(LayerBuffers::is_empty) {
         // SAFETY: the application's arguments, passed on.
         let result = unsafe { next(queue, count, submits, fence) };
         // SAFETY: the same infos.
@@ -484,15 +517,18 @@ unsafe fn queue_submit2_with(
     let buffers: Vec<Vec<vk::CommandBufferSubmitInfo>> = infos
         .iter()
         .zip(&copies)
-        .map(|(info, copies)| {
+        .map(|(info, layer)| {
             // SAFETY: as above.
-            let mut own = unsafe { app_array(info.p_command_buffer_infos, info.command_buffer_info_count) }.to_vec();
-            // The same device mask as the batch's last buffer (0: all devices).
-            let mask = own.last().map_or(0, |b| b.device_mask);
-            own.extend(
-                copies.iter().map(|&c| vk::CommandBufferSubmitInfo::default().command_buffer(c).device_mask(mask)),
-            );
-            own
+            let own = unsafe { app_array(info.p_command_buffer_infos, info.command_buffer_info_count) };
+            // The same device mask as the batch's first and last buffers (0: all devices).
+            let mask_first = own.first().map_or(0, |b| b.device_mask);
+            let mask_last = own.last().map_or(0, |b| b.device_mask);
+            let info =
+                |c: vk::CommandBuffer, mask| vk::CommandBufferSubmitInfo::default().command_buffer(c).device_mask(mask);
+            let mut all: Vec<_> = layer.first.iter().map(|&c| info(c, mask_first)).collect();
+            all.extend(own);
+            all.extend(layer.last.iter().map(|&c| info(c, mask_last)));
+            all
         })
         .collect();
     let mut batches = infos.to_vec();

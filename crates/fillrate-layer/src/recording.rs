@@ -28,7 +28,7 @@ use std::collections::HashMap;
 use ash::vk;
 
 use super::report::{AttachmentRow, RenderArea};
-use super::slots::{QueryCmd, QueryKind, Slot, SlotPool};
+use super::slots::{QueryCmd, QueryKind, Slot, SlotPool, CHUNK};
 
 /// Occlusion and statistics segments one render pass may use.
 pub const SEGMENTS_PER_PASS: u32 = 64;
@@ -51,6 +51,16 @@ pub struct Section {
     pub draws: u64,
     /// (begin, end) timestamps: sections opened by a label call.
     pub timestamps: Option<(Slot, Slot)>,
+    /// Its end timestamp is written (early, where a subpass that runs secondary command
+    /// buffers begins: the primary may record no timestamp inside it).
+    pub ended: bool,
+}
+
+impl Section {
+    /// Its end timestamp, when it has one not yet written.
+    fn end_due(&self) -> Option<Slot> {
+        self.timestamps.filter(|_| !self.ended).map(|(_, end)| end)
+    }
 }
 
 /// The queries of one draw measured alone.
@@ -82,8 +92,19 @@ pub struct PassDesc {
     pub area: RenderArea,
     pub samples: u32,
     pub attachments: Vec<AttachmentRow>,
-    /// Why it cannot be measured, decided at begin (secondary contents, multiview, ...).
+    /// Why it cannot be measured, decided at begin (a suspended dynamic pass, ...).
     pub not_measured: Option<String>,
+    /// Its first subpass's contents are recorded in secondary command buffers.
+    pub secondary_contents: bool,
+    /// A multiview pass: the views each subpass renders (empty outside multiview).
+    pub view_counts: Vec<u32>,
+}
+
+impl PassDesc {
+    /// The most views any subpass renders (1 outside multiview).
+    pub fn views(&self) -> u32 {
+        self.view_counts.iter().copied().max().unwrap_or(1)
+    }
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -96,6 +117,9 @@ pub struct RecordedPass {
     /// (begin, end) timestamps.
     pub timestamps: Option<(Slot, Slot)>,
     pub gaps: Vec<AppGap>,
+    /// The indices of multiview queries past each run's first (`occlusion`, `statistics` hold
+    /// them too): one a driver may leave unavailable reads as 0 (readback.rs).
+    pub view_extras: Vec<Slot>,
     /// `per_draw`: each draw's own queries.
     pub draw_slots: Vec<DrawSlots>,
     /// At least one; more when labels were begun or ended inside the pass.
@@ -105,9 +129,33 @@ pub struct RecordedPass {
     active_occlusion: Option<Slot>,
     active_statistics: Option<Slot>,
     measuring: bool,
+    /// The current subpass runs secondary command buffers: the primary may record nothing but
+    /// vkCmdExecuteCommands there, so the layer's timestamps go outside the pass.
+    secondary_now: bool,
+    /// A secondary command buffer's part of its executor's pass (RENDER_PASS_CONTINUE): no
+    /// timestamps of its own, its resets made ahead of the submission.
+    continued: bool,
+    /// The current subpass, from 0.
+    subpass: usize,
 }
 
 impl RecordedPass {
+    /// Views the current subpass renders: each query of the layer's takes as many indices.
+    fn views_now(&self) -> u32 {
+        self.desc.view_counts.get(self.subpass).copied().unwrap_or(1).max(1)
+    }
+
+    /// A multiview pass: a timestamp inside it would write one query per view, so its pass
+    /// timestamps are taken outside it and it has no section or per-draw timestamps.
+    fn multiview(&self) -> bool {
+        !self.desc.view_counts.is_empty()
+    }
+
+    /// The layer's timestamps cannot be written inside the pass now.
+    fn stamps_outside(&self) -> bool {
+        self.secondary_now || self.multiview()
+    }
+
     pub fn not_measured(&self) -> Option<&str> {
         self.desc.not_measured.as_deref()
     }
@@ -156,6 +204,25 @@ pub struct Recording {
     pub timestamps: SlotPool,
     /// Dispatch groups and transfers outside render passes (work.rs).
     pub work: super::work::WorkState,
+    /// Resets of slots used inside a render pass this recording did not begin (its own, as a
+    /// secondary continuing its executor's pass, or those of the secondaries it executed): the
+    /// layer records them in a command buffer of its own, ahead of the submission (copies.rs).
+    pub deferred_resets: Vec<QueryCmd>,
+    /// Secondary command buffers executed by this recording: their queries are in its passes
+    /// and work.
+    pub executed: Vec<vk::CommandBuffer>,
+}
+
+/// What a secondary command buffer brings to the command buffer that executes it: its part of
+/// the executor's pass, the passes it begins itself, its work, and its deferred resets.
+#[derive(Debug, Clone, Default)]
+pub struct Executed {
+    pub continued: Option<RecordedPass>,
+    pub passes: Vec<RecordedPass>,
+    pub work: Vec<super::work::RecordedWork>,
+    pub resets: Vec<QueryCmd>,
+    /// Why its figures cannot be used (begun without the layer, or not ended).
+    pub unusable: Option<String>,
 }
 
 impl Recording {
@@ -175,6 +242,8 @@ impl Recording {
             statistics: SlotPool::new(QueryKind::Statistics),
             timestamps: SlotPool::new(QueryKind::Timestamp),
             work: Default::default(),
+            deferred_resets: Vec::new(),
+            executed: Vec::new(),
         }
     }
 
@@ -191,6 +260,8 @@ impl Recording {
         self.statistics.restart();
         self.timestamps.restart();
         self.work.restart();
+        self.deferred_resets.clear();
+        self.executed.clear();
     }
 
     /// Every pool this recording created (to destroy with the command buffer).
@@ -212,7 +283,7 @@ impl Recording {
         let label = self.labels.last().cloned();
         let statistics = self.support.statistics && !self.app_statistics_active();
         let cx = super::work::Context {
-            skip: self.secondary || self.open.is_some(),
+            skip: self.open.is_some(),
             statistics,
             timestamps: self.support.timestamps.then_some(&mut self.timestamps),
             label,
@@ -288,18 +359,20 @@ impl Recording {
         let base = self.passes[index].label_base.min(self.labels.len());
         let label = (base < self.labels.len()).then(|| self.labels[base..].join(" / "));
         let pass = &self.passes[index];
-        if let Some((_, end)) = pass.sections.last().and_then(|s| s.timestamps) {
+        if let Some(end) = pass.sections.last().and_then(Section::end_due) {
             before.push(QueryCmd::Timestamp { slot: end, stage: vk::PipelineStageFlags::BOTTOM_OF_PIPE });
         }
-        let timed =
-            pass.measuring && self.support.timestamps && pass.sections.len() <= TIMED_SECTIONS_PER_PASS as usize;
+        let timed = pass.measuring
+            && !pass.stamps_outside()
+            && self.support.timestamps
+            && pass.sections.len() <= TIMED_SECTIONS_PER_PASS as usize;
         let timestamps = if timed { self.timestamps.take().zip(self.timestamps.take()) } else { None };
         if let Some((begin, _)) = timestamps {
             after.push(QueryCmd::Timestamp { slot: begin, stage: vk::PipelineStageFlags::TOP_OF_PIPE });
         }
         let pass = &mut self.passes[index];
         let from = [pass.occlusion.len(), pass.statistics.len(), pass.gaps.len(), pass.draw_slots.len()];
-        pass.sections.push(Section { label, from, draws: 0, timestamps });
+        pass.sections.push(Section { label, from, draws: 0, timestamps, ended: false });
         (before, after)
     }
 
@@ -323,7 +396,7 @@ impl Recording {
         if let Some(section) = self.passes[index].sections.last_mut() {
             section.draws += draws;
         }
-        if self.per_draw && self.passes[index].measuring {
+        if self.per_draw && self.passes[index].measuring && !self.passes[index].multiview() {
             self.end_segments(None, &mut before);
             let timestamps =
                 if self.support.timestamps { self.timestamps.take().zip(self.timestamps.take()) } else { None };
@@ -354,8 +427,26 @@ impl Recording {
     /// after it). `desc.not_measured` set: recorded but not measured.
     pub fn begin_pass(
         &mut self,
+        desc: PassDesc,
+        create: &mut dyn FnMut(QueryKind) -> Option<vk::QueryPool>,
+    ) -> (Vec<QueryCmd>, Vec<QueryCmd>) {
+        self.open_pass_with(desc, create, false)
+    }
+
+    /// A secondary command buffer begun with RENDER_PASS_CONTINUE: its draws are part of the
+    /// pass that executes it. Its segments begin at its draws as in any pass; its slots' resets
+    /// cannot be recorded inside a render pass, so they are kept for the executor's submission
+    /// (`deferred_resets`), and it takes no timestamps of its own (the executor's pass has them).
+    pub fn begin_continued_pass(&mut self, desc: PassDesc, create: &mut dyn FnMut(QueryKind) -> Option<vk::QueryPool>) {
+        let (resets, _) = self.open_pass_with(desc, create, true);
+        self.deferred_resets.extend(resets.into_iter().filter(|c| matches!(c, QueryCmd::Reset { .. })));
+    }
+
+    fn open_pass_with(
+        &mut self,
         mut desc: PassDesc,
         create: &mut dyn FnMut(QueryKind) -> Option<vk::QueryPool>,
+        continued: bool,
     ) -> (Vec<QueryCmd>, Vec<QueryCmd>) {
         let label = self.labels.last().cloned().or_else(|| self.inserted_label.take());
         if desc.not_measured.is_none() {
@@ -373,11 +464,16 @@ impl Recording {
             let support = self.support;
             // Resets go outside the pass: every slot the pass may use is reset before it.
             let sections = 2 * TIMED_SECTIONS_PER_PASS;
-            let (segments, timestamps) = if self.per_draw {
+            let (mut segments, timestamps) = if self.per_draw {
                 (DRAWS_PER_PASS, 2 + 2 * DRAWS_PER_PASS + sections)
             } else {
                 (SEGMENTS_PER_PASS, 2 + sections)
             };
+            let views = desc.views();
+            if views > 1 {
+                // A run of `views` slots per segment, and what runs skip at pool ends.
+                segments = SEGMENTS_PER_PASS * views + CHUNK;
+            }
             let mut ok = self.occlusion.reserve(segments, create, &mut before);
             if support.statistics {
                 ok &= self.statistics.reserve(segments, create, &mut before);
@@ -390,6 +486,8 @@ impl Recording {
             }
         }
         let measuring = desc.not_measured.is_none();
+        let secondary_now = desc.secondary_contents;
+        let outside = secondary_now || !desc.view_counts.is_empty();
         self.passes.push(RecordedPass {
             desc,
             label,
@@ -398,18 +496,30 @@ impl Recording {
             statistics: Vec::new(),
             timestamps: None,
             gaps: Vec::new(),
+            view_extras: Vec::new(),
             draw_slots: Vec::new(),
-            sections: vec![Section { label: None, from: [0; 4], draws: 0, timestamps: None }],
+            sections: vec![Section { label: None, from: [0; 4], draws: 0, timestamps: None, ended: false }],
             label_base: self.labels.len(),
             active_occlusion: None,
             active_statistics: None,
             measuring,
+            secondary_now,
+            continued,
+            subpass: 0,
         });
         self.open = Some(self.passes.len() - 1);
         let mut after = Vec::new();
-        if measuring && self.support.timestamps {
+        if measuring && !continued && self.support.timestamps {
             if let (Some(begin), Some(end)) = (self.timestamps.take(), self.timestamps.take()) {
-                after.push(QueryCmd::Timestamp { slot: begin, stage: vk::PipelineStageFlags::TOP_OF_PIPE });
+                let stamp = QueryCmd::Timestamp { slot: begin, stage: vk::PipelineStageFlags::TOP_OF_PIPE };
+                // Inside a subpass of secondary contents the primary records nothing but
+                // vkCmdExecuteCommands, and inside a multiview pass a timestamp writes one query
+                // per view: the pass is timed from before its begin.
+                if outside {
+                    before.push(stamp);
+                } else {
+                    after.push(stamp);
+                }
                 self.open_pass().timestamps = Some((begin, end));
             }
         }
@@ -434,9 +544,10 @@ impl Recording {
         if !pass.measuring || active || pass.gaps.iter().any(|g| g.open && g.kind == kind) {
             return;
         }
+        let views = pass.views_now();
         let slot = match kind {
-            QueryKind::Occlusion => self.occlusion.take(),
-            QueryKind::Statistics if support.statistics => self.statistics.take(),
+            QueryKind::Occlusion => self.occlusion.take_run(views),
+            QueryKind::Statistics if support.statistics => self.statistics.take_run(views),
             _ => return,
         };
         let pass = &mut self.passes[index];
@@ -445,14 +556,18 @@ impl Recording {
             pass.desc.not_measured = Some(format!("more than {SEGMENTS_PER_PASS} query segments in one render pass"));
             return;
         };
+        // Every index of the run is read back and summed: how a multiview query spreads its
+        // results over the views' indices is the implementation's choice.
+        let run = (0..views).map(|v| Slot { pool: slot.pool, query: slot.query + v });
+        pass.view_extras.extend(run.clone().skip(1));
         match kind {
             QueryKind::Occlusion => {
-                pass.occlusion.push(slot);
+                pass.occlusion.extend(run);
                 pass.active_occlusion = Some(slot);
                 out.push(QueryCmd::Begin { slot, precise });
             }
             _ => {
-                pass.statistics.push(slot);
+                pass.statistics.extend(run);
                 pass.active_statistics = Some(slot);
                 out.push(QueryCmd::Begin { slot, precise: false });
             }
@@ -476,45 +591,132 @@ impl Recording {
     }
 
     /// vkCmdNextSubpass: (before, after); the next segments begin at the next draw.
-    /// `secondary_contents`: the next subpass runs secondary command buffers, which the layer
-    /// cannot measure.
+    /// `secondary_contents`: the next subpass runs secondary command buffers (measured where
+    /// they are executed); the section's end timestamp, if due, is written before the call.
     pub fn next_subpass(&mut self, secondary_contents: bool) -> (Vec<QueryCmd>, Vec<QueryCmd>) {
         let mut before = Vec::new();
         let after = Vec::new();
-        if self.open.is_none() {
-            return (before, after);
-        }
+        let Some(index) = self.open else { return (before, after) };
         self.end_segments(None, &mut before);
-        if secondary_contents {
-            let pass = self.open_pass();
-            if pass.measuring {
-                pass.measuring = false;
-                pass.desc.not_measured = Some("secondary command buffer".into());
+        let pass = &mut self.passes[index];
+        if secondary_contents && !pass.stamps_outside() {
+            if let Some(section) = pass.sections.last_mut() {
+                if let Some(end) = section.end_due() {
+                    before.push(QueryCmd::Timestamp { slot: end, stage: vk::PipelineStageFlags::BOTTOM_OF_PIPE });
+                    section.ended = true;
+                }
             }
         }
+        pass.secondary_now = secondary_contents;
+        pass.subpass += 1;
         (before, after)
     }
 
-    /// The application ends the render pass instance: commands before its end call.
-    pub fn end_pass(&mut self) -> Vec<QueryCmd> {
-        let mut before = Vec::new();
-        let Some(index) = self.open else { return before };
+    /// The application ends the render pass instance: commands before its end call, and after it
+    /// (the pass's end timestamp, where its last subpass ran secondary command buffers).
+    pub fn end_pass(&mut self) -> (Vec<QueryCmd>, Vec<QueryCmd>) {
+        let (mut before, mut after) = (Vec::new(), Vec::new());
+        let Some(index) = self.open else { return (before, after) };
         self.end_segments(None, &mut before);
         let pass = &mut self.passes[index];
-        if let Some((_, end)) = pass.sections.last().and_then(|s| s.timestamps) {
-            before.push(QueryCmd::Timestamp { slot: end, stage: vk::PipelineStageFlags::BOTTOM_OF_PIPE });
+        let stamps = if pass.stamps_outside() { &mut after } else { &mut before };
+        if let Some(end) = pass.sections.last().and_then(Section::end_due) {
+            stamps.push(QueryCmd::Timestamp { slot: end, stage: vk::PipelineStageFlags::BOTTOM_OF_PIPE });
         }
         if let Some((_, end)) = pass.timestamps {
             // The timestamps were taken when the pass began measuring; write the end one even if
             // the pass stopped measuring since, so the slot is never left unwritten.
-            before.push(QueryCmd::Timestamp { slot: end, stage: vk::PipelineStageFlags::BOTTOM_OF_PIPE });
+            stamps.push(QueryCmd::Timestamp { slot: end, stage: vk::PipelineStageFlags::BOTTOM_OF_PIPE });
         }
         if pass.gaps.iter().any(|g| g.open) {
             pass.measuring = false;
             pass.desc.not_measured = Some("application query left active at the end of the pass".into());
         }
         self.open = None;
-        before
+        (before, after)
+    }
+
+    /// vkEndCommandBuffer of a secondary that continued its executor's pass: its segments end
+    /// before the buffer does (commands before the call).
+    pub fn end_continued_pass(&mut self) -> Vec<QueryCmd> {
+        match self.open {
+            Some(index) if self.passes[index].continued => self.end_pass().0,
+            _ => Vec::new(),
+        }
+    }
+
+    /// What this recording, a secondary command buffer, brings to the buffer that executes it.
+    pub fn executed_part(&self) -> Executed {
+        let continued = self.passes.iter().find(|p| p.continued).cloned();
+        let unusable = match (self.open, &continued) {
+            (Some(_), _) => Some("secondary command buffer executed before it was ended".to_owned()),
+            _ => None,
+        };
+        Executed {
+            continued,
+            passes: self.passes.iter().filter(|p| !p.continued).cloned().collect(),
+            work: self.work.list.clone(),
+            resets: self.deferred_resets.clone(),
+            unusable,
+        }
+    }
+
+    /// vkCmdExecuteCommands of `secondary`, whose part is `part`. Inside a pass, its continued
+    /// part's segments, gaps and draws join the open pass (they sum into it at read-back);
+    /// outside, its own passes and work join this recording's, in order. A secondary executed
+    /// twice in one recording would reuse its queries before they are read: that pass (or that
+    /// work) is not measured.
+    pub fn execute(&mut self, secondary: vk::CommandBuffer, part: Executed) {
+        let twice = self.executed.contains(&secondary);
+        self.executed.push(secondary);
+        const TWICE: &str = "secondary command buffer executed twice in one command buffer";
+        let Some(index) = self.open else {
+            // Outside a pass: the work rows and passes it recorded, where it is executed.
+            let mut passes = part.passes;
+            let mut work = part.work;
+            if twice || part.unusable.is_some() {
+                let why = part.unusable.clone().unwrap_or_else(|| TWICE.to_owned());
+                for pass in &mut passes {
+                    pass.measuring = false;
+                    pass.desc.not_measured.get_or_insert_with(|| why.clone());
+                }
+                for w in &mut work {
+                    w.statistics = None;
+                    w.timestamps = None;
+                    w.not_measured.get_or_insert_with(|| why.clone());
+                }
+            }
+            self.passes.extend(passes);
+            self.work.list.extend(work);
+            self.deferred_resets.extend(part.resets);
+            return;
+        };
+        let pass = &mut self.passes[index];
+        if !pass.measuring {
+            return;
+        }
+        let why = match (&part.continued, twice, &part.unusable) {
+            (_, _, Some(why)) => Some(why.clone()),
+            (_, true, _) => Some(TWICE.to_owned()),
+            (None, _, _) => Some("secondary command buffer not begun to continue a render pass".to_owned()),
+            (Some(p), _, _) => p.desc.not_measured.clone(),
+        };
+        if let Some(why) = why {
+            pass.measuring = false;
+            pass.desc.not_measured = Some(why);
+            return;
+        }
+        let Some(inner) = part.continued else { return };
+        pass.draws += inner.draws;
+        if let Some(section) = pass.sections.last_mut() {
+            section.draws += inner.draws;
+        }
+        pass.occlusion.extend(inner.occlusion);
+        pass.statistics.extend(inner.statistics);
+        pass.gaps.extend(inner.gaps);
+        pass.view_extras.extend(inner.view_extras);
+        pass.draw_slots.extend(inner.draw_slots);
+        self.deferred_resets.extend(part.resets);
     }
 
     /// The application begins a query of `kind`: commands before its call.

@@ -76,6 +76,25 @@ impl SlotPool {
         true
     }
 
+    /// `n` consecutive reset slots in one pool, the first returned (a multiview pass's query
+    /// takes one index per view): slots up to the next pool are skipped when the run would
+    /// cross into it.
+    pub fn take_run(&mut self, n: u32) -> Option<Slot> {
+        let n = n.max(1);
+        if n > CHUNK {
+            return None;
+        }
+        if self.next % CHUNK + n > CHUNK {
+            self.next = (self.next / CHUNK + 1) * CHUNK;
+        }
+        if self.next + n > self.reset_until {
+            return None;
+        }
+        let first = self.take();
+        self.next += n - 1;
+        first
+    }
+
     /// The next reset slot, if any is left.
     pub fn take(&mut self) -> Option<Slot> {
         if self.next >= self.reset_until {
@@ -125,5 +144,25 @@ mod tests {
         assert!(slots.reserve(1, &mut create, &mut cmds));
         assert_eq!(cmds, vec![QueryCmd::Reset { pool: pool(1), first: 0, count: 1 }]);
         assert_eq!(slots.pools.len(), 2);
+    }
+
+    #[test]
+    fn a_run_of_slots_stays_in_one_pool_and_within_the_reserve() {
+        let mut created = 0u64;
+        let mut create = |_: QueryKind| {
+            created += 1;
+            Some(vk::QueryPool::from_raw(created))
+        };
+        let mut slots = SlotPool::new(QueryKind::Occlusion);
+        let mut cmds = Vec::new();
+        assert!(slots.reserve(CHUNK + 4, &mut create, &mut cmds));
+        for _ in 0..CHUNK - 2 {
+            slots.take();
+        }
+        // Two slots are left in the first pool: a run of three starts in the second.
+        let run = slots.take_run(3).expect("a run");
+        assert_eq!(run, Slot { pool: vk::QueryPool::from_raw(2), query: 0 });
+        assert_eq!(slots.take(), Some(Slot { pool: vk::QueryPool::from_raw(2), query: 3 }));
+        assert_eq!(slots.take_run(2), None, "past the reserve");
     }
 }

@@ -236,6 +236,10 @@ pub struct Pending {
     pub spoiled: Option<String>,
     /// This submission's own copy of the layer's results (None: read from the query pools).
     pub copy: Option<SubmissionCopy>,
+    /// The secondary command buffers `buffer` executed (their queries are in `passes`, `work`).
+    pub secondaries: Vec<vk::CommandBuffer>,
+    /// The layer's buffer that reset the secondaries' queries first in the batch (its pool).
+    pub resets: Option<(vk::CommandPool, vk::CommandBuffer)>,
 }
 
 #[derive(Default)]

@@ -60,6 +60,8 @@ pub struct RecordedWork {
     pub moved: Moved,
     pub statistics: Option<Slot>,
     pub timestamps: Option<(Slot, Slot)>,
+    /// Why its figures cannot be used (a secondary command buffer executed twice in one buffer).
+    pub not_measured: Option<String>,
 }
 
 /// One command buffer's work, and the compute query slots it uses.
@@ -171,6 +173,7 @@ impl WorkState {
             moved: Moved::default(),
             statistics,
             timestamps,
+            not_measured: None,
         });
         self.open = Some(self.list.len() - 1);
         before
@@ -219,6 +222,7 @@ impl WorkState {
             moved,
             statistics: None,
             timestamps,
+            not_measured: None,
         });
         (before, after)
     }

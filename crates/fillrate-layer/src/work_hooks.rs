@@ -8,6 +8,7 @@
 use ash::vk;
 
 use super::commands::{around, create_pool, measuring, pass_on_through_check};
+use super::recording::Executed;
 use super::slots::QueryCmd;
 use super::state::{DeviceData, DeviceState};
 use super::work::{Moved, Workgroups};
@@ -22,25 +23,12 @@ fn dispatch(
     api: &'static str,
     groups: Workgroups,
 ) -> Cmds {
-    if !measuring(st) || in_secondary(st, cmd) {
+    if !measuring(st) {
         return Default::default();
     }
     let Some(data) = st.buffers.get_mut(&cmd) else { return Default::default() };
     (data.recording.dispatch(api, groups, &mut |kind| create_pool(device, kind)), Vec::new())
 }
-
-/// Work recorded in a secondary command buffer is not measured (its queries would have to run
-/// wherever the buffer is executed); it is named, once per recorded command.
-fn in_secondary(st: &mut DeviceState, cmd: vk::CommandBuffer) -> bool {
-    let secondary = st.buffers.get(&cmd).is_some_and(|b| b.recording.secondary);
-    if secondary {
-        st.count_not_measured(SECONDARY_WORK);
-    }
-    secondary
-}
-
-/// The reason `in_secondary` names.
-pub const SECONDARY_WORK: &str = "dispatch or transfer recorded in a secondary command buffer";
 
 /// A transfer on `cmd`; `moved` works out its bytes from the device's images and buffers.
 pub(super) fn transfer(
@@ -50,7 +38,7 @@ pub(super) fn transfer(
     api: &'static str,
     moved: impl FnOnce(&DeviceState) -> Moved,
 ) -> Cmds {
-    if !measuring(st) || in_secondary(st, cmd) {
+    if !measuring(st) {
         return Default::default();
     }
     let moved = moved(st);
@@ -267,7 +255,24 @@ pub(super) unsafe extern "system" fn cmd_execute_commands(
                 unsafe { next(cmd, count, buffers) }
             }
         },
-        |_, st| close(st, cmd),
+        |_, st| {
+            let before = close(st, cmd).0;
+            // SAFETY: the application's array of `count` buffers.
+            let secondaries = unsafe { super::arrays::app_array(buffers, count) };
+            for &secondary in secondaries {
+                let part = match st.buffers.get(&secondary) {
+                    Some(data) => data.recording.executed_part(),
+                    None => Executed {
+                        unusable: Some("secondary command buffer allocated before the layer saw it".into()),
+                        ..Default::default()
+                    },
+                };
+                if let Some(data) = st.buffers.get_mut(&cmd) {
+                    data.recording.execute(secondary, part);
+                }
+            }
+            (before, Vec::new())
+        },
     );
 }
 
@@ -282,7 +287,13 @@ pub(super) unsafe extern "system" fn end_command_buffer(cmd: vk::CommandBuffer) 
                 result = unsafe { next(cmd) };
             }
         },
-        |_, st| close(st, cmd),
+        |_, st| {
+            let (mut before, after) = close(st, cmd);
+            if let Some(data) = st.buffers.get_mut(&cmd) {
+                before.extend(data.recording.end_continued_pass());
+            }
+            (before, after)
+        },
     );
     result
 }

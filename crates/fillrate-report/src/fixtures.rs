@@ -21,6 +21,7 @@ pub fn row(width: u32, samples_passed: u64, gpu_ns: Option<f64>) -> RenderPassRo
         api: "vkCmdBeginRenderPass".into(),
         render_area: area,
         samples: 1,
+        views: 1,
         attachments: Vec::new(),
         counters: Some(Counters::new(&raw, &area, 1, &[])),
         not_measured: None,

@@ -16,6 +16,10 @@ pub const MANIFEST_FILE: &str = "VkLayer_nostencil_fillrate.json";
 /// crate's cdylib).
 pub const LIBRARY_FILE: &str = "libnostencil_fillrate.so";
 
+/// File name of the library `profile-app --gl` preloads into a GL program to find its buffer
+/// swaps (the `nostencil-gl-swaps` crate's cdylib).
+pub const GL_SWAPS_FILE: &str = "libnostencil_gl_swaps.so";
+
 /// The manifest text for a layer library at `library_path` (absolute, or relative to the
 /// manifest's folder when it starts with "./").
 pub fn manifest_json(library_path: &str) -> String {
@@ -34,8 +38,13 @@ pub fn manifest_json(library_path: &str) -> String {
 /// `dir/libnostencil_fillrate.so` and `dir/deps/libnostencil_fillrate.so`. `cargo build` copies the library up to
 /// `dir`; `cargo test` builds it only in `deps/`, so the copy in `dir` can be stale there.
 pub fn newest_library(dir: &std::path::Path) -> Option<std::path::PathBuf> {
+    newest_build_of(dir, LIBRARY_FILE)
+}
+
+/// The newer of `dir/FILE` and `dir/deps/FILE` (see [`newest_library`]).
+pub fn newest_build_of(dir: &std::path::Path, file: &str) -> Option<std::path::PathBuf> {
     let modified = |p: &std::path::Path| std::fs::metadata(p).and_then(|m| m.modified()).ok();
-    [dir.join(LIBRARY_FILE), dir.join("deps").join(LIBRARY_FILE)]
+    [dir.join(file), dir.join("deps").join(file)]
         .into_iter()
         .filter_map(|p| modified(&p).map(|t| (t, p)))
         .max_by_key(|(t, _)| *t)

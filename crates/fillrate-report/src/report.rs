@@ -177,6 +177,10 @@ pub struct RenderPassRow {
     pub render_area: RenderArea,
     /// Samples per pixel of the pass (the most of its attachments').
     pub samples: u32,
+    /// Views a multiview pass renders (the most of its subpasses'; 1 otherwise): its figures
+    /// per pixel are per pixel of every view, and its attachments' traffic covers every view.
+    #[serde(default = "one", skip_serializing_if = "is_one")]
+    pub views: u32,
     pub attachments: Vec<AttachmentRow>,
     /// Null when the pass was not measured (then `not_measured` says why).
     pub counters: Option<Counters>,
@@ -302,11 +306,32 @@ pub struct RawCounters {
     pub gpu_ns: Option<f64>,
 }
 
+fn one() -> u32 {
+    1
+}
+
+fn is_one(n: &u32) -> bool {
+    *n == 1
+}
+
 impl Counters {
     /// The row's counters: the raw results plus the figures derived from the pass's area,
     /// sample count and attachments' traffic.
     pub fn new(raw: &RawCounters, area: &RenderArea, samples: u32, attachments: &[AttachmentRow]) -> Self {
-        let pixels = area.pixels().max(1);
+        Self::with_views(raw, area, samples, attachments, 1)
+    }
+
+    /// [`Counters::new`] for a pass rendering `views` views of `area` (multiview): per pixel is
+    /// per pixel of all views.
+    pub fn with_views(
+        raw: &RawCounters,
+        area: &RenderArea,
+        samples: u32,
+        attachments: &[AttachmentRow],
+        views: u32,
+    ) -> Self {
+        let covered = area.pixels() * views.max(1) as u64;
+        let pixels = covered.max(1);
         let costs: Vec<AttachmentCost> = attachments
             .iter()
             .map(|a| {
@@ -320,7 +345,7 @@ impl Counters {
                 }
             })
             .collect();
-        let bandwidth = pass_bandwidth(&costs, area.pixels(), raw.samples_passed);
+        let bandwidth = pass_bandwidth(&costs, covered, raw.samples_passed);
         Counters {
             draws: raw.draws,
             vertex_invocations: raw.vertex_invocations,

@@ -10,6 +10,8 @@ fn desc() -> PassDesc {
         samples: 1,
         attachments: Vec::new(),
         not_measured: None,
+        secondary_contents: false,
+        view_counts: Vec::new(),
     }
 }
 
@@ -46,7 +48,7 @@ fn a_pass_is_bracketed_and_its_subpasses_split_the_segments() {
     let (b, _) = rec.next_subpass(false);
     assert!(b.is_empty(), "a subpass without draws has no segment to end");
     assert_eq!(begins(&rec.draw(1).0), 2);
-    let end = rec.end_pass();
+    let end = rec.end_pass().0;
     assert_eq!(ends(&end), 2);
     assert!(matches!(end.last(), Some(QueryCmd::Timestamp { stage: vk::PipelineStageFlags::BOTTOM_OF_PIPE, .. })));
     assert!(rec.draw(1).0.is_empty()); // outside a pass: not counted
@@ -83,7 +85,7 @@ fn application_queries_that_cannot_be_measured_around_are_named() {
     rec.app_begin_query(QueryKind::Occlusion, app, 0, true, none);
     let (before, after) = rec.begin_pass(desc(), &mut create);
     assert!(before.is_empty() && after.is_empty());
-    assert!(rec.end_pass().is_empty());
+    assert!(rec.end_pass().0.is_empty());
     assert_eq!(rec.passes[0].not_measured(), Some("application occlusion query active across the pass"));
     rec.app_end_query(app, 0);
     // Imprecise application occlusion inside a precise pass: not measured, layer queries end.
@@ -108,7 +110,7 @@ fn per_draw_gives_each_draw_its_own_segments_and_timestamps() {
         assert!(matches!(b[0], QueryCmd::Timestamp { stage: vk::PipelineStageFlags::TOP_OF_PIPE, .. }));
         assert!(matches!(a.last(), Some(QueryCmd::Timestamp { stage: vk::PipelineStageFlags::BOTTOM_OF_PIPE, .. })));
     }
-    assert_eq!(ends(&rec.end_pass()), 0, "nothing left active at the end");
+    assert_eq!(ends(&rec.end_pass().0), 0, "nothing left active at the end");
     let pass = &rec.passes[0];
     assert_eq!((pass.draw_slots.len(), pass.occlusion.len(), pass.statistics.len()), (3, 3, 3));
     assert_eq!(
@@ -139,7 +141,7 @@ fn labels_inside_a_pass_split_it_into_sections_whose_lists_partition_the_pass() 
     rec.app_begin_query(QueryKind::Occlusion, app, 0, true, vk::QueryPipelineStatisticFlags::empty());
     rec.draw(1);
     rec.app_end_query(app, 0);
-    let end = rec.end_pass();
+    let end = rec.end_pass().0;
     assert_eq!(ends(&end), 1, "the statistics segment of the last section");
     rec.pop_label(); // "frame", begun before the pass
     let pass = &rec.passes[0];
@@ -200,4 +202,68 @@ fn restart_forgets_the_recording_and_keeps_the_pools() {
     let (before, _) = rec.begin_pass(desc(), &mut create);
     assert_eq!(rec.pools().collect::<Vec<_>>(), pools);
     assert_eq!(before.len(), 3);
+}
+
+#[test]
+fn a_secondary_continuing_a_pass_joins_it_with_its_resets_kept_for_the_submission() {
+    let (mut secondary, mut create) = recording();
+    secondary.secondary = true;
+    secondary.begin_continued_pass(desc(), &mut create);
+    assert!(!secondary.deferred_resets.is_empty(), "its resets cannot be recorded inside the pass");
+    assert!(secondary.deferred_resets.iter().all(|c| matches!(c, QueryCmd::Reset { .. })));
+    let (before, after) = secondary.draw(3);
+    assert_eq!((begins(&before), after.len()), (2, 0), "segments begin at its first draw; no timestamp");
+    secondary.draw(1);
+    let end = secondary.end_continued_pass();
+    assert_eq!(ends(&end), 2, "its segments end before vkEndCommandBuffer");
+    assert!(!end.iter().any(|c| matches!(c, QueryCmd::Timestamp { .. })));
+
+    let (mut primary, mut create) = recording();
+    let mut contents = desc();
+    contents.secondary_contents = true;
+    let (before, after) = primary.begin_pass(contents, &mut create);
+    assert!(after.is_empty(), "nothing but vkCmdExecuteCommands inside a subpass of secondary contents");
+    assert!(matches!(before.last(), Some(QueryCmd::Timestamp { .. })), "timed from before the begin");
+    let handle = vk::CommandBuffer::from_raw(7);
+    primary.execute(handle, secondary.executed_part());
+    let (before, after) = primary.end_pass();
+    assert!(before.is_empty());
+    assert!(matches!(after.as_slice(), [QueryCmd::Timestamp { .. }]), "timed to after the end");
+    let pass = &primary.passes[0];
+    assert_eq!((pass.draws, pass.occlusion.len(), pass.statistics.len()), (4, 1, 1));
+    assert!(pass.not_measured().is_none());
+    assert_eq!(primary.deferred_resets, secondary.deferred_resets);
+    assert_eq!(primary.executed, [handle]);
+
+    // Executed twice in one buffer, its queries would be reused before they are read.
+    let (mut twice, mut create) = recording();
+    let mut contents = desc();
+    contents.secondary_contents = true;
+    twice.begin_pass(contents, &mut create);
+    twice.execute(handle, secondary.executed_part());
+    twice.execute(handle, secondary.executed_part());
+    assert!(twice.passes[0].not_measured().is_some_and(|w| w.contains("twice")));
+}
+
+#[test]
+fn a_multiview_query_takes_one_index_per_view_and_its_timestamps_stay_outside() {
+    let (mut rec, mut create) = recording();
+    let mut multiview = desc();
+    multiview.view_counts = vec![2, 3];
+    let (_, after) = rec.begin_pass(multiview, &mut create);
+    assert!(after.is_empty(), "a timestamp inside would write one query per view");
+    rec.push_label("inside".into());
+    rec.draw(1);
+    rec.next_subpass(false);
+    rec.draw(1);
+    let (before, after) = rec.end_pass();
+    assert!(!before.iter().any(|c| matches!(c, QueryCmd::Timestamp { .. })));
+    assert_eq!(after.len(), 1);
+    let pass = &rec.passes[0];
+    assert!(pass.not_measured().is_none());
+    assert_eq!((pass.occlusion.len(), pass.statistics.len()), (2 + 3, 2 + 3), "a run of 2, then of 3");
+    for run in [&pass.occlusion[2..5], &pass.statistics[2..5]] {
+        assert!(run.windows(2).all(|w| w[0].pool == w[1].pool && w[1].query == w[0].query + 1), "{run:?}");
+    }
+    assert!(pass.sections.iter().all(|s| s.timestamps.is_none()));
 }
