@@ -96,5 +96,24 @@ fn multi_draws_secondaries_and_multiview_are_measured_exactly() {
             assert_eq!(work[0], ("vkCmdFillBuffer", WORK_BYTES));
             assert_eq!(work.len(), 4, "{work:?}");
         }
+
+        // Per draw command too, in the secondaries as in the primary (a multiview pass has none:
+        // a timestamp inside it would write one query per view).
+        std::env::set_var("NOSTENCIL_FILLRATE_PER_DRAW", "1");
+        // SAFETY: as above.
+        let per_draw = unsafe { common::draw_program::run(c"draws", 1, false) };
+        common::raw_vulkan::assert_no_messages();
+        assert!(per_draw.images == own.images);
+        let report = common::raw_vulkan::layer_report(&out);
+        let passes = &report.frames[0].render_passes;
+        let commands: Vec<usize> = passes.iter().map(|p| p.per_draw.len()).collect();
+        assert_eq!(commands, [2, 2, 0, 1], "draw commands measured alone");
+        for pass in passes.iter().filter(|p| !p.per_draw.is_empty()) {
+            let c = pass.counters.expect("measured");
+            let samples: u64 = pass.per_draw.iter().map(|d| d.samples_passed).sum();
+            let fragments: u64 = pass.per_draw.iter().filter_map(|d| d.fragment_invocations).sum();
+            assert_eq!((samples, Some(fragments)), (c.samples_passed, c.fragment_invocations), "pass {}", pass.index);
+            assert!(pass.per_draw.iter().all(|d| d.gpu_ms.is_some()));
+        }
     });
 }

@@ -4,10 +4,10 @@
 //! and vkcube ended from outside (Ctrl-C to profile-app, a crash, a kill) after some frames;
 //! and the layer installed in a fresh HOME, then turned on by VK_INSTANCE_LAYERS alone; a video
 //! player (mpv) and a headless video filter (ffmpeg's libplacebo filter) on Vulkan, with their
-//! dispatches and transfers.
+//! dispatches and transfers; and two OpenGL programs (glxgears, es2gears) on zink.
 //!
-//! Needs vkd3d-demos, vulkan-tools, mpv, ffmpeg, Xvfb and xdotool (tools/setup-debian.sh
-//! installs them):
+//! Needs vkd3d-demos, vulkan-tools, mpv, ffmpeg, mesa-utils, Xvfb and xdotool
+//! (tools/setup-debian.sh installs them):
 //! without them the tests fail saying so rather than skip.
 
 use crate::common;
@@ -123,6 +123,37 @@ fn vkd3d_gears_runs_under_the_layer_and_is_ended_after_its_frames() {
         assert_eq!(draws, [0, 0, 6], "frame {}: {:#?}", frame.index, frame.render_passes);
         let gears = frame.render_passes[2].counters.as_ref().expect("measured");
         assert!(gears.samples_passed > 1000 && gears.fragment_invocations.is_some_and(|f| f >= gears.samples_passed));
+    }
+}
+
+/// Two OpenGL programs from Debian's mesa-utils under `profile-app --gl --frames 20`: glxgears
+/// (desktop GL through GLX) and es2gears (GLES 2 through EGL), on zink over lavapipe. Every
+/// frame is one buffer swap's: its pass holds exactly the draws one frame of the program makes
+/// (two swaps in one frame would double them), with vertices, fragments and samples above
+/// zero, and no flag, hidden work or unmeasured pass.
+#[test]
+fn opengl_and_gles_programs_are_measured_a_frame_per_swap() {
+    let x = start_x_server();
+    let dir = common::scratch_dir("real_programs_gl");
+    // Draws one frame makes: glxgears's three gears as four draws each (faces, teeth, the
+    // outside and the inside of the rim), es2gears's three gears as one draw each.
+    for (program, draws) in [("glxgears", 12), ("es2gears_x11", 3)] {
+        let child = start_profile_app(&dir, program, &["--gl", "--frames", "20"], &[program], &[], &x);
+        let output = finish(child, &dir, program, || {});
+        common::assert_success(&format!("profile-app --gl --frames 20 -- {program}"), &output);
+        let report = read_report(&dir.join(format!("{program}.json")));
+        assert_eq!(report.frames_measured, 20, "{program}: {report:#?}");
+        assert!(report.device.contains("llvmpipe"), "{program} on zink over lavapipe: {}", report.device);
+        assert!(report.not_measured.is_empty(), "{program}: {:?}", report.not_measured);
+        for frame in &report.frames {
+            let drawn: Vec<_> = frame.render_passes.iter().filter_map(|p| p.counters.filter(|c| c.draws > 0)).collect();
+            assert!(frame.render_passes.iter().all(|p| p.flag.is_none()), "{program}: {:#?}", frame.render_passes);
+            assert_eq!(drawn.len(), 1, "{program} frame {}: {:#?}", frame.index, frame.render_passes);
+            let c = drawn[0];
+            assert_eq!(c.draws, draws, "{program} frame {}", frame.index);
+            let (vertices, fragments) = (c.vertex_invocations.unwrap_or(0), c.fragment_invocations.unwrap_or(0));
+            assert!(vertices > 0 && fragments > 0 && c.samples_passed > 0, "{program} frame {}: {c:?}", frame.index);
+        }
     }
 }
 

@@ -22,6 +22,9 @@ packages=(
   # (vkd3d-gears, vkd3d-triangle: Direct3D 12 through vkd3d; vkcube comes with vulkan-tools;
   # mpv with Vulkan output and ffmpeg's libplacebo filter: compute and transfers).
   vkd3d-demos mpv ffmpeg
+  # tests/real_programs.rs and tests/profile_app_gl.rs: OpenGL and GLES programs run on Vulkan
+  # through Mesa's zink (libgl1-mesa-dri holds zink; glxgears and es2gears come with mesa-utils).
+  libgl1 libgl1-mesa-dri libegl1 mesa-utils
 )
 
 as_root=()

@@ -37,11 +37,14 @@ measured before, marked partial, and profile-app then exits 1. A frame is the wo
 between two presents: render pass instances, and the dispatch groups and transfers outside them
 (a program that never presents has one, ended when its device is destroyed, unless it marks
 frames with VK_EXT_frame_boundary, which the layer offers, or --frame-on submit|wait cuts them
-per queue submission or per host wait).
+per queue submission or per host wait; with --gl, a GL program's frames end at its buffer
+swaps). Draws, passes, dispatches and transfers in secondary command buffers are measured where
+they are executed, multiview passes over all their views. Device extensions whose commands the
+layer cannot measure are not offered to the program, and the report names them.
 
-Not measured (and named in the report): render passes, dispatches and transfers recorded in
-secondary command buffers, multiview render passes, and render passes begun while the program
-has an occlusion or statistics query of its own open. --chart draws `profile`'s bar chart per
+Not measured (and named in the report): render passes begun while the program has an occlusion
+or statistics query of its own open, and a secondary command buffer executed twice in one
+primary. --chart draws `profile`'s bar chart per
 render pass and work row; there is
 no heat map: `profile --heatmap` counts fragments with this crate's own shaders, which a foreign
 program does not have.";

@@ -369,7 +369,11 @@ impl TilerCheck {
             };
             match a.store {
                 Store::Store if a.external => {
+                    // Presented: read, so the pass that drew it is alive whatever else it stores.
                     self.images.remove(&key);
+                    if let Some(record) = self.passes.get_mut(&open.record) {
+                        record.read_any = true;
+                    }
                 }
                 Store::Store => {
                     if let Some(record) = self.passes.get_mut(&open.record) {
@@ -624,6 +628,28 @@ mod tests {
             vec![
                 ("before the pass (DONT_CARE load)", 0, Some("the pass's first draw (blending)")),
                 ("after the pass (DONT_CARE store)", 5, Some("pass #6's LOAD")),
+            ]
+        );
+    }
+
+    #[test]
+    fn a_pass_that_draws_the_presented_image_is_alive_though_its_depth_is_cleared_unread() {
+        // vkd3d-gears: its pass stores the swapchain image and a depth the next frame clears.
+        let mut check = TilerCheck::default();
+        for _ in 0..2 {
+            check.process(&pass(vec![
+                PassAttachment { external: true, ..att("colour #0", 1, Load::Clear, Store::Store) },
+                att("depth #1", 2, Load::Clear, Store::Store),
+            ]));
+            check.end_frame();
+        }
+        check.finish();
+        let some = |s: &str| Some(s.to_owned());
+        assert_eq!(
+            kinds(&check),
+            vec![
+                ("stored_then_overwritten".into(), 0, some("depth #1")),
+                ("stored_never_read".into(), 0, some("depth #1"))
             ]
         );
     }
