@@ -8,6 +8,7 @@
 
 mod common;
 
+mod arm_best_practices;
 mod colour;
 mod examples;
 mod fillrate_layer;

@@ -492,6 +492,8 @@ fn each_mistake_is_flagged_by_name_and_the_dont_care_load_shows_the_pattern() {
             let colour = Some("colour #0 (R8G8B8A8_UNORM)".to_owned());
             let mut expected = vec![
                 ("dont_care_load_read".to_owned(), 0, colour.clone()),
+                // The blue vkCmdClearColorImage wrote before pass #0 is lost to its DONT_CARE load.
+                ("redundant_clear".into(), 0, colour.clone()),
                 ("multisampled_stored".into(), 1, colour.clone()),
                 ("resolve_outside_pass".into(), 1, colour.clone()),
                 ("stored_never_read".into(), 2, Some("depth #0 (D16_UNORM)".into())),
@@ -499,6 +501,9 @@ fn each_mistake_is_flagged_by_name_and_the_dont_care_load_shows_the_pattern() {
                 ("stored_then_overwritten".into(), 3, colour.clone()),
                 ("dead_pass".into(), 3, None),
                 ("load_after_dont_care".into(), 6, colour.clone()),
+                // Every LOAD_OP_LOAD reads the attachment into tile memory (Arm's "attachment
+                // needs readback").
+                ("attachment_loaded".into(), 6, colour.clone()),
             ];
             expected.sort();
             assert_eq!(flags_of(&report), expected, "{:#?}", check.flags);
@@ -527,7 +532,7 @@ fn each_mistake_is_flagged_by_name_and_the_dont_care_load_shows_the_pattern() {
                 nostencil_fillrate_report::output::OutputFormat::Table,
             );
             for line in
-                ["tiler check: 8 flag(s)", "dead_pass: frame 0 pass #2", "load_after_dont_care: frame 0 pass #6"]
+                ["tiler check: 10 flag(s)", "dead_pass: frame 0 pass #2", "load_after_dont_care: frame 0 pass #6"]
             {
                 assert!(table.contains(line), "{line} not in:\n{table}");
             }

@@ -224,6 +224,18 @@ pub fn colour_render_pass_loaded(gpu: &Arc<Gpu>, format: vk::Format, layout: vk:
     single_colour(gpu, format, vk::AttachmentLoadOp::LOAD, layout, access)
 }
 
+/// [`colour_render_pass_loaded`]'s first run: the same pass (compatible with it: the same
+/// dependencies), cleared instead of loaded, for a target's first update, which has nothing to
+/// keep (a tiler clears it in tile memory instead of reading it back).
+pub fn colour_render_pass_loaded_first(
+    gpu: &Arc<Gpu>,
+    format: vk::Format,
+    layout: vk::ImageLayout,
+) -> Result<RenderPass> {
+    let access = vk::AccessFlags::COLOR_ATTACHMENT_WRITE | vk::AccessFlags::COLOR_ATTACHMENT_READ;
+    single_colour(gpu, format, vk::AttachmentLoadOp::CLEAR, layout, access)
+}
+
 /// A render pass of one stored colour attachment loaded by `load`, left in `final_layout`,
 /// whose external dependencies order `access` against the shaders and transfers around it.
 fn single_colour(

@@ -1,6 +1,7 @@
 //! Sampled textures: an image uploaded through a staging buffer (optionally with a mip chain
 //! built by blits), left in SHADER_READ_ONLY_OPTIMAL, with its sampler.
 
+use std::ops::Range;
 use std::sync::Arc;
 
 use ash::vk;
@@ -51,7 +52,8 @@ impl Sampler {
             .border_color(vk::BorderColor::FLOAT_OPAQUE_WHITE)
             .compare_enable(true)
             .compare_op(vk::CompareOp::LESS_OR_EQUAL)
-            .max_lod(0.0);
+            // A shadow map has one mip: no clamp is needed (Arm's best practices flag one).
+            .max_lod(vk::LOD_CLAMP_NONE);
         // SAFETY: `gpu` holds the device; depth compare is core Vulkan and anisotropy stays off.
         let raw = unsafe { gpu.raw().create_sampler(&info, None) }.vk("vkCreateSampler")?;
         gpu.created(ObjectKind::Sampler);
@@ -277,26 +279,30 @@ fn blit_chain(
     barriers::written_mip_to_sampled(device, cmd, image, mip_levels - 1..mip_levels);
 }
 
-/// Every mip of each of `images` cleared to `colour` and left for sampling (SHADER_READ_ONLY),
-/// in one submission. The images need TRANSFER_DST usage.
-pub fn clear_for_sampling(gpu: &Arc<Gpu>, images: &[&Image], colour: [f32; 4]) -> Result<()> {
+/// Each of `images` left for sampling (SHADER_READ_ONLY) in one submission, its mips in the
+/// range given cleared to `colour` and the others left as they are (undefined: a render pass
+/// that clears or overwrites them comes first; clearing them here too would only move bytes, and
+/// a tiler would read the clear back into tile memory). The images need TRANSFER_DST usage.
+pub fn ready_for_sampling(gpu: &Arc<Gpu>, images: &[(&Image, Range<u32>)], colour: [f32; 4]) -> Result<()> {
     submit_and_wait(gpu, |cmd| {
-        for image in images {
+        for (image, cleared) in images {
             let mips = 0..image.mip_levels;
             barriers::upload_destination(gpu.raw(), cmd, image.raw, mips.clone());
-            let range = vk::ImageSubresourceRange {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
-                base_mip_level: 0,
-                level_count: image.mip_levels,
-                base_array_layer: 0,
-                layer_count: 1,
-            };
-            let clear = vk::ClearColorValue { float32: colour };
-            // SAFETY: `cmd` is recording; the barrier above made every mip TRANSFER_DST_OPTIMAL,
-            // and the caller created the image with TRANSFER_DST usage.
-            unsafe {
-                gpu.raw().cmd_clear_color_image(cmd, image.raw, vk::ImageLayout::TRANSFER_DST_OPTIMAL, &clear, &[range])
-            };
+            if !cleared.is_empty() {
+                let range = vk::ImageSubresourceRange {
+                    aspect_mask: vk::ImageAspectFlags::COLOR,
+                    base_mip_level: cleared.start,
+                    level_count: cleared.len() as u32,
+                    base_array_layer: 0,
+                    layer_count: 1,
+                };
+                let clear = vk::ClearColorValue { float32: colour };
+                // SAFETY: `cmd` is recording; the barrier above made every mip TRANSFER_DST_OPTIMAL,
+                // and the caller created the image with TRANSFER_DST usage and these mips.
+                unsafe {
+                    gpu.raw().cmd_clear_color_image(cmd, image.raw, vk::ImageLayout::TRANSFER_DST_OPTIMAL, &clear, &[range])
+                };
+            }
             barriers::written_mip_to_sampled(gpu.raw(), cmd, image.raw, mips);
         }
         Ok(())

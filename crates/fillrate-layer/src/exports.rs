@@ -205,6 +205,21 @@ fn tiler_hook(name: &str) -> vk::PFN_vkVoidFunction {
         "vkUpdateDescriptorSetWithTemplate" => {
             void_fn!(t::update_descriptor_set_with_template, vk::PFN_vkUpdateDescriptorSetWithTemplate)
         }
+        "vkCreateDescriptorUpdateTemplate" => {
+            void_fn!(t::create_descriptor_update_template, vk::PFN_vkCreateDescriptorUpdateTemplate)
+        }
+        "vkCreateDescriptorUpdateTemplateKHR" => {
+            void_fn!(t::create_descriptor_update_template_khr, vk::PFN_vkCreateDescriptorUpdateTemplate)
+        }
+        "vkDestroyDescriptorUpdateTemplate" => {
+            void_fn!(t::destroy_descriptor_update_template, vk::PFN_vkDestroyDescriptorUpdateTemplate)
+        }
+        "vkDestroyDescriptorUpdateTemplateKHR" => {
+            void_fn!(t::destroy_descriptor_update_template_khr, vk::PFN_vkDestroyDescriptorUpdateTemplate)
+        }
+        "vkCmdPushDescriptorSetWithTemplateKHR" => {
+            void_fn!(t::cmd_push_descriptor_set_with_template, vk::PFN_vkCmdPushDescriptorSetWithTemplateKHR)
+        }
         "vkUpdateDescriptorSetWithTemplateKHR" => {
             void_fn!(t::update_descriptor_set_with_template_khr, vk::PFN_vkUpdateDescriptorSetWithTemplate)
         }

@@ -1,7 +1,8 @@
 //! Frames cut at a GL or GLES program's buffer swaps (`NOSTENCIL_FILLRATE_FRAME_ON=swap`,
 //! `profile-app --gl`). The swaps are seen by `libnostencil_gl_swaps.so` (crates/gl-swaps),
 //! preloaded into the program: the layer registers a callback with it when the instance is
-//! created, and each swap then ends the frame on every device the layer measures.
+//! created, and each swap then ends the frame on every device the layer measures, the tiler
+//! check's frame too.
 
 use std::ffi::c_void;
 use std::sync::Once;
@@ -41,6 +42,9 @@ extern "C" fn swapped() {
                 let mut st = device.state();
                 if !st.boundaries {
                     super::frame_cuts::cut(&device, &mut st);
+                }
+                if device.config.tiler {
+                    st.tiler.check.swapped();
                 }
             }
         }

@@ -84,12 +84,7 @@ pub(super) unsafe extern "system" fn destroy_framebuffer(
 /// The descriptor types whose images a draw or dispatch reads from memory (an input
 /// attachment is read in its pass, from tile memory).
 fn reads_image(ty: vk::DescriptorType) -> bool {
-    matches!(
-        ty,
-        vk::DescriptorType::SAMPLED_IMAGE
-            | vk::DescriptorType::COMBINED_IMAGE_SAMPLER
-            | vk::DescriptorType::STORAGE_IMAGE
-    )
+    super::descriptor_templates::reads_image(ty)
 }
 
 /// The images `write` puts in its set, by (binding, array element).
@@ -284,8 +279,10 @@ pub(super) unsafe extern "system" fn cmd_push_descriptor_set(
     }
 }
 
-/// vkUpdateDescriptorSetWithTemplate and its KHR alias: the images it writes are not followed,
-/// so the check stops giving the flags that need every read.
+/// vkUpdateDescriptorSetWithTemplate and its KHR alias: the images the template's entries name
+/// in the program's data go into the set, as a vkUpdateDescriptorSets write's would
+/// (descriptor_templates.rs). A template the layer did not see created stops the flags that
+/// need every read.
 unsafe fn update_with_template(
     pick: fn(&DeviceData) -> Option<vk::PFN_vkUpdateDescriptorSetWithTemplate>,
     device: vk::Device,
@@ -295,10 +292,134 @@ unsafe fn update_with_template(
 ) {
     let Some((dev, next)) = device_checking(device.as_raw(), pick) else { return };
     if dev.config.tiler {
-        guard((), || dev.state().tiler.check.reads_unknown("descriptor sets updated with templates"));
+        guard((), || {
+            let mut st = dev.state();
+            let tiler = &mut st.tiler;
+            // SAFETY: the program's data for this template (valid usage).
+            match unsafe { tiler.templates.written_views(template, data) } {
+                Some(views) => {
+                    let images: Vec<_> =
+                        views.into_iter().map(|(slot, view)| (slot, tiler.views.get(&view).map(|v| v.image))).collect();
+                    let written = tiler.sets.entry(set).or_default();
+                    for (slot, image) in images {
+                        match image {
+                            Some(image) => written.insert(slot, image),
+                            None => written.remove(&slot),
+                        };
+                    }
+                }
+                None => tiler
+                    .check
+                    .reads_unknown("descriptor sets updated with templates created before the layer saw them"),
+            }
+        });
     }
     // SAFETY: the application's arguments, passed on.
     unsafe { next(device, set, template, data) }
+}
+
+unsafe fn create_template_with(
+    pick: fn(&DeviceData) -> Option<vk::PFN_vkCreateDescriptorUpdateTemplate>,
+    device: vk::Device,
+    info: *const vk::DescriptorUpdateTemplateCreateInfo<'_>,
+    allocator: *const vk::AllocationCallbacks<'_>,
+    template: *mut vk::DescriptorUpdateTemplate,
+) -> vk::Result {
+    let Some((dev, next)) = device_checking(device.as_raw(), pick) else {
+        return vk::Result::ERROR_INITIALIZATION_FAILED;
+    };
+    // SAFETY: the application's arguments, passed on.
+    let result = unsafe { next(device, info, allocator, template) };
+    if result == vk::Result::SUCCESS && dev.config.tiler {
+        // SAFETY: a valid create info; the new handle written.
+        guard((), || unsafe { dev.state().tiler.templates.created(*template, &*info) });
+    }
+    result
+}
+
+pub(super) unsafe extern "system" fn create_descriptor_update_template(
+    device: vk::Device,
+    info: *const vk::DescriptorUpdateTemplateCreateInfo<'_>,
+    allocator: *const vk::AllocationCallbacks<'_>,
+    template: *mut vk::DescriptorUpdateTemplate,
+) -> vk::Result {
+    // SAFETY: the application's arguments.
+    unsafe { create_template_with(|d| d.next.create_descriptor_update_template, device, info, allocator, template) }
+}
+
+pub(super) unsafe extern "system" fn create_descriptor_update_template_khr(
+    device: vk::Device,
+    info: *const vk::DescriptorUpdateTemplateCreateInfo<'_>,
+    allocator: *const vk::AllocationCallbacks<'_>,
+    template: *mut vk::DescriptorUpdateTemplate,
+) -> vk::Result {
+    // SAFETY: the application's arguments.
+    unsafe { create_template_with(|d| d.next.create_descriptor_update_template_khr, device, info, allocator, template) }
+}
+
+unsafe fn destroy_template_with(
+    pick: fn(&DeviceData) -> Option<vk::PFN_vkDestroyDescriptorUpdateTemplate>,
+    device: vk::Device,
+    template: vk::DescriptorUpdateTemplate,
+    allocator: *const vk::AllocationCallbacks<'_>,
+) {
+    let Some((dev, next)) = device_checking(device.as_raw(), pick) else { return };
+    if dev.config.tiler {
+        guard((), || dev.state().tiler.templates.destroyed(template));
+    }
+    // SAFETY: the application's arguments, passed on.
+    unsafe { next(device, template, allocator) }
+}
+
+pub(super) unsafe extern "system" fn destroy_descriptor_update_template(
+    device: vk::Device,
+    template: vk::DescriptorUpdateTemplate,
+    allocator: *const vk::AllocationCallbacks<'_>,
+) {
+    // SAFETY: the application's arguments.
+    unsafe { destroy_template_with(|d| d.next.destroy_descriptor_update_template, device, template, allocator) }
+}
+
+pub(super) unsafe extern "system" fn destroy_descriptor_update_template_khr(
+    device: vk::Device,
+    template: vk::DescriptorUpdateTemplate,
+    allocator: *const vk::AllocationCallbacks<'_>,
+) {
+    // SAFETY: the application's arguments.
+    unsafe { destroy_template_with(|d| d.next.destroy_descriptor_update_template_khr, device, template, allocator) }
+}
+
+/// vkCmdPushDescriptorSetWithTemplateKHR: the images pushed are read, as with a plain push.
+pub(super) unsafe extern "system" fn cmd_push_descriptor_set_with_template(
+    cmd: vk::CommandBuffer,
+    template: vk::DescriptorUpdateTemplate,
+    layout: vk::PipelineLayout,
+    set: u32,
+    data: *const std::ffi::c_void,
+) {
+    let Some(device) = noting(cmd, |st| {
+        // SAFETY: the program's data for this template (valid usage).
+        let events = match unsafe { st.tiler.templates.written_views(template, data) } {
+            Some(views) => views
+                .into_iter()
+                .filter_map(|(_, view)| st.tiler.views.get(&view).map(|v| v.image))
+                .map(|image| st.tiler.read(image, "a pushed descriptor"))
+                .collect(),
+            None => {
+                st.tiler.check.reads_unknown("descriptors pushed with templates created before the layer saw them");
+                Vec::new()
+            }
+        };
+        if let Some(data) = st.buffers.get_mut(&cmd) {
+            data.tiler.events.extend(events);
+        }
+    }) else {
+        return;
+    };
+    if let Some(next) = device.next.cmd_push_descriptor_set_with_template {
+        // SAFETY: the application's arguments, passed on.
+        unsafe { next(cmd, template, layout, set, data) }
+    }
 }
 
 pub(super) unsafe extern "system" fn update_descriptor_set_with_template(
@@ -422,7 +543,12 @@ pub(super) unsafe extern "system" fn cmd_clear_color_image(
     count: u32,
     ranges: *const vk::ImageSubresourceRange,
 ) {
-    let Some(d) = note_events(cmd, |t| vec![t.overwrite(image, "vkCmdClearColorImage", true)]) else { return };
+    let how = "vkCmdClearColorImage";
+    // SAFETY: the application's array of `count` ranges.
+    let cleared = unsafe { super::arrays::app_array(ranges, count) };
+    let Some(d) = note_events(cmd, |t| vec![t.overwrite(image, how, true), t.cleared(image, how, cleared)]) else {
+        return;
+    };
     if let Some(next) = d.next.cmd_clear_color_image {
         // SAFETY: the application's arguments, passed on.
         unsafe { next(cmd, image, layout, colour, count, ranges) }
@@ -438,7 +564,11 @@ pub(super) unsafe extern "system" fn cmd_clear_depth_stencil_image(
     ranges: *const vk::ImageSubresourceRange,
 ) {
     let how = "vkCmdClearDepthStencilImage";
-    let Some(d) = note_events(cmd, |t| vec![t.overwrite(image, how, true)]) else { return };
+    // SAFETY: the application's array of `count` ranges.
+    let cleared = unsafe { super::arrays::app_array(ranges, count) };
+    let Some(d) = note_events(cmd, |t| vec![t.overwrite(image, how, true), t.cleared(image, how, cleared)]) else {
+        return;
+    };
     if let Some(next) = d.next.cmd_clear_depth_stencil_image {
         // SAFETY: the application's arguments, passed on.
         unsafe { next(cmd, image, layout, value, count, ranges) }

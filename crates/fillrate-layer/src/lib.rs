@@ -15,6 +15,7 @@ pub mod capture_state;
 pub mod commands;
 pub mod config;
 pub mod copies;
+pub mod descriptor_templates;
 pub mod draw_hooks;
 pub mod exports;
 pub mod extensions;

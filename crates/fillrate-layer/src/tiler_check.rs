@@ -88,6 +88,14 @@ pub enum Event {
         full: bool,
         transient: bool,
     },
+    /// vkCmdClearColorImage or vkCmdClearDepthStencilImage (`how`) of `image`'s mips and layers
+    /// in `ranges` (end u32::MAX: the remaining ones). On a tiler the clear is written to
+    /// memory, and a pass that loads it reads it back.
+    Cleared {
+        image: u64,
+        how: &'static str,
+        ranges: Vec<(std::ops::Range<u32>, std::ops::Range<u32>)>,
+    },
     /// vkCmdResolveImage from `src` into `dst`.
     Resolve {
         src: u64,
@@ -117,6 +125,23 @@ struct ImageState {
     unread: Option<Origin>,
     /// Left DONT_CARE by a pass, not rewritten since.
     discarded: Option<Origin>,
+}
+
+/// A vkCmdClear*Image not yet followed by another use of the image.
+#[derive(Debug)]
+struct ClearRecord {
+    image: u64,
+    how: &'static str,
+    ranges: Vec<(std::ops::Range<u32>, std::ops::Range<u32>)>,
+    used: Vec<ImageKey>,
+}
+
+impl ClearRecord {
+    fn covers(&self, key: ImageKey) -> bool {
+        key.image == self.image
+            && !self.used.contains(&key)
+            && self.ranges.iter().any(|(mips, layers)| mips.contains(&key.mip) && layers.contains(&key.layer))
+    }
 }
 
 /// A pass whose stored outputs are still waiting to be read or found unread.
@@ -149,6 +174,11 @@ pub struct TilerCheck {
     images: HashMap<ImageKey, ImageState>,
     /// Passes with outputs still waiting, by id (dropped once all are settled).
     passes: HashMap<usize, PassRecord>,
+    /// Clear commands whose result no pass has used yet: image, what cleared it, its ranges,
+    /// and the subresources a pass has used since.
+    clears: Vec<ClearRecord>,
+    /// The colour attachments the last pass ended stored: what a GL buffer swap shows.
+    last_colours: Vec<ImageKey>,
     next_record: usize,
     report: TilerReport,
 }
@@ -258,14 +288,21 @@ impl TilerCheck {
             Event::ReadUndefined { attachment, how } => self.read_undefined(*attachment, how),
             Event::PassEnd => self.pass_end(),
             Event::Read { image, how, transient } => {
+                self.clears.retain(|c| c.image != *image);
                 self.outside_pass(*image, *transient, how);
                 self.read(*image, how);
             }
             Event::Overwrite { image, how, full, transient } => {
+                self.clears.retain(|c| c.image != *image);
                 self.outside_pass(*image, *transient, how);
                 self.overwrite(*image, how, *full);
             }
+            Event::Cleared { image, how, ranges } => {
+                self.clears.retain(|c| c.image != *image);
+                self.clears.push(ClearRecord { image: *image, how, ranges: ranges.clone(), used: Vec::new() });
+            }
             Event::Resolve { src, dst, src_transient, dst_transient } => {
+                self.clears.retain(|c| c.image != *src && c.image != *dst);
                 self.outside_pass(*src, *src_transient, "vkCmdResolveImage");
                 self.outside_pass(*dst, *dst_transient, "vkCmdResolveImage");
                 let multisampled: Vec<Origin> = self
@@ -310,6 +347,15 @@ impl TilerCheck {
                 self.flag("multisampled_stored", (self.frame, pass, &label), Some(&a.name), detail);
             }
             let Some(key) = a.key else { continue };
+            self.after_clear_command(key, a, (pass, &label));
+            if a.load == Load::Load {
+                let detail = format!(
+                    "{here} loads {} (LOAD_OP_LOAD): a tiler reads it from memory into tile memory before the pass; \
+                     clear it in the pass or leave it DONT_CARE where its old contents are not needed",
+                    a.name
+                );
+                self.flag("attachment_loaded", (self.frame, pass, &label), Some(&a.name), detail);
+            }
             match a.load {
                 Load::Load => {
                     let discarded = self.images.get(&key).and_then(|s| s.discarded.clone());
@@ -339,6 +385,39 @@ impl TilerCheck {
         self.open = Some(OpenPass { pass, label, attachments, record, notes });
     }
 
+    /// An attachment a clear command cleared and nothing used since: loading it reads the clear
+    /// back from memory, clearing it again wastes the first clear (Arm's "inefficient clear" and
+    /// "redundant clear").
+    fn after_clear_command(&mut self, key: ImageKey, a: &PassAttachment, (pass, label): (u32, &Option<String>)) {
+        let Some(clear) = self.clears.iter_mut().find(|c| c.covers(key)) else { return };
+        clear.used.push(key);
+        let (how, here) = (clear.how, pass_name(pass, label));
+        let (kind, detail) = match a.load {
+            Load::Load => (
+                "clear_then_load",
+                format!(
+                    "{} is cleared by {how}, then loaded by {here}: the clear is written to memory and read back; \
+                     clear it with LOAD_OP_CLEAR in the pass instead",
+                    a.name
+                ),
+            ),
+            Load::Clear => (
+                "redundant_clear",
+                format!(
+                    "{} is cleared by {how}, then cleared again by {here}'s LOAD_OP_CLEAR: the first clear only \
+                     moves bytes",
+                    a.name
+                ),
+            ),
+            Load::DontCare => (
+                "redundant_clear",
+                format!("{} is cleared by {how}, then {here} loads it DONT_CARE: the clear is lost", a.name),
+            ),
+            Load::Keep => return,
+        };
+        self.flag(kind, (self.frame, pass, label), Some(&a.name), detail);
+    }
+
     fn read_undefined(&mut self, index: usize, how: &str) {
         let Some(open) = &self.open else { return };
         let Some(a) = open.attachments.get(index) else { return };
@@ -353,6 +432,12 @@ impl TilerCheck {
 
     fn pass_end(&mut self) {
         let Some(open) = self.open.take() else { return };
+        self.last_colours = open
+            .attachments
+            .iter()
+            .filter(|a| a.store == Store::Store && a.name.starts_with("colour"))
+            .filter_map(|a| a.key)
+            .collect();
         for a in &open.attachments {
             let note = a
                 .poisoned_after
@@ -517,6 +602,16 @@ impl TilerCheck {
         self.position = 0;
     }
 
+    /// A GL or GLES program's buffer swap ends the frame (`profile-app --gl`). zink shows the
+    /// swapped image by reading it on the host, which the layer does not see: the colour
+    /// attachments the frame's last pass stored are taken as that image, and read.
+    pub fn swapped(&mut self) {
+        for key in std::mem::take(&mut self.last_colours) {
+            self.read_key(key);
+        }
+        self.end_frame();
+    }
+
     /// The device is destroyed: every output still unread was never read.
     pub fn finish(&mut self) {
         self.never_read(u64::MAX);
@@ -615,6 +710,7 @@ mod tests {
                 ("resolve_outside_pass".into(), 1, some("colour #0")),
                 ("stored_then_overwritten".into(), 3, some("colour #0")),
                 ("dead_pass".into(), 3, None),
+                ("attachment_loaded".into(), 6, some("colour #0")),
                 ("load_after_dont_care".into(), 6, some("colour #0")),
                 ("transient_outside_pass".into(), 7, None),
                 ("stored_never_read".into(), 2, some("depth")),
@@ -629,6 +725,63 @@ mod tests {
                 ("before the pass (DONT_CARE load)", 0, Some("the pass's first draw (blending)")),
                 ("after the pass (DONT_CARE store)", 5, Some("pass #6's LOAD")),
             ]
+        );
+    }
+
+    #[test]
+    fn a_clear_command_then_a_load_or_a_clear_in_a_pass_is_flagged_per_subresource() {
+        // The shadow-texture atlas's mistake: mips 0 to 2 cleared by a command, then loaded.
+        let cleared = Event::Cleared { image: 1, how: "vkCmdClearColorImage", ranges: vec![(0..u32::MAX, 0..1)] };
+        let mut events = vec![cleared.clone()];
+        for mip in 0..3 {
+            let attachment = PassAttachment {
+                key: Some(ImageKey { image: 1, mip, layer: 0 }),
+                external: true,
+                ..att("colour #0", 1, Load::Load, Store::Store)
+            };
+            events.extend(pass(vec![attachment]));
+        }
+        // Image 2 cleared by a command, then by a pass's LOAD_OP_CLEAR.
+        events.push(Event::Cleared { image: 2, how: "vkCmdClearColorImage", ranges: vec![(0..1, 0..1)] });
+        events.extend(pass(vec![PassAttachment { external: true, ..att("colour #0", 2, Load::Clear, Store::Store) }]));
+        // A copy out between a clear and the pass: the clear was used; the LOAD is only a load.
+        events.push(cleared);
+        events.push(Event::Read { image: 1, how: "vkCmdCopyImageToBuffer", transient: false });
+        events.extend(pass(vec![PassAttachment { external: true, ..att("colour #0", 1, Load::Load, Store::Store) }]));
+        let check = run(&events);
+        let counted: Vec<(&str, u32, u64)> =
+            check.report.flags.iter().map(|f| (f.kind.as_str(), f.pass, f.count)).collect();
+        assert_eq!(
+            counted,
+            [
+                ("clear_then_load", 0, 1),
+                ("attachment_loaded", 0, 1),
+                ("clear_then_load", 1, 1),
+                ("attachment_loaded", 1, 1),
+                ("clear_then_load", 2, 1),
+                ("attachment_loaded", 2, 1),
+                ("redundant_clear", 3, 1),
+                ("attachment_loaded", 4, 1)
+            ]
+        );
+    }
+
+    #[test]
+    fn a_swap_shows_the_colour_the_last_pass_stored() {
+        // zink: each frame clears and draws the GL back buffer and its depth, then swaps.
+        let mut check = TilerCheck::default();
+        for _ in 0..2 {
+            check.process(&pass(vec![
+                att("colour #0", 1, Load::Clear, Store::Store),
+                att("depth #0", 2, Load::Clear, Store::Store),
+            ]));
+            check.swapped();
+        }
+        check.finish();
+        let depth = Some("depth #0".to_owned());
+        assert_eq!(
+            kinds(&check),
+            vec![("stored_then_overwritten".into(), 0, depth.clone()), ("stored_never_read".into(), 0, depth)]
         );
     }
 

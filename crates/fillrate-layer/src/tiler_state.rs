@@ -44,6 +44,8 @@ pub struct TilerState {
     /// Sampled and storage images per descriptor set, by (binding, array element).
     pub sets: HashMap<vk::DescriptorSet, HashMap<(u32, u32), vk::Image>>,
     pub pipelines: HashMap<vk::Pipeline, PipelineReads>,
+    /// Descriptor update templates' image entries (descriptor_templates.rs).
+    pub templates: super::descriptor_templates::Templates,
     pub check: TilerCheck,
 }
 
@@ -59,6 +61,21 @@ impl TilerState {
     pub fn overwrite(&self, image: vk::Image, how: &'static str, whole: bool) -> Event {
         let full = whole && self.images.get(&image).is_some_and(|i| i.single);
         Event::Overwrite { image: image.as_raw(), how, full, transient: self.transient(image) }
+    }
+
+    /// A clear command of `ranges` of `image`.
+    pub fn cleared(&self, image: vk::Image, how: &'static str, ranges: &[vk::ImageSubresourceRange]) -> Event {
+        let end = |base: u32, count: u32| if count == vk::REMAINING_MIP_LEVELS { u32::MAX } else { base + count };
+        let ranges = ranges
+            .iter()
+            .map(|r| {
+                (
+                    r.base_mip_level..end(r.base_mip_level, r.level_count),
+                    r.base_array_layer..end(r.base_array_layer, r.layer_count),
+                )
+            })
+            .collect();
+        Event::Cleared { image: image.as_raw(), how, ranges }
     }
 
     pub fn resolve(&self, src: vk::Image, dst: vk::Image) -> Event {

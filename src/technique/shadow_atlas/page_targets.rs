@@ -82,6 +82,9 @@ pub struct PageTile {
     dilate_radius: u32,
 }
 
+/// A texel no tile covers: lit, no coverage.
+const LIT_UNCOVERED: [f32; 4] = [1.0, 1.0, 1.0, 0.0];
+
 /// Every model's shadow texture as tiles of one page.
 pub struct AtlasPage {
     pub layout: PageLayout,
@@ -114,6 +117,11 @@ pub struct AtlasPage {
     pub texture: Image,
     pub raster_pass: RenderPass,
     pub page_pass: RenderPass,
+    /// The page pass's first run: mip 0 cleared (lit, no coverage) over the whole page in the
+    /// pass, where a tiler clears it in tile memory; later runs load it to re-bake some tiles.
+    page_clear_pass: RenderPass,
+    /// Mip 0 was written by a page pass already (later runs load it).
+    page_written: std::sync::atomic::AtomicBool,
     _trilinear: Sampler,
     _nearest: Sampler,
 }
@@ -158,12 +166,18 @@ impl AtlasPage {
         let raw_extent = if rasterised { page_extent } else { vk::Extent2D { width: 1, height: 1 } };
         let texture = targets::shadow_texture_page(gpu, "shadow-texture atlas page", page_extent, mip_levels)?;
         let raw = targets::shadow_texture_page(gpu, "shadow-texture atlas page (raw bake)", raw_extent, 1)?;
-        // Lit with no coverage (1, 1, 1, 0): the page pass loads mip 0, and texels no tile
-        // covers are then defined.
-        texture::clear_for_sampling(gpu, &[&texture, &raw], [1.0, 1.0, 1.0, 0.0])?;
+        // No clear here: the first page pass clears mip 0 in the pass (lit, no coverage, where no
+        // tile covers a texel), the mips above are blitted from it where tiles lie (the rest of
+        // the page is never sampled), and each raster pass clears the raw page where it bakes.
+        texture::ready_for_sampling(gpu, &[(&texture, 0..0), (&raw, 0..0)], LIT_UNCOVERED)?;
         let mip0 = ImageView::mip(gpu, &texture, 0)?;
         let raster_pass = targets::colour_render_pass(gpu, true, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)?;
         let page_pass = offscreen::colour_render_pass_loaded(
+            gpu,
+            targets::SHADOW_TEXTURE_FORMAT,
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        )?;
+        let page_clear_pass = offscreen::colour_render_pass_loaded_first(
             gpu,
             targets::SHADOW_TEXTURE_FORMAT,
             vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
@@ -198,6 +212,8 @@ impl AtlasPage {
             texture,
             raster_pass,
             page_pass,
+            page_clear_pass,
+            page_written: std::sync::atomic::AtomicBool::new(false),
             _trilinear: trilinear,
             _nearest: nearest,
         };
@@ -265,7 +281,7 @@ impl AtlasPage {
         sets: &[vk::DescriptorSet],
         tiles: &[usize],
     ) {
-        let clear = [vk::ClearValue { color: vk::ClearColorValue { float32: [1.0, 1.0, 1.0, 0.0] } }];
+        let clear = [vk::ClearValue { color: vk::ClearColorValue { float32: LIT_UNCOVERED } }];
         let rasterised: Vec<usize> = tiles
             .iter()
             .copied()
@@ -306,8 +322,14 @@ impl AtlasPage {
         tiles: &[usize],
     ) {
         let extent = vk::Extent2D { width: self.layout.width, height: self.layout.height };
-        let area = self.area_of(tiles, extent);
-        rec.begin_offscreen_pass_in(&self.page_pass, self.page_framebuffer.raw, extent, area, &[]);
+        if self.page_written.swap(true, std::sync::atomic::Ordering::Relaxed) {
+            let area = self.area_of(tiles, extent);
+            rec.begin_offscreen_pass_in(&self.page_pass, self.page_framebuffer.raw, extent, area, &[]);
+        } else {
+            let clear = [vk::ClearValue { color: vk::ClearColorValue { float32: LIT_UNCOVERED } }];
+            let whole = vk::Rect2D { offset: vk::Offset2D::default(), extent };
+            rec.begin_offscreen_pass_in(&self.page_clear_pass, self.page_framebuffer.raw, extent, whole, &clear);
+        }
         let sets = [light_set, self.tiles_set().set, self.raw_set.set];
         let push = [extent.width as f32, extent.height as f32, 0.0, 0.0];
         let mut bound = None;
