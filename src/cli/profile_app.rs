@@ -81,6 +81,15 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
     if frames == Some(0) {
         return Err(Error::InvalidInput("--frames 0 would measure nothing; give 1 or more".into()));
     }
+    if outputs.gl && outputs.capture.is_some() {
+        // zink on a software X server shows a frame by reading it on the host: there is no
+        // swapchain image to copy, and a read-back of the GL back buffer before the swap would add
+        // a pass of zink's own to the very frame it measures.
+        return Err(Error::InvalidInput(
+            "--capture copies a presented swapchain image, and a GL program on zink presents none: drop --capture              (docs/fillrate-layer.md, \"OpenGL and GLES programs\")"
+                .into(),
+        ));
+    }
     if let (Some(n), Some((_, frame))) = (frames, &outputs.capture) {
         if *frame >= n as u64 {
             return Err(Error::InvalidInput(format!(

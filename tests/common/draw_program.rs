@@ -9,7 +9,7 @@
 
 use ash::vk;
 
-use super::raw_vulkan::{self, shader, RawInstance};
+use super::raw_vulkan::{self, RawInstance};
 
 /// The target's side, in pixels.
 pub const SIZE: u32 = 32;
@@ -719,47 +719,9 @@ unsafe fn render_pass(
 
 /// `rect.vert` + `solid.frag` for `pass` (null: dynamic rendering of one RGBA8 attachment).
 unsafe fn pipeline(device: &ash::Device, layout: vk::PipelineLayout, pass: vk::RenderPass) -> vk::Pipeline {
-    let (vert, frag) = (shader(device, raw_vulkan::RECT_VERT), shader(device, raw_vulkan::SOLID_FRAG));
-    let stages = [
-        vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::VERTEX).module(vert).name(c"main"),
-        vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::FRAGMENT).module(frag).name(c"main"),
-    ];
-    let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
-    let assembly = vk::PipelineInputAssemblyStateCreateInfo::default().topology(vk::PrimitiveTopology::TRIANGLE_LIST);
-    let viewports =
-        [vk::Viewport { x: 0.0, y: 0.0, width: SIZE as f32, height: SIZE as f32, min_depth: 0.0, max_depth: 1.0 }];
-    let scissors = [vk::Rect2D { offset: vk::Offset2D::default(), extent: vk::Extent2D { width: SIZE, height: SIZE } }];
-    let viewport = vk::PipelineViewportStateCreateInfo::default().viewports(&viewports).scissors(&scissors);
-    let raster = vk::PipelineRasterizationStateCreateInfo::default()
-        .polygon_mode(vk::PolygonMode::FILL)
-        .cull_mode(vk::CullModeFlags::NONE)
-        .line_width(1.0);
-    let multisample =
-        vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(vk::SampleCountFlags::TYPE_1);
     let blends = [vk::PipelineColorBlendAttachmentState::default().color_write_mask(vk::ColorComponentFlags::RGBA)];
-    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blends);
-    let formats = [FORMAT];
-    let mut rendering = vk::PipelineRenderingCreateInfo::default().color_attachment_formats(&formats);
-    let mut info = vk::GraphicsPipelineCreateInfo::default()
-        .stages(&stages)
-        .vertex_input_state(&vertex_input)
-        .input_assembly_state(&assembly)
-        .viewport_state(&viewport)
-        .rasterization_state(&raster)
-        .multisample_state(&multisample)
-        .color_blend_state(&blend)
-        .layout(layout)
-        .render_pass(pass);
-    if pass == vk::RenderPass::null() {
-        info = info.push_next(&mut rendering);
-    }
-    let pipeline = device
-        .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
-        .map_err(|(_, e)| e)
-        .expect("pipeline")[0];
-    device.destroy_shader_module(vert, None);
-    device.destroy_shader_module(frag, None);
-    pipeline
+    let target = raw_vulkan::Target { render_pass: pass, size: SIZE, depth: None, colour_formats: &[FORMAT] };
+    raw_vulkan::pipeline(device, layout, (raw_vulkan::RECT_VERT, raw_vulkan::SOLID_FRAG), target, &blends)
 }
 
 unsafe fn allocate(device: &ash::Device, pool: vk::CommandPool, level: vk::CommandBufferLevel) -> vk::CommandBuffer {

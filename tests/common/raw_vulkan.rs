@@ -150,11 +150,37 @@ pub unsafe fn fullscreen_pipeline(
     depth: Option<(vk::Format, vk::PipelineDepthStencilStateCreateInfo)>,
     blends: &[vk::PipelineColorBlendAttachmentState],
 ) -> vk::Pipeline {
-    let (vert, frag) = (shader(device, FULLSCREEN_VERT), shader(device, fragment));
+    let target = Target { render_pass, size, depth, colour_formats: &[] };
+    pipeline(device, layout, (FULLSCREEN_VERT, fragment), target, blends)
+}
+
+/// What a test pipeline draws into: `render_pass` (null: dynamic rendering of `colour_formats`
+/// and `depth`'s format), a `size`-square viewport, `depth`'s test when it has one.
+pub struct Target<'a> {
+    pub render_pass: vk::RenderPass,
+    pub size: u32,
+    pub depth: Option<(vk::Format, vk::PipelineDepthStencilStateCreateInfo<'a>)>,
+    pub colour_formats: &'a [vk::Format],
+}
+
+/// `vertex` + `fragment` (no vertex input, triangle lists, no culling, one sample) into
+/// `target`, `blends` one state per colour attachment.
+///
+/// # Safety
+/// `device` is alive, with dynamic rendering enabled when the target's render pass is null.
+pub unsafe fn pipeline(
+    device: &ash::Device,
+    layout: vk::PipelineLayout,
+    (vertex, fragment): (Spirv, Spirv),
+    target: Target<'_>,
+    blends: &[vk::PipelineColorBlendAttachmentState],
+) -> vk::Pipeline {
+    let (vert, frag) = (shader(device, vertex), shader(device, fragment));
     let stages = [
         vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::VERTEX).module(vert).name(c"main"),
         vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::FRAGMENT).module(frag).name(c"main"),
     ];
+    let size = target.size;
     let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
     let assembly = vk::PipelineInputAssemblyStateCreateInfo::default().topology(vk::PrimitiveTopology::TRIANGLE_LIST);
     let viewports =
@@ -168,8 +194,10 @@ pub unsafe fn fullscreen_pipeline(
     let multisample =
         vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(vk::SampleCountFlags::TYPE_1);
     let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(blends);
-    let depth_format = depth.map_or(vk::Format::UNDEFINED, |(format, _)| format);
-    let mut rendering = vk::PipelineRenderingCreateInfo::default().depth_attachment_format(depth_format);
+    let depth_format = target.depth.map_or(vk::Format::UNDEFINED, |(format, _)| format);
+    let mut rendering = vk::PipelineRenderingCreateInfo::default()
+        .depth_attachment_format(depth_format)
+        .color_attachment_formats(target.colour_formats);
     let mut info = vk::GraphicsPipelineCreateInfo::default()
         .stages(&stages)
         .vertex_input_state(&vertex_input)
@@ -179,11 +207,11 @@ pub unsafe fn fullscreen_pipeline(
         .multisample_state(&multisample)
         .color_blend_state(&blend)
         .layout(layout)
-        .render_pass(render_pass);
-    if let Some((_, state)) = &depth {
+        .render_pass(target.render_pass);
+    if let Some((_, state)) = &target.depth {
         info = info.depth_stencil_state(state);
     }
-    if render_pass == vk::RenderPass::null() {
+    if target.render_pass == vk::RenderPass::null() {
         info = info.push_next(&mut rendering);
     }
     let pipeline = device
