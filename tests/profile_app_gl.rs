@@ -98,3 +98,15 @@ fn a_gl_program_through_zink_is_measured_frame_by_frame_at_its_swaps() {
         assert!(c.fragment_invocations.is_some_and(|f| f >= samples_per_frame()), "{c:?}");
     }
 }
+
+#[test]
+fn capture_is_refused_with_gl_by_a_line_that_says_why() {
+    let dir = common::scratch_dir("profile_app_gl_capture");
+    let png = dir.join("never.png");
+    let png = png.to_string_lossy().into_owned();
+    let output = common::nostencil(&["profile-app", "--gl", "--capture", &png, "--", "true"]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success(), "{stderr}");
+    assert!(stderr.contains("--capture") && stderr.contains("presents none"), "{stderr}");
+    assert!(!std::path::Path::new(&png).exists(), "no file written");
+}
