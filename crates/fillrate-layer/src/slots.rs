@@ -111,13 +111,18 @@ mod tests {
     use super::*;
     use ash::vk::Handle;
 
-    #[test]
-    fn reserve_resets_fresh_slots_across_chunks_and_take_stops_at_the_reserve() {
+    /// Pools 1, 2, 3... as they are created.
+    fn numbered_pools() -> impl FnMut(QueryKind) -> Option<vk::QueryPool> {
         let mut created = 0u64;
-        let mut create = |_: QueryKind| {
+        move |_| {
             created += 1;
             Some(vk::QueryPool::from_raw(created))
-        };
+        }
+    }
+
+    #[test]
+    fn reserve_resets_fresh_slots_across_chunks_and_take_stops_at_the_reserve() {
+        let mut create = numbered_pools();
         let mut slots = SlotPool::new(QueryKind::Occlusion);
         let mut cmds = Vec::new();
         assert!(slots.reserve(CHUNK - 2, &mut create, &mut cmds));
@@ -148,11 +153,7 @@ mod tests {
 
     #[test]
     fn a_run_of_slots_stays_in_one_pool_and_within_the_reserve() {
-        let mut created = 0u64;
-        let mut create = |_: QueryKind| {
-            created += 1;
-            Some(vk::QueryPool::from_raw(created))
-        };
+        let mut create = numbered_pools();
         let mut slots = SlotPool::new(QueryKind::Occlusion);
         let mut cmds = Vec::new();
         assert!(slots.reserve(CHUNK + 4, &mut create, &mut cmds));
