@@ -96,6 +96,10 @@ pub use frame::{write_png, StencilMode};
 pub use gpu::{DeviceChoice, Gpu, GpuOptions, ValidationChecks};
 pub use render::{FrameCounters, FrameOutput, PassCounters};
 
+/// The JSON report an HTML page written by `--html` embeds (equal to `--format json`'s), read
+/// back from the page's text: what a dashboard reads from the same file a person opens.
+pub use profile::html::page::embedded_json;
+
 /// What a frame's counters hold beyond each pass's figures ([`FrameCounters`]'s fields).
 pub mod counters {
     pub use crate::frame::render_pass::{AttachmentDesc, AttachmentTraffic, RenderPassTraffic};

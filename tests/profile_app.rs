@@ -429,7 +429,7 @@ fn a_missing_failing_or_silent_program_gets_a_one_line_error() {
     // A budget of nostencil's own frame is not an application's.
     let own = dir.join("own-budget.json");
     let own_arg = own.to_string_lossy();
-    let record = ["profile", "--size", "64x64", "--samples", "1", "--write-budget", own_arg.as_ref()];
+    let record = ["profile", "--size", "64x64", "--samples", "1", "--record-budget", own_arg.as_ref()];
     common::assert_success("record", &run_nostencil(&dir, "record", &record, &[], None));
     let (png, report) = (dir.join("frame.png"), dir.join("report.txt"));
     let (png_arg, report_arg) = (png.to_string_lossy(), report.to_string_lossy());

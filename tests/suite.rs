@@ -18,6 +18,7 @@ mod fillrate_layer_resubmit;
 mod fillrate_layer_timeline;
 mod fillrate_layer_unhandled;
 mod fillrate_layer_work;
+mod html_report;
 mod layering;
 mod profile_app;
 mod profile_app_gl;

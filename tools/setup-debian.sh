@@ -25,6 +25,9 @@ packages=(
   # tests/real_programs.rs and tests/profile_app_gl.rs: OpenGL and GLES programs run on Vulkan
   # through Mesa's zink (libgl1-mesa-dri holds zink; glxgears and es2gears come with mesa-utils).
   libgl1 libgl1-mesa-dri libegl1 mesa-utils
+  # tests/html_report.rs: the HTML pages opened in a real browser, JUnit XML checked against
+  # its schema.
+  chromium libxml2-utils
 )
 
 as_root=()

@@ -11,12 +11,7 @@ use serde_json::json;
 
 /// "render pass #2", or "render pass #2 'shadows'" when the application labelled it: what a
 /// budget matches, so the same pass matches at another window size.
-pub fn pass_name(position: u32, label: Option<&str>) -> String {
-    match label {
-        Some(label) => format!("render pass #{position} '{label}'"),
-        None => format!("render pass #{position}"),
-    }
-}
+pub use crate::profile::budget::application_pass_name as pass_name;
 
 /// One position of the frame: its name, the render area of the rows there, and the most of
 /// each deterministic counter over the measured frames.

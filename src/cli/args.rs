@@ -72,9 +72,19 @@ pub enum Command {
         /// wait, and counter tracks (fragments, samples, bytes).
         #[arg(long, value_name = "FILE.json")]
         trace: Option<PathBuf>,
-        /// Record this frame's deterministic counters as a budget file.
-        #[arg(long, value_name = "FILE.json")]
-        write_budget: Option<PathBuf>,
+        /// Record this frame's deterministic counters as a budget file (`--write-budget`, its
+        /// old name, still works).
+        #[arg(long, value_name = "FILE.json", alias = "write-budget")]
+        record_budget: Option<PathBuf>,
+        /// Also write one self-contained HTML page of the run: the budget's verdict, charts,
+        /// the per-pass table with each pass's budget margin, the heat map, the technique's
+        /// figures, and the JSON report embedded (docs/profiling.md, "One page per run").
+        #[arg(long, value_name = "FILE.html")]
+        html: Option<PathBuf>,
+        /// With --budget: also write the verdict as JUnit XML, a test case per budgeted pass,
+        /// failed with its margin where over (for CI's test reporters).
+        #[arg(long, value_name = "FILE.xml", requires = "budget")]
+        junit: Option<PathBuf>,
         /// Profile the frame in which object NAME has just moved (a step of 1% of the scene's
         /// size along x), the light and every other object still: shadow-texture-atlas then
         /// re-bakes only the shadow textures that model can change.
@@ -136,9 +146,18 @@ pub enum Command {
         #[arg(long, value_name = "FILE.json")]
         budget: Option<PathBuf>,
         /// Record this run's counters (per render pass, the most over the measured frames) as
-        /// a budget file.
-        #[arg(long, value_name = "FILE.json")]
+        /// a budget file (`--write-budget`, `profile`'s old name for it, works too).
+        #[arg(long, value_name = "FILE.json", alias = "write-budget")]
         record_budget: Option<PathBuf>,
+        /// Also write one self-contained HTML page of the run: the budget's verdict, charts
+        /// over the frames, the per-pass table with budget margins, the tiler check's findings
+        /// with advice, the captured frame, the top draws, and the JSON report embedded.
+        #[arg(long, value_name = "FILE.html")]
+        html: Option<PathBuf>,
+        /// With --budget: also write the verdict as JUnit XML, a test case per budgeted pass,
+        /// failed with its margin where over (for CI's test reporters).
+        #[arg(long, value_name = "FILE.xml", requires = "budget")]
+        junit: Option<PathBuf>,
         /// Also write a bar chart of the render passes (mean over frames).
         #[arg(long, value_name = "FILE.svg")]
         chart: Option<PathBuf>,
@@ -203,9 +222,16 @@ pub enum Command {
         /// 2 cores; seed 004's Table 1: 10, its atlas-125 rows take seconds a frame].
         #[arg(long)]
         runs: Option<u32>,
-        /// Print JSON instead of a table.
+        /// Print JSON instead of a table (`--format json` says the same, as `profile` says it).
         #[arg(long)]
         json: bool,
+        /// table (default) or json, as `profile` and `profile-app` take it.
+        #[arg(long, value_enum)]
+        format: Option<FormatArg>,
+        /// Also write one self-contained HTML page of the run: each variant's frame time with
+        /// its interval and its ratio to the first, and the JSON report embedded.
+        #[arg(long, value_name = "FILE.html")]
+        html: Option<PathBuf>,
         /// Also write every frame rendered (warm-up ones too) on a timeline: Chrome trace-event
         /// JSON (ui.perfetto.dev, chrome://tracing) with GPU, CPU and counter tracks.
         #[arg(long, value_name = "FILE.json")]

@@ -16,6 +16,15 @@ use crate::profile::table1;
 use crate::scene::Scene;
 use crate::technique::{by_name, RenderOptions, TECHNIQUES};
 
+/// The files `bench` writes besides its table or JSON.
+#[derive(Clone, Copy, Default)]
+pub struct BenchOutputs<'a> {
+    /// The frames on a timeline (`--trace`).
+    pub trace: Option<&'a Path>,
+    /// The run's page (`--html`).
+    pub html: Option<&'a Path>,
+}
+
 /// What `bench` times and how it reports it.
 struct Timed<'a> {
     /// The report's `technique` field: one name, or the list as given.
@@ -26,7 +35,7 @@ struct Timed<'a> {
     warmup: u32,
     runs: u32,
     json: bool,
-    trace: Option<&'a Path>,
+    outputs: BenchOutputs<'a>,
 }
 
 pub(super) fn bench(
@@ -35,7 +44,7 @@ pub(super) fn bench(
     runs: Option<u32>,
     json: bool,
     table1_out: Option<&Path>,
-    trace_path: Option<&Path>,
+    outputs: BenchOutputs<'_>,
 ) -> Result<()> {
     if runs == Some(0) {
         return Err(Error::InvalidInput("--runs must be at least 1".into()));
@@ -52,7 +61,14 @@ pub(super) fn bench(
         for technique in TECHNIQUES {
             let one = FrameArgs { technique: technique.name().to_owned(), ..frame.clone() };
             // Only the technique with a paper table records it.
-            bench(&one, warmup, runs, false, table1_out.filter(|_| table1::covers(*technique)), None)?;
+            bench(
+                &one,
+                warmup,
+                runs,
+                false,
+                table1_out.filter(|_| table1::covers(*technique)),
+                BenchOutputs::default(),
+            )?;
             println!();
         }
         return Ok(());
@@ -63,7 +79,7 @@ pub(super) fn bench(
                 "--table1-out records one technique's paper table: give one --technique".into(),
             ));
         }
-        return bench_techniques(frame, warmup, runs, json, trace_path);
+        return bench_techniques(frame, warmup, runs, json, outputs);
     }
     let options = options(frame)?;
     if table1_out.is_some() && !table1::covers(options.technique) {
@@ -72,7 +88,7 @@ pub(super) fn bench(
             options.technique.name()
         )));
     }
-    if let Some(path) = trace_path {
+    for path in [outputs.trace, outputs.html].into_iter().flatten() {
         check_output_path(path)?;
     }
     if let Some(dir) = table1_out {
@@ -94,7 +110,7 @@ pub(super) fn bench(
         warmup,
         runs: runs.unwrap_or(bench::DEFAULT_RUNS),
         json,
-        trace: trace_path,
+        outputs,
     };
     time_variants(&gpu, &scene, timed)
 }
@@ -106,7 +122,7 @@ fn bench_techniques(
     warmup: u32,
     runs: Option<u32>,
     json: bool,
-    trace_path: Option<&Path>,
+    outputs: BenchOutputs<'_>,
 ) -> Result<()> {
     let names: Vec<&str> = frame.technique.split(',').map(str::trim).collect();
     let mut variants = Vec::new();
@@ -121,7 +137,7 @@ fn bench_techniques(
         let one = FrameArgs { technique: (*name).to_owned(), ..frame.clone() };
         variants.push((technique.name().to_owned(), options(&one)?));
     }
-    if let Some(path) = trace_path {
+    for path in [outputs.trace, outputs.html].into_iter().flatten() {
         check_output_path(path)?;
     }
     let scene = load_scene(frame)?;
@@ -134,7 +150,7 @@ fn bench_techniques(
         warmup,
         runs: runs.unwrap_or(bench::DEFAULT_RUNS),
         json,
-        trace: trace_path,
+        outputs,
     };
     time_variants(&gpu, &scene, timed)
 }
@@ -142,7 +158,8 @@ fn bench_techniques(
 /// Builds a renderer per variant (and its 1-sample twin at N > 1), times them round-robin and
 /// prints the table or JSON.
 fn time_variants(gpu: &Arc<Gpu>, scene: &Scene, timed: Timed) -> Result<()> {
-    let Timed { technique, variants: listed, samples, warmup, runs, json, trace: trace_path } = timed;
+    let Timed { technique, variants: listed, samples, warmup, runs, json, outputs } = timed;
+    let trace_path = outputs.trace;
     // At N > 1 samples each variant also runs at 1, next to it in every round.
     let mut paired = Vec::new();
     for (label, options) in &listed {
@@ -198,10 +215,14 @@ fn time_variants(gpu: &Arc<Gpu>, scene: &Scene, timed: Timed) -> Result<()> {
         variants: results,
         msaa,
     };
+    let json_text = serde_json::to_string_pretty(&report).map_err(|e| Error::Internal(e.to_string()))?;
     if json {
-        println!("{}", serde_json::to_string_pretty(&report).map_err(|e| Error::Internal(e.to_string()))?);
+        println!("{json_text}");
     } else {
         print!("{}", report.table());
+    }
+    if let Some(path) = outputs.html {
+        crate::profile::html::from_profile::bench_page(&report, json_text).write(path)?;
     }
     Ok(())
 }

@@ -1,19 +1,18 @@
 //! What each subcommand does.
 
 use std::path::Path;
-use std::sync::Arc;
 
 use super::args::{Cli, Command, FormatArg, FrameArgs, FrameOnArg, GpuArgs, LayerAction, PassesArgs, ViewScript};
 use super::frame_setup::{load_named_scene, load_scene, open_gpu, open_gpu_with, options, print_warnings};
 use super::output_path::check_output_path;
+use super::profile_frame::ProfileOutputs;
 use crate::error::{Error, Result};
 use crate::frame::render_pass::COLOUR_FORMAT;
 use crate::frame::targets::{choose_depth_format, offered_samples};
 use crate::frame::StencilMode;
 use crate::gpu::validation::ValidationReport;
-use crate::gpu::{mobile_profile, DeviceChoice, Gpu, GpuOptions};
-use crate::profile::budget::Budget;
-use crate::profile::report::{FrameFormats, ProfileReport, ReportContext, ReportFormat};
+use crate::gpu::{mobile_profile, DeviceChoice, GpuOptions};
+use crate::profile::report::ReportFormat;
 use crate::scene::{Scene, BUILTIN_SCENES, OTHER_SCENES};
 use crate::technique::registry::shadowing_every_light;
 use crate::technique::{by_name, render_scene, shadow_atlas, RenderOptions, TECHNIQUES};
@@ -29,16 +28,19 @@ pub fn run(cli: Cli) -> Result<()> {
             heatmap,
             chart,
             budget,
-            write_budget,
+            record_budget,
+            html,
+            junit,
             trace,
             move_model,
             caster_fill,
         } => {
-            let outputs = ProfileOutputs { heatmap, chart, budget, write_budget, trace, move_model, caster_fill };
+            let outputs =
+                ProfileOutputs { heatmap, chart, budget, record_budget, html, junit, trace, move_model, caster_fill };
             if compare.is_empty() {
-                profile(&frame, format, &outputs)
-            } else if outputs.trace.is_some() {
-                Err(Error::InvalidInput("--trace writes one frame's timeline: drop --compare".into()))
+                super::profile_frame::profile(&frame, report_format(format), &outputs)
+            } else if outputs.trace.is_some() || outputs.html.is_some() {
+                Err(Error::InvalidInput("--trace and --html write one frame's report: drop --compare".into()))
             } else {
                 profile_compare(&frame, format, &compare)
             }
@@ -55,6 +57,8 @@ pub fn run(cli: Cli) -> Result<()> {
             format,
             budget,
             record_budget,
+            html,
+            junit,
             chart,
             trace,
             out,
@@ -84,6 +88,8 @@ pub fn run(cli: Cli) -> Result<()> {
                 frame_on: frame_on.name(),
                 gl,
                 capture,
+                html,
+                junit,
             };
             let stop = super::supervise::Stop { frames, seconds, keep_running };
             super::profile_app::run(&command, stop, report_format(format), &outputs)
@@ -99,11 +105,19 @@ pub fn run(cli: Cli) -> Result<()> {
             let scene = load_named_scene(&scene, 0.0, &lights, replace_lights)?;
             passes(&technique, &plans, &scene, samples)
         }
+        Command::Bench { format: Some(FormatArg::Csv), .. } => {
+            Err(Error::InvalidInput("bench writes a table or JSON: --format table or --format json".into()))
+        }
+        Command::Bench { html: Some(_), mip_flicker: Some(_), .. }
+        | Command::Bench { html: Some(_), frame_loop: Some(_), .. } => {
+            Err(Error::InvalidInput("--html writes timed variants' page: drop --mip-flicker and --loop".into()))
+        }
         Command::Bench {
             frame,
             warmup: _,
             runs,
             json,
+            format,
             trace,
             table1_out,
             mip_flicker: Some(steps),
@@ -117,7 +131,7 @@ pub fn run(cli: Cli) -> Result<()> {
                         .into(),
                 ));
             }
-            bench_mip_flicker(&frame, steps, json)
+            bench_mip_flicker(&frame, steps, json || format == Some(FormatArg::Json))
         }
         Command::Bench {
             frame,
@@ -131,7 +145,10 @@ pub fn run(cli: Cli) -> Result<()> {
             frames_in_flight,
             each_extrusion,
             each_skinning,
+            format,
+            html: _,
         } => {
+            let json = json || format == Some(FormatArg::Json);
             if table1_out.is_some() || runs.is_some() || trace.is_some() {
                 return Err(Error::InvalidInput(
                     "--loop plays N frames of each technique: drop --table1-out, --runs and --trace".into(),
@@ -150,14 +167,27 @@ pub fn run(cli: Cli) -> Result<()> {
             "--each-extrusion plays shadow-volume once per volume extrusion in a frame loop: add --loop N".into(),
         )),
         Command::Bench {
-            frame, warmup, runs, json, trace, table1_out, mip_flicker: None, frame_loop: None, ..
+            frame,
+            warmup,
+            runs,
+            json,
+            format,
+            html,
+            trace,
+            table1_out,
+            mip_flicker: None,
+            frame_loop: None,
+            ..
         } => {
-            if trace.is_some() && (frame.technique == "all" || table1_out.is_some()) {
+            if (trace.is_some() || html.is_some()) && (frame.technique == "all" || table1_out.is_some()) {
                 return Err(Error::InvalidInput(
-                    "--trace writes one technique's frames: give one --technique, without --table1-out".into(),
+                    "--trace and --html write one technique's frames: give one --technique, without --table1-out"
+                        .into(),
                 ));
             }
-            super::bench::bench(&frame, warmup, runs, json, table1_out.as_deref(), trace.as_deref())
+            let json = json || format == Some(FormatArg::Json);
+            let outputs = super::bench::BenchOutputs { trace: trace.as_deref(), html: html.as_deref() };
+            super::bench::bench(&frame, warmup, runs, json, table1_out.as_deref(), outputs)
         }
         Command::Bake { frame, model, mip, out } => bake(&frame, model.as_deref(), mip, &out),
         Command::View { frame, frames, screenshot, script, paused, tour, present } => {
@@ -191,160 +221,12 @@ fn render(frame: &FrameArgs, out: &Path, keep_alpha: bool, no_queries: bool) -> 
     Ok(())
 }
 
-struct ProfileOutputs {
-    heatmap: Option<std::path::PathBuf>,
-    chart: Option<std::path::PathBuf>,
-    budget: Option<std::path::PathBuf>,
-    write_budget: Option<std::path::PathBuf>,
-    trace: Option<std::path::PathBuf>,
-    move_model: Option<String>,
-    /// `--caster-fill N`: the N casters spending most of the volume fill.
-    caster_fill: Option<u32>,
-}
-
-/// The steady frame of `scene` after object `name` moved by 1% of the scene's size along x,
-/// rendered by the renderer that drew it before the move (`profile --move-model`).
-fn render_after_a_move(
-    gpu: &Arc<Gpu>,
-    scene: &Scene,
-    options: &RenderOptions,
-    name: &str,
-) -> Result<crate::technique::TechniqueFrame> {
-    let index = scene.objects.iter().position(|o| o.name == name).ok_or_else(|| {
-        let names: Vec<&str> = scene.objects.iter().take(12).map(|o| o.name.as_str()).collect();
-        let more = if scene.objects.len() > names.len() { ", ..." } else { "" };
-        Error::InvalidInput(format!(
-            "--move-model '{name}': scene '{}' has no object of that name (it has {}{more})",
-            scene.name,
-            names.join(", ")
-        ))
-    })?;
-    let corners = scene.objects.iter().map(|o| o.transform.w_axis.truncate());
-    let size = crate::scene::bounds_of(corners).map_or(1.0, |(lo, hi)| (hi - lo).length().max(1.0));
-    let mut moved = scene.clone();
-    let step = glam::Mat4::from_translation(glam::Vec3::X * (0.01 * size));
-    moved.objects[index].transform = step * moved.objects[index].transform;
-    let mut renderer = options.technique.build(gpu, scene, options)?;
-    for _ in 0..renderer.frames_to_steady_state() {
-        renderer.frame_with(scene)?;
-    }
-    renderer.frame_with(&moved)
-}
-
 fn report_format(format: FormatArg) -> ReportFormat {
     match format {
         FormatArg::Table => ReportFormat::Table,
         FormatArg::Json => ReportFormat::Json,
         FormatArg::Csv => ReportFormat::Csv,
     }
-}
-
-fn profile(frame: &FrameArgs, format: FormatArg, outputs: &ProfileOutputs) -> Result<()> {
-    for path in [&outputs.heatmap, &outputs.chart, &outputs.write_budget, &outputs.trace].into_iter().flatten() {
-        check_output_path(path)?;
-    }
-    let options = options(frame)?;
-    let scene = load_scene(frame)?;
-    let gpu = open_gpu(&frame.gpu)?;
-    // One frame first: llvmpipe compiles shaders at first draw, which is not the frame's cost.
-    render_scene(&gpu, &scene, &options)?;
-    let frame_result = match &outputs.move_model {
-        None => render_scene(&gpu, &scene, &options)?,
-        Some(name) => render_after_a_move(&gpu, &scene, &options, name)?,
-    };
-    print_warnings(options.technique.name(), &frame_result.warnings);
-    let output = &frame_result.output;
-    let (technique, stencil) = (options.technique.name(), options.stencil.name());
-    let mut report = ProfileReport::new(
-        ReportContext {
-            device: gpu.device.info.name.clone(),
-            scene: scene.name.clone(),
-            technique: technique.into(),
-            stencil: stencil.into(),
-            frame_formats: FrameFormats {
-                colour: format!("{COLOUR_FORMAT:?}"),
-                depth: format!("{:?}", choose_depth_format(&gpu, options.stencil)?),
-            },
-        },
-        &output.counters,
-    );
-    let mut stats = frame_result.stats.json();
-    let caster_fill = match outputs.caster_fill {
-        Some(top) => Some(crate::profile::caster_fill::measure(&gpu, &scene, &options, &frame_result, top as usize)?),
-        None => None,
-    };
-    if let (Some(fill), Some(object)) = (&caster_fill, stats.as_object_mut()) {
-        object.insert("caster_fill".into(), serde_json::to_value(fill).map_err(|e| Error::Internal(e.to_string()))?);
-    }
-    // The volumes' area, from one more frame of the same scene (not of a moved one).
-    let coverage = match outputs.move_model {
-        None => crate::profile::volume_coverage::measure(&gpu, &scene, &options, &frame_result)?,
-        Some(_) => None,
-    };
-    if let (Some(coverage), Some(object)) = (&coverage, stats.as_object_mut()) {
-        let value = serde_json::to_value(coverage).map_err(|e| Error::Internal(e.to_string()))?;
-        object.insert("volume_coverage".into(), value);
-    }
-    report.technique_stats = (!stats.is_null()).then_some(stats);
-    print!("{}", report.render(report_format(format)));
-    let lines = frame_result.stats.report();
-    if format == FormatArg::Table && !lines.is_empty() {
-        println!("\n{lines}");
-    }
-    if format == FormatArg::Table {
-        match (&coverage, &outputs.move_model) {
-            (Some(coverage), _) => print!("\n{}", crate::profile::volume_coverage::table(coverage)),
-            // Said, not left out unsaid: the probe redraws the scene as loaded.
-            (None, Some(_)) if frame_result.stats::<crate::technique::ShadowVolumeStats>().is_some() => {
-                println!("\nshadow volumes' area: not measured with --move-model");
-            }
-            _ => {}
-        }
-    }
-    if let (Some(fill), FormatArg::Table) = (&caster_fill, format) {
-        print!("\n{}", crate::profile::caster_fill::table(fill));
-    }
-
-    if let Some(path) = &outputs.heatmap {
-        let counting = RenderOptions { count_overdraw: true, ..options.clone() };
-        let counted = render_scene(&gpu, &scene, &counting)?;
-        crate::frame::write_png(&crate::profile::heatmap::render_heatmap(&counted.output.image), path, false)?;
-        eprintln!("wrote {}", path.display());
-    }
-    if let Some(path) = &outputs.trace {
-        let process = format!("nostencil profile: {technique} ({stencil}) on {}", scene.name);
-        let mut trace = crate::profile::trace::Trace::new(&process, true);
-        trace.own_frame(technique, 0, 0.0, &output.counters);
-        trace.write(path)?;
-        eprintln!("wrote {}", path.display());
-    }
-    if let Some(path) = &outputs.chart {
-        let title = format!("{technique} ({stencil}) on {}, {}x{}", scene.name, options.width, options.height);
-        let svg = crate::profile::chart::bar_chart_svg(&title, &output.counters);
-        crate::frame::write_atomically(path, svg.as_bytes())?;
-        eprintln!("wrote {}", path.display());
-    }
-    if let Some(path) = &outputs.write_budget {
-        Budget::from_frame(&scene.name, technique, stencil, &output.counters).write(path)?;
-        eprintln!("wrote budget {}", path.display());
-    }
-    if let Some(path) = &outputs.budget {
-        let overruns = Budget::load(path)?.check(&scene.name, technique, stencil, &output.counters)?;
-        if !overruns.is_empty() {
-            for overrun in &overruns {
-                eprintln!("over budget: {overrun}");
-            }
-            let passes: std::collections::BTreeSet<&str> = overruns.iter().map(|o| o.pass.as_str()).collect();
-            return Err(Error::InvalidInput(format!(
-                "{} pass(es) over the budget in {}: {}",
-                passes.len(),
-                path.display(),
-                passes.into_iter().collect::<Vec<_>>().join(", ")
-            )));
-        }
-        eprintln!("within budget {}", path.display());
-    }
-    Ok(())
 }
 
 /// Bakes the shadow textures of `frame.scene` and writes one model's as PNG.

@@ -9,6 +9,7 @@ mod frame_setup;
 mod install;
 mod output_path;
 mod profile_app;
+mod profile_frame;
 mod supervise;
 
 use std::process::ExitCode;

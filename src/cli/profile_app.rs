@@ -12,7 +12,7 @@ use super::install::{InstallPaths, HOW_TO_INSTALL};
 use super::output_path::check_output_path;
 use super::supervise::{self, Stop};
 use crate::error::{Error, Result};
-use crate::profile::budget::Budget;
+use crate::profile::budget::{Budget, Overrun};
 use crate::profile::report::ReportFormat;
 use nostencil_fillrate_report::aggregate::report_from_journal;
 use nostencil_fillrate_report::manifest::{
@@ -66,6 +66,10 @@ pub struct AppOutputs {
     pub frame_on: &'static str,
     /// An OpenGL or GLES program, run on zink with the layer's library preloaded.
     pub gl: bool,
+    /// The run's page (`--html`).
+    pub html: Option<PathBuf>,
+    /// The budget's verdict as JUnit XML (`--junit`, with `--budget`).
+    pub junit: Option<PathBuf>,
     /// The image presented at the end of a frame, written as a PNG (NOSTENCIL_FILLRATE_CAPTURE):
     /// (file, frame).
     pub capture: Option<(PathBuf, u64)>,
@@ -104,8 +108,17 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
         }
     }
     let capture_path = outputs.capture.as_ref().map(|(path, _)| path.clone());
-    for path in
-        [&outputs.record_budget, &outputs.chart, &outputs.trace, &outputs.out, &capture_path].into_iter().flatten()
+    for path in [
+        &outputs.record_budget,
+        &outputs.chart,
+        &outputs.trace,
+        &outputs.out,
+        &capture_path,
+        &outputs.html,
+        &outputs.junit,
+    ]
+    .into_iter()
+    .flatten()
     {
         check_output_path(path)?;
     }
@@ -214,8 +227,30 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
             if work.is_empty() { String::new() } else { format!(", {} dispatch groups and transfers", work.len()) };
         eprintln!("wrote budget {} ({} render passes{work_note})", path.display(), counts.len());
     }
-    if let (Some(budget), Some(path)) = (&budget, &outputs.budget) {
-        check_budget(budget, path, &report, &worst)?;
+    let figures = match &budget {
+        Some(budget) => {
+            let counts: Vec<_> = worst.iter().map(|p| p.count.clone()).collect();
+            let bytes = worst_frame_bandwidth(&report);
+            Some(budget.compared_application(&report.application, &counts, bytes, &worst_work(&report))?)
+        }
+        None => None,
+    };
+    let budget_file = outputs.budget.as_ref().map(|p| p.display().to_string());
+    let verdict = budget_file.as_deref().zip(figures.as_deref());
+    if let (Some(path), Some((file, figures))) = (&outputs.junit, verdict) {
+        crate::profile::junit::write(path, &report.application, file, figures)?;
+    }
+    if let Some(path) = &outputs.html {
+        let capture = match &outputs.capture {
+            Some((file, frame)) => std::fs::read(file).ok().map(|png| (*frame, png)),
+            None => None,
+        };
+        let json = nostencil_fillrate_report::output::render(&report, OutputFormat::Json);
+        let extras = crate::profile::html::from_app::AppExtras { budget: verdict, capture, json };
+        crate::profile::html::from_app::page(&report, extras).write(path)?;
+    }
+    if let (Some(figures), Some(path)) = (&figures, &outputs.budget) {
+        check_budget(figures, path, &report, &worst)?;
     }
     if outputs.tiler_check {
         check_tiler(&report, program)?;
@@ -260,11 +295,10 @@ fn check_tiler(report: &FillrateReport, program: &str) -> Result<()> {
     )))
 }
 
-/// Every render pass over `budget` on stderr, then an error naming them all.
-fn check_budget(budget: &Budget, path: &Path, report: &FillrateReport, worst: &[PositionCounts]) -> Result<()> {
-    let counts: Vec<_> = worst.iter().map(|p| p.count.clone()).collect();
-    let work = worst_work(report);
-    let overruns = budget.check_application(&report.application, &counts, worst_frame_bandwidth(report), &work)?;
+/// Every render pass over its budget (among `figures`, all those compared) on stderr, then an
+/// error naming them all.
+fn check_budget(figures: &[Overrun], path: &Path, report: &FillrateReport, worst: &[PositionCounts]) -> Result<()> {
+    let overruns: Vec<&Overrun> = figures.iter().filter(|f| f.over()).collect();
     if overruns.is_empty() {
         eprintln!("within budget {}", path.display());
         return Ok(());

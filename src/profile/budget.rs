@@ -67,13 +67,48 @@ fn one_sample() -> u32 {
 /// are the application's render pass instances, by position in the frame.
 pub const APPLICATION_TECHNIQUE: &str = "application";
 
-/// One counter of one pass above its budget.
+/// The name an application's render pass has in its budget: its position and label.
+pub fn application_pass_name(position: u32, label: Option<&str>) -> String {
+    match label {
+        Some(label) => format!("render pass #{position} '{label}'"),
+        None => format!("render pass #{position}"),
+    }
+}
+
+/// One counter of one pass against its budget (above it, as `check` returns them).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Overrun {
     pub pass: String,
     pub counter: &'static str,
     pub budget: u64,
     pub actual: u64,
+}
+
+impl Overrun {
+    pub fn over(&self) -> bool {
+        self.actual > self.budget
+    }
+
+    /// How far from its budget, in percent of it (+: over; infinite over a budget of 0).
+    pub fn margin_percent(&self) -> f64 {
+        if self.budget > 0 {
+            (self.actual as f64 / self.budget as f64 - 1.0) * 100.0
+        } else if self.actual > 0 {
+            f64::INFINITY
+        } else {
+            0.0
+        }
+    }
+
+    /// "samples passed 80000 of 72000 (+11.1%)", for a margin column.
+    pub fn brief(&self) -> String {
+        format!("{} {} of {} ({:+.1}%)", self.counter, self.actual, self.budget, self.margin_percent())
+    }
+}
+
+/// The figures over their budget.
+fn over_only(figures: Vec<Overrun>) -> Vec<Overrun> {
+    figures.into_iter().filter(Overrun::over).collect()
 }
 
 impl std::fmt::Display for Overrun {
@@ -148,6 +183,28 @@ impl Budget {
         frame_bandwidth: Bandwidth,
         work: &[WorkBudget],
     ) -> Result<Vec<Overrun>> {
+        Ok(over_only(self.compared_application(application, passes, frame_bandwidth, work)?))
+    }
+
+    /// Every figure of an application's passes, work and bytes the budget holds, over it or
+    /// not (the HTML page's margins and the JUnit test cases); errors as
+    /// [`Budget::check_application`].
+    pub fn compared_application(
+        &self,
+        application: &str,
+        passes: &[PassBudget],
+        frame_bandwidth: Bandwidth,
+        work: &[WorkBudget],
+    ) -> Result<Vec<Overrun>> {
+        self.check_application_kind(application)?;
+        let mut figures = self.pass_figures(passes)?;
+        figures.extend(self.work_figures(work)?);
+        figures.extend(self.bandwidth_figures(frame_bandwidth));
+        Ok(figures)
+    }
+
+    /// An error unless the budget is for application `application`.
+    fn check_application_kind(&self, application: &str) -> Result<()> {
         if self.technique != APPLICATION_TECHNIQUE {
             return Err(Error::InvalidInput(format!(
                 "the budget is for nostencil's own frame ({} / {}), not an application: record one with \
@@ -161,15 +218,12 @@ impl Budget {
                 self.scene
             )));
         }
-        let mut overruns = self.check_passes(passes)?;
-        overruns.extend(self.check_work(work)?);
-        overruns.extend(self.check_bandwidth(frame_bandwidth));
-        Ok(overruns)
+        Ok(())
     }
 
-    /// Every figure of the application's work over budget; none for a budget that holds no
-    /// work (written before the layer measured it), an error for work it does not list.
-    fn check_work(&self, work: &[WorkBudget]) -> Result<Vec<Overrun>> {
+    /// Every figure of the application's work the budget holds; none for a budget that holds
+    /// no work (written before the layer measured it), an error for work it does not list.
+    fn work_figures(&self, work: &[WorkBudget]) -> Result<Vec<Overrun>> {
         let mut overruns = Vec::new();
         if self.work.is_empty() {
             return Ok(overruns);
@@ -187,27 +241,21 @@ impl Budget {
             ];
             for (counter, budget, actual) in figures {
                 if let (Some(budget), Some(actual)) = (budget, actual) {
-                    if actual > budget {
-                        overruns.push(Overrun { pass: w.name.clone(), counter, budget, actual });
-                    }
+                    overruns.push(Overrun { pass: w.name.clone(), counter, budget, actual });
                 }
             }
         }
         Ok(overruns)
     }
 
-    /// The frame's bytes over the budget's (none when the budget holds no bytes).
-    fn check_bandwidth(&self, actual: Bandwidth) -> Vec<Overrun> {
+    /// The frame's bytes against the budget's (none when the budget holds no bytes).
+    fn bandwidth_figures(&self, actual: Bandwidth) -> Vec<Overrun> {
         let Some(budget) = self.frame_bandwidth else { return Vec::new() };
         let figures = [
             ("tiler bytes per frame", budget.tiler_bytes, actual.tiler_bytes),
             ("immediate-mode bytes per frame", budget.immediate_bytes, actual.immediate_bytes),
         ];
-        figures
-            .into_iter()
-            .filter(|&(_, budget, actual)| actual > budget)
-            .map(|(counter, budget, actual)| Overrun { pass: "frame".into(), counter, budget, actual })
-            .collect()
+        figures.into_iter().map(|(counter, budget, actual)| Overrun { pass: "frame".into(), counter, budget, actual }).collect()
     }
 
     pub fn load(path: &Path) -> Result<Self> {
@@ -231,6 +279,12 @@ impl Budget {
 
     /// Every counter over budget; an error when the frame is not the one the budget describes.
     pub fn check(&self, scene: &str, technique: &str, stencil: &str, counters: &FrameCounters) -> Result<Vec<Overrun>> {
+        Ok(over_only(self.compared(scene, technique, stencil, counters)?))
+    }
+
+    /// Every figure of this crate's frame the budget holds, over it or not; errors as
+    /// [`Budget::check`].
+    pub fn compared(&self, scene: &str, technique: &str, stencil: &str, counters: &FrameCounters) -> Result<Vec<Overrun>> {
         let what = (self.scene.as_str(), self.technique.as_str(), self.stencil.as_str(), self.width, self.height);
         if what != (scene, technique, stencil, counters.width, counters.height) {
             return Err(Error::InvalidInput(format!(
@@ -244,13 +298,13 @@ impl Budget {
                 self.samples, counters.samples, counters.samples, self.samples
             )));
         }
-        let mut overruns = self.check_passes(&frame_passes(counters))?;
-        overruns.extend(self.check_bandwidth(counters.bandwidth()));
-        Ok(overruns)
+        let mut figures = self.pass_figures(&frame_passes(counters))?;
+        figures.extend(self.bandwidth_figures(counters.bandwidth()));
+        Ok(figures)
     }
 
-    /// Every counter over budget, pass by pass (matched by name).
-    fn check_passes(&self, passes: &[PassBudget]) -> Result<Vec<Overrun>> {
+    /// Every counter the budget holds, pass by pass (matched by name).
+    fn pass_figures(&self, passes: &[PassBudget]) -> Result<Vec<Overrun>> {
         let mut overruns = Vec::new();
         for pass in passes {
             let budget =
@@ -258,9 +312,7 @@ impl Budget {
                     Error::InvalidInput(format!("pass '{}' has no budget (record a new one)", pass.name))
                 })?;
             let mut over = |counter, budget: u64, actual: u64| {
-                if actual > budget {
-                    overruns.push(Overrun { pass: pass.name.clone(), counter, budget, actual });
-                }
+                overruns.push(Overrun { pass: pass.name.clone(), counter, budget, actual });
             };
             over("draws", budget.draws as u64, pass.draws as u64);
             over("samples passed", budget.samples_passed, pass.samples_passed);

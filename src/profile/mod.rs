@@ -9,6 +9,8 @@ pub mod chart;
 pub mod compare;
 pub mod frame_loop;
 pub mod heatmap;
+pub mod html;
+pub mod junit;
 pub mod mip_flicker;
 pub mod passes;
 pub mod report;

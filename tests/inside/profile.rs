@@ -147,6 +147,7 @@ fn budget_recipe_from_the_command_line() {
     let budget = dir.join("budget.json");
     let b = budget.to_str().unwrap();
     let args = ["profile", "--technique", "shadow-volume", "--size", "96x64", "--format", "csv"];
+    // `--write-budget`, profile's old name for `--record-budget`, still records one.
     common::run_ok(&[&args[..], &["--write-budget", b]].concat());
     common::run_ok(&[&args[..], &["--budget", b]].concat());
 
