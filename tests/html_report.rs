@@ -141,7 +141,7 @@ fn a_failed_budget_turns_the_banner_red_names_what_grew_and_writes_junit() {
 
     let text = page(&failed_html);
     assert!(text.contains("class=\"banner fail\"") && text.contains("Budget failed"), "the banner");
-    assert!(text.contains("pass 'frame': tiler bytes per frame"), "the banner names what grew");
+    assert!(text.contains("pass &apos;frame&apos;: tiler bytes per frame"), "the banner names what grew");
     assert!(page(&passed_html).contains("class=\"banner pass\""));
     let (red, green) = (banner(&open_in_chromium(&failed_html, 900)), banner(&open_in_chromium(&passed_html, 900)));
     assert!(red[0] > 150 && red[1] < 80 && red[2] < 80, "a failed budget's banner is red: {red:?}");

@@ -76,15 +76,8 @@ pub enum Command {
         /// old name, still works).
         #[arg(long, value_name = "FILE.json", alias = "write-budget")]
         record_budget: Option<PathBuf>,
-        /// Also write one self-contained HTML page of the run: the budget's verdict, charts,
-        /// the per-pass table with each pass's budget margin, the heat map, the technique's
-        /// figures, and the JSON report embedded (docs/profiling.md, "One page per run").
-        #[arg(long, value_name = "FILE.html")]
-        html: Option<PathBuf>,
-        /// With --budget: also write the verdict as JUnit XML, a test case per budgeted pass,
-        /// failed with its margin where over (for CI's test reporters).
-        #[arg(long, value_name = "FILE.xml", requires = "budget")]
-        junit: Option<PathBuf>,
+        #[command(flatten)]
+        page: PageArgs,
         /// Profile the frame in which object NAME has just moved (a step of 1% of the scene's
         /// size along x), the light and every other object still: shadow-texture-atlas then
         /// re-bakes only the shadow textures that model can change.
@@ -149,15 +142,8 @@ pub enum Command {
         /// a budget file (`--write-budget`, `profile`'s old name for it, works too).
         #[arg(long, value_name = "FILE.json", alias = "write-budget")]
         record_budget: Option<PathBuf>,
-        /// Also write one self-contained HTML page of the run: the budget's verdict, charts
-        /// over the frames, the per-pass table with budget margins, the tiler check's findings
-        /// with advice, the captured frame, the top draws, and the JSON report embedded.
-        #[arg(long, value_name = "FILE.html")]
-        html: Option<PathBuf>,
-        /// With --budget: also write the verdict as JUnit XML, a test case per budgeted pass,
-        /// failed with its margin where over (for CI's test reporters).
-        #[arg(long, value_name = "FILE.xml", requires = "budget")]
-        junit: Option<PathBuf>,
+        #[command(flatten)]
+        page: PageArgs,
         /// Also write a bar chart of the render passes (mean over frames).
         #[arg(long, value_name = "FILE.svg")]
         chart: Option<PathBuf>,
@@ -486,6 +472,21 @@ pub enum LayerAction {
     },
     /// Remove what `layer install` wrote.
     Uninstall,
+}
+
+/// The page and the JUnit verdict of a `profile` or `profile-app` run.
+#[derive(Debug, Clone, Args)]
+pub struct PageArgs {
+    /// Also write one self-contained HTML page of the run: the budget's verdict, charts, the
+    /// per-pass table with budget margins, the findings and images the run has (the tiler
+    /// check's with advice, the captured frame, the heat map), and the JSON report embedded
+    /// (docs/profiling.md, "One page per run").
+    #[arg(long, value_name = "FILE.html")]
+    pub html: Option<PathBuf>,
+    /// With --budget: also write the verdict as JUnit XML, a test case per budgeted pass,
+    /// failed with its margin where over (for CI's test reporters).
+    #[arg(long, value_name = "FILE.xml", requires = "budget")]
+    pub junit: Option<PathBuf>,
 }
 
 /// `profile-app --frame-on` (the layer's NOSTENCIL_FILLRATE_FRAME_ON).

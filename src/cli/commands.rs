@@ -2,7 +2,9 @@
 
 use std::path::Path;
 
-use super::args::{Cli, Command, FormatArg, FrameArgs, FrameOnArg, GpuArgs, LayerAction, PassesArgs, ViewScript};
+use super::args::{
+    Cli, Command, FormatArg, FrameArgs, FrameOnArg, GpuArgs, LayerAction, PageArgs, PassesArgs, ViewScript,
+};
 use super::frame_setup::{load_named_scene, load_scene, open_gpu, open_gpu_with, options, print_warnings};
 use super::output_path::check_output_path;
 use super::profile_frame::ProfileOutputs;
@@ -29,8 +31,7 @@ pub fn run(cli: Cli) -> Result<()> {
             chart,
             budget,
             record_budget,
-            html,
-            junit,
+            page: PageArgs { html, junit },
             trace,
             move_model,
             caster_fill,
@@ -57,8 +58,7 @@ pub fn run(cli: Cli) -> Result<()> {
             format,
             budget,
             record_budget,
-            html,
-            junit,
+            page: PageArgs { html, junit },
             chart,
             trace,
             out,

@@ -7,23 +7,8 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use super::budget::Overrun;
+use super::html::page::escape;
 use crate::error::Result;
-
-fn escape(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            c if (c as u32) < 0x20 && c != '\n' && c != '\t' => out.push(' '),
-            c => out.push(c),
-        }
-    }
-    out
-}
 
 /// The XML of `figures` (every figure the budget was compared on), as suite `suite`.
 pub fn render(suite: &str, budget_file: &str, figures: &[Overrun]) -> String {

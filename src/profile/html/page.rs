@@ -68,6 +68,9 @@ pub struct Page {
 /// The id of the element that holds the embedded JSON.
 pub const JSON_ID: &str = "nostencil-report";
 
+/// `text` as HTML or XML text or attribute value (the JUnit XML uses it too): markup
+/// characters as entities, control characters other than tab and newline as spaces (XML 1.0
+/// allows none).
 pub fn escape(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     for c in text.chars() {
@@ -76,6 +79,8 @@ pub fn escape(text: &str) -> String {
             '<' => out.push_str("&lt;"),
             '>' => out.push_str("&gt;"),
             '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            c if (c as u32) < 0x20 && c != '\n' && c != '\t' => out.push(' '),
             c => out.push(c),
         }
     }
@@ -276,7 +281,7 @@ mod tests {
         let over = vec!["pass '#0': draws 2 > budget 1 (+100.0%)".to_owned()];
         let html = page(Some(BudgetBanner { file: "b.json".into(), over })).render();
         assert!(html.contains("class=\"banner fail\""));
-        assert!(html.contains("pass '#0': draws 2 &gt; budget 1"), "{html}");
+        assert!(html.contains("pass &apos;#0&apos;: draws 2 &gt; budget 1"), "{html}");
         let passed = page(Some(BudgetBanner { file: "b.json".into(), over: Vec::new() })).render();
         assert!(passed.contains("class=\"banner pass\""));
     }
