@@ -45,10 +45,12 @@ pub struct VolumeGeometry {
     pub vertices: Vec<Vec4>,
     /// Extruded silhouette edges (both z-pass and z-fail draw these).
     pub sides: Vec<u32>,
-    /// Light-facing triangles (z-fail only; empty without caps).
+    /// Light-facing triangles: the near cap, drawn in z-fail, and in z-pass for open casters
+    /// (docs/shadow-volumes.md); the renderer always builds it (empty only when built without caps).
     pub near_cap: Vec<u32>,
-    /// Light-facing triangles at infinity, reversed (z-fail only; empty without caps and for a
-    /// directional light, where it degenerates to a point).
+    /// Light-facing triangles at infinity, reversed: the far cap, drawn with the volume in both
+    /// methods (empty when built without caps, and for a directional light, where it
+    /// degenerates to a point).
     pub far_cap: Vec<u32>,
     /// Per mesh face, whether it faces the light.
     pub lit_faces: Vec<bool>,

@@ -161,7 +161,7 @@ impl SceneLight {
         in_range && self.cone().map_or(true, |cone| cone.meets_box(low, high))
     }
 
-    /// A spot light's cone, widened by [`CONE_MARGIN`]: everything the spot lights lies in it
+    /// A spot light's cone, widened by `CONE_MARGIN` (0.01 rad): everything the spot lights lies in it
     /// (`shaders/lights.glsl` clamps its cone factor to 0 at `dot(direction, towards the
     /// point)` of cos(outer) and below). `None` for other lights, and for a spot whose cone
     /// is a half-space or more.

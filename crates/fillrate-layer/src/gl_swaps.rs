@@ -13,7 +13,7 @@ use super::state::{all_devices, guard};
 /// The preloaded library's registration function.
 type Register = unsafe extern "C" fn(extern "C" fn()) -> u64;
 
-/// Registers [`swapped`] with the preloaded swap library; false (and a warning, once) when the
+/// Registers `swapped` with the preloaded swap library; false (and a warning, once) when the
 /// library is not in the process.
 pub fn register() -> bool {
     // SAFETY: dlsym with RTLD_DEFAULT and a NUL-terminated name.

@@ -236,7 +236,7 @@ impl Section {
     }
 }
 
-/// The embedded JSON of a page written by [`Page::render`] (for the tests and dashboards that
+/// The embedded JSON of a page written by `Page::render` (for the tests and dashboards that
 /// read it back).
 pub fn embedded_json(html: &str) -> Result<serde_json::Value> {
     let open = format!("<script type=\"application/json\" id=\"{JSON_ID}\">");
