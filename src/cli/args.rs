@@ -131,6 +131,11 @@ pub enum Command {
         /// GLES programs").
         #[arg(long)]
         gl: bool,
+        /// With --gl: the Vulkan device zink runs the program on, by index or name (`lavapipe`
+        /// for the CPU's) [default: NOSTENCIL_DEVICE, else a GPU if there is one, else
+        /// lavapipe]. A Vulkan program chooses its own device.
+        #[arg(long, value_name = "INDEX|NAME", requires = "gl")]
+        device: Option<String>,
         #[arg(long, value_enum, default_value_t = FormatArg::Table)]
         format: FormatArg,
         /// Compare each render pass's draws, samples passed and fragment invocations (the most

@@ -12,6 +12,8 @@ use super::install::{InstallPaths, HOW_TO_INSTALL};
 use super::output_path::check_output_path;
 use super::supervise::{self, Stop};
 use crate::error::{Error, Result};
+use crate::gpu::device::DeviceIdentity;
+use crate::gpu::DeviceChoice;
 use crate::profile::budget::{Budget, Overrun};
 use crate::profile::report::ReportFormat;
 use nostencil_fillrate_report::aggregate::report_from_journal;
@@ -64,8 +66,9 @@ pub struct AppOutputs {
     pub tiler_check: bool,
     /// What ends a frame: "present", "submit", "wait" or "swap" (NOSTENCIL_FILLRATE_FRAME_ON).
     pub frame_on: &'static str,
-    /// An OpenGL or GLES program, run on zink with the layer's library preloaded.
-    pub gl: bool,
+    /// An OpenGL or GLES program, run on zink over this Vulkan device with the swap library
+    /// preloaded (None: a Vulkan program).
+    pub gl: Option<DeviceChoice>,
     /// The run's page (`--html`).
     pub html: Option<PathBuf>,
     /// The budget's verdict as JUnit XML (`--junit`, with `--budget`).
@@ -85,7 +88,7 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
     if frames == Some(0) {
         return Err(Error::InvalidInput("--frames 0 would measure nothing; give 1 or more".into()));
     }
-    if outputs.gl && outputs.capture.is_some() {
+    if outputs.gl.is_some() && outputs.capture.is_some() {
         // zink on a software X server shows a frame by reading it on the host: there is no
         // swapchain image to copy, and a read-back of the GL back buffer before the swap would add
         // a pass of zink's own to the very frame it measures.
@@ -127,9 +130,11 @@ pub fn run(command: &[String], stop: Stop, format: ReportFormat, outputs: &AppOu
     let layer_dir = layer_folder(&work.0)?;
     let result = work.0.join("result.json");
     let mut environment = layer_environment(|name| std::env::var_os(name), layer_dir.as_deref(), &result, frames);
-    if outputs.gl {
+    if let Some(choice) = &outputs.gl {
         let library = gl_swaps_library()?;
-        environment.extend(gl_environment(|name| std::env::var_os(name), &library));
+        let device = crate::gpu::device::identify(choice)?;
+        eprintln!("profile-app: the GL program runs on zink over '{}'", device.name);
+        environment.extend(gl_environment(|name| std::env::var_os(name), &library, &device));
     }
     if outputs.per_draw {
         environment.push(("NOSTENCIL_FILLRATE_PER_DRAW".into(), "1".into()));
@@ -380,21 +385,34 @@ fn gl_swaps_library() -> Result<PathBuf> {
     library.canonicalize().map_err(|e| Error::InvalidInput(format!("{} cannot be preloaded: {e}", library.display())))
 }
 
-/// What `--gl` adds: the program's GL runs on Vulkan through Mesa's zink on the CPU's Vulkan
-/// device (lavapipe), Mesa's GLX is the one chosen where several vendors are installed, and the
-/// swap library is preloaded (before any library the user preloads).
-pub fn gl_environment(current: impl Fn(&str) -> Option<OsString>, library: &Path) -> Vec<(String, OsString)> {
+/// What `--gl` adds: the program's GL runs on Vulkan through Mesa's zink over `device`
+/// (Mesa's device-select layer keeps only that one: `MESA_VK_DEVICE_SELECT=vendor:device!`), as
+/// Mesa's software GL driver on the CPU's device and as Mesa's GL driver for a GPU; Mesa's GLX
+/// is the one chosen where several vendors are installed, and the swap library is preloaded
+/// (before any library the user preloads).
+pub fn gl_environment(
+    current: impl Fn(&str) -> Option<OsString>,
+    library: &Path,
+    device: &DeviceIdentity,
+) -> Vec<(String, OsString)> {
     let mut preload = library.as_os_str().to_owned();
     if let Some(user) = current("LD_PRELOAD").filter(|v| !v.is_empty()) {
         preload.push(":");
         preload.push(user);
     }
-    vec![
+    let select = format!("{:x}:{:x}!", device.vendor_id, device.device_id);
+    let mut environment = vec![
         ("LD_PRELOAD".into(), preload),
-        ("GALLIUM_DRIVER".into(), "zink".into()),
-        ("LIBGL_ALWAYS_SOFTWARE".into(), "1".into()),
+        ("MESA_VK_DEVICE_SELECT".into(), select.into()),
         ("__GLX_VENDOR_LIBRARY_NAME".into(), "mesa".into()),
-    ]
+    ];
+    if device.software {
+        environment.push(("GALLIUM_DRIVER".into(), "zink".into()));
+        environment.push(("LIBGL_ALWAYS_SOFTWARE".into(), "1".into()));
+    } else {
+        environment.push(("MESA_LOADER_DRIVER_OVERRIDE".into(), "zink".into()));
+    }
+    environment
 }
 
 /// The variables that enable the layer for the child: `current` reads the parent's environment.
@@ -500,5 +518,21 @@ mod tests {
         assert_eq!((value(&installed, "VK_ADD_LAYER_PATH"), value(&installed, "VK_LAYER_PATH")), (None, None));
         assert_eq!(value(&installed, "VK_INSTANCE_LAYERS"), Some(LAYER_NAME));
         assert_eq!(value(&installed, "NOSTENCIL_FILLRATE_EVERY"), Some("1"));
+    }
+
+    #[test]
+    fn gl_runs_zink_over_the_chosen_device_with_the_swap_library_first() {
+        let library = Path::new("/b/libnostencil_gl_swaps.so");
+        let cpu = DeviceIdentity { name: "llvmpipe".into(), vendor_id: 0x10005, device_id: 0, software: true };
+        let env = gl_environment(env_of(&[("LD_PRELOAD", "/mine.so")]), library, &cpu);
+        assert_eq!(value(&env, "LD_PRELOAD"), Some("/b/libnostencil_gl_swaps.so:/mine.so"));
+        assert_eq!(value(&env, "MESA_VK_DEVICE_SELECT"), Some("10005:0!"));
+        assert_eq!((value(&env, "GALLIUM_DRIVER"), value(&env, "LIBGL_ALWAYS_SOFTWARE")), (Some("zink"), Some("1")));
+        assert_eq!(value(&env, "MESA_LOADER_DRIVER_OVERRIDE"), None);
+        let gpu = DeviceIdentity { name: "NVIDIA H100".into(), vendor_id: 0x10de, device_id: 0x2330, software: false };
+        let env = gl_environment(env_of(&[]), library, &gpu);
+        assert_eq!(value(&env, "MESA_VK_DEVICE_SELECT"), Some("10de:2330!"));
+        assert_eq!(value(&env, "MESA_LOADER_DRIVER_OVERRIDE"), Some("zink"));
+        assert_eq!(value(&env, "LIBGL_ALWAYS_SOFTWARE"), None, "a GPU is not run as software");
     }
 }

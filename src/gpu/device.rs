@@ -222,6 +222,28 @@ fn choose_physical_device(instance: &Instance, choice: &DeviceChoice) -> Result<
         .ok_or_else(|| Error::Device(format!("no Vulkan device matches {choice:?}; available: {available}")))
 }
 
+/// A Vulkan device as another program (a GL program on zink) is told to pick it: its name, its
+/// PCI ids, and whether it is the CPU's (lavapipe).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct DeviceIdentity {
+    pub name: String,
+    pub vendor_id: u32,
+    pub device_id: u32,
+    pub software: bool,
+}
+
+/// The device `choice` names, as [`Device::new`] would choose it, without creating it.
+pub fn identify(choice: &DeviceChoice) -> Result<DeviceIdentity> {
+    let instance = Instance::new(None)?;
+    let candidate = choose_physical_device(&instance, choice)?;
+    Ok(DeviceIdentity {
+        software: is_software(&candidate.name, candidate.properties.device_type),
+        vendor_id: candidate.properties.vendor_id,
+        device_id: candidate.properties.device_id,
+        name: candidate.name,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
