@@ -161,14 +161,7 @@ impl Program {
     }
 
     unsafe fn framebuffer(&mut self, pass: vk::RenderPass, view: vk::ImageView) -> vk::Framebuffer {
-        let views = [view];
-        let info = vk::FramebufferCreateInfo::default()
-            .render_pass(pass)
-            .attachments(&views)
-            .width(SIZE)
-            .height(SIZE)
-            .layers(1);
-        let framebuffer = self.device.create_framebuffer(&info, None).expect("framebuffer");
+        let framebuffer = common::raw_vulkan::framebuffer(&self.device, pass, view, SIZE);
         self.framebuffers.push(framebuffer);
         framebuffer
     }

@@ -14,7 +14,7 @@ use super::supervise::{self, Stop};
 use crate::error::{Error, Result};
 use crate::gpu::device::DeviceIdentity;
 use crate::gpu::DeviceChoice;
-use crate::profile::budget::{Budget, Overrun};
+use crate::profile::budget::{Budget, BudgetFigure};
 use crate::profile::report::ReportFormat;
 use nostencil_fillrate_report::aggregate::report_from_journal;
 use nostencil_fillrate_report::manifest::{
@@ -302,8 +302,13 @@ fn check_tiler(report: &FillrateReport, program: &str) -> Result<()> {
 
 /// Every render pass over its budget (among `figures`, all those compared) on stderr, then an
 /// error naming them all.
-fn check_budget(figures: &[Overrun], path: &Path, report: &FillrateReport, worst: &[PositionCounts]) -> Result<()> {
-    let overruns: Vec<&Overrun> = figures.iter().filter(|f| f.over()).collect();
+fn check_budget(
+    figures: &[BudgetFigure],
+    path: &Path,
+    report: &FillrateReport,
+    worst: &[PositionCounts],
+) -> Result<()> {
+    let overruns: Vec<&BudgetFigure> = figures.iter().filter(|f| f.over()).collect();
     if overruns.is_empty() {
         eprintln!("within budget {}", path.display());
         return Ok(());

@@ -75,16 +75,16 @@ pub fn application_pass_name(position: u32, label: Option<&str>) -> String {
     }
 }
 
-/// One counter of one pass against its budget (above it, as `check` returns them).
+/// One counter of one pass (or work row, or the frame's bytes) against its budget.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Overrun {
+pub struct BudgetFigure {
     pub pass: String,
     pub counter: &'static str,
     pub budget: u64,
     pub actual: u64,
 }
 
-impl Overrun {
+impl BudgetFigure {
     pub fn over(&self) -> bool {
         self.actual > self.budget
     }
@@ -106,12 +106,9 @@ impl Overrun {
     }
 }
 
-/// The figures over their budget.
-fn over_only(figures: Vec<Overrun>) -> Vec<Overrun> {
-    figures.into_iter().filter(Overrun::over).collect()
-}
 
-impl std::fmt::Display for Overrun {
+
+impl std::fmt::Display for BudgetFigure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let percent =
             if self.budget > 0 { (self.actual as f64 / self.budget as f64 - 1.0) * 100.0 } else { f64::INFINITY };
@@ -173,29 +170,18 @@ impl Budget {
         }
     }
 
-    /// Every counter of an application's passes over budget. The frame size is not compared: a
-    /// larger window is what the budget is there to catch. A budget of another kind, another
-    /// application's, or a pass it does not list is an error naming it.
-    pub fn check_application(
-        &self,
-        application: &str,
-        passes: &[PassBudget],
-        frame_bandwidth: Bandwidth,
-        work: &[WorkBudget],
-    ) -> Result<Vec<Overrun>> {
-        Ok(over_only(self.compared_application(application, passes, frame_bandwidth, work)?))
-    }
-
     /// Every figure of an application's passes, work and bytes the budget holds, over it or
-    /// not (the HTML page's margins and the JUnit test cases); errors as
-    /// [`Budget::check_application`].
+    /// not (`over()` picks those over it: the verdict; the HTML page and the JUnit XML show
+    /// all, with their margins). The frame size is not compared: a larger window is what the
+    /// budget is there to catch. A budget of another kind, another application's, or a pass it
+    /// does not list is an error naming it.
     pub fn compared_application(
         &self,
         application: &str,
         passes: &[PassBudget],
         frame_bandwidth: Bandwidth,
         work: &[WorkBudget],
-    ) -> Result<Vec<Overrun>> {
+    ) -> Result<Vec<BudgetFigure>> {
         self.check_application_kind(application)?;
         let mut figures = self.pass_figures(passes)?;
         figures.extend(self.work_figures(work)?);
@@ -223,7 +209,7 @@ impl Budget {
 
     /// Every figure of the application's work the budget holds; none for a budget that holds
     /// no work (written before the layer measured it), an error for work it does not list.
-    fn work_figures(&self, work: &[WorkBudget]) -> Result<Vec<Overrun>> {
+    fn work_figures(&self, work: &[WorkBudget]) -> Result<Vec<BudgetFigure>> {
         let mut overruns = Vec::new();
         if self.work.is_empty() {
             return Ok(overruns);
@@ -241,7 +227,7 @@ impl Budget {
             ];
             for (counter, budget, actual) in figures {
                 if let (Some(budget), Some(actual)) = (budget, actual) {
-                    overruns.push(Overrun { pass: w.name.clone(), counter, budget, actual });
+                    overruns.push(BudgetFigure { pass: w.name.clone(), counter, budget, actual });
                 }
             }
         }
@@ -249,13 +235,13 @@ impl Budget {
     }
 
     /// The frame's bytes against the budget's (none when the budget holds no bytes).
-    fn bandwidth_figures(&self, actual: Bandwidth) -> Vec<Overrun> {
+    fn bandwidth_figures(&self, actual: Bandwidth) -> Vec<BudgetFigure> {
         let Some(budget) = self.frame_bandwidth else { return Vec::new() };
         let figures = [
             ("tiler bytes per frame", budget.tiler_bytes, actual.tiler_bytes),
             ("immediate-mode bytes per frame", budget.immediate_bytes, actual.immediate_bytes),
         ];
-        figures.into_iter().map(|(counter, budget, actual)| Overrun { pass: "frame".into(), counter, budget, actual }).collect()
+        figures.into_iter().map(|(counter, budget, actual)| BudgetFigure { pass: "frame".into(), counter, budget, actual }).collect()
     }
 
     pub fn load(path: &Path) -> Result<Self> {
@@ -277,14 +263,9 @@ impl Budget {
         crate::frame::write_atomically(path, text.as_bytes())
     }
 
-    /// Every counter over budget; an error when the frame is not the one the budget describes.
-    pub fn check(&self, scene: &str, technique: &str, stencil: &str, counters: &FrameCounters) -> Result<Vec<Overrun>> {
-        Ok(over_only(self.compared(scene, technique, stencil, counters)?))
-    }
-
-    /// Every figure of this crate's frame the budget holds, over it or not; errors as
-    /// [`Budget::check`].
-    pub fn compared(&self, scene: &str, technique: &str, stencil: &str, counters: &FrameCounters) -> Result<Vec<Overrun>> {
+    /// Every figure of this crate's frame the budget holds, over it or not (`over()` picks
+    /// those over it); an error when the frame is not the one the budget describes.
+    pub fn compared(&self, scene: &str, technique: &str, stencil: &str, counters: &FrameCounters) -> Result<Vec<BudgetFigure>> {
         let what = (self.scene.as_str(), self.technique.as_str(), self.stencil.as_str(), self.width, self.height);
         if what != (scene, technique, stencil, counters.width, counters.height) {
             return Err(Error::InvalidInput(format!(
@@ -304,7 +285,7 @@ impl Budget {
     }
 
     /// Every counter the budget holds, pass by pass (matched by name).
-    fn pass_figures(&self, passes: &[PassBudget]) -> Result<Vec<Overrun>> {
+    fn pass_figures(&self, passes: &[PassBudget]) -> Result<Vec<BudgetFigure>> {
         let mut overruns = Vec::new();
         for pass in passes {
             let budget =
@@ -312,7 +293,7 @@ impl Budget {
                     Error::InvalidInput(format!("pass '{}' has no budget (record a new one)", pass.name))
                 })?;
             let mut over = |counter, budget: u64, actual: u64| {
-                overruns.push(Overrun { pass: pass.name.clone(), counter, budget, actual });
+                overruns.push(BudgetFigure { pass: pass.name.clone(), counter, budget, actual });
             };
             over("draws", budget.draws as u64, pass.draws as u64);
             over("samples passed", budget.samples_passed, pass.samples_passed);
@@ -327,6 +308,22 @@ impl Budget {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The verdict: the figures over budget.
+    fn check(budget: &Budget, scene: &str, technique: &str, stencil: &str, c: &FrameCounters) -> Result<Vec<BudgetFigure>> {
+        Ok(budget.compared(scene, technique, stencil, c)?.into_iter().filter(BudgetFigure::over).collect())
+    }
+
+    fn check_application(
+        budget: &Budget,
+        application: &str,
+        passes: &[PassBudget],
+        bytes: Bandwidth,
+        work: &[WorkBudget],
+    ) -> Result<Vec<BudgetFigure>> {
+        let figures = budget.compared_application(application, passes, bytes, work)?;
+        Ok(figures.into_iter().filter(BudgetFigure::over).collect())
+    }
     use crate::render::PassCounters;
 
     fn frame(samples: u64) -> FrameCounters {
@@ -357,12 +354,12 @@ mod tests {
     #[test]
     fn recorded_frame_passes_and_a_costlier_one_fails_by_name() {
         let budget = Budget::from_frame("s", "t", "emulated", &frame(10));
-        assert!(budget.check("s", "t", "emulated", &frame(10)).unwrap().is_empty());
-        let overruns = budget.check("s", "t", "emulated", &frame(30)).unwrap();
+        assert!(check(&budget, "s", "t", "emulated", &frame(10)).unwrap().is_empty());
+        let overruns = check(&budget, "s", "t", "emulated", &frame(30)).unwrap();
         assert_eq!(overruns.len(), 2);
         assert!(overruns.iter().all(|o| o.pass == "overlay"));
         assert!(overruns[0].to_string().contains("pass 'overlay': samples passed 30 > budget 10"));
-        assert!(budget.check("s", "t", "emulated", &FrameCounters { width: 16, ..frame(10) }).is_err());
+        assert!(check(&budget, "s", "t", "emulated", &FrameCounters { width: 16, ..frame(10) }).is_err());
     }
 
     #[test]
@@ -375,19 +372,19 @@ mod tests {
         };
         let bytes = |tiler, immediate| Bandwidth { tiler_bytes: tiler, immediate_bytes: immediate };
         let budget = Budget::for_application("vkcube", 500, 500, &[pass(1000)], bytes(100, 200), &[]);
-        assert!(budget.check_application("vkcube", &[pass(1000)], bytes(100, 200), &[]).unwrap().is_empty());
-        let overruns = budget.check_application("vkcube", &[pass(1500)], bytes(100, 200), &[]).unwrap();
+        assert!(check_application(&budget, "vkcube", &[pass(1000)], bytes(100, 200), &[]).unwrap().is_empty());
+        let overruns = check_application(&budget, "vkcube", &[pass(1500)], bytes(100, 200), &[]).unwrap();
         assert_eq!(overruns.len(), 2);
         assert!(overruns[0].to_string().contains("pass 'render pass #0': samples passed 1500 > budget 1000"));
         // Bytes per frame are held too, named by the frame.
-        let overruns = budget.check_application("vkcube", &[pass(1000)], bytes(101, 200), &[]).unwrap();
+        let overruns = check_application(&budget, "vkcube", &[pass(1000)], bytes(101, 200), &[]).unwrap();
         assert_eq!(overruns.len(), 1);
         assert!(overruns[0].to_string().contains("pass 'frame': tiler bytes per frame 101 > budget 100"));
-        assert!(budget.check_application("other", &[pass(1000)], bytes(0, 0), &[]).is_err());
+        assert!(check_application(&budget, "other", &[pass(1000)], bytes(0, 0), &[]).is_err());
         let extra = PassBudget { name: "render pass #1".into(), ..pass(1) };
-        assert!(budget.check_application("vkcube", &[pass(1), extra], bytes(0, 0), &[]).is_err());
+        assert!(check_application(&budget, "vkcube", &[pass(1), extra], bytes(0, 0), &[]).is_err());
         let own = Budget::from_frame("s", "t", "emulated", &frame(10));
-        assert!(own.check_application("s", &[pass(1)], bytes(0, 0), &[]).is_err());
+        assert!(check_application(&own, "s", &[pass(1)], bytes(0, 0), &[]).is_err());
     }
 
     #[test]
@@ -400,13 +397,13 @@ mod tests {
         };
         let bytes = Bandwidth::default();
         let budget = Budget::for_application("app", 0, 0, &[], bytes, &[work(1024)]);
-        assert!(budget.check_application("app", &[], bytes, &[work(1024)]).unwrap().is_empty());
-        let overruns = budget.check_application("app", &[], bytes, &[work(2048)]).unwrap();
+        assert!(check_application(&budget, "app", &[], bytes, &[work(1024)]).unwrap().is_empty());
+        let overruns = check_application(&budget, "app", &[], bytes, &[work(2048)]).unwrap();
         assert_eq!(overruns.len(), 1);
         assert!(overruns[0].to_string().contains("'compute #0 'blur'': compute invocations 2048 > budget 1024"));
         let other = WorkBudget { name: "transfer #1".into(), ..work(0) };
-        assert!(budget.check_application("app", &[], bytes, std::slice::from_ref(&other)).is_err());
+        assert!(check_application(&budget, "app", &[], bytes, std::slice::from_ref(&other)).is_err());
         let old = Budget::for_application("app", 0, 0, &[], bytes, &[]);
-        assert!(old.check_application("app", &[], bytes, &[other]).unwrap().is_empty());
+        assert!(check_application(&old, "app", &[], bytes, &[other]).unwrap().is_empty());
     }
 }

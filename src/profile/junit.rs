@@ -6,12 +6,12 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::budget::Overrun;
+use super::budget::BudgetFigure;
 use super::html::page::escape;
 use crate::error::Result;
 
 /// The XML of `figures` (every figure the budget was compared on), as suite `suite`.
-pub fn render(suite: &str, budget_file: &str, figures: &[Overrun]) -> String {
+pub fn render(suite: &str, budget_file: &str, figures: &[BudgetFigure]) -> String {
     // The test cases, in the order their parts first appear.
     let mut parts: Vec<&str> = Vec::new();
     for f in figures {
@@ -35,7 +35,7 @@ pub fn render(suite: &str, budget_file: &str, figures: &[Overrun]) -> String {
     );
     let _ = writeln!(xml, "    <properties><property name=\"budget\" value=\"{}\"/></properties>", escape(budget_file));
     for part in parts {
-        let mine: Vec<&Overrun> = figures.iter().filter(|f| f.pass == part).collect();
+        let mine: Vec<&BudgetFigure> = figures.iter().filter(|f| f.pass == part).collect();
         let _ = write!(xml, "    <testcase classname=\"{}\" name=\"{}\" time=\"0\"", escape(suite), escape(part));
         let lines: Vec<String> = mine.iter().map(|f| f.brief()).collect();
         if failed(part) {
@@ -54,7 +54,7 @@ pub fn render(suite: &str, budget_file: &str, figures: &[Overrun]) -> String {
     xml
 }
 
-pub fn write(path: &Path, suite: &str, budget_file: &str, figures: &[Overrun]) -> Result<()> {
+pub fn write(path: &Path, suite: &str, budget_file: &str, figures: &[BudgetFigure]) -> Result<()> {
     crate::frame::write_atomically(path, render(suite, budget_file, figures).as_bytes())?;
     eprintln!("wrote {}", path.display());
     Ok(())
@@ -64,8 +64,8 @@ pub fn write(path: &Path, suite: &str, budget_file: &str, figures: &[Overrun]) -
 mod tests {
     use super::*;
 
-    fn figure(pass: &str, counter: &'static str, budget: u64, actual: u64) -> Overrun {
-        Overrun { pass: pass.into(), counter, budget, actual }
+    fn figure(pass: &str, counter: &'static str, budget: u64, actual: u64) -> BudgetFigure {
+        BudgetFigure { pass: pass.into(), counter, budget, actual }
     }
 
     #[test]

@@ -155,16 +155,7 @@ impl<'a> Program<'a> {
         let clear_pass = render_pass(&device, vk::AttachmentLoadOp::CLEAR, vk::ImageLayout::UNDEFINED, 0);
         let load_pass = render_pass(&device, vk::AttachmentLoadOp::LOAD, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL, 0);
         let multiview_pass = render_pass(&device, vk::AttachmentLoadOp::CLEAR, vk::ImageLayout::UNDEFINED, 0b11);
-        let framebuffer = |pass, view| {
-            let views = [view];
-            let info = vk::FramebufferCreateInfo::default()
-                .render_pass(pass)
-                .attachments(&views)
-                .width(SIZE)
-                .height(SIZE)
-                .layers(1);
-            device.create_framebuffer(&info, None).expect("framebuffer")
-        };
+        let framebuffer = |pass, view| raw_vulkan::framebuffer(&device, pass, view, SIZE);
         let framebuffers = [
             framebuffer(clear_pass, flat.view),
             framebuffer(load_pass, flat.view),

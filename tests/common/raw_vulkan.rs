@@ -254,9 +254,24 @@ pub unsafe fn depth_target(
 /// # Safety
 /// `device` was created from `physical` of `instance`.
 pub unsafe fn image_target(
-    (instance, physical, device): (&ash::Instance, vk::PhysicalDevice, &ash::Device),
+    objects: (&ash::Instance, vk::PhysicalDevice, &ash::Device),
     format: vk::Format,
     size: u32,
+    samples: vk::SampleCountFlags,
+    usage: vk::ImageUsageFlags,
+    range: vk::ImageSubresourceRange,
+) -> (vk::Image, vk::DeviceMemory, vk::ImageView) {
+    layered_target(objects, (format, size, range.layer_count.max(1)), samples, usage, range)
+}
+
+/// [`image_target`] with `layers` array layers (`range` covering them): its view a 2D array
+/// when it has more than one.
+///
+/// # Safety
+/// As [`image_target`].
+pub unsafe fn layered_target(
+    (instance, physical, device): (&ash::Instance, vk::PhysicalDevice, &ash::Device),
+    (format, size, layers): (vk::Format, u32, u32),
     samples: vk::SampleCountFlags,
     usage: vk::ImageUsageFlags,
     range: vk::ImageSubresourceRange,
@@ -268,7 +283,7 @@ pub unsafe fn image_target(
                 .format(format)
                 .extent(vk::Extent3D { width: size, height: size, depth: 1 })
                 .mip_levels(1)
-                .array_layers(1)
+                .array_layers(layers)
                 .samples(samples)
                 .usage(usage),
             None,
@@ -284,17 +299,34 @@ pub unsafe fn image_target(
         )
         .expect("memory");
     device.bind_image_memory(image, memory, 0).expect("bind");
+    let view_type = if layers > 1 { vk::ImageViewType::TYPE_2D_ARRAY } else { vk::ImageViewType::TYPE_2D };
     let view = device
         .create_image_view(
             &vk::ImageViewCreateInfo::default()
                 .image(image)
-                .view_type(vk::ImageViewType::TYPE_2D)
+                .view_type(view_type)
                 .format(format)
                 .subresource_range(range),
             None,
         )
         .expect("view");
     (image, memory, view)
+}
+
+/// A `size`-square framebuffer of `pass` over the one attachment `view`.
+///
+/// # Safety
+/// `device` is alive; `view` fits `pass`'s attachment.
+pub unsafe fn framebuffer(
+    device: &ash::Device,
+    pass: vk::RenderPass,
+    view: vk::ImageView,
+    size: u32,
+) -> vk::Framebuffer {
+    let views = [view];
+    let info =
+        vk::FramebufferCreateInfo::default().render_pass(pass).attachments(&views).width(size).height(size).layers(1);
+    device.create_framebuffer(&info, None).expect("framebuffer")
 }
 
 /// Puts the fill-rate layer built beside this test's `nostencil` binary, with the validation
@@ -367,7 +399,11 @@ pub fn device_local_memory_type(props: &vk::PhysicalDeviceMemoryProperties, bits
 }
 
 /// The first memory type among `bits` with every property in `wanted`.
-fn memory_type(props: &vk::PhysicalDeviceMemoryProperties, bits: u32, wanted: vk::MemoryPropertyFlags) -> Option<u32> {
+pub fn memory_type(
+    props: &vk::PhysicalDeviceMemoryProperties,
+    bits: u32,
+    wanted: vk::MemoryPropertyFlags,
+) -> Option<u32> {
     (0..props.memory_type_count)
         .find(|&i| bits & (1 << i) != 0 && props.memory_types[i as usize].property_flags.contains(wanted))
 }

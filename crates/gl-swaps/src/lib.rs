@@ -116,6 +116,26 @@ pub unsafe extern "C" fn eglSwapBuffers(display: *mut c_void, surface: *mut c_vo
     ok
 }
 
+/// An EGL swap with damage rectangles through the library's function `name` (remembered in
+/// `slot`), then the frame's end.
+///
+/// # Safety
+/// The program's arguments to that function.
+unsafe fn swap_with_damage(
+    slot: &AtomicPtr<c_void>,
+    name: &CStr,
+    (display, surface, rects, count): (*mut c_void, *mut c_void, *const i32, i32),
+) -> c_uint {
+    let f = real(slot, name);
+    if f.is_null() {
+        return 0;
+    }
+    // SAFETY: the EGL library's function of this type, with the program's arguments.
+    let ok = unsafe { std::mem::transmute::<*mut c_void, EglSwapDamage>(f)(display, surface, rects, count) };
+    swapped();
+    ok
+}
+
 /// # Safety
 /// The program's EGL call.
 #[no_mangle]
@@ -125,14 +145,10 @@ pub unsafe extern "C" fn eglSwapBuffersWithDamageKHR(
     rects: *const i32,
     count: i32,
 ) -> c_uint {
-    let f = real(&REAL_EGL_SWAP_DAMAGE_KHR, c"eglSwapBuffersWithDamageKHR");
-    if f.is_null() {
-        return 0;
+    // SAFETY: the program's arguments.
+    unsafe {
+        swap_with_damage(&REAL_EGL_SWAP_DAMAGE_KHR, c"eglSwapBuffersWithDamageKHR", (display, surface, rects, count))
     }
-    // SAFETY: the EGL library's function, with the program's arguments.
-    let ok = unsafe { std::mem::transmute::<*mut c_void, EglSwapDamage>(f)(display, surface, rects, count) };
-    swapped();
-    ok
 }
 
 /// # Safety
@@ -144,14 +160,10 @@ pub unsafe extern "C" fn eglSwapBuffersWithDamageEXT(
     rects: *const i32,
     count: i32,
 ) -> c_uint {
-    let f = real(&REAL_EGL_SWAP_DAMAGE_EXT, c"eglSwapBuffersWithDamageEXT");
-    if f.is_null() {
-        return 0;
+    // SAFETY: the program's arguments.
+    unsafe {
+        swap_with_damage(&REAL_EGL_SWAP_DAMAGE_EXT, c"eglSwapBuffersWithDamageEXT", (display, surface, rects, count))
     }
-    // SAFETY: the EGL library's function, with the program's arguments.
-    let ok = unsafe { std::mem::transmute::<*mut c_void, EglSwapDamage>(f)(display, surface, rects, count) };
-    swapped();
-    ok
 }
 
 /// The hook for a swap function's `name`, remembering `library`'s own (`found`) to call.

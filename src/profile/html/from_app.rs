@@ -6,12 +6,12 @@ use nostencil_fillrate_report::tiler::TilerFlag;
 
 use super::charts::{short, stacked_bars, Series};
 use super::page::{BudgetBanner, Finding, Page, Row, Section};
-use crate::profile::budget::{application_pass_name, Overrun};
+use crate::profile::budget::{application_pass_name, BudgetFigure};
 
 /// What the page shows besides the report.
 pub struct AppExtras<'a> {
     /// The budget file and every figure it was compared on (None: no budget).
-    pub budget: Option<(&'a str, &'a [Overrun])>,
+    pub budget: Option<(&'a str, &'a [BudgetFigure])>,
     /// The captured frame (`--capture`): its index and PNG.
     pub capture: Option<(u64, Vec<u8>)>,
     /// The report as `--format json` prints it.
@@ -101,7 +101,7 @@ fn frame_charts(frames: &[FrameRows]) -> Vec<String> {
 }
 
 /// The per-pass table (the aggregate over the measured frames), each pass's budget margin.
-fn pass_table(report: &FillrateReport, figures: &[Overrun]) -> Section {
+fn pass_table(report: &FillrateReport, figures: &[BudgetFigure]) -> Section {
     let header = [
         "pass", "frames", "draws", "fragments/px", "samples passed", "overdraw", "GPU ms", "tiler B", "immediate B", "budget",
     ];
@@ -111,7 +111,7 @@ fn pass_table(report: &FillrateReport, figures: &[Overrun]) -> Section {
         .map(|a| {
             let name = pass_name(a.position, &a.label);
             let budgeted = application_pass_name(a.position, a.label.as_deref());
-            let mine: Vec<&Overrun> = figures.iter().filter(|f| f.pass == budgeted).collect();
+            let mine: Vec<&BudgetFigure> = figures.iter().filter(|f| f.pass == budgeted).collect();
             let over = mine.iter().any(|f| f.over());
             let margin = if mine.is_empty() {
                 String::new()
@@ -183,7 +183,7 @@ fn top_draws(frames: &[FrameRows]) -> Option<Section> {
 }
 
 pub fn page(report: &FillrateReport, extras: AppExtras<'_>) -> Page {
-    let figures: &[Overrun] = extras.budget.map_or(&[], |(_, f)| f);
+    let figures: &[BudgetFigure] = extras.budget.map_or(&[], |(_, f)| f);
     let area = report
         .frames
         .iter()

@@ -4,12 +4,12 @@
 use super::charts::{short, stacked_bars, Series};
 use super::page::{BudgetBanner, Page, Row, Section};
 use crate::profile::bench::BenchReport;
-use crate::profile::budget::Overrun;
+use crate::profile::budget::BudgetFigure;
 use crate::profile::report::ProfileReport;
 
 /// What the profile page shows besides the report.
 pub struct ProfileExtras<'a> {
-    pub budget: Option<(&'a str, &'a [Overrun])>,
+    pub budget: Option<(&'a str, &'a [BudgetFigure])>,
     /// The overdraw heat map of the frame (PNG).
     pub heatmap: Option<Vec<u8>>,
     /// The technique's own lines (`profile`'s table prints them under the passes).
@@ -17,7 +17,7 @@ pub struct ProfileExtras<'a> {
     pub json: String,
 }
 
-fn banner(budget: Option<(&str, &[Overrun])>) -> Option<BudgetBanner> {
+fn banner(budget: Option<(&str, &[BudgetFigure])>) -> Option<BudgetBanner> {
     budget.map(|(file, figures)| BudgetBanner {
         file: file.to_owned(),
         over: figures.iter().filter(|f| f.over()).map(|f| f.to_string()).collect(),
@@ -25,7 +25,7 @@ fn banner(budget: Option<(&str, &[Overrun])>) -> Option<BudgetBanner> {
 }
 
 pub fn profile_page(report: &ProfileReport, extras: ProfileExtras<'_>) -> Page {
-    let figures: &[Overrun] = extras.budget.map_or(&[], |(_, f)| f);
+    let figures: &[BudgetFigure] = extras.budget.map_or(&[], |(_, f)| f);
     // Bars numbered as the table's first column: pass names are too long to stand under them.
     let names: Vec<String> = (0..report.passes.len()).map(|i| format!("#{i}")).collect();
     let one = |name: &str, value: &dyn Fn(usize) -> f64| {
@@ -64,7 +64,7 @@ pub fn profile_page(report: &ProfileReport, extras: ProfileExtras<'_>) -> Page {
         .iter()
         .enumerate()
         .map(|(i, pass)| {
-            let mine: Vec<&Overrun> = figures.iter().filter(|f| f.pass == pass.name).collect();
+            let mine: Vec<&BudgetFigure> = figures.iter().filter(|f| f.pass == pass.name).collect();
             Row {
                 cells: vec![
                     format!("#{i} {}", pass.name),

@@ -18,40 +18,13 @@ pub(super) fn colour_range(layers: u32) -> vk::ImageSubresourceRange {
 
 /// A SIZE-square RGBA8 target of `layers` layers and its view (2D, or 2D array when layered).
 pub(super) unsafe fn target(
-    (instance, physical, device): (&ash::Instance, vk::PhysicalDevice, &ash::Device),
+    objects: (&ash::Instance, vk::PhysicalDevice, &ash::Device),
     layers: u32,
     usage: vk::ImageUsageFlags,
 ) -> Target {
-    let image = device
-        .create_image(
-            &vk::ImageCreateInfo::default()
-                .image_type(vk::ImageType::TYPE_2D)
-                .format(FORMAT)
-                .extent(vk::Extent3D { width: SIZE, height: SIZE, depth: 1 })
-                .mip_levels(1)
-                .array_layers(layers)
-                .samples(vk::SampleCountFlags::TYPE_1)
-                .usage(usage),
-            None,
-        )
-        .expect("image");
-    let requirements = device.get_image_memory_requirements(image);
-    let props = instance.get_physical_device_memory_properties(physical);
-    let memory_type = raw_vulkan::device_local_memory_type(&props, requirements.memory_type_bits);
-    let allocate = vk::MemoryAllocateInfo::default().allocation_size(requirements.size).memory_type_index(memory_type);
-    let memory = device.allocate_memory(&allocate, None).expect("memory");
-    device.bind_image_memory(image, memory, 0).expect("bind");
-    let view_type = if layers > 1 { vk::ImageViewType::TYPE_2D_ARRAY } else { vk::ImageViewType::TYPE_2D };
-    let view = device
-        .create_image_view(
-            &vk::ImageViewCreateInfo::default()
-                .image(image)
-                .view_type(view_type)
-                .format(FORMAT)
-                .subresource_range(colour_range(layers)),
-            None,
-        )
-        .expect("view");
+    let one_sample = vk::SampleCountFlags::TYPE_1;
+    let (image, memory, view) =
+        raw_vulkan::layered_target(objects, (FORMAT, SIZE, layers), one_sample, usage, colour_range(layers));
     Target { image, memory, view }
 }
 
@@ -70,12 +43,7 @@ pub(super) unsafe fn buffer(
     } else {
         vk::MemoryPropertyFlags::DEVICE_LOCAL
     };
-    let memory_type = (0..props.memory_type_count)
-        .find(|&i| {
-            requirements.memory_type_bits & (1 << i) != 0
-                && props.memory_types[i as usize].property_flags.contains(wanted)
-        })
-        .expect("a memory type");
+    let memory_type = raw_vulkan::memory_type(&props, requirements.memory_type_bits, wanted).expect("a memory type");
     let allocate = vk::MemoryAllocateInfo::default().allocation_size(requirements.size).memory_type_index(memory_type);
     let memory = device.allocate_memory(&allocate, None).expect("memory");
     device.bind_buffer_memory(buffer, memory, 0).expect("bind");
