@@ -4,7 +4,8 @@
 //! render pass instances: one running an empty secondary command buffer, one multiview (both
 //! measured, with no draw), one plain (measured, under a debug label), one inside the
 //! application's own occlusion query (named), then one through vkCmdBeginRenderPass2 and one
-//! through vkCmdBeginRendering (both measured). Its device
+//! through vkCmdBeginRendering (both measured). Enabling VK_EXT_conditional_rendering, which the
+//! layer does not offer, is refused (by the loader); the report names it as hidden. Its device
 //! features come in a VkPhysicalDeviceFeatures2 chain (multiview, dynamic rendering), which the
 //! layer extends in place.
 
@@ -32,6 +33,24 @@ fn what_cannot_be_measured_is_named_and_every_begin_api_is_measured() {
                 let mut dynamic = vk::PhysicalDeviceVulkan13Features::default().dynamic_rendering(true);
                 let mut features2 =
                     vk::PhysicalDeviceFeatures2::default().push_next(&mut multiview).push_next(&mut dynamic);
+                // An extension the layer does not offer (lavapipe has it): the loader, which checks
+                // enabled extensions against what the layers list, refuses it.
+                let hidden = [ash::ext::conditional_rendering::NAME.as_ptr()];
+                let refused = instance.create_device(
+                    physical,
+                    &vk::DeviceCreateInfo::default().queue_create_infos(&queues).enabled_extension_names(&hidden),
+                    None,
+                );
+                assert_eq!(refused.err(), Some(vk::Result::ERROR_EXTENSION_NOT_PRESENT), "a hidden extension");
+                // The loader says why; that message is the one expected here.
+                let mut messages = common::raw_vulkan::MESSAGES.lock().unwrap_or_else(|e| e.into_inner());
+                let loader = |m: &String| {
+                    m.contains("VK_EXT_conditional_rendering not supported")
+                        || m.contains("Failed to validate extensions")
+                };
+                assert!(!messages.is_empty() && messages.iter().all(loader), "{messages:?}");
+                messages.clear();
+                drop(messages);
                 let device = instance
                     .create_device(
                         physical,
@@ -329,6 +348,8 @@ fn what_cannot_be_measured_is_named_and_every_begin_api_is_measured() {
             let mut named: Vec<(&str, u64)> = report.not_measured.iter().map(|n| (n.what.as_str(), n.count)).collect();
             named.sort();
             assert_eq!(named, vec![("application occlusion query active across the pass", 1)]);
+            let offered_not: Vec<&str> = report.hidden_extensions.iter().map(|h| h.name.as_str()).collect();
+            assert!(offered_not.contains(&"VK_EXT_conditional_rendering"), "{offered_not:?}");
             // A pass run by a secondary command buffer and a multiview pass are measured: no draws.
             for row in &rows[..2] {
                 let c = row.counters.expect("measured");

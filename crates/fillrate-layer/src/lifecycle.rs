@@ -282,26 +282,11 @@ fn register_device(
         None => CaptureDevice::default(),
     };
     // A program that enabled VK_EXT_frame_boundary marks its frames: only its marks cut them.
-    let mut device_state = DeviceState {
+    let device_state = DeviceState {
         frames: Some(FrameAssembler::new(instance.config.frames)),
         boundaries: frame_boundaries,
         ..DeviceState::default()
     };
-    if instance.config.out.is_some() {
-        // An extension the layer did not offer, enabled all the same: its commands pass through
-        // unmeasured, and the report says so by name.
-        // SAFETY: the application's create info's extension names (NUL-terminated strings).
-        let names = unsafe {
-            super::arrays::app_array(create_info.pp_enabled_extension_names, create_info.enabled_extension_count)
-        };
-        for &name in names {
-            // SAFETY: as above.
-            let Some(name) = (unsafe { c_name(name) }) else { continue };
-            if let Some(why) = super::extensions::hidden_because(name) {
-                device_state.count_not_measured(&format!("{name} enabled though the layer did not offer it ({why})"));
-            }
-        }
-    }
     state::add_device(Arc::new(DeviceData {
         handle,
         gdpa,

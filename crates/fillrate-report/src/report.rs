@@ -457,3 +457,30 @@ impl FillrateReport {
         self.frames.last()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn counters(draws: u64, vertices: Option<u64>, fragments: Option<u64>, samples: u64) -> Counters {
+        let raw = RawCounters {
+            draws,
+            vertex_invocations: vertices,
+            clipping_primitives: None,
+            fragment_invocations: fragments,
+            samples_passed: samples,
+            gpu_ns: None,
+        };
+        Counters::new(&raw, &RenderArea { x: 0, y: 0, width: 4, height: 4 }, 1, &[])
+    }
+
+    #[test]
+    fn draws_and_statistics_that_disagree_are_flagged_and_a_clear_pass_is_not() {
+        assert!(counters(3, Some(0), Some(0), 0).disagreement().is_some_and(|f| f.starts_with("3 draws")));
+        assert!(counters(0, Some(6), Some(16), 16).disagreement().is_some_and(|f| f.contains("no draw seen")));
+        assert_eq!(counters(0, Some(0), Some(0), 0).disagreement(), None, "a clear-only pass");
+        assert_eq!(counters(2, Some(6), Some(20), 16).disagreement(), None);
+        // Without statistics, draws with no sample are not called empty: nothing says so.
+        assert_eq!(counters(2, None, None, 0).disagreement(), None);
+    }
+}
