@@ -90,6 +90,7 @@ crate_modules!(frame, gpu, mesh, names, pipeline, profile, render, scene, shader
 #[doc(hidden)]
 pub mod cli;
 pub mod error;
+pub mod sample;
 
 pub use error::{Error, Result};
 pub use frame::{write_png, StencilMode};

@@ -26,6 +26,16 @@ impl fmt::Display for Shader {
     }
 }
 
+/// The shader whose file in `shaders/` is `file` (`"lit.vert"`): what the samples name.
+pub fn by_file(file: &str) -> Result<Shader> {
+    SHADERS
+        .iter()
+        .map(|(name, _)| *name)
+        .find(|name| *name == file)
+        .map(Shader)
+        .ok_or_else(|| Error::InvalidInput(format!("no shader named '{file}' in shaders/")))
+}
+
 /// The SPIR-V words of a shader.
 pub fn spirv(shader: Shader) -> Result<Vec<u32>> {
     let name = shader.0;

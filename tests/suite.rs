@@ -25,5 +25,6 @@ mod profile_app_gl;
 mod profile_app_work;
 mod readme;
 mod real_programs;
+mod samples;
 mod standalone;
 mod tiler_check;
