@@ -49,8 +49,9 @@
 //! # }
 //! ```
 //!
-//! `examples/` holds two programs built on this page alone: a glTF file to a PNG, and per-pass
-//! counters printed. How the crate is built inside: docs/architecture.md; adding a technique:
+//! `examples/` holds two programs built on this page alone (a glTF file to a PNG, and per-pass
+//! counters printed) and one sample per technique in plain ash on the [`sample`] base class
+//! (docs/porting.md). How the crate is built inside: docs/architecture.md; adding a technique:
 //! docs/adding-a-technique.md.
 //!
 //! *Seed NNN*, in these pages and the code's comments, names document NNN of the five the

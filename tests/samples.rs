@@ -8,26 +8,28 @@ use crate::common;
 use image::RgbaImage;
 use nostencil::{render_scene, RenderOptions, StencilMode};
 
+// One file per other sample (tests/samples/), each with its own test.
+
 // Each sample's `main` is its program's; the tests call its `render`.
 #[allow(dead_code)]
 #[path = "../examples/shadow_volumes.rs"]
 mod shadow_volumes;
 
 /// Pixels whose RGB differ between `a` and `b` (of the same size).
-fn differing(a: &RgbaImage, b: &RgbaImage) -> usize {
+pub(crate) fn differing(a: &RgbaImage, b: &RgbaImage) -> usize {
     assert_eq!(a.dimensions(), b.dimensions());
     a.pixels().zip(b.pixels()).filter(|(p, q)| p.0[..3] != q.0[..3]).count()
 }
 
 /// The engine's frame of built-in scene `scene` with `options` (its size and technique set by
 /// the caller), on `gpu`.
-fn engine(gpu: &std::sync::Arc<nostencil::Gpu>, scene: &str, options: &RenderOptions) -> RgbaImage {
+pub(crate) fn engine(gpu: &std::sync::Arc<nostencil::Gpu>, scene: &str, options: &RenderOptions) -> RgbaImage {
     let scene = nostencil::builtin_scene(scene).expect("a built-in scene");
     render_scene(gpu, &scene, options).expect("the engine's frame").output.image
 }
 
 /// Pixels `frame` darkens against `lit` (every channel no brighter, one darker): its shadow.
-fn darkened(frame: &RgbaImage, lit: &RgbaImage) -> usize {
+pub(crate) fn darkened(frame: &RgbaImage, lit: &RgbaImage) -> usize {
     frame
         .pixels()
         .zip(lit.pixels())
