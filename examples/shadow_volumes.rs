@@ -351,7 +351,8 @@ pub fn render(gpu: &std::sync::Arc<Gpu>, scene: &str, stencil: bool) -> nostenci
 /// Kilgard's construction): a wall for every silhouette edge (lit face on one side, unlit on
 /// the other), and for z-fail the caps that close it: the lit faces (near) and the lit faces
 /// pushed to infinity, reversed (far; for a directional light every point at infinity is one
-/// point, so the far cap has no area and is left out).
+/// point, so the far cap has no area and is left out). Closed, consistently wound casters only:
+/// the engine also casts open and non-manifold meshes, two-sided (docs/porting.md).
 fn build_volumes(base: &SampleBase, zfail: bool) -> nostencil::Result<Vec<Volume>> {
     let mut volumes = Vec::new();
     for (object_index, object) in base.scene.objects.iter().enumerate().filter(|(_, o)| o.casts_shadow) {
