@@ -35,6 +35,9 @@ use crate::scene::{builtin_scene, Scene, SceneObject};
 
 pub use ash;
 
+mod ground;
+pub use ground::Ground;
+
 /// The colour attachment's format: the engine's frame format.
 pub const COLOUR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
 
@@ -245,9 +248,20 @@ impl SampleBase {
 
     /// A pipeline from its parts, destroyed with the base.
     pub fn pipeline(&self, parts: &PipelineParts) -> Result<vk::Pipeline> {
+        self.pipeline_biased(self.layout, parts, None)
+    }
+
+    /// [`SampleBase::pipeline`] in `layout`, with a depth bias `(constant, slope)` when `bias`
+    /// is given ([`SampleBase::pipeline_with_depth_bias`]).
+    fn pipeline_biased(
+        &self,
+        layout: vk::PipelineLayout,
+        parts: &PipelineParts,
+        bias: Option<(f32, f32)>,
+    ) -> Result<vk::Pipeline> {
         let device = self.device();
         let modules = [self.shader_module(parts.vertex_shader)?, self.shader_module(parts.fragment_shader)?];
-        let result = self.pipeline_with(parts, modules);
+        let result = self.pipeline_with(layout, parts, bias, modules);
         for module in modules {
             // SAFETY: the pipeline (made or not) no longer needs its modules.
             unsafe { device.destroy_shader_module(module, None) };
@@ -265,7 +279,13 @@ impl SampleBase {
             .vk("vkCreateShaderModule")
     }
 
-    fn pipeline_with(&self, parts: &PipelineParts, [vertex, fragment]: [vk::ShaderModule; 2]) -> Result<vk::Pipeline> {
+    fn pipeline_with(
+        &self,
+        layout: vk::PipelineLayout,
+        parts: &PipelineParts,
+        bias: Option<(f32, f32)>,
+        [vertex, fragment]: [vk::ShaderModule; 2],
+    ) -> Result<vk::Pipeline> {
         const MAIN: &CStr = c"main";
         let stages = [
             vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::VERTEX).module(vertex).name(MAIN),
@@ -285,6 +305,9 @@ impl SampleBase {
             .polygon_mode(vk::PolygonMode::FILL)
             .cull_mode(parts.cull)
             .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+            .depth_bias_enable(bias.is_some())
+            .depth_bias_constant_factor(bias.map_or(0.0, |(constant, _)| constant))
+            .depth_bias_slope_factor(bias.map_or(0.0, |(_, slope)| slope))
             .line_width(1.0);
         let multisample =
             vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(vk::SampleCountFlags::TYPE_1);
@@ -310,7 +333,7 @@ impl SampleBase {
             .depth_stencil_state(&depth)
             .color_blend_state(&blend)
             .dynamic_state(&dynamic)
-            .layout(self.layout)
+            .layout(layout)
             .render_pass(parts.render_pass)
             .subpass(0);
         // SAFETY: every handle in `info` is alive and its arrays outlive the call.
