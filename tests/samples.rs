@@ -10,6 +10,7 @@ use nostencil::{render_scene, RenderOptions, StencilMode};
 
 // One file per other sample (tests/samples/), each with its own test.
 mod planar_shadows;
+mod silhouette;
 
 // Each sample's `main` is its program's; the tests call its `render`.
 #[allow(dead_code)]

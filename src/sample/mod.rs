@@ -35,6 +35,10 @@ use crate::scene::{builtin_scene, Scene, SceneObject};
 
 pub use ash;
 
+mod cartoon;
+mod sets;
+pub use cartoon::SmoothCopy;
+pub use sets::ExtraSet;
 mod ground;
 pub use ground::Ground;
 
@@ -54,6 +58,9 @@ pub enum VertexInput {
     /// One `vec4` position per vertex at location 0 (a volume's doubled vertices: w = 1 on the
     /// caster, w = 0 pushed away from the light).
     Position4,
+    /// Position and normal (`vec3` each) at locations 0 and 1: a welded mesh with smooth
+    /// normals (`cartoon_extrude.vert`'s copies).
+    PositionNormal,
 }
 
 /// A graphics pipeline's parts: the state a technique chooses, the rest fixed (one subpass,
@@ -248,11 +255,17 @@ impl SampleBase {
 
     /// A pipeline from its parts, destroyed with the base.
     pub fn pipeline(&self, parts: &PipelineParts) -> Result<vk::Pipeline> {
-        self.pipeline_biased(self.layout, parts, None)
+        self.pipeline_in(self.layout, parts)
     }
 
-    /// [`SampleBase::pipeline`] in `layout`, with a depth bias `(constant, slope)` when `bias`
-    /// is given ([`SampleBase::pipeline_with_depth_bias`]).
+    /// A pipeline from its parts with another `layout` than the base's (one with more sets:
+    /// [`ExtraSet`]), destroyed with the base.
+    pub fn pipeline_in(&self, layout: vk::PipelineLayout, parts: &PipelineParts) -> Result<vk::Pipeline> {
+        self.pipeline_biased(layout, parts, None)
+    }
+
+    /// [`SampleBase::pipeline_in`] with a depth bias `(constant, slope)` when `bias` is given
+    /// ([`SampleBase::pipeline_with_depth_bias`]).
     fn pipeline_biased(
         &self,
         layout: vk::PipelineLayout,
@@ -547,6 +560,10 @@ fn vertex_layout(
     match input {
         VertexInput::None => (Vec::new(), Vec::new()),
         VertexInput::Position4 => (binding(16), vec![attribute(0, vk::Format::R32G32B32A32_SFLOAT, 0)]),
+        VertexInput::PositionNormal => (
+            binding(24),
+            vec![attribute(0, vk::Format::R32G32B32_SFLOAT, 0), attribute(1, vk::Format::R32G32B32_SFLOAT, 12)],
+        ),
         VertexInput::Scene => (
             binding(std::mem::size_of::<crate::render::gpu_mesh::SceneVertex>() as u32),
             vec![
