@@ -9,6 +9,7 @@ use image::RgbaImage;
 use nostencil::{render_scene, RenderOptions, StencilMode};
 
 // One file per other sample (tests/samples/), each with its own test.
+mod outline;
 mod planar_shadows;
 mod silhouette;
 

@@ -41,6 +41,8 @@ pub use cartoon::SmoothCopy;
 pub use sets::ExtraSet;
 mod ground;
 pub use ground::Ground;
+mod selection;
+pub use selection::linear_colour;
 
 /// The colour attachment's format: the engine's frame format.
 pub const COLOUR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
