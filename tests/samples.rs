@@ -11,6 +11,7 @@ use nostencil::{render_scene, RenderOptions, StencilMode};
 // One file per other sample (tests/samples/), each with its own test.
 mod outline;
 mod planar_shadows;
+mod shadow_atlas;
 mod silhouette;
 
 // Each sample's `main` is its program's; the tests call its `render`.

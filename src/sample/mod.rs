@@ -37,8 +37,10 @@ pub use ash;
 
 mod cartoon;
 mod sets;
+mod shadow_atlas;
 pub use cartoon::SmoothCopy;
 pub use sets::ExtraSet;
+pub use shadow_atlas::{ShadowAtlas, MAP_FORMAT, PAGE_FORMAT};
 mod ground;
 pub use ground::Ground;
 mod selection;
@@ -63,6 +65,9 @@ pub enum VertexInput {
     /// Position and normal (`vec3` each) at locations 0 and 1: a welded mesh with smooth
     /// normals (`cartoon_extrude.vert`'s copies).
     PositionNormal,
+    /// The shadow techniques' vertex (`atlas_vertex.glsl`): position, normal, atlas UV, UV0,
+    /// UV1, COLOR_0 ([`ShadowAtlas`]'s meshes).
+    Atlas,
 }
 
 /// A graphics pipeline's parts: the state a technique chooses, the rest fixed (one subpass,
@@ -154,6 +159,9 @@ pub struct SampleBase {
     /// the vertex and fragment stages: every sample pipeline's layout.
     pub layout: vk::PipelineLayout,
     owned: RefCell<Vec<Owned>>,
+    /// The render passes made here whose subpass has no colour attachment (a shadow map's):
+    /// their pipelines have no blend attachment.
+    depth_only: RefCell<Vec<vk::RenderPass>>,
     colour: Image,
     depth: Image,
     gpu_scene: GpuScene,
@@ -219,6 +227,7 @@ impl SampleBase {
             depth_format,
             layout,
             owned: RefCell::new(Vec::new()),
+            depth_only: RefCell::new(Vec::new()),
             colour,
             depth,
             gpu_scene,
@@ -236,6 +245,12 @@ impl SampleBase {
         // SAFETY: the device is alive; `info`'s arrays are borrowed for the call.
         let pass = unsafe { self.device().create_render_pass(info, None) }.vk("vkCreateRenderPass")?;
         self.owned.borrow_mut().push(Owned::RenderPass(pass));
+        // SAFETY: a non-null `info.p_subpasses` points at `subpass_count` descriptions (the
+        // builder's slice, borrowed for the call).
+        let first = (info.subpass_count > 0 && !info.p_subpasses.is_null()).then(|| unsafe { &*info.p_subpasses });
+        if first.is_some_and(|s| s.color_attachment_count == 0) {
+            self.depth_only.borrow_mut().push(pass);
+        }
         Ok(pass)
     }
 
@@ -335,7 +350,8 @@ impl SampleBase {
             .front(front)
             .back(back);
         let attachments = [parts.blend];
-        let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&attachments);
+        let colour_attachments = if self.depth_only.borrow().contains(&parts.render_pass) { 0 } else { 1 };
+        let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&attachments[..colour_attachments]);
         let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
         let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
         let info = vk::GraphicsPipelineCreateInfo::default()
@@ -565,6 +581,17 @@ fn vertex_layout(
         VertexInput::PositionNormal => (
             binding(24),
             vec![attribute(0, vk::Format::R32G32B32_SFLOAT, 0), attribute(1, vk::Format::R32G32B32_SFLOAT, 12)],
+        ),
+        VertexInput::Atlas => (
+            binding(64),
+            vec![
+                attribute(0, vk::Format::R32G32B32_SFLOAT, 0),
+                attribute(1, vk::Format::R32G32B32_SFLOAT, 12),
+                attribute(2, vk::Format::R32G32_SFLOAT, 24),
+                attribute(3, vk::Format::R32G32_SFLOAT, 32),
+                attribute(4, vk::Format::R32G32_SFLOAT, 40),
+                attribute(5, vk::Format::R32G32B32A32_SFLOAT, 48),
+            ],
         ),
         VertexInput::Scene => (
             binding(std::mem::size_of::<crate::render::gpu_mesh::SceneVertex>() as u32),

@@ -667,7 +667,7 @@ impl Passes<AtlasKinds> for ShadowPasses {
 
 /// Position, normal, atlas UV and the material's inputs per vertex, interleaved as
 /// `passes::ATLAS_VERTEX` says.
-fn atlas_vertices(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], surface: &[[f32; 8]]) -> Vec<[f32; 16]> {
+pub(crate) fn atlas_vertices(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], surface: &[[f32; 8]]) -> Vec<[f32; 16]> {
     (0..positions.len())
         .map(|i| {
             let (p, n, uv) = (positions[i], normals.get(i).copied().unwrap_or(Vec3::Y), uvs[i]);
@@ -727,7 +727,7 @@ struct SkinnedAtlasVertex {
 }
 
 /// UV0, UV1 and COLOR_0 of `mesh`'s vertices `sources` (one per atlas vertex).
-fn surface_of(mesh: &SceneMesh, sources: &[u32]) -> Vec<[f32; 8]> {
+pub(crate) fn surface_of(mesh: &SceneMesh, sources: &[u32]) -> Vec<[f32; 8]> {
     let vertices = scene_vertices(mesh, &mesh.data.positions, &mesh.data.normals);
     sources
         .iter()
