@@ -1,29 +1,35 @@
-//! Ink silhouettes by the inverted hull (seed 002, Marshall's "Cartoon Rendering: Real-time
-//! Silhouette Edge Detection and Rendering", its two-pass method), in one file read top to
-//! bottom: the frame's render pass, its pipelines with each blend state's formula, and its draws
-//! in order.
+//! Ink lines found by silhouette edge detection (seed 002, Marshall's "Real-time silhouette
+//! edge detection for cartoon rendering", Game Programming Gems 2, 5.1), in one file read top to
+//! bottom: the edge list, each edge classified from the eye, the lines drawn as screen-space
+//! quads, the frame's render pass and pipelines, and the draws in order.
 //!
 //!     cargo run --example silhouette -- [--out FILE.png] [--stencil]
 //!
 //! No pass of this technique needs a stencil, in the engine's reference path or its emulated
 //! one: `--stencil` gives the depth attachment its stencil aspect (as `nostencil render
-//! --stencil reference` does) and changes nothing else; `cargo test` proves both images equal,
-//! and equal to the engine's (`nostencil render --technique silhouette --silhouette hull
-//! --scene duck --samples 1`).
+//! --stencil reference` does) and changes nothing else. `cargo test` proves both images equal,
+//! and equal to the engine's (`nostencil render --technique silhouette --scene duck --samples 1`,
+//! its default `edges` method).
 //!
 //! The frame:
-//! 1. the scene, shaded Lambert (`cartoon_shade`), depth written;
-//! 2. each object's copy pushed out along its smooth normals by the line width in pixels, its
-//!    front faces culled: only its back faces draw, and they pass the depth test only where
-//!    they stick out beyond the object (its silhouette) or fold behind it. That rim is the ink.
+//! 1. per object, once: the mesh welded by position (a UV or normal split must not open an
+//!    edge) and its unique edge list, each edge with the faces on either side (the seed's hash
+//!    table);
+//! 2. per frame, each edge classified: a *silhouette* where one face looks at the eye and the
+//!    other away (`(N1.V)(N2.V) <= 0`), a *crease* where the faces fold by more than 40 degrees,
+//!    a *boundary* where it has one face. Each edge is drawn once, in that order of priority;
+//! 3. the scene, shaded Lambert (`cartoon_shade`), depth written;
+//! 4. each class's edges as quads `LINE_WIDTH` pixels wide, built in the vertex shader from
+//!    both projected ends (the mobile profile has no wide lines), depth tested against the
+//!    scene after a small pull towards the eye, in ink.
 //!
-//! What the engine adds on top (edges found on the CPU and drawn as screen-space quads, the N.V
-//! rim, the alpha test, per-class ink) is in docs/ink-and-toon.md.
+//! What the engine adds on top (attribute seams as boundaries, per-class ink, the N.V rim, the
+//! inverted hull, the alpha test) is in docs/porting.md.
 
 use std::process::ExitCode;
 
 use ash::vk;
-use glam::{Mat4, Vec4};
+use glam::{Mat4, Vec2, Vec3, Vec4};
 use image::RgbaImage;
 use nostencil::sample::{replace, PipelineParts, SampleBase, VertexInput};
 use nostencil::{Gpu, GpuOptions};
@@ -36,6 +42,37 @@ pub const HEIGHT: u32 = 120;
 pub const LINE_WIDTH: f32 = 2.0;
 /// The ink, linear RGB (the engine's default ink; sRGB 56, 56, 69 in the frame).
 pub const INK: Vec4 = Vec4::new(0.04, 0.04, 0.06, 1.0);
+/// Edges whose faces fold by more than this are creases (the engine's `--crease-angle`).
+const CREASE_DEG: f32 = 40.0;
+
+/// One corner of an ink quad (`shaders/cartoon_ink.vert`): both ends of the edge in world
+/// space, the third corner of its front-facing face (a silhouette grows away from it), and
+/// which corner: x the side (-1 or +1), y 0 at `a` and 1 at `b`.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct InkVertex {
+    a: Vec3,
+    b: Vec3,
+    c: Vec3,
+    corner: Vec2,
+}
+
+/// The six corners (two triangles) of one edge's quad.
+const QUAD: [Vec2; 6] = [
+    Vec2::new(-1.0, 0.0),
+    Vec2::new(1.0, 0.0),
+    Vec2::new(1.0, 1.0),
+    Vec2::new(-1.0, 0.0),
+    Vec2::new(1.0, 1.0),
+    Vec2::new(-1.0, 1.0),
+];
+
+/// An edge of a welded mesh: its ends (`v[0] < v[1]`) and the faces that have it (one for a
+/// boundary).
+struct Edge {
+    v: [u32; 2],
+    faces: Vec<usize>,
+}
 
 /// The cartoon shaders' push constants (`shaders/cartoon_push.glsl`): 112 bytes.
 #[repr(C)]
@@ -151,34 +188,38 @@ pub fn render(gpu: &std::sync::Arc<Gpu>, scene: &str, stencil: bool) -> nostenci
             stencil: None,
         },
     )?;
-    // The inverted hull: the copies in ink (`cartoon_colour.frag`: the push's colour), RGBA
-    // replaced (blend off), depth LESS and written, FRONT faces culled: what is left of a copy
-    // is its inside, seen only where it is not behind the object.
-    let hull = base.pipeline(&PipelineParts {
+    // The ink: quads in the push's colour (`cartoon_colour.frag`), RGB replaced (blend off),
+    // depth LESS_OR_EQUAL and not written, no culling (a quad faces either way).
+    let ink = base.pipeline(&PipelineParts {
         render_pass: pass,
-        vertex_shader: "cartoon_extrude.vert",
+        vertex_shader: "cartoon_ink.vert",
         fragment_shader: "cartoon_colour.frag",
-        vertex_input: VertexInput::PositionNormal,
-        cull: Cull::FRONT,
-        depth_test: Some(Cmp::LESS),
-        depth_write: true,
-        blend: replace(vk::ColorComponentFlags::RGBA),
+        vertex_input: VertexInput::Ink,
+        cull: Cull::NONE,
+        depth_test: Some(Cmp::LESS_OR_EQUAL),
+        depth_write: false,
+        blend: replace(vk::ColorComponentFlags::R | vk::ColorComponentFlags::G | vk::ColorComponentFlags::B),
         stencil: None,
     })?;
 
-    // Each object's copy: its mesh welded by position (no seam cracks it open when pushed), one
-    // smooth normal per vertex.
-    let copies = (0..base.scene.objects.len())
-        .map(|index| {
-            let copy = base.smooth_copy(index)?;
-            let vertices = base.vertex_buffer("copy vertices", &copy.vertices)?;
-            Ok((vertices, base.vertex_buffer("copy indices", &copy.indices)?, copy.indices.len() as u32))
-        })
+    // The edges of every object, classified from the eye: one list of quads per class.
+    let mut classes: [Vec<InkVertex>; 3] = Default::default();
+    for object in &base.scene.objects {
+        let (positions, triangles) = base.welded_mesh(object)?;
+        ink_quads(&positions, &triangles, &object.transform, base.scene.camera.eye, &mut classes);
+    }
+    let quads = classes
+        .iter()
+        .map(|quads| Ok((base.vertex_buffer("ink quads", quads)?, quads.len() as u32)))
         .collect::<nostencil::Result<Vec<_>>>()?;
     // What turns pixels into a distance: one pixel at unit distance from the eye spans
-    // 2 tan(fov / 2) / height; the vertex shader scales it by the vertex's distance.
+    // 2 tan(fov / 2) / height.
     let pixel = 2.0 * (0.5 * base.scene.camera.fov_y_radians).tan() / HEIGHT as f32;
     let viewport = Vec4::new(WIDTH as f32, HEIGHT as f32, pixel, 0.0);
+    // The lines are pulled towards the eye by about one line width at any distance (a constant
+    // in clip z with the infinite-far projection): enough for a crease between faces tilted up
+    // to ~60 degrees, far too little to show through a solid.
+    let pull = base.scene.camera.near * (LINE_WIDTH * pixel).max(1e-3);
     let bind = |cmd: vk::CommandBuffer, pipeline: vk::Pipeline| {
         // SAFETY: `cmd` is recording in the pass.
         unsafe { device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline) };
@@ -209,26 +250,75 @@ pub fn render(gpu: &std::sync::Arc<Gpu>, scene: &str, stencil: bool) -> nostenci
         let lambert = CartoonPush { model: Mat4::IDENTITY, colour: Vec4::ONE, params: Vec4::ZERO, viewport };
         base.push(cmd, bytemuck::bytes_of(&lambert));
         base.draw_objects(cmd, 1.0, |_| true);
-        // 2. The ink: every object's copy, in scene order, pushed out by the line width.
-        bind(cmd, hull);
-        for (object, (vertices, indices, count)) in base.scene.objects.iter().zip(&copies) {
+        // 2. The ink, a draw per class: silhouettes grow outwards only (params.y = 1), creases
+        // and boundaries are centred on their edge.
+        bind(cmd, ink);
+        for (class, (buffer, count)) in quads.iter().enumerate() {
+            let one_sided = if class == 0 { 1.0 } else { 0.0 };
             let push = CartoonPush {
-                model: object.transform,
+                model: Mat4::IDENTITY,
                 colour: INK,
-                params: Vec4::new(LINE_WIDTH, 0.0, 0.0, 0.0),
+                params: Vec4::new(LINE_WIDTH, one_sided, pull, 0.0),
                 viewport,
             };
             base.push(cmd, bytemuck::bytes_of(&push));
-            // SAFETY: `cmd` is recording in the pass with the hull bound; the buffers live until
+            // SAFETY: `cmd` is recording in the pass with the ink bound; the buffer lives until
             // `render` returns.
             unsafe {
-                device.cmd_bind_vertex_buffers(cmd, 0, &[vertices.raw()], &[0]);
-                device.cmd_bind_index_buffer(cmd, indices.raw(), 0, vk::IndexType::UINT32);
-                device.cmd_draw_indexed(cmd, *count, 1, 0, 0, 0);
+                device.cmd_bind_vertex_buffers(cmd, 0, &[buffer.raw()], &[0]);
+                device.cmd_draw(cmd, *count, 1, 0, 0);
             }
         }
         // SAFETY: the pass was begun above.
         unsafe { device.cmd_end_render_pass(cmd) };
         Ok(())
     })
+}
+
+/// A welded mesh's unique edges, in the order of their ends, each with its faces in face order
+/// (the seed builds this list once per mesh, with a hash table).
+fn edge_list(triangles: &[[u32; 3]]) -> Vec<Edge> {
+    let mut edges: std::collections::BTreeMap<[u32; 2], Vec<usize>> = Default::default();
+    for (face, &[a, b, c]) in triangles.iter().enumerate() {
+        for (from, to) in [(a, b), (b, c), (c, a)] {
+            edges.entry([from.min(to), from.max(to)]).or_default().push(face);
+        }
+    }
+    edges.into_iter().map(|(v, faces)| Edge { v, faces }).collect()
+}
+
+/// The ink quads of one object (its welded `positions` and `triangles`, placed by `model`)
+/// seen from `eye`, appended to `classes` (silhouette, crease, boundary): each edge once, in
+/// the first class it belongs to.
+fn ink_quads(positions: &[Vec3], triangles: &[[u32; 3]], model: &Mat4, eye: Vec3, classes: &mut [Vec<InkVertex>; 3]) {
+    // Everything is decided in the object's own space: the eye is taken there.
+    let eye = model.inverse().transform_point3(eye);
+    let normals: Vec<Vec3> = triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| positions[i as usize]);
+            (b - a).cross(c - a).normalize_or_zero()
+        })
+        .collect();
+    let crease_cos = CREASE_DEG.to_radians().cos();
+    let world = |v: u32| model.transform_point3(positions[v as usize]);
+    for edge in edge_list(triangles) {
+        // N.V is the same at every point of a face's plane; the seed uses the edge's first end.
+        let to_edge = positions[edge.v[0] as usize] - eye;
+        let class = match edge.faces[..] {
+            [f1, f2, ..] if normals[f1].dot(to_edge) * normals[f2].dot(to_edge) <= 0.0 => 0,
+            [f1, f2, ..] if normals[f1].dot(normals[f2]) < crease_cos => 1,
+            [_] => 2,
+            _ => continue,
+        };
+        // The face that looks at the eye, and its corner off the edge.
+        let front = match edge.faces[..] {
+            [f1, f2, ..] if normals[f1].dot(to_edge) >= 0.0 => f2,
+            _ => edge.faces[0],
+        };
+        let corners = triangles[front];
+        let third = corners.into_iter().find(|v| !edge.v.contains(v)).unwrap_or(corners[0]);
+        let (a, b, c) = (world(edge.v[0]), world(edge.v[1]), world(third));
+        classes[class].extend(QUAD.iter().map(|&corner| InkVertex { a, b, c, corner }));
+    }
 }

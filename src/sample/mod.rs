@@ -68,6 +68,9 @@ pub enum VertexInput {
     /// The shadow techniques' vertex (`atlas_vertex.glsl`): position, normal, atlas UV, UV0,
     /// UV1, COLOR_0 ([`ShadowAtlas`]'s meshes).
     Atlas,
+    /// An ink quad's corner (`cartoon_ink.vert`): both ends of its edge and a third point
+    /// (`vec3` each), and the corner (`vec2`), at locations 0 to 3.
+    Ink,
 }
 
 /// A graphics pipeline's parts: the state a technique chooses, the rest fixed (one subpass,
@@ -581,6 +584,15 @@ fn vertex_layout(
         VertexInput::PositionNormal => (
             binding(24),
             vec![attribute(0, vk::Format::R32G32B32_SFLOAT, 0), attribute(1, vk::Format::R32G32B32_SFLOAT, 12)],
+        ),
+        VertexInput::Ink => (
+            binding(44),
+            vec![
+                attribute(0, vk::Format::R32G32B32_SFLOAT, 0),
+                attribute(1, vk::Format::R32G32B32_SFLOAT, 12),
+                attribute(2, vk::Format::R32G32B32_SFLOAT, 24),
+                attribute(3, vk::Format::R32G32_SFLOAT, 36),
+            ],
         ),
         VertexInput::Atlas => (
             binding(64),
