@@ -174,6 +174,7 @@ pub fn record_plan<K: PassKinds>(
             if let Draws::Own { draw, .. } = &pass.draws {
                 record.own_draw = Some(draw.describe());
             }
+            record.light = pass.light;
             let rank = |name: &&'static str| pass.pipelines.iter().position(|d| d.name == *name).unwrap_or(usize::MAX);
             record.pipelines.sort_by_key(rank);
         }

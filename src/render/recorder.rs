@@ -21,6 +21,8 @@ pub(crate) struct PassRecord {
     /// What the technique drew in it itself (`DrawKind::describe` of its own draw kind), for
     /// [`FrameCounters::drawing`](super::counters::FrameCounters::drawing).
     pub own_draw: Option<&'static str>,
+    /// The light the plan drew the pass for (`PlannedPass::light`).
+    pub light: Option<u8>,
     pub draws: u32,
     /// State and draw commands it recorded (binds, pushes, scissors, draws, clears).
     pub commands: u32,
@@ -222,6 +224,7 @@ impl<'a> FrameRecorder<'a> {
         self.passes.push(PassRecord {
             name: name.to_owned(),
             own_draw: None,
+            light: None,
             draws: 0,
             commands: 0,
             pipelines: Vec::new(),

@@ -367,7 +367,7 @@ impl Renderer {
             .map(|(record, raw)| {
                 PassCounters::from_queries(
                     record.name,
-                    record.own_draw,
+                    (record.own_draw, record.light),
                     (record.draws, record.commands),
                     record.instances,
                     raw,

@@ -1,18 +1,21 @@
 //! Shadow volumes counted in the colour alpha channel (seed 000, docs/design/shadow-volumes.md), and the
 //! real-stencil reference they are proven against: the recipes and pass plan
-//! ([`recipes`]), the casters and their volumes on the CPU ([`casters`]), and the renderer
-//! that draws them ([`renderer`]).
+//! ([`recipes`]), the casters and their volumes on the CPU ([`casters`]), each frame's volumes
+//! laid out ([`frame_volumes`]) and written into their buffers ([`volume_uploads`]), and the
+//! renderer that draws them ([`renderer`]).
 
 pub mod bounds;
 pub mod casters;
 pub mod convex_region;
 pub mod culling;
 pub mod doubled;
+pub mod frame_volumes;
 pub mod gpu_extrusion;
 pub mod near_caps;
 pub mod recipes;
 pub mod renderer;
 pub mod stats;
+pub mod volume_uploads;
 
 use super::frame_renderer::BuildContext;
 use super::interface::{RenderOptions, TechniqueInfo, Variant};
