@@ -11,7 +11,9 @@ use image::RgbaImage;
 
 use super::counters::{FrameCounters, PassCounters};
 use super::instances::RenderPassInstance;
-use super::recorder::{FrameRecorder, OverdrawPipelines, PassRecord};
+use super::frame_record::PassRecord;
+use super::overdraw::OverdrawPipelines;
+use super::recorder::FrameRecorder;
 use super::sample_readback::{self, FrameSamples};
 use super::uniforms::{FrameDescriptors, FrameUniforms};
 use crate::error::Result;
@@ -323,14 +325,12 @@ impl Renderer {
             record_frame_pass(&mut recorder, targets, (clear, stencil_clear), record)?;
             // A technique's fragment shaders may count into a buffer read after the frame.
             barriers::fragment_stores_to_host(device, cmd);
-            gpu.counted_commands(recorder.commands);
+            gpu.counted_commands(recorder.record.commands);
             if let Some(e) = recorder.deferred_error.take() {
                 return Err(e);
             }
-            let records = (
-                std::mem::take(&mut recorder.passes),
-                (std::mem::take(&mut recorder.render_passes), std::mem::take(&mut recorder.instances)),
-            );
+            let record = std::mem::take(&mut recorder.record);
+            let records = (record.passes, (record.render_passes, record.instances));
             if let Some(buffer) = presented.and_then(|p| p.screenshot) {
                 super::frame_copy::record_screenshot(device, cmd, targets.output_image(), extent, buffer);
             }

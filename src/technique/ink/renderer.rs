@@ -167,7 +167,8 @@ impl Passes<InkKinds> for InkPasses {
                 rec.push(pipeline, &push);
                 let slot = lines.buffers.get(rec.slot());
                 if let Some((buffer, count)) = slot.and_then(|b| b.get(class)).and_then(ReusedBuffer::filled) {
-                    rec.draw_vertices(buffer, count);
+                    rec.bind_vertices(buffer);
+                    rec.draw(count, 1, 0, 0);
                 }
             }
             // The plan and the ink resources are both made from `self.method`: a draw of

@@ -148,7 +148,7 @@ impl OutlinePasses {
                 if let Some(source) = blur.set(source) {
                     rec.bind_with_sets(pipeline, &[source.set]);
                     rec.push(pipeline, &blur_push(along_x, radius));
-                    rec.draw_fullscreen();
+                    rec.draw(3, 1, 0, 0);
                 }
             }
             // The frame's draws and a pass without its pipelines draw nothing offscreen.

@@ -316,7 +316,8 @@ impl Passes<BlobKinds> for BlobPasses {
             BlobDraw::Scene => self.meshes.draw_scene(rec, scene, &self.plane, pass, pipelines, 1.0),
             BlobDraw::Quads => {
                 if let Some((quads, vertex_count)) = self.quads.get(rec.slot()).and_then(ReusedBuffer::filled) {
-                    rec.draw_vertices(quads, vertex_count);
+                    rec.bind_vertices(quads);
+                    rec.draw(vertex_count, 1, 0, 0);
                 }
                 Ok(())
             }

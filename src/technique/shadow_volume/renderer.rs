@@ -33,7 +33,7 @@ use crate::render::per_slot::slot_copy;
 use crate::render::passes::Passes;
 use crate::render::plan::{Draws, PlannedPass, Scissor};
 use crate::render::Pipeline;
-use crate::render::{BoundDraw, FrameOutput, FrameRecorder, GpuScene, Renderer};
+use crate::render::{FrameOutput, IndexedDraw, FrameRecorder, GpuScene, Renderer};
 use crate::scene::Scene;
 use crate::technique::alpha_counter;
 use crate::technique::frame_renderer::BuildContext;
@@ -323,12 +323,8 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
                     rec.push(bound, &VolumePush { colour: Vec4::new(0.0, 0.0, 0.0, alpha), ..*push });
                     let cull = bound.desc.fixed.raster.cull;
                     for range in ranges.iter().filter(|range| range.drawn_by.draws_with(cull)) {
-                        rec.draw_bound(BoundDraw {
-                            first_index: range.first,
-                            index_count: range.count,
-                            vertex_offset,
-                            first_instance: range.times,
-                        });
+                        let draw = IndexedDraw::range(range.first, range.count);
+                        rec.draw_indexed(IndexedDraw { vertex_offset, first_instance: range.times, ..draw });
                     }
                 }
             }
