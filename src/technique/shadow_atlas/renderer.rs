@@ -16,7 +16,7 @@ use super::bake_cache::{stale_tiles, CacheKey, Shadowing};
 use super::light::{light_at, ShadowLightUniforms};
 use super::maps::{self, Coverage};
 use super::page_targets::{AtlasPage, PagePipelines};
-use super::passes::{self, AtlasDraw, AtlasKinds, AtlasSet, AtlasTarget};
+use super::passes::{self, AtlasDraw, AtlasKinds, AtlasSet, AtlasTarget, LIGHT_OR_CASTERS_MOVED, RASTERISED_TILES_STALE};
 use super::read_back::ShadowTextures;
 use super::rebake::Sphere;
 use super::stats::{AtlasInfo, PageStats, ShadowAtlasStats};
@@ -560,10 +560,10 @@ impl Passes<AtlasKinds> for ShadowPasses {
     fn conditions(&self, _scene: &Scene) -> Vec<When> {
         let mut conditions = Vec::new();
         if self.fresh {
-            conditions.push(When::LightOrCastersMoved);
+            conditions.push(When::If(LIGHT_OR_CASTERS_MOVED));
         }
         if self.page.as_ref().is_some_and(|page| page.any_rasterised(&self.rebake)) {
-            conditions.push(When::RasterisedTilesStale);
+            conditions.push(When::If(RASTERISED_TILES_STALE));
         }
         conditions
     }
