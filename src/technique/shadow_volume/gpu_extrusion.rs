@@ -19,7 +19,7 @@ use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
 use crate::mesh::caster::CastPath;
-use crate::mesh::shadow_mesh::ShadowMesh;
+use super::shadow_mesh::ShadowMesh;
 use crate::mesh::shadow_volume::bounds_volume;
 use crate::mesh::{Light, Reach};
 use crate::render::{FrameRecorder, IndexedDraw, Pipeline};

@@ -2,8 +2,12 @@
 //! real-stencil reference they are proven against: the recipes and pass plan
 //! ([`recipes`]), the casters and their volumes on the CPU ([`casters`]), each frame's volumes
 //! laid out ([`frame_volumes`]) and written into their buffers ([`volume_uploads`]), and the
-//! renderer that draws them ([`renderer`]).
+//! renderer that draws them ([`renderer`]); with what only this technique uses: the alpha
+//! counter's arithmetic ([`alpha_counter`]), the occluder map that culls hidden casters
+//! ([`occluder_map`], [`culling`]) and the shadow mesh the GPU extrudes ([`shadow_mesh`],
+//! [`gpu_extrusion`]).
 
+pub mod alpha_counter;
 pub mod bounds;
 pub mod casters;
 pub mod convex_region;
@@ -12,8 +16,10 @@ pub mod doubled;
 pub mod frame_volumes;
 pub mod gpu_extrusion;
 pub mod near_caps;
+pub mod occluder_map;
 pub mod recipes;
 pub mod renderer;
+pub mod shadow_mesh;
 pub mod stats;
 pub mod volume_uploads;
 
@@ -56,11 +62,11 @@ impl TechniqueInfo for ShadowVolumes {
         let additive = "In the additive loop (`--shadow-mode additive`, the default) `max` runs the same passes as \
                         `seed`: the mask is exactly 0 or 1, with no darkness step. Its counter counts down from 1, \
                         so no N0; iterations for k = 1, 2, 4, 8: ";
-        let down: Vec<String> = super::alpha_counter::TABLE_INCREMENTS
+        let down: Vec<String> = alpha_counter::TABLE_INCREMENTS
             .iter()
-            .map(|&k| super::alpha_counter::down_iterations(k).map(|n| n.to_string()))
+            .map(|&k| alpha_counter::down_iterations(k).map(|n| n.to_string()))
             .collect::<Result<_>>()?;
-        let modulate = super::alpha_counter::iteration_section()?;
+        let modulate = alpha_counter::iteration_section()?;
         Ok(Some(format!("{additive}{}.\n\n{modulate}", down.join(", "))))
     }
 

@@ -8,6 +8,7 @@ use std::sync::Arc;
 use ash::vk;
 use glam::Vec4;
 
+use super::alpha_counter;
 use super::bounds;
 use super::casters::{choose_zfail, prepare_casters, Caster, VolumeScratch};
 use super::culling::{self, Culling, KeptCulling};
@@ -35,7 +36,6 @@ use crate::render::plan::{Draws, PlannedPass, Scissor};
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, IndexedDraw, FrameRecorder, GpuScene, Renderer};
 use crate::scene::Scene;
-use crate::technique::alpha_counter;
 use crate::technique::frame_renderer::BuildContext;
 use crate::technique::interface::{FrameStats, RenderOptions};
 use crate::technique::options::{Normalize, ShadowMode, ShadowVolumeOptions, VolumeExtrusion, VolumeMethod};

@@ -15,7 +15,7 @@
 
 use glam::{Vec2, Vec3};
 
-use super::fast_hash::{u64_map_with_capacity, U64Map};
+use crate::mesh::fast_hash::{u64_map_with_capacity, U64Map};
 
 /// How the light sees the world.
 #[derive(Debug, Clone, Copy)]
