@@ -66,6 +66,7 @@ pub const MODULATE_BY_DST_ALPHA: BlendState =
     colour_blend(vk::BlendOp::ADD, vk::BlendFactor::ZERO, vk::BlendFactor::DST_ALPHA);
 
 /// colour *= source alpha (the factor the shader outputs).
+#[cfg(test)]
 pub const MODULATE_BY_SRC_ALPHA: BlendState =
     colour_blend(vk::BlendOp::ADD, vk::BlendFactor::ZERO, vk::BlendFactor::SRC_ALPHA);
 

@@ -53,10 +53,12 @@ pub struct Interval {
 }
 
 impl Interval {
+    #[cfg(test)]
     pub fn width(&self) -> f64 {
         self.high - self.low
     }
 
+    #[cfg(test)]
     pub fn contains(&self, value: f64) -> bool {
         self.low <= value && value <= self.high
     }

@@ -128,6 +128,7 @@ pub struct GpuScene {
 
 impl GpuScene {
     /// The scene's meshes, skinned objects posed on the CPU.
+    #[cfg(test)]
     pub fn upload(gpu: &Arc<Gpu>, scene: &Scene) -> Result<Self> {
         Self::upload_for(gpu, scene, Skinning::Cpu)
     }

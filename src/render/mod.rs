@@ -21,6 +21,8 @@ pub mod plan_execution;
 pub mod present;
 pub mod recorder;
 pub mod renderer;
+// Only the tests read a kept multisampled frame back sample by sample.
+#[cfg(test)]
 pub mod sample_readback;
 pub mod uniforms;
 
@@ -33,5 +35,6 @@ pub use pipeline_object::{Pipeline, PipelineTarget};
 pub use recorder::BoundDraw;
 pub use recorder::{FrameRecorder, IndexedDraw};
 pub use renderer::{FrameOutput, PresentedFrame, Renderer};
+#[cfg(test)]
 pub use sample_readback::FrameSamples;
 pub use uniforms::FrameUniforms;

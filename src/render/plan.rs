@@ -215,17 +215,6 @@ pub enum SetRole<S> {
     Material,
 }
 
-impl<S: Label> SetRole<S> {
-    /// The name the `passes` table prints.
-    pub fn describe(self) -> &'static str {
-        match self {
-            SetRole::Frame => "frame",
-            SetRole::Own(set) => set.label(),
-            SetRole::Material => "material",
-        }
-    }
-}
-
 /// One measured pass of a technique whose own draws, sets and render passes are the kinds `K`.
 #[derive(Debug, Clone)]
 pub struct PlannedPass<K: PassKinds = Named> {
@@ -430,6 +419,7 @@ impl<K: PassKinds> PlannedPass<K> {
     }
 
     /// The pass's main pipeline (none for a pass of transfer commands).
+    #[cfg(test)]
     pub fn pipeline(&self) -> Option<&PipelineDesc> {
         self.pipelines.first()
     }
@@ -508,12 +498,14 @@ impl<K: PassKinds> PassPlan<K> {
     /// (pass name, pipeline labels) of every pass that runs in a frame where `holds(when)`:
     /// what the recorder must report having run.
     /// Material variants are left out: see [`PassPlan::expected_trace_with`].
+    #[cfg(test)]
     pub fn expected_trace(&self, holds: impl Fn(When) -> bool) -> Vec<(String, Vec<&'static str>)> {
         self.expected_trace_with(holds, |_| false)
     }
 
     /// As [`PassPlan::expected_trace`] for a scene whose objects need the material variants for
     /// which `needed` holds (in plan order: the recorder reports a pass's pipelines so).
+    #[cfg(test)]
     pub fn expected_trace_with(
         &self,
         holds: impl Fn(When) -> bool,

@@ -292,6 +292,7 @@ impl<'a> FrameRecorder<'a> {
 
     /// The GPU, for technique code that records commands the recorder has no helper for (not
     /// binds: the recorder keeps what is bound, and skips binding it again).
+    #[cfg(test)]
     pub fn device(&self) -> &ash::Device {
         self.gpu.raw()
     }

@@ -351,6 +351,7 @@ impl SceneRenderer<'_> {
     }
 
     /// The plan this renderer executes.
+    #[cfg(test)]
     pub(crate) fn plan(&self) -> &PassPlan {
         self.0.plan()
     }
@@ -362,6 +363,7 @@ pub(crate) trait TechniqueRenderer {
     /// See [`SceneRenderer::frame_with`]; `check_same_scene` refuses another scene.
     fn frame_with(&mut self, scene: &Scene) -> Result<TechniqueFrame>;
     fn renderer_mut(&mut self) -> &mut Renderer;
+    #[cfg(test)]
     fn plan(&self) -> &PassPlan;
     fn stale_for(&self, _scene: &Scene) -> bool {
         false
@@ -381,7 +383,8 @@ pub(crate) trait TechniqueRenderer {
 pub struct TechniqueFrame {
     pub output: FrameOutput,
     pub stats: Box<dyn FrameStats>,
-    /// Which conditional passes ran (see `render::plan::When`).
+    /// Which conditional passes ran (see `render::plan::When`), for the tests.
+    #[cfg(test)]
     pub(crate) conditions: Vec<When>,
     /// The renderer's warnings (`SceneRenderer::warnings`), for callers that keep only the
     /// frame.
@@ -395,6 +398,7 @@ impl TechniqueFrame {
     }
 
     /// Whether the passes conditioned on `when` ran in this frame.
+    #[cfg(test)]
     pub(crate) fn held(&self, when: When) -> bool {
         when.holds_in(&self.conditions)
     }

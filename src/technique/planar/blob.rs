@@ -235,7 +235,7 @@ impl TechniqueUnit for BlobShadows {
         Ok(plan())
     }
 
-    fn make(&self, ctx: BuildContext<'_, BlobKinds>, scene: &Scene, _setup: ()) -> Result<BlobPasses> {
+    fn make(&self, ctx: BuildContext<'_>, scene: &Scene, _setup: ()) -> Result<BlobPasses> {
         BlobPasses::new(&ctx, scene)
     }
 }
@@ -254,7 +254,7 @@ pub struct BlobPasses {
 }
 
 impl BlobPasses {
-    fn new(ctx: &BuildContext<BlobKinds>, scene: &Scene) -> Result<Self> {
+    fn new(ctx: &BuildContext, scene: &Scene) -> Result<Self> {
         let gpu = ctx.gpu;
         let plane = receiver_plane(scene, ctx.options.planar.plane.as_ref())?;
         if !plane.is_horizontal() {

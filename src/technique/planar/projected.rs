@@ -209,7 +209,7 @@ impl TechniqueUnit for Planar {
         Ok(plan(&options.planar, options.stencil, options.shadow_mode, lights))
     }
 
-    fn make(&self, ctx: BuildContext<'_, PlanarKinds>, scene: &Scene, _setup: ()) -> Result<PlanarPasses> {
+    fn make(&self, ctx: BuildContext<'_>, scene: &Scene, _setup: ()) -> Result<PlanarPasses> {
         PlanarPasses::new(&ctx, scene)
     }
 }
@@ -229,7 +229,7 @@ pub struct PlanarPasses {
 }
 
 impl PlanarPasses {
-    fn new(ctx: &BuildContext<PlanarKinds>, scene: &Scene) -> Result<Self> {
+    fn new(ctx: &BuildContext, scene: &Scene) -> Result<Self> {
         let plane = receiver_plane(scene, ctx.options.planar.plane.as_ref())?;
         let mode = ctx.options.shadow_mode;
         let mut warnings = Vec::new();

@@ -109,6 +109,7 @@ fn light_vec4(light: &Light) -> Vec4 {
 
 /// Projects world point `p` onto the plane y = `h` along `light` (docs/design/planar-shadows.md): the
 /// shadow matrix of [`Plane::horizontal`].
+#[cfg(test)]
 pub fn project_onto_plane(p: Vec3, light: &Light, h: f32) -> Vec3 {
     Plane::horizontal(h).project(p, light)
 }

@@ -36,7 +36,9 @@ use recipes::VolumeKinds;
 use renderer::{ShadowVolumePasses, VolumeSetup};
 
 pub use super::options::{Normalize, ShadowMode, ShadowVolumeOptions, VolumeExtrusion, VolumeMethod};
-pub use casters::{build_volume, prepare_casters};
+#[cfg(test)]
+pub use casters::build_volume;
+pub use casters::prepare_casters;
 pub use recipes::SATURATION_PROBE;
 pub use renderer::ShadowVolumeStats;
 
@@ -207,7 +209,7 @@ impl TechniqueUnit for ShadowVolumes {
 
     fn make(
         &self,
-        ctx: BuildContext<'_, VolumeKinds>,
+        ctx: BuildContext<'_>,
         scene: &Scene,
         setup: VolumeSetup,
     ) -> Result<ShadowVolumePasses> {

@@ -253,6 +253,7 @@ impl OccluderMap {
     }
 
     /// Texels whose rays some triangle blocks (a diagnostic, and the tests' view of coverage).
+    #[cfg(test)]
     pub fn blocked_texels(&self) -> usize {
         self.blocked_by.iter().filter(|d| d.is_finite()).count()
     }

@@ -222,10 +222,6 @@ fn counter_reader(one_sample: shaders::Shader, multisampled: shaders::Shader, sa
     }
 }
 
-pub fn apply_desc(normalize: Normalize) -> PipelineDesc {
-    subpass_aware_apply_desc(normalize, 1)
-}
-
 /// [`apply_desc`] for a frame of `samples` samples.
 pub fn subpass_aware_apply_desc(normalize: Normalize, samples: u32) -> PipelineDesc {
     match normalize {

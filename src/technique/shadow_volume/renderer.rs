@@ -76,7 +76,7 @@ pub fn setup(gpu: &Gpu, scene: &Scene, options: &RenderOptions) -> Result<Prepar
 }
 
 /// The technique's part of the renderer, planned with the resolved options.
-pub fn make(ctx: BuildContext<'_, VolumeKinds>, scene: &Scene, setup: VolumeSetup) -> Result<ShadowVolumePasses> {
+pub fn make(ctx: BuildContext<'_>, scene: &Scene, setup: VolumeSetup) -> Result<ShadowVolumePasses> {
     let VolumeSetup { casters, mut warnings, zfail, requested } = setup;
     // `setup` resolves the counting method only: the mode is the one asked for.
     let mode = ctx.options.shadow_mode;
