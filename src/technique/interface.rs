@@ -357,26 +357,19 @@ impl SceneRenderer<'_> {
     }
 }
 
-/// What every technique's renderer is inside a [`SceneRenderer`] (`frame_renderer.rs`'s
-/// `FrameRenderer`).
+/// What every technique's renderer is inside a [`SceneRenderer`]: the type-erased face of
+/// `frame_renderer.rs`'s `FrameRenderer`, its one implementation (so no method has a default:
+/// each says what that renderer does, and [`SceneRenderer`]'s documents it).
 pub(crate) trait TechniqueRenderer {
     /// See [`SceneRenderer::frame_with`]; `check_same_scene` refuses another scene.
     fn frame_with(&mut self, scene: &Scene) -> Result<TechniqueFrame>;
     fn renderer_mut(&mut self) -> &mut Renderer;
     #[cfg(test)]
     fn plan(&self) -> &PassPlan;
-    fn stale_for(&self, _scene: &Scene) -> bool {
-        false
-    }
-    fn frames_to_steady_state(&self) -> u32 {
-        1
-    }
-    fn warnings(&self) -> &[String] {
-        &[]
-    }
-    fn skinning(&self) -> Skinning {
-        Skinning::Cpu
-    }
+    fn stale_for(&self, scene: &Scene) -> bool;
+    fn frames_to_steady_state(&self) -> u32;
+    fn warnings(&self) -> &[String];
+    fn skinning(&self) -> Skinning;
 }
 
 /// A rendered frame and what the technique reports about it.
