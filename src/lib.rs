@@ -75,12 +75,12 @@ mod common;
 #[path = "../tests/inside/mod.rs"]
 mod inside;
 
-// Some items only the tests or one build of the program use; an import that even the tests
-// do not use is still a warning in the test build.
+// What only the tests use is `#[cfg(test)]` where it is defined; an import that only the
+// test build needs is allowed in the others, and one that even the tests do not use is still
+// a warning in the test build.
 macro_rules! crate_modules {
     ($($name:ident),* $(,)?) => {
         $(
-            #[allow(dead_code)]
             #[cfg_attr(not(test), allow(unused_imports))]
             mod $name;
         )*

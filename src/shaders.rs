@@ -13,13 +13,6 @@ include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
 #[serde(transparent)]
 pub struct Shader(&'static str);
 
-impl Shader {
-    /// Its file name in `shaders/`.
-    pub fn file(self) -> &'static str {
-        self.0
-    }
-}
-
 impl fmt::Display for Shader {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.0)

@@ -8,6 +8,7 @@
 
 mod common;
 
+mod api_docs;
 mod arm_best_practices;
 mod colour;
 mod examples;

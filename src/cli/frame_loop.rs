@@ -79,7 +79,7 @@ pub(super) fn bench_loop(frame: &FrameArgs, playing: Playing, json: bool) -> Res
     let gpu = open_gpu(&frame.gpu)?;
     let mut variants = Vec::new();
     let mut kept_in_flight = Vec::new();
-    for (name, options) in &listed {
+    for (_, options) in &listed {
         let renderer: SceneRenderer<'_> = options.technique.build(&gpu, &base, options)?;
         print_warnings(options.technique.name(), renderer.warnings());
         // Shared by the frame and the end of the turn.
@@ -93,7 +93,6 @@ pub(super) fn bench_loop(frame: &FrameArgs, playing: Playing, json: bool) -> Res
         let base = &base;
         let finishing = renderer.clone();
         variants.push(LoopVariant {
-            name: name.clone(),
             frame: Box::new(move |index| {
                 live.time = index as f32 * FRAME_SECONDS;
                 live.apply(base, &mut scene)?;

@@ -16,7 +16,6 @@ use crate::gpu::Gpu;
 pub struct FrameTargets {
     gpu: Arc<Gpu>,
     pub extent: vk::Extent2D,
-    pub stencil: StencilMode,
     pub desc: RenderPassDesc,
     /// The frame as it leaves the render pass (one sample): read back, or presented.
     pub output: OutputImages,
@@ -163,6 +162,7 @@ fn frame_images(
 impl FrameTargets {
     /// A one-sample frame at `width` x `height`. `colour_feedback`: the colour is also an input
     /// attachment of its own subpass.
+    #[cfg(test)]
     pub fn new(gpu: &Arc<Gpu>, width: u32, height: u32, stencil: StencilMode, colour_feedback: bool) -> Result<Self> {
         Self::with_samples(gpu, width, height, stencil, colour_feedback, 1, false)
     }
@@ -223,7 +223,6 @@ impl FrameTargets {
         let mut targets = FrameTargets {
             gpu: gpu.clone(),
             extent,
-            stencil,
             desc,
             output,
             multisampled,

@@ -44,7 +44,6 @@ pub struct DeviceInfo {
     pub name: String,
     pub device_type: vk::PhysicalDeviceType,
     pub api_version: u32,
-    pub driver_version: u32,
     pub limits: vk::PhysicalDeviceLimits,
     pub timestamp_valid_bits: u32,
     pub limit_checks: Vec<LimitCheck>,
@@ -80,10 +79,6 @@ fn matches_name(name: &str, wanted: &str) -> bool {
 }
 
 impl Device {
-    pub fn new(instance: &Instance, choice: &DeviceChoice) -> Result<Self> {
-        Self::with_extensions(instance, choice, &[])
-    }
-
     /// As `new`, with device extensions enabled (`VK_KHR_swapchain`, for the viewer only); a
     /// device that lacks one is refused with its name.
     pub fn with_extensions(instance: &Instance, choice: &DeviceChoice, extensions: &[&CStr]) -> Result<Self> {
@@ -160,7 +155,6 @@ impl Device {
                 name: candidate.name,
                 device_type: candidate.properties.device_type,
                 api_version: candidate.properties.api_version,
-                driver_version: candidate.properties.driver_version,
                 limits,
                 timestamp_valid_bits: family.timestamp_valid_bits,
                 limit_checks,

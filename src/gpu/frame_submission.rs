@@ -122,11 +122,6 @@ impl SubmitSlot {
         Ok(slot)
     }
 
-    /// Whether a submission of this slot may still be running.
-    pub fn is_pending(&self) -> bool {
-        self.pending.is_some()
-    }
-
     /// Records `record` into the slot's command buffer and submits it with `sync`, without
     /// waiting. The slot must not be pending (`wait` first). `work` names what the recording
     /// returned (its passes), for a failed submit now or a failed wait later.

@@ -249,12 +249,9 @@ pub struct Image {
     pub raw: vk::Image,
     pub view: vk::ImageView,
     pub format: vk::Format,
-    pub extent: vk::Extent2D,
     pub mip_levels: u32,
     /// Array layers (1 but for `new_layered`'s images).
     pub layers: u32,
-    /// True when the memory is LAZILY_ALLOCATED (never backed on a tile-based GPU).
-    pub lazily_allocated: bool,
     memory: Option<ImageMemory>,
 }
 
@@ -355,10 +352,8 @@ impl Image {
             raw,
             view: vk::ImageView::null(),
             format: desc.format,
-            extent: desc.extent,
             mip_levels: desc.mip_levels.max(1),
             layers,
-            lazily_allocated: matches!(memory, ImageMemory::Lazy(_)),
             memory: Some(memory),
         };
         // SAFETY: the memory was allocated for `raw`'s requirements and is bound once. On failure

@@ -11,7 +11,6 @@ pub const MAX_COLOR_ATTACHMENTS: u32 = 4;
 pub const MAX_IMAGE_SIDE: u32 = 4096;
 pub const MAX_UNIFORM_BUFFER_RANGE: u32 = 16384;
 pub const MAX_VERTEX_INPUT_ATTRIBUTES: u32 = 16;
-pub const MAX_SAMPLER_ANISOTROPY: f32 = 1.0;
 
 /// Features the profile forbids: mobile-class GPUs cannot be assumed to have them, so no
 /// technique may rely on them, and the device is created with all of them off.

@@ -167,11 +167,13 @@ impl EdgeAdjacency {
     }
 
     /// Every edge has exactly two faces.
+    #[cfg(test)]
     pub fn is_closed(&self) -> bool {
         self.non_manifold_edges.is_empty() && self.edges.iter().all(|e| !e.is_boundary())
     }
 
     /// Indices of the edges with a single face.
+    #[cfg(test)]
     pub fn boundary_edges(&self) -> Vec<u32> {
         (0..self.edges.len() as u32).filter(|&e| self.edges[e as usize].is_boundary()).collect()
     }
@@ -182,6 +184,7 @@ impl EdgeAdjacency {
     ///
     /// (Vertices where two sheets touch, as in a bow tie, are allowed: they do not open a
     /// volume built edge by edge.)
+    #[cfg(test)]
     pub fn require_closed_manifold(&self) -> Result<()> {
         let boundary = self.boundary_edges();
         let mut problems = Vec::new();

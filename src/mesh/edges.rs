@@ -15,7 +15,9 @@ use crate::error::{Error, Result};
 pub enum View {
     /// A perspective camera at this point.
     Perspective { eye: Vec3 },
-    /// An orthographic camera looking along this direction (need not be unit length).
+    /// An orthographic camera looking along this direction (need not be unit length): the
+    /// tests' view, where the silhouette is known by hand.
+    #[cfg(test)]
     Orthographic { direction: Vec3 },
 }
 
@@ -132,6 +134,7 @@ pub fn attribute_seams(mesh_name: &str, adjacency: &EdgeAdjacency, attributes: &
 /// `face_normals` are this frame's (see `adjacency::face_normals`). Boundary edges are never
 /// silhouettes or creases: they have one normal. On a face seen exactly edge-on `N.V = 0`, so
 /// the seed's test `(N1.V) * (N2.V) <= 0` marks all its edges as silhouettes.
+#[cfg(test)]
 pub fn classify(
     adjacency: &EdgeAdjacency,
     positions: &[Vec3],
@@ -150,6 +153,7 @@ pub fn classify(
 ///
 /// # Panics
 /// If `face_normals` or `positions` are shorter than the mesh.
+#[cfg(test)]
 pub fn classify_into(
     adjacency: &EdgeAdjacency,
     positions: &[Vec3],
@@ -232,6 +236,7 @@ pub fn classify_view_into(
         // does; the seed uses its first vertex.
         let to_edge = match view {
             View::Perspective { eye } => positions[edge.v[0] as usize] - eye,
+            #[cfg(test)]
             View::Orthographic { direction } => direction,
         };
         if n1.dot(to_edge) * n2.dot(to_edge) <= 0.0 {

@@ -13,8 +13,6 @@ pub mod caster;
 pub mod edges;
 pub(crate) mod fast_hash;
 pub mod geometry_image;
-pub mod occluder_map;
-pub mod shadow_mesh;
 pub mod ray;
 pub mod shadow_volume;
 pub mod shapes;

@@ -81,6 +81,7 @@ pub struct VolumeGeometry {
 ///
 /// # Panics
 /// If `positions` or `face_normals` are shorter than the mesh.
+#[cfg(test)]
 pub fn build_shadow_volume(
     adjacency: &EdgeAdjacency,
     positions: &[Vec3],
@@ -357,11 +358,13 @@ impl VolumeGeometry {
     }
 
     /// Number of triangles drawn with a stencil: the three lists and every repeated wall's copies.
+    #[cfg(test)]
     pub fn triangle_count(&self) -> usize {
         (self.sides.len() + self.near_cap.len() + self.far_cap.len() + self.repeated_copies().count()) / 3
     }
 
     /// The repeated walls as a stencil draws them: each list `m` times over.
+    #[cfg(test)]
     pub fn repeated_copies(&self) -> impl Iterator<Item = u32> + '_ {
         self.repeated_walls.iter().flat_map(|(m, list)| (0..*m).flat_map(move |_| list.iter().copied()))
     }
@@ -369,11 +372,13 @@ impl VolumeGeometry {
     /// Every directed edge of sides + caps is matched by its reverse (as a multiset), with
     /// vertices compared by where they are: finite points by position, points at infinity by
     /// direction. This is what makes z-fail counts return to zero outside the volume.
+    #[cfg(test)]
     pub fn is_closed(&self) -> bool {
         self.unmatched_edges() == 0
     }
 
     /// Directed edges of sides + caps without a reverse partner: 0 for a closed volume.
+    #[cfg(test)]
     pub fn unmatched_edges(&self) -> usize {
         // Identify vertices by the point they stand for, so that duplicates of one point (or
         // different scalings of one direction at infinity) count as one.
@@ -409,6 +414,7 @@ impl VolumeGeometry {
 
 /// Bits identifying the point a homogeneous vertex stands for: position for w != 0,
 /// unit direction for w = 0 (the last word tells them apart).
+#[cfg(test)]
 fn point_key(v: Vec4) -> [u32; 4] {
     let (point, finite) = if v.w == 0.0 { (v.truncate().normalize_or_zero(), 0) } else { (v.truncate() / v.w, 1) };
     // + 0.0 turns -0.0 into 0.0, so that they compare equal.

@@ -89,6 +89,7 @@ impl VertexLayout {
     /// Homogeneous position (vec4): w = 0 puts a vertex at infinity (shadow-volume extrusion).
     pub const POSITION4: VertexLayout = VertexLayout { attributes: &POSITION4_ATTRIBUTES };
     /// Clip-space position (vec4) given directly, for screen-space test geometry.
+    #[cfg(test)]
     pub const CLIP4: VertexLayout = VertexLayout { attributes: &[VertexAttribute::Vec4] };
     /// The shadow techniques' vertex: position, normal (vec3), atlas UV, UV0, UV1 (vec2) and
     /// COLOR_0 (vec4).

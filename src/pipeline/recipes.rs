@@ -66,6 +66,7 @@ pub const MODULATE_BY_DST_ALPHA: BlendState =
     colour_blend(vk::BlendOp::ADD, vk::BlendFactor::ZERO, vk::BlendFactor::DST_ALPHA);
 
 /// colour *= source alpha (the factor the shader outputs).
+#[cfg(test)]
 pub const MODULATE_BY_SRC_ALPHA: BlendState =
     colour_blend(vk::BlendOp::ADD, vk::BlendFactor::ZERO, vk::BlendFactor::SRC_ALPHA);
 
@@ -228,19 +229,132 @@ pub const OVER_KEEPING_ALPHA: BlendState = BlendState {
 mod tests {
     use super::*;
 
-    #[test]
-    fn masks_split_colour_from_the_counter() {
-        assert_eq!(RGB_ONLY | ALPHA_ONLY, vk::ColorComponentFlags::RGBA);
-        assert!((RGB_ONLY & ALPHA_ONLY).is_empty());
+    /// What a blend state leaves in the alpha channel, `src` the fragment's alpha and `dst`
+    /// the pixel's (UNORM: the result clamped to 0..=1), for the factors and ops these recipes
+    /// use.
+    fn blended_alpha(state: BlendState, src: f32, dst: f32) -> f32 {
+        if !state.write_mask.contains(vk::ColorComponentFlags::A) {
+            return dst;
+        }
+        let Some(equation) = state.alpha else { return src };
+        let factor = |f: vk::BlendFactor| match f {
+            vk::BlendFactor::ZERO => 0.0,
+            vk::BlendFactor::ONE => 1.0,
+            vk::BlendFactor::DST_ALPHA => dst,
+            vk::BlendFactor::ONE_MINUS_DST_ALPHA => 1.0 - dst,
+            other => panic!("{other:?} is not modelled"),
+        };
+        let (s, d) = (src * factor(equation.src), dst * factor(equation.dst));
+        let value = match equation.op {
+            vk::BlendOp::ADD => s + d,
+            vk::BlendOp::SUBTRACT => s - d,
+            vk::BlendOp::REVERSE_SUBTRACT => d - s,
+            // MIN and MAX take no factors.
+            vk::BlendOp::MAX => src.max(dst),
+            other => panic!("{other:?} is not modelled"),
+        };
+        value.clamp(0.0, 1.0)
+    }
+
+    fn close(a: f32, b: f32) -> bool {
+        (a - b).abs() < 1e-6
     }
 
     #[test]
-    fn volume_counting_is_mirrored_between_methods() {
-        let zpass = stencil_volume_count(false);
-        let zfail = stencil_volume_count(true);
-        assert_eq!(zpass.front.pass, vk::StencilOp::INCREMENT_AND_WRAP);
-        assert_eq!(zpass.back.pass, vk::StencilOp::DECREMENT_AND_WRAP);
-        assert_eq!(zfail.back.depth_fail, vk::StencilOp::INCREMENT_AND_WRAP);
-        assert_eq!(zfail.front.depth_fail, vk::StencilOp::DECREMENT_AND_WRAP);
+    fn the_counter_steps_and_the_normalisation_compute_their_documented_values() {
+        let k = 4.0 / 255.0;
+        // Two walls in, one out; a wall out of an empty pixel clamps at 0.
+        let up = |a| blended_alpha(COUNTER_INCREMENT, k, a);
+        let down = |a| blended_alpha(COUNTER_DECREMENT, k, a);
+        assert!(close(down(up(up(0.0))), k));
+        assert_eq!(down(0.0), 0.0);
+        // Counting down from 1 (the additive loop): a wall in takes k off, one out gives it
+        // back, clamped at 1.
+        assert!(close(blended_alpha(COUNTER_DOWN_ENTER, k, 1.0), 1.0 - k));
+        assert_eq!(blended_alpha(COUNTER_DOWN_LEAVE, k, 1.0), 1.0);
+        // N0: 1 - 2a (the shader writes 1).
+        assert!(close(blended_alpha(NORMALISE_N0, 1.0, 0.2), 0.6));
+        assert_eq!(blended_alpha(NORMALISE_N0, 1.0, 0.0), 1.0);
+        // An iteration: a deficit d = 0.1 grows to 3d - d*d = 0.29; 1 stays 1.
+        assert!(close(blended_alpha(NORMALISE_ITERATION, 1.0, 0.9), 0.71));
+        assert_eq!(blended_alpha(NORMALISE_ITERATION, 1.0, 1.0), 1.0);
+        // The darkness D = 0.4, in two halves or at once: a shadow's 0 becomes D, 1 stays 1.
+        for (a, darkened) in [(0.0, 0.4), (1.0, 1.0)] {
+            let halves = blended_alpha(DARKNESS_ADD, 0.4, blended_alpha(DARKNESS_SUBTRACT, 0.4, a));
+            assert!(close(halves, darkened), "{a}: {halves}");
+            assert!(close(blended_alpha(DARKNESS_MAX, 0.4, a), darkened));
+        }
+    }
+
+    #[test]
+    fn the_counter_recipes_write_alpha_alone_and_the_colour_ones_leave_it() {
+        let counter = [
+            COUNTER_INCREMENT,
+            COUNTER_DECREMENT,
+            NORMALISE_N0,
+            NORMALISE_ITERATION,
+            DARKNESS_SUBTRACT,
+            DARKNESS_ADD,
+            DARKNESS_MAX,
+            COUNTER_DOWN_ENTER,
+            COUNTER_DOWN_LEAVE,
+            MASK_SHADOWED,
+        ];
+        for (i, state) in counter.iter().enumerate() {
+            assert_eq!(state.write_mask, vk::ColorComponentFlags::A, "counter recipe {i}");
+        }
+        let colour = [COLOUR_REPLACE, MODULATE_BY_DST_ALPHA, MODULATE_BY_SRC_ALPHA, ADD_LIGHT, MODULATE_BY_SRC_COLOUR];
+        for (i, state) in colour.iter().enumerate() {
+            assert_eq!(blended_alpha(*state, 0.25, 0.75), 0.75, "colour recipe {i} changed alpha");
+            assert!(state.write_mask.contains(RGB_ONLY), "colour recipe {i}");
+        }
+    }
+
+    /// The stencil value left by a ray's volume walls, each at a depth and a front or back
+    /// face, over a receiver at depth `receiver` (a wall behind it fails the depth test),
+    /// counted from [`STENCIL_COUNT_ZERO`] by `state`.
+    fn stencil_after(state: StencilState, walls: &[(f32, bool)], receiver: f32) -> u32 {
+        walls.iter().fold(STENCIL_COUNT_ZERO, |value, &(depth, front)| {
+            let face = if front { state.front } else { state.back };
+            match if depth < receiver { face.pass } else { face.depth_fail } {
+                vk::StencilOp::KEEP => value,
+                vk::StencilOp::INCREMENT_AND_WRAP => (value + 1) & 0xff,
+                vk::StencilOp::DECREMENT_AND_WRAP => value.wrapping_sub(1) & 0xff,
+                other => panic!("{other:?} is not modelled"),
+            }
+        })
+    }
+
+    /// Whether `face`'s compare test passes on `value` (reference and value masked).
+    fn passes(face: StencilFace, value: u32) -> bool {
+        let (reference, value) = (face.reference & face.compare_mask, value & face.compare_mask);
+        match face.compare {
+            vk::CompareOp::ALWAYS => true,
+            vk::CompareOp::LESS => reference < value,
+            vk::CompareOp::GREATER_OR_EQUAL => reference >= value,
+            vk::CompareOp::EQUAL => reference == value,
+            other => panic!("{other:?} is not modelled"),
+        }
+    }
+
+    #[test]
+    fn both_methods_count_the_volumes_a_receiver_is_inside_and_the_tests_read_the_count() {
+        // One volume from depth 0.4 (its front wall) to 0.6 (its back wall), and a second
+        // around it from 0.2 to 0.8.
+        let one = [(0.4, true), (0.6, false)];
+        let two = [(0.2, true), (0.4, true), (0.6, false), (0.8, false)];
+        for zfail in [false, true] {
+            let state = stencil_volume_count(zfail);
+            let count = |walls: &[(f32, bool)], receiver| stencil_after(state, walls, receiver) as i32 - 0x80;
+            assert_eq!([count(&one, 0.3), count(&one, 0.5), count(&one, 0.7)], [0, 1, 0], "z-fail {zfail}");
+            assert_eq!([count(&two, 0.3), count(&two, 0.5), count(&two, 0.9)], [1, 2, 0], "z-fail {zfail}");
+        }
+        // The apply test passes on a positive count only; the shading test on the others (a
+        // negative count is lit).
+        for count in -3i32..=3 {
+            let value = (0x80 + count) as u32;
+            assert_eq!(passes(STENCIL_COUNT_POSITIVE.front, value), count > 0, "{count}");
+            assert_eq!(passes(STENCIL_COUNT_NOT_POSITIVE.front, value), count <= 0, "{count}");
+        }
     }
 }

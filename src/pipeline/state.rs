@@ -45,7 +45,6 @@ pub struct DepthState {
 
 impl DepthState {
     pub const WRITE_LESS: DepthState = DepthState { compare: Some(vk::CompareOp::LESS), write: true };
-    pub const TEST_LESS: DepthState = DepthState { compare: Some(vk::CompareOp::LESS), write: false };
     pub const OFF: DepthState = DepthState { compare: None, write: false };
 }
 

@@ -330,6 +330,7 @@ mod tests {
         let pass = |name: &str, samples| PassCounters {
             name: name.into(),
             own_draw: None,
+            light: None,
             draws: 2,
             commands: 0,
             vertex_invocations: Some(6),

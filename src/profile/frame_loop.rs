@@ -18,7 +18,6 @@ use crate::render::Skinning;
 
 /// One technique's loop: `frame(i)` renders its frame `i`.
 pub struct LoopVariant<'a> {
-    pub name: String,
     /// Renders frame N (submitted; with frames in flight it need not have finished).
     pub frame: Box<dyn FnMut(u32) -> Result<()> + 'a>,
     /// Waits for its frames in flight: the end of its turn.

@@ -29,9 +29,6 @@ pub fn compares(technique: Technique) -> bool {
     table1::covers(technique)
 }
 
-/// Light steps when the caller does not say.
-pub const DEFAULT_STEPS: u32 = 12;
-
 /// One technique's flicker over the turning light.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct FlickerRow {

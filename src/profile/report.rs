@@ -20,17 +20,6 @@ pub enum ReportFormat {
     Csv,
 }
 
-impl ReportFormat {
-    pub fn parse(text: &str) -> crate::error::Result<Self> {
-        match text {
-            "table" => Ok(ReportFormat::Table),
-            "json" => Ok(ReportFormat::Json),
-            "csv" => Ok(ReportFormat::Csv),
-            _ => Err(crate::error::Error::InvalidInput(format!("unknown format '{text}'; use table, json or csv"))),
-        }
-    }
-}
-
 #[derive(Debug, Clone, Serialize)]
 pub struct PassRow {
     pub name: String,

@@ -25,6 +25,10 @@ pub struct PassCounters {
     /// the passes the recorder draws: objects, full screen). Found by [`FrameCounters::drawing`].
     #[serde(skip)]
     pub own_draw: Option<&'static str>,
+    /// The light (index into the scene's lights) the pass was planned for, in a per-light loop
+    /// (`PlannedPass::light`): with `own_draw`, how a technique finds its passes for one light.
+    #[serde(skip)]
+    pub light: Option<u8>,
     pub draws: u32,
     /// State and draw commands the pass recorded: binds, pushes, scissors and viewports, draws
     /// and clears (`Activity::commands`). Exact, and on lavapipe most of the CPU a pass costs
@@ -51,7 +55,7 @@ pub struct PassCounters {
 impl PassCounters {
     pub(crate) fn from_queries(
         name: String,
-        own_draw: Option<&'static str>,
+        (own_draw, light): (Option<&'static str>, Option<u8>),
         (draws, commands): (u32, u32),
         render_pass_instances: Vec<u32>,
         raw: &RawPassQueries,
@@ -60,6 +64,7 @@ impl PassCounters {
         PassCounters {
             name,
             own_draw,
+            light,
             draws,
             commands,
             vertex_invocations: raw.vertex_invocations,
@@ -225,6 +230,7 @@ mod tests {
         PassCounters {
             name: name.into(),
             own_draw: None,
+            light: None,
             draws: 1,
             commands: 0,
             vertex_invocations: None,
@@ -279,6 +285,7 @@ mod tests {
         PassCounters {
             name: name.into(),
             own_draw: None,
+            light: None,
             draws: 1,
             commands: 0,
             vertex_invocations: None,

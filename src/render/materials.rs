@@ -117,9 +117,6 @@ pub struct GpuMaterials {
     _textures: Vec<Texture>,
     /// 1x1 white, for "no texture" (the sets point at it).
     _white: Texture,
-    /// What could not be honoured as asked (a format without linear blits gets no mips); also
-    /// printed to stderr when uploaded.
-    pub warnings: Vec<String>,
 }
 
 impl GpuMaterials {
@@ -178,7 +175,7 @@ impl GpuMaterials {
         for warning in &warnings {
             eprintln!("nostencil: warning: {warning}");
         }
-        Ok(GpuMaterials { materials, template, _textures: textures, _white: white, warnings })
+        Ok(GpuMaterials { materials, template, _textures: textures, _white: white })
     }
 
     /// The layout of every material's set.

@@ -1,9 +1,10 @@
 //! Rendering plumbing shared by every technique: uniforms, meshes on the GPU, pipelines built
 //! from their descriptions, the frame recorder that measures passes, the per-pass counters it
-//! returns, the offscreen renderer, the per-sample read-back of a kept multisampled frame, presenting a frame through a swapchain,
+//! returns and the bookkeeping they come from, the overdraw pipelines of a heat-map frame, the offscreen renderer, the per-sample read-back of a kept multisampled frame, presenting a frame through a swapchain,
 //! and the jobs that run a frame's CPU work on other cores.
 
 pub mod counters;
+pub mod frame_record;
 pub mod frame_copy;
 pub mod frame_stats;
 pub mod gpu_mesh;
@@ -11,6 +12,7 @@ pub mod instances;
 pub mod jobs;
 pub mod materials;
 pub mod object_push;
+pub mod overdraw;
 pub mod passes;
 pub mod per_slot;
 pub mod pipeline_object;
@@ -19,6 +21,8 @@ pub mod plan_execution;
 pub mod present;
 pub mod recorder;
 pub mod renderer;
+// Only the tests read a kept multisampled frame back sample by sample.
+#[cfg(test)]
 pub mod sample_readback;
 pub mod uniforms;
 
@@ -27,7 +31,10 @@ pub use gpu_mesh::{scene_vertices, skinned_vertices, GpuMesh, GpuScene, SceneVer
 pub use materials::GpuMaterials;
 pub use object_push::{object_push, LightPush, ObjectPush, LIGHT_PUSH_BYTES, OBJECT_PUSH_BYTES};
 pub use pipeline_object::{Pipeline, PipelineTarget};
-pub use recorder::{BoundDraw, FrameRecorder};
+#[cfg(test)]
+pub use recorder::BoundDraw;
+pub use recorder::{FrameRecorder, IndexedDraw};
 pub use renderer::{FrameOutput, PresentedFrame, Renderer};
+#[cfg(test)]
 pub use sample_readback::FrameSamples;
 pub use uniforms::FrameUniforms;

@@ -88,6 +88,7 @@ fn blend_attachment(fixed: &FixedFunction) -> vk::PipelineColorBlendAttachmentSt
 }
 
 impl Pipeline {
+    #[cfg(test)]
     pub fn new(
         gpu: &Arc<Gpu>,
         desc: &PipelineDesc,

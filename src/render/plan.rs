@@ -159,20 +159,34 @@ impl<T: Label> Target<T> {
     }
 }
 
-/// When a pass runs: most always do; some only when their input changed.
+/// When a pass runs: most always do; some only in frames where a condition of their
+/// technique's own holds (cached passes whose input did not change, a shadow the light cannot
+/// cast), which the technique names and decides frame by frame (`Passes::conditions`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum When {
     Always,
-    /// Only in frames where the light or a caster moved (cached shadow maps and bakes).
-    LightOrCastersMoved,
-    /// Only where the light reaches the receiver plane from above.
-    LightAbovePlane,
-    /// Only where light `n` of the frame casts shadows and reaches the receiver plane from
-    /// above (the additive planar loop's per-light shadow).
-    LightReachesPlane(u8),
-    /// Only in frames that re-bake a rasterised model's shadow texture (the atlas page's
-    /// raster bake; geometry images are baked by their texels).
-    RasterisedTilesStale,
+    If(Condition),
+}
+
+/// A condition a technique's passes run under, named by the technique: equal names are the
+/// same condition.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Condition {
+    /// What it is, as the `passes` table says it ("when the light is above the plane").
+    pub describe: &'static str,
+    /// The light it is about, in a per-light loop (one condition per light).
+    pub light: Option<u8>,
+}
+
+impl Condition {
+    pub const fn named(describe: &'static str) -> Self {
+        Condition { describe, light: None }
+    }
+
+    /// The condition for light `light` (an index into the scene's lights).
+    pub const fn for_light(self, light: u8) -> Self {
+        Condition { light: Some(light), ..self }
+    }
 }
 
 impl When {
@@ -184,10 +198,7 @@ impl When {
     pub fn describe(&self) -> &'static str {
         match self {
             When::Always => "every frame",
-            When::LightOrCastersMoved => "when the light or a caster moved",
-            When::LightAbovePlane => "when the light is above the plane",
-            When::LightReachesPlane(_) => "when this light is above the plane",
-            When::RasterisedTilesStale => "when a rasterised model's shadow texture is re-baked",
+            When::If(condition) => condition.describe,
         }
     }
 }
@@ -202,17 +213,6 @@ pub enum SetRole<S> {
     /// The drawn object's material (`render::materials`), always at set `MATERIAL_SET`, bound
     /// per object.
     Material,
-}
-
-impl<S: Label> SetRole<S> {
-    /// The name the `passes` table prints.
-    pub fn describe(self) -> &'static str {
-        match self {
-            SetRole::Frame => "frame",
-            SetRole::Own(set) => set.label(),
-            SetRole::Material => "material",
-        }
-    }
 }
 
 /// One measured pass of a technique whose own draws, sets and render passes are the kinds `K`.
@@ -419,6 +419,7 @@ impl<K: PassKinds> PlannedPass<K> {
     }
 
     /// The pass's main pipeline (none for a pass of transfer commands).
+    #[cfg(test)]
     pub fn pipeline(&self) -> Option<&PipelineDesc> {
         self.pipelines.first()
     }
@@ -497,12 +498,14 @@ impl<K: PassKinds> PassPlan<K> {
     /// (pass name, pipeline labels) of every pass that runs in a frame where `holds(when)`:
     /// what the recorder must report having run.
     /// Material variants are left out: see [`PassPlan::expected_trace_with`].
+    #[cfg(test)]
     pub fn expected_trace(&self, holds: impl Fn(When) -> bool) -> Vec<(String, Vec<&'static str>)> {
         self.expected_trace_with(holds, |_| false)
     }
 
     /// As [`PassPlan::expected_trace`] for a scene whose objects need the material variants for
     /// which `needed` holds (in plan order: the recorder reports a pass's pipelines so).
+    #[cfg(test)]
     pub fn expected_trace_with(
         &self,
         holds: impl Fn(When) -> bool,

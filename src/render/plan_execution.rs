@@ -142,11 +142,11 @@ pub fn record_plan<K: PassKinds>(
                         rec.push(main, value);
                     }
                     match scissor {
-                        Scissor::Frame => rec.draw_fullscreen(),
+                        Scissor::Frame => rec.draw(3, 1, 0, 0),
                         Scissor::Rects(rects) => {
                             for rect in drawn_rects(&rects, rec.frame_samples()) {
                                 rec.set_scissor(rect);
-                                rec.draw_fullscreen();
+                                rec.draw(3, 1, 0, 0);
                             }
                         }
                     }
@@ -170,10 +170,11 @@ pub fn record_plan<K: PassKinds>(
         });
         // The pipelines bound, in the plan's order (an unplanned one last): material variants
         // are bound in object order, which is the scene's business, not the plan's.
-        if let Some(record) = rec.passes.last_mut() {
+        if let Some(record) = rec.record.passes.last_mut() {
             if let Draws::Own { draw, .. } = &pass.draws {
                 record.own_draw = Some(draw.describe());
             }
+            record.light = pass.light;
             let rank = |name: &&'static str| pass.pipelines.iter().position(|d| d.name == *name).unwrap_or(usize::MAX);
             record.pipelines.sort_by_key(rank);
         }

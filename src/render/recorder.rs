@@ -1,14 +1,16 @@
 //! Records one frame's passes. Every logical pass is bracketed by queries, so profiling is a
-//! by-product of structure: a technique names its passes and gets their counters back.
+//! by-product of structure: a technique names its passes and gets their counters back. The
+//! calls here record commands; what they did is noted in a `FrameRecord` (`frame_record`).
 
 use ash::vk;
 use bytemuck::Pod;
 
+use super::frame_record::FrameRecord;
 use super::gpu_mesh::GpuMesh;
-use super::instances::RenderPassInstance;
+use super::overdraw::OverdrawPipelines;
 use crate::error::{Error, Result};
 use crate::frame::offscreen::RenderPass;
-use crate::frame::render_pass::{AttachmentDesc, RenderPassTraffic};
+use crate::frame::render_pass::AttachmentDesc;
 use crate::gpu::barriers;
 use crate::gpu::memory::Buffer;
 use crate::gpu::queries::PassQueryPools;
@@ -16,56 +18,29 @@ use crate::gpu::regions;
 use crate::gpu::Gpu;
 use crate::render::pipeline_object::Pipeline;
 
-pub(crate) struct PassRecord {
-    pub name: String,
-    /// What the technique drew in it itself (`DrawKind::describe` of its own draw kind), for
-    /// [`FrameCounters::drawing`](super::counters::FrameCounters::drawing).
-    pub own_draw: Option<&'static str>,
-    pub draws: u32,
-    /// State and draw commands it recorded (binds, pushes, scissors, draws, clears).
-    pub commands: u32,
-    /// Labels of the pipelines bound in the pass, in first-bound order (the plan test compares
-    /// them with the plan).
-    pub pipelines: Vec<&'static str>,
-    /// The render pass instances its draws went into (`FrameRecorder::instances`).
-    pub instances: Vec<u32>,
+/// One `vkCmdDrawIndexed` of the buffers bound last ([`FrameRecorder::draw_indexed`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct IndexedDraw {
+    pub index_count: u32,
+    pub instance_count: u32,
+    pub first_index: u32,
+    /// Added to every index: where the draw's vertices start in the vertex buffer.
+    pub vertex_offset: i32,
+    /// The first instance's `gl_InstanceIndex` (a value the vertex shader reads, with no push
+    /// between draws).
+    pub first_instance: u32,
 }
 
-/// Overdraw counters standing in for the technique's pipelines in a heat-map frame, built on
-/// first use, keyed by the pipeline they replace; the renderer empties it before each frame.
-#[derive(Default)]
-pub struct OverdrawPipelines {
-    pub(crate) frame_render_pass: vk::RenderPass,
-    twins: std::cell::RefCell<std::collections::HashMap<vk::Pipeline, Pipeline>>,
-}
-
-impl OverdrawPipelines {
-    pub(crate) fn new(frame_render_pass: vk::RenderPass) -> Self {
-        OverdrawPipelines { frame_render_pass, twins: Default::default() }
-    }
-
-    pub(crate) fn clear(&self) {
-        self.twins.borrow_mut().clear();
-    }
-
-    /// The counter for `pipeline` (its raw handle), or the pipeline itself when it draws into a
-    /// target other than the frame (shadow maps are not part of the frame's overdraw).
-    fn substitute(&self, pipeline: &Pipeline) -> Result<vk::Pipeline> {
-        if pipeline.render_pass != self.frame_render_pass {
-            return Ok(pipeline.raw);
-        }
-        let mut twins = self.twins.borrow_mut();
-        if let Some(twin) = twins.get(&pipeline.raw) {
-            return Ok(twin.raw);
-        }
-        let twin = pipeline.overdraw_counter()?;
-        let raw = twin.raw;
-        twins.insert(pipeline.raw, twin);
-        Ok(raw)
+impl IndexedDraw {
+    /// One instance of indices `first_index..first_index + index_count`, from vertex 0.
+    pub fn range(first_index: u32, index_count: u32) -> Self {
+        IndexedDraw { index_count, instance_count: 1, first_index, vertex_offset: 0, first_instance: 0 }
     }
 }
 
-/// One indexed draw of the buffers bound last ([`FrameRecorder::draw_bound`]).
+/// One instance of indices of the buffers bound last: the tests' older shape of
+/// [`IndexedDraw`] ([`FrameRecorder::draw_bound`]), kept for the tests that still use it.
+#[cfg(test)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct BoundDraw {
     pub first_index: u32,
@@ -91,14 +66,8 @@ pub struct FrameRecorder<'a> {
     pub(crate) deferred_error: Option<Error>,
     pub cmd: vk::CommandBuffer,
     queries: &'a PassQueryPools,
-    pub(crate) passes: Vec<PassRecord>,
-    /// What each render pass begun moves to and from main memory on a tile-based GPU.
-    pub(crate) render_passes: Vec<RenderPassTraffic>,
-    /// Every render pass instance begun, in order, with the measured passes drawn into it.
-    pub(crate) instances: Vec<RenderPassInstance>,
-    /// The render pass instance open now, if any.
-    open_instance: Option<u32>,
-    open: bool,
+    /// The passes, render passes and commands recorded so far.
+    pub(crate) record: FrameRecord,
     pub extent: vk::Extent2D,
     frame_set: vk::DescriptorSet,
     /// The frame's colour target (read back as an input attachment by feedback passes).
@@ -118,8 +87,6 @@ pub struct FrameRecorder<'a> {
     /// driver validates each. Every bind into `cmd` goes through this recorder.
     bound_vertices: Option<vk::Buffer>,
     bound_indices: Option<vk::Buffer>,
-    /// State and draw commands recorded so far (`Activity::commands`).
-    pub(crate) commands: u64,
 }
 
 impl<'a> FrameRecorder<'a> {
@@ -138,11 +105,7 @@ impl<'a> FrameRecorder<'a> {
             deferred_error: None,
             cmd,
             queries,
-            passes: Vec::new(),
-            render_passes: Vec::new(),
-            instances: Vec::new(),
-            open_instance: None,
-            open: false,
+            record: FrameRecord::default(),
             extent,
             frame_set,
             colour_image,
@@ -152,7 +115,6 @@ impl<'a> FrameRecorder<'a> {
             slot: 0,
             bound_vertices: None,
             bound_indices: None,
-            commands: 0,
         }
     }
 
@@ -178,15 +140,6 @@ impl<'a> FrameRecorder<'a> {
         self.frame_set
     }
 
-    /// Notes that the open pass bound `pipeline`.
-    fn trace_bind(&mut self, pipeline: &Pipeline) {
-        if let Some(pass) = self.passes.last_mut().filter(|_| self.open) {
-            if !pass.pipelines.contains(&pipeline.desc.name) {
-                pass.pipelines.push(pipeline.desc.name);
-            }
-        }
-    }
-
     pub(crate) fn count_overdraw(&mut self, pipelines: &'a OverdrawPipelines) {
         self.overdraw = Some(pipelines);
     }
@@ -204,30 +157,17 @@ impl<'a> FrameRecorder<'a> {
 
     /// Records `body` as one measured pass called `name`.
     pub fn pass(&mut self, name: &str, body: impl FnOnce(&mut Self) -> Result<()>) -> Result<()> {
-        if self.open {
+        if self.record.pass_open() {
             return Err(Error::Internal(format!("pass '{name}' begun inside another pass")));
         }
-        let index = self.passes.len() as u32;
+        let index = self.record.passes.len() as u32;
         if index >= self.queries.capacity() {
             return Err(Error::Internal(format!(
                 "pass '{name}': a frame holds at most {} measured passes",
                 self.queries.capacity()
             )));
         }
-        // A pass recorded inside an open render pass draws into it (the frame's render pass).
-        let instances: Vec<u32> = self.open_instance.into_iter().collect();
-        if let Some(instance) = self.open_instance.and_then(|i| self.instances.get_mut(i as usize)) {
-            instance.passes.push(name.to_owned());
-        }
-        self.passes.push(PassRecord {
-            name: name.to_owned(),
-            own_draw: None,
-            draws: 0,
-            commands: 0,
-            pipelines: Vec::new(),
-            instances,
-        });
-        self.open = true;
+        self.record.begin_pass(name);
         // The label brackets the pass's queries, so a tool reading labels sees the same extent
         // the counters measure.
         self.gpu.begin_label(self.cmd, name);
@@ -238,7 +178,7 @@ impl<'a> FrameRecorder<'a> {
         }
         self.queries.end(self.cmd, index);
         self.gpu.end_label(self.cmd);
-        self.open = false;
+        self.record.end_pass();
         result
     }
 
@@ -250,7 +190,7 @@ impl<'a> FrameRecorder<'a> {
     }
 
     fn record_scissor(&mut self, rect: vk::Rect2D) {
-        self.count_commands(1);
+        self.record.count_commands(1);
         // SAFETY: see the note on `FrameRecorder`; every pipeline has a dynamic scissor.
         unsafe { self.gpu.raw().cmd_set_scissor(self.cmd, 0, &[rect]) };
     }
@@ -281,7 +221,7 @@ impl<'a> FrameRecorder<'a> {
         area: vk::Rect2D,
         clear_values: &[vk::ClearValue],
     ) {
-        if !self.open {
+        if !self.record.pass_open() {
             self.deferred_error.get_or_insert(Error::Internal(
                 "an offscreen render pass was begun outside a measured pass (its traffic and counters \
                  would belong to no pass)"
@@ -316,43 +256,8 @@ impl<'a> FrameRecorder<'a> {
         area: vk::Rect2D,
         clear_values: &[vk::ClearValue],
     ) {
-        let extent = area.extent;
-        let pass = match (self.open, self.passes.last()) {
-            (true, Some(p)) => p.name.clone(),
-            _ => "frame".to_owned(),
-        };
-        let traffic = RenderPassTraffic {
-            pass,
-            width: extent.width,
-            height: extent.height,
-            count: 1,
-            attachments: attachments.iter().map(|a| a.tile_traffic(extent.width, extent.height)).collect(),
-        };
-        let same = |t: &&mut RenderPassTraffic| {
-            (&t.pass, t.width, t.height, &t.attachments)
-                == (&traffic.pass, traffic.width, traffic.height, &traffic.attachments)
-        };
-        let index = self.instances.len() as u32;
-        let mut instance = RenderPassInstance {
-            index,
-            width: extent.width,
-            height: extent.height,
-            samples: attachments.iter().map(|a| a.samples).max().unwrap_or(1),
-            attachments: traffic.attachments.clone(),
-            passes: Vec::new(),
-        };
-        // A render pass begun inside a measured pass (a prepass) holds that pass's draws.
-        if let Some(pass) = self.passes.last_mut().filter(|_| self.open) {
-            pass.instances.push(index);
-            instance.passes.push(pass.name.clone());
-        }
-        self.instances.push(instance);
-        self.open_instance = Some(index);
-        match self.render_passes.iter_mut().find(same) {
-            Some(alike) => alike.count += 1,
-            None => self.render_passes.push(traffic),
-        }
-        if !self.open {
+        self.record.begin_render_pass(attachments, (area.extent.width, area.extent.height));
+        if !self.record.pass_open() {
             // The frame's render pass: its measured passes label themselves inside it.
             self.gpu.begin_label(self.cmd, "frame");
             self.frame_label_open = true;
@@ -373,11 +278,11 @@ impl<'a> FrameRecorder<'a> {
             device.cmd_set_viewport(self.cmd, 0, &[viewport]);
             device.cmd_set_scissor(self.cmd, 0, &[area]);
         }
-        self.count_commands(2);
+        self.record.count_commands(2);
     }
 
     pub fn end_render_pass(&mut self) {
-        self.open_instance = None;
+        self.record.end_render_pass();
         // SAFETY: see the note on `FrameRecorder`.
         unsafe { self.gpu.raw().cmd_end_render_pass(self.cmd) };
         if std::mem::take(&mut self.frame_label_open) {
@@ -387,29 +292,14 @@ impl<'a> FrameRecorder<'a> {
 
     /// The GPU, for technique code that records commands the recorder has no helper for (not
     /// binds: the recorder keeps what is bound, and skips binding it again).
+    #[cfg(test)]
     pub fn device(&self) -> &ash::Device {
         self.gpu.raw()
     }
 
-    /// Counts a draw recorded: in the open pass's draws, and as a command.
-    fn count_draw(&mut self) {
-        self.count_commands(1);
-        if let Some(pass) = self.passes.last_mut() {
-            pass.draws += 1;
-        }
-    }
-
-    /// Counts `count` state and draw commands recorded: the frame's, and the open pass's.
-    fn count_commands(&mut self, count: u64) {
-        self.commands += count;
-        if let Some(pass) = self.passes.last_mut().filter(|_| self.open) {
-            pass.commands += count as u32;
-        }
-    }
-
     /// Binds a pipeline, and the frame's uniforms when its layout has a set for them.
     pub fn bind(&mut self, pipeline: &Pipeline) {
-        self.trace_bind(pipeline);
+        self.record.bound(pipeline.desc.name);
         let raw = self.pipeline_to_bind(pipeline);
         let device = self.gpu.raw();
         // SAFETY: see the note on `FrameRecorder`; `raw` is the pipeline or its overdraw twin,
@@ -427,12 +317,12 @@ impl<'a> FrameRecorder<'a> {
                 );
             }
         }
-        self.count_commands(1 + u64::from(pipeline.set_count > 0));
+        self.record.count_commands(1 + u64::from(pipeline.set_count > 0));
     }
 
     /// Binds a pipeline with descriptor sets of the technique's own (not the frame uniforms).
     pub fn bind_with_sets(&mut self, pipeline: &Pipeline, sets: &[vk::DescriptorSet]) {
-        self.trace_bind(pipeline);
+        self.record.bound(pipeline.desc.name);
         let raw = self.pipeline_to_bind(pipeline);
         let device = self.gpu.raw();
         // SAFETY: see the note on `FrameRecorder`; `raw` is the pipeline or its overdraw twin,
@@ -450,12 +340,12 @@ impl<'a> FrameRecorder<'a> {
                 );
             }
         }
-        self.count_commands(1 + u64::from(!sets.is_empty()));
+        self.record.count_commands(1 + u64::from(!sets.is_empty()));
     }
 
     /// Binds descriptor sets from `first` on, for the pipeline bound last (`pipeline`'s layout).
     pub fn bind_sets(&mut self, pipeline: &Pipeline, first: u32, sets: &[vk::DescriptorSet]) {
-        self.count_commands(1);
+        self.record.count_commands(1);
         // SAFETY: see the note on `FrameRecorder`; the caller's sets were made for `pipeline`'s
         // layout, which the pipeline bound last shares.
         unsafe {
@@ -493,7 +383,7 @@ impl<'a> FrameRecorder<'a> {
         // pass (callers clear the stencil only on the reference path, whose target has a stencil
         // aspect), and `rect` is the frame's extent, one layer.
         unsafe { self.gpu.raw().cmd_clear_attachments(self.cmd, &[attachment], &[rect]) };
-        self.count_commands(1);
+        self.record.count_commands(1);
     }
 
     /// Sets the stencil to `value` inside `rect` (the frame's render pass, reference paths): the
@@ -511,7 +401,7 @@ impl<'a> FrameRecorder<'a> {
         // SAFETY: see the note on `FrameRecorder`; as `clear_stencil`, with `rect` inside the
         // frame (callers clamp it) and not empty (checked above).
         unsafe { self.gpu.raw().cmd_clear_attachments(self.cmd, &[attachment], &[rect]) };
-        self.count_commands(1);
+        self.record.count_commands(1);
     }
 
     /// Fills mips 1.. of a colour image from its mip 0 (in TRANSFER_DST_OPTIMAL) with linear
@@ -542,7 +432,7 @@ impl<'a> FrameRecorder<'a> {
         };
         // SAFETY: see the note on `FrameRecorder`; every pipeline has a dynamic viewport.
         unsafe { self.gpu.raw().cmd_set_viewport(self.cmd, 0, &[viewport]) };
-        self.count_commands(1);
+        self.record.count_commands(1);
         self.set_scissor(rect);
     }
 
@@ -564,7 +454,7 @@ impl<'a> FrameRecorder<'a> {
             )));
             return;
         }
-        self.count_commands(1);
+        self.record.count_commands(1);
         // SAFETY: see the note on `FrameRecorder`; the bytes fit the layout's one range (offset
         // 0, vertex and fragment stages, checked just above) and are a whole number of words.
         unsafe {
@@ -580,33 +470,13 @@ impl<'a> FrameRecorder<'a> {
 
     /// Draws `mesh` as this frame's slot holds it (a skinned mesh's posed copy).
     pub fn draw_mesh(&mut self, mesh: &GpuMesh) {
-        self.draw_mesh_vertices(mesh, mesh.indices(), mesh.first_index, mesh.index_count);
-    }
-
-    /// `mesh`'s vertices as this frame's slot holds them, drawn with indices `first_index..
-    /// first_index + index_count` of `indices`: the mesh's own, or a simplified set over the
-    /// same vertices (counted from the mesh's first vertex, wherever its buffer holds it).
-    pub fn draw_mesh_vertices(&mut self, mesh: &GpuMesh, indices: &Buffer, first_index: u32, index_count: u32) {
         let (vertices, vertex_offset) = mesh.vertices_in(self.slot);
-        self.bind_indexed(vertices, indices);
-        self.draw_bound(BoundDraw { first_index, index_count, vertex_offset, first_instance: 0 });
+        self.bind_indexed(vertices, mesh.indices());
+        self.draw_indexed(IndexedDraw { vertex_offset, ..IndexedDraw::range(mesh.first_index, mesh.index_count) });
     }
 
-    pub fn draw_indexed(&mut self, vertices: &Buffer, indices: &Buffer, index_count: u32) {
-        self.draw_indexed_range(vertices, indices, 0, index_count);
-    }
-
-    /// [`FrameRecorder::draw_indexed`] of `index_count` indices from index `first_index` on.
-    pub fn draw_indexed_range(&mut self, vertices: &Buffer, indices: &Buffer, first_index: u32, index_count: u32) {
-        if index_count == 0 {
-            return;
-        }
-        self.bind_indexed(vertices, indices);
-        self.draw_bound_range(first_index, index_count);
-    }
-
-    /// Binds `vertices` and `indices` (32-bit) for the [`FrameRecorder::draw_bound_range`]
-    /// calls that follow: several ranges of one geometry drawn with one binding.
+    /// Binds `vertices` and `indices` (32-bit) for the [`FrameRecorder::draw_indexed`] calls
+    /// that follow: several ranges of one geometry drawn with one binding.
     pub fn bind_indexed(&mut self, vertices: &Buffer, indices: &Buffer) {
         self.bind_vertices(vertices);
         self.bind_indices(indices);
@@ -620,7 +490,7 @@ impl<'a> FrameRecorder<'a> {
         // SAFETY: see the note on `FrameRecorder`; the buffer outlives the frame (its owner keeps
         // it until its fence).
         unsafe { self.gpu.raw().cmd_bind_vertex_buffers(self.cmd, 0, &[vertices.raw], &[0]) };
-        self.count_commands(1);
+        self.record.count_commands(1);
     }
 
     /// Binds `indices` (32-bit) for the indexed draws that follow, unless they are bound already.
@@ -630,77 +500,55 @@ impl<'a> FrameRecorder<'a> {
         }
         // SAFETY: as `bind_vertices`.
         unsafe { self.gpu.raw().cmd_bind_index_buffer(self.cmd, indices.raw, 0, vk::IndexType::UINT32) };
-        self.count_commands(1);
+        self.record.count_commands(1);
     }
 
-    /// Draws indices `first_index..first_index + index_count` of the buffers
-    /// [`FrameRecorder::bind_indexed`] bound last.
-    pub fn draw_bound_range(&mut self, first_index: u32, index_count: u32) {
-        self.draw_bound(BoundDraw { first_index, index_count, vertex_offset: 0, first_instance: 0 });
-    }
-
-    /// One instance of `draw`'s indices of the buffers bound last, their vertices from
-    /// `vertex_offset` on, `gl_InstanceIndex` its `first_instance` (a value the vertex shader
-    /// reads, with no push between draws).
-    pub fn draw_bound(&mut self, draw: BoundDraw) {
-        if draw.index_count == 0 {
+    /// `vkCmdDrawIndexed` of the index buffer bound last ([`FrameRecorder::bind_indices`]),
+    /// over the vertex buffer bound last where the vertex shader reads one (else it pulls its
+    /// data by `gl_VertexIndex`); nothing is recorded for no indices or no instances.
+    pub fn draw_indexed(&mut self, draw: IndexedDraw) {
+        if draw.index_count == 0 || draw.instance_count == 0 {
             return;
         }
         // SAFETY: see the note on `FrameRecorder`; the indices were checked against their
         // vertices when the mesh was built (the glTF loader refuses any out of range), and the
         // range lies inside the index buffer bound, its vertices from `vertex_offset` on inside
-        // the vertex buffer bound (their owners sized them).
+        // the vertex buffer bound, or none read (their owners sized them).
         unsafe {
             self.gpu.raw().cmd_draw_indexed(
                 self.cmd,
                 draw.index_count,
-                1,
+                draw.instance_count,
                 draw.first_index,
                 draw.vertex_offset,
                 draw.first_instance,
             )
         };
-        self.count_draw();
+        self.record.count_draw();
     }
 
-    /// `instances` instances of indices `first_index..first_index + index_count` of `indices`,
-    /// with no vertex buffer: the vertex shader pulls its data by index (`gl_VertexIndex`).
-    pub fn draw_indexed_instances(&mut self, indices: &Buffer, first_index: u32, index_count: u32, instances: u32) {
-        if index_count == 0 || instances == 0 {
-            return;
-        }
-        self.bind_indices(indices);
-        // SAFETY: see the note on `FrameRecorder`; the range lies inside the index buffer (its
-        // owner sized it), and the vertex shader reads no vertex buffer.
-        unsafe { self.gpu.raw().cmd_draw_indexed(self.cmd, index_count, instances, first_index, 0, 0) };
-        self.count_draw();
+    /// [`FrameRecorder::draw_indexed`] of one instance, in the tests' older shape.
+    #[cfg(test)]
+    pub fn draw_bound(&mut self, draw: BoundDraw) {
+        let BoundDraw { first_index, index_count, vertex_offset, first_instance } = draw;
+        self.draw_indexed(IndexedDraw { vertex_offset, first_instance, ..IndexedDraw::range(first_index, index_count) });
     }
 
-    pub fn draw_vertices(&mut self, vertices: &Buffer, vertex_count: u32) {
-        if vertex_count == 0 {
-            return;
-        }
-        self.bind_vertices(vertices);
-        // SAFETY: see the note on `FrameRecorder`; `vertex_count` is the caller's count of the
-        // vertices it uploaded to `vertices`.
-        unsafe { self.gpu.raw().cmd_draw(self.cmd, vertex_count, 1, 0, 0) };
-        self.count_draw();
+    /// `vkCmdDraw`: `instance_count` instances of `vertex_count` vertices, of the vertex buffer
+    /// bound last ([`FrameRecorder::bind_vertices`]) or made by the vertex shader from
+    /// `gl_VertexIndex` and `gl_InstanceIndex` (three: one full-screen triangle,
+    /// `shaders/fullscreen.vert`).
+    pub fn draw(&mut self, vertex_count: u32, instance_count: u32, first_vertex: u32, first_instance: u32) {
+        // SAFETY: see the note on `FrameRecorder`; the vertices lie inside the vertex buffer
+        // bound (the caller's count of those it uploaded), or the vertex shader reads none.
+        unsafe { self.gpu.raw().cmd_draw(self.cmd, vertex_count, instance_count, first_vertex, first_instance) };
+        self.record.count_draw();
     }
 
-    /// One full-screen triangle (`shaders/fullscreen.vert`).
-    /// `instances` instances of `vertices` vertices made by the vertex shader (no vertex
-    /// buffer), the first instance index `first_instance`.
-    pub fn draw_instances(&mut self, vertices: u32, instances: u32, first_instance: u32) {
-        // SAFETY: see the note on `FrameRecorder`; the vertex shader makes its vertices from
-        // gl_VertexIndex and gl_InstanceIndex, with no vertex buffer.
-        unsafe { self.gpu.raw().cmd_draw(self.cmd, vertices, instances, 0, first_instance) };
-        self.count_draw();
-    }
-
+    /// One full-screen triangle (`shaders/fullscreen.vert`), in the tests' older shape of
+    /// [`FrameRecorder::draw`].
+    #[cfg(test)]
     pub fn draw_fullscreen(&mut self) {
-        // SAFETY: see the note on `FrameRecorder`; the vertex shader makes the three vertices
-        // from gl_VertexIndex, with no vertex buffer.
-        unsafe { self.gpu.raw().cmd_draw(self.cmd, 3, 1, 0, 0) };
-        self.count_draw();
+        self.draw(3, 1, 0, 0);
     }
 }

@@ -11,7 +11,10 @@ use image::RgbaImage;
 
 use super::counters::{FrameCounters, PassCounters};
 use super::instances::RenderPassInstance;
-use super::recorder::{FrameRecorder, OverdrawPipelines, PassRecord};
+use super::frame_record::PassRecord;
+use super::overdraw::OverdrawPipelines;
+use super::recorder::FrameRecorder;
+#[cfg(test)]
 use super::sample_readback::{self, FrameSamples};
 use super::uniforms::{FrameDescriptors, FrameUniforms};
 use crate::error::Result;
@@ -124,12 +127,14 @@ impl FrameSlot {
 impl Renderer {
     /// A one-sample frame. `colour_feedback`: the colour target is also an input attachment of
     /// its own subpass.
+    #[cfg(test)]
     pub fn new(gpu: &Arc<Gpu>, width: u32, height: u32, stencil: StencilMode, colour_feedback: bool) -> Result<Self> {
         Self::with_targets(gpu, FrameTargets::new(gpu, width, height, stencil, colour_feedback)?)
     }
 
     /// A frame drawn into `targets` (any sample count), one frame at a time
     /// (`set_frames_in_flight` for more).
+    #[cfg(test)]
     pub fn with_targets(gpu: &Arc<Gpu>, targets: FrameTargets) -> Result<Self> {
         Self::with_palettes(gpu, targets, 0)
     }
@@ -233,6 +238,7 @@ impl Renderer {
 
     /// Every sample of the last frame, before its resolve: for frames whose targets keep their
     /// samples (`RenderOptions.keep_samples`). A one-off pass and copy, never in a timed frame.
+    #[cfg(test)]
     pub fn read_samples(&mut self) -> Result<FrameSamples> {
         if !self.drawn {
             return Err(crate::error::Error::InvalidInput("read_samples: no frame has been rendered yet".into()));
@@ -251,6 +257,7 @@ impl Renderer {
 
     /// Renders a frame: `record` draws the technique's passes between the clear and the read-back.
     /// `clear` is the colour target's clear value (alpha included: the counter's start value).
+    #[cfg(test)]
     pub fn render(
         &mut self,
         uniforms: &FrameUniforms,
@@ -323,14 +330,12 @@ impl Renderer {
             record_frame_pass(&mut recorder, targets, (clear, stencil_clear), record)?;
             // A technique's fragment shaders may count into a buffer read after the frame.
             barriers::fragment_stores_to_host(device, cmd);
-            gpu.counted_commands(recorder.commands);
+            gpu.counted_commands(recorder.record.commands);
             if let Some(e) = recorder.deferred_error.take() {
                 return Err(e);
             }
-            let records = (
-                std::mem::take(&mut recorder.passes),
-                (std::mem::take(&mut recorder.render_passes), std::mem::take(&mut recorder.instances)),
-            );
+            let record = std::mem::take(&mut recorder.record);
+            let records = (record.passes, (record.render_passes, record.instances));
             if let Some(buffer) = presented.and_then(|p| p.screenshot) {
                 super::frame_copy::record_screenshot(device, cmd, targets.output_image(), extent, buffer);
             }
@@ -367,7 +372,7 @@ impl Renderer {
             .map(|(record, raw)| {
                 PassCounters::from_queries(
                     record.name,
-                    record.own_draw,
+                    (record.own_draw, record.light),
                     (record.draws, record.commands),
                     record.instances,
                     raw,

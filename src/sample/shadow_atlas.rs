@@ -19,9 +19,9 @@ use crate::gpu::texture::{record_mip_chain_from_sampled, Sampler};
 use crate::gpu::Gpu;
 use crate::render::object_push::draw_order;
 use crate::technique::shadow_atlas::atlas::mesh_atlas;
+use crate::technique::shadow_atlas::atlas_vertices::{atlas_vertices, surface_of};
 use crate::technique::shadow_atlas::light::light_at;
 use crate::technique::shadow_atlas::page_targets::AtlasPage;
-use crate::technique::shadow_atlas::renderer::{atlas_vertices, surface_of};
 use crate::technique::shadow_atlas::{maps, targets, AtlasBake, LightMode, ShadowKind, ShadowLightUniforms};
 
 /// The shadow map's format (D16: depth attachment and sampling on every device).

@@ -22,7 +22,8 @@ pub enum Sample {
 /// What happens to times outside `[0, duration]`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TimeMode {
-    /// Hold the first / last key.
+    /// Hold the first / last key (the tests' mode: the viewer and profiles loop).
+    #[cfg(test)]
     Clamp,
     /// `t mod duration` (negative times wrap too).
     Loop,
@@ -133,6 +134,7 @@ pub fn wrap_time(t: f32, duration: f32, mode: TimeMode) -> f32 {
         return 0.0;
     }
     match mode {
+        #[cfg(test)]
         TimeMode::Clamp => t.clamp(0.0, duration),
         TimeMode::Loop => {
             let w = t.rem_euclid(duration);

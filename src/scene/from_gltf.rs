@@ -31,6 +31,7 @@ pub fn scene_and_warnings_from_gltf(path: &Path, time: f32) -> Result<(Scene, Ve
 
 /// [`scene_and_warnings_from_gltf`] for a file already in memory; `path` names it in errors and
 /// anchors its relative URIs (the fuzzer loads mutated bytes this way, without writing files).
+#[cfg(test)]
 pub fn scene_and_warnings_from_gltf_slice(bytes: &[u8], path: &Path, time: f32) -> Result<(Scene, Vec<String>)> {
     scene_from_model(load_gltf_slice(bytes, path)?, path, time)
 }

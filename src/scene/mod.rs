@@ -37,7 +37,9 @@ pub mod skinning;
 
 pub use builtin::{builtin_scene, builtin_scene_at, BUILTIN_SCENES, OTHER_SCENES};
 pub use camera::{Camera, Light};
-pub use from_gltf::{scene_and_warnings_from_gltf, scene_and_warnings_from_gltf_slice, scene_from_gltf};
+#[cfg(test)]
+pub use from_gltf::scene_and_warnings_from_gltf_slice;
+pub use from_gltf::{scene_and_warnings_from_gltf, scene_from_gltf};
 pub use lights::{SceneLight, MAX_LIGHTS};
 // `self::`: `gltf` alone would also name the gltf crate.
 pub use self::gltf::load_gltf;

@@ -26,6 +26,8 @@ pub struct Model {
     pub roots: Vec<usize>,
     pub skins: Vec<Skin>,
     pub animations: Vec<Animation>,
+    /// The file's cameras, checked as it loads; only the loader's tests read them back.
+    #[cfg(test)]
     pub cameras: Vec<Camera>,
     /// KHR_lights_punctual lights, referenced by `Node::light`.
     pub lights: Vec<Light>,
@@ -71,6 +73,8 @@ pub struct Node {
     pub local: Transform,
     pub mesh: Option<usize>,
     pub skin: Option<usize>,
+    /// Only the loader's tests read it back (the frame's camera is the scene's own).
+    #[cfg(test)]
     pub camera: Option<usize>,
     pub light: Option<usize>,
 }
@@ -88,7 +92,8 @@ pub struct Primitive {
     /// Unit normals: the file's, or computed (see `normals_generated`).
     pub normals: Vec<Vec3>,
     /// True when the file had no NORMAL: smooth normals from positions welded by value,
-    /// area-weighted.
+    /// area-weighted. Only the loader's tests read it back.
+    #[cfg(test)]
     pub normals_generated: bool,
     pub uv0: Option<Vec<Vec2>>,
     pub uv1: Option<Vec<Vec2>>,
@@ -101,16 +106,20 @@ pub struct Primitive {
     pub weights: Option<Vec<[f32; 4]>>,
     /// Triangle list; strips and fans are converted, non-indexed primitives get 0..n.
     pub indices: Vec<u32>,
-    /// Bytes per index in the file (1, 2 or 4); `None` when the indices were generated.
+    /// Bytes per index in the file (1, 2 or 4); `None` when the indices were generated. Only
+    /// the loader's tests read it back.
+    #[cfg(test)]
     pub source_index_width: Option<u8>,
     pub material: Option<usize>,
 }
 
 impl Primitive {
+    #[cfg(test)]
     pub fn triangle_count(&self) -> usize {
         self.indices.len() / 3
     }
 
+    #[cfg(test)]
     pub fn is_skinned(&self) -> bool {
         self.joints.is_some() && self.weights.is_some()
     }
@@ -244,11 +253,12 @@ pub struct TextureRgba8 {
 
 #[derive(Clone, Debug, Default)]
 pub struct Skin {
-    pub name: Option<String>,
     /// Node indices, at most `MAX_JOINTS`.
     pub joints: Vec<usize>,
     /// One per joint (identity when the file has none).
     pub inverse_bind: Vec<Mat4>,
+    /// The file's skeleton root, checked as it loads; only the loader's tests read it back.
+    #[cfg(test)]
     pub skeleton: Option<usize>,
 }
 

@@ -173,7 +173,6 @@ mod tests {
         let world = world_matrices(&model, &crate::scene::animation::rest_pose(&model));
         // Inverse binds taken from the rest pose: joint matrices are then identity.
         model.skins.push(Skin {
-            name: None,
             joints: vec![1, 2],
             inverse_bind: vec![world[1].inverse(), world[2].inverse()],
             skeleton: None,

@@ -24,7 +24,8 @@ pub struct FrameRenderer<'s, K: PassKinds, P> {
     scene: &'s Scene,
     renderer: Renderer,
     plan: PassPlan<K>,
-    /// The plan by name, as `SceneRenderer::plan` hands it out.
+    /// The plan by name, as `SceneRenderer::plan` hands it out to the tests.
+    #[cfg(test)]
     named_plan: PassPlan,
     pipelines: PlanPipelines,
     passes: P,
@@ -34,11 +35,10 @@ pub struct FrameRenderer<'s, K: PassKinds, P> {
 }
 
 /// Everything a technique's `Passes` is built from.
-pub struct BuildContext<'a, K: PassKinds> {
+pub struct BuildContext<'a> {
     pub gpu: &'a Arc<Gpu>,
     pub renderer: &'a Renderer,
     pub options: &'a RenderOptions,
-    pub plan: &'a PassPlan<K>,
 }
 
 /// Builds the renderer of the technique called `technique` for `scene` with `plan`, from
@@ -52,7 +52,7 @@ pub fn build_typed<'s, K: PassKinds, P: Passes<K> + 's>(
     gpu: &Arc<Gpu>,
     scene: &'s Scene,
     options: &RenderOptions,
-    make: impl FnOnce(BuildContext<K>) -> Result<P>,
+    make: impl FnOnce(BuildContext) -> Result<P>,
 ) -> Result<FrameRenderer<'s, K, P>> {
     let colour_feedback = plan.passes.iter().any(|p| p.reads_colour);
     let frame = (options.width, options.height, options.samples);
@@ -75,7 +75,7 @@ pub fn build_typed<'s, K: PassKinds, P: Passes<K> + 's>(
     // Room for the palettes of GPU-skinned objects in every slot's frame set.
     let mut renderer = Renderer::with_palettes(gpu, targets, JointPalettes::of(scene).joints)?;
     renderer.count_overdraw = options.count_overdraw;
-    let passes = make(BuildContext { gpu, renderer: &renderer, options, plan: &plan })?;
+    let passes = make(BuildContext { gpu, renderer: &renderer, options })?;
     let frame_target = PipelineTarget {
         render_pass: renderer.targets.render_pass,
         colour_attachments: 1,
@@ -115,9 +115,18 @@ pub fn build_typed<'s, K: PassKinds, P: Passes<K> + 's>(
     let in_flight = options.frames_in_flight as usize;
     let apart = passes.writes_per_slot() && !options.count_overdraw && !options.keep_samples;
     renderer.set_frames_in_flight(if apart { in_flight } else { 1 })?;
-    let named_plan = plan.named();
     let warnings = passes.warnings().to_vec();
-    Ok(FrameRenderer { technique, scene, renderer, plan, named_plan, pipelines, passes, warnings })
+    Ok(FrameRenderer {
+        technique,
+        scene,
+        renderer,
+        #[cfg(test)]
+        named_plan: plan.named(),
+        plan,
+        pipelines,
+        passes,
+        warnings,
+    })
 }
 
 impl<K: PassKinds, P> FrameRenderer<'_, K, P> {
@@ -152,13 +161,20 @@ impl<K: PassKinds, P: Passes<K>> TechniqueRenderer for FrameRenderer<'_, K, P> {
             |rec| record_plan(rec, plan, pipelines, true, &holds, scene, draws),
         )?;
         let stats = self.passes.stats(&output, scene);
-        Ok(TechniqueFrame { output, stats, conditions, warnings: self.warnings.clone() })
+        Ok(TechniqueFrame {
+            output,
+            stats,
+            #[cfg(test)]
+            conditions,
+            warnings: self.warnings.clone(),
+        })
     }
 
     fn renderer_mut(&mut self) -> &mut Renderer {
         &mut self.renderer
     }
 
+    #[cfg(test)]
     fn plan(&self) -> &PassPlan {
         &self.named_plan
     }

@@ -351,37 +351,33 @@ impl SceneRenderer<'_> {
     }
 
     /// The plan this renderer executes.
+    #[cfg(test)]
     pub(crate) fn plan(&self) -> &PassPlan {
         self.0.plan()
     }
 }
 
-/// What every technique's renderer is inside a [`SceneRenderer`] (`frame_renderer.rs`'s
-/// `FrameRenderer`).
+/// What every technique's renderer is inside a [`SceneRenderer`]: the type-erased face of
+/// `frame_renderer.rs`'s `FrameRenderer`, its one implementation (so no method has a default:
+/// each says what that renderer does, and [`SceneRenderer`]'s documents it).
 pub(crate) trait TechniqueRenderer {
     /// See [`SceneRenderer::frame_with`]; `check_same_scene` refuses another scene.
     fn frame_with(&mut self, scene: &Scene) -> Result<TechniqueFrame>;
     fn renderer_mut(&mut self) -> &mut Renderer;
+    #[cfg(test)]
     fn plan(&self) -> &PassPlan;
-    fn stale_for(&self, _scene: &Scene) -> bool {
-        false
-    }
-    fn frames_to_steady_state(&self) -> u32 {
-        1
-    }
-    fn warnings(&self) -> &[String] {
-        &[]
-    }
-    fn skinning(&self) -> Skinning {
-        Skinning::Cpu
-    }
+    fn stale_for(&self, scene: &Scene) -> bool;
+    fn frames_to_steady_state(&self) -> u32;
+    fn warnings(&self) -> &[String];
+    fn skinning(&self) -> Skinning;
 }
 
 /// A rendered frame and what the technique reports about it.
 pub struct TechniqueFrame {
     pub output: FrameOutput,
     pub stats: Box<dyn FrameStats>,
-    /// Which conditional passes ran (see `render::plan::When`).
+    /// Which conditional passes ran (see `render::plan::When`), for the tests.
+    #[cfg(test)]
     pub(crate) conditions: Vec<When>,
     /// The renderer's warnings (`SceneRenderer::warnings`), for callers that keep only the
     /// frame.
@@ -395,6 +391,7 @@ impl TechniqueFrame {
     }
 
     /// Whether the passes conditioned on `when` ran in this frame.
+    #[cfg(test)]
     pub(crate) fn held(&self, when: When) -> bool {
         when.holds_in(&self.conditions)
     }

@@ -19,6 +19,7 @@ impl PlannedLight {
     }
 
     /// The lights of a plan made without a scene: the built-in scenes' one shadowing sun.
+    #[cfg(test)]
     pub fn default_lights() -> Vec<PlannedLight> {
         vec![PlannedLight { name: "sun".into(), shadows: true }]
     }

@@ -60,7 +60,7 @@ impl TechniqueUnit for Lit {
         Ok(PassPlan { passes: vec![scene_pass(1.0)] })
     }
 
-    fn make(&self, ctx: BuildContext<'_, RecorderOnly>, scene: &Scene, _setup: ()) -> Result<LitPasses> {
+    fn make(&self, ctx: BuildContext<'_>, scene: &Scene, _setup: ()) -> Result<LitPasses> {
         Ok(LitPasses { gpu: ctx.gpu.clone(), meshes: GpuScene::upload_for(ctx.gpu, scene, ctx.options.skinning)? })
     }
 }

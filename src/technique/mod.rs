@@ -4,7 +4,6 @@
 //! [`registry::TECHNIQUES`]. The renderer skeleton they share
 //! is [`frame_renderer`].
 
-pub mod alpha_counter;
 pub mod cartoon;
 pub mod cartoon_shading;
 pub mod extruded;
@@ -32,6 +31,10 @@ use crate::gpu::Gpu;
 use crate::scene::Scene;
 
 pub use cartoon::CartoonStats;
+// tests/inside/shadow_volume.rs names the counter by its old path (another change is editing
+// that file): the path stays for the tests alone.
+#[cfg(test)]
+pub use shadow_volume::alpha_counter;
 pub use interface::{FrameStats, RenderOptions, SceneRenderer, Technique, TechniqueFrame};
 pub use options::{
     AtlasBake, CartoonOptions, InkStyle, InkStyles, LightMode, Normalize, OutlineMethod, Seams, ShadowAtlasOptions,

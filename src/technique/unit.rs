@@ -43,7 +43,7 @@ pub trait TechniqueUnit: TechniqueInfo {
     }
 
     /// Builds the technique's part of a renderer for `scene`, once the frame renderer exists.
-    fn make(&self, ctx: BuildContext<'_, Self::Kinds>, scene: &Scene, setup: Self::Setup) -> Result<Self::Passes>;
+    fn make(&self, ctx: BuildContext<'_>, scene: &Scene, setup: Self::Setup) -> Result<Self::Passes>;
 }
 
 /// What the warning about unshadowed lights tells a user to do: a technique that shadows every

@@ -70,7 +70,8 @@ fn render_passes(
                 rec.pass(&format!("pass {i}"), |rec| {
                     rec.bind(&pipeline);
                     rec.push(&pipeline, &Vec4::ONE);
-                    rec.draw_vertices(buffer, *count);
+                    rec.bind_vertices(buffer);
+                    rec.draw(*count, 1, 0, 0);
                     Ok(())
                 })?;
             }

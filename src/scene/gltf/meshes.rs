@@ -60,7 +60,7 @@ impl Loader<'_> {
         let uv1 = self.tex_coords(what, prim, 1, n)?;
         let colors = self.colours(what, prim, n)?;
         let (joints, weights) = self.skin_of(what, prim, n)?;
-        let (indices, source_index_width) = self.indices(what, prim, n)?;
+        let (indices, _source_index_width) = self.indices(what, prim, n)?;
         let indices = self.triangle_list(what, mode, indices);
         if indices.is_empty() {
             // Nothing to draw, and an empty index buffer is nothing a GPU can upload.
@@ -69,21 +69,23 @@ impl Loader<'_> {
         }
         let material = prim.material.map(|m| m.value());
         self.check_material(what, material, materials, [uv0.is_some(), uv1.is_some()])?;
-        let (normals, normals_generated) = match normals {
+        let (normals, _normals_generated) = match normals {
             Some(normals) => (normals, false),
             None => (smooth_normals(&positions, &indices), true),
         };
         Ok(Some(Primitive {
             positions,
             normals,
-            normals_generated,
+            #[cfg(test)]
+            normals_generated: _normals_generated,
             uv0,
             uv1,
             colors,
             joints,
             weights,
             indices,
-            source_index_width,
+            #[cfg(test)]
+            source_index_width: _source_index_width,
             material,
         }))
     }

@@ -34,6 +34,7 @@ impl Loader<'_> {
                 local,
                 mesh: n.mesh.map(|m| m.value()),
                 skin: n.skin.map(|s| s.value()),
+                #[cfg(test)]
                 camera: n.camera.map(|c| c.value()),
                 light,
             });

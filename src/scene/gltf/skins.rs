@@ -143,7 +143,12 @@ impl Loader<'_> {
             if let Some(k) = skeleton.filter(|&k| k >= self.root.nodes.len()) {
                 return Err(self.fail(format!("{what}: skeleton node {k} does not exist")));
             }
-            out.push(Skin { name: skin.name.clone(), joints, inverse_bind, skeleton });
+            out.push(Skin {
+                joints,
+                inverse_bind,
+                #[cfg(test)]
+                skeleton,
+            });
         }
         Ok(out)
     }

@@ -74,7 +74,7 @@ impl TechniqueUnit for Ink {
         Ok(recipes::plan(options.cartoon.silhouette))
     }
 
-    fn make(&self, ctx: BuildContext<'_, InkKinds>, scene: &Scene, _setup: ()) -> Result<InkPasses> {
+    fn make(&self, ctx: BuildContext<'_>, scene: &Scene, _setup: ()) -> Result<InkPasses> {
         renderer::make(ctx, scene, self.toon)
     }
 }

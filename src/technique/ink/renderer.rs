@@ -35,7 +35,7 @@ use crate::technique::options::{CartoonOptions, Seams, SilhouetteMethod};
 pub const INK_COLOUR: Vec4 = Vec4::new(0.04, 0.04, 0.06, 1.0);
 
 /// The technique's part of the renderer (`toon`: the scene through the toon ramp).
-pub fn make(ctx: BuildContext<'_, InkKinds>, scene: &Scene, toon: bool) -> Result<InkPasses> {
+pub fn make(ctx: BuildContext<'_>, scene: &Scene, toon: bool) -> Result<InkPasses> {
     let cartoon = &ctx.options.cartoon;
     let method = cartoon.silhouette;
     let shading = Shading { toon, rim: method == SilhouetteMethod::Shader, ink_only: cartoon.ink_only };
@@ -167,7 +167,8 @@ impl Passes<InkKinds> for InkPasses {
                 rec.push(pipeline, &push);
                 let slot = lines.buffers.get(rec.slot());
                 if let Some((buffer, count)) = slot.and_then(|b| b.get(class)).and_then(ReusedBuffer::filled) {
-                    rec.draw_vertices(buffer, count);
+                    rec.bind_vertices(buffer);
+                    rec.draw(count, 1, 0, 0);
                 }
             }
             // The plan and the ink resources are both made from `self.method`: a draw of

@@ -4,7 +4,7 @@
 use clap::ArgAction;
 
 use crate::error::Result;
-use crate::technique::alpha_counter;
+use crate::technique::shadow_volume::alpha_counter;
 use crate::technique::flags::clap_defaults;
 
 crate::names::named_enum! {

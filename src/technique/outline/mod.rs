@@ -68,7 +68,7 @@ impl TechniqueUnit for Outline {
         Ok(Prepared { options: options.clone(), setup: selected })
     }
 
-    fn make(&self, ctx: BuildContext<'_, OutlineKinds>, scene: &Scene, selected: Vec<bool>) -> Result<OutlinePasses> {
+    fn make(&self, ctx: BuildContext<'_>, scene: &Scene, selected: Vec<bool>) -> Result<OutlinePasses> {
         renderer::make(ctx, scene, selected)
     }
 }

@@ -30,7 +30,7 @@ use crate::technique::options::OutlineMethod;
 
 /// The technique's part of the renderer: the copies, their bounds, the blur's targets. The
 /// selection was resolved by `setup`, before anything was uploaded.
-pub fn make(ctx: BuildContext<'_, OutlineKinds>, scene: &Scene, selected: Vec<bool>) -> Result<OutlinePasses> {
+pub fn make(ctx: BuildContext<'_>, scene: &Scene, selected: Vec<bool>) -> Result<OutlinePasses> {
     let cartoon = &ctx.options.cartoon;
     // The colour is given in sRGB bytes, as the PNG shows it; the shader writes linear light.
     let extrusion = Extrusion { width_px: cartoon.outline_width, colour: recipes::linear_colour(cartoon) };
@@ -148,7 +148,7 @@ impl OutlinePasses {
                 if let Some(source) = blur.set(source) {
                     rec.bind_with_sets(pipeline, &[source.set]);
                     rec.push(pipeline, &blur_push(along_x, radius));
-                    rec.draw_fullscreen();
+                    rec.draw(3, 1, 0, 0);
                 }
             }
             // The frame's draws and a pass without its pipelines draw nothing offscreen.

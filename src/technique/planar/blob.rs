@@ -235,7 +235,7 @@ impl TechniqueUnit for BlobShadows {
         Ok(plan())
     }
 
-    fn make(&self, ctx: BuildContext<'_, BlobKinds>, scene: &Scene, _setup: ()) -> Result<BlobPasses> {
+    fn make(&self, ctx: BuildContext<'_>, scene: &Scene, _setup: ()) -> Result<BlobPasses> {
         BlobPasses::new(&ctx, scene)
     }
 }
@@ -254,7 +254,7 @@ pub struct BlobPasses {
 }
 
 impl BlobPasses {
-    fn new(ctx: &BuildContext<BlobKinds>, scene: &Scene) -> Result<Self> {
+    fn new(ctx: &BuildContext, scene: &Scene) -> Result<Self> {
         let gpu = ctx.gpu;
         let plane = receiver_plane(scene, ctx.options.planar.plane.as_ref())?;
         if !plane.is_horizontal() {
@@ -316,7 +316,8 @@ impl Passes<BlobKinds> for BlobPasses {
             BlobDraw::Scene => self.meshes.draw_scene(rec, scene, &self.plane, pass, pipelines, 1.0),
             BlobDraw::Quads => {
                 if let Some((quads, vertex_count)) = self.quads.get(rec.slot()).and_then(ReusedBuffer::filled) {
-                    rec.draw_vertices(quads, vertex_count);
+                    rec.bind_vertices(quads);
+                    rec.draw(vertex_count, 1, 0, 0);
                 }
                 Ok(())
             }

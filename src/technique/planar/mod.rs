@@ -17,5 +17,7 @@ pub mod shared;
 pub mod texture_quad;
 
 pub use crate::technique::options::{GivenPlane, PlanarOptions, TextureShadowOn};
-pub use receiver::{project_onto_plane, receiver_plane, Plane};
+#[cfg(test)]
+pub use receiver::project_onto_plane;
+pub use receiver::{receiver_plane, Plane};
 pub use shared::{BlobShadows, Planar, PlanarStats, ShadowTexture};

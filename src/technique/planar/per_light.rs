@@ -7,6 +7,7 @@
 use ash::vk;
 
 use super::flattened::{flattened_desc, PlanarDraw, PlanarKinds};
+use super::receiver::LIGHT_REACHES_PLANE;
 use super::scene_meshes::{named_scene_pass, scene_desc, scene_sets};
 use crate::frame::StencilMode;
 use crate::pipeline::recipes::{
@@ -97,7 +98,7 @@ fn flag_pass(stencil: StencilMode, lod: bool, light: &PlannedLight, i: u8) -> Pl
         cut_out(skinned_masked, shaders::PLANAR_SHADOW_MASKED_SKINNED_VERT, true),
     )
     .with_sets(&scene_sets())
-    .when(When::LightReachesPlane(i))
+    .when(When::If(LIGHT_REACHES_PLANE.for_light(i)))
     .for_light(i)
 }
 

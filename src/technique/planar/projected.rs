@@ -27,7 +27,9 @@ use glam::Vec4;
 
 use super::flattened::{flattened_desc, PlanarDraw, PlanarKinds, PlanarPush};
 use super::lod::CasterLods;
-use super::receiver::{light_reaches_plane, receiver_plane, Plane, ReceiverPlane};
+use super::receiver::{
+    light_reaches_plane, receiver_plane, Plane, ReceiverPlane, LIGHT_ABOVE_PLANE, LIGHT_REACHES_PLANE,
+};
 use super::scene_meshes::{scene_desc, scene_pass, scene_sets, SceneMeshes};
 use super::shared::{Planar, PlanarStats, DEFAULT_SHADOW_LOD};
 use crate::error::{Error, Result};
@@ -125,7 +127,7 @@ fn shadow_pass_along(stencil: StencilMode, lod: bool, light: Option<u8>) -> Plan
             cut_out(skinned_masked, shaders::PLANAR_SHADOW_MASKED_SKINNED_VERT, true),
         )
         .with_sets(&scene_sets())
-        .when(When::LightAbovePlane)
+        .when(When::If(LIGHT_ABOVE_PLANE))
 }
 
 /// The frame's passes: the seed's (the scene, then unless `options.shadows` is off the
@@ -207,7 +209,7 @@ impl TechniqueUnit for Planar {
         Ok(plan(&options.planar, options.stencil, options.shadow_mode, lights))
     }
 
-    fn make(&self, ctx: BuildContext<'_, PlanarKinds>, scene: &Scene, _setup: ()) -> Result<PlanarPasses> {
+    fn make(&self, ctx: BuildContext<'_>, scene: &Scene, _setup: ()) -> Result<PlanarPasses> {
         PlanarPasses::new(&ctx, scene)
     }
 }
@@ -227,7 +229,7 @@ pub struct PlanarPasses {
 }
 
 impl PlanarPasses {
-    fn new(ctx: &BuildContext<PlanarKinds>, scene: &Scene) -> Result<Self> {
+    fn new(ctx: &BuildContext, scene: &Scene) -> Result<Self> {
         let plane = receiver_plane(scene, ctx.options.planar.plane.as_ref())?;
         let mode = ctx.options.shadow_mode;
         let mut warnings = Vec::new();
@@ -347,14 +349,14 @@ impl Passes<PlanarKinds> for PlanarPasses {
         let plane = &self.plane.plane;
         let mut conditions = Vec::new();
         if light_reaches_plane(&scene.light(), plane) {
-            conditions.push(When::LightAbovePlane);
+            conditions.push(When::If(LIGHT_ABOVE_PLANE));
         }
         if self.mode == ShadowMode::Additive {
             let reaching = scene.lights.iter().enumerate().filter(|(_, l)| l.casts_shadow);
             conditions.extend(
                 reaching
                     .filter(|(_, l)| light_reaches_plane(&l.geometry(), plane))
-                    .map(|(i, _)| When::LightReachesPlane(i as u8)),
+                    .map(|(i, _)| When::If(LIGHT_REACHES_PLANE.for_light(i as u8))),
             );
         }
         conditions

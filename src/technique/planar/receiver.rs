@@ -5,6 +5,7 @@
 use glam::{Mat4, Vec3, Vec4};
 
 use crate::error::{Error, Result};
+use crate::render::plan::Condition;
 use crate::scene::{Light, Scene};
 use crate::technique::options::GivenPlane;
 
@@ -108,9 +109,17 @@ fn light_vec4(light: &Light) -> Vec4 {
 
 /// Projects world point `p` onto the plane y = `h` along `light` (docs/design/planar-shadows.md): the
 /// shadow matrix of [`Plane::horizontal`].
+#[cfg(test)]
 pub fn project_onto_plane(p: Vec3, light: &Light, h: f32) -> Vec3 {
     Plane::horizontal(h).project(p, light)
 }
+
+/// The frames in which the light reaches the receiver plane from above: the planar shadow is
+/// drawn only then.
+pub const LIGHT_ABOVE_PLANE: Condition = Condition::named("when the light is above the plane");
+/// Per light: the frames in which light `n` casts shadows and reaches the receiver plane from
+/// above (the additive planar loop's per-light shadow; `Condition::for_light`).
+pub const LIGHT_REACHES_PLANE: Condition = Condition::named("when this light is above the plane");
 
 /// Whether the light can cast onto `plane` at all.
 pub fn light_reaches_plane(light: &Light, plane: &Plane) -> bool {

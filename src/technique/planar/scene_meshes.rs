@@ -12,7 +12,7 @@ use crate::pipeline::{FixedFunction, PipelineDesc, StencilState, VertexLayout};
 use crate::render::object_push::draw_order;
 use crate::render::plan::{MaterialVariant, PassKinds, PlannedPass, SetRole};
 use crate::render::Pipeline;
-use crate::render::{object_push, FrameRecorder, GpuScene, LightPush, Skinning, OBJECT_PUSH_BYTES};
+use crate::render::{object_push, FrameRecorder, GpuScene, IndexedDraw, LightPush, Skinning, OBJECT_PUSH_BYTES};
 use crate::scene::Scene;
 use crate::shaders;
 use crate::technique::material_variants::with_surface_variants;
@@ -131,7 +131,13 @@ impl SceneMeshes {
         rec.bind_material(pipeline, self.meshes.materials.set(object.material));
         rec.push(pipeline, push);
         match lod.and_then(|l| l.per_object.get(index)).and_then(Option::as_ref) {
-            Some(simplified) => rec.draw_mesh_vertices(mesh, &simplified.indices, 0, simplified.index_count),
+            Some(simplified) => {
+                // The simplified indices count from the mesh's first vertex, wherever its
+                // buffer holds it.
+                let (vertices, vertex_offset) = mesh.vertices_in(rec.slot());
+                rec.bind_indexed(vertices, &simplified.indices);
+                rec.draw_indexed(IndexedDraw { vertex_offset, ..IndexedDraw::range(0, simplified.index_count) });
+            }
             None => rec.draw_mesh(mesh),
         }
     }

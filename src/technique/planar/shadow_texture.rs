@@ -259,7 +259,7 @@ struct ShadowTarget {
     texture_set: DescriptorSet,
     framebuffer: Framebuffer,
     render_pass: RenderPass,
-    image: Image,
+    _image: Image,
 }
 
 impl ShadowTarget {
@@ -289,7 +289,7 @@ impl ShadowTarget {
                 stages: vk::ShaderStageFlags::FRAGMENT,
             }],
         )?;
-        Ok(ShadowTarget { texture_set, framebuffer, render_pass, image })
+        Ok(ShadowTarget { texture_set, framebuffer, render_pass, _image: image })
     }
 }
 
@@ -346,7 +346,7 @@ impl TechniqueUnit for ShadowTexture {
         Ok(plan(&options.planar))
     }
 
-    fn make(&self, ctx: BuildContext<'_, TextureKinds>, scene: &Scene, _setup: ()) -> Result<ShadowTexturePasses> {
+    fn make(&self, ctx: BuildContext<'_>, scene: &Scene, _setup: ()) -> Result<ShadowTexturePasses> {
         ShadowTexturePasses::new(&ctx, scene)
     }
 }
@@ -375,7 +375,7 @@ pub struct ShadowTexturePasses {
 }
 
 impl ShadowTexturePasses {
-    fn new(ctx: &BuildContext<TextureKinds>, scene: &Scene) -> Result<Self> {
+    fn new(ctx: &BuildContext, scene: &Scene) -> Result<Self> {
         let gpu = ctx.gpu;
         let plane = receiver_plane(scene, ctx.options.planar.plane.as_ref())?;
         plane.plane.check_light(&scene.light())?;

@@ -123,7 +123,7 @@ impl AtlasTargets {
             rec.begin_offscreen_pass(&self.dilate_pass, o.dilate_framebuffer.raw, o.extent(), &[]);
             rec.bind_with_sets(dilate, &[o.dilate_set.set]);
             rec.push(dilate, &[o.dilate_radius as i32, 0, 0, 0]);
-            rec.draw_fullscreen();
+            rec.draw(3, 1, 0, 0);
             rec.end_render_pass();
         }
     }

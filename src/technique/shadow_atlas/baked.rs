@@ -51,6 +51,7 @@ pub fn bake<'s>(
 impl<'s> Baked<'s> {
     /// Renders another frame of `scene` (the same scene, some models moved, say), which
     /// re-bakes the shadow textures that can have changed; its statistics say how many.
+    #[cfg(test)]
     pub fn frame_with(&mut self, scene: &'s Scene) -> Result<crate::technique::interface::TechniqueFrame> {
         self.scene = scene;
         self.renderer.frame_with(scene)

@@ -17,12 +17,15 @@
 //!
 //! Files: `passes` (pipelines and the plan), `maps` (which lights get a map layer and a baked
 //! channel), `light` (fitting each light's view), `atlas` (each mesh's UV layout), `page` (the
-//! tiles' packing), `texel_surface`, `page_targets` (the page and its passes), `rebake`,
+//! tiles' packing), `texel_surface`, `page_targets` (the page and its passes), `rebake` and `bake_cache` (what is re-baked),
+//! `atlas_vertices` (the meshes' vertices in their atlases, posed),
 //! `bake` (the projective texture's per-model bake, copy and mips), `renderer` (the `Passes`),
 //! `read_back`, `baked` (the `nostencil bake` entry), `targets`, `stats`, `techniques`.
 
 pub mod atlas;
+pub mod atlas_vertices;
 pub mod bake;
+pub mod bake_cache;
 pub mod baked;
 pub mod light;
 pub mod maps;

@@ -26,6 +26,7 @@ pub struct PageLayout {
 
 impl PageLayout {
     /// Texels of mip 0 the tiles cover (the rest of the page is never sampled).
+    #[cfg(test)]
     pub fn tile_texels(&self) -> u64 {
         self.tiles.iter().map(|t| u64::from(t.size) * u64::from(t.size)).sum()
     }

@@ -343,7 +343,7 @@ impl AtlasPage {
                 rec.push(pipeline, &push);
                 bound = Some(bake);
             }
-            rec.draw_instances(6, count, first as u32);
+            rec.draw(6, count, 0, first as u32);
         }
         rec.end_render_pass();
     }

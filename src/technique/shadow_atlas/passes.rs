@@ -5,7 +5,9 @@
 
 use crate::pipeline::recipes::NO_WRITE;
 use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexLayout};
-use crate::render::plan::{DrawKind, Label, MaterialVariant, PassKinds, PassPlan, PlannedPass, SetRole, When};
+use crate::render::plan::{
+    Condition, DrawKind, Label, MaterialVariant, PassKinds, PassPlan, PlannedPass, SetRole, When,
+};
 use crate::render::{LIGHT_PUSH_BYTES, OBJECT_PUSH_BYTES};
 use crate::shaders;
 use crate::technique::light_loop::{self, PlannedLight};
@@ -114,6 +116,14 @@ impl Label for AtlasTarget {
         }
     }
 }
+
+/// The cached passes' condition: the frames in which the light or a caster moved (else the
+/// shadow maps and bake of the frame before still hold).
+pub const LIGHT_OR_CASTERS_MOVED: Condition = Condition::named("when the light or a caster moved");
+/// The frames that re-bake a rasterised model's shadow texture (the atlas page's raster bake;
+/// geometry images are baked by their texels).
+pub const RASTERISED_TILES_STALE: Condition =
+    Condition::named("when a rasterised model's shadow texture is re-baked");
 
 const LIGHT: SetRole<AtlasSet> = SetRole::Own(AtlasSet::Light);
 const SHADOW_TEXTURE: SetRole<AtlasSet> = SetRole::Own(AtlasSet::ShadowTexture);
@@ -224,7 +234,7 @@ pub fn scene_desc(kind: ShadowKind) -> PipelineDesc {
 /// The frame of `kind` with `lights` (a light "shadows" when it has a map layer: see
 /// `maps::planned_lights`), pass by pass (no stencil anywhere: there is no reference path).
 pub fn plan(kind: ShadowKind, lights: &[PlannedLight]) -> PassPlan<AtlasKinds> {
-    let moved = When::LightOrCastersMoved;
+    let moved = When::If(LIGHT_OR_CASTERS_MOVED);
     let mut plan = PassPlan::new();
     for (index, light) in lights.iter().enumerate().filter(|(_, l)| l.shadows) {
         plan.push(
@@ -266,7 +276,7 @@ pub fn plan(kind: ShadowKind, lights: &[PlannedLight]) -> PassPlan<AtlasKinds> {
                 )
                 // The frame's set first: its joint palettes skin the models on the GPU.
                 .with_sets(&[SetRole::Frame, LIGHT])
-                .when(When::RasterisedTilesStale),
+                .when(When::If(RASTERISED_TILES_STALE)),
             );
             plan.push(
                 PlannedPass::offscreen("atlas page", page_desc(), AtlasDraw::Page, "page size", AtlasTarget::PageMip0)

@@ -6,17 +6,19 @@
 use std::sync::Arc;
 
 use ash::vk;
-use glam::{Mat4, Vec2, Vec3, Vec4};
+use glam::Vec4;
 use gpu_allocator::MemoryLocation;
 
 use super::atlas::{light_view_layout, mesh_atlas, MeshAtlas};
+use super::atlas_vertices::{upload_bind_poses, PosedLayout};
 use super::bake::AtlasTargets;
+use super::bake_cache::{stale_tiles, CacheKey, Shadowing};
 use super::light::{light_at, ShadowLightUniforms};
 use super::maps::{self, Coverage};
 use super::page_targets::{AtlasPage, PagePipelines};
-use super::passes::{self, AtlasDraw, AtlasKinds, AtlasSet, AtlasTarget};
+use super::passes::{self, AtlasDraw, AtlasKinds, AtlasSet, AtlasTarget, LIGHT_OR_CASTERS_MOVED, RASTERISED_TILES_STALE};
 use super::read_back::ShadowTextures;
-use super::rebake::{stale_after_moves, Sphere};
+use super::rebake::Sphere;
 use super::stats::{AtlasInfo, PageStats, ShadowAtlasStats};
 use super::targets::{self, Framebuffer, ImageView, RenderPass};
 use crate::error::{Error, Result};
@@ -31,36 +33,12 @@ use crate::render::per_slot::slot_copy;
 use crate::render::plan::{MaterialVariant, PlannedPass, When};
 use crate::render::Pipeline;
 use crate::render::{
-    object_push, scene_vertices, skinned_vertices, FrameOutput, FrameRecorder, GpuMaterials, GpuMesh, LightPush, ObjectPush, Renderer, Skinning,
+    object_push, FrameOutput, FrameRecorder, GpuMaterials, GpuMesh, LightPush, ObjectPush, Renderer, Skinning,
 };
-use crate::scene::objects::SceneMesh;
 use crate::scene::{JointPalettes, Light, Scene, SlotPoses};
 use crate::technique::frame_renderer::{self, FrameRenderer};
 use crate::technique::interface::{FrameStats, RenderOptions};
 use crate::technique::options::{LightMode, ShadowAtlasOptions, ShadowKind};
-
-/// Per mesh: the mesh vertex and the atlas UV of each GPU vertex, to lay a re-posed skin out
-/// again.
-struct PosedLayout {
-    sources: Vec<u32>,
-    uvs: Vec<Vec2>,
-    /// The material's inputs of each GPU vertex (UV0, UV1, COLOR_0), gathered once.
-    surface: Vec<[f32; 8]>,
-    /// The atlas mesh's triangles.
-    indices: Vec<u32>,
-}
-
-/// What the cached passes were last rendered for.
-#[derive(Debug, Clone, PartialEq)]
-struct CacheKey {
-    /// Every light's geometry and direction (the primary light as it turns).
-    lights: Vec<[Vec4; 2]>,
-    transforms: Vec<Mat4>,
-    /// Skinned objects' palettes: a new pose is a moved model.
-    palettes: Vec<Vec<Mat4>>,
-    /// The lights' uniforms as fitted to the scene: a model moving the fit re-bakes everything.
-    fitted: Vec<u8>,
-}
 
 /// Everything a seed 004 frame needs, built once for a scene.
 pub struct ShadowPasses {
@@ -105,10 +83,9 @@ pub struct ShadowPasses {
     /// their statistics come later).
     prepared: u32,
     cache: Option<CacheKey>,
-    /// This frame's light and cache key, whether the cached passes run, and the objects whose
+    /// This frame's light, whether the cached passes run, and the objects whose
     /// shadow textures they re-bake (ascending).
     light: Light,
-    key: Option<CacheKey>,
     fresh: bool,
     rebake: Vec<usize>,
 }
@@ -198,24 +175,15 @@ impl ShadowPasses {
         progress: &mut dyn FnMut(usize, usize),
     ) -> Result<Self> {
         let layouts = mesh_layouts(scene, kind, options, progress)?;
-        let posed_layouts: Vec<PosedLayout> = scene
-            .meshes
-            .iter()
-            .zip(&layouts)
-            .map(|(m, a)| PosedLayout {
-                sources: a.source_vertices.clone(),
-                uvs: a.uvs.clone(),
-                surface: surface_of(m, &a.source_vertices),
-                indices: a.indices.clone(),
-            })
-            .collect();
+        let posed_layouts: Vec<PosedLayout> =
+            scene.meshes.iter().zip(&layouts).map(|(m, a)| PosedLayout::of(m, a)).collect();
         let meshes = scene
             .meshes
             .iter()
             .zip(&layouts)
             .zip(&posed_layouts)
             .map(|((m, a), posed)| {
-                let interleaved = atlas_vertices(&a.positions, &a.normals, &a.uvs, &posed.surface);
+                let interleaved = posed.laid_out(a);
                 GpuMesh::from_raw(gpu, &m.name, &interleaved, &a.indices)
             })
             .collect::<Result<Vec<_>>>()?;
@@ -288,7 +256,6 @@ impl ShadowPasses {
             prepared: 0,
             cache: None,
             light: scene.light(),
-            key: None,
             fresh: true,
             rebake: Vec::new(),
         })
@@ -331,12 +298,7 @@ impl ShadowPasses {
             else {
                 continue;
             };
-            let (positions, normals) = skin.posed_positions_normals();
-            let pick = |list: &[Vec3], fallback: Vec3| -> Vec<Vec3> {
-                layout.sources.iter().map(|&v| list.get(v as usize).copied().unwrap_or(fallback)).collect()
-            };
-            let interleaved =
-                atlas_vertices(&pick(&positions, Vec3::ZERO), &pick(&normals, Vec3::Y), &layout.uvs, &layout.surface);
+            let interleaved = layout.posed(skin);
             mesh.write_posed(&self.gpu, slot, &format!("{} atlas vertices (posed)", object.name), &interleaved)?;
         }
         Ok(())
@@ -472,24 +434,6 @@ impl ShadowPasses {
             (AtlasSet::PageTiles, None) => None,
         }
     }
-
-    /// Which objects' shadow textures this frame re-bakes, its cache key `key` against the
-    /// last frame's: all of them unless only models moved and the maps' fit held.
-    fn stale_tiles(&self, scene: &Scene, key: &CacheKey, lights: &[Light]) -> Vec<usize> {
-        let all = || (0..scene.objects.len()).collect();
-        let Some(before) = &self.cache else { return all() };
-        if before.lights != key.lights || before.palettes != key.palettes || before.fitted != key.fitted {
-            return all();
-        }
-        let moved: Vec<usize> =
-            (0..scene.objects.len()).filter(|&i| before.transforms.get(i) != key.transforms.get(i)).collect();
-        if moved.is_empty() {
-            return all();
-        }
-        let shadowing: Vec<Light> =
-            lights.iter().zip(&self.coverage).filter(|(_, c)| c.layer().is_some()).map(|(l, _)| *l).collect();
-        stale_after_moves(scene, &before.transforms, &moved, &self.bounds, &shadowing, self.options.map_size)
-    }
 }
 
 impl Passes<AtlasKinds> for ShadowPasses {
@@ -575,17 +519,9 @@ impl Passes<AtlasKinds> for ShadowPasses {
             .enumerate()
             .map(|(i, l)| if Some(i) == primary { self.light } else { l.geometry() })
             .collect();
-        let mut key = CacheKey {
-            lights: scene.lights.iter().zip(&geometries).map(|(l, g)| [g.as_vec4(), l.direction.extend(0.0)]).collect(),
-            transforms: scene.objects.iter().map(|o| o.transform).collect(),
-            palettes: scene.objects.iter().filter_map(|o| o.skin.as_ref().map(|s| s.joint_matrices.clone())).collect(),
-            fitted: Vec::new(),
-        };
+        let mut key = CacheKey::of(scene, &geometries);
         // Nothing moved: the fit (which walks every posed vertex) is the cached one.
-        let unmoved = self
-            .cache
-            .as_ref()
-            .filter(|c| (&c.lights, &c.transforms, &c.palettes) == (&key.lights, &key.transforms, &key.palettes));
+        let unmoved = self.cache.as_ref().filter(|c| key.unmoved_since(c));
         self.rebake.clear();
         match unmoved {
             Some(cache) => {
@@ -597,7 +533,9 @@ impl Passes<AtlasKinds> for ShadowPasses {
                 key.fitted = bytemuck::bytes_of(&uniforms).to_vec();
                 self.fresh = true;
                 if self.page.is_some() {
-                    self.rebake = self.stale_tiles(scene, &key, &geometries);
+                    let shadowing =
+                        Shadowing { bounds: &self.bounds, coverage: &self.coverage, map_size: self.options.map_size };
+                    self.rebake = stale_tiles(scene, self.cache.as_ref(), &key, &geometries, shadowing);
                 }
                 if let Some(page) = &mut self.page {
                     page.write_models(&self.gpu, scene, slot)?;
@@ -611,8 +549,7 @@ impl Passes<AtlasKinds> for ShadowPasses {
         light.buffer.write(0, &key.fitted)?;
         self.slot = slot;
         // The next frame's cache is what this one leaves in the map and textures.
-        self.cache = Some(key.clone());
-        self.key = Some(key);
+        self.cache = Some(key);
         Ok(())
     }
 
@@ -623,10 +560,10 @@ impl Passes<AtlasKinds> for ShadowPasses {
     fn conditions(&self, _scene: &Scene) -> Vec<When> {
         let mut conditions = Vec::new();
         if self.fresh {
-            conditions.push(When::LightOrCastersMoved);
+            conditions.push(When::If(LIGHT_OR_CASTERS_MOVED));
         }
         if self.page.as_ref().is_some_and(|page| page.any_rasterised(&self.rebake)) {
-            conditions.push(When::RasterisedTilesStale);
+            conditions.push(When::If(RASTERISED_TILES_STALE));
         }
         conditions
     }
@@ -665,76 +602,3 @@ impl Passes<AtlasKinds> for ShadowPasses {
     }
 }
 
-/// Position, normal, atlas UV and the material's inputs per vertex, interleaved as
-/// `passes::ATLAS_VERTEX` says.
-pub(crate) fn atlas_vertices(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], surface: &[[f32; 8]]) -> Vec<[f32; 16]> {
-    (0..positions.len())
-        .map(|i| {
-            let (p, n, uv) = (positions[i], normals.get(i).copied().unwrap_or(Vec3::Y), uvs[i]);
-            let s = surface.get(i).copied().unwrap_or([0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0]);
-            [p.x, p.y, p.z, n.x, n.y, n.z, uv.x, uv.y, s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7]]
-        })
-        .collect()
-}
-
-/// Per object skinned on the GPU, its mesh's atlas vertices in the skin's bind pose, each with
-/// the joints (moved to the object's palette) and weights of the vertex it comes from.
-fn upload_bind_poses(
-    gpu: &Arc<Gpu>,
-    scene: &Scene,
-    layouts: &[PosedLayout],
-    palettes: &JointPalettes,
-) -> Result<Vec<Option<GpuMesh>>> {
-    scene
-        .objects
-        .iter()
-        .zip(&palettes.first_joint)
-        .map(|(object, first)| {
-            let (Some(skin), Some(first), Some(source), Some(layout)) =
-                (&object.skin, first, scene.meshes.get(object.mesh), layouts.get(object.mesh))
-            else {
-                return Ok(None);
-            };
-            // The bind pose's vertices with their joints checked and moved (one per mesh vertex).
-            let skinned = skinned_vertices(&object.name, source, skin, *first)?;
-            let pick = |v: u32| skinned.get(v as usize);
-            let positions: Vec<Vec3> =
-                layout.sources.iter().map(|&v| pick(v).map_or(Vec3::ZERO, |s| s.scene.position.into())).collect();
-            let normals: Vec<Vec3> =
-                layout.sources.iter().map(|&v| pick(v).map_or(Vec3::Y, |s| s.scene.normal.into())).collect();
-            let atlas = atlas_vertices(&positions, &normals, &layout.uvs, &layout.surface);
-            let vertices: Vec<SkinnedAtlasVertex> = atlas
-                .into_iter()
-                .zip(&layout.sources)
-                .map(|(atlas, &v)| {
-                    let (joints, weights) = pick(v).map_or(([0; 4], [0.0; 4]), |s| (s.joints, s.weights));
-                    SkinnedAtlasVertex { atlas, joints, weights }
-                })
-                .collect();
-            let name = format!("{} atlas vertices (bind pose)", object.name);
-            GpuMesh::from_raw(gpu, &name, &vertices, &layout.indices).map(Some)
-        })
-        .collect()
-}
-
-/// One vertex of `VertexLayout::SKINNED_ATLAS`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct SkinnedAtlasVertex {
-    atlas: [f32; 16],
-    joints: [u16; 4],
-    weights: [f32; 4],
-}
-
-/// UV0, UV1 and COLOR_0 of `mesh`'s vertices `sources` (one per atlas vertex).
-pub(crate) fn surface_of(mesh: &SceneMesh, sources: &[u32]) -> Vec<[f32; 8]> {
-    let vertices = scene_vertices(mesh, &mesh.data.positions, &mesh.data.normals);
-    sources
-        .iter()
-        .map(|&v| {
-            let s = vertices.get(v as usize);
-            let (uv0, uv1, c) = s.map_or(([0.0; 2], [0.0; 2], [1.0; 4]), |s| (s.uv0, s.uv1, s.colour));
-            [uv0[0], uv0[1], uv1[0], uv1[1], c[0], c[1], c[2], c[3]]
-        })
-        .collect()
-}

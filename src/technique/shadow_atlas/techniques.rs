@@ -124,7 +124,7 @@ impl TechniqueUnit for ShadowTechnique {
         Ok(plan(self.kind, lights))
     }
 
-    fn make(&self, ctx: BuildContext<'_, AtlasKinds>, scene: &Scene, _setup: ()) -> Result<ShadowPasses> {
+    fn make(&self, ctx: BuildContext<'_>, scene: &Scene, _setup: ()) -> Result<ShadowPasses> {
         let options = (ctx.options.shadow_atlas, ctx.options.skinning);
         ShadowPasses::new(ctx.gpu, scene, self.kind, options, &mut |_, _| {})
     }

@@ -65,6 +65,7 @@ impl Aabb {
 
 /// Every object's world bounds in its current pose (`None` for one without vertices): computed
 /// once a frame, for the receivers' box and each caster's own.
+#[cfg(test)]
 pub fn object_boxes(scene: &Scene) -> Vec<Option<Aabb>> {
     (0..scene.objects.len()).map(|i| object_box(scene, i)).collect()
 }

@@ -82,11 +82,13 @@ pub(super) fn light_in_object_space(light: &Light, model: &Mat4) -> mesh::Light 
 
 /// The caster's volume for the scene's primary light in its current pose, reaching as far as
 /// `reach`: caps with `caps` (the two-sided path always has them).
+#[cfg(test)]
 pub fn build_volume(scene: &Scene, caster: &Caster, reach: Reach, caps: bool) -> VolumeGeometry {
     build_volume_for(scene, caster, &scene.light(), reach, caps)
 }
 
 /// [`build_volume`] for the light `light`.
+#[cfg(test)]
 pub fn build_volume_for(scene: &Scene, caster: &Caster, light: &Light, reach: Reach, caps: bool) -> VolumeGeometry {
     let mut scratch = VolumeScratch::default();
     build_volume_into(scene, caster, light, reach, caps, &mut scratch);

@@ -13,7 +13,7 @@ use glam::{Mat4, Vec3};
 
 use super::bounds::Aabb;
 use super::casters::{posed_welded_positions, Caster};
-use crate::mesh::occluder_map::{LightView, OccluderMap};
+use super::occluder_map::{LightView, OccluderMap};
 use crate::scene::model::LightKind;
 use crate::scene::{Light, Scene, SceneLight};
 

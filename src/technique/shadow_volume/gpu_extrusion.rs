@@ -19,10 +19,10 @@ use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
 use crate::mesh::caster::CastPath;
-use crate::mesh::shadow_mesh::ShadowMesh;
+use super::shadow_mesh::ShadowMesh;
 use crate::mesh::shadow_volume::bounds_volume;
 use crate::mesh::{Light, Reach};
-use crate::render::{FrameRecorder, Pipeline};
+use crate::render::{FrameRecorder, IndexedDraw, Pipeline};
 use crate::scene::Scene;
 
 /// Mirrors `VolumePush` in `shaders/volume_push.glsl`.
@@ -222,8 +222,11 @@ impl ShadowMeshes {
         let push = VolumePush { colour: Vec4::new(0.0, 0.0, 0.0, alpha), ..volume.push };
         rec.push(pipeline, &push);
         let copies = if volume.push.flags & INSTANCED != 0 { mesh.copies } else { 1 };
-        for range in volume.ranges.iter().flatten() {
-            rec.draw_indexed_instances(&mesh.indices, range.start, range.end - range.start, copies);
+        // An empty range binds nothing either.
+        for range in volume.ranges.iter().flatten().filter(|range| !range.is_empty() && copies > 0) {
+            rec.bind_indices(&mesh.indices);
+            let draw = IndexedDraw::range(range.start, range.end - range.start);
+            rec.draw_indexed(IndexedDraw { instance_count: copies, ..draw });
         }
     }
 }

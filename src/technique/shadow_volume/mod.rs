@@ -1,18 +1,27 @@
 //! Shadow volumes counted in the colour alpha channel (seed 000, docs/design/shadow-volumes.md), and the
 //! real-stencil reference they are proven against: the recipes and pass plan
-//! ([`recipes`]), the casters and their volumes on the CPU ([`casters`]), and the renderer
-//! that draws them ([`renderer`]).
+//! ([`recipes`]), the casters and their volumes on the CPU ([`casters`]), each frame's volumes
+//! laid out ([`frame_volumes`]) and written into their buffers ([`volume_uploads`]), and the
+//! renderer that draws them ([`renderer`]); with what only this technique uses: the alpha
+//! counter's arithmetic ([`alpha_counter`]), the occluder map that culls hidden casters
+//! ([`occluder_map`], [`culling`]) and the shadow mesh the GPU extrudes ([`shadow_mesh`],
+//! [`gpu_extrusion`]).
 
+pub mod alpha_counter;
 pub mod bounds;
 pub mod casters;
 pub mod convex_region;
 pub mod culling;
 pub mod doubled;
+pub mod frame_volumes;
 pub mod gpu_extrusion;
 pub mod near_caps;
+pub mod occluder_map;
 pub mod recipes;
 pub mod renderer;
+pub mod shadow_mesh;
 pub mod stats;
+pub mod volume_uploads;
 
 use super::frame_renderer::BuildContext;
 use super::interface::{RenderOptions, TechniqueInfo, Variant};
@@ -27,7 +36,9 @@ use recipes::VolumeKinds;
 use renderer::{ShadowVolumePasses, VolumeSetup};
 
 pub use super::options::{Normalize, ShadowMode, ShadowVolumeOptions, VolumeExtrusion, VolumeMethod};
-pub use casters::{build_volume, prepare_casters};
+#[cfg(test)]
+pub use casters::build_volume;
+pub use casters::prepare_casters;
 pub use recipes::SATURATION_PROBE;
 pub use renderer::ShadowVolumeStats;
 
@@ -53,11 +64,11 @@ impl TechniqueInfo for ShadowVolumes {
         let additive = "In the additive loop (`--shadow-mode additive`, the default) `max` runs the same passes as \
                         `seed`: the mask is exactly 0 or 1, with no darkness step. Its counter counts down from 1, \
                         so no N0; iterations for k = 1, 2, 4, 8: ";
-        let down: Vec<String> = super::alpha_counter::TABLE_INCREMENTS
+        let down: Vec<String> = alpha_counter::TABLE_INCREMENTS
             .iter()
-            .map(|&k| super::alpha_counter::down_iterations(k).map(|n| n.to_string()))
+            .map(|&k| alpha_counter::down_iterations(k).map(|n| n.to_string()))
             .collect::<Result<_>>()?;
-        let modulate = super::alpha_counter::iteration_section()?;
+        let modulate = alpha_counter::iteration_section()?;
         Ok(Some(format!("{additive}{}.\n\n{modulate}", down.join(", "))))
     }
 
@@ -198,7 +209,7 @@ impl TechniqueUnit for ShadowVolumes {
 
     fn make(
         &self,
-        ctx: BuildContext<'_, VolumeKinds>,
+        ctx: BuildContext<'_>,
         scene: &Scene,
         setup: VolumeSetup,
     ) -> Result<ShadowVolumePasses> {

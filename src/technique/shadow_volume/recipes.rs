@@ -38,7 +38,7 @@ use crate::render::plan::{fmt_f32, DrawKind, Draws, Label, NoOwn, Only, PassKind
 use super::gpu_extrusion::VOLUME_PUSH_BYTES;
 use crate::render::LIGHT_PUSH_BYTES;
 use crate::shaders;
-use crate::technique::alpha_counter;
+use super::alpha_counter;
 use crate::technique::light_loop::{self, PlannedLight};
 use crate::technique::lit;
 use crate::technique::material_variants::with_surface_variants;
@@ -220,10 +220,6 @@ fn counter_reader(one_sample: shaders::Shader, multisampled: shaders::Shader, sa
     } else {
         one_sample
     }
-}
-
-pub fn apply_desc(normalize: Normalize) -> PipelineDesc {
-    subpass_aware_apply_desc(normalize, 1)
 }
 
 /// [`apply_desc`] for a frame of `samples` samples.

@@ -101,7 +101,7 @@ impl TechniqueUnit for XRay {
         Ok(PassPlan { passes: vec![scene_pass(1.0), hidden_pass()] })
     }
 
-    fn make(&self, ctx: BuildContext<'_, XRayKinds>, scene: &Scene, _setup: ()) -> Result<XRayPasses> {
+    fn make(&self, ctx: BuildContext<'_>, scene: &Scene, _setup: ()) -> Result<XRayPasses> {
         Ok(XRayPasses { gpu: ctx.gpu.clone(), meshes: GpuScene::upload_for(ctx.gpu, scene, ctx.options.skinning)? })
     }
 }

@@ -15,7 +15,7 @@
 
 use glam::{Vec2, Vec3};
 
-use super::fast_hash::{u64_map_with_capacity, U64Map};
+use crate::mesh::fast_hash::{u64_map_with_capacity, U64Map};
 
 /// How the light sees the world.
 #[derive(Debug, Clone, Copy)]
@@ -253,6 +253,7 @@ impl OccluderMap {
     }
 
     /// Texels whose rays some triangle blocks (a diagnostic, and the tests' view of coverage).
+    #[cfg(test)]
     pub fn blocked_texels(&self) -> usize {
         self.blocked_by.iter().filter(|d| d.is_finite()).count()
     }

@@ -23,7 +23,7 @@ use std::ops::Range;
 
 use glam::Vec3;
 
-use super::adjacency::EdgeAdjacency;
+use crate::mesh::adjacency::EdgeAdjacency;
 use crate::error::{Error, Result};
 
 /// Where each table starts, in words from the mesh's first word (the header's slots).
