@@ -13,8 +13,9 @@ const SWEEP_DARKNESS: [u8; 3] = [64, 102, 128];
 /// built-in scenes), z-fail and the scene's own choice, every k in {1, 2, 4, 8} and D in
 /// {64, 102, 128} in every normalisation equals the reference pixel for pixel (the subpass
 /// apply counts no saturation). Every scene's geometry is proven at k = 1, D = 102 by
-/// `emulated_equals_reference_on_every_scene_clipped_or_not`; every count's normalisation at
-/// seven (k, D), read back from the GPU, by `normalisation_table_is_read_back_from_the_gpu`; the
+/// `emulated_equals_reference_on_every_scene_clipped_or_not`; every count's seed and max
+/// normalisation at seven (k, D), read back from the GPU, by
+/// `normalisation_table_is_read_back_from_the_gpu` (the subpass apply reads the count itself); the
 /// count itself (alpha = k x the stencil's, k = 1 and 4, per sample) by
 /// tests/inside/msaa_samples.rs. (This sweep once ran on every built-in scene: about 940 frames,
 /// 50 s.)
@@ -126,8 +127,9 @@ fn additive_emulated_equals_reference_on_every_scene() {
 /// unclipped image and rasterise fewer volume fragments. "The same image" up to rounding: a
 /// clipped wall is another triangle in the same plane, so its depth is rounded differently where
 /// it grazes a surface (a caster's own terminator, a face lying along the light), and there a
-/// pixel may flip. Unclipped, the emulated seed path still equals its reference exactly: the
-/// other normalisations read the same counts (`normalisation_table_is_read_back_from_the_gpu`).
+/// pixel may flip. Unclipped, the emulated seed path still equals its reference exactly:
+/// clipping changes the volumes, and so the counts, not how a count is normalised, which the
+/// clipped frames prove in every normalisation.
 /// k and D are swept by `increment_and_darkness_change_only_the_blend_arithmetic`. (This test and
 /// the every-scene k/D sweep drew the same clipped frames; they are one test now.)
 #[test]
