@@ -309,8 +309,8 @@ fn mutated_files_end_in_a_scene_or_a_one_line_error() {
     let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
     let seed: u64 = env_or("FUZZ_SEED", 16);
     // 2,000 in `cargo test` (it was 20,000, 19 s of every run): every case is still loaded and
-    // judged, and every 6th that loads is rendered (it was every 16th), the techniques, stencil
-    // modes and sample counts in turn: each of them at least once (`render_combinations`).
+    // judged, and every 6th case is rendered if it loads (it was every 16th), the techniques,
+    // stencil modes and sample counts in turn: each of them at least once (`render_combinations`).
     let max_cases: usize = env_or("FUZZ_CASES", 2_000);
     let budget = Duration::from_secs_f64(env_or("FUZZ_SECONDS", 60.0));
     let corpus = corpus();
@@ -355,7 +355,7 @@ fn mutated_files_end_in_a_scene_or_a_one_line_error() {
         let file = if cases % 4 == 3 { cases / 4 % corpus.len() } else { loading[cases % loading.len()] };
         let (path, original) = &corpus[file];
         let mutant = mutate(original, &mut rng);
-        // Every 6th case that loads is rendered (the renders are the slow part on lavapipe).
+        // Every 6th case is rendered if it loads (the renders are the slow part on lavapipe).
         let render = cases % 6 == 0;
         let job = Job { index: cases, bytes: mutant.bytes.clone(), path: path.clone(), render };
         if jobs.send(job).is_err() {

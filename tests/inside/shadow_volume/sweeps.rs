@@ -250,7 +250,7 @@ fn a_narrow_spots_cone_bounds_its_casters_and_its_passes() {
             let differing = rgb_differences(&emulated.output.image, &reference.output.image);
             assert_eq!(differing, 0, "{samples}x {}: {differing} pixels differ from the reference", normalize.name());
         }
-        // Clipping flips a grazing pixel now and then (`clipped_volumes_draw_the_unclipped_image_with_fewer_fragments`):
+        // Clipping flips a grazing pixel now and then (`emulated_equals_reference_on_every_scene_clipped_or_not`):
         // with the spot, it flips none that it does not flip without it.
         let unclipped = frame(StencilMode::Reference, Normalize::Seed, false);
         let base_frame =
