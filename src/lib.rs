@@ -75,18 +75,19 @@ mod common;
 #[path = "../tests/inside/mod.rs"]
 mod inside;
 
-// What only the tests use is `#[cfg(test)]` where it is defined; an import that only the
-// test build needs is allowed in the others, and one that even the tests do not use is still
-// a warning in the test build.
-macro_rules! crate_modules {
-    ($($name:ident),* $(,)?) => {
-        $(
-            #[cfg_attr(not(test), allow(unused_imports))]
-            mod $name;
-        )*
-    };
-}
-crate_modules!(frame, gpu, mesh, names, pipeline, profile, render, scene, shaders, technique, viewer);
+// Everything below the façade is private to the crate. What only the tests use is
+// `#[cfg(test)]` where it is defined, imports included.
+mod frame;
+mod gpu;
+mod mesh;
+mod names;
+mod pipeline;
+mod profile;
+mod render;
+mod scene;
+mod shaders;
+mod technique;
+mod viewer;
 
 #[doc(hidden)]
 pub mod cli;

@@ -249,7 +249,8 @@ mod tests {
                 assert_eq!(desc.depth.stencil_store, vk::AttachmentStoreOp::DONT_CARE);
             }
         }
-        assert!(RenderPassDesc::frame(vk::Format::D32_SFLOAT_S8_UINT, false, 1, false, FrameDestination::Offscreen).has_stencil());
+        assert!(RenderPassDesc::frame(vk::Format::D32_SFLOAT_S8_UINT, false, 1, false, FrameDestination::Offscreen)
+            .has_stencil());
     }
 
     #[test]

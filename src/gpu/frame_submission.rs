@@ -132,7 +132,9 @@ impl SubmitSlot {
         record: impl FnOnce(vk::CommandBuffer) -> Result<T>,
     ) -> Result<(T, CpuPhases)> {
         if self.pending.is_some() {
-            return Err(Error::Internal("a frame slot was submitted again before its last frame was waited for".into()));
+            return Err(Error::Internal(
+                "a frame slot was submitted again before its last frame was waited for".into(),
+            ));
         }
         let device = self.gpu.raw();
         let start = Instant::now();

@@ -217,9 +217,8 @@ impl Swapchain {
 
         let (surface_format, transfer) = surface_format(gpu, surface, frame_format)?;
         // SAFETY: the physical device was enumerated from this live instance.
-        let features = unsafe {
-            gpu.instance.raw.get_physical_device_format_properties(physical, surface_format.format)
-        };
+        let features =
+            unsafe { gpu.instance.raw.get_physical_device_format_properties(physical, surface_format.format) };
         let drawable = drawable_format(surface_format.format)
             && caps.supported_usage_flags.contains(vk::ImageUsageFlags::COLOR_ATTACHMENT)
             && features.optimal_tiling_features.contains(vk::FormatFeatureFlags::COLOR_ATTACHMENT_BLEND);

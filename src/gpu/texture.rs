@@ -300,7 +300,13 @@ pub fn ready_for_sampling(gpu: &Arc<Gpu>, images: &[(&Image, Range<u32>)], colou
                 // SAFETY: `cmd` is recording; the barrier above made every mip TRANSFER_DST_OPTIMAL,
                 // and the caller created the image with TRANSFER_DST usage and these mips.
                 unsafe {
-                    gpu.raw().cmd_clear_color_image(cmd, image.raw, vk::ImageLayout::TRANSFER_DST_OPTIMAL, &clear, &[range])
+                    gpu.raw().cmd_clear_color_image(
+                        cmd,
+                        image.raw,
+                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                        &clear,
+                        &[range],
+                    )
                 };
             }
             barriers::written_mip_to_sampled(gpu.raw(), cmd, image.raw, mips);

@@ -190,14 +190,7 @@ mod tests {
     fn a_face_whose_corner_welding_moved_is_not_drawn_as_the_scene_draws_it() -> Result<()> {
         // Two triangles sharing an edge; the second's copy of one shared corner lies 1e-6 off
         // (welded into the first's), the first's duplicate of its other corner is exact.
-        let positions = [
-            Vec3::ZERO,
-            Vec3::X,
-            Vec3::Y,
-            Vec3::new(1.0, 1e-6, 0.0),
-            Vec3::Y,
-            Vec3::new(1.0, 1.0, 0.0),
-        ];
+        let positions = [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::new(1.0, 1e-6, 0.0), Vec3::Y, Vec3::new(1.0, 1.0, 0.0)];
         let caster = CasterMesh::prepare("two triangles", &positions, &[0, 1, 2, 3, 5, 4])?;
         assert_eq!(caster.welded.positions.len(), 4, "both seams welded");
         assert_eq!(caster.faces_as_drawn, [true, false]);

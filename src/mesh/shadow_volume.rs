@@ -19,11 +19,13 @@
 //! side quad is the triangle (b, a, infinity) and the far cap collapses to that single point, so
 //! it is left out. The volume is still closed: the sides meet at the apex.
 
+#[cfg(test)]
 use std::collections::HashMap;
 
 use glam::{Vec3, Vec4};
 
 use super::adjacency::{EdgeAdjacency, NO_FACE};
+#[cfg(test)]
 use super::fast_hash::{u64_map_with_capacity, U64Map};
 
 /// A light as the volume sees it.
@@ -285,7 +287,10 @@ pub(super) fn start_volume(
         Light::Directional(direction) => out.lit_faces.extend(normals.iter().map(|n| n.dot(direction) < 0.0)),
         // N.(p - light) is the same for every point p of the face's plane.
         Light::Point(at) => out.lit_faces.extend(
-            normals.iter().zip(adjacency.indices.chunks_exact(3)).map(|(n, t)| n.dot(positions[t[0] as usize] - at) < 0.0),
+            normals
+                .iter()
+                .zip(adjacency.indices.chunks_exact(3))
+                .map(|(n, t)| n.dot(positions[t[0] as usize] - at) < 0.0),
         ),
     }
     let mesh = &positions[..vertex_count];

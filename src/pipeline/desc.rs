@@ -99,8 +99,7 @@ impl VertexLayout {
     /// object's bind pose, which its vertex stage skins (80 bytes).
     pub const SKINNED_SCENE: VertexLayout = VertexLayout { attributes: &with_skin::<5, 7>(SCENE_ATTRIBUTES) };
     /// `POSITION4`, then JOINTS_0 and WEIGHTS_0: a skinned caster's doubled volume vertices.
-    pub const SKINNED_POSITION4: VertexLayout =
-        VertexLayout { attributes: &with_skin::<1, 3>(POSITION4_ATTRIBUTES) };
+    pub const SKINNED_POSITION4: VertexLayout = VertexLayout { attributes: &with_skin::<1, 3>(POSITION4_ATTRIBUTES) };
     /// `ATLAS`, then JOINTS_0 and WEIGHTS_0.
     pub const SKINNED_ATLAS: VertexLayout = VertexLayout { attributes: &with_skin::<6, 8>(ATLAS_ATTRIBUTES) };
 
@@ -129,7 +128,6 @@ pub struct PipelineDesc {
     pub vertex_layout: VertexLayout,
     pub fixed: FixedFunction,
     pub push_constant_bytes: u32,
-    pub subpass: u32,
 }
 
 impl PipelineDesc {

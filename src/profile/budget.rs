@@ -106,8 +106,6 @@ impl BudgetFigure {
     }
 }
 
-
-
 impl std::fmt::Display for BudgetFigure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let percent =
@@ -241,7 +239,10 @@ impl Budget {
             ("tiler bytes per frame", budget.tiler_bytes, actual.tiler_bytes),
             ("immediate-mode bytes per frame", budget.immediate_bytes, actual.immediate_bytes),
         ];
-        figures.into_iter().map(|(counter, budget, actual)| BudgetFigure { pass: "frame".into(), counter, budget, actual }).collect()
+        figures
+            .into_iter()
+            .map(|(counter, budget, actual)| BudgetFigure { pass: "frame".into(), counter, budget, actual })
+            .collect()
     }
 
     pub fn load(path: &Path) -> Result<Self> {
@@ -265,7 +266,13 @@ impl Budget {
 
     /// Every figure of this crate's frame the budget holds, over it or not (`over()` picks
     /// those over it); an error when the frame is not the one the budget describes.
-    pub fn compared(&self, scene: &str, technique: &str, stencil: &str, counters: &FrameCounters) -> Result<Vec<BudgetFigure>> {
+    pub fn compared(
+        &self,
+        scene: &str,
+        technique: &str,
+        stencil: &str,
+        counters: &FrameCounters,
+    ) -> Result<Vec<BudgetFigure>> {
         let what = (self.scene.as_str(), self.technique.as_str(), self.stencil.as_str(), self.width, self.height);
         if what != (scene, technique, stencil, counters.width, counters.height) {
             return Err(Error::InvalidInput(format!(
@@ -310,7 +317,13 @@ mod tests {
     use super::*;
 
     /// The verdict: the figures over budget.
-    fn check(budget: &Budget, scene: &str, technique: &str, stencil: &str, c: &FrameCounters) -> Result<Vec<BudgetFigure>> {
+    fn check(
+        budget: &Budget,
+        scene: &str,
+        technique: &str,
+        stencil: &str,
+        c: &FrameCounters,
+    ) -> Result<Vec<BudgetFigure>> {
         Ok(budget.compared(scene, technique, stencil, c)?.into_iter().filter(BudgetFigure::over).collect())
     }
 

@@ -66,14 +66,13 @@ pub fn measure(
 
 /// The lines `profile` prints after the technique's report.
 pub fn table(coverage: &[LightCoverage]) -> String {
-    let mut out = String::from(
-        "shadow volumes' area (their samples covered, counted with the depth test off; exact):\n",
-    );
+    let mut out =
+        String::from("shadow volumes' area (their samples covered, counted with the depth test off; exact):\n");
     for light in coverage {
-        let fill = light.fill_per_px.map_or("fill not measured".to_owned(), |fill| format!("fill {fill:.2} fragments/px"));
-        let ratio = light
-            .fill_per_covered_sample()
-            .map_or(String::new(), |r| format!(" ({r:.1} counted per sample covered)"));
+        let fill =
+            light.fill_per_px.map_or("fill not measured".to_owned(), |fill| format!("fill {fill:.2} fragments/px"));
+        let ratio =
+            light.fill_per_covered_sample().map_or(String::new(), |r| format!(" ({r:.1} counted per sample covered)"));
         out.push_str(&format!(
             "  light '{}': {:.2} samples covered/px, {fill}{ratio}, {:.2} passed/px\n",
             light.light, light.samples_covered_per_px, light.samples_passed_per_px

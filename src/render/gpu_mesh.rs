@@ -278,7 +278,12 @@ pub struct SkinnedVertex {
 /// moved up by `joint_base` (where the object's palette starts among the frame's palettes).
 /// An error names the mesh when the skin's lists disagree with its vertices, a vertex uses a
 /// joint outside the palette, or the palette has more than `MAX_JOINTS` joints.
-pub fn skinned_vertices(name: &str, source: &SceneMesh, skin: &SceneSkin, joint_base: u32) -> Result<Vec<SkinnedVertex>> {
+pub fn skinned_vertices(
+    name: &str,
+    source: &SceneMesh,
+    skin: &SceneSkin,
+    joint_base: u32,
+) -> Result<Vec<SkinnedVertex>> {
     if skin.joint_matrices.len() > MAX_JOINTS {
         // The loader refuses such a skin; a scene built by hand may still hold one.
         return Err(Error::InvalidInput(format!(

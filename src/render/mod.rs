@@ -4,8 +4,8 @@
 //! and the jobs that run a frame's CPU work on other cores.
 
 pub mod counters;
-pub mod frame_record;
 pub mod frame_copy;
+pub mod frame_record;
 pub mod frame_stats;
 pub mod gpu_mesh;
 pub mod instances;
@@ -31,8 +31,6 @@ pub use gpu_mesh::{scene_vertices, skinned_vertices, GpuMesh, GpuScene, SceneVer
 pub use materials::GpuMaterials;
 pub use object_push::{object_push, LightPush, ObjectPush, LIGHT_PUSH_BYTES, OBJECT_PUSH_BYTES};
 pub use pipeline_object::{Pipeline, PipelineTarget};
-#[cfg(test)]
-pub use recorder::BoundDraw;
 pub use recorder::{FrameRecorder, IndexedDraw};
 pub use renderer::{FrameOutput, PresentedFrame, Renderer};
 #[cfg(test)]

@@ -13,7 +13,8 @@ pub fn draw_order(scene: &Scene) -> impl Iterator<Item = usize> + '_ {
     let blended = |i: usize| matches!(scene.material_of(&scene.objects[i]).alpha_mode, AlphaMode::Blend);
     let distance =
         |i: usize| scene.posed_bounds(i).map_or(0.0, |(lo, hi)| ((lo + hi) * 0.5).distance(scene.camera.eye));
-    let mut back: Vec<(f32, usize)> = (0..scene.objects.len()).filter(|&i| blended(i)).map(|i| (distance(i), i)).collect();
+    let mut back: Vec<(f32, usize)> =
+        (0..scene.objects.len()).filter(|&i| blended(i)).map(|i| (distance(i), i)).collect();
     back.sort_by(|a, b| b.0.total_cmp(&a.0));
     (0..scene.objects.len()).filter(move |&i| !blended(i)).chain(back.into_iter().map(|(_, i)| i))
 }

@@ -7,9 +7,9 @@ use ash::vk;
 
 use super::frame_stats::{FrameStats, NoStats};
 use super::gpu_mesh::{GpuScene, Skinning};
+use super::pipeline_object::Pipeline;
 use super::plan::{PassKinds, PlannedPass, Scissor, When};
 use super::recorder::FrameRecorder;
-use super::pipeline_object::Pipeline;
 use super::renderer::{FrameOutput, Renderer};
 use crate::error::Result;
 use crate::gpu::descriptors::DescriptorSet;

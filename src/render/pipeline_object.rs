@@ -258,7 +258,7 @@ impl Pipeline {
             .dynamic_state(&dynamic)
             .layout(layout)
             .render_pass(render_pass)
-            .subpass(desc.subpass);
+            .subpass(0);
         // SAFETY: every state struct `info` points at lives until the call returns; the shader
         // modules are alive (dropped at the end of this function); `layout` is alive (owned by
         // this pipeline or its original) and `render_pass` is the caller's, alive for the call;

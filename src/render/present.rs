@@ -10,8 +10,8 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use super::frame_copy;
-use crate::error::{Error, Result, VkContext};
 use super::renderer::PresentedFrame;
+use crate::error::{Error, Result, VkContext};
 use crate::frame::render_pass::{FrameDestination, COLOUR_FORMAT};
 use crate::gpu::faults::{self, Submission};
 use crate::gpu::live_objects::ObjectKind;

@@ -38,19 +38,6 @@ impl IndexedDraw {
     }
 }
 
-/// One instance of indices of the buffers bound last: the tests' older shape of
-/// [`IndexedDraw`] ([`FrameRecorder::draw_bound`]), kept for the tests that still use it.
-#[cfg(test)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct BoundDraw {
-    pub first_index: u32,
-    pub index_count: u32,
-    /// Added to every index: where the draw's vertices start in the vertex buffer.
-    pub vertex_offset: i32,
-    /// The one instance's `gl_InstanceIndex`.
-    pub first_instance: u32,
-}
-
 /// Records one frame into `cmd`.
 ///
 /// Soundness of its raw Vulkan calls: `cmd` is recording (inside `submit_and_wait`'s closure),
@@ -527,13 +514,6 @@ impl<'a> FrameRecorder<'a> {
         self.record.count_draw();
     }
 
-    /// [`FrameRecorder::draw_indexed`] of one instance, in the tests' older shape.
-    #[cfg(test)]
-    pub fn draw_bound(&mut self, draw: BoundDraw) {
-        let BoundDraw { first_index, index_count, vertex_offset, first_instance } = draw;
-        self.draw_indexed(IndexedDraw { vertex_offset, first_instance, ..IndexedDraw::range(first_index, index_count) });
-    }
-
     /// `vkCmdDraw`: `instance_count` instances of `vertex_count` vertices, of the vertex buffer
     /// bound last ([`FrameRecorder::bind_vertices`]) or made by the vertex shader from
     /// `gl_VertexIndex` and `gl_InstanceIndex` (three: one full-screen triangle,
@@ -543,12 +523,5 @@ impl<'a> FrameRecorder<'a> {
         // bound (the caller's count of those it uploaded), or the vertex shader reads none.
         unsafe { self.gpu.raw().cmd_draw(self.cmd, vertex_count, instance_count, first_vertex, first_instance) };
         self.record.count_draw();
-    }
-
-    /// One full-screen triangle (`shaders/fullscreen.vert`), in the tests' older shape of
-    /// [`FrameRecorder::draw`].
-    #[cfg(test)]
-    pub fn draw_fullscreen(&mut self) {
-        self.draw(3, 1, 0, 0);
     }
 }

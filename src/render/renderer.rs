@@ -10,8 +10,8 @@ use gpu_allocator::MemoryLocation;
 use image::RgbaImage;
 
 use super::counters::{FrameCounters, PassCounters};
-use super::instances::RenderPassInstance;
 use super::frame_record::PassRecord;
+use super::instances::RenderPassInstance;
 use super::overdraw::OverdrawPipelines;
 use super::recorder::FrameRecorder;
 #[cfg(test)]
@@ -19,7 +19,9 @@ use super::sample_readback::{self, FrameSamples};
 use super::uniforms::{FrameDescriptors, FrameUniforms};
 use crate::error::Result;
 use crate::frame::render_pass::RenderPassTraffic;
-use crate::frame::{image_from_rgba8, FrameTargets, StencilMode};
+#[cfg(test)]
+use crate::frame::StencilMode;
+use crate::frame::{image_from_rgba8, FrameTargets};
 use crate::gpu::barriers;
 use crate::gpu::frame_submission::{CpuPhases, FrameSync, SubmitSlot};
 use crate::gpu::memory::Buffer;
@@ -446,14 +448,25 @@ fn record_frame_pass(
         vk::ClearValue { color: vk::ClearColorValue { float32: clear } },
     ];
     let attachments = targets.desc.attachments();
-    recorder.begin_render_pass(targets.render_pass, &attachments, targets.framebuffer()?, targets.extent, &clear_values);
+    recorder.begin_render_pass(
+        targets.render_pass,
+        &attachments,
+        targets.framebuffer()?,
+        targets.extent,
+        &clear_values,
+    );
     let recorded = record(recorder);
     recorder.end_render_pass();
     recorded
 }
 
 /// Copies the finished colour target into the read-back buffer, visible to the host.
-fn record_readback(device: &ash::Device, cmd: vk::CommandBuffer, targets: &FrameTargets, readback: &Buffer) -> Result<()> {
+fn record_readback(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    targets: &FrameTargets,
+    readback: &Buffer,
+) -> Result<()> {
     let colour = targets
         .colour()
         .ok_or_else(|| crate::error::Error::Internal("a frame drawn into swapchain images was read back".into()))?;
@@ -463,13 +476,7 @@ fn record_readback(device: &ash::Device, cmd: vk::CommandBuffer, targets: &Frame
     // buffer (sized width x height x 4 for this extent) belong to the renderer, which outlives
     // the submission `submit_frame_and_wait` waits for.
     unsafe {
-        device.cmd_copy_image_to_buffer(
-            cmd,
-            colour.raw,
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            readback.raw,
-            &[region],
-        )
+        device.cmd_copy_image_to_buffer(cmd, colour.raw, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, readback.raw, &[region])
     };
     barriers::transfer_to_host(device, cmd, readback.raw);
     Ok(())

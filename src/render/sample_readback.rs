@@ -39,13 +39,13 @@ pub struct FrameSamples {
 
 impl FrameSamples {
     /// Sample `i` of pixel (`x`, `y`).
-        pub fn sample(&self, x: u32, y: u32, i: u32) -> [u8; 4] {
+    pub fn sample(&self, x: u32, y: u32, i: u32) -> [u8; 4] {
         let at = (((y * self.width + x) * self.samples + i) * 4) as usize;
         [self.bytes[at], self.bytes[at + 1], self.bytes[at + 2], self.bytes[at + 3]]
     }
 
     /// The samples of pixel (`x`, `y`), in sample order.
-        pub fn pixel(&self, x: u32, y: u32) -> Vec<[u8; 4]> {
+    pub fn pixel(&self, x: u32, y: u32) -> Vec<[u8; 4]> {
         (0..self.samples).map(|i| self.sample(x, y, i)).collect()
     }
 }
@@ -58,7 +58,6 @@ fn readback_desc() -> PipelineDesc {
         vertex_layout: VertexLayout::NONE,
         fixed: FixedFunction::FULLSCREEN,
         push_constant_bytes: 4,
-        subpass: 0,
     }
 }
 

@@ -9,7 +9,9 @@ use glam::{Mat4, Vec3};
 
 use super::animation::{pose_at, rest_pose, TimeMode};
 use super::camera::{Camera, Light};
-use super::gltf::{load_gltf, load_gltf_slice};
+use super::gltf::load_gltf;
+#[cfg(test)]
+use super::gltf::load_gltf_slice;
 use super::layout::ground_plane;
 use super::lights::{unique_name, LightNode, SceneLight, MAX_LIGHTS};
 use super::model::{LightKind, Model};

@@ -437,7 +437,9 @@ mod tests {
         let [apex, base @ ..] = cone.pyramid(4.0);
         assert_eq!(apex, light.position);
         for corner in base {
-            assert!((corner.y - 0.0).abs() < 1e-5 && Vec2::new(corner.x, corner.z).length() >= 4.0 * cone.half_angle.tan());
+            assert!(
+                (corner.y - 0.0).abs() < 1e-5 && Vec2::new(corner.x, corner.z).length() >= 4.0 * cone.half_angle.tan()
+            );
         }
         // No cone for a point light, nor for a spot as wide as a half-space.
         assert!(SceneLight::from_geometry(Light::Point { position: Vec3::ZERO }).cone().is_none());

@@ -42,8 +42,9 @@ pub use from_gltf::scene_and_warnings_from_gltf_slice;
 pub use from_gltf::{scene_and_warnings_from_gltf, scene_from_gltf};
 pub use lights::{SceneLight, MAX_LIGHTS};
 // `self::`: `gltf` alone would also name the gltf crate.
+#[cfg(test)]
 pub use self::gltf::load_gltf;
-pub use model::MAX_JOINTS;
 pub use joint_palettes::JointPalettes;
+pub use model::MAX_JOINTS;
 pub use objects::{bounds_of, Scene, SceneObject, SceneSkin};
 pub use posing::{PoseTracker, SlotPoses};

@@ -47,15 +47,7 @@ pub fn cartoon_desc(
     vertex_layout: VertexLayout,
     fixed: FixedFunction,
 ) -> PipelineDesc {
-    PipelineDesc {
-        name,
-        vertex_shader,
-        fragment_shader,
-        vertex_layout,
-        fixed,
-        push_constant_bytes: CARTOON_PUSH_BYTES,
-        subpass: 0,
-    }
+    PipelineDesc { name, vertex_shader, fragment_shader, vertex_layout, fixed, push_constant_bytes: CARTOON_PUSH_BYTES }
 }
 
 /// The scene: Lambert or toon, optionally with the N.V rim; writes the alpha it is given.

@@ -15,7 +15,9 @@ use crate::frame::render_pass::FrameDestination;
 use crate::frame::StencilMode;
 use crate::gpu::Gpu;
 pub use crate::render::frame_stats::FrameStats;
-use crate::render::plan::{PassPlan, When};
+use crate::render::plan::PassPlan;
+#[cfg(test)]
+use crate::render::plan::When;
 use crate::render::{FrameOutput, PresentedFrame, Renderer, Skinning};
 use crate::scene::Scene;
 

@@ -25,7 +25,6 @@ pub fn scene_pipeline_desc() -> PipelineDesc {
         vertex_layout: VertexLayout::SCENE,
         fixed: FixedFunction::OPAQUE,
         push_constant_bytes: OBJECT_PUSH_BYTES,
-        subpass: 0,
     }
 }
 

@@ -31,10 +31,6 @@ use crate::gpu::Gpu;
 use crate::scene::Scene;
 
 pub use cartoon::CartoonStats;
-// tests/inside/shadow_volume.rs names the counter by its old path (another change is editing
-// that file): the path stays for the tests alone.
-#[cfg(test)]
-pub use shadow_volume::alpha_counter;
 pub use interface::{FrameStats, RenderOptions, SceneRenderer, Technique, TechniqueFrame};
 pub use options::{
     AtlasBake, CartoonOptions, InkStyle, InkStyles, LightMode, Normalize, OutlineMethod, Seams, ShadowAtlasOptions,

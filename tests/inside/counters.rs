@@ -31,7 +31,6 @@ fn clip_pipeline(gpu: &Arc<Gpu>, renderer: &Renderer, depth: DepthState) -> Pipe
             blend: BlendState::OPAQUE,
         },
         push_constant_bytes: 16,
-        subpass: 0,
     };
     Pipeline::new(gpu, &desc, renderer.targets.render_pass, &[]).expect("pipeline")
 }

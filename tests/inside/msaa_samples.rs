@@ -22,7 +22,7 @@ use nostencil::render::plan::{PassPlan, PlannedPass, SetRole, Target};
 use nostencil::render::plan_execution::{record_plan, PlanPipelines};
 use nostencil::render::Renderer;
 use nostencil::render::{
-    BoundDraw, FrameRecorder, FrameSamples, FrameUniforms, GpuScene, ObjectPush, Pipeline, PipelineTarget,
+    FrameRecorder, FrameSamples, FrameUniforms, GpuScene, IndexedDraw, ObjectPush, Pipeline, PipelineTarget,
 };
 use nostencil::technique::shadow_volume::recipes::{VolumeDraw, VolumeKinds};
 use nostencil::technique::shadow_volume::{self, bounds, build_volume, prepare_casters};
@@ -123,7 +123,6 @@ fn stencil_to_alpha(
             ..FixedFunction::FULLSCREEN
         },
         push_constant_bytes: 16,
-        subpass: 0,
     };
     PlannedPass::full_screen(name, desc, Vec4::new(0.0, 0.0, 0.0, value as f32 / 255.0))
 }
@@ -203,8 +202,7 @@ impl Passes<VolumeKinds> for VolumeDraws<'_> {
                 // The volume pipelines count each fragment as many times as the draw's first
                 // instance says (a range's multiplicity); every copy here counts once.
                 rec.bind_indexed(&volume.vertices, &volume.indices);
-                let draw = BoundDraw { first_index: 0, index_count: volume.count, vertex_offset: 0, first_instance: 1 };
-                rec.draw_bound(draw);
+                rec.draw_indexed(IndexedDraw { first_instance: 1, ..IndexedDraw::range(0, volume.count) });
             }
         }
         Ok(())

@@ -35,7 +35,6 @@ fn stacked_fullscreen_at(gpu: &Arc<Gpu>, passes: &[(&str, u32)], count_overdraw:
         vertex_layout: VertexLayout::NONE,
         fixed: FixedFunction::FULLSCREEN,
         push_constant_bytes: 16,
-        subpass: 0,
     };
     let target =
         PipelineTarget { render_pass: renderer.targets.render_pass, colour_attachments: 1, samples, lights: 1 };

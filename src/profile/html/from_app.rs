@@ -80,12 +80,14 @@ fn frame_charts(frames: &[FrameRows]) -> Vec<String> {
             .collect()
     };
     let mut gpu = pass_series(&|r| r.counters.and_then(|c| c.gpu_ms));
-    gpu.extend((0..work_positions).map(|w| Series {
-        name: frames
-            .iter()
-            .find_map(|f| f.work.get(w))
-            .map_or(format!("work #{w}"), |r| format!("{} #{w} {}", r.kind, r.api)),
-        values: frames.iter().map(|f| f.work.get(w).and_then(|r| r.counters?.gpu_ms).unwrap_or(0.0)).collect(),
+    gpu.extend((0..work_positions).map(|w| {
+        Series {
+            name: frames
+                .iter()
+                .find_map(|f| f.work.get(w))
+                .map_or(format!("work #{w}"), |r| format!("{} #{w} {}", r.kind, r.api)),
+            values: frames.iter().map(|f| f.work.get(w).and_then(|r| r.counters?.gpu_ms).unwrap_or(0.0)).collect(),
+        }
     }));
     let fragments = pass_series(&|r| r.counters.and_then(|c| c.fragments_per_pixel));
     let samples = pass_series(&|r| r.counters.map(|c| c.samples_passed as f64));
@@ -96,14 +98,28 @@ fn frame_charts(frames: &[FrameRows]) -> Vec<String> {
         stacked_bars("Fragments per pixel", "fragment shader invocations / pixels of each pass", &bars, &fragments),
         stacked_bars("Samples passed", "per frame (exact)", &bars, &samples),
         stacked_bars("Tiler bytes", "a tile-based GPU's loads, stores, resolves", &bars, &tiler),
-        stacked_bars("Immediate-mode bytes", "clears, resolves, every passing sample read and written", &bars, &immediate),
+        stacked_bars(
+            "Immediate-mode bytes",
+            "clears, resolves, every passing sample read and written",
+            &bars,
+            &immediate,
+        ),
     ]
 }
 
 /// The per-pass table (the aggregate over the measured frames), each pass's budget margin.
 fn pass_table(report: &FillrateReport, figures: &[BudgetFigure]) -> Section {
     let header = [
-        "pass", "frames", "draws", "fragments/px", "samples passed", "overdraw", "GPU ms", "tiler B", "immediate B", "budget",
+        "pass",
+        "frames",
+        "draws",
+        "fragments/px",
+        "samples passed",
+        "overdraw",
+        "GPU ms",
+        "tiler B",
+        "immediate B",
+        "budget",
     ];
     let rows = report
         .aggregate
@@ -177,7 +193,10 @@ fn top_draws(frames: &[FrameRows]) -> Option<Section> {
     Some(Section::Table {
         title: "Top draws by fragments".into(),
         note: Some("Each draw command measured alone (--per-draw).".into()),
-        header: ["frame", "pass", "draw", "fragments", "samples passed", "GPU ms"].iter().map(|h| (*h).to_owned()).collect(),
+        header: ["frame", "pass", "draw", "fragments", "samples passed", "GPU ms"]
+            .iter()
+            .map(|h| (*h).to_owned())
+            .collect(),
         rows,
     })
 }
@@ -201,7 +220,10 @@ pub fn page(report: &FillrateReport, extras: AppExtras<'_>) -> Page {
         facts.push(("run".to_owned(), run.detail.clone()));
     }
     let mut sections = vec![
-        Section::Charts { title: format!("The last {} frames", report.frames.len()), svgs: frame_charts(&report.frames) },
+        Section::Charts {
+            title: format!("The last {} frames", report.frames.len()),
+            svgs: frame_charts(&report.frames),
+        },
         pass_table(report, figures),
     ];
     let other: Vec<Row> = figures
@@ -232,10 +254,13 @@ pub fn page(report: &FillrateReport, extras: AppExtras<'_>) -> Page {
         });
     }
     sections.extend(top_draws(&report.frames));
-    let mut notes: Vec<String> = report.not_measured.iter().map(|n| format!("not measured: {} x {}", n.count, n.what)).collect();
+    let mut notes: Vec<String> =
+        report.not_measured.iter().map(|n| format!("not measured: {} x {}", n.count, n.what)).collect();
     notes.extend(report.hidden_extensions.iter().map(|h| format!("hidden from the program: {}: {}", h.name, h.why)));
     notes.extend(report.frames.iter().flat_map(|f| {
-        f.render_passes.iter().filter_map(move |p| Some(format!("frame {} pass #{}: {}", f.index, p.index, p.flag.as_ref()?)))
+        f.render_passes
+            .iter()
+            .filter_map(move |p| Some(format!("frame {} pass #{}: {}", f.index, p.index, p.flag.as_ref()?)))
     }));
     if !notes.is_empty() {
         sections.push(Section::Lines { title: "Not measured, hidden and flagged".into(), lines: notes });

@@ -87,7 +87,13 @@ pub fn profile_page(report: &ProfileReport, extras: ProfileExtras<'_>) -> Page {
         .flat_map(|rp| {
             rp.attachments.iter().map(move |a| {
                 Row::new(vec![
-                    format!("{} ({}x{}{})", rp.pass, rp.width, rp.height, if rp.count > 1 { format!(" x{}", rp.count) } else { String::new() }),
+                    format!(
+                        "{} ({}x{}{})",
+                        rp.pass,
+                        rp.width,
+                        rp.height,
+                        if rp.count > 1 { format!(" x{}", rp.count) } else { String::new() }
+                    ),
                     a.attachment.to_owned(),
                     a.format.clone(),
                     format!("{}", a.samples),
@@ -104,15 +110,27 @@ pub fn profile_page(report: &ProfileReport, extras: ProfileExtras<'_>) -> Page {
         Section::Table {
             title: "Passes".into(),
             note: Some("One frame, after a first that compiles the shaders (docs/profiling.md).".into()),
-            header: ["pass", "draws", "fragments", "fragments/px", "samples passed", "samples/px", "GPU ms", "tiler B", "budget"]
-                .iter()
-                .map(|h| (*h).to_owned())
-                .collect(),
+            header: [
+                "pass",
+                "draws",
+                "fragments",
+                "fragments/px",
+                "samples passed",
+                "samples/px",
+                "GPU ms",
+                "tiler B",
+                "budget",
+            ]
+            .iter()
+            .map(|h| (*h).to_owned())
+            .collect(),
             rows,
         },
         Section::Table {
             title: "Render passes: load and store ops".into(),
-            note: Some("Tile traffic as a tile-based GPU would move it: LOAD loads and STORE stores the render area.".into()),
+            note: Some(
+                "Tile traffic as a tile-based GPU would move it: LOAD loads and STORE stores the render area.".into(),
+            ),
             header: ["render pass", "attachment", "format", "samples", "load", "store", "loaded B", "stored B"]
                 .iter()
                 .map(|h| (*h).to_owned())

@@ -42,11 +42,30 @@ pub struct Finding {
 #[derive(Debug, Clone, PartialEq)]
 pub enum Section {
     /// SVG charts, side by side where they fit.
-    Charts { title: String, svgs: Vec<String> },
-    Table { title: String, note: Option<String>, header: Vec<String>, rows: Vec<Row> },
-    Findings { title: String, note: Option<String>, findings: Vec<Finding> },
-    Image { title: String, caption: String, png: Vec<u8> },
-    Lines { title: String, lines: Vec<String> },
+    Charts {
+        title: String,
+        svgs: Vec<String>,
+    },
+    Table {
+        title: String,
+        note: Option<String>,
+        header: Vec<String>,
+        rows: Vec<Row>,
+    },
+    Findings {
+        title: String,
+        note: Option<String>,
+        findings: Vec<Finding>,
+    },
+    Image {
+        title: String,
+        caption: String,
+        png: Vec<u8>,
+    },
+    Lines {
+        title: String,
+        lines: Vec<String>,
+    },
 }
 
 /// A run's page.

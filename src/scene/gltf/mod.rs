@@ -83,4 +83,3 @@ pub fn load_gltf_slice(bytes: &[u8], path: &Path) -> Result<Model> {
     };
     loader.model()
 }
-

@@ -4,8 +4,8 @@
 use clap::ArgAction;
 
 use crate::error::Result;
-use crate::technique::shadow_volume::alpha_counter;
 use crate::technique::flags::clap_defaults;
+use crate::technique::shadow_volume::alpha_counter;
 
 crate::names::named_enum! {
     /// How volume walls are counted.

@@ -80,7 +80,6 @@ pub fn blur_desc() -> PipelineDesc {
         vertex_layout: VertexLayout::NONE,
         fixed: FixedFunction::FULLSCREEN,
         push_constant_bytes: 16,
-        subpass: 0,
     }
 }
 
@@ -94,7 +93,6 @@ pub fn apply_desc() -> PipelineDesc {
         vertex_layout: VertexLayout::NONE,
         fixed: FixedFunction { blend, ..FixedFunction::FULLSCREEN },
         push_constant_bytes: 16,
-        subpass: 0,
     }
 }
 

@@ -22,8 +22,8 @@ use crate::gpu::memory::ReusedBuffer;
 use crate::gpu::texture::{Sampler, Texture};
 use crate::pipeline::recipes::MODULATE_BY_SRC_COLOUR;
 use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexAttribute, VertexLayout};
-use crate::render::per_slot::slot_copy;
 use crate::render::passes::Passes;
+use crate::render::per_slot::slot_copy;
 use crate::render::plan::{DrawKind, Label, NoOwn, PassKinds, PassPlan, PlannedPass, SetRole};
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, GpuScene, Renderer};
@@ -75,7 +75,6 @@ pub fn blob_desc() -> PipelineDesc {
             blend: MODULATE_BY_SRC_COLOUR,
         },
         push_constant_bytes: 0,
-        subpass: 0,
     }
 }
 
@@ -282,14 +281,7 @@ impl BlobPasses {
                 stages: vk::ShaderStageFlags::FRAGMENT,
             }],
         )?;
-        Ok(BlobPasses {
-            tone: ctx.options.shadow_tone,
-            plane,
-            meshes,
-            quads: Vec::new(),
-            blob_set,
-            _texture: texture,
-        })
+        Ok(BlobPasses { tone: ctx.options.shadow_tone, plane, meshes, quads: Vec::new(), blob_set, _texture: texture })
     }
 }
 

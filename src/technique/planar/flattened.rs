@@ -92,6 +92,5 @@ pub fn flattened_desc(
             blend,
         },
         push_constant_bytes: PLANAR_PUSH_BYTES,
-        subpass: 0,
     }
 }

@@ -16,8 +16,12 @@ pub mod shadow_texture;
 pub mod shared;
 pub mod texture_quad;
 
-pub use crate::technique::options::{GivenPlane, PlanarOptions, TextureShadowOn};
+#[cfg(test)]
+pub use crate::technique::options::TextureShadowOn;
+pub use crate::technique::options::{GivenPlane, PlanarOptions};
 #[cfg(test)]
 pub use receiver::project_onto_plane;
-pub use receiver::{receiver_plane, Plane};
+pub use receiver::receiver_plane;
+#[cfg(test)]
+pub use receiver::Plane;
 pub use shared::{BlobShadows, Planar, PlanarStats, ShadowTexture};

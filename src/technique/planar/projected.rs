@@ -286,7 +286,6 @@ impl PlanarPasses {
 }
 
 impl Passes<PlanarKinds> for PlanarPasses {
-
     fn meshes(&self) -> Option<&GpuScene> {
         Some(&self.meshes.meshes)
     }

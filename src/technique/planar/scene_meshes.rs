@@ -33,7 +33,6 @@ pub fn scene_desc(name: &'static str, skinned: bool, stencil: Option<StencilStat
         vertex_layout: if skinned { VertexLayout::SKINNED_SCENE } else { VertexLayout::SCENE },
         fixed: FixedFunction { stencil, ..FixedFunction::OPAQUE },
         push_constant_bytes: OBJECT_PUSH_BYTES,
-        subpass: 0,
     }
 }
 
@@ -46,8 +45,7 @@ pub fn scene_pass<K: PassKinds>(
     skinned: PipelineDesc,
     push: &'static str,
     draw: K::Draw,
-) -> PlannedPass<K>
-{
+) -> PlannedPass<K> {
     named_scene_pass("scene", receiver, other, skinned, push, draw)
 }
 
@@ -60,8 +58,7 @@ pub fn named_scene_pass<K: PassKinds>(
     skinned: PipelineDesc,
     push: impl Into<std::borrow::Cow<'static, str>>,
     draw: K::Draw,
-) -> PlannedPass<K>
-{
+) -> PlannedPass<K> {
     let distinct = other.name != receiver.name;
     let mut pass = PlannedPass::own(name, receiver, draw, push).with_sets(&scene_sets());
     if distinct {
@@ -72,8 +69,7 @@ pub fn named_scene_pass<K: PassKinds>(
 }
 
 /// The lit scene pass of the blob and shadow-texture techniques: every object alike, alpha 1.
-pub fn lit_scene_pass<K: PassKinds>(draw: K::Draw) -> PlannedPass<K>
-{
+pub fn lit_scene_pass<K: PassKinds>(draw: K::Draw) -> PlannedPass<K> {
     let scene = scene_desc("scene", false, None);
     let skinned = scene_desc("scene (skinned)", true, None);
     scene_pass(scene.clone(), scene, skinned, "object transform and colour, alpha 1", draw)

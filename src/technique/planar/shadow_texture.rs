@@ -35,8 +35,8 @@ use crate::gpu::texture::Sampler;
 use crate::gpu::Gpu;
 use crate::pipeline::recipes::MODULATE_BY_SRC_COLOUR;
 use crate::pipeline::{BlendState, DepthState, FixedFunction, PipelineDesc, RasterState, VertexLayout};
-use crate::render::per_slot::slot_copy;
 use crate::render::passes::Passes;
+use crate::render::per_slot::slot_copy;
 use crate::render::plan::{DrawKind, Label, MaterialVariant, PassKinds, PassPlan, PlannedPass, SetRole};
 use crate::render::Pipeline;
 use crate::render::{FrameOutput, FrameRecorder, GpuMesh, GpuScene, ObjectPush, Renderer, OBJECT_PUSH_BYTES};
@@ -78,7 +78,6 @@ fn caster_desc(skinned: bool) -> PipelineDesc {
             blend: BlendState::OPAQUE,
         },
         push_constant_bytes: OBJECT_PUSH_BYTES,
-        subpass: 0,
     }
 }
 
@@ -96,7 +95,6 @@ pub fn receive_desc() -> PipelineDesc {
             blend: MODULATE_BY_SRC_COLOUR,
         },
         push_constant_bytes: std::mem::size_of::<ReceivePush>() as u32,
-        subpass: 0,
     }
 }
 

@@ -53,7 +53,12 @@ impl PosedLayout {
 
 /// Position, normal, atlas UV and the material's inputs per vertex, interleaved as
 /// `passes::ATLAS_VERTEX` says.
-pub(crate) fn atlas_vertices(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], surface: &[[f32; 8]]) -> Vec<[f32; 16]> {
+pub(crate) fn atlas_vertices(
+    positions: &[Vec3],
+    normals: &[Vec3],
+    uvs: &[Vec2],
+    surface: &[[f32; 8]],
+) -> Vec<[f32; 16]> {
     (0..positions.len())
         .map(|i| {
             let (p, n, uv) = (positions[i], normals.get(i).copied().unwrap_or(Vec3::Y), uvs[i]);

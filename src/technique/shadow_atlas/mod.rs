@@ -40,8 +40,14 @@ pub mod targets;
 pub mod techniques;
 pub mod texel_surface;
 
-pub use super::options::{AtlasBake, LightMode, ShadowAtlasOptions, ShadowKind};
-pub use baked::{bake, BakeStep, Baked};
-pub use light::{scene_bounds, ShadowLightUniforms};
+#[cfg(test)]
+pub use super::options::ShadowAtlasOptions;
+pub use super::options::{AtlasBake, LightMode, ShadowKind};
+#[cfg(test)]
+pub use baked::Baked;
+pub use baked::{bake, BakeStep};
+#[cfg(test)]
+pub use light::scene_bounds;
+pub use light::ShadowLightUniforms;
 pub use stats::ShadowAtlasStats;
 pub use techniques::{PROJECTIVE_TEXTURE, SHADOW_MAP, SHADOW_TEXTURE_ATLAS};

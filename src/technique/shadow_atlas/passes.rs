@@ -122,8 +122,7 @@ impl Label for AtlasTarget {
 pub const LIGHT_OR_CASTERS_MOVED: Condition = Condition::named("when the light or a caster moved");
 /// The frames that re-bake a rasterised model's shadow texture (the atlas page's raster bake;
 /// geometry images are baked by their texels).
-pub const RASTERISED_TILES_STALE: Condition =
-    Condition::named("when a rasterised model's shadow texture is re-baked");
+pub const RASTERISED_TILES_STALE: Condition = Condition::named("when a rasterised model's shadow texture is re-baked");
 
 const LIGHT: SetRole<AtlasSet> = SetRole::Own(AtlasSet::Light);
 const SHADOW_TEXTURE: SetRole<AtlasSet> = SetRole::Own(AtlasSet::ShadowTexture);
@@ -139,7 +138,6 @@ pub fn shadow_map_desc() -> PipelineDesc {
         fixed: FixedFunction { raster: RasterState::CULL_NONE, blend: NO_WRITE, ..FixedFunction::OPAQUE },
         // The object's push and which light (`shaders/light_push.glsl`).
         push_constant_bytes: LIGHT_PUSH_BYTES,
-        subpass: 0,
     }
 }
 
@@ -162,7 +160,6 @@ pub fn bake_desc() -> PipelineDesc {
         // Atlas space has no facing and no depth: every triangle writes its texels.
         fixed: FixedFunction { raster: RasterState::CULL_NONE, depth: DepthState::OFF, ..FixedFunction::OPAQUE },
         push_constant_bytes: OBJECT_PUSH_BYTES,
-        subpass: 0,
     }
 }
 
@@ -185,7 +182,6 @@ pub fn dilate_desc() -> PipelineDesc {
         vertex_layout: VertexLayout::NONE,
         fixed: FixedFunction::FULLSCREEN,
         push_constant_bytes: 16,
-        subpass: 0,
     }
 }
 
@@ -200,7 +196,6 @@ pub fn page_desc() -> PipelineDesc {
         vertex_layout: VertexLayout::NONE,
         fixed: FixedFunction::FULLSCREEN,
         push_constant_bytes: 16,
-        subpass: 0,
     }
 }
 
@@ -227,7 +222,6 @@ pub fn scene_desc(kind: ShadowKind) -> PipelineDesc {
         vertex_layout: ATLAS_VERTEX,
         fixed: FixedFunction::OPAQUE,
         push_constant_bytes: OBJECT_PUSH_BYTES,
-        subpass: 0,
     }
 }
 

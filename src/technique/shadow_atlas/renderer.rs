@@ -16,7 +16,9 @@ use super::bake_cache::{stale_tiles, CacheKey, Shadowing};
 use super::light::{light_at, ShadowLightUniforms};
 use super::maps::{self, Coverage};
 use super::page_targets::{AtlasPage, PagePipelines};
-use super::passes::{self, AtlasDraw, AtlasKinds, AtlasSet, AtlasTarget, LIGHT_OR_CASTERS_MOVED, RASTERISED_TILES_STALE};
+use super::passes::{
+    self, AtlasDraw, AtlasKinds, AtlasSet, AtlasTarget, LIGHT_OR_CASTERS_MOVED, RASTERISED_TILES_STALE,
+};
 use super::read_back::ShadowTextures;
 use super::rebake::Sphere;
 use super::stats::{AtlasInfo, PageStats, ShadowAtlasStats};
@@ -335,7 +337,8 @@ impl ShadowPasses {
         let mut bound = opaque;
         for (index, object) in scene.objects.iter().enumerate().filter(|(_, o)| o.casts_shadow) {
             let variant = MaterialVariant::for_caster(scene.material_of(object));
-            let (mesh, pipeline) = object_draw(scene, index, self.object_meshes(), pass.variant(pipelines, opaque, variant))?;
+            let (mesh, pipeline) =
+                object_draw(scene, index, self.object_meshes(), pass.variant(pipelines, opaque, variant))?;
             if !std::ptr::eq(pipeline, bound) {
                 // Every pipeline of the pass shares its set layouts: the material and the
                 // lights stay bound.
@@ -383,7 +386,8 @@ impl ShadowPasses {
         for index in draw_order(scene) {
             let object = &scene.objects[index];
             let variant = MaterialVariant::for_surface(scene.material_of(object));
-            let (mesh, pipeline) = object_draw(scene, index, self.object_meshes(), pass.variant(pipelines, main, variant))?;
+            let (mesh, pipeline) =
+                object_draw(scene, index, self.object_meshes(), pass.variant(pipelines, main, variant))?;
             if !std::ptr::eq(pipeline, bound) {
                 rec.bind(pipeline);
                 bound = pipeline;
@@ -461,16 +465,20 @@ impl Passes<AtlasKinds> for ShadowPasses {
             AtlasDraw::ClearMap => self.clear_map(rec)?,
             AtlasDraw::Bake => {
                 let bake = pipeline()?;
-                let draws =
-                    (0..scene.objects.len()).map(|i| object_draw(scene, i, self.object_meshes(), bake)).collect::<Result<Vec<_>>>()?;
+                let draws = (0..scene.objects.len())
+                    .map(|i| object_draw(scene, i, self.object_meshes(), bake))
+                    .collect::<Result<Vec<_>>>()?;
                 let sets = [rec.frame_set(), self.light_slot().set.set];
                 self.atlas_page(pass)?.record_raster_bake(rec, scene, &draws, &sets, &self.rebake)
             }
             AtlasDraw::ProjectiveBake => {
                 let targets = self.atlas_targets(pass)?;
                 let bake = pipeline()?;
-                let draws =
-                    targets.objects.iter().map(|o| object_draw(scene, o.object, self.object_meshes(), bake)).collect::<Result<Vec<_>>>()?;
+                let draws = targets
+                    .objects
+                    .iter()
+                    .map(|o| object_draw(scene, o.object, self.object_meshes(), bake))
+                    .collect::<Result<Vec<_>>>()?;
                 let sets = [rec.frame_set(), self.light_slot().set.set];
                 targets.record_bake(rec, scene, &draws, &sets);
             }
@@ -601,4 +609,3 @@ impl Passes<AtlasKinds> for ShadowPasses {
         }
     }
 }
-

@@ -62,9 +62,9 @@ pub enum Step {
     N0,
     /// `REVERSE_SUBTRACT, Sf = ONE_MINUS_DST_ALPHA, Df = DST_ALPHA`: `a * a - (1 - a)`.
     Iteration,
-    // The darkness steps model the rest of the seed's pass list, which the tests check
-    // (tests/inside/shadow_volume.rs, being edited by another change, calls `apply` with a D);
-    // the renderer only counts the iterations here: outside the tests they are never built.
+    // The darkness steps model the rest of the seed's pass list, which the tests run on the
+    // CPU (tests/inside/shadow_volume/counter.rs applies them with a D); the renderer only
+    // counts the iterations here: outside the tests they are never built.
     /// `REVERSE_SUBTRACT, ONE, ONE` of D.
     #[cfg_attr(not(test), allow(dead_code))]
     SubtractD,

@@ -462,7 +462,6 @@ mod tests {
         assert!(half >= half_width_px && half <= half_width_px + 2.0, "{half} vs {half_width_px}");
     }
 
-
     #[test]
     fn disjoint_cover_covers_every_pixel_once() {
         let rect =

@@ -54,7 +54,10 @@ impl ConvexSolid {
     /// The corners of the overlap of the two solids; empty where they do not overlap.
     pub fn overlap_corners(&self, other: &ConvexSolid) -> Vec<Vec3> {
         let clipped_faces = |faces: &[Vec<Vec3>], planes: &[(Vec3, f32)]| -> Vec<Vec3> {
-            faces.iter().flat_map(|face| planes.iter().fold(face.clone(), |polygon, &plane| clip(&polygon, plane))).collect()
+            faces
+                .iter()
+                .flat_map(|face| planes.iter().fold(face.clone(), |polygon, &plane| clip(&polygon, plane)))
+                .collect()
         };
         let mut corners = clipped_faces(&self.faces, &other.planes);
         corners.extend(clipped_faces(&other.faces, &self.planes));

@@ -49,12 +49,7 @@ struct SkinnedDoubledVertex {
 
 impl DoubledVertices {
     /// `palettes`: where the skinned objects' palettes lie when they are skinned on the GPU.
-    pub fn upload(
-        gpu: &Arc<Gpu>,
-        scene: &Scene,
-        casters: &[Caster],
-        palettes: Option<&JointPalettes>,
-    ) -> Result<Self> {
+    pub fn upload(gpu: &Arc<Gpu>, scene: &Scene, casters: &[Caster], palettes: Option<&JointPalettes>) -> Result<Self> {
         let (mut all, mut doubled) = (Vec::<Vec4>::new(), Vec::new());
         let (firsts, of_caster) = per_rigid_mesh(scene, casters, |caster| {
             let positions = &caster.mesh.welded.positions[..caster.mesh.adjacency.vertex_count];
@@ -122,8 +117,11 @@ fn upload_skinned(gpu: &Arc<Gpu>, scene: &Scene, caster: &Caster, palettes: &Joi
         }
     };
     let representatives = &welded.representative[..count.min(welded.representative.len())];
-    let mut vertices: Vec<SkinnedDoubledVertex> =
-        representatives.iter().map(vertex(1.0)).chain(representatives.iter().map(vertex(0.0))).collect::<Result<_>>()?;
+    let mut vertices: Vec<SkinnedDoubledVertex> = representatives
+        .iter()
+        .map(vertex(1.0))
+        .chain(representatives.iter().map(vertex(0.0)))
+        .collect::<Result<_>>()?;
     vertices.push(SkinnedDoubledVertex { position: [0.0; 4], joints: [0; 4], weights: [0.0; 4] });
     let name = format!("shadow volume vertices ({}, bind pose)", object.name);
     Buffer::device_local(gpu, &name, &vertices, vk::BufferUsageFlags::VERTEX_BUFFER).map(Some)

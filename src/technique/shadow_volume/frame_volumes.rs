@@ -25,7 +25,6 @@ pub(super) struct IndexRange {
     pub(super) drawn_by: DrawnBy,
 }
 
-
 /// How the volumes are counted: the method, and by which counter (the stencil draws repeated
 /// walls as copies, the alpha counter once with their multiplicity).
 #[derive(Debug, Clone, Copy)]
@@ -35,7 +34,6 @@ pub(super) struct Counting {
     /// Asked for (`--whole-near-caps` not given); done only where `near_caps` says it is exact.
     pub(super) split_near_caps: bool,
 }
-
 
 /// What a volume is built from, beside its caster: equal keys (and an unposed caster) give equal
 /// volumes.
@@ -111,7 +109,14 @@ pub(super) fn volume_for<'s>(
             }
         }
     }
-    VolumeIndices { volume, volume_vertices: doubled, ranges, len: end as usize, stencil: counting.stencil, near_caps: split }
+    VolumeIndices {
+        volume,
+        volume_vertices: doubled,
+        ranges,
+        len: end as usize,
+        stencil: counting.stencil,
+        near_caps: split,
+    }
 }
 
 /// Where `caster`'s near caps may each be left to the one pipeline that can see them
@@ -168,7 +173,6 @@ impl VolumeIndices<'_> {
         }
     }
 }
-
 
 #[cfg(test)]
 mod tests {

@@ -14,12 +14,12 @@ use ash::vk;
 use glam::{Mat4, Vec4};
 
 use super::casters::{per_rigid_mesh, Caster};
+use super::shadow_mesh::ShadowMesh;
 use crate::error::{Error, Result};
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
 use crate::mesh::caster::CastPath;
-use super::shadow_mesh::ShadowMesh;
 use crate::mesh::shadow_volume::bounds_volume;
 use crate::mesh::{Light, Reach};
 use crate::render::{FrameRecorder, IndexedDraw, Pipeline};
@@ -122,8 +122,8 @@ impl ShadowMeshes {
         let (meshes, of_caster) = per_rigid_mesh(scene, casters, |caster| {
             let object = &scene.objects[caster.object];
             let two_sided = matches!(caster.mesh.path, CastPath::TwoSided { .. });
-            let built = ShadowMesh::build(&caster.mesh.adjacency, &caster.mesh.welded.positions, two_sided)
-                .and_then(|mesh| {
+            let built =
+                ShadowMesh::build(&caster.mesh.adjacency, &caster.mesh.welded.positions, two_sided).and_then(|mesh| {
                     let bytes = 4 * (words.len() + mesh.words.len()) as u64;
                     if bytes > range {
                         return Err(Error::InvalidInput(format!(

@@ -39,6 +39,7 @@ pub use super::options::{Normalize, ShadowMode, ShadowVolumeOptions, VolumeExtru
 #[cfg(test)]
 pub use casters::build_volume;
 pub use casters::prepare_casters;
+#[cfg(test)]
 pub use recipes::SATURATION_PROBE;
 pub use renderer::ShadowVolumeStats;
 
@@ -124,9 +125,10 @@ impl TechniqueInfo for ShadowVolumes {
         }
         // Volumes extruded by the shadow mesh: its own pipelines, beside the indexed ones (for
         // the casters it does not take), on both counters.
-        for (stencil, normalize, method) in
-            [(StencilMode::Reference, Normalize::Seed, VolumeMethod::ZFail), (StencilMode::Emulated, Normalize::Seed, VolumeMethod::ZPass)]
-        {
+        for (stencil, normalize, method) in [
+            (StencilMode::Reference, Normalize::Seed, VolumeMethod::ZFail),
+            (StencilMode::Emulated, Normalize::Seed, VolumeMethod::ZPass),
+        ] {
             variants.push(Variant {
                 label: format!("{}, {}, --volume-extrusion shader", stencil.name(), method.name()),
                 options: RenderOptions {
@@ -207,12 +209,7 @@ impl TechniqueUnit for ShadowVolumes {
         renderer::setup(gpu, scene, options)
     }
 
-    fn make(
-        &self,
-        ctx: BuildContext<'_>,
-        scene: &Scene,
-        setup: VolumeSetup,
-    ) -> Result<ShadowVolumePasses> {
+    fn make(&self, ctx: BuildContext<'_>, scene: &Scene, setup: VolumeSetup) -> Result<ShadowVolumePasses> {
         renderer::make(ctx, scene, setup)
     }
 }

@@ -108,12 +108,7 @@ impl NearCapSplit {
 
     /// Writes `near_cap` (one triangle per face, in face order) into `back`, `both` and `front`,
     /// each exactly as long as this split says.
-    fn scatter(
-        near_cap: &[u32],
-        lit_faces: &[bool],
-        faces_as_drawn: &[bool],
-        [back, both, front]: [&mut [u32]; 3],
-    ) {
+    fn scatter(near_cap: &[u32], lit_faces: &[bool], faces_as_drawn: &[bool], [back, both, front]: [&mut [u32]; 3]) {
         let (mut b, mut e, mut f) = (0, 0, 0);
         for ((cap, &lit), &as_drawn) in near_cap.chunks_exact(3).zip(lit_faces).zip(faces_as_drawn) {
             let (out, at) = match seen_by(lit, as_drawn) {

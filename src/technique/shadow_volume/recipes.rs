@@ -30,15 +30,15 @@
 use ash::vk;
 use glam::Vec4;
 
+use super::alpha_counter;
+use super::gpu_extrusion::VOLUME_PUSH_BYTES;
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::pipeline::recipes::{self, NO_WRITE};
 use crate::pipeline::{BlendState, DepthState, FixedFunction, PipelineDesc, RasterState, VertexLayout};
 use crate::render::plan::{fmt_f32, DrawKind, Draws, Label, NoOwn, Only, PassKinds, PassPlan, PlannedPass, SetRole};
-use super::gpu_extrusion::VOLUME_PUSH_BYTES;
 use crate::render::LIGHT_PUSH_BYTES;
 use crate::shaders;
-use super::alpha_counter;
 use crate::technique::light_loop::{self, PlannedLight};
 use crate::technique::lit;
 use crate::technique::material_variants::with_surface_variants;
@@ -117,7 +117,6 @@ fn volume_desc(name: &'static str, raster: RasterState, compare: vk::CompareOp, 
         // Both forms' pipelines share one layout (the GPU form's push constants and tables),
         // so that a pass can switch between them without binding its sets again.
         push_constant_bytes: VOLUME_PUSH_BYTES,
-        subpass: 0,
     }
 }
 
@@ -159,7 +158,6 @@ fn fullscreen_desc(name: &'static str, fragment_shader: shaders::Shader, blend: 
         vertex_layout: VertexLayout::NONE,
         fixed: FixedFunction { blend, ..FixedFunction::FULLSCREEN },
         push_constant_bytes: 16,
-        subpass: 0,
     }
 }
 

@@ -30,11 +30,11 @@ use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
 use crate::pipeline::recipes::STENCIL_COUNT_ZERO;
 use crate::render::jobs::PerWorker;
-use crate::render::per_slot::slot_copy;
 use crate::render::passes::Passes;
+use crate::render::per_slot::slot_copy;
 use crate::render::plan::{Draws, PlannedPass, Scissor};
 use crate::render::Pipeline;
-use crate::render::{FrameOutput, IndexedDraw, FrameRecorder, GpuScene, Renderer};
+use crate::render::{FrameOutput, FrameRecorder, GpuScene, IndexedDraw, Renderer};
 use crate::scene::Scene;
 use crate::technique::frame_renderer::BuildContext;
 use crate::technique::interface::{FrameStats, RenderOptions};
@@ -110,10 +110,8 @@ pub fn make(ctx: BuildContext<'_>, scene: &Scene, setup: VolumeSetup) -> Result<
     // (`FrameTargets::presenting`): the set is not made.
     let counter_input = match (ctx.options.stencil, ctx.renderer.targets.drawn_colour()) {
         (StencilMode::Emulated, Some(drawn_colour)) => {
-            let mut bindings = vec![Binding::InputAttachment {
-                view: drawn_colour.view,
-                layout: vk::ImageLayout::GENERAL,
-            }];
+            let mut bindings =
+                vec![Binding::InputAttachment { view: drawn_colour.view, layout: vk::ImageLayout::GENERAL }];
             if let Some(buffer) = &saturation_counter {
                 bindings.push(Binding::FragmentStorageBuffer { buffer: buffer.raw, range: buffer.size });
             }
@@ -470,4 +468,3 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
         &self.warnings
     }
 }
-

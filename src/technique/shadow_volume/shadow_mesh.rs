@@ -23,8 +23,8 @@ use std::ops::Range;
 
 use glam::Vec3;
 
-use crate::mesh::adjacency::EdgeAdjacency;
 use crate::error::{Error, Result};
+use crate::mesh::adjacency::EdgeAdjacency;
 
 /// Where each table starts, in words from the mesh's first word (the header's slots).
 pub const HEADER_WORDS: u32 = 8;

@@ -77,7 +77,6 @@ impl VolumeBuffers {
     }
 }
 
-
 /// The light a frame's volumes are built for, its light scissor, and the casters it culls.
 pub(super) struct LitBy<'a> {
     pub(super) light: &'a SceneLight,
@@ -265,4 +264,3 @@ impl FrameOfVolumes<'_> {
         Ok(Some((volume, source)))
     }
 }
-

@@ -76,7 +76,6 @@ fn hidden_pass() -> PlannedPass<XRayKinds> {
             ..FixedFunction::OPAQUE
         },
         push_constant_bytes: OBJECT_PUSH_BYTES,
-        subpass: 0,
     };
     PlannedPass::own("x-ray", desc, XRayDraw::HiddenCasters, "object transform and colour, alpha 0.5")
         .with_sets(&[SetRole::Frame, SetRole::Material])

@@ -126,7 +126,7 @@ fn normalisation_table_is_read_back_from_the_gpu() {
                             rec.pass(&pass.name, |rec| {
                                 rec.bind(pipeline);
                                 rec.push(pipeline, &value);
-                                rec.draw_fullscreen();
+                                rec.draw(3, 1, 0, 0);
                                 Ok(())
                             })?;
                         }
