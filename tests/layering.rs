@@ -24,6 +24,7 @@ const LAYERS: &[&[&str]] = &[
     &["pipeline"],
     &["render"],
     &["technique"],
+    &["sample"],
     &["profile"],
     &["viewer"],
     &["cli"],
