@@ -24,7 +24,7 @@ use ash::vk;
 use glam::{Mat4, Vec4};
 use image::RgbaImage;
 use nostencil::sample::{blend, replace, stencil_face, PipelineParts, SampleBase, VertexInput};
-use nostencil::{Gpu, GpuOptions};
+use nostencil::Gpu;
 
 /// The scene `main` draws: a box and a sphere that intersect, a torus knot behind them and a
 /// torus in front of the box, over the ground.
@@ -56,37 +56,7 @@ struct CartoonPush {
 }
 
 fn main() -> ExitCode {
-    let mut out = String::from("outline.png");
-    let mut stencil = false;
-    let mut args = std::env::args().skip(1);
-    while let Some(arg) = args.next() {
-        match arg.as_str() {
-            "--stencil" => stencil = true,
-            "--out" => match args.next() {
-                Some(path) => out = path,
-                None => return usage("--out needs a file name"),
-            },
-            other => return usage(&format!("unknown argument '{other}'")),
-        }
-    }
-    let result = Gpu::new(&GpuOptions::default())
-        .and_then(|gpu| render(&gpu, SCENE, stencil))
-        .and_then(|frame| nostencil::write_png(&frame, std::path::Path::new(&out), false));
-    match result {
-        Ok(()) => {
-            println!("wrote {out}");
-            ExitCode::SUCCESS
-        }
-        Err(error) => {
-            eprintln!("outline: {error}");
-            ExitCode::FAILURE
-        }
-    }
-}
-
-fn usage(problem: &str) -> ExitCode {
-    eprintln!("outline: {problem}\nusage: outline [--out FILE.png] [--stencil]");
-    ExitCode::from(2)
+    nostencil::sample::run("outline", |gpu, stencil| render(gpu, SCENE, stencil))
 }
 
 /// The frame of built-in scene `scene` with the objects named in [`SELECTED`] outlined, marked

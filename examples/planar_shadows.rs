@@ -25,7 +25,7 @@ use ash::vk;
 use glam::{Mat4, Vec4};
 use image::RgbaImage;
 use nostencil::sample::{blend, replace, stencil_face, PipelineParts, SampleBase, VertexInput};
-use nostencil::{Gpu, GpuOptions};
+use nostencil::Gpu;
 
 /// The scene `main` draws: stacked boxes whose shadows overlap, a torus and a sphere, over the
 /// ground under a directional light.
@@ -58,37 +58,7 @@ struct PlanarPush {
 }
 
 fn main() -> ExitCode {
-    let mut out = String::from("planar_shadows.png");
-    let mut stencil = false;
-    let mut args = std::env::args().skip(1);
-    while let Some(arg) = args.next() {
-        match arg.as_str() {
-            "--stencil" => stencil = true,
-            "--out" => match args.next() {
-                Some(path) => out = path,
-                None => return usage("--out needs a file name"),
-            },
-            other => return usage(&format!("unknown argument '{other}'")),
-        }
-    }
-    let result = Gpu::new(&GpuOptions::default())
-        .and_then(|gpu| render(&gpu, SCENE, stencil))
-        .and_then(|frame| nostencil::write_png(&frame, std::path::Path::new(&out), false));
-    match result {
-        Ok(()) => {
-            println!("wrote {out}");
-            ExitCode::SUCCESS
-        }
-        Err(error) => {
-            eprintln!("planar_shadows: {error}");
-            ExitCode::FAILURE
-        }
-    }
-}
-
-fn usage(problem: &str) -> ExitCode {
-    eprintln!("planar_shadows: {problem}\nusage: planar_shadows [--out FILE.png] [--stencil]");
-    ExitCode::from(2)
+    nostencil::sample::run("planar_shadows", |gpu, stencil| render(gpu, SCENE, stencil))
 }
 
 /// The frame of built-in scene `scene`, with the alpha flag, or a real stencil when `stencil`.

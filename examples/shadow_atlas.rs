@@ -32,7 +32,7 @@ use ash::vk;
 use glam::{Mat4, Vec4};
 use image::RgbaImage;
 use nostencil::sample::{replace, PipelineParts, SampleBase, VertexInput};
-use nostencil::{Gpu, GpuOptions};
+use nostencil::Gpu;
 
 /// The scene `main` draws: one box over the ground under a directional light.
 pub const SCENE: &str = "box";
@@ -63,37 +63,7 @@ struct LightPush {
 }
 
 fn main() -> ExitCode {
-    let mut out = String::from("shadow_atlas.png");
-    let mut stencil = false;
-    let mut args = std::env::args().skip(1);
-    while let Some(arg) = args.next() {
-        match arg.as_str() {
-            "--stencil" => stencil = true,
-            "--out" => match args.next() {
-                Some(path) => out = path,
-                None => return usage("--out needs a file name"),
-            },
-            other => return usage(&format!("unknown argument '{other}'")),
-        }
-    }
-    let result = Gpu::new(&GpuOptions::default())
-        .and_then(|gpu| render(&gpu, SCENE, stencil))
-        .and_then(|frame| nostencil::write_png(&frame, std::path::Path::new(&out), false));
-    match result {
-        Ok(()) => {
-            println!("wrote {out}");
-            ExitCode::SUCCESS
-        }
-        Err(error) => {
-            eprintln!("shadow_atlas: {error}");
-            ExitCode::FAILURE
-        }
-    }
-}
-
-fn usage(problem: &str) -> ExitCode {
-    eprintln!("shadow_atlas: {problem}\nusage: shadow_atlas [--out FILE.png] [--stencil]");
-    ExitCode::from(2)
+    nostencil::sample::run("shadow_atlas", |gpu, stencil| render(gpu, SCENE, stencil))
 }
 
 /// The frame of built-in scene `scene` with its shadow textures; with a stencil aspect in the

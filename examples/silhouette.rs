@@ -32,7 +32,7 @@ use ash::vk;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use image::RgbaImage;
 use nostencil::sample::{replace, PipelineParts, SampleBase, VertexInput};
-use nostencil::{Gpu, GpuOptions};
+use nostencil::Gpu;
 
 /// The scene `main` draws: a duck (ellipsoids) on the ground, after the seed's figure.
 pub const SCENE: &str = "duck";
@@ -89,37 +89,7 @@ struct CartoonPush {
 }
 
 fn main() -> ExitCode {
-    let mut out = String::from("silhouette.png");
-    let mut stencil = false;
-    let mut args = std::env::args().skip(1);
-    while let Some(arg) = args.next() {
-        match arg.as_str() {
-            "--stencil" => stencil = true,
-            "--out" => match args.next() {
-                Some(path) => out = path,
-                None => return usage("--out needs a file name"),
-            },
-            other => return usage(&format!("unknown argument '{other}'")),
-        }
-    }
-    let result = Gpu::new(&GpuOptions::default())
-        .and_then(|gpu| render(&gpu, SCENE, stencil))
-        .and_then(|frame| nostencil::write_png(&frame, std::path::Path::new(&out), false));
-    match result {
-        Ok(()) => {
-            println!("wrote {out}");
-            ExitCode::SUCCESS
-        }
-        Err(error) => {
-            eprintln!("silhouette: {error}");
-            ExitCode::FAILURE
-        }
-    }
-}
-
-fn usage(problem: &str) -> ExitCode {
-    eprintln!("silhouette: {problem}\nusage: silhouette [--out FILE.png] [--stencil]");
-    ExitCode::from(2)
+    nostencil::sample::run("silhouette", |gpu, stencil| render(gpu, SCENE, stencil))
 }
 
 /// The frame of built-in scene `scene`, inked; with a stencil aspect in the depth attachment

@@ -1,5 +1,6 @@
 //! The programs in `examples/` build with the crate (`cargo test` builds them) and run: one
-//! glTF file from tests/assets to a PNG, and a missing file refused with its name.
+//! glTF file from tests/assets to a PNG, and a missing file refused with its name; a one-file
+//! sample (docs/porting.md) with its two options, and anything else refused.
 
 use crate::common;
 
@@ -42,4 +43,24 @@ fn pass_counters_prints_every_pass_of_the_frame() {
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
     assert!(stdout.lines().any(|l| l.starts_with("scene ")), "{stdout}");
     assert!(stdout.lines().any(|l| l.starts_with("sun: volumes (alpha")), "{stdout}");
+}
+
+#[test]
+fn a_sample_takes_its_two_options_writes_its_frame_and_refuses_anything_else() {
+    let dir = common::scratch_dir("example_sample_options");
+    let (alpha, stencil) = (dir.join("alpha.png"), dir.join("stencil.png"));
+    for args in [vec!["--out".into(), alpha.clone()], vec!["--stencil".into(), "--out".into(), stencil.clone()]] {
+        let run = Command::new(example("shadow_volumes")).args(&args).output().expect("run");
+        assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    }
+    let (alpha, stencil) =
+        (image::open(&alpha).expect("a PNG").to_rgba8(), image::open(&stencil).expect("a PNG").to_rgba8());
+    assert_eq!(alpha.dimensions(), stencil.dimensions());
+    assert!(alpha.pixels().zip(stencil.pixels()).all(|(a, s)| a.0[..3] == s.0[..3]), "alpha and --stencil differ");
+
+    let run = Command::new(example("shadow_volumes")).args(["--size", "4"]).current_dir(&dir).output().expect("run");
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("unknown argument '--size'") && stderr.contains("usage: shadow_volumes"), "{stderr}");
+    assert!(!dir.join("shadow_volumes.png").exists(), "a frame written despite a bad argument");
 }

@@ -76,3 +76,19 @@ fn shadow_volumes_equals_its_stencil_and_the_engine_in_z_pass_and_z_fail() {
 fn engine_lit(gpu: &std::sync::Arc<nostencil::Gpu>, scene: &str, options: &RenderOptions) -> RgbaImage {
     engine(gpu, scene, options)
 }
+
+/// Each sample stays one readable file of at most 500 lines, takes no option beyond its two, and
+/// docs/porting.md's table gives its true length.
+#[test]
+fn each_sample_is_one_file_of_at_most_500_lines_counted_right_in_the_porting_guide() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let guide = std::fs::read_to_string(root.join("docs/porting.md")).expect("docs/porting.md");
+    for name in ["shadow_volumes", "planar_shadows", "outline", "silhouette", "shadow_atlas"] {
+        let text = std::fs::read_to_string(root.join(format!("examples/{name}.rs"))).expect("the sample");
+        let lines = text.lines().count();
+        assert!(lines <= 500, "examples/{name}.rs has {lines} lines");
+        let row = format!("[`examples/{name}.rs`](../examples/{name}.rs) | {lines} |");
+        assert!(guide.contains(&row), "docs/porting.md does not give examples/{name}.rs's {lines} lines");
+        assert!(text.contains(&format!("nostencil::sample::run(\"{name}\"")), "{name}'s main is not the base's");
+    }
+}

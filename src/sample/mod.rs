@@ -9,7 +9,8 @@
 //! - the frame's two attachments: colour `R8G8B8A8_SRGB` (alpha kept: the emulated stencil) and
 //!   depth, with a stencil aspect only for the `--stencil` reference;
 //! - a pipeline from its parts ([`PipelineParts`]), shaders by their file name in `shaders/`;
-//! - one submission that records the frame and reads the colour attachment back.
+//! - one submission that records the frame and reads the colour attachment back;
+//! - its `main` ([`run`]): the two options, `--out FILE.png` and `--stencil`, and the PNG.
 //!
 //! Every Vulkan object a sample makes through the base is destroyed with it.
 
@@ -36,9 +37,11 @@ use crate::scene::{builtin_scene, Scene, SceneObject};
 pub use ash;
 
 mod cartoon;
+mod command_line;
 mod sets;
 mod shadow_atlas;
 pub use cartoon::SmoothCopy;
+pub use command_line::run;
 pub use sets::ExtraSet;
 pub use shadow_atlas::{ShadowAtlas, MAP_FORMAT, PAGE_FORMAT};
 mod ground;
