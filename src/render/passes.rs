@@ -6,7 +6,8 @@
 use ash::vk;
 
 use super::frame_stats::{FrameStats, NoStats};
-use super::gpu_mesh::{GpuScene, Skinning};
+use super::gpu_mesh::GpuScene;
+use super::materials::GpuMaterials;
 use super::pipeline_object::Pipeline;
 use super::plan::{PassKinds, PlannedPass, Scissor, When};
 use super::recorder::FrameRecorder;
@@ -18,7 +19,7 @@ use crate::scene::{JointPalettes, Light, Scene};
 /// A technique's side of a renderer: what it built for the scene (its descriptor sets, the
 /// scene's meshes for the object passes the recorder draws, its offscreen render passes), the
 /// draws only it knows how to make, and what it does per frame. Only `draw` and `prepare` have
-/// no default.
+/// no default; each default is what most techniques need, and is overridden by those that differ.
 pub trait Passes<K: PassKinds> {
     /// Records the technique's own draw `draw` of `pass` (the recorder has opened the measured
     /// pass, made the colour target readable if the pass reads it, and, in the frame's render
@@ -72,23 +73,10 @@ pub trait Passes<K: PassKinds> {
         self.joint_palettes().is_some_and(|palettes| !palettes.is_empty())
     }
 
-    /// Where it poses skinned objects: on the GPU where it has the palettes (`joint_palettes`).
-    fn skinning(&self) -> Skinning {
-        if self.joint_palettes().is_some() {
-            Skinning::Gpu
-        } else {
-            Skinning::Cpu
-        }
-    }
-
-    /// The material set template bound with the pass's sets (each object then binds its own).
-    fn material_set(&self) -> Option<vk::DescriptorSet> {
-        self.meshes().map(|meshes| meshes.materials.template_set())
-    }
-
-    /// The layout of the material set, when the plan binds one.
-    fn material_layout(&self) -> Option<vk::DescriptorSetLayout> {
-        self.meshes().map(|meshes| meshes.materials.layout())
+    /// The materials whose sets the plan's object passes bind (the template with the pass's
+    /// sets, then each object's own): the meshes' by default.
+    fn materials(&self) -> Option<&GpuMaterials> {
+        self.meshes().map(|meshes| &meshes.materials)
     }
 
     /// Where the plan's scissored pass `pass` draws this frame (in a per-light loop, its
@@ -107,15 +95,9 @@ pub trait Passes<K: PassKinds> {
         None
     }
 
-    /// The colour target's clear alpha (1 for most; the counter's 0 for shadow volumes).
-    fn clear_alpha(&self) -> f32 {
-        1.0
-    }
-
-    /// The stencil's clear value on the reference path (0 for most; the volume count's zero
-    /// for shadow volumes).
-    fn clear_stencil(&self) -> u32 {
-        0
+    /// What the frame's alpha (and, on the reference path, its stencil) is cleared to.
+    fn clear(&self) -> Clear {
+        Clear::default()
     }
 
     /// The light of this frame's uniforms, when it is not the scene's (a light that turns
@@ -151,5 +133,22 @@ pub trait Passes<K: PassKinds> {
     /// See `SceneRenderer::warnings`.
     fn warnings(&self) -> &[String] {
         &[]
+    }
+}
+
+/// The clear values a technique starts its frame with.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Clear {
+    /// The colour target's alpha: 1 for most; the counter's 0 for shadow volumes and the
+    /// outline's unmarked 0.
+    pub alpha: f32,
+    /// The stencil's value on the reference path: 0 for most; the volume count's zero for
+    /// shadow volumes.
+    pub stencil: u32,
+}
+
+impl Default for Clear {
+    fn default() -> Self {
+        Clear { alpha: 1.0, stencil: 0 }
     }
 }

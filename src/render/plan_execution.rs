@@ -115,9 +115,10 @@ pub fn record_plan<K: PassKinds>(
                         set.label()
                     ))
                 }),
-                SetRole::Material => {
-                    draws.material_set().ok_or_else(|| Error::Internal(format!("pass '{}': no materials", pass.name)))
-                }
+                SetRole::Material => draws
+                    .materials()
+                    .map(|m| m.template_set())
+                    .ok_or_else(|| Error::Internal(format!("pass '{}': no materials", pass.name))),
             })
             .collect::<Result<Vec<_>>>()?;
         let recorded = rec.pass(&pass.name, |rec| {

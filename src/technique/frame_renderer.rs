@@ -106,9 +106,10 @@ pub fn build_typed<'s, K: PassKinds, P: Passes<K> + 's>(
                 .set(set)
                 .map(|s| s.layout)
                 .ok_or_else(|| Error::Internal(format!("{}: built without set '{}'", technique, set.label()))),
-            SetRole::Material => {
-                passes.material_layout().ok_or_else(|| Error::Internal(format!("{}: no materials", technique)))
-            }
+            SetRole::Material => passes
+                .materials()
+                .map(|m| m.layout())
+                .ok_or_else(|| Error::Internal(format!("{}: no materials", technique))),
         },
     )?;
     // Several frames in flight only where each one's data is its own.
@@ -149,8 +150,9 @@ impl<K: PassKinds, P: Passes<K>> TechniqueRenderer for FrameRenderer<'_, K, P> {
         if let Some(light) = self.passes.frame_light() {
             uniforms.move_primary_light(scene.primary_light_index(), light);
         }
-        let clear = scene.background.extend(self.passes.clear_alpha()).to_array();
-        self.renderer.stencil_clear = self.passes.clear_stencil();
+        let clear_values = self.passes.clear();
+        let clear = scene.background.extend(clear_values.alpha).to_array();
+        self.renderer.stencil_clear = clear_values.stencil;
         let conditions = self.passes.conditions(scene);
         let holds = |when: When| when.holds_in(&conditions);
         let (plan, pipelines, draws) = (&self.plan, &self.pipelines, &self.passes);
@@ -192,7 +194,12 @@ impl<K: PassKinds, P: Passes<K>> TechniqueRenderer for FrameRenderer<'_, K, P> {
     }
 
     fn skinning(&self) -> Skinning {
-        self.passes.skinning()
+        // On the GPU where the technique has the palettes.
+        if self.passes.joint_palettes().is_some() {
+            Skinning::Gpu
+        } else {
+            Skinning::Cpu
+        }
     }
 }
 

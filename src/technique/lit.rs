@@ -7,7 +7,7 @@ use super::frame_renderer::BuildContext;
 use super::interface::{RenderOptions, TechniqueInfo};
 use super::light_loop::PlannedLight;
 use super::material_variants::with_surface_variants;
-use super::unit::TechniqueUnit;
+use super::unit::{Prepared, TechniqueUnit};
 use crate::error::Result;
 use crate::gpu::Gpu;
 use crate::pipeline::{FixedFunction, PipelineDesc, VertexLayout};
@@ -57,6 +57,10 @@ impl TechniqueUnit for Lit {
     /// The lit frame: the scene pass alone.
     fn plan(&self, _options: &RenderOptions, _lights: &[PlannedLight]) -> Result<PassPlan<RecorderOnly>> {
         Ok(PassPlan { passes: vec![scene_pass(1.0)] })
+    }
+
+    fn setup(&self, _gpu: &Gpu, _scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
+        Ok(Prepared::as_given(options))
     }
 
     fn make(&self, ctx: BuildContext<'_>, scene: &Scene, _setup: ()) -> Result<LitPasses> {

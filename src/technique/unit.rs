@@ -25,7 +25,7 @@ pub trait TechniqueUnit: TechniqueInfo {
     type Kinds: PassKinds;
     /// What it works out from the scene on the CPU before the frame is planned (the casters
     /// whose volumes decide z-fail, the objects an outline selects): `()` when nothing.
-    type Setup: Default;
+    type Setup;
     /// What it builds for a scene: its GPU resources, its draws, its statistics.
     type Passes: Passes<Self::Kinds>;
 
@@ -36,11 +36,9 @@ pub trait TechniqueUnit: TechniqueInfo {
     fn plan(&self, options: &RenderOptions, lights: &[PlannedLight]) -> Result<PassPlan<Self::Kinds>>;
 
     /// The CPU work on `scene` before planning, and the options resolved with it. Errors
-    /// here come before anything is uploaded. By default there is none: the options as given.
-    fn setup(&self, gpu: &Gpu, scene: &Scene, options: &RenderOptions) -> Result<Prepared<Self::Setup>> {
-        let _ = (gpu, scene);
-        Ok(Prepared { options: options.clone(), setup: Self::Setup::default() })
-    }
+    /// here come before anything is uploaded. A unit with none returns
+    /// [`Prepared::as_given`]: the options as given, and `()`.
+    fn setup(&self, gpu: &Gpu, scene: &Scene, options: &RenderOptions) -> Result<Prepared<Self::Setup>>;
 
     /// Builds the technique's part of a renderer for `scene`, once the frame renderer exists.
     fn make(&self, ctx: BuildContext<'_>, scene: &Scene, setup: Self::Setup) -> Result<Self::Passes>;
@@ -104,6 +102,13 @@ pub fn unshadowed_lights_warning(
 pub struct Prepared<S> {
     pub options: RenderOptions,
     pub setup: S,
+}
+
+impl Prepared<()> {
+    /// No CPU work before planning: the options as given.
+    pub fn as_given(options: &RenderOptions) -> Self {
+        Prepared { options: options.clone(), setup: () }
+    }
 }
 
 /// The build every technique shares: setup, plan with the resolved options, then the frame

@@ -20,8 +20,9 @@ use super::frame_renderer::BuildContext;
 use super::interface::{RenderOptions, TechniqueInfo, Variant};
 use super::light_loop::PlannedLight;
 use super::options::SilhouetteMethod;
-use super::unit::TechniqueUnit;
+use super::unit::{Prepared, TechniqueUnit};
 use crate::error::Result;
+use crate::gpu::Gpu;
 use crate::render::plan::PassPlan;
 use crate::scene::Scene;
 use recipes::InkKinds;
@@ -72,6 +73,10 @@ impl TechniqueUnit for Ink {
 
     fn plan(&self, options: &RenderOptions, _lights: &[PlannedLight]) -> Result<PassPlan<InkKinds>> {
         Ok(recipes::plan(options.cartoon.silhouette))
+    }
+
+    fn setup(&self, _gpu: &Gpu, _scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
+        Ok(Prepared::as_given(options))
     }
 
     fn make(&self, ctx: BuildContext<'_>, scene: &Scene, _setup: ()) -> Result<InkPasses> {

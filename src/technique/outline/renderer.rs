@@ -15,7 +15,7 @@ use crate::error::{Error, Result};
 use crate::frame::StencilMode;
 use crate::gpu::descriptors::DescriptorSet;
 use crate::gpu::Gpu;
-use crate::render::passes::Passes;
+use crate::render::passes::{Clear, Passes};
 use crate::render::per_slot::slot_copy;
 use crate::render::plan::{PlannedPass, Target};
 use crate::render::Pipeline;
@@ -229,8 +229,8 @@ impl Passes<OutlineKinds> for OutlinePasses {
     }
 
     /// Alpha is the emulated stencil: 0 until a selected object marks it.
-    fn clear_alpha(&self) -> f32 {
-        0.0
+    fn clear(&self) -> Clear {
+        Clear { alpha: 0.0, ..Clear::default() }
     }
 
     fn stats(&mut self, _output: &FrameOutput, scene: &Scene) -> Box<dyn FrameStats> {

@@ -20,6 +20,7 @@ use crate::error::{Error, Result};
 use crate::gpu::descriptors::{Binding, DescriptorSet};
 use crate::gpu::memory::ReusedBuffer;
 use crate::gpu::texture::{Sampler, Texture};
+use crate::gpu::Gpu;
 use crate::pipeline::recipes::MODULATE_BY_SRC_COLOUR;
 use crate::pipeline::{DepthState, FixedFunction, PipelineDesc, RasterState, VertexAttribute, VertexLayout};
 use crate::render::passes::Passes;
@@ -34,7 +35,7 @@ use crate::technique::interface::{FrameStats, Variant};
 use crate::technique::interface::{RenderOptions, TechniqueInfo};
 use crate::technique::light_loop::{PlannedLight, ShadowedLights};
 use crate::technique::shadow_tone::ShadowTone;
-use crate::technique::unit::TechniqueUnit;
+use crate::technique::unit::{Prepared, TechniqueUnit};
 
 /// position (vec3), uv (vec2), strength (float).
 pub const BLOB_LAYOUT: VertexLayout =
@@ -232,6 +233,10 @@ impl TechniqueUnit for BlobShadows {
 
     fn plan(&self, _options: &RenderOptions, _lights: &[PlannedLight]) -> Result<PassPlan<BlobKinds>> {
         Ok(plan())
+    }
+
+    fn setup(&self, _gpu: &Gpu, _scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
+        Ok(Prepared::as_given(options))
     }
 
     fn make(&self, ctx: BuildContext<'_>, scene: &Scene, _setup: ()) -> Result<BlobPasses> {

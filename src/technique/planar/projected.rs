@@ -34,6 +34,7 @@ use super::scene_meshes::{scene_desc, scene_pass, scene_sets, SceneMeshes};
 use super::shared::{Planar, PlanarStats, DEFAULT_SHADOW_LOD};
 use crate::error::{Error, Result};
 use crate::frame::StencilMode;
+use crate::gpu::Gpu;
 use crate::pipeline::recipes::{
     stencil_replace, MODULATE_BY_DST_ALPHA_ONCE, MODULATE_BY_SRC_ALPHA_WRITING_ALPHA, STENCIL_EQUAL_ZERO_THEN_INCREMENT,
 };
@@ -50,7 +51,7 @@ use crate::technique::interface::{RenderOptions, TechniqueInfo};
 use crate::technique::light_loop::{PlannedLight, ShadowedLights};
 use crate::technique::options::{PlanarOptions, ShadowMode};
 use crate::technique::shadow_tone::ShadowTone;
-use crate::technique::unit::TechniqueUnit;
+use crate::technique::unit::{Prepared, TechniqueUnit};
 
 /// Stencil values of the reference path: receivers not yet shadowed hold 0.
 const STENCIL_RECEIVER: u32 = 0;
@@ -207,6 +208,10 @@ impl TechniqueUnit for Planar {
 
     fn plan(&self, options: &RenderOptions, lights: &[PlannedLight]) -> Result<PassPlan<PlanarKinds>> {
         Ok(plan(&options.planar, options.stencil, options.shadow_mode, lights))
+    }
+
+    fn setup(&self, _gpu: &Gpu, _scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
+        Ok(Prepared::as_given(options))
     }
 
     fn make(&self, ctx: BuildContext<'_>, scene: &Scene, _setup: ()) -> Result<PlanarPasses> {

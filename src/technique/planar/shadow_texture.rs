@@ -48,7 +48,7 @@ use crate::technique::interface::{RenderOptions, TechniqueInfo};
 use crate::technique::light_loop::{PlannedLight, ShadowedLights};
 use crate::technique::options::{PlanarOptions, TextureShadowOn};
 use crate::technique::shadow_tone::ShadowTone;
-use crate::technique::unit::TechniqueUnit;
+use crate::technique::unit::{Prepared, TechniqueUnit};
 
 const SHADOW_TEXTURE_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
 
@@ -342,6 +342,10 @@ impl TechniqueUnit for ShadowTexture {
 
     fn plan(&self, options: &RenderOptions, _lights: &[PlannedLight]) -> Result<PassPlan<TextureKinds>> {
         Ok(plan(&options.planar))
+    }
+
+    fn setup(&self, _gpu: &Gpu, _scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
+        Ok(Prepared::as_given(options))
     }
 
     fn make(&self, ctx: BuildContext<'_>, scene: &Scene, _setup: ()) -> Result<ShadowTexturePasses> {

@@ -445,8 +445,8 @@ impl Passes<AtlasKinds> for ShadowPasses {
         self.own_set(set)
     }
 
-    fn material_set(&self) -> Option<vk::DescriptorSet> {
-        Some(self.materials.template_set())
+    fn materials(&self) -> Option<&GpuMaterials> {
+        Some(&self.materials)
     }
 
     fn draw(
@@ -498,10 +498,6 @@ impl Passes<AtlasKinds> for ShadowPasses {
             AtlasDraw::Scene => self.draw_scene(rec, scene, pass, pipelines)?,
         }
         Ok(())
-    }
-
-    fn material_layout(&self) -> Option<vk::DescriptorSetLayout> {
-        Some(self.materials.layout())
     }
 
     fn offscreen_pass(&self, target: AtlasTarget) -> Option<(vk::RenderPass, usize)> {

@@ -5,13 +5,14 @@ use super::maps::{self, Coverage};
 use super::passes::{plan, AtlasKinds};
 use super::renderer::ShadowPasses;
 use crate::error::Result;
+use crate::gpu::Gpu;
 use crate::render::plan::PassPlan;
 use crate::scene::Scene;
 use crate::technique::frame_renderer::BuildContext;
 use crate::technique::interface::{RenderOptions, Technique, TechniqueInfo, Variant};
 use crate::technique::light_loop::{PlannedLight, ShadowedLights};
 use crate::technique::options::{LightMode, ShadowKind};
-use crate::technique::unit::TechniqueUnit;
+use crate::technique::unit::{Prepared, TechniqueUnit};
 
 /// One of the two seed 004 techniques: the shadow map sampled in the scene pass, or shadow
 /// textures baked from it into each model's tile of one atlas page.
@@ -122,6 +123,10 @@ impl TechniqueUnit for ShadowTechnique {
 
     fn plan(&self, _options: &RenderOptions, lights: &[PlannedLight]) -> Result<PassPlan<AtlasKinds>> {
         Ok(plan(self.kind, lights))
+    }
+
+    fn setup(&self, _gpu: &Gpu, _scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
+        Ok(Prepared::as_given(options))
     }
 
     fn make(&self, ctx: BuildContext<'_>, scene: &Scene, _setup: ()) -> Result<ShadowPasses> {

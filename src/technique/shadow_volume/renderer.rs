@@ -30,7 +30,7 @@ use crate::gpu::memory::Buffer;
 use crate::gpu::Gpu;
 use crate::pipeline::recipes::STENCIL_COUNT_ZERO;
 use crate::render::jobs::PerWorker;
-use crate::render::passes::Passes;
+use crate::render::passes::{Clear, Passes};
 use crate::render::per_slot::slot_copy;
 use crate::render::plan::{Draws, PlannedPass, Scissor};
 use crate::render::Pipeline;
@@ -44,10 +44,6 @@ use crate::technique::unit::Prepared;
 
 /// What is worked out from the scene before the frame is planned: the casters, whose volumes
 /// decide whether `auto` counts z-fail for this camera.
-///
-/// `Default` (no casters, z-pass) only because every unit's `Setup` has one, for units whose
-/// `setup` is the trait's; this unit always works its setup out in `setup`.
-#[derive(Default)]
 pub struct VolumeSetup {
     casters: Vec<Caster>,
     warnings: Vec<String>,
@@ -414,16 +410,13 @@ impl Passes<VolumeKinds> for ShadowVolumePasses {
     }
 
     /// The counter's start: a count of 0 is alpha 0 counting up (modulate), 1 counting down
-    /// (additive).
-    fn clear_alpha(&self) -> f32 {
-        match self.mode {
+    /// (additive); the reference's stencil count starts at its zero.
+    fn clear(&self) -> Clear {
+        let alpha = match self.mode {
             ShadowMode::Modulate => 0.0,
             ShadowMode::Additive => 1.0,
-        }
-    }
-
-    fn clear_stencil(&self) -> u32 {
-        STENCIL_COUNT_ZERO
+        };
+        Clear { alpha, stencil: STENCIL_COUNT_ZERO }
     }
 
     fn stats(&mut self, output: &FrameOutput, _scene: &Scene) -> Box<dyn FrameStats> {

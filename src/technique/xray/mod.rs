@@ -12,7 +12,7 @@ use super::frame_renderer::BuildContext;
 use super::interface::{RenderOptions, TechniqueInfo};
 use super::light_loop::PlannedLight;
 use super::lit::scene_pass;
-use super::unit::TechniqueUnit;
+use super::unit::{Prepared, TechniqueUnit};
 use crate::error::Result;
 use crate::gpu::Gpu;
 use crate::pipeline::{BlendEquation, BlendState, DepthState, FixedFunction, PipelineDesc, VertexLayout};
@@ -98,6 +98,10 @@ impl TechniqueUnit for XRay {
 
     fn plan(&self, _options: &RenderOptions, _lights: &[PlannedLight]) -> Result<PassPlan<XRayKinds>> {
         Ok(PassPlan { passes: vec![scene_pass(1.0), hidden_pass()] })
+    }
+
+    fn setup(&self, _gpu: &Gpu, _scene: &Scene, options: &RenderOptions) -> Result<Prepared<()>> {
+        Ok(Prepared::as_given(options))
     }
 
     fn make(&self, ctx: BuildContext<'_>, scene: &Scene, _setup: ()) -> Result<XRayPasses> {
