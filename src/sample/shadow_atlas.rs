@@ -8,12 +8,11 @@
 use std::sync::Arc;
 
 use ash::vk;
-use gpu_allocator::MemoryLocation;
 
 use super::{SampleBase, SampleBuffer, PUSH_BYTES};
 use crate::error::{Error, Result, VkContext};
 use crate::frame::offscreen::ImageView;
-use crate::gpu::descriptors::{Binding, DescriptorSet};
+use crate::gpu::descriptors::DescriptorSet;
 use crate::gpu::memory::{Buffer, Image};
 use crate::gpu::texture::{record_mip_chain_from_sampled, Sampler};
 use crate::gpu::Gpu;
@@ -22,6 +21,7 @@ use crate::technique::shadow_atlas::atlas::mesh_atlas;
 use crate::technique::shadow_atlas::atlas_vertices::{atlas_vertices, surface_of};
 use crate::technique::shadow_atlas::light::light_at;
 use crate::technique::shadow_atlas::page_targets::AtlasPage;
+use crate::technique::shadow_atlas::renderer::{light_uniforms, LightSlot};
 use crate::technique::shadow_atlas::{maps, targets, AtlasBake, LightMode, ShadowKind, ShadowLightUniforms};
 
 /// The shadow map's format (D16: depth attachment and sampling on every device).
@@ -132,26 +132,8 @@ impl SampleBase {
         let compare = Sampler::depth_compare(gpu)?;
         let light = light_at(scene, LightMode::Fixed, 0);
         let uniforms = ShadowLightUniforms::fitted(scene, &light, &coverage, map_size);
-        let size = std::mem::size_of::<ShadowLightUniforms>() as u64;
-        let mut light_uniforms =
-            Buffer::new(gpu, "shadow light", size, vk::BufferUsageFlags::UNIFORM_BUFFER, MemoryLocation::CpuToGpu)?;
+        let LightSlot { set: light_set, buffer: mut light_uniforms } = light_uniforms(gpu, &map, &compare)?;
         light_uniforms.write(0, std::slice::from_ref(&uniforms))?;
-        let light_set = DescriptorSet::new(
-            gpu,
-            &[
-                Binding::UniformBuffer {
-                    buffer: light_uniforms.raw,
-                    range: size,
-                    stages: vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
-                },
-                Binding::Texture {
-                    view: map.view,
-                    sampler: compare.raw,
-                    layout: vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL,
-                    stages: vk::ShaderStageFlags::FRAGMENT,
-                },
-            ],
-        )?;
         let page_mip0 = ImageView::mip(gpu, &page.texture, 0)?;
         let tile_layout = page.scene_sets.first().ok_or_else(|| Error::Internal("an atlas of no tiles".into()))?.layout;
         let (frame, material, light_layout) = (self.frame.layout, self.gpu_scene.materials.layout(), light_set.layout);

@@ -136,14 +136,14 @@ fn mesh_layouts(
 }
 
 /// One frame slot's light uniforms (the set first: it is dropped before the buffer it names).
-struct LightSlot {
-    set: DescriptorSet,
-    buffer: Buffer,
+pub(crate) struct LightSlot {
+    pub(crate) set: DescriptorSet,
+    pub(crate) buffer: Buffer,
 }
 
 /// The shadow light's uniform buffer, and the set that binds it with the shadow `map` read
 /// through the depth-compare sampler `compare`.
-fn light_uniforms(gpu: &Arc<Gpu>, map: &Image, compare: &Sampler) -> Result<LightSlot> {
+pub(crate) fn light_uniforms(gpu: &Arc<Gpu>, map: &Image, compare: &Sampler) -> Result<LightSlot> {
     let light_size = std::mem::size_of::<ShadowLightUniforms>() as u64;
     let light_buffer =
         Buffer::new(gpu, "shadow light", light_size, vk::BufferUsageFlags::UNIFORM_BUFFER, MemoryLocation::CpuToGpu)?;
