@@ -1,6 +1,6 @@
 //! The programs in `examples/` build with the crate (`cargo test` builds them) and run: one
 //! glTF file from tests/assets to a PNG, and a missing file refused with its name; a one-file
-//! sample (docs/porting.md) with its two options, and anything else refused.
+//! sample (docs/porting.md) with its two options, validation silent, and anything else refused.
 
 use crate::common;
 
@@ -49,9 +49,35 @@ fn pass_counters_prints_every_pass_of_the_frame() {
 fn a_sample_takes_its_two_options_writes_its_frame_and_refuses_anything_else() {
     let dir = common::scratch_dir("example_sample_options");
     let (alpha, stencil) = (dir.join("alpha.png"), dir.join("stencil.png"));
+    // The program as a user runs it, with the Khronos validation layer turned on from outside
+    // (the sample itself asks for none) and every message it has logged.
+    let settings = dir.join("vk_layer_settings.txt");
+    std::fs::write(
+        &settings,
+        "khronos_validation.report_flags = info,warn,error\n\
+         khronos_validation.debug_action = VK_DBG_LAYER_ACTION_LOG_MSG\n\
+         khronos_validation.enables = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT\n",
+    )
+    .expect("write the layer settings");
     for args in [vec!["--out".into(), alpha.clone()], vec!["--stencil".into(), "--out".into(), stencil.clone()]] {
-        let run = Command::new(example("shadow_volumes")).args(&args).output().expect("run");
-        assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+        let run = Command::new(example("shadow_volumes"))
+            .args(&args)
+            .env("VK_INSTANCE_LAYERS", "VK_LAYER_KHRONOS_validation")
+            .env("VK_LAYER_SETTINGS_PATH", &settings)
+            .output()
+            .expect("run");
+        let all = format!("{}{}", String::from_utf8_lossy(&run.stdout), String::from_utf8_lossy(&run.stderr));
+        assert!(run.status.success(), "{all}");
+        assert!(all.contains("Current Enables: VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION"), "no validation:\n{all}");
+        let problems: Vec<&str> = all
+            .lines()
+            .filter(|l| {
+                l.contains("Validation Error")
+                    || l.contains("Validation Warning")
+                    || l.contains("Validation Performance Warning")
+            })
+            .collect();
+        assert!(problems.is_empty(), "{args:?}: {} validation message(s):\n{}", problems.len(), problems.join("\n"));
     }
     let (alpha, stencil) =
         (image::open(&alpha).expect("a PNG").to_rgba8(), image::open(&stencil).expect("a PNG").to_rgba8());
